@@ -1,6 +1,30 @@
-"""noisevar: how noisy is a measured signal, and what that means for a Kalman filter."""
+"""noisevar: how noisy is a measured signal, and what that means for a Kalman filter.
+
+Quick start::
+
+    import noisevar
+    est = noisevar.estimate(z)                 # default method "auto"
+    est.variance, est.ci95, est.n_used
+    noisevar.estimate(z, method="somd", h_smooth=1.5e-5, window=40)
+    noisevar.methods()
+"""
 
 from .errors import NoisevarError
+from .estimators import describe_methods, estimate, estimate_redundant, methods
+from .results import RedundantEstimate, VarianceEstimate
+from .signals import GeneratedSignal, generate, signal_names
 
 __version__ = "0.1.0"
-__all__ = ["NoisevarError", "__version__"]
+__all__ = [
+    "GeneratedSignal",
+    "NoisevarError",
+    "RedundantEstimate",
+    "VarianceEstimate",
+    "__version__",
+    "describe_methods",
+    "estimate",
+    "estimate_redundant",
+    "generate",
+    "methods",
+    "signal_names",
+]

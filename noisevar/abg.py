@@ -308,9 +308,7 @@ class ABGStream:
         return y
 
 
-def abg_filter_loop(
-    z: ArrayLike, h: float, x0: ArrayLike, output: str = "predicted"
-) -> NDArray:
+def abg_filter_loop(z: ArrayLike, h: float, x0: ArrayLike, output: str = "predicted") -> NDArray:
     """Reference per-sample recursion (for tests; slow, do not use on data).
 
     ``x_pred = F x``, ``x = x_pred + K (z - H x_pred)``; returns ``H x_pred``
