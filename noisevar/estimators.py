@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import signal, stats
-from scipy.ndimage import maximum_filter1d, uniform_filter1d
+from scipy.ndimage import maximum_filter1d
 
 from .abg import (  # noqa: PLC2701 - shared internals
     _impulse,
@@ -516,9 +516,9 @@ def mle_estimate(z: NDArray, trend: bool, notes: list[str]) -> VarianceEstimate:
 
 
 # ------------------------------------------------------------------------------- auto
-AUTO_SPANS = (11, 21, 31, 41)
+AUTO_SPANS = (11, 21, 41)
 AUTO_ORDER = 3
-AUTO_TRIM = 3.5
+AUTO_TRIM = 5.0
 AUTO_BLOCK = 256
 
 
@@ -563,44 +563,38 @@ def _truncated_second_moment(kappa: float) -> float:
     return float((p - 2.0 * kappa * stats.norm.pdf(kappa)) / p)
 
 
-def _robust_residual_variance(
-    e: NDArray, kappa: float, block: int, dilate: int
-) -> tuple[float, int, NDArray]:
-    """Trimmed mean square of residuals with a local scale.
+def _block_sums(x: NDArray, block: int, nb: int) -> NDArray:
+    """Sums over ``nb`` consecutive blocks of ``block`` samples (the rest joins the last)."""
+    sums = x[: nb * block].reshape(nb, block).sum(axis=1)
+    sums[-1] += x[nb * block :].sum()
+    return sums
+
+
+def _outlier_mask(sq: NDArray, kappa: float, block: int, dilate: int) -> NDArray:
+    """Squared residuals that are jumps or outliers, with ``dilate`` neighbours on each side.
 
     Pass 1 takes a robust local scale from block medians of ``e²``; pass 2
-    refines it with a moving mean of the kept squares over ``block``
-    samples, so that a noise level changing along the record is followed
-    (a noise step is not mistaken for outliers). Residuals beyond ``κ``
-    local standard deviations (a jump, an outlier, a manoeuvre the local
-    polynomial cannot follow) are dropped together with ``dilate`` neighbours
-    on each side (a jump spreads over the whole span of the residual
-    sequence); the kept squares are divided by the Gaussian truncation factor
-    so that the estimate stays unbiased for Gaussian noise.
+    refines it with the mean of the kept squares of each block, interpolated
+    between block centres, so that a noise level changing along the record
+    is followed (a noise step is not mistaken for outliers). Residuals beyond
+    ``κ`` local standard deviations are flagged, with their neighbours (a
+    jump spreads over the whole span of the residual sequence).
     """
-    n = e.size
+    n = sq.size
     nb = max(1, n // block)
-    sq = e**2
-    head = sq[: nb * block].reshape(nb, block)
-    local = np.median(head, axis=1) / 0.4549364231195724  # median of chi2(1)
-    local_full = np.repeat(local, block)
-    if local_full.size < n:
-        local_full = np.concatenate([local_full, np.full(n - local_full.size, local[-1])])
+    local = np.median(sq[: nb * block].reshape(nb, block), axis=1) / 0.4549364231195724
+    block_id = np.minimum(np.arange(n) // block, nb - 1)
     tau = _truncated_second_moment(kappa)
-    keep = sq <= kappa**2 * local_full
-    size = min(block, n)
-    num = uniform_filter1d(np.where(keep, sq, 0.0), size, mode="nearest")
-    den = uniform_filter1d(keep.astype(float), size, mode="nearest")
-    local_full = num / np.maximum(den, 1e-12) / tau
+    keep = sq <= kappa**2 * local[block_id]
+    kept_sum = _block_sums(np.where(keep, sq, 0.0), block, nb)
+    kept_n = _block_sums(keep.astype(float), block, nb)
+    refined = kept_sum / np.maximum(kept_n, 1.0) / tau
+    centres = (np.arange(nb) + 0.5) * block
+    local_full = np.interp(np.arange(n), centres, refined)
     outlier = sq > kappa**2 * local_full
     if dilate > 0 and outlier.any():
         outlier = maximum_filter1d(outlier.astype(np.uint8), 2 * dilate + 1).astype(bool)
-    keep = ~outlier
-    n_kept = int(keep.sum())
-    if n_kept == 0:
-        raise NoisevarError("every residual was trimmed as an outlier: the signal is not usable")
-    var = float(np.sum(sq[keep]) / (n_kept * tau))
-    return var, n_kept, keep
+    return outlier
 
 
 def auto_estimate(
@@ -611,53 +605,55 @@ def auto_estimate(
     trim: float = AUTO_TRIM,
     notes: list[str] | None = None,
 ) -> VarianceEstimate:
-    """Our default: a zero-lag polynomial virtual sensor, exact normalisation, robust trimming.
+    """Our default: a zero-lag polynomial virtual sensor, exact normalisation, local span, trimming.
 
     Design (each step measured in ``benchmarks/accuracy.py``):
 
-    1. Virtual redundant sensor. SOMD's idea is to compare the raw samples
-       with a smoothed copy of themselves. The causal alpha-beta-gamma filter
-       lags on manoeuvres and its differenced comparison wastes efficiency
-       (``sum ρ²`` of ``Δ(g - δ)`` is about 1.5, like Rice's estimator). We
-       use instead a centred local polynomial of degree ``order`` (cubic) over
-       ``span`` samples (a Savitzky-Golay smoother): it has no lag, it is
-       blind to every polynomial up to that degree (ramps, parabolas,
-       constant-jerk stretches, and so the SOMD assumption of slowly varying
-       systematic errors), and the residual ``e = z - Z1 = d * z`` with
-       ``d = δ - w`` has nearly independent squares (``sum ρ²`` 1.18 for a
-       span of 21, 1.08 for 41, against 1.17 for the best third-order
-       Hall-Kay-Titterington sequence and 1.94 for the second difference).
-    2. Exact normalisation. The noise part of ``e`` has variance
+    1. Virtual redundant sensor. SOMD compares the raw samples with a
+       smoothed copy of themselves. The causal alpha-beta-gamma filter lags
+       on manoeuvres and its differenced comparison ``Δ(g - δ)`` wastes
+       efficiency (``sum ρ²`` about 1.5, like Rice's estimator). We use
+       instead a centred local polynomial of degree ``order`` (cubic) over
+       ``span`` samples (a Savitzky-Golay smoother): no lag, blind to every
+       polynomial up to that degree (ramps, parabolas, constant-jerk
+       stretches: the slowly varying systematic error of SOMD's eq. [6]),
+       and the residual ``e = z - Z1 = d * z``, ``d = δ - w``, has nearly
+       independent squares (``sum ρ²`` 1.18 for a span of 21, 1.08 for 41,
+       against 1.17 for the best third-order Hall-Kay-Titterington sequence
+       and 1.94 for the second difference).
+    2. Exact normalisation: the noise part of ``e`` has variance
        ``σ² sum(d²)``; dividing by ``sum(d²)`` is the analogue of our
        ``c(h)`` correction of the paper's factor 1/2.
-    3. Automatic span. A longer span is more efficient but lets more of a
-       fast signal through. The estimate is computed for spans 11 to 41; the
-       longest span whose estimate does not exceed the shortest span's by
-       more than two standard errors of their difference is used (signal
-       leakage only ever adds variance).
-    4. Robust trimming (window selection, made local). Residuals beyond
-       ``trim`` (3.5) local standard deviations (block medians over 256
-       samples) are dropped and the rest corrected by the Gaussian truncation
-       factor: jumps and manoeuvre bursts, the windows the paper's eq. [19]
-       rejects, are removed sample by sample, while a noise level that
-       changes along the record is followed.
+    3. Robust trimming (the paper's window selection, made local):
+       residuals of the shortest span beyond ``trim`` (5) local standard
+       deviations are flagged with their neighbours over the longest span
+       and left out of every span's estimate; the local scale follows a
+       noise level that changes along the record.
+    4. Local span (again window selection, but measured): a longer span
+       is more efficient but lets more of a fast signal through, and
+       leakage only ever adds variance. In each block of 256 samples the
+       longest span (11, 21, 41) whose mean square does not exceed the
+       shortest span's by more than 2.5 standard errors of their exact
+       difference is used. Smooth stretches get span 41, manoeuvres a short
+       span.
 
     Parameters
     ----------
     z : ndarray
         Validated samples.
     span : int, optional
-        Fix the span instead of choosing it (odd, > order + 1).
+        Fix one span instead of choosing per block (odd, > order + 1).
     order : int
-        Polynomial degree of the virtual sensor.
+        Polynomial degree of the virtual sensor (1 to 6).
     trim : float
-        Trimming threshold in local standard deviations (``inf``: no trimming).
+        Trimming threshold in local standard deviations (``inf``: none).
     notes : list of str, optional
         Remarks carried into the result.
 
     Returns
     -------
     VarianceEstimate
+        ``params["span"]`` is the sample-weighted mean span used.
     """
     notes = list(notes or [])
     order = int(order)
@@ -673,44 +669,62 @@ def auto_estimate(
         spans: tuple[int, ...] = (span,)
     else:
         spans = tuple(s for s in AUTO_SPANS if s > order + 1)
-    if z.size < 4 * max(spans):
-        spans = tuple(s for s in spans if 4 * s <= z.size) or (min(spans),)
-        if z.size < 2 * spans[0]:
-            raise NoisevarError(
-                f"too few samples ({z.size}) for the auto estimator: give at least {2 * spans[0]}"
-            )
-    block = AUTO_BLOCK if z.size >= 4 * AUTO_BLOCK else max(z.size // 4, 16)
-    results = []
-    for s in spans:
-        d = residual_sequence(s, order)
-        e = np.convolve(z, d[::-1], mode="valid") / np.sqrt(np.sum(d**2))
-        var, n_kept, _ = (
-            _robust_residual_variance(e, trim, block, s // 2)
-            if np.isfinite(trim)
-            else (float(np.mean(e**2)), e.size, None)
+        spans = tuple(s for s in spans if 4 * s <= z.size) or spans[:1]
+    n = z.size
+    half = max(spans) // 2
+    if n < 2 * max(spans):
+        raise NoisevarError(
+            f"too few samples ({n}) for the auto estimator: give at least {2 * max(spans)}"
         )
-        results.append((s, var, n_kept, sequence_efficiency(d)))
-        if len(results) == 1:  # fourth moment of the shortest span's residuals
-            rms4 = float(np.sqrt(np.mean(e**4) / 3.0))  # = σ² for homoscedastic Gaussian noise
-    s0, v0, _, _ = results[0]
-    chosen = results[0]
-    for s, v, n_kept, _ in results[1:]:
-        # exact sd of (v - v0) under white noise: both are quadratic forms of the same noise
-        # (a varying noise level raises it: hence the fourth moment, not v0²)
-        se = rms4 * np.sqrt(2.0 * _difference_variance_factor(s0, s, order) / n_kept)
-        if v - v0 <= 2.5 * se:
-            chosen = (s, v, n_kept, results[[r[0] for r in results].index(s)][3])
-        else:
-            break
-    s, var, n_kept, eff = chosen
-    trimmed = z.size - s + 1 - n_kept
-    if trimmed > 0.01 * z.size:
-        notes.append(f"{trimmed} residuals ({trimmed / z.size:.1%}) trimmed as jumps or outliers")
-    dof = n_kept / eff * 0.95  # trimming at 3.5 sd costs ~5 % efficiency
-    params = {"span": s, "order": order, "trim": trim}
-    return VarianceEstimate(
-        "auto", var, chi2_interval(var, dof), n_kept, z.size, dof, params, notes
-    )
+    m = n - 2 * half  # common centred region [half, n - half)
+    sq = np.empty((len(spans), m))
+    for j, s in enumerate(spans):
+        d = residual_sequence(s, order)
+        e = np.convolve(z, d[::-1], mode="valid")[half - s // 2 : half - s // 2 + m]
+        sq[j] = e**2 / np.sum(d**2)
+    block = AUTO_BLOCK if m >= 2 * AUTO_BLOCK else max(m // 2, 16)
+    if np.isfinite(trim):
+        keep = ~_outlier_mask(sq[0], trim, block, max(spans) // 2)
+        tau = _truncated_second_moment(trim)
+    else:
+        keep = np.ones(m, dtype=bool)
+        tau = 1.0
+    if not keep.any():
+        raise NoisevarError("every residual was trimmed as an outlier: the signal is not usable")
+    nb = max(1, m // block)
+    kept_count = _block_sums(keep.astype(float), block, nb)
+    block_sum = np.stack([_block_sums(np.where(keep, q, 0.0), block, nb) for q in sq])
+    fourth = _block_sums(np.where(keep, sq[0] ** 2, 0.0), block, nb)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        block_mean = block_sum / kept_count
+        rms4 = np.sqrt(fourth / kept_count / 3.0)  # = σ² for Gaussian noise
+    choice = np.zeros(nb, dtype=int)
+    open_ = np.ones(nb, dtype=bool)  # still lengthening the span in this block
+    for j in range(1, len(spans)):
+        se = rms4 * np.sqrt(
+            2.0 * _difference_variance_factor(spans[0], spans[j], order) / kept_count
+        )
+        ok = open_ & (block_mean[j] - block_mean[0] <= 2.5 * se)
+        choice[ok] = j
+        open_ &= ok
+    chosen_sum = block_sum[choice, np.arange(nb)]
+    n_kept = int(kept_count.sum())
+    var = float(chosen_sum.sum() / (n_kept * tau))
+    span_used = np.asarray(spans)[choice]
+    eff = np.asarray([sequence_efficiency(residual_sequence(s, order)) for s in spans])[choice]
+    dof = float(np.sum(kept_count / eff)) * (0.98 if np.isfinite(trim) else 1.0)
+    trimmed = m - n_kept
+    if trimmed > 0.01 * n:
+        notes.append(f"{trimmed} residuals ({trimmed / n:.1%}) left out as jumps or outliers")
+    short = float(np.sum(kept_count[choice < len(spans) - 1]) / max(n_kept, 1))
+    if len(spans) > 1 and short > 0.05:
+        notes.append(f"{short:.0%} of the record needed a shorter span (fast signal there)")
+    params = {
+        "span": float(np.sum(span_used * kept_count) / max(n_kept, 1)),
+        "order": order,
+        "trim": trim,
+    }
+    return VarianceEstimate("auto", var, chi2_interval(var, dof), n_kept, n, dof, params, notes)
 
 
 # --------------------------------------------------------------------------- registry
@@ -899,7 +913,8 @@ def estimate(z: ArrayLike, method: str = "auto", **params: Any) -> VarianceEstim
     unknown = set(params) - KNOWN_PARAMS
     if unknown:
         raise NoisevarError(
-            f"unknown parameter(s) {', '.join(sorted(unknown))}; known: {', '.join(sorted(KNOWN_PARAMS))}"
+            f"unknown parameter(s) {', '.join(sorted(unknown))}; "
+            f"known: {', '.join(sorted(KNOWN_PARAMS))}"
         )
     drop = bool(params.pop("drop_nonfinite", False))
     z_arr, notes = as_signal(z, drop_nonfinite=drop)
