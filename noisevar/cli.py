@@ -1,0 +1,272 @@
+"""Command line: ``python -m noisevar`` (also installed as ``noisevar``).
+
+Sub-commands::
+
+    noisevar estimate FILE [--column C] [--method M] [--h-smooth H ...] [--h-track H]
+                           [--window M] [--gamma-amp G] [--gamma-ang DEG]
+                           [--config tuned.json] [--format table|json]
+    noisevar methods
+    noisevar scan-h FILE [--column C] [--window M]
+    noisevar experiment NAME [--runs N] [--seed S] [--format table|json] ...
+
+Every error is one line on stderr and a non-zero exit status (2 for bad input,
+3 for an internal error); no traceback (``NOISEVAR_DEBUG=1`` shows it).
+The ``--config`` file is the JSON the dashboard exports: command-line flags
+given explicitly override its values.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+from collections.abc import Sequence
+from typing import Any, NoReturn
+
+import numpy as np
+
+from .errors import NoisevarError
+
+EXIT_ERROR = 2
+
+
+class _Parser(argparse.ArgumentParser):
+    """ArgumentParser whose usage errors are one line, like every other error."""
+
+    def error(self, message: str) -> NoReturn:
+        raise NoisevarError(f"{message} (see '{self.prog} --help')")
+
+
+def _json_default(obj: Any) -> Any:
+    if isinstance(obj, np.generic):
+        return obj.item()
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    raise TypeError(f"not JSON serialisable: {type(obj).__name__}")
+
+
+def _print_json(data: dict) -> None:
+    print(json.dumps(data, indent=2, default=_json_default, allow_nan=True))
+
+
+def _load_signal(path: str, column: str | None) -> np.ndarray:
+    """One column of a data file as floats (NaN/Inf are left for the estimator to judge)."""
+    from .io import load_table, pick_column
+
+    return np.asarray(pick_column(load_table(path, os.path.basename(path)), column), dtype=float)
+
+
+# --------------------------------------------------------------------------- estimate
+def _estimate_params(args: argparse.Namespace) -> tuple[str, dict[str, Any]]:
+    from .config import load_config
+
+    params: dict[str, Any] = {}
+    method = "auto"
+    if args.config:
+        cfg = load_config(args.config)
+        method = cfg.pop("method", method)
+        params.update(cfg)
+    if args.method is not None:
+        method = args.method
+    flags = {
+        "h_smooth": args.h_smooth
+        if args.h_smooth is None or len(args.h_smooth) > 1
+        else args.h_smooth[0],
+        "h_track": args.h_track,
+        "track_ratio": args.track_ratio,
+        "window": args.window,
+        "gamma_amp": args.gamma_amp,
+        "gamma_ang": args.gamma_ang,
+        "angle": args.angle,
+        "select": False if args.no_select else None,
+        "reference_variance": args.reference_variance,
+    }
+    params.update({k: v for k, v in flags.items() if v is not None})
+    if args.drop_nonfinite:
+        params["drop_nonfinite"] = True
+    return method, params
+
+
+def _cmd_estimate(args: argparse.Namespace) -> int:
+    import noisevar
+
+    method, params = _estimate_params(args)
+    z = _load_signal(args.file, args.column)
+    if method == "somd-redundant":
+        if not args.reference_column:
+            raise NoisevarError(
+                "method somd-redundant needs --reference-column: the second sensor's column"
+            )
+        params["reference"] = _load_signal(args.file, args.reference_column)
+    result = noisevar.estimate(z, method=method, **params)
+    out = result.to_dict()
+    out["file"] = args.file
+    out["column"] = args.column
+    if args.format == "json":
+        _print_json(out)
+    else:
+        lo, hi = result.ci95
+        print(f"file      {args.file}" + (f"  column {args.column}" if args.column else ""))
+        print(f"method    {result.method}")
+        print(f"variance  {result.variance:.6g}   (95 % CI {lo:.6g} .. {hi:.6g})")
+        print(f"std       {result.std:.6g}")
+        print(f"samples   {result.n_used} used of {result.n_total}")
+        shown = {k: v for k, v in result.params.items() if k != "method"}
+        if shown:
+            print("params    " + ", ".join(f"{k}={v}" for k, v in shown.items()))
+        for note in result.notes:
+            print(f"note      {note}")
+    return 0
+
+
+# ---------------------------------------------------------------------------- methods
+def _cmd_methods(args: argparse.Namespace) -> int:
+    from .estimators import describe_methods
+
+    desc = describe_methods()
+    if args.format == "json":
+        _print_json({"methods": desc})
+    else:
+        width = max(map(len, desc))
+        for name, text in desc.items():
+            print(f"{name:<{width}}  {text}")
+    return 0
+
+
+# ----------------------------------------------------------------------------- scan-h
+def _cmd_scan_h(args: argparse.Namespace) -> int:
+    from .envelope import scan_h
+
+    z = _load_signal(args.file, args.column)
+    scan = scan_h(z, window=args.window)
+    if args.format == "json":
+        _print_json(scan.to_dict())
+    else:
+        print(f"band      {scan.band[0]:.3g} .. {scan.band[1]:.3g} (|V1|/|V2|, eq. 14)")
+        print(f"h range   {scan.h_min:.3g} .. {scan.h_max:.3g}")
+        print(f"h chosen  {scan.h_chosen:.3g}")
+        print("h          ratio")
+        for h, r in zip(scan.h, scan.ratio, strict=True):
+            mark = "  *" if scan.band[0] <= r <= scan.band[1] else ""
+            print(f"{h:<10.3g} {r:.4f}{mark}")
+    return 0
+
+
+# ------------------------------------------------------------------------- experiment
+def _cmd_experiment(args: argparse.Namespace) -> int:
+    exp = args.experiment_obj
+    if args.runs is not None and args.runs < 1:
+        raise NoisevarError(f"--runs must be at least 1, got {args.runs}")
+    if args.runs is None:
+        args.runs = exp.default_runs
+    result = exp.run(args)
+    if args.format == "json" or exp.format_table is None:
+        _print_json(result)
+    else:
+        print(exp.format_table(result))
+    return 0
+
+
+# ----------------------------------------------------------------------------- parser
+def build_parser() -> argparse.ArgumentParser:
+    """The ``noisevar`` argument parser (sub-commands estimate, methods, scan-h, experiment).
+
+    Returns
+    -------
+    argparse.ArgumentParser
+    """
+    from .estimators import methods
+    from .experiments import discover
+
+    parser = _Parser(
+        prog="noisevar",
+        description="Measurement-noise variance of a signal, for the Kalman filter that uses it.",
+    )
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+
+    p = sub.add_parser("estimate", help="estimate the noise variance of one signal")
+    p.add_argument("file", help="CSV/TSV (with or without header), .npy, or NMEA file")
+    p.add_argument("--column", help="column name or 0-based index (default: the only/first)")
+    p.add_argument("--method", choices=methods(), help="estimator (default auto)")
+    p.add_argument("--h-smooth", type=float, nargs="+", help="smoothing h (one or several)")
+    p.add_argument("--h-track", type=float, help="tracking h (default track-ratio x h-smooth)")
+    p.add_argument("--track-ratio", type=float, help="h_track / h_smooth (10 to 100)")
+    p.add_argument("--window", type=int, help="window length m (samples)")
+    p.add_argument("--gamma-amp", type=float, help="amplitude threshold, in (0, 1]")
+    p.add_argument("--gamma-ang", type=float, help="angle threshold, degrees")
+    p.add_argument(
+        "--angle", choices=["scaled", "paper"], help="slope convention of the angle test"
+    )
+    p.add_argument("--no-select", action="store_true", help="skip window selection (SOMD)")
+    p.add_argument("--reference-column", help="second sensor's column (somd-redundant)")
+    p.add_argument("--reference-variance", type=float, help="known variance of the reference")
+    p.add_argument("--config", help="tuned-parameter JSON exported by the dashboard")
+    p.add_argument("--drop-nonfinite", action="store_true", help="drop NaN/Inf and say how many")
+    p.add_argument("--format", choices=["table", "json"], default="table")
+    p.set_defaults(func=_cmd_estimate)
+
+    p = sub.add_parser("methods", help="list the estimators")
+    p.add_argument("--format", choices=["table", "json"], default="table")
+    p.set_defaults(func=_cmd_methods)
+
+    p = sub.add_parser("scan-h", help="h range of eq. 14 (smoothing strength)")
+    p.add_argument("file")
+    p.add_argument("--column")
+    p.add_argument("--window", type=int, default=40)
+    p.add_argument("--format", choices=["table", "json"], default="table")
+    p.set_defaults(func=_cmd_scan_h)
+
+    p = sub.add_parser("experiment", help="run a seeded experiment")
+    esub = p.add_subparsers(dest="experiment", required=True, parser_class=_Parser)
+    for name, exp in discover().items():
+        ep = esub.add_parser(name, help=exp.help, description=exp.help)
+        ep.add_argument(
+            "--runs", type=int, default=None, help=f"Monte Carlo runs ({exp.default_runs})"
+        )
+        ep.add_argument("--seed", type=int, default=0)
+        ep.add_argument("--format", choices=["table", "json"], default="table")
+        if exp.add_arguments is not None:
+            exp.add_arguments(ep)
+        ep.set_defaults(func=_cmd_experiment, experiment_obj=exp)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the CLI; return the exit status (0 on success, 2 on any error).
+
+    Parameters
+    ----------
+    argv : sequence of str, optional
+        Arguments (default ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+    """
+    try:
+        args = build_parser().parse_args(argv)
+        return int(args.func(args))
+    except NoisevarError as exc:
+        print(f"noisevar: error: {exc}", file=sys.stderr)
+    except FileNotFoundError as exc:
+        print(f"noisevar: error: no such file: {exc.filename}", file=sys.stderr)
+    except (IsADirectoryError, PermissionError) as exc:
+        print(f"noisevar: error: cannot read {exc.filename}: {exc.strerror}", file=sys.stderr)
+    except KeyboardInterrupt:
+        print("noisevar: interrupted", file=sys.stderr)
+        return 130
+    except Exception as exc:  # noqa: BLE001 - a bug of ours: still one line, never a traceback
+        if os.environ.get("NOISEVAR_DEBUG"):
+            raise
+        print(
+            f"noisevar: internal error ({type(exc).__name__}: {exc}); "
+            "rerun with NOISEVAR_DEBUG=1 for the traceback and please report it",
+            file=sys.stderr,
+        )
+        return 3
+    return EXIT_ERROR
+
+
+if __name__ == "__main__":  # pragma: no cover
+    raise SystemExit(main())
