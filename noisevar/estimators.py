@@ -566,35 +566,44 @@ def _truncated_second_moment(kappa: float) -> float:
 
 def _block_sums(x: NDArray, block: int, nb: int) -> NDArray:
     """Sums over ``nb`` consecutive blocks of ``block`` samples (the rest joins the last)."""
-    sums = x[: nb * block].reshape(nb, block).sum(axis=1)
+    sums = x[: nb * block].reshape(nb, block).sum(axis=1, dtype=float)
     sums[-1] += x[nb * block :].sum()
     return sums
 
 
-def _outlier_mask(sq: NDArray, kappa: float, block: int, dilate: int) -> NDArray:
+def _outlier_mask(sq: NDArray, kappa: float, block: int, dilate: int) -> NDArray | None:
     """Squared residuals that are jumps or outliers, with ``dilate`` neighbours on each side.
 
-    Pass 1 takes a robust local scale from block medians of ``e²``; pass 2
-    refines it with the mean of the kept squares of each block, interpolated
-    between block centres, so that a noise level changing along the record
-    is followed (a noise step is not mistaken for outliers). Residuals beyond
-    ``κ`` local standard deviations are flagged, with their neighbours (a
-    jump spreads over the whole span of the residual sequence).
+    Pass 1 takes a robust local scale from block medians of ``e²`` (every
+    fourth sample: plenty for a scale whose only use is a generous
+    threshold); pass 2 refines it with the mean of each block's kept squares,
+    so that a noise level changing along the record is followed (a noise step
+    is not mistaken for outliers). Residuals beyond ``κ`` local standard
+    deviations are flagged, with their neighbours (a jump spreads over the
+    whole span of the residual sequence). Returns None when nothing is
+    flagged (the common case, which then costs no masking).
     """
     n = sq.size
     nb = max(1, n // block)
-    local = np.median(sq[: nb * block].reshape(nb, block), axis=1) / 0.4549364231195724
-    block_id = np.minimum(np.arange(n) // block, nb - 1)
+    local = np.median(sq[: nb * block].reshape(nb, block)[:, ::4], axis=1) / 0.4549364231195724
+    threshold = np.repeat(kappa**2 * local, block)
+    threshold = np.concatenate([threshold, np.full(n - threshold.size, threshold[-1])])
+    first = sq > threshold
     tau = _truncated_second_moment(kappa)
-    keep = sq <= kappa**2 * local[block_id]
-    kept_sum = _block_sums(np.where(keep, sq, 0.0), block, nb)
-    kept_n = _block_sums(keep.astype(float), block, nb)
-    refined = kept_sum / np.maximum(kept_n, 1.0) / tau
+    if first.any():
+        kept_sum = _block_sums(np.where(first, 0.0, sq), block, nb)
+        kept_n = _block_sums(~first, block, nb)
+    else:
+        kept_sum = _block_sums(sq, block, nb)
+        kept_n = np.full(nb, float(block))
+        kept_n[-1] += n - nb * block
+    refined = kappa**2 * kept_sum / np.maximum(kept_n, 1.0) / tau
     centres = (np.arange(nb) + 0.5) * block
-    local_full = np.interp(np.arange(n), centres, refined)
-    outlier = sq > kappa**2 * local_full
-    if dilate > 0 and outlier.any():
-        outlier = maximum_filter1d(outlier.astype(np.uint8), 2 * dilate + 1).astype(bool)
+    outlier = sq > np.interp(np.arange(n), centres, refined)
+    if not outlier.any():
+        return None
+    if dilate > 0:
+        outlier = maximum_filter1d(outlier.view(np.uint8), 2 * dilate + 1).view(bool)
     return outlier
 
 
@@ -683,21 +692,28 @@ def auto_estimate(
     sq = np.empty((len(spans), m))
     for j, s in enumerate(spans):
         d = residual_sequence(s, order)
-        e = np.convolve(z, d[::-1], mode="valid")[half - s // 2 : half - s // 2 + m]
-        sq[j] = e**2 / np.sum(d**2)
+        e = sq[j]
+        e[:] = np.convolve(z, d[::-1], mode="valid")[half - s // 2 : half - s // 2 + m]
+        np.multiply(e, e, out=e)
+        e *= 1.0 / np.sum(d**2)
     block = AUTO_BLOCK if m >= 2 * AUTO_BLOCK else max(m // 2, 16)
-    if np.isfinite(trim):
-        keep = ~_outlier_mask(sq[0], trim, block, max(spans) // 2)
-        tau = _truncated_second_moment(trim)
-    else:
-        keep = np.ones(m, dtype=bool)
-        tau = 1.0
-    if not keep.any():
-        raise NoisevarError("every residual was trimmed as an outlier: the signal is not usable")
     nb = max(1, m // block)
-    kept_count = _block_sums(keep.astype(float), block, nb)
-    block_sum = np.stack([_block_sums(np.where(keep, q, 0.0), block, nb) for q in sq])
-    fourth = _block_sums(np.where(keep, sq[0] ** 2, 0.0), block, nb)
+    outlier = _outlier_mask(sq[0], trim, block, max(spans) // 2) if np.isfinite(trim) else None
+    tau = _truncated_second_moment(trim) if np.isfinite(trim) else 1.0
+    if outlier is None:
+        kept_count = np.full(nb, float(block))
+        kept_count[-1] += m - nb * block
+        block_sum = np.stack([_block_sums(q, block, nb) for q in sq])
+        fourth = _block_sums(sq[0] ** 2, block, nb)
+    else:
+        if outlier.all():
+            raise NoisevarError(
+                "every residual was trimmed as an outlier: the signal is not usable"
+            )
+        keep = ~outlier
+        kept_count = _block_sums(keep, block, nb)
+        block_sum = np.stack([_block_sums(np.where(keep, q, 0.0), block, nb) for q in sq])
+        fourth = _block_sums(np.where(keep, sq[0] ** 2, 0.0), block, nb)
     with np.errstate(invalid="ignore", divide="ignore"):
         block_mean = block_sum / kept_count
         rms4 = np.sqrt(fourth / kept_count / 3.0)  # = σ² for Gaussian noise

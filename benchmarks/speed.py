@@ -1,0 +1,109 @@
+"""Speed and memory of every estimator on 1e6 samples.
+
+    python benchmarks/speed.py [--n 1000000] [--repeats 5]
+
+Reports seconds per 1e6 samples (best of ``repeats``), the ratio to one
+third-order ``scipy.signal.lfilter`` pass over the same array measured in the
+same run, and the peak memory traced by ``tracemalloc`` over the input array's
+size. The MLE methods are timed on 1e5 samples and scaled (one fit on 1e6
+samples takes minutes). Prints Markdown; also writes
+``benchmarks/results/speed.md``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import sys
+import time
+import tracemalloc
+from pathlib import Path
+
+import numpy as np
+from scipy import signal
+
+import noisevar
+
+RESULTS = Path(__file__).resolve().parent / "results"
+SLOW = {"mle-level": 100_000, "mle-trend": 100_000}
+
+
+def _best_time(fn, repeats: int) -> float:
+    best = np.inf
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - t0)
+    return float(best)
+
+
+def _peak_bytes(fn) -> int:
+    tracemalloc.start()
+    tracemalloc.reset_peak()
+    fn()
+    _, peak = tracemalloc.get_traced_memory()
+    tracemalloc.stop()
+    return int(peak)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the benchmark and print Markdown."""
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--n", type=int, default=1_000_000)
+    ap.add_argument("--repeats", type=int, default=5)
+    args = ap.parse_args(argv)
+    g = noisevar.generate("gps-circle", n=args.n, seed=3)
+    z = g.measured
+    b, a = signal.butter(3, 0.05)
+    t_lfilter = _best_time(lambda: signal.lfilter(b, a, z), args.repeats * 2)
+    rows = []
+    for method in noisevar.methods():
+        kw = {}
+        if method == "somd-redundant":
+            kw["reference"] = g.clean + np.random.default_rng(4).normal(0, 0.5, args.n)
+        n = SLOW.get(method, args.n)
+        x = z[:n]
+        if "reference" in kw:
+            kw["reference"] = kw["reference"][:n]
+        noisevar.estimate(x, method=method, **kw)  # warm caches (c(h), sequences)
+        reps = 1 if method in SLOW else args.repeats
+        t = _best_time(lambda x=x, kw=kw, m=method: noisevar.estimate(x, method=m, **kw), reps)
+        per_million = t * 1_000_000 / n
+        peak = (
+            _peak_bytes(lambda x=x, kw=kw, m=method: noisevar.estimate(x, method=m, **kw))
+            if method not in SLOW
+            else None
+        )
+        rows.append((method, n, per_million, per_million / (t_lfilter * 1_000_000 / args.n), peak))
+    lines = [
+        f"### Speed (`python benchmarks/speed.py`), n = {args.n:,}, "
+        f"{platform.machine()}, {os.cpu_count()} cores, numpy {np.__version__}",
+        "",
+        f"One third-order `lfilter` pass over the same {args.n:,} samples: "
+        f"{1000 * t_lfilter:.1f} ms (best of {2 * args.repeats}).",
+        "",
+        "| method | s per 1e6 samples | x one lfilter pass | peak memory / input array |",
+        "|---|---|---|---|",
+    ]
+    for method, n, per_million, ratio, peak in rows:
+        mem = "—" if peak is None else f"{peak / z.nbytes:.1f}x"
+        note = f" (timed on {n:,})" if n != args.n else ""
+        lines.append(f"| {method} | {per_million:.3f}{note} | {ratio:.1f} | {mem} |")
+    auto = next(r for r in rows if r[0] == "auto")
+    lines += [
+        "",
+        f"Targets for `auto`: < 0.5 s per 1e6 samples: {auto[2]:.3f} s "
+        f"({'ok' if auto[2] < 0.5 else 'MISSED'}); within 10x one lfilter pass: {auto[3]:.1f}x "
+        f"({'ok' if auto[3] <= 10 else 'MISSED'}); peak memory under 30x the input: "
+        f"{auto[4] / z.nbytes:.1f}x ({'ok' if auto[4] / z.nbytes < 30 else 'MISSED'}).",
+    ]
+    text = "\n".join(lines)
+    RESULTS.mkdir(exist_ok=True)
+    (RESULTS / "speed.md").write_text(text + "\n")
+    print(text)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
