@@ -665,7 +665,7 @@ def auto_estimate(
     Returns
     -------
     VarianceEstimate
-        ``params["span"]`` is the sample-weighted mean span used.
+        ``params["span"]`` is the sample-weighted mean span used (1 decimal).
     """
     notes = list(notes or [])
     order = int(order)
@@ -739,7 +739,7 @@ def auto_estimate(
     if len(spans) > 1 and short > 0.05:
         notes.append(f"{short:.0%} of the record needed a shorter span (fast signal there)")
     params = {
-        "span": float(np.sum(span_used * kept_count) / max(n_kept, 1)),
+        "span": round(float(np.sum(span_used * kept_count) / max(n_kept, 1)), 1),
         "order": order,
         "trim": trim,
     }
