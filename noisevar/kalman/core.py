@@ -63,6 +63,20 @@ ModelFunction = Callable[[NDArray, int], NDArray]
 
 _SYM_TOL = 1e-9
 
+try:  # the gufunc behind np.linalg.inv, without its per-call checks (~5 us saved per step)
+    from numpy.linalg import _umath_linalg
+
+    def _inv(a: NDArray) -> NDArray:
+        return _umath_linalg.inv(a, signature="d->d")
+
+except (ImportError, AttributeError):  # pragma: no cover - other numpy builds
+
+    def _inv(a: NDArray) -> NDArray:
+        try:
+            return np.linalg.inv(a)
+        except np.linalg.LinAlgError:
+            return np.full(np.broadcast_shapes(np.shape(a)), np.nan)
+
 
 # --------------------------------------------------------------------------- validation
 def _as_matrix(a: ArrayLike, name: str, shape: tuple[int, int] | None = None) -> NDArray:
@@ -284,6 +298,22 @@ class StateSpaceModel:
         return int(self.R.shape[0])
 
     @property
+    def measured_states(self) -> tuple[int, ...] | None:
+        """State indices a linear ``H`` picks out, when ``H`` is a selection matrix.
+
+        ``H`` with a single 1 in each row (distinct columns) and zeros
+        elsewhere measures states directly; the filter then indexes instead
+        of multiplying (much faster for batched runs). ``None`` otherwise.
+        """
+        H = self.H
+        if self.h is not None or H is None:
+            return None
+        if not np.all((H == 0) | (H == 1)) or not np.all(H.sum(axis=1) == 1):
+            return None
+        idx = tuple(int(i) for i in np.argmax(H, axis=1))
+        return idx if len(set(idx)) == len(idx) else None
+
+    @property
     def is_linear(self) -> bool:
         """True when both the transition and the measurement are matrices."""
         return self.f is None and self.h is None
@@ -384,6 +414,9 @@ class KalmanFilter:
         Use the Huber M-estimation update instead of the plain one.
     batch_size : int
         Number of runs ``B`` filtered in lock-step.
+    x0 : array_like, shape (n,) or (B, n), optional
+        Initial state per run (default ``model.x0`` for every run), for
+        example each run's first measurement.
 
     Attributes
     ----------
@@ -409,6 +442,7 @@ class KalmanFilter:
     strategy: RStrategy | None = None
     robust: HuberUpdate | None = None
     batch_size: int = 1
+    x0: ArrayLike | None = None
     k: int = field(init=False, default=-1)
 
     def __post_init__(self) -> None:
@@ -426,7 +460,15 @@ class KalmanFilter:
         m, n, B = self.model.n_measurements, self.model.n_states, self.batch_size
         self.n, self.m = n, m
         self._eye = np.eye(n)
-        self.x = np.repeat(self.model.x0[None, :], B, axis=0)
+        if self.x0 is None:
+            self.x = np.repeat(self.model.x0[None, :], B, axis=0)
+        else:
+            x0 = np.asarray(self.x0, dtype=float)
+            if x0.shape not in ((n,), (B, n)) or not np.all(np.isfinite(x0)):
+                raise NoisevarError(
+                    f"x0 must be finite with shape ({n},) or ({B}, {n}), got {x0.shape}"
+                )
+            self.x = np.array(np.broadcast_to(x0, (B, n)))
         self.P = np.repeat(self.model.P0[None, :, :], B, axis=0)
         self.x_pred = self.x.copy()
         self.P_pred = self.P.copy()
@@ -445,6 +487,9 @@ class KalmanFilter:
         self.K = np.zeros((B, n, m))
         self.failed = np.zeros(B, dtype=bool)  # runs whose S became singular / non-finite
         self._angle_z = list(self.model.angle_measurements)
+        sel = self.model.measured_states
+        self._identity_H = sel is not None and sel == tuple(range(n)) and m == n
+        self._sel = None if sel is None else list(sel)
         self.strategy.start(self)
 
     # ------------------------------------------------------------------ steps
@@ -501,21 +546,32 @@ class KalmanFilter:
         model = self.model
         self.z = z
         k = self.k
-        if model.h is None:
+        if self._sel is not None:  # H selects states: index instead of multiplying
             H = model.H
-            self.z_pred = self.x_pred @ H.T
-            Ht = H.T
+            if self._identity_H:
+                self.z_pred = self.x_pred
+                self.PHt = self.HPHt = self.P_pred
+            else:
+                sel = self._sel
+                self.z_pred = self.x_pred[:, sel]
+                self.PHt = self.P_pred[:, :, sel]
+                self.HPHt = self.PHt[:, sel, :]
         else:
-            H = model.H_jacobian(self.x_pred, k)
-            self.z_pred = model.h(self.x_pred, k)
-            Ht = H.mT
+            if model.h is None:
+                H = model.H
+                self.z_pred = self.x_pred @ H.T
+                Ht = H.T
+            else:
+                H = model.H_jacobian(self.x_pred, k)
+                self.z_pred = model.h(self.x_pred, k)
+                Ht = H.mT
+            self.PHt = self.P_pred @ Ht
+            self.HPHt = H @ self.PHt
         self.H_used = H
         d = z - self.z_pred
         if self._angle_z:
             d[:, self._angle_z] = wrap_angle(d[:, self._angle_z])
         self.innovation = d
-        self.PHt = self.P_pred @ Ht
-        self.HPHt = H @ self.PHt
         strategy = self.strategy
         R = strategy.measurement_covariance(self)
         for it in range(strategy.iterations):
@@ -527,23 +583,31 @@ class KalmanFilter:
 
     def _gain_and_update(self, H: NDArray, d: NDArray, R: NDArray) -> None:
         S = self.HPHt + R
-        try:
-            S_inv = np.linalg.inv(S)
-        except np.linalg.LinAlgError:
-            S_inv = self._safe_inverse(S)
+        S_inv = _inv(S)  # NaN (no exception) for a singular member: caught by the checks
         self.S = S
         self.S_inv = S_inv
         K = self.PHt @ S_inv
         self.K = K
         if self.robust is None:
-            self.x = self.x_pred + (K @ d[:, :, None])[:, :, 0]
-            A = self._eye - K @ H
-            P = A @ self.P_pred @ A.mT + K @ R @ K.mT
+            self.x = self.x_pred + np.matmul(K, d[:, :, None])[:, :, 0]
+            if self._identity_H:
+                A = self._eye - K
+            elif self._sel is not None:
+                A = np.repeat(self._eye[None], self.batch_size, axis=0)
+                A[:, :, self._sel] -= K
+            else:
+                A = self._eye - K @ H
+            P = A @ self.P_pred @ A.mT
+            P += K @ R @ K.mT  # Joseph form
             self.P = 0.5 * (P + P.mT)
         else:
             self._huber_update(H, d, R)
         # residual r = z - h(x(k|k))
-        if self.model.h is None:
+        if self._identity_H:
+            r = self.z - self.x
+        elif self._sel is not None:
+            r = self.z - self.x[:, self._sel]
+        elif self.model.h is None:
             r = self.z - self.x @ self.model.H.T
         else:
             r = self.z - self.model.h(self.x, self.k)
@@ -551,28 +615,13 @@ class KalmanFilter:
             r[:, self._angle_z] = wrap_angle(r[:, self._angle_z])
         self.residual = r
 
-    def _safe_inverse(self, S: NDArray) -> NDArray:
-        """Invert a batch of S where some members are singular / non-finite: flag them."""
-        S = np.array(np.broadcast_to(S, (self.batch_size, self.m, self.m)))
-        bad = ~np.all(np.isfinite(S), axis=(1, 2))
-        cond = np.full(self.batch_size, np.inf)
-        cond[~bad] = np.linalg.cond(S[~bad])
-        bad |= cond > 1e15
-        self.failed |= bad
-        S[bad] = np.eye(self.m)
-        out = np.linalg.inv(S)
-        out[bad] = np.nan
-        return out
-
     def _huber_update(self, H: NDArray, d: NDArray, R: NDArray) -> None:
         rob = self.robust
         B, n, m = self.batch_size, self.n, self.m
         H = np.broadcast_to(H, (B, m, n))
         R = np.broadcast_to(R, (B, m, m))
-        Lp = np.linalg.cholesky(self.P_pred)
-        Lr = np.linalg.cholesky(R)
-        Lp_inv = np.linalg.inv(Lp)
-        Lr_inv = np.linalg.inv(Lr)
+        Lp_inv = _inv(self._cholesky(self.P_pred))
+        Lr_inv = _inv(self._cholesky(R))
         # regression y = M x + tau, whitened
         M = np.concatenate([Lp_inv, Lr_inv @ H], axis=1)  # (B, n+m, n)
         z_lin = d + (H @ self.x_pred[:, :, None])[:, :, 0]  # linearised measurement
@@ -588,7 +637,7 @@ class KalmanFilter:
                 psi = np.minimum(1.0, rob.kappa / np.maximum(tau, 1e-300))
             MtW = M.mT * psi[:, None, :]
             A = MtW @ M
-            P = np.linalg.inv(A)
+            P = _inv(A)
             x_new = (P @ (MtW @ y[:, :, None]))[:, :, 0]
             step = np.max(np.abs(x_new - x) / np.sqrt(np.diagonal(P, axis1=1, axis2=2)))
             x = x_new
@@ -597,6 +646,39 @@ class KalmanFilter:
         self.huber_weights = psi
         self.x = x
         self.P = 0.5 * (P + P.mT)
+
+    def project(self, P: NDArray) -> NDArray:
+        """``H P Hᵀ`` with the current measurement Jacobian (e.g. ``H P(k|k) Hᵀ``).
+
+        Parameters
+        ----------
+        P : ndarray, shape (B, n, n)
+
+        Returns
+        -------
+        ndarray, shape (B, m, m)
+        """
+        if self._identity_H:
+            return P
+        if self._sel is not None:
+            return P[:, self._sel][:, :, self._sel]
+        H = self.H_used
+        return H @ P @ H.mT
+
+    def _cholesky(self, a: NDArray) -> NDArray:
+        """Batched Cholesky factor; members that are not positive definite are flagged."""
+        try:
+            return np.linalg.cholesky(a)
+        except np.linalg.LinAlgError:
+            a = np.array(a)
+            finite = np.all(np.isfinite(a), axis=(1, 2))
+            bad = ~finite
+            bad[finite] = np.linalg.eigvalsh(a[finite])[:, 0] <= 0
+            self.failed |= bad
+            a[bad] = np.eye(a.shape[-1])
+            L = np.linalg.cholesky(a)
+            L[bad] = np.nan
+            return L
 
     # ------------------------------------------------------------------ health
     def reset_runs(self, runs: NDArray) -> None:
@@ -609,7 +691,9 @@ class KalmanFilter:
         """
         self.x = np.array(self.x)
         self.P = np.array(self.P)
-        self.x[runs] = self.model.x0
+        self.x[runs] = self.model.x0 if self.x0 is None else np.broadcast_to(
+            np.asarray(self.x0, dtype=float), self.x.shape
+        )[runs]
         self.P[runs] = self.model.P0
         self.strategy.reset_runs(self, runs)
 
@@ -645,8 +729,9 @@ def run_filter(
     strategy: RStrategy | None = None,
     robust: HuberUpdate | None = None,
     truth: ArrayLike | None = None,
-    store_covariances: bool = True,
+    store_predicted: bool = True,
     divergence: DivergenceCheck | None = None,
+    x0: ArrayLike | None = None,
 ) -> FilterResult:
     """Run the filter over a whole record (or a batch of Monte Carlo records).
 
@@ -664,11 +749,13 @@ def run_filter(
         Huber M-estimation update (spec B3).
     truth : array_like, shape (N, n) or (B, N, n), optional
         True states; enables NEES, RMSE and the NEES divergence test.
-    store_covariances : bool
-        Record ``P`` and ``P_pred`` at every step (memory ``2 B N n²``).
-        Without them NEES is not available.
+    store_predicted : bool
+        Also record ``x_pred`` and ``P_pred`` at every step (``P`` is always
+        recorded; ``P_pred`` costs another ``B N n²`` floats).
     divergence : DivergenceCheck, optional
         Divergence criteria (default :class:`DivergenceCheck`).
+    x0 : array_like, shape (n,) or (B, n), optional
+        Initial state per run (default ``model.x0``).
 
     Returns
     -------
@@ -716,17 +803,17 @@ def run_filter(
         cov_limit = 1e6 * max(float(np.max(np.diag(model.P0))), float(np.max(np.diag(model.R))))
 
     strategy.prepare(zb, model)
-    filt = KalmanFilter(model, strategy=strategy, robust=robust, batch_size=B)
+    filt = KalmanFilter(model, strategy=strategy, robust=robust, batch_size=B, x0=x0)
 
     x_rec = np.empty((N, B, n))
-    xp_rec = np.empty((N, B, n))
     d_rec = np.empty((N, B, m))
     r_rec = np.empty((N, B, m))
     S_rec = np.empty((N, B, m, m))
     R_rec = np.empty((N, B, m, m))
-    Q_rec = np.empty((N, B, n, n))
-    P_rec = np.empty((N, B, n, n)) if store_covariances else None
-    Pp_rec = np.empty((N, B, n, n)) if store_covariances else None
+    Q_rec: NDArray | None = None  # allocated when a strategy first changes Q
+    P_rec = np.empty((N, B, n, n))
+    xp_rec = np.empty((N, B, n)) if store_predicted else None
+    Pp_rec = np.empty((N, B, n, n)) if store_predicted else None
     z_steps = np.ascontiguousarray(np.moveaxis(zb, 1, 0))
 
     div_step = np.full(B, -1)
@@ -734,37 +821,48 @@ def run_filter(
     check_every = max(1, int(div.check_every))
     last_check = 0
     predict, update = filt.predict, filt._update
-    for k in range(N):
-        predict()
-        update(z_steps[k])
-        x_rec[k] = filt.x
-        xp_rec[k] = filt.x_pred
-        d_rec[k] = filt.innovation
-        r_rec[k] = filt.residual
-        S_rec[k] = filt.S
-        R_rec[k] = filt.R
-        Q_rec[k] = filt.Q
-        if store_covariances:
+    # a singular S or a NaN state gives NaN (no exception, no warning) and is
+    # reported by the divergence checks below
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        for k in range(N):
+            predict()
+            update(z_steps[k])
+            x_rec[k] = filt.x
             P_rec[k] = filt.P
-            Pp_rec[k] = filt.P_pred
-        if (k + 1 - last_check) >= check_every or k == N - 1:
-            _check_block(filt, x_rec, last_check, k + 1, cov_limit, div_step, reasons)
-            last_check = k + 1
+            d_rec[k] = filt.innovation
+            r_rec[k] = filt.residual
+            S_rec[k] = filt.S
+            R_rec[k] = filt.R
+            if filt.Q is not model.Q:
+                if Q_rec is None:
+                    Q_rec = np.empty((N, B, n, n))
+                    Q_rec[:k] = model.Q
+                Q_rec[k] = filt.Q
+            if store_predicted:
+                xp_rec[k] = filt.x_pred
+                Pp_rec[k] = filt.P_pred
+            if (k + 1 - last_check) >= check_every or k == N - 1:
+                _check_block(filt, x_rec, last_check, k + 1, cov_limit, div_step, reasons)
+                last_check = k + 1
+
+    if Q_rec is None:  # Q never changed: a read-only view, no copies
+        Q_rec = np.broadcast_to(model.Q, (N, B, n, n))
 
     def to_batch(a: NDArray | None) -> NDArray | None:
         return None if a is None else np.moveaxis(a, 0, 1)
 
+    # NIS / NEES on the (step, run) layout the records were written in
+    nis = quadratic_form_inverse(S_rec, d_rec).T
+    nees = None
+    if truth_b is not None:
+        err = x_rec - np.moveaxis(truth_b, 1, 0)
+        for i in model.angle_states:
+            err[..., i] = wrap_angle(err[..., i])
+        nees = quadratic_form_inverse(P_rec, err).T
     x_out = to_batch(x_rec)
     P_out = to_batch(P_rec)
     d_out = to_batch(d_rec)
     S_out = to_batch(S_rec)
-    nis = np.einsum("bki,bkij,bkj->bk", d_out, _batched_inv(S_out), d_out)
-    nees = None
-    if truth_b is not None and P_out is not None:
-        err = x_out - truth_b
-        for i in model.angle_states:
-            err[..., i] = wrap_angle(err[..., i])
-        nees = np.einsum("bki,bkij,bkj->bk", err, _batched_inv(P_out), err)
     _check_consistency(nis, m, div, div_step, reasons, "NIS", "innovations")
     if nees is not None:
         _check_consistency(nees, n, div, div_step, reasons, "NEES", "estimation errors")
@@ -813,17 +911,50 @@ def run_filter(
     )
 
 
-def _batched_inv(a: NDArray) -> NDArray:
-    """Inverse of a stack of matrices; NaN (not an exception) for singular members."""
-    flat = a.reshape(-1, a.shape[-2], a.shape[-1])
-    good = np.all(np.isfinite(flat), axis=(1, 2))
-    out = np.full_like(flat, np.nan)
-    if np.any(good):
-        try:
-            out[good] = np.linalg.inv(flat[good])
-        except np.linalg.LinAlgError:
-            out[good] = np.linalg.pinv(flat[good])
-    return out.reshape(a.shape)
+def quadratic_form_inverse(A: NDArray, v: NDArray) -> NDArray:
+    """``vᵀ A⁻¹ v`` for stacks of symmetric positive-definite ``A`` (NIS, NEES).
+
+    A Cholesky factorisation and forward substitution written element-wise
+    over the stack, so that a million 4 x 4 matrices take milliseconds
+    instead of a LAPACK call each. Non-finite or non-positive-definite
+    members give NaN.
+
+    Parameters
+    ----------
+    A : ndarray, shape (..., k, k)
+        Symmetric positive-definite matrices.
+    v : ndarray, shape (..., k)
+        Vectors.
+
+    Returns
+    -------
+    ndarray, shape (...)
+    """
+    k = A.shape[-1]
+    # each matrix entry as its own contiguous array: element-wise arithmetic
+    # without reductions over tiny axes
+    a = {(i, j): np.ascontiguousarray(A[..., i, j]) for i in range(k) for j in range(i + 1)}
+    L: dict[tuple[int, int], NDArray] = {}
+    with np.errstate(invalid="ignore", divide="ignore"):
+        for j in range(k):
+            d = a[j, j].copy()
+            for p in range(j):
+                d -= L[j, p] * L[j, p]
+            L[j, j] = np.sqrt(np.where(d > 0, d, np.nan))
+            for i in range(j + 1, k):
+                e = a[i, j].copy()
+                for p in range(j):
+                    e -= L[i, p] * L[j, p]
+                L[i, j] = e / L[j, j]
+        total = np.zeros(A.shape[:-2])
+        y: list[NDArray] = []
+        for i in range(k):
+            e = np.array(v[..., i], dtype=float)
+            for p in range(i):
+                e -= L[i, p] * y[p]
+            y.append(e / L[i, i])
+            total += y[i] * y[i]
+    return total
 
 
 def _check_block(

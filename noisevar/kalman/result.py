@@ -26,10 +26,11 @@ class FilterResult:
         update was used).
     time : ndarray, shape (N,)
         ``k * dt``.
-    x, x_pred : ndarray, shape ([B,] N, n)
-        Updated ``x̂(k|k)`` and predicted ``x̂(k|k-1)`` state estimates.
-    P, P_pred : ndarray, shape ([B,] N, n, n) or None
-        Their covariances (``None`` when the run was asked not to store them).
+    x, P : ndarray, shapes ([B,] N, n) and ([B,] N, n, n)
+        Updated estimates ``x̂(k|k)`` and their covariances.
+    x_pred, P_pred : ndarray or None
+        Predictions ``x̂(k|k-1)``, ``P(k|k-1)`` (``None`` when the run was
+        made with ``store_predicted=False``).
     innovation : ndarray, shape ([B,] N, m)
         ``d_k = z_k - h(x̂(k|k-1))`` (angles wrapped to ``(-π, π]``).
     innovation_cov : ndarray, shape ([B,] N, m, m)
@@ -64,8 +65,8 @@ class FilterResult:
     strategy: str
     time: NDArray
     x: NDArray
-    x_pred: NDArray
-    P: NDArray | None
+    x_pred: NDArray | None
+    P: NDArray
     P_pred: NDArray | None
     innovation: NDArray
     innovation_cov: NDArray

@@ -318,8 +318,7 @@ class ResidualR(_WindowedR):
 
     def observe(self, filt: KalmanFilter) -> None:
         r = filt.residual
-        H = filt.H_used
-        HPHt = H @ filt.P @ (H.mT if H.ndim == 3 else H.T)
+        HPHt = filt.project(filt.P)
         self._cov.push(self._outer(r, self.diagonal))
         if self._cov.count >= self.warmup:
             hph = np.diagonal(HPHt, axis1=-2, axis2=-1) if self.diagonal else HPHt
@@ -539,8 +538,7 @@ class VariationalBayesR(RStrategy):
         return self._r_hat()
 
     def _update_beta(self, filt: KalmanFilter) -> None:
-        H = filt.H_used
-        HPHt = H @ filt.P @ (H.mT if H.ndim == 3 else H.T)
+        HPHt = filt.project(filt.P)
         r = filt.residual
         self._beta = self._beta_pred + 0.5 * r * r + 0.5 * np.diagonal(HPHt, axis1=1, axis2=2)
 
