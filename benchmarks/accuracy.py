@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 import noisevar
-from noisevar.errors import NoisevarError
+from noisevar.compare import run_monte_carlo
 
 FAMILIES = noisevar.signal_names()
 SIZES = (1000, 6000, 50000)
@@ -39,56 +39,54 @@ def _floor(noise_std: np.ndarray) -> float:
     return float(np.sqrt(2.0 * np.sum(v**2)) / np.sum(v))
 
 
-def run_cell(task: tuple[str, str, int, int, int]) -> dict:
-    """Monte Carlo of one (method, family, n): relative errors of the variance."""
-    method, family, n, runs, seed = task
-    g = noisevar.generate(family, n=n, seed=seed, runs=runs)
-    measured = g.measured.reshape(runs, n)
-    rel = np.full(runs, np.nan)
-    error = None
-    t0 = time.perf_counter()
-    for r in range(runs):
-        try:
-            rel[r] = noisevar.estimate(measured[r], method=method).variance / g.true_variance - 1
-        except NoisevarError as exc:
-            error = str(exc)
-    seconds = time.perf_counter() - t0
-    ok = rel[np.isfinite(rel)]
-    floor = _floor(g.noise_std)
-    out = {
-        "method": method,
-        "family": family,
-        "n": n,
-        "runs": runs,
-        "failed_runs": int(runs - ok.size),
-        "error": error,
-        "seconds": seconds,
-        "floor": floor,
-    }
-    if ok.size:
-        rmse = float(np.sqrt(np.mean(ok**2)))
-        out.update(
-            bias=float(np.mean(ok)),
-            rmse=rmse,
-            p95=float(np.percentile(np.abs(ok), 95)),
-            max_abs=float(np.max(np.abs(ok))),
-            within_10pct=float(np.mean(np.abs(ok) <= 0.10)),
-            rmse_over_floor=rmse / floor,
-        )
-    return out
+def run_cell(task: tuple[tuple[str, ...], str, int, int, int]) -> list[dict]:
+    """Monte Carlo of some methods on one (family, n) (:func:`noisevar.compare.run_monte_carlo`)."""
+    methods, family, n, runs, seed = task
+    mc = run_monte_carlo(family, runs=runs, methods=list(methods), n=n, seed=seed)
+    floor = _floor(noisevar.generate(family, n=n, seed=seed).noise_std)
+    cells = []
+    for row in mc.summary():
+        e = mc.relative_errors[row["method"]]
+        ok = e[np.isfinite(e)]
+        cell = {
+            "method": row["method"],
+            "family": family,
+            "n": n,
+            "runs": runs,
+            "failed_runs": row["failures"],
+            "error": mc.first_error.get(row["method"]),
+            "ms_per_run": row["ms_per_run"],
+            "floor": floor,
+        }
+        if ok.size:
+            cell.update(
+                bias=row["bias"],
+                rmse=row["rmse"],
+                p95=float(np.percentile(np.abs(ok), 95)),
+                max_abs=row["max_abs"],
+                within_10pct=row["within_10pct"],
+                rmse_over_floor=row["rmse"] / floor,
+            )
+        cells.append(cell)
+    return cells
 
 
-def fig2(method: str, runs: int, seed: int) -> dict:
+def fig2(runs: int, seed: int) -> list[dict]:
     """The paper's Fig. 2 experiment: fast-slow signal, noise std 5, h=1.5e-5, m=40."""
-    cell = run_cell((method, "fast-slow", 6000, runs, seed))
-    return {
-        "method": method,
-        "runs": runs,
-        "within_10pct": cell.get("within_10pct"),
-        "max_abs_rel_error": cell.get("max_abs"),
-        "bias": cell.get("bias"),
-        "rmse": cell.get("rmse"),
-    }
+    mc = run_monte_carlo(
+        "fast-slow", runs=runs, methods=["somd-paper", "somd", "auto"], n=6000, seed=seed
+    )
+    return [
+        {
+            "method": r["method"],
+            "runs": r["runs"],
+            "within_10pct": r["within_10pct"],
+            "max_abs_rel_error": r["max_abs"],
+            "bias": r["bias"],
+            "rmse": r["rmse"],
+        }
+        for r in mc.summary()
+    ]
 
 
 def _pct(x: float | None, digits: int = 1) -> str:
@@ -211,24 +209,20 @@ def main(argv: list[str] | None = None) -> int:
     args.sizes = (6000,) if args.quick else SIZES
     args.families = FAMILIES
     args.methods = [m for m in METHODS if not (args.quick and m in SLOW)]
+    fast = tuple(m for m in args.methods if m not in SLOW)
+    slow = tuple(m for m in args.methods if m in SLOW)
     tasks = []
     for n in args.sizes:
         for fi, f in enumerate(args.families):
-            for m in args.methods:
-                if m in SLOW:
-                    if n > 6000:
-                        continue
-                    runs = args.mle_runs
-                else:
-                    runs = args.runs
-                # the same seed for every method: all methods see the same noise
-                tasks.append((m, f, n, runs, args.seed + 1000 * fi + n))
+            seed = args.seed + 100_000 * fi + n  # every method sees the same noise
+            tasks.append((fast, f, n, args.runs, seed))
+            if slow and n <= 6000:
+                tasks.append((slow, f, n, args.mle_runs, seed))
     t0 = time.perf_counter()
     with ProcessPoolExecutor(max_workers=args.workers) as pool:
-        cells = list(pool.map(run_cell, tasks, chunksize=1))
-        figs = list(
-            pool.map(fig2, ["somd-paper", "somd", "auto"], [args.fig2_runs] * 3, [args.seed] * 3)
-        )
+        fig_future = pool.submit(fig2, args.fig2_runs, args.seed)
+        cells = [c for group in pool.map(run_cell, tasks, chunksize=1) for c in group]
+        figs = fig_future.result()
     elapsed = time.perf_counter() - t0
     RESULTS.mkdir(exist_ok=True)
     (RESULTS / "accuracy.json").write_text(
