@@ -314,7 +314,7 @@ def gps_circle(
 TARGET_T = 0.1
 TARGET_STEPS = 6000
 TARGET_SIGMA = 5.0
-TARGET_H_SMOOTH = 3e-5
+TARGET_H_SMOOTH = 1e-3
 #: Segments of (duration s, tangential acceleration m/s², turn rate rad/s).
 TARGET_MANOEUVRES = (
     (60.0, 0.0, 0.0),
@@ -387,6 +387,8 @@ def _target_scenario(
     B = _check_runs(runs)
     T = TARGET_T
     N = sigma.size
+    if N < 200:
+        raise NoisevarError(f"n_steps must be at least 200, got {N}")
     truth1 = _target_truth(N, T)
     truth = np.repeat(truth1[None], B, axis=0)
     rng = np.random.default_rng(seed)
@@ -425,6 +427,11 @@ def _target_scenario(
     )
 
 
+def _check_factor(factor: float) -> None:
+    if not (np.isfinite(factor) and factor > 0):
+        raise NoisevarError(f"factor must be a positive number, got {factor}")
+
+
 #: White-acceleration spectral density of the target's CV model (m²/s³),
 #: about the square of the largest manoeuvre acceleration (1 m/s²) per second.
 TARGET_Q = 1.0
@@ -458,7 +465,8 @@ def noise_step(
     Scenario
         ``change = (mid, mid)``.
     """
-    mid = n_steps // 2
+    _check_factor(factor)
+    mid = int(n_steps) // 2
     sigma = np.where(np.arange(n_steps) < mid, TARGET_SIGMA, factor * TARGET_SIGMA)
     return _target_scenario(
         "noise-step",
@@ -490,6 +498,7 @@ def noise_ramp(
     Scenario
         ``change = (ramp start, ramp end)``.
     """
+    _check_factor(factor)
     a, b = int(0.4 * n_steps), int(0.6 * n_steps)
     k = np.arange(n_steps)
     frac = np.clip((k - a) / max(b - a, 1), 0.0, 1.0)

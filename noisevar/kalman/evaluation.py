@@ -1,0 +1,127 @@
+"""Metrics over batched filter runs, shared by the experiments and the benchmark.
+
+Every function takes a batched :class:`~noisevar.kalman.result.FilterResult`
+(leading Monte Carlo axis) and returns plain floats / dicts, with ``None``
+where a number does not exist (a run that blew up), so the output is valid
+JSON.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import Counter
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .result import FilterResult
+
+
+def finite_or_none(value: float) -> float | None:
+    """``float(value)``, or ``None`` when it is NaN/infinite (JSON has no NaN).
+
+    Parameters
+    ----------
+    value : float
+
+    Returns
+    -------
+    float or None
+    """
+    value = float(value)
+    return value if math.isfinite(value) else None
+
+
+def pooled_rmse(result: FilterResult, states: tuple[int, ...], skip: int = 0) -> float | None:
+    """RMSE pooled over runs and steps: ``sqrt(mean_{runs, k} Σ_{i in states} e_i²)``.
+
+    Runs that blew up (NaN after their divergence step) are left out; ``None``
+    when no run is left.
+
+    Parameters
+    ----------
+    result : FilterResult
+        A batched run with truth.
+    states : tuple of int
+        State components summed (``(0, 1)``: horizontal position).
+    skip : int
+        Leading steps left out.
+
+    Returns
+    -------
+    float or None
+    """
+    err = result.state_error()[..., skip:, :][..., list(states)]
+    sq = np.sum(err**2, axis=-1)
+    ok = np.all(np.isfinite(sq), axis=-1)
+    if not ok.any():
+        return None
+    return finite_or_none(np.sqrt(np.mean(sq[ok])))
+
+
+def r_diagonal(result: FilterResult) -> NDArray:
+    """Diagonal of the ``R`` used at every step, shape ``(B, N, m)``."""
+    return np.diagonal(result.R, axis1=-2, axis2=-1)
+
+
+def r_tracking_error(result: FilterResult, R_true: NDArray, start: int) -> tuple[float, float]:
+    """Mean ``|R̂_jj / R_jj - 1|`` and mean ``R̂_jj / R_jj - 1`` from step ``start`` on.
+
+    Averaged over runs, steps ``k >= start`` and channels ``j``.
+
+    Parameters
+    ----------
+    result : FilterResult
+        Batched run.
+    R_true : ndarray, shape (N, m, m)
+        True covariance per step (aligned with the result's steps).
+    start : int
+        First step counted (after the change has settled).
+
+    Returns
+    -------
+    (mean_abs_error, mean_bias) : tuple of float
+    """
+    est = r_diagonal(result)[:, start:]
+    true = np.diagonal(R_true, axis1=-2, axis2=-1)[None, start:]
+    ratio = est / true - 1.0
+    return float(np.mean(np.abs(ratio))), float(np.mean(ratio))
+
+
+def divergence_summary(result: FilterResult) -> dict[str, Any]:
+    """How many runs diverged, and why (reasons grouped by kind).
+
+    Parameters
+    ----------
+    result : FilterResult
+        Batched run.
+
+    Returns
+    -------
+    dict
+        ``{"runs": k, "of": B, "reasons": {kind: count}, "example": first reason}``.
+    """
+    div = np.atleast_1d(result.diverged)
+    reasons = result.divergence_reason
+    reasons = [reasons] if isinstance(reasons, str) else list(reasons)
+    kinds = Counter(r.split(":")[0] for r, d in zip(reasons, div, strict=True) if d)
+    example = next((r for r, d in zip(reasons, div, strict=True) if d), "")
+    return {
+        "runs": int(div.sum()),
+        "of": int(div.size),
+        "reasons": dict(kinds),
+        "example": example,
+    }
+
+
+def fmt(value: Any, width: int = 11) -> str:
+    """A number for a text table (``-`` for None, 4 significant digits)."""
+    if value is None:
+        return "-".rjust(width)
+    if isinstance(value, str):
+        return value.rjust(width)
+    v = float(value)
+    if v != 0 and (abs(v) >= 1e5 or abs(v) < 1e-3):
+        return f"{v:.4e}".rjust(width)
+    return f"{v:.4g}".rjust(width)
