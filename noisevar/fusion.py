@@ -593,4 +593,4 @@ def run_centralized(data: FusionData) -> FilterResult:
         name="centralised",
     )
     z = np.concatenate(data.measurements, axis=-1)
-    return run_filter(model, z, truth=data.truth, store_covariances=False)
+    return run_filter(model, z, truth=data.truth)
