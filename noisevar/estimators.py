@@ -183,11 +183,22 @@ def difference_estimate(
     )
 
 
+def _zero_sum_unit(d: list[float]) -> NDArray:
+    """Project a published (4-decimal) sequence onto sum 0, sum of squares 1.
+
+    The printed order-3 values sum to 1e-4, which would leak an offset ``c``
+    into the estimate as ``(1e-4 c)²``: ruinous for, say, UTM coordinates.
+    """
+    a = np.asarray(d, dtype=float)
+    a = a - a.mean()
+    return a / np.sqrt(np.sum(a**2))
+
+
 #: Hall-Kay-Titterington (1990) optimal difference sequences, orders 1-3.
 HKT_SEQUENCES = {
-    1: np.array([0.7071, -0.7071]),
-    2: np.array([0.8090, -0.5000, -0.3090]),
-    3: np.array([0.1942, 0.2809, 0.3832, -0.8582]),
+    1: _zero_sum_unit([0.7071, -0.7071]),
+    2: _zero_sum_unit([0.8090, -0.5000, -0.3090]),
+    3: _zero_sum_unit([0.1942, 0.2809, 0.3832, -0.8582]),
 }
 
 
@@ -665,7 +676,9 @@ def auto_estimate(
     Returns
     -------
     VarianceEstimate
-        ``params["span"]`` is the sample-weighted mean span used (1 decimal).
+        ``params["span"]`` is the requested span (None: chosen per block, and
+        a note gives the sample-weighted mean span used), so that
+        ``estimate(z, **params)`` reproduces the estimate.
     """
     notes = list(notes or [])
     order = int(order)
@@ -738,11 +751,12 @@ def auto_estimate(
     short = float(np.sum(kept_count[choice < len(spans) - 1]) / max(n_kept, 1))
     if len(spans) > 1 and short > 0.05:
         notes.append(f"{short:.0%} of the record needed a shorter span (fast signal there)")
-    params = {
-        "span": round(float(np.sum(span_used * kept_count) / max(n_kept, 1)), 1),
-        "order": order,
-        "trim": trim,
-    }
+    if len(spans) > 1:
+        mean_span = float(np.sum(span_used * kept_count) / max(n_kept, 1))
+        notes.append(f"span chosen per block of {block} samples: mean {mean_span:.1f}")
+    # params are the config form (estimate(z, **params) reproduces this result):
+    # the requested span, None when it is chosen per block.
+    params = {"span": span, "order": order, "trim": trim}
     return VarianceEstimate("auto", var, chi2_interval(var, dof), n_kept, n, dof, params, notes)
 
 
