@@ -168,7 +168,7 @@ def _period_from_time(t: NDArray, notes: list[str]) -> float | None:
             "sample period not taken from it"
         )
         return None
-    period = float(np.median(dt))
+    period = float(f"{float(np.median(dt)):.12g}")  # 0.1, not 0.09999999999999787
     spread = float((dt.max() - dt.min()) / period)
     if spread > UNIFORM_TOLERANCE:
         notes.append(

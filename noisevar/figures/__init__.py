@@ -196,21 +196,9 @@ def note_downsampled(fig: go.Figure, n_total: int, max_points: int = MAX_POINTS)
     -------
     go.Figure
     """
-    if n_total > max_points:
-        fig.add_annotation(
-            text=(
-                f"drawn downsampled: {max_points:,} of {n_total:,} samples per trace "
-                "(MinMax-LTTB); computed on all samples"
-            ),
-            xref="paper",
-            yref="paper",
-            x=1.0,
-            y=1.0,
-            yanchor="bottom",
-            xanchor="right",
-            showarrow=False,
-            font={"size": 11, "color": "#666"},
-        )
+    ann = downsample_note(n_total, max_points)
+    if ann is not None:
+        fig.add_annotation(**ann)
     return fig
 
 
@@ -243,17 +231,214 @@ def range_to_slice(
     return slice(start, max(start, stop))
 
 
+def layout(title: str | None = None, height: int = 420, **extra: Any) -> dict[str, Any]:
+    """Common layout as a plain dict (legend on top, compact margins).
+
+    No template is set: building a figure with one costs ~20 ms in plotly,
+    a large part of a redraw budget; the dashboard styles figures with its
+    own theme, and exports use plotly's default template.
+
+    Parameters
+    ----------
+    title : str, optional
+        Figure title.
+    height : int
+        Pixel height.
+    **extra
+        More layout keys (merged on top).
+
+    Returns
+    -------
+    dict
+    """
+    out: dict[str, Any] = {
+        "height": height,
+        "margin": {"l": 60, "r": 20, "t": 60 if title else 36, "b": 45},
+        "legend": {"orientation": "h", "yanchor": "bottom", "y": 1.02, "x": 0.0},
+        "hovermode": "closest",
+    }
+    if title:
+        out["title"] = {"text": title, "x": 0.0, "xanchor": "left"}
+    out.update(extra)
+    return out
+
+
 def base_layout(fig: go.Figure, title: str | None = None, height: int = 420) -> go.Figure:
-    """Common layout: white template, legend on top, compact margins."""
-    fig.update_layout(
-        template="plotly_white",
-        title={"text": title, "x": 0.0, "xanchor": "left"} if title else None,
-        height=height,
-        margin={"l": 60, "r": 20, "t": 60 if title else 30, "b": 45},
-        legend={"orientation": "h", "yanchor": "bottom", "y": 1.02, "x": 0.0},
-        hovermode="closest",
-    )
+    """Apply :func:`layout` to an existing figure (in place) and return it."""
+    fig.update_layout(**layout(title, height))
     return fig
+
+
+def hline(
+    y: float, color: str = "#444", dash: str = "dash", text: str | None = None, yref: str = "y"
+) -> tuple[dict[str, Any], dict[str, Any] | None]:
+    """A horizontal line across the plot as ``(shape, annotation)`` layout dicts.
+
+    Cheaper than ``fig.add_hline`` (which costs milliseconds per call).
+    """
+    shape = {
+        "type": "line",
+        "xref": "paper",
+        "x0": 0,
+        "x1": 1,
+        "yref": yref,
+        "y0": y,
+        "y1": y,
+        "line": {"color": color, "dash": dash, "width": 1.5},
+    }
+    ann = None
+    if text:
+        ann = {
+            "xref": "paper",
+            "x": 0.0,
+            "yref": yref,
+            "y": y,
+            "text": text,
+            "showarrow": False,
+            "xanchor": "left",
+            "yanchor": "bottom",
+            "font": {"size": 11, "color": color},
+        }
+    return shape, ann
+
+
+def vline(
+    x: float, color: str = "#444", dash: str = "dash", text: str | None = None, xref: str = "x"
+) -> tuple[dict[str, Any], dict[str, Any] | None]:
+    """A vertical line across the plot as ``(shape, annotation)`` layout dicts."""
+    shape = {
+        "type": "line",
+        "yref": "paper",
+        "y0": 0,
+        "y1": 1,
+        "xref": xref,
+        "x0": x,
+        "x1": x,
+        "line": {"color": color, "dash": dash, "width": 1.5},
+    }
+    ann = None
+    if text:
+        ann = {
+            "yref": "paper",
+            "y": 1.0,
+            "xref": xref,
+            "x": x,
+            "text": text,
+            "showarrow": False,
+            "xanchor": "left",
+            "yanchor": "top",
+            "font": {"size": 11, "color": color},
+        }
+    return shape, ann
+
+
+def band(
+    lo: float,
+    hi: float,
+    axis: str = "y",
+    color: str = "rgba(0,114,178,0.15)",
+    ref: str | None = None,
+) -> dict[str, Any]:
+    """A shaded band between ``lo`` and ``hi`` on one axis, spanning the other (a shape dict)."""
+    if axis == "y":
+        return {
+            "type": "rect",
+            "xref": "paper",
+            "x0": 0,
+            "x1": 1,
+            "yref": ref or "y",
+            "y0": lo,
+            "y1": hi,
+            "fillcolor": color,
+            "line": {"width": 0},
+            "layer": "below",
+        }
+    return {
+        "type": "rect",
+        "yref": "paper",
+        "y0": 0,
+        "y1": 1,
+        "xref": ref or "x",
+        "x0": lo,
+        "x1": hi,
+        "fillcolor": color,
+        "line": {"width": 0},
+        "layer": "below",
+    }
+
+
+def downsample_note(n_total: int, max_points: int = MAX_POINTS) -> dict[str, Any] | None:
+    """The annotation dict of :func:`note_downsampled` (None when nothing is dropped)."""
+    if n_total <= max_points:
+        return None
+    return {
+        "text": (
+            f"drawn downsampled: {max_points:,} of {n_total:,} samples per trace "
+            "(MinMax-LTTB); computed on all samples"
+        ),
+        "xref": "paper",
+        "yref": "paper",
+        "x": 1.0,
+        "y": 1.0,
+        "yanchor": "bottom",
+        "xanchor": "right",
+        "showarrow": False,
+        "font": {"size": 11, "color": "#666"},
+    }
+
+
+def stacked_axes(
+    row_heights: Sequence[float], gap: float = 0.08, titles: Sequence[str] | None = None
+) -> dict[str, Any]:
+    """Layout keys for panels stacked vertically on one shared x axis.
+
+    Traces of panel ``i`` (0 = top) use ``yaxis="y"`` for the top panel and
+    ``"y2"``, ``"y3"``... below. Cheaper than ``make_subplots``.
+
+    Parameters
+    ----------
+    row_heights : sequence of float
+        Relative panel heights, top first.
+    gap : float
+        Vertical gap between panels (fraction of the plot height).
+    titles : sequence of str, optional
+        Panel titles.
+
+    Returns
+    -------
+    dict
+        ``xaxis``, ``yaxis``, ``yaxis2``... and ``annotations`` (the titles).
+    """
+    k = len(row_heights)
+    total = float(sum(row_heights))
+    usable = 1.0 - gap * (k - 1)
+    top = 1.0
+    out: dict[str, Any] = {}
+    anns = []
+    for i, h in enumerate(row_heights):
+        frac = usable * h / total
+        lo = max(0.0, top - frac)
+        name = "yaxis" if i == 0 else f"yaxis{i + 1}"
+        out[name] = {"domain": [lo, top], "anchor": "x"}
+        if titles and i < len(titles) and titles[i]:
+            anns.append(
+                {
+                    "text": titles[i],
+                    "xref": "paper",
+                    "yref": "paper",
+                    "x": 0.0,
+                    "y": top,
+                    "xanchor": "left",
+                    "yanchor": "bottom",
+                    "showarrow": False,
+                    "font": {"size": 12},
+                }
+            )
+        top = lo - gap
+    bottom = "y" if k == 1 else f"y{k}"
+    out["xaxis"] = {"anchor": bottom}
+    out["annotations"] = anns
+    return out
 
 
 def to_html(fig: go.Figure, self_contained: bool = True) -> str:
@@ -330,8 +515,14 @@ __all__ = [
     "COLORS",
     "MAX_POINTS",
     "PALETTE",
+    "band",
     "base_layout",
     "downsample_indices",
+    "downsample_note",
+    "hline",
+    "layout",
+    "stacked_axes",
+    "vline",
     "line_trace",
     "note_downsampled",
     "range_to_slice",
