@@ -1,0 +1,292 @@
+"""Figures of carrier tracking (:class:`noisevar.carrier.CarrierResult`, spec B1).
+
+* :func:`phase_error_figure` — phase-error traces of the EKF and the AEKF
+  (paper Figs. 2 and 3), one run.
+* :func:`doppler_figure` — true and estimated Doppler, one run.
+* :func:`adaptation_figure` — the ``R`` and ``Q[0,0]`` each filter used.
+* :func:`iq_figure` — the prompt correlator outputs in the I/Q plane.
+* :func:`sweep_figure` — RMS phase error and loss-of-lock fraction against
+  C/N0 (:class:`noisevar.carrier.CarrierSweep`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+import plotly.graph_objects as go
+from plotly.subplots import make_subplots
+
+from ..carrier import CarrierResult, CarrierSweep
+from ..errors import NoisevarError
+from . import COLORS, MAX_POINTS, PALETTE, layout, line_trace
+
+Results = CarrierResult | Sequence[CarrierResult]
+LABELS = {"ekf": "EKF (fixed R, Q)", "aekf": "AEKF (eq. 22 + 26)"}
+
+
+def _as_list(results: Results) -> list[CarrierResult]:
+    out = [results] if isinstance(results, CarrierResult) else list(results)
+    if not out or not all(isinstance(r, CarrierResult) for r in out):
+        raise NoisevarError("give a CarrierResult or a list of CarrierResult objects")
+    return out
+
+
+def _check_run(result: CarrierResult, run: int) -> None:
+    if not 0 <= run < result.estimate.shape[0]:
+        raise NoisevarError(
+            f"run {run} out of range: the result has {result.estimate.shape[0]} runs"
+        )
+
+
+def _label(r: CarrierResult) -> str:
+    return LABELS.get(r.method, r.method)
+
+
+def phase_error_figure(
+    results: Results,
+    run: int = 0,
+    max_points: int = MAX_POINTS,
+    title: str | None = "Carrier phase tracking error",
+    height: int = 420,
+) -> go.Figure:
+    """Phase error (rad, whole cycles removed) of each filter over time, one run.
+
+    Parameters
+    ----------
+    results : CarrierResult or list of CarrierResult
+    run : int
+    max_points : int
+    title : str, optional
+    height : int
+
+    Returns
+    -------
+    go.Figure
+    """
+    res = _as_list(results)
+    traces = []
+    for i, r in enumerate(res):
+        _check_run(r, run)
+        slip = " — slipped" if r.slipped[run] else ""
+        trace, _ = line_trace(
+            r.phase_error[run],
+            f"{_label(r)} (RMS {r.rms_phase_error:.3f} rad over runs){slip}",
+            r.scenario.integration_s,
+            max_points,
+            line={"color": PALETTE[i % len(PALETTE)], "width": 1},
+        )
+        traces.append(trace)
+    return go.Figure(
+        traces,
+        layout(
+            title,
+            height,
+            xaxis={"title": "time (s)"},
+            yaxis={"title": "phase error (rad)", "range": [-np.pi, np.pi]},
+        ),
+    )
+
+
+def doppler_figure(
+    results: Results,
+    run: int = 0,
+    max_points: int = MAX_POINTS,
+    title: str | None = "Doppler: truth and estimates",
+    height: int = 400,
+) -> go.Figure:
+    """True and estimated Doppler (Hz) of one run.
+
+    Parameters
+    ----------
+    results : CarrierResult or list of CarrierResult
+    run : int
+    max_points : int
+    title : str, optional
+    height : int
+
+    Returns
+    -------
+    go.Figure
+    """
+    res = _as_list(results)
+    _check_run(res[0], run)
+    T = res[0].scenario.integration_s
+    truth, _ = line_trace(
+        res[0].true_doppler_hz[run],
+        "true",
+        T,
+        max_points,
+        line={"color": COLORS["truth"], "width": 2},
+    )
+    traces = [truth]
+    for i, r in enumerate(res):
+        est = r.estimate[run, :, 1] / (2 * np.pi)
+        trace, _ = line_trace(
+            est, _label(r), T, max_points, line={"color": PALETTE[i % len(PALETTE)], "width": 1}
+        )
+        traces.append(trace)
+    return go.Figure(
+        traces, layout(title, height, xaxis={"title": "time (s)"}, yaxis={"title": "Doppler (Hz)"})
+    )
+
+
+def adaptation_figure(
+    results: Results,
+    run: int = 0,
+    max_points: int = MAX_POINTS,
+    title: str | None = "Noise covariances used: R (I channel) and Q[phase, phase]",
+    height: int = 520,
+) -> go.Figure:
+    """``R[0,0]`` and ``Q[0,0]`` of each filter over time (log axes), one run.
+
+    Parameters
+    ----------
+    results : CarrierResult or list of CarrierResult
+    run : int
+    max_points : int
+    title : str, optional
+    height : int
+
+    Returns
+    -------
+    go.Figure
+    """
+    res = _as_list(results)
+    fig = make_subplots(rows=2, cols=1, shared_xaxes=True, vertical_spacing=0.08)
+    for i, r in enumerate(res):
+        _check_run(r, run)
+        color = PALETTE[i % len(PALETTE)]
+        T = r.scenario.integration_s
+        tr, _ = line_trace(
+            r.R_track[run, :, 0], f"{_label(r)} R", T, max_points, line={"color": color}
+        )
+        tq, _ = line_trace(
+            r.Q_phase_track[run],
+            f"{_label(r)} Q",
+            T,
+            max_points,
+            line={"color": color, "dash": "dot"},
+        )
+        fig.add_trace(tr, row=1, col=1)
+        fig.add_trace(tq, row=2, col=1)
+    fig.update_layout(**layout(title, height))
+    fig.update_yaxes(type="log", title_text="R (I/Q noise)", row=1, col=1)
+    fig.update_yaxes(type="log", title_text="Q phase (rad²)", row=2, col=1)
+    fig.update_xaxes(title_text="time (s)", row=2, col=1)
+    return fig
+
+
+def iq_figure(
+    result: CarrierResult,
+    run: int = 0,
+    max_points: int = MAX_POINTS,
+    title: str | None = "Prompt correlator outputs (after the NCO)",
+    height: int = 460,
+) -> go.Figure:
+    """The I/Q pairs the filter received, one run.
+
+    Parameters
+    ----------
+    result : CarrierResult
+    run : int
+    max_points : int
+    title : str, optional
+    height : int
+
+    Returns
+    -------
+    go.Figure
+    """
+    _check_run(result, run)
+    iq = result.iq[run]
+    step = max(1, iq.shape[0] // max_points)
+    pts = iq[::step]
+    amp = result.scenario.amplitude
+    circle = np.linspace(0, 2 * np.pi, 181)
+    return go.Figure(
+        [
+            go.Scattergl(
+                x=pts[:, 0],
+                y=pts[:, 1],
+                mode="markers",
+                name="I, Q",
+                marker={"size": 3, "color": PALETTE[0], "opacity": 0.5},
+            ),
+            go.Scatter(
+                x=amp * np.cos(circle),
+                y=amp * np.sin(circle),
+                mode="lines",
+                name=f"|A| = {amp:.2f}",
+                line={"color": COLORS["truth"], "dash": "dash"},
+            ),
+        ],
+        layout(
+            title,
+            height,
+            xaxis={"title": "I"},
+            yaxis={"title": "Q", "scaleanchor": "x"},
+        ),
+    )
+
+
+def sweep_figure(
+    sweep: CarrierSweep,
+    title: str | None = "EKF vs AEKF over C/N0",
+    height: int = 480,
+) -> go.Figure:
+    """RMS phase error (log) and loss-of-lock fraction against C/N0.
+
+    Parameters
+    ----------
+    sweep : CarrierSweep
+    title : str, optional
+    height : int
+
+    Returns
+    -------
+    go.Figure
+    """
+    fig = make_subplots(rows=2, cols=1, shared_xaxes=True, vertical_spacing=0.08)
+    for i, method in enumerate(sweep.rms_phase_error_rad):
+        color = PALETTE[i % len(PALETTE)]
+        name = LABELS.get(method, method)
+        fig.add_trace(
+            go.Scatter(
+                x=sweep.cn0_dbhz,
+                y=sweep.rms_phase_error_rad[method],
+                mode="lines+markers",
+                name=name,
+                line={"color": color},
+                legendgroup=method,
+            ),
+            row=1,
+            col=1,
+        )
+        fig.add_trace(
+            go.Scatter(
+                x=sweep.cn0_dbhz,
+                y=sweep.loss_of_lock[method],
+                mode="lines+markers",
+                name=name,
+                line={"color": color, "dash": "dot"},
+                legendgroup=method,
+                showlegend=False,
+            ),
+            row=2,
+            col=1,
+        )
+    fig.update_layout(**layout(title, height))
+    fig.update_yaxes(type="log", title_text="RMS phase error (rad)", row=1, col=1)
+    fig.update_yaxes(title_text="runs that slipped", range=[-0.05, 1.05], row=2, col=1)
+    fig.update_xaxes(title_text="C/N0 (dB-Hz)", row=2, col=1)
+    return fig
+
+
+__all__ = [
+    "adaptation_figure",
+    "doppler_figure",
+    "iq_figure",
+    "phase_error_figure",
+    "sweep_figure",
+]
