@@ -168,10 +168,11 @@ class Comparison:
 
     def to_csv(self) -> str:
         """The table as CSV text."""
-        return _rows_to_csv(self.rows())
+        return rows_to_csv(self.rows())
 
 
-def _rows_to_csv(rows: Sequence[Mapping[str, Any]]) -> str:
+def rows_to_csv(rows: Sequence[Mapping[str, Any]]) -> str:
+    """Table rows (dicts with the same keys) as CSV text (floats with 10 significant digits)."""
     if not rows:
         return ""
     buf = io.StringIO()
@@ -356,7 +357,7 @@ class MonteCarloResult:
             for m, e in self.relative_errors.items()
             for i in range(e.size)
         ]
-        return _rows_to_csv(rows)
+        return rows_to_csv(rows)
 
 
 def monte_carlo(
