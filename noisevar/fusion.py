@@ -505,6 +505,7 @@ def run_fusion(
         P_pred = F @ P @ F.T + Q
         info = np.linalg.inv(P_pred)
         info_vec = (info @ x_pred[:, :, None])[:, :, 0]
+        flags = np.zeros((len(filters), B), dtype=bool)
         for i, filt in enumerate(filters):
             if feedback:
                 filt.x, filt.P = x, P
@@ -517,7 +518,7 @@ def run_fusion(
                 nis[:, k, i] = np.einsum("bi,bi->b", d, np.linalg.solve(S, d[:, :, None])[..., 0])
                 flagged = nis[:, k, i] > thresholds[i]
             else:
-                flagged = np.zeros(B, dtype=bool)
+                flagged = flags[i]
             if flagged.all():
                 filt.skip_update()
             else:
@@ -527,19 +528,24 @@ def run_fusion(
                     filt.x = np.where(flagged[:, None], filt.x_pred, filt.x)
                     filt.P = np.where(flagged[:, None, None], filt.P_pred, filt.P)
                     _restore(filt.strategy, saved, flagged)
+            flags[i] = flagged
             isolated[:, k, i] = flagged
             R_diag = np.diagonal(np.broadcast_to(filt.R, (B, *filt.R.shape[-2:])), 0, -2, -1)
             R_out[i][:, k] = np.where(flagged[:, None], np.nan, R_diag)
-            info_i = np.linalg.inv(filt.P) - np.linalg.inv(filt.P_pred)
-            vec_i = (
-                np.linalg.solve(filt.P, filt.x[:, :, None])[:, :, 0]
-                - np.linalg.solve(filt.P_pred, filt.x_pred[:, :, None])[:, :, 0]
-            )
-            if flagged.any():
-                info_i[flagged] = 0.0
-                vec_i[flagged] = 0.0
-            info = info + info_i
-            info_vec = info_vec + vec_i
+        # eq. (24): every local filter's information gain, all sensors in one inversion
+        P_inv = np.linalg.inv(np.stack([f.P for f in filters]))
+        x_loc = np.stack([f.x for f in filters])[..., None]
+        xp_loc = np.stack([f.x_pred for f in filters])[..., None]
+        if feedback:  # the local predictions are the fused one: P_i,pred = P_pred
+            Pp_inv = np.broadcast_to(info, P_inv.shape)
+        else:
+            Pp_inv = np.linalg.inv(np.stack([f.P_pred for f in filters]))
+        info_i = P_inv - Pp_inv
+        vec_i = (P_inv @ x_loc - Pp_inv @ xp_loc)[..., 0]
+        info_i[flags] = 0.0  # an isolated sensor adds nothing
+        vec_i[flags] = 0.0
+        info = info + info_i.sum(axis=0)
+        info_vec = info_vec + vec_i.sum(axis=0)
         P = np.linalg.inv(info)
         P = 0.5 * (P + P.mT)
         x = (P @ info_vec[:, :, None])[:, :, 0]
