@@ -841,3 +841,86 @@ def diagnose_selection(sig: LoadedSignal, method: str, params: dict[str, Any]) -
     estimate has NaN variance: it is a diagnosis, not a result.
     """
     return _diagnose_cached(sig.digest, method, _key(params), sig.z)
+
+
+# ------------------------------------------------------------- several sensors
+def sensor_matrix(sig: LoadedSignal, columns: Sequence[str]) -> np.ndarray:
+    """The chosen columns of the signal's table as an ``(n, k)`` array (raises on NaN)."""
+    return np.column_stack([pick_column(sig.table, c) for c in columns])
+
+
+def delay_is_significant(delay: Any, sample_period: float) -> bool:
+    """A delay worth removing: over half a sample and over twice its standard deviation."""
+    return abs(delay.delay_s) > 0.5 * sample_period and abs(delay.delay_s) > 2.0 * delay.std_s
+
+
+@st.cache_resource(max_entries=8, show_spinner=False)
+def _redundant_cached(
+    table_digest: str, columns: tuple[str, ...], align: bool, period: float, _sig: LoadedSignal
+) -> tuple[noisevar.RedundantEstimate, np.ndarray, Any, float]:
+    from noisevar.latency import align_signals, estimate_delay
+
+    data = sensor_matrix(_sig, columns)
+    delay = None
+    removed = 0.0
+    if align:
+        delay = estimate_delay(data[:, 0], data[:, 1], period)
+        if delay_is_significant(delay, period):
+            # whole samples only: interpolating between samples would average (and so
+            # shrink) the noise whose variance is being measured
+            removed = round(delay.delay_s / period) * period
+            a, b = align_signals(data[:, 0], data[:, 1], removed, period)
+            data = np.column_stack([a, b])
+    return noisevar.estimate_redundant(data), data, delay, removed
+
+
+def redundant(
+    sig: LoadedSignal, columns: Sequence[str], align: bool = False
+) -> tuple[noisevar.RedundantEstimate, np.ndarray, Any, float]:
+    """Redundant SOMD on several columns (optionally delay-aligned first, two sensors), cached.
+
+    With ``align`` the delay of the second sensor behind the first is
+    estimated (:func:`noisevar.latency.estimate_delay`) and, when significant
+    (:func:`delay_is_significant`), removed by a whole-sample shift.
+
+    Returns
+    -------
+    (RedundantEstimate, ndarray, DelayEstimate or None, float)
+        The estimate, the (aligned) sensor matrix it used, the delay estimate,
+        and the shift removed (s; 0 when none).
+    """
+    period = float(sig.sample_period or 1.0)
+    return _redundant_cached(sig.table_digest, tuple(columns), bool(align), period, sig)
+
+
+@st.cache_resource(max_entries=16, show_spinner=False)
+def _delay_cached(table_digest: str, ref: str, other: str, period: float, _sig: LoadedSignal):
+    from noisevar.latency import estimate_delay
+
+    return estimate_delay(pick_column(_sig.table, ref), pick_column(_sig.table, other), period)
+
+
+def delay_between(sig: LoadedSignal, ref: str, other: str) -> Any:
+    """:func:`noisevar.latency.estimate_delay` of column ``other`` behind ``ref``, cached."""
+    return _delay_cached(sig.table_digest, ref, other, float(sig.sample_period or 1.0), sig)
+
+
+@st.cache_resource(max_entries=16, show_spinner=False)
+def _column_estimate_cached(
+    table_digest: str, column: str, method: str, _sig: LoadedSignal
+) -> VarianceEstimate:
+    return noisevar.estimate(pick_column(_sig.table, column), method=method)
+
+
+def column_estimate(sig: LoadedSignal, column: str, method: str = "auto") -> VarianceEstimate:
+    """A single-signal estimate of one column of the signal's table, cached."""
+    return _column_estimate_cached(sig.table_digest, column, method, sig)
+
+
+def load_simulated_sensors(noise_stds: Sequence[float] = (1.0, 2.0, 3.0), seed: int = 0) -> None:
+    """Make simulated redundant sensors (:func:`noisevar.compare.simulate_sensors`) the signal."""
+    from noisevar.compare import simulate_sensors
+
+    table = simulate_sensors("fast-slow", noise_stds, n=6000, seed=seed, drift=3.0)
+    sig = make_signal(table, None, table.sample_period, "generated", None)
+    _set_signal(sig)

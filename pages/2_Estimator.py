@@ -235,6 +235,8 @@ if somd:
         params["h_track"] = float(h_t)
     else:
         params["track_ratio"] = float(ratio)
+    # the Compare page runs the SOMD methods with these tuned parameters
+    st.session_state["nv_tuned"] = dict(params)
 
 # ------------------------------------------------------------------ results
 with right:
