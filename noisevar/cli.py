@@ -50,11 +50,19 @@ def _print_json(data: dict) -> None:
     print(json.dumps(data, indent=2, default=_json_default, allow_nan=True))
 
 
-def _load_signal(path: str, column: str | None) -> np.ndarray:
-    """One column of a data file as floats (NaN/Inf are left for the estimator to judge)."""
+def _load_signal(
+    path: str, column: str | None, drop_nonfinite: bool = False
+) -> tuple[np.ndarray, int]:
+    """One column of a data file as floats, and how many non-finite cells were dropped.
+
+    Empty/NaN/Inf cells are refused (naming the first row) unless
+    ``drop_nonfinite``.
+    """
     from .io import load_table, pick_column
 
-    return np.asarray(pick_column(load_table(path, os.path.basename(path)), column), dtype=float)
+    table = load_table(path, os.path.basename(path))
+    z = np.asarray(pick_column(table, column, drop_nonfinite=drop_nonfinite), dtype=float)
+    return z, table.n_rows - z.size
 
 
 # --------------------------------------------------------------------------- estimate
@@ -92,14 +100,17 @@ def _cmd_estimate(args: argparse.Namespace) -> int:
     import noisevar
 
     method, params = _estimate_params(args)
-    z = _load_signal(args.file, args.column)
+    drop = bool(params.get("drop_nonfinite", False))
+    z, dropped = _load_signal(args.file, args.column, drop)
     if method == "somd-redundant":
         if not args.reference_column:
             raise NoisevarError(
                 "method somd-redundant needs --reference-column: the second sensor's column"
             )
-        params["reference"] = _load_signal(args.file, args.reference_column)
+        params["reference"], _ = _load_signal(args.file, args.reference_column, drop)
     result = noisevar.estimate(z, method=method, **params)
+    if dropped:
+        result.notes.insert(0, f"dropped {dropped} non-finite samples of {args.file}")
     out = result.to_dict()
     out["file"] = args.file
     out["column"] = args.column
@@ -138,7 +149,7 @@ def _cmd_methods(args: argparse.Namespace) -> int:
 def _cmd_scan_h(args: argparse.Namespace) -> int:
     from .envelope import scan_h
 
-    z = _load_signal(args.file, args.column)
+    z, _ = _load_signal(args.file, args.column)
     scan = scan_h(z, window=args.window)
     if args.format == "json":
         _print_json(scan.to_dict())
