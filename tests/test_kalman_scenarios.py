@@ -156,3 +156,12 @@ def test_figures():
         track_figure(a, run=5)
     with pytest.raises(NoisevarError):
         track_figure([])
+
+
+def test_experiment_jobs_give_identical_results():
+    exp = discover()["gps-circle"]
+    base = dict(runs=1, seed=4, duration=300.0, window=50, forgetting=0.98, rho=0.99,
+                somd_every=100, somd_window=None, methods=["oracle", "rae", "vb"])
+    a = exp.run(_args(**base, jobs=1))
+    b = exp.run(_args(**base, jobs=2))
+    assert a == b

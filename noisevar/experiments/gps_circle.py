@@ -32,7 +32,14 @@ import numpy as np
 
 from .. import estimate
 from ..errors import NoisevarError
-from ..kalman.evaluation import divergence_summary, finite_or_none, fmt, pooled_rmse, r_diagonal
+from ..kalman.evaluation import (
+    divergence_summary,
+    finite_or_none,
+    fmt,
+    map_jobs,
+    pooled_rmse,
+    r_diagonal,
+)
 from ..kalman.scenarios import GPS_CHANNELS, Scenario, gps_circle
 from ..kalman.strategies import (
     FixedR,
@@ -85,6 +92,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="somd-online: trailing window (steps; default all samples so far)",
     )
     parser.add_argument(
+        "--jobs", type=int, default=1, help="worker processes, one filter each (default 1)"
+    )
+    parser.add_argument(
         "--methods",
         nargs="+",
         choices=FILTERS,
@@ -116,6 +126,24 @@ def _strategy(name: str, sc: Scenario, args: argparse.Namespace) -> RStrategy:
     if name == "fixed":
         return FixedR()
     raise NoisevarError(f"unknown method {name!r}")  # pragma: no cover
+
+
+def _filter_task(task: tuple[str, dict[str, Any]]) -> dict[str, Any]:
+    """Run one filter over all runs (batched) and summarise it (worker-process safe)."""
+    name, settings = task
+    args = argparse.Namespace(**settings)
+    sc = gps_circle(runs=args.runs, seed=args.seed, duration=getattr(args, "duration", 3000.0))
+    res = sc.run(_strategy(name, sc, args))
+    half = (sc.z.shape[1] - sc.first_step) // 2
+    return {
+        "rmse": {
+            "position": pooled_rmse(res, (0, 1)),
+            "speed": pooled_rmse(res, (2,)),
+            "heading": pooled_rmse(res, (3,)),
+        },
+        "divergence": divergence_summary(res),
+        "r_second_half": r_diagonal(res)[:, half:].mean(axis=1),
+    }
 
 
 def _channel_entry(per_run: np.ndarray, true: float) -> dict[str, Any]:
@@ -161,19 +189,18 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
 
     rmse: dict[str, Any] = {}
     divergence: dict[str, Any] = {}
-    half = (sc.z.shape[1] - sc.first_step) // 2
-    for name in methods:
-        res = sc.run(_strategy(name, sc, args))
-        rmse[name] = {
-            "position": pooled_rmse(res, (0, 1)),
-            "speed": pooled_rmse(res, (2,)),
-            "heading": pooled_rmse(res, (3,)),
-        }
-        divergence[name] = divergence_summary(res)
+    settings = {k: v for k, v in vars(args).items() if isinstance(v, (int, float, str, type(None)))}
+    tasks = [(name, settings) for name in methods]
+    jobs = int(getattr(args, "jobs", 1) or 1)
+    if jobs < 1:
+        raise NoisevarError(f"--jobs must be at least 1, got {jobs}")
+    for name, summary in zip(methods, map_jobs(_filter_task, tasks, jobs), strict=True):
+        rmse[name] = summary["rmse"]
+        divergence[name] = summary["divergence"]
         label = {"somd": "somd-online", "somd-paper": "somd-paper-online"}.get(name, name)
         if name in ("oracle", "fixed"):
             continue
-        r_second_half = r_diagonal(res)[:, half:].mean(axis=1)  # (B, m)
+        r_second_half = summary["r_second_half"]
         for j, ch in enumerate(GPS_CHANNELS):
             channels[ch]["methods"][label] = _channel_entry(r_second_half[:, j], true[j])
 

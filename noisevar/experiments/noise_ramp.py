@@ -9,14 +9,13 @@ the ramp plus ``--settle`` steps.
 
 from __future__ import annotations
 
-from ..kalman.scenarios import noise_ramp
 from . import Experiment
 from .noise_step import add_arguments, format_table, make_run
 
 EXPERIMENT = Experiment(
     name="noise-ramp",
     help="manoeuvring target whose noise std ramps up 3x mid-run: R tracking and RMSE",
-    run=make_run(noise_ramp),
+    run=make_run("noise-ramp"),
     add_arguments=add_arguments,
     default_runs=20,
     format_table=format_table,

@@ -24,8 +24,14 @@ from collections.abc import Callable
 from typing import Any
 
 from ..errors import NoisevarError
-from ..kalman.evaluation import divergence_summary, fmt, pooled_rmse, r_tracking_error
-from ..kalman.scenarios import Scenario, noise_step
+from ..kalman.evaluation import (
+    divergence_summary,
+    fmt,
+    map_jobs,
+    pooled_rmse,
+    r_tracking_error,
+)
+from ..kalman.scenarios import Scenario, noise_ramp, noise_step
 from ..kalman.strategies import (
     FixedR,
     InnovationR,
@@ -69,6 +75,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--somd-every", type=int, default=20, help="somd-online: re-estimate every N steps"
     )
     parser.add_argument(
+        "--jobs", type=int, default=1, help="worker processes, one filter each (default 1)"
+    )
+    parser.add_argument(
         "--methods", nargs="+", choices=METHODS, default=list(METHODS), help="filters to run"
     )
 
@@ -94,6 +103,33 @@ def strategy_for(name: str, sc: Scenario, args: argparse.Namespace) -> RStrategy
     raise NoisevarError(f"unknown method {name!r}")  # pragma: no cover
 
 
+GENERATORS: dict[str, Callable[..., Scenario]] = {
+    "noise-step": noise_step,
+    "noise-ramp": noise_ramp,
+}
+
+
+def _scenario(name: str, args: argparse.Namespace) -> Scenario:
+    return GENERATORS[name](runs=args.runs, seed=args.seed, n_steps=args.steps, factor=args.factor)
+
+
+def _filter_task(task: tuple[str, str, int, dict[str, Any]]) -> dict[str, Any]:
+    """Run one filter over all runs (batched) and score it (worker-process safe)."""
+    scenario, name, start, settings = task
+    args = argparse.Namespace(**settings)
+    sc = _scenario(scenario, args)
+    res = sc.run(strategy_for(name, sc, args))
+    err, bias = r_tracking_error(res, sc.R_true[sc.first_step :], start)
+    div = divergence_summary(res)
+    return {
+        "r_tracking_error": err,
+        "r_bias": bias,
+        "rmse": pooled_rmse(res, (0, 2)),
+        "diverged_runs": div["runs"],
+        "divergence": div,
+    }
+
+
 def run_noise_change(sc: Scenario, args: argparse.Namespace) -> dict[str, Any]:
     """Run every method on a noise-change scenario and score it.
 
@@ -117,19 +153,12 @@ def run_noise_change(sc: Scenario, args: argparse.Namespace) -> dict[str, Any]:
             f"--settle {args.settle} leaves no steps to score after the change (which ends at "
             f"step {sc.change[1]} of {sc.z.shape[1]}): use a smaller --settle or more --steps"
         )
-    R_true = sc.R_true[sc.first_step :]
-    out: dict[str, Any] = {}
-    for name in methods:
-        res = sc.run(strategy_for(name, sc, args))
-        err, bias = r_tracking_error(res, R_true, start)
-        div = divergence_summary(res)
-        out[name] = {
-            "r_tracking_error": err,
-            "r_bias": bias,
-            "rmse": pooled_rmse(res, (0, 2)),
-            "diverged_runs": div["runs"],
-            "divergence": div,
-        }
+    settings = {k: v for k, v in vars(args).items() if isinstance(v, (int, float, str, type(None)))}
+    jobs = int(getattr(args, "jobs", 1) or 1)
+    if jobs < 1:
+        raise NoisevarError(f"--jobs must be at least 1, got {jobs}")
+    tasks = [(sc.name, name, start, settings) for name in methods]
+    out = dict(zip(methods, map_jobs(_filter_task, tasks, jobs), strict=True))
     oracle = out.get("oracle", {}).get("rmse")
     for entry in out.values():
         entry["rmse_vs_oracle"] = (
@@ -205,12 +234,11 @@ def format_table(result: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
-def make_run(generator: Callable[..., Scenario]) -> Callable[[argparse.Namespace], dict[str, Any]]:
-    """``run(args)`` for a noise-change scenario generator."""
+def make_run(scenario: str) -> Callable[[argparse.Namespace], dict[str, Any]]:
+    """``run(args)`` for the noise-change scenario ``"noise-step"`` or ``"noise-ramp"``."""
 
     def run(args: argparse.Namespace) -> dict[str, Any]:
-        sc = generator(runs=args.runs, seed=args.seed, n_steps=args.steps, factor=args.factor)
-        return run_noise_change(sc, args)
+        return run_noise_change(_scenario(scenario, args), args)
 
     return run
 
@@ -218,7 +246,7 @@ def make_run(generator: Callable[..., Scenario]) -> Callable[[argparse.Namespace
 EXPERIMENT = Experiment(
     name="noise-step",
     help="manoeuvring target whose noise std steps up 3x mid-run: R tracking and RMSE",
-    run=make_run(noise_step),
+    run=make_run("noise-step"),
     add_arguments=add_arguments,
     default_runs=20,
     format_table=format_table,

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import math
 from collections import Counter
+from collections.abc import Callable, Iterable
+from concurrent.futures import ProcessPoolExecutor
 from typing import Any
 
 import numpy as np
@@ -113,6 +115,35 @@ def divergence_summary(result: FilterResult) -> dict[str, Any]:
         "reasons": dict(kinds),
         "example": example,
     }
+
+
+def map_jobs(func: Callable[[Any], Any], items: Iterable[Any], jobs: int = 1) -> list[Any]:
+    """``[func(item) for item in items]``, in ``jobs`` worker processes when ``jobs > 1``.
+
+    Each filter of an experiment is one task (its runs are already batched
+    inside the task), so two processes on a two-core machine roughly halve
+    the wall time. Results are identical whatever ``jobs`` is: every task
+    regenerates its seeded scenario.
+
+    Parameters
+    ----------
+    func : callable
+        A module-level function (it is pickled to the workers).
+    items : iterable
+        Task arguments.
+    jobs : int
+        Worker processes (1: run here, in order).
+
+    Returns
+    -------
+    list
+        Results in the order of ``items``.
+    """
+    items = list(items)
+    if jobs <= 1 or len(items) <= 1:
+        return [func(item) for item in items]
+    with ProcessPoolExecutor(max_workers=min(jobs, len(items))) as pool:
+        return list(pool.map(func, items))
 
 
 def fmt(value: Any, width: int = 11) -> str:

@@ -194,22 +194,26 @@ def gps_process_noise(T: float = GPS_T) -> NDArray:
 
 
 def _gps_f(T: float):
+    """Model [20] and its Jacobian for a batch of states ``x`` of shape ``(B, 4)``."""
+    eye = np.eye(4)
+
     def f(x: NDArray, k: int) -> NDArray:
         out = x.copy()
-        v, th = x[:, 2], x[:, 3]
-        out[:, 0] += T * v * np.cos(th)
-        out[:, 1] += T * v * np.sin(th)
+        tv = T * x[:, 2]
+        th = x[:, 3]
+        out[:, 0] += tv * np.cos(th)
+        out[:, 1] += tv * np.sin(th)
         return out
 
     def F_jacobian(x: NDArray, k: int) -> NDArray:
-        v, th = x[:, 2], x[:, 3]
+        th = x[:, 3]
         c, s = np.cos(th), np.sin(th)
-        J = np.zeros((x.shape[0], 4, 4))
-        J[:, 0, 0] = J[:, 1, 1] = J[:, 2, 2] = J[:, 3, 3] = 1.0
+        tv = T * x[:, 2]
+        J = np.repeat(eye[None], x.shape[0], axis=0)
         J[:, 0, 2] = T * c
-        J[:, 0, 3] = -T * v * s
+        J[:, 0, 3] = -tv * s
         J[:, 1, 2] = T * s
-        J[:, 1, 3] = T * v * c
+        J[:, 1, 3] = tv * c
         return J
 
     return f, F_jacobian
