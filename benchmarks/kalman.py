@@ -147,6 +147,30 @@ def noise_section(name: str, res: dict[str, Any], wall: float, runs: int) -> lis
     return lines
 
 
+class RaePaperSigns(ResidualR):
+    """RAE with the sign the paper prints in eq. (3): ``mean(r rᵀ) - H P(k|k) Hᵀ`` (study only)."""
+
+    name = "rae-paper-signs"
+
+    def observe(self, filt) -> None:
+        self._cov.push(self._outer(filt.residual, self.diagonal))
+        if self._cov.count >= self.warmup:
+            hph = np.diagonal(filt.project(filt.P), axis1=-2, axis2=-1)
+            self._R = self._to_R(self._cov.mean() - hph)
+
+
+class IaePaperSigns(InnovationR):
+    """IAE with the sign the paper prints in eq. (4): ``mean(d dᵀ) + H P(k|k-1) Hᵀ``."""
+
+    name = "iae-paper-signs"
+
+    def measurement_covariance(self, filt):
+        self._cov.push(self._outer(filt.innovation, self.diagonal))
+        if self._cov.count < self.warmup:
+            return self._R
+        return self._to_R(self._cov.mean() + np.diagonal(filt.HPHt, axis1=-2, axis2=-1))
+
+
 def rae_study(runs: int) -> list[str]:
     """RAE / IAE on gps-circle under several settings: what they do."""
     sc = gps_circle(runs=runs, seed=0)
@@ -159,6 +183,8 @@ def rae_study(runs: int) -> list[str]:
         ("rae", "window 50, adapt from step 1", ResidualR(window=50, warmup=1)),
         ("iae", "window 50 (default)", InnovationR(window=50)),
         ("iae", "window 200", InnovationR(window=200)),
+        ("rae", "paper's printed sign (− HPHᵀ), window 50", RaePaperSigns(window=50)),
+        ("iae", "paper's printed sign (+ HPHᵀ), window 50", IaePaperSigns(window=50)),
     ]
     lines = [
         f"### RAE / IAE on gps-circle under several settings ({runs} runs)",

@@ -83,6 +83,7 @@ class RStrategy:
     def start(self, filt: KalmanFilter) -> None:
         """Initialise per-run state (called once by the filter's constructor)."""
         self._dead = np.zeros(filt.batch_size, dtype=bool)
+        self._any_dead = False
         self._R0 = filt.model.R
 
     def process_covariance(self, filt: KalmanFilter) -> NDArray | None:
@@ -103,9 +104,10 @@ class RStrategy:
     def reset_runs(self, filt: KalmanFilter, runs: NDArray) -> None:
         """Runs that diverged: from now on they get ``model.R`` (keeps the batch finite)."""
         self._dead |= runs
+        self._any_dead = bool(self._dead.any())
 
     def _guard_dead(self, R: NDArray) -> NDArray:
-        if self._dead.any():
+        if self._any_dead:
             R = np.array(R)
             R[self._dead] = self._R0
         return R
@@ -387,7 +389,7 @@ class ResidualQR(ResidualR):
         self._Q: NDArray | None = None
 
     def process_covariance(self, filt: KalmanFilter) -> NDArray | None:
-        if self._Q is not None and self._dead.any():
+        if self._Q is not None and self._any_dead:
             self._Q[self._dead] = filt.model.Q
         return self._Q
 
@@ -645,18 +647,21 @@ class SomdOnlineR(RStrategy):
         self._var = np.repeat(np.diag(filt.model.R)[None], B, axis=0)
         self._Rmat = _diag_matrix(self._var)
         self._angles = list(filt.model.angle_measurements)
-        if self._schedule is not None and self._prepared_shape[0] != B:
-            self._schedule = None
+        # a schedule from prepare() serves the one filter that run_filter starts next
+        self._active = self._schedule if self._schedule is not None and (
+            self._prepared_shape[0] == B
+        ) else None
+        self._schedule = None
         self._history: list[NDArray] = []
         self._n_est = 0
 
     def measurement_covariance(self, filt: KalmanFilter) -> NDArray:
         k = filt.k
-        if self._schedule is None:
+        if self._active is None:
             self._history.append(np.array(filt.z))
         if (k + 1) % self.every == 0:
-            if self._schedule is not None:
-                new = self._schedule[:, self._n_est]
+            if self._active is not None:
+                new = self._active[:, self._n_est]
             else:
                 new = self._estimate_from_history(k)
             self._n_est += 1
