@@ -123,7 +123,7 @@ def _cmd_estimate(args: argparse.Namespace) -> int:
         print(f"variance  {result.variance:.6g}   (95 % CI {lo:.6g} .. {hi:.6g})")
         print(f"std       {result.std:.6g}")
         print(f"samples   {result.n_used} used of {result.n_total}")
-        shown = {k: v for k, v in result.params.items() if k != "method"}
+        shown = {k: v for k, v in result.params.items() if k != "method" and v is not None}
         if shown:
             print("params    " + ", ".join(f"{k}={v}" for k, v in shown.items()))
         for note in result.notes:
@@ -267,6 +267,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("noisevar: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:
+        # the reader went away (e.g. `noisevar ... | head`): stop quietly, like other tools
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 0
     except Exception as exc:  # noqa: BLE001 - a bug of ours: still one line, never a traceback
         if os.environ.get("NOISEVAR_DEBUG"):
             raise
