@@ -10,6 +10,28 @@ from noisevar.figures.estimator import signal_figure
 from noisevar.io import signal_summary
 from noisevar.signals import GPS_CHANNELS
 
+
+def explain() -> None:
+    """The page's how-it-works expander."""
+    dc.how_it_works(
+        "**Measurement model.** Every sample is the true value plus white noise:",
+        "$$z_k = s_k + v_k,\\qquad \\mathrm{E}[v_k]=0,\\; \\operatorname{var}(v_k)=\\sigma^2$$",
+        "The estimators assume a uniform sample period $T$ and a slowly varying $s_k$ compared "
+        "with the noise; everything is computed per sample, $T$ only labels the time axes.",
+        "**Formats.** CSV/TSV/whitespace text with or without a header (the first row is a header "
+        "when one of its fields is not a number; `#` starts a comment); `.npy` arrays read with "
+        "`np.load(allow_pickle=False)`; NMEA 0183 GGA/RMC sentences with valid checksums. "
+        "Positions become local east/north/up metres from the first fix through the WGS-84 "
+        "ellipsoid (geodetic → Earth-centred → local tangent frame):",
+        "$$\\begin{bmatrix}e\\\\n\\\\u\\end{bmatrix} = R(\\varphi_0,\\lambda_0)"
+        "\\left(\\mathbf{x}_{\\mathrm{ECEF}}(\\varphi,\\lambda,h) - "
+        "\\mathbf{x}_{\\mathrm{ECEF}}(\\varphi_0,\\lambda_0,h_0)\\right)$$",
+        "RMC speed is converted from knots to m/s (1 kn = 1852/3600 m/s).",
+        "**Long records** (up to millions of samples) are computed on every sample but drawn "
+        "downsampled (MinMax-LTTB keeps peaks and the noise band), as each figure says.",
+    )
+
+
 sig = dc.setup_page("Signal", ":material/show_chart:")
 st.title("Signal")
 st.caption(
@@ -144,12 +166,7 @@ with tab_upload:
 sig = dc.current_signal()
 if sig is None:
     st.info("No signal loaded yet: pick a sample file, generate one, or upload a file above.")
-    dc.how_it_works(
-        "**Formats.** CSV/TSV/whitespace text with or without a header; the first row is a header "
-        "when one of its fields is not a number. `.npy` files are read with "
-        "`np.load(allow_pickle=False)` only. NMEA 0183 logs give local east/north/up metres from "
-        "the first fix, speed and course."
-    )
+    explain()
     st.stop()
 
 st.subheader(f"{sig.label}")
@@ -229,20 +246,4 @@ with c2:
 with st.expander("First rows of the table"):
     st.dataframe({k: v[:20] for k, v in sig.table.columns.items()}, hide_index=False)
 
-dc.how_it_works(
-    "**Measurement model.** Every sample is the true value plus white noise:",
-    "$$z_k = s_k + v_k,\\qquad \\mathrm{E}[v_k]=0,\\; \\operatorname{var}(v_k)=\\sigma^2$$",
-    "The estimators assume a uniform sample period $T$ and a slowly varying $s_k$ compared with "
-    "the noise; everything is computed per sample, $T$ only labels the time axes.",
-    "**Formats.** CSV/TSV/whitespace text with or without a header (the first row is a header "
-    "when one of its fields is not a number; `#` starts a comment); `.npy` arrays read with "
-    "`np.load(allow_pickle=False)`; NMEA 0183 GGA/RMC sentences with valid checksums. "
-    "Positions become local east/north/up metres from the first fix through the WGS-84 "
-    "ellipsoid (geodetic → Earth-centred → local tangent frame):",
-    "$$\\begin{bmatrix}e\\\\n\\\\u\\end{bmatrix} = R(\\varphi_0,\\lambda_0)"
-    "\\left(\\mathbf{x}_{\\mathrm{ECEF}}(\\varphi,\\lambda,h) - "
-    "\\mathbf{x}_{\\mathrm{ECEF}}(\\varphi_0,\\lambda_0,h_0)\\right)$$",
-    "RMC speed is converted from knots to m/s (1 kn = 1852/3600 m/s).",
-    "**Long records** (up to millions of samples) are computed on every sample but drawn "
-    "downsampled (MinMax-LTTB keeps peaks and the noise band), as each figure says.",
-)
+explain()
