@@ -188,26 +188,45 @@ def steady_state_zi(
         Initial state for ``lfilter(b, a, z, zi=zi)``.
     """
     b, a = abg_transfer_function(h, output)
-    z_head = np.asarray(z_head, dtype=float)
-    head = z_head[..., :n_init]
+    intercept, slope = head_line(z_head, n_init)
+    # zi is linear in the past line: zi = intercept * zi(1) + slope * zi(i)
+    zi_const = signal.lfiltic(b, a, np.ones(3), np.ones(3))[: len(a) - 1]
+    return intercept[..., None] * zi_const + slope[..., None] * _zi_ramp(h, output)
+
+
+def _zi_ramp(h: float, output: str) -> NDArray:
+    """``zi`` of the filter in steady state on the line ``i`` (past samples -1, -2, -3)."""
+    b, a = abg_transfer_function(h, output)
+    past_i = np.array([-1.0, -2.0, -3.0])  # most recent first, as lfiltic wants
+    return signal.lfiltic(b, a, past_i, past_i)[: len(a) - 1]
+
+
+def head_line(z_head: ArrayLike, n_init: int = N_INIT) -> tuple[NDArray, NDArray]:
+    """Least-squares line ``intercept + slope * i`` through the first ``n_init`` samples.
+
+    Parameters
+    ----------
+    z_head : array_like, shape (..., k)
+        Leading samples of one or several signals (``k >= 1``).
+    n_init : int
+        How many leading samples to fit.
+
+    Returns
+    -------
+    intercept, slope : ndarray, shape (...)
+        The line at sample index ``i = 0, 1, ...`` (slope 0 for one sample).
+    """
+    # contiguous, so that a record gives the same line alone or stacked with others
+    head = np.ascontiguousarray(np.asarray(z_head, dtype=float)[..., :n_init])
     k = head.shape[-1]
     if k == 0:
         raise NoisevarError("the signal is empty: give at least one sample")
+    if k == 1:
+        return head[..., 0].copy(), np.zeros(head.shape[:-1])
     i = np.arange(k, dtype=float)
-    if k >= 2:
-        ic = i - i.mean()
-        slope = (head * ic).sum(axis=-1) / (ic**2).sum()
-        intercept = head.mean(axis=-1) - slope * i.mean()
-    else:
-        slope = np.zeros(head.shape[:-1])
-        intercept = head[..., 0]
-    # past samples at i = -1, -2, -3 (lfiltic wants the most recent first)
-    past_i = np.array([-1.0, -2.0, -3.0])
-    order = len(a) - 1
-    # zi is linear in the past line: zi = intercept * zi(1) + slope * zi(i)
-    zi_const = signal.lfiltic(b, a, np.ones(3), np.ones(3))[:order]
-    zi_ramp = signal.lfiltic(b, a, past_i, past_i)[:order]
-    return intercept[..., None] * zi_const + slope[..., None] * zi_ramp
+    ic = i - i.mean()
+    slope = (head * ic).sum(axis=-1) / (ic**2).sum()
+    return head.mean(axis=-1) - slope * i.mean(), slope
 
 
 def abg_filter(
@@ -243,11 +262,20 @@ def abg_filter(
     b, a = abg_transfer_function(h, output)
     z = np.asarray(z, dtype=float)
     zt = np.moveaxis(z, axis, -1)
-    if zi is None:
-        zi = steady_state_zi(zt, h, output=output)
-    else:
+    if zi is not None:
         zi = np.moveaxis(np.asarray(zi, dtype=float), axis, -1)
-    y, _ = signal.lfilter(b, a, zt, axis=-1, zi=zi)
+        y, _ = signal.lfilter(b, a, zt, axis=-1, zi=zi)
+        return np.moveaxis(y, -1, axis)
+    # Steady state on the head line. The filter has unit gain at DC, so it is run
+    # on z minus the line's intercept (from the ramp part of the steady state) and
+    # the intercept added back: the same output as
+    # lfilter(b, a, z, zi=steady_state_zi(z, h)), but the recursion (poles near 1
+    # at small h) never sees a large offset (a UTM coordinate, say), which keeps
+    # its rounding relative to the signal's variation, not to its magnitude.
+    intercept, slope = head_line(zt)
+    zi = slope[..., None] * _zi_ramp(h, output)
+    y, _ = signal.lfilter(b, a, zt - intercept[..., None], axis=-1, zi=zi)
+    y += intercept[..., None]
     return np.moveaxis(y, -1, axis)
 
 
@@ -280,6 +308,7 @@ class ABGStream:
     output: str = "predicted"
     _b: NDArray = field(init=False, repr=False)
     _a: NDArray = field(init=False, repr=False)
+    _offset: float = field(init=False, repr=False, default=0.0)
 
     def __post_init__(self) -> None:
         self._b, self._a = abg_transfer_function(self.h, self.output)
@@ -302,10 +331,12 @@ class ABGStream:
         chunk = np.asarray(chunk, dtype=float)
         if chunk.size == 0:
             return chunk.copy()
-        if self.zi is None:
-            self.zi = steady_state_zi(chunk, self.h, output=self.output)
-        y, self.zi = signal.lfilter(self._b, self._a, chunk, zi=self.zi)
-        return y
+        if self.zi is None:  # as abg_filter: run on z minus the head line's intercept
+            intercept, slope = head_line(chunk)
+            self._offset = float(intercept)
+            self.zi = float(slope) * _zi_ramp(self.h, self.output)
+        y, self.zi = signal.lfilter(self._b, self._a, chunk - self._offset, zi=self.zi)
+        return y + self._offset
 
 
 def abg_filter_loop(z: ArrayLike, h: float, x0: ArrayLike, output: str = "predicted") -> NDArray:

@@ -361,3 +361,19 @@ def test_c_h_removes_the_somd_bias_on_white_noise(h):
     assert np.mean(paper) / sigma2 - 1.0 > 0.04  # +5 % at 1.5e-5, +24 % at 9e-4
     # the two differ by exactly the factor c/2 on the same data
     assert paper[0] / ours[0] == pytest.approx(c / 2.0, rel=1e-12)
+
+
+@pytest.mark.parametrize("h", [1e-7, 1.5e-5, 9e-4])
+def test_a_large_offset_costs_no_precision(h):
+    """A UTM-sized offset must not swamp the recursion (poles near 1 at small h).
+
+    The filter runs on z minus the head line's intercept, so the output for
+    z + c is the output for z plus c up to the rounding of c itself (4e6 has an
+    ulp of 5e-10); run naively, lfilter's rounding would be relative to 4e6
+    (about 2e-2 absolute at h = 1e-7).
+    """
+    rng = np.random.default_rng(3)
+    z = 300 * np.cos(np.pi / 200 * np.arange(6000)) + rng.normal(0, 5, 6000)
+    offset = 4e6
+    diff = abg_filter(z + offset, h) - offset - abg_filter(z, h)
+    assert np.max(np.abs(diff)) < 1e-8
