@@ -369,11 +369,12 @@ def test_a_large_offset_costs_no_precision(h):
 
     The filter runs on z minus the head line's intercept, so the output for
     z + c is the output for z plus c up to the rounding of c itself (4e6 has an
-    ulp of 5e-10); run naively, lfilter's rounding would be relative to 4e6
+    ulp of 5e-10, amplified by the poles near 1 to ~1e-7 at h = 1e-7); run
+    naively, lfilter's rounding would be relative to 4e6
     (about 2e-2 absolute at h = 1e-7).
     """
     rng = np.random.default_rng(3)
     z = 300 * np.cos(np.pi / 200 * np.arange(6000)) + rng.normal(0, 5, 6000)
     offset = 4e6
     diff = abg_filter(z + offset, h) - offset - abg_filter(z, h)
-    assert np.max(np.abs(diff)) < 1e-8
+    assert np.max(np.abs(diff)) < 1e-6  # naive lfilter on z + 4e6: ~1e-2
