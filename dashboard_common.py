@@ -924,3 +924,212 @@ def load_simulated_sensors(noise_stds: Sequence[float] = (1.0, 2.0, 3.0), seed: 
     table = simulate_sensors("fast-slow", noise_stds, n=6000, seed=seed, drift=3.0)
     sig = make_signal(table, None, table.sample_period, "generated", None)
     _set_signal(sig)
+
+
+# ---------------------------------------------------------------- Kalman filters
+#: Position / other state groups of each filter scenario, for the RMSE table.
+KALMAN_STATE_GROUPS: dict[str, dict[str, tuple[int, ...]]] = {
+    "gps-circle": {"position (m)": (0, 1), "speed (m/s)": (2,), "heading (rad)": (3,)},
+    "noise-step": {"position (m)": (0, 2), "velocity (m/s)": (1, 3)},
+    "noise-ramp": {"position (m)": (0, 2), "velocity (m/s)": (1, 3)},
+    "outliers": {"position (m)": (0, 2), "velocity (m/s)": (1, 3)},
+}
+
+
+@st.cache_resource(max_entries=6, show_spinner=False)
+def kalman_scenario(name: str, seed: int, size: float, factor: float) -> Any:
+    """A seeded filter scenario of :mod:`noisevar.kalman.scenarios` (one run), cached.
+
+    ``size`` is the duration in seconds for ``gps-circle`` and the number of
+    steps otherwise; ``factor`` the noise increase of ``noise-step`` / ``noise-ramp``.
+    """
+    from noisevar.kalman.scenarios import SCENARIOS
+
+    if name not in SCENARIOS:
+        raise NoisevarError(f"unknown scenario {name!r}; choose one of {list(SCENARIOS)}")
+    if name == "gps-circle":
+        return SCENARIOS[name](runs=1, seed=int(seed), duration=float(size))
+    if name in ("noise-step", "noise-ramp"):
+        return SCENARIOS[name](runs=1, seed=int(seed), n_steps=int(size), factor=float(factor))
+    return SCENARIOS[name](runs=1, seed=int(seed), n_steps=int(size))
+
+
+def make_filter_strategy(
+    name: str, settings: dict[str, Any], h_smooth: Any, R_true: np.ndarray | None = None
+) -> Any:
+    """A fresh R-adaptation strategy object from the page's settings."""
+    from noisevar.kalman import OracleR, SomdOnlineR, make_strategy
+
+    if name == "oracle":
+        if R_true is None:
+            raise NoisevarError("the oracle filter needs the true R: only for scenarios")
+        return OracleR(R_true)
+    if name == "somd-online":
+        return SomdOnlineR(h_smooth=h_smooth, every=int(settings.get("every", 100)))
+    if name in ("rae", "iae", "rae-q"):
+        return make_strategy(name, window=int(settings.get("window", 50)))
+    if name == "sage-husa":
+        return make_strategy(name, forgetting=float(settings.get("forgetting", 0.98)))
+    if name == "vb":
+        return make_strategy(name, rho=float(settings.get("rho", 0.99)))
+    return make_strategy(name)
+
+
+@st.cache_resource(max_entries=24, show_spinner=False)
+def _scenario_run_cached(
+    scenario_key: str, strategy: str, settings_json: str, huber: float | None, _sc: Any
+) -> Any:
+    from noisevar.kalman import HuberUpdate
+
+    settings = json.loads(settings_json)
+    strat = make_filter_strategy(strategy, settings, _sc.h_smooth, _sc.R_true[_sc.first_step :])
+    robust = HuberUpdate(kappa=huber) if huber else None
+    return _sc.run(strat, robust=robust)
+
+
+def scenario_run(
+    sc: Any, scenario_key: str, strategy: str, settings: dict[str, Any], huber: float | None
+) -> Any:
+    """One strategy on a scenario (:meth:`Scenario.run`), cached by scenario and settings."""
+    return _scenario_run_cached(scenario_key, strategy, _key(settings), huber, sc)
+
+
+def channel_model(
+    z: np.ndarray, sample_period: float, h: float, r0: np.ndarray, names: Sequence[str]
+) -> Any:
+    """A constant-velocity model per measured channel, for filtering uploaded data.
+
+    Channel ``j`` has states ``[p_j, v_j]`` driven by white acceleration of
+    spectral density ``q_j = h · r0_j / T³`` (``h`` is the same unit-free
+    ratio ``q T³ / r`` as the alpha-beta-gamma filter's), measured with
+    noise ``r0_j``. The filter starts at the first sample, velocity zero.
+    """
+    from noisevar.kalman import StateSpaceModel
+
+    T = float(sample_period)
+    m = z.shape[1]
+    F1 = np.array([[1.0, T], [0.0, 1.0]])
+    Qs = np.array([[T**3 / 3.0, T**2 / 2.0], [T**2 / 2.0, T]])
+    F = np.kron(np.eye(m), F1)
+    Q = np.zeros((2 * m, 2 * m))
+    P0 = np.zeros((2 * m, 2 * m))
+    H = np.zeros((m, 2 * m))
+    x0 = np.zeros(2 * m)
+    for j in range(m):
+        q = h * r0[j] / T**3
+        Q[2 * j : 2 * j + 2, 2 * j : 2 * j + 2] = q * Qs
+        P0[2 * j, 2 * j] = r0[j]
+        P0[2 * j + 1, 2 * j + 1] = 4.0 * r0[j] / T**2
+        H[j, 2 * j] = 1.0
+        x0[2 * j] = z[0, j]
+    state_names = tuple(s for n in names for s in (n, f"d{n}/dt"))
+    return StateSpaceModel(
+        Q=Q,
+        R=np.diag(r0),
+        x0=x0,
+        P0=P0,
+        F=F,
+        H=H,
+        dt=T,
+        state_names=state_names,
+        measurement_names=tuple(names),
+        name="constant velocity per channel",
+    )
+
+
+@st.cache_resource(max_entries=16, show_spinner=False)
+def _data_run_cached(
+    table_digest: str,
+    columns: tuple[str, ...],
+    period: float,
+    h: float,
+    r0_factor: float,
+    strategy: str,
+    settings_json: str,
+    huber: float | None,
+    _sig: LoadedSignal,
+) -> tuple[Any, np.ndarray, np.ndarray]:
+    from noisevar.kalman import HuberUpdate, run_filter
+
+    z = sensor_matrix(_sig, columns)
+    quick = np.array([column_estimate(_sig, c).variance for c in columns])
+    r0 = quick * r0_factor
+    model = channel_model(z, period, h, r0, columns)
+    settings = json.loads(settings_json)
+    h_smooth = float(settings.get("h_smooth", 9e-4))
+    strat = make_filter_strategy(strategy, settings, h_smooth)
+    robust = HuberUpdate(kappa=huber) if huber else None
+    return run_filter(model, z, strategy=strat, robust=robust), z, quick
+
+
+def data_run(
+    sig: LoadedSignal,
+    columns: Sequence[str],
+    h: float,
+    r0_factor: float,
+    strategy: str,
+    settings: dict[str, Any],
+    huber: float | None,
+) -> tuple[Any, np.ndarray, np.ndarray]:
+    """One strategy on chosen columns of the loaded table (:func:`channel_model`), cached.
+
+    Returns
+    -------
+    (FilterResult, ndarray, ndarray)
+        The run, the measurements ``(N, m)`` and each channel's quick
+        single-signal variance estimate (method auto).
+    """
+    period = float(sig.sample_period or 1.0)
+    return _data_run_cached(
+        sig.table_digest,
+        tuple(columns),
+        period,
+        float(h),
+        float(r0_factor),
+        strategy,
+        _key(settings),
+        huber,
+        sig,
+    )
+
+
+@st.cache_resource(max_entries=4, show_spinner=False)
+def table1(runs: int, seed: int) -> dict[str, Any]:
+    """The gps-circle experiment (the paper's Table 1) with ``runs`` Monte Carlo runs, cached."""
+    import argparse
+
+    from noisevar.experiments import discover
+
+    exp = discover()["gps-circle"]
+    parser = argparse.ArgumentParser()
+    if exp.add_arguments is not None:
+        exp.add_arguments(parser)
+    args = parser.parse_args([])
+    args.runs = int(runs)
+    args.seed = int(seed)
+    return exp.run(args)
+
+
+def filter_summary(result: Any, groups: dict[str, tuple[int, ...]] | None) -> dict[str, Any]:
+    """One row of a filter table: RMSE per state group (with truth), mean NIS, divergence.
+
+    Uses :mod:`noisevar.kalman.evaluation`; NIS is chi-square with ``m``
+    degrees of freedom when the filter is consistent, so its mean should be
+    close to the number of measured channels.
+    """
+    from noisevar.kalman.evaluation import divergence_summary, pooled_rmse
+
+    row: dict[str, Any] = {"filter": result.strategy}
+    batched = result if result.batched else None
+    if groups and result.truth is not None and batched is not None:
+        for label, states in groups.items():
+            row[f"RMSE {label}"] = pooled_rmse(batched, states)
+    nis = np.asarray(result.nis, dtype=float)
+    row["mean NIS"] = float(np.nanmean(nis)) if np.isfinite(nis).any() else float("nan")
+    row["channels m"] = int(result.innovation.shape[-1])
+    div = divergence_summary(batched) if batched is not None else None
+    if div is not None:
+        row["diverged"] = f"{div['runs']}/{div['of']}: {div['example']}" if div["runs"] else "no"
+    else:
+        row["diverged"] = str(result.divergence_reason or "no")
+    return row
