@@ -1133,3 +1133,106 @@ def filter_summary(result: Any, groups: dict[str, tuple[int, ...]] | None) -> di
     else:
         row["diverged"] = str(result.divergence_reason or "no")
     return row
+
+
+# ------------------------------------------------------ the other seed systems
+@st.cache_resource(max_entries=4, show_spinner=False)
+def fusion_data(fault: str, steps: int, runs: int, seed: int, noise_factor: float, bias: float):
+    """:func:`noisevar.fusion.simulate_fusion` for the page's settings, cached."""
+    from noisevar.fusion import FusionScenario, simulate_fusion
+
+    scen = FusionScenario(
+        n_steps=int(steps), fault=fault, noise_factor=float(noise_factor), bias_sigmas=float(bias)
+    )
+    return simulate_fusion(scen, seed=int(seed), runs=int(runs))
+
+
+@st.cache_resource(max_entries=16, show_spinner=False)
+def _fusion_run_cached(data_key: str, config: str, false_alarm: float, _data: Any):
+    from noisevar.fusion import run_fusion
+
+    local, _, iso = config.partition("+")
+    return run_fusion(_data, local=local, isolation=bool(iso), false_alarm=float(false_alarm))
+
+
+def fusion_run(data: Any, data_key: str, config: str, false_alarm: float) -> Any:
+    """:func:`noisevar.fusion.run_fusion` for a configuration like ``"vb+isolation"``, cached."""
+    return _fusion_run_cached(data_key, config, float(false_alarm), data)
+
+
+@st.cache_resource(max_entries=4, show_spinner=False)
+def _fusion_equivalence_cached(data_key: str, _data: Any) -> float:
+    from noisevar.fusion import run_centralized, run_fusion
+
+    fused = run_fusion(_data, local="fixed")
+    central = run_centralized(_data)
+    return float(np.max(np.abs(fused.x - central.x)))
+
+
+def fusion_equivalence(data: Any, data_key: str) -> float:
+    """Largest |fused − centralised| state difference (fixed R, no isolation), cached."""
+    return _fusion_equivalence_cached(data_key, data)
+
+
+def fusion_row(result: Any, data: Any) -> dict[str, Any]:
+    """A row of the fusion table: position RMSE and, with isolation, how often sensor 1 was cut."""
+    row: dict[str, Any] = {"configuration": result.label, "position RMSE (m)": result.rmse()}
+    if "+isolation" in result.label:
+        iso = result.isolated[..., 0]
+        fault = data.fault_mask
+        row["sensor 1 isolated in fault"] = float(iso[:, fault].mean()) if fault.any() else None
+        row["sensor 1 isolated when healthy"] = (
+            float(iso[:, ~fault].mean()) if (~fault).any() else None
+        )
+    return row
+
+
+@st.cache_resource(max_entries=6, show_spinner=False)
+def robust_run(
+    outliers: bool,
+    magvar: float,
+    burst_rate: float,
+    kappa: float,
+    iterations: int,
+    runs: int,
+    seed: int,
+) -> Any:
+    """:func:`noisevar.robust.run_robust` on a simulated fly-over, cached."""
+    from noisevar.robust import RobustScenario, run_robust, simulate_robust
+
+    scen = RobustScenario(
+        magvar_deg=float(magvar), outliers=bool(outliers), burst_rate=float(burst_rate)
+    )
+    data = simulate_robust(scen, seed=int(seed), runs=int(runs))
+    return run_robust(data, kappa=float(kappa), iterations=int(iterations))
+
+
+@st.cache_resource(max_entries=6, show_spinner=False)
+def carrier_runs(settings_json: str, runs: int, seed: int, window: int) -> list[Any]:
+    """EKF and AEKF (:func:`noisevar.carrier.run_carrier`) on the same signals, cached."""
+    from noisevar.carrier import CarrierScenario, run_carrier, simulate_channel
+
+    scen = CarrierScenario(**json.loads(settings_json))
+    truth = simulate_channel(scen, seed=int(seed), runs=int(runs))
+    return [
+        run_carrier(scen, m, seed=int(seed), runs=int(runs), truth=truth, window=int(window))
+        for m in ("ekf", "aekf")
+    ]
+
+
+@st.cache_resource(max_entries=4, show_spinner=False)
+def carrier_sweep(settings_json: str, cn0: tuple[float, ...], runs: int, seed: int) -> Any:
+    """:func:`noisevar.carrier.cn0_sweep` for the page's scenario, cached."""
+    from noisevar.carrier import CarrierScenario, cn0_sweep
+
+    scen = CarrierScenario(**json.loads(settings_json))
+    return cn0_sweep(tuple(cn0), runs=int(runs), seed=int(seed), scenario=scen)
+
+
+@st.cache_resource(max_entries=8, show_spinner=False)
+def latency_run(settings_json: str, seed: int, max_delay: float) -> Any:
+    """:func:`noisevar.latency.run_latency` on a simulated flight, cached."""
+    from noisevar.latency import LatencyScenario, run_latency, simulate_latency
+
+    record = simulate_latency(LatencyScenario(**json.loads(settings_json)), seed=int(seed))
+    return run_latency(record, max_delay_s=float(max_delay))

@@ -172,11 +172,17 @@ class Comparison:
 
 
 def rows_to_csv(rows: Sequence[Mapping[str, Any]]) -> str:
-    """Table rows (dicts with the same keys) as CSV text (floats with 10 significant digits)."""
+    """Table rows (dicts) as CSV text: the union of their keys as columns, in first-seen order.
+
+    Floats are written with 10 significant digits; a key missing from a row is left empty.
+    """
     if not rows:
         return ""
+    fields: dict[str, None] = {}
+    for row in rows:
+        fields.update(dict.fromkeys(row))
     buf = io.StringIO()
-    writer = csv.DictWriter(buf, fieldnames=list(rows[0]), lineterminator="\n")
+    writer = csv.DictWriter(buf, fieldnames=list(fields), lineterminator="\n", restval="")
     writer.writeheader()
     for row in rows:
         writer.writerow({k: (f"{v:.10g}" if isinstance(v, float) else v) for k, v in row.items()})
