@@ -457,6 +457,18 @@ class KalmanFilter:
         and ``(B, m, m)``).
     S, S_inv, K : ndarray
         Innovation covariance, its inverse, and the Kalman gain.
+    PHt, HPHt : ndarray
+        ``P(k|k-1) Hᵀ`` and ``H P(k|k-1) Hᵀ`` of the current step (what
+        innovation-based strategies need before the update).
+    failed : ndarray of bool, shape (B,)
+        Runs whose ``P(k|k-1)`` or ``R`` lost positive definiteness in the
+        Huber update (reported as diverged by :func:`run_filter`).
+
+    Notes
+    -----
+    All these arrays are the filter's own: treat them as read-only (when
+    ``H`` is the identity, ``PHt`` and ``HPHt`` *are* ``P_pred``). Strategies
+    return new arrays instead of modifying them.
     """
 
     model: StateSpaceModel
@@ -933,6 +945,10 @@ def run_filter(
     )
 
 
+#: Matrix entries per chunk in :func:`quadratic_form_inverse` (~2 MB of float64).
+_QF_CHUNK = 1 << 18
+
+
 def quadratic_form_inverse(A: NDArray, v: NDArray) -> NDArray:
     """``vᵀ A⁻¹ v`` for stacks of symmetric positive-definite ``A`` (NIS, NEES).
 
@@ -952,6 +968,21 @@ def quadratic_form_inverse(A: NDArray, v: NDArray) -> NDArray:
     -------
     ndarray, shape (...)
     """
+    lead = A.shape[:-2]
+    if len(lead) >= 1 and lead[0] > 1 and A.size > _QF_CHUNK:
+        # chunks along the first axis that fit in cache: the entries are
+        # gathered with a stride of k*k, so cold memory would cost k*k passes
+        step = max(1, _QF_CHUNK // A[0].size)
+        return np.concatenate(
+            [
+                _quadratic_form_inverse(A[i : i + step], v[i : i + step])
+                for i in range(0, lead[0], step)
+            ]
+        )
+    return _quadratic_form_inverse(A, v)
+
+
+def _quadratic_form_inverse(A: NDArray, v: NDArray) -> NDArray:
     k = A.shape[-1]
     # each matrix entry as its own contiguous array: element-wise arithmetic
     # without reductions over tiny axes
