@@ -608,14 +608,21 @@ class KalmanFilter:
         self.innovation = d
         strategy = self.strategy
         R = strategy.measurement_covariance(self)
+        last = strategy.iterations - 1
         for it in range(strategy.iterations):
             if it:
                 R = strategy.refine(self)
             self.R = R
-            self._gain_and_update(H, d, R)
+            self._gain_and_update(H, d, R, final=it == last)
         strategy.observe(self)
 
-    def _gain_and_update(self, H: NDArray, d: NDArray, R: NDArray) -> None:
+    def _gain_and_update(self, H: NDArray, d: NDArray, R: NDArray, final: bool = True) -> None:
+        """Kalman (or Huber) update with ``R``.
+
+        Intermediate iterations of an iterative strategy (``final=False``)
+        only feed the strategy's next ``R``: they use the short form
+        ``P = P(k|k-1) - K H P(k|k-1)``; the final one uses the Joseph form.
+        """
         S = self.HPHt + R
         S_inv = _inv(S)  # NaN (no exception) for a singular member: caught by the checks
         self.S = S
@@ -631,12 +638,19 @@ class KalmanFilter:
                 A[:, :, self._sel] -= K
             else:
                 A = self._eye - K @ H
+            if not final:
+                self.P = A @ self.P_pred
+                self._residual()
+                return
             P = A @ self.P_pred @ A.mT.copy()
             P += K @ R @ K.mT.copy()  # Joseph form
             self.P = 0.5 * (P + P.mT)
         else:
             self._huber_update(H, d, R)
-        # residual r = z - h(x(k|k))
+        self._residual()
+
+    def _residual(self) -> None:
+        """``r = z - h(x(k|k))`` (angles wrapped)."""
         if self._identity_H:
             r = self.z - self.x
         elif self._sel is not None:
