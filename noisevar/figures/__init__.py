@@ -238,12 +238,14 @@ def layout(title: str | None = None, height: int = 420, **extra: Any) -> dict[st
     a large part of a redraw budget; the dashboard styles figures with its
     own theme, and exports use plotly's default template.
 
+    The legend sits under the plot (horizontal), the title at the top left.
+
     Parameters
     ----------
     title : str, optional
         Figure title.
     height : int
-        Pixel height.
+        Pixel height (the plot area is about ``height - 170`` pixels).
     **extra
         More layout keys (merged on top).
 
@@ -253,8 +255,9 @@ def layout(title: str | None = None, height: int = 420, **extra: Any) -> dict[st
     """
     out: dict[str, Any] = {
         "height": height,
-        "margin": {"l": 60, "r": 20, "t": 60 if title else 36, "b": 45},
-        "legend": {"orientation": "h", "yanchor": "bottom", "y": 1.02, "x": 0.0},
+        "margin": {"l": 60, "r": 20, "t": 56 if title else 36, "b": 110},
+        # below the plot: a legend on top collides with the title and the mode bar
+        "legend": {"orientation": "h", "yanchor": "top", "y": -0.2, "x": 0.0},
         "hovermode": "closest",
     }
     if title:

@@ -116,7 +116,7 @@ def signal_figure(
     clean: ArrayLike | None = None,
     max_points: int = MAX_POINTS,
     title: str | None = None,
-    height: int = 380,
+    height: int = 420,
 ) -> go.Figure:
     """A record, downsampled for drawing when long (and the clean signal when known).
 
@@ -175,7 +175,7 @@ def somd_figure(
     stretch: slice | None = None,
     max_points: int = MAX_POINTS,
     title: str | None = None,
-    height: int = 460,
+    height: int = 520,
 ) -> go.Figure:
     """Raw samples, smooth and tracking outputs, kept and rejected windows.
 
@@ -349,7 +349,7 @@ def window_tests_figure(
     gamma_ang: float,
     sample_period: float | None = None,
     title: str | None = None,
-    height: int = 420,
+    height: int = 460,
 ) -> go.Figure:
     """Each window's two test statistics against the thresholds of eq. [19].
 
@@ -458,7 +458,7 @@ def envelope_figure(
     sample_period: float | None = None,
     max_points: int = MAX_POINTS,
     title: str | None = None,
-    height: int = 520,
+    height: int = 580,
 ) -> go.Figure:
     """Envelopes of the window-detrended record and ``|V|`` per window (eq. [13]).
 
@@ -551,7 +551,7 @@ def scan_figure(
     h_selected: Sequence[float] = (),
     h_track: float | None = None,
     title: str | None = None,
-    height: int = 400,
+    height: int = 440,
 ) -> go.Figure:
     """The ratio ``|V1|/|V2|`` against ``h`` with the band of eq. [14] and the chosen ``h``.
 
@@ -637,7 +637,7 @@ def window_variance_figure(
     sample_period: float | None = None,
     true_variance: float | None = None,
     title: str | None = None,
-    height: int = 380,
+    height: int = 420,
 ) -> go.Figure:
     """Per-window variance estimates with the final estimate and its 95 % interval.
 
@@ -781,7 +781,7 @@ def compare_figure(
     order = [r.method for r in comp.results][::-1]
     lay = layout(
         title,
-        height or 140 + 34 * len(comp.results),
+        height or 200 + 34 * len(comp.results),
         xaxis={"title": {"text": "noise variance (95 % interval)"}},
         yaxis={"categoryorder": "array", "categoryarray": order, "type": "category"},
         shapes=shapes,
@@ -881,7 +881,7 @@ def monte_carlo_figure(
                 row=r,
                 col=c,
             )
-    fig.update_layout(**layout(title, 230 * rows + 80), bargap=0.0)
+    fig.update_layout(**layout(title, 230 * rows + 150), bargap=0.0)
     fig.update_xaxes(title="relative error (%)", row=rows)
     return fig
 
@@ -894,7 +894,7 @@ def redundant_figure(
     sample_period: float | None = None,
     max_points: int = MAX_POINTS,
     title: str | None = None,
-    height: int = 560,
+    height: int = 620,
 ) -> go.Figure:
     """Several sensors of one quantity and their mutual differences ``ΔZi - ΔZj`` (eq. [8]).
 
