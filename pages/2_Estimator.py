@@ -261,7 +261,12 @@ with right:
         cols = st.columns(5)
         cols[0].metric("Noise variance", dc.fmt(est.variance))
         cols[1].metric("Noise std", dc.fmt(est.std))
-        cols[2].metric("95 % interval", f"{dc.fmt(est.ci95[0])} … {dc.fmt(est.ci95[1])}")
+        cols[2].metric(
+            "95 % interval",
+            f"{dc.fmt(est.ci95[0], 3)}–{dc.fmt(est.ci95[1], 3)}",
+            help=f"{dc.fmt(est.ci95[0], 6)} to {dc.fmt(est.ci95[1], 6)} (chi-square, "
+            f"{est.dof:.0f} effective degrees of freedom)",
+        )
         d = est.details
         if d is not None and d.selection is not None:
             summ = d.selection.rejection_summary()
@@ -349,7 +354,7 @@ with right:
                 help=f"samples {stretch.start} to {stretch.stop - 1}",
             )
             cols[1].metric("Stretch std", dc.fmt(part.std))
-            cols[2].metric("95 % interval", f"{dc.fmt(part.ci95[0])} … {dc.fmt(part.ci95[1])}")
+            cols[2].metric("95 % interval", f"{dc.fmt(part.ci95[0], 3)}–{dc.fmt(part.ci95[1], 3)}")
             cols[3].metric("Samples in stretch", f"{stretch.stop - stretch.start:,}")
         except noisevar.NoisevarError as exc:
             st.error(f"Stretch {stretch.start}–{stretch.stop - 1}: {exc} (choose a longer stretch)")
