@@ -364,7 +364,9 @@ def _parse_body(
     for i, cname in enumerate(names):
         col = df[i]
         if pd.api.types.is_numeric_dtype(col.dtype) and not pd.api.types.is_bool_dtype(col.dtype):
-            columns[cname] = col.to_numpy(dtype=float, na_value=np.nan)
+            # a writable copy: pandas may hand out read-only views (copy-on-write), which
+            # some numerical libraries (PyWavelets) refuse
+            columns[cname] = np.array(col.to_numpy(dtype=float, na_value=np.nan), dtype=float)
             continue
         coerced = pd.to_numeric(col, errors="coerce")
         bad = (coerced.isna() & col.notna()).to_numpy()
@@ -379,7 +381,7 @@ def _parse_body(
                 f"{name}: line {_data_line_number(text, header_line, j)}, column {cname!r}: "
                 f"{str(col.iloc[j])!r} is not a number (only numeric columns can be loaded)"
             )
-        columns[cname] = coerced.to_numpy(dtype=float, na_value=np.nan)
+        columns[cname] = np.array(coerced.to_numpy(dtype=float, na_value=np.nan), dtype=float)
     return columns
 
 

@@ -206,3 +206,14 @@ def test_one_million_row_csv_is_fast_enough():
     tab = load_table(text, "big.csv")
     assert tab.n_rows == 1_000_000
     assert time.perf_counter() - t0 < 10.0
+
+
+def test_loaded_columns_are_writable_for_every_method():
+    tab = load_table(
+        b"t,x\n" + b"".join(f"{i},{(i * 7919) % 13}\n".encode() for i in range(300)), "w.csv"
+    )
+    z = pick_column(tab, "x")
+    assert z.flags.writeable
+    import noisevar
+
+    noisevar.estimate(z, method="wavelet-mad")
