@@ -147,15 +147,15 @@ def test_upload_over_the_size_limit(monkeypatch):
 def test_good_uploads_csv_npy_nmea_and_column_period_choice():
     at = _page()
     rng = np.random.default_rng(1)
-    t = np.arange(500) * 0.2
+    t = np.arange(500) * 0.05
     body = "time,a,b\n" + "\n".join(
-        f"{ti:.1f},{np.sin(ti) + rng.normal(0, 0.1):.5f},{rng.normal(0, 2):.5f}" for ti in t
+        f"{ti:.2f},{np.sin(ti) + rng.normal(0, 0.1):.5f},{rng.normal(0, 2):.5f}" for ti in t
     )
     at.file_uploader(key="upload").set_value(("two.csv", body.encode(), "text/csv")).run()
     _clean(at)
     assert not at.error
     sig = at.session_state["nv_signal"]
-    assert sig.column == "a" and sig.sample_period == 0.2 and sig.recipe is None
+    assert sig.column == "a" and sig.sample_period == 0.05 and sig.recipe is None
     column = next(s for s in at.selectbox if s.label == "Signal column")
     column.set_value("b").run()
     _clean(at)
