@@ -554,6 +554,7 @@ def _sidebar_card(sig: LoadedSignal | None) -> None:
 def require_signal(
     purpose: str = "This page works on the loaded signal.",
     preferred: Sequence[str] = ("fast_slow.csv",),
+    explain: Sequence[str] | None = None,
 ) -> LoadedSignal:
     """The loaded signal; without one, say so, offer sample data and stop the page.
 
@@ -563,6 +564,8 @@ def require_signal(
         What the page would do with a signal.
     preferred : sequence of str
         Sample files to offer first.
+    explain : sequence of str, optional
+        The page's how-it-works blocks, shown before the page stops.
 
     Returns
     -------
@@ -591,6 +594,8 @@ def require_signal(
             load_generated("fast-slow", n=6000, seed=0, noise_std=5.0)
             st.rerun()
     st.page_link("pages/1_Signal.py", label="Go to the Signal page", icon=":material/upload:")
+    if explain:
+        how_it_works(*explain)
     st.stop()
     raise AssertionError("unreachable")  # pragma: no cover
 

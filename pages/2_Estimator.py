@@ -24,9 +24,42 @@ from noisevar.figures.estimator import (
     window_variance_figure,
 )
 
+#: The page's how-it-works expander (shown even before a signal is loaded).
+HOW_IT_WORKS = (
+    "**1. A virtual second sensor (spec A2).** An alpha-beta-gamma filter (position, rate, "
+    "acceleration; white jerk) with constant gains smooths the record. With $h = q/r$ "
+    "(jerk spectral density over noise variance) the steady-state gains are",
+    "$$\\alpha = 2h^{1/3},\\qquad \\beta = 2h^{2/3},\\qquad \\gamma = h$$",
+    "A small $h_S$ gives a smooth output $Z_1$ with little noise left; a faster filter "
+    "($h_T$ 10 to 100 times larger) tracks quick changes.",
+    "**2. Choosing $h_S$ (eq. 13-14).** Envelopes through the local maxima $U$ and minima $L$ "
+    "give a noise amplitude per window of $m$ samples; $h_S$ should cut it 10 to 20 times:",
+    "$$|V| = \\frac{1}{2m}\\sum_{k}(U_k - L_k),\\qquad "
+    "\\frac{1}{20} \\le \\frac{|V_1|}{|V_2|} \\le \\frac{1}{10}$$",
+    "**3. Keeping windows (eq. 16-19).** In each window, lines $x = a\\,i + b$ are fitted to "
+    "both filter outputs. $A_1, A_2$ ($A_3, A_4$) are the mean deviations of the smooth output "
+    "above and below its line in the first (second) half. A window is kept when",
+    "$$\\left|\\tfrac{A_1}{A_2}\\right|,\\left|\\tfrac{A_2}{A_3}\\right|,"
+    "\\left|\\tfrac{A_3}{A_4}\\right| \\in (1-\\Gamma_{amp},\\,1+\\Gamma_{amp}),\\qquad "
+    "|\\arctan a_S - \\arctan a_T| < \\Gamma_{ang}$$",
+    "The first test says the smooth output is straight inside the window (no curvature); the "
+    "second says the smooth filter is not lagging behind the tracking filter.",
+    "**4. The estimate (eq. 8).** Over the kept windows, with $Z_2 = z$ the raw samples:",
+    "$$\\hat\\sigma^2 = \\frac{1}{c}\\,\\mathrm{E}\\big[(\\Delta Z_1 - \\Delta Z_2)^2\\big]$$",
+    "The paper uses $c = 2$, assuming the virtual sensor's noise is independent and tiny. It is "
+    "neither: $Z_1$ is $z$ filtered by $g$, so the noise of $\\Delta Z_1 - \\Delta Z_2$ is white "
+    "noise through $\\Delta(g-\\delta)$ and the exact factor is",
+    "$$c(h) = \\sum_k \\big(\\Delta(g-\\delta)\\big)_k^2$$",
+    "(2.10 at $h = 1.5\\cdot10^{-5}$, 2.43 at $9\\cdot10^{-4}$). Method `somd` divides by "
+    "$c(h)$; `somd-paper` by 2. The 95 % interval is a chi-square interval with the "
+    "effective degrees of freedom of the correlated squares.",
+)
+
 dc.setup_page("Estimator", ":material/tune:")
 st.title("Estimator")
-sig = dc.require_signal("The Estimator tunes the SOMD estimator on it and shows every step.")
+sig = dc.require_signal(
+    "The Estimator tunes the SOMD estimator on it and shows every step.", explain=HOW_IT_WORKS
+)
 
 SOMD = ("somd", "somd-paper")
 METHODS = [m for m in noisevar.methods() if m != "somd-redundant"]
@@ -490,32 +523,4 @@ with right:
         st.caption(f"{view} figure")
         dc.figure_downloads(detail, f"noisevar-{str(view).split()[0].lower()}", "fig_detail")
 
-dc.how_it_works(
-    "**1. A virtual second sensor (spec A2).** An alpha-beta-gamma filter (position, rate, "
-    "acceleration; white jerk) with constant gains smooths the record. With $h = q/r$ "
-    "(jerk spectral density over noise variance) the steady-state gains are",
-    "$$\\alpha = 2h^{1/3},\\qquad \\beta = 2h^{2/3},\\qquad \\gamma = h$$",
-    "A small $h_S$ gives a smooth output $Z_1$ with little noise left; a faster filter "
-    "($h_T$ 10 to 100 times larger) tracks quick changes.",
-    "**2. Choosing $h_S$ (eq. 13-14).** Envelopes through the local maxima $U$ and minima $L$ "
-    "give a noise amplitude per window of $m$ samples; $h_S$ should cut it 10 to 20 times:",
-    "$$|V| = \\frac{1}{2m}\\sum_{k}(U_k - L_k),\\qquad "
-    "\\frac{1}{20} \\le \\frac{|V_1|}{|V_2|} \\le \\frac{1}{10}$$",
-    "**3. Keeping windows (eq. 16-19).** In each window, lines $x = a\\,i + b$ are fitted to "
-    "both filter outputs. $A_1, A_2$ ($A_3, A_4$) are the mean deviations of the smooth output "
-    "above and below its line in the first (second) half. A window is kept when",
-    "$$\\left|\\tfrac{A_1}{A_2}\\right|,\\left|\\tfrac{A_2}{A_3}\\right|,"
-    "\\left|\\tfrac{A_3}{A_4}\\right| \\in (1-\\Gamma_{amp},\\,1+\\Gamma_{amp}),\\qquad "
-    "|\\arctan a_S - \\arctan a_T| < \\Gamma_{ang}$$",
-    "The first test says the smooth output is straight inside the window (no curvature); the "
-    "second says the smooth filter is not lagging behind the tracking filter.",
-    "**4. The estimate (eq. 8).** Over the kept windows, with $Z_2 = z$ the raw samples:",
-    "$$\\hat\\sigma^2 = \\frac{1}{c}\\,\\mathrm{E}\\big[(\\Delta Z_1 - \\Delta Z_2)^2\\big]$$",
-    "The paper uses $c = 2$, assuming the virtual sensor's noise is independent and tiny. It is "
-    "neither: $Z_1$ is $z$ filtered by $g$, so the noise of $\\Delta Z_1 - \\Delta Z_2$ is white "
-    "noise through $\\Delta(g-\\delta)$ and the exact factor is",
-    "$$c(h) = \\sum_k \\big(\\Delta(g-\\delta)\\big)_k^2$$",
-    "(2.10 at $h = 1.5\\cdot10^{-5}$, 2.43 at $9\\cdot10^{-4}$). Method `somd` divides by "
-    "$c(h)$; `somd-paper` by 2. The 95 % interval is a chi-square interval with the "
-    "effective degrees of freedom of the correlated squares.",
-)
+dc.how_it_works(*HOW_IT_WORKS)

@@ -16,9 +16,34 @@ from noisevar.compare import (
 )
 from noisevar.figures.estimator import compare_figure, monte_carlo_figure
 
+#: The page's how-it-works expander (shown even before a signal is loaded).
+HOW_IT_WORKS = (
+    "**Peers (spec D).** Difference estimators remove the slowly varying signal with a short "
+    "difference sequence $d$ and normalise by its energy:",
+    "$$\\hat\\sigma^2 = \\frac{\\operatorname{mean}\\big((d * z)_k^2\\big)}{\\sum_j d_j^2},\\qquad"
+    "\\text{Rice: } d = (1,-1),\\quad \\text{second difference: } d = (1,-2,1)$$",
+    "Hall-Kay-Titterington sequences are the optimal $d$ of each order; MAD versions replace the "
+    "mean square by a median ($\\hat\\sigma = \\operatorname{median}|x - \\tilde x| / 0.6745$) "
+    "and ignore jumps; the wavelet estimator takes the MAD of the finest wavelet details; "
+    "the maximum-likelihood peers fit a state-space model (local level / local linear trend) "
+    "and read its irregular variance.",
+    "**Intervals.** Each method's 95 % interval is a chi-square interval with its effective "
+    "degrees of freedom $\\nu$ (for a mean of correlated squares "
+    "$\\nu = n / \\sum_k \\rho_k^2$):",
+    "$$\\left[\\frac{\\nu\\hat\\sigma^2}{\\chi^2_{0.975,\\nu}},\\;"
+    "\\frac{\\nu\\hat\\sigma^2}{\\chi^2_{0.025,\\nu}}\\right]$$",
+    "**Monte Carlo.** The relative error of run $i$ is $e_i = \\hat\\sigma_i^2/\\sigma^2 - 1$. "
+    "No unbiased estimator from $n$ Gaussian samples does better than the Cramér-Rao floor",
+    "$$\\operatorname{sd}(e) \\ge \\sqrt{2/n}$$",
+    "so the column *RMSE / CR floor* says how many times worse than ideal each method is. The "
+    "paper's criterion for Fig. 2: 95 % of the relative errors within 10 %, none above 20 %.",
+)
+
 dc.setup_page("Compare", ":material/leaderboard:")
 st.title("Compare")
-sig = dc.require_signal("The Compare page runs every estimator on it side by side.")
+sig = dc.require_signal(
+    "The Compare page runs every estimator on it side by side.", explain=HOW_IT_WORKS
+)
 
 ALL = single_signal_methods()
 DESC = noisevar.describe_methods()
@@ -187,11 +212,13 @@ with tab_mc:
     cancel = b2.button("Cancel", key="mc_cancel", icon=":material/stop:", width="stretch")
     status = st.empty()
     live = st.empty()
-    if cancel and st.session_state.get("mc_running"):
+    if st.session_state.get("mc_running") and not go:
+        # the run was interrupted: by Cancel, or by another widget (a rerun stops the script)
         st.session_state["mc_running"] = False
         last = st.session_state.get("mc_result")
         done = f" after {last.runs_done} of {last.runs_requested} runs" if last else ""
-        status.warning(f"Monte Carlo cancelled{done}; the partial results are shown.")
+        why = "cancelled" if cancel else "interrupted by a change on the page"
+        status.warning(f"Monte Carlo {why}{done}; the partial results are shown.")
     if go and mc_methods:
         params = {m: dict(tuned) for m in ("somd", "somd-paper")} if tuned else {}
         st.session_state["mc_running"] = True
@@ -206,6 +233,7 @@ with tab_mc:
             seed=int(seed),
         )
         every = max(1, int(runs) // 10)
+        ended = False  # stays False when Streamlit interrupts the loop (Cancel): see above
         try:
             bar = status.progress(0.0, text="Starting...")
             for snap in gen:
@@ -220,12 +248,15 @@ with tab_mc:
                         width="stretch",
                         key=f"mc_live_{snap.runs_done}",
                     )
+            ended = True
             status.success(f"Monte Carlo done: {int(runs)} runs.")
         except noisevar.NoisevarError as exc:
+            ended = True
             status.error(str(exc))
         finally:
             gen.close()
-            st.session_state["mc_running"] = False
+            if ended:
+                st.session_state["mc_running"] = False
         live.empty()
     res = st.session_state.get("mc_result")
     if res is None:
@@ -292,24 +323,4 @@ with tab_mc:
         with c3:
             dc.figure_downloads(mc_fig, "noisevar-montecarlo", "mc_fig")
 
-dc.how_it_works(
-    "**Peers (spec D).** Difference estimators remove the slowly varying signal with a short "
-    "difference sequence $d$ and normalise by its energy:",
-    "$$\\hat\\sigma^2 = \\frac{\\operatorname{mean}\\big((d * z)_k^2\\big)}{\\sum_j d_j^2},\\qquad"
-    "\\text{Rice: } d = (1,-1),\\quad \\text{second difference: } d = (1,-2,1)$$",
-    "Hall-Kay-Titterington sequences are the optimal $d$ of each order; MAD versions replace the "
-    "mean square by a median ($\\hat\\sigma = \\operatorname{median}|x - \\tilde x| / 0.6745$) "
-    "and ignore jumps; the wavelet estimator takes the MAD of the finest wavelet details; "
-    "the maximum-likelihood peers fit a state-space model (local level / local linear trend) "
-    "and read its irregular variance.",
-    "**Intervals.** Each method's 95 % interval is a chi-square interval with its effective "
-    "degrees of freedom $\\nu$ (for a mean of correlated squares "
-    "$\\nu = n / \\sum_k \\rho_k^2$):",
-    "$$\\left[\\frac{\\nu\\hat\\sigma^2}{\\chi^2_{0.975,\\nu}},\\;"
-    "\\frac{\\nu\\hat\\sigma^2}{\\chi^2_{0.025,\\nu}}\\right]$$",
-    "**Monte Carlo.** The relative error of run $i$ is $e_i = \\hat\\sigma_i^2/\\sigma^2 - 1$. "
-    "No unbiased estimator from $n$ Gaussian samples does better than the Cramér-Rao floor",
-    "$$\\operatorname{sd}(e) \\ge \\sqrt{2/n}$$",
-    "so the column *RMSE / CR floor* says how many times worse than ideal each method is. The "
-    "paper's criterion for Fig. 2: 95 % of the relative errors within 10 %, none above 20 %.",
-)
+dc.how_it_works(*HOW_IT_WORKS)

@@ -16,6 +16,31 @@ from noisevar.figures.kalman import (
 from noisevar.kalman import STRATEGIES
 from noisevar.kalman.scenarios import SCENARIOS
 
+#: The page's how-it-works expander (shown even before a signal is loaded).
+HOW_IT_WORKS = (
+    "**The filter.** Predict, then correct with the measurement $z_k$:",
+    "$$\\hat x_{k|k-1} = F\\hat x_{k-1},\\quad P_{k|k-1} = FPF^\\top + Q,\\quad "
+    "d_k = z_k - H\\hat x_{k|k-1},\\quad S_k = HP_{k|k-1}H^\\top + R_k$$",
+    "$$K_k = P_{k|k-1}H^\\top S_k^{-1},\\qquad \\hat x_k = \\hat x_{k|k-1} + K_k d_k$$",
+    "The gain weighs the measurement by how noisy it is: a wrong $R$ gives a wrong gain. "
+    "Adaptive filters estimate $R$ as they go.",
+    "**RAE and IAE (spec A10)** use the filter's own residuals $r_k = z_k - H\\hat x_{k|k}$ "
+    "or innovations over a window of $N$ steps:",
+    "$$\\hat R_{RAE} = \\overline{r r^\\top} + HP_{k|k}H^\\top,\\qquad "
+    "\\hat R_{IAE} = \\overline{d d^\\top} - HP_{k|k-1}H^\\top$$",
+    "Both depend on the state estimate: when the filter lags, the lag looks like noise, $R$ "
+    "grows, the filter trusts the data less and lags more (the paper's RAE diverged).",
+    "**Sage-Husa** updates recursively, "
+    "$\\hat R_k = (1-d_k)\\hat R_{k-1} + d_k(d_kd_k^\\top - HP^-H^\\top)$, "
+    "$d_k = (1-b)/(1-b^{k+1})$; **VB** keeps an inverse-gamma distribution per channel.",
+    "**SOMD online** estimates each channel's variance from the raw samples alone (the "
+    "second-order mutual difference of the Estimator page), so a lagging filter cannot "
+    "corrupt it. The oracle knows the true $R$: no adaptive filter can beat it.",
+    "**Consistency.** The normalised innovation squared is chi-square with $m$ degrees of "
+    "freedom for a consistent filter:",
+    "$$\\mathrm{NIS}_k = d_k^\\top S_k^{-1} d_k \\sim \\chi^2_m$$",
+)
+
 dc.setup_page("Adaptive filter", ":material/route:")
 st.title("Adaptive filter")
 st.caption(
@@ -181,6 +206,7 @@ else:
     sig = dc.require_signal(
         "The Adaptive filter page filters the columns of the loaded file.",
         preferred=("gps_circle.csv", "gps_track.nmea", "two_sensors.csv"),
+        explain=HOW_IT_WORKS,
     )
     cols = sig.table.data_columns
     usable = [c for c in cols if np.all(np.isfinite(sig.table.columns[c]))]
@@ -378,26 +404,4 @@ with st.expander("The paper's Table 1, reproduced on demand (gps-circle)"):
                 on_click="ignore",
             )
 
-dc.how_it_works(
-    "**The filter.** Predict, then correct with the measurement $z_k$:",
-    "$$\\hat x_{k|k-1} = F\\hat x_{k-1},\\quad P_{k|k-1} = FPF^\\top + Q,\\quad "
-    "d_k = z_k - H\\hat x_{k|k-1},\\quad S_k = HP_{k|k-1}H^\\top + R_k$$",
-    "$$K_k = P_{k|k-1}H^\\top S_k^{-1},\\qquad \\hat x_k = \\hat x_{k|k-1} + K_k d_k$$",
-    "The gain weighs the measurement by how noisy it is: a wrong $R$ gives a wrong gain. "
-    "Adaptive filters estimate $R$ as they go.",
-    "**RAE and IAE (spec A10)** use the filter's own residuals $r_k = z_k - H\\hat x_{k|k}$ "
-    "or innovations over a window of $N$ steps:",
-    "$$\\hat R_{RAE} = \\overline{r r^\\top} + HP_{k|k}H^\\top,\\qquad "
-    "\\hat R_{IAE} = \\overline{d d^\\top} - HP_{k|k-1}H^\\top$$",
-    "Both depend on the state estimate: when the filter lags, the lag looks like noise, $R$ "
-    "grows, the filter trusts the data less and lags more (the paper's RAE diverged).",
-    "**Sage-Husa** updates recursively, "
-    "$\\hat R_k = (1-d_k)\\hat R_{k-1} + d_k(d_kd_k^\\top - HP^-H^\\top)$, "
-    "$d_k = (1-b)/(1-b^{k+1})$; **VB** keeps an inverse-gamma distribution per channel.",
-    "**SOMD online** estimates each channel's variance from the raw samples alone (the "
-    "second-order mutual difference of the Estimator page), so a lagging filter cannot "
-    "corrupt it. The oracle knows the true $R$: no adaptive filter can beat it.",
-    "**Consistency.** The normalised innovation squared is chi-square with $m$ degrees of "
-    "freedom for a consistent filter:",
-    "$$\\mathrm{NIS}_k = d_k^\\top S_k^{-1} d_k \\sim \\chi^2_m$$",
-)
+dc.how_it_works(*HOW_IT_WORKS)

@@ -9,6 +9,28 @@ import dashboard_common as dc
 from noisevar.compare import rows_to_csv
 from noisevar.figures.estimator import redundant_figure
 
+#: The page's how-it-works expander (shown even before a signal is loaded).
+HOW_IT_WORKS = (
+    "**Two sensors (eq. 8).** Sensor $i$ reads $Z_i = Z + \\delta Z_i + V_i$: the true value, a "
+    "slowly varying systematic error ($\\delta Z_i[k] \\approx \\delta Z_i[k+1]$) and white "
+    "noise. Differencing in time removes $Z$'s level and the systematic errors; differencing "
+    "the two sensors removes $Z$'s changes. What is left is noise:",
+    "$$\\tfrac12\\,\\mathrm{E}\\big[(\\Delta Z_1 - \\Delta Z_2)^2\\big] = "
+    "\\operatorname{var}(V_1) + \\operatorname{var}(V_2)$$",
+    "With two sensors only the sum is known (the paper assumes one sensor is far better, so the "
+    "sum is the worse sensor's variance).",
+    "**Three sensors (three-cornered hat).** The three pair sums give three equations in three "
+    "unknowns:",
+    "$$s_{12} = \\sigma_1^2 + \\sigma_2^2,\\quad s_{13} = \\sigma_1^2 + \\sigma_3^2,\\quad "
+    "s_{23} = \\sigma_2^2 + \\sigma_3^2 \\;\\Rightarrow\\; "
+    "\\sigma_1^2 = \\tfrac12(s_{12} + s_{13} - s_{23})$$",
+    "With more sensors the pair sums are solved by least squares.",
+    "**Delays.** If one record lags, $\\Delta Z_1 - \\Delta Z_2$ also contains the signal's "
+    "change over the lag. The delay is the shift $\\tau$ minimising "
+    "$\\sum_k (Z_1[k] - Z_2[k+\\tau])^2$, refined below one sample by a parabola through the "
+    "three best shifts; the late record is then read at $t + \\tau$.",
+)
+
 dc.setup_page("Two sensors", ":material/compare_arrows:")
 st.title("Two sensors")
 st.caption(
@@ -40,6 +62,7 @@ if sig is None or len(sig.table.data_columns) < 2:
             dc.load_simulated_sensors()
             st.rerun()
     st.page_link("pages/1_Signal.py", label="Upload your own file", icon=":material/upload:")
+    dc.how_it_works(*HOW_IT_WORKS)
     st.stop()
 
 data_cols = sig.table.data_columns
@@ -199,23 +222,4 @@ if res is not None:
     with c2:
         dc.figure_downloads(fig, "noisevar-sensors", "ts_fig")
 
-dc.how_it_works(
-    "**Two sensors (eq. 8).** Sensor $i$ reads $Z_i = Z + \\delta Z_i + V_i$: the true value, a "
-    "slowly varying systematic error ($\\delta Z_i[k] \\approx \\delta Z_i[k+1]$) and white "
-    "noise. Differencing in time removes $Z$'s level and the systematic errors; differencing "
-    "the two sensors removes $Z$'s changes. What is left is noise:",
-    "$$\\tfrac12\\,\\mathrm{E}\\big[(\\Delta Z_1 - \\Delta Z_2)^2\\big] = "
-    "\\operatorname{var}(V_1) + \\operatorname{var}(V_2)$$",
-    "With two sensors only the sum is known (the paper assumes one sensor is far better, so the "
-    "sum is the worse sensor's variance).",
-    "**Three sensors (three-cornered hat).** The three pair sums give three equations in three "
-    "unknowns:",
-    "$$s_{12} = \\sigma_1^2 + \\sigma_2^2,\\quad s_{13} = \\sigma_1^2 + \\sigma_3^2,\\quad "
-    "s_{23} = \\sigma_2^2 + \\sigma_3^2 \\;\\Rightarrow\\; "
-    "\\sigma_1^2 = \\tfrac12(s_{12} + s_{13} - s_{23})$$",
-    "With more sensors the pair sums are solved by least squares.",
-    "**Delays.** If one record lags, $\\Delta Z_1 - \\Delta Z_2$ also contains the signal's "
-    "change over the lag. The delay is the shift $\\tau$ minimising "
-    "$\\sum_k (Z_1[k] - Z_2[k+\\tau])^2$, refined below one sample by a parabola through the "
-    "three best shifts; the late record is then read at $t + \\tau$.",
-)
+dc.how_it_works(*HOW_IT_WORKS)

@@ -34,6 +34,7 @@ def test_opened_first_without_a_signal():
     app.switch_page(PAGE).run()
     _clean(app)
     assert any("No signal loaded" in i.value for i in app.info)
+    assert app.get("latex")
 
 
 def test_every_method_side_by_side(at):

@@ -45,6 +45,7 @@ def test_opened_first_without_a_signal_offers_sample_data():
     _clean(app)
     assert any("No signal loaded" in i.value for i in app.info)
     assert any(b.key == "offer_fast_slow.csv" for b in app.button)
+    assert app.get("latex"), "how it works is shown before a signal is loaded"
     app.button(key="offer_fast_slow.csv").click().run()
     _clean(app)
     assert _metric(app, "Noise variance")

@@ -33,6 +33,7 @@ def test_without_sensors_offers_the_sample_files():
     at = _open()
     assert any("No signal" in i.value for i in at.info)
     assert {"ts_two", "ts_three", "ts_sim"} <= {b.key for b in at.button}
+    assert at.get("latex")
 
 
 def test_two_sensors_sum_and_delay_toggle():

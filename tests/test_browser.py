@@ -219,3 +219,25 @@ def test_shared_link_reopens_the_view_and_box_select_picks_a_stretch(server, bro
     _settle(page)
     _check(page, "link-estimator-stretch")
     ctx.close()
+
+
+def test_monte_carlo_progress_and_cancel(server, browser):
+    ctx = browser.new_context(viewport={"width": 1400, "height": 1000})
+    page = ctx.new_page()
+    page.goto(f"{server}/Compare?sig={SIG}&cmp_tab=Monte+Carlo&mc_runs=3000&mc_n=3000")
+    _settle(page)
+    page.get_by_role("tab", name="Monte Carlo").click()
+    page.get_by_role("button", name="Run Monte Carlo").click()
+    page.wait_for_selector('[data-testid="stProgress"]', timeout=60_000)
+    page.wait_for_function(
+        "() => /Run [0-9]+ of 3000/.test(document.body.innerText)", timeout=60_000
+    )
+    page.get_by_role("button", name="Cancel").click()
+    page.wait_for_function(
+        "() => document.body.innerText.includes('Monte Carlo cancelled after')", timeout=60_000
+    )
+    _settle(page)
+    text = page.inner_text('[data-testid="stMain"]')
+    assert "of 3000 runs" in text and "done: 3000" not in text
+    _check(page, "compare-montecarlo-cancelled")
+    ctx.close()
