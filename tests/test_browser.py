@@ -56,7 +56,7 @@ LIGHT = {
     "Carrier_tracking": "?ca_runs=3&ca_dur=5",
 }
 #: Seconds without a running script before a page counts as drawn.
-QUIET_S = 0.8
+QUIET_S = 0.5
 
 playwright_api = pytest.importorskip("playwright.sync_api")
 pytestmark = pytest.mark.skipif(
