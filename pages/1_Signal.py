@@ -204,11 +204,16 @@ m = st.columns(6)
 m[0].metric("Samples", f"{summary['n']:,}")
 m[1].metric(
     "Duration",
-    f"{summary['duration_s']:.6g} s" if sig.sample_period else f"{summary['n']} samples",
+    f"{summary['duration_s']:.4g} s" if sig.sample_period else "n/a",
+    help=None if sig.sample_period else "Set the sample period T to see the duration.",
 )
 m[2].metric("Mean", dc.fmt(summary["mean"]))
 m[3].metric("Std (signal + noise)", dc.fmt(summary["std"]))
-m[4].metric("Range", f"{dc.fmt(summary['min'])} … {dc.fmt(summary['max'])}")
+m[4].metric(
+    "Min / max",
+    f"{dc.fmt(summary['min'], 3)} / {dc.fmt(summary['max'], 3)}",
+    help=f"{dc.fmt(summary['min'], 8)} to {dc.fmt(summary['max'], 8)}",
+)
 if auto is not None:
     truth = dc.truth_of(sig)
     m[5].metric(
@@ -216,6 +221,7 @@ if auto is not None:
         dc.fmt(auto.std),
         delta=f"true {dc.fmt(truth**0.5)}" if truth else None,
         delta_color="off",
+        delta_arrow="off",
         help="Quick estimate with the default method; tune it on the Estimator page.",
     )
 for note in sig.notes:

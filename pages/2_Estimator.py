@@ -328,6 +328,7 @@ with right:
                 dc.fmt(truth),
                 delta=f"{100 * (est.variance / truth - 1):+.1f} %",
                 delta_color="off",
+                delta_arrow="off",
                 help="Known for a generated signal; the delta is the relative error.",
             )
         for note in est.notes:

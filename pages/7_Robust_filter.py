@@ -78,6 +78,7 @@ if res is not None:
         f"{float(np.mean(res.magvar_estimate_deg)):.3f}°",
         delta=f"true {magvar:g}°",
         delta_color="off",
+        delta_arrow="off",
     )
     rows = [
         {

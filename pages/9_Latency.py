@@ -118,6 +118,7 @@ if res is not None:
         f"{res.estimated_delay_s * 1000:.1f} ms",
         delta=f"{(res.estimated_delay_s - res.true_delay_s) * 1000:+.1f} ms",
         delta_color="off",
+        delta_arrow="off",
     )
     m[2].metric(
         "Whole-record least squares",
