@@ -2,6 +2,7 @@
 
     python benchmarks/seeds.py              # 100 runs each, writes results/seeds.md
     python benchmarks/seeds.py --runs 20    # quicker
+    python benchmarks/seeds.py --kappa-selection   # + the held-out κ study (seeds 1-5)
 
 Runs, one after the other, exactly the commands a user would type::
 
@@ -10,10 +11,22 @@ Runs, one after the other, exactly the commands a user would type::
     noisevar experiment carrier  --runs N --seed 0 --cn0 30 --format json
     noisevar experiment latency  --runs N --seed 0 --format json
 
-times each (wall clock, including the interpreter start), checks the targets
-of issue 6 against the JSON metrics, and prints a Markdown section (also
-written to ``benchmarks/results/seeds.md``). A target that does not hold is
-reported as such, with its numbers.
+then, for context, the Huber κ trade-off table (``outliers --kappa-sweep
+1.345,1.5,2,2.5,3``, the same runs for every κ) and the carrier comparison
+with other design dynamics (``--nominal-doppler-rate 100, 5, 1`` Hz/s
+against the scenario's 25 Hz/s),
+times each (wall clock, including the interpreter start, and CPU time),
+checks the targets of issue 6 against the JSON metrics, and prints a
+Markdown section (also written to ``benchmarks/results/seeds.md``), with the
+carrier C/N0 sweep and the Huber κ trade-off table. A target that does not
+hold is reported as such, with its numbers.
+
+The carrier's ``ekf`` is the fixed EKF designed for nominal conditions
+(45 dB-Hz, the scenario's dynamics) and ``aekf`` adapts from that design
+(eq. 22 + our stabilised Q); the EKF with the true noise is the
+``matched`` reference row. The outliers experiment runs at our default
+``κ = 2.5`` (chosen on held-out seeds, see ``noisevar.robust``), with the
+paper's 1.345 reported next to it.
 """
 
 from __future__ import annotations
@@ -37,6 +50,24 @@ COMMANDS = {
     "outliers": ["outliers"],
     "carrier": ["carrier", "--cn0", "30"],
     "latency": ["latency"],
+}
+#: Carrier comparison with other design dynamics (Hz/s; the scenario's manoeuvres are 25 Hz/s).
+DESIGN_RATES = (100.0, 5.0, 1.0)
+KAPPAS = "1.345,1.5,2,2.5,3"
+CONTEXT = {
+    "outliers-kappa": ["outliers", "--kappa-sweep", KAPPAS],
+}
+CONTEXT |= {
+    f"carrier-design-{r:g}": [
+        "carrier",
+        "--cn0",
+        "30",
+        "--sweep",
+        "25,30",
+        "--nominal-doppler-rate",
+        f"{r:g}",
+    ]
+    for r in DESIGN_RATES
 }
 
 
@@ -62,8 +93,8 @@ def _yes(ok: bool) -> str:
     return "yes" if ok else "**no**"
 
 
-def rows_for(name: str, out: dict[str, Any]) -> list[tuple[str, str, str, bool]]:
-    """(target, measured, verdict) rows of one experiment."""
+def rows_for(name: str, out: dict[str, Any]) -> list[tuple[str, str, str, bool | None]]:
+    """(target, measured, verdict) rows of one experiment (verdict None: context only)."""
     m = out["metrics"]
     if name == "fusion":
         diff = m["max_abs_diff_vs_centralized"]
@@ -101,20 +132,42 @@ def rows_for(name: str, out: dict[str, Any]) -> list[tuple[str, str, str, bool]]
     if name == "outliers":
         r_out = m["huber_over_ekf_with_outliers"]
         r_clean = m["huber_over_ekf_no_outliers"]
+        lo_o, hi_o = m["huber_over_ekf_with_outliers_ci95"]
+        lo_c, hi_c = m["huber_over_ekf_no_outliers_ci95"]
         mv = m["magvar_estimate_deg"] - m["magvar_true_deg"]
+        k = out["settings"]["kappa"]
         return [
             (
                 "Huber position RMSE <= 0.7 x plain EKF, with outliers",
-                f"{m['rmse_position_huber']:.1f} / {m['rmse_position_ekf']:.1f} m = {r_out:.3f}",
+                f"κ = {k:g}: {m['rmse_position_huber']:.1f} / {m['rmse_position_ekf']:.1f} m = "
+                f"{r_out:.3f} (paired 95 % interval {lo_o:.3f}-{hi_o:.3f})",
                 "",
                 r_out <= 0.7,
             ),
             (
                 "Huber = EKF within 1 % without outliers",
-                f"{m['rmse_position_huber_no_outliers']:.1f} / "
-                f"{m['rmse_position_ekf_no_outliers']:.1f} m = {r_clean:.3f}",
+                f"κ = {k:g}: {m['rmse_position_huber_no_outliers']:.1f} / "
+                f"{m['rmse_position_ekf_no_outliers']:.1f} m = {r_clean:.4f} "
+                f"(paired 95 % interval {lo_c:.4f}-{hi_c:.4f})",
                 "",
                 abs(r_clean - 1) <= 0.01,
+            ),
+            (
+                "the same at the paper's κ = 1.345 (context)",
+                f"{m['huber_paper_kappa_over_ekf_with_outliers']:.3f} "
+                f"({m['huber_paper_kappa_over_ekf_with_outliers_ci95'][0]:.3f}-"
+                f"{m['huber_paper_kappa_over_ekf_with_outliers_ci95'][1]:.3f}) with outliers, "
+                f"{m['huber_paper_kappa_over_ekf_no_outliers']:.4f} "
+                f"({m['huber_paper_kappa_over_ekf_no_outliers_ci95'][0]:.4f}-"
+                f"{m['huber_paper_kappa_over_ekf_no_outliers_ci95'][1]:.4f}) without"
+                + (
+                    ": the interval is wider than the 1 % target, these runs do not resolve it"
+                    if max(abs(v - 1) for v in m["huber_paper_kappa_over_ekf_no_outliers_ci95"])
+                    > 0.01
+                    else ""
+                ),
+                "",
+                None,
             ),
             (
                 "magnetic variation within 0.5°",
@@ -134,21 +187,38 @@ def rows_for(name: str, out: dict[str, Any]) -> list[tuple[str, str, str, bool]]
     if name == "carrier":
         ok_rms = m["rms_phase_error_aekf_rad"] < m["rms_phase_error_ekf_rad"]
         ok_slip = m["loss_of_lock_aekf"] < m["loss_of_lock_ekf"]
+        st = out["settings"]
+        design = f"{st['nominal_cn0_dbhz']:g} dB-Hz / {st['nominal_doppler_rate_hz_s']:g} Hz/s"
         return [
             (
-                "AEKF RMS phase error below fixed EKF at 30 dB-Hz",
+                f"AEKF RMS phase error below fixed EKF at 30 dB-Hz (EKF designed for {design})",
                 f"AEKF {m['rms_phase_error_aekf_rad']:.4f} rad vs EKF "
-                f"{m['rms_phase_error_ekf_rad']:.4f} rad (AEKF with R only: "
-                f"{m['rms_phase_error_aekf_r_only_rad']:.4f})",
+                f"{m['rms_phase_error_ekf_rad']:.4f} rad",
                 "",
                 ok_rms,
             ),
             (
                 "AEKF fewer cycle slips at 30 dB-Hz",
-                f"AEKF {m['loss_of_lock_aekf']:.2f} vs EKF {m['loss_of_lock_ekf']:.2f} of runs "
-                f"(R only: {m['loss_of_lock_aekf_r_only']:.2f})",
+                f"AEKF {m['loss_of_lock_aekf']:.2f} vs EKF {m['loss_of_lock_ekf']:.2f} of runs",
                 "",
                 ok_slip,
+            ),
+            (
+                "reference: EKF with the true R and matched Q (context)",
+                f"{m['rms_phase_error_ekf_matched_rad']:.4f} rad, "
+                f"{m['loss_of_lock_ekf_matched']:.2f} slipped; AEKF with R only "
+                f"{m['rms_phase_error_aekf_r_only_rad']:.4f} rad, "
+                f"{m['loss_of_lock_aekf_r_only']:.2f}",
+                "",
+                None,
+            ),
+            (
+                "paper's eq. 26 Q = K C_d K^T (finding: it runs away)",
+                f"{m['rms_phase_error_aekf_paper_q_rad']:.4f} rad, "
+                f"{m['loss_of_lock_aekf_paper_q']:.2f} slipped; Q[0,0] grew "
+                f"x{m['q_phase_aekf_paper_q_growth']:.3g}",
+                "",
+                None,
             ),
         ]
     if name == "latency":
@@ -178,24 +248,117 @@ def rows_for(name: str, out: dict[str, Any]) -> list[tuple[str, str, str, bool]]
     raise ValueError(name)
 
 
+SWEEP_FILTERS = (
+    ("ekf", "EKF nominal"),
+    ("aekf", "AEKF"),
+    ("ekf_matched", "EKF matched (ref.)"),
+    ("aekf_r_only", "AEKF R only"),
+    ("aekf_paper_q", "AEKF eq. 26"),
+)
+
+
 def sweep_table(out: dict[str, Any]) -> list[str]:
-    """Markdown table of the carrier C/N0 sweep."""
+    """Markdown table of the carrier C/N0 sweep (RMS phase error / fraction slipped)."""
     sw = out["metrics"]["sweep"]
+    st = out["settings"]
+    head = " | ".join(label for _, label in SWEEP_FILTERS)
     lines = [
         "",
-        "C/N0 sweep (same signals for every filter at each C/N0):",
+        f"Carrier C/N0 sweep (design {st['nominal_cn0_dbhz']:g} dB-Hz / "
+        f"{st['nominal_doppler_rate_hz_s']:g} Hz/s; the same signals for every filter at each "
+        "C/N0); RMS phase error (rad) / fraction of runs that slipped:",
         "",
-        "| C/N0 (dB-Hz) | EKF RMS (rad) | EKF slipped | AEKF RMS (rad) | AEKF slipped "
-        "| AEKF R-only RMS | R-only slipped |",
-        "|---|---|---|---|---|---|---|",
+        f"| C/N0 (dB-Hz) | {head} |",
+        "|---" * (len(SWEEP_FILTERS) + 1) + "|",
     ]
     for i, c in enumerate(sw["cn0_dbhz"]):
-        lines.append(
-            f"| {c:.0f} | {sw['rms_phase_error_ekf_rad'][i]:.4f} | {sw['loss_of_lock_ekf'][i]:.2f} "
-            f"| {sw['rms_phase_error_aekf_rad'][i]:.4f} | {sw['loss_of_lock_aekf'][i]:.2f} "
-            f"| {sw['rms_phase_error_aekf_r_only_rad'][i]:.4f} "
-            f"| {sw['loss_of_lock_aekf_r_only'][i]:.2f} |"
+        cells = " | ".join(
+            f"{sw[f'rms_phase_error_{n}_rad'][i]:.4f} / {sw[f'loss_of_lock_{n}'][i]:.2f}"
+            for n, _ in SWEEP_FILTERS
         )
+        lines.append(f"| {c:.0f} | {cells} |")
+    return lines
+
+
+def design_table(outs: dict[str, dict[str, Any]]) -> list[str]:
+    """Markdown table of the carrier comparison for other design dynamics (context)."""
+    lines = [
+        "",
+        "Carrier, other design dynamics (context; the scenario's manoeuvres are 25 Hz/s, the "
+        "design C/N0 45 dB-Hz); RMS phase error (rad) / fraction slipped:",
+        "",
+        "| design rate (Hz/s) | C/N0 | " + " | ".join(label for _, label in SWEEP_FILTERS) + " |",
+        "|---" * (len(SWEEP_FILTERS) + 2) + "|",
+    ]
+    for out in outs.values():
+        sw = out["metrics"]["sweep"]
+        rate = out["settings"]["nominal_doppler_rate_hz_s"]
+        for i, c in enumerate(sw["cn0_dbhz"]):
+            cells = " | ".join(
+                f"{sw[f'rms_phase_error_{n}_rad'][i]:.4f} / {sw[f'loss_of_lock_{n}'][i]:.2f}"
+                for n, _ in SWEEP_FILTERS
+            )
+            lines.append(f"| {rate:g} | {c:.0f} | {cells} |")
+    return lines
+
+
+def kappa_selection(runs: int, seeds: range) -> list[str]:
+    """Recompute the held-out κ study behind the default κ (pooled over ``seeds``)."""
+    from noisevar.robust import RobustScenario, kappa_tradeoff, simulate_robust
+
+    start = time.process_time()
+    noisy = [simulate_robust(RobustScenario(), seed=s, runs=runs) for s in seeds]
+    clean = [simulate_robust(RobustScenario(outliers=False), seed=s, runs=runs) for s in seeds]
+    t = kappa_tradeoff(noisy, clean)
+    lines = [
+        "",
+        f"κ selection study: seeds {seeds.start}-{seeds.stop - 1}, {t.runs} runs pooled "
+        f"({time.process_time() - start:.0f} s CPU):",
+        "",
+        "| κ | with outliers | 95 % interval | without outliers | 95 % interval "
+        "| both over the interval |",
+        "|---|---|---|---|---|---|",
+    ]
+    ok = t.meets_with_confidence()
+    for i, k in enumerate(t.kappa):
+        lines.append(
+            f"| {k:g} | {t.ratio_outliers[i]:.3f} | {t.ci_outliers[i, 0]:.3f}-"
+            f"{t.ci_outliers[i, 1]:.3f} | {t.ratio_clean[i]:.4f} | {t.ci_clean[i, 0]:.4f}-"
+            f"{t.ci_clean[i, 1]:.4f} | {_yes(ok[i])} |"
+        )
+    return lines
+
+
+def kappa_table(out: dict[str, Any]) -> list[str]:
+    """Markdown table of the Huber κ trade-off (same runs for every κ)."""
+    ks = out["metrics"]["kappa_sweep"]
+    lines = [
+        "",
+        f"Huber κ trade-off ({out['runs']} runs, seed {out['seed']}, the same runs for every κ; "
+        "ratio Huber / plain-EKF position RMSE with its paired bootstrap 95 % interval; targets "
+        "<= 0.7 with outliers, within 1 % without):",
+        "",
+        "| κ | with outliers | 95 % interval | without outliers | 95 % interval "
+        "| magvar (°) | both targets | both over the interval |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for i, k in enumerate(ks["kappa"]):
+        lo_o, hi_o = ks["huber_over_ekf_with_outliers_ci95"][i]
+        lo_c, hi_c = ks["huber_over_ekf_no_outliers_ci95"][i]
+        lines.append(
+            f"| {k:g} | {ks['huber_over_ekf_with_outliers'][i]:.3f} | {lo_o:.3f}-{hi_o:.3f} "
+            f"| {ks['huber_over_ekf_no_outliers'][i]:.4f} | {lo_c:.4f}-{hi_c:.4f} "
+            f"| {ks['magvar_estimate_deg'][i]:.3f} | {_yes(ks['meets_both_targets'][i])} "
+            f"| {_yes(ks['meets_both_targets_over_ci95'][i])} |"
+        )
+    lines += [
+        "",
+        "The default κ = 2.5 was chosen on seeds 1-5 (500 runs, held out from this seed), as "
+        "the only κ of the grid whose intervals lie inside both targets there: 0.676 "
+        "(0.657-0.694) with outliers, 0.998 (0.991-1.002) without; the paper's 1.345 gave "
+        "0.662 (0.639-0.683) and 0.991 (0.972-1.009) — on average within 1 %, but one 100-run "
+        "batch scatters from 0.947 to 1.027 across seeds (`noisevar.robust.kappa_tradeoff`).",
+    ]
     return lines
 
 
@@ -204,6 +367,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--runs", type=int, default=100)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--no-write", action="store_true", help="print only")
+    parser.add_argument(
+        "--kappa-selection",
+        action="store_true",
+        help="also recompute the held-out κ study (seeds 1-5, about a minute)",
+    )
     args = parser.parse_args(argv)
 
     lines = [
@@ -223,7 +391,13 @@ def main(argv: list[str] | None = None) -> int:
         outputs[name] = out
         timings.append((name, shown, elapsed, cpu))
         for target, measured, _, ok in rows_for(name, out):
-            lines.append(f"| {name} | {target} | {measured} | {_yes(ok)} |")
+            verdict = "context" if ok is None else _yes(ok)
+            lines.append(f"| {name} | {target} | {measured} | {verdict} |")
+    context = {}
+    for name, cmd in CONTEXT.items():
+        out, elapsed, cpu, shown = run_experiment(cmd, args.runs, args.seed)
+        context[name] = out
+        timings.append((name, shown, elapsed, cpu))
     load = os.getloadavg()[0]
     lines += [
         "",
@@ -238,6 +412,10 @@ def main(argv: list[str] | None = None) -> int:
     for _name, shown, elapsed, cpu in timings:
         lines.append(f"| `{shown}` | {elapsed:.1f} | {cpu:.1f} | {_yes(elapsed < TIME_TARGET_S)} |")
     lines += sweep_table(outputs["carrier"])
+    lines += design_table({k: v for k, v in context.items() if k.startswith("carrier")})
+    lines += kappa_table(context["outliers-kappa"])
+    if args.kappa_selection:
+        lines += kappa_selection(args.runs, range(1, 6))
     text = "\n".join(lines) + "\n"
     print(text)
     if not args.no_write:

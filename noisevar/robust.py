@@ -32,14 +32,44 @@ Three filters, all on :mod:`noisevar.kalman`'s one core:
   EKF);
 * ``huber``: the EKF with the ``α`` state and the Huber update
   (:class:`noisevar.kalman.HuberUpdate`, ``κ`` and the iteration count as
-  parameters; paper: 1.345 and 10).
+  parameters; paper: 1.345 and 10; our default ``κ`` is
+  :data:`DEFAULT_KAPPA` = 2.5, chosen from the measurements below).
+
+Choosing ``κ`` (what we measured). The issue's targets are a Huber position
+RMSE at most 0.7 times the plain EKF's with outliers and within 1 % of it
+without. Over 500 runs (seeds 1-5, 100 runs each: held out from the
+benchmark's seed 0), ratio Huber/EKF with a paired bootstrap 95 % interval
+(runs resampled, both filters on the same noise)::
+
+    κ       with outliers          without outliers
+    1.345   0.662 [0.639, 0.683]   0.991 [0.972, 1.009]
+    1.5     0.662 [0.640, 0.683]   0.991 [0.975, 1.006]
+    2.0     0.667 [0.647, 0.686]   0.996 [0.987, 1.004]
+    2.5     0.676 [0.657, 0.694]   0.998 [0.991, 1.002]
+    3.0     0.686 [0.668, 0.704]   1.000 [0.999, 1.001]
+
+The outliers (10-40° against 1° noise) are caught by every ``κ`` up to 3;
+what ``κ`` changes is the Gaussian efficiency. The paper's 1.345 meets both
+targets on average, but the clean ratio of one 100-run batch scatters from
+0.947 to 1.027 across seeds: the "within 1 %" comparison at ``κ = 1.345`` is
+dominated by run-to-run noise: 82 % of the clean MSE is in the 100 steps
+after the start-up (36-24 km out, where 1° of bearing is 400-600 m of
+cross-range), and five runs carry 39 % of the paired Huber-EKF difference
+(seed 0). ``κ = 2.5`` is the only value of the grid whose
+intervals lie inside both targets; it costs a little outlier rejection
+(0.676 against 0.662). Smaller outliers would change the picture: with
+3-8° jumps every ``κ`` of the grid stays at 0.99-1.00 x the EKF (seed 0).
+:func:`kappa_tradeoff` reproduces the table (``noisy``/``clean`` from
+:func:`simulate_robust` with seeds 1-5, 100 runs each; defaults otherwise).
 
 Entry points: :func:`simulate_robust` (seeded scenario, batched over runs),
-:func:`run_robust` (the three filters and the metrics).
+:func:`run_robust` (the three filters and the metrics),
+:func:`kappa_tradeoff` and :func:`paired_rmse_ratio` (the κ study).
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -54,6 +84,10 @@ MEASUREMENT_NAMES = ("slant range", "magnetic bearing", "v_east", "v_north")
 
 #: Error of the filters' initial position/velocity (m, m, m/s, m/s).
 START_ERROR = np.array([300.0, -200.0, 2.0, -1.0])
+#: The paper's Huber threshold (95 % Gaussian efficiency).
+PAPER_KAPPA = 1.345
+#: Our default, chosen from the κ study in the module docstring.
+DEFAULT_KAPPA = 2.5
 
 
 @dataclass(frozen=True)
@@ -400,10 +434,18 @@ class RobustResult:
         e = res.x[..., :2] - self.data.truth[None, :, :2]
         return np.hypot(e[..., 0], e[..., 1])
 
+    def position_mse_per_run(self, name: str) -> NDArray[np.float64]:
+        """Mean squared horizontal error of each run after ``skip`` (m²), shape (B,).
+
+        ``sqrt(mean(...))`` over the runs is :attr:`rmse_position`.
+        """
+        e = self.filters[name].x[:, self.skip :, :2] - self.data.truth[None, self.skip :, :2]
+        return np.mean(np.sum(e**2, axis=-1), axis=1)
+
 
 def run_robust(
     data: RobustData,
-    kappa: float = 1.345,
+    kappa: float = DEFAULT_KAPPA,
     iterations: int = 10,
     accel_psd: float = 10.0,
     no_bias_robust: bool = True,
@@ -417,7 +459,8 @@ def run_robust(
     data : RobustData
         From :func:`simulate_robust`.
     kappa : float
-        Huber threshold ``κ`` on whitened residuals (paper eq. (14): 1.345).
+        Huber threshold ``κ`` on whitened residuals (paper eq. (14): 1.345;
+        default :data:`DEFAULT_KAPPA`, see the module docstring).
     iterations : int
         Huber IRLS iterations (paper: 10).
     accel_psd : float
@@ -438,6 +481,8 @@ def run_robust(
     -------
     RobustResult
     """
+    if not (kappa > 0):
+        raise NoisevarError(f"kappa={kappa} must be positive (or inf: the plain update).")
     unknown = set(filters) - {"ekf", "no-bias", "huber"}
     if unknown:
         raise NoisevarError(f"unknown filters {sorted(unknown)}; use ekf, no-bias, huber.")
@@ -473,4 +518,202 @@ def run_robust(
         kappa=float(kappa),
         iterations=int(iterations),
         skip=int(skip),
+    )
+
+
+def paired_rmse_ratio(
+    mse_a: NDArray[np.float64],
+    mse_b: NDArray[np.float64],
+    n_boot: int = 2000,
+    seed: int = 0,
+    coverage: float = 0.95,
+) -> tuple[float, float, float]:
+    """RMSE ratio ``a / b`` of two filters on the same runs, with a paired bootstrap interval.
+
+    ``ratio = sqrt(Σ mse_a / Σ mse_b)``; the interval resamples *runs*
+    (the same indices for both filters, so the noise they share cancels).
+
+    Parameters
+    ----------
+    mse_a, mse_b : ndarray, shape (B,)
+        Per-run mean squared errors of the two filters on the same runs.
+    n_boot : int
+        Bootstrap resamples.
+    seed : int
+        Seed of the resampling.
+    coverage : float
+        Probability of the two-sided percentile interval.
+
+    Returns
+    -------
+    (ratio, low, high) : tuple of float
+        With a single run the interval is undefined: ``low = high = nan``.
+    """
+    a = np.asarray(mse_a, dtype=float)
+    b = np.asarray(mse_b, dtype=float)
+    if a.shape != b.shape or a.ndim != 1 or a.size < 1:
+        raise NoisevarError(
+            f"paired_rmse_ratio needs two non-empty per-run MSE vectors of the same length, "
+            f"got shapes {a.shape} and {b.shape}."
+        )
+    if int(n_boot) < 1 or not 0 < coverage < 1:
+        raise NoisevarError("n_boot must be >= 1 and coverage in (0, 1).")
+    if a.size == 1:
+        return float(np.sqrt(a.sum() / b.sum())), float("nan"), float("nan")
+    idx = np.random.default_rng(seed).integers(0, a.size, (int(n_boot), a.size))
+    boot = np.sqrt(a[idx].sum(axis=1) / b[idx].sum(axis=1))
+    tail = 100.0 * (1.0 - coverage) / 2.0
+    lo, hi = np.percentile(boot, [tail, 100.0 - tail])
+    return float(np.sqrt(a.sum() / b.sum())), float(lo), float(hi)
+
+
+@dataclass(frozen=True)
+class KappaTradeoff:
+    """Huber/EKF position-RMSE ratios over ``κ``, with and without outliers.
+
+    Attributes
+    ----------
+    kappa : ndarray, shape (k,)
+    ratio_outliers, ratio_clean : ndarray, shape (k,)
+        Huber RMSE / plain-EKF RMSE on the same runs.
+    ci_outliers, ci_clean : ndarray, shape (k, 2)
+        Paired bootstrap intervals of those ratios.
+    rmse_huber_outliers, rmse_huber_clean : ndarray, shape (k,)
+        Huber position RMSE (m).
+    rmse_ekf_outliers, rmse_ekf_clean : float
+        Plain-EKF position RMSE (m).
+    magvar_estimate_deg : ndarray, shape (k,)
+        Mean over runs of the Huber filter's final ``α`` (with outliers).
+    runs : int
+        Runs pooled per ratio.
+    coverage : float
+    """
+
+    kappa: NDArray[np.float64]
+    ratio_outliers: NDArray[np.float64]
+    ci_outliers: NDArray[np.float64]
+    ratio_clean: NDArray[np.float64]
+    ci_clean: NDArray[np.float64]
+    rmse_huber_outliers: NDArray[np.float64]
+    rmse_huber_clean: NDArray[np.float64]
+    rmse_ekf_outliers: float
+    rmse_ekf_clean: float
+    magvar_estimate_deg: NDArray[np.float64]
+    runs: int
+    coverage: float
+
+    def meets(self, with_outliers: float = 0.7, without: float = 0.01) -> NDArray[np.bool_]:
+        """Which ``κ`` meet both targets on the point estimates."""
+        return (self.ratio_outliers <= with_outliers) & (np.abs(self.ratio_clean - 1) <= without)
+
+    def meets_with_confidence(
+        self, with_outliers: float = 0.7, without: float = 0.01
+    ) -> NDArray[np.bool_]:
+        """Which ``κ`` meet both targets over their whole intervals."""
+        return (self.ci_outliers[:, 1] <= with_outliers) & (
+            np.abs(self.ci_clean - 1).max(axis=1) <= without
+        )
+
+
+def _as_list(data: RobustData | Sequence[RobustData], name: str) -> list[RobustData]:
+    out = [data] if isinstance(data, RobustData) else list(data)
+    if not out or not all(isinstance(d, RobustData) for d in out):
+        raise NoisevarError(f"{name}: give a RobustData or a non-empty list of them.")
+    return out
+
+
+def kappa_tradeoff(
+    noisy: RobustData | Sequence[RobustData],
+    clean: RobustData | Sequence[RobustData],
+    kappas: Sequence[float] = (PAPER_KAPPA, 1.5, 2.0, 2.5, 3.0),
+    iterations: int = 10,
+    n_boot: int = 2000,
+    seed: int = 0,
+    coverage: float = 0.95,
+    known: Mapping[float, tuple[RobustResult, RobustResult]] | None = None,
+) -> KappaTradeoff:
+    """The κ trade-off: Huber/EKF RMSE ratios with and without outliers.
+
+    Every ``κ`` runs on the same records, so the ratios are paired
+    (:func:`paired_rmse_ratio`). Several batches (for example several
+    seeds) are pooled run by run.
+
+    Parameters
+    ----------
+    noisy, clean : RobustData or list of RobustData
+        Records with outliers and without (same lengths of lists).
+    kappas : sequence of float
+        Huber thresholds.
+    iterations : int
+        IRLS iterations.
+    n_boot, seed, coverage
+        Bootstrap of the intervals.
+    known : mapping of float to (RobustResult, RobustResult), optional
+        Results already computed for one batch (``noisy`` and ``clean``
+        single records), by ``κ``: each pair must hold ``"ekf"`` and
+        ``"huber"``; saves re-running them.
+
+    Returns
+    -------
+    KappaTradeoff
+    """
+    noisy_l, clean_l = _as_list(noisy, "noisy"), _as_list(clean, "clean")
+    if len(noisy_l) != len(clean_l):
+        raise NoisevarError("give as many clean records as noisy ones.")
+    ks = np.asarray(list(kappas), dtype=float)
+    if ks.size == 0 or not np.all(ks > 0):
+        raise NoisevarError(f"kappas={list(kappas)}: give positive Huber thresholds.")
+    known = dict(known or {})
+    if known and len(noisy_l) > 1:
+        raise NoisevarError("known results only go with a single noisy/clean batch.")
+
+    def pair(k: float, nd: RobustData, cd: RobustData) -> tuple[RobustResult, RobustResult]:
+        if k in known:
+            return known[k]
+        return (
+            run_robust(nd, kappa=k, iterations=iterations, filters=("huber",)),
+            run_robust(cd, kappa=k, iterations=iterations, filters=("huber",)),
+        )
+
+    ekf_n, ekf_c = [], []
+    for nd, cd in zip(noisy_l, clean_l, strict=True):
+        if known:
+            base_n, base_c = next(iter(known.values()))
+        else:
+            base_n = run_robust(nd, filters=("ekf",))
+            base_c = run_robust(cd, filters=("ekf",))
+        ekf_n.append(base_n.position_mse_per_run("ekf"))
+        ekf_c.append(base_c.position_mse_per_run("ekf"))
+    en, ec = np.concatenate(ekf_n), np.concatenate(ekf_c)
+    rows = []
+    for k in ks:
+        hn, hc, mv = [], [], []
+        for nd, cd in zip(noisy_l, clean_l, strict=True):
+            rn, rc = pair(float(k), nd, cd)
+            hn.append(rn.position_mse_per_run("huber"))
+            hc.append(rc.position_mse_per_run("huber"))
+            mv.append(rn.magvar_estimate_deg)
+        a, b = np.concatenate(hn), np.concatenate(hc)
+        rows.append(
+            (
+                paired_rmse_ratio(a, en, n_boot, seed, coverage),
+                paired_rmse_ratio(b, ec, n_boot, seed, coverage),
+                float(np.sqrt(a.mean())),
+                float(np.sqrt(b.mean())),
+                float(np.mean(np.concatenate(mv))),
+            )
+        )
+    return KappaTradeoff(
+        kappa=ks,
+        ratio_outliers=np.array([r[0][0] for r in rows]),
+        ci_outliers=np.array([r[0][1:] for r in rows]),
+        ratio_clean=np.array([r[1][0] for r in rows]),
+        ci_clean=np.array([r[1][1:] for r in rows]),
+        rmse_huber_outliers=np.array([r[2] for r in rows]),
+        rmse_huber_clean=np.array([r[3] for r in rows]),
+        rmse_ekf_outliers=float(np.sqrt(en.mean())),
+        rmse_ekf_clean=float(np.sqrt(ec.mean())),
+        magvar_estimate_deg=np.array([r[4] for r in rows]),
+        runs=int(en.size),
+        coverage=float(coverage),
     )

@@ -7,7 +7,18 @@ import argparse
 import numpy as np
 import pytest
 
-from noisevar.carrier import CarrierScenario, cn0_sweep, run_carrier, simulate_channel
+from noisevar.carrier import (
+    JERK_PSD,
+    AdaptiveCarrierQR,
+    CarrierScenario,
+    cn0_sweep,
+    compare,
+    comparison_variants,
+    nominal_jerk_psd,
+    nominal_measurement_variance,
+    run_carrier,
+    simulate_channel,
+)
 from noisevar.errors import NoisevarError
 from noisevar.experiments.carrier import EXPERIMENT
 
@@ -64,9 +75,88 @@ def test_aekf_adapts_r_and_q() -> None:
     r_only = run_carrier(scen, "aekf", seed=0, runs=3, window=20, adapt_q=False)
     # eq. (22) recovers the unit I/Q noise variance while the loop is locked
     assert 0.7 < np.median(r_only.R_track[:, -100:]) < 1.4
-    both = run_carrier(scen, "aekf", seed=0, runs=3, window=20)
+    both = run_carrier(scen, "aekf", seed=0, runs=3, window=20)  # q_rule="paper"
     # eq. (26) moves Q off the model's (upwards: our finding, see the module docs)
     assert np.all(both.Q_phase_track[:, -1] > 10 * both.Q_phase_track[:, 0])
+
+
+def test_nominal_design_settings() -> None:
+    # phase-noise variance R/A^2 = 1/(2 (C/N0)_nom T): R = (C/N0)/(C/N0)_nom
+    assert nominal_measurement_variance(30.0, 45.0) == pytest.approx(10**-1.5)
+    assert nominal_measurement_variance(45.0, 45.0) == 1.0
+    scen = CarrierScenario(doppler_rate_hz_s=25.0)
+    assert nominal_jerk_psd(scen, 25.0) == JERK_PSD
+    assert nominal_jerk_psd(scen, 50.0) == pytest.approx(4 * JERK_PSD)
+    res = run_carrier(
+        CarrierScenario(cn0_dbhz=30.0, **SHORT),
+        "ekf",
+        runs=2,
+        nominal_cn0_dbhz=45.0,
+        nominal_doppler_rate_hz_s=5.0,
+    )
+    assert res.measurement_variance == pytest.approx(10**-1.5)
+    assert res.jerk_psd == pytest.approx(JERK_PSD / 25)
+    np.testing.assert_allclose(res.R_track, 10**-1.5)
+    assert res.q_rule == "none"
+
+
+def test_aekf_from_the_nominal_design_equals_its_ekf_without_adaptation() -> None:
+    scen = CarrierScenario(cn0_dbhz=30.0, **SHORT)
+    kw = {"seed": 4, "runs": 3, "nominal_cn0_dbhz": 45.0, "nominal_doppler_rate_hz_s": 40.0}
+    ekf = run_carrier(scen, "ekf", **kw)
+    aekf = run_carrier(scen, "aekf", adapt_r=False, adapt_q=False, **kw)
+    np.testing.assert_allclose(aekf.estimate, ekf.estimate, rtol=1e-12, atol=1e-9)
+
+
+def test_weak_signal_against_a_strong_signal_design() -> None:
+    """The scenario the paper implies: design 45 dB-Hz, signal at 27 dB-Hz."""
+    scen = CarrierScenario(cn0_dbhz=27.0, **SHORT)
+    res = compare(scen, comparison_variants(45.0), seed=1, runs=12)
+    assert set(res) == {"ekf", "aekf", "ekf_matched", "aekf_r_only", "aekf_paper_q"}
+    # same signals for every filter
+    for r in res.values():
+        np.testing.assert_array_equal(r.true_doppler_hz, res["ekf"].true_doppler_hz)
+    # the fixed design is over-confident (R 63x too small): noisier than the matched EKF
+    assert res["ekf"].rms_phase_error > 1.15 * res["ekf_matched"].rms_phase_error
+    # eq. (22) finds the true I/Q noise from the design's R
+    assert res["aekf"].R_track[0, 0, 0] == pytest.approx(10**-1.8)
+    assert 0.7 < np.median(res["aekf"].R_track[:, -100:]) < 1.4
+    # the paper's eq. (26) runs away; the scaled Q stays near the (right) design
+    paper = res["aekf_paper_q"]
+    assert np.median(paper.Q_phase_track[:, -1]) > 1e3 * paper.Q_phase_track[0, 0]
+    scale = res["aekf"].Q_phase_track[:, -1] / res["aekf"].Q_phase_track[:, 0]
+    assert 0.3 < np.median(scale) < 3.0
+
+
+def test_scaled_q_grows_when_the_design_dynamics_are_too_small() -> None:
+    scen = CarrierScenario(cn0_dbhz=40.0, **SHORT)
+    res = run_carrier(
+        scen,
+        "aekf",
+        seed=2,
+        runs=6,
+        q_rule="scaled",
+        nominal_cn0_dbhz=40.0,
+        nominal_doppler_rate_hz_s=1.0,
+    )
+    scale = res.Q_phase_track[:, -1] / res.Q_phase_track[:, 0]
+    assert res.q_rule == "scaled"
+    assert np.median(scale) > 2.0
+    assert np.all(scale <= 1e3 * (1 + 1e-12))  # the bound
+
+
+def test_scaled_q_band_and_bounds() -> None:
+    strat = AdaptiveCarrierQR(window=50, q_rule="scaled", coverage=0.99)
+    lo, hi = strat._band
+    assert 0.5 < lo < 0.6 and 1.5 < hi < 1.7  # chi-square(50)/50, 99 %
+    for bad in (
+        {"q_rule": "mehra"},
+        {"q_bound": 1.0},
+        {"q_bound": np.inf},
+        {"coverage": 1.0},
+    ):
+        with pytest.raises(NoisevarError):
+            AdaptiveCarrierQR(**bad)
 
 
 @pytest.mark.parametrize(
@@ -81,6 +171,10 @@ def test_aekf_adapts_r_and_q() -> None:
         lambda: run_carrier(CarrierScenario(**SHORT), "ekf", runs=0),
         lambda: run_carrier(CarrierScenario(**SHORT), "ekf", jerk_psd=0.0),
         lambda: simulate_channel(CarrierScenario(cn0_dbhz=-1.0)),
+        lambda: run_carrier(CarrierScenario(**SHORT), "aekf", q_rule="eq25"),
+        lambda: run_carrier(CarrierScenario(**SHORT), "ekf", nominal_cn0_dbhz=-45.0),
+        lambda: run_carrier(CarrierScenario(**SHORT), "ekf", nominal_doppler_rate_hz_s=0.0),
+        lambda: nominal_jerk_psd(CarrierScenario(doppler_rate_hz_s=0.0), 25.0),
     ],
 )
 def test_bad_parameters_are_refused(make) -> None:
@@ -106,7 +200,32 @@ def test_experiment_reports_the_issue_metrics() -> None:
         "rms_phase_error_aekf_rad",
         "loss_of_lock_ekf",
         "loss_of_lock_aekf",
+        "rms_phase_error_ekf_matched_rad",
+        "loss_of_lock_ekf_matched",
+        "rms_phase_error_aekf_r_only_rad",
+        "rms_phase_error_aekf_paper_q_rad",
+        "loss_of_lock_aekf_paper_q",
+        "q_phase_aekf_paper_q_growth",
     ):
         assert np.isfinite(m[key])
     assert m["sweep"]["cn0_dbhz"] == [30.0, 40.0]
+    assert len(m["sweep"]["rms_phase_error_ekf_matched_rad"]) == 2
+    # ekf = the nominal (45 dB-Hz) design, said so next to the numbers
+    assert m["r_design"] == pytest.approx(10**-1.5)
+    assert result["settings"]["nominal_cn0_dbhz"] == 45.0
+    assert {"ekf", "aekf", "ekf_matched"} <= set(result["definitions"])
     assert "AEKF" in EXPERIMENT.format_table(result)
+
+
+def test_experiment_with_the_matched_design() -> None:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--runs", type=int, default=2)
+    parser.add_argument("--seed", type=int, default=0)
+    EXPERIMENT.add_arguments(parser)
+    args = parser.parse_args(
+        ["--cn0", "35", "--nominal-cn0", "35", "--duration", "1", "--sweep", ""]
+    )
+    m = EXPERIMENT.run(args)["metrics"]
+    # designed for the actual C/N0 and dynamics, the fixed EKF is the matched one
+    assert m["rms_phase_error_ekf_rad"] == m["rms_phase_error_ekf_matched_rad"]
+    assert m["sweep"]["cn0_dbhz"] == []

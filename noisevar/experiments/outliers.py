@@ -5,7 +5,13 @@ The DME/VOR fly-over of :mod:`noisevar.robust` over ``--runs`` seeded runs
 without. Metrics (issue 6): ``rmse_position_ekf``, ``rmse_position_huber``,
 ``rmse_position_no_bias_state`` (with outliers), ``magvar_estimate_deg``
 (Huber filter, mean of the final estimates over runs), ``magvar_true_deg``;
-and the clean-record RMSEs for the "equal without outliers" target.
+the clean-record RMSEs for the "equal without outliers" target; paired
+bootstrap intervals of both Huber/EKF ratios (same runs, same noise: is the
+"within 1 %" comparison resolved by 100 runs?); the paper's ``κ = 1.345``
+next to our default (:data:`noisevar.robust.DEFAULT_KAPPA` = 2.5, chosen from
+held-out seeds, see :mod:`noisevar.robust`); and, with ``--kappa-sweep``, the
+κ trade-off table on the same runs (``benchmarks/seeds.py`` runs it with
+``1.345,1.5,2,2.5,3``).
 """
 
 from __future__ import annotations
@@ -16,13 +22,55 @@ from typing import Any
 import numpy as np
 
 from ..errors import NoisevarError
-from ..robust import RobustScenario, run_robust, simulate_robust
+from ..robust import (
+    DEFAULT_KAPPA,
+    PAPER_KAPPA,
+    RobustScenario,
+    kappa_tradeoff,
+    paired_rmse_ratio,
+    run_robust,
+    simulate_robust,
+)
 from . import Experiment
+
+DEFINITIONS = {
+    "rmse_position_*": "horizontal position RMSE (m) over runs and steps 30..N",
+    "huber": "EKF with the magnetic-variation state and the Huber update at --kappa",
+    "huber_paper_kappa": "the same at the paper's kappa = 1.345",
+    "no_bias_state": "Huber update without the magnetic-variation state",
+    "*_ci95": "paired bootstrap 95 % interval of the ratio (runs resampled; both filters "
+    "on the same noise)",
+    "kappa_sweep": "Huber/EKF ratios for each kappa on the same runs (with / without outliers)",
+}
+
+
+def _kappa_list(text: str) -> list[float]:
+    try:
+        values = [float(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"--kappa-sweep {text!r}: give comma-separated positive thresholds, e.g. 1.345,2,3"
+        ) from None
+    if any(not v > 0 for v in values):
+        raise argparse.ArgumentTypeError(f"--kappa-sweep {text!r}: thresholds must be positive")
+    return values
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Scenario and Huber options of the outliers experiment."""
-    parser.add_argument("--kappa", type=float, default=1.345, help="Huber threshold κ")
+    parser.add_argument(
+        "--kappa",
+        type=float,
+        default=DEFAULT_KAPPA,
+        help=f"Huber threshold κ (default {DEFAULT_KAPPA}; the paper's is {PAPER_KAPPA})",
+    )
+    parser.add_argument(
+        "--kappa-sweep",
+        type=_kappa_list,
+        default=[],
+        help="comma-separated κ values of a trade-off table on the same runs, e.g. "
+        "1.345,1.5,2,2.5,3 (each costs two Huber runs; default: none)",
+    )
     parser.add_argument("--iterations", type=int, default=10, help="Huber IRLS iterations")
     parser.add_argument(
         "--magvar", type=float, default=-5.0, help="station magnetic variation (deg)"
@@ -49,6 +97,16 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     res_clean = run_robust(
         clean, kappa=args.kappa, iterations=args.iterations, filters=("ekf", "huber")
     )
+    known = {float(args.kappa): (res, res_clean)}
+    kappas = list(dict.fromkeys([float(args.kappa), PAPER_KAPPA, *args.kappa_sweep]))
+    table = kappa_tradeoff(noisy, clean, kappas, iterations=args.iterations, seed=seed, known=known)
+    i_paper = kappas.index(PAPER_KAPPA)
+    ci_out = paired_rmse_ratio(
+        res.position_mse_per_run("huber"), res.position_mse_per_run("ekf"), seed=seed
+    )
+    ci_clean = paired_rmse_ratio(
+        res_clean.position_mse_per_run("huber"), res_clean.position_mse_per_run("ekf"), seed=seed
+    )
     magvar_err = res.magvar_estimate_deg - args.magvar
     rm = res.rmse_position
     rc = res_clean.rmse_position
@@ -65,11 +123,34 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         "rmse_position_ekf_no_outliers": rc["ekf"],
         "rmse_position_huber_no_outliers": rc["huber"],
         "huber_over_ekf_no_outliers": rc["huber"] / rc["ekf"],
+        "huber_over_ekf_with_outliers_ci95": list(ci_out[1:]),
+        "huber_over_ekf_no_outliers_ci95": list(ci_clean[1:]),
+        "kappa": float(args.kappa),
+        "rmse_position_huber_paper_kappa": float(table.rmse_huber_outliers[i_paper]),
+        "rmse_position_huber_paper_kappa_no_outliers": float(table.rmse_huber_clean[i_paper]),
+        "huber_paper_kappa_over_ekf_with_outliers": float(table.ratio_outliers[i_paper]),
+        "huber_paper_kappa_over_ekf_no_outliers": float(table.ratio_clean[i_paper]),
+        "huber_paper_kappa_over_ekf_with_outliers_ci95": table.ci_outliers[i_paper].tolist(),
+        "huber_paper_kappa_over_ekf_no_outliers_ci95": table.ci_clean[i_paper].tolist(),
         "outlier_fraction": float(noisy.outlier.mean()),
         "flagged_runs": {name: int(np.sum(f.diverged)) for name, f in res.filters.items()},
         "flagged_runs_no_outliers": {
             name: int(np.sum(f.diverged)) for name, f in res_clean.filters.items()
         },
+    }
+    order = np.argsort(table.kappa)
+    shown = [int(i) for i in order if table.kappa[i] in args.kappa_sweep]
+    metrics["kappa_sweep"] = {
+        "kappa": table.kappa[shown].tolist(),
+        "huber_over_ekf_with_outliers": table.ratio_outliers[shown].tolist(),
+        "huber_over_ekf_with_outliers_ci95": table.ci_outliers[shown].tolist(),
+        "huber_over_ekf_no_outliers": table.ratio_clean[shown].tolist(),
+        "huber_over_ekf_no_outliers_ci95": table.ci_clean[shown].tolist(),
+        "rmse_position_huber": table.rmse_huber_outliers[shown].tolist(),
+        "rmse_position_huber_no_outliers": table.rmse_huber_clean[shown].tolist(),
+        "magvar_estimate_deg": table.magvar_estimate_deg[shown].tolist(),
+        "meets_both_targets": table.meets()[shown].tolist(),
+        "meets_both_targets_over_ci95": table.meets_with_confidence()[shown].tolist(),
     }
     return {
         "experiment": "outliers",
@@ -87,7 +168,11 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
             "outlier_deg": list(scen.outlier_deg),
             "no_bias_filter": "Huber update without the magnetic-variation state",
             "rmse": f"horizontal position, m, over runs and steps {res.skip}..N",
+            "kappa_default_reason": "chosen from held-out seeds 1-5 (500 runs): the only kappa "
+            "of 1.345/1.5/2/2.5/3 whose paired 95 % intervals lie inside both targets "
+            "(see noisevar.robust)",
         },
+        "definitions": DEFINITIONS,
         "metrics": metrics,
         "targets": {
             "huber_at_most_0.7x_ekf_with_outliers": metrics["huber_over_ekf_with_outliers"] <= 0.7,
@@ -96,9 +181,11 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
             "magvar_within_0.5deg": abs(metrics["magvar_estimate_deg"] - args.magvar) <= 0.5,
         },
         "notes": [
+            "the ratios are paired (same runs, same noise); their _ci95 intervals show whether "
+            "100 runs resolve the 1 % target (at the paper's kappa they do not)",
             "flagged_runs counts runs the filter core's consistency check flags (NIS/NEES far "
             "above chi-square): outliers inflate the NIS of every filter; no estimates are "
-            "discarded."
+            "discarded.",
         ],
     }
 
@@ -107,23 +194,42 @@ def format_table(result: dict[str, Any]) -> str:
     """Readable summary of :func:`run`'s result."""
     m = result["metrics"]
     s = result["settings"]
-    return "\n".join(
-        [
-            f"outliers: {result['runs']} runs, seed {result['seed']}, κ={s['kappa']}, "
-            f"{s['iterations']} iterations (position RMSE in m)",
-            "                              with outliers   without",
-            f"  EKF with magvar state       {m['rmse_position_ekf']:12.1f}  "
-            f"{m['rmse_position_ekf_no_outliers']:8.1f}",
-            f"  Huber EKF with magvar state {m['rmse_position_huber']:12.1f}  "
-            f"{m['rmse_position_huber_no_outliers']:8.1f}",
-            f"  Huber EKF, no magvar state  {m['rmse_position_no_bias_state']:12.1f}",
-            f"  Huber / EKF                 {m['huber_over_ekf_with_outliers']:12.3f}  "
-            f"{m['huber_over_ekf_no_outliers']:8.3f}",
-            f"  magnetic variation: true {m['magvar_true_deg']:.2f}°, Huber estimate "
-            f"{m['magvar_estimate_deg']:.3f}° (rms error {m['magvar_error_rms_deg']:.3f}°), "
-            f"EKF {m['magvar_estimate_ekf_deg']:.3f}°",
-        ]
-    )
+
+    def ci(pair: list[float], digits: int = 3) -> str:
+        return f"{pair[0]:.{digits}f}, {pair[1]:.{digits}f}"
+
+    lines = [
+        f"outliers: {result['runs']} runs, seed {result['seed']}, κ={s['kappa']}, "
+        f"{s['iterations']} iterations (position RMSE in m)",
+        "                              with outliers   without",
+        f"  EKF with magvar state       {m['rmse_position_ekf']:12.1f}  "
+        f"{m['rmse_position_ekf_no_outliers']:8.1f}",
+        f"  Huber EKF with magvar state {m['rmse_position_huber']:12.1f}  "
+        f"{m['rmse_position_huber_no_outliers']:8.1f}",
+        f"  Huber EKF, no magvar state  {m['rmse_position_no_bias_state']:12.1f}",
+        f"  Huber / EKF                 {m['huber_over_ekf_with_outliers']:12.3f}  "
+        f"{m['huber_over_ekf_no_outliers']:8.3f}",
+        f"  95 % paired interval         [{ci(m['huber_over_ekf_with_outliers_ci95'])}]  "
+        f"[{ci(m['huber_over_ekf_no_outliers_ci95'])}]",
+        f"  paper κ = 1.345: Huber / EKF {m['huber_paper_kappa_over_ekf_with_outliers']:.3f}"
+        f" [{ci(m['huber_paper_kappa_over_ekf_with_outliers_ci95'])}]  "
+        f"{m['huber_paper_kappa_over_ekf_no_outliers']:.3f} "
+        f"[{ci(m['huber_paper_kappa_over_ekf_no_outliers_ci95'])}]",
+        f"  magnetic variation: true {m['magvar_true_deg']:.2f}°, Huber estimate "
+        f"{m['magvar_estimate_deg']:.3f}° (rms error {m['magvar_error_rms_deg']:.3f}°), "
+        f"EKF {m['magvar_estimate_ekf_deg']:.3f}°",
+    ]
+    ks = m["kappa_sweep"]
+    if ks["kappa"]:
+        lines.append("  κ sweep   Huber/EKF with outliers     without outliers")
+        for i, k in enumerate(ks["kappa"]):
+            lines.append(
+                f"  {k:7.3f}   {ks['huber_over_ekf_with_outliers'][i]:.3f} "
+                f"[{ci(ks['huber_over_ekf_with_outliers_ci95'][i])}]     "
+                f"{ks['huber_over_ekf_no_outliers'][i]:.4f} "
+                f"[{ci(ks['huber_over_ekf_no_outliers_ci95'][i], 4)}]"
+            )
+    return "\n".join(lines)
 
 
 EXPERIMENT = Experiment(

@@ -22,7 +22,14 @@ from ..errors import NoisevarError
 from . import COLORS, MAX_POINTS, PALETTE, layout, line_trace
 
 Results = CarrierResult | Sequence[CarrierResult]
-LABELS = {"ekf": "EKF (fixed R, Q)", "aekf": "AEKF (eq. 22 + 26)"}
+LABELS = {
+    "ekf": "EKF (fixed R, Q)",
+    "aekf": "AEKF",  # a sweep does not say which Q rule; results do (see _label)
+    "aekf_scaled": "AEKF (eq. 22 + scaled Q)",
+    "ekf_matched": "EKF, matched R, Q (reference)",
+    "aekf_r_only": "AEKF (eq. 22, R only)",
+    "aekf_paper_q": "AEKF (eq. 22 + 26)",
+}
 
 
 def _as_list(results: Results) -> list[CarrierResult]:
@@ -39,8 +46,17 @@ def _check_run(result: CarrierResult, run: int) -> None:
         )
 
 
+def _rule_label(method: str, q_rule: str, default: str) -> str:
+    if method == "aekf":  # name the Q rule the filter ran with
+        rule = {"paper": "aekf_paper_q", "scaled": "aekf_scaled", "none": "aekf_r_only"}
+        return LABELS[rule.get(q_rule, "aekf")]
+    return LABELS.get(default, default)
+
+
 def _label(r: CarrierResult) -> str:
-    return LABELS.get(r.method, r.method)
+    if r.method == "ekf" and r.measurement_variance != 1.0:
+        return "EKF, nominal design (fixed R, Q)"
+    return _rule_label(r.method, r.q_rule, r.method)
 
 
 def phase_error_figure(
@@ -251,6 +267,9 @@ def sweep_figure(
     for i, method in enumerate(sweep.rms_phase_error_rad):
         color = PALETTE[i % len(PALETTE)]
         name = LABELS.get(method, method)
+        if method == "aekf" and method in sweep.q_rules:  # say which Q rule it ran with
+            kind, _, rule = sweep.q_rules[method].partition("/")
+            name = _rule_label(kind, rule, method)
         fig.add_trace(
             go.Scatter(
                 x=sweep.cn0_dbhz,
