@@ -48,13 +48,6 @@ PAGES = [
     ("Latency", "Latency"),
 ]
 SIG = "gen:fast-slow;n=6000;seed=0;noise_std=5.0"
-#: Lighter settings for the direct-URL visits (they also check that the URL seeds widgets).
-LIGHT = {
-    "Adaptive_filter": "?af_duration=600",
-    "Fusion": "?fu_runs=3&fu_steps=300",
-    "Robust_filter": "?ro_runs=3",
-    "Carrier_tracking": "?ca_runs=3&ca_dur=5",
-}
 #: Seconds without a running script before a page counts as drawn.
 QUIET_S = 0.5
 
@@ -185,7 +178,7 @@ def test_every_page_through_navigation(server, browser):
 def test_every_page_opened_first_by_url(server, browser, label, path):
     ctx = browser.new_context(viewport={"width": 1400, "height": 1000})
     page = ctx.new_page()
-    page.goto(f"{server}/{path}{LIGHT.get(path, '')}")
+    page.goto(f"{server}/{path}")
     _settle(page)
     assert label in page.inner_text("h1")
     _check(page, f"url-{path}")
@@ -200,6 +193,9 @@ def test_shared_link_reopens_the_view_and_box_select_picks_a_stretch(server, bro
     main = page.inner_text('[data-testid="stMain"]')
     assert "Noise variance" in main and "No signal loaded" not in main
     assert "Window m (samples)" in main
+    # the link's parameters reached the widgets
+    window = page.locator('[data-testid="stSlider"]', has_text="Window m")
+    assert window.locator("input").first.get_attribute("value") == "60"
     _check(page, "link-estimator")
     # drag horizontally across the main figure: the box selection estimates that stretch
     chart = page.locator('[data-testid="stPlotlyChart"]').first
