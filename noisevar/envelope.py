@@ -201,15 +201,20 @@ def scan_h(
     if h_grid.max() >= stable_h_limit():  # pragma: no cover - check_h refuses first
         raise NoisevarError("h grid reaches the unstable range")
     ratio = np.full(h_grid.shape, np.nan)
+    if z.size < 2 * window:
+        raise NoisevarError(
+            f"the signal has fewer samples ({z.size}) than two windows ({2 * window}): "
+            "give a longer signal or a smaller window"
+        )
+    # window amplitudes of the raw record once; each h averages the windows after its transient
+    raw_amp = noise_amplitude(z, window).amplitude
+    starts = np.arange(raw_amp.size) * window
     for j, h in enumerate(h_grid):
-        skip = min(settling_samples(h), z.size // 2)
-        seg = slice(skip, None)
-        if z[seg].size < window:
+        after = starts >= min(settling_samples(h), z.size // 2)
+        if not after.any() or raw_amp[after].mean() <= 0:
             continue
-        raw_amp = noise_amplitude(z[seg], window).mean_amplitude
-        if raw_amp <= 0:
-            continue
-        ratio[j] = noise_amplitude(abg_filter(z, h)[seg], window).mean_amplitude / raw_amp
+        smooth_amp = noise_amplitude(abg_filter(z, h), window).amplitude
+        ratio[j] = smooth_amp[after].mean() / raw_amp[after].mean()
     inside = (ratio >= band[0]) & (ratio <= band[1])
     if np.any(inside):
         h_min, h_max = float(h_grid[inside].min()), float(h_grid[inside].max())
