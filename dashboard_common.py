@@ -1212,26 +1212,39 @@ def robust_run(
     return run_robust(data, kappa=float(kappa), iterations=int(iterations))
 
 
+#: The carrier filters the page shows (names of :func:`noisevar.carrier.comparison_variants`).
+CARRIER_FILTERS = ("ekf", "aekf", "ekf_matched", "aekf_paper_q")
+
+
 @st.cache_resource(max_entries=6, show_spinner=False)
-def carrier_runs(settings_json: str, runs: int, seed: int, window: int) -> list[Any]:
-    """EKF and AEKF (:func:`noisevar.carrier.run_carrier`) on the same signals, cached."""
-    from noisevar.carrier import CarrierScenario, run_carrier, simulate_channel
+def carrier_runs(
+    settings_json: str, runs: int, seed: int, window: int, nominal_cn0: float
+) -> dict[str, Any]:
+    """The realistic comparison (:func:`noisevar.carrier.compare`) on the same signals, cached.
+
+    ``ekf`` is designed for ``nominal_cn0``; ``aekf`` adapts from that design
+    (eq. 22 R, stabilised Q); ``ekf_matched`` knows the true noise;
+    ``aekf_paper_q`` is the paper's eq. 26 (it runs away).
+    """
+    from noisevar.carrier import CarrierScenario, compare, comparison_variants
 
     scen = CarrierScenario(**json.loads(settings_json))
-    truth = simulate_channel(scen, seed=int(seed), runs=int(runs))
-    return [
-        run_carrier(scen, m, seed=int(seed), runs=int(runs), truth=truth, window=int(window))
-        for m in ("ekf", "aekf")
-    ]
+    variants = comparison_variants(nominal_cn0_dbhz=float(nominal_cn0))
+    chosen = {k: variants[k] for k in CARRIER_FILTERS}
+    return compare(scen, chosen, seed=int(seed), runs=int(runs), window=int(window))
 
 
 @st.cache_resource(max_entries=4, show_spinner=False)
-def carrier_sweep(settings_json: str, cn0: tuple[float, ...], runs: int, seed: int) -> Any:
-    """:func:`noisevar.carrier.cn0_sweep` for the page's scenario, cached."""
-    from noisevar.carrier import CarrierScenario, cn0_sweep
+def carrier_sweep(
+    settings_json: str, cn0: tuple[float, ...], runs: int, seed: int, nominal_cn0: float
+) -> Any:
+    """:func:`noisevar.carrier.cn0_sweep` of the page's filters for its scenario, cached."""
+    from noisevar.carrier import CarrierScenario, cn0_sweep, comparison_variants
 
     scen = CarrierScenario(**json.loads(settings_json))
-    return cn0_sweep(tuple(cn0), runs=int(runs), seed=int(seed), scenario=scen)
+    variants = comparison_variants(nominal_cn0_dbhz=float(nominal_cn0))
+    chosen = {k: variants[k] for k in CARRIER_FILTERS}
+    return cn0_sweep(tuple(cn0), runs=int(runs), seed=int(seed), scenario=scen, variants=chosen)
 
 
 @st.cache_resource(max_entries=8, show_spinner=False)

