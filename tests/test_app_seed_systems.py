@@ -62,6 +62,7 @@ PAGES = {
             ("select_slider", "ca_tint", 5),
             ("slider", "ca_runs", 3),
             ("slider", "ca_window", 100),
+            ("slider", "ca_nominal", 35.0),
         ],
     ),
     "pages/9_Latency.py": (
