@@ -20,7 +20,14 @@ from typing import Any
 import numpy as np
 
 from ..errors import NoisevarError
-from ..fusion import FusionScenario, run_centralized, run_fusion, simulate_fusion
+from ..fusion import (
+    FusionScenario,
+    max_abs_diff_vs_centralized,
+    position_rmse,
+    run_centralized,
+    run_fusion,
+    simulate_fusion,
+)
 from . import Experiment
 
 #: Points kept in the R track of the JSON output.
@@ -84,10 +91,8 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
 
     clean = simulate_fusion(FusionScenario(fault="none", **common), seed=seed, runs=runs)
     central = run_centralized(clean)
-    fused = run_fusion(clean, local="fixed")
-    fused_nofb = run_fusion(clean, local="fixed", feedback=False)
-    max_diff = float(np.max(np.abs(fused.x - central.x)))
-    max_diff_nofb = float(np.max(np.abs(fused_nofb.x - central.x)))
+    max_diff = max_abs_diff_vs_centralized(clean, central=central)
+    max_diff_nofb = max_abs_diff_vs_centralized(clean, feedback=False, central=central)
 
     step = simulate_fusion(FusionScenario(fault="noise-step", **common), seed=seed + 1, runs=runs)
     step_res = {
@@ -111,10 +116,9 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
                 res = run_fusion(data, local=local, isolation=iso, false_alarm=fa)
                 failures[kind][res.label] = res.rmse()
                 if iso:
-                    in_fault = res.isolated[:, data.fault_mask, 0].mean()
-                    out_fault = res.isolated[:, ~data.fault_mask, 0].mean()
-                    failures[kind][f"{res.label}: isolated fraction in fault"] = float(in_fault)
-                    failures[kind][f"{res.label}: isolated fraction healthy"] = float(out_fault)
+                    in_fault, healthy = res.isolated_fraction(0)
+                    failures[kind][f"{res.label}: isolated fraction in fault"] = in_fault
+                    failures[kind][f"{res.label}: isolated fraction healthy"] = healthy
 
     chosen = failures[args.failure]
     metrics = {
@@ -128,9 +132,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         "rmse_oracle_fusion": step_res["oracle"].rmse(),
         "rmse_ramp": {name: r.rmse() for name, r in ramp_res.items()},
         "rmse_failures": failures,
-        "rmse_centralized_no_fault": float(
-            np.sqrt(np.mean(np.sum((central.x[:, 20:, :2] - clean.truth[:, 20:, :2]) ** 2, -1)))
-        ),
+        "rmse_centralized_no_fault": position_rmse(central.x, clean.truth),
         "vb_r_track": _track(step_res["vb"], step),
     }
     return {
