@@ -590,7 +590,7 @@ def _edge_residual_rows(span: int, order: int) -> tuple[NDArray, NDArray]:
     return head, tail
 
 
-def _residual_squares(z: NDArray, span: int, order: int) -> NDArray:
+def _residual_squares(z: NDArray, span: int, order: int, out: NDArray | None = None) -> NDArray:
     """Normalised squared residuals ``e_k² / (I - P)_kk`` of a local polynomial, every sample.
 
     Interior samples use the centred sequence ``d`` (one ``np.convolve``);
@@ -601,7 +601,7 @@ def _residual_squares(z: NDArray, span: int, order: int) -> NDArray:
     n = z.size
     d = residual_sequence(span, order)
     h = span // 2
-    out = np.empty(n)
+    out = np.empty(n) if out is None else out
     e = out[h : n - h]
     e[:] = np.convolve(z, d[::-1], mode="valid")
     np.multiply(e, e, out=e)
@@ -647,14 +647,29 @@ def _step_mask(z: NDArray, start: int, m: int, noise_var: NDArray, w: int = STEP
     :data:`STEP_THRESHOLD` standard deviations.
     """
     n = z.size
+    hit = np.zeros(m, dtype=bool)
+    if n < 4 * w:
+        return hit
     mm = np.convolve(z, np.full(w, 1.0 / w), mode="valid")  # mm[i] = mean(z[i:i+w])
-    d3 = np.zeros(n)
-    if n >= 4 * w:
-        d3[2 * w : n - 2 * w + 1] = (
-            mm[3 * w :] - 3.0 * mm[2 * w : -w] + 3.0 * mm[w : -2 * w] - mm[: -3 * w]
-        )
-    sd = np.sqrt(20.0 / w * noise_var)
-    return np.abs(d3[start : start + m]) > STEP_THRESHOLD * sd
+    d3 = mm[3 * w :] - mm[: -3 * w]  # D3 for k = 2w .. n - 2w
+    d3 += 3.0 * (mm[w : -2 * w] - mm[2 * w : -w])
+    d3 *= d3
+    lo, hi = max(start, 2 * w), min(start + m, n - 2 * w + 1)  # where D3 is defined
+    if hi > lo:
+        thr = (STEP_THRESHOLD**2 * 20.0 / w) * noise_var[lo - start : hi - start]
+        hit[lo - start : hi - start] = d3[lo - 2 * w : hi - 2 * w] > thr
+    return hit
+
+
+def _dilate(mask: NDArray, half: int) -> NDArray:
+    """``mask`` widened by ``half`` samples on each side (cheap when few are set)."""
+    idx = np.flatnonzero(mask)
+    if idx.size > mask.size // 64:
+        return maximum_filter1d(mask.view(np.uint8), 2 * half + 1).view(bool)
+    out = np.zeros_like(mask)
+    span = (idx[:, None] + np.arange(-half, half + 1)).ravel()
+    out[span[(span >= 0) & (span < mask.size)]] = True
+    return out
 
 
 def _outlier_mask(
@@ -681,7 +696,7 @@ def _outlier_mask(
     tau = _truncated_second_moment(kappa)
     if first.any():
         if dilate > 0:  # leave the whole neighbourhood of a jump out of the scale
-            first = maximum_filter1d(first.view(np.uint8), 2 * dilate + 1).view(bool)
+            first = _dilate(first, dilate)
         kept_sum = _block_sums(np.where(first, 0.0, sq), block, nb)
         kept_n = _block_sums(~first, block, nb)
     else:
@@ -697,9 +712,7 @@ def _outlier_mask(
         outlier |= jumps
     if not outlier.any():
         return None
-    if dilate > 0:
-        outlier = maximum_filter1d(outlier.view(np.uint8), 2 * dilate + 1).view(bool)
-    return outlier
+    return _dilate(outlier, dilate) if dilate > 0 else outlier
 
 
 def auto_estimate(
@@ -792,7 +805,9 @@ def auto_estimate(
             f"too few samples ({n}) for the auto estimator: give at least {2 * max(spans)}"
         )
     m = n
-    sq = np.stack([_residual_squares(z, s, order) for s in spans])
+    sq = np.empty((len(spans), m))
+    for j, s in enumerate(spans):
+        _residual_squares(z, s, order, out=sq[j])
     block = AUTO_BLOCK if m >= 2 * AUTO_BLOCK else max(m // 2, 16)
     nb = max(1, m // block)
     outlier = (
