@@ -1,0 +1,63 @@
+"""Assemble BENCHMARKS.md from the result files the benchmark commands write.
+
+    python benchmarks/collect.py
+
+Every number in BENCHMARKS.md comes from one of these commands (each writes
+its section under ``benchmarks/results/``):
+
+    python benchmarks/accuracy.py          -> results/accuracy.md   (issue 3)
+    python benchmarks/speed.py             -> results/speed.md      (issue 3)
+    python benchmarks/kalman.py            -> results/kalman.md     (issue 4)
+    python benchmarks/dashboard.py         -> results/dashboard.md  (issue 5)
+    python benchmarks/seeds.py --runs 100 --kappa-selection
+                                           -> results/seeds.md      (issue 6)
+
+The summary at the top is ``benchmarks/summary.md`` (written by hand from
+those files; it quotes them and must be updated when they change).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+SECTIONS = [
+    ("Core estimator: accuracy (issue 3)", "accuracy.md"),
+    ("Core estimator: speed and memory (issue 3)", "speed.md"),
+    ("Adaptive Kalman filtering (issue 4)", "kalman.md"),
+    ("Dashboard responsiveness (issue 5)", "dashboard.md"),
+    ("The other seed systems (issue 6)", "seeds.md"),
+]
+
+
+def _demote(body: str) -> str:
+    """Nest a result file under its section: its title becomes bold, its headings level 3+."""
+    lines = body.splitlines()
+    out = []
+    for i, line in enumerate(lines):
+        if line.startswith("#"):
+            text = line.lstrip("#").strip()
+            hashes = len(line) - len(line.lstrip("#"))
+            line = f"**{text}**" if i == 0 else "#" * max(hashes, 3) + " " + text
+        out.append(line)
+    return "\n".join(out)
+
+
+def main() -> None:
+    """Write BENCHMARKS.md next to the benchmarks folder."""
+    parts = [(HERE / "summary.md").read_text().rstrip(), ""]
+    for title, name in SECTIONS:
+        body = _demote((HERE / "results" / name).read_text().strip())
+        parts += [
+            f"## {title}",
+            "",
+            f"*Produced by the command named in it; file `benchmarks/results/{name}`.*",
+            "",
+            body,
+            "",
+        ]
+    (HERE.parent / "BENCHMARKS.md").write_text("\n".join(parts))
+
+
+if __name__ == "__main__":
+    main()
