@@ -999,49 +999,6 @@ def scenario_run(
     return _scenario_run_cached(scenario_key, strategy, _key(settings), huber, sc)
 
 
-def channel_model(
-    z: np.ndarray, sample_period: float, h: float, r0: np.ndarray, names: Sequence[str]
-) -> Any:
-    """A constant-velocity model per measured channel, for filtering uploaded data.
-
-    Channel ``j`` has states ``[p_j, v_j]`` driven by white acceleration of
-    spectral density ``q_j = h · r0_j / T³`` (``h`` is the same unit-free
-    ratio ``q T³ / r`` as the alpha-beta-gamma filter's), measured with
-    noise ``r0_j``. The filter starts at the first sample, velocity zero.
-    """
-    from noisevar.kalman import StateSpaceModel
-
-    T = float(sample_period)
-    m = z.shape[1]
-    F1 = np.array([[1.0, T], [0.0, 1.0]])
-    Qs = np.array([[T**3 / 3.0, T**2 / 2.0], [T**2 / 2.0, T]])
-    F = np.kron(np.eye(m), F1)
-    Q = np.zeros((2 * m, 2 * m))
-    P0 = np.zeros((2 * m, 2 * m))
-    H = np.zeros((m, 2 * m))
-    x0 = np.zeros(2 * m)
-    for j in range(m):
-        q = h * r0[j] / T**3
-        Q[2 * j : 2 * j + 2, 2 * j : 2 * j + 2] = q * Qs
-        P0[2 * j, 2 * j] = r0[j]
-        P0[2 * j + 1, 2 * j + 1] = 4.0 * r0[j] / T**2
-        H[j, 2 * j] = 1.0
-        x0[2 * j] = z[0, j]
-    state_names = tuple(s for n in names for s in (n, f"d{n}/dt"))
-    return StateSpaceModel(
-        Q=Q,
-        R=np.diag(r0),
-        x0=x0,
-        P0=P0,
-        F=F,
-        H=H,
-        dt=T,
-        state_names=state_names,
-        measurement_names=tuple(names),
-        name="constant velocity per channel",
-    )
-
-
 @st.cache_resource(max_entries=16, show_spinner=False)
 def _data_run_cached(
     table_digest: str,
@@ -1059,7 +1016,9 @@ def _data_run_cached(
     z = sensor_matrix(_sig, columns)
     quick = np.array([column_estimate(_sig, c).variance for c in columns])
     r0 = quick * r0_factor
-    model = channel_model(z, period, h, r0, columns)
+    from noisevar.kalman.scenarios import constant_velocity_model
+
+    model = constant_velocity_model(z[0], period, h, r0, columns)
     settings = json.loads(settings_json)
     h_smooth = float(settings.get("h_smooth", 9e-4))
     strat = make_filter_strategy(strategy, settings, h_smooth)
@@ -1076,7 +1035,9 @@ def data_run(
     settings: dict[str, Any],
     huber: float | None,
 ) -> tuple[Any, np.ndarray, np.ndarray]:
-    """One strategy on chosen columns of the loaded table (:func:`channel_model`), cached.
+    """One strategy on chosen columns of the loaded table, cached.
+
+    The model is :func:`noisevar.kalman.scenarios.constant_velocity_model`.
 
     Returns
     -------
@@ -1116,28 +1077,10 @@ def table1(runs: int, seed: int) -> dict[str, Any]:
 
 
 def filter_summary(result: Any, groups: dict[str, tuple[int, ...]] | None) -> dict[str, Any]:
-    """One row of a filter table: RMSE per state group (with truth), mean NIS, divergence.
+    """One row of the page's filter table (:func:`noisevar.kalman.evaluation.filter_summary`)."""
+    from noisevar.kalman.evaluation import filter_summary as summary
 
-    Uses :mod:`noisevar.kalman.evaluation`; NIS is chi-square with ``m``
-    degrees of freedom when the filter is consistent, so its mean should be
-    close to the number of measured channels.
-    """
-    from noisevar.kalman.evaluation import divergence_summary, pooled_rmse
-
-    row: dict[str, Any] = {"filter": result.strategy}
-    batched = result if result.batched else None
-    if groups and result.truth is not None and batched is not None:
-        for label, states in groups.items():
-            row[f"RMSE {label}"] = pooled_rmse(batched, states)
-    nis = np.asarray(result.nis, dtype=float)
-    row["mean NIS"] = float(np.nanmean(nis)) if np.isfinite(nis).any() else float("nan")
-    row["channels m"] = int(result.innovation.shape[-1])
-    div = divergence_summary(batched) if batched is not None else None
-    if div is not None:
-        row["diverged"] = f"{div['runs']}/{div['of']}: {div['example']}" if div["runs"] else "no"
-    else:
-        row["diverged"] = str(result.divergence_reason or "no")
-    return row
+    return summary(result, groups)
 
 
 # ------------------------------------------------------ the other seed systems

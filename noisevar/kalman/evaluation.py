@@ -156,3 +156,38 @@ def fmt(value: Any, width: int = 11) -> str:
     if v != 0 and (abs(v) >= 1e5 or abs(v) < 1e-3):
         return f"{v:.4e}".rjust(width)
     return f"{v:.4g}".rjust(width)
+
+
+def filter_summary(
+    result: FilterResult, groups: dict[str, tuple[int, ...]] | None
+) -> dict[str, Any]:
+    """One row of a filter table: RMSE per state group (with truth), mean NIS, divergence.
+
+    Uses :mod:`noisevar.kalman.evaluation`; NIS is chi-square with ``m``
+    degrees of freedom when the filter is consistent, so its mean should be
+    close to the number of measured channels.
+
+    Parameters
+    ----------
+    result : FilterResult
+    groups : dict of str to tuple of int, optional
+        Label to state indices, for an RMSE per group (needs the truth).
+
+    Returns
+    -------
+    dict
+    """
+    row: dict[str, Any] = {"filter": result.strategy}
+    batched = result if result.batched else None
+    if groups and result.truth is not None and batched is not None:
+        for label, states in groups.items():
+            row[f"RMSE {label}"] = pooled_rmse(batched, states)
+    nis = np.asarray(result.nis, dtype=float)
+    row["mean NIS"] = float(np.nanmean(nis)) if np.isfinite(nis).any() else float("nan")
+    row["channels m"] = int(result.innovation.shape[-1])
+    div = divergence_summary(batched) if batched is not None else None
+    if div is not None:
+        row["diverged"] = f"{div['runs']}/{div['of']}: {div['example']}" if div["runs"] else "no"
+    else:
+        row["diverged"] = str(result.divergence_reason or "no")
+    return row

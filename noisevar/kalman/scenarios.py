@@ -13,11 +13,12 @@ every step, the per-channel smoothing ``h`` for the SOMD estimator, and a
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from ..errors import NoisevarError
 from .core import DivergenceCheck, HuberUpdate, StateSpaceModel, run_filter
@@ -583,3 +584,64 @@ SCENARIOS = {
     "noise-ramp": noise_ramp,
     "outliers": outliers,
 }
+
+
+def constant_velocity_model(
+    z0: ArrayLike, sample_period: float, h: float, r0: ArrayLike, names: Sequence[str]
+) -> StateSpaceModel:
+    """A constant-velocity model per measured channel (for filtering recorded data).
+
+    Channel ``j`` has states ``[p_j, v_j]`` driven by white acceleration of
+    spectral density ``q_j = h · r0_j / T³`` (``h`` is the same unit-free
+    ratio ``q T³ / r`` as the alpha-beta-gamma filter's), measured with
+    noise ``r0_j``. The filter starts at the first sample ``z0``, velocity zero.
+
+    Parameters
+    ----------
+    z0 : array_like, shape (m,)
+        First sample of each channel.
+    sample_period : float
+        ``T`` (s).
+    h : float
+        Unit-free process-to-measurement noise ratio ``q T³ / r``.
+    r0 : array_like, shape (m,)
+        Measurement-noise variance of each channel.
+    names : sequence of str
+        Channel names.
+
+    Returns
+    -------
+    StateSpaceModel
+    """
+    z0 = np.asarray(z0, dtype=float).ravel()
+    r0 = np.asarray(r0, dtype=float).ravel()
+
+    T = float(sample_period)
+    m = z0.size
+    F1 = np.array([[1.0, T], [0.0, 1.0]])
+    Qs = np.array([[T**3 / 3.0, T**2 / 2.0], [T**2 / 2.0, T]])
+    F = np.kron(np.eye(m), F1)
+    Q = np.zeros((2 * m, 2 * m))
+    P0 = np.zeros((2 * m, 2 * m))
+    H = np.zeros((m, 2 * m))
+    x0 = np.zeros(2 * m)
+    for j in range(m):
+        q = h * r0[j] / T**3
+        Q[2 * j : 2 * j + 2, 2 * j : 2 * j + 2] = q * Qs
+        P0[2 * j, 2 * j] = r0[j]
+        P0[2 * j + 1, 2 * j + 1] = 4.0 * r0[j] / T**2
+        H[j, 2 * j] = 1.0
+        x0[2 * j] = z0[j]
+    state_names = tuple(s for n in names for s in (n, f"d{n}/dt"))
+    return StateSpaceModel(
+        Q=Q,
+        R=np.diag(r0),
+        x0=x0,
+        P0=P0,
+        F=F,
+        H=H,
+        dt=T,
+        state_names=state_names,
+        measurement_names=tuple(names),
+        name="constant velocity per channel",
+    )
