@@ -129,7 +129,8 @@ def noise_section(name: str, res: dict[str, Any], wall: float, runs: int) -> lis
         f"{s['factor']:g} at steps {s['change'][0]}–{s['change'][1]} of {s['steps']}; R tracking "
         f"scored from step {s['change'][1] + s['settle']} on.",
         "",
-        "| method | mean abs(R̂/R − 1) | mean R̂/R − 1 | position RMSE (m) | vs oracle | diverged |",
+        "| method | mean abs(R̂/R − 1) | mean R̂/R − 1 | position RMSE (m) | vs oracle "
+        "| diverged |",
         "|---|---|---|---|---|---|",
     ]
     for m, e in res["methods"].items():
@@ -148,7 +149,10 @@ def noise_section(name: str, res: dict[str, Any], wall: float, runs: int) -> lis
 
 
 class RaePaperSigns(ResidualR):
-    """RAE with the sign the paper prints in eq. (3): ``mean(r rᵀ) - H P(k|k) Hᵀ`` (study only)."""
+    """RAE with the sign the paper prints in eq. (3), ``mean(r rᵀ) - H P(k|k) Hᵀ``.
+
+    For the study only.
+    """
 
     name = "rae-paper-signs"
 

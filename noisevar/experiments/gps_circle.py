@@ -41,6 +41,7 @@ from ..kalman.evaluation import (
     r_diagonal,
 )
 from ..kalman.scenarios import GPS_CHANNELS, Scenario, gps_circle
+from ..kalman.somd_batch import somd_variance_records
 from ..kalman.strategies import (
     FixedR,
     InnovationR,
@@ -128,22 +129,52 @@ def _strategy(name: str, sc: Scenario, args: argparse.Namespace) -> RStrategy:
     raise NoisevarError(f"unknown method {name!r}")  # pragma: no cover
 
 
-def _filter_task(task: tuple[str, dict[str, Any]]) -> dict[str, Any]:
-    """Run one filter over all runs (batched) and summarise it (worker-process safe)."""
-    name, settings = task
+def _filter_task(task: tuple[str, dict[str, Any], Scenario | None]) -> dict[str, Any]:
+    """Run one filter over all runs (batched) and summarise it (worker-process safe).
+
+    ``task`` is ``(method, settings, scenario)``; a worker process gets
+    ``scenario=None`` and regenerates the seeded scenario (identical data)
+    instead of receiving it pickled.
+    """
+    name, settings, sc = task
     args = argparse.Namespace(**settings)
-    sc = gps_circle(runs=args.runs, seed=args.seed, duration=getattr(args, "duration", 3000.0))
+    if sc is None:
+        sc = gps_circle(runs=args.runs, seed=args.seed, duration=getattr(args, "duration", 3000.0))
     res = sc.run(_strategy(name, sc, args))
     half = (sc.z.shape[1] - sc.first_step) // 2
+    err = res.state_error()  # once, for the three RMSE groups
     return {
         "rmse": {
-            "position": pooled_rmse(res, (0, 1)),
-            "speed": pooled_rmse(res, (2,)),
-            "heading": pooled_rmse(res, (3,)),
+            "position": pooled_rmse(res, (0, 1), err=err),
+            "speed": pooled_rmse(res, (2,), err=err),
+            "heading": pooled_rmse(res, (3,), err=err),
         },
         "divergence": divergence_summary(res),
         "r_second_half": r_diagonal(res)[:, half:].mean(axis=1),
     }
+
+
+def _table1_per_run(
+    zu: np.ndarray, h: float, method: str, channel: str, notes: list[str]
+) -> np.ndarray:
+    """Estimator over each run's whole record, one channel (``zu``: shape (B, N)).
+
+    All runs in one batched pass (:func:`somd_variance_records`, the same
+    numbers as :func:`noisevar.estimate` per run); when the records are too
+    short for that, :func:`noisevar.estimate` per run, for its message.
+    """
+    per_run = somd_variance_records(zu, h, paper=method == "somd-paper")
+    if np.all(np.isfinite(per_run)):
+        return per_run
+    per_run = np.full(zu.shape[0], np.nan)
+    for b in range(zu.shape[0]):
+        try:
+            per_run[b] = estimate(zu[b], method=method, h_smooth=h, select=False).variance
+        except NoisevarError as exc:
+            note = f"{method} {channel}: {exc}"
+            if note not in notes:
+                notes.append(note)
+    return per_run
 
 
 def _channel_entry(per_run: np.ndarray, true: float) -> dict[str, Any]:
@@ -175,25 +206,17 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     notes: list[str] = []
     for method in ("somd", "somd-paper"):
         for j, ch in enumerate(GPS_CHANNELS):
-            per_run = np.full(sc.runs, np.nan)
-            for b in range(sc.runs):
-                try:
-                    per_run[b] = estimate(
-                        zu[b, :, j], method=method, h_smooth=sc.h_smooth[j], select=False
-                    ).variance
-                except NoisevarError as exc:
-                    note = f"{method} {ch}: {exc}"
-                    if note not in notes:
-                        notes.append(note)
+            per_run = _table1_per_run(zu[:, :, j], sc.h_smooth[j], method, ch, notes)
             channels[ch]["methods"][method] = _channel_entry(per_run, true[j])
 
     rmse: dict[str, Any] = {}
     divergence: dict[str, Any] = {}
     settings = {k: v for k, v in vars(args).items() if isinstance(v, (int, float, str, type(None)))}
-    tasks = [(name, settings) for name in methods]
     jobs = int(getattr(args, "jobs", 1) or 1)
     if jobs < 1:
         raise NoisevarError(f"--jobs must be at least 1, got {jobs}")
+    # in this process the scenario is reused; worker processes regenerate it
+    tasks = [(name, settings, sc if jobs == 1 else None) for name in methods]
     for name, summary in zip(methods, map_jobs(_filter_task, tasks, jobs), strict=True):
         rmse[name] = summary["rmse"]
         divergence[name] = summary["divergence"]

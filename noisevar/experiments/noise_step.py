@@ -113,11 +113,16 @@ def _scenario(name: str, args: argparse.Namespace) -> Scenario:
     return GENERATORS[name](runs=args.runs, seed=args.seed, n_steps=args.steps, factor=args.factor)
 
 
-def _filter_task(task: tuple[str, str, int, dict[str, Any]]) -> dict[str, Any]:
-    """Run one filter over all runs (batched) and score it (worker-process safe)."""
-    scenario, name, start, settings = task
+def _filter_task(task: tuple[str, str, int, dict[str, Any], Scenario | None]) -> dict[str, Any]:
+    """Run one filter over all runs (batched) and score it (worker-process safe).
+
+    The last element of ``task`` is the scenario, or ``None`` in a worker
+    process, which regenerates the seeded scenario (identical data).
+    """
+    scenario, name, start, settings, sc = task
     args = argparse.Namespace(**settings)
-    sc = _scenario(scenario, args)
+    if sc is None:
+        sc = _scenario(scenario, args)
     res = sc.run(strategy_for(name, sc, args))
     err, bias = r_tracking_error(res, sc.R_true[sc.first_step :], start)
     div = divergence_summary(res)
@@ -157,7 +162,8 @@ def run_noise_change(sc: Scenario, args: argparse.Namespace) -> dict[str, Any]:
     jobs = int(getattr(args, "jobs", 1) or 1)
     if jobs < 1:
         raise NoisevarError(f"--jobs must be at least 1, got {jobs}")
-    tasks = [(sc.name, name, start, settings) for name in methods]
+    # in this process the scenario is reused; worker processes regenerate it
+    tasks = [(sc.name, name, start, settings, sc if jobs == 1 else None) for name in methods]
     out = dict(zip(methods, map_jobs(_filter_task, tasks, jobs), strict=True))
     oracle = out.get("oracle", {}).get("rmse")
     for entry in out.values():

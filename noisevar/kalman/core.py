@@ -41,6 +41,19 @@ needs ``x_pred, P_pred, x, P`` of every step)::
 
 Whole record: :func:`run_filter` returns a
 :class:`~noisevar.kalman.result.FilterResult`.
+
+Speed
+-----
+Every step costs a few dozen numpy calls whatever ``B`` is, so a batch of
+runs is much cheaper per run than separate calls. :func:`run_filter` lets
+the filter write each step's ``x, P, d, r, S`` (and ``x_pred, P_pred``)
+straight into its records (no copies) and records ``R`` / ``Q`` only when
+they differ from the model's. For batches of :data:`_CLOSED_FORM_FROM` runs
+or more, ``S⁻¹`` of a small innovation covariance (``m <= 4``) comes from
+closed-form cofactors over the whole batch (:func:`_inv_closed_form`)
+instead of a LAPACK call per run; results agree with the LAPACK path to
+rounding. NIS and NEES are computed after the loop over the stored arrays
+(:func:`quadratic_form_inverse`).
 """
 
 from __future__ import annotations
@@ -78,6 +91,136 @@ except (ImportError, AttributeError):  # pragma: no cover - other numpy builds
             return np.full(np.broadcast_shapes(np.shape(a)), np.nan)
 
 
+_matvec = getattr(np, "matvec", None)  # numpy >= 2.2: stacked matrix @ stacked vector
+
+if _matvec is None:  # pragma: no cover - older numpy
+
+    def _matvec(a: NDArray, v: NDArray) -> NDArray:
+        return np.matmul(a, v[..., None])[..., 0]
+
+
+#: Batch size from which a transposed operand of a batched matmul is copied
+#: to contiguous memory first (strided operands make numpy's stacked matmul
+#: ~2x slower for large batches, while the copy costs a call for small ones).
+_CONTIGUOUS_FROM = 16
+
+_TWO_PI = 2.0 * np.pi
+
+#: Batch size from which the inverse of a small (m <= 4) innovation
+#: covariance is computed in closed form over the whole batch
+#: (:func:`_inv_closed_form`): LAPACK costs ~0.4 us per 4 x 4 member (its
+#: per-call overhead), the closed form ~15 element-wise numpy calls in all.
+_CLOSED_FORM_FROM = 32
+
+
+def _adjugate_tables_4() -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    """Index tables of the 4 x 4 adjugate through the twelve 2 x 2 minors of rows (0, 1), (2, 3).
+
+    With ``s_p`` the minors of rows 0, 1 and ``c_p`` those of rows 2, 3 over
+    the column pairs ``(0,1), (0,2), (0,3), (1,2), (1,3), (2,3)``, every
+    cofactor is a signed sum of three products ``a_rc * minor`` and
+    ``det = s0 c5 - s1 c4 + s2 c3 + s3 c2 - s4 c1 + s5 c0`` (the Laplace
+    expansion along the first two rows). Minors are indexed in
+    ``[s, c, -s, -c]`` (24 rows) so that the signs are gathered, not multiplied.
+    """
+    pairs = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)]
+    minors = np.array(
+        [
+            [4 * r0 + i for r0, _ in ((0, 1), (2, 3)) for i, _ in pairs],
+            [4 * r1 + j for _, r1 in ((0, 1), (2, 3)) for _, j in pairs],
+            [4 * r0 + j for r0, _ in ((0, 1), (2, 3)) for _, j in pairs],
+            [4 * r1 + i for _, r1 in ((0, 1), (2, 3)) for i, _ in pairs],
+        ]
+    )  # minor p = g[0] g[1] - g[2] g[3]
+
+    def a(r: int, c: int) -> int:
+        return 4 * r + c
+
+    s = list(range(6))
+    c = list(range(6, 12))
+    neg = 12  # offset of the negated minors
+    # inv[i, j] * det = sum of (sign, entry, minor), row-major over (i, j)
+    terms = [
+        [(+1, a(1, 1), c[5]), (-1, a(1, 2), c[4]), (+1, a(1, 3), c[3])],
+        [(-1, a(0, 1), c[5]), (+1, a(0, 2), c[4]), (-1, a(0, 3), c[3])],
+        [(+1, a(3, 1), s[5]), (-1, a(3, 2), s[4]), (+1, a(3, 3), s[3])],
+        [(-1, a(2, 1), s[5]), (+1, a(2, 2), s[4]), (-1, a(2, 3), s[3])],
+        [(-1, a(1, 0), c[5]), (+1, a(1, 2), c[2]), (-1, a(1, 3), c[1])],
+        [(+1, a(0, 0), c[5]), (-1, a(0, 2), c[2]), (+1, a(0, 3), c[1])],
+        [(-1, a(3, 0), s[5]), (+1, a(3, 2), s[2]), (-1, a(3, 3), s[1])],
+        [(+1, a(2, 0), s[5]), (-1, a(2, 2), s[2]), (+1, a(2, 3), s[1])],
+        [(+1, a(1, 0), c[4]), (-1, a(1, 1), c[2]), (+1, a(1, 3), c[0])],
+        [(-1, a(0, 0), c[4]), (+1, a(0, 1), c[2]), (-1, a(0, 3), c[0])],
+        [(+1, a(3, 0), s[4]), (-1, a(3, 1), s[2]), (+1, a(3, 3), s[0])],
+        [(-1, a(2, 0), s[4]), (+1, a(2, 1), s[2]), (-1, a(2, 3), s[0])],
+        [(-1, a(1, 0), c[3]), (+1, a(1, 1), c[1]), (-1, a(1, 2), c[0])],
+        [(+1, a(0, 0), c[3]), (-1, a(0, 1), c[1]), (+1, a(0, 2), c[0])],
+        [(-1, a(3, 0), s[3]), (+1, a(3, 1), s[1]), (-1, a(3, 2), s[0])],
+        [(+1, a(2, 0), s[3]), (-1, a(2, 1), s[1]), (+1, a(2, 2), s[0])],
+    ]
+    entries = np.array([[e for _, e, _ in row] for row in terms]).T  # (3, 16)
+    signed = np.array([[mi + (neg if sg < 0 else 0) for sg, _, mi in row] for row in terms]).T
+    det = np.array([c[5], neg + c[4], c[3], c[2], neg + c[1], c[0]])  # times s0..s5
+    return minors, entries, signed, det
+
+
+_ADJ4_MINORS, _ADJ4_ENTRIES, _ADJ4_SIGNED, _ADJ4_DET = _adjugate_tables_4()
+# 3 x 3: inv[i, j] * det = a[j+1, i+1] a[j+2, i+2] - a[j+1, i+2] a[j+2, i+1] (indices mod 3)
+_ADJ3 = np.array(
+    [
+        [3 * ((j + 1) % 3) + (i + 1) % 3 for i in range(3) for j in range(3)],
+        [3 * ((j + 2) % 3) + (i + 2) % 3 for i in range(3) for j in range(3)],
+        [3 * ((j + 1) % 3) + (i + 2) % 3 for i in range(3) for j in range(3)],
+        [3 * ((j + 2) % 3) + (i + 1) % 3 for i in range(3) for j in range(3)],
+    ]
+)
+_SIGN2 = np.array([1.0, -1.0, -1.0, 1.0])[:, None]
+
+
+def _inv_closed_form(a: NDArray) -> NDArray:
+    """Inverses of a stack of small matrices by the adjugate, ``m <= 4``.
+
+    The entries are laid out one row per matrix entry (batch axis last), so
+    each step of the cofactor formulas is one element-wise numpy call over
+    the whole batch (about fifteen calls for ``m = 4``) instead of a LAPACK
+    call per member. No pivoting is needed (there is no elimination); the
+    accuracy is that of LAPACK's LU to a few ulp for the well-conditioned
+    innovation covariances of a filter. A singular member gives inf/NaN,
+    like :func:`_inv`, which the divergence checks report.
+
+    Parameters
+    ----------
+    a : ndarray, shape (B, m, m)
+
+    Returns
+    -------
+    ndarray, shape (B, m, m)
+    """
+    B, m, _ = a.shape
+    if m == 1:
+        return 1.0 / a
+    e = a.reshape(B, m * m).T  # (m*m, B): row m*i + j is entry (i, j) of every member
+    if m == 2:
+        det = e[0] * e[3] - e[1] * e[2]
+        adj = e[[3, 1, 2, 0]] * _SIGN2
+    elif m == 3:
+        g = e[_ADJ3]  # (4, 9, B)
+        adj = g[0] * g[1]
+        adj -= g[2] * g[3]
+        det = np.add.reduce(e[:3] * adj[[0, 3, 6]], axis=0)  # first row x its cofactors
+    else:
+        g = e[_ADJ4_MINORS]  # (4, 12, B)
+        minors = g[0] * g[1]
+        minors -= g[2] * g[3]
+        signed = np.concatenate([minors, -minors])
+        det = np.add.reduce(minors[:6] * signed[_ADJ4_DET], axis=0)
+        terms = e[_ADJ4_ENTRIES] * signed[_ADJ4_SIGNED]  # (3, 16, B)
+        adj = terms[0] + terms[1]
+        adj += terms[2]
+    adj /= det
+    return np.ascontiguousarray(adj.T).reshape(B, m, m)
+
+
 def _index_or_slice(idx: tuple[int, ...]) -> slice | list[int] | None:
     """A basic slice for consecutive indices (views are cheaper than fancy indexing)."""
     if not idx:
@@ -91,10 +234,19 @@ def _index_or_slice(idx: tuple[int, ...]) -> slice | list[int] | None:
 def _wrap_in_place(a: NDArray, cols: slice | list[int]) -> None:
     """Wrap columns ``cols`` of ``a`` (shape (B, m)) to ``[-π, π)`` in place."""
     if isinstance(cols, slice):
-        v = a[:, cols]
-        v += np.pi
-        np.mod(v, 2.0 * np.pi, out=v)
-        v -= np.pi
+        if a.shape[0] == 1 and cols.stop - cols.start == 1:
+            # one angle of one run: scalar arithmetic is ~5x cheaper than three
+            # ufunc calls, and Python's float % is the same floored fmod as np.mod
+            row = a[0]
+            j = cols.start
+            row[j] = (float(row[j]) + np.pi) % _TWO_PI - np.pi
+            return
+        # on a contiguous temporary: in-place ufuncs on the strided column
+        # cost about twice as much
+        t = a[:, cols] + np.pi
+        np.mod(t, _TWO_PI, out=t)
+        t -= np.pi
+        a[:, cols] = t
     else:
         a[:, cols] = wrap_angle(a[:, cols])
 
@@ -523,24 +675,50 @@ class KalmanFilter:
         sel = self.model.measured_states
         self._identity_H = sel is not None and sel == tuple(range(n)) and m == n
         self._sel = None if sel is None else list(sel)
+        # constant operands of the step, precomputed once
+        self._copy_t = B >= _CONTIGUOUS_FROM
+        self._closed_form = B >= _CLOSED_FORM_FROM and m <= 4
+        self._Ft = None if self.model.F is None else np.ascontiguousarray(self.model.F.T)
+        self._Ht = None if self.model.H is None else np.ascontiguousarray(self.model.H.T)
         self.strategy.start(self)
 
     # ------------------------------------------------------------------ steps
     def predict(self) -> None:
         """Time update: ``x(k|k-1) = f(x)``, ``P(k|k-1) = F P Fᵀ + Q_k``."""
-        self.k += 1
+        self._predict(None, None)
+
+    def _predict(self, x_out: NDArray | None, P_out: NDArray | None) -> None:
+        """:meth:`predict`, writing ``x(k|k-1)``, ``P(k|k-1)`` into ``x_out``, ``P_out``.
+
+        :func:`run_filter` passes the slices of its records for this step, so
+        nothing is copied afterwards; ``None`` allocates fresh arrays. Either
+        way every step's arrays are new memory (a caller may keep them).
+        """
+        k = self.k + 1
+        self.k = k
         model = self.model
         Q = self.strategy.process_covariance(self)
-        self.Q = model.Q if Q is None else Q
+        if Q is None:
+            Q = model.Q
+        self.Q = Q
+        x = self.x
         if model.f is None:
             F = model.F
-            self.x_pred = self.x @ F.T
-            self.P_pred = F @ self.P @ F.T + self.Q
+            Ft = self._Ft
+            x_pred = np.matmul(x, Ft, out=x_out)
         else:
-            F = model.F_jacobian(self.x, self.k)
-            self.x_pred = model.f(self.x, self.k)
-            # contiguous transposes: batched matmul is ~3x slower on a strided operand
-            self.P_pred = F @ self.P @ F.mT.copy() + self.Q
+            F = model.F_jacobian(x, k)
+            x_pred = model.f(x, k)
+            if x_out is not None:
+                x_out[...] = x_pred
+                x_pred = x_out
+            Ft = F.mT
+            if self._copy_t and F.ndim == 3:
+                Ft = Ft.copy()  # a strided operand slows large batched matmuls down
+        P_pred = np.matmul(np.matmul(F, self.P), Ft, out=P_out)
+        P_pred += Q
+        self.x_pred = x_pred
+        self.P_pred = P_pred
         self.F_used = F
 
     def update(self, z: ArrayLike) -> None:
@@ -576,89 +754,124 @@ class KalmanFilter:
         self.innovation = np.full_like(self.innovation, np.nan)
         self.residual = np.full_like(self.residual, np.nan)
 
-    def _update(self, z: NDArray) -> None:
+    def _update(self, z: NDArray, out: tuple[NDArray, ...] | None = None) -> None:
+        """Measurement update with a validated ``z`` of shape ``(B, m)``.
+
+        ``out`` is ``None`` (fresh arrays) or the record slices
+        ``(x, P, innovation, residual, S)`` of this step, which the final
+        update iteration writes into (see :meth:`_predict`).
+        """
         model = self.model
         self.z = z
-        k = self.k
+        x_pred = self.x_pred
         if self._sel is not None:  # H selects states: index instead of multiplying
             H = model.H
             if self._identity_H:
-                self.z_pred = self.x_pred
+                z_pred = x_pred
                 self.PHt = self.HPHt = self.P_pred
             else:
                 sel = self._sel
-                self.z_pred = self.x_pred[:, sel]
+                z_pred = x_pred[:, sel]
                 self.PHt = self.P_pred[:, :, sel]
                 self.HPHt = self.PHt[:, sel, :]
         else:
             if model.h is None:
                 H = model.H
-                self.z_pred = self.x_pred @ H.T
-                Ht = H.T
+                z_pred = np.matmul(x_pred, self._Ht)
+                Ht = self._Ht
             else:
-                H = model.H_jacobian(self.x_pred, k)
-                self.z_pred = model.h(self.x_pred, k)
+                H = model.H_jacobian(x_pred, self.k)
+                z_pred = model.h(x_pred, self.k)
                 Ht = H.mT
             self.PHt = self.P_pred @ Ht
             self.HPHt = H @ self.PHt
+        self.z_pred = z_pred
         self.H_used = H
-        d = z - self.z_pred
+        d = np.subtract(z, z_pred, out=None if out is None else out[2])
         if self._angle_z is not None:
             _wrap_in_place(d, self._angle_z)
         self.innovation = d
         strategy = self.strategy
         R = strategy.measurement_covariance(self)
-        last = strategy.iterations - 1
-        for it in range(strategy.iterations):
-            if it:
-                R = strategy.refine(self)
+        n_it = strategy.iterations
+        if n_it == 1:
             self.R = R
-            self._gain_and_update(H, d, R, final=it == last)
+            self._gain_and_update(H, d, R, True, out)
+        else:
+            last = n_it - 1
+            for it in range(n_it):
+                if it:
+                    R = strategy.refine(self)
+                self.R = R
+                self._gain_and_update(H, d, R, it == last, out if it == last else None)
         strategy.observe(self)
 
-    def _gain_and_update(self, H: NDArray, d: NDArray, R: NDArray, final: bool = True) -> None:
+    def _gain_and_update(
+        self,
+        H: NDArray,
+        d: NDArray,
+        R: NDArray,
+        final: bool = True,
+        out: tuple[NDArray, ...] | None = None,
+    ) -> None:
         """Kalman (or Huber) update with ``R``.
 
         Intermediate iterations of an iterative strategy (``final=False``)
         only feed the strategy's next ``R``: they use the short form
         ``P = P(k|k-1) - K H P(k|k-1)``; the final one uses the Joseph form.
+        ``out`` as in :meth:`_update`.
         """
-        S = self.HPHt + R
-        S_inv = _inv(S)  # NaN (no exception) for a singular member: caught by the checks
+        x_out = P_out = S_out = r_out = None
+        if out is not None:
+            x_out, P_out, _, r_out, S_out = out
+        S = np.add(self.HPHt, R, out=S_out)
+        # NaN/inf (no exception) for a singular member: caught by the checks
+        S_inv = _inv_closed_form(S) if self._closed_form else _inv(S)
         self.S = S
         self.S_inv = S_inv
-        K = self.PHt @ S_inv
+        K = np.matmul(self.PHt, S_inv)
         self.K = K
         if self.robust is None:
-            self.x = self.x_pred + np.matmul(K, d[:, :, None])[:, :, 0]
+            self.x = np.add(self.x_pred, _matvec(K, d), out=x_out)
             if self._identity_H:
-                A = self._eye - K
+                A = np.subtract(self._eye, K)
             elif self._sel is not None:
                 A = np.repeat(self._eye[None], self.batch_size, axis=0)
                 A[:, :, self._sel] -= K
             else:
                 A = self._eye - K @ H
+            P_pred = self.P_pred
             if not final:
-                self.P = A @ self.P_pred
-                self._residual()
+                self.P = np.matmul(A, P_pred)
+                self._residual(None)
                 return
-            P = A @ self.P_pred @ A.mT.copy()
-            P += K @ R @ K.mT.copy()  # Joseph form
-            self.P = 0.5 * (P + P.mT)
+            # Joseph form, then exactly symmetric
+            At, Kt = A.mT, K.mT
+            if self._copy_t:
+                At, Kt = At.copy(), Kt.copy()
+            P = np.matmul(np.matmul(A, P_pred), At)
+            P += np.matmul(np.matmul(K, R), Kt)
+            P_sym = np.add(P, P.mT, out=P_out)
+            P_sym *= 0.5
+            self.P = P_sym
         else:
             self._huber_update(H, d, R)
-        self._residual()
+            if x_out is not None:
+                x_out[...] = self.x
+                P_out[...] = self.P
+                self.x, self.P = x_out, P_out
+        self._residual(r_out)
 
-    def _residual(self) -> None:
-        """``r = z - h(x(k|k))`` (angles wrapped)."""
+    def _residual(self, out: NDArray | None = None) -> None:
+        """``r = z - h(x(k|k))`` (angles wrapped), into ``out`` when given."""
         if self._identity_H:
-            r = self.z - self.x
+            r = np.subtract(self.z, self.x, out=out)
         elif self._sel is not None:
-            r = self.z - self.x[:, self._sel]
+            r = np.subtract(self.z, self.x[:, self._sel], out=out)
         elif self.model.h is None:
-            r = self.z - self.x @ self.model.H.T
+            r = np.subtract(self.z, np.matmul(self.x, self._Ht), out=out)
         else:
-            r = self.z - self.model.h(self.x, self.k)
+            r = np.subtract(self.z, self.model.h(self.x, self.k), out=out)
         if self._angle_z is not None:
             _wrap_in_place(r, self._angle_z)
         self.residual = r
@@ -857,7 +1070,7 @@ def run_filter(
     d_rec = np.empty((N, B, m))
     r_rec = np.empty((N, B, m))
     S_rec = np.empty((N, B, m, m))
-    R_rec = np.empty((N, B, m, m))
+    R_rec: NDArray | None = None  # allocated when the strategy's R is not model.R
     Q_rec: NDArray | None = None  # allocated when a strategy first changes Q
     P_rec = np.empty((N, B, n, n))
     xp_rec = np.empty((N, B, n)) if store_predicted else None
@@ -867,34 +1080,62 @@ def run_filter(
     div_step = np.full(B, -1)
     reasons = [""] * B
     check_every = max(1, int(div.check_every))
+    next_check = min(check_every, N)
     last_check = 0
-    predict, update = filt.predict, filt._update
+    predict, update = filt._predict, filt._update
+    model_R, model_Q = model.R, model.Q
     # a singular S or a NaN state gives NaN (no exception, no warning) and is
     # reported by the divergence checks below
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         for k in range(N):
-            predict()
-            update(z_steps[k])
-            x_rec[k] = filt.x
-            P_rec[k] = filt.P
-            d_rec[k] = filt.innovation
-            r_rec[k] = filt.residual
-            S_rec[k] = filt.S
-            R_rec[k] = filt.R
-            if filt.Q is not model.Q:
-                if Q_rec is None:
-                    Q_rec = np.empty((N, B, n, n))
-                    Q_rec[:k] = model.Q
-                Q_rec[k] = filt.Q
+            # the filter writes this step's results straight into the records
+            # (no copies); a hook that replaced an array is copied in below
             if store_predicted:
-                xp_rec[k] = filt.x_pred
-                Pp_rec[k] = filt.P_pred
-            if (k + 1 - last_check) >= check_every or k == N - 1:
+                xp_k, Pp_k = xp_rec[k], Pp_rec[k]
+                predict(xp_k, Pp_k)
+            else:
+                predict(None, None)
+            out = (x_rec[k], P_rec[k], d_rec[k], r_rec[k], S_rec[k])
+            update(z_steps[k], out)
+            if filt.x is not out[0]:
+                out[0][...] = filt.x
+            if filt.P is not out[1]:
+                out[1][...] = filt.P
+            if filt.innovation is not out[2]:
+                out[2][...] = filt.innovation
+            if filt.residual is not out[3]:
+                out[3][...] = filt.residual
+            if filt.S is not out[4]:
+                out[4][...] = filt.S
+            if store_predicted:
+                if filt.x_pred is not xp_k:
+                    xp_k[...] = filt.x_pred
+                if filt.P_pred is not Pp_k:
+                    Pp_k[...] = filt.P_pred
+            R = filt.R
+            if R_rec is not None:
+                R_rec[k] = R
+            elif R is not model_R:
+                R_rec = np.empty((N, B, m, m))
+                R_rec[:k] = model_R
+                R_rec[k] = R
+            Q = filt.Q
+            if Q_rec is not None:
+                Q_rec[k] = Q
+            elif Q is not model_Q:
+                Q_rec = np.empty((N, B, n, n))
+                Q_rec[:k] = model_Q
+                Q_rec[k] = Q
+            if k + 1 == next_check:
                 _check_block(filt, x_rec, last_check, k + 1, cov_limit, div_step, reasons)
                 last_check = k + 1
+                next_check = min(k + 1 + check_every, N)
 
-    if Q_rec is None:  # Q never changed: a read-only view, no copies
-        Q_rec = np.broadcast_to(model.Q, (N, B, n, n))
+    # R / Q never changed: read-only views, no copies
+    if R_rec is None:
+        R_rec = np.broadcast_to(model_R, (N, B, m, m))
+    if Q_rec is None:
+        Q_rec = np.broadcast_to(model_Q, (N, B, n, n))
 
     def to_batch(a: NDArray | None) -> NDArray | None:
         return None if a is None else np.moveaxis(a, 0, 1)

@@ -35,7 +35,9 @@ def finite_or_none(value: float) -> float | None:
     return value if math.isfinite(value) else None
 
 
-def pooled_rmse(result: FilterResult, states: tuple[int, ...], skip: int = 0) -> float | None:
+def pooled_rmse(
+    result: FilterResult, states: tuple[int, ...], skip: int = 0, err: NDArray | None = None
+) -> float | None:
     """RMSE pooled over runs and steps: ``sqrt(mean_{runs, k} Σ_{i in states} e_i²)``.
 
     Runs that blew up (NaN after their divergence step) are left out; ``None``
@@ -49,12 +51,17 @@ def pooled_rmse(result: FilterResult, states: tuple[int, ...], skip: int = 0) ->
         State components summed (``(0, 1)``: horizontal position).
     skip : int
         Leading steps left out.
+    err : ndarray, optional
+        ``result.state_error()`` when the caller already has it (it is the
+        costly part for a large batch).
 
     Returns
     -------
     float or None
     """
-    err = result.state_error()[..., skip:, :][..., list(states)]
+    if err is None:
+        err = result.state_error()
+    err = err[..., skip:, :][..., list(states)]
     sq = np.sum(err**2, axis=-1)
     ok = np.all(np.isfinite(sq), axis=-1)
     if not ok.any():

@@ -39,7 +39,8 @@ class FilterResult:
     residual : ndarray, shape ([B,] N, m)
         ``r_k = z_k - h(x̂(k|k))``.
     R, Q : ndarray, shape ([B,] N, m, m) and ([B,] N, n, n)
-        Measurement and process covariances used at each step.
+        Measurement and process covariances used at each step (a read-only
+        broadcast view of the model's matrix when it was used throughout).
     nis : ndarray, shape ([B,] N)
         Normalised innovation squared ``d_kᵀ S_k⁻¹ d_k`` (chi-square with
         ``m`` degrees of freedom when the filter is consistent).

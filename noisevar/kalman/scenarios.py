@@ -196,7 +196,7 @@ def gps_process_noise(T: float = GPS_T) -> NDArray:
 
 def _gps_f(T: float):
     """Model [20] and its Jacobian for a batch of states ``x`` of shape ``(B, 4)``."""
-    eye = np.eye(4)
+    eyes: dict[int, NDArray] = {}  # identity stacks per batch size, copied at each call
 
     def f(x: NDArray, k: int) -> NDArray:
         out = x.copy()
@@ -210,11 +210,17 @@ def _gps_f(T: float):
         th = x[:, 3]
         c, s = np.cos(th), np.sin(th)
         tv = T * x[:, 2]
-        J = np.repeat(eye[None], x.shape[0], axis=0)
-        J[:, 0, 2] = T * c
-        J[:, 0, 3] = -tv * s
-        J[:, 1, 2] = T * s
-        J[:, 1, 3] = tv * c
+        B = x.shape[0]
+        eye = eyes.get(B)
+        if eye is None:
+            eye = eyes[B] = np.repeat(np.eye(4)[None], B, axis=0)
+        J = eye.copy()
+        # products written straight into the Jacobian's entries (no temporaries)
+        np.multiply(T, c, out=J[:, 0, 2])
+        np.multiply(tv, s, out=J[:, 0, 3])
+        np.negative(J[:, 0, 3], out=J[:, 0, 3])
+        np.multiply(T, s, out=J[:, 1, 2])
+        np.multiply(tv, c, out=J[:, 1, 3])
         return J
 
     return f, F_jacobian

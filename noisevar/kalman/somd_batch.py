@@ -78,3 +78,42 @@ def somd_variance_windows(
             n = bounds[i][1] - start
             out[:, i] = (csum[:, n - 1] - csum[:, skip]) / (n - 1 - skip) / factor
     return out
+
+
+def somd_variance_records(z: NDArray, h: float, paper: bool = False) -> NDArray:
+    """SOMD variance (no selection) of every whole record of a batch at once.
+
+    The same number as ``noisevar.estimate(z[b], method="somd" | "somd-paper",
+    h_smooth=h, select=False).variance`` for each run ``b`` (the same
+    filter, differences and mean, in one ``lfilter`` pass over all runs
+    instead of ``B`` calls), e.g. for the paper's Table 1 over 100 Monte
+    Carlo runs.
+
+    Parameters
+    ----------
+    z : ndarray, shape (B, N)
+        One channel of ``B`` runs.
+    h : float
+        Smoothing ``h_S``.
+    paper : bool
+        Factor 2 (paper) instead of ``c(h)``.
+
+    Returns
+    -------
+    ndarray, shape (B,)
+        Variances; all NaN when the records are too short for the filters
+        to settle (where :func:`noisevar.estimate` refuses them: call it for
+        its message).
+    """
+    h = check_h(h, "h_smooth")
+    ht = check_h(h * TRACK_RATIO, "h_track")
+    skip = max(settling_samples(h), settling_samples(ht))
+    factor = 2.0 if paper else somd_bias_factor(h)
+    z = np.asarray(z, dtype=float)
+    B, n = z.shape
+    if n - skip < MIN_WINDOWS * WINDOW or not np.all(np.isfinite(z)):
+        return np.full(B, np.nan)
+    smooth = abg_filter(z, h, axis=-1)
+    mutual = np.diff(smooth, axis=-1) - np.diff(z, axis=-1)  # ΔZ1 - ΔZ2
+    # the estimator's mean over the settled samples (one contiguous row per run)
+    return (mutual[:, skip:] ** 2).mean(axis=1) / factor
