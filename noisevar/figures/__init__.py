@@ -69,6 +69,20 @@ PALETTE = (
 )
 
 
+def check_run(run: int, n_runs: int) -> None:
+    """Refuse a Monte Carlo run index outside ``0 .. n_runs - 1`` with a clear message.
+
+    Parameters
+    ----------
+    run : int
+        Requested run.
+    n_runs : int
+        Runs the result holds.
+    """
+    if not 0 <= run < n_runs:
+        raise NoisevarError(f"run {run} out of range: the result has {n_runs} runs")
+
+
 def downsample_indices(y: ArrayLike, max_points: int = MAX_POINTS) -> NDArray:
     """Indices of at most ``max_points`` samples that keep the look of ``y``.
 

@@ -19,7 +19,7 @@ from plotly.subplots import make_subplots
 
 from ..carrier import CarrierResult, CarrierSweep
 from ..errors import NoisevarError
-from . import COLORS, MAX_POINTS, PALETTE, layout, line_trace
+from . import COLORS, MAX_POINTS, PALETTE, check_run, layout, line_trace
 
 Results = CarrierResult | Sequence[CarrierResult]
 LABELS = {
@@ -40,10 +40,7 @@ def _as_list(results: Results) -> list[CarrierResult]:
 
 
 def _check_run(result: CarrierResult, run: int) -> None:
-    if not 0 <= run < result.estimate.shape[0]:
-        raise NoisevarError(
-            f"run {run} out of range: the result has {result.estimate.shape[0]} runs"
-        )
+    check_run(run, result.estimate.shape[0])
 
 
 def _rule_label(method: str, q_rule: str, default: str) -> str:

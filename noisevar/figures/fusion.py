@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 
 from ..errors import NoisevarError
 from ..fusion import FusionResult
-from . import COLORS, MAX_POINTS, PALETTE, band, downsample_indices, layout, line_trace
+from . import COLORS, MAX_POINTS, PALETTE, band, check_run, downsample_indices, layout, line_trace
 
 Results = FusionResult | Sequence[FusionResult]
 
@@ -32,8 +32,7 @@ def _as_list(results: Results) -> list[FusionResult]:
 
 
 def _check_run(result: FusionResult, run: int) -> None:
-    if not 0 <= run < result.x.shape[0]:
-        raise NoisevarError(f"run {run} out of range: the result has {result.x.shape[0]} runs")
+    check_run(run, result.x.shape[0])
 
 
 def _fault_band(result: FusionResult) -> list[dict]:

@@ -194,9 +194,13 @@ def states_figure(
     for row, s in enumerate(states, start=1):
         if truth is not None and not errors:
             tr, _ = line_trace(
-                truth[:, s], "truth", dt, max_points,
+                truth[:, s],
+                "truth",
+                dt,
+                max_points,
                 line={"color": COLORS["truth"], "width": 1.5},
-                legendgroup="truth", showlegend=row == 1,
+                legendgroup="truth",
+                showlegend=row == 1,
             )
             fig.add_trace(tr, row=row, col=1)
         for c, r in enumerate(res):
@@ -207,22 +211,34 @@ def states_figure(
                     e = wrap_angle(e)
                 sd = np.sqrt(_pick(r.P, r, run)[:, s, s])
                 band, _ = line_trace(
-                    2 * sd, f"{r.strategy} ±2σ", dt, max_points,
+                    2 * sd,
+                    f"{r.strategy} ±2σ",
+                    dt,
+                    max_points,
                     line={"color": _color(c), "width": 0.8, "dash": "dot"},
-                    legendgroup=r.strategy, showlegend=False,
+                    legendgroup=r.strategy,
+                    showlegend=False,
                 )
                 fig.add_trace(band, row=row, col=1)
                 band_lo, _ = line_trace(
-                    -2 * sd, f"{r.strategy} ±2σ", dt, max_points,
+                    -2 * sd,
+                    f"{r.strategy} ±2σ",
+                    dt,
+                    max_points,
                     line={"color": _color(c), "width": 0.8, "dash": "dot"},
-                    legendgroup=r.strategy, showlegend=False,
+                    legendgroup=r.strategy,
+                    showlegend=False,
                 )
                 fig.add_trace(band_lo, row=row, col=1)
                 x = e
             tr, _ = line_trace(
-                x, r.strategy, dt, max_points,
+                x,
+                r.strategy,
+                dt,
+                max_points,
                 line={"color": _color(c), "width": 1},
-                legendgroup=r.strategy, showlegend=row == 1,
+                legendgroup=r.strategy,
+                showlegend=row == 1,
             )
             fig.add_trace(tr, row=row, col=1)
     fig.update_layout(**_panel_layout(title, max(300, height_per_state * len(states) + 80)))
@@ -276,25 +292,35 @@ def r_estimates_figure(
             rt = np.diagonal(rt, axis1=-2, axis2=-1)
         true_diag = np.broadcast_to(rt, (N, m)) if rt.ndim == 1 else rt[-N:]
     fig = make_subplots(
-        rows=len(channels), cols=1, shared_xaxes=True,
+        rows=len(channels),
+        cols=1,
+        shared_xaxes=True,
         subplot_titles=[names[j] for j in channels],
     )
     dt = float(first.time[1] - first.time[0]) if first.n_steps > 1 else 1.0
     for row, j in enumerate(channels, start=1):
         if true_diag is not None:
             tr, _ = line_trace(
-                true_diag[:, j], "true R", dt, max_points,
+                true_diag[:, j],
+                "true R",
+                dt,
+                max_points,
                 line={"color": COLORS["truth"], "width": 2, "dash": "dash"},
-                legendgroup="true", showlegend=row == 1,
+                legendgroup="true",
+                showlegend=row == 1,
             )
             fig.add_trace(tr, row=row, col=1)
         for c, r in enumerate(res):
             rj = _pick(r.R, r, run)[:, j, j]
             rj = np.where(rj > 0, rj, np.nan)  # log axis
             tr, _ = line_trace(
-                rj, r.strategy, dt, max_points,
+                rj,
+                r.strategy,
+                dt,
+                max_points,
                 line={"color": _color(c), "width": 1.2},
-                legendgroup=r.strategy, showlegend=row == 1,
+                legendgroup=r.strategy,
+                showlegend=row == 1,
             )
             fig.add_trace(tr, row=row, col=1)
         fig.update_yaxes(type="log", row=row, col=1)
@@ -348,24 +374,33 @@ def innovations_figure(
     names = result.measurement_names or tuple(f"z{j}" for j in range(m))
     w = int(max(1, min(nis_window, N)))
     fig = make_subplots(
-        rows=m + 1, cols=1, shared_xaxes=True,
-        subplot_titles=[f"innovation {names[j]}" for j in range(m)]
-        + [f"NIS, mean over {w} steps"],
+        rows=m + 1,
+        cols=1,
+        shared_xaxes=True,
+        subplot_titles=[f"innovation {names[j]}" for j in range(m)] + [f"NIS, mean over {w} steps"],
     )
     dt = float(result.time[1] - result.time[0]) if result.n_steps > 1 else 1.0
     for j in range(m):
         sd2 = 2.0 * np.sqrt(np.abs(S[:, j, j]))
         tr, _ = line_trace(
-            d[:, j], "innovation", dt, max_points,
+            d[:, j],
+            "innovation",
+            dt,
+            max_points,
             line={"color": COLORS["smooth"], "width": 1},
-            legendgroup="d", showlegend=j == 0,
+            legendgroup="d",
+            showlegend=j == 0,
         )
         fig.add_trace(tr, row=j + 1, col=1)
         for sign in (1.0, -1.0):
             band, _ = line_trace(
-                sign * sd2, "±2√S", dt, max_points,
+                sign * sd2,
+                "±2√S",
+                dt,
+                max_points,
                 line={"color": COLORS["track"], "width": 1, "dash": "dot"},
-                legendgroup="band", showlegend=j == 0 and sign > 0,
+                legendgroup="band",
+                showlegend=j == 0 and sign > 0,
             )
             fig.add_trace(band, row=j + 1, col=1)
     finite = np.where(np.isfinite(nis), nis, np.nan)
@@ -381,12 +416,19 @@ def innovations_figure(
     for y, label in ((lo, f"{coverage:.0%} band"), (hi, None), (float(m), "chi-square mean")):
         fig.add_trace(
             go.Scatter(
-                x=[0.0, t_end], y=[y, y], mode="lines",
-                name=label or "", showlegend=label is not None,
-                line={"color": COLORS["truth"] if label == "chi-square mean" else COLORS["track"],
-                      "width": 1, "dash": "dash"},
+                x=[0.0, t_end],
+                y=[y, y],
+                mode="lines",
+                name=label or "",
+                showlegend=label is not None,
+                line={
+                    "color": COLORS["truth"] if label == "chi-square mean" else COLORS["track"],
+                    "width": 1,
+                    "dash": "dash",
+                },
             ),
-            row=m + 1, col=1,
+            row=m + 1,
+            col=1,
         )
     div = result.diverged if not result.batched else bool(np.atleast_1d(result.diverged)[run])
     reason = result.divergence_reason if not result.batched else result.divergence_reason[run]

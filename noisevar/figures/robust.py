@@ -14,9 +14,8 @@ from __future__ import annotations
 import numpy as np
 import plotly.graph_objects as go
 
-from ..errors import NoisevarError
 from ..robust import RobustResult
-from . import COLORS, MAX_POINTS, PALETTE, band, downsample_indices, layout, line_trace
+from . import COLORS, MAX_POINTS, PALETTE, band, check_run, downsample_indices, layout, line_trace
 
 LABELS = {
     "ekf": "EKF (magvar state)",
@@ -26,8 +25,7 @@ LABELS = {
 
 
 def _check_run(result: RobustResult, run: int) -> None:
-    if not 0 <= run < result.data.runs:
-        raise NoisevarError(f"run {run} out of range: the result has {result.data.runs} runs")
+    check_run(run, result.data.runs)
 
 
 def _zone_shapes(result: RobustResult) -> list[dict]:
