@@ -593,19 +593,18 @@ def _edge_residual_rows(span: int, order: int) -> tuple[NDArray, NDArray]:
 def _residual_squares(z: NDArray, span: int, order: int, out: NDArray | None = None) -> NDArray:
     """Normalised squared residuals ``e_k² / (I - P)_kk`` of a local polynomial, every sample.
 
-    Interior samples use the centred sequence ``d`` (one ``np.convolve``);
-    the first and last ``span // 2`` use the one-sided fit over the first
-    (last) ``span`` samples, so each square has expectation ``σ_k²`` for
-    noise whose variance is locally constant.
+    Interior samples use the centred sequence ``d`` (one ``np.convolve`` with
+    ``d / |d|``, squared straight into ``out``); the first and last
+    ``span // 2`` use the one-sided fit over the first (last) ``span``
+    samples, so each square has expectation ``σ_k²`` for noise whose variance
+    is locally constant.
     """
     n = z.size
     d = residual_sequence(span, order)
     h = span // 2
     out = np.empty(n) if out is None else out
-    e = out[h : n - h]
-    e[:] = np.convolve(z, d[::-1], mode="valid")
-    np.multiply(e, e, out=e)
-    e *= 1.0 / np.sum(d**2)
+    e = np.convolve(z, d[::-1] / np.sqrt(np.sum(d**2)), mode="valid")
+    np.multiply(e, e, out=out[h : n - h])
     head, tail = _edge_residual_rows(span, order)
     out[:h] = (head @ z[:span]) ** 2 / np.diag(head[:, :h])
     out[n - h :] = (tail @ z[n - span :]) ** 2 / np.diag(tail[:, span - h :])
@@ -625,6 +624,26 @@ def _block_sums(x: NDArray, block: int, nb: int) -> NDArray:
     return sums
 
 
+def _block_square_sums(x: NDArray, block: int, nb: int) -> NDArray:
+    """Sums of ``x²`` over the blocks of :func:`_block_sums`, without a squared copy of ``x``."""
+    head = x[: nb * block].reshape(nb, block)
+    sums = np.einsum("ij,ij->i", head, head)
+    tail = x[nb * block :]
+    sums[-1] += tail @ tail
+    return sums
+
+
+def _block_medians(x: NDArray, block: int, nb: int, stride: int) -> NDArray:
+    """Median of every ``stride``-th sample of each of the first ``nb`` blocks.
+
+    A row-wise sort of the small ``(nb, block / stride)`` array: several
+    times faster than ``np.median(..., axis=1)`` on it, with the same values.
+    """
+    y = np.sort(x[: nb * block].reshape(nb, block)[:, ::stride], axis=1)
+    k = y.shape[1]
+    return y[:, k // 2] if k % 2 else 0.5 * (y[:, k // 2 - 1] + y[:, k // 2])
+
+
 STEP_WINDOW = 6
 STEP_THRESHOLD = 6.0
 #: Above this fraction of flagged samples the step detector is ignored: what it sees is a
@@ -632,7 +651,9 @@ STEP_THRESHOLD = 6.0
 STEP_MAX_FRACTION = 0.2
 
 
-def _step_mask(z: NDArray, start: int, m: int, noise_var: NDArray, w: int = STEP_WINDOW) -> NDArray:
+def _step_mask(
+    z: NDArray, above: Callable[[NDArray], NDArray], scale: float = 1.0, w: int = STEP_WINDOW
+) -> NDArray:
     """Samples next to a jump, found by a step detector blind to parabolas.
 
     With ``M[i] = mean(z[i:i+w])``, ``D3[k] = M[k+w] - 3 M[k] + 3 M[k-w] -
@@ -642,23 +663,31 @@ def _step_mask(z: NDArray, start: int, m: int, noise_var: NDArray, w: int = STEP
     ``w = 6`` a jump of 6 σ stands 6.6 standard deviations out, where the
     cubic residual shows it only at about 2.5 (a local cubic absorbs most of
     a jump). A fast signal (a sinusoid of 30 samples per period, say) also
-    trips it; :func:`_outlier_mask` then ignores it. Returns
-    the samples of ``z[start:start + m]`` where ``|D3|`` exceeds
-    :data:`STEP_THRESHOLD` standard deviations.
+    trips it; :func:`_outlier_mask` then ignores it.
+
+    ``above(x)`` tells where ``x`` exceeds ``scale`` times the local noise
+    variance (:func:`_above_local`); returns the samples where ``|D3|``
+    exceeds :data:`STEP_THRESHOLD` standard deviations. (The scale is folded
+    into the window means, so the test costs no pass of its own: two work
+    arrays, the third differences written in place.)
     """
     n = z.size
-    hit = np.zeros(m, dtype=bool)
     if n < 4 * w:
-        return hit
-    mm = np.convolve(z, np.full(w, 1.0 / w), mode="valid")  # mm[i] = mean(z[i:i+w])
-    d3 = mm[3 * w :] - mm[: -3 * w]  # D3 for k = 2w .. n - 2w
-    d3 += 3.0 * (mm[w : -2 * w] - mm[2 * w : -w])
-    d3 *= d3
-    lo, hi = max(start, 2 * w), min(start + m, n - 2 * w + 1)  # where D3 is defined
-    if hi > lo:
-        thr = (STEP_THRESHOLD**2 * 20.0 / w) * noise_var[lo - start : hi - start]
-        hit[lo - start : hi - start] = d3[lo - 2 * w : hi - 2 * w] > thr
-    return hit
+        return np.zeros(n, dtype=bool)
+    # mm[i] = mean(z[i:i+w]), pre-scaled so that D3² compares with threshold_var directly
+    gain = np.sqrt(scale / (STEP_THRESHOLD**2 * 20.0 / w)) / w
+    mm = np.convolve(z, np.full(w, gain), mode="valid")  # n - w + 1
+    work = np.empty(n)
+    d1 = work[: n - 2 * w + 1]
+    np.subtract(mm[w:], mm[:-w], out=d1)  # third difference at lag w, as three first ones
+    d2 = mm[: n - 3 * w + 1]
+    np.subtract(d1[w:], d1[:-w], out=d2)
+    d3 = work[2 * w : n - 2 * w + 1]  # D3 at k = 2w .. n - 2w, aligned with the samples
+    np.subtract(d2[w:], d2[:-w], out=d3)
+    np.multiply(d3, d3, out=d3)
+    work[: 2 * w] = 0.0  # D3 is not defined there: no jump can be seen
+    work[n - 2 * w + 1 :] = 0.0
+    return above(work)
 
 
 def _dilate(mask: NDArray, half: int) -> NDArray:
@@ -672,8 +701,78 @@ def _dilate(mask: NDArray, half: int) -> NDArray:
     return out
 
 
+def _flagged_per_block(idx: NDArray, block: int, nb: int) -> NDArray:
+    """How many of the sample indices ``idx`` fall in each block of :func:`_block_sums`."""
+    return np.bincount(np.minimum(idx // block, nb - 1), minlength=nb).astype(float)
+
+
+def _block_counts(block: int, nb: int, n: int) -> NDArray:
+    """Samples per block of :func:`_block_sums` (the rest joins the last)."""
+    counts = np.full(nb, float(block))
+    counts[-1] += n - nb * block
+    return counts
+
+
+def _kept_block_sums(x: NDArray, idx: NDArray, block: int, nb: int) -> NDArray:
+    """:func:`_block_sums` of ``x`` with the samples ``idx`` counted as zero; ``x`` untouched.
+
+    Only the blocks that hold a flagged sample are summed again, from a copy
+    of those blocks alone (exactly: subtracting the flagged values instead
+    would let a huge outlier swamp its block's sum).
+    """
+    sums = _block_sums(x, block, nb)
+    body = x[: nb * block].reshape(nb, block)
+    inside = idx[idx < nb * block]
+    rows_of = inside // block
+    blocks = np.unique(rows_of)
+    last = body[-1].sum()
+    if blocks.size:
+        rows = body[blocks]  # a copy of the flagged blocks only
+        rows[np.searchsorted(blocks, rows_of), inside % block] = 0.0
+        sums[blocks] = rows.sum(axis=1)
+        if blocks[-1] == nb - 1:
+            last = sums[-1]
+    rest = x[nb * block :]
+    tail = idx[idx >= nb * block]
+    if tail.size:
+        rest = rest.copy()
+        rest[tail - nb * block] = 0.0
+    if rest.size and (tail.size or (blocks.size and blocks[-1] == nb - 1)):
+        sums[-1] = last + rest.sum()  # the rest of the record joins the last block
+    return sums
+
+
+def _above_local(x: NDArray, local: NDArray, block: int) -> NDArray:
+    """``x > np.interp(arange(n), centres, local)``, block centres at ``(j + 1/2) block``.
+
+    The local variance is linear between block centres, so in block ``j`` it
+    is at least the smallest of blocks ``j - 1, j, j + 1``: one blockwise
+    comparison with that bound finds the few candidates, and only those are
+    compared with the interpolated value (no per-sample threshold array).
+    """
+    n, nb = x.size, local.size
+    lower = local.copy()
+    if nb > 1:
+        np.minimum(lower[1:], local[:-1], out=lower[1:])
+        np.minimum(lower[:-1], local[1:], out=lower[:-1])
+    hit = np.empty(n, dtype=bool)
+    np.greater(
+        x[: nb * block].reshape(nb, block), lower[:, None], out=hit[: nb * block].reshape(nb, block)
+    )
+    np.greater(x[nb * block :], local[-1], out=hit[nb * block :])
+    idx = np.flatnonzero(hit)
+    if idx.size:
+        centres = (np.arange(nb) + 0.5) * block
+        hit[idx[x[idx] <= np.interp(idx, centres, local)]] = False
+    return hit
+
+
 def _outlier_mask(
-    sq: NDArray, kappa: float, block: int, dilate: int, steps: Callable[[NDArray], NDArray]
+    sq: NDArray,
+    kappa: float,
+    block: int,
+    dilate: int,
+    steps: Callable[[Callable[[NDArray], NDArray], float], NDArray] | None,
 ) -> NDArray | None:
     """Squared residuals that are jumps or outliers, with ``dilate`` neighbours on each side.
 
@@ -683,33 +782,43 @@ def _outlier_mask(
     so that a noise level changing along the record is followed (a noise step
     is not mistaken for outliers). Residuals beyond ``κ`` local standard
     deviations are flagged, and so are samples next to a jump found by
-    ``steps(local_variance)`` (:func:`_step_mask`), with their neighbours (a
-    jump spreads over the whole span of the residual sequence). Returns None
-    when nothing is flagged (the common case, which then costs no masking).
+    ``steps(above, κ²)`` (:func:`_step_mask`), with their
+    neighbours (a jump spreads over the whole span of the residual sequence).
+    Returns None when nothing is flagged (the common case, which then costs
+    no masking).
     """
     n = sq.size
     nb = max(1, n // block)
-    local = np.median(sq[: nb * block].reshape(nb, block)[:, ::4], axis=1) / 0.4549364231195724
-    threshold = np.repeat(kappa**2 * local, block)
-    threshold = np.concatenate([threshold, np.full(n - threshold.size, threshold[-1])])
-    first = sq > threshold
+    scale = kappa**2 / 0.4549364231195724  # the median of χ²₁ is 0.4549
+    threshold = _block_medians(sq, block, nb, 4) * scale
+    first = np.empty(n, dtype=bool)
+    np.greater(
+        sq[: nb * block].reshape(nb, block),
+        threshold[:, None],
+        out=first[: nb * block].reshape(nb, block),
+    )
+    np.greater(sq[nb * block :], threshold[-1], out=first[nb * block :])
     tau = _truncated_second_moment(kappa)
+    kept_n = _block_counts(block, nb, n)
     if first.any():
         if dilate > 0:  # leave the whole neighbourhood of a jump out of the scale
             first = _dilate(first, dilate)
-        kept_sum = _block_sums(np.where(first, 0.0, sq), block, nb)
-        kept_n = _block_sums(~first, block, nb)
+        idx = np.flatnonzero(first)
+        kept_sum = _kept_block_sums(sq, idx, block, nb)
+        kept_n -= _flagged_per_block(idx, block, nb)
     else:
         kept_sum = _block_sums(sq, block, nb)
-        kept_n = np.full(nb, float(block))
-        kept_n[-1] += n - nb * block
-    refined = kappa**2 * kept_sum / np.maximum(kept_n, 1.0) / tau
-    centres = (np.arange(nb) + 0.5) * block
-    local_var = np.interp(np.arange(n), centres, refined) / kappa**2
-    outlier = sq > kappa**2 * local_var
-    jumps = steps(local_var)
-    if jumps.mean() <= STEP_MAX_FRACTION:  # else the signal is too fast for the detector
-        outlier |= jumps
+    # κ² times the local variance, linear between block centres
+    threshold = kappa**2 * kept_sum / np.maximum(kept_n, 1.0) / tau
+
+    def above(x: NDArray) -> NDArray:
+        return _above_local(x, threshold, block)
+
+    outlier = above(sq)
+    if steps is not None:
+        jumps = steps(above, kappa**2)
+        if np.count_nonzero(jumps) <= STEP_MAX_FRACTION * n:  # else the signal is too fast
+            outlier |= jumps
     if not outlier.any():
         return None
     return _dilate(outlier, dilate) if dilate > 0 else outlier
@@ -811,25 +920,22 @@ def auto_estimate(
     block = AUTO_BLOCK if m >= 2 * AUTO_BLOCK else max(m // 2, 16)
     nb = max(1, m // block)
     outlier = (
-        _outlier_mask(sq[0], trim, block, max(spans) // 2, lambda var: _step_mask(z, 0, m, var))
+        _outlier_mask(sq[0], trim, block, max(spans) // 2, lambda var, sc: _step_mask(z, var, sc))
         if np.isfinite(trim)
         else None
     )
     tau = _truncated_second_moment(trim) if np.isfinite(trim) else 1.0
-    if outlier is None:
-        kept_count = np.full(nb, float(block))
-        kept_count[-1] += m - nb * block
-        block_sum = np.stack([_block_sums(q, block, nb) for q in sq])
-        fourth = _block_sums(sq[0] ** 2, block, nb)
-    else:
-        if outlier.all():
+    kept_count = _block_counts(block, nb, m)
+    if outlier is not None:
+        idx = np.flatnonzero(outlier)
+        if idx.size == m:
             raise NoisevarError(
                 "every residual was trimmed as an outlier: the signal is not usable"
             )
-        keep = ~outlier
-        kept_count = _block_sums(keep, block, nb)
-        block_sum = np.stack([_block_sums(np.where(keep, q, 0.0), block, nb) for q in sq])
-        fourth = _block_sums(np.where(keep, sq[0] ** 2, 0.0), block, nb)
+        kept_count -= _flagged_per_block(idx, block, nb)
+        sq[:, idx] = 0.0  # sq is ours: trimmed residuals count as zero
+    block_sum = np.stack([_block_sums(q, block, nb) for q in sq])
+    fourth = _block_square_sums(sq[0], block, nb)
     with np.errstate(invalid="ignore", divide="ignore"):
         block_mean = block_sum / kept_count
         rms4 = np.sqrt(fourth / kept_count / 3.0)  # = σ² for Gaussian noise

@@ -424,3 +424,61 @@ def test_column_vectors_are_accepted():
 def test_parameters_a_method_does_not_use_are_ignored():
     base = nv.estimate(WHITE, method="rice").variance
     assert nv.estimate(WHITE, method="rice", h_smooth=1e-4, window=80).variance == base
+
+
+# ---------------------------------------------------- auto: fast internals = naive forms
+@pytest.mark.parametrize("n, block", [(1000, 256), (1030, 256), (5000, 64), (70, 16), (20, 16)])
+def test_kept_block_sums_equals_zeroing_a_copy(n, block):
+    from noisevar.estimators import _block_sums, _kept_block_sums
+
+    rng = np.random.default_rng(n + block)
+    nb = max(1, n // block)
+    for k in (0, 1, 5, 200):
+        x = rng.standard_normal(n) ** 2
+        x[rng.integers(0, n, 3)] = 1e15  # a huge outlier must not swamp its block's sum
+        idx = np.union1d(rng.integers(0, n, k), np.flatnonzero(x > 1e10)).astype(int)
+        ref = x.copy()
+        ref[idx] = 0.0
+        before = x.copy()
+        got = _kept_block_sums(x, idx, block, nb)
+        np.testing.assert_allclose(got, _block_sums(ref, block, nb), rtol=1e-12, atol=0)
+        np.testing.assert_array_equal(x, before)
+
+
+@pytest.mark.parametrize("n, block", [(1000, 256), (1100, 256), (300, 16), (16, 16)])
+def test_above_local_equals_interpolated_threshold(n, block):
+    from noisevar.estimators import _above_local
+
+    rng = np.random.default_rng(n)
+    nb = max(1, n // block)
+    local = rng.uniform(0.5, 4.0, nb)
+    x = rng.uniform(0.0, 5.0, n)
+    centres = (np.arange(nb) + 0.5) * block
+    expected = x > np.interp(np.arange(n), centres, local)
+    np.testing.assert_array_equal(_above_local(x, local, block), expected)
+
+
+def test_block_medians_equal_numpy_median():
+    from noisevar.estimators import _block_medians
+
+    rng = np.random.default_rng(3)
+    for block in (256, 18, 17):
+        x = rng.standard_normal(50 * block + 7)
+        ref = np.median(x[: 50 * block].reshape(50, block)[:, ::4], axis=1)
+        np.testing.assert_array_equal(_block_medians(x, block, 50, 4), ref)
+
+
+def test_step_mask_finds_a_jump_and_ignores_a_parabola():
+    from noisevar.estimators import _step_mask
+
+    rng = np.random.default_rng(4)
+    k = np.arange(4000.0)
+    z = 1e-4 * (k - 2000.0) ** 2 + rng.standard_normal(k.size)
+    z[2500:] += 8.0
+
+    def above(x):
+        return x > 1.0  # unit noise variance, scale 1
+
+    hit = _step_mask(z, above)
+    assert hit[2490:2510].any()
+    assert not hit[:2400].any() and not hit[2600:].any()
