@@ -20,7 +20,6 @@ No numbers are computed here: everything comes from :mod:`noisevar`.
 
 from __future__ import annotations
 
-import dataclasses
 import json
 import logging
 import math
@@ -41,7 +40,6 @@ from noisevar.errors import NoisevarError
 from noisevar.figures import to_html, to_png
 from noisevar.io import LoadedTable, content_digest, load_table, pick_column, table_from_arrays
 from noisevar.results import VarianceEstimate
-from noisevar.selection import select_windows
 from noisevar.signals import GPS_CHANNELS
 
 ROOT = Path(__file__).resolve().parent
@@ -807,45 +805,6 @@ def keep_valid(key: str, valid: Callable[[Any], bool], fallback: Any) -> None:
     """Reset a widget's state to ``fallback`` when it is no longer valid (options changed)."""
     if key in st.session_state and not valid(st.session_state[key]):
         st.session_state[key] = fallback
-
-
-@st.cache_resource(max_entries=8, show_spinner=False)
-def _diagnose_cached(
-    digest: str, method: str, params_json: str, _z: np.ndarray
-) -> VarianceEstimate:
-    params = json.loads(params_json)
-    base = noisevar.estimate(_z, method=method, **{**params, "select": False})
-    d = base.details
-    assert d is not None
-    sel = select_windows(
-        _z,
-        d.smooth_output[0],
-        d.track_output,
-        int(params.get("window", 40)),
-        float(params.get("gamma_amp", 0.5)),
-        float(params.get("gamma_ang", 10.0)),
-        str(params.get("angle") or ("paper" if method == "somd-paper" else "scaled")),
-        skip=d.skip,
-    )
-    details = dataclasses.replace(
-        d,
-        selection=sel,
-        kept_windows=sel.kept,
-        window_variance=np.full(sel.n_windows, np.nan),
-    )
-    return dataclasses.replace(base, variance=float("nan"), ci95=(np.nan, np.nan), details=details)
-
-
-def diagnose_selection(sig: LoadedSignal, method: str, params: dict[str, Any]) -> VarianceEstimate:
-    """When no window is kept: the filter outputs and every window's tests, for drawing.
-
-    :func:`noisevar.estimate` refuses the combination (no window kept); this
-    runs the same filters without selection and applies
-    :func:`noisevar.selection.select_windows` with the chosen thresholds, so
-    the page can show how far each test is from passing. The returned
-    estimate has NaN variance: it is a diagnosis, not a result.
-    """
-    return _diagnose_cached(sig.digest, method, _key(params), sig.z)
 
 
 # ------------------------------------------------------------- several sensors

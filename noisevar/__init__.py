@@ -9,7 +9,7 @@ Quick start::
     noisevar.methods()
 """
 
-from .errors import NoisevarError
+from .errors import NoisevarError, NoWindowKept
 from .estimators import describe_methods, estimate, estimate_redundant, methods
 from .results import RedundantEstimate, VarianceEstimate
 from .signals import GeneratedSignal, generate, signal_names
@@ -17,6 +17,7 @@ from .signals import GeneratedSignal, generate, signal_names
 __version__ = "0.1.0"
 __all__ = [
     "GeneratedSignal",
+    "NoWindowKept",
     "NoisevarError",
     "RedundantEstimate",
     "VarianceEstimate",

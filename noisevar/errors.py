@@ -10,3 +10,26 @@ class NoisevarError(ValueError):
     (the CLI, the dashboard, a notebook) can catch one exception and show its
     message as it is: one line, no traceback.
     """
+
+
+class NoWindowKept(NoisevarError):
+    """SOMD's window selection kept no window (a :class:`NoisevarError`, as every other).
+
+    The message says how many windows each test rejected and what to relax.
+    The attributes let a caller show why without running the filters again.
+
+    Attributes
+    ----------
+    summary : dict
+        ``windows``, ``kept`` (0), ``failed_amplitude``, ``failed_angle``
+        (:meth:`noisevar.selection.WindowSelection.rejection_summary`).
+    diagnosis : VarianceEstimate or None
+        The estimate that was refused, with a NaN variance and interval: its
+        ``details`` carry the filter outputs and every window's tests
+        (:class:`noisevar.results.SomdDetails`), for drawing.
+    """
+
+    def __init__(self, message: str, summary: dict, diagnosis: object | None = None) -> None:
+        super().__init__(message)
+        self.summary = summary
+        self.diagnosis = diagnosis

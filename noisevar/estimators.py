@@ -33,7 +33,7 @@ from .abg import (  # noqa: PLC2701 - shared internals
     settling_samples,
     somd_bias_factor,
 )
-from .errors import NoisevarError
+from .errors import NoisevarError, NoWindowKept
 from .results import RedundantEstimate, SomdDetails, VarianceEstimate, chi2_interval
 from .selection import ANGLES, select_windows
 
@@ -321,6 +321,15 @@ def somd_estimate(
     per_h = win_sq.sum(axis=2) / counts / np.asarray(factors)[:, None]
     starts = np.arange(n_win) * m
     in_record = starts >= skip
+    params = {
+        "h_smooth": list(hs) if len(hs) > 1 else hs[0],
+        "h_track": ht,
+        "window": m,
+        "gamma_amp": gamma_amp,
+        "gamma_ang": gamma_ang,
+        "angle": angle,
+        "select": bool(select),
+    }
     selection = None
     if select:
         sels = [
@@ -331,11 +340,36 @@ def somd_estimate(
         kept = passing.any(axis=0)
         if not kept.any():
             summ = selection.rejection_summary()
-            raise NoisevarError(
+            details = SomdDetails(
+                h_smooth=hs,
+                h_track=ht,
+                smooth_output=smooth,
+                track_output=track,
+                selection=selection,
+                kept_windows=kept,
+                window_variance=np.full(n_win, np.nan),
+                sample_mask=np.zeros(n, dtype=bool),
+                bias_factor=factors,
+                skip=skip,
+            )
+            diagnosis = VarianceEstimate(
+                "somd-paper" if paper else "somd",
+                float("nan"),
+                (float("nan"), float("nan")),
+                0,
+                n,
+                0.0,
+                params,
+                notes,
+                details,
+            )
+            raise NoWindowKept(
                 f"no window kept: of {summ['windows']} windows, {summ['failed_amplitude']} failed "
                 f"the amplitude test (gamma_amp={gamma_amp:g}) and {summ['failed_angle']} the "
                 f"angle test (gamma_ang={gamma_ang:g} deg); relax gamma_amp towards 1 or "
-                "gamma_ang, use a longer window, or turn selection off"
+                "gamma_ang, use a longer window, or turn selection off",
+                summ,
+                diagnosis,
             )
         with np.errstate(invalid="ignore"):
             window_var = np.where(
@@ -355,15 +389,6 @@ def somd_estimate(
         n_used = n - 1 - skip
     eff = float(np.mean([_somd_efficiency(h) for h in hs]))
     dof = n_used / eff
-    params = {
-        "h_smooth": list(hs) if len(hs) > 1 else hs[0],
-        "h_track": ht,
-        "window": m,
-        "gamma_amp": gamma_amp,
-        "gamma_ang": gamma_ang,
-        "angle": angle,
-        "select": bool(select),
-    }
     details = SomdDetails(
         h_smooth=hs,
         h_track=ht,

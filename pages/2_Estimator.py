@@ -281,9 +281,8 @@ with right:
             est = dc.estimate(sig, method, params)
     except noisevar.NoisevarError as exc:
         st.error(str(exc))
-        if somd and select and str(exc).startswith("no window kept"):
-            with dc.guarded():
-                diag = dc.diagnose_selection(sig, method, params)
+        if isinstance(exc, noisevar.NoWindowKept) and exc.diagnosis is not None:
+            diag = exc.diagnosis  # the refused estimate: filter outputs and every window's tests
             st.info(
                 "The figures below show every window's tests against your thresholds: "
                 "move Γ_amp / Γ_ang past the points, or lengthen the window m."

@@ -395,3 +395,26 @@ def test_scan_h_bad_input():
         scan_h(rng.normal(size=2000), h_grid=[1e-5, 0.5])
     with pytest.raises(NoisevarError, match="constant"):
         scan_h(np.ones(2000))
+
+
+def test_no_window_kept_carries_the_refused_estimate_for_drawing():
+    """The error holds every window's tests, equal to running the selection by hand."""
+    from noisevar.selection import select_windows
+
+    z = nv.generate("fast-slow", n=3000, seed=10).measured
+    with pytest.raises(nv.NoWindowKept) as info:
+        nv.estimate(z, method="somd", gamma_amp=0.001, gamma_ang=3.0)
+    exc = info.value
+    assert isinstance(exc, NoisevarError)
+    assert exc.summary["kept"] == 0 and exc.summary["windows"] > 0
+    diag = exc.diagnosis
+    assert np.isnan(diag.variance) and diag.n_used == 0
+    assert diag.params["gamma_amp"] == 0.001 and diag.params["gamma_ang"] == 3.0
+    d = diag.details
+    ok = nv.estimate(z, method="somd", select=False).details
+    np.testing.assert_array_equal(d.smooth_output, ok.smooth_output)
+    by_hand = select_windows(z, ok.smooth_output[0], ok.track_output, 40, 0.001, 3.0, skip=d.skip)
+    np.testing.assert_array_equal(d.selection.amp_ok, by_hand.amp_ok)
+    np.testing.assert_array_equal(d.selection.ang_ok, by_hand.ang_ok)
+    assert exc.summary == by_hand.rejection_summary()
+    assert not d.kept_windows.any() and np.isnan(d.window_variance).all()
