@@ -265,7 +265,10 @@ def somd_estimate(
     z : ndarray
         Validated samples.
     paper : bool
-        Paper-literal factor 1/2 and angle convention.
+        Paper-literal factor 1/2, angle convention and amplitude test (the
+        printed chain of ratios); otherwise ``c(h)`` and the symmetric
+        amplitude test, which makes the estimate invariant to the signal's
+        sign (:mod:`noisevar.selection`).
     h_smooth : float or sequence of float
         Smoothing ``h_S`` (default 1.5e-5, the paper's).
     h_track : float, optional
@@ -299,6 +302,7 @@ def somd_estimate(
     gamma_amp = _check_range("gamma_amp", gamma_amp, 0.0, 1.0)
     gamma_ang = _check_range("gamma_ang", gamma_ang, 0.0, 90.0, " degrees")
     angle = angle or ("paper" if paper else "scaled")
+    amplitude = "paper" if paper else "symmetric"  # somd is invariant to the signal's sign
     if angle not in ANGLES:
         raise NoisevarError(f"angle must be one of {ANGLES}, got {angle!r}")
     skip = max(settling_samples(h) for h in (*hs, ht))
@@ -333,7 +337,10 @@ def somd_estimate(
     selection = None
     if select:
         sels = [
-            select_windows(z, s, track, m, gamma_amp, gamma_ang, angle, skip=skip) for s in smooth
+            select_windows(
+                z, s, track, m, gamma_amp, gamma_ang, angle, skip=skip, amplitude=amplitude
+            )
+            for s in smooth
         ]
         selection = sels[0]
         passing = np.stack([s.kept for s in sels])

@@ -212,7 +212,11 @@ with left:
         key="g_amp",
         bind="query-params",
         disabled=not somd,
-        help="Keep a window when |A1/A2|, |A2/A3|, |A3/A4| are all within (1 − Γ, 1 + Γ).",
+        help=(
+            "somd-paper (as printed): keep a window when |A1/A2|, |A2/A3|, |A3/A4| are all "
+            "within (1 − Γ, 1 + Γ). somd: the same chain closed by |A4/A1|, each ratio within "
+            "a band of the same log-width centred on 1, so that −z keeps the same windows as z."
+        ),
         **dc.initial("g_amp", 0.5),
     )
     g_ang = st.slider(

@@ -86,7 +86,7 @@ def test_each_main_widget_changes_the_result(at, kind, key, value):
 def test_tracking_filter_by_value(at):
     before = _shown(at)
     at.radio(key="ht_mode").set_value("value").run()
-    at.select_slider(key="h_t").set_value("0.005").run()
+    at.select_slider(key="h_t").set_value("0.0001").run()
     _clean(at)
     assert _shown(at) != before
 

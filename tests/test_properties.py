@@ -63,10 +63,11 @@ scales = st.one_of(
 offsets = st.floats(min_value=-1e4, max_value=1e4, allow_nan=False, allow_infinity=False)
 
 
-#: Window selection uses the paper's chain |A1/A2|, |A2/A3|, |A3/A4| [19]: a
-#: sign flip swaps above/below (A1 <-> -A2, A3 <-> -A4) and changes the middle
-#: ratio, so for these cases only s > 0 is claimed (see the next test).
-SIGN_SENSITIVE = ("somd", "somd-multi-h", "somd-paper-scaled")
+#: somd-paper's selection uses the printed chain |A1/A2|, |A2/A3|, |A3/A4| [19]:
+#: a sign flip swaps above/below (A1 <-> -A2, A3 <-> -A4) and changes the middle
+#: ratio, so for it only s > 0 is claimed. somd's symmetric test closes the chain
+#: (A4/A1 too) and is claimed for every s (see the next test).
+SIGN_SENSITIVE = ("somd-paper-scaled",)
 
 
 @pytest.mark.parametrize("case", list(CASES))
@@ -85,7 +86,7 @@ def test_scaling_multiplies_the_variance_by_s_squared(case, family, seed, s):
 
 
 def test_sign_flip_and_window_selection():
-    """Without selection SOMD is odd-symmetric; with it, [19]'s chain is not."""
+    """somd keeps the same windows for -z; the printed chain of [19] does not."""
     z = _signal("fast-slow", 0)
     flat = nv.estimate(z, method="somd", select=False).variance
     assert nv.estimate(-z, method="somd", select=False).variance == pytest.approx(flat, rel=1e-9)
@@ -96,6 +97,12 @@ def test_sign_flip_and_window_selection():
     # above and below swap: A1 <-> -A2, A3 <-> -A4 (to rounding)
     np.testing.assert_allclose(b[:, [1, 0, 3, 2]], -a, rtol=1e-6, atol=1e-9)
     np.testing.assert_array_equal(flipped.details.selection.ang_ok, sel.details.selection.ang_ok)
+    np.testing.assert_array_equal(flipped.details.kept_windows, sel.details.kept_windows)
+    assert flipped.variance == pytest.approx(sel.variance, rel=1e-9)
+    # the printed test compares A1 with A4 after the flip: it keeps other windows
+    paper = nv.estimate(z, method="somd-paper")
+    paper_flipped = nv.estimate(-z, method="somd-paper")
+    assert not np.array_equal(paper.details.kept_windows, paper_flipped.details.kept_windows)
 
 
 @pytest.mark.parametrize("case", list(CASES))

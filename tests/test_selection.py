@@ -82,9 +82,15 @@ def test_amplitudes_a1_to_a4(synthetic_selection):
 
 def test_amplitude_threshold_is_strict_open_interval(synthetic_selection):
     z, smooth, track = synthetic_selection
-    # window 1: |A2/A3| is about 1/3, so it passes only once gamma_amp > 2/3
-    tight = select_windows(z, smooth, track, window=M, gamma_amp=0.6, noise_scale=1.0)
-    loose = select_windows(z, smooth, track, window=M, gamma_amp=0.75, noise_scale=1.0)
+    # window 1: |A2/A3| is about 1/3, so the printed test passes it only once gamma_amp > 2/3
+    paper = {"noise_scale": 1.0, "amplitude": "paper"}
+    tight = select_windows(z, smooth, track, window=M, gamma_amp=0.6, **paper)
+    loose = select_windows(z, smooth, track, window=M, gamma_amp=0.75, **paper)
+    assert not tight.amp_ok[1]
+    assert loose.amp_ok[1]
+    # the symmetric test: max/min about 3 passes once tanh(ln 3) = 0.8 < gamma_amp
+    tight = select_windows(z, smooth, track, window=M, gamma_amp=0.75, noise_scale=1.0)
+    loose = select_windows(z, smooth, track, window=M, gamma_amp=0.85, noise_scale=1.0)
     assert not tight.amp_ok[1]
     assert loose.amp_ok[1]
     # the angle threshold: window 2's 53 degrees passes at 60, fails at 50
@@ -418,3 +424,28 @@ def test_no_window_kept_carries_the_refused_estimate_for_drawing():
     np.testing.assert_array_equal(d.selection.ang_ok, by_hand.ang_ok)
     assert exc.summary == by_hand.rejection_summary()
     assert not d.kept_windows.any() and np.isnan(d.window_variance).all()
+
+
+def test_symmetric_amplitude_test_band_and_statistic():
+    """Symmetric test: every pair's max/min below sqrt((1+Γ)/(1-Γ)), A4/A1 included."""
+    from noisevar.selection import select_windows
+
+    z = nv.generate("fast-slow", n=6000, seed=3).measured
+    d = nv.estimate(z, method="somd", select=False).details
+    g = 0.3
+    sel = select_windows(z, d.smooth_output[0], d.track_output, 40, g, 90.0, skip=d.skip)
+    paper = select_windows(
+        z, d.smooth_output[0], d.track_output, 40, g, 90.0, skip=d.skip, amplitude="paper"
+    )
+    a = np.abs(sel.amplitudes)
+    pairs = np.stack([a[:, [0, 1, 2, 3]], a[:, [1, 2, 3, 0]]])
+    rho = pairs.max(axis=0) / pairs.min(axis=0)
+    expected = np.all(rho < np.sqrt((1 + g) / (1 - g)), axis=1)
+    np.testing.assert_array_equal(sel.amp_ok, expected)
+    np.testing.assert_allclose(sel.amplitude_deviation, np.tanh(np.log(rho)).max(axis=1))
+    assert sel.amplitude_ratios().shape[1] == 4 and paper.amplitude_ratios().shape[1] == 3
+    r = paper.amplitude_ratios()
+    np.testing.assert_array_equal(paper.amp_ok, np.all((r > 1 - g) & (r < 1 + g), axis=1))
+    assert 0 < sel.amp_ok.sum() < sel.n_windows and not np.array_equal(sel.amp_ok, paper.amp_ok)
+    with pytest.raises(NoisevarError, match="amplitude must be one of"):
+        select_windows(z, d.smooth_output[0], d.track_output, 40, g, 90.0, amplitude="x")

@@ -77,10 +77,32 @@ def window_status(selection: WindowSelection) -> NDArray:
 
 
 def amplitude_ratios(selection: WindowSelection) -> NDArray:
-    """The three ratios ``|A1/A2|, |A2/A3|, |A3/A4|`` of eq. [19] per window (NaN if undefined)."""
-    a = selection.amplitudes
-    with np.errstate(invalid="ignore", divide="ignore"):
-        return np.abs(a[:, [0, 1, 2]] / a[:, [1, 2, 3]])
+    """The amplitude ratios of eq. [19] the selection's test uses, per window (NaN if undefined).
+
+    ``|A1/A2|, |A2/A3|, |A3/A4|`` for the printed test, and ``|A4/A1|`` as
+    well for the symmetric one (:mod:`noisevar.selection`).
+    """
+    return selection.amplitude_ratios()
+
+
+def amplitude_ratio_labels(selection: WindowSelection) -> list[str]:
+    """``["A1/A2", "A2/A3", ...]``: the names of :func:`amplitude_ratios`' columns."""
+    return [f"A{i + 1}/A{j + 1}" for i, j in selection.amplitude_pairs]
+
+
+def amplitude_deviation(selection: WindowSelection) -> NDArray:
+    """The amplitude test's statistic per window: the test passes where it is below ``Γ_amp``."""
+    if selection.amplitude_deviation is not None:
+        return selection.amplitude_deviation
+    with np.errstate(invalid="ignore"):  # a selection built by hand: the printed test
+        return np.max(np.abs(amplitude_ratios(selection) - 1.0), axis=1)
+
+
+def _deviation_label(selection: WindowSelection) -> str:
+    pairs = ", ".join(f"|{x}|" for x in amplitude_ratio_labels(selection))
+    if selection.amplitude_test == "paper":
+        return f"max |r − 1|, r = {pairs}"
+    return f"max tanh|ln r|, r = {pairs}"
 
 
 def _runs(mask: NDArray) -> list[tuple[int, int]]:
@@ -319,6 +341,8 @@ def _rejection_marks(
             continue
         what = label if label != "transient" else "filter start-up transient"
         custom = np.column_stack([idx, ratios[idx], sel.angle_diff_deg[idx]])
+        k = ratios.shape[1]
+        values = ", ".join(f"%{{customdata[{c + 1}]:.3g}}" for c in range(k))
         out.append(
             go.Scattergl(
                 x=centre[idx],
@@ -334,9 +358,8 @@ def _rejection_marks(
                 customdata=custom,
                 hovertemplate=(
                     f"window %{{customdata[0]}}: {what}<br>"
-                    "|A1/A2|, |A2/A3|, |A3/A4| = %{customdata[1]:.3g}, %{customdata[2]:.3g}, "
-                    "%{customdata[3]:.3g}<br>angle difference %{customdata[4]:.3g}°"
-                    "<extra></extra>"
+                    f"{', '.join(f'|{x}|' for x in amplitude_ratio_labels(sel))} = {values}"
+                    f"<br>angle difference %{{customdata[{k + 1}]:.3g}}°<extra></extra>"
                 ),
             )
         )
@@ -353,10 +376,11 @@ def window_tests_figure(
 ) -> go.Figure:
     """Each window's two test statistics against the thresholds of eq. [19].
 
-    Abscissa: the worst amplitude-ratio deviation ``max |r - 1|`` over the
-    three ratios ``|A1/A2|, |A2/A3|, |A3/A4|`` (the amplitude test passes
-    below ``Γ_amp``); ordinate: the angle difference (passes below
-    ``Γ_ang``). Kept windows sit in the lower-left box; the dashed lines
+    Abscissa: the amplitude test's statistic (:func:`amplitude_deviation`:
+    ``max |r - 1|`` over ``|A1/A2|, |A2/A3|, |A3/A4|`` for the printed test,
+    ``max tanh|ln r|`` over those and ``|A4/A1|`` for the symmetric one; the
+    test passes below ``Γ_amp``); ordinate: the angle difference (passes
+    below ``Γ_ang``). Kept windows sit in the lower-left box; the dashed lines
     show how far a threshold must move to keep more windows.
 
     Parameters
@@ -376,9 +400,7 @@ def window_tests_figure(
     -------
     go.Figure
     """
-    ratios = amplitude_ratios(selection)
-    with np.errstate(invalid="ignore"):
-        dev = np.max(np.abs(ratios - 1.0), axis=1)
+    dev = amplitude_deviation(selection)
     undefined = ~np.isfinite(dev)
     cap = max(10.0, gamma_amp * 10)
     dev = np.where(undefined, cap, np.clip(dev, 1e-4, cap))
@@ -408,7 +430,7 @@ def window_tests_figure(
                 customdata=np.column_stack([idx, start[idx]]),
                 hovertemplate=(
                     f"window %{{customdata[0]}} at %{{customdata[1]:.4g}} {unit}<br>"
-                    "max |r-1| = %{x:.3g}<br>angle diff = %{y:.3g}°<extra>"
+                    "amplitude deviation = %{x:.3g}<br>angle diff = %{y:.3g}°<extra>"
                     f"{label}</extra>"
                 ),
             )
@@ -441,7 +463,7 @@ def window_tests_figure(
         height,
         xaxis={
             "type": "log",
-            "title": {"text": "amplitude test: max |r − 1|, r = |A1/A2|, |A2/A3|, |A3/A4|"},
+            "title": {"text": f"amplitude test: {_deviation_label(selection)}"},
         },
         yaxis={"type": "log", "title": {"text": "angle test: |atan a_S − atan a_T| (°)"}},
         shapes=[v_shape, h_shape],
@@ -1028,9 +1050,8 @@ def window_rows(est: VarianceEstimate, sample_period: float | None = None) -> li
         row["kept"] = bool(d.kept_windows[i])
         if sel is not None and status is not None and ratios is not None:
             row["status"] = status[i]
-            row["ratio_A1_A2"], row["ratio_A2_A3"], row["ratio_A3_A4"] = (
-                float(x) for x in ratios[i]
-            )
+            for label, x in zip(amplitude_ratio_labels(sel), ratios[i], strict=True):
+                row["ratio_" + label.replace("/", "_")] = float(x)
             row["angle_diff_deg"] = float(sel.angle_diff_deg[i])
         row["variance"] = float(d.window_variance[i])
         rows.append(row)
