@@ -122,24 +122,38 @@ def test_lfilter_equals_loop_from_arbitrary_state(h, output):
 @pytest.mark.parametrize("h", PAPER_HS)
 @pytest.mark.parametrize("output", OUTPUTS)
 def test_lfilter_equals_loop_at_paper_h(h, output):
-    """At the paper's small h the third-order direct form is ill-conditioned.
+    """At the paper's small h the default (error-form) pass still equals the recursion to 1e-12.
 
-    Its three poles sit within about alpha/2 of z = 1 and the rounding of
-    each lfilter step is amplified by up to ~1/h at DC, so the single-pass
-    lfilter realisation agrees with the per-sample state recursion only to
-    about 4e-9 (h=1e-7), 3e-11 (h=1.5e-5), 1e-11 (h=1e-4) and 5e-13 (h=9e-4)
-    relative (measured; the state recursion itself agrees with an 80-bit
-    reference to 1e-15). The bound below is the measured conditioning with a
-    3x margin; any wrong coefficient gives O(1) differences. See
-    test_lfilter_equals_loop_* for the 1e-12 check where the form is
-    well-conditioned.
+    The three poles sit within about alpha/2 of z = 1, so the rounding of each
+    step of a third-order recursion is amplified by up to ~1/h. Run as
+    ``lfilter(b, a, z)`` (the direct form, used for an explicit ``zi``) the
+    output agrees with the per-sample state recursion only to about 4e-9
+    (h=1e-7), 3e-11 (h=1.5e-5), 1e-11 (h=1e-4) and 5e-13 (h=9e-4) relative.
+    The default start runs the error filter ``κ (1 - z⁻¹)³ / A`` on the
+    third difference instead (``noisevar.abg._tracking_error``), whose
+    rounding is relative to the third difference, not the signal: measured
+    1.8e-10, 6.7e-13, 2.6e-13 and 1.5e-14. The bounds are those with a
+    margin (1e-12 from the paper's h = 1.5e-5 up); any wrong coefficient
+    gives O(1) differences. (The state recursion itself agrees with an
+    80-bit reference to 1e-15.)
     """
-    bound = {1e-7: 2e-8, 1.5e-5: 1.5e-10, 1e-4: 5e-11, 9e-4: 3e-12}[h]
+    direct = {1e-7: 2e-8, 1.5e-5: 1.5e-10, 1e-4: 5e-11, 9e-4: 3e-12}[h]
+    default = {1e-7: 6e-10, 1.5e-5: 1e-12, 1e-4: 1e-12, 9e-4: 1e-12}[h]
     z = _test_signal(seed=14)
     y0 = abg_filter(z, h, zi=np.zeros(3), output=output)
-    assert _rel_err(y0, abg_filter_loop(z, h, np.zeros(3), output=output)) < bound
+    assert _rel_err(y0, abg_filter_loop(z, h, np.zeros(3), output=output)) < direct
     y = abg_filter(z, h, output=output)
-    assert _rel_err(y, abg_filter_loop(z, h, _line_state(z), output=output)) < bound
+    assert _rel_err(y, abg_filter_loop(z, h, _line_state(z), output=output)) < default
+
+
+def test_default_start_equals_lfilter_with_steady_state_zi():
+    """The error form is the same filter as lfilter(b, a) from the steady-state zi."""
+    z = _test_signal(seed=21) + 1e3
+    for h in (1e-3, 2e-2):
+        for output in OUTPUTS:
+            b, a = abg_transfer_function(h, output)
+            ref, _ = signal.lfilter(b, a, z, zi=steady_state_zi(z, h, output=output))
+            assert _rel_err(abg_filter(z, h, output=output), ref) < 1e-12
 
 
 def test_predicted_output_does_not_use_the_current_sample():
@@ -367,11 +381,10 @@ def test_c_h_removes_the_somd_bias_on_white_noise(h):
 def test_a_large_offset_costs_no_precision(h):
     """A UTM-sized offset must not swamp the recursion (poles near 1 at small h).
 
-    The filter runs on z minus the head line's intercept, so the output for
-    z + c is the output for z plus c up to the rounding of c itself (4e6 has an
-    ulp of 5e-10, amplified by the poles near 1 to ~1e-7 at h = 1e-7); run
-    naively, lfilter's rounding would be relative to 4e6
-    (about 2e-2 absolute at h = 1e-7).
+    The error filter runs on the third difference of z - z[0], so the output
+    for z + c is the output for z plus c up to the rounding of c itself (4e6
+    has an ulp of 5e-10: measured 8e-8 at h = 1e-7); run naively, lfilter's
+    rounding would be relative to 4e6 (about 2e-2 absolute at h = 1e-7).
     """
     rng = np.random.default_rng(3)
     z = 300 * np.cos(np.pi / 200 * np.arange(6000)) + rng.normal(0, 5, 6000)
