@@ -115,8 +115,9 @@ if results is not None:
     ]
     st.dataframe(rows, hide_index=True, width="stretch")
     st.caption(
-        "ekf: fixed noise designed for the C/N0 above; aekf: adapts R (eq. 22) and a "
-        "stabilised Q from the same design; ekf_matched: knows the true noise (the bound); "
+        "ekf: fixed noise designed for the C/N0 above; aekf: adapts R (eq. 22, its window "
+        "starting full of the design R) and a stabilised Q from the same design; ekf_matched: "
+        "knows the true noise (the bound); "
         "aekf_paper_q: the paper's Q of eq. 26, which runs away (a finding we report)."
     )
     view = st.segmented_control(
@@ -182,7 +183,9 @@ dc.how_it_works(
     "**Adaptation.** Over a window of $W$ periods, the residuals give $R$ (eq. 22, positive "
     "definite) and the innovations give $Q$ (eq. 26, as printed; it feeds on itself and "
     "runs away, so our AEKF scales the design $Q$ only when the innovations leave their "
-    "$\\chi^2$ band):",
+    "$\\chi^2$ band). Our window starts full of the design $R$, each residual replacing one "
+    "entry: started from the paper's running mean, a few pull-in residuals set $R$ alone, "
+    "inflate it and stall the loop (the AEKF's only slips, at 30 dB-Hz):",
     "$$\\hat R = \\overline{r r^\\top} + HP_{k|k}H^\\top,\\qquad \\hat Q = K\\,\\overline{d "
     "d^\\top}\\,K^\\top$$",
     "A cycle slip is a jump of the phase error by a whole cycle: the loop has lost lock.",

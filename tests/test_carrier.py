@@ -18,6 +18,8 @@ from noisevar.carrier import (
     nominal_measurement_variance,
     run_carrier,
     simulate_channel,
+    slip_rates,
+    wilson_interval,
 )
 from noisevar.errors import NoisevarError
 from noisevar.experiments.carrier import EXPERIMENT
@@ -154,6 +156,7 @@ def test_scaled_q_band_and_bounds() -> None:
         {"q_bound": 1.0},
         {"q_bound": np.inf},
         {"coverage": 1.0},
+        {"r_start": "zero"},
     ):
         with pytest.raises(NoisevarError):
             AdaptiveCarrierQR(**bad)
@@ -172,6 +175,9 @@ def test_scaled_q_band_and_bounds() -> None:
         lambda: run_carrier(CarrierScenario(**SHORT), "ekf", jerk_psd=0.0),
         lambda: simulate_channel(CarrierScenario(cn0_dbhz=-1.0)),
         lambda: run_carrier(CarrierScenario(**SHORT), "aekf", q_rule="eq25"),
+        lambda: run_carrier(CarrierScenario(**SHORT), "aekf", r_start="empty"),
+        lambda: slip_rates((30.0,), runs=0),
+        lambda: wilson_interval(3, 2),
         lambda: run_carrier(CarrierScenario(**SHORT), "ekf", nominal_cn0_dbhz=-45.0),
         lambda: run_carrier(CarrierScenario(**SHORT), "ekf", nominal_doppler_rate_hz_s=0.0),
         lambda: nominal_jerk_psd(CarrierScenario(doppler_rate_hz_s=0.0), 25.0),
@@ -229,3 +235,71 @@ def test_experiment_with_the_matched_design() -> None:
     # designed for the actual C/N0 and dynamics, the fixed EKF is the matched one
     assert m["rms_phase_error_ekf_rad"] == m["rms_phase_error_ekf_matched_rad"]
     assert m["sweep"]["cn0_dbhz"] == []
+
+
+def test_design_start_blends_the_design_r_into_the_first_window() -> None:
+    """``r_start="design"``: after k < W residuals, R = (1 - k/W) R_design + (k/W) R_eq22."""
+    scen = CarrierScenario(cn0_dbhz=30.0, **SHORT)
+    kw = {"seed": 5, "runs": 3, "window": 20, "nominal_cn0_dbhz": 45.0, "q_rule": "scaled"}
+    running = run_carrier(scen, "aekf", r_start="running", **kw)
+    design = run_carrier(scen, "aekf", **kw)
+    r_design = 10**-1.5
+    # step 0 uses the design R in both; step 1 uses one residual (same in both)
+    np.testing.assert_allclose(design.R_track[:, 0], r_design)
+    np.testing.assert_allclose(
+        design.R_track[:, 1], (1 - 1 / 20) * r_design + running.R_track[:, 1] / 20, rtol=1e-12
+    )
+    # the Q scale is not moved before its NIS window holds 20 steps of pure eq. (22) R
+    assert np.all(design.Q_phase_track[:, :41] == design.Q_phase_track[:, :1])
+
+
+def test_design_start_prevents_the_pull_in_lock_out() -> None:
+    """Seeded pull-in where the paper's running mean inflates R and the loop slips."""
+    scen = CarrierScenario(cn0_dbhz=30.0, duration_s=2.0, manoeuvres_s=(1.0, 1.5))
+    v = comparison_variants(45.0)
+    res = compare(
+        scen,
+        {"running": {**v["aekf"], "r_start": "running"}, "design": v["aekf"]},
+        seed=2054,
+        runs=8,
+    )
+    running, design = res["running"], res["design"]
+    assert running.slipped[7] and not design.slipped.any()
+    # the lock-out: a few pull-in residuals take the running R far above the truth (1)
+    assert running.R_track[7, 2:10, 0].max() > 2.0
+    assert design.R_track[7, 2:10, 0].max() < 1.0
+
+
+def test_wilson_interval() -> None:
+    lo, hi = wilson_interval(0, 1000)
+    assert lo == 0.0 and hi == pytest.approx(0.00383, abs=1e-5)
+    lo, hi = wilson_interval(10, 100)
+    assert (lo, hi) == pytest.approx((0.0552, 0.1744), abs=1e-4)
+    assert wilson_interval(100, 100)[1] == 1.0
+
+
+def test_slip_rates_count_the_runs_that_slipped() -> None:
+    scen = CarrierScenario(**SHORT)
+    v = comparison_variants(45.0)
+    variants = {"ekf": v["ekf"], "aekf": v["aekf"], "ekf_again": v["ekf"]}
+    rates = slip_rates((24.0,), runs=6, seed=3, variants=variants, scenario=scen, chunk=4)
+    # chunks of 4 and 2 runs, seeds 3 and 4
+    direct = [
+        compare(CarrierScenario(**{**SHORT, "cn0_dbhz": 24.0}), variants, seed=s, runs=b)
+        for s, b in ((3, 4), (4, 2))
+    ]
+    for name in variants:
+        assert rates.slipped[name][0] == sum(int(d[name].slipped.sum()) for d in direct)
+        lo, hi = rates.ci95[name][0]
+        assert lo <= rates.slipped[name][0] / 6 <= hi
+        assert rates.before_manoeuvre[name][0] <= rates.slipped[name][0]
+        assert rates.unlocked_at_end[name][0] <= rates.slipped[name][0]
+        pooled = np.concatenate(
+            [d[name].phase_error[:, d[name].settle_steps :].ravel() for d in direct]
+        )
+        assert rates.rms_phase_error_rad[name][0] == pytest.approx(np.sqrt(np.mean(pooled**2)))
+    assert rates.slipped["ekf"][0] > 0  # 24 dB-Hz against a 45 dB-Hz design
+    np.testing.assert_array_equal(rates.discordant["ekf_again"], [[0, 0]])
+    assert rates.p_value["ekf_again"][0] == 1.0
+    d = rates.discordant["aekf"][0]
+    assert rates.slipped["aekf"][0] - rates.slipped["ekf"][0] == d[1] - d[0]

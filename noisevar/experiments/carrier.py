@@ -40,14 +40,16 @@ FILTERS = ("ekf", "aekf", "ekf_matched", "aekf_r_only", "aekf_paper_q")
 DEFINITIONS = {
     "ekf": "fixed-noise EKF designed for nominal conditions: R for --nominal-cn0 "
     "(phase-noise variance R/A^2 = 1/(2 (C/N0)_nom T)), Q for --nominal-doppler-rate",
-    "aekf": "adaptive EKF from the same design: windowed residual R (eq. 22) and Q = lambda "
+    "aekf": "adaptive EKF from the same design: windowed residual R (eq. 22; the window "
+    "starts full of the design R, each residual replacing one entry) and Q = lambda "
     "Q_design, lambda moved only when the windowed tangential NIS leaves its 99 % chi-square "
     "band (stabilised replacement for eq. 26)",
     "ekf_matched": "reference EKF with the true R and the Q matched to the scenario's "
     "manoeuvres (not a realisable fixed design across C/N0)",
-    "aekf_r_only": "adaptive EKF from the nominal design, eq. 22 only (Q kept)",
+    "aekf_r_only": "adaptive EKF from the nominal design, eq. 22 only (Q kept; the same "
+    "design-filled start of the window)",
     "aekf_paper_q": "adaptive EKF from the nominal design, eq. 22 and Q = K C_d K^T (eq. 26) "
-    "as printed in the paper",
+    "as printed in the paper (with its running-mean start of the windows, eq. 14)",
     "loss_of_lock": "fraction of runs whose whole-cycle count of the unwrapped phase error "
     "changes after the first 0.5 s",
 }
@@ -185,7 +187,8 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
             "K C_d K^T = P(k|k-1) - P(k|k), so P cannot shrink; see "
             "q_phase_aekf_paper_q_growth",
             "with no slip in the fixed EKF, 'fewer slips' cannot hold at that C/N0; the sweep "
-            "shows where the fixed design slips",
+            "shows where the fixed design slips (benchmarks/seeds.py counts slips over 1000 "
+            "runs per C/N0 with intervals)",
         ],
     }
 
