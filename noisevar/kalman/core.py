@@ -69,10 +69,22 @@ from scipy import stats
 from ..errors import NoisevarError
 from .result import FilterResult, wrap_angle
 
+try:  # compiled per-step kernels (numba); the numpy path below is the reference
+    from . import _kernels
+except ImportError:  # pragma: no cover - numba not installed
+    _kernels = None
+
 if TYPE_CHECKING:  # pragma: no cover
     from .strategies import RStrategy
 
 ModelFunction = Callable[[NDArray, int], NDArray]
+TransitionFunction = Callable[[NDArray, int, NDArray, NDArray], None]
+
+#: Filters constructed while this is true run their per-step arithmetic in the
+#: compiled kernels of :mod:`noisevar.kalman._kernels` (when numba is
+#: installed); false selects the plain-numpy reference path (same results to
+#: rounding, several times slower for small batches).
+USE_COMPILED: bool = _kernels is not None
 
 _SYM_TOL = 1e-9
 
@@ -359,6 +371,13 @@ class StateSpaceModel:
         Labels for tables and figures.
     name : str
         A label for the model.
+    transition : callable, optional
+        A fused, in-place form of ``f`` and ``F_jacobian`` for speed:
+        ``transition(x, k, x_out, F_out)`` writes ``f(x, k)`` into ``x_out``
+        (shape ``(B, n)``) and ``F_jacobian(x, k)`` into ``F_out``
+        (``(B, n, n)``), for example a compiled kernel. The compiled filter
+        path uses it instead of ``f`` and ``F_jacobian`` (which are still
+        required, and checked to agree with it on ``x0``).
     """
 
     Q: NDArray
@@ -377,6 +396,7 @@ class StateSpaceModel:
     state_names: tuple[str, ...] = ()
     measurement_names: tuple[str, ...] = ()
     name: str = ""
+    transition: TransitionFunction | None = None
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
@@ -408,6 +428,8 @@ class StateSpaceModel:
                 raise NoisevarError("an extended model needs callables f and F_jacobian")
             if self.F is not None:
                 raise NoisevarError("give either F or f, not both")
+        if self.transition is not None and (self.f is None or not callable(self.transition)):
+            raise NoisevarError("transition must be a callable, given together with f")
         if self.h is None:
             if self.H is None:
                 raise NoisevarError("give either a measurement matrix H or a function h")
@@ -459,6 +481,20 @@ class StateSpaceModel:
                     f"model function {name} returned shape {out.shape} for a (1, {n}) batch, "
                     f"expected {shape}"
                 )
+        if self.transition is not None:
+            x_out, F_out = np.empty((1, n)), np.empty((1, n, n))
+            try:
+                self.transition(xb.copy(), 0, x_out, F_out)
+            except Exception as exc:  # noqa: BLE001 - report the user's function failure
+                raise NoisevarError(
+                    f"model function transition failed on x0 with a (1, {n}) batch: {exc!r}"
+                ) from exc
+            f0 = np.asarray(self.f(xb.copy(), 0), dtype=float)
+            F0 = np.broadcast_to(np.asarray(self.F_jacobian(xb.copy(), 0), dtype=float), (1, n, n))
+            scale = 1.0 + np.max(np.abs(f0)) + np.max(np.abs(F0))
+            if not (np.allclose(x_out, f0, rtol=1e-9, atol=1e-12 * scale)
+                    and np.allclose(F_out, F0, rtol=1e-9, atol=1e-12 * scale)):
+                raise NoisevarError("transition disagrees with f / F_jacobian on x0")
 
     @property
     def n_states(self) -> int:
@@ -680,6 +716,32 @@ class KalmanFilter:
         self._closed_form = B >= _CLOSED_FORM_FROM and m <= 4
         self._Ft = None if self.model.F is None else np.ascontiguousarray(self.model.F.T)
         self._Ht = None if self.model.H is None else np.ascontiguousarray(self.model.H.T)
+        # operands of the compiled kernels (see _kernels: shared operands are 3-D)
+        self._fast = bool(USE_COMPILED and _kernels is not None and self.robust is None)
+        if self._identity_H:
+            self._kind = 0
+        elif self._sel is not None:
+            self._kind = 1
+        elif self.model.h is None:
+            self._kind = 2
+        else:
+            self._kind = 3
+        if _kernels is not None:
+            self._cfg = _kernels.config(self._kind, self.model.angle_measurements, self._sel)
+            self._work = np.empty(_kernels.work_size(n, m))
+        self._nt = (None,) * n  # the dimensions, as compile-time constants of the kernels
+        self._shape_x, self._shape_z = (B, n), (B, m)
+        self._shape_P, self._shape_R, self._shape_K = (B, n, n), (B, m, m), (B, n, m)
+        self._scratch_buf: tuple[NDArray, ...] | None = None
+        self._mt = (None,) * m
+        self._H3 = (
+            np.ascontiguousarray(self.model.H[None])
+            if self.model.H is not None
+            else np.zeros((1, m, n))
+        )
+        self._F3 = None if self.model.F is None else np.ascontiguousarray(self.model.F[None])
+        self._Q3 = self.model.Q[None]
+        self._R3 = self.model.R[None]
         self.strategy.start(self)
 
     # ------------------------------------------------------------------ steps
@@ -694,6 +756,9 @@ class KalmanFilter:
         nothing is copied afterwards; ``None`` allocates fresh arrays. Either
         way every step's arrays are new memory (a caller may keep them).
         """
+        if self._fast:
+            self._predict_compiled(x_out, P_out)
+            return
         k = self.k + 1
         self.k = k
         model = self.model
@@ -720,6 +785,147 @@ class KalmanFilter:
         self.x_pred = x_pred
         self.P_pred = P_pred
         self.F_used = F
+
+    def _stack3(self, a: ArrayLike, rows: int, cols: int, name: str) -> NDArray:
+        """``a`` as a float array of shape (1 or B, rows, cols) for the kernels."""
+        if type(a) is not np.ndarray or a.dtype != np.float64:
+            a = np.asarray(a, dtype=float)
+        if a.ndim == 2 and a.shape == (rows, cols):
+            return a[None]
+        if a.ndim == 3 and a.shape[1:] == (rows, cols) and a.shape[0] in (1, self.batch_size):
+            return a
+        try:
+            return np.broadcast_to(a, (self.batch_size, rows, cols))
+        except ValueError:
+            raise NoisevarError(
+                f"{name} has shape {a.shape}; expected ({rows}, {cols}) or "
+                f"({self.batch_size}, {rows}, {cols})"
+            ) from None
+
+    def _predict_compiled(self, x_out: NDArray | None, P_out: NDArray | None) -> None:
+        """:meth:`_predict` in the compiled kernels (same arithmetic, same hook)."""
+        k = self.k + 1
+        self.k = k
+        model = self.model
+        Q = self.strategy.process_covariance(self)
+        if Q is None:
+            Q = model.Q
+        self.Q = Q
+        x = self.x
+        if Q is model.Q:
+            Q3 = self._Q3
+        elif type(Q) is np.ndarray and Q.shape == self._shape_P:
+            Q3 = Q
+        else:
+            Q3 = self._stack3(Q, self.n, self.n, "Q")
+        if x_out is None:
+            x_out = np.empty(self._shape_x)
+        if P_out is None:
+            P_out = np.empty(self._shape_P)
+        if model.f is None:
+            F = model.F
+            _kernels.predict_linear(self._F3, x, self.P, Q3, x_out, P_out, self._nt)
+        else:
+            if model.transition is not None:
+                F = F3 = np.empty(self._shape_P)
+                model.transition(x, k, x_out, F)
+            else:
+                F = model.F_jacobian(x, k)
+                x_out[...] = model.f(x, k)
+                F3 = self._stack3(F, self.n, self.n, "F_jacobian")
+            _kernels.predict_cov(F3, self.P, Q3, P_out, self._nt)
+        self.x_pred = x_out
+        self.P_pred = P_out
+        self.F_used = F
+
+    def _scratch(self) -> tuple[NDArray, ...]:
+        """``x, P, r, S, S_inv, K`` buffers of the intermediate update iterations."""
+        buf = self._scratch_buf
+        if buf is None:
+            B, n, m = self.batch_size, self.n, self.m
+            buf = self._scratch_buf = (
+                np.empty((B, n)), np.empty((B, n, n)), np.empty((B, m)),
+                np.empty((B, m, m)), np.empty((B, m, m)), np.empty((B, n, m)),
+            )
+        return buf
+
+    def _update_compiled(self, z: NDArray, out: tuple[NDArray, ...] | None = None) -> None:
+        """:meth:`_update` in the compiled kernels (same arithmetic, same hooks)."""
+        model = self.model
+        kind = self._kind
+        self.z = z
+        x_pred, P_pred = self.x_pred, self.P_pred
+        cfg = self._cfg
+        if out is None:
+            d = np.empty(self._shape_z)
+        else:
+            x_o, P_o, d, r_o, S_o = out
+        if kind == 0:
+            H, H3 = model.H, self._H3
+            z_pred = x_pred
+            PHt = HPHt = P_pred
+            _kernels.innovation(z, x_pred, cfg, d)
+        else:
+            if kind == 3:
+                H = model.H_jacobian(x_pred, self.k)
+                H3 = self._stack3(H, self.m, self.n, "H_jacobian")
+                z_pred = np.asarray(model.h(x_pred, self.k), dtype=float)
+            else:
+                H, H3 = model.H, self._H3
+                z_pred = np.empty(self._shape_z)
+            PHt = np.empty(self._shape_K)
+            HPHt = np.empty(self._shape_R)
+            _kernels.measure(
+                z, x_pred, P_pred, H3, cfg, z_pred, d, PHt, HPHt, self._nt, self._mt
+            )
+        self.PHt = PHt
+        self.HPHt = HPHt
+        self.z_pred = z_pred
+        self.H_used = H
+        self.innovation = d
+        strategy = self.strategy
+        R = strategy.measurement_covariance(self)
+        n_it = strategy.iterations
+        shape_R = self._shape_R
+        gain = _kernels.gain_update
+        for it in range(n_it):
+            if it:
+                R = strategy.refine(self)
+            self.R = R
+            if R is model.R:
+                R3 = self._R3
+            elif type(R) is np.ndarray and R.shape == shape_R:
+                R3 = R
+            else:
+                R3 = self._stack3(R, self.m, self.m, "R")
+            if it + 1 < n_it:  # feeds only the strategy's next R: scratch memory
+                x, P, r, S, S_inv, K = self._scratch()
+                final = False
+            else:
+                final = True
+                if out is None:
+                    x = np.empty(self._shape_x)
+                    P = np.empty(self._shape_P)
+                    r = np.empty(self._shape_z)
+                    S = np.empty(shape_R)
+                else:
+                    x, P, r, S = x_o, P_o, r_o, S_o
+                S_inv = np.empty(shape_R)
+                K = np.empty(self._shape_K)
+            gain(
+                x_pred, P_pred, R3, d, H3, cfg, z, final, S, S_inv, K, x, P, r, self._work,
+                self._nt, self._mt,
+            )
+            self.S = S
+            self.S_inv = S_inv
+            self.K = K
+            self.x = x
+            self.P = P
+            if kind == 3:
+                self._residual(r)
+            else:
+                self.residual = r
+        strategy.observe(self)
 
     def update(self, z: ArrayLike) -> None:
         """Measurement update with ``z`` of shape ``(B, m)`` (or ``(m,)`` when ``B = 1``).
@@ -761,6 +967,9 @@ class KalmanFilter:
         ``(x, P, innovation, residual, S)`` of this step, which the final
         update iteration writes into (see :meth:`_predict`).
         """
+        if self._fast:
+            self._update_compiled(z, out)
+            return
         model = self.model
         self.z = z
         x_pred = self.x_pred
@@ -1082,7 +1291,13 @@ def run_filter(
     check_every = max(1, int(div.check_every))
     next_check = min(check_every, N)
     last_check = 0
-    predict, update = filt._predict, filt._update
+    if filt._fast:
+        predict, update = filt._predict_compiled, filt._update_compiled
+    else:
+        predict, update = filt._predict, filt._update
+    # predictions that are not recorded go to two alternating buffers (a
+    # hook may still read the previous step's)
+    pred_buf = [(np.empty((B, n)), np.empty((B, n, n))) for _ in range(2)]
     model_R, model_Q = model.R, model.Q
     # a singular S or a NaN state gives NaN (no exception, no warning) and is
     # reported by the divergence checks below
@@ -1094,7 +1309,7 @@ def run_filter(
                 xp_k, Pp_k = xp_rec[k], Pp_rec[k]
                 predict(xp_k, Pp_k)
             else:
-                predict(None, None)
+                predict(*pred_buf[k & 1])
             out = (x_rec[k], P_rec[k], d_rec[k], r_rec[k], S_rec[k])
             update(z_steps[k], out)
             if filt.x is not out[0]:

@@ -13,7 +13,7 @@ every step, the per-channel smoothing ``h`` for the SOMD estimator, and a
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -226,6 +226,21 @@ def _gps_f(T: float):
     return f, F_jacobian
 
 
+def _gps_transition(T: float) -> Callable[[NDArray, int, NDArray, NDArray], None] | None:
+    """Model [20] and its Jacobian in one compiled kernel (``StateSpaceModel.transition``)."""
+    from . import core
+
+    kernels = core._kernels
+    if kernels is None:  # pragma: no cover - numba not installed
+        return None
+    kernel = kernels.gps_transition
+
+    def transition(x: NDArray, k: int, x_out: NDArray, F_out: NDArray) -> None:
+        kernel(x, T, x_out, F_out)
+
+    return transition
+
+
 def gps_circle(
     runs: int = 1,
     seed: int | None = 0,
@@ -288,6 +303,7 @@ def gps_circle(
     R_true = np.broadcast_to(np.diag(std**2), (N, 4, 4))
     f, F_jac = _gps_f(T)
     model = StateSpaceModel(
+        transition=_gps_transition(T),
         Q=gps_process_noise(T) if Q is None else Q,
         R=np.diag(GPS_R0),
         x0=z[0, 0],

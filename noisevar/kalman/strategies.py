@@ -46,6 +46,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import NoisevarError
+from . import core
 from .core import check_covariance
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -174,6 +175,18 @@ class _MovingMean:
     def mean(self) -> NDArray:
         return self.sum / min(self.count, self.size)
 
+    def advance(self) -> None:
+        """Count a push a compiled kernel made (it updated ``buf`` and ``sum`` in place)."""
+        self.count += 1
+        self.pos += 1
+        if self.pos == self.size:
+            self.pos = 0
+
+
+def _compiled(filt: KalmanFilter) -> bool:
+    """Whether the strategy hooks of ``filt`` use the compiled kernels too."""
+    return filt._fast
+
 
 # --------------------------------------------------------------------------- fixed, oracle
 class FixedR(RStrategy):
@@ -278,7 +291,22 @@ class _WindowedR(RStrategy):
         self._cov = _MovingMean(self.window, shape)
         self._R = np.repeat(filt.model.R[None], B, axis=0)
         self._floor = self.floor * np.diag(filt.model.R)
-        self.guard_count = np.zeros(B, dtype=int)
+        self.guard_count = np.zeros(B, dtype=np.int64)
+        self._fast = _compiled(filt) and self.diagonal
+        self._no_R = np.empty((0, 0, 0))
+
+    def _window_step(self, u: NDArray, hph: NDArray, sign: float) -> NDArray | None:
+        """Compiled push of ``u²`` and, once warmed up, ``R = diag(mean ± hph)`` (guarded)."""
+        cov = self._cov
+        adapt = cov.count + 1 >= self.warmup
+        B, m = u.shape
+        R = np.empty((B, m, m)) if adapt else self._no_R
+        core._kernels.window_diag(
+            cov.buf, cov.sum, cov.count, cov.pos, u, hph, sign, adapt, self._floor,
+            self.guard_count, R,
+        )
+        cov.advance()
+        return self._guard_dead(R) if adapt else None
 
     @staticmethod
     def _outer(v: NDArray, diagonal: bool) -> NDArray:
@@ -334,6 +362,11 @@ class ResidualR(_WindowedR):
     def observe(self, filt: KalmanFilter) -> None:
         r = filt.residual
         HPHt = filt.project(filt.P)
+        if self._fast:
+            R = self._window_step(r, _diag(HPHt), 1.0)
+            if R is not None:
+                self._R = R
+            return
         self._cov.push(self._outer(r, self.diagonal))
         if self._cov.count >= self.warmup:
             hph = _diag(HPHt) if self.diagonal else HPHt
@@ -359,6 +392,9 @@ class InnovationR(_WindowedR):
     name = "iae"
 
     def measurement_covariance(self, filt: KalmanFilter) -> NDArray:
+        if self._fast:
+            R = self._window_step(filt.innovation, _diag(filt.HPHt), -1.0)
+            return self._guard_dead(self._R) if R is None else R
         self._cov.push(self._outer(filt.innovation, self.diagonal))
         if self._cov.count < self.warmup:
             return self._guard_dead(self._R)
@@ -409,6 +445,17 @@ class ResidualQR(ResidualR):
     def observe(self, filt: KalmanFilter) -> None:
         super().observe(filt)
         d = filt.innovation
+        if self._fast:
+            innov = self._innov
+            adapt = innov.count + 1 >= self.warmup
+            Q = np.empty((filt.batch_size, filt.n, filt.n)) if adapt else self._no_R
+            core._kernels.outer_q(
+                innov.buf, innov.sum, innov.count, innov.pos, d, adapt, filt.K, Q
+            )
+            innov.advance()
+            if adapt:
+                self._Q = Q
+            return
         self._innov.push(d[:, :, None] * d[:, None, :])
         if self._innov.count >= self.warmup:
             K = filt.K
@@ -470,6 +517,15 @@ class SageHusaR(_WindowedR):
         dk = (1.0 - b) / (1.0 - self._power)
         d = filt.innovation
         hph = _diag(filt.HPHt) if self.diagonal else filt.HPHt
+        if self._fast:
+            B, m = d.shape
+            est = np.empty((B, m))
+            R = np.empty((B, m, m))
+            core._kernels.sage_husa_diag(
+                self._est, d, hph, dk, self._floor, self.guard_count, est, R
+            )
+            self._est = est
+            return self._guard_dead(R)
         outer = self._outer(d, self.diagonal)
         est = (1.0 - dk) * self._est + dk * (outer - hph)
         if self.diagonal:
@@ -541,12 +597,31 @@ class VariationalBayesR(RStrategy):
         self._alpha = np.full((B, m), self.alpha0)
         self._beta = np.repeat(beta0[None], B, axis=0)
         self._beta_pred = self._beta
+        self._fast = _compiled(filt)
+        if self._fast:  # the compiled hooks update α, β, β⁻ in place
+            self._beta_pred = np.empty_like(self._beta)
+            self._no_R = np.empty((0, 0, 0))
+            self._no_hph = np.empty((0, 0))
+            self._shape_R = (B, m, m)
 
     def _r_hat(self) -> NDArray:
         return self._guard_dead(_diag_matrix(self._beta / self._alpha))
 
+    def _beta_compiled(self, filt: KalmanFilter, want_R: bool) -> NDArray:
+        R = np.empty(self._shape_R) if want_R else self._no_R
+        P = filt.P
+        hph = self._no_hph if filt._kind == 0 else _diag(filt.project(P))
+        core._kernels.vb_beta(
+            self._beta_pred, filt.residual, P, hph, self._alpha, self._beta, R, want_R
+        )
+        return self._guard_dead(R) if self._any_dead and want_R else R
+
     def measurement_covariance(self, filt: KalmanFilter) -> NDArray:
         rho = self.rho
+        if self._fast:
+            R = np.empty(self._shape_R)
+            core._kernels.vb_predict(self._alpha, self._beta, rho, self._beta_pred, R)
+            return self._guard_dead(R) if self._any_dead else R
         self._alpha = rho * self._alpha + 0.5
         self._beta_pred = rho * self._beta
         self._beta = self._beta_pred
@@ -558,10 +633,15 @@ class VariationalBayesR(RStrategy):
         self._beta = self._beta_pred + 0.5 * r * r + 0.5 * _diag(HPHt)
 
     def refine(self, filt: KalmanFilter) -> NDArray:
+        if self._fast:
+            return self._beta_compiled(filt, True)
         self._update_beta(filt)
         return self._r_hat()
 
     def observe(self, filt: KalmanFilter) -> None:
+        if self._fast:
+            self._beta_compiled(filt, False)
+            return
         self._update_beta(filt)
 
     def reset_runs(self, filt: KalmanFilter, runs: NDArray) -> None:

@@ -1,0 +1,567 @@
+"""Compiled (numba) kernels of the filter core's per-step arithmetic.
+
+Each kernel does, for one step of a whole batch, what a few dozen numpy
+calls on tiny (``n, m <= 10``) arrays did before: numpy's per-call overhead
+(about a microsecond) dominated a 4-state EKF step, while the arithmetic
+itself is a few hundred flops per run. The kernels loop over the batch axis
+``B``, so a single run (``B = 1``) and a Monte Carlo batch go through the same
+code. The state and measurement dimensions reach the kernels as the lengths
+of the tuples ``nt = (None,) * n`` and ``mt = (None,) * m``: a tuple's length
+is a compile-time constant, so each ``(n, m)`` gets loops of constant trip
+count that the compiler unrolls (3 to 4 times faster than loops over array
+shapes for 4 x 4 matrices).
+
+Conventions
+-----------
+* Operands that may be shared by the whole batch (``F``, ``Q``, ``H``, ``R``)
+  are 3-D with a leading axis of size 1 (shared) or ``B`` (per run).
+* ``kind`` says how the measurement is formed: ``0`` identity ``H`` (the
+  prediction is the predicted measurement), ``1`` a selection of states
+  (``sel``), ``2`` a linear ``H``, ``3`` a user function ``h`` (the caller
+  computes ``h(x)`` and the residual).
+* The arithmetic follows the numpy expressions of
+  :mod:`noisevar.kalman.core` and :mod:`noisevar.kalman.strategies` term by
+  term (same products, same order of sums), so both paths agree to rounding
+  (tested to 1e-10).
+* ``cache=True``: compiled once per machine into ``__pycache__``; a cold
+  cache costs a few seconds at the first filter run.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+_PI = math.pi
+_TWO_PI = 2.0 * math.pi
+
+_jit = njit(cache=True, nogil=True)
+#: helpers inlined into the kernels, so that the constant sizes reach their loops
+_inline = njit(cache=True, nogil=True, inline="always")
+
+
+@_jit
+def _wrap(v: float) -> float:
+    # Python's / numba's float % is the floored modulo of np.mod
+    return (v + _PI) % _TWO_PI - _PI
+
+
+@_inline
+def _inv_lu(a, out, lu, piv, m):  # pragma: no cover - compiled
+    """Inverse of one small matrix by LU with partial pivoting (as LAPACK ``gesv``).
+
+    An exactly zero pivot (a singular matrix) gives NaN, like the LAPACK path.
+    """
+    for i in range(m):
+        for j in range(m):
+            lu[i, j] = a[i, j]
+        piv[i] = float(i)
+    for c in range(m):
+        p = c
+        best = abs(lu[c, c])
+        for i in range(c + 1, m):
+            v = abs(lu[i, c])
+            if v > best:
+                best = v
+                p = i
+        if lu[p, c] == 0.0:
+            for i in range(m):
+                for j in range(m):
+                    out[i, j] = np.nan
+            return
+        if p != c:
+            for j in range(m):
+                t = lu[c, j]
+                lu[c, j] = lu[p, j]
+                lu[p, j] = t
+            t2 = piv[c]
+            piv[c] = piv[p]
+            piv[p] = t2  # pivot indices stored as floats (exact)
+        inv_p = 1.0 / lu[c, c]
+        for i in range(c + 1, m):
+            lu[i, c] *= inv_p
+        for i in range(c + 1, m):
+            l_ic = lu[i, c]
+            if l_ic != 0.0:
+                for j in range(c + 1, m):
+                    lu[i, j] -= l_ic * lu[c, j]
+    # solve L U X = P I column by column
+    for col in range(m):
+        for i in range(m):
+            out[i, col] = 1.0 if piv[i] == float(col) else 0.0
+        for i in range(m):  # forward, unit lower
+            s = out[i, col]
+            for j in range(i):
+                s -= lu[i, j] * out[j, col]
+            out[i, col] = s
+        for i in range(m - 1, -1, -1):  # backward
+            s = out[i, col]
+            for j in range(i + 1, m):
+                s -= lu[i, j] * out[j, col]
+            out[i, col] = s / lu[i, i]
+
+
+@_inline
+def _cov_into(Fb, Pb, Qb, out, T, n):  # pragma: no cover - compiled
+    """``out = (F P) Fᵀ + Q`` for one member (``T`` scratch)."""
+    for i in range(n):
+        for j in range(n):
+            s = 0.0
+            for k in range(n):
+                s += Fb[i, k] * Pb[k, j]
+            T[i, j] = s
+    for i in range(n):
+        for j in range(n):
+            s = 0.0
+            for k in range(n):
+                s += T[i, k] * Fb[j, k]
+            out[i, j] = s + Qb[i, j]
+
+
+@_jit
+def predict_linear(F, x, P, Q, x_out, P_out, nt):  # pragma: no cover - compiled
+    """``x_out = F x``, ``P_out = F P Fᵀ + Q`` (``F``, ``Q`` of shape (1 or B, n, n))."""
+    B = x.shape[0]
+    n = len(nt)
+    T = np.empty((n, n))
+    fb = F.shape[0] > 1
+    qb = Q.shape[0] > 1
+    for b in range(B):
+        Fb = F[b if fb else 0]
+        for i in range(n):
+            s = 0.0
+            for k in range(n):
+                s += x[b, k] * Fb[i, k]
+            x_out[b, i] = s
+        _cov_into(Fb, P[b], Q[b if qb else 0], P_out[b], T, n)
+
+
+@_jit
+def predict_cov(F, P, Q, P_out, nt):  # pragma: no cover - compiled
+    """``P_out = F P Fᵀ + Q`` (EKF: ``F`` the Jacobian, shape (1 or B, n, n))."""
+    B = P.shape[0]
+    n = len(nt)
+    T = np.empty((n, n))
+    fb = F.shape[0] > 1
+    qb = Q.shape[0] > 1
+    for b in range(B):
+        _cov_into(F[b if fb else 0], P[b], Q[b if qb else 0], P_out[b], T, n)
+
+
+@_inline
+def _project(Pb, Hb, kind, sel, PHt, HPHt, n, m):  # pragma: no cover - compiled
+    """``PHt = P Hᵀ`` and ``HPHt = H P Hᵀ`` of one member (kinds 1-3; 0 is ``P`` itself)."""
+    if kind == 1:
+        for r in range(n):
+            for i in range(m):
+                PHt[r, i] = Pb[r, sel[i]]
+        for i in range(m):
+            for j in range(m):
+                HPHt[i, j] = PHt[sel[i], j]
+    else:
+        for r in range(n):
+            for i in range(m):
+                s = 0.0
+                for k in range(n):
+                    s += Pb[r, k] * Hb[i, k]
+                PHt[r, i] = s
+        for i in range(m):
+            for j in range(m):
+                s = 0.0
+                for k in range(n):
+                    s += Hb[i, k] * PHt[k, j]
+                HPHt[i, j] = s
+
+
+@_jit
+def measure(z, x_pred, P_pred, H, cfg, z_pred, d, PHt, HPHt, nt, mt):  # pragma: no cover
+    """Predicted measurement, innovation ``d = z - z_pred`` (angles wrapped), ``P Hᵀ``, ``H P Hᵀ``.
+
+    ``cfg`` as built by :func:`config`. Kind 0: ``z_pred``, ``PHt``, ``HPHt``
+    are the caller's ``x_pred``, ``P_pred`` (untouched); 1: selection; 2:
+    linear ``H``; 3: ``z_pred`` given (from ``h``), ``H`` the Jacobian.
+    """
+    B = x_pred.shape[0]
+    n = len(nt)
+    m = len(mt)
+    hb = H.shape[0] > 1
+    kind = cfg[0]
+    na = cfg[1]
+    sel = cfg[2 + na :]
+    angles = cfg[2 : 2 + na]
+    for b in range(B):
+        if kind == 0:
+            for i in range(m):
+                d[b, i] = z[b, i] - x_pred[b, i]
+        else:
+            Hb = H[b if hb else 0]
+            if kind == 1:
+                for i in range(m):
+                    z_pred[b, i] = x_pred[b, sel[i]]
+            elif kind == 2:
+                for i in range(m):
+                    s = 0.0
+                    for k in range(n):
+                        s += x_pred[b, k] * Hb[i, k]
+                    z_pred[b, i] = s
+            _project(P_pred[b], Hb, kind, sel, PHt[b], HPHt[b], n, m)
+            for i in range(m):
+                d[b, i] = z[b, i] - z_pred[b, i]
+        for a in angles:
+            d[b, a] = _wrap(d[b, a])
+
+
+@_jit
+def gain_update(
+    x_pred, P_pred, R, d, H, cfg, z, final, S, S_inv, K, x, P, r, work, nt, mt
+):  # pragma: no cover - compiled
+    """Gain and update with ``R`` (shape (1 or B, m, m)), residual unless ``kind == 3``.
+
+    ``S = H P Hᵀ + R``, ``K = P Hᵀ S⁻¹``, ``x = x_pred + K d``; ``final``:
+    Joseph form ``P = (A P_pred) Aᵀ + (K R) Kᵀ`` symmetrised, ``A = I - K H``;
+    otherwise the short form ``P = A P_pred``. Residual ``r = z - H x``
+    (angles wrapped). ``P Hᵀ`` and ``H P Hᵀ`` are recomputed from ``P_pred``
+    (the same arithmetic as :func:`measure`: fewer operands to pass, which
+    costs more than the few flops). ``cfg`` as built by :func:`config`;
+    ``work`` scratch of :func:`work_size` floats (no allocation per call).
+    """
+    B = x_pred.shape[0]
+    n = len(nt)
+    m = len(mt)
+    kind = cfg[0]
+    na = cfg[1]
+    sel = cfg[2 + na :]
+    angles = cfg[2 : 2 + na]
+    rb = R.shape[0] > 1
+    hb = H.shape[0] > 1
+    nn = n * n
+    A = work[0:nn].reshape((n, n))
+    T = work[nn : 2 * nn].reshape((n, n))
+    M = work[2 * nn : 3 * nn].reshape((n, n))
+    KR = work[3 * nn : 3 * nn + n * m].reshape((n, m))
+    o = 3 * nn + n * m
+    lu = work[o : o + m * m].reshape((m, m))
+    o += m * m
+    piv = work[o : o + m]
+    o += m
+    PHt_w = work[o : o + n * m].reshape((n, m))
+    o += n * m
+    HPHt_w = work[o : o + m * m].reshape((m, m))
+    for b in range(B):
+        Rb = R[b if rb else 0]
+        Sb = S[b]
+        Sib = S_inv[b]
+        Kb = K[b]
+        if kind == 0:
+            PHt = P_pred[b]
+            HPHt = P_pred[b]
+        else:
+            PHt = PHt_w
+            HPHt = HPHt_w
+            _project(P_pred[b], H[b if hb else 0], kind, sel, PHt, HPHt, n, m)
+        for i in range(m):
+            for j in range(m):
+                Sb[i, j] = HPHt[i, j] + Rb[i, j]
+        _inv_lu(Sb, Sib, lu, piv, m)
+        for i in range(n):
+            for j in range(m):
+                s = 0.0
+                for k in range(m):
+                    s += PHt[i, k] * Sib[k, j]
+                Kb[i, j] = s
+        for i in range(n):
+            s = 0.0
+            for k in range(m):
+                s += Kb[i, k] * d[b, k]
+            x[b, i] = x_pred[b, i] + s
+        # A = I - K H
+        for i in range(n):
+            for j in range(n):
+                A[i, j] = 1.0 if i == j else 0.0
+        if kind == 0:
+            for i in range(n):
+                for j in range(n):
+                    A[i, j] = A[i, j] - Kb[i, j]
+        elif kind == 1:
+            for i in range(n):
+                for j in range(m):
+                    A[i, sel[j]] = A[i, sel[j]] - Kb[i, j]
+        else:
+            Hb = H[b if hb else 0]
+            for i in range(n):
+                for j in range(n):
+                    s = 0.0
+                    for k in range(m):
+                        s += Kb[i, k] * Hb[k, j]
+                    A[i, j] = A[i, j] - s
+        Pp = P_pred[b]
+        Pb = P[b]
+        if not final:
+            for i in range(n):
+                for j in range(n):
+                    s = 0.0
+                    for k in range(n):
+                        s += A[i, k] * Pp[k, j]
+                    Pb[i, j] = s
+        else:
+            for i in range(n):
+                for j in range(n):
+                    s = 0.0
+                    for k in range(n):
+                        s += A[i, k] * Pp[k, j]
+                    T[i, j] = s
+            for i in range(n):
+                for j in range(n):
+                    s = 0.0
+                    for k in range(n):
+                        s += T[i, k] * A[j, k]
+                    M[i, j] = s
+            for i in range(n):
+                for j in range(m):
+                    s = 0.0
+                    for k in range(m):
+                        s += Kb[i, k] * Rb[k, j]
+                    KR[i, j] = s
+            for i in range(n):
+                for j in range(n):
+                    s = 0.0
+                    for k in range(m):
+                        s += KR[i, k] * Kb[j, k]
+                    M[i, j] += s
+            for i in range(n):
+                for j in range(n):
+                    Pb[i, j] = (M[i, j] + M[j, i]) * 0.5
+        if kind == 3:
+            continue
+        if kind == 0:
+            for i in range(m):
+                r[b, i] = z[b, i] - x[b, i]
+        elif kind == 1:
+            for i in range(m):
+                r[b, i] = z[b, i] - x[b, sel[i]]
+        else:
+            Hb = H[b if hb else 0]
+            for i in range(m):
+                s = 0.0
+                for k in range(n):
+                    s += x[b, k] * Hb[i, k]
+                r[b, i] = z[b, i] - s
+        for a in angles:
+            r[b, a] = _wrap(r[b, a])
+
+
+def work_size(n: int, m: int) -> int:
+    """Length of the ``work`` operand of :func:`gain_update`."""
+    return 3 * n * n + 2 * n * m + 2 * m * m + m
+
+
+@_jit
+def innovation(z, x_pred, cfg, d):  # pragma: no cover - compiled
+    """``d = z - x_pred`` with angles wrapped (identity ``H``: ``measure`` of kind 0)."""
+    B, m = d.shape
+    na = cfg[1]
+    for b in range(B):
+        for i in range(m):
+            d[b, i] = z[b, i] - x_pred[b, i]
+        for a in range(na):
+            c = cfg[2 + a]
+            d[b, c] = _wrap(d[b, c])
+
+
+def config(kind: int, angles: tuple[int, ...], sel: tuple[int, ...] | None) -> np.ndarray:
+    """The integer operand ``cfg`` of :func:`measure` and :func:`gain_update`.
+
+    ``[kind, len(angles), *angles, *sel]``.
+    """
+    return np.array([kind, len(angles), *angles, *(sel or ())], dtype=np.int64)
+
+
+# --------------------------------------------------------------------------- models
+@_jit
+def gps_transition(x, T, x_out, F_out):  # pragma: no cover - compiled
+    """Model [20] of gps-circle and its Jacobian, written into ``x_out``, ``F_out``."""
+    B, n = x.shape
+    for b in range(B):
+        th = x[b, 3]
+        c = math.cos(th)
+        s = math.sin(th)
+        tv = T * x[b, 2]
+        for i in range(n):
+            x_out[b, i] = x[b, i]
+            for j in range(n):
+                F_out[b, i, j] = 1.0 if i == j else 0.0
+        x_out[b, 0] += tv * c
+        x_out[b, 1] += tv * s
+        F_out[b, 0, 2] = T * c
+        F_out[b, 0, 3] = -(tv * s)
+        F_out[b, 1, 2] = T * s
+        F_out[b, 1, 3] = tv * c
+
+
+# --------------------------------------------------------------------------- strategies
+@_jit
+def _push(buf, total, count, pos, v):  # pragma: no cover - compiled
+    """One push of ``_MovingMean`` on flattened rows (see strategies._MovingMean)."""
+    size = buf.shape[0]
+    w = total.shape[0]
+    if count >= size:
+        for j in range(w):
+            total[j] -= buf[pos, j]
+    for j in range(w):
+        buf[pos, j] = v[j]
+        total[j] += v[j]
+    if pos + 1 == size:  # exact re-sum once per wrap-around, in numpy's order
+        for j in range(w):
+            total[j] = buf[0, j]
+        for i in range(1, size):
+            for j in range(w):
+                total[j] += buf[i, j]
+
+
+@_jit
+def _diag_into(est, out):  # pragma: no cover - compiled
+    """``out = est[:, :, None] * eye`` (a NaN variance fills its row, as in numpy)."""
+    B, m = est.shape
+    for b in range(B):
+        for i in range(m):
+            for j in range(m):
+                out[b, i, j] = est[b, i] * (1.0 if i == j else 0.0)
+
+
+@_jit
+def _floor_clip(est, floor, guard):  # pragma: no cover - compiled
+    """Clip variances below ``floor`` (per channel), counting the runs that needed it."""
+    B, m = est.shape
+    for b in range(B):
+        low = False
+        for i in range(m):
+            if est[b, i] < floor[i]:
+                low = True
+                est[b, i] = floor[i]
+        if low:
+            guard[b] += 1
+
+
+@_jit
+def window_diag(buf, total, count, pos, u, hph, sign, adapt, floor, guard, R_out):
+    """RAE / IAE (diagonal): push ``u²``; if ``adapt``, ``R_out = diag(mean + sign·hph)``, clipped.
+
+    ``count`` and ``pos`` are the moving mean's before the push. Returns
+    whether ``R_out`` was written.
+    """
+    B, m = u.shape
+    v = np.empty(B * m)
+    for b in range(B):
+        for i in range(m):
+            v[b * m + i] = u[b, i] * u[b, i]
+    _push(buf.reshape((buf.shape[0], B * m)), total.reshape(B * m), count, pos, v)
+    if not adapt:
+        return False
+    c = min(count + 1, buf.shape[0])
+    est = np.empty((B, m))
+    for b in range(B):
+        for i in range(m):
+            mean = total[b, i] / c
+            if sign > 0:
+                est[b, i] = mean + hph[b, i]
+            else:
+                est[b, i] = mean - hph[b, i]
+    _floor_clip(est, floor, guard)
+    _diag_into(est, R_out)
+    return True
+
+
+@_jit
+def outer_q(buf, total, count, pos, d, adapt, K, Q_out):  # pragma: no cover - compiled
+    """RAE-Q: push ``d dᵀ``; when ``adapt``, ``Q_out = sym((K C) Kᵀ)`` with ``C`` the mean."""
+    B, m = d.shape
+    n = K.shape[1]
+    v = np.empty(B * m * m)
+    for b in range(B):
+        for i in range(m):
+            for j in range(m):
+                v[(b * m + i) * m + j] = d[b, i] * d[b, j]
+    _push(buf.reshape((buf.shape[0], B * m * m)), total.reshape(B * m * m), count, pos, v)
+    if not adapt:
+        return False
+    c = min(count + 1, buf.shape[0])
+    C = np.empty((m, m))
+    KC = np.empty((n, m))
+    Qb = np.empty((n, n))
+    for b in range(B):
+        for i in range(m):
+            for j in range(m):
+                C[i, j] = total[b, i, j] / c
+        for i in range(n):
+            for j in range(m):
+                s = 0.0
+                for k in range(m):
+                    s += K[b, i, k] * C[k, j]
+                KC[i, j] = s
+        for i in range(n):
+            for j in range(n):
+                s = 0.0
+                for k in range(m):
+                    s += KC[i, k] * K[b, j, k]
+                Qb[i, j] = s
+        for i in range(n):
+            for j in range(n):
+                Q_out[b, i, j] = 0.5 * (Qb[i, j] + Qb[j, i])
+    return True
+
+
+@_jit
+def sage_husa_diag(est_prev, d, hph, dk, floor, guard, est_out, R_out):  # pragma: no cover
+    """Sage-Husa (diagonal) step: the estimate with its fallback, then the clipped ``R``."""
+    B, m = d.shape
+    one = 1.0 - dk
+    est = np.empty((B, m))
+    for b in range(B):
+        low = False
+        for i in range(m):
+            outer = d[b, i] * d[b, i]
+            e = one * est_prev[b, i] + dk * (outer - hph[b, i])
+            if e < floor[i]:
+                low = True
+                e = one * est_prev[b, i] + dk * outer
+            est_out[b, i] = e
+            est[b, i] = e
+        if low:
+            guard[b] += 1
+    _floor_clip(est, floor, guard)
+    _diag_into(est, R_out)
+
+
+@_jit
+def vb_predict(alpha, beta, rho, beta_pred, R_out):  # pragma: no cover - compiled
+    """VB time update in place: ``α = ρα + 1/2``, ``β⁻ = ρβ``, ``β = β⁻``; ``R_out = diag(β/α)``."""
+    B, m = alpha.shape
+    for b in range(B):
+        for i in range(m):
+            alpha[b, i] = rho * alpha[b, i] + 0.5
+            bp = rho * beta[b, i]
+            beta_pred[b, i] = bp
+            beta[b, i] = bp
+            for j in range(m):
+                R_out[b, i, j] = bp / alpha[b, i] * (1.0 if i == j else 0.0)
+
+
+@_jit
+def vb_beta(beta_pred, r, P, hph, alpha, beta, R_out, want_R):  # pragma: no cover - compiled
+    """VB ``β = β⁻ + r²/2 + diag(H P Hᵀ)/2``; ``R_out = diag(β/α)`` when ``want_R``.
+
+    ``diag(H P Hᵀ)`` is ``hph`` (shape (B, m)), or the diagonal of ``P``
+    itself (identity ``H``) when ``hph`` is empty.
+    """
+    B, m = r.shape
+    own = hph.shape[0] == 0
+    for b in range(B):
+        for i in range(m):
+            h = P[b, i, i] if own else hph[b, i]
+            v = beta_pred[b, i] + 0.5 * r[b, i] * r[b, i] + 0.5 * h
+            beta[b, i] = v
+            if want_R:
+                for j in range(m):
+                    R_out[b, i, j] = v / alpha[b, i] * (1.0 if i == j else 0.0)
