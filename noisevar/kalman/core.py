@@ -733,6 +733,7 @@ class KalmanFilter:
         self._shape_x, self._shape_z = (B, n), (B, m)
         self._shape_P, self._shape_R, self._shape_K = (B, n, n), (B, m, m), (B, n, m)
         self._scratch_buf: tuple[NDArray, ...] | None = None
+        self._F_buf = (np.empty((B, n, n)), np.empty((B, n, n)))
         self._mt = (None,) * m
         self._H3 = (
             np.ascontiguousarray(self.model.H[None])
@@ -827,7 +828,8 @@ class KalmanFilter:
             _kernels.predict_linear(self._F3, x, self.P, Q3, x_out, P_out, self._nt)
         else:
             if model.transition is not None:
-                F = F3 = np.empty(self._shape_P)
+                # two alternating buffers: F_used stays valid for a step after
+                F = F3 = self._F_buf[k & 1]
                 model.transition(x, k, x_out, F)
             else:
                 F = model.F_jacobian(x, k)
@@ -888,6 +890,7 @@ class KalmanFilter:
         n_it = strategy.iterations
         shape_R = self._shape_R
         gain = _kernels.gain_update
+        work, nt, mt = self._work, self._nt, self._mt
         for it in range(n_it):
             if it:
                 R = strategy.refine(self)
@@ -912,10 +915,7 @@ class KalmanFilter:
                     x, P, r, S = x_o, P_o, r_o, S_o
                 S_inv = np.empty(shape_R)
                 K = np.empty(self._shape_K)
-            gain(
-                x_pred, P_pred, R3, d, H3, cfg, z, final, S, S_inv, K, x, P, r, self._work,
-                self._nt, self._mt,
-            )
+            gain(x_pred, P_pred, R3, d, H3, cfg, z, final, S, S_inv, K, x, P, r, work, nt, mt)
             self.S = S
             self.S_inv = S_inv
             self.K = K

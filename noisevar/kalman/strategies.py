@@ -252,16 +252,27 @@ class OracleR(RStrategy):
                 f"or ({filt.batch_size}, N, {m}, {m})"
             )
         self._R = np.broadcast_to(arr, (filt.batch_size, *arr.shape[1:]))
+        # the compiled path gets contiguous, writeable arrays (a read-only
+        # broadcast view would be one more compiled variant of the kernels)
+        self._contiguous = _compiled(filt)
+        self._R_const = (
+            np.ascontiguousarray(self._R[:, 0])
+            if self._contiguous and self._R.shape[1] == 1
+            else None
+        )
 
     def measurement_covariance(self, filt: KalmanFilter) -> NDArray:
         R = self._R
         if R.shape[1] == 1:
-            return R[:, 0]
+            return R[:, 0] if self._R_const is None else self._R_const
         if filt.k >= R.shape[1]:
             raise NoisevarError(
                 f"R_true has {R.shape[1]} steps but the filter is at step {filt.k}"
             )
-        return self._guard_dead(R[:, filt.k])
+        Rk = R[:, filt.k]
+        if self._contiguous:
+            Rk = np.ascontiguousarray(Rk)
+        return self._guard_dead(Rk)
 
 
 # --------------------------------------------------------------------------- RAE / IAE / B1
@@ -634,7 +645,14 @@ class VariationalBayesR(RStrategy):
 
     def refine(self, filt: KalmanFilter) -> NDArray:
         if self._fast:
-            return self._beta_compiled(filt, True)
+            R = np.empty(self._shape_R)
+            P = filt.P
+            core._kernels.vb_beta(
+                self._beta_pred, filt.residual, P,
+                self._no_hph if filt._kind == 0 else _diag(filt.project(P)),
+                self._alpha, self._beta, R, True,
+            )
+            return self._guard_dead(R) if self._any_dead else R
         self._update_beta(filt)
         return self._r_hat()
 
