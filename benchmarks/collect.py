@@ -6,6 +6,7 @@ Every number in BENCHMARKS.md comes from one of these commands (each writes
 its section under ``benchmarks/results/``):
 
     python benchmarks/accuracy.py          -> results/accuracy.md   (issue 3)
+    python benchmarks/peers.py             -> results/peers.md      (issue 3)
     python benchmarks/speed.py             -> results/speed.md      (issue 3)
     python benchmarks/kalman.py            -> results/kalman.md     (issue 4)
     python benchmarks/dashboard.py         -> results/dashboard.md  (issue 5)
@@ -23,6 +24,7 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 SECTIONS = [
     ("Core estimator: accuracy (issue 3)", "accuracy.md"),
+    ("Core estimator: auto against the state-space MLE, paired (issue 3)", "peers.md"),
     ("Core estimator: speed and memory (issue 3)", "speed.md"),
     ("Adaptive Kalman filtering (issue 4)", "kalman.md"),
     ("Dashboard responsiveness (issue 5)", "dashboard.md"),
