@@ -232,10 +232,10 @@ def test_singular_innovation_covariance_gives_nan():
     x = np.zeros((1, n))
     P = np.zeros((1, n, n))
     R = np.zeros((1, m, m))
-    out = [np.empty((1, m, m)), np.empty((1, m, m)), np.empty((1, n, m))]
+    S, SK = np.empty((1, m, m)), np.empty((1, m + n, m))
     xo, Po, r = np.empty((1, n)), np.empty((1, n, n)), np.empty((1, m))
     _kernels.gain_update(
         x, P, R, np.zeros((1, m)), np.eye(2)[None], _kernels.config(0, (), None), x, True,
-        *out, xo, Po, r, np.empty(_kernels.work_size(n, m)), (None,) * n, (None,) * m,
+        S, SK, xo, Po, r, np.empty(_kernels.work_shape(n, m)), (None,) * n, (None,) * m,
     )
-    assert np.all(np.isnan(out[1]))
+    assert np.all(np.isnan(SK[:, :m]))

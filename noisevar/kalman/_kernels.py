@@ -37,9 +37,10 @@ from numba import njit
 _PI = math.pi
 _TWO_PI = 2.0 * math.pi
 
-_jit = njit(cache=True, nogil=True)
+# (no nogil: releasing and taking back the GIL costs more than a small kernel)
+_jit = njit(cache=True)
 #: helpers inlined into the kernels, so that the constant sizes reach their loops
-_inline = njit(cache=True, nogil=True, inline="always")
+_inline = njit(cache=True, inline="always")
 
 
 @_jit
@@ -215,17 +216,19 @@ def measure(z, x_pred, P_pred, H, cfg, z_pred, d, PHt, HPHt, nt, mt):  # pragma:
 
 @_jit
 def gain_update(
-    x_pred, P_pred, R, d, H, cfg, z, final, S, S_inv, K, x, P, r, work, nt, mt
+    x_pred, P_pred, R, d, H, cfg, z, final, S, SK, x, P, r, work, nt, mt
 ):  # pragma: no cover - compiled
     """Gain and update with ``R`` (shape (1 or B, m, m)), residual unless ``kind == 3``.
 
-    ``S = H P Hᵀ + R``, ``K = P Hᵀ S⁻¹``, ``x = x_pred + K d``; ``final``:
+    ``S = H P Hᵀ + R``, ``K = P Hᵀ S⁻¹``, ``x = x_pred + K d``, with ``S⁻¹``
+    and ``K`` written into ``SK`` (shape (B, m + n, m): rows ``:m`` and
+    ``m:``, one operand instead of two); ``final``:
     Joseph form ``P = (A P_pred) Aᵀ + (K R) Kᵀ`` symmetrised, ``A = I - K H``;
     otherwise the short form ``P = A P_pred``. Residual ``r = z - H x``
     (angles wrapped). ``P Hᵀ`` and ``H P Hᵀ`` are recomputed from ``P_pred``
     (the same arithmetic as :func:`measure`: fewer operands to pass, which
     costs more than the few flops). ``cfg`` as built by :func:`config`;
-    ``work`` scratch of :func:`work_size` floats (no allocation per call).
+    ``work`` scratch of shape :func:`work_shape` (no allocation per call).
     """
     B = x_pred.shape[0]
     n = len(nt)
@@ -236,24 +239,20 @@ def gain_update(
     angles = cfg[2 : 2 + na]
     rb = R.shape[0] > 1
     hb = H.shape[0] > 1
-    nn = n * n
-    A = work[0:nn].reshape((n, n))
-    T = work[nn : 2 * nn].reshape((n, n))
-    M = work[2 * nn : 3 * nn].reshape((n, n))
-    KR = work[3 * nn : 3 * nn + n * m].reshape((n, m))
-    o = 3 * nn + n * m
-    lu = work[o : o + m * m].reshape((m, m))
-    o += m * m
-    piv = work[o : o + m]
-    o += m
-    PHt_w = work[o : o + n * m].reshape((n, m))
-    o += n * m
-    HPHt_w = work[o : o + m * m].reshape((m, m))
+    # basic slices of the (7, L, L) scratch (a reshape costs a helper call)
+    A = work[0, :n, :n]
+    T = work[1, :n, :n]
+    M = work[2, :n, :n]
+    KR = work[3, :n, :m]
+    lu = work[4, :m, :m]
+    piv = work[5, 0, :m]
+    PHt_w = work[5, 1:, :m][:n]
+    HPHt_w = work[6, :m, :m]
     for b in range(B):
         Rb = R[b if rb else 0]
         Sb = S[b]
-        Sib = S_inv[b]
-        Kb = K[b]
+        Sib = SK[b, :m]
+        Kb = SK[b, m:]
         if kind == 0:
             PHt = P_pred[b]
             HPHt = P_pred[b]
@@ -352,9 +351,10 @@ def gain_update(
             r[b, a] = _wrap(r[b, a])
 
 
-def work_size(n: int, m: int) -> int:
-    """Length of the ``work`` operand of :func:`gain_update`."""
-    return 3 * n * n + 2 * n * m + 2 * m * m + m
+def work_shape(n: int, m: int) -> tuple[int, int, int]:
+    """Shape of the ``work`` operand of :func:`gain_update`."""
+    L = max(n, m)
+    return (7, L + 1, L)
 
 
 @_jit
@@ -549,18 +549,15 @@ def vb_predict(alpha, beta, rho, beta_pred, R_out):  # pragma: no cover - compil
 
 
 @_jit
-def vb_beta(beta_pred, r, P, hph, alpha, beta, R_out, want_R):  # pragma: no cover - compiled
+def vb_beta(beta_pred, r, HPH, alpha, beta, R_out, want_R):  # pragma: no cover - compiled
     """VB ``β = β⁻ + r²/2 + diag(H P Hᵀ)/2``; ``R_out = diag(β/α)`` when ``want_R``.
 
-    ``diag(H P Hᵀ)`` is ``hph`` (shape (B, m)), or the diagonal of ``P``
-    itself (identity ``H``) when ``hph`` is empty.
+    ``HPH`` is ``H P Hᵀ`` (shape (B, m, m); ``P`` itself for an identity ``H``).
     """
     B, m = r.shape
-    own = hph.shape[0] == 0
     for b in range(B):
         for i in range(m):
-            h = P[b, i, i] if own else hph[b, i]
-            v = beta_pred[b, i] + 0.5 * r[b, i] * r[b, i] + 0.5 * h
+            v = beta_pred[b, i] + 0.5 * r[b, i] * r[b, i] + 0.5 * HPH[b, i, i]
             beta[b, i] = v
             if want_R:
                 for j in range(m):

@@ -669,7 +669,12 @@ class KalmanFilter:
     -----
     All these arrays are the filter's own: treat them as read-only (when
     ``H`` is the identity, ``PHt`` and ``HPHt`` *are* ``P_pred``). Strategies
-    return new arrays instead of modifying them.
+    return new arrays instead of modifying them. On the compiled path
+    ``S_inv``, ``K`` and ``F_used`` live in buffers the filter reuses two
+    steps later (and the intermediate iterations of an iterative strategy
+    write scratch memory): copy them to keep them; ``x``, ``P``,
+    ``x_pred``, ``P_pred``, ``innovation``, ``residual`` and ``S`` are new
+    memory at every step.
     """
 
     model: StateSpaceModel
@@ -741,12 +746,13 @@ class KalmanFilter:
             self._kind = 3
         if _kernels is not None:
             self._cfg = _kernels.config(self._kind, self.model.angle_measurements, self._sel)
-            self._work = np.empty(_kernels.work_size(n, m))
+            self._work = np.empty(_kernels.work_shape(n, m))
         self._nt = (None,) * n  # the dimensions, as compile-time constants of the kernels
         self._shape_x, self._shape_z = (B, n), (B, m)
         self._shape_P, self._shape_R, self._shape_K = (B, n, n), (B, m, m), (B, n, m)
         self._scratch_buf: tuple[NDArray, ...] | None = None
         self._F_buf = (np.empty((B, n, n)), np.empty((B, n, n)))
+        self._SK = (self._sk_buffer(), self._sk_buffer())
         self._mt = (None,) * m
         self._H3 = (
             np.ascontiguousarray(self.model.H[None])
@@ -853,14 +859,19 @@ class KalmanFilter:
         self.P_pred = P_out
         self.F_used = F
 
+    def _sk_buffer(self) -> tuple[NDArray, NDArray, NDArray]:
+        """One ``(B, m + n, m)`` array holding ``S⁻¹`` and ``K``, and those two views."""
+        SK = np.empty((self.batch_size, self.m + self.n, self.m))
+        return SK, SK[:, : self.m], SK[:, self.m :]
+
     def _scratch(self) -> tuple[NDArray, ...]:
-        """``x, P, r, S, S_inv, K`` buffers of the intermediate update iterations."""
+        """``x, P, r, S, SK, S_inv, K`` buffers of the intermediate update iterations."""
         buf = self._scratch_buf
         if buf is None:
             B, n, m = self.batch_size, self.n, self.m
             buf = self._scratch_buf = (
                 np.empty((B, n)), np.empty((B, n, n)), np.empty((B, m)),
-                np.empty((B, m, m)), np.empty((B, m, m)), np.empty((B, n, m)),
+                np.empty((B, m, m)), *self._sk_buffer(),
             )
         return buf
 
@@ -915,7 +926,7 @@ class KalmanFilter:
             else:
                 R3 = self._stack3(R, self.m, self.m, "R")
             if it + 1 < n_it:  # feeds only the strategy's next R: scratch memory
-                x, P, r, S, S_inv, K = self._scratch()
+                x, P, r, S, SK, S_inv, K = self._scratch()
                 final = False
             else:
                 final = True
@@ -926,9 +937,9 @@ class KalmanFilter:
                     S = np.empty(shape_R)
                 else:
                     x, P, r, S = x_o, P_o, r_o, S_o
-                S_inv = np.empty(shape_R)
-                K = np.empty(self._shape_K)
-            gain(x_pred, P_pred, R3, d, H3, cfg, z, final, S, S_inv, K, x, P, r, work, nt, mt)
+                # S⁻¹ and K: two alternating buffers (valid until the update after next)
+                SK, S_inv, K = self._SK[self.k & 1]
+            gain(x_pred, P_pred, R3, d, H3, cfg, z, final, S, SK, x, P, r, work, nt, mt)
             self.S = S
             self.S_inv = S_inv
             self.K = K

@@ -612,7 +612,6 @@ class VariationalBayesR(RStrategy):
         if self._fast:  # the compiled hooks update α, β, β⁻ in place
             self._beta_pred = np.empty_like(self._beta)
             self._no_R = np.empty((0, 0, 0))
-            self._no_hph = np.empty((0, 0))
             self._shape_R = (B, m, m)
 
     def _r_hat(self) -> NDArray:
@@ -620,10 +619,9 @@ class VariationalBayesR(RStrategy):
 
     def _beta_compiled(self, filt: KalmanFilter, want_R: bool) -> NDArray:
         R = np.empty(self._shape_R) if want_R else self._no_R
-        P = filt.P
-        hph = self._no_hph if filt._kind == 0 else _diag(filt.project(P))
         core._kernels.vb_beta(
-            self._beta_pred, filt.residual, P, hph, self._alpha, self._beta, R, want_R
+            self._beta_pred, filt.residual, filt.project(filt.P), self._alpha, self._beta, R,
+            want_R,
         )
         return self._guard_dead(R) if self._any_dead and want_R else R
 
@@ -646,11 +644,9 @@ class VariationalBayesR(RStrategy):
     def refine(self, filt: KalmanFilter) -> NDArray:
         if self._fast:
             R = np.empty(self._shape_R)
-            P = filt.P
             core._kernels.vb_beta(
-                self._beta_pred, filt.residual, P,
-                self._no_hph if filt._kind == 0 else _diag(filt.project(P)),
-                self._alpha, self._beta, R, True,
+                self._beta_pred, filt.residual, filt.project(filt.P), self._alpha, self._beta,
+                R, True,
             )
             return self._guard_dead(R) if self._any_dead else R
         self._update_beta(filt)
