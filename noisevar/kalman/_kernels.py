@@ -380,8 +380,12 @@ def config(kind: int, angles: tuple[int, ...], sel: tuple[int, ...] | None) -> n
 
 # --------------------------------------------------------------------------- models
 @_jit
-def gps_transition(x, T, x_out, F_out):  # pragma: no cover - compiled
-    """Model [20] of gps-circle and its Jacobian, written into ``x_out``, ``F_out``."""
+def gps_transition(T, x, k, x_out, F_out):  # pragma: no cover - compiled
+    """Model [20] of gps-circle and its Jacobian, written into ``x_out``, ``F_out``.
+
+    ``functools.partial(gps_transition, T)`` is a ``StateSpaceModel.transition``
+    (``k``, the step index, is unused).
+    """
     B, n = x.shape
     for b in range(B):
         th = x[b, 3]

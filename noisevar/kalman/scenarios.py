@@ -13,6 +13,7 @@ every step, the per-channel smoothing ``h`` for the SOMD estimator, and a
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -233,12 +234,7 @@ def _gps_transition(T: float) -> Callable[[NDArray, int, NDArray, NDArray], None
     kernels = core._kernels
     if kernels is None:  # pragma: no cover - numba not installed
         return None
-    kernel = kernels.gps_transition
-
-    def transition(x: NDArray, k: int, x_out: NDArray, F_out: NDArray) -> None:
-        kernel(x, T, x_out, F_out)
-
-    return transition
+    return functools.partial(kernels.gps_transition, float(T))  # no Python frame per step
 
 
 def gps_circle(
