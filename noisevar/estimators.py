@@ -37,6 +37,16 @@ from .errors import NoisevarError, NoWindowKept
 from .results import RedundantEstimate, SomdDetails, VarianceEstimate, chi2_interval
 from .selection import ANGLES, select_windows
 
+try:  # compiled residual filters of ``auto`` (numba); np.convolve below is the reference
+    from . import _fir
+except ImportError:  # pragma: no cover - numba not installed
+    _fir = None
+
+#: ``auto`` filters with the compiled kernel of :mod:`noisevar._fir` while this
+#: is true (and numba is installed); false selects ``np.convolve`` (the same
+#: filter, equal to rounding, about 4 times slower).
+USE_COMPILED: bool = _fir is not None
+
 MAD_TO_SIGMA = 1.0 / 0.6744897501960817
 #: Asymptotic efficiency of the MAD scale estimator at the Gaussian (relative to the SD).
 MAD_EFFICIENCY = 0.3675
@@ -584,7 +594,7 @@ def residual_sequence(span: int, order: int) -> NDArray:
     ndarray, shape (span,)
     """
     w = signal.savgol_coeffs(span, order)
-    d = -w
+    d = -0.5 * (w + w[::-1])  # exactly symmetric (savgol_coeffs is to about 1e-14)
     d[span // 2] += 1.0
     d.setflags(write=False)
     return d
@@ -625,8 +635,9 @@ def _edge_residual_rows(span: int, order: int) -> tuple[NDArray, NDArray]:
 def _residual_squares(z: NDArray, span: int, order: int, out: NDArray | None = None) -> NDArray:
     """Normalised squared residuals ``e_k² / (I - P)_kk`` of a local polynomial, every sample.
 
-    Interior samples use the centred sequence ``d`` (one ``np.convolve`` with
-    ``d / |d|``, squared straight into ``out``); the first and last
+    Interior samples use the centred sequence ``d`` (``d / |d|``, symmetric:
+    the compiled kernel of :mod:`noisevar._fir` when :data:`USE_COMPILED`,
+    else one ``np.convolve``, squared straight into ``out``); the first and last
     ``span // 2`` use the one-sided fit over the first (last) ``span``
     samples, so each square has expectation ``σ_k²`` for noise whose variance
     is locally constant.
@@ -635,8 +646,12 @@ def _residual_squares(z: NDArray, span: int, order: int, out: NDArray | None = N
     d = residual_sequence(span, order)
     h = span // 2
     out = np.empty(n) if out is None else out
-    e = np.convolve(z, d[::-1] / np.sqrt(np.sum(d**2)), mode="valid")
-    np.multiply(e, e, out=out[h : n - h])
+    unit = d / np.sqrt(np.sum(d**2))
+    if USE_COMPILED and _fir is not None:
+        _fir.symmetric_fir_squares(np.ascontiguousarray(z), unit[h:].copy(), out[h : n - h])
+    else:
+        e = np.convolve(z, unit[::-1], mode="valid")
+        np.multiply(e, e, out=out[h : n - h])
     head, tail = _edge_residual_rows(span, order)
     out[:h] = (head @ z[:span]) ** 2 / np.diag(head[:, :h])
     out[n - h :] = (tail @ z[n - span :]) ** 2 / np.diag(tail[:, span - h :])

@@ -482,3 +482,37 @@ def test_step_mask_finds_a_jump_and_ignores_a_parabola():
     hit = _step_mask(z, above)
     assert hit[2490:2510].any()
     assert not hit[:2400].any() and not hit[2600:].any()
+
+
+# ------------------------------------------------- auto's compiled residual filters
+@pytest.mark.parametrize("span", [11, 21, 41])
+def test_compiled_residual_squares_equal_convolve(span, monkeypatch):
+    """The numba kernel of noisevar._fir is np.convolve's filter, to rounding."""
+    import noisevar.estimators as est
+
+    assert est.USE_COMPILED, "numba is a core dependency: the compiled path must be on"
+    rng = np.random.default_rng(21)
+    # a large offset, a fast component and a tile boundary that falls mid-record
+    z = 5e5 + np.cumsum(rng.normal(0, 1, 5000)) + 3 * np.sin(np.arange(5000) / 4.0)
+    z += rng.normal(0, 0.7, z.size)
+    fast = est._residual_squares(z, span, 3)
+    monkeypatch.setattr(est, "USE_COMPILED", False)
+    ref = est._residual_squares(z, span, 3)
+    assert np.max(np.abs(fast - ref)) < 1e-9 * np.mean(ref)
+    # and it really is the residual: a cubic leaves nothing
+    t = np.arange(3000.0)
+    cubic = 2.0 + 0.3 * t - 1e-3 * t**2 + 1e-7 * t**3
+    monkeypatch.setattr(est, "USE_COMPILED", True)
+    assert np.max(est._residual_squares(cubic, span, 3)) < 1e-12 * np.max(cubic) ** 2
+
+
+@pytest.mark.parametrize("family", ["gps-circle", "steps-ramps", "noise-ramp"])
+def test_auto_compiled_equals_numpy_path(family, monkeypatch):
+    import noisevar.estimators as est
+
+    z = nv.generate(family, n=6000, seed=5).measured
+    fast = nv.estimate(z, method="auto")
+    monkeypatch.setattr(est, "USE_COMPILED", False)
+    ref = nv.estimate(z, method="auto")
+    assert fast.variance == pytest.approx(ref.variance, rel=1e-12)
+    assert fast.n_used == ref.n_used
