@@ -134,7 +134,7 @@ from scipy import stats
 
 from .errors import NoisevarError
 from .kalman import FixedR, KalmanFilter, ResidualQR, RStrategy, StateSpaceModel
-from .kalman.strategies import ResidualR, _MovingMean
+from .kalman.strategies import MovingMean, ResidualR
 
 L1_HZ = 1575.42e6
 METHODS = ("ekf", "aekf")
@@ -634,7 +634,7 @@ class AdaptiveCarrierQR(ResidualQR):
         self._kinematic[3, :] = self._kinematic[:, 3] = 0.0
         self._amplitude_q = Q - self._kinematic
         self.q_scale = np.ones(filt.batch_size)
-        self._nis_t = _MovingMean(self.window, (filt.batch_size,))
+        self._nis_t = MovingMean(self.window, (filt.batch_size,))
         self._R_design = np.array(filt.model.R)
 
     def measurement_covariance(self, filt: KalmanFilter) -> NDArray:

@@ -407,7 +407,7 @@ def gps_transition(T, x, k, x_out, F_out):  # pragma: no cover - compiled
 # --------------------------------------------------------------------------- strategies
 @_jit
 def _push(buf, total, count, pos, v):  # pragma: no cover - compiled
-    """One push of ``_MovingMean`` on flattened rows (see strategies._MovingMean)."""
+    """One push of ``MovingMean`` on flattened rows (see strategies.MovingMean)."""
     size = buf.shape[0]
     w = total.shape[0]
     if count >= size:

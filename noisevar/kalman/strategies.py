@@ -147,11 +147,20 @@ def _check_window(window: Any, name: str = "window") -> int:
     return w
 
 
-class _MovingMean:
+class MovingMean:
     """Mean of the last ``size`` pushed arrays (batched), running mean before that.
 
-    O(1) per push: a running sum with a circular buffer, re-summed exactly
-    once per wrap-around so rounding cannot drift.
+    The windowed averages of the residual-based strategies (RAE, IAE, the
+    AEKF of :mod:`noisevar.carrier`). O(1) per push: a running sum with a
+    circular buffer, re-summed exactly once per wrap-around so rounding
+    cannot drift.
+
+    Parameters
+    ----------
+    size : int
+        Window length (pushes).
+    shape : tuple of int
+        Shape of each pushed array (a batch axis first, for Monte Carlo runs).
     """
 
     def __init__(self, size: int, shape: tuple[int, ...]) -> None:
@@ -162,6 +171,7 @@ class _MovingMean:
         self.pos = 0
 
     def push(self, v: NDArray) -> None:
+        """Add one array to the window (dropping the oldest once it is full)."""
         if self.count >= self.size:
             self.sum -= self.buf[self.pos]
         self.buf[self.pos] = v
@@ -173,6 +183,7 @@ class _MovingMean:
             self.sum = self.buf.sum(axis=0)
 
     def mean(self) -> NDArray:
+        """Mean over the window (over every push so far, before the window fills)."""
         return self.sum / min(self.count, self.size)
 
     def advance(self) -> None:
@@ -299,7 +310,7 @@ class _WindowedR(RStrategy):
         super().start(filt)
         B, m = filt.batch_size, filt.m
         shape = (B, m) if self.diagonal else (B, m, m)
-        self._cov = _MovingMean(self.window, shape)
+        self._cov = MovingMean(self.window, shape)
         self._R = np.repeat(filt.model.R[None], B, axis=0)
         self._floor = self.floor * np.diag(filt.model.R)
         self.guard_count = np.zeros(B, dtype=np.int64)
@@ -445,7 +456,7 @@ class ResidualQR(ResidualR):
 
     def start(self, filt: KalmanFilter) -> None:
         super().start(filt)
-        self._innov = _MovingMean(self.window, (filt.batch_size, filt.m, filt.m))
+        self._innov = MovingMean(self.window, (filt.batch_size, filt.m, filt.m))
         self._Q: NDArray | None = None
 
     def process_covariance(self, filt: KalmanFilter) -> NDArray | None:
