@@ -485,7 +485,7 @@ def test_step_mask_finds_a_jump_and_ignores_a_parabola():
 
 
 # ------------------------------------------------- auto's compiled residual filters
-@pytest.mark.parametrize("span", [11, 21, 41])
+@pytest.mark.parametrize("span", [11, 21, 41, 81])
 def test_compiled_residual_squares_equal_convolve(span, monkeypatch):
     """The numba kernel of noisevar._fir is np.convolve's filter, to rounding."""
     import noisevar.estimators as est
