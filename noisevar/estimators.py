@@ -578,7 +578,6 @@ AUTO_ORDER = 3
 AUTO_TRIM = 5.0
 AUTO_BLOCK = 256
 AUTO_LEAK_SE = 3.5
-AUTO_LEAK_SE_LONG = 2.0  # the step to spans above AUTO_MASK_SPAN
 
 
 @lru_cache(maxsize=64)
@@ -918,16 +917,17 @@ def auto_estimate(
        11). Smooth stretches get span 81, manoeuvres a short span. (At 2.5
        standard errors, chance rejections on pure noise cost a -0.25 %
        selection bias; 3.5 keeps every family of the benchmark within about
-       0.4 %.) The last step, 41 to 81, is held to 2 standard errors: a
-       kink (the turn of the fast-slow signal) leaks into a few dozen
-       samples of the long span only, too little of a block for 3.5 to
-       see (+1.4 % bias on fast-slow at n = 1000; +0.7 % at 2), while the
-       step itself is worth 5 to 7 % of RMSE on smooth records of 1000
-       samples (random-jerk 4.71 to 4.46 %, noise-ramp 5.74 to 5.39 %,
-       200 paired runs), where the state-space MLE was level with or
-       ahead of ``auto``. A block whose 81-span residuals would reach a
-       trimmed sample (flagged samples are widened by 20, half of 41)
-       stays at 41.
+       0.4 %.) Span 81 is worth 5 to 7 % of RMSE on smooth records of
+       1000 samples (random-jerk 4.71 to 4.40 %, noise-ramp 5.74 to 5.39 %,
+       200 paired runs), where the state-space MLE was level with or ahead
+       of a span of at most 41. Its residuals reach 40 samples into the
+       next blocks, so a block takes it only where both neighbours reached
+       41 as well (a fast burst next door otherwise leaks into the first
+       samples of the block, too few for the block's test: +1.4 % bias on
+       fast-slow at n = 1000 without this rule, +0.6 % with it, +0.4 % with
+       spans up to 41), and only where its wider neighbourhood of trimmed
+       samples (flagged samples are widened by 20, half of 41) leaves the
+       block alone.
     5. Jumps the cubic absorbs (a local cubic hides most of a jump of a
        few σ) are found by a third difference of window means, blind to
        parabolas (:func:`_step_mask`), and left out like outliers; the
@@ -1017,8 +1017,13 @@ def auto_estimate(
             se = rms4 * np.sqrt(
                 2.0 * _difference_variance_factor(spans[j - 1], spans[j], order) / kept_count
             )
-        limit = AUTO_LEAK_SE if spans[j] <= AUTO_MASK_SPAN else AUTO_LEAK_SE_LONG
-        ok = open_ & clean_for[j] & (block_mean[j] - block_mean[j - 1] <= limit * se)
+        ok = open_ & clean_for[j] & (block_mean[j] - block_mean[j - 1] <= AUTO_LEAK_SE * se)
+        if spans[j] > AUTO_MASK_SPAN and nb > 1:
+            # a long span reaches into the neighbouring blocks: only where they are smooth
+            # too (a fast burst next door leaks into the first samples of this block)
+            smooth = choice >= j - 1
+            ok[1:] &= smooth[:-1]
+            ok[:-1] &= smooth[1:]
         choice[ok] = j
         open_ &= ok
     chosen_sum = block_sum[choice, np.arange(nb)]

@@ -516,3 +516,19 @@ def test_auto_compiled_equals_numpy_path(family, monkeypatch):
     ref = nv.estimate(z, method="auto")
     assert fast.variance == pytest.approx(ref.variance, rel=1e-12)
     assert fast.n_used == ref.n_used
+
+
+def test_auto_long_span_stays_out_of_blocks_next_to_a_fast_burst():
+    """Span 81 reaches 40 samples into the neighbouring blocks; next to fast-slow's burst
+    (period 60) it would leak into the first samples of the block after it.
+
+    Paired over 20 noise draws: the estimate on clean + noise over the estimate on the
+    noise alone. Measured: +0.49 % with the neighbour rule, +1.40 % without it.
+    """
+    g = nv.generate("fast-slow", n=1000, seed=0)
+    leak = []
+    for s in range(20):
+        noise = np.random.default_rng(s).normal(0.0, 5.0, 1000)
+        with_signal = nv.estimate(g.clean + noise, method="auto").variance
+        leak.append(with_signal / nv.estimate(noise, method="auto").variance - 1.0)
+    assert np.mean(leak) < 0.009
