@@ -160,8 +160,11 @@ def test_every_page_through_navigation(server, browser):
     _settle(page)
     _check(page, "00-home")
     page.get_by_role("button", name="Generate the paper's fast-slow signal").click()
+    # the rerun may start later than the quiet interval on a loaded machine: wait for its result
+    main = page.locator('[data-testid="stMain"]')
+    main.get_by_text("Quick estimate").first.wait_for(timeout=120_000)
     _settle(page)
-    assert "Quick estimate" in page.inner_text('[data-testid="stMain"]')
+    assert "Quick estimate" in main.inner_text()
     _check(page, "01-home-with-signal")
     nav = page.locator('[data-testid="stSidebarNav"]')
     for i, (label, path) in enumerate(PAGES, start=2):
