@@ -562,7 +562,10 @@ def mle_estimate(z: NDArray, trend: bool, notes: list[str]) -> VarianceEstimate:
         se = float("nan")
     if np.isfinite(se) and var > 0:
         rel = se / var
-        ci = (var * float(np.exp(-1.96 * rel)), var * float(np.exp(1.96 * rel)))
+        # log-normal interval; a fit that barely identifies the noise (rel of hundreds)
+        # gives (0, inf) instead of an overflow warning
+        with np.errstate(over="ignore"):
+            ci = (var * float(np.exp(-1.96 * rel)), var * float(np.exp(1.96 * rel)))
         dof = 2.0 / rel**2
     else:
         ci, dof = (float("nan"), float("nan")), float("nan")
