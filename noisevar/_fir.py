@@ -1,6 +1,6 @@
 """Compiled (numba) kernel for the auto estimator's symmetric residual filters.
 
-``auto`` filters the whole record with three centred Savitzky-Golay residual
+``auto`` filters the whole record with four centred Savitzky-Golay residual
 sequences (spans 11, 21, 41 and 81). ``np.convolve`` spends one dot product of
 ``span`` taps per output sample; these sequences are symmetric, so the
 kernel adds each pair ``z[t - k] + z[t + k]`` first (half the

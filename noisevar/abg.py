@@ -264,7 +264,7 @@ def abg_filter(
     ndarray
         The position estimate at every sample, same shape as ``z``.
     """
-    b, a = abg_transfer_function(h, output)
+    h, output = check_h(h), _check_output(output)
     z = np.asarray(z, dtype=float)
     zt = np.moveaxis(z, axis, -1)
     if zi is not None:
@@ -355,14 +355,12 @@ class ABGStream:
     h: float
     zi: NDArray | None = None
     output: str = "predicted"
-    _b: NDArray = field(init=False, repr=False)
-    _a: NDArray = field(init=False, repr=False)
     _last: NDArray | None = field(init=False, repr=False, default=None)
     _error_zi: NDArray | None = field(init=False, repr=False, default=None)
     _ref: float = field(init=False, repr=False, default=0.0)
 
     def __post_init__(self) -> None:
-        self._b, self._a = abg_transfer_function(self.h, self.output)
+        self.h, self.output = check_h(self.h), _check_output(self.output)
         if self.zi is not None:
             self.zi = np.asarray(self.zi, dtype=float)
 
