@@ -129,8 +129,7 @@ def noise_section(name: str, res: dict[str, Any], wall: float, runs: int) -> lis
         f"{s['factor']:g} at steps {s['change'][0]}–{s['change'][1]} of {s['steps']}; R tracking "
         f"scored from step {s['change'][1] + s['settle']} on.",
         "",
-        "| method | mean abs(R̂/R − 1) | mean R̂/R − 1 | position RMSE (m) | vs oracle "
-        "| diverged |",
+        "| method | mean abs(R̂/R − 1) | mean R̂/R − 1 | position RMSE (m) | vs oracle | diverged |",
         "|---|---|---|---|---|---|",
     ]
     for m, e in res["methods"].items():
@@ -317,8 +316,9 @@ def main(argv: list[str] | None = None) -> int:
         "load).",
         "",
     ]
-    gps, wall = run_cli("experiment", "gps-circle", "--runs", str(args.runs), "--seed", "0",
-                        "--format", "json")
+    gps, wall = run_cli(
+        "experiment", "gps-circle", "--runs", str(args.runs), "--seed", "0", "--format", "json"
+    )
     lines += table1_section(gps, wall, args.runs)
     t = gps["targets"]
     lines += [
@@ -352,8 +352,9 @@ def main(argv: list[str] | None = None) -> int:
             "",
         ]
     for name in ("noise-step", "noise-ramp"):
-        res, wall = run_cli("experiment", name, "--runs", str(args.runs), "--seed", "0",
-                            "--format", "json")
+        res, wall = run_cli(
+            "experiment", name, "--runs", str(args.runs), "--seed", "0", "--format", "json"
+        )
         lines += noise_section(name, res, wall, args.runs) + [""]
     lines += rae_study(min(args.runs, 20)) + [""]
     lines += speed_section(batch=args.timing_runs if not args.quick else 20, repeats=3) + [""]

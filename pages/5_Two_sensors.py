@@ -121,8 +121,7 @@ if res is not None:
             help=f"95 % interval {dc.fmt(ci[j, 0])} to {dc.fmt(ci[j, 1])}",
         )
         mcols[j].caption(
-            f"std {dc.fmt(float(res.stds[j]))}; "
-            f"95 % {dc.fmt(ci[j, 0])} … {dc.fmt(ci[j, 1])}"
+            f"std {dc.fmt(float(res.stds[j]))}; 95 % {dc.fmt(ci[j, 0])} … {dc.fmt(ci[j, 1])}"
         )
     for note in res.notes:
         st.caption(f"Note: {note}")

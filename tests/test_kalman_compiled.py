@@ -218,7 +218,13 @@ def test_transition_must_agree_with_f():
 
     with pytest.raises(NoisevarError, match="transition disagrees"):
         StateSpaceModel(
-            Q=m.Q, R=m.R, x0=m.x0, P0=m.P0, f=m.f, F_jacobian=m.F_jacobian, H=m.H,
+            Q=m.Q,
+            R=m.R,
+            x0=m.x0,
+            P0=m.P0,
+            f=m.f,
+            F_jacobian=m.F_jacobian,
+            H=m.H,
             transition=wrong,
         )
     with pytest.raises(NoisevarError, match="transition must be"):
@@ -235,7 +241,21 @@ def test_singular_innovation_covariance_gives_nan():
     S, SK = np.empty((1, m, m)), np.empty((1, m + n, m))
     xo, Po, r = np.empty((1, n)), np.empty((1, n, n)), np.empty((1, m))
     _kernels.gain_update(
-        x, P, R, np.zeros((1, m)), np.eye(2)[None], _kernels.config(0, (), None), x, True,
-        S, SK, xo, Po, r, np.empty(_kernels.work_shape(n, m)), (None,) * n, (None,) * m,
+        x,
+        P,
+        R,
+        np.zeros((1, m)),
+        np.eye(2)[None],
+        _kernels.config(0, (), None),
+        x,
+        True,
+        S,
+        SK,
+        xo,
+        Po,
+        r,
+        np.empty(_kernels.work_shape(n, m)),
+        (None,) * n,
+        (None,) * m,
     )
     assert np.all(np.isnan(SK[:, :m]))

@@ -131,8 +131,13 @@ def test_selection_h_fast_path_equals_matrix_path():
     assert model.measured_states == (2, 0)
     z = rng.normal(size=(80, 2)).cumsum(axis=0)
     ekf = StateSpaceModel(
-        Q=Q, R=model.R, x0=np.zeros(4), P0=np.eye(4), F=F,
-        h=lambda x, k: x @ H.T, H_jacobian=lambda x, k: H,
+        Q=Q,
+        R=model.R,
+        x0=np.zeros(4),
+        P0=np.eye(4),
+        F=F,
+        h=lambda x, k: x @ H.T,
+        H_jacobian=lambda x, k: H,
     )
     a, b = run_filter(model, z), run_filter(ekf, z)
     assert np.max(np.abs(a.x - b.x)) < 1e-10
@@ -181,16 +186,20 @@ def test_huber_resists_outliers():
     [
         ({"H": np.ones((2, 3))}, "H has shape"),
         ({"Q": np.eye(3)}, "Q has shape"),
-        ({"Q": np.array([[1, 0.5, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1.0]])},
-         "not symmetric"),
+        (
+            {"Q": np.array([[1, 0.5, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1.0]])},
+            "not symmetric",
+        ),
         ({"Q": -np.eye(4)}, "not positive semidefinite"),
         ({"R": np.diag([1.0, 0.0])}, "not positive definite"),
         ({"R": np.array([[1.0, 2.0], [2.0, 1.0]])}, "not positive definite"),
         ({"R": np.array([[1.0, np.nan], [np.nan, 1.0]])}, "NaN"),
         ({"x0": np.zeros(3)}, "shape"),
         ({"F": None}, "transition matrix F or a function f"),
-        ({"F": None, "f": lambda x, k: x[:, :2], "F_jacobian": lambda x, k: np.eye(4)},
-         "returned shape"),
+        (
+            {"F": None, "f": lambda x, k: x[:, :2], "F_jacobian": lambda x, k: np.eye(4)},
+            "returned shape",
+        ),
         ({"F": None, "f": lambda x, k: x}, "callables f and F_jacobian"),
     ],
 )
@@ -254,8 +263,13 @@ def test_divergence_nan_state_is_reported():
         return x if k < 30 else x * np.inf
 
     model = StateSpaceModel(
-        Q=np.eye(1) * 0.1, R=np.eye(1), x0=np.ones(1), P0=np.eye(1),
-        f=f, F_jacobian=lambda x, k: np.ones((x.shape[0], 1, 1)), H=np.eye(1),
+        Q=np.eye(1) * 0.1,
+        R=np.eye(1),
+        x0=np.ones(1),
+        P0=np.eye(1),
+        f=f,
+        F_jacobian=lambda x, k: np.ones((x.shape[0], 1, 1)),
+        H=np.eye(1),
     )
     res = run_filter(model, np.ones((100, 1)), divergence=DivergenceCheck(check_every=10))
     assert res.diverged and "NaN" in res.divergence_reason
@@ -265,8 +279,12 @@ def test_divergence_nan_state_is_reported():
 def test_divergence_nis_far_outside_band():
     # the filter believes R = 0.01 while the noise variance is 100
     model = StateSpaceModel(
-        Q=np.eye(1) * 1e-6, R=np.eye(1) * 0.01, x0=np.zeros(1), P0=np.eye(1),
-        F=np.eye(1), H=np.eye(1),
+        Q=np.eye(1) * 1e-6,
+        R=np.eye(1) * 0.01,
+        x0=np.zeros(1),
+        P0=np.eye(1),
+        F=np.eye(1),
+        H=np.eye(1),
     )
     z = np.random.default_rng(1).normal(0, 10, size=(500, 1))
     res = run_filter(model, z)

@@ -103,8 +103,9 @@ def test_records_follow_arrays_replaced_by_hooks():
 
 
 def test_step_arrays_are_not_overwritten_by_later_steps():
-    model = StateSpaceModel(Q=np.eye(2) * 0.1, R=np.eye(2), x0=[0.0, 0.0], P0=np.eye(2),
-                            F=np.eye(2), H=np.eye(2))
+    model = StateSpaceModel(
+        Q=np.eye(2) * 0.1, R=np.eye(2), x0=[0.0, 0.0], P0=np.eye(2), F=np.eye(2), H=np.eye(2)
+    )
     filt = KalmanFilter(model)
     kept = []
     for z in ([1.0, 2.0], [3.0, -1.0], [0.5, 0.5]):

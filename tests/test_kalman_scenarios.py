@@ -27,8 +27,9 @@ def test_gps_circle_matches_spec_a9():
     # heading is the direction of motion used by model [20]
     step = np.diff(tr[:, :2], axis=0)
     mid_heading = tr[:-1, 3] + np.pi / 200 * 0.5
-    np.testing.assert_allclose(wrap_angle(np.arctan2(step[:, 1], step[:, 0]) - mid_heading), 0,
-                               atol=1e-9)
+    np.testing.assert_allclose(
+        wrap_angle(np.arctan2(step[:, 1], step[:, 0]) - mid_heading), 0, atol=1e-9
+    )
     noise = sc.z - sc.truth
     noise[..., 3] = wrap_angle(noise[..., 3])
     np.testing.assert_allclose(noise.std(axis=(0, 1)), [5, 5, np.sqrt(2), 0.01], rtol=0.03)
@@ -47,8 +48,12 @@ def test_gps_circle_table1_somd_target():
     true = np.diag(sc.R_true[0])
     est = np.array(
         [
-            [noisevar.estimate(z[b, :, j], method="somd", h_smooth=sc.h_smooth[j],
-                               select=False).variance for j in range(4)]
+            [
+                noisevar.estimate(
+                    z[b, :, j], method="somd", h_smooth=sc.h_smooth[j], select=False
+                ).variance
+                for j in range(4)
+            ]
             for b in range(20)
         ]
     )
@@ -87,9 +92,17 @@ def _args(**kw) -> argparse.Namespace:
 
 def test_gps_circle_experiment_json_schema():
     exp = discover()["gps-circle"]
-    args = _args(runs=2, seed=1, duration=600.0, window=50, forgetting=0.98, rho=0.99,
-                 somd_every=100, somd_window=None,
-                 methods=["oracle", "somd", "somd-paper", "rae", "iae", "sage-husa", "vb"])
+    args = _args(
+        runs=2,
+        seed=1,
+        duration=600.0,
+        window=50,
+        forgetting=0.98,
+        rho=0.99,
+        somd_every=100,
+        somd_window=None,
+        methods=["oracle", "somd", "somd-paper", "rae", "iae", "sage-husa", "vb"],
+    )
     out = exp.run(args)
     json.dumps(out, allow_nan=False)
     assert set(out["channels"]) == {"east", "north", "speed", "heading"}
@@ -107,9 +120,19 @@ def test_gps_circle_experiment_json_schema():
 @pytest.mark.parametrize("name", ["noise-step", "noise-ramp"])
 def test_noise_change_experiment_json_schema(name):
     exp = discover()[name]
-    args = _args(runs=2, seed=0, steps=2000, factor=3.0, settle=200, window=50, forgetting=0.98,
-                 rho=0.99, somd_window=500, somd_every=20,
-                 methods=["oracle", "fixed", "somd", "vb"])
+    args = _args(
+        runs=2,
+        seed=0,
+        steps=2000,
+        factor=3.0,
+        settle=200,
+        window=50,
+        forgetting=0.98,
+        rho=0.99,
+        somd_window=500,
+        somd_every=20,
+        methods=["oracle", "fixed", "somd", "vb"],
+    )
     out = exp.run(args)
     json.dumps(out, allow_nan=False)
     assert set(out["methods"]) == {"oracle", "fixed", "somd", "vb"}
@@ -126,8 +149,21 @@ def test_noise_change_experiment_json_schema(name):
 def test_cli_runs_gps_circle(capsys):
     from noisevar.cli import main
 
-    code = main(["experiment", "gps-circle", "--runs", "1", "--duration", "300", "--format",
-                 "json", "--methods", "oracle", "somd"])
+    code = main(
+        [
+            "experiment",
+            "gps-circle",
+            "--runs",
+            "1",
+            "--duration",
+            "300",
+            "--format",
+            "json",
+            "--methods",
+            "oracle",
+            "somd",
+        ]
+    )
     assert code in (0, None)
     out = json.loads(capsys.readouterr().out)
     assert out["settings"]["runs"] == 1 and "somd" in out["rmse"]
@@ -160,8 +196,17 @@ def test_figures():
 
 def test_experiment_jobs_give_identical_results():
     exp = discover()["gps-circle"]
-    base = dict(runs=1, seed=4, duration=300.0, window=50, forgetting=0.98, rho=0.99,
-                somd_every=100, somd_window=None, methods=["oracle", "rae", "vb"])
+    base = dict(
+        runs=1,
+        seed=4,
+        duration=300.0,
+        window=50,
+        forgetting=0.98,
+        rho=0.99,
+        somd_every=100,
+        somd_window=None,
+        methods=["oracle", "rae", "vb"],
+    )
     a = exp.run(_args(**base, jobs=1))
     b = exp.run(_args(**base, jobs=2))
     assert a == b

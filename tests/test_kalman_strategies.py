@@ -55,8 +55,15 @@ def test_vb_rho_one_converges_to_true_r():
     assert not res.diverged
 
 
-@pytest.mark.parametrize("strategy", [ResidualR(window=200), InnovationR(window=200),
-                                      SageHusaR(forgetting=0.995), VariationalBayesR()])
+@pytest.mark.parametrize(
+    "strategy",
+    [
+        ResidualR(window=200),
+        InnovationR(window=200),
+        SageHusaR(forgetting=0.995),
+        VariationalBayesR(),
+    ],
+)
 def test_adaptive_strategies_find_stationary_r(strategy):
     model, z, truth, R_true = cv_record(seed=1)
     res = run_filter(model, z, strategy=strategy, truth=truth)
@@ -89,8 +96,16 @@ def test_bad_strategy_parameters():
         run_filter(model, z, strategy=OracleR(np.eye(3)))
     with pytest.raises(NoisevarError, match="h_smooth"):
         run_filter(model, z, strategy=SomdOnlineR(h_smooth=[1e-3, 1e-3, 1e-3]))
-    assert set(STRATEGIES) >= {"fixed", "oracle", "somd-online", "rae", "iae", "rae-q",
-                               "sage-husa", "vb"}
+    assert set(STRATEGIES) >= {
+        "fixed",
+        "oracle",
+        "somd-online",
+        "rae",
+        "iae",
+        "rae-q",
+        "sage-husa",
+        "vb",
+    }
 
 
 def test_iae_and_sage_husa_stay_positive_definite():
@@ -125,8 +140,9 @@ def test_somd_batch_equals_estimator():
             for b in range(3):
                 for i, (s, e) in enumerate(bounds):
                     try:
-                        ref = noisevar.estimate(z[b, s:e], method=method, h_smooth=h,
-                                                select=False).variance
+                        ref = noisevar.estimate(
+                            z[b, s:e], method=method, h_smooth=h, select=False
+                        ).variance
                     except NoisevarError:
                         assert np.isnan(got[b, i])
                         continue

@@ -505,8 +505,10 @@ class StateSpaceModel:
             f0 = np.asarray(self.f(xb.copy(), 0), dtype=float)
             F0 = np.broadcast_to(np.asarray(self.F_jacobian(xb.copy(), 0), dtype=float), (1, n, n))
             scale = 1.0 + np.max(np.abs(f0)) + np.max(np.abs(F0))
-            if not (np.allclose(x_out, f0, rtol=1e-9, atol=1e-12 * scale)
-                    and np.allclose(F_out, F0, rtol=1e-9, atol=1e-12 * scale)):
+            if not (
+                np.allclose(x_out, f0, rtol=1e-9, atol=1e-12 * scale)
+                and np.allclose(F_out, F0, rtol=1e-9, atol=1e-12 * scale)
+            ):
                 raise NoisevarError("transition disagrees with f / F_jacobian on x0")
 
     @property
@@ -716,9 +718,7 @@ class KalmanFilter:
         self.innovation = np.zeros((B, m))
         self.residual = np.zeros((B, m))
         self.F_used: NDArray = self.model.F if self.model.F is not None else self._eye
-        self.H_used: NDArray = (
-            self.model.H if self.model.H is not None else np.zeros((m, n))
-        )
+        self.H_used: NDArray = self.model.H if self.model.H is not None else np.zeros((m, n))
         self.Q: NDArray = self.model.Q
         self.R: NDArray = self.model.R
         self.S = np.repeat(self.model.R[None], B, axis=0)
@@ -870,8 +870,11 @@ class KalmanFilter:
         if buf is None:
             B, n, m = self.batch_size, self.n, self.m
             buf = self._scratch_buf = (
-                np.empty((B, n)), np.empty((B, n, n)), np.empty((B, m)),
-                np.empty((B, m, m)), *self._sk_buffer(),
+                np.empty((B, n)),
+                np.empty((B, n, n)),
+                np.empty((B, m)),
+                np.empty((B, m, m)),
+                *self._sk_buffer(),
             )
         return buf
 
@@ -901,9 +904,7 @@ class KalmanFilter:
                 z_pred = np.empty(self._shape_z)
             PHt = np.empty(self._shape_K)
             HPHt = np.empty(self._shape_R)
-            _kernels.measure(
-                z, x_pred, P_pred, H3, cfg, z_pred, d, PHt, HPHt, self._nt, self._mt
-            )
+            _kernels.measure(z, x_pred, P_pred, H3, cfg, z_pred, d, PHt, HPHt, self._nt, self._mt)
         self.PHt = PHt
         self.HPHt = HPHt
         self.z_pred = z_pred
@@ -1185,9 +1186,11 @@ class KalmanFilter:
         """
         self.x = np.array(self.x)
         self.P = np.array(self.P)
-        self.x[runs] = self.model.x0 if self.x0 is None else np.broadcast_to(
-            np.asarray(self.x0, dtype=float), self.x.shape
-        )[runs]
+        self.x[runs] = (
+            self.model.x0
+            if self.x0 is None
+            else np.broadcast_to(np.asarray(self.x0, dtype=float), self.x.shape)[runs]
+        )
         self.P[runs] = self.model.P0
         self.strategy.reset_runs(self, runs)
 
@@ -1410,13 +1413,26 @@ def run_filter(
     }
     # NaN out what a run computed after it blew up (not after a NIS/NEES flag:
     # those values are finite, only inconsistent)
-    blown = np.array([s >= 0 and not r.startswith(("NIS", "NEES")) for s, r in
-                      zip(div_step, reasons, strict=True)])
+    blown = np.array(
+        [
+            s >= 0 and not r.startswith(("NIS", "NEES"))
+            for s, r in zip(div_step, reasons, strict=True)
+        ]
+    )
     for b in np.flatnonzero(blown):
-        for key in ("x", "x_pred", "P", "P_pred", "innovation", "innovation_cov",
-                    "residual", "nis", "nees"):
+        for key in (
+            "x",
+            "x_pred",
+            "P",
+            "P_pred",
+            "innovation",
+            "innovation_cov",
+            "residual",
+            "nis",
+            "nees",
+        ):
             if outs[key] is not None:
-                outs[key][b, div_step[b]:] = np.nan
+                outs[key][b, div_step[b] :] = np.nan
 
     name = strategy.name + ("+huber" if robust is not None else "")
     diverged = div_step >= 0
@@ -1528,9 +1544,7 @@ def _check_block(
             reasons[b] = f"state became NaN/infinite at step {div_step[b]}"
         elif bad_now[b]:
             div_step[b] = stop - 1
-            reasons[b] = (
-                f"covariance became NaN/infinite or S singular by step {div_step[b]}"
-            )
+            reasons[b] = f"covariance became NaN/infinite or S singular by step {div_step[b]}"
         else:
             div_step[b] = stop - 1
             reasons[b] = (
@@ -1593,4 +1607,3 @@ def nis_band(dof: int, window: int = 1, coverage: float = 0.95) -> tuple[float, 
         float(stats.chi2.ppf(a, dof * window) / window),
         float(stats.chi2.ppf(1.0 - a, dof * window) / window),
     )
-

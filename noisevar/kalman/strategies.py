@@ -277,9 +277,7 @@ class OracleR(RStrategy):
         if R.shape[1] == 1:
             return R[:, 0] if self._R_const is None else self._R_const
         if filt.k >= R.shape[1]:
-            raise NoisevarError(
-                f"R_true has {R.shape[1]} steps but the filter is at step {filt.k}"
-            )
+            raise NoisevarError(f"R_true has {R.shape[1]} steps but the filter is at step {filt.k}")
         Rk = R[:, filt.k]
         if self._contiguous:
             Rk = np.ascontiguousarray(Rk)
@@ -324,8 +322,17 @@ class _WindowedR(RStrategy):
         B, m = u.shape
         R = np.empty((B, m, m)) if adapt else self._no_R
         core._kernels.window_diag(
-            cov.buf, cov.sum, cov.count, cov.pos, u, hph, sign, adapt, self._floor,
-            self.guard_count, R,
+            cov.buf,
+            cov.sum,
+            cov.count,
+            cov.pos,
+            u,
+            hph,
+            sign,
+            adapt,
+            self._floor,
+            self.guard_count,
+            R,
         )
         cov.advance()
         return self._guard_dead(R) if adapt else None
@@ -471,9 +478,7 @@ class ResidualQR(ResidualR):
             innov = self._innov
             adapt = innov.count + 1 >= self.warmup
             Q = np.empty((filt.batch_size, filt.n, filt.n)) if adapt else self._no_R
-            core._kernels.outer_q(
-                innov.buf, innov.sum, innov.count, innov.pos, d, adapt, filt.K, Q
-            )
+            core._kernels.outer_q(innov.buf, innov.sum, innov.count, innov.pos, d, adapt, filt.K, Q)
             innov.advance()
             if adapt:
                 self._Q = Q
@@ -631,7 +636,12 @@ class VariationalBayesR(RStrategy):
     def _beta_compiled(self, filt: KalmanFilter, want_R: bool) -> NDArray:
         R = np.empty(self._shape_R) if want_R else self._no_R
         core._kernels.vb_beta(
-            self._beta_pred, filt.residual, filt.project(filt.P), self._alpha, self._beta, R,
+            self._beta_pred,
+            filt.residual,
+            filt.project(filt.P),
+            self._alpha,
+            self._beta,
+            R,
             want_R,
         )
         return self._guard_dead(R) if self._any_dead and want_R else R
@@ -656,8 +666,13 @@ class VariationalBayesR(RStrategy):
         if self._fast:
             R = np.empty(self._shape_R)
             core._kernels.vb_beta(
-                self._beta_pred, filt.residual, filt.project(filt.P), self._alpha, self._beta,
-                R, True,
+                self._beta_pred,
+                filt.residual,
+                filt.project(filt.P),
+                self._alpha,
+                self._beta,
+                R,
+                True,
             )
             return self._guard_dead(R) if self._any_dead else R
         self._update_beta(filt)
@@ -766,9 +781,11 @@ class SomdOnlineR(RStrategy):
         self._Rmat = _diag_matrix(self._var)
         self._angles = list(filt.model.angle_measurements)
         # a schedule from prepare() serves the one filter that run_filter starts next
-        self._active = self._schedule if self._schedule is not None and (
-            self._prepared_shape[0] == B
-        ) else None
+        self._active = (
+            self._schedule
+            if self._schedule is not None and (self._prepared_shape[0] == B)
+            else None
+        )
         self._schedule = None
         self._history: list[NDArray] = []
         self._n_est = 0
