@@ -552,6 +552,12 @@ def mle_estimate(z: NDArray, trend: bool, notes: list[str]) -> VarianceEstimate:
         warnings.simplefilter("ignore")
         model = UnobservedComponents(y, level=level)
         res = model.fit(disp=False, maxiter=200)
+    retvals = getattr(res, "mle_retvals", None) or {}
+    if not retvals.get("converged", True):
+        notes.append(
+            "the likelihood optimiser stopped without converging "
+            f"(after {retvals.get('iterations', '?')} iterations): this estimate may be far off"
+        )
     names = list(model.param_names)
     idx = names.index("sigma2.irregular")
     var_scaled = float(res.params[idx])
