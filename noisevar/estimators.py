@@ -425,7 +425,10 @@ def somd_estimate(
 
 
 def redundant_estimate(
-    z: NDArray, reference: ArrayLike, reference_variance: float = 0.0, notes=None
+    z: NDArray,
+    reference: ArrayLike,
+    reference_variance: float = 0.0,
+    notes: list[str] | None = None,
 ) -> VarianceEstimate:
     """SOMD with a real redundant sensor, eq. [8]: ``var(V2) = E[(ΔZ1 - ΔZ2)²]/2 - var(V1)``.
 
