@@ -891,6 +891,30 @@ def _outlier_mask(
     return outlier
 
 
+def _near_flagged(
+    flagged: NDArray, idx: NDArray, spans: tuple[int, ...], half: int, sq: NDArray
+) -> tuple[NDArray, NDArray, NDArray] | None:
+    """Samples of the common mask ``idx`` that a shorter span can still use.
+
+    The common mask widens flagged samples by ``half``; the residual of a
+    span ``s`` at sample ``k`` reaches ``s // 2`` samples either way, so a
+    sample more than ``s // 2`` from every flagged one has a clean residual
+    for that span. Returns the indices of such samples, the longest usable
+    span index of each, and their squared residuals for the spans up to it
+    (before the caller zeroes the masked ones), or None.
+    """
+    usable = np.full(idx.size, -1)
+    for j, s in enumerate(spans):
+        if s // 2 >= half:
+            break
+        usable[~_dilate(flagged, s // 2)[idx]] = j
+    keep = usable >= 0
+    if not keep.any():
+        return None
+    near = idx[keep]
+    return near, usable[keep], sq[: int(usable.max()) + 1, near].copy()
+
+
 def auto_estimate(
     z: NDArray,
     *,
@@ -921,11 +945,16 @@ def auto_estimate(
     3. Robust trimming (the paper's window selection, made local):
        residuals of the shortest span beyond ``trim`` (5) local standard
        deviations are flagged with their neighbours over the longest span
-       and left out of every span's estimate; the local scale follows a
-       noise level that changes along the record (near a change of level,
-       the higher of the two neighbouring blocks' levels: genuine noise just
-       after a x3 noise step was trimmed in one record of ten, -0.10 % bias
-       and RMSE 2.47 % against 2.42 % on noise-step at n = 6000).
+       (up to 41) and left out of every span's choice. In the estimate, a
+       sample of that neighbourhood still counts with the longest span (at
+       most its block's) whose residual reaches no flagged sample: a spike
+       or a jump costs 20 to 35 samples instead of 50 to 65 (steps-ramps,
+       n = 1000: RMSE 5.74 -> 5.21 %, bias -0.62 -> -0.40 %, 200 runs). The
+       local scale follows a noise level that changes along the record
+       (near a change of level, the higher of the two neighbouring blocks'
+       levels: genuine noise just after a x3 noise step was trimmed in one
+       record of ten, -0.10 % bias and RMSE 2.47 % against 2.42 % on
+       noise-step at n = 6000).
     4. Local span (again window selection, but measured): a longer span
        is more efficient but lets more of a fast signal through, and
        leakage only ever adds variance. In each block of 256 samples the
@@ -1015,6 +1044,7 @@ def auto_estimate(
     )
     tau = _truncated_second_moment(trim) if np.isfinite(trim) else 1.0
     kept_count = _block_counts(block, nb, m)
+    recover = None
     clean_for = np.ones((len(spans), nb), dtype=bool)  # span j's residuals untouched here
     if flagged is not None:
         idx = np.flatnonzero(_dilate(flagged, half) if half > 0 else flagged)
@@ -1024,6 +1054,7 @@ def auto_estimate(
             )
         per_block = _flagged_per_block(idx, block, nb)
         kept_count -= per_block
+        recover = _near_flagged(flagged, idx, spans, half, sq)
         sq[:, idx] = 0.0  # sq is ours: trimmed residuals count as zero
         for j, s in enumerate(spans):
             if s // 2 > half:
@@ -1051,6 +1082,16 @@ def auto_estimate(
         choice[ok] = j
         open_ &= ok
     chosen_sum = block_sum[choice, np.arange(nb)]
+    if recover is not None:
+        # samples the common mask left out whose shorter-span residual reaches no flagged
+        # sample count with that span (at most the block's own)
+        near, usable, values = recover
+        rows = np.minimum(near // block, nb - 1)
+        use = np.minimum(choice[rows], usable)
+        chosen_sum = chosen_sum + np.bincount(
+            rows, weights=values[use, np.arange(near.size)], minlength=nb
+        )
+        kept_count = kept_count + np.bincount(rows, minlength=nb)
     n_kept = int(kept_count.sum())
     var = float(chosen_sum.sum() / (n_kept * tau))
     span_used = np.asarray(spans)[choice]

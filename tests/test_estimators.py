@@ -484,6 +484,34 @@ def test_above_local_uses_the_higher_of_the_two_bracketing_levels(n, block):
     np.testing.assert_array_equal(_above_local(x, local, block), x > level)
 
 
+def test_auto_leaves_out_only_the_residuals_a_spike_or_jump_reaches():
+    """Near a flagged sample, the shorter spans' clean residuals still count.
+
+    A spike or a jump is flagged with its neighbours; each span's residual
+    reaches half the span, so only 20 to 35 samples are lost (the common mask
+    of span 41 lost 50 to 65), and the estimate stays unbiased.
+    """
+    n = 3000
+    rng = np.random.default_rng(3)
+    smooth = 20.0 * np.sin(np.arange(n) / 300.0)
+    noisy = smooth + rng.standard_normal(n)
+    for kind in ("spike", "jump"):
+        sizes = []
+        for size in (60.0, 1e3, 1e6):
+            z = noisy.copy()
+            if kind == "spike":
+                z[1500] += size
+            else:
+                z[1500:] += size
+            est = nv.estimate(z)
+            assert 0 < n - est.n_used <= 35
+            assert est.variance == pytest.approx(1.0, rel=0.05)
+            sizes.append(est.variance)
+        # no kept residual reaches the spike or the jump: once it is flagged with the
+        # same neighbours, its size changes nothing
+        assert sizes[2] == pytest.approx(sizes[1], rel=1e-9)
+
+
 def test_auto_does_not_trim_genuine_noise_after_a_noise_step():
     """A x3 step of the noise level is not an outlier: no record of 40 loses a sample.
 
