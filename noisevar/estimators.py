@@ -826,8 +826,7 @@ def _above_local(x: NDArray, local: NDArray, block: int) -> NDArray:
     if idx.size and nb > 1:
         own = np.minimum(idx // block, nb - 1)
         side = np.where(idx - own * block < block // 2, own - 1, own + 1)
-        side = np.clip(side, 0, nb - 1)
-        side[idx >= nb * block] = nb - 1
+        side = np.clip(side, 0, nb - 1)  # the rest of the record: the last block's level
         hit[idx[x[idx] <= np.maximum(local[own], local[side])]] = False
     return hit
 

@@ -90,17 +90,17 @@ def _args(**kw) -> argparse.Namespace:
     return argparse.Namespace(**kw)
 
 
+#: Adaptive-filter settings the gps-circle experiment tests share.
+GPS_ARGS = dict(window=50, forgetting=0.98, rho=0.99, somd_every=100, somd_window=None)
+
+
 def test_gps_circle_experiment_json_schema():
     exp = discover()["gps-circle"]
     args = _args(
+        **GPS_ARGS,
         runs=2,
         seed=1,
         duration=600.0,
-        window=50,
-        forgetting=0.98,
-        rho=0.99,
-        somd_every=100,
-        somd_window=None,
         methods=["oracle", "somd", "somd-paper", "rae", "iae", "sage-husa", "vb"],
     )
     out = exp.run(args)
@@ -196,17 +196,7 @@ def test_figures():
 
 def test_experiment_jobs_give_identical_results():
     exp = discover()["gps-circle"]
-    base = dict(
-        runs=1,
-        seed=4,
-        duration=300.0,
-        window=50,
-        forgetting=0.98,
-        rho=0.99,
-        somd_every=100,
-        somd_window=None,
-        methods=["oracle", "rae", "vb"],
-    )
+    base = dict(GPS_ARGS, runs=1, seed=4, duration=300.0, methods=["oracle", "rae", "vb"])
     a = exp.run(_args(**base, jobs=1))
     b = exp.run(_args(**base, jobs=2))
     assert a == b
