@@ -34,12 +34,18 @@ import numpy as np
 import streamlit as st
 
 import noisevar
-from noisevar.compare import Comparison, compare_methods
-from noisevar.envelope import HScan, WindowAmplitude, detrend_windows, noise_amplitude, scan_h
 from noisevar.errors import NoisevarError
-from noisevar.figures import to_html, to_png
+from noisevar.estimators.compare import Comparison, compare_methods
+from noisevar.estimators.results import VarianceEstimate
+from noisevar.figures._common import to_html, to_png
+from noisevar.filters.envelope import (
+    HScan,
+    WindowAmplitude,
+    detrend_windows,
+    noise_amplitude,
+    scan_h,
+)
 from noisevar.io import LoadedTable, content_digest, load_table, pick_column, table_from_arrays
-from noisevar.results import VarianceEstimate
 from noisevar.signals import GPS_CHANNELS
 
 ROOT = Path(__file__).resolve().parent
@@ -712,7 +718,7 @@ def _scan_cached(digest: str, window: int, _z: np.ndarray) -> HScan:
 
 
 def h_scan(sig: LoadedSignal, window: int) -> HScan:
-    """:func:`noisevar.envelope.scan_h` on the signal, cached."""
+    """:func:`noisevar.filters.envelope.scan_h` on the signal, cached."""
     return _scan_cached(sig.digest, int(window), sig.z)
 
 
@@ -746,7 +752,7 @@ def _compare_cached(
 
 
 def compare(sig: LoadedSignal, methods: Sequence[str], params: dict[str, dict]) -> Comparison:
-    """:func:`noisevar.compare.compare_methods` on the signal, cached."""
+    """:func:`noisevar.estimators.compare.compare_methods` on the signal, cached."""
     return _compare_cached(sig.digest, tuple(methods), _key(params), truth_of(sig), sig.z)
 
 
@@ -822,7 +828,7 @@ def delay_is_significant(delay: Any, sample_period: float) -> bool:
 def _redundant_cached(
     table_digest: str, columns: tuple[str, ...], align: bool, period: float, _sig: LoadedSignal
 ) -> tuple[noisevar.RedundantEstimate, np.ndarray, Any, float]:
-    from noisevar.latency import align_signals, estimate_delay
+    from noisevar.systems.latency import align_signals, estimate_delay
 
     data = sensor_matrix(_sig, columns)
     delay = None
@@ -844,7 +850,7 @@ def redundant(
     """Redundant SOMD on several columns (optionally delay-aligned first, two sensors), cached.
 
     With ``align`` the delay of the second sensor behind the first is
-    estimated (:func:`noisevar.latency.estimate_delay`) and, when significant
+    estimated (:func:`noisevar.systems.latency.estimate_delay`) and, when significant
     (:func:`delay_is_significant`), removed by a whole-sample shift.
 
     Returns
@@ -859,13 +865,13 @@ def redundant(
 
 @st.cache_resource(max_entries=16, show_spinner=False)
 def _delay_cached(table_digest: str, ref: str, other: str, period: float, _sig: LoadedSignal):
-    from noisevar.latency import estimate_delay
+    from noisevar.systems.latency import estimate_delay
 
     return estimate_delay(pick_column(_sig.table, ref), pick_column(_sig.table, other), period)
 
 
 def delay_between(sig: LoadedSignal, ref: str, other: str) -> Any:
-    """:func:`noisevar.latency.estimate_delay` of column ``other`` behind ``ref``, cached."""
+    """:func:`~noisevar.systems.latency.estimate_delay` of ``other`` behind ``ref``, cached."""
     return _delay_cached(sig.table_digest, ref, other, float(sig.sample_period or 1.0), sig)
 
 
@@ -882,8 +888,8 @@ def column_estimate(sig: LoadedSignal, column: str, method: str = "auto") -> Var
 
 
 def load_simulated_sensors(noise_stds: Sequence[float] = (1.0, 2.0, 3.0), seed: int = 0) -> None:
-    """Make simulated redundant sensors (:func:`noisevar.compare.simulate_sensors`) the signal."""
-    from noisevar.compare import simulate_sensors
+    """Make simulated redundant sensors (``simulate_sensors``) the signal."""
+    from noisevar.estimators.compare import simulate_sensors
 
     table = simulate_sensors("fast-slow", noise_stds, n=6000, seed=seed, drift=3.0)
     sig = make_signal(table, None, table.sample_period, "generated", None)
@@ -902,12 +908,12 @@ KALMAN_STATE_GROUPS: dict[str, dict[str, tuple[int, ...]]] = {
 
 @st.cache_resource(max_entries=6, show_spinner=False)
 def kalman_scenario(name: str, seed: int, size: float, factor: float) -> Any:
-    """A seeded filter scenario of :mod:`noisevar.kalman.scenarios` (one run), cached.
+    """A seeded filter scenario of :mod:`noisevar.systems.scenarios` (one run), cached.
 
     ``size`` is the duration in seconds for ``gps-circle`` and the number of
     steps otherwise; ``factor`` the noise increase of ``noise-step`` / ``noise-ramp``.
     """
-    from noisevar.kalman.scenarios import SCENARIOS
+    from noisevar.systems.scenarios import SCENARIOS
 
     if name not in SCENARIOS:
         raise NoisevarError(f"unknown scenario {name!r}; choose one of {list(SCENARIOS)}")
@@ -922,21 +928,15 @@ def make_filter_strategy(
     name: str, settings: dict[str, Any], h_smooth: Any, R_true: np.ndarray | None = None
 ) -> Any:
     """A fresh R-adaptation strategy object from the page's settings."""
-    from noisevar.kalman import OracleR, SomdOnlineR, make_strategy
+    from noisevar.kalman.strategies import make_strategy, strategy_spec
 
-    if name == "oracle":
-        if R_true is None:
-            raise NoisevarError("the oracle filter needs the true R: only for scenarios")
-        return OracleR(R_true)
-    if name == "somd-online":
-        return SomdOnlineR(h_smooth=h_smooth, every=int(settings.get("every", 100)))
-    if name in ("rae", "iae", "rae-q"):
-        return make_strategy(name, window=int(settings.get("window", 50)))
-    if name == "sage-husa":
-        return make_strategy(name, forgetting=float(settings.get("forgetting", 0.98)))
-    if name == "vb":
-        return make_strategy(name, rho=float(settings.get("rho", 0.99)))
-    return make_strategy(name)
+    if name == "oracle" and R_true is None:
+        raise NoisevarError("the oracle filter needs the true R: only for scenarios")
+    tunable = strategy_spec(name).defaults()
+    params = {k: settings[k] for k in tunable if settings.get(k) is not None}
+    if "h_smooth" in strategy_spec(name).needs:
+        params.pop("window", None)  # the page's window is RAE/IAE's; SOMD uses all samples so far
+    return make_strategy(name, h_smooth=h_smooth, R_true=R_true, **params)
 
 
 @st.cache_resource(max_entries=24, show_spinner=False)
@@ -975,7 +975,7 @@ def _data_run_cached(
     z = sensor_matrix(_sig, columns)
     quick = np.array([column_estimate(_sig, c).variance for c in columns])
     r0 = quick * r0_factor
-    from noisevar.kalman.scenarios import constant_velocity_model
+    from noisevar.systems.scenarios import constant_velocity_model
 
     model = constant_velocity_model(z[0], period, h, r0, columns)
     settings = json.loads(settings_json)
@@ -996,7 +996,7 @@ def data_run(
 ) -> tuple[Any, np.ndarray, np.ndarray]:
     """One strategy on chosen columns of the loaded table, cached.
 
-    The model is :func:`noisevar.kalman.scenarios.constant_velocity_model`.
+    The model is :func:`noisevar.systems.scenarios.constant_velocity_model`.
 
     Returns
     -------
@@ -1045,8 +1045,8 @@ def filter_summary(result: Any, groups: dict[str, tuple[int, ...]] | None) -> di
 # ------------------------------------------------------ the other seed systems
 @st.cache_resource(max_entries=4, show_spinner=False)
 def fusion_data(fault: str, steps: int, runs: int, seed: int, noise_factor: float, bias: float):
-    """:func:`noisevar.fusion.simulate_fusion` for the page's settings, cached."""
-    from noisevar.fusion import FusionScenario, simulate_fusion
+    """:func:`noisevar.systems.fusion.simulate_fusion` for the page's settings, cached."""
+    from noisevar.systems.fusion import FusionScenario, simulate_fusion
 
     scen = FusionScenario(
         n_steps=int(steps), fault=fault, noise_factor=float(noise_factor), bias_sigmas=float(bias)
@@ -1056,20 +1056,20 @@ def fusion_data(fault: str, steps: int, runs: int, seed: int, noise_factor: floa
 
 @st.cache_resource(max_entries=16, show_spinner=False)
 def _fusion_run_cached(data_key: str, config: str, false_alarm: float, _data: Any):
-    from noisevar.fusion import run_fusion
+    from noisevar.systems.fusion import run_fusion
 
     local, _, iso = config.partition("+")
     return run_fusion(_data, local=local, isolation=bool(iso), false_alarm=float(false_alarm))
 
 
 def fusion_run(data: Any, data_key: str, config: str, false_alarm: float) -> Any:
-    """:func:`noisevar.fusion.run_fusion` for a configuration like ``"vb+isolation"``, cached."""
+    """``run_fusion`` for a configuration like ``"vb+isolation"``, cached."""
     return _fusion_run_cached(data_key, config, float(false_alarm), data)
 
 
 @st.cache_resource(max_entries=4, show_spinner=False)
 def _fusion_equivalence_cached(data_key: str, _data: Any) -> float:
-    from noisevar.fusion import max_abs_diff_vs_centralized
+    from noisevar.systems.fusion import max_abs_diff_vs_centralized
 
     return max_abs_diff_vs_centralized(_data)
 
@@ -1099,8 +1099,8 @@ def robust_run(
     runs: int,
     seed: int,
 ) -> Any:
-    """:func:`noisevar.robust.run_robust` on a simulated fly-over, cached."""
-    from noisevar.robust import RobustScenario, run_robust, simulate_robust
+    """:func:`noisevar.systems.robust.run_robust` on a simulated fly-over, cached."""
+    from noisevar.systems.robust import RobustScenario, run_robust, simulate_robust
 
     scen = RobustScenario(
         magvar_deg=float(magvar), outliers=bool(outliers), burst_rate=float(burst_rate)
@@ -1109,7 +1109,7 @@ def robust_run(
     return run_robust(data, kappa=float(kappa), iterations=int(iterations))
 
 
-#: The carrier filters the page shows (names of :func:`noisevar.carrier.comparison_variants`).
+#: The carrier filters the page shows (``comparison_variants`` names).
 CARRIER_FILTERS = ("ekf", "aekf", "ekf_matched", "aekf_paper_q")
 
 
@@ -1117,13 +1117,13 @@ CARRIER_FILTERS = ("ekf", "aekf", "ekf_matched", "aekf_paper_q")
 def carrier_runs(
     settings_json: str, runs: int, seed: int, window: int, nominal_cn0: float
 ) -> dict[str, Any]:
-    """The realistic comparison (:func:`noisevar.carrier.compare`) on the same signals, cached.
+    """The realistic comparison (``carrier.compare``) on the same signals, cached.
 
     ``ekf`` is designed for ``nominal_cn0``; ``aekf`` adapts from that design
     (eq. 22 R, stabilised Q); ``ekf_matched`` knows the true noise;
     ``aekf_paper_q`` is the paper's eq. 26 (it runs away).
     """
-    from noisevar.carrier import CarrierScenario, compare, comparison_variants
+    from noisevar.systems.carrier import CarrierScenario, compare, comparison_variants
 
     scen = CarrierScenario(**json.loads(settings_json))
     variants = comparison_variants(nominal_cn0_dbhz=float(nominal_cn0))
@@ -1135,8 +1135,8 @@ def carrier_runs(
 def carrier_sweep(
     settings_json: str, cn0: tuple[float, ...], runs: int, seed: int, nominal_cn0: float
 ) -> Any:
-    """:func:`noisevar.carrier.cn0_sweep` of the page's filters for its scenario, cached."""
-    from noisevar.carrier import CarrierScenario, cn0_sweep, comparison_variants
+    """:func:`noisevar.systems.carrier.cn0_sweep` of the page's filters for its scenario, cached."""
+    from noisevar.systems.carrier import CarrierScenario, cn0_sweep, comparison_variants
 
     scen = CarrierScenario(**json.loads(settings_json))
     variants = comparison_variants(nominal_cn0_dbhz=float(nominal_cn0))
@@ -1146,8 +1146,8 @@ def carrier_sweep(
 
 @st.cache_resource(max_entries=8, show_spinner=False)
 def latency_run(settings_json: str, seed: int, max_delay: float) -> Any:
-    """:func:`noisevar.latency.run_latency` on a simulated flight, cached."""
-    from noisevar.latency import LatencyScenario, run_latency, simulate_latency
+    """:func:`noisevar.systems.latency.run_latency` on a simulated flight, cached."""
+    from noisevar.systems.latency import LatencyScenario, run_latency, simulate_latency
 
     record = simulate_latency(LatencyScenario(**json.loads(settings_json)), seed=int(seed))
     return run_latency(record, max_delay_s=float(max_delay))

@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 import noisevar
-from noisevar.compare import run_monte_carlo
+from noisevar.estimators.compare import run_monte_carlo
 
 FAMILIES = noisevar.signal_names()
 SIZES = (1000, 6000, 50000)
@@ -40,7 +40,7 @@ def _floor(noise_std: np.ndarray) -> float:
 
 
 def run_cell(task: tuple[tuple[str, ...], str, int, int, int]) -> list[dict]:
-    """Monte Carlo of some methods on one (family, n) (:func:`noisevar.compare.run_monte_carlo`)."""
+    """Monte Carlo of some methods on one (family, n) (``run_monte_carlo``)."""
     methods, family, n, runs, seed = task
     mc = run_monte_carlo(family, runs=runs, methods=list(methods), n=n, seed=seed)
     floor = _floor(noisevar.generate(family, n=n, seed=seed).noise_std)

@@ -40,7 +40,7 @@ from noisevar.kalman import (
     make_strategy,
 )
 from noisevar.kalman.evaluation import divergence_summary, pooled_rmse, r_diagonal
-from noisevar.kalman.scenarios import GPS_CHANNELS, gps_circle
+from noisevar.systems.scenarios import GPS_CHANNELS, gps_circle
 
 RESULTS = Path(__file__).resolve().parent / "results"
 CHANNEL_UNITS = {"east": "m²", "north": "m²", "speed": "m²/s²", "heading": "rad²"}
@@ -226,7 +226,7 @@ import sys, time
 t0 = time.perf_counter()
 sys.path.insert(0, {bench!r})
 from kalman import _fresh
-from noisevar.kalman.scenarios import gps_circle
+from noisevar.systems.scenarios import gps_circle
 sc = gps_circle(runs=1, seed=0, duration=50.0)
 t1 = time.perf_counter()
 for name in {names!r}:

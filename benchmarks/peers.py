@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 import noisevar
-from noisevar.compare import run_monte_carlo
+from noisevar.estimators.compare import run_monte_carlo
 
 RESULTS = Path(__file__).resolve().parent / "results"
 PEERS = ("mle-level", "mle-trend")
@@ -47,7 +47,7 @@ def oracle_errors(family: str, n: int, runs: int, seed: int) -> np.ndarray:
     """Relative errors of the mean square of the actual noise, on the runs of ``_cell``.
 
     The estimator that knows the clean signal (run ``i`` is ``generate(family,
-    seed=seed + i)``, as in :func:`noisevar.compare.monte_carlo`, whose
+    seed=seed + i)``, as in :func:`noisevar.estimators.compare.monte_carlo`, whose
     target is the first run's mean noise variance). For noise of one level it
     is the efficient unbiased estimator (its RMSE is the Cramér-Rao floor
     ``sqrt(2/n)`` up to the runs' scatter); where the level varies along the

@@ -24,7 +24,7 @@ hold is reported as such, with its numbers.
 
 A fraction of 100 runs cannot tell 0 slips from 1 %, so the carrier's slip
 rates are also counted over ``--slip-runs`` (default 1000) runs at 25, 30
-and 35 dB-Hz (``noisevar.carrier.slip_rates``, in-process, the benchmark's
+and 35 dB-Hz (``noisevar.systems.carrier.slip_rates``, in-process, the benchmark's
 seed; about half a minute), with Wilson 95 % intervals and a paired
 McNemar test against the fixed EKF, for the EKF, the AEKF and the AEKF
 with the paper's running-mean start of ``R̂`` (what the AEKF was before
@@ -34,7 +34,7 @@ The carrier's ``ekf`` is the fixed EKF designed for nominal conditions
 (45 dB-Hz, the scenario's dynamics) and ``aekf`` adapts from that design
 (eq. 22 + our stabilised Q); the EKF with the true noise is the
 ``matched`` reference row. The outliers experiment runs at our default
-``κ = 2.5`` (chosen on held-out seeds, see ``noisevar.robust``), with the
+``κ = 2.5`` (chosen on held-out seeds, see ``noisevar.systems.robust``), with the
 paper's 1.345 reported next to it.
 """
 
@@ -327,7 +327,7 @@ SLIP_FILTERS = (
 
 def slip_study(runs: int, seed: int) -> list[str]:
     """Slip rates of the fixed EKF and the AEKFs over many runs, with intervals."""
-    from noisevar.carrier import comparison_variants, slip_rates
+    from noisevar.systems.carrier import comparison_variants, slip_rates
 
     v = comparison_variants(45.0)
     variants = {
@@ -341,7 +341,7 @@ def slip_study(runs: int, seed: int) -> list[str]:
     lines = [
         "",
         f"Carrier slip rates over {runs} runs per C/N0 (seed {seed}, the same signals for every "
-        "filter; design 45 dB-Hz / 25 Hz/s; `noisevar.carrier.slip_rates`, "
+        "filter; design 45 dB-Hz / 25 Hz/s; `noisevar.systems.carrier.slip_rates`, "
         f"{wall:.0f} s wall, {cpu:.0f} s CPU). Slipped runs with the Wilson 95 % interval of the "
         "fraction; of them, those whose first slip came before the first manoeuvre (2 s: the "
         "loop was still pulling in at 0.5 s) and those back at their cycle count of 0.5 s at "
@@ -389,7 +389,7 @@ def slip_study(runs: int, seed: int) -> list[str]:
 
 def kappa_selection(runs: int, seeds: range) -> list[str]:
     """Recompute the held-out κ study behind the default κ (pooled over ``seeds``)."""
-    from noisevar.robust import RobustScenario, kappa_tradeoff, simulate_robust
+    from noisevar.systems.robust import RobustScenario, kappa_tradeoff, simulate_robust
 
     start = time.process_time()
     noisy = [simulate_robust(RobustScenario(), seed=s, runs=runs) for s in seeds]
@@ -440,7 +440,7 @@ def kappa_table(out: dict[str, Any]) -> list[str]:
         "",
         "The default κ = 2.5 was chosen on seeds 1-5 (500 runs, held out from this seed) as "
         "the only κ of the grid whose intervals lie inside both targets there; the held-out "
-        "table (`--kappa-selection`, `noisevar.robust.kappa_tradeoff`) shows those numbers.",
+        "table (`--kappa-selection`, `kappa_tradeoff`) shows those numbers.",
     ]
     return lines
 

@@ -9,10 +9,10 @@ Quick start::
     noisevar.methods()
 """
 
-from .errors import NoisevarError, NoWindowKept
-from .estimators import describe_methods, estimate, estimate_redundant, methods
-from .results import RedundantEstimate, VarianceEstimate
-from .signals import GeneratedSignal, generate, signal_names
+from noisevar.errors import NoisevarError, NoWindowKept
+from noisevar.estimators import describe_methods, estimate, estimate_redundant, methods
+from noisevar.estimators.results import RedundantEstimate, VarianceEstimate
+from noisevar.signals import GeneratedSignal, generate, signal_names
 
 __version__ = "0.1.0"
 __all__ = [

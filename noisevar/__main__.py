@@ -1,5 +1,5 @@
 """``python -m noisevar``: see :mod:`noisevar.cli`."""
 
-from .cli import main
+from noisevar.cli import main
 
 raise SystemExit(main())

@@ -26,7 +26,7 @@ from typing import Any, NoReturn
 
 import numpy as np
 
-from .errors import NoisevarError
+from noisevar.errors import NoisevarError
 
 EXIT_ERROR = 2
 
@@ -58,7 +58,7 @@ def _load_signal(
     Empty/NaN/Inf cells are refused (naming the first row) unless
     ``drop_nonfinite``.
     """
-    from .io import load_table, pick_column
+    from noisevar.io import load_table, pick_column
 
     table = load_table(path, os.path.basename(path))
     z = np.asarray(pick_column(table, column, drop_nonfinite=drop_nonfinite), dtype=float)
@@ -67,7 +67,7 @@ def _load_signal(
 
 # --------------------------------------------------------------------------- estimate
 def _estimate_params(args: argparse.Namespace) -> tuple[str, dict[str, Any]]:
-    from .config import load_config
+    from noisevar.config import load_config
 
     params: dict[str, Any] = {}
     method = "auto"
@@ -133,7 +133,7 @@ def _cmd_estimate(args: argparse.Namespace) -> int:
 
 # ---------------------------------------------------------------------------- methods
 def _cmd_methods(args: argparse.Namespace) -> int:
-    from .estimators import describe_methods
+    from noisevar.estimators import describe_methods
 
     desc = describe_methods()
     if args.format == "json":
@@ -147,7 +147,7 @@ def _cmd_methods(args: argparse.Namespace) -> int:
 
 # ----------------------------------------------------------------------------- scan-h
 def _cmd_scan_h(args: argparse.Namespace) -> int:
-    from .envelope import scan_h
+    from noisevar.filters.envelope import scan_h
 
     z, _ = _load_signal(args.file, args.column)
     scan = scan_h(z, window=args.window)
@@ -187,8 +187,8 @@ def build_parser() -> argparse.ArgumentParser:
     -------
     argparse.ArgumentParser
     """
-    from .estimators import methods
-    from .experiments import discover
+    from noisevar.estimators import methods
+    from noisevar.experiments import discover
 
     parser = _Parser(
         prog="noisevar",

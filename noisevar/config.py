@@ -32,10 +32,10 @@ from typing import Any
 
 import numpy as np
 
-from .abg import check_h
-from .errors import NoisevarError
-from .estimators import KNOWN_PARAMS, methods
-from .selection import ANGLES
+from noisevar.errors import NoisevarError
+from noisevar.estimators import KNOWN_PARAMS, methods
+from noisevar.filters.abg import check_h
+from noisevar.filters.selection import ANGLES
 
 #: Parameters a config may hold (``reference`` is data and is refused).
 CONFIG_PARAMS = tuple(sorted(KNOWN_PARAMS - {"reference"}))

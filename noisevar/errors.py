@@ -22,11 +22,11 @@ class NoWindowKept(NoisevarError):
     ----------
     summary : dict
         ``windows``, ``kept`` (0), ``failed_amplitude``, ``failed_angle``
-        (:meth:`noisevar.selection.WindowSelection.rejection_summary`).
+        (:meth:`noisevar.filters.selection.WindowSelection.rejection_summary`).
     diagnosis : VarianceEstimate or None
         The estimate that was refused, with a NaN variance and interval: its
         ``details`` carry the filter outputs and every window's tests
-        (:class:`noisevar.results.SomdDetails`), for drawing.
+        (:class:`noisevar.estimators.results.SomdDetails`), for drawing.
     """
 
     def __init__(self, message: str, summary: dict, diagnosis: object | None = None) -> None:

@@ -50,7 +50,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .errors import NoisevarError
+from noisevar.errors import NoisevarError
 
 #: Names (lower case, units in brackets stripped) recognised as a time column.
 TIME_NAMES = ("t", "time", "time_s", "times", "timestamp", "seconds", "sec", "secs", "s", "epoch")

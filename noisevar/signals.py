@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-from .errors import NoisevarError
+from noisevar.errors import NoisevarError
 
 
 @dataclass

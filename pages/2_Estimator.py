@@ -8,11 +8,9 @@ import streamlit as st
 
 import dashboard_common as dc
 import noisevar
-from noisevar.abg import settling_samples
-from noisevar.compare import rows_to_csv
 from noisevar.config import config_to_json, params_to_config, parse_config
-from noisevar.envelope import RATIO_BAND
-from noisevar.figures import range_to_slice
+from noisevar.estimators.compare import rows_to_csv
+from noisevar.figures._common import range_to_slice
 from noisevar.figures.estimator import (
     envelope_figure,
     estimate_rows,
@@ -23,6 +21,8 @@ from noisevar.figures.estimator import (
     window_tests_figure,
     window_variance_figure,
 )
+from noisevar.filters.abg import settling_samples
+from noisevar.filters.envelope import RATIO_BAND
 
 #: The page's how-it-works expander (shown even before a signal is loaded).
 HOW_IT_WORKS = (

@@ -6,7 +6,7 @@ import streamlit as st
 
 import dashboard_common as dc
 import noisevar
-from noisevar.compare import (
+from noisevar.estimators.compare import (
     SLOW_METHODS,
     cramer_rao_floor,
     default_methods,

@@ -6,7 +6,7 @@ import numpy as np
 import streamlit as st
 
 import dashboard_common as dc
-from noisevar.compare import rows_to_csv
+from noisevar.estimators.compare import rows_to_csv
 from noisevar.figures.kalman import (
     innovations_figure,
     r_estimates_figure,
@@ -14,7 +14,7 @@ from noisevar.figures.kalman import (
     track_figure,
 )
 from noisevar.kalman import STRATEGIES
-from noisevar.kalman.scenarios import SCENARIOS
+from noisevar.systems.scenarios import SCENARIOS
 
 #: The page's how-it-works expander (shown even before a signal is loaded).
 HOW_IT_WORKS = (
@@ -49,16 +49,6 @@ st.caption(
     "(RAE, IAE), Sage-Husa, variational Bayes, against the oracle that knows the true R."
 )
 
-STRATEGY_HELP = {
-    "fixed": "the model's nominal R, never adapted",
-    "oracle": "the true R: the lower bound of every adaptive filter",
-    "somd-online": "our SOMD estimator over the samples so far, every N steps",
-    "rae": "residual-based: mean(r rᵀ) + H P Hᵀ over a window",
-    "iae": "innovation-based: mean(d dᵀ) − H P⁻ Hᵀ over a window",
-    "rae-q": "residual R and Q = K C_d Kᵀ (spec B1)",
-    "sage-husa": "recursive with a forgetting factor (spec B4)",
-    "vb": "variational Bayes, inverse-gamma per channel (spec B2)",
-}
 VIEWS = ["Track", "States", "R estimates", "Innovations and NIS"]
 
 source = st.radio(
@@ -71,14 +61,14 @@ source = st.radio(
 )
 is_scenario = source == "Scenario"
 names = list(STRATEGIES) if is_scenario else [s for s in STRATEGIES if s != "oracle"]
-default = ["oracle", "somd-online", "rae", "sage-husa", "vb"]
+default = ["oracle", "somd", "rae", "sage-husa", "vb"]
 dc.keep_valid("af_strats", lambda v: all(s in names for s in v), [s for s in default if s in names])
 strategies = st.multiselect(
     "Strategies",
     names,
     key="af_strats",
     bind="query-params",
-    format_func=lambda s: f"{s}: {STRATEGY_HELP.get(s, '')}",
+    format_func=lambda s: f"{s}: {STRATEGIES[s].help}",
     **dc.initial("af_strats", [s for s in default if s in names], "default"),
 )
 with st.expander("Strategy settings"):
@@ -89,7 +79,7 @@ with st.expander("Strategy settings"):
         1000,
         key="af_window",
         bind="query-params",
-        **dc.initial("af_window", 50),
+        **dc.initial("af_window", STRATEGIES["rae"].defaults()["window"]),
     )
     forgetting = c2.slider(
         "Sage-Husa b",
@@ -99,7 +89,7 @@ with st.expander("Strategy settings"):
         format="%.3f",
         key="af_b",
         bind="query-params",
-        **dc.initial("af_b", 0.98),
+        **dc.initial("af_b", STRATEGIES["sage-husa"].defaults()["forgetting"]),
     )
     rho = c3.slider(
         "VB ρ",
@@ -109,7 +99,7 @@ with st.expander("Strategy settings"):
         format="%.3f",
         key="af_rho",
         bind="query-params",
-        **dc.initial("af_rho", 0.99),
+        **dc.initial("af_rho", STRATEGIES["vb"].defaults()["rho"]),
     )
     every = c4.number_input(
         "SOMD every N steps",
@@ -118,7 +108,7 @@ with st.expander("Strategy settings"):
         step=10,
         key="af_every",
         bind="query-params",
-        **dc.initial("af_every", 100),
+        **dc.initial("af_every", STRATEGIES["somd"].defaults()["every"]),
     )
     huber = c5.toggle(
         "Huber update (κ = 1.345)",
@@ -244,7 +234,7 @@ else:
     )
     hs_opts = dc.h_grid(1e-9, 3e-3)
     h_somd = c4.select_slider(
-        "somd-online h_S",
+        "SOMD h_S",
         hs_opts,
         key="af_hs",
         bind="query-params",

@@ -6,7 +6,7 @@ import numpy as np
 import streamlit as st
 
 import dashboard_common as dc
-from noisevar.compare import rows_to_csv
+from noisevar.estimators.compare import rows_to_csv
 from noisevar.figures.estimator import redundant_figure
 
 #: The page's how-it-works expander (shown even before a signal is loaded).
@@ -92,7 +92,7 @@ align = st.toggle(
     bind="query-params",
     disabled=len(cols) != 2,
     help=(
-        "Least squares over shifts with sub-sample refinement (noisevar.latency): a delay "
+        "Least squares over shifts with sub-sample refinement (noisevar.systems.latency): a delay "
         "between the records would otherwise add the signal's changes to the differences."
     ),
 )

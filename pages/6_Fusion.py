@@ -5,7 +5,7 @@ from __future__ import annotations
 import streamlit as st
 
 import dashboard_common as dc
-from noisevar.compare import rows_to_csv
+from noisevar.estimators.compare import rows_to_csv
 from noisevar.figures.fusion import error_figure, isolation_figure, r_track_figure, track_figure
 
 dc.setup_page("Fusion", ":material/hub:")

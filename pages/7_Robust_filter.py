@@ -5,9 +5,9 @@ from __future__ import annotations
 import streamlit as st
 
 import dashboard_common as dc
-from noisevar.compare import rows_to_csv
+from noisevar.estimators.compare import rows_to_csv
 from noisevar.figures.robust import bearing_figure, error_figure, magvar_figure, track_figure
-from noisevar.robust import DEFAULT_KAPPA
+from noisevar.systems.robust import DEFAULT_KAPPA
 
 dc.setup_page("Robust filter", ":material/shield:")
 st.title("Robust filter")

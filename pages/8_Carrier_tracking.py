@@ -7,7 +7,7 @@ import json
 import streamlit as st
 
 import dashboard_common as dc
-from noisevar.compare import rows_to_csv
+from noisevar.estimators.compare import rows_to_csv
 from noisevar.figures.carrier import (
     adaptation_figure,
     doppler_figure,

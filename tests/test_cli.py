@@ -343,7 +343,7 @@ def test_python_dash_m_noisevar_methods():
 
 def test_scan_h_json_and_table(capsys, files, signal):
     data = run_json(capsys, "scan-h", files["npy"])
-    from noisevar.envelope import scan_h
+    from noisevar.filters.envelope import scan_h
 
     expected = scan_h(signal)
     assert data["h"] == pytest.approx(expected.h.tolist())

@@ -33,6 +33,8 @@ def _compare(expected: object, actual: object, path: str, bad: list[str]) -> Non
     elif isinstance(expected, float) and isinstance(actual, int | float):
         if not math.isclose(expected, actual, rel_tol=1e-9, abs_tol=1e-12):
             bad.append(f"{path}: {actual!r} != {expected!r}")
+    elif isinstance(expected, str) and " " in expected and len(expected) > 30:
+        return  # prose (a note or a reason) may be reworded; names and numbers may not
     elif expected != actual:
         bad.append(f"{path}: {actual!r} != {expected!r}")
 

@@ -17,7 +17,7 @@ Metrics (issue 6): ``rms_phase_error_ekf_rad``, ``rms_phase_error_aekf_rad``,
 ``loss_of_lock_ekf``, ``loss_of_lock_aekf`` (fraction of runs whose phase
 error slips a cycle), with ``ekf`` = the fixed nominal-design EKF and
 ``aekf`` = eq. (22) ``R`` + the stabilised ``Q`` scaling
-(:class:`noisevar.carrier.AdaptiveCarrierQR`, ``q_rule="scaled"``); the same
+(:class:`noisevar.systems.carrier.AdaptiveCarrierQR`, ``q_rule="scaled"``); the same
 two for ``ekf_matched``, ``aekf_r_only`` and ``aekf_paper_q`` (eq. (26) as
 printed, which runs away); the ``Q`` tracks; the sweep. The JSON's
 ``definitions`` says all this next to the numbers.
@@ -30,9 +30,9 @@ from typing import Any
 
 import numpy as np
 
-from ..carrier import CarrierResult, CarrierScenario, compare, comparison_variants
-from ..errors import NoisevarError
-from . import Experiment
+from noisevar.errors import NoisevarError
+from noisevar.experiments import Experiment
+from noisevar.systems.carrier import CarrierResult, CarrierScenario, compare, comparison_variants
 
 #: Row order of tables and the sweep.
 FILTERS = ("ekf", "aekf", "ekf_matched", "aekf_r_only", "aekf_paper_q")

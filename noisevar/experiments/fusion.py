@@ -1,7 +1,7 @@
 """``noisevar experiment fusion``: distributed VB fusion and chi-square fault isolation (spec B2).
 
 One seeded Monte Carlo batch (``--runs``) per scenario of
-:mod:`noisevar.fusion`: two position sensors and a velocity sensor, one of
+:mod:`noisevar.systems.fusion`: two position sensors and a velocity sensor, one of
 which misbehaves. Metrics (issue 6):
 
 * ``max_abs_diff_vs_centralized``: no fault, fixed ``R``, no isolation; the
@@ -19,8 +19,9 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import NoisevarError
-from ..fusion import (
+from noisevar.errors import NoisevarError
+from noisevar.experiments import Experiment
+from noisevar.systems.fusion import (
     FusionScenario,
     max_abs_diff_vs_centralized,
     position_rmse,
@@ -28,7 +29,6 @@ from ..fusion import (
     run_fusion,
     simulate_fusion,
 )
-from . import Experiment
 
 #: Points kept in the R track of the JSON output.
 TRACK_POINTS = 120

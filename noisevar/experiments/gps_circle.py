@@ -1,6 +1,6 @@
 """``noisevar experiment gps-circle``: the 2016 paper's Table 1 and adaptive filters (spec A9).
 
-Scenario :func:`noisevar.kalman.scenarios.gps_circle` (vehicle on a 300 m
+Scenario :func:`noisevar.systems.scenarios.gps_circle` (vehicle on a 300 m
 circle, EKF on model [20], initial ``R = diag(100, 100, 4, 0.01)``), ``--runs``
 seeded Monte Carlo runs, all filtered in one batch per method.
 
@@ -30,9 +30,10 @@ from typing import Any
 
 import numpy as np
 
-from .. import estimate
-from ..errors import NoisevarError
-from ..kalman.evaluation import (
+from noisevar import estimate
+from noisevar.errors import NoisevarError
+from noisevar.experiments import Experiment
+from noisevar.kalman.evaluation import (
     divergence_summary,
     finite_or_none,
     fmt,
@@ -40,20 +41,13 @@ from ..kalman.evaluation import (
     pooled_rmse,
     r_diagonal,
 )
-from ..kalman.scenarios import GPS_CHANNELS, Scenario, gps_circle
-from ..kalman.somd_batch import somd_variance_records
-from ..kalman.strategies import (
-    FixedR,
-    InnovationR,
-    OracleR,
-    ResidualQR,
-    ResidualR,
+from noisevar.kalman.somd_batch import somd_variance_records
+from noisevar.kalman.strategies import (
     RStrategy,
-    SageHusaR,
-    SomdOnlineR,
-    VariationalBayesR,
+    make_strategy,
+    strategy_spec,
 )
-from . import Experiment
+from noisevar.systems.scenarios import GPS_CHANNELS, Scenario, gps_circle
 
 #: The paper's Table 1 (true, SOMD, RAE) per channel.
 PAPER_TABLE1 = {
@@ -105,28 +99,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def _strategy(name: str, sc: Scenario, args: argparse.Namespace) -> RStrategy:
-    h = sc.h_smooth
-    window = getattr(args, "somd_window", None)
-    every = getattr(args, "somd_every", 100)
-    if name == "oracle":
-        return OracleR(sc.R_true[0])
-    if name == "somd":
-        return SomdOnlineR(h_smooth=h, window=window, every=every)
-    if name == "somd-paper":
-        return SomdOnlineR(h_smooth=h, window=window, every=every, method="somd-paper")
-    if name == "rae":
-        return ResidualR(window=args.window)
-    if name == "iae":
-        return InnovationR(window=args.window)
-    if name == "rae-q":
-        return ResidualQR(window=args.window)
-    if name == "sage-husa":
-        return SageHusaR(forgetting=args.forgetting)
-    if name == "vb":
-        return VariationalBayesR(rho=args.rho)
-    if name == "fixed":
-        return FixedR()
-    raise NoisevarError(f"unknown method {name!r}")  # pragma: no cover
+    settings = {
+        "window": getattr(args, "somd_window", None) if name.startswith("somd") else args.window,
+        "every": getattr(args, "somd_every", 100),
+        "forgetting": args.forgetting,
+        "rho": args.rho,
+    }
+    params = strategy_spec(name).defaults()
+    return make_strategy(
+        name,
+        h_smooth=sc.h_smooth,
+        R_true=sc.R_true[0],
+        **{k: settings[k] for k in params},
+    )
 
 
 def _filter_task(task: tuple[str, dict[str, Any], Scenario | None]) -> dict[str, Any]:

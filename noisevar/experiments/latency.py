@@ -15,9 +15,9 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import NoisevarError
-from ..latency import LatencyScenario, run_latency, simulate_latency
-from . import Experiment
+from noisevar.errors import NoisevarError
+from noisevar.experiments import Experiment
+from noisevar.systems.latency import LatencyScenario, run_latency, simulate_latency
 
 TARGET_DELAY_ERROR_S = 0.010
 

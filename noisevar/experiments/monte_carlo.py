@@ -11,10 +11,10 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from ..compare import default_methods, run_monte_carlo
-from ..errors import NoisevarError
-from ..signals import signal_names
-from . import Experiment
+from noisevar.errors import NoisevarError
+from noisevar.estimators.compare import default_methods, run_monte_carlo
+from noisevar.experiments import Experiment
+from noisevar.signals import signal_names
 
 
 def _add_arguments(p: argparse.ArgumentParser) -> None:

@@ -1,6 +1,6 @@
 """``noisevar experiment noise-ramp``: tracking a noise level that ramps up three-fold.
 
-Scenario :func:`noisevar.kalman.scenarios.noise_ramp` (the noise-step target;
+Scenario :func:`noisevar.systems.scenarios.noise_ramp` (the noise-step target;
 the position-noise std ramps linearly from 5 m to 15 m between 40 % and 60 %
 of the record). Options, metrics and JSON are those of
 :mod:`noisevar.experiments.noise_step`; R tracking is scored from the end of
@@ -9,8 +9,8 @@ the ramp plus ``--settle`` steps.
 
 from __future__ import annotations
 
-from . import Experiment
-from .noise_step import add_arguments, format_table, make_run
+from noisevar.experiments import Experiment
+from noisevar.experiments.noise_step import add_arguments, format_table, make_run
 
 EXPERIMENT = Experiment(
     name="noise-ramp",

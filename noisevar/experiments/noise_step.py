@@ -1,6 +1,6 @@
 """``noisevar experiment noise-step``: tracking a three-fold step in the noise level.
 
-Scenario :func:`noisevar.kalman.scenarios.noise_step`: a manoeuvring 2-D
+Scenario :func:`noisevar.systems.scenarios.noise_step`: a manoeuvring 2-D
 target, CV Kalman filter, position-noise std 5 m stepping to 15 m at mid-run;
 ``--runs`` seeded Monte Carlo runs filtered in one batch per method.
 :mod:`noisevar.experiments.noise_ramp` is the same with a ramp.
@@ -23,27 +23,21 @@ import argparse
 from collections.abc import Callable
 from typing import Any
 
-from ..errors import NoisevarError
-from ..kalman.evaluation import (
+from noisevar.errors import NoisevarError
+from noisevar.experiments import Experiment
+from noisevar.kalman.evaluation import (
     divergence_summary,
     fmt,
     map_jobs,
     pooled_rmse,
     r_tracking_error,
 )
-from ..kalman.scenarios import Scenario, noise_ramp, noise_step
-from ..kalman.strategies import (
-    FixedR,
-    InnovationR,
-    OracleR,
-    ResidualQR,
-    ResidualR,
+from noisevar.kalman.strategies import (
     RStrategy,
-    SageHusaR,
-    SomdOnlineR,
-    VariationalBayesR,
+    make_strategy,
+    strategy_spec,
 )
-from . import Experiment
+from noisevar.systems.scenarios import Scenario, noise_ramp, noise_step
 
 METHODS = ("oracle", "fixed", "somd", "rae", "iae", "sage-husa", "vb", "rae-q")
 ADAPTIVE = ("somd", "rae", "iae", "sage-husa", "vb", "rae-q")
@@ -84,23 +78,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def strategy_for(name: str, sc: Scenario, args: argparse.Namespace) -> RStrategy:
     """The strategy object of one method name, with the experiment's settings."""
-    if name == "oracle":
-        return OracleR(sc.R_true[sc.first_step :])
-    if name == "fixed":
-        return FixedR()
-    if name == "somd":
-        return SomdOnlineR(h_smooth=sc.h_smooth, window=args.somd_window, every=args.somd_every)
-    if name == "rae":
-        return ResidualR(window=args.window)
-    if name == "iae":
-        return InnovationR(window=args.window)
-    if name == "rae-q":
-        return ResidualQR(window=args.window)
-    if name == "sage-husa":
-        return SageHusaR(forgetting=args.forgetting)
-    if name == "vb":
-        return VariationalBayesR(rho=args.rho)
-    raise NoisevarError(f"unknown method {name!r}")  # pragma: no cover
+    settings = {
+        "window": args.somd_window if name == "somd" else args.window,
+        "every": args.somd_every,
+        "forgetting": args.forgetting,
+        "rho": args.rho,
+    }
+    params = strategy_spec(name).defaults()
+    return make_strategy(
+        name,
+        h_smooth=sc.h_smooth,
+        R_true=sc.R_true[sc.first_step :],
+        **{k: settings[k] for k in params},
+    )
 
 
 GENERATORS: dict[str, Callable[..., Scenario]] = {

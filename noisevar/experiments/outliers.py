@@ -1,6 +1,6 @@
 """``noisevar experiment outliers``: Huber EKF with a magnetic-variation state (spec B3).
 
-The DME/VOR fly-over of :mod:`noisevar.robust` over ``--runs`` seeded runs
+The DME/VOR fly-over of :mod:`noisevar.systems.robust` over ``--runs`` seeded runs
 (batched), once with bursts of bearing outliers near the station and once
 without. Metrics (issue 6): ``rmse_position_ekf``, ``rmse_position_huber``,
 ``rmse_position_no_bias_state`` (with outliers), ``magvar_estimate_deg``
@@ -8,8 +8,8 @@ without. Metrics (issue 6): ``rmse_position_ekf``, ``rmse_position_huber``,
 the clean-record RMSEs for the "equal without outliers" target; paired
 bootstrap intervals of both Huber/EKF ratios (same runs, same noise: is the
 "within 1 %" comparison resolved by 100 runs?); the paper's ``κ = 1.345``
-next to our default (:data:`noisevar.robust.DEFAULT_KAPPA` = 2.5, chosen from
-held-out seeds, see :mod:`noisevar.robust`); and, with ``--kappa-sweep``, the
+next to our default (:data:`noisevar.systems.robust.DEFAULT_KAPPA` = 2.5, chosen from
+held-out seeds, see :mod:`noisevar.systems.robust`); and, with ``--kappa-sweep``, the
 κ trade-off table on the same runs (``benchmarks/seeds.py`` runs it with
 ``1.345,1.5,2,2.5,3``).
 """
@@ -21,8 +21,9 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import NoisevarError
-from ..robust import (
+from noisevar.errors import NoisevarError
+from noisevar.experiments import Experiment
+from noisevar.systems.robust import (
     DEFAULT_KAPPA,
     PAPER_KAPPA,
     RobustScenario,
@@ -31,7 +32,6 @@ from ..robust import (
     run_robust,
     simulate_robust,
 )
-from . import Experiment
 
 DEFINITIONS = {
     "rmse_position_*": "horizontal position RMSE (m) over runs and steps 30..N",
@@ -170,7 +170,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
             "rmse": f"horizontal position, m, over runs and steps {res.skip}..N",
             "kappa_default_reason": "chosen from held-out seeds 1-5 (500 runs): the only kappa "
             "of 1.345/1.5/2/2.5/3 whose paired 95 % intervals lie inside both targets "
-            "(see noisevar.robust)",
+            "(see noisevar.systems.robust)",
         },
         "definitions": DEFINITIONS,
         "metrics": metrics,

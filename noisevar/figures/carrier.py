@@ -1,4 +1,4 @@
-"""Figures of carrier tracking (:class:`noisevar.carrier.CarrierResult`, spec B1).
+"""Figures of carrier tracking (:class:`noisevar.systems.carrier.CarrierResult`, spec B1).
 
 * :func:`phase_error_figure` — phase-error traces of the EKF and the AEKF
   (paper Figs. 2 and 3), one run.
@@ -6,7 +6,7 @@
 * :func:`adaptation_figure` — the ``R`` and ``Q[0,0]`` each filter used.
 * :func:`iq_figure` — the prompt correlator outputs in the I/Q plane.
 * :func:`sweep_figure` — RMS phase error and loss-of-lock fraction against
-  C/N0 (:class:`noisevar.carrier.CarrierSweep`).
+  C/N0 (:class:`noisevar.systems.carrier.CarrierSweep`).
 """
 
 from __future__ import annotations
@@ -17,9 +17,9 @@ import numpy as np
 import plotly.graph_objects as go
 from plotly.subplots import make_subplots
 
-from ..carrier import CarrierResult, CarrierSweep
-from ..errors import NoisevarError
-from . import COLORS, MAX_POINTS, PALETTE, check_run, layout, line_trace
+from noisevar.errors import NoisevarError
+from noisevar.figures._common import COLORS, MAX_POINTS, PALETTE, check_run, layout, line_trace
+from noisevar.systems.carrier import CarrierResult, CarrierSweep
 
 Results = CarrierResult | Sequence[CarrierResult]
 LABELS = {

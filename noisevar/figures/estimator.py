@@ -29,11 +29,9 @@ import plotly.graph_objects as go
 from numpy.typing import ArrayLike, NDArray
 from plotly.subplots import make_subplots
 
-from ..compare import Comparison, MonteCarloResult
-from ..envelope import HScan, WindowAmplitude
-from ..results import RedundantEstimate, VarianceEstimate
-from ..selection import WindowSelection
-from . import (
+from noisevar.estimators.compare import Comparison, MonteCarloResult
+from noisevar.estimators.results import RedundantEstimate, VarianceEstimate
+from noisevar.figures._common import (
     COLORS,
     MAX_POINTS,
     PALETTE,
@@ -48,6 +46,8 @@ from . import (
     x_axis,
     x_title,
 )
+from noisevar.filters.envelope import HScan, WindowAmplitude
+from noisevar.filters.selection import WindowSelection
 
 #: Window status labels, in drawing order.
 STATUS = ("kept", "amplitude test", "angle test", "both tests", "transient")
@@ -80,7 +80,7 @@ def amplitude_ratios(selection: WindowSelection) -> NDArray:
     """The amplitude ratios of eq. [19] the selection's test uses, per window (NaN if undefined).
 
     ``|A1/A2|, |A2/A3|, |A3/A4|`` for the printed test, and ``|A4/A1|`` as
-    well for the symmetric one (:mod:`noisevar.selection`).
+    well for the symmetric one (:mod:`noisevar.filters.selection`).
     """
     return selection.amplitude_ratios()
 
@@ -493,10 +493,10 @@ def envelope_figure(
     Parameters
     ----------
     raw : WindowAmplitude
-        :func:`noisevar.envelope.noise_amplitude` of the raw record.
+        :func:`noisevar.filters.envelope.noise_amplitude` of the raw record.
     detrended : array_like, shape (n_windows * m,)
         The window-detrended raw record
-        (:func:`noisevar.envelope.detrend_windows`, flattened).
+        (:func:`noisevar.filters.envelope.detrend_windows`, flattened).
     smooth : WindowAmplitude, optional
         The same for the smooth output.
     sample_period : float, optional
@@ -580,7 +580,7 @@ def scan_figure(
     Parameters
     ----------
     scan : HScan
-        :func:`noisevar.envelope.scan_h` result.
+        :func:`noisevar.filters.envelope.scan_h` result.
     h_selected : sequence of float
         The smoothing ``h`` in use (drawn as vertical lines).
     h_track : float, optional
@@ -740,7 +740,7 @@ def compare_figure(
     Parameters
     ----------
     comp : Comparison
-        :func:`noisevar.compare.compare_methods` result.
+        :func:`noisevar.estimators.compare.compare_methods` result.
     title : str, optional
         Figure title.
     height : int, optional

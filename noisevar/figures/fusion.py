@@ -1,4 +1,4 @@
-"""Figures of distributed fusion (:class:`noisevar.fusion.FusionResult`, spec B2).
+"""Figures of distributed fusion (:class:`noisevar.systems.fusion.FusionResult`, spec B2).
 
 * :func:`track_figure` — one run's true path and the fused estimates.
 * :func:`error_figure` — position error over time (RMS over runs) of several
@@ -17,9 +17,18 @@ import numpy as np
 import plotly.graph_objects as go
 from numpy.typing import NDArray
 
-from ..errors import NoisevarError
-from ..fusion import FusionResult
-from . import COLORS, MAX_POINTS, PALETTE, band, check_run, downsample_indices, layout, line_trace
+from noisevar.errors import NoisevarError
+from noisevar.figures._common import (
+    COLORS,
+    MAX_POINTS,
+    PALETTE,
+    band,
+    check_run,
+    downsample_indices,
+    layout,
+    line_trace,
+)
+from noisevar.systems.fusion import FusionResult
 
 Results = FusionResult | Sequence[FusionResult]
 

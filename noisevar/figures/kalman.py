@@ -21,10 +21,17 @@ import plotly.graph_objects as go
 from numpy.typing import ArrayLike, NDArray
 from plotly.subplots import make_subplots
 
-from ..errors import NoisevarError
-from ..kalman.core import nis_band
-from ..kalman.result import FilterResult, wrap_angle
-from . import COLORS, MAX_POINTS, PALETTE, downsample_indices, layout, line_trace
+from noisevar.errors import NoisevarError
+from noisevar.figures._common import (
+    COLORS,
+    MAX_POINTS,
+    PALETTE,
+    downsample_indices,
+    layout,
+    line_trace,
+)
+from noisevar.kalman.core import nis_band
+from noisevar.kalman.result import FilterResult, wrap_angle
 
 Results = FilterResult | Sequence[FilterResult]
 

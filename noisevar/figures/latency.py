@@ -1,4 +1,4 @@
-"""Figures of the GPS latency method (:class:`noisevar.latency.LatencyResult`, spec C).
+"""Figures of the GPS latency method (:class:`noisevar.systems.latency.LatencyResult`, spec C).
 
 * :func:`records_figure` — the on-time (AHRS) and late (GPS) speeds, and the
   GPS speed moved back by the estimated delay (paper Figs. 4, 6, 8).
@@ -14,8 +14,8 @@ from __future__ import annotations
 import numpy as np
 import plotly.graph_objects as go
 
-from ..latency import KNOT_MS, LatencyResult, align_signals
-from . import COLORS, MAX_POINTS, PALETTE, layout, line_trace
+from noisevar.figures._common import COLORS, MAX_POINTS, PALETTE, layout, line_trace
+from noisevar.systems.latency import KNOT_MS, LatencyResult, align_signals
 
 
 def records_figure(

@@ -1,4 +1,4 @@
-"""Figures of the robust DME/VOR filter (:class:`noisevar.robust.RobustResult`, spec B3).
+"""Figures of the robust DME/VOR filter (:class:`noisevar.systems.robust.RobustResult`, spec B3).
 
 * :func:`track_figure` — the station, the true path, the positions the
   range/bearing measurements imply (outliers marked) and each filter's track.
@@ -14,8 +14,17 @@ from __future__ import annotations
 import numpy as np
 import plotly.graph_objects as go
 
-from ..robust import RobustResult
-from . import COLORS, MAX_POINTS, PALETTE, band, check_run, downsample_indices, layout, line_trace
+from noisevar.figures._common import (
+    COLORS,
+    MAX_POINTS,
+    PALETTE,
+    band,
+    check_run,
+    downsample_indices,
+    layout,
+    line_trace,
+)
+from noisevar.systems.robust import RobustResult
 
 LABELS = {
     "ekf": "EKF (magvar state)",

@@ -8,11 +8,11 @@ Core (:mod:`noisevar.kalman.core`): :class:`StateSpaceModel` (linear or EKF),
 Strategies (:mod:`noisevar.kalman.strategies`): fixed, oracle, somd-online,
 rae, iae, rae-q (spec B1), sage-husa (B4), vb (B2); :func:`make_strategy`.
 
-Scenarios (:mod:`noisevar.kalman.scenarios`): gps-circle (spec A9),
+Scenarios (:mod:`noisevar.systems.scenarios`): gps-circle (spec A9),
 noise-step, noise-ramp, outliers.
 """
 
-from .core import (
+from noisevar.kalman.core import (
     DivergenceCheck,
     HuberUpdate,
     KalmanFilter,
@@ -21,8 +21,8 @@ from .core import (
     nis_band,
     run_filter,
 )
-from .result import FilterResult, wrap_angle
-from .strategies import (
+from noisevar.kalman.result import FilterResult, wrap_angle
+from noisevar.kalman.strategies import (
     STRATEGIES,
     FixedR,
     InnovationR,

@@ -79,16 +79,16 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import stats
 
-from ..errors import NoisevarError
-from .result import FilterResult, wrap_angle
+from noisevar.errors import NoisevarError
+from noisevar.kalman.result import FilterResult, wrap_angle
 
 try:  # compiled per-step kernels (numba); the numpy path below is the reference
-    from . import _kernels
+    from noisevar.kalman import _kernels
 except ImportError:  # pragma: no cover - numba not installed
     _kernels = None
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .strategies import RStrategy
+    from noisevar.kalman.strategies import RStrategy
 
 ModelFunction = Callable[[NDArray, int], NDArray]
 TransitionFunction = Callable[[NDArray, int, NDArray, NDArray], None]
@@ -687,7 +687,7 @@ class KalmanFilter:
     k: int = field(init=False, default=-1)
 
     def __post_init__(self) -> None:
-        from .strategies import FixedR
+        from noisevar.kalman.strategies import FixedR
 
         if not isinstance(self.model, StateSpaceModel):
             raise NoisevarError("model must be a noisevar.kalman.StateSpaceModel")
@@ -1264,7 +1264,7 @@ def run_filter(
     NoisevarError
         For bad shapes, NaN measurements, or an invalid strategy.
     """
-    from .strategies import FixedR, RStrategy
+    from noisevar.kalman.strategies import FixedR, RStrategy
 
     if not isinstance(model, StateSpaceModel):
         raise NoisevarError("model must be a noisevar.kalman.StateSpaceModel")

@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .result import FilterResult
+from noisevar.kalman.result import FilterResult
 
 
 def finite_or_none(value: float) -> float | None:

@@ -102,7 +102,7 @@ class FilterResult:
         NoisevarError
             When the run was made without truth.
         """
-        from ..errors import NoisevarError
+        from noisevar.errors import NoisevarError
 
         if self.truth is None:
             raise NoisevarError("this run has no truth: pass truth=... to run_filter")

@@ -27,7 +27,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from ..abg import abg_filter, check_h, settling_samples, somd_bias_factor
+from noisevar.filters.abg import abg_filter, check_h, settling_samples, somd_bias_factor
 
 #: The estimator's defaults that decide when a window is long enough.
 TRACK_RATIO = 30.0

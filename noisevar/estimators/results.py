@@ -1,0 +1,182 @@
+"""Result types of the variance estimators."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy import stats
+
+from noisevar.filters.selection import WindowSelection
+
+
+def chi2_interval(variance: float, dof: float, level: float = 0.95) -> tuple[float, float]:
+    """Confidence interval of a variance estimate with ``dof`` effective degrees of freedom.
+
+    ``(ν v / χ²_{1-a/2,ν}, ν v / χ²_{a/2,ν})``: exact for a mean of ``ν``
+    independent squared Gaussians, and the standard approximation for the
+    correlated squares of a difference estimator, whose effective ``ν`` is
+    ``n / sum_k ρ_k²`` (``ρ`` the autocorrelation of the difference sequence).
+
+    Parameters
+    ----------
+    variance : float
+        The estimate.
+    dof : float
+        Effective degrees of freedom (> 0).
+    level : float
+        Confidence level.
+
+    Returns
+    -------
+    (low, high) : tuple of float
+    """
+    if not (dof > 0 and np.isfinite(variance)):
+        return (float("nan"), float("nan"))
+    a = 1.0 - level
+    lo = dof * variance / stats.chi2.ppf(1.0 - a / 2.0, dof)
+    hi = dof * variance / stats.chi2.ppf(a / 2.0, dof)
+    return (float(lo), float(hi))
+
+
+@dataclass
+class SomdDetails:
+    """What the dashboard draws for a SOMD estimate.
+
+    Attributes
+    ----------
+    h_smooth : tuple of float
+        Smoothing filter parameters ``h_S`` (several: spec A6).
+    h_track : float
+        Tracking filter parameter ``h_T``.
+    smooth_output : ndarray, shape (n_h, n)
+        One-step predictions of each smoothing filter (the virtual sensors).
+    track_output : ndarray, shape (n,)
+        Tracking filter output.
+    selection : WindowSelection or None
+        Per-window tests (None when selection is off).
+    kept_windows : ndarray of bool, shape (n_windows,)
+        Windows used (any smoothing ``h`` passing, spec A6).
+    window_variance : ndarray, shape (n_windows,)
+        Variance estimate of each window (NaN where not kept).
+    sample_mask : ndarray of bool, shape (n,)
+        Samples whose mutual differences entered the estimate.
+    bias_factor : tuple of float
+        The divisor used for each ``h`` (2 for the paper, ``c(h)`` otherwise).
+    skip : int
+        Leading samples discarded as the filters' start-up transient.
+    """
+
+    h_smooth: tuple[float, ...]
+    h_track: float
+    smooth_output: NDArray
+    track_output: NDArray
+    selection: WindowSelection | None
+    kept_windows: NDArray
+    window_variance: NDArray
+    sample_mask: NDArray
+    bias_factor: tuple[float, ...]
+    skip: int
+
+
+@dataclass
+class VarianceEstimate:
+    """One noise-variance estimate.
+
+    Attributes
+    ----------
+    method : str
+        Method name (see :func:`noisevar.methods`).
+    variance : float
+        Estimated noise variance (signal units squared).
+    ci95 : (float, float)
+        95 % confidence interval of the variance.
+    n_used : int
+        Samples that entered the estimate.
+    n_total : int
+        Samples given (after any dropped non-finite ones).
+    dof : float
+        Effective degrees of freedom behind ``ci95``.
+    params : dict
+        The parameters that define the estimate (the JSON config form).
+    notes : list of str
+        Plain-language remarks (dropped samples, fallbacks taken).
+    details : SomdDetails or None
+        Arrays for figures (SOMD methods only).
+    """
+
+    method: str
+    variance: float
+    ci95: tuple[float, float]
+    n_used: int
+    n_total: int
+    dof: float
+    params: dict[str, Any] = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
+    details: SomdDetails | None = None
+
+    @property
+    def std(self) -> float:
+        """Noise standard deviation, ``sqrt(variance)``."""
+        return float(np.sqrt(self.variance)) if self.variance >= 0 else float("nan")
+
+    @property
+    def relative_halfwidth(self) -> float:
+        """Half the CI width over the estimate (a quick precision figure)."""
+        return float((self.ci95[1] - self.ci95[0]) / 2.0 / self.variance)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready summary (no arrays)."""
+        return {
+            "method": self.method,
+            "variance": float(self.variance),
+            "std": self.std,
+            "ci95": [float(self.ci95[0]), float(self.ci95[1])],
+            "n_used": int(self.n_used),
+            "n_total": int(self.n_total),
+            "dof": float(self.dof),
+            "params": dict(self.params),
+            "notes": list(self.notes),
+        }
+
+
+@dataclass
+class RedundantEstimate:
+    """Noise variances of several real sensors of the same quantity (spec A1).
+
+    Attributes
+    ----------
+    variances : ndarray, shape (k,)
+        Each sensor's noise variance (three-cornered hat for k >= 3).
+    ci95 : ndarray, shape (k, 2)
+        Approximate 95 % intervals.
+    pair_sums : ndarray, shape (k, k)
+        ``1/2 E[(ΔZi - ΔZj)²] = var_i + var_j`` for each pair (eq. [8]).
+    n_used : int
+        Samples per sensor.
+    notes : list of str
+        Remarks (e.g. a negative solution clipped to zero).
+    """
+
+    variances: NDArray
+    ci95: NDArray
+    pair_sums: NDArray
+    n_used: int
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def stds(self) -> NDArray:
+        """Each sensor's noise standard deviation, ``sqrt(variances)``."""
+        return np.sqrt(self.variances)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready summary."""
+        return {
+            "variances": self.variances.tolist(),
+            "ci95": self.ci95.tolist(),
+            "pair_sums": self.pair_sums.tolist(),
+            "n_used": self.n_used,
+            "notes": list(self.notes),
+        }

@@ -1,0 +1,551 @@
+"""Plotly figure builders: they take noisevar results and return ``plotly.graph_objects.Figure``.
+
+Usable from a notebook as well as from the dashboard (no Streamlit here).
+Submodules: :mod:`noisevar.figures.estimator` (signal, SOMD steps, method
+comparison, Monte Carlo, redundant sensors) and the filter families
+(``kalman``, ``fusion``, ``robust``, ``carrier``, ``latency``).
+
+This package module holds the shared tooling:
+
+* :func:`line_trace` draws long records without sending every sample to the
+  browser: above ``max_points`` samples the trace is reduced with the
+  MinMax-LTTB algorithm of the ``tsdownsample`` package (a min-max
+  pre-selection followed by largest-triangle-three-buckets; peaks and noise
+  bands survive) and drawn with WebGL (``Scattergl``). Computation is always
+  on every sample; only the drawing is reduced, and
+  :func:`note_downsampled` says so on the figure.
+* :func:`x_axis` gives the abscissa (seconds or sample index) of chosen
+  sample indices; :func:`range_to_slice` turns a box selection back into a
+  sample slice.
+* :func:`to_html` / :func:`to_png` export a figure (PNG through ``kaleido``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+import plotly.graph_objects as go
+from numpy.typing import ArrayLike, NDArray
+
+from noisevar.errors import NoisevarError
+
+#: Default number of points drawn per trace of a long record.
+MAX_POINTS = 4000
+
+#: Colours shared by the figures (colour-blind-safe Okabe-Ito order).
+COLORS = {
+    "raw": "#9aa5b1",
+    "clean": "#222222",
+    "smooth": "#0072B2",
+    "track": "#D55E00",
+    "kept": "rgba(0, 158, 115, 0.13)",
+    "kept_line": "#009E73",
+    "amp": "#E69F00",
+    "angle": "#CC79A7",
+    "both": "#D55E00",
+    "transient": "#999999",
+    "estimate": "#0072B2",
+    "truth": "#222222",
+    "band": "rgba(0, 114, 178, 0.15)",
+    "stretch": "rgba(230, 159, 0, 0.18)",
+}
+#: A cycle of distinct colours for several series (methods, sensors, h values).
+PALETTE = (
+    "#0072B2",
+    "#D55E00",
+    "#009E73",
+    "#CC79A7",
+    "#E69F00",
+    "#56B4E9",
+    "#F0E442",
+    "#000000",
+    "#8C564B",
+    "#7F7F7F",
+    "#17BECF",
+    "#BCBD22",
+    "#1F77B4",
+)
+
+
+def check_run(run: int, n_runs: int) -> None:
+    """Refuse a Monte Carlo run index outside ``0 .. n_runs - 1`` with a clear message.
+
+    Parameters
+    ----------
+    run : int
+        Requested run.
+    n_runs : int
+        Runs the result holds.
+    """
+    if not 0 <= run < n_runs:
+        raise NoisevarError(f"run {run} out of range: the result has {n_runs} runs")
+
+
+def downsample_indices(y: ArrayLike, max_points: int = MAX_POINTS) -> NDArray:
+    """Indices of at most ``max_points`` samples that keep the look of ``y``.
+
+    MinMax-LTTB (``tsdownsample``) when the record is longer than
+    ``max_points``; every index otherwise. Non-finite samples fall back to
+    a plain min-max reduction over the finite ones.
+
+    Parameters
+    ----------
+    y : array_like, shape (n,)
+        Samples.
+    max_points : int
+        Number of points to keep (at least 10).
+
+    Returns
+    -------
+    ndarray of int
+        Sorted indices into ``y``.
+    """
+    y = np.asarray(y, dtype=float)
+    n = y.size
+    max_points = max(int(max_points), 10)
+    if n <= max_points:
+        return np.arange(n)
+    finite = np.isfinite(y)
+    if not finite.all():
+        idx = np.flatnonzero(finite)
+        if idx.size <= max_points:
+            return idx
+        sub = downsample_indices(y[idx], max_points)
+        return idx[sub]
+    try:
+        from tsdownsample import MinMaxLTTBDownsampler
+
+        idx = MinMaxLTTBDownsampler().downsample(np.ascontiguousarray(y), n_out=max_points)
+        return np.asarray(idx, dtype=np.int64)
+    except ImportError:  # pragma: no cover - tsdownsample is in the app extra
+        n_bins = max_points // 2
+        edges = np.linspace(0, n, n_bins + 1).astype(int)
+        out = []
+        for a, b in zip(edges[:-1], edges[1:], strict=True):
+            seg = y[a:b]
+            out.extend(sorted({a + int(np.argmin(seg)), a + int(np.argmax(seg))}))
+        return np.asarray(out, dtype=np.int64)
+
+
+def x_axis(idx: ArrayLike, sample_period: float | None = None, t0: float = 0.0) -> NDArray:
+    """Abscissa of sample indices: seconds when a sample period is known, else the index.
+
+    Parameters
+    ----------
+    idx : array_like of int
+        Sample indices.
+    sample_period : float, optional
+        Seconds per sample.
+    t0 : float
+        Time of sample 0.
+
+    Returns
+    -------
+    ndarray of float
+    """
+    idx = np.asarray(idx, dtype=float)
+    return t0 + idx * sample_period if sample_period else idx
+
+
+def x_title(sample_period: float | None) -> str:
+    """Axis title matching :func:`x_axis`."""
+    return "time (s)" if sample_period else "sample"
+
+
+def line_trace(
+    y: ArrayLike,
+    name: str,
+    sample_period: float | None = None,
+    max_points: int = MAX_POINTS,
+    mode: str = "lines",
+    **kwargs: Any,
+) -> tuple[go.Scatter | go.Scattergl, bool]:
+    """A line trace of a long record, downsampled for drawing when needed.
+
+    Parameters
+    ----------
+    y : array_like, shape (n,)
+        Samples (computed on all of them elsewhere; only the drawing is reduced).
+    name : str
+        Legend name.
+    sample_period : float, optional
+        Seconds per sample (abscissa in seconds), else the sample index.
+    max_points : int
+        Largest number of points drawn.
+    mode : str
+        Plotly scatter mode.
+    **kwargs
+        Passed to the trace (``line``, ``opacity``, ``legendgroup``...).
+
+    Returns
+    -------
+    trace : go.Scatter or go.Scattergl
+        ``Scattergl`` when downsampled (WebGL draws many points fast).
+    downsampled : bool
+        Whether points were dropped for drawing.
+    """
+    y = np.asarray(y, dtype=float)
+    idx = downsample_indices(y, max_points)
+    reduced = idx.size < y.size
+    cls = go.Scattergl if reduced else go.Scatter
+    trace = cls(x=x_axis(idx, sample_period), y=y[idx], name=name, mode=mode, **kwargs)
+    return trace, reduced
+
+
+def note_downsampled(fig: go.Figure, n_total: int, max_points: int = MAX_POINTS) -> go.Figure:
+    """Say on the figure that long traces are drawn downsampled (and that computing is not).
+
+    Parameters
+    ----------
+    fig : go.Figure
+        Figure to annotate (modified in place and returned).
+    n_total : int
+        Samples in the record.
+    max_points : int
+        Points drawn per trace.
+
+    Returns
+    -------
+    go.Figure
+    """
+    ann = downsample_note(n_total, max_points)
+    if ann is not None:
+        fig.add_annotation(**ann)
+    return fig
+
+
+def range_to_slice(
+    x0: float, x1: float, n: int, sample_period: float | None = None, t0: float = 0.0
+) -> slice:
+    """Sample slice covered by an abscissa range (a box selection on a figure).
+
+    Parameters
+    ----------
+    x0, x1 : float
+        Range on the abscissa of :func:`x_axis` (either order).
+    n : int
+        Samples in the record.
+    sample_period : float, optional
+        Seconds per sample, as used for the figure.
+    t0 : float
+        Time of sample 0.
+
+    Returns
+    -------
+    slice
+        ``slice(start, stop)`` clipped to ``[0, n]``.
+    """
+    lo, hi = sorted((float(x0), float(x1)))
+    if sample_period:
+        lo, hi = (lo - t0) / sample_period, (hi - t0) / sample_period
+    start = int(np.clip(np.ceil(lo), 0, n))
+    stop = int(np.clip(np.floor(hi) + 1, 0, n))
+    return slice(start, max(start, stop))
+
+
+def layout(title: str | None = None, height: int = 420, **extra: Any) -> dict[str, Any]:
+    """Common layout as a plain dict (legend on top, compact margins).
+
+    No template is set: building a figure with one costs ~20 ms in plotly,
+    a large part of a redraw budget; the dashboard styles figures with its
+    own theme, and exports use plotly's default template.
+
+    The legend sits under the plot (horizontal), the title at the top left.
+
+    Parameters
+    ----------
+    title : str, optional
+        Figure title.
+    height : int
+        Pixel height (the plot area is about ``height - 170`` pixels).
+    **extra
+        More layout keys (merged on top).
+
+    Returns
+    -------
+    dict
+    """
+    out: dict[str, Any] = {
+        "height": height,
+        "margin": {"l": 60, "r": 20, "t": 56 if title else 36, "b": 110},
+        # below the plot: a legend on top collides with the title and the mode bar
+        "legend": {"orientation": "h", "yanchor": "top", "y": -0.2, "x": 0.0},
+        "hovermode": "closest",
+    }
+    if title:
+        out["title"] = {"text": title, "x": 0.0, "xanchor": "left"}
+    out.update(extra)
+    return out
+
+
+def base_layout(fig: go.Figure, title: str | None = None, height: int = 420) -> go.Figure:
+    """Apply :func:`layout` to an existing figure (in place) and return it."""
+    fig.update_layout(**layout(title, height))
+    return fig
+
+
+def hline(
+    y: float, color: str = "#444", dash: str = "dash", text: str | None = None, yref: str = "y"
+) -> tuple[dict[str, Any], dict[str, Any] | None]:
+    """A horizontal line across the plot as ``(shape, annotation)`` layout dicts.
+
+    Cheaper than ``fig.add_hline`` (which costs milliseconds per call).
+    """
+    shape = {
+        "type": "line",
+        "xref": "paper",
+        "x0": 0,
+        "x1": 1,
+        "yref": yref,
+        "y0": y,
+        "y1": y,
+        "line": {"color": color, "dash": dash, "width": 1.5},
+    }
+    ann = None
+    if text:
+        ann = {
+            "xref": "paper",
+            "x": 0.0,
+            "yref": yref,
+            "y": y,
+            "text": text,
+            "showarrow": False,
+            "xanchor": "left",
+            "yanchor": "bottom",
+            "font": {"size": 11, "color": color},
+        }
+    return shape, ann
+
+
+def vline(
+    x: float, color: str = "#444", dash: str = "dash", text: str | None = None, xref: str = "x"
+) -> tuple[dict[str, Any], dict[str, Any] | None]:
+    """A vertical line across the plot as ``(shape, annotation)`` layout dicts."""
+    shape = {
+        "type": "line",
+        "yref": "paper",
+        "y0": 0,
+        "y1": 1,
+        "xref": xref,
+        "x0": x,
+        "x1": x,
+        "line": {"color": color, "dash": dash, "width": 1.5},
+    }
+    ann = None
+    if text:
+        ann = {
+            "yref": "paper",
+            "y": 1.0,
+            "xref": xref,
+            "x": x,
+            "text": text,
+            "showarrow": False,
+            "xanchor": "left",
+            "yanchor": "top",
+            "font": {"size": 11, "color": color},
+        }
+    return shape, ann
+
+
+def band(
+    lo: float,
+    hi: float,
+    axis: str = "y",
+    color: str = "rgba(0,114,178,0.15)",
+    ref: str | None = None,
+) -> dict[str, Any]:
+    """A shaded band between ``lo`` and ``hi`` on one axis, spanning the other (a shape dict)."""
+    if axis == "y":
+        return {
+            "type": "rect",
+            "xref": "paper",
+            "x0": 0,
+            "x1": 1,
+            "yref": ref or "y",
+            "y0": lo,
+            "y1": hi,
+            "fillcolor": color,
+            "line": {"width": 0},
+            "layer": "below",
+        }
+    return {
+        "type": "rect",
+        "yref": "paper",
+        "y0": 0,
+        "y1": 1,
+        "xref": ref or "x",
+        "x0": lo,
+        "x1": hi,
+        "fillcolor": color,
+        "line": {"width": 0},
+        "layer": "below",
+    }
+
+
+def downsample_note(n_total: int, max_points: int = MAX_POINTS) -> dict[str, Any] | None:
+    """The annotation dict of :func:`note_downsampled` (None when nothing is dropped)."""
+    if n_total <= max_points:
+        return None
+    return {
+        "text": (
+            f"drawn downsampled: {max_points:,} of {n_total:,} samples per trace "
+            "(MinMax-LTTB); computed on all samples"
+        ),
+        "xref": "paper",
+        "yref": "paper",
+        "x": 1.0,
+        "y": 1.0,
+        "yanchor": "bottom",
+        "xanchor": "right",
+        "showarrow": False,
+        "font": {"size": 11, "color": "#666"},
+    }
+
+
+def stacked_axes(
+    row_heights: Sequence[float], gap: float = 0.08, titles: Sequence[str] | None = None
+) -> dict[str, Any]:
+    """Layout keys for panels stacked vertically on one shared x axis.
+
+    Traces of panel ``i`` (0 = top) use ``yaxis="y"`` for the top panel and
+    ``"y2"``, ``"y3"``... below. Cheaper than ``make_subplots``.
+
+    Parameters
+    ----------
+    row_heights : sequence of float
+        Relative panel heights, top first.
+    gap : float
+        Vertical gap between panels (fraction of the plot height).
+    titles : sequence of str, optional
+        Panel titles.
+
+    Returns
+    -------
+    dict
+        ``xaxis``, ``yaxis``, ``yaxis2``... and ``annotations`` (the titles).
+    """
+    k = len(row_heights)
+    total = float(sum(row_heights))
+    usable = 1.0 - gap * (k - 1)
+    top = 1.0
+    out: dict[str, Any] = {}
+    anns = []
+    for i, h in enumerate(row_heights):
+        frac = usable * h / total
+        lo = max(0.0, top - frac)
+        name = "yaxis" if i == 0 else f"yaxis{i + 1}"
+        out[name] = {"domain": [lo, top], "anchor": "x"}
+        if titles and i < len(titles) and titles[i]:
+            anns.append(
+                {
+                    "text": titles[i],
+                    "xref": "paper",
+                    "yref": "paper",
+                    "x": 0.0,
+                    "y": top,
+                    "xanchor": "left",
+                    "yanchor": "bottom",
+                    "showarrow": False,
+                    "font": {"size": 12},
+                }
+            )
+        top = lo - gap
+    bottom = "y" if k == 1 else f"y{k}"
+    out["xaxis"] = {"anchor": bottom}
+    out["annotations"] = anns
+    return out
+
+
+def to_html(fig: go.Figure, self_contained: bool = True) -> str:
+    """A figure as a standalone interactive HTML page.
+
+    Parameters
+    ----------
+    fig : go.Figure
+        The figure.
+    self_contained : bool
+        Embed plotly.js (works offline, ~4 MB) instead of loading it from a CDN.
+
+    Returns
+    -------
+    str
+    """
+    return fig.to_html(include_plotlyjs=True if self_contained else "cdn", full_html=True)
+
+
+def to_png(fig: go.Figure, width: int = 1200, height: int | None = None, scale: float = 2) -> bytes:
+    """A figure as PNG bytes (through ``kaleido``, which drives a headless Chromium).
+
+    Parameters
+    ----------
+    fig : go.Figure
+        The figure.
+    width, height : int
+        Pixel size (height defaults to the figure's).
+    scale : float
+        Resolution multiplier.
+
+    Returns
+    -------
+    bytes
+
+    Raises
+    ------
+    NoisevarError
+        When kaleido or a Chromium browser is not available.
+    """
+    try:
+        return fig.to_image(
+            format="png", width=width, height=height or fig.layout.height or 500, scale=scale
+        )
+    except Exception as exc:  # noqa: BLE001 - kaleido raises many types when no browser is found
+        raise NoisevarError(
+            f"PNG export needs kaleido and a Chromium browser ({type(exc).__name__}: {exc}); "
+            "export HTML instead"
+        ) from None
+
+
+def step_xy(edges: Sequence[float] | NDArray, values: ArrayLike) -> tuple[NDArray, NDArray]:
+    """Piecewise-constant line through ``values`` on intervals ``edges[i]..edges[i+1]``.
+
+    Parameters
+    ----------
+    edges : array_like, shape (k + 1,)
+        Interval boundaries.
+    values : array_like, shape (k,)
+        Value on each interval.
+
+    Returns
+    -------
+    x, y : ndarray, shape (2 k,)
+    """
+    e = np.asarray(edges, dtype=float)
+    v = np.asarray(values, dtype=float)
+    x = np.column_stack([e[:-1], e[1:]]).ravel()
+    y = np.repeat(v, 2)
+    return x, y
+
+
+__all__ = [
+    "COLORS",
+    "MAX_POINTS",
+    "PALETTE",
+    "band",
+    "base_layout",
+    "downsample_indices",
+    "downsample_note",
+    "hline",
+    "layout",
+    "stacked_axes",
+    "vline",
+    "line_trace",
+    "note_downsampled",
+    "range_to_slice",
+    "step_xy",
+    "to_html",
+    "to_png",
+    "x_axis",
+    "x_title",
+]

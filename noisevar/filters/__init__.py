@@ -1,0 +1,1 @@
+"""Signal filters: the alpha-beta-gamma filter, window selection, envelopes."""

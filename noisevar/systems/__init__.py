@@ -1,0 +1,1 @@
+"""The other papers' systems: scenarios, fusion, robust filtering, carrier tracking, latency."""

@@ -1,0 +1,98 @@
+"""AppTest: the Compare page (every method; Monte Carlo with progress)."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import pytest
+from streamlit.testing.v1 import AppTest
+
+from noisevar.estimators.compare import monte_carlo, run_monte_carlo
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT))
+APP = str(ROOT / "app.py")
+PAGE = "pages/3_Compare.py"
+
+
+def _clean(at: AppTest) -> None:
+    assert not at.exception, [e.value for e in at.exception]
+
+
+@pytest.fixture
+def at() -> AppTest:
+    app = AppTest.from_file(APP, default_timeout=90)
+    app.query_params["sig"] = "gen:fast-slow;n=4000;seed=5;noise_std=5.0"
+    app.switch_page(PAGE).run()
+    _clean(app)
+    return app
+
+
+def test_opened_first_without_a_signal():
+    app = AppTest.from_file(APP, default_timeout=60)
+    app.switch_page(PAGE).run()
+    _clean(app)
+    assert any("No signal loaded" in i.value for i in app.info)
+    assert app.get("latex")
+
+
+def test_every_method_side_by_side(at):
+    assert not at.error
+    table = at.dataframe[0].value
+    assert {"auto", "somd", "somd-paper", "rice", "diff2"} <= set(table["method"])
+    assert "rel. error" in table.columns and "CI covers truth" in table.columns
+    assert table["variance"].between(15, 35).all()
+    assert at.get("plotly_chart") and at.get("latex")
+    at.multiselect(key="cmp_methods").set_value(["auto", "rice"]).run()
+    _clean(at)
+    assert list(at.dataframe[0].value["method"]) == ["auto", "rice"]
+
+
+def test_tuned_estimator_parameters_reach_the_comparison(at):
+    somd_before = at.dataframe[0].value.set_index("method").loc["somd", "variance"]
+    at.switch_page("pages/2_Estimator.py").run()
+    at.select_slider(key="h_s").set_value("0.0003").run()
+    at.switch_page(PAGE).run()
+    _clean(at)
+    assert any("tuned on the Estimator page" in c.value for c in at.caption)
+    somd_after = at.dataframe[0].value.set_index("method").loc["somd", "variance"]
+    assert somd_after != somd_before
+
+
+def test_monte_carlo_runs_and_each_widget_changes_it(at):
+    at.number_input(key="mc_runs").set_value(8)
+    at.number_input(key="mc_n").set_value(2000)
+    at.multiselect(key="mc_methods").set_value(["auto", "diff2", "somd"])
+    at.button(key="mc_go").click().run()
+    _clean(at)
+    assert any("done: 8 runs" in s.value for s in at.success)
+    summary = at.dataframe[-1].value
+    assert list(summary["method"]) == ["auto", "diff2", "somd"]
+    first = summary["RMSE"].tolist()
+    for key, value in (("mc_seed", 1), ("mc_std", 2.0)):
+        at.number_input(key=key).set_value(value)
+        at.button(key="mc_go").click().run()
+        _clean(at)
+        now = at.dataframe[-1].value["RMSE"].tolist()
+        assert now != first, key
+        first = now
+    at.selectbox(key="mc_signal").set_value("steps-ramps")
+    at.button(key="mc_go").click().run()
+    _clean(at)
+    assert "steps-ramps" in at.markdown[-1].value or any(
+        "steps-ramps" in m.value for m in at.markdown
+    )
+
+
+def test_monte_carlo_generator_can_be_cancelled():
+    gen = monte_carlo("fast-slow", runs=50, methods=["diff2"], n=1000)
+    snaps = [next(gen) for _ in range(3)]
+    gen.close()
+    assert snaps[-1].runs_done == 3 and not snaps[-1].finished
+    assert snaps[-1].relative_errors["diff2"].size == 3
+    res = run_monte_carlo(
+        "fast-slow", runs=20, methods=["diff2"], n=1000, callback=lambda s: s.runs_done < 5
+    )
+    assert res.runs_done == 5 and not res.finished
+    assert res.cr_floor == pytest.approx((2 / 1000) ** 0.5)

@@ -1,0 +1,144 @@
+"""AppTest: the Estimator page (every main widget changes the shown result)."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import pytest
+from streamlit.testing.v1 import AppTest
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT))
+APP = str(ROOT / "app.py")
+PAGE = "pages/2_Estimator.py"
+SIG = "gen:fast-slow;n=6000;seed=2;noise_std=5.0"
+
+
+def _clean(at: AppTest) -> None:
+    assert not at.exception, [e.value for e in at.exception]
+
+
+def _metric(at: AppTest, label: str) -> str:
+    return next(m.value for m in at.metric if m.label == label)
+
+
+def _shown(at: AppTest) -> tuple:
+    """Everything the page reports about the result."""
+    return tuple((m.label, m.value) for m in at.metric) + tuple(e.value for e in at.error)
+
+
+@pytest.fixture
+def at() -> AppTest:
+    """The page opened first by its URL, with a generated signal named in the link."""
+    app = AppTest.from_file(APP, default_timeout=60)
+    app.query_params["sig"] = SIG
+    app.switch_page(PAGE).run()
+    _clean(app)
+    return app
+
+
+def test_opened_first_without_a_signal_offers_sample_data():
+    app = AppTest.from_file(APP, default_timeout=60)
+    app.switch_page(PAGE).run()
+    _clean(app)
+    assert any("No signal loaded" in i.value for i in app.info)
+    assert any(b.key == "offer_fast_slow.csv" for b in app.button)
+    assert app.get("latex"), "how it works is shown before a signal is loaded"
+    app.button(key="offer_fast_slow.csv").click().run()
+    _clean(app)
+    assert _metric(app, "Noise variance")
+
+
+def test_runs_with_defaults(at):
+    assert not at.error
+    assert float(_metric(at, "Noise variance")) == pytest.approx(25.0, rel=0.1)
+    assert _metric(at, "True variance") == "25"
+    kept, total = _metric(at, "Windows kept").split(" / ")
+    assert 0 < int(kept) <= int(total)
+    assert at.get("latex")
+    assert at.get("plotly_chart")
+
+
+@pytest.mark.parametrize(
+    ("kind", "key", "value"),
+    [
+        ("select_slider", "h_s", "5e-05"),
+        ("multiselect", "h_more", ["3e-05", "0.0001"]),
+        ("select_slider", "ht_ratio", 10),
+        ("slider", "win", 60),
+        ("slider", "g_amp", 0.3),
+        ("slider", "g_ang", 2.0),
+        ("radio", "angle", "paper"),
+        ("toggle", "select", False),
+        ("selectbox", "est_method", "somd-paper"),
+        ("selectbox", "est_method", "diff2"),
+    ],
+)
+def test_each_main_widget_changes_the_result(at, kind, key, value):
+    before = _shown(at)
+    getattr(at, kind)(key=key).set_value(value).run()
+    _clean(at)
+    assert _shown(at) != before, key
+
+
+def test_tracking_filter_by_value(at):
+    before = _shown(at)
+    at.radio(key="ht_mode").set_value("value").run()
+    at.select_slider(key="h_t").set_value("0.0001").run()
+    _clean(at)
+    assert _shown(at) != before
+
+
+def test_every_step_view_renders(at):
+    for view in ["Envelopes and |V|", "h scan", "Per-window variance", "Window tests"]:
+        at.segmented_control(key="est_view").set_value(view).run()
+        _clean(at)
+        assert not at.error, view
+        assert len(at.get("plotly_chart")) == 2, view
+        if view == "h scan":
+            assert any("chosen h" in c.value or "closest" in c.value for c in at.caption)
+
+
+def test_no_window_kept_says_what_to_relax(at):
+    at.slider(key="g_amp").set_value(0.05).run()
+    at.slider(key="g_ang").set_value(0.5).run()
+    _clean(at)
+    assert len(at.error) == 1
+    assert "relax gamma_amp" in at.error[0].value
+    assert any("Γ_amp" in i.value for i in at.info)
+    assert at.get("plotly_chart"), "the window tests are still drawn"
+
+
+def test_stretch_estimate(at):
+    at.number_input(key="s0").set_value(1000).run()
+    at.number_input(key="s1").set_value(4000).run()
+    _clean(at)
+    assert _metric(at, "Samples in stretch") == "3,000"
+    assert float(_metric(at, "Stretch variance")) > 0
+    at.button(key="clear_stretch").click().run()
+    _clean(at)
+    assert not any(m.label == "Samples in stretch" for m in at.metric)
+
+
+def test_exported_config_matches_the_widgets_and_loads_back(at):
+    at.slider(key="win").set_value(48).run()
+    at.slider(key="g_amp").set_value(0.7).run()
+    cfg = json.loads(at.code[0].value)
+    assert cfg["method"] == "somd" and cfg["window"] == 48 and cfg["gamma_amp"] == 0.7
+    cfg.update(window=64, gamma_ang=4.0, h_smooth=[3e-05, 0.0001])
+    at.file_uploader(key="est_config_upload").set_value(
+        ("tuned.json", json.dumps(cfg).encode(), "application/json")
+    )
+    at.run()
+    _clean(at)
+    back = json.loads(at.code[0].value)
+    assert back["window"] == 64 and back["gamma_ang"] == 4.0
+    assert back["h_smooth"] == [3e-05, 0.0001]
+    at.file_uploader(key="est_config_upload").set_value(
+        ("bad.json", b'{"method": "somd", "window": 3}', "application/json")
+    )
+    at.run()
+    _clean(at)
+    assert any("window" in e.value for e in at.error)

@@ -1,0 +1,44 @@
+"""AppTest: the home page (app.py), the frame every page shares."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from streamlit.testing.v1 import AppTest
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT))
+APP = str(ROOT / "app.py")
+
+
+def _clean(at: AppTest) -> None:
+    assert not at.exception, [e.value for e in at.exception]
+
+
+def test_home_runs_with_defaults_and_links_every_page():
+    at = AppTest.from_file(APP, default_timeout=60).run()
+    _clean(at)
+    assert not at.error
+    assert at.title[0].value.startswith("noisevar")
+    labels = {p.label for p in at.get("page_link")}
+    assert {"Signal", "Estimator", "Compare", "Two sensors"} <= labels
+    assert at.expander and any("How it works" in e.label for e in at.expander)
+    assert at.get("latex"), "the how-it-works expander shows equations"
+
+
+def test_home_quick_start_loads_a_signal_for_every_page():
+    at = AppTest.from_file(APP, default_timeout=60).run()
+    at.button(key="home_generate").click().run()
+    _clean(at)
+    assert "Quick estimate" in at.success[0].value
+    sig = at.session_state["nv_signal"]
+    assert sig.n == 6000 and sig.source == "generated"
+    assert at.query_params.get("sig", "").startswith("gen:fast-slow")
+
+
+def test_home_sample_button():
+    at = AppTest.from_file(APP, default_timeout=60).run()
+    at.button(key="home_sample").click().run()
+    _clean(at)
+    assert at.session_state["nv_signal"].label == "fast_slow.csv"

@@ -1,0 +1,83 @@
+"""AppTest: the Two sensors page (redundant SOMD with two or three sensors)."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import pytest
+from streamlit.testing.v1 import AppTest
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT))
+APP = str(ROOT / "app.py")
+PAGE = "pages/5_Two_sensors.py"
+
+
+def _clean(at: AppTest) -> None:
+    assert not at.exception, [e.value for e in at.exception]
+
+
+def _variances(at: AppTest) -> dict[str, float]:
+    return {m.label.split(":")[0]: float(m.value) for m in at.metric if "noise variance" in m.label}
+
+
+def _open() -> AppTest:
+    app = AppTest.from_file(APP, default_timeout=60)
+    app.switch_page(PAGE).run()
+    _clean(app)
+    return app
+
+
+def test_without_sensors_offers_the_sample_files():
+    at = _open()
+    assert any("No signal" in i.value for i in at.info)
+    assert {"ts_two", "ts_three", "ts_sim"} <= {b.key for b in at.button}
+    assert at.get("latex")
+
+
+def test_two_sensors_sum_and_delay_toggle():
+    at = _open()
+    at.button(key="ts_two").click().run()
+    _clean(at)
+    assert not at.error
+    v = _variances(at)
+    assert set(v) == {"sensor_a", "sensor_b"}
+    assert v["sensor_a"] == pytest.approx(17.0, rel=0.1)  # 1 + 16: only the sum is known
+    assert any("only the sum" in c.value for c in at.caption)
+    at.toggle(key="ts_align").set_value(True).run()
+    _clean(at)
+    assert at.info or at.success
+    assert at.get("plotly_chart") and at.get("latex")
+
+
+def test_three_sensors_each_variance_and_column_choice():
+    at = _open()
+    at.button(key="ts_three").click().run()
+    _clean(at)
+    v = _variances(at)
+    assert v["sensor_a"] == pytest.approx(1.0, rel=0.15)
+    assert v["sensor_b"] == pytest.approx(4.0, rel=0.15)
+    assert v["sensor_c"] == pytest.approx(9.0, rel=0.15)
+    at.multiselect(key="ts_cols").set_value(["sensor_a", "sensor_c"]).run()
+    _clean(at)
+    assert set(_variances(at)) == {"sensor_a", "sensor_c"}
+    at.multiselect(key="ts_cols").set_value(["sensor_a"]).run()
+    _clean(at)
+    assert any("at least two" in i.value for i in at.info)
+
+
+def test_simulated_sensors():
+    at = _open()
+    at.button(key="ts_sim").click().run()
+    _clean(at)
+    v = _variances(at)
+    assert list(v.values()) == pytest.approx([1.0, 4.0, 9.0], rel=0.15)
+
+
+def test_single_column_signal_is_explained():
+    at = AppTest.from_file(APP, default_timeout=60)
+    at.query_params["sig"] = "sample:fast_slow.csv"
+    at.switch_page(PAGE).run()
+    _clean(at)
+    assert any("single column" in i.value for i in at.info)

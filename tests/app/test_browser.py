@@ -1,0 +1,242 @@
+"""Real-browser test: ``streamlit run app.py`` driven by Debian's Chromium through Playwright.
+
+The test starts the app headless on 127.0.0.1 and a free port, waits for
+``/_stcore/health``, then visits every page through the sidebar navigation
+and by opening each page's URL directly (a new session: the page must work
+when it is the first one a browser opens), and fails on any Streamlit
+exception box. Screenshots go to ``test-artifacts/browser/`` (printed).
+
+Needs ``/usr/bin/chromium`` (``apt-get install -y chromium``) and the
+``playwright`` Python package; browser downloads are not used
+(``executable_path``). Skipped when either is missing.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import time
+import urllib.request
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+CHROMIUM = os.environ.get("NOISEVAR_CHROMIUM", "/usr/bin/chromium")
+SHOTS = ROOT / "test-artifacts" / "browser"
+CHROME_ARGS = [
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-first-run",
+]
+#: (sidebar label, URL path) of every page.
+PAGES = [
+    ("Signal", "Signal"),
+    ("Estimator", "Estimator"),
+    ("Compare", "Compare"),
+    ("Adaptive filter", "Adaptive_filter"),
+    ("Two sensors", "Two_sensors"),
+    ("Fusion", "Fusion"),
+    ("Robust filter", "Robust_filter"),
+    ("Carrier tracking", "Carrier_tracking"),
+    ("Latency", "Latency"),
+]
+SIG = "gen:fast-slow;n=6000;seed=0;noise_std=5.0"
+#: Seconds without a running script before a page counts as drawn.
+QUIET_S = 0.5
+
+playwright_api = pytest.importorskip("playwright.sync_api")
+pytestmark = pytest.mark.skipif(
+    not Path(CHROMIUM).exists(), reason=f"no Chromium at {CHROMIUM} (apt-get install chromium)"
+)
+
+
+def _free_port() -> int:
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+@pytest.fixture(scope="module")
+def server():
+    """The app served by ``streamlit run`` on a free port; stopped after the module."""
+    port = _free_port()
+    env = {**os.environ, "STREAMLIT_BROWSER_GATHER_USAGE_STATS": "false"}
+    log = (ROOT / "test-artifacts").resolve()
+    log.mkdir(parents=True, exist_ok=True)
+    out = open(log / "streamlit-server.log", "w")  # noqa: SIM115 - closed in teardown
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "streamlit",
+            "run",
+            "app.py",
+            "--server.headless",
+            "true",
+            "--server.address",
+            "127.0.0.1",
+            "--server.port",
+            str(port),
+            "--server.fileWatcherType",
+            "none",
+        ],
+        cwd=ROOT,
+        env=env,
+        stdout=out,
+        stderr=subprocess.STDOUT,
+    )
+    base = f"http://127.0.0.1:{port}"
+    deadline = time.time() + 90
+    while True:
+        try:
+            with urllib.request.urlopen(f"{base}/_stcore/health", timeout=2) as r:
+                if r.status == 200:
+                    break
+        except OSError:
+            pass
+        if proc.poll() is not None or time.time() > deadline:
+            proc.terminate()
+            out.close()
+            pytest.fail(f"streamlit did not become healthy; see {log / 'streamlit-server.log'}")
+        time.sleep(0.5)
+    yield base
+    proc.terminate()
+    try:
+        proc.wait(timeout=15)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+    out.close()
+
+
+@pytest.fixture(scope="module")
+def browser():
+    if SHOTS.exists():
+        shutil.rmtree(SHOTS)
+    SHOTS.mkdir(parents=True)
+    print(f"\nbrowser screenshots: {SHOTS}")
+    with playwright_api.sync_playwright() as p:
+        b = p.chromium.launch(executable_path=CHROMIUM, args=CHROME_ARGS, headless=True)
+        yield b
+        b.close()
+
+
+def _settle(page, timeout: float = 120.0) -> None:
+    """Wait until the app has rendered and no script run is in progress."""
+    page.wait_for_selector('[data-testid="stAppViewContainer"]', timeout=timeout * 1000)
+    page.wait_for_selector("h1", timeout=timeout * 1000)
+    deadline = time.time() + timeout
+    quiet_since = None
+    while time.time() < deadline:
+        running = page.locator('[data-testid="stStatusWidget"]').count() > 0
+        skeleton = page.locator('[data-testid="stSkeleton"]').count() > 0
+        if running or skeleton:
+            quiet_since = None
+        elif quiet_since is None:
+            quiet_since = time.time()
+        elif time.time() - quiet_since > QUIET_S:
+            return
+        time.sleep(0.2)
+    raise AssertionError("the app kept running for too long")
+
+
+def _check(page, name: str) -> None:
+    print(f"  {name}: drawn at {time.strftime('%H:%M:%S')}")
+    page.screenshot(path=str(SHOTS / f"{name}.png"), full_page=True)
+    exceptions = page.locator('[data-testid="stException"]')
+    assert exceptions.count() == 0, f"{name}: exception box: {exceptions.first.inner_text()}"
+
+
+def test_every_page_through_navigation(server, browser):
+    ctx = browser.new_context(viewport={"width": 1400, "height": 1000})
+    page = ctx.new_page()
+    page.goto(server)
+    _settle(page)
+    _check(page, "00-home")
+    page.get_by_role("button", name="Generate the paper's fast-slow signal").click()
+    # the rerun may start later than the quiet interval on a loaded machine: wait for its result
+    main = page.locator('[data-testid="stMain"]')
+    main.get_by_text("Quick estimate").first.wait_for(timeout=120_000)
+    _settle(page)
+    assert "Quick estimate" in main.inner_text()
+    _check(page, "01-home-with-signal")
+    nav = page.locator('[data-testid="stSidebarNav"]')
+    for i, (label, path) in enumerate(PAGES, start=2):
+        nav.get_by_text(label, exact=True).first.click()
+        page.wait_for_url(f"**/{path}**", timeout=30_000)
+        _settle(page)
+        _check(page, f"{i:02d}-nav-{path}")
+        errors = page.locator('[data-testid="stAlertContentError"]')
+        assert errors.count() == 0, f"{label}: {errors.first.inner_text()}"
+    ctx.close()
+
+
+@pytest.mark.parametrize(("label", "path"), PAGES)
+def test_every_page_opened_first_by_url(server, browser, label, path):
+    ctx = browser.new_context(viewport={"width": 1400, "height": 1000})
+    page = ctx.new_page()
+    page.goto(f"{server}/{path}")
+    _settle(page)
+    assert label in page.inner_text("h1")
+    _check(page, f"url-{path}")
+    ctx.close()
+
+
+def test_shared_link_reopens_the_view_and_box_select_picks_a_stretch(server, browser):
+    ctx = browser.new_context(viewport={"width": 1400, "height": 1100})
+    page = ctx.new_page()
+    page.goto(f"{server}/Estimator?sig={SIG}&win=60&est_view=h+scan")
+    _settle(page)
+    main = page.inner_text('[data-testid="stMain"]')
+    assert "Noise variance" in main and "No signal loaded" not in main
+    assert "Window m (samples)" in main
+    # the link's parameters reached the widgets
+    window = page.locator('[data-testid="stSlider"]', has_text="Window m")
+    assert window.locator("input").first.get_attribute("value") == "60"
+    _check(page, "link-estimator")
+    # drag horizontally across the main figure: the box selection estimates that stretch
+    chart = page.locator('[data-testid="stPlotlyChart"]').first
+    chart.scroll_into_view_if_needed()
+    drag = chart.locator(".nsewdrag").first
+    box = drag.bounding_box()
+    assert box is not None
+    y = box["y"] + box["height"] * 0.5
+    page.mouse.move(box["x"] + box["width"] * 0.30, y)
+    page.mouse.down()
+    page.mouse.move(box["x"] + box["width"] * 0.45, y, steps=8)
+    page.mouse.move(box["x"] + box["width"] * 0.60, y, steps=8)
+    page.mouse.up()
+    page.wait_for_function(
+        "() => document.body.innerText.includes('Stretch variance')", timeout=60_000
+    )
+    _settle(page)
+    _check(page, "link-estimator-stretch")
+    ctx.close()
+
+
+def test_monte_carlo_progress_and_cancel(server, browser):
+    ctx = browser.new_context(viewport={"width": 1400, "height": 1000})
+    page = ctx.new_page()
+    page.goto(f"{server}/Compare?sig={SIG}&cmp_tab=Monte+Carlo&mc_runs=3000&mc_n=3000")
+    _settle(page)
+    page.get_by_role("tab", name="Monte Carlo").click()
+    page.get_by_role("button", name="Run Monte Carlo").click()
+    page.wait_for_selector('[data-testid="stProgress"]', timeout=60_000)
+    page.wait_for_function(
+        "() => /Run [0-9]+ of 3000/.test(document.body.innerText)", timeout=60_000
+    )
+    page.get_by_role("button", name="Cancel").click()
+    page.wait_for_function(
+        "() => document.body.innerText.includes('Monte Carlo cancelled after')", timeout=60_000
+    )
+    _settle(page)
+    text = page.inner_text('[data-testid="stMain"]')
+    assert "of 3000 runs" in text and "done: 3000" not in text
+    _check(page, "compare-montecarlo-cancelled")
+    ctx.close()
