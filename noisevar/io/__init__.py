@@ -1,0 +1,64 @@
+"""Loading measured signals from files: CSV/TSV, ``.npy`` and NMEA 0183 (GGA/RMC).
+
+One entry point, :func:`load_table`, turns a file (a path or its bytes) into a
+:class:`LoadedTable`: named float columns, the time column if there is one,
+and the sample period it implies. :func:`pick_column` then gives one signal
+for :func:`noisevar.estimate`. The CLI and the dashboard share these two
+functions, so a file that loads in one loads in the other.
+
+Every failure raises :class:`~noisevar.errors.NoisevarError` with one message
+that says what is wrong and where (row, column, line), never a parser
+traceback.
+
+Formats
+-------
+CSV / TSV / whitespace-separated text
+    The delimiter is detected (tab, comma, semicolon, else whitespace). The
+    first row is a header when any of its fields is not a number; otherwise
+    the columns are named ``col0, col1, ...``. Lines starting with ``#`` are
+    comments. A cell that is not a number is refused with its row and column;
+    an empty cell or ``NaN`` becomes NaN (refused later by
+    :func:`pick_column` for the column actually used, unless asked to drop).
+    A column named like a time (``t``, ``time``, ``time_s``, ``timestamp``,
+    ``seconds``...) gives the sample period (median step); ISO date-times in
+    it are converted to seconds from the first.
+``.npy``
+    Read with ``np.load(allow_pickle=False)`` only (a pickled object array is
+    refused: loading it could run code). A 1-D array is one column
+    ``value``; a 2-D array ``(n, k)`` gives columns ``col0..``; a structured
+    array gives one column per field.
+NMEA 0183
+    GGA and RMC sentences (any talker: GP, GN, GL...) with a valid fix are
+    merged by epoch. Positions become local east/north/up metres from the
+    first fix (WGS-84, exact ECEF to local ENU rotation); RMC gives speed
+    (m/s) and course (degrees). A sentence with a wrong or missing checksum
+    makes the whole file refused, naming the line: a corrupted log should not
+    silently feed an estimator. Other sentence types are ignored.
+"""
+
+from noisevar.io.load import load_table, pick_column
+from noisevar.io.nmea import geodetic_to_enu
+from noisevar.io.table import (
+    NMEA_EXTENSIONS,
+    TABLE_EXTENSIONS,
+    TIME_NAMES,
+    UNIFORM_TOLERANCE,
+    LoadedTable,
+    content_digest,
+    signal_summary,
+    table_from_arrays,
+)
+
+__all__ = [
+    "NMEA_EXTENSIONS",
+    "TABLE_EXTENSIONS",
+    "TIME_NAMES",
+    "UNIFORM_TOLERANCE",
+    "LoadedTable",
+    "content_digest",
+    "geodetic_to_enu",
+    "load_table",
+    "pick_column",
+    "signal_summary",
+    "table_from_arrays",
+]

@@ -1,0 +1,198 @@
+"""The loaded table, its time column and sample period."""
+
+from __future__ import annotations
+
+import hashlib
+import io
+import re
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from noisevar.errors import NoisevarError
+
+#: Names (lower case, units in brackets stripped) recognised as a time column.
+TIME_NAMES = ("t", "time", "time_s", "times", "timestamp", "seconds", "sec", "secs", "s", "epoch")
+#: File extensions read as text tables.
+TABLE_EXTENSIONS = (".csv", ".tsv", ".txt", ".dat", ".tab")
+#: File extensions read as NMEA 0183 logs (content is also sniffed).
+NMEA_EXTENSIONS = (".nmea", ".nma", ".gps", ".log", ".ubx.nmea")
+#: Relative spread of the time steps above which the sampling counts as not uniform.
+UNIFORM_TOLERANCE = 0.01
+_NPY_MAGIC = b"\x93NUMPY"
+_NA_TOKENS = ["", "nan", "NaN", "NAN", "na", "NA", "n/a", "N/A", "null", "NULL", "None", "-"]
+
+
+@dataclass
+class LoadedTable:
+    """Columns of numbers read from one file.
+
+    Attributes
+    ----------
+    name : str
+        File name (for messages and titles).
+    columns : dict of str to ndarray
+        Column name to float samples, all of the same length; NaN marks an
+        empty cell.
+    kind : {"csv", "tsv", "text", "npy", "nmea", "generated"}
+        The format the file was read as.
+    time_column : str or None
+        The column holding the sample times (seconds), if any.
+    sample_period : float or None
+        Median time step of ``time_column`` (seconds), if any.
+    notes : list of str
+        Plain-language remarks (non-uniform sampling, skipped sentences...).
+    """
+
+    name: str
+    columns: dict[str, NDArray]
+    kind: str
+    time_column: str | None = None
+    sample_period: float | None = None
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def n_rows(self) -> int:
+        """Number of samples per column."""
+        return int(next(iter(self.columns.values())).size) if self.columns else 0
+
+    @property
+    def data_columns(self) -> list[str]:
+        """Column names other than the time column (the candidate signals)."""
+        return [c for c in self.columns if c != self.time_column]
+
+    def time(self) -> NDArray | None:
+        """The time column (seconds) or None."""
+        return self.columns.get(self.time_column) if self.time_column else None
+
+    def digest(self) -> str:
+        """Content hash of all columns (names and values): a cache key."""
+        h = hashlib.blake2b(digest_size=16)
+        for name, col in self.columns.items():
+            h.update(name.encode())
+            h.update(np.ascontiguousarray(col, dtype=float).tobytes())
+        return h.hexdigest()
+
+    def to_csv(self) -> str:
+        """The table as CSV text with a header row."""
+        names = list(self.columns)
+        data = np.column_stack([self.columns[c] for c in names]) if names else np.empty((0, 0))
+        buf = io.StringIO()
+        buf.write(",".join(names) + "\n")
+        np.savetxt(buf, data, delimiter=",", fmt="%.10g")
+        return buf.getvalue()
+
+
+def content_digest(data: bytes | ArrayLike) -> str:
+    """Short content hash of bytes or of an array's values (a cache key).
+
+    Parameters
+    ----------
+    data : bytes or array_like
+        File bytes, or samples (hashed as contiguous float64 plus shape).
+
+    Returns
+    -------
+    str
+        32 hex characters (BLAKE2b, 16 bytes).
+    """
+    h = hashlib.blake2b(digest_size=16)
+    if isinstance(data, (bytes, bytearray, memoryview)):
+        h.update(bytes(data))
+    else:
+        arr = np.ascontiguousarray(np.asarray(data, dtype=float))
+        h.update(str(arr.shape).encode())
+        h.update(arr.tobytes())
+    return h.hexdigest()
+
+
+def _is_time_name(name: str) -> bool:
+    base = re.sub(r"[\[\(].*?[\]\)]", "", name).strip().lower().replace(" ", "_")
+    return base in TIME_NAMES or base.startswith("time_") or base.endswith("_time")
+
+
+def _period_from_time(t: NDArray, notes: list[str]) -> float | None:
+    if t.size < 2 or not np.all(np.isfinite(t)):
+        notes.append("the time column has missing values: sample period not taken from it")
+        return None
+    dt = np.diff(t)
+    if np.any(dt <= 0):
+        first = int(np.argmax(dt <= 0)) + 1
+        notes.append(
+            f"the time column is not strictly increasing (row {first}): "
+            "sample period not taken from it"
+        )
+        return None
+    period = float(f"{float(np.median(dt)):.12g}")  # 0.1, not 0.09999999999999787
+    spread = float((dt.max() - dt.min()) / period)
+    if spread > UNIFORM_TOLERANCE:
+        notes.append(
+            f"sampling is not uniform: steps from {dt.min():.4g} s to {dt.max():.4g} s "
+            f"(median {period:.4g} s); the estimators assume uniform sampling"
+        )
+    return period
+
+
+def signal_summary(z: ArrayLike, sample_period: float | None = None) -> dict[str, float]:
+    """A short description of a signal: size, duration, level and spread.
+
+    Parameters
+    ----------
+    z : array_like, shape (n,)
+        Samples.
+    sample_period : float, optional
+        Seconds per sample (duration is NaN without it).
+
+    Returns
+    -------
+    dict
+        ``n``, ``duration_s``, ``mean``, ``std``, ``min``, ``max``,
+        ``n_nonfinite``.
+    """
+    z = np.asarray(z, dtype=float)
+    fin = z[np.isfinite(z)]
+    if fin.size == 0:
+        raise NoisevarError("the signal has no finite sample")
+    return {
+        "n": int(z.size),
+        "duration_s": float((z.size - 1) * sample_period) if sample_period else float("nan"),
+        "mean": float(fin.mean()),
+        "std": float(fin.std()),
+        "min": float(fin.min()),
+        "max": float(fin.max()),
+        "n_nonfinite": int(z.size - fin.size),
+    }
+
+
+def table_from_arrays(
+    name: str,
+    columns: dict[str, ArrayLike],
+    sample_period: float | None = None,
+    kind: str = "generated",
+    notes: list[str] | None = None,
+) -> LoadedTable:
+    """Wrap arrays already in memory (a generated signal) as a :class:`LoadedTable`.
+
+    Parameters
+    ----------
+    name : str
+        Title of the table.
+    columns : dict of str to array_like
+        Equal-length columns.
+    sample_period : float, optional
+        Seconds per sample.
+    kind : str
+        Recorded in :attr:`LoadedTable.kind`.
+    notes : list of str, optional
+        Remarks.
+
+    Returns
+    -------
+    LoadedTable
+    """
+    cols = {k: np.asarray(v, dtype=float).ravel() for k, v in columns.items()}
+    sizes = {v.size for v in cols.values()}
+    if len(sizes) != 1:
+        raise NoisevarError(f"columns of {name} have different lengths: {sorted(sizes)}")
+    return LoadedTable(name, cols, kind, None, sample_period, list(notes or []))
