@@ -40,11 +40,6 @@ class PageInfo:
     icon: str
     blurb: str
 
-    @property
-    def label(self) -> str:
-        """The link label (the title)."""
-        return self.title
-
 
 #: The home page (``app.py``).
 HOME = PageInfo("app.py", "Home", ":material/home:", "")

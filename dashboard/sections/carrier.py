@@ -36,7 +36,7 @@ class CarrierSettings:
     nominal_cn0: float
 
 
-def settings_form() -> CarrierSettings:
+def settings_form() -> CarrierSettings:  # long: one widget call per scenario setting
     """C/N0, integration time, duration, Doppler rate, data bits, runs, window, seed, design."""
     c1, c2, c3, c4 = st.columns(4)
     cn0 = c1.slider(
