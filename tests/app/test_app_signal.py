@@ -133,9 +133,9 @@ def test_bad_upload_gives_one_error_and_keeps_the_previous_signal(name, content,
 
 
 def test_upload_over_the_size_limit(monkeypatch):
-    import dashboard_common
+    from dashboard import loading
 
-    monkeypatch.setattr(dashboard_common, "max_upload_bytes", lambda: 1000)
+    monkeypatch.setattr(loading, "max_upload_bytes", lambda: 1000)
     at = _page()
     at.file_uploader(key="upload").set_value(("big.csv", b"x\n" + b"1.5\n" * 2000, "text/csv"))
     at.run()

@@ -1,0 +1,451 @@
+"""The cached calls of the pages (``st.cache_data`` / ``st.cache_resource`` wrappers).
+
+Computations on the loaded signal are cached by its **content hash** (computed once
+at load), never by hashing the array on every rerun; arguments named with a leading
+underscore are not hashed. Cached results are shared read-only objects.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import re
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import streamlit as st
+
+import noisevar
+from dashboard.state import LoadedSignal, sensor_matrix, truth_of
+from noisevar.errors import NoisevarError
+from noisevar.estimators.compare import Comparison, compare_methods
+from noisevar.estimators.results import VarianceEstimate
+from noisevar.filters.envelope import (
+    HScan,
+    WindowAmplitude,
+    detrend_windows,
+    noise_amplitude,
+    scan_h,
+)
+from noisevar.io import LoadedTable, load_table, pick_column
+
+if TYPE_CHECKING:
+    from noisevar.kalman.result import FilterResult
+    from noisevar.kalman.strategies import RStrategy
+    from noisevar.systems.carrier import CarrierResult, CarrierSweep
+    from noisevar.systems.fusion import FusionData, FusionResult
+    from noisevar.systems.latency import DelayEstimate, LatencyResult
+    from noisevar.systems.robust import RobustResult
+    from noisevar.systems.scenarios import Scenario
+
+#: An experiment's JSON-like result (nested dicts of numbers and strings).
+JsonDict = dict[str, Any]
+#: Settings of the Adaptive filter page (strategy parameters by name).
+Settings = dict[str, float | int | str]
+
+#: The carrier filters the Carrier tracking page shows (``comparison_variants`` names).
+CARRIER_FILTERS = ("ekf", "aekf", "ekf_matched", "aekf_paper_q")
+
+
+def params_key(params: dict[str, object]) -> str:
+    """A stable JSON key of a parameter dict (the hashable cache argument)."""
+    return json.dumps(params, sort_keys=True, default=str)
+
+
+# --------------------------------------------------------------------- loading
+@st.cache_data(show_spinner=False)
+def sample_descriptions(sample_dir: str) -> dict[str, str]:
+    """One-line descriptions of the sample files, from ``make_samples.py``'s docstring."""
+    script = Path(sample_dir) / "make_samples.py"
+    out: dict[str, str] = {}
+    if not script.is_file():
+        return out
+    text = script.read_text(encoding="utf-8", errors="replace")
+    doc = text.split('"""')[1] if text.count('"""') >= 2 else ""
+    current = None
+    for line in doc.splitlines():
+        m = re.match(r"^``([^`]+)``\s+(.*)$", line.strip())
+        if m:
+            current = m.group(1)
+            out[current] = m.group(2).strip()
+        elif current and line.startswith(" ") and line.strip():
+            out[current] += " " + line.strip()
+        else:
+            current = None
+    return out
+
+
+@st.cache_resource(max_entries=16, show_spinner=False)
+def load_bytes_cached(digest: str, name: str, _raw: bytes) -> LoadedTable:
+    """:func:`noisevar.io.load_table` of file bytes, cached by their content hash."""
+    return load_table(_raw, name)
+
+
+@st.cache_resource(max_entries=16, show_spinner=False)
+def generate_cached(name: str, kwargs_json: str) -> noisevar.GeneratedSignal:
+    """:func:`noisevar.generate` with JSON keyword arguments, cached."""
+    return noisevar.generate(name, **json.loads(kwargs_json))
+
+
+# ------------------------------------------------------------------ estimators
+@st.cache_resource(max_entries=24, show_spinner=False)
+def _estimate_cached(
+    digest: str, method: str, params_json: str, start: int, stop: int, _z: np.ndarray
+) -> VarianceEstimate:
+    z = _z if (start, stop) == (0, _z.size) else _z[start:stop]
+    return noisevar.estimate(z, method=method, **json.loads(params_json))
+
+
+def estimate(
+    sig: LoadedSignal, method: str, params: dict[str, object], stretch: slice | None = None
+) -> VarianceEstimate:
+    """:func:`noisevar.estimate` on the signal (or a stretch of it), cached by content hash."""
+    start, stop = (0, sig.n) if stretch is None else (stretch.start, stretch.stop)
+    return _estimate_cached(sig.digest, method, params_key(params), int(start), int(stop), sig.z)
+
+
+@st.cache_resource(max_entries=8, show_spinner=False)
+def _scan_cached(digest: str, window: int, _z: np.ndarray) -> HScan:
+    return scan_h(_z, window)
+
+
+def h_scan(sig: LoadedSignal, window: int) -> HScan:
+    """:func:`noisevar.filters.envelope.scan_h` on the signal, cached."""
+    return _scan_cached(sig.digest, int(window), sig.z)
+
+
+@st.cache_resource(max_entries=12, show_spinner=False)
+def _amplitude_cached(
+    digest: str, window: int, which: str, _x: np.ndarray
+) -> tuple[WindowAmplitude, np.ndarray]:
+    return noise_amplitude(_x, window), detrend_windows(_x, window).ravel()
+
+
+def amplitude(
+    sig: LoadedSignal, window: int, x: np.ndarray | None = None, which: str = "raw"
+) -> tuple[WindowAmplitude, np.ndarray]:
+    """Envelope amplitude (eq. 13) and the window-detrended record, cached.
+
+    ``x`` defaults to the raw signal; pass a filter output with a ``which``
+    label that identifies it (e.g. the estimate's parameters).
+    """
+    return _amplitude_cached(sig.digest, int(window), which, sig.z if x is None else x)
+
+
+@st.cache_resource(max_entries=8, show_spinner=False)
+def _compare_cached(
+    digest: str,
+    methods: tuple[str, ...],
+    params_json: str,
+    true_variance: float | None,
+    _z: np.ndarray,
+) -> Comparison:
+    return compare_methods(_z, list(methods), json.loads(params_json), true_variance)
+
+
+def compare(
+    sig: LoadedSignal, methods: Sequence[str], params: dict[str, dict[str, object]]
+) -> Comparison:
+    """:func:`noisevar.estimators.compare.compare_methods` on the signal, cached."""
+    return _compare_cached(sig.digest, tuple(methods), params_key(params), truth_of(sig), sig.z)
+
+
+# --------------------------------------------------------------- several sensors
+def delay_is_significant(delay: DelayEstimate, sample_period: float) -> bool:
+    """A delay worth removing: over half a sample and over twice its standard deviation."""
+    return abs(delay.delay_s) > 0.5 * sample_period and abs(delay.delay_s) > 2.0 * delay.std_s
+
+
+@st.cache_resource(max_entries=8, show_spinner=False)
+def _redundant_cached(
+    table_digest: str, columns: tuple[str, ...], align: bool, period: float, _sig: LoadedSignal
+) -> tuple[noisevar.RedundantEstimate, np.ndarray, DelayEstimate | None, float]:
+    from noisevar.systems.latency import align_signals, estimate_delay
+
+    data = sensor_matrix(_sig, columns)
+    delay = None
+    removed = 0.0
+    if align:
+        delay = estimate_delay(data[:, 0], data[:, 1], period)
+        if delay_is_significant(delay, period):
+            # whole samples only: interpolating between samples would average (and so
+            # shrink) the noise whose variance is being measured
+            removed = round(delay.delay_s / period) * period
+            a, b = align_signals(data[:, 0], data[:, 1], removed, period)
+            data = np.column_stack([a, b])
+    return noisevar.estimate_redundant(data), data, delay, removed
+
+
+def redundant(
+    sig: LoadedSignal, columns: Sequence[str], align: bool = False
+) -> tuple[noisevar.RedundantEstimate, np.ndarray, DelayEstimate | None, float]:
+    """Redundant SOMD on several columns (optionally delay-aligned first, two sensors), cached.
+
+    With ``align`` the delay of the second sensor behind the first is
+    estimated (:func:`noisevar.systems.latency.estimate_delay`) and, when significant
+    (:func:`delay_is_significant`), removed by a whole-sample shift.
+
+    Returns
+    -------
+    (RedundantEstimate, ndarray, DelayEstimate or None, float)
+        The estimate, the (aligned) sensor matrix it used, the delay estimate,
+        and the shift removed (s; 0 when none).
+    """
+    period = float(sig.sample_period or 1.0)
+    return _redundant_cached(sig.table_digest, tuple(columns), bool(align), period, sig)
+
+
+@st.cache_resource(max_entries=16, show_spinner=False)
+def _delay_cached(
+    table_digest: str, ref: str, other: str, period: float, _sig: LoadedSignal
+) -> DelayEstimate:
+    from noisevar.systems.latency import estimate_delay
+
+    return estimate_delay(pick_column(_sig.table, ref), pick_column(_sig.table, other), period)
+
+
+def delay_between(sig: LoadedSignal, ref: str, other: str) -> DelayEstimate:
+    """:func:`~noisevar.systems.latency.estimate_delay` of ``other`` behind ``ref``, cached."""
+    return _delay_cached(sig.table_digest, ref, other, float(sig.sample_period or 1.0), sig)
+
+
+@st.cache_resource(max_entries=16, show_spinner=False)
+def _column_estimate_cached(
+    table_digest: str, column: str, method: str, _sig: LoadedSignal
+) -> VarianceEstimate:
+    return noisevar.estimate(pick_column(_sig.table, column), method=method)
+
+
+def column_estimate(sig: LoadedSignal, column: str, method: str = "auto") -> VarianceEstimate:
+    """A single-signal estimate of one column of the signal's table, cached."""
+    return _column_estimate_cached(sig.table_digest, column, method, sig)
+
+
+# ---------------------------------------------------------------- Kalman filters
+@st.cache_resource(max_entries=6, show_spinner=False)
+def kalman_scenario(name: str, seed: int, size: float, factor: float) -> Scenario:
+    """A seeded filter scenario of :mod:`noisevar.systems.scenarios` (one run), cached.
+
+    ``size`` is the duration in seconds for ``gps-circle`` and the number of
+    steps otherwise; ``factor`` the noise increase of ``noise-step`` / ``noise-ramp``.
+    """
+    from noisevar.systems.scenarios import SCENARIOS
+
+    if name not in SCENARIOS:
+        raise NoisevarError(f"unknown scenario {name!r}; choose one of {list(SCENARIOS)}")
+    if name == "gps-circle":
+        return SCENARIOS[name](runs=1, seed=int(seed), duration=float(size))
+    if name in ("noise-step", "noise-ramp"):
+        return SCENARIOS[name](runs=1, seed=int(seed), n_steps=int(size), factor=float(factor))
+    return SCENARIOS[name](runs=1, seed=int(seed), n_steps=int(size))
+
+
+def make_filter_strategy(
+    name: str, settings: Settings, h_smooth: float, R_true: np.ndarray | None = None
+) -> RStrategy:
+    """A fresh R-adaptation strategy object from the page's settings."""
+    from noisevar.kalman.strategies import make_strategy, strategy_spec
+
+    if name == "oracle" and R_true is None:
+        raise NoisevarError("the oracle filter needs the true R: only for scenarios")
+    tunable = strategy_spec(name).defaults()
+    params = {k: settings[k] for k in tunable if settings.get(k) is not None}
+    if "h_smooth" in strategy_spec(name).needs:
+        params.pop("window", None)  # the page's window is RAE/IAE's; SOMD uses all samples so far
+    return make_strategy(name, h_smooth=h_smooth, R_true=R_true, **params)
+
+
+@st.cache_resource(max_entries=24, show_spinner=False)
+def _scenario_run_cached(
+    scenario_key: str, strategy: str, settings_json: str, huber: float | None, _sc: Scenario
+) -> FilterResult:
+    from noisevar.kalman import HuberUpdate
+
+    settings = json.loads(settings_json)
+    strat = make_filter_strategy(strategy, settings, _sc.h_smooth, _sc.R_true[_sc.first_step :])
+    robust = HuberUpdate(kappa=huber) if huber else None
+    return _sc.run(strat, robust=robust)
+
+
+def scenario_run(
+    sc: Scenario, scenario_key: str, strategy: str, settings: Settings, huber: float | None
+) -> FilterResult:
+    """One strategy on a scenario (:meth:`Scenario.run`), cached by scenario and settings."""
+    return _scenario_run_cached(scenario_key, strategy, params_key(settings), huber, sc)
+
+
+@st.cache_resource(max_entries=16, show_spinner=False)
+def _data_run_cached(
+    table_digest: str,
+    columns: tuple[str, ...],
+    period: float,
+    h: float,
+    r0_factor: float,
+    strategy: str,
+    settings_json: str,
+    huber: float | None,
+    _sig: LoadedSignal,
+) -> tuple[FilterResult, np.ndarray, np.ndarray]:
+    from noisevar.kalman import HuberUpdate, run_filter
+    from noisevar.systems.scenarios import constant_velocity_model
+
+    z = sensor_matrix(_sig, columns)
+    quick = np.array([column_estimate(_sig, c).variance for c in columns])
+    r0 = quick * r0_factor
+    model = constant_velocity_model(z[0], period, h, r0, columns)
+    settings = json.loads(settings_json)
+    h_smooth = float(settings.get("h_smooth", 9e-4))
+    strat = make_filter_strategy(strategy, settings, h_smooth)
+    robust = HuberUpdate(kappa=huber) if huber else None
+    return run_filter(model, z, strategy=strat, robust=robust), z, quick
+
+
+def data_run(
+    sig: LoadedSignal,
+    columns: Sequence[str],
+    h: float,
+    r0_factor: float,
+    strategy: str,
+    settings: Settings,
+    huber: float | None,
+) -> tuple[FilterResult, np.ndarray, np.ndarray]:
+    """One strategy on chosen columns of the loaded table, cached.
+
+    The model is :func:`noisevar.systems.scenarios.constant_velocity_model`.
+
+    Returns
+    -------
+    (FilterResult, ndarray, ndarray)
+        The run, the measurements ``(N, m)`` and each channel's quick
+        single-signal variance estimate (method auto).
+    """
+    period = float(sig.sample_period or 1.0)
+    return _data_run_cached(
+        sig.table_digest,
+        tuple(columns),
+        period,
+        float(h),
+        float(r0_factor),
+        strategy,
+        params_key(settings),
+        huber,
+        sig,
+    )
+
+
+@st.cache_resource(max_entries=4, show_spinner=False)
+def table1(runs: int, seed: int) -> JsonDict:
+    """The gps-circle experiment (the paper's Table 1) with ``runs`` Monte Carlo runs, cached."""
+    from noisevar.experiments import discover
+
+    exp = discover()["gps-circle"]
+    parser = argparse.ArgumentParser()
+    if exp.add_arguments is not None:
+        exp.add_arguments(parser)
+    args = parser.parse_args([])
+    args.runs = int(runs)
+    args.seed = int(seed)
+    return exp.run(args)
+
+
+# ------------------------------------------------------ the other seed systems
+@st.cache_resource(max_entries=4, show_spinner=False)
+def fusion_data(
+    fault: str, steps: int, runs: int, seed: int, noise_factor: float, bias: float
+) -> FusionData:
+    """:func:`noisevar.systems.fusion.simulate_fusion` for the page's settings, cached."""
+    from noisevar.systems.fusion import FusionScenario, simulate_fusion
+
+    scen = FusionScenario(
+        n_steps=int(steps), fault=fault, noise_factor=float(noise_factor), bias_sigmas=float(bias)
+    )
+    return simulate_fusion(scen, seed=int(seed), runs=int(runs))
+
+
+@st.cache_resource(max_entries=16, show_spinner=False)
+def _fusion_run_cached(
+    data_key: str, config: str, false_alarm: float, _data: FusionData
+) -> FusionResult:
+    from noisevar.systems.fusion import run_fusion
+
+    local, _, iso = config.partition("+")
+    return run_fusion(_data, local=local, isolation=bool(iso), false_alarm=float(false_alarm))
+
+
+def fusion_run(data: FusionData, data_key: str, config: str, false_alarm: float) -> FusionResult:
+    """``run_fusion`` for a configuration like ``"vb+isolation"``, cached."""
+    return _fusion_run_cached(data_key, config, float(false_alarm), data)
+
+
+@st.cache_resource(max_entries=4, show_spinner=False)
+def _fusion_equivalence_cached(data_key: str, _data: FusionData) -> float:
+    from noisevar.systems.fusion import max_abs_diff_vs_centralized
+
+    return max_abs_diff_vs_centralized(_data)
+
+
+def fusion_equivalence(data: FusionData, data_key: str) -> float:
+    """Largest |fused − centralised| state difference (fixed R, no isolation), cached."""
+    return _fusion_equivalence_cached(data_key, data)
+
+
+@st.cache_resource(max_entries=6, show_spinner=False)
+def robust_run(
+    outliers: bool,
+    magvar: float,
+    burst_rate: float,
+    kappa: float,
+    iterations: int,
+    runs: int,
+    seed: int,
+) -> RobustResult:
+    """:func:`noisevar.systems.robust.run_robust` on a simulated fly-over, cached."""
+    from noisevar.systems.robust import RobustScenario, run_robust, simulate_robust
+
+    scen = RobustScenario(
+        magvar_deg=float(magvar), outliers=bool(outliers), burst_rate=float(burst_rate)
+    )
+    data = simulate_robust(scen, seed=int(seed), runs=int(runs))
+    return run_robust(data, kappa=float(kappa), iterations=int(iterations))
+
+
+@st.cache_resource(max_entries=6, show_spinner=False)
+def carrier_runs(
+    settings_json: str, runs: int, seed: int, window: int, nominal_cn0: float
+) -> dict[str, CarrierResult]:
+    """The realistic comparison (``carrier.compare``) on the same signals, cached.
+
+    ``ekf`` is designed for ``nominal_cn0``; ``aekf`` adapts from that design
+    (eq. 22 R, stabilised Q); ``ekf_matched`` knows the true noise;
+    ``aekf_paper_q`` is the paper's eq. 26 (it runs away).
+    """
+    from noisevar.systems.carrier import CarrierScenario, compare, comparison_variants
+
+    scen = CarrierScenario(**json.loads(settings_json))
+    variants = comparison_variants(nominal_cn0_dbhz=float(nominal_cn0))
+    chosen = {k: variants[k] for k in CARRIER_FILTERS}
+    return compare(scen, chosen, seed=int(seed), runs=int(runs), window=int(window))
+
+
+@st.cache_resource(max_entries=4, show_spinner=False)
+def carrier_sweep(
+    settings_json: str, cn0: tuple[float, ...], runs: int, seed: int, nominal_cn0: float
+) -> CarrierSweep:
+    """:func:`noisevar.systems.carrier.cn0_sweep` of the page's filters for its scenario, cached."""
+    from noisevar.systems.carrier import CarrierScenario, cn0_sweep, comparison_variants
+
+    scen = CarrierScenario(**json.loads(settings_json))
+    variants = comparison_variants(nominal_cn0_dbhz=float(nominal_cn0))
+    chosen = {k: variants[k] for k in CARRIER_FILTERS}
+    return cn0_sweep(tuple(cn0), runs=int(runs), seed=int(seed), scenario=scen, variants=chosen)
+
+
+@st.cache_resource(max_entries=8, show_spinner=False)
+def latency_run(settings_json: str, seed: int, max_delay: float) -> LatencyResult:
+    """:func:`noisevar.systems.latency.run_latency` on a simulated flight, cached."""
+    from noisevar.systems.latency import LatencyScenario, run_latency, simulate_latency
+
+    record = simulate_latency(LatencyScenario(**json.loads(settings_json)), seed=int(seed))
+    return run_latency(record, max_delay_s=float(max_delay))

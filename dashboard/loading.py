@@ -1,0 +1,202 @@
+"""Loading the signal: sample files, uploads, generated scenarios, and reopening a link's recipe."""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+import streamlit as st
+
+import noisevar
+from dashboard import cache
+from dashboard.state import LoadedSignal, make_signal, parse_recipe, set_signal
+from noisevar.errors import NoisevarError
+from noisevar.io import content_digest, table_from_arrays
+from noisevar.signals import GPS_CHANNELS
+
+ROOT = Path(__file__).resolve().parents[1]
+SAMPLE_DIR = ROOT / "sample_data"
+SAMPLE_EXTENSIONS = (".csv", ".tsv", ".txt", ".dat", ".npy", ".nmea")
+
+#: A generator extra: (name, kind, default, lo, hi); kind is "int", "float" or "choice".
+Extra = tuple[str, str, float | int | str, float, float]
+
+#: Extra generator parameters the Signal page offers, per family.
+GENERATOR_EXTRAS: dict[str, list[Extra]] = {
+    "fast-slow": [],
+    "gps-circle": [
+        ("channel", "choice", "east", 0, 0),
+        ("sample_period", "float", 0.5, 0.01, 10.0),
+    ],
+    "random-jerk": [("jerk_std", "float", 5e-6, 1e-9, 1e-2)],
+    "steps-ramps": [("n_steps", "int", 8, 0, 100)],
+    "noise-step": [("factor", "float", 3.0, 1.0, 20.0)],
+    "noise-ramp": [("factor", "float", 3.0, 1.0, 20.0)],
+}
+
+
+def sample_files() -> list[Path]:
+    """The files of ``sample_data/`` the dashboard can load (listed at run time)."""
+    if not SAMPLE_DIR.is_dir():
+        return []
+    return sorted(
+        p for p in SAMPLE_DIR.iterdir() if p.is_file() and p.suffix.lower() in SAMPLE_EXTENSIONS
+    )
+
+
+def sample_descriptions() -> dict[str, str]:
+    """One-line descriptions of the sample files, from ``sample_data/make_samples.py``."""
+    return cache.sample_descriptions(str(SAMPLE_DIR))
+
+
+def max_upload_bytes() -> int:
+    """The upload limit of the server config (``server.maxUploadSize``, MB), in bytes."""
+    try:
+        mb = float(st.get_option("server.maxUploadSize"))
+    except Exception:  # noqa: BLE001
+        mb = 200.0
+    return int(mb * 1024 * 1024)
+
+
+def load_bytes(raw: bytes, name: str, source: str = "upload") -> LoadedSignal:
+    """Load file bytes as the new signal (raises NoisevarError; the old signal stays then).
+
+    Parameters
+    ----------
+    raw : bytes
+        File content.
+    name : str
+        File name (its extension picks the format).
+    source : str
+        ``"upload"`` or ``"sample"``.
+
+    Returns
+    -------
+    LoadedSignal
+    """
+    limit = max_upload_bytes()
+    if len(raw) > limit:
+        raise NoisevarError(
+            f"{name} is {len(raw) / 1e6:.1f} MB, over the {limit / 1024 / 1024:.0f} MB upload "
+            "limit: give a shorter record (or raise server.maxUploadSize)"
+        )
+    table = cache.load_bytes_cached(content_digest(raw), name, raw)
+    recipe = f"sample:{name}" if source == "sample" else None
+    sig = make_signal(table, None, table.sample_period, source, recipe)
+    set_signal(sig)
+    return sig
+
+
+def load_sample(name: str, column: str | None = None, period: float | None = None) -> LoadedSignal:
+    """Load a file of ``sample_data/`` as the new signal.
+
+    Parameters
+    ----------
+    name : str
+        File name inside ``sample_data/``.
+    column : str, optional
+        Column (default the first usable one).
+    period : float, optional
+        Override of the sample period.
+
+    Returns
+    -------
+    LoadedSignal
+    """
+    path = SAMPLE_DIR / Path(name).name
+    if not path.is_file() or path.suffix.lower() not in SAMPLE_EXTENSIONS:
+        raise NoisevarError(f"no sample file {name!r} in sample_data/")
+    raw = path.read_bytes()
+    table = cache.load_bytes_cached(content_digest(raw), path.name, raw)
+    sig = make_signal(
+        table,
+        column,
+        period if period else table.sample_period,
+        "sample",
+        f"sample:{path.name}",
+    )
+    set_signal(sig)
+    return sig
+
+
+def generated_kwargs(
+    name: str, n: int, seed: int, noise_std: float | None, **extra: float | int | str | None
+) -> dict[str, float | int | str]:
+    """Normalised keyword arguments of :func:`noisevar.generate` (for caching and the URL)."""
+    kw: dict[str, float | int | str] = {"n": int(n), "seed": int(seed)}
+    if noise_std is not None:
+        kw["noise_std"] = float(noise_std)
+    casts = {"int": int, "choice": str, "float": float}
+    for key, kind, _default, _lo, _hi in GENERATOR_EXTRAS.get(name, []):
+        if key in extra and extra[key] is not None:
+            kw[key] = casts.get(kind, float)(extra[key])
+    return kw
+
+
+def load_generated(name: str, **kwargs: float | int | str | None) -> LoadedSignal:
+    """Generate a scenario of :func:`noisevar.generate` as the new signal.
+
+    Parameters
+    ----------
+    name : str
+        Family (:func:`noisevar.signal_names`).
+    **kwargs
+        ``n``, ``seed``, ``noise_std`` and family extras (see :data:`GENERATOR_EXTRAS`).
+
+    Returns
+    -------
+    LoadedSignal
+    """
+    if name not in noisevar.signal_names():
+        raise NoisevarError(f"unknown signal {name!r}; choose one of {noisevar.signal_names()}")
+    kw = generated_kwargs(name, **kwargs)
+    g = cache.generate_cached(name, json.dumps(kw, sort_keys=True))
+    index_axis = np.array_equal(g.t, np.arange(g.t.size))
+    period = None if index_axis else g.sample_period
+    cols: dict[str, np.ndarray] = {} if index_axis else {"time": g.t}
+    cols["measured"] = g.measured
+    parts = [f"seed {kw['seed']}"] + [f"{k}={v}" for k, v in kw.items() if k not in ("n", "seed")]
+    table = table_from_arrays(f"{name} ({', '.join(parts)})", cols, period, "generated")
+    if not index_axis:
+        table.time_column = "time"
+    recipe = f"gen:{name};" + ";".join(f"{k}={v}" for k, v in kw.items())
+    sig = make_signal(
+        table, "measured", period, "generated", recipe, clean=g.clean, true_variance=g.true_variance
+    )
+    set_signal(sig)
+    return sig
+
+
+def load_simulated_sensors(noise_stds: Sequence[float] = (1.0, 2.0, 3.0), seed: int = 0) -> None:
+    """Make simulated redundant sensors (``simulate_sensors``) the signal."""
+    from noisevar.estimators.compare import simulate_sensors
+
+    table = simulate_sensors("fast-slow", noise_stds, n=6000, seed=seed, drift=3.0)
+    set_signal(make_signal(table, None, table.sample_period, "generated", None))
+
+
+def restore_from_recipe(recipe: str) -> LoadedSignal:
+    """Rebuild a signal from its URL recipe (``gen:...`` or ``sample:...``)."""
+    kind, name, opts = parse_recipe(recipe)
+    col = opts.pop("col", None)
+    period = float(opts.pop("T")) if "T" in opts else None
+    if kind == "gen":
+        kw: dict[str, float | int | str | None] = {}
+        for k, v in opts.items():
+            if k in ("n", "seed", "n_steps"):
+                kw[k] = int(float(v))
+            elif k == "channel":
+                if v not in GPS_CHANNELS:
+                    raise NoisevarError(f"unknown gps-circle channel {v!r}")
+                kw[k] = v
+            else:
+                kw[k] = float(v)
+        kw.setdefault("n", 6000)
+        kw.setdefault("seed", 0)
+        kw.setdefault("noise_std", None)
+        return load_generated(name, **kw)
+    if kind == "sample":
+        return load_sample(name, col, period)
+    raise NoisevarError(f"cannot rebuild the signal {recipe!r} from the link")

@@ -1,0 +1,1 @@
+"""Reusable parts of the dashboard pages, one module per topic; each part is a function."""

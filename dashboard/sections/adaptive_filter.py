@@ -1,0 +1,390 @@
+"""The Adaptive filter page's parts: strategies and settings, the data, the results, Table 1."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import plotly.graph_objects as go
+import streamlit as st
+
+from dashboard import cache
+from dashboard.sections.signal_loader import require_signal
+from dashboard.state import follow_table, initial, keep_valid
+from dashboard.widgets import fmt, guarded, h_grid, show_figure, table_and_figure_downloads
+from noisevar.estimators.compare import rows_to_csv
+from noisevar.figures.kalman import (
+    innovations_figure,
+    r_estimates_figure,
+    states_figure,
+    track_figure,
+)
+from noisevar.kalman import STRATEGIES
+from noisevar.kalman.evaluation import filter_summary
+from noisevar.kalman.result import FilterResult
+from noisevar.systems.scenarios import SCENARIOS
+
+VIEWS = ["Track", "States", "R estimates", "Innovations and NIS"]
+DEFAULT_STRATEGIES = ["oracle", "somd", "rae", "sage-husa", "vb"]
+
+#: Position / other state groups of each filter scenario, for the RMSE table.
+KALMAN_STATE_GROUPS: dict[str, dict[str, tuple[int, ...]]] = {
+    "gps-circle": {"position (m)": (0, 1), "speed (m/s)": (2,), "heading (rad)": (3,)},
+    "noise-step": {"position (m)": (0, 2), "velocity (m/s)": (1, 3)},
+    "noise-ramp": {"position (m)": (0, 2), "velocity (m/s)": (1, 3)},
+    "outliers": {"position (m)": (0, 2), "velocity (m/s)": (1, 3)},
+}
+
+
+@dataclass
+class FilterRuns:
+    """The filters run on the page's data, and what the figures need to draw them."""
+
+    results: list[FilterResult] = field(default_factory=list)
+    truth_R: np.ndarray | None = None
+    z_shown: np.ndarray | None = None
+    groups: dict[str, tuple[int, ...]] | None = None
+    track_states: tuple[int, int] | None = None
+    track_channels: tuple[int, int] | None = None
+    title: str = ""
+
+
+def strategy_picker(is_scenario: bool) -> list[str]:
+    """The strategies to run (the oracle needs a scenario's truth)."""
+    names = list(STRATEGIES) if is_scenario else [s for s in STRATEGIES if s != "oracle"]
+    default = [s for s in DEFAULT_STRATEGIES if s in names]
+    keep_valid("af_strats", lambda v: all(s in names for s in v), default)
+    return st.multiselect(
+        "Strategies",
+        names,
+        key="af_strats",
+        bind="query-params",
+        format_func=lambda s: f"{s}: {STRATEGIES[s].help}",
+        **initial("af_strats", default, "default"),
+    )
+
+
+def strategy_settings() -> tuple[cache.Settings, float | None]:
+    """The strategies' tunable settings and the Huber κ (None: plain update)."""
+    with st.expander("Strategy settings"):
+        c1, c2, c3, c4, c5 = st.columns(5)
+        window = c1.number_input(
+            "RAE/IAE window N",
+            5,
+            1000,
+            key="af_window",
+            bind="query-params",
+            **initial("af_window", STRATEGIES["rae"].defaults()["window"]),
+        )
+        forgetting = c2.slider(
+            "Sage-Husa b",
+            0.90,
+            0.999,
+            step=0.001,
+            format="%.3f",
+            key="af_b",
+            bind="query-params",
+            **initial("af_b", STRATEGIES["sage-husa"].defaults()["forgetting"]),
+        )
+        rho = c3.slider(
+            "VB ρ",
+            0.90,
+            1.0,
+            step=0.005,
+            format="%.3f",
+            key="af_rho",
+            bind="query-params",
+            **initial("af_rho", STRATEGIES["vb"].defaults()["rho"]),
+        )
+        every = c4.number_input(
+            "SOMD every N steps",
+            10,
+            2000,
+            step=10,
+            key="af_every",
+            bind="query-params",
+            **initial("af_every", STRATEGIES["somd"].defaults()["every"]),
+        )
+        huber = c5.toggle(
+            "Huber update (κ = 1.345)",
+            key="af_huber",
+            bind="query-params",
+            help="Robust M-estimation update (spec B3); combines with every strategy.",
+        )
+    settings: cache.Settings = {
+        "window": int(window),
+        "forgetting": float(forgetting),
+        "rho": float(rho),
+        "every": int(every),
+    }
+    return settings, (1.345 if huber else None)
+
+
+def _scenario_form() -> tuple[str, int, float, float]:
+    """Scenario, seed, size (duration or steps) and noise factor."""
+    c1, c2, c3, c4 = st.columns(4)
+    scen = c1.selectbox("Scenario", list(SCENARIOS), key="af_scenario", bind="query-params")
+    seed = c2.number_input(
+        "Seed", 0, 2**31 - 1, step=1, key="af_seed", bind="query-params", **initial("af_seed", 0)
+    )
+    if scen == "gps-circle":
+        size = c3.slider(
+            "Duration (s)",
+            100,
+            3000,
+            step=100,
+            key="af_duration",
+            bind="query-params",
+            **initial("af_duration", 3000),
+        )
+    else:
+        size = c3.slider(
+            "Steps",
+            500,
+            6000,
+            step=500,
+            key="af_steps",
+            bind="query-params",
+            **initial("af_steps", 6000),
+        )
+    factor = 3.0
+    if scen in ("noise-step", "noise-ramp"):
+        factor = c4.slider(
+            "Noise increase (×)",
+            1.0,
+            10.0,
+            step=0.5,
+            key="af_factor",
+            bind="query-params",
+            **initial("af_factor", 3.0),
+        )
+    return scen, int(seed), float(size), float(factor)
+
+
+def on_scenario(strategies: list[str], settings: cache.Settings, kappa: float | None) -> FilterRuns:
+    """Run the strategies on a seeded scenario (with truth)."""
+    scen, seed, size, factor = _scenario_form()
+    runs = FilterRuns()
+    sc = None
+    with guarded():
+        sc = cache.kalman_scenario(scen, seed, size, factor)
+    if sc is None:
+        return runs
+    st.caption(sc.description)
+    key = f"{scen}|{seed}|{size}|{factor}"
+    with st.spinner("Filtering..."):
+        for s in strategies:
+            with guarded(f"{s}: "):
+                runs.results.append(cache.scenario_run(sc, key, s, settings, kappa))
+    runs.truth_R = sc.R_true[sc.first_step :]
+    runs.z_shown = sc.z[:, sc.first_step :]
+    runs.groups = KALMAN_STATE_GROUPS.get(scen)
+    runs.track_states = (0, 1) if scen == "gps-circle" else (0, 2)
+    runs.track_channels = (0, 1)
+    runs.title = scen
+    return runs
+
+
+def _data_form(usable: list[str], pick_default: list[str]) -> tuple[list[str], float, float, float]:
+    """Channels, model h, initial-R factor and SOMD h_S for the loaded data."""
+    c1, c2, c3, c4 = st.columns(4)
+    chosen = c1.multiselect(
+        "Channels",
+        usable,
+        key="af_cols",
+        max_selections=6,
+        **initial("af_cols", pick_default, "default"),
+    )
+    h_model = c2.select_slider(
+        "Model h = q T³ / r",
+        h_grid(1e-9, 1e-1),
+        key="af_h",
+        bind="query-params",
+        help="White-acceleration level of the constant-velocity model per channel, relative "
+        "to its noise (unit-free, like the alpha-beta-gamma h).",
+        **initial("af_h", "0.001"),
+    )
+    r0_factor = c3.select_slider(
+        "Initial R (× quick estimate)",
+        [0.1, 0.25, 0.5, 1.0, 2.0, 4.0, 10.0, 100.0],
+        key="af_r0",
+        bind="query-params",
+        **initial("af_r0", 4.0),
+        help="The filters start from this R to show how they adapt.",
+    )
+    h_somd = c4.select_slider(
+        "SOMD h_S",
+        h_grid(1e-9, 3e-3),
+        key="af_hs",
+        bind="query-params",
+        **initial("af_hs", "0.001"),
+    )
+    return chosen, float(h_model), float(r0_factor), float(h_somd)
+
+
+def on_loaded_data(
+    strategies: list[str], settings: cache.Settings, kappa: float | None, explain: tuple[str, ...]
+) -> FilterRuns:
+    """Run the strategies on chosen columns of the loaded file (no truth)."""
+    sig = require_signal(
+        "The Adaptive filter page filters the columns of the loaded file.",
+        preferred=("gps_circle.csv", "gps_track.nmea", "two_sensors.csv"),
+        explain=explain,
+    )
+    cols = sig.table.data_columns
+    usable = [c for c in cols if np.all(np.isfinite(sig.table.columns[c]))]
+    pick_default = usable[:2] if len(usable) >= 2 else usable[:1]
+    follow_table("af_table", "af_cols", sig.table_digest, pick_default)
+    keep_valid("af_cols", lambda v: all(c in usable for c in v), pick_default)
+    chosen, h_model, r0_factor, h_somd = _data_form(usable, pick_default)
+    settings["h_smooth"] = h_somd
+    runs = FilterRuns(title=sig.label)
+    if not chosen:
+        st.info("Pick at least one channel.")
+        return runs
+    quick = None
+    with st.spinner("Filtering..."):
+        for s in strategies:
+            with guarded(f"{s}: "):
+                res, z, quick = cache.data_run(sig, chosen, h_model, r0_factor, s, settings, kappa)
+                runs.results.append(res)
+                runs.z_shown = z
+    if quick is not None:
+        st.caption(
+            "Quick single-signal estimates (method auto) per channel: "
+            + ", ".join(f"{c} {fmt(v)}" for c, v in zip(chosen, quick, strict=True))
+            + " — drawn as the reference line of the R panels."
+        )
+        runs.truth_R = np.asarray(quick)
+    if len(chosen) >= 2:
+        runs.track_states, runs.track_channels = (0, 2), (0, 1)
+    return runs
+
+
+def results_view(runs: FilterRuns, is_scenario: bool) -> None:
+    """The filter table (RMSE, NIS), the chosen figure and the downloads."""
+    results = runs.results
+    rows = [filter_summary(r, runs.groups) for r in results]
+    st.dataframe(
+        rows,
+        hide_index=True,
+        column_config={
+            k: st.column_config.NumberColumn(format="%.4g")
+            for k in rows[0]
+            if k.startswith("RMSE") or k == "mean NIS"
+        },
+    )
+    st.caption(
+        "Mean NIS near the number of channels m means the filter's innovations match its "
+        "covariance (consistent); far above, it is over-confident (R too small)."
+    )
+    view = st.segmented_control(
+        "Figure",
+        VIEWS,
+        key="af_view",
+        bind="query-params",
+        **initial("af_view", VIEWS[0] if runs.track_states else VIEWS[2], "default"),
+    )
+    fig = None
+    with guarded():
+        fig = _figure(view or VIEWS[2], runs, is_scenario)
+    if fig is not None:
+        show_figure(fig, key="af_chart")
+    table_and_figure_downloads(
+        "Filter table (CSV)",
+        rows,
+        "noisevar-filters.csv",
+        "af_csv",
+        fig,
+        "noisevar-filter",
+        "af_fig",
+    )
+
+
+def _figure(view: str, runs: FilterRuns, is_scenario: bool) -> go.Figure | None:
+    results = runs.results
+    if view == "Track":
+        if runs.track_states is None:
+            st.info("The track needs two position channels: pick two channels.")
+            return None
+        return track_figure(
+            results,
+            runs.z_shown,
+            states=runs.track_states,
+            channels=runs.track_channels,
+            title=f"Track: {runs.title}",
+        )
+    if view == "States":
+        errors = st.toggle(
+            "Errors with ±2σ bands", key="af_errors", disabled=results[0].truth is None
+        )
+        return states_figure(results, errors=bool(errors), title="States")
+    if view == "R estimates":
+        return r_estimates_figure(
+            results,
+            R_true=runs.truth_R,
+            title="R̂ per channel (log scale) against the true value"
+            if is_scenario
+            else "R̂ per channel (log scale) against a quick estimate",
+        )
+    which = st.selectbox("Filter", [r.strategy for r in results], key="af_innov")
+    return innovations_figure(next(r for r in results if r.strategy == which))
+
+
+def table1_panel() -> None:
+    """The paper's Table 1 (gps-circle), run on request with chosen runs and seed."""
+    with st.expander("The paper's Table 1, reproduced on demand (gps-circle)"):
+        st.caption(
+            "Noise variance of each GPS channel: the paper's SOMD and RAE beside ours, averaged "
+            "over Monte Carlo runs of the full 3000 s scenario (about 2 s per run)."
+        )
+        c1, c2, c3 = st.columns([1, 1, 2], vertical_alignment="bottom")
+        t_runs = c1.number_input("Runs", 1, 100, key="t1_runs", **initial("t1_runs", 5))
+        t_seed = c2.number_input("Seed", 0, 2**31 - 1, key="t1_seed", **initial("t1_seed", 0))
+        if c3.button("Reproduce Table 1", key="t1_go", icon=":material/play_arrow:"):
+            st.session_state["t1_ask"] = (int(t_runs), int(t_seed))
+        ask = st.session_state.get("t1_ask")
+        if not ask:
+            return
+        res1 = None
+        with guarded(), st.spinner(f"Running {ask[0]} runs of every filter..."):
+            res1 = cache.table1(*ask)
+        if res1 is not None:
+            _table1(res1, ask)
+
+
+def _table1(res1: cache.JsonDict, ask: tuple[int, int]) -> None:
+    chans = list(res1["channels"])
+    table = [
+        {"row": "true", **{c: res1["channels"][c]["true"] for c in chans}},
+        {"row": "paper SOMD", **{c: res1["channels"][c]["paper"]["somd"] for c in chans}},
+        {"row": "paper RAE", **{c: res1["channels"][c]["paper"]["rae"] for c in chans}},
+    ]
+    for m in res1["channels"][chans[0]]["methods"]:
+        table.append({"row": m, **{c: res1["channels"][c]["methods"][m]["mean"] for c in chans}})
+    st.markdown(f"**Noise variance per channel** ({ask[0]} runs, seed {ask[1]})")
+    st.dataframe(
+        table,
+        hide_index=True,
+        column_config={c: st.column_config.NumberColumn(format="%.4g") for c in chans},
+    )
+    rm = [
+        {
+            "filter": k,
+            **v,
+            "diverged": f"{res1['divergence'][k]['runs']}/{res1['divergence'][k]['of']}",
+        }
+        for k, v in res1["rmse"].items()
+    ]
+    st.markdown("**RMSE over runs and steps**")
+    st.dataframe(rm, hide_index=True)
+    for note in res1.get("notes", []):
+        st.caption(note)
+    st.download_button(
+        "Table 1 (CSV)",
+        data=rows_to_csv(table),
+        file_name="noisevar-table1.csv",
+        mime="text/csv",
+        key="t1_csv",
+        on_click="ignore",
+    )

@@ -1,0 +1,342 @@
+"""The Compare page's parts: every method on the signal, and the Monte Carlo comparison."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import plotly.graph_objects as go
+import streamlit as st
+from streamlit.delta_generator import DeltaGenerator
+
+import noisevar
+from dashboard import cache
+from dashboard.state import LoadedSignal, initial
+from dashboard.widgets import figure_downloads, fmt, guarded, show_figure
+from noisevar.estimators.compare import (
+    SLOW_METHODS,
+    Comparison,
+    MonteCarloResult,
+    cramer_rao_floor,
+    default_methods,
+    monte_carlo,
+    rows_to_csv,
+    single_signal_methods,
+)
+from noisevar.figures.estimator import compare_figure, monte_carlo_figure
+
+#: Number formats of the comparison table's columns.
+_COMPARE_FORMATS = {
+    "variance": "%.4g",
+    "std": "%.4g",
+    "95 % low": "%.4g",
+    "95 % high": "%.4g",
+    "± (rel.)": "percent",
+    "rel. error": "percent",
+    "time (ms)": "%.1f",
+}
+#: Number formats of the Monte Carlo summary's columns.
+_MC_FORMATS = {
+    "bias": "percent",
+    "sd": "percent",
+    "RMSE": "percent",
+    "RMSE / CR floor": "%.2f",
+    "within ±10 %": "percent",
+    "max |error|": "percent",
+    "ms per run": "%.2f",
+}
+
+
+def _number_columns(formats: dict[str, str]) -> dict[str, st.column_config.NumberColumn]:
+    return {k: st.column_config.NumberColumn(format=f) for k, f in formats.items()}
+
+
+def tuned_params(tuned: dict[str, object] | None) -> dict[str, dict[str, object]]:
+    """The SOMD methods' parameters tuned on the Estimator page (empty: their defaults)."""
+    return {m: dict(tuned) for m in ("somd", "somd-paper")} if tuned else {}
+
+
+def comparison(sig: LoadedSignal, tuned: dict[str, object] | None) -> None:
+    """Choose methods; every chosen method on the signal: table, figure, downloads."""
+    chosen = st.multiselect(
+        "Methods",
+        single_signal_methods(),
+        key="cmp_methods",
+        bind="query-params",
+        format_func=lambda m: m,
+        help="The maximum-likelihood peers (mle-*) take seconds on long records.",
+        **initial("cmp_methods", default_methods(sig.n), "default"),
+    )
+    if tuned:
+        st.caption(
+            "SOMD methods use the parameters tuned on the Estimator page: "
+            + ", ".join(f"{k}={v}" for k, v in tuned.items())
+        )
+    else:
+        st.caption("SOMD methods use their defaults (tune them on the Estimator page).")
+    if any(m in SLOW_METHODS for m in chosen) and sig.n > 50_000:
+        st.warning(
+            f"The mle-* methods take several seconds on {sig.n:,} samples; leave them out for "
+            "a quick comparison."
+        )
+    if not chosen:
+        st.info("Choose at least one method.")
+        return
+    comp = None
+    with guarded(), st.spinner("Running every method..."):
+        comp = cache.compare(sig, chosen, tuned_params(tuned))
+    if comp is not None:
+        comparison_table(comp, sig)
+
+
+def comparison_table(comp: Comparison, sig: LoadedSignal) -> None:
+    """The comparison table, the Cramér-Rao floor, the figure and the downloads."""
+    rows = comp.rows()
+    table = {
+        "method": [r["method"] for r in rows],
+        "variance": [r["variance"] for r in rows],
+        "std": [r["std"] for r in rows],
+        "95 % low": [r["ci95_low"] for r in rows],
+        "95 % high": [r["ci95_high"] for r in rows],
+        "± (rel.)": [r["rel_halfwidth"] for r in rows],
+    }
+    if comp.true_variance is not None:
+        table["rel. error"] = [r["rel_error"] for r in rows]
+        table["CI covers truth"] = [r["covers_truth"] for r in rows]
+    table["samples used"] = [r["n_used"] for r in rows]
+    table["time (ms)"] = [r["ms"] for r in rows]
+    table["note"] = [r["note"] for r in rows]
+    st.dataframe(table, hide_index=True, column_config=_number_columns(_COMPARE_FORMATS))
+    truth = f" True variance {fmt(comp.true_variance)}." if comp.true_variance is not None else ""
+    st.caption(
+        f"Cramér-Rao floor for {sig.n:,} samples: relative sd "
+        f"{100 * comp.cr_floor:.2f} % (± {196 * comp.cr_floor:.2f} % at 95 %)." + truth
+    )
+    fig = compare_figure(comp, title=f"Every method on {sig.label}")
+    show_figure(fig, key="cmp_chart")
+    c1, c2 = st.columns([1, 2])
+    c1.download_button(
+        "Comparison (CSV)",
+        data=comp.to_csv(),
+        file_name="noisevar-compare.csv",
+        mime="text/csv",
+        key="cmp_csv",
+        on_click="ignore",
+        icon=":material/table:",
+        width="stretch",
+    )
+    with c2:
+        figure_downloads(fig, "noisevar-compare", "cmp_fig")
+
+
+@dataclass
+class MonteCarloSettings:
+    """The Monte Carlo form's choices."""
+
+    family: str
+    n: int
+    noise_std: float | None
+    runs: int
+    seed: int
+    methods: list[str]
+
+
+def monte_carlo_form(sig: LoadedSignal) -> MonteCarloSettings:  # long: one widget per setting
+    """Scenario, samples, noise, runs, seed and methods of the Monte Carlo runs."""
+    gen_default = None
+    if sig.source == "generated" and sig.recipe_base:
+        gen_default = sig.recipe_base.split(";")[0].split(":", 1)[1]
+    names = noisevar.signal_names()
+    c1, c2, c3, c4, c5 = st.columns(5)
+    family = c1.selectbox(
+        "Scenario",
+        names,
+        key="mc_signal",
+        bind="query-params",
+        **initial("mc_signal", names.index(gen_default or "fast-slow"), "index"),
+    )
+    n_mc = c2.number_input(
+        "Samples per run",
+        min_value=500,
+        max_value=200_000,
+        step=500,
+        key="mc_n",
+        bind="query-params",
+        **initial("mc_n", 6000),
+    )
+    std_mc = c3.number_input(
+        "Noise std (empty: default)",
+        min_value=1e-6,
+        max_value=1e6,
+        format="%g",
+        key="mc_std",
+        bind="query-params",
+        placeholder="default",
+        **initial("mc_std", None),
+    )
+    runs = c4.number_input(
+        "Runs",
+        min_value=5,
+        max_value=5000,
+        step=50,
+        key="mc_runs",
+        bind="query-params",
+        **initial("mc_runs", 100),
+    )
+    seed = c5.number_input(
+        "Seed",
+        min_value=0,
+        max_value=2**31 - 1,
+        step=1,
+        key="mc_seed",
+        bind="query-params",
+        **initial("mc_seed", 0),
+    )
+    mc_methods = st.multiselect(
+        "Methods",
+        single_signal_methods(),
+        key="mc_methods",
+        bind="query-params",
+        help="mle-* are left out by default: about 0.4 s per run each.",
+        **initial("mc_methods", default_methods(6000, monte_carlo=True), "default"),
+    )
+    return MonteCarloSettings(family, int(n_mc), std_mc, int(runs), int(seed), mc_methods)
+
+
+def monte_carlo_runs(mc: MonteCarloSettings, tuned: dict[str, object] | None) -> bool:
+    """Run / Cancel buttons and the run with live progress; True when Cancel was pressed.
+
+    The latest snapshot is kept in ``st.session_state["mc_result"]``, so an interrupted
+    run keeps the runs done.
+    """
+    b1, b2, _ = st.columns([1, 1, 3])
+    go = b1.button(
+        "Run Monte Carlo",
+        key="mc_go",
+        type="primary",
+        icon=":material/play_arrow:",
+        disabled=not mc.methods,
+        width="stretch",
+    )
+    cancel = b2.button("Cancel", key="mc_cancel", icon=":material/stop:", width="stretch")
+    status = st.empty()
+    live = st.empty()
+    if st.session_state.get("mc_running") and not go:
+        # the run was interrupted: by Cancel, or by another widget (a rerun stops the script)
+        st.session_state["mc_running"] = False
+        last = st.session_state.get("mc_result")
+        done = f" after {last.runs_done} of {last.runs_requested} runs" if last else ""
+        why = "cancelled" if cancel else "interrupted by a change on the page"
+        status.warning(f"Monte Carlo {why}{done}; the partial results are shown.")
+    if go and mc.methods:
+        _run(mc, tuned, status, live)
+    return cancel
+
+
+def _run(
+    mc: MonteCarloSettings,
+    tuned: dict[str, object] | None,
+    status: DeltaGenerator,
+    live: DeltaGenerator,
+) -> None:
+    st.session_state["mc_running"] = True
+    st.session_state.pop("mc_result", None)
+    gen = monte_carlo(
+        mc.family,
+        runs=mc.runs,
+        methods=mc.methods,
+        params=tuned_params(tuned),
+        n=mc.n,
+        noise_std=mc.noise_std,
+        seed=mc.seed,
+    )
+    every = max(1, mc.runs // 10)
+    ended = False  # stays False when Streamlit interrupts the loop (Cancel): see above
+    try:
+        bar = status.progress(0.0, text="Starting...")
+        for snap in gen:
+            st.session_state["mc_result"] = snap
+            bar.progress(
+                snap.fraction_done,
+                text=f"Run {snap.runs_done} of {snap.runs_requested} (Cancel stops here)",
+            )
+            if snap.runs_done % every == 0 and not snap.finished:
+                live.plotly_chart(
+                    monte_carlo_figure(snap, title="Relative errors so far"),
+                    width="stretch",
+                    key=f"mc_live_{snap.runs_done}",
+                )
+        ended = True
+        status.success(f"Monte Carlo done: {mc.runs} runs.")
+    except noisevar.NoisevarError as exc:
+        ended = True
+        status.error(str(exc))
+    finally:
+        gen.close()
+        if ended:
+            st.session_state["mc_running"] = False
+    live.empty()
+
+
+def monte_carlo_results(cancelled: bool) -> None:
+    """The kept Monte Carlo result: summary table, Fig. 2 histograms, downloads."""
+    res: MonteCarloResult | None = st.session_state.get("mc_result")
+    if res is None:
+        st.info("Press **Run Monte Carlo** to start (Cancel stops it and keeps the runs done).")
+        return
+    if not res.finished and not cancelled:
+        st.caption(f"Partial result: {res.runs_done} of {res.runs_requested} runs.")
+    st.markdown(
+        f"**{res.signal}**, n = {res.n:,}, {res.runs_done} runs, true variance "
+        f"{fmt(res.true_variance)}; Cramér-Rao floor "
+        f"{100 * cramer_rao_floor(res.n):.2f} % relative sd."
+    )
+    summary = res.summary()
+    columns = {
+        "method": "method",
+        "bias": "bias",
+        "sd": "sd",
+        "RMSE": "rmse",
+        "RMSE / CR floor": "rmse_over_cr",
+        "within ±10 %": "within_10pct",
+        "max |error|": "max_abs",
+        "failures": "failures",
+        "ms per run": "ms_per_run",
+    }
+    st.dataframe(
+        {label: [r[k] for r in summary] for label, k in columns.items()},
+        hide_index=True,
+        column_config=_number_columns(_MC_FORMATS),
+    )
+    for m, msg in res.first_error.items():
+        st.caption(f"{m} failed {res.failures[m]} times; first: {msg}")
+    mc_fig = monte_carlo_figure(res, title="Relative error of the variance (the paper's Fig. 2)")
+    show_figure(mc_fig, key="mc_chart")
+    _monte_carlo_downloads(res, summary, mc_fig)
+
+
+def _monte_carlo_downloads(
+    res: MonteCarloResult, summary: list[dict[str, object]], mc_fig: go.Figure
+) -> None:
+    c1, c2, c3 = st.columns([1, 1, 2])
+    c1.download_button(
+        "Summary (CSV)",
+        data=rows_to_csv(summary),
+        file_name="noisevar-montecarlo-summary.csv",
+        mime="text/csv",
+        key="mc_csv_summary",
+        on_click="ignore",
+        icon=":material/table:",
+        width="stretch",
+    )
+    c2.download_button(
+        "Every run (CSV)",
+        data=lambda: res.to_csv(),
+        file_name="noisevar-montecarlo-runs.csv",
+        mime="text/csv",
+        key="mc_csv_runs",
+        on_click="ignore",
+        icon=":material/view_list:",
+        width="stretch",
+    )
+    with c3:
+        figure_downloads(mc_fig, "noisevar-montecarlo", "mc_fig")

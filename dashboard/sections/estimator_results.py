@@ -1,0 +1,343 @@
+"""The Estimator page's results: the estimate, the stretch, the SOMD step figures, exports."""
+
+from __future__ import annotations
+
+import math
+
+import plotly.graph_objects as go
+import streamlit as st
+from streamlit.delta_generator import DeltaGenerator
+
+import noisevar
+from dashboard import cache
+from dashboard.sections.estimator_tuning import Tuning
+from dashboard.state import LoadedSignal, initial
+from dashboard.widgets import figure_downloads, fmt, guarded, show_figure
+from noisevar.config import config_to_json, params_to_config
+from noisevar.estimators.compare import rows_to_csv
+from noisevar.estimators.results import VarianceEstimate
+from noisevar.figures._common import range_to_slice
+from noisevar.figures.estimator import (
+    envelope_figure,
+    estimate_rows,
+    scan_figure,
+    signal_figure,
+    somd_figure,
+    window_rows,
+    window_tests_figure,
+    window_variance_figure,
+)
+from noisevar.filters.envelope import RATIO_BAND
+
+VIEWS = ["Window tests", "Envelopes and |V|", "h scan", "Per-window variance"]
+#: Longer records run the h scan only on request.
+SCAN_AUTO_LIMIT = 300_000
+
+
+def run_estimate(
+    sig: LoadedSignal, tuning: Tuning
+) -> tuple[VarianceEstimate | None, VarianceEstimate | None]:
+    """The estimate, and what the figures show: the estimate or, when refused, its diagnosis."""
+    try:
+        with st.spinner("Estimating..."):
+            est = cache.estimate(sig, tuning.method, tuning.params)
+        return est, est
+    except noisevar.NoisevarError as exc:
+        st.error(str(exc))
+        if isinstance(exc, noisevar.NoWindowKept) and exc.diagnosis is not None:
+            st.info(
+                "The figures below show every window's tests against your thresholds: "
+                "move Γ_amp / Γ_ang past the points, or lengthen the window m."
+            )
+            return None, exc.diagnosis  # the refused estimate: filter outputs, window tests
+        return None, None
+
+
+def headline(est: VarianceEstimate, truth: float | None, tuning: Tuning) -> None:
+    """Variance, std, interval, windows kept (or samples used), the truth when known."""
+    cols = st.columns(5)
+    cols[0].metric("Noise variance", fmt(est.variance))
+    cols[1].metric("Noise std", fmt(est.std))
+    cols[2].metric(
+        "95 % interval",
+        f"{fmt(est.ci95[0], 3)}–{fmt(est.ci95[1], 3)}",
+        help=f"{fmt(est.ci95[0], 6)} to {fmt(est.ci95[1], 6)} (chi-square, "
+        f"{est.dof:.0f} effective degrees of freedom)",
+    )
+    d = est.details
+    if d is not None and d.selection is not None:
+        _windows_kept(cols[3], est)
+    else:
+        cols[3].metric("Samples used", f"{est.n_used:,} / {est.n_total:,}")
+    if truth is not None:
+        cols[4].metric(
+            "True variance",
+            fmt(truth),
+            delta=f"{100 * (est.variance / truth - 1):+.1f} %",
+            delta_color="off",
+            delta_arrow="off",
+            help="Known for a generated signal; the delta is the relative error.",
+        )
+    for note in est.notes:
+        st.caption(f"Note: {note}")
+    if tuning.method == "somd-paper":
+        st.caption(
+            "somd-paper divides by 2 as printed; its bias is c(h)/2 − 1 (spec A8). "
+            "`somd` divides by the exact c(h)."
+        )
+
+
+def _windows_kept(col: DeltaGenerator, est: VarianceEstimate) -> None:
+    d = est.details
+    summ = d.selection.rejection_summary()
+    kept = int(d.kept_windows.sum())
+    col.metric(
+        "Windows kept",
+        f"{kept} / {summ['windows']}",
+        help=(
+            f"amplitude test failed: {summ['failed_amplitude']}, angle test failed: "
+            f"{summ['failed_angle']} (a window can fail both); the first "
+            f"{d.skip} samples are the filters' start-up transient"
+        ),
+    )
+    if summ["windows"] and kept < 0.2 * summ["windows"]:
+        worst = "Γ_amp" if summ["failed_amplitude"] >= summ["failed_angle"] else "Γ_ang"
+        st.warning(
+            f"Only {kept} of {summ['windows']} windows kept ({summ['failed_amplitude']} "
+            f"failed the amplitude test, {summ['failed_angle']} the angle test): the "
+            f"estimate rests on few samples. Relax {worst} first, or change m."
+        )
+
+
+def _selected_stretch(sig: LoadedSignal) -> slice | None:
+    """The stretch: a new box selection on the main chart moves the s0/s1 widgets."""
+    chart_state = st.session_state.get("est_chart")
+    try:
+        boxes = list(chart_state["selection"]["box"]) if chart_state else []
+    except (KeyError, TypeError):
+        boxes = []
+    if boxes:
+        box = boxes[-1]
+        sig_box = (round(float(box["x"][0]), 6), round(float(box["x"][1]), 6))
+        if st.session_state.get("_last_box") != sig_box:
+            st.session_state["_last_box"] = sig_box
+            sl = range_to_slice(sig_box[0], sig_box[1], sig.n, sig.sample_period)
+            st.session_state["s0"], st.session_state["s1"] = sl.start, sl.stop
+    s0 = int(st.session_state.get("s0", 0) or 0)
+    s1 = int(st.session_state.get("s1", 0) or 0)
+    return slice(min(s0, s1), max(s0, s1)) if max(s0, s1) > min(s0, s1) else None
+
+
+def _clear_stretch() -> None:
+    st.session_state["s0"] = 0
+    st.session_state["s1"] = 0
+
+
+def main_figure(sig: LoadedSignal, shown: VarianceEstimate | None, tuning: Tuning) -> go.Figure:
+    """The raw signal with filters and windows (box-select a stretch), and the stretch estimate."""
+    stretch = _selected_stretch(sig)
+    if shown is not None:
+        fig = somd_figure(
+            sig.z, shown, sig.sample_period, stretch=stretch, title="Raw signal, filters, windows"
+        )
+    else:
+        fig = signal_figure(sig.z, sig.sample_period, sig.column, title="Raw signal")
+        fig.update_layout(dragmode="select", selectdirection="h")
+    st.caption(
+        "Drag across the plot to estimate over a chosen stretch only (double-click clears the "
+        "selection). Shaded: kept windows; marks above the record: rejected windows and why."
+    )
+    show_figure(fig, key="est_chart", select=True)
+    n = sig.n
+    c1, c2, c3 = st.columns([1, 1, 1], vertical_alignment="bottom")
+    c1.number_input(
+        "Stretch from sample", min_value=0, max_value=n, step=1, key="s0", bind="query-params"
+    )
+    c2.number_input(
+        "Stretch to sample", min_value=0, max_value=n, step=1, key="s1", bind="query-params"
+    )
+    c3.button("Whole record", key="clear_stretch", on_click=_clear_stretch, width="stretch")
+    if stretch is not None:
+        _stretch_estimate(sig, tuning, stretch)
+    return fig
+
+
+def _stretch_estimate(sig: LoadedSignal, tuning: Tuning, stretch: slice) -> None:
+    try:
+        part = cache.estimate(sig, tuning.method, tuning.params, stretch=stretch)
+        cols = st.columns(4)
+        cols[0].metric(
+            "Stretch variance",
+            fmt(part.variance),
+            help=f"samples {stretch.start} to {stretch.stop - 1}",
+        )
+        cols[1].metric("Stretch std", fmt(part.std))
+        cols[2].metric("95 % interval", f"{fmt(part.ci95[0], 3)}–{fmt(part.ci95[1], 3)}")
+        cols[3].metric("Samples in stretch", f"{stretch.stop - stretch.start:,}")
+    except noisevar.NoisevarError as exc:
+        st.error(f"Stretch {stretch.start}–{stretch.stop - 1}: {exc} (choose a longer stretch)")
+
+
+def step_views(
+    sig: LoadedSignal, shown: VarianceEstimate | None, tuning: Tuning, truth: float | None
+) -> tuple[str, go.Figure | None]:
+    """The "Step by step" figures: window tests, envelopes, h scan, per-window variance."""
+    view = st.segmented_control(
+        "Step by step",
+        VIEWS,
+        key="est_view",
+        bind="query-params",
+        **initial("est_view", VIEWS[0], "default"),
+    )
+    view = view or VIEWS[0]
+    detail = None
+    d = shown.details if shown is not None else None
+    if view == "Window tests":
+        if d is not None and d.selection is not None:
+            detail = window_tests_figure(
+                d.selection,
+                tuning.gamma_amp,
+                tuning.gamma_ang,
+                sig.sample_period,
+                title="Window tests of eq. 19 (first smoothing filter)",
+            )
+        else:
+            st.info("Window tests exist for the SOMD methods with window selection on.")
+    elif view == "Envelopes and |V|":
+        detail = _envelope_view(sig, shown, tuning.window)
+    elif view == "h scan":
+        detail = _scan_view(sig, shown, tuning)
+    elif shown is not None:
+        detail = window_variance_figure(
+            shown,
+            sig.sample_period,
+            truth,
+            title="Per-window variance and the final estimate",
+        )
+    if detail is not None:
+        show_figure(detail, key="est_detail")
+    return view, detail
+
+
+def _envelope_view(
+    sig: LoadedSignal, shown: VarianceEstimate | None, window: int
+) -> go.Figure | None:
+    d = shown.details if shown is not None else None
+    detail = None
+    with guarded():
+        raw_amp, det = cache.amplitude(sig, window)
+        smooth_amp = None
+        if d is not None:
+            smooth_amp, _ = cache.amplitude(
+                sig, window, d.smooth_output[0], which=f"smooth:{d.h_smooth[0]!r}"
+            )
+        detail = envelope_figure(
+            raw_amp, det, smooth_amp, sig.sample_period, title="Envelope noise amplitude"
+        )
+        ratio_txt = (
+            f"; smooth/raw ratio {smooth_amp.mean_amplitude / raw_amp.mean_amplitude:.3g}"
+            if smooth_amp is not None
+            else ""
+        )
+        st.caption(f"Mean |V| of the raw record {fmt(raw_amp.mean_amplitude)}{ratio_txt}.")
+    return detail
+
+
+def _scan_view(
+    sig: LoadedSignal, shown: VarianceEstimate | None, tuning: Tuning
+) -> go.Figure | None:
+    d = shown.details if shown is not None else None
+    n, window = sig.n, tuning.window
+    run_scan = n <= SCAN_AUTO_LIMIT or st.session_state.get("scan_ok") == (sig.digest, window)
+    if not run_scan:
+        st.info(
+            f"The h scan filters the {n:,} samples once per grid point (41 points): "
+            "it takes several seconds on this record."
+        )
+        if st.button("Run the h scan", key="scan_go"):
+            st.session_state["scan_ok"] = (sig.digest, window)
+            run_scan = True
+    if not run_scan:
+        return None
+    detail = None
+    with guarded(), st.spinner("Scanning h..."):
+        scan = cache.h_scan(sig, window)
+        detail = scan_figure(
+            scan,
+            tuning.h_smooth if tuning.somd else (),
+            d.h_track if d is not None else None,
+            title="Choosing h_S: noise amplitude ratio against h (eq. 14)",
+        )
+        if math.isfinite(scan.h_min):
+            st.caption(
+                f"Ratio within [{RATIO_BAND[0]:g}, {RATIO_BAND[1]:g}] for h from "
+                f"{scan.h_min:.3g} to {scan.h_max:.3g}; chosen h = {scan.h_chosen:.3g} "
+                f"(the ratio closest to the band's centre)."
+            )
+        else:
+            st.caption(f"No grid h puts the ratio inside the band; closest: {scan.h_chosen:.3g}.")
+    return detail
+
+
+def exports(
+    sig: LoadedSignal,
+    est: VarianceEstimate | None,
+    truth: float | None,
+    figures: tuple[go.Figure, str, go.Figure | None],
+) -> None:
+    """Downloads: the tuned-parameter JSON, the estimate and windows as CSV, the figures."""
+    fig, view, detail = figures
+    st.markdown("#### Export")
+    if est is not None:
+        _estimate_downloads(sig, est, truth)
+    st.caption("Main figure")
+    figure_downloads(fig, "noisevar-estimator", "fig_main")
+    if detail is not None:
+        st.caption(f"{view} figure")
+        figure_downloads(detail, f"noisevar-{str(view).split()[0].lower()}", "fig_detail")
+
+
+def _estimate_downloads(sig: LoadedSignal, est: VarianceEstimate, truth: float | None) -> None:
+    c1, c2, c3 = st.columns(3)
+    try:
+        cfg_json = config_to_json(params_to_config(est.params["method"], est.params))
+    except noisevar.NoisevarError as exc:  # pragma: no cover - params come from widgets
+        cfg_json = None
+        st.error(str(exc))
+    if cfg_json is not None:
+        c1.download_button(
+            "Tuned parameters (JSON)",
+            data=cfg_json,
+            file_name="noisevar-config.json",
+            mime="application/json",
+            key="dl_config",
+            on_click="ignore",
+            icon=":material/settings:",
+            width="stretch",
+            help="Use it with: noisevar estimate --config noisevar-config.json data.csv",
+        )
+    c2.download_button(
+        "Estimate (CSV)",
+        data=rows_to_csv(estimate_rows(est, truth)),
+        file_name="noisevar-estimate.csv",
+        mime="text/csv",
+        key="dl_summary",
+        on_click="ignore",
+        icon=":material/table:",
+        width="stretch",
+    )
+    c3.download_button(
+        "Per-window results (CSV)",
+        data=lambda: rows_to_csv(window_rows(est, sig.sample_period)) or "no windows\n",
+        file_name="noisevar-windows.csv",
+        mime="text/csv",
+        key="dl_windows",
+        on_click="ignore",
+        icon=":material/view_list:",
+        width="stretch",
+        disabled=est.details is None,
+    )
+    if cfg_json is not None:
+        with st.expander("Tuned parameters (the JSON config)"):
+            st.code(cfg_json, language="json")
+            st.caption("`noisevar estimate --config noisevar-config.json yourfile.csv`")

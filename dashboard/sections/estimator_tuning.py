@@ -1,0 +1,283 @@
+"""The Estimator page's tuning panel: method, h_S (and more), h_T, window m, Γ, selection."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import streamlit as st
+
+import noisevar
+from dashboard.state import initial, keep_valid
+from dashboard.widgets import h_grid
+from noisevar.config import parse_config
+from noisevar.filters.abg import settling_samples
+
+#: The methods whose parameters the panel tunes.
+SOMD = ("somd", "somd-paper")
+RATIOS = [2, 3, 5, 7, 10, 15, 20, 30, 50, 70, 100]
+H_ALL = h_grid(1e-9, 3e-3)
+HT_ALL = h_grid(1e-8, 0.3)
+MIN_WINDOW = 8
+
+
+def methods() -> list[str]:
+    """The single-signal methods the page offers."""
+    return [m for m in noisevar.methods() if m != "somd-redundant"]
+
+
+def max_window(n: int) -> int:
+    """The longest window m the slider offers for ``n`` samples."""
+    return int(max(min(400, n // 4), MIN_WINDOW + 1))
+
+
+@dataclass
+class Tuning:
+    """What the panel chose.
+
+    Attributes
+    ----------
+    method : str
+        The estimator.
+    params : dict
+        Keyword arguments of :func:`noisevar.estimate` (empty unless a SOMD method).
+    h_smooth : list of float
+        The smoothing filters' h (the first one is h_S).
+    window : int
+        Window m (also the envelope window of the detail views).
+    gamma_amp, gamma_ang : float
+        The window tests' thresholds.
+    """
+
+    method: str
+    params: dict[str, object] = field(default_factory=dict)
+    h_smooth: list[float] = field(default_factory=list)
+    window: int = 40
+    gamma_amp: float = 0.5
+    gamma_ang: float = 10.0
+
+    @property
+    def somd(self) -> bool:
+        """Whether the method is one of the tuned SOMD methods."""
+        return self.method in SOMD
+
+
+def _valid_h(options: list[str], window: int, n: int) -> list[str]:
+    """h values whose filters settle with room for two windows (widgets never offer others)."""
+    ok = [h for h in options if settling_samples(float(h)) + 2 * window < n]
+    return ok or options[-1:]
+
+
+def _closest(options: list[str], target: float) -> str:
+    return min(options, key=lambda h: abs(math.log(float(h) / target)))
+
+
+def _apply_config(largest_window: int) -> None:
+    """Load an exported config JSON into the widgets (runs before the page script)."""
+    up = st.session_state.get("est_config_upload")
+    if up is None:
+        return
+    try:
+        cfg = parse_config(up.getvalue(), up.name)
+    except noisevar.NoisevarError as exc:
+        st.session_state["est_config_error"] = str(exc)
+        return
+    st.session_state.pop("est_config_error", None)
+    state = st.session_state
+    if cfg.get("method") in methods():
+        state["est_method"] = cfg["method"]
+    hs = cfg.get("h_smooth")
+    if hs is not None:
+        hs = hs if isinstance(hs, list) else [hs]
+        state["h_s"] = _closest(H_ALL, hs[0])
+        state["h_more"] = sorted({_closest(H_ALL, h) for h in hs[1:]}, key=float)
+    if "h_track" in cfg:
+        state["ht_mode"] = "value"
+        state["h_t"] = _closest(HT_ALL, cfg["h_track"])
+    elif "track_ratio" in cfg:
+        state["ht_mode"] = "multiple of h_S"
+        state["ht_ratio"] = min(RATIOS, key=lambda r: abs(r - cfg["track_ratio"]))
+    if "window" in cfg:
+        state["win"] = int(min(max(cfg["window"], MIN_WINDOW), largest_window))
+    if "gamma_amp" in cfg:
+        state["g_amp"] = float(min(max(round(cfg["gamma_amp"] * 20) / 20, 0.05), 1.0))
+    if "gamma_ang" in cfg:
+        state["g_ang"] = float(min(max(round(cfg["gamma_ang"] * 2) / 2, 0.5), 90.0))
+    if "angle" in cfg:
+        state["angle"] = cfg["angle"]
+    if "select" in cfg:
+        state["select"] = bool(cfg["select"])
+
+
+def tuning_panel(n: int) -> Tuning:
+    """The panel's widgets for a record of ``n`` samples; the chosen method and parameters.
+
+    The chosen SOMD parameters are also kept in ``st.session_state["nv_tuned"]``: the
+    Compare page runs the SOMD methods with them.
+    """
+    st.markdown("#### Parameters")
+    method = _method_select()
+    somd = method in SOMD
+    h_s, h_more = _smoothing_filters(n, somd)
+    track = _tracking_filter(h_s, n, somd)
+    largest = max_window(n)
+    keep_valid("win", lambda v: MIN_WINDOW <= v <= largest, min(40, largest))
+    window = st.slider(
+        "Window m (samples)",
+        MIN_WINDOW,
+        largest,
+        key="win",
+        bind="query-params",
+        help="Windows for the selection tests and the envelope amplitude (paper: 40).",
+        **initial("win", min(40, largest)),
+    )
+    g_amp, g_ang, angle, select = _window_tests(somd)
+    _config_upload(largest)
+    hs_list = [float(h_s)] + [float(h) for h in h_more if h != h_s]
+    tuning = Tuning(method, {}, hs_list, int(window), float(g_amp), float(g_ang))
+    if somd:
+        tuning.params = {
+            "h_smooth": hs_list if len(hs_list) > 1 else hs_list[0],
+            "window": int(window),
+            "gamma_amp": float(g_amp),
+            "gamma_ang": float(g_ang),
+            "angle": angle,
+            "select": bool(select),
+            **track,
+        }
+        st.session_state["nv_tuned"] = dict(tuning.params)
+    return tuning
+
+
+def _method_select() -> str:
+    names = methods()
+    desc = noisevar.describe_methods()
+    keep_valid("est_method", lambda v: v in names, "somd")
+    return st.selectbox(
+        "Method",
+        names,
+        key="est_method",
+        bind="query-params",
+        format_func=lambda m: f"{m}: {desc[m]}",
+        **initial("est_method", names.index("somd"), "index"),
+    )
+
+
+def _smoothing_filters(n: int, somd: bool) -> tuple[str, list[str]]:
+    hs_opts = _valid_h(H_ALL, MIN_WINDOW, n)
+    keep_valid("h_s", lambda v: v in hs_opts, _closest(hs_opts, 1.5e-5))
+    h_s = st.select_slider(
+        "Smoothing filter h_S (log scale)",
+        hs_opts,
+        key="h_s",
+        bind="query-params",
+        disabled=not somd,
+        help="h = q/r of the alpha-beta-gamma filter; smaller = smoother. Paper: 1.5e-5.",
+        **initial("h_s", _closest(hs_opts, 1.5e-5)),
+    )
+    h_more = st.multiselect(
+        "More smoothing filters (several h)",
+        [h for h in hs_opts if h != h_s],
+        key="h_more",
+        bind="query-params",
+        disabled=not somd,
+        help="Section 2.4: a window counts when any smoothing filter passes; more windows.",
+    )
+    return h_s, h_more
+
+
+def _tracking_filter(h_s: str, n: int, somd: bool) -> dict[str, float]:
+    """The tracking filter as ``{"h_track": ...}`` or ``{"track_ratio": ...}``."""
+    ht_mode = st.radio(
+        "Tracking filter h_T",
+        ["multiple of h_S", "value"],
+        key="ht_mode",
+        bind="query-params",
+        horizontal=True,
+        disabled=not somd,
+    )
+    if ht_mode == "multiple of h_S":
+        ratio_opts = [r for r in RATIOS if float(h_s) * r < 0.3]
+        keep_valid("ht_ratio", lambda v: v in ratio_opts, ratio_opts[-1])
+        ratio = st.select_slider(
+            "h_T / h_S",
+            ratio_opts,
+            key="ht_ratio",
+            bind="query-params",
+            disabled=not somd,
+            help="The paper takes h_T 10 to 100 times h_S.",
+            **initial("ht_ratio", 30 if 30 in ratio_opts else ratio_opts[-1]),
+        )
+        return {"track_ratio": float(ratio)}
+    ht_opts = _valid_h(HT_ALL, MIN_WINDOW, n)
+    keep_valid("h_t", lambda v: v in ht_opts, _closest(ht_opts, 5e-4))
+    h_t = st.select_slider(
+        "h_T (log scale)",
+        ht_opts,
+        key="h_t",
+        bind="query-params",
+        disabled=not somd,
+        **initial("h_t", _closest(ht_opts, 5e-4)),
+    )
+    return {"h_track": float(h_t)}
+
+
+def _window_tests(somd: bool) -> tuple[float, float, str, bool]:
+    """Γ_amp, Γ_ang, the slopes of the angle test and the selection toggle."""
+    g_amp = st.slider(
+        "Γ_amp (amplitude test)",
+        0.05,
+        1.0,
+        step=0.05,
+        key="g_amp",
+        bind="query-params",
+        disabled=not somd,
+        help=(
+            "somd-paper (as printed): keep a window when |A1/A2|, |A2/A3|, |A3/A4| are all "
+            "within (1 − Γ, 1 + Γ). somd: the same chain closed by |A4/A1|, each ratio within "
+            "a band of the same log-width centred on 1, so that −z keeps the same windows as z."
+        ),
+        **initial("g_amp", 0.5),
+    )
+    g_ang = st.slider(
+        "Γ_ang (angle test, degrees)",
+        0.5,
+        90.0,
+        step=0.5,
+        key="g_ang",
+        bind="query-params",
+        disabled=not somd,
+        help="Keep a window when the smooth and tracking slopes differ by less than Γ_ang.",
+        **initial("g_ang", 10.0),
+    )
+    angle = st.radio(
+        "Slopes of the angle test",
+        ["scaled", "paper"],
+        key="angle",
+        bind="query-params",
+        horizontal=True,
+        disabled=not somd,
+        help="scaled: slopes in noise units (unit-free); paper: raw units per sample.",
+    )
+    select = st.toggle(
+        "Window selection",
+        key="select",
+        bind="query-params",
+        disabled=not somd,
+        help="Off for a signal known to be slowly varying (the paper's GPS experiment).",
+        **initial("select", True),
+    )
+    return g_amp, g_ang, angle, select
+
+
+def _config_upload(largest_window: int) -> None:
+    st.file_uploader(
+        "Load tuned parameters (JSON)",
+        type=["json"],
+        key="est_config_upload",
+        on_change=_apply_config,
+        args=(largest_window,),
+        help="A config exported here or written for `noisevar estimate --config`.",
+    )
+    if st.session_state.get("est_config_error"):
+        st.error(st.session_state["est_config_error"])

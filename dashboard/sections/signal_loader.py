@@ -1,0 +1,208 @@
+"""Loading the signal from a page: sample buttons, the generator form, the uploader, offers."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import streamlit as st
+from streamlit.delta_generator import DeltaGenerator
+
+import noisevar
+from dashboard import loading
+from dashboard.pages import SIGNAL_PAGE
+from dashboard.state import LoadedSignal, current_signal, initial
+from dashboard.widgets import guarded, how_it_works
+from noisevar.signals import GPS_CHANNELS
+
+
+def require_signal(
+    purpose: str = "This page works on the loaded signal.",
+    preferred: Sequence[str] = ("fast_slow.csv",),
+    explain: Sequence[str] | None = None,
+) -> LoadedSignal:
+    """The loaded signal; without one, say so, offer sample data and stop the page.
+
+    Parameters
+    ----------
+    purpose : str
+        What the page would do with a signal.
+    preferred : sequence of str
+        Sample files to offer first.
+    explain : sequence of str, optional
+        The page's how-it-works blocks, shown before the page stops.
+
+    Returns
+    -------
+    LoadedSignal
+    """
+    sig = current_signal()
+    if sig is not None:
+        return sig
+    st.info(
+        f"No signal loaded yet. {purpose} Load a sample file with one click, generate the "
+        "paper's signal, or upload your own on the Signal page."
+    )
+    names = [p.name for p in loading.sample_files()]
+    order = [n for n in preferred if n in names] + [n for n in names if n not in preferred]
+    desc = loading.sample_descriptions()
+    cols = st.columns(3)
+    for i, name in enumerate(order):
+        with cols[i % 3]:
+            if st.button(f"Load {name}", key=f"offer_{name}", help=desc.get(name)):
+                with guarded():
+                    loading.load_sample(name)
+                    st.rerun()
+    if st.button("Generate the paper's fast-slow signal (n = 6000, seed 0)", key="offer_gen"):
+        with guarded():
+            loading.load_generated("fast-slow", n=6000, seed=0, noise_std=5.0)
+            st.rerun()
+    st.page_link(SIGNAL_PAGE, label="Go to the Signal page", icon=":material/upload:")
+    if explain:
+        how_it_works(*explain)
+    st.stop()
+    raise AssertionError("unreachable")  # pragma: no cover
+
+
+def quick_start() -> None:
+    """The home page's two buttons: the sample fast_slow.csv or the generated fast-slow."""
+    st.info("Start by loading a signal: a sample file, a generated scenario, or your own file.")
+    c1, c2 = st.columns(2)
+    with c1:
+        if st.button("Load the sample fast_slow.csv", key="home_sample", type="primary"):
+            with guarded():
+                loading.load_sample("fast_slow.csv")
+                st.rerun()
+    with c2:
+        if st.button("Generate the paper's fast-slow signal", key="home_generate"):
+            with guarded():
+                loading.load_generated("fast-slow", n=6000, seed=0, noise_std=5.0)
+                st.rerun()
+
+
+def sample_buttons(errors: DeltaGenerator) -> None:
+    """One button per file of ``sample_data/`` with its description."""
+    files = loading.sample_files()
+    desc = loading.sample_descriptions()
+    if not files:
+        st.info("The sample_data/ folder is empty: generate a signal instead.")
+    for path in files:
+        c1, c2 = st.columns([1, 4], vertical_alignment="center")
+        if c1.button(
+            path.name, key=f"sample_{path.name}", icon=":material/dataset:", width="stretch"
+        ):
+            with errors, guarded(f"{path.name}: "):
+                loading.load_sample(path.name)
+        c2.caption(desc.get(path.name, f"{path.stat().st_size / 1e3:.0f} kB"))
+
+
+def generator_form(errors: DeltaGenerator) -> None:
+    """The scenario generator: family, n, noise std, seed, the family's extras, Generate."""
+    names = noisevar.signal_names()
+    c1, c2, c3, c4 = st.columns(4)
+    family = c1.selectbox(
+        "Scenario",
+        names,
+        key="gen_name",
+        bind="query-params",
+        help="Signal families of noisevar.generate (see its docstring).",
+    )
+    n = c2.number_input(
+        "Samples n",
+        min_value=200,
+        max_value=2_000_000,
+        step=1000,
+        key="gen_n",
+        bind="query-params",
+        **initial("gen_n", 6000),
+    )
+    noise_std = c3.number_input(
+        "Noise std (empty: scenario default)",
+        min_value=1e-6,
+        max_value=1e6,
+        format="%g",
+        key="gen_std",
+        bind="query-params",
+        placeholder="default",
+        **initial("gen_std", None),
+    )
+    seed = c4.number_input(
+        "Seed",
+        min_value=0,
+        max_value=2**31 - 1,
+        step=1,
+        key="gen_seed",
+        bind="query-params",
+        **initial("gen_seed", 0),
+    )
+    extras = _generator_extras(family)
+    if st.button("Generate", key="gen_go", type="primary", icon=":material/play_arrow:"):
+        with errors, guarded("Generate: "):
+            loading.load_generated(family, n=n, seed=seed, noise_std=noise_std, **extras)
+
+
+def _generator_extras(family: str) -> dict[str, float | int | str]:
+    """The widgets of the family's extra parameters (:data:`loading.GENERATOR_EXTRAS`)."""
+    extras: dict[str, float | int | str] = {}
+    specs = loading.GENERATOR_EXTRAS.get(family, [])
+    if not specs:
+        return extras
+    ecols = st.columns(max(len(specs), 2))
+    for (key, kind, default, lo, hi), col in zip(specs, ecols, strict=False):
+        wkey = f"gen_{family}_{key}"
+        label = key.replace("_", " ")
+        if kind == "choice":
+            extras[key] = col.selectbox(label, list(GPS_CHANNELS), key=wkey, bind="query-params")
+        elif kind == "int":
+            extras[key] = col.number_input(
+                label,
+                min_value=int(lo),
+                max_value=int(hi),
+                step=1,
+                key=wkey,
+                bind="query-params",
+                **initial(wkey, int(default)),
+            )
+        else:
+            extras[key] = col.number_input(
+                label,
+                min_value=float(lo),
+                max_value=float(hi),
+                format="%g",
+                key=wkey,
+                bind="query-params",
+                **initial(wkey, float(default)),
+            )
+    return extras
+
+
+def uploader(errors: DeltaGenerator) -> None:
+    """The file uploader; a failed file is reported once per file (the old signal stays)."""
+    limit_mb = loading.max_upload_bytes() / 1024 / 1024
+    st.caption(
+        f"CSV/TSV (header optional; a column named t/time gives the sample period), `.npy` "
+        f"(numeric arrays only), or NMEA 0183 GGA/RMC (converted to local east/north metres, "
+        f"speed and course). Up to {limit_mb:.0f} MB."
+    )
+    up = st.file_uploader(
+        "Upload a file",
+        type=["csv", "tsv", "txt", "dat", "npy", "nmea", "log"],
+        key="upload",
+    )
+    if up is None:
+        return
+    failed = st.session_state.get("upload_failed")
+    if st.session_state.get("upload_done") != up.file_id and (
+        not failed or failed[0] != up.file_id
+    ):
+        try:
+            with st.spinner(f"Reading {up.name}..."):
+                loading.load_bytes(up.getvalue(), up.name)
+            st.session_state["upload_done"] = up.file_id
+            st.session_state.pop("upload_failed", None)
+        except noisevar.NoisevarError as exc:
+            st.session_state["upload_failed"] = (up.file_id, str(exc))
+    failed = st.session_state.get("upload_failed")
+    if failed and failed[0] == up.file_id:
+        sig = current_signal()
+        kept = f" (The previous signal, {sig.label}, is kept.)" if sig is not None else ""
+        errors.error(failed[1] + kept)

@@ -1,0 +1,105 @@
+"""The Signal page's view of the loaded signal: column and period, summary, figure, exports."""
+
+from __future__ import annotations
+
+import streamlit as st
+from streamlit.delta_generator import DeltaGenerator
+
+from dashboard import cache
+from dashboard.state import LoadedSignal, clean_of, reselect, truth_of
+from dashboard.widgets import figure_downloads, fmt, guarded, show_figure
+from noisevar.figures.estimator import signal_figure
+from noisevar.io import signal_summary
+
+
+def column_and_period(sig: LoadedSignal, errors: DeltaGenerator) -> LoadedSignal:
+    """The column and sample-period widgets; returns the (possibly re-selected) signal."""
+    st.subheader(f"{sig.label}")
+    cols = sig.table.data_columns
+    c1, c2 = st.columns(2)
+    column = c1.selectbox(
+        "Signal column",
+        cols,
+        index=cols.index(sig.column) if sig.column in cols else 0,
+        key=f"sig_column_{sig.table_digest}",
+        help="The column every page estimates; the Two sensors page can use several.",
+    )
+    period = c2.number_input(
+        "Sample period T (s)",
+        value=sig.sample_period,
+        min_value=1e-9,
+        max_value=1e6,
+        format="%g",
+        key=f"sig_period_{sig.table_digest}",
+        placeholder="unknown: axes in samples",
+        help=(
+            "From the time column when there is one. Only the time axes use it: the estimators "
+            "work per sample."
+        ),
+    )
+    if column != sig.column or period != sig.sample_period:
+        with errors, guarded(f"Column {column!r}: "):
+            sig = reselect(sig, column, period)
+    return sig
+
+
+def summary_metrics(sig: LoadedSignal, errors: DeltaGenerator) -> None:
+    """Samples, duration, mean, std, range and the quick noise estimate (method auto)."""
+    summary = signal_summary(sig.z, sig.sample_period)
+    auto = None
+    with errors, guarded("Quick estimate: "):
+        auto = cache.estimate(sig, "auto", {})
+    m = st.columns(6)
+    m[0].metric("Samples", f"{summary['n']:,}")
+    m[1].metric(
+        "Duration",
+        f"{summary['duration_s']:.4g} s" if sig.sample_period else "n/a",
+        help=None if sig.sample_period else "Set the sample period T to see the duration.",
+    )
+    m[2].metric("Mean", fmt(summary["mean"]))
+    m[3].metric("Std (signal + noise)", fmt(summary["std"]))
+    m[4].metric(
+        "Min / max",
+        f"{fmt(summary['min'], 3)} / {fmt(summary['max'], 3)}",
+        help=f"{fmt(summary['min'], 8)} to {fmt(summary['max'], 8)}",
+    )
+    if auto is not None:
+        truth = truth_of(sig)
+        m[5].metric(
+            "Noise std (auto)",
+            fmt(auto.std),
+            delta=f"true {fmt(truth**0.5)}" if truth else None,
+            delta_color="off",
+            delta_arrow="off",
+            help="Quick estimate with the default method; tune it on the Estimator page.",
+        )
+    for note in sig.notes:
+        st.caption(f"Note: {note}")
+
+
+def preview(sig: LoadedSignal) -> None:
+    """The signal figure, its downloads, the table as CSV and its first rows."""
+    fig = signal_figure(
+        sig.z,
+        sig.sample_period,
+        name=sig.column,
+        clean=clean_of(sig),
+        title=f"{sig.label}",
+    )
+    show_figure(fig, key="signal_preview")
+    c1, c2 = st.columns([1, 2])
+    with c1:
+        st.download_button(
+            "Signal as CSV",
+            data=lambda: sig.table.to_csv(),
+            file_name=f"{sig.table.name.split('.')[0].replace(' ', '_')}.csv",
+            mime="text/csv",
+            key="signal_csv",
+            on_click="ignore",
+            icon=":material/download:",
+            width="stretch",
+        )
+    with c2:
+        figure_downloads(fig, "signal", "signal_fig")
+    with st.expander("First rows of the table"):
+        st.dataframe({k: v[:20] for k, v in sig.table.columns.items()}, hide_index=False)

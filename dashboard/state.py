@@ -1,0 +1,278 @@
+"""Session and URL state: the loaded signal, load errors, recipes, query-param-bound widgets.
+
+The loaded signal lives in ``st.session_state`` (:class:`LoadedSignal`). A signal that
+can be rebuilt without data (a generated scenario or a file of ``sample_data/``) is
+named in the URL (``?sig=...``, its *recipe*); uploaded data never goes into the URL.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import TypeVar
+
+import numpy as np
+import streamlit as st
+
+import noisevar
+from noisevar.errors import NoisevarError
+from noisevar.io import LoadedTable, content_digest, pick_column
+
+LOG = logging.getLogger("noisevar.dashboard")
+
+#: Session-state keys of the loaded signal and of the last failed load.
+SIGNAL_KEY = "nv_signal"
+ERROR_KEY = "nv_load_error"
+#: The URL parameter that names a rebuildable signal.
+RECIPE_PARAM = "sig"
+
+T = TypeVar("T")
+
+
+@dataclass
+class LoadedSignal:
+    """The signal every page works on.
+
+    Attributes
+    ----------
+    table : LoadedTable
+        All columns of the source (other pages may use more than one).
+    column : str
+        The chosen column.
+    z : ndarray
+        The chosen column's samples.
+    sample_period : float or None
+        Seconds per sample (None: axes in samples).
+    digest : str
+        Content hash of ``z``: the cache key of every computation.
+    source : {"generated", "sample", "upload"}
+        Where it came from.
+    label : str
+        Short description for titles.
+    recipe : str or None
+        How to rebuild it without data (the ``sig`` URL parameter).
+    recipe_base : str or None
+        The recipe without the column and period choices.
+    table_digest : str
+        Content hash of the whole table (keys the column/period widgets).
+    clean : ndarray or None
+        The noise-free signal (generated signals).
+    true_variance : float or None
+        The known noise variance (generated signals).
+    notes : list of str
+        Remarks from loading.
+    """
+
+    table: LoadedTable
+    column: str
+    z: np.ndarray
+    sample_period: float | None
+    digest: str
+    source: str
+    label: str
+    recipe: str | None = None
+    recipe_base: str | None = None
+    table_digest: str = ""
+    clean: np.ndarray | None = None
+    true_variance: float | None = None
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def n(self) -> int:
+        """Number of samples."""
+        return int(self.z.size)
+
+
+# ------------------------------------------------------------------ the signal
+def current_signal() -> LoadedSignal | None:
+    """The loaded signal, or None (anything else in its session slot is ignored)."""
+    sig = st.session_state.get(SIGNAL_KEY)
+    return sig if isinstance(sig, LoadedSignal) else None
+
+
+def set_signal(sig: LoadedSignal) -> None:
+    """Make ``sig`` the signal of every page (and name it in the URL when it can be rebuilt)."""
+    st.session_state[SIGNAL_KEY] = sig
+    st.session_state.pop(ERROR_KEY, None)
+    sync_url(sig)
+
+
+def sync_url(sig: LoadedSignal | None) -> None:
+    """Put the signal's recipe in the URL (or remove a stale one)."""
+    try:
+        if sig is not None and sig.recipe:
+            if st.query_params.get(RECIPE_PARAM) != sig.recipe:
+                st.query_params[RECIPE_PARAM] = sig.recipe
+        elif RECIPE_PARAM in st.query_params:
+            del st.query_params[RECIPE_PARAM]
+    except Exception:  # noqa: BLE001 - the URL is a convenience; never break a page for it
+        LOG.debug("could not update the sig query parameter", exc_info=True)
+
+
+def url_recipe() -> str | None:
+    """The recipe named in the URL, if any."""
+    return st.query_params.get(RECIPE_PARAM) or None
+
+
+def default_column(table: LoadedTable) -> str:
+    """The first data column without empty/NaN cells (else the first data column)."""
+    cols = table.data_columns
+    for c in cols:
+        if np.all(np.isfinite(table.columns[c])):
+            return c
+    if not cols:
+        raise NoisevarError(f"{table.name} has no data column (only a time column)")
+    return cols[0]
+
+
+def make_signal(
+    table: LoadedTable,
+    column: str | None,
+    sample_period: float | None,
+    source: str,
+    recipe_base: str | None,
+    clean: np.ndarray | None = None,
+    true_variance: float | None = None,
+) -> LoadedSignal:
+    """Build a :class:`LoadedSignal` from a table column (raises NoisevarError on bad data).
+
+    Parameters
+    ----------
+    table : LoadedTable
+        The loaded file or generated signal.
+    column : str, optional
+        Column (default :func:`default_column`).
+    sample_period : float or None
+        Seconds per sample.
+    source : str
+        ``"generated"``, ``"sample"`` or ``"upload"``.
+    recipe_base : str or None
+        The URL recipe without column/period.
+    clean, true_variance
+        Truth of a generated signal.
+
+    Returns
+    -------
+    LoadedSignal
+    """
+    col = column or default_column(table)
+    z = pick_column(table, col)
+    noisevar.estimators.as_signal(z)  # same checks as the estimators: size, constant
+    label = table.name if len(table.data_columns) == 1 else f"{table.name} · {col}"
+    return LoadedSignal(
+        table=table,
+        column=col,
+        z=z,
+        sample_period=sample_period,
+        digest=content_digest(z),
+        source=source,
+        label=label,
+        recipe=_recipe(table, col, sample_period, recipe_base),
+        recipe_base=recipe_base,
+        table_digest=table.digest(),
+        clean=clean,
+        true_variance=true_variance,
+        notes=list(table.notes),
+    )
+
+
+def _recipe(
+    table: LoadedTable, col: str, sample_period: float | None, recipe_base: str | None
+) -> str | None:
+    """The recipe: the base plus the column and period when they differ from the defaults."""
+    if not recipe_base:
+        return None
+    recipe = recipe_base
+    if col != default_column(table):
+        recipe += f";col={col}"
+    if sample_period != table.sample_period and sample_period:
+        recipe += f";T={sample_period:g}"
+    return recipe
+
+
+def reselect(sig: LoadedSignal, column: str, sample_period: float | None) -> LoadedSignal:
+    """The same source with another column or sample period (raises NoisevarError)."""
+    new = make_signal(
+        sig.table,
+        column,
+        sample_period,
+        sig.source,
+        sig.recipe_base,
+        clean=sig.clean,
+        true_variance=sig.true_variance,
+    )
+    set_signal(new)
+    return new
+
+
+def truth_of(sig: LoadedSignal) -> float | None:
+    """The true noise variance when known (a generated signal, unchanged column)."""
+    return sig.true_variance if sig.source == "generated" and sig.column == "measured" else None
+
+
+def clean_of(sig: LoadedSignal) -> np.ndarray | None:
+    """The noise-free signal when known (a generated signal, unchanged column)."""
+    return sig.clean if sig.source == "generated" and sig.column == "measured" else None
+
+
+def sensor_matrix(sig: LoadedSignal, columns: list[str] | tuple[str, ...]) -> np.ndarray:
+    """The chosen columns of the signal's table as an ``(n, k)`` array (raises on NaN)."""
+    return np.column_stack([pick_column(sig.table, c) for c in columns])
+
+
+def parse_recipe(recipe: str) -> tuple[str, str, dict[str, str]]:
+    """Split ``kind:name;key=value;...`` into kind, name and options."""
+    kind, _, rest = recipe.partition(":")
+    parts = rest.split(";")
+    opts = {}
+    for p in parts[1:]:
+        k, _, v = p.partition("=")
+        if k:
+            opts[k] = v
+    return kind, parts[0], opts
+
+
+# ----------------------------------------------------------------- load errors
+def set_load_error(message: str, origin: str) -> None:
+    """Remember a failed load (shown once on the Signal page; the previous signal stays)."""
+    st.session_state[ERROR_KEY] = {"message": str(message), "origin": str(origin)}
+
+
+def load_error() -> dict[str, str] | None:
+    """The last failed load, if any (a malformed entry counts as none)."""
+    err = st.session_state.get(ERROR_KEY)
+    return err if isinstance(err, dict) and "message" in err else None
+
+
+def clear_load_error() -> None:
+    """Forget the last failed load."""
+    st.session_state.pop(ERROR_KEY, None)
+
+
+# ------------------------------------------------- query-param-bound widgets
+def initial(key: str, default: object, arg: str = "value") -> dict[str, object]:
+    """``{arg: default}`` unless the widget already has a state (avoids Streamlit's warning).
+
+    ``arg`` is the widget's default-value argument: ``value`` for most widgets,
+    ``index`` for selectbox and radio, ``default`` for multiselect and
+    segmented controls.
+    """
+    return {} if key in st.session_state else {arg: default}
+
+
+def keep_valid(key: str, valid: Callable[[T], bool], fallback: T) -> None:
+    """Reset a widget's state to ``fallback`` when it is no longer valid (options changed)."""
+    if key in st.session_state and not valid(st.session_state[key]):
+        st.session_state[key] = fallback
+
+
+def follow_table(marker: str, key: str, table_digest: str, default: list[str]) -> None:
+    """Reset the column picker ``key`` to ``default`` when a new table is loaded.
+
+    ``marker`` is the session key remembering which table the picker was set for.
+    """
+    if st.session_state.get(marker) != table_digest:
+        st.session_state[marker] = table_digest
+        if key in st.session_state:
+            st.session_state[key] = default

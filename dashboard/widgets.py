@@ -1,0 +1,159 @@
+"""Small reusable widgets: number formatting, figures and their downloads, errors, explanations."""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+import numpy as np
+import plotly.graph_objects as go
+import streamlit as st
+
+from dashboard.state import initial
+from noisevar.errors import NoisevarError
+from noisevar.estimators.compare import rows_to_csv
+from noisevar.figures._common import to_html, to_png
+
+LOG = logging.getLogger("noisevar.dashboard")
+
+#: The log grid of ``h`` values offered by the sliders (1, 1.5, 2, 3, 5, 7 per decade).
+H_MANTISSAS = (1.0, 1.5, 2.0, 3.0, 5.0, 7.0)
+
+
+def fmt(v: float | None, digits: int = 4) -> str:
+    """A number for display (``n/a`` for None/NaN)."""
+    if v is None or not isinstance(v, (int, float, np.floating, np.integer)):
+        return "n/a"
+    if isinstance(v, float | np.floating) and not math.isfinite(float(v)):
+        return "n/a"
+    return f"{float(v):.{digits}g}"
+
+
+def h_grid(lo: float = 1e-9, hi: float = 0.3) -> list[str]:
+    """``h`` values from ``lo`` to ``hi`` as strings (stable in URLs: ``1.5e-05``)."""
+    out = []
+    for e in range(-12, 1):
+        for m in H_MANTISSAS:
+            v = float(f"{m}e{e}")
+            if lo * (1 - 1e-9) <= v <= hi * (1 + 1e-9):
+                out.append(f"{v:g}")
+    return out
+
+
+@contextmanager
+def guarded(context: str = "") -> Iterator[None]:
+    """Show a noisevar error as one ``st.error`` (and anything unexpected without a traceback).
+
+    Streamlit's own control flow (``st.rerun``, ``st.stop``) passes through.
+    """
+    try:
+        yield
+    except NoisevarError as exc:
+        st.error(f"{context}{exc}")
+    except Exception as exc:  # noqa: BLE001 - no traceback ever reaches the page
+        LOG.exception("unexpected error in the dashboard")
+        st.error(
+            f"{context}Unexpected error ({type(exc).__name__}: {exc}). This is a bug in noisevar; "
+            "the details are in the server log."
+        )
+
+
+def how_it_works(*blocks: str, expanded: bool = False) -> None:
+    """The page's "How it works" expander: Markdown blocks, and ``$$...$$`` blocks as LaTeX."""
+    with st.expander("How it works", expanded=expanded, icon=":material/school:"):
+        for b in blocks:
+            s = b.strip()
+            if s.startswith("$$") and s.endswith("$$"):
+                st.latex(s[2:-2].strip())
+            else:
+                st.markdown(s)
+
+
+def show_figure(fig: go.Figure, key: str | None = None, select: bool = False) -> None:
+    """Draw a Plotly figure (box-select events, in ``st.session_state[key]``, when ``select``)."""
+    config = {"displaylogo": False, "scrollZoom": False}
+    if select:
+        st.plotly_chart(
+            fig,
+            width="stretch",
+            key=key,
+            on_select="rerun",
+            selection_mode="box",
+            config=config,
+        )
+    else:
+        st.plotly_chart(fig, width="stretch", key=key, config=config)
+
+
+def figure_downloads(fig: go.Figure, basename: str, key: str) -> None:
+    """Download buttons for a figure as interactive HTML and as PNG (built on click)."""
+    c1, c2 = st.columns(2)
+    c1.download_button(
+        "Figure as HTML",
+        data=lambda: to_html(fig),
+        file_name=f"{basename}.html",
+        mime="text/html",
+        key=f"{key}_html",
+        on_click="ignore",
+        icon=":material/download:",
+        width="stretch",
+    )
+    c2.download_button(
+        "Figure as PNG",
+        data=lambda: _png_or_note(fig),
+        file_name=f"{basename}.png",
+        mime="image/png",
+        key=f"{key}_png",
+        on_click="ignore",
+        icon=":material/image:",
+        help="Rendered by kaleido with a headless Chromium (a few seconds).",
+        width="stretch",
+    )
+
+
+def _png_or_note(fig: go.Figure) -> bytes:
+    try:
+        return to_png(fig)
+    except NoisevarError:
+        LOG.exception("PNG export failed")
+        raise
+
+
+def table_and_figure_downloads(
+    label: str,
+    rows: list[dict[str, object]],
+    file_name: str,
+    key: str,
+    fig: go.Figure | None,
+    fig_base: str,
+    fig_key: str,
+) -> None:
+    """A results-table CSV button beside the figure's downloads (when there is a figure)."""
+    c1, c2 = st.columns([1, 2])
+    c1.download_button(
+        label,
+        data=rows_to_csv(rows),
+        file_name=file_name,
+        mime="text/csv",
+        key=key,
+        on_click="ignore",
+        icon=":material/table:",
+        width="stretch",
+    )
+    if fig is not None:
+        with c2:
+            figure_downloads(fig, fig_base, fig_key)
+
+
+def figure_view(views: list[str], key: str, default: str, fallback: str | None = None) -> str:
+    """The segmented control choosing a page's figure.
+
+    ``default`` is the initial choice; ``fallback`` (default ``default``) stands for
+    no choice (a segmented control can be cleared).
+    """
+    view = st.segmented_control(
+        "Figure", views, key=key, bind="query-params", **initial(key, default, "default")
+    )
+    return view or (default if fallback is None else fallback)
