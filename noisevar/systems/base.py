@@ -8,11 +8,14 @@ seeded Monte Carlo runs and returns a result that says how many runs it holds
 
 from __future__ import annotations
 
-from typing import Protocol, runtime_checkable
+from collections.abc import Sequence
+from typing import Protocol, TypeVar, runtime_checkable
 
 from noisevar.errors import NoisevarError
 
-__all__ = ["BatchResult", "RunResult", "check_run_index"]
+__all__ = ["BatchResult", "RunResult", "as_list", "check_run_index"]
+
+T = TypeVar("T")
 
 
 def check_run_index(run: int, n_runs: int) -> None:
@@ -70,3 +73,33 @@ class BatchResult:
             Requested run.
         """
         check_run_index(run, self.n_runs)  # type: ignore[attr-defined]
+
+
+def as_list(items: T | Sequence[T], cls: type[T], name: str | None = None) -> list[T]:
+    """One result or a sequence of results as a non-empty list, each checked against ``cls``.
+
+    Parameters
+    ----------
+    items : cls or sequence of cls
+        One result or several.
+    cls : type
+        The class every item must be an instance of.
+    name : str, optional
+        Argument name for the error message.
+
+    Returns
+    -------
+    list of cls
+
+    Raises
+    ------
+    NoisevarError
+        When ``items`` is empty or holds anything but ``cls`` instances.
+    """
+    out = [items] if isinstance(items, cls) else list(items)  # type: ignore[arg-type]
+    if not out or not all(isinstance(r, cls) for r in out):
+        what = f"{name}: " if name else ""
+        raise NoisevarError(
+            f"{what}give a {cls.__name__} or a non-empty list of {cls.__name__} objects"
+        )
+    return out
