@@ -31,7 +31,7 @@ from noisevar.figures._common import (
 _KIND_COLOR = {"ours": PALETTE[2], "somd": PALETTE[0], "peer": PALETTE[9]}
 
 
-def compare_figure(
+def compare_figure(  # long: one figure, built trace by trace in drawing order
     comp: Comparison, title: str | None = None, height: int | None = None
 ) -> go.Figure:
     """Every method's estimate with its 95 % interval (and the truth when known).
@@ -111,7 +111,7 @@ def compare_figure(
     return go.Figure(data=data, layout=lay)
 
 
-def monte_carlo_figure(
+def monte_carlo_figure(  # long: one figure, built trace by trace in drawing order
     mc: MonteCarloResult, bins: int = 40, cols: int = 3, title: str | None = None
 ) -> go.Figure:
     """Relative-error histogram per method (the paper's Fig. 2) with the Cramér-Rao floor.

@@ -131,7 +131,7 @@ def envelope_figure(
     return go.Figure(data=data, layout=layout(title, height, annotations=anns, **axes))
 
 
-def scan_figure(
+def scan_figure(  # long: one figure, built trace by trace in drawing order
     scan: HScan,
     h_selected: Sequence[float] = (),
     h_track: float | None = None,

@@ -148,7 +148,7 @@ def track_figure(
     return go.Figure(data=data, layout=lay)
 
 
-def states_figure(
+def states_figure(  # long: one figure, built trace by trace in drawing order
     results: Results,
     run: int = 0,
     states: Sequence[int] | None = None,
@@ -331,7 +331,7 @@ def r_estimates_figure(
     return fig
 
 
-def innovations_figure(
+def innovations_figure(  # long: one figure, built trace by trace in drawing order
     result: FilterResult,
     run: int = 0,
     nis_window: int = 50,

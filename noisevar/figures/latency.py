@@ -68,7 +68,7 @@ def records_figure(
     )
 
 
-def cost_figure(
+def cost_figure(  # long: one figure, built trace by trace in drawing order
     result: LatencyResult,
     segments: bool = True,
     title: str | None = "Least-squares cost against the shift",

@@ -115,7 +115,7 @@ def _fmt(v: float) -> str:
 
 
 # ------------------------------------------------------------------------ SOMD
-def somd_figure(
+def somd_figure(  # long: one figure, built trace by trace in drawing order
     z: ArrayLike,
     est: VarianceEstimate,
     sample_period: float | None = None,
@@ -291,7 +291,7 @@ def _rejection_marks(
     return out
 
 
-def window_tests_figure(
+def window_tests_figure(  # long: one figure, built trace by trace in drawing order
     selection: WindowSelection,
     gamma_amp: float,
     gamma_ang: float,
