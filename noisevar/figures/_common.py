@@ -1,9 +1,11 @@
 """Plotly figure builders: they take noisevar results and return ``plotly.graph_objects.Figure``.
 
 Usable from a notebook as well as from the dashboard (no Streamlit here).
-Submodules: :mod:`noisevar.figures.estimator` (signal, SOMD steps, method
-comparison, Monte Carlo, redundant sensors) and the filter families
-(``kalman``, ``fusion``, ``robust``, ``carrier``, ``latency``).
+Submodules: :mod:`noisevar.figures.estimator` (signal, tables; re-exports
+``windows``: SOMD steps and window tests, ``envelope``: envelopes, h scan and
+window variances, ``compare``: methods side by side and redundant sensors) and
+the filter families (``kalman``, ``fusion``, ``robust``, ``carrier``,
+``latency``). Line, band and axis shapes live in ``_shapes`` (re-exported).
 
 This package module holds the shared tooling:
 

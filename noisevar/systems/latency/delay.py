@@ -121,24 +121,21 @@ def _refine(
 ) -> tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.float64]]:
     """Sub-sample minimum and its variance, for every row of ``costs``.
 
-    The vertex: a parabola through the costs at the best shift ``s0`` and its
-    two neighbours, ``s* = s0 + (c- - c+) / (4 a3)`` with
-    ``a3 = (c- - 2 c0 + c+) / 2`` (docs/algorithms.md §C).
+    Returns
+    -------
+    delay : ndarray
+        Refined delay (s): the vertex of the parabola through the best shift
+        and its two neighbours.
+    shift : ndarray of int
+        The integer shift of the minimum.
+    variance : ndarray
+        Gauss-Newton variance ``T² c_min / (m a)`` (s²) with ``a`` fitted over
+        ``±curvature_halfwidth`` shifts, plus the scatter term; ``inf`` at the
+        search edge or for a non-positive curvature.
 
-    The variance: with ``c(s) ≈ a (s - s*)^2 + c_min`` the Gauss-Newton
-    variance of the delay is ``T^2 c_min / (m a)``. Two corrections make it
-    honest (we checked it against Monte Carlo errors): the curvature ``a`` is
-    fitted by least squares over ``s0 ± curvature_halfwidth`` shifts rather
-    than taken from the three-point parabola (on a segment where the signal
-    hardly changes the three-point curvature is mostly noise), and the scatter
-    ``s_c^2`` of the costs about that fitted parabola adds
-    ``T^2 s_c^2 / (8 a^2)``: each integer shift pairs the late samples with
-    other noise samples of the reference, so the three costs the vertex is
-    read from are not on one smooth curve.
-
-    Returns the refined delay (s), the integer shift, and the variance (s^2,
-    ``inf`` where the minimum is at the search edge or the fitted curvature is
-    not positive).
+    Notes
+    -----
+    Equations in docs/algorithms.md §C.
     """
     n_rows, n_shifts = costs.shape
     best = np.argmin(costs, axis=-1)
