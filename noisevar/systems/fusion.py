@@ -220,7 +220,7 @@ def _restore(strategy: RStrategy, saved: dict[str, NDArray], runs: NDArray[np.bo
             setattr(strategy, key, current)
 
 
-def run_fusion(  # long: one time loop of local updates, isolation and fusion
+def run_fusion(
     data: FusionData,
     local: str = "vb",
     isolation: bool = False,
