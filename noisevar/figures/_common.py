@@ -1,9 +1,11 @@
 """Plotly figure builders: they take noisevar results and return ``plotly.graph_objects.Figure``.
 
 Usable from a notebook as well as from the dashboard (no Streamlit here).
-Submodules: :mod:`noisevar.figures.estimator` (signal, SOMD steps, method
-comparison, Monte Carlo, redundant sensors) and the filter families
-(``kalman``, ``fusion``, ``robust``, ``carrier``, ``latency``).
+Submodules: :mod:`noisevar.figures.estimator` (signal, tables; re-exports
+``windows``: SOMD steps and window tests, ``envelope``: envelopes, h scan and
+window variances, ``compare``: methods side by side and redundant sensors) and
+the filter families (``kalman``, ``fusion``, ``robust``, ``carrier``,
+``latency``). Line, band and axis shapes live in ``_shapes`` (re-exported).
 
 This package module holds the shared tooling:
 
@@ -18,11 +20,12 @@ This package module holds the shared tooling:
   sample indices; :func:`range_to_slice` turns a box selection back into a
   sample slice.
 * :func:`to_html` / :func:`to_png` export a figure (PNG through ``kaleido``).
+* :func:`as_list` and :func:`check_run` are the one result/run check every
+  figure module uses (the :class:`~noisevar.systems.base.RunResult` protocol).
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -30,6 +33,9 @@ import plotly.graph_objects as go
 from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
+from noisevar.figures._shapes import band, hline, stacked_axes, step_xy, vline
+from noisevar.kalman.result import FilterResult
+from noisevar.systems.base import RunResult, as_list, check_run_index
 
 #: Default number of points drawn per trace of a long record.
 MAX_POINTS = 4000
@@ -69,18 +75,26 @@ PALETTE = (
 )
 
 
-def check_run(run: int, n_runs: int) -> None:
-    """Refuse a Monte Carlo run index outside ``0 .. n_runs - 1`` with a clear message.
+def check_run(result: RunResult | FilterResult, run: int) -> None:
+    """Refuse a Monte Carlo run index that ``result`` does not hold.
 
     Parameters
     ----------
+    result : RunResult or FilterResult
+        A system result (:class:`~noisevar.systems.base.RunResult`) or a
+        Kalman filter result (one run unless batched).
     run : int
         Requested run.
-    n_runs : int
-        Runs the result holds.
+
+    Raises
+    ------
+    NoisevarError
+        When ``run`` is outside ``0 .. n_runs - 1``.
     """
-    if not 0 <= run < n_runs:
-        raise NoisevarError(f"run {run} out of range: the result has {n_runs} runs")
+    if isinstance(result, RunResult):
+        result.check_run(run)
+        return
+    check_run_index(run, int(result.x.shape[0]) if result.batched else 1)
 
 
 def downsample_indices(y: ArrayLike, max_points: int = MAX_POINTS) -> NDArray:
@@ -150,7 +164,18 @@ def x_axis(idx: ArrayLike, sample_period: float | None = None, t0: float = 0.0) 
 
 
 def x_title(sample_period: float | None) -> str:
-    """Axis title matching :func:`x_axis`."""
+    """Axis title matching :func:`x_axis`.
+
+    Parameters
+    ----------
+    sample_period : float or None
+        Seconds per sample; ``None`` or 0 for a sample-index axis.
+
+    Returns
+    -------
+    str
+        ``"time (s)"`` or ``"sample"``.
+    """
     return "time (s)" if sample_period else "sample"
 
 
@@ -281,111 +306,41 @@ def layout(title: str | None = None, height: int = 420, **extra: Any) -> dict[st
 
 
 def base_layout(fig: go.Figure, title: str | None = None, height: int = 420) -> go.Figure:
-    """Apply :func:`layout` to an existing figure (in place) and return it."""
+    """Apply :func:`layout` to an existing figure (in place) and return it.
+
+    Parameters
+    ----------
+    fig : plotly.graph_objects.Figure
+        The figure to style.
+    title : str, optional
+        Figure title.
+    height : int
+        Height in pixels.
+
+    Returns
+    -------
+    plotly.graph_objects.Figure
+        ``fig`` itself.
+    """
     fig.update_layout(**layout(title, height))
     return fig
 
 
-def hline(
-    y: float, color: str = "#444", dash: str = "dash", text: str | None = None, yref: str = "y"
-) -> tuple[dict[str, Any], dict[str, Any] | None]:
-    """A horizontal line across the plot as ``(shape, annotation)`` layout dicts.
-
-    Cheaper than ``fig.add_hline`` (which costs milliseconds per call).
-    """
-    shape = {
-        "type": "line",
-        "xref": "paper",
-        "x0": 0,
-        "x1": 1,
-        "yref": yref,
-        "y0": y,
-        "y1": y,
-        "line": {"color": color, "dash": dash, "width": 1.5},
-    }
-    ann = None
-    if text:
-        ann = {
-            "xref": "paper",
-            "x": 0.0,
-            "yref": yref,
-            "y": y,
-            "text": text,
-            "showarrow": False,
-            "xanchor": "left",
-            "yanchor": "bottom",
-            "font": {"size": 11, "color": color},
-        }
-    return shape, ann
-
-
-def vline(
-    x: float, color: str = "#444", dash: str = "dash", text: str | None = None, xref: str = "x"
-) -> tuple[dict[str, Any], dict[str, Any] | None]:
-    """A vertical line across the plot as ``(shape, annotation)`` layout dicts."""
-    shape = {
-        "type": "line",
-        "yref": "paper",
-        "y0": 0,
-        "y1": 1,
-        "xref": xref,
-        "x0": x,
-        "x1": x,
-        "line": {"color": color, "dash": dash, "width": 1.5},
-    }
-    ann = None
-    if text:
-        ann = {
-            "yref": "paper",
-            "y": 1.0,
-            "xref": xref,
-            "x": x,
-            "text": text,
-            "showarrow": False,
-            "xanchor": "left",
-            "yanchor": "top",
-            "font": {"size": 11, "color": color},
-        }
-    return shape, ann
-
-
-def band(
-    lo: float,
-    hi: float,
-    axis: str = "y",
-    color: str = "rgba(0,114,178,0.15)",
-    ref: str | None = None,
-) -> dict[str, Any]:
-    """A shaded band between ``lo`` and ``hi`` on one axis, spanning the other (a shape dict)."""
-    if axis == "y":
-        return {
-            "type": "rect",
-            "xref": "paper",
-            "x0": 0,
-            "x1": 1,
-            "yref": ref or "y",
-            "y0": lo,
-            "y1": hi,
-            "fillcolor": color,
-            "line": {"width": 0},
-            "layer": "below",
-        }
-    return {
-        "type": "rect",
-        "yref": "paper",
-        "y0": 0,
-        "y1": 1,
-        "xref": ref or "x",
-        "x0": lo,
-        "x1": hi,
-        "fillcolor": color,
-        "line": {"width": 0},
-        "layer": "below",
-    }
-
-
 def downsample_note(n_total: int, max_points: int = MAX_POINTS) -> dict[str, Any] | None:
-    """The annotation dict of :func:`note_downsampled` (None when nothing is dropped)."""
+    """The annotation dict of :func:`note_downsampled`.
+
+    Parameters
+    ----------
+    n_total : int
+        Samples in the record.
+    max_points : int
+        Points drawn per trace.
+
+    Returns
+    -------
+    dict or None
+        For ``layout.annotations``; None when nothing is dropped.
+    """
     if n_total <= max_points:
         return None
     return {
@@ -402,60 +357,6 @@ def downsample_note(n_total: int, max_points: int = MAX_POINTS) -> dict[str, Any
         "showarrow": False,
         "font": {"size": 11, "color": "#666"},
     }
-
-
-def stacked_axes(
-    row_heights: Sequence[float], gap: float = 0.08, titles: Sequence[str] | None = None
-) -> dict[str, Any]:
-    """Layout keys for panels stacked vertically on one shared x axis.
-
-    Traces of panel ``i`` (0 = top) use ``yaxis="y"`` for the top panel and
-    ``"y2"``, ``"y3"``... below. Cheaper than ``make_subplots``.
-
-    Parameters
-    ----------
-    row_heights : sequence of float
-        Relative panel heights, top first.
-    gap : float
-        Vertical gap between panels (fraction of the plot height).
-    titles : sequence of str, optional
-        Panel titles.
-
-    Returns
-    -------
-    dict
-        ``xaxis``, ``yaxis``, ``yaxis2``... and ``annotations`` (the titles).
-    """
-    k = len(row_heights)
-    total = float(sum(row_heights))
-    usable = 1.0 - gap * (k - 1)
-    top = 1.0
-    out: dict[str, Any] = {}
-    anns = []
-    for i, h in enumerate(row_heights):
-        frac = usable * h / total
-        lo = max(0.0, top - frac)
-        name = "yaxis" if i == 0 else f"yaxis{i + 1}"
-        out[name] = {"domain": [lo, top], "anchor": "x"}
-        if titles and i < len(titles) and titles[i]:
-            anns.append(
-                {
-                    "text": titles[i],
-                    "xref": "paper",
-                    "yref": "paper",
-                    "x": 0.0,
-                    "y": top,
-                    "xanchor": "left",
-                    "yanchor": "bottom",
-                    "showarrow": False,
-                    "font": {"size": 12},
-                }
-            )
-        top = lo - gap
-    bottom = "y" if k == 1 else f"y{k}"
-    out["xaxis"] = {"anchor": bottom}
-    out["annotations"] = anns
-    return out
 
 
 def to_html(fig: go.Figure, self_contained: bool = True) -> str:
@@ -507,32 +408,13 @@ def to_png(fig: go.Figure, width: int = 1200, height: int | None = None, scale: 
         ) from None
 
 
-def step_xy(edges: Sequence[float] | NDArray, values: ArrayLike) -> tuple[NDArray, NDArray]:
-    """Piecewise-constant line through ``values`` on intervals ``edges[i]..edges[i+1]``.
-
-    Parameters
-    ----------
-    edges : array_like, shape (k + 1,)
-        Interval boundaries.
-    values : array_like, shape (k,)
-        Value on each interval.
-
-    Returns
-    -------
-    x, y : ndarray, shape (2 k,)
-    """
-    e = np.asarray(edges, dtype=float)
-    v = np.asarray(values, dtype=float)
-    x = np.column_stack([e[:-1], e[1:]]).ravel()
-    y = np.repeat(v, 2)
-    return x, y
-
-
 __all__ = [
     "COLORS",
     "MAX_POINTS",
     "PALETTE",
+    "as_list",
     "band",
+    "check_run",
     "base_layout",
     "downsample_indices",
     "downsample_note",

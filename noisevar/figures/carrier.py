@@ -1,4 +1,4 @@
-"""Figures of carrier tracking (:class:`noisevar.systems.carrier.CarrierResult`, spec B1).
+"""Figures of carrier tracking (docs/algorithms.md §B1): they take ``CarrierResult`` objects.
 
 * :func:`phase_error_figure` — phase-error traces of the EKF and the AEKF
   (paper Figs. 2 and 3), one run.
@@ -17,8 +17,15 @@ import numpy as np
 import plotly.graph_objects as go
 from plotly.subplots import make_subplots
 
-from noisevar.errors import NoisevarError
-from noisevar.figures._common import COLORS, MAX_POINTS, PALETTE, check_run, layout, line_trace
+from noisevar.figures._common import (
+    COLORS,
+    MAX_POINTS,
+    PALETTE,
+    as_list,
+    check_run,
+    layout,
+    line_trace,
+)
 from noisevar.systems.carrier import CarrierResult, CarrierSweep
 
 Results = CarrierResult | Sequence[CarrierResult]
@@ -32,18 +39,8 @@ LABELS = {
 }
 
 
-def _as_list(results: Results) -> list[CarrierResult]:
-    out = [results] if isinstance(results, CarrierResult) else list(results)
-    if not out or not all(isinstance(r, CarrierResult) for r in out):
-        raise NoisevarError("give a CarrierResult or a list of CarrierResult objects")
-    return out
-
-
-def _check_run(result: CarrierResult, run: int) -> None:
-    check_run(run, result.estimate.shape[0])
-
-
 def _rule_label(method: str, q_rule: str, default: str) -> str:
+    """Legend label of a filter: the AEKF named by its ``Q`` rule."""
     if method == "aekf":  # name the Q rule the filter ran with
         rule = {"paper": "aekf_paper_q", "scaled": "aekf_scaled", "none": "aekf_r_only"}
         return LABELS[rule.get(q_rule, "aekf")]
@@ -51,6 +48,7 @@ def _rule_label(method: str, q_rule: str, default: str) -> str:
 
 
 def _label(r: CarrierResult) -> str:
+    """Legend label of a result (a nominal-design EKF says so)."""
     if r.method == "ekf" and r.measurement_variance != 1.0:
         return "EKF, nominal design (fixed R, Q)"
     return _rule_label(r.method, r.q_rule, r.method)
@@ -77,10 +75,10 @@ def phase_error_figure(
     -------
     go.Figure
     """
-    res = _as_list(results)
+    res = as_list(results, CarrierResult)
     traces = []
     for i, r in enumerate(res):
-        _check_run(r, run)
+        check_run(r, run)
         slip = " — slipped" if r.slipped[run] else ""
         trace, _ = line_trace(
             r.phase_error[run],
@@ -122,8 +120,8 @@ def doppler_figure(
     -------
     go.Figure
     """
-    res = _as_list(results)
-    _check_run(res[0], run)
+    res = as_list(results, CarrierResult)
+    check_run(res[0], run)
     T = res[0].scenario.integration_s
     truth, _ = line_trace(
         res[0].true_doppler_hz[run],
@@ -165,10 +163,10 @@ def adaptation_figure(
     -------
     go.Figure
     """
-    res = _as_list(results)
+    res = as_list(results, CarrierResult)
     fig = make_subplots(rows=2, cols=1, shared_xaxes=True, vertical_spacing=0.08)
     for i, r in enumerate(res):
-        _check_run(r, run)
+        check_run(r, run)
         color = PALETTE[i % len(PALETTE)]
         T = r.scenario.integration_s
         tr, _ = line_trace(
@@ -211,7 +209,7 @@ def iq_figure(
     -------
     go.Figure
     """
-    _check_run(result, run)
+    check_run(result, run)
     iq = result.iq[run]
     step = max(1, iq.shape[0] // max_points)
     pts = iq[::step]

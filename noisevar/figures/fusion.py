@@ -1,4 +1,4 @@
-"""Figures of distributed fusion (:class:`noisevar.systems.fusion.FusionResult`, spec B2).
+"""Figures of distributed fusion (docs/algorithms.md §B2): they take ``FusionResult`` objects.
 
 * :func:`track_figure` — one run's true path and the fused estimates.
 * :func:`error_figure` — position error over time (RMS over runs) of several
@@ -22,6 +22,7 @@ from noisevar.figures._common import (
     COLORS,
     MAX_POINTS,
     PALETTE,
+    as_list,
     band,
     check_run,
     downsample_indices,
@@ -33,18 +34,8 @@ from noisevar.systems.fusion import FusionResult
 Results = FusionResult | Sequence[FusionResult]
 
 
-def _as_list(results: Results) -> list[FusionResult]:
-    out = [results] if isinstance(results, FusionResult) else list(results)
-    if not out or not all(isinstance(r, FusionResult) for r in out):
-        raise NoisevarError("give a FusionResult or a list of FusionResult objects")
-    return out
-
-
-def _check_run(result: FusionResult, run: int) -> None:
-    check_run(run, result.x.shape[0])
-
-
 def _fault_band(result: FusionResult) -> list[dict]:
+    """The fault interval as a shaded time band (none when it covers nothing or everything)."""
     mask = result.fault_mask
     if not mask.any() or mask.all():
         return []
@@ -74,8 +65,8 @@ def track_figure(
     -------
     go.Figure
     """
-    res = _as_list(results)
-    _check_run(res[0], run)
+    res = as_list(results, FusionResult)
+    check_run(res[0], run)
     truth = res[0].truth[run]
     traces = [
         go.Scatter(
@@ -134,7 +125,7 @@ def error_figure(
     -------
     go.Figure
     """
-    res = _as_list(results)
+    res = as_list(results, FusionResult)
     traces = []
     dt = float(res[0].time[1] - res[0].time[0]) if res[0].time.size > 1 else 1.0
     for i, r in enumerate(res):
@@ -142,7 +133,7 @@ def error_figure(
         if run is None:
             y = np.sqrt(np.mean(e**2, axis=0))
         else:
-            _check_run(r, run)
+            check_run(r, run)
             y = e[run]
         trace, _ = line_trace(
             y,
@@ -200,7 +191,7 @@ def r_track_figure(
         with np.errstate(all="ignore"):
             est = np.nanmean(track, axis=0) if np.isfinite(track).any() else track[0]
     else:
-        _check_run(result, run)
+        check_run(result, run)
         est = track[run]
     dt = float(result.time[1] - result.time[0]) if result.time.size > 1 else 1.0
     t_est, _ = line_trace(
@@ -247,7 +238,7 @@ def isolation_figure(
     -------
     go.Figure
     """
-    _check_run(result, run)
+    check_run(result, run)
     dt = float(result.time[1] - result.time[0]) if result.time.size > 1 else 1.0
     traces = []
     shapes = _fault_band(result)

@@ -26,6 +26,8 @@ from noisevar.figures._common import (
     COLORS,
     MAX_POINTS,
     PALETTE,
+    as_list,
+    check_run,
     downsample_indices,
     layout,
     line_trace,
@@ -36,25 +38,18 @@ from noisevar.kalman.result import FilterResult, wrap_angle
 Results = FilterResult | Sequence[FilterResult]
 
 
-def _as_list(results: Results) -> list[FilterResult]:
-    out = [results] if isinstance(results, FilterResult) else list(results)
-    if not out or not all(isinstance(r, FilterResult) for r in out):
-        raise NoisevarError("give a FilterResult or a list of FilterResult objects")
-    return out
-
-
 def _pick(a: NDArray | None, result: FilterResult, run: int) -> NDArray | None:
     """The arrays of one run of a (possibly batched) result."""
     if a is None:
         return None
     if not result.batched:
         return a
-    if not 0 <= run < a.shape[0]:
-        raise NoisevarError(f"run {run} out of range: the result has {a.shape[0]} runs")
+    check_run(result, run)
     return a[run]
 
 
 def _color(i: int) -> str:
+    """The ``i``-th colour of the palette, cycling."""
     return PALETTE[i % len(PALETTE)]
 
 
@@ -103,7 +98,7 @@ def track_figure(
     -------
     go.Figure
     """
-    res = _as_list(results)
+    res = as_list(results, FilterResult)
     i, j = states
     data: list[go.Scatter] = []
     first = res[0]
@@ -153,7 +148,7 @@ def track_figure(
     return go.Figure(data=data, layout=lay)
 
 
-def states_figure(
+def states_figure(  # long: one figure, built trace by trace in drawing order
     results: Results,
     run: int = 0,
     states: Sequence[int] | None = None,
@@ -186,7 +181,7 @@ def states_figure(
     -------
     go.Figure
     """
-    res = _as_list(results)
+    res = as_list(results, FilterResult)
     first = res[0]
     n = _pick(first.x, first, run).shape[1]
     states = list(range(n)) if states is None else list(states)
@@ -286,7 +281,7 @@ def r_estimates_figure(
     -------
     go.Figure
     """
-    res = _as_list(results)
+    res = as_list(results, FilterResult)
     first = res[0]
     R0 = _pick(first.R, first, run)
     N, m = R0.shape[0], R0.shape[1]
@@ -336,7 +331,7 @@ def r_estimates_figure(
     return fig
 
 
-def innovations_figure(
+def innovations_figure(  # long: one figure, built trace by trace in drawing order
     result: FilterResult,
     run: int = 0,
     nis_window: int = 50,

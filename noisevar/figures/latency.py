@@ -1,4 +1,4 @@
-"""Figures of the GPS latency method (:class:`noisevar.systems.latency.LatencyResult`, spec C).
+"""Figures of the GPS latency method (docs/algorithms.md §C): they take a ``LatencyResult``.
 
 * :func:`records_figure` — the on-time (AHRS) and late (GPS) speeds, and the
   GPS speed moved back by the estimated delay (paper Figs. 4, 6, 8).
@@ -68,7 +68,7 @@ def records_figure(
     )
 
 
-def cost_figure(
+def cost_figure(  # long: one figure, built trace by trace in drawing order
     result: LatencyResult,
     segments: bool = True,
     title: str | None = "Least-squares cost against the shift",

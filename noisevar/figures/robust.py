@@ -1,4 +1,4 @@
-"""Figures of the robust DME/VOR filter (:class:`noisevar.systems.robust.RobustResult`, spec B3).
+"""Figures of the robust DME/VOR filter (docs/algorithms.md §B3): they take a ``RobustResult``.
 
 * :func:`track_figure` — the station, the true path, the positions the
   range/bearing measurements imply (outliers marked) and each filter's track.
@@ -33,11 +33,8 @@ LABELS = {
 }
 
 
-def _check_run(result: RobustResult, run: int) -> None:
-    check_run(run, result.data.runs)
-
-
 def _zone_shapes(result: RobustResult) -> list[dict]:
+    """The outlier zone (samples near the station) as a shaded time band."""
     near = result.data.near_station
     if not near.any():
         return []
@@ -48,19 +45,26 @@ def _zone_shapes(result: RobustResult) -> list[dict]:
 def measured_positions(result: RobustResult, run: int = 0) -> np.ndarray:
     """Horizontal positions implied by range and bearing, taking the bearing as true (m).
 
+    Parameters
+    ----------
+    result : RobustResult
+        From :func:`~noisevar.systems.robust.run_robust`.
+    run : int
+        Monte Carlo run.
+
     Returns
     -------
     ndarray, shape (N, 2)
         ``[east, north]`` of each sample of run ``run``.
     """
-    _check_run(result, run)
+    check_run(result, run)
     z = result.data.z[run]
     h = result.data.scenario.height_m
     horiz = np.sqrt(np.maximum(z[:, 0] ** 2 - h * h, 0.0))
     return np.stack([horiz * np.sin(z[:, 1]), horiz * np.cos(z[:, 1])], axis=-1)
 
 
-def track_figure(
+def track_figure(  # long: one figure, built trace by trace in drawing order
     result: RobustResult,
     run: int = 0,
     max_points: int = MAX_POINTS,
@@ -165,7 +169,7 @@ def error_figure(
     go.Figure
     """
     if run is not None:
-        _check_run(result, run)
+        check_run(result, run)
     dt = result.data.scenario.dt
     traces = []
     for i, name in enumerate(result.filters):
@@ -210,7 +214,7 @@ def magvar_figure(
     -------
     go.Figure
     """
-    _check_run(result, run)
+    check_run(result, run)
     t = result.data.time
     traces = []
     for i, name in enumerate(result.filters):
@@ -275,7 +279,7 @@ def bearing_figure(
     -------
     go.Figure
     """
-    _check_run(result, run)
+    check_run(result, run)
     data = result.data
     true_bearing = np.arctan2(data.truth[:, 0], data.truth[:, 1]) - data.truth[:, 4]
     err = np.rad2deg(np.angle(np.exp(1j * (data.z[run, :, 1] - true_bearing))))

@@ -1,56 +1,22 @@
-"""Distributed VB-adaptive fusion with chi-square fault isolation (spec B2).
+"""Distributed VB-adaptive fusion with chi-square fault isolation (docs/algorithms.md §B2).
 
-Seed ``vb-distributed-fusion.txt``. Several sensors observe one target; each
-sensor ``i`` has its own local Kalman filter (built on
-:class:`noisevar.kalman.KalmanFilter`, with the variational-Bayes
-``R``-adaptation strategy :class:`noisevar.kalman.VariationalBayesR`, paper
-eqs. (29)-(30), or a fixed / oracle ``R``). The fusion centre combines the
-local filters in information form, paper eq. (24) (with eq. (8) for the
-covariance)::
+Each sensor has a local Kalman filter (variational-Bayes ``R``, eqs. (29)-(30),
+or a fixed / oracle ``R``); the fusion centre adds their information gains,
+eq. (24) with eq. (8) (docs/algorithms.md §G6), which equals the centralised
+filter on the stacked measurements. A sensor whose NIS exceeds
+``χ²_m(1 - false_alarm)`` is isolated for that step (time update only).
 
-    P⁻¹ = P_pred⁻¹ + Σ_i (P_i⁻¹ - P_i,pred⁻¹)                                (8)
-    x̂  = P · (P_pred⁻¹ x̂_pred + Σ_i (P_i⁻¹ x̂_i - P_i,pred⁻¹ x̂_i,pred))     (24)
-
-Because ``P_i⁻¹ - P_i,pred⁻¹ = H_iᵀ R_i⁻¹ H_i`` and
-``P_i⁻¹ x̂_i - P_i,pred⁻¹ x̂_i,pred = H_iᵀ R_i⁻¹ z_i`` for any Kalman update
-(eqs. (21)-(23)), this equals the centralised Kalman filter on the stacked
-measurements, whatever the local filters' own priors: we test it to 1e-8.
-
-Fault isolation: before a local update, the sensor's normalised innovation
-squared ``NIS = dᵀ (H P_i,pred Hᵀ + R_i)⁻¹ d`` (with the ``R_i`` the local
-filter used at its previous update) is compared with the chi-square quantile
-``χ²_{m_i}(1 - false_alarm)``. A flagged local filter does only its time
-update for that step (``x̂_i = x̂_i,pred``, ``P_i = P_i,pred``), so it adds
-nothing to the sums above, and its ``R`` strategy does not learn from the
-rejected sample; it contributes again as soon as a sample passes the test
-("until it recovers").
-
-Choices stated here (the paper leaves them open):
-
-* **Feedback** (default on): after each fusion, every local filter is reset to
-  the fused estimate (the "reset" mode of federated filters). The local
-  filters then share the fused prediction; the equivalence above holds either
-  way, but without feedback a sensor that sees only velocity has a local
-  position covariance that grows without bound. ``feedback=False`` gives the
-  paper's independent local filters.
-* A per-run isolation inside a batch of Monte Carlo runs is done by updating
-  all runs and putting the flagged runs back (state, covariance and the
-  strategy's per-run arrays), so the batch stays vectorised.
-* Scenario: a 2-D target with a nearly-constant-velocity model (white
-  acceleration), two position sensors and one velocity sensor, 1 s steps.
-  Faults on one sensor: its noise standard deviation steps up or ramps up
-  (``noise_factor`` times), a large bias (``bias_sigmas`` standard
-  deviations), or a frozen output (the last good sample repeated).
-
-Entry points: :func:`simulate_fusion` (seeded scenario, batched over runs),
-:func:`run_fusion` (distributed filter, isolation optional),
-:func:`run_centralized` (the stacked Kalman filter of the core, for the
-equivalence), :func:`position_rmse`.
+Notes
+-----
+By default every local filter is reset to the fused estimate after each step
+(``feedback=True``); a per-run isolation inside a batch updates all runs and
+puts the flagged ones back. The scenario lives in
+:mod:`noisevar.systems.fusion_scenario` and is re-exported here.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -67,267 +33,41 @@ from noisevar.kalman import (
     VariationalBayesR,
     run_filter,
 )
+from noisevar.systems.base import BatchResult
+from noisevar.systems.fusion_scenario import (
+    FAULTS,
+    FusionData,
+    FusionScenario,
+    Sensor,
+    default_sensors,
+    simulate_fusion,
+)
 
-FAULTS = ("none", "noise-step", "noise-ramp", "bias", "frozen")
+__all__ = [
+    "FAULTS",
+    "LOCAL_STRATEGIES",
+    "STATE_NAMES",
+    "FusionData",
+    "FusionResult",
+    "FusionScenario",
+    "Sensor",
+    "default_sensors",
+    "max_abs_diff_vs_centralized",
+    "position_rmse",
+    "run_centralized",
+    "run_fusion",
+    "simulate_fusion",
+]
+
 LOCAL_STRATEGIES = ("vb", "fixed", "oracle")
 STATE_NAMES = ("east", "north", "v_east", "v_north")
-
-
-# ---------------------------------------------------------------------------
-# Scenario
-# ---------------------------------------------------------------------------
-@dataclass(frozen=True)
-class Sensor:
-    """One sensor of the fusion scenario: ``z = H x + v``, ``v ~ N(0, diag(std²))``.
-
-    Parameters
-    ----------
-    name : str
-        Label.
-    H : array_like, shape (m, 4)
-        Measurement matrix on the state ``[east, north, v_east, v_north]``.
-    noise_std : array_like, shape (m,)
-        Nominal (pre-fault) noise standard deviation of each component.
-    """
-
-    name: str
-    H: NDArray[np.float64]
-    noise_std: NDArray[np.float64]
-
-    def __post_init__(self) -> None:
-        H = np.atleast_2d(np.asarray(self.H, dtype=float))
-        std = np.atleast_1d(np.asarray(self.noise_std, dtype=float))
-        if H.ndim != 2 or H.shape[1] != 4 or std.shape != (H.shape[0],):
-            raise NoisevarError(
-                f"sensor {self.name!r}: H must be (m, 4) and noise_std (m,); got "
-                f"{H.shape} and {std.shape}."
-            )
-        if not np.all(std > 0):
-            raise NoisevarError(f"sensor {self.name!r}: noise_std must be positive.")
-        object.__setattr__(self, "H", H)
-        object.__setattr__(self, "noise_std", std)
-
-    @property
-    def n_measurements(self) -> int:
-        """Number of measured components ``m``."""
-        return int(self.H.shape[0])
-
-
-def default_sensors() -> tuple[Sensor, ...]:
-    """Two position sensors (10 m and 15 m) and one velocity sensor (0.5 m/s)."""
-    pos = np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0]])
-    vel = np.array([[0, 0, 1.0, 0], [0, 0, 0, 1.0]])
-    return (
-        Sensor("position A", pos, np.array([10.0, 10.0])),
-        Sensor("position B", pos, np.array([15.0, 15.0])),
-        Sensor("velocity", vel, np.array([0.5, 0.5])),
-    )
-
-
-@dataclass(frozen=True)
-class FusionScenario:
-    """Parameters of the multi-sensor scenario.
-
-    Parameters
-    ----------
-    n_steps : int
-        Number of fusion steps.
-    dt : float
-        Step (s).
-    accel_psd : float
-        Spectral density of the white acceleration (m²/s³) of the
-        nearly-constant-velocity model (truth and filters).
-    speed : float
-        Initial speed (m/s); the heading is drawn at random.
-    sensors : tuple of Sensor
-        The sensors (default :func:`default_sensors`).
-    fault : {"none", "noise-step", "noise-ramp", "bias", "frozen"}
-        What happens to sensor ``faulty_sensor``.
-    faulty_sensor : int
-        Index of the sensor that misbehaves.
-    fault_start, fault_end : float
-        Fault interval as fractions of the record (the ramp rises over it;
-        the step, bias and freeze last over it).
-    noise_factor : float
-        Noise standard deviation multiplier at the end of the step / ramp.
-    bias_sigmas : float
-        Bias as a multiple of the sensor's noise standard deviation.
-    """
-
-    n_steps: int = 600
-    dt: float = 1.0
-    accel_psd: float = 0.05
-    speed: float = 20.0
-    sensors: tuple[Sensor, ...] = field(default_factory=default_sensors)
-    fault: str = "none"
-    faulty_sensor: int = 0
-    fault_start: float = 0.4
-    fault_end: float = 1.0
-    noise_factor: float = 4.0
-    bias_sigmas: float = 20.0
-
-    def validate(self) -> None:
-        """Raise :class:`NoisevarError` when a parameter is out of range."""
-        if len(self.sensors) == 0:
-            raise NoisevarError(
-                "the fusion scenario has zero sensors; give at least one Sensor (two or more "
-                "to fuse)."
-            )
-        if int(self.n_steps) != self.n_steps or self.n_steps < 2:
-            raise NoisevarError(f"n_steps={self.n_steps} must be an integer >= 2.")
-        if not (self.dt > 0 and self.accel_psd >= 0):
-            raise NoisevarError("dt must be positive and accel_psd >= 0.")
-        if self.fault not in FAULTS:
-            raise NoisevarError(f"fault={self.fault!r}; choose one of {', '.join(FAULTS)}.")
-        if not 0 <= self.faulty_sensor < len(self.sensors):
-            raise NoisevarError(
-                f"faulty_sensor={self.faulty_sensor} but there are {len(self.sensors)} sensors."
-            )
-        if not 0 <= self.fault_start < self.fault_end <= 1:
-            raise NoisevarError(
-                f"fault interval ({self.fault_start}, {self.fault_end}) must satisfy "
-                "0 <= start < end <= 1 (fractions of the record)."
-            )
-        if not self.noise_factor > 0:
-            raise NoisevarError(f"noise_factor={self.noise_factor} must be positive.")
-
-    def model_matrices(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """``F`` and ``Q`` of the nearly-constant-velocity model."""
-        dt, q = self.dt, self.accel_psd
-        F = np.eye(4)
-        F[0, 2] = F[1, 3] = dt
-        block = q * np.array([[dt**3 / 3, dt**2 / 2], [dt**2 / 2, dt]])
-        Q = np.zeros((4, 4))
-        Q[np.ix_([0, 2], [0, 2])] = block
-        Q[np.ix_([1, 3], [1, 3])] = block
-        return F, Q
-
-
-@dataclass(frozen=True)
-class FusionData:
-    """Simulated truth and measurements of every sensor (batched over runs).
-
-    Attributes
-    ----------
-    time : ndarray, shape (N,)
-        Step times (s).
-    truth : ndarray, shape (B, N, 4)
-        True states.
-    measurements : tuple of ndarray, shapes (B, N, m_i)
-        Each sensor's measurements.
-    noise_std : tuple of ndarray, shapes (N, m_i)
-        Each sensor's true noise standard deviation at each step.
-    fault_mask : ndarray of bool, shape (N,)
-        Steps inside the fault interval.
-    scenario : FusionScenario
-        The parameters.
-    x0, P0 : ndarray
-        Filter prior one step before the first measurement.
-    """
-
-    time: NDArray[np.float64]
-    truth: NDArray[np.float64]
-    measurements: tuple[NDArray[np.float64], ...]
-    noise_std: tuple[NDArray[np.float64], ...]
-    fault_mask: NDArray[np.bool_]
-    scenario: FusionScenario
-    x0: NDArray[np.float64]
-    P0: NDArray[np.float64]
-
-    @property
-    def runs(self) -> int:
-        """Number of Monte Carlo runs ``B``."""
-        return int(self.truth.shape[0])
-
-    def true_R(self, sensor: int) -> NDArray[np.float64]:
-        """True measurement variances of ``sensor`` at each step, shape (N, m)."""
-        return self.noise_std[sensor] ** 2
-
-
-def simulate_fusion(
-    scenario: FusionScenario | None = None, seed: int = 0, runs: int = 1
-) -> FusionData:
-    """Simulate the target and all sensors for ``runs`` Monte Carlo runs.
-
-    Parameters
-    ----------
-    scenario : FusionScenario, optional
-        Parameters (default: no fault).
-    seed : int
-        Seed of the random generator.
-    runs : int
-        Number of independent runs ``B`` (one array operation for all).
-
-    Returns
-    -------
-    FusionData
-
-    Raises
-    ------
-    NoisevarError
-        For bad parameters (zero sensors, a bad fault interval, ...).
-    """
-    scenario = scenario or FusionScenario()
-    scenario.validate()
-    if int(runs) != runs or runs < 1:
-        raise NoisevarError(f"runs={runs} must be a positive integer.")
-    rng = np.random.default_rng(seed)
-    n, dt = int(scenario.n_steps), scenario.dt
-    F, Q = scenario.model_matrices()
-    heading = rng.uniform(0, 2 * np.pi, runs)
-    x_init = np.zeros((runs, 4))
-    x_init[:, 2] = scenario.speed * np.cos(heading)
-    x_init[:, 3] = scenario.speed * np.sin(heading)
-    # truth: x[k] = F x[k-1] + w; the filters' prior is one step before k = 0
-    L = np.linalg.cholesky(Q + 1e-15 * np.eye(4))
-    w = rng.standard_normal((runs, n, 4)) @ L.T
-    truth = np.empty((runs, n, 4))
-    x = x_init
-    for k in range(n):  # a 4-state recursion; n steps of tiny (B, 4) products
-        x = x @ F.T + w[:, k]
-        truth[:, k] = x
-
-    time = np.arange(n) * dt
-    frac = np.arange(n) / max(n - 1, 1)
-    fault_mask = (frac >= scenario.fault_start) & (frac <= scenario.fault_end)
-    k_start = int(np.argmax(fault_mask))
-    measurements, stds = [], []
-    for i, sensor in enumerate(scenario.sensors):
-        std = np.repeat(sensor.noise_std[None, :], n, axis=0)
-        faulty = scenario.fault != "none" and i == scenario.faulty_sensor
-        if faulty and scenario.fault == "noise-step":
-            std[fault_mask] *= scenario.noise_factor
-        elif faulty and scenario.fault == "noise-ramp":
-            span = max(scenario.fault_end - scenario.fault_start, 1e-12)
-            ramp = np.clip((frac - scenario.fault_start) / span, 0.0, 1.0)
-            std *= (1.0 + (scenario.noise_factor - 1.0) * ramp)[:, None]
-        z = truth @ sensor.H.T + rng.standard_normal((runs, n, sensor.n_measurements)) * std
-        if faulty and scenario.fault == "bias":
-            z[:, fault_mask] += scenario.bias_sigmas * sensor.noise_std
-        elif faulty and scenario.fault == "frozen":
-            hold = z[:, max(k_start - 1, 0)]
-            z[:, fault_mask] = hold[:, None, :]
-        measurements.append(z)
-        stds.append(std)
-    P0 = np.diag([100.0**2, 100.0**2, 10.0**2, 10.0**2])
-    x0 = np.zeros(4)
-    return FusionData(
-        time=time,
-        truth=truth,
-        measurements=tuple(measurements),
-        noise_std=tuple(stds),
-        fault_mask=fault_mask,
-        scenario=scenario,
-        x0=x0,
-        P0=P0,
-    )
 
 
 # ---------------------------------------------------------------------------
 # Filters
 # ---------------------------------------------------------------------------
 @dataclass(frozen=True)
-class FusionResult:
+class FusionResult(BatchResult):
     """A fused run: estimates, per-sensor ``R`` tracks and isolation flags.
 
     Attributes
@@ -367,6 +107,11 @@ class FusionResult:
     threshold: NDArray[np.float64]
     sensor_names: tuple[str, ...]
     fault_mask: NDArray[np.bool_]
+
+    @property
+    def n_runs(self) -> int:
+        """Number of Monte Carlo runs ``B``."""
+        return int(self.x.shape[0])
 
     def position_error(self) -> NDArray[np.float64]:
         """Horizontal position error ``|p̂ - p|`` (m), shape (B, N)."""
@@ -571,23 +316,7 @@ def run_fusion(
             isolated[:, k, i] = flagged
             R_diag = np.diagonal(np.broadcast_to(filt.R, (B, *filt.R.shape[-2:])), 0, -2, -1)
             R_out[i][:, k] = np.where(flagged[:, None], np.nan, R_diag)
-        # eq. (24): every local filter's information gain, all sensors in one inversion
-        P_inv = np.linalg.inv(np.stack([f.P for f in filters]))
-        x_loc = np.stack([f.x for f in filters])[..., None]
-        xp_loc = np.stack([f.x_pred for f in filters])[..., None]
-        if feedback:  # the local predictions are the fused one: P_i,pred = P_pred
-            Pp_inv = np.broadcast_to(info, P_inv.shape)
-        else:
-            Pp_inv = np.linalg.inv(np.stack([f.P_pred for f in filters]))
-        info_i = P_inv - Pp_inv
-        vec_i = (P_inv @ x_loc - Pp_inv @ xp_loc)[..., 0]
-        info_i[flags] = 0.0  # an isolated sensor adds nothing
-        vec_i[flags] = 0.0
-        info = info + info_i.sum(axis=0)
-        info_vec = info_vec + vec_i.sum(axis=0)
-        P = np.linalg.inv(info)
-        P = 0.5 * (P + P.mT)
-        x = (P @ info_vec[:, :, None])[:, :, 0]
+        x, P = _fuse(filters, info, info_vec, flags, feedback)
         x_out[:, k] = x
         P_out[:, k] = P
     label = local + ("+isolation" if isolation else "")
@@ -605,6 +334,37 @@ def run_fusion(
         sensor_names=tuple(s.name for s in sensors),
         fault_mask=data.fault_mask,
     )
+
+
+def _fuse(
+    filters: list[KalmanFilter],
+    info: NDArray[np.float64],
+    info_vec: NDArray[np.float64],
+    flags: NDArray[np.bool_],
+    feedback: bool,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The fused ``x̂`` and ``P`` of one step from the local filters (eqs. (8), (24))."""
+    # every local filter's information gain, all sensors in one inversion
+    P_inv = np.linalg.inv(np.stack([f.P for f in filters]))
+    x_loc = np.stack([f.x for f in filters])[..., None]
+    xp_loc = np.stack([f.x_pred for f in filters])[..., None]
+    if feedback:  # the local predictions are the fused one: P_i,pred = P_pred
+        Pp_inv = np.broadcast_to(info, P_inv.shape)
+    else:
+        Pp_inv = np.linalg.inv(np.stack([f.P_pred for f in filters]))
+    # P_i⁻¹ - P_i,pred⁻¹ and P_i⁻¹ x̂_i - P_i,pred⁻¹ x̂_i,pred
+    info_i = P_inv - Pp_inv
+    vec_i = (P_inv @ x_loc - Pp_inv @ xp_loc)[..., 0]
+    info_i[flags] = 0.0  # an isolated sensor adds nothing
+    vec_i[flags] = 0.0
+    # P⁻¹ = P_pred⁻¹ + Σ_i (P_i⁻¹ - P_i,pred⁻¹)   (8)
+    info = info + info_i.sum(axis=0)
+    info_vec = info_vec + vec_i.sum(axis=0)
+    P = np.linalg.inv(info)
+    P = 0.5 * (P + P.mT)
+    # x̂ = P (P_pred⁻¹ x̂_pred + Σ_i (P_i⁻¹ x̂_i - P_i,pred⁻¹ x̂_i,pred))   (24)
+    x = (P @ info_vec[:, :, None])[:, :, 0]
+    return x, P
 
 
 def run_centralized(data: FusionData) -> FilterResult:

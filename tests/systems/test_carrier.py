@@ -1,4 +1,4 @@
-"""Adaptive-EKF carrier tracking of a weak GPS signal (spec B1)."""
+"""Adaptive-EKF carrier tracking of a weak GPS signal (docs/algorithms.md §B1)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Distributed VB fusion with fault isolation (spec B2)."""
+"""Distributed VB fusion with fault isolation (docs/algorithms.md §B2)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Scenarios (gps-circle exactly per spec A9, noise changes, outliers), experiments and figures."""
+"""Scenarios (gps-circle, docs/algorithms.md §A9; noise changes; outliers) and their figures."""
 
 from __future__ import annotations
 

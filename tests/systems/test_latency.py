@@ -1,4 +1,4 @@
-"""GPS latency (spec C): least-squares delay, segments, random-constant filter, experiment."""
+"""GPS latency (docs/algorithms.md §C): least-squares delay, segments, random-constant filter."""
 
 from __future__ import annotations
 

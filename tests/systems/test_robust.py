@@ -1,4 +1,4 @@
-"""Robust Huber EKF with a magnetic-variation state (spec B3)."""
+"""Robust Huber EKF with a magnetic-variation state (docs/algorithms.md §B3)."""
 
 from __future__ import annotations
 

@@ -1,0 +1,80 @@
+"""The shared result/run checks of the figures (as_list, check_run) and the downsampling."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from noisevar.errors import NoisevarError
+from noisevar.figures._common import MAX_POINTS, as_list, check_run, downsample_indices, line_trace
+from noisevar.kalman import FixedR
+from noisevar.systems.base import RunResult, check_run_index
+from noisevar.systems.fusion import FusionData, FusionScenario, simulate_fusion
+from noisevar.systems.scenarios import noise_step
+
+
+@pytest.fixture(scope="module")
+def data() -> FusionData:
+    return simulate_fusion(FusionScenario(n_steps=20), seed=0, runs=3)
+
+
+def test_as_list_accepts_one_result_or_a_sequence(data: FusionData) -> None:
+    assert as_list(data, FusionData) == [data]
+    assert as_list([data, data], FusionData) == [data, data]
+    assert as_list((data,), FusionData) == [data]
+
+
+@pytest.mark.parametrize("bad", [[], [object()], ["x"]])
+def test_as_list_refuses_empty_or_foreign(data: FusionData, bad: list) -> None:
+    with pytest.raises(NoisevarError, match="FusionData"):
+        as_list(bad, FusionData)
+
+
+def test_as_list_names_the_argument(data: FusionData) -> None:
+    with pytest.raises(NoisevarError, match="^noisy: "):
+        as_list([], FusionData, "noisy")
+
+
+def test_protocol_and_check_run(data: FusionData) -> None:
+    assert isinstance(data, RunResult)
+    assert data.n_runs == 3 == data.runs
+    assert data.label == "fusion/none"
+    for run in range(3):
+        check_run(data, run)
+        data.check_run(run)
+    for bad in (-1, 3, 10):
+        with pytest.raises(NoisevarError, match="out of range"):
+            check_run(data, bad)
+        with pytest.raises(NoisevarError, match="3 runs"):
+            data.check_run(bad)
+
+
+def test_check_run_index() -> None:
+    check_run_index(0, 1)
+    with pytest.raises(NoisevarError):
+        check_run_index(1, 1)
+
+
+def test_check_run_on_filter_results() -> None:
+    sc = noise_step(runs=2, seed=0, n_steps=300)
+    assert sc.n_runs == 2 and sc.label == sc.name
+    batched = sc.run(FixedR())
+    check_run(batched, 1)
+    with pytest.raises(NoisevarError, match="out of range"):
+        check_run(batched, 2)
+    sc.check_run(1)
+    with pytest.raises(NoisevarError):
+        sc.check_run(2)
+
+
+def test_downsampling_caps_points() -> None:
+    y = np.random.default_rng(1).standard_normal(MAX_POINTS * 3)
+    idx = downsample_indices(y)
+    assert idx.size <= MAX_POINTS
+    assert np.all(np.diff(idx) > 0)
+    assert downsample_indices(y[:100]).size == 100
+    tr, reduced = line_trace(y, "y", 0.1, max_points=500)
+    assert reduced
+    assert len(tr.x) <= 500 and len(tr.y) == len(tr.x)
+    tr, reduced = line_trace(y[:200], "y", max_points=500)
+    assert not reduced and len(tr.y) == 200
