@@ -9,14 +9,8 @@ the ramp plus ``--settle`` steps.
 
 from __future__ import annotations
 
-from noisevar.experiments import Experiment
-from noisevar.experiments.noise_step import add_arguments, format_table, make_run
+from noisevar.experiments.noise_step import noise_change_experiment
 
-EXPERIMENT = Experiment(
-    name="noise-ramp",
-    help="manoeuvring target whose noise std ramps up 3x mid-run: R tracking and RMSE",
-    run=make_run("noise-ramp"),
-    add_arguments=add_arguments,
-    default_runs=20,
-    format_table=format_table,
+EXPERIMENT = noise_change_experiment(
+    "noise-ramp", "manoeuvring target whose noise std ramps up 3x mid-run: R tracking and RMSE"
 )
