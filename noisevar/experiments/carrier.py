@@ -1,26 +1,9 @@
-"""``noisevar experiment carrier``: fixed EKF vs adaptive EKF carrier tracking (spec B1).
+"""``noisevar experiment carrier``: fixed vs adaptive EKF carrier tracking.
 
-One GPS L1 C/A channel at ``--cn0`` dB-Hz over ``--runs`` seeded runs
-(batched; every filter sees the same signals), then a C/N0 sweep.
-
-The comparison the paper implies: a fixed-noise EKF in a receiver is
-designed for nominal conditions, not for the C/N0 of the moment. So ``ekf``
-is the EKF designed for ``--nominal-cn0`` (default 45 dB-Hz: its phase-noise
-variance ``R/A²`` is ``1/(2 (C/N0)_nom T)``) and for manoeuvres of
-``--nominal-doppler-rate`` (default: the scenario's own, so by default only
-the C/N0 is off-design); the AEKF variants start from the same design and
-adapt. ``ekf_matched`` (true ``R``, ``Q`` matched to the manoeuvres) is kept
-as the reference, so nobody is misled about what a filter that knows the
-truth does.
-
-Metrics (issue 6): ``rms_phase_error_ekf_rad``, ``rms_phase_error_aekf_rad``,
-``loss_of_lock_ekf``, ``loss_of_lock_aekf`` (fraction of runs whose phase
-error slips a cycle), with ``ekf`` = the fixed nominal-design EKF and
-``aekf`` = eq. (22) ``R`` + the stabilised ``Q`` scaling
-(:class:`noisevar.systems.carrier.AdaptiveCarrierQR`, ``q_rule="scaled"``); the same
-two for ``ekf_matched``, ``aekf_r_only`` and ``aekf_paper_q`` (eq. (26) as
-printed, which runs away); the ``Q`` tracks; the sweep. The JSON's
-``definitions`` says all this next to the numbers.
+One GPS L1 C/A channel (``docs/algorithms.md §B1``) at ``cn0`` dB-Hz: the
+fixed EKF of a nominal design against adaptive EKFs from the same design
+(:mod:`noisevar.systems.carrier`), then a C/N0 sweep. The JSON's
+``definitions`` says what each filter is, next to the numbers.
 """
 
 from __future__ import annotations

@@ -1,15 +1,9 @@
-"""``noisevar experiment fusion``: distributed VB fusion and chi-square fault isolation (spec B2).
+"""``noisevar experiment fusion``: distributed VB fusion and chi-square fault isolation.
 
-One seeded Monte Carlo batch (``--runs``) per scenario of
-:mod:`noisevar.systems.fusion`: two position sensors and a velocity sensor, one of
-which misbehaves. Metrics (issue 6):
-
-* ``max_abs_diff_vs_centralized``: no fault, fixed ``R``, no isolation; the
-  distributed estimate (eq. (24)) against the centralised Kalman filter;
-* ``rmse_with_isolation``, ``rmse_without_isolation``: the failing sensor
-  (``--failure``: a large bias, or a frozen output), local filters ``--local``;
-* ``rmse_vb_fusion``, ``rmse_fixed_fusion``: the sensor's noise steps up;
-* ``vb_r_track``: the VB estimate of that sensor's variance against the truth.
+Two position sensors and a velocity sensor, one of which misbehaves
+(:mod:`noisevar.systems.fusion`, ``docs/algorithms.md §B2``, ``§G6``): the
+fused estimate against the centralised filter, isolation of a failing
+sensor, VB against fixed ``R`` through a noise step and ramp.
 """
 
 from __future__ import annotations
@@ -108,6 +102,19 @@ def _failures(
     return failures
 
 
+def _noise_step(
+    common: dict[str, Any], seed: int, runs: int, fa: float
+) -> tuple[FusionData, dict[str, FusionResult]]:
+    """The noise step-up scenario and the fusion runs on it."""
+    step = simulate_fusion(FusionScenario(fault="noise-step", **common), seed=seed + 1, runs=runs)
+    return step, {
+        "vb": run_fusion(step, local="vb"),
+        "fixed": run_fusion(step, local="fixed"),
+        "fixed+isolation": run_fusion(step, local="fixed", isolation=True, false_alarm=fa),
+        "oracle": run_fusion(step, local="oracle"),
+    }
+
+
 def run(
     *,
     runs: int,
@@ -128,13 +135,7 @@ def run(
     max_diff = max_abs_diff_vs_centralized(clean, central=central)
     max_diff_nofb = max_abs_diff_vs_centralized(clean, feedback=False, central=central)
 
-    step = simulate_fusion(FusionScenario(fault="noise-step", **common), seed=seed + 1, runs=runs)
-    step_res = {
-        "vb": run_fusion(step, local="vb"),
-        "fixed": run_fusion(step, local="fixed"),
-        "fixed+isolation": run_fusion(step, local="fixed", isolation=True, false_alarm=fa),
-        "oracle": run_fusion(step, local="oracle"),
-    }
+    step, step_res = _noise_step(common, seed, runs, fa)
     ramp = simulate_fusion(FusionScenario(fault="noise-ramp", **common), seed=seed + 2, runs=runs)
     rmse_ramp = {name: run_fusion(ramp, local=name).rmse() for name in ("vb", "fixed", "oracle")}
     failures = _failures(common, seed, runs, fa)

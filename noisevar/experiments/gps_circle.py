@@ -1,26 +1,9 @@
-"""``noisevar experiment gps-circle``: the 2016 paper's Table 1 and adaptive filters (spec A9).
+"""``noisevar experiment gps-circle``: the 2016 paper's Table 1 and adaptive EKFs.
 
-Scenario :func:`noisevar.systems.scenarios.gps_circle` (vehicle on a 300 m
-circle, EKF on model [20], initial ``R = diag(100, 100, 4, 0.01)``), ``--runs``
-seeded Monte Carlo runs, all filtered in one batch per method.
-
-Output (JSON)::
-
-    {"channels": {"east"|"north"|"speed"|"heading": {
-         "true": x, "paper": {"somd": x, "rae": x},
-         "methods": {name: {"mean": x, "rel_error": x, "worst_run_rel_error": x}}}},
-     "rmse": {name: {"position": x, "speed": x, "heading": x}},
-     "divergence": {name: {"runs": k, "of": B, "reasons": {...}, "example": "..."}},
-     "targets": {...}, "settings": {...}, "notes": [...]}
-
-Channel estimates: ``somd`` and ``somd-paper`` are the estimator over each
-run's whole record, per channel, as in the paper's Table 1
-(:func:`noisevar.estimate`, spec h per channel, no window selection; heading
-unwrapped). For the adaptive filters (``rae``, ``iae``, ``sage-husa``,
-``vb``, ``rae-q``, ``somd-online``, ``somd-paper-online``) the value is the
-filter's ``R̂`` averaged over the second half of the record (then over runs).
-RMSE rows are the filters: ``somd`` / ``somd-paper`` name the filter whose
-``R`` comes from the SOMD estimator on a trailing window (``somd-online``).
+The vehicle on a 300 m circle of ``docs/algorithms.md §A9``
+(:func:`noisevar.systems.scenarios.gps_circle`): the SOMD estimator over each
+run's whole record per channel, beside the paper's values, and the adaptive
+EKFs' ``R̂`` and RMSE, every filter over all runs in one batch.
 """
 
 from __future__ import annotations
@@ -125,7 +108,23 @@ class GpsSettings:
 
 @dataclass(frozen=True)
 class GpsCircleResult(ExperimentResult):
-    """Result of the gps-circle experiment (fields: the JSON keys; see the module docstring)."""
+    """Result of the gps-circle experiment (fields: the JSON keys).
+
+    Attributes
+    ----------
+    channels : dict
+        Per channel (east, north, speed, heading): ``true``, ``paper``
+        (SOMD, RAE) and ``methods`` (``mean``, ``rel_error``,
+        ``worst_run_rel_error``): ``somd`` / ``somd-paper`` over each whole
+        record (Table 1); the adaptive filters' ``R̂`` averaged over the second
+        half of the record (``somd-online`` for the SOMD filter).
+    rmse, divergence : dict
+        Per filter: position, speed and heading RMSE; divergence summary.
+    targets, settings : dict
+        The SOMD targets; the parameters used.
+    notes : tuple of str
+        What the rows mean, and divergences.
+    """
 
     channels: dict[str, dict[str, Any]]
     rmse: dict[str, dict[str, float | None]]

@@ -1,10 +1,8 @@
 """``noisevar experiment noise-ramp``: tracking a noise level that ramps up three-fold.
 
-Scenario :func:`noisevar.systems.scenarios.noise_ramp` (the noise-step target;
-the position-noise std ramps linearly from 5 m to 15 m between 40 % and 60 %
-of the record). Options, metrics and JSON are those of
-:mod:`noisevar.experiments.noise_step`; R tracking is scored from the end of
-the ramp plus ``--settle`` steps.
+The noise-step target with the std ramping from 5 m to 15 m between 40 % and
+60 % of the record (:func:`noisevar.systems.scenarios.noise_ramp`); parameters,
+metrics and JSON are those of :mod:`noisevar.experiments.noise_step`.
 """
 
 from __future__ import annotations

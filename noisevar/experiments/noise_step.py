@@ -1,20 +1,8 @@
 """``noisevar experiment noise-step``: tracking a three-fold step in the noise level.
 
-Scenario :func:`noisevar.systems.scenarios.noise_step`: a manoeuvring 2-D
-target, CV Kalman filter, position-noise std 5 m stepping to 15 m at mid-run;
-``--runs`` seeded Monte Carlo runs filtered in one batch per method.
-:mod:`noisevar.experiments.noise_ramp` is the same with a ramp.
-
-Output (JSON)::
-
-    {"methods": {name: {"r_tracking_error": x, "r_bias": x, "rmse": x,
-                        "rmse_vs_oracle": x, "diverged_runs": k}},
-     "best": name, "targets": {...}, "settings": {...}, "notes": [...]}
-
-``r_tracking_error`` is ``mean |R̂_jj / R_jj - 1|`` over runs, both channels
-and the steps from ``change end + --settle`` to the end; ``r_bias`` the same
-without the absolute value; ``rmse`` the position RMSE over runs and all
-steps.
+A manoeuvring 2-D target (:func:`noisevar.systems.scenarios.noise_step`), CV
+Kalman filter, position-noise std 5 m stepping to ``factor`` x 5 m at mid-run;
+every method filters all runs in one batch. ``noise-ramp`` shares this module.
 """
 
 from __future__ import annotations
@@ -106,7 +94,22 @@ GENERATORS: dict[str, Callable[..., Scenario]] = {
 
 @dataclass(frozen=True)
 class NoiseChangeResult(ExperimentResult):
-    """Result of noise-step / noise-ramp (fields: the JSON keys; see the module docstring)."""
+    """Result of noise-step / noise-ramp (fields: the JSON keys).
+
+    Attributes
+    ----------
+    methods : dict
+        Per method: ``r_tracking_error`` (mean ``|R̂_jj / R_jj - 1|`` over runs,
+        both channels, from the change's end + ``settle`` on), ``r_bias`` (the
+        same without ``|.|``), ``rmse`` (position, all runs and steps),
+        ``rmse_vs_oracle``, ``diverged_runs`` and ``divergence``.
+    best : str or None
+        The adaptive method with the lowest ``r_tracking_error``.
+    targets, settings : dict
+        Whether ``best`` meets the targets; the parameters used.
+    notes : tuple of str
+        Scoring window and divergences.
+    """
 
     methods: dict[str, dict[str, Any]]
     best: str | None

@@ -1,17 +1,9 @@
-"""``noisevar experiment outliers``: Huber EKF with a magnetic-variation state (spec B3).
+"""``noisevar experiment outliers``: Huber EKF with a magnetic-variation state.
 
-The DME/VOR fly-over of :mod:`noisevar.systems.robust` over ``--runs`` seeded runs
-(batched), once with bursts of bearing outliers near the station and once
-without. Metrics (issue 6): ``rmse_position_ekf``, ``rmse_position_huber``,
-``rmse_position_no_bias_state`` (with outliers), ``magvar_estimate_deg``
-(Huber filter, mean of the final estimates over runs), ``magvar_true_deg``;
-the clean-record RMSEs for the "equal without outliers" target; paired
-bootstrap intervals of both Huber/EKF ratios (same runs, same noise: is the
-"within 1 %" comparison resolved by 100 runs?); the paper's ``κ = 1.345``
-next to our default (:data:`noisevar.systems.robust.DEFAULT_KAPPA` = 2.5, chosen from
-held-out seeds, see :mod:`noisevar.systems.robust`); and, with ``--kappa-sweep``, the
-κ trade-off table on the same runs (``benchmarks/seeds.py`` runs it with
-``1.345,1.5,2,2.5,3``).
+The DME/VOR fly-over of :mod:`noisevar.systems.robust` (``docs/algorithms.md
+§B3``, ``§G5``), with and without bursts of bearing outliers: EKF, Huber EKF
+and Huber EKF without the bias state, paired bootstrap intervals of the
+Huber/EKF ratios, and an optional κ trade-off table on the same runs.
 """
 
 from __future__ import annotations

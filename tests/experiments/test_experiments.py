@@ -143,11 +143,18 @@ def test_keyword_run_matches_the_cli(capsys: pytest.CaptureFixture[str], name: s
     code, out, err = _cli(capsys, "experiment", name, *_argv(exp, CASES[name]), "--format", "json")
     assert code == 0, err
     assert out.strip() == text
-    code, table, err = _cli(capsys, "experiment", name, *_argv(exp, CASES[name]))
+    assert exp.format_table(result) == exp.format_table(data)
+
+
+def test_table_format_and_module_level_run(capsys: pytest.CaptureFixture[str]) -> None:
+    kwargs = CASES["latency"]
+    result = experiments.run("latency", **kwargs)
+    assert result == discover()["latency"].run(**kwargs)
+    code, table, err = _cli(capsys, "experiment", "latency", "--runs", "1", "--duration", "100")
     assert code == 0, err
-    assert table.strip() == exp.format_table(result).strip() == exp.format_table(data).strip()
-    # the module-level helper runs the same
-    assert experiments.run(name, **CASES[name]).to_dict() == data
+    assert table == discover()["latency"].format_table(result) + "\n"
+    with pytest.raises(NoisevarError, match="unknown experiment 'nope'"):
+        experiments.run("nope")
 
 
 @pytest.mark.parametrize("name", sorted(FLAGS))
