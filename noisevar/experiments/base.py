@@ -116,7 +116,16 @@ class ListParam(ParamSpec):
             kwargs["type"] = float if self.kind == "floats" else str
             if self.choices:
                 kwargs["choices"] = self.choices
+        else:
+            kwargs["type"] = self._parse_text
         parser.add_argument(self.flag, **kwargs)
+
+    def _parse_text(self, text: str) -> Any:
+        """The flag's text, validated as the parser reads it (a usage error if bad)."""
+        try:
+            return self.validate(text)
+        except NoisevarError as exc:
+            raise argparse.ArgumentTypeError(str(exc)) from None
 
 
 @dataclass(frozen=True)

@@ -23,7 +23,7 @@ CASES: dict[str, dict[str, Any]] = {
     "noise-step": {"runs": 1, "steps": 1500, "settle": 100, "methods": ("oracle", "fixed", "rae")},
     "noise-ramp": {"runs": 1, "steps": 1500, "settle": 100, "methods": ("oracle", "vb")},
     "gps-circle": {"runs": 1, "duration": 300.0, "methods": ("oracle", "somd", "rae")},
-    "outliers": {"runs": 2, "kappa_sweep": (1.5, 2.0)},
+    "outliers": {"runs": 2, "kappa_sweep": (1.345,), "iterations": 3},
     "carrier": {"runs": 2, "duration": 1.0, "sweep": (30.0,), "data_bits": True},
     "fusion": {"runs": 2, "steps": 100, "failure": "frozen"},
     "latency": {"runs": 1, "duration": 100.0},
