@@ -21,6 +21,7 @@ from noisevar.experiments.base import (
     ExperimentResult,
     ListParam,
     SwitchParam,
+    at_least,
     strategy_param,
 )
 
@@ -32,6 +33,7 @@ __all__ = [
     "ExperimentResult",
     "ListParam",
     "SwitchParam",
+    "at_least",
     "discover",
     "run",
     "strategy_param",
@@ -73,4 +75,4 @@ def run(name: str, **params: Any) -> ExperimentResult:
     experiments = discover()
     if name not in experiments:
         raise NoisevarError(f"unknown experiment {name!r}; choose one of: {', '.join(experiments)}")
-    return experiments[name].compute(**experiments[name].validate(**params))
+    return experiments[name].run(**params)

@@ -23,8 +23,6 @@ from noisevar.params import ParamSpec, by_name, validate_params
 
 def _plain(value: Any) -> Any:
     """``value`` with results, dataclasses, tuples and numpy values as plain JSON types."""
-    if isinstance(value, type):
-        return value
     if callable(getattr(value, "to_dict", None)):
         return _plain(value.to_dict())
     if dataclasses.is_dataclass(value):
@@ -57,7 +55,7 @@ def _fields(obj: Any) -> dict[str, Any]:
 
 
 # ----------------------------------------------------------------- parameter kinds
-def _at_least(flag: str, lo: int, unit: str = "") -> Callable[[int], int]:
+def at_least(flag: str, lo: int, unit: str = "") -> Callable[[int], int]:
     """A ``ParamSpec.check`` refusing values below ``lo``, naming the flag."""
 
     def check(value: int) -> int:
@@ -161,7 +159,7 @@ def strategy_param(strategy: str, param: str, help: str, name: str | None = None
 
 
 #: Parameters every experiment takes (``runs`` gets the experiment's default).
-RUNS = ParamSpec("runs", "int", None, "Monte Carlo runs", check=_at_least("--runs", 1))
+RUNS = ParamSpec("runs", "int", None, "Monte Carlo runs", check=at_least("--runs", 1))
 SEED = ParamSpec("seed", "int", 0)
 #: Worker processes, for the experiments that run one filter per process.
 JOBS = ParamSpec(
@@ -169,7 +167,7 @@ JOBS = ParamSpec(
     "int",
     1,
     "worker processes, one filter each (default 1)",
-    check=_at_least("--jobs", 1),
+    check=at_least("--jobs", 1),
 )
 
 

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from noisevar.estimators.compare import default_methods, run_monte_carlo
-from noisevar.experiments.base import Experiment, ExperimentResult, ListParam, _at_least
+from noisevar.experiments.base import Experiment, ExperimentResult, ListParam, at_least
 from noisevar.params import ParamSpec
 from noisevar.signals import signal_names
 
@@ -23,7 +23,7 @@ PARAMS = (
         "int",
         6000,
         "samples per run (6000)",
-        check=_at_least("--n", 100, " samples"),
+        check=at_least("--n", 100, " samples"),
     ),
     ListParam(
         "methods",
