@@ -167,13 +167,11 @@ def _cmd_scan_h(args: argparse.Namespace) -> int:
 # ------------------------------------------------------------------------- experiment
 def _cmd_experiment(args: argparse.Namespace) -> int:
     exp = args.experiment_obj
-    if args.runs is not None and args.runs < 1:
-        raise NoisevarError(f"--runs must be at least 1, got {args.runs}")
-    if args.runs is None:
-        args.runs = exp.default_runs
-    result = exp.run(args)
-    if args.format == "json" or exp.format_table is None:
-        _print_json(result)
+    # a flag not given is None: the experiment's default applies
+    given = {p.name: getattr(args, p.name) for p in exp.parameters}
+    result = exp.run(**{k: v for k, v in given.items() if v is not None})
+    if args.format == "json" or exp.table is None:
+        _print_json(result.to_dict())
     else:
         print(exp.format_table(result))
     return 0
@@ -232,13 +230,11 @@ def build_parser() -> argparse.ArgumentParser:
     esub = p.add_subparsers(dest="experiment", required=True, parser_class=_Parser)
     for name, exp in discover().items():
         ep = esub.add_parser(name, help=exp.help, description=exp.help)
-        ep.add_argument(
-            "--runs", type=int, default=None, help=f"Monte Carlo runs ({exp.default_runs})"
-        )
-        ep.add_argument("--seed", type=int, default=0)
+        for spec in exp.common_params:
+            spec.add_to(ep)
         ep.add_argument("--format", choices=["table", "json"], default="table")
-        if exp.add_arguments is not None:
-            exp.add_arguments(ep)
+        for spec in exp.params:
+            spec.add_to(ep)
         ep.set_defaults(func=_cmd_experiment, experiment_obj=exp)
     return parser
 

@@ -1,52 +1,43 @@
 """Experiments that the CLI exposes as ``noisevar experiment NAME``.
 
 Each experiment is one module in this package that defines a module-level
-``EXPERIMENT = Experiment(...)``. Modules are discovered automatically, so a
-new experiment is one new file: no registry to edit.
-
-Every experiment's ``run(args)`` returns a JSON-serialisable ``dict``; the CLI
-prints it as JSON (``--format json``) or as a readable table
-(``--format table``, via ``format_table`` when the experiment provides one).
-Common options (``--runs``, ``--seed``, ``--format``) are added by the CLI;
-``add_arguments`` adds the experiment's own.
+``EXPERIMENT = Experiment(...)``; :func:`discover` finds it, so a new
+experiment is one new file. ``EXPERIMENT.run(**params)`` returns a frozen
+dataclass whose ``to_dict()`` is the JSON the CLI prints.
 """
 
 from __future__ import annotations
 
-import argparse
 import importlib
 import pkgutil
-from collections.abc import Callable
-from dataclasses import dataclass
 from typing import Any
 
+from noisevar.errors import NoisevarError
+from noisevar.experiments.base import (
+    JOBS,
+    RUNS,
+    SEED,
+    Experiment,
+    ExperimentResult,
+    ListParam,
+    SwitchParam,
+    at_least,
+    strategy_param,
+)
 
-@dataclass(frozen=True)
-class Experiment:
-    """One CLI experiment.
-
-    Parameters
-    ----------
-    name : str
-        Sub-command name, e.g. ``"monte-carlo"``.
-    help : str
-        One-line description shown by ``noisevar experiment --help``.
-    run : callable
-        ``run(args: argparse.Namespace) -> dict``; JSON-serialisable result.
-    add_arguments : callable, optional
-        ``add_arguments(parser)`` adds experiment-specific options.
-    default_runs : int
-        Default for ``--runs``.
-    format_table : callable, optional
-        ``format_table(result: dict) -> str`` for ``--format table``.
-    """
-
-    name: str
-    help: str
-    run: Callable[[argparse.Namespace], dict[str, Any]]
-    add_arguments: Callable[[argparse.ArgumentParser], None] | None = None
-    default_runs: int = 100
-    format_table: Callable[[dict[str, Any]], str] | None = None
+__all__ = [
+    "JOBS",
+    "RUNS",
+    "SEED",
+    "Experiment",
+    "ExperimentResult",
+    "ListParam",
+    "SwitchParam",
+    "at_least",
+    "discover",
+    "run",
+    "strategy_param",
+]
 
 
 def discover() -> dict[str, Experiment]:
@@ -64,3 +55,24 @@ def discover() -> dict[str, Experiment]:
         if isinstance(exp, Experiment):
             found[exp.name] = exp
     return dict(sorted(found.items()))
+
+
+def run(name: str, **params: Any) -> ExperimentResult:
+    """Run the experiment ``name`` with keyword parameters.
+
+    Parameters
+    ----------
+    name : str
+        Experiment name, e.g. ``"latency"``.
+    **params
+        Its parameters (see ``discover()[name].parameters``); defaults for the rest.
+
+    Returns
+    -------
+    ExperimentResult
+        The experiment's frozen result; ``.to_dict()`` is its JSON.
+    """
+    experiments = discover()
+    if name not in experiments:
+        raise NoisevarError(f"unknown experiment {name!r}; choose one of: {', '.join(experiments)}")
+    return experiments[name].run(**params)

@@ -1,37 +1,20 @@
-"""``noisevar experiment carrier``: fixed EKF vs adaptive EKF carrier tracking (spec B1).
+"""``noisevar experiment carrier``: fixed vs adaptive EKF carrier tracking.
 
-One GPS L1 C/A channel at ``--cn0`` dB-Hz over ``--runs`` seeded runs
-(batched; every filter sees the same signals), then a C/N0 sweep.
-
-The comparison the paper implies: a fixed-noise EKF in a receiver is
-designed for nominal conditions, not for the C/N0 of the moment. So ``ekf``
-is the EKF designed for ``--nominal-cn0`` (default 45 dB-Hz: its phase-noise
-variance ``R/A²`` is ``1/(2 (C/N0)_nom T)``) and for manoeuvres of
-``--nominal-doppler-rate`` (default: the scenario's own, so by default only
-the C/N0 is off-design); the AEKF variants start from the same design and
-adapt. ``ekf_matched`` (true ``R``, ``Q`` matched to the manoeuvres) is kept
-as the reference, so nobody is misled about what a filter that knows the
-truth does.
-
-Metrics (issue 6): ``rms_phase_error_ekf_rad``, ``rms_phase_error_aekf_rad``,
-``loss_of_lock_ekf``, ``loss_of_lock_aekf`` (fraction of runs whose phase
-error slips a cycle), with ``ekf`` = the fixed nominal-design EKF and
-``aekf`` = eq. (22) ``R`` + the stabilised ``Q`` scaling
-(:class:`noisevar.systems.carrier.AdaptiveCarrierQR`, ``q_rule="scaled"``); the same
-two for ``ekf_matched``, ``aekf_r_only`` and ``aekf_paper_q`` (eq. (26) as
-printed, which runs away); the ``Q`` tracks; the sweep. The JSON's
-``definitions`` says all this next to the numbers.
+One GPS L1 C/A channel (``docs/algorithms.md §B1``) at ``cn0`` dB-Hz: the
+fixed EKF of a nominal design against adaptive EKFs from the same design
+(:mod:`noisevar.systems.carrier`), then a C/N0 sweep. The JSON's
+``definitions`` says what each filter is, next to the numbers.
 """
 
 from __future__ import annotations
 
-import argparse
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from noisevar.errors import NoisevarError
-from noisevar.experiments import Experiment
+from noisevar.experiments.base import Experiment, ExperimentResult, ListParam, SwitchParam
+from noisevar.params import ParamSpec
 from noisevar.systems.carrier import CarrierResult, CarrierScenario, compare, comparison_variants
 
 #: Row order of tables and the sweep.
@@ -55,69 +38,88 @@ DEFINITIONS = {
 }
 
 
-def _cn0_list(text: str) -> list[float]:
-    try:
-        return [float(v) for v in text.split(",") if v.strip()]
-    except ValueError:
-        raise argparse.ArgumentTypeError(
-            f"--sweep {text!r}: give comma-separated C/N0 values in dB-Hz, e.g. 25,30,35"
-        ) from None
+NOTES = (
+    "ekf = the fixed EKF of the nominal design, aekf = eq. 22 + stabilised Q from the "
+    "same design (see definitions); ekf_matched is the reference with the true noise",
+    "the paper's eq. 26 (aekf_paper_q) feeds on itself: with a consistent C_d, "
+    "K C_d K^T = P(k|k-1) - P(k|k), so P cannot shrink; see "
+    "q_phase_aekf_paper_q_growth",
+    "with no slip in the fixed EKF, 'fewer slips' cannot hold at that C/N0; the sweep "
+    "shows where the fixed design slips (benchmarks/seeds.py counts slips over 1000 "
+    "runs per C/N0 with intervals)",
+)
+
+PARAMS = (
+    ParamSpec("cn0", "float", 30.0, "actual C/N0 (dB-Hz)"),
+    ListParam(
+        "sweep",
+        "floats",
+        (25.0, 30.0, 35.0, 40.0, 45.0),
+        "comma-separated C/N0 values of the sweep (dB-Hz); empty to skip",
+    ),
+    ParamSpec(
+        "nominal_cn0",
+        "float",
+        45.0,
+        "C/N0 the fixed EKF is designed for, and the AEKF starts from (dB-Hz)",
+    ),
+    ParamSpec(
+        "nominal_doppler_rate",
+        "float",
+        None,
+        "peak Doppler rate the design assumes (Hz/s; default: the scenario's 25)",
+    ),
+    ParamSpec("integration_ms", "float", 10.0, "coherent integration time (ms)"),
+    ParamSpec("duration", "float", 10.0, "run length (s)"),
+    ParamSpec("window", "int", 50, "AEKF window W (steps)"),
+    SwitchParam("data_bits", help="modulate 50 bit/s data"),
+)
 
 
-def add_arguments(parser: argparse.ArgumentParser) -> None:
-    """Channel, design and filter options of the carrier experiment."""
-    parser.add_argument("--cn0", type=float, default=30.0, help="actual C/N0 (dB-Hz)")
-    parser.add_argument(
-        "--sweep",
-        type=_cn0_list,
-        default=[25.0, 30.0, 35.0, 40.0, 45.0],
-        help="comma-separated C/N0 values of the sweep (dB-Hz); empty to skip",
-    )
-    parser.add_argument(
-        "--nominal-cn0",
-        type=float,
-        default=45.0,
-        help="C/N0 the fixed EKF is designed for, and the AEKF starts from (dB-Hz)",
-    )
-    parser.add_argument(
-        "--nominal-doppler-rate",
-        type=float,
-        default=None,
-        help="peak Doppler rate the design assumes (Hz/s; default: the scenario's 25)",
-    )
-    parser.add_argument(
-        "--integration-ms", type=float, default=10.0, help="coherent integration time (ms)"
-    )
-    parser.add_argument("--duration", type=float, default=10.0, help="run length (s)")
-    parser.add_argument("--window", type=int, default=50, help="AEKF window W (steps)")
-    parser.add_argument("--data-bits", action="store_true", help="modulate 50 bit/s data")
+@dataclass(frozen=True)
+class CarrierExperimentResult(ExperimentResult):
+    """Result of the carrier experiment (fields: the JSON keys)."""
+
+    experiment: str = field(default="carrier", init=False)
+    runs: int
+    seed: int
+    settings: dict[str, Any]
+    definitions: dict[str, str] = field(default_factory=lambda: dict(DEFINITIONS), init=False)
+    metrics: dict[str, Any]
+    targets: dict[str, bool]
+    notes: tuple[str, ...] = field(default=NOTES, init=False)
 
 
-def _scenario(args: argparse.Namespace, cn0: float) -> CarrierScenario:
-    return CarrierScenario(
-        cn0_dbhz=cn0,
-        integration_s=args.integration_ms / 1000.0,
-        duration_s=args.duration,
-        data_bits=bool(args.data_bits),
-    )
+@dataclass(frozen=True)
+class _Channel:
+    """The channel and design settings shared by every C/N0 of a run."""
 
+    integration_ms: float
+    duration: float
+    data_bits: bool
+    nominal_cn0: float
+    nominal_doppler_rate: float | None
+    window: int
 
-def _one(args: argparse.Namespace, cn0: float, runs: int, seed: int) -> dict[str, CarrierResult]:
-    variants = comparison_variants(args.nominal_cn0, args.nominal_doppler_rate)
-    return compare(_scenario(args, cn0), variants, seed=seed, runs=runs, window=args.window)
+    def scenario(self, cn0: float) -> CarrierScenario:
+        return CarrierScenario(
+            cn0_dbhz=cn0,
+            integration_s=self.integration_ms / 1000.0,
+            duration_s=self.duration,
+            data_bits=bool(self.data_bits),
+        )
+
+    def compare(self, cn0: float, runs: int, seed: int) -> dict[str, CarrierResult]:
+        variants = comparison_variants(self.nominal_cn0, self.nominal_doppler_rate)
+        return compare(self.scenario(cn0), variants, seed=seed, runs=runs, window=self.window)
 
 
 def _rms_doppler(r: CarrierResult) -> float:
     return float(np.sqrt(np.mean(r.doppler_error_hz[:, r.settle_steps :] ** 2)))
 
 
-def run(args: argparse.Namespace) -> dict[str, Any]:
-    """Run the channel at ``--cn0`` and the sweep; JSON-serialisable result."""
-    runs = int(args.runs)
-    if runs < 1:
-        raise NoisevarError(f"--runs {runs}: give at least one run.")
-    seed = int(args.seed)
-    main = _one(args, args.cn0, runs, seed)
+def _metrics(main: dict[str, CarrierResult]) -> dict[str, Any]:
+    """Phase, loss-of-lock and Doppler metrics and the R / Q tracks at ``--cn0``."""
     metrics: dict[str, Any] = {}
     for name in FILTERS:
         metrics[f"rms_phase_error_{name}_rad"] = main[name].rms_phase_error
@@ -142,55 +144,73 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
             "q_phase_aekf_paper_q_growth": float(np.median(paper.Q_phase_track[:, -1]) / q0),
         }
     )
-    sweep: dict[str, list[float]] = {"cn0_dbhz": []}
+    return metrics
+
+
+def _sweep(
+    channel: _Channel,
+    cn0: float,
+    sweep: tuple[float, ...],
+    main: dict[str, CarrierResult],
+    runs: int,
+    seed: int,
+) -> dict[str, list[float]]:
+    """RMS phase error and loss of lock of every filter at each C/N0 of the sweep."""
+    out: dict[str, list[float]] = {"cn0_dbhz": []}
     for name in FILTERS:
-        sweep[f"rms_phase_error_{name}_rad"] = []
-        sweep[f"loss_of_lock_{name}"] = []
-    for cn0 in args.sweep:
-        res = main if cn0 == args.cn0 else _one(args, cn0, runs, seed)
-        sweep["cn0_dbhz"].append(float(cn0))
+        out[f"rms_phase_error_{name}_rad"] = []
+        out[f"loss_of_lock_{name}"] = []
+    for c in sweep:
+        res = main if c == cn0 else channel.compare(c, runs, seed)
+        out["cn0_dbhz"].append(float(c))
         for name in FILTERS:
-            sweep[f"rms_phase_error_{name}_rad"].append(res[name].rms_phase_error)
-            sweep[f"loss_of_lock_{name}"].append(res[name].loss_of_lock)
-    metrics["sweep"] = sweep
-    scen = _scenario(args, args.cn0)
-    nominal_rate = (
-        scen.doppler_rate_hz_s if args.nominal_doppler_rate is None else args.nominal_doppler_rate
+            out[f"rms_phase_error_{name}_rad"].append(res[name].rms_phase_error)
+            out[f"loss_of_lock_{name}"].append(res[name].loss_of_lock)
+    return out
+
+
+def run(
+    *,
+    runs: int,
+    seed: int,
+    cn0: float,
+    sweep: tuple[float, ...],
+    nominal_cn0: float,
+    nominal_doppler_rate: float | None,
+    integration_ms: float,
+    duration: float,
+    window: int,
+    data_bits: bool,
+) -> CarrierExperimentResult:
+    """The channel at ``cn0`` and the sweep (validated parameters; see :data:`EXPERIMENT`)."""
+    channel = _Channel(
+        integration_ms, duration, data_bits, nominal_cn0, nominal_doppler_rate, window
     )
-    return {
-        "experiment": "carrier",
-        "runs": runs,
-        "seed": seed,
-        "settings": {
-            "cn0_dbhz": args.cn0,
-            "nominal_cn0_dbhz": args.nominal_cn0,
-            "nominal_doppler_rate_hz_s": nominal_rate,
-            "integration_ms": args.integration_ms,
-            "duration_s": args.duration,
-            "amplitude": scen.amplitude,
-            "doppler_rate_hz_s": scen.doppler_rate_hz_s,
-            "window": args.window,
-            "data_bits": bool(args.data_bits),
-            "settle_s": 0.5,
-        },
-        "definitions": DEFINITIONS,
-        "metrics": metrics,
-        "targets": {
-            "aekf_rms_below_ekf": metrics["rms_phase_error_aekf_rad"]
-            < metrics["rms_phase_error_ekf_rad"],
-            "aekf_fewer_slips": metrics["loss_of_lock_aekf"] < metrics["loss_of_lock_ekf"],
-        },
-        "notes": [
-            "ekf = the fixed EKF of the nominal design, aekf = eq. 22 + stabilised Q from the "
-            "same design (see definitions); ekf_matched is the reference with the true noise",
-            "the paper's eq. 26 (aekf_paper_q) feeds on itself: with a consistent C_d, "
-            "K C_d K^T = P(k|k-1) - P(k|k), so P cannot shrink; see "
-            "q_phase_aekf_paper_q_growth",
-            "with no slip in the fixed EKF, 'fewer slips' cannot hold at that C/N0; the sweep "
-            "shows where the fixed design slips (benchmarks/seeds.py counts slips over 1000 "
-            "runs per C/N0 with intervals)",
-        ],
+    main = channel.compare(cn0, runs, seed)
+    metrics = _metrics(main)
+    metrics["sweep"] = _sweep(channel, cn0, sweep, main, runs, seed)
+    scen = channel.scenario(cn0)
+    nominal_rate = scen.doppler_rate_hz_s if nominal_doppler_rate is None else nominal_doppler_rate
+    settings = {
+        "cn0_dbhz": cn0,
+        "nominal_cn0_dbhz": nominal_cn0,
+        "nominal_doppler_rate_hz_s": nominal_rate,
+        "integration_ms": integration_ms,
+        "duration_s": duration,
+        "amplitude": scen.amplitude,
+        "doppler_rate_hz_s": scen.doppler_rate_hz_s,
+        "window": window,
+        "data_bits": bool(data_bits),
+        "settle_s": 0.5,
     }
+    targets = {
+        "aekf_rms_below_ekf": metrics["rms_phase_error_aekf_rad"]
+        < metrics["rms_phase_error_ekf_rad"],
+        "aekf_fewer_slips": metrics["loss_of_lock_aekf"] < metrics["loss_of_lock_ekf"],
+    }
+    return CarrierExperimentResult(
+        runs=runs, seed=seed, settings=settings, metrics=metrics, targets=targets
+    )
 
 
 def format_table(result: dict[str, Any]) -> str:
@@ -235,8 +255,8 @@ def format_table(result: dict[str, Any]) -> str:
 EXPERIMENT = Experiment(
     name="carrier",
     help="GPS L1 carrier tracking at low C/N0: fixed nominal-design EKF vs adaptive EKF (B1)",
-    run=run,
-    add_arguments=add_arguments,
+    compute=run,
+    params=PARAMS,
     default_runs=100,
-    format_table=format_table,
+    table=format_table,
 )

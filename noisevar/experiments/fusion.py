@@ -1,27 +1,23 @@
-"""``noisevar experiment fusion``: distributed VB fusion and chi-square fault isolation (spec B2).
+"""``noisevar experiment fusion``: distributed VB fusion and chi-square fault isolation.
 
-One seeded Monte Carlo batch (``--runs``) per scenario of
-:mod:`noisevar.systems.fusion`: two position sensors and a velocity sensor, one of
-which misbehaves. Metrics (issue 6):
-
-* ``max_abs_diff_vs_centralized``: no fault, fixed ``R``, no isolation; the
-  distributed estimate (eq. (24)) against the centralised Kalman filter;
-* ``rmse_with_isolation``, ``rmse_without_isolation``: the failing sensor
-  (``--failure``: a large bias, or a frozen output), local filters ``--local``;
-* ``rmse_vb_fusion``, ``rmse_fixed_fusion``: the sensor's noise steps up;
-* ``vb_r_track``: the VB estimate of that sensor's variance against the truth.
+Two position sensors and a velocity sensor, one of which misbehaves
+(:mod:`noisevar.systems.fusion`, ``docs/algorithms.md §B2``, ``§G6``): the
+fused estimate against the centralised filter, isolation of a failing
+sensor, VB against fixed ``R`` through a noise step and ramp.
 """
 
 from __future__ import annotations
 
-import argparse
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from noisevar.errors import NoisevarError
-from noisevar.experiments import Experiment
+from noisevar.experiments.base import Experiment, ExperimentResult
+from noisevar.params import ParamSpec
 from noisevar.systems.fusion import (
+    FusionData,
+    FusionResult,
     FusionScenario,
     max_abs_diff_vs_centralized,
     position_rmse,
@@ -33,37 +29,48 @@ from noisevar.systems.fusion import (
 #: Points kept in the R track of the JSON output.
 TRACK_POINTS = 120
 
-
-def add_arguments(parser: argparse.ArgumentParser) -> None:
-    """Scenario options of the fusion experiment."""
-    parser.add_argument("--steps", type=int, default=600, help="fusion steps (1 s each)")
-    parser.add_argument(
-        "--failure",
+PARAMS = (
+    ParamSpec("steps", "int", 600, "fusion steps (1 s each)"),
+    ParamSpec(
+        "failure",
+        "str",
+        "bias",
+        "how the failing sensor fails (for the isolation metrics)",
         choices=("bias", "frozen"),
-        default="bias",
-        help="how the failing sensor fails (for the isolation metrics)",
-    )
-    parser.add_argument(
-        "--local",
+    ),
+    ParamSpec(
+        "local",
+        "str",
+        "vb",
+        "R of the local filters in the isolation comparison",
         choices=("vb", "fixed"),
-        default="vb",
-        help="R of the local filters in the isolation comparison",
-    )
-    parser.add_argument(
-        "--noise-factor", type=float, default=4.0, help="noise std multiplier of the step/ramp"
-    )
-    parser.add_argument(
-        "--bias-sigmas", type=float, default=20.0, help="bias of the failing sensor (sigmas)"
-    )
-    parser.add_argument(
-        "--false-alarm",
-        type=float,
-        default=1e-3,
-        help="chi-square test: probability of rejecting a healthy sample",
-    )
+    ),
+    ParamSpec("noise_factor", "float", 4.0, "noise std multiplier of the step/ramp"),
+    ParamSpec("bias_sigmas", "float", 20.0, "bias of the failing sensor (sigmas)"),
+    ParamSpec(
+        "false_alarm",
+        "float",
+        1e-3,
+        "chi-square test: probability of rejecting a healthy sample",
+    ),
+)
 
 
-def _track(result, data, sensor: int = 0, channel: int = 0) -> dict[str, list[float]]:
+@dataclass(frozen=True)
+class FusionExperimentResult(ExperimentResult):
+    """Result of the fusion experiment (fields: the JSON keys)."""
+
+    experiment: str = field(default="fusion", init=False)
+    runs: int
+    seed: int
+    settings: dict[str, Any]
+    metrics: dict[str, Any]
+    targets: dict[str, Any]
+
+
+def _track(
+    result: FusionResult, data: FusionData, sensor: int = 0, channel: int = 0
+) -> dict[str, list[float]]:
     n = result.time.size
     idx = np.unique(np.linspace(0, n - 1, min(TRACK_POINTS, n)).round().astype(int))
     estimate = np.nanmean(result.R_track[sensor][:, :, channel], axis=0)
@@ -76,37 +83,10 @@ def _track(result, data, sensor: int = 0, channel: int = 0) -> dict[str, list[fl
     }
 
 
-def run(args: argparse.Namespace) -> dict[str, Any]:
-    """Run every fusion scenario once over ``--runs`` batched runs; JSON result."""
-    runs = int(args.runs)
-    if runs < 1:
-        raise NoisevarError(f"--runs {runs}: give at least one run.")
-    seed = int(args.seed)
-    common = {
-        "n_steps": args.steps,
-        "noise_factor": args.noise_factor,
-        "bias_sigmas": args.bias_sigmas,
-    }
-    fa = args.false_alarm
-
-    clean = simulate_fusion(FusionScenario(fault="none", **common), seed=seed, runs=runs)
-    central = run_centralized(clean)
-    max_diff = max_abs_diff_vs_centralized(clean, central=central)
-    max_diff_nofb = max_abs_diff_vs_centralized(clean, feedback=False, central=central)
-
-    step = simulate_fusion(FusionScenario(fault="noise-step", **common), seed=seed + 1, runs=runs)
-    step_res = {
-        "vb": run_fusion(step, local="vb"),
-        "fixed": run_fusion(step, local="fixed"),
-        "fixed+isolation": run_fusion(step, local="fixed", isolation=True, false_alarm=fa),
-        "oracle": run_fusion(step, local="oracle"),
-    }
-    ramp = simulate_fusion(FusionScenario(fault="noise-ramp", **common), seed=seed + 2, runs=runs)
-    ramp_res = {
-        "vb": run_fusion(ramp, local="vb"),
-        "fixed": run_fusion(ramp, local="fixed"),
-        "oracle": run_fusion(ramp, local="oracle"),
-    }
+def _failures(
+    common: dict[str, Any], seed: int, runs: int, fa: float
+) -> dict[str, dict[str, float]]:
+    """RMSE with and without isolation, and isolated fractions, per failure kind."""
     failures: dict[str, dict[str, float]] = {}
     for j, kind in enumerate(("bias", "frozen")):
         data = simulate_fusion(FusionScenario(fault=kind, **common), seed=seed + 3 + j, runs=runs)
@@ -119,45 +99,80 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
                     in_fault, healthy = res.isolated_fraction(0)
                     failures[kind][f"{res.label}: isolated fraction in fault"] = in_fault
                     failures[kind][f"{res.label}: isolated fraction healthy"] = healthy
+    return failures
 
-    chosen = failures[args.failure]
+
+def _noise_step(
+    common: dict[str, Any], seed: int, runs: int, fa: float
+) -> tuple[FusionData, dict[str, FusionResult]]:
+    """The noise step-up scenario and the fusion runs on it."""
+    step = simulate_fusion(FusionScenario(fault="noise-step", **common), seed=seed + 1, runs=runs)
+    return step, {
+        "vb": run_fusion(step, local="vb"),
+        "fixed": run_fusion(step, local="fixed"),
+        "fixed+isolation": run_fusion(step, local="fixed", isolation=True, false_alarm=fa),
+        "oracle": run_fusion(step, local="oracle"),
+    }
+
+
+def run(
+    *,
+    runs: int,
+    seed: int,
+    steps: int,
+    failure: str,
+    local: str,
+    noise_factor: float,
+    bias_sigmas: float,
+    false_alarm: float,
+) -> FusionExperimentResult:
+    """Every fusion scenario over ``runs`` batched runs (validated parameters)."""
+    common = {"n_steps": steps, "noise_factor": noise_factor, "bias_sigmas": bias_sigmas}
+    fa = false_alarm
+
+    clean = simulate_fusion(FusionScenario(fault="none", **common), seed=seed, runs=runs)
+    central = run_centralized(clean)
+    max_diff = max_abs_diff_vs_centralized(clean, central=central)
+    max_diff_nofb = max_abs_diff_vs_centralized(clean, feedback=False, central=central)
+
+    step, step_res = _noise_step(common, seed, runs, fa)
+    ramp = simulate_fusion(FusionScenario(fault="noise-ramp", **common), seed=seed + 2, runs=runs)
+    rmse_ramp = {name: run_fusion(ramp, local=name).rmse() for name in ("vb", "fixed", "oracle")}
+    failures = _failures(common, seed, runs, fa)
+    chosen = failures[failure]
     metrics = {
         "max_abs_diff_vs_centralized": max_diff,
         "max_abs_diff_vs_centralized_no_feedback": max_diff_nofb,
-        "rmse_with_isolation": chosen[f"{args.local}+isolation"],
-        "rmse_without_isolation": chosen[args.local],
+        "rmse_with_isolation": chosen[f"{local}+isolation"],
+        "rmse_without_isolation": chosen[local],
         "rmse_vb_fusion": step_res["vb"].rmse(),
         "rmse_fixed_fusion": step_res["fixed"].rmse(),
         "rmse_fixed_isolation_fusion": step_res["fixed+isolation"].rmse(),
         "rmse_oracle_fusion": step_res["oracle"].rmse(),
-        "rmse_ramp": {name: r.rmse() for name, r in ramp_res.items()},
+        "rmse_ramp": rmse_ramp,
         "rmse_failures": failures,
         "rmse_centralized_no_fault": position_rmse(central.x, clean.truth),
         "vb_r_track": _track(step_res["vb"], step),
     }
-    return {
-        "experiment": "fusion",
-        "runs": runs,
-        "seed": seed,
-        "settings": {
-            "steps": args.steps,
-            "sensors": [s.name for s in clean.scenario.sensors],
-            "faulty_sensor": clean.scenario.sensors[0].name,
-            "failure": args.failure,
-            "local": args.local,
-            "noise_factor": args.noise_factor,
-            "bias_sigmas": args.bias_sigmas,
-            "false_alarm": fa,
-            "rmse": "horizontal position, m, over runs and steps 20..N",
-        },
-        "metrics": metrics,
-        "targets": {
-            "fusion_equals_centralized_below": 1e-8,
-            "equals_centralized": max_diff < 1e-8,
-            "isolation_lowers_rmse": metrics["rmse_with_isolation"]
-            < metrics["rmse_without_isolation"],
-        },
+    settings = {
+        "steps": steps,
+        "sensors": [s.name for s in clean.scenario.sensors],
+        "faulty_sensor": clean.scenario.sensors[0].name,
+        "failure": failure,
+        "local": local,
+        "noise_factor": noise_factor,
+        "bias_sigmas": bias_sigmas,
+        "false_alarm": fa,
+        "rmse": "horizontal position, m, over runs and steps 20..N",
     }
+    targets = {
+        "fusion_equals_centralized_below": 1e-8,
+        "equals_centralized": max_diff < 1e-8,
+        "isolation_lowers_rmse": metrics["rmse_with_isolation"] < metrics["rmse_without_isolation"],
+    }
+    return FusionExperimentResult(
+        runs=runs, seed=seed, settings=settings, metrics=metrics, targets=targets
+    )
 
 
 def format_table(result: dict[str, Any]) -> str:
@@ -189,8 +204,8 @@ def format_table(result: dict[str, Any]) -> str:
 EXPERIMENT = Experiment(
     name="fusion",
     help="distributed VB fusion (eq. 24) with chi-square fault isolation (spec B2)",
-    run=run,
-    add_arguments=add_arguments,
+    compute=run,
+    params=PARAMS,
     default_runs=100,
-    format_table=format_table,
+    table=format_table,
 )

@@ -1,38 +1,27 @@
-"""``noisevar experiment gps-circle``: the 2016 paper's Table 1 and adaptive filters (spec A9).
+"""``noisevar experiment gps-circle``: the 2016 paper's Table 1 and adaptive EKFs.
 
-Scenario :func:`noisevar.systems.scenarios.gps_circle` (vehicle on a 300 m
-circle, EKF on model [20], initial ``R = diag(100, 100, 4, 0.01)``), ``--runs``
-seeded Monte Carlo runs, all filtered in one batch per method.
-
-Output (JSON)::
-
-    {"channels": {"east"|"north"|"speed"|"heading": {
-         "true": x, "paper": {"somd": x, "rae": x},
-         "methods": {name: {"mean": x, "rel_error": x, "worst_run_rel_error": x}}}},
-     "rmse": {name: {"position": x, "speed": x, "heading": x}},
-     "divergence": {name: {"runs": k, "of": B, "reasons": {...}, "example": "..."}},
-     "targets": {...}, "settings": {...}, "notes": [...]}
-
-Channel estimates: ``somd`` and ``somd-paper`` are the estimator over each
-run's whole record, per channel, as in the paper's Table 1
-(:func:`noisevar.estimate`, spec h per channel, no window selection; heading
-unwrapped). For the adaptive filters (``rae``, ``iae``, ``sage-husa``,
-``vb``, ``rae-q``, ``somd-online``, ``somd-paper-online``) the value is the
-filter's ``R̂`` averaged over the second half of the record (then over runs).
-RMSE rows are the filters: ``somd`` / ``somd-paper`` name the filter whose
-``R`` comes from the SOMD estimator on a trailing window (``somd-online``).
+The vehicle on a 300 m circle of ``docs/algorithms.md §A9``
+(:func:`noisevar.systems.scenarios.gps_circle`): the SOMD estimator over each
+run's whole record per channel, beside the paper's values, and the adaptive
+EKFs' ``R̂`` and RMSE, every filter over all runs in one batch.
 """
 
 from __future__ import annotations
 
-import argparse
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from noisevar import estimate
 from noisevar.errors import NoisevarError
-from noisevar.experiments import Experiment
+from noisevar.experiments.base import (
+    JOBS,
+    Experiment,
+    ExperimentResult,
+    ListParam,
+    strategy_param,
+)
 from noisevar.kalman.evaluation import (
     divergence_summary,
     finite_or_none,
@@ -42,11 +31,8 @@ from noisevar.kalman.evaluation import (
     r_diagonal,
 )
 from noisevar.kalman.somd_batch import somd_variance_records
-from noisevar.kalman.strategies import (
-    RStrategy,
-    make_strategy,
-    strategy_spec,
-)
+from noisevar.kalman.strategies import RStrategy, make_strategy, strategy_spec
+from noisevar.params import ParamSpec
 from noisevar.systems.scenarios import GPS_CHANNELS, Scenario, gps_circle
 
 #: The paper's Table 1 (true, SOMD, RAE) per channel.
@@ -65,67 +51,100 @@ TARGET_RMSE_VS_ORACLE = 0.05
 FILTERS = ("oracle", "somd", "somd-paper", "rae", "iae", "sage-husa", "vb", "rae-q", "fixed")
 
 
-def add_arguments(parser: argparse.ArgumentParser) -> None:
-    """Options of the gps-circle experiment."""
-    parser.add_argument(
-        "--duration", type=float, default=3000.0, help="simulated seconds (default 3000)"
-    )
-    parser.add_argument(
-        "--window", type=int, default=50, help="moving window N of RAE / IAE / rae-q (steps)"
-    )
-    parser.add_argument(
-        "--forgetting", type=float, default=0.98, help="Sage-Husa forgetting factor b"
-    )
-    parser.add_argument("--rho", type=float, default=0.99, help="VB forgetting rho")
-    parser.add_argument(
-        "--somd-every", type=int, default=100, help="somd-online: re-estimate every N steps"
-    )
-    parser.add_argument(
-        "--somd-window",
-        type=int,
-        default=None,
-        help="somd-online: trailing window (steps; default all samples so far)",
-    )
-    parser.add_argument(
-        "--jobs", type=int, default=1, help="worker processes, one filter each (default 1)"
-    )
-    parser.add_argument(
-        "--methods",
-        nargs="+",
-        choices=FILTERS,
-        default=list(FILTERS),
-        help="filters to run (default all)",
-    )
+PARAMS = (
+    ParamSpec("duration", "float", 3000.0, "simulated seconds (default 3000)"),
+    strategy_param("rae", "window", "moving window N of RAE / IAE / rae-q (steps)"),
+    strategy_param("sage-husa", "forgetting", "Sage-Husa forgetting factor b"),
+    strategy_param("vb", "rho", "VB forgetting rho"),
+    strategy_param("somd", "every", "somd-online: re-estimate every N steps", name="somd_every"),
+    strategy_param(
+        "somd",
+        "window",
+        "somd-online: trailing window (steps; default all samples so far)",
+        name="somd_window",
+    ),
+    JOBS,
+    ListParam(
+        "methods", "strs", FILTERS, "filters to run (default all)", choices=FILTERS, sep=None
+    ),
+)
+
+#: Channel labels of the filters whose R comes from the SOMD estimator.
+ONLINE_LABELS = {"somd": "somd-online", "somd-paper": "somd-paper-online"}
 
 
-def _strategy(name: str, sc: Scenario, args: argparse.Namespace) -> RStrategy:
-    settings = {
-        "window": getattr(args, "somd_window", None) if name.startswith("somd") else args.window,
-        "every": getattr(args, "somd_every", 100),
-        "forgetting": args.forgetting,
-        "rho": args.rho,
-    }
-    params = strategy_spec(name).defaults()
-    return make_strategy(
-        name,
-        h_smooth=sc.h_smooth,
-        R_true=sc.R_true[0],
-        **{k: settings[k] for k in params},
-    )
+@dataclass(frozen=True)
+class GpsSettings:
+    """What a worker needs to regenerate the scenario and build a filter."""
+
+    runs: int
+    seed: int
+    duration: float
+    window: int
+    forgetting: float
+    rho: float
+    somd_every: int
+    somd_window: int | None
+
+    def make_scenario(self) -> Scenario:
+        """The seeded scenario (identical data in every process)."""
+        return gps_circle(runs=self.runs, seed=self.seed, duration=self.duration)
+
+    def strategy(self, name: str, sc: Scenario) -> RStrategy:
+        """The strategy object of one filter name, with these settings."""
+        values = {
+            "window": self.somd_window if name.startswith("somd") else self.window,
+            "every": self.somd_every,
+            "forgetting": self.forgetting,
+            "rho": self.rho,
+        }
+        return make_strategy(
+            name,
+            h_smooth=sc.h_smooth,
+            R_true=sc.R_true[0],
+            **{k: values[k] for k in strategy_spec(name).defaults()},
+        )
 
 
-def _filter_task(task: tuple[str, dict[str, Any], Scenario | None]) -> dict[str, Any]:
+@dataclass(frozen=True)
+class GpsCircleResult(ExperimentResult):
+    """Result of the gps-circle experiment (fields: the JSON keys).
+
+    Attributes
+    ----------
+    channels : dict
+        Per channel (east, north, speed, heading): ``true``, ``paper``
+        (SOMD, RAE) and ``methods`` (``mean``, ``rel_error``,
+        ``worst_run_rel_error``): ``somd`` / ``somd-paper`` over each whole
+        record (Table 1); the adaptive filters' ``R̂`` averaged over the second
+        half of the record (``somd-online`` for the SOMD filter).
+    rmse, divergence : dict
+        Per filter: position, speed and heading RMSE; divergence summary.
+    targets, settings : dict
+        The SOMD targets; the parameters used.
+    notes : tuple of str
+        What the rows mean, and divergences.
+    """
+
+    channels: dict[str, dict[str, Any]]
+    rmse: dict[str, dict[str, float | None]]
+    divergence: dict[str, dict[str, Any]]
+    targets: dict[str, Any]
+    settings: dict[str, Any]
+    notes: tuple[str, ...]
+
+
+def _filter_task(task: tuple[GpsSettings, str, Scenario | None]) -> dict[str, Any]:
     """Run one filter over all runs (batched) and summarise it (worker-process safe).
 
-    ``task`` is ``(method, settings, scenario)``; a worker process gets
+    ``task`` is ``(settings, method, scenario)``; a worker process gets
     ``scenario=None`` and regenerates the seeded scenario (identical data)
     instead of receiving it pickled.
     """
-    name, settings, sc = task
-    args = argparse.Namespace(**settings)
+    settings, name, sc = task
     if sc is None:
-        sc = gps_circle(runs=args.runs, seed=args.seed, duration=getattr(args, "duration", 3000.0))
-    res = sc.run(_strategy(name, sc, args))
+        sc = settings.make_scenario()
+    res = sc.run(settings.strategy(name, sc))
     half = (sc.z.shape[1] - sc.first_step) // 2
     err = res.state_error()  # once, for the three RMSE groups
     return {
@@ -174,10 +193,8 @@ def _channel_entry(per_run: np.ndarray, true: float) -> dict[str, Any]:
     }
 
 
-def run(args: argparse.Namespace) -> dict[str, Any]:
-    """Run the experiment; see the module docstring for the output."""
-    methods = list(getattr(args, "methods", FILTERS))
-    sc = gps_circle(runs=args.runs, seed=args.seed, duration=getattr(args, "duration", 3000.0))
+def _table1(sc: Scenario, notes: list[str]) -> dict[str, Any]:
+    """Per channel: the truth, the paper's values and the estimator over each whole record."""
     true = np.diag(sc.R_true[0])
     channels: dict[str, Any] = {
         ch: {"true": float(true[j]), "paper": dict(PAPER_TABLE1[ch]), "methods": {}}
@@ -185,34 +202,58 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     }
     for ch in channels:
         channels[ch]["paper"].pop("true")
-
-    # Table 1: the estimator over each run's whole record
     zu = sc.measured()
-    notes: list[str] = []
     for method in ("somd", "somd-paper"):
         for j, ch in enumerate(GPS_CHANNELS):
             per_run = _table1_per_run(zu[:, :, j], sc.h_smooth[j], method, ch, notes)
             channels[ch]["methods"][method] = _channel_entry(per_run, true[j])
+    return channels
 
+
+def _divergence_note(divergence: dict[str, Any]) -> list[str]:
+    diverged = [n for n, d in divergence.items() if d["runs"]]
+    if not diverged:
+        return []
+    return [
+        "diverged: "
+        + "; ".join(
+            f"{n} {divergence[n]['runs']}/{divergence[n]['of']} runs "
+            f"({', '.join(divergence[n]['reasons'])})"
+            for n in diverged
+        )
+    ]
+
+
+def run_gps_circle(
+    settings: GpsSettings, methods: tuple[str, ...] = FILTERS, jobs: int = 1
+) -> GpsCircleResult:
+    """Run the experiment; see the module docstring for the output.
+
+    Parameters
+    ----------
+    settings : GpsSettings
+        Scenario and filter settings.
+    methods : tuple of str
+        Filters to run (of :data:`FILTERS`).
+    jobs : int
+        Worker processes, one filter each.
+    """
+    sc = settings.make_scenario()
+    true = np.diag(sc.R_true[0])
+    notes: list[str] = []
+    channels = _table1(sc, notes)
     rmse: dict[str, Any] = {}
     divergence: dict[str, Any] = {}
-    settings = {k: v for k, v in vars(args).items() if isinstance(v, (int, float, str, type(None)))}
-    jobs = int(getattr(args, "jobs", 1) or 1)
-    if jobs < 1:
-        raise NoisevarError(f"--jobs must be at least 1, got {jobs}")
     # in this process the scenario is reused; worker processes regenerate it
-    tasks = [(name, settings, sc if jobs == 1 else None) for name in methods]
+    tasks = [(settings, name, sc if jobs == 1 else None) for name in methods]
     for name, summary in zip(methods, map_jobs(_filter_task, tasks, jobs), strict=True):
         rmse[name] = summary["rmse"]
         divergence[name] = summary["divergence"]
-        label = {"somd": "somd-online", "somd-paper": "somd-paper-online"}.get(name, name)
         if name in ("oracle", "fixed"):
             continue
-        r_second_half = summary["r_second_half"]
+        label = ONLINE_LABELS.get(name, name)
         for j, ch in enumerate(GPS_CHANNELS):
-            channels[ch]["methods"][label] = _channel_entry(r_second_half[:, j], true[j])
-
-    targets = _targets(channels, rmse)
+            channels[ch]["methods"][label] = _channel_entry(summary["r_second_half"][:, j], true[j])
     notes += [
         "channels: somd / somd-paper = estimator over the whole record per run (Table 1); "
         "adaptive filters = their R estimate averaged over the second half of the record",
@@ -220,38 +261,34 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         "window (somd-online); heading errors wrapped to [-pi, pi)",
         "divergence counts NaN, exploding covariance, and windowed NIS or NEES above 10x "
         "the chi-square mean",
+        *_divergence_note(divergence),
     ]
-    diverged = [n for n, d in divergence.items() if d["runs"]]
-    if diverged:
-        notes.append(
-            "diverged: "
-            + "; ".join(
-                f"{n} {divergence[n]['runs']}/{divergence[n]['of']} runs "
-                f"({', '.join(divergence[n]['reasons'])})"
-                for n in diverged
-            )
-        )
-    return {
-        "channels": channels,
-        "rmse": rmse,
-        "divergence": divergence,
-        "targets": targets,
-        "settings": {
+    return GpsCircleResult(
+        channels=channels,
+        rmse=rmse,
+        divergence=divergence,
+        targets=_targets(channels, rmse),
+        settings={
             "runs": sc.runs,
-            "seed": args.seed,
+            "seed": settings.seed,
             "duration_s": float(sc.time[-1] + sc.model.dt),
             "samples": int(sc.z.shape[1]),
             "h_smooth": list(sc.h_smooth),
             "Q_diag": np.diag(sc.model.Q).tolist(),
             "R0_diag": np.diag(sc.model.R).tolist(),
-            "window": args.window,
-            "forgetting": args.forgetting,
-            "rho": args.rho,
-            "somd_every": getattr(args, "somd_every", 100),
-            "somd_window": getattr(args, "somd_window", None),
+            "window": settings.window,
+            "forgetting": settings.forgetting,
+            "rho": settings.rho,
+            "somd_every": settings.somd_every,
+            "somd_window": settings.somd_window,
         },
-        "notes": notes,
-    }
+        notes=tuple(notes),
+    )
+
+
+def run(*, methods: tuple[str, ...], jobs: int, **settings: Any) -> GpsCircleResult:
+    """Run the experiment (validated parameters; see :data:`PARAMS`)."""
+    return run_gps_circle(GpsSettings(**settings), methods, jobs)
 
 
 def _targets(channels: dict[str, Any], rmse: dict[str, Any]) -> dict[str, Any]:
@@ -329,8 +366,8 @@ def _pct(x: float | None) -> str:
 EXPERIMENT = Experiment(
     name="gps-circle",
     help="paper section 3.2: Table 1 (SOMD vs RAE) and adaptive EKFs on a circular GPS track",
-    run=run,
-    add_arguments=add_arguments,
+    compute=run,
+    params=PARAMS,
     default_runs=20,
-    format_table=format_table,
+    table=format_table,
 )

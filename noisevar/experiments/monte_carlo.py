@@ -8,57 +8,96 @@ of relative errors within 10 % and none above 20 % over 1000 runs.
 
 from __future__ import annotations
 
-import argparse
+from dataclasses import dataclass
 from typing import Any
 
-from noisevar.errors import NoisevarError
 from noisevar.estimators.compare import default_methods, run_monte_carlo
-from noisevar.experiments import Experiment
+from noisevar.experiments.base import Experiment, ExperimentResult, ListParam, at_least
+from noisevar.params import ParamSpec
 from noisevar.signals import signal_names
 
-
-def _add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--signal", default="fast-slow", choices=signal_names(), help="signal family")
-    p.add_argument("--n", type=int, default=6000, help="samples per run (6000)")
-    p.add_argument(
-        "--methods",
-        help="comma-separated methods (default: every single-signal method; the slow "
+PARAMS = (
+    ParamSpec("signal", "str", "fast-slow", "signal family", choices=tuple(signal_names())),
+    ParamSpec(
+        "n",
+        "int",
+        6000,
+        "samples per run (6000)",
+        check=at_least("--n", 100, " samples"),
+    ),
+    ListParam(
+        "methods",
+        "strs",
+        None,
+        "comma-separated methods (default: every single-signal method; the slow "
         "state-space MLE peers only up to their length limit)",
-    )
+    ),
+)
 
 
-def run(args: argparse.Namespace) -> dict[str, Any]:
-    """Run the Monte Carlo and return ``{"runs", "methods": {name: stats}}``."""
-    methods = [m.strip() for m in args.methods.split(",")] if args.methods else None
-    if args.n < 100:
-        raise NoisevarError(f"--n must be at least 100 samples, got {args.n}")
+@dataclass(frozen=True)
+class MethodStats:
+    """Relative-error statistics of one method over the runs."""
+
+    within_10pct: float
+    max_abs_rel_error: float
+    bias: float
+    rmse: float
+    failed_runs: int
+    first_error: str | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        """The method's JSON entry (``first_error`` only when a run failed)."""
+        out = {k: v for k, v in vars(self).items() if k != "first_error"}
+        if self.first_error is not None:
+            out["first_error"] = self.first_error
+        return out
+
+
+@dataclass(frozen=True)
+class MonteCarloResult(ExperimentResult):
+    """Result of the monte-carlo experiment (fields: the JSON keys)."""
+
+    runs: int
+    signal: str
+    n: int
+    seed: int
+    true_variance: float
+    cramer_rao_floor: float
+    methods: dict[str, MethodStats]
+
+
+def run(
+    *, runs: int, seed: int, signal: str, n: int, methods: tuple[str, ...] | None
+) -> MonteCarloResult:
+    """Run the Monte Carlo (validated parameters; see :data:`EXPERIMENT`)."""
     mc = run_monte_carlo(
-        args.signal,
-        runs=args.runs,
-        methods=methods or default_methods(args.n),
-        n=args.n,
-        seed=args.seed,
+        signal,
+        runs=runs,
+        methods=list(methods) if methods else default_methods(n),
+        n=n,
+        seed=seed,
     )
-    out: dict[str, Any] = {
-        "runs": mc.runs_done,
-        "signal": args.signal,
-        "n": args.n,
-        "seed": args.seed,
-        "true_variance": mc.true_variance,
-        "cramer_rao_floor": mc.cr_floor,
-        "methods": {},
+    stats = {
+        row["method"]: MethodStats(
+            within_10pct=row["within_10pct"],
+            max_abs_rel_error=row["max_abs"],
+            bias=row["bias"],
+            rmse=row["rmse"],
+            failed_runs=row["failures"],
+            first_error=mc.first_error.get(row["method"]),
+        )
+        for row in mc.summary()
     }
-    for row in mc.summary():
-        out["methods"][row["method"]] = {
-            "within_10pct": row["within_10pct"],
-            "max_abs_rel_error": row["max_abs"],
-            "bias": row["bias"],
-            "rmse": row["rmse"],
-            "failed_runs": row["failures"],
-        }
-        if row["method"] in mc.first_error:
-            out["methods"][row["method"]]["first_error"] = mc.first_error[row["method"]]
-    return out
+    return MonteCarloResult(
+        runs=mc.runs_done,
+        signal=signal,
+        n=n,
+        seed=seed,
+        true_variance=mc.true_variance,
+        cramer_rao_floor=mc.cr_floor,
+        methods=stats,
+    )
 
 
 def format_table(result: dict[str, Any]) -> str:
@@ -79,8 +118,8 @@ def format_table(result: dict[str, Any]) -> str:
 EXPERIMENT = Experiment(
     name="monte-carlo",
     help="the paper's Fig. 2: relative errors of every method over Monte Carlo runs",
-    run=run,
-    add_arguments=_add_arguments,
+    compute=run,
+    params=PARAMS,
     default_runs=200,
-    format_table=format_table,
+    table=format_table,
 )

@@ -1,30 +1,24 @@
 """``noisevar experiment noise-step``: tracking a three-fold step in the noise level.
 
-Scenario :func:`noisevar.systems.scenarios.noise_step`: a manoeuvring 2-D
-target, CV Kalman filter, position-noise std 5 m stepping to 15 m at mid-run;
-``--runs`` seeded Monte Carlo runs filtered in one batch per method.
-:mod:`noisevar.experiments.noise_ramp` is the same with a ramp.
-
-Output (JSON)::
-
-    {"methods": {name: {"r_tracking_error": x, "r_bias": x, "rmse": x,
-                        "rmse_vs_oracle": x, "diverged_runs": k}},
-     "best": name, "targets": {...}, "settings": {...}, "notes": [...]}
-
-``r_tracking_error`` is ``mean |R̂_jj / R_jj - 1|`` over runs, both channels
-and the steps from ``change end + --settle`` to the end; ``r_bias`` the same
-without the absolute value; ``rmse`` the position RMSE over runs and all
-steps.
+A manoeuvring 2-D target (:func:`noisevar.systems.scenarios.noise_step`), CV
+Kalman filter, position-noise std 5 m stepping to ``factor`` x 5 m at mid-run;
+every method filters all runs in one batch. ``noise-ramp`` shares this module.
 """
 
 from __future__ import annotations
 
-import argparse
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Any
 
 from noisevar.errors import NoisevarError
-from noisevar.experiments import Experiment
+from noisevar.experiments.base import (
+    JOBS,
+    Experiment,
+    ExperimentResult,
+    ListParam,
+    strategy_param,
+)
 from noisevar.kalman.evaluation import (
     divergence_summary,
     fmt,
@@ -32,11 +26,8 @@ from noisevar.kalman.evaluation import (
     pooled_rmse,
     r_tracking_error,
 )
-from noisevar.kalman.strategies import (
-    RStrategy,
-    make_strategy,
-    strategy_spec,
-)
+from noisevar.kalman.strategies import RStrategy, make_strategy, strategy_spec
+from noisevar.params import ParamSpec
 from noisevar.systems.scenarios import Scenario, noise_ramp, noise_step
 
 METHODS = ("oracle", "fixed", "somd", "rae", "iae", "sage-husa", "vb", "rae-q")
@@ -44,53 +35,55 @@ ADAPTIVE = ("somd", "rae", "iae", "sage-husa", "vb", "rae-q")
 TARGET_R_TRACKING = 0.20
 TARGET_RMSE_VS_ORACLE = 0.10
 
-
-def add_arguments(parser: argparse.ArgumentParser) -> None:
-    """Options shared by noise-step and noise-ramp."""
-    parser.add_argument("--steps", type=int, default=6000, help="samples (T = 0.1 s)")
-    parser.add_argument(
-        "--factor", type=float, default=3.0, help="noise std after / before the change"
-    )
-    parser.add_argument(
-        "--settle",
-        type=int,
-        default=500,
-        help="steps after the change ends before R tracking is scored",
-    )
-    parser.add_argument("--window", type=int, default=50, help="window N of RAE / IAE / rae-q")
-    parser.add_argument(
-        "--forgetting", type=float, default=0.98, help="Sage-Husa forgetting factor b"
-    )
-    parser.add_argument("--rho", type=float, default=0.99, help="VB forgetting rho")
-    parser.add_argument(
-        "--somd-window", type=int, default=500, help="somd-online trailing window (steps)"
-    )
-    parser.add_argument(
-        "--somd-every", type=int, default=20, help="somd-online: re-estimate every N steps"
-    )
-    parser.add_argument(
-        "--jobs", type=int, default=1, help="worker processes, one filter each (default 1)"
-    )
-    parser.add_argument(
-        "--methods", nargs="+", choices=METHODS, default=list(METHODS), help="filters to run"
-    )
+#: Parameters shared by noise-step and noise-ramp.
+PARAMS = (
+    ParamSpec("steps", "int", 6000, "samples (T = 0.1 s)"),
+    ParamSpec("factor", "float", 3.0, "noise std after / before the change"),
+    ParamSpec("settle", "int", 500, "steps after the change ends before R tracking is scored"),
+    strategy_param("rae", "window", "window N of RAE / IAE / rae-q"),
+    strategy_param("sage-husa", "forgetting", "Sage-Husa forgetting factor b"),
+    strategy_param("vb", "rho", "VB forgetting rho"),
+    ParamSpec("somd_window", "int", 500, "somd-online trailing window (steps)"),
+    ParamSpec("somd_every", "int", 20, "somd-online: re-estimate every N steps"),
+    JOBS,
+    ListParam("methods", "strs", METHODS, "filters to run", choices=METHODS, sep=None),
+)
 
 
-def strategy_for(name: str, sc: Scenario, args: argparse.Namespace) -> RStrategy:
-    """The strategy object of one method name, with the experiment's settings."""
-    settings = {
-        "window": args.somd_window if name == "somd" else args.window,
-        "every": args.somd_every,
-        "forgetting": args.forgetting,
-        "rho": args.rho,
-    }
-    params = strategy_spec(name).defaults()
-    return make_strategy(
-        name,
-        h_smooth=sc.h_smooth,
-        R_true=sc.R_true[sc.first_step :],
-        **{k: settings[k] for k in params},
-    )
+@dataclass(frozen=True)
+class NoiseChangeSettings:
+    """What a worker needs to regenerate the scenario and build a filter."""
+
+    scenario: str
+    runs: int
+    seed: int
+    steps: int
+    factor: float
+    window: int
+    forgetting: float
+    rho: float
+    somd_window: int | None
+    somd_every: int
+
+    def make_scenario(self) -> Scenario:
+        """The seeded scenario (identical data in every process)."""
+        generate = GENERATORS[self.scenario]
+        return generate(runs=self.runs, seed=self.seed, n_steps=self.steps, factor=self.factor)
+
+    def strategy(self, name: str, sc: Scenario) -> RStrategy:
+        """The strategy object of one method name, with these settings."""
+        values = {
+            "window": self.somd_window if name == "somd" else self.window,
+            "every": self.somd_every,
+            "forgetting": self.forgetting,
+            "rho": self.rho,
+        }
+        return make_strategy(
+            name,
+            h_smooth=sc.h_smooth,
+            R_true=sc.R_true[sc.first_step :],
+            **{k: values[k] for k in strategy_spec(name).defaults()},
+        )
 
 
 GENERATORS: dict[str, Callable[..., Scenario]] = {
@@ -99,21 +92,42 @@ GENERATORS: dict[str, Callable[..., Scenario]] = {
 }
 
 
-def _scenario(name: str, args: argparse.Namespace) -> Scenario:
-    return GENERATORS[name](runs=args.runs, seed=args.seed, n_steps=args.steps, factor=args.factor)
+@dataclass(frozen=True)
+class NoiseChangeResult(ExperimentResult):
+    """Result of noise-step / noise-ramp (fields: the JSON keys).
+
+    Attributes
+    ----------
+    methods : dict
+        Per method: ``r_tracking_error`` (mean ``|R̂_jj / R_jj - 1|`` over runs,
+        both channels, from the change's end + ``settle`` on), ``r_bias`` (the
+        same without ``|.|``), ``rmse`` (position, all runs and steps),
+        ``rmse_vs_oracle``, ``diverged_runs`` and ``divergence``.
+    best : str or None
+        The adaptive method with the lowest ``r_tracking_error``.
+    targets, settings : dict
+        Whether ``best`` meets the targets; the parameters used.
+    notes : tuple of str
+        Scoring window and divergences.
+    """
+
+    methods: dict[str, dict[str, Any]]
+    best: str | None
+    targets: dict[str, Any]
+    settings: dict[str, Any]
+    notes: tuple[str, ...]
 
 
-def _filter_task(task: tuple[str, str, int, dict[str, Any], Scenario | None]) -> dict[str, Any]:
+def _filter_task(task: tuple[NoiseChangeSettings, str, int, Scenario | None]) -> dict[str, Any]:
     """Run one filter over all runs (batched) and score it (worker-process safe).
 
     The last element of ``task`` is the scenario, or ``None`` in a worker
     process, which regenerates the seeded scenario (identical data).
     """
-    scenario, name, start, settings, sc = task
-    args = argparse.Namespace(**settings)
+    settings, name, start, sc = task
     if sc is None:
-        sc = _scenario(scenario, args)
-    res = sc.run(strategy_for(name, sc, args))
+        sc = settings.make_scenario()
+    res = sc.run(settings.strategy(name, sc))
     err, bias = r_tracking_error(res, sc.R_true[sc.first_step :], start)
     div = divergence_summary(res)
     return {
@@ -125,41 +139,8 @@ def _filter_task(task: tuple[str, str, int, dict[str, Any], Scenario | None]) ->
     }
 
 
-def run_noise_change(sc: Scenario, args: argparse.Namespace) -> dict[str, Any]:
-    """Run every method on a noise-change scenario and score it.
-
-    Parameters
-    ----------
-    sc : Scenario
-        ``noise_step`` or ``noise_ramp`` scenario.
-    args : argparse.Namespace
-        Parsed options (see :func:`add_arguments`).
-
-    Returns
-    -------
-    dict
-        See the module docstring.
-    """
-    methods = list(getattr(args, "methods", METHODS))
-    start = sc.change[1] + args.settle - sc.first_step
-    n_filtered = sc.z.shape[1] - sc.first_step
-    if start >= n_filtered - 10:
-        raise NoisevarError(
-            f"--settle {args.settle} leaves no steps to score after the change (which ends at "
-            f"step {sc.change[1]} of {sc.z.shape[1]}): use a smaller --settle or more --steps"
-        )
-    settings = {k: v for k, v in vars(args).items() if isinstance(v, (int, float, str, type(None)))}
-    jobs = int(getattr(args, "jobs", 1) or 1)
-    if jobs < 1:
-        raise NoisevarError(f"--jobs must be at least 1, got {jobs}")
-    # in this process the scenario is reused; worker processes regenerate it
-    tasks = [(sc.name, name, start, settings, sc if jobs == 1 else None) for name in methods]
-    out = dict(zip(methods, map_jobs(_filter_task, tasks, jobs), strict=True))
-    oracle = out.get("oracle", {}).get("rmse")
-    for entry in out.values():
-        entry["rmse_vs_oracle"] = (
-            None if oracle is None or entry["rmse"] is None else entry["rmse"] / oracle - 1.0
-        )
+def _targets(out: dict[str, dict[str, Any]], methods: list[str]) -> dict[str, Any]:
+    """The best adaptive method and whether it meets the targets."""
     adaptive = [m for m in methods if m in ADAPTIVE]
     best = min(adaptive, key=lambda m: out[m]["r_tracking_error"]) if adaptive else None
     targets: dict[str, Any] = {"best": best}
@@ -171,39 +152,82 @@ def run_noise_change(sc: Scenario, args: argparse.Namespace) -> dict[str, Any]:
         targets["best_rmse_within_10pct_of_oracle"] = bool(
             ratio is not None and ratio <= TARGET_RMSE_VS_ORACLE
         )
+    return targets
+
+
+def _notes(sc: Scenario, settle: int, out: dict[str, dict[str, Any]]) -> list[str]:
     notes = [
-        f"R tracking scored from step {sc.change[1] + args.settle} (change ends at step "
-        f"{sc.change[1]}, + --settle {args.settle}) to the end, both channels, all runs",
+        f"R tracking scored from step {sc.change[1] + settle} (change ends at step "
+        f"{sc.change[1]}, + --settle {settle}) to the end, both channels, all runs",
         "rmse: horizontal position over all runs and filtered steps",
     ]
-    diverged = [
-        f"{m} {out[m]['diverged_runs']}/{sc.runs}" for m in methods if out[m]["diverged_runs"]
-    ]
+    diverged = [f"{m} {e['diverged_runs']}/{sc.runs}" for m, e in out.items() if e["diverged_runs"]]
     if diverged:
         notes.append(
             "diverged (NaN, exploding P, or windowed NIS/NEES > 10x): " + ", ".join(diverged)
         )
-    return {
-        "methods": out,
-        "best": best,
-        "targets": targets,
-        "settings": {
+    return notes
+
+
+def run_noise_change(
+    settings: NoiseChangeSettings, settle: int, methods: tuple[str, ...], jobs: int = 1
+) -> NoiseChangeResult:
+    """Run every method on a noise-change scenario and score it.
+
+    Parameters
+    ----------
+    settings : NoiseChangeSettings
+        Scenario and filter settings.
+    settle : int
+        Steps after the change ends before R tracking is scored.
+    methods : tuple of str
+        Filters to run (of :data:`METHODS`).
+    jobs : int
+        Worker processes, one filter each.
+
+    Returns
+    -------
+    NoiseChangeResult
+        See the module docstring.
+    """
+    sc = settings.make_scenario()
+    start = sc.change[1] + settle - sc.first_step
+    n_filtered = sc.z.shape[1] - sc.first_step
+    if start >= n_filtered - 10:
+        raise NoisevarError(
+            f"--settle {settle} leaves no steps to score after the change (which ends at "
+            f"step {sc.change[1]} of {sc.z.shape[1]}): use a smaller --settle or more --steps"
+        )
+    # in this process the scenario is reused; worker processes regenerate it
+    tasks = [(settings, name, start, sc if jobs == 1 else None) for name in methods]
+    out = dict(zip(methods, map_jobs(_filter_task, tasks, jobs), strict=True))
+    oracle = out.get("oracle", {}).get("rmse")
+    for entry in out.values():
+        entry["rmse_vs_oracle"] = (
+            None if oracle is None or entry["rmse"] is None else entry["rmse"] / oracle - 1.0
+        )
+    targets = _targets(out, list(methods))
+    return NoiseChangeResult(
+        methods=out,
+        best=targets["best"],
+        targets=targets,
+        settings={
             "scenario": sc.name,
             "runs": sc.runs,
-            "seed": args.seed,
+            "seed": settings.seed,
             "steps": int(sc.z.shape[1]),
             "change": list(sc.change),
-            "factor": args.factor,
-            "settle": args.settle,
-            "window": args.window,
-            "forgetting": args.forgetting,
-            "rho": args.rho,
-            "somd_window": args.somd_window,
-            "somd_every": args.somd_every,
+            "factor": settings.factor,
+            "settle": settle,
+            "window": settings.window,
+            "forgetting": settings.forgetting,
+            "rho": settings.rho,
+            "somd_window": settings.somd_window,
+            "somd_every": settings.somd_every,
             "h_smooth": list(sc.h_smooth),
         },
-        "notes": notes,
-    }
+        notes=tuple(_notes(sc, settle, out)),
+    )
 
 
 def format_table(result: dict[str, Any]) -> str:
@@ -230,20 +254,27 @@ def format_table(result: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
-def make_run(scenario: str) -> Callable[[argparse.Namespace], dict[str, Any]]:
-    """``run(args)`` for the noise-change scenario ``"noise-step"`` or ``"noise-ramp"``."""
+def noise_change_experiment(scenario: str, help: str) -> Experiment:
+    """The experiment of the noise-change scenario ``"noise-step"`` or ``"noise-ramp"``."""
 
-    def run(args: argparse.Namespace) -> dict[str, Any]:
-        return run_noise_change(_scenario(scenario, args), args)
+    def run(
+        *, settle: int, methods: tuple[str, ...], jobs: int, **settings: Any
+    ) -> NoiseChangeResult:
+        """Run the experiment (validated parameters; see :data:`PARAMS`)."""
+        return run_noise_change(
+            NoiseChangeSettings(scenario=scenario, **settings), settle, methods, jobs
+        )
 
-    return run
+    return Experiment(
+        name=scenario,
+        help=help,
+        compute=run,
+        params=PARAMS,
+        default_runs=20,
+        table=format_table,
+    )
 
 
-EXPERIMENT = Experiment(
-    name="noise-step",
-    help="manoeuvring target whose noise std steps up 3x mid-run: R tracking and RMSE",
-    run=make_run("noise-step"),
-    add_arguments=add_arguments,
-    default_runs=20,
-    format_table=format_table,
+EXPERIMENT = noise_change_experiment(
+    "noise-step", "manoeuvring target whose noise std steps up 3x mid-run: R tracking and RMSE"
 )

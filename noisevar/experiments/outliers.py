@@ -1,31 +1,25 @@
-"""``noisevar experiment outliers``: Huber EKF with a magnetic-variation state (spec B3).
+"""``noisevar experiment outliers``: Huber EKF with a magnetic-variation state.
 
-The DME/VOR fly-over of :mod:`noisevar.systems.robust` over ``--runs`` seeded runs
-(batched), once with bursts of bearing outliers near the station and once
-without. Metrics (issue 6): ``rmse_position_ekf``, ``rmse_position_huber``,
-``rmse_position_no_bias_state`` (with outliers), ``magvar_estimate_deg``
-(Huber filter, mean of the final estimates over runs), ``magvar_true_deg``;
-the clean-record RMSEs for the "equal without outliers" target; paired
-bootstrap intervals of both Huber/EKF ratios (same runs, same noise: is the
-"within 1 %" comparison resolved by 100 runs?); the paper's ``κ = 1.345``
-next to our default (:data:`noisevar.systems.robust.DEFAULT_KAPPA` = 2.5, chosen from
-held-out seeds, see :mod:`noisevar.systems.robust`); and, with ``--kappa-sweep``, the
-κ trade-off table on the same runs (``benchmarks/seeds.py`` runs it with
-``1.345,1.5,2,2.5,3``).
+The DME/VOR fly-over of :mod:`noisevar.systems.robust` (``docs/algorithms.md
+§B3``, ``§G5``), with and without bursts of bearing outliers: EKF, Huber EKF
+and Huber EKF without the bias state, paired bootstrap intervals of the
+Huber/EKF ratios, and an optional κ trade-off table on the same runs.
 """
 
 from __future__ import annotations
 
-import argparse
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from noisevar.errors import NoisevarError
-from noisevar.experiments import Experiment
+from noisevar.experiments.base import Experiment, ExperimentResult, ListParam
+from noisevar.params import ParamSpec
 from noisevar.systems.robust import (
     DEFAULT_KAPPA,
     PAPER_KAPPA,
+    KappaTradeoff,
+    RobustResult,
     RobustScenario,
     kappa_tradeoff,
     paired_rmse_ratio,
@@ -43,104 +37,72 @@ DEFINITIONS = {
     "kappa_sweep": "Huber/EKF ratios for each kappa on the same runs (with / without outliers)",
 }
 
+NOTES = (
+    "the ratios are paired (same runs, same noise); their _ci95 intervals show whether "
+    "100 runs resolve the 1 % target (at the paper's kappa they do not)",
+    "flagged_runs counts runs the filter core's consistency check flags (NIS/NEES far "
+    "above chi-square): outliers inflate the NIS of every filter; no estimates are "
+    "discarded.",
+)
 
-def _kappa_list(text: str) -> list[float]:
-    try:
-        values = [float(v) for v in text.split(",") if v.strip()]
-    except ValueError:
-        raise argparse.ArgumentTypeError(
-            f"--kappa-sweep {text!r}: give comma-separated positive thresholds, e.g. 1.345,2,3"
-        ) from None
-    if any(not v > 0 for v in values):
-        raise argparse.ArgumentTypeError(f"--kappa-sweep {text!r}: thresholds must be positive")
-    return values
-
-
-def add_arguments(parser: argparse.ArgumentParser) -> None:
-    """Scenario and Huber options of the outliers experiment."""
-    parser.add_argument(
-        "--kappa",
-        type=float,
-        default=DEFAULT_KAPPA,
-        help=f"Huber threshold κ (default {DEFAULT_KAPPA}; the paper's is {PAPER_KAPPA})",
-    )
-    parser.add_argument(
-        "--kappa-sweep",
-        type=_kappa_list,
-        default=[],
-        help="comma-separated κ values of a trade-off table on the same runs, e.g. "
+PARAMS = (
+    ParamSpec(
+        "kappa",
+        "float",
+        DEFAULT_KAPPA,
+        f"Huber threshold κ (default {DEFAULT_KAPPA}; the paper's is {PAPER_KAPPA})",
+        lo=0,
+    ),
+    ListParam(
+        "kappa_sweep",
+        "floats",
+        (),
+        "comma-separated κ values of a trade-off table on the same runs, e.g. "
         "1.345,1.5,2,2.5,3 (each costs two Huber runs; default: none)",
-    )
-    parser.add_argument("--iterations", type=int, default=10, help="Huber IRLS iterations")
-    parser.add_argument(
-        "--magvar", type=float, default=-5.0, help="station magnetic variation (deg)"
-    )
-    parser.add_argument(
-        "--burst-rate",
-        type=float,
-        default=0.08,
-        help="probability per sample near the station that an outlier burst starts",
-    )
+        lo=0,
+    ),
+    ParamSpec("iterations", "int", 10, "Huber IRLS iterations"),
+    ParamSpec("magvar", "float", -5.0, "station magnetic variation (deg)"),
+    ParamSpec(
+        "burst_rate",
+        "float",
+        0.08,
+        "probability per sample near the station that an outlier burst starts",
+    ),
+)
 
 
-def run(args: argparse.Namespace) -> dict[str, Any]:
-    """Run the three filters with and without outliers; JSON-serialisable result."""
-    runs = int(args.runs)
-    if runs < 1:
-        raise NoisevarError(f"--runs {runs}: give at least one run.")
-    seed = int(args.seed)
-    scen = RobustScenario(magvar_deg=args.magvar, burst_rate=args.burst_rate)
-    noisy = simulate_robust(scen, seed=seed, runs=runs)
-    res = run_robust(noisy, kappa=args.kappa, iterations=args.iterations)
-    clean_scen = RobustScenario(magvar_deg=args.magvar, outliers=False)
-    clean = simulate_robust(clean_scen, seed=seed, runs=runs)
-    res_clean = run_robust(
-        clean, kappa=args.kappa, iterations=args.iterations, filters=("ekf", "huber")
-    )
-    known = {float(args.kappa): (res, res_clean)}
-    kappas = list(dict.fromkeys([float(args.kappa), PAPER_KAPPA, *args.kappa_sweep]))
-    table = kappa_tradeoff(noisy, clean, kappas, iterations=args.iterations, seed=seed, known=known)
-    i_paper = kappas.index(PAPER_KAPPA)
-    ci_out = paired_rmse_ratio(
-        res.position_mse_per_run("huber"), res.position_mse_per_run("ekf"), seed=seed
-    )
-    ci_clean = paired_rmse_ratio(
-        res_clean.position_mse_per_run("huber"), res_clean.position_mse_per_run("ekf"), seed=seed
-    )
-    magvar_err = res.magvar_estimate_deg - args.magvar
-    rm = res.rmse_position
-    rc = res_clean.rmse_position
-    metrics = {
-        "rmse_position_ekf": rm["ekf"],
-        "rmse_position_huber": rm["huber"],
-        "rmse_position_no_bias_state": rm["no-bias"],
-        "magvar_estimate_deg": float(np.mean(res.magvar_estimate_deg)),
-        "magvar_true_deg": float(args.magvar),
-        "magvar_error_rms_deg": float(np.sqrt(np.mean(magvar_err**2))),
-        "magvar_error_max_abs_deg": float(np.max(np.abs(magvar_err))),
-        "magvar_estimate_ekf_deg": float(np.mean(res.magvar_estimate_ekf_deg)),
-        "huber_over_ekf_with_outliers": rm["huber"] / rm["ekf"],
-        "rmse_position_ekf_no_outliers": rc["ekf"],
-        "rmse_position_huber_no_outliers": rc["huber"],
-        "huber_over_ekf_no_outliers": rc["huber"] / rc["ekf"],
-        "huber_over_ekf_with_outliers_ci95": list(ci_out[1:]),
-        "huber_over_ekf_no_outliers_ci95": list(ci_clean[1:]),
-        "kappa": float(args.kappa),
-        "rmse_position_huber_paper_kappa": float(table.rmse_huber_outliers[i_paper]),
-        "rmse_position_huber_paper_kappa_no_outliers": float(table.rmse_huber_clean[i_paper]),
-        "huber_paper_kappa_over_ekf_with_outliers": float(table.ratio_outliers[i_paper]),
-        "huber_paper_kappa_over_ekf_no_outliers": float(table.ratio_clean[i_paper]),
-        "huber_paper_kappa_over_ekf_with_outliers_ci95": table.ci_outliers[i_paper].tolist(),
-        "huber_paper_kappa_over_ekf_no_outliers_ci95": table.ci_clean[i_paper].tolist(),
-        "outlier_fraction": float(noisy.outlier.mean()),
-        "flagged_runs": {name: int(np.sum(f.diverged)) for name, f in res.filters.items()},
-        "flagged_runs_no_outliers": {
-            name: int(np.sum(f.diverged)) for name, f in res_clean.filters.items()
-        },
+@dataclass(frozen=True)
+class OutliersResult(ExperimentResult):
+    """Result of the outliers experiment (fields: the JSON keys)."""
+
+    experiment: str = field(default="outliers", init=False)
+    runs: int
+    seed: int
+    settings: dict[str, Any]
+    definitions: dict[str, str] = field(default_factory=lambda: dict(DEFINITIONS), init=False)
+    metrics: dict[str, Any]
+    targets: dict[str, bool]
+    notes: tuple[str, ...] = field(default=NOTES, init=False)
+
+
+def _paper_kappa_metrics(table: KappaTradeoff, i: int) -> dict[str, Any]:
+    """The Huber filter at the paper's κ (row ``i`` of the trade-off table)."""
+    return {
+        "rmse_position_huber_paper_kappa": float(table.rmse_huber_outliers[i]),
+        "rmse_position_huber_paper_kappa_no_outliers": float(table.rmse_huber_clean[i]),
+        "huber_paper_kappa_over_ekf_with_outliers": float(table.ratio_outliers[i]),
+        "huber_paper_kappa_over_ekf_no_outliers": float(table.ratio_clean[i]),
+        "huber_paper_kappa_over_ekf_with_outliers_ci95": table.ci_outliers[i].tolist(),
+        "huber_paper_kappa_over_ekf_no_outliers_ci95": table.ci_clean[i].tolist(),
     }
+
+
+def _sweep(table: KappaTradeoff, kappa_sweep: tuple[float, ...]) -> dict[str, list[Any]]:
+    """The trade-off rows of the requested κ values, in increasing κ."""
     order = np.argsort(table.kappa)
-    shown = [int(i) for i in order if table.kappa[i] in args.kappa_sweep]
-    metrics["kappa_sweep"] = {
+    shown = [int(i) for i in order if table.kappa[i] in kappa_sweep]
+    return {
         "kappa": table.kappa[shown].tolist(),
         "huber_over_ekf_with_outliers": table.ratio_outliers[shown].tolist(),
         "huber_over_ekf_with_outliers_ci95": table.ci_outliers[shown].tolist(),
@@ -152,42 +114,99 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         "meets_both_targets": table.meets()[shown].tolist(),
         "meets_both_targets_over_ci95": table.meets_with_confidence()[shown].tolist(),
     }
+
+
+def _metrics(
+    res: RobustResult, res_clean: RobustResult, magvar: float, seed: int
+) -> dict[str, Any]:
+    """RMSEs, ratios with paired intervals and magnetic-variation errors at ``--kappa``."""
+    ci_out = paired_rmse_ratio(
+        res.position_mse_per_run("huber"), res.position_mse_per_run("ekf"), seed=seed
+    )
+    ci_clean = paired_rmse_ratio(
+        res_clean.position_mse_per_run("huber"), res_clean.position_mse_per_run("ekf"), seed=seed
+    )
+    magvar_err = res.magvar_estimate_deg - magvar
+    rm = res.rmse_position
+    rc = res_clean.rmse_position
     return {
-        "experiment": "outliers",
-        "runs": runs,
-        "seed": seed,
-        "settings": {
-            "kappa": args.kappa,
-            "iterations": args.iterations,
-            "magvar_deg": args.magvar,
-            "burst_rate": args.burst_rate,
-            "range_std_m": scen.range_std_m,
-            "bearing_std_deg": scen.bearing_std_deg,
-            "velocity_std": scen.velocity_std,
-            "outlier_radius_m": scen.outlier_radius_m,
-            "outlier_deg": list(scen.outlier_deg),
-            "no_bias_filter": "Huber update without the magnetic-variation state",
-            "rmse": f"horizontal position, m, over runs and steps {res.skip}..N",
-            "kappa_default_reason": "chosen from held-out seeds 1-5 (500 runs): the only kappa "
-            "of 1.345/1.5/2/2.5/3 whose paired 95 % intervals lie inside both targets "
-            "(see noisevar.systems.robust)",
-        },
-        "definitions": DEFINITIONS,
-        "metrics": metrics,
-        "targets": {
-            "huber_at_most_0.7x_ekf_with_outliers": metrics["huber_over_ekf_with_outliers"] <= 0.7,
-            "huber_within_1pct_without_outliers": abs(metrics["huber_over_ekf_no_outliers"] - 1)
-            <= 0.01,
-            "magvar_within_0.5deg": abs(metrics["magvar_estimate_deg"] - args.magvar) <= 0.5,
-        },
-        "notes": [
-            "the ratios are paired (same runs, same noise); their _ci95 intervals show whether "
-            "100 runs resolve the 1 % target (at the paper's kappa they do not)",
-            "flagged_runs counts runs the filter core's consistency check flags (NIS/NEES far "
-            "above chi-square): outliers inflate the NIS of every filter; no estimates are "
-            "discarded.",
-        ],
+        "rmse_position_ekf": rm["ekf"],
+        "rmse_position_huber": rm["huber"],
+        "rmse_position_no_bias_state": rm["no-bias"],
+        "magvar_estimate_deg": float(np.mean(res.magvar_estimate_deg)),
+        "magvar_true_deg": float(magvar),
+        "magvar_error_rms_deg": float(np.sqrt(np.mean(magvar_err**2))),
+        "magvar_error_max_abs_deg": float(np.max(np.abs(magvar_err))),
+        "magvar_estimate_ekf_deg": float(np.mean(res.magvar_estimate_ekf_deg)),
+        "huber_over_ekf_with_outliers": rm["huber"] / rm["ekf"],
+        "rmse_position_ekf_no_outliers": rc["ekf"],
+        "rmse_position_huber_no_outliers": rc["huber"],
+        "huber_over_ekf_no_outliers": rc["huber"] / rc["ekf"],
+        "huber_over_ekf_with_outliers_ci95": list(ci_out[1:]),
+        "huber_over_ekf_no_outliers_ci95": list(ci_clean[1:]),
     }
+
+
+def _settings(scen: RobustScenario, kappa: float, iterations: int, skip: int) -> dict[str, Any]:
+    return {
+        "kappa": kappa,
+        "iterations": iterations,
+        "magvar_deg": scen.magvar_deg,
+        "burst_rate": scen.burst_rate,
+        "range_std_m": scen.range_std_m,
+        "bearing_std_deg": scen.bearing_std_deg,
+        "velocity_std": scen.velocity_std,
+        "outlier_radius_m": scen.outlier_radius_m,
+        "outlier_deg": list(scen.outlier_deg),
+        "no_bias_filter": "Huber update without the magnetic-variation state",
+        "rmse": f"horizontal position, m, over runs and steps {skip}..N",
+        "kappa_default_reason": "chosen from held-out seeds 1-5 (500 runs): the only kappa "
+        "of 1.345/1.5/2/2.5/3 whose paired 95 % intervals lie inside both targets "
+        "(see noisevar.systems.robust)",
+    }
+
+
+def run(
+    *,
+    runs: int,
+    seed: int,
+    kappa: float,
+    kappa_sweep: tuple[float, ...],
+    iterations: int,
+    magvar: float,
+    burst_rate: float,
+) -> OutliersResult:
+    """The three filters with and without outliers (validated parameters)."""
+    scen = RobustScenario(magvar_deg=magvar, burst_rate=burst_rate)
+    noisy = simulate_robust(scen, seed=seed, runs=runs)
+    res = run_robust(noisy, kappa=kappa, iterations=iterations)
+    clean = simulate_robust(RobustScenario(magvar_deg=magvar, outliers=False), seed=seed, runs=runs)
+    res_clean = run_robust(clean, kappa=kappa, iterations=iterations, filters=("ekf", "huber"))
+    known = {float(kappa): (res, res_clean)}
+    kappas = list(dict.fromkeys([float(kappa), PAPER_KAPPA, *kappa_sweep]))
+    table = kappa_tradeoff(noisy, clean, kappas, iterations=iterations, seed=seed, known=known)
+    metrics = _metrics(res, res_clean, magvar, seed)
+    metrics["kappa"] = float(kappa)
+    metrics.update(_paper_kappa_metrics(table, kappas.index(PAPER_KAPPA)))
+    metrics["outlier_fraction"] = float(noisy.outlier.mean())
+    metrics["flagged_runs"] = {name: int(np.sum(f.diverged)) for name, f in res.filters.items()}
+    metrics["flagged_runs_no_outliers"] = {
+        name: int(np.sum(f.diverged)) for name, f in res_clean.filters.items()
+    }
+    metrics["kappa_sweep"] = _sweep(table, kappa_sweep)
+    targets = {
+        "huber_at_most_0.7x_ekf_with_outliers": metrics["huber_over_ekf_with_outliers"] <= 0.7,
+        "huber_within_1pct_without_outliers": abs(metrics["huber_over_ekf_no_outliers"] - 1)
+        <= 0.01,
+        "magvar_within_0.5deg": abs(metrics["magvar_estimate_deg"] - magvar) <= 0.5,
+    }
+    return OutliersResult(
+        runs=runs,
+        seed=seed,
+        settings=_settings(scen, kappa, iterations, res.skip),
+        metrics=metrics,
+        targets=targets,
+    )
 
 
 def format_table(result: dict[str, Any]) -> str:
@@ -235,8 +254,8 @@ def format_table(result: dict[str, Any]) -> str:
 EXPERIMENT = Experiment(
     name="outliers",
     help="robust Huber EKF with a magnetic-variation state on a DME/VOR fly-over (spec B3)",
-    run=run,
-    add_arguments=add_arguments,
+    compute=run,
+    params=PARAMS,
     default_runs=100,
-    format_table=format_table,
+    table=format_table,
 )
