@@ -7,7 +7,6 @@ underscore are not hashed. Cached results are shared read-only objects.
 
 from __future__ import annotations
 
-import argparse
 import json
 import re
 from collections.abc import Sequence
@@ -340,14 +339,7 @@ def table1(runs: int, seed: int) -> JsonDict:
     """The gps-circle experiment (the paper's Table 1) with ``runs`` Monte Carlo runs, cached."""
     from noisevar.experiments import discover
 
-    exp = discover()["gps-circle"]
-    parser = argparse.ArgumentParser()
-    if exp.add_arguments is not None:
-        exp.add_arguments(parser)
-    args = parser.parse_args([])
-    args.runs = int(runs)
-    args.seed = int(seed)
-    return exp.run(args)
+    return discover()["gps-circle"].run(runs=int(runs), seed=int(seed)).to_dict()
 
 
 # ------------------------------------------------------ the other seed systems

@@ -10,10 +10,9 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import warnings
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from typing import Any, overload
+from typing import Any
 
 import numpy as np
 
@@ -227,15 +226,7 @@ class Experiment:
         specs = by_name(self.parameters)
         return validate_params(f"experiment {self.name}", specs, {**self.defaults(), **kwargs})
 
-    @overload
-    def run(self, ns: argparse.Namespace, /) -> dict[str, Any]: ...
-
-    @overload
-    def run(self, /, **kwargs: Any) -> ExperimentResult: ...
-
-    def run(
-        self, ns: argparse.Namespace | None = None, /, **kwargs: Any
-    ) -> ExperimentResult | dict[str, Any]:
+    def run(self, /, **kwargs: Any) -> ExperimentResult:
         """Run the experiment with keyword parameters; return its result dataclass.
 
         Parameters
@@ -252,26 +243,8 @@ class Experiment:
         ------
         NoisevarError
             An unknown parameter or a bad value.
-
-        Notes
-        -----
-        ``run(namespace)`` (the former interface) still works, with a
-        DeprecationWarning, and returns ``to_dict()``.
         """
-        if ns is not None:
-            return self._run_namespace(ns)
         return self.compute(**self.validate(**kwargs))
-
-    def _run_namespace(self, ns: argparse.Namespace) -> dict[str, Any]:
-        warnings.warn(
-            f"experiment {self.name}: run(argparse.Namespace) is deprecated; "
-            "call run(**params) and .to_dict()",
-            DeprecationWarning,
-            stacklevel=3,
-        )
-        known = {p.name for p in self.parameters}
-        kwargs = {k: v for k, v in vars(ns).items() if k in known}
-        return self.compute(**self.validate(**kwargs)).to_dict()
 
     def format_table(self, result: ExperimentResult | dict[str, Any]) -> str:
         """Readable text of a result (or of its ``to_dict()``)."""
@@ -281,19 +254,3 @@ class Experiment:
 
             return json.dumps(data, indent=2)
         return self.table(data)
-
-    def add_arguments(self, parser: argparse.ArgumentParser) -> None:
-        """Add the experiment's own flags with their defaults (deprecated).
-
-        Notes
-        -----
-        Kept for callers of the former interface; the CLI adds the flags from
-        :attr:`parameters` itself.
-        """
-        warnings.warn(
-            "Experiment.add_arguments is deprecated; use Experiment.params",
-            DeprecationWarning,
-            stacklevel=2,
-        )
-        for spec in self.params:
-            spec.add_to(parser, default=spec.default)

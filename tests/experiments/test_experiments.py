@@ -237,18 +237,6 @@ def test_list_parameters_accept_text_or_sequences() -> None:
     assert mc.validate(methods="")["methods"] == ()
 
 
-def test_namespace_interface_is_deprecated_but_works() -> None:
-    exp = discover()["latency"]
-    kwargs = {"runs": 1, "seed": 2, "duration": 100.0}
-    with pytest.warns(DeprecationWarning, match="deprecated"):
-        legacy = exp.run(argparse.Namespace(**kwargs, format="json"))
-    assert legacy == exp.run(**kwargs).to_dict()
-    parser = argparse.ArgumentParser()
-    with pytest.warns(DeprecationWarning):
-        exp.add_arguments(parser)
-    assert parser.parse_args([]).max_delay == 2.0
-
-
 TRIVIAL = """
 from dataclasses import dataclass
 

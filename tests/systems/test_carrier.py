@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import argparse
-
 import numpy as np
 import pytest
 
@@ -194,12 +192,7 @@ def test_negative_cn0_message() -> None:
 
 
 def test_experiment_reports_the_issue_metrics() -> None:
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--runs", type=int, default=2)
-    parser.add_argument("--seed", type=int, default=0)
-    EXPERIMENT.add_arguments(parser)
-    args = parser.parse_args(["--cn0", "30", "--duration", "2", "--sweep", "30,40"])
-    result = EXPERIMENT.run(args)
+    result = EXPERIMENT.run(runs=2, seed=0, cn0=30.0, duration=2.0, sweep=[30.0, 40.0]).to_dict()
     m = result["metrics"]
     for key in (
         "rms_phase_error_ekf_rad",
@@ -224,14 +217,8 @@ def test_experiment_reports_the_issue_metrics() -> None:
 
 
 def test_experiment_with_the_matched_design() -> None:
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--runs", type=int, default=2)
-    parser.add_argument("--seed", type=int, default=0)
-    EXPERIMENT.add_arguments(parser)
-    args = parser.parse_args(
-        ["--cn0", "35", "--nominal-cn0", "35", "--duration", "1", "--sweep", ""]
-    )
-    m = EXPERIMENT.run(args)["metrics"]
+    result = EXPERIMENT.run(runs=2, seed=0, cn0=35.0, nominal_cn0=35.0, duration=1.0, sweep=[])
+    m = result.to_dict()["metrics"]
     # designed for the actual C/N0 and dynamics, the fixed EKF is the matched one
     assert m["rms_phase_error_ekf_rad"] == m["rms_phase_error_ekf_matched_rad"]
     assert m["sweep"]["cn0_dbhz"] == []

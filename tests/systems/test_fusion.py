@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import argparse
-
 import numpy as np
 import pytest
 
@@ -101,11 +99,7 @@ def test_zero_sensors_message() -> None:
 
 
 def test_experiment_reports_the_issue_metrics() -> None:
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--runs", type=int, default=2)
-    parser.add_argument("--seed", type=int, default=0)
-    EXPERIMENT.add_arguments(parser)
-    result = EXPERIMENT.run(parser.parse_args(["--steps", "150"]))
+    result = EXPERIMENT.run(runs=2, seed=0, steps=150).to_dict()
     m = result["metrics"]
     assert m["max_abs_diff_vs_centralized"] < 1e-8
     for key in (

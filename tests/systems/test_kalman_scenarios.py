@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import argparse
 import json
 
 import numpy as np
@@ -86,24 +85,19 @@ def test_somd_filter_close_to_oracle_on_gps_circle():
     assert s / o - 1 < 0.05
 
 
-def _args(**kw) -> argparse.Namespace:
-    return argparse.Namespace(**kw)
-
-
 #: Adaptive-filter settings the gps-circle experiment tests share.
 GPS_ARGS = dict(window=50, forgetting=0.98, rho=0.99, somd_every=100, somd_window=None)
 
 
 def test_gps_circle_experiment_json_schema():
     exp = discover()["gps-circle"]
-    args = _args(
+    out = exp.run(
         **GPS_ARGS,
         runs=2,
         seed=1,
         duration=600.0,
         methods=["oracle", "somd", "somd-paper", "rae", "iae", "sage-husa", "vb"],
-    )
-    out = exp.run(args)
+    ).to_dict()
     json.dumps(out, allow_nan=False)
     assert set(out["channels"]) == {"east", "north", "speed", "heading"}
     for entry in out["channels"].values():
@@ -120,7 +114,7 @@ def test_gps_circle_experiment_json_schema():
 @pytest.mark.parametrize("name", ["noise-step", "noise-ramp"])
 def test_noise_change_experiment_json_schema(name):
     exp = discover()[name]
-    args = _args(
+    args = dict(
         runs=2,
         seed=0,
         steps=2000,
@@ -133,7 +127,7 @@ def test_noise_change_experiment_json_schema(name):
         somd_every=20,
         methods=["oracle", "fixed", "somd", "vb"],
     )
-    out = exp.run(args)
+    out = exp.run(**args).to_dict()
     json.dumps(out, allow_nan=False)
     assert set(out["methods"]) == {"oracle", "fixed", "somd", "vb"}
     for entry in out["methods"].values():
@@ -143,7 +137,7 @@ def test_noise_change_experiment_json_schema(name):
     assert out["methods"]["somd"]["r_tracking_error"] < 0.2
     assert "best adaptive" in exp.format_table(out)
     with pytest.raises(NoisevarError, match="settle"):
-        exp.run(_args(**{**vars(args), "settle": 5000}))
+        exp.run(**{**args, "settle": 5000})
 
 
 def test_cli_runs_gps_circle(capsys):
@@ -197,6 +191,6 @@ def test_figures():
 def test_experiment_jobs_give_identical_results():
     exp = discover()["gps-circle"]
     base = dict(GPS_ARGS, runs=1, seed=4, duration=300.0, methods=["oracle", "rae", "vb"])
-    a = exp.run(_args(**base, jobs=1))
-    b = exp.run(_args(**base, jobs=2))
+    a = exp.run(**base, jobs=1).to_dict()
+    b = exp.run(**base, jobs=2).to_dict()
     assert a == b

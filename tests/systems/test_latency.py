@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import argparse
-
 import numpy as np
 import pytest
 
@@ -145,11 +143,7 @@ def test_minimum_at_search_edge_is_reported() -> None:
 
 
 def test_experiment_reports_the_issue_metrics() -> None:
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--runs", type=int, default=3)
-    parser.add_argument("--seed", type=int, default=0)
-    EXPERIMENT.add_arguments(parser)
-    result = EXPERIMENT.run(parser.parse_args([]))
+    result = EXPERIMENT.run(runs=3, seed=0).to_dict()
     for key in (
         "true_delay_s",
         "estimated_delay_s",
@@ -160,4 +154,4 @@ def test_experiment_reports_the_issue_metrics() -> None:
         assert np.isfinite(result["metrics"][key])
     assert "latency" in EXPERIMENT.format_table(result)
     with pytest.raises(NoisevarError):
-        EXPERIMENT.run(parser.parse_args(["--delay", "0.05"]))
+        EXPERIMENT.run(runs=3, seed=0, delay=0.05)

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import argparse
-
 import numpy as np
 import pytest
 
@@ -141,11 +139,8 @@ def test_bad_parameters_are_refused(make) -> None:
 
 
 def test_experiment_reports_the_issue_metrics() -> None:
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--runs", type=int, default=2)
-    parser.add_argument("--seed", type=int, default=0)
-    EXPERIMENT.add_arguments(parser)
-    result = EXPERIMENT.run(parser.parse_args(["--kappa-sweep", "1.345,1.5,2,2.5,3"]))
+    sweep = [1.345, 1.5, 2.0, 2.5, 3.0]
+    result = EXPERIMENT.run(runs=2, seed=0, kappa_sweep=sweep).to_dict()
     m = result["metrics"]
     for key in (
         "rmse_position_ekf",
@@ -173,15 +168,11 @@ def test_experiment_reports_the_issue_metrics() -> None:
 
 
 def test_experiment_without_the_kappa_sweep() -> None:
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--runs", type=int, default=2)
-    parser.add_argument("--seed", type=int, default=0)
-    EXPERIMENT.add_arguments(parser)
-    result = EXPERIMENT.run(parser.parse_args(["--kappa", "1.345"]))
+    result = EXPERIMENT.run(runs=2, seed=0, kappa=1.345).to_dict()
     m = result["metrics"]
     assert m["kappa_sweep"]["kappa"] == []  # the table is on demand
     assert m["huber_paper_kappa_over_ekf_with_outliers"] == pytest.approx(
         m["huber_over_ekf_with_outliers"], rel=1e-12
     )
-    with pytest.raises(SystemExit):
-        parser.parse_args(["--kappa-sweep", "1,-2"])
+    with pytest.raises(NoisevarError, match="kappa_sweep"):
+        EXPERIMENT.run(runs=2, seed=0, kappa_sweep=[1.0, -2.0])
