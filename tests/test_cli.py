@@ -271,7 +271,7 @@ BAD = [
     (["estimate", "{npy}", "--h-smoth", "1e-5"], "unrecognized arguments: --h-smoth"),
     (["estimate", "{npy}", "--config", "{unknown_key}"], "unknown config key 'h_smoth'"),
     (["estimate", "{npy}", "--config", "{bad_json}"], "not valid JSON"),
-    (["estimate", "{npy}", "--config", "{bad_value}"], "'gamma_amp'=3 is out of range"),
+    (["estimate", "{npy}", "--config", "{bad_value}"], "'gamma_amp': gamma_amp=3 is out of range"),
     (["estimate", "{npy}", "--config", "{missing}"], "no such config file"),
     (["estimate", "{npy}", "--method", "somd-redundant"], "needs --reference-column"),
     (["estimate", "{npy}", "--format", "xml"], "invalid choice: 'xml'"),
