@@ -143,8 +143,8 @@ def _block_square_sums(x: NDArray, block: int, nb: int) -> NDArray:
 def _block_medians(x: NDArray, block: int, nb: int, stride: int) -> NDArray:
     """Median of every ``stride``-th sample of each of the first ``nb`` blocks.
 
-    A row-wise sort of the small ``(nb, block / stride)`` array: several
-    times faster than ``np.median(..., axis=1)`` on it, with the same values.
+    A row-wise sort of the small ``(nb, block / stride)`` array, with the values of
+    ``np.median(..., axis=1)``.
     """
     y = np.sort(x[: nb * block].reshape(nb, block)[:, ::stride], axis=1)
     k = y.shape[1]
@@ -254,13 +254,10 @@ def _above_local(x: NDArray, local: NDArray, block: int) -> NDArray:
 
     Block ``j``'s level holds at its centre ``(j + 1/2) block``; a sample is
     compared with the larger of the levels of the two centres around it (the
-    rest of the record after the last block with the last level). Near a
-    change of noise level the threshold is the higher side's: a linear
-    interpolation there put the threshold for the louder samples just after a
-    noise step of x3 at 3.5 of their standard deviations, and trimmed genuine
-    noise in one record of ten. One blockwise comparison with the block's own
-    level (a lower bound) finds the few candidates; only those are compared
-    with the bracketing level (no per-sample threshold array).
+    rest of the record after the last block with the last level), so that near a
+    change of noise level the threshold is the louder side's (§F5.4). One
+    blockwise comparison with the block's own level (a lower bound) finds the few
+    candidates; only those are compared with the bracketing level.
     """
     n, nb = x.size, local.size
     hit = np.empty(n, dtype=bool)
