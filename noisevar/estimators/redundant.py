@@ -117,7 +117,10 @@ def estimate_redundant(sensors: ArrayLike) -> RedundantEstimate:
 
 
 def _somd_redundant(
-    z: NDArray, notes: list[str], reference: ArrayLike | None = None, reference_variance=0.0
+    z: NDArray,
+    notes: list[str],
+    reference: ArrayLike | None = None,
+    reference_variance: float = 0.0,
 ) -> VarianceEstimate:
     if reference is None:
         raise NoisevarError(

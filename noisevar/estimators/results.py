@@ -2,14 +2,18 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 from scipy import stats
 
 from noisevar.filters.selection import WindowSelection
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 
 def chi2_interval(variance: float, dof: float, level: float = 0.95) -> tuple[float, float]:
@@ -228,7 +232,7 @@ class VarianceEstimates:
     def __len__(self) -> int:
         return len(self.estimates)
 
-    def __iter__(self):  # noqa: ANN204 - Iterator[VarianceEstimate]
+    def __iter__(self) -> Iterator[VarianceEstimate]:
         return iter(self.estimates)
 
     def __getitem__(self, index: int | tuple[int, ...]) -> VarianceEstimate:
@@ -237,7 +241,7 @@ class VarianceEstimates:
             index = int(np.ravel_multi_index(index, self.shape))
         return self.estimates[index]
 
-    def to_frame(self):  # noqa: ANN201 - pandas.DataFrame (pandas imported lazily)
+    def to_frame(self) -> pd.DataFrame:
         """One row per channel: its index, variance, std, ci95 bounds, n_used, n_total, dof."""
         import pandas as pd
 
