@@ -6,12 +6,13 @@ Quick start::
     est = noisevar.estimate(z)                 # default method "auto"
     est.variance, est.ci95, est.n_used
     noisevar.estimate(z, method="somd", h_smooth=1.5e-5, window=40)
+    noisevar.estimate(Z, axis=0).variance     # one estimate per column of Z
     noisevar.methods()
 """
 
 from noisevar.errors import NoisevarError, NoWindowKept
 from noisevar.estimators import describe_methods, estimate, estimate_redundant, methods
-from noisevar.estimators.results import RedundantEstimate, VarianceEstimate
+from noisevar.estimators.results import RedundantEstimate, VarianceEstimate, VarianceEstimates
 from noisevar.signals import GeneratedSignal, generate, signal_names
 
 __version__ = "0.1.0"
@@ -21,6 +22,7 @@ __all__ = [
     "NoisevarError",
     "RedundantEstimate",
     "VarianceEstimate",
+    "VarianceEstimates",
     "__version__",
     "describe_methods",
     "estimate",

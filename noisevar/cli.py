@@ -3,8 +3,8 @@
 Sub-commands::
 
     noisevar estimate FILE [--column C] [--method M] [--h-smooth H ...] [--h-track H]
-                           [--window M] [--gamma-amp G] [--gamma-ang DEG]
-                           [--config tuned.json] [--format table|json]
+                           [--window M] [--gamma-amp G] [--gamma-ang DEG] [--span S]
+                           [--order K] [--trim T] [--config tuned.json] [--format table|json]
     noisevar methods
     noisevar scan-h FILE [--column C] [--window M]
     noisevar experiment NAME [--runs N] [--seed S] [--format table|json] ...
@@ -12,7 +12,9 @@ Sub-commands::
 Every error is one line on stderr and a non-zero exit status (2 for bad input,
 3 for an internal error); no traceback (``NOISEVAR_DEBUG=1`` shows it).
 The ``--config`` file is the JSON the dashboard exports: command-line flags
-given explicitly override its values.
+given explicitly override its values. The parameter flags of ``estimate`` are made
+from the parameter specs (:data:`noisevar.estimators.params.PARAMS`); a flag the
+chosen method does not take is an error.
 """
 
 from __future__ import annotations
@@ -27,6 +29,7 @@ from typing import Any, NoReturn
 import numpy as np
 
 from noisevar.errors import NoisevarError
+from noisevar.params import ParamSpec
 
 EXIT_ERROR = 2
 
@@ -66,6 +69,20 @@ def _load_signal(
 
 
 # --------------------------------------------------------------------------- estimate
+def _estimate_specs() -> list[ParamSpec]:
+    """The estimate flags: every registered method's parameters that have a flag."""
+    from noisevar.estimators import METHODS
+    from noisevar.estimators.params import PARAMS
+
+    specs: dict[str, ParamSpec] = {}
+    for method in METHODS.values():
+        for name, spec in method.param_specs.items():
+            if spec.cli:
+                specs.setdefault(name, spec)
+    order = list(PARAMS)
+    return sorted(specs.values(), key=lambda p: order.index(p.name) if p.name in order else 99)
+
+
 def _estimate_params(args: argparse.Namespace) -> tuple[str, dict[str, Any]]:
     from noisevar.config import load_config
 
@@ -77,22 +94,12 @@ def _estimate_params(args: argparse.Namespace) -> tuple[str, dict[str, Any]]:
         params.update(cfg)
     if args.method is not None:
         method = args.method
-    flags = {
-        "h_smooth": args.h_smooth
-        if args.h_smooth is None or len(args.h_smooth) > 1
-        else args.h_smooth[0],
-        "h_track": args.h_track,
-        "track_ratio": args.track_ratio,
-        "window": args.window,
-        "gamma_amp": args.gamma_amp,
-        "gamma_ang": args.gamma_ang,
-        "angle": args.angle,
-        "select": False if args.no_select else None,
-        "reference_variance": args.reference_variance,
-    }
-    params.update({k: v for k, v in flags.items() if v is not None})
-    if args.drop_nonfinite:
-        params["drop_nonfinite"] = True
+    for spec in _estimate_specs():
+        value = getattr(args, spec.name)
+        if spec.kind == "floats" and value is not None and len(value) == 1:
+            value = value[0]  # one --h-smooth is a number, several a list
+        if value is not None:
+            params[spec.name] = value
     return method, params
 
 
@@ -198,20 +205,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("file", help="CSV/TSV (with or without header), .npy, or NMEA file")
     p.add_argument("--column", help="column name or 0-based index (default: the only/first)")
     p.add_argument("--method", choices=methods(), help="estimator (default auto)")
-    p.add_argument("--h-smooth", type=float, nargs="+", help="smoothing h (one or several)")
-    p.add_argument("--h-track", type=float, help="tracking h (default track-ratio x h-smooth)")
-    p.add_argument("--track-ratio", type=float, help="h_track / h_smooth (10 to 100)")
-    p.add_argument("--window", type=int, help="window length m (samples)")
-    p.add_argument("--gamma-amp", type=float, help="amplitude threshold, in (0, 1]")
-    p.add_argument("--gamma-ang", type=float, help="angle threshold, degrees")
-    p.add_argument(
-        "--angle", choices=["scaled", "paper"], help="slope convention of the angle test"
-    )
-    p.add_argument("--no-select", action="store_true", help="skip window selection (SOMD)")
+    for spec in _estimate_specs():
+        spec.add_to(p)
     p.add_argument("--reference-column", help="second sensor's column (somd-redundant)")
-    p.add_argument("--reference-variance", type=float, help="known variance of the reference")
     p.add_argument("--config", help="tuned-parameter JSON exported by the dashboard")
-    p.add_argument("--drop-nonfinite", action="store_true", help="drop NaN/Inf and say how many")
     p.add_argument("--format", choices=["table", "json"], default="table")
     p.set_defaults(func=_cmd_estimate)
 

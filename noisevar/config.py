@@ -15,16 +15,15 @@ exactly as the keyword arguments of :func:`noisevar.estimate`, for example::
     }
 
 so that ``noisevar.estimate(z, **load_config(path))`` reproduces the tuned
-estimate. Every value is checked when a config is made or read (the same
-ranges :func:`noisevar.estimate` enforces), so a bad file is refused at once
-with a message naming the key, not later in the middle of a run. Arrays
-(``reference``) cannot be stored in a config: they are data, not parameters.
+estimate. Every value is checked, when a config is made or read, by the parameter
+specs :func:`noisevar.estimate` uses (:data:`noisevar.estimators.params.PARAMS`), so a
+bad file is refused at once with a message naming the key. Arrays (``reference``)
+cannot be stored in a config: they are data, not parameters.
 """
 
 from __future__ import annotations
 
 import json
-import math
 import os
 from collections.abc import Mapping
 from pathlib import Path
@@ -33,99 +32,52 @@ from typing import Any
 import numpy as np
 
 from noisevar.errors import NoisevarError
-from noisevar.estimators import KNOWN_PARAMS, methods
-from noisevar.filters.abg import check_h
-from noisevar.filters.selection import ANGLES
-
-#: Parameters a config may hold (``reference`` is data and is refused).
-CONFIG_PARAMS = tuple(sorted(KNOWN_PARAMS - {"reference"}))
+from noisevar.estimators import METHODS, methods
+from noisevar.estimators.params import PARAMS
+from noisevar.params import ParamSpec
 
 
-def _number(key: str, value: Any) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise NoisevarError(f"config key {key!r} must be a number, got {value!r}")
-    v = float(value)
-    if math.isnan(v):
-        raise NoisevarError(f"config key {key!r} is NaN")
+def config_params() -> tuple[str, ...]:
+    """Parameters a config may hold: every registered method's, except data (``reference``)."""
+    names = {
+        name
+        for spec in METHODS.values()
+        for name, p in spec.param_specs.items()
+        if p.kind != "array"
+    }
+    return tuple(sorted(names))
+
+
+#: Parameters a config may hold with the built-in methods (``reference`` is data).
+CONFIG_PARAMS = tuple(sorted(name for name, p in PARAMS.items() if p.kind != "array"))
+
+
+def _strict_json_type(key: str, spec: ParamSpec, value: Any) -> None:
+    """Refuse a JSON value of the wrong type (``"40"`` for a number), before the spec converts."""
+    if spec.kind == "str":
+        return
+    if spec.kind == "bool":
+        if not isinstance(value, bool | np.bool_):
+            raise NoisevarError(f"config key {key!r} must be true or false, got {value!r}")
+        return
+    numbers = value if spec.kind == "floats" and isinstance(value, list | tuple) else [value]
+    if isinstance(value, np.ndarray):
+        numbers = list(value.ravel())
+    for v in numbers:
+        if isinstance(v, bool) or not isinstance(v, int | float | np.integer | np.floating):
+            raise NoisevarError(f"config key {key!r} must be a number, got {value!r}")
+
+
+def _check_value(key: str, spec: ParamSpec, value: Any) -> Any:
+    """Validate one parameter with its spec; JSON-ready Python types."""
+    _strict_json_type(key, spec, value)
+    try:
+        v = spec.validate(value)
+    except NoisevarError as exc:
+        raise NoisevarError(f"config key {key!r}: {exc}") from None
+    if isinstance(v, tuple):
+        return list(v) if len(v) > 1 else v[0]
     return v
-
-
-def _in_range(key: str, value: Any, lo: float, hi: float, lo_open: bool = True) -> float:
-    v = _number(key, value)
-    ok = (v > lo if lo_open else v >= lo) and v <= hi
-    if not ok:
-        left = "(" if lo_open else "["
-        raise NoisevarError(f"config key {key!r}={value} is out of range {left}{lo}, {hi}]")
-    return v
-
-
-def _integer(key: str, value: Any, lo: int, hi: int | None = None) -> int:
-    v = _number(key, value)
-    if v != int(v):
-        raise NoisevarError(f"config key {key!r} must be an integer, got {value!r}")
-    iv = int(v)
-    if iv < lo or (hi is not None and iv > hi):
-        bound = f"between {lo} and {hi}" if hi is not None else f"at least {lo}"
-        raise NoisevarError(f"config key {key!r}={iv} must be {bound}")
-    return iv
-
-
-def _boolean(key: str, value: Any) -> bool:
-    if isinstance(value, (bool, np.bool_)):
-        return bool(value)
-    raise NoisevarError(f"config key {key!r} must be true or false, got {value!r}")
-
-
-def _h_value(key: str, value: Any) -> float:
-    return check_h(_number(key, value), key)
-
-
-def _check_value(key: str, value: Any) -> Any:
-    """Validate and normalise one parameter (JSON-ready Python types)."""
-    if key == "h_smooth":
-        if isinstance(value, (list, tuple, np.ndarray)):
-            hs = [_h_value(key, h) for h in value]
-            if not hs:
-                raise NoisevarError("config key 'h_smooth' is an empty list")
-            return hs if len(hs) > 1 else hs[0]
-        return _h_value(key, value)
-    if key == "h_track":
-        return _h_value(key, value)
-    if key == "track_ratio":
-        return _in_range(key, value, 1.0, 1e4)
-    if key == "window":
-        return _integer(key, value, 8)
-    if key == "gamma_amp":
-        return _in_range(key, value, 0.0, 1.0)
-    if key == "gamma_ang":
-        return _in_range(key, value, 0.0, 90.0)
-    if key == "angle":
-        if value not in ANGLES:
-            raise NoisevarError(f"config key 'angle' must be one of {list(ANGLES)}, got {value!r}")
-        return str(value)
-    if key in ("select", "drop_nonfinite"):
-        return _boolean(key, value)
-    if key == "reference_variance":
-        return _in_range(key, value, 0.0, math.inf, lo_open=False)
-    if key == "wavelet":
-        if not isinstance(value, str) or not value:
-            raise NoisevarError(f"config key 'wavelet' must be a wavelet name, got {value!r}")
-        return value
-    if key == "span":
-        span = _integer(key, value, 3)
-        if span % 2 == 0:
-            raise NoisevarError(f"config key 'span' must be odd, got {span}")
-        return span
-    if key == "order":
-        return _integer(key, value, 1, 6)
-    if key == "trim":
-        v = _number(key, value)
-        if not v > 1.0:
-            raise NoisevarError(f"config key 'trim' must be above 1 (standard deviations), got {v}")
-        return v
-    raise NoisevarError(  # pragma: no cover - callers check the key first
-        f"unknown config key {key!r}"
-    )
 
 
 def validate_config(config: Mapping[str, Any]) -> dict[str, Any]:
@@ -145,8 +97,8 @@ def validate_config(config: Mapping[str, Any]) -> dict[str, Any]:
     Raises
     ------
     NoisevarError
-        Not a mapping, missing or unknown method, unknown key, a value of the
-        wrong type or out of range.
+        Not a mapping, missing or unknown method, unknown key, a key the method
+        does not take, a value of the wrong type or out of range.
     """
     if not isinstance(config, Mapping):
         raise NoisevarError(
@@ -160,6 +112,8 @@ def validate_config(config: Mapping[str, Any]) -> dict[str, Any]:
             f"unknown method {method!r} in the config; choose one of: {', '.join(methods())}"
         )
     out: dict[str, Any] = {"method": str(method)}
+    specs = METHODS[method].param_specs
+    known = config_params()
     for key in sorted(k for k in config if k != "method"):
         value = config[key]
         if key == "reference":
@@ -167,13 +121,18 @@ def validate_config(config: Mapping[str, Any]) -> dict[str, Any]:
                 "a config cannot hold the 'reference' signal (it is data, not a parameter): "
                 "give the second sensor as a column instead (CLI: --reference-column)"
             )
-        if key not in CONFIG_PARAMS:
+        if key not in known:
             raise NoisevarError(
-                f"unknown config key {key!r}; known keys: method, {', '.join(CONFIG_PARAMS)}"
+                f"unknown config key {key!r}; known keys: method, {', '.join(known)}"
+            )
+        if key not in specs:
+            raise NoisevarError(
+                f"config key {key!r} is not a parameter of method {method!r}; "
+                f"its parameters: {', '.join(specs)}"
             )
         if value is None:
             continue
-        out[key] = _check_value(key, value)
+        out[key] = _check_value(key, specs[key], value)
     return out
 
 

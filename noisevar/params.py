@@ -13,10 +13,12 @@ from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from noisevar.errors import NoisevarError
 
 #: Value kinds a parameter can have.
-KINDS = ("float", "int", "bool", "str", "floats")
+KINDS = ("float", "int", "bool", "str", "floats", "array")
 
 
 @dataclass(frozen=True)
@@ -27,8 +29,9 @@ class ParamSpec:
     ----------
     name : str
         Python keyword (``h_smooth``); the CLI flag is ``--h-smooth``.
-    kind : {"float", "int", "bool", "str", "floats"}
-        Value kind; ``"floats"`` is a number or a sequence of numbers.
+    kind : {"float", "int", "bool", "str", "floats", "array"}
+        Value kind; ``"floats"`` is a number or a sequence of numbers; ``"array"`` is
+        data passed through unchanged (checked by its user, never a CLI flag).
     default : object
         Default value (``None``: chosen by the method).
     help : str
@@ -43,6 +46,8 @@ class ParamSpec:
         Extra check ``check(value) -> value`` run after the range test.
     cli : bool
         Whether the CLI offers a flag for it (arrays such as ``reference`` are not flags).
+    finite : bool
+        Whether infinite numbers are refused (``trim=inf`` means "no trimming").
     """
 
     name: str
@@ -55,6 +60,7 @@ class ParamSpec:
     choices: tuple[str, ...] | None = None
     check: Callable[[Any], Any] | None = None
     cli: bool = True
+    finite: bool = True
 
     @property
     def flag(self) -> str:
@@ -65,6 +71,8 @@ class ParamSpec:
         """Return ``value`` converted to this parameter's kind, or raise :class:`NoisevarError`."""
         if value is None:
             return None
+        if self.kind == "array":
+            return value
         if self.kind == "floats" and not isinstance(value, str | bytes):
             try:
                 items = list(value)
@@ -80,8 +88,8 @@ class ParamSpec:
 
     def _convert(self, value: Any) -> Any:
         if self.kind == "bool":
-            if isinstance(value, bool):
-                return value
+            if isinstance(value, bool | np.bool_):
+                return bool(value)
             raise NoisevarError(f"{self.name} must be true or false, got {value!r}")
         if self.kind == "str":
             if not isinstance(value, str) or (self.choices and value not in self.choices):
@@ -91,16 +99,16 @@ class ParamSpec:
         return self._number(value)
 
     def _number(self, value: Any) -> float | int:
-        if isinstance(value, bool):
+        if isinstance(value, bool | np.bool_):
             raise NoisevarError(f"{self.name} must be a number, got {value!r}")
         try:
             v = float(value)
         except (TypeError, ValueError, OverflowError):
             raise NoisevarError(f"{self.name} must be a number, got {value!r}") from None
-        if not math.isfinite(v):
+        if math.isnan(v) or (self.finite and not math.isfinite(v)):
             raise NoisevarError(f"{self.name} must be finite, got {value!r}")
         if self.kind == "int":
-            if v != int(v):
+            if not math.isfinite(v) or v != int(v):
                 raise NoisevarError(f"{self.name} must be an integer, got {value!r}")
             v = int(v)
         self._check_range(v, value)

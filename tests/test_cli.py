@@ -271,7 +271,7 @@ BAD = [
     (["estimate", "{npy}", "--h-smoth", "1e-5"], "unrecognized arguments: --h-smoth"),
     (["estimate", "{npy}", "--config", "{unknown_key}"], "unknown config key 'h_smoth'"),
     (["estimate", "{npy}", "--config", "{bad_json}"], "not valid JSON"),
-    (["estimate", "{npy}", "--config", "{bad_value}"], "'gamma_amp'=3 is out of range"),
+    (["estimate", "{npy}", "--config", "{bad_value}"], "'gamma_amp': gamma_amp=3 is out of range"),
     (["estimate", "{npy}", "--config", "{missing}"], "no such config file"),
     (["estimate", "{npy}", "--method", "somd-redundant"], "needs --reference-column"),
     (["estimate", "{npy}", "--format", "xml"], "invalid choice: 'xml'"),
@@ -376,3 +376,63 @@ def test_experiment_monte_carlo_json(capsys):
         assert {"within_10pct", "max_abs_rel_error", "bias", "rmse"} <= set(stats)
         assert 0.0 <= stats["within_10pct"] <= 1.0
     assert data["methods"]["auto"]["max_abs_rel_error"] < 0.2
+
+
+# ------------------------------------------------------------- flags made from the specs
+@pytest.mark.parametrize(
+    ("flags", "params"),
+    [
+        (["--span", "21"], {"span": 21}),
+        (["--order", "2"], {"order": 2}),
+        (["--trim", "4"], {"trim": 4.0}),
+        (["--trim", "inf"], {"trim": float("inf")}),
+        (["--span", "41", "--order", "4", "--trim", "6"], {"span": 41, "order": 4, "trim": 6.0}),
+    ],
+)
+def test_auto_flags_match_the_api(capsys, files, signal, flags, params):
+    out = run_json(capsys, "estimate", files["npy"], *flags)
+    expected = nv.estimate(signal, **params)
+    assert out["variance"] == pytest.approx(expected.variance, rel=1e-12)
+    for key, value in params.items():
+        assert out["params"][key] == value
+
+
+def test_wavelet_flag(capsys, files, signal):
+    out = run_json(capsys, "estimate", files["npy"], "--method", "wavelet-mad", "--wavelet", "sym8")
+    assert out["params"]["wavelet"] == "sym8"
+    expected = nv.estimate(signal, method="wavelet-mad", wavelet="sym8").variance
+    assert out["variance"] == pytest.approx(expected, rel=1e-12)
+
+
+def test_select_flag_pair(capsys, files, signal):
+    off = run_json(capsys, "estimate", files["npy"], "--method", "somd", "--no-select")
+    on = run_json(capsys, "estimate", files["npy"], "--method", "somd", "--select")
+    assert off["params"]["select"] is False and on["params"]["select"] is True
+    assert off["variance"] == nv.estimate(signal, method="somd", select=False).variance
+
+
+@pytest.mark.parametrize(
+    ("argv", "phrase"),
+    [
+        (["--method", "rice", "--window", "40"], "'rice' does not take parameter(s) window"),
+        (["--span", "20"], "span must be odd"),
+        (["--order", "0"], "order=0 is out of range"),
+        (["--trim", "1"], "trim=1.0 is out of range"),
+        (["--method", "somd", "--span", "21"], "'somd' does not take parameter(s) span"),
+    ],
+)
+def test_flags_a_method_does_not_take_exit_2(capsys, files, argv, phrase):
+    code, out, err = run(capsys, "estimate", files["npy"], *argv)
+    assert code == 2 and out == ""
+    assert err.count("\n") == 1 and phrase in err
+
+
+def test_every_spec_with_a_flag_is_on_the_estimate_parser():
+    from noisevar.cli import build_parser
+    from noisevar.estimators.params import PARAMS
+
+    parser = build_parser()
+    sub = next(a for a in parser._actions if a.dest == "command").choices["estimate"]
+    flags = {s for a in sub._actions for s in a.option_strings}
+    for spec in PARAMS.values():
+        assert (spec.flag in flags) == spec.cli, spec.name

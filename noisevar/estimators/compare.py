@@ -9,10 +9,10 @@
   stops iterating, a script calls ``close()`` on the generator, or
   :func:`run_monte_carlo` takes a callback that returns ``False`` to cancel.
   Each snapshot holds the relative errors so far and the Cramér-Rao floor
-  ``sqrt(2/n)`` (spec A8): the relative standard deviation of the best
+  ``sqrt(2/n)`` (docs/algorithms.md §A8): the relative standard deviation of the best
   possible variance estimate from ``n`` Gaussian samples.
 * :func:`simulate_sensors` makes several real sensors of one quantity (for
-  the redundant SOMD of spec A1).
+  the redundant SOMD of docs/algorithms.md §A1).
 """
 
 from __future__ import annotations
@@ -513,7 +513,7 @@ def simulate_sensors(
 
     Sensor ``i`` reads ``clean + offset_i + drift_i(t) + noise_i`` with a slowly
     varying systematic error (a constant offset plus a slow sinusoid of
-    amplitude ``drift`` over the record), as spec A1 assumes.
+    amplitude ``drift`` over the record), as docs/algorithms.md §A1 assumes.
 
     Parameters
     ----------

@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -11,14 +12,14 @@ from scipy import stats
 
 from noisevar.filters.selection import WindowSelection
 
+if TYPE_CHECKING:
+    import pandas as pd
+
 
 def chi2_interval(variance: float, dof: float, level: float = 0.95) -> tuple[float, float]:
     """Confidence interval of a variance estimate with ``dof`` effective degrees of freedom.
 
-    ``(ν v / χ²_{1-a/2,ν}, ν v / χ²_{a/2,ν})``: exact for a mean of ``ν``
-    independent squared Gaussians, and the standard approximation for the
-    correlated squares of a difference estimator, whose effective ``ν`` is
-    ``n / sum_k ρ_k²`` (``ρ`` the autocorrelation of the difference sequence).
+    ``(ν v / χ²_{1-a/2,ν}, ν v / χ²_{a/2,ν})`` (docs/algorithms.md §F4).
 
     Parameters
     ----------
@@ -36,6 +37,7 @@ def chi2_interval(variance: float, dof: float, level: float = 0.95) -> tuple[flo
     if not (dof > 0 and np.isfinite(variance)):
         return (float("nan"), float("nan"))
     a = 1.0 - level
+    # (ν v / χ²_{1-a/2,ν}, ν v / χ²_{a/2,ν})
     lo = dof * variance / stats.chi2.ppf(1.0 - a / 2.0, dof)
     hi = dof * variance / stats.chi2.ppf(a / 2.0, dof)
     return (float(lo), float(hi))
@@ -48,7 +50,7 @@ class SomdDetails:
     Attributes
     ----------
     h_smooth : tuple of float
-        Smoothing filter parameters ``h_S`` (several: spec A6).
+        Smoothing filter parameters ``h_S`` (several: docs/algorithms.md §A6).
     h_track : float
         Tracking filter parameter ``h_T``.
     smooth_output : ndarray, shape (n_h, n)
@@ -58,7 +60,7 @@ class SomdDetails:
     selection : WindowSelection or None
         Per-window tests (None when selection is off).
     kept_windows : ndarray of bool, shape (n_windows,)
-        Windows used (any smoothing ``h`` passing, spec A6).
+        Windows used (any smoothing ``h`` passing, §A6).
     window_variance : ndarray, shape (n_windows,)
         Variance estimate of each window (NaN where not kept).
     sample_mask : ndarray of bool, shape (n,)
@@ -144,7 +146,7 @@ class VarianceEstimate:
 
 @dataclass
 class RedundantEstimate:
-    """Noise variances of several real sensors of the same quantity (spec A1).
+    """Noise variances of several real sensors of the same quantity (docs/algorithms.md §A1).
 
     Attributes
     ----------
@@ -180,3 +182,81 @@ class RedundantEstimate:
             "n_used": self.n_used,
             "notes": list(self.notes),
         }
+
+
+@dataclass
+class VarianceEstimates:
+    """Noise-variance estimates of many channels (``estimate(Z, axis=...)`` on N-D input).
+
+    Attributes
+    ----------
+    method : str
+        Method name.
+    shape : tuple of int
+        Channel shape: the input's shape without the sample axis.
+    estimates : list of VarianceEstimate
+        One per channel, in C order (index with ``result[i, j]`` or iterate).
+    params : dict
+        The parameters shared by every channel (the config form).
+    """
+
+    method: str
+    shape: tuple[int, ...]
+    estimates: list[VarianceEstimate]
+    params: dict[str, Any] = field(default_factory=dict)
+
+    def _array(self, values: list[Any]) -> NDArray:
+        arr = np.asarray(values, dtype=float)
+        return arr.reshape(self.shape + arr.shape[1:])
+
+    @property
+    def variance(self) -> NDArray:
+        """Variances, shape ``shape``."""
+        return self._array([e.variance for e in self.estimates])
+
+    @property
+    def std(self) -> NDArray:
+        """Standard deviations, shape ``shape``."""
+        return self._array([e.std for e in self.estimates])
+
+    @property
+    def ci95(self) -> NDArray:
+        """95 % intervals of the variance, shape ``shape + (2,)``."""
+        return self._array([e.ci95 for e in self.estimates])
+
+    @property
+    def n_used(self) -> NDArray:
+        """Samples used per channel, shape ``shape``."""
+        return self._array([e.n_used for e in self.estimates]).astype(int)
+
+    def __len__(self) -> int:
+        return len(self.estimates)
+
+    def __iter__(self) -> Iterator[VarianceEstimate]:
+        return iter(self.estimates)
+
+    def __getitem__(self, index: int | tuple[int, ...]) -> VarianceEstimate:
+        """The estimate of one channel (a flat index, or one index per channel axis)."""
+        if isinstance(index, tuple):
+            index = int(np.ravel_multi_index(index, self.shape))
+        return self.estimates[index]
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row per channel: its index, variance, std, ci95 bounds, n_used, n_total, dof."""
+        import pandas as pd
+
+        idx = list(np.ndindex(*self.shape)) if self.shape else [()]
+        rows = [
+            {
+                "channel": i if len(i) != 1 else i[0],
+                "variance": e.variance,
+                "std": e.std,
+                "ci95_low": e.ci95[0],
+                "ci95_high": e.ci95[1],
+                "n_used": e.n_used,
+                "n_total": e.n_total,
+                "dof": e.dof,
+            }
+            for i, e in zip(idx, self.estimates, strict=True)
+        ]
+        return pd.DataFrame(rows)

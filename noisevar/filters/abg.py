@@ -1,29 +1,9 @@
 """Alpha-beta-gamma filter: the steady-state Kalman filter of a constant-jerk model.
 
-Spec A2 (paper eqs. [10]-[12]). The continuous model has states position,
-rate and acceleration driven by white jerk ``W`` (spectral density ``q``) and
-is measured with white noise of variance ``r``; with ``h = q/r`` the
-steady-state gain is
-
-    alpha = 2 h^(1/3),  beta = 2 h^(2/3),  gamma = h                  [12]
-
-Discrete form (the paper gives none; ours, spec A2): per-sample state
-``x = [pos, pos-change per sample, second difference per sample]``,
-``F = [[1, 1, 1/2], [0, 1, 1], [0, 0, 1]]``, ``H = [1, 0, 0]``, and each step
-``x_pred = F x``, ``x = x_pred + K (z[k] - H x_pred)``. The gain is constant,
-so ``x[k] = A x[k-1] + K z[k]`` with ``A = (I - K H) F`` is a linear
-time-invariant system: a third-order IIR filter whose transfer function is
-computed once and run with :func:`scipy.signal.lfilter`. From the default
-(steady-state) start it is run in error form, ``y = z - e`` with
-``e = κ (1 - z⁻¹)³ / A · z`` (the loop's error transfer function), which is
-the same filter with its rounding relative to the signal's third difference
-instead of the signal (1e-12 agreement with the per-sample recursion at the
-paper's ``h``, instead of 3e-11).
-
-The filter is a type-3 loop: it follows a constant, a ramp and a parabola with
-zero steady-state error, so a good initial condition (the one a filter in
-steady state on a straight line would have) removes most of the start-up
-transient.
+docs/algorithms.md §A2 (paper eqs. [10]-[12]): gains ``alpha = 2 h^(1/3)``,
+``beta = 2 h^(2/3)``, ``gamma = h`` with ``h = q/r``. The constant gain makes the
+filter LTI: a third-order IIR run with :func:`scipy.signal.lfilter`, in error form
+``y = z - e`` from a steady-state start on the line through the first samples.
 """
 
 from __future__ import annotations
@@ -312,11 +292,9 @@ def _tracking_error(
     input through the all-pole ``κ / A``. Run that way (three ``np.diff``,
     whose subtractions of neighbours are exact or nearly so, then one
     ``lfilter``), the rounding that the poles near ``z = 1`` amplify is
-    relative to the third difference of the signal, not to the signal: at
-    ``h = 1.5e-5`` the output agrees with the per-sample state recursion to
-    about 1e-12 relative, against 3e-11 for ``lfilter(b, a, z)`` (measured in
-    ``tests/test_abg.py``). With ``zi`` (the all-pole filter's state) returns
-    ``(e, zf)``; without, the filter starts at rest (zero error in the past).
+    relative to the third difference of the signal, not to the signal. With ``zi``
+    (the all-pole filter's state) returns ``(e, zf)``; without, the filter starts at
+    rest (zero error in the past).
     """
     d = np.diff(z_ext, n=3, axis=-1)
     _, a = abg_transfer_function(h, output)
@@ -453,7 +431,7 @@ def _noise_gains(h: float) -> tuple[float, float, int]:
 
 
 def noise_ratio(h: float) -> float:
-    """Output std over input std of the filter for white input (spec A2).
+    """Output std over input std of the filter for white input (docs/algorithms.md §A2).
 
     Parameters
     ----------
@@ -470,7 +448,7 @@ def noise_ratio(h: float) -> float:
 
 
 def somd_bias_factor(h: float) -> float:
-    """Exact SOMD normalisation ``c(h) = sum_k (Δ(g - δ))_k^2`` (spec A8).
+    """Exact SOMD normalisation ``c(h) = sum_k (Δ(g - δ))_k^2`` (docs/algorithms.md §A8).
 
     The noise part of ``ΔZ1 - ΔZ2`` (smooth output minus raw samples, both
     differenced) is white noise passed through ``Δ(g - δ)``; its variance is

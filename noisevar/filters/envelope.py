@@ -1,4 +1,4 @@
-"""Envelope-based noise amplitude (spec A3, eq. [13]) and the h-range scan (A4, eq. [14])."""
+"""Envelope-based noise amplitude (docs/algorithms.md §A3) and the h-range scan (§A4)."""
 
 from __future__ import annotations
 
@@ -43,7 +43,7 @@ def detrend_windows(x: ArrayLike, window: int) -> NDArray:
 
 
 def envelopes(x: ArrayLike) -> tuple[NDArray, NDArray]:
-    """Upper and lower envelopes through the local maxima and minima (spec A3).
+    """Upper and lower envelopes through the local maxima and minima (docs/algorithms.md §A3).
 
     Parameters
     ----------

@@ -1,38 +1,12 @@
-"""Window selection of the SOMD estimator (spec A5, A6; paper eqs. [15]-[19]).
+"""Window selection of the SOMD estimator (docs/algorithms.md §A5, §A6; paper eqs. [15]-[19]).
 
-The record is cut into windows of ``m`` samples. In each window a
-least-squares line ``x(k+i) = a i + b``, ``i = 1..m`` [16]-[17] is fitted to
-the smooth output (``a_S, b_S``) and to the tracking output (``a_T, b_T``).
-The smooth output's deviations from its line give four half-window mean
-amplitudes [18]: ``A1, A2`` (first half, above / below the line) and
-``A3, A4`` (second half). A window is kept when [19]
-
-    |A1/A2|, |A2/A3|, |A3/A4|  all in (1 - Γ_amp, 1 + Γ_amp)     (amplitude test)
-    |atan(a_S) - atan(a_T)| < Γ_ang                               (angle test)
-
-Amplitude convention. The printed chain is not symmetric under a change of
-sign of the signal: negating it swaps "above" and "below", so the test then
-compares ``A1`` with ``A4`` instead of ``A2`` with ``A3``, and the band
-``(1 - Γ, 1 + Γ)`` is not symmetric under ``r -> 1/r``. Measured: ``somd``
-of ``-z`` differed from ``somd`` of ``z`` by up to 5 % (fast-slow, n = 6000).
-``amplitude="paper"`` is the printed test (used by ``somd-paper``); the
-default ``amplitude="symmetric"`` (used by ``somd``) closes the chain
-(pairs 1-2, 2-3, 3-4 and 4-1, a set that negation maps onto itself) and
-accepts a pair when ``ρ = max/min`` of its two amplitudes is below
-``sqrt((1 + Γ) / (1 - Γ))``: a band of the same logarithmic width as the
-printed one, centred on 1 (to first order in ``Γ`` the same test). Both
-tests are "deviation below ``Γ_amp``" with the per-window deviation
-``max |r - 1|`` (paper) or ``max tanh(ln ρ)`` (symmetric), which
-:attr:`WindowSelection.amplitude_deviation` records for the figures.
-
-Everything is vectorised over windows (reshape to ``(n_windows, m)``).
-
-Angle convention. The paper applies ``atan`` to slopes in raw units per
-sample, so the test changes when the signal's units change. ``angle="paper"``
-does exactly that; the default ``angle="scaled"`` first divides both slopes by
-a robust noise scale of the raw signal (the MAD of its second differences),
-which makes the test — and therefore the estimate — scale-free: multiplying
-the signal by 1000 multiplies the estimated variance by exactly 1e6.
+Each window of ``m`` samples is kept when the amplitude ratios of the smooth output
+about its line and the angle between the smooth and tracking lines pass eq. [19].
+``amplitude="paper"`` is the printed chain ``A1/A2, A2/A3, A3/A4``; ``"symmetric"``
+closes it (adds ``A4/A1``) with a band centred on 1 in ``ln ρ``, so that the estimate
+does not change when the signal is negated. ``angle="paper"`` takes slopes in raw
+units per sample; ``"scaled"`` divides them by a robust noise scale first, so the test
+is unit-free. Everything is vectorised over windows.
 """
 
 from __future__ import annotations

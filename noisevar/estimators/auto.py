@@ -1,0 +1,559 @@
+"""``auto``: a robust zero-lag polynomial virtual sensor (docs/algorithms.md §F5).
+
+The residual of a centred local polynomial (§F5.1) replaces SOMD's lagging
+alpha-beta-gamma prediction; each block of samples takes the longest span that does
+not leak signal (§F5.2); jumps (§F5.3) and outliers (§F5.4) are trimmed and the
+trimmed mean corrected; §F5.5 gives the estimate and its degrees of freedom.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy import signal, stats
+from scipy.ndimage import maximum_filter1d
+
+from noisevar.errors import NoisevarError
+from noisevar.estimators.difference import sequence_efficiency
+from noisevar.estimators.params import AUTO_ORDER, AUTO_TRIM, MethodSpec
+from noisevar.estimators.results import VarianceEstimate, chi2_interval
+
+try:  # compiled residual filters (numba); np.convolve below is the reference
+    from noisevar.filters import _fir
+except ImportError:  # pragma: no cover - numba not installed
+    _fir = None
+
+#: Filter with the compiled kernel of :mod:`noisevar.filters._fir` while this is true
+#: (and numba is installed); false selects ``np.convolve`` (the same filter, to rounding).
+USE_COMPILED: bool = _fir is not None
+
+AUTO_SPANS = (11, 21, 41, 81)
+#: Trimmed samples are widened by half of this span (or of the longest span below it).
+AUTO_MASK_SPAN = 41
+AUTO_BLOCK = 256
+AUTO_LEAK_SE = 3.5
+
+
+@lru_cache(maxsize=64)
+def residual_sequence(span: int, order: int) -> NDArray:
+    """Difference sequence ``δ - w`` of a centred local-polynomial (Savitzky-Golay) fit.
+
+    Parameters
+    ----------
+    span : int
+        Odd number of samples of each local fit.
+    order : int
+        Polynomial degree; the residual is blind to polynomials up to it.
+
+    Returns
+    -------
+    ndarray, shape (span,)
+    """
+    w = signal.savgol_coeffs(span, order)
+    d = -0.5 * (w + w[::-1])  # exactly symmetric (savgol_coeffs is to about 1e-14)
+    d[span // 2] += 1.0
+    d.setflags(write=False)
+    return d
+
+
+@lru_cache(maxsize=64)
+def _difference_variance_factor(span_a: int, span_b: int, order: int) -> float:
+    """``sum_k (ρ_aa² + ρ_bb² - 2 ρ_ab²)``: n·var(v_a - v_b)/(2σ⁴) for two residual estimators."""
+    da = residual_sequence(span_a, order)
+    db = residual_sequence(span_b, order)
+    da = da / np.sqrt(np.sum(da**2))
+    db = db / np.sqrt(np.sum(db**2))
+    raa = np.correlate(da, da, mode="full")
+    rbb = np.correlate(db, db, mode="full")
+    rab = np.correlate(da, db, mode="full")
+    return float(np.sum(raa**2) + np.sum(rbb**2) - 2.0 * np.sum(rab**2))
+
+
+@lru_cache(maxsize=64)
+def _edge_residual_rows(span: int, order: int) -> tuple[NDArray, NDArray]:
+    """Rows of ``I - P`` for the first and last ``span // 2`` samples of a ``span`` window.
+
+    ``P`` is the hat matrix of a polynomial fit of degree ``order`` over the
+    window; row ``h = span // 2`` is the interior sequence ``d``. The edge rows
+    let the estimator use every sample, not only those a centred span fits.
+    """
+    h = span // 2
+    i = np.arange(span, dtype=float) - h
+    v = np.vander(i / max(h, 1), order + 1)
+    q, _ = np.linalg.qr(v)
+    resid = np.eye(span) - q @ q.T
+    head, tail = resid[:h].copy(), resid[span - h :].copy()
+    head.setflags(write=False)
+    tail.setflags(write=False)
+    return head, tail
+
+
+def _residual_squares(z: NDArray, span: int, order: int, out: NDArray | None = None) -> NDArray:
+    """Normalised squared residuals ``e_k² / (I - P)_kk`` of a local polynomial, every sample.
+
+    Interior samples use the centred sequence ``d`` (``d / |d|``, symmetric:
+    the compiled kernel of :mod:`noisevar.filters._fir` when :data:`USE_COMPILED`,
+    else one ``np.convolve``, squared straight into ``out``); the first and last
+    ``span // 2`` use the one-sided fit over the first (last) ``span``
+    samples, so each square has expectation ``σ_k²`` for noise whose variance
+    is locally constant.
+    """
+    n = z.size
+    d = residual_sequence(span, order)
+    h = span // 2
+    out = np.empty(n) if out is None else out
+    unit = d / np.sqrt(np.sum(d**2))
+    if USE_COMPILED and _fir is not None:
+        _fir.symmetric_fir_squares(np.ascontiguousarray(z), unit[h:].copy(), out[h : n - h])
+    else:
+        e = np.convolve(z, unit[::-1], mode="valid")
+        np.multiply(e, e, out=out[h : n - h])
+    head, tail = _edge_residual_rows(span, order)
+    out[:h] = (head @ z[:span]) ** 2 / np.diag(head[:, :h])
+    out[n - h :] = (tail @ z[n - span :]) ** 2 / np.diag(tail[:, span - h :])
+    return out
+
+
+def _truncated_second_moment(kappa: float) -> float:
+    """``E[Z² ; |Z| < κ] / P(|Z| < κ)`` for a standard normal ``Z``."""
+    p = 2.0 * stats.norm.cdf(kappa) - 1.0
+    return float((p - 2.0 * kappa * stats.norm.pdf(kappa)) / p)
+
+
+def _block_sums(x: NDArray, block: int, nb: int) -> NDArray:
+    """Sums over ``nb`` consecutive blocks of ``block`` samples (the rest joins the last)."""
+    sums = x[: nb * block].reshape(nb, block).sum(axis=1, dtype=float)
+    sums[-1] += x[nb * block :].sum()
+    return sums
+
+
+def _block_square_sums(x: NDArray, block: int, nb: int) -> NDArray:
+    """Sums of ``x²`` over the blocks of :func:`_block_sums`, without a squared copy of ``x``."""
+    head = x[: nb * block].reshape(nb, block)
+    sums = np.einsum("ij,ij->i", head, head)
+    tail = x[nb * block :]
+    sums[-1] += tail @ tail
+    return sums
+
+
+def _block_medians(x: NDArray, block: int, nb: int, stride: int) -> NDArray:
+    """Median of every ``stride``-th sample of each of the first ``nb`` blocks.
+
+    A row-wise sort of the small ``(nb, block / stride)`` array, with the values of
+    ``np.median(..., axis=1)``.
+    """
+    y = np.sort(x[: nb * block].reshape(nb, block)[:, ::stride], axis=1)
+    k = y.shape[1]
+    return y[:, k // 2] if k % 2 else 0.5 * (y[:, k // 2 - 1] + y[:, k // 2])
+
+
+STEP_WINDOW = 6
+STEP_THRESHOLD = 6.0
+#: Above this fraction of flagged samples the step detector is ignored: what it sees is a
+#: fast signal (a sinusoid of a few tens of samples per period), not jumps.
+STEP_MAX_FRACTION = 0.2
+
+
+def _step_mask(
+    z: NDArray, above: Callable[[NDArray], NDArray], scale: float = 1.0, w: int = STEP_WINDOW
+) -> NDArray:
+    """Samples next to a jump, found by a step detector blind to parabolas.
+
+    With ``M[i] = mean(z[i:i+w])``, ``D3[k] = M[k+w] - 3 M[k] + 3 M[k-w] -
+    M[k-2w]`` is the third difference of four adjacent window means: zero on
+    any parabola (a ramp, a turn), while a jump ``J`` gives ``|D3|`` up to
+    ``2 J`` against a noise standard deviation ``σ sqrt(20 / w)``. At
+    ``w = 6`` a jump of 6 σ stands 6.6 standard deviations out, where the
+    cubic residual shows it only at about 2.5 (a local cubic absorbs most of
+    a jump). A fast signal (a sinusoid of 30 samples per period, say) also
+    trips it; :func:`_outlier_mask` then ignores it.
+
+    ``above(x)`` tells where ``x`` exceeds ``scale`` times the local noise
+    variance (:func:`_above_local`); returns the samples where ``|D3|``
+    exceeds :data:`STEP_THRESHOLD` standard deviations. (The scale is folded
+    into the window means, so the test costs no pass of its own: two work
+    arrays, the third differences written in place.)
+    """
+    n = z.size
+    if n < 4 * w:
+        return np.zeros(n, dtype=bool)
+    # mm[i] = mean(z[i:i+w]), pre-scaled so that D3² compares with threshold_var directly
+    gain = np.sqrt(scale / (STEP_THRESHOLD**2 * 20.0 / w)) / w
+    mm = np.convolve(z, np.full(w, gain), mode="valid")  # n - w + 1
+    work = np.empty(n)
+    d1 = work[: n - 2 * w + 1]
+    np.subtract(mm[w:], mm[:-w], out=d1)  # third difference at lag w, as three first ones
+    d2 = mm[: n - 3 * w + 1]
+    np.subtract(d1[w:], d1[:-w], out=d2)
+    d3 = work[2 * w : n - 2 * w + 1]  # D3 at k = 2w .. n - 2w, aligned with the samples
+    np.subtract(d2[w:], d2[:-w], out=d3)
+    np.multiply(d3, d3, out=d3)
+    work[: 2 * w] = 0.0  # D3 is not defined there: no jump can be seen
+    work[n - 2 * w + 1 :] = 0.0
+    return above(work)
+
+
+def _dilate(mask: NDArray, half: int) -> NDArray:
+    """``mask`` widened by ``half`` samples on each side (cheap when few are set)."""
+    idx = np.flatnonzero(mask)
+    if idx.size > mask.size // 64:
+        return maximum_filter1d(mask.view(np.uint8), 2 * half + 1).view(bool)
+    out = np.zeros_like(mask)
+    span = (idx[:, None] + np.arange(-half, half + 1)).ravel()
+    out[span[(span >= 0) & (span < mask.size)]] = True
+    return out
+
+
+def _flagged_per_block(idx: NDArray, block: int, nb: int) -> NDArray:
+    """How many of the sample indices ``idx`` fall in each block of :func:`_block_sums`."""
+    return np.bincount(np.minimum(idx // block, nb - 1), minlength=nb).astype(float)
+
+
+def _block_counts(block: int, nb: int, n: int) -> NDArray:
+    """Samples per block of :func:`_block_sums` (the rest joins the last)."""
+    counts = np.full(nb, float(block))
+    counts[-1] += n - nb * block
+    return counts
+
+
+def _kept_block_sums(x: NDArray, idx: NDArray, block: int, nb: int) -> NDArray:
+    """:func:`_block_sums` of ``x`` with the samples ``idx`` counted as zero; ``x`` untouched.
+
+    Only the blocks that hold a flagged sample are summed again, from a copy
+    of those blocks alone (exactly: subtracting the flagged values instead
+    would let a huge outlier swamp its block's sum).
+    """
+    sums = _block_sums(x, block, nb)
+    body = x[: nb * block].reshape(nb, block)
+    inside = idx[idx < nb * block]
+    rows_of = inside // block
+    blocks = np.unique(rows_of)
+    last = body[-1].sum()
+    if blocks.size:
+        rows = body[blocks]  # a copy of the flagged blocks only
+        rows[np.searchsorted(blocks, rows_of), inside % block] = 0.0
+        sums[blocks] = rows.sum(axis=1)
+        if blocks[-1] == nb - 1:
+            last = sums[-1]
+    rest = x[nb * block :]
+    tail = idx[idx >= nb * block]
+    if tail.size:
+        rest = rest.copy()
+        rest[tail - nb * block] = 0.0
+    if rest.size and (tail.size or (blocks.size and blocks[-1] == nb - 1)):
+        sums[-1] = last + rest.sum()  # the rest of the record joins the last block
+    return sums
+
+
+def _above_local(x: NDArray, local: NDArray, block: int) -> NDArray:
+    """``x`` above the larger local level of the two block centres around each sample.
+
+    Block ``j``'s level holds at its centre ``(j + 1/2) block``; a sample is
+    compared with the larger of the levels of the two centres around it (the
+    rest of the record after the last block with the last level), so that near a
+    change of noise level the threshold is the louder side's (§F5.4). One
+    blockwise comparison with the block's own level (a lower bound) finds the few
+    candidates; only those are compared with the bracketing level.
+    """
+    n, nb = x.size, local.size
+    hit = np.empty(n, dtype=bool)
+    np.greater(
+        x[: nb * block].reshape(nb, block), local[:, None], out=hit[: nb * block].reshape(nb, block)
+    )
+    np.greater(x[nb * block :], local[-1], out=hit[nb * block :])
+    idx = np.flatnonzero(hit)
+    if idx.size and nb > 1:
+        own = np.minimum(idx // block, nb - 1)
+        side = np.where(idx - own * block < block // 2, own - 1, own + 1)
+        side = np.clip(side, 0, nb - 1)  # the rest of the record: the last block's level
+        hit[idx[x[idx] <= np.maximum(local[own], local[side])]] = False
+    return hit
+
+
+def _outlier_mask(
+    sq: NDArray,
+    kappa: float,
+    block: int,
+    dilate: int,
+    steps: Callable[[Callable[[NDArray], NDArray], float], NDArray] | None,
+) -> NDArray | None:
+    """Squared residuals that are jumps or outliers (the caller widens the mask).
+
+    Pass 1 takes a robust local scale from block medians of ``e²`` (every
+    fourth sample: plenty for a scale whose only use is a generous
+    threshold); pass 2 refines it with the mean of each block's kept squares,
+    so that a noise level changing along the record is followed (a noise step
+    is not mistaken for outliers). Residuals beyond ``κ`` local standard
+    deviations are flagged, and so are samples next to a jump found by
+    ``steps(above, κ²)`` (:func:`_step_mask`). Pass 1 leaves ``dilate``
+    neighbours on each side of what it flags out of the scale (a jump spreads
+    over the whole span of the residual sequence); the returned mask is not
+    widened, so that the caller can widen it by each span's half. Returns
+    None when nothing is flagged (the common case, which then costs no
+    masking).
+    """
+    n = sq.size
+    nb = max(1, n // block)
+    scale = kappa**2 / 0.4549364231195724  # the median of χ²₁ is 0.4549
+    threshold = _block_medians(sq, block, nb, 4) * scale
+    first = np.empty(n, dtype=bool)
+    np.greater(
+        sq[: nb * block].reshape(nb, block),
+        threshold[:, None],
+        out=first[: nb * block].reshape(nb, block),
+    )
+    np.greater(sq[nb * block :], threshold[-1], out=first[nb * block :])
+    tau = _truncated_second_moment(kappa)
+    kept_n = _block_counts(block, nb, n)
+    if first.any():
+        if dilate > 0:  # leave the whole neighbourhood of a jump out of the scale
+            first = _dilate(first, dilate)
+        idx = np.flatnonzero(first)
+        kept_sum = _kept_block_sums(sq, idx, block, nb)
+        kept_n -= _flagged_per_block(idx, block, nb)
+    else:
+        kept_sum = _block_sums(sq, block, nb)
+    # κ² times the local variance of each block (held at its centre; see _above_local)
+    threshold = kappa**2 * kept_sum / np.maximum(kept_n, 1.0) / tau
+
+    def above(x: NDArray) -> NDArray:
+        return _above_local(x, threshold, block)
+
+    outlier = above(sq)
+    if steps is not None:
+        jumps = steps(above, kappa**2)
+        if np.count_nonzero(jumps) <= STEP_MAX_FRACTION * n:  # else the signal is too fast
+            outlier |= jumps
+    if not outlier.any():
+        return None
+    return outlier
+
+
+def _near_flagged(
+    flagged: NDArray, idx: NDArray, spans: tuple[int, ...], half: int, sq: NDArray
+) -> tuple[NDArray, NDArray, NDArray] | None:
+    """Samples of the common mask ``idx`` that a shorter span can still use.
+
+    The common mask widens flagged samples by ``half``; the residual of a
+    span ``s`` at sample ``k`` reaches ``s // 2`` samples either way, so a
+    sample more than ``s // 2`` from every flagged one has a clean residual
+    for that span. Returns the indices of such samples, the longest usable
+    span index of each, and their squared residuals for the spans up to it
+    (before the caller zeroes the masked ones), or None.
+    """
+    usable = np.full(idx.size, -1)
+    for j, s in enumerate(spans):
+        if s // 2 >= half:
+            break
+        usable[~_dilate(flagged, s // 2)[idx]] = j
+    keep = usable >= 0
+    if not keep.any():
+        return None
+    near = idx[keep]
+    return near, usable[keep], sq[: int(usable.max()) + 1, near].copy()
+
+
+def _auto_spans(span: int | None, order: int, trim: float, n: int) -> tuple[int, ...]:
+    """The candidate spans (§F5.2), after checking ``order``, ``trim`` and ``span``."""
+    if not 1 <= order <= 6:
+        raise NoisevarError(f"order must be between 1 and 6, got {order}")
+    if not trim > 1.0:
+        raise NoisevarError(f"trim must be above 1 (standard deviations), got {trim}")
+    if span is not None:
+        if span % 2 == 0 or span <= order + 1:
+            raise NoisevarError(f"span must be odd and larger than order + 1, got {span}")
+        spans: tuple[int, ...] = (span,)
+    else:
+        spans = tuple(s for s in AUTO_SPANS if s > order + 1)
+        spans = tuple(s for s in spans if 4 * s <= n) or spans[:1]
+    if n < 2 * max(spans):
+        raise NoisevarError(
+            f"too few samples ({n}) for the auto estimator: give at least {2 * max(spans)}"
+        )
+    return spans
+
+
+@dataclass
+class _Blocks:
+    """Per-block sums of every span's squared residuals, after trimming (§F5.4)."""
+
+    block: int
+    nb: int
+    kept_count: NDArray  # (nb,) samples kept per block
+    block_sum: NDArray  # (n_spans, nb)
+    fourth: NDArray  # (nb,) sums of the shortest span's e⁴
+    clean_for: NDArray  # (n_spans, nb) span j's residuals untouched by a flagged sample
+    recover: tuple[NDArray, NDArray, NDArray] | None  # see _near_flagged
+
+
+def _trimmed_blocks(z: NDArray, sq: NDArray, spans: tuple[int, ...], trim: float) -> _Blocks:
+    """Flag jumps and outliers, zero their neighbourhoods in ``sq`` and sum the blocks."""
+    m = z.size
+    block = AUTO_BLOCK if m >= 2 * AUTO_BLOCK else max(m // 2, 16)
+    nb = max(1, m // block)
+    # flagged samples are widened by half the longest span up to AUTO_MASK_SPAN; a
+    # longer span is used only in blocks that its wider neighbourhood leaves alone
+    half = max(s for s in spans if s <= max(AUTO_MASK_SPAN, spans[0])) // 2
+    flagged = (
+        _outlier_mask(sq[0], trim, block, half, lambda var, sc: _step_mask(z, var, sc))
+        if np.isfinite(trim)
+        else None
+    )
+    kept_count = _block_counts(block, nb, m)
+    recover = None
+    clean_for = np.ones((len(spans), nb), dtype=bool)
+    if flagged is not None:
+        idx = np.flatnonzero(_dilate(flagged, half) if half > 0 else flagged)
+        if idx.size == m:
+            raise NoisevarError(
+                "every residual was trimmed as an outlier: the signal is not usable"
+            )
+        per_block = _flagged_per_block(idx, block, nb)
+        kept_count -= per_block
+        recover = _near_flagged(flagged, idx, spans, half, sq)
+        sq[:, idx] = 0.0  # sq is ours: trimmed residuals count as zero
+        for j, s in enumerate(spans):
+            if s // 2 > half:
+                wide = _flagged_per_block(np.flatnonzero(_dilate(flagged, s // 2)), block, nb)
+                clean_for[j] = wide == per_block
+    block_sum = np.stack([_block_sums(q, block, nb) for q in sq])
+    fourth = _block_square_sums(sq[0], block, nb)
+    return _Blocks(block, nb, kept_count, block_sum, fourth, clean_for, recover)
+
+
+def _choose_spans(b: _Blocks, spans: tuple[int, ...], order: int) -> NDArray:
+    """Each block's span index: lengthen while the mean square does not leak (§F5.2)."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        block_mean = b.block_sum / b.kept_count
+        rms4 = np.sqrt(b.fourth / b.kept_count / 3.0)  # = σ² for Gaussian noise
+    choice = np.zeros(b.nb, dtype=int)
+    open_ = np.ones(b.nb, dtype=bool)  # still lengthening the span in this block
+    for j in range(1, len(spans)):
+        with np.errstate(invalid="ignore", divide="ignore"):  # a block may be all trimmed
+            # se = σ² sqrt(2 n var-factor / n_kept) of the difference of two spans' means
+            se = rms4 * np.sqrt(
+                2.0 * _difference_variance_factor(spans[j - 1], spans[j], order) / b.kept_count
+            )
+        ok = open_ & b.clean_for[j] & (block_mean[j] - block_mean[j - 1] <= AUTO_LEAK_SE * se)
+        if spans[j] > AUTO_MASK_SPAN and b.nb > 1:
+            # a long span reaches into the neighbouring blocks: only where they are smooth
+            # too (a fast burst next door leaks into the first samples of this block)
+            smooth = choice >= j - 1
+            ok[1:] &= smooth[:-1]
+            ok[:-1] &= smooth[1:]
+        choice[ok] = j
+        open_ &= ok
+    return choice
+
+
+def _chosen_sums(b: _Blocks, choice: NDArray) -> tuple[NDArray, NDArray]:
+    """Per-block sums and counts with the chosen spans, trimmed samples recovered."""
+    chosen_sum = b.block_sum[choice, np.arange(b.nb)]
+    kept_count = b.kept_count
+    if b.recover is not None:
+        # samples the common mask left out whose shorter-span residual reaches no flagged
+        # sample count with that span (at most the block's own)
+        near, usable, values = b.recover
+        rows = np.minimum(near // b.block, b.nb - 1)
+        use = np.minimum(choice[rows], usable)
+        chosen_sum = chosen_sum + np.bincount(
+            rows, weights=values[use, np.arange(near.size)], minlength=b.nb
+        )
+        kept_count = kept_count + np.bincount(rows, minlength=b.nb)
+    return chosen_sum, kept_count
+
+
+def _auto_notes(
+    n: int, n_kept: int, spans: tuple[int, ...], choice: NDArray, kept_count: NDArray, block: int
+) -> list[str]:
+    notes = []
+    trimmed = n - n_kept
+    if trimmed > 0.01 * n:
+        notes.append(f"{trimmed} residuals ({trimmed / n:.1%}) left out as jumps or outliers")
+    short = float(np.sum(kept_count[choice < len(spans) - 1]) / max(n_kept, 1))
+    if len(spans) > 1 and short > 0.05:
+        notes.append(f"{short:.0%} of the record needed a shorter span (fast signal there)")
+    if len(spans) > 1:
+        span_used = np.asarray(spans)[choice]
+        mean_span = float(np.sum(span_used * kept_count) / max(n_kept, 1))
+        notes.append(f"span chosen per block of {block} samples: mean {mean_span:.1f}")
+    return notes
+
+
+def auto_estimate(
+    z: NDArray,
+    *,
+    span: int | None = None,
+    order: int = AUTO_ORDER,
+    trim: float = AUTO_TRIM,
+    notes: list[str] | None = None,
+) -> VarianceEstimate:
+    """Our default: a zero-lag polynomial virtual sensor, exact normalisation, local span, trimming.
+
+    Parameters
+    ----------
+    z : ndarray
+        Validated samples.
+    span : int, optional
+        Fix one span instead of choosing per block (odd, > order + 1).
+    order : int
+        Polynomial degree of the virtual sensor (1 to 6).
+    trim : float
+        Trimming threshold in local standard deviations (``inf``: none).
+    notes : list of str, optional
+        Remarks carried into the result.
+
+    Returns
+    -------
+    VarianceEstimate
+        ``params["span"]`` is the requested span (None: chosen per block, and a note
+        gives the sample-weighted mean span used), so that ``estimate(z, **params)``
+        reproduces the estimate.
+
+    Notes
+    -----
+    docs/algorithms.md §F5: residuals ``e = d * z`` of a centred local polynomial
+    (§F5.1), spans per block (§F5.2), jump and outlier trimming with the
+    truncated-moment correction ``τ`` (§F5.3, §F5.4), and
+    ``var = sum e² / (n_kept τ)`` with ``sum_blocks n_b / sum ρ²`` degrees of freedom
+    (§F5.5).
+    """
+    notes = list(notes or [])
+    order, trim = int(order), float(trim)
+    span = None if span is None else int(span)
+    n = z.size
+    spans = _auto_spans(span, order, trim, n)
+    sq = np.empty((len(spans), n))
+    for j, s in enumerate(spans):
+        _residual_squares(z, s, order, out=sq[j])
+    blocks = _trimmed_blocks(z, sq, spans, trim)
+    choice = _choose_spans(blocks, spans, order)
+    chosen_sum, kept_count = _chosen_sums(blocks, choice)
+    n_kept = int(kept_count.sum())
+    tau = _truncated_second_moment(trim) if np.isfinite(trim) else 1.0
+    # var = sum e² / (n_kept τ)
+    var = float(chosen_sum.sum() / (n_kept * tau))
+    eff = np.asarray([sequence_efficiency(residual_sequence(s, order)) for s in spans])[choice]
+    # ν = sum_b n_b / sum ρ², less 2 % for the trimming
+    dof = float(np.sum(kept_count / eff)) * (0.98 if np.isfinite(trim) else 1.0)
+    notes += _auto_notes(n, n_kept, spans, choice, kept_count, blocks.block)
+    # params are the config form: the requested span, None when it is chosen per block
+    params = {"span": span, "order": order, "trim": trim}
+    return VarianceEstimate("auto", var, chi2_interval(var, dof), n_kept, n, dof, params, notes)
+
+
+def _auto(z: NDArray, notes: list[str], **p: object) -> VarianceEstimate:
+    return auto_estimate(z, notes=notes, **p)
+
+
+AUTO = MethodSpec(
+    "auto",
+    "robust zero-lag polynomial virtual sensor (our default)",
+    "ours",
+    _auto,
+    ("span", "order", "trim"),
+)

@@ -1,0 +1,78 @@
+"""State-space maximum-likelihood peers (docs/algorithms.md §F3): local level and trend."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+from numpy.typing import NDArray
+
+from noisevar.estimators.params import MethodSpec
+from noisevar.estimators.results import VarianceEstimate
+
+
+def mle_estimate(z: NDArray, trend: bool, notes: list[str]) -> VarianceEstimate:
+    """Irregular variance of a statsmodels ``UnobservedComponents`` model, by ML.
+
+    Parameters
+    ----------
+    z : ndarray
+        Validated samples.
+    trend : bool
+        Local linear trend (True) or local level (False).
+    notes : list of str
+        Remarks carried into the result.
+
+    Returns
+    -------
+    VarianceEstimate
+        CI from the Hessian-based standard error, on the log-variance scale.
+    """
+    from statsmodels.tsa.statespace.structural import UnobservedComponents
+
+    scale = float(np.std(np.diff(z))) or 1.0
+    y = (z - z.mean()) / scale
+    level = "local linear trend" if trend else "local level"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        model = UnobservedComponents(y, level=level)
+        res = model.fit(disp=False, maxiter=200)
+    retvals = getattr(res, "mle_retvals", None) or {}
+    if not retvals.get("converged", True):
+        notes.append(
+            "the likelihood optimiser stopped without converging "
+            f"(after {retvals.get('iterations', '?')} iterations): this estimate may be far off"
+        )
+    names = list(model.param_names)
+    idx = names.index("sigma2.irregular")
+    var_scaled = float(res.params[idx])
+    var = var_scaled * scale**2
+    try:
+        se = float(res.bse[idx]) * scale**2
+    except Exception:  # noqa: BLE001 - statsmodels may fail to invert the Hessian
+        se = float("nan")
+    if np.isfinite(se) and var > 0:
+        rel = se / var
+        # log-normal interval; a fit that barely identifies the noise (rel of hundreds)
+        # gives (0, inf) instead of an overflow warning
+        with np.errstate(over="ignore"):
+            ci = (var * float(np.exp(-1.96 * rel)), var * float(np.exp(1.96 * rel)))
+        dof = 2.0 / rel**2
+    else:
+        ci, dof = (float("nan"), float("nan")), float("nan")
+    method = "mle-trend" if trend else "mle-level"
+    return VarianceEstimate(method, var, ci, z.size, z.size, dof, {}, notes)
+
+
+def _mle_level(z: NDArray, notes: list[str]) -> VarianceEstimate:
+    return mle_estimate(z, False, notes)
+
+
+def _mle_trend(z: NDArray, notes: list[str]) -> VarianceEstimate:
+    return mle_estimate(z, True, notes)
+
+
+MLE_LEVEL = MethodSpec("mle-level", "state-space ML, local level (statsmodels)", "peer", _mle_level)
+MLE_TREND = MethodSpec(
+    "mle-trend", "state-space ML, local linear trend (statsmodels)", "peer", _mle_trend
+)
