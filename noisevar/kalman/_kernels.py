@@ -1,46 +1,52 @@
-"""Compiled (numba) kernels of the filter core's per-step arithmetic.
+"""Compiled (numba) kernels of the filter step and of the strategies, and the backend switch.
 
-Each kernel does, for one step of a whole batch, what a few dozen numpy
-calls on tiny (``n, m <= 10``) arrays did before: numpy's per-call overhead
-(about a microsecond) dominated a 4-state EKF step, while the arithmetic
-itself is a few hundred flops per run. The kernels loop over the batch axis
-``B``, so a single run (``B = 1``) and a Monte Carlo batch go through the same
-code. The state and measurement dimensions reach the kernels as the lengths
-of the tuples ``nt = (None,) * n`` and ``mt = (None,) * m``: a tuple's length
-is a compile-time constant, so each ``(n, m)`` gets loops of constant trip
-count that the compiler unrolls (3 to 4 times faster than loops over array
-shapes for 4 x 4 matrices).
+Each kernel does one step of a whole batch (loops over the batch axis ``B``).
+The dimensions reach the kernels as the lengths of ``nt = (None,) * n`` and
+``mt = (None,) * m``, compile-time constants, so small loops are unrolled.
+The arithmetic follows :mod:`noisevar.kalman.steps` term by term.
 
-Conventions
------------
-* Operands that may be shared by the whole batch (``F``, ``Q``, ``H``, ``R``)
-  are 3-D with a leading axis of size 1 (shared) or ``B`` (per run).
-* ``kind`` says how the measurement is formed: ``0`` identity ``H`` (the
-  prediction is the predicted measurement), ``1`` a selection of states
-  (``sel``), ``2`` a linear ``H``, ``3`` a user function ``h`` (the caller
-  computes ``h(x)`` and the residual).
-* The arithmetic follows the numpy expressions of
-  :mod:`noisevar.kalman.core` and :mod:`noisevar.kalman.strategies` term by
-  term (same products, same order of sums), so both paths agree to rounding
-  (tested to 1e-10).
-* ``cache=True``: compiled once per machine into ``__pycache__``; a cold
-  cache costs a few seconds at the first filter run.
+:func:`backend` is the one place that chooses: the compiled kernels when
+:data:`USE_COMPILED` (numba installed), else the numpy forms of
+:mod:`noisevar.kalman.steps` and the kernels' plain-Python bodies.
+
+Conventions: operands shared by the batch (``F``, ``Q``, ``H``, ``R``) are 3-D
+with a leading axis of 1 (shared) or ``B``; ``kind`` is how the measurement is
+formed: 0 identity ``H``, 1 a selection of states, 2 a linear ``H``, 3 a
+function ``h`` (the caller forms ``h(x)`` and the residual).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
+
+from noisevar.kalman import steps
+
+try:
+    from numba import njit
+
+    HAVE_NUMBA = True
+except ImportError:  # pragma: no cover - numba not installed
+    HAVE_NUMBA = False
+
+#: Filters and strategies started while this is true use the compiled kernels.
+USE_COMPILED: bool = HAVE_NUMBA
 
 _PI = math.pi
 _TWO_PI = 2.0 * math.pi
 
+
+def _identity(fn: Callable) -> Callable:  # pragma: no cover - numba not installed
+    return fn
+
+
 # (no nogil: releasing and taking back the GIL costs more than a small kernel)
-_jit = njit(cache=True)
+_jit = njit(cache=True) if HAVE_NUMBA else _identity
 #: helpers inlined into the kernels, so that the constant sizes reach their loops
-_inline = njit(cache=True, inline="always")
+_inline = njit(cache=True, inline="always") if HAVE_NUMBA else _identity
 
 
 @_jit
@@ -566,3 +572,46 @@ def vb_beta(beta_pred, r, HPH, alpha, beta, R_out, want_R):  # pragma: no cover 
             if want_R:
                 for j in range(m):
                     R_out[b, i, j] = v / alpha[b, i] * (1.0 if i == j else 0.0)
+
+
+# --------------------------------------------------------------------------- backend
+@dataclass(frozen=True)
+class Backend:
+    """The step and strategy kernels one filter uses (same signatures either way)."""
+
+    compiled: bool
+    predict_linear: Callable[..., None]
+    predict_cov: Callable[..., None]
+    measure: Callable[..., None]
+    innovation: Callable[..., None]
+    gain_update: Callable[..., None]
+    window_diag: Callable[..., bool]
+    outer_q: Callable[..., bool]
+    sage_husa_diag: Callable[..., None]
+    vb_predict: Callable[..., None]
+    vb_beta: Callable[..., None]
+
+
+def _python(fn: Callable) -> Callable:
+    return getattr(fn, "py_func", fn)
+
+
+_STRATEGY_KERNELS = (window_diag, outer_q, sage_husa_diag, vb_predict, vb_beta)
+
+_COMPILED = Backend(
+    True, predict_linear, predict_cov, measure, innovation, gain_update, *_STRATEGY_KERNELS
+)
+_NUMPY = Backend(
+    False,
+    steps.predict_linear_into,
+    steps.predict_cov_into,
+    steps.measure_into,
+    steps.innovation_into,
+    steps.gain_update_into,
+    *(_python(f) for f in _STRATEGY_KERNELS),
+)
+
+
+def backend() -> Backend:
+    """The kernels to use now: compiled when :data:`USE_COMPILED`, else numpy / plain Python."""
+    return _COMPILED if USE_COMPILED and HAVE_NUMBA else _NUMPY

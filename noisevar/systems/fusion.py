@@ -457,24 +457,6 @@ def _make_strategy(local: str, data: FusionData, i: int, vb_rho: float) -> RStra
     return OracleR(data.true_R(i))
 
 
-def _snapshot(strategy: RStrategy, batch: int) -> dict[str, NDArray]:
-    """Copies of the strategy's per-run arrays (leading axis ``B``, small)."""
-    return {
-        key: np.array(value)
-        for key, value in vars(strategy).items()
-        if isinstance(value, np.ndarray) and value.ndim <= 3 and value.shape[:1] == (batch,)
-    }
-
-
-def _restore(strategy: RStrategy, saved: dict[str, NDArray], runs: NDArray[np.bool_]) -> None:
-    for key, value in saved.items():
-        current = getattr(strategy, key)
-        if isinstance(current, np.ndarray) and current.shape == value.shape:
-            current = np.array(current)
-            current[runs] = value[runs]
-            setattr(strategy, key, current)
-
-
 def run_fusion(
     data: FusionData,
     local: str = "vb",
@@ -561,12 +543,12 @@ def run_fusion(
             if flagged.all():
                 filt.skip_update()
             else:
-                saved = _snapshot(filt.strategy, B) if flagged.any() else {}
+                saved = filt.strategy.state() if flagged.any() else {}
                 filt.update(z)
                 if flagged.any():
                     filt.x = np.where(flagged[:, None], filt.x_pred, filt.x)
                     filt.P = np.where(flagged[:, None, None], filt.P_pred, filt.P)
-                    _restore(filt.strategy, saved, flagged)
+                    filt.strategy.restore(saved, flagged)
             flags[i] = flagged
             isolated[:, k, i] = flagged
             R_diag = np.diagonal(np.broadcast_to(filt.R, (B, *filt.R.shape[-2:])), 0, -2, -1)
