@@ -77,14 +77,23 @@ def _cycle(graph: dict[str, set[str]], scope: str) -> list[str] | None:
     return None
 
 
-def test_no_import_cycle_in_the_kalman_package():
-    assert _cycle(_graph(), "noisevar.kalman") is None
+def test_no_import_cycle_in_noisevar():
+    assert _cycle(_graph(), "noisevar") is None
 
 
-KALMAN_MODULES = sorted(m for m in _graph() if m.startswith("noisevar.kalman"))
+def test_the_walk_finds_a_cycle():
+    assert _cycle({"a.x": {"a.y"}, "a.y": {"a.z"}, "a.z": {"a.x"}}, "a") == [
+        "a.x",
+        "a.y",
+        "a.z",
+        "a.x",
+    ]
 
 
-@pytest.mark.parametrize("module", KALMAN_MODULES)
+# entry points a cycle inside the package would break (the graph walk covers every module)
+@pytest.mark.parametrize(
+    "module", ["noisevar.kalman.strategies.vb", "noisevar.kalman.run", "noisevar.kalman.steps"]
+)
 def test_module_imports_alone_in_a_fresh_interpreter(module):
     res = subprocess.run(
         [sys.executable, "-c", f"import {module}"],
