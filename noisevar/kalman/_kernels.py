@@ -113,6 +113,7 @@ def _inv_lu(a, out, lu, piv, m):  # pragma: no cover - compiled
 @_inline
 def _cov_into(Fb, Pb, Qb, out, T, n):  # pragma: no cover - compiled
     """``out = (F P) Fᵀ + Q`` for one member (``T`` scratch)."""
+    # P = FPF' + Q
     for i in range(n):
         for j in range(n):
             s = 0.0
@@ -221,7 +222,7 @@ def measure(z, x_pred, P_pred, H, cfg, z_pred, d, PHt, HPHt, nt, mt):  # pragma:
 
 
 @_jit
-def gain_update(
+def gain_update(  # long: one fused kernel per step (a call per stage costs more than the flops)
     x_pred, P_pred, R, d, H, cfg, z, final, S, SK, x, P, r, work, nt, mt
 ):  # pragma: no cover - compiled
     """Gain and update with ``R`` (shape (1 or B, m, m)), residual unless ``kind == 3``.
@@ -266,10 +267,12 @@ def gain_update(
             PHt = PHt_w
             HPHt = HPHt_w
             _project(P_pred[b], H[b if hb else 0], kind, sel, PHt, HPHt, n, m)
+        # S = HPH' + R
         for i in range(m):
             for j in range(m):
                 Sb[i, j] = HPHt[i, j] + Rb[i, j]
         _inv_lu(Sb, Sib, lu, piv, m)
+        # K = PH'S^-1
         for i in range(n):
             for j in range(m):
                 s = 0.0
@@ -280,7 +283,7 @@ def gain_update(
             s = 0.0
             for k in range(m):
                 s += Kb[i, k] * d[b, k]
-            x[b, i] = x_pred[b, i] + s
+            x[b, i] = x_pred[b, i] + s  # x = x + Ky
         # A = I - K H
         for i in range(n):
             for j in range(n):
@@ -303,14 +306,14 @@ def gain_update(
                     A[i, j] = A[i, j] - s
         Pp = P_pred[b]
         Pb = P[b]
-        if not final:
+        if not final:  # P = (I - KH)P
             for i in range(n):
                 for j in range(n):
                     s = 0.0
                     for k in range(n):
                         s += A[i, k] * Pp[k, j]
                     Pb[i, j] = s
-        else:
+        else:  # P = (I - KH)P(I - KH)' + KRK', then (P + P') / 2
             for i in range(n):
                 for j in range(n):
                     s = 0.0

@@ -195,6 +195,12 @@ class StateSpaceModel:
                 raise NoisevarError("an extended model needs callables h and H_jacobian")
             if self.H is not None:
                 raise NoisevarError("give either H or h, not both")
+        self._check_labels(n, m)
+        self._check_functions(n, m)
+
+    def _check_labels(self, n: int, m: int) -> None:
+        """Angle indices, ``dt`` and names."""
+        set_ = object.__setattr__
         for name, idx, size in (
             ("angle_states", self.angle_states, n),
             ("angle_measurements", self.angle_measurements, m),
@@ -214,7 +220,6 @@ class StateSpaceModel:
         )
         if len(self.state_names) != n or len(self.measurement_names) != m:
             raise NoisevarError("state_names / measurement_names do not match the dimensions")
-        self._check_functions(n, m)
 
     def _check_functions(self, n: int, m: int) -> None:
         xb = self.x0[None, :]
@@ -289,7 +294,7 @@ class StateSpaceModel:
 # --------------------------------------------------------------------------- robust update
 @dataclass(frozen=True)
 class HuberUpdate:
-    """Huber M-estimation measurement update (spec B3), usable with any strategy.
+    """Huber M-estimation measurement update (docs/algorithms.md §G5), with any strategy.
 
     The update is written as a regression: the prediction and the
     (linearised) measurement are stacked and whitened by
