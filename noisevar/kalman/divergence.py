@@ -216,6 +216,4 @@ def nis_band(dof: int, window: int = 1, coverage: float = 0.95) -> tuple[float, 
     return (
         float(stats.chi2.ppf(a, dof * window) / window),
         float(stats.chi2.ppf(1.0 - a, dof * window) / window),
-        float(stats.chi2.ppf(a, dof * window) / window),
-        float(stats.chi2.ppf(1.0 - a, dof * window) / window),
     )

@@ -11,7 +11,14 @@ import numpy as np
 import pytest
 
 import noisevar
-from noisevar.kalman import KalmanFilter, StateSpaceModel, VariationalBayesR, make_strategy, steps
+from noisevar.kalman import (
+    KalmanFilter,
+    StateSpaceModel,
+    VariationalBayesR,
+    make_strategy,
+    nis_band,
+    steps,
+)
 
 ROOT = Path(noisevar.__file__).resolve().parent
 
@@ -189,3 +196,10 @@ def test_state_is_a_copy():
     filt.predict()
     filt.update(np.ones((2, 2)))
     assert not np.allclose(filt.strategy.state()["_alpha"], saved["_alpha"])
+
+
+def test_nis_band_is_a_pair_around_the_mean():
+    lo, hi = nis_band(4, window=50)
+    assert lo < 4.0 < hi
+    lo1, hi1 = nis_band(4)
+    assert lo1 < lo and hi1 > hi
