@@ -15,6 +15,7 @@ import numpy as np
 
 from noisevar import estimate
 from noisevar.errors import NoisevarError
+from noisevar.estimators.somd import somd_variance_records
 from noisevar.experiments.base import (
     JOBS,
     Experiment,
@@ -30,7 +31,6 @@ from noisevar.kalman.evaluation import (
     pooled_rmse,
     r_diagonal,
 )
-from noisevar.kalman.somd_batch import somd_variance_records
 from noisevar.kalman.strategies import RStrategy, make_strategy, strategy_spec
 from noisevar.params import ParamSpec
 from noisevar.systems.scenarios import GPS_CHANNELS, Scenario, gps_circle

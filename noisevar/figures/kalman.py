@@ -32,7 +32,7 @@ from noisevar.figures._common import (
     layout,
     line_trace,
 )
-from noisevar.kalman.core import nis_band
+from noisevar.kalman import nis_band
 from noisevar.kalman.result import FilterResult, wrap_angle
 
 Results = FilterResult | Sequence[FilterResult]

@@ -1,42 +1,36 @@
-"""Adaptive Kalman filtering: one filter core, pluggable R-adaptation strategies, scenarios.
+"""Adaptive Kalman filtering: one filter, pluggable R-adaptation strategies.
 
-Core (:mod:`noisevar.kalman.core`): :class:`StateSpaceModel` (linear or EKF),
-:class:`KalmanFilter` (step by step, batched over Monte Carlo runs),
-:func:`run_filter` (whole record -> :class:`FilterResult`),
-:class:`HuberUpdate` (robust update, spec B3), :class:`DivergenceCheck`.
-
-Strategies (:mod:`noisevar.kalman.strategies`): fixed, oracle, somd-online,
-rae, iae, rae-q (spec B1), sage-husa (B4), vb (B2); :func:`make_strategy`.
-
-Scenarios (:mod:`noisevar.systems.scenarios`): gps-circle (spec A9),
-noise-step, noise-ramp, outliers.
+:class:`StateSpaceModel` (linear or EKF), :class:`KalmanFilter` (step by step,
+batched over Monte Carlo runs), :func:`run_filter` (a whole record ->
+:class:`FilterResult`), :class:`HuberUpdate`, :class:`DivergenceCheck`; the
+strategies of :mod:`noisevar.kalman.strategies` and :func:`make_strategy`.
 """
 
-from noisevar.kalman.core import (
-    DivergenceCheck,
-    HuberUpdate,
-    KalmanFilter,
-    StateSpaceModel,
-    check_covariance,
-    nis_band,
-    run_filter,
-)
+from noisevar.kalman.divergence import DivergenceCheck, nis_band, quadratic_form_inverse
+from noisevar.kalman.filter import KalmanFilter
+from noisevar.kalman.model import HuberUpdate, StateSpaceModel, check_covariance
 from noisevar.kalman.result import FilterResult, wrap_angle
+from noisevar.kalman.run import run_filter
 from noisevar.kalman.strategies import (
+    ALIASES,
     STRATEGIES,
     FixedR,
     InnovationR,
+    MovingMean,
     OracleR,
     ResidualQR,
     ResidualR,
     RStrategy,
     SageHusaR,
     SomdOnlineR,
+    StrategySpec,
     VariationalBayesR,
     make_strategy,
+    strategy_spec,
 )
 
 __all__ = [
+    "ALIASES",
     "STRATEGIES",
     "DivergenceCheck",
     "FilterResult",
@@ -44,6 +38,7 @@ __all__ = [
     "HuberUpdate",
     "InnovationR",
     "KalmanFilter",
+    "MovingMean",
     "OracleR",
     "RStrategy",
     "ResidualQR",
@@ -51,10 +46,13 @@ __all__ = [
     "SageHusaR",
     "SomdOnlineR",
     "StateSpaceModel",
+    "StrategySpec",
     "VariationalBayesR",
     "check_covariance",
     "make_strategy",
     "nis_band",
+    "quadratic_form_inverse",
     "run_filter",
+    "strategy_spec",
     "wrap_angle",
 ]

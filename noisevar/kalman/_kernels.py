@@ -1,46 +1,45 @@
-"""Compiled (numba) kernels of the filter core's per-step arithmetic.
+"""Compiled (numba) kernels of the filter step and of the strategies, and the backend switch.
 
-Each kernel does, for one step of a whole batch, what a few dozen numpy
-calls on tiny (``n, m <= 10``) arrays did before: numpy's per-call overhead
-(about a microsecond) dominated a 4-state EKF step, while the arithmetic
-itself is a few hundred flops per run. The kernels loop over the batch axis
-``B``, so a single run (``B = 1``) and a Monte Carlo batch go through the same
-code. The state and measurement dimensions reach the kernels as the lengths
-of the tuples ``nt = (None,) * n`` and ``mt = (None,) * m``: a tuple's length
-is a compile-time constant, so each ``(n, m)`` gets loops of constant trip
-count that the compiler unrolls (3 to 4 times faster than loops over array
-shapes for 4 x 4 matrices).
+Each kernel does one step of a whole batch (loops over the batch axis ``B``).
+The dimensions reach the kernels as the lengths of ``nt = (None,) * n`` and
+``mt = (None,) * m``, compile-time constants, so small loops are unrolled.
+The arithmetic follows :mod:`noisevar.kalman.steps` term by term.
 
-Conventions
------------
-* Operands that may be shared by the whole batch (``F``, ``Q``, ``H``, ``R``)
-  are 3-D with a leading axis of size 1 (shared) or ``B`` (per run).
-* ``kind`` says how the measurement is formed: ``0`` identity ``H`` (the
-  prediction is the predicted measurement), ``1`` a selection of states
-  (``sel``), ``2`` a linear ``H``, ``3`` a user function ``h`` (the caller
-  computes ``h(x)`` and the residual).
-* The arithmetic follows the numpy expressions of
-  :mod:`noisevar.kalman.core` and :mod:`noisevar.kalman.strategies` term by
-  term (same products, same order of sums), so both paths agree to rounding
-  (tested to 1e-10).
-* ``cache=True``: compiled once per machine into ``__pycache__``; a cold
-  cache costs a few seconds at the first filter run.
+:func:`backend` is the one place that chooses: the compiled kernels when
+:data:`USE_COMPILED` (numba installed), else the numpy forms of
+:mod:`noisevar.kalman.steps` and the kernels' plain-Python bodies.
+
+Conventions: operands shared by the batch (``F``, ``Q``, ``H``, ``R``) are 3-D
+with a leading axis of 1 (shared) or ``B``; ``kind`` is how the measurement is
+formed: 0 identity ``H``, 1 a selection of states, 2 a linear ``H``, 3 a
+function ``h`` (the caller forms ``h(x)`` and the residual).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
+
+from noisevar.kalman import steps
+from noisevar.kalman._jit import HAVE_NUMBA
+from noisevar.kalman._jit import inline as _inline
+from noisevar.kalman._jit import jit as _jit
+from noisevar.kalman._strategy_kernels import (
+    outer_q,
+    sage_husa_diag,
+    vb_beta,
+    vb_predict,
+    window_diag,
+)
+
+#: Filters and strategies started while this is true use the compiled kernels.
+USE_COMPILED: bool = HAVE_NUMBA
 
 _PI = math.pi
 _TWO_PI = 2.0 * math.pi
-
-# (no nogil: releasing and taking back the GIL costs more than a small kernel)
-_jit = njit(cache=True)
-#: helpers inlined into the kernels, so that the constant sizes reach their loops
-_inline = njit(cache=True, inline="always")
 
 
 @_jit
@@ -107,6 +106,7 @@ def _inv_lu(a, out, lu, piv, m):  # pragma: no cover - compiled
 @_inline
 def _cov_into(Fb, Pb, Qb, out, T, n):  # pragma: no cover - compiled
     """``out = (F P) Fᵀ + Q`` for one member (``T`` scratch)."""
+    # P = FPF' + Q
     for i in range(n):
         for j in range(n):
             s = 0.0
@@ -215,7 +215,7 @@ def measure(z, x_pred, P_pred, H, cfg, z_pred, d, PHt, HPHt, nt, mt):  # pragma:
 
 
 @_jit
-def gain_update(
+def gain_update(  # long: one fused kernel per step (a call per stage costs more than the flops)
     x_pred, P_pred, R, d, H, cfg, z, final, S, SK, x, P, r, work, nt, mt
 ):  # pragma: no cover - compiled
     """Gain and update with ``R`` (shape (1 or B, m, m)), residual unless ``kind == 3``.
@@ -260,10 +260,12 @@ def gain_update(
             PHt = PHt_w
             HPHt = HPHt_w
             _project(P_pred[b], H[b if hb else 0], kind, sel, PHt, HPHt, n, m)
+        # S = HPH' + R
         for i in range(m):
             for j in range(m):
                 Sb[i, j] = HPHt[i, j] + Rb[i, j]
         _inv_lu(Sb, Sib, lu, piv, m)
+        # K = PH'S^-1
         for i in range(n):
             for j in range(m):
                 s = 0.0
@@ -274,7 +276,7 @@ def gain_update(
             s = 0.0
             for k in range(m):
                 s += Kb[i, k] * d[b, k]
-            x[b, i] = x_pred[b, i] + s
+            x[b, i] = x_pred[b, i] + s  # x = x + Ky
         # A = I - K H
         for i in range(n):
             for j in range(n):
@@ -297,14 +299,14 @@ def gain_update(
                     A[i, j] = A[i, j] - s
         Pp = P_pred[b]
         Pb = P[b]
-        if not final:
+        if not final:  # P = (I - KH)P
             for i in range(n):
                 for j in range(n):
                     s = 0.0
                     for k in range(n):
                         s += A[i, k] * Pp[k, j]
                     Pb[i, j] = s
-        else:
+        else:  # P = (I - KH)P(I - KH)' + KRK', then (P + P') / 2
             for i in range(n):
                 for j in range(n):
                     s = 0.0
@@ -404,165 +406,44 @@ def gps_transition(T, x, k, x_out, F_out):  # pragma: no cover - compiled
         F_out[b, 1, 3] = tv * c
 
 
-# --------------------------------------------------------------------------- strategies
-@_jit
-def _push(buf, total, count, pos, v):  # pragma: no cover - compiled
-    """One push of ``MovingMean`` on flattened rows (see strategies.MovingMean)."""
-    size = buf.shape[0]
-    w = total.shape[0]
-    if count >= size:
-        for j in range(w):
-            total[j] -= buf[pos, j]
-    for j in range(w):
-        buf[pos, j] = v[j]
-        total[j] += v[j]
-    if pos + 1 == size:  # exact re-sum once per wrap-around, in numpy's order
-        for j in range(w):
-            total[j] = buf[0, j]
-        for i in range(1, size):
-            for j in range(w):
-                total[j] += buf[i, j]
+# --------------------------------------------------------------------------- backend
+@dataclass(frozen=True)
+class Backend:
+    """The step and strategy kernels one filter uses (same signatures either way)."""
+
+    compiled: bool
+    predict_linear: Callable[..., None]
+    predict_cov: Callable[..., None]
+    measure: Callable[..., None]
+    innovation: Callable[..., None]
+    gain_update: Callable[..., None]
+    window_diag: Callable[..., bool]
+    outer_q: Callable[..., bool]
+    sage_husa_diag: Callable[..., None]
+    vb_predict: Callable[..., None]
+    vb_beta: Callable[..., None]
 
 
-@_jit
-def _diag_into(est, out):  # pragma: no cover - compiled
-    """``out = est[:, :, None] * eye`` (a NaN variance fills its row, as in numpy)."""
-    B, m = est.shape
-    for b in range(B):
-        for i in range(m):
-            for j in range(m):
-                out[b, i, j] = est[b, i] * (1.0 if i == j else 0.0)
+def _python(fn: Callable) -> Callable:
+    return getattr(fn, "py_func", fn)
 
 
-@_jit
-def _floor_clip(est, floor, guard):  # pragma: no cover - compiled
-    """Clip variances below ``floor`` (per channel), counting the runs that needed it."""
-    B, m = est.shape
-    for b in range(B):
-        low = False
-        for i in range(m):
-            if est[b, i] < floor[i]:
-                low = True
-                est[b, i] = floor[i]
-        if low:
-            guard[b] += 1
+_STRATEGY_KERNELS = (window_diag, outer_q, sage_husa_diag, vb_predict, vb_beta)
+
+_COMPILED = Backend(
+    True, predict_linear, predict_cov, measure, innovation, gain_update, *_STRATEGY_KERNELS
+)
+_NUMPY = Backend(
+    False,
+    steps.predict_linear_into,
+    steps.predict_cov_into,
+    steps.measure_into,
+    steps.innovation_into,
+    steps.gain_update_into,
+    *(_python(f) for f in _STRATEGY_KERNELS),
+)
 
 
-@_jit
-def window_diag(buf, total, count, pos, u, hph, sign, adapt, floor, guard, R_out):
-    """RAE / IAE (diagonal): push ``u²``; if ``adapt``, ``R_out = diag(mean + sign·hph)``, clipped.
-
-    ``count`` and ``pos`` are the moving mean's before the push. Returns
-    whether ``R_out`` was written.
-    """
-    B, m = u.shape
-    v = np.empty(B * m)
-    for b in range(B):
-        for i in range(m):
-            v[b * m + i] = u[b, i] * u[b, i]
-    _push(buf.reshape((buf.shape[0], B * m)), total.reshape(B * m), count, pos, v)
-    if not adapt:
-        return False
-    c = min(count + 1, buf.shape[0])
-    est = np.empty((B, m))
-    for b in range(B):
-        for i in range(m):
-            mean = total[b, i] / c
-            if sign > 0:
-                est[b, i] = mean + hph[b, i]
-            else:
-                est[b, i] = mean - hph[b, i]
-    _floor_clip(est, floor, guard)
-    _diag_into(est, R_out)
-    return True
-
-
-@_jit
-def outer_q(buf, total, count, pos, d, adapt, K, Q_out):  # pragma: no cover - compiled
-    """RAE-Q: push ``d dᵀ``; when ``adapt``, ``Q_out = sym((K C) Kᵀ)`` with ``C`` the mean."""
-    B, m = d.shape
-    n = K.shape[1]
-    v = np.empty(B * m * m)
-    for b in range(B):
-        for i in range(m):
-            for j in range(m):
-                v[(b * m + i) * m + j] = d[b, i] * d[b, j]
-    _push(buf.reshape((buf.shape[0], B * m * m)), total.reshape(B * m * m), count, pos, v)
-    if not adapt:
-        return False
-    c = min(count + 1, buf.shape[0])
-    C = np.empty((m, m))
-    KC = np.empty((n, m))
-    Qb = np.empty((n, n))
-    for b in range(B):
-        for i in range(m):
-            for j in range(m):
-                C[i, j] = total[b, i, j] / c
-        for i in range(n):
-            for j in range(m):
-                s = 0.0
-                for k in range(m):
-                    s += K[b, i, k] * C[k, j]
-                KC[i, j] = s
-        for i in range(n):
-            for j in range(n):
-                s = 0.0
-                for k in range(m):
-                    s += KC[i, k] * K[b, j, k]
-                Qb[i, j] = s
-        for i in range(n):
-            for j in range(n):
-                Q_out[b, i, j] = 0.5 * (Qb[i, j] + Qb[j, i])
-    return True
-
-
-@_jit
-def sage_husa_diag(est_prev, d, hph, dk, floor, guard, est_out, R_out):  # pragma: no cover
-    """Sage-Husa (diagonal) step: the estimate with its fallback, then the clipped ``R``."""
-    B, m = d.shape
-    one = 1.0 - dk
-    est = np.empty((B, m))
-    for b in range(B):
-        low = False
-        for i in range(m):
-            outer = d[b, i] * d[b, i]
-            e = one * est_prev[b, i] + dk * (outer - hph[b, i])
-            if e < floor[i]:
-                low = True
-                e = one * est_prev[b, i] + dk * outer
-            est_out[b, i] = e
-            est[b, i] = e
-        if low:
-            guard[b] += 1
-    _floor_clip(est, floor, guard)
-    _diag_into(est, R_out)
-
-
-@_jit
-def vb_predict(alpha, beta, rho, beta_pred, R_out):  # pragma: no cover - compiled
-    """VB time update in place: ``α = ρα + 1/2``, ``β⁻ = ρβ``, ``β = β⁻``; ``R_out = diag(β/α)``."""
-    B, m = alpha.shape
-    for b in range(B):
-        for i in range(m):
-            alpha[b, i] = rho * alpha[b, i] + 0.5
-            bp = rho * beta[b, i]
-            beta_pred[b, i] = bp
-            beta[b, i] = bp
-            for j in range(m):
-                R_out[b, i, j] = bp / alpha[b, i] * (1.0 if i == j else 0.0)
-
-
-@_jit
-def vb_beta(beta_pred, r, HPH, alpha, beta, R_out, want_R):  # pragma: no cover - compiled
-    """VB ``β = β⁻ + r²/2 + diag(H P Hᵀ)/2``; ``R_out = diag(β/α)`` when ``want_R``.
-
-    ``HPH`` is ``H P Hᵀ`` (shape (B, m, m); ``P`` itself for an identity ``H``).
-    """
-    B, m = r.shape
-    for b in range(B):
-        for i in range(m):
-            v = beta_pred[b, i] + 0.5 * r[b, i] * r[b, i] + 0.5 * HPH[b, i, i]
-            beta[b, i] = v
-            if want_R:
-                for j in range(m):
-                    R_out[b, i, j] = v / alpha[b, i] * (1.0 if i == j else 0.0)
+def backend() -> Backend:
+    """The kernels to use now: compiled when :data:`USE_COMPILED`, else numpy / plain Python."""
+    return _COMPILED if USE_COMPILED and HAVE_NUMBA else _NUMPY

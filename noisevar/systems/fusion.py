@@ -202,24 +202,6 @@ def _make_strategy(local: str, data: FusionData, i: int, vb_rho: float) -> RStra
     return OracleR(data.true_R(i))
 
 
-def _snapshot(strategy: RStrategy, batch: int) -> dict[str, NDArray]:
-    """Copies of the strategy's per-run arrays (leading axis ``B``, small)."""
-    return {
-        key: np.array(value)
-        for key, value in vars(strategy).items()
-        if isinstance(value, np.ndarray) and value.ndim <= 3 and value.shape[:1] == (batch,)
-    }
-
-
-def _restore(strategy: RStrategy, saved: dict[str, NDArray], runs: NDArray[np.bool_]) -> None:
-    for key, value in saved.items():
-        current = getattr(strategy, key)
-        if isinstance(current, np.ndarray) and current.shape == value.shape:
-            current = np.array(current)
-            current[runs] = value[runs]
-            setattr(strategy, key, current)
-
-
 def run_fusion(
     data: FusionData,
     local: str = "vb",
@@ -256,10 +238,7 @@ def run_fusion(
     NoisevarError
         For an unknown ``local`` or a ``false_alarm`` outside ``(0, 1)``.
     """
-    if local not in LOCAL_STRATEGIES:
-        raise NoisevarError(f"local={local!r}; choose one of {', '.join(LOCAL_STRATEGIES)}.")
-    if not 0 < false_alarm < 1:
-        raise NoisevarError(f"false_alarm={false_alarm} must be in (0, 1), e.g. 1e-3.")
+    _check_settings(local, false_alarm)
     scenario = data.scenario
     sensors = scenario.sensors
     B, N = data.runs, int(scenario.n_steps)
@@ -293,27 +272,11 @@ def run_fusion(
         for i, filt in enumerate(filters):
             if feedback:
                 filt.x, filt.P = x, P
-            filt.predict()
-            z = z_steps[i][k]
-            H = filt.model.H
+            nis_k = _local_step(filt, z_steps[i][k], thresholds[i], isolation)
+            flagged = nis_k > thresholds[i] if isolation else flags[i]
             if isolation:
-                S = H @ filt.P_pred @ H.T + filt.R
-                d = z - filt.x_pred @ H.T
-                nis[:, k, i] = np.einsum("bi,bi->b", d, np.linalg.solve(S, d[:, :, None])[..., 0])
-                flagged = nis[:, k, i] > thresholds[i]
-            else:
-                flagged = flags[i]
-            if flagged.all():
-                filt.skip_update()
-            else:
-                saved = _snapshot(filt.strategy, B) if flagged.any() else {}
-                filt.update(z)
-                if flagged.any():
-                    filt.x = np.where(flagged[:, None], filt.x_pred, filt.x)
-                    filt.P = np.where(flagged[:, None, None], filt.P_pred, filt.P)
-                    _restore(filt.strategy, saved, flagged)
-            flags[i] = flagged
-            isolated[:, k, i] = flagged
+                nis[:, k, i] = nis_k
+            flags[i] = isolated[:, k, i] = flagged
             R_diag = np.diagonal(np.broadcast_to(filt.R, (B, *filt.R.shape[-2:])), 0, -2, -1)
             R_out[i][:, k] = np.where(flagged[:, None], np.nan, R_diag)
         x, P = _fuse(filters, info, info_vec, flags, feedback)
@@ -334,6 +297,42 @@ def run_fusion(
         sensor_names=tuple(s.name for s in sensors),
         fault_mask=data.fault_mask,
     )
+
+
+def _check_settings(local: str, false_alarm: float) -> None:
+    if local not in LOCAL_STRATEGIES:
+        raise NoisevarError(f"local={local!r}; choose one of {', '.join(LOCAL_STRATEGIES)}.")
+    if not 0 < false_alarm < 1:
+        raise NoisevarError(f"false_alarm={false_alarm} must be in (0, 1), e.g. 1e-3.")
+
+def _local_step(
+    filt: KalmanFilter, z: NDArray[np.float64], threshold: float, isolation: bool
+) -> NDArray[np.float64]:
+    """Predict and update one local filter, skipping the runs whose NIS exceeds ``threshold``.
+
+    Returns the NIS of every run (zeros without isolation); a flagged run keeps its
+    prediction and its strategy's state (docs/algorithms.md §B2).
+    """
+    filt.predict()
+    B = filt.x_pred.shape[0]
+    nis = np.zeros(B)
+    if isolation:
+        H = filt.model.H
+        # S = HPH' + R ;  NIS = d' S⁻¹ d
+        S = H @ filt.P_pred @ H.T + filt.R
+        d = z - filt.x_pred @ H.T
+        nis = np.einsum("bi,bi->b", d, np.linalg.solve(S, d[:, :, None])[..., 0])
+    flagged = nis > threshold if isolation else np.zeros(B, dtype=bool)
+    if flagged.all():
+        filt.skip_update()
+        return nis
+    saved = filt.strategy.state() if flagged.any() else {}
+    filt.update(z)
+    if flagged.any():
+        filt.x = np.where(flagged[:, None], filt.x_pred, filt.x)
+        filt.P = np.where(flagged[:, None, None], filt.P_pred, filt.P)
+        filt.strategy.restore(saved, flagged)
+    return nis
 
 
 def _fuse(

@@ -1,4 +1,4 @@
-"""The compiled (numba) filter path gives the plain-numpy path's results (to 1e-10)."""
+"""The compiled (numba) backend gives the numpy backend's results (to 1e-10)."""
 
 from __future__ import annotations
 
@@ -12,13 +12,13 @@ from noisevar.kalman import (
     RStrategy,
     SomdOnlineR,
     StateSpaceModel,
-    core,
+    _kernels,
     make_strategy,
     run_filter,
 )
 from noisevar.systems.scenarios import gps_circle, noise_step
 
-pytestmark = pytest.mark.skipif(core._kernels is None, reason="numba not installed")
+pytestmark = pytest.mark.skipif(not _kernels.HAVE_NUMBA, reason="numba not installed")
 
 STRATEGY_NAMES = ["fixed", "oracle", "somd-online", "rae", "iae", "rae-q", "sage-husa", "vb"]
 FIELDS = ("x", "P", "innovation", "residual", "innovation_cov", "R", "Q", "nis", "nees")
@@ -34,9 +34,9 @@ def _strategy(name: str, R_true: np.ndarray, h_smooth) -> RStrategy:
 
 def _both(run, monkeypatch):
     """``run()`` with the compiled kernels, then with the numpy path."""
-    monkeypatch.setattr(core, "USE_COMPILED", True)
+    monkeypatch.setattr(_kernels, "USE_COMPILED", True)
     fast = run()
-    monkeypatch.setattr(core, "USE_COMPILED", False)
+    monkeypatch.setattr(_kernels, "USE_COMPILED", False)
     plain = run()
     return fast, plain
 
@@ -184,9 +184,9 @@ def test_step_by_step_equals_whole_record(monkeypatch):
     sc = gps_circle(runs=1, seed=3, duration=100.0)
     z = sc.z[0, 1:]
     whole = run_filter(sc.model, z, strategy=make_strategy("vb"), x0=sc.x0[0])
-    monkeypatch.setattr(core, "USE_COMPILED", True)
+    monkeypatch.setattr(_kernels, "USE_COMPILED", True)
     filt = KalmanFilter(sc.model, strategy=make_strategy("vb"), x0=sc.x0[0])
-    assert filt._fast
+    assert filt.compiled
     kept = []
     for k in range(z.shape[0]):
         filt.predict()
@@ -203,7 +203,7 @@ def test_bad_r_shape_from_a_strategy_is_reported(monkeypatch):
             return np.eye(3)
 
     sc = gps_circle(runs=1, seed=0, duration=50.0)
-    monkeypatch.setattr(core, "USE_COMPILED", True)
+    monkeypatch.setattr(_kernels, "USE_COMPILED", True)
     with pytest.raises(NoisevarError, match="R has shape"):
         sc.run(Bad())
 
@@ -232,8 +232,6 @@ def test_transition_must_agree_with_f():
 
 
 def test_singular_innovation_covariance_gives_nan():
-    from noisevar.kalman import _kernels
-
     n = m = 2
     x = np.zeros((1, n))
     P = np.zeros((1, n, n))

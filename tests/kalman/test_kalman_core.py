@@ -13,9 +13,9 @@ from noisevar.kalman import (
     KalmanFilter,
     StateSpaceModel,
     check_covariance,
+    quadratic_form_inverse,
     run_filter,
 )
-from noisevar.kalman.core import quadratic_form_inverse
 
 
 def random_linear_system(seed: int = 3, n: int = 4, m: int = 2, steps: int = 300):

@@ -1,4 +1,4 @@
-"""Fast paths of the filter core give the results of the plain paths (to rounding)."""
+"""Batched runs, records and helpers of the filter give the plain results (to rounding)."""
 
 from __future__ import annotations
 
@@ -6,49 +6,26 @@ import numpy as np
 import pytest
 
 import noisevar
+from noisevar.estimators.somd import somd_variance_records
 from noisevar.kalman import (
     FixedR,
     KalmanFilter,
     RStrategy,
     StateSpaceModel,
     VariationalBayesR,
-    core,
     run_filter,
 )
-from noisevar.kalman.core import _inv, _inv_closed_form, _wrap_in_place
 from noisevar.kalman.result import wrap_angle
-from noisevar.kalman.somd_batch import somd_variance_records
+from noisevar.kalman.steps import wrap_columns
 from noisevar.systems.scenarios import gps_circle, noise_step
 
-
-@pytest.mark.parametrize("m", [1, 2, 3, 4])
-def test_closed_form_inverse_matches_lapack(m):
-    rng = np.random.default_rng(m)
-    G = rng.normal(size=(64, m, m))
-    spd = G @ G.mT + 0.1 * np.eye(m)
-    spd *= np.logspace(-4, 2, m)[None, :, None] * np.logspace(-4, 2, m)[None, None, :]
-    general = rng.normal(size=(64, m, m)) + 3.0 * np.eye(m)
-    for a in (spd, general):
-        ref = _inv(a)
-        got = _inv_closed_form(a)
-        assert got.shape == a.shape and got.flags.c_contiguous
-        scale = np.max(np.abs(ref), axis=(1, 2), keepdims=True)
-        assert np.max(np.abs(got - ref) / scale) < 1e-12
-
-
-def test_closed_form_inverse_of_singular_member_is_not_finite():
-    a = np.repeat(np.eye(4)[None], 40, axis=0)
-    a[3] = 0.0
-    with np.errstate(all="ignore"):
-        inv = _inv_closed_form(a)
-    assert not np.all(np.isfinite(inv[3]))
-    np.testing.assert_array_equal(inv[:3], a[:3])
+LARGE_BATCH = 32
 
 
 @pytest.mark.parametrize("strategy", [FixedR, VariationalBayesR])
 def test_large_batch_equals_small_batches(strategy):
-    """B >= _CLOSED_FORM_FROM takes the closed-form inverse; per-run results agree."""
-    B = core._CLOSED_FORM_FROM
+    """A batch of runs gives each run's result filtered alone."""
+    B = LARGE_BATCH
     sc = gps_circle(runs=B, seed=2, duration=400.0)
     big = sc.run(strategy())
     for b in (0, B - 1):
@@ -62,7 +39,7 @@ def test_large_batch_equals_small_batches(strategy):
 
 
 def test_linear_large_batch_two_channels():
-    sc = noise_step(runs=core._CLOSED_FORM_FROM, seed=3, n_steps=600)
+    sc = noise_step(runs=LARGE_BATCH, seed=3, n_steps=600)
     big = sc.run(VariationalBayesR())
     small = run_filter(
         sc.model, sc.z[5, 2:], strategy=VariationalBayesR(), truth=sc.truth[5, 2:], x0=sc.x0[5]
@@ -118,13 +95,13 @@ def test_step_arrays_are_not_overwritten_by_later_steps():
 
 
 @pytest.mark.parametrize("B", [1, 7])
-def test_wrap_in_place_equals_wrap_angle(B):
+def test_wrap_columns_equals_wrap_angle(B):
     rng = np.random.default_rng(B)
     a = rng.normal(scale=10.0, size=(B, 4))
     a[0, 3] = np.pi
     ref = a.copy()
     ref[:, 3] = wrap_angle(ref[:, 3])
-    _wrap_in_place(a, slice(3, 4))
+    wrap_columns(a, [3])
     np.testing.assert_array_equal(a, ref)
 
 

@@ -7,6 +7,7 @@ import pytest
 
 import noisevar
 from noisevar.errors import NoisevarError
+from noisevar.estimators.somd import somd_variance_windows
 from noisevar.kalman import (
     STRATEGIES,
     FixedR,
@@ -23,7 +24,6 @@ from noisevar.kalman import (
     make_strategy,
     run_filter,
 )
-from noisevar.kalman.somd_batch import somd_variance_windows
 from noisevar.systems.scenarios import gps_circle, noise_step
 
 

@@ -9,7 +9,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.errors import NoisevarError
-from noisevar.kalman.core import StateSpaceModel
+from noisevar.kalman import StateSpaceModel
 from noisevar.kalman.result import wrap_angle
 from noisevar.systems.scenarios.scenario import Scenario, _check_runs
 
@@ -79,12 +79,11 @@ def _gps_f(T: float):
 
 def _gps_transition(T: float) -> Callable[[NDArray, int, NDArray, NDArray], None] | None:
     """Model [20] and its Jacobian in one compiled kernel (``StateSpaceModel.transition``)."""
-    from noisevar.kalman import core
+    from noisevar.kalman import _kernels
 
-    kernels = core._kernels
-    if kernels is None:  # pragma: no cover - numba not installed
+    if not _kernels.HAVE_NUMBA:  # pragma: no cover - numba not installed
         return None
-    return functools.partial(kernels.gps_transition, float(T))  # no Python frame per step
+    return functools.partial(_kernels.gps_transition, float(T))  # no Python frame per step
 
 
 def gps_circle(

@@ -10,7 +10,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
-from noisevar.kalman.core import DivergenceCheck, HuberUpdate, StateSpaceModel, run_filter
+from noisevar.kalman import DivergenceCheck, HuberUpdate, StateSpaceModel, run_filter
 from noisevar.kalman.result import FilterResult
 from noisevar.kalman.strategies import RStrategy
 from noisevar.systems.base import BatchResult

@@ -6,7 +6,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.errors import NoisevarError
-from noisevar.kalman.core import StateSpaceModel
+from noisevar.kalman import StateSpaceModel
 from noisevar.systems.scenarios.scenario import Scenario, _check_runs
 
 TARGET_T = 0.1
