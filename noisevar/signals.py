@@ -8,7 +8,7 @@ independent noise realisations of the same clean signal (Monte Carlo), shape
     The paper's Fig. 1 style: slow drifts and ramps with a fast oscillating
     burst and a sharp turn, white noise of standard deviation 5.
 ``gps-circle``
-    One channel (east, north, speed, heading) of the vehicle of spec A9:
+    One channel (east, north, speed, heading) of the vehicle of docs/algorithms.md §A9:
     radius 300 m, angular rate π/100 rad/s, sample period 0.5 s.
 ``random-jerk``
     Position of a target driven by white jerk (a random smooth trajectory).
@@ -117,7 +117,7 @@ def gps_circle(
     omega: float = np.pi / 100.0,
     sample_period: float = 0.5,
 ) -> GeneratedSignal:
-    """One channel of the vehicle on a circle of spec A9 (radius 300 m, ω = π/100 rad/s).
+    """One channel of the vehicle on a circle (docs/algorithms.md §A9; radius 300 m, ω = π/100).
 
     Default noise standard deviations are the paper's: 5 m (east, north),
     √2 m/s (speed), 0.01 rad (heading).

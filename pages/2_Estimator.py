@@ -13,7 +13,8 @@ from dashboard.widgets import how_it_works
 
 #: The page's how-it-works expander (shown even before a signal is loaded).
 HOW_IT_WORKS = (
-    "**1. A virtual second sensor (spec A2).** An alpha-beta-gamma filter (position, rate, "
+    "**1. A virtual second sensor (docs/algorithms.md §A2).** An alpha-beta-gamma filter "
+    "(position, rate, "
     "acceleration; white jerk) with constant gains smooths the record. With $h = q/r$ "
     "(jerk spectral density over noise variance) the steady-state gains are",
     "$$\\alpha = 2h^{1/3},\\qquad \\beta = 2h^{2/3},\\qquad \\gamma = h$$",

@@ -11,7 +11,8 @@ from dashboard.widgets import how_it_works
 
 #: The page's how-it-works expander (shown even before a signal is loaded).
 HOW_IT_WORKS = (
-    "**Peers (spec D).** Difference estimators remove the slowly varying signal with a short "
+    "**Peers (docs/algorithms.md §D).** Difference estimators remove the slowly varying "
+    "signal with a short "
     "difference sequence $d$ and normalise by its energy:",
     "$$\\hat\\sigma^2 = \\frac{\\operatorname{mean}\\big((d * z)_k^2\\big)}{\\sum_j d_j^2},\\qquad"
     "\\text{Rice: } d = (1,-1),\\quad \\text{second difference: } d = (1,-2,1)$$",

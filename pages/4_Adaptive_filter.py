@@ -16,7 +16,8 @@ HOW_IT_WORKS = (
     "$$K_k = P_{k|k-1}H^\\top S_k^{-1},\\qquad \\hat x_k = \\hat x_{k|k-1} + K_k d_k$$",
     "The gain weighs the measurement by how noisy it is: a wrong $R$ gives a wrong gain. "
     "Adaptive filters estimate $R$ as they go.",
-    "**RAE and IAE (spec A10)** use the filter's own residuals $r_k = z_k - H\\hat x_{k|k}$ "
+    "**RAE and IAE (docs/algorithms.md §A10)** use the filter's own residuals "
+    "$r_k = z_k - H\\hat x_{k|k}$ "
     "or innovations over a window of $N$ steps:",
     "$$\\hat R_{RAE} = \\overline{r r^\\top} + HP_{k|k}H^\\top,\\qquad "
     "\\hat R_{IAE} = \\overline{d d^\\top} - HP_{k|k-1}H^\\top$$",

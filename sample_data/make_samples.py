@@ -7,7 +7,7 @@ Run from the repository root::
 Files:
 
 ``fast_slow.csv``      t, z: the paper's Fig. 1 style signal, noise std 5.
-``gps_circle.csv``     t, east, north, speed, heading: the vehicle of spec A9
+``gps_circle.csv``     t, east, north, speed, heading: the vehicle of docs/algorithms.md §A9
                        (noise std 5 m, 5 m, √2 m/s, 0.01 rad), 3000 s at 0.5 s.
 ``noise_step.csv``     t, z: noise std steps from 5 to 15 mid-record.
 ``steps_ramps.csv``    z only, no header: ramps with jumps.

@@ -109,7 +109,7 @@ def strategy_settings() -> tuple[cache.Settings, float | None]:
             "Huber update (κ = 1.345)",
             key="af_huber",
             bind="query-params",
-            help="Robust M-estimation update (spec B3); combines with every strategy.",
+            help="Robust M-estimation update (docs/algorithms.md §B3); works with every strategy.",
         )
     settings: cache.Settings = {
         "window": int(window),

@@ -82,7 +82,7 @@ def headline(est: VarianceEstimate, truth: float | None, tuning: Tuning) -> None
         st.caption(f"Note: {note}")
     if tuning.method == "somd-paper":
         st.caption(
-            "somd-paper divides by 2 as printed; its bias is c(h)/2 − 1 (spec A8). "
+            "somd-paper divides by 2 as printed; its bias is c(h)/2 − 1 (docs/algorithms.md §A8). "
             "`somd` divides by the exact c(h)."
         )
 

@@ -203,7 +203,7 @@ def format_table(result: dict[str, Any]) -> str:
 
 EXPERIMENT = Experiment(
     name="fusion",
-    help="distributed VB fusion (eq. 24) with chi-square fault isolation (spec B2)",
+    help="distributed VB fusion (eq. 24) with chi-square fault isolation (§B2)",
     compute=run,
     params=PARAMS,
     default_runs=100,

@@ -173,7 +173,7 @@ def format_table(result: dict[str, Any]) -> str:
 
 EXPERIMENT = Experiment(
     name="latency",
-    help="GPS latency: least-squares delay over shifts + random-constant Kalman filter (spec C)",
+    help="GPS latency: least-squares delay over shifts + random-constant Kalman filter (§C)",
     compute=run,
     params=PARAMS,
     default_runs=100,

@@ -253,7 +253,7 @@ def format_table(result: dict[str, Any]) -> str:
 
 EXPERIMENT = Experiment(
     name="outliers",
-    help="robust Huber EKF with a magnetic-variation state on a DME/VOR fly-over (spec B3)",
+    help="robust Huber EKF with a magnetic-variation state on a DME/VOR fly-over (§B3)",
     compute=run,
     params=PARAMS,
     default_runs=100,

@@ -55,7 +55,7 @@ def _spectral_radius(h: float) -> float:
 
 @lru_cache(maxsize=1)
 def stable_h_limit() -> float:
-    """Largest ``h`` for which our discrete form is stable (about 0.35).
+    """Largest ``h`` for which our discrete form is stable (about 0.39).
 
     Found once by bisection on the spectral radius of ``A = (I - K H) F``.
 
@@ -228,7 +228,7 @@ def abg_filter(
     z : array_like
         Samples; several records may be stacked (filtered along ``axis``).
     h : float
-        Ratio ``q / r``; ``0 < h < stable_h_limit()`` (about 0.35).
+        Ratio ``q / r``; ``0 < h < stable_h_limit()`` (about 0.39).
     zi : array_like, optional
         Initial filter state, shape ``z.shape`` with ``axis`` replaced by 3.
         Default: the steady state on the line through the first samples

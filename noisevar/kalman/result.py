@@ -32,7 +32,7 @@ class FilterResult:
         Predictions ``x̂(k|k-1)``, ``P(k|k-1)`` (``None`` when the run was
         made with ``store_predicted=False``).
     innovation : ndarray, shape ([B,] N, m)
-        ``d_k = z_k - h(x̂(k|k-1))`` (angles wrapped to ``(-π, π]``).
+        ``d_k = z_k - h(x̂(k|k-1))`` (angles wrapped to ``[-π, π)``).
     innovation_cov : ndarray, shape ([B,] N, m, m)
         ``S_k = H P(k|k-1) Hᵀ + R_k`` with the ``R_k`` of the final update
         iteration.
@@ -60,7 +60,7 @@ class FilterResult:
     state_names, measurement_names : tuple of str
         Labels for plots and tables.
     angle_states : tuple of int
-        State components that are angles (errors wrapped to ``(-π, π]``).
+        State components that are angles (errors wrapped to ``[-π, π)``).
     """
 
     strategy: str

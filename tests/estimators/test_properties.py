@@ -26,7 +26,7 @@ SETTINGS = settings(
 
 #: Every method except the (slow) statsmodels MLE, with the parameters that
 #: make it scale-free: somd-paper's literal angle is in raw units by design
-#: (spec A5), so it is checked with the scaled angle and without selection.
+#: (docs/algorithms.md §A5), so it is checked with the scaled angle and without selection.
 CASES = {
     "auto": {},
     "auto-span21": {"method": "auto", "span": 21},

@@ -1,4 +1,4 @@
-"""Alpha-beta-gamma filter (spec A2, A8): gains, lfilter form, streaming, stability, c(h)."""
+"""Alpha-beta-gamma filter (docs/algorithms.md §A2, §A8): gains, lfilter, streaming, c(h)."""
 
 from __future__ import annotations
 
@@ -24,7 +24,7 @@ from noisevar.filters.abg import (
 )
 
 OUTPUTS = ("predicted", "filtered")
-PAPER_HS = (1e-7, 1.5e-5, 1e-4, 9e-4)  # the paper's smoothing values (spec A9)
+PAPER_HS = (1e-7, 1.5e-5, 1e-4, 9e-4)  # the paper's smoothing values (docs/algorithms.md §A9)
 FAST_HS = (9e-4, 3e-3, 0.03, 0.3)  # well-conditioned third-order direct form
 
 

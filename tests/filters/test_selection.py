@@ -1,4 +1,4 @@
-"""Window selection (spec A5, A6), envelopes and noise amplitude (A3), the h scan (A4)."""
+"""Window selection (docs/algorithms.md §A5, §A6), envelopes (§A3), the h scan (§A4)."""
 
 from __future__ import annotations
 
