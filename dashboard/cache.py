@@ -152,11 +152,6 @@ def compare(
 
 
 # --------------------------------------------------------------- several sensors
-def delay_is_significant(delay: DelayEstimate, sample_period: float) -> bool:
-    """A delay worth removing: over half a sample and over twice its standard deviation."""
-    return abs(delay.delay_s) > 0.5 * sample_period and abs(delay.delay_s) > 2.0 * delay.std_s
-
-
 @st.cache_resource(max_entries=8, show_spinner=False)
 def _redundant_cached(
     table_digest: str, columns: tuple[str, ...], align: bool, period: float, _sig: LoadedSignal
@@ -168,7 +163,7 @@ def _redundant_cached(
     removed = 0.0
     if align:
         delay = estimate_delay(data[:, 0], data[:, 1], period)
-        if delay_is_significant(delay, period):
+        if delay.is_significant(period):
             # whole samples only: interpolating between samples would average (and so
             # shrink) the noise whose variance is being measured
             removed = round(delay.delay_s / period) * period
@@ -184,7 +179,7 @@ def redundant(
 
     With ``align`` the delay of the second sensor behind the first is
     estimated (:func:`noisevar.systems.latency.estimate_delay`) and, when significant
-    (:func:`delay_is_significant`), removed by a whole-sample shift.
+    (``DelayEstimate.is_significant``), removed by a whole-sample shift.
 
     Returns
     -------

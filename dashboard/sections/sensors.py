@@ -116,7 +116,7 @@ def redundant_results(sig: LoadedSignal, cols: list[str], align: bool) -> None:
     big = [
         (c, d)
         for c, d, _ in delays
-        if d is not None and cache.delay_is_significant(d, sig.sample_period or 1.0)
+        if d is not None and d.is_significant(sig.sample_period or 1.0)
     ]
     if big and not align:
         st.warning(

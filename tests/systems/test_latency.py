@@ -155,3 +155,14 @@ def test_experiment_reports_the_issue_metrics() -> None:
     assert "latency" in EXPERIMENT.format_table(result)
     with pytest.raises(NoisevarError):
         EXPERIMENT.run(runs=3, seed=0, delay=0.05)
+
+
+def test_a_delay_is_significant_beyond_half_a_sample_and_two_std() -> None:
+    from noisevar.systems.latency import DelayEstimate
+
+    def est(delay: float, variance: float) -> DelayEstimate:
+        return DelayEstimate(delay, 0, np.arange(1), np.zeros(1), variance, 100, 0.1)
+
+    assert est(0.3, 0.01).is_significant(0.1)  # 3 samples, 3 std
+    assert not est(0.04, 1e-6).is_significant(0.1)  # under half a sample
+    assert not est(0.3, 0.04).is_significant(0.1)  # 1.5 std

@@ -53,6 +53,10 @@ class DelayEstimate:
         """Standard deviation of ``delay_s`` (s)."""
         return float(np.sqrt(self.variance_s2))
 
+    def is_significant(self, sample_period: float) -> bool:
+        """Whether the delay is worth removing: over half a sample and over twice its std."""
+        return abs(self.delay_s) > 0.5 * sample_period and abs(self.delay_s) > 2.0 * self.std_s
+
 
 def _as_record(x: ArrayLike, name: str) -> NDArray[np.float64]:
     arr = np.asarray(x, dtype=float)
