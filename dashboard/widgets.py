@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import logging
 import math
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
+from typing import Any
 
 import numpy as np
 import plotly.graph_objects as go
@@ -121,6 +122,28 @@ def _png_or_note(fig: go.Figure) -> bytes:
         raise
 
 
+def csv_download(
+    where: Any,
+    label: str,
+    data: str | Callable[[], str],
+    file_name: str,
+    key: str,
+    help: str | None = None,
+) -> None:
+    """A full-width CSV download button in ``where`` (a column or ``st``), built on click."""
+    where.download_button(
+        label,
+        data=data,
+        file_name=file_name,
+        mime="text/csv",
+        key=key,
+        on_click="ignore",
+        icon=":material/table:",
+        width="stretch",
+        help=help,
+    )
+
+
 def table_and_figure_downloads(
     label: str,
     rows: list[dict[str, object]],
@@ -132,15 +155,12 @@ def table_and_figure_downloads(
 ) -> None:
     """A results-table CSV button beside the figure's downloads (when there is a figure)."""
     c1, c2 = st.columns([1, 2])
-    c1.download_button(
+    csv_download(
+        c1,
         label,
         data=rows_to_csv(rows),
         file_name=file_name,
-        mime="text/csv",
         key=key,
-        on_click="ignore",
-        icon=":material/table:",
-        width="stretch",
     )
     if fig is not None:
         with c2:

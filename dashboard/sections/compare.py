@@ -11,7 +11,7 @@ from streamlit.delta_generator import DeltaGenerator
 import noisevar
 from dashboard import cache
 from dashboard.state import LoadedSignal, initial
-from dashboard.widgets import figure_downloads, fmt, guarded, show_figure
+from dashboard.widgets import csv_download, figure_downloads, fmt, guarded, show_figure
 from noisevar.estimators.compare import (
     SLOW_METHODS,
     Comparison,
@@ -114,15 +114,12 @@ def comparison_table(comp: Comparison, sig: LoadedSignal) -> None:
     fig = compare_figure(comp, title=f"Every method on {sig.label}")
     show_figure(fig, key="cmp_chart")
     c1, c2 = st.columns([1, 2])
-    c1.download_button(
+    csv_download(
+        c1,
         "Comparison (CSV)",
         data=comp.to_csv(),
         file_name="noisevar-compare.csv",
-        mime="text/csv",
         key="cmp_csv",
-        on_click="ignore",
-        icon=":material/table:",
-        width="stretch",
     )
     with c2:
         figure_downloads(fig, "noisevar-compare", "cmp_fig")
@@ -318,15 +315,12 @@ def _monte_carlo_downloads(
     res: MonteCarloResult, summary: list[dict[str, object]], mc_fig: go.Figure
 ) -> None:
     c1, c2, c3 = st.columns([1, 1, 2])
-    c1.download_button(
+    csv_download(
+        c1,
         "Summary (CSV)",
         data=rows_to_csv(summary),
         file_name="noisevar-montecarlo-summary.csv",
-        mime="text/csv",
         key="mc_csv_summary",
-        on_click="ignore",
-        icon=":material/table:",
-        width="stretch",
     )
     c2.download_button(
         "Every run (CSV)",

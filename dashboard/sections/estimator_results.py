@@ -12,7 +12,7 @@ import noisevar
 from dashboard import cache
 from dashboard.sections.estimator_tuning import Tuning
 from dashboard.state import LoadedSignal, initial
-from dashboard.widgets import figure_downloads, fmt, guarded, show_figure
+from dashboard.widgets import csv_download, figure_downloads, fmt, guarded, show_figure
 from noisevar.config import config_to_json, params_to_config
 from noisevar.estimators.compare import rows_to_csv
 from noisevar.estimators.results import VarianceEstimate
@@ -316,15 +316,12 @@ def _estimate_downloads(sig: LoadedSignal, est: VarianceEstimate, truth: float |
             width="stretch",
             help="Use it with: noisevar estimate --config noisevar-config.json data.csv",
         )
-    c2.download_button(
+    csv_download(
+        c2,
         "Estimate (CSV)",
         data=rows_to_csv(estimate_rows(est, truth)),
         file_name="noisevar-estimate.csv",
-        mime="text/csv",
         key="dl_summary",
-        on_click="ignore",
-        icon=":material/table:",
-        width="stretch",
     )
     c3.download_button(
         "Per-window results (CSV)",

@@ -114,9 +114,7 @@ def redundant_results(sig: LoadedSignal, cols: list[str], align: bool) -> None:
     _sensor_table(res, cols, single)
     _pair_table(res, cols, delays, unit)
     big = [
-        (c, d)
-        for c, d, _ in delays
-        if d is not None and d.is_significant(sig.sample_period or 1.0)
+        (c, d) for c, d, _ in delays if d is not None and d.is_significant(sig.sample_period or 1.0)
     ]
     if big and not align:
         st.warning(
