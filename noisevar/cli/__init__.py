@@ -1,0 +1,95 @@
+"""Command line: ``python -m noisevar`` (also installed as ``noisevar``).
+
+Sub-commands::
+
+    noisevar estimate FILE [--column C] [--method M] [--h-smooth H ...] [--h-track H]
+                           [--window M] [--gamma-amp G] [--gamma-ang DEG] [--span S]
+                           [--order K] [--trim T] [--config tuned.json] [--format table|json]
+    noisevar methods
+    noisevar scan-h FILE [--column C] [--window M]
+    noisevar experiment NAME [--runs N] [--seed S] [--format table|json] ...
+
+Every error is one line on stderr and a non-zero exit status (2 for bad input,
+3 for an internal error); no traceback (``NOISEVAR_DEBUG=1`` shows it).
+The ``--config`` file is the JSON the dashboard exports: command-line flags
+given explicitly override its values. The parameter flags of ``estimate`` are made
+from the parameter specs (:data:`noisevar.estimators.params.PARAMS`); a flag the
+chosen method does not take is an error.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import os
+import sys
+from collections.abc import Sequence
+
+from noisevar.cli._common import EXIT_ERROR, Parser
+from noisevar.errors import NoisevarError
+
+#: The sub-commands, in ``--help`` order: each is a module of this package with an
+#: ``add_parser(sub)`` function. A new command is one new module plus one line here.
+COMMANDS: tuple[str, ...] = ("estimate", "methods", "scan_h", "experiment")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The ``noisevar`` argument parser, one sub-command per module of :data:`COMMANDS`.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+    """
+    parser = Parser(
+        prog="noisevar",
+        description="Measurement-noise variance of a signal, for the Kalman filter that uses it.",
+    )
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
+    for name in COMMANDS:
+        importlib.import_module(f"noisevar.cli.{name}").add_parser(sub)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the CLI; return the exit status (0 on success, 2 on any error).
+
+    Parameters
+    ----------
+    argv : sequence of str, optional
+        Arguments (default ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+    """
+    try:
+        args = build_parser().parse_args(argv)
+        return int(args.func(args))
+    except NoisevarError as exc:
+        print(f"noisevar: error: {exc}", file=sys.stderr)
+    except FileNotFoundError as exc:
+        print(f"noisevar: error: no such file: {exc.filename}", file=sys.stderr)
+    except (IsADirectoryError, PermissionError) as exc:
+        print(f"noisevar: error: cannot read {exc.filename}: {exc.strerror}", file=sys.stderr)
+    except KeyboardInterrupt:
+        print("noisevar: interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:
+        # the reader went away (e.g. `noisevar ... | head`): stop quietly, like other tools
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 0
+    except Exception as exc:  # noqa: BLE001 - a bug of ours: still one line, never a traceback
+        if os.environ.get("NOISEVAR_DEBUG"):
+            raise
+        print(
+            f"noisevar: internal error ({type(exc).__name__}: {exc}); "
+            "rerun with NOISEVAR_DEBUG=1 for the traceback and please report it",
+            file=sys.stderr,
+        )
+        return 3
+    return EXIT_ERROR
+
+
+if __name__ == "__main__":  # pragma: no cover
+    raise SystemExit(main())
