@@ -153,6 +153,10 @@ def _block_medians(x: NDArray, block: int, nb: int, stride: int) -> NDArray:
 
 STEP_WINDOW = 6
 STEP_THRESHOLD = 6.0
+#: A candidate jump is confirmed where the third difference of window *medians* stands this
+#: many standard deviations out: a persistent level change moves medians, an isolated spike
+#: (heavy-tailed noise, a glitch) does not.
+STEP_CONFIRM = 4.0
 #: Above this fraction of flagged samples the step detector is ignored: what it sees is a
 #: fast signal (a sinusoid of a few tens of samples per period), not jumps.
 STEP_MAX_FRACTION = 0.2
@@ -194,7 +198,43 @@ def _step_mask(
     np.multiply(d3, d3, out=d3)
     work[: 2 * w] = 0.0  # D3 is not defined there: no jump can be seen
     work[n - 2 * w + 1 :] = 0.0
-    return above(work)
+    candidates = above(work)
+    if not candidates.any():
+        return candidates
+    return _confirm_steps(z, candidates, above, scale, w)
+
+
+@lru_cache(maxsize=8)
+def _median_variance(w: int) -> float:
+    """Variance of the median of ``w`` standard normal samples (seeded Monte Carlo, 2e5 draws)."""
+    x = np.random.default_rng(0).standard_normal((200_000, w))
+    return float(np.var(np.median(x, axis=1)))
+
+
+def _confirm_steps(
+    z: NDArray, candidates: NDArray, above: Callable[[NDArray], NDArray], scale: float, w: int
+) -> NDArray:
+    """Keep the runs of candidate samples where window medians confirm a level change.
+
+    ``D3med[k]`` is :func:`_step_mask`'s third difference with window medians in place
+    of means; a run of candidates (samples closer than ``w``) stays when ``D3med``
+    exceeds :data:`STEP_CONFIRM` of its standard deviations at one of its samples.
+    """
+    idx = np.flatnonzero(candidates)
+    windows = np.lib.stride_tricks.sliding_window_view(z, w)
+    at = np.clip(idx[:, None] + np.array([w, 0, -w, -2 * w]), 0, windows.shape[0] - 1)
+    med = np.median(windows[at.ravel()], axis=1).reshape(at.shape)
+    # D3med = m(k+w) - 3 m(k) + 3 m(k-w) - m(k-2w), sd = σ sqrt(20 var(median))
+    d3 = med @ np.array([1.0, -3.0, 3.0, -1.0])
+    probe = np.zeros(z.size)
+    probe[idx] = d3**2 * scale / (STEP_CONFIRM**2 * 20.0 * _median_variance(w))
+    confirmed = above(probe)[idx]
+    run = np.cumsum(np.r_[True, np.diff(idx) > w])  # run label of each candidate
+    keep_run = np.zeros(run[-1] + 1, dtype=bool)
+    keep_run[run[confirmed]] = True
+    out = np.zeros_like(candidates)
+    out[idx[keep_run[run]]] = True
+    return out
 
 
 def _dilate(mask: NDArray, half: int) -> NDArray:
@@ -280,8 +320,8 @@ def _outlier_mask(
     block: int,
     dilate: int,
     steps: Callable[[Callable[[NDArray], NDArray], float], NDArray] | None,
-) -> NDArray | None:
-    """Squared residuals that are jumps or outliers (the caller widens the mask).
+) -> tuple[NDArray | None, NDArray | None]:
+    """Squared residuals that are outliers, and samples next to jumps (the caller widens both).
 
     Pass 1 takes a robust local scale from block medians of ``e²`` (every
     fourth sample: plenty for a scale whose only use is a generous
@@ -292,7 +332,7 @@ def _outlier_mask(
     ``steps(above, κ²)`` (:func:`_step_mask`). Pass 1 leaves ``dilate``
     neighbours on each side of what it flags out of the scale (a jump spreads
     over the whole span of the residual sequence); the returned mask is not
-    widened, so that the caller can widen it by each span's half. Returns
+    widened, so that the caller can widen it by each span's half. Each is
     None when nothing is flagged (the common case, which then costs no
     masking).
     """
@@ -324,13 +364,12 @@ def _outlier_mask(
         return _above_local(x, threshold, block)
 
     outlier = above(sq)
+    jumps = None
     if steps is not None:
-        jumps = steps(above, kappa**2)
-        if np.count_nonzero(jumps) <= STEP_MAX_FRACTION * n:  # else the signal is too fast
-            outlier |= jumps
-    if not outlier.any():
-        return None
-    return outlier
+        found = steps(above, kappa**2)
+        if 0 < np.count_nonzero(found) <= STEP_MAX_FRACTION * n:  # else the signal is too fast
+            jumps = found
+    return (outlier if outlier.any() else None), jumps
 
 
 def _near_flagged(
@@ -388,45 +427,84 @@ class _Blocks:
     fourth: NDArray  # (nb,) sums of the shortest span's e⁴
     clean_for: NDArray  # (n_spans, nb) span j's residuals untouched by a flagged sample
     recover: tuple[NDArray, NDArray, NDArray] | None  # see _near_flagged
+    total_count: NDArray  # (nb,) samples off the jumps (outliers kept: they are noise)
+    total_sum: NDArray  # (n_spans, nb) their sums
+    n_outliers: int  # samples flagged as outliers (not widened)
+    clean_total: NDArray  # (n_spans, nb) as clean_for, for the jumps alone
+
+
+def _flag(z: NDArray, sq0: NDArray, trim: float, block: int, half: int) -> tuple:
+    """Outliers and jumps of the record (None when none), from the shortest span's squares."""
+    if not np.isfinite(trim):
+        return None, None
+    return _outlier_mask(sq0, trim, block, half, lambda var, sc: _step_mask(z, var, sc))
+
+
+def _zero(sq: NDArray, flags: NDArray | None, half: int, block: int, nb: int) -> NDArray:
+    """Zero the squares within ``half`` of ``flags`` in place; the samples left out per block."""
+    if flags is None:
+        return np.zeros(nb)
+    idx = np.flatnonzero(_dilate(flags, half) if half > 0 else flags)
+    if idx.size == sq.shape[1]:
+        raise NoisevarError("every residual was trimmed as an outlier: the signal is not usable")
+    sq[:, idx] = 0.0
+    return _flagged_per_block(idx, block, nb)
 
 
 def _trimmed_blocks(z: NDArray, sq: NDArray, spans: tuple[int, ...], trim: float) -> _Blocks:
-    """Flag jumps and outliers, zero their neighbourhoods in ``sq`` and sum the blocks."""
+    """Flag jumps and outliers, zero their neighbourhoods in ``sq`` and sum the blocks.
+
+    Block sums are taken twice: with only the jumps left out (the total variance:
+    outliers are noise) and with outliers left out too (the core, §F5.4).
+    """
     m = z.size
     block = AUTO_BLOCK if m >= 2 * AUTO_BLOCK else max(m // 2, 16)
     nb = max(1, m // block)
     # flagged samples are widened by half the longest span up to AUTO_MASK_SPAN; a
     # longer span is used only in blocks that its wider neighbourhood leaves alone
     half = max(s for s in spans if s <= max(AUTO_MASK_SPAN, spans[0])) // 2
-    flagged = (
-        _outlier_mask(sq[0], trim, block, half, lambda var, sc: _step_mask(z, var, sc))
-        if np.isfinite(trim)
-        else None
-    )
-    kept_count = _block_counts(block, nb, m)
+    outliers, jumps = _flag(z, sq[0], trim, block, half)
+    flagged = jumps if outliers is None else outliers if jumps is None else outliers | jumps
     recover = None
-    clean_for = np.ones((len(spans), nb), dtype=bool)
-    if flagged is not None:
+    if flagged is not None:  # before any zeroing: the values near flagged samples
         idx = np.flatnonzero(_dilate(flagged, half) if half > 0 else flagged)
-        if idx.size == m:
-            raise NoisevarError(
-                "every residual was trimmed as an outlier: the signal is not usable"
-            )
-        per_block = _flagged_per_block(idx, block, nb)
-        kept_count -= per_block
         recover = _near_flagged(flagged, idx, spans, half, sq)
-        sq[:, idx] = 0.0  # sq is ours: trimmed residuals count as zero
-        for j, s in enumerate(spans):
-            if s // 2 > half:
-                wide = _flagged_per_block(np.flatnonzero(_dilate(flagged, s // 2)), block, nb)
-                clean_for[j] = wide == per_block
+    total_count = _block_counts(block, nb, m) - _zero(sq, jumps, half, block, nb)
+    total_sum = np.stack([_block_sums(q, block, nb) for q in sq])
+    kept_count = _block_counts(block, nb, m) - _zero(sq, flagged, half, block, nb)
     block_sum = np.stack([_block_sums(q, block, nb) for q in sq])
     fourth = _block_square_sums(sq[0], block, nb)
-    return _Blocks(block, nb, kept_count, block_sum, fourth, clean_for, recover)
+    n_out = 0 if outliers is None else int(np.count_nonzero(outliers))
+    return _Blocks(
+        block, nb, kept_count, block_sum, fourth, _clean_for(flagged, spans, half, block, nb),
+        recover, total_count, total_sum, n_out, _clean_for(jumps, spans, half, block, nb),
+    )  # fmt: skip
 
 
-def _choose_spans(b: _Blocks, spans: tuple[int, ...], order: int) -> NDArray:
-    """Each block's span index: lengthen while the mean square does not leak (§F5.2)."""
+def _clean_for(
+    flags: NDArray | None, spans: tuple[int, ...], half: int, block: int, nb: int
+) -> NDArray:
+    """Per span and block: no flagged sample within the span's reach beyond the mask's."""
+    clean = np.ones((len(spans), nb), dtype=bool)
+    if flags is None:
+        return clean
+    per_block = _flagged_per_block(np.flatnonzero(_dilate(flags, half)), block, nb)
+    for j, s in enumerate(spans):
+        if s // 2 > half:
+            wide = _flagged_per_block(np.flatnonzero(_dilate(flags, s // 2)), block, nb)
+            clean[j] = wide == per_block
+    return clean
+
+
+def _choose_spans(
+    b: _Blocks, spans: tuple[int, ...], order: int, clean_for: NDArray | None = None
+) -> NDArray:
+    """Each block's span index: lengthen while the mean square does not leak (§F5.2).
+
+    ``clean_for`` (default ``b.clean_for``) says where a span's reach is free of flagged
+    samples.
+    """
+    clean_for = b.clean_for if clean_for is None else clean_for
     with np.errstate(invalid="ignore", divide="ignore"):
         block_mean = b.block_sum / b.kept_count
         rms4 = np.sqrt(b.fourth / b.kept_count / 3.0)  # = σ² for Gaussian noise
@@ -438,7 +516,7 @@ def _choose_spans(b: _Blocks, spans: tuple[int, ...], order: int) -> NDArray:
             se = rms4 * np.sqrt(
                 2.0 * _difference_variance_factor(spans[j - 1], spans[j], order) / b.kept_count
             )
-        ok = open_ & b.clean_for[j] & (block_mean[j] - block_mean[j - 1] <= AUTO_LEAK_SE * se)
+        ok = open_ & clean_for[j] & (block_mean[j] - block_mean[j - 1] <= AUTO_LEAK_SE * se)
         if spans[j] > AUTO_MASK_SPAN and b.nb > 1:
             # a long span reaches into the neighbouring blocks: only where they are smooth
             # too (a fast burst next door leaks into the first samples of this block)
@@ -473,7 +551,7 @@ def _auto_notes(
     notes = []
     trimmed = n - n_kept
     if trimmed > 0.01 * n:
-        notes.append(f"{trimmed} residuals ({trimmed / n:.1%}) left out as jumps or outliers")
+        notes.append(f"{trimmed} residuals ({trimmed / n:.1%}) left out around level jumps")
     short = float(np.sum(kept_count[choice < len(spans) - 1]) / max(n_kept, 1))
     if len(spans) > 1 and short > 0.05:
         notes.append(f"{short:.0%} of the record needed a shorter span (fast signal there)")
@@ -535,15 +613,32 @@ def auto_estimate(
     chosen_sum, kept_count = _chosen_sums(blocks, choice)
     n_kept = int(kept_count.sum())
     tau = _truncated_second_moment(trim) if np.isfinite(trim) else 1.0
-    # var = sum e² / (n_kept τ)
-    var = float(chosen_sum.sum() / (n_kept * tau))
+    # core = sum e² / (n_kept τ) over the samples off outliers and jumps
+    core = float(chosen_sum.sum() / (n_kept * tau))
+    cols = np.arange(blocks.nb)
+    n_total = int(blocks.total_count.sum())
+    # outliers stay in the total: a span needs only to stay clear of the jumps
+    choice = _choose_spans(blocks, spans, order, blocks.clean_total)
+    # var = sum e² / n over the samples off the jumps: outliers and tails are noise
+    var = float(blocks.total_sum[choice, cols].sum() / n_total)
     eff = np.asarray([sequence_efficiency(residual_sequence(s, order)) for s in spans])[choice]
-    # ν = sum_b n_b / sum ρ², less 2 % for the trimming
-    dof = float(np.sum(kept_count / eff)) * (0.98 if np.isfinite(trim) else 1.0)
-    notes += _auto_notes(n, n_kept, spans, choice, kept_count, blocks.block)
+    # ν = sum_b n_b / sum ρ² (Gaussian noise; estimate() widens it for the measured tails)
+    dof = float(np.sum(blocks.total_count / eff))
+    notes += _auto_notes(n, n_total, spans, choice, blocks.total_count, blocks.block)
     # params are the config form: the requested span, None when it is chosen per block
     params = {"span": span, "order": order, "trim": trim}
-    return VarianceEstimate("auto", var, chi2_interval(var, dof), n_kept, n, dof, params, notes)
+    return VarianceEstimate(
+        "auto",
+        var,
+        chi2_interval(var, dof),
+        n_total,
+        n,
+        dof,
+        params,
+        notes,
+        core_variance=core,
+        outlier_fraction=blocks.n_outliers / n,
+    )
 
 
 def _auto(z: NDArray, notes: list[str], **p: object) -> VarianceEstimate:
@@ -557,3 +652,24 @@ AUTO = MethodSpec(
     _auto,
     ("span", "order", "trim"),
 )
+
+
+def jump_mask(z: NDArray, order: int = AUTO_ORDER, trim: float = AUTO_TRIM) -> NDArray | None:
+    """Samples that ``auto`` leaves out around persistent level jumps (None when none).
+
+    Parameters
+    ----------
+    z : ndarray, shape (n,)
+        Finite samples (at least 22).
+    order, trim : see :func:`auto_estimate`.
+
+    Returns
+    -------
+    ndarray of bool or None
+        Jump samples widened by the mask half-width (docs/algorithms.md §F5.3, §F5.4).
+    """
+    spans = _auto_spans(None, order, trim, z.size)
+    block = AUTO_BLOCK if z.size >= 2 * AUTO_BLOCK else max(z.size // 2, 16)
+    half = max(s for s in spans if s <= max(AUTO_MASK_SPAN, spans[0])) // 2
+    _, jumps = _flag(z, _residual_squares(z, spans[0], order), trim, block, half)
+    return None if jumps is None else _dilate(jumps, half)

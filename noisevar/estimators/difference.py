@@ -155,6 +155,8 @@ METHODS: tuple[MethodSpec, ...] = (
         "peer",
         _mad_diff,
         vectorised=True,
+        assumes=("white", "identifiable", "gaussian"),
+        moment=False,
     ),
     MethodSpec(
         "wavelet-mad",
@@ -163,5 +165,7 @@ METHODS: tuple[MethodSpec, ...] = (
         _wavelet_mad,
         ("wavelet",),
         vectorised=True,
+        assumes=("white", "identifiable", "gaussian"),
+        moment=False,
     ),
 )

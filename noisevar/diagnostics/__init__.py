@@ -1,0 +1,147 @@
+"""Diagnostics of a record's noise: whiteness, tails, quantisation, gaps, level along the record.
+
+:func:`diagnose` looks at the record once, whatever the estimator; every
+:class:`~noisevar.estimators.results.VarianceEstimate` carries the result at
+``.diagnostics`` with a one-sentence verdict (docs/algorithms.md §E1-§E3).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+from numpy.typing import NDArray
+
+from noisevar.diagnostics.profile import LevelProfile, block_bounds, level_profile
+from noisevar.diagnostics.quantisation import find_lsb
+from noisevar.diagnostics.results import NoiseDiagnostics
+from noisevar.diagnostics.segments import Gap, Segmentation, split_dropped, split_times
+from noisevar.diagnostics.tails import noise_kurtosis, tail_index
+from noisevar.diagnostics.verdict import make_notes, make_verdict
+from noisevar.diagnostics.whiteness import WHITE_LAGS, WhitenessTest, whiteness_test
+
+__all__ = [
+    "Gap",
+    "LevelProfile",
+    "NoiseDiagnostics",
+    "Segmentation",
+    "WhitenessTest",
+    "diagnose",
+    "split_dropped",
+    "split_times",
+    "with_verdict",
+]
+
+#: Span and order of the local-polynomial residual the diagnostics look through.
+DIAG_SPAN = 21
+DIAG_ORDER = 3
+
+
+def _residuals(
+    z: NDArray, segments: tuple[tuple[int, int], ...], exclude: NDArray | None
+) -> tuple[NDArray, NDArray, NDArray]:
+    """Interior residuals of every segment joined with unused separators, keep mask, positions.
+
+    A residual whose window touches an ``exclude``-d sample (a level jump) is not kept.
+    """
+    from noisevar.estimators.auto import residual_sequence
+
+    d = residual_sequence(DIAG_SPAN, DIAG_ORDER)
+    h = DIAG_SPAN // 2
+    parts, keep, pos = [], [], []
+    for a, b in segments:
+        if b - a < 2 * DIAG_SPAN:
+            continue
+        e = np.convolve(z[a:b], d[::-1], mode="valid")
+        pos += [np.arange(a + h, b - h), np.zeros(WHITE_LAGS, dtype=int)]
+        ok = np.ones(e.size, dtype=bool)
+        if exclude is not None:
+            near = np.convolve(exclude[a:b].astype(float), np.ones(DIAG_SPAN), mode="valid")
+            ok = near == 0
+        parts += [e, np.zeros(WHITE_LAGS)]
+        keep += [ok, np.zeros(WHITE_LAGS, dtype=bool)]
+    if not parts or not np.any(np.concatenate(keep)):
+        from noisevar.errors import NoisevarError
+
+        raise NoisevarError(
+            f"no stretch of the record has {2 * DIAG_SPAN} uniformly sampled samples "
+            f"(span {2 * h + 1}) free of jumps: nothing to diagnose"
+        )
+    return np.concatenate(parts), np.concatenate(keep), np.concatenate(pos)
+
+
+def _increments(z: NDArray, segments: tuple[tuple[int, int], ...]) -> WhitenessTest:
+    """Box-Pierce on the first difference within segments (the null: a random walk)."""
+    parts, keep = [], []
+    for a, b in segments:
+        dz = np.diff(z[a:b])
+        parts += [dz, np.zeros(WHITE_LAGS)]
+        keep += [np.ones(dz.size, dtype=bool), np.zeros(WHITE_LAGS, dtype=bool)]
+    return whiteness_test(np.concatenate(parts), np.ones(1), keep=np.concatenate(keep))
+
+
+def diagnose(
+    z: NDArray, segmentation: Segmentation | None = None, exclude: NDArray | None = None
+) -> NoiseDiagnostics:
+    """Look at a record's noise once: whiteness, tails, grid, gaps, level profile.
+
+    Parameters
+    ----------
+    z : ndarray, shape (n,)
+        Finite samples.
+    segmentation : Segmentation, optional
+        Uniform segments (from sample times or dropped samples); default one segment.
+    exclude : ndarray of bool, shape (n,), optional
+        Samples to leave out (around level jumps: signal, not noise).
+
+    Returns
+    -------
+    NoiseDiagnostics
+        Its verdict speaks of the record's own level until :func:`with_verdict` gives
+        it an estimate.
+    """
+    from noisevar.estimators.auto import residual_sequence
+
+    seg = segmentation or Segmentation(((0, z.size),), ())
+    d = residual_sequence(DIAG_SPAN, DIAG_ORDER)
+    e, keep, pos = _residuals(z, seg.segments, exclude)
+    used, pos = e[keep], pos[keep]
+    sq = used**2 / np.dot(d, d)
+    # the shape of the noise, not its level: residuals over their block's level
+    first = block_bounds(sq.size)
+    level = np.add.reduceat(sq, first) / np.diff(np.r_[first, sq.size])
+    local = np.repeat(level, np.diff(np.r_[first, sq.size]))
+    kurt = noise_kurtosis(used / np.sqrt(np.maximum(local, np.finfo(float).tiny)), d)
+    eta = float(np.sum(white_null_acf_sq(d)))
+    # ν per sample = 1 / (η + (κ - 3) / 2)   (docs/algorithms.md §E1)
+    profile = level_profile(sq, pos, 1.0 / (eta + max(kurt - 3.0, 0.0) / 2.0), eta)
+    # a level changing along the record widens the sample autocorrelations by Σσ⁴ n / (Σσ²)²
+    hetero = float(np.mean(local**2) / np.mean(local) ** 2)
+    white = whiteness_test(e, d, keep=keep, inflation=hetero)
+    diag = NoiseDiagnostics(
+        n=int(z.size),
+        whiteness=white,
+        increments=_increments(z, seg.segments),
+        kurtosis=kurt,
+        tail_index=tail_index(used),
+        lsb=find_lsb(z),
+        gaps=seg.gaps,
+        jitter=seg.jitter,
+        level_profile=profile,
+    )
+    return with_verdict(diag, float(np.mean(sq)))
+
+
+def white_null_acf_sq(d: NDArray) -> NDArray:
+    """``ρ_d(m)²`` for every lag: their sum is the sequence's ``η`` (docs/algorithms.md §F1)."""
+    r = np.correlate(d, d, mode="full") / np.dot(d, d)
+    return r**2
+
+
+def with_verdict(
+    diag: NoiseDiagnostics, variance: float, core: float | None = None, outliers: float = 0.0
+) -> NoiseDiagnostics:
+    """``diag`` with its verdict and notes written for an estimate of ``variance``."""
+    return replace(
+        diag, verdict=make_verdict(diag, variance, core, outliers), notes=make_notes(diag)
+    )

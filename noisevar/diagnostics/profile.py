@@ -1,0 +1,138 @@
+"""The noise level along a record, and the level of its quietest consistent stretches."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy import stats
+
+#: At most this many blocks in a level profile (blocks grow with the record).
+PROFILE_BLOCKS = 200
+#: At least this many samples per block.
+PROFILE_MIN_BLOCK = 256
+#: The quiet stretches cover at least this share of the record.
+QUIET_MIN_SHARE = 0.05
+#: A block joins the quiet set while its level is within this upper quantile of the set's.
+QUIET_LEVEL = 0.999
+#: The median of χ²₁.
+CHI2_1_MEDIAN = float(stats.chi2.ppf(0.5, 1))
+#: Degrees of freedom per sample of a block median of χ²₁ values, ``2 (2 f(m) m)²``.
+MEDIAN_DOF = float(2.0 * (2.0 * stats.chi2.pdf(CHI2_1_MEDIAN, 1) * CHI2_1_MEDIAN) ** 2)
+
+
+@dataclass(frozen=True)
+class LevelProfile:
+    """Noise variance per block of the record, with 95 % intervals.
+
+    Attributes
+    ----------
+    start, stop : ndarray of int, shape (n_blocks,)
+        Sample range of each block.
+    variance, lo, hi : ndarray, shape (n_blocks,)
+        Level of each block and its interval.
+    dof : ndarray, shape (n_blocks,)
+        Effective degrees of freedom of each level.
+    quiet : ndarray of bool, shape (n_blocks,)
+        Blocks of the quiet set.
+    """
+
+    start: NDArray
+    stop: NDArray
+    variance: NDArray
+    lo: NDArray
+    hi: NDArray
+    dof: NDArray
+    quiet: NDArray
+
+    @property
+    def quiet_variance(self) -> float:
+        """Pooled level (mean square) of the quiet blocks."""
+        w = self.dof[self.quiet]
+        return float(np.sum(w * self.variance[self.quiet]) / np.sum(w))
+
+    @property
+    def quiet_share(self) -> float:
+        """Share of the record's samples in the quiet blocks."""
+        sizes = self.stop - self.start
+        return float(np.sum(sizes[self.quiet]) / np.sum(sizes))
+
+    def to_dict(self) -> dict[str, list]:
+        return {
+            "start": self.start.tolist(),
+            "stop": self.stop.tolist(),
+            "variance": self.variance.tolist(),
+            "lo": self.lo.tolist(),
+            "hi": self.hi.tolist(),
+            "quiet": self.quiet.tolist(),
+        }
+
+
+def block_bounds(n: int) -> NDArray:
+    """Start of each profile block over ``n`` samples (blocks grow with the record)."""
+    block = max(PROFILE_MIN_BLOCK, -(-n // PROFILE_BLOCKS))
+    return np.arange(max(1, n // block)) * block
+
+
+def _robust_levels(sq: NDArray, first: NDArray) -> NDArray:
+    """Each block's median of ``sq`` over the median of χ²₁: a level that spikes do not move."""
+    return np.array([np.median(b) for b in np.split(sq, first[1:])]) / CHI2_1_MEDIAN
+
+
+def level_profile(sq: NDArray, pos: NDArray, dof_per_sample: float, eta: float) -> LevelProfile:
+    """Block means of normalised squared residuals ``sq`` and the quiet set.
+
+    Parameters
+    ----------
+    sq : ndarray, shape (m,)
+        Squared residuals, each with expectation the local noise variance.
+    pos : ndarray of int, shape (m,)
+        The record's sample index of each.
+    dof_per_sample : float
+        Degrees of freedom per sample of the mean square (``1 / (η + (κ - 3) / 2)``,
+        docs/algorithms.md §E1).
+    eta : float
+        ``Σ ρ²`` of the residual filter (its squares' correlation).
+
+    Returns
+    -------
+    LevelProfile
+        Block levels are mean squares (tails included); which blocks are quiet is
+        decided on block medians, which a few spikes do not move.
+    """
+    first = block_bounds(sq.size)
+    last = np.r_[first[1:], sq.size]
+    count = (last - first).astype(float)
+    var = np.add.reduceat(sq, first) / count
+    dof = count * dof_per_sample
+    lo = dof * var / stats.chi2.ppf(0.975, dof)
+    hi = dof * var / stats.chi2.ppf(0.025, dof)
+    # a median of χ²₁ has relative sd 1 / (2 f(m) m sqrt(n)): as a χ² with 0.369 n dof
+    robust_dof = count * MEDIAN_DOF / eta
+    quiet = _quiet_set(_robust_levels(sq, first), robust_dof, last - first)
+    return LevelProfile(pos[first], pos[last - 1] + 1, var, lo, hi, dof, quiet)
+
+
+def _quiet_set(var: NDArray, dof: NDArray, sizes: NDArray) -> NDArray:
+    """Grow a set from the quietest blocks while the next one is consistent with it.
+
+    The quietest blocks covering :data:`QUIET_MIN_SHARE` of the record start the set; a
+    block joins while its level is below the :data:`QUIET_LEVEL` quantile of the set's
+    pooled level (blocks in increasing order of level, so the first refusal ends it).
+    """
+    order = np.argsort(var)
+    need = QUIET_MIN_SHARE * sizes.sum()
+    quiet = np.zeros(var.size, dtype=bool)
+    w_sum = v_sum = covered = 0.0
+    for b in order:
+        if covered >= need:
+            pooled = v_sum / w_sum
+            # the block's level against χ²(ν_b)/ν_b times the pooled level
+            if var[b] > pooled * stats.chi2.ppf(QUIET_LEVEL, dof[b]) / dof[b]:
+                break
+        quiet[b] = True
+        w_sum += dof[b]
+        v_sum += dof[b] * var[b]
+        covered += sizes[b]
+    return quiet
