@@ -12,7 +12,7 @@ from dataclasses import replace
 import numpy as np
 from numpy.typing import NDArray
 
-from noisevar.diagnostics.profile import LevelProfile, block_bounds, level_profile
+from noisevar.diagnostics.profile import LevelProfile, block_bounds, level_profile, robust_levels
 from noisevar.diagnostics.quantisation import find_lsb
 from noisevar.diagnostics.results import NoiseDiagnostics
 from noisevar.diagnostics.segments import Gap, Segmentation, split_dropped, split_times
@@ -109,8 +109,8 @@ def diagnose(
     sq = used**2 / np.dot(d, d)
     # the shape of the noise, not its level: residuals over their block's level
     first = block_bounds(sq.size)
-    level = np.add.reduceat(sq, first) / np.diff(np.r_[first, sq.size])
-    local = np.repeat(level, np.diff(np.r_[first, sq.size]))
+    # block medians: spikes stay in the shape, level changes do not
+    local = np.repeat(robust_levels(sq, first), np.diff(np.r_[first, sq.size]))
     kurt = noise_kurtosis(used / np.sqrt(np.maximum(local, np.finfo(float).tiny)), d)
     eta = float(np.sum(white_null_acf_sq(d)))
     # ν per sample = 1 / (η + (κ - 3) / 2)   (docs/algorithms.md §E1)

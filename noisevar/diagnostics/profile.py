@@ -75,7 +75,7 @@ def block_bounds(n: int) -> NDArray:
     return np.arange(max(1, n // block)) * block
 
 
-def _robust_levels(sq: NDArray, first: NDArray) -> NDArray:
+def robust_levels(sq: NDArray, first: NDArray) -> NDArray:
     """Each block's median of ``sq`` over the median of χ²₁: a level that spikes do not move."""
     return np.array([np.median(b) for b in np.split(sq, first[1:])]) / CHI2_1_MEDIAN
 
@@ -110,7 +110,7 @@ def level_profile(sq: NDArray, pos: NDArray, dof_per_sample: float, eta: float) 
     hi = dof * var / stats.chi2.ppf(0.025, dof)
     # a median of χ²₁ has relative sd 1 / (2 f(m) m sqrt(n)): as a χ² with 0.369 n dof
     robust_dof = count * MEDIAN_DOF / eta
-    quiet = _quiet_set(_robust_levels(sq, first), robust_dof, last - first)
+    quiet = _quiet_set(robust_levels(sq, first), robust_dof, last - first)
     return LevelProfile(pos[first], pos[last - 1] + 1, var, lo, hi, dof, quiet)
 
 

@@ -46,22 +46,24 @@ def _segmentation(raw: NDArray, t: NDArray | None, drop: bool) -> tuple[NDArray,
 
 
 def _pool(parts: list[VarianceEstimate], n_total: int, skipped: int) -> VarianceEstimate:
-    """Segments' estimates pooled with weights their degrees of freedom."""
-    w = np.array([p.dof for p in parts])
-    # var = Σ ν_s v_s / Σ ν_s
-    var = float(np.sum(w * [p.variance for p in parts]) / w.sum())
+    """Segments' estimates pooled with weights their samples (the record's mean level)."""
+    w = np.array([p.n_used for p in parts], dtype=float)
+    w /= w.sum()
+    v = np.array([p.variance for p in parts])
+    # var = Σ w_s v_s,  ν = var² / Σ w_s² v_s² / ν_s   (Satterthwaite)
+    var = float(w @ v)
+    dof = float(var**2 / np.sum(w**2 * v**2 / np.array([p.dof for p in parts])))
     cores = [p.core_variance for p in parts]
-    core = None if None in cores else float(np.sum(w * cores) / w.sum())
-    used = [p.n_used for p in parts]
+    core = None if None in cores else float(w @ np.array(cores))
     outliers = float(np.sum([p.outlier_fraction * p.n_total for p in parts]) / n_total)
     notes = list(parts[0].notes)
-    notes.append(f"estimated in {len(parts)} uniform segments and pooled (weights: their dof)")
+    notes.append(f"estimated in {len(parts)} uniform segments and pooled")
     if skipped:
         notes.append(f"{skipped} segments too short to estimate were left out")
-    dof = float(w.sum())
     return VarianceEstimate(
-        parts[0].method, var, chi2_interval(var, dof), int(sum(used)), n_total, dof,
-        dict(parts[0].params), notes, core_variance=core, outlier_fraction=outliers,
+        parts[0].method, var, chi2_interval(var, dof), int(sum(p.n_used for p in parts)),
+        n_total, dof, dict(parts[0].params), notes, core_variance=core,
+        outlier_fraction=outliers,
     )  # fmt: skip
 
 

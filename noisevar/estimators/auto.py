@@ -18,6 +18,16 @@ from scipy import signal, stats
 from scipy.ndimage import maximum_filter1d
 
 from noisevar.errors import NoisevarError
+from noisevar.estimators._blocks import (
+    _block_counts,
+    _block_medians,
+    _block_square_sums,
+    _block_sums,
+    _dilate,
+    _flagged_per_block,
+    _kept_block_sums,
+)
+from noisevar.estimators._steps import STEP_MAX_FRACTION, _step_mask
 from noisevar.estimators.difference import sequence_efficiency
 from noisevar.estimators.params import AUTO_ORDER, AUTO_TRIM, MethodSpec
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
@@ -122,171 +132,6 @@ def _truncated_second_moment(kappa: float) -> float:
     """``E[Z² ; |Z| < κ] / P(|Z| < κ)`` for a standard normal ``Z``."""
     p = 2.0 * stats.norm.cdf(kappa) - 1.0
     return float((p - 2.0 * kappa * stats.norm.pdf(kappa)) / p)
-
-
-def _block_sums(x: NDArray, block: int, nb: int) -> NDArray:
-    """Sums over ``nb`` consecutive blocks of ``block`` samples (the rest joins the last)."""
-    sums = x[: nb * block].reshape(nb, block).sum(axis=1, dtype=float)
-    sums[-1] += x[nb * block :].sum()
-    return sums
-
-
-def _block_square_sums(x: NDArray, block: int, nb: int) -> NDArray:
-    """Sums of ``x²`` over the blocks of :func:`_block_sums`, without a squared copy of ``x``."""
-    head = x[: nb * block].reshape(nb, block)
-    sums = np.einsum("ij,ij->i", head, head)
-    tail = x[nb * block :]
-    sums[-1] += tail @ tail
-    return sums
-
-
-def _block_medians(x: NDArray, block: int, nb: int, stride: int) -> NDArray:
-    """Median of every ``stride``-th sample of each of the first ``nb`` blocks.
-
-    A row-wise sort of the small ``(nb, block / stride)`` array, with the values of
-    ``np.median(..., axis=1)``.
-    """
-    y = np.sort(x[: nb * block].reshape(nb, block)[:, ::stride], axis=1)
-    k = y.shape[1]
-    return y[:, k // 2] if k % 2 else 0.5 * (y[:, k // 2 - 1] + y[:, k // 2])
-
-
-STEP_WINDOW = 6
-STEP_THRESHOLD = 6.0
-#: A candidate jump is confirmed where the third difference of window *medians* stands this
-#: many standard deviations out: a persistent level change moves medians, an isolated spike
-#: (heavy-tailed noise, a glitch) does not.
-STEP_CONFIRM = 4.0
-#: Above this fraction of flagged samples the step detector is ignored: what it sees is a
-#: fast signal (a sinusoid of a few tens of samples per period), not jumps.
-STEP_MAX_FRACTION = 0.2
-
-
-def _step_mask(
-    z: NDArray, above: Callable[[NDArray], NDArray], scale: float = 1.0, w: int = STEP_WINDOW
-) -> NDArray:
-    """Samples next to a jump, found by a step detector blind to parabolas.
-
-    With ``M[i] = mean(z[i:i+w])``, ``D3[k] = M[k+w] - 3 M[k] + 3 M[k-w] -
-    M[k-2w]`` is the third difference of four adjacent window means: zero on
-    any parabola (a ramp, a turn), while a jump ``J`` gives ``|D3|`` up to
-    ``2 J`` against a noise standard deviation ``σ sqrt(20 / w)``. At
-    ``w = 6`` a jump of 6 σ stands 6.6 standard deviations out, where the
-    cubic residual shows it only at about 2.5 (a local cubic absorbs most of
-    a jump). A fast signal (a sinusoid of 30 samples per period, say) also
-    trips it; :func:`_outlier_mask` then ignores it.
-
-    ``above(x)`` tells where ``x`` exceeds ``scale`` times the local noise
-    variance (:func:`_above_local`); returns the samples where ``|D3|``
-    exceeds :data:`STEP_THRESHOLD` standard deviations. (The scale is folded
-    into the window means, so the test costs no pass of its own: two work
-    arrays, the third differences written in place.)
-    """
-    n = z.size
-    if n < 4 * w:
-        return np.zeros(n, dtype=bool)
-    # mm[i] = mean(z[i:i+w]), pre-scaled so that D3² compares with threshold_var directly
-    gain = np.sqrt(scale / (STEP_THRESHOLD**2 * 20.0 / w)) / w
-    mm = np.convolve(z, np.full(w, gain), mode="valid")  # n - w + 1
-    work = np.empty(n)
-    d1 = work[: n - 2 * w + 1]
-    np.subtract(mm[w:], mm[:-w], out=d1)  # third difference at lag w, as three first ones
-    d2 = mm[: n - 3 * w + 1]
-    np.subtract(d1[w:], d1[:-w], out=d2)
-    d3 = work[2 * w : n - 2 * w + 1]  # D3 at k = 2w .. n - 2w, aligned with the samples
-    np.subtract(d2[w:], d2[:-w], out=d3)
-    np.multiply(d3, d3, out=d3)
-    work[: 2 * w] = 0.0  # D3 is not defined there: no jump can be seen
-    work[n - 2 * w + 1 :] = 0.0
-    candidates = above(work)
-    if not candidates.any():
-        return candidates
-    return _confirm_steps(z, candidates, above, scale, w)
-
-
-@lru_cache(maxsize=8)
-def _median_variance(w: int) -> float:
-    """Variance of the median of ``w`` standard normal samples (seeded Monte Carlo, 2e5 draws)."""
-    x = np.random.default_rng(0).standard_normal((200_000, w))
-    return float(np.var(np.median(x, axis=1)))
-
-
-def _confirm_steps(
-    z: NDArray, candidates: NDArray, above: Callable[[NDArray], NDArray], scale: float, w: int
-) -> NDArray:
-    """Keep the runs of candidate samples where window medians confirm a level change.
-
-    ``D3med[k]`` is :func:`_step_mask`'s third difference with window medians in place
-    of means; a run of candidates (samples closer than ``w``) stays when ``D3med``
-    exceeds :data:`STEP_CONFIRM` of its standard deviations at one of its samples.
-    """
-    idx = np.flatnonzero(candidates)
-    windows = np.lib.stride_tricks.sliding_window_view(z, w)
-    at = np.clip(idx[:, None] + np.array([w, 0, -w, -2 * w]), 0, windows.shape[0] - 1)
-    med = np.median(windows[at.ravel()], axis=1).reshape(at.shape)
-    # D3med = m(k+w) - 3 m(k) + 3 m(k-w) - m(k-2w), sd = σ sqrt(20 var(median))
-    d3 = med @ np.array([1.0, -3.0, 3.0, -1.0])
-    probe = np.zeros(z.size)
-    probe[idx] = d3**2 * scale / (STEP_CONFIRM**2 * 20.0 * _median_variance(w))
-    confirmed = above(probe)[idx]
-    run = np.cumsum(np.r_[True, np.diff(idx) > w])  # run label of each candidate
-    keep_run = np.zeros(run[-1] + 1, dtype=bool)
-    keep_run[run[confirmed]] = True
-    out = np.zeros_like(candidates)
-    out[idx[keep_run[run]]] = True
-    return out
-
-
-def _dilate(mask: NDArray, half: int) -> NDArray:
-    """``mask`` widened by ``half`` samples on each side (cheap when few are set)."""
-    idx = np.flatnonzero(mask)
-    if idx.size > mask.size // 64:
-        return maximum_filter1d(mask.view(np.uint8), 2 * half + 1).view(bool)
-    out = np.zeros_like(mask)
-    span = (idx[:, None] + np.arange(-half, half + 1)).ravel()
-    out[span[(span >= 0) & (span < mask.size)]] = True
-    return out
-
-
-def _flagged_per_block(idx: NDArray, block: int, nb: int) -> NDArray:
-    """How many of the sample indices ``idx`` fall in each block of :func:`_block_sums`."""
-    return np.bincount(np.minimum(idx // block, nb - 1), minlength=nb).astype(float)
-
-
-def _block_counts(block: int, nb: int, n: int) -> NDArray:
-    """Samples per block of :func:`_block_sums` (the rest joins the last)."""
-    counts = np.full(nb, float(block))
-    counts[-1] += n - nb * block
-    return counts
-
-
-def _kept_block_sums(x: NDArray, idx: NDArray, block: int, nb: int) -> NDArray:
-    """:func:`_block_sums` of ``x`` with the samples ``idx`` counted as zero; ``x`` untouched.
-
-    Only the blocks that hold a flagged sample are summed again, from a copy
-    of those blocks alone (exactly: subtracting the flagged values instead
-    would let a huge outlier swamp its block's sum).
-    """
-    sums = _block_sums(x, block, nb)
-    body = x[: nb * block].reshape(nb, block)
-    inside = idx[idx < nb * block]
-    rows_of = inside // block
-    blocks = np.unique(rows_of)
-    last = body[-1].sum()
-    if blocks.size:
-        rows = body[blocks]  # a copy of the flagged blocks only
-        rows[np.searchsorted(blocks, rows_of), inside % block] = 0.0
-        sums[blocks] = rows.sum(axis=1)
-        if blocks[-1] == nb - 1:
-            last = sums[-1]
-    rest = x[nb * block :]
-    tail = idx[idx >= nb * block]
-    if tail.size:
-        rest = rest.copy()
-        rest[tail - nb * block] = 0.0
-    if rest.size and (tail.size or (blocks.size and blocks[-1] == nb - 1)):
-        sums[-1] = last + rest.sum()  # the rest of the record joins the last block
-    return sums
 
 
 def _above_local(x: NDArray, local: NDArray, block: int) -> NDArray:
@@ -431,6 +276,7 @@ class _Blocks:
     total_sum: NDArray  # (n_spans, nb) their sums
     n_outliers: int  # samples flagged as outliers (not widened)
     clean_total: NDArray  # (n_spans, nb) as clean_for, for the jumps alone
+    recover_total: tuple[NDArray, NDArray, NDArray] | None  # as recover, near the jumps
 
 
 def _flag(z: NDArray, sq0: NDArray, trim: float, block: int, half: int) -> tuple:
@@ -451,6 +297,16 @@ def _zero(sq: NDArray, flags: NDArray | None, half: int, block: int, nb: int) ->
     return _flagged_per_block(idx, block, nb)
 
 
+def _recoverable(
+    flags: NDArray | None, spans: tuple[int, ...], half: int, sq: NDArray
+) -> tuple[NDArray, NDArray, NDArray] | None:
+    """:func:`_near_flagged` for the mask of ``flags`` widened by ``half`` (None: no flags)."""
+    if flags is None:
+        return None
+    idx = np.flatnonzero(_dilate(flags, half) if half > 0 else flags)
+    return _near_flagged(flags, idx, spans, half, sq)
+
+
 def _trimmed_blocks(z: NDArray, sq: NDArray, spans: tuple[int, ...], trim: float) -> _Blocks:
     """Flag jumps and outliers, zero their neighbourhoods in ``sq`` and sum the blocks.
 
@@ -464,20 +320,26 @@ def _trimmed_blocks(z: NDArray, sq: NDArray, spans: tuple[int, ...], trim: float
     # longer span is used only in blocks that its wider neighbourhood leaves alone
     half = max(s for s in spans if s <= max(AUTO_MASK_SPAN, spans[0])) // 2
     outliers, jumps = _flag(z, sq[0], trim, block, half)
+    sq0_copy = sq[0].copy() if outliers is not None else sq[0]
     flagged = jumps if outliers is None else outliers if jumps is None else outliers | jumps
-    recover = None
-    if flagged is not None:  # before any zeroing: the values near flagged samples
-        idx = np.flatnonzero(_dilate(flagged, half) if half > 0 else flagged)
-        recover = _near_flagged(flagged, idx, spans, half, sq)
+    # before any zeroing: the values near flagged samples (and near jumps, for the total)
+    recover = _recoverable(flagged, spans, half, sq)
+    recover_total = _recoverable(jumps, spans, half, sq)
     total_count = _block_counts(block, nb, m) - _zero(sq, jumps, half, block, nb)
     total_sum = np.stack([_block_sums(q, block, nb) for q in sq])
     kept_count = _block_counts(block, nb, m) - _zero(sq, flagged, half, block, nb)
     block_sum = np.stack([_block_sums(q, block, nb) for q in sq])
     fourth = _block_square_sums(sq[0], block, nb)
-    n_out = 0 if outliers is None else int(np.count_nonzero(outliers))
+    # one outlying sample spreads over its neighbours' residuals: count the peaks
+    peaks = sq[0] if outliers is None else maximum_filter1d(sq0_copy, spans[0])
+    n_out = 0
+    if outliers is not None:  # residuals next to a jump are the jump's, not outliers
+        alone = outliers if jumps is None else outliers & ~_dilate(jumps, half)
+        n_out = int(np.count_nonzero(alone & (sq0_copy == peaks)))
     return _Blocks(
         block, nb, kept_count, block_sum, fourth, _clean_for(flagged, spans, half, block, nb),
         recover, total_count, total_sum, n_out, _clean_for(jumps, spans, half, block, nb),
+        recover_total,
     )  # fmt: skip
 
 
@@ -528,21 +390,28 @@ def _choose_spans(
     return choice
 
 
-def _chosen_sums(b: _Blocks, choice: NDArray) -> tuple[NDArray, NDArray]:
-    """Per-block sums and counts with the chosen spans, trimmed samples recovered."""
-    chosen_sum = b.block_sum[choice, np.arange(b.nb)]
-    kept_count = b.kept_count
-    if b.recover is not None:
+def _chosen_sums(b: _Blocks, choice: NDArray, total: bool = False) -> tuple[NDArray, NDArray]:
+    """Per-block sums and counts with the chosen spans, masked samples recovered.
+
+    ``total``: the sums with only the jumps left out (outliers kept), else the core's.
+    """
+    sums, counts, recover = (
+        (b.total_sum, b.total_count, b.recover_total)
+        if total
+        else (b.block_sum, b.kept_count, b.recover)
+    )
+    chosen_sum = sums[choice, np.arange(b.nb)]
+    if recover is not None:
         # samples the common mask left out whose shorter-span residual reaches no flagged
         # sample count with that span (at most the block's own)
-        near, usable, values = b.recover
+        near, usable, values = recover
         rows = np.minimum(near // b.block, b.nb - 1)
         use = np.minimum(choice[rows], usable)
         chosen_sum = chosen_sum + np.bincount(
             rows, weights=values[use, np.arange(near.size)], minlength=b.nb
         )
-        kept_count = kept_count + np.bincount(rows, minlength=b.nb)
-    return chosen_sum, kept_count
+        counts = counts + np.bincount(rows, minlength=b.nb)
+    return chosen_sum, counts
 
 
 def _auto_notes(
@@ -615,16 +484,16 @@ def auto_estimate(
     tau = _truncated_second_moment(trim) if np.isfinite(trim) else 1.0
     # core = sum e² / (n_kept τ) over the samples off outliers and jumps
     core = float(chosen_sum.sum() / (n_kept * tau))
-    cols = np.arange(blocks.nb)
-    n_total = int(blocks.total_count.sum())
     # outliers stay in the total: a span needs only to stay clear of the jumps
     choice = _choose_spans(blocks, spans, order, blocks.clean_total)
+    total_sum, total_count = _chosen_sums(blocks, choice, total=True)
+    n_total = int(total_count.sum())
     # var = sum e² / n over the samples off the jumps: outliers and tails are noise
-    var = float(blocks.total_sum[choice, cols].sum() / n_total)
+    var = float(total_sum.sum() / n_total)
     eff = np.asarray([sequence_efficiency(residual_sequence(s, order)) for s in spans])[choice]
     # ν = sum_b n_b / sum ρ² (Gaussian noise; estimate() widens it for the measured tails)
-    dof = float(np.sum(blocks.total_count / eff))
-    notes += _auto_notes(n, n_total, spans, choice, blocks.total_count, blocks.block)
+    dof = float(np.sum(total_count / eff))
+    notes += _auto_notes(n, n_total, spans, choice, total_count, blocks.block)
     # params are the config form: the requested span, None when it is chosen per block
     params = {"span": span, "order": order, "trim": trim}
     return VarianceEstimate(
