@@ -12,6 +12,7 @@ from dataclasses import replace
 import numpy as np
 from numpy.typing import NDArray
 
+from noisevar.diagnostics.power_law import power_law_types
 from noisevar.diagnostics.profile import LevelProfile, block_bounds, level_profile, robust_levels
 from noisevar.diagnostics.quantisation import find_lsb
 from noisevar.diagnostics.results import NoiseDiagnostics
@@ -19,6 +20,7 @@ from noisevar.diagnostics.segments import Gap, Segmentation, split_dropped, spli
 from noisevar.diagnostics.tails import noise_kurtosis, tail_index
 from noisevar.diagnostics.verdict import make_notes, make_verdict
 from noisevar.diagnostics.whiteness import WHITE_LAGS, WhitenessTest, whiteness_test
+from noisevar.errors import NoisevarError
 
 __all__ = [
     "Gap",
@@ -61,8 +63,6 @@ def _residuals(
         parts += [e, np.zeros(WHITE_LAGS)]
         keep += [ok, np.zeros(WHITE_LAGS, dtype=bool)]
     if not parts or not np.any(np.concatenate(keep)):
-        from noisevar.errors import NoisevarError
-
         raise NoisevarError(
             f"no stretch of the record has {2 * DIAG_SPAN} uniformly sampled samples "
             f"(span {2 * h + 1}) free of jumps: nothing to diagnose"
@@ -118,6 +118,13 @@ def diagnose(
     # a level changing along the record widens the sample autocorrelations by Σσ⁴ n / (Σσ²)²
     hetero = float(np.mean(local**2) / np.mean(local) ** 2)
     white = whiteness_test(e, d, keep=keep, inflation=hetero)
+    types: tuple[tuple[int, int], ...] = ()
+    if not white.white:  # say which coloured noise (costly: only when it is coloured)
+        a, b = max(seg.segments, key=lambda s: s[1] - s[0])
+        try:
+            types = power_law_types(z[a:b])
+        except NoisevarError:
+            types = ()
     diag = NoiseDiagnostics(
         n=int(z.size),
         whiteness=white,
@@ -128,6 +135,7 @@ def diagnose(
         gaps=seg.gaps,
         jitter=seg.jitter,
         level_profile=profile,
+        power_law=types,
     )
     return with_verdict(diag, float(np.mean(sq)))
 

@@ -14,8 +14,9 @@ PROFILE_BLOCKS = 200
 PROFILE_MIN_BLOCK = 256
 #: The quiet stretches cover at least this share of the record.
 QUIET_MIN_SHARE = 0.05
-#: A block joins the quiet set while its level is within this upper quantile of the set's.
-QUIET_LEVEL = 0.999
+#: A block joins the quiet set while its level is below the ``1 - QUIET_ALPHA / n_blocks``
+#: quantile of the set's (a family-wise level over the blocks).
+QUIET_ALPHA = 0.05
 #: The median of χ²₁.
 CHI2_1_MEDIAN = float(stats.chi2.ppf(0.5, 1))
 #: Degrees of freedom per sample of a block median of χ²₁ values, ``2 (2 f(m) m)²``.
@@ -118,9 +119,10 @@ def _quiet_set(var: NDArray, dof: NDArray, sizes: NDArray) -> NDArray:
     """Grow a set from the quietest blocks while the next one is consistent with it.
 
     The quietest blocks covering :data:`QUIET_MIN_SHARE` of the record start the set; a
-    block joins while its level is below the :data:`QUIET_LEVEL` quantile of the set's
+    block joins while its level is below a high quantile (:data:`QUIET_ALPHA`) of the set's
     pooled level (blocks in increasing order of level, so the first refusal ends it).
     """
+    level = 1.0 - QUIET_ALPHA / var.size
     order = np.argsort(var)
     need = QUIET_MIN_SHARE * sizes.sum()
     quiet = np.zeros(var.size, dtype=bool)
@@ -129,7 +131,7 @@ def _quiet_set(var: NDArray, dof: NDArray, sizes: NDArray) -> NDArray:
         if covered >= need:
             pooled = v_sum / w_sum
             # the block's level against χ²(ν_b)/ν_b times the pooled level
-            if var[b] > pooled * stats.chi2.ppf(QUIET_LEVEL, dof[b]) / dof[b]:
+            if var[b] > pooled * stats.chi2.ppf(level, dof[b]) / dof[b]:
                 break
         quiet[b] = True
         w_sum += dof[b]

@@ -41,6 +41,9 @@ class NoiseDiagnostics:
         Largest relative deviation of the sampling period inside the uniform segments.
     level_profile : LevelProfile
         Noise level per block, with the quiet set.
+    power_law : tuple of (int, int)
+        ``(averaging factor, α)`` of the dominant power-law noise (allantools'
+        identification; α = 2 white, 1 flicker, 0 random walk), only for coloured noise.
     verdict : str
         One plain sentence.
     notes : tuple of str
@@ -56,6 +59,7 @@ class NoiseDiagnostics:
     gaps: tuple[Gap, ...]
     jitter: float
     level_profile: LevelProfile
+    power_law: tuple[tuple[int, int], ...] = ()
     verdict: str = ""
     notes: tuple[str, ...] = field(default_factory=tuple)
 
@@ -131,5 +135,6 @@ class NoiseDiagnostics:
             "quiet_variance": _finite(self.quiet_variance),
             "quiet_share": _finite(self.level_profile.quiet_share),
             "level_profile": self.level_profile.to_dict(),
+            "power_law": [list(p) for p in self.power_law],
             "notes": list(self.notes),
         }

@@ -6,6 +6,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from noisevar.diagnostics.power_law import describe
+
 if TYPE_CHECKING:
     from noisevar.diagnostics.results import NoiseDiagnostics
 
@@ -52,10 +54,15 @@ def make_verdict(
             f"against {_g(variance)} over the whole record"
         )
     if not diag.white:
+        kind = (
+            f"{describe(diag.power_law)} (power-law identification)"
+            if diag.power_law
+            else f"lag-1 autocorrelation {diag.whiteness.lag1:+.2f} beyond white noise's"
+        )
         return (
-            f"the noise is coloured (lag-1 autocorrelation {diag.whiteness.lag1:+.2f} beyond "
-            f"white noise's), or signal leaks through the smoother: a white {r} understates "
-            "what a Kalman filter sees; model it (see the noise model)"
+            f"the noise is coloured: {kind}, or signal leaks through the smoother; {r} is "
+            "its white part (or a little above): model the coloured part (see the noise "
+            "model), since a white R alone understates what a Kalman filter sees"
         )
     if diag.level_varies:
         return (

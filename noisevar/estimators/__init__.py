@@ -203,7 +203,10 @@ def estimate(
     elif times is None and np.isfinite(arr).all():
         results = _channels(spec, arr, drop, used)
         rows = arr.reshape(-1, arr.shape[-1])
-        results = [attach_diagnostics(spec, r, row) for r, row in zip(results, rows, strict=True)]
+        results = [
+            attach_diagnostics(spec, r, row, None, used, _run_one)
+            for r, row in zip(results, rows, strict=True)
+        ]
     else:
         rows = arr.reshape(-1, arr.shape[-1])
         results = [estimate_record(spec, row, times, drop, used, _run_one) for row in rows]

@@ -149,11 +149,38 @@ def estimate_record(
     if dropped:
         notes.insert(0, f"dropped {dropped} non-finite samples")
     result = _by_segment(spec, z, seg, notes, params, run)
-    return attach_diagnostics(spec, result, z, seg)
+    return attach_diagnostics(spec, result, z, seg, params, run)
+
+
+def _coloured(
+    spec: MethodSpec,
+    result: VarianceEstimate,
+    z: NDArray,
+    seg: Segmentation,
+    params: dict,
+    run: Runner,
+) -> VarianceEstimate:
+    """Estimate again with the method's parameters for coloured noise (unless the user chose)."""
+    extra = {k: v for k, v in (spec.coloured_params or {}).items() if params.get(k) is None}
+    if not extra:
+        return result
+    again = _by_segment(spec, z, seg, [], {**params, **extra}, run)
+    said = ", ".join(f"{k}={v}" for k, v in extra.items())
+    again.notes = [n for n in again.notes if "span chosen" not in n]
+    again.notes.append(
+        f"the noise is not white: estimated with {said}, which lets the least of the "
+        "coloured part in (the white part, or a little above it)"
+    )
+    return again
 
 
 def attach_diagnostics(
-    spec: MethodSpec, result: VarianceEstimate, z: NDArray, seg: Segmentation | None = None
+    spec: MethodSpec,
+    result: VarianceEstimate,
+    z: NDArray,
+    seg: Segmentation | None = None,
+    params: dict | None = None,
+    run: Runner | None = None,
 ) -> VarianceEstimate:
     """``result`` with the diagnostics of the record ``z``, its verdict and honest interval.
 
@@ -166,6 +193,9 @@ def attach_diagnostics(
         The finite samples it was made from.
     seg : Segmentation, optional
         Their uniform segments (default: one).
+    params, run : optional
+        The method's parameters and runner, to estimate again with
+        ``spec.coloured_params`` when the noise is not white (those the user gave win).
 
     Returns
     -------
@@ -177,8 +207,12 @@ def attach_diagnostics(
     except NoisevarError as exc:
         result.notes.append(f"no diagnostics: {exc}")
         return result
+    if run is not None and not diag.white and spec.coloured_params:
+        result = _coloured(spec, result, z, seg, params or {}, run)
     if spec.moment:
         result = _honest_interval(result, diag)
+    if not diag.identifiable:  # no measurement noise can be told apart: 0 is as likely
+        result = replace(result, ci95=(0.0, result.ci95[1]))
     diag = with_verdict(diag, result.variance, result.core_variance, result.outlier_fraction)
     result.notes.extend(n for n in diag.notes if n not in result.notes)
     result.diagnostics = diag

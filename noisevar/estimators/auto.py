@@ -46,6 +46,9 @@ AUTO_SPANS = (11, 21, 41, 81)
 AUTO_MASK_SPAN = 41
 AUTO_BLOCK = 256
 AUTO_LEAK_SE = 3.5
+#: The span used on noise that is not white: the shortest, which lets the least of a
+#: coloured part (flicker, random walk) into the residual (docs/algorithms.md §F5.6).
+AUTO_COLOURED_SPAN = 5
 
 
 @lru_cache(maxsize=64)
@@ -274,7 +277,7 @@ class _Blocks:
     recover: tuple[NDArray, NDArray, NDArray] | None  # see _near_flagged
     total_count: NDArray  # (nb,) samples off the jumps (outliers kept: they are noise)
     total_sum: NDArray  # (n_spans, nb) their sums
-    n_outliers: int  # samples flagged as outliers (not widened)
+    outliers: NDArray  # samples that are outliers (one per spike)
     clean_total: NDArray  # (n_spans, nb) as clean_for, for the jumps alone
     recover_total: tuple[NDArray, NDArray, NDArray] | None  # as recover, near the jumps
 
@@ -332,13 +335,13 @@ def _trimmed_blocks(z: NDArray, sq: NDArray, spans: tuple[int, ...], trim: float
     fourth = _block_square_sums(sq[0], block, nb)
     # one outlying sample spreads over its neighbours' residuals: count the peaks
     peaks = sq[0] if outliers is None else maximum_filter1d(sq0_copy, spans[0])
-    n_out = 0
+    out_at = np.zeros(0, dtype=int)
     if outliers is not None:  # residuals next to a jump are the jump's, not outliers
         alone = outliers if jumps is None else outliers & ~_dilate(jumps, half)
-        n_out = int(np.count_nonzero(alone & (sq0_copy == peaks)))
+        out_at = np.flatnonzero(alone & (sq0_copy == peaks))
     return _Blocks(
         block, nb, kept_count, block_sum, fourth, _clean_for(flagged, spans, half, block, nb),
-        recover, total_count, total_sum, n_out, _clean_for(jumps, spans, half, block, nb),
+        recover, total_count, total_sum, out_at, _clean_for(jumps, spans, half, block, nb),
         recover_total,
     )  # fmt: skip
 
@@ -423,7 +426,10 @@ def _auto_notes(
         notes.append(f"{trimmed} residuals ({trimmed / n:.1%}) left out around level jumps")
     short = float(np.sum(kept_count[choice < len(spans) - 1]) / max(n_kept, 1))
     if len(spans) > 1 and short > 0.05:
-        notes.append(f"{short:.0%} of the record needed a shorter span (fast signal there)")
+        notes.append(
+            f"{short:.0%} of the record needed a shorter span (a fast signal, or noise that "
+            "is not white)"
+        )
     if len(spans) > 1:
         span_used = np.asarray(spans)[choice]
         mean_span = float(np.sum(span_used * kept_count) / max(n_kept, 1))
@@ -494,6 +500,12 @@ def auto_estimate(
     # ν = sum_b n_b / sum ρ² (Gaussian noise; estimate() widens it for the measured tails)
     dof = float(np.sum(total_count / eff))
     notes += _auto_notes(n, n_total, spans, choice, total_count, blocks.block)
+    if blocks.outliers.size:
+        k = blocks.outliers.size
+        notes.append(
+            f"{k} outlying sample{'s' if k > 1 else ''} ({k / n:.2%}; the first at sample "
+            f"{blocks.outliers[0]}): noise, so in the variance; left out of core_variance"
+        )
     # params are the config form: the requested span, None when it is chosen per block
     params = {"span": span, "order": order, "trim": trim}
     return VarianceEstimate(
@@ -506,7 +518,7 @@ def auto_estimate(
         params,
         notes,
         core_variance=core,
-        outlier_fraction=blocks.n_outliers / n,
+        outlier_fraction=blocks.outliers.size / n,
     )
 
 
@@ -520,6 +532,7 @@ AUTO = MethodSpec(
     "ours",
     _auto,
     ("span", "order", "trim"),
+    coloured_params={"span": AUTO_COLOURED_SPAN},
 )
 
 
