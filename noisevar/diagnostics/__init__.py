@@ -110,11 +110,12 @@ def diagnose(
     # the shape of the noise, not its level: residuals over their block's level
     first = block_bounds(sq.size)
     # block medians: spikes stay in the shape, level changes do not
-    local = np.repeat(robust_levels(sq, first), np.diff(np.r_[first, sq.size]))
+    robust = robust_levels(sq, first)
+    local = np.repeat(robust, np.diff(np.r_[first, sq.size]))
     kurt = noise_kurtosis(used / np.sqrt(np.maximum(local, np.finfo(float).tiny)), d)
     eta = float(np.sum(white_null_acf_sq(d)))
     # ν per sample = 1 / (η + (κ - 3) / 2)   (docs/algorithms.md §E1)
-    profile = level_profile(sq, pos, 1.0 / (eta + max(kurt - 3.0, 0.0) / 2.0), eta)
+    profile = level_profile(sq, pos, 1.0 / (eta + max(kurt - 3.0, 0.0) / 2.0), eta, robust)
     # a level changing along the record widens the sample autocorrelations by Σσ⁴ n / (Σσ²)²
     hetero = float(np.mean(local**2) / np.mean(local) ** 2)
     white = whiteness_test(e, d, keep=keep, inflation=hetero)

@@ -77,11 +77,22 @@ def block_bounds(n: int) -> NDArray:
 
 
 def robust_levels(sq: NDArray, first: NDArray) -> NDArray:
-    """Each block's median of ``sq`` over the median of χ²₁: a level that spikes do not move."""
-    return np.array([np.median(b) for b in np.split(sq, first[1:])]) / CHI2_1_MEDIAN
+    """Each block's median of ``sq`` over the median of χ²₁: a level that spikes do not move.
+
+    Blocks start at ``first`` and have equal sizes but the last (which takes the rest).
+    """
+    nb = first.size
+    size = int(first[1]) if nb > 1 else sq.size
+    med = np.empty(nb)
+    if nb > 1:
+        med[:-1] = np.median(sq[: (nb - 1) * size].reshape(nb - 1, size), axis=1)
+    med[-1] = np.median(sq[(nb - 1) * size :])
+    return med / CHI2_1_MEDIAN
 
 
-def level_profile(sq: NDArray, pos: NDArray, dof_per_sample: float, eta: float) -> LevelProfile:
+def level_profile(
+    sq: NDArray, pos: NDArray, dof_per_sample: float, eta: float, robust: NDArray | None = None
+) -> LevelProfile:
     """Block means of normalised squared residuals ``sq`` and the quiet set.
 
     Parameters
@@ -95,6 +106,8 @@ def level_profile(sq: NDArray, pos: NDArray, dof_per_sample: float, eta: float) 
         docs/algorithms.md §E1).
     eta : float
         ``Σ ρ²`` of the residual filter (its squares' correlation).
+    robust : ndarray, optional
+        :func:`robust_levels` of the blocks, if already computed.
 
     Returns
     -------
@@ -111,7 +124,8 @@ def level_profile(sq: NDArray, pos: NDArray, dof_per_sample: float, eta: float) 
     hi = dof * var / stats.chi2.ppf(0.025, dof)
     # a median of χ²₁ has relative sd 1 / (2 f(m) m sqrt(n)): as a χ² with 0.369 n dof
     robust_dof = count * MEDIAN_DOF / eta
-    quiet = _quiet_set(robust_levels(sq, first), robust_dof, last - first)
+    robust = robust_levels(sq, first) if robust is None else robust
+    quiet = _quiet_set(robust, robust_dof, last - first)
     return LevelProfile(pos[first], pos[last - 1] + 1, var, lo, hi, dof, quiet)
 
 

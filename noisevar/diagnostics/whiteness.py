@@ -92,6 +92,23 @@ def _bartlett(d_key: tuple[float, ...], lags: int) -> tuple[NDArray, NDArray]:
     return rk, 0.5 * (w + w.T)
 
 
+def _dot(a: NDArray, b: NDArray) -> float:
+    """``a · b`` without BLAS threads (which thrash on a busy machine for these sizes)."""
+    return float(np.einsum("i,i->", a, b))
+
+
+def _pair_counts(keep: NDArray, lags: int) -> NDArray:
+    """Pairs ``(i, i + k)`` with both kept, for ``k = 0..lags``, from the runs of ``keep``.
+
+    Exact when the runs of left-out samples are at least ``lags`` long (the separators
+    between segments), and a close count otherwise.
+    """
+    edges = np.flatnonzero(np.diff(np.r_[0, keep.view(np.int8), 0]))
+    runs = edges[1::2] - edges[::2]  # lengths of the kept runs
+    k = np.arange(lags + 1)
+    return np.maximum(runs[None, :] - k[:, None], 0).sum(axis=1).astype(float)
+
+
 def sample_acf(e: NDArray, lags: int, keep: NDArray | None = None) -> NDArray:
     """Autocorrelation of ``e`` at lags ``1..lags``; samples where ``keep`` is False are left out.
 
@@ -107,15 +124,14 @@ def sample_acf(e: NDArray, lags: int, keep: NDArray | None = None) -> NDArray:
     ndarray, shape (lags,)
     """
     x = e - np.mean(e if keep is None else e[keep])
+    n = x.size
     if keep is not None:
         x = np.where(keep, x, 0.0)
-        count = np.array(
-            [np.count_nonzero(keep[k:] & keep[: keep.size - k]) for k in range(lags + 1)]
-        )
+        count = _pair_counts(keep, lags)
     else:
-        count = e.size - np.arange(lags + 1)
-    gamma = np.array([np.dot(x[k:], x[: x.size - k]) for k in range(lags + 1)])
-    gamma = gamma / np.maximum(count, 1)
+        count = n - np.arange(lags + 1.0)
+    # γ_k = Σ x_i x_{i+k} / (pairs at lag k)
+    gamma = np.array([_dot(x[k:], x[: n - k]) for k in range(lags + 1)]) / np.maximum(count, 1.0)
     return gamma[1:] / gamma[0]
 
 
