@@ -174,7 +174,7 @@ def _quantised(q: float) -> Callable[[int, int], Batch]:
     def make(runs: int, seed: int) -> Batch:
         d = synth.noise("gauss", N, seed, runs=runs, std=STD)
         lsb = STD / q
-        zq, var = synth.quantise(CLEAN + d.values, lsb, d.variance)
+        zq, var = synth.quantise(CLEAN + d.values, lsb, d.variance, clean=CLEAN)
         return Batch(zq, np.full(runs, var), lsb=lsb)
 
     return make

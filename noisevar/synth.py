@@ -227,35 +227,59 @@ def noise(
     return Noise(kind, values, float(variance), core, dict(params))
 
 
-def quantise(x: ArrayLike, lsb: float, variance: float) -> tuple[NDArray, float]:
+def quantise(
+    x: ArrayLike, lsb: float, variance: float, clean: ArrayLike | None = None
+) -> tuple[NDArray, float]:
     """Round ``x`` to a grid of step ``lsb``.
 
     Parameters
     ----------
     x : array_like
-        A record: clean signal plus noise of variance ``variance``.
+        A record: clean signal plus Gaussian noise of variance ``variance``.
     lsb : float
         The quantisation step (> 0).
     variance : float
         The noise variance before rounding.
+    clean : array_like, optional
+        The clean signal, for the exact error variance of this record.
 
     Returns
     -------
     xq : ndarray
         ``lsb * round(x / lsb)``.
     error_variance : float
-        ``variance + lsb² / 12``: the variance of ``xq`` minus the clean signal.
+        The expected mean square of ``xq`` minus the clean signal: ``variance + lsb² / 12``,
+        or with ``clean`` given, that expectation computed sample by sample.
 
     Notes
     -----
-    The rounding error is uniform on ``(-lsb/2, lsb/2)`` and independent of the noise when
-    the clean signal sweeps many steps; for noise well under one step it follows the slow
-    signal, so it is not white.
+    ``variance + lsb² / 12`` holds when the clean signal sweeps many steps evenly; with noise
+    well under one step and a slow signal the rounding error follows the signal (it is not
+    white) and the exact value can differ by several per cent.
     """
     if not lsb > 0:
         raise NoisevarError(f"lsb must be positive, got {lsb}")
-    # e_q ~ U(-q/2, q/2): var = q² / 12
-    return lsb * np.round(np.asarray(x, dtype=float) / lsb), float(variance + lsb**2 / 12.0)
+    xq = lsb * np.round(np.asarray(x, dtype=float) / lsb)
+    if clean is None:
+        # e_q ~ U(-q/2, q/2): var = q² / 12
+        return xq, float(variance + lsb**2 / 12.0)
+    return xq, quantised_error_variance(clean, lsb, variance)
+
+
+def quantised_error_variance(clean: ArrayLike, lsb: float, variance: float) -> float:
+    """Expected mean square of ``Q(clean + e) - clean``, ``e ~ N(0, variance)``, over samples.
+
+    Sums ``P(Q = j lsb) (j lsb - c)²`` over the grid points within 8 standard deviations.
+    """
+    c = np.ravel(np.asarray(clean, dtype=float))
+    std = np.sqrt(variance)
+    m = np.arange(-int(np.ceil(8.0 * std / lsb)) - 1, int(np.ceil(8.0 * std / lsb)) + 2)
+    grid = (np.round(c / lsb)[:, None] + m[None, :]) * lsb
+    # P(Q = g) = Φ((g + q/2 - c) / σ) - Φ((g - q/2 - c) / σ)
+    p = special.ndtr((grid + lsb / 2 - c[:, None]) / std) - special.ndtr(
+        (grid - lsb / 2 - c[:, None]) / std
+    )
+    return float(np.mean(np.sum(p * (grid - c[:, None]) ** 2, axis=1)))
 
 
 @dataclass(frozen=True)

@@ -92,6 +92,17 @@ def test_quantise_rounds_to_the_grid_and_adds_lsb_squared_over_12() -> None:
     assert np.mean((xq - clean) ** 2) == pytest.approx(var, rel=0.02)
 
 
+def test_quantise_with_the_clean_signal_gives_the_exact_error_variance() -> None:
+    # a slow signal sweeping few steps, noise 0.2 step: lsb²/12 is off, the exact value is not
+    clean = 3.0 * np.sin(np.linspace(0.0, 3.0, 3000))
+    x = clean + np.random.default_rng(15).standard_normal((300, clean.size)) * 0.2
+    xq, exact = synth.quantise(x, 1.0, 0.04, clean=clean)
+    _, nominal = synth.quantise(x, 1.0, 0.04)
+    measured = np.mean((xq - clean) ** 2)
+    assert measured == pytest.approx(exact, rel=0.01)
+    assert abs(measured / nominal - 1.0) > 0.03
+
+
 def test_remove_blocks_leaves_gaps_in_t() -> None:
     z = np.arange(12_000, dtype=float).reshape(2, 6000)
     g = synth.remove_blocks(z, rng=14, fraction=0.05, blocks=10)
