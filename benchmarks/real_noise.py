@@ -91,7 +91,7 @@ def record(est) -> dict:
         "quiet": _attr(diag, "quiet_variance"),
         "identifiable": flags.get("identifiable"),
         "verdict": _attr(diag, "verdict") or "",
-        "notes": list(est.notes),
+        "notes": [*est.notes, *(_attr(diag, "notes") or ())],
     }
 
 
