@@ -34,6 +34,8 @@ __all__ = [
     "with_verdict",
 ]
 
+#: Samples per block of the level that the kurtosis is taken relative to.
+SHAPE_BLOCK = 256
 #: Span and order of the local-polynomial residual the diagnostics look through.
 DIAG_SPAN = 21
 DIAG_ORDER = 3
@@ -109,10 +111,12 @@ def diagnose(
     sq = used**2 / np.dot(d, d)
     # the shape of the noise, not its level: residuals over their block's level
     first = block_bounds(sq.size)
-    # block medians: spikes stay in the shape, level changes do not
     robust = robust_levels(sq, first)
-    local = np.repeat(robust, np.diff(np.r_[first, sq.size]))
-    kurt = noise_kurtosis(used / np.sqrt(np.maximum(local, np.finfo(float).tiny)), d)
+    # the shape over the level of wide blocks' medians: spikes stay in it, level changes not
+    wide = block_bounds(sq.size, SHAPE_BLOCK)
+    local = np.repeat(robust_levels(sq, wide), np.diff(np.r_[wide, sq.size]))
+    scaled = used / np.sqrt(np.maximum(local, np.finfo(float).tiny))
+    kurt = noise_kurtosis(scaled, d) if np.all(np.isfinite(scaled)) else 3.0
     eta = float(np.sum(white_null_acf_sq(d)))
     # ν per sample = 1 / (η + (κ - 3) / 2)   (docs/algorithms.md §E1)
     profile = level_profile(sq, pos, 1.0 / (eta + max(kurt - 3.0, 0.0) / 2.0), eta, robust)

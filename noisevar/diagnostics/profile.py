@@ -11,12 +11,14 @@ from scipy import stats
 #: At most this many blocks in a level profile (blocks grow with the record).
 PROFILE_BLOCKS = 200
 #: At least this many samples per block.
-PROFILE_MIN_BLOCK = 256
+PROFILE_MIN_BLOCK = 32
 #: The quiet stretches cover at least this share of the record.
 QUIET_MIN_SHARE = 0.05
 #: A block joins the quiet set while its level is below the ``1 - QUIET_ALPHA / n_blocks``
 #: quantile of the set's (a family-wise level over the blocks).
 QUIET_ALPHA = 0.05
+#: The level counts as steady while the quiet blocks cover at least this share of the record.
+STEADY_SHARE = 0.95
 #: The median of χ²₁.
 CHI2_1_MEDIAN = float(stats.chi2.ppf(0.5, 1))
 #: Degrees of freedom per sample of a block median of χ²₁ values, ``2 (2 f(m) m)²``.
@@ -70,9 +72,9 @@ class LevelProfile:
         }
 
 
-def block_bounds(n: int) -> NDArray:
+def block_bounds(n: int, min_block: int = PROFILE_MIN_BLOCK) -> NDArray:
     """Start of each profile block over ``n`` samples (blocks grow with the record)."""
-    block = max(PROFILE_MIN_BLOCK, -(-n // PROFILE_BLOCKS))
+    block = max(min_block, -(-n // PROFILE_BLOCKS))
     return np.arange(max(1, n // block)) * block
 
 
@@ -87,6 +89,9 @@ def robust_levels(sq: NDArray, first: NDArray) -> NDArray:
     if nb > 1:
         med[:-1] = np.median(sq[: (nb - 1) * size].reshape(nb - 1, size), axis=1)
     med[-1] = np.median(sq[(nb - 1) * size :])
+    if not np.all(med > 0):  # quantised data can have a median square of 0: use the mean
+        mean = np.add.reduceat(sq, first) / np.diff(np.r_[first, sq.size]) * CHI2_1_MEDIAN
+        med = np.where(med > 0, med, mean)
     return med / CHI2_1_MEDIAN
 
 
@@ -122,33 +127,43 @@ def level_profile(
     dof = count * dof_per_sample
     lo = dof * var / stats.chi2.ppf(0.975, dof)
     hi = dof * var / stats.chi2.ppf(0.025, dof)
-    # a median of χ²₁ has relative sd 1 / (2 f(m) m sqrt(n)): as a χ² with 0.369 n dof
+    # a median of χ²₁ has relative sd 1 / (2 f(m) m sqrt(n)): as a χ² with 0.368 n dof
     robust_dof = count * MEDIAN_DOF / eta
     robust = robust_levels(sq, first) if robust is None else robust
-    quiet = _quiet_set(robust, robust_dof, last - first)
+    quiet = _quiet_set(robust, robust_dof, var, dof, last - first)
     return LevelProfile(pos[first], pos[last - 1] + 1, var, lo, hi, dof, quiet)
 
 
-def _quiet_set(var: NDArray, dof: NDArray, sizes: NDArray) -> NDArray:
+def _quiet_set(
+    robust: NDArray, robust_dof: NDArray, var: NDArray, dof: NDArray, sizes: NDArray
+) -> NDArray:
     """Grow a set from the quietest blocks while the next one is consistent with it.
 
-    The quietest blocks covering :data:`QUIET_MIN_SHARE` of the record start the set; a
-    block joins while its level is below a high quantile (:data:`QUIET_ALPHA`) of the set's
-    pooled level (blocks in increasing order of level, so the first refusal ends it).
+    The quietest blocks (by their robust level) covering :data:`QUIET_MIN_SHARE` of the
+    record start the set; a block joins while both its robust level and its mean square
+    are below a high quantile (:data:`QUIET_ALPHA`, family-wise) of the set's pooled
+    levels (blocks in increasing order of robust level, so the first refusal of a robust
+    level ends it; a block with motion in part of it keeps a low median but not a low
+    mean square, and is skipped).
     """
-    level = 1.0 - QUIET_ALPHA / var.size
-    order = np.argsort(var)
+    level = 1.0 - QUIET_ALPHA / robust.size
+    order = np.argsort(robust)
     need = QUIET_MIN_SHARE * sizes.sum()
-    quiet = np.zeros(var.size, dtype=bool)
-    w_sum = v_sum = covered = 0.0
+    quiet = np.zeros(robust.size, dtype=bool)
+    covered = 0.0
     for b in order:
         if covered >= need:
-            pooled = v_sum / w_sum
-            # the block's level against χ²(ν_b)/ν_b times the pooled level
-            if var[b] > pooled * stats.chi2.ppf(level, dof[b]) / dof[b]:
-                break
+            if not _consistent(robust[b], robust_dof[b], robust[quiet], robust_dof[quiet], level):
+                break  # every later block is louder still
+            if not _consistent(var[b], dof[b], var[quiet], dof[quiet], level):
+                continue  # motion in part of the block: a low median, a high mean square
         quiet[b] = True
-        w_sum += dof[b]
-        v_sum += dof[b] * var[b]
         covered += sizes[b]
     return quiet
+
+
+def _consistent(x: float, nu: float, xs: NDArray, nus: NDArray, level: float) -> bool:
+    """``x`` (a χ²-like level with ``nu`` dof) below the ``level`` quantile of the pooled ``xs``."""
+    pooled = float(np.sum(nus * xs) / np.sum(nus))
+    # the block's level against χ²(ν_b)/ν_b times the pooled level
+    return bool(x <= pooled * stats.chi2.ppf(level, nu) / nu)

@@ -95,8 +95,14 @@ class NoiseDiagnostics:
 
     @property
     def level_varies(self) -> bool:
-        """The level changes along the record far more than its intervals allow."""
-        return bool(not self.level_profile.quiet.all())
+        """The level changes along the record far more than its intervals allow.
+
+        True when the blocks consistent with the quietest cover less than
+        :data:`~noisevar.diagnostics.profile.STEADY_SHARE` of the record.
+        """
+        from noisevar.diagnostics.profile import STEADY_SHARE
+
+        return bool(self.level_profile.quiet_share < STEADY_SHARE)
 
     @property
     def identifiable(self) -> bool:

@@ -29,6 +29,11 @@ from noisevar.estimators._input import check_samples, check_times
 from noisevar.estimators.params import MethodSpec
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
 
+#: The method's coloured-noise parameters are used below this whiteness p-value (far
+#: below the flag's 5 %, so that white noise that fails the test by chance keeps the
+#: efficient defaults).
+COLOURED_P = 1e-4
+
 Runner = Callable[[MethodSpec, NDArray, list[str], dict], VarianceEstimate]
 
 
@@ -207,7 +212,7 @@ def attach_diagnostics(
     except NoisevarError as exc:
         result.notes.append(f"no diagnostics: {exc}")
         return result
-    if run is not None and not diag.white and spec.coloured_params:
+    if run is not None and diag.whiteness.p_value < COLOURED_P and spec.coloured_params:
         result = _coloured(spec, result, z, seg, params or {}, run)
     if spec.moment:
         result = _honest_interval(result, diag)
