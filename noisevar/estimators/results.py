@@ -262,7 +262,7 @@ class VarianceEstimates:
         return self.estimates[index]
 
     def to_frame(self) -> pd.DataFrame:
-        """One row per channel: its index, variance, std, ci95 bounds, n_used, n_total, dof."""
+        """One row per channel: variance, std, ci95, counts, dof, core, flags and verdict."""
         import pandas as pd
 
         idx = list(np.ndindex(*self.shape)) if self.shape else [()]
@@ -276,6 +276,10 @@ class VarianceEstimates:
                 "n_used": e.n_used,
                 "n_total": e.n_total,
                 "dof": e.dof,
+                "core_variance": e.core_variance,
+                "outlier_fraction": e.outlier_fraction,
+                **({} if e.diagnostics is None else e.diagnostics.flags),
+                "verdict": None if e.diagnostics is None else e.diagnostics.verdict,
             }
             for i, e in zip(idx, self.estimates, strict=True)
         ]
