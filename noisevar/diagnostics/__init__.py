@@ -34,6 +34,8 @@ __all__ = [
     "with_verdict",
 ]
 
+#: At most this many samples enter the whiteness tests (spread over the record).
+WHITE_MAX = 2**18
 #: Samples per block of the level that the kurtosis is taken relative to.
 SHAPE_BLOCK = 256
 #: Span and order of the local-polynomial residual the diagnostics look through.
@@ -72,6 +74,21 @@ def _residuals(
     return np.concatenate(parts), np.concatenate(keep), np.concatenate(pos)
 
 
+def _spread(e: NDArray, keep: NDArray, most: int = WHITE_MAX) -> tuple[NDArray, NDArray]:
+    """At most ``most`` samples of ``e`` in 16 windows spread over the record, with separators.
+
+    The whiteness tests need a few hundred thousand samples, not all of a long record.
+    """
+    if e.size <= most:
+        return e, keep
+    width = most // 16
+    starts = np.linspace(0, e.size - width, 16).astype(int)
+    sep = np.zeros(WHITE_LAGS)
+    parts = [x for a in starts for x in (e[a : a + width], sep)]
+    kept = [x for a in starts for x in (keep[a : a + width], sep.astype(bool))]
+    return np.concatenate(parts), np.concatenate(kept)
+
+
 def _increments(z: NDArray, segments: tuple[tuple[int, int], ...]) -> WhitenessTest:
     """Box-Pierce on the first difference within segments (the null: a random walk)."""
     parts, keep = [], []
@@ -79,7 +96,8 @@ def _increments(z: NDArray, segments: tuple[tuple[int, int], ...]) -> WhitenessT
         dz = np.diff(z[a:b])
         parts += [dz, np.zeros(WHITE_LAGS)]
         keep += [np.ones(dz.size, dtype=bool), np.zeros(WHITE_LAGS, dtype=bool)]
-    return whiteness_test(np.concatenate(parts), np.ones(1), keep=np.concatenate(keep))
+    dz, ok = _spread(np.concatenate(parts), np.concatenate(keep))
+    return whiteness_test(dz, np.ones(1), keep=ok)
 
 
 def diagnose(
@@ -122,7 +140,8 @@ def diagnose(
     profile = level_profile(sq, pos, 1.0 / (eta + max(kurt - 3.0, 0.0) / 2.0), eta, robust)
     # a level changing along the record widens the sample autocorrelations by Σσ⁴ n / (Σσ²)²
     hetero = float(np.mean(local**2) / np.mean(local) ** 2)
-    white = whiteness_test(e, d, keep=keep, inflation=hetero)
+    e_w, keep_w = _spread(e, keep)
+    white = whiteness_test(e_w, d, keep=keep_w, inflation=hetero)
     types: tuple[tuple[int, int], ...] = ()
     if not white.white:  # say which coloured noise (costly: only when it is coloured)
         a, b = max(seg.segments, key=lambda s: s[1] - s[0])
