@@ -327,7 +327,8 @@ def _noise_id(x: NDArray, m: int, d: int) -> float:
         alpha_int = allantools.autocorr_noise_id(head, m, data_type="phase", dmin=0, dmax=d)[0]
     except (NotImplementedError, ValueError, np.linalg.LinAlgError):
         return np.nan
-    return float(alpha_int)
+    # the power-law types the d-th difference can tell apart: 2 - 2d .. 2
+    return float(min(2, max(alpha_int, 2 - 2 * d)))
 
 
 def _edfs(alpha: NDArray, spec: _Kind, m: NDArray, n_phase: int, default: int) -> NDArray:
@@ -336,8 +337,7 @@ def _edfs(alpha: NDArray, spec: _Kind, m: NDArray, n_phase: int, default: int) -
     last = float(default)
     for i, a in enumerate(alpha):
         last = last if np.isnan(a) else a
-        # Greenhall's edf needs alpha + 2d > 1
-        a_int = int(max(last, 2 - 2 * spec.d))
+        a_int = int(last)
         try:
             edf = allantools.edf_greenhall(
                 a_int, spec.d, int(m[i]), n_phase, overlapping=True, modified=spec.modified
