@@ -7,8 +7,6 @@ the averaging factors, checks the input, and gathers the results.
 
 from __future__ import annotations
 
-import contextlib
-import io
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -264,11 +262,11 @@ def allan(
     x = to_phase(z, rate, data)
     m = averaging_factors(x.size, rate, taus, kind)
     spec = KINDS[kind]
-    with contextlib.redirect_stdout(io.StringIO()):  # allantools prints its warnings
-        t, dev, n = _deviations(x, rate, m, spec)
-        m_used = np.round(t * rate).astype(np.int64)
-        alpha = np.array([_noise_id(x, int(k), spec.d) for k in m_used], dtype=float)
-        edf = _edfs(alpha, spec, m_used, x.size, default=2 if data == "phase" else 0)
+    # the checks above keep allantools off its printing paths (no redirect: not thread-safe)
+    t, dev, n = _deviations(x, rate, m, spec)
+    m_used = np.round(t * rate).astype(np.int64)
+    alpha = np.array([_noise_id(x, int(k), spec.d) for k in m_used], dtype=float)
+    edf = _edfs(alpha, spec, m_used, x.size, default=2 if data == "phase" else 0)
     lo, hi = np.empty_like(dev), np.empty_like(dev)
     for i in range(dev.size):
         lo[i], hi[i] = allantools.confidence_interval(dev[i], edf[i], ci)
@@ -343,6 +341,7 @@ def _edfs(alpha: NDArray, spec: _Kind, m: NDArray, n_phase: int, default: int) -
                 a_int, spec.d, int(m[i]), n_phase, overlapping=True, modified=spec.modified
             )
         except (NotImplementedError, AssertionError, ZeroDivisionError, ValueError):
-            edf = allantools.edf_simple(n_phase, int(m[i]), a_int)
+            # Stein's simple formulas know alpha = -2 .. 2 only
+            edf = allantools.edf_simple(n_phase, int(m[i]), min(2, max(a_int, -2)))
         out[i] = edf if np.isfinite(edf) and edf > 0 else 1.0
     return out
