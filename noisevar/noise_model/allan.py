@@ -13,6 +13,7 @@ from typing import Any
 
 import allantools
 import numpy as np
+from allantools import ci
 from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
@@ -80,8 +81,8 @@ class AllanResult:
     ci : float
         Confidence level of ``interval``.
     alpha : ndarray
-        Identified power-law exponent (``S_y(f) ~ f^alpha``); NaN where the record is
-        too short at that tau to identify it.
+        Identified power-law exponent (``S_y(f) ~ f^alpha``); NaN where fewer than three
+        averages remain at that tau.
     noise_type : tuple of str or None
         The noise type per tau (``"WPM"``, ``"FPM"``, ``"WFM"``, ``"FFM"``, ``"RWFM"``...).
     edf : ndarray
@@ -254,8 +255,9 @@ def allan(
     Notes
     -----
     docs/algorithms.md §E4. Per tau, the noise type is identified by the lag-1
-    autocorrelation of the decimated record (on at most :data:`NOISE_ID_POINTS` points);
-    the interval is the chi-square interval with Greenhall's edf for that noise type.
+    autocorrelation of the decimated record (on at most :data:`NOISE_ID_POINTS` points;
+    below 30 points by the B1 and R(n) ratios, as Stable32); the interval is the
+    chi-square interval with Greenhall's edf for that noise type.
     """
     if not 0 < ci < 1:
         raise NoisevarError(f"ci must be between 0 and 1, not {ci}.")
@@ -264,13 +266,18 @@ def allan(
     spec = KINDS[kind]
     # the checks above keep allantools off its printing paths (no redirect: not thread-safe)
     t, dev, n = _deviations(x, rate, m, spec)
+    if not np.any(dev > 0):
+        raise NoisevarError(
+            "The record does not vary (its Allan deviation is zero at every tau): nothing to fit."
+        )
     m_used = np.round(t * rate).astype(np.int64)
     alpha = np.array([_noise_id(x, int(k), spec.d) for k in m_used], dtype=float)
     edf = _edfs(alpha, spec, m_used, x.size, default=2 if data == "phase" else 0)
     lo, hi = np.empty_like(dev), np.empty_like(dev)
     for i in range(dev.size):
         lo[i], hi[i] = allantools.confidence_interval(dev[i], edf[i], ci)
-    slope = np.gradient(np.log(dev), np.log(t)) if t.size > 1 else np.full(t.size, np.nan)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        slope = np.gradient(np.log(dev), np.log(t)) if t.size > 1 else np.full(t.size, np.nan)
     names = tuple(None if np.isnan(a) else NOISE_TYPES.get(int(a)) for a in alpha)
     return AllanResult(
         kind=kind,
@@ -316,10 +323,35 @@ def _deviations(
     return m / rate, dev, n
 
 
-def _noise_id(x: NDArray, m: int, d: int) -> float:
-    """allantools' lag-1 autocorrelation noise exponent at factor ``m`` (NaN: too short)."""
-    if x.size // m < NOISE_ID_MIN:
+def _b1_noise_id(x: NDArray, m: int) -> float:
+    """Stable32's noise type where the autocorrelation has too few points (B1 and R(n)).
+
+    The Barnes B1 ratio (standard over Allan variance) picks the nearest power law on a
+    log scale (allantools' ``b1_boundary``: geometric means); white and flicker phase
+    share B1 and are told apart by R(n) (modified over Allan variance).
+    """
+    n_avg = (x.size - 1) // m
+    if n_avg < 3:
         return np.nan
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ratio = ci.b1(x, m, 1.0)
+        rn = ci.rn(x, m, 1.0)
+    if not (np.isfinite(ratio) and np.isfinite(rn)):
+        return np.nan
+    alpha = 2
+    # b1_boundary(b, n) separates phase exponents b - 1 and b (alpha = b + 2)
+    for b_hi in (-1, -2, -3):
+        if ratio > ci.b1_boundary(b_hi, n_avg):
+            alpha = b_hi + 1  # white, flicker, random-walk frequency
+    if alpha == 2 and rn > ci.rn_boundary(m, 0):
+        alpha = 1
+    return float(alpha)
+
+
+def _noise_id(x: NDArray, m: int, d: int) -> float:
+    """allantools' lag-1 autocorrelation noise exponent at factor ``m`` (B1 when too short)."""
+    if x.size // m < NOISE_ID_MIN:
+        return _b1_noise_id(x, m)
     head = x[: NOISE_ID_POINTS * m + 1]
     try:
         alpha_int = allantools.autocorr_noise_id(head, m, data_type="phase", dmin=0, dmax=d)[0]

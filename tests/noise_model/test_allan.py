@@ -108,5 +108,7 @@ def test_too_short_and_non_finite_records() -> None:
         allan([1.0, 2.0, 3.0])
     with pytest.raises(noisevar.NoisevarError, match="NaN"):
         allan([1.0, np.nan, 3.0, 4.0, 5.0, 6.0])
+    with pytest.raises(noisevar.NoisevarError, match="does not vary"):
+        allan(np.full(100, 3.0), data="rate")
     with pytest.raises(noisevar.NoisevarError, match="one-dimensional"):
         allan(np.zeros((10, 2)))

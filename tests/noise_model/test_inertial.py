@@ -90,7 +90,7 @@ def test_bad_input() -> None:
     with pytest.raises(noisevar.NoisevarError, match="positive"):
         inertial_noise(np.zeros(100), 0.0)
     with pytest.raises(noisevar.NoisevarError, match="too short"):
-        inertial_noise(np.zeros(3), 10.0)
+        inertial_noise(np.random.default_rng(0).standard_normal(4), 10.0)
     with pytest.raises(noisevar.NoisevarError, match="1-D or 2-D"):
         inertial_noise(np.zeros((2, 2, 50)), 10.0)
     with pytest.raises(noisevar.NoisevarError, match="No term"):
