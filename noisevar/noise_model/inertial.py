@@ -219,15 +219,25 @@ def _nnls(a: NDArray, b: NDArray) -> NDArray:
 def _intervals(
     taus: NDArray, coef: NDArray, w: NDArray, edf: NDArray, ci: float, seed: int
 ) -> NDArray:
-    """Parametric bootstrap: chi-square Allan variances around the fit, refitted."""
+    """Parametric bootstrap: chi-square Allan variances around the fit, refitted.
+
+    Returns the ``(lo, hi)`` of each term: the union of the percentile interval and of
+    the replicates' quantiles about their median placed on the estimate.
+    """
     rng = np.random.default_rng(seed)
     a = np.column_stack([s.coefficient(taus) for s in TERMS])
     model = a @ coef
     # sigma^2* = sigma^2_fit chi^2_edf / edf, independently per tau
     draws = model * rng.chisquare(edf, size=(BOOTSTRAP, taus.size)) / edf
-    fits = np.array([_nnls(a * w[:, None], d * w) for d in draws])
-    q = [(1.0 - ci) / 2.0, (1.0 + ci) / 2.0]
-    return np.sqrt(np.quantile(fits, q, axis=0)).T
+    terms = np.sqrt([_nnls(a * w[:, None], d * w) for d in draws])
+    lo, med, hi = np.quantile(terms, [(1.0 - ci) / 2.0, 0.5, (1.0 + ci) / 2.0], axis=0)
+    # the replicates' spread about their median, placed on the estimate (clipped at zero),
+    # joined with the plain percentile interval: it holds the estimate, and the percentile
+    # bound of a term fitted as zero
+    value = np.sqrt(coef)
+    low = np.minimum(np.maximum(value - (med - lo), 0.0), lo)
+    high = np.maximum(value + (hi - med), hi)
+    return np.column_stack([low, high])
 
 
 def _one_axis(
@@ -298,7 +308,8 @@ def inertial_noise(
     docs/algorithms.md §E4. Eq. E4.1 is linear in the squared terms; they are fitted
     with ``scipy.optimize.nnls``, each tau weighted by its edf, and reweighted with the
     fitted variance. Intervals: parametric bootstrap of chi-square Allan variances,
-    taken as independent across taus (so they are rather narrow at long taus).
+    taken as independent across taus (so they are rather narrow at long taus); the
+    percentile interval joined with the replicates' spread placed on the estimate.
     """
     arr = np.asarray(z, dtype=float)
     if arr.ndim == 1:
