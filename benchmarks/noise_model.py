@@ -2,6 +2,7 @@
 
     python benchmarks/noise_model.py                      # everything (a few minutes)
     python benchmarks/noise_model.py --runs 5 --skip-speed
+    python benchmarks/noise_model.py --only speed   # the other sections kept from the file
 
 1. Stable32: our OADEV of allantools' GPS 1PPS phase record (241218 samples at 1 Hz)
    at every tau of the Stable32 OADEV table shipped in allantools' sdist (fetched
@@ -43,6 +44,7 @@ SENSORS = {
     "accelerometer (m/s²)": (4e-4, 4e-4, 1.5e-5),
 }
 TARGETS = {"N": 0.03, "B": 0.20, "K": 0.20}
+TITLE = "### Noise model: Allan deviation and inertial terms (`python benchmarks/noise_model.py`)"
 
 
 def stable32_table() -> np.ndarray:
@@ -145,11 +147,12 @@ def speed_section(repeats: int) -> list[str]:
         ],
         axis=1,
     )
-    times = []
+    times, cpu = [], []
     for _ in range(repeats):
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         inertial_noise(z, rate, axis=0)
         times.append(time.perf_counter() - t0)
+        cpu.append(time.process_time() - c0)
     t0 = time.perf_counter()
     inertial_noise(z[:, 0], rate)
     one_axis = time.perf_counter() - t0
@@ -161,8 +164,12 @@ def speed_section(repeats: int) -> list[str]:
         f"`inertial_noise` of {n:.1e} samples x {axes} axes (10 h at 200 Hz), octave taus, "
         f"threads = CPUs ({os.cpu_count()}); {repeats} repeats: median **{median:.1f} s**, "
         f"best {best:.1f} s (target 10 s: {'met' if median < 10 else 'NOT met'}); one axis "
-        f"alone {one_axis:.2f} s. Machine: {platform.processor() or platform.machine()}, "
-        f"load average {load[0]:.1f} / {load[1]:.1f} during the run (the cores are shared).",
+        f"alone {one_axis:.2f} s. CPU time of the process (all threads): median "
+        f"{float(np.median(cpu)):.1f} s (half of it, {float(np.median(cpu)) / 2:.1f} s, would be "
+        "the wall time on two free cores if the threads scaled perfectly: not measured). "
+        f"Machine: {platform.processor() or platform.machine()}, "
+        f"load average {load[0]:.1f} / {load[1]:.1f} at the end (1 / 5 min; the 2 cores are "
+        "shared with other jobs, so wall times are those of a loaded machine).",
     ]
 
 
@@ -172,19 +179,47 @@ def main() -> None:
     ap.add_argument("--hours", type=float, default=10.0)
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--skip-speed", action="store_true")
+    ap.add_argument(
+        "--only",
+        choices=["stable32", "recovery", "speed"],
+        nargs="+",
+        help="run these sections; the others are kept from the last results file",
+    )
     args = ap.parse_args()
-    out = [
-        "### Noise model: Allan deviation and inertial terms (`python benchmarks/noise_model.py`)",
-        "",
-    ]
-    s32, _ = stable32_section()
-    out += s32 + [""] + recovery_section(args.runs, args.hours) + [""]
-    if not args.skip_speed:
-        out += speed_section(args.repeats) + [""]
+    wanted = set(args.only or ["stable32", "recovery", "speed"])
+    if args.skip_speed:
+        wanted.discard("speed")
+    kept = _previous_sections()
+    sections = {
+        "stable32": lambda: stable32_section()[0],
+        "recovery": lambda: recovery_section(args.runs, args.hours),
+        "speed": lambda: speed_section(args.repeats),
+    }
+    out = [TITLE, ""]
+    for name, run in sections.items():
+        block = run() if name in wanted else kept.get(name)
+        if block:
+            out += [*block, ""]
     text = "\n".join(out)
     print(text)
     RESULTS.mkdir(exist_ok=True)
     (RESULTS / "noise_model.md").write_text(text, encoding="utf-8")
+
+
+def _previous_sections() -> dict[str, list[str]]:
+    """The sections of the last results file, by name (for ``--only``)."""
+    path = RESULTS / "noise_model.md"
+    if not path.is_file():
+        return {}
+    heads = {"#### OADEV": "stable32", "#### Inertial": "recovery", "#### Speed": "speed"}
+    out: dict[str, list[str]] = {}
+    current = None
+    for line in path.read_text(encoding="utf-8").splitlines():
+        if line.startswith("#### "):
+            current = next((v for k, v in heads.items() if line.startswith(k)), None)
+        if current:
+            out.setdefault(current, []).append(line)
+    return {k: v[:-1] if v and not v[-1] else v for k, v in out.items()}
 
 
 if __name__ == "__main__":
