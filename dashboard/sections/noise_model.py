@@ -84,6 +84,7 @@ def terms_table(fit: InertialNoise) -> pd.DataFrame:
                 "high": t.interval[1],
                 "unit": t.unit,
                 "per sample": t.discrete,
+                "per-sample unit": t.discrete_unit,
                 "slope": t.slope,
             }
             for t in fit.terms
@@ -101,9 +102,9 @@ def results(sig: LoadedSignal, s: NoiseModelSettings) -> InertialNoise | None:
             fit = _fit_cached(sig.digest, s.rate, s.unit, sig.z)
     if res is None:
         return None
-    if fit is None:
+    if not (s.data == "rate" and s.kind == "oadev"):
         st.caption("The IEEE-952 terms are fitted to the overlapping ADEV of rate data.")
-    else:
+    elif fit is not None:
         st.dataframe(
             terms_table(fit),
             hide_index=True,
