@@ -15,7 +15,7 @@ from noisevar.noise_model.allan import AllanResult
 from noisevar.noise_model.inertial import TERMS, InertialNoise
 
 #: Log-log slopes of the guides, with their labels (quantisation ... rate ramp).
-SLOPES = ((-1.0, "τ⁻¹"), (-0.5, "τ^-½"), (0.0, "τ⁰"), (0.5, "τ^½"), (1.0, "τ¹"))
+SLOPES = ((-1.0, "τ⁻¹"), (-0.5, "τ⁻¹ᐟ²"), (0.0, "τ⁰"), (0.5, "τ¹ᐟ²"), (1.0, "τ¹"))
 _LABELS = {"oadev": "overlapping ADEV", "mdev": "MDEV", "hdev": "overlapping HDEV"}
 
 
