@@ -100,6 +100,12 @@ PAGES = (
         ":material/timer:",
         "GPS delay estimation by least squares over shifts and a random-constant filter.",
     ),
+    PageInfo(
+        "pages/10_Noise_model.py",
+        "Noise model",
+        ":material/ssid_chart:",
+        "Allan deviation, IEEE-952 noise terms with intervals, Kalibr imu.yaml, simulation.",
+    ),
 )
 
 #: The Signal page (linked from the sidebar and from pages without a signal).

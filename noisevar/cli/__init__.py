@@ -8,6 +8,9 @@ Sub-commands::
     noisevar methods
     noisevar scan-h FILE [--column C] [--window M]
     noisevar experiment NAME [--runs N] [--seed S] [--format table|json] ...
+    noisevar allan FILE --rate HZ [--data phase|rate] [--kind oadev|mdev|hdev] [--column C]
+    noisevar imu FILE --rate HZ [--columns C ...] [--gyro C ...] [--accel C ...]
+                     [--kalibr out.yaml] [--inflation F]
 
 Every error is one line on stderr and a non-zero exit status (2 for bad input,
 3 for an internal error); no traceback (``NOISEVAR_DEBUG=1`` shows it).
@@ -30,7 +33,7 @@ from noisevar.errors import NoisevarError
 
 #: The sub-commands, in ``--help`` order: each is a module of this package with an
 #: ``add_parser(sub)`` function. A new command is one new module plus one line here.
-COMMANDS: tuple[str, ...] = ("estimate", "methods", "scan_h", "experiment")
+COMMANDS: tuple[str, ...] = ("estimate", "methods", "scan_h", "experiment", "allan", "imu")
 
 
 def build_parser() -> argparse.ArgumentParser:
