@@ -131,8 +131,9 @@ def check_answer(result: Any) -> None:
         )
     if var <= 0.0:
         raise NoisevarError(
-            f"method {name!r} found a noise variance of 0 on this record (the noise is below "
-            "its resolution, e.g. quantised samples): try another method such as 'rice'"
+            f"method {name!r} found a noise variance of {var:.3g} on this record (not positive: "
+            "the noise is below the method's resolution, e.g. quantised samples, or a known "
+            "reference variance is too large): try another method such as 'rice'"
         )
     if not (math.isfinite(lo) and math.isfinite(hi) and lo <= var <= hi):
         raise NoisevarError(
