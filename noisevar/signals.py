@@ -29,6 +29,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.errors import NoisevarError
+from noisevar.io.table import SAMPLE_PERIOD_RANGE
 
 
 @dataclass
@@ -239,8 +240,6 @@ def generate(name: str, **params) -> GeneratedSignal:
 #: Most samples per realisation, and in all realisations together (memory grows with both).
 MAX_N = 10_000_000
 MAX_TOTAL = 50_000_000
-#: Allowed sample periods (seconds).
-PERIOD_RANGE = (1e-9, 1e6)
 #: Largest magnitude of any other numeric parameter (noise std, factors...).
 MAX_MAGNITUDE = 1e100
 
@@ -277,7 +276,7 @@ def _check_bounds(params: dict) -> None:
             v = float(value)
         except (TypeError, ValueError, OverflowError):
             raise NoisevarError(f"{key} must be a number, got {value!r}") from None
-        lo, hi = PERIOD_RANGE if key == "sample_period" else (-MAX_MAGNITUDE, MAX_MAGNITUDE)
+        lo, hi = SAMPLE_PERIOD_RANGE if key == "sample_period" else (-MAX_MAGNITUDE, MAX_MAGNITUDE)
         if not (math.isfinite(v) and lo <= v <= hi):
             raise NoisevarError(f"{key} must be a finite number in [{lo:g}, {hi:g}], got {value!r}")
         if key in ("noise_std", "jerk_std", "factor", "radius") and v < 0:

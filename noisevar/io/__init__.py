@@ -40,11 +40,14 @@ from noisevar.io.load import load_table, pick_column
 from noisevar.io.nmea import geodetic_to_enu
 from noisevar.io.table import (
     NMEA_EXTENSIONS,
+    SAMPLE_PERIOD_RANGE,
     TABLE_EXTENSIONS,
     TIME_NAMES,
     UNIFORM_TOLERANCE,
     LoadedTable,
     content_digest,
+    drop_nonfinite_rows,
+    echo,
     signal_summary,
     table_from_arrays,
 )
@@ -54,8 +57,11 @@ __all__ = [
     "TABLE_EXTENSIONS",
     "TIME_NAMES",
     "UNIFORM_TOLERANCE",
+    "SAMPLE_PERIOD_RANGE",
     "LoadedTable",
     "content_digest",
+    "drop_nonfinite_rows",
+    "echo",
     "geodetic_to_enu",
     "load_table",
     "pick_column",
