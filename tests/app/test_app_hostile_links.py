@@ -93,3 +93,51 @@ def test_a_hostile_signal_recipe_is_dropped_with_a_warning(recipe):
     assert not at.exception, [e.value for e in at.exception]
     assert any("sig" in w.value for w in at.warning), [w.value for w in at.warning]
     assert "nv_signal" not in at.session_state
+
+
+def _signal_page() -> AppTest:
+    at = AppTest.from_file(APP, default_timeout=120)
+    at.switch_page("pages/1_Signal.py").run()
+    assert not at.exception
+    return at
+
+
+def _upload(at: AppTest, name: str, body: str) -> None:
+    at.file_uploader(key="upload").set_value((name, body.encode(), "text/csv")).run()
+    assert not at.exception, [e.value for e in at.exception]
+
+
+@pytest.mark.parametrize(("step", "start"), [(3_600_000, 1_700_000_000_000), (1e-12, 0.0)])
+def test_a_time_step_outside_the_period_range_never_crashes_a_visit(step, start):
+    at = _signal_page()
+    rows = "\n".join(f"{start + step * i!r},{(i * 7919) % 101 / 10}" for i in range(400))
+    _upload(at, "stamps.csv", "time,x\n" + rows)
+    sig = at.session_state["nv_signal"]
+    assert sig.sample_period is None
+    for page in ("pages/2_Estimator.py", "pages/1_Signal.py", "app.py"):
+        at.switch_page(page).run()
+        assert not at.exception, (page, [e.value for e in at.exception])
+
+
+def test_decimal_comma_upload_is_accepted():
+    at = _signal_page()
+    rows = "\n".join(
+        f"{i};{(i * 7919) % 101 / 10 + 0.25:.2f}".replace(".", ",") for i in range(400)
+    )
+    _upload(at, "europe.csv", "t;x\n" + rows)
+    assert not at.error, [e.value for e in at.error]
+    sig = at.session_state["nv_signal"]
+    assert sig.n == 400 and sig.z[0] == 0.25
+
+
+def test_drop_nonfinite_option_on_upload():
+    at = _signal_page()
+    rows = [f"{i},{(i * 7919) % 101 / 10}" for i in range(400)]
+    rows[5] = "5,"
+    rows[9] = "9,nan"
+    _upload(at, "gaps.csv", "t,x\n" + "\n".join(rows))
+    assert at.error and "empty or NaN" in at.error[0].value
+    assert "nv_signal" not in at.session_state
+    at.checkbox(key="upload_drop").check().run()
+    assert not at.exception and not at.error
+    assert at.session_state["nv_signal"].n == 398
