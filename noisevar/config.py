@@ -68,10 +68,25 @@ def _strict_json_type(key: str, spec: ParamSpec, value: Any) -> None:
     if isinstance(value, np.ndarray):
         numbers = list(value.ravel())
     for v in numbers:
+        if not spec.finite and v in INFINITIES:
+            continue  # strict JSON has no infinity: "inf" stands for it where it is allowed
         if isinstance(v, bool) or not isinstance(v, int | float | np.integer | np.floating):
             raise NoisevarError(
                 f"config key {echo(repr(key))} must be a number, got {echo(repr(value))}"
             )
+
+
+#: How an infinite parameter (``trim``) is written in strict JSON, and read back.
+INFINITIES = ("inf", "-inf")
+
+
+def json_value(value: Any) -> Any:
+    """A config value as strict JSON: ``inf`` becomes the string ``"inf"`` (see INFINITIES)."""
+    if isinstance(value, float) and math.isinf(value):
+        return INFINITIES[value < 0]
+    if isinstance(value, list):
+        return [json_value(v) for v in value]
+    return value
 
 
 def _check_value(key: str, spec: ParamSpec, value: Any) -> Any:
@@ -182,7 +197,8 @@ def config_to_json(config: Mapping[str, Any]) -> str:
     -------
     str
     """
-    return json.dumps(validate_config(config), indent=2) + "\n"
+    cfg = {k: json_value(v) for k, v in validate_config(config).items()}
+    return json.dumps(cfg, indent=2, allow_nan=False) + "\n"
 
 
 def parse_config(text: str | bytes, source: str = "config") -> dict[str, Any]:

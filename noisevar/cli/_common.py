@@ -35,7 +35,7 @@ def json_default(obj: Any) -> Any:
 
 
 def strict_json(obj: Any) -> Any:
-    """``obj`` with every NaN/Inf turned into ``None`` (JSON ``null``: the value is missing).
+    """``obj`` as strict JSON: NaN becomes ``None`` (``null``: missing), ±inf ``"inf"``/``"-inf"``.
 
     Parameters
     ----------
@@ -55,8 +55,10 @@ def strict_json(obj: Any) -> Any:
         return strict_json(obj.tolist())
     if isinstance(obj, np.generic):
         obj = obj.item()
-    if isinstance(obj, float) and not math.isfinite(obj):
+    if isinstance(obj, float) and math.isnan(obj):
         return None
+    if isinstance(obj, float) and math.isinf(obj):
+        return "inf" if obj > 0 else "-inf"  # e.g. trim=inf ("no trimming"), as configs write it
     return obj
 
 
