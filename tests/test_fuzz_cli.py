@@ -215,6 +215,9 @@ def _cases(tmp: Path) -> Iterator[tuple[str, list[str]]]:
     yield "flags", ["experiment", "outliers", "--runs", "0"]
     yield "flags", ["experiment", "outliers", "--runs", "1e999"]
     yield "flags", ["methods", "--format", "json"]
+    ansi = paths["ansi\x1b[31m.csv"][1]
+    yield "silent-wrong", ["estimate", ansi, "--method", "rice", "--column", "a\x1b[2J"]
+    yield "silent-wrong", ["estimate", ansi, "--method", "rice"]
     yield "nan-json", ["experiment", "outliers", "--runs", "2", "--format", "json"]
     yield "files", ["scan-h", paths["pm308.csv"][1], "--format", "json"]
     yield "files", ["scan-h", paths["quantised.csv"][1], "--format", "json"]
@@ -257,6 +260,8 @@ def run_case(argv: list[str]) -> tuple[int, str, str]:
 def check_case(argv: list[str]) -> str | None:
     """None when the case behaves (exit 2 + one safe line, or exit 0 + strict JSON)."""
     code, out, err = run_case(argv)
+    if "\x1b" in out or "\x1b" in err:
+        return "a raw escape sequence reached the terminal"
     if code == 0 and err:
         return f"exit 0 with output on stderr {err[:300]!r}"
     if code == 2:
