@@ -24,8 +24,8 @@ CSV / TSV / whitespace-separated text
     comments. Unquoted thousands separators in a one-column table (``4,867.69``) and a
     decimal comma with ``;`` or tab separators (``1,5`` or ``1.234,5``) are recognised.
     Integers beyond 2**53 are refused (precision lost), except in a time column, which is
-    then taken relative to its first value. A cell that is not a number is refused with its row and column;
-    an empty cell or ``NaN`` becomes NaN (refused later by
+    then taken relative to its first value. A cell that is not a number is refused with
+    its row and column; an empty cell or ``NaN`` becomes NaN (refused later by
     :func:`pick_column` for the column actually used, unless asked to drop).
     A column named like a time (``t``, ``time``, ``time_s``, ``timestamp``,
     ``seconds``...) gives the sample period (median step); ISO date-times in
