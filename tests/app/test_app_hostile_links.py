@@ -141,3 +141,11 @@ def test_drop_nonfinite_option_on_upload():
     at.checkbox(key="upload_drop").check().run()
     assert not at.exception and not at.error
     assert at.session_state["nv_signal"].n == 398
+
+
+def test_quantised_record_on_compare_gives_per_method_errors_not_a_crash():
+    at = _signal_page()
+    _upload(at, "quantised.csv", "x\n" + "0\n" * 1999 + "1\n")
+    assert at.session_state["nv_signal"].n == 2000
+    at.switch_page("pages/3_Compare.py").run()
+    assert not at.exception, [e.value for e in at.exception]
