@@ -13,7 +13,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
-from noisevar.estimators import auto, difference, mle, redundant, somd
+from noisevar.estimators import _scale, auto, difference, mle, redundant, somd
 from noisevar.estimators._input import as_channels, as_signal, check_samples, check_times
 from noisevar.estimators.auto import auto_estimate, residual_sequence
 from noisevar.estimators.difference import HKT_SEQUENCES, sequence_efficiency
@@ -192,12 +192,17 @@ def estimate(
     arr = as_channels(z, axis)
     if t is not None:
         check_times(t, arr.shape[-1])
+    # scale-safe: run on z 2**e (exact), scale the answer back (docstring of _scale)
+    e = _scale.scale_exponent(arr)
+    arr_s, used_s = (np.ldexp(arr, e), _scale.scale_params(used, e)) if e else (arr, used)
     if arr.ndim == 1:
-        zz, notes = as_signal(arr, drop_nonfinite=drop)
-        results = _run(spec, zz[None, :], [notes], used)
+        zz, notes = as_signal(arr_s, drop_nonfinite=drop)
+        results = _run(spec, zz[None, :], [notes], used_s)
     else:
-        results = _channels(spec, arr, drop, used)
+        results = _channels(spec, arr_s, drop, used_s)
+    _scale.unscale(results, e)
     for r in results:
+        _scale.check_answer(r)
         r.params = {"method": method, **r.params}
     if arr.ndim == 1:
         return results[0]
