@@ -13,7 +13,7 @@ import noisevar
 from dashboard import cache
 from dashboard.state import LoadedSignal, make_signal, parse_recipe, set_signal
 from noisevar.errors import NoisevarError
-from noisevar.io import content_digest, table_from_arrays
+from noisevar.io import content_digest, drop_nonfinite_rows, table_from_arrays
 from noisevar.signals import GPS_CHANNELS
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -60,7 +60,9 @@ def max_upload_bytes() -> int:
     return int(mb * 1024 * 1024)
 
 
-def load_bytes(raw: bytes, name: str, source: str = "upload") -> LoadedSignal:
+def load_bytes(
+    raw: bytes, name: str, source: str = "upload", drop_nonfinite: bool = False
+) -> LoadedSignal:
     """Load file bytes as the new signal (raises NoisevarError; the old signal stays then).
 
     Parameters
@@ -71,6 +73,8 @@ def load_bytes(raw: bytes, name: str, source: str = "upload") -> LoadedSignal:
         File name (its extension picks the format).
     source : str
         ``"upload"`` or ``"sample"``.
+    drop_nonfinite : bool
+        Drop the rows with an empty or NaN cell instead of refusing them.
 
     Returns
     -------
@@ -83,6 +87,8 @@ def load_bytes(raw: bytes, name: str, source: str = "upload") -> LoadedSignal:
             "limit: give a shorter record (or raise server.maxUploadSize)"
         )
     table = cache.load_bytes_cached(content_digest(raw), name, raw)
+    if drop_nonfinite:
+        table = drop_nonfinite_rows(table)
     recipe = f"sample:{name}" if source == "sample" else None
     sig = make_signal(table, None, table.sample_period, source, recipe)
     set_signal(sig)
@@ -179,6 +185,9 @@ def load_simulated_sensors(noise_stds: Sequence[float] = (1.0, 2.0, 3.0), seed: 
 
 def restore_from_recipe(recipe: str) -> LoadedSignal:
     """Rebuild a signal from its URL recipe (``gen:...`` or ``sample:...``)."""
+    from dashboard.url_params import check_recipe
+
+    check_recipe(recipe)  # bounds first: the link is untrusted input
     kind, name, opts = parse_recipe(recipe)
     col = opts.pop("col", None)
     period = float(opts.pop("T")) if "T" in opts else None

@@ -14,6 +14,7 @@ import streamlit as st
 
 from dashboard.loading import restore_from_recipe
 from dashboard.state import LoadedSignal, current_signal, sync_url, url_recipe
+from dashboard.url_params import clean_query_params
 from noisevar.errors import NoisevarError
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -100,6 +101,12 @@ PAGES = (
         ":material/timer:",
         "GPS delay estimation by least squares over shifts and a random-constant filter.",
     ),
+    PageInfo(
+        "pages/10_Noise_model.py",
+        "Noise model",
+        ":material/ssid_chart:",
+        "Allan deviation, IEEE-952 noise terms with intervals, Kalibr imu.yaml, simulation.",
+    ),
 )
 
 #: The Signal page (linked from the sidebar and from pages without a signal).
@@ -137,6 +144,7 @@ def setup_page(script: str) -> LoadedSignal | None:
         layout="wide",
         initial_sidebar_state="expanded",
     )
+    clean_query_params()  # shared links are untrusted: before any widget reads the URL
     sig = current_signal()
     if sig is None:
         recipe = url_recipe()

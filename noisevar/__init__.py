@@ -13,10 +13,13 @@ Quick start::
 from noisevar.errors import NoisevarError, NoWindowKept
 from noisevar.estimators import describe_methods, estimate, estimate_redundant, methods
 from noisevar.estimators.results import RedundantEstimate, VarianceEstimate, VarianceEstimates
+from noisevar.noise_model import AllanResult, InertialNoise, allan, inertial_noise
 from noisevar.signals import GeneratedSignal, generate, signal_names
 
 __version__ = "0.1.0"
 __all__ = [
+    "AllanResult",
+    "InertialNoise",
     "GeneratedSignal",
     "NoWindowKept",
     "NoisevarError",
@@ -24,10 +27,12 @@ __all__ = [
     "VarianceEstimate",
     "VarianceEstimates",
     "__version__",
+    "allan",
     "describe_methods",
     "estimate",
     "estimate_redundant",
     "generate",
+    "inertial_noise",
     "methods",
     "signal_names",
 ]

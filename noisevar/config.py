@@ -24,6 +24,7 @@ cannot be stored in a config: they are data, not parameters.
 from __future__ import annotations
 
 import json
+import math
 import os
 from collections.abc import Mapping
 from pathlib import Path
@@ -34,6 +35,7 @@ import numpy as np
 from noisevar.errors import NoisevarError
 from noisevar.estimators import METHODS, methods
 from noisevar.estimators.params import PARAMS
+from noisevar.io.table import echo
 from noisevar.params import ParamSpec
 
 
@@ -58,14 +60,33 @@ def _strict_json_type(key: str, spec: ParamSpec, value: Any) -> None:
         return
     if spec.kind == "bool":
         if not isinstance(value, bool | np.bool_):
-            raise NoisevarError(f"config key {key!r} must be true or false, got {value!r}")
+            raise NoisevarError(
+                f"config key {echo(repr(key))} must be true or false, got {echo(repr(value))}"
+            )
         return
     numbers = value if spec.kind == "floats" and isinstance(value, list | tuple) else [value]
     if isinstance(value, np.ndarray):
         numbers = list(value.ravel())
     for v in numbers:
+        if not spec.finite and v in INFINITIES:
+            continue  # strict JSON has no infinity: "inf" stands for it where it is allowed
         if isinstance(v, bool) or not isinstance(v, int | float | np.integer | np.floating):
-            raise NoisevarError(f"config key {key!r} must be a number, got {value!r}")
+            raise NoisevarError(
+                f"config key {echo(repr(key))} must be a number, got {echo(repr(value))}"
+            )
+
+
+#: How an infinite parameter (``trim``) is written in strict JSON, and read back.
+INFINITIES = ("inf", "-inf")
+
+
+def json_value(value: Any) -> Any:
+    """A config value as strict JSON: ``inf`` becomes the string ``"inf"`` (see INFINITIES)."""
+    if isinstance(value, float) and math.isinf(value):
+        return INFINITIES[value < 0]
+    if isinstance(value, list):
+        return [json_value(v) for v in value]
+    return value
 
 
 def _check_value(key: str, spec: ParamSpec, value: Any) -> Any:
@@ -74,7 +95,7 @@ def _check_value(key: str, spec: ParamSpec, value: Any) -> Any:
     try:
         v = spec.validate(value)
     except NoisevarError as exc:
-        raise NoisevarError(f"config key {key!r}: {exc}") from None
+        raise NoisevarError(f"config key {echo(repr(key))}: {exc}") from None
     if isinstance(v, tuple):
         return list(v) if len(v) > 1 else v[0]
     return v
@@ -109,7 +130,8 @@ def validate_config(config: Mapping[str, Any]) -> dict[str, Any]:
     method = config["method"]
     if method not in methods():
         raise NoisevarError(
-            f"unknown method {method!r} in the config; choose one of: {', '.join(methods())}"
+            f"unknown method {echo(repr(method))} in the config; choose one of: "
+            f"{', '.join(methods())}"
         )
     out: dict[str, Any] = {"method": str(method)}
     specs = METHODS[method].param_specs
@@ -123,11 +145,11 @@ def validate_config(config: Mapping[str, Any]) -> dict[str, Any]:
             )
         if key not in known:
             raise NoisevarError(
-                f"unknown config key {key!r}; known keys: method, {', '.join(known)}"
+                f"unknown config key {echo(repr(key))}; known keys: method, {', '.join(known)}"
             )
         if key not in specs:
             raise NoisevarError(
-                f"config key {key!r} is not a parameter of method {method!r}; "
+                f"config key {echo(repr(key))} is not a parameter of method {echo(repr(method))}; "
                 f"its parameters: {', '.join(specs)}"
             )
         if value is None:
@@ -175,7 +197,8 @@ def config_to_json(config: Mapping[str, Any]) -> str:
     -------
     str
     """
-    return json.dumps(validate_config(config), indent=2) + "\n"
+    cfg = {k: json_value(v) for k, v in validate_config(config).items()}
+    return json.dumps(cfg, indent=2, allow_nan=False) + "\n"
 
 
 def parse_config(text: str | bytes, source: str = "config") -> dict[str, Any]:
@@ -192,12 +215,52 @@ def parse_config(text: str | bytes, source: str = "config") -> dict[str, Any]:
     -------
     dict
     """
+    if len(text) > MAX_CONFIG_BYTES:
+        raise NoisevarError(
+            f"{source} is {len(text):,} bytes, over the {MAX_CONFIG_BYTES:,}-byte limit of a "
+            "config (a method and a few parameters)"
+        )
     try:
-        data = json.loads(text)
+        data = json.loads(
+            text, parse_constant=_refuse_constant, parse_float=_finite_float, parse_int=_json_int
+        )
     except (json.JSONDecodeError, UnicodeDecodeError) as exc:
         where = f" (line {exc.lineno}, column {exc.colno})" if hasattr(exc, "lineno") else ""
         raise NoisevarError(f"{source} is not valid JSON{where}: {exc.args[0]}") from None
+    except NoisevarError as exc:
+        raise NoisevarError(f"{source}: {exc}") from None
+    except RecursionError:
+        raise NoisevarError(f"{source} is nested too deeply: a config is one flat object") from None
+    except ValueError as exc:
+        raise NoisevarError(f"{source} is not valid JSON: {str(exc)[:200]}") from None
     return validate_config(data)
+
+
+#: Largest config text accepted (a config is a method and a few parameters).
+MAX_CONFIG_BYTES = 1 << 20
+#: Most digits of a JSON integer in a config.
+_MAX_INT_DIGITS = 20
+
+
+def _refuse_constant(token: str) -> float:
+    raise NoisevarError(f"{token} is not a number JSON allows: give a finite number")
+
+
+def _finite_float(token: str) -> float:
+    value = float(token)
+    if not math.isfinite(value):
+        raise NoisevarError(
+            f"{token[:40]} is beyond the floating-point range: give a finite number"
+        )
+    return value
+
+
+def _json_int(token: str) -> int:
+    if len(token.lstrip("-")) > _MAX_INT_DIGITS:
+        raise NoisevarError(
+            f"an integer of {len(token.lstrip('-')):,} digits is out of range for any parameter"
+        )
+    return int(token)
 
 
 def load_config(path: str | os.PathLike) -> dict[str, Any]:
@@ -220,13 +283,18 @@ def load_config(path: str | os.PathLike) -> dict[str, Any]:
         :func:`validate_config`).
     """
     p = Path(path)
-    if not p.is_file():
-        raise NoisevarError(f"no such config file: {p}")
     try:
+        if not p.is_file():
+            raise NoisevarError(f"no such config file: {echo(str(p))}")
+        if p.stat().st_size > MAX_CONFIG_BYTES:
+            raise NoisevarError(
+                f"{echo(p.name)} is {p.stat().st_size:,} bytes, over the "
+                f"{MAX_CONFIG_BYTES:,}-byte limit of a config"
+            )
         text = p.read_bytes()
     except OSError as exc:
-        raise NoisevarError(f"cannot read {p}: {exc.strerror or exc}") from None
-    return parse_config(text, p.name)
+        raise NoisevarError(f"cannot read {echo(str(p))}: {exc.strerror or exc}") from None
+    return parse_config(text, echo(p.name))
 
 
 def split_config(config: Mapping[str, Any]) -> tuple[str, dict[str, Any]]:

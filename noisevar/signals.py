@@ -21,6 +21,7 @@ independent noise realisations of the same clean signal (Monte Carlo), shape
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -28,6 +29,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.errors import NoisevarError
+from noisevar.io.table import SAMPLE_PERIOD_RANGE
 
 
 @dataclass
@@ -228,12 +230,54 @@ def generate(name: str, **params) -> GeneratedSignal:
     """
     if name not in GENERATORS:
         raise NoisevarError(f"unknown signal {name!r}; choose one of {signal_names()}")
-    n = int(params.get("n", 6000))
-    if n < 100:
-        raise NoisevarError(f"n must be at least 100 samples, got {n}")
-    if int(params.get("runs", 1)) < 1:
-        raise NoisevarError("runs must be at least 1")
+    _check_bounds(params)
     try:
         return GENERATORS[name](**params)
-    except TypeError as exc:
+    except (TypeError, ValueError) as exc:
         raise NoisevarError(f"bad parameter for signal {name!r}: {exc}") from None
+
+
+#: Most samples per realisation, and in all realisations together (memory grows with both).
+MAX_N = 10_000_000
+MAX_TOTAL = 50_000_000
+#: Largest magnitude of any other numeric parameter (noise std, factors...).
+MAX_MAGNITUDE = 1e100
+
+
+def _integer(params: dict, key: str, default: int, lo: int, hi: int) -> int:
+    value = params.get(key, default)
+    if isinstance(value, bool) or not isinstance(value, int | np.integer | float | np.floating):
+        raise NoisevarError(f"{key} must be an integer, got {value!r}")
+    ok = isinstance(value, int | np.integer) or (math.isfinite(value) and value == int(value))
+    if not ok:
+        raise NoisevarError(f"{key} must be an integer from {lo:,} to {hi:,}, got {value!r}")
+    if int(value) < lo:
+        raise NoisevarError(f"{key} must be at least {lo:,}, got {value!r}")
+    if int(value) > hi:
+        raise NoisevarError(f"{key} must be at most {hi:,}, got {value!r}")
+    return int(value)
+
+
+def _check_bounds(params: dict) -> None:
+    """One clear error for an out-of-range size, period or magnitude."""
+    n = _integer(params, "n", 6000, 100, MAX_N)
+    runs = _integer(params, "runs", 1, 1, MAX_TOTAL // 100)
+    if n * runs > MAX_TOTAL:
+        raise NoisevarError(
+            f"n x runs = {n * runs:,} samples is over the limit of {MAX_TOTAL:,}: "
+            "use fewer runs or a shorter signal"
+        )
+    if "seed" in params:
+        _integer(params, "seed", 0, 0, 2**63 - 1)
+    for key, value in params.items():
+        if key in ("n", "runs", "seed") or isinstance(value, str) or value is None:
+            continue
+        try:
+            v = float(value)
+        except (TypeError, ValueError, OverflowError):
+            raise NoisevarError(f"{key} must be a number, got {value!r}") from None
+        lo, hi = SAMPLE_PERIOD_RANGE if key == "sample_period" else (-MAX_MAGNITUDE, MAX_MAGNITUDE)
+        if not (math.isfinite(v) and lo <= v <= hi):
+            raise NoisevarError(f"{key} must be a finite number in [{lo:g}, {hi:g}], got {value!r}")
+        if key in ("noise_std", "jerk_std", "factor", "radius") and v < 0:
+            raise NoisevarError(f"{key} must not be negative, got {value!r}")

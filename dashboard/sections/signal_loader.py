@@ -179,7 +179,8 @@ def uploader(errors: DeltaGenerator) -> None:
     """The file uploader; a failed file is reported once per file (the old signal stays)."""
     limit_mb = loading.max_upload_bytes() / 1024 / 1024
     st.caption(
-        f"CSV/TSV (header optional; a column named t/time gives the sample period), `.npy` "
+        f"CSV/TSV (header optional; a column named t/time gives the sample period; a decimal "
+        f"comma with `;` separators, as European spreadsheets export, is read too), `.npy` "
         f"(numeric arrays only), or NMEA 0183 GGA/RMC (converted to local east/north metres, "
         f"speed and course). Up to {limit_mb:.0f} MB."
     )
@@ -188,21 +189,25 @@ def uploader(errors: DeltaGenerator) -> None:
         type=["csv", "tsv", "txt", "dat", "npy", "nmea", "log"],
         key="upload",
     )
+    drop = st.checkbox(
+        "Drop rows with empty or NaN values",
+        key="upload_drop",
+        help="Otherwise a column with empty or NaN cells is refused (CLI: --drop-nonfinite).",
+    )
     if up is None:
         return
+    attempt = (up.file_id, bool(drop))
     failed = st.session_state.get("upload_failed")
-    if st.session_state.get("upload_done") != up.file_id and (
-        not failed or failed[0] != up.file_id
-    ):
+    if st.session_state.get("upload_done") != attempt and (not failed or failed[0] != attempt):
         try:
             with st.spinner(f"Reading {up.name}..."):
-                loading.load_bytes(up.getvalue(), up.name)
-            st.session_state["upload_done"] = up.file_id
+                loading.load_bytes(up.getvalue(), up.name, drop_nonfinite=bool(drop))
+            st.session_state["upload_done"] = attempt
             st.session_state.pop("upload_failed", None)
         except noisevar.NoisevarError as exc:
-            st.session_state["upload_failed"] = (up.file_id, str(exc))
+            st.session_state["upload_failed"] = (attempt, str(exc))
     failed = st.session_state.get("upload_failed")
-    if failed and failed[0] == up.file_id:
+    if failed and failed[0] == attempt:
         sig = current_signal()
         kept = f" (The previous signal, {sig.label}, is kept.)" if sig is not None else ""
         errors.error(failed[1] + kept)

@@ -8,6 +8,9 @@ Sub-commands::
     noisevar methods
     noisevar scan-h FILE [--column C] [--window M]
     noisevar experiment NAME [--runs N] [--seed S] [--format table|json] ...
+    noisevar allan FILE --rate HZ [--data phase|rate] [--kind oadev|mdev|hdev] [--column C]
+    noisevar imu FILE --rate HZ [--columns C ...] [--gyro C ...] [--accel C ...]
+                     [--kalibr out.yaml] [--inflation F]
 
 Every error is one line on stderr and a non-zero exit status (2 for bad input,
 3 for an internal error); no traceback (``NOISEVAR_DEBUG=1`` shows it).
@@ -25,12 +28,12 @@ import os
 import sys
 from collections.abc import Sequence
 
-from noisevar.cli._common import EXIT_ERROR, Parser
+from noisevar.cli._common import EXIT_ERROR, Parser, one_line
 from noisevar.errors import NoisevarError
 
 #: The sub-commands, in ``--help`` order: each is a module of this package with an
 #: ``add_parser(sub)`` function. A new command is one new module plus one line here.
-COMMANDS: tuple[str, ...] = ("estimate", "methods", "scan_h", "experiment")
+COMMANDS: tuple[str, ...] = ("estimate", "methods", "scan_h", "experiment", "allan", "imu")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -66,11 +69,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         args = build_parser().parse_args(argv)
         return int(args.func(args))
     except NoisevarError as exc:
-        print(f"noisevar: error: {exc}", file=sys.stderr)
+        print(f"noisevar: error: {one_line(str(exc))}", file=sys.stderr)
     except FileNotFoundError as exc:
-        print(f"noisevar: error: no such file: {exc.filename}", file=sys.stderr)
+        print(f"noisevar: error: no such file: {one_line(exc.filename)}", file=sys.stderr)
     except (IsADirectoryError, PermissionError) as exc:
-        print(f"noisevar: error: cannot read {exc.filename}: {exc.strerror}", file=sys.stderr)
+        where = one_line(exc.filename)
+        print(f"noisevar: error: cannot read {where}: {exc.strerror}", file=sys.stderr)
     except KeyboardInterrupt:
         print("noisevar: interrupted", file=sys.stderr)
         return 130
@@ -83,7 +87,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if os.environ.get("NOISEVAR_DEBUG"):
             raise
         print(
-            f"noisevar: internal error ({type(exc).__name__}: {exc}); "
+            f"noisevar: internal error ({type(exc).__name__}: {one_line(str(exc))}); "
             "rerun with NOISEVAR_DEBUG=1 for the traceback and please report it",
             file=sys.stderr,
         )

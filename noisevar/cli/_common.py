@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 from typing import Any, NoReturn
 
@@ -21,6 +22,10 @@ class Parser(argparse.ArgumentParser):
         raise NoisevarError(f"{message} (see '{self.prog} --help')")
 
 
+#: Longest error line the CLI prints (a backstop: messages already shorten echoed fields).
+MAX_LINE = 2000
+
+
 def json_default(obj: Any) -> Any:
     if isinstance(obj, np.generic):
         return obj.item()
@@ -29,8 +34,44 @@ def json_default(obj: Any) -> Any:
     raise TypeError(f"not JSON serialisable: {type(obj).__name__}")
 
 
+def strict_json(obj: Any) -> Any:
+    """``obj`` as strict JSON: NaN becomes ``None`` (``null``: missing), ±inf ``"inf"``/``"-inf"``.
+
+    Parameters
+    ----------
+    obj : object
+        Dicts, lists, tuples, numbers, NumPy scalars and arrays.
+
+    Returns
+    -------
+    object
+        The same structure, strict-JSON safe.
+    """
+    if isinstance(obj, dict):
+        return {str(k): strict_json(v) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [strict_json(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return strict_json(obj.tolist())
+    if isinstance(obj, np.generic):
+        obj = obj.item()
+    if isinstance(obj, float) and math.isnan(obj):
+        return None
+    if isinstance(obj, float) and math.isinf(obj):
+        return "inf" if obj > 0 else "-inf"  # e.g. trim=inf ("no trimming"), as configs write it
+    return obj
+
+
 def print_json(data: dict) -> None:
-    print(json.dumps(data, indent=2, default=json_default, allow_nan=True))
+    """Print ``data`` as strict JSON: never a bare ``NaN`` or ``Infinity`` token."""
+    print(json.dumps(strict_json(data), indent=2, default=json_default, allow_nan=False))
+
+
+def one_line(message: str) -> str:
+    """An error message as one safe terminal line: control characters escaped, length capped."""
+    from noisevar.io.table import echo
+
+    return echo(" ".join(str(message).splitlines()), MAX_LINE)
 
 
 def load_signal(

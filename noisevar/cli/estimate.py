@@ -7,6 +7,7 @@ from typing import Any
 
 from noisevar.cli._common import load_signal, print_json
 from noisevar.errors import NoisevarError
+from noisevar.io.table import echo
 from noisevar.params import ParamSpec
 
 
@@ -66,7 +67,8 @@ def _cmd_estimate(args: argparse.Namespace) -> int:
         print_json(out)
     else:
         lo, hi = result.ci95
-        print(f"file      {args.file}" + (f"  column {args.column}" if args.column else ""))
+        column = f"  column {echo(args.column)}" if args.column else ""
+        print(f"file      {echo(args.file, 200)}{column}")
         print(f"method    {result.method}")
         print(f"variance  {result.variance:.6g}   (95 % CI {lo:.6g} .. {hi:.6g})")
         print(f"std       {result.std:.6g}")
@@ -75,7 +77,7 @@ def _cmd_estimate(args: argparse.Namespace) -> int:
         if shown:
             print("params    " + ", ".join(f"{k}={v}" for k, v in shown.items()))
         for note in result.notes:
-            print(f"note      {note}")
+            print(f"note      {echo(note, 500)}")
     return 0
 
 

@@ -5,14 +5,18 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
+import numpy as np
+
 from noisevar.cli._common import load_signal, print_json
 
 
 def _cmd_scan_h(args: argparse.Namespace) -> int:
+    from noisevar.estimators._scale import scale_exponent
     from noisevar.filters.envelope import scan_h
 
     z, _ = load_signal(args.file, args.column)
-    scan = scan_h(z, window=args.window)
+    # the ratios do not depend on the units: an exact power-of-two rescale keeps squares finite
+    scan = scan_h(np.ldexp(z, scale_exponent(z)), window=args.window)
     if args.format == "json":
         print_json(scan.to_dict())
     else:

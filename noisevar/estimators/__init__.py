@@ -13,9 +13,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
-from noisevar.estimators import auto, difference, mle, redundant, somd
+from noisevar.estimators import _scale, auto, difference, mle, redundant, somd
 from noisevar.estimators._input import as_channels, as_signal, check_samples
-from noisevar.estimators._record import attach_diagnostics, estimate_record
+from noisevar.estimators._record import (
+    attach_diagnostics,
+    estimate_record,
+    rescale_diagnostics,
+)
 from noisevar.estimators.auto import auto_estimate, residual_sequence
 from noisevar.estimators.difference import HKT_SEQUENCES, sequence_efficiency
 from noisevar.estimators.params import PARAMS, MethodSpec
@@ -149,6 +153,22 @@ def _channels(spec: MethodSpec, z: NDArray, drop: bool, params: dict) -> list:
     return [_run(spec, r[None, :], [nt], params)[0] for r, nt in zip(rows, notes, strict=True)]
 
 
+def _records(
+    spec: MethodSpec, arr: NDArray, times: NDArray | None, drop: bool, used: dict
+) -> list[VarianceEstimate]:
+    """Every channel of ``arr`` (samples on the last axis) through ``spec``, with diagnostics."""
+    if arr.ndim == 1:
+        return [estimate_record(spec, arr, times, drop, used, _run_one)]
+    rows = arr.reshape(-1, arr.shape[-1])
+    if times is None and np.isfinite(arr).all():  # the method's vectorised path
+        results = _channels(spec, arr, drop, used)
+        return [
+            attach_diagnostics(spec, r, row, None, used, _run_one)
+            for r, row in zip(results, rows, strict=True)
+        ]
+    return [estimate_record(spec, row, times, drop, used, _run_one) for row in rows]
+
+
 def estimate(
     z: ArrayLike, method: str = "auto", axis: int = -1, t: ArrayLike | None = None, **params: Any
 ) -> VarianceEstimate | VarianceEstimates:
@@ -198,19 +218,15 @@ def estimate(
     used = {k: v for k, v in valid.items() if v is not None}
     arr = as_channels(z, axis)
     times = None if t is None else np.asarray(t)
-    if arr.ndim == 1:
-        results = [estimate_record(spec, arr, times, drop, used, _run_one)]
-    elif times is None and np.isfinite(arr).all():
-        results = _channels(spec, arr, drop, used)
-        rows = arr.reshape(-1, arr.shape[-1])
-        results = [
-            attach_diagnostics(spec, r, row, None, used, _run_one)
-            for r, row in zip(results, rows, strict=True)
-        ]
-    else:
-        rows = arr.reshape(-1, arr.shape[-1])
-        results = [estimate_record(spec, row, times, drop, used, _run_one) for row in rows]
+    # scale-safe: run on z 2**e (exact), scale the answer back (docstring of _scale)
+    e = _scale.scale_exponent(arr)
+    arr_s, used_s = (np.ldexp(arr, e), _scale.scale_params(used, e)) if e else (arr, used)
+    results = _records(spec, arr_s, times, drop, used_s)
+    _scale.unscale(results, e)
     for r in results:
+        _scale.check_answer(r)
+        if e:
+            rescale_diagnostics(r, e)
         r.params = {"method": method, **r.params}
     if arr.ndim == 1:
         return results[0]

@@ -8,11 +8,40 @@ from numpy.typing import ArrayLike, NDArray
 from noisevar.errors import NoisevarError
 
 
-def _as_float_array(z: ArrayLike) -> NDArray:
+def _refuse_kind(kind: str, what: str) -> None:
+    if kind == "c":
+        raise NoisevarError(
+            f"{what} is complex: give real samples (for example the real part, the imaginary "
+            "part or the magnitude, estimated separately)"
+        )
+    if kind in "Mm":
+        raise NoisevarError(
+            f"{what} holds dates or durations, not measurements: give numbers (times go in t)"
+        )
+
+
+def _as_float_array(z: ArrayLike, what: str = "the signal") -> NDArray:
+    """``z`` as floats; a masked array's masked samples become NaN (a gap)."""
+    if isinstance(z, np.ma.MaskedArray):
+        _refuse_kind(z.dtype.kind, what)
+        try:
+            return np.ma.getdata(z.astype(float).filled(np.nan))
+        except (TypeError, ValueError):
+            raise NoisevarError(f"{what} is not numeric: give an array of numbers") from None
+    dtype = getattr(z, "dtype", None)
+    if dtype is not None:
+        _refuse_kind(getattr(dtype, "kind", ""), what)
+        if str(dtype).startswith(("datetime", "timedelta", "period", "interval")):
+            _refuse_kind("M", what)
     try:
-        return np.asarray(z, dtype=float)
-    except (TypeError, ValueError):
-        raise NoisevarError("the signal is not numeric: give an array of numbers") from None
+        arr = np.asarray(z)
+    except (TypeError, ValueError, OverflowError):
+        raise NoisevarError(f"{what} is not numeric: give an array of numbers") from None
+    _refuse_kind(arr.dtype.kind, what)
+    try:
+        return arr.astype(float, copy=False)
+    except (TypeError, ValueError, OverflowError):
+        raise NoisevarError(f"{what} is not numeric: give an array of numbers") from None
 
 
 def check_samples(arr: NDArray, drop_nonfinite: bool = False) -> tuple[NDArray, list[str]]:
@@ -115,7 +144,7 @@ def check_times(t: ArrayLike, n: int) -> NDArray:
     -------
     ndarray of float, shape (n,)
     """
-    arr = _as_float_array(t)
+    arr = _as_float_array(t, "t")
     if arr.ndim != 1 or arr.size != n:
         raise NoisevarError(
             f"t must give one time per sample: {n} samples, but t has shape {arr.shape}"

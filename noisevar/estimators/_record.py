@@ -223,3 +223,31 @@ def attach_diagnostics(
     result.diagnostics = diag
     result.assumptions = check_assumptions(spec.assumes, diag)
     return result
+
+
+def rescale_diagnostics(result: VarianceEstimate, e: int) -> None:
+    """Diagnostics made on ``z * 2**e`` back in the record's units, verdict rewritten (in place).
+
+    Parameters
+    ----------
+    result : VarianceEstimate
+        Its variance, core and interval already in the record's units.
+    e : int
+        The exponent the record was scaled by.
+    """
+    diag = result.diagnostics
+    if diag is None:
+        return
+    prof = diag.level_profile
+    f = float(np.ldexp(1.0, -2 * e))
+    prof = replace(prof, variance=prof.variance * f, lo=prof.lo * f, hi=prof.hi * f)
+    lsb = None if diag.lsb is None else float(np.ldexp(diag.lsb, -e))
+    old = set(diag.notes)
+    diag = with_verdict(
+        replace(diag, level_profile=prof, lsb=lsb),
+        result.variance,
+        result.core_variance,
+        result.outlier_fraction,
+    )
+    result.notes = [n for n in result.notes if n not in old] + list(diag.notes)
+    result.diagnostics = diag

@@ -119,6 +119,12 @@ def _mad_diff(z: NDArray, notes: list[list[str]]) -> list[VarianceEstimate]:
     med = np.median(dz, axis=-1, keepdims=True)
     # σ = 1.4826 MAD(Δz) / sqrt(2)
     var = (np.median(np.abs(dz - med), axis=-1) * MAD_TO_SIGMA) ** 2 / 2.0
+    if np.any(var == 0):
+        raise NoisevarError(
+            "mad-diff: at least half of the first differences are equal (quantised or "
+            "repeated samples), so their median absolute deviation is 0 and says nothing "
+            "about the noise; use rice or hkt3 instead"
+        )
     dof = dz.shape[-1] * MAD_EFFICIENCY / 1.5
     return _estimates("mad-diff", var, dof, dz.shape[-1], z.shape[-1], {}, notes)
 

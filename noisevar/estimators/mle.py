@@ -7,8 +7,13 @@ import warnings
 import numpy as np
 from numpy.typing import NDArray
 
+from noisevar.errors import NoisevarError
 from noisevar.estimators.params import MethodSpec
 from noisevar.estimators.results import VarianceEstimate
+
+#: Noise variance, as a fraction of the variance of the differences, below which the fit
+#: sits at the boundary 0 (statsmodels' optimiser stops near 1e-12 there).
+BOUNDARY = 1e-8
 
 
 def mle_estimate(z: NDArray, trend: bool, notes: list[str]) -> VarianceEstimate:
@@ -35,8 +40,14 @@ def mle_estimate(z: NDArray, trend: bool, notes: list[str]) -> VarianceEstimate:
     level = "local linear trend" if trend else "local level"
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        model = UnobservedComponents(y, level=level)
-        res = model.fit(disp=False, maxiter=200)
+        try:
+            model = UnobservedComponents(y, level=level)
+            res = model.fit(disp=False, maxiter=200)
+        except (ValueError, ArithmeticError, np.linalg.LinAlgError) as exc:
+            first = (str(exc).splitlines() or [type(exc).__name__])[0][:200]
+            raise NoisevarError(
+                f"the {level} likelihood fit failed on this record ({first}): try another method"
+            ) from None
     retvals = getattr(res, "mle_retvals", None) or {}
     if not retvals.get("converged", True):
         notes.append(
@@ -46,6 +57,13 @@ def mle_estimate(z: NDArray, trend: bool, notes: list[str]) -> VarianceEstimate:
     names = list(model.param_names)
     idx = names.index("sigma2.irregular")
     var_scaled = float(res.params[idx])
+    # y has unit difference variance: a noise variance this far below it is the boundary 0
+    if not var_scaled > BOUNDARY:
+        raise NoisevarError(
+            f"the {level} likelihood puts the noise variance at its boundary 0 "
+            f"({var_scaled:.3g} of the differences' variance): the model does not identify "
+            "the noise on this record; use another method (rice, hkt3, auto)"
+        )
     var = var_scaled * scale**2
     try:
         se = float(res.bse[idx]) * scale**2

@@ -159,7 +159,7 @@ def strategy_param(strategy: str, param: str, help: str, name: str | None = None
 
 #: Parameters every experiment takes (``runs`` gets the experiment's default).
 RUNS = ParamSpec("runs", "int", None, "Monte Carlo runs", check=at_least("--runs", 1))
-SEED = ParamSpec("seed", "int", 0)
+SEED = ParamSpec("seed", "int", 0, "random seed", lo=0, hi=2**32 - 1, lo_closed=True)
 #: Worker processes, for the experiments that run one filter per process.
 JOBS = ParamSpec(
     "jobs",

@@ -10,14 +10,22 @@ Every failure raises :class:`~noisevar.errors.NoisevarError` with one message
 that says what is wrong and where (row, column, line), never a parser
 traceback.
 
+Hostile files are refused early: a file over :data:`~noisevar.io.load.MAX_BYTES` before
+it is read, a table over :data:`~noisevar.io.text.MAX_COLUMNS` columns before it is
+parsed; a file given by path is streamed (text) or memory-mapped (``.npy``). Fields
+echoed in messages are escaped and shortened (:func:`echo`).
+
 Formats
 -------
 CSV / TSV / whitespace-separated text
     The delimiter is detected (tab, comma, semicolon, else whitespace). The
     first row is a header when any of its fields is not a number; otherwise
     the columns are named ``col0, col1, ...``. Lines starting with ``#`` are
-    comments. A cell that is not a number is refused with its row and column;
-    an empty cell or ``NaN`` becomes NaN (refused later by
+    comments. Unquoted thousands separators in a one-column table (``4,867.69``) and a
+    decimal comma with ``;`` or tab separators (``1,5`` or ``1.234,5``) are recognised.
+    Integers beyond 2**53 are refused (precision lost), except in a time column, which is
+    then taken relative to its first value. A cell that is not a number is refused with
+    its row and column; an empty cell or ``NaN`` becomes NaN (refused later by
     :func:`pick_column` for the column actually used, unless asked to drop).
     A column named like a time (``t``, ``time``, ``time_s``, ``timestamp``,
     ``seconds``...) gives the sample period (median step); ISO date-times in
@@ -40,11 +48,14 @@ from noisevar.io.load import load_table, pick_column
 from noisevar.io.nmea import geodetic_to_enu
 from noisevar.io.table import (
     NMEA_EXTENSIONS,
+    SAMPLE_PERIOD_RANGE,
     TABLE_EXTENSIONS,
     TIME_NAMES,
     UNIFORM_TOLERANCE,
     LoadedTable,
     content_digest,
+    drop_nonfinite_rows,
+    echo,
     signal_summary,
     table_from_arrays,
 )
@@ -54,8 +65,11 @@ __all__ = [
     "TABLE_EXTENSIONS",
     "TIME_NAMES",
     "UNIFORM_TOLERANCE",
+    "SAMPLE_PERIOD_RANGE",
     "LoadedTable",
     "content_digest",
+    "drop_nonfinite_rows",
+    "echo",
     "geodetic_to_enu",
     "load_table",
     "pick_column",

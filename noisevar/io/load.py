@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import codecs
 import os
 from pathlib import Path
 
@@ -11,11 +12,17 @@ from numpy.typing import NDArray
 from noisevar.errors import NoisevarError
 from noisevar.io.nmea import _looks_like_nmea, _read_nmea
 from noisevar.io.npy import _read_npy
-from noisevar.io.table import _NPY_MAGIC, NMEA_EXTENSIONS, LoadedTable
-from noisevar.io.text import _read_text_table
+from noisevar.io.table import _NPY_MAGIC, NMEA_EXTENSIONS, LoadedTable, echo
+from noisevar.io.text import TextSource, _read_text_table
+
+#: Largest file :func:`load_table` reads unless told otherwise (bytes); checked before reading.
+MAX_BYTES = 1 << 30
+#: Bytes read to sniff the format and the header of a file given by path.
+HEAD_BYTES = 1 << 20
 
 
-def _check_binary(raw: bytes, name: str) -> str:
+def _decode(raw: bytes, name: str, final: bool = True) -> tuple[str, str]:
+    """Text of ``raw`` and its encoding (UTF-8, else Latin-1 for mostly printable text)."""
     head = raw[:65536]
     if b"\x00" in head:
         raise NoisevarError(
@@ -23,7 +30,9 @@ def _check_binary(raw: bytes, name: str) -> str:
             "table, an NMEA 0183 log, or a .npy array"
         )
     try:
-        text = raw.decode("utf-8-sig")
+        # a head cut inside a multi-byte character is still UTF-8
+        dec = codecs.getincrementaldecoder("utf-8-sig")()
+        return dec.decode(raw, final=final), "utf-8-sig"
     except UnicodeDecodeError:
         text = raw.decode("latin-1")
         ctrl = sum(1 for ch in text[:65536] if ord(ch) < 32 and ch not in "\r\n\t")
@@ -32,26 +41,49 @@ def _check_binary(raw: bytes, name: str) -> str:
                 f"{name} looks like a binary file (not UTF-8 text): give a CSV/TSV text table, "
                 "an NMEA 0183 log, or a .npy array"
             ) from None
-    return text
+    return text, "latin-1"
 
 
-def _read_source(source: str | os.PathLike | bytes, name: str | None) -> tuple[bytes, str]:
-    if isinstance(source, (bytes, bytearray, memoryview)):
-        return bytes(source), name or "upload"
+def _open_path(source: str | os.PathLike, name: str | None) -> tuple[Path, str, int]:
+    """The path, its display name and its size; one clear error when it cannot be read."""
     path = Path(source)
-    if not path.is_file():
-        raise NoisevarError(f"no such file: {path}")
+    shown = echo(name or path.name)
     try:
-        return path.read_bytes(), name or path.name
+        if not path.is_file():
+            raise NoisevarError(f"no such file: {echo(str(path))}")
+        return path, name or path.name, path.stat().st_size
     except OSError as exc:
-        raise NoisevarError(f"cannot read {path}: {exc.strerror or exc}") from None
+        raise NoisevarError(f"cannot read {shown}: {exc.strerror or exc}") from None
+
+
+def _check_size(size: int, name: str, max_bytes: int | None) -> None:
+    if max_bytes is not None and size > max_bytes:
+        raise NoisevarError(
+            f"{echo(name)} is {size / 1e6:,.1f} MB, over the {max_bytes / 1e6:,.0f} MB limit: "
+            "give a shorter record or raise the limit"
+        )
+
+
+def _read_head(path: Path, name: str) -> bytes:
+    try:
+        with path.open("rb") as fh:
+            return fh.read(HEAD_BYTES)
+    except OSError as exc:
+        raise NoisevarError(f"cannot read {echo(name)}: {exc.strerror or exc}") from None
+
+
+def _read_all(path: Path, name: str) -> bytes:
+    try:
+        return path.read_bytes()
+    except OSError as exc:
+        raise NoisevarError(f"cannot read {echo(name)}: {exc.strerror or exc}") from None
 
 
 def load_table(
     source: str | os.PathLike | bytes,
     name: str | None = None,
     *,
-    max_bytes: int | None = None,
+    max_bytes: int | None = MAX_BYTES,
 ) -> LoadedTable:
     """Read a CSV/TSV text table, a ``.npy`` array or an NMEA 0183 log.
 
@@ -63,8 +95,9 @@ def load_table(
         File name; its extension picks the format (``.npy``; ``.nmea`` and
         friends; anything else is sniffed: ``.npy`` magic bytes, NMEA
         sentences, else a text table). Default: the path's name.
-    max_bytes : int, optional
-        Refuse larger files with a clear message.
+    max_bytes : int or None
+        Refuse larger files (checked before reading); default :data:`MAX_BYTES`;
+        None: no limit.
 
     Returns
     -------
@@ -74,7 +107,13 @@ def load_table(
     ------
     NoisevarError
         Missing, empty, binary or malformed files (with the line and column),
-        NMEA checksum errors, pickled ``.npy`` arrays, files over ``max_bytes``.
+        NMEA checksum errors, pickled ``.npy`` arrays, files over ``max_bytes``,
+        tables over :data:`~noisevar.io.text.MAX_COLUMNS` columns.
+
+    Notes
+    -----
+    A file given by path is never read whole into memory before it is parsed: a
+    ``.npy`` array is memory-mapped and a text table streamed by the parser.
 
     Examples
     --------
@@ -82,25 +121,36 @@ def load_table(
     >>> tab.data_columns, tab.sample_period
     (['x'], 0.5)
     """
-    raw, name = _read_source(source, name)
-    if max_bytes is not None and len(raw) > max_bytes:
-        raise NoisevarError(
-            f"{name} is {len(raw) / 1e6:.1f} MB, over the {max_bytes / 1e6:.0f} MB limit: "
-            "give a shorter record or raise the limit"
-        )
-    if len(raw) == 0 or not raw.strip():
-        raise NoisevarError(f"{name} is empty")
+    if isinstance(source, (bytes, bytearray, memoryview)):
+        raw = bytes(source)
+        name = name or "upload"
+        _check_size(len(raw), name, max_bytes)
+        return _parse(raw, name, None, len(raw))
+    path, name, size = _open_path(source, name)
+    _check_size(size, name, max_bytes)
+    return _parse(_read_head(path, name), name, path, size)
+
+
+def _parse(head: bytes, name: str, path: Path | None, size: int) -> LoadedTable:
+    """Dispatch on the format; ``head`` is the whole file when ``path`` is None."""
+    if size == 0 or not head.strip():
+        raise NoisevarError(f"{echo(name)} is empty")
     lower = name.lower()
-    if raw.startswith(_NPY_MAGIC) or lower.endswith(".npy"):
-        if not raw.startswith(_NPY_MAGIC):
-            raise NoisevarError(f"{name} is not a valid .npy file (no NumPy header)")
-        return _read_npy(raw, name)
+    if head.startswith(_NPY_MAGIC) or lower.endswith(".npy"):
+        if not head.startswith(_NPY_MAGIC):
+            raise NoisevarError(f"{echo(name)} is not a valid .npy file (no NumPy header)")
+        return _read_npy(path if path is not None else head, name)
     if lower.endswith(".npz"):
-        raise NoisevarError(f"{name}: .npz archives are not supported; save one array as .npy")
-    text = _check_binary(raw, name)
+        raise NoisevarError(
+            f"{echo(name)}: .npz archives are not supported; save one array as .npy"
+        )
+    whole = path is None or size <= len(head)
+    text, encoding = _decode(head, name, final=whole)
     if lower.endswith(NMEA_EXTENSIONS) or _looks_like_nmea(text):
+        if not whole:
+            text = _decode(_read_all(path, name), name)[0]
         return _read_nmea(text, name)
-    return _read_text_table(text, name)
+    return _read_text_table(text if whole else TextSource(path, text, encoding), name)
 
 
 def pick_column(
@@ -129,24 +179,32 @@ def pick_column(
     """
     data_cols = table.data_columns
     if not data_cols:
-        raise NoisevarError(f"{table.name} has no data column (only a time column)")
+        raise NoisevarError(f"{echo(table.name)} has no data column (only a time column)")
     if column is None:
         cname = data_cols[0]
     elif isinstance(column, (int, np.integer)) and not isinstance(column, bool):
         if not 0 <= int(column) < len(data_cols):
             raise NoisevarError(
-                f"column index {column} is out of range: {table.name} has {len(data_cols)} "
-                f"data columns ({', '.join(data_cols)})"
+                f"column index {column} is out of range: {echo(table.name)} has "
+                f"{len(data_cols)} data columns"
             )
         cname = data_cols[int(column)]
     else:
         cname = str(column)
         if cname not in table.columns:
-            if cname.isdigit() and int(cname) < len(data_cols):
+            if (
+                cname.isascii()
+                and cname.isdigit()
+                and len(cname) < 10
+                and int(cname) < len(data_cols)
+            ):
                 cname = data_cols[int(cname)]
             else:
+                cols = list(table.columns)
+                listed = ", ".join(echo(c, 40) for c in cols[:20])
+                more = f" and {len(cols) - 20} more" if len(cols) > 20 else ""
                 raise NoisevarError(
-                    f"no column {column!r} in {table.name}; columns: {', '.join(table.columns)}"
+                    f"no column {echo(column)!r} in {echo(table.name)}; columns: {listed}{more}"
                 )
     z = np.asarray(table.columns[cname], dtype=float)
     bad = ~np.isfinite(z)
@@ -154,7 +212,8 @@ def pick_column(
         if not drop_nonfinite:
             first = int(np.argmax(bad))
             raise NoisevarError(
-                f"column {cname!r} of {table.name} has {int(bad.sum())} empty or NaN values "
+                f"column {echo(cname)!r} of {echo(table.name)} has {int(bad.sum())} empty or NaN "
+                "values "
                 f"(the first at data row {first + 1}): clean the file, or drop them "
                 "(CLI: --drop-nonfinite)"
             )

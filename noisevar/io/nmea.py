@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import datetime
 import re
 from dataclasses import dataclass, field
 from typing import Any
@@ -124,6 +125,30 @@ def _fill(rec: dict[str, Any], kind: str, msg: Any) -> bool:
     return True
 
 
+def _fill_epoch(scan: _Scan, line_no: int, kind: str, msg: Any, ts: datetime.time) -> None:
+    """Add a sentence's fix to its epoch; a malformed or impossible position is skipped."""
+    epoch = scan.epoch(ts)
+    rec: dict[str, Any] = {}
+    try:
+        if not _fill(rec, kind, msg):
+            scan.n_invalid += 1
+            return
+    except (TypeError, ValueError, AttributeError):
+        scan.parse_errors.append(f"line {line_no} has a malformed field")
+        return
+    if not (abs(rec["lat"]) <= 90.0 and abs(rec["lon"]) <= 180.0):
+        scan.parse_errors.append(
+            f"line {line_no} has an impossible position (latitude {rec['lat']:.6g}, "
+            f"longitude {rec['lon']:.6g})"
+        )
+        return
+    if kind == "GGA":
+        epoch.update(rec)
+    else:
+        for key, val in rec.items():
+            epoch[key] = val if key in ("speed", "course") else epoch.get(key, val)
+
+
 def _scan(text: str) -> _Scan:
     scan = _Scan()
     for line_no, ln in enumerate(text.splitlines(), start=1):
@@ -140,16 +165,18 @@ def _scan(text: str) -> _Scan:
         msg = _parse_sentence(scan, line_no, s)
         if msg is None:
             continue
-        ts = getattr(msg, "timestamp", None)
+        try:
+            ts = msg.timestamp
+        except (AttributeError, TypeError, ValueError):
+            scan.parse_errors.append(f"line {line_no} has an invalid time")
+            continue
         if ts is None:
             scan.n_invalid += 1
             continue
-        rec = scan.epoch(ts)
-        try:
-            if not _fill(rec, kind, msg):
-                scan.n_invalid += 1
-        except (TypeError, ValueError):
-            scan.parse_errors.append(f"line {line_no} has a malformed field")
+        if not isinstance(ts, datetime.time):
+            scan.parse_errors.append(f"line {line_no} has an invalid time")
+            continue
+        _fill_epoch(scan, line_no, kind, msg, ts)
     return scan
 
 

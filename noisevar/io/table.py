@@ -20,6 +20,9 @@ TABLE_EXTENSIONS = (".csv", ".tsv", ".txt", ".dat", ".tab")
 NMEA_EXTENSIONS = (".nmea", ".nma", ".gps", ".log", ".ubx.nmea")
 #: Relative spread of the time steps above which the sampling counts as not uniform.
 UNIFORM_TOLERANCE = 0.01
+#: Sample periods (seconds) taken from a time column; a step outside is a unit mistake
+#: (milliseconds, nanoseconds) more often than a real rate.
+SAMPLE_PERIOD_RANGE = (1e-9, 1e6)
 _NPY_MAGIC = b"\x93NUMPY"
 _NA_TOKENS = ["", "nan", "NaN", "NAN", "na", "NA", "n/a", "N/A", "null", "NULL", "None", "-"]
 
@@ -84,6 +87,36 @@ class LoadedTable:
         return buf.getvalue()
 
 
+_CONTROL = re.compile(r"[\x00-\x1f\x7f-\x9f]")
+#: Characters of a file's field (a name, a cell) echoed in a message; the rest is elided.
+ECHO_LIMIT = 60
+
+
+def echo(value: object, limit: int = ECHO_LIMIT) -> str:
+    """A field of a file, safe to echo in a message: control characters escaped, truncated.
+
+    ANSI escape sequences and other control characters become ``\\x1b``-style escapes
+    (a file cannot drive the terminal), and a long field is cut with its length noted.
+
+    Parameters
+    ----------
+    value : object
+        The field (converted with ``str``).
+    limit : int
+        Characters kept.
+
+    Returns
+    -------
+    str
+    """
+    text = str(value)
+    more = len(text) - limit
+    if more > 0:
+        text = text[:limit]
+    text = _CONTROL.sub(lambda m: f"\\x{ord(m.group()):02x}", text)
+    return f"{text}... ({more:,} more characters)" if more > 0 else text
+
+
 def content_digest(data: bytes | ArrayLike) -> str:
     """Short content hash of bytes or of an array's values (a cache key).
 
@@ -125,6 +158,13 @@ def _period_from_time(t: NDArray, notes: list[str]) -> float | None:
         )
         return None
     period = float(f"{float(np.median(dt)):.12g}")  # 0.1, not 0.09999999999999787
+    lo, hi = SAMPLE_PERIOD_RANGE
+    if not lo <= period <= hi:
+        notes.append(
+            f"the time column's step ({period:.4g}) is outside {lo:g} s to {hi:g} s: is it in "
+            "another unit (milliseconds, nanoseconds)? Sample period not taken from it; set T"
+        )
+        return None
     spread = float((dt.max() - dt.min()) / period)
     if spread > UNIFORM_TOLERANCE:
         notes.append(
@@ -132,6 +172,40 @@ def _period_from_time(t: NDArray, notes: list[str]) -> float | None:
             f"(median {period:.4g} s); the estimators assume uniform sampling"
         )
     return period
+
+
+def drop_nonfinite_rows(table: LoadedTable) -> LoadedTable:
+    """The table without the rows that have an empty, NaN or infinite cell in any column.
+
+    Parameters
+    ----------
+    table : LoadedTable
+
+    Returns
+    -------
+    LoadedTable
+        A new table (the same one when every cell is finite), with a note saying how many
+        rows were dropped; the sample period is kept.
+    """
+    if not table.columns:
+        return table
+    keep = np.logical_and.reduce([np.isfinite(c) for c in table.columns.values()])
+    dropped = int(keep.size - keep.sum())
+    if dropped == 0:
+        return table
+    if dropped == keep.size:
+        raise NoisevarError(f"{echo(table.name)}: every row has an empty or NaN cell")
+    cols = {k: v[keep] for k, v in table.columns.items()}
+    first = int(np.argmin(keep)) + 1
+    note = f"dropped {dropped:,} rows with empty or NaN cells (the first is data row {first})"
+    return LoadedTable(
+        table.name,
+        cols,
+        table.kind,
+        table.time_column,
+        table.sample_period,
+        [*table.notes, note],
+    )
 
 
 def signal_summary(z: ArrayLike, sample_period: float | None = None) -> dict[str, float]:

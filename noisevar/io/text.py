@@ -1,17 +1,49 @@
-"""CSV / TSV / whitespace-separated text tables."""
+"""CSV / TSV / whitespace-separated text tables (decimal point or decimal comma)."""
 
 from __future__ import annotations
 
 import csv
 import io
 import re
+from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
 from noisevar.errors import NoisevarError
-from noisevar.io.table import _NA_TOKENS, LoadedTable, _is_time_name, _period_from_time
+from noisevar.io.table import _NA_TOKENS, LoadedTable, _is_time_name, _period_from_time, echo
+
+#: Most columns a text table may have (a wider header is refused before parsing).
+MAX_COLUMNS = 1000
+#: Integers above this magnitude are not all exactly representable as float64.
+EXACT_INT = 2**53
+_THOUSANDS = re.compile(r"^[+-]?\d{1,3}(,\d{3})+(\.\d*)?$")
+_DECIMAL_COMMA = re.compile(r"^[+-]?\d*,\d+([eE][+-]?\d+)?$")
+_EURO_THOUSANDS = re.compile(r"^[+-]?\d{1,3}(\.\d{3})+(,\d*)?$")
+
+
+@dataclass(frozen=True)
+class TextSource:
+    """A text table on disk: its path, the decoded head and the encoding (streamed, not read)."""
+
+    path: Path
+    head: str
+    encoding: str
+
+    def text(self) -> str:
+        """The whole file (only for error messages that need a line number)."""
+        return self.path.read_bytes().decode(self.encoding, errors="replace")
+
+
+@dataclass(frozen=True)
+class _Format:
+    """How the table is written: delimiter, decimal mark, thousands separator."""
+
+    delim: str | None
+    decimal: str = "."
+    thousands: str | None = None
 
 
 def _sniff_delimiter(lines: list[str]) -> str | None:
@@ -34,10 +66,40 @@ def _split(line: str, delim: str | None) -> list[str]:
     return next(csv.reader([line], delimiter=delim))
 
 
-def _is_number(cell: str) -> bool:
+def _cells(rows: list[str], delim: str | None) -> list[str]:
+    return [c.strip().strip('"') for ln in rows for c in _split(ln, delim) if c.strip()]
+
+
+def _sniff_format(lines: list[str]) -> _Format:
+    """Delimiter and number format from the first lines (header included)."""
+    data = lines[1:] or lines
+    whole = [ln.strip().strip('"') for ln in data]
+    one_name = len(lines) > 1 and "," not in lines[0] and not _is_number(lines[0])
+    if one_name and all(_THOUSANDS.match(c) for c in whole):
+        return _Format("\t" if any("\t" in ln for ln in lines) else None, ".", ",")
+    delim = _sniff_delimiter(lines)
+    if delim == ",":
+        return _Format(delim)
+    cells = _cells(data, delim)
+    euro = any(_EURO_THOUSANDS.match(c) and "," in c for c in cells)
+    if (euro or any(_DECIMAL_COMMA.match(c) for c in cells)) and not any(
+        re.match(r"^[+-]?\d*\.\d+([eE][+-]?\d+)?$", c) for c in cells
+    ):
+        return _Format(delim, ",", "." if euro else None)
+    if any(_THOUSANDS.match(c) for c in cells):
+        return _Format(delim, ".", ",")
+    return _Format(delim)
+
+
+def _is_number(cell: str, fmt: _Format | None = None) -> bool:
     s = cell.strip()
     if s == "":
         return True
+    if fmt is not None:
+        if fmt.thousands:
+            s = s.replace(fmt.thousands, "")
+        if fmt.decimal != ".":
+            s = s.replace(fmt.decimal, ".")
     try:
         float(s)
     except ValueError:
@@ -46,13 +108,18 @@ def _is_number(cell: str) -> bool:
 
 
 def _unique_names(raw: list[str]) -> list[str]:
+    """Column names, empty ones filled and repeats suffixed ``_2, _3``; linear time."""
     names: list[str] = []
+    taken: set[str] = set()
+    next_k: dict[str, int] = {}
     for i, r in enumerate(raw):
         base = r.strip().strip('"').strip() or f"col{i}"
-        candidate, k = base, 1
-        while candidate in names:
+        candidate, k = base, next_k.get(base, 1)
+        while candidate in taken:
             k += 1
             candidate = f"{base}_{k}"
+        next_k[base] = k
+        taken.add(candidate)
         names.append(candidate)
     return names
 
@@ -61,7 +128,7 @@ def _parse_time_strings(values: list[str]) -> NDArray | None:
     """ISO date-times to seconds from the first; None when they are not date-times."""
     try:
         t = np.array(values, dtype="datetime64[ns]")
-    except (ValueError, TypeError):
+    except (ValueError, TypeError, OverflowError):
         return None
     if np.any(np.isnat(t)):
         return None
@@ -85,55 +152,86 @@ def _data_line_number(text: str, header_line: int, row: int) -> int:
     return header_line + row + 1
 
 
-def _read_text_table(text: str, name: str) -> LoadedTable:
-    head: list[tuple[int, str]] = []
-    for i, ln in enumerate(text[:1_000_000].splitlines(), start=1):
-        if _meaningful(ln):
-            head.append((i, ln))
-            if len(head) >= 60:
-                break
-    if not head:
-        raise NoisevarError(f"{name} is empty: no data rows (only blank or # comment lines)")
-    delim = _sniff_delimiter([ln for _, ln in head])
-    first = _split(head[0][1], delim)
-    header = not all(_is_number(c) for c in first)
+def _head_lines(head: str, name: str, complete: bool) -> list[tuple[int, str]]:
+    """The first meaningful lines (number, text); refuses a first line too long to sniff."""
+    lines = head[:1_000_000].splitlines()
+    if not complete and len(lines) <= 1 and len(head) >= 1_000_000:
+        raise NoisevarError(
+            f"{echo(name)}: the first line is longer than 1 MB: this is not a table of "
+            f"measurements (at most {MAX_COLUMNS} columns are read)"
+        )
+    if not complete and lines:
+        lines = lines[:-1]  # the last line of a head may be cut
+    out = [(i, ln) for i, ln in enumerate(lines, start=1) if _meaningful(ln)]
+    if not out:
+        raise NoisevarError(f"{echo(name)} is empty: no data rows (only blank or # comment lines)")
+    return out[:60]
+
+
+def _check_width(name: str, fields: list[str], head: list[tuple[int, str]], fmt: _Format) -> None:
+    """Refuse too many columns, and rows whose field count differs from the first row's."""
+    if len(fields) > MAX_COLUMNS:
+        raise NoisevarError(
+            f"{echo(name)} has {len(fields):,} columns, over the limit of {MAX_COLUMNS}: "
+            "give a table of at most that many signals"
+        )
+    for line_no, ln in head[1:]:
+        n = len(_split(ln, fmt.delim)) if fmt.thousands != "," or fmt.delim else 1
+        if n > len(fields):  # fewer fields are empty cells (NaN)
+            hint = (
+                " (numbers with unquoted thousands separators, like 4,867.69, split a "
+                "comma-separated row: remove the separators or quote the numbers)"
+                if fmt.delim == ","
+                else ""
+            )
+            raise NoisevarError(
+                f"{echo(name)}: line {line_no} has {n} fields but line {head[0][0]} has "
+                f"{len(fields)}: every row must have the same columns{hint}"
+            )
+
+
+def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
+    text = src if isinstance(src, str) else src.head
+    head = _head_lines(text, name, isinstance(src, str))
+    fmt = _sniff_format([ln for _, ln in head])
+    first = _split(head[0][1], fmt.delim) if fmt.thousands != "," or fmt.delim else [head[0][1]]
+    _check_width(name, first, head, fmt)
+    header = not all(_is_number(c, fmt) for c in first)
     if header:
         names = _unique_names(first)
         header_line = head[0][0]
         if len(head) < 2:
-            raise NoisevarError(f"{name} has a header but no data rows")
+            raise NoisevarError(f"{echo(name)} has a header but no data rows")
     else:
         names = [f"col{i}" for i in range(len(first))]
         header_line = head[0][0] - 1
-    ncol = len(names)
     time_idx = next((i for i, c in enumerate(names) if _is_time_name(c)), None)
-    columns = _parse_body(text, header_line, names, delim, name, time_idx)
-    notes: list[str] = []
-    kind = "tsv" if delim == "\t" else ("csv" if delim else "text")
+    columns, notes = _parse_body(src, header_line, names, fmt, name, time_idx)
+    if fmt.decimal == ",":
+        notes.insert(0, "read with a decimal comma (1,5 = 1.5)")
+    kind = "tsv" if fmt.delim == "\t" else ("csv" if fmt.delim else "text")
     time_col = names[time_idx] if time_idx is not None else None
     period = _period_from_time(columns[time_col], notes) if time_col else None
     empty = [c for c in names if np.all(np.isnan(columns[c]))]
-    if len(empty) == ncol:
-        raise NoisevarError(f"{name} has no numbers: every cell is empty or NaN")
+    if len(empty) == len(names):
+        raise NoisevarError(f"{echo(name)} has no numbers: every cell is empty or NaN")
     for c in empty:
-        notes.append(f"column {c!r} is empty")
+        notes.append(f"column {echo(c)!r} is empty")
     return LoadedTable(name, columns, kind, time_col, period, notes)
 
 
-def _parse_body(
-    text: str,
-    header_line: int,
-    names: list[str],
-    delim: str | None,
-    name: str,
-    time_idx: int | None,
-) -> dict[str, NDArray]:
-
-    ncol = len(names)
-    sep = r"\s+" if delim is None else delim
+def _read_frame(
+    src: str | TextSource, header_line: int, ncol: int, fmt: _Format, name: str
+) -> pd.DataFrame:
+    """The table body parsed by pandas (streamed from disk for a :class:`TextSource`)."""
+    sep = r"\s+" if fmt.delim is None else fmt.delim
+    if fmt.thousands == "," and fmt.delim is None:
+        sep = "\t"  # one column of 4,867.69: no delimiter inside a row
     try:
-        df = pd.read_csv(
-            io.StringIO(text),
+        return pd.read_csv(
+            io.StringIO(src) if isinstance(src, str) else src.path,
+            encoding=None if isinstance(src, str) else src.encoding,
+            encoding_errors="replace",
             sep=sep,
             header=None,
             names=list(range(ncol)),
@@ -147,41 +245,95 @@ def _parse_body(
             on_bad_lines="error",
             quotechar='"',
             index_col=False,
+            decimal=fmt.decimal,
+            thousands=fmt.thousands,
         )
     except Exception as exc:  # noqa: BLE001 - pandas raises several parser types
         msg = str(exc)
         m = re.search(r"Expected (\d+) fields in line (\d+), saw (\d+)", msg)
         if m:
             raise NoisevarError(
-                f"{name}: line {m.group(2)} has {m.group(3)} fields but the "
+                f"{echo(name)}: line {m.group(2)} has {m.group(3)} fields but the "
                 f"table has {m.group(1)}: every row must have the same columns"
             ) from None
         if "No columns to parse" in msg:
-            raise NoisevarError(f"{name} has a header but no data rows") from None
+            raise NoisevarError(f"{echo(name)} has a header but no data rows") from None
         first = msg.splitlines()[0] if msg else type(exc).__name__
-        raise NoisevarError(f"{name}: cannot parse the table ({first})") from None
+        raise NoisevarError(f"{echo(name)}: cannot parse the table ({echo(first, 200)})") from None
+
+
+def _integer_column(col: pd.Series, cname: str, name: str, is_time: bool) -> NDArray | None:
+    """An integer column as floats; times beyond 2**53 as offsets from the first (exact)."""
+    arr = col.to_numpy()
+    if arr.size == 0 or (arr.max() <= EXACT_INT and arr.min() >= -EXACT_INT):
+        return None  # float conversion is exact: the ordinary path
+    if is_time:
+        # t - t[0] in integers (exact), then float
+        rel = [int(v) - int(arr[0]) for v in arr]
+        return np.asarray(rel, dtype=float)
+    raise NoisevarError(
+        f"{echo(name)}: column {echo(cname)!r} holds integers beyond 2**53 (up to "
+        f"{float(max(abs(int(arr.max())), abs(int(arr.min())))):.3g}), which floating point "
+        "cannot hold exactly (precision lost): subtract an offset (e.g. the first value) first"
+    )
+
+
+def _parse_body(
+    src: str | TextSource,
+    header_line: int,
+    names: list[str],
+    fmt: _Format,
+    name: str,
+    time_idx: int | None,
+) -> tuple[dict[str, NDArray], list[str]]:
+    df = _read_frame(src, header_line, len(names), fmt, name)
     if len(df) == 0:
-        raise NoisevarError(f"{name} has a header but no data rows")
+        raise NoisevarError(f"{echo(name)} has a header but no data rows")
     columns: dict[str, NDArray] = {}
+    notes: list[str] = []
     for i, cname in enumerate(names):
         col = df[i]
+        if pd.api.types.is_integer_dtype(col.dtype):
+            exact = _integer_column(col, cname, name, i == time_idx)
+            if exact is not None:
+                columns[cname] = exact
+                notes.append(f"time column {echo(cname)!r} taken relative to its first value")
+                continue
         if pd.api.types.is_numeric_dtype(col.dtype) and not pd.api.types.is_bool_dtype(col.dtype):
             # a writable copy: pandas may hand out read-only views (copy-on-write), which
             # some numerical libraries (PyWavelets) refuse
             columns[cname] = np.array(col.to_numpy(dtype=float, na_value=np.nan), dtype=float)
             continue
-        coerced = pd.to_numeric(col, errors="coerce")
-        bad = (coerced.isna() & col.notna()).to_numpy()
-        if bad.any():
-            if i == time_idx:
-                times = _parse_time_strings([str(v).strip() for v in col.tolist()])
-                if times is not None:
-                    columns[cname] = times
-                    continue
-            j = int(np.argmax(bad))
-            raise NoisevarError(
-                f"{name}: line {_data_line_number(text, header_line, j)}, column {cname!r}: "
-                f"{str(col.iloc[j])!r} is not a number (only numeric columns can be loaded)"
-            )
-        columns[cname] = np.array(coerced.to_numpy(dtype=float, na_value=np.nan), dtype=float)
-    return columns
+        columns[cname] = _text_column(col, cname, src, header_line, name, i == time_idx)
+    return columns, notes
+
+
+def _text_column(
+    col: pd.Series,
+    cname: str,
+    src: str | TextSource,
+    header_line: int,
+    name: str,
+    is_time: bool,
+) -> NDArray:
+    """A column pandas left as text: ISO times, or a clear error on the first bad cell."""
+    if any(isinstance(v, int) and not isinstance(v, bool) for v in col.head(100)):
+        raise NoisevarError(
+            f"{echo(name)}: column {echo(cname)!r} holds integers of more than 19 digits, "
+            "which floating point cannot hold exactly (precision lost): subtract an offset first"
+        )
+    coerced = pd.to_numeric(col, errors="coerce")
+    bad = (coerced.isna() & col.notna()).to_numpy()
+    if bad.any():
+        if is_time:
+            times = _parse_time_strings([str(v).strip() for v in col.tolist()])
+            if times is not None:
+                return times
+        j = int(np.argmax(bad))
+        text = src if isinstance(src, str) else src.text()
+        raise NoisevarError(
+            f"{echo(name)}: line {_data_line_number(text, header_line, j)}, column "
+            f"{echo(cname)!r}: {echo(str(col.iloc[j]))!r} is not a number (only numeric "
+            "columns can be loaded)"
+        )
+    return np.array(coerced.to_numpy(dtype=float, na_value=np.nan), dtype=float)

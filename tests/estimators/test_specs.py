@@ -227,7 +227,7 @@ def test_a_new_estimator_is_one_spec_and_one_registration():
     def func(z, notes, scale=1.0):
         v = scale * np.var(z, axis=-1)
         return [
-            VarianceEstimate("sample-var", float(x), (0.0, 0.0), N, N, 1.0, {"scale": scale}, nt)
+            VarianceEstimate("sample-var", float(x), (x, x), N, N, 1.0, {"scale": scale}, nt)
             for x, nt in zip(v, notes, strict=True)
         ]
 

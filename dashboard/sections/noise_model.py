@@ -1,0 +1,188 @@
+"""The Noise model page's parts: Allan deviation, IEEE-952 terms, Kalibr, simulation (§E4)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+import streamlit as st
+
+from dashboard.state import LoadedSignal, initial
+from dashboard.widgets import figure_downloads, guarded, show_figure
+from noisevar.figures.noise_model import allan_figure
+from noisevar.noise_model import AllanResult, InertialNoise, allan, inertial_noise
+from noisevar.noise_model.allan import DATA_KINDS, KINDS
+from noisevar.noise_model.kalibr import kalibr_imu
+from noisevar.noise_model.simulate import simulate_inertial
+
+_KIND_LABELS = {"oadev": "Overlapping ADEV", "mdev": "Modified ADEV", "hdev": "Overlapping HDEV"}
+_TERM_FORMATS = {"value": "%.4g", "low": "%.4g", "high": "%.4g", "per sample": "%.4g"}
+
+
+@dataclass(frozen=True)
+class NoiseModelSettings:
+    """The page's choices."""
+
+    rate: float
+    data: str
+    kind: str
+    unit: str
+
+
+def settings_form(sig: LoadedSignal) -> NoiseModelSettings:
+    """Sample rate (default: the signal's), phase or rate data, deviation, unit."""
+    default_rate = 1.0 / sig.sample_period if sig.sample_period else 1.0
+    c1, c2, c3, c4 = st.columns(4)
+    rate = c1.number_input(
+        "Sample rate (Hz)",
+        min_value=0.0,
+        format="%g",
+        key="nm_rate",
+        **initial("nm_rate", float(default_rate)),
+    )
+    data = c2.radio(
+        "The samples are",
+        DATA_KINDS,
+        horizontal=True,
+        key="nm_data",
+        help="rate: gyro rate, specific force, fractional frequency; phase: angle, time error",
+        **initial("nm_data", 1, "index"),
+    )
+    kind = c3.selectbox(
+        "Deviation",
+        list(KINDS),
+        format_func=_KIND_LABELS.get,
+        key="nm_kind",
+        **initial("nm_kind", 0, "index"),
+    )
+    unit = c4.text_input("Unit of the rate", key="nm_unit", **initial("nm_unit", "u"))
+    return NoiseModelSettings(float(rate), str(data), str(kind), unit.strip() or "u")
+
+
+@st.cache_data(max_entries=16, show_spinner="Allan deviation...")
+def _allan_cached(digest: str, rate: float, data: str, kind: str, _z: np.ndarray) -> AllanResult:
+    return allan(_z, rate=rate, data=data, kind=kind)
+
+
+@st.cache_data(max_entries=16, show_spinner="Fitting the noise terms...")
+def _fit_cached(digest: str, rate: float, unit: str, _z: np.ndarray) -> InertialNoise:
+    fit = inertial_noise(_z, rate, unit=unit)
+    assert isinstance(fit, InertialNoise)
+    return fit
+
+
+def terms_table(fit: InertialNoise) -> pd.DataFrame:
+    """The fitted terms: value, interval, unit and the per-sample equivalent."""
+    return pd.DataFrame(
+        [
+            {
+                "term": t.name.replace("_", " "),
+                "symbol": t.symbol,
+                "value": t.value,
+                "low": t.interval[0],
+                "high": t.interval[1],
+                "unit": t.unit,
+                "per sample": t.discrete,
+                "per-sample unit": t.discrete_unit,
+                "slope": t.slope,
+            }
+            for t in fit.terms
+        ]
+    )
+
+
+def results(sig: LoadedSignal, s: NoiseModelSettings) -> InertialNoise | None:
+    """The Allan deviation, the fitted terms (rate data, OADEV) and the simulated overlay."""
+    res: AllanResult | None = None
+    fit: InertialNoise | None = None
+    with guarded():
+        res = _allan_cached(sig.digest, s.rate, s.data, s.kind, sig.z)
+        if s.data == "rate" and s.kind == "oadev":
+            fit = _fit_cached(sig.digest, s.rate, s.unit, sig.z)
+    if res is None:
+        return None
+    if not (s.data == "rate" and s.kind == "oadev"):
+        st.caption("The IEEE-952 terms are fitted to the overlapping ADEV of rate data.")
+    elif fit is not None:
+        st.dataframe(
+            terms_table(fit),
+            hide_index=True,
+            column_config={
+                k: st.column_config.NumberColumn(format=f) for k, f in _TERM_FORMATS.items()
+            },
+        )
+        st.caption(
+            f"{fit.ci:.1%} intervals. Continuous-time values; *per sample* is the discrete "
+            f"equivalent at {s.rate:g} Hz (docs/algorithms.md §E4)."
+        )
+    simulated = _simulation(sig, s, fit)
+    fig = allan_figure(res, fit=fit, simulated=simulated, unit=s.unit)
+    show_figure(fig, key="nm_fig")
+    figure_downloads(fig, "allan_deviation", key="nm_fig_dl")
+    return fit
+
+
+def _simulation(sig: LoadedSignal, s: NoiseModelSettings, fit: InertialNoise | None):
+    """The "simulate from the fitted model" button; the simulated ADEV (kept per fit)."""
+    if fit is None:
+        return None
+    key = (sig.digest, s.rate, s.unit)
+    c1, c2 = st.columns([1, 3])
+    seed = c2.number_input(
+        "Simulation seed", 0, 2**31 - 1, key="nm_sim_seed", **initial("nm_sim_seed", 0)
+    )
+    if c1.button("Simulate from the fitted model", key="nm_simulate", icon=":material/casino:"):
+        bar = st.progress(0.0, text="Simulating each term...")
+        values = {t.name: t.value for t in fit.terms}
+        y = simulate_inertial(sig.n, s.rate, seed=int(seed), **values)
+        bar.progress(0.5, text="Allan deviation of the simulated record...")
+        st.session_state["nm_sim"] = (key, allan(y, rate=s.rate, data="rate"))
+        bar.progress(1.0, text="Done")
+        bar.empty()
+    stored = st.session_state.get("nm_sim")
+    if stored and stored[0] == key:
+        st.caption(
+            "The simulated record (same length, drawn from the fitted terms) is "
+            "overlaid: each term shows where its slope dominates."
+        )
+        return stored[1]
+    return None
+
+
+def kalibr_export(sig: LoadedSignal, s: NoiseModelSettings) -> None:
+    """Kalibr imu.yaml from the gyroscope and accelerometer columns of the loaded file."""
+    cols = list(sig.table.data_columns)
+    c1, c2, c3 = st.columns([2, 2, 1])
+    gyro = c1.multiselect("Gyroscope columns (rad/s)", cols, key="nm_gyro")
+    accel = c2.multiselect("Accelerometer columns (m/s²)", cols, key="nm_accel")
+    inflation = c3.number_input(
+        "Inflation", min_value=0.0, format="%g", key="nm_inflation", **initial("nm_inflation", 1.0)
+    )
+    if not (gyro and accel):
+        st.caption("Choose the gyroscope and accelerometer columns of the loaded file.")
+        return
+    with guarded("Kalibr export: "):
+        fits = {
+            c: _fit_cached(f"{sig.table_digest}:{c}", s.rate, "", _column(sig, c))
+            for c in dict.fromkeys(gyro + accel)
+        }
+        imu = kalibr_imu(
+            [fits[c] for c in gyro], [fits[c] for c in accel], inflation=float(inflation)
+        )
+        st.code(imu.to_yaml(), language="yaml")
+        st.download_button(
+            "Kalibr imu.yaml",
+            imu.to_yaml(),
+            file_name="imu.yaml",
+            mime="application/x-yaml",
+            key="nm_kalibr_dl",
+            icon=":material/download:",
+            on_click="ignore",
+        )
+
+
+def _column(sig: LoadedSignal, name: str) -> np.ndarray:
+    from noisevar.io import pick_column
+
+    return np.asarray(pick_column(sig.table, name), dtype=float)

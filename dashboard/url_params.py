@@ -1,0 +1,187 @@
+"""Shared links are untrusted input: every query-parameter value is checked first.
+
+:func:`clean_query_params` runs at the top of every page, before any widget reads its
+value from the URL. A value that no widget could hold (a non-finite or huge number, a
+400-digit number, control characters, a very long string) is dropped from the URL and
+from Streamlit's initial-value table, with one ``st.warning`` naming what was dropped.
+Values inside that envelope but outside one widget's own range are reset to the
+widget's default by Streamlit itself. The signal recipe (``?sig=gen:...``) is checked
+against the generator's bounds (:func:`check_recipe`).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import re
+from collections.abc import Iterable
+
+import streamlit as st
+
+from noisevar.errors import NoisevarError
+from noisevar.io.table import SAMPLE_PERIOD_RANGE, echo
+
+LOG = logging.getLogger("noisevar.dashboard")
+
+#: Longest value kept from the URL (characters).
+MAX_VALUE_CHARS = 200
+#: Longest parameter name kept.
+MAX_KEY_CHARS = 64
+#: Largest magnitude of a number any widget takes (seeds are below 2**32).
+MAX_NUMBER = 1e15
+#: Most repeated values of one parameter (multiselects).
+MAX_REPEATS = 50
+_NUMBERISH = re.compile(r"^\s*[+-]?(\d|\.\d|inf|nan)", re.IGNORECASE)
+_CONTROL = re.compile(r"[\x00-\x1f\x7f-\x9f]")
+#: The recipe's numeric keys: (lowest, highest); families' extras come from
+#: ``dashboard.loading.GENERATOR_EXTRAS``.
+_RECIPE_NUMBERS = {
+    "n": (100, 2_000_000),
+    "seed": (0, 2**31 - 1),
+    "noise_std": (1e-6, 1e6),
+    "T": SAMPLE_PERIOD_RANGE,
+}
+
+
+def value_problem(value: str) -> str | None:
+    """Why a URL value cannot be given to any widget, or None when it can."""
+    if len(value) > MAX_VALUE_CHARS:
+        return f"{len(value):,} characters"
+    if _CONTROL.search(value):
+        return "control characters"
+    if _NUMBERISH.match(value):
+        try:
+            number = float(value)
+        except (ValueError, OverflowError):
+            return None  # text such as a date or a label: the widget decides
+        if not math.isfinite(number):
+            return "not a finite number"
+        if abs(number) > MAX_NUMBER or len(re.sub(r"\D", "", value)) > 30:
+            return "number out of range"
+    return None
+
+
+def _problems(params: dict[str, list[str]]) -> dict[str, str]:
+    """Parameter name to the reason it is dropped."""
+    bad: dict[str, str] = {}
+    for key, values in params.items():
+        if len(key) > MAX_KEY_CHARS or _CONTROL.search(key):
+            bad[key] = "bad name"
+        elif len(values) > MAX_REPEATS:
+            bad[key] = f"{len(values)} values"
+        elif key == "sig":
+            try:
+                check_recipe(values[-1] if values else "")
+            except NoisevarError as exc:
+                bad[key] = str(exc)
+        else:
+            reason = next((r for r in map(value_problem, values) if r), None)
+            if reason:
+                bad[key] = reason
+    return bad
+
+
+def _drop(keys: Iterable[str]) -> None:
+    """Remove parameters from the URL and from Streamlit's initial-value table."""
+    from streamlit.runtime.scriptrunner_utils.script_run_context import get_script_run_ctx
+
+    ctx = get_script_run_ctx()
+    if ctx is None:
+        return
+    with ctx.session_state.query_params() as qp:
+        initial = getattr(qp, "_initial_query_params", None)
+        for key in keys:
+            if isinstance(initial, dict):
+                initial.pop(key, None)
+            qp.remove_param(key)
+
+
+def _current() -> dict[str, list[str]]:
+    """Every query parameter of this run: the URL's and the initial ones seeding widgets."""
+    from streamlit.runtime.scriptrunner_utils.script_run_context import get_script_run_ctx
+
+    params: dict[str, list[str]] = {k: st.query_params.get_all(k) for k in st.query_params}
+    ctx = get_script_run_ctx()
+    if ctx is not None:
+        with ctx.session_state.query_params() as qp:
+            initial = getattr(qp, "_initial_query_params", None) or {}
+            for key, values in initial.items():
+                params.setdefault(key, list(values))
+    return params
+
+
+def clean_query_params() -> dict[str, str]:
+    """Drop every query-parameter value no widget can hold; one warning if any was dropped.
+
+    Call it before any widget (``setup_page`` does).
+
+    Returns
+    -------
+    dict
+        Dropped parameter name to the reason.
+    """
+    try:
+        bad = _problems(_current())
+        if bad:
+            _drop(bad)
+    except Exception:  # noqa: BLE001 - Streamlit internals changed: fall back to the URL only
+        LOG.debug("could not clean the initial query parameters", exc_info=True)
+        bad = _problems({k: st.query_params.get_all(k) for k in st.query_params})
+        for key in bad:
+            st.query_params.pop(key, None)
+    if bad:
+        listed = "; ".join(f"{echo(k, 40)} ({echo(r, 120)})" for k, r in bad.items())
+        st.warning(f"Ignored values of the link that no control can take: {listed}.")
+    return bad
+
+
+def _number(key: str, text: str, lo: float, hi: float) -> float:
+    problem = value_problem(text)
+    try:
+        v = float(text)
+    except (ValueError, OverflowError):
+        raise NoisevarError(f"{key}={echo(text, 40)} is not a number") from None
+    if problem or not (lo <= v <= hi):
+        raise NoisevarError(f"{key}={echo(text, 40)} is out of range [{lo:g}, {hi:g}]")
+    return v
+
+
+def check_recipe(recipe: str) -> dict[str, float | str]:
+    """Check a signal recipe's values against the generator's bounds.
+
+    Parameters
+    ----------
+    recipe : str
+        ``gen:<family>;n=...;seed=...`` or ``sample:<file>`` (with ``col=``, ``T=``).
+
+    Returns
+    -------
+    dict
+        The checked options (numbers as floats).
+
+    Raises
+    ------
+    NoisevarError
+        One sentence naming the bad value and its range.
+    """
+    from dashboard.loading import GENERATOR_EXTRAS
+    from dashboard.state import parse_recipe
+
+    if value_problem(recipe) == "control characters" or len(recipe) > 4 * MAX_VALUE_CHARS:
+        raise NoisevarError("the signal recipe is malformed")
+    kind, name, opts = parse_recipe(recipe)
+    if kind not in ("gen", "sample"):
+        raise NoisevarError(f"unknown signal source {echo(kind, 20)!r}")
+    bounds = dict(_RECIPE_NUMBERS)
+    for key, ekind, _default, lo, hi in GENERATOR_EXTRAS.get(name, []):
+        if ekind != "choice":
+            bounds[key] = (lo, hi)
+    out: dict[str, float | str] = {}
+    for key, text in opts.items():
+        if key in bounds:
+            out[key] = _number(key, text, *bounds[key])
+        elif value_problem(text):
+            raise NoisevarError(f"{echo(key, 20)}: {value_problem(text)}")
+        else:
+            out[key] = text
+    return out

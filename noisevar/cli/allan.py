@@ -1,0 +1,74 @@
+"""``noisevar allan FILE --rate HZ``: the Allan deviation of one column (docs/algorithms.md §E4)."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+from typing import Any
+
+import numpy as np
+
+from noisevar.cli._common import print_json
+from noisevar.errors import NoisevarError
+
+
+def sample_rate(given: float | None, sample_period: float | None) -> float:
+    """The ``--rate`` flag, else the rate of the file's time column; refuse anything else."""
+    if given is None:
+        if sample_period:
+            return 1.0 / sample_period
+        raise NoisevarError("give the sample rate with --rate HZ (the file has no time column)")
+    if not (math.isfinite(given) and given > 0):
+        raise NoisevarError(f"--rate must be a positive number of Hz, not {given:g}")
+    return given
+
+
+def load_columns(path: str, columns: list[str] | None, rate: float | None):
+    """The chosen columns of a data file (all data columns by default) and the sample rate."""
+    from noisevar.io import load_table, pick_column
+
+    table = load_table(path, os.path.basename(path))
+    names = columns or list(table.data_columns)
+    data = {c: np.asarray(pick_column(table, c), dtype=float) for c in names}
+    return data, sample_rate(rate, table.sample_period)
+
+
+def _cmd_allan(args: argparse.Namespace) -> int:
+    from noisevar.noise_model import allan
+
+    data, rate = load_columns(args.file, [args.column] if args.column else None, args.rate)
+    name, z = next(iter(data.items()))
+    res = allan(z, rate=rate, data=args.data, kind=args.kind)
+    if args.format == "json":
+        print_json({"column": name, **res.to_dict()})
+        return 0
+    print(
+        f"{res.kind} of {name} ({args.data} data, {res.n_samples} samples at {rate:g} Hz), "
+        f"{res.ci:.1%} intervals"
+    )
+    print(
+        f"{'tau (s)':>12} {'deviation':>12} {'low':>12} {'high':>12} {'noise':>6} "
+        f"{'slope':>6} {'n':>9}"
+    )
+    for i, tau in enumerate(res.taus):
+        print(
+            f"{tau:12.5g} {res.deviation[i]:12.5g} {res.interval[0][i]:12.5g} "
+            f"{res.interval[1][i]:12.5g} {res.noise_type[i] or '-':>6} {res.slope[i]:6.2f} "
+            f"{res.n[i]:9d}"
+        )
+    return 0
+
+
+def add_parser(sub: Any) -> None:
+    """Register ``allan`` on the sub-command set ``sub``."""
+    from noisevar.noise_model.allan import DATA_KINDS, KINDS
+
+    p = sub.add_parser("allan", help="Allan deviation with intervals and noise types (§E4)")
+    p.add_argument("file")
+    p.add_argument("--rate", type=float, help="sample rate in Hz (default: the time column's)")
+    p.add_argument("--data", choices=DATA_KINDS, default="phase")
+    p.add_argument("--kind", choices=list(KINDS), default="oadev")
+    p.add_argument("--column")
+    p.add_argument("--format", choices=["table", "json"], default="table")
+    p.set_defaults(func=_cmd_allan)

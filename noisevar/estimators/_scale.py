@@ -1,0 +1,142 @@
+"""Scale-safe estimation: run a method on a copy scaled by an exact power of two.
+
+Every estimator squares differences of samples. With ``|z|`` near 1e154 the squares
+overflow; near 1e-155 they underflow to 0. A record whose magnitude is far from 1 is
+therefore multiplied by ``2**e`` (exact in binary floating point: no rounding) so that
+its largest magnitude is about 1; the method runs on the copy and the variance and its
+interval are multiplied back by ``2**(-2e)``. Records of ordinary magnitude
+(:data:`SAFE_RANGE`) are not touched, so their results are bit-identical.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import fields, is_dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from noisevar.errors import NoisevarError
+
+#: Largest magnitudes (powers of two) left as they are: squares and sums of squares of
+#: samples in this range neither overflow nor underflow.
+SAFE_RANGE = (-100, 100)
+#: Parameters in signal units, with their power: scaled along with the samples.
+UNIT_PARAMS = {"reference": 1, "reference_variance": 2}
+#: Result attributes in variance units (scaled back); other arrays of ``details`` are in
+#: signal units (``window_variance`` is a variance).
+_VARIANCE_FIELDS = ("variance", "core_variance", "quiet_variance")
+_DETAIL_VARIANCES = ("window_variance",)
+
+
+def scale_exponent(z: NDArray) -> int:
+    """The exponent ``e`` to scale ``z`` by (``2**e``); 0 for records of ordinary size.
+
+    Parameters
+    ----------
+    z : ndarray of float
+        Samples (non-finite values are ignored).
+
+    Returns
+    -------
+    int
+    """
+    fin = np.abs(z[np.isfinite(z)]) if not np.all(np.isfinite(z)) else np.abs(z)
+    top = float(fin.max()) if fin.size else 0.0
+    if top == 0.0:
+        return 0
+    # top = m 2**k with 0.5 <= m < 1
+    _, k = math.frexp(top)
+    if SAFE_RANGE[0] <= k <= SAFE_RANGE[1]:
+        return 0
+    return -k
+
+
+def scale_params(params: dict[str, Any], e: int) -> dict[str, Any]:
+    """``params`` with the ones in signal units (:data:`UNIT_PARAMS`) scaled by ``2**e``."""
+    if e == 0:
+        return params
+    out = dict(params)
+    for name, power in UNIT_PARAMS.items():
+        if out.get(name) is not None:
+            out[name] = np.ldexp(np.asarray(out[name], dtype=float), power * e)
+            if np.ndim(out[name]) == 0:
+                out[name] = float(out[name])
+    return out
+
+
+def _unscale_details(details: Any, e: int) -> None:
+    if details is None or not is_dataclass(details):
+        return
+    for f in fields(details):
+        val = getattr(details, f.name)
+        if isinstance(val, np.ndarray) and val.dtype.kind == "f":
+            power = 2 if f.name in _DETAIL_VARIANCES else 1
+            with np.errstate(over="ignore", under="ignore"):
+                setattr(details, f.name, np.ldexp(val, -power * e))
+
+
+def _check_representable(result: Any, e: int) -> None:
+    """Refuse a variance that exists on the scaled copy but not in the record's units."""
+    var = float(result.variance)
+    if not (math.isfinite(var) and var > 0.0):
+        return  # degenerate on the copy too: check_answer says so
+    # log2(variance in the record's units) = log2(var) - 2e
+    log2 = math.log2(var) - 2 * e
+    if log2 >= 1024 or log2 < -1074:
+        side = "larger than the largest" if log2 > 0 else "smaller than the smallest"
+        raise NoisevarError(
+            f"the noise variance of this record (about 2^{log2:.0f}) is {side} floating-point "
+            "number: rescale the record (change its units) first"
+        )
+
+
+def unscale(results: Sequence[Any], e: int) -> None:
+    """Scale results computed on ``z * 2**e`` back to the units of ``z`` (in place)."""
+    if e == 0:
+        return
+    for r in results:
+        _check_representable(r, e)
+        for name in _VARIANCE_FIELDS:
+            val = getattr(r, name, None)
+            if isinstance(val, float):
+                with np.errstate(over="ignore", under="ignore"):
+                    setattr(r, name, float(np.ldexp(val, -2 * e)))
+        with np.errstate(over="ignore", under="ignore"):
+            r.ci95 = tuple(float(np.ldexp(c, -2 * e)) for c in r.ci95)
+        for name, power in UNIT_PARAMS.items():
+            if isinstance(r.params.get(name), float):
+                r.params[name] = float(np.ldexp(r.params[name], -power * e))
+        _unscale_details(getattr(r, "details", None), e)
+        r.notes.append(f"computed on a copy scaled by 2^{e} (exact) to keep the squares in range")
+
+
+def check_answer(result: Any) -> None:
+    """Refuse a degenerate answer: a non-finite or zero variance, or an unusable interval.
+
+    Raises
+    ------
+    NoisevarError
+        Naming the method and what to do.
+    """
+    var = float(result.variance)
+    lo, hi = (float(c) for c in result.ci95)
+    name = result.method
+    if not math.isfinite(var):
+        raise NoisevarError(
+            f"method {name!r} found no finite noise variance on this record: its noise is "
+            "larger than floating point can square; rescale the record first"
+        )
+    if var <= 0.0:
+        raise NoisevarError(
+            f"method {name!r} found a noise variance of {var:.3g} on this record (not positive: "
+            "the noise is below the method's resolution, e.g. quantised samples, or a known "
+            "reference variance is too large): try another method such as 'rice'"
+        )
+    if not (math.isfinite(lo) and math.isfinite(hi) and lo <= var <= hi):
+        raise NoisevarError(
+            f"method {name!r} gave no usable confidence interval on this record (the fit is "
+            "degenerate): the noise is not identifiable by this method; try another one"
+        )

@@ -1,0 +1,148 @@
+"""Noise-model figures: the Allan deviation with its interval, slope guides and fitted terms.
+
+docs/algorithms.md §E4.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import plotly.graph_objects as go
+
+from noisevar.figures._common import COLORS, PALETTE, layout
+from noisevar.noise_model.allan import AllanResult
+from noisevar.noise_model.inertial import TERMS, InertialNoise
+
+#: Log-log slopes of the guides, with their labels (quantisation ... rate ramp).
+SLOPES = ((-1.0, "τ⁻¹"), (-0.5, "τ⁻¹ᐟ²"), (0.0, "τ⁰"), (0.5, "τ¹ᐟ²"), (1.0, "τ¹"))
+_LABELS = {"oadev": "overlapping ADEV", "mdev": "MDEV", "hdev": "overlapping HDEV"}
+
+
+def _log_axis(title: str) -> dict[str, Any]:
+    """A log axis with a tick per decade, labelled as powers of ten."""
+    return {"title": title, "type": "log", "dtick": 1, "exponentformat": "power"}
+
+
+def _guides(res: AllanResult) -> list[go.Scatter]:
+    """Dotted lines of slope -1, -1/2, 0, 1/2, 1 through the curve's middle point."""
+    t = res.taus
+    mid = t.size // 2
+    t0, d0 = t[mid], res.deviation[mid]
+    ends = np.array([t[0], t[-1]])
+    out = []
+    for i, (slope, label) in enumerate(SLOPES):
+        y = d0 * (ends / t0) ** slope
+        out.append(
+            go.Scatter(
+                x=ends,
+                y=y,
+                mode="lines+text",
+                text=["", label],
+                textposition="middle right",
+                line={"color": COLORS["raw"], "dash": "dot", "width": 1},
+                name="slope guides",
+                legendgroup="guides",
+                showlegend=i == 0,
+                hoverinfo="skip",
+            )
+        )
+    return out
+
+
+def _data_traces(res: AllanResult, name: str, color: str) -> list[go.Scatter]:
+    """The interval as a band and the deviation with its noise type in the hover."""
+    lo, hi = res.interval
+    kinds = [k or "not identified" for k in res.noise_type]
+    return [
+        go.Scatter(
+            x=np.concatenate([res.taus, res.taus[::-1]]),
+            y=np.concatenate([hi, lo[::-1]]),
+            fill="toself",
+            fillcolor=COLORS["band"],
+            line={"width": 0},
+            name=f"{name}: {res.ci:.0%} interval",
+            hoverinfo="skip",
+        ),
+        go.Scatter(
+            x=res.taus,
+            y=res.deviation,
+            customdata=np.column_stack([lo, hi, res.slope]),
+            text=kinds,
+            mode="lines+markers",
+            marker={"color": color, "size": 6},
+            line={"color": color},
+            name=name,
+            hovertemplate="τ %{x:.4g} s<br>σ %{y:.4g} [%{customdata[0]:.3g}, "
+            "%{customdata[1]:.3g}]<br>slope %{customdata[2]:.2f}, %{text}<extra></extra>",
+        ),
+    ]
+
+
+def _fit_traces(fit: InertialNoise) -> list[go.Scatter]:
+    """Each non-zero term's deviation (dashed) and that of their sum."""
+    t = np.geomspace(fit.allan.taus[0], fit.allan.taus[-1], 200)
+    parts, total = fit.model(t)
+    out = []
+    for i, spec in enumerate(TERMS):
+        term = fit.term(spec.name)
+        if term.value <= 0:
+            continue
+        out.append(
+            go.Scatter(
+                x=t,
+                y=parts[spec.name],
+                mode="lines",
+                line={"color": PALETTE[(i + 1) % len(PALETTE)], "dash": "dash"},
+                name=f"{spec.symbol} = {term.value:.3g} {term.unit}",
+            )
+        )
+    out.append(
+        go.Scatter(
+            x=t, y=total, mode="lines", line={"color": COLORS["truth"], "width": 2}, name="sum"
+        )
+    )
+    return out
+
+
+def allan_figure(
+    result: AllanResult,
+    fit: InertialNoise | None = None,
+    simulated: AllanResult | None = None,
+    title: str | None = "Allan deviation",
+    height: int = 520,
+    unit: str = "",
+) -> go.Figure:
+    """Allan deviation on log-log axes: interval band, slope guides, fitted terms and sum.
+
+    Parameters
+    ----------
+    result : AllanResult
+        The data's deviation.
+    fit : InertialNoise, optional
+        Fitted IEEE-952 terms to draw (each term and their sum).
+    simulated : AllanResult, optional
+        The deviation of noise simulated from the fit, overlaid.
+    title : str, optional
+    height : int
+    unit : str
+        Unit of the rate data, for the y axis title.
+
+    Returns
+    -------
+    go.Figure
+    """
+    name = _LABELS.get(result.kind, result.kind)
+    traces = _guides(result) + _data_traces(result, name, PALETTE[0])
+    if fit is not None:
+        traces += _fit_traces(fit)
+    if simulated is not None:
+        traces += _data_traces(simulated, "simulated from the fit", PALETTE[1])[1:]
+    y_title = f"σ(τ) ({unit})" if unit else "σ(τ)"
+    return go.Figure(
+        traces,
+        layout(title, height, xaxis=_log_axis("τ (s)"), yaxis=_log_axis(y_title)),
+    )
+
+
+__all__ = ["allan_figure"]

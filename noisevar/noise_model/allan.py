@@ -1,0 +1,383 @@
+"""Allan deviation with intervals and noise identification (docs/algorithms.md §E4).
+
+The deviations, the lag-1 autocorrelation noise identification and the equivalent
+degrees of freedom are allantools' (Riley 2004, Greenhall 2004); this module chooses
+the averaging factors, checks the input, and gathers the results.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import allantools
+import numpy as np
+from allantools import ci
+from numpy.typing import ArrayLike, NDArray
+
+from noisevar.errors import NoisevarError
+
+#: One-sigma confidence (Stable32's default error bars).
+ONE_SIGMA = 0.6826894921370859
+#: Decimated points used by the noise identification at each tau (its estimate of the
+#: lag-1 autocorrelation has a standard error of about ``1/sqrt(points)``).
+NOISE_ID_POINTS = 1000
+#: Fewest decimated points allantools' noise identification accepts.
+NOISE_ID_MIN = 30
+#: Power-law noise exponent alpha (S_y(f) ~ f^alpha) -> Stable32's abbreviation.
+NOISE_TYPES = {
+    2: "WPM",
+    1: "FPM",
+    0: "WFM",
+    -1: "FFM",
+    -2: "RWFM",
+    -3: "FWFM",
+    -4: "RRFM",
+}
+DATA_KINDS = ("phase", "rate")
+
+
+#: Terms per block when a deviation is summed block by block (the blocks stay in cache).
+BLOCK = 2**16
+
+
+@dataclass(frozen=True)
+class _Kind:
+    """A deviation: allantools' function (or per-tau kernel) and Greenhall's edf parameters."""
+
+    function: Callable[..., Any]
+    kernel: Callable[..., Any] | None  # allantools' calc_*_phase(phase, rate, m, stride)
+    d: int  # order of differencing of the phase (2 Allan, 3 Hadamard)
+    modified: bool
+    span: int  # phase samples spanned by one term, in units of m
+
+
+KINDS = {
+    "oadev": _Kind(allantools.oadev, allantools.allantools.calc_adev_phase, 2, False, 2),
+    "mdev": _Kind(allantools.mdev, None, 2, True, 3),
+    "hdev": _Kind(allantools.ohdev, allantools.allantools.calc_hdev_phase, 3, False, 3),
+}
+
+
+@dataclass(frozen=True, eq=False)
+class AllanResult:
+    """Allan-type deviations of one record, one entry per averaging time.
+
+    Attributes
+    ----------
+    kind : {"oadev", "mdev", "hdev"}
+        Overlapping Allan, modified Allan or overlapping Hadamard deviation.
+    data : {"phase", "rate"}
+        What the samples were.
+    rate : float
+        Sample rate (Hz).
+    taus : ndarray
+        Averaging times (s).
+    deviation : ndarray
+        The deviation at each tau (units of the rate data: phase units per second).
+    interval : tuple of ndarray
+        ``(lo, hi)`` confidence interval of the deviation at level ``ci``.
+    ci : float
+        Confidence level of ``interval``.
+    alpha : ndarray
+        Identified power-law exponent (``S_y(f) ~ f^alpha``); NaN where fewer than three
+        averages remain at that tau.
+    noise_type : tuple of str or None
+        The noise type per tau (``"WPM"``, ``"FPM"``, ``"WFM"``, ``"FFM"``, ``"RWFM"``...).
+    edf : ndarray
+        Equivalent degrees of freedom behind each interval.
+    slope : ndarray
+        Local log-log slope ``d log(deviation) / d log(tau)``.
+    n : ndarray
+        Number of terms averaged at each tau.
+    n_samples : int
+        Length of the record.
+    """
+
+    kind: str
+    data: str
+    rate: float
+    taus: NDArray
+    deviation: NDArray
+    interval: tuple[NDArray, NDArray]
+    ci: float
+    alpha: NDArray
+    noise_type: tuple[str | None, ...]
+    edf: NDArray
+    slope: NDArray
+    n: NDArray
+    n_samples: int
+
+    @property
+    def variance(self) -> NDArray:
+        """The deviation squared (Allan variance)."""
+        return self.deviation**2
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-safe dictionary (NaN becomes None)."""
+        return {
+            "kind": self.kind,
+            "data": self.data,
+            "rate": float(self.rate),
+            "ci": float(self.ci),
+            "n_samples": int(self.n_samples),
+            "taus": _json(self.taus),
+            "deviation": _json(self.deviation),
+            "interval_lo": _json(self.interval[0]),
+            "interval_hi": _json(self.interval[1]),
+            "alpha": _json(self.alpha),
+            "noise_type": list(self.noise_type),
+            "edf": _json(self.edf),
+            "slope": _json(self.slope),
+            "n": [int(v) for v in self.n],
+        }
+
+
+def _json(a: NDArray) -> list[float | None]:
+    return [float(v) if np.isfinite(v) else None for v in np.asarray(a, dtype=float)]
+
+
+def to_phase(z: ArrayLike, rate: float, data: str) -> NDArray:
+    """The record as phase: rate data integrated once (mean removed), phase data as is.
+
+    Parameters
+    ----------
+    z : array_like
+        1-D record.
+    rate : float
+        Sample rate (Hz).
+    data : {"phase", "rate"}
+        What ``z`` holds.
+
+    Returns
+    -------
+    ndarray
+        Phase samples (one more than ``z`` for rate data).
+    """
+    if data not in DATA_KINDS:
+        raise NoisevarError(f"data must be 'phase' or 'rate', not {data!r}.")
+    if rate is None or not np.isfinite(rate) or rate <= 0:
+        raise NoisevarError(f"The sample rate must be a positive number of Hz, not {rate}.")
+    y = np.asarray(z, dtype=float)
+    if y.ndim != 1:
+        raise NoisevarError(f"The record must be one-dimensional; it has shape {y.shape}.")
+    if not np.all(np.isfinite(y)):
+        raise NoisevarError("The record holds NaN or infinite values: remove or fill them first.")
+    if data == "phase":
+        return y
+    # x_k = tau0 * sum_{j<k} (y_j - mean y),  x_0 = 0
+    x = np.empty(y.size + 1)
+    x[0] = 0.0
+    np.cumsum(y - y.mean(), out=x[1:])
+    x[1:] /= rate
+    return x
+
+
+def averaging_factors(n_phase: int, rate: float, taus: str | ArrayLike, kind: str) -> NDArray:
+    """The averaging factors m (tau = m / rate) that ``kind`` can use on ``n_phase`` samples.
+
+    Parameters
+    ----------
+    n_phase : int
+        Phase samples.
+    rate : float
+        Sample rate (Hz).
+    taus : "octave", "all" or array_like
+        Octave factors 1, 2, 4, ...; every factor; or averaging times in seconds.
+    kind : str
+        A key of :data:`KINDS`.
+
+    Returns
+    -------
+    ndarray of int
+    """
+    if kind not in KINDS:
+        raise NoisevarError(f"kind must be one of {', '.join(KINDS)}, not {kind!r}.")
+    span = KINDS[kind].span
+    # at least two terms at every tau: n_phase - span*m >= 2 (hdev, oadev); mdev one fewer
+    m_max = (n_phase - 2) // span
+    if m_max < 1:
+        raise NoisevarError(
+            f"The record is too short for {kind}: {n_phase} phase samples, need at least "
+            f"{span + 2}."
+        )
+    if isinstance(taus, str):
+        if taus == "octave":
+            return 2 ** np.arange(int(np.log2(m_max)) + 1)
+        if taus == "all":
+            return np.arange(1, m_max + 1)
+        raise NoisevarError(f"taus must be 'octave', 'all' or an array of seconds, not {taus!r}.")
+    t = np.atleast_1d(np.asarray(taus, dtype=float))
+    m = np.round(t * rate).astype(np.int64)
+    if t.size == 0 or np.any(~np.isfinite(t)) or np.any(m < 1):
+        raise NoisevarError(
+            f"Every tau must be at least one sample period ({1 / rate:g} s); got {taus!r}."
+        )
+    if np.any(m > m_max):
+        raise NoisevarError(
+            f"The record is too short for tau = {t[m > m_max].max():g} s: {kind} at that tau "
+            f"needs {span * int(m.max()) + 2} phase samples, the record has {n_phase}."
+        )
+    return np.unique(m)
+
+
+def allan(
+    z: ArrayLike,
+    rate: float = 1.0,
+    data: str = "phase",
+    kind: str = "oadev",
+    taus: str | ArrayLike = "octave",
+    ci: float = ONE_SIGMA,
+) -> AllanResult:
+    """Overlapping Allan (or modified Allan, overlapping Hadamard) deviation of a record.
+
+    Parameters
+    ----------
+    z : array_like
+        1-D record: phase (e.g. time error in s, angle) or rate (fractional frequency,
+        angular rate, acceleration).
+    rate : float
+        Sample rate (Hz).
+    data : {"phase", "rate"}
+        What ``z`` holds.
+    kind : {"oadev", "mdev", "hdev"}
+        Overlapping Allan, modified Allan, or overlapping Hadamard deviation.
+    taus : "octave", "all" or array_like
+        Averaging times: octave factors, every factor, or given times (s).
+    ci : float
+        Confidence level of the intervals (default one sigma).
+
+    Returns
+    -------
+    AllanResult
+
+    Notes
+    -----
+    docs/algorithms.md §E4. Per tau, the noise type is identified by the lag-1
+    autocorrelation of the decimated record (on at most :data:`NOISE_ID_POINTS` points;
+    below 30 points by the B1 and R(n) ratios, as Stable32); the interval is the
+    chi-square interval with Greenhall's edf for that noise type.
+    """
+    if not 0 < ci < 1:
+        raise NoisevarError(f"ci must be between 0 and 1, not {ci}.")
+    x = to_phase(z, rate, data)
+    m = averaging_factors(x.size, rate, taus, kind)
+    spec = KINDS[kind]
+    # the checks above keep allantools off its printing paths (no redirect: not thread-safe)
+    t, dev, n = _deviations(x, rate, m, spec)
+    if not np.any(dev > 0):
+        raise NoisevarError(
+            "The record does not vary (its Allan deviation is zero at every tau): nothing to fit."
+        )
+    m_used = np.round(t * rate).astype(np.int64)
+    alpha = np.array([_noise_id(x, int(k), spec.d) for k in m_used], dtype=float)
+    edf = _edfs(alpha, spec, m_used, x.size, default=2 if data == "phase" else 0)
+    lo, hi = np.empty_like(dev), np.empty_like(dev)
+    for i in range(dev.size):
+        lo[i], hi[i] = allantools.confidence_interval(dev[i], edf[i], ci)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        slope = np.gradient(np.log(dev), np.log(t)) if t.size > 1 else np.full(t.size, np.nan)
+    names = tuple(None if np.isnan(a) else NOISE_TYPES.get(int(a)) for a in alpha)
+    return AllanResult(
+        kind=kind,
+        data=data,
+        rate=float(rate),
+        taus=t,
+        deviation=dev,
+        interval=(lo, hi),
+        ci=float(ci),
+        alpha=alpha,
+        noise_type=names,
+        edf=edf,
+        slope=slope,
+        n=n.astype(np.int64),
+        n_samples=int(np.asarray(z).size),
+    )
+
+
+def _deviations(
+    x: NDArray, rate: float, m: NDArray, spec: _Kind
+) -> tuple[NDArray, NDArray, NDArray]:
+    """taus, deviations and term counts; overlapping kinds summed over blocks of terms.
+
+    The overlapping estimators are means of squared terms, so allantools' kernel on
+    consecutive blocks (each with its ``span * m`` samples of overlap) gives the same
+    deviation as one call, and the blocks fit in the cache.
+    """
+    if spec.kernel is None:
+        t, dev, _, n = spec.function(x, rate, "phase", m / rate)
+        return t, dev, n
+    dev = np.empty(m.size)
+    n = np.zeros(m.size, dtype=np.int64)
+    for i, k in enumerate(int(v) for v in m):
+        tail = spec.span * k
+        step = max(BLOCK, tail)
+        total = 0.0
+        for a in range(0, x.size - tail, step):
+            d_blk, _, n_blk = spec.kernel(x[a : a + step + tail], rate, k, 1)
+            # dev^2 is a mean over the block's n terms: pool the sums
+            total += d_blk**2 * n_blk
+            n[i] += n_blk
+        dev[i] = np.sqrt(total / n[i])
+    return m / rate, dev, n
+
+
+def _b1_noise_id(x: NDArray, m: int) -> float:
+    """Stable32's noise type where the autocorrelation has too few points (B1 and R(n)).
+
+    The Barnes B1 ratio (standard over Allan variance) picks the nearest power law on a
+    log scale (allantools' ``b1_boundary``: geometric means); white and flicker phase
+    share B1 and are told apart by R(n) (modified over Allan variance).
+    """
+    n_avg = (x.size - 1) // m
+    if n_avg < 3:
+        return np.nan
+    with np.errstate(invalid="ignore", divide="ignore"):
+        # B1 at factor m is B1 of the phase decimated by m at factor 1 (same averages and
+        # non-overlapping Allan terms), without copying the whole record
+        ratio = ci.b1(x[::m], 1, 1.0)
+    if not np.isfinite(ratio):
+        return np.nan
+    alpha = 2
+    # b1_boundary(b, n) separates phase exponents b - 1 and b (alpha = b + 2)
+    for b_hi in (-1, -2, -3):
+        if ratio > ci.b1_boundary(b_hi, n_avg):
+            alpha = b_hi + 1  # white, flicker, random-walk frequency
+    if alpha == 2:
+        with np.errstate(invalid="ignore", divide="ignore"):
+            rn = ci.rn(x, m, 1.0)
+        if np.isfinite(rn) and rn > ci.rn_boundary(m, 0):
+            alpha = 1
+    return float(alpha)
+
+
+def _noise_id(x: NDArray, m: int, d: int) -> float:
+    """allantools' lag-1 autocorrelation noise exponent at factor ``m`` (B1 when too short)."""
+    if x.size // m < NOISE_ID_MIN:
+        return _b1_noise_id(x, m)
+    head = x[: NOISE_ID_POINTS * m + 1]
+    try:
+        alpha_int = allantools.autocorr_noise_id(head, m, data_type="phase", dmin=0, dmax=d)[0]
+    except (NotImplementedError, ValueError, np.linalg.LinAlgError):
+        return np.nan
+    # the power-law types the d-th difference can tell apart: 2 - 2d .. 2
+    return float(min(2, max(alpha_int, 2 - 2 * d)))
+
+
+def _edfs(alpha: NDArray, spec: _Kind, m: NDArray, n_phase: int, default: int) -> NDArray:
+    """Greenhall's edf per tau; an unidentified tau takes the last identified noise type."""
+    out = np.empty(alpha.size)
+    last = float(default)
+    for i, a in enumerate(alpha):
+        last = last if np.isnan(a) else a
+        a_int = int(last)
+        try:
+            edf = allantools.edf_greenhall(
+                a_int, spec.d, int(m[i]), n_phase, overlapping=True, modified=spec.modified
+            )
+        except (NotImplementedError, AssertionError, ZeroDivisionError, ValueError):
+            # Stein's simple formulas know alpha = -2 .. 2 only
+            edf = allantools.edf_simple(n_phase, int(m[i]), min(2, max(a_int, -2)))
+        out[i] = edf if np.isfinite(edf) and edf > 0 else 1.0
+    return out

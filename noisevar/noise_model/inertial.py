@@ -1,0 +1,323 @@
+"""Inertial noise terms (IEEE Std 952/1554) fitted to the Allan variance of rate data.
+
+docs/algorithms.md §E4: every term of eq. E4.1 at once, by non-negative weighted least
+squares over all taus, with intervals and continuous/discrete forms.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.optimize import nnls
+
+from noisevar.errors import NoisevarError
+from noisevar.noise_model.allan import ONE_SIGMA, AllanResult, allan
+
+#: Bootstrap replicates behind each term's interval.
+BOOTSTRAP = 200
+#: Reweighting passes of the fit (weights from the fitted Allan variance).
+PASSES = 3
+_FLICKER = 2.0 * math.log(2.0) / math.pi
+
+
+@dataclass(frozen=True)
+class TermSpec:
+    """A term of eq. E4.1: its coefficient in the Allan variance and its units.
+
+    ``unit``/``discrete_unit`` are templates on the rate data's unit ``{u}``;
+    ``discrete`` maps the continuous value and the sample rate to the per-sample value.
+    """
+
+    name: str
+    symbol: str
+    slope: float
+    unit: str
+    discrete_unit: str
+    description: str
+
+    def coefficient(self, taus: NDArray) -> NDArray:
+        """d sigma^2 / d (term^2) at each tau (eq. E4.1)."""
+        t = np.asarray(taus, dtype=float)
+        return {
+            "Q": 3.0 / t**2,
+            "N": 1.0 / t,
+            "B": np.full(t.shape, _FLICKER),
+            "K": t / 3.0,
+            "R": t**2 / 2.0,
+        }[self.symbol]
+
+    def discrete(self, value: float, rate: float) -> float:
+        """The per-sample equivalent at ``rate`` Hz (docs/algorithms.md §E4)."""
+        factor = {
+            "Q": math.sqrt(2.0) * rate,  # std of (q_k - q_{k-1}) * fs
+            "N": math.sqrt(rate),  # white rate std per sample: N sqrt(fs)
+            "B": 1.0,
+            "K": 1.0 / math.sqrt(rate),  # rate increment std per sample: K / sqrt(fs)
+            "R": 1.0 / rate,  # rate change per sample
+        }[self.symbol]
+        return value * factor
+
+
+#: The five terms of eq. E4.1, in order of slope.
+TERMS = (
+    TermSpec("quantization", "Q", -1.0, "{u}·s", "{u}", "white angle noise: rate std per sample"),
+    TermSpec("random_walk", "N", -0.5, "{u}/√Hz", "{u}", "white rate noise: std per sample"),
+    TermSpec("bias_instability", "B", 0.0, "{u}", "{u}", "flicker rate noise (flat ADEV 0.664 B)"),
+    TermSpec("rate_random_walk", "K", 0.5, "{u}/s/√Hz", "{u}", "bias increment std per sample"),
+    TermSpec("rate_ramp", "R", 1.0, "{u}/s", "{u}", "rate change per sample"),
+)
+TERM_NAMES = tuple(t.name for t in TERMS)
+
+
+@dataclass(frozen=True)
+class NoiseTerm:
+    """One fitted term: continuous-time value, interval, and the discrete equivalent."""
+
+    name: str
+    symbol: str
+    value: float
+    interval: tuple[float, float]
+    unit: str
+    discrete: float
+    discrete_unit: str
+    slope: float
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-safe dictionary."""
+        return {
+            "name": self.name,
+            "symbol": self.symbol,
+            "value": float(self.value),
+            "interval": [float(self.interval[0]), float(self.interval[1])],
+            "unit": self.unit,
+            "discrete": float(self.discrete),
+            "discrete_unit": self.discrete_unit,
+            "slope": float(self.slope),
+        }
+
+
+@dataclass(frozen=True, eq=False)
+class InertialNoise:
+    """The IEEE-952 terms of one axis of rate data, and the Allan deviation they fit.
+
+    Attributes
+    ----------
+    terms : tuple of NoiseTerm
+        Q, N, B, K, R in that order (:data:`TERMS`).
+    allan : AllanResult
+        The overlapping Allan deviation that was fitted.
+    rate : float
+        Sample rate (Hz).
+    unit : str
+        Unit of the rate data (e.g. ``"rad/s"``).
+    ci : float
+        Confidence level of the intervals.
+    """
+
+    terms: tuple[NoiseTerm, ...]
+    allan: AllanResult
+    rate: float
+    unit: str
+    ci: float
+
+    def term(self, name: str) -> NoiseTerm:
+        """The term called ``name`` (e.g. ``"random_walk"``) or with symbol ``name``."""
+        for t in self.terms:
+            if name in (t.name, t.symbol):
+                return t
+        raise NoisevarError(f"No term {name!r}; the terms are {', '.join(TERM_NAMES)}.")
+
+    @property
+    def quantization(self) -> float:
+        """Q (unit·s)."""
+        return self.term("Q").value
+
+    @property
+    def random_walk(self) -> float:
+        """N, the angle/velocity random walk (unit/√Hz)."""
+        return self.term("N").value
+
+    @property
+    def bias_instability(self) -> float:
+        """B (unit)."""
+        return self.term("B").value
+
+    @property
+    def rate_random_walk(self) -> float:
+        """K (unit/s/√Hz)."""
+        return self.term("K").value
+
+    @property
+    def rate_ramp(self) -> float:
+        """R (unit/s)."""
+        return self.term("R").value
+
+    def model(self, taus: ArrayLike | None = None) -> tuple[dict[str, NDArray], NDArray]:
+        """Each term's Allan deviation and that of their sum, at ``taus`` (default the data's).
+
+        Returns
+        -------
+        dict of str to ndarray, ndarray
+        """
+        t = self.allan.taus if taus is None else np.asarray(taus, dtype=float)
+        parts = {s.name: s.coefficient(t) * self.term(s.name).value ** 2 for s in TERMS}
+        total = np.sum(list(parts.values()), axis=0)
+        return {k: np.sqrt(v) for k, v in parts.items()}, np.sqrt(total)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-safe dictionary: the terms, and the Allan deviation fitted."""
+        return {
+            "rate": float(self.rate),
+            "unit": self.unit,
+            "ci": float(self.ci),
+            "terms": {t.name: t.to_dict() for t in self.terms},
+            "allan": self.allan.to_dict(),
+        }
+
+
+def fit_terms(taus: NDArray, avar: NDArray, edf: NDArray) -> tuple[NDArray, NDArray]:
+    """Non-negative weighted least squares of eq. E4.1: the squared terms, and the weights.
+
+    Parameters
+    ----------
+    taus, avar, edf : ndarray
+        Averaging times, Allan variances and their equivalent degrees of freedom.
+
+    Returns
+    -------
+    coef : ndarray
+        ``(Q^2, N^2, B^2, K^2, R^2)``.
+    weights : ndarray
+        The final weights ``sqrt(edf/2) / sigma^2_model`` (one per tau).
+    """
+    a = np.column_stack([s.coefficient(taus) for s in TERMS])
+    model = avar
+    for _ in range(PASSES):
+        # var(sigma^2 estimate) ~ 2 sigma^4 / edf: weight each tau by 1 / its standard error
+        w = np.sqrt(edf / 2.0) / np.maximum(model, np.finfo(float).tiny)
+        coef = _nnls(a * w[:, None], avar * w)
+        model = a @ coef
+        if not np.any(model > 0):
+            break
+    return coef, w
+
+
+def _nnls(a: NDArray, b: NDArray) -> NDArray:
+    """``min ||a c - b||, c >= 0`` with the columns scaled to unit norm first."""
+    norm = np.linalg.norm(a, axis=0)
+    norm[norm == 0] = 1.0
+    c, _ = nnls(a / norm, b, maxiter=50 * a.shape[1])
+    return c / norm
+
+
+def _intervals(
+    taus: NDArray, coef: NDArray, w: NDArray, edf: NDArray, ci: float, seed: int
+) -> NDArray:
+    """Parametric bootstrap: chi-square Allan variances around the fit, refitted.
+
+    Returns the ``(lo, hi)`` of each term: the union of the percentile interval and of
+    the replicates' quantiles about their median placed on the estimate.
+    """
+    rng = np.random.default_rng(seed)
+    a = np.column_stack([s.coefficient(taus) for s in TERMS])
+    model = a @ coef
+    # sigma^2* = sigma^2_fit chi^2_edf / edf, independently per tau
+    draws = model * rng.chisquare(edf, size=(BOOTSTRAP, taus.size)) / edf
+    terms = np.sqrt([_nnls(a * w[:, None], d * w) for d in draws])
+    lo, med, hi = np.quantile(terms, [(1.0 - ci) / 2.0, 0.5, (1.0 + ci) / 2.0], axis=0)
+    # the replicates' spread about their median, placed on the estimate (clipped at zero),
+    # joined with the plain percentile interval: it holds the estimate, and the percentile
+    # bound of a term fitted as zero
+    value = np.sqrt(coef)
+    low = np.minimum(np.maximum(value - (med - lo), 0.0), lo)
+    high = np.maximum(value + (hi - med), hi)
+    return np.column_stack([low, high])
+
+
+def _one_axis(
+    y: NDArray, rate: float, unit: str, taus: str | ArrayLike, ci: float, seed: int
+) -> InertialNoise:
+    res = allan(y, rate=rate, data="rate", kind="oadev", taus=taus, ci=ci)
+    if res.taus.size < 2:
+        raise NoisevarError("The record is too short: the fit needs at least two taus.")
+    coef, w = fit_terms(res.taus, res.variance, res.edf)
+    ivals = _intervals(res.taus, coef, w, res.edf, ci, seed)
+    terms = []
+    for spec, c, (lo, hi) in zip(TERMS, coef, ivals, strict=True):
+        value = float(np.sqrt(c))
+        terms.append(
+            NoiseTerm(
+                spec.name,
+                spec.symbol,
+                value,
+                (float(lo), float(hi)),
+                spec.unit.format(u=unit),
+                spec.discrete(value, rate),
+                spec.discrete_unit.format(u=unit),
+                spec.slope,
+            )
+        )
+    return InertialNoise(tuple(terms), res, float(rate), unit, float(ci))
+
+
+def inertial_noise(
+    z: ArrayLike,
+    rate: float,
+    *,
+    axis: int = -1,
+    unit: str = "u",
+    taus: str | ArrayLike = "octave",
+    ci: float = ONE_SIGMA,
+    seed: int = 0,
+    workers: int | None = None,
+) -> InertialNoise | tuple[InertialNoise, ...]:
+    """Fit the five IEEE-952 noise terms to the Allan variance of rate data.
+
+    Parameters
+    ----------
+    z : array_like
+        Rate samples (gyro rate, specific force, fractional frequency); several axes
+        along the other dimension of a 2-D array.
+    rate : float
+        Sample rate (Hz).
+    axis : int
+        The time axis of ``z``.
+    unit : str
+        Unit of the rate data, for the terms' units (e.g. ``"rad/s"``, ``"m/s^2"``).
+    taus : "octave", "all" or array_like
+        Averaging times of the Allan deviation (see :func:`noisevar.allan`).
+    ci : float
+        Confidence level of the intervals.
+    seed : int
+        Seed of the bootstrap behind the intervals.
+    workers : int, optional
+        Threads for several axes (default: the number of CPUs).
+
+    Returns
+    -------
+    InertialNoise, or a tuple of them (one per axis) for a 2-D ``z``
+
+    Notes
+    -----
+    docs/algorithms.md §E4. Eq. E4.1 is linear in the squared terms; they are fitted
+    with ``scipy.optimize.nnls``, each tau weighted by its edf, and reweighted with the
+    fitted variance. Intervals: parametric bootstrap of chi-square Allan variances,
+    taken as independent across taus (so they are rather narrow at long taus); the
+    percentile interval joined with the replicates' spread placed on the estimate.
+    """
+    arr = np.asarray(z, dtype=float)
+    if arr.ndim == 1:
+        return _one_axis(arr, rate, unit, taus, ci, seed)
+    if arr.ndim != 2:
+        raise NoisevarError(f"z must be 1-D or 2-D (time x axes); it has shape {arr.shape}.")
+    cols = np.moveaxis(arr, axis, -1)
+    n_workers = max(1, min(cols.shape[0], workers or os.cpu_count() or 1))
+    with ThreadPoolExecutor(n_workers) as pool:
+        jobs = [pool.submit(_one_axis, c, rate, unit, taus, ci, seed) for c in cols]
+        return tuple(j.result() for j in jobs)

@@ -1,0 +1,164 @@
+"""Kalibr's ``imu.yaml``: the continuous-time noise densities of an IMU (docs/algorithms.md §E4).
+
+Kalibr takes, per sensor, the white-noise density N (``*_noise_density``) and the bias
+random walk K (``*_random_walk``), both continuous-time, and the update rate it
+discretises them with. Written by hand (a flat file); read with PyYAML when it is
+installed, else with a small reader of ``key: value`` lines.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Sequence
+from dataclasses import asdict, dataclass
+from typing import Any
+
+from noisevar.errors import NoisevarError
+from noisevar.noise_model.inertial import InertialNoise
+
+#: Keys of the file, in Kalibr's order, with their comments.
+FIELDS = {
+    "accelerometer_noise_density": "m/s^2/sqrt(Hz): white noise (continuous time)",
+    "accelerometer_random_walk": "m/s^3/sqrt(Hz): bias random walk",
+    "gyroscope_noise_density": "rad/s/sqrt(Hz): white noise (continuous time)",
+    "gyroscope_random_walk": "rad/s^2/sqrt(Hz): bias random walk",
+    "rostopic": "the IMU's ROS topic",
+    "update_rate": "Hz (for the discretisation of the values above)",
+}
+
+
+@dataclass(frozen=True)
+class KalibrImu:
+    """The values of a Kalibr ``imu.yaml``."""
+
+    accelerometer_noise_density: float
+    accelerometer_random_walk: float
+    gyroscope_noise_density: float
+    gyroscope_random_walk: float
+    update_rate: float
+    rostopic: str = "/imu0"
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-safe dictionary."""
+        return asdict(self)
+
+    def to_yaml(self) -> str:
+        """The file's text."""
+        values = self.to_dict()
+        lines = ["# Kalibr IMU noise model, written by noisevar (docs/algorithms.md §E4)"]
+        for key, comment in FIELDS.items():
+            v = values[key]
+            if isinstance(v, str):
+                text = v
+            elif key == "update_rate":
+                text = f"{v:g}"
+            else:
+                text = f"{v:.10e}"
+            lines.append(f"{key + ':':<30} {text:<14} # {comment}")
+        return "\n".join(lines) + "\n"
+
+
+def _worst(fits: InertialNoise | Sequence[InertialNoise], name: str) -> float:
+    """The largest value of term ``name`` over the axes (the conservative choice)."""
+    axes = [fits] if isinstance(fits, InertialNoise) else list(fits)
+    if not axes:
+        raise NoisevarError("No axis given: pass the InertialNoise of at least one axis.")
+    return max(a.term(name).value for a in axes)
+
+
+def kalibr_imu(
+    gyro: InertialNoise | Sequence[InertialNoise],
+    accel: InertialNoise | Sequence[InertialNoise],
+    *,
+    inflation: float = 1.0,
+    rostopic: str = "/imu0",
+) -> KalibrImu:
+    """Kalibr's values from the fitted terms of the gyroscope and accelerometer axes.
+
+    Parameters
+    ----------
+    gyro, accel : InertialNoise or sequence of them
+        Fits of the gyroscope axes (rad/s) and accelerometer axes (m/s^2).
+    inflation : float
+        Factor on every density (Kalibr's authors advise inflating Allan-derived
+        values, e.g. by 10, for the unmodelled effects of a moving IMU).
+    rostopic : str
+        The IMU's topic.
+
+    Returns
+    -------
+    KalibrImu
+
+    Notes
+    -----
+    Over several axes the largest N and K are kept.
+    """
+    if not (math.isfinite(inflation) and inflation > 0):
+        raise NoisevarError(f"The inflation must be a positive number, not {inflation}.")
+    rates = {a.rate for a in ([gyro] if isinstance(gyro, InertialNoise) else gyro)}
+    rates |= {a.rate for a in ([accel] if isinstance(accel, InertialNoise) else accel)}
+    if len(rates) != 1:
+        raise NoisevarError(f"The axes were fitted at different rates ({sorted(rates)} Hz).")
+    return KalibrImu(
+        accelerometer_noise_density=inflation * _worst(accel, "random_walk"),
+        accelerometer_random_walk=inflation * _worst(accel, "rate_random_walk"),
+        gyroscope_noise_density=inflation * _worst(gyro, "random_walk"),
+        gyroscope_random_walk=inflation * _worst(gyro, "rate_random_walk"),
+        update_rate=rates.pop(),
+        rostopic=rostopic,
+    )
+
+
+def write_kalibr(imu: KalibrImu, path: str | os.PathLike) -> None:
+    """Write ``imu`` as Kalibr's ``imu.yaml`` at ``path``."""
+    with open(path, "w", encoding="utf-8") as fh:
+        fh.write(imu.to_yaml())
+
+
+def _flat_yaml(text: str) -> dict[str, str]:
+    """``key: value`` lines of a flat YAML file (comments and blank lines skipped)."""
+    out = {}
+    for line in text.splitlines():
+        body = line.split("#", 1)[0].strip()
+        if body and ":" in body:
+            key, value = body.split(":", 1)
+            out[key.strip()] = value.strip().strip("'\"")
+    return out
+
+
+def parse_kalibr(text: str) -> KalibrImu:
+    """A Kalibr ``imu.yaml`` from its text.
+
+    Parameters
+    ----------
+    text : str
+
+    Returns
+    -------
+    KalibrImu
+    """
+    try:
+        import yaml
+
+        raw = yaml.safe_load(text)
+    except ImportError:
+        raw = _flat_yaml(text)
+    except yaml.YAMLError as exc:
+        raise NoisevarError(f"Not a YAML file: {exc}".splitlines()[0]) from exc
+    if not isinstance(raw, dict):
+        raise NoisevarError("Not a Kalibr imu.yaml: expected 'key: value' lines.")
+    missing = [k for k in FIELDS if k not in raw and k != "rostopic"]
+    if missing:
+        raise NoisevarError(f"Not a Kalibr imu.yaml: {', '.join(missing)} missing.")
+    try:
+        values = {k: float(raw[k]) for k in FIELDS if k != "rostopic"}
+    except (TypeError, ValueError) as exc:
+        raise NoisevarError(f"A Kalibr value is not a number: {exc}.") from exc
+    return KalibrImu(**values, rostopic=str(raw.get("rostopic", "/imu0")))
+
+
+def read_kalibr(path: str | os.PathLike) -> KalibrImu:
+    """Read a Kalibr ``imu.yaml``."""
+    with open(path, encoding="utf-8") as fh:
+        return parse_kalibr(fh.read())

@@ -1,0 +1,82 @@
+"""Rate noise with given IEEE-952 terms (docs/algorithms.md §E4), for tests and teaching."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+
+from noisevar.errors import NoisevarError
+
+
+def flicker(n: int, rate: float, level: float, rng: np.random.Generator) -> NDArray:
+    """Flicker (1/f) rate noise whose Allan deviation is flat at ``sqrt(2 ln 2 / pi) level``.
+
+    Parameters
+    ----------
+    n : int
+        Samples.
+    rate : float
+        Sample rate (Hz).
+    level : float
+        Bias instability B.
+    rng : numpy.random.Generator
+
+    Returns
+    -------
+    ndarray
+    """
+    f = np.fft.rfftfreq(n, 1.0 / rate)
+    # one-sided PSD S(f) = B^2 / (pi f), flat ADEV^2 = 2 ln2 h_{-1} = (2 ln 2 / pi) B^2
+    psd = np.zeros_like(f)
+    psd[1:] = level**2 / (math.pi * f[1:])
+    # a bin of complex amplitude c(a + ib) adds variance 4 c^2 / n^2 = S(f) fs / n
+    c = np.sqrt(psd * rate * n) / 2.0
+    spec = c * (rng.standard_normal(f.size) + 1j * rng.standard_normal(f.size))
+    return np.fft.irfft(spec, n)
+
+
+def simulate_inertial(
+    n: int,
+    rate: float,
+    *,
+    quantization: float = 0.0,
+    random_walk: float = 0.0,
+    bias_instability: float = 0.0,
+    rate_random_walk: float = 0.0,
+    rate_ramp: float = 0.0,
+    seed: int = 0,
+) -> NDArray:
+    """Rate samples whose Allan variance is eq. E4.1 with the given terms.
+
+    Parameters
+    ----------
+    n : int
+        Samples.
+    rate : float
+        Sample rate (Hz).
+    quantization, random_walk, bias_instability, rate_random_walk, rate_ramp : float
+        Q, N, B, K, R in the units of eq. E4.1.
+    seed : int
+        Seed of the noise.
+
+    Returns
+    -------
+    ndarray
+    """
+    if n < 2 or not rate > 0:
+        raise NoisevarError(f"Need at least 2 samples and a positive rate; got n={n}, {rate}.")
+    rng = np.random.default_rng(seed)
+    # white angle error q_k of std Q, seen as rate: (q_k - q_{k-1}) fs
+    q = quantization * rng.standard_normal(n + 1)
+    y = np.diff(q) * rate
+    # white rate: std N sqrt(fs)
+    y += random_walk * math.sqrt(rate) * rng.standard_normal(n)
+    if bias_instability > 0:
+        y += flicker(n, rate, bias_instability, rng)
+    # rate random walk: increments of std K / sqrt(fs)
+    y += np.cumsum(rate_random_walk / math.sqrt(rate) * rng.standard_normal(n))
+    # rate ramp: slope R per second
+    y += rate_ramp * np.arange(n) / rate
+    return y

@@ -1,0 +1,44 @@
+"""Noise model page: Allan deviation, IEEE-952 terms, Kalibr export (docs/algorithms.md §E4)."""
+
+from __future__ import annotations
+
+import streamlit as st
+
+from dashboard.pages import setup_page
+from dashboard.sections import noise_model
+from dashboard.sections.signal_loader import require_signal
+from dashboard.widgets import how_it_works
+
+HOW_IT_WORKS = (
+    "**Allan deviation.** Average the rate over $\\tau = m\\tau_0$ and take half the mean "
+    "squared difference of neighbouring averages; from the phase $x$ (the integrated rate):",
+    "$$\\sigma^2(\\tau) = \\frac{1}{2\\tau^2(N-2m)}\\sum_k (x_{k+2m} - 2x_{k+m} + x_k)^2$$",
+    "Each $\\tau$'s interval comes from its equivalent degrees of freedom for the noise type "
+    "identified there (lag-1 autocorrelation), as allantools and Stable32 compute them.",
+    "**Inertial noise terms (IEEE Std 952).** In rate data five noises add, each with its "
+    "own slope on the log-log plot ($-1, -\\tfrac12, 0, +\\tfrac12, +1$):",
+    "$$\\sigma^2(\\tau) = \\frac{3Q^2}{\\tau^2} + \\frac{N^2}{\\tau} + "
+    "\\frac{2\\ln 2}{\\pi}B^2 + \\frac{K^2\\tau}{3} + \\frac{R^2\\tau^2}{2}$$",
+    "All five are fitted at once by non-negative weighted least squares over every $\\tau$ "
+    "(weights from each $\\tau$'s degrees of freedom). For a filter sampled at $f_s$: white "
+    "rate std per sample $N\\sqrt{f_s}$, bias random-walk step $K/\\sqrt{f_s}$. Kalibr's "
+    "`imu.yaml` takes $N$ and $K$ themselves.",
+)
+
+setup_page(__file__)
+st.title("Noise model")
+sig = require_signal(
+    "The Noise model page draws its Allan deviation and fits the IEEE-952 noise terms.",
+    explain=HOW_IT_WORKS,
+)
+settings = noise_model.settings_form(sig)
+noise_model.results(sig, settings)
+
+with st.expander("Kalibr imu.yaml", icon=":material/download:"):
+    noise_model.kalibr_export(sig, settings)
+
+# Place for the coloured-noise models and the joint Q and R (issue 14 items 3-4): the lead
+# wires `dashboard.sections.noise_model_fit.render_fit(sig.z, settings.rate)` in here once
+# the `fit` branch has landed. Nothing is shown for it until then.
+
+how_it_works(*HOW_IT_WORKS)

@@ -1,0 +1,92 @@
+"""AppTest: the Noise model page (Allan deviation, IEEE-952 terms, simulation, Kalibr)."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from streamlit.testing.v1 import AppTest
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT))
+APP = str(ROOT / "app.py")
+PAGE = "pages/10_Noise_model.py"
+SIG = "gen:noise-step;n=4000;seed=1"
+
+
+def _clean(at: AppTest) -> None:
+    assert not at.exception, [e.value for e in at.exception]
+
+
+def _open(sig: str | None = SIG) -> AppTest:
+    app = AppTest.from_file(APP, default_timeout=90)
+    if sig:
+        app.query_params["sig"] = sig
+    app.switch_page(PAGE).run()
+    _clean(app)
+    return app
+
+
+def _figure_names(at: AppTest) -> list[str]:
+    import json
+
+    fig = json.loads(at.get("plotly_chart")[0].proto.spec)
+    return [t.get("name") for t in fig["data"]]
+
+
+def test_without_a_signal_offers_sample_data():
+    at = _open(None)
+    assert any("No signal loaded" in i.value for i in at.info)
+    assert at.get("latex")
+
+
+def test_rate_data_fits_the_terms_and_simulates():
+    at = _open()
+    assert not at.error
+    table = at.dataframe[0].value
+    assert list(table["symbol"]) == ["Q", "N", "B", "K", "R"]
+    assert (table["low"] <= table["value"]).all() and (table["value"] <= table["high"]).all()
+    names = _figure_names(at)
+    assert "overlapping ADEV" in names and "sum" in names
+    assert "simulated from the fit" not in names
+    at.button(key="nm_simulate").click().run()
+    _clean(at)
+    assert "simulated from the fit" in _figure_names(at)
+
+
+def test_phase_data_and_other_deviations_draw_without_terms():
+    at = _open()
+    at.radio(key="nm_data").set_value("phase").run()
+    _clean(at)
+    assert not at.dataframe and any("fitted to the overlapping ADEV" in c.value for c in at.caption)
+    at.selectbox(key="nm_kind").set_value("mdev").run()
+    _clean(at)
+    assert "MDEV" in _figure_names(at)
+
+
+def test_a_bad_rate_is_one_error_and_a_good_one_recovers():
+    at = _open()
+    at.number_input(key="nm_rate").set_value(0.0).run()
+    _clean(at)
+    assert len(at.error) == 1 and "positive" in at.error[0].value
+    at.number_input(key="nm_rate").set_value(10.0).run()
+    _clean(at)
+    assert not at.error and at.dataframe
+
+
+def test_kalibr_export_from_chosen_columns():
+    at = _open()
+    cols = at.multiselect(key="nm_gyro").options
+    at.multiselect(key="nm_gyro").set_value([cols[0]])
+    at.multiselect(key="nm_accel").set_value([cols[0]])
+    at.number_input(key="nm_inflation").set_value(3.0).run()
+    _clean(at)
+    text = at.code[0].value
+    values = dict(line.split("#")[0].split(":", 1) for line in text.splitlines()[1:])
+    gyro = float(values["gyroscope_noise_density"])
+    n_table = at.dataframe[0].value.set_index("symbol").loc["N", "value"]
+    # the same column with the default unit: three times the fitted N
+    assert gyro == pytest.approx(3.0 * n_table, rel=1e-9)
+    assert np.isfinite(float(values["update_rate"]))

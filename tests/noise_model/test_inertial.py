@@ -1,0 +1,97 @@
+"""noisevar.inertial_noise: recovery of simulated IEEE-952 terms, units, axes (§E4)."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+import noisevar
+from noisevar.noise_model import inertial_noise
+from noisevar.noise_model.inertial import TERM_NAMES, fit_terms
+from noisevar.noise_model.simulate import simulate_inertial
+
+RATE = 100.0
+TRUE = {"random_walk": 1e-3, "bias_instability": 1e-3, "rate_random_walk": 3e-4}
+
+
+@pytest.fixture(scope="module")
+def gyro() -> noisevar.InertialNoise:
+    y = simulate_inertial(400_000, RATE, seed=7, **TRUE)
+    return inertial_noise(y, RATE, unit="rad/s")
+
+
+def test_recovers_n_b_k(gyro: noisevar.InertialNoise) -> None:
+    assert gyro.random_walk == pytest.approx(TRUE["random_walk"], rel=0.02)
+    assert gyro.bias_instability == pytest.approx(TRUE["bias_instability"], rel=0.15)
+    assert gyro.rate_random_walk == pytest.approx(TRUE["rate_random_walk"], rel=0.3)
+    # absent terms stay small: their deviation is under a tenth of the data's everywhere
+    parts, total = gyro.model()
+    assert np.all(parts["quantization"] < 0.1 * total)
+    assert np.all(parts["rate_ramp"] < 0.1 * total)
+
+
+def test_intervals_bracket_the_estimates(gyro: noisevar.InertialNoise) -> None:
+    for t in gyro.terms:
+        assert t.interval[0] <= t.value <= t.interval[1]
+    n = gyro.term("N")
+    assert n.interval[0] <= TRUE["random_walk"] <= n.interval[1] * 1.01
+
+
+def test_units_and_discrete_equivalents(gyro: noisevar.InertialNoise) -> None:
+    n, k, q = gyro.term("random_walk"), gyro.term("K"), gyro.term("Q")
+    assert (n.unit, k.unit, q.unit) == ("rad/s/√Hz", "rad/s/s/√Hz", "rad/s·s")
+    assert n.discrete == pytest.approx(n.value * math.sqrt(RATE))
+    assert k.discrete == pytest.approx(k.value / math.sqrt(RATE))
+    assert [t.slope for t in gyro.terms] == [-1.0, -0.5, 0.0, 0.5, 1.0]
+    assert [t.name for t in gyro.terms] == list(TERM_NAMES)
+
+
+def test_quantization_and_ramp_are_recovered() -> None:
+    y = simulate_inertial(
+        200_000, RATE, quantization=2e-4, random_walk=1e-4, rate_ramp=1e-5, seed=3
+    )
+    fit = inertial_noise(y, RATE)
+    assert fit.quantization == pytest.approx(2e-4, rel=0.05)
+    assert fit.rate_ramp == pytest.approx(1e-5, rel=0.2)
+
+
+def test_exact_allan_variance_gives_exact_terms() -> None:
+    taus = np.geomspace(0.01, 1000.0, 18)
+    coef = np.array([1e-8, 4e-6, 1e-6, 1e-9, 1e-12])
+    a = np.column_stack(
+        [3 / taus**2, 1 / taus, np.full(18, 2 * np.log(2) / np.pi), taus / 3, taus**2 / 2]
+    )
+    fitted, _ = fit_terms(taus, a @ coef, np.full(18, 100.0))
+    np.testing.assert_allclose(fitted, coef, rtol=1e-6)
+
+
+def test_several_axes_along_either_axis() -> None:
+    ys = np.stack(
+        [simulate_inertial(50_000, RATE, random_walk=s, seed=i) for i, s in enumerate([1e-3, 4e-3])]
+    )
+    rows = inertial_noise(ys, RATE, axis=1)
+    cols = inertial_noise(ys.T, RATE, axis=0, workers=1)
+    assert len(rows) == len(cols) == 2
+    for r, c, s in zip(rows, cols, [1e-3, 4e-3], strict=True):
+        assert r.random_walk == c.random_walk == pytest.approx(s, rel=0.03)
+
+
+def test_to_dict_is_json_safe(gyro: noisevar.InertialNoise) -> None:
+    d = json.loads(json.dumps(gyro.to_dict(), allow_nan=False))
+    assert set(d["terms"]) == set(TERM_NAMES)
+    assert d["terms"]["random_walk"]["unit"] == "rad/s/√Hz"
+    assert d["allan"]["kind"] == "oadev" and d["allan"]["data"] == "rate"
+
+
+def test_bad_input() -> None:
+    with pytest.raises(noisevar.NoisevarError, match="positive"):
+        inertial_noise(np.zeros(100), 0.0)
+    with pytest.raises(noisevar.NoisevarError, match="too short"):
+        inertial_noise(np.random.default_rng(0).standard_normal(4), 10.0)
+    with pytest.raises(noisevar.NoisevarError, match="1-D or 2-D"):
+        inertial_noise(np.zeros((2, 2, 50)), 10.0)
+    with pytest.raises(noisevar.NoisevarError, match="No term"):
+        inertial_noise(np.random.default_rng(0).standard_normal(100), 1.0).term("X")
