@@ -52,8 +52,7 @@ class LevelProfile:
     @property
     def quiet_variance(self) -> float:
         """Pooled level (mean square) of the quiet blocks."""
-        w = self.dof[self.quiet]
-        return float(np.sum(w * self.variance[self.quiet]) / np.sum(w))
+        return _pooled(self.variance, self.dof, self.quiet)
 
     @property
     def quiet_share(self) -> float:
@@ -147,23 +146,25 @@ def _quiet_set(
     mean square, and is skipped).
     """
     level = 1.0 - QUIET_ALPHA / robust.size
+    # each block's χ²(ν_b)/ν_b quantile, once for all blocks
+    q_robust = stats.chi2.ppf(level, robust_dof) / robust_dof
+    q_var = stats.chi2.ppf(level, dof) / dof
     order = np.argsort(robust)
     need = QUIET_MIN_SHARE * sizes.sum()
     quiet = np.zeros(robust.size, dtype=bool)
     covered = 0.0
     for b in order:
         if covered >= need:
-            if not _consistent(robust[b], robust_dof[b], robust[quiet], robust_dof[quiet], level):
+            if robust[b] > _pooled(robust, robust_dof, quiet) * q_robust[b]:
                 break  # every later block is louder still
-            if not _consistent(var[b], dof[b], var[quiet], dof[quiet], level):
+            if var[b] > _pooled(var, dof, quiet) * q_var[b]:
                 continue  # motion in part of the block: a low median, a high mean square
         quiet[b] = True
         covered += sizes[b]
     return quiet
 
 
-def _consistent(x: float, nu: float, xs: NDArray, nus: NDArray, level: float) -> bool:
-    """``x`` (a χ²-like level with ``nu`` dof) below the ``level`` quantile of the pooled ``xs``."""
-    pooled = float(np.sum(nus * xs) / np.sum(nus))
-    # the block's level against χ²(ν_b)/ν_b times the pooled level
-    return bool(x <= pooled * stats.chi2.ppf(level, nu) / nu)
+def _pooled(x: NDArray, nu: NDArray, members: NDArray) -> float:
+    """The dof-weighted level of the ``members`` blocks."""
+    w = nu[members] / np.sum(nu[members])  # weights first: no overflow of huge levels
+    return float(w @ x[members])

@@ -31,10 +31,12 @@ def noise_kurtosis(e: NDArray, d: NDArray) -> float:
     averages the tails away, and this undoes it.
     """
     u = d / np.sqrt(np.dot(d, d))
-    m2 = float(np.mean(e * e))
-    m4 = float(np.mean((e * e) ** 2))
-    if m2 <= 0.0:
+    peak = float(np.max(np.abs(e))) if e.size else 0.0
+    if not peak > 0.0 or not np.isfinite(peak):
         return 3.0
+    x = e / peak  # the kurtosis is scale-free: keep the fourth powers in range
+    m2 = float(np.mean(x * x))
+    m4 = float(np.mean((x * x) ** 2))
     # κ_v = 3 + (κ_e - 3) / Σ d⁴
     return float(max(3.0 + (m4 / m2**2 - 3.0) / np.sum(u**4), 1.0))
 

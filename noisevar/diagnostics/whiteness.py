@@ -171,6 +171,10 @@ def whiteness_test(
     rho, w = _bartlett(tuple(np.asarray(d, dtype=float)), lags)
     w = w * inflation
     r = sample_acf(e, lags, keep)
+    if not (np.all(np.isfinite(r)) and np.all(np.isfinite(w))):
+        from noisevar.errors import NoisevarError
+
+        raise NoisevarError("the residual is degenerate (no variation to correlate)")
     lam, u = np.linalg.eigh(w)
     # directions where W is near singular (the residual filter's spectral zeros pin them)
     # carry finite-sample bias, not information: leave them out

@@ -239,9 +239,16 @@ def rescale_diagnostics(result: VarianceEstimate, e: int) -> None:
     if diag is None:
         return
     prof = diag.level_profile
-    f = float(np.ldexp(1.0, -2 * e))
-    prof = replace(prof, variance=prof.variance * f, lo=prof.lo * f, hi=prof.hi * f)
-    lsb = None if diag.lsb is None else float(np.ldexp(diag.lsb, -e))
+    top = np.finfo(float).max
+
+    def back(x: NDArray, power: int) -> NDArray:
+        with np.errstate(over="ignore", under="ignore"):
+            return np.minimum(np.ldexp(x, -power * e), top)  # a block may not fit: clip
+
+    prof = replace(
+        prof, variance=back(prof.variance, 2), lo=back(prof.lo, 2), hi=back(prof.hi, 2)
+    )
+    lsb = None if diag.lsb is None else float(back(np.asarray(diag.lsb), 1))
     old = set(diag.notes)
     diag = with_verdict(
         replace(diag, level_profile=prof, lsb=lsb),
