@@ -38,7 +38,9 @@ def _badges(flags: dict[str, bool]) -> None:
         col.badge(label, icon=icon, color=color)
 
 
-def render_noise_panel(z: ArrayLike, estimate: Any, t: ArrayLike | None = None) -> None:
+def render_noise_panel(
+    z: ArrayLike, estimate: Any, t: ArrayLike | None = None, key: str = "np"
+) -> None:
     """The verdict (info or warning by severity), flags, notes and the Noise figures.
 
     Parameters
@@ -49,6 +51,8 @@ def render_noise_panel(z: ArrayLike, estimate: Any, t: ArrayLike | None = None) 
         Its ``.diagnostics`` (nothing is drawn without them).
     t : array_like, optional
         Sample times (the level profile's abscissa).
+    key : str
+        Prefix of the widget keys (give each panel on a page its own).
     """
     diag = getattr(estimate, "diagnostics", None)
     if diag is None:
@@ -66,14 +70,14 @@ def render_noise_panel(z: ArrayLike, estimate: Any, t: ArrayLike | None = None) 
             data = noise_panel_data(z, diag, t)
             tabs = st.tabs(["Histogram", "QQ plot", "Autocorrelation", "Level profile"])
             with tabs[0]:
-                log_y = st.toggle("Logarithmic density (tails)", key="np_log_y")
-                show_figure(residual_histogram(data, log_y=log_y), key="np_hist")
+                log_y = st.toggle("Logarithmic density (tails)", key=f"{key}_log_y")
+                show_figure(residual_histogram(data, log_y=log_y), key=f"{key}_hist")
             with tabs[1]:
-                show_figure(qq_plot(data), key="np_qq")
+                show_figure(qq_plot(data), key=f"{key}_qq")
             with tabs[2]:
-                show_figure(acf_plot(data), key="np_acf")
+                show_figure(acf_plot(data), key=f"{key}_acf")
             with tabs[3]:
-                show_figure(level_profile_plot(data), key="np_profile")
+                show_figure(level_profile_plot(data), key=f"{key}_profile")
 
 
 def render_assumptions(estimates: Iterable[Any]) -> None:

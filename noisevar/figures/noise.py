@@ -73,9 +73,19 @@ def residual_histogram(
         **layout(title, height, bargap=0),
         xaxis_title=f"residual / its standard deviation{extra}",
         yaxis_title="density",
-        yaxis_type="log" if log_y else "linear",
     )
+    if log_y:  # down to a tenth of the rarest bin, not to the normal's far tail
+        low = float(np.min(data.density[data.density > 0], initial=1e-3)) / 10.0
+        fig.update_yaxes(type="log", range=[np.log10(low), np.log10(1.5 * _top(data))])
     return fig
+
+
+def _top(data: NoisePanelData) -> float:
+    return float(max(np.max(data.density), np.max(data.normal_pdf), np.max(data.t_pdf)))
+
+
+def _p(p: float) -> str:
+    return f"= {p:.3g}" if p >= 1e-4 else "< 0.0001"
 
 
 def _dof(dof: float) -> str:
@@ -168,7 +178,7 @@ def acf_plot(
             go.Scatter(
                 x=lags,
                 y=data.acf,
-                name=f"residual ({verdict}, p = {data.p_value:.3g})",
+                name=f"residual ({verdict}, p {_p(data.p_value)})",
                 mode="markers+lines",
                 line={"color": COLORS["clean"]},
             ),
