@@ -136,14 +136,18 @@ def test_wrong_types_are_refused(z, phrase):
 def test_masked_samples_are_gaps():
     z = np.random.default_rng(4).normal(0, 1, 1000)
     mask = np.zeros(1000, bool)
-    mask[::10] = True
+    mask[300:360] = mask[700:740] = True
     zm = np.ma.masked_array(z.copy(), mask=mask)
     zm.data[mask] = 1e6  # garbage under the mask must never be used
     with pytest.raises(NoisevarError, match="non-finite"):
         nv.estimate(zm, method="rice")
     got = nv.estimate(zm, method="rice", drop_nonfinite=True)
     assert got.n_total == 900
-    assert got.variance == nv.estimate(z[~mask], method="rice").variance
+    assert [g.index for g in got.diagnostics.gaps] == [300, 640]
+    parts = [z[:300], z[360:700], z[740:]]
+    # pooled per segment, weights their samples: never spliced across the gaps
+    want = sum(p.size * nv.estimate(p, method="rice").variance for p in parts) / 900
+    assert got.variance == pytest.approx(want, rel=0.01)
 
 
 def test_a_negative_reference_variance_result_is_refused():

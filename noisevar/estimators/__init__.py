@@ -14,7 +14,12 @@ from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
 from noisevar.estimators import _scale, auto, difference, mle, redundant, somd
-from noisevar.estimators._input import as_channels, as_signal, check_samples, check_times
+from noisevar.estimators._input import as_channels, as_signal, check_samples
+from noisevar.estimators._record import (
+    attach_diagnostics,
+    estimate_record,
+    rescale_diagnostics,
+)
 from noisevar.estimators.auto import auto_estimate, residual_sequence
 from noisevar.estimators.difference import HKT_SEQUENCES, sequence_efficiency
 from noisevar.estimators.params import PARAMS, MethodSpec
@@ -126,6 +131,11 @@ def _run(spec: MethodSpec, z: NDArray, notes: list[list[str]], params: dict) -> 
     return [spec.func(row, nt, **params) for row, nt in zip(z, notes, strict=True)]
 
 
+def _run_one(spec: MethodSpec, z: NDArray, notes: list[str], params: dict) -> VarianceEstimate:
+    """``spec.func`` on one validated uniform segment."""
+    return _run(spec, z[None, :], [notes], params)[0]
+
+
 def _channels(spec: MethodSpec, z: NDArray, drop: bool, params: dict) -> list:
     """Every channel of ``z`` (shape ``(..., n)``), at once when the method allows it."""
     flat = z.reshape(-1, z.shape[-1])
@@ -143,6 +153,22 @@ def _channels(spec: MethodSpec, z: NDArray, drop: bool, params: dict) -> list:
     return [_run(spec, r[None, :], [nt], params)[0] for r, nt in zip(rows, notes, strict=True)]
 
 
+def _records(
+    spec: MethodSpec, arr: NDArray, times: NDArray | None, drop: bool, used: dict
+) -> list[VarianceEstimate]:
+    """Every channel of ``arr`` (samples on the last axis) through ``spec``, with diagnostics."""
+    if arr.ndim == 1:
+        return [estimate_record(spec, arr, times, drop, used, _run_one)]
+    rows = arr.reshape(-1, arr.shape[-1])
+    if times is None and np.isfinite(arr).all():  # the method's vectorised path
+        results = _channels(spec, arr, drop, used)
+        return [
+            attach_diagnostics(spec, r, row, None, used, _run_one)
+            for r, row in zip(results, rows, strict=True)
+        ]
+    return [estimate_record(spec, row, times, drop, used, _run_one) for row in rows]
+
+
 def estimate(
     z: ArrayLike, method: str = "auto", axis: int = -1, t: ArrayLike | None = None, **params: Any
 ) -> VarianceEstimate | VarianceEstimates:
@@ -158,8 +184,9 @@ def estimate(
     axis : int
         Sample axis of N-D input.
     t : array_like, shape (n,), optional
-        Sample times. Only checked for now: non-uniform sampling is refused (every
-        estimator assumes uniform sampling).
+        Sample times. The record is split where the sampling is not uniform (gaps,
+        irregular steps), each uniform segment is estimated and the segments are
+        pooled; so is a record whose non-finite samples are dropped.
     **params
         The method's parameters (``noisevar methods`` and
         :data:`~noisevar.estimators.params.PARAMS` list them); ``drop_nonfinite`` is
@@ -190,19 +217,16 @@ def estimate(
     drop = bool(valid.pop("drop_nonfinite", None) or False)
     used = {k: v for k, v in valid.items() if v is not None}
     arr = as_channels(z, axis)
-    if t is not None:
-        check_times(t, arr.shape[-1])
+    times = None if t is None else np.asarray(t)
     # scale-safe: run on z 2**e (exact), scale the answer back (docstring of _scale)
     e = _scale.scale_exponent(arr)
     arr_s, used_s = (np.ldexp(arr, e), _scale.scale_params(used, e)) if e else (arr, used)
-    if arr.ndim == 1:
-        zz, notes = as_signal(arr_s, drop_nonfinite=drop)
-        results = _run(spec, zz[None, :], [notes], used_s)
-    else:
-        results = _channels(spec, arr_s, drop, used_s)
+    results = _records(spec, arr_s, times, drop, used_s)
     _scale.unscale(results, e)
     for r in results:
         _scale.check_answer(r)
+        if e:
+            rescale_diagnostics(r, e)
         r.params = {"method": method, **r.params}
     if arr.ndim == 1:
         return results[0]

@@ -7,9 +7,6 @@ from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
 
-#: Relative spread of the sampling interval above which ``t`` counts as non-uniform.
-UNIFORM_RTOL = 1e-3
-
 
 def _refuse_kind(kind: str, what: str) -> None:
     if kind == "c":
@@ -131,10 +128,10 @@ def as_channels(z: ArrayLike, axis: int) -> NDArray:
 
 
 def check_times(t: ArrayLike, n: int) -> NDArray:
-    """Validate sample times: 1-D, ``n`` of them, finite, increasing and uniformly spaced.
+    """Validate sample times: 1-D, ``n`` of them, finite and strictly increasing.
 
-    The estimators assume uniform sampling (docs/algorithms.md §F1); ``t`` is checked so
-    that a non-uniform record is refused with a clear message rather than misread.
+    Non-uniform steps are allowed: the record is split there into uniform segments
+    (:func:`noisevar.diagnostics.split_times`).
 
     Parameters
     ----------
@@ -159,12 +156,6 @@ def check_times(t: ArrayLike, n: int) -> NDArray:
         first = int(np.argmax(dt <= 0))
         raise NoisevarError(
             f"t must be strictly increasing: t[{first + 1}] <= t[{first}]; sort the record first"
-        )
-    step = float(np.median(dt)) if dt.size else 0.0
-    if dt.size and np.max(np.abs(dt - step)) > UNIFORM_RTOL * step:
-        raise NoisevarError(
-            f"the sampling is not uniform (steps from {dt.min():g} to {dt.max():g}): the "
-            "estimators need uniformly spaced samples; resample the record first"
         )
     return arr
 

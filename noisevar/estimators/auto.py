@@ -18,6 +18,16 @@ from scipy import signal, stats
 from scipy.ndimage import maximum_filter1d
 
 from noisevar.errors import NoisevarError
+from noisevar.estimators._blocks import (
+    _block_counts,
+    _block_medians,
+    _block_square_sums,
+    _block_sums,
+    _dilate,
+    _flagged_per_block,
+    _kept_block_sums,
+)
+from noisevar.estimators._steps import STEP_MAX_FRACTION, _step_mask
 from noisevar.estimators.difference import sequence_efficiency
 from noisevar.estimators.params import AUTO_ORDER, AUTO_TRIM, MethodSpec
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
@@ -36,6 +46,9 @@ AUTO_SPANS = (11, 21, 41, 81)
 AUTO_MASK_SPAN = 41
 AUTO_BLOCK = 256
 AUTO_LEAK_SE = 3.5
+#: The span used on noise that is not white: the shortest, which lets the least of a
+#: coloured part (flicker, random walk) into the residual (docs/algorithms.md §F5.6).
+AUTO_COLOURED_SPAN = 5
 
 
 @lru_cache(maxsize=64)
@@ -124,131 +137,6 @@ def _truncated_second_moment(kappa: float) -> float:
     return float((p - 2.0 * kappa * stats.norm.pdf(kappa)) / p)
 
 
-def _block_sums(x: NDArray, block: int, nb: int) -> NDArray:
-    """Sums over ``nb`` consecutive blocks of ``block`` samples (the rest joins the last)."""
-    sums = x[: nb * block].reshape(nb, block).sum(axis=1, dtype=float)
-    sums[-1] += x[nb * block :].sum()
-    return sums
-
-
-def _block_square_sums(x: NDArray, block: int, nb: int) -> NDArray:
-    """Sums of ``x²`` over the blocks of :func:`_block_sums`, without a squared copy of ``x``."""
-    head = x[: nb * block].reshape(nb, block)
-    sums = np.einsum("ij,ij->i", head, head)
-    tail = x[nb * block :]
-    sums[-1] += tail @ tail
-    return sums
-
-
-def _block_medians(x: NDArray, block: int, nb: int, stride: int) -> NDArray:
-    """Median of every ``stride``-th sample of each of the first ``nb`` blocks.
-
-    A row-wise sort of the small ``(nb, block / stride)`` array, with the values of
-    ``np.median(..., axis=1)``.
-    """
-    y = np.sort(x[: nb * block].reshape(nb, block)[:, ::stride], axis=1)
-    k = y.shape[1]
-    return y[:, k // 2] if k % 2 else 0.5 * (y[:, k // 2 - 1] + y[:, k // 2])
-
-
-STEP_WINDOW = 6
-STEP_THRESHOLD = 6.0
-#: Above this fraction of flagged samples the step detector is ignored: what it sees is a
-#: fast signal (a sinusoid of a few tens of samples per period), not jumps.
-STEP_MAX_FRACTION = 0.2
-
-
-def _step_mask(
-    z: NDArray, above: Callable[[NDArray], NDArray], scale: float = 1.0, w: int = STEP_WINDOW
-) -> NDArray:
-    """Samples next to a jump, found by a step detector blind to parabolas.
-
-    With ``M[i] = mean(z[i:i+w])``, ``D3[k] = M[k+w] - 3 M[k] + 3 M[k-w] -
-    M[k-2w]`` is the third difference of four adjacent window means: zero on
-    any parabola (a ramp, a turn), while a jump ``J`` gives ``|D3|`` up to
-    ``2 J`` against a noise standard deviation ``σ sqrt(20 / w)``. At
-    ``w = 6`` a jump of 6 σ stands 6.6 standard deviations out, where the
-    cubic residual shows it only at about 2.5 (a local cubic absorbs most of
-    a jump). A fast signal (a sinusoid of 30 samples per period, say) also
-    trips it; :func:`_outlier_mask` then ignores it.
-
-    ``above(x)`` tells where ``x`` exceeds ``scale`` times the local noise
-    variance (:func:`_above_local`); returns the samples where ``|D3|``
-    exceeds :data:`STEP_THRESHOLD` standard deviations. (The scale is folded
-    into the window means, so the test costs no pass of its own: two work
-    arrays, the third differences written in place.)
-    """
-    n = z.size
-    if n < 4 * w:
-        return np.zeros(n, dtype=bool)
-    # mm[i] = mean(z[i:i+w]), pre-scaled so that D3² compares with threshold_var directly
-    gain = np.sqrt(scale / (STEP_THRESHOLD**2 * 20.0 / w)) / w
-    mm = np.convolve(z, np.full(w, gain), mode="valid")  # n - w + 1
-    work = np.empty(n)
-    d1 = work[: n - 2 * w + 1]
-    np.subtract(mm[w:], mm[:-w], out=d1)  # third difference at lag w, as three first ones
-    d2 = mm[: n - 3 * w + 1]
-    np.subtract(d1[w:], d1[:-w], out=d2)
-    d3 = work[2 * w : n - 2 * w + 1]  # D3 at k = 2w .. n - 2w, aligned with the samples
-    np.subtract(d2[w:], d2[:-w], out=d3)
-    np.multiply(d3, d3, out=d3)
-    work[: 2 * w] = 0.0  # D3 is not defined there: no jump can be seen
-    work[n - 2 * w + 1 :] = 0.0
-    return above(work)
-
-
-def _dilate(mask: NDArray, half: int) -> NDArray:
-    """``mask`` widened by ``half`` samples on each side (cheap when few are set)."""
-    idx = np.flatnonzero(mask)
-    if idx.size > mask.size // 64:
-        return maximum_filter1d(mask.view(np.uint8), 2 * half + 1).view(bool)
-    out = np.zeros_like(mask)
-    span = (idx[:, None] + np.arange(-half, half + 1)).ravel()
-    out[span[(span >= 0) & (span < mask.size)]] = True
-    return out
-
-
-def _flagged_per_block(idx: NDArray, block: int, nb: int) -> NDArray:
-    """How many of the sample indices ``idx`` fall in each block of :func:`_block_sums`."""
-    return np.bincount(np.minimum(idx // block, nb - 1), minlength=nb).astype(float)
-
-
-def _block_counts(block: int, nb: int, n: int) -> NDArray:
-    """Samples per block of :func:`_block_sums` (the rest joins the last)."""
-    counts = np.full(nb, float(block))
-    counts[-1] += n - nb * block
-    return counts
-
-
-def _kept_block_sums(x: NDArray, idx: NDArray, block: int, nb: int) -> NDArray:
-    """:func:`_block_sums` of ``x`` with the samples ``idx`` counted as zero; ``x`` untouched.
-
-    Only the blocks that hold a flagged sample are summed again, from a copy
-    of those blocks alone (exactly: subtracting the flagged values instead
-    would let a huge outlier swamp its block's sum).
-    """
-    sums = _block_sums(x, block, nb)
-    body = x[: nb * block].reshape(nb, block)
-    inside = idx[idx < nb * block]
-    rows_of = inside // block
-    blocks = np.unique(rows_of)
-    last = body[-1].sum()
-    if blocks.size:
-        rows = body[blocks]  # a copy of the flagged blocks only
-        rows[np.searchsorted(blocks, rows_of), inside % block] = 0.0
-        sums[blocks] = rows.sum(axis=1)
-        if blocks[-1] == nb - 1:
-            last = sums[-1]
-    rest = x[nb * block :]
-    tail = idx[idx >= nb * block]
-    if tail.size:
-        rest = rest.copy()
-        rest[tail - nb * block] = 0.0
-    if rest.size and (tail.size or (blocks.size and blocks[-1] == nb - 1)):
-        sums[-1] = last + rest.sum()  # the rest of the record joins the last block
-    return sums
-
-
 def _above_local(x: NDArray, local: NDArray, block: int) -> NDArray:
     """``x`` above the larger local level of the two block centres around each sample.
 
@@ -280,8 +168,8 @@ def _outlier_mask(
     block: int,
     dilate: int,
     steps: Callable[[Callable[[NDArray], NDArray], float], NDArray] | None,
-) -> NDArray | None:
-    """Squared residuals that are jumps or outliers (the caller widens the mask).
+) -> tuple[NDArray | None, NDArray | None]:
+    """Squared residuals that are outliers, and samples next to jumps (the caller widens both).
 
     Pass 1 takes a robust local scale from block medians of ``e²`` (every
     fourth sample: plenty for a scale whose only use is a generous
@@ -292,7 +180,7 @@ def _outlier_mask(
     ``steps(above, κ²)`` (:func:`_step_mask`). Pass 1 leaves ``dilate``
     neighbours on each side of what it flags out of the scale (a jump spreads
     over the whole span of the residual sequence); the returned mask is not
-    widened, so that the caller can widen it by each span's half. Returns
+    widened, so that the caller can widen it by each span's half. Each is
     None when nothing is flagged (the common case, which then costs no
     masking).
     """
@@ -324,13 +212,12 @@ def _outlier_mask(
         return _above_local(x, threshold, block)
 
     outlier = above(sq)
+    jumps = None
     if steps is not None:
-        jumps = steps(above, kappa**2)
-        if np.count_nonzero(jumps) <= STEP_MAX_FRACTION * n:  # else the signal is too fast
-            outlier |= jumps
-    if not outlier.any():
-        return None
-    return outlier
+        found = steps(above, kappa**2)
+        if 0 < np.count_nonzero(found) <= STEP_MAX_FRACTION * n:  # else the signal is too fast
+            jumps = found
+    return (outlier if outlier.any() else None), jumps
 
 
 def _near_flagged(
@@ -388,45 +275,101 @@ class _Blocks:
     fourth: NDArray  # (nb,) sums of the shortest span's e⁴
     clean_for: NDArray  # (n_spans, nb) span j's residuals untouched by a flagged sample
     recover: tuple[NDArray, NDArray, NDArray] | None  # see _near_flagged
+    total_count: NDArray  # (nb,) samples off the jumps (outliers kept: they are noise)
+    total_sum: NDArray  # (n_spans, nb) their sums
+    outliers: NDArray  # samples that are outliers (one per spike)
+    clean_total: NDArray  # (n_spans, nb) as clean_for, for the jumps alone
+    recover_total: tuple[NDArray, NDArray, NDArray] | None  # as recover, near the jumps
+
+
+def _flag(z: NDArray, sq0: NDArray, trim: float, block: int, half: int) -> tuple:
+    """Outliers and jumps of the record (None when none), from the shortest span's squares."""
+    if not np.isfinite(trim):
+        return None, None
+    return _outlier_mask(sq0, trim, block, half, lambda var, sc: _step_mask(z, var, sc))
+
+
+def _zero(sq: NDArray, flags: NDArray | None, half: int, block: int, nb: int) -> NDArray:
+    """Zero the squares within ``half`` of ``flags`` in place; the samples left out per block."""
+    if flags is None:
+        return np.zeros(nb)
+    idx = np.flatnonzero(_dilate(flags, half) if half > 0 else flags)
+    if idx.size == sq.shape[1]:
+        raise NoisevarError("every residual was trimmed as an outlier: the signal is not usable")
+    sq[:, idx] = 0.0
+    return _flagged_per_block(idx, block, nb)
+
+
+def _recoverable(
+    flags: NDArray | None, spans: tuple[int, ...], half: int, sq: NDArray
+) -> tuple[NDArray, NDArray, NDArray] | None:
+    """:func:`_near_flagged` for the mask of ``flags`` widened by ``half`` (None: no flags)."""
+    if flags is None:
+        return None
+    idx = np.flatnonzero(_dilate(flags, half) if half > 0 else flags)
+    return _near_flagged(flags, idx, spans, half, sq)
 
 
 def _trimmed_blocks(z: NDArray, sq: NDArray, spans: tuple[int, ...], trim: float) -> _Blocks:
-    """Flag jumps and outliers, zero their neighbourhoods in ``sq`` and sum the blocks."""
+    """Flag jumps and outliers, zero their neighbourhoods in ``sq`` and sum the blocks.
+
+    Block sums are taken twice: with only the jumps left out (the total variance:
+    outliers are noise) and with outliers left out too (the core, §F5.4).
+    """
     m = z.size
     block = AUTO_BLOCK if m >= 2 * AUTO_BLOCK else max(m // 2, 16)
     nb = max(1, m // block)
     # flagged samples are widened by half the longest span up to AUTO_MASK_SPAN; a
     # longer span is used only in blocks that its wider neighbourhood leaves alone
     half = max(s for s in spans if s <= max(AUTO_MASK_SPAN, spans[0])) // 2
-    flagged = (
-        _outlier_mask(sq[0], trim, block, half, lambda var, sc: _step_mask(z, var, sc))
-        if np.isfinite(trim)
-        else None
-    )
-    kept_count = _block_counts(block, nb, m)
-    recover = None
-    clean_for = np.ones((len(spans), nb), dtype=bool)
-    if flagged is not None:
-        idx = np.flatnonzero(_dilate(flagged, half) if half > 0 else flagged)
-        if idx.size == m:
-            raise NoisevarError(
-                "every residual was trimmed as an outlier: the signal is not usable"
-            )
-        per_block = _flagged_per_block(idx, block, nb)
-        kept_count -= per_block
-        recover = _near_flagged(flagged, idx, spans, half, sq)
-        sq[:, idx] = 0.0  # sq is ours: trimmed residuals count as zero
-        for j, s in enumerate(spans):
-            if s // 2 > half:
-                wide = _flagged_per_block(np.flatnonzero(_dilate(flagged, s // 2)), block, nb)
-                clean_for[j] = wide == per_block
+    outliers, jumps = _flag(z, sq[0], trim, block, half)
+    sq0_copy = sq[0].copy() if outliers is not None else sq[0]
+    flagged = jumps if outliers is None else outliers if jumps is None else outliers | jumps
+    # before any zeroing: the values near flagged samples (and near jumps, for the total)
+    recover = _recoverable(flagged, spans, half, sq)
+    recover_total = _recoverable(jumps, spans, half, sq)
+    total_count = _block_counts(block, nb, m) - _zero(sq, jumps, half, block, nb)
+    total_sum = np.stack([_block_sums(q, block, nb) for q in sq])
+    kept_count = _block_counts(block, nb, m) - _zero(sq, flagged, half, block, nb)
     block_sum = np.stack([_block_sums(q, block, nb) for q in sq])
     fourth = _block_square_sums(sq[0], block, nb)
-    return _Blocks(block, nb, kept_count, block_sum, fourth, clean_for, recover)
+    # one outlying sample spreads over its neighbours' residuals: count the peaks
+    peaks = sq[0] if outliers is None else maximum_filter1d(sq0_copy, spans[0])
+    out_at = np.zeros(0, dtype=int)
+    if outliers is not None:  # residuals next to a jump are the jump's, not outliers
+        alone = outliers if jumps is None else outliers & ~_dilate(jumps, half)
+        out_at = np.flatnonzero(alone & (sq0_copy == peaks))
+    return _Blocks(
+        block, nb, kept_count, block_sum, fourth, _clean_for(flagged, spans, half, block, nb),
+        recover, total_count, total_sum, out_at, _clean_for(jumps, spans, half, block, nb),
+        recover_total,
+    )  # fmt: skip
 
 
-def _choose_spans(b: _Blocks, spans: tuple[int, ...], order: int) -> NDArray:
-    """Each block's span index: lengthen while the mean square does not leak (§F5.2)."""
+def _clean_for(
+    flags: NDArray | None, spans: tuple[int, ...], half: int, block: int, nb: int
+) -> NDArray:
+    """Per span and block: no flagged sample within the span's reach beyond the mask's."""
+    clean = np.ones((len(spans), nb), dtype=bool)
+    if flags is None:
+        return clean
+    per_block = _flagged_per_block(np.flatnonzero(_dilate(flags, half)), block, nb)
+    for j, s in enumerate(spans):
+        if s // 2 > half:
+            wide = _flagged_per_block(np.flatnonzero(_dilate(flags, s // 2)), block, nb)
+            clean[j] = wide == per_block
+    return clean
+
+
+def _choose_spans(
+    b: _Blocks, spans: tuple[int, ...], order: int, clean_for: NDArray | None = None
+) -> NDArray:
+    """Each block's span index: lengthen while the mean square does not leak (§F5.2).
+
+    ``clean_for`` (default ``b.clean_for``) says where a span's reach is free of flagged
+    samples.
+    """
+    clean_for = b.clean_for if clean_for is None else clean_for
     with np.errstate(invalid="ignore", divide="ignore"):
         block_mean = b.block_sum / b.kept_count
         rms4 = np.sqrt(b.fourth / b.kept_count / 3.0)  # = σ² for Gaussian noise
@@ -438,7 +381,7 @@ def _choose_spans(b: _Blocks, spans: tuple[int, ...], order: int) -> NDArray:
             se = rms4 * np.sqrt(
                 2.0 * _difference_variance_factor(spans[j - 1], spans[j], order) / b.kept_count
             )
-        ok = open_ & b.clean_for[j] & (block_mean[j] - block_mean[j - 1] <= AUTO_LEAK_SE * se)
+        ok = open_ & clean_for[j] & (block_mean[j] - block_mean[j - 1] <= AUTO_LEAK_SE * se)
         if spans[j] > AUTO_MASK_SPAN and b.nb > 1:
             # a long span reaches into the neighbouring blocks: only where they are smooth
             # too (a fast burst next door leaks into the first samples of this block)
@@ -450,21 +393,28 @@ def _choose_spans(b: _Blocks, spans: tuple[int, ...], order: int) -> NDArray:
     return choice
 
 
-def _chosen_sums(b: _Blocks, choice: NDArray) -> tuple[NDArray, NDArray]:
-    """Per-block sums and counts with the chosen spans, trimmed samples recovered."""
-    chosen_sum = b.block_sum[choice, np.arange(b.nb)]
-    kept_count = b.kept_count
-    if b.recover is not None:
+def _chosen_sums(b: _Blocks, choice: NDArray, total: bool = False) -> tuple[NDArray, NDArray]:
+    """Per-block sums and counts with the chosen spans, masked samples recovered.
+
+    ``total``: the sums with only the jumps left out (outliers kept), else the core's.
+    """
+    sums, counts, recover = (
+        (b.total_sum, b.total_count, b.recover_total)
+        if total
+        else (b.block_sum, b.kept_count, b.recover)
+    )
+    chosen_sum = sums[choice, np.arange(b.nb)]
+    if recover is not None:
         # samples the common mask left out whose shorter-span residual reaches no flagged
         # sample count with that span (at most the block's own)
-        near, usable, values = b.recover
+        near, usable, values = recover
         rows = np.minimum(near // b.block, b.nb - 1)
         use = np.minimum(choice[rows], usable)
         chosen_sum = chosen_sum + np.bincount(
             rows, weights=values[use, np.arange(near.size)], minlength=b.nb
         )
-        kept_count = kept_count + np.bincount(rows, minlength=b.nb)
-    return chosen_sum, kept_count
+        counts = counts + np.bincount(rows, minlength=b.nb)
+    return chosen_sum, counts
 
 
 def _auto_notes(
@@ -473,10 +423,13 @@ def _auto_notes(
     notes = []
     trimmed = n - n_kept
     if trimmed > 0.01 * n:
-        notes.append(f"{trimmed} residuals ({trimmed / n:.1%}) left out as jumps or outliers")
+        notes.append(f"{trimmed} residuals ({trimmed / n:.1%}) left out around level jumps")
     short = float(np.sum(kept_count[choice < len(spans) - 1]) / max(n_kept, 1))
     if len(spans) > 1 and short > 0.05:
-        notes.append(f"{short:.0%} of the record needed a shorter span (fast signal there)")
+        notes.append(
+            f"{short:.0%} of the record needed a shorter span (a fast signal, or noise that "
+            "is not white)"
+        )
     if len(spans) > 1:
         span_used = np.asarray(spans)[choice]
         mean_span = float(np.sum(span_used * kept_count) / max(n_kept, 1))
@@ -535,15 +488,38 @@ def auto_estimate(
     chosen_sum, kept_count = _chosen_sums(blocks, choice)
     n_kept = int(kept_count.sum())
     tau = _truncated_second_moment(trim) if np.isfinite(trim) else 1.0
-    # var = sum e² / (n_kept τ)
-    var = float(chosen_sum.sum() / (n_kept * tau))
+    # core = sum e² / (n_kept τ) over the samples off outliers and jumps
+    core = float(chosen_sum.sum() / (n_kept * tau))
+    # outliers stay in the total: a span needs only to stay clear of the jumps
+    choice = _choose_spans(blocks, spans, order, blocks.clean_total)
+    total_sum, total_count = _chosen_sums(blocks, choice, total=True)
+    n_total = int(total_count.sum())
+    # var = sum e² / n over the samples off the jumps: outliers and tails are noise
+    var = float(total_sum.sum() / n_total)
     eff = np.asarray([sequence_efficiency(residual_sequence(s, order)) for s in spans])[choice]
-    # ν = sum_b n_b / sum ρ², less 2 % for the trimming
-    dof = float(np.sum(kept_count / eff)) * (0.98 if np.isfinite(trim) else 1.0)
-    notes += _auto_notes(n, n_kept, spans, choice, kept_count, blocks.block)
+    # ν = sum_b n_b / sum ρ² (Gaussian noise; estimate() widens it for the measured tails)
+    dof = float(np.sum(total_count / eff))
+    notes += _auto_notes(n, n_total, spans, choice, total_count, blocks.block)
+    if blocks.outliers.size:
+        k = blocks.outliers.size
+        notes.append(
+            f"{k} outlying sample{'s' if k > 1 else ''} ({k / n:.2%}; the first at sample "
+            f"{blocks.outliers[0]}): noise, so in the variance; left out of core_variance"
+        )
     # params are the config form: the requested span, None when it is chosen per block
     params = {"span": span, "order": order, "trim": trim}
-    return VarianceEstimate("auto", var, chi2_interval(var, dof), n_kept, n, dof, params, notes)
+    return VarianceEstimate(
+        "auto",
+        var,
+        chi2_interval(var, dof),
+        n_total,
+        n,
+        dof,
+        params,
+        notes,
+        core_variance=core,
+        outlier_fraction=blocks.outliers.size / n,
+    )
 
 
 def _auto(z: NDArray, notes: list[str], **p: object) -> VarianceEstimate:
@@ -556,4 +532,26 @@ AUTO = MethodSpec(
     "ours",
     _auto,
     ("span", "order", "trim"),
+    coloured_params={"span": AUTO_COLOURED_SPAN},
 )
+
+
+def jump_mask(z: NDArray, order: int = AUTO_ORDER, trim: float = AUTO_TRIM) -> NDArray | None:
+    """Samples that ``auto`` leaves out around persistent level jumps (None when none).
+
+    Parameters
+    ----------
+    z : ndarray, shape (n,)
+        Finite samples (at least 22).
+    order, trim : see :func:`auto_estimate`.
+
+    Returns
+    -------
+    ndarray of bool or None
+        Jump samples widened by the mask half-width (docs/algorithms.md §F5.3, §F5.4).
+    """
+    spans = _auto_spans(None, order, trim, z.size)
+    block = AUTO_BLOCK if z.size >= 2 * AUTO_BLOCK else max(z.size // 2, 16)
+    half = max(s for s in spans if s <= max(AUTO_MASK_SPAN, spans[0])) // 2
+    _, jumps = _flag(z, _residual_squares(z, spans[0], order), trim, block, half)
+    return None if jumps is None else _dilate(jumps, half)

@@ -161,6 +161,8 @@ METHODS: tuple[MethodSpec, ...] = (
         "peer",
         _mad_diff,
         vectorised=True,
+        assumes=("white", "identifiable", "gaussian"),
+        moment=False,
     ),
     MethodSpec(
         "wavelet-mad",
@@ -169,5 +171,7 @@ METHODS: tuple[MethodSpec, ...] = (
         _wavelet_mad,
         ("wavelet",),
         vectorised=True,
+        assumes=("white", "identifiable", "gaussian"),
+        moment=False,
     ),
 )

@@ -90,7 +90,20 @@ def _mle_trend(z: NDArray, notes: list[str]) -> VarianceEstimate:
     return mle_estimate(z, True, notes)
 
 
-MLE_LEVEL = MethodSpec("mle-level", "state-space ML, local level (statsmodels)", "peer", _mle_level)
+_MLE_ASSUMES = ("white", "identifiable", "gaussian")
+MLE_LEVEL = MethodSpec(
+    "mle-level",
+    "state-space ML, local level (statsmodels)",
+    "peer",
+    _mle_level,
+    assumes=_MLE_ASSUMES,
+    moment=False,
+)
 MLE_TREND = MethodSpec(
-    "mle-trend", "state-space ML, local linear trend (statsmodels)", "peer", _mle_trend
+    "mle-trend",
+    "state-space ML, local linear trend (statsmodels)",
+    "peer",
+    _mle_trend,
+    assumes=_MLE_ASSUMES,
+    moment=False,
 )

@@ -142,6 +142,16 @@ class MethodSpec:
         ``drop_nonfinite`` is always accepted.
     vectorised : bool
         Whether ``func`` takes many channels at once.
+    assumes : tuple of str
+        What the method needs of the noise, as keys of
+        :data:`noisevar.diagnostics.ASSUMPTIONS`; each estimate says which hold.
+    coloured_params : dict, optional
+        Parameters to use instead of the defaults when the noise is not white (``auto``:
+        its shortest span, which lets the least of a coloured part in).
+    moment : bool
+        The estimate is a mean of squared residuals, whose interval
+        :func:`~noisevar.estimators.estimate` widens for the measured kurtosis and
+        correlation (docs/algorithms.md §E1).
     """
 
     name: str
@@ -150,6 +160,9 @@ class MethodSpec:
     func: Callable[..., Any]
     params: tuple[str | ParamSpec, ...] = ()
     vectorised: bool = False
+    assumes: tuple[str, ...] = ("white", "identifiable")
+    moment: bool = True
+    coloured_params: Mapping[str, Any] | None = None
 
     @property
     def param_specs(self) -> dict[str, ParamSpec]:

@@ -15,6 +15,8 @@ from noisevar.filters.selection import WindowSelection
 if TYPE_CHECKING:
     import pandas as pd
 
+    from noisevar.diagnostics import NoiseDiagnostics
+
 
 def chi2_interval(variance: float, dof: float, level: float = 0.95) -> tuple[float, float]:
     """Confidence interval of a variance estimate with ``dof`` effective degrees of freedom.
@@ -107,6 +109,16 @@ class VarianceEstimate:
         Plain-language remarks (dropped samples, fallbacks taken).
     details : SomdDetails or None
         Arrays for figures (SOMD methods only).
+    core_variance : float or None
+        Gaussian-equivalent variance of the bulk, outliers left out (for a robust
+        filter); None when the method does not separate them.
+    outlier_fraction : float
+        Share of samples outside the bulk.
+    diagnostics : NoiseDiagnostics or None
+        What the record's noise looks like (docs/algorithms.md §E1-§E3), with a
+        one-sentence verdict.
+    assumptions : dict of str to bool
+        What the method assumes of the noise, and whether this record satisfies it.
     """
 
     method: str
@@ -118,6 +130,10 @@ class VarianceEstimate:
     params: dict[str, Any] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
     details: SomdDetails | None = None
+    core_variance: float | None = None
+    outlier_fraction: float = 0.0
+    diagnostics: NoiseDiagnostics | None = None
+    assumptions: dict[str, bool] = field(default_factory=dict)
 
     @property
     def std(self) -> float:
@@ -141,6 +157,10 @@ class VarianceEstimate:
             "dof": float(self.dof),
             "params": dict(self.params),
             "notes": list(self.notes),
+            "core_variance": None if self.core_variance is None else float(self.core_variance),
+            "outlier_fraction": float(self.outlier_fraction),
+            "assumptions": dict(self.assumptions),
+            "diagnostics": None if self.diagnostics is None else self.diagnostics.to_dict(),
         }
 
 
@@ -242,7 +262,7 @@ class VarianceEstimates:
         return self.estimates[index]
 
     def to_frame(self) -> pd.DataFrame:
-        """One row per channel: its index, variance, std, ci95 bounds, n_used, n_total, dof."""
+        """One row per channel: variance, std, ci95, counts, dof, core, flags and verdict."""
         import pandas as pd
 
         idx = list(np.ndindex(*self.shape)) if self.shape else [()]
@@ -256,6 +276,10 @@ class VarianceEstimates:
                 "n_used": e.n_used,
                 "n_total": e.n_total,
                 "dof": e.dof,
+                "core_variance": e.core_variance,
+                "outlier_fraction": e.outlier_fraction,
+                **({} if e.diagnostics is None else e.diagnostics.flags),
+                "verdict": None if e.diagnostics is None else e.diagnostics.verdict,
             }
             for i, e in zip(idx, self.estimates, strict=True)
         ]

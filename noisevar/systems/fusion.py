@@ -305,6 +305,7 @@ def _check_settings(local: str, false_alarm: float) -> None:
     if not 0 < false_alarm < 1:
         raise NoisevarError(f"false_alarm={false_alarm} must be in (0, 1), e.g. 1e-3.")
 
+
 def _local_step(
     filt: KalmanFilter, z: NDArray[np.float64], threshold: float, isolation: bool
 ) -> NDArray[np.float64]:

@@ -176,7 +176,7 @@ def test_first_difference_peers_are_fooled_by_jumps_and_robust_ones_are_not():
     )
     auto = nv.estimate(g.measured)
     assert auto.variance == pytest.approx(g.true_variance, rel=0.06)
-    assert any("left out as jumps" in note for note in auto.notes)
+    assert any("around level jumps" in note for note in auto.notes)
 
 
 def test_mle_trend_and_level():
@@ -437,15 +437,21 @@ def test_nan_and_inf_are_refused_naming_the_first_index():
 
 
 def test_drop_nonfinite_drops_and_says_how_many():
+    """Dropped samples are gaps: the record is estimated per segment and pooled, not spliced."""
     z = WHITE.copy()
     z[[17, 40, 900]] = [np.nan, np.inf, np.nan]
     est = nv.estimate(z, drop_nonfinite=True)
     assert est.n_total == WHITE.size - 3
     assert any("dropped 3 non-finite samples" in note for note in est.notes)
+    assert any("uniform segments" in note for note in est.notes)
+    assert [g.index for g in est.diagnostics.gaps] == [17, 39, 898]
     clean = nv.estimate(np.delete(WHITE, [17, 40, 900]))
-    assert est.variance == clean.variance
+    assert est.variance == pytest.approx(clean.variance, rel=0.02)
+    assert est.variance != clean.variance  # not spliced
     rice = nv.estimate(z, method="rice", drop_nonfinite=True)
-    assert rice.variance == nv.estimate(np.delete(WHITE, [17, 40, 900]), method="rice").variance
+    assert rice.variance == pytest.approx(
+        nv.estimate(np.delete(WHITE, [17, 40, 900]), method="rice").variance, rel=0.02
+    )
 
 
 def test_column_vectors_are_accepted():
@@ -496,32 +502,36 @@ def test_above_local_uses_the_higher_of_the_two_bracketing_levels(n, block):
     np.testing.assert_array_equal(_above_local(x, local, block), x > level)
 
 
-def test_auto_leaves_out_only_the_residuals_a_spike_or_jump_reaches():
-    """Near a flagged sample, the shorter spans' clean residuals still count.
+def test_a_spike_is_noise_and_a_jump_is_signal():
+    """A spike stays in the variance (outliers are noise) and leaves the core; a jump leaves both.
 
-    A spike or a jump is flagged with its neighbours; each span's residual
-    reaches half the span, so only 20 to 35 samples are lost (the common mask
-    of span 41 lost 50 to 65), and the estimate stays unbiased.
+    Near a jump only the samples a residual reaches are lost, and once a jump is
+    flagged its size changes nothing.
     """
     n = 3000
     rng = np.random.default_rng(3)
     smooth = 20.0 * np.sin(np.arange(n) / 300.0)
     noisy = smooth + rng.standard_normal(n)
-    for kind in ("spike", "jump"):
-        sizes = []
-        for size in (60.0, 1e3, 1e6):
-            z = noisy.copy()
-            if kind == "spike":
-                z[1500] += size
-            else:
-                z[1500:] += size
-            est = nv.estimate(z)
-            assert 0 < n - est.n_used <= 35
-            assert est.variance == pytest.approx(1.0, rel=0.05)
-            sizes.append(est.variance)
-        # no kept residual reaches the spike or the jump: once it is flagged with the
-        # same neighbours, its size changes nothing
-        assert sizes[2] == pytest.approx(sizes[1], rel=1e-9)
+    base = nv.estimate(noisy)
+    for size in (60.0, 1e3):
+        z = noisy.copy()
+        z[1500] += size
+        est = nv.estimate(z)
+        assert est.n_used == n
+        # the spike's square, spread over its residuals, adds size² / n
+        assert est.variance == pytest.approx(base.variance + size**2 / n, rel=0.05)
+        assert est.core_variance == pytest.approx(1.0, rel=0.05)
+        assert est.outlier_fraction == pytest.approx(1 / n)
+    sizes = []
+    for size in (60.0, 1e3, 1e6):
+        z = noisy.copy()
+        z[1500:] += size
+        est = nv.estimate(z)
+        assert 0 < n - est.n_used <= 45
+        assert est.variance == pytest.approx(1.0, rel=0.05)
+        assert est.outlier_fraction == 0.0
+        sizes.append(est.variance)
+    assert sizes[2] == pytest.approx(sizes[1], rel=1e-9)
 
 
 def test_auto_does_not_trim_genuine_noise_after_a_noise_step():

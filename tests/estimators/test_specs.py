@@ -173,12 +173,22 @@ def test_uniform_times_are_accepted_and_change_nothing():
         (np.arange(N - 1.0), "one time per sample"),
         (np.r_[np.arange(N - 1.0), N - 2.0], "strictly increasing"),
         (np.r_[np.arange(N - 1.0), np.nan], "NaN or Inf"),
-        (np.cumsum(np.r_[1.0, np.full(N - 1, 1.0)] * np.r_[1.0, 1.5, np.ones(N - 2)]), "uniform"),
     ],
 )
-def test_bad_or_non_uniform_times_are_refused(t, phrase):
+def test_bad_times_are_refused(t, phrase):
     with pytest.raises(NoisevarError, match=phrase):
         nv.estimate(CHANNELS[0, 0], t=t)
+
+
+def test_non_uniform_times_split_the_record_instead_of_being_spliced():
+    z = CHANNELS[0, 0]
+    t = np.arange(z.size, dtype=float)
+    t[z.size // 2 :] += 7.0  # seven samples missing half way
+    est = nv.estimate(z, t=t)
+    (gap,) = est.diagnostics.gaps
+    assert (gap.index, gap.missing, gap.kind) == (z.size // 2, 7, "gap")
+    assert any("uniform segments" in note for note in est.notes)
+    assert est.variance == pytest.approx(nv.estimate(z).variance, rel=0.05)
 
 
 # ------------------------------------------------------------------------ batch SOMD

@@ -1,0 +1,92 @@
+"""The Noise panel (issue 13): the verdict, the flags, the notes and four figures; assumptions.
+
+The Estimator page calls :func:`render_noise_panel` with its record and estimate; the Compare
+page calls :func:`render_assumptions` with one estimate per method.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from typing import Any
+
+import pandas as pd
+import streamlit as st
+from numpy.typing import ArrayLike
+
+from dashboard.widgets import guarded, show_figure
+from noisevar.diagnostics.panel import assumption_rows, noise_panel_data, verdict_severity
+from noisevar.figures.noise import acf_plot, level_profile_plot, qq_plot, residual_histogram
+
+#: Flag -> (label, the value that is good news; None: neither good nor bad).
+FLAG_LABELS: dict[str, tuple[str, bool | None]] = {
+    "white": ("white", True),
+    "heavy_tailed": ("heavy tails", False),
+    "quantised": ("on a grid", None),
+    "gaps": ("gaps", False),
+    "level_varies": ("level varies", False),
+    "identifiable": ("noise identifiable", True),
+}
+
+
+def _badges(flags: dict[str, bool]) -> None:
+    """One small badge per flag: green when good news, orange when not, grey when neutral."""
+    cols = st.columns(len(FLAG_LABELS))
+    for col, (key, (label, good)) in zip(cols, FLAG_LABELS.items(), strict=True):
+        value = bool(flags.get(key, False))
+        color = "gray" if good is None else ("green" if value == good else "orange")
+        icon = ":material/check:" if value else ":material/close:"
+        col.badge(label, icon=icon, color=color)
+
+
+def render_noise_panel(
+    z: ArrayLike, estimate: Any, t: ArrayLike | None = None, key: str = "np"
+) -> None:
+    """The verdict (info or warning by severity), flags, notes and the Noise figures.
+
+    Parameters
+    ----------
+    z : array_like, shape (n,)
+        The finite samples the estimate was computed from.
+    estimate : VarianceEstimate
+        Its ``.diagnostics`` (nothing is drawn without them).
+    t : array_like, optional
+        Sample times (the level profile's abscissa).
+    key : str
+        Prefix of the widget keys (give each panel on a page its own).
+    """
+    diag = getattr(estimate, "diagnostics", None)
+    if diag is None:
+        st.caption("This estimate carries no noise diagnostics.")
+        return
+    if verdict_severity(diag) == "ok":
+        st.info(diag.verdict, icon=":material/check_circle:")
+    else:
+        st.warning(diag.verdict, icon=":material/warning:")
+    _badges(diag.flags)
+    for note in diag.notes:
+        st.caption(note)
+    with st.expander("Noise: distribution, autocorrelation, level along the record"):
+        with guarded("Noise panel: "):
+            data = noise_panel_data(z, diag, t)
+            tabs = st.tabs(["Histogram", "QQ plot", "Autocorrelation", "Level profile"])
+            with tabs[0]:
+                log_y = st.toggle("Logarithmic density (tails)", key=f"{key}_log_y")
+                show_figure(residual_histogram(data, log_y=log_y), key=f"{key}_hist")
+            with tabs[1]:
+                show_figure(qq_plot(data), key=f"{key}_qq")
+            with tabs[2]:
+                show_figure(acf_plot(data), key=f"{key}_acf")
+            with tabs[3]:
+                show_figure(level_profile_plot(data), key=f"{key}_profile")
+
+
+def render_assumptions(estimates: Iterable[Any]) -> None:
+    """Table: each method's assumptions that hold or fail on this record, in plain words."""
+    rows = assumption_rows(estimates)
+    if not rows:
+        return
+    st.markdown("**Which methods' assumptions hold on this record**")
+    frame = pd.DataFrame(rows).rename(
+        columns={"method": "Method", "holds": "Holds", "fails": "Fails", "meaning": "Meaning"}
+    )
+    st.dataframe(frame, hide_index=True, width="stretch")

@@ -1,0 +1,65 @@
+"""Which power-law noise dominates at each averaging factor (allantools' identification).
+
+Names for a measured quantity (allantools' phase data): α = 2 white, 1 flicker, 0 random
+walk, -1 flicker walk, -2 random run (docs/algorithms.md §E4).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from noisevar.errors import NoisevarError
+
+#: Averaging factors probed.
+AVERAGING_FACTORS = (1, 4, 16, 64)
+#: At most this many samples are used (the identification is costly on long records).
+POWER_LAW_MAX = 2**17
+#: At least this many averaged samples per factor.
+POWER_LAW_MIN = 64
+
+NAMES = {2: "white", 1: "flicker", 0: "random walk", -1: "flicker walk", -2: "random run"}
+
+
+def power_law_types(z: NDArray) -> tuple[tuple[int, int], ...]:
+    """``(averaging factor, α)`` of the dominant power-law noise at each factor.
+
+    Parameters
+    ----------
+    z : ndarray
+        Uniformly sampled record (the first :data:`POWER_LAW_MAX` samples are used).
+
+    Returns
+    -------
+    tuple of (int, int)
+        Empty when the record is too short.
+    """
+    import allantools
+
+    x = np.asarray(z[:POWER_LAW_MAX], dtype=float)
+    x = (x - x.mean()) / (np.std(x) or 1.0)  # allantools' statistics are scale-free
+    out = []
+    for af in AVERAGING_FACTORS:
+        if x.size // af < POWER_LAW_MIN:
+            break
+        try:
+            alpha = int(allantools.autocorr_noise_id(x, af, data_type="phase")[0])
+        except (ValueError, ZeroDivisionError, NotImplementedError) as exc:
+            raise NoisevarError(f"power-law identification failed: {exc}") from None
+        out.append((af, max(-2, min(2, alpha))))
+    return tuple(out)
+
+
+def describe(types: tuple[tuple[int, int], ...]) -> str:
+    """Plain words: ``"white at 1 sample, flicker at 4-16 samples"``."""
+    parts: list[tuple[int, int, int]] = []  # (alpha, first af, last af)
+    for af, alpha in types:
+        if parts and parts[-1][0] == alpha:
+            parts[-1] = (alpha, parts[-1][1], af)
+        else:
+            parts.append((alpha, af, af))
+    words = []
+    for alpha, a, b in parts:
+        span = f"{a} sample{'s' if a > 1 else ''}" if a == b else f"{a}-{b} samples"
+        words.append(f"{NAMES[alpha]} at {span}")
+    return ", ".join(words)

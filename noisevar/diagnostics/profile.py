@@ -1,0 +1,170 @@
+"""The noise level along a record, and the level of its quietest consistent stretches."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy import stats
+
+#: At most this many blocks in a level profile (blocks grow with the record).
+PROFILE_BLOCKS = 200
+#: At least this many samples per block.
+PROFILE_MIN_BLOCK = 32
+#: The quiet stretches cover at least this share of the record.
+QUIET_MIN_SHARE = 0.05
+#: A block joins the quiet set while its level is below the ``1 - QUIET_ALPHA / n_blocks``
+#: quantile of the set's (a family-wise level over the blocks).
+QUIET_ALPHA = 0.05
+#: The level counts as steady while the quiet blocks cover at least this share of the record.
+STEADY_SHARE = 0.95
+#: The median of χ²₁.
+CHI2_1_MEDIAN = float(stats.chi2.ppf(0.5, 1))
+#: Degrees of freedom per sample of a block median of χ²₁ values, ``2 (2 f(m) m)²``.
+MEDIAN_DOF = float(2.0 * (2.0 * stats.chi2.pdf(CHI2_1_MEDIAN, 1) * CHI2_1_MEDIAN) ** 2)
+
+
+@dataclass(frozen=True)
+class LevelProfile:
+    """Noise variance per block of the record, with 95 % intervals.
+
+    Attributes
+    ----------
+    start, stop : ndarray of int, shape (n_blocks,)
+        Sample range of each block.
+    variance, lo, hi : ndarray, shape (n_blocks,)
+        Level of each block and its interval.
+    dof : ndarray, shape (n_blocks,)
+        Effective degrees of freedom of each level.
+    quiet : ndarray of bool, shape (n_blocks,)
+        Blocks of the quiet set.
+    """
+
+    start: NDArray
+    stop: NDArray
+    variance: NDArray
+    lo: NDArray
+    hi: NDArray
+    dof: NDArray
+    quiet: NDArray
+
+    @property
+    def quiet_variance(self) -> float:
+        """Pooled level (mean square) of the quiet blocks."""
+        return _pooled(self.variance, self.dof, self.quiet)
+
+    @property
+    def quiet_share(self) -> float:
+        """Share of the record's samples in the quiet blocks."""
+        sizes = self.stop - self.start
+        return float(np.sum(sizes[self.quiet]) / np.sum(sizes))
+
+    def to_dict(self) -> dict[str, list]:
+        return {
+            "start": self.start.tolist(),
+            "stop": self.stop.tolist(),
+            "variance": self.variance.tolist(),
+            "lo": self.lo.tolist(),
+            "hi": self.hi.tolist(),
+            "quiet": self.quiet.tolist(),
+        }
+
+
+def block_bounds(n: int, min_block: int = PROFILE_MIN_BLOCK) -> NDArray:
+    """Start of each profile block over ``n`` samples (blocks grow with the record)."""
+    block = max(min_block, -(-n // PROFILE_BLOCKS))
+    return np.arange(max(1, n // block)) * block
+
+
+def robust_levels(sq: NDArray, first: NDArray) -> NDArray:
+    """Each block's median of ``sq`` over the median of χ²₁: a level that spikes do not move.
+
+    Blocks start at ``first`` and have equal sizes but the last (which takes the rest).
+    """
+    nb = first.size
+    size = int(first[1]) if nb > 1 else sq.size
+    med = np.empty(nb)
+    if nb > 1:
+        med[:-1] = np.median(sq[: (nb - 1) * size].reshape(nb - 1, size), axis=1)
+    med[-1] = np.median(sq[(nb - 1) * size :])
+    if not np.all(med > 0):  # quantised data can have a median square of 0: use the mean
+        mean = np.add.reduceat(sq, first) / np.diff(np.r_[first, sq.size]) * CHI2_1_MEDIAN
+        med = np.where(med > 0, med, mean)
+    return med / CHI2_1_MEDIAN
+
+
+def level_profile(
+    sq: NDArray, pos: NDArray, dof_per_sample: float, eta: float, robust: NDArray | None = None
+) -> LevelProfile:
+    """Block means of normalised squared residuals ``sq`` and the quiet set.
+
+    Parameters
+    ----------
+    sq : ndarray, shape (m,)
+        Squared residuals, each with expectation the local noise variance.
+    pos : ndarray of int, shape (m,)
+        The record's sample index of each.
+    dof_per_sample : float
+        Degrees of freedom per sample of the mean square (``1 / (η + (κ - 3) / 2)``,
+        docs/algorithms.md §E1).
+    eta : float
+        ``Σ ρ²`` of the residual filter (its squares' correlation).
+    robust : ndarray, optional
+        :func:`robust_levels` of the blocks, if already computed.
+
+    Returns
+    -------
+    LevelProfile
+        Block levels are mean squares (tails included); which blocks are quiet is
+        decided on block medians, which a few spikes do not move.
+    """
+    first = block_bounds(sq.size)
+    last = np.r_[first[1:], sq.size]
+    count = (last - first).astype(float)
+    var = np.add.reduceat(sq, first) / count
+    dof = count * dof_per_sample
+    lo = dof * var / stats.chi2.ppf(0.975, dof)
+    hi = dof * var / stats.chi2.ppf(0.025, dof)
+    # a median of χ²₁ has relative sd 1 / (2 f(m) m sqrt(n)): as a χ² with 0.368 n dof
+    robust_dof = count * MEDIAN_DOF / eta
+    robust = robust_levels(sq, first) if robust is None else robust
+    quiet = _quiet_set(robust, robust_dof, var, dof, last - first)
+    return LevelProfile(pos[first], pos[last - 1] + 1, var, lo, hi, dof, quiet)
+
+
+def _quiet_set(
+    robust: NDArray, robust_dof: NDArray, var: NDArray, dof: NDArray, sizes: NDArray
+) -> NDArray:
+    """Grow a set from the quietest blocks while the next one is consistent with it.
+
+    The quietest blocks (by their robust level) covering :data:`QUIET_MIN_SHARE` of the
+    record start the set; a block joins while both its robust level and its mean square
+    are below a high quantile (:data:`QUIET_ALPHA`, family-wise) of the set's pooled
+    levels (blocks in increasing order of robust level, so the first refusal of a robust
+    level ends it; a block with motion in part of it keeps a low median but not a low
+    mean square, and is skipped).
+    """
+    level = 1.0 - QUIET_ALPHA / robust.size
+    # each block's χ²(ν_b)/ν_b quantile, once for all blocks
+    q_robust = stats.chi2.ppf(level, robust_dof) / robust_dof
+    q_var = stats.chi2.ppf(level, dof) / dof
+    order = np.argsort(robust)
+    need = QUIET_MIN_SHARE * sizes.sum()
+    quiet = np.zeros(robust.size, dtype=bool)
+    covered = 0.0
+    for b in order:
+        if covered >= need:
+            if robust[b] > _pooled(robust, robust_dof, quiet) * q_robust[b]:
+                break  # every later block is louder still
+            if var[b] > _pooled(var, dof, quiet) * q_var[b]:
+                continue  # motion in part of the block: a low median, a high mean square
+        quiet[b] = True
+        covered += sizes[b]
+    return quiet
+
+
+def _pooled(x: NDArray, nu: NDArray, members: NDArray) -> float:
+    """The dof-weighted level of the ``members`` blocks."""
+    w = nu[members] / np.sum(nu[members])  # weights first: no overflow of huge levels
+    return float(w @ x[members])

@@ -1,0 +1,146 @@
+"""The diagnostics that come with every estimate."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from noisevar.diagnostics.profile import LevelProfile
+from noisevar.diagnostics.segments import Gap
+from noisevar.diagnostics.whiteness import WhitenessTest
+
+
+def _finite(x: float | None) -> float | None:
+    return None if x is None or not np.isfinite(x) else float(x)
+
+
+@dataclass(frozen=True)
+class NoiseDiagnostics:
+    """What a record's noise looks like, and whether a white-noise R describes it.
+
+    Attributes
+    ----------
+    n : int
+        Samples examined.
+    whiteness : WhitenessTest
+        The residual's autocorrelation against the white-noise null (docs/algorithms.md §E2).
+    increments : WhitenessTest
+        The same test on the first difference (white: the record is a random walk).
+    kurtosis : float
+        Kurtosis of the noise (3 for Gaussian).
+    tail_index : float or None
+        Hill's tail index of the residual (about ν for Student-t with ν dof).
+    lsb : float or None
+        Quantisation step when the samples sit on a grid.
+    gaps : tuple of Gap
+        Spliced or non-uniform places.
+    jitter : float
+        Largest relative deviation of the sampling period inside the uniform segments.
+    level_profile : LevelProfile
+        Noise level per block, with the quiet set.
+    power_law : tuple of (int, int)
+        ``(averaging factor, α)`` of the dominant power-law noise (allantools'
+        identification; α = 2 white, 1 flicker, 0 random walk), only for coloured noise.
+    verdict : str
+        One plain sentence.
+    notes : tuple of str
+        Further plain remarks.
+    """
+
+    n: int
+    whiteness: WhitenessTest
+    increments: WhitenessTest
+    kurtosis: float
+    tail_index: float | None
+    lsb: float | None
+    gaps: tuple[Gap, ...]
+    jitter: float
+    level_profile: LevelProfile
+    power_law: tuple[tuple[int, int], ...] = ()
+    verdict: str = ""
+    notes: tuple[str, ...] = field(default_factory=tuple)
+
+    @property
+    def white(self) -> bool:
+        """The noise passes the whiteness test (white noise passes 95 % of the time)."""
+        return self.whiteness.white
+
+    @property
+    def acf(self) -> NDArray:
+        """Autocorrelation of the residual at lags ``1..K``."""
+        return self.whiteness.acf
+
+    @property
+    def heavy_tailed(self) -> bool:
+        from noisevar.diagnostics.tails import HEAVY_KURTOSIS
+
+        return bool(self.kurtosis > HEAVY_KURTOSIS)
+
+    @property
+    def fourth_moment_unreliable(self) -> bool:
+        """The tails are so heavy that a variance interval cannot be trusted."""
+        from noisevar.diagnostics.tails import TAIL_INDEX_MIN
+
+        return bool(
+            self.heavy_tailed and self.tail_index is not None and self.tail_index < TAIL_INDEX_MIN
+        )
+
+    @property
+    def quiet_variance(self) -> float:
+        """Noise level of the quietest consistent stretches (at least 5 % of the record)."""
+        return self.level_profile.quiet_variance
+
+    @property
+    def level_varies(self) -> bool:
+        """The level changes along the record far more than its intervals allow.
+
+        True when the blocks consistent with the quietest cover less than
+        :data:`~noisevar.diagnostics.profile.STEADY_SHARE` of the record.
+        """
+        from noisevar.diagnostics.profile import STEADY_SHARE
+
+        return bool(self.level_profile.quiet_share < STEADY_SHARE)
+
+    @property
+    def identifiable(self) -> bool:
+        """False when the record behaves like a random walk (white first difference)."""
+        return bool(not self.increments.white or self.increments.lag1 < -0.1)
+
+    @property
+    def flags(self) -> dict[str, bool]:
+        """The yes/no findings, for tables."""
+        return {
+            "white": self.white,
+            "heavy_tailed": self.heavy_tailed,
+            "quantised": self.lsb is not None,
+            "gaps": bool(self.gaps),
+            "level_varies": self.level_varies,
+            "identifiable": self.identifiable,
+        }
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready (no NaN or infinity)."""
+        w = self.whiteness
+        return {
+            "verdict": self.verdict,
+            "flags": self.flags,
+            "white": self.white,
+            "whiteness_p": _finite(w.p_value),
+            "acf": w.acf.tolist(),
+            "acf_white": w.expected.tolist(),
+            "acf_band": w.band.tolist(),
+            "lag1_excess": _finite(w.lag1),
+            "kurtosis": _finite(self.kurtosis),
+            "tail_index": _finite(self.tail_index),
+            "lsb": _finite(self.lsb),
+            "gaps": [g.to_dict() for g in self.gaps],
+            "jitter": _finite(self.jitter),
+            "quiet_variance": _finite(self.quiet_variance),
+            "quiet_share": _finite(self.level_profile.quiet_share),
+            "level_profile": self.level_profile.to_dict(),
+            "power_law": [list(p) for p in self.power_law],
+            "notes": list(self.notes),
+        }

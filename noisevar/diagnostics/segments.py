@@ -1,0 +1,129 @@
+"""Gaps and non-uniform sampling: where a record splits into uniform segments."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+#: A step outside ``(1 - GAP_RTOL, 1 + GAP_RTOL)`` times the typical period splits the record.
+GAP_RTOL = 0.5
+#: Jitter (relative spread of the steps within segments) worth a note.
+JITTER_NOTE = 1e-2
+
+
+@dataclass(frozen=True)
+class Gap:
+    """A place where the record is not uniformly sampled.
+
+    Attributes
+    ----------
+    index : int
+        First sample after the gap (in the samples given).
+    before, after : float
+        Times of the samples either side (sample numbers when no times were given).
+    missing : int
+        About how many samples are missing (0 for a short or irregular step).
+    kind : str
+        ``"gap"`` (samples missing), ``"irregular"`` (a step too short) or ``"nan"``
+        (non-finite samples dropped).
+    """
+
+    index: int
+    before: float
+    after: float
+    missing: int
+    kind: str
+
+    def to_dict(self) -> dict[str, float | int | str]:
+        return {
+            "index": self.index,
+            "before": self.before,
+            "after": self.after,
+            "missing": self.missing,
+            "kind": self.kind,
+        }
+
+
+@dataclass(frozen=True)
+class Segmentation:
+    """Uniform segments of a record.
+
+    Attributes
+    ----------
+    segments : tuple of (int, int)
+        ``[start, stop)`` sample ranges, each uniformly sampled.
+    gaps : tuple of Gap
+    period : float or None
+        Typical sampling period (None without times).
+    jitter : float
+        Largest relative deviation of a step from the period within the segments.
+    """
+
+    segments: tuple[tuple[int, int], ...]
+    gaps: tuple[Gap, ...]
+    period: float | None = None
+    jitter: float = 0.0
+
+
+def split_times(t: NDArray) -> Segmentation:
+    """Split sample times ``t`` (finite, strictly increasing) into uniform segments.
+
+    Parameters
+    ----------
+    t : ndarray, shape (n,)
+
+    Returns
+    -------
+    Segmentation
+    """
+    n = t.size
+    if n < 2:
+        return Segmentation(((0, n),), ())
+    dt = np.diff(t)
+    period = float(np.median(dt))
+    ratio = dt / period
+    cut = np.flatnonzero(np.abs(ratio - 1.0) >= GAP_RTOL)
+    gaps = tuple(
+        Gap(
+            int(i + 1),
+            float(t[i]),
+            float(t[i + 1]),
+            max(int(round(ratio[i])) - 1, 0),
+            "gap" if ratio[i] > 1 else "irregular",
+        )
+        for i in cut
+    )
+    bounds = [0, *(int(i + 1) for i in cut), n]
+    segments = tuple((a, b) for a, b in zip(bounds[:-1], bounds[1:], strict=True))
+    inside = np.delete(ratio, cut)
+    jitter = float(np.max(np.abs(inside - 1.0))) if inside.size else 0.0
+    return Segmentation(segments, gaps, period, jitter)
+
+
+def split_dropped(dropped: NDArray) -> Segmentation:
+    """Segments of the samples left after dropping ``dropped`` (a mask over the original record).
+
+    Parameters
+    ----------
+    dropped : ndarray of bool, shape (n_original,)
+
+    Returns
+    -------
+    Segmentation
+        Indices refer to the kept samples; each run of dropped ones is a ``"nan"`` gap.
+    """
+    kept_index = np.cumsum(~dropped) - 1  # index among kept samples of each original one
+    starts = np.flatnonzero(dropped & ~np.r_[False, dropped[:-1]])
+    stops = np.flatnonzero(dropped & ~np.r_[dropped[1:], False]) + 1
+    n_kept = int(np.count_nonzero(~dropped))
+    gaps, bounds = [], [0]
+    for a, b in zip(starts, stops, strict=True):
+        at = int(kept_index[a - 1] + 1) if a > 0 else 0
+        if 0 < at < n_kept:
+            gaps.append(Gap(at, float(a - 1), float(b), int(b - a), "nan"))
+            bounds.append(at)
+    bounds.append(n_kept)
+    segments = tuple((a, b) for a, b in zip(bounds[:-1], bounds[1:], strict=True) if b > a)
+    return Segmentation(segments, tuple(gaps))

@@ -1,0 +1,108 @@
+"""The plain sentence that says what a record's noise is and which R to use."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from noisevar.diagnostics.power_law import describe
+
+if TYPE_CHECKING:
+    from noisevar.diagnostics.results import NoiseDiagnostics
+
+#: The quiet stretches cover less than this share: the record is mostly motion.
+MOSTLY_MOTION = 0.5
+
+
+def _g(x: float) -> str:
+    return f"{x:.4g}"
+
+
+def make_verdict(
+    diag: NoiseDiagnostics, variance: float, core: float | None = None, outliers: float = 0.0
+) -> str:
+    """One sentence, worst finding first.
+
+    Parameters
+    ----------
+    diag : NoiseDiagnostics
+    variance : float
+        The estimate's variance (R for a plain Kalman filter).
+    core : float, optional
+        Variance of the bulk (for a robust filter).
+    outliers : float
+        Share of samples outside the bulk.
+
+    Returns
+    -------
+    str
+    """
+    r = f"R = {_g(variance)} (std {_g(float(np.sqrt(variance)))})"
+    prof = diag.level_profile
+    if not diag.identifiable:
+        return (
+            "the record behaves like a random walk (its first difference is white): no "
+            f"measurement noise can be told apart from it, so {r} is not a noise level; "
+            "model the walk as a state (see the noise model)"
+        )
+    if diag.level_varies and prof.quiet_share < MOSTLY_MOTION and not diag.white:
+        return (
+            f"the record is mostly motion or signal leaking through: the sensor noise measured "
+            f"in its still stretches ({prof.quiet_share:.0%} of it) is "
+            f"{_g(diag.quiet_variance)} (std {_g(float(np.sqrt(diag.quiet_variance)))}), "
+            f"against {_g(variance)} over the whole record"
+        )
+    if not diag.white:
+        kind = (
+            f"{describe(diag.power_law)} (power-law identification)"
+            if diag.power_law
+            else f"lag-1 autocorrelation {diag.whiteness.lag1:+.2f} beyond white noise's"
+        )
+        return (
+            f"the noise is coloured: {kind}, or signal leaks through the smoother; {r} is "
+            "its white part (or a little above): model the coloured part (see the noise "
+            "model), since a white R alone understates what a Kalman filter sees"
+        )
+    if diag.level_varies:
+        return (
+            f"the noise level changes along the record: {r} is an average; its quiet "
+            f"stretches ({prof.quiet_share:.0%}) give {_g(diag.quiet_variance)}"
+        )
+    if diag.heavy_tailed:
+        bulk = f"; a robust filter should use the core variance {_g(core)}" if core else ""
+        return (
+            f"white heavy-tailed noise (kurtosis {diag.kurtosis:.1f}, {outliers:.1%} outliers): "
+            f"{r} includes the tails, as a plain Kalman filter needs{bulk}"
+        )
+    if diag.lsb is not None and diag.lsb**2 / 12.0 > 0.01 * variance:
+        return (
+            f"white noise on a grid of step {_g(diag.lsb)}: {r} includes the rounding error "
+            f"lsb²/12 = {_g(diag.lsb**2 / 12.0)}, and is a good Kalman R"
+        )
+    return f"white Gaussian noise: {r} is a good Kalman R"
+
+
+def make_notes(diag: NoiseDiagnostics) -> tuple[str, ...]:
+    """Remarks beyond the verdict: interval reliability, quantisation, gaps, jitter."""
+    notes = []
+    if diag.fourth_moment_unreliable:
+        notes.append(
+            f"the tails are very heavy (tail index {diag.tail_index:.1f}, below 4: the noise "
+            "may have no finite fourth moment): the interval of the variance is unreliable"
+        )
+    if diag.lsb is not None:
+        notes.append(
+            f"the samples sit on a grid of step {_g(diag.lsb)}: the error variance is "
+            f"σ² + lsb²/12, with lsb²/12 = {_g(diag.lsb**2 / 12.0)}"
+        )
+    if diag.gaps:
+        kinds = {g.kind for g in diag.gaps}
+        what = "gaps" if kinds == {"gap"} or kinds == {"nan"} else "gaps or irregular steps"
+        notes.append(
+            f"{len(diag.gaps)} {what} (first at sample {diag.gaps[0].index}): the record was "
+            "estimated per uniform segment and pooled, not spliced"
+        )
+    if diag.jitter > 1e-2:
+        notes.append(f"sampling jitter up to {diag.jitter:.1%} of the period: treated as uniform")
+    return tuple(notes)

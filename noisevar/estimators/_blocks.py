@@ -1,0 +1,86 @@
+"""Block arithmetic for ``auto``: sums, counts and medians per block, widened masks."""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.ndimage import maximum_filter1d
+
+
+def _block_sums(x: NDArray, block: int, nb: int) -> NDArray:
+    """Sums over ``nb`` consecutive blocks of ``block`` samples (the rest joins the last)."""
+    sums = x[: nb * block].reshape(nb, block).sum(axis=1, dtype=float)
+    sums[-1] += x[nb * block :].sum()
+    return sums
+
+
+def _block_square_sums(x: NDArray, block: int, nb: int) -> NDArray:
+    """Sums of ``x²`` over the blocks of :func:`_block_sums`, without a squared copy of ``x``."""
+    head = x[: nb * block].reshape(nb, block)
+    sums = np.einsum("ij,ij->i", head, head)
+    tail = x[nb * block :]
+    sums[-1] += tail @ tail
+    return sums
+
+
+def _block_medians(x: NDArray, block: int, nb: int, stride: int) -> NDArray:
+    """Median of every ``stride``-th sample of each of the first ``nb`` blocks.
+
+    A row-wise sort of the small ``(nb, block / stride)`` array, with the values of
+    ``np.median(..., axis=1)``.
+    """
+    y = np.sort(x[: nb * block].reshape(nb, block)[:, ::stride], axis=1)
+    k = y.shape[1]
+    return y[:, k // 2] if k % 2 else 0.5 * (y[:, k // 2 - 1] + y[:, k // 2])
+
+
+def _dilate(mask: NDArray, half: int) -> NDArray:
+    """``mask`` widened by ``half`` samples on each side (cheap when few are set)."""
+    idx = np.flatnonzero(mask)
+    if idx.size > mask.size // 64:
+        return maximum_filter1d(mask.view(np.uint8), 2 * half + 1).view(bool)
+    out = np.zeros_like(mask)
+    span = (idx[:, None] + np.arange(-half, half + 1)).ravel()
+    out[span[(span >= 0) & (span < mask.size)]] = True
+    return out
+
+
+def _flagged_per_block(idx: NDArray, block: int, nb: int) -> NDArray:
+    """How many of the sample indices ``idx`` fall in each block of :func:`_block_sums`."""
+    return np.bincount(np.minimum(idx // block, nb - 1), minlength=nb).astype(float)
+
+
+def _block_counts(block: int, nb: int, n: int) -> NDArray:
+    """Samples per block of :func:`_block_sums` (the rest joins the last)."""
+    counts = np.full(nb, float(block))
+    counts[-1] += n - nb * block
+    return counts
+
+
+def _kept_block_sums(x: NDArray, idx: NDArray, block: int, nb: int) -> NDArray:
+    """:func:`_block_sums` of ``x`` with the samples ``idx`` counted as zero; ``x`` untouched.
+
+    Only the blocks that hold a flagged sample are summed again, from a copy
+    of those blocks alone (exactly: subtracting the flagged values instead
+    would let a huge outlier swamp its block's sum).
+    """
+    sums = _block_sums(x, block, nb)
+    body = x[: nb * block].reshape(nb, block)
+    inside = idx[idx < nb * block]
+    rows_of = inside // block
+    blocks = np.unique(rows_of)
+    last = body[-1].sum()
+    if blocks.size:
+        rows = body[blocks]  # a copy of the flagged blocks only
+        rows[np.searchsorted(blocks, rows_of), inside % block] = 0.0
+        sums[blocks] = rows.sum(axis=1)
+        if blocks[-1] == nb - 1:
+            last = sums[-1]
+    rest = x[nb * block :]
+    tail = idx[idx >= nb * block]
+    if tail.size:
+        rest = rest.copy()
+        rest[tail - nb * block] = 0.0
+    if rest.size and (tail.size or (blocks.size and blocks[-1] == nb - 1)):
+        sums[-1] = last + rest.sum()  # the rest of the record joins the last block
+    return sums
