@@ -13,11 +13,13 @@ Quick start::
 from noisevar.errors import NoisevarError, NoWindowKept
 from noisevar.estimators import describe_methods, estimate, estimate_redundant, methods
 from noisevar.estimators.results import RedundantEstimate, VarianceEstimate, VarianceEstimates
+from noisevar.noise_model import KalmanTuning, fit_coloured_noise, fit_kalman
 from noisevar.signals import GeneratedSignal, generate, signal_names
 
 __version__ = "0.1.0"
 __all__ = [
     "GeneratedSignal",
+    "KalmanTuning",
     "NoWindowKept",
     "NoisevarError",
     "RedundantEstimate",
@@ -27,6 +29,8 @@ __all__ = [
     "describe_methods",
     "estimate",
     "estimate_redundant",
+    "fit_coloured_noise",
+    "fit_kalman",
     "generate",
     "methods",
     "signal_names",

@@ -378,7 +378,8 @@ def _tuning(
     # Ljung-Box Q = n(n+2) sum rho_k² / (n-k)   (§E2)
     p = float(q_stat(acf(nu, nlags=lags, fft=True)[1:], nu.size)[1][-1])
     white = bool(p >= WHITE_ALPHA)
-    loglik = -0.5 * float(np.sum(np.log(2 * np.pi * fp.s) + nu**2))
+    # l = -n/2 log 2 pi - 1/2 sum_{k >= d} (log S_k + e_k²/S_k)   (diffuse, Durbin-Koopman)
+    loglik = -0.5 * float(z.size * np.log(2 * np.pi) + np.sum(np.log(fp.s) + nu**2))
     h_ratio = q * dt**k / r
     cov = _log_cov(zc, model, dt, np.log(h_ratio), np.log(r))
     var_q = cov[0, 0] + cov[1, 1] + 2 * cov[0, 1]
