@@ -35,7 +35,9 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     from noisevar.noise_model.export import from_config, to_config
 
     if args.rate is not None and not args.rate > 0:
-        raise NoisevarError(f"--rate must be a positive number of samples per second, got {args.rate}")
+        raise NoisevarError(
+            f"--rate must be a positive number of samples per second, got {args.rate}"
+        )
     z, dropped = load_signal(args.file, args.column)
     if args.config:
         kal = from_config(load_config(args.config))

@@ -46,7 +46,8 @@ def steady_state(F: NDArray, h: NDArray, Q: NDArray, r: float) -> tuple[NDArray,
         # P = F P F' - F P h (h'P h + r)^-1 h'P F' + Q
         P = scipy.linalg.solve_discrete_are(F.T, h[:, None], Q, np.array([[r]]))
     except (np.linalg.LinAlgError, ValueError) as exc:
-        raise NoisevarError(f"the Riccati equation has no solution for these q and r ({exc})")
+        msg = f"the Riccati equation has no solution for these q and r ({exc})"
+        raise NoisevarError(msg) from None
     P = 0.5 * (P + P.T)
     s = float(h @ P @ h) + r
     return P, P @ h / s, s

@@ -201,7 +201,9 @@ def _fit_one(y: NDArray, name: str) -> ModelFit:
 
 def _check(z: ArrayLike, rate: float | None, models: Sequence[str], criterion: str) -> NDArray:
     if criterion not in CRITERIA:
-        raise NoisevarError(f"unknown criterion {criterion!r}; choose one of: {', '.join(CRITERIA)}")
+        raise NoisevarError(
+            f"unknown criterion {criterion!r}; choose one of: {', '.join(CRITERIA)}"
+        )
     if isinstance(models, str) or not models:
         raise NoisevarError("models must be a non-empty list of model names")
     for m in models:

@@ -85,8 +85,8 @@ def test_nis_band_and_validation_of_a_wrong_r(make_track):
 def test_a_model_the_data_reject_is_said_so():
     rng = np.random.default_rng(5)
     # a random walk observed through strongly coloured (AR(1)) noise: rw innovations are not white
-    z = np.cumsum(rng.normal(0, 0.1, 6000)) + scipy.signal.lfilter([1], [1, -0.9], rng.normal(size=6000))
-    z += rng.normal(0, 0.3, 6000)
+    z = np.cumsum(rng.normal(0, 0.1, 6000)) + rng.normal(0, 0.3, 6000)
+    z += scipy.signal.lfilter([1], [1, -0.9], rng.normal(size=6000))
     t = fit_kalman(z, model="cv", rate=1.0)
     assert not t.innovations_white
     assert any("reject" in n for n in t.notes)
@@ -113,7 +113,7 @@ def test_to_dict_is_json_safe(make_track):
 def test_progress_reaches_one(make_track):
     seen: list[float] = []
     fit_kalman(make_track("rw", 400, 1.0, 0.1, 1.0, seed=8), "rw", progress=seen.append)
-    assert seen[-1] == 1.0 and all(0 <= a <= b <= 1 for a, b in zip(seen, seen[1:]))
+    assert seen[-1] == 1.0 and all(0 <= a <= b <= 1 for a, b in zip(seen, seen[1:], strict=False))
 
 
 @pytest.mark.parametrize(
