@@ -78,33 +78,81 @@ def diffuse_start(z: NDArray, F: NDArray, h: NDArray, Q: NDArray, r: float) -> t
 
 @jit
 def _transient(z, F, h, Q, r, x, P, tol, max_steps):  # pragma: no cover - compiled
+    # long: one Kalman step written out with explicit loops (no temporaries: n <= 3)
     n = x.size
     N = min(z.size, max_steps)
     e = np.empty(N)
     s = np.empty(N)
     X = np.empty((N, n))
-    eye = np.eye(n)
+    x = x.copy()
+    P = P.copy()
+    xn = np.empty(n)
+    FP = np.empty((n, n))
+    Pn = np.empty((n, n))
+    A = np.empty((n, n))
+    IKH = np.empty((n, n))
+    Ph = np.empty(n)
+    K = np.empty(n)
     prev = np.zeros(n)
     steady = 0
     used = N
     for k in range(N):
-        x = F @ x
-        P = F @ P @ F.T + Q
-        Ph = P @ h
-        S = h @ Ph + r
-        K = Ph / S
-        d = z[k] - h @ x
-        x = x + K * d
-        IKH = eye - np.outer(K, h)
-        P = IKH @ P @ IKH.T + r * np.outer(K, K)
+        # x- = F x,  P- = F P F' + Q
+        for i in range(n):
+            acc = 0.0
+            for j in range(n):
+                acc += F[i, j] * x[j]
+            xn[i] = acc
+        for i in range(n):
+            for j in range(n):
+                acc = 0.0
+                for m in range(n):
+                    acc += F[i, m] * P[m, j]
+                FP[i, j] = acc
+        for i in range(n):
+            for j in range(n):
+                acc = Q[i, j]
+                for m in range(n):
+                    acc += FP[i, m] * F[j, m]
+                Pn[i, j] = acc
+        # S = h'P-h + r,  K = P-h / S,  d = z - h'x-
+        S = r
+        d = z[k]
+        for i in range(n):
+            acc = 0.0
+            for j in range(n):
+                acc += Pn[i, j] * h[j]
+            Ph[i] = acc
+            S += h[i] * acc
+            d -= h[i] * xn[i]
+        dk = 0.0
+        kmax = 0.0
+        for i in range(n):
+            K[i] = Ph[i] / S
+            x[i] = xn[i] + K[i] * d
+            dk = max(dk, abs(K[i] - prev[i]))
+            kmax = max(kmax, abs(K[i]))
+            prev[i] = K[i]
+            for j in range(n):
+                IKH[i, j] = (1.0 if i == j else 0.0) - K[i] * h[j]
+        # P = (I - K h') P- (I - K h')' + r K K'   (Joseph)
+        for i in range(n):
+            for j in range(n):
+                acc = 0.0
+                for m in range(n):
+                    acc += IKH[i, m] * Pn[m, j]
+                A[i, j] = acc
+        for i in range(n):
+            for j in range(n):
+                acc = r * K[i] * K[j]
+                for m in range(n):
+                    acc += A[i, m] * IKH[j, m]
+                P[i, j] = acc
         e[k] = d
         s[k] = S
-        X[k] = x
-        if np.max(np.abs(K - prev)) <= tol * np.max(np.abs(K)):
-            steady += 1
-        else:
-            steady = 0
-        prev = K
+        for i in range(n):
+            X[k, i] = x[i]
+        steady = steady + 1 if dk <= tol * kmax else 0
         if steady > n + 2:
             used = k + 1
             break
