@@ -142,13 +142,15 @@ def em_fit(z: np.ndarray, model: str, tol: float = 1e-7, max_iter: int = EM_MAX_
     P0 = np.diag(1e8 * r * RATE ** (2.0 * np.arange(F.shape[0])))
     x0 = np.zeros(F.shape[0])
     last = -np.inf
-    for it in range(max_iter):
+    n_iter = 0
+    while n_iter < max_iter:
         scale, r, ll = _em_step(zc, F, h, q * Q1, r, x0, P0)
         q *= scale
+        n_iter += 1
         if abs(ll - last) < tol * abs(ll):
             break
         last = ll
-    return q, r, it + 1
+    return q, r, n_iter
 
 
 # ------------------------------------------------------------------ sections
@@ -187,8 +189,8 @@ def joint_section(runs: int, peer_runs: int) -> tuple[list[str], dict]:  # long:
         f"### Joint q and r on simulated tracks (n = {N}, {RATE:g} Hz, r = {R_TRUE:g})",
         "",
         f"{runs} seeded runs per cell for ours; statsmodels' MLE and the EM fit on the "
-        f"first {peer_runs} runs of each cell (same records; EM, slow, in two cells only). Errors are medians of "
-        "|relative error|; 'NIS in band' is the share of runs whose mean NIS lies in its "
+        f"first {peer_runs} runs of each cell (same records; EM, slow, in two cells only). "
+        "Errors are medians of |relative error|; 'NIS in band' is the share of runs whose mean NIS lies in its "
         "95 % chi-square band; time is the median per fit.",
         "",
         "| model | h = qT^k/r | method | runs | r error | q error | NIS in band | time (s) |",
@@ -260,7 +262,8 @@ def coloured_section(runs: int) -> list[str]:  # long: one table
             q_true = None
             if name == "white+ar1":
                 q_true = p["s2"] * (1 - p["phi"] ** 2)
-                z += scipy.signal.lfilter([1.0], [1.0, -p["phi"]], rng.normal(0, np.sqrt(q_true), N))
+                drive = rng.normal(0, np.sqrt(q_true), N)
+                z += scipy.signal.lfilter([1.0], [1.0, -p["phi"]], drive)
             elif name == "white+rw":
                 q_true = p["q"]
                 z += np.cumsum(rng.normal(0.0, np.sqrt(q_true), N))

@@ -1,5 +1,7 @@
 """Figures of a tuned Kalman filter and of the noise-model comparison (docs/algorithms.md §E5-§E6).
 
+* :func:`tuning_rows`, :func:`coloured_rows` — the comparison tables;
+* :func:`tuned_run_figure` — the record and the tuned filter's position estimate;
 * :func:`nis_figure` — the NIS of the tuned filter over the record, its moving mean
   and that mean's 95 % chi-square band;
 * :func:`innovation_acf_figure` — the autocorrelation of the normalised
@@ -13,11 +15,99 @@ import numpy as np
 import plotly.graph_objects as go
 import scipy.signal
 
-from noisevar.figures._common import COLORS, MAX_POINTS, PALETTE, layout, line_trace, x_title
+from noisevar.figures._common import (
+    COLORS,
+    MAX_POINTS,
+    PALETTE,
+    layout,
+    line_trace,
+    note_downsampled,
+    x_title,
+)
 from noisevar.figures._shapes import band, hline
 from noisevar.kalman.divergence import nis_band
 from noisevar.noise_model.coloured import ColouredNoiseFit
-from noisevar.noise_model.kalman_fit import TunedRun
+from noisevar.noise_model.kalman_fit import KalmanTuning, TunedRun
+
+
+def tuning_rows(tunings: dict[str, KalmanTuning]) -> list[dict[str, object]]:
+    """One table row per fitted kinematic model: q, r, h with intervals, criteria, checks.
+
+    Parameters
+    ----------
+    tunings : dict
+        Model name -> :class:`~noisevar.noise_model.KalmanTuning`.
+
+    Returns
+    -------
+    list of dict
+    """
+    best = min(tunings.values(), key=lambda t: t.bic).model if tunings else None
+    rows = []
+    for name, t in tunings.items():
+        rows.append(
+            {
+                "model": name,
+                "q": t.q,
+                "q 95 %": f"{t.q_interval[0]:.4g} .. {t.q_interval[1]:.4g}",
+                "q unit": t.units.get("q", ""),
+                "r": t.r,
+                "r 95 %": f"{t.r_interval[0]:.4g} .. {t.r_interval[1]:.4g}",
+                "h": t.h,
+                "log-likelihood": t.loglik,
+                "ΔBIC": t.bic - min(u.bic for u in tunings.values()),
+                "NIS mean": t.nis_mean,
+                "NIS in band": t.nis_consistent,
+                "innovations white": t.innovations_white,
+                "best (BIC)": name == best,
+            }
+        )
+    return rows
+
+
+def coloured_rows(fit: ColouredNoiseFit) -> list[dict[str, object]]:
+    """One table row per fitted coloured-noise model (parameters per sample)."""
+    best_bic = min(f.bic for f in fit.fits)
+    best_aic = min(f.aic for f in fit.fits)
+    return [
+        {
+            "model": f.name,
+            "r (white)": f.r,
+            "phi": f.phi,
+            "q AR(1)": f.q_ar,
+            "q random walk": f.q_rw,
+            "log-likelihood": f.loglik,
+            "ΔAIC": f.aic - best_aic,
+            "ΔBIC": f.bic - best_bic,
+            "chosen": f.name == fit.model,
+        }
+        for f in fit.fits
+    ]
+
+
+def tuned_run_figure(
+    run: TunedRun,
+    z: np.ndarray,
+    dt: float | None = None,
+    max_points: int = MAX_POINTS,
+    title: str | None = "The record and the tuned filter",
+    height: int = 380,
+) -> go.Figure:
+    """The measured record and the filter's position estimate ``x(k|k)``.
+
+    Returns
+    -------
+    plotly.graph_objects.Figure
+    """
+    pad = np.full(int(run.index[0]), np.nan)
+    raw, reduced = line_trace(z, "record", dt, max_points, line={"color": COLORS["raw"]})
+    est, _ = line_trace(
+        np.r_[pad, run.states[:, 0]], "filtered", dt, max_points,
+        line={"color": COLORS["estimate"], "width": 2},
+    )
+    fig = go.Figure([raw, est])
+    fig.update_layout(**layout(title, height, xaxis_title=x_title(dt), yaxis_title="signal"))
+    return note_downsampled(fig, len(z), max_points) if reduced else fig
 
 
 def nis_figure(

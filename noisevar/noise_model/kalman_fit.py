@@ -136,6 +136,16 @@ class KalmanTuning:
     notes: tuple[str, ...] = ()
 
     @property
+    def aic(self) -> float:
+        """Akaike's criterion of the fit (two parameters, q and r)."""
+        return 4.0 - 2.0 * self.loglik
+
+    @property
+    def bic(self) -> float:
+        """Schwarz's criterion of the fit (two parameters, ``n - start`` innovations)."""
+        return 2.0 * np.log(self.n - self.start) - 2.0 * self.loglik
+
+    @property
     def nis_consistent(self) -> bool:
         """Whether the mean NIS lies inside its 95 % band."""
         return self.nis_band[0] <= self.nis_mean <= self.nis_band[1]
@@ -160,6 +170,8 @@ class KalmanTuning:
             ljung_box_p=num(self.ljung_box_p),
             innovations_white=self.innovations_white,
             loglik=num(self.loglik),
+            aic=num(self.aic),
+            bic=num(self.bic),
             units=dict(self.units),
             notes=list(self.notes),
         )

@@ -9,6 +9,7 @@ from noisevar.figures.kalman_tuning import (
     innovation_acf_figure,
     model_comparison_figure,
     nis_figure,
+    tuned_run_figure,
 )
 from noisevar.kalman.divergence import nis_band
 from noisevar.noise_model import fit_coloured_noise, fit_kalman, run_tuned
@@ -22,6 +23,8 @@ def test_tuning_figures(make_track):
     band = fig.layout.shapes[0]
     assert (band.y0, band.y1) == nis_band(1, 50)
     assert np.isnan(fig.data[0].y[: t.start]).all() and len(fig.data) == 2
+    rec = tuned_run_figure(run, z, dt=t.dt)
+    assert np.allclose(rec.data[1].y[t.start :], run.states[:, 0])
     acf = innovation_acf_figure(run, lags=30)
     assert len(acf.data[0].y) == 30 and abs(acf.layout.shapes[0].y1 - 1.96 / np.sqrt(2998)) < 1e-3
 

@@ -107,6 +107,7 @@ def test_to_dict_is_json_safe(make_track):
     z = make_track("rw", 500, 1.0, 0.1, 1.0, seed=7)
     d = fit_kalman(z, "rw").to_dict()
     text = json.dumps(d, allow_nan=False)
+    assert d["bic"] == pytest.approx(2 * np.log(499) - 2 * d["loglik"])
     assert '"model": "rw"' in text and d["units"]["q"].startswith("u²/sample")
 
 
