@@ -190,8 +190,8 @@ def joint_section(runs: int, peer_runs: int) -> tuple[list[str], dict]:  # long:
         "",
         f"{runs} seeded runs per cell for ours; statsmodels' MLE and the EM fit on the "
         f"first {peer_runs} runs of each cell (same records; EM, slow, in two cells only). "
-        "Errors are medians of |relative error|; 'NIS in band' is the share of runs whose mean NIS lies in its "
-        "95 % chi-square band; time is the median per fit.",
+        "Errors are medians of |relative error|; 'NIS in band' is the share of runs whose "
+        "mean NIS lies in its 95 % chi-square band; time is the median per fit.",
         "",
         "| model | h = qT^k/r | method | runs | r error | q error | NIS in band | time (s) |",
         "|---|---|---|---|---|---|---|---|",
