@@ -159,7 +159,7 @@ def nile_section() -> list[str]:
     lines = [
         "### statsmodels' Nile data: the local-level model",
         "",
-        "`fit_kalman(nile, model=\"rw\")` (rate 1/year): sigma2_eps = r, sigma2_eta = q T. "
+        '`fit_kalman(nile, model="rw")` (rate 1/year): sigma2_eps = r, sigma2_eta = q T. '
         "Durbin and Koopman: 15099 and 1469.1. Target: within 0.5 %.",
         "",
         "| method | sigma2_eps | error | sigma2_eta | error | within 0.5 % | time (s) |",
@@ -277,8 +277,10 @@ def coloured_section(runs: int) -> list[str]:  # long: one table
                     ephi.append(f.phi[0] / p["phi"] - 1)
                 if q_true is not None:
                     eq.append(f.q[0] / q_true - 1)
-        med = {k: float(np.median(np.abs(v))) if v else None for k, v in
-               (("r", er), ("phi", ephi), ("q", eq))}
+        med = {
+            k: float(np.median(np.abs(v))) if v else None
+            for k, v in (("r", er), ("phi", ephi), ("q", eq))
+        }
         ok = all(v is None or v <= 0.10 for v in med.values())
         label = name + (f" phi={p['phi']}" if "phi" in p else "")
         cells = " | ".join("–" if med[k] is None else f"{med[k]:.2%}" for k in ("r", "phi", "q"))

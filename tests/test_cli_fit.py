@@ -17,8 +17,9 @@ def track_csv(tmp_path_factory):
     v = np.cumsum(rng.normal(0, 0.3, n))
     x = np.cumsum(v) * T + rng.normal(0, 1.0, n)
     path = tmp_path_factory.mktemp("fit") / "track.csv"
-    np.savetxt(path, np.column_stack([np.arange(n) * T, x]), delimiter=",", header="t,pos",
-               comments="")
+    np.savetxt(
+        path, np.column_stack([np.arange(n) * T, x]), delimiter=",", header="t,pos", comments=""
+    )
     return str(path)
 
 

@@ -58,8 +58,8 @@ def _fit_models(z: np.ndarray, rate: float, method: str) -> dict[str, KalmanTuni
         def work(progress: Callable[[float], None] | None) -> dict[str, KalmanTuning]:
             out = {}
             for i, model in enumerate(MODELS):
-                step = None if progress is None else (
-                    lambda f, i=i: progress((i + f) / len(MODELS))
+                step = (
+                    None if progress is None else (lambda f, i=i: progress((i + f) / len(MODELS)))
                 )
                 out[model] = fit_kalman(z, model=model, rate=rate, method=method, progress=step)
             return out
@@ -115,7 +115,8 @@ def _coloured(z: np.ndarray, rate: float) -> None:
         key = f"{KEY}_col_{_digest(z, rate)}"
         if st.button("Fit the coloured-noise models", key=f"{KEY}_col_btn"):
             st.session_state[key] = _with_progress(
-                "Fitting noise models...", 0 if z.size < 5000 else PROGRESS_ABOVE + 1,
+                "Fitting noise models...",
+                0 if z.size < 5000 else PROGRESS_ABOVE + 1,
                 lambda p: fit_coloured_noise(z, rate=rate, progress=p),
             )
         fit = st.session_state.get(key)
@@ -142,8 +143,11 @@ def render_fit(z: np.ndarray, rate: float) -> None:
         tunings = _fit_models(z, rate, method)
         best = min(tunings.values(), key=lambda t: t.bic).model
         model = c2.selectbox(
-            "Model for the filter", list(MODELS), index=list(MODELS).index(best),
-            key=f"{KEY}_model", help="rw: random walk, cv: constant velocity, ca: constant "
+            "Model for the filter",
+            list(MODELS),
+            index=list(MODELS).index(best),
+            key=f"{KEY}_model",
+            help="rw: random walk, cv: constant velocity, ca: constant "
             "acceleration. The best by BIC is preselected.",
         )
         st.dataframe(tuning_rows(tunings), hide_index=True)

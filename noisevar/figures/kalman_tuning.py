@@ -102,7 +102,10 @@ def tuned_run_figure(
     pad = np.full(int(run.index[0]), np.nan)
     raw, reduced = line_trace(z, "record", dt, max_points, line={"color": COLORS["raw"]})
     est, _ = line_trace(
-        np.r_[pad, run.states[:, 0]], "filtered", dt, max_points,
+        np.r_[pad, run.states[:, 0]],
+        "filtered",
+        dt,
+        max_points,
         line={"color": COLORS["estimate"], "width": 2},
     )
     fig = go.Figure([raw, est])
@@ -144,7 +147,10 @@ def nis_figure(
         np.r_[pad, run.nis], "NIS", dt, max_points, line={"color": COLORS["raw"], "width": 1}
     )
     avg, _ = line_trace(
-        np.r_[pad, np.full(w - 1, np.nan), mean], f"mean over {w}", dt, max_points,
+        np.r_[pad, np.full(w - 1, np.nan), mean],
+        f"mean over {w}",
+        dt,
+        max_points,
         line={"color": COLORS["estimate"], "width": 2},
     )
     lo, hi = nis_band(1, w)

@@ -209,7 +209,7 @@ def filter_pass(
         else:
             s_ss = s[-1]
         past = np.column_stack([X[-n:], e[-n:]])
-        e2, X2 = _lti_tail(rest[used:], rest[used - n:used], past, F, h, K, states)
+        e2, X2 = _lti_tail(rest[used:], rest[used - n : used], past, F, h, K, states)
         e = np.concatenate([e, e2])
         s = np.concatenate([s, np.full(e2.size, s_ss)])
         X = np.vstack([X, X2])

@@ -286,6 +286,15 @@ def fit_coloured_noise(
     if best.phi is not None and best.phi <= 0:
         notes.append("the AR(1) part has phi <= 0: it is not a Gauss-Markov process")
     return ColouredNoiseFit(
-        model=best.name, criterion=criterion, r=best.r, phi=tuple(phi), q=tuple(q),
-        tau_c=tau, sigma2_ar=s2, fits=tuple(fits), rate=rate, n=int(arr.size), notes=tuple(notes),
+        model=best.name,
+        criterion=criterion,
+        r=best.r,
+        phi=tuple(phi),
+        q=tuple(q),
+        tau_c=tau,
+        sigma2_ar=s2,
+        fits=tuple(fits),
+        rate=rate,
+        n=int(arr.size),
+        notes=tuple(notes),
     )

@@ -363,7 +363,13 @@ def _units(model: str, rate: float | None) -> dict[str, str]:
 
 
 def _tuning(
-    z: NDArray, model: str, dt: float, rate: float | None, q: float, r: float, method: str,
+    z: NDArray,
+    model: str,
+    dt: float,
+    rate: float | None,
+    q: float,
+    r: float,
+    method: str,
     notes: list[str],
 ) -> KalmanTuning:  # long: assembles the filter, its intervals and its validation
     """Build the :class:`KalmanTuning` for (q, r) and validate it on ``z``."""
@@ -406,12 +412,33 @@ def _tuning(
             f"[{band[0]:.3g}, {band[1]:.3g}]: the filter is not consistent on this record"
         )
     return KalmanTuning(
-        model=model, method=method, dt=dt, rate=rate, q=float(q), r=float(r), h=float(h_ratio),
-        q_interval=_interval(np.log(q), var_q), r_interval=_interval(np.log(r), cov[1, 1]),
+        model=model,
+        method=method,
+        dt=dt,
+        rate=rate,
+        q=float(q),
+        r=float(r),
+        h=float(h_ratio),
+        q_interval=_interval(np.log(q), var_q),
+        r_interval=_interval(np.log(r), cov[1, 1]),
         h_interval=_interval(np.log(h_ratio), cov[0, 0]),
-        F=F, H=hv[None, :], Q=Q, R=np.array([[r]]), gain=K, P=P, x0=x0, P0=P0, start=start,
-        n=int(z.size), nis_mean=nis_mean, nis_band=band, ljung_box_p=p,
-        innovations_white=white, loglik=loglik, units=_units(model, rate), notes=tuple(notes),
+        F=F,
+        H=hv[None, :],
+        Q=Q,
+        R=np.array([[r]]),
+        gain=K,
+        P=P,
+        x0=x0,
+        P0=P0,
+        start=start,
+        n=int(z.size),
+        nis_mean=nis_mean,
+        nis_band=band,
+        ljung_box_p=p,
+        innovations_white=white,
+        loglik=loglik,
+        units=_units(model, rate),
+        notes=tuple(notes),
     )
 
 

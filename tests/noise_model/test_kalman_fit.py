@@ -98,7 +98,7 @@ def test_run_tuned_gives_the_filter_on_the_record(make_track):
     run = run_tuned(t, z)
     assert run.index[0] == t.start and run.states.shape == (2000 - t.start, 2)
     assert np.mean(run.nis) == pytest.approx(t.nis_mean, rel=1e-12)
-    assert np.std(run.states[:, 0] - z[t.start:]) < np.sqrt(t.r)
+    assert np.std(run.states[:, 0] - z[t.start :]) < np.sqrt(t.r)
 
 
 def test_to_dict_is_json_safe(make_track):
@@ -134,8 +134,12 @@ def test_bad_arguments(kwargs, match):
 
 @pytest.mark.parametrize(
     "z,match",
-    [(np.ones(100), "constant"), (np.arange(10.0), "at least"), (np.r_[np.nan, np.ones(99)], "NaN"),
-     (np.ones((10, 10)), "1-D")],
+    [
+        (np.ones(100), "constant"),
+        (np.arange(10.0), "at least"),
+        (np.r_[np.nan, np.ones(99)], "NaN"),
+        (np.ones((10, 10)), "1-D"),
+    ],
 )
 def test_bad_signals(z, match):
     with pytest.raises(NoisevarError, match=match):
