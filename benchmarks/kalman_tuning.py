@@ -40,7 +40,7 @@ RATE, R_TRUE, N = 10.0, 4.0, 20000
 H_VALUES = {"cv": (1e-4, 1e-3, 1e-2, 1e-1), "ca": (1e-5, 1e-4, 1e-3, 1e-2)}
 #: Cells where the (slow) EM peer runs; statsmodels' MLE runs in every cell.
 EM_CELLS = {("cv", 1e-3), ("ca", 1e-4)}
-EM_MAX_ITER = 200
+EM_MAX_ITER = 100
 
 
 def track(model: str, n: int, q: float, r: float, rng: np.random.Generator) -> np.ndarray:
@@ -184,12 +184,14 @@ def _cell(errs_r, errs_q, inband, times) -> str:
     )
 
 
-def joint_section(runs: int, peer_runs: int) -> tuple[list[str], dict]:  # long: one table
+def joint_section(  # long: one table
+    runs: int, peer_runs: int, em_runs: int
+) -> tuple[list[str], dict]:
     lines = [
         f"### Joint q and r on simulated tracks (n = {N}, {RATE:g} Hz, r = {R_TRUE:g})",
         "",
         f"{runs} seeded runs per cell for ours; statsmodels' MLE and the EM fit on the "
-        f"first {peer_runs} runs of each cell (same records; EM, slow, in two cells only). "
+        f"first runs of each cell (same records; EM, slow, in two cells only). "
         "Errors are medians of |relative error|; 'NIS in band' is the share of runs whose "
         "mean NIS lies in its 95 % chi-square band; time is the median per fit.",
         "",
@@ -218,19 +220,19 @@ def joint_section(runs: int, peer_runs: int) -> tuple[list[str], dict]:  # long:
                 lines.append(
                     f"| {model} | {hv:g} | {method} | {runs} | {_cell(er, eq, band, times)} |"
                 )
-            peers = [("statsmodels MLE", statsmodels_fit)]
+            peers = [("statsmodels MLE", statsmodels_fit, peer_runs)]
             if (model, hv) in EM_CELLS:
-                peers.append((f"EM (ours, <= {EM_MAX_ITER} iterations)", em_fit))
-            for name, fn in peers:
+                peers.append((f"EM (ours, <= {EM_MAX_ITER} iterations)", em_fit, em_runs))
+            for name, fn, n_peer in peers:
                 er, eq, times = [], [], []
-                for z in records[:peer_runs]:
+                for z in records[:n_peer]:
                     t0 = time.perf_counter()
                     q, r = fn(z, model)[:2]
                     times.append(time.perf_counter() - t0)
                     er.append(r / R_TRUE - 1)
                     eq.append(q / q_true - 1)
                 cell = _cell(er, eq, [np.nan], times).replace("nan%", "–")
-                lines.append(f"| {model} | {hv:g} | {name} | {peer_runs} | {cell} |")
+                lines.append(f"| {model} | {hv:g} | {name} | {n_peer} | {cell} |")
             print(f"  joint {model} h={hv:g} done", file=sys.stderr, flush=True)
     return [*lines, ""], summary
 
@@ -321,7 +323,9 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--runs", type=int, default=50)
     ap.add_argument("--peer-runs", type=int, default=5)
+    ap.add_argument("--em-runs", type=int, default=1)
     ap.add_argument("--coloured-runs", type=int, default=20)
+    ap.add_argument("--out", default=str(RESULTS / "kalman_tuning.md"))
     ap.add_argument("--skip", nargs="*", default=[], help="nile joint coloured speed")
     args = ap.parse_args()
     load = os.getloadavg()[0]
@@ -329,8 +333,8 @@ def main() -> None:
     lines = [
         "## Kalman tuning: Q and R together, coloured noise (issue 14)",
         "",
-        f"Measured with `python benchmarks/kalman_tuning.py --runs {args.runs} --peer-runs "
-        f"{args.peer_runs} --coloured-runs {args.coloured_runs}` on {platform.machine()}, "
+        f"Measured with `python benchmarks/kalman_tuning.py {' '.join(sys.argv[1:])}` on "
+        f"{platform.machine()}, "
         f"{os.cpu_count()} cores, Python {platform.python_version()}; 1-minute load average "
         f"at start {load:.1f} (shared machine: timings vary with load).",
         "",
@@ -340,7 +344,7 @@ def main() -> None:
     if "nile" not in args.skip:
         lines += nile_section()
     if "joint" not in args.skip:
-        joint, s = joint_section(args.runs, args.peer_runs)
+        joint, s = joint_section(args.runs, args.peer_runs, args.em_runs)
         lines += joint
         for m in ("mle", "als"):
             lines.append(
@@ -353,8 +357,8 @@ def main() -> None:
         lines += coloured_section(args.coloured_runs)
     lines.append(f"Total wall time {time.perf_counter() - t_start:.0f} s.")
     text = "\n".join(lines) + "\n"
-    RESULTS.mkdir(exist_ok=True)
-    (RESULTS / "kalman_tuning.md").write_text(text, encoding="utf-8")
+    Path(args.out).parent.mkdir(exist_ok=True)
+    Path(args.out).write_text(text, encoding="utf-8")
     print(text)
 
 
