@@ -136,26 +136,32 @@ class ColouredNoiseFit:
         }
 
 
-def _start_ar1(y: NDArray) -> list[float] | None:
-    """Moment start for white + AR(1): c1 = s² phi, c2 = s² phi², c0 = r + s²."""
+def _start_ar1(y: NDArray) -> list[float]:
+    """Moment start for white + AR(1): c1 = s² phi, c2 = s² phi², c0 = r + s².
+
+    Without a valid moment solution (noise close to white): a small AR(1) part.
+    """
     n = y.size
     c = [float(np.dot(y[j:], y[: n - j]) / n) for j in range(3)]
-    if c[1] <= 0 or c[2] <= 0:
-        return None
-    phi = min(c[2] / c[1], 0.999)
-    s2 = c[1] / phi
-    r = c[0] - s2
-    if not 0 < phi < 1 or r <= 0:
-        return None
-    return [r, s2 * (1 - phi**2), phi]
+    if c[1] > 0 and c[2] > 0:
+        phi = min(c[2] / c[1], 0.999)
+        s2 = c[1] / phi
+        if 0 < phi < 1 and c[0] - s2 > 0:
+            return [c[0] - s2, s2 * (1 - phi**2), phi]
+    return [0.9 * c[0], 0.1 * c[0] * (1 - 0.5**2), 0.5]
 
 
-def _start_rw(y: NDArray) -> list[float] | None:
-    """Moment start for white + random walk: var(dy) = q + 2r, cov(dy_k, dy_k+1) = -r."""
+def _start_rw(y: NDArray) -> list[float]:
+    """Moment start for white + random walk: var(dy) = q + 2r, cov(dy_k, dy_k+1) = -r.
+
+    Without a valid moment solution (noise close to white): a small random walk.
+    """
     d = np.diff(y)
     r = -float(np.dot(d[1:], d[:-1]) / d.size)
     q = float(np.mean(d**2)) - 2 * r
-    return [r, q] if r > 0 and q > 0 else None
+    if r > 0 and q > 0:
+        return [r, q]
+    return [float(np.var(y)), 1e-4 * float(np.var(y))]
 
 
 def _fit_one(y: NDArray, name: str) -> ModelFit:
