@@ -11,6 +11,7 @@ squares (``"als"``, Odelson, Rajamani and Rawlings 2006).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -23,7 +24,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
 from noisevar.kalman.divergence import nis_band
-from noisevar.noise_model._steady import FilterPass, filter_pass, steady_state
+from noisevar.noise_model._steady import FilterPass, diffuse_start, filter_pass, steady_state
 
 #: Kinematic models: name -> (number of states, power k of T in h = q T^k / r, q's name).
 MODELS: dict[str, tuple[int, int, str]] = {
@@ -62,9 +63,7 @@ def kinematic_model(model: str, dt: float) -> tuple[NDArray, NDArray, NDArray]:
     n = MODELS[model][0]
     i, j = np.indices((n, n))
     p = j - i
-    from math import factorial
-
-    fact = np.vectorize(factorial)
+    fact = np.vectorize(math.factorial)
     # F_ij = T^(j-i) / (j-i)!  for j >= i
     F = np.where(p >= 0, dt ** np.maximum(p, 0) / fact(np.maximum(p, 0)), 0.0)
     # Q1_ij = T^(a+b+1) / ((a+b+1) a! b!),  a = n-1-i, b = n-1-j   (E6.1)
@@ -243,13 +242,11 @@ def _log_cov(z: NDArray, model: str, dt: float, log_h: float, log_r: float) -> N
     pts = [_profile(z, model, dt, log_h + s * d) for s in (-1, 0, 1)]
     sl = np.array([p[0] for p in pts])
     g = np.array([p[1] for p in pts])
-    n = pts[1][2]
     w = np.exp(-log_r)
     huu = -0.5 * ((sl[2] - 2 * sl[1] + sl[0]) + w * (g[2] - 2 * g[1] + g[0])) / d**2
     huv = 0.5 * w * (g[2] - g[0]) / (2 * d)
     hvv = -0.5 * g[1] * w
     info = -np.array([[huu, huv], [huv, hvv]])
-    del n
     try:
         cov = np.linalg.inv(info)
     except np.linalg.LinAlgError:
@@ -384,8 +381,6 @@ def _tuning(
     Q = q * Q1
     P, K, _ = steady_state(F, hv, Q, r)
     fp = filter_pass(zc, F, hv, Q, r)
-    from noisevar.noise_model._steady import diffuse_start
-
     x0, P0, start = diffuse_start(zc, F, hv, Q, r)
     x0 = x0.copy()
     x0[0] += z[0]
