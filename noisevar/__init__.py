@@ -13,7 +13,15 @@ Quick start::
 from noisevar.errors import NoisevarError, NoWindowKept
 from noisevar.estimators import describe_methods, estimate, estimate_redundant, methods
 from noisevar.estimators.results import RedundantEstimate, VarianceEstimate, VarianceEstimates
-from noisevar.noise_model import AllanResult, InertialNoise, allan, inertial_noise
+from noisevar.noise_model import (
+    AllanResult,
+    InertialNoise,
+    KalmanTuning,
+    allan,
+    fit_coloured_noise,
+    fit_kalman,
+    inertial_noise,
+)
 from noisevar.signals import GeneratedSignal, generate, signal_names
 
 __version__ = "0.1.0"
@@ -21,6 +29,7 @@ __all__ = [
     "AllanResult",
     "InertialNoise",
     "GeneratedSignal",
+    "KalmanTuning",
     "NoWindowKept",
     "NoisevarError",
     "RedundantEstimate",
@@ -31,6 +40,8 @@ __all__ = [
     "describe_methods",
     "estimate",
     "estimate_redundant",
+    "fit_coloured_noise",
+    "fit_kalman",
     "generate",
     "inertial_noise",
     "methods",

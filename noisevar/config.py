@@ -143,6 +143,11 @@ def validate_config(config: Mapping[str, Any]) -> dict[str, Any]:
                 "a config cannot hold the 'reference' signal (it is data, not a parameter): "
                 "give the second sensor as a column instead (CLI: --reference-column)"
             )
+        if key == "kalman":  # a tuned filter's Q and R (noisevar.noise_model.export)
+            from noisevar.noise_model.export import check_kalman_config
+
+            out[key] = check_kalman_config(value)
+            continue
         if key not in known:
             raise NoisevarError(
                 f"unknown config key {echo(repr(key))}; known keys: method, {', '.join(known)}"

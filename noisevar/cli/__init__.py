@@ -33,7 +33,15 @@ from noisevar.errors import NoisevarError
 
 #: The sub-commands, in ``--help`` order: each is a module of this package with an
 #: ``add_parser(sub)`` function. A new command is one new module plus one line here.
-COMMANDS: tuple[str, ...] = ("estimate", "methods", "scan_h", "experiment", "allan", "imu")
+COMMANDS: tuple[str, ...] = (
+    "estimate",
+    "methods",
+    "scan_h",
+    "experiment",
+    "allan",
+    "imu",
+    "fit",
+)
 
 
 def build_parser() -> argparse.ArgumentParser:

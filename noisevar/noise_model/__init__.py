@@ -1,9 +1,29 @@
-"""Noise models of a record: Allan deviation and the inertial (IEEE-952) noise terms.
-
-docs/algorithms.md §E4.
+"""Noise models of a record for a Kalman filter: Allan deviation, the inertial (IEEE-952)
+noise terms, coloured measurement noise, and Q with R (docs/algorithms.md §E4-§E6).
 """
 
 from noisevar.noise_model.allan import AllanResult, allan
+from noisevar.noise_model.coloured import ColouredNoiseFit, fit_coloured_noise
 from noisevar.noise_model.inertial import InertialNoise, NoiseTerm, inertial_noise
+from noisevar.noise_model.kalman_fit import (
+    KalmanTuning,
+    TunedRun,
+    evaluate_kalman,
+    fit_kalman,
+    run_tuned,
+)
 
-__all__ = ["AllanResult", "InertialNoise", "NoiseTerm", "allan", "inertial_noise"]
+__all__ = [
+    "AllanResult",
+    "ColouredNoiseFit",
+    "InertialNoise",
+    "KalmanTuning",
+    "NoiseTerm",
+    "TunedRun",
+    "allan",
+    "evaluate_kalman",
+    "fit_coloured_noise",
+    "fit_kalman",
+    "inertial_noise",
+    "run_tuned",
+]

@@ -1,0 +1,166 @@
+"""The Noise model page's Kalman part: kinematic models compared, Q and R, the tuned filter.
+
+``render_fit(z, rate)`` fits the random-walk, constant-velocity and
+constant-acceleration models (docs/algorithms.md §E6), shows their comparison,
+the chosen model's ``Q`` and ``R`` with exports (config JSON, filterpy snippet),
+and that filter run on the record with its NIS band and innovation whiteness; an
+expander fits the coloured-noise models (§E5) to the record.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from collections.abc import Callable
+
+import numpy as np
+import streamlit as st
+
+from dashboard.widgets import fmt, guarded, show_figure
+from noisevar.config import validate_config
+from noisevar.figures.kalman_tuning import (
+    coloured_rows,
+    innovation_acf_figure,
+    model_comparison_figure,
+    nis_figure,
+    tuned_run_figure,
+    tuning_rows,
+)
+from noisevar.noise_model import KalmanTuning, fit_coloured_noise, fit_kalman, run_tuned
+from noisevar.noise_model.export import filterpy_snippet, to_config
+from noisevar.noise_model.kalman_fit import METHODS, MODELS
+
+KEY = "nmf"
+#: Records longer than this (samples) take about a second or more to fit: show a progress bar.
+PROGRESS_ABOVE = 20_000
+
+
+def _digest(z: np.ndarray, *extra: object) -> str:
+    return hashlib.sha1(z.tobytes() + repr(extra).encode()).hexdigest()
+
+
+def _with_progress(label: str, n: int, work: Callable[[Callable[[float], None] | None], object]):
+    """Run ``work(progress)`` with a progress bar when the record is long."""
+    if n <= PROGRESS_ABOVE:
+        return work(None)
+    bar = st.progress(0.0, text=label)
+    try:
+        return work(lambda f: bar.progress(min(max(f, 0.0), 1.0), text=label))
+    finally:
+        bar.empty()
+
+
+def _fit_models(z: np.ndarray, rate: float, method: str) -> dict[str, KalmanTuning]:
+    """Every kinematic model's fit, kept in the session for this record, rate and method."""
+    key = f"{KEY}_fits_{_digest(z, rate, method)}"
+    if key not in st.session_state:
+
+        def work(progress: Callable[[float], None] | None) -> dict[str, KalmanTuning]:
+            out = {}
+            for i, model in enumerate(MODELS):
+                step = (
+                    None if progress is None else (lambda f, i=i: progress((i + f) / len(MODELS)))
+                )
+                out[model] = fit_kalman(z, model=model, rate=rate, method=method, progress=step)
+            return out
+
+        st.session_state[key] = _with_progress("Fitting q and r...", z.size, work)
+    return st.session_state[key]
+
+
+def _verdict(t: KalmanTuning) -> None:
+    lo, hi = t.nis_band
+    text = (
+        f"NIS mean {fmt(t.nis_mean)} (95 % band {fmt(lo)} .. {fmt(hi)}); innovations "
+        f"{'white' if t.innovations_white else 'NOT white'} "
+        f"(Ljung-Box p = {fmt(t.ljung_box_p, 3)})."
+    )
+    if t.innovations_white and t.nis_consistent:
+        st.success(f"The {t.model!r} filter fits this record. {text}")
+    else:
+        st.warning(f"The {t.model!r} filter does not fit this record. {text}")
+    for note in t.notes:
+        st.caption(note)
+
+
+def _exports(t: KalmanTuning) -> None:
+    c1, c2 = st.columns(2)
+    c1.download_button(
+        "Config with Q and R (JSON)",
+        data=json.dumps(validate_config(to_config(t)), indent=2) + "\n",
+        file_name=f"tuned_{t.model}.json",
+        mime="application/json",
+        key=f"{KEY}_cfg",
+        on_click="ignore",
+    )
+    snippet = filterpy_snippet(t)
+    c2.download_button(
+        "filterpy snippet (.py)",
+        data=snippet,
+        file_name=f"kalman_{t.model}.py",
+        mime="text/x-python",
+        key=f"{KEY}_py",
+        on_click="ignore",
+    )
+    with st.expander("The tuned filter in filterpy"):
+        st.code(snippet, language="python")
+
+
+def _coloured(z: np.ndarray, rate: float) -> None:
+    with st.expander("Coloured-noise models (for a static sensor's noise log)"):
+        st.caption(
+            "White, white + AR(1) and white + random walk, fitted by exact maximum likelihood "
+            "to the detrended record and ranked by BIC."
+        )
+        key = f"{KEY}_col_{_digest(z, rate)}"
+        if st.button("Fit the coloured-noise models", key=f"{KEY}_col_btn"):
+            st.session_state[key] = _with_progress(
+                "Fitting noise models...",
+                0 if z.size < 5000 else PROGRESS_ABOVE + 1,
+                lambda p: fit_coloured_noise(z, rate=rate, progress=p),
+            )
+        fit = st.session_state.get(key)
+        if fit is not None:
+            st.markdown(f"Chosen by {fit.criterion.upper()}: **{fit.model}**")
+            st.dataframe(coloured_rows(fit), hide_index=True)
+            show_figure(model_comparison_figure(fit), key=f"{KEY}_colfig")
+
+
+def render_fit(z: np.ndarray, rate: float) -> None:
+    """Kinematic models compared, the chosen one's Q and R, and its filter run on the record.
+
+    Parameters
+    ----------
+    z : ndarray, shape (n,)
+        The record.
+    rate : float
+        Samples per second.
+    """
+    with guarded("Kalman fit: "):
+        z = np.asarray(z, dtype=float)
+        c1, c2 = st.columns(2)
+        method = c1.selectbox("Method", METHODS, key=f"{KEY}_method")
+        tunings = _fit_models(z, rate, method)
+        best = min(tunings.values(), key=lambda t: t.bic).model
+        model = c2.selectbox(
+            "Model for the filter",
+            list(MODELS),
+            index=list(MODELS).index(best),
+            key=f"{KEY}_model",
+            help="rw: random walk, cv: constant velocity, ca: constant "
+            "acceleration. The best by BIC is preselected.",
+        )
+        st.dataframe(tuning_rows(tunings), hide_index=True)
+        t = tunings[model]
+        _verdict(t)
+        st.markdown(
+            f"Suggested **q = {fmt(t.q)}** {t.units['q']} and **r = {fmt(t.r)}** {t.units['r']} "
+            f"(h = qT^k/r = {fmt(t.h)}); steady-state gain {', '.join(fmt(g) for g in t.gain)}."
+        )
+        _exports(t)
+        run = run_tuned(t, z)
+        show_figure(tuned_run_figure(run, z, dt=t.dt), key=f"{KEY}_run")
+        show_figure(nis_figure(run, dt=t.dt), key=f"{KEY}_nis")
+        show_figure(innovation_acf_figure(run), key=f"{KEY}_acf")
+    with guarded("Coloured-noise fit: "):
+        _coloured(np.asarray(z, dtype=float), rate)

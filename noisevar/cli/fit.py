@@ -1,0 +1,81 @@
+"""``noisevar fit FILE --model rw|cv|ca --rate HZ``: Q and R of a kinematic Kalman filter."""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+from typing import Any
+
+from noisevar.cli._common import load_signal, print_json
+from noisevar.errors import NoisevarError
+
+
+def _print_table(t: Any, args: argparse.Namespace) -> None:
+    def iv(pair: tuple[float, float]) -> str:
+        return f"(95 % {pair[0]:.4g} .. {pair[1]:.4g})"
+
+    print(f"file      {args.file}" + (f"  column {args.column}" if args.column else ""))
+    print(f"model     {t.model}   method {t.method}   samples {t.n}")
+    print(f"q         {t.q:.6g} {t.units['q']}  {iv(t.q_interval)}")
+    print(f"r         {t.r:.6g} {t.units['r']}  {iv(t.r_interval)}")
+    print(f"h         {t.h:.6g} (q T^k / r)  {iv(t.h_interval)}")
+    print(f"gain      {', '.join(f'{g:.6g}' for g in t.gain)}")
+    lo, hi = t.nis_band
+    print(f"NIS mean  {t.nis_mean:.4g}   (95 % band {lo:.4g} .. {hi:.4g})")
+    white = "white" if t.innovations_white else "NOT white"
+    print(f"innov.    {white} (Ljung-Box p = {t.ljung_box_p:.3g})   loglik {t.loglik:.6g}")
+    for note in t.notes:
+        print(f"note      {note}")
+
+
+def _cmd_fit(args: argparse.Namespace) -> int:
+    from noisevar.config import load_config, validate_config
+    from noisevar.noise_model import evaluate_kalman, fit_kalman
+    from noisevar.noise_model.export import from_config, to_config
+
+    if args.rate is not None and not args.rate > 0:
+        raise NoisevarError(
+            f"--rate must be a positive number of samples per second, got {args.rate}"
+        )
+    z, dropped = load_signal(args.file, args.column)
+    if args.config:
+        kal = from_config(load_config(args.config))
+        rate = args.rate if args.rate is not None else kal["rate"]
+        model = args.model or kal["model"]
+        if model != kal["model"] or rate != kal["rate"]:
+            raise NoisevarError(
+                f"the config's filter is model {kal['model']!r} at rate {kal['rate']}: "
+                "drop --model/--rate or give the same values"
+            )
+        tuning = evaluate_kalman(z, model, kal["q"], kal["r"], rate=rate)
+    else:
+        if args.rate is None:
+            raise NoisevarError("--rate is required: the sample rate in Hz (samples per second)")
+        tuning = fit_kalman(z, model=args.model or "cv", rate=args.rate, method=args.method)
+    if args.save_config:
+        text = json.dumps(validate_config(to_config(tuning)), indent=2) + "\n"
+        Path(args.save_config).write_text(text, encoding="utf-8")
+    if args.format == "json":
+        out = tuning.to_dict()
+        out.update(file=args.file, column=args.column, dropped=dropped)
+        print_json(out)
+    else:
+        _print_table(tuning, args)
+    return 0
+
+
+def add_parser(sub: Any) -> None:
+    """Register ``fit`` on the sub-command set ``sub``."""
+    from noisevar.noise_model.kalman_fit import METHODS, MODELS
+
+    p = sub.add_parser("fit", help="fit Q and R of a kinematic Kalman filter to a record")
+    p.add_argument("file", help="CSV/TSV (with or without header), .npy, or NMEA file")
+    p.add_argument("--column", help="column name or 0-based index (default: the only/first)")
+    p.add_argument("--model", choices=list(MODELS), help="rw, cv or ca (default cv)")
+    p.add_argument("--rate", type=float, help="sample rate in Hz (required unless in --config)")
+    p.add_argument("--method", choices=list(METHODS), default="auto", help="default auto")
+    p.add_argument("--config", help="apply the Q and R of this config instead of fitting")
+    p.add_argument("--save-config", metavar="OUT", help="write the tuned filter as a config")
+    p.add_argument("--format", choices=["table", "json"], default="table")
+    p.set_defaults(func=_cmd_fit)

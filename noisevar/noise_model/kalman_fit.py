@@ -1,0 +1,556 @@
+"""Q and R together for a kinematic model: :func:`fit_kalman` -> :class:`KalmanTuning`.
+
+Models (docs/algorithms.md §E6): ``"rw"`` (random walk, the local-level model),
+``"cv"`` (constant velocity, white acceleration) and ``"ca"`` (constant
+acceleration, white jerk), each observed in position with white noise of
+variance ``r``. ``q`` is the continuous-time spectral density of the driving
+noise; ``h = q T^k / r`` the per-sample ratio of the alpha-beta-gamma papers.
+Methods: steady-state maximum likelihood (``"mle"``) and autocovariance least
+squares (``"als"``, Odelson, Rajamani and Rawlings 2006).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import scipy.linalg
+import scipy.optimize
+import scipy.signal
+from numpy.typing import ArrayLike, NDArray
+
+from noisevar.errors import NoisevarError
+from noisevar.kalman.divergence import nis_band
+from noisevar.noise_model._steady import FilterPass, diffuse_start, filter_pass, steady_state
+
+#: Kinematic models: name -> (number of states, power k of T in h = q T^k / r, q's name).
+MODELS: dict[str, tuple[int, int, str]] = {
+    "rw": (1, 1, "random-walk density"),
+    "cv": (2, 3, "white-acceleration density"),
+    "ca": (3, 5, "white-jerk density"),
+}
+METHODS = ("mle", "als", "auto")
+#: The method ``"auto"`` uses (chosen on benchmarks/kalman_tuning.py).
+DEFAULT_METHOD = "mle"
+#: Search range of log10 h for the likelihood (per sample).
+LOG10_H_RANGE = (-14.0, 4.0)
+#: p-value of the Ljung-Box test below which the innovations are called coloured.
+WHITE_ALPHA = 0.01
+_Z95 = 1.959963984540054
+
+
+def kinematic_model(model: str, dt: float) -> tuple[NDArray, NDArray, NDArray]:
+    """``F``, ``H`` (as a vector) and ``Q / q`` of a kinematic model with period ``dt``.
+
+    Parameters
+    ----------
+    model : {"rw", "cv", "ca"}
+    dt : float
+        Sample period T.
+
+    Returns
+    -------
+    F : ndarray (n, n)
+    h : ndarray (n,)
+    Q1 : ndarray (n, n)
+        The process-noise covariance per unit density, ``Q = q Q1``.
+    """
+    if model not in MODELS:
+        raise NoisevarError(f"unknown model {model!r}; choose one of: {', '.join(MODELS)}")
+    n = MODELS[model][0]
+    i, j = np.indices((n, n))
+    p = j - i
+    fact = np.vectorize(math.factorial)
+    # F_ij = T^(j-i) / (j-i)!  for j >= i
+    F = np.where(p >= 0, dt ** np.maximum(p, 0) / fact(np.maximum(p, 0)), 0.0)
+    # Q1_ij = T^(a+b+1) / ((a+b+1) a! b!),  a = n-1-i, b = n-1-j   (E6.1)
+    a, b = n - 1 - i, n - 1 - j
+    Q1 = dt ** (a + b + 1) / ((a + b + 1) * fact(a) * fact(b))
+    h = np.zeros(n)
+    h[0] = 1.0
+    return F.astype(float), h, Q1.astype(float)
+
+
+@dataclass(frozen=True)
+class KalmanTuning:
+    """A tuned kinematic Kalman filter and its validation on the record it was fitted to.
+
+    Attributes
+    ----------
+    model, method : str
+        Kinematic model and how ``q, r`` were found (``"mle"``, ``"als"``, ``"given"``).
+    dt : float
+        Sample period (``1 / rate``; 1 sample when no rate was given).
+    q, r, h : float
+        Process-noise density, measurement variance, ``h = q T^k / r``.
+    q_interval, r_interval, h_interval : (float, float)
+        95 % intervals (from the likelihood's curvature, in logs).
+    F, H, Q, R, gain, P : ndarray
+        The filter; ``gain`` is the steady-state Kalman gain, ``P`` the steady
+        predicted covariance.
+    x0, P0 : ndarray
+        The exact diffuse start: the estimate after the first ``start`` samples.
+    nis_mean, nis_band : float, (float, float)
+        Mean normalised innovation squared and its 95 % chi-square band.
+    ljung_box_p : float
+        Ljung-Box p-value of the normalised innovations; ``innovations_white`` is
+        ``ljung_box_p >= 0.01``.
+    loglik : float
+        Gaussian log-likelihood (diffuse: the first ``start`` samples condition).
+    units : dict
+        Units of ``q`` and ``r`` (``u`` is the signal's unit).
+    notes : tuple of str
+        Warnings, including "the data reject this model".
+    """
+
+    model: str
+    method: str
+    dt: float
+    rate: float | None
+    q: float
+    r: float
+    h: float
+    q_interval: tuple[float, float]
+    r_interval: tuple[float, float]
+    h_interval: tuple[float, float]
+    F: NDArray
+    H: NDArray
+    Q: NDArray
+    R: NDArray
+    gain: NDArray
+    P: NDArray
+    x0: NDArray
+    P0: NDArray
+    start: int
+    n: int
+    nis_mean: float
+    nis_band: tuple[float, float]
+    ljung_box_p: float
+    innovations_white: bool
+    loglik: float
+    units: dict[str, str] = field(default_factory=dict)
+    notes: tuple[str, ...] = ()
+
+    @property
+    def aic(self) -> float:
+        """Akaike's criterion of the fit (two parameters, q and r)."""
+        return 4.0 - 2.0 * self.loglik
+
+    @property
+    def bic(self) -> float:
+        """Schwarz's criterion of the fit (two parameters, ``n - start`` innovations)."""
+        return 2.0 * np.log(self.n - self.start) - 2.0 * self.loglik
+
+    @property
+    def nis_consistent(self) -> bool:
+        """Whether the mean NIS lies inside its 95 % band."""
+        return self.nis_band[0] <= self.nis_mean <= self.nis_band[1]
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-safe dictionary (matrices as nested lists; no NaN or infinity)."""
+
+        def num(v: float) -> float | None:
+            return float(v) if np.isfinite(v) else None
+
+        out: dict[str, Any] = {"model": self.model, "method": self.method}
+        out.update(dt=self.dt, rate=self.rate, n=self.n, start=self.start)
+        for name in ("q", "r", "h"):
+            out[name] = num(getattr(self, name))
+            out[f"{name}_interval"] = [num(v) for v in getattr(self, f"{name}_interval")]
+        for name in ("F", "H", "Q", "R", "gain", "P", "x0", "P0"):
+            out[name] = np.asarray(getattr(self, name), float).tolist()
+        out.update(
+            nis_mean=num(self.nis_mean),
+            nis_band=[num(v) for v in self.nis_band],
+            nis_consistent=self.nis_consistent,
+            ljung_box_p=num(self.ljung_box_p),
+            innovations_white=self.innovations_white,
+            loglik=num(self.loglik),
+            aic=num(self.aic),
+            bic=num(self.bic),
+            units=dict(self.units),
+            notes=list(self.notes),
+        )
+        return out
+
+
+@dataclass(frozen=True)
+class TunedRun:
+    """The tuned filter run on a record: estimates ``x(k|k)``, innovations, NIS, from ``start``."""
+
+    index: NDArray
+    states: NDArray
+    innovations: NDArray
+    s: NDArray
+    nis: NDArray
+    nis_band: tuple[float, float]
+
+
+# ---------------------------------------------------------------- likelihood
+def _unit_pass(z: NDArray, model: str, dt: float, h_ratio: float) -> FilterPass:
+    """The filter with ``r = 1`` and ``q = h / T^k`` (gains depend on ``h`` only)."""
+    F, hv, Q1 = kinematic_model(model, dt)
+    k = MODELS[model][1]
+    return filter_pass(z, F, hv, Q1 * (h_ratio / dt**k), 1.0, states=False)
+
+
+def _profile(z: NDArray, model: str, dt: float, log_h: float) -> tuple[float, float, float]:
+    """``(sum log s, sum e²/s, n)`` of the unit-r filter at ``h = exp(log_h)``."""
+    fp = _unit_pass(z, model, dt, float(np.exp(log_h)))
+    return float(np.sum(np.log(fp.s))), float(np.sum(fp.innovations**2 / fp.s)), fp.s.size
+
+
+def _loglik(sum_log_s: float, g: float, n: int, log_r: float) -> float:
+    # l = -1/2 sum(log 2 pi r s_k + e_k² / (r s_k))
+    return -0.5 * (n * (np.log(2 * np.pi) + log_r) + sum_log_s + g * np.exp(-log_r))
+
+
+def _concentrated(z: NDArray, model: str, dt: float, log_h: float) -> float:
+    """Negative log-likelihood with ``r`` at its optimum ``r = mean(e²/s)``."""
+    try:
+        sl, g, n = _profile(z, model, dt, log_h)
+    except NoisevarError:
+        return np.inf
+    return -_loglik(sl, g, n, np.log(g / n))
+
+
+def _mle_log_h(z: NDArray, model: str, dt: float, progress: Callable | None) -> float:
+    """Grid over log h, then Brent's method around the best grid point."""
+    grid = np.log(10.0) * np.arange(LOG10_H_RANGE[0], LOG10_H_RANGE[1] + 1.0, 1.0)
+    values = []
+    for i, u in enumerate(grid):  # a 1-D search: 19 LTI passes
+        values.append(_concentrated(z, model, dt, u))
+        if progress is not None:
+            progress((i + 1) / (grid.size + 20))
+    best = int(np.nanargmin(values))
+    lo, hi = grid[max(best - 1, 0)], grid[min(best + 1, grid.size - 1)]
+    res = scipy.optimize.minimize_scalar(
+        lambda u: _concentrated(z, model, dt, u),
+        bounds=(lo, hi),
+        method="bounded",
+        options={"xatol": 1e-7},
+    )
+    return float(res.x) if res.fun <= values[best] else float(grid[best])
+
+
+def _log_cov(z: NDArray, model: str, dt: float, log_h: float, log_r: float) -> NDArray:
+    """Covariance of ``(log h, log r)`` from the observed information (central differences)."""
+    d = 1e-3
+    pts = [_profile(z, model, dt, log_h + s * d) for s in (-1, 0, 1)]
+    sl = np.array([p[0] for p in pts])
+    g = np.array([p[1] for p in pts])
+    w = np.exp(-log_r)
+    huu = -0.5 * ((sl[2] - 2 * sl[1] + sl[0]) + w * (g[2] - 2 * g[1] + g[0])) / d**2
+    huv = 0.5 * w * (g[2] - g[0]) / (2 * d)
+    hvv = -0.5 * g[1] * w
+    info = -np.array([[huu, huv], [huv, hvv]])
+    try:
+        cov = np.linalg.inv(info)
+    except np.linalg.LinAlgError:
+        return np.full((2, 2), np.inf)
+    return cov if np.all(np.diag(cov) > 0) else np.full((2, 2), np.inf)
+
+
+# ---------------------------------------------------------------- ALS
+def _als_columns(F: NDArray, hv: NDArray, Q1: NDArray, Kp: NDArray, lags: int) -> NDArray:
+    """Innovation autocovariances per unit q and per unit r of the filter with predictor gain Kp."""
+    Abar = F - np.outer(Kp, hv)
+    # P = Abar P Abar' + q Q1 + r Kp Kp'  (stationary prediction error)
+    Pq = scipy.linalg.solve_discrete_lyapunov(Abar, Q1)
+    Pr = scipy.linalg.solve_discrete_lyapunov(Abar, np.outer(Kp, Kp))
+    cols = np.empty((lags, 2))
+    row = hv.copy()  # h' Abar^j
+    prev = None
+    for j in range(lags):  # lags <= ~50 small matrix products
+        # C_0 = h'P h + r;  C_j = h'Abar^j P h - h'Abar^(j-1) Kp r
+        cols[j, 0] = row @ Pq @ hv
+        cols[j, 1] = row @ Pr @ hv + (1.0 if j == 0 else -(prev @ Kp))
+        prev, row = row, row @ Abar
+    return cols
+
+
+def _innovations_lti(zc: NDArray, F: NDArray, hv: NDArray, Kp: NDArray) -> NDArray:
+    """Innovations of the fixed-gain predictor, one lfilter pass from a zero state."""
+    Abar = F - np.outer(Kp, hv)
+    b, a = scipy.signal.ss2tf(Abar, Kp[:, None], -hv[None, :], np.array([[1.0]]))
+    return scipy.signal.lfilter(b[0], a, zc)
+
+
+def _als(zc: NDArray, model: str, dt: float, lags: int) -> tuple[float, float, list[str]]:
+    """Iterated ALS: fit (q, r), rebuild the gain from the fit, fit again (at most 12 times)."""
+    F, hv, Q1 = kinematic_model(model, dt)
+    k = MODELS[model][1]
+    notes: list[str] = []
+    h_ratio, q, r = 1.0, 0.0, 0.0
+    for _ in range(12):
+        _, K, _ = steady_state(F, hv, Q1 * (h_ratio / dt**k), 1.0)
+        Kp = F @ K
+        rho = max(abs(np.linalg.eigvals(F - np.outer(Kp, hv))))
+        burn = int(min(zc.size // 4, 20 + 40 / max(1.0 - rho, 1e-3)))
+        e = _innovations_lti(zc, F, hv, Kp)[burn:]
+        m = e.size
+        # C_j = mean(e_{k+j} e_k)
+        c = np.array([np.dot(e[j:], e[: m - j]) / (m - j) for j in range(lags)])
+        A = _als_columns(F, hv, Q1, Kp, lags)
+        scale = np.linalg.norm(A, axis=0)
+        scale[scale == 0] = 1.0
+        sol, _ = scipy.optimize.nnls(A / scale, c)
+        q, r = sol / scale
+        if q <= 0 and h_ratio > 10.0 ** LOG10_H_RANGE[0]:
+            h_ratio *= 1e-2  # q hidden by a gain too fast for it: try a slower filter
+            continue
+        if r <= 0 or q <= 0:
+            break
+        new = q * dt**k / r
+        done = abs(np.log(new / h_ratio)) < 1e-3
+        h_ratio = new
+        if done:
+            break
+    if q <= 0:
+        notes.append("ALS found no process noise (q = 0): the record is a polynomial plus noise")
+    if r <= 0:
+        raise NoisevarError(
+            "ALS found no measurement noise (r = 0): the record is too smooth for this model; "
+            "use method='mle' or a lower-order model"
+        )
+    return float(q), float(r), notes
+
+
+# ---------------------------------------------------------------- public
+def _check_input(z: ArrayLike, model: str, rate: float | None) -> tuple[NDArray, float]:
+    if model not in MODELS:
+        raise NoisevarError(f"unknown model {model!r}; choose one of: {', '.join(MODELS)}")
+    if rate is not None:
+        if isinstance(rate, bool) or not isinstance(rate, int | float | np.number):
+            raise NoisevarError(f"rate must be a number of samples per second, got {rate!r}")
+        if not np.isfinite(rate) or rate <= 0:
+            raise NoisevarError(f"rate must be a positive number of samples per second, got {rate}")
+    try:
+        arr = np.asarray(z, dtype=float)
+    except (TypeError, ValueError):
+        raise NoisevarError("the signal must be a 1-D array of numbers") from None
+    if arr.ndim != 1:
+        raise NoisevarError(f"the signal must be 1-D, got shape {arr.shape}")
+    need = 10 * (MODELS[model][0] + 2)
+    if arr.size < need:
+        raise NoisevarError(
+            f"the record has {arr.size} samples; fitting the {model!r} model needs at least {need}"
+        )
+    if not np.all(np.isfinite(arr)):
+        raise NoisevarError("the signal contains NaN or infinite values: remove or fill them first")
+    if np.ptp(arr) == 0:
+        raise NoisevarError("the signal is constant: there is no noise to fit")
+    return arr, 1.0 / float(rate) if rate is not None else 1.0
+
+
+def _interval(log_value: float, var: float) -> tuple[float, float]:
+    if not np.isfinite(var) or var < 0:
+        return (float("nan"), float("nan"))
+    half = _Z95 * np.sqrt(var)
+    return (float(np.exp(log_value - half)), float(np.exp(log_value + half)))
+
+
+def _units(model: str, rate: float | None) -> dict[str, str]:
+    k = MODELS[model][1]
+    t = "s" if rate is not None else "sample"
+    return {"q": f"u²/{t}^{k} ({MODELS[model][2]})", "r": "u²", "h": "1 (per sample)"}
+
+
+def _tuning(
+    z: NDArray,
+    model: str,
+    dt: float,
+    rate: float | None,
+    q: float,
+    r: float,
+    method: str,
+    notes: list[str],
+) -> KalmanTuning:  # long: assembles the filter, its intervals and its validation
+    """Build the :class:`KalmanTuning` for (q, r) and validate it on ``z``."""
+    from statsmodels.tsa.stattools import acf, q_stat
+
+    F, hv, Q1 = kinematic_model(model, dt)
+    k = MODELS[model][1]
+    lo_h = 10.0 ** LOG10_H_RANGE[0]
+    if q * dt**k / r < lo_h:
+        q = lo_h * r / dt**k
+    zc = z - z[0]
+    Q = q * Q1
+    P, K, _ = steady_state(F, hv, Q, r)
+    fp = filter_pass(zc, F, hv, Q, r)
+    x0, P0, start = diffuse_start(zc, F, hv, Q, r)
+    x0 = x0.copy()
+    x0[0] += z[0]
+    nu = fp.innovations / np.sqrt(fp.s)
+    nis_mean = float(np.mean(nu**2))
+    band = nis_band(1, nu.size)
+    lags = int(min(20, max(1, nu.size // 5)))
+    # Ljung-Box Q = n(n+2) sum rho_k² / (n-k)   (§E2)
+    p = float(q_stat(acf(nu, nlags=lags, fft=True)[1:], nu.size)[1][-1])
+    white = bool(p >= WHITE_ALPHA)
+    # l = -n/2 log 2 pi - 1/2 sum_{k >= d} (log S_k + e_k²/S_k)   (diffuse, Durbin-Koopman)
+    loglik = -0.5 * float(z.size * np.log(2 * np.pi) + np.sum(np.log(fp.s) + nu**2))
+    h_ratio = q * dt**k / r
+    cov = _log_cov(zc, model, dt, np.log(h_ratio), np.log(r))
+    var_q = cov[0, 0] + cov[1, 1] + 2 * cov[0, 1]
+    if not white:
+        notes.append(
+            f"the innovations are not white (Ljung-Box p = {p:.2g} over {lags} lags): the data "
+            f"reject the {model!r} model; try another model or a coloured-noise model"
+        )
+    if not band[0] <= nis_mean <= band[1]:
+        notes.append(
+            f"the mean NIS {nis_mean:.3g} is outside its 95 % band "
+            f"[{band[0]:.3g}, {band[1]:.3g}]: the filter is not consistent on this record"
+        )
+    return KalmanTuning(
+        model=model,
+        method=method,
+        dt=dt,
+        rate=rate,
+        q=float(q),
+        r=float(r),
+        h=float(h_ratio),
+        q_interval=_interval(np.log(q), var_q),
+        r_interval=_interval(np.log(r), cov[1, 1]),
+        h_interval=_interval(np.log(h_ratio), cov[0, 0]),
+        F=F,
+        H=hv[None, :],
+        Q=Q,
+        R=np.array([[r]]),
+        gain=K,
+        P=P,
+        x0=x0,
+        P0=P0,
+        start=start,
+        n=int(z.size),
+        nis_mean=nis_mean,
+        nis_band=band,
+        ljung_box_p=p,
+        innovations_white=white,
+        loglik=loglik,
+        units=_units(model, rate),
+        notes=tuple(notes),
+    )
+
+
+def fit_kalman(
+    z: ArrayLike,
+    model: str = "cv",
+    rate: float | None = None,
+    method: str = "auto",
+    lags: int = 20,
+    progress: Callable[[float], None] | None = None,
+) -> KalmanTuning:
+    """Fit the process-noise density ``q`` and the measurement variance ``r`` together.
+
+    Parameters
+    ----------
+    z : array_like, shape (n,)
+        The measured record (positions, any unit ``u``), equally spaced.
+    model : {"rw", "cv", "ca"}
+        Random walk (local level), constant velocity or constant acceleration.
+    rate : float, optional
+        Samples per second; ``q`` is then per second (``u²/s^k``), else per sample.
+    method : {"auto", "mle", "als"}
+        Steady-state maximum likelihood, autocovariance least squares, or the
+        default (``"auto"`` = :data:`DEFAULT_METHOD`).
+    lags : int
+        Innovation autocovariance lags used by ALS.
+    progress : callable, optional
+        Called with the fraction done (0 to 1).
+
+    Returns
+    -------
+    KalmanTuning
+
+    Raises
+    ------
+    NoisevarError
+        Unknown model or method, bad rate, a record too short, non-finite or constant.
+
+    Notes
+    -----
+    docs/algorithms.md §E6. The first ``d`` samples (``d`` states) fix the state
+    exactly (diffuse start) and are left out of the likelihood.
+    """
+    arr, dt = _check_input(z, model, rate)
+    if method not in METHODS:
+        raise NoisevarError(f"unknown method {method!r}; choose one of: {', '.join(METHODS)}")
+    if not isinstance(lags, int) or lags < 3:
+        raise NoisevarError(f"lags must be an integer of at least 3, got {lags!r}")
+    chosen = DEFAULT_METHOD if method == "auto" else method
+    zc = arr - arr[0]
+    k = MODELS[model][1]
+    notes: list[str] = []
+    if chosen == "mle":
+        log_h = _mle_log_h(zc, model, dt, progress)
+        sl, g, n = _profile(zc, model, dt, log_h)
+        r = g / n
+        q = float(np.exp(log_h)) * r / dt**k
+        edge = np.log(10.0) * np.array(LOG10_H_RANGE)
+        if log_h - edge[0] < 0.5:
+            notes.append("q is at the bottom of its range: no process noise is detectable")
+        if edge[1] - log_h < 0.5:
+            notes.append("h is at the top of its range: the measurement noise is negligible")
+    else:
+        q, r, notes = _als(zc, model, dt, lags)
+    out = _tuning(arr, model, dt, rate, q, r, chosen, notes)
+    if progress is not None:
+        progress(1.0)
+    return out
+
+
+def evaluate_kalman(
+    z: ArrayLike, model: str, q: float, r: float, rate: float | None = None
+) -> KalmanTuning:
+    """Validate a given ``q`` and ``r`` (for example from a config) on a record.
+
+    Parameters
+    ----------
+    z : array_like, shape (n,)
+    model : {"rw", "cv", "ca"}
+    q, r : float
+        Process-noise density (per second when ``rate`` is given) and
+        measurement variance, both positive.
+    rate : float, optional
+
+    Returns
+    -------
+    KalmanTuning
+        With ``method = "given"``.
+    """
+    arr, dt = _check_input(z, model, rate)
+    for name, v in (("q", q), ("r", r)):
+        if isinstance(v, bool) or not isinstance(v, int | float | np.number) or not v > 0:
+            raise NoisevarError(f"{name} must be a positive number, got {v!r}")
+        if not np.isfinite(v):
+            raise NoisevarError(f"{name} must be finite, got {v!r}")
+    return _tuning(arr, model, dt, rate, float(q), float(r), "given", [])
+
+
+def run_tuned(tuning: KalmanTuning, z: ArrayLike) -> TunedRun:
+    """Run a tuned filter on a record, from its exact diffuse start.
+
+    Parameters
+    ----------
+    tuning : KalmanTuning
+    z : array_like, shape (n,)
+
+    Returns
+    -------
+    TunedRun
+        Estimates ``x(k|k)``, innovations, their variances and NIS for
+        ``k >= start``.
+    """
+    arr, _ = _check_input(z, tuning.model, tuning.rate)
+    zc = arr - arr[0]
+    fp = filter_pass(zc, tuning.F, tuning.H[0], tuning.Q, float(tuning.R[0, 0]))
+    states = fp.states.copy()
+    states[:, 0] += arr[0]
+    nis = fp.innovations**2 / fp.s
+    index = np.arange(fp.start, arr.size)
+    return TunedRun(index, states, fp.innovations, fp.s, nis, nis_band(1, nis.size))

@@ -1,0 +1,57 @@
+"""AppTest of the Noise model page's Kalman section (``render_fit``), through from_function."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from streamlit.testing.v1 import AppTest
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT))
+
+
+def _page(n: int, rate: float, seed: int) -> None:
+    import numpy as np
+
+    from dashboard.sections.noise_model_fit import render_fit
+
+    rng = np.random.default_rng(seed)
+    v = np.cumsum(rng.normal(0, 0.3, n))
+    z = np.cumsum(v) / rate + rng.normal(0, 1.0, n)
+    render_fit(z, rate)
+
+
+def _clean(at: AppTest) -> None:
+    assert not at.exception, [e.value for e in at.exception]
+    assert not at.error, [e.value for e in at.error]
+
+
+def test_models_compared_and_the_tuned_filter_shown():
+    at = AppTest.from_function(_page, args=(3000, 10.0, 1), default_timeout=120).run()
+    _clean(at)
+    table = at.dataframe[0].value
+    assert list(table["model"]) == ["rw", "cv", "ca"]
+    assert at.selectbox(key="nmf_model").value == "cv"
+    assert bool(table.set_index("model").loc["cv", "best (BIC)"])
+    assert at.success and "fits this record" in at.success[0].value
+    assert any("Suggested **q" in m.value for m in at.markdown)
+    assert len(at.get("plotly_chart")) == 3
+    assert any("KalmanFilter" in c.value for c in at.code)
+
+
+def test_switching_model_and_coloured_fit():
+    at = AppTest.from_function(_page, args=(3000, 10.0, 2), default_timeout=180).run()
+    at.selectbox(key="nmf_model").set_value("rw").run()
+    _clean(at)
+    # a random walk cannot follow a constant-velocity track: the page says so
+    assert at.warning and "does not fit" in at.warning[0].value
+    at.button(key="nmf_col_btn").click().run()
+    _clean(at)
+    assert len(at.dataframe) == 2 and any("Chosen by BIC" in m.value for m in at.markdown)
+
+
+def test_bad_rate_is_one_error():
+    at = AppTest.from_function(_page, args=(500, -1.0, 3), default_timeout=60).run()
+    assert not at.exception
+    assert len(at.error) == 1 and "rate" in at.error[0].value

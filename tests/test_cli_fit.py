@@ -1,0 +1,71 @@
+"""``noisevar fit``: table and JSON output, --save-config then --config, bad input exits 2."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from noisevar.cli import main
+
+
+@pytest.fixture(scope="module")
+def track_csv(tmp_path_factory):
+    rng = np.random.default_rng(4)
+    n, T = 3000, 0.1
+    v = np.cumsum(rng.normal(0, 0.3, n))
+    x = np.cumsum(v) * T + rng.normal(0, 1.0, n)
+    path = tmp_path_factory.mktemp("fit") / "track.csv"
+    np.savetxt(
+        path, np.column_stack([np.arange(n) * T, x]), delimiter=",", header="t,pos", comments=""
+    )
+    return str(path)
+
+
+def test_table(track_csv, capsys):
+    assert main(["fit", track_csv, "--column", "pos", "--model", "cv", "--rate", "10"]) == 0
+    out = capsys.readouterr().out
+    assert "model     cv   method mle" in out and "NIS mean" in out and "white" in out
+
+
+def test_json_then_config(track_csv, tmp_path, capsys):
+    cfg = tmp_path / "tuned.json"
+    args = ["fit", track_csv, "--column", "pos", "--rate", "10", "--format", "json"]
+    assert main([*args, "--save-config", str(cfg)]) == 0
+    fitted = json.loads(capsys.readouterr().out)
+    assert fitted["model"] == "cv" and 0.5 < fitted["r"] < 2.0
+    saved = json.loads(cfg.read_text())
+    assert saved["kalman"]["q"] == fitted["q"]
+    again = ["fit", track_csv, "--column", "pos", "--config", str(cfg), "--format", "json"]
+    assert main(again) == 0
+    applied = json.loads(capsys.readouterr().out)
+    assert applied["method"] == "given"
+    assert applied["q"] == fitted["q"] and applied["nis_mean"] == pytest.approx(fitted["nis_mean"])
+
+
+@pytest.mark.parametrize(
+    "extra,match",
+    [
+        ([], "--rate is required"),
+        (["--rate", "0"], "positive"),
+        (["--rate", "-3"], "positive"),
+        (["--rate", "10", "--model", "jerk"], "invalid choice"),
+        (["--rate", "10", "--column", "nope"], "nope"),
+    ],
+)
+def test_bad_input_exits_2_with_one_line(track_csv, capsys, extra, match):
+    assert main(["fit", track_csv, *extra]) == 2
+    err = capsys.readouterr().err
+    assert match in err and err.count("\n") == 1
+
+
+def test_too_short_and_bad_config(tmp_path, capsys):
+    short = tmp_path / "short.csv"
+    np.savetxt(short, np.arange(12.0))
+    assert main(["fit", str(short), "--rate", "1", "--model", "ca"]) == 2
+    assert "needs at least" in capsys.readouterr().err
+    bad = tmp_path / "bad.json"
+    bad.write_text('{"method": "auto", "kalman": {"model": "cv", "q": -1, "r": 1}}')
+    assert main(["fit", str(short), "--config", str(bad)]) == 2
+    assert "positive" in capsys.readouterr().err
