@@ -4,7 +4,10 @@ Sub-commands::
 
     noisevar estimate FILE [--column C] [--method M] [--h-smooth H ...] [--h-track H]
                            [--window M] [--gamma-amp G] [--gamma-ang DEG] [--span S]
-                           [--order K] [--trim T] [--config tuned.json] [--format table|json]
+                           [--order K] [--trim T] [--config tuned.json] [--format table|json|csv]
+                           [--columns all|a,b,c]
+    noisevar batch 'logs/**/*.csv' [--columns all|a,b,c] [--out noise.parquet] [--jobs N]
+                   [--scheduler tcp://host:8786] [--method M] [--no-resume]
     noisevar methods
     noisevar scan-h FILE [--column C] [--window M]
     noisevar experiment NAME [--runs N] [--seed S] [--format table|json] ...
@@ -30,7 +33,7 @@ from noisevar.errors import NoisevarError
 
 #: The sub-commands, in ``--help`` order: each is a module of this package with an
 #: ``add_parser(sub)`` function. A new command is one new module plus one line here.
-COMMANDS: tuple[str, ...] = ("estimate", "methods", "scan_h", "experiment")
+COMMANDS: tuple[str, ...] = ("estimate", "methods", "scan_h", "experiment", "batch")
 
 
 def build_parser() -> argparse.ArgumentParser:
