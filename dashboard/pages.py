@@ -100,6 +100,12 @@ PAGES = (
         ":material/timer:",
         "GPS delay estimation by least squares over shifts and a random-constant filter.",
     ),
+    PageInfo(
+        "pages/11_Fleet.py",
+        "Fleet",
+        ":material/factory:",
+        "Many sensors at once: noise per channel, sensors outside the fleet's range flagged.",
+    ),
 )
 
 #: The Signal page (linked from the sidebar and from pages without a signal).

@@ -52,28 +52,39 @@ def rows_frame(rows: list[dict[str, Any]]) -> pd.DataFrame:
     return frame.astype({"n": "Int64", "n_used": "Int64"})
 
 
-def read_table(path: str | os.PathLike) -> pd.DataFrame:
-    """A batch table written by :func:`write_table` (Parquet or CSV).
+def read_table(path: str | os.PathLike | bytes, name: str | None = None) -> pd.DataFrame:
+    """A batch table written by :func:`write_table` (Parquet or CSV), from a path or bytes.
+
+    Parameters
+    ----------
+    path : str, path or bytes
+        The file, or its bytes (an upload; then ``name`` gives the format).
+    name : str, optional
+        File name (default: the path's).
 
     Raises
     ------
     NoisevarError
         Not a batch table (no ``file`` column) or unreadable.
     """
+    import io
+
     import pandas as pd
 
-    p = Path(path)
+    raw = isinstance(path, bytes | bytearray)
+    label = name or ("upload" if raw else Path(path).name)
+    source = io.BytesIO(path) if raw else Path(path)
     try:
-        if out_format(p) == "parquet":
-            frame = pd.read_parquet(p)
+        if out_format(label) == "parquet":
+            frame = pd.read_parquet(source)
         else:
-            frame = pd.read_csv(p, dtype={"hash": str, "channel": str, "file": str})
+            frame = pd.read_csv(source, dtype={"hash": str, "channel": str, "file": str})
     except NoisevarError:
         raise
     except Exception as exc:  # noqa: BLE001 - any reader failure is one clear sentence
-        raise NoisevarError(f"cannot read the batch table {p.name}: {exc}") from None
+        raise NoisevarError(f"cannot read the batch table {label}: {exc}") from None
     if "file" not in frame.columns:
-        raise NoisevarError(f"{p.name} is not a batch table (it has no 'file' column)")
+        raise NoisevarError(f"{label} is not a batch table (it has no 'file' column)")
     return frame.astype({c: "Int64" for c in ("n", "n_used") if c in frame.columns})
 
 
