@@ -187,6 +187,7 @@ def main() -> None:  # long: one script, its steps in order
     args = ap.parse_args()
 
     tmp = Path(tempfile.mkdtemp(prefix="nv-batch-"))
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))  # a stopped run still cleans up
     try:
         folder = tmp / "logs"
         folder.mkdir()
@@ -196,6 +197,7 @@ def main() -> None:  # long: one script, its steps in order
         run_task([str(files[0])], "all", "auto", {})  # compiled code loaded in this process
         load = [os.getloadavg()[0]]
         ceil = ceiling()
+        print(f"two-process ceiling now: {ceil:.2f}x, load {load[0]:.1f}", flush=True)
         one, t1 = _timed(lambda: noisevar.batch(files, jobs=1, progress=False))
         print(f"jobs=1: {t1:.1f} s", flush=True)
         load.append(os.getloadavg()[0])

@@ -238,6 +238,11 @@ def batch(  # long: one readable sequence: plan, run, journal, merge
     """
     from noisevar.estimators import method_spec
 
+    if method == "somd-redundant":
+        raise NoisevarError(
+            "somd-redundant needs a second sensor of the same quantity; a batch estimates each "
+            "channel on its own: choose another method"
+        )
     method_spec(method).validate(params)  # a bad parameter stops the batch before it starts
     cols = parse_columns(columns)
     n_jobs = _check_jobs(jobs)

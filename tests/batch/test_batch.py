@@ -161,6 +161,8 @@ def test_bad_arguments_are_one_sentence(fleet, tmp_path):
         nv.batch(root, out=tmp_path / "noise.xlsx")
     with pytest.raises(NoisevarError, match="jobs"):
         nv.batch(root, jobs=0)
+    with pytest.raises(NoisevarError, match="second sensor"):
+        nv.batch(root, method="somd-redundant")
     with pytest.raises(NoisevarError, match="window"):
         nv.batch(root, method="somd", window=-3)
 
