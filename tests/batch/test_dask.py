@@ -59,3 +59,15 @@ def test_the_cluster_streams_and_resumes(client, fleet, tmp_path):
     assert seen[0] == (0, 5) and seen[-1] == (5, 5)
     assert [d for d, _ in seen] == sorted(d for d, _ in seen)  # one update per finished task
     assert frame["file"].nunique() == 10
+
+
+def test_cli_scheduler_runs_on_the_cluster(client, fleet, tmp_path, capsys):
+    from noisevar.cli import main
+
+    out = tmp_path / "noise.parquet"
+    address = client.scheduler.address
+    assert main(["batch", str(fleet), "--scheduler", address, "--out", str(out), "--quiet"]) == 0
+    assert "10 files, 19 rows, 1 with an error" in capsys.readouterr().err
+    local = nv.batch(fleet, progress=False)
+    cols = ["file", "channel", "variance", "ci95_lo", "ci95_hi", "error"]
+    pd.testing.assert_frame_equal(read_table(out)[cols], local[cols], check_dtype=False)
