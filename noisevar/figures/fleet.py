@@ -1,4 +1,5 @@
-"""Fleet figures: the noise of every sensor per channel, and the sensors flagged."""
+"""Fleet figures: the noise of every sensor per channel, the sensors flagged, and the channels
+of one record side by side."""
 
 from __future__ import annotations
 
@@ -8,6 +9,7 @@ import numpy as np
 import plotly.graph_objects as go
 
 from noisevar.batch.fleet import FleetReport
+from noisevar.estimators.results import VarianceEstimates
 from noisevar.figures._common import COLORS, PALETTE
 
 FLAG_COLOR = "#D55E00"
@@ -99,5 +101,39 @@ def flagged_sensors(report: FleetReport, top: int = 20) -> go.Figure:
         title=f"Most unusual sensors (robust z of log std; flagged beyond ±{report.threshold:g})",
         xaxis_title="robust z-score", height=max(260, 22 * len(shown) + 100),
         margin={"t": 60, "b": 40, "l": 10},
+    )
+    return fig
+
+
+def channels_figure(estimates: VarianceEstimates, names: list[str]) -> go.Figure:
+    """Noise standard deviation of each channel of one record, with its 95 % interval.
+
+    Parameters
+    ----------
+    estimates : VarianceEstimates
+        ``noisevar.estimate(Z, axis=...)`` on the channels.
+    names : list of str
+        Channel names, in the order of ``estimates``.
+
+    Returns
+    -------
+    plotly.graph_objects.Figure
+    """
+    std = np.asarray(estimates.std, dtype=float).ravel()
+    ci = np.sqrt(np.asarray(estimates.ci95, dtype=float).reshape(-1, 2))
+    fig = go.Figure(
+        go.Scatter(
+            x=list(names), y=std, mode="markers",
+            marker={"size": 11, "color": COLORS["estimate"]},
+            error_y={"type": "data", "symmetric": False, "array": ci[:, 1] - std,
+                     "arrayminus": std - ci[:, 0]},
+            hovertemplate="%{x}: std %{y:.4g}<extra></extra>",
+            name="noise std",
+        )
+    )
+    fig.update_layout(
+        title=f"Noise of each channel (method {estimates.method}; bars: 95 % interval)",
+        yaxis={"type": "log", "title": "noise standard deviation"},
+        xaxis_title="channel", height=360, margin={"t": 60, "b": 40},
     )
     return fig
