@@ -53,6 +53,13 @@ def _noop(i: int) -> int:
     return i
 
 
+def _cpu_seconds() -> float:
+    import resource
+
+    use = resource.getrusage(resource.RUSAGE_SELF)
+    return use.ru_utime + use.ru_stime
+
+
 def _spin(_: int) -> float:
     """A fixed CPU workload (for the machine's two-process ceiling)."""
     rng = np.random.default_rng(0)
@@ -156,12 +163,14 @@ def cluster_run(files: list[Path], reference: pd.DataFrame) -> dict:
     client.wait_for_workers(2)
     start = time.perf_counter() - t0
     try:
+        before = sum(client.run(_cpu_seconds).values())
         frame, took = _timed(lambda: noisevar.batch(files, client=client, progress=False))
+        cpu = sum(client.run(_cpu_seconds).values()) - before
         per_task = overhead_dask(client, 2000)
     finally:
         client.close()
         cluster.close()
-    return {"start": start, "took": took, "per_task": per_task,
+    return {"start": start, "took": took, "per_task": per_task, "cpu": cpu,
             "same": _rows(frame).equals(_rows(reference))}
 
 
@@ -198,7 +207,9 @@ def main() -> None:  # long: one script, its steps in order
         load = [os.getloadavg()[0]]
         ceil = ceiling()
         print(f"two-process ceiling now: {ceil:.2f}x, load {load[0]:.1f}", flush=True)
+        c0 = time.process_time()
         one, t1 = _timed(lambda: noisevar.batch(files, jobs=1, progress=False))
+        cpu1 = time.process_time() - c0
         print(f"jobs=1: {t1:.1f} s", flush=True)
         load.append(os.getloadavg()[0])
         two, t2 = _timed(lambda: noisevar.batch(files, jobs=2, progress=False))
@@ -218,8 +229,8 @@ def main() -> None:  # long: one script, its steps in order
     ok = all(r.get("same", True) for r in (dask, resume)) and _rows(two).equals(_rows(one))
     per_file = t1 / len(files)
     paper = extrapolate(len(files), per_file, dask["per_task"], size)
-    md = report(args, len(files), size, gen, t1, t2, dask, pool_start, pool_task, resume,
-                ceil, load, ok, paper)
+    md = report(args, len(files), size, gen, (t1, cpu1), t2, dask, pool_start, pool_task,
+                resume, ceil, load, ok, paper)
     RESULTS.mkdir(exist_ok=True)
     (RESULTS / "batch.md").write_text(md)
     print(md)
@@ -227,6 +238,7 @@ def main() -> None:  # long: one script, its steps in order
 
 def report(args, n_files, size, gen, t1, t2, dask, pool_start, pool_task, resume, ceil, load,
            ok, paper) -> str:  # long: the Markdown report, one line per figure
+    t1, cpu1 = t1
     samples = n_files * args.channels * args.n
     s2, sd = t1 / t2, t1 / dask["took"]
     tick = lambda good: "ok" if good else "NOT met"  # noqa: E731
@@ -241,6 +253,10 @@ def report(args, n_files, size, gen, t1, t2, dask, pool_start, pool_task, resume
         f"{', '.join(f'{x:.1f}' for x in load)} (the 2 cores are shared with other jobs). "
         f"The machine's own two-process ceiling (a fixed NumPy workload in one process, then in "
         f"two at once) before the timed runs: {ceil[0]:.2f}x, after them: {ceil[1]:.2f}x.",
+        "",
+        f"CPU time: the one-process run used {cpu1:.0f} CPU-seconds in {t1:.0f} s ({cpu1 / t1:.0%} "
+        f"of a core: the rest went to other jobs); the cluster's two workers used "
+        f"{dask['cpu']:.0f} CPU-seconds together for the same files.",
         "",
         "| run | wall time (s) | files/s | samples/s | speed-up vs one process |",
         "|---|---|---|---|---|",

@@ -11,6 +11,7 @@ table into fleet statistics (which sensors are unusually noisy).
 from __future__ import annotations
 
 import glob
+import json
 import math
 import os
 import sys
@@ -94,24 +95,36 @@ def _previous(out: Path | None, resume: bool) -> list[dict[str, Any]]:
     return [*rows, *read_journal(journal_path(out))]
 
 
-def _plan(files: list[str], old: list[dict[str, Any]]) -> tuple[list[str], list[dict[str, Any]]]:
-    """Files still to do, and the old rows kept (a file whose content changed is redone)."""
+def request_key(columns: Any, method: str, params: dict[str, Any]) -> str:
+    """What was asked (channels, method, parameters) as JSON: a row is reused only for the same."""
+    return json.dumps(
+        {"columns": columns, "method": method, "params": params}, sort_keys=True, default=str
+    )
+
+
+def _plan(
+    files: list[str], old: list[dict[str, Any]], request: str
+) -> tuple[list[str], list[dict[str, Any]]]:
+    """Files still to do, and the old rows kept.
+
+    A file is skipped when the old rows hold its current content hash and were made
+    for the same request; a changed file or a new request redoes it.
+    """
     from noisevar.io import content_digest
 
-    hashes: dict[str, Any] = {}
+    done: dict[str, Any] = {}
     for r in old:
-        hashes.setdefault(str(r["file"]), r.get("hash"))
-    todo, skip = [], set()
+        if r.get("request") == request:
+            done.setdefault(str(r["file"]), r.get("hash"))
+    todo = []
     for f in files:
-        h = hashes.get(f)
+        h = done.get(f)
         if isinstance(h, str) and h:
             try:
-                same = content_digest(Path(f).read_bytes()) == h
+                if content_digest(Path(f).read_bytes()) == h:
+                    continue
             except OSError:
-                same = False
-            if same:
-                skip.add(f)
-                continue
+                pass
         todo.append(f)
     redo = set(todo)
     return todo, [r for r in old if str(r["file"]) not in redo]
@@ -218,7 +231,8 @@ def batch(  # long: one readable sequence: plan, run, journal, merge
     client : distributed.Client, optional
         Run the tasks on this Dask cluster instead (``jobs`` is then ignored).
     resume : bool
-        Skip files already in ``out`` (or its journal) with the same content hash.
+        Skip files already in ``out`` (or its journal) with the same content hash and the
+        same request (channels, method, parameters).
     progress : bool or callable
         A tqdm bar on stderr, or ``progress(done, total)`` called as files complete.
     **params
@@ -253,7 +267,8 @@ def batch(  # long: one readable sequence: plan, run, journal, merge
     files = [f for f in expand_paths(paths) if f not in skip]
     if not files:
         raise NoisevarError("no data file found in the given paths")
-    todo, kept = _plan(files, _previous(target, resume))
+    request = request_key(cols, method, dict(params))
+    todo, kept = _plan(files, _previous(target, resume), request)
     args = (cols, method, dict(params))
     k = task_size(len(todo), _workers(n_jobs, client))
     groups = [todo[i : i + k] for i in range(0, len(todo), k)]
@@ -262,6 +277,8 @@ def batch(  # long: one readable sequence: plan, run, journal, merge
     advance, close = _progress(progress, len(todo))
     try:
         for rows in _stream(groups, args, n_jobs, client):
+            for r in rows:
+                r["request"] = request
             new.extend(rows)
             if journal is not None:
                 append_rows(journal, rows)

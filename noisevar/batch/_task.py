@@ -33,6 +33,7 @@ ROW_COLUMNS: tuple[str, ...] = (
     "elapsed_s",
     "hash",
     "error",
+    "request",
 )
 
 

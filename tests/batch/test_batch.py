@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import io
 import json
 import sys
 from pathlib import Path
@@ -142,6 +143,10 @@ def test_a_changed_file_is_redone_and_no_resume_redoes_all(fleet, tmp_path):
     calls.clear()
     nv.batch(root, out=out, resume=False, progress=lambda d, t: calls.append((d, t)))
     assert calls[-1] == (7, 7)
+    calls.clear()
+    other = nv.batch(root, out=out, method="diff2", progress=lambda d, t: calls.append((d, t)))
+    assert calls[-1] == (7, 7) and set(other["method"]) == {"diff2"}  # a new request redoes all
+    assert json.loads(other["request"].iat[0])["method"] == "diff2"
 
 
 def test_two_local_processes_give_the_same_rows(fleet):
@@ -184,7 +189,8 @@ def test_cli_batch_writes_parquet_and_resumes(fleet, tmp_path, capsys):
     assert row["variance"] == _single(Path(row["file"]), row["channel"], "diff2").variance
     code = main(["batch", pattern, "--columns", "col1", "--quiet"])
     stdout, _ = capsys.readouterr()
-    assert code == 0 and stdout.count("col1") == 4
+    printed = pd.read_csv(io.StringIO(stdout))
+    assert code == 0 and list(printed["channel"]) == ["col1"] * 4
     code = main(["batch", str(tmp_path / "none" / "*.csv")])
     _, err = capsys.readouterr()
     assert code == 2 and "no file matches" in err
