@@ -156,9 +156,10 @@ def _stream(
     import multiprocessing
     from concurrent.futures import as_completed
 
-    # a fork server that imported noisevar once: workers start in a fraction of a second
+    # a fork server that imported noisevar (and the caller's script) once, its compiled
+    # code loaded: workers forked from it start in a fraction of a second
     ctx = multiprocessing.get_context("forkserver")
-    ctx.set_forkserver_preload(["noisevar.batch._task"])
+    ctx.set_forkserver_preload(["__main__", "noisevar.batch._warm"])
     with ProcessPoolExecutor(max_workers=jobs, mp_context=ctx) as pool:
         futs = {pool.submit(run_task, g, *args): g for g in groups}
         try:
@@ -248,7 +249,8 @@ def batch(  # long: one readable sequence: plan, run, journal, merge
     Notes
     -----
     Rows equal single-file estimates exactly: each channel is estimated on its own,
-    with the same loader as ``noisevar estimate``.
+    with the same loader as ``noisevar estimate``. With ``jobs > 1`` a script must call
+    ``batch`` under ``if __name__ == "__main__":`` (worker processes import it).
     """
     from noisevar.estimators import method_spec
 
