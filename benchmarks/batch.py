@@ -353,9 +353,10 @@ def report(args, n_files, size, gen, t1, t2, dask, pool_start, pool_task, resume
         f"Compute is 1e6 x {t1 / n_files * 1e3:.0f} ms (this machine's per-file time) over the "
         "workers; read is 1e6 files over the storage bandwidth; scheduler is the tasks times "
         "the per-task overhead measured here (the dask scheduler is one process, so this part "
-        "does not shrink with more nodes). The slowest of the three bounds the run: with shared "
-        "storage the reading dominates. The driver then holds 3e6 rows (a few hundred MB) and "
-        "its journal grows by one JSON line a row.",
+        "does not shrink with more nodes; the overhead was measured on this loaded machine and "
+        "is likely smaller on an idle scheduler). The largest of the three bounds the run, row "
+        "by row above. The driver then holds 3e6 rows (a few hundred MB) and its journal grows "
+        "by one JSON line a row.",
         "",
     ]
     return "\n".join(lines)
