@@ -107,6 +107,12 @@ PAGES = (
         ":material/ssid_chart:",
         "Allan deviation, IEEE-952 noise terms with intervals, Kalibr imu.yaml, simulation.",
     ),
+    PageInfo(
+        "pages/11_Fleet.py",
+        "Fleet",
+        ":material/factory:",
+        "Many sensors at once: noise per channel, sensors outside the fleet's range flagged.",
+    ),
 )
 
 #: The Signal page (linked from the sidebar and from pages without a signal).

@@ -10,6 +10,7 @@ Quick start::
     noisevar.methods()
 """
 
+from noisevar.batch import batch
 from noisevar.errors import NoisevarError, NoWindowKept
 from noisevar.estimators import describe_methods, estimate, estimate_redundant, methods
 from noisevar.estimators.results import RedundantEstimate, VarianceEstimate, VarianceEstimates
@@ -37,6 +38,7 @@ __all__ = [
     "VarianceEstimates",
     "__version__",
     "allan",
+    "batch",
     "describe_methods",
     "estimate",
     "estimate_redundant",

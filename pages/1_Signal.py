@@ -5,7 +5,7 @@ from __future__ import annotations
 import streamlit as st
 
 from dashboard.pages import setup_page
-from dashboard.sections import signal_loader, signal_overview
+from dashboard.sections import channels, signal_loader, signal_overview
 from dashboard.state import current_signal
 from dashboard.widgets import how_it_works
 
@@ -54,4 +54,5 @@ if sig is None:
 sig = signal_overview.column_and_period(sig, errors)
 signal_overview.summary_metrics(sig, errors)
 signal_overview.preview(sig)
+channels.side_by_side(sig)
 how_it_works(*HOW_IT_WORKS)

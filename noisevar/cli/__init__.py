@@ -4,7 +4,10 @@ Sub-commands::
 
     noisevar estimate FILE [--column C] [--method M] [--h-smooth H ...] [--h-track H]
                            [--window M] [--gamma-amp G] [--gamma-ang DEG] [--span S]
-                           [--order K] [--trim T] [--config tuned.json] [--format table|json]
+                           [--order K] [--trim T] [--config tuned.json] [--format table|json|csv]
+                           [--columns all|a,b,c]
+    noisevar batch 'logs/**/*.csv' [--columns all|a,b,c] [--out noise.parquet] [--jobs N]
+                   [--scheduler tcp://host:8786] [--method M] [--no-resume]
     noisevar methods
     noisevar scan-h FILE [--column C] [--window M]
     noisevar experiment NAME [--runs N] [--seed S] [--format table|json] ...
@@ -41,6 +44,7 @@ COMMANDS: tuple[str, ...] = (
     "allan",
     "imu",
     "fit",
+    "batch",
 )
 
 

@@ -87,3 +87,27 @@ def load_signal(
     table = load_table(path, os.path.basename(path))
     z = np.asarray(pick_column(table, column, drop_nonfinite=drop_nonfinite), dtype=float)
     return z, table.n_rows - z.size
+
+
+def load_record(
+    path: str, column: str | None, drop_nonfinite: bool = False
+) -> tuple[np.ndarray, np.ndarray | None, list[str]]:
+    """One column of a data file with its sample times (if the file has a time column).
+
+    Returns the values (non-finite cells kept when ``drop_nonfinite``, for the estimator
+    to treat as gaps; refused otherwise), the times or None, and the loader's notes.
+    """
+    from noisevar.io import load_table, pick_column
+    from noisevar.io.load import column_values
+
+    table = load_table(path, os.path.basename(path))
+    if drop_nonfinite:
+        z = column_values(table, column)
+    else:
+        z = np.asarray(pick_column(table, column), dtype=float)
+    t = table.time()
+    if t is not None:
+        t = np.asarray(t, dtype=float)
+        if not np.all(np.isfinite(t)) or not np.all(np.diff(t) > 0):
+            t = None  # the loader's note says why; the samples are taken as uniform
+    return z, t, list(table.notes)

@@ -1,14 +1,20 @@
-"""``noisevar estimate FILE``: the noise variance of one signal."""
+"""``noisevar estimate FILE``: the noise variance of one signal, or of several channels."""
 
 from __future__ import annotations
 
 import argparse
+import json
+import sys
+from pathlib import Path
 from typing import Any
 
-from noisevar.cli._common import load_signal, print_json
+from noisevar.cli._common import load_record, load_signal, print_json
 from noisevar.errors import NoisevarError
 from noisevar.io.table import echo
 from noisevar.params import ParamSpec
+
+#: Config keys that choose channels rather than parameters (the dashboard exports the column).
+CHANNEL_KEYS = ("column", "columns")
 
 
 def _estimate_specs() -> list[ParamSpec]:
@@ -25,15 +31,32 @@ def _estimate_specs() -> list[ParamSpec]:
     return sorted(specs.values(), key=lambda p: order.index(p.name) if p.name in order else 99)
 
 
-def _estimate_params(args: argparse.Namespace) -> tuple[str, dict[str, Any]]:
-    from noisevar.config import load_config
+def read_config(path: str) -> tuple[dict[str, Any], dict[str, Any]]:
+    """A config file's validated ``{"method", **params}`` and its channel keys (``column(s)``).
 
+    Anything wrong with the file is reported by :func:`noisevar.config.load_config`.
+    """
+    from noisevar.config import load_config, validate_config
+
+    try:
+        data = json.loads(Path(path).read_bytes())
+    except (OSError, ValueError):
+        return load_config(path), {}
+    if not isinstance(data, dict):
+        return load_config(path), {}
+    picked = {k: data.pop(k) for k in CHANNEL_KEYS if k in data}
+    return validate_config(data), picked
+
+
+def estimate_params(args: argparse.Namespace) -> tuple[str, dict[str, Any]]:
+    """Method and parameters from ``--config`` (with its ``column``/``columns``) and the flags."""
     params: dict[str, Any] = {}
     method = "auto"
     if args.config:
-        cfg = load_config(args.config)
+        cfg, channels = read_config(args.config)
         method = cfg.pop("method", method)
         params.update(cfg)
+        params.update(channels)
     if args.method is not None:
         method = args.method
     for spec in _estimate_specs():
@@ -45,53 +68,162 @@ def _estimate_params(args: argparse.Namespace) -> tuple[str, dict[str, Any]]:
     return method, params
 
 
+def _diagnostics_lines(result: Any) -> list[str]:
+    """The diagnostics' verdict, when the estimate has diagnostics."""
+    diag = getattr(result, "diagnostics", None)
+    if diag is None:
+        return []
+    # its notes are among the estimate's notes, printed after
+    return [f"verdict   {echo(getattr(diag, 'verdict', ''), 500)}"]
+
+
+def _print_one(args: argparse.Namespace, column: Any, result: Any) -> None:
+    lo, hi = result.ci95
+    print(f"file      {echo(args.file, 200)}" + (f"  column {echo(column)}" if column else ""))
+    print(f"method    {result.method}")
+    print(f"variance  {result.variance:.6g}   (95 % CI {lo:.6g} .. {hi:.6g})")
+    print(f"std       {result.std:.6g}")
+    print(f"samples   {result.n_used} used of {result.n_total}")
+    shown = {k: v for k, v in result.params.items() if k != "method" and v is not None}
+    if shown:
+        print("params    " + ", ".join(f"{k}={v}" for k, v in shown.items()))
+    for line in _diagnostics_lines(result):
+        print(line)
+    for note in result.notes:
+        print(f"note      {echo(note, 500)}")
+
+
+def _as_json(args: argparse.Namespace, column: Any, result: Any) -> dict[str, Any]:
+    out = result.to_dict()
+    diag = getattr(result, "diagnostics", None)
+    if diag is not None and "diagnostics" not in out:
+        out["diagnostics"] = diag.to_dict()
+    out["file"] = args.file
+    out["column"] = column
+    return out
+
+
+def _print_csv(args: argparse.Namespace, pairs: list[tuple[Any, Any]]) -> None:
+    from noisevar.batch._output import rows_frame
+    from noisevar.batch._task import estimate_fields
+
+    rows = [
+        {"file": args.file, "channel": c, "n": r.n_total, "method": r.method, **estimate_fields(r)}
+        for c, r in pairs
+    ]
+    frame = rows_frame(rows).drop(columns=["elapsed_s", "hash", "error"])
+    frame.to_csv(sys.stdout, index=False)
+
+
+def _print_table(args: argparse.Namespace, pairs: list[tuple[Any, Any]]) -> None:
+    print(f"file      {args.file}")
+    print(f"method    {pairs[0][1].method}")
+    width = max(7, *(len(str(c)) for c, _ in pairs))
+    print(f"{'channel':<{width}}  {'variance':>11}  {'std':>11}  {'95 % CI':>25}  samples")
+    for c, r in pairs:
+        ci = f"{r.ci95[0]:.5g} .. {r.ci95[1]:.5g}"
+        print(
+            f"{c!s:<{width}}  {r.variance:>11.6g}  {r.std:>11.6g}  {ci:>25}  "
+            f"{r.n_used}/{r.n_total}"
+        )
+    for c, r in pairs:
+        for line in _diagnostics_lines(r) + [f"note      {n}" for n in r.notes]:
+            print(f"[{c}] {line}")
+
+
+def _channels(args: argparse.Namespace, params: dict[str, Any]) -> tuple[Any, list | None]:
+    """The one column (``--column``) or the channel list (``--columns``) to estimate."""
+    from noisevar.batch._task import parse_columns
+
+    cfg_column, cfg_columns = params.pop("column", None), params.pop("columns", None)
+    if args.column is not None and args.columns is not None:
+        raise NoisevarError("give --column (one channel) or --columns (several), not both")
+    if args.column is not None or (args.columns is None and cfg_columns is None):
+        return (args.column if args.column is not None else cfg_column), None
+    return None, parse_columns(args.columns if args.columns is not None else cfg_columns)
+
+
+def _estimate_many(args: argparse.Namespace, columns: Any, method: str, params: dict) -> int:
+    import numpy as np
+
+    import noisevar
+    from noisevar.batch._task import table_channels
+    from noisevar.io import load_table, pick_column
+
+    if method == "somd-redundant":
+        raise NoisevarError("method somd-redundant takes one --column and a --reference-column")
+    table = load_table(args.file, Path(args.file).name)
+    names = table_channels(table, columns)
+    drop = bool(params.get("drop_nonfinite", False))
+    zs = []
+    for name in names:
+        try:
+            zs.append(np.asarray(pick_column(table, name, drop_nonfinite=drop), dtype=float))
+        except NoisevarError as exc:
+            raise NoisevarError(f"column {name!r}: {exc}") from None
+    if len({z.size for z in zs}) == 1:  # one 2-D estimate, vectorised where the method allows
+        results = list(noisevar.estimate(np.stack(zs), method=method, axis=-1, **params))
+    else:
+        results = [noisevar.estimate(z, method=method, **params) for z in zs]
+    pairs = list(zip(names, results, strict=True))
+    if args.format == "json":
+        print_json({"file": args.file, "method": method,
+                    "channels": [_as_json(args, c, r) for c, r in pairs]})
+    elif args.format == "csv":
+        _print_csv(args, pairs)
+    else:
+        _print_table(args, pairs)
+    return 0
+
+
 def _cmd_estimate(args: argparse.Namespace) -> int:
     import noisevar
 
-    method, params = _estimate_params(args)
+    method, params = estimate_params(args)
+    column, columns = _channels(args, params)
+    if columns is not None:
+        return _estimate_many(args, columns, method, params)
     drop = bool(params.get("drop_nonfinite", False))
-    z, dropped = load_signal(args.file, args.column, drop)
     if method == "somd-redundant":
         if not args.reference_column:
             raise NoisevarError(
                 "method somd-redundant needs --reference-column: the second sensor's column"
             )
+        z, dropped = load_signal(args.file, column, drop)
         params["reference"], _ = load_signal(args.file, args.reference_column, drop)
-    result = noisevar.estimate(z, method=method, **params)
-    if dropped:
-        result.notes.insert(0, f"dropped {dropped} non-finite samples of {args.file}")
-    out = result.to_dict()
-    out["file"] = args.file
-    out["column"] = args.column
+        result = noisevar.estimate(z, method=method, **params)
+        if dropped:
+            result.notes.insert(0, f"dropped {dropped} non-finite samples of {args.file}")
+    else:  # the record with its times and the loader's notes: gaps are split, not spliced
+        z, t, notes = load_record(args.file, column, drop)
+        result = noisevar.estimate(z, method=method, t=t, **params)
+        result.notes[:0] = [n for n in notes if n not in result.notes]
     if args.format == "json":
-        print_json(out)
+        print_json(_as_json(args, column, result))
+    elif args.format == "csv":
+        _print_csv(args, [(column, result)])
     else:
-        lo, hi = result.ci95
-        column = f"  column {echo(args.column)}" if args.column else ""
-        print(f"file      {echo(args.file, 200)}{column}")
-        print(f"method    {result.method}")
-        print(f"variance  {result.variance:.6g}   (95 % CI {lo:.6g} .. {hi:.6g})")
-        print(f"std       {result.std:.6g}")
-        print(f"samples   {result.n_used} used of {result.n_total}")
-        shown = {k: v for k, v in result.params.items() if k != "method" and v is not None}
-        if shown:
-            print("params    " + ", ".join(f"{k}={v}" for k, v in shown.items()))
-        for note in result.notes:
-            print(f"note      {echo(note, 500)}")
+        _print_one(args, column, result)
     return 0
+
+
+def add_estimate_flags(p: argparse.ArgumentParser) -> None:
+    """The method, its parameter flags and ``--config`` (shared with ``noisevar batch``)."""
+    from noisevar.estimators import methods
+
+    p.add_argument("--method", choices=methods(), help="estimator (default auto)")
+    for spec in _estimate_specs():
+        spec.add_to(p)
+    p.add_argument("--config", help="tuned-parameter JSON exported by the dashboard")
 
 
 def add_parser(sub: Any) -> None:
     """Register ``estimate`` on the sub-command set ``sub``."""
-    from noisevar.estimators import methods
-
     p = sub.add_parser("estimate", help="estimate the noise variance of one signal")
     p.add_argument("file", help="CSV/TSV (with or without header), .npy, or NMEA file")
     p.add_argument("--column", help="column name or 0-based index (default: the only/first)")
-    p.add_argument("--method", choices=methods(), help="estimator (default auto)")
-    for spec in _estimate_specs():
-        spec.add_to(p)
+    p.add_argument("--columns", help="several channels: 'all' or a,b,c (one row each)")
+    add_estimate_flags(p)
     p.add_argument("--reference-column", help="second sensor's column (somd-redundant)")
-    p.add_argument("--config", help="tuned-parameter JSON exported by the dashboard")
-    p.add_argument("--format", choices=["table", "json"], default="table")
+    p.add_argument("--format", choices=["table", "json", "csv"], default="table")
     p.set_defaults(func=_cmd_estimate)

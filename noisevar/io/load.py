@@ -153,30 +153,9 @@ def _parse(head: bytes, name: str, path: Path | None, size: int) -> LoadedTable:
     return _read_text_table(text if whole else TextSource(path, text, encoding), name)
 
 
-def pick_column(
-    table: LoadedTable, column: str | int | None = None, *, drop_nonfinite: bool = False
-) -> NDArray:
-    """One column of a table as a signal for :func:`noisevar.estimate`.
-
-    Parameters
-    ----------
-    table : LoadedTable
-        A loaded file.
-    column : str or int, optional
-        Column name, or index among :attr:`LoadedTable.data_columns`
-        (default: the first data column).
-    drop_nonfinite : bool
-        Drop empty/NaN cells instead of refusing them.
-
-    Returns
-    -------
-    ndarray of float, shape (n,)
-
-    Raises
-    ------
-    NoisevarError
-        Unknown column, or a column with empty/NaN cells (unless dropped).
-    """
+def column_name(table: LoadedTable, column: str | int | None = None) -> str:
+    """The name of the data column ``column`` (a name, an index among the data columns, or None
+    for the first), or a :class:`NoisevarError` listing the columns."""
     data_cols = table.data_columns
     if not data_cols:
         raise NoisevarError(f"{echo(table.name)} has no data column (only a time column)")
@@ -206,6 +185,39 @@ def pick_column(
                 raise NoisevarError(
                     f"no column {echo(column)!r} in {echo(table.name)}; columns: {listed}{more}"
                 )
+    return cname
+
+
+def column_values(table: LoadedTable, column: str | int | None = None) -> NDArray:
+    """One column as floats, non-finite cells kept (the estimators treat them as gaps)."""
+    return np.asarray(table.columns[column_name(table, column)], dtype=float)
+
+
+def pick_column(
+    table: LoadedTable, column: str | int | None = None, *, drop_nonfinite: bool = False
+) -> NDArray:
+    """One column of a table as a signal for :func:`noisevar.estimate`.
+
+    Parameters
+    ----------
+    table : LoadedTable
+        A loaded file.
+    column : str or int, optional
+        Column name, or index among :attr:`LoadedTable.data_columns`
+        (default: the first data column).
+    drop_nonfinite : bool
+        Drop empty/NaN cells instead of refusing them.
+
+    Returns
+    -------
+    ndarray of float, shape (n,)
+
+    Raises
+    ------
+    NoisevarError
+        Unknown column, or a column with empty/NaN cells (unless dropped).
+    """
+    cname = column_name(table, column)
     z = np.asarray(table.columns[cname], dtype=float)
     bad = ~np.isfinite(z)
     if bad.any():

@@ -1,0 +1,206 @@
+"""The Fleet page's parts: get a batch table, show the fleet's spread, open a sensor."""
+
+from __future__ import annotations
+
+import tempfile
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+import streamlit as st
+
+import noisevar
+from dashboard.loading import load_bytes
+from dashboard.state import reselect
+from dashboard.widgets import csv_download, fmt, guarded, show_figure
+from noisevar.batch import read_table
+from noisevar.batch.example import write_example_fleet
+from noisevar.batch.fleet import DEFAULT_THRESHOLD, FleetReport, SensorScore
+from noisevar.errors import NoisevarError
+from noisevar.figures.fleet import flagged_sensors, fleet_distribution
+
+#: Session keys: the batch table, where it came from, the folder of uploaded/example files.
+TABLE_KEY = "nv_fleet_table"
+LABEL_KEY = "nv_fleet_label"
+FOLDER_KEY = "nv_fleet_folder"
+ESTIMATOR_PAGE = "pages/2_Estimator.py"
+SOURCES = ("Example fleet", "Batch table", "Run a batch")
+
+
+def _folder(sub: str) -> Path:
+    """A folder of this session for files the page writes (uploads, the example fleet)."""
+    root = st.session_state.get(FOLDER_KEY)
+    if not root or not Path(root).is_dir():
+        root = tempfile.mkdtemp(prefix="noisevar-fleet-")
+        st.session_state[FOLDER_KEY] = root
+    path = Path(root) / sub
+    path.mkdir(parents=True, exist_ok=True)
+    return path
+
+
+def _set_table(frame: pd.DataFrame, label: str) -> None:
+    st.session_state[TABLE_KEY] = frame
+    st.session_state[LABEL_KEY] = label
+
+
+def current_table() -> tuple[pd.DataFrame | None, str]:
+    """The fleet's batch table and its label (None before one is loaded)."""
+    frame = st.session_state.get(TABLE_KEY)
+    return (frame if isinstance(frame, pd.DataFrame) else None), st.session_state.get(
+        LABEL_KEY, ""
+    )
+
+
+def _run_batch(paths: list[Path], method: str, label: str) -> None:
+    """Run :func:`noisevar.batch` with a progress bar; the table becomes the fleet's."""
+    bar = st.progress(0.0, text="Estimating...")
+
+    def progress(done: int, total: int) -> None:
+        bar.progress(done / total if total else 1.0, text=f"{done} of {total} files")
+
+    frame = noisevar.batch([str(p) for p in paths], method=method, progress=progress)
+    bar.empty()
+    _set_table(frame, label)
+
+
+def source_panel() -> None:
+    """Where the batch table comes from: the example fleet, an uploaded table, or a run."""
+    source = st.segmented_control("Fleet from", SOURCES, key="fl_source", default=SOURCES[0])
+    method = "auto"
+    if source == "Batch table":
+        up = st.file_uploader(
+            "A batch table (`noisevar batch ... --out noise.parquet`)",
+            type=["parquet", "csv"], key="fl_table",
+        )
+        if up is not None and st.button("Load this table", key="fl_load", type="primary"):
+            with guarded():
+                _set_table(read_table(up.getvalue(), up.name), up.name)
+        return
+    if source == "Run a batch":
+        ups = st.file_uploader(
+            "Several logs (CSV/TSV, .npy, NMEA): each file is one sensor",
+            accept_multiple_files=True, key="fl_files",
+        )
+        method = st.selectbox("Method", noisevar.methods(), key="fl_method")
+        if ups and st.button(f"Estimate {len(ups)} files", key="fl_run", type="primary"):
+            folder = _folder("uploads")
+            paths = []
+            for up in ups:
+                path = folder / Path(up.name).name
+                path.write_bytes(up.getvalue())
+                paths.append(path)
+            with guarded():
+                _run_batch(paths, method, f"{len(paths)} uploaded files")
+        return
+    st.caption("Twelve IMU logs (ax, ay, az at 100 Hz) of a production line; one unit is faulty.")
+    if st.button("Run the example fleet", key="fl_example", type="primary"):
+        with guarded():
+            paths = write_example_fleet(_folder("example"))
+            _run_batch(paths, method, "example fleet (12 IMUs)")
+
+
+def summary(report: FleetReport, frame: pd.DataFrame, label: str) -> None:
+    """Headline numbers and one sentence per flagged sensor."""
+    c = st.columns(4)
+    c[0].metric("Sensors (files)", f"{frame['file'].nunique():,}")
+    c[1].metric("Channels", f"{len(report.channels)}")
+    c[2].metric("Flagged", f"{len(report.flagged)}")
+    c[3].metric("Rows with an error", f"{report.n_errors}")
+    st.caption(f"Table: {label}.")
+    for note in report.notes:
+        st.caption(note)
+    if report.flagged:
+        st.warning("\n".join(f"- {s.sentence}" for s in report.flagged))
+    elif report.channels:
+        st.success(
+            "No sensor is outside the fleet's normal range "
+            f"(robust z-score of log std within ±{report.threshold:g} on every channel)."
+        )
+    for spread in report.channels:
+        st.caption(
+            f"{spread.channel}: typical noise std {fmt(spread.median_std)}, normal range "
+            f"{fmt(spread.low)} to {fmt(spread.high)} over {spread.n_sensors} sensors."
+        )
+
+
+def _label(s: SensorScore) -> str:
+    return f"{Path(s.file).name} · {s.channel}" + ("  (flagged)" if s.flagged else "")
+
+
+def _clicked(key: str) -> tuple[str, str] | None:
+    """The ``[file, channel]`` of a point clicked on the distribution figure, if any."""
+    event: Any = st.session_state.get(key)
+    try:
+        points = event["selection"]["points"]
+    except (KeyError, TypeError):
+        return None
+    for p in points:
+        data = p.get("customdata") if isinstance(p, dict) else None
+        if data and len(data) == 2:
+            return str(data[0]), str(data[1])
+    return None
+
+
+def figures(report: FleetReport) -> None:
+    """The distribution per channel (click a point to pick it) and the most unusual sensors."""
+    if not report.channels:
+        st.info("No channel has enough sensors (3) to compare.")
+        return
+    st.plotly_chart(
+        fleet_distribution(report), width="stretch", key="fl_dist",
+        on_select="rerun", selection_mode="points",
+    )
+    show_figure(flagged_sensors(report))
+
+
+def open_sensor(report: FleetReport) -> None:
+    """Pick a sensor (or click it above) and open it on the Estimator page."""
+    sensors = list(report.sensors)
+    if not sensors:
+        return
+    labels = [_label(s) for s in sensors]
+    clicked = _clicked("fl_dist")
+    if clicked is not None:
+        for s, lab in zip(sensors, labels, strict=True):
+            if (s.file, s.channel) == clicked:
+                st.session_state["fl_sensor"] = lab
+    if st.session_state.get("fl_sensor") not in labels:
+        st.session_state["fl_sensor"] = labels[0]
+    c1, c2 = st.columns([3, 1], vertical_alignment="bottom")
+    chosen = c1.selectbox("Sensor", labels, key="fl_sensor")
+    sensor = sensors[labels.index(chosen)]
+    st.caption(sensor.sentence)
+    if c2.button("Open on the Estimator page", key="fl_open", type="primary"):
+        with guarded():
+            _open(sensor)
+            st.switch_page(ESTIMATOR_PAGE)
+
+
+def _open(sensor: SensorScore) -> None:
+    """Make the sensor's channel the session's signal (raises NoisevarError)."""
+    path = Path(sensor.file)
+    if not path.is_file():
+        raise NoisevarError(
+            f"{sensor.file} is not on this server: open it on the Signal page instead"
+        )
+    sig = load_bytes(path.read_bytes(), path.name)
+    if sig.column != sensor.channel:
+        reselect(sig, sensor.channel, sig.sample_period)
+
+
+def table(report: FleetReport, frame: pd.DataFrame) -> None:
+    """The sensors' scores and the batch table, with a CSV download."""
+    with st.expander("Every sensor and the batch table"):
+        st.dataframe(report.to_frame(), hide_index=True)
+        st.dataframe(frame, hide_index=True)
+        csv_download(st, "Batch table as CSV", frame.to_csv(index=False), "fleet.csv", "fl_csv")
+
+
+def threshold_input() -> float:
+    """The ``|z|`` threshold of a flag."""
+    return float(
+        st.number_input(
+            "Flag beyond robust |z| of", min_value=1.0, max_value=100.0, step=0.5,
+            value=DEFAULT_THRESHOLD, key="fl_threshold",
+        )
+    )

@@ -1,0 +1,309 @@
+"""Batch noise characterisation: many files x many channels, locally or on a Dask cluster.
+
+:func:`batch` estimates every channel of every file and returns (and writes) one row per
+file x channel. Files are grouped into tasks; a task runs in this process
+(``jobs=1``), in local worker processes (``jobs=N``), or on a ``dask.distributed``
+cluster (``client=``). Results stream back as tasks complete and are journalled at
+once, so a killed batch resumes where it stopped. :mod:`noisevar.batch.fleet` turns the
+table into fleet statistics (which sensors are unusually noisy).
+"""
+
+from __future__ import annotations
+
+import glob
+import json
+import math
+import os
+import sys
+from collections.abc import Callable, Iterable, Iterator, Sequence
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from noisevar.batch._output import (
+    append_rows,
+    journal_path,
+    open_journal,
+    out_format,
+    read_journal,
+    read_table,
+    rows_frame,
+    write_table,
+)
+from noisevar.batch._task import ROW_COLUMNS, file_rows, parse_columns, run_task
+from noisevar.errors import NoisevarError
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+__all__ = ["ROW_COLUMNS", "batch", "expand_paths", "file_rows", "read_table", "task_size"]
+
+#: File extensions a directory given to :func:`batch` is searched for.
+DATA_EXTENSIONS = (".csv", ".tsv", ".txt", ".dat", ".tab", ".npy", ".nmea", ".nma", ".gps")
+#: Files per task at most (a task's results return together), and tasks per worker aimed at.
+MAX_TASK_FILES = 64
+TASKS_PER_WORKER = 8
+
+Progress = bool | Callable[[int, int], None]
+
+
+def expand_paths(paths: str | os.PathLike | Iterable[str | os.PathLike]) -> list[str]:
+    """The files named by paths, directories (searched recursively) and glob patterns.
+
+    Parameters
+    ----------
+    paths : str, path or iterable of them
+        ``'logs/**/*.csv'`` (``**`` spans folders), a file, or a folder.
+
+    Returns
+    -------
+    list of str
+        Sorted, without duplicates.
+    """
+    items = [paths] if isinstance(paths, str | os.PathLike) else list(paths)
+    found: list[str] = []
+    for item in items:
+        s = os.fspath(item)
+        if glob.has_magic(s):
+            hits = glob.glob(s, recursive=True)
+            if not hits:
+                raise NoisevarError(f"no file matches {s!r}: check the pattern (quote it)")
+            found.extend(h for h in hits if os.path.isfile(h))
+        elif os.path.isdir(s):
+            found.extend(
+                str(p) for p in Path(s).rglob("*")
+                if p.is_file() and p.suffix.lower() in DATA_EXTENSIONS
+            )
+        elif os.path.isfile(s):
+            found.append(s)
+        else:
+            raise NoisevarError(f"no such file or folder: {s}")
+    return sorted(set(found))
+
+
+def task_size(n_files: int, workers: int) -> int:
+    """Files per task: about :data:`TASKS_PER_WORKER` tasks per worker, 1 to 64 files each."""
+    per = math.ceil(n_files / max(1, workers * TASKS_PER_WORKER))
+    return max(1, min(MAX_TASK_FILES, per))
+
+
+def _previous(out: Path | None, resume: bool) -> list[dict[str, Any]]:
+    """Rows already done: the output's and its journal's (none when not resuming)."""
+    if out is None or not resume:
+        return []
+    rows = read_table(out).to_dict("records") if out.is_file() else []
+    return [*rows, *read_journal(journal_path(out))]
+
+
+def request_key(columns: Any, method: str, params: dict[str, Any]) -> str:
+    """What was asked (channels, method, parameters) as JSON: a row is reused only for the same."""
+    return json.dumps(
+        {"columns": columns, "method": method, "params": params}, sort_keys=True, default=str
+    )
+
+
+def _plan(
+    files: list[str], old: list[dict[str, Any]], request: str
+) -> tuple[list[str], list[dict[str, Any]]]:
+    """Files still to do, and the old rows kept.
+
+    A file is skipped when the old rows hold its current content hash and were made
+    for the same request; a changed file or a new request redoes it.
+    """
+    from noisevar.io import content_digest
+
+    done: dict[str, Any] = {}
+    for r in old:
+        if r.get("request") == request:
+            done.setdefault(str(r["file"]), r.get("hash"))
+    todo = []
+    for f in files:
+        h = done.get(f)
+        if isinstance(h, str) and h:
+            try:
+                if content_digest(Path(f).read_bytes()) == h:
+                    continue
+            except OSError:
+                pass
+        todo.append(f)
+    redo = set(todo)
+    return todo, [r for r in old if str(r["file"]) not in redo]
+
+
+def _failed(group: Sequence[str], method: str, exc: BaseException) -> list[dict[str, Any]]:
+    msg = f"task failed ({type(exc).__name__}: {exc})"
+    return [{"file": p, "channel": None, "method": method, "error": msg} for p in group]
+
+
+def _stream(
+    groups: list[list[str]], args: tuple, jobs: int, client: Any
+) -> Iterator[list[dict[str, Any]]]:
+    """Each task's rows as it completes: in this process, in local processes, or on Dask."""
+    if client is not None:
+        from distributed import as_completed
+
+        futures = {client.submit(run_task, g, *args, pure=False): g for g in groups}
+        for fut in as_completed(futures):
+            try:
+                yield fut.result()
+            except Exception as exc:  # noqa: BLE001 - a lost task is rows with its error
+                yield _failed(futures[fut], args[1], exc)
+        return
+    if jobs <= 1:
+        for g in groups:
+            yield run_task(g, *args)
+        return
+    import multiprocessing
+    from concurrent.futures import as_completed
+
+    # a fork server that imported noisevar (and the caller's script) once, its compiled
+    # code loaded: workers forked from it start in a fraction of a second
+    ctx = multiprocessing.get_context("forkserver")
+    ctx.set_forkserver_preload(["__main__", "noisevar.batch._warm"])
+    with ProcessPoolExecutor(max_workers=jobs, mp_context=ctx) as pool:
+        futs = {pool.submit(run_task, g, *args): g for g in groups}
+        try:
+            for fut in as_completed(futs):
+                try:
+                    yield fut.result()
+                except Exception as exc:  # noqa: BLE001 - a lost task is rows with its error
+                    yield _failed(futs[fut], args[1], exc)
+        finally:
+            pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _workers(jobs: int, client: Any) -> int:
+    if client is None:
+        return jobs
+    return max(1, sum(client.nthreads().values()))
+
+
+def _progress(progress: Progress, total: int) -> tuple[Callable[[int], None], Callable[[], None]]:
+    """An ``advance(files)`` and a ``close()`` for a tqdm bar, a callback, or nothing."""
+    if callable(progress):
+        done = [0]
+
+        def advance(k: int) -> None:
+            done[0] += k
+            progress(done[0], total)
+
+        progress(0, total)
+        return advance, lambda: None
+    from tqdm.auto import tqdm
+
+    bar = tqdm(total=total, unit="file", disable=not progress, file=sys.stderr)
+    return bar.update, bar.close
+
+
+def _check_jobs(jobs: int | None) -> int:
+    if jobs is None:
+        return 1
+    if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
+        raise NoisevarError(f"jobs must be a whole number >= 1, got {jobs!r}")
+    return jobs
+
+
+def batch(  # long: one readable sequence: plan, run, journal, merge
+    paths: str | os.PathLike | Iterable[str | os.PathLike],
+    columns: str | Sequence[str] | None = "all",
+    method: str = "auto",
+    out: str | os.PathLike | None = None,
+    jobs: int | None = None,
+    client: Any = None,
+    resume: bool = True,
+    progress: Progress = True,
+    **params: Any,
+) -> pd.DataFrame:
+    """Estimate the noise of every channel of every file: one row per file x channel.
+
+    Parameters
+    ----------
+    paths : str, path or iterable
+        Files, folders or glob patterns (:func:`expand_paths`).
+    columns : "all", "a,b,c", list of str or None
+        Channels of each file (None: the first data column).
+    method : str
+        Estimator (:func:`noisevar.methods`).
+    out : str or path, optional
+        ``.parquet`` or ``.csv`` output, written atomically at the end; rows are
+        journalled beside it as they arrive.
+    jobs : int, optional
+        Local worker processes (default 1: this process).
+    client : distributed.Client, optional
+        Run the tasks on this Dask cluster instead (``jobs`` is then ignored).
+    resume : bool
+        Skip files already in ``out`` (or its journal) with the same content hash and the
+        same request (channels, method, parameters).
+    progress : bool or callable
+        A tqdm bar on stderr, or ``progress(done, total)`` called as files complete.
+    **params
+        The method's parameters (as for :func:`noisevar.estimate`).
+
+    Returns
+    -------
+    pandas.DataFrame
+        Every row of the output (:data:`~noisevar.batch._task.ROW_COLUMNS`, plus
+        ``flag_*`` columns when the estimates carry diagnostics). A file that cannot
+        be read is one row whose ``error`` says why.
+
+    Notes
+    -----
+    Rows equal single-file estimates exactly: each channel is estimated on its own,
+    with the same loader as ``noisevar estimate``. With ``jobs > 1`` a script must call
+    ``batch`` under ``if __name__ == "__main__":`` (worker processes import it).
+    """
+    from noisevar.estimators import method_spec
+
+    if method == "somd-redundant":
+        raise NoisevarError(
+            "somd-redundant needs a second sensor of the same quantity; a batch estimates each "
+            "channel on its own: choose another method"
+        )
+    method_spec(method).validate(params)  # a bad parameter stops the batch before it starts
+    cols = parse_columns(columns)
+    n_jobs = _check_jobs(jobs)
+    target = Path(out) if out is not None else None
+    if target is not None:
+        out_format(target)
+    skip = {str(target), str(journal_path(target))} if target is not None else set()
+    files = [f for f in expand_paths(paths) if f not in skip]
+    if not files:
+        raise NoisevarError("no data file found in the given paths")
+    request = request_key(cols, method, dict(params))
+    todo, kept = _plan(files, _previous(target, resume), request)
+    args = (cols, method, dict(params))
+    k = task_size(len(todo), _workers(n_jobs, client))
+    groups = [todo[i : i + k] for i in range(0, len(todo), k)]
+    journal = open_journal(journal_path(target), fresh=not resume) if target else None
+    new: list[dict[str, Any]] = []
+    advance, close = _progress(progress, len(todo))
+    try:
+        for rows in _stream(groups, args, n_jobs, client):
+            for r in rows:
+                r["request"] = request
+            new.extend(rows)
+            if journal is not None:
+                append_rows(journal, rows)
+            advance(len({r["file"] for r in rows}))
+    finally:
+        close()
+        frame = _finish(target, journal, kept, new, resume)
+    return frame
+
+
+def _finish(
+    target: Path | None, journal: Any, kept: list[dict], new: list[dict], resume: bool
+) -> pd.DataFrame:
+    """The output table: kept and new rows sorted by file; written, and the journal removed."""
+    rows = [*kept, *new]
+    frame = rows_frame(rows) if rows else rows_frame([{"file": None}]).iloc[0:0]
+    if not frame.empty:
+        order = {f: i for i, f in enumerate(sorted({str(x) for x in frame["file"]}))}
+        frame = frame.iloc[
+            sorted(range(len(frame)), key=lambda i: order[str(frame["file"].iat[i])])
+        ].reset_index(drop=True)
+    if target is not None:
+        journal.close()
+        write_table(frame, target)
+        journal_path(target).unlink(missing_ok=True)
+    return frame

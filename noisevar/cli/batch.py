@@ -1,0 +1,75 @@
+"""``noisevar batch 'logs/**/*.csv' --out noise.parquet``: every channel of many files."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Any
+
+from noisevar.errors import NoisevarError
+
+
+def _client(address: str) -> Any:
+    """A ``dask.distributed`` client of the scheduler at ``address`` (one clear error if none)."""
+    try:
+        from distributed import Client
+    except ImportError:
+        raise NoisevarError(
+            "--scheduler needs dask.distributed: pip install 'noisevar[scale]'"
+        ) from None
+    try:
+        return Client(address, timeout="10s")
+    except (OSError, TimeoutError) as exc:
+        raise NoisevarError(f"cannot reach the Dask scheduler at {address}: {exc}") from None
+
+
+def _summary(frame: Any, out: str | None) -> str:
+    files = frame["file"].nunique() if len(frame) else 0
+    bad = int(frame["error"].notna().sum()) if len(frame) else 0
+    where = f"; written to {out}" if out else ""
+    return f"{files} files, {len(frame)} rows, {bad} with an error{where}"
+
+
+def _cmd_batch(args: argparse.Namespace) -> int:
+    from noisevar.batch import batch
+    from noisevar.cli.estimate import estimate_params
+
+    method, params = estimate_params(args)
+    columns = args.columns if args.columns is not None else params.pop("columns", "all")
+    params.pop("column", None)
+    client = _client(args.scheduler) if args.scheduler else None
+    try:
+        frame = batch(
+            args.paths,
+            columns=columns,
+            method=method,
+            out=args.out,
+            jobs=args.jobs,
+            client=client,
+            resume=not args.no_resume,
+            progress=not args.quiet,
+            **params,
+        )
+    finally:
+        if client is not None:
+            client.close()
+    if args.out is None:
+        frame.to_csv(sys.stdout, index=False)
+    print(_summary(frame, args.out), file=sys.stderr)
+    return 0
+
+
+def add_parser(sub: Any) -> None:
+    """Register ``batch`` on the sub-command set ``sub``."""
+    from noisevar.cli.estimate import add_estimate_flags
+
+    p = sub.add_parser("batch", help="estimate every channel of many files (one row each)")
+    p.add_argument("paths", nargs="+", help="files, folders or quoted globs ('logs/**/*.csv')")
+    p.add_argument("--columns", help="'all' (default) or a,b,c")
+    p.add_argument("--out", help=".parquet or .csv output (default: CSV on stdout)")
+    p.add_argument("--jobs", type=int, default=1, help="local worker processes (default 1)")
+    p.add_argument("--scheduler", help="a dask.distributed scheduler (tcp://host:8786)")
+    p.add_argument("--no-resume", action="store_true", help="redo files already in --out")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_estimate_flags(p)
+    p.set_defaults(func=_cmd_batch)

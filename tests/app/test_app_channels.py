@@ -1,0 +1,50 @@
+"""AppTest: several channels of the loaded table side by side on the Signal page."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import pytest
+from streamlit.testing.v1 import AppTest
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT))
+APP = str(ROOT / "app.py")
+
+import noisevar as nv  # noqa: E402
+from noisevar.io import load_table, pick_column  # noqa: E402
+
+
+def _signal_page(sample: str) -> AppTest:
+    at = AppTest.from_file(APP, default_timeout=120)
+    at.switch_page("pages/1_Signal.py").run()
+    at.button(key=f"sample_{sample}").click().run()
+    assert not at.exception, [e.value for e in at.exception]
+    return at
+
+
+def _channel_table(at: AppTest):
+    (frame,) = [d.value for d in at.dataframe if "channel" in d.value.columns]
+    return frame
+
+
+def test_three_sensors_side_by_side_equal_per_column_estimates():
+    at = _signal_page("three_sensors.csv")
+    assert "Channels side by side" in [s.value for s in at.subheader]
+    frame = _channel_table(at)
+    assert list(frame["channel"]) == ["sensor_a", "sensor_b", "sensor_c"]
+    table = load_table(ROOT / "sample_data" / "three_sensors.csv")
+    for _, row in frame.iterrows():
+        est = nv.estimate(pick_column(table, row["channel"]))
+        assert row["variance"] == pytest.approx(est.variance, rel=1e-12)
+        assert row["ci95_high"] == pytest.approx(est.ci95[1], rel=1e-12)
+    (ms,) = [m for m in at.multiselect if m.label == "Channels"]
+    ms.set_value(["sensor_c", "sensor_a"]).run()
+    assert list(_channel_table(at)["channel"]) == ["sensor_c", "sensor_a"]
+
+
+def test_a_single_column_file_has_no_channel_picker():
+    at = _signal_page("fast_slow.csv")
+    assert "Channels side by side" not in [s.value for s in at.subheader]
+    assert not [m for m in at.multiselect if m.label == "Channels"]
