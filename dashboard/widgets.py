@@ -3,19 +3,18 @@
 from __future__ import annotations
 
 import logging
-import math
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from typing import Any
 
-import numpy as np
 import plotly.graph_objects as go
 import streamlit as st
 
 from dashboard.state import initial
 from noisevar.errors import NoisevarError
 from noisevar.estimators.compare import rows_to_csv
-from noisevar.figures._common import to_html, to_png
+from noisevar.figures._common import capped, to_html, to_png
+from noisevar.format import eng
 
 LOG = logging.getLogger("noisevar.dashboard")
 
@@ -23,13 +22,21 @@ LOG = logging.getLogger("noisevar.dashboard")
 H_MANTISSAS = (1.0, 1.5, 2.0, 3.0, 5.0, 7.0)
 
 
-def fmt(v: float | None, digits: int = 4) -> str:
-    """A number for display (``n/a`` for None/NaN)."""
-    if v is None or not isinstance(v, (int, float, np.floating, np.integer)):
-        return "n/a"
-    if isinstance(v, float | np.floating) and not math.isfinite(float(v)):
-        return "n/a"
-    return f"{float(v):.{digits}g}"
+def fmt(v: float | None, digits: int = 4, unit: str = "") -> str:
+    """A number for display: :func:`noisevar.format.eng` (``n/a`` for None/NaN)."""
+    return eng(v, unit, digits)
+
+
+def metric_style() -> None:
+    """Metrics show their whole value: wrap long values instead of cutting them with "…"."""
+    st.html(
+        "<style>"
+        "[data-testid='stMetricValue'] > div, [data-testid='stMetricValue'] {"
+        "white-space: normal !important; overflow: visible !important; "
+        "text-overflow: clip !important; overflow-wrap: anywhere; font-size: 1.6rem;}"
+        "[data-testid='stMetricLabel'] p {white-space: normal !important;}"
+        "</style>"
+    )
 
 
 def h_grid(lo: float = 1e-9, hi: float = 0.3) -> list[str]:
@@ -74,6 +81,7 @@ def how_it_works(*blocks: str, expanded: bool = False) -> None:
 
 def show_figure(fig: go.Figure, key: str | None = None, select: bool = False) -> None:
     """Draw a Plotly figure (box-select events, in ``st.session_state[key]``, when ``select``)."""
+    capped(fig)  # the browser budget: points and shapes (noisevar.figures._common)
     config = {"displaylogo": False, "scrollZoom": False}
     if select:
         st.plotly_chart(

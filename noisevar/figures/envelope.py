@@ -21,10 +21,11 @@ from noisevar.figures._common import (
     COLORS,
     MAX_POINTS,
     band,
+    capped,
     downsample_note,
-    hline,
     layout,
     line_trace,
+    log_axis,
     stacked_axes,
     step_xy,
     vline,
@@ -122,13 +123,13 @@ def envelope_figure(
         [0.6, 0.4],
         titles=("window-detrended raw record and its envelopes", "|V| per window (eq. 13)"),
     )
-    axes["yaxis2"].update(type="log", title={"text": "|V|"})
+    axes["yaxis2"].update(log_axis("|V|"))
     axes["xaxis"]["title"] = {"text": x_title(sample_period)}
     anns = axes.pop("annotations")
     note = downsample_note(det.size, max_points)
     if note:
         anns.append(note)
-    return go.Figure(data=data, layout=layout(title, height, annotations=anns, **axes))
+    return capped(go.Figure(data=data, layout=layout(title, height, annotations=anns, **axes)))
 
 
 def scan_figure(  # long: one figure, built trace by trace in drawing order
@@ -209,8 +210,8 @@ def scan_figure(  # long: one figure, built trace by trace in drawing order
     lay = layout(
         title,
         height,
-        xaxis={"type": "log", "title": {"text": "h = q / r"}},
-        yaxis={"type": "log", "title": {"text": "noise amplitude ratio |V1| / |V2|"}},
+        xaxis=log_axis("h = q / r"),
+        yaxis=log_axis("noise amplitude ratio |V1| / |V2|"),
         shapes=shapes,
         annotations=anns,
     )
@@ -266,20 +267,27 @@ def window_variance_figure(
                 hovertemplate="window centre %{x:.4g}<br>variance %{y:.4g}<extra></extra>",
             )
         )
-    shp, ann = hline(
-        est.variance,
-        COLORS["estimate"],
-        dash="solid",
-        text=f"estimate {est.variance:.4g}  (95 % CI {_fmt(lo)} to {_fmt(hi)})",
+    # the estimate and the truth are legend entries, not labels lost in the scatter
+    span = x_axis([0, max(est.n_total - 1, 1)], sample_period)
+    data.append(
+        go.Scatter(
+            x=span,
+            y=[est.variance, est.variance],
+            mode="lines",
+            line={"color": COLORS["estimate"], "width": 2.5},
+            name=f"estimate {_fmt(est.variance)} (95 % CI {_fmt(lo)} to {_fmt(hi)})",
+        )
     )
-    shapes.append(shp)
-    anns.append(ann)
     if true_variance is not None and math.isfinite(true_variance):
-        shp, ann = hline(true_variance, COLORS["truth"], text=f"true {true_variance:.4g}")
-        assert ann is not None
-        ann.update(x=1.0, xanchor="right", yanchor="top")
-        shapes.append(shp)
-        anns.append(ann)
+        data.append(
+            go.Scatter(
+                x=span,
+                y=[true_variance, true_variance],
+                mode="lines",
+                line={"color": COLORS["truth"], "width": 1.5, "dash": "dash"},
+                name=f"true variance {_fmt(true_variance)}",
+            )
+        )
     lay = layout(
         title,
         height,
@@ -288,4 +296,4 @@ def window_variance_figure(
         shapes=shapes,
         annotations=anns,
     )
-    return go.Figure(data=data, layout=lay)
+    return capped(go.Figure(data=data, layout=lay))
