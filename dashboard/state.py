@@ -26,6 +26,10 @@ SIGNAL_KEY = "nv_signal"
 ERROR_KEY = "nv_load_error"
 #: The URL parameter that names a rebuildable signal.
 RECIPE_PARAM = "sig"
+#: The URL parameter that names an uploaded file (its data never goes into the URL).
+UPLOAD_PARAM = "upload"
+#: Session key of the sidebar's signal card (redrawn when the signal changes mid-run).
+CARD_KEY = "_nv_sidebar_card"
 
 T = TypeVar("T")
 
@@ -96,6 +100,25 @@ def set_signal(sig: LoadedSignal) -> None:
     st.session_state[SIGNAL_KEY] = sig
     st.session_state.pop(ERROR_KEY, None)
     sync_url(sig)
+    slot = st.session_state.get(CARD_KEY)
+    if slot is not None:
+        try:
+            signal_card(slot, sig)
+        except Exception:  # noqa: BLE001 - a slot from an earlier run: the next run redraws
+            LOG.debug("could not redraw the sidebar card", exc_info=True)
+
+
+def signal_card(slot: object, sig: LoadedSignal | None) -> None:
+    """The sidebar's line naming the current signal, drawn into ``slot`` (an ``st.empty``)."""
+    if sig is None:
+        slot.caption("No signal loaded.")  # type: ignore[attr-defined]
+        return
+    period = f", T = {sig.sample_period:g} s" if sig.sample_period else ""
+    origin = {"upload": "uploaded file", "sample": "sample file", "generated": "generated"}
+    slot.caption(  # type: ignore[attr-defined]
+        f"Signal: **{sig.label}** ({origin.get(sig.source, sig.source)}, column "
+        f"`{sig.column}`) — {sig.n:,} samples{period}"
+    )
 
 
 def sync_url(sig: LoadedSignal | None) -> None:
@@ -106,6 +129,11 @@ def sync_url(sig: LoadedSignal | None) -> None:
                 st.query_params[RECIPE_PARAM] = sig.recipe
         elif RECIPE_PARAM in st.query_params:
             del st.query_params[RECIPE_PARAM]
+        upload = sig.label if sig is not None and sig.source == "upload" else None
+        if upload and st.query_params.get(UPLOAD_PARAM) != upload:
+            st.query_params[UPLOAD_PARAM] = upload  # the name only: a reopened link says so
+        elif not upload and sig is not None and UPLOAD_PARAM in st.query_params:
+            del st.query_params[UPLOAD_PARAM]
     except Exception:  # noqa: BLE001 - the URL is a convenience; never break a page for it
         LOG.debug("could not update the sig query parameter", exc_info=True)
 
@@ -113,6 +141,11 @@ def sync_url(sig: LoadedSignal | None) -> None:
 def url_recipe() -> str | None:
     """The recipe named in the URL, if any."""
     return st.query_params.get(RECIPE_PARAM) or None
+
+
+def url_upload() -> str | None:
+    """The uploaded file a link was made from (its name; the data is not in the link)."""
+    return st.query_params.get(UPLOAD_PARAM) or None
 
 
 def default_column(table: LoadedTable) -> str:

@@ -163,19 +163,22 @@ def params_to_config(method: str, params: Mapping[str, Any]) -> dict[str, Any]:
     return validate_config(cfg)
 
 
-def config_to_json(config: Mapping[str, Any]) -> str:
+def config_to_json(config: Mapping[str, Any], column: str | None = None) -> str:
     """Serialise a config (validated first) as indented JSON text.
 
     Parameters
     ----------
     config : mapping
         A config.
+    column : str, optional
+        The data column the parameters were tuned on (``noisevar estimate`` reads it).
 
     Returns
     -------
     str
     """
-    return json.dumps(validate_config(config), indent=2) + "\n"
+    out = {**validate_config(config), **({"column": column} if column else {})}
+    return json.dumps(out, indent=2) + "\n"
 
 
 def parse_config(text: str | bytes, source: str = "config") -> dict[str, Any]:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import shlex
 
 import plotly.graph_objects as go
 import streamlit as st
@@ -297,10 +298,19 @@ def exports(
         figure_downloads(detail, f"noisevar-{str(view).split()[0].lower()}", "fig_detail")
 
 
+def cli_hint(sig: LoadedSignal) -> str:
+    """The command line that repeats the page's estimate on the source file."""
+    name = sig.table.name if sig.source != "generated" else "yourfile.csv"
+    column, name = shlex.quote(sig.column), shlex.quote(name)
+    return f"noisevar estimate --config noisevar-config.json --column {column} {name}"
+
+
 def _estimate_downloads(sig: LoadedSignal, est: VarianceEstimate, truth: float | None) -> None:
     c1, c2, c3 = st.columns(3)
     try:
-        cfg_json = config_to_json(params_to_config(est.params["method"], est.params))
+        cfg_json = config_to_json(
+            params_to_config(est.params["method"], est.params), column=sig.column
+        )
     except noisevar.NoisevarError as exc:  # pragma: no cover - params come from widgets
         cfg_json = None
         st.error(str(exc))
@@ -314,7 +324,7 @@ def _estimate_downloads(sig: LoadedSignal, est: VarianceEstimate, truth: float |
             on_click="ignore",
             icon=":material/settings:",
             width="stretch",
-            help="Use it with: noisevar estimate --config noisevar-config.json data.csv",
+            help=f"Use it with: {cli_hint(sig)}",
         )
     csv_download(
         c2,
@@ -337,4 +347,6 @@ def _estimate_downloads(sig: LoadedSignal, est: VarianceEstimate, truth: float |
     if cfg_json is not None:
         with st.expander("Tuned parameters (the JSON config)"):
             st.code(cfg_json, language="json")
-            st.caption("`noisevar estimate --config noisevar-config.json yourfile.csv`")
+            st.caption(
+                f"`{cli_hint(sig)}` gives the same estimate (the config names the column too)."
+            )
