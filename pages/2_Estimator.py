@@ -59,7 +59,7 @@ with right:
     if est is not None:
         results.headline(est, truth, tuning)
     fig = results.main_figure(sig, shown, tuning)
-    view, detail = results.step_views(sig, shown, tuning, truth)
-    results.exports(sig, est, truth, (fig, view, detail))
+    results.step_views(sig, shown, tuning, truth)
+    results.exports(sig, est, truth, fig)
 
 how_it_works(*HOW_IT_WORKS)

@@ -11,7 +11,7 @@ from streamlit.delta_generator import DeltaGenerator
 
 import noisevar
 from dashboard import cache
-from dashboard.sections.estimator_tuning import Tuning
+from dashboard.sections.estimator_tuning import H_ALL, Tuning, closest
 from dashboard.state import LoadedSignal, initial
 from dashboard.widgets import csv_download, figure_downloads, fmt, guarded, show_figure
 from noisevar.config import config_to_json, params_to_config
@@ -179,10 +179,14 @@ def _stretch_estimate(sig: LoadedSignal, tuning: Tuning, stretch: slice) -> None
         st.error(f"Stretch {stretch.start}–{stretch.stop - 1}: {exc} (choose a longer stretch)")
 
 
+@st.fragment
 def step_views(
     sig: LoadedSignal, shown: VarianceEstimate | None, tuning: Tuning, truth: float | None
-) -> tuple[str, go.Figure | None]:
-    """The "Step by step" figures: window tests, envelopes, h scan, per-window variance."""
+) -> None:
+    """The "Step by step" figures: window tests, envelopes, h scan, per-window variance.
+
+    A fragment: choosing another view (or running the h scan) reruns this part only.
+    """
     view = st.segmented_control(
         "Step by step",
         VIEWS,
@@ -217,7 +221,8 @@ def step_views(
         )
     if detail is not None:
         show_figure(detail, key="est_detail")
-    return view, detail
+        st.caption(f"{view} figure")
+        figure_downloads(detail, f"noisevar-{str(view).split()[0].lower()}", "fig_detail")
 
 
 def _envelope_view(
@@ -269,33 +274,50 @@ def _scan_view(
             d.h_track if d is not None else None,
             title="Choosing h_S: noise amplitude ratio against h (eq. 14)",
         )
+        in_use = f"h_S in use: {tuning.h_smooth[0]:.3g}." if tuning.somd else ""
         if math.isfinite(scan.h_min):
             st.caption(
                 f"Ratio within [{RATIO_BAND[0]:g}, {RATIO_BAND[1]:g}] for h from "
-                f"{scan.h_min:.3g} to {scan.h_max:.3g}; chosen h = {scan.h_chosen:.3g} "
-                f"(the ratio closest to the band's centre)."
+                f"{scan.h_min:.3g} to {scan.h_max:.3g}; the scan suggests h = "
+                f"{scan.h_chosen:.3g} (the ratio closest to the band's centre). {in_use}"
             )
         else:
-            st.caption(f"No grid h puts the ratio inside the band; closest: {scan.h_chosen:.3g}.")
+            st.caption(
+                f"No grid h puts the ratio inside the band; closest: {scan.h_chosen:.3g}. {in_use}"
+            )
+        if tuning.somd:
+            st.button(
+                f"Apply the suggested h_S = {scan.h_chosen:.3g}",
+                key="scan_apply",
+                on_click=_apply_scan_h,
+                args=(scan.h_chosen,),
+                icon=":material/check:",
+            )
+    if st.session_state.pop("_scan_applied", False):
+        st.rerun()  # h_S lives outside this fragment: rerun the whole page
     return detail
+
+
+def _apply_scan_h(h: float) -> None:
+    st.session_state["h_s"] = closest(H_ALL, h)
+    st.session_state["_scan_applied"] = True
 
 
 def exports(
     sig: LoadedSignal,
     est: VarianceEstimate | None,
     truth: float | None,
-    figures: tuple[go.Figure, str, go.Figure | None],
+    fig: go.Figure,
 ) -> None:
-    """Downloads: the tuned-parameter JSON, the estimate and windows as CSV, the figures."""
-    fig, view, detail = figures
+    """Downloads: the tuned-parameter JSON, the estimate and windows as CSV, the main figure.
+
+    The step-by-step figure's downloads sit under it (:func:`step_views`).
+    """
     st.markdown("#### Export")
     if est is not None:
         _estimate_downloads(sig, est, truth)
     st.caption("Main figure")
     figure_downloads(fig, "noisevar-estimator", "fig_main")
-    if detail is not None:
-        st.caption(f"{view} figure")
-        figure_downloads(detail, f"noisevar-{str(view).split()[0].lower()}", "fig_detail")
 
 
 def cli_hint(sig: LoadedSignal) -> str:

@@ -71,7 +71,7 @@ def _valid_h(options: list[str], window: int, n: int) -> list[str]:
     return ok or options[-1:]
 
 
-def _closest(options: list[str], target: float) -> str:
+def closest(options: list[str], target: float) -> str:
     return min(options, key=lambda h: abs(math.log(float(h) / target)))
 
 
@@ -126,11 +126,11 @@ def _apply_config(largest_window: int) -> None:
     hs = cfg.get("h_smooth")
     if hs is not None:
         hs = hs if isinstance(hs, list) else [hs]
-        state["h_s"] = _closest(H_ALL, hs[0])
-        state["h_more"] = sorted({_closest(H_ALL, h) for h in hs[1:]}, key=float)
+        state["h_s"] = closest(H_ALL, hs[0])
+        state["h_more"] = sorted({closest(H_ALL, h) for h in hs[1:]}, key=float)
     if "h_track" in cfg:
         state["ht_mode"] = "value"
-        state["h_t"] = _closest(HT_ALL, cfg["h_track"])
+        state["h_t"] = closest(HT_ALL, cfg["h_track"])
     elif "track_ratio" in cfg:
         state["ht_mode"] = "multiple of h_S"
         state["ht_ratio"] = min(RATIOS, key=lambda r: abs(r - cfg["track_ratio"]))
@@ -205,7 +205,7 @@ def _method_select() -> str:
 
 def _smoothing_filters(n: int, somd: bool) -> tuple[str, list[str]]:
     hs_opts = _valid_h(H_ALL, MIN_WINDOW, n)
-    keep_valid("h_s", lambda v: v in hs_opts, _closest(hs_opts, 1.5e-5))
+    keep_valid("h_s", lambda v: v in hs_opts, closest(hs_opts, 1.5e-5))
     h_s = st.select_slider(
         "Smoothing filter h_S (log scale)",
         hs_opts,
@@ -213,7 +213,7 @@ def _smoothing_filters(n: int, somd: bool) -> tuple[str, list[str]]:
         bind="query-params",
         disabled=not somd,
         help="h = q/r of the alpha-beta-gamma filter; smaller = smoother. Paper: 1.5e-5.",
-        **initial("h_s", _closest(hs_opts, 1.5e-5)),
+        **initial("h_s", closest(hs_opts, 1.5e-5)),
     )
     h_more = st.multiselect(
         "More smoothing filters (several h)",
@@ -253,14 +253,14 @@ def _tracking_filter(h_s: str, n: int, somd: bool) -> dict[str, float]:
         **initial("ht_ratio", 30 if 30 in ratio_opts else ratio_opts[-1]),
     )
     ht_opts = _valid_h(HT_ALL, MIN_WINDOW, n)
-    keep_valid("h_t", lambda v: v in ht_opts, _closest(ht_opts, 5e-4))
+    keep_valid("h_t", lambda v: v in ht_opts, closest(ht_opts, 5e-4))
     h_t = st.select_slider(
         "h_T (log scale)",
         ht_opts,
         key="h_t",
         bind="query-params",
         disabled=not somd or by_ratio,
-        **initial("h_t", _closest(ht_opts, 5e-4)),
+        **initial("h_t", closest(ht_opts, 5e-4)),
     )
     return {"track_ratio": float(ratio)} if by_ratio else {"h_track": float(h_t)}
 

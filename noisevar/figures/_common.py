@@ -13,7 +13,9 @@ This package module holds the shared tooling:
   browser: above ``max_points`` samples the trace is reduced with the
   MinMax-LTTB algorithm of the ``tsdownsample`` package (a min-max
   pre-selection followed by largest-triangle-three-buckets; peaks and noise
-  bands survive) and drawn with WebGL (``Scattergl``). Computation is always
+  bands survive) and drawn as SVG (``Scatter``: at a few thousand points SVG
+  lines draw several times faster than WebGL, above all without a GPU, where
+  WebGL runs in software). Computation is always
   on every sample; only the drawing is reduced, and
   :func:`note_downsampled` says so on the figure.
 * :func:`x_axis` gives the abscissa (seconds or sample index) of chosen
@@ -41,6 +43,8 @@ from noisevar.systems.base import RunResult, as_list, check_run_index
 MAX_POINTS = 4000
 #: Most points (summed over traces) one figure sends to the browser; see :func:`capped`.
 MAX_FIGURE_POINTS = 10_000
+#: Most points of a figure of markers (SVG draws each marker as an element); see :func:`capped`.
+MAX_FIGURE_MARKERS = 2_500
 #: Most layout shapes one figure sends to the browser; see :func:`capped`.
 MAX_FIGURE_SHAPES = 2_000
 #: Per-point trace attributes thinned together with ``x`` and ``y``.
@@ -341,7 +345,7 @@ def line_trace(
     mode: str = "lines",
     t: ArrayLike | None = None,
     **kwargs: Any,
-) -> tuple[go.Scatter | go.Scattergl, bool]:
+) -> tuple[go.Scatter | go.Scatter, bool]:
     """A line trace of a long record, downsampled for drawing when needed.
 
     Parameters
@@ -363,17 +367,16 @@ def line_trace(
 
     Returns
     -------
-    trace : go.Scatter or go.Scattergl
-        ``Scattergl`` when downsampled (WebGL draws many points fast).
+    trace : go.Scatter or go.Scatter
+        A ``Scatter`` (SVG) trace.
     downsampled : bool
         Whether points were dropped for drawing.
     """
     y = np.asarray(y, dtype=float)
     idx = downsample_indices(y, max_points)
     reduced = idx.size < y.size
-    cls = go.Scattergl if reduced else go.Scatter
     x = x_axis(idx, sample_period) if t is None else np.asarray(t, dtype=float)[idx]
-    trace = cls(x=x, y=y[idx], name=name, mode=mode, **kwargs)
+    trace = go.Scatter(x=x, y=y[idx], name=name, mode=mode, **kwargs)
     return trace, reduced
 
 
@@ -577,6 +580,7 @@ __all__ = [
     "capped",
     "figure_size",
     "log_axis",
+    "MAX_FIGURE_MARKERS",
     "MAX_FIGURE_POINTS",
     "MAX_FIGURE_SHAPES",
     "downsample_indices",

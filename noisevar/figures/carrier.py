@@ -217,7 +217,7 @@ def iq_figure(
     circle = np.linspace(0, 2 * np.pi, 181)
     return go.Figure(
         [
-            go.Scattergl(
+            go.Scatter(
                 x=pts[:, 0],
                 y=pts[:, 1],
                 mode="markers",

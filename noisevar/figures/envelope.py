@@ -19,6 +19,7 @@ from numpy.typing import ArrayLike
 from noisevar.estimators.results import VarianceEstimate
 from noisevar.figures._common import (
     COLORS,
+    MAX_FIGURE_MARKERS,
     MAX_POINTS,
     band,
     capped,
@@ -97,7 +98,7 @@ def envelope_figure(
     edges = x_axis(np.arange(raw.amplitude.size + 1) * m, sample_period)
     x, y = step_xy(edges, raw.amplitude)
     data.append(
-        go.Scattergl(
+        go.Scatter(
             x=x,
             y=y,
             yaxis="y2",
@@ -110,7 +111,7 @@ def envelope_figure(
         k = min(smooth.amplitude.size, raw.amplitude.size)
         x, y = step_xy(edges[: k + 1], smooth.amplitude[:k])
         data.append(
-            go.Scattergl(
+            go.Scatter(
                 x=x,
                 y=y,
                 yaxis="y2",
@@ -258,7 +259,7 @@ def window_variance_figure(
         idx = np.flatnonzero(np.isfinite(wv))
         centre = x_axis(idx * m + m / 2.0, sample_period)
         data.append(
-            go.Scattergl(
+            go.Scatter(
                 x=centre,
                 y=wv[idx],
                 mode="markers",
@@ -296,4 +297,4 @@ def window_variance_figure(
         shapes=shapes,
         annotations=anns,
     )
-    return capped(go.Figure(data=data, layout=lay))
+    return capped(go.Figure(data=data, layout=lay), max_points=MAX_FIGURE_MARKERS)

@@ -108,7 +108,7 @@ def track_figure(
         zz = zz[run] if zz.ndim == 3 else zz
         idx = downsample_indices(zz[:, channels[0]], max_points)
         data.append(
-            go.Scattergl(
+            go.Scatter(
                 x=zz[idx, channels[0]],
                 y=zz[idx, channels[1]],
                 mode="markers",
@@ -130,7 +130,7 @@ def track_figure(
         x = _pick(r.x, r, run)
         idx = downsample_indices(x[:, i], max_points)
         data.append(
-            go.Scattergl(
+            go.Scatter(
                 x=x[idx, i],
                 y=x[idx, j],
                 mode="lines",

@@ -20,8 +20,8 @@ from numpy.typing import ArrayLike, NDArray
 from noisevar.estimators.results import VarianceEstimate
 from noisevar.figures._common import (
     COLORS,
+    MAX_FIGURE_MARKERS,
     MAX_FIGURE_POINTS,
-    MAX_POINTS,
     PALETTE,
     band,
     capped,
@@ -38,6 +38,9 @@ from noisevar.figures._common import (
 from noisevar.figures._shapes import merge_runs, runs_of
 from noisevar.filters.selection import WindowSelection
 
+#: Points per line of the SOMD figure: three lines or more share one figure's budget, and
+#: two points per pixel column of a wide plot keep the look (min-max LTTB).
+SOMD_LINE_POINTS = 1500
 #: Most kept-window runs (and rejection marks per test) drawn; neighbours merge beyond it.
 MAX_RUNS = 300
 
@@ -121,7 +124,7 @@ def somd_figure(  # long: one figure, built trace by trace in drawing order
     est: VarianceEstimate,
     sample_period: float | None = None,
     stretch: slice | None = None,
-    max_points: int = MAX_POINTS,
+    max_points: int = SOMD_LINE_POINTS,
     title: str | None = None,
     height: int = 520,
     units: str = "",
@@ -241,7 +244,7 @@ def _kept_runs(kept: NDArray, window: int, n: int) -> tuple[tuple[NDArray, NDArr
 
 def _kept_trace(
     runs: tuple[NDArray, NDArray], sample_period: float | None, y_lo: float, y_hi: float
-) -> list[go.Scattergl]:
+) -> list[go.Scatter]:
     """The kept runs as one filled trace (one rectangle per run; no layout shapes)."""
     a, b = runs
     if a.size == 0:
@@ -251,7 +254,7 @@ def _kept_trace(
     nan = np.full(a.size, np.nan)
     xs = np.column_stack([x0, x0, x1, x1, nan]).ravel()
     ys = np.tile([y_lo, y_hi, y_hi, y_lo, np.nan], a.size)
-    trace = go.Scattergl(
+    trace = go.Scatter(
         x=xs,
         y=ys,
         fill="toself",
@@ -266,7 +269,7 @@ def _kept_trace(
 
 def _rejection_marks(
     sel: WindowSelection, sample_period: float | None, y: float
-) -> list[go.Scattergl]:
+) -> list[go.Scatter]:
     status = window_status(sel)
     ratios = amplitude_ratios(sel)
     centre = x_axis(sel.starts + sel.window / 2.0, sample_period)
@@ -291,7 +294,7 @@ def _rejection_marks(
         k = ratios.shape[1]
         values = ", ".join(f"%{{customdata[{c + 1}]:.3g}}" for c in range(k))
         out.append(
-            go.Scattergl(
+            go.Scatter(
                 x=centre[idx],
                 y=np.full(idx.size, y),
                 mode="markers",
@@ -320,7 +323,7 @@ def _merged_marks(
     label: str,
     y: float,
     style: tuple[str, str],
-) -> go.Scattergl:
+) -> go.Scatter:
     """Many rejected windows: one mark per run of neighbouring ones (merged to MAX_RUNS)."""
     a, b, _ = merge_runs(*runs_of(mask), MAX_RUNS)
     # windows of this status in run j: cumsum[b_j] - cumsum[a_j]
@@ -328,7 +331,7 @@ def _merged_marks(
     count = csum[b] - csum[a]
     centre = x_axis((sel.starts[a] + sel.starts[b - 1] + sel.window) / 2.0, sample_period)
     symbol, color = style
-    return go.Scattergl(
+    return go.Scatter(
         x=centre,
         y=np.full(a.size, y),
         mode="markers",
@@ -397,7 +400,7 @@ def window_tests_figure(  # long: one figure, built trace by trace in drawing or
         if idx.size == 0:
             continue
         data.append(
-            go.Scattergl(
+            go.Scatter(
                 x=dev[idx],
                 y=ang[idx],
                 mode="markers",
@@ -442,4 +445,4 @@ def window_tests_figure(  # long: one figure, built trace by trace in drawing or
         shapes=[v_shape, h_shape],
         annotations=anns,
     )
-    return capped(go.Figure(data=data, layout=lay))
+    return capped(go.Figure(data=data, layout=lay), max_points=MAX_FIGURE_MARKERS)

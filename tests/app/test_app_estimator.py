@@ -178,3 +178,13 @@ def test_config_round_trip_carries_the_column_and_the_cli_agrees(tmp_path, capsy
     _clean(app)
     assert json.loads(app.code[0].value)["column"] == other
     assert any(other in i.value for i in app.info)
+
+
+def test_h_scan_suggestion_can_be_applied(at):
+    at.segmented_control(key="est_view").set_value("h scan").run()
+    _clean(at)
+    caption = next(c.value for c in at.caption if "suggests h =" in c.value)
+    suggested = caption.split("suggests h = ")[1].split(" ")[0]
+    at.button(key="scan_apply").click().run()
+    _clean(at)
+    assert float(at.select_slider(key="h_s").value) == pytest.approx(float(suggested), rel=0.3)
