@@ -244,6 +244,24 @@ def truth_of(sig: LoadedSignal) -> float | None:
     return sig.true_variance if sig.source == "generated" and sig.column == "measured" else None
 
 
+def time_of(sig: LoadedSignal) -> np.ndarray | float | None:
+    """The abscissa of the signal's figures: its own time column when it has one, else T.
+
+    The time column wins (gaps are drawn as gaps) unless the user set another
+    sample period, or the column is not finite and increasing.
+    """
+    t = sig.table.time()
+    if (
+        t is None
+        or t.size != sig.n
+        or sig.sample_period != sig.table.sample_period
+        or not np.all(np.isfinite(t))
+        or np.any(np.diff(t) <= 0)
+    ):
+        return sig.sample_period
+    return np.asarray(t, dtype=float)
+
+
 def clean_of(sig: LoadedSignal) -> np.ndarray | None:
     """The noise-free signal when known (a generated signal, unchanged column)."""
     return sig.clean if sig.source == "generated" and sig.column == "measured" else None

@@ -12,7 +12,7 @@ from streamlit.delta_generator import DeltaGenerator
 import noisevar
 from dashboard import cache
 from dashboard.sections.estimator_tuning import H_ALL, Tuning, closest
-from dashboard.state import LoadedSignal, initial
+from dashboard.state import LoadedSignal, initial, time_of
 from dashboard.widgets import csv_download, figure_downloads, fmt, guarded, show_figure
 from noisevar.config import config_to_json, params_to_config
 from noisevar.estimators.compare import rows_to_csv
@@ -122,7 +122,7 @@ def _selected_stretch(sig: LoadedSignal) -> slice | None:
         sig_box = (round(float(box["x"][0]), 6), round(float(box["x"][1]), 6))
         if st.session_state.get("_last_box") != sig_box:
             st.session_state["_last_box"] = sig_box
-            sl = range_to_slice(sig_box[0], sig_box[1], sig.n, sig.sample_period)
+            sl = range_to_slice(sig_box[0], sig_box[1], sig.n, time_of(sig))
             st.session_state["s0"], st.session_state["s1"] = sl.start, sl.stop
     s0 = int(st.session_state.get("s0", 0) or 0)
     s1 = int(st.session_state.get("s1", 0) or 0)
@@ -139,10 +139,10 @@ def main_figure(sig: LoadedSignal, shown: VarianceEstimate | None, tuning: Tunin
     stretch = _selected_stretch(sig)
     if shown is not None:
         fig = somd_figure(
-            sig.z, shown, sig.sample_period, stretch=stretch, title="Raw signal, filters, windows"
+            sig.z, shown, time_of(sig), stretch=stretch, title="Raw signal, filters, windows"
         )
     else:
-        fig = signal_figure(sig.z, sig.sample_period, sig.column, title="Raw signal")
+        fig = signal_figure(sig.z, time_of(sig), sig.column, title="Raw signal")
         fig.update_layout(dragmode="select", selectdirection="h")
     st.caption(
         "Drag across the plot to estimate over a chosen stretch only (double-click clears the "

@@ -2,11 +2,12 @@
 
 from __future__ import annotations
 
+import numpy as np
 import streamlit as st
 from streamlit.delta_generator import DeltaGenerator
 
 from dashboard import cache
-from dashboard.state import LoadedSignal, clean_of, reselect, truth_of
+from dashboard.state import LoadedSignal, clean_of, reselect, time_of, truth_of
 from dashboard.widgets import figure_downloads, fmt, guarded, show_figure
 from noisevar.figures.estimator import signal_figure
 from noisevar.io import signal_summary
@@ -51,11 +52,14 @@ def summary_metrics(sig: LoadedSignal, errors: DeltaGenerator) -> None:
         auto = cache.estimate(sig, "auto", {})
     m = st.columns(6)
     m[0].metric("Samples", f"{summary['n']:,}")
-    m[1].metric(
-        "Duration",
-        f"{summary['duration_s']:.4g} s" if sig.sample_period else "n/a",
-        help=None if sig.sample_period else "Set the sample period T to see the duration.",
-    )
+    timing = time_of(sig)
+    if isinstance(timing, np.ndarray):
+        duration = float(timing[-1] - timing[0])  # the time column: gaps included
+        how = "From the time column (gaps included)."
+    else:
+        duration = summary["duration_s"] if sig.sample_period else None
+        how = "Samples × T." if sig.sample_period else "Set the sample period T to see it."
+    m[1].metric("Duration", fmt(duration, unit="s") if duration is not None else "n/a", help=how)
     m[2].metric("Mean", fmt(summary["mean"]))
     m[3].metric("Std (signal + noise)", fmt(summary["std"]))
     m[4].metric(
@@ -81,7 +85,7 @@ def preview(sig: LoadedSignal) -> None:
     """The signal figure, its downloads, the table as CSV and its first rows."""
     fig = signal_figure(
         sig.z,
-        sig.sample_period,
+        time_of(sig),
         name=sig.column,
         clean=clean_of(sig),
         title=f"{sig.label}",

@@ -39,6 +39,9 @@ from noisevar.figures._shapes import band, hline, stacked_axes, step_xy, vline
 from noisevar.kalman.result import FilterResult
 from noisevar.systems.base import RunResult, as_list, check_run_index
 
+#: Seconds per sample (float), the samples' own times (array, seconds) or None (sample index).
+Timing = float | NDArray | None
+
 #: Default number of points drawn per trace of a long record.
 MAX_POINTS = 4000
 #: Most points (summed over traces) one figure sends to the browser; see :func:`capped`.
@@ -284,8 +287,11 @@ def log_axis(title: str, **extra: Any) -> dict[str, Any]:
     return out
 
 
-def x_axis(idx: ArrayLike, sample_period: float | None = None, t0: float = 0.0) -> NDArray:
+def x_axis(idx: ArrayLike, sample_period: Timing = None, t0: float = 0.0) -> NDArray:
     """Abscissa of sample indices: seconds when a sample period is known, else the index.
+
+    ``sample_period`` may also be the record's own time stamps (an array of
+    seconds, one per sample): records with gaps are then drawn against real time.
 
     Parameters
     ----------
@@ -301,6 +307,8 @@ def x_axis(idx: ArrayLike, sample_period: float | None = None, t0: float = 0.0) 
     ndarray of float
     """
     idx = np.asarray(idx, dtype=float)
+    if isinstance(sample_period, np.ndarray):  # the samples' own times: gaps stay gaps
+        return np.interp(idx, np.arange(sample_period.size), sample_period)
     return t0 + idx * sample_period if sample_period else idx
 
 
@@ -321,7 +329,12 @@ def unit_name(units: str | None, name: str) -> str:
     return f"{name} ({units})" if units else name
 
 
-def x_title(sample_period: float | None) -> str:
+def has_time(sample_period: Timing) -> bool:
+    """Whether ``sample_period`` (a period or the samples' times) gives seconds."""
+    return isinstance(sample_period, np.ndarray) or bool(sample_period)
+
+
+def x_title(sample_period: Timing) -> str:
     """Axis title matching :func:`x_axis`.
 
     Parameters
@@ -334,16 +347,15 @@ def x_title(sample_period: float | None) -> str:
     str
         ``"time (s)"`` or ``"sample"``.
     """
-    return "time (s)" if sample_period else "sample"
+    return "time (s)" if has_time(sample_period) else "sample"
 
 
 def line_trace(
     y: ArrayLike,
     name: str,
-    sample_period: float | None = None,
+    sample_period: Timing = None,
     max_points: int = MAX_POINTS,
     mode: str = "lines",
-    t: ArrayLike | None = None,
     **kwargs: Any,
 ) -> tuple[go.Scatter | go.Scatter, bool]:
     """A line trace of a long record, downsampled for drawing when needed.
@@ -360,8 +372,6 @@ def line_trace(
         Largest number of points drawn.
     mode : str
         Plotly scatter mode.
-    t : array_like, shape (n,), optional
-        The samples' own time stamps (seconds; gaps show), instead of ``sample_period``.
     **kwargs
         Passed to the trace (``line``, ``opacity``, ``legendgroup``...).
 
@@ -375,7 +385,7 @@ def line_trace(
     y = np.asarray(y, dtype=float)
     idx = downsample_indices(y, max_points)
     reduced = idx.size < y.size
-    x = x_axis(idx, sample_period) if t is None else np.asarray(t, dtype=float)[idx]
+    x = x_axis(idx, sample_period)
     trace = go.Scatter(x=x, y=y[idx], name=name, mode=mode, **kwargs)
     return trace, reduced
 
@@ -403,7 +413,7 @@ def note_downsampled(fig: go.Figure, n_total: int, max_points: int = MAX_POINTS)
 
 
 def range_to_slice(
-    x0: float, x1: float, n: int, sample_period: float | None = None, t0: float = 0.0
+    x0: float, x1: float, n: int, sample_period: Timing = None, t0: float = 0.0
 ) -> slice:
     """Sample slice covered by an abscissa range (a box selection on a figure).
 
@@ -424,6 +434,10 @@ def range_to_slice(
         ``slice(start, stop)`` clipped to ``[0, n]``.
     """
     lo, hi = sorted((float(x0), float(x1)))
+    if isinstance(sample_period, np.ndarray):  # the samples' own times
+        start = int(np.searchsorted(sample_period, lo, side="left"))
+        stop = int(np.searchsorted(sample_period, hi, side="right"))
+        return slice(min(start, n), max(min(start, n), min(stop, n)))
     if sample_period:
         lo, hi = (lo - t0) / sample_period, (hi - t0) / sample_period
     start = int(np.clip(np.ceil(lo), 0, n))
@@ -577,7 +591,9 @@ __all__ = [
     "band",
     "check_run",
     "base_layout",
+    "Timing",
     "capped",
+    "has_time",
     "figure_size",
     "log_axis",
     "MAX_FIGURE_MARKERS",

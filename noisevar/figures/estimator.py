@@ -100,9 +100,11 @@ def signal_figure(
     go.Figure
     """
     z = np.asarray(z, dtype=float)
+    if t is not None:
+        sample_period = np.asarray(t, dtype=float)
     data = [
         line_trace(
-            z, name, sample_period, max_points, line={"color": COLORS["smooth"], "width": 1}, t=t
+            z, name, sample_period, max_points, line={"color": COLORS["smooth"], "width": 1}
         )[0]
     ]
     if clean is not None:
@@ -113,14 +115,13 @@ def signal_figure(
                 sample_period,
                 max_points,
                 line={"color": COLORS["truth"], "width": 1.5},
-                t=t,
             )[0]
         )
     note = downsample_note(z.size, max_points)
     lay = layout(
         title,
         height,
-        xaxis={"title": {"text": x_title(1.0 if t is not None else sample_period)}},
+        xaxis={"title": {"text": x_title(sample_period)}},
         yaxis={"title": {"text": unit_name(units, name)}},
         annotations=[note] if note else [],
     )

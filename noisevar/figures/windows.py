@@ -23,9 +23,11 @@ from noisevar.figures._common import (
     MAX_FIGURE_MARKERS,
     MAX_FIGURE_POINTS,
     PALETTE,
+    Timing,
     band,
     capped,
     downsample_note,
+    has_time,
     hline,
     layout,
     line_trace,
@@ -122,7 +124,7 @@ def _fmt(v: float) -> str:
 def somd_figure(  # long: one figure, built trace by trace in drawing order
     z: ArrayLike,
     est: VarianceEstimate,
-    sample_period: float | None = None,
+    sample_period: Timing = None,
     stretch: slice | None = None,
     max_points: int = SOMD_LINE_POINTS,
     title: str | None = None,
@@ -143,8 +145,8 @@ def somd_figure(  # long: one figure, built trace by trace in drawing order
         The samples the estimate was computed on.
     est : VarianceEstimate
         A SOMD estimate (``est.details`` set); other methods draw the record only.
-    sample_period : float, optional
-        Seconds per sample.
+    sample_period : float or ndarray, optional
+        Seconds per sample, or the samples' own times (seconds; gaps drawn as gaps).
     stretch : slice, optional
         A chosen stretch to highlight.
     max_points : int
@@ -243,7 +245,7 @@ def _kept_runs(kept: NDArray, window: int, n: int) -> tuple[tuple[NDArray, NDArr
 
 
 def _kept_trace(
-    runs: tuple[NDArray, NDArray], sample_period: float | None, y_lo: float, y_hi: float
+    runs: tuple[NDArray, NDArray], sample_period: Timing, y_lo: float, y_hi: float
 ) -> list[go.Scatter]:
     """The kept runs as one filled trace (one rectangle per run; no layout shapes)."""
     a, b = runs
@@ -268,7 +270,7 @@ def _kept_trace(
 
 
 def _rejection_marks(
-    sel: WindowSelection, sample_period: float | None, y: float
+    sel: WindowSelection, sample_period: Timing, y: float
 ) -> list[go.Scatter]:
     status = window_status(sel)
     ratios = amplitude_ratios(sel)
@@ -319,7 +321,7 @@ def _rejection_marks(
 def _merged_marks(
     mask: NDArray,
     sel: WindowSelection,
-    sample_period: float | None,
+    sample_period: Timing,
     label: str,
     y: float,
     style: tuple[str, str],
@@ -393,7 +395,7 @@ def window_tests_figure(  # long: one figure, built trace by trace in drawing or
         "transient": COLORS["transient"],
     }
     start = x_axis(selection.starts, sample_period)
-    unit = "s" if sample_period else "sample"
+    unit = "s" if has_time(sample_period) else "sample"
     data = []
     for label in STATUS:
         idx = np.flatnonzero(status == label)
