@@ -28,6 +28,8 @@ ERROR_KEY = "nv_load_error"
 RECIPE_PARAM = "sig"
 #: The URL parameter that names an uploaded file (its data never goes into the URL).
 UPLOAD_PARAM = "upload"
+#: Widget key (and URL parameter) of the signal's units.
+UNITS_KEY = "units"
 #: Session key of the sidebar's signal card (redrawn when the signal changes mid-run).
 CARD_KEY = "_nv_sidebar_card"
 
@@ -242,6 +244,11 @@ def reselect(sig: LoadedSignal, column: str, sample_period: float | None) -> Loa
 def truth_of(sig: LoadedSignal) -> float | None:
     """The true noise variance when known (a generated signal, unchanged column)."""
     return sig.true_variance if sig.source == "generated" and sig.column == "measured" else None
+
+
+def signal_units() -> str:
+    """The units the user gave the signal on the Signal page (empty: none), e.g. ``"m"``."""
+    return str(st.session_state.get(UNITS_KEY) or "").strip()[:20]
 
 
 def time_of(sig: LoadedSignal) -> np.ndarray | float | None:

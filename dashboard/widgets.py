@@ -39,6 +39,38 @@ def metric_style() -> None:
     )
 
 
+#: Plain-words meaning of the abbreviations and symbols the pages use.
+GLOSSARY = {
+    "NIS": "Normalised innovation squared, d' S⁻¹ d: each measurement's surprise weighed by the "
+    "filter's own uncertainty. Its mean is the number of channels m when the filter's noise "
+    "model is right; far above, the filter is over-confident (R or Q too small).",
+    "NEES": "Normalised estimation error squared, e' P⁻¹ e (needs the true state): the error "
+    "weighed by the filter's claimed covariance P; its mean is the number of states when P is "
+    "honest. A filter can be accurate (low RMSE) and still over-confident (NEES high): NEES "
+    "judges the claimed uncertainty, RMSE the error itself.",
+    "RMSE": "Root mean square error against the true state (simulations only).",
+    "AHRS": "Attitude and heading reference system: an IMU whose gyros, accelerometers and "
+    "magnetometers are fused into an orientation.",
+    "Γ_amp": "Amplitude-test threshold: a window is kept when the smooth output is equally far "
+    "above and below its fitted line in both halves of the window (ratios within 1 ± Γ_amp): "
+    "the signal is straight there. Larger keeps more windows.",
+    "Γ_ang": "Angle-test threshold (degrees): a window is kept when the smooth and tracking "
+    "filters' slopes differ by less than Γ_ang: the smooth filter is not lagging.",
+    "tanh|ln r|": "The symmetric amplitude statistic: 0 when a ratio r of envelope amplitudes is "
+    "1, approaching 1 as r goes to 0 or infinity; r and 1/r score the same.",
+    "h": "h = q / r, jerk spectral density over noise variance: the one number that sets an "
+    "alpha-beta-gamma filter's gains. Smaller h smooths more.",
+    "C/N0": "Carrier-to-noise density ratio (dB-Hz): signal power over noise power per hertz.",
+}
+
+
+def glossary(*terms: str) -> None:
+    """A collapsed "Terms" expander defining the abbreviations a section uses."""
+    with st.expander("Terms used here", icon=":material/menu_book:"):
+        for t in terms:
+            st.markdown(f"**{t}**: {GLOSSARY[t]}")
+
+
 def h_grid(lo: float = 1e-9, hi: float = 0.3) -> list[str]:
     """``h`` values from ``lo`` to ``hi`` as strings (stable in URLs: ``1.5e-05``)."""
     out = []

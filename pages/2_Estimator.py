@@ -57,7 +57,7 @@ with right:
     truth = truth_of(sig)
     est, shown = results.run_estimate(sig, tuning)
     if est is not None:
-        results.headline(est, truth, tuning)
+        results.headline(sig, est, truth, tuning)
     fig = results.main_figure(sig, shown, tuning)
     results.step_views(sig, shown, tuning, truth)
     results.exports(sig, est, truth, fig)

@@ -12,7 +12,7 @@ from streamlit.delta_generator import DeltaGenerator
 import noisevar
 from dashboard import cache
 from dashboard.sections.estimator_tuning import H_ALL, Tuning, closest
-from dashboard.state import LoadedSignal, initial, time_of
+from dashboard.state import LoadedSignal, initial, signal_units, time_of
 from dashboard.widgets import csv_download, figure_downloads, fmt, guarded, show_figure
 from noisevar.config import config_to_json, params_to_config
 from noisevar.estimators.compare import rows_to_csv
@@ -29,6 +29,7 @@ from noisevar.figures.estimator import (
     window_variance_figure,
 )
 from noisevar.filters.envelope import RATIO_BAND
+from noisevar.format import eng_range, squared
 
 VIEWS = ["Window tests", "Envelopes and |V|", "h scan", "Per-window variance"]
 #: Longer records run the h scan only on request.
@@ -54,14 +55,17 @@ def run_estimate(
         return None, None
 
 
-def headline(est: VarianceEstimate, truth: float | None, tuning: Tuning) -> None:
+def headline(
+    sig: LoadedSignal, est: VarianceEstimate, truth: float | None, tuning: Tuning
+) -> None:
     """Variance, std, interval, windows kept (or samples used), the truth when known."""
+    u = signal_units()
     cols = st.columns(5)
-    cols[0].metric("Noise variance", fmt(est.variance))
-    cols[1].metric("Noise std", fmt(est.std))
+    cols[0].metric("Noise variance", fmt(est.variance, unit=squared(u)))
+    cols[1].metric("Noise std", fmt(est.std, unit=u))
     cols[2].metric(
         "95 % interval",
-        f"{fmt(est.ci95[0], 3)}–{fmt(est.ci95[1], 3)}",
+        eng_range(est.ci95[0], est.ci95[1], squared(u), 3),
         help=f"{fmt(est.ci95[0], 6)} to {fmt(est.ci95[1], 6)} (chi-square, "
         f"{est.dof:.0f} effective degrees of freedom)",
     )
@@ -73,7 +77,7 @@ def headline(est: VarianceEstimate, truth: float | None, tuning: Tuning) -> None
     if truth is not None:
         cols[4].metric(
             "True variance",
-            fmt(truth),
+            fmt(truth, unit=squared(u)),
             delta=f"{100 * (est.variance / truth - 1):+.1f} %",
             delta_color="off",
             delta_arrow="off",
@@ -81,11 +85,39 @@ def headline(est: VarianceEstimate, truth: float | None, tuning: Tuning) -> None
         )
     for note in est.notes:
         st.caption(f"Note: {note}")
+    _versus_auto(sig, est)
     if tuning.method == "somd-paper":
         st.caption(
-            "somd-paper divides by 2 as printed; its bias is c(h)/2 − 1 (docs/algorithms.md §A8). "
+            "somd-paper divides by 2 as printed in the paper; its bias is c(h)/2 − 1. "
             "`somd` divides by the exact c(h)."
         )
+
+
+def _versus_auto(sig: LoadedSignal, est: VarianceEstimate) -> None:
+    """Why the Home and Signal pages (method auto) may show another number than this page."""
+    if est.method == "auto":
+        return
+    auto = None
+    if sig.n <= SCAN_AUTO_LIMIT:
+        try:
+            auto = cache.estimate(sig, "auto", {})
+        except noisevar.NoisevarError:
+            auto = None
+    u = signal_units()
+    versus = ""
+    if auto is not None:
+        overlap = auto.ci95[0] <= est.ci95[1] and est.ci95[0] <= auto.ci95[1]
+        versus = (
+            f" There it gives std {fmt(auto.std, unit=u)} ({100 * (auto.std / est.std - 1):+.1f} %"
+            f" against {fmt(est.std, unit=u)} here; the 95 % intervals "
+            f"{'overlap' if overlap else 'do not overlap'})."
+        )
+    st.caption(
+        f"The Home and Signal pages use method `auto` (a zero-lag polynomial virtual sensor, "
+        f"robust to jumps and outliers); this page defaults to `somd`, the paper's method, "
+        f"tuned step by step.{versus} Different assumptions give slightly different answers; "
+        "the Compare page puts every method side by side."
+    )
 
 
 def _windows_kept(col: DeltaGenerator, est: VarianceEstimate) -> None:
@@ -139,10 +171,17 @@ def main_figure(sig: LoadedSignal, shown: VarianceEstimate | None, tuning: Tunin
     stretch = _selected_stretch(sig)
     if shown is not None:
         fig = somd_figure(
-            sig.z, shown, time_of(sig), stretch=stretch, title="Raw signal, filters, windows"
+            sig.z,
+            shown,
+            time_of(sig),
+            stretch=stretch,
+            title="Raw signal, filters, windows",
+            units=signal_units(),
         )
     else:
-        fig = signal_figure(sig.z, time_of(sig), sig.column, title="Raw signal")
+        fig = signal_figure(
+            sig.z, time_of(sig), sig.column, title="Raw signal", units=signal_units()
+        )
         fig.update_layout(dragmode="select", selectdirection="h")
     st.caption(
         "Drag across the plot to estimate over a chosen stretch only (double-click clears the "
@@ -167,13 +206,14 @@ def _stretch_estimate(sig: LoadedSignal, tuning: Tuning, stretch: slice) -> None
     try:
         part = cache.estimate(sig, tuning.method, tuning.params, stretch=stretch)
         cols = st.columns(4)
+        u = signal_units()
         cols[0].metric(
             "Stretch variance",
-            fmt(part.variance),
+            fmt(part.variance, unit=squared(u)),
             help=f"samples {stretch.start} to {stretch.stop - 1}",
         )
-        cols[1].metric("Stretch std", fmt(part.std))
-        cols[2].metric("95 % interval", f"{fmt(part.ci95[0], 3)}–{fmt(part.ci95[1], 3)}")
+        cols[1].metric("Stretch std", fmt(part.std, unit=u))
+        cols[2].metric("95 % interval", eng_range(part.ci95[0], part.ci95[1], squared(u), 3))
         cols[3].metric("Samples in stretch", f"{stretch.stop - stretch.start:,}")
     except noisevar.NoisevarError as exc:
         st.error(f"Stretch {stretch.start}–{stretch.stop - 1}: {exc} (choose a longer stretch)")
@@ -204,7 +244,7 @@ def step_views(
                 tuning.gamma_amp,
                 tuning.gamma_ang,
                 sig.sample_period,
-                title="Window tests of eq. 19 (first smoothing filter)",
+                title="Window tests: straight (amplitude) and not lagging (angle)",
             )
         else:
             st.info("Window tests exist for the SOMD methods with window selection on.")
@@ -272,7 +312,7 @@ def _scan_view(
             scan,
             tuning.h_smooth if tuning.somd else (),
             d.h_track if d is not None else None,
-            title="Choosing h_S: noise amplitude ratio against h (eq. 14)",
+            title="Choosing h_S: noise left after smoothing, |V1| / |V2|, against h",
         )
         in_use = f"h_S in use: {tuning.h_smooth[0]:.3g}." if tuning.somd else ""
         if math.isfinite(scan.h_min):

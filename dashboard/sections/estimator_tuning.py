@@ -10,7 +10,7 @@ import streamlit as st
 
 import noisevar
 from dashboard.state import LoadedSignal, initial, keep_valid, reselect
-from dashboard.widgets import h_grid
+from dashboard.widgets import GLOSSARY, h_grid
 from noisevar.config import parse_config
 from noisevar.filters.abg import settling_samples
 
@@ -212,7 +212,7 @@ def _smoothing_filters(n: int, somd: bool) -> tuple[str, list[str]]:
         key="h_s",
         bind="query-params",
         disabled=not somd,
-        help="h = q/r of the alpha-beta-gamma filter; smaller = smoother. Paper: 1.5e-5.",
+        help=GLOSSARY["h"] + " Paper: 1.5e-5.",
         **initial("h_s", closest(hs_opts, 1.5e-5)),
     )
     h_more = st.multiselect(
@@ -276,9 +276,10 @@ def _window_tests(somd: bool) -> tuple[float, float, str, bool]:
         bind="query-params",
         disabled=not somd,
         help=(
-            "somd-paper (as printed): keep a window when |A1/A2|, |A2/A3|, |A3/A4| are all "
-            "within (1 − Γ, 1 + Γ). somd: the same chain closed by |A4/A1|, each ratio within "
-            "a band of the same log-width centred on 1, so that −z keeps the same windows as z."
+            GLOSSARY["Γ_amp"] + " somd-paper (as printed): |A1/A2|, |A2/A3|, |A3/A4| within "
+            "(1 − Γ, 1 + Γ). somd: the same chain closed by |A4/A1|, scored by tanh|ln r| ("
+            + GLOSSARY["tanh|ln r|"]
+            + "), so that −z keeps the same windows as z."
         ),
         **initial("g_amp", 0.5),
     )
@@ -290,7 +291,7 @@ def _window_tests(somd: bool) -> tuple[float, float, str, bool]:
         key="g_ang",
         bind="query-params",
         disabled=not somd,
-        help="Keep a window when the smooth and tracking slopes differ by less than Γ_ang.",
+        help=GLOSSARY["Γ_ang"],
         **initial("g_ang", 10.0),
     )
     angle = st.radio(

@@ -122,7 +122,10 @@ def envelope_figure(
         )
     axes = stacked_axes(
         [0.6, 0.4],
-        titles=("window-detrended raw record and its envelopes", "|V| per window (eq. 13)"),
+        titles=(
+            "window-detrended raw record and its envelopes",
+            "|V| per window: mean envelope gap / 2",
+        ),
     )
     axes["yaxis2"].update(log_axis("|V|"))
     axes["xaxis"]["title"] = {"text": x_title(sample_period)}

@@ -256,6 +256,7 @@ def r_estimates_figure(
     max_points: int = MAX_POINTS,
     title: str | None = "Measurement-noise variance R̂ per channel",
     height_per_channel: int = 220,
+    reference_name: str = "true R",
 ) -> go.Figure:
     """Each filter's ``R̂_jj`` over time on a log axis, one panel per channel.
 
@@ -276,6 +277,8 @@ def r_estimates_figure(
         Figure title.
     height_per_channel : int
         Pixel height of each panel.
+    reference_name : str
+        Legend name of ``R_true`` (say what it is: the truth, or a quick estimate).
 
     Returns
     -------
@@ -304,7 +307,7 @@ def r_estimates_figure(
         if true_diag is not None:
             tr, _ = line_trace(
                 true_diag[:, j],
-                "true R",
+                reference_name,
                 dt,
                 max_points,
                 line={"color": COLORS["truth"], "width": 2, "dash": "dash"},
