@@ -31,9 +31,10 @@ def metric_style() -> None:
     """Metrics show their whole value: wrap long values instead of cutting them with "…"."""
     st.html(
         "<style>"
-        "[data-testid='stMetricValue'] > div, [data-testid='stMetricValue'] {"
+        "[data-testid='stMetricValue'], [data-testid='stMetricValue'] * {"
         "white-space: normal !important; overflow: visible !important; "
-        "text-overflow: clip !important; overflow-wrap: anywhere; font-size: 1.6rem;}"
+        "text-overflow: clip !important; overflow-wrap: anywhere;}"
+        "[data-testid='stMetricValue'] {font-size: 1.6rem;}"
         "[data-testid='stMetricLabel'] p {white-space: normal !important;}"
         "</style>"
     )
