@@ -387,6 +387,13 @@ def _table1(res1: cache.JsonDict, ask: tuple[int, int]) -> None:
     ]
     st.markdown("**RMSE over runs and steps**")
     st.dataframe(rm, hide_index=True)
+    st.caption(
+        "diverged: runs in which the filter's NEES left its chi-square band, i.e. its claimed "
+        "covariance P became too small for its actual errors. That judges the filter's "
+        "confidence, not its accuracy: a filter can keep an RMSE close to the best and still be "
+        "over-confident."
+    )
+    glossary("NEES", "RMSE")
     for note in res1.get("notes", []):
         st.caption(note)
     st.download_button(
