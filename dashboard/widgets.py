@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+import html
 import logging
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from typing import Any
 
@@ -70,6 +71,57 @@ def glossary(*terms: str) -> None:
     with st.expander("Terms used here", icon=":material/menu_book:"):
         for t in terms:
             st.markdown(f"**{t}**: {GLOSSARY[t]}")
+
+
+def html_report(
+    title: str,
+    rows: list[dict[str, object]],
+    figures: list[go.Figure],
+    notes: Sequence[str] = (),
+) -> str:
+    """The current analysis as one self-contained HTML page: numbers, notes and figures.
+
+    Parameters
+    ----------
+    title : str
+        Page title.
+    rows : list of dict
+        ``{"quantity", "value"}`` rows (numbers in engineering notation).
+    figures : list of go.Figure
+        Drawn interactive (plotly.js embedded once: works offline).
+    notes : sequence of str
+        Lines shown under the table (the command line, the config...).
+
+    Returns
+    -------
+    str
+    """
+    cells = "".join(
+        f"<tr><td>{html.escape(str(r['quantity']))}</td><td>"
+        f"{html.escape(fmt(r['value'], 6) if isinstance(r['value'], float) else str(r['value']))}"
+        "</td></tr>"
+        for r in rows
+    )
+    parts = [
+        f"<!doctype html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>"
+        "<style>body{font-family:sans-serif;max-width:1100px;margin:2em auto}"
+        "td{padding:2px 12px;border-bottom:1px solid #ddd}pre{background:#f4f4f4;padding:8px}"
+        "</style></head><body>",
+        f"<h1>{html.escape(title)}</h1><table>{cells}</table>",
+        *(f"<pre>{html.escape(n)}</pre>" for n in notes),
+    ]
+    for i, fig in enumerate(figures):
+        parts.append(fig.to_html(full_html=False, include_plotlyjs=i == 0))
+    parts.append("<p><small>Made with noisevar.</small></p></body></html>")
+    return "\n".join(parts)
+
+
+def table_height(n_rows: int) -> int:
+    """Pixel height that shows every row of an ``st.dataframe`` (no inner scroll bar hides any).
+
+    Streamlit draws 35-pixel rows under a 35-pixel header, plus a border.
+    """
+    return 35 * (int(n_rows) + 1) + 3
 
 
 def h_grid(lo: float = 1e-9, hi: float = 0.3) -> list[str]:

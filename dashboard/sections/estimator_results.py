@@ -13,7 +13,14 @@ import noisevar
 from dashboard import cache
 from dashboard.sections.estimator_tuning import H_ALL, Tuning, closest
 from dashboard.state import LoadedSignal, initial, signal_units, time_of
-from dashboard.widgets import csv_download, figure_downloads, fmt, guarded, show_figure
+from dashboard.widgets import (
+    csv_download,
+    figure_downloads,
+    fmt,
+    guarded,
+    html_report,
+    show_figure,
+)
 from noisevar.config import config_to_json, params_to_config
 from noisevar.estimators.compare import rows_to_csv
 from noisevar.estimators.results import VarianceEstimate
@@ -356,8 +363,32 @@ def exports(
     st.markdown("#### Export")
     if est is not None:
         _estimate_downloads(sig, est, truth)
+        st.download_button(
+            "Report of this analysis (HTML: numbers, config, figure)",
+            data=lambda: _report(sig, est, truth, fig),
+            file_name="noisevar-report.html",
+            mime="text/html",
+            key="dl_report",
+            on_click="ignore",
+            icon=":material/description:",
+            width="stretch",
+        )
     st.caption("Main figure")
     figure_downloads(fig, "noisevar-estimator", "fig_main")
+
+
+def _report(
+    sig: LoadedSignal, est: VarianceEstimate, truth: float | None, fig: go.Figure
+) -> str:
+    rows = [
+        {"quantity": "signal", "value": f"{sig.label}, column {sig.column}"},
+        {"quantity": "samples", "value": f"{sig.n:,}"},
+        {"quantity": "units", "value": signal_units() or "not given"},
+        *estimate_rows(est, truth),
+    ]
+    cfg = config_to_json(params_to_config(est.params["method"], est.params), column=sig.column)
+    notes = [cli_hint(sig), cfg, *est.notes]
+    return html_report(f"noisevar: noise of {sig.label}", rows, [fig], notes)
 
 
 def cli_hint(sig: LoadedSignal) -> str:

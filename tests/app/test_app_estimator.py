@@ -188,3 +188,21 @@ def test_h_scan_suggestion_can_be_applied(at):
     at.button(key="scan_apply").click().run()
     _clean(at)
     assert float(at.select_slider(key="h_s").value) == pytest.approx(float(suggested), rel=0.3)
+
+
+def test_html_report_holds_the_numbers_and_the_figure():
+    import numpy as np
+
+    import noisevar
+    from dashboard.widgets import html_report
+    from noisevar.figures.estimator import estimate_rows, somd_figure
+
+    z = np.random.default_rng(5).normal(0.0, 2.0, 3000)
+    est = noisevar.estimate(z, "somd")
+    text = html_report("noise <of> z", estimate_rows(est), [somd_figure(z, est)], ["cmd --x"])
+    assert "noise &lt;of&gt; z" in text and "cmd --x" in text
+    assert fmt(est.variance, 6) in text and "plotly" in text.lower()
+
+
+def test_report_download_is_offered(at):
+    assert any(b.label.startswith("Report of this analysis") for b in at.get("download_button"))
