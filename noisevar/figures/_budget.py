@@ -18,7 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 #: Most points (summed over traces) one figure sends to the browser; see :func:`capped`.
 MAX_FIGURE_POINTS = 10_000
 #: Most points of a figure of markers (SVG draws each marker as an element); see :func:`capped`.
-MAX_FIGURE_MARKERS = 1_500
+MAX_FIGURE_MARKERS = 800
 #: Most layout shapes one figure sends to the browser; see :func:`capped`.
 MAX_FIGURE_SHAPES = 2_000
 #: Per-point trace attributes thinned together with ``x`` and ``y``.

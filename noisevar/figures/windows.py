@@ -44,7 +44,7 @@ from noisevar.filters.selection import WindowSelection
 #: two points per pixel column of a wide plot keep the look (min-max LTTB).
 SOMD_LINE_POINTS = 1500
 #: Most kept-window runs (and rejection marks per test) drawn; neighbours merge beyond it.
-MAX_RUNS = 300
+MAX_RUNS = 120
 
 #: Window status labels, in drawing order.
 STATUS = ("kept", "amplitude test", "angle test", "both tests", "transient")

@@ -22,6 +22,7 @@ from noisevar.figures.estimator import (
     window_tests_figure,
     window_variance_figure,
 )
+from noisevar.figures.windows import MAX_RUNS
 from noisevar.filters.envelope import detrend_windows, noise_amplitude
 
 N = 2_000_000
@@ -46,7 +47,7 @@ def test_somd_figure_on_two_million_samples(big) -> None:
     fig = somd_figure(z, est, 0.1)
     _within_budget(fig)
     kept = next(t for t in fig.data if t.name == "kept windows")
-    assert kept.fill == "toself" and np.isnan(kept.x).sum() <= 300  # merged into runs
+    assert kept.fill == "toself" and np.isnan(kept.x).sum() <= MAX_RUNS  # merged into runs
     assert "shaded over" in fig.layout.annotations[-1].text
 
 
