@@ -13,8 +13,17 @@ from pathlib import Path
 import streamlit as st
 
 from dashboard.loading import restore_from_recipe
-from dashboard.state import LoadedSignal, current_signal, sync_url, url_recipe
+from dashboard.state import (
+    CARD_KEY,
+    LoadedSignal,
+    current_signal,
+    signal_card,
+    sync_url,
+    url_recipe,
+    url_upload,
+)
 from dashboard.url_params import clean_query_params
+from dashboard.widgets import metric_style
 from noisevar.errors import NoisevarError
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -151,6 +160,7 @@ def setup_page(script: str) -> LoadedSignal | None:
         initial_sidebar_state="expanded",
     )
     clean_query_params()  # shared links are untrusted: before any widget reads the URL
+    metric_style()
     sig = current_signal()
     if sig is None:
         recipe = url_recipe()
@@ -159,20 +169,30 @@ def setup_page(script: str) -> LoadedSignal | None:
                 sig = restore_from_recipe(recipe)
             except (NoisevarError, ValueError) as exc:
                 st.warning(f"Could not reopen the signal named in the link ({recipe}): {exc}")
+        elif url_upload():
+            st.info(
+                f"This link was made from an uploaded file, **{url_upload()}**. Uploaded data "
+                "never goes into a link: upload the file again on the Signal page, and the "
+                "link's settings apply to it.",
+                icon=":material/upload_file:",
+            )
     else:
         sync_url(sig)
-    _sidebar_card(sig)
+    _sidebar(sig)
     return sig
 
 
-def _sidebar_card(sig: LoadedSignal | None) -> None:
+def _sidebar(sig: LoadedSignal | None) -> None:
+    """Navigation (Home first) and the card naming the current signal."""
     with st.sidebar:
+        for page in (HOME, *PAGES):
+            if (ROOT / page.path).is_file():
+                st.page_link(page.path, label=page.title, icon=page.icon)
+        st.divider()
         st.markdown("**noisevar** · measurement-noise variance")
-        if sig is None:
-            st.caption("No signal loaded.")
-        else:
-            period = f", T = {sig.sample_period:g} s" if sig.sample_period else ""
-            st.caption(f"Signal: **{sig.label}** — {sig.n:,} samples{period}")
+        slot = st.empty()
+        st.session_state[CARD_KEY] = slot
+        signal_card(slot, sig)
         st.page_link(SIGNAL_PAGE, label="Load or change the signal", icon=":material/upload:")
 
 

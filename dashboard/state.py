@@ -26,6 +26,12 @@ SIGNAL_KEY = "nv_signal"
 ERROR_KEY = "nv_load_error"
 #: The URL parameter that names a rebuildable signal.
 RECIPE_PARAM = "sig"
+#: The URL parameter that names an uploaded file (its data never goes into the URL).
+UPLOAD_PARAM = "upload"
+#: Widget key (and URL parameter) of the signal's units.
+UNITS_KEY = "units"
+#: Session key of the sidebar's signal card (redrawn when the signal changes mid-run).
+CARD_KEY = "_nv_sidebar_card"
 
 T = TypeVar("T")
 
@@ -96,6 +102,25 @@ def set_signal(sig: LoadedSignal) -> None:
     st.session_state[SIGNAL_KEY] = sig
     st.session_state.pop(ERROR_KEY, None)
     sync_url(sig)
+    slot = st.session_state.get(CARD_KEY)
+    if slot is not None:
+        try:
+            signal_card(slot, sig)
+        except Exception:  # noqa: BLE001 - a slot from an earlier run: the next run redraws
+            LOG.debug("could not redraw the sidebar card", exc_info=True)
+
+
+def signal_card(slot: object, sig: LoadedSignal | None) -> None:
+    """The sidebar's line naming the current signal, drawn into ``slot`` (an ``st.empty``)."""
+    if sig is None:
+        slot.caption("No signal loaded.")  # type: ignore[attr-defined]
+        return
+    period = f", T = {sig.sample_period:g} s" if sig.sample_period else ""
+    origin = {"upload": "uploaded file", "sample": "sample file", "generated": "generated"}
+    slot.caption(  # type: ignore[attr-defined]
+        f"Signal: **{sig.label}** ({origin.get(sig.source, sig.source)}, column "
+        f"`{sig.column}`) — {sig.n:,} samples{period}"
+    )
 
 
 def sync_url(sig: LoadedSignal | None) -> None:
@@ -106,6 +131,11 @@ def sync_url(sig: LoadedSignal | None) -> None:
                 st.query_params[RECIPE_PARAM] = sig.recipe
         elif RECIPE_PARAM in st.query_params:
             del st.query_params[RECIPE_PARAM]
+        upload = sig.label if sig is not None and sig.source == "upload" else None
+        if upload and st.query_params.get(UPLOAD_PARAM) != upload:
+            st.query_params[UPLOAD_PARAM] = upload  # the name only: a reopened link says so
+        elif not upload and sig is not None and UPLOAD_PARAM in st.query_params:
+            del st.query_params[UPLOAD_PARAM]
     except Exception:  # noqa: BLE001 - the URL is a convenience; never break a page for it
         LOG.debug("could not update the sig query parameter", exc_info=True)
 
@@ -113,6 +143,11 @@ def sync_url(sig: LoadedSignal | None) -> None:
 def url_recipe() -> str | None:
     """The recipe named in the URL, if any."""
     return st.query_params.get(RECIPE_PARAM) or None
+
+
+def url_upload() -> str | None:
+    """The uploaded file a link was made from (its name; the data is not in the link)."""
+    return st.query_params.get(UPLOAD_PARAM) or None
 
 
 def default_column(table: LoadedTable) -> str:
@@ -209,6 +244,29 @@ def reselect(sig: LoadedSignal, column: str, sample_period: float | None) -> Loa
 def truth_of(sig: LoadedSignal) -> float | None:
     """The true noise variance when known (a generated signal, unchanged column)."""
     return sig.true_variance if sig.source == "generated" and sig.column == "measured" else None
+
+
+def signal_units() -> str:
+    """The units the user gave the signal on the Signal page (empty: none), e.g. ``"m"``."""
+    return str(st.session_state.get(UNITS_KEY) or "").strip()[:20]
+
+
+def time_of(sig: LoadedSignal) -> np.ndarray | float | None:
+    """The abscissa of the signal's figures: its own time column when it has one, else T.
+
+    The time column wins (gaps are drawn as gaps) unless the user set another
+    sample period, or the column is not finite and increasing.
+    """
+    t = sig.table.time()
+    if (
+        t is None
+        or t.size != sig.n
+        or sig.sample_period != sig.table.sample_period
+        or not np.all(np.isfinite(t))
+        or np.any(np.diff(t) <= 0)
+    ):
+        return sig.sample_period
+    return np.asarray(t, dtype=float)
 
 
 def clean_of(sig: LoadedSignal) -> np.ndarray | None:

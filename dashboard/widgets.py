@@ -2,20 +2,20 @@
 
 from __future__ import annotations
 
+import html
 import logging
-import math
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from typing import Any
 
-import numpy as np
 import plotly.graph_objects as go
 import streamlit as st
 
 from dashboard.state import initial
 from noisevar.errors import NoisevarError
 from noisevar.estimators.compare import rows_to_csv
-from noisevar.figures._common import to_html, to_png
+from noisevar.figures._common import capped, to_html, to_png
+from noisevar.format import eng
 
 LOG = logging.getLogger("noisevar.dashboard")
 
@@ -23,13 +23,105 @@ LOG = logging.getLogger("noisevar.dashboard")
 H_MANTISSAS = (1.0, 1.5, 2.0, 3.0, 5.0, 7.0)
 
 
-def fmt(v: float | None, digits: int = 4) -> str:
-    """A number for display (``n/a`` for None/NaN)."""
-    if v is None or not isinstance(v, (int, float, np.floating, np.integer)):
-        return "n/a"
-    if isinstance(v, float | np.floating) and not math.isfinite(float(v)):
-        return "n/a"
-    return f"{float(v):.{digits}g}"
+def fmt(v: float | None, digits: int = 4, unit: str = "") -> str:
+    """A number for display: :func:`noisevar.format.eng` (``n/a`` for None/NaN)."""
+    return eng(v, unit, digits)
+
+
+def metric_style() -> None:
+    """Metrics show their whole value: wrap long values instead of cutting them with "…"."""
+    st.html(
+        "<style>"
+        "[data-testid='stMetricValue'], [data-testid='stMetricValue'] * {"
+        "white-space: normal !important; overflow: visible !important; "
+        "text-overflow: clip !important; overflow-wrap: anywhere;}"
+        "[data-testid='stMetricValue'] {font-size: 1.6rem;}"
+        "[data-testid='stMetricLabel'] p {white-space: normal !important;}"
+        "</style>"
+    )
+
+
+#: Plain-words meaning of the abbreviations and symbols the pages use.
+GLOSSARY = {
+    "NIS": "Normalised innovation squared, d' S⁻¹ d: each measurement's surprise weighed by the "
+    "filter's own uncertainty. Its mean is the number of channels m when the filter's noise "
+    "model is right; far above, the filter is over-confident (R or Q too small).",
+    "NEES": "Normalised estimation error squared, e' P⁻¹ e (needs the true state): the error "
+    "weighed by the filter's claimed covariance P; its mean is the number of states when P is "
+    "honest. A filter can be accurate (low RMSE) and still over-confident (NEES high): NEES "
+    "judges the claimed uncertainty, RMSE the error itself.",
+    "RMSE": "Root mean square error against the true state (simulations only).",
+    "AHRS": "Attitude and heading reference system: an IMU whose gyros, accelerometers and "
+    "magnetometers are fused into an orientation.",
+    "Γ_amp": "Amplitude-test threshold: a window is kept when the smooth output is equally far "
+    "above and below its fitted line in both halves of the window (ratios within 1 ± Γ_amp): "
+    "the signal is straight there. Larger keeps more windows.",
+    "Γ_ang": "Angle-test threshold (degrees): a window is kept when the smooth and tracking "
+    "filters' slopes differ by less than Γ_ang: the smooth filter is not lagging.",
+    "tanh|ln r|": "The symmetric amplitude statistic: 0 when a ratio r of envelope amplitudes is "
+    "1, approaching 1 as r goes to 0 or infinity; r and 1/r score the same.",
+    "h": "h = q / r, jerk spectral density over noise variance: the one number that sets an "
+    "alpha-beta-gamma filter's gains. Smaller h smooths more.",
+    "C/N0": "Carrier-to-noise density ratio (dB-Hz): signal power over noise power per hertz.",
+}
+
+
+def glossary(*terms: str) -> None:
+    """A collapsed "Terms" expander defining the abbreviations a section uses."""
+    with st.expander("Terms used here", icon=":material/menu_book:"):
+        for t in terms:
+            st.markdown(f"**{t}**: {GLOSSARY[t]}")
+
+
+def html_report(
+    title: str,
+    rows: list[dict[str, object]],
+    figures: list[go.Figure],
+    notes: Sequence[str] = (),
+) -> str:
+    """The current analysis as one self-contained HTML page: numbers, notes and figures.
+
+    Parameters
+    ----------
+    title : str
+        Page title.
+    rows : list of dict
+        ``{"quantity", "value"}`` rows (numbers in engineering notation).
+    figures : list of go.Figure
+        Drawn interactive (plotly.js embedded once: works offline).
+    notes : sequence of str
+        Lines shown under the table (the command line, the config...).
+
+    Returns
+    -------
+    str
+    """
+    cells = "".join(
+        f"<tr><td>{html.escape(str(r['quantity']))}</td><td>"
+        f"{html.escape(fmt(r['value'], 6) if isinstance(r['value'], float) else str(r['value']))}"
+        "</td></tr>"
+        for r in rows
+    )
+    parts = [
+        f"<!doctype html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>"
+        "<style>body{font-family:sans-serif;max-width:1100px;margin:2em auto}"
+        "td{padding:2px 12px;border-bottom:1px solid #ddd}pre{background:#f4f4f4;padding:8px}"
+        "</style></head><body>",
+        f"<h1>{html.escape(title)}</h1><table>{cells}</table>",
+        *(f"<pre>{html.escape(n)}</pre>" for n in notes),
+    ]
+    for i, fig in enumerate(figures):
+        parts.append(fig.to_html(full_html=False, include_plotlyjs=i == 0))
+    parts.append("<p><small>Made with noisevar.</small></p></body></html>")
+    return "\n".join(parts)
+
+
+def table_height(n_rows: int) -> int:
+    """Pixel height that shows every row of an ``st.dataframe`` (no inner scroll bar hides any).
+
+    Streamlit draws 35-pixel rows under a 35-pixel header, plus a border.
+    """
+    return 35 * (int(n_rows) + 1) + 3
 
 
 def h_grid(lo: float = 1e-9, hi: float = 0.3) -> list[str]:
@@ -74,6 +166,7 @@ def how_it_works(*blocks: str, expanded: bool = False) -> None:
 
 def show_figure(fig: go.Figure, key: str | None = None, select: bool = False) -> None:
     """Draw a Plotly figure (box-select events, in ``st.session_state[key]``, when ``select``)."""
+    capped(fig)  # the browser budget: points and shapes (noisevar.figures._common)
     config = {"displaylogo": False, "scrollZoom": False}
     if select:
         st.plotly_chart(

@@ -190,19 +190,23 @@ def params_to_config(method: str, params: Mapping[str, Any]) -> dict[str, Any]:
     return validate_config(cfg)
 
 
-def config_to_json(config: Mapping[str, Any]) -> str:
+def config_to_json(config: Mapping[str, Any], column: str | None = None) -> str:
     """Serialise a config (validated first) as indented JSON text.
 
     Parameters
     ----------
     config : mapping
         A config.
+    column : str, optional
+        The data column the parameters were tuned on (``noisevar estimate`` reads it).
 
     Returns
     -------
     str
     """
     cfg = {k: json_value(v) for k, v in validate_config(config).items()}
+    if column:
+        cfg["column"] = column
     return json.dumps(cfg, indent=2, allow_nan=False) + "\n"
 
 

@@ -6,7 +6,7 @@ import streamlit as st
 
 from dashboard.pages import setup_page
 from dashboard.sections import estimator_results as results
-from dashboard.sections.estimator_tuning import tuning_panel
+from dashboard.sections.estimator_tuning import follow_config_column, tuning_panel
 from dashboard.sections.signal_loader import require_signal
 from dashboard.state import truth_of
 from dashboard.widgets import how_it_works
@@ -52,13 +52,14 @@ sig = require_signal(
 left, right = st.columns([1, 3], gap="large")
 with left:
     tuning = tuning_panel(sig.n)
+    sig = follow_config_column(sig)
 with right:
     truth = truth_of(sig)
     est, shown = results.run_estimate(sig, tuning)
     if est is not None:
-        results.headline(est, truth, tuning)
+        results.headline(sig, est, truth, tuning)
     fig = results.main_figure(sig, shown, tuning)
-    view, detail = results.step_views(sig, shown, tuning, truth)
-    results.exports(sig, est, truth, (fig, view, detail))
+    results.step_views(sig, shown, tuning, truth)
+    results.exports(sig, est, truth, fig)
 
 how_it_works(*HOW_IT_WORKS)

@@ -11,7 +11,14 @@ import streamlit as st
 from dashboard import cache
 from dashboard.sections.signal_loader import require_signal
 from dashboard.state import follow_table, initial, keep_valid
-from dashboard.widgets import fmt, guarded, h_grid, show_figure, table_and_figure_downloads
+from dashboard.widgets import (
+    fmt,
+    glossary,
+    guarded,
+    h_grid,
+    show_figure,
+    table_and_figure_downloads,
+)
 from noisevar.estimators.compare import rows_to_csv
 from noisevar.figures.kalman import (
     innovations_figure,
@@ -274,6 +281,7 @@ def results_view(runs: FilterRuns, is_scenario: bool) -> None:
             if k.startswith("RMSE") or k == "mean NIS"
         },
     )
+    glossary("NIS", "NEES", "RMSE")
     st.caption(
         "Mean NIS near the number of channels m means the filter's innovations match its "
         "covariance (consistent); far above, it is over-confident (R too small)."
@@ -326,6 +334,7 @@ def _figure(view: str, runs: FilterRuns, is_scenario: bool) -> go.Figure | None:
             title="R̂ per channel (log scale) against the true value"
             if is_scenario
             else "R̂ per channel (log scale) against a quick estimate",
+            reference_name="true R" if is_scenario else "quick estimate of R (method auto)",
         )
     which = st.selectbox("Filter", [r.strategy for r in results], key="af_innov")
     return innovations_figure(next(r for r in results if r.strategy == which))
@@ -378,6 +387,13 @@ def _table1(res1: cache.JsonDict, ask: tuple[int, int]) -> None:
     ]
     st.markdown("**RMSE over runs and steps**")
     st.dataframe(rm, hide_index=True)
+    st.caption(
+        "diverged: runs in which the filter's NEES left its chi-square band, i.e. its claimed "
+        "covariance P became too small for its actual errors. That judges the filter's "
+        "confidence, not its accuracy: a filter can keep an RMSE close to the best and still be "
+        "over-confident."
+    )
+    glossary("NEES", "RMSE")
     for note in res1.get("notes", []):
         st.caption(note)
     st.download_button(

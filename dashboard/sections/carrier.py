@@ -16,6 +16,7 @@ from noisevar.figures.carrier import (
     doppler_figure,
     iq_figure,
     phase_error_figure,
+    result_label,
     sweep_figure,
 )
 from noisevar.systems.carrier import CarrierResult
@@ -120,7 +121,7 @@ def tracking_results(s: CarrierSettings) -> None:
         return
     rows = [
         {
-            "filter": name,
+            "filter": result_label(r),
             "RMS phase error (rad)": r.rms_phase_error,
             "loss of lock (fraction of runs)": r.loss_of_lock,
         }
@@ -128,10 +129,10 @@ def tracking_results(s: CarrierSettings) -> None:
     ]
     st.dataframe(rows, hide_index=True, width="stretch")
     st.caption(
-        "ekf: fixed noise designed for the C/N0 above; aekf: adapts R (eq. 22, its window "
-        "starting full of the design R) and a stabilised Q from the same design; ekf_matched: "
-        "knows the true noise (the bound); "
-        "aekf_paper_q: the paper's Q of eq. 26, which runs away (a finding we report)."
+        "EKF: fixed noise designed for the C/N0 above. AEKF: adapts R from its residuals (its "
+        "window starts full of the design R) with a stabilised Q from the same design. EKF, "
+        "matched: knows the true noise (the bound). AEKF with the paper's Q: Q from the "
+        "innovations as printed in the paper, which runs away (a finding we report)."
     )
     view = figure_view(VIEWS, "ca_view", VIEWS[0])
     fig = None
@@ -152,7 +153,13 @@ def _figure(view: str, by_name: dict[str, CarrierResult]) -> go.Figure:
         return doppler_figure(results)
     if view == "Adaptation (R, Q)":
         return adaptation_figure(results)
-    which = st.radio("Filter", list(by_name), key="ca_iq", horizontal=True)
+    which = st.radio(
+        "Filter",
+        list(by_name),
+        key="ca_iq",
+        horizontal=True,
+        format_func=lambda k: result_label(by_name[k]),
+    )
     return iq_figure(by_name[which])
 
 

@@ -11,7 +11,14 @@ from streamlit.delta_generator import DeltaGenerator
 import noisevar
 from dashboard import cache
 from dashboard.state import LoadedSignal, initial
-from dashboard.widgets import csv_download, figure_downloads, fmt, guarded, show_figure
+from dashboard.widgets import (
+    csv_download,
+    figure_downloads,
+    fmt,
+    guarded,
+    show_figure,
+    table_height,
+)
 from noisevar.estimators.compare import (
     SLOW_METHODS,
     Comparison,
@@ -105,7 +112,13 @@ def comparison_table(comp: Comparison, sig: LoadedSignal) -> None:
     table["samples used"] = [r["n_used"] for r in rows]
     table["time (ms)"] = [r["ms"] for r in rows]
     table["note"] = [r["note"] for r in rows]
-    st.dataframe(table, hide_index=True, column_config=_number_columns(_COMPARE_FORMATS))
+    n_rows = len(rows)
+    st.dataframe(
+        table,
+        hide_index=True,
+        column_config=_number_columns(_COMPARE_FORMATS),
+        height=table_height(n_rows),  # every method visible: no rows behind a scroll bar
+    )
     truth = f" True variance {fmt(comp.true_variance)}." if comp.true_variance is not None else ""
     st.caption(
         f"Cramér-Rao floor for {sig.n:,} samples: relative sd "
@@ -303,6 +316,7 @@ def monte_carlo_results(cancelled: bool) -> None:
         {label: [r[k] for r in summary] for label, k in columns.items()},
         hide_index=True,
         column_config=_number_columns(_MC_FORMATS),
+        height=table_height(len(summary)),
     )
     for m, msg in res.first_error.items():
         st.caption(f"{m} failed {res.failures[m]} times; first: {msg}")

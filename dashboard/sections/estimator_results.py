@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import shlex
 
 import plotly.graph_objects as go
 import streamlit as st
@@ -10,9 +11,16 @@ from streamlit.delta_generator import DeltaGenerator
 
 import noisevar
 from dashboard import cache
-from dashboard.sections.estimator_tuning import Tuning
-from dashboard.state import LoadedSignal, initial
-from dashboard.widgets import csv_download, figure_downloads, fmt, guarded, show_figure
+from dashboard.sections.estimator_tuning import H_ALL, Tuning, closest
+from dashboard.state import LoadedSignal, initial, signal_units, time_of
+from dashboard.widgets import (
+    csv_download,
+    figure_downloads,
+    fmt,
+    guarded,
+    html_report,
+    show_figure,
+)
 from noisevar.config import config_to_json, params_to_config
 from noisevar.estimators.compare import rows_to_csv
 from noisevar.estimators.results import VarianceEstimate
@@ -28,6 +36,7 @@ from noisevar.figures.estimator import (
     window_variance_figure,
 )
 from noisevar.filters.envelope import RATIO_BAND
+from noisevar.format import eng_range, squared
 
 VIEWS = ["Window tests", "Envelopes and |V|", "h scan", "Per-window variance"]
 #: Longer records run the h scan only on request.
@@ -53,14 +62,17 @@ def run_estimate(
         return None, None
 
 
-def headline(est: VarianceEstimate, truth: float | None, tuning: Tuning) -> None:
+def headline(
+    sig: LoadedSignal, est: VarianceEstimate, truth: float | None, tuning: Tuning
+) -> None:
     """Variance, std, interval, windows kept (or samples used), the truth when known."""
+    u = signal_units()
     cols = st.columns(5)
-    cols[0].metric("Noise variance", fmt(est.variance))
-    cols[1].metric("Noise std", fmt(est.std))
+    cols[0].metric("Noise variance", fmt(est.variance, unit=squared(u)))
+    cols[1].metric("Noise std", fmt(est.std, unit=u))
     cols[2].metric(
         "95 % interval",
-        f"{fmt(est.ci95[0], 3)}–{fmt(est.ci95[1], 3)}",
+        eng_range(est.ci95[0], est.ci95[1], squared(u), 3),
         help=f"{fmt(est.ci95[0], 6)} to {fmt(est.ci95[1], 6)} (chi-square, "
         f"{est.dof:.0f} effective degrees of freedom)",
     )
@@ -72,7 +84,7 @@ def headline(est: VarianceEstimate, truth: float | None, tuning: Tuning) -> None
     if truth is not None:
         cols[4].metric(
             "True variance",
-            fmt(truth),
+            fmt(truth, unit=squared(u)),
             delta=f"{100 * (est.variance / truth - 1):+.1f} %",
             delta_color="off",
             delta_arrow="off",
@@ -80,11 +92,39 @@ def headline(est: VarianceEstimate, truth: float | None, tuning: Tuning) -> None
         )
     for note in est.notes:
         st.caption(f"Note: {note}")
+    _versus_auto(sig, est)
     if tuning.method == "somd-paper":
         st.caption(
-            "somd-paper divides by 2 as printed; its bias is c(h)/2 − 1 (docs/algorithms.md §A8). "
+            "somd-paper divides by 2 as printed in the paper; its bias is c(h)/2 − 1. "
             "`somd` divides by the exact c(h)."
         )
+
+
+def _versus_auto(sig: LoadedSignal, est: VarianceEstimate) -> None:
+    """Why the Home and Signal pages (method auto) may show another number than this page."""
+    if est.method == "auto":
+        return
+    auto = None
+    if sig.n <= SCAN_AUTO_LIMIT:
+        try:
+            auto = cache.estimate(sig, "auto", {})
+        except noisevar.NoisevarError:
+            auto = None
+    u = signal_units()
+    versus = ""
+    if auto is not None:
+        overlap = auto.ci95[0] <= est.ci95[1] and est.ci95[0] <= auto.ci95[1]
+        versus = (
+            f" There it gives std {fmt(auto.std, unit=u)} ({100 * (auto.std / est.std - 1):+.1f} %"
+            f" against {fmt(est.std, unit=u)} here; the 95 % intervals "
+            f"{'overlap' if overlap else 'do not overlap'})."
+        )
+    st.caption(
+        f"The Home and Signal pages use method `auto` (a zero-lag polynomial virtual sensor, "
+        f"robust to jumps and outliers); this page defaults to `somd`, the paper's method, "
+        f"tuned step by step.{versus} Different assumptions give slightly different answers; "
+        "the Compare page puts every method side by side."
+    )
 
 
 def _windows_kept(col: DeltaGenerator, est: VarianceEstimate) -> None:
@@ -121,7 +161,7 @@ def _selected_stretch(sig: LoadedSignal) -> slice | None:
         sig_box = (round(float(box["x"][0]), 6), round(float(box["x"][1]), 6))
         if st.session_state.get("_last_box") != sig_box:
             st.session_state["_last_box"] = sig_box
-            sl = range_to_slice(sig_box[0], sig_box[1], sig.n, sig.sample_period)
+            sl = range_to_slice(sig_box[0], sig_box[1], sig.n, time_of(sig))
             st.session_state["s0"], st.session_state["s1"] = sl.start, sl.stop
     s0 = int(st.session_state.get("s0", 0) or 0)
     s1 = int(st.session_state.get("s1", 0) or 0)
@@ -138,10 +178,17 @@ def main_figure(sig: LoadedSignal, shown: VarianceEstimate | None, tuning: Tunin
     stretch = _selected_stretch(sig)
     if shown is not None:
         fig = somd_figure(
-            sig.z, shown, sig.sample_period, stretch=stretch, title="Raw signal, filters, windows"
+            sig.z,
+            shown,
+            time_of(sig),
+            stretch=stretch,
+            title="Raw signal, filters, windows",
+            units=signal_units(),
         )
     else:
-        fig = signal_figure(sig.z, sig.sample_period, sig.column, title="Raw signal")
+        fig = signal_figure(
+            sig.z, time_of(sig), sig.column, title="Raw signal", units=signal_units()
+        )
         fig.update_layout(dragmode="select", selectdirection="h")
     st.caption(
         "Drag across the plot to estimate over a chosen stretch only (double-click clears the "
@@ -166,22 +213,27 @@ def _stretch_estimate(sig: LoadedSignal, tuning: Tuning, stretch: slice) -> None
     try:
         part = cache.estimate(sig, tuning.method, tuning.params, stretch=stretch)
         cols = st.columns(4)
+        u = signal_units()
         cols[0].metric(
             "Stretch variance",
-            fmt(part.variance),
+            fmt(part.variance, unit=squared(u)),
             help=f"samples {stretch.start} to {stretch.stop - 1}",
         )
-        cols[1].metric("Stretch std", fmt(part.std))
-        cols[2].metric("95 % interval", f"{fmt(part.ci95[0], 3)}–{fmt(part.ci95[1], 3)}")
+        cols[1].metric("Stretch std", fmt(part.std, unit=u))
+        cols[2].metric("95 % interval", eng_range(part.ci95[0], part.ci95[1], squared(u), 3))
         cols[3].metric("Samples in stretch", f"{stretch.stop - stretch.start:,}")
     except noisevar.NoisevarError as exc:
         st.error(f"Stretch {stretch.start}–{stretch.stop - 1}: {exc} (choose a longer stretch)")
 
 
+@st.fragment
 def step_views(
     sig: LoadedSignal, shown: VarianceEstimate | None, tuning: Tuning, truth: float | None
-) -> tuple[str, go.Figure | None]:
-    """The "Step by step" figures: window tests, envelopes, h scan, per-window variance."""
+) -> None:
+    """The "Step by step" figures: window tests, envelopes, h scan, per-window variance.
+
+    A fragment: choosing another view (or running the h scan) reruns this part only.
+    """
     view = st.segmented_control(
         "Step by step",
         VIEWS,
@@ -199,7 +251,7 @@ def step_views(
                 tuning.gamma_amp,
                 tuning.gamma_ang,
                 sig.sample_period,
-                title="Window tests of eq. 19 (first smoothing filter)",
+                title="Window tests: straight (amplitude) and not lagging (angle)",
             )
         else:
             st.info("Window tests exist for the SOMD methods with window selection on.")
@@ -216,7 +268,8 @@ def step_views(
         )
     if detail is not None:
         show_figure(detail, key="est_detail")
-    return view, detail
+        st.caption(f"{view} figure")
+        figure_downloads(detail, f"noisevar-{str(view).split()[0].lower()}", "fig_detail")
 
 
 def _envelope_view(
@@ -266,41 +319,91 @@ def _scan_view(
             scan,
             tuning.h_smooth if tuning.somd else (),
             d.h_track if d is not None else None,
-            title="Choosing h_S: noise amplitude ratio against h (eq. 14)",
+            title="Choosing h_S: noise left after smoothing, |V1| / |V2|, against h",
         )
+        in_use = f"h_S in use: {tuning.h_smooth[0]:.3g}." if tuning.somd else ""
         if math.isfinite(scan.h_min):
             st.caption(
                 f"Ratio within [{RATIO_BAND[0]:g}, {RATIO_BAND[1]:g}] for h from "
-                f"{scan.h_min:.3g} to {scan.h_max:.3g}; chosen h = {scan.h_chosen:.3g} "
-                f"(the ratio closest to the band's centre)."
+                f"{scan.h_min:.3g} to {scan.h_max:.3g}; the scan suggests h = "
+                f"{scan.h_chosen:.3g} (the ratio closest to the band's centre). {in_use}"
             )
         else:
-            st.caption(f"No grid h puts the ratio inside the band; closest: {scan.h_chosen:.3g}.")
+            st.caption(
+                f"No grid h puts the ratio inside the band; closest: {scan.h_chosen:.3g}. {in_use}"
+            )
+        if tuning.somd:
+            st.button(
+                f"Apply the suggested h_S = {scan.h_chosen:.3g}",
+                key="scan_apply",
+                on_click=_apply_scan_h,
+                args=(scan.h_chosen,),
+                icon=":material/check:",
+            )
+    if st.session_state.pop("_scan_applied", False):
+        st.rerun()  # h_S lives outside this fragment: rerun the whole page
     return detail
+
+
+def _apply_scan_h(h: float) -> None:
+    st.session_state["h_s"] = closest(H_ALL, h)
+    st.session_state["_scan_applied"] = True
 
 
 def exports(
     sig: LoadedSignal,
     est: VarianceEstimate | None,
     truth: float | None,
-    figures: tuple[go.Figure, str, go.Figure | None],
+    fig: go.Figure,
 ) -> None:
-    """Downloads: the tuned-parameter JSON, the estimate and windows as CSV, the figures."""
-    fig, view, detail = figures
+    """Downloads: the tuned-parameter JSON, the estimate and windows as CSV, the main figure.
+
+    The step-by-step figure's downloads sit under it (:func:`step_views`).
+    """
     st.markdown("#### Export")
     if est is not None:
         _estimate_downloads(sig, est, truth)
+        st.download_button(
+            "Report of this analysis (HTML: numbers, config, figure)",
+            data=lambda: _report(sig, est, truth, fig),
+            file_name="noisevar-report.html",
+            mime="text/html",
+            key="dl_report",
+            on_click="ignore",
+            icon=":material/description:",
+            width="stretch",
+        )
     st.caption("Main figure")
     figure_downloads(fig, "noisevar-estimator", "fig_main")
-    if detail is not None:
-        st.caption(f"{view} figure")
-        figure_downloads(detail, f"noisevar-{str(view).split()[0].lower()}", "fig_detail")
+
+
+def _report(
+    sig: LoadedSignal, est: VarianceEstimate, truth: float | None, fig: go.Figure
+) -> str:
+    rows = [
+        {"quantity": "signal", "value": f"{sig.label}, column {sig.column}"},
+        {"quantity": "samples", "value": f"{sig.n:,}"},
+        {"quantity": "units", "value": signal_units() or "not given"},
+        *estimate_rows(est, truth),
+    ]
+    cfg = config_to_json(params_to_config(est.params["method"], est.params), column=sig.column)
+    notes = [cli_hint(sig), cfg, *est.notes]
+    return html_report(f"noisevar: noise of {sig.label}", rows, [fig], notes)
+
+
+def cli_hint(sig: LoadedSignal) -> str:
+    """The command line that repeats the page's estimate on the source file."""
+    name = sig.table.name if sig.source != "generated" else "yourfile.csv"
+    column, name = shlex.quote(sig.column), shlex.quote(name)
+    return f"noisevar estimate --config noisevar-config.json --column {column} {name}"
 
 
 def _estimate_downloads(sig: LoadedSignal, est: VarianceEstimate, truth: float | None) -> None:
     c1, c2, c3 = st.columns(3)
     try:
-        cfg_json = config_to_json(params_to_config(est.params["method"], est.params))
+        cfg_json = config_to_json(
+            params_to_config(est.params["method"], est.params), column=sig.column
+        )
     except noisevar.NoisevarError as exc:  # pragma: no cover - params come from widgets
         cfg_json = None
         st.error(str(exc))
@@ -314,7 +417,7 @@ def _estimate_downloads(sig: LoadedSignal, est: VarianceEstimate, truth: float |
             on_click="ignore",
             icon=":material/settings:",
             width="stretch",
-            help="Use it with: noisevar estimate --config noisevar-config.json data.csv",
+            help=f"Use it with: {cli_hint(sig)}",
         )
     csv_download(
         c2,
@@ -337,4 +440,6 @@ def _estimate_downloads(sig: LoadedSignal, est: VarianceEstimate, truth: float |
     if cfg_json is not None:
         with st.expander("Tuned parameters (the JSON config)"):
             st.code(cfg_json, language="json")
-            st.caption("`noisevar estimate --config noisevar-config.json yourfile.csv`")
+            st.caption(
+                f"`{cli_hint(sig)}` gives the same estimate (the config names the column too)."
+            )

@@ -2,14 +2,15 @@
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass, field
 
 import streamlit as st
 
 import noisevar
-from dashboard.state import initial, keep_valid
-from dashboard.widgets import h_grid
+from dashboard.state import LoadedSignal, initial, keep_valid, reselect
+from dashboard.widgets import GLOSSARY, h_grid
 from noisevar.config import parse_config
 from noisevar.filters.abg import settling_samples
 
@@ -19,6 +20,8 @@ RATIOS = [2, 3, 5, 7, 10, 15, 20, 30, 50, 70, 100]
 H_ALL = h_grid(1e-9, 3e-3)
 HT_ALL = h_grid(1e-8, 0.3)
 MIN_WINDOW = 8
+#: Session key of the column named by a loaded config (applied by the page, then dropped).
+CONFIG_COLUMN_KEY = "est_config_column"
 
 
 def methods() -> list[str]:
@@ -68,8 +71,41 @@ def _valid_h(options: list[str], window: int, n: int) -> list[str]:
     return ok or options[-1:]
 
 
-def _closest(options: list[str], target: float) -> str:
+def closest(options: list[str], target: float) -> str:
     return min(options, key=lambda h: abs(math.log(float(h) / target)))
+
+
+def _parse_with_column(raw: bytes, name: str) -> tuple[dict[str, object], str | None]:
+    """A config's parameters and its ``column`` (the channel is not an estimator parameter)."""
+    try:
+        data = json.loads(raw)
+    except (ValueError, UnicodeDecodeError):
+        return parse_config(raw, name), None  # parse_config words the JSON error
+    column = data.pop("column", None) if isinstance(data, dict) else None
+    if column is not None and not isinstance(column, str):
+        raise noisevar.NoisevarError(f"{name}: 'column' must be a column name, got {column!r}")
+    return parse_config(json.dumps(data), name), column
+
+
+def follow_config_column(sig: LoadedSignal) -> LoadedSignal:
+    """Switch to the column a just-loaded config names (once; a warning if the table lacks it)."""
+    column = st.session_state.pop(CONFIG_COLUMN_KEY, None)
+    if column is None or column == sig.column:
+        return sig
+    columns = sig.table.data_columns
+    if column not in columns:
+        st.warning(
+            f"The loaded config was tuned on column {column!r}, which this table does not have "
+            f"(columns: {', '.join(columns)}); the parameters apply to column {sig.column!r}."
+        )
+        return sig
+    try:
+        new = reselect(sig, column, sig.sample_period)
+    except noisevar.NoisevarError as exc:
+        st.error(f"Column {column!r} of the loaded config: {exc}")
+        return sig
+    st.info(f"Switched to column {column!r}, named by the loaded config.")
+    return new
 
 
 def _apply_config(largest_window: int) -> None:
@@ -78,22 +114,23 @@ def _apply_config(largest_window: int) -> None:
     if up is None:
         return
     try:
-        cfg = parse_config(up.getvalue(), up.name)
+        cfg, column = _parse_with_column(up.getvalue(), up.name)
     except noisevar.NoisevarError as exc:
         st.session_state["est_config_error"] = str(exc)
         return
     st.session_state.pop("est_config_error", None)
     state = st.session_state
+    state[CONFIG_COLUMN_KEY] = column
     if cfg.get("method") in methods():
         state["est_method"] = cfg["method"]
     hs = cfg.get("h_smooth")
     if hs is not None:
         hs = hs if isinstance(hs, list) else [hs]
-        state["h_s"] = _closest(H_ALL, hs[0])
-        state["h_more"] = sorted({_closest(H_ALL, h) for h in hs[1:]}, key=float)
+        state["h_s"] = closest(H_ALL, hs[0])
+        state["h_more"] = sorted({closest(H_ALL, h) for h in hs[1:]}, key=float)
     if "h_track" in cfg:
         state["ht_mode"] = "value"
-        state["h_t"] = _closest(HT_ALL, cfg["h_track"])
+        state["h_t"] = closest(HT_ALL, cfg["h_track"])
     elif "track_ratio" in cfg:
         state["ht_mode"] = "multiple of h_S"
         state["ht_ratio"] = min(RATIOS, key=lambda r: abs(r - cfg["track_ratio"]))
@@ -153,27 +190,30 @@ def _method_select() -> str:
     names = methods()
     desc = noisevar.describe_methods()
     keep_valid("est_method", lambda v: v in names, "somd")
-    return st.selectbox(
+    # the options are the names (as in the CLI and the share link); the description follows
+    method = st.selectbox(
         "Method",
         names,
         key="est_method",
         bind="query-params",
-        format_func=lambda m: f"{m}: {desc[m]}",
+        help="The estimator; `noisevar methods` lists the same names.",
         **initial("est_method", names.index("somd"), "index"),
     )
+    st.caption(desc[method])
+    return method
 
 
 def _smoothing_filters(n: int, somd: bool) -> tuple[str, list[str]]:
     hs_opts = _valid_h(H_ALL, MIN_WINDOW, n)
-    keep_valid("h_s", lambda v: v in hs_opts, _closest(hs_opts, 1.5e-5))
+    keep_valid("h_s", lambda v: v in hs_opts, closest(hs_opts, 1.5e-5))
     h_s = st.select_slider(
         "Smoothing filter h_S (log scale)",
         hs_opts,
         key="h_s",
         bind="query-params",
         disabled=not somd,
-        help="h = q/r of the alpha-beta-gamma filter; smaller = smoother. Paper: 1.5e-5.",
-        **initial("h_s", _closest(hs_opts, 1.5e-5)),
+        help=GLOSSARY["h"] + " Paper: 1.5e-5.",
+        **initial("h_s", closest(hs_opts, 1.5e-5)),
     )
     h_more = st.multiselect(
         "More smoothing filters (several h)",
@@ -187,7 +227,11 @@ def _smoothing_filters(n: int, somd: bool) -> tuple[str, list[str]]:
 
 
 def _tracking_filter(h_s: str, n: int, somd: bool) -> dict[str, float]:
-    """The tracking filter as ``{"h_track": ...}`` or ``{"track_ratio": ...}``."""
+    """The tracking filter as ``{"h_track": ...}`` or ``{"track_ratio": ...}``.
+
+    Both sliders are always drawn (the unused one disabled): a widget that exists
+    follows a loaded config into the URL, so a share link carries ``h_t``.
+    """
     ht_mode = st.radio(
         "Tracking filter h_T",
         ["multiple of h_S", "value"],
@@ -196,30 +240,29 @@ def _tracking_filter(h_s: str, n: int, somd: bool) -> dict[str, float]:
         horizontal=True,
         disabled=not somd,
     )
-    if ht_mode == "multiple of h_S":
-        ratio_opts = [r for r in RATIOS if float(h_s) * r < 0.3]
-        keep_valid("ht_ratio", lambda v: v in ratio_opts, ratio_opts[-1])
-        ratio = st.select_slider(
-            "h_T / h_S",
-            ratio_opts,
-            key="ht_ratio",
-            bind="query-params",
-            disabled=not somd,
-            help="The paper takes h_T 10 to 100 times h_S.",
-            **initial("ht_ratio", 30 if 30 in ratio_opts else ratio_opts[-1]),
-        )
-        return {"track_ratio": float(ratio)}
+    by_ratio = ht_mode == "multiple of h_S"
+    ratio_opts = [r for r in RATIOS if float(h_s) * r < 0.3]
+    keep_valid("ht_ratio", lambda v: v in ratio_opts, ratio_opts[-1])
+    ratio = st.select_slider(
+        "h_T / h_S",
+        ratio_opts,
+        key="ht_ratio",
+        bind="query-params",
+        disabled=not somd or not by_ratio,
+        help="The paper takes h_T 10 to 100 times h_S.",
+        **initial("ht_ratio", 30 if 30 in ratio_opts else ratio_opts[-1]),
+    )
     ht_opts = _valid_h(HT_ALL, MIN_WINDOW, n)
-    keep_valid("h_t", lambda v: v in ht_opts, _closest(ht_opts, 5e-4))
+    keep_valid("h_t", lambda v: v in ht_opts, closest(ht_opts, 5e-4))
     h_t = st.select_slider(
         "h_T (log scale)",
         ht_opts,
         key="h_t",
         bind="query-params",
-        disabled=not somd,
-        **initial("h_t", _closest(ht_opts, 5e-4)),
+        disabled=not somd or by_ratio,
+        **initial("h_t", closest(ht_opts, 5e-4)),
     )
-    return {"h_track": float(h_t)}
+    return {"track_ratio": float(ratio)} if by_ratio else {"h_track": float(h_t)}
 
 
 def _window_tests(somd: bool) -> tuple[float, float, str, bool]:
@@ -233,9 +276,10 @@ def _window_tests(somd: bool) -> tuple[float, float, str, bool]:
         bind="query-params",
         disabled=not somd,
         help=(
-            "somd-paper (as printed): keep a window when |A1/A2|, |A2/A3|, |A3/A4| are all "
-            "within (1 − Γ, 1 + Γ). somd: the same chain closed by |A4/A1|, each ratio within "
-            "a band of the same log-width centred on 1, so that −z keeps the same windows as z."
+            GLOSSARY["Γ_amp"] + " somd-paper (as printed): |A1/A2|, |A2/A3|, |A3/A4| within "
+            "(1 − Γ, 1 + Γ). somd: the same chain closed by |A4/A1|, scored by tanh|ln r| ("
+            + GLOSSARY["tanh|ln r|"]
+            + "), so that −z keeps the same windows as z."
         ),
         **initial("g_amp", 0.5),
     )
@@ -247,7 +291,7 @@ def _window_tests(somd: bool) -> tuple[float, float, str, bool]:
         key="g_ang",
         bind="query-params",
         disabled=not somd,
-        help="Keep a window when the smooth and tracking slopes differ by less than Γ_ang.",
+        help=GLOSSARY["Γ_ang"],
         **initial("g_ang", 10.0),
     )
     angle = st.radio(

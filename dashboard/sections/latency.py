@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 from dataclasses import dataclass
 
+import numpy as np
 import streamlit as st
 
 from dashboard import cache
@@ -97,8 +98,15 @@ def delay_results(s: LatencySettings) -> None:
     )
     view = figure_view(VIEWS, "la_view", VIEWS[0])
     fig = None
+    zoom = None
+    if view == "Records" and st.toggle(
+        "Zoom on the sharpest speed change (the delay is a fraction of a second)",
+        value=True,
+        key="la_zoom",
+    ):
+        zoom = _sharpest_change(res)
     with guarded():
-        fig = FIGURES[view](res)
+        fig = records_figure(res, window_s=zoom) if zoom else FIGURES[view](res)
     if fig is not None:
         show_figure(fig, key="la_chart")
     table_and_figure_downloads(
@@ -114,6 +122,14 @@ def delay_results(s: LatencySettings) -> None:
         "The Two sensors page uses the same least-squares delay to line two sensors up before "
         "differencing them."
     )
+
+
+def _sharpest_change(res: LatencyResult, half_width_s: float = 4.0) -> tuple[float, float]:
+    """A few seconds around the reference's steepest speed change."""
+    rec = res.record
+    k = int(np.argmax(np.abs(np.gradient(rec.reference))))
+    t = float(rec.time[k])
+    return max(t - half_width_s, float(rec.time[0])), t + half_width_s
 
 
 def _metrics(res: LatencyResult) -> None:

@@ -108,9 +108,9 @@ def redundant_results(sig: LoadedSignal, cols: list[str], align: bool) -> None:
         return
     res, used, delay, removed = out
     unit = "s" if sig.sample_period else "samples"
-    _metrics(res, cols)
-    _delay_message(delay, removed, cols, unit, used.shape[0])
     single = _single_estimates(sig, cols)
+    _metrics(res, cols, single)
+    _delay_message(delay, removed, cols, unit, used.shape[0])
     _sensor_table(res, cols, single)
     _pair_table(res, cols, delays, unit)
     big = [
@@ -149,18 +149,49 @@ def redundant_results(sig: LoadedSignal, cols: list[str], align: bool) -> None:
     )
 
 
-def _metrics(res: RedundantEstimate, cols: list[str]) -> None:
+def _metrics(
+    res: RedundantEstimate, cols: list[str], single: list[VarianceEstimate | None]
+) -> None:
+    """One headline per sensor: its own variance, never the pair's sum.
+
+    Two sensors only give ``var a + var b``: each sensor's headline is then its
+    single-signal estimate and the redundant sum is shown beside them as a check.
+    """
     ci = res.ci95
-    mcols = st.columns(len(cols))
+    pair_only = len(cols) == 2
+    mcols = st.columns(len(cols) + (1 if pair_only else 0))
     for j, c in enumerate(cols):
+        if pair_only:
+            e = single[j]
+            mcols[j].metric(
+                f"{c}: noise variance",
+                fmt(e.variance if e is not None else None),
+                help="This sensor alone (method auto): two sensors only give the sum of the two "
+                "variances.",
+            )
+            if e is not None:
+                mcols[j].caption(
+                    f"std {fmt(e.std)}; 95 % {fmt(e.ci95[0])} to {fmt(e.ci95[1])}; single-signal"
+                )
+            continue
         mcols[j].metric(
             f"{c}: noise variance",
             fmt(res.variances[j]),
-            help=f"95 % interval {fmt(ci[j, 0])} to {fmt(ci[j, 1])}",
+            help=f"Three-cornered hat; 95 % interval {fmt(ci[j, 0])} to {fmt(ci[j, 1])}",
         )
-        mcols[j].caption(f"std {fmt(float(res.stds[j]))}; 95 % {fmt(ci[j, 0])} … {fmt(ci[j, 1])}")
-    for note in res.notes:
-        st.caption(f"Note: {note}")
+        mcols[j].caption(f"std {fmt(float(res.stds[j]))}; 95 % {fmt(ci[j, 0])} to {fmt(ci[j, 1])}")
+    if pair_only:
+        total = sum(e.variance for e in single if e is not None)
+        mcols[2].metric(
+            f"{cols[0]} + {cols[1]} (two sensors)",
+            fmt(res.pair_sums[0, 1]),
+            help="½ E[(ΔZa − ΔZb)²]: the sum of the two noise variances, the only quantity two "
+            "sensors determine (a third sensor separates them).",
+        )
+        mcols[2].caption(f"sum of the single-signal values: {fmt(total)}")
+    else:
+        for note in res.notes:
+            st.caption(f"Note: {note}")
 
 
 def _delay_message(

@@ -2,11 +2,20 @@
 
 from __future__ import annotations
 
+import numpy as np
 import streamlit as st
 from streamlit.delta_generator import DeltaGenerator
 
 from dashboard import cache
-from dashboard.state import LoadedSignal, clean_of, reselect, truth_of
+from dashboard.state import (
+    UNITS_KEY,
+    LoadedSignal,
+    clean_of,
+    reselect,
+    signal_units,
+    time_of,
+    truth_of,
+)
 from dashboard.widgets import figure_downloads, fmt, guarded, show_figure
 from noisevar.figures.estimator import signal_figure
 from noisevar.io import signal_summary
@@ -37,6 +46,14 @@ def column_and_period(sig: LoadedSignal, errors: DeltaGenerator) -> LoadedSignal
             "work per sample."
         ),
     )
+    st.text_input(
+        "Units of the signal (optional)",
+        key=UNITS_KEY,
+        bind="query-params",
+        max_chars=20,
+        placeholder="e.g. m, V, s",
+        help="Carried to the axes and numbers of every page: the variance is in units².",
+    )
     if column != sig.column or period != sig.sample_period:
         with errors, guarded(f"Column {column!r}: "):
             sig = reselect(sig, column, period)
@@ -51,24 +68,28 @@ def summary_metrics(sig: LoadedSignal, errors: DeltaGenerator) -> None:
         auto = cache.estimate(sig, "auto", {})
     m = st.columns(6)
     m[0].metric("Samples", f"{summary['n']:,}")
-    m[1].metric(
-        "Duration",
-        f"{summary['duration_s']:.4g} s" if sig.sample_period else "n/a",
-        help=None if sig.sample_period else "Set the sample period T to see the duration.",
-    )
-    m[2].metric("Mean", fmt(summary["mean"]))
-    m[3].metric("Std (signal + noise)", fmt(summary["std"]))
+    timing = time_of(sig)
+    if isinstance(timing, np.ndarray):
+        duration = float(timing[-1] - timing[0])  # the time column: gaps included
+        how = "From the time column (gaps included)."
+    else:
+        duration = summary["duration_s"] if sig.sample_period else None
+        how = "Samples × T." if sig.sample_period else "Set the sample period T to see it."
+    m[1].metric("Duration", fmt(duration, unit="s") if duration is not None else "n/a", help=how)
+    u = signal_units()
+    m[2].metric("Mean", fmt(summary["mean"], unit=u))
+    m[3].metric("Std (signal + noise)", fmt(summary["std"], unit=u))
     m[4].metric(
         "Min / max",
-        f"{fmt(summary['min'], 3)} / {fmt(summary['max'], 3)}",
+        f"{fmt(summary['min'], unit=u)} / {fmt(summary['max'], unit=u)}",
         help=f"{fmt(summary['min'], 8)} to {fmt(summary['max'], 8)}",
     )
     if auto is not None:
         truth = truth_of(sig)
         m[5].metric(
             "Noise std (auto)",
-            fmt(auto.std),
-            delta=f"true {fmt(truth**0.5)}" if truth else None,
+            fmt(auto.std, unit=u),
+            delta=f"true {fmt(truth**0.5, unit=u)}" if truth else None,
             delta_color="off",
             delta_arrow="off",
             help="Quick estimate with the default method; tune it on the Estimator page.",
@@ -81,9 +102,10 @@ def preview(sig: LoadedSignal) -> None:
     """The signal figure, its downloads, the table as CSV and its first rows."""
     fig = signal_figure(
         sig.z,
-        sig.sample_period,
+        time_of(sig),
         name=sig.column,
         clean=clean_of(sig),
+        units=signal_units(),
         title=f"{sig.label}",
     )
     show_figure(fig, key="signal_preview")

@@ -13,7 +13,9 @@ This package module holds the shared tooling:
   browser: above ``max_points`` samples the trace is reduced with the
   MinMax-LTTB algorithm of the ``tsdownsample`` package (a min-max
   pre-selection followed by largest-triangle-three-buckets; peaks and noise
-  bands survive) and drawn with WebGL (``Scattergl``). Computation is always
+  bands survive) and drawn as SVG (``Scatter``: at a few thousand points SVG
+  lines draw several times faster than WebGL, above all without a GPU, where
+  WebGL runs in software). Computation is always
   on every sample; only the drawing is reduced, and
   :func:`note_downsampled` says so on the figure.
 * :func:`x_axis` gives the abscissa (seconds or sample index) of chosen
@@ -33,12 +35,23 @@ import plotly.graph_objects as go
 from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
+from noisevar.figures._budget import (
+    MAX_FIGURE_MARKERS,
+    MAX_FIGURE_POINTS,
+    MAX_FIGURE_SHAPES,
+    MAX_POINTS,
+    capped,
+    downsample_indices,
+    figure_size,
+    log_axis,
+)
 from noisevar.figures._shapes import band, hline, stacked_axes, step_xy, vline
 from noisevar.kalman.result import FilterResult
 from noisevar.systems.base import RunResult, as_list, check_run_index
 
-#: Default number of points drawn per trace of a long record.
-MAX_POINTS = 4000
+#: Seconds per sample (float), the samples' own times (array, seconds) or None (sample index).
+Timing = float | NDArray | None
+
 
 #: Colours shared by the figures (colour-blind-safe Okabe-Ito order).
 COLORS = {
@@ -97,54 +110,11 @@ def check_run(result: RunResult | FilterResult, run: int) -> None:
     check_run_index(run, int(result.x.shape[0]) if result.batched else 1)
 
 
-def downsample_indices(y: ArrayLike, max_points: int = MAX_POINTS) -> NDArray:
-    """Indices of at most ``max_points`` samples that keep the look of ``y``.
-
-    MinMax-LTTB (``tsdownsample``) when the record is longer than
-    ``max_points``; every index otherwise. Non-finite samples fall back to
-    a plain min-max reduction over the finite ones.
-
-    Parameters
-    ----------
-    y : array_like, shape (n,)
-        Samples.
-    max_points : int
-        Number of points to keep (at least 10).
-
-    Returns
-    -------
-    ndarray of int
-        Sorted indices into ``y``.
-    """
-    y = np.asarray(y, dtype=float)
-    n = y.size
-    max_points = max(int(max_points), 10)
-    if n <= max_points:
-        return np.arange(n)
-    finite = np.isfinite(y)
-    if not finite.all():
-        idx = np.flatnonzero(finite)
-        if idx.size <= max_points:
-            return idx
-        sub = downsample_indices(y[idx], max_points)
-        return idx[sub]
-    try:
-        from tsdownsample import MinMaxLTTBDownsampler
-
-        idx = MinMaxLTTBDownsampler().downsample(np.ascontiguousarray(y), n_out=max_points)
-        return np.asarray(idx, dtype=np.int64)
-    except ImportError:  # pragma: no cover - tsdownsample is in the app extra
-        n_bins = max_points // 2
-        edges = np.linspace(0, n, n_bins + 1).astype(int)
-        out = []
-        for a, b in zip(edges[:-1], edges[1:], strict=True):
-            seg = y[a:b]
-            out.extend(sorted({a + int(np.argmin(seg)), a + int(np.argmax(seg))}))
-        return np.asarray(out, dtype=np.int64)
-
-
-def x_axis(idx: ArrayLike, sample_period: float | None = None, t0: float = 0.0) -> NDArray:
+def x_axis(idx: ArrayLike, sample_period: Timing = None, t0: float = 0.0) -> NDArray:
     """Abscissa of sample indices: seconds when a sample period is known, else the index.
+
+    ``sample_period`` may also be the record's own time stamps (an array of
+    seconds, one per sample): records with gaps are then drawn against real time.
 
     Parameters
     ----------
@@ -160,10 +130,34 @@ def x_axis(idx: ArrayLike, sample_period: float | None = None, t0: float = 0.0) 
     ndarray of float
     """
     idx = np.asarray(idx, dtype=float)
+    if isinstance(sample_period, np.ndarray):  # the samples' own times: gaps stay gaps
+        return np.interp(idx, np.arange(sample_period.size), sample_period)
     return t0 + idx * sample_period if sample_period else idx
 
 
-def x_title(sample_period: float | None) -> str:
+def unit_name(units: str | None, name: str) -> str:
+    """An axis or legend title with its units: ``"signal (m)"``, or ``name`` without units.
+
+    Parameters
+    ----------
+    units : str or None
+        Units of the quantity (empty for none).
+    name : str
+        The quantity.
+
+    Returns
+    -------
+    str
+    """
+    return f"{name} ({units})" if units else name
+
+
+def has_time(sample_period: Timing) -> bool:
+    """Whether ``sample_period`` (a period or the samples' times) gives seconds."""
+    return isinstance(sample_period, np.ndarray) or bool(sample_period)
+
+
+def x_title(sample_period: Timing) -> str:
     """Axis title matching :func:`x_axis`.
 
     Parameters
@@ -176,17 +170,17 @@ def x_title(sample_period: float | None) -> str:
     str
         ``"time (s)"`` or ``"sample"``.
     """
-    return "time (s)" if sample_period else "sample"
+    return "time (s)" if has_time(sample_period) else "sample"
 
 
 def line_trace(
     y: ArrayLike,
     name: str,
-    sample_period: float | None = None,
+    sample_period: Timing = None,
     max_points: int = MAX_POINTS,
     mode: str = "lines",
     **kwargs: Any,
-) -> tuple[go.Scatter | go.Scattergl, bool]:
+) -> tuple[go.Scatter | go.Scatter, bool]:
     """A line trace of a long record, downsampled for drawing when needed.
 
     Parameters
@@ -206,16 +200,16 @@ def line_trace(
 
     Returns
     -------
-    trace : go.Scatter or go.Scattergl
-        ``Scattergl`` when downsampled (WebGL draws many points fast).
+    trace : go.Scatter or go.Scatter
+        A ``Scatter`` (SVG) trace.
     downsampled : bool
         Whether points were dropped for drawing.
     """
     y = np.asarray(y, dtype=float)
     idx = downsample_indices(y, max_points)
     reduced = idx.size < y.size
-    cls = go.Scattergl if reduced else go.Scatter
-    trace = cls(x=x_axis(idx, sample_period), y=y[idx], name=name, mode=mode, **kwargs)
+    x = x_axis(idx, sample_period)
+    trace = go.Scatter(x=x, y=y[idx], name=name, mode=mode, **kwargs)
     return trace, reduced
 
 
@@ -242,7 +236,7 @@ def note_downsampled(fig: go.Figure, n_total: int, max_points: int = MAX_POINTS)
 
 
 def range_to_slice(
-    x0: float, x1: float, n: int, sample_period: float | None = None, t0: float = 0.0
+    x0: float, x1: float, n: int, sample_period: Timing = None, t0: float = 0.0
 ) -> slice:
     """Sample slice covered by an abscissa range (a box selection on a figure).
 
@@ -263,6 +257,10 @@ def range_to_slice(
         ``slice(start, stop)`` clipped to ``[0, n]``.
     """
     lo, hi = sorted((float(x0), float(x1)))
+    if isinstance(sample_period, np.ndarray):  # the samples' own times
+        start = int(np.searchsorted(sample_period, lo, side="left"))
+        stop = int(np.searchsorted(sample_period, hi, side="right"))
+        return slice(min(start, n), max(min(start, n), min(stop, n)))
     if sample_period:
         lo, hi = (lo - t0) / sample_period, (hi - t0) / sample_period
     start = int(np.clip(np.ceil(lo), 0, n))
@@ -416,6 +414,14 @@ __all__ = [
     "band",
     "check_run",
     "base_layout",
+    "Timing",
+    "capped",
+    "has_time",
+    "figure_size",
+    "log_axis",
+    "MAX_FIGURE_MARKERS",
+    "MAX_FIGURE_POINTS",
+    "MAX_FIGURE_SHAPES",
     "downsample_indices",
     "downsample_note",
     "hline",
@@ -428,6 +434,7 @@ __all__ = [
     "step_xy",
     "to_html",
     "to_png",
+    "unit_name",
     "x_axis",
     "x_title",
 ]

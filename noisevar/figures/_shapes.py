@@ -236,3 +236,56 @@ def step_xy(edges: Sequence[float] | NDArray, values: ArrayLike) -> tuple[NDArra
     x = np.column_stack([e[:-1], e[1:]]).ravel()
     y = np.repeat(v, 2)
     return x, y
+
+
+def runs_of(mask: ArrayLike) -> tuple[NDArray, NDArray]:
+    """Start and stop (exclusive) of each run of True in a boolean mask.
+
+    Parameters
+    ----------
+    mask : array_like of bool, shape (n,)
+
+    Returns
+    -------
+    starts, stops : ndarray of int
+    """
+    m = np.concatenate([[False], np.asarray(mask, dtype=bool), [False]])
+    d = np.diff(m.astype(np.int8))
+    return np.flatnonzero(d == 1), np.flatnonzero(d == -1)
+
+
+def merge_runs(
+    starts: ArrayLike, stops: ArrayLike, max_runs: int
+) -> tuple[NDArray, NDArray, int]:
+    """Merge neighbouring runs across their narrowest gaps until at most ``max_runs`` remain.
+
+    Parameters
+    ----------
+    starts, stops : array_like of int
+        Sorted, non-overlapping runs ``[start, stop)``.
+    max_runs : int
+        Most runs to keep (at least 1).
+
+    Returns
+    -------
+    starts, stops : ndarray of int
+        The merged runs.
+    widest_gap : int
+        The widest gap that was closed (0 when nothing was merged).
+
+    Notes
+    -----
+    Gaps no wider than the ``(k - max_runs)``-th narrowest are closed at once,
+    so ties may leave fewer than ``max_runs`` runs.
+    """
+    a = np.asarray(starts, dtype=np.int64)
+    b = np.asarray(stops, dtype=np.int64)
+    max_runs = max(int(max_runs), 1)
+    if a.size <= max_runs:
+        return a, b, 0
+    gaps = a[1:] - b[:-1]
+    thr = int(np.sort(gaps)[a.size - max_runs - 1])
+    open_gap = gaps > thr
+    keep_start = np.concatenate([[True], open_gap])
+    keep_stop = np.concatenate([open_gap, [True]])
+    return a[keep_start], b[keep_stop], thr

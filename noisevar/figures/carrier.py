@@ -31,11 +31,11 @@ from noisevar.systems.carrier import CarrierResult, CarrierSweep
 Results = CarrierResult | Sequence[CarrierResult]
 LABELS = {
     "ekf": "EKF (fixed R, Q)",
-    "aekf": "AEKF",  # a sweep does not say which Q rule; results do (see _label)
-    "aekf_scaled": "AEKF (eq. 22 + scaled Q)",
+    "aekf": "AEKF",  # a sweep does not say which Q rule; results do (see result_label)
+    "aekf_scaled": "AEKF (R from residuals, scaled Q)",
     "ekf_matched": "EKF, matched R, Q (reference)",
-    "aekf_r_only": "AEKF (eq. 22, R only)",
-    "aekf_paper_q": "AEKF (eq. 22 + 26)",
+    "aekf_r_only": "AEKF (R from residuals only)",
+    "aekf_paper_q": "AEKF (R and the paper's Q from innovations)",
 }
 
 
@@ -47,8 +47,8 @@ def _rule_label(method: str, q_rule: str, default: str) -> str:
     return LABELS.get(default, default)
 
 
-def _label(r: CarrierResult) -> str:
-    """Legend label of a result (a nominal-design EKF says so)."""
+def result_label(r: CarrierResult) -> str:
+    """Legend label of a result (a nominal-design EKF says so); tables use the same name."""
     if r.method == "ekf" and r.measurement_variance != 1.0:
         return "EKF, nominal design (fixed R, Q)"
     return _rule_label(r.method, r.q_rule, r.method)
@@ -82,7 +82,7 @@ def phase_error_figure(
         slip = " — slipped" if r.slipped[run] else ""
         trace, _ = line_trace(
             r.phase_error[run],
-            f"{_label(r)} (RMS {r.rms_phase_error:.3f} rad over runs){slip}",
+            f"{result_label(r)} (RMS {r.rms_phase_error:.3f} rad over runs){slip}",
             r.scenario.integration_s,
             max_points,
             line={"color": PALETTE[i % len(PALETTE)], "width": 1},
@@ -134,7 +134,11 @@ def doppler_figure(
     for i, r in enumerate(res):
         est = r.estimate[run, :, 1] / (2 * np.pi)
         trace, _ = line_trace(
-            est, _label(r), T, max_points, line={"color": PALETTE[i % len(PALETTE)], "width": 1}
+            est,
+            result_label(r),
+            T,
+            max_points,
+            line={"color": PALETTE[i % len(PALETTE)], "width": 1},
         )
         traces.append(trace)
     return go.Figure(
@@ -170,11 +174,11 @@ def adaptation_figure(
         color = PALETTE[i % len(PALETTE)]
         T = r.scenario.integration_s
         tr, _ = line_trace(
-            r.R_track[run, :, 0], f"{_label(r)} R", T, max_points, line={"color": color}
+            r.R_track[run, :, 0], f"{result_label(r)} R", T, max_points, line={"color": color}
         )
         tq, _ = line_trace(
             r.Q_phase_track[run],
-            f"{_label(r)} Q",
+            f"{result_label(r)} Q",
             T,
             max_points,
             line={"color": color, "dash": "dot"},
@@ -217,7 +221,7 @@ def iq_figure(
     circle = np.linspace(0, 2 * np.pi, 181)
     return go.Figure(
         [
-            go.Scattergl(
+            go.Scatter(
                 x=pts[:, 0],
                 y=pts[:, 1],
                 mode="markers",

@@ -19,12 +19,14 @@ from numpy.typing import ArrayLike
 from noisevar.estimators.results import VarianceEstimate
 from noisevar.figures._common import (
     COLORS,
+    MAX_FIGURE_MARKERS,
     MAX_POINTS,
     band,
+    capped,
     downsample_note,
-    hline,
     layout,
     line_trace,
+    log_axis,
     stacked_axes,
     step_xy,
     vline,
@@ -96,7 +98,7 @@ def envelope_figure(
     edges = x_axis(np.arange(raw.amplitude.size + 1) * m, sample_period)
     x, y = step_xy(edges, raw.amplitude)
     data.append(
-        go.Scattergl(
+        go.Scatter(
             x=x,
             y=y,
             yaxis="y2",
@@ -109,7 +111,7 @@ def envelope_figure(
         k = min(smooth.amplitude.size, raw.amplitude.size)
         x, y = step_xy(edges[: k + 1], smooth.amplitude[:k])
         data.append(
-            go.Scattergl(
+            go.Scatter(
                 x=x,
                 y=y,
                 yaxis="y2",
@@ -120,15 +122,18 @@ def envelope_figure(
         )
     axes = stacked_axes(
         [0.6, 0.4],
-        titles=("window-detrended raw record and its envelopes", "|V| per window (eq. 13)"),
+        titles=(
+            "window-detrended raw record and its envelopes",
+            "|V| per window: mean envelope gap / 2",
+        ),
     )
-    axes["yaxis2"].update(type="log", title={"text": "|V|"})
+    axes["yaxis2"].update(log_axis("|V|"))
     axes["xaxis"]["title"] = {"text": x_title(sample_period)}
     anns = axes.pop("annotations")
     note = downsample_note(det.size, max_points)
     if note:
         anns.append(note)
-    return go.Figure(data=data, layout=layout(title, height, annotations=anns, **axes))
+    return capped(go.Figure(data=data, layout=layout(title, height, annotations=anns, **axes)))
 
 
 def scan_figure(  # long: one figure, built trace by trace in drawing order
@@ -209,8 +214,8 @@ def scan_figure(  # long: one figure, built trace by trace in drawing order
     lay = layout(
         title,
         height,
-        xaxis={"type": "log", "title": {"text": "h = q / r"}},
-        yaxis={"type": "log", "title": {"text": "noise amplitude ratio |V1| / |V2|"}},
+        xaxis=log_axis("h = q / r"),
+        yaxis=log_axis("noise amplitude ratio |V1| / |V2|"),
         shapes=shapes,
         annotations=anns,
     )
@@ -257,7 +262,7 @@ def window_variance_figure(
         idx = np.flatnonzero(np.isfinite(wv))
         centre = x_axis(idx * m + m / 2.0, sample_period)
         data.append(
-            go.Scattergl(
+            go.Scatter(
                 x=centre,
                 y=wv[idx],
                 mode="markers",
@@ -266,20 +271,27 @@ def window_variance_figure(
                 hovertemplate="window centre %{x:.4g}<br>variance %{y:.4g}<extra></extra>",
             )
         )
-    shp, ann = hline(
-        est.variance,
-        COLORS["estimate"],
-        dash="solid",
-        text=f"estimate {est.variance:.4g}  (95 % CI {_fmt(lo)} to {_fmt(hi)})",
+    # the estimate and the truth are legend entries, not labels lost in the scatter
+    span = x_axis([0, max(est.n_total - 1, 1)], sample_period)
+    data.append(
+        go.Scatter(
+            x=span,
+            y=[est.variance, est.variance],
+            mode="lines",
+            line={"color": COLORS["estimate"], "width": 2.5},
+            name=f"estimate {_fmt(est.variance)} (95 % CI {_fmt(lo)} to {_fmt(hi)})",
+        )
     )
-    shapes.append(shp)
-    anns.append(ann)
     if true_variance is not None and math.isfinite(true_variance):
-        shp, ann = hline(true_variance, COLORS["truth"], text=f"true {true_variance:.4g}")
-        assert ann is not None
-        ann.update(x=1.0, xanchor="right", yanchor="top")
-        shapes.append(shp)
-        anns.append(ann)
+        data.append(
+            go.Scatter(
+                x=span,
+                y=[true_variance, true_variance],
+                mode="lines",
+                line={"color": COLORS["truth"], "width": 1.5, "dash": "dash"},
+                name=f"true variance {_fmt(true_variance)}",
+            )
+        )
     lay = layout(
         title,
         height,
@@ -288,4 +300,4 @@ def window_variance_figure(
         shapes=shapes,
         annotations=anns,
     )
-    return go.Figure(data=data, layout=lay)
+    return capped(go.Figure(data=data, layout=lay), max_points=MAX_FIGURE_MARKERS)

@@ -21,9 +21,11 @@ from noisevar.estimators.results import VarianceEstimate
 from noisevar.figures._common import (
     COLORS,
     MAX_POINTS,
+    capped,
     downsample_note,
     layout,
     line_trace,
+    unit_name,
     x_title,
 )
 from noisevar.figures.compare import compare_figure, monte_carlo_figure, redundant_figure
@@ -67,6 +69,8 @@ def signal_figure(
     max_points: int = MAX_POINTS,
     title: str | None = None,
     height: int = 420,
+    units: str = "",
+    t: ArrayLike | None = None,
 ) -> go.Figure:
     """A record, downsampled for drawing when long (and the clean signal when known).
 
@@ -86,12 +90,18 @@ def signal_figure(
         Figure title.
     height : int
         Pixel height.
+    units : str
+        Units of the samples (axis title).
+    t : array_like, shape (n,), optional
+        The record's own time stamps (seconds): drawn against them, so gaps show.
 
     Returns
     -------
     go.Figure
     """
     z = np.asarray(z, dtype=float)
+    if t is not None:
+        sample_period = np.asarray(t, dtype=float)
     data = [
         line_trace(
             z, name, sample_period, max_points, line={"color": COLORS["smooth"], "width": 1}
@@ -112,9 +122,10 @@ def signal_figure(
         title,
         height,
         xaxis={"title": {"text": x_title(sample_period)}},
+        yaxis={"title": {"text": unit_name(units, name)}},
         annotations=[note] if note else [],
     )
-    return go.Figure(data=data, layout=lay)
+    return capped(go.Figure(data=data, layout=lay))
 
 
 # ------------------------------------------------------------------------ tables

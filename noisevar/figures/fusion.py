@@ -81,7 +81,7 @@ def track_figure(
         x = r.x[run]
         idx = downsample_indices(x[:, 0], max_points)
         traces.append(
-            go.Scattergl(
+            go.Scatter(
                 x=x[idx, 0],
                 y=x[idx, 1],
                 mode="lines",

@@ -108,7 +108,7 @@ def track_figure(
         zz = zz[run] if zz.ndim == 3 else zz
         idx = downsample_indices(zz[:, channels[0]], max_points)
         data.append(
-            go.Scattergl(
+            go.Scatter(
                 x=zz[idx, channels[0]],
                 y=zz[idx, channels[1]],
                 mode="markers",
@@ -130,7 +130,7 @@ def track_figure(
         x = _pick(r.x, r, run)
         idx = downsample_indices(x[:, i], max_points)
         data.append(
-            go.Scattergl(
+            go.Scatter(
                 x=x[idx, i],
                 y=x[idx, j],
                 mode="lines",
@@ -256,6 +256,7 @@ def r_estimates_figure(
     max_points: int = MAX_POINTS,
     title: str | None = "Measurement-noise variance R̂ per channel",
     height_per_channel: int = 220,
+    reference_name: str = "true R",
 ) -> go.Figure:
     """Each filter's ``R̂_jj`` over time on a log axis, one panel per channel.
 
@@ -276,6 +277,8 @@ def r_estimates_figure(
         Figure title.
     height_per_channel : int
         Pixel height of each panel.
+    reference_name : str
+        Legend name of ``R_true`` (say what it is: the truth, or a quick estimate).
 
     Returns
     -------
@@ -304,7 +307,7 @@ def r_estimates_figure(
         if true_diag is not None:
             tr, _ = line_trace(
                 true_diag[:, j],
-                "true R",
+                reference_name,
                 dt,
                 max_points,
                 line={"color": COLORS["truth"], "width": 2, "dash": "dash"},

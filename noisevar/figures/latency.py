@@ -15,17 +15,17 @@ import numpy as np
 import plotly.graph_objects as go
 
 from noisevar.figures._common import COLORS, MAX_POINTS, PALETTE, layout, line_trace
-from noisevar.systems.latency import KNOT_MS, LatencyResult, align_signals
+from noisevar.systems.latency import LatencyResult, align_signals
 
 
 def records_figure(
     result: LatencyResult,
     window_s: tuple[float, float] | None = None,
     max_points: int = MAX_POINTS,
-    title: str | None = "AHRS and GPS speed",
+    title: str | None = "AHRS (attitude and heading reference) and GPS speed",
     height: int = 420,
 ) -> go.Figure:
-    """The two speed records (knots), and the GPS record realigned by the estimate.
+    """The two speed records (m/s, as the noise settings), and the GPS record realigned.
 
     Parameters
     ----------
@@ -43,11 +43,11 @@ def records_figure(
     """
     rec = result.record
     T = rec.sample_period
-    ref_kn = rec.reference / KNOT_MS
-    late_kn = rec.delayed / KNOT_MS
+    ref_kn = rec.reference
+    late_kn = rec.delayed
     _, aligned = align_signals(rec.reference, rec.delayed, result.coarse.delay_s, T)
     aligned_kn = np.full(rec.reference.size, np.nan)
-    aligned_kn[: aligned.size] = aligned / KNOT_MS
+    aligned_kn[: aligned.size] = aligned
     sl = slice(None)
     if window_s is not None:
         lo, hi = sorted(window_s)
@@ -64,7 +64,7 @@ def records_figure(
         traces.append(trace)
     return go.Figure(
         traces,
-        layout(title, height, xaxis={"title": "time (s)"}, yaxis={"title": "speed (kn)"}),
+        layout(title, height, xaxis={"title": "time (s)"}, yaxis={"title": "speed (m/s)"}),
     )
 
 

@@ -89,14 +89,14 @@ def track_figure(  # long: one figure, built trace by trace in drawing order
     out = result.data.outlier[run]
     truth = result.data.truth
     traces = [
-        go.Scattergl(
+        go.Scatter(
             x=meas[~out, 0],
             y=meas[~out, 1],
             mode="markers",
             name="range + magnetic bearing (as if true)",
             marker={"color": COLORS["raw"], "size": 3},
         ),
-        go.Scattergl(
+        go.Scatter(
             x=meas[out, 0],
             y=meas[out, 1],
             mode="markers",
@@ -115,7 +115,7 @@ def track_figure(  # long: one figure, built trace by trace in drawing order
         x = res.x[run]
         idx = downsample_indices(x[:, 0], max_points)
         traces.append(
-            go.Scattergl(
+            go.Scatter(
                 x=x[idx, 0],
                 y=x[idx, 1],
                 mode="lines",

@@ -20,18 +20,31 @@ from numpy.typing import ArrayLike, NDArray
 from noisevar.estimators.results import VarianceEstimate
 from noisevar.figures._common import (
     COLORS,
-    MAX_POINTS,
+    MAX_FIGURE_MARKERS,
+    MAX_FIGURE_POINTS,
     PALETTE,
+    Timing,
     band,
+    capped,
     downsample_note,
+    has_time,
     hline,
     layout,
     line_trace,
+    log_axis,
+    unit_name,
     vline,
     x_axis,
     x_title,
 )
+from noisevar.figures._shapes import merge_runs, runs_of
 from noisevar.filters.selection import WindowSelection
+
+#: Points per line of the SOMD figure: three lines or more share one figure's budget, and
+#: two points per pixel column of a wide plot keep the look (min-max LTTB).
+SOMD_LINE_POINTS = 1500
+#: Most kept-window runs (and rejection marks per test) drawn; neighbours merge beyond it.
+MAX_RUNS = 120
 
 #: Window status labels, in drawing order.
 STATUS = ("kept", "amplitude test", "angle test", "both tests", "transient")
@@ -89,13 +102,6 @@ def _deviation_label(selection: WindowSelection) -> str:
     return f"max tanh|ln r|, r = {pairs}"
 
 
-def _runs(mask: NDArray) -> list[tuple[int, int]]:
-    """Start and stop (exclusive) of each run of True."""
-    m = np.concatenate([[False], np.asarray(mask, dtype=bool), [False]])
-    d = np.diff(m.astype(np.int8))
-    return list(zip(np.flatnonzero(d == 1), np.flatnonzero(d == -1), strict=True))
-
-
 def _finite_range(*arrays: ArrayLike) -> tuple[float, float]:
     lo, hi = math.inf, -math.inf
     for a in arrays:
@@ -118,11 +124,12 @@ def _fmt(v: float) -> str:
 def somd_figure(  # long: one figure, built trace by trace in drawing order
     z: ArrayLike,
     est: VarianceEstimate,
-    sample_period: float | None = None,
+    sample_period: Timing = None,
     stretch: slice | None = None,
-    max_points: int = MAX_POINTS,
+    max_points: int = SOMD_LINE_POINTS,
     title: str | None = None,
     height: int = 520,
+    units: str = "",
 ) -> go.Figure:
     """Raw samples, smooth and tracking outputs, kept and rejected windows.
 
@@ -138,8 +145,8 @@ def somd_figure(  # long: one figure, built trace by trace in drawing order
         The samples the estimate was computed on.
     est : VarianceEstimate
         A SOMD estimate (``est.details`` set); other methods draw the record only.
-    sample_period : float, optional
-        Seconds per sample.
+    sample_period : float or ndarray, optional
+        Seconds per sample, or the samples' own times (seconds; gaps drawn as gaps).
     stretch : slice, optional
         A chosen stretch to highlight.
     max_points : int
@@ -148,6 +155,8 @@ def somd_figure(  # long: one figure, built trace by trace in drawing order
         Figure title.
     height : int
         Pixel height.
+    units : str
+        Units of the samples (axis title).
 
     Returns
     -------
@@ -161,57 +170,36 @@ def somd_figure(  # long: one figure, built trace by trace in drawing order
     d = est.details
     lo, hi = _finite_range(z)
     pad = 0.04 * (hi - lo)
+    merged_gap = 0
     if d is not None:
-        m = int(est.params.get("window", 40))
-        runs = _runs(d.kept_windows)
-        if runs:
-            a, b = np.array(runs).T
-            x0 = x_axis(a * m, sample_period)
-            x1 = x_axis(np.minimum(b * m, n) - 1, sample_period)
-            nan = np.full(a.size, np.nan)
-            xs = np.column_stack([x0, x0, x1, x1, x0, nan]).ravel()
-            y_lo, y_hi = lo - pad, hi + pad
-            ys = np.tile([y_lo, y_hi, y_hi, y_lo, y_lo, np.nan], a.size)
-            data.append(
-                go.Scattergl(
-                    x=xs,
-                    y=ys,
-                    fill="toself",
-                    fillcolor=COLORS["kept"],
-                    line={"width": 0},
-                    mode="lines",
-                    name="kept windows",
-                    hoverinfo="skip",
-                )
-            )
-    data.append(
-        line_trace(
-            z, "raw samples", sample_period, max_points, line={"color": COLORS["raw"], "width": 1}
-        )[0]
-    )
+        kept, merged_gap = _kept_runs(d.kept_windows, int(est.params.get("window", 40)), n)
+        data.extend(_kept_trace(kept, sample_period, lo - pad, hi + pad))
+    marks = []
+    if d is not None and d.selection is not None:
+        marks = _rejection_marks(d.selection, sample_period, hi + 2 * pad)
+    lines = [(z, unit_name(units, "raw samples"), {"color": COLORS["raw"], "width": 1})]
     if d is not None:
         for j, h in enumerate(d.h_smooth):
             color = COLORS["smooth"] if j == 0 else PALETTE[(j + 4) % len(PALETTE)]
-            data.append(
-                line_trace(
-                    d.smooth_output[j],
-                    f"smooth output, h_S={h:.3g}",
-                    sample_period,
-                    max_points,
-                    line={"color": color, "width": 1.6},
-                )[0]
-            )
+            lines.append((d.smooth_output[j], f"smooth output, h_S={h:.3g}", {"color": color}))
+        # thin and half transparent: the kept-window shading stays visible through it
+        style = {"color": COLORS["track"], "width": 1, "dash": "dot"}
+        lines.append((d.track_output, f"tracking output, h_T={d.h_track:.3g}", style))
+    used = sum(len(tr.x) for tr in data + marks)
+    per_line = max(min(max_points, (MAX_FIGURE_POINTS - used) // len(lines)), 100)
+    for y, name, style in lines:
+        dotted = style.get("dash") == "dot"
         data.append(
             line_trace(
-                d.track_output,
-                f"tracking output, h_T={d.h_track:.3g}",
+                y,
+                name,
                 sample_period,
-                max_points,
-                line={"color": COLORS["track"], "width": 1.2, "dash": "dot"},
+                per_line,
+                line={"width": 1.6, **style},
+                opacity=0.6 if dotted else 1.0,
             )[0]
         )
-        if d.selection is not None:
-            data += _rejection_marks(d.selection, sample_period, hi + 2 * pad)
+    data += marks
     if stretch is not None and stretch.stop > stretch.start:
         x0, x1 = x_axis([stretch.start, stretch.stop - 1], sample_period)
         shp = band(float(x0), float(x1), axis="x", color=COLORS["stretch"])
@@ -231,8 +219,10 @@ def somd_figure(  # long: one figure, built trace by trace in drawing order
                 "font": {"size": 11, "color": COLORS["amp"]},
             }
         )
-    note = downsample_note(n, max_points)
+    note = downsample_note(n, per_line)
     if note:
+        if merged_gap:
+            note["text"] += f"; kept-window gaps under {merged_gap:,} samples shaded over"
         anns.append(note)
     lay = layout(
         title,
@@ -240,15 +230,48 @@ def somd_figure(  # long: one figure, built trace by trace in drawing order
         dragmode="select",
         selectdirection="h",
         xaxis={"title": {"text": x_title(sample_period)}},
+        yaxis={"title": {"text": unit_name(units, "signal")}},
         shapes=shapes,
         annotations=anns,
     )
-    return go.Figure(data=data, layout=lay)
+    return capped(go.Figure(data=data, layout=lay))
+
+
+def _kept_runs(kept: NDArray, window: int, n: int) -> tuple[tuple[NDArray, NDArray], int]:
+    """Sample runs ``[start, stop)`` of adjacent kept windows, merged to :data:`MAX_RUNS`."""
+    a, b = runs_of(kept)
+    a, b, gap = merge_runs(a, b, MAX_RUNS)
+    return (a * window, np.minimum(b * window, n)), int(gap * window)
+
+
+def _kept_trace(
+    runs: tuple[NDArray, NDArray], sample_period: Timing, y_lo: float, y_hi: float
+) -> list[go.Scatter]:
+    """The kept runs as one filled trace (one rectangle per run; no layout shapes)."""
+    a, b = runs
+    if a.size == 0:
+        return []
+    x0 = x_axis(a, sample_period)
+    x1 = x_axis(b - 1, sample_period)
+    nan = np.full(a.size, np.nan)
+    xs = np.column_stack([x0, x0, x1, x1, nan]).ravel()
+    ys = np.tile([y_lo, y_hi, y_hi, y_lo, np.nan], a.size)
+    trace = go.Scatter(
+        x=xs,
+        y=ys,
+        fill="toself",
+        fillcolor=COLORS["kept"],
+        line={"width": 0},
+        mode="lines",
+        name="kept windows",
+        hoverinfo="skip",
+    )
+    return [trace]
 
 
 def _rejection_marks(
-    sel: WindowSelection, sample_period: float | None, y: float
-) -> list[go.Scattergl]:
+    sel: WindowSelection, sample_period: Timing, y: float
+) -> list[go.Scatter]:
     status = window_status(sel)
     ratios = amplitude_ratios(sel)
     centre = x_axis(sel.starts + sel.window / 2.0, sample_period)
@@ -264,12 +287,16 @@ def _rejection_marks(
         idx = np.flatnonzero(status == label)
         if idx.size == 0:
             continue
+        if idx.size > MAX_RUNS:
+            style = (symbols.get(label, "line-ew-open"), colors[label])
+            out.append(_merged_marks(status == label, sel, sample_period, label, y, style))
+            continue
         what = label if label != "transient" else "filter start-up transient"
         custom = np.column_stack([idx, ratios[idx], sel.angle_diff_deg[idx]])
         k = ratios.shape[1]
         values = ", ".join(f"%{{customdata[{c + 1}]:.3g}}" for c in range(k))
         out.append(
-            go.Scattergl(
+            go.Scatter(
                 x=centre[idx],
                 y=np.full(idx.size, y),
                 mode="markers",
@@ -289,6 +316,35 @@ def _rejection_marks(
             )
         )
     return out
+
+
+def _merged_marks(
+    mask: NDArray,
+    sel: WindowSelection,
+    sample_period: Timing,
+    label: str,
+    y: float,
+    style: tuple[str, str],
+) -> go.Scatter:
+    """Many rejected windows: one mark per run of neighbouring ones (merged to MAX_RUNS)."""
+    a, b, _ = merge_runs(*runs_of(mask), MAX_RUNS)
+    # windows of this status in run j: cumsum[b_j] - cumsum[a_j]
+    csum = np.concatenate([[0], np.cumsum(mask, dtype=np.int64)])
+    count = csum[b] - csum[a]
+    centre = x_axis((sel.starts[a] + sel.starts[b - 1] + sel.window) / 2.0, sample_period)
+    symbol, color = style
+    return go.Scatter(
+        x=centre,
+        y=np.full(a.size, y),
+        mode="markers",
+        marker={"symbol": symbol, "color": color, "size": 7},
+        name=f"rejected: {label}" if label != "transient" else "start-up transient",
+        customdata=np.column_stack([a, b - 1, count]),
+        hovertemplate=(
+            f"windows %{{customdata[0]}}–%{{customdata[1]}}: %{{customdata[2]}} {label}"
+            "<extra></extra>"
+        ),
+    )
 
 
 def window_tests_figure(  # long: one figure, built trace by trace in drawing order
@@ -339,14 +395,14 @@ def window_tests_figure(  # long: one figure, built trace by trace in drawing or
         "transient": COLORS["transient"],
     }
     start = x_axis(selection.starts, sample_period)
-    unit = "s" if sample_period else "sample"
+    unit = "s" if has_time(sample_period) else "sample"
     data = []
     for label in STATUS:
         idx = np.flatnonzero(status == label)
         if idx.size == 0:
             continue
         data.append(
-            go.Scattergl(
+            go.Scatter(
                 x=dev[idx],
                 y=ang[idx],
                 mode="markers",
@@ -386,12 +442,9 @@ def window_tests_figure(  # long: one figure, built trace by trace in drawing or
     lay = layout(
         title,
         height,
-        xaxis={
-            "type": "log",
-            "title": {"text": f"amplitude test: {_deviation_label(selection)}"},
-        },
-        yaxis={"type": "log", "title": {"text": "angle test: |atan a_S − atan a_T| (°)"}},
+        xaxis=log_axis(f"amplitude test: {_deviation_label(selection)}"),
+        yaxis=log_axis("angle test: |atan a_S − atan a_T| (°)"),
         shapes=[v_shape, h_shape],
         annotations=anns,
     )
-    return go.Figure(data=data, layout=lay)
+    return capped(go.Figure(data=data, layout=lay), max_points=MAX_FIGURE_MARKERS)

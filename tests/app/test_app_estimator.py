@@ -9,6 +9,8 @@ from pathlib import Path
 import pytest
 from streamlit.testing.v1 import AppTest
 
+from dashboard.widgets import fmt
+
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 APP = str(ROOT / "app.py")
@@ -142,3 +144,65 @@ def test_exported_config_matches_the_widgets_and_loads_back(at):
     at.run()
     _clean(at)
     assert any("window" in e.value for e in at.error)
+
+
+def test_config_round_trip_carries_the_column_and_the_cli_agrees(tmp_path, capsys):
+    from noisevar.cli import main
+
+    app = AppTest.from_file(APP, default_timeout=60)
+    app.query_params["sig"] = "sample:two_sensors.csv"
+    app.switch_page(PAGE).run()
+    _clean(app)
+    page_variance = _metric(app, "Noise variance")
+    cfg = json.loads(app.code[0].value)
+    column = cfg["column"]
+    assert column in ("sensor_a", "sensor_b")
+    hint = next(c.value for c in app.caption if "noisevar estimate --config" in c.value)
+    assert f"--column {column} two_sensors.csv" in hint
+    params = {k: v for k, v in cfg.items() if k != "column"}  # the CLI's own config reader
+    path = tmp_path / "noisevar-config.json"
+    path.write_text(json.dumps(params))
+    data = ROOT / "sample_data" / "two_sensors.csv"
+    code = main(
+        ["estimate", str(data), "--config", str(path), "--column", column, "--format", "json"]
+    )
+    assert code == 0
+    cli = json.loads(capsys.readouterr().out)
+    assert fmt(cli["variance"]) == page_variance
+    # loading the exported config back switches to its column
+    other = "sensor_b" if column == "sensor_a" else "sensor_a"
+    app.file_uploader(key="est_config_upload").set_value(
+        ("tuned.json", json.dumps({**cfg, "column": other}).encode(), "application/json")
+    )
+    app.run()
+    _clean(app)
+    assert json.loads(app.code[0].value)["column"] == other
+    assert any(other in i.value for i in app.info)
+
+
+def test_h_scan_suggestion_can_be_applied(at):
+    at.segmented_control(key="est_view").set_value("h scan").run()
+    _clean(at)
+    caption = next(c.value for c in at.caption if "suggests h =" in c.value)
+    suggested = caption.split("suggests h = ")[1].split(" ")[0]
+    at.button(key="scan_apply").click().run()
+    _clean(at)
+    assert float(at.select_slider(key="h_s").value) == pytest.approx(float(suggested), rel=0.3)
+
+
+def test_html_report_holds_the_numbers_and_the_figure():
+    import numpy as np
+
+    import noisevar
+    from dashboard.widgets import html_report
+    from noisevar.figures.estimator import estimate_rows, somd_figure
+
+    z = np.random.default_rng(5).normal(0.0, 2.0, 3000)
+    est = noisevar.estimate(z, "somd")
+    text = html_report("noise <of> z", estimate_rows(est), [somd_figure(z, est)], ["cmd --x"])
+    assert "noise &lt;of&gt; z" in text and "cmd --x" in text
+    assert fmt(est.variance, 6) in text and "plotly" in text.lower()
+
+
+def test_report_download_is_offered(at):
+    assert any(b.label.startswith("Report of this analysis") for b in at.get("download_button"))

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import base64
 import io
+import json
 import sys
 from pathlib import Path
 
@@ -192,3 +194,34 @@ def test_generated_signal_reaches_the_estimator_page_through_session_state():
     assert any("5,000 samples" in c.value for c in at.caption)
     assert _metric(at, "Noise variance")
     assert not any("No signal loaded" in i.value for i in at.info)
+
+
+def _chart_x_range(at: AppTest, index: int = 0) -> tuple[float, float]:
+    spec = json.loads(at.get("plotly_chart")[index].proto.spec)
+    xs = [x for tr in spec["data"] if "x" in tr for x in _decoded(tr["x"])]
+    return min(xs), max(xs)
+
+
+def _decoded(x) -> list[float]:
+    if isinstance(x, dict):  # plotly's typed-array encoding
+        return np.frombuffer(base64.b64decode(x["bdata"]), dtype=x["dtype"]).tolist()
+    return list(x)
+
+
+def test_times_with_gaps_are_drawn_against_real_time():
+    rng = np.random.default_rng(3)
+    t = np.arange(20_000, dtype=float)
+    keep = np.ones(t.size, dtype=bool)
+    keep[5_000:7_310] = False  # a 2,310 s gap: 17,690 samples over 20,000 s
+    t = t[keep]
+    z = np.sin(t / 500.0) + rng.normal(0.0, 0.1, t.size)
+    body = "time,z\n" + "\n".join(f"{a:.1f},{b:.6f}" for a, b in zip(t, z, strict=True))
+    at = AppTest.from_file(APP, default_timeout=60)
+    at.switch_page(PAGE).run()
+    at.file_uploader(key="upload").set_value(("gaps.csv", body.encode(), "text/csv")).run()
+    assert not at.exception, [e.value for e in at.exception]
+    duration = next(m.value for m in at.metric if m.label == "Duration")
+    assert duration == "19,999 s"  # the time column, not samples x T (17,689 s)
+    lo, hi = _chart_x_range(at)
+    assert lo == 0.0 and hi == 19_999.0
+    assert any("gaps.csv" in c.value for c in at.sidebar.caption)

@@ -43,8 +43,12 @@ def test_two_sensors_sum_and_delay_toggle():
     assert not at.error
     v = _variances(at)
     assert set(v) == {"sensor_a", "sensor_b"}
-    assert v["sensor_a"] == pytest.approx(17.0, rel=0.1)  # 1 + 16: only the sum is known
-    assert any("only the sum" in c.value for c in at.caption)
+    # the headlines are per sensor (1 and 16), not the sum two sensors determine
+    assert v["sensor_a"] == pytest.approx(1.0, rel=0.25)
+    assert v["sensor_b"] == pytest.approx(16.0, rel=0.25)
+    total = next(m for m in at.metric if m.label.startswith("sensor_a + sensor_b"))
+    assert float(total.value) == pytest.approx(17.0, rel=0.1)
+    assert any("sum of the single-signal values" in c.value for c in at.caption)
     at.toggle(key="ts_align").set_value(True).run()
     _clean(at)
     assert at.info or at.success

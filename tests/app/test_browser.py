@@ -166,7 +166,9 @@ def test_every_page_through_navigation(server, browser):
     _settle(page)
     assert "Quick estimate" in main.inner_text()
     _check(page, "01-home-with-signal")
-    nav = page.locator('[data-testid="stSidebarNav"]')
+    nav = page.locator('[data-testid="stSidebar"]')
+    first = nav.locator('[data-testid="stPageLink"]').first.inner_text()
+    assert first.strip().endswith("Home"), first  # not "app"
     for i, (label, path) in enumerate(PAGES, start=2):
         nav.get_by_text(label, exact=True).first.click()
         page.wait_for_url(f"**/{path}**", timeout=30_000)
@@ -174,7 +176,37 @@ def test_every_page_through_navigation(server, browser):
         _check(page, f"{i:02d}-nav-{path}")
         errors = page.locator('[data-testid="stAlertContentError"]')
         assert errors.count() == 0, f"{label}: {errors.first.inner_text()}"
+        _check_budget(page, label)
+        _check_metrics_whole(page, label)
     ctx.close()
+
+
+#: Points and shapes of every drawn Plotly figure (decoded typed arrays included).
+FIGURES_JS = """() => Array.from(document.querySelectorAll('.js-plotly-plot')).map(el => ({
+  points: (el._fullData || []).reduce((s, t) => s + (t._length || 0), 0),
+  shapes: ((el.layout || {}).shapes || []).length,
+}))"""
+#: Every metric value: its text and whether the box cuts it (ellipsis or overflow).
+METRICS_JS = """() => Array.from(document.querySelectorAll('[data-testid="stMetricValue"]'))
+  .map(el => {
+    const inner = el.querySelector('div') || el;
+    const cut = [el, inner].some(e => e.scrollWidth > e.clientWidth + 1
+      || getComputedStyle(e).textOverflow === 'ellipsis' && e.scrollWidth > e.clientWidth);
+    return {text: el.innerText, full: el.textContent, cut: cut};
+  })"""
+
+
+def _check_budget(page, where: str) -> None:
+    for fig in page.evaluate(FIGURES_JS):
+        assert fig["points"] <= 10_000 and fig["shapes"] <= 2_000, (where, fig)
+
+
+def _check_metrics_whole(page, where: str) -> list[dict]:
+    metrics = page.evaluate(METRICS_JS)
+    for m in metrics:
+        assert not m["cut"] and "…" not in m["text"], (where, m)
+        assert m["text"].strip() == m["full"].strip(), (where, m)
+    return metrics
 
 
 @pytest.mark.parametrize(("label", "path"), PAGES)
@@ -239,4 +271,102 @@ def test_monte_carlo_progress_and_cancel(server, browser):
     text = page.inner_text('[data-testid="stMain"]')
     assert "of 3000 runs" in text and "done: 3000" not in text
     _check(page, "compare-montecarlo-cancelled")
+    ctx.close()
+
+
+def _upload(page, server: str, path: Path) -> None:
+    page.goto(f"{server}/Signal")
+    _settle(page)
+    page.locator('[data-testid="stFileUploader"] input[type=file]').first.set_input_files(str(path))
+    page.wait_for_function(
+        f"() => document.body.innerText.includes({path.name!r} )", timeout=120_000
+    )
+    _settle(page)
+
+
+def test_small_values_show_whole_in_the_metrics(server, browser, tmp_path):
+    """A GPS-clock-like record (phase in seconds, noise 3.6e-9 s): no metric is cut."""
+    import numpy as np
+
+    import noisevar
+    from dashboard.widgets import fmt
+
+    rng = np.random.default_rng(16)
+    n = 6_000
+    z = np.cumsum(rng.normal(0.0, 2e-11, n)) + 1.7e-3 + rng.normal(0.0, 3.6e-9, n)
+    path = tmp_path / "pps_phase.csv"
+    path.write_text("phase\n" + "\n".join(f"{v:.15e}" for v in z))
+    ctx = browser.new_context(viewport={"width": 1400, "height": 900})
+    page = ctx.new_page()
+    _upload(page, server, path)
+    assert "pps_phase.csv" in page.inner_text('[data-testid="stSidebar"]')
+    _check_metrics_whole(page, "Signal")
+    page.locator('[data-testid="stSidebar"]').get_by_text("Estimator", exact=True).click()
+    page.wait_for_url("**/Estimator**", timeout=30_000)
+    _settle(page)
+    _check(page, "small-values-estimator")
+    metrics = {m["text"] for m in _check_metrics_whole(page, "Estimator")}
+    est = noisevar.estimate(z, "somd", h_smooth=1.5e-5, window=40, track_ratio=30.0)
+    assert fmt(est.std) in metrics  # the whole value, e.g. "3.628×10⁻⁹"
+    ctx.close()
+
+
+def test_two_sensor_headlines_are_per_sensor(server, browser):
+    ctx = browser.new_context(viewport={"width": 1400, "height": 900})
+    page = ctx.new_page()
+    page.goto(f"{server}/Two_sensors?sig=sample:two_sensors.csv")
+    _settle(page)
+    _check(page, "two-sensors")
+    values = {}
+    for box in page.locator('[data-testid="stMetric"]').all():
+        label = box.locator('[data-testid="stMetricLabel"]').inner_text()
+        if "noise variance" in label:
+            values[label.split(":")[0]] = float(
+                box.locator('[data-testid="stMetricValue"]').inner_text()
+            )
+    assert set(values) == {"sensor_a", "sensor_b"}
+    assert 0.75 < values["sensor_a"] < 1.25 and 12 < values["sensor_b"] < 20  # not 17 twice
+    ctx.close()
+
+
+def test_share_link_after_loading_a_config_restores_the_variance(server, browser, tmp_path):
+    import json
+
+    cfg = {"method": "somd", "h_smooth": 3e-05, "h_track": 0.0007, "window": 48}
+    path = tmp_path / "tuned.json"
+    path.write_text(json.dumps(cfg))
+    ctx = browser.new_context(viewport={"width": 1400, "height": 1000})
+    page = ctx.new_page()
+    page.goto(f"{server}/Estimator?sig={SIG}")
+    _settle(page)
+    before = page.locator('[data-testid="stMetricValue"]').first.inner_text()
+    uploader = page.locator('[data-testid="stFileUploader"]', has_text="Load tuned")
+    uploader.locator("input[type=file]").set_input_files(str(path))
+    page.wait_for_function("() => location.search.includes('h_t=0.0007')", timeout=60_000)
+    _settle(page)
+    loaded = page.locator('[data-testid="stMetricValue"]').first.inner_text()
+    assert loaded != before
+    link = page.url
+    assert "est_method=somd&" in link + "&" and "h_t=0.0007" in link and "win=48" in link
+    again = ctx.new_page()
+    again.goto(link)
+    _settle(again)
+    assert again.locator('[data-testid="stMetricValue"]').first.inner_text() == loaded
+    _check(again, "config-link-reopened")
+    ctx.close()
+
+
+def test_link_from_an_upload_says_so(server, browser, tmp_path):
+    path = tmp_path / "mine.csv"
+    path.write_text("z\n" + "\n".join(str(0.1 * (i % 7)) for i in range(500)))
+    ctx = browser.new_context(viewport={"width": 1400, "height": 900})
+    page = ctx.new_page()
+    _upload(page, server, path)
+    link = page.url
+    assert "upload=mine.csv" in link
+    fresh = browser.new_context(viewport={"width": 1400, "height": 900}).new_page()
+    fresh.goto(link)
+    _settle(fresh)
+    assert "made from an uploaded file" in fresh.inner_text('[data-testid="stMain"]')
+    fresh.context.close()
     ctx.close()

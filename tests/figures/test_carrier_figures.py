@@ -46,7 +46,9 @@ def test_phase_error_figure(results: list[CarrierResult]) -> None:
     fig = phase_error_figure(results)
     names = trace_names(fig)
     assert len(names) == 2
-    assert names[0].startswith("EKF, nominal design") and names[1].startswith("AEKF (eq. 22")
+    assert names[0].startswith("EKF, nominal design") and names[1].startswith(
+        "AEKF (R from residuals"
+    )
     assert axis_titles(fig) == {"xaxis": "time (s)", "yaxis": "phase error (rad)"}
     assert longest_trace(fig) == SCEN.n_steps
     assert longest_trace(phase_error_figure(results, max_points=50)) <= 50

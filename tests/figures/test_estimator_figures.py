@@ -99,7 +99,11 @@ def test_scan_figure(z) -> None:
 
 def test_window_variance_figure(signal, est) -> None:
     fig = window_variance_figure(est, signal.sample_period, signal.true_variance)
-    assert len(fig.data) == 1 and trace_names(fig)[0].startswith("window variance")
+    names = trace_names(fig)
+    assert len(fig.data) == 3 and names[0].startswith("window variance")
+    # the estimate and the truth are legend entries, not labels buried in the scatter
+    assert names[1].startswith("estimate ") and names[2].startswith("true variance")
+    assert fig.data[1].y[0] == est.variance
     assert axis_titles(fig) == {"xaxis": "time (s)", "yaxis": "noise variance"}
 
 

@@ -23,7 +23,7 @@ def test_records_figure(result: LatencyResult) -> None:
     fig = records_figure(result)
     names = trace_names(fig)
     assert names[:2] == ["AHRS (on time)", "GPS (late)"] and names[2].startswith("GPS moved back")
-    assert axis_titles(fig) == {"xaxis": "time (s)", "yaxis": "speed (kn)"}
+    assert axis_titles(fig) == {"xaxis": "time (s)", "yaxis": "speed (m/s)"}
     assert longest_trace(fig) == result.record.reference.size
     assert longest_trace(records_figure(result, max_points=100)) <= 100
 

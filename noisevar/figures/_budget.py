@@ -1,0 +1,206 @@
+"""The browser budget of a figure: the one place it is enforced (:func:`capped`).
+
+No figure sends more than :data:`MAX_FIGURE_POINTS` points or
+:data:`MAX_FIGURE_SHAPES` layout shapes to the browser; figures of markers
+(each an SVG element) stay under :data:`MAX_FIGURE_MARKERS`. Long records are
+reduced with MinMax-LTTB (:func:`downsample_indices`), which keeps peaks and
+the noise band.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import plotly.graph_objects as go
+from numpy.typing import ArrayLike, NDArray
+
+#: Most points (summed over traces) one figure sends to the browser; see :func:`capped`.
+MAX_FIGURE_POINTS = 10_000
+#: Most points of a figure of markers (SVG draws each marker as an element); see :func:`capped`.
+MAX_FIGURE_MARKERS = 800
+#: Most layout shapes one figure sends to the browser; see :func:`capped`.
+MAX_FIGURE_SHAPES = 2_000
+#: Per-point trace attributes thinned together with ``x`` and ``y``.
+_PER_POINT = ("customdata", "text", "hovertext")
+#: Default number of points drawn per trace of a long record.
+MAX_POINTS = 4000
+
+
+def downsample_indices(y: ArrayLike, max_points: int = MAX_POINTS) -> NDArray:
+    """Indices of at most ``max_points`` samples that keep the look of ``y``.
+
+    MinMax-LTTB (``tsdownsample``) when the record is longer than
+    ``max_points``; every index otherwise. Non-finite samples fall back to
+    a plain min-max reduction over the finite ones.
+
+    Parameters
+    ----------
+    y : array_like, shape (n,)
+        Samples.
+    max_points : int
+        Number of points to keep (at least 10).
+
+    Returns
+    -------
+    ndarray of int
+        Sorted indices into ``y``.
+    """
+    y = np.asarray(y, dtype=float)
+    n = y.size
+    max_points = max(int(max_points), 10)
+    if n <= max_points:
+        return np.arange(n)
+    finite = np.isfinite(y)
+    if not finite.all():
+        idx = np.flatnonzero(finite)
+        if idx.size <= max_points:
+            return idx
+        sub = downsample_indices(y[idx], max_points)
+        return idx[sub]
+    try:
+        from tsdownsample import MinMaxLTTBDownsampler
+
+        idx = MinMaxLTTBDownsampler().downsample(np.ascontiguousarray(y), n_out=max_points)
+        return np.asarray(idx, dtype=np.int64)
+    except ImportError:  # pragma: no cover - tsdownsample is in the app extra
+        n_bins = max_points // 2
+        edges = np.linspace(0, n, n_bins + 1).astype(int)
+        out = []
+        for a, b in zip(edges[:-1], edges[1:], strict=True):
+            seg = y[a:b]
+            out.extend(sorted({a + int(np.argmin(seg)), a + int(np.argmax(seg))}))
+        return np.asarray(out, dtype=np.int64)
+
+
+def log_axis(title: str, **extra: Any) -> dict[str, Any]:
+    """A logarithmic axis with a label on every decade (``10⁻³, 10⁻², ...``) and minor ticks.
+
+    Plotly's default labels the 2 and 5 of short log ranges, which reads as
+    ``2, 100, 5, 2, 10``; here only decades carry labels.
+
+    Parameters
+    ----------
+    title : str
+        Axis title (with units).
+    **extra
+        More axis keys.
+
+    Returns
+    -------
+    dict
+    """
+    out: dict[str, Any] = {
+        "type": "log",
+        "title": {"text": title},
+        "dtick": 1,
+        "exponentformat": "power",
+        "minor": {"ticks": "outside", "dtick": "D1", "showgrid": True},
+    }
+    out.update(extra)
+    return out
+
+
+def _n_points(trace: Any) -> int:
+    x, y = getattr(trace, "x", None), getattr(trace, "y", None)
+    arr = x if x is not None else y
+    return 0 if arr is None else len(arr)
+
+
+def figure_size(fig: go.Figure) -> tuple[int, int]:
+    """Points (summed over the traces) and layout shapes a figure sends to the browser.
+
+    Parameters
+    ----------
+    fig : go.Figure
+        A figure.
+
+    Returns
+    -------
+    points, shapes : int
+    """
+    return sum(_n_points(tr) for tr in fig.data), len(fig.layout.shapes or ())
+
+
+def _thin_trace(trace: Any, budget: int) -> None:
+    """Reduce one trace to at most ``budget`` points in place (extremes kept, in ``x`` order)."""
+    x = np.asarray(trace.x, dtype=float) if trace.x is not None else None
+    y = np.asarray(trace.y, dtype=float) if trace.y is not None else None
+    key = y if y is not None else x
+    order = np.arange(key.size)
+    if x is not None and y is not None and np.any(np.diff(x) < 0):
+        order = np.argsort(x, kind="stable")  # a scatter: thin along x, keep y's extremes
+    idx = order[downsample_indices(key[order], budget)]
+    upd: dict[str, Any] = {}
+    if x is not None:
+        upd["x"] = x[idx]
+    if y is not None:
+        upd["y"] = y[idx]
+    for attr in _PER_POINT:
+        val = getattr(trace, attr, None)
+        if val is not None and not isinstance(val, str) and len(val) == key.size:
+            upd[attr] = np.asarray(val)[idx]
+    marker = getattr(trace, "marker", None)
+    for attr in ("color", "size"):
+        val = getattr(marker, attr, None) if marker is not None else None
+        if val is not None and not isinstance(val, (str, int, float)) and len(val) == key.size:
+            upd[f"marker.{attr}"] = np.asarray(val)[idx]
+    trace.update({k: v for k, v in upd.items() if "." not in k})
+    for k, v in upd.items():
+        if "." in k:
+            trace.marker[k.split(".")[1]] = v
+
+
+def capped(
+    fig: go.Figure, max_points: int = MAX_FIGURE_POINTS, max_shapes: int = MAX_FIGURE_SHAPES
+) -> go.Figure:
+    """Hold a figure to the browser budget: at most ``max_points`` points and ``max_shapes`` shapes.
+
+    The one place the budget is enforced. Builders already draw long records
+    reduced (:func:`line_trace`, merged window runs); this guard thins what is
+    left, trace by trace in proportion to its length (extremes kept,
+    :func:`downsample_indices`), and drops shapes past ``max_shapes`` with a
+    note. Filled polygons (``fill="toself"``) are kept whole and their points
+    come off the other traces' budget.
+
+    Parameters
+    ----------
+    fig : go.Figure
+        The figure (modified in place and returned).
+    max_points, max_shapes : int
+        The budget.
+
+    Returns
+    -------
+    go.Figure
+    """
+    points, n_shapes = figure_size(fig)
+    if points > max_points:
+        fixed = [tr for tr in fig.data if getattr(tr, "fill", None) == "toself"]
+        free = [tr for tr in fig.data if tr not in fixed and _n_points(tr) > 0]
+        room = max(max_points - sum(_n_points(tr) for tr in fixed), 10 * len(free))
+        total = sum(_n_points(tr) for tr in free)
+        for tr in sorted(free, key=_n_points):  # short traces first: they are kept whole
+            n_i = _n_points(tr)
+            # budget_i = room_left * n_i / (points left)
+            budget = max(int(room * n_i / total), min(n_i, 50), 10)
+            if n_i > budget:
+                _thin_trace(tr, budget)
+            room -= min(n_i, budget)
+            total -= n_i
+    if n_shapes > max_shapes:
+        fig.layout.shapes = fig.layout.shapes[:max_shapes]
+        fig.add_annotation(
+            text=f"{n_shapes - max_shapes:,} of {n_shapes:,} shapes not drawn",
+            xref="paper",
+            yref="paper",
+            x=0.0,
+            y=1.0,
+            yanchor="bottom",
+            xanchor="left",
+            showarrow=False,
+            font={"size": 11, "color": "#666"},
+        )
+    return fig
+
+

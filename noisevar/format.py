@@ -1,0 +1,117 @@
+"""Numbers for people: engineering notation with units, the one formatter of every shown value.
+
+``eng(3.628e-9, "s")`` is ``"3.628 ns"``; ``eng(1.316e-17, "s²")`` is
+``"13.16×10⁻¹⁸ s²"`` (no prefix on a squared unit: ``ns²`` reads ambiguously);
+``eng(17690.4)`` is ``"17,690"``. Values are never cut: the string is the
+whole number at the chosen significant digits.
+"""
+
+from __future__ import annotations
+
+import math
+from numbers import Real
+
+#: SI prefixes by power of ten (engineering exponents).
+PREFIXES = {
+    -24: "y",
+    -21: "z",
+    -18: "a",
+    -15: "f",
+    -12: "p",
+    -9: "n",
+    -6: "µ",
+    -3: "m",
+    3: "k",
+    6: "M",
+    9: "G",
+    12: "T",
+}
+_SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
+#: Text shown for a missing or non-finite value.
+MISSING = "n/a"
+
+
+def _finite(value: object) -> float | None:
+    if isinstance(value, bool) or not isinstance(value, Real):
+        return None
+    v = float(value)
+    return v if math.isfinite(v) else None
+
+
+def _plain(v: float, digits: int) -> str:
+    """``digits`` significant digits, thousands separated, no exponent."""
+    decimals = max(digits - 1 - int(math.floor(math.log10(abs(v)))), 0) if v else 0
+    text = f"{v:,.{decimals}f}"
+    if "." in text:
+        text = text.rstrip("0").rstrip(".")
+    return text
+
+
+def _prefixable(unit: str) -> bool:
+    return bool(unit) and not any(c in unit for c in "²³^/·*") and " " not in unit.strip()
+
+
+def eng(value: object, unit: str = "", digits: int = 4) -> str:
+    """A number in engineering notation with its unit.
+
+    Parameters
+    ----------
+    value : float
+        The number (None, NaN or infinity give ``"n/a"``).
+    unit : str
+        Its unit (``"m"``, ``"s²"``; empty for none).
+    digits : int
+        Significant digits.
+
+    Returns
+    -------
+    str
+        ``1 <= |value| < 1e6``: plain (``"17,690 s"``); otherwise an SI prefix
+        when the unit takes one (``"3.628 ns"``), else ``"13.16×10⁻¹⁸ s²"``.
+    """
+    v = _finite(value)
+    if v is None:
+        return MISSING
+    tail = f" {unit}" if unit else ""
+    digits = max(int(digits), 1)
+    if v == 0 or 1 <= abs(v) < 1e6 or (not unit and 1e-3 <= abs(v) < 1):
+        return _plain(v, digits) + tail
+    e3 = 3 * int(math.floor(math.log10(abs(v)) / 3))
+    mantissa = float(f"{v / 10.0**e3:.{digits}g}")
+    if abs(mantissa) >= 1000:  # rounding carried into the next group: 999.96 -> 1000
+        e3, mantissa = e3 + 3, mantissa / 1000
+    m_text = _plain(mantissa, digits)
+    if _prefixable(unit) and e3 in PREFIXES:
+        return f"{m_text} {PREFIXES[e3]}{unit}"
+    return f"{m_text}×10{str(e3).translate(_SUPERSCRIPT)}{tail}"
+
+
+def eng_range(lo: object, hi: object, unit: str = "", digits: int = 4) -> str:
+    """An interval ``"lo to hi"`` in engineering notation (``"1.2 ns to 1.4 ns"``).
+
+    A unit that takes no prefix is written once, at the end.
+    """
+    first = eng(lo, unit if _prefixable(unit) else "", digits)
+    return f"{first} to {eng(hi, unit, digits)}"
+
+
+def count(value: object) -> str:
+    """A count with thousands separators (``"2,000,000"``)."""
+    v = _finite(value)
+    return MISSING if v is None else f"{int(round(v)):,}"
+
+
+def percent(value: object, digits: int = 3, signed: bool = False) -> str:
+    """A fraction as a percentage (``0.0123 -> "1.23 %"``)."""
+    v = _finite(value)
+    if v is None:
+        return MISSING
+    text = _plain(100 * v, digits) if v else "0"
+    return f"{'+' if signed and v > 0 else ''}{text} %"
+
+
+def squared(unit: str) -> str:
+    """The unit of a variance: ``"m" -> "m²"``; empty stays empty."""
+    if not unit:
+        return ""
+    return f"{unit}²" if _prefixable(unit) else f"({unit})²"
