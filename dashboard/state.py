@@ -269,6 +269,12 @@ def time_of(sig: LoadedSignal) -> np.ndarray | float | None:
     return np.asarray(t, dtype=float)
 
 
+def times_of(sig: LoadedSignal) -> np.ndarray | None:
+    """The signal's own sample times when :func:`time_of` uses them, else None."""
+    t = time_of(sig)
+    return t if isinstance(t, np.ndarray) else None
+
+
 def clean_of(sig: LoadedSignal) -> np.ndarray | None:
     """The noise-free signal when known (a generated signal, unchanged column)."""
     return sig.clean if sig.source == "generated" and sig.column == "measured" else None

@@ -6,6 +6,7 @@ import streamlit as st
 
 from dashboard.pages import setup_page
 from dashboard.sections import noise_model
+from dashboard.sections.noise_model_fit import render_fit
 from dashboard.sections.signal_loader import require_signal
 from dashboard.widgets import how_it_works
 
@@ -37,8 +38,7 @@ noise_model.results(sig, settings)
 with st.expander("Kalibr imu.yaml", icon=":material/download:"):
     noise_model.kalibr_export(sig, settings)
 
-# Place for the coloured-noise models and the joint Q and R (issue 14 items 3-4): the lead
-# wires `dashboard.sections.noise_model_fit.render_fit(sig.z, settings.rate)` in here once
-# the `fit` branch has landed. Nothing is shown for it until then.
+st.subheader("Coloured noise and the Kalman filter's Q and R")
+render_fit(sig.z, settings.rate)
 
 how_it_works(*HOW_IT_WORKS)

@@ -7,8 +7,9 @@ import streamlit as st
 from dashboard.pages import setup_page
 from dashboard.sections import estimator_results as results
 from dashboard.sections.estimator_tuning import follow_config_column, tuning_panel
+from dashboard.sections.noise_panel import render_noise_panel
 from dashboard.sections.signal_loader import require_signal
-from dashboard.state import truth_of
+from dashboard.state import times_of, truth_of
 from dashboard.widgets import how_it_works
 
 #: The page's how-it-works expander (shown even before a signal is loaded).
@@ -58,6 +59,7 @@ with right:
     est, shown = results.run_estimate(sig, tuning)
     if est is not None:
         results.headline(sig, est, truth, tuning)
+        render_noise_panel(sig.z, est, times_of(sig), key="est_np")
     fig = results.main_figure(sig, shown, tuning)
     results.step_views(sig, shown, tuning, truth)
     results.exports(sig, est, truth, fig)

@@ -10,7 +10,8 @@ from streamlit.delta_generator import DeltaGenerator
 
 import noisevar
 from dashboard import cache
-from dashboard.state import LoadedSignal, initial
+from dashboard.sections.noise_panel import render_assumptions, render_noise_panel
+from dashboard.state import LoadedSignal, initial, times_of
 from dashboard.widgets import (
     csv_download,
     figure_downloads,
@@ -93,6 +94,11 @@ def comparison(sig: LoadedSignal, tuned: dict[str, object] | None) -> None:
         comp = cache.compare(sig, chosen, tuned_params(tuned))
     if comp is not None:
         comparison_table(comp, sig)
+        estimates = [r.estimate for r in comp.results if r.estimate is not None]
+        if estimates:  # the record's diagnostics are the same for every method
+            st.subheader("Which numbers to trust")
+            render_noise_panel(sig.z, estimates[0], times_of(sig), key="cmp_np")
+            render_assumptions(estimates)
 
 
 def comparison_table(comp: Comparison, sig: LoadedSignal) -> None:
