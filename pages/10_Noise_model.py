@@ -38,7 +38,8 @@ noise_model.results(sig, settings)
 with st.expander("Kalibr imu.yaml", icon=":material/download:"):
     noise_model.kalibr_export(sig, settings)
 
-st.subheader("Coloured noise and the Kalman filter's Q and R")
-render_fit(sig.z, settings.rate)
+if settings.rate > 0:  # a bad rate is said once, above
+    st.subheader("Coloured noise and the Kalman filter's Q and R")
+    render_fit(sig.z, settings.rate)
 
 how_it_works(*HOW_IT_WORKS)
