@@ -43,6 +43,17 @@ DIAG_SPAN = 21
 DIAG_ORDER = 3
 
 
+def _filtered(x: NDArray, d: NDArray) -> NDArray:
+    """``d * x`` at the centred samples (``d`` symmetric): compiled when numba is there."""
+    from noisevar.estimators import auto
+
+    if auto.USE_COMPILED and auto._fir is not None:
+        out = np.empty(x.size - d.size + 1)
+        auto._fir.symmetric_fir(np.ascontiguousarray(x), d[d.size // 2 :].copy(), out, False)
+        return out
+    return np.convolve(x, d[::-1], mode="valid")
+
+
 def _residuals(
     z: NDArray, segments: tuple[tuple[int, int], ...], exclude: NDArray | None
 ) -> tuple[NDArray, NDArray, NDArray]:
@@ -58,7 +69,7 @@ def _residuals(
     for a, b in segments:
         if b - a < 2 * DIAG_SPAN:
             continue
-        e = np.convolve(z[a:b], d[::-1], mode="valid")
+        e = _filtered(z[a:b], d)
         pos += [np.arange(a + h, b - h), np.zeros(WHITE_LAGS, dtype=int)]
         ok = np.ones(e.size, dtype=bool)
         if exclude is not None:
@@ -154,7 +165,7 @@ def diagnose(
         whiteness=white,
         increments=_increments(z, seg.segments),
         kurtosis=kurt,
-        tail_index=tail_index(used),
+        tail_index=tail_index(e_w[keep_w]),
         lsb=find_lsb(z),
         gaps=seg.gaps,
         jitter=seg.jitter,

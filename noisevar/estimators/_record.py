@@ -208,7 +208,10 @@ def attach_diagnostics(
     """
     seg = seg or Segmentation(((0, z.size),), ())
     try:
-        diag = diagnose(z, seg, _jumps(z, seg))
+        # auto's own jump mask when it made the estimate over the whole record in one piece
+        own = result.jumps if result.jumps is not None and result.jumps.size == z.size else None
+        jumps = _jumps(z, seg) if own is None else (own if own.any() else None)
+        diag = diagnose(z, seg, jumps)
     except NoisevarError as exc:
         result.notes.append(f"no diagnostics: {exc}")
         return result

@@ -280,6 +280,7 @@ class _Blocks:
     outliers: NDArray  # samples that are outliers (one per spike)
     clean_total: NDArray  # (n_spans, nb) as clean_for, for the jumps alone
     recover_total: tuple[NDArray, NDArray, NDArray] | None  # as recover, near the jumps
+    jumps: NDArray  # samples left out around jumps (widened; all False when none)
 
 
 def _flag(z: NDArray, sq0: NDArray, trim: float, block: int, half: int) -> tuple:
@@ -342,7 +343,7 @@ def _trimmed_blocks(z: NDArray, sq: NDArray, spans: tuple[int, ...], trim: float
     return _Blocks(
         block, nb, kept_count, block_sum, fourth, _clean_for(flagged, spans, half, block, nb),
         recover, total_count, total_sum, out_at, _clean_for(jumps, spans, half, block, nb),
-        recover_total,
+        recover_total, np.zeros(m, dtype=bool) if jumps is None else _dilate(jumps, half),
     )  # fmt: skip
 
 
@@ -519,6 +520,7 @@ def auto_estimate(
         notes,
         core_variance=core,
         outlier_fraction=blocks.outliers.size / n,
+        jumps=blocks.jumps,
     )
 
 

@@ -119,6 +119,9 @@ class VarianceEstimate:
         one-sentence verdict.
     assumptions : dict of str to bool
         What the method assumes of the noise, and whether this record satisfies it.
+    jumps : ndarray of bool or None
+        Samples left out around persistent level jumps (signal, not noise); None for
+        methods that do not look for jumps.
     """
 
     method: str
@@ -134,6 +137,7 @@ class VarianceEstimate:
     outlier_fraction: float = 0.0
     diagnostics: NoiseDiagnostics | None = None
     assumptions: dict[str, bool] = field(default_factory=dict)
+    jumps: NDArray | None = field(default=None, repr=False)
 
     @property
     def std(self) -> float:

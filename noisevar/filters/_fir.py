@@ -22,7 +22,13 @@ _TILE = 1024
 
 @njit(cache=True)
 def symmetric_fir_squares(z, half, out):  # pragma: no cover - compiled
-    """``out[t] = (sum_k d_k z[t + k])²`` for every centred ``t``, ``d`` symmetric.
+    """``out[t] = (sum_k d_k z[t + k])²``: :func:`symmetric_fir`, squared."""
+    symmetric_fir(z, half, out, True)
+
+
+@njit(cache=True)
+def symmetric_fir(z, half, out, square):  # pragma: no cover - compiled
+    """``out[t] = sum_k d_k z[t + k]`` (squared if ``square``) at centred ``t``, ``d`` symmetric.
 
     Parameters
     ----------
@@ -30,7 +36,9 @@ def symmetric_fir_squares(z, half, out):  # pragma: no cover - compiled
     half : ndarray, float64, shape (h + 1,)
         ``d[h], d[h + 1], ..., d[2h]`` of a symmetric sequence of ``2h + 1`` taps.
     out : ndarray, float64, shape (n - 2h,)
-        Written in place: the squared filter output at ``t = h .. n - h - 1``.
+        Written in place: the filter output at ``t = h .. n - h - 1``.
+    square : bool
+        Write the squared output.
     """
     n = z.shape[0]
     h = half.shape[0] - 1
@@ -51,5 +59,9 @@ def symmetric_fir_squares(z, half, out):  # pragma: no cover - compiled
             for i in range(m):
                 a[i] += c * (left[i] + right[i])
         o = out[start - h : stop - h]
-        for i in range(m):
-            o[i] = a[i] * a[i]
+        if square:
+            for i in range(m):
+                o[i] = a[i] * a[i]
+        else:
+            for i in range(m):
+                o[i] = a[i]
