@@ -101,6 +101,20 @@ def _check_value(key: str, spec: ParamSpec, value: Any) -> Any:
     return v
 
 
+#: Keys that name data columns, not parameters (the dashboard exports the column).
+CHANNEL_KEYS = ("column", "columns")
+
+
+def _channel_value(key: str, value: Any) -> str | list[str]:
+    """A ``column`` (a name) or ``columns`` (a list of names, or ``"all"``) config value."""
+    ok = isinstance(value, str) or (
+        key == "columns" and isinstance(value, list) and all(isinstance(v, str) for v in value)
+    )
+    if not ok or len(str(value)) > 10_000:
+        raise NoisevarError(f"config key {key!r} must name data columns, got {echo(repr(value))}")
+    return value
+
+
 def validate_config(config: Mapping[str, Any]) -> dict[str, Any]:
     """Check a config mapping and return it normalised (a new dict).
 
@@ -143,6 +157,9 @@ def validate_config(config: Mapping[str, Any]) -> dict[str, Any]:
                 "a config cannot hold the 'reference' signal (it is data, not a parameter): "
                 "give the second sensor as a column instead (CLI: --reference-column)"
             )
+        if key in CHANNEL_KEYS:  # which data column(s) the parameters were tuned on
+            out[key] = _channel_value(key, value)
+            continue
         if key == "kalman":  # a tuned filter's Q and R (noisevar.noise_model.export)
             from noisevar.noise_model.export import check_kalman_config
 

@@ -49,7 +49,8 @@ def rows_frame(rows: list[dict[str, Any]]) -> pd.DataFrame:
     extra = [c for c in frame.columns if c not in ROW_COLUMNS and c not in flags]
     order = [*ROW_COLUMNS[:11], *flags, *ROW_COLUMNS[11:], *extra]
     frame = frame.reindex(columns=order)
-    return frame.astype({"n": "Int64", "n_used": "Int64"})
+    # nullable dtypes: an error row has no count or flag, and reads back the same from Parquet
+    return frame.astype({"n": "Int64", "n_used": "Int64", **dict.fromkeys(flags, "boolean")})
 
 
 def read_table(path: str | os.PathLike | bytes, name: str | None = None) -> pd.DataFrame:

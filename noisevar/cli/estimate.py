@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from pathlib import Path
 from typing import Any
@@ -12,9 +11,6 @@ from noisevar.cli._common import load_record, load_signal, print_json
 from noisevar.errors import NoisevarError
 from noisevar.io.table import echo
 from noisevar.params import ParamSpec
-
-#: Config keys that choose channels rather than parameters (the dashboard exports the column).
-CHANNEL_KEYS = ("column", "columns")
 
 
 def _estimate_specs() -> list[ParamSpec]:
@@ -36,16 +32,10 @@ def read_config(path: str) -> tuple[dict[str, Any], dict[str, Any]]:
 
     Anything wrong with the file is reported by :func:`noisevar.config.load_config`.
     """
-    from noisevar.config import load_config, validate_config
+    from noisevar.config import CHANNEL_KEYS, load_config
 
-    try:
-        data = json.loads(Path(path).read_bytes())
-    except (OSError, ValueError):
-        return load_config(path), {}
-    if not isinstance(data, dict):
-        return load_config(path), {}
-    picked = {k: data.pop(k) for k in CHANNEL_KEYS if k in data}
-    return validate_config(data), picked
+    cfg = load_config(path)  # safe parsing and validation, channel keys included
+    return cfg, {k: cfg.pop(k) for k in CHANNEL_KEYS if k in cfg}
 
 
 def estimate_params(args: argparse.Namespace) -> tuple[str, dict[str, Any]]:

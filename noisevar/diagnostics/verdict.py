@@ -38,7 +38,7 @@ def make_verdict(
     -------
     str
     """
-    r = f"R = {_g(variance)} (std {_g(float(np.sqrt(variance)))})"
+    r = f"R = {_g(variance)} (std {_g(float(np.sqrt(max(variance, 0.0))))})"
     prof = diag.level_profile
     if not diag.identifiable:
         return (
