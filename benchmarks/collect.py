@@ -12,6 +12,12 @@ its section under ``benchmarks/results/``):
     python benchmarks/dashboard.py         -> results/dashboard.md  (issue 5)
     python benchmarks/seeds.py --runs 100 --kappa-selection
                                            -> results/seeds.md      (issue 6)
+    python benchmarks/real_noise.py        -> results/real_noise.md (issue 13)
+    python benchmarks/noise_model.py       -> results/noise_model.md (issue 14)
+    python benchmarks/kalman_tuning.py     -> results/kalman_tuning.md (issue 14)
+    python benchmarks/hostile.py --mb 500  -> results/hostile.md    (issue 15)
+    python benchmarks/dashboard_browser.py -> results/dashboard_browser.md (issue 16)
+    python benchmarks/batch.py --files 300 -> results/batch.md      (issue 17)
 
 The summary at the top is ``benchmarks/summary.md`` (written by hand from
 those files; it quotes them and must be updated when they change).
@@ -29,6 +35,12 @@ SECTIONS = [
     ("Adaptive Kalman filtering (issue 4)", "kalman.md"),
     ("Dashboard responsiveness (issue 5)", "dashboard.md"),
     ("The other seed systems (issue 6)", "seeds.md"),
+    ("Real noise: heavy tails, coloured noise, quantisation, gaps (issue 13)", "real_noise.md"),
+    ("Noise model: Allan deviation and inertial terms (issue 14)", "noise_model.md"),
+    ("Noise model: Q and R together, coloured noise (issue 14)", "kalman_tuning.md"),
+    ("Hostile input (issue 15)", "hostile.md"),
+    ("The dashboard in a real browser (issue 16)", "dashboard_browser.md"),
+    ("Channels and batch (issue 17)", "batch.md"),
 ]
 
 

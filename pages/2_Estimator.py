@@ -59,7 +59,7 @@ with right:
     est, shown = results.run_estimate(sig, tuning)
     if est is not None:
         results.headline(sig, est, truth, tuning)
-        render_noise_panel(sig.z, est, times_of(sig), key="est_np")
+        render_noise_panel(sig.z, est, times_of(sig), key="est_np", digest=sig.digest)
     fig = results.main_figure(sig, shown, tuning)
     results.step_views(sig, shown, tuning, truth)
     results.exports(sig, est, truth, fig)

@@ -52,7 +52,10 @@ def side_by_side(sig: LoadedSignal) -> None:
     st.subheader("Channels side by side")
     key = f"sig_channels_{sig.table_digest}"
     chosen = st.multiselect(
-        "Channels", cols, key=key, **initial(key, cols[:DEFAULT_CHANNELS], "default"),
+        "Channels",
+        cols,
+        key=key,
+        **initial(key, cols[:DEFAULT_CHANNELS], "default"),
         help="Each channel's noise by method auto, estimated in one call on all of them.",
     )
     if not chosen:

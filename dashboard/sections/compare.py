@@ -97,7 +97,7 @@ def comparison(sig: LoadedSignal, tuned: dict[str, object] | None) -> None:
         estimates = [r.estimate for r in comp.results if r.estimate is not None]
         if estimates:  # the record's diagnostics are the same for every method
             st.subheader("Which numbers to trust")
-            render_noise_panel(sig.z, estimates[0], times_of(sig), key="cmp_np")
+            render_noise_panel(sig.z, estimates[0], times_of(sig), key="cmp_np", digest=sig.digest)
             render_assumptions(estimates)
 
 

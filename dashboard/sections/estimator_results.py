@@ -62,9 +62,7 @@ def run_estimate(
         return None, None
 
 
-def headline(
-    sig: LoadedSignal, est: VarianceEstimate, truth: float | None, tuning: Tuning
-) -> None:
+def headline(sig: LoadedSignal, est: VarianceEstimate, truth: float | None, tuning: Tuning) -> None:
     """Variance, std, interval, windows kept (or samples used), the truth when known."""
     u = signal_units()
     cols = st.columns(5)
@@ -377,9 +375,7 @@ def exports(
     figure_downloads(fig, "noisevar-estimator", "fig_main")
 
 
-def _report(
-    sig: LoadedSignal, est: VarianceEstimate, truth: float | None, fig: go.Figure
-) -> str:
+def _report(sig: LoadedSignal, est: VarianceEstimate, truth: float | None, fig: go.Figure) -> str:
     rows = [
         {"quantity": "signal", "value": f"{sig.label}, column {sig.column}"},
         {"quantity": "samples", "value": f"{sig.n:,}"},

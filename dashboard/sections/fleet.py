@@ -46,9 +46,7 @@ def _set_table(frame: pd.DataFrame, label: str) -> None:
 def current_table() -> tuple[pd.DataFrame | None, str]:
     """The fleet's batch table and its label (None before one is loaded)."""
     frame = st.session_state.get(TABLE_KEY)
-    return (frame if isinstance(frame, pd.DataFrame) else None), st.session_state.get(
-        LABEL_KEY, ""
-    )
+    return (frame if isinstance(frame, pd.DataFrame) else None), st.session_state.get(LABEL_KEY, "")
 
 
 def _run_batch(paths: list[Path], method: str, label: str) -> None:
@@ -70,7 +68,8 @@ def source_panel() -> None:
     if source == "Batch table":
         up = st.file_uploader(
             "A batch table (`noisevar batch ... --out noise.parquet`)",
-            type=["parquet", "csv"], key="fl_table",
+            type=["parquet", "csv"],
+            key="fl_table",
         )
         if up is not None and st.button("Load this table", key="fl_load", type="primary"):
             with guarded():
@@ -79,7 +78,8 @@ def source_panel() -> None:
     if source == "Run a batch":
         ups = st.file_uploader(
             "Several logs (CSV/TSV, .npy, NMEA): each file is one sensor",
-            accept_multiple_files=True, key="fl_files",
+            accept_multiple_files=True,
+            key="fl_files",
         )
         method = st.selectbox("Method", noisevar.methods(), key="fl_method")
         if ups and st.button(f"Estimate {len(ups)} files", key="fl_run", type="primary"):
@@ -147,8 +147,11 @@ def figures(report: FleetReport) -> None:
         st.info("No channel has enough sensors (3) to compare.")
         return
     st.plotly_chart(
-        fleet_distribution(report), width="stretch", key="fl_dist",
-        on_select="rerun", selection_mode="points",
+        fleet_distribution(report),
+        width="stretch",
+        key="fl_dist",
+        on_select="rerun",
+        selection_mode="points",
     )
     show_figure(flagged_sensors(report))
 
@@ -200,7 +203,11 @@ def threshold_input() -> float:
     """The ``|z|`` threshold of a flag."""
     return float(
         st.number_input(
-            "Flag beyond robust |z| of", min_value=1.0, max_value=100.0, step=0.5,
-            value=DEFAULT_THRESHOLD, key="fl_threshold",
+            "Flag beyond robust |z| of",
+            min_value=1.0,
+            max_value=100.0,
+            step=0.5,
+            value=DEFAULT_THRESHOLD,
+            key="fl_threshold",
         )
     )

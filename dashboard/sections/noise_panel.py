@@ -14,7 +14,12 @@ import streamlit as st
 from numpy.typing import ArrayLike
 
 from dashboard.widgets import guarded, show_figure
-from noisevar.diagnostics.panel import assumption_rows, noise_panel_data, verdict_severity
+from noisevar.diagnostics.panel import (
+    NoisePanelData,
+    assumption_rows,
+    noise_panel_data,
+    verdict_severity,
+)
 from noisevar.figures.noise import acf_plot, level_profile_plot, qq_plot, residual_histogram
 
 #: Flag -> (label, the value that is good news; None: neither good nor bad).
@@ -38,8 +43,18 @@ def _badges(flags: dict[str, bool]) -> None:
         col.badge(label, icon=icon, color=color)
 
 
+@st.cache_data(max_entries=8, show_spinner=False)
+def _panel_data(digest: str, _z: ArrayLike, _diag: Any, _t: ArrayLike | None) -> NoisePanelData:
+    """:func:`noise_panel_data` once per record (``digest``): it depends on the record only."""
+    return noise_panel_data(_z, _diag, _t)
+
+
 def render_noise_panel(
-    z: ArrayLike, estimate: Any, t: ArrayLike | None = None, key: str = "np"
+    z: ArrayLike,
+    estimate: Any,
+    t: ArrayLike | None = None,
+    key: str = "np",
+    digest: str | None = None,
 ) -> None:
     """The verdict (info or warning by severity), flags, notes and the Noise figures.
 
@@ -53,6 +68,8 @@ def render_noise_panel(
         Sample times (the level profile's abscissa).
     key : str
         Prefix of the widget keys (give each panel on a page its own).
+    digest : str, optional
+        The record's content hash: the figure data are then computed once per record.
     """
     diag = getattr(estimate, "diagnostics", None)
     if diag is None:
@@ -67,7 +84,9 @@ def render_noise_panel(
         st.caption(note)
     with st.expander("Noise: distribution, autocorrelation, level along the record"):
         with guarded("Noise panel: "):
-            data = noise_panel_data(z, diag, t)
+            data = (
+                noise_panel_data(z, diag, t) if digest is None else _panel_data(digest, z, diag, t)
+            )
             tabs = st.tabs(["Histogram", "QQ plot", "Autocorrelation", "Level profile"])
             with tabs[0]:
                 log_y = st.toggle("Logarithmic density (tails)", key=f"{key}_log_y")
