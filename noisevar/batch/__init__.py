@@ -71,7 +71,8 @@ def expand_paths(paths: str | os.PathLike | Iterable[str | os.PathLike]) -> list
             found.extend(h for h in hits if os.path.isfile(h))
         elif os.path.isdir(s):
             found.extend(
-                str(p) for p in Path(s).rglob("*")
+                str(p)
+                for p in Path(s).rglob("*")
                 if p.is_file() and p.suffix.lower() in DATA_EXTENSIONS
             )
         elif os.path.isfile(s):

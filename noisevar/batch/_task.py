@@ -168,8 +168,14 @@ def file_rows(
     except (NoisevarError, OSError) as exc:
         msg = str(exc) if isinstance(exc, NoisevarError) else f"cannot read {path}: {exc}"
         return [
-            {"file": path, "channel": None, "method": method, "hash": digest, "error": msg,
-             "elapsed_s": time.perf_counter() - start}
+            {
+                "file": path,
+                "channel": None,
+                "method": method,
+                "hash": digest,
+                "error": msg,
+                "elapsed_s": time.perf_counter() - start,
+            }
         ]
     rows = [estimate_row(path, table, c, method, params) for c in channels]
     for r in rows:
@@ -190,7 +196,11 @@ def run_task(
             rows.extend(file_rows(p, columns, method, params))
         except Exception as exc:  # noqa: BLE001 - a bad file is a row, never the end of the batch
             rows.append(
-                {"file": p, "channel": None, "method": method,
-                 "error": f"unexpected error ({type(exc).__name__}: {exc})"}
+                {
+                    "file": p,
+                    "channel": None,
+                    "method": method,
+                    "error": f"unexpected error ({type(exc).__name__}: {exc})",
+                }
             )
     return rows

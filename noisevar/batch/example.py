@@ -58,7 +58,8 @@ def write_example_fleet(
         walk = np.cumsum(rng.normal(0.0, 0.002, (n, stds.size)), axis=0)
         data = walk + rng.standard_normal((n, stds.size)) * unit
         path = root / f"imu_{i:02d}.csv"
-        np.savetxt(path, np.column_stack([t, data]), delimiter=",", header=header,
-                   comments="", fmt="%.6f")
+        np.savetxt(
+            path, np.column_stack([t, data]), delimiter=",", header=header, comments="", fmt="%.6f"
+        )
         out.append(path)
     return out

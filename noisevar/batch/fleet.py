@@ -136,8 +136,11 @@ class FleetReport:
                 for c in self.channels
             ],
             "sensors": [
-                {**asdict(s), "std": _json_float(s.std),
-                 "z": None if s.z is None else _json_float(s.z)}
+                {
+                    **asdict(s),
+                    "std": _json_float(s.std),
+                    "z": None if s.z is None else _json_float(s.z),
+                }
                 for s in self.sensors
             ],
             "n_errors": self.n_errors,
@@ -175,8 +178,7 @@ def _sentence(file: str, channel: str, std: float, z: float, median: float, cut:
     ratio = std / median if median > 0 else float("inf")
     if not flagged:
         return f"{name}: noise std {std:.3g}, within the fleet's normal range (z = {z:+.1f})."
-    how = (f"{ratio:.1f} times noisier than" if ratio >= 1
-           else f"{1 / ratio:.1f} times quieter than")
+    how = f"{ratio:.1f} times noisier than" if ratio >= 1 else f"{1 / ratio:.1f} times quieter than"
     return (
         f"{name}: noise std {std:.3g} is {how} the fleet's typical {median:.3g} "
         f"(robust z = {z:+.1f}, beyond ±{cut:g}): check this sensor."
@@ -193,8 +195,14 @@ def _channel(
     # normal range: log10 std = median ± threshold · scale
     low, high = 10.0 ** (med - threshold * scale), 10.0 ** (med + threshold * scale)
     scores = [
-        SensorScore(f, name, float(s), float(zz), bool(fl),
-                    _sentence(f, name, float(s), float(zz), median, threshold))
+        SensorScore(
+            f,
+            name,
+            float(s),
+            float(zz),
+            bool(fl),
+            _sentence(f, name, float(s), float(zz), median, threshold),
+        )
         for f, s, zz, fl in zip(files, std, z, flagged, strict=True)
     ]
     spread = ChannelSpread(name, len(files), median, float(low), float(high), int(flagged.sum()))
@@ -237,15 +245,25 @@ def fleet_report(
         files = [str(f) for f in part["file"]]
         values = part["std"].to_numpy(dtype=float)
         if len(files) < MIN_SENSORS:
-            notes.append(f"channel {name}: {len(files)} sensors, too few to compare (need "
-                         f"{MIN_SENSORS})")
-            sensors += [SensorScore(f, name, float(s), None, False,
-                                    f"{os.path.basename(f)} · {name}: noise std {s:.3g}.")
-                        for f, s in zip(files, values, strict=True)]
+            notes.append(
+                f"channel {name}: {len(files)} sensors, too few to compare (need {MIN_SENSORS})"
+            )
+            sensors += [
+                SensorScore(
+                    f,
+                    name,
+                    float(s),
+                    None,
+                    False,
+                    f"{os.path.basename(f)} · {name}: noise std {s:.3g}.",
+                )
+                for f, s in zip(files, values, strict=True)
+            ]
             continue
         spread, scores = _channel(name, files, values, float(threshold))
         channels.append(spread)
         sensors += scores
     sensors.sort(key=lambda s: -abs(s.z) if s.z is not None else 0.0)
-    return FleetReport(float(threshold), tuple(channels), tuple(sensors), int((~ok).sum()),
-                       tuple(notes))
+    return FleetReport(
+        float(threshold), tuple(channels), tuple(sensors), int((~ok).sum()), tuple(notes)
+    )

@@ -113,8 +113,7 @@ def _print_table(args: argparse.Namespace, pairs: list[tuple[Any, Any]]) -> None
     for c, r in pairs:
         ci = f"{r.ci95[0]:.5g} .. {r.ci95[1]:.5g}"
         print(
-            f"{c!s:<{width}}  {r.variance:>11.6g}  {r.std:>11.6g}  {ci:>25}  "
-            f"{r.n_used}/{r.n_total}"
+            f"{c!s:<{width}}  {r.variance:>11.6g}  {r.std:>11.6g}  {ci:>25}  {r.n_used}/{r.n_total}"
         )
     for c, r in pairs:
         for line in _diagnostics_lines(r) + [f"note      {n}" for n in r.notes]:
@@ -157,8 +156,13 @@ def _estimate_many(args: argparse.Namespace, columns: Any, method: str, params: 
         results = [noisevar.estimate(z, method=method, **params) for z in zs]
     pairs = list(zip(names, results, strict=True))
     if args.format == "json":
-        print_json({"file": args.file, "method": method,
-                    "channels": [_as_json(args, c, r) for c, r in pairs]})
+        print_json(
+            {
+                "file": args.file,
+                "method": method,
+                "channels": [_as_json(args, c, r) for c, r in pairs],
+            }
+        )
     elif args.format == "csv":
         _print_csv(args, pairs)
     else:

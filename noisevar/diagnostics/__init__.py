@@ -150,8 +150,9 @@ def diagnose(
     # ν per sample = 1 / (η + (κ - 3) / 2)   (docs/algorithms.md §E1)
     profile = level_profile(sq, pos, 1.0 / (eta + max(kurt - 3.0, 0.0) / 2.0), eta, robust)
     # a level changing along the record widens the sample autocorrelations by Σσ⁴ n / (Σσ²)²
-    level = float(np.mean(local))
-    hetero = float(np.mean(local**2) / level**2) if level > 0 else 1.0
+    top = float(np.max(local)) if local.size else 0.0
+    # n Σσ⁴ / (Σσ²)², on levels over their largest (no overflow near the float limit)
+    hetero = float(np.mean((local / top) ** 2) / np.mean(local / top) ** 2) if top > 0 else 1.0
     e_w, keep_w = _spread(e, keep)
     white = whiteness_test(e_w, d, keep=keep_w, inflation=hetero)
     types: tuple[tuple[int, int], ...] = ()

@@ -221,7 +221,7 @@ def _profile_fields(diag: NoiseDiagnostics, t: ArrayLike | None) -> dict[str, An
         "hi": np.asarray(prof.hi),
         "quiet": np.asarray(prof.quiet, dtype=bool),
         "quiet_variance": float(diag.quiet_variance),
-        "x_title": "sample" if t is None else "time",
+        "x_title": "sample" if t is None else "time (s)",
     }
 
 

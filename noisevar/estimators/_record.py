@@ -248,9 +248,7 @@ def rescale_diagnostics(result: VarianceEstimate, e: int) -> None:
         with np.errstate(over="ignore", under="ignore"):
             return np.minimum(np.ldexp(x, -power * e), top)  # a block may not fit: clip
 
-    prof = replace(
-        prof, variance=back(prof.variance, 2), lo=back(prof.lo, 2), hi=back(prof.hi, 2)
-    )
+    prof = replace(prof, variance=back(prof.variance, 2), lo=back(prof.lo, 2), hi=back(prof.hi, 2))
     lsb = None if diag.lsb is None else float(back(np.asarray(diag.lsb), 1))
     old = set(diag.notes)
     diag = with_verdict(

@@ -202,5 +202,3 @@ def capped(
             font={"size": 11, "color": "#666"},
         )
     return fig
-
-

@@ -254,9 +254,7 @@ def runs_of(mask: ArrayLike) -> tuple[NDArray, NDArray]:
     return np.flatnonzero(d == 1), np.flatnonzero(d == -1)
 
 
-def merge_runs(
-    starts: ArrayLike, stops: ArrayLike, max_runs: int
-) -> tuple[NDArray, NDArray, int]:
+def merge_runs(starts: ArrayLike, stops: ArrayLike, max_runs: int) -> tuple[NDArray, NDArray, int]:
     """Merge neighbouring runs across their narrowest gaps until at most ``max_runs`` remain.
 
     Parameters

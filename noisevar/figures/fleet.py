@@ -35,11 +35,21 @@ def fleet_distribution(report: FleetReport) -> go.Figure:
     names = [c.channel for c in report.channels]
     for i, spread in enumerate(report.channels):
         fig.add_shape(
-            type="rect", x0=i - 0.4, x1=i + 0.4, y0=spread.low, y1=spread.high,
-            fillcolor=COLORS["band"], line_width=0, layer="below",
+            type="rect",
+            x0=i - 0.4,
+            x1=i + 0.4,
+            y0=spread.low,
+            y1=spread.high,
+            fillcolor=COLORS["band"],
+            line_width=0,
+            layer="below",
         )
         fig.add_shape(
-            type="line", x0=i - 0.4, x1=i + 0.4, y0=spread.median_std, y1=spread.median_std,
+            type="line",
+            x0=i - 0.4,
+            x1=i + 0.4,
+            y0=spread.median_std,
+            y1=spread.median_std,
             line={"color": COLORS["estimate"], "width": 2},
         )
     for flagged, colour, label in ((False, PALETTE[0], "sensor"), (True, FLAG_COLOR, "flagged")):
@@ -53,8 +63,11 @@ def fleet_distribution(report: FleetReport) -> go.Figure:
                 y=[s.std for s in pts],
                 mode="markers",
                 name=label,
-                marker={"color": colour, "size": 11 if flagged else 7,
-                        "symbol": "diamond" if flagged else "circle"},
+                marker={
+                    "color": colour,
+                    "size": 11 if flagged else 7,
+                    "symbol": "diamond" if flagged else "circle",
+                },
                 customdata=[[s.file, s.channel] for s in pts],
                 text=[f"{os.path.basename(s.file)}<br>z = {s.z:+.1f}" for s in pts],
                 hovertemplate="%{text}<br>std %{y:.4g}<extra></extra>",
@@ -62,10 +75,16 @@ def fleet_distribution(report: FleetReport) -> go.Figure:
         )
     fig.update_layout(
         title="Noise of each sensor, per channel (band: the fleet's normal range)",
-        xaxis={"tickmode": "array", "tickvals": list(range(len(names))), "ticktext": names,
-               "title": "channel"},
+        xaxis={
+            "tickmode": "array",
+            "tickvals": list(range(len(names))),
+            "ticktext": names,
+            "title": "channel",
+        },
         yaxis={"type": "log", "title": "noise standard deviation"},
-        height=420, margin={"t": 60, "b": 40}, clickmode="event+select",
+        height=420,
+        margin={"t": 60, "b": 40},
+        clickmode="event+select",
     )
     return fig
 
@@ -99,7 +118,8 @@ def flagged_sensors(report: FleetReport, top: int = 20) -> go.Figure:
         fig.add_vline(x=x, line_dash="dash", line_color=COLORS["truth"])
     fig.update_layout(
         title=f"Most unusual sensors (robust z of log std; flagged beyond ±{report.threshold:g})",
-        xaxis_title="robust z-score", height=max(260, 22 * len(shown) + 100),
+        xaxis_title="robust z-score",
+        height=max(260, 22 * len(shown) + 100),
         margin={"t": 60, "b": 40, "l": 10},
     )
     return fig
@@ -123,10 +143,16 @@ def channels_figure(estimates: VarianceEstimates, names: list[str]) -> go.Figure
     ci = np.sqrt(np.asarray(estimates.ci95, dtype=float).reshape(-1, 2))
     fig = go.Figure(
         go.Scatter(
-            x=list(names), y=std, mode="markers",
+            x=list(names),
+            y=std,
+            mode="markers",
             marker={"size": 11, "color": COLORS["estimate"]},
-            error_y={"type": "data", "symmetric": False, "array": ci[:, 1] - std,
-                     "arrayminus": std - ci[:, 0]},
+            error_y={
+                "type": "data",
+                "symmetric": False,
+                "array": ci[:, 1] - std,
+                "arrayminus": std - ci[:, 0],
+            },
             hovertemplate="%{x}: std %{y:.4g}<extra></extra>",
             name="noise std",
         )
@@ -134,6 +160,8 @@ def channels_figure(estimates: VarianceEstimates, names: list[str]) -> go.Figure
     fig.update_layout(
         title=f"Noise of each channel (method {estimates.method}; bars: 95 % interval)",
         yaxis={"type": "log", "title": "noise standard deviation"},
-        xaxis_title="channel", height=360, margin={"t": 60, "b": 40},
+        xaxis_title="channel",
+        height=360,
+        margin={"t": 60, "b": 40},
     )
     return fig

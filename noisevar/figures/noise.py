@@ -14,6 +14,7 @@ import numpy as np
 import plotly.graph_objects as go
 
 from noisevar.diagnostics.panel import NoisePanelData
+from noisevar.figures._budget import log_axis
 from noisevar.figures._common import COLORS, layout
 
 #: Colour of the fitted Student-t.
@@ -76,7 +77,9 @@ def residual_histogram(
     )
     if log_y:  # down to a tenth of the rarest bin, not to the normal's far tail
         low = float(np.min(data.density[data.density > 0], initial=1e-3)) / 10.0
-        fig.update_yaxes(type="log", range=[np.log10(low), np.log10(1.5 * _top(data))])
+        fig.update_layout(
+            yaxis=log_axis("density", range=[np.log10(low), np.log10(1.5 * _top(data))])
+        )
     return fig
 
 
@@ -244,8 +247,7 @@ def level_profile_plot(
     fig.update_layout(
         **layout(title, height),
         xaxis_title=data.x_title,
-        yaxis_title="noise variance",
-        yaxis_type="log",
+        yaxis=log_axis("noise variance (signal units²)"),
     )
     return fig
 

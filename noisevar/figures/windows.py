@@ -269,9 +269,7 @@ def _kept_trace(
     return [trace]
 
 
-def _rejection_marks(
-    sel: WindowSelection, sample_period: Timing, y: float
-) -> list[go.Scatter]:
+def _rejection_marks(sel: WindowSelection, sample_period: Timing, y: float) -> list[go.Scatter]:
     status = window_status(sel)
     ratios = amplitude_ratios(sel)
     centre = x_axis(sel.starts + sel.window / 2.0, sample_period)

@@ -107,7 +107,7 @@ def test_level_profile_in_times_and_quiet_marked():
     t = 100.0 + 0.01 * np.arange(N)
     est = estimate(z, t=t)
     d = noise_panel_data(z, est.diagnostics, t)
-    assert d.x_title == "time"
+    assert d.x_title == "time (s)"
     assert t[0] <= d.block_x.min() and d.block_x.max() <= t[-1]
     assert d.quiet.any() and not d.quiet.all()
     fig = level_profile_plot(d)
