@@ -8,22 +8,37 @@ Quick start::
     noisevar.estimate(z, method="somd", h_smooth=1.5e-5, window=40)
     noisevar.estimate(Z, axis=0).variance     # one estimate per column of Z
     noisevar.methods()
+
+Notes
+-----
+``import noisevar`` loads only the estimate path. :func:`batch`, the noise-model
+functions and the test signals load on first use (PEP 562), so that a command can
+refuse a bad file before the heavy libraries are imported.
 """
 
-from noisevar.batch import batch
+from __future__ import annotations
+
+import importlib
+import sys
+from types import ModuleType
+from typing import TYPE_CHECKING, Any
+
 from noisevar.errors import NoisevarError, NoWindowKept
 from noisevar.estimators import describe_methods, estimate, estimate_redundant, methods
 from noisevar.estimators.results import RedundantEstimate, VarianceEstimate, VarianceEstimates
-from noisevar.noise_model import (
-    AllanResult,
-    InertialNoise,
-    KalmanTuning,
-    allan,
-    fit_coloured_noise,
-    fit_kalman,
-    inertial_noise,
-)
-from noisevar.signals import GeneratedSignal, generate, signal_names
+
+if TYPE_CHECKING:
+    from noisevar.batch import batch
+    from noisevar.noise_model import (
+        AllanResult,
+        InertialNoise,
+        KalmanTuning,
+        allan,
+        fit_coloured_noise,
+        fit_kalman,
+        inertial_noise,
+    )
+    from noisevar.signals import GeneratedSignal, generate, signal_names
 
 __version__ = "0.1.0"
 __all__ = [
@@ -49,3 +64,51 @@ __all__ = [
     "methods",
     "signal_names",
 ]
+
+#: Public names loaded on first use, and the module each comes from.
+_LAZY = {
+    "AllanResult": "noisevar.noise_model",
+    "InertialNoise": "noisevar.noise_model",
+    "KalmanTuning": "noisevar.noise_model",
+    "allan": "noisevar.noise_model",
+    "fit_coloured_noise": "noisevar.noise_model",
+    "fit_kalman": "noisevar.noise_model",
+    "inertial_noise": "noisevar.noise_model",
+    "GeneratedSignal": "noisevar.signals",
+    "generate": "noisevar.signals",
+    "signal_names": "noisevar.signals",
+}
+
+
+def __getattr__(name: str) -> Any:
+    """Import a lazily loaded public name (PEP 562) and keep it."""
+    source = _LAZY.get(name)
+    if source is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(source), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))
+
+
+class _Package(ModuleType):
+    """This package's module type: ``noisevar.batch`` is always the function.
+
+    Importing the subpackage :mod:`noisevar.batch` (say, for ``read_table``) sets the
+    package attribute ``batch`` to the subpackage; this property keeps the public
+    name :func:`noisevar.batch.batch`, as when it was imported eagerly.
+    """
+
+    @property
+    def batch(self) -> Any:
+        return importlib.import_module("noisevar.batch").batch
+
+    @batch.setter
+    def batch(self, value: Any) -> None:  # the import system sets the subpackage here
+        self.__dict__["batch"] = value
+
+
+sys.modules[__name__].__class__ = _Package

@@ -13,7 +13,6 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy import stats
 
 from noisevar.diagnostics.profile import block_bounds, robust_levels
 from noisevar.diagnostics.results import NoiseDiagnostics
@@ -154,6 +153,8 @@ def noise_panel_data(
     -------
     NoisePanelData
     """
+    from scipy import stats  # here: import noisevar stays lean (scipy.stats is heavy)
+
     z = np.asarray(z, dtype=float).ravel()
     if z.size != diag.n or not np.all(np.isfinite(z)):
         raise NoisevarError(

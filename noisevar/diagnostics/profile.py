@@ -6,7 +6,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy import stats
+
+from noisevar._distributions import chi2_pdf, chi2_ppf
 
 #: At most this many blocks in a level profile (blocks grow with the record).
 PROFILE_BLOCKS = 200
@@ -20,9 +21,9 @@ QUIET_ALPHA = 0.05
 #: The level counts as steady while the quiet blocks cover at least this share of the record.
 STEADY_SHARE = 0.95
 #: The median of χ²₁.
-CHI2_1_MEDIAN = float(stats.chi2.ppf(0.5, 1))
+CHI2_1_MEDIAN = float(chi2_ppf(0.5, 1))
 #: Degrees of freedom per sample of a block median of χ²₁ values, ``2 (2 f(m) m)²``.
-MEDIAN_DOF = float(2.0 * (2.0 * stats.chi2.pdf(CHI2_1_MEDIAN, 1) * CHI2_1_MEDIAN) ** 2)
+MEDIAN_DOF = float(2.0 * (2.0 * chi2_pdf(CHI2_1_MEDIAN, 1) * CHI2_1_MEDIAN) ** 2)
 
 
 @dataclass(frozen=True)
@@ -124,8 +125,8 @@ def level_profile(
     count = (last - first).astype(float)
     var = np.add.reduceat(sq, first) / count
     dof = count * dof_per_sample
-    lo = dof * var / stats.chi2.ppf(0.975, dof)
-    hi = dof * var / stats.chi2.ppf(0.025, dof)
+    lo = dof * var / chi2_ppf(0.975, dof)
+    hi = dof * var / chi2_ppf(0.025, dof)
     # a median of χ²₁ has relative sd 1 / (2 f(m) m sqrt(n)): as a χ² with 0.368 n dof
     robust_dof = count * MEDIAN_DOF / eta
     robust = robust_levels(sq, first) if robust is None else robust
@@ -147,8 +148,8 @@ def _quiet_set(
     """
     level = 1.0 - QUIET_ALPHA / robust.size
     # each block's χ²(ν_b)/ν_b quantile, once for all blocks
-    q_robust = stats.chi2.ppf(level, robust_dof) / robust_dof
-    q_var = stats.chi2.ppf(level, dof) / dof
+    q_robust = chi2_ppf(level, robust_dof) / robust_dof
+    q_var = chi2_ppf(level, dof) / dof
     order = np.argsort(robust)
     need = QUIET_MIN_SHARE * sizes.sum()
     quiet = np.zeros(robust.size, dtype=bool)

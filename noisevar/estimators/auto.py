@@ -14,9 +14,9 @@ from functools import lru_cache
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy import signal, stats
 from scipy.ndimage import maximum_filter1d
 
+from noisevar._distributions import norm_cdf, norm_pdf
 from noisevar.errors import NoisevarError
 from noisevar.estimators._blocks import (
     _block_counts,
@@ -66,9 +66,13 @@ def residual_sequence(span: int, order: int) -> NDArray:
     -------
     ndarray, shape (span,)
     """
-    w = signal.savgol_coeffs(span, order)
-    d = -0.5 * (w + w[::-1])  # exactly symmetric (savgol_coeffs is to about 1e-14)
-    d[span // 2] += 1.0
+    h = span // 2
+    # w = row h of the hat matrix P = Q Q' of a polynomial fit over the centred window
+    # (the Savitzky-Golay smoothing coefficients, as scipy.signal.savgol_coeffs)
+    q, _ = np.linalg.qr(np.vander((np.arange(span, dtype=float) - h) / max(h, 1), order + 1))
+    w = q @ q[h]
+    d = -0.5 * (w + w[::-1])  # exactly symmetric (the fit is to about 1e-15)
+    d[h] += 1.0
     d.setflags(write=False)
     return d
 
@@ -133,8 +137,8 @@ def _residual_squares(z: NDArray, span: int, order: int, out: NDArray | None = N
 
 def _truncated_second_moment(kappa: float) -> float:
     """``E[Z² ; |Z| < κ] / P(|Z| < κ)`` for a standard normal ``Z``."""
-    p = 2.0 * stats.norm.cdf(kappa) - 1.0
-    return float((p - 2.0 * kappa * stats.norm.pdf(kappa)) / p)
+    p = 2.0 * norm_cdf(kappa) - 1.0
+    return float((p - 2.0 * kappa * norm_pdf(kappa)) / p)
 
 
 def _above_local(x: NDArray, local: NDArray, block: int) -> NDArray:

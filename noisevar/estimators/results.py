@@ -8,8 +8,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy import stats
 
+from noisevar._distributions import chi2_ppf
 from noisevar.filters.selection import WindowSelection
 
 if TYPE_CHECKING:
@@ -40,8 +40,8 @@ def chi2_interval(variance: float, dof: float, level: float = 0.95) -> tuple[flo
         return (float("nan"), float("nan"))
     a = 1.0 - level
     # (ν v / χ²_{1-a/2,ν}, ν v / χ²_{a/2,ν})
-    lo = dof * variance / stats.chi2.ppf(1.0 - a / 2.0, dof)
-    hi = dof * variance / stats.chi2.ppf(a / 2.0, dof)
+    lo = dof * variance / chi2_ppf(1.0 - a / 2.0, dof)
+    hi = dof * variance / chi2_ppf(a / 2.0, dof)
     return (float(lo), float(hi))
 
 

@@ -13,7 +13,6 @@ from functools import lru_cache
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy import signal
 
 from noisevar.errors import NoisevarError
 
@@ -113,6 +112,8 @@ def _check_output(output: str) -> str:
 
 @lru_cache(maxsize=256)
 def _transfer_function_cached(h: float, output: str) -> tuple[NDArray, NDArray]:
+    from scipy import signal  # here: scipy.signal is heavy, and import noisevar is lean
+
     a, k = _state_matrices(h)
     # s[k] = x[k-1]:  s[k+1] = A s[k] + K z[k]
     if output == "filtered":  # y[k] = H x[k] = H A s[k] + H K z[k]
@@ -172,6 +173,8 @@ def steady_state_zi(
     zi : ndarray, shape (..., 3)
         Initial state for ``lfilter(b, a, z, zi=zi)``.
     """
+    from scipy import signal
+
     b, a = abg_transfer_function(h, output)
     intercept, slope = head_line(z_head, n_init)
     # zi is linear in the past line: zi = intercept * zi(1) + slope * zi(i)
@@ -181,6 +184,8 @@ def steady_state_zi(
 
 def _zi_ramp(h: float, output: str) -> NDArray:
     """``zi`` of the filter in steady state on the line ``i`` (past samples -1, -2, -3)."""
+    from scipy import signal
+
     b, a = abg_transfer_function(h, output)
     past_i = np.array([-1.0, -2.0, -3.0])  # most recent first, as lfiltic wants
     return signal.lfiltic(b, a, past_i, past_i)[: len(a) - 1]
@@ -296,6 +301,8 @@ def _tracking_error(
     (the all-pole filter's state) returns ``(e, zf)``; without, the filter starts at
     rest (zero error in the past).
     """
+    from scipy import signal
+
     d = np.diff(z_ext, n=3, axis=-1)
     _, a = abg_transfer_function(h, output)
     kappa = np.array([_error_gain(h, output)])
@@ -404,6 +411,8 @@ def abg_filter_loop(z: ArrayLike, h: float, x0: ArrayLike, output: str = "predic
 
 
 def _impulse(b: NDArray, a: NDArray, tol: float = 1e-16) -> NDArray:
+    from scipy import signal
+
     n = 1024
     while True:
         imp = np.zeros(n)
