@@ -11,9 +11,10 @@ Quick start::
 
 Notes
 -----
-``import noisevar`` loads only the estimate path. :func:`batch`, the noise-model
-functions and the test signals load on first use (PEP 562), so that a command can
-refuse a bad file before the heavy libraries are imported.
+``import noisevar`` imports no third-party library: every public name loads its module
+on first use (PEP 562), so that a command can refuse a bad file before NumPy and the
+estimators are imported, and :func:`estimate` loads only the estimate path (not
+:func:`batch`, the noise models, the test signals, pandas or ``scipy.stats``).
 """
 
 from __future__ import annotations
@@ -23,12 +24,17 @@ import sys
 from types import ModuleType
 from typing import TYPE_CHECKING, Any
 
+from noisevar._lazy import lazy_names
 from noisevar.errors import NoisevarError, NoWindowKept
-from noisevar.estimators import describe_methods, estimate, estimate_redundant, methods
-from noisevar.estimators.results import RedundantEstimate, VarianceEstimate, VarianceEstimates
 
 if TYPE_CHECKING:
     from noisevar.batch import batch
+    from noisevar.estimators import describe_methods, estimate, estimate_redundant, methods
+    from noisevar.estimators.results import (
+        RedundantEstimate,
+        VarianceEstimate,
+        VarianceEstimates,
+    )
     from noisevar.noise_model import (
         AllanResult,
         InertialNoise,
@@ -67,6 +73,13 @@ __all__ = [
 
 #: Public names loaded on first use, and the module each comes from.
 _LAZY = {
+    "describe_methods": "noisevar.estimators",
+    "estimate": "noisevar.estimators",
+    "estimate_redundant": "noisevar.estimators",
+    "methods": "noisevar.estimators",
+    "RedundantEstimate": "noisevar.estimators.results",
+    "VarianceEstimate": "noisevar.estimators.results",
+    "VarianceEstimates": "noisevar.estimators.results",
     "AllanResult": "noisevar.noise_model",
     "InertialNoise": "noisevar.noise_model",
     "KalmanTuning": "noisevar.noise_model",
@@ -80,18 +93,7 @@ _LAZY = {
 }
 
 
-def __getattr__(name: str) -> Any:
-    """Import a lazily loaded public name (PEP 562) and keep it."""
-    source = _LAZY.get(name)
-    if source is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(source), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_names(__name__, _LAZY, __all__)
 
 
 class _Package(ModuleType):

@@ -15,6 +15,9 @@ Sub-commands::
     noisevar imu FILE --rate HZ [--columns C ...] [--gyro C ...] [--accel C ...]
                      [--kalibr out.yaml] [--inflation F]
 
+A command module may also define ``precheck(args)``, run on its raw arguments before
+the parser is built (building it imports the estimators): ``estimate`` refuses a
+missing, unreadable or oversized FILE there, in a fraction of a second.
 Every error is one line on stderr and a non-zero exit status (2 for bad input,
 3 for an internal error); no traceback (``NOISEVAR_DEBUG=1`` shows it).
 The ``--config`` file is the JSON the dashboard exports: command-line flags
@@ -48,8 +51,14 @@ COMMANDS: tuple[str, ...] = (
 )
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
     """The ``noisevar`` argument parser, one sub-command per module of :data:`COMMANDS`.
+
+    Parameters
+    ----------
+    only : str, optional
+        Build this sub-command alone (the one being run: the others' parsers import
+        their libraries, e.g. every experiment); default: all of them.
 
     Returns
     -------
@@ -60,9 +69,29 @@ def build_parser() -> argparse.ArgumentParser:
         description="Measurement-noise variance of a signal, for the Kalman filter that uses it.",
     )
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
-    for name in COMMANDS:
+    for name in COMMANDS if only is None else (only,):
         importlib.import_module(f"noisevar.cli.{name}").add_parser(sub)
     return parser
+
+
+def precheck(argv: Sequence[str]) -> None:
+    """Run the command's ``precheck(args)``, if it has one, before anything heavy is imported.
+
+    Parameters
+    ----------
+    argv : sequence of str
+        The command line after ``noisevar``.
+
+    Raises
+    ------
+    NoisevarError
+        What the command's check refuses.
+    """
+    if not argv or argv[0] not in COMMANDS or {"-h", "--help"} & set(argv):
+        return
+    check = getattr(importlib.import_module(f"noisevar.cli.{argv[0]}"), "precheck", None)
+    if check is not None:
+        check(list(argv[1:]))
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -77,8 +106,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     -------
     int
     """
+    argv = sys.argv[1:] if argv is None else list(argv)
     try:
-        args = build_parser().parse_args(argv)
+        precheck(argv)
+        only = argv[0] if argv and argv[0] in COMMANDS else None
+        args = build_parser(only).parse_args(argv)
         return int(args.func(args))
     except NoisevarError as exc:
         print(f"noisevar: error: {one_line(str(exc))}", file=sys.stderr)

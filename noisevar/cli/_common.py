@@ -6,11 +6,13 @@ import argparse
 import json
 import math
 import os
-from typing import Any, NoReturn
-
-import numpy as np
+from typing import TYPE_CHECKING, Any, NoReturn
 
 from noisevar.errors import NoisevarError
+from noisevar.io.limits import echo
+
+if TYPE_CHECKING:
+    import numpy as np
 
 EXIT_ERROR = 2
 
@@ -27,6 +29,8 @@ MAX_LINE = 2000
 
 
 def json_default(obj: Any) -> Any:
+    import numpy as np  # here: the CLI refuses bad input before NumPy is imported
+
     if isinstance(obj, np.generic):
         return obj.item()
     if isinstance(obj, np.ndarray):
@@ -47,6 +51,8 @@ def strict_json(obj: Any) -> Any:
     object
         The same structure, strict-JSON safe.
     """
+    import numpy as np
+
     if isinstance(obj, dict):
         return {str(k): strict_json(v) for k, v in obj.items()}
     if isinstance(obj, list | tuple):
@@ -69,8 +75,6 @@ def print_json(data: dict) -> None:
 
 def one_line(message: str) -> str:
     """An error message as one safe terminal line: control characters escaped, length capped."""
-    from noisevar.io.table import echo
-
     return echo(" ".join(str(message).splitlines()), MAX_LINE)
 
 
@@ -82,6 +86,8 @@ def load_signal(
     Empty/NaN/Inf cells are refused (naming the first row) unless
     ``drop_nonfinite``.
     """
+    import numpy as np
+
     from noisevar.io import load_table, pick_column
 
     table = load_table(path, os.path.basename(path))
@@ -97,6 +103,8 @@ def load_record(
     Returns the values (non-finite cells kept when ``drop_nonfinite``, for the estimator
     to treat as gaps; refused otherwise), the times or None, and the loader's notes.
     """
+    import numpy as np
+
     from noisevar.io import load_table, pick_column
     from noisevar.io.load import column_values
 

@@ -5,12 +5,24 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from noisevar.cli._common import load_record, load_signal, print_json
 from noisevar.errors import NoisevarError
-from noisevar.io.table import echo
-from noisevar.params import ParamSpec
+from noisevar.io.limits import check_size, echo
+
+if TYPE_CHECKING:  # the module stays light: precheck runs before NumPy is imported
+    from noisevar.params import ParamSpec
+
+
+def precheck(argv: list[str]) -> None:
+    """Refuse FILE (the first argument) if missing, unreadable or over the size cap.
+
+    Run by :func:`noisevar.cli.main` before the parser is built, so that a 5 GB file
+    is refused before NumPy and the estimators are imported.
+    """
+    if argv and not argv[0].startswith("-"):
+        check_size(argv[0])
 
 
 def _estimate_specs() -> list[ParamSpec]:

@@ -44,21 +44,26 @@ NMEA 0183
     silently feed an estimator. Other sentence types are ignored.
 """
 
-from noisevar.io.load import load_table, pick_column
-from noisevar.io.nmea import geodetic_to_enu
-from noisevar.io.table import (
-    NMEA_EXTENSIONS,
-    SAMPLE_PERIOD_RANGE,
-    TABLE_EXTENSIONS,
-    TIME_NAMES,
-    UNIFORM_TOLERANCE,
-    LoadedTable,
-    content_digest,
-    drop_nonfinite_rows,
-    echo,
-    signal_summary,
-    table_from_arrays,
-)
+from typing import TYPE_CHECKING
+
+from noisevar._lazy import lazy_names
+
+if TYPE_CHECKING:
+    from noisevar.io.limits import echo
+    from noisevar.io.load import load_table, pick_column
+    from noisevar.io.nmea import geodetic_to_enu
+    from noisevar.io.table import (
+        NMEA_EXTENSIONS,
+        SAMPLE_PERIOD_RANGE,
+        TABLE_EXTENSIONS,
+        TIME_NAMES,
+        UNIFORM_TOLERANCE,
+        LoadedTable,
+        content_digest,
+        drop_nonfinite_rows,
+        signal_summary,
+        table_from_arrays,
+    )
 
 __all__ = [
     "NMEA_EXTENSIONS",
@@ -76,3 +81,17 @@ __all__ = [
     "signal_summary",
     "table_from_arrays",
 ]
+
+#: Public names, loaded on first use (pandas and NumPy only when a file is read).
+_SOURCES = {
+    "echo": "noisevar.io.limits",
+    "load_table": "noisevar.io.load",
+    "pick_column": "noisevar.io.load",
+    "geodetic_to_enu": "noisevar.io.nmea",
+    **{
+        name: "noisevar.io.table"
+        for name in __all__
+        if name not in {"echo", "load_table", "pick_column", "geodetic_to_enu"}
+    },
+}
+__getattr__, __dir__ = lazy_names(__name__, _SOURCES, __all__)

@@ -10,13 +10,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.errors import NoisevarError
+from noisevar.io.limits import MAX_BYTES, check_bytes, check_size
 from noisevar.io.nmea import _looks_like_nmea, _read_nmea
 from noisevar.io.npy import _read_npy
 from noisevar.io.table import _NPY_MAGIC, NMEA_EXTENSIONS, LoadedTable, echo
 from noisevar.io.text import TextSource, _read_text_table
 
-#: Largest file :func:`load_table` reads unless told otherwise (bytes); checked before reading.
-MAX_BYTES = 1 << 30
 #: Bytes read to sniff the format and the header of a file given by path.
 HEAD_BYTES = 1 << 20
 
@@ -42,26 +41,6 @@ def _decode(raw: bytes, name: str, final: bool = True) -> tuple[str, str]:
                 "an NMEA 0183 log, or a .npy array"
             ) from None
     return text, "latin-1"
-
-
-def _open_path(source: str | os.PathLike, name: str | None) -> tuple[Path, str, int]:
-    """The path, its display name and its size; one clear error when it cannot be read."""
-    path = Path(source)
-    shown = echo(name or path.name)
-    try:
-        if not path.is_file():
-            raise NoisevarError(f"no such file: {echo(str(path))}")
-        return path, name or path.name, path.stat().st_size
-    except OSError as exc:
-        raise NoisevarError(f"cannot read {shown}: {exc.strerror or exc}") from None
-
-
-def _check_size(size: int, name: str, max_bytes: int | None) -> None:
-    if max_bytes is not None and size > max_bytes:
-        raise NoisevarError(
-            f"{echo(name)} is {size / 1e6:,.1f} MB, over the {max_bytes / 1e6:,.0f} MB limit: "
-            "give a shorter record or raise the limit"
-        )
 
 
 def _read_head(path: Path, name: str) -> bytes:
@@ -124,10 +103,11 @@ def load_table(
     if isinstance(source, (bytes, bytearray, memoryview)):
         raw = bytes(source)
         name = name or "upload"
-        _check_size(len(raw), name, max_bytes)
+        check_bytes(len(raw), name, max_bytes)
         return _parse(raw, name, None, len(raw))
-    path, name, size = _open_path(source, name)
-    _check_size(size, name, max_bytes)
+    path = Path(source)
+    name = name or path.name
+    size = check_size(path, name, max_bytes)
     return _parse(_read_head(path, name), name, path, size)
 
 

@@ -11,6 +11,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
+from noisevar.io.limits import ECHO_LIMIT, echo  # noqa: F401 - their home is io.limits
 
 #: Names (lower case, units in brackets stripped) recognised as a time column.
 TIME_NAMES = ("t", "time", "time_s", "times", "timestamp", "seconds", "sec", "secs", "s", "epoch")
@@ -85,36 +86,6 @@ class LoadedTable:
         buf.write(",".join(names) + "\n")
         np.savetxt(buf, data, delimiter=",", fmt="%.10g")
         return buf.getvalue()
-
-
-_CONTROL = re.compile(r"[\x00-\x1f\x7f-\x9f]")
-#: Characters of a file's field (a name, a cell) echoed in a message; the rest is elided.
-ECHO_LIMIT = 60
-
-
-def echo(value: object, limit: int = ECHO_LIMIT) -> str:
-    """A field of a file, safe to echo in a message: control characters escaped, truncated.
-
-    ANSI escape sequences and other control characters become ``\\x1b``-style escapes
-    (a file cannot drive the terminal), and a long field is cut with its length noted.
-
-    Parameters
-    ----------
-    value : object
-        The field (converted with ``str``).
-    limit : int
-        Characters kept.
-
-    Returns
-    -------
-    str
-    """
-    text = str(value)
-    more = len(text) - limit
-    if more > 0:
-        text = text[:limit]
-    text = _CONTROL.sub(lambda m: f"\\x{ord(m.group()):02x}", text)
-    return f"{text}... ({more:,} more characters)" if more > 0 else text
 
 
 def content_digest(data: bytes | ArrayLike) -> str:

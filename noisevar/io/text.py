@@ -7,13 +7,16 @@ import io
 import re
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
 from numpy.typing import NDArray
 
 from noisevar.errors import NoisevarError
 from noisevar.io.table import _NA_TOKENS, LoadedTable, _is_time_name, _period_from_time, echo
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 #: Most columns a text table may have (a wider header is refused before parsing).
 MAX_COLUMNS = 1000
@@ -224,6 +227,8 @@ def _read_frame(
     src: str | TextSource, header_line: int, ncol: int, fmt: _Format, name: str
 ) -> pd.DataFrame:
     """The table body parsed by pandas (streamed from disk for a :class:`TextSource`)."""
+    import pandas as pd  # here: pandas is heavy, and a .npy file does not need it
+
     sep = r"\s+" if fmt.delim is None else fmt.delim
     if fmt.thousands == "," and fmt.delim is None:
         sep = "\t"  # one column of 4,867.69: no delimiter inside a row
@@ -286,6 +291,8 @@ def _parse_body(
     name: str,
     time_idx: int | None,
 ) -> tuple[dict[str, NDArray], list[str]]:
+    import pandas as pd
+
     df = _read_frame(src, header_line, len(names), fmt, name)
     if len(df) == 0:
         raise NoisevarError(f"{echo(name)} has a header but no data rows")
@@ -317,6 +324,8 @@ def _text_column(
     is_time: bool,
 ) -> NDArray:
     """A column pandas left as text: ISO times, or a clear error on the first bad cell."""
+    import pandas as pd
+
     if any(isinstance(v, int) and not isinstance(v, bool) for v in col.head(100)):
         raise NoisevarError(
             f"{echo(name)}: column {echo(cname)!r} holds integers of more than 19 digits, "
