@@ -1,14 +1,21 @@
-"""Hostile-input benchmark (issue 15): memory on a big CSV, refusal time of a huge file, fuzz.
+"""Hostile-input benchmark (issue 15): memory on a big CSV, refusal time of a huge file, fuzz,
+and the cost of ``import noisevar`` (issue 17's memory budget).
 
 Writes ``benchmarks/results/hostile.md``. The big files are built in a temporary folder
 and deleted afterwards (never committed):
 
-* peak RSS of ``noisevar estimate`` on a ~500 MB CSV (target < 2 GB), for this tree and,
-  with ``--baseline PATH``, for another checkout (the code before the fix);
-* time to refuse a 5 GB file (sparse, made with ``truncate``; target < 1 s);
-* the CLI fuzz suite of ``tests/test_fuzz_cli.py``: cases, classes, failures.
+* ``memory``: peak RSS of ``noisevar estimate`` on a ~500 MB CSV (target < 2 GB), for this
+  tree and, with ``--baseline PATH``, for another checkout (the code before the fix);
+* ``refusal``: wall time of ``noisevar estimate`` (a new process, start-up included)
+  refusing a 5 GB CSV and a 5 GB ``.npy`` (sparse, made with ``truncate``; target < 1 s),
+  median of ``--runs`` runs;
+* ``imports``: wall time and peak RSS of ``import noisevar`` and of the estimate path,
+  each in a new process, median of ``--runs`` runs;
+* ``fuzz``: the CLI fuzz suite of ``tests/test_fuzz_cli.py``: cases, classes, failures.
 
-Run: ``nice -n 10 python benchmarks/hostile.py [--mb 500] [--baseline /work/main]``.
+``--parts`` reruns some sections and keeps the others of the existing results file.
+Run: ``nice -n 10 python benchmarks/hostile.py [--mb 500] [--baseline /work/main]
+[--parts refusal imports]``.
 """
 
 from __future__ import annotations
@@ -66,18 +73,6 @@ def peak_rss(cmd: list[str], pythonpath: Path) -> tuple[float, float, int, str]:
     return int(rss) / 1024**2, float(dt), int(code), last
 
 
-def refuse_time(path: Path) -> tuple[float, str]:
-    """Seconds ``noisevar estimate`` takes to refuse ``path``, and its message."""
-    t0 = time.perf_counter()
-    r = subprocess.run(
-        [sys.executable, "-m", "noisevar", "estimate", str(path)],
-        capture_output=True,
-        text=True,
-        env={**os.environ, "PYTHONPATH": str(ROOT)},
-    )
-    return time.perf_counter() - t0, r.stderr.strip()
-
-
 def refuse_in_process(path: Path) -> float:
     """Seconds :func:`noisevar.io.load_table` takes to refuse ``path`` (no start-up cost)."""
     sys.path.insert(0, str(ROOT))
@@ -103,6 +98,180 @@ def fuzz_summary(tmp: Path) -> tuple[int, list[str], list[tuple[list[str], str]]
     return len(cases), sorted({c for c, _ in cases}), fails, time.perf_counter() - t0
 
 
+#: Heavy modules reported as loaded (or not) after each import case.
+HEAVY = (
+    "numpy",
+    "numba",
+    "pandas",
+    "pyarrow",
+    "allantools",
+    "statsmodels",
+    "dask",
+    "plotly",
+    "scipy.stats",
+    "scipy.signal",
+)
+#: (label, code run in a new process) for the ``imports`` section.
+IMPORT_CASES = (
+    ("interpreter alone (`python -c pass`)", "pass"),
+    ("`import noisevar`", "import noisevar"),
+    ("estimate path loaded (`from noisevar import estimate`)", "from noisevar import estimate"),
+    (
+        "`estimate` of 1e6 white samples, diagnostics on",
+        "import numpy as np; from noisevar import estimate; "
+        "estimate(np.random.default_rng(0).normal(size=10**6))",
+    ),
+    (
+        "every public name loaded",
+        "import noisevar; [getattr(noisevar, n) for n in noisevar.__all__]",
+    ),
+)
+#: Section keys, in file order, and the heading each starts with.
+SECTIONS = {
+    "memory": "## Peak memory",
+    "refusal": "## A 5 GB file",
+    "imports": "## Import",
+    "fuzz": "## CLI fuzz",
+}
+
+
+def machine_note() -> str:
+    """When, and the machine's load (``uptime``) at the time."""
+    up = subprocess.run(["uptime"], capture_output=True, text=True, check=False).stdout.strip()
+    when = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
+    return f"Measured {when}; `uptime`: `{up}`."
+
+
+def repeat(cmd: list[str], tree: Path, runs: int) -> tuple[list[float], list[float], int, str]:
+    """Wall times (s) and peak RSS (MB) of ``cmd`` run ``runs`` times, each a new process."""
+    walls, rss, code, last = [], [], 0, ""
+    for _ in range(runs):
+        gb, dt, code, last = peak_rss(cmd, tree)
+        walls.append(dt)
+        rss.append(gb * 1024)
+    return walls, rss, code, last
+
+
+def _spread(values: list[float], fmt: str) -> str:
+    return f"{np.median(values):{fmt}} ({min(values):{fmt}}-{max(values):{fmt}})"
+
+
+def memory_section(tmp: Path, args: argparse.Namespace, trees: list) -> list[str]:
+    """Peak RSS of ``noisevar estimate`` on a big CSV, per method and tree."""
+    big = tmp / "big.csv"
+    t0 = time.perf_counter()
+    rows = write_csv(big, args.mb)
+    size = big.stat().st_size
+    print(f"wrote {size / 1e6:.0f} MB, {rows:,} rows in {time.perf_counter() - t0:.0f} s")
+    lines = [
+        f"{SECTIONS['memory']} of `noisevar estimate` on a {size / 1e6:.0f} MB CSV",
+        "",
+        machine_note(),
+        "",
+        f"{rows:,} rows of `a,b` (first column estimated); peak RSS of the process "
+        "(`ru_maxrss`). Target: under 2 GB.",
+        "",
+        "| code | method | peak RSS (GB) | wall (s) | exit | last line |",
+        "|---|---|---:|---:|---:|---|",
+    ]
+    for method in args.method:
+        cmd = [sys.executable, "-m", "noisevar", "estimate", str(big), "--method", method]
+        for label, tree in trees:
+            gb, dt, code, last = peak_rss(cmd, tree)
+            print(label, method, f"{gb:.2f} GB", f"{dt:.0f} s", code, last)
+            lines.append(f"| {label} | {method} | {gb:.2f} | {dt:.0f} | {code} | {last} |")
+    big.unlink()
+    return lines
+
+
+def refusal_section(tmp: Path, trees: list, runs: int) -> list[str]:
+    """Wall time of ``noisevar estimate`` refusing a 5 GB CSV and ``.npy`` (sparse files)."""
+    lines = [
+        f"{SECTIONS['refusal']} (sparse) is refused before it is read",
+        "",
+        machine_note(),
+        "",
+        f"`noisevar estimate FILE` in a new process (interpreter start-up included), {runs} "
+        "runs: median (min-max) wall time and peak RSS. Target: under 1 s.",
+        "",
+        "| file | code | wall (s) | peak RSS (MB) | exit | in process, `load_table` |",
+        "|---|---|---:|---:|---:|---:|",
+    ]
+    message = ""
+    for kind, head in (("csv", b"a,b\n1,2\n"), ("npy", b"\x93NUMPY")):
+        huge = tmp / f"huge.{kind}"
+        huge.write_bytes(head)
+        os.truncate(huge, 5 * 10**9)  # sparse: no disk used
+        api_ms = refuse_in_process(huge) * 1e3
+        cmd = [sys.executable, "-m", "noisevar", "estimate", str(huge)]
+        for label, tree in trees:
+            walls, rss, code, last = repeat(cmd, tree, runs)
+            message = message or last
+            print(f"5 GB .{kind} refused ({label}): {_spread(walls, '.3f')} s, exit {code}")
+            lines.append(
+                f"| 5 GB .{kind} | {label} | {_spread(walls, '.3f')} | {_spread(rss, '.0f')} "
+                f"| {code} | {api_ms:.2f} ms |"
+            )
+        huge.unlink()
+    return [*lines, "", f"Message: `{message}`"]
+
+
+def imports_section(trees: list, runs: int) -> list[str]:
+    """Wall time and peak RSS of ``import noisevar`` and of the estimate path."""
+    lines = [
+        f"{SECTIONS['imports']} cost: `import noisevar` and the estimate path",
+        "",
+        machine_note(),
+        "",
+        f"Each case in a new process, {runs} runs: median (min-max) wall time (start-up "
+        "included) and peak RSS (`ru_maxrss`); the heavy modules loaded afterwards.",
+        "",
+        "| case | code | wall (s) | peak RSS (MB) | heavy modules loaded |",
+        "|---|---|---:|---:|---|",
+    ]
+    report = f"; import sys; print(' '.join(m for m in {HEAVY!r} if m in sys.modules) or 'none')"
+    for label, code in IMPORT_CASES:
+        for tree_label, tree in trees:
+            cmd = [sys.executable, "-c", code + report]
+            walls, rss, status, last = repeat(cmd, tree, runs)
+            loaded = last if status == 0 else f"exit {status}: {last}"
+            print(f"{label} ({tree_label}): {_spread(walls, '.2f')} s, {_spread(rss, '.0f')} MB")
+            lines.append(
+                f"| {label} | {tree_label} | {_spread(walls, '.2f')} | {_spread(rss, '.0f')} "
+                f"| {loaded} |"
+            )
+    return lines
+
+
+def fuzz_section(tmp: Path) -> list[str]:
+    """The CLI fuzz suite's cases, classes and failures."""
+    n, classes, fails, fuzz_s = fuzz_summary(tmp)
+    print(f"fuzz: {n} cases, {len(fails)} failures, {fuzz_s:.0f} s")
+    lines = [
+        f"{SECTIONS['fuzz']} suite (`tests/test_fuzz_cli.py`)",
+        "",
+        machine_note(),
+        "",
+        f"{n} cases in {len(classes)} classes ({', '.join(classes)}), run in-process in "
+        f"{fuzz_s:.0f} s: **{len(fails)} failures** (a failure is any exit other than 2 with "
+        "one line or 0 with strict JSON and finite, non-negative variances).",
+    ]
+    return lines + [f"- `{' '.join(argv)[:120]}`: {why[:200]}" for argv, why in fails[:10]]
+
+
+def previous_sections() -> dict[str, str]:
+    """The sections of the existing results file, by key (kept when not rerun)."""
+    if not OUT.exists():
+        return {}
+    found: dict[str, str] = {}
+    for chunk in OUT.read_text().split("\n## ")[1:]:
+        text = "## " + chunk.strip()
+        for key, heading in SECTIONS.items():
+            if text.startswith(heading):
+                found[key] = text
+    return found
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--mb", type=float, default=500.0, help="size of the big CSV (MB)")
@@ -110,67 +279,27 @@ def main() -> None:
     ap.add_argument(
         "--method", nargs="+", default=["rice", "auto"], help="estimators for the big CSV"
     )
+    ap.add_argument("--parts", nargs="+", choices=list(SECTIONS), default=list(SECTIONS))
+    ap.add_argument("--runs", type=int, default=5, help="runs per timed case (median)")
     args = ap.parse_args()
-    lines = ["# Hostile input (issue 15)", ""]
-    lines.append(f"Machine: {os.cpu_count()} cores shared with other jobs; `nice -n 10`.")
-    lines.append("")
+    trees = [("this branch", ROOT)]
+    if args.baseline:
+        trees.append((f"baseline ({args.baseline})", args.baseline))
+    sections = previous_sections()
     with tempfile.TemporaryDirectory(prefix="noisevar-hostile-") as td:
         tmp = Path(td)
-        big = tmp / "big.csv"
-        t0 = time.perf_counter()
-        rows = write_csv(big, args.mb)
-        size = big.stat().st_size
-        print(f"wrote {size / 1e6:.0f} MB, {rows:,} rows in {time.perf_counter() - t0:.0f} s")
-        lines += [
-            f"## Peak memory of `noisevar estimate` on a {size / 1e6:.0f} MB CSV",
-            "",
-            f"{rows:,} rows of `a,b` (first column estimated); peak RSS of the process "
-            "(`ru_maxrss`). Target: under 2 GB.",
-            "",
-            "| code | method | peak RSS (GB) | wall (s) | exit | last line |",
-            "|---|---|---:|---:|---:|---|",
-        ]
-        trees = [("this branch", ROOT)]
-        if args.baseline:
-            trees.append((f"baseline ({args.baseline})", args.baseline))
-        for method in args.method:
-            cmd = [sys.executable, "-m", "noisevar", "estimate", str(big), "--method", method]
-            for label, tree in trees:
-                gb, dt, code, last = peak_rss(cmd, tree)
-                print(label, method, f"{gb:.2f} GB", f"{dt:.0f} s", code, last)
-                lines.append(f"| {label} | {method} | {gb:.2f} | {dt:.0f} | {code} | {last} |")
-        big.unlink()
-        huge = tmp / "huge.csv"
-        with huge.open("wb") as fh:
-            fh.truncate(5 * 10**9)  # sparse: no disk used
-        cli_s, msg = refuse_time(huge)
-        api_s = refuse_in_process(huge)
-        huge.unlink()
-        print(f"5 GB refused: CLI {cli_s:.2f} s, load_table {api_s * 1e3:.2f} ms")
-        lines += [
-            "",
-            "## A 5 GB file (sparse) is refused before it is read",
-            "",
-            "| path | time | target |",
-            "|---|---:|---|",
-            f"| `noisevar estimate` (process start included) | {cli_s:.2f} s | < 1 s |",
-            f"| `load_table` in process | {api_s * 1e3:.2f} ms | |",
-            "",
-            f"Message: `{msg}`",
-        ]
-        n, classes, fails, fuzz_s = fuzz_summary(tmp)
-    print(f"fuzz: {n} cases, {len(fails)} failures, {fuzz_s:.0f} s")
-    lines += [
-        "",
-        "## CLI fuzz suite (`tests/test_fuzz_cli.py`)",
-        "",
-        f"{n} cases in {len(classes)} classes ({', '.join(classes)}), run in-process in "
-        f"{fuzz_s:.0f} s: **{len(fails)} failures** (a failure is any exit other than 2 with "
-        "one line or 0 with strict JSON and finite, non-negative variances).",
-    ]
-    for argv, why in fails[:10]:
-        lines.append(f"- `{' '.join(argv)[:120]}`: {why[:200]}")
-    OUT.write_text("\n".join(lines) + "\n")
+        made = {
+            "memory": lambda: memory_section(tmp, args, trees),
+            "refusal": lambda: refusal_section(tmp, trees, args.runs),
+            "imports": lambda: imports_section(trees, args.runs),
+            "fuzz": lambda: fuzz_section(tmp),
+        }
+        for key in args.parts:
+            sections[key] = "\n".join(made[key]())
+    lines = ["# Hostile input (issue 15)", ""]
+    lines.append(f"Machine: {os.cpu_count()} cores shared with other jobs; `nice -n 10`.")
+    lines += [part for key in SECTIONS if key in sections for part in ("", sections[key])]
+    OUT.write_text("\n".join(lines).replace("\n\n\n", "\n\n") + "\n")
     print(f"wrote {OUT}")
 
 
