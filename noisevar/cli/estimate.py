@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 from typing import Any
@@ -170,11 +171,38 @@ def _estimate_many(args: argparse.Namespace, columns: Any, method: str, params: 
     return 0
 
 
+def _streamed(args: argparse.Namespace, method: str) -> bool:
+    """Read the file in chunks: asked for, a raw binary file, or a .npy over the memory cap."""
+    from noisevar.io.load import MAX_BYTES
+
+    if args.stream or args.dtype:
+        return True
+    big = args.file.lower().endswith(".npy") and os.path.getsize(args.file) > MAX_BYTES
+    return big and method == "auto"
+
+
+def _estimate_streamed(args: argparse.Namespace, column: Any, method: str, params: dict) -> Any:
+    from noisevar.stream import estimate_file
+
+    if method != "auto" or args.columns is not None:
+        raise NoisevarError(
+            "a streamed record (--stream, --dtype, or a .npy over the memory limit) is "
+            "estimated by method auto, one --column at a time"
+        )
+    extra = set(params) - {"span", "order", "trim"}
+    if extra:
+        raise NoisevarError(f"a streamed record takes span, order and trim, not {sorted(extra)}")
+    return estimate_file(args.file, column=column, dtype=args.dtype, workers=args.workers, **params)
+
+
 def _cmd_estimate(args: argparse.Namespace) -> int:
     import noisevar
 
     method, params = estimate_params(args)
     column, columns = _channels(args, params)
+    if _streamed(args, method):
+        _print(args, column, _estimate_streamed(args, column, method, params))
+        return 0
     if columns is not None:
         return _estimate_many(args, columns, method, params)
     drop = bool(params.get("drop_nonfinite", False))
@@ -192,13 +220,17 @@ def _cmd_estimate(args: argparse.Namespace) -> int:
         z, t, notes = load_record(args.file, column, drop)
         result = noisevar.estimate(z, method=method, t=t, **params)
         result.notes[:0] = [n for n in notes if n not in result.notes]
+    _print(args, column, result)
+    return 0
+
+
+def _print(args: argparse.Namespace, column: Any, result: Any) -> None:
     if args.format == "json":
         print_json(_as_json(args, column, result))
     elif args.format == "csv":
         _print_csv(args, [(column, result)])
     else:
         _print_one(args, column, result)
-    return 0
 
 
 def add_estimate_flags(p: argparse.ArgumentParser) -> None:
@@ -220,4 +252,11 @@ def add_parser(sub: Any) -> None:
     add_estimate_flags(p)
     p.add_argument("--reference-column", help="second sensor's column (somd-redundant)")
     p.add_argument("--format", choices=["table", "json", "csv"], default="table")
+    p.add_argument(
+        "--stream",
+        action="store_true",
+        help="read the file in chunks (auto only; bounded memory; .npy, raw binary, CSV)",
+    )
+    p.add_argument("--dtype", help="a headerless binary file of this sample type (e.g. <f4)")
+    p.add_argument("--workers", type=int, default=2, help="threads of a streamed estimate")
     p.set_defaults(func=_cmd_estimate)

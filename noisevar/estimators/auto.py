@@ -219,7 +219,7 @@ class AutoPart:
     short: float  # samples in blocks that needed a shorter span than the longest
     span_weight: float  # Σ_b span_b n_b
     outliers: NDArray  # record indices of outlying samples
-    jumps: NDArray  # bool over the stretch: samples left out around jumps
+    jumps: NDArray  # bool over the window: samples left out around jumps
     found: int  # samples the jump detector flagged in the stretch (before its limit)
 
 
@@ -279,7 +279,7 @@ def auto_part(
         short=float(np.sum(total_count[choice < len(spans) - 1])),
         span_weight=float(np.sum(np.asarray(spans)[choice] * total_count)),
         outliers=out + offset,
-        jumps=b.jumps[lo:hi],
+        jumps=b.jumps,
         found=int(np.count_nonzero((b.found >= lo) & (b.found < hi))),
     )
 
