@@ -178,13 +178,20 @@ def test_unknown_name_is_an_attribute_error():
         _ = noisevar.io.nope
 
 
-@pytest.mark.parametrize("name", ["big.csv", "big.npy"])
-def test_oversized_sparse_file_is_refused_with_exit_2_and_one_line(tmp_path, name):
-    path = tmp_path / name
-    path.write_bytes(b"\x93NUMPY" if name.endswith(".npy") else b"x\n1\n")
-    os.truncate(path, MAX_BYTES + 1)
+def _sparse(path: Path, size: int) -> Path:
+    path.write_bytes(b"\x93NUMPY" if path.suffix == ".npy" else b"x\n1\n")
+    os.truncate(path, size)
+    return path
+
+
+@pytest.mark.parametrize(
+    ("name", "flags"), [("big.csv", []), ("big.npy", ["--method", "rice"]), ("big.csv", ["-q"])]
+)
+def test_oversized_sparse_file_is_refused_with_exit_2_and_one_line(tmp_path, name, flags):
+    # a .npy over the cap is streamed by method auto; by another method it is refused
+    path = _sparse(tmp_path / name, MAX_BYTES + 1)
     done = subprocess.run(
-        [sys.executable, "-m", "noisevar", "estimate", str(path)],
+        [sys.executable, "-m", "noisevar", "estimate", str(path), *flags],
         capture_output=True,
         text=True,
         cwd=ROOT,
@@ -197,6 +204,22 @@ def test_oversized_sparse_file_is_refused_with_exit_2_and_one_line(tmp_path, nam
     lines = done.stderr.splitlines()
     assert len(lines) == 1
     assert lines[0].startswith(f"noisevar: error: {name} is 1,073.7 MB, over the 1,074 MB limit")
+
+
+def test_precheck_leaves_streamed_files_to_the_stream(tmp_path):
+    from noisevar.cli.estimate import precheck
+    from noisevar.errors import NoisevarError
+
+    csv = _sparse(tmp_path / "big.csv", MAX_BYTES + 1)
+    npy = _sparse(tmp_path / "big.npy", MAX_BYTES + 1)
+    for refused in ([str(csv)], [str(csv), "--method", "auto"], [str(npy), "--method=rice"]):
+        with pytest.raises(NoisevarError, match="over the 1,074 MB limit"):
+            precheck(refused)
+    for streamed in ([str(csv), "--stream"], [str(csv), "--dtype=<f4"], [str(npy)]):
+        precheck(streamed)
+    precheck(["--column", "x", str(csv)])  # FILE not first: the parser's path checks it
+    with pytest.raises(NoisevarError, match="no such file"):
+        precheck([str(tmp_path / "missing.npy"), "--stream"])
 
 
 def test_check_size_refuses_missing_directories_and_oversized(tmp_path):

@@ -3,26 +3,34 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from noisevar.cli._common import load_record, load_signal, print_json
 from noisevar.errors import NoisevarError
-from noisevar.io.limits import check_size, echo
+from noisevar.io.limits import MAX_BYTES, check_size, echo
 
 if TYPE_CHECKING:  # the module stays light: precheck runs before NumPy is imported
     from noisevar.params import ParamSpec
 
 
 def precheck(argv: list[str]) -> None:
-    """Refuse FILE (the first argument) if missing, unreadable or over the size cap.
+    """Refuse FILE (the first argument) if missing or unreadable, or over the size cap
+    unless it may be streamed (:func:`_streamed`: ``--stream``, ``--dtype``, or a ``.npy``
+    for method auto, which ``--config`` may also choose).
 
     Run by :func:`noisevar.cli.main` before the parser is built, so that a 5 GB file
     is refused before NumPy and the estimators are imported.
     """
-    if argv and not argv[0].startswith("-"):
-        check_size(argv[0])
+    if not argv or argv[0].startswith("-"):
+        return
+    words = [w for arg in argv[1:] for w in arg.split("=", 1)]  # --method=x: --method, x
+    method = words[words.index("--method") + 1] if "--method" in words[:-1] else "auto"
+    npy_auto = argv[0].lower().endswith(".npy") and method == "auto"
+    streamed = npy_auto or "--stream" in words or "--dtype" in words
+    check_size(argv[0], max_bytes=None if streamed else MAX_BYTES)
 
 
 def _estimate_specs() -> list[ParamSpec]:
@@ -182,11 +190,38 @@ def _estimate_many(args: argparse.Namespace, columns: Any, method: str, params: 
     return 0
 
 
+def _streamed(args: argparse.Namespace, method: str) -> bool:
+    """Read the file in chunks: asked for, a raw binary file, or a .npy over the memory cap."""
+    from noisevar.io.load import MAX_BYTES
+
+    if args.stream or args.dtype:
+        return True
+    big = args.file.lower().endswith(".npy") and os.path.getsize(args.file) > MAX_BYTES
+    return big and method == "auto"
+
+
+def _estimate_streamed(args: argparse.Namespace, column: Any, method: str, params: dict) -> Any:
+    from noisevar.stream import estimate_file
+
+    if method != "auto" or args.columns is not None:
+        raise NoisevarError(
+            "a streamed record (--stream, --dtype, or a .npy over the memory limit) is "
+            "estimated by method auto, one --column at a time"
+        )
+    extra = set(params) - {"span", "order", "trim"}
+    if extra:
+        raise NoisevarError(f"a streamed record takes span, order and trim, not {sorted(extra)}")
+    return estimate_file(args.file, column=column, dtype=args.dtype, workers=args.workers, **params)
+
+
 def _cmd_estimate(args: argparse.Namespace) -> int:
     import noisevar
 
     method, params = estimate_params(args)
     column, columns = _channels(args, params)
+    if _streamed(args, method):
+        _print(args, column, _estimate_streamed(args, column, method, params))
+        return 0
     if columns is not None:
         return _estimate_many(args, columns, method, params)
     drop = bool(params.get("drop_nonfinite", False))
@@ -204,13 +239,17 @@ def _cmd_estimate(args: argparse.Namespace) -> int:
         z, t, notes = load_record(args.file, column, drop)
         result = noisevar.estimate(z, method=method, t=t, **params)
         result.notes[:0] = [n for n in notes if n not in result.notes]
+    _print(args, column, result)
+    return 0
+
+
+def _print(args: argparse.Namespace, column: Any, result: Any) -> None:
     if args.format == "json":
         print_json(_as_json(args, column, result))
     elif args.format == "csv":
         _print_csv(args, [(column, result)])
     else:
         _print_one(args, column, result)
-    return 0
 
 
 def add_estimate_flags(p: argparse.ArgumentParser) -> None:
@@ -232,4 +271,11 @@ def add_parser(sub: Any) -> None:
     add_estimate_flags(p)
     p.add_argument("--reference-column", help="second sensor's column (somd-redundant)")
     p.add_argument("--format", choices=["table", "json", "csv"], default="table")
+    p.add_argument(
+        "--stream",
+        action="store_true",
+        help="read the file in chunks (auto only; bounded memory; .npy, raw binary, CSV)",
+    )
+    p.add_argument("--dtype", help="a headerless binary file of this sample type (e.g. <f4)")
+    p.add_argument("--workers", type=int, default=2, help="threads of a streamed estimate")
     p.set_defaults(func=_cmd_estimate)

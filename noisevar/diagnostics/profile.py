@@ -123,15 +123,32 @@ def level_profile(
     first = block_bounds(sq.size)
     last = np.r_[first[1:], sq.size]
     count = (last - first).astype(float)
+    robust = robust_levels(sq, first) if robust is None else robust
     var = np.add.reduceat(sq, first) / count
+    start, stop = pos[first], pos[last - 1] + 1
+    return profile_from_blocks(start, stop, count, var, robust, dof_per_sample, eta)
+
+
+def profile_from_blocks(
+    start: NDArray,
+    stop: NDArray,
+    count: NDArray,
+    var: NDArray,
+    robust: NDArray,
+    dof_per_sample: float,
+    eta: float,
+) -> LevelProfile:
+    """The profile of blocks with ``count`` squares of mean ``var`` and robust level ``robust``.
+
+    See :func:`level_profile`; ``start``, ``stop`` are the blocks' sample ranges.
+    """
     dof = count * dof_per_sample
     lo = dof * var / chi2_ppf(0.975, dof)
     hi = dof * var / chi2_ppf(0.025, dof)
     # a median of χ²₁ has relative sd 1 / (2 f(m) m sqrt(n)): as a χ² with 0.368 n dof
     robust_dof = count * MEDIAN_DOF / eta
-    robust = robust_levels(sq, first) if robust is None else robust
-    quiet = _quiet_set(robust, robust_dof, var, dof, last - first)
-    return LevelProfile(pos[first], pos[last - 1] + 1, var, lo, hi, dof, quiet)
+    quiet = _quiet_set(robust, robust_dof, var, dof, stop - start)
+    return LevelProfile(start, stop, var, lo, hi, dof, quiet)
 
 
 def _quiet_set(

@@ -30,13 +30,18 @@ def noise_kurtosis(e: NDArray, d: NDArray) -> float:
     For ``e = d * v`` with ``Σ d² = 1``, ``κ_e - 3 = (κ_v - 3) Σ d⁴``: the filter
     averages the tails away, and this undoes it.
     """
-    u = d / np.sqrt(np.dot(d, d))
     peak = float(np.max(np.abs(e))) if e.size else 0.0
     if not peak > 0.0 or not np.isfinite(peak):
         return 3.0
     x = e / peak  # the kurtosis is scale-free: keep the fourth powers in range
-    m2 = float(np.mean(x * x))
-    m4 = float(np.mean((x * x) ** 2))
+    return kurtosis_from_moments(float(np.mean(x * x)), float(np.mean((x * x) ** 2)), d)
+
+
+def kurtosis_from_moments(m2: float, m4: float, d: NDArray) -> float:
+    """:func:`noise_kurtosis` from the residual's second and fourth moments (any common scale)."""
+    if not (m2 > 0 and np.isfinite(m2) and np.isfinite(m4)):
+        return 3.0
+    u = d / np.sqrt(np.dot(d, d))
     # κ_v = 3 + (κ_e - 3) / Σ d⁴
     return float(max(3.0 + (m4 / m2**2 - 3.0) / np.sum(u**4), 1.0))
 

@@ -170,12 +170,8 @@ def _coloured(
     if not extra:
         return result
     again = _by_segment(spec, z, seg, [], {**params, **extra}, run)
-    said = ", ".join(f"{k}={v}" for k, v in extra.items())
     again.notes = [n for n in again.notes if "span chosen" not in n]
-    again.notes.append(
-        f"the noise is not white: estimated with {said}, which lets the least of the "
-        "coloured part in (the white part, or a little above it)"
-    )
+    again.notes.append(coloured_note(extra))
     return again
 
 
@@ -217,6 +213,35 @@ def attach_diagnostics(
         return result
     if run is not None and diag.whiteness.p_value < COLOURED_P and spec.coloured_params:
         result = _coloured(spec, result, z, seg, params or {}, run)
+    return conclude(spec, result, diag)
+
+
+def coloured_note(extra: dict) -> str:
+    """What a result estimated again with the coloured-noise parameters ``extra`` says."""
+    said = ", ".join(f"{k}={v}" for k, v in extra.items())
+    return (
+        f"the noise is not white: estimated with {said}, which lets the least of the "
+        "coloured part in (the white part, or a little above it)"
+    )
+
+
+def conclude(
+    spec: MethodSpec, result: VarianceEstimate, diag: NoiseDiagnostics
+) -> VarianceEstimate:
+    """``result`` with the diagnostics ``diag``: honest interval, verdict, notes, assumptions.
+
+    Parameters
+    ----------
+    spec : MethodSpec
+        The method that made ``result``.
+    result : VarianceEstimate
+    diag : NoiseDiagnostics
+        The record's diagnostics.
+
+    Returns
+    -------
+    VarianceEstimate
+    """
     if spec.moment:
         result = _honest_interval(result, diag)
     if not diag.identifiable:  # no measurement noise can be told apart: 0 is as likely

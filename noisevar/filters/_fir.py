@@ -9,7 +9,8 @@ level cache, with the innermost loop along the tile, which the compiler
 vectorises. Same filter, same result to rounding (tested against
 ``np.convolve``).
 
-``cache=True``: compiled once per machine into ``__pycache__``.
+``cache=True``: compiled once per machine into ``__pycache__``; ``nogil``: chunks of a
+streamed record are filtered in parallel threads.
 """
 
 from __future__ import annotations
@@ -20,13 +21,13 @@ from numba import njit
 _TILE = 1024
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def symmetric_fir_squares(z, half, out):  # pragma: no cover - compiled
     """``out[t] = (sum_k d_k z[t + k])²``: :func:`symmetric_fir`, squared."""
     symmetric_fir(z, half, out, True)
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def symmetric_fir(z, half, out, square):  # pragma: no cover - compiled
     """``out[t] = sum_k d_k z[t + k]`` (squared if ``square``) at centred ``t``, ``d`` symmetric.
 

@@ -193,21 +193,25 @@ def _check_width(name: str, fields: list[str], head: list[tuple[int, str]], fmt:
             )
 
 
-def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
-    text = src if isinstance(src, str) else src.head
-    head = _head_lines(text, name, isinstance(src, str))
+def table_layout(text: str, name: str, complete: bool) -> tuple[_Format, list[str], int]:
+    """How a text table is written, its column names and the line its header is on.
+
+    ``text`` is the whole file (``complete``) or its head.
+    """
+    head = _head_lines(text, name, complete)
     fmt = _sniff_format([ln for _, ln in head])
     first = _split(head[0][1], fmt.delim) if fmt.thousands != "," or fmt.delim else [head[0][1]]
     _check_width(name, first, head, fmt)
-    header = not all(_is_number(c, fmt) for c in first)
-    if header:
-        names = _unique_names(first)
-        header_line = head[0][0]
+    if not all(_is_number(c, fmt) for c in first):
         if len(head) < 2:
             raise NoisevarError(f"{echo(name)} has a header but no data rows")
-    else:
-        names = [f"col{i}" for i in range(len(first))]
-        header_line = head[0][0] - 1
+        return fmt, _unique_names(first), head[0][0]
+    return fmt, [f"col{i}" for i in range(len(first))], head[0][0] - 1
+
+
+def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
+    text = src if isinstance(src, str) else src.head
+    fmt, names, header_line = table_layout(text, name, isinstance(src, str))
     time_idx = next((i for i, c in enumerate(names) if _is_time_name(c)), None)
     columns, notes = _parse_body(src, header_line, names, fmt, name, time_idx)
     if fmt.decimal == ",":
@@ -224,9 +228,17 @@ def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
 
 
 def _read_frame(
-    src: str | TextSource, header_line: int, ncol: int, fmt: _Format, name: str
+    src: str | TextSource,
+    header_line: int,
+    ncol: int,
+    fmt: _Format,
+    name: str,
+    chunksize: int | None = None,
 ) -> pd.DataFrame:
-    """The table body parsed by pandas (streamed from disk for a :class:`TextSource`)."""
+    """The table body parsed by pandas (streamed from disk for a :class:`TextSource`).
+
+    With ``chunksize``, an iterator of frames of that many rows.
+    """
     import pandas as pd  # here: pandas is heavy, and a .npy file does not need it
 
     sep = r"\s+" if fmt.delim is None else fmt.delim
@@ -252,6 +264,7 @@ def _read_frame(
             index_col=False,
             decimal=fmt.decimal,
             thousands=fmt.thousands,
+            chunksize=chunksize,
         )
     except Exception as exc:  # noqa: BLE001 - pandas raises several parser types
         msg = str(exc)

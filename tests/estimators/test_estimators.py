@@ -468,7 +468,7 @@ def test_parameters_a_method_does_not_take_are_refused():
 # ---------------------------------------------------- auto: fast internals = naive forms
 @pytest.mark.parametrize("n, block", [(1000, 256), (1030, 256), (5000, 64), (70, 16), (20, 16)])
 def test_kept_block_sums_equals_zeroing_a_copy(n, block):
-    from noisevar.estimators.auto import _block_sums, _kept_block_sums
+    from noisevar.estimators._blocks import _block_sums, _kept_block_sums
 
     rng = np.random.default_rng(n + block)
     nb = max(1, n // block)
@@ -486,7 +486,7 @@ def test_kept_block_sums_equals_zeroing_a_copy(n, block):
 
 @pytest.mark.parametrize("n, block", [(1000, 256), (1100, 256), (300, 16), (16, 16)])
 def test_above_local_uses_the_higher_of_the_two_bracketing_levels(n, block):
-    from noisevar.estimators.auto import _above_local
+    from noisevar.estimators._trim import _above_local
 
     rng = np.random.default_rng(n)
     nb = max(1, n // block)
@@ -550,7 +550,7 @@ def test_auto_does_not_trim_genuine_noise_after_a_noise_step():
 
 
 def test_block_medians_equal_numpy_median():
-    from noisevar.estimators.auto import _block_medians
+    from noisevar.estimators._blocks import _block_medians
 
     rng = np.random.default_rng(3)
     for block in (256, 18, 17):
@@ -560,7 +560,7 @@ def test_block_medians_equal_numpy_median():
 
 
 def test_step_mask_finds_a_jump_and_ignores_a_parabola():
-    from noisevar.estimators.auto import _step_mask
+    from noisevar.estimators._steps import _step_mask
 
     rng = np.random.default_rng(4)
     k = np.arange(4000.0)

@@ -1,0 +1,216 @@
+"""Diagnostics as a sum over stretches of a record, so that a record streamed in chunks gets them.
+
+Every statistic of :func:`noisevar.diagnostics.diagnose` is laid on a grid fixed before
+the record is read (:class:`DiagPlan`): residual slots in blocks, whiteness windows,
+the quantisation probe. Each stretch of the record adds what falls on its part of the
+grid (:meth:`DiagSums.add`); a block's median is taken once all of its slots have been
+seen, so that memory stays bounded whatever the record's length (docs/algorithms.md §E1).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+
+from noisevar.diagnostics.profile import CHI2_1_MEDIAN, PROFILE_BLOCKS, PROFILE_MIN_BLOCK
+from noisevar.diagnostics.quantisation import LSB_PROBE, LSB_TOL
+from noisevar.diagnostics.whiteness import WHITE_LAGS
+
+#: At most this many samples enter the whiteness tests (spread over the record).
+WHITE_MAX = 2**18
+#: Samples per block of the level that the kurtosis is taken relative to (at least).
+SHAPE_BLOCK = 256
+#: Span and order of the local-polynomial residual the diagnostics look through.
+DIAG_SPAN = 21
+DIAG_ORDER = 3
+#: A block's robust level is the median of at most this many of its residuals.
+MEDIAN_MAX = 2**16
+#: At most this many distinct values are collected when the quantisation probe is flat.
+UNIQUE_MAX = 4096
+
+
+@dataclass(frozen=True)
+class Grid:
+    """Blocks of ``size`` residual slots over ``m`` slots; the last takes the rest."""
+
+    m: int
+    size: int
+
+    @classmethod
+    def over(cls, m: int, min_block: int) -> Grid:
+        return cls(m, max(min_block, -(-m // PROFILE_BLOCKS)))
+
+    @property
+    def count(self) -> int:
+        return max(1, self.m // self.size)
+
+    def stop(self, b: NDArray) -> NDArray:
+        return np.where(b == self.count - 1, self.m, (b + 1) * self.size)
+
+    @property
+    def stride(self) -> int:
+        """Every ``stride``-th slot of a block enters its median."""
+        return max(1, -(-self.size // MEDIAN_MAX))
+
+
+def windows(total: int, most: int = WHITE_MAX) -> tuple[tuple[int, int], ...]:
+    """At most ``most`` indices of ``range(total)`` in 16 windows spread over it."""
+    if total <= most:
+        return ((0, total),)
+    width = most // 16
+    return tuple((int(a), int(a) + width) for a in np.linspace(0, total - width, 16).astype(int))
+
+
+@dataclass(frozen=True)
+class DiagPlan:
+    """Where the diagnostics look, fixed before the record is read.
+
+    ``segments``: uniform stretches ``(a, b)`` of the record; ``slot0`` the first residual
+    slot of each (None: too short to diagnose); ``probe``: the quantisation probe's
+    candidate ``(z0, step)`` (None: not on a grid; ``"flat"``: the probe has one value).
+    """
+
+    n: int
+    segments: tuple[tuple[int, int], ...]
+    slot0: tuple[int | None, ...]
+    profile: Grid
+    wide: Grid
+    white: tuple[tuple[int, int], ...]
+    incr: tuple[tuple[int, int], ...]
+    probe: tuple[float, float] | str | None
+
+    @property
+    def h(self) -> int:
+        return DIAG_SPAN // 2
+
+
+def make_plan(n: int, segments: tuple[tuple[int, int], ...], probe: NDArray) -> DiagPlan:
+    """The plan for a record of ``n`` samples in ``segments``; ``probe`` from :func:`probe_of`."""
+    h = DIAG_SPAN // 2
+    slot0: list[int | None] = []
+    m = 0
+    for a, b in segments:
+        slot0.append(m if b - a >= 2 * DIAG_SPAN else None)
+        m += b - a - 2 * h if b - a >= 2 * DIAG_SPAN else 0
+    used = sum(1 for s in slot0 if s is not None)
+    diffs = sum(b - a - 1 for a, b in segments)
+    return DiagPlan(
+        n, tuple(segments), tuple(slot0), Grid.over(m, PROFILE_MIN_BLOCK),
+        Grid.over(m, SHAPE_BLOCK), windows(m + WHITE_LAGS * used),
+        windows(diffs + WHITE_LAGS * len(segments)), _grid_candidate(probe),
+    )  # fmt: skip
+
+
+def probe_of(read: object, n: int) -> NDArray:
+    """The quantisation probe: every ``n // LSB_PROBE``-th sample (``read(slice)`` gives them)."""
+    return np.asarray(read(slice(0, n, max(1, n // LSB_PROBE))), dtype=float)  # type: ignore[operator]
+
+
+def _grid_candidate(probe: NDArray) -> tuple[float, float] | str | None:
+    """``(z0, step)`` proposed by the probe (docs/algorithms.md §E3)."""
+    levels = np.unique(probe)
+    if levels.size < 2:
+        return "flat"
+    steps = np.diff(levels)
+    step = float(steps.min())
+    if step <= 0 or float(levels[-1] - levels[0]) / step > 1e9:
+        return None
+    return (float(levels[0]), step) if _on_grid(steps, step) else None
+
+
+def _on_grid(x: NDArray, step: float) -> bool:
+    r = x / step
+    return bool(np.max(np.abs(r - np.rint(r)), initial=0.0) < LSB_TOL)
+
+
+@dataclass
+class Piece:
+    """What one stretch adds to one block: seen slots, kept count, sums, median values."""
+
+    seen: int
+    count: int
+    total: float
+    values: list[NDArray]
+    peak: float = 0.0  # largest |e| of the kept residuals (the fourth powers' scale)
+    s2: float = 0.0  # Σ (e / peak)²
+    s4: float = 0.0  # Σ (e / peak)⁴
+
+    def merge(self, other: Piece) -> None:
+        self.seen += other.seen
+        self.count += other.count
+        self.total += other.total
+        self.values += other.values
+        if other.peak > self.peak:  # rescale the sums to the larger peak
+            r = (self.peak / other.peak) ** 2
+            self.s2, self.s4 = self.s2 * r + other.s2, self.s4 * r * r + other.s4
+            self.peak = other.peak
+        elif other.peak > 0:
+            r = (other.peak / self.peak) ** 2
+            self.s2, self.s4 = self.s2 + other.s2 * r, self.s4 + other.s4 * r * r
+
+
+def block_pieces(grid: Grid, s0: int, e: NDArray, keep: NDArray, norm: float) -> dict[int, Piece]:
+    """The pieces of the blocks that slots ``s0 .. s0 + e.size`` fall in.
+
+    ``norm`` turns ``e²`` into the squares whose expectation is the noise variance.
+    """
+    s1 = s0 + e.size
+    first, last = s0 // grid.size, min((s1 - 1) // grid.size, grid.count - 1)
+    out = {}
+    for b in range(min(first, grid.count - 1), last + 1):
+        a = max(b * grid.size, s0)
+        z = int(grid.stop(np.asarray(b))) if b == last else (b + 1) * grid.size
+        sl = slice(a - s0, min(z, s1) - s0)
+        kept = e[sl][keep[sl]]
+        sq = kept * kept * norm
+        offset = (grid.size - (a - b * grid.size) % grid.stride) % grid.stride
+        on_stride = keep[sl][offset :: grid.stride]
+        values = (e[sl][offset :: grid.stride][on_stride] ** 2) * norm
+        peak = float(np.max(np.abs(kept))) if kept.size else 0.0
+        s2 = s4 = 0.0
+        if peak > 0:
+            x = kept / peak
+            x2 = x * x
+            s2, s4 = float(x2.sum()), float(x2 @ x2)
+        out[b] = Piece(sl.stop - sl.start, int(kept.size), float(sq.sum()), [values], peak, s2, s4)
+    return out
+
+
+def block_level(piece: Piece) -> float:
+    """A block's robust level: the median of its squares over the median of χ²₁."""
+    v = np.concatenate(piece.values) if piece.values else np.zeros(0)
+    med = float(np.median(v)) if v.size else 0.0
+    if not med > 0 and piece.count:  # quantised data: a median square of 0, use the mean
+        med = piece.total / piece.count * CHI2_1_MEDIAN
+    return med / CHI2_1_MEDIAN
+
+
+@dataclass
+class Windows:
+    """Pieces of a sequence inside fixed windows, assembled with separators between windows."""
+
+    spans: tuple[tuple[int, int], ...]
+    got: dict[int, tuple[NDArray, NDArray]] = field(default_factory=dict)
+
+    def add(self, start: int, x: NDArray, keep: NDArray) -> None:
+        for a, b in self.spans:
+            lo, hi = max(a, start), min(b, start + x.size)
+            if lo < hi:
+                self.got[lo] = (x[lo - start : hi - start], keep[lo - start : hi - start])
+
+    def joined(self) -> tuple[NDArray, NDArray]:
+        """The windows' samples in order, each window followed by ``WHITE_LAGS`` unused slots."""
+        parts, kept = [], []
+        sep = np.zeros(WHITE_LAGS)
+        for a, b in self.spans:
+            for lo in sorted(k for k in self.got if a <= k < b):
+                parts.append(self.got[lo][0])
+                kept.append(self.got[lo][1])
+            if len(self.spans) > 1:
+                parts.append(sep)
+                kept.append(sep.astype(bool))
+        if not parts:
+            return np.zeros(0), np.zeros(0, dtype=bool)
+        return np.concatenate(parts), np.concatenate(kept)

@@ -1,0 +1,208 @@
+"""The diagnostics of a record from its stretches: :func:`diag_part` maps, :class:`DiagSums` adds.
+
+A record in memory is one stretch per uniform segment; a record streamed from disk is
+one stretch per chunk (:mod:`noisevar.stream`). Stretches are added in record order.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from noisevar.diagnostics._parts import (
+    DIAG_ORDER,
+    DIAG_SPAN,
+    UNIQUE_MAX,
+    DiagPlan,
+    Grid,
+    Piece,
+    Windows,
+    _on_grid,
+    block_level,
+    block_pieces,
+)
+from noisevar.diagnostics.whiteness import WHITE_LAGS
+from noisevar.errors import NoisevarError
+
+
+def _filter(x: NDArray, d: NDArray) -> NDArray:
+    """``d * x`` at the centred samples (``d`` symmetric): compiled when numba is there."""
+    from noisevar.estimators import auto
+
+    if auto.USE_COMPILED and auto._fir is not None:
+        out = np.empty(x.size - d.size + 1)
+        auto._fir.symmetric_fir(np.ascontiguousarray(x), d[d.size // 2 :].copy(), out, False)
+        return out
+    return np.convolve(x, d[::-1], mode="valid")
+
+
+@dataclass
+class DiagPart:
+    """What one stretch of a record adds to the diagnostics."""
+
+    profile: dict[int, Piece]
+    wide: dict[int, Piece]
+    white: list[tuple[int, NDArray, NDArray]]  # (index, residuals, kept)
+    incr: list[tuple[int, NDArray, NDArray]]  # (index, first differences, used)
+    on_grid: bool
+    uniques: NDArray | None  # distinct values, when the quantisation probe was flat
+
+
+def _sequence() -> NDArray:
+    from noisevar.estimators.auto import residual_sequence
+
+    return residual_sequence(DIAG_SPAN, DIAG_ORDER)
+
+
+def _residual_part(
+    z: NDArray, wa: int, k0: int, k1: int, exclude: NDArray | None
+) -> tuple[NDArray, NDArray]:
+    """Residuals centred on samples ``k0 .. k1`` of the window starting at ``wa``, kept mask."""
+    h = DIAG_SPAN // 2
+    x = z[k0 - wa - h : k1 - wa + h]
+    e = _filter(x, _sequence())
+    if exclude is None:
+        return e, np.ones(e.size, dtype=bool)
+    # a residual whose window touches an excluded sample (a level jump) is not kept
+    x = exclude[k0 - wa - h : k1 - wa + h].astype(float)
+    near = np.convolve(x, np.ones(DIAG_SPAN), "valid")
+    return e, near == 0
+
+
+# long: one stretch's share of every statistic, in the plan's coordinates
+def diag_part(
+    z: NDArray,
+    wa: int,
+    own: tuple[int, int],
+    seg: int,
+    plan: DiagPlan,
+    exclude: NDArray | None = None,
+) -> DiagPart:
+    """The share of the samples ``own`` (record indices) of segment ``seg``.
+
+    Parameters
+    ----------
+    z : ndarray
+        A window of the record starting at record index ``wa``: ``own`` and, where the
+        segment goes on, :data:`DIAG_SPAN` samples either side.
+    own : (int, int)
+        The stretch (record indices), inside segment ``seg``.
+    plan : DiagPlan
+    exclude : ndarray of bool, optional
+        Over the window: samples left out (around level jumps).
+    """
+    a, b = plan.segments[seg]
+    lo, hi = own
+    h = plan.h
+    d = _sequence()
+    norm = 1.0 / float(np.dot(d, d))
+    profile: dict[int, Piece] = {}
+    wide: dict[int, Piece] = {}
+    white: list[tuple[int, NDArray, NDArray]] = []
+    rank = sum(s is not None for s in plan.slot0[:seg])
+    s_first = plan.slot0[seg]
+    if s_first is not None:
+        k0, k1 = max(lo, a + h), min(hi, b - h)
+        r_sep = s_first + (b - a - 2 * h) + WHITE_LAGS * rank  # this segment's separator
+        if k0 < k1:
+            e, keep = _residual_part(z, wa, k0, k1, exclude)
+            s0 = s_first + k0 - (a + h)
+            profile = block_pieces(plan.profile, s0, e, keep, norm)
+            same = plan.wide == plan.profile
+            wide = profile if same else block_pieces(plan.wide, s0, e, keep, norm)
+            white.append((s0 + WHITE_LAGS * rank, e, keep))
+        if hi == b:
+            white.append((r_sep, np.zeros(WHITE_LAGS), np.zeros(WHITE_LAGS, dtype=bool)))
+    d0 = sum(b_ - a_ - 1 + WHITE_LAGS for a_, b_ in plan.segments[:seg])
+    x = z[lo - wa : min(hi + 1, b) - wa]
+    dz = np.diff(x)
+    incr = [(d0 + lo - a, dz, np.ones(dz.size, dtype=bool))]
+    if hi == b:
+        incr.append((d0 + b - a - 1, np.zeros(WHITE_LAGS), np.zeros(WHITE_LAGS, dtype=bool)))
+    own_z = z[lo - wa : hi - wa]
+    on_grid, uniques = True, None
+    if isinstance(plan.probe, tuple):
+        on_grid = _on_grid(own_z - plan.probe[0], plan.probe[1])
+    elif plan.probe == "flat":
+        uniques = np.unique(own_z)[: UNIQUE_MAX + 1]
+    return DiagPart(profile, wide, white, incr, on_grid, uniques)
+
+
+class DiagSums:
+    """Running sums of the diagnostics; blocks are reduced as soon as they are complete."""
+
+    def __init__(self, plan: DiagPlan) -> None:
+        self.plan = plan
+        self.open: tuple[dict[int, Piece], dict[int, Piece]] = ({}, {})
+        self.profile: dict[int, tuple[int, float, float]] = {}  # block: count, total, level
+        self.wide: dict[int, tuple[int, float]] = {}  # block: count, level
+        self.k2 = self.k4 = 0.0  # Σ e²/L and Σ e⁴/L² over the kept residuals
+        self.white = Windows(plan.white)
+        self.incr = Windows(plan.incr)
+        self.on_grid = True
+        self.uniques: NDArray | None = np.zeros(0) if plan.probe == "flat" else None
+
+    def add(self, part: DiagPart) -> None:
+        """Add one stretch (in record order)."""
+        self._blocks(0, part.profile, self.plan.profile)
+        if self.plan.wide != self.plan.profile:
+            self._blocks(1, part.wide, self.plan.wide)
+        for start, e, keep in part.white:
+            self.white.add(start, e, keep)
+        for start, dz, used in part.incr:
+            self.incr.add(start, dz, used)
+        self.on_grid &= part.on_grid
+        if self.uniques is not None and part.uniques is not None:
+            self.uniques = np.union1d(self.uniques, part.uniques)[: UNIQUE_MAX + 1]
+
+    def _blocks(self, which: int, pieces: dict[int, Piece], grid: Grid) -> None:
+        open_ = self.open[which]
+        for b, piece in pieces.items():
+            if b in open_:
+                open_[b].merge(piece)
+            else:
+                open_[b] = piece
+            size = int(grid.stop(np.asarray(b))) - b * grid.size
+            if open_[b].seen == size:
+                self._close(which, b, open_.pop(b))
+
+    def _close(self, which: int, b: int, piece: Piece) -> None:
+        level = block_level(piece)
+        if which == 0:
+            self.profile[b] = (piece.count, piece.total, level)
+        if which == 1 or self.plan.wide == self.plan.profile:
+            self.wide[b] = (piece.count, level)
+            if piece.count and level > 0:
+                # Σ e²/L = (peak² / L) Σ (e/peak)², and the same for the fourth powers
+                r = piece.peak**2 / level
+                with np.errstate(over="ignore"):
+                    self.k2 += r * piece.s2
+                    self.k4 += r * r * piece.s4
+
+    def lsb(self) -> float | None:
+        """The quantisation step, when every stretch sat on the probe's grid."""
+        probe = self.plan.probe
+        if isinstance(probe, tuple):
+            return probe[1] if self.on_grid else None
+        if probe is None or self.uniques is None or not 2 <= self.uniques.size <= UNIQUE_MAX:
+            return None
+        steps = np.diff(self.uniques)
+        step = float(steps.min())
+        spread = float(self.uniques[-1] - self.uniques[0])
+        if step <= 0 or spread / step > 1e9 or not _on_grid(self.uniques - self.uniques[0], step):
+            return None
+        return step
+
+    def check(self) -> None:
+        """Refuse a record with no residual kept (nothing to diagnose)."""
+        if not any(c for c, _, _ in self.profile.values()):
+            raise NoisevarError(
+                f"no stretch of the record has {2 * DIAG_SPAN} uniformly sampled samples "
+                f"(span {DIAG_SPAN}) free of jumps: nothing to diagnose"
+            )
+
+
+Reader = Callable[[int, int], NDArray]

@@ -1,0 +1,259 @@
+"""Trimming for ``auto``: outliers and jumps flagged, their neighbourhoods left out (§F5.3, §F5.4).
+
+:func:`trimmed_blocks` turns every span's squared residuals into per-block sums with
+the flagged samples' neighbourhoods zeroed, and keeps what a shorter span can recover.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.ndimage import maximum_filter1d
+
+from noisevar._distributions import norm_cdf, norm_pdf
+from noisevar.errors import NoisevarError
+from noisevar.estimators._blocks import (
+    _block_counts,
+    _block_medians,
+    _block_square_sums,
+    _block_sums,
+    _dilate,
+    _flagged_per_block,
+    _kept_block_sums,
+)
+from noisevar.estimators._steps import STEP_MAX_FRACTION, _step_mask
+
+#: Trimmed samples are widened by half of this span (or of the longest span below it).
+AUTO_MASK_SPAN = 41
+AUTO_BLOCK = 256
+
+
+def auto_block(n: int) -> int:
+    """Samples per block of ``auto`` on a record of ``n`` samples."""
+    return AUTO_BLOCK if n >= 2 * AUTO_BLOCK else max(n // 2, 16)
+
+
+def _truncated_second_moment(kappa: float) -> float:
+    """``E[Z² ; |Z| < κ] / P(|Z| < κ)`` for a standard normal ``Z``."""
+    p = 2.0 * norm_cdf(kappa) - 1.0
+    return float((p - 2.0 * kappa * norm_pdf(kappa)) / p)
+
+
+def _above_local(x: NDArray, local: NDArray, block: int) -> NDArray:
+    """``x`` above the larger local level of the two block centres around each sample.
+
+    Block ``j``'s level holds at its centre ``(j + 1/2) block``; a sample is
+    compared with the larger of the levels of the two centres around it (the
+    rest of the record after the last block with the last level), so that near a
+    change of noise level the threshold is the louder side's (§F5.4). One
+    blockwise comparison with the block's own level (a lower bound) finds the few
+    candidates; only those are compared with the bracketing level.
+    """
+    n, nb = x.size, local.size
+    hit = np.empty(n, dtype=bool)
+    np.greater(
+        x[: nb * block].reshape(nb, block), local[:, None], out=hit[: nb * block].reshape(nb, block)
+    )
+    np.greater(x[nb * block :], local[-1], out=hit[nb * block :])
+    idx = np.flatnonzero(hit)
+    if idx.size and nb > 1:
+        own = np.minimum(idx // block, nb - 1)
+        side = np.where(idx - own * block < block // 2, own - 1, own + 1)
+        side = np.clip(side, 0, nb - 1)  # the rest of the record: the last block's level
+        hit[idx[x[idx] <= np.maximum(local[own], local[side])]] = False
+    return hit
+
+
+def _outlier_mask(
+    sq: NDArray,
+    kappa: float,
+    block: int,
+    dilate: int,
+    steps: Callable[[Callable[[NDArray], NDArray], float], NDArray] | None,
+    step_limit: float,
+) -> tuple[NDArray | None, NDArray | None, NDArray | None]:
+    """Squared residuals that are outliers, and samples next to jumps (the caller widens both).
+
+    Pass 1 takes a robust local scale from block medians of ``e²`` (every
+    fourth sample: plenty for a scale whose only use is a generous
+    threshold); pass 2 refines it with the mean of each block's kept squares,
+    so that a noise level changing along the record is followed (a noise step
+    is not mistaken for outliers). Residuals beyond ``κ`` local standard
+    deviations are flagged, and so are samples next to a jump found by
+    ``steps(above, κ²)`` (:func:`_step_mask`). Pass 1 leaves ``dilate``
+    neighbours on each side of what it flags out of the scale (a jump spreads
+    over the whole span of the residual sequence); the returned mask is not
+    widened, so that the caller can widen it by each span's half. Each is
+    None when nothing is flagged (the common case, which then costs no
+    masking). Jumps are kept while the detector flags at most ``step_limit``
+    samples (more: a fast signal); the third value is what it flagged (None: nothing).
+    """
+    n = sq.size
+    nb = max(1, n // block)
+    scale = kappa**2 / 0.4549364231195724  # the median of χ²₁ is 0.4549
+    threshold = _block_medians(sq, block, nb, 4) * scale
+    first = np.empty(n, dtype=bool)
+    np.greater(
+        sq[: nb * block].reshape(nb, block),
+        threshold[:, None],
+        out=first[: nb * block].reshape(nb, block),
+    )
+    np.greater(sq[nb * block :], threshold[-1], out=first[nb * block :])
+    tau = _truncated_second_moment(kappa)
+    kept_n = _block_counts(block, nb, n)
+    if first.any():
+        if dilate > 0:  # leave the whole neighbourhood of a jump out of the scale
+            first = _dilate(first, dilate)
+        idx = np.flatnonzero(first)
+        kept_sum = _kept_block_sums(sq, idx, block, nb)
+        kept_n -= _flagged_per_block(idx, block, nb)
+    else:
+        kept_sum = _block_sums(sq, block, nb)
+    # κ² times the local variance of each block (held at its centre; see _above_local)
+    threshold = kappa**2 * kept_sum / np.maximum(kept_n, 1.0) / tau
+
+    def above(x: NDArray) -> NDArray:
+        return _above_local(x, threshold, block)
+
+    outlier = above(sq)
+    jumps, found = None, None
+    if steps is not None:
+        found = steps(above, kappa**2)
+        if 0 < np.count_nonzero(found) <= step_limit:  # else the signal is too fast
+            jumps = found
+    return (outlier if outlier.any() else None), jumps, found
+
+
+def _near_flagged(
+    flagged: NDArray, idx: NDArray, spans: tuple[int, ...], half: int, sq: NDArray
+) -> tuple[NDArray, NDArray, NDArray] | None:
+    """Samples of the common mask ``idx`` that a shorter span can still use.
+
+    The common mask widens flagged samples by ``half``; the residual of a
+    span ``s`` at sample ``k`` reaches ``s // 2`` samples either way, so a
+    sample more than ``s // 2`` from every flagged one has a clean residual
+    for that span. Returns the indices of such samples, the longest usable
+    span index of each, and their squared residuals for the spans up to it
+    (before the caller zeroes the masked ones), or None.
+    """
+    usable = np.full(idx.size, -1)
+    for j, s in enumerate(spans):
+        if s // 2 >= half:
+            break
+        usable[~_dilate(flagged, s // 2)[idx]] = j
+    keep = usable >= 0
+    if not keep.any():
+        return None
+    near = idx[keep]
+    return near, usable[keep], sq[: int(usable.max()) + 1, near].copy()
+
+
+@dataclass
+class _Blocks:
+    """Per-block sums of every span's squared residuals, after trimming (§F5.4)."""
+
+    block: int
+    nb: int
+    kept_count: NDArray  # (nb,) samples kept per block
+    block_sum: NDArray  # (n_spans, nb)
+    fourth: NDArray  # (nb,) sums of the shortest span's e⁴
+    clean_for: NDArray  # (n_spans, nb) span j's residuals untouched by a flagged sample
+    recover: tuple[NDArray, NDArray, NDArray] | None  # see _near_flagged
+    total_count: NDArray  # (nb,) samples off the jumps (outliers kept: they are noise)
+    total_sum: NDArray  # (n_spans, nb) their sums
+    outliers: NDArray  # samples that are outliers (one per spike)
+    clean_total: NDArray  # (n_spans, nb) as clean_for, for the jumps alone
+    recover_total: tuple[NDArray, NDArray, NDArray] | None  # as recover, near the jumps
+    jumps: NDArray  # samples left out around jumps (widened; all False when none)
+    found: NDArray  # indices of the samples the jump detector flagged (before its limit)
+
+
+def _flag(
+    z: NDArray, sq0: NDArray, trim: float, block: int, half: int, step_limit: float | None
+) -> tuple:
+    """Outliers, jumps (None when none) and what the jump detector flagged, from the shortest span.
+
+    ``step_limit``: at most this many jump samples are believed (default: a fifth of ``z``).
+    """
+    if not np.isfinite(trim):
+        return None, None, None
+    limit = STEP_MAX_FRACTION * z.size if step_limit is None else step_limit
+    return _outlier_mask(sq0, trim, block, half, lambda v, sc: _step_mask(z, v, sc), limit)
+
+
+def _zero(sq: NDArray, flags: NDArray | None, half: int, block: int, nb: int) -> NDArray:
+    """Zero the squares within ``half`` of ``flags`` in place; the samples left out per block."""
+    if flags is None:
+        return np.zeros(nb)
+    idx = np.flatnonzero(_dilate(flags, half) if half > 0 else flags)
+    if idx.size == sq.shape[1]:
+        raise NoisevarError("every residual was trimmed as an outlier: the signal is not usable")
+    sq[:, idx] = 0.0
+    return _flagged_per_block(idx, block, nb)
+
+
+def _recoverable(
+    flags: NDArray | None, spans: tuple[int, ...], half: int, sq: NDArray
+) -> tuple[NDArray, NDArray, NDArray] | None:
+    """:func:`_near_flagged` for the mask of ``flags`` widened by ``half`` (None: no flags)."""
+    if flags is None:
+        return None
+    idx = np.flatnonzero(_dilate(flags, half) if half > 0 else flags)
+    return _near_flagged(flags, idx, spans, half, sq)
+
+
+def _trimmed_blocks(
+    z: NDArray, sq: NDArray, spans: tuple[int, ...], trim: float, step_limit: float | None = None
+) -> _Blocks:
+    """Flag jumps and outliers, zero their neighbourhoods in ``sq`` and sum the blocks.
+
+    Block sums are taken twice: with only the jumps left out (the total variance:
+    outliers are noise) and with outliers left out too (the core, §F5.4).
+    """
+    m = z.size
+    block = auto_block(m)
+    nb = max(1, m // block)
+    # flagged samples are widened by half the longest span up to AUTO_MASK_SPAN; a
+    # longer span is used only in blocks that its wider neighbourhood leaves alone
+    half = max(s for s in spans if s <= max(AUTO_MASK_SPAN, spans[0])) // 2
+    outliers, jumps, found = _flag(z, sq[0], trim, block, half, step_limit)
+    sq0_copy = sq[0].copy() if outliers is not None else sq[0]
+    flagged = jumps if outliers is None else outliers if jumps is None else outliers | jumps
+    # before any zeroing: the values near flagged samples (and near jumps, for the total)
+    recover = _recoverable(flagged, spans, half, sq)
+    recover_total = _recoverable(jumps, spans, half, sq)
+    total_count = _block_counts(block, nb, m) - _zero(sq, jumps, half, block, nb)
+    total_sum = np.stack([_block_sums(q, block, nb) for q in sq])
+    kept_count = _block_counts(block, nb, m) - _zero(sq, flagged, half, block, nb)
+    block_sum = np.stack([_block_sums(q, block, nb) for q in sq])
+    fourth = _block_square_sums(sq[0], block, nb)
+    # one outlying sample spreads over its neighbours' residuals: count the peaks
+    peaks = sq[0] if outliers is None else maximum_filter1d(sq0_copy, spans[0])
+    out_at = np.zeros(0, dtype=int)
+    if outliers is not None:  # residuals next to a jump are the jump's, not outliers
+        alone = outliers if jumps is None else outliers & ~_dilate(jumps, half)
+        out_at = np.flatnonzero(alone & (sq0_copy == peaks))
+    return _Blocks(
+        block, nb, kept_count, block_sum, fourth, _clean_for(flagged, spans, half, block, nb),
+        recover, total_count, total_sum, out_at, _clean_for(jumps, spans, half, block, nb),
+        recover_total, np.zeros(m, dtype=bool) if jumps is None else _dilate(jumps, half),
+        np.zeros(0, dtype=int) if found is None else np.flatnonzero(found),
+    )  # fmt: skip
+
+
+def _clean_for(
+    flags: NDArray | None, spans: tuple[int, ...], half: int, block: int, nb: int
+) -> NDArray:
+    """Per span and block: no flagged sample within the span's reach beyond the mask's."""
+    clean = np.ones((len(spans), nb), dtype=bool)
+    if flags is None:
+        return clean
+    per_block = _flagged_per_block(np.flatnonzero(_dilate(flags, half)), block, nb)
+    for j, s in enumerate(spans):
+        if s // 2 > half:
+            wide = _flagged_per_block(np.flatnonzero(_dilate(flags, s // 2)), block, nb)
+            clean[j] = wide == per_block
+    return clean
