@@ -74,6 +74,14 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
     return parser
 
 
+def command_module(argv: Sequence[str]) -> str | None:
+    """The module of :data:`COMMANDS` that the command line runs (``scan-h``: ``scan_h``)."""
+    if not argv or "_" in argv[0]:
+        return None
+    name = argv[0].replace("-", "_")
+    return name if name in COMMANDS else None
+
+
 def precheck(argv: Sequence[str]) -> None:
     """Run the command's ``precheck(args)``, if it has one, before anything heavy is imported.
 
@@ -87,9 +95,10 @@ def precheck(argv: Sequence[str]) -> None:
     NoisevarError
         What the command's check refuses.
     """
-    if not argv or argv[0] not in COMMANDS or {"-h", "--help"} & set(argv):
+    name = command_module(argv)
+    if name is None or {"-h", "--help"} & set(argv):
         return
-    check = getattr(importlib.import_module(f"noisevar.cli.{argv[0]}"), "precheck", None)
+    check = getattr(importlib.import_module(f"noisevar.cli.{name}"), "precheck", None)
     if check is not None:
         check(list(argv[1:]))
 
@@ -109,8 +118,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     try:
         precheck(argv)
-        only = argv[0] if argv and argv[0] in COMMANDS else None
-        args = build_parser(only).parse_args(argv)
+        args = build_parser(command_module(argv)).parse_args(argv)
         return int(args.func(args))
     except NoisevarError as exc:
         print(f"noisevar: error: {one_line(str(exc))}", file=sys.stderr)
