@@ -14,6 +14,8 @@
    two threads and with one: peak resident memory of the whole process (interpreter and
    imports included), wall time, samples per second. The file is read once before the
    runs so that both read it from the page cache.
+3. **In memory.** ``noisevar.estimate(z)`` on 2e7 samples already in memory (``auto``
+   runs long records in chunks too): the peak memory it adds.
 
 Writes ``benchmarks/results/stream.md``.
 """
@@ -163,6 +165,36 @@ def big_record(n: int, keep: bool) -> list[str]:
     return rows
 
 
+IN_MEMORY = """
+import resource, sys, time
+import numpy as np
+import noisevar
+n = int(sys.argv[1])
+z = np.sin(np.arange(n) / 5e5) + 0.1 * np.random.default_rng(1).standard_normal(n)
+noisevar.estimate(z[:300_000])
+before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+t0 = time.perf_counter()
+noisevar.estimate(z)
+wall = time.perf_counter() - t0
+print(wall, (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before) / 1024)
+"""
+
+
+def in_memory(n: int) -> list[str]:
+    """``noisevar.estimate(z)`` on an array in memory: the peak memory it adds to the input's."""
+    out = subprocess.run(
+        [sys.executable, "-c", IN_MEMORY, str(n)], capture_output=True, text=True, cwd=ROOT
+    )
+    if out.returncode:
+        raise SystemExit(out.stderr[-2000:])
+    wall, extra = (float(x) for x in out.stdout.split())
+    return [
+        f"`noisevar.estimate(z)` on {n:,} samples in memory ({8 * n / 2**20:.0f} MB): "
+        f"{wall:.2f} s ({n / wall / 1e6:.1f} M samples/s), peak memory {extra:.0f} MB above "
+        "what the process held before (the input and a warm-up estimate)."
+    ]
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, default=1_000_000_000)
@@ -182,6 +214,9 @@ def main() -> None:
         out += ["## Exactness: streamed file against one pass in memory", ""]
         out += exactness(args.exact_n)
         out.append("")
+    out += ["## A long record in memory", ""]
+    out += in_memory(20_000_000)
+    out.append("")
     out += ["## Peak memory and throughput of `noisevar estimate big.npy`", ""]
     out += big_record(args.n, args.keep)
     out.append("")
