@@ -163,18 +163,21 @@ def block_pieces(grid: Grid, s0: int, e: NDArray, keep: NDArray, norm: float) ->
         a = max(b * grid.size, s0)
         z = int(grid.stop(np.asarray(b))) if b == last else (b + 1) * grid.size
         sl = slice(a - s0, min(z, s1) - s0)
-        kept = e[sl][keep[sl]]
-        sq = kept * kept * norm
+        every = bool(keep[sl].all())
+        kept = e[sl] if every else e[sl][keep[sl]]
+        # the first slot of the block's stride at or after a
         offset = (grid.size - (a - b * grid.size) % grid.stride) % grid.stride
-        on_stride = keep[sl][offset :: grid.stride]
-        values = (e[sl][offset :: grid.stride][on_stride] ** 2) * norm
-        peak = float(np.max(np.abs(kept))) if kept.size else 0.0
+        strided = e[sl][offset :: grid.stride]
+        values = strided * strided if every else strided[keep[sl][offset :: grid.stride]] ** 2
+        values *= norm
+        peak = max(float(kept.max(initial=0.0)), -float(kept.min(initial=0.0)))
         s2 = s4 = 0.0
         if peak > 0:
-            x = kept / peak
-            x2 = x * x
-            s2, s4 = float(x2.sum()), float(x2 @ x2)
-        out[b] = Piece(sl.stop - sl.start, int(kept.size), float(sq.sum()), [values], peak, s2, s4)
+            x2 = kept / peak
+            x2 *= x2
+            s2, s4 = float(x2.sum()), float(np.einsum("i,i->", x2, x2))  # no BLAS threads
+        total = s2 * peak * peak * norm  # Σ e² norm
+        out[b] = Piece(sl.stop - sl.start, int(kept.size), total, [values], peak, s2, s4)
     return out
 
 

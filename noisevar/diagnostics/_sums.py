@@ -64,12 +64,12 @@ def _residual_part(
     h = DIAG_SPAN // 2
     x = z[k0 - wa - h : k1 - wa + h]
     e = _filter(x, _sequence())
-    if exclude is None:
+    x = None if exclude is None else exclude[k0 - wa - h : k1 - wa + h]
+    if x is None or not x.any():
         return e, np.ones(e.size, dtype=bool)
     # a residual whose window touches an excluded sample (a level jump) is not kept
-    x = exclude[k0 - wa - h : k1 - wa + h].astype(float)
-    near = np.convolve(x, np.ones(DIAG_SPAN), "valid")
-    return e, near == 0
+    c = np.r_[0, np.cumsum(x, dtype=np.int64)]
+    return e, c[DIAG_SPAN:] == c[: c.size - DIAG_SPAN]
 
 
 # long: one stretch's share of every statistic, in the plan's coordinates
@@ -113,13 +113,17 @@ def diag_part(
             profile = block_pieces(plan.profile, s0, e, keep, norm)
             same = plan.wide == plan.profile
             wide = profile if same else block_pieces(plan.wide, s0, e, keep, norm)
-            white.append((s0 + WHITE_LAGS * rank, e, keep))
+            white += _inside(plan.white, s0 + WHITE_LAGS * rank, e, keep)
         if hi == b:
             white.append((r_sep, np.zeros(WHITE_LAGS), np.zeros(WHITE_LAGS, dtype=bool)))
     d0 = sum(b_ - a_ - 1 + WHITE_LAGS for a_, b_ in plan.segments[:seg])
-    x = z[lo - wa : min(hi + 1, b) - wa]
-    dz = np.diff(x)
-    incr = [(d0 + lo - a, dz, np.ones(dz.size, dtype=bool))]
+    incr = []
+    for p, q in plan.incr:  # first differences inside the windows only
+        i0, i1 = max(p, d0 + lo - a), min(q, d0 + min(hi, b - 1) - a)
+        if i0 < i1:
+            k = i0 - d0 + a - wa  # window index of the first difference's first sample
+            dz = np.diff(z[k : k + i1 - i0 + 1])
+            incr.append((i0, dz, np.ones(dz.size, dtype=bool)))
     if hi == b:
         incr.append((d0 + b - a - 1, np.zeros(WHITE_LAGS), np.zeros(WHITE_LAGS, dtype=bool)))
     own_z = z[lo - wa : hi - wa]
@@ -129,6 +133,18 @@ def diag_part(
     elif plan.probe == "flat":
         uniques = np.unique(own_z)[: UNIQUE_MAX + 1]
     return DiagPart(profile, wide, white, incr, on_grid, uniques)
+
+
+def _inside(
+    spans: tuple[tuple[int, int], ...], start: int, x: NDArray, keep: NDArray
+) -> list[tuple[int, NDArray, NDArray]]:
+    """The pieces of ``x`` (indices from ``start``) inside the windows ``spans``."""
+    out = []
+    for p, q in spans:
+        i0, i1 = max(p, start), min(q, start + x.size)
+        if i0 < i1:
+            out.append((i0, x[i0 - start : i1 - start].copy(), keep[i0 - start : i1 - start]))
+    return out
 
 
 class DiagSums:

@@ -146,6 +146,7 @@ def estimate_chunked(
     probe: Callable[[slice], NDArray] | None = None,
     chunk: int = CHUNK,
     workers: int = 2,
+    note: str = "streamed",
 ) -> VarianceEstimate:
     """``noisevar.estimate(z)`` (method ``auto``) for a record read in chunks.
 
@@ -162,6 +163,8 @@ def estimate_chunked(
         Samples per chunk (a multiple of 256).
     workers : int
         Threads.
+    note : str
+        How the record was read, for the first note ("streamed in chunks of ...").
 
     Returns
     -------
@@ -185,7 +188,7 @@ def estimate_chunked(
         e = _exponent(run.top)
     if sum(p.found for p in run.parts) > STEP_MAX_FRACTION * n:  # a fast signal, not jumps
         run = _pass(read, n, spans, params, e, DiagSums(plan), -1.0, chunk, workers)
-    result = auto_reduce(run.parts, spans, params, [f"streamed in chunks of {chunk} samples"])
+    result = auto_reduce(run.parts, spans, params, [f"{note} in chunks of {chunk} samples"])
     head = read(0, min(n, POWER_LAW_MAX))
     assert run.diag is not None
     diag = finish(run.diag, Segmentation(((0, n),), ()), lambda: np.ldexp(head, e))

@@ -60,9 +60,9 @@ class FileSource:
                 raise NoisevarError(f"{echo(self.name)}: unsupported row layout")
         if raw.size != b - a:
             raise NoisevarError(f"{echo(self.name)} is shorter than its header says: re-save it")
-        out = raw.astype(float)
-        bad = ~np.isfinite(out)
-        if bad.any():
+        out = raw.astype(float, copy=False)
+        if out.size and not (np.isfinite(out.min()) and np.isfinite(out.max())):  # NaN, Inf
+            bad = ~np.isfinite(out)
             raise NoisevarError(
                 f"{echo(self.name)} has a non-finite value (NaN or Inf) at sample "
                 f"{a + int(np.argmax(bad))}: the streamed path needs finite samples; clean them, "
