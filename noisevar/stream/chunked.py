@@ -35,8 +35,8 @@ from noisevar.estimators.results import VarianceEstimate
 #: Samples added on each side of a chunk: far beyond what one block's numbers depend on
 #: (the longest span's reach, the jump detector's windows, neighbouring blocks).
 OVERLAP = 8 * AUTO_BLOCK
-#: Samples per chunk (a multiple of the block): about 20 MB of work arrays per thread.
-CHUNK = 1 << 18
+#: Samples per chunk (a multiple of the block): about 12 MB of work arrays per thread.
+CHUNK = 1 << 17
 #: Chunks in flight per thread (bounded memory: results are added in order).
 AHEAD = 2
 
