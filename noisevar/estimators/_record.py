@@ -34,7 +34,7 @@ from noisevar.estimators.results import VarianceEstimate, chi2_interval
 #: efficient defaults).
 COLOURED_P = 1e-4
 #: ``auto`` estimates records at least this long in chunks (:mod:`noisevar.stream`).
-CHUNKED_MIN = 1 << 20
+CHUNKED_MIN = 1 << 19
 
 Runner = Callable[[MethodSpec, NDArray, list[str], dict], VarianceEstimate]
 

@@ -152,3 +152,19 @@ def test_cli_streams(tmp_path) -> None:
     assert got["variance"] == pytest.approx(noisevar.estimate(z).variance, rel=1e-9)
     bad = subprocess.run([*run, "--stream", "--method", "rice"], capture_output=True, text=True)
     assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1
+
+
+def test_a_long_record_in_memory_is_estimated_in_chunks_with_the_same_numbers() -> None:
+    from noisevar.estimators._record import CHUNKED_MIN
+    from noisevar.estimators.auto import auto_estimate
+
+    rng = np.random.default_rng(8)
+    n = CHUNKED_MIN + 1234
+    z = np.sin(np.arange(n) / 5000) + 0.1 * rng.standard_normal(n)
+    z[n // 3 :] += 2.0  # a jump
+    got = noisevar.estimate(z)
+    one = auto_estimate(z)  # one pass, no diagnostics
+    assert got.notes[0].startswith("estimated in chunks")
+    np.testing.assert_allclose(got.variance, one.variance, rtol=1e-9)
+    np.testing.assert_allclose(got.core_variance, one.core_variance, rtol=1e-9)
+    assert got.n_used == one.n_used and got.diagnostics is not None
