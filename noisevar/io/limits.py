@@ -66,7 +66,8 @@ def check_bytes(size: int, name: str, max_bytes: int | None = MAX_BYTES) -> int:
     if max_bytes is not None and size > max_bytes:
         raise NoisevarError(
             f"{echo(name)} is {size / 1e6:,.1f} MB, over the {max_bytes / 1e6:,.0f} MB limit: "
-            "give a shorter record or raise the limit"
+            "give a shorter record, or read it in chunks (CLI --stream; Python "
+            "noisevar.stream.estimate_file): method auto, bounded memory"
         )
     return size
 
