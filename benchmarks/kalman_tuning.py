@@ -2,6 +2,7 @@
 
     python benchmarks/kalman_tuning.py          # writes benchmarks/results/kalman_tuning.md
     python benchmarks/kalman_tuning.py --runs 5 --coloured-runs 3 --peer-runs 2
+    (the pykalman section needs ``pip install pykalman``; else ``--skip pykalman``)
 
 1. statsmodels' Nile data: ``fit_kalman(model="rw")`` against Durbin and Koopman's
    sigma2_eps = 15099, sigma2_eta = 1469.1 (target: within 0.5 %).
