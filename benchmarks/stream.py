@@ -5,7 +5,7 @@
 1. **Exactness.** Ten noise families (white, jumps, spikes, Student-t 3, quantised,
    AR(0.7), a level step, scaled by 1e120 and 1e-140, an odd length) at ``--exact-n``
    samples: ``noisevar.estimate(z)`` in memory against ``noisevar estimate FILE.npy
-   --stream`` (chunks of 131,072 samples, two threads): the largest relative difference
+   --stream`` (chunks of 262,144 samples, two threads): the largest relative difference
    of the variance, core variance, ci95 and kurtosis; the verdicts compared.
 2. **Memory and throughput.** A ``--n``-sample float64 ``.npy`` file (a slow sinusoid plus
    white noise of std 0.1, seeded; 8 GB at 1e9), written by streaming into

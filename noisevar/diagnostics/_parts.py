@@ -136,6 +136,7 @@ class Piece:
     peak: float = 0.0  # largest |e| of the kept residuals (the fourth powers' scale)
     s2: float = 0.0  # Σ (e / peak)²
     s4: float = 0.0  # Σ (e / peak)⁴
+    level: float | None = None  # the block's robust level, when the piece is the whole block
 
     def merge(self, other: Piece) -> None:
         self.seen += other.seen
@@ -177,12 +178,17 @@ def block_pieces(grid: Grid, s0: int, e: NDArray, keep: NDArray, norm: float) ->
             x2 *= x2
             s2, s4 = float(x2.sum()), float(np.einsum("i,i->", x2, x2))  # no BLAS threads
         total = s2 * peak * peak * norm  # Σ e² norm
-        out[b] = Piece(sl.stop - sl.start, int(kept.size), total, [values], peak, s2, s4)
+        piece = Piece(sl.stop - sl.start, int(kept.size), total, [values], peak, s2, s4)
+        if piece.seen == z - b * grid.size:  # the whole block: its level here (in parallel)
+            piece.level, piece.values = block_level(piece), []
+        out[b] = piece
     return out
 
 
 def block_level(piece: Piece) -> float:
     """A block's robust level: the median of its squares over the median of χ²₁."""
+    if piece.level is not None:
+        return piece.level
     v = np.concatenate(piece.values) if piece.values else np.zeros(0)
     med = float(np.median(v)) if v.size else 0.0
     if not med > 0 and piece.count:  # quantised data: a median square of 0, use the mean

@@ -11,6 +11,7 @@ in threads (the compiled filters release the GIL) and are added in record order.
 from __future__ import annotations
 
 import math
+import sys
 from collections.abc import Callable, Iterator
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
@@ -36,10 +37,12 @@ from noisevar.estimators.results import VarianceEstimate
 #: Samples added on each side of a chunk: far beyond what one block's numbers depend on
 #: (the longest span's reach, the jump detector's windows, neighbouring blocks).
 OVERLAP = 8 * AUTO_BLOCK
-#: Samples per chunk (a multiple of the block): about 12 MB of work arrays per thread.
-CHUNK = 1 << 17
+#: Samples per chunk (a multiple of the block): about 25 MB of work arrays per thread.
+CHUNK = 1 << 18
 #: Chunks in flight per thread (bounded memory: results are added in order).
 AHEAD = 2
+#: The interpreter's thread switch interval (s) while chunks run in threads.
+SWITCH = 2e-4
 
 
 @dataclass(frozen=True)
@@ -79,14 +82,21 @@ def _in_order(work: Callable[[_Chunk], tuple], todo: list[_Chunk], workers: int)
     if workers <= 1:
         yield from (work(c) for c in todo)
         return
-    with ThreadPoolExecutor(workers) as pool:
-        queue: list[Future] = []
-        for c in todo:
-            queue.append(pool.submit(work, c))
-            if len(queue) >= AHEAD * workers:
-                yield queue.pop(0).result()
-        for f in queue:
-            yield f.result()
+    # a thread back from a long compiled call waits for the interpreter lock at most this
+    # long while the other runs Python: the chunks' short calls then overlap (restored after)
+    interval = sys.getswitchinterval()
+    sys.setswitchinterval(SWITCH)
+    try:
+        with ThreadPoolExecutor(workers) as pool:
+            queue: list[Future] = []
+            for c in todo:
+                queue.append(pool.submit(work, c))
+                if len(queue) >= AHEAD * workers:
+                    yield queue.pop(0).result()
+            for f in queue:
+                yield f.result()
+    finally:
+        sys.setswitchinterval(interval)
 
 
 # long: one pass, its per-chunk work and its in-order reduction kept together
