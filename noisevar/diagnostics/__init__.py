@@ -81,10 +81,10 @@ def finish(
 
     sums.check()
     plan, d = sums.plan, residual_sequence(DIAG_SPAN, DIAG_ORDER)
-    blocks = sorted(b for b, (c, _, _) in sums.profile.items() if c)
-    count = np.array([sums.profile[b][0] for b in blocks], dtype=float)
-    total = np.array([sums.profile[b][1] for b in blocks])
-    robust = np.array([sums.profile[b][2] for b in blocks])
+    blocks = sorted(b for b, v in sums.profile.items() if v[0])
+    count, total, robust, medians = (
+        np.array([sums.profile[b][i] for b in blocks], dtype=float) for i in range(4)
+    )
     kept = float(count.sum())
     kurt = kurtosis_from_moments(sums.k2 / kept, sums.k4 / kept, d)
     eta = float(np.sum(white_null_acf_sq(d)))
@@ -93,7 +93,7 @@ def finish(
     # ν per sample = 1 / (η + (κ - 3) / 2)   (docs/algorithms.md §E1)
     profile = profile_from_blocks(
         _sample_of(plan, starts), _sample_of(plan, stops - 1) + 1, count, total / count,
-        robust, 1.0 / (eta + max(kurt - 3.0, 0.0) / 2.0), eta,
+        robust, 1.0 / (eta + max(kurt - 3.0, 0.0) / 2.0), eta, medians,
     )  # fmt: skip
     e_w, keep_w = sums.white.joined()
     white = whiteness_test(e_w, d, keep=keep_w, inflation=_hetero(sums.wide))

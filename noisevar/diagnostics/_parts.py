@@ -137,12 +137,14 @@ class Piece:
     s2: float = 0.0  # Σ (e / peak)²
     s4: float = 0.0  # Σ (e / peak)⁴
     level: float | None = None  # the block's robust level, when the piece is the whole block
+    n_values: int = 0  # squares its median is taken over (every ``stride``-th kept slot)
 
     def merge(self, other: Piece) -> None:
         self.seen += other.seen
         self.count += other.count
         self.total += other.total
         self.values += other.values
+        self.n_values += other.n_values
         if other.peak > self.peak:  # rescale the sums to the larger peak
             r = (self.peak / other.peak) ** 2
             self.s2, self.s4 = self.s2 * r + other.s2, self.s4 * r * r + other.s4
@@ -179,6 +181,7 @@ def block_pieces(grid: Grid, s0: int, e: NDArray, keep: NDArray, norm: float) ->
             s2, s4 = float(x2.sum()), float(np.einsum("i,i->", x2, x2))  # no BLAS threads
         total = s2 * peak * peak * norm  # Σ e² norm
         piece = Piece(sl.stop - sl.start, int(kept.size), total, [values], peak, s2, s4)
+        piece.n_values = int(values.size)
         if piece.seen == z - b * grid.size:  # the whole block: its level here (in parallel)
             piece.level, piece.values = block_level(piece), []
         out[b] = piece

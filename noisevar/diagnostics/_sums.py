@@ -153,7 +153,8 @@ class DiagSums:
     def __init__(self, plan: DiagPlan) -> None:
         self.plan = plan
         self.open: tuple[dict[int, Piece], dict[int, Piece]] = ({}, {})
-        self.profile: dict[int, tuple[int, float, float]] = {}  # block: count, total, level
+        # block: kept count, Σ squares, robust level, squares its median was taken over
+        self.profile: dict[int, tuple[int, float, float, int]] = {}
         self.wide: dict[int, tuple[int, float]] = {}  # block: count, level
         self.k2 = self.k4 = 0.0  # Σ e²/L and Σ e⁴/L² over the kept residuals
         self.white = Windows(plan.white)
@@ -188,7 +189,7 @@ class DiagSums:
     def _close(self, which: int, b: int, piece: Piece) -> None:
         level = block_level(piece)
         if which == 0:
-            self.profile[b] = (piece.count, piece.total, level)
+            self.profile[b] = (piece.count, piece.total, level, piece.n_values)
         if which == 1 or self.plan.wide == self.plan.profile:
             self.wide[b] = (piece.count, level)
             if piece.count and level > 0:
@@ -214,7 +215,7 @@ class DiagSums:
 
     def check(self) -> None:
         """Refuse a record with no residual kept (nothing to diagnose)."""
-        if not any(c for c, _, _ in self.profile.values()):
+        if not any(v[0] for v in self.profile.values()):
             raise NoisevarError(
                 f"no stretch of the record has {2 * DIAG_SPAN} uniformly sampled samples "
                 f"(span {DIAG_SPAN}) free of jumps: nothing to diagnose"

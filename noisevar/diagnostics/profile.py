@@ -137,16 +137,19 @@ def profile_from_blocks(
     robust: NDArray,
     dof_per_sample: float,
     eta: float,
+    medians: NDArray | None = None,
 ) -> LevelProfile:
     """The profile of blocks with ``count`` squares of mean ``var`` and robust level ``robust``.
 
-    See :func:`level_profile`; ``start``, ``stop`` are the blocks' sample ranges.
+    See :func:`level_profile`; ``start``, ``stop`` are the blocks' sample ranges;
+    ``medians`` the number of squares each robust level is the median of (default
+    ``count``).
     """
     dof = count * dof_per_sample
     lo = dof * var / chi2_ppf(0.975, dof)
     hi = dof * var / chi2_ppf(0.025, dof)
     # a median of χ²₁ has relative sd 1 / (2 f(m) m sqrt(n)): as a χ² with 0.368 n dof
-    robust_dof = count * MEDIAN_DOF / eta
+    robust_dof = (count if medians is None else medians) * MEDIAN_DOF / eta
     quiet = _quiet_set(robust, robust_dof, var, dof, stop - start)
     return LevelProfile(start, stop, var, lo, hi, dof, quiet)
 

@@ -19,7 +19,6 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from noisevar._malloc import keep_freed_memory
 from noisevar.diagnostics import Segmentation, finish
 from noisevar.diagnostics._parts import make_plan, probe_of
 from noisevar.diagnostics._sums import DiagPart, DiagSums, diag_part
@@ -183,7 +182,6 @@ def estimate_chunked(
         The same numbers as the one-pass estimate, with its diagnostics; ``jumps`` is
         not kept.
     """
-    keep_freed_memory()  # each chunk's work arrays reused, not page-faulted in again
     params = AUTO.validate({"span": span, "order": order, "trim": trim})
     params = {"span": params.get("span"), "order": params["order"], "trim": params["trim"]}
     spans = _spans(params["span"], params["order"], params["trim"], n)
