@@ -168,3 +168,15 @@ def test_a_long_record_in_memory_is_estimated_in_chunks_with_the_same_numbers() 
     np.testing.assert_allclose(got.variance, one.variance, rtol=1e-9)
     np.testing.assert_allclose(got.core_variance, one.core_variance, rtol=1e-9)
     assert got.n_used == one.n_used and got.diagnostics is not None
+
+
+def test_strided_block_medians_keep_a_white_record_steady(monkeypatch) -> None:
+    """Blocks longer than MEDIAN_MAX take the median of strided squares, with their dof."""
+    from noisevar.diagnostics import _parts
+
+    monkeypatch.setattr(_parts, "MEDIAN_MAX", 64)  # blocks of 1,000 squares: stride 16
+    rng = np.random.default_rng(21)
+    z = np.sin(np.arange(200_000) / 20_000) + 0.1 * rng.standard_normal(200_000)
+    diag = noisevar.estimate(z).diagnostics
+    assert not diag.level_varies and diag.level_profile.quiet_share > 0.95
+    assert "white Gaussian noise" in diag.verdict
