@@ -99,14 +99,9 @@ def test_every_step_view_renders(at):
         _clean(at)
         assert not at.error, view
         keys = [c.key for c in at.get("plotly_chart")]
-        # the step view's two figures, and the Noise panel's four
+        # the main figure and the step view's; the Noise panel's figures wait for its expander
         assert len([k for k in keys if not k.startswith("est_np")]) == 2, view
-        assert sorted(k for k in keys if k.startswith("est_np")) == [
-            "est_np_acf",
-            "est_np_hist",
-            "est_np_profile",
-            "est_np_qq",
-        ], view
+        assert not [k for k in keys if k.startswith("est_np")], view
         if view == "h scan":
             assert any("chosen h" in c.value or "closest" in c.value for c in at.caption)
 
