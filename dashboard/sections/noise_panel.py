@@ -115,7 +115,8 @@ def _figures(z: ArrayLike, diag: Any, t: ArrayLike | None, key: str, digest: str
                 with tab:
                     extra = {}
                     if draw is residual_histogram:
-                        extra["log_y"] = st.toggle("Logarithmic density (tails)", key=f"{key}_log_y")
+                        log_y = st.toggle("Logarithmic density (tails)", key=f"{key}_log_y")
+                        extra["log_y"] = log_y
                     show_figure(draw(data, **extra), key=f"{key}_{suffix}")
 
 
