@@ -234,6 +234,7 @@ def somd_figure(  # long: one figure, built trace by trace in drawing order
         shapes=shapes,
         annotations=anns,
     )
+    lay["margin"]["b"] = 150  # room for its legend's rows (no second draw to make it)
     return capped(go.Figure(data=data, layout=lay))
 
 
@@ -445,4 +446,5 @@ def window_tests_figure(  # long: one figure, built trace by trace in drawing or
         shapes=[v_shape, h_shape],
         annotations=anns,
     )
+    lay["margin"]["b"] = 120  # its x tick labels and legend (no second draw to make room)
     return capped(go.Figure(data=data, layout=lay), max_points=MAX_FIGURE_MARKERS)
