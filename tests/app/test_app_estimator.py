@@ -209,3 +209,29 @@ def test_html_report_holds_the_numbers_and_the_figure():
 
 def test_report_download_is_offered(at):
     assert any(b.label.startswith("Report of this analysis") for b in at.get("download_button"))
+
+
+def test_a_tuning_change_inside_the_fragment_updates_the_result_and_keeps_the_page(at):
+    """Tuning controls and their results are one fragment; the rest of the page stays."""
+    kept = _metric(at, "Windows kept")
+    variance = _metric(at, "Noise variance")
+    at.slider(key="g_amp").set_value(0.3).run()
+    _clean(at)
+    assert _metric(at, "Windows kept") != kept
+    assert _metric(at, "Noise variance") != variance
+    assert at.title[0].value == "Estimator"
+    assert at.get("latex"), "how it works (outside the fragment) is still shown"
+    assert at.sidebar.get("page_link"), "the sidebar (outside the fragment) is still shown"
+    assert json.loads(at.code[0].value)["gamma_amp"] == pytest.approx(0.3)
+
+
+def test_noise_panel_figures_are_drawn_when_opened(at):
+    assert not [c for c in at.get("plotly_chart") if c.key.startswith("est_np")]
+    at.session_state["est_np_open"] = True
+    at.run()
+    _clean(at)
+    assert [c.key for c in at.get("plotly_chart") if c.key.startswith("est_np")] == ["est_np_hist"]
+    at.session_state["est_np_tab"] = "Autocorrelation"
+    at.run()
+    _clean(at)
+    assert [c.key for c in at.get("plotly_chart") if c.key.startswith("est_np")] == ["est_np_acf"]
