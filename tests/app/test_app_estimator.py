@@ -235,3 +235,21 @@ def test_noise_panel_figures_are_drawn_when_opened(at):
     at.run()
     _clean(at)
     assert [c.key for c in at.get("plotly_chart") if c.key.startswith("est_np")] == ["est_np_acf"]
+
+
+def test_a_figure_is_built_once_per_inputs():
+    import plotly.graph_objects as go
+
+    from dashboard import cache
+
+    calls = []
+
+    def build() -> go.Figure:
+        calls.append(1)
+        return go.Figure()
+
+    first = cache.figure("test", {"digest": "abc", "gamma": 0.5}, build)
+    again = cache.figure("test", {"gamma": 0.5, "digest": "abc"}, build)
+    other = cache.figure("test", {"digest": "abc", "gamma": 0.55}, build)
+    assert first is again and other is not first
+    assert len(calls) == 2
