@@ -40,9 +40,10 @@ from noisevar.figures._common import (
 from noisevar.figures._shapes import merge_runs, runs_of
 from noisevar.filters.selection import WindowSelection
 
-#: Points per line of the SOMD figure: three lines or more share one figure's budget, and
-#: two points per pixel column of a wide plot keep the look (min-max LTTB).
-SOMD_LINE_POINTS = 1500
+#: Points per line of the SOMD figure: about one min-max pair per pixel column of the
+#: dashboard's plot (~600 px) keeps the noise band (min-max LTTB); the browser draws each
+#: point again on every control change.
+SOMD_LINE_POINTS = 800
 #: Most kept-window runs (and rejection marks per test) drawn; neighbours merge beyond it.
 MAX_RUNS = 120
 
