@@ -39,6 +39,8 @@ from noisevar.filters.envelope import RATIO_BAND
 from noisevar.format import eng_range, squared
 
 VIEWS = ["Window tests", "Envelopes and |V|", "h scan", "Per-window variance"]
+#: Windows the window-tests figure draws: it is drawn again on every change of a threshold.
+WINDOW_MARKERS = 400
 #: Longer records run the h scan only on request.
 SCAN_AUTO_LIMIT = 300_000
 
@@ -281,6 +283,7 @@ def step_views(
                     tuning.gamma_ang,
                     sig.sample_period,
                     title="Window tests: straight (amplitude) and not lagging (angle)",
+                    max_markers=WINDOW_MARKERS,
                 ),
             )
         else:

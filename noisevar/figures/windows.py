@@ -354,6 +354,7 @@ def window_tests_figure(  # long: one figure, built trace by trace in drawing or
     sample_period: float | None = None,
     title: str | None = None,
     height: int = 460,
+    max_markers: int = MAX_FIGURE_MARKERS,
 ) -> go.Figure:
     """Each window's two test statistics against the thresholds of eq. [19].
 
@@ -376,6 +377,8 @@ def window_tests_figure(  # long: one figure, built trace by trace in drawing or
         Figure title.
     height : int
         Pixel height.
+    max_markers : int
+        Most windows drawn (thinned beyond it; the legend counts them all).
 
     Returns
     -------
@@ -448,4 +451,4 @@ def window_tests_figure(  # long: one figure, built trace by trace in drawing or
         annotations=anns,
     )
     lay["margin"]["b"] = 120  # its x tick labels and legend (no second draw to make room)
-    return capped(go.Figure(data=data, layout=lay), max_points=MAX_FIGURE_MARKERS)
+    return capped(go.Figure(data=data, layout=lay), max_points=min(max_markers, MAX_FIGURE_MARKERS))

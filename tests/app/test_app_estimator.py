@@ -253,3 +253,17 @@ def test_a_figure_is_built_once_per_inputs():
     other = cache.figure("test", {"digest": "abc", "gamma": 0.55}, build)
     assert first is again and other is not first
     assert len(calls) == 2
+
+
+def test_window_tests_figure_draws_at_most_the_page_budget_and_counts_every_window():
+    import noisevar
+    from dashboard.sections.estimator_results import WINDOW_MARKERS
+    from noisevar.figures.windows import window_tests_figure
+
+    z = noisevar.generate("fast-slow", n=40_000, seed=3, noise_std=5.0).measured
+    sel = noisevar.estimate(z, method="somd").details.selection
+    fig = window_tests_figure(sel, 0.5, 10.0, max_markers=WINDOW_MARKERS)
+    drawn = sum(len(tr.x) for tr in fig.data)
+    counted = sum(int(tr.name.rsplit("(", 1)[1].rstrip(")")) for tr in fig.data)
+    assert drawn <= WINDOW_MARKERS < counted
+    assert counted == sel.starts.size
