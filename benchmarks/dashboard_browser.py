@@ -10,7 +10,8 @@ through Playwright (flags: ``--headless --no-sandbox --disable-gpu
    key press to the last change of the page (a ``MutationObserver`` stamps
    every DOM change; settled = a figure drawn again, no script running and no
    change for 0.4 s);
-   median and worst, on 6,000 and 241,000 samples (targets 0.5 s and 1 s);
+   median and worst, on 6,000 and 241,000 samples (targets 0.5 s and 1 s),
+   with the browser's busy time (long tasks) and the websocket bytes per change;
 2. **2,000,000 samples**: the page opened on a 2e6-sample record, timed from
    navigation to settled with the metrics shown (target 5 s), then one
    control change; the browser's JS heap (``Performance.getMetrics``
@@ -61,6 +62,9 @@ HEAP_TARGET_MB = 500.0
 
 OBSERVER_JS = """() => {
   window.__nvLast = performance.now();
+  window.__nvBusy = [];
+  new PerformanceObserver(l => { for (const e of l.getEntries())
+    window.__nvBusy.push([e.startTime, e.duration]); }).observe({type: 'longtask'});
   new MutationObserver(() => { window.__nvLast = performance.now(); })
     .observe(document.body, {subtree: true, childList: true, characterData: true,
                              attributes: true});
@@ -148,17 +152,38 @@ def open_estimator(page, base: str, n: int) -> float:
     return shown + max(extra, 0.0)
 
 
-def control_changes(page, changes: int) -> list[float]:
-    """Seconds to settle after each of ``changes`` keyboard steps of the Γ_amp slider."""
+BUSY_JS = """since => window.__nvBusy.filter(e => e[0] >= since)
+  .reduce((s, e) => s + e[1], 0) / 1000"""
+
+
+def watch_socket(page) -> list[int]:
+    """Sizes (bytes) of the websocket frames the page receives (call before opening it)."""
+    received: list[int] = []
+    page.on("websocket", lambda ws: ws.on("framereceived", lambda pl: received.append(len(pl))))
+    return received
+
+
+def control_changes(
+    page, changes: int, split: list | None = None, received: list[int] | None = None
+) -> list[float]:
+    """Seconds to settle after each of ``changes`` keyboard steps of the Γ_amp slider.
+
+    ``split``, when given, receives per change ``(busy, kB)``: the browser's busy time
+    (its long tasks, s) and the kB the server sent (``received``: :func:`watch_socket`).
+    """
     thumb = page.locator('[data-testid="stSlider"]', has_text="Γ_amp").get_by_role("slider")
     out = []
     for _ in range(changes):
         thumb.focus()
         mark_figures(page)
         since = page.evaluate("() => performance.now()")
+        before = sum(received or [])
         thumb.press("ArrowRight")  # 0.5 -> 0.55 -> ... -> 1.0: a new value each time
         # the window-tests figure draws the thresholds: a new value always redraws it
         out.append(settled_at(page, since, redrawn=True))
+        if split is not None:
+            busy = page.evaluate(BUSY_JS, since)
+            split.append((busy, (sum(received or []) - before) / 1e3))
     return out
 
 
@@ -183,9 +208,11 @@ def run(changes: int) -> dict:
             )
             for label, n, target in SIZES:
                 page = browser.new_page(viewport=VIEWPORT)
+                received = watch_socket(page)
                 opened = open_estimator(page, base, n)
-                times = control_changes(page, changes)
-                out["sizes"].append((label, target, opened, times))
+                split: list = []
+                times = control_changes(page, changes, split, received)
+                out["sizes"].append((label, target, opened, times, split))
                 print(f"{label}: opened {opened:.2f} s; changes {times}", flush=True)
                 page.close()
             page = browser.new_page(viewport=VIEWPORT)
@@ -212,17 +239,21 @@ def report(res: dict, changes: int) -> str:
         f"({platform.machine()}, {os.cpu_count()} cores, shared with other jobs). A change is a "
         "keyboard step of the Γ_amp slider (a new value each time); settled = the page's last "
         "DOM change, once a figure was drawn again (the window-tests figure shows the "
-        f"threshold), with no script running and no change for {QUIET_S} s after it.",
+        f"threshold), with no script running and no change for {QUIET_S} s after it. Browser "
+        "busy = the tab's long tasks (> 50 ms: parsing the server's messages, React, plotly's "
+        "redraws) during a change; sent = the websocket bytes the server sent for it.",
         "",
         f"| record | page opened (s) | control change to settled, median / worst of {changes}"
-        " (s) | target (s) | met |",
-        "|---|---|---|---|---|",
+        " (s) | target (s) | met | browser busy per change, median (s) | sent per change (kB) |",
+        "|---|---|---|---|---|---|---|",
     ]
-    for label, target, opened, times in res["sizes"]:
+    for label, target, opened, times, split in res["sizes"]:
         med = statistics.median(times)
+        busy = statistics.median(b for b, _ in split)
+        sent = statistics.median(k for _, k in split)
         lines.append(
             f"| {label} | {opened:.2f} | {med:.2f} / {max(times):.2f} | <= {target:g} | "
-            f"{'yes' if med <= target else 'no'} |"
+            f"{'yes' if med <= target else 'no'} | {busy:.2f} | {sent:.0f} |"
         )
     figs = res["big_figures"]
     most_points = max((f["points"] for f in figs), default=0)
