@@ -203,9 +203,7 @@ def run(changes: int) -> dict:
     out: dict = {"sizes": [], "load": [os.getloadavg()[0]]}
     try:
         with sync_playwright() as p:
-            browser = p.chromium.launch(
-                executable_path=CHROMIUM, args=CHROME_ARGS, headless=True
-            )
+            browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROME_ARGS, headless=True)
             for label, n, target in SIZES:
                 page = browser.new_page(viewport=VIEWPORT)
                 received = watch_socket(page)
@@ -271,7 +269,7 @@ def report(res: dict, changes: int) -> str:
         f"Load average (1 min) at the start and the end: {res['load'][0]:.1f} and "
         f"{res['load'][-1]:.1f} on {os.cpu_count()} cores: the browser, the server and other "
         "jobs shared the CPU, so these times are upper bounds for a quiet machine. "
-        "\"Page opened\" includes loading the app's JavaScript (Streamlit and plotly.js) into a "
+        '"Page opened" includes loading the app\'s JavaScript (Streamlit and plotly.js) into a '
         "new tab, which dominates it at every record size.",
         "",
         "Command: `nice -n 10 python benchmarks/dashboard_browser.py`.",
