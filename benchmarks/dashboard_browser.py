@@ -8,8 +8,10 @@ through Playwright (flags: ``--headless --no-sandbox --disable-gpu
 1. **control change to page settled**: ten keyboard steps of the Γ_amp
    slider (each a new value: nothing comes from a cache), each timed from the
    key press to the last change of the page (a ``MutationObserver`` stamps
-   every DOM change; settled = no script running and no change for 0.4 s);
-   median and worst, on 6,000 and 241,000 samples (targets 0.5 s and 1 s);
+   every DOM change; settled = a figure drawn again, no script running and no
+   change for 0.4 s);
+   median and worst, on 6,000 and 241,000 samples (targets 0.5 s and 1 s),
+   with the browser's busy time (long tasks) and the websocket bytes per change;
 2. **2,000,000 samples**: the page opened on a 2e6-sample record, timed from
    navigation to settled with the metrics shown (target 5 s), then one
    control change; the browser's JS heap (``Performance.getMetrics``
@@ -60,10 +62,17 @@ HEAP_TARGET_MB = 500.0
 
 OBSERVER_JS = """() => {
   window.__nvLast = performance.now();
+  window.__nvBusy = [];
+  new PerformanceObserver(l => { for (const e of l.getEntries())
+    window.__nvBusy.push([e.startTime, e.duration]); }).observe({type: 'longtask'});
   new MutationObserver(() => { window.__nvLast = performance.now(); })
     .observe(document.body, {subtree: true, childList: true, characterData: true,
                              attributes: true});
 }"""
+MARK_JS = """() => document.querySelectorAll('.js-plotly-plot')
+  .forEach(el => { el.__nvOld = 1; })"""
+FRESH_JS = """() => Array.from(document.querySelectorAll('.js-plotly-plot'))
+  .some(el => !el.__nvOld)"""
 FIGURES_JS = """() => Array.from(document.querySelectorAll('.js-plotly-plot')).map(el => ({
   points: (el._fullData || []).reduce((s, t) => s + (t._length || 0), 0),
   shapes: ((el.layout || {}).shapes || []).length,
@@ -108,13 +117,24 @@ def start_server() -> tuple[subprocess.Popen, str]:
     raise SystemExit("streamlit did not become healthy")
 
 
-def settled_at(page, since: float, timeout: float = 300.0) -> float:
-    """Seconds from ``since`` (``performance.now()`` ms) to the page's last change."""
+def mark_figures(page) -> None:
+    """Tag the drawn Plotly figures: a figure drawn again afterwards is a new, untagged node."""
+    page.evaluate(MARK_JS)
+
+
+def settled_at(page, since: float, timeout: float = 300.0, redrawn: bool = False) -> float:
+    """Seconds from ``since`` (``performance.now()`` ms) to the page's last change.
+
+    With ``redrawn``, the page counts as settled only after a figure was drawn again
+    (:func:`mark_figures` tags the old ones): a slow server may not have answered yet
+    when the page has been quiet for :data:`QUIET_S`.
+    """
     deadline = time.time() + timeout
     while time.time() < deadline:
         busy = page.locator('[data-testid="stStatusWidget"]').count() > 0
         quiet = page.evaluate("() => performance.now() - window.__nvLast")
-        if not busy and quiet > QUIET_S * 1000:
+        fresh = not redrawn or page.evaluate(FRESH_JS)
+        if fresh and not busy and quiet > QUIET_S * 1000:
             return (page.evaluate("() => window.__nvLast") - since) / 1000.0
         time.sleep(0.05)
     raise RuntimeError("the page did not settle")
@@ -132,15 +152,38 @@ def open_estimator(page, base: str, n: int) -> float:
     return shown + max(extra, 0.0)
 
 
-def control_changes(page, changes: int) -> list[float]:
-    """Seconds to settle after each of ``changes`` keyboard steps of the Γ_amp slider."""
+BUSY_JS = """since => window.__nvBusy.filter(e => e[0] >= since)
+  .reduce((s, e) => s + e[1], 0) / 1000"""
+
+
+def watch_socket(page) -> list[int]:
+    """Sizes (bytes) of the websocket frames the page receives (call before opening it)."""
+    received: list[int] = []
+    page.on("websocket", lambda ws: ws.on("framereceived", lambda pl: received.append(len(pl))))
+    return received
+
+
+def control_changes(
+    page, changes: int, split: list | None = None, received: list[int] | None = None
+) -> list[float]:
+    """Seconds to settle after each of ``changes`` keyboard steps of the Γ_amp slider.
+
+    ``split``, when given, receives per change ``(busy, kB)``: the browser's busy time
+    (its long tasks, s) and the kB the server sent (``received``: :func:`watch_socket`).
+    """
     thumb = page.locator('[data-testid="stSlider"]', has_text="Γ_amp").get_by_role("slider")
     out = []
     for _ in range(changes):
         thumb.focus()
+        mark_figures(page)
         since = page.evaluate("() => performance.now()")
+        before = sum(received or [])
         thumb.press("ArrowRight")  # 0.5 -> 0.55 -> ... -> 1.0: a new value each time
-        out.append(settled_at(page, since))
+        # the window-tests figure draws the thresholds: a new value always redraws it
+        out.append(settled_at(page, since, redrawn=True))
+        if split is not None:
+            busy = page.evaluate(BUSY_JS, since)
+            split.append((busy, (sum(received or []) - before) / 1e3))
     return out
 
 
@@ -160,14 +203,14 @@ def run(changes: int) -> dict:
     out: dict = {"sizes": [], "load": [os.getloadavg()[0]]}
     try:
         with sync_playwright() as p:
-            browser = p.chromium.launch(
-                executable_path=CHROMIUM, args=CHROME_ARGS, headless=True
-            )
+            browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROME_ARGS, headless=True)
             for label, n, target in SIZES:
                 page = browser.new_page(viewport=VIEWPORT)
+                received = watch_socket(page)
                 opened = open_estimator(page, base, n)
-                times = control_changes(page, changes)
-                out["sizes"].append((label, target, opened, times))
+                split: list = []
+                times = control_changes(page, changes, split, received)
+                out["sizes"].append((label, target, opened, times, split))
                 print(f"{label}: opened {opened:.2f} s; changes {times}", flush=True)
                 page.close()
             page = browser.new_page(viewport=VIEWPORT)
@@ -193,17 +236,22 @@ def report(res: dict, changes: int) -> str:
         f"{VIEWPORT['height']}, Estimator page, `streamlit run app.py` on the same machine "
         f"({platform.machine()}, {os.cpu_count()} cores, shared with other jobs). A change is a "
         "keyboard step of the Γ_amp slider (a new value each time); settled = the page's last "
-        f"DOM change, with no script running and no change for {QUIET_S} s after it.",
+        "DOM change, once a figure was drawn again (the window-tests figure shows the "
+        f"threshold), with no script running and no change for {QUIET_S} s after it. Browser "
+        "busy = the tab's long tasks (> 50 ms: parsing the server's messages, React, plotly's "
+        "redraws) during a change; sent = the websocket bytes the server sent for it.",
         "",
         f"| record | page opened (s) | control change to settled, median / worst of {changes}"
-        " (s) | target (s) | met |",
-        "|---|---|---|---|---|",
+        " (s) | target (s) | met | browser busy per change, median (s) | sent per change (kB) |",
+        "|---|---|---|---|---|---|---|",
     ]
-    for label, target, opened, times in res["sizes"]:
+    for label, target, opened, times, split in res["sizes"]:
         med = statistics.median(times)
+        busy = statistics.median(b for b, _ in split)
+        sent = statistics.median(k for _, k in split)
         lines.append(
             f"| {label} | {opened:.2f} | {med:.2f} / {max(times):.2f} | <= {target:g} | "
-            f"{'yes' if med <= target else 'no'} |"
+            f"{'yes' if med <= target else 'no'} | {busy:.2f} | {sent:.0f} |"
         )
     figs = res["big_figures"]
     most_points = max((f["points"] for f in figs), default=0)
@@ -221,7 +269,7 @@ def report(res: dict, changes: int) -> str:
         f"Load average (1 min) at the start and the end: {res['load'][0]:.1f} and "
         f"{res['load'][-1]:.1f} on {os.cpu_count()} cores: the browser, the server and other "
         "jobs shared the CPU, so these times are upper bounds for a quiet machine. "
-        "\"Page opened\" includes loading the app's JavaScript (Streamlit and plotly.js) into a "
+        '"Page opened" includes loading the app\'s JavaScript (Streamlit and plotly.js) into a '
         "new tab, which dominates it at every record size.",
         "",
         "Command: `nice -n 10 python benchmarks/dashboard_browser.py`.",

@@ -9,11 +9,12 @@ from __future__ import annotations
 
 import json
 import re
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+import plotly.graph_objects as go
 import streamlit as st
 
 import noisevar
@@ -86,6 +87,21 @@ def load_bytes_cached(digest: str, name: str, _raw: bytes) -> LoadedTable:
 def generate_cached(name: str, kwargs_json: str) -> noisevar.GeneratedSignal:
     """:func:`noisevar.generate` with JSON keyword arguments, cached."""
     return noisevar.generate(name, **json.loads(kwargs_json))
+
+
+# --------------------------------------------------------------------- figures
+@st.cache_resource(max_entries=16, show_spinner=False)
+def _figure_cached(kind: str, key: str, _build: Callable[[], go.Figure]) -> go.Figure:
+    return _build()
+
+
+def figure(kind: str, inputs: dict[str, object], build: Callable[[], go.Figure]) -> go.Figure:
+    """``build()``, once per ``inputs`` (everything the figure depends on), cached.
+
+    A control moved back to an earlier value redraws from the cache. The figure is
+    shared: do not modify it.
+    """
+    return _figure_cached(kind, params_key(inputs), build)
 
 
 # ------------------------------------------------------------------ estimators

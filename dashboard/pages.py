@@ -166,7 +166,8 @@ def setup_page(script: str) -> LoadedSignal | None:
         recipe = url_recipe()
         if recipe:
             try:
-                sig = restore_from_recipe(recipe)
+                with st.spinner("Reopening the signal named in the link..."):
+                    sig = restore_from_recipe(recipe)
             except (NoisevarError, ValueError) as exc:
                 st.warning(f"Could not reopen the signal named in the link ({recipe}): {exc}")
         elif url_upload():

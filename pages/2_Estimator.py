@@ -5,11 +5,9 @@ from __future__ import annotations
 import streamlit as st
 
 from dashboard.pages import setup_page
-from dashboard.sections import estimator_results as results
-from dashboard.sections.estimator_tuning import follow_config_column, tuning_panel
-from dashboard.sections.noise_panel import render_noise_panel
+from dashboard.sections.estimator_tuning import follow_config_column
+from dashboard.sections.estimator_view import tuned_view
 from dashboard.sections.signal_loader import require_signal
-from dashboard.state import times_of, truth_of
 from dashboard.widgets import how_it_works
 
 #: The page's how-it-works expander (shown even before a signal is loaded).
@@ -50,18 +48,7 @@ sig = require_signal(
     "The Estimator tunes the SOMD estimator on it and shows every step.", explain=HOW_IT_WORKS
 )
 
-left, right = st.columns([1, 3], gap="large")
-with left:
-    tuning = tuning_panel(sig.n)
-    sig = follow_config_column(sig)
-with right:
-    truth = truth_of(sig)
-    est, shown = results.run_estimate(sig, tuning)
-    if est is not None:
-        results.headline(sig, est, truth, tuning)
-        render_noise_panel(sig.z, est, times_of(sig), key="est_np", digest=sig.digest)
-    fig = results.main_figure(sig, shown, tuning)
-    results.step_views(sig, shown, tuning, truth)
-    results.exports(sig, est, truth, fig)
+sig = follow_config_column(sig)  # a just-loaded config's column (before the fragment)
+tuned_view(sig)  # a control change reruns this fragment only
 
 how_it_works(*HOW_IT_WORKS)

@@ -39,6 +39,8 @@ from noisevar.filters.envelope import RATIO_BAND
 from noisevar.format import eng_range, squared
 
 VIEWS = ["Window tests", "Envelopes and |V|", "h scan", "Per-window variance"]
+#: Windows the window-tests figure draws: it is drawn again on every change of a threshold.
+WINDOW_MARKERS = 400
 #: Longer records run the h scan only on request.
 SCAN_AUTO_LIMIT = 300_000
 
@@ -166,6 +168,16 @@ def _selected_stretch(sig: LoadedSignal) -> slice | None:
     return slice(min(s0, s1), max(s0, s1)) if max(s0, s1) > min(s0, s1) else None
 
 
+def _signal_key(sig: LoadedSignal) -> dict[str, object]:
+    """What identifies the record of a figure: its samples, table (times), column and T."""
+    return {
+        "digest": sig.digest,
+        "table": sig.table_digest,
+        "column": sig.column,
+        "T": sig.sample_period,
+    }
+
+
 def _clear_stretch() -> None:
     st.session_state["s0"] = 0
     st.session_state["s1"] = 0
@@ -175,13 +187,25 @@ def main_figure(sig: LoadedSignal, shown: VarianceEstimate | None, tuning: Tunin
     """The raw signal with filters and windows (box-select a stretch), and the stretch estimate."""
     stretch = _selected_stretch(sig)
     if shown is not None:
-        fig = somd_figure(
-            sig.z,
-            shown,
-            time_of(sig),
-            stretch=stretch,
-            title="Raw signal, filters, windows",
-            units=signal_units(),
+        units = signal_units()
+        inputs = {
+            **_signal_key(sig),
+            "method": tuning.method,
+            "params": tuning.params,
+            "stretch": None if stretch is None else [stretch.start, stretch.stop],
+            "units": units,
+        }
+        fig = cache.figure(
+            "somd",
+            inputs,
+            lambda: somd_figure(
+                sig.z,
+                shown,
+                time_of(sig),
+                stretch=stretch,
+                title="Raw signal, filters, windows",
+                units=units,
+            ),
         )
     else:
         fig = signal_figure(
@@ -244,12 +268,23 @@ def step_views(
     d = shown.details if shown is not None else None
     if view == "Window tests":
         if d is not None and d.selection is not None:
-            detail = window_tests_figure(
-                d.selection,
-                tuning.gamma_amp,
-                tuning.gamma_ang,
-                sig.sample_period,
-                title="Window tests: straight (amplitude) and not lagging (angle)",
+            inputs = {
+                **_signal_key(sig),
+                "method": tuning.method,
+                "params": tuning.params,
+                "gammas": [tuning.gamma_amp, tuning.gamma_ang],
+            }
+            detail = cache.figure(
+                "window_tests",
+                inputs,
+                lambda: window_tests_figure(
+                    d.selection,
+                    tuning.gamma_amp,
+                    tuning.gamma_ang,
+                    sig.sample_period,
+                    title="Window tests: straight (amplitude) and not lagging (angle)",
+                    max_markers=WINDOW_MARKERS,
+                ),
             )
         else:
             st.info("Window tests exist for the SOMD methods with window selection on.")

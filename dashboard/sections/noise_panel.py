@@ -82,21 +82,42 @@ def render_noise_panel(
     _badges(diag.flags)
     for note in diag.notes:
         st.caption(note)
-    with st.expander("Noise: distribution, autocorrelation, level along the record"):
+    _figures(z, diag, t, key, digest)
+
+
+#: The Noise panel's figure tabs: label -> (chart key suffix, figure function).
+TABS = {
+    "Histogram": ("hist", residual_histogram),
+    "QQ plot": ("qq", qq_plot),
+    "Autocorrelation": ("acf", acf_plot),
+    "Level profile": ("profile", level_profile_plot),
+}
+
+
+def _figures(z: ArrayLike, diag: Any, t: ArrayLike | None, key: str, digest: str | None) -> None:
+    """The figures' expander; lazy: only the open tab of an open expander is computed and sent."""
+    box = st.expander(
+        "Noise: distribution, autocorrelation, level along the record",
+        key=f"{key}_open",
+        on_change="rerun",
+    )
+    with box:
+        if not box.open:
+            return
         with guarded("Noise panel: "):
             data = (
                 noise_panel_data(z, diag, t) if digest is None else _panel_data(digest, z, diag, t)
             )
-            tabs = st.tabs(["Histogram", "QQ plot", "Autocorrelation", "Level profile"])
-            with tabs[0]:
-                log_y = st.toggle("Logarithmic density (tails)", key=f"{key}_log_y")
-                show_figure(residual_histogram(data, log_y=log_y), key=f"{key}_hist")
-            with tabs[1]:
-                show_figure(qq_plot(data), key=f"{key}_qq")
-            with tabs[2]:
-                show_figure(acf_plot(data), key=f"{key}_acf")
-            with tabs[3]:
-                show_figure(level_profile_plot(data), key=f"{key}_profile")
+            tabs = st.tabs(list(TABS), key=f"{key}_tab", on_change="rerun")
+            for (suffix, draw), tab in zip(TABS.values(), tabs, strict=True):
+                if not tab.open:
+                    continue
+                with tab:
+                    extra = {}
+                    if draw is residual_histogram:
+                        log_y = st.toggle("Logarithmic density (tails)", key=f"{key}_log_y")
+                        extra["log_y"] = log_y
+                    show_figure(draw(data, **extra), key=f"{key}_{suffix}")
 
 
 def render_assumptions(estimates: Iterable[Any]) -> None:

@@ -292,7 +292,8 @@ def layout(title: str | None = None, height: int = 420, **extra: Any) -> dict[st
     """
     out: dict[str, Any] = {
         "height": height,
-        "margin": {"l": 60, "r": 20, "t": 56 if title else 36, "b": 110},
+        # wide enough for most tick labels: a margin plotly must widen costs a second draw
+        "margin": {"l": 80, "r": 20, "t": 56 if title else 36, "b": 110},
         # below the plot: a legend on top collides with the title and the mode bar
         "legend": {"orientation": "h", "yanchor": "top", "y": -0.2, "x": 0.0},
         "hovermode": "closest",

@@ -40,9 +40,10 @@ from noisevar.figures._common import (
 from noisevar.figures._shapes import merge_runs, runs_of
 from noisevar.filters.selection import WindowSelection
 
-#: Points per line of the SOMD figure: three lines or more share one figure's budget, and
-#: two points per pixel column of a wide plot keep the look (min-max LTTB).
-SOMD_LINE_POINTS = 1500
+#: Points per line of the SOMD figure: about one min-max pair per pixel column of the
+#: dashboard's plot (~600 px) keeps the noise band (min-max LTTB); the browser draws each
+#: point again on every control change.
+SOMD_LINE_POINTS = 800
 #: Most kept-window runs (and rejection marks per test) drawn; neighbours merge beyond it.
 MAX_RUNS = 120
 
@@ -234,6 +235,7 @@ def somd_figure(  # long: one figure, built trace by trace in drawing order
         shapes=shapes,
         annotations=anns,
     )
+    lay["margin"]["b"] = 150  # room for its legend's rows (no second draw to make it)
     return capped(go.Figure(data=data, layout=lay))
 
 
@@ -352,6 +354,7 @@ def window_tests_figure(  # long: one figure, built trace by trace in drawing or
     sample_period: float | None = None,
     title: str | None = None,
     height: int = 460,
+    max_markers: int = MAX_FIGURE_MARKERS,
 ) -> go.Figure:
     """Each window's two test statistics against the thresholds of eq. [19].
 
@@ -374,6 +377,8 @@ def window_tests_figure(  # long: one figure, built trace by trace in drawing or
         Figure title.
     height : int
         Pixel height.
+    max_markers : int
+        Most windows drawn (thinned beyond it; the legend counts them all).
 
     Returns
     -------
@@ -445,4 +450,5 @@ def window_tests_figure(  # long: one figure, built trace by trace in drawing or
         shapes=[v_shape, h_shape],
         annotations=anns,
     )
-    return capped(go.Figure(data=data, layout=lay), max_points=MAX_FIGURE_MARKERS)
+    lay["margin"]["b"] = 120  # its x tick labels and legend (no second draw to make room)
+    return capped(go.Figure(data=data, layout=lay), max_points=min(max_markers, MAX_FIGURE_MARKERS))

@@ -99,14 +99,9 @@ def test_every_step_view_renders(at):
         _clean(at)
         assert not at.error, view
         keys = [c.key for c in at.get("plotly_chart")]
-        # the step view's two figures, and the Noise panel's four
+        # the main figure and the step view's; the Noise panel's figures wait for its expander
         assert len([k for k in keys if not k.startswith("est_np")]) == 2, view
-        assert sorted(k for k in keys if k.startswith("est_np")) == [
-            "est_np_acf",
-            "est_np_hist",
-            "est_np_profile",
-            "est_np_qq",
-        ], view
+        assert not [k for k in keys if k.startswith("est_np")], view
         if view == "h scan":
             assert any("chosen h" in c.value or "closest" in c.value for c in at.caption)
 
@@ -214,3 +209,61 @@ def test_html_report_holds_the_numbers_and_the_figure():
 
 def test_report_download_is_offered(at):
     assert any(b.label.startswith("Report of this analysis") for b in at.get("download_button"))
+
+
+def test_a_tuning_change_inside_the_fragment_updates_the_result_and_keeps_the_page(at):
+    """Tuning controls and their results are one fragment; the rest of the page stays."""
+    kept = _metric(at, "Windows kept")
+    variance = _metric(at, "Noise variance")
+    at.slider(key="g_amp").set_value(0.3).run()
+    _clean(at)
+    assert _metric(at, "Windows kept") != kept
+    assert _metric(at, "Noise variance") != variance
+    assert at.title[0].value == "Estimator"
+    assert at.get("latex"), "how it works (outside the fragment) is still shown"
+    assert at.sidebar.get("page_link"), "the sidebar (outside the fragment) is still shown"
+    assert json.loads(at.code[0].value)["gamma_amp"] == pytest.approx(0.3)
+
+
+def test_noise_panel_figures_are_drawn_when_opened(at):
+    assert not [c for c in at.get("plotly_chart") if c.key.startswith("est_np")]
+    at.session_state["est_np_open"] = True
+    at.run()
+    _clean(at)
+    assert [c.key for c in at.get("plotly_chart") if c.key.startswith("est_np")] == ["est_np_hist"]
+    at.session_state["est_np_tab"] = "Autocorrelation"
+    at.run()
+    _clean(at)
+    assert [c.key for c in at.get("plotly_chart") if c.key.startswith("est_np")] == ["est_np_acf"]
+
+
+def test_a_figure_is_built_once_per_inputs():
+    import plotly.graph_objects as go
+
+    from dashboard import cache
+
+    calls = []
+
+    def build() -> go.Figure:
+        calls.append(1)
+        return go.Figure()
+
+    first = cache.figure("test", {"digest": "abc", "gamma": 0.5}, build)
+    again = cache.figure("test", {"gamma": 0.5, "digest": "abc"}, build)
+    other = cache.figure("test", {"digest": "abc", "gamma": 0.55}, build)
+    assert first is again and other is not first
+    assert len(calls) == 2
+
+
+def test_window_tests_figure_draws_at_most_the_page_budget_and_counts_every_window():
+    import noisevar
+    from dashboard.sections.estimator_results import WINDOW_MARKERS
+    from noisevar.figures.windows import window_tests_figure
+
+    z = noisevar.generate("fast-slow", n=40_000, seed=3, noise_std=5.0).measured
+    sel = noisevar.estimate(z, method="somd").details.selection
+    fig = window_tests_figure(sel, 0.5, 10.0, max_markers=WINDOW_MARKERS)
+    drawn = sum(len(tr.x) for tr in fig.data)
+    counted = sum(int(tr.name.rsplit("(", 1)[1].rstrip(")")) for tr in fig.data)
+    assert drawn <= WINDOW_MARKERS < counted
+    assert counted == sel.starts.size

@@ -46,7 +46,18 @@ def test_noise_panel_draws(kind: str, param: str, value: float, words: str) -> N
     assert any(words in s for s in shown), shown
     if kind == "ar1":
         assert at.warning, "a coloured record's verdict is a warning"
+    # lazy: a closed expander computes and sends no figure; open, only the open tab's
+    assert not at.tabs and not at.get("plotly_chart")
+    at.session_state["np_open"] = True
+    at.run()
+    assert not at.exception, [e.value for e in at.exception]
     assert len(at.tabs) == 4
+    assert len(at.get("plotly_chart")) == 1
+    at.session_state["np_tab"] = "Level profile"
+    at.run()
+    assert not at.exception, [e.value for e in at.exception]
+    charts = at.get("plotly_chart")
+    assert len(charts) == 1 and "level" in charts[0].proto.spec.lower()
     frame = at.dataframe[0].value
     assert list(frame["Method"]) == ["auto", "mle-level"]
     # the coloured record fails the white-noise assumption of auto
