@@ -43,8 +43,13 @@ def scale_exponent(z: NDArray) -> int:
     -------
     int
     """
-    fin = np.abs(z[np.isfinite(z)]) if not np.all(np.isfinite(z)) else np.abs(z)
-    top = float(fin.max()) if fin.size else 0.0
+    with np.errstate(invalid="ignore"):  # all NaN: no finite sample, NaN extremes
+        lo, hi = (float(f.reduce(z, axis=None)) if z.size else 0.0 for f in (np.fmin, np.fmax))
+    # fmin/fmax skip NaN; infinite samples are not finite: the largest finite magnitude
+    if not (np.isfinite(lo) and np.isfinite(hi)):
+        fin = np.abs(z[np.isfinite(z)])
+        lo, hi = 0.0, float(fin.max()) if fin.size else 0.0
+    top = max(abs(lo), abs(hi)) if np.isfinite(lo) and np.isfinite(hi) else 0.0
     if top == 0.0:
         return 0
     # top = m 2**k with 0.5 <= m < 1
