@@ -41,6 +41,7 @@ SECTIONS = [
     ("Hostile input (issue 15)", "hostile.md"),
     ("The dashboard in a real browser (issue 16)", "dashboard_browser.md"),
     ("Channels and batch (issue 17)", "batch.md"),
+    ("Records larger than memory (issue 17)", "stream.md"),
 ]
 
 

@@ -205,8 +205,8 @@ def estimate_chunked(
     if diag.whiteness.p_value < COLOURED_P and params["span"] is None:
         extra = {"span": AUTO_COLOURED_SPAN}
         col = {**params, **extra}
-        again = _pass(read, n, _spans(AUTO_COLOURED_SPAN, order, trim, n), col, e, None,
-                      math.inf, chunk, workers)  # fmt: skip
+        short = _spans(AUTO_COLOURED_SPAN, params["order"], params["trim"], n)
+        again = _pass(read, n, short, col, e, None, math.inf, chunk, workers)
         result = auto_reduce(again.parts, (AUTO_COLOURED_SPAN,), col, result.notes[:1])
         result.notes.append(coloured_note(extra))
     result = conclude(AUTO, result, diag)
