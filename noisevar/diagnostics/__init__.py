@@ -13,7 +13,14 @@ from dataclasses import replace
 import numpy as np
 from numpy.typing import NDArray
 
-from noisevar.diagnostics._parts import DIAG_ORDER, DIAG_SPAN, DiagPlan, make_plan, probe_of
+from noisevar.diagnostics._parts import (
+    DIAG_ORDER,
+    DIAG_SPAN,
+    PROFILE_MIN_KEPT,
+    DiagPlan,
+    make_plan,
+    probe_of,
+)
 from noisevar.diagnostics._sums import DiagSums, diag_part
 from noisevar.diagnostics.power_law import POWER_LAW_MAX, power_law_types
 from noisevar.diagnostics.profile import LevelProfile, profile_from_blocks
@@ -81,7 +88,8 @@ def finish(
 
     sums.check()
     plan, d = sums.plan, residual_sequence(DIAG_SPAN, DIAG_ORDER)
-    blocks = sorted(b for b, v in sums.profile.items() if v[0])
+    # blocks left with a handful of residuals (around jumps) say nothing of the level
+    blocks = sorted(b for b, v in sums.profile.items() if v[0] >= PROFILE_MIN_KEPT)
     count, total, robust, medians = (
         np.array([sums.profile[b][i] for b in blocks], dtype=float) for i in range(4)
     )

@@ -27,6 +27,8 @@ DIAG_SPAN = 21
 DIAG_ORDER = 3
 #: A block's robust level is the median of at most this many of its residuals.
 MEDIAN_MAX = 2**16
+#: A profile block with fewer kept residuals than this is left out of the profile.
+PROFILE_MIN_KEPT = 8
 #: At most this many distinct values are collected when the quantisation probe is flat.
 UNIQUE_MAX = 4096
 

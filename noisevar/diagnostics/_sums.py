@@ -15,6 +15,7 @@ from numpy.typing import NDArray
 from noisevar.diagnostics._parts import (
     DIAG_ORDER,
     DIAG_SPAN,
+    PROFILE_MIN_KEPT,
     UNIQUE_MAX,
     DiagPlan,
     Grid,
@@ -215,7 +216,7 @@ class DiagSums:
 
     def check(self) -> None:
         """Refuse a record with no residual kept (nothing to diagnose)."""
-        if not any(v[0] for v in self.profile.values()):
+        if not any(v[0] >= PROFILE_MIN_KEPT for v in self.profile.values()):
             raise NoisevarError(
                 f"no stretch of the record has {2 * DIAG_SPAN} uniformly sampled samples "
                 f"(span {DIAG_SPAN}) free of jumps: nothing to diagnose"

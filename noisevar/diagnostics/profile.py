@@ -147,7 +147,9 @@ def profile_from_blocks(
     """
     dof = count * dof_per_sample
     lo = dof * var / chi2_ppf(0.975, dof)
-    hi = dof * var / chi2_ppf(0.025, dof)
+    # a block of very few dof has a lower quantile that underflows to 0: its bound is huge
+    q = np.maximum(chi2_ppf(0.025, dof), np.finfo(float).tiny)
+    hi = np.minimum(dof * var / q, np.finfo(float).max)
     # a median of χ²₁ has relative sd 1 / (2 f(m) m sqrt(n)): as a χ² with 0.368 n dof
     robust_dof = (count if medians is None else medians) * MEDIAN_DOF / eta
     quiet = _quiet_set(robust, robust_dof, var, dof, stop - start)

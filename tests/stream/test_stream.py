@@ -180,3 +180,14 @@ def test_strided_block_medians_keep_a_white_record_steady(monkeypatch) -> None:
     diag = noisevar.estimate(z).diagnostics
     assert not diag.level_varies and diag.level_profile.quiet_share > 0.95
     assert "white Gaussian noise" in diag.verdict
+
+
+def test_profile_bounds_stay_finite_on_blocks_of_few_dof() -> None:
+    """Very heavy tails or a block emptied by jumps: the lower χ² quantile underflows."""
+    from noisevar.diagnostics.profile import profile_from_blocks
+
+    one = np.ones(2)
+    prof = profile_from_blocks(
+        np.array([0, 50]), np.array([50, 100]), np.array([1.0, 50.0]), one, one, 1e-3, 1.0
+    )
+    assert np.all(np.isfinite(prof.hi)) and np.all(prof.hi >= prof.variance)
