@@ -34,13 +34,17 @@ FLAG_LABELS: dict[str, tuple[str, bool | None]] = {
 
 
 def _badges(flags: dict[str, bool]) -> None:
-    """One small badge per flag: green when good news, orange when not, grey when neutral."""
-    cols = st.columns(len(FLAG_LABELS))
-    for col, (key, (label, good)) in zip(cols, FLAG_LABELS.items(), strict=True):
+    """One small badge per flag: green when good news, orange when not, grey when neutral.
+
+    One line of Markdown badges, which wraps (fixed columns cut the longer labels off).
+    """
+    badges = []
+    for key, (label, good) in FLAG_LABELS.items():
         value = bool(flags.get(key, False))
         color = "gray" if good is None else ("green" if value == good else "orange")
         icon = ":material/check:" if value else ":material/close:"
-        col.badge(label, icon=icon, color=color)
+        badges.append(f":{color}-badge[{icon} {label}]")
+    st.markdown(" ".join(badges))
 
 
 @st.cache_data(max_entries=8, show_spinner=False)
