@@ -171,21 +171,24 @@ def interleaved(files: list[Path], clients: dict, rounds: int) -> dict[str, list
     return times
 
 
-def _cluster(trim: bool):
+def _cluster(tuned: bool):
     """A scheduler and two one-thread worker processes on loopback, and its client.
 
-    ``trim``: dask's default worker environment, whose ``MALLOC_TRIM_THRESHOLD_=65536``
-    makes glibc return freed memory at once (so every large array is page-faulted in
-    again); without it the workers keep glibc's own adaptive threshold, as the
-    ``--jobs`` processes do (dask's other pre-spawn settings are kept).
+    ``tuned=False``: dask's defaults. Its nannies start workers with
+    ``MALLOC_TRIM_THRESHOLD_=65536`` (glibc returns every freed array at once, and the next
+    one is page-faulted in again), and each worker samples its task thread's stack every
+    10 ms (the statistical profiler of the dask dashboard). ``tuned=True`` drops both, as
+    README advises for a CPU-bound batch; dask's other settings are kept.
     """
     import dask
     from distributed import Client, LocalCluster
 
     env = dict(dask.config.get("distributed.nanny.pre-spawn-environ"))
-    if not trim:
+    settings: dict = {}
+    if tuned:
         env.pop("MALLOC_TRIM_THRESHOLD_", None)
-    with dask.config.set({"distributed.nanny.pre-spawn-environ": env}):
+        settings["distributed.worker.profile.enabled"] = False
+    with dask.config.set({"distributed.nanny.pre-spawn-environ": env, **settings}):
         cluster = LocalCluster(
             n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
             dashboard_address=None, silence_logs=40,
@@ -195,24 +198,33 @@ def _cluster(trim: bool):
     return cluster, client
 
 
+def _full_pass(client, files: list[Path]) -> tuple[pd.DataFrame, float, float]:
+    """Every file on the cluster: the table, the wall time and the workers' CPU seconds."""
+    noisevar.batch(files[:4], client=client, progress=False)  # the workers' imports warmed
+    before = sum(client.run(_cpu_seconds).values())
+    frame, took = _timed(lambda: noisevar.batch(files, client=client, progress=False))
+    return frame, took, sum(client.run(_cpu_seconds).values()) - before
+
+
 def cluster_run(files: list[Path], reference: pd.DataFrame, subset: int, rounds: int) -> dict:
     t0 = time.perf_counter()
-    cluster, client = _cluster(trim=False)
+    cluster, client = _cluster(tuned=True)
     start = time.perf_counter() - t0
-    default, dclient = _cluster(trim=True)
+    default, dclient = _cluster(tuned=False)
     try:
-        before = sum(client.run(_cpu_seconds).values())
-        frame, took = _timed(lambda: noisevar.batch(files, client=client, progress=False))
-        cpu = sum(client.run(_cpu_seconds).values()) - before
+        frame, took, cpu = _full_pass(client, files)
+        print(f"dask (tuned): {took:.1f} s", flush=True)
+        dframe, dtook, dcpu = _full_pass(dclient, files)
+        print(f"dask (defaults): {dtook:.1f} s", flush=True)
         per_task = overhead_dask(client, 2000)
-        noisevar.batch(files[:4], client=dclient, progress=False)  # its workers warmed too
         clients = {"dask": client, "dask_default": dclient}
         rounds_times = interleaved(files[:subset], clients, rounds)
     finally:
         for c in (client, dclient, cluster, default):
             c.close()
+    same = _rows(frame).equals(_rows(reference)) and _rows(dframe).equals(_rows(reference))
     return {"start": start, "took": took, "per_task": per_task, "cpu": cpu, "rounds": rounds_times,
-            "same": _rows(frame).equals(_rows(reference))}
+            "default_took": dtook, "default_cpu": dcpu, "same": same}
 
 
 def extrapolate(n_files: int, per_file: float, per_task: float, bytes_per_file: int) -> list:
@@ -259,7 +271,6 @@ def main() -> None:  # long: one script, its steps in order
         print(f"jobs=2: {t2:.1f} s", flush=True)
         load.append(os.getloadavg()[0])
         dask = cluster_run(files, one, args.subset, args.rounds)
-        print(f"dask: {dask['took']:.1f} s", flush=True)
         load.append(os.getloadavg()[0])
         pool_start, pool_task = overhead_pool(2000)
         ceil = (ceil, ceiling())
@@ -316,25 +327,28 @@ def report(args, n_files, size, gen, t1, t2, dask, pool_start, pool_task, resume
         f"two at once) before the timed runs: {ceil[0]:.2f}x, after them: {ceil[1]:.2f}x.",
         "",
         f"CPU time: the one-process run used {cpu1:.0f} CPU-seconds in {t1:.0f} s ({cpu1 / t1:.0%} "
-        f"of a core: the rest went to other jobs); the cluster's two workers used "
-        f"{dask['cpu']:.0f} CPU-seconds together for the same files.",
+        f"of a core: the rest went to other jobs); the tuned cluster's two workers used "
+        f"{dask['cpu']:.0f} CPU-seconds together for the same files, the default cluster's "
+        f"{dask['default_cpu']:.0f}.",
         "",
         "| run | wall time (s) | files/s | samples/s | speed-up vs one process |",
         "|---|---|---|---|---|",
         f"| one process (`jobs=1`) | {t1:.1f} | {n_files / t1:.1f} | {samples / t1:.3g} | 1.00x |",
         f"| `--jobs 2` (2 local processes, start-up included) | {t2:.1f} | {n_files / t2:.1f} | "
         f"{samples / t2:.3g} | {t1 / t2:.2f}x |",
-        f"| dask.distributed: scheduler + 2 worker processes on loopback (glibc's own trim "
-        f"threshold, see below) | {dask['took']:.1f} | "
-        f"{n_files / dask['took']:.1f} | {samples / dask['took']:.3g} | {t1 / dask['took']:.2f}x |",
+        f"| dask.distributed: scheduler + 2 worker processes on loopback, tuned (see below) | "
+        f"{dask['took']:.1f} | {n_files / dask['took']:.1f} | {samples / dask['took']:.3g} | "
+        f"{t1 / dask['took']:.2f}x |",
+        f"| the same with dask's defaults | {dask['default_took']:.1f} | "
+        f"{n_files / dask['default_took']:.1f} | {samples / dask['default_took']:.3g} | "
+        f"{t1 / dask['default_took']:.2f}x |",
         "",
-        "These three passes ran one after the other while the load changed, so their ratios "
-        f"mix speed-up and load. The speed-ups below alternate them, and a second cluster with "
-        f"dask's default worker environment, on the first {min(args.subset, n_files)} files, "
+        "These passes ran one after the other; as a check on load changes between them, the "
+        f"rounds below alternate all four on the first {min(args.subset, n_files)} files, "
         f"{args.rounds} rounds, and compare best times:",
         "",
-        "| round | one process (s) | `--jobs 2` (s) | dask cluster (s) | dask cluster, dask's "
-        "default environment (s) |",
+        "| round | one process (s) | `--jobs 2` (s) | dask cluster, tuned (s) | dask cluster, "
+        "dask's defaults (s) |",
         "|---|---|---|---|---|",
         *[f"| {i + 1} | {a:.1f} | {b:.1f} | {c:.1f} | {d:.1f} |" for i, (a, b, c, d) in enumerate(
             zip(dask["rounds"]["one"], dask["rounds"]["jobs2"], dask["rounds"]["dask"],
@@ -342,16 +356,20 @@ def report(args, n_files, size, gen, t1, t2, dask, pool_start, pool_task, resume
         f"| best | {best['one']:.1f} | {best['jobs2']:.1f} | {best['dask']:.1f} | "
         f"{best['dask_default']:.1f} |",
         "",
-        "dask's nannies start workers with `MALLOC_TRIM_THRESHOLD_=65536` (its default "
-        "`distributed.nanny.pre-spawn-environ`): glibc then returns every freed array to the "
-        "system at once and page-faults the next one in again, which costs the estimator a "
-        "quarter or more of its time on this machine. The cluster of the first column leaves "
-        "glibc's own adaptive threshold (as the `--jobs` processes have), keeping dask's other "
-        "settings; README's scale section says how to set it on a cluster.",
+        "Tuned: two of dask's defaults cost a CPU-bound batch. Its nannies start workers with "
+        "`MALLOC_TRIM_THRESHOLD_=65536` (`distributed.nanny.pre-spawn-environ`): glibc then "
+        "returns every freed array to the system at once and page-faults the next one in "
+        "again. And each worker's statistical profiler (`distributed.worker.profile`, for the "
+        "dask dashboard) samples the task thread's stack every 10 ms, taking the GIL from it. "
+        "The tuned cluster leaves glibc's own adaptive threshold (as the `--jobs` processes "
+        "have) and turns the profiler off, keeping dask's other settings; README's scale "
+        "section says how to set both on a cluster.",
         "",
-        f"Targets (best times): `--jobs 2` >= 1.7x one process: {s2:.2f}x ({tick(s2 >= 1.7)}); "
-        f"dask cluster >= 1.6x: {sd:.2f}x ({tick(sd >= 1.6)}), with dask's default "
-        f"environment {sdd:.2f}x; the machine's own two-process "
+        f"Targets, on the full passes: `--jobs 2` >= 1.7x one process: {t1 / t2:.2f}x "
+        f"({tick(t1 / t2 >= 1.7)}; best of the rounds {s2:.2f}x); dask cluster >= 1.6x: tuned "
+        f"{t1 / dask['took']:.2f}x ({tick(t1 / dask['took'] >= 1.6)}; best of the rounds "
+        f"{sd:.2f}x), with dask's defaults {t1 / dask['default_took']:.2f}x (rounds {sdd:.2f}x); "
+        f"the machine's own two-process "
         f"ceiling was {ceil[0]:.2f}x before and {ceil[1]:.2f}x after. Rows of every full pass "
         f"equal the one-process rows (`elapsed_s` aside): {'yes' if ok else 'NO'}.",
         "",
