@@ -153,9 +153,26 @@ def guarded(context: str = "") -> Iterator[None]:
         )
 
 
+#: Session-state key of the "How it works" expander (open or closed, on every page).
+HOW_IT_WORKS_KEY = "how_it_works"
+
+
 def how_it_works(*blocks: str, expanded: bool = False) -> None:
-    """The page's "How it works" expander: Markdown blocks, and ``$$...$$`` blocks as LaTeX."""
-    with st.expander("How it works", expanded=expanded, icon=":material/school:"):
+    """The page's "How it works" expander: Markdown blocks, and ``$$...$$`` blocks as LaTeX.
+
+    Lazy: its text and equations are sent only while it is open (typesetting the
+    equations of a closed expander cost the browser a second when a page opened).
+    """
+    box = st.expander(
+        "How it works",
+        expanded=expanded,
+        icon=":material/school:",
+        key=HOW_IT_WORKS_KEY,
+        on_change="rerun",
+    )
+    with box:
+        if not box.open:
+            return
         for b in blocks:
             s = b.strip()
             if s.startswith("$$") and s.endswith("$$"):

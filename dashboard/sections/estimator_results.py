@@ -41,6 +41,8 @@ from noisevar.format import eng_range, squared
 VIEWS = ["Window tests", "Envelopes and |V|", "h scan", "Per-window variance"]
 #: Windows the window-tests figure draws: it is drawn again on every change of a threshold.
 WINDOW_MARKERS = 400
+#: Session-state key of the (lazy) expander that shows the exported JSON config.
+CONFIG_VIEW_KEY = "est_cfg_open"
 #: Longer records run the h scan only on request.
 SCAN_AUTO_LIMIT = 300_000
 
@@ -469,7 +471,12 @@ def _estimate_downloads(sig: LoadedSignal, est: VarianceEstimate, truth: float |
         disabled=est.details is None,
     )
     if cfg_json is not None:
-        with st.expander("Tuned parameters (the JSON config)"):
+        # lazy: a closed expander's code block would load the browser's syntax highlighter
+        box = st.expander("Tuned parameters (the JSON config)", key=CONFIG_VIEW_KEY,
+                          on_change="rerun")  # fmt: skip
+        with box:
+            if not box.open:
+                return
             st.code(cfg_json, language="json")
             st.caption(
                 f"`{cli_hint(sig)}` gives the same estimate (the config names the column too)."

@@ -32,13 +32,13 @@ def at() -> AppTest:
     return app
 
 
-def test_scenario_with_defaults(at):
+def test_scenario_with_defaults(at, how_it_works_opens):
     assert not at.error
     table = _table(at)
     assert list(table["filter"]) == ["oracle", "somd-online", "rae", "sage-husa", "vb"]
     rmse = table.set_index("filter")["RMSE position (m)"]
     assert rmse["somd-online"] < 1.2 * rmse["oracle"]
-    assert at.get("plotly_chart") and at.get("latex")
+    assert at.get("plotly_chart") and how_it_works_opens(at)
 
 
 def test_each_main_widget_changes_the_result(at):

@@ -29,21 +29,21 @@ def at() -> AppTest:
     return app
 
 
-def test_opened_first_without_a_signal():
+def test_opened_first_without_a_signal(how_it_works_opens):
     app = AppTest.from_file(APP, default_timeout=60)
     app.switch_page(PAGE).run()
     _clean(app)
     assert any("No signal loaded" in i.value for i in app.info)
-    assert app.get("latex")
+    assert how_it_works_opens(app)
 
 
-def test_every_method_side_by_side(at):
+def test_every_method_side_by_side(at, how_it_works_opens):
     assert not at.error
     table = at.dataframe[0].value
     assert {"auto", "somd", "somd-paper", "rice", "diff2"} <= set(table["method"])
     assert "rel. error" in table.columns and "CI covers truth" in table.columns
     assert table["variance"].between(15, 35).all()
-    assert at.get("plotly_chart") and at.get("latex")
+    assert at.get("plotly_chart") and how_it_works_opens(at)
     at.multiselect(key="cmp_methods").set_value(["auto", "rice"]).run()
     _clean(at)
     assert list(at.dataframe[0].value["method"]) == ["auto", "rice"]

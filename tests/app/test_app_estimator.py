@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 from streamlit.testing.v1 import AppTest
 
+from dashboard.sections.estimator_results import CONFIG_VIEW_KEY
 from dashboard.widgets import fmt
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -36,30 +37,31 @@ def at() -> AppTest:
     """The page opened first by its URL, with a generated signal named in the link."""
     app = AppTest.from_file(APP, default_timeout=60)
     app.query_params["sig"] = SIG
+    app.session_state[CONFIG_VIEW_KEY] = True  # the exported JSON config is shown
     app.switch_page(PAGE).run()
     _clean(app)
     return app
 
 
-def test_opened_first_without_a_signal_offers_sample_data():
+def test_opened_first_without_a_signal_offers_sample_data(how_it_works_opens):
     app = AppTest.from_file(APP, default_timeout=60)
     app.switch_page(PAGE).run()
     _clean(app)
     assert any("No signal loaded" in i.value for i in app.info)
     assert any(b.key == "offer_fast_slow.csv" for b in app.button)
-    assert app.get("latex"), "how it works is shown before a signal is loaded"
+    assert how_it_works_opens(app), "how it works is shown before a signal is loaded"
     app.button(key="offer_fast_slow.csv").click().run()
     _clean(app)
     assert _metric(app, "Noise variance")
 
 
-def test_runs_with_defaults(at):
+def test_runs_with_defaults(at, how_it_works_opens):
     assert not at.error
     assert float(_metric(at, "Noise variance")) == pytest.approx(25.0, rel=0.1)
     assert _metric(at, "True variance") == "25"
     kept, total = _metric(at, "Windows kept").split(" / ")
     assert 0 < int(kept) <= int(total)
-    assert at.get("latex")
+    assert how_it_works_opens(at)
     assert at.get("plotly_chart")
 
 
@@ -154,6 +156,7 @@ def test_config_round_trip_carries_the_column_and_the_cli_agrees(tmp_path, capsy
 
     app = AppTest.from_file(APP, default_timeout=60)
     app.query_params["sig"] = "sample:two_sensors.csv"
+    app.session_state[CONFIG_VIEW_KEY] = True
     app.switch_page(PAGE).run()
     _clean(app)
     page_variance = _metric(app, "Noise variance")
@@ -211,7 +214,9 @@ def test_report_download_is_offered(at):
     assert any(b.label.startswith("Report of this analysis") for b in at.get("download_button"))
 
 
-def test_a_tuning_change_inside_the_fragment_updates_the_result_and_keeps_the_page(at):
+def test_a_tuning_change_inside_the_fragment_updates_the_result_and_keeps_the_page(
+    at, how_it_works_opens
+):
     """Tuning controls and their results are one fragment; the rest of the page stays."""
     kept = _metric(at, "Windows kept")
     variance = _metric(at, "Noise variance")
@@ -220,7 +225,7 @@ def test_a_tuning_change_inside_the_fragment_updates_the_result_and_keeps_the_pa
     assert _metric(at, "Windows kept") != kept
     assert _metric(at, "Noise variance") != variance
     assert at.title[0].value == "Estimator"
-    assert at.get("latex"), "how it works (outside the fragment) is still shown"
+    assert how_it_works_opens(at), "how it works (outside the fragment) is still shown"
     assert at.sidebar.get("page_link"), "the sidebar (outside the fragment) is still shown"
     assert json.loads(at.code[0].value)["gamma_amp"] == pytest.approx(0.3)
 
@@ -267,3 +272,16 @@ def test_window_tests_figure_draws_at_most_the_page_budget_and_counts_every_wind
     counted = sum(int(tr.name.rsplit("(", 1)[1].rstrip(")")) for tr in fig.data)
     assert drawn <= WINDOW_MARKERS < counted
     assert counted == sel.starts.size
+
+
+def test_the_json_config_is_sent_only_when_its_expander_is_opened():
+    app = AppTest.from_file(APP, default_timeout=60)
+    app.query_params["sig"] = SIG
+    app.switch_page(PAGE).run()
+    _clean(app)
+    assert any(e.label.startswith("Tuned parameters") for e in app.expander)
+    assert not app.code, "a closed expander's code block loads the browser's highlighter"
+    app.session_state[CONFIG_VIEW_KEY] = True
+    app.run()
+    _clean(app)
+    assert json.loads(app.code[0].value)["method"] == "somd"

@@ -37,10 +37,10 @@ def _example(at: AppTest) -> AppTest:
     return at
 
 
-def test_without_a_table_the_page_says_what_to_do():
+def test_without_a_table_the_page_says_what_to_do(how_it_works_opens):
     at = _open()
     assert any("No batch table" in i.value for i in at.info)
-    assert at.button(key="fl_example") and at.get("latex")
+    assert at.button(key="fl_example") and how_it_works_opens(at)
 
 
 def test_example_fleet_flags_the_faulty_unit():

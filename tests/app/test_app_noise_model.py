@@ -36,10 +36,10 @@ def _figure_names(at: AppTest) -> list[str]:
     return [t.get("name") for t in fig["data"]]
 
 
-def test_without_a_signal_offers_sample_data():
+def test_without_a_signal_offers_sample_data(how_it_works_opens):
     at = _open(None)
     assert any("No signal loaded" in i.value for i in at.info)
-    assert at.get("latex")
+    assert how_it_works_opens(at)
 
 
 def test_rate_data_fits_the_terms_and_simulates():

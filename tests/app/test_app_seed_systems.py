@@ -29,7 +29,7 @@ def _open(page: str, **query: str) -> AppTest:
     at.switch_page(page).run()
     _clean(at)
     assert not at.error, [e.value for e in at.error]
-    assert at.get("latex") and at.get("plotly_chart")
+    assert at.get("plotly_chart")
     return at
 
 
@@ -85,9 +85,10 @@ SMALL = {
 
 
 @pytest.mark.parametrize("page", list(PAGES))
-def test_page_defaults_views_and_widgets(page):
+def test_page_defaults_views_and_widgets(page, how_it_works_opens):
     view_key, views, widgets = PAGES[page]
     at = _open(page, **SMALL[page])
+    assert how_it_works_opens(at)
     for view in views:
         at.segmented_control(key=view_key).set_value(view).run()
         _clean(at)

@@ -58,11 +58,11 @@ def _nmea_bytes(n: int = 40, corrupt: int | None = None) -> bytes:
     return ("\n".join(lines) + "\n").encode()
 
 
-def test_runs_with_defaults_without_a_signal():
+def test_runs_with_defaults_without_a_signal(how_it_works_opens):
     at = _page()
     assert not at.error
     assert any("No signal loaded" in i.value for i in at.info)
-    assert at.get("latex")
+    assert how_it_works_opens(at)
 
 
 def test_generate_and_each_generator_widget_changes_the_signal():

@@ -29,14 +29,14 @@ def _open() -> AppTest:
     return app
 
 
-def test_without_sensors_offers_the_sample_files():
+def test_without_sensors_offers_the_sample_files(how_it_works_opens):
     at = _open()
     assert any("No signal" in i.value for i in at.info)
     assert {"ts_two", "ts_three", "ts_sim"} <= {b.key for b in at.button}
-    assert at.get("latex")
+    assert how_it_works_opens(at)
 
 
-def test_two_sensors_sum_and_delay_toggle():
+def test_two_sensors_sum_and_delay_toggle(how_it_works_opens):
     at = _open()
     at.button(key="ts_two").click().run()
     _clean(at)
@@ -52,7 +52,7 @@ def test_two_sensors_sum_and_delay_toggle():
     at.toggle(key="ts_align").set_value(True).run()
     _clean(at)
     assert at.info or at.success
-    assert at.get("plotly_chart") and at.get("latex")
+    assert at.get("plotly_chart") and how_it_works_opens(at)
 
 
 def test_three_sensors_each_variance_and_column_choice():
