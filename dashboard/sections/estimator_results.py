@@ -41,8 +41,8 @@ from noisevar.format import eng_range, squared
 VIEWS = ["Window tests", "Envelopes and |V|", "h scan", "Per-window variance"]
 #: Windows the window-tests figure draws: it is drawn again on every change of a threshold.
 WINDOW_MARKERS = 400
-#: Session-state key of the (lazy) expander that shows the exported JSON config.
-CONFIG_VIEW_KEY = "est_cfg_open"
+#: Session-state key of the (lazy) Export expander.
+EXPORT_KEY = "est_export_open"
 #: Longer records run the h scan only on request.
 SCAN_AUTO_LIMIT = 300_000
 
@@ -393,9 +393,24 @@ def exports(
 ) -> None:
     """Downloads: the tuned-parameter JSON, the estimate and windows as CSV, the main figure.
 
-    The step-by-step figure's downloads sit under it (:func:`step_views`).
+    Lazy: built and sent only while the Export expander is open (a dozen elements less
+    to send and draw on every tuning change). The step-by-step figure's downloads sit
+    under it (:func:`step_views`).
     """
-    st.markdown("#### Export")
+    box = st.expander(
+        "Export: tuned parameters, estimate, windows, report, figure",
+        icon=":material/download:",
+        key=EXPORT_KEY,
+        on_change="rerun",
+    )
+    with box:
+        if box.open:
+            _exports(sig, est, truth, fig)
+
+
+def _exports(
+    sig: LoadedSignal, est: VarianceEstimate | None, truth: float | None, fig: go.Figure
+) -> None:
     if est is not None:
         _estimate_downloads(sig, est, truth)
         st.download_button(
@@ -471,13 +486,5 @@ def _estimate_downloads(sig: LoadedSignal, est: VarianceEstimate, truth: float |
         disabled=est.details is None,
     )
     if cfg_json is not None:
-        # lazy: a closed expander's code block would load the browser's syntax highlighter
-        box = st.expander("Tuned parameters (the JSON config)", key=CONFIG_VIEW_KEY,
-                          on_change="rerun")  # fmt: skip
-        with box:
-            if not box.open:
-                return
-            st.code(cfg_json, language="json")
-            st.caption(
-                f"`{cli_hint(sig)}` gives the same estimate (the config names the column too)."
-            )
+        st.code(cfg_json, language="json")
+        st.caption(f"`{cli_hint(sig)}` gives the same estimate (the config names the column too).")

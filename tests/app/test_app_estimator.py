@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 from streamlit.testing.v1 import AppTest
 
-from dashboard.sections.estimator_results import CONFIG_VIEW_KEY
+from dashboard.sections.estimator_results import EXPORT_KEY
 from dashboard.widgets import fmt
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -37,7 +37,7 @@ def at() -> AppTest:
     """The page opened first by its URL, with a generated signal named in the link."""
     app = AppTest.from_file(APP, default_timeout=60)
     app.query_params["sig"] = SIG
-    app.session_state[CONFIG_VIEW_KEY] = True  # the exported JSON config is shown
+    app.session_state[EXPORT_KEY] = True  # the exports (and the JSON config) are shown
     app.switch_page(PAGE).run()
     _clean(app)
     return app
@@ -156,7 +156,7 @@ def test_config_round_trip_carries_the_column_and_the_cli_agrees(tmp_path, capsy
 
     app = AppTest.from_file(APP, default_timeout=60)
     app.query_params["sig"] = "sample:two_sensors.csv"
-    app.session_state[CONFIG_VIEW_KEY] = True
+    app.session_state[EXPORT_KEY] = True
     app.switch_page(PAGE).run()
     _clean(app)
     page_variance = _metric(app, "Noise variance")
@@ -274,14 +274,15 @@ def test_window_tests_figure_draws_at_most_the_page_budget_and_counts_every_wind
     assert counted == sel.starts.size
 
 
-def test_the_json_config_is_sent_only_when_its_expander_is_opened():
+def test_the_exports_are_sent_only_when_their_expander_is_opened():
     app = AppTest.from_file(APP, default_timeout=60)
     app.query_params["sig"] = SIG
     app.switch_page(PAGE).run()
     _clean(app)
-    assert any(e.label.startswith("Tuned parameters") for e in app.expander)
+    assert any(e.label.startswith("Export") for e in app.expander)
     assert not app.code, "a closed expander's code block loads the browser's highlighter"
-    app.session_state[CONFIG_VIEW_KEY] = True
+    assert not any(b.key == "dl_report" for b in app.get("download_button"))
+    app.session_state[EXPORT_KEY] = True
     app.run()
     _clean(app)
     assert json.loads(app.code[0].value)["method"] == "somd"
