@@ -229,16 +229,36 @@ def _quiet_set(
     order = np.argsort(robust)
     need = QUIET_MIN_SHARE * sizes.sum()
     quiet = np.zeros(robust.size, dtype=bool)
+    # running dof-weighted sums of the set's levels, each over its largest (no overflow)
+    r_pool, v_pool = _Pool(robust, robust_dof), _Pool(var, dof)
     covered = 0.0
     for b in order:
         if covered >= need:
-            if robust[b] > _pooled(robust, robust_dof, quiet) * robust_q[b]:
+            if robust[b] > r_pool.level() * robust_q[b]:
                 break  # every later block is louder still
-            if var_q is not None and var[b] > _pooled(var, dof, quiet) * var_q[b]:
+            if var_q is not None and var[b] > v_pool.level() * var_q[b]:
                 continue  # motion in part of the block: a low median, a high mean square
         quiet[b] = True
+        r_pool.add(b)
+        v_pool.add(b)
         covered += sizes[b]
     return quiet
+
+
+class _Pool:
+    """The dof-weighted mean of a growing set of levels ``x`` (weights ``nu``)."""
+
+    def __init__(self, x: NDArray, nu: NDArray) -> None:
+        top = float(np.max(x, initial=0.0))
+        self.scale = top if np.isfinite(top) and top > 0 else 1.0
+        self.x, self.nu, self.sx, self.sw = x / self.scale, nu, 0.0, 0.0
+
+    def add(self, b: int) -> None:
+        self.sx += float(self.nu[b] * self.x[b])
+        self.sw += float(self.nu[b])
+
+    def level(self) -> float:
+        return self.sx / self.sw * self.scale
 
 
 def _pooled(x: NDArray, nu: NDArray, members: NDArray) -> float:
