@@ -1,6 +1,6 @@
 """Batch throughput: one process, ``--jobs 2``, a dask.distributed cluster; resume after a kill.
 
-    nice -n 10 python benchmarks/batch.py [--files 2000] [--n 100000] [--channels 3]
+    python benchmarks/batch.py [--files 2000] [--n 100000] [--channels 3] [--resume-files 400]
 
 Writes ``--files`` ``.npy`` files of ``--channels`` x ``--n`` float64 samples (random walks
 plus white noise) into a temporary folder (deleted at the end), then times
@@ -9,10 +9,12 @@ plus white noise) into a temporary folder (deleted at the end), then times
 1. in this process (``jobs=1``; the estimator's compiled code warmed first);
 2. with ``jobs=2`` (two local worker processes: their start-up is included);
 3. on a ``dask.distributed`` cluster the benchmark starts on loopback (a scheduler and
-   two worker processes of one thread each), cluster start-up timed apart;
+   two worker processes of one thread each), cluster start-up timed apart: tuned (see
+   :func:`_cluster`) and with dask's defaults;
 4. per-task overhead: 2,000 no-op tasks through each executor;
-5. resume: ``noisevar batch DIR --out noise.parquet`` in a subprocess, SIGKILLed when
-   its journal holds about half of the files; the rerun must do only the rest.
+5. resume: ``noisevar batch DIR --out noise.parquet`` on the last ``--resume-files`` files
+   in a subprocess, SIGKILLed when its journal holds about half of them; the rerun must
+   do only the rest.
 
 Every run's rows must equal the first's (``elapsed_s`` aside). The machine is shared, so
 the benchmark also measures the machine's own two-process ceiling at the time (a
@@ -126,8 +128,19 @@ def overhead_dask(client, n_tasks: int) -> float:
     return took / n_tasks
 
 
-def kill_and_resume(folder: Path, n_files: int, reference: pd.DataFrame) -> dict:
-    """Run the CLI, SIGKILL it halfway, rerun: how many files the rerun does."""
+def kill_and_resume(files: list[Path], reference: pd.DataFrame) -> dict:
+    """Run the CLI on ``files`` (moved to a folder of their own), SIGKILL it halfway, rerun.
+
+    Returns how many files the rerun did, and whether its table equals ``reference``'s
+    rows of those files (the paths changed with the move, the numbers must not).
+    """
+    n_files = len(files)
+    folder = files[0].parent.parent / "resume_logs"
+    folder.mkdir()
+    for f in files:
+        f.rename(folder / f.name)
+    moved = {str(f): str(folder / f.name) for f in files}
+    reference = reference[reference["file"].isin(moved)].assign(file=lambda d: d["file"].map(moved))
     out = folder.parent / "resume" / "noise.parquet"
     out.parent.mkdir()
     journal = out.with_name(out.name + ".journal.jsonl")
@@ -147,7 +160,8 @@ def kill_and_resume(folder: Path, n_files: int, reference: pd.DataFrame) -> dict
         lambda: noisevar.batch(folder, out=out, progress=lambda d, t: seen.append((d, t)))
     )
     same = _rows(frame).equals(_rows(reference))
-    return {"killed_after": done_before, "redone": seen[-1][1], "took": took, "same": same}
+    return {"killed_after": done_before, "redone": seen[-1][1], "took": took, "same": same,
+            "files": n_files}
 
 
 def interleaved(files: list[Path], clients: dict, rounds: int) -> dict[str, list[float]]:
@@ -248,6 +262,8 @@ def main() -> None:  # long: one script, its steps in order
     ap.add_argument("--channels", type=int, default=3)
     ap.add_argument("--subset", type=int, default=100, help="files of the interleaved rounds")
     ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--resume-files", type=int, default=400,
+                    help="files of the kill-and-resume run (the last ones of the set)")
     args = ap.parse_args()
 
     tmp = Path(tempfile.mkdtemp(prefix="nv-batch-"))
@@ -274,7 +290,7 @@ def main() -> None:  # long: one script, its steps in order
         load.append(os.getloadavg()[0])
         pool_start, pool_task = overhead_pool(2000)
         ceil = (ceil, ceiling())
-        resume = kill_and_resume(folder, len(files), one)
+        resume = kill_and_resume(files[-args.resume_files :], one)
         print(f"resume: {resume}", flush=True)
         load.append(os.getloadavg()[0])
     finally:
@@ -315,7 +331,7 @@ def report(args, n_files, size, gen, t1, t2, dask, pool_start, pool_task, resume
     sdd = best["one"] / best["dask_default"]
     tick = lambda good: "ok" if good else "NOT met"  # noqa: E731
     lines = [
-        f"### Batch (`nice -n 10 python benchmarks/batch.py --files {args.files}`), "
+        f"### Batch (`python benchmarks/batch.py --files {args.files}`), "
         f"{n_files:,} files x {args.channels} channels x {args.n:,} samples "
         f"(.npy, {size / 1e6:.1f} MB each, {n_files * size / 1e9:.1f} GB), method auto, "
         f"{platform.machine()}, {os.cpu_count()} cores, numpy {np.__version__}",
@@ -380,9 +396,11 @@ def report(args, n_files, size, gen, t1, t2, dask, pool_start, pool_task, resume
         f"a task; both are small against a task of "
         f"{task_size(n_files, 2)} files x {t1 / n_files * 1e3:.0f} ms.",
         "",
-        f"Resume: `noisevar batch` SIGKILLed after {resume['killed_after']:,} of {n_files:,} "
-        f"files; the rerun did {resume['redone']:,} files "
-        f"({tick(resume['redone'] == n_files - resume['killed_after'])}: exactly the rest) in "
+        f"Resume: `noisevar batch` on {resume['files']:,} of the files (moved to a folder of "
+        f"their own) SIGKILLed after {resume['killed_after']:,} of them; the rerun did "
+        f"{resume['redone']:,} files "
+        f"({tick(resume['redone'] == resume['files'] - resume['killed_after'])}: exactly the "
+        f"rest) in "
         f"{resume['took']:.1f} s, and its table equals the uninterrupted one: "
         f"{'yes' if resume['same'] else 'NO'}.",
         "",

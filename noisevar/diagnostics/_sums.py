@@ -179,30 +179,31 @@ class DiagSums:
 
     def _blocks(self, which: int, pieces: dict[int, Piece], grid: Grid) -> None:
         open_ = self.open[which]
-        for b, piece in pieces.items():
-            if b in open_:
-                open_[b].merge(piece)
-            else:
-                open_[b] = piece
-            size = int(grid.stop(np.asarray(b))) - b * grid.size
-            if open_[b].seen == size:
-                self._close(which, b, open_.pop(b))
+        last = grid.count - 1
+        with np.errstate(over="ignore"):  # once for all blocks (see _close)
+            for b, piece in pieces.items():
+                if b in open_:
+                    open_[b].merge(piece)
+                else:
+                    open_[b] = piece
+                size = (grid.m if b == last else (b + 1) * grid.size) - b * grid.size
+                if open_[b].seen == size:
+                    self._close(which, b, open_.pop(b))
 
     def _close(self, which: int, b: int, piece: Piece) -> None:
         level = block_level(piece)
         k2 = k4 = 0.0
         if piece.count and level > 0:
             # Σ e²/L = (peak² / L) Σ (e/peak)², and the same for the fourth powers
+            # (huge levels may overflow to inf here: the caller ignores the warning)
             r = piece.peak**2 / level
-            with np.errstate(over="ignore"):
-                k2, k4 = r * piece.s2, r * r * piece.s4
+            k2, k4 = r * piece.s2, r * r * piece.s4
         if which == 0:
             self.profile[b] = (piece.count, piece.total, level, piece.n_values, k2, k4)
         if which == 1 or self.plan.wide == self.plan.profile:
             self.wide[b] = (piece.count, level)
-            with np.errstate(over="ignore"):
-                self.k2 += k2
-                self.k4 += k4
+            self.k2 += k2
+            self.k4 += k4
 
     def lsb(self) -> float | None:
         """The quantisation step, when every stretch sat on the probe's grid."""

@@ -1,4 +1,4 @@
-"""Compiled (numba) kernel for the auto estimator's symmetric residual filters.
+"""Compiled (numba) kernels: the auto estimator's symmetric residual filters, lagged products.
 
 ``auto`` filters the whole record with four centred Savitzky-Golay residual
 sequences (spans 11, 21, 41 and 81). ``np.convolve`` spends one dot product of
@@ -66,3 +66,23 @@ def symmetric_fir(z, half, out, square):  # pragma: no cover - compiled
         else:
             for i in range(m):
                 o[i] = a[i]
+
+
+@njit(cache=True, nogil=True)
+def lagged_products(x, lags, out):  # pragma: no cover - compiled
+    """``out[k] = sum_i x[i] x[i + k]`` for ``k = 0..lags``, one pass over ``x``.
+
+    The loop over the lags is innermost: independent sums, which the compiler
+    vectorises, and each sample is read from memory once.
+    """
+    n = x.shape[0]
+    acc = np.zeros(lags + 1)
+    for i in range(n - lags):
+        xi = x[i]
+        for k in range(lags + 1):
+            acc[k] += xi * x[i + k]
+    for i in range(max(n - lags, 0), n):
+        for k in range(n - i):
+            acc[k] += x[i] * x[i + k]
+    for k in range(lags + 1):
+        out[k] = acc[k]
