@@ -90,8 +90,8 @@ def finish(
     plan, d = sums.plan, residual_sequence(DIAG_SPAN, DIAG_ORDER)
     # blocks left with a handful of residuals (around jumps) say nothing of the level
     blocks = sorted(b for b, v in sums.profile.items() if v[0] >= PROFILE_MIN_KEPT)
-    count, total, robust, medians = (
-        np.array([sums.profile[b][i] for b in blocks], dtype=float) for i in range(4)
+    count, total, robust, medians, k2, k4 = (
+        np.array([sums.profile[b][i] for b in blocks], dtype=float) for i in range(6)
     )
     kept = float(count.sum())
     kurt = kurtosis_from_moments(sums.k2 / kept, sums.k4 / kept, d)
@@ -101,7 +101,7 @@ def finish(
     # ν per sample = 1 / (η + (κ - 3) / 2)   (docs/algorithms.md §E1)
     profile = profile_from_blocks(
         _sample_of(plan, starts), _sample_of(plan, stops - 1) + 1, count, total / count,
-        robust, 1.0 / (eta + max(kurt - 3.0, 0.0) / 2.0), eta, medians,
+        robust, 1.0 / (eta + max(kurt - 3.0, 0.0) / 2.0), eta, medians, (k2, k4, d),
     )  # fmt: skip
     e_w, keep_w = sums.white.joined()
     white = whiteness_test(e_w, d, keep=keep_w, inflation=_hetero(sums.wide))

@@ -154,8 +154,9 @@ class DiagSums:
     def __init__(self, plan: DiagPlan) -> None:
         self.plan = plan
         self.open: tuple[dict[int, Piece], dict[int, Piece]] = ({}, {})
-        # block: kept count, Σ squares, robust level, squares its median was taken over
-        self.profile: dict[int, tuple[int, float, float, int]] = {}
+        # block: kept count, Σ squares, robust level, squares its median was taken over,
+        # Σ e²/L and Σ e⁴/L² (the block's tails, for the quiet set)
+        self.profile: dict[int, tuple[int, float, float, int, float, float]] = {}
         self.wide: dict[int, tuple[int, float]] = {}  # block: count, level
         self.k2 = self.k4 = 0.0  # Σ e²/L and Σ e⁴/L² over the kept residuals
         self.white = Windows(plan.white)
@@ -191,16 +192,18 @@ class DiagSums:
 
     def _close(self, which: int, b: int, piece: Piece) -> None:
         level = block_level(piece)
+        k2 = k4 = 0.0
+        if piece.count and level > 0:
+            # Σ e²/L = (peak² / L) Σ (e/peak)², and the same for the fourth powers
+            # (huge levels may overflow to inf here: the caller ignores the warning)
+            r = piece.peak**2 / level
+            k2, k4 = r * piece.s2, r * r * piece.s4
         if which == 0:
-            self.profile[b] = (piece.count, piece.total, level, piece.n_values)
+            self.profile[b] = (piece.count, piece.total, level, piece.n_values, k2, k4)
         if which == 1 or self.plan.wide == self.plan.profile:
             self.wide[b] = (piece.count, level)
-            if piece.count and level > 0:
-                # Σ e²/L = (peak² / L) Σ (e/peak)², and the same for the fourth powers
-                # (huge levels may overflow to inf here: the caller ignores the warning)
-                r = piece.peak**2 / level
-                self.k2 += r * piece.s2
-                self.k4 += r * r * piece.s4
+            self.k2 += k2
+            self.k4 += k4
 
     def lsb(self) -> float | None:
         """The quantisation step, when every stretch sat on the probe's grid."""

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 from numpy.typing import NDArray
@@ -18,6 +19,9 @@ QUIET_MIN_SHARE = 0.05
 #: A block joins the quiet set while its level is below the ``1 - QUIET_ALPHA / n_blocks``
 #: quantile of the set's (a family-wise level over the blocks).
 QUIET_ALPHA = 0.05
+#: At most this many rounds of the quiet set, each testing mean squares with the kurtosis
+#: of the last round's other blocks.
+QUIET_ROUNDS = 5
 #: The level counts as steady while the quiet blocks cover at least this share of the record.
 STEADY_SHARE = 0.95
 #: The median of χ²₁.
@@ -138,12 +142,15 @@ def profile_from_blocks(
     dof_per_sample: float,
     eta: float,
     medians: NDArray | None = None,
+    tails: tuple[NDArray, NDArray, NDArray] | None = None,
 ) -> LevelProfile:
     """The profile of blocks with ``count`` squares of mean ``var`` and robust level ``robust``.
 
     See :func:`level_profile`; ``start``, ``stop`` are the blocks' sample ranges;
     ``medians`` the number of squares each robust level is the median of (default
-    ``count``).
+    ``count``); ``tails`` each block's ``Σ e²/L`` and ``Σ e⁴/L²`` over its robust level
+    ``L``, and the residual filter: the quiet set then tests a block's mean square with the
+    kurtosis of the other blocks (default: the record's, in ``dof_per_sample``).
     """
     dof = count * dof_per_sample
     lo = dof * var / chi2_ppf(0.975, dof)
@@ -152,39 +159,106 @@ def profile_from_blocks(
     hi = np.minimum(dof * var / q, np.finfo(float).max)
     # a median of χ²₁ has relative sd 1 / (2 f(m) m sqrt(n)): as a χ² with 0.368 n dof
     robust_dof = (count if medians is None else medians) * MEDIAN_DOF / eta
-    quiet = _quiet_set(robust, robust_dof, var, dof, stop - start)
+    level = 1.0 - QUIET_ALPHA / robust.size
+    # each block's χ²(ν_b)/ν_b quantile, once for all blocks
+    robust_q = chi2_ppf(level, robust_dof) / robust_dof
+    grow = partial(_quiet_set, robust, robust_dof, robust_q, stop - start, var, dof)
+    if tails is None:
+        quiet = grow(chi2_ppf(level, dof) / dof)
+    else:  # rounds: mean squares tested with the kurtosis of the last set's other blocks
+        quiet = grow(None)
+        for _ in range(QUIET_ROUNDS):
+            nu = _leave_one_out_dof(count, robust, tails, quiet, eta, dof)
+            again = grow(chi2_ppf(level, nu) / nu)
+            if np.array_equal(again, quiet):
+                break
+            quiet = again
     return LevelProfile(start, stop, var, lo, hi, dof, quiet)
 
 
+def _leave_one_out_dof(
+    count: NDArray,
+    robust: NDArray,
+    tails: tuple[NDArray, NDArray, NDArray],
+    members: NDArray,
+    eta: float,
+    fallback: NDArray,
+) -> NDArray:
+    """Each block's mean-square dof with the noise kurtosis of the other ``members`` blocks.
+
+    A burst of motion inside one block does not widen its own test; tails spread over the
+    record (heavy-tailed noise) stay in the other blocks' kurtosis. The kurtosis is taken
+    on one scale for the set, not on each block's own level, which a spike raises.
+    """
+    k2, k4, d = tails
+    inside = members.astype(float)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        # one scale for the set (its levels agree): Σ e² / S and Σ e⁴ / S², S its top level
+        w = robust / np.max(robust[members], initial=0.0)
+        k2, k4 = k2 * w, k4 * w * w
+        n = np.sum(count * inside) - count * inside
+        m2 = (np.sum(k2 * inside) - k2 * inside) / n
+        m4 = (np.sum(k4 * inside) - k4 * inside) / n
+        u = d / np.sqrt(np.dot(d, d))
+        # κ_v = 3 + (κ_e - 3) / Σ u⁴   (as kurtosis_from_moments)
+        kurt = np.maximum(3.0 + (m4 / m2**2 - 3.0) / np.sum(u**4), 1.0)
+        # ν = n_b / (η + (κ - 3) / 2)   (docs/algorithms.md §E1)
+        dof = count / (eta + np.maximum(kurt - 3.0, 0.0) / 2.0)
+    return np.where(np.isfinite(dof) & (m2 > 0), dof, fallback)
+
+
 def _quiet_set(
-    robust: NDArray, robust_dof: NDArray, var: NDArray, dof: NDArray, sizes: NDArray
+    robust: NDArray,
+    robust_dof: NDArray,
+    robust_q: NDArray,
+    sizes: NDArray,
+    var: NDArray,
+    dof: NDArray,
+    var_q: NDArray | None,
 ) -> NDArray:
     """Grow a set from the quietest blocks while the next one is consistent with it.
 
     The quietest blocks (by their robust level) covering :data:`QUIET_MIN_SHARE` of the
     record start the set; a block joins while both its robust level and its mean square
-    are below a high quantile (:data:`QUIET_ALPHA`, family-wise) of the set's pooled
-    levels (blocks in increasing order of robust level, so the first refusal of a robust
-    level ends it; a block with motion in part of it keeps a low median but not a low
-    mean square, and is skipped).
+    are below a high quantile (:data:`QUIET_ALPHA`, family-wise; ``robust_q``, ``var_q``:
+    each block's ``χ²(ν)/ν`` quantile) of the set's pooled levels (blocks in increasing
+    order of robust level, so the first refusal of a robust level ends it; a block with
+    motion in part of it keeps a low median but not a low mean square, and is skipped).
+    With ``var_q`` None, only robust levels are tested.
     """
-    level = 1.0 - QUIET_ALPHA / robust.size
-    # each block's χ²(ν_b)/ν_b quantile, once for all blocks
-    q_robust = chi2_ppf(level, robust_dof) / robust_dof
-    q_var = chi2_ppf(level, dof) / dof
     order = np.argsort(robust)
     need = QUIET_MIN_SHARE * sizes.sum()
     quiet = np.zeros(robust.size, dtype=bool)
+    # running dof-weighted sums of the set's levels, each over its largest (no overflow)
+    r_pool, v_pool = _Pool(robust, robust_dof), _Pool(var, dof)
     covered = 0.0
     for b in order:
         if covered >= need:
-            if robust[b] > _pooled(robust, robust_dof, quiet) * q_robust[b]:
+            if robust[b] > r_pool.level() * robust_q[b]:
                 break  # every later block is louder still
-            if var[b] > _pooled(var, dof, quiet) * q_var[b]:
+            if var_q is not None and var[b] > v_pool.level() * var_q[b]:
                 continue  # motion in part of the block: a low median, a high mean square
         quiet[b] = True
+        r_pool.add(b)
+        v_pool.add(b)
         covered += sizes[b]
     return quiet
+
+
+class _Pool:
+    """The dof-weighted mean of a growing set of levels ``x`` (weights ``nu``)."""
+
+    def __init__(self, x: NDArray, nu: NDArray) -> None:
+        top = float(np.max(x, initial=0.0))
+        self.scale = top if np.isfinite(top) and top > 0 else 1.0
+        self.x, self.nu, self.sx, self.sw = x / self.scale, nu, 0.0, 0.0
+
+    def add(self, b: int) -> None:
+        self.sx += float(self.nu[b] * self.x[b])
+        self.sw += float(self.nu[b])
+
+    def level(self) -> float:
+        return self.sx / self.sw * self.scale
 
 
 def _pooled(x: NDArray, nu: NDArray, members: NDArray) -> float:
