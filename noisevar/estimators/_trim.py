@@ -230,18 +230,30 @@ def _trimmed_blocks(
     kept_count = _block_counts(block, nb, m) - _zero(sq, flagged, half, block, nb)
     block_sum = np.stack([_block_sums(q, block, nb) for q in sq])
     fourth = _block_square_sums(sq[0], block, nb)
-    # one outlying sample spreads over its neighbours' residuals: count the peaks
-    peaks = sq[0] if outliers is None else maximum_filter1d(sq0_copy, spans[0])
     out_at = np.zeros(0, dtype=int)
     if outliers is not None:  # residuals next to a jump are the jump's, not outliers
         alone = outliers if jumps is None else outliers & ~_dilate(jumps, half)
-        out_at = np.flatnonzero(alone & (sq0_copy == peaks))
+        # one outlying sample spreads over its neighbours' residuals: count the peaks
+        out_at = _local_peaks(sq0_copy, np.flatnonzero(alone), spans[0])
     return _Blocks(
         block, nb, kept_count, block_sum, fourth, _clean_for(flagged, spans, half, block, nb),
         recover, total_count, total_sum, out_at, _clean_for(jumps, spans, half, block, nb),
         recover_total, np.zeros(m, dtype=bool) if jumps is None else _dilate(jumps, half),
         np.zeros(0, dtype=int) if found is None else np.flatnonzero(found),
     )  # fmt: skip
+
+
+def _local_peaks(x: NDArray, idx: NDArray, size: int) -> NDArray:
+    """The ``idx`` where ``x`` is the largest of the ``size`` samples centred there.
+
+    ``maximum_filter1d(x, size)[idx] == x[idx]``, reading only the windows around ``idx``
+    (the filter's reflected edges hold no value outside the clipped window).
+    """
+    if idx.size * size > x.size:  # many: one pass of the filter is cheaper
+        return idx[x[idx] == maximum_filter1d(x, size)[idx]]
+    reach = np.arange(-(size // 2), size // 2 + 1)
+    window = x[np.clip(idx[:, None] + reach, 0, x.size - 1)]
+    return idx[x[idx] == window.max(axis=1, initial=-np.inf)]
 
 
 def _clean_for(

@@ -623,3 +623,21 @@ def test_auto_long_span_stays_out_of_blocks_next_to_a_fast_burst():
         with_signal = nv.estimate(g.clean + noise, method="auto").variance
         leak.append(with_signal / nv.estimate(noise, method="auto").variance - 1.0)
     assert np.mean(leak) < 0.009
+
+
+@pytest.mark.parametrize("seed", range(20))
+def test_local_peaks_equal_the_maximum_filter(seed):
+    from scipy.ndimage import maximum_filter1d
+
+    from noisevar.estimators._trim import _local_peaks
+
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(12, 3000))
+    x = rng.standard_t(2, n) ** 2
+    if seed % 2:
+        x = np.round(x)  # ties: equal neighbours are peaks too
+    for size in (5, 11, 21):
+        for k in (3, n // 2):  # few (the windows read) and many (the filter)
+            idx = np.sort(rng.choice(n, size=k, replace=False))
+            expected = idx[(x == maximum_filter1d(x, size))[idx]]
+            np.testing.assert_array_equal(_local_peaks(x, idx, size), expected)
