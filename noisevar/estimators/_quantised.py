@@ -44,7 +44,7 @@ class QuantCorrection:
     Attributes
     ----------
     sigma : float
-        The noise standard deviation before rounding (record units).
+        The noise standard deviation before rounding, in grid steps.
     factor : float
         The error variance over what the residual saw (1 when not applied).
     travel : float
@@ -188,26 +188,27 @@ def quantisation_correction(
     truth = s * s + 1.0 / 12.0
     travel = speed * n
     factor = truth / x if x > 0 and travel >= MIN_TRAVEL else 1.0
-    return QuantCorrection(sigma=s * lsb, factor=factor, travel=travel)
+    return QuantCorrection(sigma=s, factor=factor, travel=travel)
 
 
-def apply_correction(
-    result: VarianceEstimate, corr: QuantCorrection, lsb: float
-) -> VarianceEstimate:
-    """``result`` with the variance, its interval and the core scaled, and a note."""
-    k = corr.factor
+def apply_correction(result: VarianceEstimate, corr: QuantCorrection) -> VarianceEstimate:
+    """``result`` with the variance, its interval and the core scaled, and a note.
+
+    The note speaks in grid steps (the record may have been scaled by a power of two).
+    """
     if not corr.applied:
         note = (
-            f"the samples sit on a grid of step {lsb:.4g}, the noise is small against it and "
+            f"the noise is small against the grid step (about {corr.sigma:.2f} of a step) and "
             f"the signal crosses only {corr.travel:.1f} steps: part of the rounding error is a "
             "bias that follows the signal, not in the variance (docs/algorithms.md §E3)"
         )
         return replace(result, notes=[*result.notes, note])
+    k = corr.factor
     core = None if result.core_variance is None else result.core_variance * k
     note = (
-        f"the samples sit on a grid of step {lsb:.4g} and the noise (σ ≈ {corr.sigma:.3g}) is "
-        "small against it: the rounding error partly follows the signal and the residual "
-        f"misses that part, so the variance was multiplied by {k:.4f} (docs/algorithms.md §E3)"
+        f"the noise is small against the grid step (about {corr.sigma:.2f} of a step): the "
+        "rounding error partly follows the signal and the residual misses that part, so the "
+        f"variance was multiplied by {k:.4f} (docs/algorithms.md §E3)"
     )
     lo, hi = result.ci95
     return replace(

@@ -288,7 +288,7 @@ def _quantised(
     p = result.params
     span = auto_spans(p.get("span"), p["order"], p["trim"], result.n_total)[-1]
     corr = quantisation_correction(record, result.n_total, lsb, result.variance, span, p["order"])
-    return result if corr is None else apply_correction(result, corr, lsb)
+    return result if corr is None else apply_correction(result, corr)
 
 
 def rescale_diagnostics(result: VarianceEstimate, e: int) -> None:

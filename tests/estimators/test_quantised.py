@@ -84,7 +84,7 @@ def test_the_note_reaches_the_json_and_scales_everything(monkeypatch) -> None:
     assert k > 1.05
     np.testing.assert_allclose(got.core_variance, k * raw.core_variance, rtol=1e-12)
     d = got.to_dict()
-    assert any("grid of step 25" in n and "multiplied by" in n for n in d["notes"])
+    assert any("of a step" in n and "multiplied by" in n for n in d["notes"])
     assert d["ci95"][0] < d["variance"] < d["ci95"][1]
 
 
