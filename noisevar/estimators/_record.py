@@ -229,7 +229,8 @@ def attach_diagnostics(
         return result
     if run is not None and diag.whiteness.p_value < COLOURED_P and spec.coloured_params:
         result = _coloured(spec, result, z, seg, params or {}, run)
-    return conclude(spec, result, diag)
+    record = (lambda a, b: z[a:b]) if len(seg.segments) == 1 else None
+    return conclude(spec, result, diag, record)
 
 
 def coloured_note(extra: dict) -> str:
@@ -242,7 +243,10 @@ def coloured_note(extra: dict) -> str:
 
 
 def conclude(
-    spec: MethodSpec, result: VarianceEstimate, diag: NoiseDiagnostics
+    spec: MethodSpec,
+    result: VarianceEstimate,
+    diag: NoiseDiagnostics,
+    record: Callable[[int, int], NDArray] | None = None,
 ) -> VarianceEstimate:
     """``result`` with the diagnostics ``diag``: honest interval, verdict, notes, assumptions.
 
@@ -253,11 +257,16 @@ def conclude(
     result : VarianceEstimate
     diag : NoiseDiagnostics
         The record's diagnostics.
+    record : callable, optional
+        ``record(a, b)``: samples ``a .. b`` of the (one-segment) record, for ``auto``'s
+        correction of a quantised record at low noise (§E3).
 
     Returns
     -------
     VarianceEstimate
     """
+    if record is not None and spec.name == "auto" and diag.lsb is not None:
+        result = _quantised(result, diag.lsb, record)
     if spec.moment:
         result = _honest_interval(result, diag)
     if not diag.identifiable:  # no measurement noise can be told apart: 0 is as likely
@@ -267,6 +276,19 @@ def conclude(
     result.diagnostics = diag
     result.assumptions = check_assumptions(spec.assumes, diag)
     return result
+
+
+def _quantised(
+    result: VarianceEstimate, lsb: float, record: Callable[[int, int], NDArray]
+) -> VarianceEstimate:
+    """``auto``'s result corrected for the rounding error its residual misses (§E3)."""
+    from noisevar.estimators._quantised import apply_correction, quantisation_correction
+    from noisevar.estimators.auto import auto_spans
+
+    p = result.params
+    span = auto_spans(p.get("span"), p["order"], p["trim"], result.n_total)[-1]
+    corr = quantisation_correction(record, result.n_total, lsb, result.variance, span, p["order"])
+    return result if corr is None else apply_correction(result, corr)
 
 
 def rescale_diagnostics(result: VarianceEstimate, e: int) -> None:

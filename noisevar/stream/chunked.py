@@ -209,7 +209,7 @@ def estimate_chunked(
         again = _pass(read, n, short, col, e, None, math.inf, chunk, workers)
         result = auto_reduce(again.parts, (AUTO_COLOURED_SPAN,), col, result.notes[:1])
         result.notes.append(coloured_note(extra))
-    result = conclude(AUTO, result, diag)
+    result = conclude(AUTO, result, diag, lambda a, b: np.ldexp(read(a, b), e))
     unscale([result], e)
     check_answer(result)
     if e:

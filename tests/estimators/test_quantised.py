@@ -1,0 +1,141 @@
+"""Quantised records at low noise: auto's correction for the missed rounding error (§E3)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import noisevar
+from noisevar import synth
+from noisevar.estimators import _record
+from noisevar.estimators._quantised import (
+    QUANT_MAX_SIGMA,
+    harmonic_gains,
+    quantisation_correction,
+    solve_sigma,
+)
+
+LSB = 25.0
+N = 6000
+
+
+def _off(monkeypatch) -> None:
+    """Switch the correction off (the estimate as it was before it)."""
+    monkeypatch.setattr(_record, "_quantised", lambda result, lsb, record: result)
+
+
+def _records(clean: np.ndarray, std: float, runs: int, seed: int) -> tuple[np.ndarray, float]:
+    d = synth.noise("gauss", clean.size, seed, runs=runs, std=std)
+    return synth.quantise(clean + d.values, LSB, d.variance, clean=clean)
+
+
+def _bias(z: np.ndarray, truth: float) -> float:
+    return float(np.mean([e.variance / truth - 1 for e in noisevar.estimate(z)]))
+
+
+@pytest.mark.parametrize(
+    ("clean", "limit"),
+    [
+        (np.linspace(0.0, 40 * LSB, N) + 3.0, 0.03),  # offsets uniform: the model's case
+        (noisevar.generate("noise-step", n=N).clean, 0.035),  # offsets near the grid points
+    ],
+    ids=["ramp", "noise-step"],
+)
+def test_slow_signal_at_a_fifth_of_a_step(clean, limit, monkeypatch) -> None:
+    z, truth = _records(clean, 0.2 * LSB, 30, 5)
+    after = _bias(z, truth)
+    _off(monkeypatch)
+    before = _bias(z, truth)
+    assert before < -0.05  # what the residual misses
+    assert abs(after) < limit
+
+
+def test_fast_ramp_is_not_over_corrected(monkeypatch) -> None:
+    # over a step per sample: nothing is missed; b(c) is periodic at 0.37 cycles per
+    # sample and the residual sees it with its gain there (a little above 1)
+    clean = 1.37 * LSB * np.arange(N)
+    z, truth = _records(clean, 0.2 * LSB, 20, 6)
+    after = _bias(z, truth)
+    _off(monkeypatch)
+    before = _bias(z, truth)
+    assert abs(after) < 0.015 and abs(after) < abs(before)
+
+
+def test_not_applied_without_a_grid_or_with_large_noise(monkeypatch) -> None:
+    rng = np.random.default_rng(3)
+    clean = noisevar.generate("noise-step", n=N).clean
+    continuous = clean + 5.0 * rng.standard_normal(N)
+    large, _ = synth.quantise(clean + 0.6 * LSB * rng.standard_normal(N), LSB, 1.0)
+    on = [noisevar.estimate(z) for z in (continuous, large)]
+    _off(monkeypatch)
+    off = [noisevar.estimate(z) for z in (continuous, large)]
+    assert on[1].diagnostics.lsb == LSB
+    for a, b in zip(on, off, strict=True):
+        assert a.variance == b.variance and a.ci95 == b.ci95 and a.notes == b.notes
+
+
+def test_the_note_reaches_the_json_and_scales_everything(monkeypatch) -> None:
+    clean = np.linspace(0.0, 40 * LSB, N)
+    z, _ = _records(clean, 0.2 * LSB, 1, 9)
+    got = noisevar.estimate(z)
+    _off(monkeypatch)
+    raw = noisevar.estimate(z)
+    k = got.variance / raw.variance
+    assert k > 1.05
+    np.testing.assert_allclose(got.core_variance, k * raw.core_variance, rtol=1e-12)
+    d = got.to_dict()
+    assert any("of a step" in n and "multiplied by" in n for n in d["notes"])
+    assert d["ci95"][0] < d["variance"] < d["ci95"][1]
+
+
+def test_a_still_signal_is_not_corrected() -> None:
+    # the signal crosses under two steps: the offsets are not uniform, no factor is applied
+    clean = np.linspace(0.0, 1.5 * LSB, N)
+    z, _ = _records(clean, 0.2 * LSB, 1, 4)
+    got = noisevar.estimate(z)
+    assert any("crosses only" in n for n in got.notes)
+    assert not any("multiplied by" in n for n in got.notes)
+
+
+def test_solve_sigma_inverts_the_model() -> None:
+    gains = np.zeros(64)  # everything missed
+    for s in (0.05, 0.2, 0.4):
+        m = np.arange(1, 65)
+        beta = np.exp(-2 * np.pi**2 * m**2 * s**2) / (np.pi * m)
+        seen = s * s + 1 / 12 - np.sum(beta**2) / 2
+        assert solve_sigma(seen, gains) == pytest.approx(s, rel=1e-9)
+    # the residual sees everything: σ² + 1/12
+    assert solve_sigma(0.04 + 1 / 12, np.ones(64)) == pytest.approx(0.2, rel=1e-9)
+    assert (
+        quantisation_correction(lambda a, b: None, 10**6, 1.0, QUANT_MAX_SIGMA**2 + 0.1, 81, 3)
+        is None
+    )
+
+
+@pytest.mark.parametrize("n", [40_000, 150_000])
+def test_chunked_equals_in_memory_on_a_quantised_record(n: int) -> None:
+    from noisevar.stream import estimate_chunked
+
+    rng = np.random.default_rng(21)
+    clean = 30 * LSB * np.sin(np.arange(n) / 3000)
+    z, _ = synth.quantise(clean + 0.2 * LSB * rng.standard_normal(n), LSB, 1.0)
+    one = noisevar.estimate(z)
+    many = estimate_chunked(
+        lambda a, b: z[max(a, 0) : b].copy(), n, probe=z.__getitem__, chunk=4096
+    )
+    assert any("multiplied by" in s for s in one.notes)
+    np.testing.assert_allclose(many.variance, one.variance, rtol=1e-9)
+    np.testing.assert_allclose(many.ci95, one.ci95, rtol=1e-9)
+    np.testing.assert_allclose(many.core_variance, one.core_variance, rtol=1e-9)
+    assert many.notes[1:] == one.notes
+
+
+def test_gains_are_a_pure_function_of_the_pieces_read() -> None:
+    z = np.round(
+        np.arange(200_000) * 0.01 + np.random.default_rng(1).standard_normal(200_000) * 0.2
+    )
+    seen = []
+    gains, speed = harmonic_gains(lambda a, b: seen.append((a, b)) or z[a:b], z.size, 1.0, 81, 3)
+    assert len(seen) == 32 and all(b - a == 2048 + 320 for a, b in seen)
+    assert speed == pytest.approx(0.01, rel=0.02)
+    assert np.all((gains >= 0) & (gains < 1.5))
