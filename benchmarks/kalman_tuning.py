@@ -35,6 +35,7 @@ import statsmodels.api as sm
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from noisevar.kalman._jit import inline, jit  # noqa: E402
+from noisevar.kalman._kernels import _cov_into  # noqa: E402
 from noisevar.noise_model import evaluate_kalman, fit_coloured_noise, fit_kalman  # noqa: E402
 from noisevar.noise_model._steady import diffuse_start  # noqa: E402
 from noisevar.noise_model.kalman_fit import MODELS, kinematic_model  # noqa: E402
@@ -179,16 +180,13 @@ def em_step(z, F, h, Q1, q, r, x0, P0):  # pragma: no cover - compiled
     K = np.empty(m)
     d = np.empty(m)
     ll = 0.0
+    Q = q * Q1
     for k in range(1, N + 1):
         # x- = F x,  P- = F P F' + Q
         _av(F, xf[k - 1], xp[k])
-        _ab(F, Pf[k - 1], T1)
-        _abt(T1, F, T2)
+        _cov_into(F, Pf[k - 1], Q, Pp[k], T1, m)
         S = r
         e = z[k - 1]
-        for i in range(m):
-            for j in range(m):
-                Pp[k, i, j] = T2[i, j] + q * Q1[i, j]
         for i in range(m):
             acc = 0.0
             for j in range(m):

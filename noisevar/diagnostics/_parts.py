@@ -51,6 +51,10 @@ class Grid:
     def stop(self, b: NDArray) -> NDArray:
         return np.where(b == self.count - 1, self.m, (b + 1) * self.size)
 
+    def end(self, b: int) -> int:
+        """:meth:`stop` of one block, without NumPy (the last block takes the rest)."""
+        return self.m if b == self.count - 1 else (b + 1) * self.size
+
     @property
     def stride(self) -> int:
         """Every ``stride``-th slot of a block enters its median."""
@@ -166,7 +170,7 @@ def block_pieces(grid: Grid, s0: int, e: NDArray, keep: NDArray, norm: float) ->
     out = {}
     for b in range(min(first, grid.count - 1), last + 1):
         a = max(b * grid.size, s0)
-        z = int(grid.stop(np.asarray(b))) if b == last else (b + 1) * grid.size
+        z = grid.end(b)
         sl = slice(a - s0, min(z, s1) - s0)
         every = bool(keep[sl].all())
         kept = e[sl] if every else e[sl][keep[sl]]

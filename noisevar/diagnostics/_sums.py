@@ -179,14 +179,13 @@ class DiagSums:
 
     def _blocks(self, which: int, pieces: dict[int, Piece], grid: Grid) -> None:
         open_ = self.open[which]
-        last = grid.count - 1
         with np.errstate(over="ignore"):  # once for all blocks (see _close)
             for b, piece in pieces.items():
                 if b in open_:
                     open_[b].merge(piece)
                 else:
                     open_[b] = piece
-                size = (grid.m if b == last else (b + 1) * grid.size) - b * grid.size
+                size = grid.end(b) - b * grid.size
                 if open_[b].seen == size:
                     self._close(which, b, open_.pop(b))
 
