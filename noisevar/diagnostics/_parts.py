@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
+from noisevar._arrays import median_inplace
 from noisevar.diagnostics.profile import CHI2_1_MEDIAN, PROFILE_BLOCKS, PROFILE_MIN_BLOCK
 from noisevar.diagnostics.quantisation import LSB_PROBE, LSB_TOL
 from noisevar.diagnostics.whiteness import WHITE_LAGS
@@ -194,22 +195,12 @@ def block_pieces(grid: Grid, s0: int, e: NDArray, keep: NDArray, norm: float) ->
     return out
 
 
-def _median(v: NDArray) -> float:
-    """``np.median(v)`` (the same number), partitioning ``v`` in place: no copy, no checks."""
-    k = v.size // 2
-    if v.size % 2:
-        v.partition(k)
-        return float(v[k])
-    v.partition((k - 1, k))
-    return float((v[k - 1] + v[k]) / 2.0)
-
-
 def block_level(piece: Piece) -> float:
     """A block's robust level: the median of its squares over the median of χ²₁."""
     if piece.level is not None:
         return piece.level
     v = np.concatenate(piece.values) if piece.values else np.zeros(0)
-    med = _median(v) if v.size else 0.0
+    med = median_inplace(v) if v.size else 0.0
     if not med > 0 and piece.count:  # quantised data: a median square of 0, use the mean
         med = piece.total / piece.count * CHI2_1_MEDIAN
     return med / CHI2_1_MEDIAN

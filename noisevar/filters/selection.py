@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from noisevar._arrays import median_inplace
 from noisevar.errors import NoisevarError
 
 ANGLES = ("scaled", "paper")
@@ -36,17 +37,19 @@ def robust_noise_scale(z: ArrayLike) -> float:
     Parameters
     ----------
     z : array_like, shape (n,)
-        Samples (n >= 3).
+        Finite samples (n >= 3).
 
     Returns
     -------
     float
         The noise scale (0 for a signal with no noise).
     """
-    d2 = np.diff(np.asarray(z, dtype=float), n=2)
+    d2 = np.diff(np.asarray(z, dtype=float), n=2)  # a new array: ours to reorder
     if d2.size == 0:
         return 0.0
-    mad = np.median(np.abs(d2 - np.median(d2)))
+    # MAD = median(|Δ²z - median(Δ²z)|): the order of Δ²z does not matter
+    d2 -= median_inplace(d2)
+    mad = median_inplace(np.abs(d2, out=d2))
     return float(mad / 0.6744897501960817 / np.sqrt(6.0))
 
 
@@ -200,13 +203,15 @@ def select_windows(
     first = np.zeros(m, dtype=bool)
     first[: m // 2] = True
     amps = np.empty((n_win, 4))
+    above = dev >= 0
+    sel, part = np.empty(dev.shape, dtype=bool), np.empty_like(dev)
     with np.errstate(invalid="ignore", divide="ignore"):
-        for col, (half, above) in enumerate(
-            [(first, True), (first, False), (~first, True), (~first, False)]
+        for col, (half, side) in enumerate(
+            [(first, above), (first, ~above), (~first, above), (~first, ~above)]
         ):
-            side = (dev >= 0) if above else (dev < 0)
-            sel = side & half
-            amps[:, col] = np.where(sel, dev, 0.0).sum(axis=1) / sel.sum(axis=1)
+            np.logical_and(side, half, out=sel)
+            # A = mean of the deviations on that side, in that half (x·1 = x, x·0 = ±0)
+            amps[:, col] = np.multiply(dev, sel, out=part).sum(axis=1) / sel.sum(axis=1)
         num, den = (list(x) for x in zip(*AMPLITUDE_PAIRS[amplitude], strict=True))
         r = np.abs(amps[:, num] / amps[:, den])
         if amplitude == "paper":
