@@ -353,6 +353,7 @@ def downsample_note(n_total: int, max_points: int = MAX_POINTS) -> dict[str, Any
         "y": 1.0,
         "yanchor": "bottom",
         "xanchor": "right",
+        "align": "right",
         "showarrow": False,
         "font": {"size": 11, "color": "#666"},
     }

@@ -223,7 +223,8 @@ def somd_figure(  # long: one figure, built trace by trace in drawing order
     note = downsample_note(n, per_line)
     if note:
         if merged_gap:
-            note["text"] += f"; kept-window gaps under {merged_gap:,} samples shaded over"
+            # a second line: one line this long runs off the figure's left edge
+            note["text"] += f"<br>kept-window gaps under {merged_gap:,} samples shaded over"
         anns.append(note)
     lay = layout(
         title,
