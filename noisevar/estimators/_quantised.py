@@ -2,9 +2,10 @@
 
 On a grid of step ``Δ`` with noise ``σ`` below about ``Δ/2``, the mean rounding error
 ``b(c)`` follows the clean signal ``c``; where the signal moves slowly against ``Δ``
-the residual filter removes it with the signal. :func:`quantisation_correction` models
-what the residual sees from the record's local speed and solves for ``σ``
-(docs/algorithms.md §E3).
+the residual filter removes it with the signal. :func:`quantisation_correction` looks
+the rounding error's mean and variance up at the record's own offsets within a step
+(from a local polynomial estimate of the signal), solves for ``σ`` the residual's mean
+square and reports the error variance (docs/algorithms.md §E3).
 """
 
 from __future__ import annotations
@@ -15,26 +16,30 @@ from functools import lru_cache
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy import optimize
+from scipy import optimize, signal, special
 
 from noisevar.estimators.auto import residual_sequence
 from noisevar.estimators.results import VarianceEstimate
 
-#: Corrected only below this noise standard deviation, in steps: above it the part of
-#: the rounding error the residual can miss is under 1e-4 of the error variance.
+#: Corrected only below this noise standard deviation, in steps: above it the mean
+#: rounding error ``b`` is under 1e-4 of the error variance.
 QUANT_MAX_SIGMA = 0.45
-#: Harmonics of the mean rounding error ``b`` in the model.
-HARMONICS = 64
-#: Samples of the straight-line fit that gives the signal's local speed.
-SLOPE_SPAN = 321
+#: Samples and degree of the local polynomial fit that estimates the clean signal.
+SMOOTH_SPAN = 601
+SMOOTH_ORDER = 3
+#: Rounds of taking the mean rounding error out of ``ĉ`` and solving again for ``σ``.
+ROUNDS = 3
+#: Offsets within a step at which ``b`` and ``V`` are tabulated.
+TABLE = 1024
 #: At most this many positions enter the model (in :data:`PIECES` evenly spread runs).
 MAX_POSITIONS = 1 << 16
-#: The model takes the signal's offsets within a step as uniform: only when the signal
-#: travels at least this many steps over the record.
-MIN_TRAVEL = 10.0
 PIECES = 32
-#: Frequencies (cycles per sample, 0 to 0.5) of the tabulated residual-filter gain.
-_FREQ = np.linspace(0.0, 0.5, 2049)
+#: The error follows the signal: corrected only when the signal travels at least this
+#: many steps over the record (below, the rounding error is a bias, not noise).
+MIN_TRAVEL = 10.0
+#: Smallest noise, in steps, the solver tries (the tables need ``σ > 0``).
+_SIGMA_FLOOR = 1e-3
+_U = np.arange(TABLE + 1) / TABLE
 
 
 @dataclass(frozen=True)
@@ -61,29 +66,102 @@ class QuantCorrection:
         return self.travel >= MIN_TRAVEL
 
 
-@lru_cache(maxsize=16)
-def _gain(span: int, order: int) -> NDArray:
-    """``|H(f)|² / Σh²`` of the residual sequence at :data:`_FREQ`."""
-    h = residual_sequence(span, order)
-    j = np.arange(span) - span // 2
-    return np.abs(np.exp(-2j * np.pi * np.outer(_FREQ, j)) @ h) ** 2 / np.sum(h * h)
+def rounding_tables(s: float) -> tuple[NDArray, NDArray]:
+    """``b(u) = E[Q(u + n)] - u`` and ``V(u) = Var[Q(u + n)]`` at offsets ``u`` in [0, 1].
+
+    Parameters
+    ----------
+    s : float
+        The noise standard deviation in steps (> 0).
+
+    Returns
+    -------
+    b, V : ndarray, shape (TABLE + 1,)
+    """
+    k = int(np.ceil(8.0 * s)) + 1
+    j = np.arange(-k, k + 2, dtype=float)  # grid points within 8 σ of every u
+    # P(Q = j) = Φ((j + 1/2 - u)/σ) - Φ((j - 1/2 - u)/σ)
+    p = special.ndtr((j + 0.5 - _U[:, None]) / s) - special.ndtr((j - 0.5 - _U[:, None]) / s)
+    mean = p @ j
+    return mean - _U, p @ (j * j) - mean * mean
 
 
-def _pieces(n: int) -> list[tuple[int, int]]:
-    """The positions ``[a, b)`` the model averages over (each ``SLOPE_SPAN // 2`` from an end)."""
-    r = SLOPE_SPAN // 2
-    inner = n - 2 * r
+def _pieces(n: int, span: int) -> list[tuple[int, int, int, int]]:
+    """The model's pieces ``(lo, a, b, hi)``: positions ``[a, b)`` read as ``[lo, hi)``.
+
+    Positions are at least ``span // 2`` from an end (the residual's reach); each piece
+    is read with :data:`SMOOTH_SPAN` times ``ROUNDS + 1`` more samples on either side
+    (the record's ends clip it), so that its smoothing is that of the whole record.
+    """
+    h = span // 2
+    pad = h + (ROUNDS + 1) * (SMOOTH_SPAN // 2)
+    inner = n - 2 * h
     if inner <= MAX_POSITIONS:
-        return [(r, n - r)]
+        return [(0, h, n - h, n)]
     size = MAX_POSITIONS // PIECES
     step = (inner - size) // (PIECES - 1)
-    return [(r + i * step, r + i * step + size) for i in range(PIECES)]
+    starts = [h + i * step for i in range(PIECES)]
+    return [(max(a - pad, 0), a, a + size, min(a + size + pad, n)) for a in starts]
 
 
-def harmonic_gains(
-    read: Callable[[int, int], NDArray], n: int, lsb: float, span: int, order: int
-) -> tuple[NDArray, float] | None:
-    """``A_m``: the residual's mean gain at ``m`` times the signal's local speed, m = 1..M.
+@lru_cache(maxsize=4)
+def _edge_rows(span: int, order: int) -> tuple[NDArray, NDArray, NDArray]:
+    """The fit's centred coefficients and its rows for the first and last ``span // 2``."""
+    r = span // 2
+    # P = Q Q': the hat matrix of a polynomial fit over the window (savgol_filter's edges)
+    q, _ = np.linalg.qr(np.vander((np.arange(span, dtype=float) - r) / r, order + 1))
+    hat = q @ q.T
+    return hat[r].copy(), hat[:r].copy(), hat[span - r :].copy()
+
+
+def _smooth(x: NDArray) -> NDArray:
+    """The centred local polynomial fit of ``x`` (:data:`SMOOTH_SPAN`, :data:`SMOOTH_ORDER`).
+
+    The first and last ``SMOOTH_SPAN // 2`` samples take the fit over the first (last)
+    ``SMOOTH_SPAN`` samples, as ``scipy.signal.savgol_filter(mode="interp")``.
+    """
+    w, head, tail = _edge_rows(SMOOTH_SPAN, SMOOTH_ORDER)
+    return np.concatenate(
+        [head @ x[:SMOOTH_SPAN], signal.oaconvolve(x, w, mode="valid"), tail @ x[-SMOOTH_SPAN:]]
+    )
+
+
+@dataclass
+class Offsets:
+    """The record, in steps, as the model reads it: per piece, ``z`` and ``ĉ``.
+
+    Attributes
+    ----------
+    z : list of ndarray
+        Per piece, the samples read (in steps).
+    c : list of ndarray
+        Per piece, the estimate ``ĉ`` of the clean signal over the same samples.
+    keep : list of (int, int)
+        Per piece, the positions within the samples read.
+    """
+
+    z: list[NDArray]
+    c: list[NDArray]
+    keep: list[tuple[int, int]]
+
+    def debias(self, s: float) -> None:
+        """``ĉ ← smooth(z - b(ĉ))`` with noise ``s``: the mean rounding error taken out."""
+        b_tab, _ = rounding_tables(s)
+        pairs = zip(self.z, self.c, strict=True)
+        self.c = [_smooth(z - np.interp(c % 1.0, _U, b_tab)) for z, c in pairs]
+
+    def travel(self, n: int) -> float:
+        """Steps ``ĉ`` travels over the record (scaled from the positions)."""
+        pairs = zip(self.c, self.keep, strict=True)
+        moved = sum(float(np.abs(np.diff(c[a:b])).sum()) for c, (a, b) in pairs)
+        count = sum(b - a - 1 for a, b in self.keep)
+        return moved * (n - 1) / max(count, 1)
+
+
+def record_offsets(
+    read: Callable[[int, int], NDArray], n: int, lsb: float, span: int
+) -> Offsets | None:
+    """``ĉ``, a centred local polynomial fit of ``z / lsb``, over the model's pieces.
 
     Parameters
     ----------
@@ -93,53 +171,85 @@ def harmonic_gains(
         Samples in the record.
     lsb : float
         The grid step.
+    span : int
+        The residual sequence's span (``ĉ`` reaches ``span // 2`` past each position).
+
+    Returns
+    -------
+    Offsets or None
+        None when the record is too short.
+    """
+    h = span // 2
+    if n < SMOOTH_SPAN + 2 * h:
+        return None
+    zs, keep = [], []
+    for lo, a, b, hi in _pieces(n, span):
+        zs.append(read(lo, hi) / lsb)
+        keep.append((a - lo, b - lo))
+    return Offsets(zs, [_smooth(z) for z in zs], keep)
+
+
+def rounding_model(off: Offsets, s: float, span: int, order: int) -> tuple[float, float]:
+    """What the residual sees and the error variance, in steps², with noise ``s`` steps.
+
+    Parameters
+    ----------
+    off : Offsets
+    s : float
+        Noise standard deviation before rounding, in steps.
     span, order : int
         The residual sequence (:func:`noisevar.estimators.auto.residual_sequence`).
 
     Returns
     -------
-    gains : ndarray, shape (HARMONICS,)
-    speed : float
-        The mean local speed, in steps per sample.
-    None when the record is too short.
+    seen, truth : float
     """
-    if n < 2 * SLOPE_SPAN:
-        return None
-    r = SLOPE_SPAN // 2
-    t = np.arange(SLOPE_SPAN, dtype=float) - r
-    slope = t / np.sum(t * t)  # v = Σ t x / Σ t²: the least-squares slope
-    m = np.arange(1, HARMONICS + 1)
-    gain = _gain(span, order)
-    total, count, speed = np.zeros(HARMONICS), 0, 0.0
-    for a, b in _pieces(n):
-        x = read(a - r, b + r) / lsb
-        v = np.abs(np.convolve(x, slope[::-1], mode="valid"))
-        f = np.outer(v, m) % 1.0  # harmonic m of b(c) at frequency m v (aliased)
-        total += np.interp(np.minimum(f, 1.0 - f), _FREQ, gain).sum(axis=0)
-        count += v.size
-        speed += float(v.sum())
-    return total / count, speed / count
+    b_tab, v_tab = rounding_tables(s)
+    u = _unit(span, order)
+    h = span // 2
+    seen = truth = 0.0
+    seen_count = truth_count = 0
+    for c, (a, b) in zip(off.c, off.keep, strict=True):
+        f = c[a - h : b + h] % 1.0
+        bias = np.interp(f, _U, b_tab)
+        v = np.interp(f, _U, v_tab)
+        # seen = mean V + mean (u ⋆ b)² over the positions        (E3.4)
+        seen += float(v[h : v.size - h].sum() + np.sum(np.convolve(bias, u, mode="valid") ** 2))
+        # truth = mean (b² + V), the positions and the residual's reach   (E3.3)
+        truth += float(np.sum(bias * bias + v))
+        seen_count += b - a
+        truth_count += f.size
+    return seen / seen_count, truth / truth_count
 
 
-def _missed(s: float, gains: NDArray) -> float:
-    """Σ_m β_m² (1 - A_m) / 2 in steps², with σ = ``s`` steps."""
-    m = np.arange(1, HARMONICS + 1)
-    # β_m = Δ/(π m) exp(-2π² m² σ²/Δ²): the harmonics of b(c) = E[Q(c + n)] - c
-    beta = np.exp(-2.0 * np.pi**2 * m**2 * s**2) / (np.pi * m)
-    return float(np.sum(beta**2 * (1.0 - gains)) / 2.0)
+def own_seen(off: Offsets, span: int, order: int) -> float:
+    """The residual's mean square over the model's positions, in steps²."""
+    u = _unit(span, order)
+    h = span // 2
+    total = sum(
+        float(np.sum(np.convolve(z[a - h : b + h], u, mode="valid") ** 2))
+        for z, (a, b) in zip(off.z, off.keep, strict=True)
+    )
+    return total / sum(b - a for a, b in off.keep)
 
 
-def solve_sigma(seen: float, gains: NDArray) -> float:
-    """``σ`` (in steps) such that ``σ² + 1/12 - missed(σ) = seen`` (``seen`` in steps²)."""
+@lru_cache(maxsize=16)
+def _unit(span: int, order: int) -> NDArray:
+    """The residual sequence of unit norm (symmetric)."""
+    d = residual_sequence(span, order)
+    return d / np.sqrt(np.sum(d * d))
 
-    # f(σ) = σ² + 1/12 - Σ β_m²(1 - A_m)/2 - seen: increasing in σ
+
+def solve_sigma(off: Offsets, seen: float, span: int, order: int) -> float:
+    """``σ`` (in steps) such that the model's ``seen(σ)`` is ``seen`` (steps²)."""
+
     def f(s: float) -> float:
-        return s * s + 1.0 / 12.0 - _missed(s, gains) - seen
+        return rounding_model(off, s, span, order)[0] - seen
 
-    if f(0.0) >= 0.0:
-        return 0.0
+    if f(_SIGMA_FLOOR) >= 0.0:
+        return _SIGMA_FLOOR
     hi = np.sqrt(max(seen, 1.0 / 12.0)) + 1.0
-    return float(optimize.brentq(f, 0.0, hi, xtol=1e-12, rtol=1e-12))
+    return float(optimize.brentq(f, _SIGMA_FLOOR, hi, xtol=1e-10, rtol=1e-10))
 
 
 def quantisation_correction(
@@ -173,21 +283,23 @@ def quantisation_correction(
 
     Notes
     -----
-    With the offsets of the signal within a step taken as uniform, the error variance
-    is ``σ² + Δ²/12`` and the residual sees it less ``Σ β_m² (1 - A_m) / 2``.
+    ``b`` and ``V`` are looked up at the record's own offsets ``ĉ mod 1`` (E3.3); ``σ``
+    solves ``seen(σ) = seen`` (E3.4) and the factor is ``truth(σ) / seen``.
     """
     x = seen / lsb**2
-    if not (np.isfinite(x) and 0.0 <= x < QUANT_MAX_SIGMA**2 + 1.0 / 12.0):
+    if not (np.isfinite(x) and 0.0 < x < QUANT_MAX_SIGMA**2 + 1.0 / 12.0):
         return None
-    got = harmonic_gains(read, n, lsb, span, order)
-    if got is None:
+    off = record_offsets(read, n, lsb, span)
+    if off is None:
         return None
-    gains, speed = got
-    s = solve_sigma(x, gains)
-    # the error variance: σ² + Δ²/12 (offsets uniform within a step)
-    truth = s * s + 1.0 / 12.0
-    travel = speed * n
-    factor = truth / x if x > 0 and travel >= MIN_TRAVEL else 1.0
+    own = own_seen(off, span, order)
+    s = solve_sigma(off, own, span, order)
+    for _ in range(ROUNDS):
+        off.debias(s)
+        s = solve_sigma(off, own, span, order)
+    truth = rounding_model(off, s, span, order)[1]
+    travel = off.travel(n)
+    factor = truth / x if travel >= MIN_TRAVEL else 1.0
     return QuantCorrection(sigma=s, factor=factor, travel=travel)
 
 
