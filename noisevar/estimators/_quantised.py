@@ -37,6 +37,11 @@ PIECES = 32
 #: The error follows the signal: corrected only when the signal travels at least this
 #: many steps over the record (below, the rounding error is a bias, not noise).
 MIN_TRAVEL = 10.0
+#: A level jump (not rounding): means over :data:`JUMP_WINDOW` samples either side of a
+#: sample differ, ``ĉ``'s change taken out, by more than this many steps (rounding and
+#: noise under half a step move them by at most about one).
+JUMP_STEPS = 1.5
+JUMP_WINDOW = 40
 #: Smallest noise, in steps, the solver tries (the tables need ``σ > 0``).
 _SIGMA_FLOOR = 1e-3
 _U = np.arange(TABLE + 1) / TABLE
@@ -137,23 +142,31 @@ class Offsets:
     c : list of ndarray
         Per piece, the estimate ``ĉ`` of the clean signal over the same samples.
     keep : list of (int, int)
-        Per piece, the positions within the samples read.
+        Per piece, the positions ``[a, b)`` within the samples read.
+    use : list of ndarray of bool, optional
+        Per piece, over ``[a - h, b + h)`` (``h`` half the residual's span): the samples
+        clear of level jumps (default: all).
+    cuts : list of ndarray, optional
+        Per piece, where level jumps split it (``ĉ`` is fitted between them).
     """
 
     z: list[NDArray]
     c: list[NDArray]
     keep: list[tuple[int, int]]
+    use: list[NDArray] | None = None
+    cuts: list[NDArray] | None = None
 
     def debias(self, s: float) -> None:
         """``ĉ ← smooth(z - b(ĉ))`` with noise ``s``: the mean rounding error taken out."""
         b_tab, _ = rounding_tables(s)
-        pairs = zip(self.z, self.c, strict=True)
-        self.c = [_smooth(z - np.interp(c % 1.0, _U, b_tab)) for z, c in pairs]
+        cuts = self.cuts or [np.zeros(0, dtype=int)] * len(self.z)
+        parts = zip(self.z, self.c, cuts, strict=True)
+        self.c = [_smooth_between(z - np.interp(c % 1.0, _U, b_tab), k) for z, c, k in parts]
 
     def travel(self, n: int) -> float:
         """Steps ``ĉ`` travels over the record (scaled from the positions)."""
         pairs = zip(self.c, self.keep, strict=True)
-        moved = sum(float(np.abs(np.diff(c[a:b])).sum()) for c, (a, b) in pairs)
+        moved = sum(float(np.nansum(np.abs(np.diff(c[a:b])))) for c, (a, b) in pairs)
         count = sum(b - a - 1 for a, b in self.keep)
         return moved * (n - 1) / max(count, 1)
 
@@ -186,7 +199,51 @@ def record_offsets(
     for lo, a, b, hi in _pieces(n, span):
         zs.append(read(lo, hi) / lsb)
         keep.append((a - lo, b - lo))
-    return Offsets(zs, [_smooth(z) for z in zs], keep)
+    cuts = [_level_jumps(z, _smooth(z)) for z in zs]
+    cs = [_smooth_between(z, k) for z, k in zip(zs, cuts, strict=True)]
+    use = [_clear_of(k, c, a - h, b + h, h) for k, c, (a, b) in zip(cuts, cs, keep, strict=True)]
+    if sum(int(u[h : u.size - h].sum()) for u in use) < SMOOTH_SPAN:
+        return None
+    return Offsets(zs, cs, keep, use, cuts)
+
+
+def _smooth_between(x: NDArray, cuts: NDArray) -> NDArray:
+    """:func:`_smooth` of each stretch of ``x`` between ``cuts`` (NaN where too short)."""
+    out = np.full(x.size, np.nan)
+    edges = [0, *cuts.tolist(), x.size]
+    for a, b in zip(edges[:-1], edges[1:], strict=True):
+        if b - a >= SMOOTH_SPAN:
+            out[a:b] = _smooth(x[a:b])
+    return out
+
+
+def _clear_of(cuts: NDArray, c: NDArray, a: int, b: int, h: int) -> NDArray:
+    """Samples ``[a, b)`` with ``ĉ`` fitted and no jump within the residual's or test's reach."""
+    ok = np.isfinite(c[a:b])
+    if cuts.size:
+        reach = h + JUMP_WINDOW
+        p = np.arange(a, b)
+        i = np.minimum(np.searchsorted(cuts, p - reach), cuts.size - 1)
+        ok &= ~((cuts[i] >= p - reach) & (cuts[i] <= p + reach))
+    return ok
+
+
+def _level_jumps(z: NDArray, c: NDArray) -> NDArray:
+    """Where the record jumps by more than rounding can (:data:`JUMP_STEPS`), one per jump.
+
+    ``c`` is a smooth fit of ``z``; the test is the difference of the means of ``z - c``
+    over :data:`JUMP_WINDOW` samples after and before each sample.
+    """
+    m = JUMP_WINDOW
+    s = np.concatenate([[0.0], np.cumsum(z - c)])
+    k = np.arange(m, z.size - m + 1)
+    d = np.abs(s[k + m] - 2.0 * s[k] + s[k - m]) / m
+    big = np.flatnonzero(d > JUMP_STEPS)
+    if not big.size:
+        return np.zeros(0, dtype=int)
+    # each run of samples over the threshold is one jump, where the difference peaks
+    runs = np.split(big, np.flatnonzero(np.diff(big) > m) + 1)
+    return np.asarray([k[r[np.argmax(d[r])]] for r in runs], dtype=int)
 
 
 def rounding_model(off: Offsets, s: float, span: int, order: int) -> tuple[float, float]:
@@ -209,28 +266,38 @@ def rounding_model(off: Offsets, s: float, span: int, order: int) -> tuple[float
     h = span // 2
     seen = truth = 0.0
     seen_count = truth_count = 0
-    for c, (a, b) in zip(off.c, off.keep, strict=True):
+    for c, (a, b), use in zip(off.c, off.keep, _uses(off, h), strict=True):
         f = c[a - h : b + h] % 1.0
         bias = np.interp(f, _U, b_tab)
         v = np.interp(f, _U, v_tab)
+        at = use[h : use.size - h]
         # seen = mean V + mean (u ⋆ b)² over the positions        (E3.4)
-        seen += float(v[h : v.size - h].sum() + np.sum(np.convolve(bias, u, mode="valid") ** 2))
+        seen_k = v[h : v.size - h] + np.convolve(bias, u, mode="valid") ** 2
+        seen += float(seen_k[at].sum())
         # truth = mean (b² + V), the positions and the residual's reach   (E3.3)
-        truth += float(np.sum(bias * bias + v))
-        seen_count += b - a
-        truth_count += f.size
+        truth += float(np.sum((bias * bias + v)[use]))
+        seen_count += int(at.sum())
+        truth_count += int(use.sum())
     return seen / seen_count, truth / truth_count
+
+
+def _uses(off: Offsets, h: int) -> list[NDArray]:
+    """``off.use``, or every sample of ``[a - h, b + h)`` in each piece."""
+    if off.use is not None:
+        return off.use
+    return [np.ones(b - a + 2 * h, dtype=bool) for a, b in off.keep]
 
 
 def own_seen(off: Offsets, span: int, order: int) -> float:
     """The residual's mean square over the model's positions, in steps²."""
     u = _unit(span, order)
     h = span // 2
-    total = sum(
-        float(np.sum(np.convolve(z[a - h : b + h], u, mode="valid") ** 2))
-        for z, (a, b) in zip(off.z, off.keep, strict=True)
-    )
-    return total / sum(b - a for a, b in off.keep)
+    total = count = 0.0
+    for z, (a, b), use in zip(off.z, off.keep, _uses(off, h), strict=True):
+        at = use[h : use.size - h]
+        total += float(np.sum((np.convolve(z[a - h : b + h], u, mode="valid") ** 2)[at]))
+        count += int(at.sum())
+    return total / count
 
 
 @lru_cache(maxsize=16)

@@ -167,3 +167,12 @@ def test_the_verdict_calls_the_varying_level_quantisation() -> None:
     other = noisevar.estimate(clean + level * rng.standard_normal(N)).diagnostics
     assert other.lsb is None and other.level_varies
     assert other.verdict.startswith("the noise level changes along the record")
+
+
+def test_a_level_jump_is_cut_out_not_modelled_as_noise() -> None:
+    # a 20-step level jump: its leak through the residual is signal, not rounding error
+    clean = noisevar.generate("noise-step", n=N).clean + 20 * LSB * (np.arange(N) >= N // 2)
+    z, truth = _records(clean, 0.2 * LSB, 30, 5)
+    off = record_offsets(lambda a, b: z[0, a:b], N, LSB, 81)
+    assert off.cuts is not None and np.abs(off.cuts[0] - N // 2).min() <= 3
+    assert abs(_bias(z, truth)) < 0.02
