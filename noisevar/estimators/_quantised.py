@@ -34,9 +34,10 @@ TABLE = 1024
 #: At most this many positions enter the model (in :data:`PIECES` evenly spread runs).
 MAX_POSITIONS = 1 << 16
 PIECES = 32
-#: The error follows the signal: corrected only when the signal travels at least this
-#: many steps over the record (below, the rounding error is a bias, not noise).
-MIN_TRAVEL = 10.0
+#: Corrected only when the signal crosses on average at least this many steps per
+#: :data:`SMOOTH_SPAN` samples: slower, ``ĉ`` cannot tell the signal from the mean
+#: rounding error ``b`` that follows it (a bias, not noise: a note says so).
+MIN_STEPS_PER_SPAN = 1.5
 #: A level jump (not rounding): means over :data:`JUMP_WINDOW` samples either side of a
 #: sample differ, ``ĉ``'s change taken out, by more than this many steps (rounding and
 #: noise under half a step move them by at most about one).
@@ -59,16 +60,19 @@ class QuantCorrection:
         The error variance over what the residual saw (1 when not applied).
     travel : float
         Steps the signal travels over the record.
+    per_span : float
+        Steps it travels per :data:`SMOOTH_SPAN` samples, on average.
     """
 
     sigma: float
     factor: float
     travel: float
+    per_span: float
 
     @property
     def applied(self) -> bool:
-        """The signal travels enough steps for the model (:data:`MIN_TRAVEL`)."""
-        return self.travel >= MIN_TRAVEL
+        """The signal moves fast enough for the model (:data:`MIN_STEPS_PER_SPAN`)."""
+        return self.per_span >= MIN_STEPS_PER_SPAN
 
 
 def rounding_tables(s: float) -> tuple[NDArray, NDArray]:
@@ -366,8 +370,9 @@ def quantisation_correction(
         s = solve_sigma(off, own, span, order)
     truth = rounding_model(off, s, span, order)[1]
     travel = off.travel(n)
-    factor = truth / x if travel >= MIN_TRAVEL else 1.0
-    return QuantCorrection(sigma=s, factor=factor, travel=travel)
+    corr = QuantCorrection(s, 1.0, travel, travel * SMOOTH_SPAN / n)
+    # the error variance over what auto's residual saw
+    return replace(corr, factor=truth / x) if corr.applied else corr
 
 
 def apply_correction(result: VarianceEstimate, corr: QuantCorrection) -> VarianceEstimate:
@@ -378,8 +383,10 @@ def apply_correction(result: VarianceEstimate, corr: QuantCorrection) -> Varianc
     if not corr.applied:
         note = (
             f"the noise is small against the grid step (about {corr.sigma:.2f} of a step) and "
-            f"the signal crosses only {corr.travel:.1f} steps: part of the rounding error is a "
-            "bias that follows the signal, not in the variance (docs/algorithms.md §E3)"
+            f"the signal crosses only {corr.travel:.1f} steps ({corr.per_span:.2f} per "
+            f"{SMOOTH_SPAN} samples): too slow to tell from the mean rounding error, a bias "
+            "that follows the signal, which the variance leaves out; not corrected "
+            "(docs/algorithms.md §E3)"
         )
         return replace(result, notes=[*result.notes, note])
     k = corr.factor
