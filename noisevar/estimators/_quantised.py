@@ -201,7 +201,8 @@ def record_offsets(
         return None
     zs, keep = [], []
     for lo, a, b, hi in _pieces(n, span):
-        zs.append(read(lo, hi) / lsb)
+        x = read(lo, hi)
+        zs.append((x - x[0]) / lsb)  # from a grid point: the grid may be offset from 0
         keep.append((a - lo, b - lo))
     cuts = [_level_jumps(z, _smooth(z)) for z in zs]
     cs = [_smooth_between(z, k) for z, k in zip(zs, cuts, strict=True)]

@@ -176,3 +176,11 @@ def test_a_level_jump_is_cut_out_not_modelled_as_noise() -> None:
     off = record_offsets(lambda a, b: z[0, a:b], N, LSB, 81)
     assert off.cuts is not None and np.abs(off.cuts[0] - N // 2).min() <= 3
     assert abs(_bias(z, truth)) < 0.02
+
+
+def test_a_grid_offset_from_zero_gives_the_same_estimate() -> None:
+    clean = noisevar.generate("noise-step", n=N).clean
+    z, _ = _records(clean, 0.2 * LSB, 1, 13)
+    on_zero, offset = noisevar.estimate(z), noisevar.estimate(z + 0.37 * LSB + 1e6 * LSB)
+    assert any("multiplied by" in n for n in on_zero.notes)
+    assert offset.variance == pytest.approx(on_zero.variance, rel=1e-6)
