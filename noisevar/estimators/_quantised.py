@@ -24,9 +24,14 @@ from noisevar.estimators.results import VarianceEstimate
 #: Corrected only below this noise standard deviation, in steps: above it the mean
 #: rounding error ``b`` is under 1e-4 of the error variance.
 QUANT_MAX_SIGMA = 0.45
-#: Samples and degree of the local polynomial fit that estimates the clean signal.
-SMOOTH_SPAN = 601
+#: Degree of the local polynomial fit that estimates the clean signal, and its span
+#: (samples): a first fit over :data:`SMOOTH_SPAN` measures how far the signal travels;
+#: the fit then spans about :data:`SMOOTH_STEPS` steps of it on average, within
+#: :data:`SMOOTH_LIMITS` and a quarter of the record.
 SMOOTH_ORDER = 3
+SMOOTH_SPAN = 201
+SMOOTH_STEPS = 4.0
+SMOOTH_LIMITS = (101, 8191)
 #: Rounds of taking the mean rounding error out of ``ĉ`` and solving again for ``σ``.
 ROUNDS = 3
 #: Offsets within a step at which ``b`` and ``V`` are tabulated.
@@ -35,8 +40,8 @@ TABLE = 1024
 MAX_POSITIONS = 1 << 16
 PIECES = 32
 #: Corrected only when the signal crosses on average at least this many steps per
-#: :data:`SMOOTH_SPAN` samples: slower, ``ĉ`` cannot tell the signal from the mean
-#: rounding error ``b`` that follows it (a bias, not noise: a note says so).
+#: span of the fit: slower, ``ĉ`` cannot tell the signal from the mean rounding error
+#: ``b`` that follows it (a bias, not noise: a note says so).
 MIN_STEPS_PER_SPAN = 1.5
 #: A level jump (not rounding): means over :data:`JUMP_WINDOW` samples either side of a
 #: sample differ, ``ĉ``'s change taken out, by more than this many steps (rounding and
@@ -61,13 +66,16 @@ class QuantCorrection:
     travel : float
         Steps the signal travels over the record.
     per_span : float
-        Steps it travels per :data:`SMOOTH_SPAN` samples, on average.
+        Steps it travels per span of the fit, on average.
+    fit : int
+        The span of the fit that estimates the clean signal.
     """
 
     sigma: float
     factor: float
     travel: float
     per_span: float
+    fit: int
 
     @property
     def applied(self) -> bool:
@@ -95,15 +103,15 @@ def rounding_tables(s: float) -> tuple[NDArray, NDArray]:
     return mean - _U, p @ (j * j) - mean * mean
 
 
-def _pieces(n: int, span: int) -> list[tuple[int, int, int, int]]:
+def _pieces(n: int, span: int, fit: int) -> list[tuple[int, int, int, int]]:
     """The model's pieces ``(lo, a, b, hi)``: positions ``[a, b)`` read as ``[lo, hi)``.
 
     Positions are at least ``span // 2`` from an end (the residual's reach); each piece
-    is read with :data:`SMOOTH_SPAN` times ``ROUNDS + 1`` more samples on either side
+    is read with ``fit // 2`` times ``ROUNDS + 1`` more samples on either side
     (the record's ends clip it), so that its smoothing is that of the whole record.
     """
     h = span // 2
-    pad = h + (ROUNDS + 1) * (SMOOTH_SPAN // 2)
+    pad = h + (ROUNDS + 1) * (fit // 2)
     inner = n - 2 * h
     if inner <= MAX_POSITIONS:
         return [(0, h, n - h, n)]
@@ -123,16 +131,14 @@ def _edge_rows(span: int, order: int) -> tuple[NDArray, NDArray, NDArray]:
     return hat[r].copy(), hat[:r].copy(), hat[span - r :].copy()
 
 
-def _smooth(x: NDArray) -> NDArray:
-    """The centred local polynomial fit of ``x`` (:data:`SMOOTH_SPAN`, :data:`SMOOTH_ORDER`).
+def _smooth(x: NDArray, fit: int) -> NDArray:
+    """The centred local polynomial fit of ``x`` over ``fit`` samples (:data:`SMOOTH_ORDER`).
 
-    The first and last ``SMOOTH_SPAN // 2`` samples take the fit over the first (last)
-    ``SMOOTH_SPAN`` samples, as ``scipy.signal.savgol_filter(mode="interp")``.
+    The first and last ``fit // 2`` samples take the fit over the first (last) ``fit``
+    samples, as ``scipy.signal.savgol_filter(mode="interp")``.
     """
-    w, head, tail = _edge_rows(SMOOTH_SPAN, SMOOTH_ORDER)
-    return np.concatenate(
-        [head @ x[:SMOOTH_SPAN], signal.oaconvolve(x, w, mode="valid"), tail @ x[-SMOOTH_SPAN:]]
-    )
+    w, head, tail = _edge_rows(fit, SMOOTH_ORDER)
+    return np.concatenate([head @ x[:fit], signal.oaconvolve(x, w, mode="valid"), tail @ x[-fit:]])
 
 
 @dataclass
@@ -152,6 +158,8 @@ class Offsets:
         clear of level jumps (default: all).
     cuts : list of ndarray, optional
         Per piece, where level jumps split it (``ĉ`` is fitted between them).
+    fit : int
+        The span of the fit.
     """
 
     z: list[NDArray]
@@ -159,20 +167,28 @@ class Offsets:
     keep: list[tuple[int, int]]
     use: list[NDArray] | None = None
     cuts: list[NDArray] | None = None
+    fit: int = SMOOTH_SPAN
 
     def debias(self, s: float) -> None:
         """``ĉ ← smooth(z - b(ĉ))`` with noise ``s``: the mean rounding error taken out."""
         b_tab, _ = rounding_tables(s)
         cuts = self.cuts or [np.zeros(0, dtype=int)] * len(self.z)
         parts = zip(self.z, self.c, cuts, strict=True)
-        self.c = [_smooth_between(z - np.interp(c % 1.0, _U, b_tab), k) for z, c, k in parts]
+        self.c = [
+            _smooth_between(z - np.interp(c % 1.0, _U, b_tab), k, self.fit) for z, c, k in parts
+        ]
 
     def travel(self, n: int) -> float:
-        """Steps ``ĉ`` travels over the record (scaled from the positions)."""
-        pairs = zip(self.c, self.keep, strict=True)
-        moved = sum(float(np.nansum(np.abs(np.diff(c[a:b])))) for c, (a, b) in pairs)
-        count = sum(b - a - 1 for a, b in self.keep)
-        return moved * (n - 1) / max(count, 1)
+        """Steps ``ĉ`` travels over the record (scaled from the positions).
+
+        Measured every quarter span of the fit, so that its noise adds little.
+        """
+        moved = count = 0.0
+        for c, (a, b) in zip(self.c, self.keep, strict=True):
+            step = max(1, min(self.fit // 4, (b - a) // 8))
+            moved += float(np.nansum(np.abs(np.diff(c[a:b:step]))))
+            count += step * ((b - a - 1) // step)
+        return moved * (n - 1) / max(count, 1.0)
 
 
 def record_offsets(
@@ -196,29 +212,43 @@ def record_offsets(
     Offsets or None
         None when the record is too short.
     """
-    h = span // 2
-    if n < SMOOTH_SPAN + 2 * h:
+    lo, hi = SMOOTH_LIMITS
+    first = min(SMOOTH_SPAN, n // 4 // 2 * 2 + 1)
+    off = None if first < lo else _offsets_at(read, n, lsb, span, first)
+    if off is None:
         return None
+    travel = off.travel(n)
+    # the fit spans about SMOOTH_STEPS steps of the signal on average
+    want = SMOOTH_STEPS * (n - 1) / travel if travel > 0 else np.inf
+    fit = int(min(max(want, lo), hi, n // 4)) // 2 * 2 + 1
+    return off if fit == first else _offsets_at(read, n, lsb, span, fit)
+
+
+def _offsets_at(
+    read: Callable[[int, int], NDArray], n: int, lsb: float, span: int, fit: int
+) -> Offsets | None:
+    """:func:`record_offsets` with a fit of ``fit`` samples."""
+    h = span // 2
     zs, keep = [], []
-    for lo, a, b, hi in _pieces(n, span):
+    for lo, a, b, hi in _pieces(n, span, fit):
         x = read(lo, hi)
         zs.append((x - x[0]) / lsb)  # from a grid point: the grid may be offset from 0
         keep.append((a - lo, b - lo))
-    cuts = [_level_jumps(z, _smooth(z)) for z in zs]
-    cs = [_smooth_between(z, k) for z, k in zip(zs, cuts, strict=True)]
+    cuts = [_level_jumps(z, _smooth(z, fit)) for z in zs]
+    cs = [_smooth_between(z, k, fit) for z, k in zip(zs, cuts, strict=True)]
     use = [_clear_of(k, c, a - h, b + h, h) for k, c, (a, b) in zip(cuts, cs, keep, strict=True)]
-    if sum(int(u[h : u.size - h].sum()) for u in use) < SMOOTH_SPAN:
+    if sum(int(u[h : u.size - h].sum()) for u in use) < fit:
         return None
-    return Offsets(zs, cs, keep, use, cuts)
+    return Offsets(zs, cs, keep, use, cuts, fit)
 
 
-def _smooth_between(x: NDArray, cuts: NDArray) -> NDArray:
+def _smooth_between(x: NDArray, cuts: NDArray, fit: int) -> NDArray:
     """:func:`_smooth` of each stretch of ``x`` between ``cuts`` (NaN where too short)."""
     out = np.full(x.size, np.nan)
     edges = [0, *cuts.tolist(), x.size]
     for a, b in zip(edges[:-1], edges[1:], strict=True):
-        if b - a >= SMOOTH_SPAN:
-            out[a:b] = _smooth(x[a:b])
+        if b - a >= fit:
+            out[a:b] = _smooth(x[a:b], fit)
     return out
 
 
@@ -371,7 +401,7 @@ def quantisation_correction(
         s = solve_sigma(off, own, span, order)
     truth = rounding_model(off, s, span, order)[1]
     travel = off.travel(n)
-    corr = QuantCorrection(s, 1.0, travel, travel * SMOOTH_SPAN / n)
+    corr = QuantCorrection(s, 1.0, travel, travel * off.fit / n, off.fit)
     # the error variance over what auto's residual saw
     return replace(corr, factor=truth / x) if corr.applied else corr
 
@@ -385,7 +415,7 @@ def apply_correction(result: VarianceEstimate, corr: QuantCorrection) -> Varianc
         note = (
             f"the noise is small against the grid step (about {corr.sigma:.2f} of a step) and "
             f"the signal crosses only {corr.travel:.1f} steps ({corr.per_span:.2f} per "
-            f"{SMOOTH_SPAN} samples): too slow to tell from the mean rounding error, a bias "
+            f"{corr.fit} samples): too slow to tell from the mean rounding error, a bias "
             "that follows the signal, which the variance leaves out; not corrected "
             "(docs/algorithms.md §E3)"
         )

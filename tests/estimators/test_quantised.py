@@ -11,7 +11,7 @@ from noisevar.estimators import _record
 from noisevar.estimators._quantised import (
     PIECES,
     QUANT_MAX_SIGMA,
-    SMOOTH_SPAN,
+    SMOOTH_STEPS,
     Offsets,
     quantisation_correction,
     record_offsets,
@@ -149,9 +149,23 @@ def test_offsets_are_a_pure_function_of_the_pieces_read() -> None:
     )
     seen = []
     off = record_offsets(lambda a, b: seen.append((a, b)) or z[a:b], z.size, 1.0, 81)
-    assert len(seen) == PIECES and seen[0][0] == 0 and seen[-1][1] == z.size
-    assert all(b - a <= 2048 + 2 * (40 + 4 * (SMOOTH_SPAN // 2)) for a, b in seen)
+    final = seen[-PIECES:]  # the first fit's pieces, then the chosen fit's
+    assert len(seen) == 2 * PIECES and final[0][0] == 0 and final[-1][1] == z.size
+    assert all(b - a <= 2048 + 2 * (40 + 4 * (off.fit // 2)) for a, b in final)
     assert off.travel(z.size) == pytest.approx(0.01 * z.size, rel=0.02)
+    # the fit spans about SMOOTH_STEPS steps of the signal
+    assert off.fit == pytest.approx(SMOOTH_STEPS / 0.01, rel=0.05)
+
+
+def test_a_long_slow_record_gets_a_longer_fit() -> None:
+    # noise-step stretched to 60,000 samples: a fit of a fixed 601 samples would see the
+    # signal linger within it, and the rounding error's mean with it
+    n = 60_000
+    clean = noisevar.generate("noise-step", n=n).clean
+    z, truth = _records(clean, 0.2 * LSB, 6, 14)
+    off = record_offsets(lambda a, b: z[0, a:b], n, LSB, 81)
+    assert off.fit > 3000  # 513 on the 6,000-sample record
+    assert abs(_bias(z, truth)) < 0.01
 
 
 def test_the_verdict_calls_the_varying_level_quantisation() -> None:
