@@ -125,12 +125,12 @@ def test_solve_sigma_inverts_the_model() -> None:
     )
 
 
-@pytest.mark.parametrize("n", [40_000, 150_000])
-def test_chunked_equals_in_memory_on_a_quantised_record(n: int) -> None:
+@pytest.mark.parametrize(("n", "jump"), [(40_000, 0.0), (150_000, 0.0), (150_000, 20.0)])
+def test_chunked_equals_in_memory_on_a_quantised_record(n: int, jump: float) -> None:
     from noisevar.stream import estimate_chunked
 
     rng = np.random.default_rng(21)
-    clean = 30 * LSB * np.sin(np.arange(n) / 3000)
+    clean = 30 * LSB * np.sin(np.arange(n) / 3000) + jump * LSB * (np.arange(n) >= n // 3)
     z, _ = synth.quantise(clean + 0.2 * LSB * rng.standard_normal(n), LSB, 1.0)
     one = noisevar.estimate(z)
     many = estimate_chunked(
