@@ -291,6 +291,8 @@ def families() -> list[Family]:
         Family("5 % gaps as NaN, drop_nonfinite", "gaps", _gapped("nan"), GAPS),
         Family("5 % gaps spliced, no times", "gaps", _gapped("spliced"), ()),
     ]
+    # last, so that the families before it keep their seeds
+    out.append(Family("quantised σ 0.3 LSB", "quantised", _quantised(0.3), QUANTISED))
     return out
 
 

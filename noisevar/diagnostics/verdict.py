@@ -19,6 +19,12 @@ def _g(x: float) -> str:
     return f"{x:.4g}"
 
 
+def _under_half_a_step(diag: NoiseDiagnostics, variance: float) -> bool:
+    """On a grid, with an error variance under that of noise of half a step (§E3)."""
+    # σ² + Δ²/12 < (Δ/2)² + Δ²/12
+    return diag.lsb is not None and variance < diag.lsb**2 * (0.25 + 1.0 / 12.0)
+
+
 def make_verdict(
     diag: NoiseDiagnostics, variance: float, core: float | None = None, outliers: float = 0.0
 ) -> str:
@@ -63,6 +69,12 @@ def make_verdict(
             f"the noise is coloured: {kind}, or signal leaks through the smoother; {r} is "
             "its white part (or a little above): model the coloured part (see the noise "
             "model), since a white R alone understates what a Kalman filter sees"
+        )
+    if diag.level_varies and _under_half_a_step(diag, variance):
+        return (
+            f"white noise under half a step on a grid of step {_g(diag.lsb)}: its level "
+            "follows the signal's offset within a step, which is quantisation, not a changing "
+            f"sensor; {r} includes the rounding error"
         )
     if diag.level_varies:
         return (
