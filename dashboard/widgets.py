@@ -153,6 +153,17 @@ def guarded(context: str = "") -> Iterator[None]:
         )
 
 
+@contextmanager
+def lazy_expander(label: str, key: str, **kwargs: Any) -> Iterator[bool]:
+    """An expander whose content the caller builds only while it is open (yields that).
+
+    Opening or closing it reruns the script, so a closed one sends nothing to draw.
+    """
+    box = st.expander(label, key=key, on_change="rerun", **kwargs)
+    with box:
+        yield bool(box.open)
+
+
 #: Session-state key of the "How it works" expander (open or closed, on every page).
 HOW_IT_WORKS_KEY = "how_it_works"
 
@@ -163,15 +174,10 @@ def how_it_works(*blocks: str, expanded: bool = False) -> None:
     Lazy: its text and equations are sent only while it is open (typesetting the
     equations of a closed expander cost the browser a second when a page opened).
     """
-    box = st.expander(
-        "How it works",
-        expanded=expanded,
-        icon=":material/school:",
-        key=HOW_IT_WORKS_KEY,
-        on_change="rerun",
-    )
-    with box:
-        if not box.open:
+    with lazy_expander(
+        "How it works", HOW_IT_WORKS_KEY, expanded=expanded, icon=":material/school:"
+    ) as is_open:
+        if not is_open:
             return
         for b in blocks:
             s = b.strip()

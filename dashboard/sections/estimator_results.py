@@ -19,6 +19,7 @@ from dashboard.widgets import (
     fmt,
     guarded,
     html_report,
+    lazy_expander,
     show_figure,
 )
 from noisevar.config import config_to_json, params_to_config
@@ -397,14 +398,9 @@ def exports(
     to send and draw on every tuning change). The step-by-step figure's downloads sit
     under it (:func:`step_views`).
     """
-    box = st.expander(
-        "Export: tuned parameters, estimate, windows, report, figure",
-        icon=":material/download:",
-        key=EXPORT_KEY,
-        on_change="rerun",
-    )
-    with box:
-        if box.open:
+    label = "Export: tuned parameters, estimate, windows, report, figure"
+    with lazy_expander(label, EXPORT_KEY, icon=":material/download:") as is_open:
+        if is_open:
             _exports(sig, est, truth, fig)
 
 

@@ -13,7 +13,7 @@ import pandas as pd
 import streamlit as st
 from numpy.typing import ArrayLike
 
-from dashboard.widgets import guarded, show_figure
+from dashboard.widgets import guarded, lazy_expander, show_figure
 from noisevar.diagnostics.panel import (
     NoisePanelData,
     assumption_rows,
@@ -100,13 +100,9 @@ TABS = {
 
 def _figures(z: ArrayLike, diag: Any, t: ArrayLike | None, key: str, digest: str | None) -> None:
     """The figures' expander; lazy: only the open tab of an open expander is computed and sent."""
-    box = st.expander(
-        "Noise: distribution, autocorrelation, level along the record",
-        key=f"{key}_open",
-        on_change="rerun",
-    )
-    with box:
-        if not box.open:
+    label = "Noise: distribution, autocorrelation, level along the record"
+    with lazy_expander(label, f"{key}_open") as is_open:
+        if not is_open:
             return
         with guarded("Noise panel: "):
             data = (

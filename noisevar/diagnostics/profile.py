@@ -246,7 +246,10 @@ def _quiet_set(
 
 
 class _Pool:
-    """The dof-weighted mean of a growing set of levels ``x`` (weights ``nu``)."""
+    """The dof-weighted mean of a growing set of levels ``x`` (weights ``nu``).
+
+    Running sums of the levels over the largest (no overflow of huge levels); 0 while empty.
+    """
 
     def __init__(self, x: NDArray, nu: NDArray) -> None:
         top = float(np.max(x, initial=0.0))
@@ -258,10 +261,12 @@ class _Pool:
         self.sw += float(self.nu[b])
 
     def level(self) -> float:
-        return self.sx / self.sw * self.scale
+        return self.sx / self.sw * self.scale if self.sw > 0 else 0.0
 
 
 def _pooled(x: NDArray, nu: NDArray, members: NDArray) -> float:
-    """The dof-weighted level of the ``members`` blocks."""
-    w = nu[members] / np.sum(nu[members])  # weights first: no overflow of huge levels
-    return float(w @ x[members])
+    """The dof-weighted level of the ``members`` blocks (:class:`_Pool` over them)."""
+    pool = _Pool(x, nu)
+    for b in np.flatnonzero(members):
+        pool.add(int(b))
+    return pool.level()

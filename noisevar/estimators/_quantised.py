@@ -135,7 +135,9 @@ def _smooth(x: NDArray, fit: int) -> NDArray:
     """The centred local polynomial fit of ``x`` over ``fit`` samples (:data:`SMOOTH_ORDER`).
 
     The first and last ``fit // 2`` samples take the fit over the first (last) ``fit``
-    samples, as ``scipy.signal.savgol_filter(mode="interp")``.
+    samples: ``scipy.signal.savgol_filter(mode="interp")``'s numbers (tested), with an
+    FFT convolution and cached edge rows, since its direct convolution costs ``n`` times
+    ``fit`` (up to 8191) for every round of :meth:`Offsets.debias`.
     """
     w, head, tail = _edge_rows(fit, SMOOTH_ORDER)
     return np.concatenate([head @ x[:fit], signal.oaconvolve(x, w, mode="valid"), tail @ x[-fit:]])
@@ -354,6 +356,13 @@ def solve_sigma(off: Offsets, seen: float, span: int, order: int) -> float:
     return float(optimize.brentq(f, _SIGMA_FLOOR, hi, xtol=1e-10, rtol=1e-10))
 
 
+def small_against_step(variance: float, lsb: float) -> bool:
+    """An error variance under that of noise of :data:`QUANT_MAX_SIGMA` steps, rounded."""
+    x = variance / lsb**2
+    # σ² + Δ²/12 with σ below QUANT_MAX_SIGMA steps
+    return bool(np.isfinite(x) and 0.0 < x < QUANT_MAX_SIGMA**2 + 1.0 / 12.0)
+
+
 def quantisation_correction(
     read: Callable[[int, int], NDArray],
     n: int,
@@ -389,7 +398,7 @@ def quantisation_correction(
     solves ``seen(σ) = seen`` (E3.4) and the factor is ``truth(σ) / seen``.
     """
     x = seen / lsb**2
-    if not (np.isfinite(x) and 0.0 < x < QUANT_MAX_SIGMA**2 + 1.0 / 12.0):
+    if not small_against_step(seen, lsb):
         return None
     off = record_offsets(read, n, lsb, span)
     if off is None:

@@ -265,7 +265,7 @@ def conclude(
     -------
     VarianceEstimate
     """
-    if record is not None and spec.name == "auto" and diag.lsb is not None:
+    if spec.name == "auto" and diag.lsb is not None:
         result = _quantised(result, diag.lsb, record)
     if spec.moment:
         result = _honest_interval(result, diag)
@@ -279,12 +279,28 @@ def conclude(
 
 
 def _quantised(
-    result: VarianceEstimate, lsb: float, record: Callable[[int, int], NDArray]
+    result: VarianceEstimate, lsb: float, record: Callable[[int, int], NDArray] | None
 ) -> VarianceEstimate:
-    """``auto``'s result corrected for the rounding error its residual misses (§E3)."""
-    from noisevar.estimators._quantised import apply_correction, quantisation_correction
+    """``auto``'s result corrected for the rounding error its residual misses (§E3).
+
+    A record in several segments (gaps) is not corrected: a note says so when it would be.
+    """
+    from noisevar.estimators._quantised import (
+        apply_correction,
+        quantisation_correction,
+        small_against_step,
+    )
     from noisevar.estimators.auto import auto_spans
 
+    if record is None:
+        if not small_against_step(result.variance, lsb):
+            return result
+        note = (
+            "the noise is small against the grid step and the record has gaps: the "
+            "correction for the rounding error that follows the signal is made on one "
+            "uniform record only, so the variance may be low (docs/algorithms.md §E3)"
+        )
+        return replace(result, notes=[*result.notes, note])
     p = result.params
     span = auto_spans(p.get("span"), p["order"], p["trim"], result.n_total)[-1]
     corr = quantisation_correction(record, result.n_total, lsb, result.variance, span, p["order"])

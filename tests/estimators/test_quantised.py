@@ -198,3 +198,25 @@ def test_a_grid_offset_from_zero_gives_the_same_estimate() -> None:
     on_zero, offset = noisevar.estimate(z), noisevar.estimate(z + 0.37 * LSB + 1e6 * LSB)
     assert any("multiplied by" in n for n in on_zero.notes)
     assert offset.variance == pytest.approx(on_zero.variance, rel=1e-6)
+
+
+@pytest.mark.parametrize("fit", [101, 513, 2049])
+def test_smooth_is_scipys_savitzky_golay_fit(fit):
+    from scipy import signal
+
+    from noisevar.estimators._quantised import SMOOTH_ORDER, _smooth
+
+    x = np.cumsum(np.random.default_rng(fit).standard_normal(3 * fit))
+    expected = signal.savgol_filter(x, fit, SMOOTH_ORDER, mode="interp")
+    np.testing.assert_allclose(_smooth(x, fit), expected, rtol=0, atol=1e-9 * np.ptp(x))
+
+
+def test_a_gapped_record_says_it_was_not_corrected() -> None:
+    clean = noisevar.generate("noise-step", n=N).clean
+    z, _ = _records(clean, 0.2 * LSB, 1, 7)
+    gapped = synth.remove_blocks(z, 3, t=np.arange(N, dtype=float))
+    est = noisevar.estimate(gapped.values, t=gapped.t)
+    assert len(est.diagnostics.gaps) > 0
+    assert any("has gaps" in note and "§E3" in note for note in est.notes)
+    whole = noisevar.estimate(z)
+    assert not any("has gaps" in note for note in whole.notes)
