@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import base64
 import html
 import logging
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from typing import Any
 
+import numpy as np
 import plotly.graph_objects as go
 import streamlit as st
 
@@ -187,21 +189,102 @@ def how_it_works(*blocks: str, expanded: bool = False) -> None:
                 st.markdown(s)
 
 
-def show_figure(fig: go.Figure, key: str | None = None, select: bool = False) -> None:
-    """Draw a Plotly figure (box-select events, in ``st.session_state[key]``, when ``select``)."""
+#: Figure colours that read on the light and the dark theme alike (:func:`display_spec`).
+INK = "#808495"
+GRID = "rgba(128, 128, 128, 0.22)"
+FONT = '"Source Sans", "Source Sans Pro", sans-serif'
+
+
+def _plain(value: Any) -> Any:
+    """``value`` with every array as a plain list (None for NaN): no base64 typed arrays."""
+    if isinstance(value, dict):
+        if "bdata" in value and "dtype" in value:  # plotly's typed-array encoding
+            arr = np.frombuffer(base64.b64decode(value["bdata"]), dtype=value["dtype"])
+            if "shape" in value:
+                arr = arr.reshape([int(k) for k in str(value["shape"]).split(",")])
+            return _plain(arr)
+        return {k: _plain(v) for k, v in value.items()}
+    if isinstance(value, np.ndarray):
+        if value.dtype.kind == "f":
+            return np.where(np.isfinite(value), value, None).tolist()
+        return value.tolist()
+    if isinstance(value, list | tuple):
+        return [_plain(v) for v in value]
+    return value
+
+
+def display_spec(fig: go.Figure) -> dict[str, Any]:
+    """The figure as the browser gets it: plain arrays, no template, neutral colours.
+
+    Notes
+    -----
+    Streamlit remounts a chart whose spec changed and, once mounted, hands plotly the
+    figure a second time (its theme effect). plotly then redraws everything if the
+    layout has a ``template`` (compared by identity), if an array is base64-encoded, or
+    if ``datarevision`` is unset; with none of these the second pass costs a few ms
+    instead of a full draw. So: arrays as lists, no template (the page draws it with
+    ``theme=None``), a fixed ``datarevision`` (a changed figure is a new chart anyway),
+    and colours that read on both themes over a transparent background.
+    """
+    spec = fig.to_plotly_json()
+    lay = {k: _plain(v) for k, v in spec["layout"].items() if k != "template"}
+    lay["datarevision"] = 1
+    lay["font"] = {"family": FONT, "color": INK, **lay.get("font", {})}
+    lay.setdefault("paper_bgcolor", "rgba(0,0,0,0)")
+    lay.setdefault("plot_bgcolor", "rgba(0,0,0,0)")
+    if isinstance(lay.get("title"), dict) and lay["title"].get("text"):
+        lay["title"] = {**lay["title"], "text": f"<b>{lay['title']['text']}</b>"}
+    for name in {"xaxis", "yaxis", *(k for k in lay if k[1:5] == "axis")}:
+        axis = lay.setdefault(name, {})
+        if name.startswith("x"):
+            # as Streamlit's own theme: a grid across y only, no line at x = 0
+            axis.setdefault("showgrid", False)
+            axis.setdefault("zeroline", False)
+        for key in ("gridcolor", "zerolinecolor", "linecolor"):
+            axis.setdefault(key, GRID)
+        if "minor" in axis:  # a minor container, even without showgrid, draws a minor grid
+            axis["minor"].setdefault("gridcolor", GRID)
+    return {"data": [_plain(t) for t in spec["data"]], "layout": lay}
+
+
+class _Drawn(go.Figure):
+    """A figure whose dict is given: Streamlit takes a ``Figure``'s ``to_dict()`` as it
+    is, where it would build and validate a plain dict's figure again (~20 ms)."""
+
+    def __init__(self, spec: dict[str, Any]) -> None:
+        super().__init__()
+        self._spec = spec
+
+    def to_dict(self) -> dict[str, Any]:
+        return self._spec
+
+
+def show_figure(
+    fig: go.Figure, key: str | None = None, select: bool | str = False, where: Any = None
+) -> None:
+    """Draw a Plotly figure as :func:`display_spec` sends it.
+
+    ``select`` is True (box) or a Streamlit selection mode ("points"); the selection is
+    then in ``st.session_state[key]`` and a selection reruns the page. ``where`` is the
+    container (a placeholder, a column); the page by default.
+    """
     capped(fig)  # the browser budget: points and shapes (noisevar.figures._common)
     config = {"displaylogo": False, "scrollZoom": False}
-    if select:
-        st.plotly_chart(
-            fig,
+    mode = "box" if select is True else select
+    chart = (where or st).plotly_chart
+    drawn = _Drawn(display_spec(fig))
+    if mode:
+        chart(
+            drawn,
             width="stretch",
             key=key,
             on_select="rerun",
-            selection_mode="box",
+            selection_mode=mode,
             config=config,
+            theme=None,
         )
     else:
-        st.plotly_chart(fig, width="stretch", key=key, config=config)
+        chart(drawn, width="stretch", key=key, config=config, theme=None)
 
 
 def figure_downloads(fig: go.Figure, basename: str, key: str) -> None:

@@ -276,10 +276,10 @@ def _run(
                 text=f"Run {snap.runs_done} of {snap.runs_requested} (Cancel stops here)",
             )
             if snap.runs_done % every == 0 and not snap.finished:
-                live.plotly_chart(
+                show_figure(
                     monte_carlo_figure(snap, title="Relative errors so far"),
-                    width="stretch",
                     key=f"mc_live_{snap.runs_done}",
+                    where=live,
                 )
         ended = True
         status.success(f"Monte Carlo done: {mc.runs} runs.")

@@ -146,13 +146,7 @@ def figures(report: FleetReport) -> None:
     if not report.channels:
         st.info("No channel has enough sensors (3) to compare.")
         return
-    st.plotly_chart(
-        fleet_distribution(report),
-        width="stretch",
-        key="fl_dist",
-        on_select="rerun",
-        selection_mode="points",
-    )
+    show_figure(fleet_distribution(report), key="fl_dist", select="points")
     show_figure(flagged_sensors(report))
 
 

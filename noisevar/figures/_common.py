@@ -359,6 +359,13 @@ def downsample_note(n_total: int, max_points: int = MAX_POINTS) -> dict[str, Any
     }
 
 
+def _styled(fig: go.Figure) -> go.Figure:
+    """``fig``, or a copy with plotly's template when it has none (a dashboard's figure)."""
+    if fig.layout.template.to_plotly_json():
+        return fig
+    return go.Figure(fig).update_layout(template="plotly")
+
+
 def to_html(fig: go.Figure, self_contained: bool = True) -> str:
     """A figure as a standalone interactive HTML page.
 
@@ -373,7 +380,7 @@ def to_html(fig: go.Figure, self_contained: bool = True) -> str:
     -------
     str
     """
-    return fig.to_html(include_plotlyjs=True if self_contained else "cdn", full_html=True)
+    return _styled(fig).to_html(include_plotlyjs=True if self_contained else "cdn", full_html=True)
 
 
 def to_png(fig: go.Figure, width: int = 1200, height: int | None = None, scale: float = 2) -> bytes:
@@ -398,7 +405,7 @@ def to_png(fig: go.Figure, width: int = 1200, height: int | None = None, scale: 
         When kaleido or a Chromium browser is not available.
     """
     try:
-        return fig.to_image(
+        return _styled(fig).to_image(
             format="png", width=width, height=height or fig.layout.height or 500, scale=scale
         )
     except Exception as exc:  # noqa: BLE001 - kaleido raises many types when no browser is found

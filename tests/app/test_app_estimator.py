@@ -10,7 +10,7 @@ import pytest
 from streamlit.testing.v1 import AppTest
 
 from dashboard.sections.estimator_results import EXPORT_KEY
-from dashboard.widgets import fmt
+from dashboard.widgets import GRID, fmt
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
@@ -286,3 +286,37 @@ def test_the_exports_are_sent_only_when_their_expander_is_opened():
     app.run()
     _clean(app)
     assert json.loads(app.code[0].value)["method"] == "somd"
+
+
+def test_figures_reach_the_browser_without_what_makes_plotly_draw_them_twice(at):
+    # Streamlit hands a remounted chart to plotly twice; the second pass is a no-op only
+    # without a template, without base64 arrays and with a datarevision (display_spec).
+    charts = at.get("plotly_chart")
+    assert len(charts) >= 2
+    for chart in charts:
+        spec = json.loads(chart.proto.spec)
+        assert chart.proto.theme == ""
+        assert "template" not in spec["layout"] and "bdata" not in chart.proto.spec
+        assert spec["layout"]["datarevision"] == 1
+        assert spec["layout"]["paper_bgcolor"] == "rgba(0,0,0,0)"
+
+
+def test_display_spec_keeps_every_value_as_plain_lists():
+    import numpy as np
+    import plotly.graph_objects as go
+
+    from dashboard.widgets import display_spec
+
+    y = np.array([1.5, np.nan, -2.0, np.inf])
+    custom = np.arange(8.0).reshape(4, 2)
+    fig = go.Figure(go.Scatter(y=y, customdata=custom, marker={"color": np.arange(4)}))
+    fig.update_layout(title="t", xaxis={"minor": {"showgrid": True}})
+    spec = display_spec(fig)
+    trace = spec["data"][0]
+    assert trace["y"] == [1.5, None, -2.0, None]
+    assert trace["customdata"] == custom.tolist()
+    assert trace["marker"]["color"] == [0, 1, 2, 3]
+    assert spec["layout"]["title"]["text"] == "<b>t</b>"
+    assert spec["layout"]["xaxis"]["minor"] == {"showgrid": True, "gridcolor": GRID}
+    assert "minor" not in spec["layout"]["yaxis"]  # a minor container draws a minor grid
+    json.dumps(spec, allow_nan=False)  # plain JSON: no NaN, no arrays left
