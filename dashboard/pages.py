@@ -23,7 +23,7 @@ from dashboard.state import (
     url_upload,
 )
 from dashboard.url_params import clean_query_params
-from dashboard.widgets import metric_style
+from dashboard.widgets import page_head
 from noisevar.errors import NoisevarError
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -160,7 +160,7 @@ def setup_page(script: str) -> LoadedSignal | None:
         initial_sidebar_state="expanded",
     )
     clean_query_params()  # shared links are untrusted: before any widget reads the URL
-    metric_style()
+    page_head()
     sig = current_signal()
     if sig is None:
         recipe = url_recipe()

@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import base64
+import functools
 import html
 import logging
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -30,17 +32,50 @@ def fmt(v: float | None, digits: int = 4, unit: str = "") -> str:
     return eng(v, unit, digits)
 
 
-def metric_style() -> None:
-    """Metrics show their whole value: wrap long values instead of cutting them with "…"."""
-    st.html(
-        "<style>"
-        "[data-testid='stMetricValue'], [data-testid='stMetricValue'] * {"
-        "white-space: normal !important; overflow: visible !important; "
-        "text-overflow: clip !important; overflow-wrap: anywhere;}"
-        "[data-testid='stMetricValue'] {font-size: 1.6rem;}"
-        "[data-testid='stMetricLabel'] p {white-space: normal !important;}"
-        "</style>"
-    )
+@functools.cache
+def _plotly_chunk() -> str | None:
+    """The file name of Streamlit's plotly.js chunk (``PlotlyChart.<hash>.js``), if one."""
+    found = sorted((Path(st.__file__).parent / "static" / "static" / "js").glob("PlotlyChart.*.js"))
+    return found[0].name if len(found) == 1 else None
+
+
+#: Wrap long metric values instead of cutting them with "…".
+_METRIC_CSS = (
+    "<style>"
+    "[data-testid='stMetricValue'], [data-testid='stMetricValue'] * {"
+    "white-space: normal !important; overflow: visible !important; "
+    "text-overflow: clip !important; overflow-wrap: anywhere;}"
+    "[data-testid='stMetricValue'] {font-size: 1.6rem;}"
+    "[data-testid='stMetricLabel'] p {white-space: normal !important;}"
+    # this element itself takes no room (with a script, Streamlit would give it a row)
+    "[data-testid='stElementContainer']:has(.nv-head) {display: none;}"
+    "</style><span class='nv-head'></span>"
+)
+
+#: Import Streamlit's plotly.js chunk by the URL its own lazy import resolves to (so the
+#: module is fetched and evaluated once per tab, whoever asks first).
+_PRELOAD_JS = """<script>(() => {{
+  const main = document.querySelector('script[type="module"][src*="/static/js/index."]');
+  if (main) import(new URL("{chunk}", main.src).href).catch(() => {{}});
+}})();</script>"""
+
+
+def page_head() -> None:
+    """What every page adds once, in one invisible element: metric values wrap in full,
+    and plotly.js starts loading.
+
+    Notes
+    -----
+    Streamlit loads plotly.js (4.7 MB) when a page's first figure arrives; fetching and
+    evaluating it then takes the browser over a second, after the server has finished.
+    Asked for from the page's first element, it loads while the server computes.
+    Without the chunk (another Streamlit build) only the style is added.
+    """
+    chunk = _plotly_chunk()
+    if chunk is None:
+        st.html(_METRIC_CSS)
+    else:
+        st.html(_METRIC_CSS + _PRELOAD_JS.format(chunk=chunk), unsafe_allow_javascript=True)
 
 
 #: Plain-words meaning of the abbreviations and symbols the pages use.

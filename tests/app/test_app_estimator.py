@@ -320,3 +320,15 @@ def test_display_spec_keeps_every_value_as_plain_lists():
     assert spec["layout"]["xaxis"]["minor"] == {"showgrid": True, "gridcolor": GRID}
     assert "minor" not in spec["layout"]["yaxis"]  # a minor container draws a minor grid
     json.dumps(spec, allow_nan=False)  # plain JSON: no NaN, no arrays left
+
+
+def test_plotly_preload_names_the_chunk_streamlit_itself_imports():
+    # the preload is useful only at the URL Streamlit's own lazy import resolves to
+    import streamlit
+
+    from dashboard.widgets import _plotly_chunk
+
+    chunk = _plotly_chunk()
+    assert chunk is not None and chunk.startswith("PlotlyChart.")
+    js = Path(streamlit.__file__).parent / "static" / "static" / "js"
+    assert any(f"import(`./{chunk}`)" in f.read_text() for f in js.glob("index.*.js"))

@@ -370,3 +370,25 @@ def test_link_from_an_upload_says_so(server, browser, tmp_path):
     assert "made from an uploaded file" in fresh.inner_text('[data-testid="stMain"]')
     fresh.context.close()
     ctx.close()
+
+
+def test_plotly_is_fetched_once_and_the_page_head_takes_no_room(server, browser):
+    ctx = browser.new_context(viewport={"width": 1400, "height": 1000}, color_scheme="dark")
+    page = ctx.new_page()
+    page.goto(f"{server}/Estimator?sig={SIG}")
+    _settle(page)
+    page.wait_for_selector(".js-plotly-plot", timeout=120_000)
+    fetched = page.evaluate(
+        "() => performance.getEntriesByType('resource')"
+        ".filter(e => e.name.includes('/PlotlyChart.')).map(e => e.name)"
+    )
+    assert len(fetched) == 1, fetched  # the preload and Streamlit share one module
+    head = page.locator("[data-testid='stElementContainer']:has(.nv-head)")
+    assert head.count() == 1 and head.bounding_box() is None  # display: none
+    # figures sit on the page's own (dark) background: transparent, not plotly's white
+    bg = page.evaluate(
+        "() => getComputedStyle(document.querySelector('.js-plotly-plot .main-svg'))"
+        ".backgroundColor"
+    )
+    assert bg in ("rgba(0, 0, 0, 0)", "transparent"), bg
+    ctx.close()
