@@ -302,9 +302,10 @@ def report(res: dict, changes: int) -> str:
         "|---|---|---|---|",
         *(f"| {i + 1} | {o[1]:.2f} | {o[2]:.2f} | {o[0]:.2f} |" for i, o in enumerate(opens)),
         "",
-        "The first message comes once the tab has loaded Streamlit's JavaScript and connected; "
-        "from the last figure sent to settled, the browser evaluates plotly.js (loaded by the "
-        "first figure of a tab) and draws.",
+        "The first message comes once the tab has loaded Streamlit's JavaScript and connected. "
+        "The page's first element asks for plotly.js (dashboard.widgets.page_head), so the tab "
+        "evaluates it while the server computes; from the last figure sent to settled, the "
+        "browser draws the figures and what came with them.",
         "",
         f"Load average (1 min) at the start and the end: {res['load'][0]:.1f} and "
         f"{res['load'][-1]:.1f} on {os.cpu_count()} cores: the browser, the server and other "
