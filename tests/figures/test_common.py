@@ -78,3 +78,23 @@ def test_downsampling_caps_points() -> None:
     assert len(tr.x) <= 500 and len(tr.y) == len(tr.x)
     tr, reduced = line_trace(y[:200], "y", max_points=500)
     assert not reduced and len(tr.y) == 200
+
+
+def test_exports_of_a_figure_without_template_get_plotlys():
+    # the dashboard builds figures without a template (its own colours on the page)
+    import plotly.graph_objects as go
+    import plotly.io as pio
+
+    from noisevar.figures._common import _styled
+
+    default, pio.templates.default = pio.templates.default, None
+    try:
+        bare = go.Figure(go.Scatter(y=[1.0, 2.0]))
+    finally:
+        pio.templates.default = default
+    assert not bare.layout.template.to_plotly_json()
+    styled = _styled(bare)
+    assert styled.layout.template.layout.colorway == pio.templates["plotly"].layout.colorway
+    assert not bare.layout.template.to_plotly_json()  # the figure itself is left alone
+    dark = go.Figure(layout={"template": "plotly_dark"})
+    assert _styled(dark) is dark
