@@ -111,8 +111,9 @@ def overhead_pool(n_tasks: int) -> tuple[float, float]:
     with ProcessPoolExecutor(2, mp_context=ctx) as pool:
         list(pool.map(_noop, [0, 1]))
         start = time.perf_counter() - t0
-        _, took = _timed(lambda: [f.result() for f in [pool.submit(_noop, i)
-                                                       for i in range(n_tasks)]])
+        _, took = _timed(
+            lambda: [f.result() for f in [pool.submit(_noop, i) for i in range(n_tasks)]]
+        )
     return start, took / n_tasks
 
 
@@ -160,8 +161,13 @@ def kill_and_resume(files: list[Path], reference: pd.DataFrame) -> dict:
         lambda: noisevar.batch(folder, out=out, progress=lambda d, t: seen.append((d, t)))
     )
     same = _rows(frame).equals(_rows(reference))
-    return {"killed_after": done_before, "redone": seen[-1][1], "took": took, "same": same,
-            "files": n_files}
+    return {
+        "killed_after": done_before,
+        "redone": seen[-1][1],
+        "took": took,
+        "same": same,
+        "files": n_files,
+    }
 
 
 def interleaved(files: list[Path], clients: dict, rounds: int) -> dict[str, list[float]]:
@@ -180,8 +186,10 @@ def interleaved(files: list[Path], clients: dict, rounds: int) -> dict[str, list
     for r in range(rounds):
         for name, run in runs.items():
             times[name].append(_timed(run)[1])
-        print(f"round {r + 1}: " + ", ".join(f"{k} {v[-1]:.1f} s" for k, v in times.items()),
-              flush=True)
+        print(
+            f"round {r + 1}: " + ", ".join(f"{k} {v[-1]:.1f} s" for k, v in times.items()),
+            flush=True,
+        )
     return times
 
 
@@ -204,8 +212,12 @@ def _cluster(tuned: bool):
         settings["distributed.worker.profile.enabled"] = False
     with dask.config.set({"distributed.nanny.pre-spawn-environ": env, **settings}):
         cluster = LocalCluster(
-            n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
-            dashboard_address=None, silence_logs=40,
+            n_workers=2,
+            threads_per_worker=1,
+            processes=True,
+            host="127.0.0.1",
+            dashboard_address=None,
+            silence_logs=40,
         )
     client = Client(cluster)
     client.wait_for_workers(2)
@@ -237,8 +249,16 @@ def cluster_run(files: list[Path], reference: pd.DataFrame, subset: int, rounds:
         for c in (client, dclient, cluster, default):
             c.close()
     same = _rows(frame).equals(_rows(reference)) and _rows(dframe).equals(_rows(reference))
-    return {"start": start, "took": took, "per_task": per_task, "cpu": cpu, "rounds": rounds_times,
-            "default_took": dtook, "default_cpu": dcpu, "same": same}
+    return {
+        "start": start,
+        "took": took,
+        "per_task": per_task,
+        "cpu": cpu,
+        "rounds": rounds_times,
+        "default_took": dtook,
+        "default_cpu": dcpu,
+        "same": same,
+    }
 
 
 def extrapolate(n_files: int, per_file: float, per_task: float, bytes_per_file: int) -> list:
@@ -262,8 +282,12 @@ def main() -> None:  # long: one script, its steps in order
     ap.add_argument("--channels", type=int, default=3)
     ap.add_argument("--subset", type=int, default=100, help="files of the interleaved rounds")
     ap.add_argument("--rounds", type=int, default=3)
-    ap.add_argument("--resume-files", type=int, default=400,
-                    help="files of the kill-and-resume run (the last ones of the set)")
+    ap.add_argument(
+        "--resume-files",
+        type=int,
+        default=400,
+        help="files of the kill-and-resume run (the last ones of the set)",
+    )
     args = ap.parse_args()
 
     tmp = Path(tempfile.mkdtemp(prefix="nv-batch-"))
@@ -299,8 +323,22 @@ def main() -> None:  # long: one script, its steps in order
     ok = all(r.get("same", True) for r in (dask, resume)) and _rows(two).equals(_rows(one))
     per_file = t1 / len(files)
     paper = extrapolate(len(files), per_file, dask["per_task"], size)
-    md = report(args, len(files), size, gen, (t1, cpu1), t2, dask, pool_start, pool_task,
-                resume, ceil, load, ok, paper)
+    md = report(
+        args,
+        len(files),
+        size,
+        gen,
+        (t1, cpu1),
+        t2,
+        dask,
+        pool_start,
+        pool_task,
+        resume,
+        ceil,
+        load,
+        ok,
+        paper,
+    )
     RESULTS.mkdir(exist_ok=True)
     (RESULTS / "batch.md").write_text(md)
     print(md)
@@ -322,8 +360,9 @@ def _scaled(args, n_files, t1, t2, dask, pool_start) -> list[str]:
     ]
 
 
-def report(args, n_files, size, gen, t1, t2, dask, pool_start, pool_task, resume, ceil, load,
-           ok, paper) -> str:  # long: the Markdown report, one line per figure
+def report(
+    args, n_files, size, gen, t1, t2, dask, pool_start, pool_task, resume, ceil, load, ok, paper
+) -> str:  # long: the Markdown report, one line per figure
     t1, cpu1 = t1
     samples = n_files * args.channels * args.n
     best = {k: min(v) for k, v in dask["rounds"].items()}
@@ -366,9 +405,18 @@ def report(args, n_files, size, gen, t1, t2, dask, pool_start, pool_task, resume
         "| round | one process (s) | `--jobs 2` (s) | dask cluster, tuned (s) | dask cluster, "
         "dask's defaults (s) |",
         "|---|---|---|---|---|",
-        *[f"| {i + 1} | {a:.1f} | {b:.1f} | {c:.1f} | {d:.1f} |" for i, (a, b, c, d) in enumerate(
-            zip(dask["rounds"]["one"], dask["rounds"]["jobs2"], dask["rounds"]["dask"],
-                dask["rounds"]["dask_default"], strict=True))],
+        *[
+            f"| {i + 1} | {a:.1f} | {b:.1f} | {c:.1f} | {d:.1f} |"
+            for i, (a, b, c, d) in enumerate(
+                zip(
+                    dask["rounds"]["one"],
+                    dask["rounds"]["jobs2"],
+                    dask["rounds"]["dask"],
+                    dask["rounds"]["dask_default"],
+                    strict=True,
+                )
+            )
+        ],
         f"| best | {best['one']:.1f} | {best['jobs2']:.1f} | {best['dask']:.1f} | "
         f"{best['dask_default']:.1f} |",
         "",

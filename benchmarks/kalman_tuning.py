@@ -443,8 +443,12 @@ def pykalman_section(iters: int) -> list[str]:
     try:
         import pykalman  # noqa: F401
     except ImportError:
-        return ["### pykalman's EM", "", "Not measured: pykalman is not installed "
-                "(`pip install pykalman`).", ""]
+        return [
+            "### pykalman's EM",
+            "",
+            "Not measured: pykalman is not installed (`pip install pykalman`).",
+            "",
+        ]
     lines = [
         "### pykalman's EM: time per iteration (n = 20000)",
         "",

@@ -43,6 +43,7 @@ __all__ = [
     "with_verdict",
 ]
 
+
 def diagnose(
     z: NDArray, segmentation: Segmentation | None = None, exclude: NDArray | None = None
 ) -> NoiseDiagnostics:
@@ -73,9 +74,7 @@ def diagnose(
 
 
 # long: the record-wide statistics from the sums, in the order they depend on each other
-def finish(
-    sums: DiagSums, seg: Segmentation, head: Callable[[], NDArray]
-) -> NoiseDiagnostics:
+def finish(sums: DiagSums, seg: Segmentation, head: Callable[[], NDArray]) -> NoiseDiagnostics:
     """The diagnostics from their sums; ``head()`` gives the start of the longest segment.
 
     Notes

@@ -81,8 +81,10 @@ def test_open_the_flagged_sensor_on_the_estimator_page():
 @pytest.mark.parametrize(
     ("event", "expected"),
     [
-        ({"selection": {"points": [{"customdata": ["/x/imu_01.csv", "az"]}]}},
-         ("/x/imu_01.csv", "az")),
+        (
+            {"selection": {"points": [{"customdata": ["/x/imu_01.csv", "az"]}]}},
+            ("/x/imu_01.csv", "az"),
+        ),
         ({"selection": {"points": []}}, None),
         (None, None),
     ],

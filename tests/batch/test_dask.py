@@ -43,9 +43,10 @@ def test_the_cluster_gives_the_rows_of_one_process(client, fleet, tmp_path):
     remote = nv.batch(fleet, client=client, out=out, progress=False)
     cols = [c for c in local.columns if c != "elapsed_s"]
     pd.testing.assert_frame_equal(local[cols], remote[cols], check_dtype=False)
-    assert remote["error"].notna().sum() == 1 and "unit99" in remote.loc[
-        remote["error"].notna(), "file"
-    ].iat[0]
+    assert (
+        remote["error"].notna().sum() == 1
+        and "unit99" in remote.loc[remote["error"].notna(), "file"].iat[0]
+    )
     assert len(read_table(out)) == 19
     ran_on = client.run(lambda: __import__("os").getpid())
     assert len(set(ran_on.values())) == 2  # two worker processes
