@@ -79,7 +79,7 @@ def render_noise_panel(
     if diag is None:
         st.caption("This estimate carries no noise diagnostics.")
         return
-    if verdict_severity(diag) == "ok":
+    if verdict_severity(diag, estimate.variance) == "ok":
         st.info(diag.verdict, icon=":material/check_circle:")
     else:
         st.warning(diag.verdict, icon=":material/warning:")

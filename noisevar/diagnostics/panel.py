@@ -16,6 +16,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from noisevar.diagnostics.profile import block_bounds, robust_levels
 from noisevar.diagnostics.results import NoiseDiagnostics
+from noisevar.diagnostics.verdict import under_half_a_step
 from noisevar.errors import NoisevarError
 
 #: At most this many residuals kept for drawing (the histogram counts every one).
@@ -226,12 +227,20 @@ def _profile_fields(diag: NoiseDiagnostics, t: ArrayLike | None) -> dict[str, An
     }
 
 
-def verdict_severity(diag: NoiseDiagnostics) -> str:
-    """``"ok"``, ``"caution"`` (heavy tails, gaps) or ``"warning"`` (a white R misleads)."""
+def verdict_severity(diag: NoiseDiagnostics, variance: float | None = None) -> str:
+    """``"ok"``, ``"caution"`` (heavy tails, gaps) or ``"warning"`` (a white R misleads).
+
+    With the estimate's ``variance``, a level that varies on a grid with noise under half
+    a step (:func:`~noisevar.diagnostics.verdict.under_half_a_step`) is neither a warning
+    nor, with it, heavy tails a caution: rounding makes both (a level that follows the
+    offset within a step, an error that is mostly zero), and the verdict says so.
+    """
     f = diag.flags
-    if not (f["identifiable"] and f["white"]) or f["level_varies"]:
+    # the verdict's own case: a varying level explained by rounding (make_verdict)
+    rounding = f["level_varies"] and variance is not None and under_half_a_step(diag, variance)
+    if not (f["identifiable"] and f["white"]) or (f["level_varies"] and not rounding):
         return "warning"
-    if f["heavy_tailed"] or diag.fourth_moment_unreliable or f["gaps"]:
+    if (f["heavy_tailed"] and not rounding) or diag.fourth_moment_unreliable or f["gaps"]:
         return "caution"
     return "ok"
 

@@ -19,8 +19,12 @@ def _g(x: float) -> str:
     return f"{x:.4g}"
 
 
-def _under_half_a_step(diag: NoiseDiagnostics, variance: float) -> bool:
-    """On a grid, with an error variance under that of noise of half a step (§E3)."""
+def under_half_a_step(diag: NoiseDiagnostics, variance: float) -> bool:
+    """On a grid, with an error variance under that of noise of half a step (§E3).
+
+    There, a level that varies along the record follows the signal's offset within a
+    step: it is quantisation, not a changing sensor.
+    """
     # σ² + Δ²/12 < (Δ/2)² + Δ²/12
     return diag.lsb is not None and variance < diag.lsb**2 * (0.25 + 1.0 / 12.0)
 
@@ -70,7 +74,7 @@ def make_verdict(
             "its white part (or a little above): model the coloured part (see the noise "
             "model), since a white R alone understates what a Kalman filter sees"
         )
-    if diag.level_varies and _under_half_a_step(diag, variance):
+    if diag.level_varies and under_half_a_step(diag, variance):
         return (
             f"white noise under half a step on a grid of step {_g(diag.lsb)}: its level "
             "follows the signal's offset within a step, which is quantisation, not a changing "

@@ -7,6 +7,7 @@ import pytest
 
 import noisevar
 from noisevar import synth
+from noisevar.diagnostics.panel import verdict_severity
 from noisevar.estimators import _record
 from noisevar.estimators._quantised import (
     PIECES,
@@ -171,16 +172,21 @@ def test_a_long_slow_record_gets_a_longer_fit() -> None:
 def test_the_verdict_calls_the_varying_level_quantisation() -> None:
     clean = noisevar.generate("noise-step", n=N).clean
     z, _ = _records(clean, 0.2 * LSB, 1, 11)
-    got = noisevar.estimate(z).diagnostics
+    est = noisevar.estimate(z)
+    got = est.diagnostics
     assert got.level_varies  # the error's level follows the offset within a step
     assert "quantisation, not a changing sensor" in got.verdict
     assert f"grid of step {LSB:g}" in got.verdict
+    assert verdict_severity(got, est.variance) == "ok"  # information, not a warning
+    assert verdict_severity(got) == "warning"  # without the variance: the level varies
     # a level that really changes, off any grid, keeps its verdict
     rng = np.random.default_rng(12)
     level = np.where(np.arange(N) < N // 2, 1.0, 4.0)
-    other = noisevar.estimate(clean + level * rng.standard_normal(N)).diagnostics
+    other_est = noisevar.estimate(clean + level * rng.standard_normal(N))
+    other = other_est.diagnostics
     assert other.lsb is None and other.level_varies
     assert other.verdict.startswith("the noise level changes along the record")
+    assert verdict_severity(other, other_est.variance) == "warning"
 
 
 def test_a_level_jump_is_cut_out_not_modelled_as_noise() -> None:
