@@ -159,20 +159,13 @@ BUSY_JS = """since => window.__nvBusy.filter(e => e[0] >= since)
   .reduce((s, e) => s + e[1], 0) / 1000"""
 
 
-def watch_socket(page) -> list[int]:
-    """Sizes (bytes) of the websocket frames the page receives (call before opening it)."""
-    received: list[int] = []
-    page.on("websocket", lambda ws: ws.on("framereceived", lambda pl: received.append(len(pl))))
-    return received
-
-
 def control_changes(
-    page, changes: int, split: list | None = None, received: list[int] | None = None
+    page, changes: int, split: list | None = None, frames: list[tuple[float, int]] | None = None
 ) -> list[float]:
     """Seconds to settle after each of ``changes`` keyboard steps of the Γ_amp slider.
 
     ``split``, when given, receives per change ``(busy, kB)``: the browser's busy time
-    (its long tasks, s) and the kB the server sent (``received``: :func:`watch_socket`).
+    (its long tasks, s) and the kB the server sent (``frames``: :func:`watch_frames`).
     """
     thumb = page.locator('[data-testid="stSlider"]', has_text="Γ_amp").get_by_role("slider")
     out = []
@@ -180,13 +173,13 @@ def control_changes(
         thumb.focus()
         mark_figures(page)
         since = page.evaluate("() => performance.now()")
-        before = sum(received or [])
+        before = _sent(frames)
         thumb.press("ArrowRight")  # 0.5 -> 0.55 -> ... -> 1.0: a new value each time
         # the window-tests figure draws the thresholds: a new value always redraws it
         out.append(settled_at(page, since, redrawn=True))
         if split is not None:
             busy = page.evaluate(BUSY_JS, since)
-            split.append((busy, (sum(received or []) - before) / 1e3))
+            split.append((busy, (_sent(frames) - before) / 1e3))
     return out
 
 
@@ -198,6 +191,11 @@ def watch_frames(page) -> list[tuple[float, int]]:
         lambda ws: ws.on("framereceived", lambda pl: got.append((time.perf_counter(), len(pl)))),
     )
     return got
+
+
+def _sent(frames: list[tuple[float, int]] | None) -> int:
+    """Bytes received so far in ``frames`` (:func:`watch_frames`)."""
+    return sum(size for _, size in frames or [])
 
 
 def frame_times(frames: list[tuple[float, int]], t0: float) -> tuple[float, float]:
@@ -226,10 +224,10 @@ def run(changes: int, opens: int) -> dict:
             browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROME_ARGS, headless=True)
             for label, n, target in SIZES:
                 page = browser.new_page(viewport=VIEWPORT)
-                received = watch_socket(page)
+                frames = watch_frames(page)
                 opened = open_estimator(page, base, n)
                 split: list = []
-                times = control_changes(page, changes, split, received)
+                times = control_changes(page, changes, split, frames)
                 out["sizes"].append((label, target, opened, times, split))
                 print(f"{label}: opened {opened:.2f} s; changes {times}", flush=True)
                 page.close()
