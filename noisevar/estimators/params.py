@@ -152,6 +152,16 @@ class MethodSpec:
         The estimate is a mean of squared residuals, whose interval
         :func:`~noisevar.estimators.estimate` widens for the measured kurtosis and
         correlation (docs/algorithms.md §E1).
+    needs_reference : bool
+        The method takes a second sensor's record as ``reference=`` (one channel at a
+        time; the CLI asks for ``--reference-column``).
+    chunked : callable, optional
+        ``chunked(source, **params)``: the method's own path for a record read in chunks
+        (larger than memory, or long enough to gain from threads); ``None`` when it has
+        none. Who streams asks the spec, never the method's name.
+    finish : callable, optional
+        ``finish(result, record, params)``: a finishing step applied to the method's
+        result on one record (``auto``: the rounding correction of a quantised record).
     """
 
     name: str
@@ -163,6 +173,9 @@ class MethodSpec:
     assumes: tuple[str, ...] = ("white", "identifiable")
     moment: bool = True
     coloured_params: Mapping[str, Any] | None = None
+    needs_reference: bool = False
+    chunked: Callable[..., Any] | None = None
+    finish: Callable[..., Any] | None = None
 
     @property
     def param_specs(self) -> dict[str, ParamSpec]:

@@ -135,4 +135,5 @@ SOMD_REDUNDANT = MethodSpec(
     "somd",
     _somd_redundant,
     ("reference", "reference_variance"),
+    needs_reference=True,
 )
