@@ -9,21 +9,18 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar._distributions import chi2_pdf, chi2_ppf
+from noisevar.diagnostics.regimes import Regime, find_regimes
 
 #: At most this many blocks in a level profile (blocks grow with the record).
 PROFILE_BLOCKS = 200
 #: At least this many samples per block.
 PROFILE_MIN_BLOCK = 32
-#: The quiet stretches cover at least this share of the record.
-QUIET_MIN_SHARE = 0.05
 #: A block joins the quiet set while its level is below the ``1 - QUIET_ALPHA / n_blocks``
 #: quantile of the set's (a family-wise level over the blocks).
 QUIET_ALPHA = 0.05
 #: At most this many rounds of the quiet set, each testing mean squares with the kurtosis
 #: of the last round's other blocks.
 QUIET_ROUNDS = 5
-#: The level counts as steady while the quiet blocks cover at least this share of the record.
-STEADY_SHARE = 0.95
 #: The median of χ²₁.
 CHI2_1_MEDIAN = float(chi2_ppf(0.5, 1))
 #: Degrees of freedom per sample of a block median of χ²₁ values, ``2 (2 f(m) m)²``.
@@ -43,7 +40,10 @@ class LevelProfile:
     dof : ndarray, shape (n_blocks,)
         Effective degrees of freedom of each level.
     quiet : ndarray of bool, shape (n_blocks,)
-        Blocks of the quiet set.
+        Blocks of the quiet set: the still regimes' blocks, less those with motion in
+        part of them (a low median, a high mean square).
+    regimes : tuple of Regime
+        Stretches of one noise level (:mod:`noisevar.diagnostics.regimes`), in order.
     """
 
     start: NDArray
@@ -53,6 +53,7 @@ class LevelProfile:
     hi: NDArray
     dof: NDArray
     quiet: NDArray
+    regimes: tuple[Regime, ...] = ()
 
     @property
     def quiet_variance(self) -> float:
@@ -73,6 +74,7 @@ class LevelProfile:
             "lo": self.lo.tolist(),
             "hi": self.hi.tolist(),
             "quiet": self.quiet.tolist(),
+            "regimes": [r.to_dict() for r in self.regimes],
         }
 
 
@@ -159,21 +161,24 @@ def profile_from_blocks(
     hi = np.minimum(dof * var / q, np.finfo(float).max)
     # a median of χ²₁ has relative sd 1 / (2 f(m) m sqrt(n)): as a χ² with 0.368 n dof
     robust_dof = (count if medians is None else medians) * MEDIAN_DOF / eta
+    # regimes on the robust levels, which a few spikes do not move (docs/algorithms.md §F1)
+    regimes = find_regimes(start, stop, robust, robust_dof)
+    still = np.zeros(robust.size, dtype=bool)
+    for r in regimes:
+        still |= r.still & (start >= r.start) & (stop <= r.stop)
     level = 1.0 - QUIET_ALPHA / robust.size
-    # each block's χ²(ν_b)/ν_b quantile, once for all blocks
-    robust_q = chi2_ppf(level, robust_dof) / robust_dof
-    grow = partial(_quiet_set, robust, robust_dof, robust_q, stop - start, var, dof)
+    keep = partial(_quiet_set, still, var, dof)
     if tails is None:
-        quiet = grow(chi2_ppf(level, dof) / dof)
+        quiet = keep(chi2_ppf(level, dof) / dof)
     else:  # rounds: mean squares tested with the kurtosis of the last set's other blocks
-        quiet = grow(None)
+        quiet = still
         for _ in range(QUIET_ROUNDS):
             nu = _leave_one_out_dof(count, robust, tails, quiet, eta, dof)
-            again = grow(chi2_ppf(level, nu) / nu)
+            again = keep(chi2_ppf(level, nu) / nu)
             if np.array_equal(again, quiet):
                 break
             quiet = again
-    return LevelProfile(start, stop, var, lo, hi, dof, quiet)
+    return LevelProfile(start, stop, var, lo, hi, dof, quiet, regimes)
 
 
 def _leave_one_out_dof(
@@ -207,41 +212,21 @@ def _leave_one_out_dof(
     return np.where(np.isfinite(dof) & (m2 > 0), dof, fallback)
 
 
-def _quiet_set(
-    robust: NDArray,
-    robust_dof: NDArray,
-    robust_q: NDArray,
-    sizes: NDArray,
-    var: NDArray,
-    dof: NDArray,
-    var_q: NDArray | None,
-) -> NDArray:
-    """Grow a set from the quietest blocks while the next one is consistent with it.
+def _quiet_set(still: NDArray, var: NDArray, dof: NDArray, var_q: NDArray) -> NDArray:
+    """The still regimes' blocks whose mean square is consistent with their pooled level.
 
-    The quietest blocks (by their robust level) covering :data:`QUIET_MIN_SHARE` of the
-    record start the set; a block joins while both its robust level and its mean square
-    are below a high quantile (:data:`QUIET_ALPHA`, family-wise; ``robust_q``, ``var_q``:
-    each block's ``χ²(ν)/ν`` quantile) of the set's pooled levels (blocks in increasing
-    order of robust level, so the first refusal of a robust level ends it; a block with
-    motion in part of it keeps a low median but not a low mean square, and is skipped).
-    With ``var_q`` None, only robust levels are tested.
+    A block with motion in part of it keeps a low median (so it sits in a still regime)
+    but not a low mean square: it leaves the set when its mean square is above a high
+    quantile (``var_q``: each block's ``χ²(ν)/ν`` quantile, family-wise) of the set's
+    pooled mean square. Rounds from all still blocks until the set stays the same (at
+    most :data:`QUIET_ROUNDS`); no order of blocks enters, so time runs either way.
     """
-    order = np.argsort(robust)
-    need = QUIET_MIN_SHARE * sizes.sum()
-    quiet = np.zeros(robust.size, dtype=bool)
-    # running dof-weighted sums of the set's levels, each over its largest (no overflow)
-    r_pool, v_pool = _Pool(robust, robust_dof), _Pool(var, dof)
-    covered = 0.0
-    for b in order:
-        if covered >= need:
-            if robust[b] > r_pool.level() * robust_q[b]:
-                break  # every later block is louder still
-            if var_q is not None and var[b] > v_pool.level() * var_q[b]:
-                continue  # motion in part of the block: a low median, a high mean square
-        quiet[b] = True
-        r_pool.add(b)
-        v_pool.add(b)
-        covered += sizes[b]
+    quiet = still.copy()
+    for _ in range(QUIET_ROUNDS):
+        again = still & (var <= _pooled(var, dof, quiet) * var_q)
+        if np.array_equal(again, quiet) or not again.any():
+            break
+        quiet = again
     return quiet
 
 

@@ -90,19 +90,17 @@ class NoiseDiagnostics:
 
     @property
     def quiet_variance(self) -> float:
-        """Noise level of the quietest consistent stretches (at least 5 % of the record)."""
+        """Noise level of the still regimes (the lowest level, however short its stretches)."""
         return self.level_profile.quiet_variance
 
     @property
     def level_varies(self) -> bool:
         """The level changes along the record far more than its intervals allow.
 
-        True when the blocks consistent with the quietest cover less than
-        :data:`~noisevar.diagnostics.profile.STEADY_SHARE` of the record.
+        True when the record has a regime that is not still: a level above the lowest
+        regime's beyond what its interval allows (:mod:`noisevar.diagnostics.regimes`).
         """
-        from noisevar.diagnostics.profile import STEADY_SHARE
-
-        return bool(self.level_profile.quiet_share < STEADY_SHARE)
+        return any(not r.still for r in self.level_profile.regimes)
 
     @property
     def identifiable(self) -> bool:

@@ -1,0 +1,73 @@
+"""Regimes: stretches of one noise level, found by PELT on the level profile (§F1)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import noisevar
+from noisevar.diagnostics.regimes import find_regimes, regime_breaks
+
+
+def _burst(n: int, seed: int, a: int, b: int, loud: float) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    z = rng.normal(0.0, 1.0, n)
+    z[a:b] += rng.normal(0.0, loud, b - a)
+    return z
+
+
+@pytest.mark.parametrize("n", [3000, 20000, 200000])
+def test_white_noise_of_one_level_is_one_still_regime(n):
+    rng = np.random.default_rng(n)
+    for _ in range(10 if n < 100000 else 3):
+        z = np.sin(np.arange(n) / 300) + rng.normal(0, 1, n)
+        diag = noisevar.estimate(z).diagnostics
+        assert len(diag.level_profile.regimes) == 1
+        assert diag.level_profile.regimes[0].still
+        assert not diag.level_varies
+
+
+def test_a_short_still_start_is_found_and_gives_the_quiet_level():
+    # issue 26 class 2: a 3 % still start, then motion the residual cannot follow
+    rng = np.random.default_rng(3)
+    n = 100000
+    z = rng.normal(0, 0.15, n)
+    t = np.arange(n - 3000)
+    z[3000:] += 20 * np.sin(t / 5.0) + 3 * np.sin(t / 1.7) + rng.normal(0, 2.0, n - 3000)
+    diag = noisevar.estimate(z).diagnostics
+    first = diag.level_profile.regimes[0]
+    assert first.still and first.stop <= 3600
+    assert diag.level_varies
+    assert diag.quiet_variance == pytest.approx(0.0225, rel=0.15)
+
+
+def test_a_burst_is_a_regime_of_its_own_and_both_sides_are_still():
+    z = _burst(20000, 1, 8000, 9500, 3.0)
+    prof = noisevar.estimate(z).diagnostics.level_profile
+    loud = [r for r in prof.regimes if not r.still]
+    assert loud and all(7800 <= r.start and r.stop <= 9700 for r in loud)
+    assert prof.regimes[0].still and prof.regimes[-1].still
+    assert prof.quiet_variance == pytest.approx(1.0, rel=0.05)
+
+
+def test_regimes_read_the_same_backwards():
+    z = _burst(20000, 4, 5000, 7000, 4.0)
+    fwd = noisevar.estimate(z).diagnostics
+    bwd = noisevar.estimate(z[::-1]).diagnostics
+    assert [r.still for r in fwd.level_profile.regimes] == [
+        r.still for r in reversed(bwd.level_profile.regimes)
+    ]
+    lo, hi = sorted((fwd.quiet_variance, bwd.quiet_variance))
+    assert hi / lo < 1.05
+
+
+def test_the_search_on_blocks_finds_a_change_and_respects_the_penalty():
+    level = np.r_[np.ones(50), 4 * np.ones(30), np.ones(50)]
+    dof = np.full(level.size, 50.0)
+    assert regime_breaks(level, dof) == [0, 50, 80]
+    assert regime_breaks(np.ones(130), dof) == [0]
+    assert regime_breaks(np.zeros(5), np.ones(5)) == [0]
+    start = np.arange(level.size) * 10
+    regimes = find_regimes(start, start + 10, level, dof)
+    assert [r.still for r in regimes] == [True, False, True]
+    assert regimes[1].lo < 4 < regimes[1].hi
