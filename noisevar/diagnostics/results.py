@@ -13,6 +13,11 @@ from noisevar.diagnostics.segments import Gap
 from noisevar.diagnostics.whiteness import WhitenessTest
 
 
+#: A fitted noise lag-1 correlation below this (differenced white noise: -1/2) reads as
+#: differenced data; white noise gives 0, and smooth coloured noise a positive one.
+DIFFERENCED_LAG1 = -0.3
+
+
 def _finite(x: float | None) -> float | None:
     return None if x is None or not np.isfinite(x) else float(x)
 
@@ -103,6 +108,17 @@ class NoiseDiagnostics:
         return any(not r.still for r in self.level_profile.regimes)
 
     @property
+    def differenced(self) -> bool:
+        """The noise looks differenced: not white, with a lag-1 correlation near -1/2.
+
+        A record that is the difference of a noisy one (frequency from phase, velocity
+        from positions) carries MA(1) noise of lag-1 correlation -1/2 (docs/algorithms.md
+        §E2); this is the noise's fitted lag-1 correlation below
+        :data:`DIFFERENCED_LAG1`.
+        """
+        return bool(not self.white and self.whiteness.noise_lag1 < DIFFERENCED_LAG1)
+
+    @property
     def identifiable(self) -> bool:
         """False when the record behaves like a random walk (white first difference)."""
         return bool(not self.increments.white or self.increments.lag1 < -0.1)
@@ -117,6 +133,7 @@ class NoiseDiagnostics:
             "gaps": bool(self.gaps),
             "level_varies": self.level_varies,
             "identifiable": self.identifiable,
+            "differenced": self.differenced,
         }
 
     def to_dict(self) -> dict[str, Any]:
@@ -131,6 +148,7 @@ class NoiseDiagnostics:
             "acf_white": w.expected.tolist(),
             "acf_band": w.band.tolist(),
             "lag1_excess": _finite(w.lag1),
+            "noise_lag1": _finite(w.noise_lag1),
             "kurtosis": _finite(self.kurtosis),
             "tail_index": _finite(self.tail_index),
             "lsb": _finite(self.lsb),

@@ -63,6 +63,14 @@ def make_verdict(
             f"{_g(diag.quiet_variance)} (std {_g(float(np.sqrt(diag.quiet_variance)))}), "
             f"against {_g(variance)} over the whole record"
         )
+    if diag.differenced:
+        return (
+            "the data look differenced (a frequency from phase, a velocity from positions): "
+            f"the noise's lag-1 correlation is {diag.whiteness.noise_lag1:+.2f}, as the "
+            f"difference of white noise gives (-0.5); {r} is the variance per sample, but "
+            "successive errors are correlated: filter the undifferenced quantity (its R is "
+            "about half this) or model MA(1) measurement noise"
+        )
     if not diag.white:
         kind = (
             f"{describe(diag.power_law)} (power-law identification)"

@@ -28,6 +28,8 @@ WHITE_LAGS = 20
 WHITE_EIG_FLOOR = 0.02
 #: Significance level of the whiteness test.
 WHITE_ALPHA = 0.05
+#: Lags of the residual's autocorrelation that the noise's lag-1 correlation is fitted on.
+MA1_LAGS = 3
 
 
 @dataclass(frozen=True)
@@ -63,6 +65,26 @@ class WhitenessTest:
     def lag1(self) -> float:
         """The lag-1 autocorrelation of the noise, read off the residual's excess."""
         return float(self.acf[0] - self.expected[0])
+
+    @property
+    def noise_lag1(self) -> float:
+        """The noise's lag-1 correlation ``r``, fitted as MA(1) noise through the residual filter.
+
+        Notes
+        -----
+        docs/algorithms.md §E2: noise of autocorrelation ``(1, r, 0, ...)`` seen through a
+        filter of autocorrelation ``α`` gives a residual of autocorrelation
+        ``ρ_k = (α_k + r (α_{k-1} + α_{k+1})) / (1 + 2 r α_1)``, linear in ``r`` once
+        multiplied out; ``r`` is its least-squares solution over lags ``1..MA1_LAGS``
+        (0 for white noise, -1/2 for differenced white noise).
+        """
+        k = min(MA1_LAGS, self.acf.size - 1)
+        alpha = np.r_[1.0, self.expected[: k + 1]]  # α_0..α_{k+1}
+        rho = self.acf[:k]
+        c = alpha[:k] + alpha[2 : k + 2] - 2.0 * alpha[1] * rho
+        y = rho - alpha[1 : k + 1]
+        den = float(c @ c)
+        return float(c @ y / den) if den > 0 else 0.0
 
 
 def _null_acf(d: NDArray, reach: int) -> NDArray:

@@ -155,4 +155,5 @@ def test_to_dict_is_strict_json():
             "gaps",
             "level_varies",
             "identifiable",
+            "differenced",
         }

@@ -71,3 +71,15 @@ def test_the_search_on_blocks_finds_a_change_and_respects_the_penalty():
     regimes = find_regimes(start, start + 10, level, dof)
     assert [r.still for r in regimes] == [True, False, True]
     assert regimes[1].lo < 4 < regimes[1].hi
+
+
+def test_differenced_white_noise_is_recognised_and_said():
+    # issue 26 class 1: the difference of white noise is MA(1), lag-1 correlation -1/2
+    rng = np.random.default_rng(0)
+    z = np.diff(rng.normal(size=20001)) + 5 * np.sin(np.arange(20000) / 200)
+    diag = noisevar.estimate(z).diagnostics
+    assert diag.whiteness.noise_lag1 == pytest.approx(-0.5, abs=0.05)
+    assert diag.differenced and diag.flags["differenced"]
+    assert "differenced" in diag.verdict and "coloured" not in diag.verdict
+    white = noisevar.estimate(rng.normal(size=20000)).diagnostics
+    assert abs(white.whiteness.noise_lag1) < 0.05 and not white.differenced
