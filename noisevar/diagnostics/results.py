@@ -12,7 +12,6 @@ from noisevar.diagnostics.profile import LevelProfile
 from noisevar.diagnostics.segments import Gap
 from noisevar.diagnostics.whiteness import WhitenessTest
 
-
 #: A fitted noise lag-1 correlation below this (differenced white noise: -1/2) reads as
 #: differenced data; white noise gives 0, and smooth coloured noise a positive one.
 DIFFERENCED_LAG1 = -0.3
