@@ -18,6 +18,9 @@ PROFILE_MIN_BLOCK = 32
 #: A block joins the quiet set while its level is below the ``1 - QUIET_ALPHA / n_blocks``
 #: quantile of the set's (a family-wise level over the blocks).
 QUIET_ALPHA = 0.05
+#: The quiet set's seed: still blocks whose mean square is at most this many times the
+#: still blocks' median mean square.
+SEED_FACTOR = 20.0
 #: At most this many rounds of the quiet set, each testing mean squares with the kurtosis
 #: of the last round's other blocks.
 QUIET_ROUNDS = 5
@@ -168,13 +171,16 @@ def profile_from_blocks(
         still |= r.still & (start >= r.start) & (stop <= r.stop)
     level = 1.0 - QUIET_ALPHA / robust.size
     keep = partial(_quiet_set, still, var, dof)
+    # the seed: still blocks whose mean square is near the still blocks' median (a block
+    # with motion in part of it would widen every test through the kurtosis)
+    seed = still & (var <= SEED_FACTOR * np.median(var[still]))
     if tails is None:
-        quiet = keep(chi2_ppf(level, dof) / dof)
+        quiet = keep(chi2_ppf(level, dof) / dof, seed)
     else:  # rounds: mean squares tested with the kurtosis of the last set's other blocks
-        quiet = still
+        quiet = seed
         for _ in range(QUIET_ROUNDS):
             nu = _leave_one_out_dof(count, robust, tails, quiet, eta, dof)
-            again = keep(chi2_ppf(level, nu) / nu)
+            again = keep(chi2_ppf(level, nu) / nu, quiet)
             if np.array_equal(again, quiet):
                 break
             quiet = again
@@ -212,16 +218,18 @@ def _leave_one_out_dof(
     return np.where(np.isfinite(dof) & (m2 > 0), dof, fallback)
 
 
-def _quiet_set(still: NDArray, var: NDArray, dof: NDArray, var_q: NDArray) -> NDArray:
+def _quiet_set(
+    still: NDArray, var: NDArray, dof: NDArray, var_q: NDArray, seed: NDArray
+) -> NDArray:
     """The still regimes' blocks whose mean square is consistent with their pooled level.
 
     A block with motion in part of it keeps a low median (so it sits in a still regime)
     but not a low mean square: it leaves the set when its mean square is above a high
     quantile (``var_q``: each block's ``χ²(ν)/ν`` quantile, family-wise) of the set's
-    pooled mean square. Rounds from all still blocks until the set stays the same (at
-    most :data:`QUIET_ROUNDS`); no order of blocks enters, so time runs either way.
+    pooled mean square. Rounds from ``seed`` until the set stays the same (at most
+    :data:`QUIET_ROUNDS`); no order of blocks enters, so time runs either way.
     """
-    quiet = still.copy()
+    quiet = seed.copy()
     for _ in range(QUIET_ROUNDS):
         again = still & (var <= _pooled(var, dof, quiet) * var_q)
         if np.array_equal(again, quiet) or not again.any():
