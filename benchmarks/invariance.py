@@ -3,11 +3,11 @@
     python benchmarks/invariance.py [--records 200] [--n 20000] [--seed 1]
 
 Each record is white noise (σ = 1) on a slow signal, with one to three bursts of motion
-(a fast oscillation, jerky steps, or taps that ring; random amplitude and length). For each transform
-(reversal, dropping 1, 2 or 3 leading samples, sign flip, scale x1e3, an offset, a
-linear trend) the benchmark counts the records whose transformed R lies inside the
-original R's ci95 (the issue 26 target: at least 95 % for every transform). Results go
-to benchmarks/results/invariance.md.
+(a fast oscillation, jerky steps, or taps that ring; random amplitude and length). For
+each transform (reversal, dropping 1, 2 or 3 leading samples, sign flip, scale x1e3, an
+offset, a linear trend) the benchmark counts the records whose transformed R lies inside
+the original R's ci95 (the issue 26 target: at least 95 % for every transform). Results
+go to benchmarks/results/invariance.md.
 """
 
 from __future__ import annotations
@@ -93,7 +93,10 @@ def main() -> None:
         "",
         "| transform | R inside the original's ci95 | target | pass |",
         "|---|---|---|---|",
-        *(f"| {k} | {v:.1%} | >= 95 % | {'yes' if v >= 0.95 else 'no'} |" for k, v in share.items()),
+        *(
+            f"| {k} | {v:.1%} | >= 95 % | {'yes' if v >= 0.95 else 'no'} |"
+            for k, v in share.items()
+        ),
     ]
     OUT.parent.mkdir(parents=True, exist_ok=True)
     OUT.write_text("\n".join(lines) + "\n")
