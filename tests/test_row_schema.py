@@ -183,3 +183,10 @@ def test_precheck_asks_the_spec_whether_a_big_npy_may_stream(plugin, tmp_path):
     for method in ("rice", "no-such-method"):
         with pytest.raises(NoisevarError, match="over the 1,074 MB limit"):
             precheck([npy, f"--method={method}"])
+
+
+def test_a_batch_table_with_text_for_a_number_is_refused_in_one_sentence(tmp_path):
+    bad = tmp_path / "bad.csv"
+    bad.write_text("file,channel,std,n_used\na.csv,x,loud,3\n")
+    with pytest.raises(NoisevarError, match="cannot read the batch table bad.csv"):
+        read_table(bad)

@@ -75,7 +75,8 @@ def read_table(path: str | os.PathLike | bytes, name: str | None = None) -> pd.D
     Raises
     ------
     NoisevarError
-        Not a batch table (no ``file`` column) or unreadable.
+        Not a batch table (no ``file`` column), unreadable, or a column of the estimate's
+        schema holding a value of the wrong type (text for a number, ...).
     """
     import io
 
@@ -89,14 +90,14 @@ def read_table(path: str | os.PathLike | bytes, name: str | None = None) -> pd.D
             frame = pd.read_parquet(source)
         else:
             frame = pd.read_csv(source, dtype={"hash": str, "channel": str, "file": str})
+        if "file" not in frame.columns:
+            raise NoisevarError(f"{label} is not a batch table (it has no 'file' column)")
+        frame = frame.rename(columns=LEGACY_COLUMNS)
+        return frame.astype(row_dtypes(frame.columns))  # a cell of the wrong type: refused
     except NoisevarError:
         raise
     except Exception as exc:  # noqa: BLE001 - any reader failure is one clear sentence
         raise NoisevarError(f"cannot read the batch table {label}: {exc}") from None
-    if "file" not in frame.columns:
-        raise NoisevarError(f"{label} is not a batch table (it has no 'file' column)")
-    frame = frame.rename(columns=LEGACY_COLUMNS)
-    return frame.astype(row_dtypes(frame.columns))
 
 
 def read_journal(path: Path) -> list[dict[str, Any]]:
