@@ -98,12 +98,12 @@ def test_estimate_csv_with_header_table(capsys, files, signal):
 
 def test_estimate_json_keys_and_values(capsys, files, signal):
     data = run_json(capsys, "estimate", files["header"], "--column", "z", "--method", "somd")
-    assert {"variance", "std", "ci95", "method", "n_used", "params"} <= set(data)
+    assert {"variance", "std", "ci95_low", "ci95_high", "method", "n_used", "params"} <= set(data)
     expected = nv.estimate(signal, method="somd")
     assert data["method"] == "somd"
     assert data["variance"] == pytest.approx(expected.variance, rel=1e-12)
     assert data["std"] == pytest.approx(np.sqrt(expected.variance), rel=1e-12)
-    assert data["ci95"] == pytest.approx(list(expected.ci95), rel=1e-12)
+    assert [data["ci95_low"], data["ci95_high"]] == pytest.approx(list(expected.ci95), rel=1e-12)
     assert data["n_used"] == expected.n_used
     assert data["params"]["method"] == "somd"
     assert data["params"]["window"] == 40

@@ -117,7 +117,7 @@ def comparison_table(comp: Comparison, sig: LoadedSignal) -> None:
         table["CI covers truth"] = [r["covers_truth"] for r in rows]
     table["samples used"] = [r["n_used"] for r in rows]
     table["time (ms)"] = [r["ms"] for r in rows]
-    table["note"] = [r["note"] for r in rows]
+    table["note"] = [r["error"] or r["notes"] for r in rows]
     n_rows = len(rows)
     st.dataframe(
         table,

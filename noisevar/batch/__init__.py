@@ -21,6 +21,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from noisevar.batch._output import (
+    KEY_COLUMNS,
+    RUN_COLUMNS,
     append_rows,
     journal_path,
     open_journal,
@@ -30,13 +32,24 @@ from noisevar.batch._output import (
     rows_frame,
     write_table,
 )
-from noisevar.batch._task import ROW_COLUMNS, file_rows, parse_columns, run_task
+from noisevar.batch._task import file_rows, run_task
+from noisevar.batch.channels import parse_columns
 from noisevar.errors import NoisevarError
+from noisevar.estimators import DEFAULT_METHOD
 
 if TYPE_CHECKING:
     import pandas as pd
 
-__all__ = ["ROW_COLUMNS", "batch", "expand_paths", "file_rows", "read_table", "task_size"]
+__all__ = [
+    "KEY_COLUMNS",
+    "RUN_COLUMNS",
+    "batch",
+    "expand_paths",
+    "file_rows",
+    "read_table",
+    "rows_frame",
+    "task_size",
+]
 
 #: File extensions a directory given to :func:`batch` is searched for.
 DATA_EXTENSIONS = (".csv", ".tsv", ".txt", ".dat", ".tab", ".npy", ".nmea", ".nma", ".gps")
@@ -207,7 +220,7 @@ def _check_jobs(jobs: int | None) -> int:
 def batch(  # long: one readable sequence: plan, run, journal, merge
     paths: str | os.PathLike | Iterable[str | os.PathLike],
     columns: str | Sequence[str] | None = "all",
-    method: str = "auto",
+    method: str = DEFAULT_METHOD,
     out: str | os.PathLike | None = None,
     jobs: int | None = None,
     client: Any = None,
@@ -243,9 +256,10 @@ def batch(  # long: one readable sequence: plan, run, journal, merge
     Returns
     -------
     pandas.DataFrame
-        Every row of the output (:data:`~noisevar.batch._task.ROW_COLUMNS`, plus
-        ``flag_*`` columns when the estimates carry diagnostics). A file that cannot
-        be read is one row whose ``error`` says why.
+        Every row of the output: :data:`KEY_COLUMNS`, the estimate's row (the one
+        schema, :data:`noisevar.estimators.results.ROW_COLUMNS` with ``flag_*``
+        columns) and :data:`RUN_COLUMNS`. A file that cannot be read is one row whose
+        ``error`` says why.
 
     Notes
     -----
@@ -255,12 +269,13 @@ def batch(  # long: one readable sequence: plan, run, journal, merge
     """
     from noisevar.estimators import method_spec
 
-    if method == "somd-redundant":
+    spec = method_spec(method)
+    if spec.needs_reference:
         raise NoisevarError(
-            "somd-redundant needs a second sensor of the same quantity; a batch estimates each "
+            f"{method} needs a second sensor of the same quantity; a batch estimates each "
             "channel on its own: choose another method"
         )
-    method_spec(method).validate(params)  # a bad parameter stops the batch before it starts
+    spec.validate(params)  # a bad parameter stops the batch before it starts
     cols = parse_columns(columns)
     n_jobs = _check_jobs(jobs)
     target = Path(out) if out is not None else None

@@ -14,14 +14,22 @@ import os
 from pathlib import Path
 from typing import IO, TYPE_CHECKING, Any
 
-from noisevar.batch._task import ROW_COLUMNS
 from noisevar.errors import NoisevarError
+from noisevar.estimators.results import row_dtypes
+from noisevar.estimators.results import rows_frame as estimate_rows_frame
 
 if TYPE_CHECKING:
     import pandas as pd
 
 #: Output formats by file extension.
 FORMATS = {".parquet": "parquet", ".pq": "parquet", ".csv": "csv"}
+#: What a batch row is of, before the estimate's columns.
+KEY_COLUMNS: tuple[str, ...] = ("file", "channel")
+#: How a batch row was made, after the estimate's columns: the time it took, the file's
+#: content hash, the error (when there is no estimate) and the request it answers.
+RUN_COLUMNS: tuple[str, ...] = ("elapsed_s", "hash", "error", "request")
+#: Columns of tables written before the one row schema, and their names now.
+LEGACY_COLUMNS = {"ci95_lo": "ci95_low", "ci95_hi": "ci95_high", "n": "n_total"}
 
 
 def out_format(out: str | os.PathLike) -> str:
@@ -41,16 +49,17 @@ def journal_path(out: str | os.PathLike) -> Path:
 
 
 def rows_frame(rows: list[dict[str, Any]]) -> pd.DataFrame:
-    """Rows as a DataFrame with the batch columns in their order (``flag_*`` after the rest)."""
-    import pandas as pd
+    """Batch rows as the batch table: :data:`KEY_COLUMNS`, the estimate's, :data:`RUN_COLUMNS`.
 
-    frame = pd.DataFrame(rows)
-    flags = sorted(c for c in frame.columns if c.startswith("flag_"))
-    extra = [c for c in frame.columns if c not in ROW_COLUMNS and c not in flags]
-    order = [*ROW_COLUMNS[:11], *flags, *ROW_COLUMNS[11:], *extra]
-    frame = frame.reindex(columns=order)
-    # nullable dtypes: an error row has no count or flag, and reads back the same from Parquet
-    return frame.astype({"n": "Int64", "n_used": "Int64", **dict.fromkeys(flags, "boolean")})
+    The estimate's columns are the one row schema
+    (:data:`noisevar.estimators.results.ROW_COLUMNS`, ``flag_*`` included).
+    """
+    return estimate_rows_frame(rows, lead=KEY_COLUMNS, tail=RUN_COLUMNS)
+
+
+def _renamed(row: dict[str, Any]) -> dict[str, Any]:
+    """A row of an older table with today's column names (:data:`LEGACY_COLUMNS`)."""
+    return {LEGACY_COLUMNS.get(k, k): v for k, v in row.items()}
 
 
 def read_table(path: str | os.PathLike | bytes, name: str | None = None) -> pd.DataFrame:
@@ -66,7 +75,8 @@ def read_table(path: str | os.PathLike | bytes, name: str | None = None) -> pd.D
     Raises
     ------
     NoisevarError
-        Not a batch table (no ``file`` column) or unreadable.
+        Not a batch table (no ``file`` column), unreadable, or a column of the estimate's
+        schema holding a value of the wrong type (text for a number, ...).
     """
     import io
 
@@ -80,13 +90,14 @@ def read_table(path: str | os.PathLike | bytes, name: str | None = None) -> pd.D
             frame = pd.read_parquet(source)
         else:
             frame = pd.read_csv(source, dtype={"hash": str, "channel": str, "file": str})
+        if "file" not in frame.columns:
+            raise NoisevarError(f"{label} is not a batch table (it has no 'file' column)")
+        frame = frame.rename(columns=LEGACY_COLUMNS)
+        return frame.astype(row_dtypes(frame.columns))  # a cell of the wrong type: refused
     except NoisevarError:
         raise
     except Exception as exc:  # noqa: BLE001 - any reader failure is one clear sentence
         raise NoisevarError(f"cannot read the batch table {label}: {exc}") from None
-    if "file" not in frame.columns:
-        raise NoisevarError(f"{label} is not a batch table (it has no 'file' column)")
-    return frame.astype({c: "Int64" for c in ("n", "n_used") if c in frame.columns})
 
 
 def read_journal(path: Path) -> list[dict[str, Any]]:
@@ -97,7 +108,7 @@ def read_journal(path: Path) -> list[dict[str, Any]]:
     with path.open(encoding="utf-8") as fh:
         for line in fh:
             try:
-                rows.append(json.loads(line))
+                rows.append(_renamed(json.loads(line)))
             except json.JSONDecodeError:
                 break
     return rows

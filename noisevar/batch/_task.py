@@ -2,98 +2,24 @@
 
 from __future__ import annotations
 
-import json
-import math
 import os
 import time
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from noisevar.batch.channels import table_channels
 from noisevar.errors import NoisevarError
-
-#: Columns of every batch row, in output order; ``flag_<name>`` columns follow ``outlier_fraction``
-#: when the estimates carry diagnostics.
-ROW_COLUMNS: tuple[str, ...] = (
-    "file",
-    "channel",
-    "n",
-    "n_used",
-    "variance",
-    "std",
-    "ci95_lo",
-    "ci95_hi",
-    "dof",
-    "core_variance",
-    "outlier_fraction",
-    "verdict",
-    "method",
-    "params",
-    "notes",
-    "elapsed_s",
-    "hash",
-    "error",
-    "request",
-)
-
-
-def _finite(value: Any) -> float | None:
-    """A float, or None for a missing or non-finite value (rows are JSON-safe)."""
-    if value is None:
-        return None
-    v = float(value)
-    return v if math.isfinite(v) else None
-
-
-def _json_value(obj: Any) -> Any:
-    if hasattr(obj, "item"):
-        return obj.item()
-    if hasattr(obj, "tolist"):
-        return obj.tolist()
-    raise TypeError(f"not JSON serialisable: {type(obj).__name__}")
-
-
-def parse_columns(columns: str | Sequence[str] | None) -> str | list[str] | None:
-    """``"all"``, ``None`` (the first data column) or a list of column names.
-
-    Parameters
-    ----------
-    columns : str, sequence of str or None
-        ``"all"``, a comma-separated list ``"a,b,c"``, a list of names, or None.
-
-    Returns
-    -------
-    "all", list of str or None
-    """
-    if columns is None:
-        return None
-    if isinstance(columns, str):
-        if columns.strip().lower() == "all":
-            return "all"
-        names = [c.strip() for c in columns.split(",") if c.strip()]
-    else:
-        names = [str(c) for c in columns]
-    if not names:
-        raise NoisevarError("no column given: name the columns (a,b,c) or say 'all'")
-    return names
-
-
-def table_channels(table: Any, columns: str | list[str] | None) -> list[str]:
-    """The channel names of ``table`` selected by :func:`parse_columns`'s result."""
-    if columns == "all":
-        names = list(table.data_columns)
-        if not names:
-            raise NoisevarError(f"{table.name} has no data column (only a time column)")
-        return names
-    if columns is None:
-        return [table.data_columns[0]] if table.data_columns else [None]
-    return list(columns)
 
 
 def estimate_row(
     file: str, table: Any, channel: str | None, method: str, params: dict[str, Any]
 ) -> dict[str, Any]:
-    """One row: the estimate of one channel of a loaded table, or its error."""
+    """One row: the estimate of one channel of a loaded table, or its error.
+
+    The estimate's fields are its :meth:`~noisevar.estimators.results.VarianceEstimate.to_row`;
+    a row whose estimate failed has ``n_total`` (the samples read) and ``error``.
+    """
     import noisevar
     from noisevar.io import pick_column
 
@@ -101,37 +27,15 @@ def estimate_row(
     row: dict[str, Any] = {"file": file, "channel": channel, "method": method}
     try:
         z = pick_column(table, channel, drop_nonfinite=bool(params.get("drop_nonfinite")))
-        row["n"] = int(z.size)
+        row["n_total"] = int(z.size)
         est = noisevar.estimate(z, method=method, **params)
     except NoisevarError as exc:
         row["error"] = str(exc)
         row["elapsed_s"] = time.perf_counter() - start
         return row
-    row.update(estimate_fields(est))
+    row.update(est.to_row())
     row["elapsed_s"] = time.perf_counter() - start
     return row
-
-
-def estimate_fields(est: Any) -> dict[str, Any]:
-    """The row fields of one :class:`~noisevar.estimators.results.VarianceEstimate`."""
-    out: dict[str, Any] = {
-        "n_used": int(est.n_used),
-        "variance": _finite(est.variance),
-        "std": _finite(est.std),
-        "ci95_lo": _finite(est.ci95[0]),
-        "ci95_hi": _finite(est.ci95[1]),
-        "dof": _finite(est.dof),
-        "core_variance": _finite(getattr(est, "core_variance", None)),
-        "outlier_fraction": _finite(getattr(est, "outlier_fraction", None)),
-        "params": json.dumps(est.params, sort_keys=True, default=_json_value),
-        "notes": " | ".join(est.notes) if est.notes else None,
-    }
-    diag = getattr(est, "diagnostics", None)
-    if diag is not None:
-        out["verdict"] = str(getattr(diag, "verdict", "")) or None
-        for key, flag in dict(getattr(diag, "flags", {}) or {}).items():
-            out[f"flag_{key}"] = bool(flag)
-    return out
 
 
 def file_rows(
@@ -144,7 +48,7 @@ def file_rows(
     path : str
         The file (CSV/TSV, ``.npy`` or NMEA: whatever :func:`noisevar.io.load_table` reads).
     columns : "all", list of str or None
-        The channels (:func:`parse_columns`).
+        The channels (:func:`~noisevar.batch.channels.parse_columns`).
     method : str
         Estimator.
     params : dict
@@ -153,8 +57,10 @@ def file_rows(
     Returns
     -------
     list of dict
-        Rows keyed by :data:`ROW_COLUMNS` (and ``flag_*``); a row's ``hash`` is the
-        file's content hash, so that a resumed batch can skip it.
+        ``file``, ``channel``, the estimate's row
+        (:meth:`~noisevar.estimators.results.VarianceEstimate.to_row`) and ``elapsed_s``,
+        ``hash``, ``error``; a row's ``hash`` is the file's content hash, so that a
+        resumed batch can skip it.
     """
     from noisevar.io import content_digest, load_table
 

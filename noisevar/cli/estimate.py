@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 from noisevar.cli._common import load_record, load_signal, print_json
 from noisevar.errors import NoisevarError
-from noisevar.io.limits import MAX_BYTES, check_size, echo
+from noisevar.io.limits import MAX_BYTES, check_bytes, check_size, echo
 
 if TYPE_CHECKING:  # the module stays light: precheck runs before NumPy is imported
     from noisevar.params import ParamSpec
@@ -18,19 +18,38 @@ if TYPE_CHECKING:  # the module stays light: precheck runs before NumPy is impor
 
 def precheck(argv: list[str]) -> None:
     """Refuse FILE (the first argument) if missing or unreadable, or over the size cap
-    unless it may be streamed (:func:`_streamed`: ``--stream``, ``--dtype``, or a ``.npy``
-    for method auto, which ``--config`` may also choose).
+    unless it may be streamed (``--stream``, ``--dtype``, or a ``.npy`` for a method
+    with a chunked path: :func:`_may_stream`).
 
     Run by :func:`noisevar.cli.main` before the parser is built, so that a 5 GB file
-    is refused before NumPy and the estimators are imported.
+    is refused before NumPy and the estimators are imported. Only a ``.npy`` over the
+    cap asks the method registry (which imports them) whether its method streams.
     """
     if not argv or argv[0].startswith("-"):
         return
     words = [w for arg in argv[1:] for w in arg.split("=", 1)]  # --method=x: --method, x
-    method = words[words.index("--method") + 1] if "--method" in words[:-1] else "auto"
-    npy_auto = argv[0].lower().endswith(".npy") and method == "auto"
-    streamed = npy_auto or "--stream" in words or "--dtype" in words
-    check_size(argv[0], max_bytes=None if streamed else MAX_BYTES)
+    size = check_size(argv[0], max_bytes=None)
+    if "--stream" in words or "--dtype" in words or size <= MAX_BYTES:
+        return
+    if not (argv[0].lower().endswith(".npy") and _may_stream(words)):
+        check_bytes(size, Path(argv[0]).name)
+
+
+def _may_stream(words: list[str]) -> bool:
+    """Whether the method of the command line (``--method``, else the default) has a
+    chunked path; ``--config`` may still choose another, refused once it is read."""
+    from noisevar.estimators import DEFAULT_METHOD, METHODS
+
+    method = words[words.index("--method") + 1] if "--method" in words[:-1] else DEFAULT_METHOD
+    spec = METHODS.get(method)
+    return spec is not None and spec.chunked is not None
+
+
+def _streaming_methods() -> list[str]:
+    """The registered methods with a chunked path (``--stream``)."""
+    from noisevar.estimators import METHODS
+
+    return [m for m, spec in METHODS.items() if spec.chunked is not None]
 
 
 def _estimate_specs() -> list[ParamSpec]:
@@ -60,8 +79,10 @@ def read_config(path: str) -> tuple[dict[str, Any], dict[str, Any]]:
 
 def estimate_params(args: argparse.Namespace) -> tuple[str, dict[str, Any]]:
     """Method and parameters from ``--config`` (with its ``column``/``columns``) and the flags."""
+    from noisevar.estimators import DEFAULT_METHOD
+
     params: dict[str, Any] = {}
-    method = "auto"
+    method = DEFAULT_METHOD
     if args.config:
         cfg, channels = read_config(args.config)
         method = cfg.pop("method", method)
@@ -104,25 +125,17 @@ def _print_one(args: argparse.Namespace, column: Any, result: Any) -> None:
 
 
 def _as_json(args: argparse.Namespace, column: Any, result: Any) -> dict[str, Any]:
-    out = result.to_dict()
-    diag = getattr(result, "diagnostics", None)
-    if diag is not None and "diagnostics" not in out:
-        out["diagnostics"] = diag.to_dict()
-    out["file"] = args.file
-    out["column"] = column
-    return out
+    """The estimate's :meth:`~noisevar.estimators.results.VarianceEstimate.to_dict`, and where."""
+    return {**result.to_dict(), "file": args.file, "column": column}
 
 
 def _print_csv(args: argparse.Namespace, pairs: list[tuple[Any, Any]]) -> None:
-    from noisevar.batch._output import rows_frame
-    from noisevar.batch._task import estimate_fields
+    """One row per channel: ``file``, ``channel`` and the estimate's row (the one schema)."""
+    from noisevar.batch import KEY_COLUMNS
+    from noisevar.estimators.results import rows_frame
 
-    rows = [
-        {"file": args.file, "channel": c, "n": r.n_total, "method": r.method, **estimate_fields(r)}
-        for c, r in pairs
-    ]
-    frame = rows_frame(rows).drop(columns=["elapsed_s", "hash", "error"])
-    frame.to_csv(sys.stdout, index=False)
+    rows = [dict(zip(KEY_COLUMNS, (args.file, c), strict=True), **r.to_row()) for c, r in pairs]
+    rows_frame(rows, lead=KEY_COLUMNS).to_csv(sys.stdout, index=False)
 
 
 def _print_table(args: argparse.Namespace, pairs: list[tuple[Any, Any]]) -> None:
@@ -142,7 +155,7 @@ def _print_table(args: argparse.Namespace, pairs: list[tuple[Any, Any]]) -> None
 
 def _channels(args: argparse.Namespace, params: dict[str, Any]) -> tuple[Any, list | None]:
     """The one column (``--column``) or the channel list (``--columns``) to estimate."""
-    from noisevar.batch._task import parse_columns
+    from noisevar.batch.channels import parse_columns
 
     cfg_column, cfg_columns = params.pop("column", None), params.pop("columns", None)
     if args.column is not None and args.columns is not None:
@@ -156,11 +169,12 @@ def _estimate_many(args: argparse.Namespace, columns: Any, method: str, params: 
     import numpy as np
 
     import noisevar
-    from noisevar.batch._task import table_channels
+    from noisevar.batch.channels import table_channels
+    from noisevar.estimators import method_spec
     from noisevar.io import load_table, pick_column
 
-    if method == "somd-redundant":
-        raise NoisevarError("method somd-redundant takes one --column and a --reference-column")
+    if method_spec(method).needs_reference:
+        raise NoisevarError(f"method {method} takes one --column and a --reference-column")
     table = load_table(args.file, Path(args.file).name)
     names = table_channels(table, columns)
     drop = bool(params.get("drop_nonfinite", False))
@@ -191,31 +205,39 @@ def _estimate_many(args: argparse.Namespace, columns: Any, method: str, params: 
 
 
 def _streamed(args: argparse.Namespace, method: str) -> bool:
-    """Read the file in chunks: asked for, a raw binary file, or a .npy over the memory cap."""
-    from noisevar.io.load import MAX_BYTES
+    """Read the file in chunks: asked for, a raw binary file, or a .npy over the memory cap
+    for a method with a chunked path."""
+    from noisevar.estimators import method_spec
 
     if args.stream or args.dtype:
         return True
     big = args.file.lower().endswith(".npy") and os.path.getsize(args.file) > MAX_BYTES
-    return big and method == "auto"
+    return big and method_spec(method).chunked is not None
 
 
 def _estimate_streamed(args: argparse.Namespace, column: Any, method: str, params: dict) -> Any:
+    """The estimate of a record read in chunks, by a method whose spec has a chunked path."""
+    from noisevar.estimators import method_spec
     from noisevar.stream import estimate_file
 
-    if method != "auto" or args.columns is not None:
+    spec = method_spec(method)
+    if spec.chunked is None or args.columns is not None:
         raise NoisevarError(
             "a streamed record (--stream, --dtype, or a .npy over the memory limit) is "
-            "estimated by method auto, one --column at a time"
+            f"estimated by method {' or '.join(_streaming_methods())}, one --column at a time"
         )
-    extra = set(params) - {"span", "order", "trim"}
+    own = [getattr(p, "name", p) for p in spec.params]  # its parameters, drop_nonfinite not
+    extra = set(params) - set(own)
     if extra:
-        raise NoisevarError(f"a streamed record takes span, order and trim, not {sorted(extra)}")
+        raise NoisevarError(
+            f"a streamed record takes {', '.join(own)}, not {', '.join(sorted(extra))}"
+        )
     return estimate_file(args.file, column=column, dtype=args.dtype, workers=args.workers, **params)
 
 
 def _cmd_estimate(args: argparse.Namespace) -> int:
     import noisevar
+    from noisevar.estimators import method_spec
 
     method, params = estimate_params(args)
     column, columns = _channels(args, params)
@@ -225,10 +247,10 @@ def _cmd_estimate(args: argparse.Namespace) -> int:
     if columns is not None:
         return _estimate_many(args, columns, method, params)
     drop = bool(params.get("drop_nonfinite", False))
-    if method == "somd-redundant":
+    if method_spec(method).needs_reference:
         if not args.reference_column:
             raise NoisevarError(
-                "method somd-redundant needs --reference-column: the second sensor's column"
+                f"method {method} needs --reference-column: the second sensor's column"
             )
         z, dropped = load_signal(args.file, column, drop)
         params["reference"], _ = load_signal(args.file, args.reference_column, drop)
@@ -254,9 +276,9 @@ def _print(args: argparse.Namespace, column: Any, result: Any) -> None:
 
 def add_estimate_flags(p: argparse.ArgumentParser) -> None:
     """The method, its parameter flags and ``--config`` (shared with ``noisevar batch``)."""
-    from noisevar.estimators import methods
+    from noisevar.estimators import DEFAULT_METHOD, methods
 
-    p.add_argument("--method", choices=methods(), help="estimator (default auto)")
+    p.add_argument("--method", choices=methods(), help=f"estimator (default {DEFAULT_METHOD})")
     for spec in _estimate_specs():
         spec.add_to(p)
     p.add_argument("--config", help="tuned-parameter JSON exported by the dashboard")
@@ -269,12 +291,16 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--column", help="column name or 0-based index (default: the only/first)")
     p.add_argument("--columns", help="several channels: 'all' or a,b,c (one row each)")
     add_estimate_flags(p)
-    p.add_argument("--reference-column", help="second sensor's column (somd-redundant)")
+    from noisevar.estimators import METHODS
+
+    takes = ", ".join(m for m, spec in METHODS.items() if spec.needs_reference)
+    p.add_argument("--reference-column", help=f"second sensor's column ({takes})")
     p.add_argument("--format", choices=["table", "json", "csv"], default="table")
     p.add_argument(
         "--stream",
         action="store_true",
-        help="read the file in chunks (auto only; bounded memory; .npy, raw binary, CSV)",
+        help=f"read the file in chunks ({', '.join(_streaming_methods())} only; bounded memory; "
+        ".npy, raw binary, CSV)",
     )
     p.add_argument("--dtype", help="a headerless binary file of this sample type (e.g. <f4)")
     p.add_argument("--workers", type=int, default=2, help="threads of a streamed estimate")

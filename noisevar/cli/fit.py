@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import inspect
 import json
 from pathlib import Path
 from typing import Any
@@ -52,7 +53,8 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     else:
         if args.rate is None:
             raise NoisevarError("--rate is required: the sample rate in Hz (samples per second)")
-        tuning = fit_kalman(z, model=args.model or "cv", rate=args.rate, method=args.method)
+        method = {} if args.method is None else {"method": args.method}  # else fit_kalman's
+        tuning = fit_kalman(z, model=args.model or "cv", rate=args.rate, **method)
     if args.save_config:
         text = json.dumps(validate_config(to_config(tuning)), indent=2) + "\n"
         Path(args.save_config).write_text(text, encoding="utf-8")
@@ -67,14 +69,15 @@ def _cmd_fit(args: argparse.Namespace) -> int:
 
 def add_parser(sub: Any) -> None:
     """Register ``fit`` on the sub-command set ``sub``."""
-    from noisevar.noise_model.kalman_fit import METHODS, MODELS
+    from noisevar.noise_model.kalman_fit import METHODS, MODELS, fit_kalman
 
     p = sub.add_parser("fit", help="fit Q and R of a kinematic Kalman filter to a record")
     p.add_argument("file", help="CSV/TSV (with or without header), .npy, or NMEA file")
     p.add_argument("--column", help="column name or 0-based index (default: the only/first)")
     p.add_argument("--model", choices=list(MODELS), help="rw, cv or ca (default cv)")
     p.add_argument("--rate", type=float, help="sample rate in Hz (required unless in --config)")
-    p.add_argument("--method", choices=list(METHODS), default="auto", help="default auto")
+    default = inspect.signature(fit_kalman).parameters["method"].default
+    p.add_argument("--method", choices=list(METHODS), help=f"default {default}")
     p.add_argument("--config", help="apply the Q and R of this config instead of fitting")
     p.add_argument("--save-config", metavar="OUT", help="write the tuned filter as a config")
     p.add_argument("--format", choices=["table", "json"], default="table")

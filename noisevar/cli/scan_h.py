@@ -11,7 +11,7 @@ from noisevar.cli._common import load_signal, print_json
 
 
 def _cmd_scan_h(args: argparse.Namespace) -> int:
-    from noisevar.estimators._scale import scale_exponent
+    from noisevar.estimators import scale_exponent
     from noisevar.filters.envelope import scan_h
 
     z, _ = load_signal(args.file, args.column)

@@ -20,14 +20,16 @@ from noisevar.estimators._record import (
     estimate_record,
     rescale_diagnostics,
 )
+from noisevar.estimators._scale import scale_exponent
 from noisevar.estimators.auto import auto_estimate, residual_sequence
 from noisevar.estimators.difference import HKT_SEQUENCES, sequence_efficiency
-from noisevar.estimators.params import PARAMS, MethodSpec
+from noisevar.estimators.params import DEFAULT_METHOD, PARAMS, MethodSpec
 from noisevar.estimators.redundant import estimate_redundant, redundant_estimate
 from noisevar.estimators.results import VarianceEstimate, VarianceEstimates
 from noisevar.estimators.somd import somd_estimate, somd_variance_records, somd_variance_windows
 
 __all__ = [
+    "DEFAULT_METHOD",
     "HKT_SEQUENCES",
     "METHODS",
     "PARAMS",
@@ -42,6 +44,7 @@ __all__ = [
     "redundant_estimate",
     "register",
     "residual_sequence",
+    "scale_exponent",
     "sequence_efficiency",
     "somd_estimate",
     "somd_variance_records",

@@ -390,6 +390,13 @@ def _auto(z: NDArray, notes: list[str], **p: object) -> VarianceEstimate:
     return auto_estimate(z, notes=notes, **p)
 
 
+def _chunked(read: object, n: int, **p: object) -> VarianceEstimate:
+    """:func:`noisevar.stream.chunked.estimate_chunked` (until it moves beside ``auto``)."""
+    from noisevar.stream.chunked import estimate_chunked  # stream imports this module
+
+    return estimate_chunked(read, n, **p)  # type: ignore[arg-type]
+
+
 AUTO = MethodSpec(
     "auto",
     "robust zero-lag polynomial virtual sensor (our default)",
@@ -397,6 +404,7 @@ AUTO = MethodSpec(
     _auto,
     ("span", "order", "trim"),
     coloured_params={"span": AUTO_COLOURED_SPAN},
+    chunked=_chunked,
 )
 
 

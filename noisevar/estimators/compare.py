@@ -30,21 +30,30 @@ from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
 from noisevar.estimators import METHODS, estimate
-from noisevar.estimators.results import VarianceEstimate
+from noisevar.estimators.results import VarianceEstimate, row_columns
 from noisevar.io import LoadedTable, table_from_arrays
 from noisevar.signals import generate, signal_names
 
-#: Methods that need more than one signal (left out of single-signal comparisons).
-MULTI_SIGNAL_METHODS = ("somd-redundant",)
-#: Methods that are slow on long records (state-space maximum likelihood).
-SLOW_METHODS = ("mle-level", "mle-trend")
 #: Record length above which :func:`default_methods` leaves the slow methods out.
 SLOW_METHOD_LIMIT = 20_000
+#: Columns of a comparison row before the estimate's (:meth:`Comparison.rows`).
+COMPARE_LEAD = ("method", "kind")
+#: Columns of a comparison row after the estimate's.
+COMPARE_TAIL = ("rel_halfwidth", "ms", "rel_error", "covers_truth", "error", "description")
 
 
 def single_signal_methods() -> list[str]:
-    """Methods that estimate from one signal alone (all but ``somd-redundant``)."""
-    return [m for m in METHODS if m not in MULTI_SIGNAL_METHODS]
+    """Methods that estimate from one signal alone (all but those that need a reference)."""
+    return [m for m, spec in METHODS.items() if not spec.needs_reference]
+
+
+def slow_methods() -> list[str]:
+    """Methods that take seconds on a long record (their spec says ``slow``)."""
+    return [m for m, spec in METHODS.items() if spec.slow]
+
+
+#: The built-in slow methods (:func:`slow_methods` also sees methods registered later).
+SLOW_METHODS = tuple(slow_methods())
 
 
 def default_methods(n: int, monte_carlo: bool = False) -> list[str]:
@@ -66,7 +75,7 @@ def default_methods(n: int, monte_carlo: bool = False) -> list[str]:
     list of str
     """
     slow_ok = n <= SLOW_METHOD_LIMIT and not monte_carlo
-    return [m for m in single_signal_methods() if slow_ok or m not in SLOW_METHODS]
+    return [m for m in single_signal_methods() if slow_ok or not METHODS[m].slow]
 
 
 def relative_error(value: float, true_value: float) -> float:
@@ -142,29 +151,38 @@ class Comparison:
         return cramer_rao_floor(self.n)
 
     def rows(self) -> list[dict[str, Any]]:
-        """The comparison as table rows (one dict per method, JSON-ready)."""
+        """The comparison as table rows (one dict per method, JSON-ready).
+
+        Returns
+        -------
+        list of dict
+            Each :data:`COMPARE_LEAD`, the estimate's row
+            (:meth:`~noisevar.estimators.results.VarianceEstimate.to_row`, the one row
+            schema; empty for a method that failed) and :data:`COMPARE_TAIL`
+            (``rel_error`` and ``covers_truth`` only with a known truth); every row has
+            the same keys.
+        """
         out = []
         for r in self.results:
             e = r.estimate
             row: dict[str, Any] = {
                 "method": r.method,
                 "kind": r.kind,
-                "variance": r.variance,
-                "std": e.std if e else float("nan"),
-                "ci95_low": r.ci95[0],
-                "ci95_high": r.ci95[1],
+                **(e.to_row() if e else {}),
                 "rel_halfwidth": e.relative_halfwidth if e else float("nan"),
-                "n_used": e.n_used if e else 0,
                 "ms": 1000.0 * r.seconds,
             }
             if self.true_variance is not None:
                 row["rel_error"] = relative_error(r.variance, self.true_variance)
                 lo, hi = r.ci95
                 row["covers_truth"] = bool(lo <= self.true_variance <= hi) if e else False
-            row["note"] = r.error or "; ".join(e.notes if e else [])
+            row["error"] = r.error
             row["description"] = r.description
             out.append(row)
-        return out
+        keys = {k: None for row in out for k in row}
+        tail = [c for c in COMPARE_TAIL if c in keys]
+        cols = row_columns(keys, lead=COMPARE_LEAD, tail=tail)
+        return [{c: row.get(c) for c in cols} for row in out]
 
     def to_csv(self) -> str:
         """The table as CSV text."""

@@ -98,6 +98,7 @@ MLE_LEVEL = MethodSpec(
     _mle_level,
     assumes=_MLE_ASSUMES,
     moment=False,
+    slow=True,
 )
 MLE_TREND = MethodSpec(
     "mle-trend",
@@ -106,4 +107,5 @@ MLE_TREND = MethodSpec(
     _mle_trend,
     assumes=_MLE_ASSUMES,
     moment=False,
+    slow=True,
 )

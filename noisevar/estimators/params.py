@@ -16,6 +16,8 @@ from noisevar.filters.abg import check_h
 from noisevar.filters.selection import ANGLES
 from noisevar.params import ParamSpec, by_name
 
+#: The method :func:`noisevar.estimate`, the CLI and the batch use when none is named.
+DEFAULT_METHOD = "auto"
 PAPER_H_SMOOTH = 1.5e-5
 PAPER_WINDOW = 40
 AUTO_ORDER = 3
@@ -162,6 +164,9 @@ class MethodSpec:
     finish : callable, optional
         ``finish(result, record, params)``: a finishing step applied to the method's
         result on one record (``auto``: the rounding correction of a quantised record).
+    slow : bool
+        Seconds on a long record: a comparison of methods leaves it out of its defaults
+        there (:func:`noisevar.estimators.compare.default_methods`).
     """
 
     name: str
@@ -176,6 +181,7 @@ class MethodSpec:
     needs_reference: bool = False
     chunked: Callable[..., Any] | None = None
     finish: Callable[..., Any] | None = None
+    slow: bool = False
 
     @property
     def param_specs(self) -> dict[str, ParamSpec]:

@@ -1,8 +1,18 @@
-"""Result types of the variance estimators."""
+"""Result types of the variance estimators, and the one row schema of an estimate.
+
+:meth:`VarianceEstimate.to_row` is an estimate as one flat table row (the columns
+:data:`ROW_COLUMNS`, with a ``flag_<name>`` column per diagnostic flag) and
+:meth:`VarianceEstimate.to_dict` the same fields nested, for JSON. Every table of
+estimates is made from them: :meth:`VarianceEstimates.to_frame`, the CLI's csv,
+``noisevar batch`` and the comparison of methods, through :func:`rows_frame` and
+:func:`row_columns`.
+"""
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+import json
+import math
+from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -16,6 +26,136 @@ if TYPE_CHECKING:
     import pandas as pd
 
     from noisevar.diagnostics import NoiseDiagnostics
+
+#: The columns of one estimate's row (:meth:`VarianceEstimate.to_row`), in table order.
+#: One ``flag_<name>`` column per diagnostic flag (``flag_white``, ``flag_heavy_tailed``,
+#: ...) comes after ``outlier_fraction``, in name order.
+ROW_COLUMNS: tuple[str, ...] = (
+    "method",
+    "variance",
+    "std",
+    "ci95_low",
+    "ci95_high",
+    "n_used",
+    "n_total",
+    "dof",
+    "core_variance",
+    "outlier_fraction",
+    "verdict",
+    "params",
+    "notes",
+)
+#: Prefix of the diagnostic flags' columns.
+FLAG_PREFIX = "flag_"
+#: The flag columns follow this column.
+_FLAGS_AFTER = "outlier_fraction"
+#: Count columns: nullable integers in a frame (a row without an estimate has none).
+COUNT_COLUMNS = ("n_used", "n_total")
+#: Number columns: floats in a frame (NaN where a row has none).
+FLOAT_COLUMNS = (
+    "variance",
+    "std",
+    "ci95_low",
+    "ci95_high",
+    "dof",
+    "core_variance",
+    "outlier_fraction",
+)
+#: Fields of :meth:`VarianceEstimate.to_row` that :meth:`~VarianceEstimate.to_dict` nests.
+_NESTED = ("verdict", "params", "notes")
+
+
+def _finite(value: Any) -> float | None:
+    """A float, or None for a missing or non-finite value (rows are strict-JSON safe)."""
+    if value is None:
+        return None
+    v = float(value)
+    return v if math.isfinite(v) else None
+
+
+def _json_value(obj: Any) -> Any:
+    """NumPy scalars and arrays of ``params`` as plain JSON values."""
+    if hasattr(obj, "item"):
+        return obj.item()
+    if hasattr(obj, "tolist"):
+        return obj.tolist()
+    raise TypeError(f"not JSON serialisable: {type(obj).__name__}")
+
+
+def row_columns(
+    columns: Iterable[str], lead: Sequence[str] = (), tail: Sequence[str] = ()
+) -> list[str]:
+    """The order of a table of estimate rows: ``lead``, the schema, ``tail``, then the rest.
+
+    Parameters
+    ----------
+    columns : iterable of str
+        The columns the rows have.
+    lead : sequence of str
+        What the rows are of, before the estimate (``file``, ``channel``, ...).
+    tail : sequence of str
+        Columns of the caller after the estimate (``error``, timings, ...).
+
+    Returns
+    -------
+    list of str
+        Every column of ``lead``, :data:`ROW_COLUMNS` and ``tail`` (present or not), the
+        ``flag_*`` columns present after ``outlier_fraction``, then any other column.
+    """
+    cols = list(dict.fromkeys(columns))
+    own = {*lead, *tail}
+    flags = sorted(c for c in cols if c.startswith(FLAG_PREFIX) and c not in own)
+    schema: list[str] = []
+    for c in ROW_COLUMNS:
+        if c not in own:
+            schema.append(c)
+        if c == _FLAGS_AFTER:
+            schema.extend(flags)
+    order = [*lead, *schema, *tail]
+    return order + [c for c in cols if c not in set(order)]
+
+
+def row_dtypes(columns: Iterable[str]) -> dict[str, str]:
+    """The pandas dtypes of the schema's number, count and flag columns among ``columns``.
+
+    A row without an estimate (an error) has no number, count or flag: ``float64``
+    (NaN), ``Int64`` and ``boolean`` keep the others' type, and read back the same from
+    Parquet and CSV.
+    """
+    out = {}
+    for c in columns:
+        if c in FLOAT_COLUMNS:
+            out[c] = "float64"
+        elif c in COUNT_COLUMNS:
+            out[c] = "Int64"
+        elif c.startswith(FLAG_PREFIX):
+            out[c] = "boolean"
+    return out
+
+
+def rows_frame(
+    rows: Sequence[dict[str, Any]], lead: Sequence[str] = (), tail: Sequence[str] = ()
+) -> pd.DataFrame:
+    """Estimate rows (:meth:`VarianceEstimate.to_row` and context) as a DataFrame.
+
+    Parameters
+    ----------
+    rows : sequence of dict
+        One dict per row; a key missing from a row is a missing value.
+    lead, tail : sequence of str
+        The caller's columns before and after the estimate (:func:`row_columns`).
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns in :func:`row_columns` order, counts and flags nullable
+        (:func:`row_dtypes`).
+    """
+    import pandas as pd
+
+    frame = pd.DataFrame(list(rows))
+    frame = frame.reindex(columns=row_columns(frame.columns, lead, tail))
+    return frame.astype(row_dtypes(frame.columns))
 
 
 def chi2_interval(variance: float, dof: float, level: float = 0.95) -> tuple[float, float]:
@@ -149,20 +289,56 @@ class VarianceEstimate:
         """Half the CI width over the estimate (a quick precision figure)."""
         return float((self.ci95[1] - self.ci95[0]) / 2.0 / self.variance)
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready summary (no arrays)."""
+    def to_row(self) -> dict[str, Any]:
+        """The estimate as one flat table row: the one row schema of an estimate.
+
+        Returns
+        -------
+        dict
+            Keyed by :data:`ROW_COLUMNS` (in that order, ``flag_<name>`` for each
+            diagnostic flag after ``outlier_fraction``): numbers as floats (None when
+            missing or not finite), counts as ints, flags as bools, ``params`` as sorted
+            JSON text and ``notes`` joined by ``" | "`` (None when there is none).
+
+        Notes
+        -----
+        :meth:`to_dict` holds the same fields nested (for JSON); every table of
+        estimates is made of these rows (:func:`rows_frame`).
+        """
+        diag = self.diagnostics
+        flags = {} if diag is None else dict(diag.flags)
         return {
             "method": self.method,
-            "variance": float(self.variance),
-            "std": self.std,
-            "ci95": [float(self.ci95[0]), float(self.ci95[1])],
+            "variance": _finite(self.variance),
+            "std": _finite(self.std),
+            "ci95_low": _finite(self.ci95[0]),
+            "ci95_high": _finite(self.ci95[1]),
             "n_used": int(self.n_used),
             "n_total": int(self.n_total),
-            "dof": float(self.dof),
+            "dof": _finite(self.dof),
+            "core_variance": _finite(self.core_variance),
+            "outlier_fraction": _finite(self.outlier_fraction),
+            **{FLAG_PREFIX + k: bool(flags[k]) for k in sorted(flags)},
+            "verdict": None if diag is None else (str(diag.verdict) or None),
+            "params": json.dumps(self.params, sort_keys=True, default=_json_value),
+            "notes": " | ".join(self.notes) if self.notes else None,
+        }
+
+    def to_dict(self) -> dict[str, Any]:
+        """The estimate for JSON: the fields of :meth:`to_row`, nested (no arrays).
+
+        Returns
+        -------
+        dict
+            The numbers and counts of :meth:`to_row` under the same names, then
+            ``params`` (dict), ``notes`` (list), ``assumptions`` and ``diagnostics``
+            (its dict holds the verdict and the flags).
+        """
+        row = self.to_row()
+        return {
+            **{k: v for k, v in row.items() if k not in _NESTED and not k.startswith(FLAG_PREFIX)},
             "params": dict(self.params),
             "notes": list(self.notes),
-            "core_variance": None if self.core_variance is None else float(self.core_variance),
-            "outlier_fraction": float(self.outlier_fraction),
             "assumptions": dict(self.assumptions),
             "diagnostics": None if self.diagnostics is None else self.diagnostics.to_dict(),
         }
@@ -266,25 +442,13 @@ class VarianceEstimates:
         return self.estimates[index]
 
     def to_frame(self) -> pd.DataFrame:
-        """One row per channel: variance, std, ci95, counts, dof, core, flags and verdict."""
-        import pandas as pd
+        """One row per channel: ``channel``, then each estimate's :meth:`~VarianceEstimate.to_row`.
 
+        The channel is its index (an int for one channel axis, a tuple for several).
+        """
         idx = list(np.ndindex(*self.shape)) if self.shape else [()]
         rows = [
-            {
-                "channel": i if len(i) != 1 else i[0],
-                "variance": e.variance,
-                "std": e.std,
-                "ci95_low": e.ci95[0],
-                "ci95_high": e.ci95[1],
-                "n_used": e.n_used,
-                "n_total": e.n_total,
-                "dof": e.dof,
-                "core_variance": e.core_variance,
-                "outlier_fraction": e.outlier_fraction,
-                **({} if e.diagnostics is None else e.diagnostics.flags),
-                "verdict": None if e.diagnostics is None else e.diagnostics.verdict,
-            }
+            {"channel": i if len(i) != 1 else i[0], **e.to_row()}
             for i, e in zip(idx, self.estimates, strict=True)
         ]
-        return pd.DataFrame(rows)
+        return rows_frame(rows, lead=("channel",))

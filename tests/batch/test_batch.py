@@ -64,8 +64,8 @@ def test_rows_equal_single_file_estimates_and_a_bad_file_is_one_row(fleet, tmp_p
     for _, row in good.iterrows():
         est = _single(Path(row["file"]), row["channel"])
         assert row["variance"] == est.variance and row["std"] == est.std
-        assert (row["ci95_lo"], row["ci95_hi"]) == est.ci95
-        assert row["n"] == N and row["n_used"] == est.n_used
+        assert (row["ci95_low"], row["ci95_high"]) == est.ci95
+        assert row["n_total"] == N and row["n_used"] == est.n_used
         assert json.loads(row["params"]) == json.loads(json.dumps(est.params))
     assert list(frame["file"]) == sorted(frame["file"])  # sorted by file, channels in order
     on_disk = read_table(tmp_path / "noise.parquet")
@@ -104,7 +104,7 @@ def test_resume_after_an_interruption_does_only_the_rest(fleet, tmp_path):
     full = nv.batch(root, out=out, progress=lambda d, t: calls.append((d, t)))
     assert calls[-1] == (4, 4)  # only the remaining four files
     fresh = nv.batch(root, progress=False)
-    cols = ["file", "channel", "variance", "ci95_lo", "ci95_hi", "hash", "error"]
+    cols = ["file", "channel", "variance", "ci95_low", "ci95_high", "hash", "error"]
     pd.testing.assert_frame_equal(full[cols], fresh[cols], check_dtype=False)
     again: list[tuple[int, int]] = []
     nv.batch(root, out=out, progress=lambda d, t: again.append((d, t)))
@@ -138,7 +138,7 @@ def test_a_changed_file_is_redone_and_no_resume_redoes_all(fleet, tmp_path):
     second = nv.batch(root, out=out, progress=lambda d, t: calls.append((d, t)))
     assert calls[-1] == (1, 1)
     changed = second[second["file"] == str(files[1])]
-    assert (changed["n"] == 1000).all()
+    assert (changed["n_total"] == 1000).all()
     assert set(changed["hash"]) != set(first.loc[first["file"] == str(files[1]), "hash"])
     calls.clear()
     nv.batch(root, out=out, resume=False, progress=lambda d, t: calls.append((d, t)))

@@ -67,7 +67,7 @@ def test_cli_columns_all_json(capsys, table, channels):
     for j, c in enumerate(data["channels"]):
         one = nv.estimate(channels[:, j])
         assert c["variance"] == pytest.approx(one.variance, rel=1e-12)
-        assert c["ci95"] == pytest.approx(list(one.ci95), rel=1e-12)
+        assert [c["ci95_low"], c["ci95_high"]] == pytest.approx(list(one.ci95), rel=1e-12)
 
 
 def test_cli_columns_list_csv(capsys, table, channels):
@@ -78,7 +78,7 @@ def test_cli_columns_list_csv(capsys, table, channels):
     for r, j in zip(rows, (2, 0), strict=True):
         one = nv.estimate(channels[:, j], method="rice")
         assert float(r["variance"]) == pytest.approx(one.variance, rel=1e-12)
-        assert float(r["ci95_hi"]) == pytest.approx(one.ci95[1], rel=1e-12)
+        assert float(r["ci95_high"]) == pytest.approx(one.ci95[1], rel=1e-12)
         assert json.loads(r["params"])["method"] == "rice"
 
 

@@ -70,5 +70,5 @@ def test_cli_scheduler_runs_on_the_cluster(client, fleet, tmp_path, capsys):
     assert main(["batch", str(fleet), "--scheduler", address, "--out", str(out), "--quiet"]) == 0
     assert "10 files, 19 rows, 1 with an error" in capsys.readouterr().err
     local = nv.batch(fleet, progress=False)
-    cols = ["file", "channel", "variance", "ci95_lo", "ci95_hi", "error"]
+    cols = ["file", "channel", "variance", "ci95_low", "ci95_high", "error"]
     pd.testing.assert_frame_equal(read_table(out)[cols], local[cols], check_dtype=False)

@@ -315,7 +315,7 @@ def test_result_carries_what_the_dashboard_needs(method):
     assert 0 < est.n_used <= est.n_total == n
     assert est.dof > 0
     d = est.to_dict()
-    assert {"variance", "std", "ci95", "method", "n_used", "params"} <= set(d)
+    assert {"variance", "std", "ci95_low", "ci95_high", "method", "n_used", "params"} <= set(d)
     assert json.loads(json.dumps(d))["variance"] == pytest.approx(est.variance)
     if method.startswith("somd"):
         assert est.details is not None

@@ -101,7 +101,7 @@ def test_the_note_reaches_the_json_and_scales_everything(monkeypatch) -> None:
     np.testing.assert_allclose(got.core_variance, k * raw.core_variance, rtol=1e-12)
     d = got.to_dict()
     assert any("of a step" in n and "multiplied by" in n for n in d["notes"])
-    assert d["ci95"][0] < d["variance"] < d["ci95"][1]
+    assert d["ci95_low"] < d["variance"] < d["ci95_high"]
 
 
 def test_a_still_signal_is_not_corrected() -> None:
