@@ -81,6 +81,7 @@ class ColouredNoiseFit:
         Every fitted model.
     rate : float or None
     notes : tuple of str
+        Among them, which fits did not converge and whether the choice could change.
     """
 
     model: str
@@ -94,6 +95,11 @@ class ColouredNoiseFit:
     rate: float | None
     n: int
     notes: tuple[str, ...] = field(default_factory=tuple)
+
+    @property
+    def converged(self) -> dict[str, bool]:
+        """Whether each model's optimiser converged (see ``notes`` for what it means)."""
+        return {f.name: f.converged for f in self.fits}
 
     @property
     def F(self) -> NDArray:
@@ -130,6 +136,7 @@ class ColouredNoiseFit:
             "H": self.H.tolist(),
             "R": self.R.tolist(),
             "fits": [f.to_dict() for f in self.fits],
+            "converged": self.converged,
             "rate": self.rate,
             "n": self.n,
             "notes": list(self.notes),
@@ -165,7 +172,11 @@ def _start_rw(y: NDArray) -> list[float]:
 
 
 def _fit_one(y: NDArray, name: str) -> ModelFit:
-    """Exact-likelihood fit of one model with statsmodels' UnobservedComponents."""
+    """Exact-likelihood fit of one model with statsmodels' UnobservedComponents.
+
+    ``y`` is standardised (:func:`_standardise`); one restart from the end point with
+    more iterations when the first run did not converge.
+    """
     from statsmodels.tools.sm_exceptions import ConvergenceWarning
     from statsmodels.tsa.statespace.structural import UnobservedComponents
 
@@ -188,6 +199,8 @@ def _fit_one(y: NDArray, name: str) -> ModelFit:
             y, level="llevel" if rw else False, irregular=True, autoregressive=1 if ar else None
         )
         res = mod.fit(start_params=start, disp=False, maxiter=200)
+        if not res.mle_retvals.get("converged", True):
+            res = mod.fit(start_params=res.params, disp=False, maxiter=1000)
     p = dict(zip(mod.param_names, np.asarray(res.params, float), strict=True))
     k = len(p)
     ll = float(res.llf)
@@ -234,6 +247,88 @@ def _check(z: ArrayLike, rate: float | None, models: Sequence[str], criterion: s
     return arr
 
 
+def _standardise(arr: NDArray) -> tuple[NDArray, float]:
+    """The record without its mean and least-squares line, divided by its white scale.
+
+    The scale is ``sqrt(mean(diff(y)²) / 2)`` (the std of white noise; for white + AR(1)
+    or + random walk it keeps every per-sample variance of order 1), so the fits see the
+    same numbers whatever the units.
+    """
+    y = arr - arr.mean()
+    t = np.arange(y.size, dtype=float)
+    y = y - np.polyval(np.polyfit(t, y, 1), t)
+    scale = float(np.sqrt(np.mean(np.diff(y) ** 2) / 2.0))
+    if not (np.isfinite(scale) and scale > 0):
+        raise NoisevarError("the signal is a straight line: there is no noise to fit")
+    return y / scale, scale
+
+
+def _rescale(fit: ModelFit, scale: float, n: int) -> ModelFit:
+    """A fit of ``y / scale`` in the units of ``y``: variances x scale², l - n ln(scale)."""
+    s2 = scale**2
+    ll = fit.loglik - n * np.log(scale)
+    return ModelFit(
+        name=fit.name,
+        r=fit.r * s2,
+        phi=fit.phi,
+        q_ar=None if fit.q_ar is None else fit.q_ar * s2,
+        q_rw=None if fit.q_rw is None else fit.q_rw * s2,
+        loglik=ll,
+        aic=2 * fit.k - 2 * ll,
+        bic=fit.k * np.log(n) - 2 * ll,
+        k=fit.k,
+        converged=fit.converged,
+    )
+
+
+def convergence_notes(fits: Sequence[ModelFit], best: ModelFit) -> list[str]:
+    """What the fits that did not converge mean for the choice of ``best``.
+
+    An unconverged fit stopped short of its maximum likelihood, so its criterion can
+    only improve: a losing model that did not converge could still win (the choice
+    could change); an unconverged winner would only win by more (its parameters are
+    not the maximum-likelihood ones, but the choice would not change).
+    """
+    notes = []
+    losers = [f.name for f in fits if not f.converged and f is not best]
+    if losers:
+        notes.append(
+            f"{', '.join(losers)}: the optimiser did not converge, so "
+            f"{'this model' if len(losers) == 1 else 'these models'} could fit better than "
+            f"reported and the choice of {best.name} could change"
+        )
+    if not best.converged:
+        notes.append(
+            f"the chosen model {best.name}: the optimiser did not converge; its parameters "
+            "are not the maximum-likelihood ones (converged, it would fit better, so the "
+            + (
+                "choice would not change)"
+                if not losers
+                else "choice would not change against the converged models)"
+            )
+        )
+    return notes
+
+
+def _augmented(best: ModelFit, rate: float | None) -> tuple[list, list, float | None, float | None]:
+    """The coloured states of ``best``: phi, q, tau_c and the AR(1) stationary variance."""
+    phi: list[float] = []
+    q: list[float] = []
+    tau = s2 = None
+    if best.phi is not None:
+        phi.append(best.phi)
+        q.append(best.q_ar)
+        dt = 1.0 / rate if rate else 1.0
+        # phi = exp(-T / tau_c)
+        tau = float(-dt / np.log(best.phi)) if 0 < best.phi < 1 else None
+        # sigma_b² = q / (1 - phi²)
+        s2 = float(best.q_ar / (1 - best.phi**2)) if abs(best.phi) < 1 else None
+    if best.q_rw is not None:
+        phi.append(1.0)
+        q.append(best.q_rw)
+    return phi, q, tau, s2
+
+
 def fit_coloured_noise(
     z: ArrayLike,
     rate: float | None = None,
@@ -262,33 +357,21 @@ def fit_coloured_noise(
 
     Notes
     -----
-    docs/algorithms.md §E5. Parameters are per sample: ``q`` is the variance
-    of each coloured state's increment.
+    docs/algorithms.md §E5. The record is standardised before the fits and the
+    variances scaled back, so the choice, ``phi`` and ``r / unit²`` do not depend on
+    the units. Parameters are per sample: ``q`` is the variance of each coloured
+    state's increment. A fit that did not converge is said in ``notes``.
     """
     arr = _check(z, rate, models, criterion)
-    t = np.arange(arr.size, dtype=float)
-    y = arr - np.polyval(np.polyfit(t, arr, 1), t)
+    y, scale = _standardise(arr)
     fits = []
     for i, name in enumerate(models):
-        fits.append(_fit_one(y, name))
+        fits.append(_rescale(_fit_one(y, name), scale, arr.size))
         if progress is not None:
             progress((i + 1) / len(models))
     best = min(fits, key=lambda f: getattr(f, criterion))
-    phi: list[float] = []
-    q: list[float] = []
-    tau = s2 = None
-    if best.phi is not None:
-        phi.append(best.phi)
-        q.append(best.q_ar)
-        dt = 1.0 / rate if rate else 1.0
-        # phi = exp(-T / tau_c)
-        tau = float(-dt / np.log(best.phi)) if 0 < best.phi < 1 else None
-        # sigma_b² = q / (1 - phi²)
-        s2 = float(best.q_ar / (1 - best.phi**2)) if abs(best.phi) < 1 else None
-    if best.q_rw is not None:
-        phi.append(1.0)
-        q.append(best.q_rw)
-    notes = [f"{f.name}: the optimiser did not converge" for f in fits if not f.converged]
+    phi, q, tau, s2 = _augmented(best, rate)
+    notes = convergence_notes(fits, best)
     if best.phi is not None and best.phi <= 0:
         notes.append("the AR(1) part has phi <= 0: it is not a Gauss-Markov process")
     return ColouredNoiseFit(

@@ -118,6 +118,12 @@ class InertialNoise:
         Unit of the rate data (e.g. ``"rad/s"``).
     ci : float
         Confidence level of the intervals.
+    white_level : float
+        The measured white level ``sigma(tau0) sqrt(tau0)`` (unit/√Hz): the density of
+        the white rate noise that has the record's Allan deviation at ``tau0 = 1/fs``
+        (:func:`white_level`). A consumer without a Q term (Kalibr) needs at least this.
+    notes : tuple of str
+        When the fit put short-tau noise into Q, and what that does to N.
     """
 
     terms: tuple[NoiseTerm, ...]
@@ -125,6 +131,8 @@ class InertialNoise:
     rate: float
     unit: str
     ci: float
+    white_level: float
+    notes: tuple[str, ...] = ()
 
     def term(self, name: str) -> NoiseTerm:
         """The term called ``name`` (e.g. ``"random_walk"``) or with symbol ``name``."""
@@ -178,6 +186,8 @@ class InertialNoise:
             "ci": float(self.ci),
             "terms": {t.name: t.to_dict() for t in self.terms},
             "allan": self.allan.to_dict(),
+            "white_level": float(self.white_level),
+            "notes": list(self.notes),
         }
 
 
@@ -240,6 +250,56 @@ def _intervals(
     return np.column_stack([low, high])
 
 
+def white_level(y: ArrayLike, rate: float) -> float:
+    """The white level ``sigma(tau0) sqrt(tau0)`` of rate data (unit/√Hz).
+
+    Parameters
+    ----------
+    y : array_like, shape (n,)
+        Rate samples.
+    rate : float
+        Sample rate (Hz).
+
+    Returns
+    -------
+    float
+
+    Notes
+    -----
+    docs/algorithms.md §E4. At ``tau0 = 1/fs`` the overlapping Allan variance is
+    ``mean(diff(y)²) / 2``, so this is the std of first differences over ``sqrt(2 fs)``:
+    ``N`` exactly for white rate noise, ``sqrt(N² + 3 Q² fs)`` with quantisation
+    (its per-sample variance is ``2 Q² fs²``: counted 1.5x, on the safe side), and
+    blind to a slow bias.
+    """
+    d = np.diff(np.asarray(y, dtype=float))
+    return math.sqrt(float(np.mean(d**2)) / 2.0 / rate)
+
+
+def _n_against_white(coef: NDArray, ivals: NDArray, white: float, unit: str) -> list[str]:
+    """Keep N's interval honest when Q took the short-tau noise; ``ivals`` is edited in place.
+
+    When N is not told from 0 its upper bound is at least the white level (all of the
+    short-tau noise white): the bootstrap, taking the taus as independent, overstates
+    how well a short record splits Q from N.
+    """
+    n_value, q_value = math.sqrt(coef[1]), math.sqrt(coef[0])
+    notes = []
+    if ivals[1, 0] == 0.0 and ivals[1, 1] < white:
+        ivals[1, 1] = white
+        why = f" (Q = {q_value:.4g} {unit}·s took the short-tau noise)" if q_value > 0 else ""
+        notes.append(
+            f"N is not told from 0{why}: its upper bound is the white level "
+            f"{white:.4g} {unit}/√Hz, as if all of the short-tau noise were white"
+        )
+    if q_value > 0 and n_value < white:
+        notes.append(
+            f"Q holds part of the Allan variance at tau0: N = {n_value:.4g} is below the white "
+            f"level {white:.4g} {unit}/√Hz; a model without Q (Kalibr) needs the white level"
+        )
+    return notes
+
+
 def _one_axis(
     y: NDArray, rate: float, unit: str, taus: str | ArrayLike, ci: float, seed: int
 ) -> InertialNoise:
@@ -248,6 +308,8 @@ def _one_axis(
         raise NoisevarError("The record is too short: the fit needs at least two taus.")
     coef, w = fit_terms(res.taus, res.variance, res.edf)
     ivals = _intervals(res.taus, coef, w, res.edf, ci, seed)
+    white = white_level(y, rate)
+    notes = _n_against_white(coef, ivals, white, unit)
     terms = []
     for spec, c, (lo, hi) in zip(TERMS, coef, ivals, strict=True):
         value = float(np.sqrt(c))
@@ -263,7 +325,7 @@ def _one_axis(
                 spec.slope,
             )
         )
-    return InertialNoise(tuple(terms), res, float(rate), unit, float(ci))
+    return InertialNoise(tuple(terms), res, float(rate), unit, float(ci), white, tuple(notes))
 
 
 def inertial_noise(

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Sequence
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 from typing import Any
 
 from noisevar.errors import NoisevarError
@@ -28,6 +28,10 @@ FIELDS = {
 }
 
 
+#: Prefix of the comment lines that carry the notes.
+NOTE = "# note: "
+
+
 @dataclass(frozen=True)
 class KalibrImu:
     """The values of a Kalibr ``imu.yaml``."""
@@ -38,15 +42,17 @@ class KalibrImu:
     gyroscope_random_walk: float
     update_rate: float
     rostopic: str = "/imu0"
+    notes: tuple[str, ...] = field(default_factory=tuple)
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-safe dictionary."""
-        return asdict(self)
+        """JSON-safe dictionary of the file's values (the notes are in ``notes``)."""
+        return {k: v for k, v in asdict(self).items() if k != "notes"}
 
     def to_yaml(self) -> str:
-        """The file's text."""
+        """The file's text (the notes as ``# note:`` comment lines at the top)."""
         values = self.to_dict()
         lines = ["# Kalibr IMU noise model, written by noisevar (docs/algorithms.md §E4)"]
+        lines += [f"{NOTE}{note}" for note in self.notes]
         for key, comment in FIELDS.items():
             v = values[key]
             if isinstance(v, str):
@@ -59,12 +65,38 @@ class KalibrImu:
         return "\n".join(lines) + "\n"
 
 
-def _worst(fits: InertialNoise | Sequence[InertialNoise], name: str) -> float:
-    """The largest value of term ``name`` over the axes (the conservative choice)."""
+def _axes(fits: InertialNoise | Sequence[InertialNoise]) -> list[InertialNoise]:
     axes = [fits] if isinstance(fits, InertialNoise) else list(fits)
     if not axes:
         raise NoisevarError("No axis given: pass the InertialNoise of at least one axis.")
-    return max(a.term(name).value for a in axes)
+    return axes
+
+
+def _worst(fits: InertialNoise | Sequence[InertialNoise], name: str) -> float:
+    """The largest value of term ``name`` over the axes (the conservative choice)."""
+    return max(a.term(name).value for a in _axes(fits))
+
+
+def _density(fits: InertialNoise | Sequence[InertialNoise], key: str) -> tuple[float, list[str]]:
+    """The white-noise density: the largest of N and of the white level over the axes.
+
+    Kalibr has no quantisation field, so short-tau noise the fit put into Q would be
+    lost: the density is at least the white level ``sigma(tau0) sqrt(tau0)`` of every
+    axis (docs/algorithms.md §E4), with a note when that raises it above N.
+    """
+    axes = _axes(fits)
+    n = max(a.random_walk for a in axes)
+    i = int(max(range(len(axes)), key=lambda j: axes[j].white_level))
+    white = axes[i].white_level
+    if not white > n:
+        return n, []
+    note = (
+        f"{key}: raised from N = {n:.4g} (IEEE-952 fit, largest axis) to the white level "
+        f"sigma(tau0) sqrt(tau0) = {white:.4g} of axis {i}, before inflation: the fit put "
+        "part of the short-tau noise into the quantisation term Q, which Kalibr has no field "
+        "for (on a short record Q and N are hard to tell apart)"
+    )
+    return white, [note]
 
 
 def kalibr_imu(
@@ -92,7 +124,9 @@ def kalibr_imu(
 
     Notes
     -----
-    Over several axes the largest N and K are kept.
+    Over several axes the largest N and K are kept. The noise density is at least
+    each axis's white level ``sigma(tau0) sqrt(tau0)`` (Kalibr has no quantisation
+    term to hold what the fit put into Q); ``notes`` says when that raised it.
     """
     if not (math.isfinite(inflation) and inflation > 0):
         raise NoisevarError(f"The inflation must be a positive number, not {inflation}.")
@@ -100,13 +134,16 @@ def kalibr_imu(
     rates |= {a.rate for a in ([accel] if isinstance(accel, InertialNoise) else accel)}
     if len(rates) != 1:
         raise NoisevarError(f"The axes were fitted at different rates ({sorted(rates)} Hz).")
+    accel_n, accel_notes = _density(accel, "accelerometer_noise_density")
+    gyro_n, gyro_notes = _density(gyro, "gyroscope_noise_density")
     return KalibrImu(
-        accelerometer_noise_density=inflation * _worst(accel, "random_walk"),
+        accelerometer_noise_density=inflation * accel_n,
         accelerometer_random_walk=inflation * _worst(accel, "rate_random_walk"),
-        gyroscope_noise_density=inflation * _worst(gyro, "random_walk"),
+        gyroscope_noise_density=inflation * gyro_n,
         gyroscope_random_walk=inflation * _worst(gyro, "rate_random_walk"),
         update_rate=rates.pop(),
         rostopic=rostopic,
+        notes=tuple(accel_notes + gyro_notes),
     )
 
 
@@ -155,7 +192,8 @@ def parse_kalibr(text: str) -> KalibrImu:
         values = {k: float(raw[k]) for k in FIELDS if k != "rostopic"}
     except (TypeError, ValueError) as exc:
         raise NoisevarError(f"A Kalibr value is not a number: {exc}.") from exc
-    return KalibrImu(**values, rostopic=str(raw.get("rostopic", "/imu0")))
+    notes = tuple(line[len(NOTE) :] for line in text.splitlines() if line.startswith(NOTE))
+    return KalibrImu(**values, rostopic=str(raw.get("rostopic", "/imu0")), notes=notes)
 
 
 def read_kalibr(path: str | os.PathLike) -> KalibrImu:

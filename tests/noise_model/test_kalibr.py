@@ -41,7 +41,9 @@ def fits() -> tuple[tuple, tuple]:
 def test_values_are_the_worst_axis_times_the_inflation(fits) -> None:
     gyro, accel = fits
     imu = kalibr_imu(gyro, accel, inflation=10.0)
-    assert imu.gyroscope_noise_density == pytest.approx(10 * max(g.random_walk for g in gyro))
+    # the largest N, raised to the largest white level sigma(tau0) sqrt(tau0) (issue 26)
+    worst = max(max(g.random_walk, g.white_level) for g in gyro)
+    assert imu.gyroscope_noise_density == pytest.approx(10 * worst)
     assert imu.gyroscope_noise_density == pytest.approx(10 * 2e-3, rel=0.05)
     assert imu.accelerometer_random_walk == pytest.approx(
         10 * max(a.rate_random_walk for a in accel)
