@@ -7,6 +7,7 @@ underscore are not hashed. Cached results are shared read-only objects.
 
 from __future__ import annotations
 
+import inspect
 import json
 import re
 from collections.abc import Callable, Sequence
@@ -44,6 +45,10 @@ if TYPE_CHECKING:
 JsonDict = dict[str, Any]
 #: Settings of the Adaptive filter page (strategy parameters by name).
 Settings = dict[str, float | int | str]
+
+#: The method :func:`noisevar.estimate` uses when none is named (read from its signature,
+#: so that the dashboard's quick estimates follow the package's one default).
+DEFAULT_METHOD: str = inspect.signature(noisevar.estimate).parameters["method"].default
 
 #: The carrier filters the Carrier tracking page shows (``comparison_variants`` names).
 CARRIER_FILTERS = ("ekf", "aekf", "ekf_matched", "aekf_paper_q")
@@ -228,7 +233,9 @@ def _column_estimate_cached(
     return noisevar.estimate(pick_column(_sig.table, column), method=method)
 
 
-def column_estimate(sig: LoadedSignal, column: str, method: str = "auto") -> VarianceEstimate:
+def column_estimate(
+    sig: LoadedSignal, column: str, method: str = DEFAULT_METHOD
+) -> VarianceEstimate:
     """A single-signal estimate of one column of the signal's table, cached."""
     return _column_estimate_cached(sig.table_digest, column, method, sig)
 

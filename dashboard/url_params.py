@@ -113,7 +113,7 @@ def _current() -> dict[str, list[str]]:
 def clean_query_params() -> dict[str, str]:
     """Drop every query-parameter value no widget can hold; one warning if any was dropped.
 
-    Call it before any widget (``setup_page`` does).
+    Call it before any widget (``dashboard.pages.frame`` does).
 
     Returns
     -------

@@ -11,6 +11,7 @@ import streamlit as st
 
 import noisevar
 from dashboard.loading import load_bytes
+from dashboard.pages import ESTIMATOR
 from dashboard.state import reselect
 from dashboard.widgets import csv_download, fmt, guarded, show_figure
 from noisevar.batch import read_table
@@ -23,7 +24,6 @@ from noisevar.figures.fleet import flagged_sensors, fleet_distribution
 TABLE_KEY = "nv_fleet_table"
 LABEL_KEY = "nv_fleet_label"
 FOLDER_KEY = "nv_fleet_folder"
-ESTIMATOR_PAGE = "pages/2_Estimator.py"
 SOURCES = ("Example fleet", "Batch table", "Run a batch")
 
 
@@ -170,7 +170,7 @@ def open_sensor(report: FleetReport) -> None:
     if c2.button("Open on the Estimator page", key="fl_open", type="primary"):
         with guarded():
             _open(sensor)
-            st.switch_page(ESTIMATOR_PAGE)
+            st.switch_page(ESTIMATOR.path)
 
 
 def _open(sensor: SensorScore) -> None:

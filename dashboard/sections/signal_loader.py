@@ -9,7 +9,7 @@ from streamlit.delta_generator import DeltaGenerator
 
 import noisevar
 from dashboard import loading
-from dashboard.pages import SIGNAL_PAGE
+from dashboard.pages import SIGNAL
 from dashboard.state import LoadedSignal, current_signal, initial
 from dashboard.widgets import guarded, how_it_works
 from noisevar.signals import GPS_CHANNELS
@@ -56,7 +56,7 @@ def require_signal(
         with guarded():
             loading.load_generated("fast-slow", n=6000, seed=0, noise_std=5.0)
             st.rerun()
-    st.page_link(SIGNAL_PAGE, label="Go to the Signal page", icon=":material/upload:")
+    st.page_link(SIGNAL.path, label="Go to the Signal page", icon=":material/upload:")
     if explain:
         how_it_works(*explain)
     st.stop()

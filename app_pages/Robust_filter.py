@@ -1,10 +1,12 @@
-"""Robust filter page: Huber M-estimation EKF with a bearing-bias state (docs/algorithms.md §B3)."""
+"""Huber M-estimation EKF with a bearing-bias state against outliers.
+
+Robust filter page: Huber M-estimation EKF with a bearing-bias state (docs/algorithms.md §B3).
+"""
 
 from __future__ import annotations
 
 import streamlit as st
 
-from dashboard.pages import setup_page
 from dashboard.sections import robust
 from dashboard.widgets import how_it_works
 
@@ -28,7 +30,6 @@ HOW_IT_WORKS = (
     "the state lets the filter estimate the magnetic variation.",
 )
 
-setup_page(__file__)
 st.title("Robust filter")
 st.caption(
     "An aircraft flies over a DME/VOR station: slant range, magnetic bearing (with the "

@@ -1,10 +1,12 @@
-"""Estimator page: tune SOMD and see every step (filters, windows, envelopes, h scan, estimate)."""
+"""Tune SOMD (h_S, h_T, m, Γ) and see every step: filters, windows, envelopes, h scan.
+
+Estimator page: tune SOMD and see every step (filters, windows, envelopes, h scan, estimate).
+"""
 
 from __future__ import annotations
 
 import streamlit as st
 
-from dashboard.pages import setup_page
 from dashboard.sections.estimator_tuning import follow_config_column
 from dashboard.sections.estimator_view import tuned_view
 from dashboard.sections.signal_loader import require_signal
@@ -42,7 +44,6 @@ HOW_IT_WORKS = (
     "effective degrees of freedom of the correlated squares.",
 )
 
-setup_page(__file__)
 st.title("Estimator")
 sig = require_signal(
     "The Estimator tunes the SOMD estimator on it and shows every step.", explain=HOW_IT_WORKS

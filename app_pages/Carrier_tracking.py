@@ -1,10 +1,12 @@
-"""Carrier tracking page: fixed vs adaptive EKF on a weak GNSS carrier (docs/algorithms.md §B1)."""
+"""Adaptive EKF carrier tracking of a weak GNSS signal.
+
+Carrier tracking page: fixed vs adaptive EKF on a weak GNSS carrier (docs/algorithms.md §B1).
+"""
 
 from __future__ import annotations
 
 import streamlit as st
 
-from dashboard.pages import setup_page
 from dashboard.sections import carrier
 from dashboard.widgets import how_it_works
 
@@ -28,7 +30,6 @@ HOW_IT_WORKS = (
     "A cycle slip is a jump of the phase error by a whole cycle: the loop has lost lock.",
 )
 
-setup_page(__file__)
 st.title("Carrier tracking")
 st.caption(
     "One GPS L1 C/A channel after acquisition: prompt I/Q correlator outputs each integration "

@@ -1,10 +1,12 @@
-"""Fleet page: the noise of many sensors side by side, and the ones outside the fleet's range."""
+"""Many sensors at once: noise per channel, sensors outside the fleet's range flagged.
+
+Fleet page: the noise of many sensors side by side, and the ones outside the fleet's range.
+"""
 
 from __future__ import annotations
 
 import streamlit as st
 
-from dashboard.pages import setup_page
 from dashboard.sections import fleet
 from dashboard.widgets import guarded, how_it_works
 from noisevar.batch.fleet import fleet_report
@@ -23,7 +25,6 @@ HOW_IT_WORKS = (
     "figure is each channel's normal range.",
 )
 
-setup_page(__file__)
 st.title("Fleet")
 fleet.source_panel()
 frame, label = fleet.current_table()

@@ -1,10 +1,12 @@
-"""Compare page: every method on the signal; Monte Carlo relative errors against the CR floor."""
+"""Every method on the signal; Monte Carlo relative errors against the Cramér-Rao floor.
+
+Compare page: every method on the signal; Monte Carlo relative errors against the CR floor.
+"""
 
 from __future__ import annotations
 
 import streamlit as st
 
-from dashboard.pages import setup_page
 from dashboard.sections import compare
 from dashboard.sections.signal_loader import require_signal
 from dashboard.widgets import how_it_works
@@ -33,7 +35,6 @@ HOW_IT_WORKS = (
     "paper's criterion for Fig. 2: 95 % of the relative errors within 10 %, none above 20 %.",
 )
 
-setup_page(__file__)
 st.title("Compare")
 sig = require_signal(
     "The Compare page runs every estimator on it side by side.", explain=HOW_IT_WORKS
