@@ -20,6 +20,7 @@ from noisevar.errors import NoisevarError
 from noisevar.estimators.compare import rows_to_csv
 from noisevar.figures._common import capped, to_html, to_png
 from noisevar.format import eng
+from noisevar.params import ParamSpec
 
 LOG = logging.getLogger("noisevar.dashboard")
 
@@ -411,3 +412,57 @@ def figure_view(views: list[str], key: str, default: str, fallback: str | None =
         "Figure", views, key=key, bind="query-params", **initial(key, default, "default")
     )
     return view or (default if fallback is None else fallback)
+
+
+def param_input(
+    spec: ParamSpec,
+    key: str,
+    where: Any = None,
+    label: str | None = None,
+    step: float = 0,
+    **widget: Any,
+) -> Any:
+    """A URL-bound widget for one noisevar parameter, built from its spec.
+
+    The spec gives the widget's kind (a choice, a switch, an integer or a number), its
+    range (a closed bound; noisevar checks an open one), its default and its help.
+
+    Parameters
+    ----------
+    spec : ParamSpec
+        The parameter.
+    key : str
+        Widget key (and URL parameter).
+    where : container, optional
+        A column or container; the page by default.
+    label : str, optional
+        Default: the parameter's name with spaces.
+    step : float
+        Step of a number's +/- buttons (default 1 for an integer, Streamlit's for a float).
+    **widget
+        More arguments of the Streamlit widget (``placeholder``, ``disabled``...).
+
+    Returns
+    -------
+    object
+        The widget's value.
+    """
+    where = where or st
+    label = label or spec.name.replace("_", " ")
+    common: dict[str, Any] = {"key": key, "bind": "query-params", "help": spec.help, **widget}
+    if spec.choices:
+        index = spec.choices.index(spec.default) if spec.default in spec.choices else 0
+        return where.selectbox(label, spec.choices, **common, **initial(key, index, "index"))
+    if spec.kind == "bool":
+        return where.toggle(label, **common, **initial(key, bool(spec.default)))
+    integer = spec.kind == "int"
+    cast = int if integer else float
+    bounds = {
+        "min_value": cast(spec.lo) if spec.lo is not None and spec.lo_closed else None,
+        "max_value": cast(spec.hi) if spec.hi is not None else None,
+    }
+    default = None if spec.default is None else cast(spec.default)
+    number: dict[str, Any] = {"step": step or 1} if integer else {"format": "%g"}
+    if step and not integer:
+        number["step"] = float(step)
+    return where.number_input(label, **bounds, **number, **common, **initial(key, default))

@@ -13,9 +13,9 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 APP = str(ROOT / "app.py")
 
-from dashboard.loading import GENERATOR_EXTRAS  # noqa: E402
 from dashboard.pages import PAGES  # noqa: E402
 from dashboard.url_params import check_recipe, value_problem  # noqa: E402
+from noisevar.signals import SIGNALS  # noqa: E402
 
 HOSTILE = ["1e999", "-1e999", "9" * 400, "nan", "-inf", "1e300", "x" * 500, "a\x1b[31m"]
 GOOD_SIG = "gen:fast-slow;n=3000;seed=1;noise_std=5.0"
@@ -45,8 +45,10 @@ def url_bound_keys() -> list[str]:
                 keys.add(min(found, key=lambda k: abs(around.find(f'key="{k}"') - at)))
         # keys passed to a helper that binds them: _slider("label", lo, hi, step, "la_dur", ...)
         keys.update(re.findall(r'_slider\(.*?"(la_\w+)"', text))
-    for family, extras in GENERATOR_EXTRAS.items():
-        keys.update(f"gen_{family}_{key}" for key, *_ in extras)
+        # widgets built from a parameter spec: param_input(spec, "key", ...)
+        keys.update(re.findall(r'param_input\(\s*[^,]+,\s*"(\w+)"', text))
+    for family, spec in SIGNALS.items():
+        keys.update(f"gen_{family}_{p.name}" for p in spec.extras)
     return sorted(keys)
 
 
