@@ -18,7 +18,8 @@ import streamlit as st
 from dashboard.state import initial
 from noisevar.errors import NoisevarError
 from noisevar.estimators.compare import rows_to_csv
-from noisevar.figures._common import capped, to_html, to_png
+from noisevar.figures.budget import capped
+from noisevar.figures.export import to_html, to_png
 from noisevar.format import eng
 from noisevar.params import ParamSpec
 
@@ -304,7 +305,7 @@ def show_figure(
     then in ``st.session_state[key]`` and a selection reruns the page. ``where`` is the
     container (a placeholder, a column); the page by default.
     """
-    capped(fig)  # the browser budget: points and shapes (noisevar.figures._common)
+    capped(fig)  # the browser budget: points and shapes (noisevar.figures.budget)
     config = {"displaylogo": False, "scrollZoom": False}
     mode = "box" if select is True else select
     chart = (where or st).plotly_chart

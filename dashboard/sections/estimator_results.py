@@ -25,7 +25,7 @@ from dashboard.widgets import (
 from noisevar.config import config_to_json, params_to_config
 from noisevar.estimators.compare import rows_to_csv
 from noisevar.estimators.results import VarianceEstimate
-from noisevar.figures._common import range_to_slice
+from noisevar.figures.axes import range_to_slice
 from noisevar.figures.estimator import (
     envelope_figure,
     estimate_rows,
