@@ -24,7 +24,8 @@ HOW_IT_WORKS = (
     "runs away, so our AEKF scales the design $Q$ only when the innovations leave their "
     "$\\chi^2$ band). Our window starts full of the design $R$, each residual replacing one "
     "entry: started from the paper's running mean, a few pull-in residuals set $R$ alone, "
-    "inflate it and stall the loop (the AEKF's only slips, at 30 dB-Hz):",
+    "inflate it and stall the loop (the AEKF's only slips in the measured tables of "
+    "docs/algorithms.md §B1):",
     "$$\\hat R = \\overline{r r^\\top} + HP_{k|k}H^\\top,\\qquad \\hat Q = K\\,\\overline{d "
     "d^\\top}\\,K^\\top$$",
     "A cycle slip is a jump of the phase error by a whole cycle: the loop has lost lock.",

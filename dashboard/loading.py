@@ -15,7 +15,7 @@ from dashboard.state import LoadedSignal, make_signal, parse_recipe, set_signal
 from dashboard.url_params import RECIPE_PARAMS, check_recipe
 from noisevar.errors import NoisevarError
 from noisevar.io import content_digest, drop_nonfinite_rows, table_from_arrays
-from noisevar.signals import signal_spec
+from noisevar.signals import PAPER_SIGNAL, signal_spec
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE_DIR = ROOT / "sample_data"
@@ -163,11 +163,23 @@ def load_generated(name: str, **kwargs: float | int | str | None) -> LoadedSigna
     return sig
 
 
+def paper_signal_defaults() -> dict[str, float | int]:
+    """``n``, ``seed`` and ``noise_std`` of the paper's signal: its generator's defaults."""
+    specs = signal_spec(PAPER_SIGNAL).param_specs
+    return {key: specs[key].default for key in ("n", "seed", "noise_std")}
+
+
+def load_paper_signal() -> LoadedSignal:
+    """Generate the paper's signal (:data:`noisevar.signals.PAPER_SIGNAL`) as the new signal."""
+    return load_generated(PAPER_SIGNAL, **paper_signal_defaults())
+
+
 def load_simulated_sensors(noise_stds: Sequence[float] = (1.0, 2.0, 3.0), seed: int = 0) -> None:
     """Make simulated redundant sensors (``simulate_sensors``) the signal."""
     from noisevar.estimators.compare import simulate_sensors
 
-    table = simulate_sensors("fast-slow", noise_stds, n=6000, seed=seed, drift=3.0)
+    n = paper_signal_defaults()["n"]
+    table = simulate_sensors(PAPER_SIGNAL, noise_stds, n=n, seed=seed, drift=3.0)
     set_signal(make_signal(table, None, table.sample_period, "generated", None))
 
 

@@ -6,6 +6,7 @@ import base64
 import functools
 import html
 import logging
+import math
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
@@ -103,6 +104,19 @@ GLOSSARY = {
     "alpha-beta-gamma filter's gains. Smaller h smooths more.",
     "C/N0": "Carrier-to-noise density ratio (dB-Hz): signal power over noise power per hertz.",
 }
+
+
+def tex_number(value: float, digits: int = 3) -> str:
+    """A number for LaTeX prose: ``1.5\\cdot10^{-5}``, ``10^{-4}``, ``2.47``.
+
+    Page prose computes its numbers (never copies them); this writes them in an equation.
+    """
+    exponent = math.floor(math.log10(abs(value))) if value and math.isfinite(value) else 0
+    if -3 < exponent < 4:
+        return f"{value:.{digits}g}"
+    mantissa = f"{value / 10.0**exponent:.{digits}g}"
+    power = f"10^{{{exponent}}}"
+    return power if mantissa == "1" else f"{mantissa}\\cdot{power}"
 
 
 def glossary(*terms: str) -> None:

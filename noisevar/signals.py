@@ -102,6 +102,10 @@ def _finish(name, t, clean, std, seed, runs, params, rng) -> GeneratedSignal:
     )
 
 
+#: The paper's Fig. 1 signal: the family a page or a Monte Carlo run starts from.
+PAPER_SIGNAL = "fast-slow"
+
+
 def fast_slow(
     n: int = 6000, noise_std: float = 5.0, seed: int = 0, runs: int = 1
 ) -> GeneratedSignal:
@@ -133,7 +137,7 @@ def fast_slow(
     clean += turn
     k = np.arange(n, dtype=float)
     params = {"n": n, "noise_std": noise_std, "seed": seed}
-    return _finish("fast-slow", k, clean, noise_std, seed, runs, params, rng)
+    return _finish(PAPER_SIGNAL, k, clean, noise_std, seed, runs, params, rng)
 
 
 GPS_CHANNELS = {"east": 5.0, "north": 5.0, "speed": np.sqrt(2.0), "heading": 0.01}
@@ -326,7 +330,7 @@ _FACTOR = _non_negative("factor", "noise std at the end over noise std at the st
 SIGNALS: dict[str, SignalSpec] = {
     s.name: s
     for s in (
-        _family("fast-slow", fast_slow),
+        _family(PAPER_SIGNAL, fast_slow),
         _family(
             "gps-circle",
             gps_circle,

@@ -129,7 +129,8 @@ def fused_results(s: FusionSettings) -> None:
         st.metric(
             "Distributed (fixed R, eq. 24) vs centralised Kalman filter: largest |Δx|",
             f"{diff:.2e}",
-            help="The information-form fusion equals the centralised filter (target < 1e-8).",
+            help="The information-form fusion equals the centralised filter, to rounding "
+            "(docs/algorithms.md §G6).",
         )
     if not results:
         st.info("Pick at least one configuration.")

@@ -13,7 +13,7 @@ from dashboard.pages import SIGNAL
 from dashboard.state import LoadedSignal, current_signal
 from dashboard.url_params import RECIPE_PARAMS
 from dashboard.widgets import guarded, how_it_works, param_input
-from noisevar.signals import signal_spec
+from noisevar.signals import PAPER_SIGNAL, signal_spec
 
 
 def require_signal(
@@ -53,9 +53,11 @@ def require_signal(
                 with guarded():
                     loading.load_sample(name)
                     st.rerun()
-    if st.button("Generate the paper's fast-slow signal (n = 6000, seed 0)", key="offer_gen"):
+    paper = loading.paper_signal_defaults()
+    label = f"Generate the paper's {PAPER_SIGNAL} signal (n = {paper['n']}, seed {paper['seed']})"
+    if st.button(label, key="offer_gen"):
         with guarded():
-            loading.load_generated("fast-slow", n=6000, seed=0, noise_std=5.0)
+            loading.load_paper_signal()
             st.rerun()
     st.page_link(SIGNAL.path, label="Go to the Signal page", icon=":material/upload:")
     if explain:
@@ -65,7 +67,7 @@ def require_signal(
 
 
 def quick_start() -> None:
-    """The home page's two buttons: the sample fast_slow.csv or the generated fast-slow."""
+    """The home page's two buttons: the sample fast_slow.csv or the generated paper signal."""
     st.info("Start by loading a signal: a sample file, a generated scenario, or your own file.")
     c1, c2 = st.columns(2)
     with c1:
@@ -74,9 +76,9 @@ def quick_start() -> None:
                 loading.load_sample("fast_slow.csv")
                 st.rerun()
     with c2:
-        if st.button("Generate the paper's fast-slow signal", key="home_generate"):
+        if st.button(f"Generate the paper's {PAPER_SIGNAL} signal", key="home_generate"):
             with guarded():
-                loading.load_generated("fast-slow", n=6000, seed=0, noise_std=5.0)
+                loading.load_paper_signal()
                 st.rerun()
 
 
