@@ -12,6 +12,15 @@ import streamlit as st
 
 from dashboard.pages import PAGES, frame
 
-page = st.navigation([p.st_page() for p in PAGES], expanded=True)
-frame(page)
-page.run()
+
+def main() -> None:
+    """Choose the page from the URL, draw the frame, run the page."""
+    page = st.navigation([p.st_page() for p in PAGES], expanded=True)
+    frame(page)
+    page.run()
+
+
+# Streamlit runs this script as __main__; a process that merely imports it (a
+# multiprocessing child re-importing its parent's main module) draws nothing.
+if __name__ == "__main__":
+    main()
