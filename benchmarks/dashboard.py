@@ -86,7 +86,7 @@ def page_rerun(n: int, repeat: int) -> tuple[float, list[tuple[str, list[float]]
 
     at = AppTest.from_file(str(ROOT / "app.py"), default_timeout=120)
     at.query_params["sig"] = f"gen:fast-slow;n={n};seed=0;noise_std=5.0"
-    at.switch_page("pages/2_Estimator.py")
+    at.switch_page("app_pages/Estimator.py")
     t0 = time.perf_counter()
     at.run()
     first = 1000 * (time.perf_counter() - t0)

@@ -7,6 +7,7 @@ underscore are not hashed. Cached results are shared read-only objects.
 
 from __future__ import annotations
 
+import inspect
 import json
 import re
 from collections.abc import Callable, Sequence
@@ -44,6 +45,10 @@ if TYPE_CHECKING:
 JsonDict = dict[str, Any]
 #: Settings of the Adaptive filter page (strategy parameters by name).
 Settings = dict[str, float | int | str]
+
+#: The method :func:`noisevar.estimate` uses when none is named (read from its signature,
+#: so that the dashboard's quick estimates follow the package's one default).
+DEFAULT_METHOD: str = inspect.signature(noisevar.estimate).parameters["method"].default
 
 #: The carrier filters the Carrier tracking page shows (``comparison_variants`` names).
 CARRIER_FILTERS = ("ekf", "aekf", "ekf_matched", "aekf_paper_q")
@@ -228,28 +233,35 @@ def _column_estimate_cached(
     return noisevar.estimate(pick_column(_sig.table, column), method=method)
 
 
-def column_estimate(sig: LoadedSignal, column: str, method: str = "auto") -> VarianceEstimate:
+def column_estimate(
+    sig: LoadedSignal, column: str, method: str = DEFAULT_METHOD
+) -> VarianceEstimate:
     """A single-signal estimate of one column of the signal's table, cached."""
     return _column_estimate_cached(sig.table_digest, column, method, sig)
 
 
 # ---------------------------------------------------------------- Kalman filters
-@st.cache_resource(max_entries=6, show_spinner=False)
-def kalman_scenario(name: str, seed: int, size: float, factor: float) -> Scenario:
-    """A seeded filter scenario of :mod:`noisevar.systems.scenarios` (one run), cached.
-
-    ``size`` is the duration in seconds for ``gps-circle`` and the number of
-    steps otherwise; ``factor`` the noise increase of ``noise-step`` / ``noise-ramp``.
-    """
+def scenario_defaults(name: str) -> dict[str, Any]:
+    """The keyword parameters of a filter scenario and their defaults (its signature)."""
     from noisevar.systems.scenarios import SCENARIOS
 
     if name not in SCENARIOS:
         raise NoisevarError(f"unknown scenario {name!r}; choose one of {list(SCENARIOS)}")
-    if name == "gps-circle":
-        return SCENARIOS[name](runs=1, seed=int(seed), duration=float(size))
-    if name in ("noise-step", "noise-ramp"):
-        return SCENARIOS[name](runs=1, seed=int(seed), n_steps=int(size), factor=float(factor))
-    return SCENARIOS[name](runs=1, seed=int(seed), n_steps=int(size))
+    params = inspect.signature(SCENARIOS[name]).parameters
+    return {k: p.default for k, p in params.items() if p.default is not inspect.Parameter.empty}
+
+
+@st.cache_resource(max_entries=6, show_spinner=False)
+def kalman_scenario(name: str, seed: int, params_json: str) -> Scenario:
+    """A seeded filter scenario of :mod:`noisevar.systems.scenarios` (one run), cached.
+
+    ``params_json`` holds the scenario's own parameters the page set (its duration or
+    number of steps, its noise increase...), as :func:`params_key` writes them.
+    """
+    from noisevar.systems.scenarios import SCENARIOS
+
+    scenario_defaults(name)  # an unknown name is one clear error
+    return SCENARIOS[name](runs=1, seed=int(seed), **json.loads(params_json))
 
 
 def make_filter_strategy(
@@ -258,11 +270,12 @@ def make_filter_strategy(
     """A fresh R-adaptation strategy object from the page's settings."""
     from noisevar.kalman.strategies import make_strategy, strategy_spec
 
-    if name == "oracle" and R_true is None:
-        raise NoisevarError("the oracle filter needs the true R: only for scenarios")
-    tunable = strategy_spec(name).defaults()
+    spec = strategy_spec(name)
+    if "R_true" in spec.needs and R_true is None:
+        raise NoisevarError(f"the {name} filter needs the true R: only for scenarios")
+    tunable = spec.defaults()
     params = {k: settings[k] for k in tunable if settings.get(k) is not None}
-    if "h_smooth" in strategy_spec(name).needs:
+    if "h_smooth" in spec.needs:
         params.pop("window", None)  # the page's window is RAE/IAE's; SOMD uses all samples so far
     return make_strategy(name, h_smooth=h_smooth, R_true=R_true, **params)
 
@@ -347,10 +360,10 @@ def data_run(
 
 @st.cache_resource(max_entries=4, show_spinner=False)
 def table1(runs: int, seed: int) -> JsonDict:
-    """The gps-circle experiment (the paper's Table 1) with ``runs`` Monte Carlo runs, cached."""
-    from noisevar.experiments import discover
+    """The GPS-circle experiment (the paper's Table 1) with ``runs`` Monte Carlo runs, cached."""
+    from noisevar.experiments.gps_circle import EXPERIMENT
 
-    return discover()["gps-circle"].run(runs=int(runs), seed=int(seed)).to_dict()
+    return EXPERIMENT.run(runs=int(runs), seed=int(seed)).to_dict()
 
 
 # ------------------------------------------------------ the other seed systems

@@ -12,29 +12,14 @@ import streamlit as st
 import noisevar
 from dashboard import cache
 from dashboard.state import LoadedSignal, make_signal, parse_recipe, set_signal
+from dashboard.url_params import RECIPE_PARAMS, check_recipe
 from noisevar.errors import NoisevarError
 from noisevar.io import content_digest, drop_nonfinite_rows, table_from_arrays
-from noisevar.signals import GPS_CHANNELS
+from noisevar.signals import PAPER_SIGNAL, signal_spec
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE_DIR = ROOT / "sample_data"
 SAMPLE_EXTENSIONS = (".csv", ".tsv", ".txt", ".dat", ".npy", ".nmea")
-
-#: A generator extra: (name, kind, default, lo, hi); kind is "int", "float" or "choice".
-Extra = tuple[str, str, float | int | str, float, float]
-
-#: Extra generator parameters the Signal page offers, per family.
-GENERATOR_EXTRAS: dict[str, list[Extra]] = {
-    "fast-slow": [],
-    "gps-circle": [
-        ("channel", "choice", "east", 0, 0),
-        ("sample_period", "float", 0.5, 0.01, 10.0),
-    ],
-    "random-jerk": [("jerk_std", "float", 5e-6, 1e-9, 1e-2)],
-    "steps-ramps": [("n_steps", "int", 8, 0, 100)],
-    "noise-step": [("factor", "float", 3.0, 1.0, 20.0)],
-    "noise-ramp": [("factor", "float", 3.0, 1.0, 20.0)],
-}
 
 
 def sample_files() -> list[Path]:
@@ -130,14 +115,17 @@ def load_sample(name: str, column: str | None = None, period: float | None = Non
 def generated_kwargs(
     name: str, n: int, seed: int, noise_std: float | None, **extra: float | int | str | None
 ) -> dict[str, float | int | str]:
-    """Normalised keyword arguments of :func:`noisevar.generate` (for caching and the URL)."""
+    """Normalised keyword arguments of :func:`noisevar.generate` (for caching and the URL).
+
+    The family's own parameters are checked and converted by their specs
+    (:attr:`noisevar.signals.SignalSpec.extras`); others are left out.
+    """
     kw: dict[str, float | int | str] = {"n": int(n), "seed": int(seed)}
     if noise_std is not None:
         kw["noise_std"] = float(noise_std)
-    casts = {"int": int, "choice": str, "float": float}
-    for key, kind, _default, _lo, _hi in GENERATOR_EXTRAS.get(name, []):
-        if key in extra and extra[key] is not None:
-            kw[key] = casts.get(kind, float)(extra[key])
+    for spec in signal_spec(name).extras:
+        if extra.get(spec.name) is not None:
+            kw[spec.name] = spec.validate(extra[spec.name])
     return kw
 
 
@@ -149,7 +137,7 @@ def load_generated(name: str, **kwargs: float | int | str | None) -> LoadedSigna
     name : str
         Family (:func:`noisevar.signal_names`).
     **kwargs
-        ``n``, ``seed``, ``noise_std`` and family extras (see :data:`GENERATOR_EXTRAS`).
+        ``n``, ``seed``, ``noise_std`` and the family's own parameters (its spec's ``extras``).
 
     Returns
     -------
@@ -175,37 +163,36 @@ def load_generated(name: str, **kwargs: float | int | str | None) -> LoadedSigna
     return sig
 
 
+def paper_signal_defaults() -> dict[str, float | int]:
+    """``n``, ``seed`` and ``noise_std`` of the paper's signal: its generator's defaults."""
+    specs = signal_spec(PAPER_SIGNAL).param_specs
+    return {key: specs[key].default for key in ("n", "seed", "noise_std")}
+
+
+def load_paper_signal() -> LoadedSignal:
+    """Generate the paper's signal (:data:`noisevar.signals.PAPER_SIGNAL`) as the new signal."""
+    return load_generated(PAPER_SIGNAL, **paper_signal_defaults())
+
+
 def load_simulated_sensors(noise_stds: Sequence[float] = (1.0, 2.0, 3.0), seed: int = 0) -> None:
     """Make simulated redundant sensors (``simulate_sensors``) the signal."""
     from noisevar.estimators.compare import simulate_sensors
 
-    table = simulate_sensors("fast-slow", noise_stds, n=6000, seed=seed, drift=3.0)
+    n = paper_signal_defaults()["n"]
+    table = simulate_sensors(PAPER_SIGNAL, noise_stds, n=n, seed=seed, drift=3.0)
     set_signal(make_signal(table, None, table.sample_period, "generated", None))
 
 
 def restore_from_recipe(recipe: str) -> LoadedSignal:
     """Rebuild a signal from its URL recipe (``gen:...`` or ``sample:...``)."""
-    from dashboard.url_params import check_recipe
-
-    check_recipe(recipe)  # bounds first: the link is untrusted input
-    kind, name, opts = parse_recipe(recipe)
+    opts = check_recipe(recipe)  # bounds first, values converted: the link is untrusted input
+    kind, name, _ = parse_recipe(recipe)
     col = opts.pop("col", None)
-    period = float(opts.pop("T")) if "T" in opts else None
+    period = opts.pop("T", None)
     if kind == "gen":
-        kw: dict[str, float | int | str | None] = {}
-        for k, v in opts.items():
-            if k in ("n", "seed", "n_steps"):
-                kw[k] = int(float(v))
-            elif k == "channel":
-                if v not in GPS_CHANNELS:
-                    raise NoisevarError(f"unknown gps-circle channel {v!r}")
-                kw[k] = v
-            else:
-                kw[k] = float(v)
-        kw.setdefault("n", 6000)
-        kw.setdefault("seed", 0)
-        kw.setdefault("noise_std", None)
-        return load_generated(name, **kw)
+        for key in ("n", "seed", "noise_std"):
+            opts.setdefault(key, RECIPE_PARAMS[key].default)
+        return load_generated(name, **opts)
     if kind == "sample":
-        return load_sample(name, col, period)
+        return load_sample(name, None if col is None else str(col), period)
     raise NoisevarError(f"cannot rebuild the signal {recipe!r} from the link")

@@ -1,12 +1,22 @@
-"""The page registry (path, title, icon, blurb) and the frame every page script starts with.
+"""The page registry (one line per page) and the frame drawn around every page.
 
-A new page is one file in ``pages/`` plus one line in :data:`PAGES`; the page calls
-``setup_page(__file__)`` first, so that it also works when its URL is the first one a
-browser opens (Streamlit's classic ``pages/`` folder runs a page file on its own).
+``app.py`` hands :data:`PAGES` to ``st.navigation``, Streamlit's own page registry (as in
+Streamlit's hello app), draws :func:`frame` and runs the page ``st.navigation`` returns. A
+new page is one script in ``app_pages/`` plus one line in :data:`PAGES`; the first line
+of the script's docstring is its blurb on the home page.
+
+Notes
+-----
+The scripts live in ``app_pages/``, not ``pages/``: with a ``pages/`` folder beside
+``app.py``, Streamlit's classic discovery runs a page script on its own, without the
+frame, until some session calls ``st.navigation``. A page's URL path is its file name
+(``Two_sensors.py`` is ``/Two_sensors``); its title is that name with spaces.
 """
 
 from __future__ import annotations
 
+import ast
+import functools
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -36,123 +46,75 @@ class PageInfo:
     Attributes
     ----------
     path : str
-        The script, relative to the repository root (``pages/N_Name.py``).
+        The script, relative to the repository root (``app_pages/Name.py``).
     title : str
-        Title (browser tab, links).
+        Title (menu, browser tab, links): the file name with spaces.
     icon : str
         Material icon.
-    blurb : str
-        One line for the home page.
     """
 
     path: str
     title: str
     icon: str
-    blurb: str
+
+    @property
+    def url_path(self) -> str:
+        """The page's URL path (Streamlit takes it from the file name)."""
+        return Path(self.path).stem
+
+    @property
+    def blurb(self) -> str:
+        """One line for the home page: the first line of the script's docstring."""
+        return _first_doc_line(str(ROOT / self.path))
+
+    def st_page(self) -> st.Page:
+        """The page for ``st.navigation`` (a new object each run, as Streamlit needs)."""
+        return st.Page(self.path, title=self.title, icon=self.icon)
 
 
-#: The home page (``app.py``).
-HOME = PageInfo("app.py", "Home", ":material/home:", "")
+@functools.cache
+def _first_doc_line(path: str) -> str:
+    doc = ast.get_docstring(ast.parse(Path(path).read_text(encoding="utf-8"))) or ""
+    return doc.strip().split("\n\n")[0].replace("\n", " ")
 
-#: Every page of ``pages/``, in menu order.
+
+HOME = PageInfo("app_pages/Home.py", "Home", ":material/home:")
+SIGNAL = PageInfo("app_pages/Signal.py", "Signal", ":material/show_chart:")
+ESTIMATOR = PageInfo("app_pages/Estimator.py", "Estimator", ":material/tune:")
+
+#: Every page, in menu order (the first, Home, opens at the app's root URL).
 PAGES = (
-    PageInfo(
-        "pages/1_Signal.py",
-        "Signal",
-        ":material/show_chart:",
-        "Upload CSV/TSV, .npy or NMEA; generate a scenario; or pick a sample file.",
-    ),
-    PageInfo(
-        "pages/2_Estimator.py",
-        "Estimator",
-        ":material/tune:",
-        "Tune SOMD (h_S, h_T, m, Γ) and see every step: filters, windows, envelopes, h scan.",
-    ),
-    PageInfo(
-        "pages/3_Compare.py",
-        "Compare",
-        ":material/leaderboard:",
-        "Every method on the signal; Monte Carlo relative errors against the Cramér-Rao floor.",
-    ),
-    PageInfo(
-        "pages/4_Adaptive_filter.py",
-        "Adaptive filter",
-        ":material/route:",
-        "Kalman filters that estimate R on line: tracks, R over time, NIS, RMSE, Table 1.",
-    ),
-    PageInfo(
-        "pages/5_Two_sensors.py",
-        "Two sensors",
-        ":material/compare_arrows:",
-        "Redundant SOMD with two or three real sensors (three-cornered hat).",
-    ),
-    PageInfo(
-        "pages/6_Fusion.py",
-        "Fusion",
-        ":material/hub:",
-        "Distributed VB fusion with chi-square fault isolation.",
-    ),
-    PageInfo(
-        "pages/7_Robust_filter.py",
-        "Robust filter",
-        ":material/shield:",
-        "Huber M-estimation EKF with a bearing-bias state against outliers.",
-    ),
-    PageInfo(
-        "pages/8_Carrier_tracking.py",
-        "Carrier tracking",
-        ":material/satellite_alt:",
-        "Adaptive EKF carrier tracking of a weak GNSS signal.",
-    ),
-    PageInfo(
-        "pages/9_Latency.py",
-        "Latency",
-        ":material/timer:",
-        "GPS delay estimation by least squares over shifts and a random-constant filter.",
-    ),
-    PageInfo(
-        "pages/10_Noise_model.py",
-        "Noise model",
-        ":material/ssid_chart:",
-        "Allan deviation, IEEE-952 noise terms with intervals, Kalibr imu.yaml, simulation.",
-    ),
-    PageInfo(
-        "pages/11_Fleet.py",
-        "Fleet",
-        ":material/factory:",
-        "Many sensors at once: noise per channel, sensors outside the fleet's range flagged.",
-    ),
+    HOME,
+    SIGNAL,
+    ESTIMATOR,
+    PageInfo("app_pages/Compare.py", "Compare", ":material/leaderboard:"),
+    PageInfo("app_pages/Adaptive_filter.py", "Adaptive filter", ":material/route:"),
+    PageInfo("app_pages/Two_sensors.py", "Two sensors", ":material/compare_arrows:"),
+    PageInfo("app_pages/Fusion.py", "Fusion", ":material/hub:"),
+    PageInfo("app_pages/Robust_filter.py", "Robust filter", ":material/shield:"),
+    PageInfo("app_pages/Carrier_tracking.py", "Carrier tracking", ":material/satellite_alt:"),
+    PageInfo("app_pages/Latency.py", "Latency", ":material/timer:"),
+    PageInfo("app_pages/Noise_model.py", "Noise model", ":material/ssid_chart:"),
+    PageInfo("app_pages/Fleet.py", "Fleet", ":material/factory:"),
 )
 
-#: The Signal page (linked from the sidebar and from pages without a signal).
-SIGNAL_PAGE = PAGES[0].path
 
+def frame(page: st.Page) -> LoadedSignal | None:
+    """What every page shares, drawn before it runs: config, the signal, the sidebar card.
 
-def page_info(script: str) -> PageInfo:
-    """The registry entry of a page script (a path or ``__file__``; matched by file name)."""
-    name = Path(script).name
-    for page in (HOME, *PAGES):
-        if Path(page.path).name == name:
-            return page
-    raise KeyError(f"{name} is not in dashboard.pages.PAGES: add a line for it")
-
-
-def setup_page(script: str) -> LoadedSignal | None:
-    """Set up a page: config, the signal (restored from the link if needed), the sidebar card.
-
-    Call it first in every page script, as ``setup_page(__file__)``.
+    The signal named in the link is restored when none is loaded, and every query
+    parameter is checked before any widget reads it.
 
     Parameters
     ----------
-    script : str
-        The page script (its title and icon come from :data:`PAGES`).
+    page : st.Page
+        The page ``st.navigation`` chose (its title names the browser tab).
 
     Returns
     -------
     LoadedSignal or None
-        The loaded signal.
+        The loaded signal (pages read it with :func:`dashboard.state.current_signal`).
     """
-    page = page_info(script)
     st.set_page_config(
         page_title=f"{page.title} · noisevar",
         page_icon=page.icon,
@@ -184,24 +146,20 @@ def setup_page(script: str) -> LoadedSignal | None:
 
 
 def _sidebar(sig: LoadedSignal | None) -> None:
-    """Navigation (Home first) and the card naming the current signal."""
+    """Under Streamlit's page menu: the card naming the current signal."""
     with st.sidebar:
-        for page in (HOME, *PAGES):
-            if (ROOT / page.path).is_file():
-                st.page_link(page.path, label=page.title, icon=page.icon)
         st.divider()
         st.markdown("**noisevar** · measurement-noise variance")
         slot = st.empty()
         st.session_state[CARD_KEY] = slot
         signal_card(slot, sig)
-        st.page_link(SIGNAL_PAGE, label="Load or change the signal", icon=":material/upload:")
+        st.page_link(SIGNAL.path, label="Load or change the signal", icon=":material/upload:")
 
 
 def page_links(columns: int = 3) -> None:
     """A card per page (link and blurb), for the home page."""
     cols = st.columns(columns)
-    shown = [p for p in PAGES if (ROOT / p.path).is_file()]
-    for i, page in enumerate(shown):
+    for i, page in enumerate(p for p in PAGES if p is not HOME):
         with cols[i % columns], st.container(border=True):
             st.page_link(page.path, label=page.title, icon=page.icon)
             st.caption(page.blurb)

@@ -6,7 +6,7 @@ value from the URL. A value that no widget could hold (a non-finite or huge numb
 from Streamlit's initial-value table, with one ``st.warning`` naming what was dropped.
 Values inside that envelope but outside one widget's own range are reset to the
 widget's default by Streamlit itself. The signal recipe (``?sig=gen:...``) is checked
-against the generator's bounds (:func:`check_recipe`).
+against the dashboard's limits and the family's parameter specs (:func:`check_recipe`).
 """
 
 from __future__ import annotations
@@ -18,8 +18,12 @@ from collections.abc import Iterable
 
 import streamlit as st
 
+import noisevar
+from dashboard.state import parse_recipe
 from noisevar.errors import NoisevarError
 from noisevar.io.table import SAMPLE_PERIOD_RANGE, echo
+from noisevar.params import ParamSpec, by_name
+from noisevar.signals import signal_spec
 
 LOG = logging.getLogger("noisevar.dashboard")
 
@@ -33,14 +37,25 @@ MAX_NUMBER = 1e15
 MAX_REPEATS = 50
 _NUMBERISH = re.compile(r"^\s*[+-]?(\d|\.\d|inf|nan)", re.IGNORECASE)
 _CONTROL = re.compile(r"[\x00-\x1f\x7f-\x9f]")
-#: The recipe's numeric keys: (lowest, highest); families' extras come from
-#: ``dashboard.loading.GENERATOR_EXTRAS``.
-_RECIPE_NUMBERS = {
-    "n": (100, 2_000_000),
-    "seed": (0, 2**31 - 1),
-    "noise_std": (1e-6, 1e6),
-    "T": SAMPLE_PERIOD_RANGE,
-}
+#: The recipe's own numbers, with the dashboard's limits (the generator form uses them too);
+#: a family's parameters are checked by their specs (:func:`noisevar.signals.signal_spec`).
+RECIPE_PARAMS: dict[str, ParamSpec] = by_name(
+    [
+        ParamSpec("n", "int", 6000, "samples", lo=100, hi=2_000_000, lo_closed=True),
+        ParamSpec("seed", "int", 0, "seed of the noise", lo=0, hi=2**31 - 1, lo_closed=True),
+        ParamSpec(
+            "noise_std", "float", help="noise standard deviation", lo=1e-6, hi=1e6, lo_closed=True
+        ),
+        ParamSpec(
+            "T",
+            "float",
+            help="sample period (s)",
+            lo=SAMPLE_PERIOD_RANGE[0],
+            hi=SAMPLE_PERIOD_RANGE[1],
+            lo_closed=True,
+        ),
+    ]
+)
 
 
 def value_problem(value: str) -> str | None:
@@ -113,7 +128,7 @@ def _current() -> dict[str, list[str]]:
 def clean_query_params() -> dict[str, str]:
     """Drop every query-parameter value no widget can hold; one warning if any was dropped.
 
-    Call it before any widget (``setup_page`` does).
+    Call it before any widget (``dashboard.pages.frame`` does).
 
     Returns
     -------
@@ -135,19 +150,8 @@ def clean_query_params() -> dict[str, str]:
     return bad
 
 
-def _number(key: str, text: str, lo: float, hi: float) -> float:
-    problem = value_problem(text)
-    try:
-        v = float(text)
-    except (ValueError, OverflowError):
-        raise NoisevarError(f"{key}={echo(text, 40)} is not a number") from None
-    if problem or not (lo <= v <= hi):
-        raise NoisevarError(f"{key}={echo(text, 40)} is out of range [{lo:g}, {hi:g}]")
-    return v
-
-
-def check_recipe(recipe: str) -> dict[str, float | str]:
-    """Check a signal recipe's values against the generator's bounds.
+def check_recipe(recipe: str) -> dict[str, float | int | str]:
+    """Check a signal recipe's values against the dashboard's limits and the family's specs.
 
     Parameters
     ----------
@@ -157,31 +161,25 @@ def check_recipe(recipe: str) -> dict[str, float | str]:
     Returns
     -------
     dict
-        The checked options (numbers as floats).
+        The checked options, converted to their kinds (unknown ones as text).
 
     Raises
     ------
     NoisevarError
         One sentence naming the bad value and its range.
     """
-    from dashboard.loading import GENERATOR_EXTRAS
-    from dashboard.state import parse_recipe
-
     if value_problem(recipe) == "control characters" or len(recipe) > 4 * MAX_VALUE_CHARS:
         raise NoisevarError("the signal recipe is malformed")
     kind, name, opts = parse_recipe(recipe)
     if kind not in ("gen", "sample"):
         raise NoisevarError(f"unknown signal source {echo(kind, 20)!r}")
-    bounds = dict(_RECIPE_NUMBERS)
-    for key, ekind, _default, lo, hi in GENERATOR_EXTRAS.get(name, []):
-        if ekind != "choice":
-            bounds[key] = (lo, hi)
-    out: dict[str, float | str] = {}
+    specs = dict(RECIPE_PARAMS)
+    if kind == "gen" and name in noisevar.signal_names():
+        specs.update({p.name: p for p in signal_spec(name).extras})
+    out: dict[str, float | int | str] = {}
     for key, text in opts.items():
-        if key in bounds:
-            out[key] = _number(key, text, *bounds[key])
-        elif value_problem(text):
-            raise NoisevarError(f"{echo(key, 20)}: {value_problem(text)}")
-        else:
-            out[key] = text
+        problem = value_problem(text)
+        if problem:
+            raise NoisevarError(f"{echo(key, 20)}={echo(text, 40)}: {problem}")
+        out[key] = specs[key].validate(text) if key in specs else text
     return out

@@ -6,6 +6,7 @@ import base64
 import functools
 import html
 import logging
+import math
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
@@ -18,8 +19,10 @@ import streamlit as st
 from dashboard.state import initial
 from noisevar.errors import NoisevarError
 from noisevar.estimators.compare import rows_to_csv
-from noisevar.figures._common import capped, to_html, to_png
+from noisevar.figures.budget import capped
+from noisevar.figures.export import to_html, to_png
 from noisevar.format import eng
+from noisevar.params import ParamSpec
 
 LOG = logging.getLogger("noisevar.dashboard")
 
@@ -101,6 +104,19 @@ GLOSSARY = {
     "alpha-beta-gamma filter's gains. Smaller h smooths more.",
     "C/N0": "Carrier-to-noise density ratio (dB-Hz): signal power over noise power per hertz.",
 }
+
+
+def tex_number(value: float, digits: int = 3) -> str:
+    """A number for LaTeX prose: ``1.5\\cdot10^{-5}``, ``10^{-4}``, ``2.47``.
+
+    Page prose computes its numbers (never copies them); this writes them in an equation.
+    """
+    exponent = math.floor(math.log10(abs(value))) if value and math.isfinite(value) else 0
+    if -3 < exponent < 4:
+        return f"{value:.{digits}g}"
+    mantissa = f"{value / 10.0**exponent:.{digits}g}"
+    power = f"10^{{{exponent}}}"
+    return power if mantissa == "1" else f"{mantissa}\\cdot{power}"
 
 
 def glossary(*terms: str) -> None:
@@ -303,7 +319,7 @@ def show_figure(
     then in ``st.session_state[key]`` and a selection reruns the page. ``where`` is the
     container (a placeholder, a column); the page by default.
     """
-    capped(fig)  # the browser budget: points and shapes (noisevar.figures._common)
+    capped(fig)  # the browser budget: points and shapes (noisevar.figures.budget)
     config = {"displaylogo": False, "scrollZoom": False}
     mode = "box" if select is True else select
     chart = (where or st).plotly_chart
@@ -411,3 +427,57 @@ def figure_view(views: list[str], key: str, default: str, fallback: str | None =
         "Figure", views, key=key, bind="query-params", **initial(key, default, "default")
     )
     return view or (default if fallback is None else fallback)
+
+
+def param_input(
+    spec: ParamSpec,
+    key: str,
+    where: Any = None,
+    label: str | None = None,
+    step: float = 0,
+    **widget: Any,
+) -> Any:
+    """A URL-bound widget for one noisevar parameter, built from its spec.
+
+    The spec gives the widget's kind (a choice, a switch, an integer or a number), its
+    range (a closed bound; noisevar checks an open one), its default and its help.
+
+    Parameters
+    ----------
+    spec : ParamSpec
+        The parameter.
+    key : str
+        Widget key (and URL parameter).
+    where : container, optional
+        A column or container; the page by default.
+    label : str, optional
+        Default: the parameter's name with spaces.
+    step : float
+        Step of a number's +/- buttons (default 1 for an integer, Streamlit's for a float).
+    **widget
+        More arguments of the Streamlit widget (``placeholder``, ``disabled``...).
+
+    Returns
+    -------
+    object
+        The widget's value.
+    """
+    where = where or st
+    label = label or spec.name.replace("_", " ")
+    common: dict[str, Any] = {"key": key, "bind": "query-params", "help": spec.help, **widget}
+    if spec.choices:
+        index = spec.choices.index(spec.default) if spec.default in spec.choices else 0
+        return where.selectbox(label, spec.choices, **common, **initial(key, index, "index"))
+    if spec.kind == "bool":
+        return where.toggle(label, **common, **initial(key, bool(spec.default)))
+    integer = spec.kind == "int"
+    cast = int if integer else float
+    bounds = {
+        "min_value": cast(spec.lo) if spec.lo is not None and spec.lo_closed else None,
+        "max_value": cast(spec.hi) if spec.hi is not None else None,
+    }
+    default = None if spec.default is None else cast(spec.default)
+    number: dict[str, Any] = {"step": step or 1} if integer else {"format": "%g"}
+    if step and not integer:
+        number["step"] = float(step)
+    return where.number_input(label, **bounds, **number, **common, **initial(key, default))

@@ -110,7 +110,8 @@ class ParamSpec:
         if self.kind == "int":
             if not math.isfinite(v) or v != int(v):
                 raise NoisevarError(f"{self.name} must be an integer, got {value!r}")
-            v = int(v)
+            # an integer stays exact (through a float, a seed above 2**53 would be rounded)
+            v = int(value) if isinstance(value, int | np.integer) else int(v)
         self._check_range(v, value)
         return v
 

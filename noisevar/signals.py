@@ -21,15 +21,17 @@ independent noise realisations of the same clean signal (Monte Carlo), shape
 
 from __future__ import annotations
 
-import math
-from collections.abc import Callable
-from dataclasses import dataclass, field
+import inspect
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field, replace
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.errors import NoisevarError
 from noisevar.io.table import SAMPLE_PERIOD_RANGE
+from noisevar.params import ParamSpec, by_name
 
 
 @dataclass
@@ -100,6 +102,10 @@ def _finish(name, t, clean, std, seed, runs, params, rng) -> GeneratedSignal:
     )
 
 
+#: The paper's Fig. 1 signal: the family a page or a Monte Carlo run starts from.
+PAPER_SIGNAL = "fast-slow"
+
+
 def fast_slow(
     n: int = 6000, noise_std: float = 5.0, seed: int = 0, runs: int = 1
 ) -> GeneratedSignal:
@@ -131,7 +137,7 @@ def fast_slow(
     clean += turn
     k = np.arange(n, dtype=float)
     params = {"n": n, "noise_std": noise_std, "seed": seed}
-    return _finish("fast-slow", k, clean, noise_std, seed, runs, params, rng)
+    return _finish(PAPER_SIGNAL, k, clean, noise_std, seed, runs, params, rng)
 
 
 GPS_CHANNELS = {"east": 5.0, "north": 5.0, "speed": np.sqrt(2.0), "heading": 0.01}
@@ -226,22 +232,152 @@ def noise_ramp(
     )
 
 
-GENERATORS: dict[str, Callable[..., GeneratedSignal]] = {
-    "fast-slow": fast_slow,
-    "gps-circle": gps_circle,
-    "random-jerk": random_jerk,
-    "steps-ramps": steps_ramps,
-    "noise-step": noise_step,
-    "noise-ramp": noise_ramp,
+#: Most samples per realisation, and in all realisations together (memory grows with both).
+MAX_N = 10_000_000
+MAX_TOTAL = 50_000_000
+#: Largest magnitude of any other numeric parameter (noise std, factors...).
+MAX_MAGNITUDE = 1e100
+
+#: The parameters every family takes (their defaults are each generator's own).
+COMMON_PARAMS = (
+    ParamSpec("n", "int", help="samples per realisation", lo=100, hi=MAX_N, lo_closed=True),
+    ParamSpec(
+        "noise_std",
+        "float",
+        help="noise standard deviation",
+        lo=0.0,
+        hi=MAX_MAGNITUDE,
+        lo_closed=True,
+    ),
+    ParamSpec("seed", "int", help="seed of the noise", lo=0, hi=2**63 - 1, lo_closed=True),
+    ParamSpec(
+        "runs",
+        "int",
+        help="independent noise realisations",
+        lo=1,
+        hi=MAX_TOTAL // 100,
+        lo_closed=True,
+    ),
+)
+
+
+@dataclass(frozen=True)
+class SignalSpec:
+    """A signal family, declared once: its generator and the parameters it takes.
+
+    Attributes
+    ----------
+    name : str
+        Family name, as in ``generate(name)``.
+    func : callable
+        The generator; it returns a :class:`GeneratedSignal`.
+    params : tuple of ParamSpec
+        Every parameter of ``func``: :data:`COMMON_PARAMS` first, then the family's own
+        (:attr:`extras`). Each default is the generator's own (its signature).
+    """
+
+    name: str
+    func: Callable[..., GeneratedSignal]
+    params: tuple[ParamSpec, ...]
+
+    @property
+    def param_specs(self) -> dict[str, ParamSpec]:
+        """Name to spec of every parameter."""
+        return by_name(self.params)
+
+    @property
+    def extras(self) -> tuple[ParamSpec, ...]:
+        """The family's own parameters (beyond :data:`COMMON_PARAMS`)."""
+        common = {p.name for p in COMMON_PARAMS}
+        return tuple(p for p in self.params if p.name not in common)
+
+    def validate(self, params: Mapping[str, Any]) -> dict[str, Any]:
+        """Checked and converted parameters, or one :class:`NoisevarError` naming the bad one."""
+        specs = self.param_specs
+        unknown = sorted(set(params) - set(specs))
+        if unknown:
+            raise NoisevarError(
+                f"bad parameter for signal {self.name!r}: {', '.join(unknown)}; "
+                f"it takes {', '.join(specs)}"
+            )
+        out = {k: specs[k].validate(v) for k, v in params.items()}
+        n, runs = out.get("n") or specs["n"].default, out.get("runs") or specs["runs"].default
+        if n * runs > MAX_TOTAL:
+            raise NoisevarError(
+                f"n x runs = {n * runs:,} samples is over the limit of {MAX_TOTAL:,}: "
+                "use fewer runs or a shorter signal"
+            )
+        return out
+
+
+def _family(name: str, func: Callable[..., GeneratedSignal], *extras: ParamSpec) -> SignalSpec:
+    """The spec of a family, each parameter's default read from ``func``'s signature."""
+    signature = inspect.signature(func).parameters
+    specs = by_name((*COMMON_PARAMS, *extras))
+    if set(signature) != set(specs):
+        raise TypeError(f"{name}: parameters {sorted(signature)} but specs {sorted(specs)}")
+    params = tuple(replace(p, default=signature[p.name].default) for p in specs.values())
+    return SignalSpec(name, func, params)
+
+
+def _non_negative(name: str, help: str) -> ParamSpec:
+    return ParamSpec(name, "float", help=help, lo=0.0, hi=MAX_MAGNITUDE, lo_closed=True)
+
+
+_FACTOR = _non_negative("factor", "noise std at the end over noise std at the start")
+
+#: Every signal family, in the order :func:`signal_names` lists them.
+SIGNALS: dict[str, SignalSpec] = {
+    s.name: s
+    for s in (
+        _family(PAPER_SIGNAL, fast_slow),
+        _family(
+            "gps-circle",
+            gps_circle,
+            ParamSpec("channel", "str", help="measured channel", choices=tuple(GPS_CHANNELS)),
+            _non_negative("radius", "radius of the circle (m)"),
+            ParamSpec(
+                "omega",
+                "float",
+                help="angular rate (rad/s)",
+                lo=-MAX_MAGNITUDE,
+                hi=MAX_MAGNITUDE,
+                lo_closed=True,
+            ),
+            ParamSpec(
+                "sample_period",
+                "float",
+                help="sample period (s)",
+                lo=SAMPLE_PERIOD_RANGE[0],
+                hi=SAMPLE_PERIOD_RANGE[1],
+                lo_closed=True,
+            ),
+        ),
+        _family("random-jerk", random_jerk, _non_negative("jerk_std", "jerk std per sample")),
+        _family(
+            "steps-ramps",
+            steps_ramps,
+            ParamSpec("n_steps", "int", help="number of jumps", lo=0, hi=MAX_N, lo_closed=True),
+        ),
+        _family("noise-step", noise_step, _FACTOR),
+        _family("noise-ramp", noise_ramp, _FACTOR),
+    )
 }
 
 
 def signal_names() -> list[str]:
     """Names of the signal families, for :func:`generate`."""
-    return list(GENERATORS)
+    return list(SIGNALS)
 
 
-def generate(name: str, **params) -> GeneratedSignal:
+def signal_spec(name: str) -> SignalSpec:
+    """The spec of the family ``name``, or a :class:`NoisevarError` listing the families."""
+    if name not in SIGNALS:
+        raise NoisevarError(f"unknown signal {name!r}; choose one of {signal_names()}")
+    return SIGNALS[name]
+
+
+def generate(name: str, **params: Any) -> GeneratedSignal:
     """Generate a signal of the family ``name`` (see module docstring).
 
     Parameters
@@ -249,63 +385,16 @@ def generate(name: str, **params) -> GeneratedSignal:
     name : str
         One of :func:`signal_names`.
     **params
-        Passed to the family's generator (``n``, ``noise_std``, ``seed``,
-        ``runs`` and family-specific ones).
+        ``n``, ``noise_std``, ``seed``, ``runs`` and the family's own parameters
+        (:attr:`SignalSpec.extras`), checked against their specs.
 
     Returns
     -------
     GeneratedSignal
     """
-    if name not in GENERATORS:
-        raise NoisevarError(f"unknown signal {name!r}; choose one of {signal_names()}")
-    _check_bounds(params)
+    spec = signal_spec(name)
+    checked = spec.validate(params)
     try:
-        return GENERATORS[name](**params)
+        return spec.func(**checked)
     except (TypeError, ValueError) as exc:
         raise NoisevarError(f"bad parameter for signal {name!r}: {exc}") from None
-
-
-#: Most samples per realisation, and in all realisations together (memory grows with both).
-MAX_N = 10_000_000
-MAX_TOTAL = 50_000_000
-#: Largest magnitude of any other numeric parameter (noise std, factors...).
-MAX_MAGNITUDE = 1e100
-
-
-def _integer(params: dict, key: str, default: int, lo: int, hi: int) -> int:
-    value = params.get(key, default)
-    if isinstance(value, bool) or not isinstance(value, int | np.integer | float | np.floating):
-        raise NoisevarError(f"{key} must be an integer, got {value!r}")
-    ok = isinstance(value, int | np.integer) or (math.isfinite(value) and value == int(value))
-    if not ok:
-        raise NoisevarError(f"{key} must be an integer from {lo:,} to {hi:,}, got {value!r}")
-    if int(value) < lo:
-        raise NoisevarError(f"{key} must be at least {lo:,}, got {value!r}")
-    if int(value) > hi:
-        raise NoisevarError(f"{key} must be at most {hi:,}, got {value!r}")
-    return int(value)
-
-
-def _check_bounds(params: dict) -> None:
-    """One clear error for an out-of-range size, period or magnitude."""
-    n = _integer(params, "n", 6000, 100, MAX_N)
-    runs = _integer(params, "runs", 1, 1, MAX_TOTAL // 100)
-    if n * runs > MAX_TOTAL:
-        raise NoisevarError(
-            f"n x runs = {n * runs:,} samples is over the limit of {MAX_TOTAL:,}: "
-            "use fewer runs or a shorter signal"
-        )
-    if "seed" in params:
-        _integer(params, "seed", 0, 0, 2**63 - 1)
-    for key, value in params.items():
-        if key in ("n", "runs", "seed") or isinstance(value, str) or value is None:
-            continue
-        try:
-            v = float(value)
-        except (TypeError, ValueError, OverflowError):
-            raise NoisevarError(f"{key} must be a number, got {value!r}") from None
-        lo, hi = SAMPLE_PERIOD_RANGE if key == "sample_period" else (-MAX_MAGNITUDE, MAX_MAGNITUDE)
-        if not (math.isfinite(v) and lo <= v <= hi):
-            raise NoisevarError(f"{key} must be a finite number in [{lo:g}, {hi:g}], got {value!r}")
-        if key in ("noise_std", "jerk_std", "factor", "radius") and v < 0:
-            raise NoisevarError(f"{key} must not be negative, got {value!r}")

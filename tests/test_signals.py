@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import inspect
+
 import numpy as np
 import pytest
 
 import noisevar as nv
 from noisevar.errors import NoisevarError
-from noisevar.signals import GPS_CHANNELS
+from noisevar.signals import GPS_CHANNELS, signal_spec
 
 FAMILIES = nv.signal_names()
 
@@ -142,12 +144,45 @@ def test_fast_slow_has_a_fast_burst_and_slow_parts():
     ("name", "params", "phrase"),
     [
         ("sine", {}, "unknown signal 'sine'"),
-        ("fast-slow", {"n": 50}, "n must be at least 100"),
-        ("fast-slow", {"runs": 0}, "runs must be at least 1"),
-        ("fast-slow", {"colour": "red"}, "bad parameter for signal 'fast-slow'"),
-        ("gps-circle", {"channel": "altitude"}, "channel must be one of"),
+        ("fast-slow", {"n": 50}, r"n=50 is out of range: it must be in \[100, "),
+        ("fast-slow", {"runs": 0}, r"runs=0 is out of range: it must be in \[1, "),
+        ("fast-slow", {"n": 1_000_000, "runs": 100}, "over the limit of 50,000,000"),
+        ("fast-slow", {"colour": "red"}, "bad parameter for signal 'fast-slow': colour"),
+        ("gps-circle", {"channel": "altitude"}, "channel must be a string: one of east"),
+        ("noise-step", {"factor": -1.0}, "factor=-1.0 is out of range"),
+        ("gps-circle", {"sample_period": 0.0}, "sample_period=0.0 is out of range"),
+        ("steps-ramps", {"n_steps": 2.5}, "n_steps must be an integer"),
+        ("random-jerk", {"jerk_std": float("inf")}, "jerk_std must be finite"),
     ],
 )
 def test_bad_generator_input(name, params, phrase):
     with pytest.raises(NoisevarError, match=phrase):
         nv.generate(name, **params)
+
+
+@pytest.mark.parametrize("family", FAMILIES)
+def test_every_parameter_has_a_spec_whose_default_is_the_generators(family):
+    spec = signal_spec(family)
+    signature = inspect.signature(spec.func).parameters
+    assert list(spec.param_specs) == [
+        "n",
+        "noise_std",
+        "seed",
+        "runs",
+        *(p.name for p in spec.extras),
+    ]
+    assert set(spec.param_specs) == set(signature)
+    for name, p in spec.param_specs.items():
+        assert p.default == signature[name].default, name
+        assert p.help, name
+        if p.default is not None:
+            assert p.validate(p.default) == p.default, name
+
+
+def test_parameters_are_converted_to_their_kind_and_big_seeds_stay_exact():
+    g = nv.generate("steps-ramps", n=1000.0, seed=2**62 + 1, n_steps=3.0)
+    assert g.params["n"] == 1000 and isinstance(g.params["n"], int)
+    assert g.params["seed"] == 2**62 + 1 and g.params["n_steps"] == 3
+    np.testing.assert_array_equal(
+        g.measured, nv.generate("steps-ramps", n=1000, seed=2**62 + 1, n_steps=3).measured
+    )

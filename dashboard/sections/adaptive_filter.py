@@ -26,15 +26,16 @@ from noisevar.figures.kalman import (
     states_figure,
     track_figure,
 )
-from noisevar.kalman import STRATEGIES
+from noisevar.kalman import STRATEGIES, HuberUpdate
 from noisevar.kalman.evaluation import filter_summary
 from noisevar.kalman.result import FilterResult
-from noisevar.systems.scenarios import SCENARIOS
+from noisevar.systems.scenarios import GPS_DURATION, SCENARIOS
 
 VIEWS = ["Track", "States", "R estimates", "Innovations and NIS"]
 DEFAULT_STRATEGIES = ["oracle", "somd", "rae", "sage-husa", "vb"]
 
-#: Position / other state groups of each filter scenario, for the RMSE table.
+#: Position / other state groups of each filter scenario, for the RMSE table (the first
+#: group's first two states are the track's axes). Scenarios do not declare them yet.
 KALMAN_STATE_GROUPS: dict[str, dict[str, tuple[int, ...]]] = {
     "gps-circle": {"position (m)": (0, 1), "speed (m/s)": (2,), "heading (rad)": (3,)},
     "noise-step": {"position (m)": (0, 2), "velocity (m/s)": (1, 3)},
@@ -57,8 +58,8 @@ class FilterRuns:
 
 
 def strategy_picker(is_scenario: bool) -> list[str]:
-    """The strategies to run (the oracle needs a scenario's truth)."""
-    names = list(STRATEGIES) if is_scenario else [s for s in STRATEGIES if s != "oracle"]
+    """The strategies to run (one that needs the true R needs a scenario's truth)."""
+    names = [s for s, spec in STRATEGIES.items() if is_scenario or "R_true" not in spec.needs]
     default = [s for s in DEFAULT_STRATEGIES if s in names]
     keep_valid("af_strats", lambda v: all(s in names for s in v), default)
     return st.multiselect(
@@ -113,7 +114,7 @@ def strategy_settings() -> tuple[cache.Settings, float | None]:
             **initial("af_every", STRATEGIES["somd"].defaults()["every"]),
         )
         huber = c5.toggle(
-            "Huber update (κ = 1.345)",
+            f"Huber update (κ = {HuberUpdate.kappa:g})",
             key="af_huber",
             bind="query-params",
             help="Robust M-estimation update (docs/algorithms.md §B3); works with every strategy.",
@@ -124,61 +125,47 @@ def strategy_settings() -> tuple[cache.Settings, float | None]:
         "rho": float(rho),
         "every": int(every),
     }
-    return settings, (1.345 if huber else None)
+    return settings, (HuberUpdate.kappa if huber else None)
 
 
-def _scenario_form() -> tuple[str, int, float, float]:
-    """Scenario, seed, size (duration or steps) and noise factor."""
-    c1, c2, c3, c4 = st.columns(4)
+#: The page's sliders for the scenario parameters it offers, when a scenario takes them:
+#: (widget key, label, lowest, highest, step); the default is the scenario's own.
+SCENARIO_WIDGETS = {
+    "duration": ("af_duration", "Duration (s)", 100.0, 3000.0, 100.0),
+    "n_steps": ("af_steps", "Steps", 500, 6000, 500),
+    "factor": ("af_factor", "Noise increase (×)", 1.0, 10.0, 0.5),
+}
+
+
+def _scenario_form() -> tuple[str, int, dict[str, float | int]]:
+    """Scenario, seed, and the scenario's own parameters the page offers (its signature's)."""
+    c1, c2, *cols = st.columns(4)
     scen = c1.selectbox("Scenario", list(SCENARIOS), key="af_scenario", bind="query-params")
     seed = c2.number_input(
         "Seed", 0, 2**31 - 1, step=1, key="af_seed", bind="query-params", **initial("af_seed", 0)
     )
-    if scen == "gps-circle":
-        size = c3.slider(
-            "Duration (s)",
-            100,
-            3000,
-            step=100,
-            key="af_duration",
-            bind="query-params",
-            **initial("af_duration", 3000),
+    defaults = cache.scenario_defaults(scen)
+    offered = [p for p in SCENARIO_WIDGETS if p in defaults]
+    params: dict[str, float | int] = {}
+    for name, col in zip(offered, cols, strict=False):
+        key, label, lo, hi, step = SCENARIO_WIDGETS[name]
+        params[name] = col.slider(
+            label, lo, hi, step=step, key=key, bind="query-params", **initial(key, defaults[name])
         )
-    else:
-        size = c3.slider(
-            "Steps",
-            500,
-            6000,
-            step=500,
-            key="af_steps",
-            bind="query-params",
-            **initial("af_steps", 6000),
-        )
-    factor = 3.0
-    if scen in ("noise-step", "noise-ramp"):
-        factor = c4.slider(
-            "Noise increase (×)",
-            1.0,
-            10.0,
-            step=0.5,
-            key="af_factor",
-            bind="query-params",
-            **initial("af_factor", 3.0),
-        )
-    return scen, int(seed), float(size), float(factor)
+    return scen, int(seed), params
 
 
 def on_scenario(strategies: list[str], settings: cache.Settings, kappa: float | None) -> FilterRuns:
     """Run the strategies on a seeded scenario (with truth)."""
-    scen, seed, size, factor = _scenario_form()
+    scen, seed, params = _scenario_form()
     runs = FilterRuns()
     sc = None
     with guarded():
-        sc = cache.kalman_scenario(scen, seed, size, factor)
+        sc = cache.kalman_scenario(scen, seed, cache.params_key(params))
     if sc is None:
         return runs
     st.caption(sc.description)
-    key = f"{scen}|{seed}|{size}|{factor}"
+    key = f"{scen}|{seed}|{cache.params_key(params)}"
     with st.spinner("Filtering..."):
         for s in strategies:
             with guarded(f"{s}: "):
@@ -186,7 +173,7 @@ def on_scenario(strategies: list[str], settings: cache.Settings, kappa: float | 
     runs.truth_R = sc.R_true[sc.first_step :]
     runs.z_shown = sc.z[:, sc.first_step :]
     runs.groups = KALMAN_STATE_GROUPS.get(scen)
-    runs.track_states = (0, 1) if scen == "gps-circle" else (0, 2)
+    runs.track_states = next(iter(runs.groups.values()))[:2] if runs.groups else (0, 1)
     runs.track_channels = (0, 1)
     runs.title = scen
     return runs
@@ -258,7 +245,7 @@ def on_loaded_data(
                 runs.z_shown = z
     if quick is not None:
         st.caption(
-            "Quick single-signal estimates (method auto) per channel: "
+            f"Quick single-signal estimates (method {cache.DEFAULT_METHOD}) per channel: "
             + ", ".join(f"{c} {fmt(v)}" for c, v in zip(chosen, quick, strict=True))
             + " — drawn as the reference line of the R panels."
         )
@@ -334,7 +321,9 @@ def _figure(view: str, runs: FilterRuns, is_scenario: bool) -> go.Figure | None:
             title="R̂ per channel (log scale) against the true value"
             if is_scenario
             else "R̂ per channel (log scale) against a quick estimate",
-            reference_name="true R" if is_scenario else "quick estimate of R (method auto)",
+            reference_name="true R"
+            if is_scenario
+            else f"quick estimate of R (method {cache.DEFAULT_METHOD})",
         )
     which = st.selectbox("Filter", [r.strategy for r in results], key="af_innov")
     return innovations_figure(next(r for r in results if r.strategy == which))
@@ -345,7 +334,7 @@ def table1_panel() -> None:
     with st.expander("The paper's Table 1, reproduced on demand (gps-circle)"):
         st.caption(
             "Noise variance of each GPS channel: the paper's SOMD and RAE beside ours, averaged "
-            "over Monte Carlo runs of the full 3000 s scenario (about 2 s per run)."
+            f"over Monte Carlo runs of the full {GPS_DURATION:g} s scenario (seconds per run)."
         )
         c1, c2, c3 = st.columns([1, 1, 2], vertical_alignment="bottom")
         t_runs = c1.number_input("Runs", 1, 100, key="t1_runs", **initial("t1_runs", 5))

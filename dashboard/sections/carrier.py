@@ -170,7 +170,8 @@ def sweep_panel(s: CarrierSettings) -> None:
         sweep_runs = c1.number_input(
             "Runs per point", 1, 200, key="ca_sweep_runs", **initial("ca_sweep_runs", 20)
         )
-        if c2.button("Run the sweep 25 … 45 dB-Hz", key="ca_sweep_go"):
+        span = f"{min(SWEEP_CN0):g} … {max(SWEEP_CN0):g}"
+        if c2.button(f"Run the sweep {span} dB-Hz", key="ca_sweep_go"):
             st.session_state["ca_sweep"] = (
                 s.scenario_json,
                 int(sweep_runs),

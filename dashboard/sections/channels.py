@@ -6,6 +6,7 @@ import numpy as np
 import streamlit as st
 
 import noisevar
+from dashboard.cache import DEFAULT_METHOD
 from dashboard.state import LoadedSignal, initial
 from dashboard.widgets import guarded, show_figure
 from noisevar.errors import NoisevarError
@@ -40,7 +41,7 @@ def _estimates(
             errors[c] = str(exc)
     if not results:
         return None, [], errors
-    est = VarianceEstimates("auto", (len(results),), results, dict(results[0].params))
+    est = VarianceEstimates(results[0].method, (len(results),), results, dict(results[0].params))
     return est, names, errors
 
 
@@ -56,7 +57,8 @@ def side_by_side(sig: LoadedSignal) -> None:
         cols,
         key=key,
         **initial(key, cols[:DEFAULT_CHANNELS], "default"),
-        help="Each channel's noise by method auto, estimated in one call on all of them.",
+        help=f"Each channel's noise by method {DEFAULT_METHOD}, estimated in one call on all "
+        "of them.",
     )
     if not chosen:
         st.caption("Pick channels to compare their noise.")

@@ -10,6 +10,7 @@ from streamlit.delta_generator import DeltaGenerator
 
 import noisevar
 from dashboard import cache
+from dashboard.sections.estimator_tuning import tuned_methods
 from dashboard.sections.noise_panel import render_assumptions, render_noise_panel
 from dashboard.state import LoadedSignal, initial, times_of
 from dashboard.widgets import (
@@ -31,6 +32,7 @@ from noisevar.estimators.compare import (
     single_signal_methods,
 )
 from noisevar.figures.estimator import compare_figure, monte_carlo_figure
+from noisevar.signals import PAPER_SIGNAL
 
 #: Number formats of the comparison table's columns.
 _COMPARE_FORMATS = {
@@ -60,7 +62,7 @@ def _number_columns(formats: dict[str, str]) -> dict[str, st.column_config.Numbe
 
 def tuned_params(tuned: dict[str, object] | None) -> dict[str, dict[str, object]]:
     """The SOMD methods' parameters tuned on the Estimator page (empty: their defaults)."""
-    return {m: dict(tuned) for m in ("somd", "somd-paper")} if tuned else {}
+    return {m: dict(tuned) for m in tuned_methods()} if tuned else {}
 
 
 def comparison(sig: LoadedSignal, tuned: dict[str, object] | None) -> None:
@@ -71,7 +73,8 @@ def comparison(sig: LoadedSignal, tuned: dict[str, object] | None) -> None:
         key="cmp_methods",
         bind="query-params",
         format_func=lambda m: m,
-        help="The maximum-likelihood peers (mle-*) take seconds on long records.",
+        help=f"The maximum-likelihood peers ({', '.join(SLOW_METHODS)}) take seconds on long "
+        "records.",
         **initial("cmp_methods", default_methods(sig.n), "default"),
     )
     if tuned:
@@ -83,8 +86,8 @@ def comparison(sig: LoadedSignal, tuned: dict[str, object] | None) -> None:
         st.caption("SOMD methods use their defaults (tune them on the Estimator page).")
     if any(m in SLOW_METHODS for m in chosen) and sig.n > 50_000:
         st.warning(
-            f"The mle-* methods take several seconds on {sig.n:,} samples; leave them out for "
-            "a quick comparison."
+            f"{' and '.join(SLOW_METHODS)} take several seconds on {sig.n:,} samples; leave them "
+            "out for a quick comparison."
         )
     if not chosen:
         st.info("Choose at least one method.")
@@ -168,7 +171,7 @@ def monte_carlo_form(sig: LoadedSignal) -> MonteCarloSettings:  # long: one widg
         names,
         key="mc_signal",
         bind="query-params",
-        **initial("mc_signal", names.index(gen_default or "fast-slow"), "index"),
+        **initial("mc_signal", names.index(gen_default or PAPER_SIGNAL), "index"),
     )
     n_mc = c2.number_input(
         "Samples per run",
@@ -212,7 +215,7 @@ def monte_carlo_form(sig: LoadedSignal) -> MonteCarloSettings:  # long: one widg
         single_signal_methods(),
         key="mc_methods",
         bind="query-params",
-        help="mle-* are left out by default: about 0.4 s per run each.",
+        help=f"{' and '.join(SLOW_METHODS)} are left out by default: a state-space fit per run.",
         **initial("mc_methods", default_methods(6000, monte_carlo=True), "default"),
     )
     return MonteCarloSettings(family, int(n_mc), std_mc, int(runs), int(seed), mc_methods)

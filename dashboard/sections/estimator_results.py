@@ -11,7 +11,8 @@ from streamlit.delta_generator import DeltaGenerator
 
 import noisevar
 from dashboard import cache
-from dashboard.sections.estimator_tuning import H_ALL, Tuning, closest
+from dashboard.cache import DEFAULT_METHOD
+from dashboard.sections.estimator_tuning import H_ALL, Tuning, closest, tuned_methods
 from dashboard.state import LoadedSignal, initial, signal_units, time_of
 from dashboard.widgets import (
     csv_download,
@@ -23,9 +24,10 @@ from dashboard.widgets import (
     show_figure,
 )
 from noisevar.config import config_to_json, params_to_config
+from noisevar.estimators import describe_methods
 from noisevar.estimators.compare import rows_to_csv
 from noisevar.estimators.results import VarianceEstimate
-from noisevar.figures._common import range_to_slice
+from noisevar.figures.axes import range_to_slice
 from noisevar.figures.estimator import (
     envelope_figure,
     estimate_rows,
@@ -36,6 +38,7 @@ from noisevar.figures.estimator import (
     window_tests_figure,
     window_variance_figure,
 )
+from noisevar.filters.abg import somd_bias_factor
 from noisevar.filters.envelope import RATIO_BAND
 from noisevar.format import eng_range, squared
 
@@ -95,22 +98,24 @@ def headline(sig: LoadedSignal, est: VarianceEstimate, truth: float | None, tuni
         )
     for note in est.notes:
         st.caption(f"Note: {note}")
-    _versus_auto(sig, est)
-    if tuning.method == "somd-paper":
+    _versus_default(sig, est)
+    if tuning.somd:
+        h = tuning.h_smooth[0]
         st.caption(
-            "somd-paper divides by 2 as printed in the paper; its bias is c(h)/2 − 1. "
-            "`somd` divides by the exact c(h)."
+            f"The paper divides by 2; the exact factor at h_S = {h:g} is c(h) = "
+            f"{somd_bias_factor(h):.4g}, so the paper's factor overstates the variance by "
+            f"{somd_bias_factor(h) / 2 - 1:+.1%} (docs/algorithms.md §A8)."
         )
 
 
-def _versus_auto(sig: LoadedSignal, est: VarianceEstimate) -> None:
-    """Why the Home and Signal pages (method auto) may show another number than this page."""
-    if est.method == "auto":
+def _versus_default(sig: LoadedSignal, est: VarianceEstimate) -> None:
+    """Why the Home and Signal pages (the default method) may show another number."""
+    if est.method == DEFAULT_METHOD:
         return
     auto = None
     if sig.n <= SCAN_AUTO_LIMIT:
         try:
-            auto = cache.estimate(sig, "auto", {})
+            auto = cache.estimate(sig, DEFAULT_METHOD, {})
         except noisevar.NoisevarError:
             auto = None
     u = signal_units()
@@ -123,10 +128,11 @@ def _versus_auto(sig: LoadedSignal, est: VarianceEstimate) -> None:
             f"{'overlap' if overlap else 'do not overlap'})."
         )
     st.caption(
-        f"The Home and Signal pages use method `auto` (a zero-lag polynomial virtual sensor, "
-        f"robust to jumps and outliers); this page defaults to `somd`, the paper's method, "
-        f"tuned step by step.{versus} Different assumptions give slightly different answers; "
-        "the Compare page puts every method side by side."
+        f"The Home and Signal pages use method `{DEFAULT_METHOD}` "
+        f"({describe_methods()[DEFAULT_METHOD]}); this page defaults to "
+        f"`{tuned_methods()[0]}`, the paper's method, tuned step by step.{versus} Different "
+        "assumptions give slightly different answers; the Compare page puts every method side "
+        "by side."
     )
 
 
@@ -199,7 +205,7 @@ def main_figure(sig: LoadedSignal, shown: VarianceEstimate | None, tuning: Tunin
             "units": units,
         }
         fig = cache.figure(
-            "somd",
+            "signal_filters_windows",
             inputs,
             lambda: somd_figure(
                 sig.z,
@@ -340,7 +346,7 @@ def _scan_view(
     run_scan = n <= SCAN_AUTO_LIMIT or st.session_state.get("scan_ok") == (sig.digest, window)
     if not run_scan:
         st.info(
-            f"The h scan filters the {n:,} samples once per grid point (41 points): "
+            f"The h scan filters the {n:,} samples once per point of its h grid: "
             "it takes several seconds on this record."
         )
         if st.button("Run the h scan", key="scan_go"):

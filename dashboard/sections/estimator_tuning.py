@@ -12,10 +12,10 @@ import noisevar
 from dashboard.state import LoadedSignal, initial, keep_valid, reselect
 from dashboard.widgets import GLOSSARY, h_grid
 from noisevar.config import parse_config
+from noisevar.estimators import METHODS, PARAMS
+from noisevar.estimators.params import SOMD_PARAMS
 from noisevar.filters.abg import settling_samples
 
-#: The methods whose parameters the panel tunes.
-SOMD = ("somd", "somd-paper")
 RATIOS = [2, 3, 5, 7, 10, 15, 20, 30, 50, 70, 100]
 H_ALL = h_grid(1e-9, 3e-3)
 HT_ALL = h_grid(1e-8, 0.3)
@@ -25,8 +25,21 @@ CONFIG_COLUMN_KEY = "est_config_column"
 
 
 def methods() -> list[str]:
-    """The single-signal methods the page offers."""
-    return [m for m in noisevar.methods() if m != "somd-redundant"]
+    """The single-signal methods the page offers (none that needs a second sensor)."""
+    return [name for name, spec in METHODS.items() if not spec.needs_reference]
+
+
+def tuned_methods() -> list[str]:
+    """The methods whose parameters the panel tunes: those taking SOMD's parameters.
+
+    The first is the page's default method.
+    """
+    return [m for m in methods() if set(SOMD_PARAMS) <= set(METHODS[m].param_specs)]
+
+
+def default(param: str) -> object:
+    """A SOMD parameter's default (its spec's)."""
+    return PARAMS[param].default
 
 
 def max_window(n: int) -> int:
@@ -55,14 +68,14 @@ class Tuning:
     method: str
     params: dict[str, object] = field(default_factory=dict)
     h_smooth: list[float] = field(default_factory=list)
-    window: int = 40
-    gamma_amp: float = 0.5
-    gamma_ang: float = 10.0
+    window: int = PARAMS["window"].default
+    gamma_amp: float = PARAMS["gamma_amp"].default
+    gamma_ang: float = PARAMS["gamma_ang"].default
 
     @property
     def somd(self) -> bool:
         """Whether the method is one of the tuned SOMD methods."""
-        return self.method in SOMD
+        return self.method in tuned_methods()
 
 
 def _valid_h(options: list[str], window: int, n: int) -> list[str]:
@@ -154,19 +167,21 @@ def tuning_panel(n: int) -> Tuning:
     """
     st.markdown("#### Parameters")
     method = _method_select()
-    somd = method in SOMD
+    somd = method in tuned_methods()
     h_s, h_more = _smoothing_filters(n, somd)
     track = _tracking_filter(h_s, n, somd)
     largest = max_window(n)
-    keep_valid("win", lambda v: MIN_WINDOW <= v <= largest, min(40, largest))
+    paper_window = min(int(default("window")), largest)
+    keep_valid("win", lambda v: MIN_WINDOW <= v <= largest, paper_window)
     window = st.slider(
         "Window m (samples)",
         MIN_WINDOW,
         largest,
         key="win",
         bind="query-params",
-        help="Windows for the selection tests and the envelope amplitude (paper: 40).",
-        **initial("win", min(40, largest)),
+        help="Windows for the selection tests and the envelope amplitude (paper: "
+        f"{default('window')}).",
+        **initial("win", paper_window),
     )
     g_amp, g_ang, angle, select = _window_tests(somd)
     _config_upload(largest)
@@ -189,7 +204,8 @@ def tuning_panel(n: int) -> Tuning:
 def _method_select() -> str:
     names = methods()
     desc = noisevar.describe_methods()
-    keep_valid("est_method", lambda v: v in names, "somd")
+    first = tuned_methods()[0]
+    keep_valid("est_method", lambda v: v in names, first)
     # the options are the names (as in the CLI and the share link); the description follows
     method = st.selectbox(
         "Method",
@@ -197,7 +213,7 @@ def _method_select() -> str:
         key="est_method",
         bind="query-params",
         help="The estimator; `noisevar methods` lists the same names.",
-        **initial("est_method", names.index("somd"), "index"),
+        **initial("est_method", names.index(first), "index"),
     )
     st.caption(desc[method])
     return method
@@ -205,15 +221,16 @@ def _method_select() -> str:
 
 def _smoothing_filters(n: int, somd: bool) -> tuple[str, list[str]]:
     hs_opts = _valid_h(H_ALL, MIN_WINDOW, n)
-    keep_valid("h_s", lambda v: v in hs_opts, closest(hs_opts, 1.5e-5))
+    paper_h = float(default("h_smooth"))
+    keep_valid("h_s", lambda v: v in hs_opts, closest(hs_opts, paper_h))
     h_s = st.select_slider(
         "Smoothing filter h_S (log scale)",
         hs_opts,
         key="h_s",
         bind="query-params",
         disabled=not somd,
-        help=GLOSSARY["h"] + " Paper: 1.5e-5.",
-        **initial("h_s", closest(hs_opts, 1.5e-5)),
+        help=GLOSSARY["h"] + f" Paper: {paper_h:g}.",
+        **initial("h_s", closest(hs_opts, paper_h)),
     )
     h_more = st.multiselect(
         "More smoothing filters (several h)",
@@ -242,6 +259,7 @@ def _tracking_filter(h_s: str, n: int, somd: bool) -> dict[str, float]:
     )
     by_ratio = ht_mode == "multiple of h_S"
     ratio_opts = [r for r in RATIOS if float(h_s) * r < 0.3]
+    paper_ratio = int(default("track_ratio"))
     keep_valid("ht_ratio", lambda v: v in ratio_opts, ratio_opts[-1])
     ratio = st.select_slider(
         "h_T / h_S",
@@ -249,8 +267,8 @@ def _tracking_filter(h_s: str, n: int, somd: bool) -> dict[str, float]:
         key="ht_ratio",
         bind="query-params",
         disabled=not somd or not by_ratio,
-        help="The paper takes h_T 10 to 100 times h_S.",
-        **initial("ht_ratio", 30 if 30 in ratio_opts else ratio_opts[-1]),
+        help="The paper takes h_T 10 to 100 times h_S (docs/algorithms.md §A5).",
+        **initial("ht_ratio", paper_ratio if paper_ratio in ratio_opts else ratio_opts[-1]),
     )
     ht_opts = _valid_h(HT_ALL, MIN_WINDOW, n)
     keep_valid("h_t", lambda v: v in ht_opts, closest(ht_opts, 5e-4))
@@ -281,7 +299,7 @@ def _window_tests(somd: bool) -> tuple[float, float, str, bool]:
             + GLOSSARY["tanh|ln r|"]
             + "), so that −z keeps the same windows as z."
         ),
-        **initial("g_amp", 0.5),
+        **initial("g_amp", default("gamma_amp")),
     )
     g_ang = st.slider(
         "Γ_ang (angle test, degrees)",
@@ -292,7 +310,7 @@ def _window_tests(somd: bool) -> tuple[float, float, str, bool]:
         bind="query-params",
         disabled=not somd,
         help=GLOSSARY["Γ_ang"],
-        **initial("g_ang", 10.0),
+        **initial("g_ang", default("gamma_ang")),
     )
     angle = st.radio(
         "Slopes of the angle test",
@@ -309,7 +327,7 @@ def _window_tests(somd: bool) -> tuple[float, float, str, bool]:
         bind="query-params",
         disabled=not somd,
         help="Off for a signal known to be slowly varying (the paper's GPS experiment).",
-        **initial("select", True),
+        **initial("select", default("select")),
     )
     return g_amp, g_ang, angle, select
 

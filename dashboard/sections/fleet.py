@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import inspect
 import tempfile
 from pathlib import Path
 from typing import Any
@@ -10,11 +11,13 @@ import pandas as pd
 import streamlit as st
 
 import noisevar
+from dashboard.cache import DEFAULT_METHOD
 from dashboard.loading import load_bytes
+from dashboard.pages import ESTIMATOR
 from dashboard.state import reselect
 from dashboard.widgets import csv_download, fmt, guarded, show_figure
 from noisevar.batch import read_table
-from noisevar.batch.example import write_example_fleet
+from noisevar.batch.example import EXAMPLE_CHANNELS, write_example_fleet
 from noisevar.batch.fleet import DEFAULT_THRESHOLD, FleetReport, SensorScore
 from noisevar.errors import NoisevarError
 from noisevar.figures.fleet import flagged_sensors, fleet_distribution
@@ -23,7 +26,6 @@ from noisevar.figures.fleet import flagged_sensors, fleet_distribution
 TABLE_KEY = "nv_fleet_table"
 LABEL_KEY = "nv_fleet_label"
 FOLDER_KEY = "nv_fleet_folder"
-ESTIMATOR_PAGE = "pages/2_Estimator.py"
 SOURCES = ("Example fleet", "Batch table", "Run a batch")
 
 
@@ -64,7 +66,7 @@ def _run_batch(paths: list[Path], method: str, label: str) -> None:
 def source_panel() -> None:
     """Where the batch table comes from: the example fleet, an uploaded table, or a run."""
     source = st.segmented_control("Fleet from", SOURCES, key="fl_source", default=SOURCES[0])
-    method = "auto"
+    method = DEFAULT_METHOD
     if source == "Batch table":
         up = st.file_uploader(
             "A batch table (`noisevar batch ... --out noise.parquet`)",
@@ -92,11 +94,15 @@ def source_panel() -> None:
             with guarded():
                 _run_batch(paths, method, f"{len(paths)} uploaded files")
         return
-    st.caption("Twelve IMU logs (ax, ay, az at 100 Hz) of a production line; one unit is faulty.")
+    example = {k: p.default for k, p in inspect.signature(write_example_fleet).parameters.items()}
+    st.caption(
+        f"{example['n_sensors']} IMU logs ({', '.join(EXAMPLE_CHANNELS)}) of a production line; "
+        f"{len(example['noisy'])} unit has {example['factor']:g} times the noise on one axis."
+    )
     if st.button("Run the example fleet", key="fl_example", type="primary"):
         with guarded():
             paths = write_example_fleet(_folder("example"))
-            _run_batch(paths, method, "example fleet (12 IMUs)")
+            _run_batch(paths, method, f"example fleet ({len(paths)} IMUs)")
 
 
 def summary(report: FleetReport, frame: pd.DataFrame, label: str) -> None:
@@ -170,7 +176,7 @@ def open_sensor(report: FleetReport) -> None:
     if c2.button("Open on the Estimator page", key="fl_open", type="primary"):
         with guarded():
             _open(sensor)
-            st.switch_page(ESTIMATOR_PAGE)
+            st.switch_page(ESTIMATOR.path)
 
 
 def _open(sensor: SensorScore) -> None:

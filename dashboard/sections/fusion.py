@@ -11,10 +11,21 @@ from dashboard import cache
 from dashboard.state import initial
 from dashboard.widgets import figure_view, guarded, show_figure, table_and_figure_downloads
 from noisevar.figures.fusion import error_figure, isolation_figure, r_track_figure, track_figure
-from noisevar.systems.fusion import FusionData, FusionResult
+from noisevar.kalman import STRATEGIES
+from noisevar.systems.fusion import (
+    FAULTS,
+    LOCAL_STRATEGIES,
+    FusionData,
+    FusionResult,
+    FusionScenario,
+)
 
-FAULTS = ["none", "noise-step", "noise-ramp", "bias", "frozen"]
-CONFIGS = ["vb", "fixed", "oracle", "vb+isolation", "fixed+isolation", "oracle+isolation"]
+#: Each local filter, without and with chi-square isolation (``run_fusion``'s arguments).
+CONFIGS = [*LOCAL_STRATEGIES, *(f"{local}+isolation" for local in LOCAL_STRATEGIES)]
+#: Shown at first: every configuration whose local filter needs no truth.
+DEFAULT_CONFIGS = [c for c in CONFIGS if "R_true" not in STRATEGIES[c.partition("+")[0]].needs]
+#: The scenario's defaults (fault sizes).
+SCENARIO = FusionScenario()
 VIEWS = ["Track", "Position error", "VB estimate of R", "Isolation test"]
 
 
@@ -45,7 +56,7 @@ def settings_form() -> FusionSettings:  # long: one widget call per setting
         FAULTS,
         key="fu_fault",
         bind="query-params",
-        **initial("fu_fault", FAULTS.index("bias"), "index"),
+        **initial("fu_fault", list(FAULTS).index("bias"), "index"),
     )
     steps = c2.slider(
         "Steps (1 s)",
@@ -71,7 +82,7 @@ def settings_form() -> FusionSettings:  # long: one widget call per setting
         key="fu_factor",
         bind="query-params",
         disabled=fault not in ("noise-step", "noise-ramp"),
-        **initial("fu_factor", 4.0),
+        **initial("fu_factor", SCENARIO.noise_factor),
     )
     bias = c2.slider(
         "Bias (noise standard deviations)",
@@ -81,7 +92,7 @@ def settings_form() -> FusionSettings:  # long: one widget call per setting
         key="fu_bias",
         bind="query-params",
         disabled=fault != "bias",
-        **initial("fu_bias", 20.0),
+        **initial("fu_bias", SCENARIO.bias_sigmas),
     )
     false_alarm = c3.select_slider(
         "Chi-square false-alarm probability",
@@ -95,7 +106,7 @@ def settings_form() -> FusionSettings:  # long: one widget call per setting
         CONFIGS,
         key="fu_configs",
         bind="query-params",
-        **initial("fu_configs", ["vb", "fixed", "vb+isolation", "fixed+isolation"], "default"),
+        **initial("fu_configs", DEFAULT_CONFIGS, "default"),
     )
     return FusionSettings(fault, steps, runs, seed, factor, bias, false_alarm, configs)
 
@@ -129,7 +140,8 @@ def fused_results(s: FusionSettings) -> None:
         st.metric(
             "Distributed (fixed R, eq. 24) vs centralised Kalman filter: largest |Δx|",
             f"{diff:.2e}",
-            help="The information-form fusion equals the centralised filter (target < 1e-8).",
+            help="The information-form fusion equals the centralised filter, to rounding "
+            "(docs/algorithms.md §G6).",
         )
     if not results:
         st.info("Pick at least one configuration.")

@@ -8,7 +8,7 @@ import numpy as np
 import streamlit as st
 
 from dashboard import cache, loading
-from dashboard.pages import SIGNAL_PAGE
+from dashboard.pages import SIGNAL
 from dashboard.state import LoadedSignal, follow_table, initial, keep_valid
 from dashboard.widgets import fmt, guarded, how_it_works, show_figure, table_and_figure_downloads
 from noisevar import RedundantEstimate
@@ -45,7 +45,7 @@ def require_sensors(sig: LoadedSignal | None, explain: Sequence[str]) -> LoadedS
         with guarded():
             loading.load_simulated_sensors()
             st.rerun()
-    st.page_link(SIGNAL_PAGE, label="Upload your own file", icon=":material/upload:")
+    st.page_link(SIGNAL.path, label="Upload your own file", icon=":material/upload:")
     how_it_works(*explain)
     st.stop()
     raise AssertionError("unreachable")  # pragma: no cover

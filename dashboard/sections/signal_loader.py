@@ -9,10 +9,11 @@ from streamlit.delta_generator import DeltaGenerator
 
 import noisevar
 from dashboard import loading
-from dashboard.pages import SIGNAL_PAGE
-from dashboard.state import LoadedSignal, current_signal, initial
-from dashboard.widgets import guarded, how_it_works
-from noisevar.signals import GPS_CHANNELS
+from dashboard.pages import SIGNAL
+from dashboard.state import LoadedSignal, current_signal
+from dashboard.url_params import RECIPE_PARAMS
+from dashboard.widgets import guarded, how_it_works, param_input
+from noisevar.signals import PAPER_SIGNAL, signal_spec
 
 
 def require_signal(
@@ -52,11 +53,13 @@ def require_signal(
                 with guarded():
                     loading.load_sample(name)
                     st.rerun()
-    if st.button("Generate the paper's fast-slow signal (n = 6000, seed 0)", key="offer_gen"):
+    paper = loading.paper_signal_defaults()
+    label = f"Generate the paper's {PAPER_SIGNAL} signal (n = {paper['n']}, seed {paper['seed']})"
+    if st.button(label, key="offer_gen"):
         with guarded():
-            loading.load_generated("fast-slow", n=6000, seed=0, noise_std=5.0)
+            loading.load_paper_signal()
             st.rerun()
-    st.page_link(SIGNAL_PAGE, label="Go to the Signal page", icon=":material/upload:")
+    st.page_link(SIGNAL.path, label="Go to the Signal page", icon=":material/upload:")
     if explain:
         how_it_works(*explain)
     st.stop()
@@ -64,7 +67,7 @@ def require_signal(
 
 
 def quick_start() -> None:
-    """The home page's two buttons: the sample fast_slow.csv or the generated fast-slow."""
+    """The home page's two buttons: the sample fast_slow.csv or the generated paper signal."""
     st.info("Start by loading a signal: a sample file, a generated scenario, or your own file.")
     c1, c2 = st.columns(2)
     with c1:
@@ -73,9 +76,9 @@ def quick_start() -> None:
                 loading.load_sample("fast_slow.csv")
                 st.rerun()
     with c2:
-        if st.button("Generate the paper's fast-slow signal", key="home_generate"):
+        if st.button(f"Generate the paper's {PAPER_SIGNAL} signal", key="home_generate"):
             with guarded():
-                loading.load_generated("fast-slow", n=6000, seed=0, noise_std=5.0)
+                loading.load_paper_signal()
                 st.rerun()
 
 
@@ -96,7 +99,12 @@ def sample_buttons(errors: DeltaGenerator) -> None:
 
 
 def generator_form(errors: DeltaGenerator) -> None:
-    """The scenario generator: family, n, noise std, seed, the family's extras, Generate."""
+    """The scenario generator: family, n, noise std, seed, the family's own parameters.
+
+    Every widget comes from a parameter spec: ``n``, the noise std and the seed from the
+    link's limits (:data:`~dashboard.url_params.RECIPE_PARAMS`), the rest from the
+    family's spec (:func:`noisevar.signals.signal_spec`).
+    """
     names = noisevar.signal_names()
     c1, c2, c3, c4 = st.columns(4)
     family = c1.selectbox(
@@ -106,73 +114,22 @@ def generator_form(errors: DeltaGenerator) -> None:
         bind="query-params",
         help="Signal families of noisevar.generate (see its docstring).",
     )
-    n = c2.number_input(
-        "Samples n",
-        min_value=200,
-        max_value=2_000_000,
-        step=1000,
-        key="gen_n",
-        bind="query-params",
-        **initial("gen_n", 6000),
-    )
-    noise_std = c3.number_input(
+    n = param_input(RECIPE_PARAMS["n"], "gen_n", c2, "Samples n", step=1000)
+    noise_std = param_input(
+        RECIPE_PARAMS["noise_std"],
+        "gen_std",
+        c3,
         "Noise std (empty: scenario default)",
-        min_value=1e-6,
-        max_value=1e6,
-        format="%g",
-        key="gen_std",
-        bind="query-params",
         placeholder="default",
-        **initial("gen_std", None),
     )
-    seed = c4.number_input(
-        "Seed",
-        min_value=0,
-        max_value=2**31 - 1,
-        step=1,
-        key="gen_seed",
-        bind="query-params",
-        **initial("gen_seed", 0),
-    )
-    extras = _generator_extras(family)
+    seed = param_input(RECIPE_PARAMS["seed"], "gen_seed", c4, "Seed")
+    extras = signal_spec(family).extras
+    values = {}
+    for spec, col in zip(extras, st.columns(max(len(extras), 2)) if extras else (), strict=False):
+        values[spec.name] = param_input(spec, f"gen_{family}_{spec.name}", col)
     if st.button("Generate", key="gen_go", type="primary", icon=":material/play_arrow:"):
         with errors, guarded("Generate: "):
-            loading.load_generated(family, n=n, seed=seed, noise_std=noise_std, **extras)
-
-
-def _generator_extras(family: str) -> dict[str, float | int | str]:
-    """The widgets of the family's extra parameters (:data:`loading.GENERATOR_EXTRAS`)."""
-    extras: dict[str, float | int | str] = {}
-    specs = loading.GENERATOR_EXTRAS.get(family, [])
-    if not specs:
-        return extras
-    ecols = st.columns(max(len(specs), 2))
-    for (key, kind, default, lo, hi), col in zip(specs, ecols, strict=False):
-        wkey = f"gen_{family}_{key}"
-        label = key.replace("_", " ")
-        if kind == "choice":
-            extras[key] = col.selectbox(label, list(GPS_CHANNELS), key=wkey, bind="query-params")
-        elif kind == "int":
-            extras[key] = col.number_input(
-                label,
-                min_value=int(lo),
-                max_value=int(hi),
-                step=1,
-                key=wkey,
-                bind="query-params",
-                **initial(wkey, int(default)),
-            )
-        else:
-            extras[key] = col.number_input(
-                label,
-                min_value=float(lo),
-                max_value=float(hi),
-                format="%g",
-                key=wkey,
-                bind="query-params",
-                **initial(wkey, float(default)),
-            )
-    return extras
+            loading.load_generated(family, n=n, seed=seed, noise_std=noise_std, **values)
 
 
 def uploader(errors: DeltaGenerator) -> None:

@@ -61,11 +61,11 @@ def column_and_period(sig: LoadedSignal, errors: DeltaGenerator) -> LoadedSignal
 
 
 def summary_metrics(sig: LoadedSignal, errors: DeltaGenerator) -> None:
-    """Samples, duration, mean, std, range and the quick noise estimate (method auto)."""
+    """Samples, duration, mean, std, range and the quick noise estimate (default method)."""
     summary = signal_summary(sig.z, sig.sample_period)
     auto = None
     with errors, guarded("Quick estimate: "):
-        auto = cache.estimate(sig, "auto", {})
+        auto = cache.estimate(sig, cache.DEFAULT_METHOD, {})
     m = st.columns(6)
     m[0].metric("Samples", f"{summary['n']:,}")
     timing = time_of(sig)
@@ -87,7 +87,7 @@ def summary_metrics(sig: LoadedSignal, errors: DeltaGenerator) -> None:
     if auto is not None:
         truth = truth_of(sig)
         m[5].metric(
-            "Noise std (auto)",
+            f"Noise std ({cache.DEFAULT_METHOD})",
             fmt(auto.std, unit=u),
             delta=f"true {fmt(truth**0.5, unit=u)}" if truth else None,
             delta_color="off",

@@ -18,10 +18,10 @@ This package module holds the shared tooling:
   WebGL runs in software). Computation is always
   on every sample; only the drawing is reduced, and
   :func:`note_downsampled` says so on the figure.
-* :func:`x_axis` gives the abscissa (seconds or sample index) of chosen
-  sample indices; :func:`range_to_slice` turns a box selection back into a
-  sample slice.
-* :func:`to_html` / :func:`to_png` export a figure (PNG through ``kaleido``).
+* the abscissa helpers (:func:`x_axis`, :func:`x_title`...) live in the public
+  :mod:`noisevar.figures.axes`, the browser budget (:func:`capped`) in
+  :mod:`noisevar.figures.budget`, and the exports (HTML, PNG) in
+  :mod:`noisevar.figures.export`; this module re-exports the first two for the figures.
 * :func:`as_list` and :func:`check_run` are the one result/run check every
   figure module uses (the :class:`~noisevar.systems.base.RunResult` protocol).
 """
@@ -32,10 +32,11 @@ from typing import Any
 
 import numpy as np
 import plotly.graph_objects as go
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
-from noisevar.errors import NoisevarError
-from noisevar.figures._budget import (
+from noisevar.figures._shapes import band, hline, stacked_axes, step_xy, vline
+from noisevar.figures.axes import Timing, has_time, unit_name, x_axis, x_title
+from noisevar.figures.budget import (
     MAX_FIGURE_MARKERS,
     MAX_FIGURE_POINTS,
     MAX_FIGURE_SHAPES,
@@ -45,13 +46,8 @@ from noisevar.figures._budget import (
     figure_size,
     log_axis,
 )
-from noisevar.figures._shapes import band, hline, stacked_axes, step_xy, vline
 from noisevar.kalman.result import FilterResult
 from noisevar.systems.base import RunResult, as_list, check_run_index
-
-#: Seconds per sample (float), the samples' own times (array, seconds) or None (sample index).
-Timing = float | NDArray | None
-
 
 #: Colours shared by the figures (colour-blind-safe Okabe-Ito order).
 COLORS = {
@@ -108,69 +104,6 @@ def check_run(result: RunResult | FilterResult, run: int) -> None:
         result.check_run(run)
         return
     check_run_index(run, int(result.x.shape[0]) if result.batched else 1)
-
-
-def x_axis(idx: ArrayLike, sample_period: Timing = None, t0: float = 0.0) -> NDArray:
-    """Abscissa of sample indices: seconds when a sample period is known, else the index.
-
-    ``sample_period`` may also be the record's own time stamps (an array of
-    seconds, one per sample): records with gaps are then drawn against real time.
-
-    Parameters
-    ----------
-    idx : array_like of int
-        Sample indices.
-    sample_period : float, optional
-        Seconds per sample.
-    t0 : float
-        Time of sample 0.
-
-    Returns
-    -------
-    ndarray of float
-    """
-    idx = np.asarray(idx, dtype=float)
-    if isinstance(sample_period, np.ndarray):  # the samples' own times: gaps stay gaps
-        return np.interp(idx, np.arange(sample_period.size), sample_period)
-    return t0 + idx * sample_period if sample_period else idx
-
-
-def unit_name(units: str | None, name: str) -> str:
-    """An axis or legend title with its units: ``"signal (m)"``, or ``name`` without units.
-
-    Parameters
-    ----------
-    units : str or None
-        Units of the quantity (empty for none).
-    name : str
-        The quantity.
-
-    Returns
-    -------
-    str
-    """
-    return f"{name} ({units})" if units else name
-
-
-def has_time(sample_period: Timing) -> bool:
-    """Whether ``sample_period`` (a period or the samples' times) gives seconds."""
-    return isinstance(sample_period, np.ndarray) or bool(sample_period)
-
-
-def x_title(sample_period: Timing) -> str:
-    """Axis title matching :func:`x_axis`.
-
-    Parameters
-    ----------
-    sample_period : float or None
-        Seconds per sample; ``None`` or 0 for a sample-index axis.
-
-    Returns
-    -------
-    str
-        ``"time (s)"`` or ``"sample"``.
-    """
-    return "time (s)" if has_time(sample_period) else "sample"
 
 
 def line_trace(
@@ -233,39 +166,6 @@ def note_downsampled(fig: go.Figure, n_total: int, max_points: int = MAX_POINTS)
     if ann is not None:
         fig.add_annotation(**ann)
     return fig
-
-
-def range_to_slice(
-    x0: float, x1: float, n: int, sample_period: Timing = None, t0: float = 0.0
-) -> slice:
-    """Sample slice covered by an abscissa range (a box selection on a figure).
-
-    Parameters
-    ----------
-    x0, x1 : float
-        Range on the abscissa of :func:`x_axis` (either order).
-    n : int
-        Samples in the record.
-    sample_period : float, optional
-        Seconds per sample, as used for the figure.
-    t0 : float
-        Time of sample 0.
-
-    Returns
-    -------
-    slice
-        ``slice(start, stop)`` clipped to ``[0, n]``.
-    """
-    lo, hi = sorted((float(x0), float(x1)))
-    if isinstance(sample_period, np.ndarray):  # the samples' own times
-        start = int(np.searchsorted(sample_period, lo, side="left"))
-        stop = int(np.searchsorted(sample_period, hi, side="right"))
-        return slice(min(start, n), max(min(start, n), min(stop, n)))
-    if sample_period:
-        lo, hi = (lo - t0) / sample_period, (hi - t0) / sample_period
-    start = int(np.clip(np.ceil(lo), 0, n))
-    stop = int(np.clip(np.floor(hi) + 1, 0, n))
-    return slice(start, max(start, stop))
 
 
 def layout(title: str | None = None, height: int = 420, **extra: Any) -> dict[str, Any]:
@@ -359,62 +259,6 @@ def downsample_note(n_total: int, max_points: int = MAX_POINTS) -> dict[str, Any
     }
 
 
-def _styled(fig: go.Figure) -> go.Figure:
-    """``fig``, or a copy with plotly's template when it has none (a dashboard's figure)."""
-    if fig.layout.template.to_plotly_json():
-        return fig
-    return go.Figure(fig).update_layout(template="plotly")
-
-
-def to_html(fig: go.Figure, self_contained: bool = True) -> str:
-    """A figure as a standalone interactive HTML page.
-
-    Parameters
-    ----------
-    fig : go.Figure
-        The figure.
-    self_contained : bool
-        Embed plotly.js (works offline, ~4 MB) instead of loading it from a CDN.
-
-    Returns
-    -------
-    str
-    """
-    return _styled(fig).to_html(include_plotlyjs=True if self_contained else "cdn", full_html=True)
-
-
-def to_png(fig: go.Figure, width: int = 1200, height: int | None = None, scale: float = 2) -> bytes:
-    """A figure as PNG bytes (through ``kaleido``, which drives a headless Chromium).
-
-    Parameters
-    ----------
-    fig : go.Figure
-        The figure.
-    width, height : int
-        Pixel size (height defaults to the figure's).
-    scale : float
-        Resolution multiplier.
-
-    Returns
-    -------
-    bytes
-
-    Raises
-    ------
-    NoisevarError
-        When kaleido or a Chromium browser is not available.
-    """
-    try:
-        return _styled(fig).to_image(
-            format="png", width=width, height=height or fig.layout.height or 500, scale=scale
-        )
-    except Exception as exc:  # noqa: BLE001 - kaleido raises many types when no browser is found
-        raise NoisevarError(
-            f"PNG export needs kaleido and a Chromium browser ({type(exc).__name__}: {exc}); "
-            "export HTML instead"
-        ) from None
-
-
 __all__ = [
     "COLORS",
     "MAX_POINTS",
@@ -439,10 +283,7 @@ __all__ = [
     "vline",
     "line_trace",
     "note_downsampled",
-    "range_to_slice",
     "step_xy",
-    "to_html",
-    "to_png",
     "unit_name",
     "x_axis",
     "x_title",

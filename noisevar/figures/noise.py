@@ -14,8 +14,8 @@ import numpy as np
 import plotly.graph_objects as go
 
 from noisevar.diagnostics.panel import NoisePanelData
-from noisevar.figures._budget import log_axis
 from noisevar.figures._common import COLORS, layout
+from noisevar.figures.budget import log_axis
 
 #: Colour of the fitted Student-t.
 T_COLOR = "#D55E00"

@@ -138,7 +138,7 @@ def somd_figure(  # long: one figure, built trace by trace in drawing order
     with the test that failed (amplitude, angle, both) or as start-up
     transient; hovering a mark gives the window's statistics. The drag mode
     is a horizontal box select, so a drag picks a stretch (see
-    :func:`noisevar.figures.range_to_slice`).
+    :func:`noisevar.figures.axes.range_to_slice`).
 
     Parameters
     ----------

@@ -11,7 +11,7 @@ from streamlit.testing.v1 import AppTest
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 APP = str(ROOT / "app.py")
-PAGE = "pages/4_Adaptive_filter.py"
+PAGE = "app_pages/Adaptive_filter.py"
 
 
 def _clean(at: AppTest) -> None:

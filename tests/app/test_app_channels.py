@@ -18,7 +18,7 @@ from noisevar.io import load_table, pick_column  # noqa: E402
 
 def _signal_page(sample: str) -> AppTest:
     at = AppTest.from_file(APP, default_timeout=120)
-    at.switch_page("pages/1_Signal.py").run()
+    at.switch_page("app_pages/Signal.py").run()
     at.button(key=f"sample_{sample}").click().run()
     assert not at.exception, [e.value for e in at.exception]
     return at

@@ -13,7 +13,7 @@ from noisevar.estimators.compare import monte_carlo, run_monte_carlo
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 APP = str(ROOT / "app.py")
-PAGE = "pages/3_Compare.py"
+PAGE = "app_pages/Compare.py"
 
 
 def _clean(at: AppTest) -> None:
@@ -51,7 +51,7 @@ def test_every_method_side_by_side(at, how_it_works_opens):
 
 def test_tuned_estimator_parameters_reach_the_comparison(at):
     somd_before = at.dataframe[0].value.set_index("method").loc["somd", "variance"]
-    at.switch_page("pages/2_Estimator.py").run()
+    at.switch_page("app_pages/Estimator.py").run()
     at.select_slider(key="h_s").set_value("0.0003").run()
     at.switch_page(PAGE).run()
     _clean(at)

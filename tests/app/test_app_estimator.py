@@ -15,7 +15,7 @@ from dashboard.widgets import GRID, fmt
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 APP = str(ROOT / "app.py")
-PAGE = "pages/2_Estimator.py"
+PAGE = "app_pages/Estimator.py"
 SIG = "gen:fast-slow;n=6000;seed=2;noise_std=5.0"
 
 

@@ -12,7 +12,7 @@ from streamlit.testing.v1 import AppTest
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 APP = str(ROOT / "app.py")
-PAGE = "pages/11_Fleet.py"
+PAGE = "app_pages/Fleet.py"
 
 import noisevar as nv  # noqa: E402
 from dashboard.sections.fleet import _clicked  # noqa: E402

@@ -13,9 +13,9 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 APP = str(ROOT / "app.py")
 
-from dashboard.loading import GENERATOR_EXTRAS  # noqa: E402
 from dashboard.pages import PAGES  # noqa: E402
 from dashboard.url_params import check_recipe, value_problem  # noqa: E402
+from noisevar.signals import SIGNALS  # noqa: E402
 
 HOSTILE = ["1e999", "-1e999", "9" * 400, "nan", "-inf", "1e300", "x" * 500, "a\x1b[31m"]
 GOOD_SIG = "gen:fast-slow;n=3000;seed=1;noise_std=5.0"
@@ -33,7 +33,7 @@ BAD_SIGS = [
 def url_bound_keys() -> list[str]:
     """Every widget key bound to the URL, read from the dashboard's source."""
     keys: set[str] = set()
-    files = [*ROOT.glob("dashboard/**/*.py"), *ROOT.glob("pages/*.py"), ROOT / "app.py"]
+    files = [*ROOT.glob("dashboard/**/*.py"), *ROOT.glob("app_pages/*.py"), ROOT / "app.py"]
     for path in files:
         text = path.read_text()
         for m in re.finditer(r'bind="query-params"', text):
@@ -45,8 +45,10 @@ def url_bound_keys() -> list[str]:
                 keys.add(min(found, key=lambda k: abs(around.find(f'key="{k}"') - at)))
         # keys passed to a helper that binds them: _slider("label", lo, hi, step, "la_dur", ...)
         keys.update(re.findall(r'_slider\(.*?"(la_\w+)"', text))
-    for family, extras in GENERATOR_EXTRAS.items():
-        keys.update(f"gen_{family}_{key}" for key, *_ in extras)
+        # widgets built from a parameter spec: param_input(spec, "key", ...)
+        keys.update(re.findall(r'param_input\(\s*[^,]+,\s*"(\w+)"', text))
+    for family, spec in SIGNALS.items():
+        keys.update(f"gen_{family}_{p.name}" for p in spec.extras)
     return sorted(keys)
 
 
@@ -72,7 +74,7 @@ def test_value_rules():
     assert check_recipe(GOOD_SIG)["n"] == 3000
 
 
-@pytest.mark.parametrize("page", ["app.py", *(p.path for p in PAGES)])
+@pytest.mark.parametrize("page", [p.path for p in PAGES])
 def test_every_page_survives_a_hostile_link(page):
     at = AppTest.from_file(APP, default_timeout=180)
     at.query_params.update({"sig": GOOD_SIG, **_hostile_query()})
@@ -89,7 +91,7 @@ def test_every_page_survives_a_hostile_link(page):
 def test_a_hostile_signal_recipe_is_dropped_with_a_warning(recipe):
     at = AppTest.from_file(APP, default_timeout=120)
     at.query_params["sig"] = recipe
-    at.switch_page("pages/1_Signal.py").run()
+    at.switch_page("app_pages/Signal.py").run()
     assert not at.exception, [e.value for e in at.exception]
     assert any("sig" in w.value for w in at.warning), [w.value for w in at.warning]
     assert "nv_signal" not in at.session_state
@@ -97,7 +99,7 @@ def test_a_hostile_signal_recipe_is_dropped_with_a_warning(recipe):
 
 def _signal_page() -> AppTest:
     at = AppTest.from_file(APP, default_timeout=120)
-    at.switch_page("pages/1_Signal.py").run()
+    at.switch_page("app_pages/Signal.py").run()
     assert not at.exception
     return at
 
@@ -114,7 +116,7 @@ def test_a_time_step_outside_the_period_range_never_crashes_a_visit(step, start)
     _upload(at, "stamps.csv", "time,x\n" + rows)
     sig = at.session_state["nv_signal"]
     assert sig.sample_period is None
-    for page in ("pages/2_Estimator.py", "pages/1_Signal.py", "app.py"):
+    for page in ("app_pages/Estimator.py", "app_pages/Signal.py", "app_pages/Home.py"):
         at.switch_page(page).run()
         assert not at.exception, (page, [e.value for e in at.exception])
 
@@ -147,5 +149,5 @@ def test_quantised_record_on_compare_gives_per_method_errors_not_a_crash():
     at = _signal_page()
     _upload(at, "quantised.csv", "x\n" + "0\n" * 1999 + "1\n")
     assert at.session_state["nv_signal"].n == 2000
-    at.switch_page("pages/3_Compare.py").run()
+    at.switch_page("app_pages/Compare.py").run()
     assert not at.exception, [e.value for e in at.exception]

@@ -11,7 +11,7 @@ from streamlit.testing.v1 import AppTest
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 APP = str(ROOT / "app.py")
-PAGE = "pages/10_Noise_model.py"
+PAGE = "app_pages/Noise_model.py"
 SIG = "gen:noise-step;n=4000;seed=1"
 
 

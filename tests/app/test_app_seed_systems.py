@@ -34,7 +34,7 @@ def _open(page: str, **query: str) -> AppTest:
 
 
 PAGES = {
-    "pages/6_Fusion.py": (
+    "app_pages/Fusion.py": (
         "fu_view",
         ["Track", "Position error", "VB estimate of R", "Isolation test"],
         [
@@ -44,7 +44,7 @@ PAGES = {
             ("select_slider", "fu_fa", 0.01),
         ],
     ),
-    "pages/7_Robust_filter.py": (
+    "app_pages/Robust_filter.py": (
         "ro_view",
         ["Track", "Position error", "Magnetic variation", "Bearing error"],
         [
@@ -54,7 +54,7 @@ PAGES = {
             ("slider", "ro_runs", 3),
         ],
     ),
-    "pages/8_Carrier_tracking.py": (
+    "app_pages/Carrier_tracking.py": (
         "ca_view",
         ["Phase error", "Doppler", "Adaptation (R, Q)", "I/Q plane"],
         [
@@ -65,7 +65,7 @@ PAGES = {
             ("slider", "ca_nominal", 35.0),
         ],
     ),
-    "pages/9_Latency.py": (
+    "app_pages/Latency.py": (
         "la_view",
         ["Records", "Cost against shift", "Delay per segment"],
         [
@@ -77,10 +77,10 @@ PAGES = {
     ),
 }
 SMALL = {
-    "pages/6_Fusion.py": {"fu_runs": "4", "fu_steps": "300"},
-    "pages/7_Robust_filter.py": {"ro_runs": "4"},
-    "pages/8_Carrier_tracking.py": {"ca_runs": "4", "ca_dur": "5"},
-    "pages/9_Latency.py": {},
+    "app_pages/Fusion.py": {"fu_runs": "4", "fu_steps": "300"},
+    "app_pages/Robust_filter.py": {"ro_runs": "4"},
+    "app_pages/Carrier_tracking.py": {"ca_runs": "4", "ca_dur": "5"},
+    "app_pages/Latency.py": {},
 }
 
 
@@ -103,20 +103,20 @@ def test_page_defaults_views_and_widgets(page, how_it_works_opens):
 
 
 def test_fusion_equals_centralised():
-    at = _open("pages/6_Fusion.py", fu_runs="2", fu_steps="200")
+    at = _open("app_pages/Fusion.py", fu_runs="2", fu_steps="200")
     diff = next(m.value for m in at.metric if "centralised" in m.label)
     assert float(diff) < 1e-8
 
 
 def test_latency_estimate_is_close():
-    at = _open("pages/9_Latency.py")
+    at = _open("app_pages/Latency.py")
     true = float(next(m.value for m in at.metric if m.label == "True mean delay").split()[0])
     est = float(next(m.value for m in at.metric if m.label == "Estimated (filtered)").split()[0])
     assert abs(est - true) < 20.0  # ms
 
 
 def test_carrier_sweep_on_demand():
-    at = _open("pages/8_Carrier_tracking.py", ca_runs="2", ca_dur="4")
+    at = _open("app_pages/Carrier_tracking.py", ca_runs="2", ca_dur="4")
     at.number_input(key="ca_sweep_runs").set_value(2)
     at.button(key="ca_sweep_go").click().run()
     _clean(at)

@@ -15,7 +15,7 @@ from streamlit.testing.v1 import AppTest
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 APP = str(ROOT / "app.py")
-PAGE = "pages/1_Signal.py"
+PAGE = "app_pages/Signal.py"
 
 
 def _page() -> AppTest:
@@ -188,7 +188,7 @@ def test_generated_signal_reaches_the_estimator_page_through_session_state():
     at.number_input(key="gen_n").set_value(5000)
     at.button(key="gen_go").click().run()
     digest = at.session_state["nv_signal"].digest
-    at.switch_page("pages/2_Estimator.py").run()
+    at.switch_page("app_pages/Estimator.py").run()
     _clean(at)
     assert at.session_state["nv_signal"].digest == digest
     assert any("5,000 samples" in c.value for c in at.caption)

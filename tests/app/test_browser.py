@@ -25,6 +25,11 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT))
+
+from dashboard.pages import HOME  # noqa: E402
+from dashboard.pages import PAGES as REGISTRY  # noqa: E402
+
 CHROMIUM = os.environ.get("NOISEVAR_CHROMIUM", "/usr/bin/chromium")
 SHOTS = ROOT / "test-artifacts" / "browser"
 CHROME_ARGS = [
@@ -35,18 +40,8 @@ CHROME_ARGS = [
     "--disable-sync",
     "--no-first-run",
 ]
-#: (sidebar label, URL path) of every page.
-PAGES = [
-    ("Signal", "Signal"),
-    ("Estimator", "Estimator"),
-    ("Compare", "Compare"),
-    ("Adaptive filter", "Adaptive_filter"),
-    ("Two sensors", "Two_sensors"),
-    ("Fusion", "Fusion"),
-    ("Robust filter", "Robust_filter"),
-    ("Carrier tracking", "Carrier_tracking"),
-    ("Latency", "Latency"),
-]
+#: (sidebar label, URL path) of every page but Home (the registry's, as st.navigation gets it).
+PAGES = [(p.title, p.url_path) for p in REGISTRY if p is not HOME]
 SIG = "gen:fast-slow;n=6000;seed=0;noise_std=5.0"
 #: Seconds without a running script before a page counts as drawn.
 QUIET_S = 0.5
@@ -166,8 +161,8 @@ def test_every_page_through_navigation(server, browser):
     _settle(page)
     assert "Quick estimate" in main.inner_text()
     _check(page, "01-home-with-signal")
-    nav = page.locator('[data-testid="stSidebar"]')
-    first = nav.locator('[data-testid="stPageLink"]').first.inner_text()
+    nav = page.locator('[data-testid="stSidebarNav"]')
+    first = nav.locator('[data-testid="stSidebarNavLink"]').first.inner_text()
     assert first.strip().endswith("Home"), first  # not "app"
     for i, (label, path) in enumerate(PAGES, start=2):
         nav.get_by_text(label, exact=True).first.click()

@@ -1,4 +1,4 @@
-"""The dashboard's structure: one page registry that matches ``pages/``, thin page scripts."""
+"""The dashboard's structure: ``st.navigation`` over one page registry, thin page scripts."""
 
 from __future__ import annotations
 
@@ -11,31 +11,38 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
-from dashboard.pages import HOME, PAGES, page_info  # noqa: E402
+from dashboard.pages import HOME, PAGES  # noqa: E402
 
-PAGE_FILES = sorted(p.relative_to(ROOT).as_posix() for p in (ROOT / "pages").glob("*.py"))
+PAGE_FILES = sorted(p.relative_to(ROOT).as_posix() for p in (ROOT / "app_pages").glob("*.py"))
 
 
-def test_registry_and_pages_folder_agree():
+def test_every_page_script_is_registered_once():
     assert sorted(p.path for p in PAGES) == PAGE_FILES
-    assert len({p.title for p in (HOME, *PAGES)}) == len(PAGES) + 1
+    assert PAGES[0] is HOME
+    assert len({p.title for p in PAGES}) == len(PAGES)
     assert all(p.icon.startswith(":material/") and p.blurb for p in PAGES)
 
 
-@pytest.mark.parametrize("path", ["app.py", *PAGE_FILES])
-def test_every_page_takes_its_title_from_the_registry(path):
-    tree = ast.parse((ROOT / path).read_text(encoding="utf-8"))
-    calls = [
-        n
-        for n in ast.walk(tree)
-        if isinstance(n, ast.Call) and getattr(n.func, "id", None) == "setup_page"
-    ]
-    assert len(calls) == 1, f"{path} calls setup_page(__file__) once"
-    (arg,) = calls[0].args
-    assert isinstance(arg, ast.Name) and arg.id == "__file__"
-    assert page_info(path).path == path
+def test_no_classic_pages_folder():
+    """A ``pages/`` folder beside app.py makes Streamlit run its scripts without the frame."""
+    assert not (ROOT / "pages").exists()
 
 
-def test_unknown_page_is_refused():
-    with pytest.raises(KeyError, match="add a line"):
-        page_info("pages/99_Nothing.py")
+@pytest.mark.parametrize("page", PAGES, ids=lambda p: p.title)
+def test_title_and_url_come_from_the_file_name(page):
+    """Streamlit's URL path is the file name; AppTest finds a page by it before a run."""
+    assert page.title.replace(" ", "_") == page.url_path == Path(page.path).stem
+
+
+def test_app_py_is_the_navigation_only():
+    tree = ast.parse((ROOT / "app.py").read_text(encoding="utf-8"))
+    called = {ast.unparse(n.func) for n in ast.walk(tree) if isinstance(n, ast.Call)}
+    assert {"st.navigation", "frame", "page.run"} <= called
+    assert "st.title" not in called
+
+
+@pytest.mark.parametrize("path", PAGE_FILES)
+def test_page_scripts_leave_the_frame_to_app_py(path):
+    text = (ROOT / path).read_text(encoding="utf-8")
+    for frame_call in ("set_page_config", "st.navigation", "clean_query_params"):
+        assert frame_call not in text, f"{path}: {frame_call} belongs to the frame (app.py)"

@@ -85,7 +85,7 @@ def test_exports_of_a_figure_without_template_get_plotlys():
     import plotly.graph_objects as go
     import plotly.io as pio
 
-    from noisevar.figures._common import _styled
+    from noisevar.figures.export import _styled
 
     default, pio.templates.default = pio.templates.default, None
     try:
@@ -98,3 +98,26 @@ def test_exports_of_a_figure_without_template_get_plotlys():
     assert not bare.layout.template.to_plotly_json()  # the figure itself is left alone
     dark = go.Figure(layout={"template": "plotly_dark"})
     assert _styled(dark) is dark
+
+
+#: A sample period, or the samples' own times with a one-second gap mid-record.
+GAPPED = np.arange(100) * 0.5 + np.r_[np.zeros(50), np.ones(50)]
+
+
+@pytest.mark.parametrize("timing", [None, 0.5, GAPPED], ids=["index", "period", "times"])
+def test_a_box_selection_maps_back_to_the_samples_it_covers(timing):
+    from noisevar.figures.axes import range_to_slice, x_axis
+
+    x = x_axis(np.arange(100), timing)
+    assert range_to_slice(x[10], x[60], 100, timing) == slice(10, 61)
+    assert range_to_slice(x[60], x[10], 100, timing) == slice(10, 61)  # either order
+    assert range_to_slice(-1e9, 1e9, 100, timing) == slice(0, 100)  # clipped
+
+
+def test_html_export_is_a_whole_page():
+    import plotly.graph_objects as go
+
+    from noisevar.figures.export import to_html
+
+    page = to_html(go.Figure(go.Scatter(y=[1.0, 2.0])), self_contained=False)
+    assert page.lstrip().lower().startswith("<!doctype html>") and "</html>" in page

@@ -1,14 +1,25 @@
-"""Estimator page: tune SOMD and see every step (filters, windows, envelopes, h scan, estimate)."""
+"""Tune SOMD (h_S, h_T, m, Γ) and see every step: filters, windows, envelopes, h scan.
+
+Estimator page: tune SOMD and see every step (filters, windows, envelopes, h scan, estimate).
+"""
 
 from __future__ import annotations
 
 import streamlit as st
 
-from dashboard.pages import setup_page
 from dashboard.sections.estimator_tuning import follow_config_column
 from dashboard.sections.estimator_view import tuned_view
 from dashboard.sections.signal_loader import require_signal
-from dashboard.widgets import how_it_works
+from dashboard.widgets import how_it_works, tex_number
+from noisevar.estimators.params import PAPER_H_SMOOTH
+from noisevar.filters.abg import somd_bias_factor
+from noisevar.filters.envelope import RATIO_BAND
+
+#: Where the prose evaluates c(h): the paper's h_S and a fast filter (docs/algorithms.md §A8).
+C_AT = (PAPER_H_SMOOTH, 9e-4)
+#: The band of the noise-amplitude ratio |V1|/|V2| that h_S should reach (eq. 13-14).
+LOW, HIGH = (f"\\frac{{1}}{{{1 / r:g}}}" for r in RATIO_BAND)
+SHRINK = f"{1 / RATIO_BAND[1]:g} to {1 / RATIO_BAND[0]:g}"
 
 #: The page's how-it-works expander (shown even before a signal is loaded).
 HOW_IT_WORKS = (
@@ -20,9 +31,9 @@ HOW_IT_WORKS = (
     "A small $h_S$ gives a smooth output $Z_1$ with little noise left; a faster filter "
     "($h_T$ 10 to 100 times larger) tracks quick changes.",
     "**2. Choosing $h_S$ (eq. 13-14).** Envelopes through the local maxima $U$ and minima $L$ "
-    "give a noise amplitude per window of $m$ samples; $h_S$ should cut it 10 to 20 times:",
+    f"give a noise amplitude per window of $m$ samples; $h_S$ should cut it {SHRINK} times:",
     "$$|V| = \\frac{1}{2m}\\sum_{k}(U_k - L_k),\\qquad "
-    "\\frac{1}{20} \\le \\frac{|V_1|}{|V_2|} \\le \\frac{1}{10}$$",
+    f"{LOW} \\le \\frac{{|V_1|}}{{|V_2|}} \\le {HIGH}$$",
     "**3. Keeping windows (eq. 16-19).** In each window, lines $x = a\\,i + b$ are fitted to "
     "both filter outputs. $A_1, A_2$ ($A_3, A_4$) are the mean deviations of the smooth output "
     "above and below its line in the first (second) half. A window is kept when",
@@ -37,12 +48,13 @@ HOW_IT_WORKS = (
     "neither: $Z_1$ is $z$ filtered by $g$, so the noise of $\\Delta Z_1 - \\Delta Z_2$ is white "
     "noise through $\\Delta(g-\\delta)$ and the exact factor is",
     "$$c(h) = \\sum_k \\big(\\Delta(g-\\delta)\\big)_k^2$$",
-    "(2.10 at $h = 1.5\\cdot10^{-5}$, 2.43 at $9\\cdot10^{-4}$). Method `somd` divides by "
+    f"({somd_bias_factor(C_AT[0]):.3f} at $h = {tex_number(C_AT[0])}$, "
+    f"{somd_bias_factor(C_AT[1]):.3f} at ${tex_number(C_AT[1])}$; docs/algorithms.md §A8). "
+    "Method `somd` divides by "
     "$c(h)$; `somd-paper` by 2. The 95 % interval is a chi-square interval with the "
     "effective degrees of freedom of the correlated squares.",
 )
 
-setup_page(__file__)
 st.title("Estimator")
 sig = require_signal(
     "The Estimator tunes the SOMD estimator on it and shows every step.", explain=HOW_IT_WORKS

@@ -1,10 +1,12 @@
-"""Latency page: GPS delay by shift least squares and a filter (docs/algorithms.md §C)."""
+"""GPS delay estimation by least squares over shifts and a random-constant filter.
+
+Latency page: GPS delay by shift least squares and a filter (docs/algorithms.md §C).
+"""
 
 from __future__ import annotations
 
 import streamlit as st
 
-from dashboard.pages import setup_page
 from dashboard.sections import latency
 from dashboard.widgets import how_it_works
 
@@ -22,7 +24,6 @@ HOW_IT_WORKS = (
     "$$x_{k+1} = x_k + w_k,\\qquad y_k = \\hat\\tau_k - \\tau^{meas}_k = x_k + v_k$$",
 )
 
-setup_page(__file__)
 st.title("Latency")
 st.caption(
     "The same speed seen by an inertial unit (on time) and by a GPS (late). The delay is the "

@@ -1,13 +1,15 @@
-"""Fleet page: the noise of many sensors side by side, and the ones outside the fleet's range."""
+"""Many sensors at once: noise per channel, sensors outside the fleet's range flagged.
+
+Fleet page: the noise of many sensors side by side, and the ones outside the fleet's range.
+"""
 
 from __future__ import annotations
 
 import streamlit as st
 
-from dashboard.pages import setup_page
 from dashboard.sections import fleet
 from dashboard.widgets import guarded, how_it_works
-from noisevar.batch.fleet import fleet_report
+from noisevar.batch.fleet import DEFAULT_THRESHOLD, MAD_TO_SD, fleet_report
 
 HOW_IT_WORKS = (
     "**One row per sensor and channel.** `noisevar batch 'logs/**/*.csv' --out noise.parquet` "
@@ -16,14 +18,14 @@ HOW_IT_WORKS = (
     "**Robust z-score.** On a log scale (twice as noisy and half as noisy are equally unusual), "
     "with $x_i = \\log_{10}\\hat\\sigma_i$, the fleet's median $\\tilde x$ and its median "
     "absolute deviation (MAD):",
-    "$$z_i = \\frac{x_i - \\tilde x}{\\mathrm{MAD}/0.6745},\\qquad "
+    f"$$z_i = \\frac{{x_i - \\tilde x}}{{\\mathrm{{MAD}}/{MAD_TO_SD:.4f}}},\\qquad "
     "\\mathrm{MAD} = \\operatorname{median}_i |x_i - \\tilde x|$$",
     "The MAD is barely moved by the outliers being looked for, unlike the standard deviation. "
-    "A sensor with $|z_i| > 3.5$ (Iglewicz and Hoaglin's cut-off) is flagged; the band on the "
+    f"A sensor with $|z_i| > {DEFAULT_THRESHOLD:g}$ (Iglewicz and Hoaglin's cut-off) is flagged; "
+    "the band on the "
     "figure is each channel's normal range.",
 )
 
-setup_page(__file__)
 st.title("Fleet")
 fleet.source_panel()
 frame, label = fleet.current_table()

@@ -1,10 +1,12 @@
-"""Noise model page: Allan deviation, IEEE-952 terms, Kalibr export (docs/algorithms.md §E4)."""
+"""Allan deviation, IEEE-952 noise terms with intervals, Kalibr imu.yaml, simulation.
+
+Noise model page: Allan deviation, IEEE-952 terms, Kalibr export (docs/algorithms.md §E4).
+"""
 
 from __future__ import annotations
 
 import streamlit as st
 
-from dashboard.pages import setup_page
 from dashboard.sections import noise_model
 from dashboard.sections.noise_model_fit import render_fit
 from dashboard.sections.signal_loader import require_signal
@@ -26,7 +28,6 @@ HOW_IT_WORKS = (
     "`imu.yaml` takes $N$ and $K$ themselves.",
 )
 
-setup_page(__file__)
 st.title("Noise model")
 sig = require_signal(
     "The Noise model page draws its Allan deviation and fits the IEEE-952 noise terms.",

@@ -1,10 +1,12 @@
-"""Adaptive filter page: Kalman filters that estimate R on line, on a scenario or loaded data."""
+"""Kalman filters that estimate R on line: tracks, R over time, NIS, RMSE, Table 1.
+
+Adaptive filter page: Kalman filters that estimate R on line, on a scenario or loaded data.
+"""
 
 from __future__ import annotations
 
 import streamlit as st
 
-from dashboard.pages import setup_page
 from dashboard.sections import adaptive_filter as af
 from dashboard.widgets import how_it_works
 
@@ -34,7 +36,6 @@ HOW_IT_WORKS = (
     "$$\\mathrm{NIS}_k = d_k^\\top S_k^{-1} d_k \\sim \\chi^2_m$$",
 )
 
-setup_page(__file__)
 st.title("Adaptive filter")
 st.caption(
     "Kalman filters whose measurement-noise covariance R is estimated while they run: SOMD "

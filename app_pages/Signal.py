@@ -1,10 +1,12 @@
-"""Signal page: upload, generate or pick a sample signal; choose the column and sample period."""
+"""Upload CSV/TSV, .npy or NMEA; generate a scenario; or pick a sample file.
+
+Signal page: upload, generate or pick a sample signal; choose the column and sample period.
+"""
 
 from __future__ import annotations
 
 import streamlit as st
 
-from dashboard.pages import setup_page
 from dashboard.sections import channels, signal_loader, signal_overview
 from dashboard.state import current_signal
 from dashboard.widgets import how_it_works
@@ -27,7 +29,6 @@ HOW_IT_WORKS = (
     "downsampled (MinMax-LTTB keeps peaks and the noise band), as each figure says.",
 )
 
-setup_page(__file__)
 st.title("Signal")
 st.caption(
     "The signal every page works on. Load a sample file, generate a scenario with a seed, or "

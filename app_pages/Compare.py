@@ -1,13 +1,16 @@
-"""Compare page: every method on the signal; Monte Carlo relative errors against the CR floor."""
+"""Every method on the signal; Monte Carlo relative errors against the Cramér-Rao floor.
+
+Compare page: every method on the signal; Monte Carlo relative errors against the CR floor.
+"""
 
 from __future__ import annotations
 
 import streamlit as st
 
-from dashboard.pages import setup_page
 from dashboard.sections import compare
 from dashboard.sections.signal_loader import require_signal
 from dashboard.widgets import how_it_works
+from noisevar.estimators.difference import MAD_TO_SIGMA
 
 #: The page's how-it-works expander (shown even before a signal is loaded).
 HOW_IT_WORKS = (
@@ -17,7 +20,8 @@ HOW_IT_WORKS = (
     "$$\\hat\\sigma^2 = \\frac{\\operatorname{mean}\\big((d * z)_k^2\\big)}{\\sum_j d_j^2},\\qquad"
     "\\text{Rice: } d = (1,-1),\\quad \\text{second difference: } d = (1,-2,1)$$",
     "Hall-Kay-Titterington sequences are the optimal $d$ of each order; MAD versions replace the "
-    "mean square by a median ($\\hat\\sigma = \\operatorname{median}|x - \\tilde x| / 0.6745$) "
+    "mean square by a median ($\\hat\\sigma = \\operatorname{median}|x - \\tilde x| / "
+    f"{1 / MAD_TO_SIGMA:.4f}$) "
     "and ignore jumps; the wavelet estimator takes the MAD of the finest wavelet details; "
     "the maximum-likelihood peers fit a state-space model (local level / local linear trend) "
     "and read its irregular variance.",
@@ -30,10 +34,10 @@ HOW_IT_WORKS = (
     "No unbiased estimator from $n$ Gaussian samples does better than the Cramér-Rao floor",
     "$$\\operatorname{sd}(e) \\ge \\sqrt{2/n}$$",
     "so the column *RMSE / CR floor* says how many times worse than ideal each method is. The "
-    "paper's criterion for Fig. 2: 95 % of the relative errors within 10 %, none above 20 %.",
+    "paper's criterion for Fig. 2: 95 % of the relative errors within 10 %, none above 20 % "
+    "(docs/algorithms.md §A9).",
 )
 
-setup_page(__file__)
 st.title("Compare")
 sig = require_signal(
     "The Compare page runs every estimator on it side by side.", explain=HOW_IT_WORKS

@@ -1,10 +1,12 @@
-"""Carrier tracking page: fixed vs adaptive EKF on a weak GNSS carrier (docs/algorithms.md §B1)."""
+"""Adaptive EKF carrier tracking of a weak GNSS signal.
+
+Carrier tracking page: fixed vs adaptive EKF on a weak GNSS carrier (docs/algorithms.md §B1).
+"""
 
 from __future__ import annotations
 
 import streamlit as st
 
-from dashboard.pages import setup_page
 from dashboard.sections import carrier
 from dashboard.widgets import how_it_works
 
@@ -22,13 +24,13 @@ HOW_IT_WORKS = (
     "runs away, so our AEKF scales the design $Q$ only when the innovations leave their "
     "$\\chi^2$ band). Our window starts full of the design $R$, each residual replacing one "
     "entry: started from the paper's running mean, a few pull-in residuals set $R$ alone, "
-    "inflate it and stall the loop (the AEKF's only slips, at 30 dB-Hz):",
+    "inflate it and stall the loop (the AEKF's only slips in the measured tables of "
+    "docs/algorithms.md §B1):",
     "$$\\hat R = \\overline{r r^\\top} + HP_{k|k}H^\\top,\\qquad \\hat Q = K\\,\\overline{d "
     "d^\\top}\\,K^\\top$$",
     "A cycle slip is a jump of the phase error by a whole cycle: the loop has lost lock.",
 )
 
-setup_page(__file__)
 st.title("Carrier tracking")
 st.caption(
     "One GPS L1 C/A channel after acquisition: prompt I/Q correlator outputs each integration "

@@ -1,11 +1,14 @@
-"""Two sensors page: redundant SOMD with two or three real sensors of one quantity."""
+"""Redundant SOMD with two or three real sensors (three-cornered hat).
+
+Two sensors page: redundant SOMD with two or three real sensors of one quantity.
+"""
 
 from __future__ import annotations
 
 import streamlit as st
 
-from dashboard.pages import setup_page
 from dashboard.sections import sensors
+from dashboard.state import current_signal
 from dashboard.widgets import how_it_works
 
 #: The page's how-it-works expander (shown even before a signal is loaded).
@@ -30,7 +33,7 @@ HOW_IT_WORKS = (
     "three best shifts; the late record is then read at $t + \\tau$.",
 )
 
-sig = setup_page(__file__)
+sig = current_signal()
 st.title("Two sensors")
 st.caption(
     "Two or more real sensors of the same quantity: the second-order mutual difference of "

@@ -1,10 +1,12 @@
-"""Fusion page: distributed VB fusion, chi-square fault isolation (docs/algorithms.md §B2)."""
+"""Distributed VB fusion with chi-square fault isolation.
+
+Fusion page: distributed VB fusion, chi-square fault isolation (docs/algorithms.md §B2).
+"""
 
 from __future__ import annotations
 
 import streamlit as st
 
-from dashboard.pages import setup_page
 from dashboard.sections import fusion
 from dashboard.widgets import how_it_works
 
@@ -27,7 +29,6 @@ HOW_IT_WORKS = (
     "samples pass again.",
 )
 
-setup_page(__file__)
 st.title("Fusion")
 st.caption(
     "Two position sensors and a velocity sensor track one target. Each sensor has a local "
