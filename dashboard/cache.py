@@ -20,6 +20,7 @@ import streamlit as st
 
 import noisevar
 from dashboard.state import LoadedSignal, sensor_matrix, truth_of
+from noisevar import estimators
 from noisevar.errors import NoisevarError
 from noisevar.estimators.compare import Comparison, compare_methods
 from noisevar.estimators.results import VarianceEstimate
@@ -46,9 +47,8 @@ JsonDict = dict[str, Any]
 #: Settings of the Adaptive filter page (strategy parameters by name).
 Settings = dict[str, float | int | str]
 
-#: The method :func:`noisevar.estimate` uses when none is named (read from its signature,
-#: so that the dashboard's quick estimates follow the package's one default).
-DEFAULT_METHOD: str = inspect.signature(noisevar.estimate).parameters["method"].default
+#: The method :func:`noisevar.estimate` uses when none is named (the package's one default).
+DEFAULT_METHOD: str = estimators.DEFAULT_METHOD
 
 #: The carrier filters the Carrier tracking page shows (``comparison_variants`` names).
 CARRIER_FILTERS = ("ekf", "aekf", "ekf_matched", "aekf_paper_q")

@@ -173,7 +173,11 @@ def _records(
 
 
 def estimate(
-    z: ArrayLike, method: str = "auto", axis: int = -1, t: ArrayLike | None = None, **params: Any
+    z: ArrayLike,
+    method: str = DEFAULT_METHOD,
+    axis: int = -1,
+    t: ArrayLike | None = None,
+    **params: Any,
 ) -> VarianceEstimate | VarianceEstimates:
     """Estimate the measurement-noise variance of a signal, or of many channels.
 
