@@ -111,7 +111,7 @@ class FusionResult(BatchResult):
     fault_mask: NDArray[np.bool_]
 
     @property
-    def n_runs(self) -> int:
+    def runs(self) -> int:
         """Number of Monte Carlo runs ``B``."""
         return int(self.x.shape[0])
 

@@ -135,7 +135,7 @@ class LatencyResult(BatchResult):
     settings: dict = field(default_factory=dict)
 
     @property
-    def n_runs(self) -> int:
+    def runs(self) -> int:
         """Number of runs: one record."""
         return 1
 
