@@ -13,8 +13,8 @@ from typing import Any
 
 import numpy as np
 
-from noisevar import estimate
 from noisevar.errors import NoisevarError
+from noisevar.estimators import estimate
 from noisevar.estimators.somd import somd_variance_records
 from noisevar.experiments.base import (
     JOBS,

@@ -98,7 +98,7 @@ def check_run(result: RunResult | FilterResult, run: int) -> None:
     Raises
     ------
     NoisevarError
-        When ``run`` is outside ``0 .. n_runs - 1``.
+        When ``run`` is outside ``0 .. runs - 1``.
     """
     if isinstance(result, RunResult):
         result.check_run(run)

@@ -1,6 +1,6 @@
 """Compiled (numba) kernels of the adaptive strategies: moving windows, Sage-Husa, VB.
 
-Each kernel updates a whole batch in place; :func:`noisevar.kalman._kernels.backend` hands
+Each kernel updates a whole batch in place; :func:`noisevar.kalman.kernels.backend` hands
 them (or their plain-Python bodies) to the strategies.
 """
 

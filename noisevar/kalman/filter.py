@@ -2,7 +2,7 @@
 
 Each step is ``predict()`` then ``update(z_k)`` (docs/algorithms.md §G1, §G2);
 ``x0, P0`` are the estimate one step before the first measurement. The
-arithmetic runs in the kernels :func:`noisevar.kalman._kernels.backend`
+arithmetic runs in the kernels :func:`noisevar.kalman.kernels.backend`
 chooses; a strategy is asked for ``Q_k`` and ``R_k`` through its hooks and
 reads the step through the filter's public attributes.
 """
@@ -16,7 +16,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
-from noisevar.kalman import _kernels, steps
+from noisevar.kalman import kernels, steps
 from noisevar.kalman.model import HuberUpdate, StateSpaceModel
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -60,8 +60,8 @@ def _workspace(model: StateSpaceModel, B: int) -> _Workspace:
     return _Workspace(
         kind=kind,
         sel=None if sel is None else list(sel),
-        cfg=_kernels.config(kind, model.angle_measurements, sel),
-        work=np.empty(_kernels.work_shape(n, m)),
+        cfg=kernels.config(kind, model.angle_measurements, sel),
+        work=np.empty(kernels.work_shape(n, m)),
         nt=(None,) * n,
         mt=(None,) * m,
         F3=None if model.F is None else np.ascontiguousarray(model.F[None]),
@@ -154,7 +154,7 @@ class KalmanFilter:
         self.K = np.zeros((B, n, m))
         self.failed = np.zeros(B, dtype=bool)
         self._ws = _workspace(model, B)
-        self._ops = _kernels.backend()
+        self._ops = kernels.backend()
         self.strategy.start(self)
 
     def _initial_state(self) -> NDArray:

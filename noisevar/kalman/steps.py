@@ -2,9 +2,9 @@
 
 Every array carries a leading batch axis ``B`` (Monte Carlo runs in lock-step).
 The equations are those of docs/algorithms.md §G1-§G5; the compiled kernels of
-:mod:`noisevar.kalman._kernels` compute the same terms in the same order. The
+:mod:`noisevar.kalman.kernels` compute the same terms in the same order. The
 ``*_into`` functions at the end are these functions with the kernels' signatures:
-the numpy backend :func:`noisevar.kalman._kernels.backend` picks without numba.
+the numpy backend :func:`noisevar.kalman.kernels.backend` picks without numba.
 """
 
 from __future__ import annotations
@@ -203,18 +203,18 @@ def _config(cfg: NDArray) -> tuple[int, list[int]]:
 
 
 def predict_linear_into(F, x, P, Q, x_out, P_out, nt) -> None:
-    """:func:`predict` into ``x_out``, ``P_out`` (see ``_kernels.predict_linear``)."""
+    """:func:`predict` into ``x_out``, ``P_out`` (see ``kernels.predict_linear``)."""
     x_out[...], P_out[...] = predict(x, P, F, Q)
 
 
 def predict_cov_into(F, P, Q, P_out, nt) -> None:
-    """``P_out = F P Fᵀ + Q`` (see ``_kernels.predict_cov``)."""
+    """``P_out = F P Fᵀ + Q`` (see ``kernels.predict_cov``)."""
     # P = FPF' + Q
     P_out[...] = F @ P @ np.swapaxes(F, -1, -2) + Q
 
 
 def measure_into(z, x_pred, P_pred, H, cfg, z_pred, d, PHt, HPHt, nt, mt) -> None:
-    """Predicted measurement, innovation, ``P Hᵀ``, ``H P Hᵀ`` (see ``_kernels.measure``)."""
+    """Predicted measurement, innovation, ``P Hᵀ``, ``H P Hᵀ`` (see ``kernels.measure``)."""
     kind, angles = _config(cfg)
     if kind in (1, 2):
         z_pred[...] = matvec(H, x_pred)
@@ -229,7 +229,7 @@ def innovation_into(z, x_pred, cfg, d) -> None:
 
 
 def gain_update_into(x_pred, P_pred, R, d, H, cfg, z, final, S, SK, x, P, r, work, nt, mt) -> None:
-    """:func:`gain` and :func:`update` into the buffers of ``_kernels.gain_update``."""
+    """:func:`gain` and :func:`update` into the buffers of ``kernels.gain_update``."""
     kind, angles = _config(cfg)
     m = d.shape[1]
     _, S[...], SK[:, :m], SK[:, m:] = gain(P_pred, H, R)

@@ -16,6 +16,7 @@ import scipy.signal
 from numpy.typing import NDArray
 
 from noisevar.errors import NoisevarError
+from noisevar.kalman import kernels
 from noisevar.kalman._jit import jit
 
 #: Relative change of the gain below which the time-varying pass hands over to the LTI pass.
@@ -76,82 +77,90 @@ def diffuse_start(z: NDArray, F: NDArray, h: NDArray, Q: NDArray, r: float) -> t
     return P @ y, P, n
 
 
+def _transient(
+    z: NDArray,
+    F: NDArray,
+    h: NDArray,
+    Q: NDArray,
+    r: float,
+    x: NDArray,
+    P: NDArray,
+    tol: float,
+    max_steps: int,
+) -> tuple[NDArray, NDArray, NDArray, int, NDArray]:
+    """The time-varying filter from ``x, P`` until its gain settles, at most ``max_steps`` samples.
+
+    Each step is the compiled step of :mod:`noisevar.kalman.kernels` (one run,
+    ``H = h'``, ``R = r``, Joseph form), inlined into the loop. The gain has settled
+    when its largest change stays within ``tol`` times its largest entry for ``n + 3``
+    steps.
+
+    Returns
+    -------
+    e, s, X, used, K
+        Innovations, their variances, estimates ``x(k|k)`` (``used`` rows each),
+        the number of samples used and the last gain.
+    """
+    n = F.shape[0]
+    return _transient_loop(
+        np.ascontiguousarray(z, dtype=float),
+        np.ascontiguousarray(F, dtype=float)[None],
+        np.array(h, dtype=float).reshape(1, 1, n),
+        np.ascontiguousarray(Q, dtype=float)[None],
+        np.full((1, 1, 1), float(r)),
+        np.array(x, dtype=float).reshape(1, n),
+        np.array(P, dtype=float).reshape(1, n, n),
+        float(tol),
+        int(max_steps),
+        np.empty(0, dtype=np.int64),
+        np.empty(kernels.work_shape(n, 1)),
+        (None,) * n,
+        (None,),
+    )
+
+
 @jit
-def _transient(z, F, h, Q, r, x, P, tol, max_steps):  # pragma: no cover - compiled
-    # long: one Kalman step written out with explicit loops (no temporaries: n <= 3)
-    n = x.size
+def _transient_loop(z, F, H, Q, R, x, P, tol, max_steps, none, work, nt, mt):  # pragma: no cover
+    """:func:`_transient` on the kernels' operands (``x``, ``P`` updated in place)."""
+    n = len(nt)
     N = min(z.size, max_steps)
     e = np.empty(N)
     s = np.empty(N)
     X = np.empty((N, n))
-    x = x.copy()
-    P = P.copy()
-    xn = np.empty(n)
-    FP = np.empty((n, n))
-    Pn = np.empty((n, n))
-    A = np.empty((n, n))
-    IKH = np.empty((n, n))
-    Ph = np.empty(n)
-    K = np.empty(n)
+    x_pred = np.empty((1, n))
+    P_pred = np.empty((1, n, n))
+    zk = np.empty((1, 1))
+    z_pred = np.empty((1, 1))
+    d = np.empty((1, 1))
+    res = np.empty((1, 1))
+    PHt = np.empty((1, n, 1))
+    HPHt = np.empty((1, 1, 1))
+    S = np.empty((1, 1, 1))
+    SK = np.empty((1, 1 + n, 1))  # S^-1 and K
+    T = np.empty((n, n))
     prev = np.zeros(n)
     steady = 0
     used = N
     for k in range(N):
         # x- = F x,  P- = F P F' + Q
-        for i in range(n):
-            acc = 0.0
-            for j in range(n):
-                acc += F[i, j] * x[j]
-            xn[i] = acc
-        for i in range(n):
-            for j in range(n):
-                acc = 0.0
-                for m in range(n):
-                    acc += F[i, m] * P[m, j]
-                FP[i, j] = acc
-        for i in range(n):
-            for j in range(n):
-                acc = Q[i, j]
-                for m in range(n):
-                    acc += FP[i, m] * F[j, m]
-                Pn[i, j] = acc
-        # S = h'P-h + r,  K = P-h / S,  d = z - h'x-
-        S = r
-        d = z[k]
-        for i in range(n):
-            acc = 0.0
-            for j in range(n):
-                acc += Pn[i, j] * h[j]
-            Ph[i] = acc
-            S += h[i] * acc
-            d -= h[i] * xn[i]
+        kernels.predict_linear_inline(F, x, P, Q, x_pred, P_pred, T, nt)
+        # d = z - h'x-  (kind 2: a linear H, no selection, no angles)
+        zk[0, 0] = z[k]
+        kernels.measure_inline(zk, x_pred, P_pred, H, 2, none, none, z_pred, d, PHt, HPHt, nt, mt)
+        # S = h'P-h + r,  K = P-h / S,  x = x- + K d,  P (Joseph)
+        kernels.gain_update_inline(
+            x_pred, P_pred, R, d, H, 2, none, none, zk, True, S, SK, x, P, res, work, nt, mt
+        )
+        e[k] = d[0, 0]
+        s[k] = S[0, 0, 0]
         dk = 0.0
         kmax = 0.0
         for i in range(n):
-            K[i] = Ph[i] / S
-            x[i] = xn[i] + K[i] * d
-            dk = max(dk, abs(K[i] - prev[i]))
-            kmax = max(kmax, abs(K[i]))
-            prev[i] = K[i]
-            for j in range(n):
-                IKH[i, j] = (1.0 if i == j else 0.0) - K[i] * h[j]
-        # P = (I - K h') P- (I - K h')' + r K K'   (Joseph)
-        for i in range(n):
-            for j in range(n):
-                acc = 0.0
-                for m in range(n):
-                    acc += IKH[i, m] * Pn[m, j]
-                A[i, j] = acc
-        for i in range(n):
-            for j in range(n):
-                acc = r * K[i] * K[j]
-                for m in range(n):
-                    acc += A[i, m] * IKH[j, m]
-                P[i, j] = acc
-        e[k] = d
-        s[k] = S
-        for i in range(n):
-            X[k, i] = x[i]
+            K = SK[0, 1 + i, 0]
+            X[k, i] = x[0, i]
+            dk = max(dk, abs(K - prev[i]))
+            kmax = max(kmax, abs(K))
+            prev[i] = K
         steady = steady + 1 if dk <= tol * kmax else 0
         if steady > n + 2:
             used = k + 1

@@ -2,7 +2,7 @@
 
 Every family (scenarios, carrier, fusion, robust, latency) simulates a batch of
 seeded Monte Carlo runs and returns a result that says how many runs it holds
-(``n_runs``), names itself (``label``) and refuses a bad run index
+(``runs``), names itself (``label``) and refuses a bad run index
 (``check_run``). Figures rely on this protocol only.
 """
 
@@ -18,14 +18,14 @@ __all__ = ["BatchResult", "RunResult", "as_list", "check_run_index"]
 T = TypeVar("T")
 
 
-def check_run_index(run: int, n_runs: int) -> None:
-    """Refuse a Monte Carlo run index outside ``0 .. n_runs - 1``.
+def check_run_index(run: int, runs: int) -> None:
+    """Refuse a Monte Carlo run index outside ``0 .. runs - 1``.
 
     Parameters
     ----------
     run : int
         Requested run.
-    n_runs : int
+    runs : int
         Runs the result holds.
 
     Raises
@@ -33,8 +33,8 @@ def check_run_index(run: int, n_runs: int) -> None:
     NoisevarError
         When ``run`` is out of range.
     """
-    if not 0 <= run < n_runs:
-        raise NoisevarError(f"run {run} out of range: the result has {n_runs} runs")
+    if not 0 <= run < runs:
+        raise NoisevarError(f"run {run} out of range: the result has {runs} runs")
 
 
 @runtime_checkable
@@ -42,7 +42,7 @@ class RunResult(Protocol):
     """A batch of seeded runs: what every system result and data set offers."""
 
     @property
-    def n_runs(self) -> int:
+    def runs(self) -> int:
         """Number of Monte Carlo runs ``B``."""
         ...
 
@@ -57,9 +57,9 @@ class RunResult(Protocol):
 
 
 class BatchResult:
-    """Mixin implementing :meth:`RunResult.check_run` from ``n_runs``.
+    """Mixin implementing :meth:`RunResult.check_run` from ``runs``.
 
-    Subclasses (frozen dataclasses) define ``n_runs`` and ``label``.
+    Subclasses (frozen dataclasses) define ``runs`` and ``label``.
     """
 
     __slots__ = ()
@@ -72,7 +72,7 @@ class BatchResult:
         run : int
             Requested run.
         """
-        check_run_index(run, self.n_runs)  # type: ignore[attr-defined]
+        check_run_index(run, self.runs)  # type: ignore[attr-defined]
 
 
 def as_list(items: T | Sequence[T], cls: type[T], name: str | None = None) -> list[T]:

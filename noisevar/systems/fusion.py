@@ -31,7 +31,9 @@ from noisevar.kalman import (
     RStrategy,
     StateSpaceModel,
     VariationalBayesR,
+    quadratic_form_inverse,
     run_filter,
+    steps,
 )
 from noisevar.systems.base import BatchResult
 from noisevar.systems.fusion_scenario import (
@@ -109,7 +111,7 @@ class FusionResult(BatchResult):
     fault_mask: NDArray[np.bool_]
 
     @property
-    def n_runs(self) -> int:
+    def runs(self) -> int:
         """Number of Monte Carlo runs ``B``."""
         return int(self.x.shape[0])
 
@@ -264,8 +266,7 @@ def run_fusion(
     nis = np.zeros((B, N, len(sensors)))
     z_steps = [np.ascontiguousarray(np.moveaxis(z, 1, 0)) for z in data.measurements]
     for k in range(N):  # the filter's time loop is inherent; runs are vectorised
-        x_pred = x @ F.T
-        P_pred = F @ P @ F.T + Q
+        x_pred, P_pred = steps.predict(x, P, F, Q)
         info = np.linalg.inv(P_pred)
         info_vec = (info @ x_pred[:, :, None])[:, :, 0]
         flags = np.zeros((len(filters), B), dtype=bool)
@@ -319,10 +320,10 @@ def _local_step(
     nis = np.zeros(B)
     if isolation:
         H = filt.model.H
-        # S = HPH' + R ;  NIS = d' S⁻¹ d
-        S = H @ filt.P_pred @ H.T + filt.R
-        d = z - filt.x_pred @ H.T
-        nis = np.einsum("bi,bi->b", d, np.linalg.solve(S, d[:, :, None])[..., 0])
+        # S = HPH' + R,  d = z - Hx,  NIS = d' S⁻¹ d
+        _, S, _, _ = steps.gain(filt.P_pred, H, filt.R)
+        d = steps.innovation(z, steps.matvec(H, filt.x_pred))
+        nis = quadratic_form_inverse(S, d)
     flagged = nis > threshold if isolation else np.zeros(B, dtype=bool)
     if flagged.all():
         filt.skip_update()

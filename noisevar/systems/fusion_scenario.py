@@ -177,11 +177,6 @@ class FusionData(BatchResult):
         return int(self.truth.shape[0])
 
     @property
-    def n_runs(self) -> int:
-        """Number of Monte Carlo runs ``B`` (as :attr:`runs`)."""
-        return self.runs
-
-    @property
     def label(self) -> str:
         """``"fusion/<fault>"``."""
         return f"fusion/{self.scenario.fault}"

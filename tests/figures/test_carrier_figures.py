@@ -38,7 +38,7 @@ def sweep() -> CarrierSweep:
 
 
 def test_results_follow_the_protocol(results: list[CarrierResult]) -> None:
-    assert [r.n_runs for r in results] == [2, 2]
+    assert [r.runs for r in results] == [2, 2]
     assert [r.label for r in results] == ["ekf/none", "aekf/scaled"]
 
 

@@ -37,7 +37,7 @@ def test_as_list_names_the_argument(data: FusionData) -> None:
 
 def test_protocol_and_check_run(data: FusionData) -> None:
     assert isinstance(data, RunResult)
-    assert data.n_runs == 3 == data.runs
+    assert data.runs == 3
     assert data.label == "fusion/none"
     for run in range(3):
         check_run(data, run)
@@ -57,7 +57,7 @@ def test_check_run_index() -> None:
 
 def test_check_run_on_filter_results() -> None:
     sc = noise_step(runs=2, seed=0, n_steps=300)
-    assert sc.n_runs == 2 and sc.label == sc.name
+    assert sc.runs == 2 and sc.label == sc.name
     batched = sc.run(FixedR())
     check_run(batched, 1)
     with pytest.raises(NoisevarError, match="out of range"):

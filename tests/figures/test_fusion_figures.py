@@ -19,7 +19,7 @@ def results() -> list[FusionResult]:
 
 
 def test_results_follow_the_protocol(results: list[FusionResult]) -> None:
-    assert [r.n_runs for r in results] == [2, 2]
+    assert [r.runs for r in results] == [2, 2]
     assert [r.label for r in results] == ["vb", "vb+isolation"]
 
 

@@ -15,7 +15,7 @@ def result() -> LatencyResult:
 
 
 def test_result_follows_the_protocol(result: LatencyResult) -> None:
-    assert result.n_runs == 1 and result.label == "latency"
+    assert result.runs == 1 and result.label == "latency"
     result.check_run(0)
 
 

@@ -25,7 +25,7 @@ def result() -> RobustResult:
 
 
 def test_result_follows_the_protocol(result: RobustResult) -> None:
-    assert result.n_runs == 2 == result.data.n_runs
+    assert result.runs == 2 == result.data.runs
     assert result.label == "ekf/no-bias/huber"
 
 

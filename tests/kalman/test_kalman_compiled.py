@@ -12,13 +12,13 @@ from noisevar.kalman import (
     RStrategy,
     SomdOnlineR,
     StateSpaceModel,
-    _kernels,
+    kernels,
     make_strategy,
     run_filter,
 )
 from noisevar.systems.scenarios import gps_circle, noise_step
 
-pytestmark = pytest.mark.skipif(not _kernels.HAVE_NUMBA, reason="numba not installed")
+pytestmark = pytest.mark.skipif(not kernels.HAVE_NUMBA, reason="numba not installed")
 
 STRATEGY_NAMES = ["fixed", "oracle", "somd-online", "rae", "iae", "rae-q", "sage-husa", "vb"]
 FIELDS = ("x", "P", "innovation", "residual", "innovation_cov", "R", "Q", "nis", "nees")
@@ -34,9 +34,9 @@ def _strategy(name: str, R_true: np.ndarray, h_smooth) -> RStrategy:
 
 def _both(run, monkeypatch):
     """``run()`` with the compiled kernels, then with the numpy path."""
-    monkeypatch.setattr(_kernels, "USE_COMPILED", True)
+    monkeypatch.setattr(kernels, "USE_COMPILED", True)
     fast = run()
-    monkeypatch.setattr(_kernels, "USE_COMPILED", False)
+    monkeypatch.setattr(kernels, "USE_COMPILED", False)
     plain = run()
     return fast, plain
 
@@ -184,7 +184,7 @@ def test_step_by_step_equals_whole_record(monkeypatch):
     sc = gps_circle(runs=1, seed=3, duration=100.0)
     z = sc.z[0, 1:]
     whole = run_filter(sc.model, z, strategy=make_strategy("vb"), x0=sc.x0[0])
-    monkeypatch.setattr(_kernels, "USE_COMPILED", True)
+    monkeypatch.setattr(kernels, "USE_COMPILED", True)
     filt = KalmanFilter(sc.model, strategy=make_strategy("vb"), x0=sc.x0[0])
     assert filt.compiled
     kept = []
@@ -203,7 +203,7 @@ def test_bad_r_shape_from_a_strategy_is_reported(monkeypatch):
             return np.eye(3)
 
     sc = gps_circle(runs=1, seed=0, duration=50.0)
-    monkeypatch.setattr(_kernels, "USE_COMPILED", True)
+    monkeypatch.setattr(kernels, "USE_COMPILED", True)
     with pytest.raises(NoisevarError, match="R has shape"):
         sc.run(Bad())
 
@@ -238,13 +238,13 @@ def test_singular_innovation_covariance_gives_nan():
     R = np.zeros((1, m, m))
     S, SK = np.empty((1, m, m)), np.empty((1, m + n, m))
     xo, Po, r = np.empty((1, n)), np.empty((1, n, n)), np.empty((1, m))
-    _kernels.gain_update(
+    kernels.gain_update(
         x,
         P,
         R,
         np.zeros((1, m)),
         np.eye(2)[None],
-        _kernels.config(0, (), None),
+        kernels.config(0, (), None),
         x,
         True,
         S,
@@ -252,7 +252,7 @@ def test_singular_innovation_covariance_gives_nan():
         xo,
         Po,
         r,
-        np.empty(_kernels.work_shape(n, m)),
+        np.empty(kernels.work_shape(n, m)),
         (None,) * n,
         (None,) * m,
     )

@@ -39,7 +39,7 @@ def test_every_family_follows_the_protocol(families) -> None:
     for name, (obj, n) in families.items():
         assert isinstance(obj, RunResult), name
         assert isinstance(obj, BatchResult), name
-        assert obj.n_runs == n, name
+        assert obj.runs == n, name
         assert isinstance(obj.label, str) and obj.label, name
         obj.check_run(n - 1)
         with pytest.raises(NoisevarError, match="out of range"):

@@ -23,7 +23,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.errors import NoisevarError
-from noisevar.kalman import _kernels
+from noisevar.kalman import kernels
 
 if TYPE_CHECKING:  # pragma: no cover
     from noisevar.kalman.filter import KalmanFilter
@@ -65,7 +65,7 @@ class RStrategy:
         self._dead = np.zeros(filt.batch_size, dtype=bool)
         self._any_dead = False
         self._R0 = filt.model.R
-        self._ops = _kernels.backend()
+        self._ops = kernels.backend()
 
     def process_covariance(self, filt: KalmanFilter) -> NDArray | None:
         """``Q_k`` for the coming time update, or ``None`` for ``model.Q``."""

@@ -131,7 +131,7 @@ class SomdOnlineR(RStrategy):
         return self._guard_dead(self._Rmat)
 
     def _estimate_from_history(self, k: int) -> NDArray:
-        from noisevar import estimate
+        from noisevar.estimators import estimate
 
         start, stop = self._bounds(k)
         zw = np.stack(self._history[start:stop], axis=1)  # (B, L, m)

@@ -87,7 +87,7 @@ class CarrierResult(BatchResult):
     q_rule: str = "none"
 
     @property
-    def n_runs(self) -> int:
+    def runs(self) -> int:
         """Number of Monte Carlo runs ``B``."""
         return int(self.estimate.shape[0])
 

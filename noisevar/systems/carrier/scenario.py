@@ -143,7 +143,7 @@ class CarrierTruth(BatchResult):
     noise: NDArray[np.float64]
 
     @property
-    def n_runs(self) -> int:
+    def runs(self) -> int:
         """Number of Monte Carlo runs ``B``."""
         return int(self.mid_phase.shape[0])
 

@@ -8,6 +8,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
+from noisevar.kalman import steps
 from noisevar.systems.base import BatchResult
 from noisevar.systems.latency.delay import (
     DelayEstimate,
@@ -56,20 +57,28 @@ def random_constant_kalman(
         )
     if np.any(r < 0) or np.any(np.isnan(r)):
         raise NoisevarError("observation variances must be >= 0 (inf to skip a segment).")
-    x = np.full(z.shape[:-1], float(initial_estimate))
-    p = np.full(z.shape[:-1], float(initial_variance))
-    estimates = np.empty_like(z)
-    variances = np.empty_like(z)
-    for j in range(z.shape[-1]):  # the filter's time loop is inherent
-        p = p + process_variance
-        rj = r[..., j]
-        finite = np.isfinite(rj) & np.isfinite(z[..., j])
-        gain = np.where(finite, p / (p + np.where(finite, rj, 1.0)), 0.0)
-        x = x + gain * np.where(finite, z[..., j] - x, 0.0)
-        p = (1.0 - gain) * p
-        estimates[..., j] = x
-        variances[..., j] = p
-    return estimates, variances
+    B, s = int(np.prod(z.shape[:-1])), z.shape[-1]
+    one = np.ones((1, 1))  # F = H = 1
+    q = np.full((1, 1), float(process_variance))
+    x = np.full((B, 1), float(initial_estimate))
+    p = np.full((B, 1, 1), float(initial_variance))
+    estimates = np.empty((B, s))
+    variances = np.empty((B, s))
+    zs = z.reshape(B, s)
+    rs = r.reshape(B, s)
+    for j in range(s):  # the filter's time loop is inherent
+        x, p = steps.predict(x, p, one, q)
+        # an observation with infinite variance (or none) adds nothing: K = 0
+        finite = (np.isfinite(rs[:, j]) & np.isfinite(zs[:, j]))[:, None]
+        R = np.where(finite, rs[:, j : j + 1], 1.0)[:, :, None]
+        _, _, _, K = steps.gain(p, one, R)
+        K = np.where(finite[:, :, None], K, 0.0)
+        d = np.where(finite, steps.innovation(zs[:, j : j + 1], x), 0.0)
+        # the short form P = (1 - K) P of the scalar filter
+        x, p = steps.update(x, p, d, K, one, R, joseph=False)
+        estimates[:, j] = x[:, 0]
+        variances[:, j] = p[:, 0, 0]
+    return estimates.reshape(z.shape), variances.reshape(z.shape)
 
 
 @dataclass(frozen=True)
@@ -126,7 +135,7 @@ class LatencyResult(BatchResult):
     settings: dict = field(default_factory=dict)
 
     @property
-    def n_runs(self) -> int:
+    def runs(self) -> int:
         """Number of runs: one record."""
         return 1
 

@@ -137,7 +137,7 @@ class RobustResult(BatchResult):
     skip: int
 
     @property
-    def n_runs(self) -> int:
+    def runs(self) -> int:
         """Number of Monte Carlo runs ``B``."""
         return self.data.runs
 

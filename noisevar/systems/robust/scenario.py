@@ -184,11 +184,6 @@ class RobustData(BatchResult):
         return int(self.z.shape[0])
 
     @property
-    def n_runs(self) -> int:
-        """Number of Monte Carlo runs ``B`` (as :attr:`runs`)."""
-        return self.runs
-
-    @property
     def label(self) -> str:
         """``"dme-vor"``."""
         return "dme-vor"

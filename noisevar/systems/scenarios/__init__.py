@@ -22,6 +22,7 @@ from noisevar.systems.scenarios.gps import (
     GPS_T,
     gps_circle,
     gps_process_noise,
+    gps_transition,
 )
 from noisevar.systems.scenarios.scenario import Scenario, constant_velocity_model
 from noisevar.systems.scenarios.target import (
@@ -63,6 +64,7 @@ __all__ = [
     "constant_velocity_model",
     "gps_circle",
     "gps_process_noise",
+    "gps_transition",
     "noise_ramp",
     "noise_step",
     "outliers",

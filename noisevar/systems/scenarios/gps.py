@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 import functools
+import math
 from collections.abc import Callable
 
 import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.errors import NoisevarError
-from noisevar.kalman import StateSpaceModel
+from noisevar.kalman import StateSpaceModel, kernels
 from noisevar.kalman.result import wrap_angle
 from noisevar.systems.scenarios.scenario import Scenario, _check_runs
 
@@ -77,13 +78,50 @@ def _gps_f(T: float):
     return f, F_jacobian
 
 
-def _gps_transition(T: float) -> Callable[[NDArray, int, NDArray, NDArray], None] | None:
-    """Model [20] and its Jacobian in one compiled kernel (``StateSpaceModel.transition``)."""
-    from noisevar.kalman import _kernels
+def _transition_kernel(T, x, k, x_out, F_out):  # pragma: no cover - compiled
+    """Model [20] and its Jacobian for a batch ``x`` (B, 4), into ``x_out``, ``F_out``.
 
-    if not _kernels.HAVE_NUMBA:  # pragma: no cover - numba not installed
+    ``functools.partial(kernel, T)`` is a ``StateSpaceModel.transition``
+    (``k``, the step index, is unused); :func:`_gps_f` is its numpy form.
+    """
+    B, n = x.shape
+    for b in range(B):
+        th = x[b, 3]
+        c = math.cos(th)
+        s = math.sin(th)
+        tv = T * x[b, 2]
+        for i in range(n):
+            x_out[b, i] = x[b, i]
+            for j in range(n):
+                F_out[b, i, j] = 1.0 if i == j else 0.0
+        x_out[b, 0] += tv * c
+        x_out[b, 1] += tv * s
+        F_out[b, 0, 2] = T * c
+        F_out[b, 0, 3] = -(tv * s)
+        F_out[b, 1, 2] = T * s
+        F_out[b, 1, 3] = tv * c
+
+
+_TRANSITION = kernels.compiled(_transition_kernel)
+
+
+def gps_transition(T: float) -> Callable[[NDArray, int, NDArray, NDArray], None] | None:
+    """Model [20] and its Jacobian in one compiled kernel (``StateSpaceModel.transition``).
+
+    Parameters
+    ----------
+    T : float
+        Sample period (s).
+
+    Returns
+    -------
+    callable or None
+        ``transition(x, k, x_out, F_out)``; None without numba (the model then
+        uses its numpy ``f`` and ``F_jacobian``).
+    """
+    if _TRANSITION is None:  # pragma: no cover - numba not installed
         return None
-    return functools.partial(_kernels.gps_transition, float(T))  # no Python frame per step
+    return functools.partial(_TRANSITION, float(T))  # no Python frame per step
 
 
 def gps_circle(
@@ -148,7 +186,7 @@ def gps_circle(
     R_true = np.broadcast_to(np.diag(std**2), (N, 4, 4))
     f, F_jac = _gps_f(T)
     model = StateSpaceModel(
-        transition=_gps_transition(T),
+        transition=gps_transition(T),
         Q=gps_process_noise(T) if Q is None else Q,
         R=np.diag(GPS_R0),
         x0=z[0, 0],

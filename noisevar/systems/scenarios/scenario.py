@@ -72,11 +72,6 @@ class Scenario(BatchResult):
         return int(self.z.shape[0])
 
     @property
-    def n_runs(self) -> int:
-        """Number of Monte Carlo runs ``B`` (as :attr:`runs`)."""
-        return self.runs
-
-    @property
     def label(self) -> str:
         """The scenario's name."""
         return self.name

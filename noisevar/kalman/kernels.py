@@ -3,7 +3,12 @@
 Each kernel does one step of a whole batch (loops over the batch axis ``B``).
 The dimensions reach the kernels as the lengths of ``nt = (None,) * n`` and
 ``mt = (None,) * m``, compile-time constants, so small loops are unrolled.
-The arithmetic follows :mod:`noisevar.kalman.steps` term by term.
+The arithmetic follows :mod:`noisevar.kalman.steps` term by term: this module
+is the step's compiled twin. Other compiled code (the steady-state pass of
+:mod:`noisevar.noise_model`) calls the step through the ``*_inline`` forms
+(:func:`predict_linear_inline`, :func:`measure_inline`,
+:func:`gain_update_inline`: the same bodies, inlined into the caller, so a
+one-run loop pays no call per stage) instead of writing the equations again.
 
 :func:`backend` is the one place that chooses: the compiled kernels when
 :data:`USE_COMPILED` (numba installed), else the numpy forms of
@@ -124,9 +129,15 @@ def _cov_into(Fb, Pb, Qb, out, T, n):  # pragma: no cover - compiled
 @_jit
 def predict_linear(F, x, P, Q, x_out, P_out, nt):  # pragma: no cover - compiled
     """``x_out = F x``, ``P_out = F P Fᵀ + Q`` (``F``, ``Q`` of shape (1 or B, n, n))."""
+    n = len(nt)
+    predict_linear_inline(F, x, P, Q, x_out, P_out, np.empty((n, n)), nt)
+
+
+@_inline
+def predict_linear_inline(F, x, P, Q, x_out, P_out, T, nt):  # pragma: no cover - compiled
+    """:func:`predict_linear` with its scratch ``T`` (n, n), inlined where it is called."""
     B = x.shape[0]
     n = len(nt)
-    T = np.empty((n, n))
     fb = F.shape[0] > 1
     qb = Q.shape[0] > 1
     for b in range(B):
@@ -149,6 +160,13 @@ def predict_cov(F, P, Q, P_out, nt):  # pragma: no cover - compiled
     qb = Q.shape[0] > 1
     for b in range(B):
         _cov_into(F[b if fb else 0], P[b], Q[b if qb else 0], P_out[b], T, n)
+
+
+@_inline
+def unpack(cfg):  # pragma: no cover - compiled
+    """``kind``, state selection and angle components from ``cfg`` (see :func:`config`)."""
+    na = cfg[1]
+    return cfg[0], cfg[2 + na :], cfg[2 : 2 + na]
 
 
 @_inline
@@ -184,14 +202,19 @@ def measure(z, x_pred, P_pred, H, cfg, z_pred, d, PHt, HPHt, nt, mt):  # pragma:
     are the caller's ``x_pred``, ``P_pred`` (untouched); 1: selection; 2:
     linear ``H``; 3: ``z_pred`` given (from ``h``), ``H`` the Jacobian.
     """
+    kind, sel, angles = unpack(cfg)
+    measure_inline(z, x_pred, P_pred, H, kind, sel, angles, z_pred, d, PHt, HPHt, nt, mt)
+
+
+@_inline
+def measure_inline(  # pragma: no cover - compiled
+    z, x_pred, P_pred, H, kind, sel, angles, z_pred, d, PHt, HPHt, nt, mt
+):
+    """:func:`measure` with ``cfg`` unpacked (:func:`unpack`), inlined where it is called."""
     B = x_pred.shape[0]
     n = len(nt)
     m = len(mt)
     hb = H.shape[0] > 1
-    kind = cfg[0]
-    na = cfg[1]
-    sel = cfg[2 + na :]
-    angles = cfg[2 : 2 + na]
     for b in range(B):
         if kind == 0:
             for i in range(m):
@@ -215,8 +238,19 @@ def measure(z, x_pred, P_pred, H, cfg, z_pred, d, PHt, HPHt, nt, mt):  # pragma:
 
 
 @_jit
-def gain_update(  # long: one fused kernel per step (a call per stage costs more than the flops)
+def gain_update(
     x_pred, P_pred, R, d, H, cfg, z, final, S, SK, x, P, r, work, nt, mt
+):  # pragma: no cover - compiled
+    """Gain and update with ``R``, residual unless ``kind == 3`` (:func:`gain_update_inline`)."""
+    kind, sel, angles = unpack(cfg)
+    gain_update_inline(
+        x_pred, P_pred, R, d, H, kind, sel, angles, z, final, S, SK, x, P, r, work, nt, mt
+    )
+
+
+@_inline
+def gain_update_inline(  # long: one fused kernel per step (a call per stage costs more than flops)
+    x_pred, P_pred, R, d, H, kind, sel, angles, z, final, S, SK, x, P, r, work, nt, mt
 ):  # pragma: no cover - compiled
     """Gain and update with ``R`` (shape (1 or B, m, m)), residual unless ``kind == 3``.
 
@@ -227,16 +261,13 @@ def gain_update(  # long: one fused kernel per step (a call per stage costs more
     otherwise the short form ``P = A P_pred``. Residual ``r = z - H x``
     (angles wrapped). ``P Hᵀ`` and ``H P Hᵀ`` are recomputed from ``P_pred``
     (the same arithmetic as :func:`measure`: fewer operands to pass, which
-    costs more than the few flops). ``cfg`` as built by :func:`config`;
-    ``work`` scratch of shape :func:`work_shape` (no allocation per call).
+    costs more than the few flops). ``kind``, ``sel``, ``angles`` from
+    :func:`unpack`; ``work`` scratch of shape :func:`work_shape` (no allocation per call).
+    Inlined where it is called.
     """
     B = x_pred.shape[0]
     n = len(nt)
     m = len(mt)
-    kind = cfg[0]
-    na = cfg[1]
-    sel = cfg[2 + na :]
-    angles = cfg[2 : 2 + na]
     rb = R.shape[0] > 1
     hb = H.shape[0] > 1
     # basic slices of the (7, L, L) scratch (a reshape costs a helper call)
@@ -380,30 +411,13 @@ def config(kind: int, angles: tuple[int, ...], sel: tuple[int, ...] | None) -> n
     return np.array([kind, len(angles), *angles, *(sel or ())], dtype=np.int64)
 
 
-# --------------------------------------------------------------------------- models
-@_jit
-def gps_transition(T, x, k, x_out, F_out):  # pragma: no cover - compiled
-    """Model [20] of gps-circle and its Jacobian, written into ``x_out``, ``F_out``.
+def compiled(fn: Callable) -> Callable | None:
+    """``fn`` compiled as the kernels are, or None without numba.
 
-    ``functools.partial(gps_transition, T)`` is a ``StateSpaceModel.transition``
-    (``k``, the step index, is unused).
+    For a model's kernel defined outside this package (a scenario's
+    ``StateSpaceModel.transition``): its caller falls back to numpy on None.
     """
-    B, n = x.shape
-    for b in range(B):
-        th = x[b, 3]
-        c = math.cos(th)
-        s = math.sin(th)
-        tv = T * x[b, 2]
-        for i in range(n):
-            x_out[b, i] = x[b, i]
-            for j in range(n):
-                F_out[b, i, j] = 1.0 if i == j else 0.0
-        x_out[b, 0] += tv * c
-        x_out[b, 1] += tv * s
-        F_out[b, 0, 2] = T * c
-        F_out[b, 0, 3] = -(tv * s)
-        F_out[b, 1, 2] = T * s
-        F_out[b, 1, 3] = tv * c
+    return _jit(fn) if HAVE_NUMBA else None
 
 
 # --------------------------------------------------------------------------- backend
