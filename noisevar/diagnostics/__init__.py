@@ -30,6 +30,7 @@ from noisevar.diagnostics.tails import kurtosis_from_moments, tail_index
 from noisevar.diagnostics.verdict import make_notes, make_verdict
 from noisevar.diagnostics.whiteness import WhitenessTest, whiteness_test
 from noisevar.errors import NoisevarError
+from noisevar.numeric.fir import residual_sequence
 
 __all__ = [
     "Gap",
@@ -83,8 +84,6 @@ def finish(sums: DiagSums, seg: Segmentation, head: Callable[[], NDArray]) -> No
     robust level (spikes stay in it, level changes do not); the whiteness test's null
     covariance is widened by ``n Σσ⁴ / (Σσ²)²`` for a level that changes along the record.
     """
-    from noisevar.estimators.auto import residual_sequence
-
     sums.check()
     plan, d = sums.plan, residual_sequence(DIAG_SPAN, DIAG_ORDER)
     # blocks left with a handful of residuals (around jumps) say nothing of the level

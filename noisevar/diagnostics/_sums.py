@@ -27,17 +27,7 @@ from noisevar.diagnostics._parts import (
 )
 from noisevar.diagnostics.whiteness import WHITE_LAGS
 from noisevar.errors import NoisevarError
-
-
-def _filter(x: NDArray, d: NDArray) -> NDArray:
-    """``d * x`` at the centred samples (``d`` symmetric): compiled when numba is there."""
-    from noisevar.estimators import auto
-
-    if auto.USE_COMPILED and auto._fir is not None:
-        out = np.empty(x.size - d.size + 1)
-        auto._fir.symmetric_fir(np.ascontiguousarray(x), d[d.size // 2 :].copy(), out, False)
-        return out
-    return np.convolve(x, d[::-1], mode="valid")
+from noisevar.numeric.fir import centred_fir, residual_sequence
 
 
 @dataclass
@@ -53,8 +43,6 @@ class DiagPart:
 
 
 def _sequence() -> NDArray:
-    from noisevar.estimators.auto import residual_sequence
-
     return residual_sequence(DIAG_SPAN, DIAG_ORDER)
 
 
@@ -64,7 +52,7 @@ def _residual_part(
     """Residuals centred on samples ``k0 .. k1`` of the window starting at ``wa``, kept mask."""
     h = DIAG_SPAN // 2
     x = z[k0 - wa - h : k1 - wa + h]
-    e = _filter(x, _sequence())
+    e = centred_fir(x, _sequence())
     x = None if exclude is None else exclude[k0 - wa - h : k1 - wa + h]
     if x is None or not x.any():
         return e, np.ones(e.size, dtype=bool)

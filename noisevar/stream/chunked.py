@@ -26,12 +26,12 @@ from noisevar.diagnostics.power_law import POWER_LAW_MAX
 from noisevar.errors import NoisevarError
 from noisevar.estimators._record import COLOURED_P, coloured_note, conclude
 from noisevar.estimators._scale import SAFE_RANGE, check_answer, unscale
-from noisevar.estimators._steps import STEP_MAX_FRACTION
 from noisevar.estimators._trim import AUTO_BLOCK
 from noisevar.estimators.auto import AUTO, AUTO_COLOURED_SPAN, AutoPart, auto_part, auto_reduce
 from noisevar.estimators.auto import auto_spans as _spans
 from noisevar.estimators.params import AUTO_ORDER, AUTO_TRIM
 from noisevar.estimators.results import VarianceEstimate
+from noisevar.numeric.steps import STEP_MAX_FRACTION
 
 #: Samples added on each side of a chunk: far beyond what one block's numbers depend on
 #: (the longest span's reach, the jump detector's windows, neighbouring blocks).
