@@ -4,7 +4,7 @@
 Each chunk is estimated from a window that adds :data:`OVERLAP` samples either side,
 and only the chunk's own blocks are kept (:func:`noisevar.estimators.auto.auto_part`);
 their sums give the one-pass estimate. The diagnostics add each chunk's share to sums
-laid on a grid fixed before the pass (:mod:`noisevar.diagnostics._sums`). Chunks run
+laid on a grid fixed before the pass (:mod:`noisevar.diagnostics.sums`). Chunks run
 in threads (the compiled filters release the GIL) and are added in record order.
 """
 
@@ -19,10 +19,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from noisevar.diagnostics import Segmentation, finish
-from noisevar.diagnostics._parts import make_plan, probe_of
-from noisevar.diagnostics._sums import DiagPart, DiagSums, diag_part
+from noisevar.diagnostics import Segmentation, from_sums
+from noisevar.diagnostics.plan import make_plan, probe_of
 from noisevar.diagnostics.power_law import POWER_LAW_MAX
+from noisevar.diagnostics.sums import DiagPart, DiagSums, diag_part
 from noisevar.errors import NoisevarError
 from noisevar.estimators._record import COLOURED_P, coloured_note, conclude
 from noisevar.estimators._scale import SAFE_RANGE, check_answer, unscale
@@ -201,7 +201,7 @@ def estimate_chunked(
     result = auto_reduce(run.parts, spans, params, [f"{note} in chunks of {chunk} samples"])
     head = read(0, min(n, POWER_LAW_MAX))
     assert run.diag is not None
-    diag = finish(run.diag, Segmentation(((0, n),), ()), lambda: np.ldexp(head, e))
+    diag = from_sums(run.diag, Segmentation(((0, n),), ()), lambda: np.ldexp(head, e))
     if diag.whiteness.p_value < COLOURED_P and params["span"] is None:
         extra = {"span": AUTO_COLOURED_SPAN}
         col = {**params, **extra}

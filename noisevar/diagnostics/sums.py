@@ -1,18 +1,17 @@
 """The diagnostics of a record from its stretches: :func:`diag_part` maps, :class:`DiagSums` adds.
 
 A record in memory is one stretch per uniform segment; a record streamed from disk is
-one stretch per chunk (:mod:`noisevar.stream`). Stretches are added in record order.
+one stretch per chunk (``auto``'s chunked engine). Stretches are added in record order.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
 
-from noisevar.diagnostics._parts import (
+from noisevar.diagnostics.plan import (
     DIAG_ORDER,
     DIAG_SPAN,
     PROFILE_MIN_KEPT,
@@ -213,6 +212,3 @@ class DiagSums:
                 f"no stretch of the record has {2 * DIAG_SPAN} uniformly sampled samples "
                 f"(span {DIAG_SPAN}) free of jumps: nothing to diagnose"
             )
-
-
-Reader = Callable[[int, int], NDArray]
