@@ -1,6 +1,6 @@
 """Noise-variance estimators: :func:`estimate` with a method name from :func:`methods`.
 
-Each method is declared once, as a :class:`~noisevar.estimators.params.MethodSpec` in
+Each method is declared once, as a :class:`~noisevar.estimators.spec.MethodSpec` in
 its own module; :data:`REGISTRY` lists them. Adding an estimator is one new module and
 one line in :data:`REGISTRY` (or one :func:`register` call from outside the package).
 """
@@ -22,10 +22,11 @@ from noisevar.estimators._record import (
 )
 from noisevar.estimators.auto import auto_estimate, residual_sequence
 from noisevar.estimators.difference import HKT_SEQUENCES, sequence_efficiency
-from noisevar.estimators.params import PARAMS, MethodSpec
+from noisevar.estimators.params import PARAMS
 from noisevar.estimators.redundant import estimate_redundant, redundant_estimate
 from noisevar.estimators.results import VarianceEstimate, VarianceEstimates
 from noisevar.estimators.somd import somd_estimate, somd_variance_records, somd_variance_windows
+from noisevar.estimators.spec import MethodSpec
 
 __all__ = [
     "HKT_SEQUENCES",

@@ -26,8 +26,8 @@ from noisevar.diagnostics import (
 from noisevar.diagnostics.assumptions import check_assumptions
 from noisevar.errors import NoisevarError
 from noisevar.estimators._input import check_samples, check_times
-from noisevar.estimators.params import MethodSpec
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
+from noisevar.estimators.spec import MethodSpec
 
 #: The method's coloured-noise parameters are used below this whiteness p-value (far
 #: below the flag's 5 %, so that white noise that fails the test by chance keeps the
@@ -258,15 +258,15 @@ def conclude(
     diag : NoiseDiagnostics
         The record's diagnostics.
     record : callable, optional
-        ``record(a, b)``: samples ``a .. b`` of the (one-segment) record, for ``auto``'s
-        correction of a quantised record at low noise (§E3).
+        ``record(a, b)``: samples ``a .. b`` of the (one-segment) record, for the
+        method's finishing step (``spec.finish``).
 
     Returns
     -------
     VarianceEstimate
     """
-    if spec.name == "auto" and diag.lsb is not None:
-        result = _quantised(result, diag.lsb, record)
+    if spec.finish is not None:
+        result = spec.finish(result, diag, record)
     if spec.moment:
         result = _honest_interval(result, diag)
     if not diag.identifiable:  # no measurement noise can be told apart: 0 is as likely
@@ -276,35 +276,6 @@ def conclude(
     result.diagnostics = diag
     result.assumptions = check_assumptions(spec.assumes, diag)
     return result
-
-
-def _quantised(
-    result: VarianceEstimate, lsb: float, record: Callable[[int, int], NDArray] | None
-) -> VarianceEstimate:
-    """``auto``'s result corrected for the rounding error its residual misses (§E3).
-
-    A record in several segments (gaps) is not corrected: a note says so when it would be.
-    """
-    from noisevar.estimators._quantised import (
-        apply_correction,
-        quantisation_correction,
-        small_against_step,
-    )
-    from noisevar.estimators.auto import auto_spans
-
-    if record is None:
-        if not small_against_step(result.variance, lsb):
-            return result
-        note = (
-            "the noise is small against the grid step and the record has gaps: the "
-            "correction for the rounding error that follows the signal is made on one "
-            "uniform record only, so the variance may be low (docs/algorithms.md §E3)"
-        )
-        return replace(result, notes=[*result.notes, note])
-    p = result.params
-    span = auto_spans(p.get("span"), p["order"], p["trim"], result.n_total)[-1]
-    corr = quantisation_correction(record, result.n_total, lsb, result.variance, span, p["order"])
-    return result if corr is None else apply_correction(result, corr)
 
 
 def rescale_diagnostics(result: VarianceEstimate, e: int) -> None:

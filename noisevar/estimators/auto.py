@@ -8,12 +8,14 @@ trimmed mean corrected; §F5.5 gives the estimate and its degrees of freedom.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
 from numpy.typing import NDArray
 
+from noisevar.diagnostics import NoiseDiagnostics
 from noisevar.errors import NoisevarError
 from noisevar.estimators._trim import (
     AUTO_MASK_SPAN,
@@ -24,8 +26,9 @@ from noisevar.estimators._trim import (
     auto_block,
 )
 from noisevar.estimators.difference import sequence_efficiency
-from noisevar.estimators.params import AUTO_ORDER, AUTO_TRIM, MethodSpec
+from noisevar.estimators.params import AUTO_ORDER, AUTO_TRIM
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
+from noisevar.estimators.spec import MethodSpec
 from noisevar.numeric.blocks import dilate
 from noisevar.numeric.fir import centred_fir, residual_sequence
 
@@ -351,6 +354,37 @@ def _auto(z: NDArray, notes: list[str], **p: object) -> VarianceEstimate:
     return auto_estimate(z, notes=notes, **p)
 
 
+def finish_quantised(
+    result: VarianceEstimate,
+    diag: NoiseDiagnostics,
+    record: Callable[[int, int], NDArray] | None,
+) -> VarianceEstimate:
+    """``auto``'s finishing step: on a quantised record, the rounding error its residual misses.
+
+    Parameters
+    ----------
+    result : VarianceEstimate
+        ``auto``'s estimate of the record.
+    diag : NoiseDiagnostics
+        The record's diagnostics (``diag.lsb``: its grid step, None when not on a grid).
+    record : callable or None
+        ``record(a, b)``: samples ``a .. b`` of a record in one uniform segment.
+
+    Returns
+    -------
+    VarianceEstimate
+        Corrected at low noise on a grid (docs/algorithms.md §E3), else ``result``.
+    """
+    if diag.lsb is None:
+        return result
+    # here: the correction needs scipy, which an estimate of an ordinary record never loads
+    from noisevar.estimators import _quantised
+
+    p = result.params
+    span = auto_spans(p.get("span"), p["order"], p["trim"], result.n_total)[-1]
+    return _quantised.correct(result, diag.lsb, record, span, p["order"])
+
+
 AUTO = MethodSpec(
     "auto",
     "robust zero-lag polynomial virtual sensor (our default)",
@@ -358,6 +392,7 @@ AUTO = MethodSpec(
     _auto,
     ("span", "order", "trim"),
     coloured_params={"span": AUTO_COLOURED_SPAN},
+    finish=finish_quantised,
 )
 
 

@@ -19,14 +19,9 @@ from numpy.typing import NDArray
 from noisevar.errors import NoisevarError, NoWindowKept
 from noisevar.estimators._input import check_window
 from noisevar.estimators.difference import sequence_efficiency
-from noisevar.estimators.params import (
-    PAPER_H_SMOOTH,
-    PAPER_WINDOW,
-    PARAMS,
-    SOMD_PARAMS,
-    MethodSpec,
-)
+from noisevar.estimators.params import PAPER_H_SMOOTH, PAPER_WINDOW, PARAMS, SOMD_PARAMS
 from noisevar.estimators.results import SomdDetails, VarianceEstimate, chi2_interval
+from noisevar.estimators.spec import MethodSpec
 from noisevar.filters.abg import (
     abg_filter,
     check_h,

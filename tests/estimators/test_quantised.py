@@ -8,7 +8,7 @@ import pytest
 import noisevar
 from noisevar import synth
 from noisevar.diagnostics.panel import verdict_severity
-from noisevar.estimators import _record
+from noisevar.estimators import _quantised
 from noisevar.estimators._quantised import (
     PIECES,
     QUANT_MAX_SIGMA,
@@ -26,7 +26,7 @@ N = 6000
 
 def _off(monkeypatch) -> None:
     """Switch the correction off (the estimate as it was before it)."""
-    monkeypatch.setattr(_record, "_quantised", lambda result, lsb, record: result)
+    monkeypatch.setattr(_quantised, "correct", lambda result, *args: result)
 
 
 def _records(clean: np.ndarray, std: float, runs: int, seed: int) -> tuple[np.ndarray, float]:

@@ -12,9 +12,10 @@ from hypothesis import strategies as st
 import noisevar as nv
 from noisevar.errors import NoisevarError
 from noisevar.estimators import METHODS, register, unregister
-from noisevar.estimators.params import PARAMS, MethodSpec
+from noisevar.estimators.params import PARAMS
 from noisevar.estimators.results import VarianceEstimate, VarianceEstimates
 from noisevar.estimators.somd import somd_variance_records, somd_variance_windows
+from noisevar.estimators.spec import MethodSpec
 from noisevar.params import ParamSpec
 
 RNG = np.random.default_rng(40)
