@@ -75,7 +75,6 @@ def diagnose(
     return from_sums(sums, seg, lambda: z[a : min(b, a + POWER_LAW_MAX)])
 
 
-# long: the record-wide statistics from the sums, in the order they depend on each other
 def from_sums(sums: DiagSums, seg: Segmentation, head: Callable[[], NDArray]) -> NoiseDiagnostics:
     """The diagnostics from their sums; ``head()`` gives the start of the longest segment.
 

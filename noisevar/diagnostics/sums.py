@@ -60,7 +60,6 @@ def _residual_part(
     return e, c[DIAG_SPAN:] == c[: c.size - DIAG_SPAN]
 
 
-# long: one stretch's share of every statistic, in the plan's coordinates
 def diag_part(
     z: NDArray,
     wa: int,

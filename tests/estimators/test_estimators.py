@@ -486,7 +486,7 @@ def test_kept_block_sums_equals_zeroing_a_copy(n, block):
 
 @pytest.mark.parametrize("n, block", [(1000, 256), (1100, 256), (300, 16), (16, 16)])
 def test_above_local_uses_the_higher_of_the_two_bracketing_levels(n, block):
-    from noisevar.estimators._trim import _above_local
+    from noisevar.estimators.auto._trim import _above_local
 
     rng = np.random.default_rng(n)
     nb = max(1, n // block)
@@ -579,7 +579,7 @@ def test_step_mask_finds_a_jump_and_ignores_a_parabola():
 @pytest.mark.parametrize("span", [11, 21, 41, 81])
 def test_compiled_residual_squares_equal_convolve(span, monkeypatch):
     """The numba kernel of noisevar.numeric.fir is np.convolve's filter, to rounding."""
-    import noisevar.estimators.auto as est
+    import noisevar.estimators.auto.core as est
     from noisevar.numeric import fir
 
     assert fir.USE_COMPILED, "numba is a core dependency: the compiled path must be on"
@@ -630,7 +630,7 @@ def test_auto_long_span_stays_out_of_blocks_next_to_a_fast_burst():
 def test_local_peaks_equal_the_maximum_filter(seed):
     from scipy.ndimage import maximum_filter1d
 
-    from noisevar.estimators._trim import _local_peaks
+    from noisevar.estimators.auto._trim import _local_peaks
 
     rng = np.random.default_rng(seed)
     n = int(rng.integers(12, 3000))

@@ -12,9 +12,9 @@ from hypothesis import strategies as st
 
 import noisevar
 from noisevar.errors import NoisevarError
-from noisevar.estimators._trim import AUTO_BLOCK
+from noisevar.estimators.auto import AUTO_BLOCK
+from noisevar.estimators.auto.chunked import chunks
 from noisevar.stream import estimate_chunked, estimate_file
-from noisevar.stream.chunked import chunks
 
 
 def _ar(rng: np.random.Generator, n: int, phi: float) -> np.ndarray:
@@ -155,8 +155,8 @@ def test_cli_streams(tmp_path) -> None:
 
 
 def test_a_long_record_in_memory_is_estimated_in_chunks_with_the_same_numbers() -> None:
-    from noisevar.estimators._record import CHUNKED_MIN
     from noisevar.estimators.auto import auto_estimate
+    from noisevar.estimators.pipeline import CHUNKED_MIN
 
     rng = np.random.default_rng(8)
     n = CHUNKED_MIN + 1234

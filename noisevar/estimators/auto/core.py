@@ -1,4 +1,4 @@
-"""``auto``: a robust zero-lag polynomial virtual sensor (docs/algorithms.md §F5).
+"""``auto``'s estimator: a robust zero-lag polynomial virtual sensor (docs/algorithms.md §F5).
 
 The residual of a centred local polynomial (§F5.1) replaces SOMD's lagging
 alpha-beta-gamma prediction; each block of samples takes the longest span that does
@@ -17,7 +17,7 @@ from numpy.typing import NDArray
 
 from noisevar.diagnostics import NoiseDiagnostics
 from noisevar.errors import NoisevarError
-from noisevar.estimators._trim import (
+from noisevar.estimators.auto._trim import (
     AUTO_MASK_SPAN,
     _Blocks,
     _flag,
@@ -28,7 +28,6 @@ from noisevar.estimators._trim import (
 from noisevar.estimators.difference import sequence_efficiency
 from noisevar.estimators.params import AUTO_ORDER, AUTO_TRIM
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
-from noisevar.estimators.spec import MethodSpec
 from noisevar.numeric.blocks import dilate
 from noisevar.numeric.fir import centred_fir, residual_sequence
 
@@ -339,7 +338,8 @@ def auto_estimate(
     (§F5.1), spans per block (§F5.2), jump and outlier trimming with the
     truncated-moment correction ``τ`` (§F5.3, §F5.4), and
     ``var = sum e² / (n_kept τ)`` with ``sum_blocks n_b / sum ρ²`` degrees of freedom
-    (§F5.5). The record is one :func:`auto_part`; :mod:`noisevar.stream` sums many.
+    (§F5.5). The record is one :func:`auto_part`; :mod:`~noisevar.estimators.auto.chunked`
+    sums many.
     """
     order, trim = int(order), float(trim)
     span = None if span is None else int(span)
@@ -350,7 +350,8 @@ def auto_estimate(
     return auto_reduce([part], spans, params, list(notes or []))
 
 
-def _auto(z: NDArray, notes: list[str], **p: object) -> VarianceEstimate:
+def auto_method(z: NDArray, notes: list[str], **p: object) -> VarianceEstimate:
+    """:func:`auto_estimate` as a :class:`~noisevar.estimators.spec.MethodSpec`'s ``func``."""
     return auto_estimate(z, notes=notes, **p)
 
 
@@ -378,22 +379,11 @@ def finish_quantised(
     if diag.lsb is None:
         return result
     # here: the correction needs scipy, which an estimate of an ordinary record never loads
-    from noisevar.estimators import _quantised
+    from noisevar.estimators.auto import _quantised
 
     p = result.params
     span = auto_spans(p.get("span"), p["order"], p["trim"], result.n_total)[-1]
     return _quantised.correct(result, diag.lsb, record, span, p["order"])
-
-
-AUTO = MethodSpec(
-    "auto",
-    "robust zero-lag polynomial virtual sensor (our default)",
-    "ours",
-    _auto,
-    ("span", "order", "trim"),
-    coloured_params={"span": AUTO_COLOURED_SPAN},
-    finish=finish_quantised,
-)
 
 
 def jump_mask(z: NDArray, order: int = AUTO_ORDER, trim: float = AUTO_TRIM) -> NDArray | None:

@@ -1,34 +1,35 @@
-"""``auto`` and the diagnostics over a record read in chunks (docs/algorithms.md §F5.7).
+"""``auto`` over a record read in chunks: its engine for the pipeline (docs/algorithms.md §F5.7).
 
 ``auto`` is local: a block's numbers depend on the samples within a few blocks of it.
 Each chunk is estimated from a window that adds :data:`OVERLAP` samples either side,
-and only the chunk's own blocks are kept (:func:`noisevar.estimators.auto.auto_part`);
+and only the chunk's own blocks are kept (:func:`~noisevar.estimators.auto.core.auto_part`);
 their sums give the one-pass estimate. The diagnostics add each chunk's share to sums
-laid on a grid fixed before the pass (:mod:`noisevar.diagnostics.sums`). Chunks run
-in threads (the compiled filters release the GIL) and are added in record order.
+laid on a grid fixed before the pass (:mod:`noisevar.diagnostics.sums`). Chunks run in
+threads (the compiled filters release the GIL) and are added in record order.
+:class:`ChunkedAuto` is ``auto``'s ``spec.chunked``: the pipeline
+(:func:`~noisevar.estimators.pipeline.run_record`) takes it through the steps of a
+record in memory.
 """
 
 from __future__ import annotations
 
 import math
 import sys
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
 
-from noisevar.diagnostics import Segmentation, from_sums
+from noisevar.diagnostics import NoiseDiagnostics, Segmentation, from_sums
 from noisevar.diagnostics.plan import make_plan, probe_of
 from noisevar.diagnostics.power_law import POWER_LAW_MAX
 from noisevar.diagnostics.sums import DiagPart, DiagSums, diag_part
 from noisevar.errors import NoisevarError
-from noisevar.estimators._record import COLOURED_P, coloured_note, conclude
-from noisevar.estimators._scale import SAFE_RANGE, check_answer, unscale
-from noisevar.estimators._trim import AUTO_BLOCK
-from noisevar.estimators.auto import AUTO, AUTO_COLOURED_SPAN, AutoPart, auto_part, auto_reduce
-from noisevar.estimators.auto import auto_spans as _spans
+from noisevar.estimators._scale import exponent_of
+from noisevar.estimators.auto._trim import AUTO_BLOCK
+from noisevar.estimators.auto.core import AutoPart, auto_part, auto_reduce, auto_spans
 from noisevar.estimators.params import AUTO_ORDER, AUTO_TRIM
 from noisevar.estimators.results import VarianceEstimate
 from noisevar.numeric.steps import STEP_MAX_FRACTION
@@ -98,7 +99,6 @@ def _in_order(work: Callable[[_Chunk], tuple], todo: list[_Chunk], workers: int)
         sys.setswitchinterval(interval)
 
 
-# long: one pass, its per-chunk work and its in-order reduction kept together
 def _pass(
     read: Callable[[int, int], NDArray],
     n: int,
@@ -110,13 +110,14 @@ def _pass(
     size: int,
     workers: int,
 ) -> _Pass:
+    """One pass over the record: every chunk's block sums (and diagnostics), in order."""
     order, trim = params["order"], params["trim"]
 
     def work(c: _Chunk) -> tuple[AutoPart | None, DiagPart | None, float, float, float]:
         z = read(c.wa, c.wb)
         lo_z, hi_z = float(z.min()), float(z.max())
         top = max(abs(lo_z), abs(hi_z))
-        if e == 0 and _exponent(top) != 0 and top > 1.0:  # squares would overflow: rescale
+        if e == 0 and exponent_of(top) != 0 and top > 1.0:  # squares would overflow: rescale
             return None, None, top, lo_z, hi_z
         if e:
             z = np.ldexp(z, e)
@@ -137,28 +138,17 @@ def _pass(
     return _Pass(parts, top, hi_all - lo_all, sums)
 
 
-def _exponent(top: float) -> int:
-    """:func:`noisevar.estimators._scale.scale_exponent` from the record's largest |z|."""
-    if top == 0.0:
-        return 0
-    _, k = math.frexp(top)
-    return 0 if SAFE_RANGE[0] <= k <= SAFE_RANGE[1] else -k
+def _config(params: dict) -> dict:
+    """``auto``'s parameters in the config form: ``span`` None when chosen per block."""
+    return {
+        "span": params.get("span"),
+        "order": params.get("order", AUTO_ORDER),
+        "trim": params.get("trim", AUTO_TRIM),
+    }
 
 
-# long: the steps of estimate() for one record, each a pass or a check, in order
-def estimate_chunked(
-    read: Callable[[int, int], NDArray],
-    n: int,
-    *,
-    span: int | None = None,
-    order: int = AUTO_ORDER,
-    trim: float = AUTO_TRIM,
-    probe: Callable[[slice], NDArray] | None = None,
-    chunk: int = CHUNK,
-    workers: int = 2,
-    note: str = "streamed",
-) -> VarianceEstimate:
-    """``noisevar.estimate(z)`` (method ``auto``) for a record read in chunks.
+class ChunkedAuto:
+    """``auto`` on a record read in chunks, as a :class:`~noisevar.estimators.pipeline.Record`.
 
     Parameters
     ----------
@@ -166,55 +156,84 @@ def estimate_chunked(
         ``read(a, b)`` returns samples ``a .. b`` as finite float64 (a copy).
     n : int
         Samples in the record.
-    span, order, trim : see :func:`noisevar.estimators.auto.auto_estimate`.
     probe : callable, optional
         ``probe(slice)`` returns a strided selection (default: through ``read``).
-    chunk : int
-        Samples per chunk (a multiple of 256).
+    chunk : int, optional
+        Samples per chunk (a multiple of 256; default :data:`CHUNK`).
     workers : int
         Threads.
     note : str
         How the record was read, for the first note ("streamed in chunks of ...").
+    notes : sequence of str
+        Remarks carried in front of it.
 
-    Returns
-    -------
-    VarianceEstimate
-        The same numbers as the one-pass estimate, with its diagnostics; ``jumps`` is
-        not kept.
+    Notes
+    -----
+    The first :meth:`estimate` is one pass that also sums the diagnostics, and finds the
+    power of two the record is scaled by (:attr:`exponent`; a second pass when it is not
+    0); it is passed again without believing any jump when the jump detector flags more
+    than :data:`~noisevar.numeric.steps.STEP_MAX_FRACTION` of the record (a fast signal).
+    Later estimates (coloured noise) are one pass each. ``jumps`` is not kept.
     """
-    params = AUTO.validate({"span": span, "order": order, "trim": trim})
-    params = {"span": params.get("span"), "order": params["order"], "trim": params["trim"]}
-    spans = _spans(params["span"], params["order"], params["trim"], n)
-    get = probe or (lambda s: np.array([read(i, i + 1)[0] for i in range(*s.indices(n))]))
-    grid = probe_of(get, n)
-    e = 0
-    for _ in range(2):  # a second pass only when the record needs scaling (exact)
-        plan = make_plan(n, ((0, n),), np.ldexp(grid, e))
-        run = _pass(read, n, spans, params, e, DiagSums(plan), math.inf, chunk, workers)
-        if run.span == 0:
-            raise NoisevarError("the signal is constant: there is no noise to estimate")
-        if _exponent(run.top) == e:
-            break
-        e = _exponent(run.top)
-    if sum(p.found for p in run.parts) > STEP_MAX_FRACTION * n:  # a fast signal, not jumps
-        run = _pass(read, n, spans, params, e, DiagSums(plan), -1.0, chunk, workers)
-    result = auto_reduce(run.parts, spans, params, [f"{note} in chunks of {chunk} samples"])
-    head = read(0, min(n, POWER_LAW_MAX))
-    assert run.diag is not None
-    diag = from_sums(run.diag, Segmentation(((0, n),), ()), lambda: np.ldexp(head, e))
-    if diag.whiteness.p_value < COLOURED_P and params["span"] is None:
-        extra = {"span": AUTO_COLOURED_SPAN}
-        col = {**params, **extra}
-        short = _spans(AUTO_COLOURED_SPAN, params["order"], params["trim"], n)
-        again = _pass(read, n, short, col, e, None, math.inf, chunk, workers)
-        result = auto_reduce(again.parts, (AUTO_COLOURED_SPAN,), col, result.notes[:1])
-        result.notes.append(coloured_note(extra))
-    result = conclude(AUTO, result, diag, lambda a, b: np.ldexp(read(a, b), e))
-    unscale([result], e)
-    check_answer(result)
-    if e:
-        from noisevar.estimators._record import rescale_diagnostics
 
-        rescale_diagnostics(result, e)
-    result.params = {"method": "auto", **result.params}
-    return result
+    def __init__(
+        self,
+        read: Callable[[int, int], NDArray],
+        n: int,
+        *,
+        probe: Callable[[slice], NDArray] | None = None,
+        chunk: int | None = None,
+        workers: int = 2,
+        note: str = "streamed",
+        notes: Sequence[str] = (),
+    ) -> None:
+        self.read, self.n, self.workers = read, n, workers
+        self.probe = probe or (
+            lambda s: np.array([read(i, i + 1)[0] for i in range(*s.indices(n))])
+        )
+        self.chunk = CHUNK if chunk is None else chunk
+        self.notes = [*notes, f"{note} in chunks of {self.chunk} samples"]
+        self.exponent = 0
+        self.sums: DiagSums | None = None
+
+    def estimate(self, params: dict) -> VarianceEstimate:
+        """``auto``'s estimate of the record with ``params`` (validated, None left out)."""
+        p = _config(params)
+        spans = auto_spans(p["span"], p["order"], p["trim"], self.n)
+        if self.sums is None:
+            run = self._first(spans, p)
+        else:
+            run = self._run(spans, p, None, math.inf)
+        return auto_reduce(run.parts, spans, p, list(self.notes))
+
+    def _run(self, spans: tuple[int, ...], p: dict, sums: DiagSums | None, limit: float) -> _Pass:
+        e = self.exponent
+        return _pass(self.read, self.n, spans, p, e, sums, limit, self.chunk, self.workers)
+
+    def _first(self, spans: tuple[int, ...], p: dict) -> _Pass:
+        """The first pass: estimate, diagnostic sums and the record's scale."""
+        grid = probe_of(self.probe, self.n)
+        for _ in range(2):  # a second pass only when the record needs scaling (exact)
+            plan = make_plan(self.n, ((0, self.n),), np.ldexp(grid, self.exponent))
+            run = self._run(spans, p, DiagSums(plan), math.inf)
+            if run.span == 0:
+                raise NoisevarError("the signal is constant: there is no noise to estimate")
+            if exponent_of(run.top) == self.exponent:
+                break
+            self.exponent = exponent_of(run.top)
+        if sum(part.found for part in run.parts) > STEP_MAX_FRACTION * self.n:
+            run = self._run(spans, p, DiagSums(plan), -1.0)  # a fast signal, not jumps
+        self.sums = run.diag
+        return run
+
+    def diagnose(self, result: VarianceEstimate) -> NoiseDiagnostics:
+        """The diagnostics summed by the first pass (``result`` is not needed)."""
+        if self.sums is None:
+            raise NoisevarError("the record has not been estimated yet")
+        head, e = self.read(0, min(self.n, POWER_LAW_MAX)), self.exponent
+        return from_sums(self.sums, Segmentation(((0, self.n),), ()), lambda: np.ldexp(head, e))
+
+    def reader(self) -> Callable[[int, int], NDArray]:
+        """``read`` at the record's scale, for the finishing step."""
+        e = self.exponent
+        return lambda a, b: np.ldexp(self.read(a, b), e)
