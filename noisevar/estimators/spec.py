@@ -54,9 +54,10 @@ class MethodSpec:
         The method takes a second sensor's record as ``reference=`` (one channel at a
         time; the CLI asks for ``--reference-column``).
     chunked : callable, optional
-        ``chunked(read, n, *, probe=None, chunk=None, workers=2, note="streamed")``: the
-        method's engine for a record read in chunks (``read(a, b)`` gives samples
-        ``a .. b``), a :class:`~noisevar.estimators.pipeline.Record` that
+        ``chunked(read, n, *, probe=None, chunk=None, workers=2, note="streamed",
+        notes=())``: the method's engine for a record read in chunks (``read(a, b)``
+        gives samples ``a .. b``; ``notes`` are carried in front of its own), a
+        :class:`~noisevar.estimators.pipeline.Record` that
         :func:`~noisevar.estimators.pipeline.run_record` takes through the same steps as
         a record in memory; ``None`` when it has none. A long record in memory and a
         file too large for it go this way (:func:`~noisevar.estimators.estimate_chunked`).
