@@ -13,7 +13,7 @@ from dataclasses import replace
 import numpy as np
 from numpy.typing import NDArray
 
-from noisevar.diagnostics._parts import (
+from noisevar.diagnostics.plan import (
     DIAG_ORDER,
     DIAG_SPAN,
     PROFILE_MIN_KEPT,
@@ -21,15 +21,16 @@ from noisevar.diagnostics._parts import (
     make_plan,
     probe_of,
 )
-from noisevar.diagnostics._sums import DiagSums, diag_part
 from noisevar.diagnostics.power_law import POWER_LAW_MAX, power_law_types
 from noisevar.diagnostics.profile import LevelProfile, profile_from_blocks
 from noisevar.diagnostics.results import NoiseDiagnostics
 from noisevar.diagnostics.segments import Gap, Segmentation, split_dropped, split_times
+from noisevar.diagnostics.sums import DiagSums, diag_part
 from noisevar.diagnostics.tails import kurtosis_from_moments, tail_index
 from noisevar.diagnostics.verdict import make_notes, make_verdict
 from noisevar.diagnostics.whiteness import WhitenessTest, whiteness_test
 from noisevar.errors import NoisevarError
+from noisevar.numeric.fir import residual_sequence
 
 __all__ = [
     "Gap",
@@ -38,6 +39,7 @@ __all__ = [
     "Segmentation",
     "WhitenessTest",
     "diagnose",
+    "from_sums",
     "split_dropped",
     "split_times",
     "with_verdict",
@@ -70,12 +72,16 @@ def diagnose(
     for i, (a, b) in enumerate(seg.segments):
         sums.add(diag_part(z[a:b], a, (a, b), i, plan, None if exclude is None else exclude[a:b]))
     a, b = max(seg.segments, key=lambda s: s[1] - s[0])
-    return finish(sums, seg, lambda: z[a : min(b, a + POWER_LAW_MAX)])
+    return from_sums(sums, seg, lambda: z[a : min(b, a + POWER_LAW_MAX)])
 
 
-# long: the record-wide statistics from the sums, in the order they depend on each other
-def finish(sums: DiagSums, seg: Segmentation, head: Callable[[], NDArray]) -> NoiseDiagnostics:
+def from_sums(sums: DiagSums, seg: Segmentation, head: Callable[[], NDArray]) -> NoiseDiagnostics:
     """The diagnostics from their sums; ``head()`` gives the start of the longest segment.
+
+    A record in memory is summed by :func:`diagnose`; a record read in chunks adds each
+    chunk's :func:`~noisevar.diagnostics.sums.diag_part` to a
+    :class:`~noisevar.diagnostics.sums.DiagSums` laid on
+    :func:`~noisevar.diagnostics.plan.make_plan`'s grid, then calls this.
 
     Notes
     -----
@@ -83,8 +89,6 @@ def finish(sums: DiagSums, seg: Segmentation, head: Callable[[], NDArray]) -> No
     robust level (spikes stay in it, level changes do not); the whiteness test's null
     covariance is widened by ``n Σσ⁴ / (Σσ²)²`` for a level that changes along the record.
     """
-    from noisevar.estimators.auto import residual_sequence
-
     sums.check()
     plan, d = sums.plan, residual_sequence(DIAG_SPAN, DIAG_ORDER)
     # blocks left with a handful of residuals (around jumps) say nothing of the level

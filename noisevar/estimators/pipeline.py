@@ -1,16 +1,26 @@
-"""One record through an estimator: gaps and segments, diagnostics, an honest interval.
+"""The one per-record pipeline: segments, the method, diagnostics, coloured noise, verdict.
 
-:func:`estimate_record` is what :func:`noisevar.estimate` does for each channel: split
-the record at gaps (sample times, dropped samples), estimate each uniform segment and
-pool them, look at the noise once (:func:`noisevar.diagnostics.diagnose`), widen the
-interval of moment estimators for the measured tails and correlation, and write the
-verdict (docs/algorithms.md §E1-§E3).
+:func:`run_record` is what every estimate goes through, a record in memory
+(:class:`InMemory`: split at gaps, each uniform segment estimated and the segments
+pooled) and a record read in chunks (the method's engine, ``spec.chunked``) alike:
+
+1. run the method (``record.estimate``);
+2. look at the noise once (``record.diagnose``: :func:`noisevar.diagnostics.diagnose`);
+3. estimate again with ``spec.coloured_params`` when the noise is not white;
+4. the method's finishing step (``spec.finish``);
+5. conclude: the interval of a moment estimator widened for the measured tails and
+   correlation, the verdict, the assumptions (docs/algorithms.md §E1-§E3);
+6. back to the record's units (it was scaled by an exact power of two).
+
+What is special to a method is on its :class:`~noisevar.estimators.spec.MethodSpec`:
+no method is named here.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import replace
+from dataclasses import dataclass, replace
+from typing import Protocol
 
 import numpy as np
 from numpy.typing import NDArray
@@ -26,17 +36,47 @@ from noisevar.diagnostics import (
 from noisevar.diagnostics.assumptions import check_assumptions
 from noisevar.errors import NoisevarError
 from noisevar.estimators._input import check_samples, check_times
-from noisevar.estimators.params import MethodSpec
+from noisevar.estimators._scale import check_answer, unscale
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
+from noisevar.estimators.spec import MethodSpec
 
 #: The method's coloured-noise parameters are used below this whiteness p-value (far
 #: below the flag's 5 %, so that white noise that fails the test by chance keeps the
 #: efficient defaults).
 COLOURED_P = 1e-4
-#: ``auto`` estimates records at least this long in chunks (:mod:`noisevar.stream`).
+#: A record in memory at least this long, in one uniform segment, goes through the
+#: method's chunked engine when it has one (the same numbers, less memory, threads).
 CHUNKED_MIN = 1 << 19
 
+#: ``run(spec, z, notes, params)``: the method on one uniform finite segment.
 Runner = Callable[[MethodSpec, NDArray, list[str], dict], VarianceEstimate]
+#: ``jumps(z)``: the samples around level jumps of one segment, left out of the
+#: diagnostics (None when none).
+JumpMask = Callable[[NDArray], "NDArray | None"]
+
+
+class Record(Protocol):
+    """A record as the pipeline sees it (in memory, or a method's chunked engine).
+
+    Attributes
+    ----------
+    exponent : int
+        The samples the method sees are the record's times ``2**exponent``.
+    """
+
+    exponent: int
+
+    def estimate(self, params: dict) -> VarianceEstimate:
+        """The method's estimate of the record with ``params``."""
+        ...
+
+    def diagnose(self, result: VarianceEstimate) -> NoiseDiagnostics:
+        """The record's diagnostics (``result``: the method's first estimate)."""
+        ...
+
+    def reader(self) -> Callable[[int, int], NDArray] | None:
+        """Samples ``a .. b`` of a record in one uniform segment (None: several)."""
+        ...
 
 
 def _segmentation(raw: NDArray, t: NDArray | None, drop: bool) -> tuple[NDArray, Segmentation]:
@@ -91,10 +131,8 @@ def _by_segment(
     return _pool(parts, z.size, len(seg.segments) - len(parts))
 
 
-def _jumps(z: NDArray, seg: Segmentation) -> NDArray | None:
-    """Samples around level jumps in each segment (what ``auto`` leaves out as signal)."""
-    from noisevar.estimators.auto import jump_mask
-
+def _jumps(z: NDArray, seg: Segmentation, jump_mask: JumpMask) -> NDArray | None:
+    """Samples around level jumps in each segment (left out of the diagnostics as signal)."""
     out = np.zeros(z.size, dtype=bool)
     for a, b in seg.segments:
         try:
@@ -127,110 +165,154 @@ def _honest_interval(r: VarianceEstimate, diag: NoiseDiagnostics) -> VarianceEst
     return replace(r, dof=dof, ci95=chi2_interval(r.variance, dof))
 
 
+@dataclass
+class InMemory:
+    """A record in memory: its finite samples ``z`` in uniform segments ``seg``.
+
+    ``run`` estimates one segment; the segments' estimates are pooled. ``jump_mask``
+    finds the samples around level jumps that the diagnostics leave out (unless the
+    method's own result carries them, ``result.jumps``).
+    """
+
+    spec: MethodSpec
+    z: NDArray
+    seg: Segmentation
+    run: Runner
+    jump_mask: JumpMask
+    notes: list[str]
+    exponent: int = 0
+
+    def estimate(self, params: dict) -> VarianceEstimate:
+        """Each segment through the method (too short ones skipped), pooled."""
+        return _by_segment(self.spec, self.z, self.seg, list(self.notes), params, self.run)
+
+    def diagnose(self, result: VarianceEstimate) -> NoiseDiagnostics:
+        """:func:`noisevar.diagnostics.diagnose` of the record, its jumps left out."""
+        own = result.jumps
+        if own is None or own.size != self.z.size:
+            jumps = _jumps(self.z, self.seg, self.jump_mask)
+        else:  # the method's own mask, made over the whole record in one piece
+            jumps = own if own.any() else None
+        return diagnose(self.z, self.seg, jumps)
+
+    def reader(self) -> Callable[[int, int], NDArray] | None:
+        """Samples ``a .. b`` when the record is one uniform segment."""
+        z = self.z
+        return (lambda a, b: z[a:b]) if len(self.seg.segments) == 1 else None
+
+
 def estimate_record(
-    spec: MethodSpec, raw: NDArray, t: NDArray | None, drop: bool, params: dict, run: Runner
+    spec: MethodSpec,
+    raw: NDArray,
+    t: NDArray | None,
+    drop: bool,
+    params: dict,
+    run: Runner,
+    jump_mask: JumpMask,
+    scaled: int = 0,
 ) -> VarianceEstimate:
-    """One channel through ``spec``: segments, pooled estimate, diagnostics and verdict.
+    """One channel in memory through ``spec``: segments, pooled estimate, diagnostics, verdict.
 
     Parameters
     ----------
     spec : MethodSpec
     raw : ndarray, shape (n,)
-        Samples as given (non-finite ones allowed with ``drop``).
+        Samples as given (non-finite ones allowed with ``drop``), times ``2**scaled``.
     t : ndarray, shape (n,), optional
         Sample times.
     drop : bool
         Drop non-finite samples (each run of them is a gap).
     params : dict
-        Validated method parameters.
+        Validated method parameters (``None`` left out), in the scaled units.
     run : callable
         ``run(spec, z, notes, params)`` for one uniform finite segment.
+    jump_mask : callable
+        ``jump_mask(z)``: the samples around level jumps of one segment.
+    scaled : int
+        The exponent the samples were scaled by.
 
     Returns
     -------
     VarianceEstimate
+        In the record's units. A long record in one segment goes through
+        ``spec.chunked`` when the method has it (:data:`CHUNKED_MIN`).
     """
     z, seg = _segmentation(raw, t, drop)
     z, notes = check_samples(z)
     dropped = raw.size - z.size
     if dropped:
         notes.insert(0, f"dropped {dropped} non-finite samples")
-    if spec.name == "auto" and len(seg.segments) == 1 and z.size >= CHUNKED_MIN:
-        return _in_chunks(z, notes, params)
-    result = _by_segment(spec, z, seg, notes, params, run)
-    return attach_diagnostics(spec, result, z, seg, params, run)
+    record: Record
+    if spec.chunked is not None and len(seg.segments) == 1 and z.size >= CHUNKED_MIN:
+        record = spec.chunked(
+            lambda a, b: z[max(a, 0) : b], z.size, probe=z.__getitem__, note="estimated",
+            notes=notes,
+        )  # fmt: skip
+    else:
+        record = InMemory(spec, z, seg, run, jump_mask, notes)
+    return run_record(spec, record, params, scaled=scaled)
 
 
-def _in_chunks(z: NDArray, notes: list[str], params: dict) -> VarianceEstimate:
-    """``auto`` on a long record in chunks and threads: the same numbers (§F5.7), less memory."""
-    from noisevar.stream.chunked import estimate_chunked
+def run_record(
+    spec: MethodSpec,
+    record: Record,
+    params: dict,
+    result: VarianceEstimate | None = None,
+    scaled: int = 0,
+) -> VarianceEstimate:
+    """The pipeline: the method, diagnostics, coloured noise, finishing step, verdict, units.
 
-    def read(a: int, b: int) -> NDArray:
-        return z[max(a, 0) : b]
+    Parameters
+    ----------
+    spec : MethodSpec
+    record : Record
+    params : dict
+        Validated method parameters (``None`` left out).
+    result : VarianceEstimate, optional
+        The method's estimate of the record, when it was made already (many channels
+        at once).
+    scaled : int
+        The exponent the record was scaled by before ``record`` saw it (its own
+        :attr:`~Record.exponent` is added).
 
-    result = estimate_chunked(read, z.size, probe=z.__getitem__, note="estimated", **params)
-    result.notes[:0] = notes
-    return result
+    Returns
+    -------
+    VarianceEstimate
+        In the record's units, with ``params["method"]``.
+    """
+    if result is None:
+        result = record.estimate(params)
+    try:
+        diag = record.diagnose(result)
+    except NoisevarError as exc:
+        result.notes.append(f"no diagnostics: {exc}")
+    else:
+        if diag.whiteness.p_value < COLOURED_P:
+            result = _coloured(spec, record, result, params)
+        result = conclude(spec, result, diag, record.reader())
+    return _in_record_units(result, scaled + record.exponent, spec.name)
 
 
 def _coloured(
-    spec: MethodSpec,
-    result: VarianceEstimate,
-    z: NDArray,
-    seg: Segmentation,
-    params: dict,
-    run: Runner,
+    spec: MethodSpec, record: Record, result: VarianceEstimate, params: dict
 ) -> VarianceEstimate:
     """Estimate again with the method's parameters for coloured noise (unless the user chose)."""
     extra = {k: v for k, v in (spec.coloured_params or {}).items() if params.get(k) is None}
     if not extra:
         return result
-    again = _by_segment(spec, z, seg, [], {**params, **extra}, run)
-    again.notes = [n for n in again.notes if "span chosen" not in n]
+    again = record.estimate({**params, **extra})
     again.notes.append(coloured_note(extra))
     return again
 
 
-def attach_diagnostics(
-    spec: MethodSpec,
-    result: VarianceEstimate,
-    z: NDArray,
-    seg: Segmentation | None = None,
-    params: dict | None = None,
-    run: Runner | None = None,
-) -> VarianceEstimate:
-    """``result`` with the diagnostics of the record ``z``, its verdict and honest interval.
-
-    Parameters
-    ----------
-    spec : MethodSpec
-        The method that made ``result``.
-    result : VarianceEstimate
-    z : ndarray, shape (n,)
-        The finite samples it was made from.
-    seg : Segmentation, optional
-        Their uniform segments (default: one).
-    params, run : optional
-        The method's parameters and runner, to estimate again with
-        ``spec.coloured_params`` when the noise is not white (those the user gave win).
-
-    Returns
-    -------
-    VarianceEstimate
-    """
-    seg = seg or Segmentation(((0, z.size),), ())
-    try:
-        # auto's own jump mask when it made the estimate over the whole record in one piece
-        own = result.jumps if result.jumps is not None and result.jumps.size == z.size else None
-        jumps = _jumps(z, seg) if own is None else (own if own.any() else None)
-        diag = diagnose(z, seg, jumps)
-    except NoisevarError as exc:
-        result.notes.append(f"no diagnostics: {exc}")
-        return result
-    if run is not None and diag.whiteness.p_value < COLOURED_P and spec.coloured_params:
-        result = _coloured(spec, result, z, seg, params or {}, run)
-    record = (lambda a, b: z[a:b]) if len(seg.segments) == 1 else None
-    return conclude(spec, result, diag, record)
+def _in_record_units(result: VarianceEstimate, e: int, method: str) -> VarianceEstimate:
+    """``result``, made on the record times ``2**e``, in the record's units and checked."""
+    unscale([result], e)
+    check_answer(result)
+    if e:
+        rescale_diagnostics(result, e)
+    result.params = {"method": method, **result.params}
+    return result
 
 
 def coloured_note(extra: dict) -> str:
@@ -258,15 +340,15 @@ def conclude(
     diag : NoiseDiagnostics
         The record's diagnostics.
     record : callable, optional
-        ``record(a, b)``: samples ``a .. b`` of the (one-segment) record, for ``auto``'s
-        correction of a quantised record at low noise (§E3).
+        ``record(a, b)``: samples ``a .. b`` of the (one-segment) record, for the
+        method's finishing step (``spec.finish``).
 
     Returns
     -------
     VarianceEstimate
     """
-    if spec.name == "auto" and diag.lsb is not None:
-        result = _quantised(result, diag.lsb, record)
+    if spec.finish is not None:
+        result = spec.finish(result, diag, record)
     if spec.moment:
         result = _honest_interval(result, diag)
     if not diag.identifiable:  # no measurement noise can be told apart: 0 is as likely
@@ -276,35 +358,6 @@ def conclude(
     result.diagnostics = diag
     result.assumptions = check_assumptions(spec.assumes, diag)
     return result
-
-
-def _quantised(
-    result: VarianceEstimate, lsb: float, record: Callable[[int, int], NDArray] | None
-) -> VarianceEstimate:
-    """``auto``'s result corrected for the rounding error its residual misses (§E3).
-
-    A record in several segments (gaps) is not corrected: a note says so when it would be.
-    """
-    from noisevar.estimators._quantised import (
-        apply_correction,
-        quantisation_correction,
-        small_against_step,
-    )
-    from noisevar.estimators.auto import auto_spans
-
-    if record is None:
-        if not small_against_step(result.variance, lsb):
-            return result
-        note = (
-            "the noise is small against the grid step and the record has gaps: the "
-            "correction for the rounding error that follows the signal is made on one "
-            "uniform record only, so the variance may be low (docs/algorithms.md §E3)"
-        )
-        return replace(result, notes=[*result.notes, note])
-    p = result.params
-    span = auto_spans(p.get("span"), p["order"], p["trim"], result.n_total)[-1]
-    corr = quantisation_correction(record, result.n_total, lsb, result.variance, span, p["order"])
-    return result if corr is None else apply_correction(result, corr)
 
 
 def rescale_diagnostics(result: VarianceEstimate, e: int) -> None:
