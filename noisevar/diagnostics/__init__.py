@@ -159,9 +159,15 @@ def white_null_acf_sq(d: NDArray) -> NDArray:
 
 
 def with_verdict(
-    diag: NoiseDiagnostics, variance: float, core: float | None = None, outliers: float = 0.0
+    diag: NoiseDiagnostics,
+    variance: float,
+    core: float | None = None,
+    outliers: float = 0.0,
+    still: float | None = None,
 ) -> NoiseDiagnostics:
-    """``diag`` with its verdict and notes written for an estimate of ``variance``."""
-    return replace(
-        diag, verdict=make_verdict(diag, variance, core, outliers), notes=make_notes(diag)
-    )
+    """``diag`` with its verdict and notes written for an estimate of ``variance``.
+
+    ``still``: the same method's estimate on the still regimes alone, when there is one.
+    """
+    verdict = make_verdict(diag, variance, core, outliers, still)
+    return replace(diag, verdict=verdict, notes=make_notes(diag))

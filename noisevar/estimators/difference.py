@@ -111,7 +111,7 @@ def _sequence_method(name: str, d: ArrayLike, description: str) -> MethodSpec:
         var, m = difference_variance(z, seq)
         return _estimates(name, var, m / eff, m, z.shape[-1], {}, notes)
 
-    return MethodSpec(name, description, "peer", func, (), vectorised=True)
+    return MethodSpec(name, description, "peer", func, (), vectorised=True, residual=lambda p: seq)
 
 
 def _mad_diff(z: NDArray, notes: list[list[str]]) -> list[VarianceEstimate]:

@@ -92,7 +92,7 @@ def _segmentation(raw: NDArray, t: NDArray | None, drop: bool) -> tuple[NDArray,
     return z, Segmentation(((0, z.size),), ())
 
 
-def _pool(parts: list[VarianceEstimate], n_total: int, skipped: int) -> VarianceEstimate:
+def pool_segments(parts: list[VarianceEstimate], n_total: int, skipped: int) -> VarianceEstimate:
     """Segments' estimates pooled with weights their samples (the record's mean level)."""
     w = np.array([p.n_used for p in parts], dtype=float)
     w /= w.sum()
@@ -118,8 +118,11 @@ def _by_segment(
     spec: MethodSpec, z: NDArray, seg: Segmentation, notes: list[str], params: dict, run: Runner
 ) -> VarianceEstimate:
     """Estimate each segment (too short ones are skipped) and pool."""
-    if len(seg.segments) == 1:
+    if seg.segments == ((0, z.size),):
         return run(spec, z, notes, params)
+    if len(seg.segments) == 1:
+        a, b = seg.segments[0]
+        return run(spec, check_samples(z[a:b])[0], notes, params)
     parts, error = [], None
     for a, b in seg.segments:
         try:
@@ -128,7 +131,7 @@ def _by_segment(
             error = error or exc
     if not parts:
         raise NoisevarError(f"no uniform segment of the record could be estimated: {error}")
-    return _pool(parts, z.size, len(seg.segments) - len(parts))
+    return pool_segments(parts, z.size, len(seg.segments) - len(parts))
 
 
 def _jumps(z: NDArray, seg: Segmentation, jump_mask: JumpMask) -> NDArray | None:
@@ -194,6 +197,17 @@ class InMemory:
         else:  # the method's own mask, made over the whole record in one piece
             jumps = own if own.any() else None
         return diagnose(self.z, self.seg, jumps)
+
+    def estimate_in(self, params: dict, ranges: list[tuple[int, int]]) -> VarianceEstimate:
+        """The method on the sample ranges ``ranges`` only, cut at the record's gaps, pooled."""
+        cut = [
+            (max(a, c), min(b, d))
+            for a, b in ranges
+            for c, d in self.seg.segments
+            if min(b, d) > max(a, c)
+        ]
+        seg = Segmentation(tuple(cut), ())
+        return _by_segment(self.spec, self.z, seg, list(self.notes), params, self.run)
 
     def reader(self) -> Callable[[int, int], NDArray] | None:
         """Samples ``a .. b`` when the record is one uniform segment."""
@@ -289,8 +303,40 @@ def run_record(
     else:
         if diag.whiteness.p_value < COLOURED_P:
             result = _coloured(spec, record, result, params)
-        result = conclude(spec, result, diag, record.reader())
+        still = _still(spec, record, result.params | params, diag)
+        if still is not None:  # its interval from the record's noise; the diagnostics
+            still = conclude(spec, still, diag, None)  # stay on the record's own result
+            still.diagnostics = None
+        result = conclude(spec, result, diag, record.reader(), still)
     return _in_record_units(result, scaled + record.exponent, spec.name)
+
+
+def _still(
+    spec: MethodSpec, record: Record, params: dict, diag: NoiseDiagnostics
+) -> VarianceEstimate | None:
+    """The method on the still regimes' quiet stretches, when the level varies (else None).
+
+    The sensor's own noise, on the same residual as the record's R (docs/algorithms.md
+    §E1 Regimes); None when the record cannot be cut (read in chunks) or the stretches
+    are too short for the method.
+    """
+    estimate_in = getattr(record, "estimate_in", None)
+    if not diag.level_varies or estimate_in is None:
+        return None
+    prof = diag.level_profile
+    edges = np.flatnonzero(np.diff(np.r_[0, prof.quiet.view(np.int8), 0]))
+    ranges = [
+        (int(prof.start[a]), int(prof.stop[b - 1]))
+        for a, b in zip(edges[::2], edges[1::2], strict=True)
+    ]
+    if not ranges:
+        return None
+    try:
+        still = estimate_in({k: v for k, v in params.items() if k != "method"}, ranges)
+    except NoisevarError:
+        return None
+    still.notes.append(f"the still regimes only: {len(ranges)} stretches, {still.n_total} samples")
+    return still
 
 
 def _coloured(
@@ -307,7 +353,7 @@ def _coloured(
 
 def _in_record_units(result: VarianceEstimate, e: int, method: str) -> VarianceEstimate:
     """``result``, made on the record times ``2**e``, in the record's units and checked."""
-    unscale([result], e)
+    unscale([result] if result.still is None else [result, result.still], e)
     check_answer(result)
     if e:
         rescale_diagnostics(result, e)
@@ -329,6 +375,7 @@ def conclude(
     result: VarianceEstimate,
     diag: NoiseDiagnostics,
     record: Callable[[int, int], NDArray] | None = None,
+    still: VarianceEstimate | None = None,
 ) -> VarianceEstimate:
     """``result`` with the diagnostics ``diag``: honest interval, verdict, notes, assumptions.
 
@@ -342,6 +389,9 @@ def conclude(
     record : callable, optional
         ``record(a, b)``: samples ``a .. b`` of the (one-segment) record, for the
         method's finishing step (``spec.finish``).
+    still : VarianceEstimate, optional
+        The same method on the still regimes alone: kept as ``result.still`` and quoted
+        by the verdict.
 
     Returns
     -------
@@ -349,15 +399,47 @@ def conclude(
     """
     if spec.finish is not None:
         result = spec.finish(result, diag, record)
+    if diag.differenced and spec.residual is not None:
+        result = _differenced(result, spec.residual(result.params), diag.whiteness.noise_lag1)
     if spec.moment:
         result = _honest_interval(result, diag)
     if not diag.identifiable:  # no measurement noise can be told apart: 0 is as likely
         result = replace(result, ci95=(0.0, result.ci95[1]))
-    diag = with_verdict(diag, result.variance, result.core_variance, result.outlier_fraction)
+    quiet = None if still is None else still.variance
+    diag = with_verdict(diag, result.variance, result.core_variance, result.outlier_fraction, quiet)
+    result.still = still
     result.notes.extend(n for n in diag.notes if n not in result.notes)
     result.diagnostics = diag
     result.assumptions = check_assumptions(spec.assumes, diag)
     return result
+
+
+def _differenced(result: VarianceEstimate, d: NDArray, r: float) -> VarianceEstimate:
+    """``result`` for MA(1) noise of lag-1 correlation ``r`` seen through the residual ``d``.
+
+    Notes
+    -----
+    docs/algorithms.md §E2: ``E[e²] = σ² (Σd² + 2 r Σ d_i d_{i+1})``, so an estimate
+    normalised for white noise (``mean(e²) / Σd²``) is ``1 + 2 r α₁`` times σ², the
+    variance per sample (``α₁`` the filter's lag-1 autocorrelation). Differenced white
+    noise (``r = -1/2``) seen through a smoother's residual (``α₁`` near -0.8) reads
+    about 1.8 times too high without it.
+    """
+    alpha1 = float(np.dot(d[:-1], d[1:]) / np.dot(d, d))
+    factor = 1.0 / (1.0 + 2.0 * r * alpha1)
+    if not (np.isfinite(factor) and factor > 0):
+        return result
+    core = None if result.core_variance is None else result.core_variance * factor
+    lo, hi = result.ci95
+    notes = [
+        *result.notes,
+        f"the noise looks differenced (lag-1 correlation {r:+.2f}): the white-noise "
+        f"estimate was multiplied by {factor:.3g}, the residual's response to such noise",
+    ]
+    return replace(
+        result, variance=result.variance * factor, ci95=(lo * factor, hi * factor),
+        core_variance=core, notes=notes,
+    )  # fmt: skip
 
 
 def rescale_diagnostics(result: VarianceEstimate, e: int) -> None:
@@ -380,7 +462,22 @@ def rescale_diagnostics(result: VarianceEstimate, e: int) -> None:
         with np.errstate(over="ignore", under="ignore"):
             return np.minimum(np.ldexp(x, -power * e), top)  # a block may not fit: clip
 
-    prof = replace(prof, variance=back(prof.variance, 2), lo=back(prof.lo, 2), hi=back(prof.hi, 2))
+    regimes = tuple(
+        replace(
+            r,
+            variance=float(back(np.asarray(r.variance), 2)),
+            lo=float(back(np.asarray(r.lo), 2)),
+            hi=float(back(np.asarray(r.hi), 2)),
+        )
+        for r in prof.regimes
+    )
+    prof = replace(
+        prof,
+        variance=back(prof.variance, 2),
+        lo=back(prof.lo, 2),
+        hi=back(prof.hi, 2),
+        regimes=regimes,
+    )
     lsb = None if diag.lsb is None else float(back(np.asarray(diag.lsb), 1))
     old = set(diag.notes)
     diag = with_verdict(
@@ -388,6 +485,7 @@ def rescale_diagnostics(result: VarianceEstimate, e: int) -> None:
         result.variance,
         result.core_variance,
         result.outlier_fraction,
+        None if result.still is None else result.still.variance,
     )
     result.notes = [n for n in result.notes if n not in old] + list(diag.notes)
     result.diagnostics = diag

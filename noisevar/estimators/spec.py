@@ -12,6 +12,8 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from numpy.typing import NDArray
+
 from noisevar.errors import NoisevarError
 from noisevar.estimators.params import COMMON_PARAMS, PARAMS
 from noisevar.params import ParamSpec, by_name
@@ -64,6 +66,10 @@ class MethodSpec:
         :func:`~noisevar.estimators.pipeline.run_record` takes through the same steps as
         a record in memory; ``None`` when it has none. A long record in memory and a
         file too large for it go this way (:func:`~noisevar.estimators.estimate_chunked`).
+    residual : callable, optional
+        ``residual(result.params)``: the residual filter whose white-noise normalisation
+        the estimate makes (``mean(e²) / Σd²``). With it, the pipeline corrects an estimate
+        of differenced (MA(1)) noise to the variance per sample (docs/algorithms.md §E2).
     finish : callable, optional
         ``finish(result, diagnostics, record)``: a finishing step applied to the method's
         result on one record before its interval and verdict are written (``auto``: the
@@ -84,6 +90,7 @@ class MethodSpec:
     slow: bool = False
     chunked: Callable[..., Any] | None = None
     finish: Callable[..., Any] | None = None
+    residual: Callable[[Mapping[str, Any]], NDArray] | None = None
 
     @property
     def param_specs(self) -> dict[str, ParamSpec]:

@@ -56,4 +56,5 @@ AUTO = MethodSpec(
     coloured_params={"span": AUTO_COLOURED_SPAN},
     chunked=ChunkedAuto,
     finish=finish_quantised,
+    residual=lambda p: residual_sequence(p["span"], p["order"]),
 )

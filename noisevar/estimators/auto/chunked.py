@@ -27,10 +27,11 @@ from noisevar.diagnostics.plan import make_plan, probe_of
 from noisevar.diagnostics.power_law import POWER_LAW_MAX
 from noisevar.diagnostics.sums import DiagPart, DiagSums, diag_part
 from noisevar.errors import NoisevarError
-from noisevar.estimators._scale import exponent_of
+from noisevar.estimators._scale import exponent_of, unscale
 from noisevar.estimators.auto._trim import AUTO_BLOCK
 from noisevar.estimators.auto.core import AutoPart, auto_part, auto_reduce, auto_spans
 from noisevar.estimators.params import AUTO_ORDER, AUTO_TRIM
+from noisevar.estimators.pipeline import pool_segments
 from noisevar.estimators.results import VarianceEstimate
 from noisevar.numeric.steps import STEP_MAX_FRACTION
 
@@ -205,6 +206,31 @@ class ChunkedAuto:
         else:
             run = self._run(spans, p, None, math.inf)
         return auto_reduce(run.parts, spans, p, list(self.notes))
+
+    def estimate_in(self, params: dict, ranges: list[tuple[int, int]]) -> VarianceEstimate:
+        """``auto`` on the sample ranges ``ranges`` only, each read in chunks, pooled.
+
+        The same numbers as the record in memory (each range is a record of its own, at
+        this record's scale; docs/algorithms.md §F5.7).
+        """
+        parts, error = [], None
+        for a, b in ranges:
+            sub = ChunkedAuto(
+                lambda i, j, a=a: self.read(a + i, a + j), b - a, chunk=self.chunk,
+                workers=self.workers, notes=self.notes[:-1],
+            )  # fmt: skip
+            try:
+                part = sub.estimate(params)
+            except NoisevarError as exc:
+                error = error or exc
+                continue
+            unscale([part], sub.exponent - self.exponent)
+            parts.append(part)
+        if not parts:
+            raise NoisevarError(f"no range of the record could be estimated: {error}")
+        if len(ranges) == 1:
+            return parts[0]
+        return pool_segments(parts, self.n, len(ranges) - len(parts))
 
     def _run(self, spans: tuple[int, ...], p: dict, sums: DiagSums | None, limit: float) -> _Pass:
         e = self.exponent
