@@ -107,6 +107,11 @@ class NoiseDiagnostics:
         return any(not r.still for r in self.level_profile.regimes)
 
     @property
+    def regimes(self) -> tuple:
+        """Stretches of one noise level, in order (:mod:`noisevar.diagnostics.regimes`)."""
+        return self.level_profile.regimes
+
+    @property
     def differenced(self) -> bool:
         """The noise looks differenced: not white, with a lag-1 correlation near -1/2.
 

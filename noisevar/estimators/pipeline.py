@@ -92,6 +92,32 @@ def _segmentation(raw: NDArray, t: NDArray | None, drop: bool) -> tuple[NDArray,
     return z, Segmentation(((0, z.size),), ())
 
 
+#: Still stretches shorter than this, once the samples around jumps are cut out, are not
+#: estimated again (a method's spans need room; such pieces say little).
+STILL_MIN = 64
+
+
+def runs_of(mask: NDArray, offset: int = 0) -> list[tuple[int, int]]:
+    """The runs of True in ``mask`` as ``(start, stop)`` ranges (plus ``offset``)."""
+    edges = np.flatnonzero(np.diff(np.r_[0, mask.view(np.int8), 0])) + offset
+    return [(int(a), int(b)) for a, b in zip(edges[::2], edges[1::2], strict=True)]
+
+
+def cut_out(ranges: list[tuple[int, int]], holes: list[tuple[int, int]]) -> list[tuple[int, int]]:
+    """``ranges`` less ``holes`` (both sorted, disjoint), pieces under :data:`STILL_MIN` dropped."""
+    out = []
+    for a, b in ranges:
+        for c, d in holes:
+            if d <= a or c >= b:
+                continue
+            if c > a:
+                out.append((a, c))
+            a = max(a, d)
+        if b > a:
+            out.append((a, b))
+    return [(a, b) for a, b in out if b - a >= STILL_MIN]
+
+
 def pool_segments(parts: list[VarianceEstimate], n_total: int, skipped: int) -> VarianceEstimate:
     """Segments' estimates pooled with weights their samples (the record's mean level)."""
     w = np.array([p.n_used for p in parts], dtype=float)
@@ -196,13 +222,15 @@ class InMemory:
             jumps = _jumps(self.z, self.seg, self.jump_mask)
         else:  # the method's own mask, made over the whole record in one piece
             jumps = own if own.any() else None
+        self.jump_runs = [] if jumps is None else runs_of(jumps)
         return diagnose(self.z, self.seg, jumps)
 
     def estimate_in(self, params: dict, ranges: list[tuple[int, int]]) -> VarianceEstimate:
-        """The method on the sample ranges ``ranges`` only, cut at the record's gaps, pooled."""
+        """The method on the sample ranges ``ranges`` only, less the samples around jumps
+        that the diagnostics left out, cut at the record's gaps, pooled."""
         cut = [
             (max(a, c), min(b, d))
-            for a, b in ranges
+            for a, b in cut_out(ranges, getattr(self, "jump_runs", []))
             for c, d in self.seg.segments
             if min(b, d) > max(a, c)
         ]
@@ -323,12 +351,7 @@ def _still(
     estimate_in = getattr(record, "estimate_in", None)
     if not diag.level_varies or estimate_in is None:
         return None
-    prof = diag.level_profile
-    edges = np.flatnonzero(np.diff(np.r_[0, prof.quiet.view(np.int8), 0]))
-    ranges = [
-        (int(prof.start[a]), int(prof.stop[b - 1]))
-        for a, b in zip(edges[::2], edges[1::2], strict=True)
-    ]
+    ranges = diag.level_profile.still_stretches
     if not ranges:
         return None
     try:

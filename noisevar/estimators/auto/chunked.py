@@ -31,7 +31,7 @@ from noisevar.estimators._scale import exponent_of, unscale
 from noisevar.estimators.auto._trim import AUTO_BLOCK
 from noisevar.estimators.auto.core import AutoPart, auto_part, auto_reduce, auto_spans
 from noisevar.estimators.params import AUTO_ORDER, AUTO_TRIM
-from noisevar.estimators.pipeline import pool_segments
+from noisevar.estimators.pipeline import cut_out, pool_segments, runs_of
 from noisevar.estimators.results import VarianceEstimate
 from noisevar.numeric.steps import STEP_MAX_FRACTION
 
@@ -76,6 +76,7 @@ class _Pass:
     top: float  # largest |z|
     span: float  # max z - min z
     diag: DiagSums | None
+    jump_runs: list[tuple[int, int]]  # samples left out around jumps, as ranges
 
 
 def _in_order(work: Callable[[_Chunk], tuple], todo: list[_Chunk], workers: int) -> Iterator[tuple]:
@@ -114,29 +115,39 @@ def _pass(
     """One pass over the record: every chunk's block sums (and diagnostics), in order."""
     order, trim = params["order"], params["trim"]
 
-    def work(c: _Chunk) -> tuple[AutoPart | None, DiagPart | None, float, float, float]:
+    def work(c: _Chunk) -> tuple[AutoPart | None, DiagPart | None, float, float, float, list]:
         z = read(c.wa, c.wb)
         lo_z, hi_z = float(z.min()), float(z.max())
         top = max(abs(lo_z), abs(hi_z))
         if e == 0 and exponent_of(top) != 0 and top > 1.0:  # squares would overflow: rescale
-            return None, None, top, lo_z, hi_z
+            return None, None, top, lo_z, hi_z, []
         if e:
             z = np.ldexp(z, e)
         part = auto_part(z, spans, order, trim, (c.lo - c.wa, c.hi - c.wa), step_limit, c.wa)
         dpart = None
         if sums is not None:
             dpart = diag_part(z, c.wa, (c.lo, c.hi), 0, sums.plan, part.jumps)
+        own = part.jumps[c.lo - c.wa : c.hi - c.wa]
+        runs = runs_of(own, c.lo) if own.any() else []
         part.jumps = np.zeros(0, dtype=bool)  # not kept: a mask the record's size
-        return part, dpart, top, lo_z, hi_z
+        return part, dpart, top, lo_z, hi_z, runs
 
-    parts, top, lo_all, hi_all = [], 0.0, math.inf, -math.inf
-    for part, dpart, t, lo_z, hi_z in _in_order(work, chunks(n, size), workers):
+    parts, top, lo_all, hi_all, runs = [], 0.0, math.inf, -math.inf, []
+    for part, dpart, t, lo_z, hi_z, more in _in_order(work, chunks(n, size), workers):
         if part is not None:
             parts.append(part)
+        runs = _join(runs, more)
         top, lo_all, hi_all = max(top, t), min(lo_all, lo_z), max(hi_all, hi_z)
         if sums is not None and dpart is not None:
             sums.add(dpart)
-    return _Pass(parts, top, hi_all - lo_all, sums)
+    return _Pass(parts, top, hi_all - lo_all, sums, runs)
+
+
+def _join(runs: list[tuple[int, int]], more: list[tuple[int, int]]) -> list[tuple[int, int]]:
+    """Runs of consecutive chunks, a run that crosses a chunk's end made one."""
+    if runs and more and runs[-1][1] == more[0][0]:
+        return [*runs[:-1], (runs[-1][0], more[0][1]), *more[1:]]
+    return runs + more
 
 
 def _config(params: dict) -> dict:
@@ -196,6 +207,7 @@ class ChunkedAuto:
         self.notes = [*notes, f"{note} in chunks of {self.chunk} samples"]
         self.exponent = 0
         self.sums: DiagSums | None = None
+        self.jump_runs: list[tuple[int, int]] = []
 
     def estimate(self, params: dict) -> VarianceEstimate:
         """``auto``'s estimate of the record with ``params`` (validated, None left out)."""
@@ -214,6 +226,7 @@ class ChunkedAuto:
         this record's scale; docs/algorithms.md §F5.7).
         """
         parts, error = [], None
+        ranges = cut_out(ranges, self.jump_runs)
         for a, b in ranges:
             sub = ChunkedAuto(
                 lambda i, j, a=a: self.read(a + i, a + j), b - a, chunk=self.chunk,
@@ -249,7 +262,7 @@ class ChunkedAuto:
             self.exponent = exponent_of(run.top)
         if sum(part.found for part in run.parts) > STEP_MAX_FRACTION * self.n:
             run = self._run(spans, p, DiagSums(plan), -1.0)  # a fast signal, not jumps
-        self.sums = run.diag
+        self.sums, self.jump_runs = run.diag, run.jump_runs
         return run
 
     def diagnose(self, result: VarianceEstimate) -> NoiseDiagnostics:
