@@ -46,6 +46,10 @@ __all__ = [
 ]
 
 
+#: Residuals the whiteness test of the still stretches needs at least.
+STILL_WHITE_MIN = 400
+
+
 def diagnose(
     z: NDArray, segmentation: Segmentation | None = None, exclude: NDArray | None = None
 ) -> NoiseDiagnostics:
@@ -108,6 +112,9 @@ def from_sums(sums: DiagSums, seg: Segmentation, head: Callable[[], NDArray]) ->
     )  # fmt: skip
     e_w, keep_w = sums.white.joined()
     white = whiteness_test(e_w, d, keep=keep_w, inflation=_hetero(sums.wide))
+    slots = sums.white.joined_slots()
+    block_of = np.where(slots >= 0, slots // plan.profile.size, -1)
+    still_white = _still_whiteness(plan, profile, e_w, keep_w, block_of, d, blocks)
     dz, used = sums.incr.joined()
     types: tuple[tuple[int, int], ...] = ()
     if not white.white:  # say which coloured noise (costly: only when it is coloured)
@@ -126,8 +133,35 @@ def from_sums(sums: DiagSums, seg: Segmentation, head: Callable[[], NDArray]) ->
         jitter=seg.jitter,
         level_profile=profile,
         power_law=types,
+        still_whiteness=still_white,
     )
     return with_verdict(diag, float(total.sum() / kept))
+
+
+def _still_whiteness(
+    plan: DiagPlan,
+    profile: LevelProfile,
+    e: NDArray,
+    keep: NDArray,
+    block_of: NDArray,
+    d: NDArray,
+    blocks: list[int],
+) -> WhitenessTest | None:
+    """The whiteness test on the quiet blocks alone, when the level varies (one segment).
+
+    The evidence that orders the verdict: motion that leaks through the smoother makes
+    a record non-white while its still stretches stay white.
+    """
+    if len(plan.segments) != 1 or all(r.still for r in profile.regimes):
+        return None
+    quiet_ids = np.asarray(blocks)[profile.quiet]
+    inside = keep & np.isin(block_of, quiet_ids)
+    if np.count_nonzero(inside) < STILL_WHITE_MIN:
+        return None
+    try:
+        return whiteness_test(e, d, keep=inside)
+    except NoisevarError:
+        return None
 
 
 def _sample_of(plan: DiagPlan, slots: NDArray) -> NDArray:

@@ -79,6 +79,13 @@ def make_verdict(
             "successive errors are correlated: filter the undifferenced quantity (its R is "
             "about half this) or model MA(1) measurement noise"
         )
+    if diag.motion_explains_colour:
+        return (
+            f"the noise level changes along the record (motion): {r} is an average over "
+            f"still and moving stretches; the still stretches ({prof.quiet_share:.0%}) give "
+            f"{_g(quiet)}, and their noise is white: the rest is motion leaking through the "
+            "smoother, not coloured noise"
+        )
     if not diag.white:
         kind = (
             f"{describe(diag.power_law)} (power-law identification)"
