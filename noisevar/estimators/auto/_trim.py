@@ -122,9 +122,27 @@ def _outlier_mask(
     jumps, found = None, None
     if steps is not None:
         found = steps(above, kappa**2)
-        if 0 < np.count_nonzero(found) <= step_limit:  # else the signal is too fast
-            jumps = found
+        if step_limit >= 0 and found.any():
+            jumps = _believed(found, block, nb)
     return (outlier if outlier.any() else None), jumps, found
+
+
+def _believed(found: NDArray, block: int, nb: int) -> NDArray | None:
+    """The jump samples ``found`` outside blocks where the detector flags too many.
+
+    A block where more than :data:`STEP_MAX_FRACTION` of the samples are flagged holds a
+    fast signal, not jumps: its flags are dropped there alone (§F5.3). The decision is
+    each block's own, so a shift or a reversal of the record moves it only where a block
+    changes, never for the whole record at once.
+    """
+    idx = np.flatnonzero(found)
+    share = flagged_per_block(idx, block, nb) / block_counts(block, nb, found.size)
+    fast = share > STEP_MAX_FRACTION
+    if not fast.any():
+        return found
+    where = np.minimum(np.arange(found.size) // block, nb - 1)
+    out = found & ~fast[where]
+    return out if out.any() else None
 
 
 def _near_flagged(

@@ -33,7 +33,6 @@ from noisevar.estimators.auto.core import AutoPart, auto_part, auto_reduce, auto
 from noisevar.estimators.params import AUTO_ORDER, AUTO_TRIM
 from noisevar.estimators.pipeline import cut_out, pool_segments, runs_of
 from noisevar.estimators.results import VarianceEstimate
-from noisevar.numeric.steps import STEP_MAX_FRACTION
 
 #: Samples added on each side of a chunk: far beyond what one block's numbers depend on
 #: (the longest span's reach, the jump detector's windows, neighbouring blocks).
@@ -260,8 +259,6 @@ class ChunkedAuto:
             if exponent_of(run.top) == self.exponent:
                 break
             self.exponent = exponent_of(run.top)
-        if sum(part.found for part in run.parts) > STEP_MAX_FRACTION * self.n:
-            run = self._run(spans, p, DiagSums(plan), -1.0)  # a fast signal, not jumps
         self.sums, self.jump_runs = run.diag, run.jump_runs
         return run
 
