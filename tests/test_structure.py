@@ -29,7 +29,7 @@ _BELOW_TOOLS = frozenset(
 #: gives a top-level module. Any layer may also import itself and "core" (``_may_import``).
 #: "noisevar" is the package's facade (``noisevar/__init__.py``, ``__main__.py``): it may
 #: import every layer, and nothing in the package imports it. The dashboard (dashboard/,
-#: pages/, app.py) may import any public module or name of noisevar and nothing private
+#: app_pages/, app.py) may import any public module or name of noisevar and nothing private
 #: (``test_the_dashboard_imports_only_public_names``).
 ALLOWED: dict[str, frozenset[str]] = {
     "core": frozenset(),
@@ -70,9 +70,9 @@ MAX_MODULE_LINES = 600
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGE = ROOT / "noisevar"
 APP_FILES = sorted(
-    [*(ROOT / "dashboard").rglob("*.py"), *(ROOT / "pages").glob("*.py"), ROOT / "app.py"]
+    [*(ROOT / "dashboard").rglob("*.py"), *(ROOT / "app_pages").glob("*.py"), ROOT / "app.py"]
 )
-#: Every Python file of the package, the dashboard and the pages.
+#: Every Python file of the package, the dashboard and the page scripts (app_pages/).
 SOURCES = sorted([*PACKAGE.rglob("*.py"), *APP_FILES])
 ALL = sr.read_sources(ROOT, SOURCES)
 MODULES = {s.name for s in ALL}
@@ -97,7 +97,7 @@ def _ours(module: str) -> bool:
 
 
 def _in_app(module: str) -> bool:
-    return module.split(".")[0] in ("dashboard", "pages", "app")
+    return module.split(".")[0] in ("dashboard", "app_pages", "app")
 
 
 def _show(problems: list[str], what: str) -> str:
@@ -123,7 +123,7 @@ def edge_violations(sources: Iterable[sr.Source], modules: set[str]) -> list[str
 
 
 def app_violations(sources: Iterable[sr.Source], modules: set[str]) -> list[str]:
-    """Private modules or names of noisevar that the dashboard, pages or app reach."""
+    """Private modules or names of noisevar that the dashboard, page scripts or app reach."""
     out = []
     for src in sources:
         if _in_app(src.name):
