@@ -50,7 +50,7 @@ class FusionSettings:
         return f"{self.fault}|{self.steps}|{self.runs}|{self.seed}|{self.factor}|{self.bias}"
 
 
-def settings_form() -> FusionSettings:  # long: one widget call per setting
+def settings_form() -> FusionSettings:
     """Fault, steps, runs, seed, fault size, false-alarm probability, configurations."""
     c1, c2, c3, c4 = st.columns(4)
     fault = c1.selectbox(
