@@ -20,35 +20,16 @@ import numpy as np
 from numpy.typing import NDArray
 
 import noisevar
+from noisevar import synth
 
 OUT = Path(__file__).resolve().parent / "results" / "invariance.md"
 
 
-def _motion(length: int, rng: np.random.Generator) -> NDArray:
-    """One burst: a fast oscillation, jerky steps (a random walk) or taps that ring."""
-    k = np.arange(length)
-    kind = rng.integers(3)
-    if kind == 0:
-        window = np.sin(np.pi * k / length) ** 2
-        return rng.uniform(2, 30) * window * np.sin(2 * np.pi * k / rng.uniform(3.0, 40.0))
-    if kind == 1:
-        return np.cumsum(rng.normal(0.0, rng.uniform(0.5, 5.0), length))
-    out = np.zeros(length)
-    for a in rng.integers(0, length, int(rng.integers(3, 20))):
-        ring = np.exp(-np.arange(length - a) / rng.uniform(2, 20))
-        out[a:] += rng.normal(0, 20) * ring * np.cos(np.arange(length - a) * rng.uniform(0.3, 2))
-    return out
-
-
 def burst_record(n: int, rng: np.random.Generator) -> NDArray:
-    """White noise (σ = 1) on a slow sine, with 1-3 bursts of motion (:func:`_motion`)."""
+    """White noise (σ = 1) on a slow sine, with 1-3 bursts of motion (synth.motion_bursts)."""
     t = np.arange(n)
     z = 3.0 * np.sin(2 * np.pi * t / rng.uniform(2000, 8000)) + rng.normal(0.0, 1.0, n)
-    for _ in range(int(rng.integers(1, 4))):
-        length = int(rng.integers(n // 50, n // 8))
-        a = int(rng.integers(0, n - length))
-        z[a : a + length] += _motion(length, rng)
-    return z
+    return z + synth.motion_bursts(n, rng)
 
 
 def transforms(n: int) -> dict[str, Callable[[NDArray], NDArray]]:

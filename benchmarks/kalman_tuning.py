@@ -34,11 +34,11 @@ import statsmodels.api as sm
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from noisevar.kalman._jit import inline, jit  # noqa: E402
 from noisevar.kalman.kernels import _cov_into  # noqa: E402
 from noisevar.noise_model import evaluate_kalman, fit_coloured_noise, fit_kalman  # noqa: E402
 from noisevar.noise_model._steady import diffuse_start  # noqa: E402
 from noisevar.noise_model.kalman_fit import MODELS, kinematic_model  # noqa: E402
+from noisevar.numeric.jit import inline, jit  # noqa: E402
 
 RESULTS = Path(__file__).resolve().parent / "results"
 RATE, R_TRUE, N = 10.0, 4.0, 20000

@@ -345,3 +345,45 @@ def remove_blocks(
         keep[s : s + size] = False
     times = np.arange(n, dtype=float) if t is None else np.asarray(t, dtype=float)
     return Gapped(arr[..., keep], times[keep], keep)
+
+
+def _motion(length: int, rng: np.random.Generator) -> NDArray:
+    """One burst: a fast oscillation, jerky steps (a random walk) or taps that ring."""
+    k = np.arange(length)
+    kind = rng.integers(3)
+    if kind == 0:
+        window = np.sin(np.pi * k / length) ** 2
+        return rng.uniform(2, 30) * window * np.sin(2 * np.pi * k / rng.uniform(3.0, 40.0))
+    if kind == 1:
+        return np.cumsum(rng.normal(0.0, rng.uniform(0.5, 5.0), length))
+    out = np.zeros(length)
+    for a in rng.integers(0, length, int(rng.integers(3, 20))):
+        ring = np.exp(-np.arange(length - a) / rng.uniform(2, 20))
+        out[a:] += rng.normal(0, 20) * ring * np.cos(np.arange(length - a) * rng.uniform(0.3, 2))
+    return out
+
+
+def motion_bursts(n: int, rng: np.random.Generator | int | None = None) -> NDArray:
+    """Motion to add to a still record: one to three bursts of random kind, length and place.
+
+    Parameters
+    ----------
+    n : int
+        Samples.
+    rng : Generator, int or None
+        Randomness (a seed for a repeatable record).
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        Zero outside the bursts; each burst is a fast oscillation, jerky steps (a random
+        walk) or taps that ring, in units of a unit noise (amplitudes 2-30), over 2-12.5 %
+        of the record. Real logs are still and moving stretches (issue 26's regimes).
+    """
+    rng = _rng(rng)
+    out = np.zeros(n)
+    for _ in range(int(rng.integers(1, 4))):
+        length = int(rng.integers(n // 50, n // 8))
+        a = int(rng.integers(0, n - length))
+        out[a : a + length] += _motion(length, rng)
+    return out

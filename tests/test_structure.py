@@ -354,9 +354,6 @@ LITERALS_ALLOWED: dict[str, dict[str, str]] = {
     "noisevar.figures.robust": {"outliers": "a trace's label (the word), not the scenario"},
     "noisevar.figures.compare": {"somd": "MethodSpec.kind 'somd' (the family), not the method"},
     "noisevar.estimators.redundant": {"somd": "MethodSpec.kind 'somd' of somd-redundant"},
-    "noisevar.estimators.params": {
-        "auto": "DEFAULT_METHOD: the one name of the default method, written once",
-    },
 }
 #: Registries whose names are checked; the others only own words (a literal in their home
 #: is fine): experiments, test signals and fit_kalman's methods.

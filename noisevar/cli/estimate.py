@@ -231,7 +231,9 @@ def _estimate_streamed(args: argparse.Namespace, column: Any, method: str, param
         raise NoisevarError(
             f"a streamed record takes {', '.join(own)}, not {', '.join(sorted(extra))}"
         )
-    return estimate_file(args.file, column=column, dtype=args.dtype, workers=args.workers, **params)
+    return estimate_file(
+        args.file, column=column, dtype=args.dtype, method=method, workers=args.workers, **params
+    )
 
 
 def _cmd_estimate(args: argparse.Namespace) -> int:

@@ -13,7 +13,7 @@ from dataclasses import replace
 import numpy as np
 from numpy.typing import NDArray
 
-from noisevar.diagnostics._parts import (
+from noisevar.diagnostics.plan import (
     DIAG_ORDER,
     DIAG_SPAN,
     PROFILE_MIN_KEPT,
@@ -21,15 +21,16 @@ from noisevar.diagnostics._parts import (
     make_plan,
     probe_of,
 )
-from noisevar.diagnostics._sums import DiagSums, diag_part
 from noisevar.diagnostics.power_law import POWER_LAW_MAX, power_law_types
 from noisevar.diagnostics.profile import LevelProfile, profile_from_blocks
 from noisevar.diagnostics.results import NoiseDiagnostics
 from noisevar.diagnostics.segments import Gap, Segmentation, split_dropped, split_times
+from noisevar.diagnostics.sums import DiagSums, diag_part
 from noisevar.diagnostics.tails import kurtosis_from_moments, tail_index
 from noisevar.diagnostics.verdict import make_notes, make_verdict
 from noisevar.diagnostics.whiteness import WhitenessTest, whiteness_test
 from noisevar.errors import NoisevarError
+from noisevar.numeric.fir import residual_sequence
 
 __all__ = [
     "Gap",
@@ -38,10 +39,15 @@ __all__ = [
     "Segmentation",
     "WhitenessTest",
     "diagnose",
+    "from_sums",
     "split_dropped",
     "split_times",
     "with_verdict",
 ]
+
+
+#: Residuals the whiteness test of the still stretches needs at least.
+STILL_WHITE_MIN = 400
 
 
 def diagnose(
@@ -70,12 +76,16 @@ def diagnose(
     for i, (a, b) in enumerate(seg.segments):
         sums.add(diag_part(z[a:b], a, (a, b), i, plan, None if exclude is None else exclude[a:b]))
     a, b = max(seg.segments, key=lambda s: s[1] - s[0])
-    return finish(sums, seg, lambda: z[a : min(b, a + POWER_LAW_MAX)])
+    return from_sums(sums, seg, lambda: z[a : min(b, a + POWER_LAW_MAX)])
 
 
-# long: the record-wide statistics from the sums, in the order they depend on each other
-def finish(sums: DiagSums, seg: Segmentation, head: Callable[[], NDArray]) -> NoiseDiagnostics:
+def from_sums(sums: DiagSums, seg: Segmentation, head: Callable[[], NDArray]) -> NoiseDiagnostics:
     """The diagnostics from their sums; ``head()`` gives the start of the longest segment.
+
+    A record in memory is summed by :func:`diagnose`; a record read in chunks adds each
+    chunk's :func:`~noisevar.diagnostics.sums.diag_part` to a
+    :class:`~noisevar.diagnostics.sums.DiagSums` laid on
+    :func:`~noisevar.diagnostics.plan.make_plan`'s grid, then calls this.
 
     Notes
     -----
@@ -83,8 +93,6 @@ def finish(sums: DiagSums, seg: Segmentation, head: Callable[[], NDArray]) -> No
     robust level (spikes stay in it, level changes do not); the whiteness test's null
     covariance is widened by ``n Σσ⁴ / (Σσ²)²`` for a level that changes along the record.
     """
-    from noisevar.estimators.auto import residual_sequence
-
     sums.check()
     plan, d = sums.plan, residual_sequence(DIAG_SPAN, DIAG_ORDER)
     # blocks left with a handful of residuals (around jumps) say nothing of the level
@@ -104,6 +112,9 @@ def finish(sums: DiagSums, seg: Segmentation, head: Callable[[], NDArray]) -> No
     )  # fmt: skip
     e_w, keep_w = sums.white.joined()
     white = whiteness_test(e_w, d, keep=keep_w, inflation=_hetero(sums.wide))
+    slots = sums.white.joined_slots()
+    block_of = np.where(slots >= 0, slots // plan.profile.size, -1)
+    still_white = _still_whiteness(plan, profile, e_w, keep_w, block_of, d, blocks)
     dz, used = sums.incr.joined()
     types: tuple[tuple[int, int], ...] = ()
     if not white.white:  # say which coloured noise (costly: only when it is coloured)
@@ -122,8 +133,35 @@ def finish(sums: DiagSums, seg: Segmentation, head: Callable[[], NDArray]) -> No
         jitter=seg.jitter,
         level_profile=profile,
         power_law=types,
+        still_whiteness=still_white,
     )
     return with_verdict(diag, float(total.sum() / kept))
+
+
+def _still_whiteness(
+    plan: DiagPlan,
+    profile: LevelProfile,
+    e: NDArray,
+    keep: NDArray,
+    block_of: NDArray,
+    d: NDArray,
+    blocks: list[int],
+) -> WhitenessTest | None:
+    """The whiteness test on the quiet blocks alone, when the level varies (one segment).
+
+    The evidence that orders the verdict: motion that leaks through the smoother makes
+    a record non-white while its still stretches stay white.
+    """
+    if len(plan.segments) != 1 or all(r.still for r in profile.regimes):
+        return None
+    quiet_ids = np.asarray(blocks)[profile.quiet]
+    inside = keep & np.isin(block_of, quiet_ids)
+    if np.count_nonzero(inside) < STILL_WHITE_MIN:
+        return None
+    try:
+        return whiteness_test(e, d, keep=inside)
+    except NoisevarError:
+        return None
 
 
 def _sample_of(plan: DiagPlan, slots: NDArray) -> NDArray:
@@ -155,9 +193,15 @@ def white_null_acf_sq(d: NDArray) -> NDArray:
 
 
 def with_verdict(
-    diag: NoiseDiagnostics, variance: float, core: float | None = None, outliers: float = 0.0
+    diag: NoiseDiagnostics,
+    variance: float,
+    core: float | None = None,
+    outliers: float = 0.0,
+    still: float | None = None,
 ) -> NoiseDiagnostics:
-    """``diag`` with its verdict and notes written for an estimate of ``variance``."""
-    return replace(
-        diag, verdict=make_verdict(diag, variance, core, outliers), notes=make_notes(diag)
-    )
+    """``diag`` with its verdict and notes written for an estimate of ``variance``.
+
+    ``still``: the same method's estimate on the still regimes alone, when there is one.
+    """
+    verdict = make_verdict(diag, variance, core, outliers, still)
+    return replace(diag, verdict=verdict, notes=make_notes(diag))

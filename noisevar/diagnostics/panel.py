@@ -14,10 +14,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from noisevar.diagnostics.plan import DIAG_ORDER, DIAG_SPAN
 from noisevar.diagnostics.profile import block_bounds, robust_levels
 from noisevar.diagnostics.results import NoiseDiagnostics
 from noisevar.diagnostics.verdict import under_half_a_step
 from noisevar.errors import NoisevarError
+from noisevar.numeric.fir import residual_sequence
 
 #: At most this many residuals kept for drawing (the histogram counts every one).
 PANEL_RESIDUALS = 20_000
@@ -108,9 +110,6 @@ class NoisePanelData:
 
 def standard_residuals(z: NDArray, diag: NoiseDiagnostics) -> NDArray:
     """Residuals of every uniform segment (split at ``diag.gaps``), scaled to unit level."""
-    from noisevar.diagnostics import DIAG_ORDER, DIAG_SPAN
-    from noisevar.estimators.auto import residual_sequence
-
     d = residual_sequence(DIAG_SPAN, DIAG_ORDER)
     cuts = [0, *sorted({g.index for g in diag.gaps if 0 < g.index < z.size}), z.size]
     parts = [

@@ -47,6 +47,9 @@ class LevelProfile:
         part of them (a low median, a high mean square).
     regimes : tuple of Regime
         Stretches of one noise level (:mod:`noisevar.diagnostics.regimes`), in order.
+    count : ndarray, shape (n_blocks,), optional
+        Residuals kept in each block (fewer than its samples where some were left out
+        around level jumps).
     """
 
     start: NDArray
@@ -57,11 +60,30 @@ class LevelProfile:
     dof: NDArray
     quiet: NDArray
     regimes: tuple[Regime, ...] = ()
+    count: NDArray | None = None
 
     @property
     def quiet_variance(self) -> float:
         """Pooled level (mean square) of the quiet blocks."""
         return _pooled(self.variance, self.dof, self.quiet)
+
+    @property
+    def still_stretches(self) -> list[tuple[int, int]]:
+        """Sample ranges of the quiet blocks that lost no residual around a level jump.
+
+        Runs of such blocks, in order: where the sensor's own noise can be estimated
+        again, by any method, with nothing of the record's motion in it.
+        """
+        whole = (
+            self.quiet
+            if self.count is None
+            else self.quiet & (self.count >= self.stop - self.start)
+        )
+        edges = np.flatnonzero(np.diff(np.r_[0, whole.view(np.int8), 0]))
+        return [
+            (int(self.start[a]), int(self.stop[b - 1]))
+            for a, b in zip(edges[::2], edges[1::2], strict=True)
+        ]
 
     @property
     def quiet_share(self) -> float:
@@ -184,7 +206,7 @@ def profile_from_blocks(
             if np.array_equal(again, quiet):
                 break
             quiet = again
-    return LevelProfile(start, stop, var, lo, hi, dof, quiet, regimes)
+    return LevelProfile(start, stop, var, lo, hi, dof, quiet, regimes, count)
 
 
 def _leave_one_out_dof(

@@ -48,6 +48,10 @@ class NoiseDiagnostics:
     power_law : tuple of (int, int)
         ``(averaging factor, α)`` of the dominant power-law noise (allantools'
         identification; α = 2 white, 1 flicker, 0 random walk), only for coloured noise.
+    still_whiteness : WhitenessTest or None
+        The whiteness test on the still regimes' quiet blocks alone, when the level
+        varies (None otherwise): white there and not over the whole record means motion
+        leaking through, not coloured noise.
     verdict : str
         One plain sentence.
     notes : tuple of str
@@ -64,6 +68,7 @@ class NoiseDiagnostics:
     jitter: float
     level_profile: LevelProfile
     power_law: tuple[tuple[int, int], ...] = ()
+    still_whiteness: WhitenessTest | None = None
     verdict: str = ""
     notes: tuple[str, ...] = field(default_factory=tuple)
 
@@ -105,6 +110,17 @@ class NoiseDiagnostics:
         regime's beyond what its interval allows (:mod:`noisevar.diagnostics.regimes`).
         """
         return any(not r.still for r in self.level_profile.regimes)
+
+    @property
+    def motion_explains_colour(self) -> bool:
+        """The record is not white, but its still stretches are: motion leaks through."""
+        w = self.still_whiteness
+        return bool(not self.white and w is not None and w.white)
+
+    @property
+    def regimes(self) -> tuple:
+        """Stretches of one noise level, in order (:mod:`noisevar.diagnostics.regimes`)."""
+        return self.level_profile.regimes
 
     @property
     def differenced(self) -> bool:

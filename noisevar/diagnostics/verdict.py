@@ -30,7 +30,11 @@ def under_half_a_step(diag: NoiseDiagnostics, variance: float) -> bool:
 
 
 def make_verdict(
-    diag: NoiseDiagnostics, variance: float, core: float | None = None, outliers: float = 0.0
+    diag: NoiseDiagnostics,
+    variance: float,
+    core: float | None = None,
+    outliers: float = 0.0,
+    still: float | None = None,
 ) -> str:
     """One sentence, worst finding first.
 
@@ -43,12 +47,16 @@ def make_verdict(
         Variance of the bulk (for a robust filter).
     outliers : float
         Share of samples outside the bulk.
+    still : float, optional
+        The estimate on the still regimes alone (the same method and residual as
+        ``variance``); default the level profile's quiet level.
 
     Returns
     -------
     str
     """
     r = f"R = {_g(variance)} (std {_g(float(np.sqrt(max(variance, 0.0))))})"
+    quiet = diag.quiet_variance if still is None else still
     prof = diag.level_profile
     if not diag.identifiable:
         return (
@@ -60,7 +68,7 @@ def make_verdict(
         return (
             f"the record is mostly motion or signal leaking through: the sensor noise measured "
             f"in its still stretches ({prof.quiet_share:.0%} of it) is "
-            f"{_g(diag.quiet_variance)} (std {_g(float(np.sqrt(diag.quiet_variance)))}), "
+            f"{_g(quiet)} (std {_g(float(np.sqrt(quiet)))}), "
             f"against {_g(variance)} over the whole record"
         )
     if diag.differenced:
@@ -70,6 +78,13 @@ def make_verdict(
             f"difference of white noise gives (-0.5); {r} is the variance per sample, but "
             "successive errors are correlated: filter the undifferenced quantity (its R is "
             "about half this) or model MA(1) measurement noise"
+        )
+    if diag.motion_explains_colour:
+        return (
+            f"the noise level changes along the record (motion): {r} is an average over "
+            f"still and moving stretches; the still stretches ({prof.quiet_share:.0%}) give "
+            f"{_g(quiet)}, and their noise is white: the rest is motion leaking through the "
+            "smoother, not coloured noise"
         )
     if not diag.white:
         kind = (
@@ -91,7 +106,7 @@ def make_verdict(
     if diag.level_varies:
         return (
             f"the noise level changes along the record: {r} is an average; its quiet "
-            f"stretches ({prof.quiet_share:.0%}) give {_g(diag.quiet_variance)}"
+            f"stretches ({prof.quiet_share:.0%}) give {_g(quiet)}"
         )
     if diag.heavy_tailed:
         bulk = f"; a robust filter should use the core variance {_g(core)}" if core else ""

@@ -16,11 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar._distributions import chi2_sf
-
-try:  # the compiled lagged products (numba); the einsum below is the reference
-    from noisevar.filters import _fir
-except ImportError:  # pragma: no cover - numba not installed
-    _fir = None
+from noisevar.numeric.fir import lagged_products
 
 #: Lags tested.
 WHITE_LAGS = 20
@@ -120,21 +116,6 @@ def _bartlett(d_key: tuple[float, ...], lags: int) -> tuple[NDArray, NDArray]:
     return rk, 0.5 * (w + w.T)
 
 
-def _dot(a: NDArray, b: NDArray) -> float:
-    """``a · b`` without BLAS threads (which thrash on a busy machine for these sizes)."""
-    return float(np.einsum("i,i->", a, b))
-
-
-def _lagged_products(x: NDArray, lags: int) -> NDArray:
-    """``Σ_i x_i x_{i+k}`` for ``k = 0..lags`` (compiled: one pass over ``x``)."""
-    if _fir is not None and x.size > lags:
-        out = np.empty(lags + 1)
-        _fir.lagged_products(np.ascontiguousarray(x, dtype=float), lags, out)
-        return out
-    n = x.size
-    return np.array([_dot(x[k:], x[: n - k]) for k in range(lags + 1)])
-
-
 def _pair_counts(keep: NDArray, lags: int) -> NDArray:
     """Pairs ``(i, i + k)`` with both kept, for ``k = 0..lags``, from the runs of ``keep``.
 
@@ -169,7 +150,7 @@ def sample_acf(e: NDArray, lags: int, keep: NDArray | None = None) -> NDArray:
     else:
         count = n - np.arange(lags + 1.0)
     # γ_k = Σ x_i x_{i+k} / (pairs at lag k)
-    gamma = _lagged_products(x, lags) / np.maximum(count, 1.0)
+    gamma = lagged_products(x, lags) / np.maximum(count, 1.0)
     return gamma[1:] / gamma[0]
 
 

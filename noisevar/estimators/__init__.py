@@ -1,32 +1,31 @@
 """Noise-variance estimators: :func:`estimate` with a method name from :func:`methods`.
 
-Each method is declared once, as a :class:`~noisevar.estimators.params.MethodSpec` in
+Each method is declared once, as a :class:`~noisevar.estimators.spec.MethodSpec` in
 its own module; :data:`REGISTRY` lists them. Adding an estimator is one new module and
 one line in :data:`REGISTRY` (or one :func:`register` call from outside the package).
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from noisevar.diagnostics import Segmentation
 from noisevar.errors import NoisevarError
 from noisevar.estimators import _scale, auto, difference, mle, redundant, somd
 from noisevar.estimators._input import as_channels, as_signal, check_samples
-from noisevar.estimators._record import (
-    attach_diagnostics,
-    estimate_record,
-    rescale_diagnostics,
-)
 from noisevar.estimators._scale import scale_exponent
 from noisevar.estimators.auto import auto_estimate, residual_sequence
 from noisevar.estimators.difference import HKT_SEQUENCES, sequence_efficiency
-from noisevar.estimators.params import DEFAULT_METHOD, PARAMS, MethodSpec
+from noisevar.estimators.params import PARAMS
+from noisevar.estimators.pipeline import InMemory, estimate_record, run_record
 from noisevar.estimators.redundant import estimate_redundant, redundant_estimate
 from noisevar.estimators.results import VarianceEstimate, VarianceEstimates
 from noisevar.estimators.somd import somd_estimate, somd_variance_records, somd_variance_windows
+from noisevar.estimators.spec import MethodSpec
 
 __all__ = [
     "DEFAULT_METHOD",
@@ -39,6 +38,7 @@ __all__ = [
     "auto_estimate",
     "describe_methods",
     "estimate",
+    "estimate_chunked",
     "estimate_redundant",
     "methods",
     "redundant_estimate",
@@ -65,6 +65,11 @@ REGISTRY: list[MethodSpec] = [
 
 #: Name to spec of every registered estimator (built-ins and :func:`register`-ed ones).
 METHODS: dict[str, MethodSpec] = {}
+#: The method of :func:`estimate` when none is named.
+DEFAULT_METHOD: str = auto.AUTO.name
+#: The samples around level jumps that the diagnostics of every method leave out: the
+#: default method's jump detector (docs/algorithms.md §F5.3).
+JUMP_MASK = auto.jump_mask
 
 
 def register(spec: MethodSpec, replace: bool = False) -> MethodSpec:
@@ -157,19 +162,20 @@ def _channels(spec: MethodSpec, z: NDArray, drop: bool, params: dict) -> list:
 
 
 def _records(
-    spec: MethodSpec, arr: NDArray, times: NDArray | None, drop: bool, used: dict
+    spec: MethodSpec, arr: NDArray, times: NDArray | None, drop: bool, used: dict, e: int
 ) -> list[VarianceEstimate]:
-    """Every channel of ``arr`` (samples on the last axis) through ``spec``, with diagnostics."""
+    """Every channel of ``arr`` (samples on the last axis, scaled by ``2**e``) through ``spec``."""
     if arr.ndim == 1:
-        return [estimate_record(spec, arr, times, drop, used, _run_one)]
+        return [estimate_record(spec, arr, times, drop, used, _run_one, JUMP_MASK, e)]
     rows = arr.reshape(-1, arr.shape[-1])
     if times is None and np.isfinite(arr).all():  # the method's vectorised path
         results = _channels(spec, arr, drop, used)
+        one = Segmentation(((0, arr.shape[-1]),), ())
         return [
-            attach_diagnostics(spec, r, row, None, used, _run_one)
+            run_record(spec, InMemory(spec, row, one, _run_one, JUMP_MASK, []), used, r, e)
             for r, row in zip(results, rows, strict=True)
         ]
-    return [estimate_record(spec, row, times, drop, used, _run_one) for row in rows]
+    return [estimate_record(spec, row, times, drop, used, _run_one, JUMP_MASK, e) for row in rows]
 
 
 def estimate(
@@ -228,13 +234,59 @@ def estimate(
     # scale-safe: run on z 2**e (exact), scale the answer back (docstring of _scale)
     e = _scale.scale_exponent(arr)
     arr_s, used_s = (np.ldexp(arr, e), _scale.scale_params(used, e)) if e else (arr, used)
-    results = _records(spec, arr_s, times, drop, used_s)
-    _scale.unscale(results, e)
-    for r in results:
-        _scale.check_answer(r)
-        if e:
-            rescale_diagnostics(r, e)
-        r.params = {"method": method, **r.params}
+    results = _records(spec, arr_s, times, drop, used_s, e)
     if arr.ndim == 1:
         return results[0]
     return VarianceEstimates(method, arr.shape[:-1], results, dict(results[0].params))
+
+
+def estimate_chunked(
+    read: Callable[[int, int], NDArray],
+    n: int,
+    *,
+    method: str = DEFAULT_METHOD,
+    probe: Callable[[slice], NDArray] | None = None,
+    chunk: int | None = None,
+    workers: int = 2,
+    note: str = "streamed",
+    **params: Any,
+) -> VarianceEstimate:
+    """:func:`estimate` of a record read in chunks: the same numbers, bounded memory.
+
+    Parameters
+    ----------
+    read : callable
+        ``read(a, b)`` returns samples ``a .. b`` as finite float64 (a copy).
+    n : int
+        Samples in the record.
+    method : str
+        A method with a chunked engine (``spec.chunked``; ``auto``'s is
+        :class:`~noisevar.estimators.auto.ChunkedAuto`).
+    probe : callable, optional
+        ``probe(slice)`` returns a strided selection (default: through ``read``).
+    chunk : int, optional
+        Samples per chunk (the engine's default when None).
+    workers : int
+        Threads.
+    note : str
+        How the record was read, for the first note ("streamed in chunks of ...").
+    **params
+        The method's parameters.
+
+    Returns
+    -------
+    VarianceEstimate
+        With its diagnostics (docs/algorithms.md §F5.7); ``jumps`` is not kept.
+    """
+    spec = method_spec(method)
+    if spec.chunked is None:
+        able = ", ".join(m.name for m in METHODS.values() if m.chunked is not None)
+        raise NoisevarError(
+            f"method {method!r} cannot read a record in chunks; methods that can: {able}"
+        )
+    valid = spec.validate(params)
+    if valid.pop("drop_nonfinite", None):
+        raise NoisevarError("a record read in chunks must be finite: drop_nonfinite is not taken")
+    used = {k: v for k, v in valid.items() if v is not None}
+    record = spec.chunked(read, n, probe=probe, chunk=chunk, workers=workers, note=note)
+    return run_record(spec, record, used)

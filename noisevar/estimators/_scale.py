@@ -49,7 +49,21 @@ def scale_exponent(z: NDArray) -> int:
     if not (np.isfinite(lo) and np.isfinite(hi)):
         fin = np.abs(z[np.isfinite(z)])
         lo, hi = 0.0, float(fin.max()) if fin.size else 0.0
-    top = max(abs(lo), abs(hi)) if np.isfinite(lo) and np.isfinite(hi) else 0.0
+    return exponent_of(max(abs(lo), abs(hi)) if np.isfinite(lo) and np.isfinite(hi) else 0.0)
+
+
+def exponent_of(top: float) -> int:
+    """:func:`scale_exponent` of a record whose largest magnitude is ``top``.
+
+    Parameters
+    ----------
+    top : float
+        The largest ``|z|`` (finite; 0 for no sample).
+
+    Returns
+    -------
+    int
+    """
     if top == 0.0:
         return 0
     # top = m 2**k with 0.5 <= m < 1

@@ -12,8 +12,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
-from noisevar.estimators.params import MethodSpec
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
+from noisevar.estimators.spec import MethodSpec
 
 MAD_TO_SIGMA = 1.0 / 0.6744897501960817
 #: Asymptotic efficiency of the MAD scale estimator at the Gaussian (relative to the SD).
@@ -111,7 +111,7 @@ def _sequence_method(name: str, d: ArrayLike, description: str) -> MethodSpec:
         var, m = difference_variance(z, seq)
         return _estimates(name, var, m / eff, m, z.shape[-1], {}, notes)
 
-    return MethodSpec(name, description, "peer", func, (), vectorised=True)
+    return MethodSpec(name, description, "peer", func, (), vectorised=True, residual=lambda p: seq)
 
 
 def _mad_diff(z: NDArray, notes: list[list[str]]) -> list[VarianceEstimate]:

@@ -8,8 +8,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.errors import NoisevarError
-from noisevar.estimators.params import MethodSpec
 from noisevar.estimators.results import VarianceEstimate
+from noisevar.estimators.spec import MethodSpec
 
 #: Noise variance, as a fraction of the variance of the differences, below which the fit
 #: sits at the boundary 0 (statsmodels' optimiser stops near 1e-12 there).

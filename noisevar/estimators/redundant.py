@@ -7,8 +7,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
 from noisevar.estimators._input import as_signal
-from noisevar.estimators.params import MethodSpec
 from noisevar.estimators.results import RedundantEstimate, VarianceEstimate, chi2_interval
+from noisevar.estimators.spec import MethodSpec
 
 
 def redundant_estimate(

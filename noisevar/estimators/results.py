@@ -29,7 +29,7 @@ if TYPE_CHECKING:
 
 #: The columns of one estimate's row (:meth:`VarianceEstimate.to_row`), in table order.
 #: One ``flag_<name>`` column per diagnostic flag (``flag_white``, ``flag_heavy_tailed``,
-#: ...) comes after ``outlier_fraction``, in name order.
+#: ...) comes after ``still_ci95_high``, in name order.
 ROW_COLUMNS: tuple[str, ...] = (
     "method",
     "variance",
@@ -41,14 +41,30 @@ ROW_COLUMNS: tuple[str, ...] = (
     "dof",
     "core_variance",
     "outlier_fraction",
+    "still_variance",
+    "still_ci95_low",
+    "still_ci95_high",
     "verdict",
     "params",
     "notes",
 )
+
+
+def _still_fields(still: VarianceEstimate | None) -> dict[str, float | None]:
+    """``still_variance`` and its interval (None when there is no still estimate)."""
+    if still is None:
+        return {"still_variance": None, "still_ci95_low": None, "still_ci95_high": None}
+    return {
+        "still_variance": _finite(still.variance),
+        "still_ci95_low": _finite(still.ci95[0]),
+        "still_ci95_high": _finite(still.ci95[1]),
+    }
+
+
 #: Prefix of the diagnostic flags' columns.
 FLAG_PREFIX = "flag_"
 #: The flag columns follow this column.
-_FLAGS_AFTER = "outlier_fraction"
+_FLAGS_AFTER = "still_ci95_high"
 #: Count columns: nullable integers in a frame (a row without an estimate has none).
 COUNT_COLUMNS = ("n_used", "n_total")
 #: Number columns: floats in a frame (NaN where a row has none).
@@ -100,7 +116,7 @@ def row_columns(
     -------
     list of str
         Every column of ``lead``, :data:`ROW_COLUMNS` and ``tail`` (present or not), the
-        ``flag_*`` columns present after ``outlier_fraction``, then any other column.
+        ``flag_*`` columns present after ``still_ci95_high``, then any other column.
     """
     cols = list(dict.fromkeys(columns))
     own = {*lead, *tail}
@@ -262,6 +278,10 @@ class VarianceEstimate:
     jumps : ndarray of bool or None
         Samples left out around persistent level jumps (signal, not noise); None for
         methods that do not look for jumps.
+    still : VarianceEstimate or None
+        The same method on the record's still regimes alone (the sensor's own noise,
+        docs/algorithms.md §E1 Regimes), when the level varies along the record; None
+        when the record is one regime or the still regimes are too short to estimate.
     """
 
     method: str
@@ -278,6 +298,7 @@ class VarianceEstimate:
     diagnostics: NoiseDiagnostics | None = None
     assumptions: dict[str, bool] = field(default_factory=dict)
     jumps: NDArray | None = field(default=None, repr=False)
+    still: VarianceEstimate | None = field(default=None, repr=False)
 
     @property
     def std(self) -> float:
@@ -296,7 +317,7 @@ class VarianceEstimate:
         -------
         dict
             Keyed by :data:`ROW_COLUMNS` (in that order, ``flag_<name>`` for each
-            diagnostic flag after ``outlier_fraction``): numbers as floats (None when
+            diagnostic flag after ``still_ci95_high``): numbers as floats (None when
             missing or not finite), counts as ints, flags as bools, ``params`` as sorted
             JSON text and ``notes`` joined by ``" | "`` (None when there is none).
 
@@ -318,6 +339,7 @@ class VarianceEstimate:
             "dof": _finite(self.dof),
             "core_variance": _finite(self.core_variance),
             "outlier_fraction": _finite(self.outlier_fraction),
+            **_still_fields(self.still),
             **{FLAG_PREFIX + k: bool(flags[k]) for k in sorted(flags)},
             "verdict": None if diag is None else (str(diag.verdict) or None),
             "params": json.dumps(self.params, sort_keys=True, default=_json_value),

@@ -19,21 +19,15 @@ from numpy.typing import NDArray
 from noisevar.errors import NoisevarError, NoWindowKept
 from noisevar.estimators._input import check_window
 from noisevar.estimators.difference import sequence_efficiency
-from noisevar.estimators.params import (
-    PAPER_H_SMOOTH,
-    PAPER_WINDOW,
-    PARAMS,
-    SOMD_PARAMS,
-    MethodSpec,
-)
+from noisevar.estimators.params import PAPER_H_SMOOTH, PAPER_WINDOW, PARAMS, SOMD_PARAMS
 from noisevar.estimators.results import SomdDetails, VarianceEstimate, chi2_interval
-from noisevar.filters.abg import (  # noqa: PLC2701 - shared internals
-    _impulse,
-    _transfer_function_cached,
+from noisevar.estimators.spec import MethodSpec
+from noisevar.filters.abg import (
     abg_filter,
     check_h,
     settling_samples,
     somd_bias_factor,
+    somd_sequence,
 )
 from noisevar.filters.selection import select_windows
 
@@ -46,11 +40,7 @@ WINDOW = PAPER_WINDOW
 @lru_cache(maxsize=256)
 def _somd_efficiency(h: float) -> float:
     """``sum ρ²`` of the sequence ``Δ(g - δ)`` behind one smoothing ``h``."""
-    b, a = _transfer_function_cached(h, "predicted")
-    g = _impulse(b, a)
-    dg = g.copy()
-    dg[0] -= 1.0
-    seq = np.diff(np.concatenate([[0.0], dg]))
+    seq = somd_sequence(h)
     seq = seq[: max(8, int(np.argmax(np.cumsum(seq**2) > (1 - 1e-10) * np.sum(seq**2))) + 1)]
     return sequence_efficiency(seq)
 

@@ -424,15 +424,55 @@ def _impulse(b: NDArray, a: NDArray, tol: float = 1e-16) -> NDArray:
         n *= 4
 
 
+def abg_impulse(h: float, output: str = "predicted") -> NDArray:
+    """Impulse response ``g`` of the filter, until its tail holds 1e-16 of its energy.
+
+    Parameters
+    ----------
+    h : float
+        Ratio ``q / r``, ``0 < h < stable_h_limit()``.
+    output : {"predicted", "filtered"}
+        As in :func:`abg_transfer_function`.
+
+    Returns
+    -------
+    ndarray
+        ``g_0, g_1, ...`` (a power of 4 times 1024 samples, at most ``2**22``).
+    """
+    return _impulse(*_transfer_function_cached(check_h(h), _check_output(output)))
+
+
+def _difference_of(g: NDArray) -> NDArray:
+    d = g.copy()
+    d[0] -= 1.0  # g - δ
+    return np.diff(np.concatenate([[0.0], d]))  # Δ(g - δ) as a causal sequence
+
+
+def somd_sequence(h: float) -> NDArray:
+    """The sequence ``Δ(g - δ)`` that takes the noise into SOMD's ``ΔZ1 - ΔZ2`` (§A8).
+
+    ``g`` is the impulse response of the one-step prediction (:func:`abg_impulse`);
+    the noise part of the smooth output minus the raw samples, both differenced, is
+    white noise through this sequence, whose sum of squares is ``c(h)``
+    (:func:`somd_bias_factor`).
+
+    Parameters
+    ----------
+    h : float
+        Ratio ``q / r``.
+
+    Returns
+    -------
+    ndarray
+    """
+    return _difference_of(abg_impulse(h))
+
+
 @lru_cache(maxsize=256)
 def _noise_gains(h: float) -> tuple[float, float, int]:
-    b, a = _transfer_function_cached(h, "predicted")
-    g = _impulse(b, a)
+    g = abg_impulse(h)
     ratio = float(np.sqrt(np.sum(g**2)))
-    d = g.copy()
-    d[0] -= 1.0  # g - delta
-    dd = np.diff(np.concatenate([[0.0], d]))  # Δ(g - δ) as a causal sequence
-    c = float(np.sum(dd**2))
+    c = float(np.sum(_difference_of(g) ** 2))
     # settling length: samples until the impulse response energy is 1e-6 of its total
     cum = np.cumsum(g[::-1] ** 2)[::-1]
     settle = int(np.argmax(cum < 1e-6 * cum[0])) if np.any(cum < 1e-6 * cum[0]) else len(g)
@@ -458,6 +498,8 @@ def noise_ratio(h: float) -> float:
 
 def somd_bias_factor(h: float) -> float:
     """Exact SOMD normalisation ``c(h) = sum_k (Δ(g - δ))_k^2`` (docs/algorithms.md §A8).
+
+    ``Δ(g - δ)`` is :func:`somd_sequence`; this is the one home of ``c(h)``.
 
     The noise part of ``ΔZ1 - ΔZ2`` (smooth output minus raw samples, both
     differenced) is white noise passed through ``Δ(g - δ)``; its variance is

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import codecs
 import os
+from collections.abc import Iterator
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -14,7 +16,10 @@ from noisevar.io.limits import MAX_BYTES, check_bytes, check_size
 from noisevar.io.nmea import _looks_like_nmea, _read_nmea
 from noisevar.io.npy import _read_npy
 from noisevar.io.table import _NPY_MAGIC, NMEA_EXTENSIONS, LoadedTable, echo
-from noisevar.io.text import TextSource, _read_text_table
+from noisevar.io.text import TextSource, _read_frame, _read_text_table, table_layout
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 #: Bytes read to sniff the format and the header of a file given by path.
 HEAD_BYTES = 1 << 20
@@ -56,6 +61,51 @@ def _read_all(path: Path, name: str) -> bytes:
         return path.read_bytes()
     except OSError as exc:
         raise NoisevarError(f"cannot read {echo(name)}: {exc.strerror or exc}") from None
+
+
+def read_text_chunks(
+    path: str | os.PathLike, name: str | None = None, rows: int = HEAD_BYTES
+) -> tuple[list[str], Iterator[pd.DataFrame]]:
+    """A text table on disk read in pieces: its column names and frames of its rows.
+
+    The table is read as :func:`load_table` reads it (delimiter, decimal mark,
+    thousands separator, header), without holding the file in memory.
+
+    Parameters
+    ----------
+    path : path-like
+        A CSV/TSV or whitespace-separated text file.
+    name : str, optional
+        For messages (default: ``str(path)``).
+    rows : int
+        Rows per frame.
+
+    Returns
+    -------
+    names : list of str
+        The column names (``col0, col1, ...`` without a header).
+    frames : iterator of pandas.DataFrame
+        The body, ``rows`` rows at a time, columns numbered ``0 .. len(names) - 1``;
+        the file is opened at the first frame and closed after the last.
+
+    Raises
+    ------
+    NoisevarError
+        An unreadable, binary or malformed file (while the frames are read, too).
+    """
+    p = Path(path)
+    name = str(path) if name is None else name
+    head = _read_head(p, name)
+    whole = p.stat().st_size <= len(head)
+    text, encoding = _decode(head, name, final=whole)
+    fmt, names, header_line = table_layout(text, name, whole)
+    src = TextSource(p, text, encoding)
+
+    def frames() -> Iterator[pd.DataFrame]:
+        with _read_frame(src, header_line, len(names), fmt, name, chunksize=rows) as reader:
+            yield from reader
+
+    return names, frames()
 
 
 def load_table(

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from noisevar.kalman._jit import jit
+from noisevar.numeric.jit import jit
 
 
 @jit

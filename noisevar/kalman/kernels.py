@@ -29,9 +29,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from noisevar.kalman import steps
-from noisevar.kalman._jit import HAVE_NUMBA
-from noisevar.kalman._jit import inline as _inline
-from noisevar.kalman._jit import jit as _jit
 from noisevar.kalman._strategy_kernels import (
     outer_q,
     sage_husa_diag,
@@ -39,6 +36,9 @@ from noisevar.kalman._strategy_kernels import (
     vb_predict,
     window_diag,
 )
+from noisevar.numeric.jit import HAVE_NUMBA
+from noisevar.numeric.jit import inline as _inline
+from noisevar.numeric.jit import jit as _jit
 
 #: Filters and strategies started while this is true use the compiled kernels.
 USE_COMPILED: bool = HAVE_NUMBA

@@ -17,7 +17,7 @@ from numpy.typing import NDArray
 
 from noisevar.errors import NoisevarError
 from noisevar.kalman import kernels
-from noisevar.kalman._jit import jit
+from noisevar.numeric.jit import jit
 
 #: Relative change of the gain below which the time-varying pass hands over to the LTI pass.
 GAIN_TOL = 1e-15

@@ -1,9 +1,10 @@
-"""Records larger than memory: ``auto`` and its diagnostics over a file read in chunks.
+"""Records larger than memory: files read in chunks, estimated by a method's chunked engine.
 
 :func:`estimate_file` streams a ``.npy`` file, a raw binary file (``dtype=``) or a CSV
-column (spooled to a binary file first) through :func:`estimate_chunked`, which gives
-the numbers of the one-pass estimate with memory bounded whatever the record's length
-(docs/algorithms.md §F5.7).
+column (spooled to a binary file first, through :mod:`noisevar.io`'s readers) through
+:func:`~noisevar.estimators.estimate_chunked`, which gives the numbers of the one-pass
+estimate with memory bounded whatever the record's length (docs/algorithms.md §F5.7).
+This package holds the file sources only; the engine is the method's (``spec.chunked``).
 """
 
 from __future__ import annotations
@@ -12,11 +13,11 @@ import os
 from pathlib import Path
 
 from noisevar.errors import NoisevarError
+from noisevar.estimators import DEFAULT_METHOD, estimate_chunked
 from noisevar.estimators.results import VarianceEstimate
-from noisevar.stream.chunked import CHUNK, estimate_chunked
 from noisevar.stream.sources import FileSource, npy_source, raw_source, spool_csv
 
-__all__ = ["CHUNK", "FileSource", "estimate_chunked", "estimate_file", "source_of"]
+__all__ = ["FileSource", "estimate_chunked", "estimate_file", "source_of"]
 
 
 def source_of(
@@ -45,11 +46,12 @@ def estimate_file(
     *,
     column: str | int | None = None,
     dtype: str | None = None,
-    chunk: int = CHUNK,
+    method: str = DEFAULT_METHOD,
+    chunk: int | None = None,
     workers: int = 2,
     **params: object,
 ) -> VarianceEstimate:
-    """``auto``'s estimate of one column of a file, read in chunks.
+    """The estimate of one column of a file, read in chunks.
 
     Parameters
     ----------
@@ -59,9 +61,11 @@ def estimate_file(
     column : str or int, optional
     dtype : str, optional
         The raw file's sample type (``"float64"``, ``"<f4"``, ``"int16"``, ...).
-    chunk, workers : see :func:`estimate_chunked`.
+    method : str
+        A method with a chunked engine (default: the default method).
+    chunk, workers : see :func:`~noisevar.estimators.estimate_chunked`.
     **params
-        ``span``, ``order``, ``trim`` of ``auto``.
+        The method's parameters.
 
     Returns
     -------
@@ -75,8 +79,9 @@ def estimate_file(
         src = source_of(path, column, dtype)
     try:
         return estimate_chunked(
-            src.read, src.n, probe=src.__getitem__, chunk=chunk, workers=workers, **params
-        )  # type: ignore[arg-type]
+            src.read, src.n, method=method, probe=src.__getitem__, chunk=chunk,
+            workers=workers, **params,
+        )  # fmt: skip
     finally:
         if spool is not None:
             os.unlink(spool)

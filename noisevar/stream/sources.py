@@ -153,20 +153,14 @@ def spool_csv(
     The table is read as :func:`noisevar.io.load_table` reads it (delimiter, decimal mark,
     header); the caller removes the spool file (``source.path``) when done.
     """
-    from noisevar.io.load import HEAD_BYTES, _decode, _read_head
-    from noisevar.io.text import TextSource, _read_frame, table_layout
+    from noisevar.io.load import read_text_chunks  # here: it brings pandas
 
-    p, name = Path(path), str(path)
-    head = _read_head(p, name)
-    whole = p.stat().st_size <= len(head)
-    text, encoding = _decode(head, name, final=whole)
-    fmt, names, header_line = table_layout(text, name, whole)
+    name = str(path)
+    names, frames = read_text_chunks(path, name)
     picked = _pick(names, column, name)
-    src = TextSource(p, text, encoding)
     fd, spool = tempfile.mkstemp(suffix=".f64", dir=directory)
     try:
         with os.fdopen(fd, "wb") as out:
-            frames = _read_frame(src, header_line, len(names), fmt, name, chunksize=HEAD_BYTES)
             for frame in frames:
                 frame.iloc[:, names.index(picked)].to_numpy(dtype=float).tofile(out)
     except BaseException:

@@ -83,3 +83,31 @@ def test_differenced_white_noise_is_recognised_and_said():
     assert "differenced" in diag.verdict and "coloured" not in diag.verdict
     white = noisevar.estimate(rng.normal(size=20000)).diagnostics
     assert abs(white.whiteness.noise_lag1) < 0.05 and not white.differenced
+
+
+@pytest.mark.parametrize("kind", ["oscillation", "jerks", "fast"])
+def test_one_burst_of_motion_in_white_noise_is_motion_not_colour(kind):
+    # issue 26 class 3: the still stretches are white, so the verdict speaks of motion
+    rng = np.random.default_rng(5)
+    z = rng.normal(0, 1, 20000)
+    k = np.arange(1500)
+    motion = {
+        "oscillation": 20 * np.sin(np.pi * k / 1500) ** 2 * np.sin(2 * np.pi * k / 8),
+        "jerks": np.cumsum(rng.normal(0, 2, 1500)),
+        "fast": 10 * np.sin(2 * np.pi * k / 3.3),
+    }[kind]
+    z[9000:10500] += motion
+    est = noisevar.estimate(z)
+    diag = est.diagnostics
+    assert diag.motion_explains_colour
+    assert "motion" in diag.verdict and "coloured" not in diag.verdict.split(",")[0]
+    assert est.still.ci95[0] < 1.0 < est.still.ci95[1]
+
+
+def test_coloured_noise_of_one_level_is_still_called_coloured():
+    from noisevar import synth
+
+    z = synth.noise("ar1", 20000, rng=3, phi=0.7).values
+    diag = noisevar.estimate(z).diagnostics
+    assert not diag.level_varies and diag.still_whiteness is None
+    assert diag.verdict.startswith("the noise is coloured")

@@ -466,27 +466,9 @@ def test_parameters_a_method_does_not_take_are_refused():
 
 
 # ---------------------------------------------------- auto: fast internals = naive forms
-@pytest.mark.parametrize("n, block", [(1000, 256), (1030, 256), (5000, 64), (70, 16), (20, 16)])
-def test_kept_block_sums_equals_zeroing_a_copy(n, block):
-    from noisevar.estimators._blocks import _block_sums, _kept_block_sums
-
-    rng = np.random.default_rng(n + block)
-    nb = max(1, n // block)
-    for k in (0, 1, 5, 200):
-        x = rng.standard_normal(n) ** 2
-        x[rng.integers(0, n, 3)] = 1e15  # a huge outlier must not swamp its block's sum
-        idx = np.union1d(rng.integers(0, n, k), np.flatnonzero(x > 1e10)).astype(int)
-        ref = x.copy()
-        ref[idx] = 0.0
-        before = x.copy()
-        got = _kept_block_sums(x, idx, block, nb)
-        np.testing.assert_allclose(got, _block_sums(ref, block, nb), rtol=1e-12, atol=0)
-        np.testing.assert_array_equal(x, before)
-
-
 @pytest.mark.parametrize("n, block", [(1000, 256), (1100, 256), (300, 16), (16, 16)])
 def test_above_local_uses_the_higher_of_the_two_bracketing_levels(n, block):
-    from noisevar.estimators._trim import _above_local
+    from noisevar.estimators.auto._trim import _above_local
 
     rng = np.random.default_rng(n)
     nb = max(1, n // block)
@@ -549,61 +531,36 @@ def test_auto_does_not_trim_genuine_noise_after_a_noise_step():
     assert trimmed == 0
 
 
-def test_block_medians_equal_numpy_median():
-    from noisevar.estimators._blocks import _block_medians
-
-    rng = np.random.default_rng(3)
-    for block in (256, 18, 17):
-        x = rng.standard_normal(50 * block + 7)
-        ref = np.median(x[: 50 * block].reshape(50, block)[:, ::4], axis=1)
-        np.testing.assert_array_equal(_block_medians(x, block, 50, 4), ref)
-
-
-def test_step_mask_finds_a_jump_and_ignores_a_parabola():
-    from noisevar.estimators._steps import _step_mask
-
-    rng = np.random.default_rng(4)
-    k = np.arange(4000.0)
-    z = 1e-4 * (k - 2000.0) ** 2 + rng.standard_normal(k.size)
-    z[2500:] += 8.0
-
-    def above(x):
-        return x > 1.0  # unit noise variance, scale 1
-
-    hit = _step_mask(z, above)
-    assert hit[2490:2510].any()
-    assert not hit[:2400].any() and not hit[2600:].any()
-
-
 # ------------------------------------------------- auto's compiled residual filters
 @pytest.mark.parametrize("span", [11, 21, 41, 81])
 def test_compiled_residual_squares_equal_convolve(span, monkeypatch):
-    """The numba kernel of noisevar.filters._fir is np.convolve's filter, to rounding."""
-    import noisevar.estimators.auto as est
+    """The numba kernel of noisevar.numeric.fir is np.convolve's filter, to rounding."""
+    import noisevar.estimators.auto.core as est
+    from noisevar.numeric import fir
 
-    assert est.USE_COMPILED, "numba is a core dependency: the compiled path must be on"
+    assert fir.USE_COMPILED, "numba is a core dependency: the compiled path must be on"
     rng = np.random.default_rng(21)
     # a large offset, a fast component and a tile boundary that falls mid-record
     z = 5e5 + np.cumsum(rng.normal(0, 1, 5000)) + 3 * np.sin(np.arange(5000) / 4.0)
     z += rng.normal(0, 0.7, z.size)
     fast = est._residual_squares(z, span, 3)
-    monkeypatch.setattr(est, "USE_COMPILED", False)
+    monkeypatch.setattr(fir, "USE_COMPILED", False)
     ref = est._residual_squares(z, span, 3)
     assert np.max(np.abs(fast - ref)) < 1e-9 * np.mean(ref)
     # and it really is the residual: a cubic leaves nothing
     t = np.arange(3000.0)
     cubic = 2.0 + 0.3 * t - 1e-3 * t**2 + 1e-7 * t**3
-    monkeypatch.setattr(est, "USE_COMPILED", True)
+    monkeypatch.setattr(fir, "USE_COMPILED", True)
     assert np.max(est._residual_squares(cubic, span, 3)) < 1e-12 * np.max(cubic) ** 2
 
 
 @pytest.mark.parametrize("family", ["gps-circle", "steps-ramps", "noise-ramp"])
 def test_auto_compiled_equals_numpy_path(family, monkeypatch):
-    import noisevar.estimators.auto as est
+    from noisevar.numeric import fir
 
     z = nv.generate(family, n=6000, seed=5).measured
     fast = nv.estimate(z, method="auto")
-    monkeypatch.setattr(est, "USE_COMPILED", False)
+    monkeypatch.setattr(fir, "USE_COMPILED", False)
     ref = nv.estimate(z, method="auto")
     assert fast.variance == pytest.approx(ref.variance, rel=1e-12)
     assert fast.n_used == ref.n_used
@@ -629,7 +586,7 @@ def test_auto_long_span_stays_out_of_blocks_next_to_a_fast_burst():
 def test_local_peaks_equal_the_maximum_filter(seed):
     from scipy.ndimage import maximum_filter1d
 
-    from noisevar.estimators._trim import _local_peaks
+    from noisevar.estimators.auto._trim import _local_peaks
 
     rng = np.random.default_rng(seed)
     n = int(rng.integers(12, 3000))

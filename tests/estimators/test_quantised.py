@@ -8,8 +8,8 @@ import pytest
 import noisevar
 from noisevar import synth
 from noisevar.diagnostics.panel import verdict_severity
-from noisevar.estimators import _record
-from noisevar.estimators._quantised import (
+from noisevar.estimators.auto import _quantised
+from noisevar.estimators.auto._quantised import (
     PIECES,
     QUANT_MAX_SIGMA,
     SMOOTH_STEPS,
@@ -26,7 +26,7 @@ N = 6000
 
 def _off(monkeypatch) -> None:
     """Switch the correction off (the estimate as it was before it)."""
-    monkeypatch.setattr(_record, "_quantised", lambda result, lsb, record: result)
+    monkeypatch.setattr(_quantised, "correct", lambda result, *args: result)
 
 
 def _records(clean: np.ndarray, std: float, runs: int, seed: int) -> tuple[np.ndarray, float]:
@@ -210,7 +210,7 @@ def test_a_grid_offset_from_zero_gives_the_same_estimate() -> None:
 def test_smooth_is_scipys_savitzky_golay_fit(fit):
     from scipy import signal
 
-    from noisevar.estimators._quantised import SMOOTH_ORDER, _smooth
+    from noisevar.estimators.auto._quantised import SMOOTH_ORDER, _smooth
 
     x = np.cumsum(np.random.default_rng(fit).standard_normal(3 * fit))
     expected = signal.savgol_filter(x, fit, SMOOTH_ORDER, mode="interp")

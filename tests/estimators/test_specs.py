@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -11,10 +12,11 @@ from hypothesis import strategies as st
 
 import noisevar as nv
 from noisevar.errors import NoisevarError
-from noisevar.estimators import METHODS, register, unregister
-from noisevar.estimators.params import PARAMS, MethodSpec
+from noisevar.estimators import METHODS, estimate_chunked, register, unregister
+from noisevar.estimators.params import PARAMS
 from noisevar.estimators.results import VarianceEstimate, VarianceEstimates
 from noisevar.estimators.somd import somd_variance_records, somd_variance_windows
+from noisevar.estimators.spec import MethodSpec
 from noisevar.params import ParamSpec
 
 RNG = np.random.default_rng(40)
@@ -255,6 +257,60 @@ def test_a_new_estimator_is_one_spec_and_one_registration():
     finally:
         unregister("sample-var")
     assert "sample-var" not in nv.methods()
+
+
+class _RiceInChunks:
+    """A toy chunked engine (Rice's first difference): a Record for the pipeline."""
+
+    def __init__(self, read, n, *, probe=None, chunk=None, workers=2, note="streamed", notes=()):
+        self.read, self.n, self.chunk = read, n, chunk or 1000
+        self.notes = [*notes, f"{note} in chunks of {self.chunk} samples"]
+        self.exponent = 0
+
+    def estimate(self, params):
+        total = 0.0
+        for a in range(0, self.n - 1, self.chunk):  # chunks overlap by one sample
+            total += float(np.sum(np.diff(self.read(a, min(a + self.chunk + 1, self.n))) ** 2))
+        var = total / (2 * (self.n - 1))
+        return VarianceEstimate("rice-chunks", var, (0.9 * var, 1.1 * var), self.n, self.n,
+                                self.n / 1.5, {}, list(self.notes))  # fmt: skip
+
+    def diagnose(self, result):
+        from noisevar.diagnostics import diagnose
+
+        return diagnose(self.read(0, self.n))
+
+    def reader(self):
+        return self.read
+
+
+def test_a_method_with_a_chunked_engine_and_a_finishing_step_is_one_spec():
+    """Who streams or finishes asks the spec: the pipeline names no method (issue 25)."""
+
+    def func(z, notes):
+        var = float(np.sum(np.diff(z) ** 2) / (2 * (z.size - 1)))
+        return VarianceEstimate("rice-chunks", var, (0.9 * var, 1.1 * var), z.size, z.size,
+                                z.size / 1.5, {}, notes)  # fmt: skip
+
+    def finish(result, diag, record):
+        assert record is not None and record(0, 3).size == 3
+        return replace(result, notes=[*result.notes, "finished"])
+
+    spec = MethodSpec("rice-chunks", "Rice in chunks", "peer", func,
+                      chunked=_RiceInChunks, finish=finish)  # fmt: skip
+    register(spec)
+    try:
+        z = CHANNELS[1, 0]
+        one = nv.estimate(z, method="rice-chunks")
+        many = estimate_chunked(lambda a, b: z[max(a, 0) : b], z.size, method="rice-chunks")
+        assert many.variance == pytest.approx(one.variance, rel=1e-12)
+        assert one.notes[-1] == "finished" and many.notes[0].startswith("streamed in chunks")
+        assert many.params == one.params == {"method": "rice-chunks"}
+        assert many.diagnostics.verdict == one.diagnostics.verdict
+        with pytest.raises(NoisevarError, match="cannot read a record in chunks"):
+            estimate_chunked(lambda a, b: z[a:b], z.size, method="rice")
+    finally:
+        unregister("rice-chunks")
 
 
 def test_registry_is_the_list_of_methods():

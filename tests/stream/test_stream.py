@@ -12,9 +12,9 @@ from hypothesis import strategies as st
 
 import noisevar
 from noisevar.errors import NoisevarError
-from noisevar.estimators._trim import AUTO_BLOCK
+from noisevar.estimators.auto import AUTO_BLOCK
+from noisevar.estimators.auto.chunked import chunks
 from noisevar.stream import estimate_chunked, estimate_file
-from noisevar.stream.chunked import chunks
 
 
 def _ar(rng: np.random.Generator, n: int, phi: float) -> np.ndarray:
@@ -155,8 +155,8 @@ def test_cli_streams(tmp_path) -> None:
 
 
 def test_a_long_record_in_memory_is_estimated_in_chunks_with_the_same_numbers() -> None:
-    from noisevar.estimators._record import CHUNKED_MIN
     from noisevar.estimators.auto import auto_estimate
+    from noisevar.estimators.pipeline import CHUNKED_MIN
 
     rng = np.random.default_rng(8)
     n = CHUNKED_MIN + 1234
@@ -172,9 +172,9 @@ def test_a_long_record_in_memory_is_estimated_in_chunks_with_the_same_numbers() 
 
 def test_strided_block_medians_keep_a_white_record_steady(monkeypatch) -> None:
     """Blocks longer than MEDIAN_MAX take the median of strided squares, with their dof."""
-    from noisevar.diagnostics import _parts
+    from noisevar.diagnostics import plan
 
-    monkeypatch.setattr(_parts, "MEDIAN_MAX", 64)  # blocks of 1,000 squares: stride 16
+    monkeypatch.setattr(plan, "MEDIAN_MAX", 64)  # blocks of 1,000 squares: stride 16
     rng = np.random.default_rng(21)
     z = np.sin(np.arange(200_000) / 20_000) + 0.1 * rng.standard_normal(200_000)
     diag = noisevar.estimate(z).diagnostics

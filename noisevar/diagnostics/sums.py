@@ -1,18 +1,17 @@
 """The diagnostics of a record from its stretches: :func:`diag_part` maps, :class:`DiagSums` adds.
 
 A record in memory is one stretch per uniform segment; a record streamed from disk is
-one stretch per chunk (:mod:`noisevar.stream`). Stretches are added in record order.
+one stretch per chunk (``auto``'s chunked engine). Stretches are added in record order.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
 
-from noisevar.diagnostics._parts import (
+from noisevar.diagnostics.plan import (
     DIAG_ORDER,
     DIAG_SPAN,
     PROFILE_MIN_KEPT,
@@ -27,17 +26,7 @@ from noisevar.diagnostics._parts import (
 )
 from noisevar.diagnostics.whiteness import WHITE_LAGS
 from noisevar.errors import NoisevarError
-
-
-def _filter(x: NDArray, d: NDArray) -> NDArray:
-    """``d * x`` at the centred samples (``d`` symmetric): compiled when numba is there."""
-    from noisevar.estimators import auto
-
-    if auto.USE_COMPILED and auto._fir is not None:
-        out = np.empty(x.size - d.size + 1)
-        auto._fir.symmetric_fir(np.ascontiguousarray(x), d[d.size // 2 :].copy(), out, False)
-        return out
-    return np.convolve(x, d[::-1], mode="valid")
+from noisevar.numeric.fir import centred_fir, residual_sequence
 
 
 @dataclass
@@ -53,8 +42,6 @@ class DiagPart:
 
 
 def _sequence() -> NDArray:
-    from noisevar.estimators.auto import residual_sequence
-
     return residual_sequence(DIAG_SPAN, DIAG_ORDER)
 
 
@@ -64,7 +51,7 @@ def _residual_part(
     """Residuals centred on samples ``k0 .. k1`` of the window starting at ``wa``, kept mask."""
     h = DIAG_SPAN // 2
     x = z[k0 - wa - h : k1 - wa + h]
-    e = _filter(x, _sequence())
+    e = centred_fir(x, _sequence())
     x = None if exclude is None else exclude[k0 - wa - h : k1 - wa + h]
     if x is None or not x.any():
         return e, np.ones(e.size, dtype=bool)
@@ -73,7 +60,6 @@ def _residual_part(
     return e, c[DIAG_SPAN:] == c[: c.size - DIAG_SPAN]
 
 
-# long: one stretch's share of every statistic, in the plan's coordinates
 def diag_part(
     z: NDArray,
     wa: int,
@@ -225,6 +211,3 @@ class DiagSums:
                 f"no stretch of the record has {2 * DIAG_SPAN} uniformly sampled samples "
                 f"(span {DIAG_SPAN}) free of jumps: nothing to diagnose"
             )
-
-
-Reader = Callable[[int, int], NDArray]

@@ -18,8 +18,8 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import optimize, signal, special
 
-from noisevar.estimators.auto import residual_sequence
 from noisevar.estimators.results import VarianceEstimate
+from noisevar.numeric.fir import residual_sequence
 
 #: Corrected only below this noise standard deviation, in steps: above it the mean
 #: rounding error ``b`` is under 1e-4 of the error variance.
@@ -444,3 +444,41 @@ def apply_correction(result: VarianceEstimate, corr: QuantCorrection) -> Varianc
         core_variance=core,
         notes=[*result.notes, note],
     )
+
+
+def correct(
+    result: VarianceEstimate,
+    lsb: float,
+    record: Callable[[int, int], NDArray] | None,
+    span: int,
+    order: int,
+) -> VarianceEstimate:
+    """``result`` corrected for the rounding error its residual misses (§E3).
+
+    Parameters
+    ----------
+    result : VarianceEstimate
+        ``auto``'s estimate on a record on a grid of step ``lsb``.
+    lsb : float
+    record : callable or None
+        ``record(a, b)`` gives samples ``a .. b`` of the record in one uniform segment;
+        None for a record in several (gaps): it is not corrected, and a note says so
+        when it would be.
+    span, order : int
+        The residual sequence the estimate's shortest block span used.
+
+    Returns
+    -------
+    VarianceEstimate
+    """
+    if record is None:
+        if not small_against_step(result.variance, lsb):
+            return result
+        note = (
+            "the noise is small against the grid step and the record has gaps: the "
+            "correction for the rounding error that follows the signal is made on one "
+            "uniform record only, so the variance may be low (docs/algorithms.md §E3)"
+        )
+        return replace(result, notes=[*result.notes, note])
+    corr = quantisation_correction(record, result.n_total, lsb, result.variance, span, order)
+    return result if corr is None else apply_correction(result, corr)

@@ -233,3 +233,13 @@ class Windows:
         if not parts:
             return np.zeros(0), np.zeros(0, dtype=bool)
         return np.concatenate(parts), np.concatenate(kept)
+
+    def joined_slots(self) -> NDArray:
+        """The position of each sample of :meth:`joined` (-1 for the unused slots)."""
+        parts = []
+        for a, b in self.spans:
+            for lo in sorted(k for k in self.got if a <= k < b):
+                parts.append(np.arange(lo, lo + self.got[lo][0].size))
+            if len(self.spans) > 1:
+                parts.append(np.full(WHITE_LAGS, -1))
+        return np.concatenate(parts) if parts else np.zeros(0, dtype=int)

@@ -1,6 +1,6 @@
-"""Level jumps for ``auto``: a step detector blind to parabolas, confirmed by window medians.
+"""Level jumps: a step detector blind to parabolas, confirmed by window medians.
 
-docs/algorithms.md §F5.3.
+``auto`` leaves the samples around a jump out as signal (docs/algorithms.md §F5.3).
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ STEP_CONFIRM = 4.0
 STEP_MAX_FRACTION = 0.2
 
 
-def _step_mask(
+def step_mask(
     z: NDArray, above: Callable[[NDArray], NDArray], scale: float = 1.0, w: int = STEP_WINDOW
 ) -> NDArray:
     """Samples next to a jump, found by a step detector blind to parabolas.
@@ -34,10 +34,10 @@ def _step_mask(
     ``w = 6`` a jump of 6 σ stands 6.6 standard deviations out, where the
     cubic residual shows it only at about 2.5 (a local cubic absorbs most of
     a jump). A fast signal (a sinusoid of 30 samples per period, say) also
-    trips it; :func:`_outlier_mask` then ignores it.
+    trips it; the caller then ignores it (:data:`STEP_MAX_FRACTION`).
 
     ``above(x)`` tells where ``x`` exceeds ``scale`` times the local noise
-    variance (:func:`_above_local`); returns the samples where ``|D3|``
+    variance; returns the samples where ``|D3|``
     exceeds :data:`STEP_THRESHOLD` standard deviations. (The scale is folded
     into the window means, so the test costs no pass of its own: two work
     arrays, the third differences written in place.)
@@ -76,7 +76,7 @@ def _confirm_steps(
 ) -> NDArray:
     """Keep the runs of candidate samples where window medians confirm a level change.
 
-    ``D3med[k]`` is :func:`_step_mask`'s third difference with window medians in place
+    ``D3med[k]`` is :func:`step_mask`'s third difference with window medians in place
     of means; a run of candidates (samples closer than ``w``) stays when ``D3med``
     exceeds :data:`STEP_CONFIRM` of its standard deviations at one of its samples.
     """

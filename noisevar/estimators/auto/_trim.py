@@ -15,16 +15,16 @@ from scipy.ndimage import maximum_filter1d
 
 from noisevar._distributions import norm_cdf, norm_pdf
 from noisevar.errors import NoisevarError
-from noisevar.estimators._blocks import (
-    _block_counts,
-    _block_medians,
-    _block_square_sums,
-    _block_sums,
-    _dilate,
-    _flagged_per_block,
-    _kept_block_sums,
+from noisevar.numeric.blocks import (
+    block_counts,
+    block_medians,
+    block_square_sums,
+    block_sums,
+    dilate,
+    flagged_per_block,
+    kept_block_sums,
 )
-from noisevar.estimators._steps import STEP_MAX_FRACTION, _step_mask
+from noisevar.numeric.steps import STEP_MAX_FRACTION, step_mask
 
 #: Trimmed samples are widened by half of this span (or of the longest span below it).
 AUTO_MASK_SPAN = 41
@@ -71,7 +71,7 @@ def _outlier_mask(
     sq: NDArray,
     kappa: float,
     block: int,
-    dilate: int,
+    widen: int,
     steps: Callable[[Callable[[NDArray], NDArray], float], NDArray] | None,
     step_limit: float,
 ) -> tuple[NDArray | None, NDArray | None, NDArray | None]:
@@ -83,7 +83,7 @@ def _outlier_mask(
     so that a noise level changing along the record is followed (a noise step
     is not mistaken for outliers). Residuals beyond ``κ`` local standard
     deviations are flagged, and so are samples next to a jump found by
-    ``steps(above, κ²)`` (:func:`_step_mask`). Pass 1 leaves ``dilate``
+    ``steps(above, κ²)`` (:func:`step_mask`). Pass 1 leaves ``widen``
     neighbours on each side of what it flags out of the scale (a jump spreads
     over the whole span of the residual sequence); the returned mask is not
     widened, so that the caller can widen it by each span's half. Each is
@@ -94,7 +94,7 @@ def _outlier_mask(
     n = sq.size
     nb = max(1, n // block)
     scale = kappa**2 / 0.4549364231195724  # the median of χ²₁ is 0.4549
-    threshold = _block_medians(sq, block, nb, 4) * scale
+    threshold = block_medians(sq, block, nb, 4) * scale
     first = np.empty(n, dtype=bool)
     np.greater(
         sq[: nb * block].reshape(nb, block),
@@ -103,15 +103,15 @@ def _outlier_mask(
     )
     np.greater(sq[nb * block :], threshold[-1], out=first[nb * block :])
     tau = _truncated_second_moment(kappa)
-    kept_n = _block_counts(block, nb, n)
+    kept_n = block_counts(block, nb, n)
     if first.any():
-        if dilate > 0:  # leave the whole neighbourhood of a jump out of the scale
-            first = _dilate(first, dilate)
+        if widen > 0:  # leave the whole neighbourhood of a jump out of the scale
+            first = dilate(first, widen)
         idx = np.flatnonzero(first)
-        kept_sum = _kept_block_sums(sq, idx, block, nb)
-        kept_n -= _flagged_per_block(idx, block, nb)
+        kept_sum = kept_block_sums(sq, idx, block, nb)
+        kept_n -= flagged_per_block(idx, block, nb)
     else:
-        kept_sum = _block_sums(sq, block, nb)
+        kept_sum = block_sums(sq, block, nb)
     # κ² times the local variance of each block (held at its centre; see _above_local)
     threshold = kappa**2 * kept_sum / np.maximum(kept_n, 1.0) / tau
 
@@ -143,7 +143,7 @@ def _near_flagged(
     for j, s in enumerate(spans):
         if s // 2 >= half:
             break
-        usable[~_dilate(flagged, s // 2)[idx]] = j
+        usable[~dilate(flagged, s // 2)[idx]] = j
     keep = usable >= 0
     if not keep.any():
         return None
@@ -181,18 +181,18 @@ def _flag(
     if not np.isfinite(trim):
         return None, None, None
     limit = STEP_MAX_FRACTION * z.size if step_limit is None else step_limit
-    return _outlier_mask(sq0, trim, block, half, lambda v, sc: _step_mask(z, v, sc), limit)
+    return _outlier_mask(sq0, trim, block, half, lambda v, sc: step_mask(z, v, sc), limit)
 
 
 def _zero(sq: NDArray, flags: NDArray | None, half: int, block: int, nb: int) -> NDArray:
     """Zero the squares within ``half`` of ``flags`` in place; the samples left out per block."""
     if flags is None:
         return np.zeros(nb)
-    idx = np.flatnonzero(_dilate(flags, half) if half > 0 else flags)
+    idx = np.flatnonzero(dilate(flags, half) if half > 0 else flags)
     if idx.size == sq.shape[1]:
         raise NoisevarError("every residual was trimmed as an outlier: the signal is not usable")
     sq[:, idx] = 0.0
-    return _flagged_per_block(idx, block, nb)
+    return flagged_per_block(idx, block, nb)
 
 
 def _recoverable(
@@ -201,7 +201,7 @@ def _recoverable(
     """:func:`_near_flagged` for the mask of ``flags`` widened by ``half`` (None: no flags)."""
     if flags is None:
         return None
-    idx = np.flatnonzero(_dilate(flags, half) if half > 0 else flags)
+    idx = np.flatnonzero(dilate(flags, half) if half > 0 else flags)
     return _near_flagged(flags, idx, spans, half, sq)
 
 
@@ -225,20 +225,20 @@ def _trimmed_blocks(
     # before any zeroing: the values near flagged samples (and near jumps, for the total)
     recover = _recoverable(flagged, spans, half, sq)
     recover_total = _recoverable(jumps, spans, half, sq)
-    total_count = _block_counts(block, nb, m) - _zero(sq, jumps, half, block, nb)
-    total_sum = np.stack([_block_sums(q, block, nb) for q in sq])
-    kept_count = _block_counts(block, nb, m) - _zero(sq, flagged, half, block, nb)
-    block_sum = np.stack([_block_sums(q, block, nb) for q in sq])
-    fourth = _block_square_sums(sq[0], block, nb)
+    total_count = block_counts(block, nb, m) - _zero(sq, jumps, half, block, nb)
+    total_sum = np.stack([block_sums(q, block, nb) for q in sq])
+    kept_count = block_counts(block, nb, m) - _zero(sq, flagged, half, block, nb)
+    block_sum = np.stack([block_sums(q, block, nb) for q in sq])
+    fourth = block_square_sums(sq[0], block, nb)
     out_at = np.zeros(0, dtype=int)
     if outliers is not None:  # residuals next to a jump are the jump's, not outliers
-        alone = outliers if jumps is None else outliers & ~_dilate(jumps, half)
+        alone = outliers if jumps is None else outliers & ~dilate(jumps, half)
         # one outlying sample spreads over its neighbours' residuals: count the peaks
         out_at = _local_peaks(sq0_copy, np.flatnonzero(alone), spans[0])
     return _Blocks(
         block, nb, kept_count, block_sum, fourth, _clean_for(flagged, spans, half, block, nb),
         recover, total_count, total_sum, out_at, _clean_for(jumps, spans, half, block, nb),
-        recover_total, np.zeros(m, dtype=bool) if jumps is None else _dilate(jumps, half),
+        recover_total, np.zeros(m, dtype=bool) if jumps is None else dilate(jumps, half),
         np.zeros(0, dtype=int) if found is None else np.flatnonzero(found),
     )  # fmt: skip
 
@@ -263,9 +263,9 @@ def _clean_for(
     clean = np.ones((len(spans), nb), dtype=bool)
     if flags is None:
         return clean
-    per_block = _flagged_per_block(np.flatnonzero(_dilate(flags, half)), block, nb)
+    per_block = flagged_per_block(np.flatnonzero(dilate(flags, half)), block, nb)
     for j, s in enumerate(spans):
         if s // 2 > half:
-            wide = _flagged_per_block(np.flatnonzero(_dilate(flags, s // 2)), block, nb)
+            wide = flagged_per_block(np.flatnonzero(dilate(flags, s // 2)), block, nb)
             clean[j] = wide == per_block
     return clean

@@ -1,4 +1,4 @@
-"""Block arithmetic for ``auto``: sums, counts and medians per block, widened masks."""
+"""Block arithmetic: sums, counts and medians per block of samples, widened masks (``auto``)."""
 
 from __future__ import annotations
 
@@ -7,15 +7,15 @@ from numpy.typing import NDArray
 from scipy.ndimage import maximum_filter1d
 
 
-def _block_sums(x: NDArray, block: int, nb: int) -> NDArray:
+def block_sums(x: NDArray, block: int, nb: int) -> NDArray:
     """Sums over ``nb`` consecutive blocks of ``block`` samples (the rest joins the last)."""
     sums = x[: nb * block].reshape(nb, block).sum(axis=1, dtype=float)
     sums[-1] += x[nb * block :].sum()
     return sums
 
 
-def _block_square_sums(x: NDArray, block: int, nb: int) -> NDArray:
-    """Sums of ``x²`` over the blocks of :func:`_block_sums`, without a squared copy of ``x``."""
+def block_square_sums(x: NDArray, block: int, nb: int) -> NDArray:
+    """Sums of ``x²`` over the blocks of :func:`block_sums`, without a squared copy of ``x``."""
     head = x[: nb * block].reshape(nb, block)
     sums = np.einsum("ij,ij->i", head, head)
     tail = x[nb * block :]
@@ -23,7 +23,7 @@ def _block_square_sums(x: NDArray, block: int, nb: int) -> NDArray:
     return sums
 
 
-def _block_medians(x: NDArray, block: int, nb: int, stride: int) -> NDArray:
+def block_medians(x: NDArray, block: int, nb: int, stride: int) -> NDArray:
     """Median of every ``stride``-th sample of each of the first ``nb`` blocks.
 
     A row-wise sort of the small ``(nb, block / stride)`` array, with the values of
@@ -34,7 +34,7 @@ def _block_medians(x: NDArray, block: int, nb: int, stride: int) -> NDArray:
     return y[:, k // 2] if k % 2 else 0.5 * (y[:, k // 2 - 1] + y[:, k // 2])
 
 
-def _dilate(mask: NDArray, half: int) -> NDArray:
+def dilate(mask: NDArray, half: int) -> NDArray:
     """``mask`` widened by ``half`` samples on each side (cheap when few are set)."""
     idx = np.flatnonzero(mask)
     if idx.size > mask.size // 64:
@@ -45,26 +45,26 @@ def _dilate(mask: NDArray, half: int) -> NDArray:
     return out
 
 
-def _flagged_per_block(idx: NDArray, block: int, nb: int) -> NDArray:
-    """How many of the sample indices ``idx`` fall in each block of :func:`_block_sums`."""
+def flagged_per_block(idx: NDArray, block: int, nb: int) -> NDArray:
+    """How many of the sample indices ``idx`` fall in each block of :func:`block_sums`."""
     return np.bincount(np.minimum(idx // block, nb - 1), minlength=nb).astype(float)
 
 
-def _block_counts(block: int, nb: int, n: int) -> NDArray:
-    """Samples per block of :func:`_block_sums` (the rest joins the last)."""
+def block_counts(block: int, nb: int, n: int) -> NDArray:
+    """Samples per block of :func:`block_sums` (the rest joins the last)."""
     counts = np.full(nb, float(block))
     counts[-1] += n - nb * block
     return counts
 
 
-def _kept_block_sums(x: NDArray, idx: NDArray, block: int, nb: int) -> NDArray:
-    """:func:`_block_sums` of ``x`` with the samples ``idx`` counted as zero; ``x`` untouched.
+def kept_block_sums(x: NDArray, idx: NDArray, block: int, nb: int) -> NDArray:
+    """:func:`block_sums` of ``x`` with the samples ``idx`` counted as zero; ``x`` untouched.
 
     Only the blocks that hold a flagged sample are summed again, from a copy
     of those blocks alone (exactly: subtracting the flagged values instead
     would let a huge outlier swamp its block's sum).
     """
-    sums = _block_sums(x, block, nb)
+    sums = block_sums(x, block, nb)
     body = x[: nb * block].reshape(nb, block)
     inside = idx[idx < nb * block]
     rows_of = inside // block

@@ -1,4 +1,4 @@
-"""``auto``: a robust zero-lag polynomial virtual sensor (docs/algorithms.md §F5).
+"""``auto``'s estimator: a robust zero-lag polynomial virtual sensor (docs/algorithms.md §F5).
 
 The residual of a centred local polynomial (§F5.1) replaces SOMD's lagging
 alpha-beta-gamma prediction; each block of samples takes the longest span that does
@@ -8,15 +8,16 @@ trimmed mean corrected; §F5.5 gives the estimate and its degrees of freedom.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
 from numpy.typing import NDArray
 
+from noisevar.diagnostics import NoiseDiagnostics
 from noisevar.errors import NoisevarError
-from noisevar.estimators._blocks import _dilate
-from noisevar.estimators._trim import (
+from noisevar.estimators.auto._trim import (
     AUTO_MASK_SPAN,
     _Blocks,
     _flag,
@@ -25,49 +26,16 @@ from noisevar.estimators._trim import (
     auto_block,
 )
 from noisevar.estimators.difference import sequence_efficiency
-from noisevar.estimators.params import AUTO_ORDER, AUTO_TRIM, MethodSpec
+from noisevar.estimators.params import AUTO_ORDER, AUTO_TRIM
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
-
-try:  # compiled residual filters (numba); np.convolve below is the reference
-    from noisevar.filters import _fir
-except ImportError:  # pragma: no cover - numba not installed
-    _fir = None
-
-#: Filter with the compiled kernel of :mod:`noisevar.filters._fir` while this is true
-#: (and numba is installed); false selects ``np.convolve`` (the same filter, to rounding).
-USE_COMPILED: bool = _fir is not None
+from noisevar.numeric.blocks import dilate
+from noisevar.numeric.fir import centred_fir, residual_sequence
 
 AUTO_SPANS = (11, 21, 41, 81)
 AUTO_LEAK_SE = 3.5
 #: The span used on noise that is not white: the shortest, which lets the least of a
 #: coloured part (flicker, random walk) into the residual (docs/algorithms.md §F5.6).
 AUTO_COLOURED_SPAN = 5
-
-
-@lru_cache(maxsize=64)
-def residual_sequence(span: int, order: int) -> NDArray:
-    """Difference sequence ``δ - w`` of a centred local-polynomial (Savitzky-Golay) fit.
-
-    Parameters
-    ----------
-    span : int
-        Odd number of samples of each local fit.
-    order : int
-        Polynomial degree; the residual is blind to polynomials up to it.
-
-    Returns
-    -------
-    ndarray, shape (span,)
-    """
-    h = span // 2
-    # w = row h of the hat matrix P = Q Q' of a polynomial fit over the centred window
-    # (the Savitzky-Golay smoothing coefficients, as scipy.signal.savgol_coeffs)
-    q, _ = np.linalg.qr(np.vander((np.arange(span, dtype=float) - h) / max(h, 1), order + 1))
-    w = q @ q[h]
-    d = -0.5 * (w + w[::-1])  # exactly symmetric (the fit is to about 1e-15)
-    d[h] += 1.0
-    d.setflags(write=False)
-    return d
 
 
 @lru_cache(maxsize=64)
@@ -105,10 +73,9 @@ def _edge_residual_rows(span: int, order: int) -> tuple[NDArray, NDArray]:
 def _residual_squares(z: NDArray, span: int, order: int, out: NDArray | None = None) -> NDArray:
     """Normalised squared residuals ``e_k² / (I - P)_kk`` of a local polynomial, every sample.
 
-    Interior samples use the centred sequence ``d`` (``d / |d|``, symmetric:
-    the compiled kernel of :mod:`noisevar.filters._fir` when :data:`USE_COMPILED`,
-    else one ``np.convolve``, squared straight into ``out``); the first and last
-    ``span // 2`` use the one-sided fit over the first (last) ``span``
+    Interior samples use the centred sequence ``d`` (``d / |d|``, symmetric, through
+    :func:`~noisevar.numeric.fir.centred_fir`, squared straight into ``out``); the first
+    and last ``span // 2`` use the one-sided fit over the first (last) ``span``
     samples, so each square has expectation ``σ_k²`` for noise whose variance
     is locally constant.
     """
@@ -117,11 +84,7 @@ def _residual_squares(z: NDArray, span: int, order: int, out: NDArray | None = N
     h = span // 2
     out = np.empty(n) if out is None else out
     unit = d / np.sqrt(np.sum(d**2))
-    if USE_COMPILED and _fir is not None:
-        _fir.symmetric_fir_squares(np.ascontiguousarray(z), unit[h:].copy(), out[h : n - h])
-    else:
-        e = np.convolve(z, unit[::-1], mode="valid")
-        np.multiply(e, e, out=out[h : n - h])
+    centred_fir(z, unit, out[h : n - h], square=True)
     head, tail = _edge_residual_rows(span, order)
     out[:h] = (head @ z[:span]) ** 2 / np.diag(head[:, :h])
     out[n - h :] = (tail @ z[n - span :]) ** 2 / np.diag(tail[:, span - h :])
@@ -375,7 +338,8 @@ def auto_estimate(
     (§F5.1), spans per block (§F5.2), jump and outlier trimming with the
     truncated-moment correction ``τ`` (§F5.3, §F5.4), and
     ``var = sum e² / (n_kept τ)`` with ``sum_blocks n_b / sum ρ²`` degrees of freedom
-    (§F5.5). The record is one :func:`auto_part`; :mod:`noisevar.stream` sums many.
+    (§F5.5). The record is one :func:`auto_part`; :mod:`~noisevar.estimators.auto.chunked`
+    sums many.
     """
     order, trim = int(order), float(trim)
     span = None if span is None else int(span)
@@ -386,26 +350,40 @@ def auto_estimate(
     return auto_reduce([part], spans, params, list(notes or []))
 
 
-def _auto(z: NDArray, notes: list[str], **p: object) -> VarianceEstimate:
+def auto_method(z: NDArray, notes: list[str], **p: object) -> VarianceEstimate:
+    """:func:`auto_estimate` as a :class:`~noisevar.estimators.spec.MethodSpec`'s ``func``."""
     return auto_estimate(z, notes=notes, **p)
 
 
-def _chunked(read: object, n: int, **p: object) -> VarianceEstimate:
-    """:func:`noisevar.stream.chunked.estimate_chunked` (until it moves beside ``auto``)."""
-    from noisevar.stream.chunked import estimate_chunked  # stream imports this module
+def finish_quantised(
+    result: VarianceEstimate,
+    diag: NoiseDiagnostics,
+    record: Callable[[int, int], NDArray] | None,
+) -> VarianceEstimate:
+    """``auto``'s finishing step: on a quantised record, the rounding error its residual misses.
 
-    return estimate_chunked(read, n, **p)  # type: ignore[arg-type]
+    Parameters
+    ----------
+    result : VarianceEstimate
+        ``auto``'s estimate of the record.
+    diag : NoiseDiagnostics
+        The record's diagnostics (``diag.lsb``: its grid step, None when not on a grid).
+    record : callable or None
+        ``record(a, b)``: samples ``a .. b`` of a record in one uniform segment.
 
+    Returns
+    -------
+    VarianceEstimate
+        Corrected at low noise on a grid (docs/algorithms.md §E3), else ``result``.
+    """
+    if diag.lsb is None:
+        return result
+    # here: the correction needs scipy, which an estimate of an ordinary record never loads
+    from noisevar.estimators.auto import _quantised
 
-AUTO = MethodSpec(
-    "auto",
-    "robust zero-lag polynomial virtual sensor (our default)",
-    "ours",
-    _auto,
-    ("span", "order", "trim"),
-    coloured_params={"span": AUTO_COLOURED_SPAN},
-    chunked=_chunked,
-)
+    p = result.params
+    span = auto_spans(p.get("span"), p["order"], p["trim"], result.n_total)[-1]
+    return _quantised.correct(result, diag.lsb, record, span, p["order"])
 
 
 def jump_mask(z: NDArray, order: int = AUTO_ORDER, trim: float = AUTO_TRIM) -> NDArray | None:
@@ -426,4 +404,4 @@ def jump_mask(z: NDArray, order: int = AUTO_ORDER, trim: float = AUTO_TRIM) -> N
     block = auto_block(z.size)
     half = max(s for s in spans if s <= max(AUTO_MASK_SPAN, spans[0])) // 2
     _, jumps, _ = _flag(z, _residual_squares(z, spans[0], order), trim, block, half, None)
-    return None if jumps is None else _dilate(jumps, half)
+    return None if jumps is None else dilate(jumps, half)

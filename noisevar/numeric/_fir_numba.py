@@ -1,4 +1,4 @@
-"""Compiled (numba) kernels: the auto estimator's symmetric residual filters, lagged products.
+"""Compiled (numba) kernels behind :mod:`noisevar.numeric.fir`: symmetric filters, lagged products.
 
 ``auto`` filters the whole record with four centred Savitzky-Golay residual
 sequences (spans 11, 21, 41 and 81). ``np.convolve`` spends one dot product of

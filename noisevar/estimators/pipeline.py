@@ -1,0 +1,514 @@
+"""The one per-record pipeline: segments, the method, diagnostics, coloured noise, verdict.
+
+:func:`run_record` is what every estimate goes through, a record in memory
+(:class:`InMemory`: split at gaps, each uniform segment estimated and the segments
+pooled) and a record read in chunks (the method's engine, ``spec.chunked``) alike:
+
+1. run the method (``record.estimate``);
+2. look at the noise once (``record.diagnose``: :func:`noisevar.diagnostics.diagnose`);
+3. estimate again with ``spec.coloured_params`` when the noise is not white;
+4. the method's finishing step (``spec.finish``);
+5. conclude: the interval of a moment estimator widened for the measured tails and
+   correlation, the verdict, the assumptions (docs/algorithms.md §E1-§E3);
+6. back to the record's units (it was scaled by an exact power of two).
+
+What is special to a method is on its :class:`~noisevar.estimators.spec.MethodSpec`:
+no method is named here.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+from typing import Protocol
+
+import numpy as np
+from numpy.typing import NDArray
+
+from noisevar.diagnostics import (
+    NoiseDiagnostics,
+    Segmentation,
+    diagnose,
+    split_dropped,
+    split_times,
+    with_verdict,
+)
+from noisevar.diagnostics.assumptions import check_assumptions
+from noisevar.errors import NoisevarError
+from noisevar.estimators._input import check_samples, check_times
+from noisevar.estimators._scale import check_answer, unscale
+from noisevar.estimators.results import VarianceEstimate, chi2_interval
+from noisevar.estimators.spec import MethodSpec
+
+#: The method's coloured-noise parameters are used below this whiteness p-value (far
+#: below the flag's 5 %, so that white noise that fails the test by chance keeps the
+#: efficient defaults).
+COLOURED_P = 1e-4
+#: A record in memory at least this long, in one uniform segment, goes through the
+#: method's chunked engine when it has one (the same numbers, less memory, threads).
+CHUNKED_MIN = 1 << 19
+
+#: ``run(spec, z, notes, params)``: the method on one uniform finite segment.
+Runner = Callable[[MethodSpec, NDArray, list[str], dict], VarianceEstimate]
+#: ``jumps(z)``: the samples around level jumps of one segment, left out of the
+#: diagnostics (None when none).
+JumpMask = Callable[[NDArray], "NDArray | None"]
+
+
+class Record(Protocol):
+    """A record as the pipeline sees it (in memory, or a method's chunked engine).
+
+    Attributes
+    ----------
+    exponent : int
+        The samples the method sees are the record's times ``2**exponent``.
+    """
+
+    exponent: int
+
+    def estimate(self, params: dict) -> VarianceEstimate:
+        """The method's estimate of the record with ``params``."""
+        ...
+
+    def diagnose(self, result: VarianceEstimate) -> NoiseDiagnostics:
+        """The record's diagnostics (``result``: the method's first estimate)."""
+        ...
+
+    def reader(self) -> Callable[[int, int], NDArray] | None:
+        """Samples ``a .. b`` of a record in one uniform segment (None: several)."""
+        ...
+
+
+def _segmentation(raw: NDArray, t: NDArray | None, drop: bool) -> tuple[NDArray, Segmentation]:
+    """The finite samples and their uniform segments (gaps from ``t`` and dropped samples)."""
+    bad = ~np.isfinite(raw)
+    if bad.any() and not drop:
+        check_samples(raw, False)  # raises the one message for non-finite samples
+    z = raw[~bad] if bad.any() else raw
+    if t is not None:
+        return z, split_times(check_times(t, raw.size)[~bad])
+    if bad.any():
+        return z, split_dropped(bad)
+    return z, Segmentation(((0, z.size),), ())
+
+
+#: Still stretches shorter than this, once the samples around jumps are cut out, are not
+#: estimated again (a method's spans need room; such pieces say little).
+STILL_MIN = 64
+
+
+def runs_of(mask: NDArray, offset: int = 0) -> list[tuple[int, int]]:
+    """The runs of True in ``mask`` as ``(start, stop)`` ranges (plus ``offset``)."""
+    edges = np.flatnonzero(np.diff(np.r_[0, mask.view(np.int8), 0])) + offset
+    return [(int(a), int(b)) for a, b in zip(edges[::2], edges[1::2], strict=True)]
+
+
+def cut_out(ranges: list[tuple[int, int]], holes: list[tuple[int, int]]) -> list[tuple[int, int]]:
+    """``ranges`` less ``holes`` (both sorted, disjoint), pieces under :data:`STILL_MIN` dropped."""
+    out = []
+    for a, b in ranges:
+        for c, d in holes:
+            if d <= a or c >= b:
+                continue
+            if c > a:
+                out.append((a, c))
+            a = max(a, d)
+        if b > a:
+            out.append((a, b))
+    return [(a, b) for a, b in out if b - a >= STILL_MIN]
+
+
+def pool_segments(parts: list[VarianceEstimate], n_total: int, skipped: int) -> VarianceEstimate:
+    """Segments' estimates pooled with weights their samples (the record's mean level)."""
+    w = np.array([p.n_used for p in parts], dtype=float)
+    w /= w.sum()
+    v = np.array([p.variance for p in parts])
+    # var = Σ w_s v_s,  ν = var² / Σ w_s² v_s² / ν_s   (Satterthwaite)
+    var = float(w @ v)
+    dof = float(var**2 / np.sum(w**2 * v**2 / np.array([p.dof for p in parts])))
+    cores = [p.core_variance for p in parts]
+    core = None if None in cores else float(w @ np.array(cores))
+    outliers = float(np.sum([p.outlier_fraction * p.n_total for p in parts]) / n_total)
+    notes = list(parts[0].notes)
+    notes.append(f"estimated in {len(parts)} uniform segments and pooled")
+    if skipped:
+        notes.append(f"{skipped} segments too short to estimate were left out")
+    return VarianceEstimate(
+        parts[0].method, var, chi2_interval(var, dof), int(sum(p.n_used for p in parts)),
+        n_total, dof, dict(parts[0].params), notes, core_variance=core,
+        outlier_fraction=outliers,
+    )  # fmt: skip
+
+
+def _by_segment(
+    spec: MethodSpec, z: NDArray, seg: Segmentation, notes: list[str], params: dict, run: Runner
+) -> VarianceEstimate:
+    """Estimate each segment (too short ones are skipped) and pool."""
+    if seg.segments == ((0, z.size),):
+        return run(spec, z, notes, params)
+    if len(seg.segments) == 1:
+        a, b = seg.segments[0]
+        return run(spec, check_samples(z[a:b])[0], notes, params)
+    parts, error = [], None
+    for a, b in seg.segments:
+        try:
+            parts.append(run(spec, check_samples(z[a:b])[0], list(notes), params))
+        except NoisevarError as exc:
+            error = error or exc
+    if not parts:
+        raise NoisevarError(f"no uniform segment of the record could be estimated: {error}")
+    return pool_segments(parts, z.size, len(seg.segments) - len(parts))
+
+
+def _jumps(z: NDArray, seg: Segmentation, jump_mask: JumpMask) -> NDArray | None:
+    """Samples around level jumps in each segment (left out of the diagnostics as signal)."""
+    out = np.zeros(z.size, dtype=bool)
+    for a, b in seg.segments:
+        try:
+            m = jump_mask(z[a:b])
+        except NoisevarError:  # too short for the jump detector
+            continue
+        if m is not None:
+            out[a:b] = m
+    return out if out.any() else None
+
+
+def _honest_interval(r: VarianceEstimate, diag: NoiseDiagnostics) -> VarianceEstimate:
+    """Widen a moment estimator's interval for the noise's kurtosis and correlation.
+
+    ``ν = n / (η c + (κ - 3) / 2)`` with ``η = n / ν₀`` the method's own factor, ``κ``
+    the noise kurtosis and ``c`` the excess of the residual's correlation over white
+    noise's (1 when the noise passes the whiteness test) (docs/algorithms.md §E1).
+    """
+    if not (r.dof > 0 and r.n_used > 0):
+        return r
+    eta = r.n_used / r.dof
+    w = diag.whiteness
+    c = 1.0
+    if not w.white:
+        c = max(1.0, (1 + 2 * np.sum(w.acf**2)) / (1 + 2 * np.sum(w.expected**2)))
+    excess = max(diag.kurtosis - 3.0, 0.0) / 2.0
+    if c == 1.0 and excess == 0.0:
+        return r
+    dof = float(r.n_used / (eta * c + excess))
+    return replace(r, dof=dof, ci95=chi2_interval(r.variance, dof))
+
+
+@dataclass
+class InMemory:
+    """A record in memory: its finite samples ``z`` in uniform segments ``seg``.
+
+    ``run`` estimates one segment; the segments' estimates are pooled. ``jump_mask``
+    finds the samples around level jumps that the diagnostics leave out (unless the
+    method's own result carries them, ``result.jumps``).
+    """
+
+    spec: MethodSpec
+    z: NDArray
+    seg: Segmentation
+    run: Runner
+    jump_mask: JumpMask
+    notes: list[str]
+    exponent: int = 0
+
+    def estimate(self, params: dict) -> VarianceEstimate:
+        """Each segment through the method (too short ones skipped), pooled."""
+        return _by_segment(self.spec, self.z, self.seg, list(self.notes), params, self.run)
+
+    def diagnose(self, result: VarianceEstimate) -> NoiseDiagnostics:
+        """:func:`noisevar.diagnostics.diagnose` of the record, its jumps left out."""
+        own = result.jumps
+        if own is None or own.size != self.z.size:
+            jumps = _jumps(self.z, self.seg, self.jump_mask)
+        else:  # the method's own mask, made over the whole record in one piece
+            jumps = own if own.any() else None
+        self.jump_runs = [] if jumps is None else runs_of(jumps)
+        return diagnose(self.z, self.seg, jumps)
+
+    def estimate_in(self, params: dict, ranges: list[tuple[int, int]]) -> VarianceEstimate:
+        """The method on the sample ranges ``ranges`` only, less the samples around jumps
+        that the diagnostics left out, cut at the record's gaps, pooled."""
+        cut = [
+            (max(a, c), min(b, d))
+            for a, b in cut_out(ranges, getattr(self, "jump_runs", []))
+            for c, d in self.seg.segments
+            if min(b, d) > max(a, c)
+        ]
+        seg = Segmentation(tuple(cut), ())
+        return _by_segment(self.spec, self.z, seg, list(self.notes), params, self.run)
+
+    def reader(self) -> Callable[[int, int], NDArray] | None:
+        """Samples ``a .. b`` when the record is one uniform segment."""
+        z = self.z
+        return (lambda a, b: z[a:b]) if len(self.seg.segments) == 1 else None
+
+
+def estimate_record(
+    spec: MethodSpec,
+    raw: NDArray,
+    t: NDArray | None,
+    drop: bool,
+    params: dict,
+    run: Runner,
+    jump_mask: JumpMask,
+    scaled: int = 0,
+) -> VarianceEstimate:
+    """One channel in memory through ``spec``: segments, pooled estimate, diagnostics, verdict.
+
+    Parameters
+    ----------
+    spec : MethodSpec
+    raw : ndarray, shape (n,)
+        Samples as given (non-finite ones allowed with ``drop``), times ``2**scaled``.
+    t : ndarray, shape (n,), optional
+        Sample times.
+    drop : bool
+        Drop non-finite samples (each run of them is a gap).
+    params : dict
+        Validated method parameters (``None`` left out), in the scaled units.
+    run : callable
+        ``run(spec, z, notes, params)`` for one uniform finite segment.
+    jump_mask : callable
+        ``jump_mask(z)``: the samples around level jumps of one segment.
+    scaled : int
+        The exponent the samples were scaled by.
+
+    Returns
+    -------
+    VarianceEstimate
+        In the record's units. A long record in one segment goes through
+        ``spec.chunked`` when the method has it (:data:`CHUNKED_MIN`).
+    """
+    z, seg = _segmentation(raw, t, drop)
+    z, notes = check_samples(z)
+    dropped = raw.size - z.size
+    if dropped:
+        notes.insert(0, f"dropped {dropped} non-finite samples")
+    record: Record
+    if spec.chunked is not None and len(seg.segments) == 1 and z.size >= CHUNKED_MIN:
+        record = spec.chunked(
+            lambda a, b: z[max(a, 0) : b], z.size, probe=z.__getitem__, note="estimated",
+            notes=notes,
+        )  # fmt: skip
+    else:
+        record = InMemory(spec, z, seg, run, jump_mask, notes)
+    return run_record(spec, record, params, scaled=scaled)
+
+
+def run_record(
+    spec: MethodSpec,
+    record: Record,
+    params: dict,
+    result: VarianceEstimate | None = None,
+    scaled: int = 0,
+) -> VarianceEstimate:
+    """The pipeline: the method, diagnostics, coloured noise, finishing step, verdict, units.
+
+    Parameters
+    ----------
+    spec : MethodSpec
+    record : Record
+    params : dict
+        Validated method parameters (``None`` left out).
+    result : VarianceEstimate, optional
+        The method's estimate of the record, when it was made already (many channels
+        at once).
+    scaled : int
+        The exponent the record was scaled by before ``record`` saw it (its own
+        :attr:`~Record.exponent` is added).
+
+    Returns
+    -------
+    VarianceEstimate
+        In the record's units, with ``params["method"]``.
+    """
+    if result is None:
+        result = record.estimate(params)
+    try:
+        diag = record.diagnose(result)
+    except NoisevarError as exc:
+        result.notes.append(f"no diagnostics: {exc}")
+    else:
+        if diag.whiteness.p_value < COLOURED_P:
+            result = _coloured(spec, record, result, params)
+        still = _still(spec, record, result.params | params, diag)
+        if still is not None:  # its interval from the record's noise; the diagnostics
+            still = conclude(spec, still, diag, None)  # stay on the record's own result
+            still.diagnostics = None
+        result = conclude(spec, result, diag, record.reader(), still)
+    return _in_record_units(result, scaled + record.exponent, spec.name)
+
+
+def _still(
+    spec: MethodSpec, record: Record, params: dict, diag: NoiseDiagnostics
+) -> VarianceEstimate | None:
+    """The method on the still regimes' quiet stretches, when the level varies (else None).
+
+    The sensor's own noise, on the same residual as the record's R (docs/algorithms.md
+    §E1 Regimes); None when the record cannot be cut (read in chunks) or the stretches
+    are too short for the method.
+    """
+    estimate_in = getattr(record, "estimate_in", None)
+    if not diag.level_varies or estimate_in is None:
+        return None
+    ranges = diag.level_profile.still_stretches
+    if not ranges:
+        return None
+    try:
+        still = estimate_in({k: v for k, v in params.items() if k != "method"}, ranges)
+    except NoisevarError:
+        return None
+    still.notes.append(f"the still regimes only: {len(ranges)} stretches, {still.n_total} samples")
+    return still
+
+
+def _coloured(
+    spec: MethodSpec, record: Record, result: VarianceEstimate, params: dict
+) -> VarianceEstimate:
+    """Estimate again with the method's parameters for coloured noise (unless the user chose)."""
+    extra = {k: v for k, v in (spec.coloured_params or {}).items() if params.get(k) is None}
+    if not extra:
+        return result
+    again = record.estimate({**params, **extra})
+    again.notes.append(coloured_note(extra))
+    return again
+
+
+def _in_record_units(result: VarianceEstimate, e: int, method: str) -> VarianceEstimate:
+    """``result``, made on the record times ``2**e``, in the record's units and checked."""
+    unscale([result] if result.still is None else [result, result.still], e)
+    check_answer(result)
+    if e:
+        rescale_diagnostics(result, e)
+    result.params = {"method": method, **result.params}
+    return result
+
+
+def coloured_note(extra: dict) -> str:
+    """What a result estimated again with the coloured-noise parameters ``extra`` says."""
+    said = ", ".join(f"{k}={v}" for k, v in extra.items())
+    return (
+        f"the noise is not white: estimated with {said}, which lets the least of the "
+        "coloured part in (the white part, or a little above it)"
+    )
+
+
+def conclude(
+    spec: MethodSpec,
+    result: VarianceEstimate,
+    diag: NoiseDiagnostics,
+    record: Callable[[int, int], NDArray] | None = None,
+    still: VarianceEstimate | None = None,
+) -> VarianceEstimate:
+    """``result`` with the diagnostics ``diag``: honest interval, verdict, notes, assumptions.
+
+    Parameters
+    ----------
+    spec : MethodSpec
+        The method that made ``result``.
+    result : VarianceEstimate
+    diag : NoiseDiagnostics
+        The record's diagnostics.
+    record : callable, optional
+        ``record(a, b)``: samples ``a .. b`` of the (one-segment) record, for the
+        method's finishing step (``spec.finish``).
+    still : VarianceEstimate, optional
+        The same method on the still regimes alone: kept as ``result.still`` and quoted
+        by the verdict.
+
+    Returns
+    -------
+    VarianceEstimate
+    """
+    if spec.finish is not None:
+        result = spec.finish(result, diag, record)
+    if diag.differenced and spec.residual is not None:
+        result = _differenced(result, spec.residual(result.params), diag.whiteness.noise_lag1)
+    if spec.moment:
+        result = _honest_interval(result, diag)
+    if not diag.identifiable:  # no measurement noise can be told apart: 0 is as likely
+        result = replace(result, ci95=(0.0, result.ci95[1]))
+    quiet = None if still is None else still.variance
+    diag = with_verdict(diag, result.variance, result.core_variance, result.outlier_fraction, quiet)
+    result.still = still
+    result.notes.extend(n for n in diag.notes if n not in result.notes)
+    result.diagnostics = diag
+    result.assumptions = check_assumptions(spec.assumes, diag)
+    return result
+
+
+def _differenced(result: VarianceEstimate, d: NDArray, r: float) -> VarianceEstimate:
+    """``result`` for MA(1) noise of lag-1 correlation ``r`` seen through the residual ``d``.
+
+    Notes
+    -----
+    docs/algorithms.md §E2: ``E[e²] = σ² (Σd² + 2 r Σ d_i d_{i+1})``, so an estimate
+    normalised for white noise (``mean(e²) / Σd²``) is ``1 + 2 r α₁`` times σ², the
+    variance per sample (``α₁`` the filter's lag-1 autocorrelation). Differenced white
+    noise (``r = -1/2``) seen through a smoother's residual (``α₁`` near -0.8) reads
+    about 1.8 times too high without it.
+    """
+    alpha1 = float(np.dot(d[:-1], d[1:]) / np.dot(d, d))
+    factor = 1.0 / (1.0 + 2.0 * r * alpha1)
+    if not (np.isfinite(factor) and factor > 0):
+        return result
+    core = None if result.core_variance is None else result.core_variance * factor
+    lo, hi = result.ci95
+    notes = [
+        *result.notes,
+        f"the noise looks differenced (lag-1 correlation {r:+.2f}): the white-noise "
+        f"estimate was multiplied by {factor:.3g}, the residual's response to such noise",
+    ]
+    return replace(
+        result, variance=result.variance * factor, ci95=(lo * factor, hi * factor),
+        core_variance=core, notes=notes,
+    )  # fmt: skip
+
+
+def rescale_diagnostics(result: VarianceEstimate, e: int) -> None:
+    """Diagnostics made on ``z * 2**e`` back in the record's units, verdict rewritten (in place).
+
+    Parameters
+    ----------
+    result : VarianceEstimate
+        Its variance, core and interval already in the record's units.
+    e : int
+        The exponent the record was scaled by.
+    """
+    diag = result.diagnostics
+    if diag is None:
+        return
+    prof = diag.level_profile
+    top = np.finfo(float).max
+
+    def back(x: NDArray, power: int) -> NDArray:
+        with np.errstate(over="ignore", under="ignore"):
+            return np.minimum(np.ldexp(x, -power * e), top)  # a block may not fit: clip
+
+    regimes = tuple(
+        replace(
+            r,
+            variance=float(back(np.asarray(r.variance), 2)),
+            lo=float(back(np.asarray(r.lo), 2)),
+            hi=float(back(np.asarray(r.hi), 2)),
+        )
+        for r in prof.regimes
+    )
+    prof = replace(
+        prof,
+        variance=back(prof.variance, 2),
+        lo=back(prof.lo, 2),
+        hi=back(prof.hi, 2),
+        regimes=regimes,
+    )
+    lsb = None if diag.lsb is None else float(back(np.asarray(diag.lsb), 1))
+    old = set(diag.notes)
+    diag = with_verdict(
+        replace(diag, level_profile=prof, lsb=lsb),
+        result.variance,
+        result.core_variance,
+        result.outlier_fraction,
+        None if result.still is None else result.still.variance,
+    )
+    result.notes = [n for n in result.notes if n not in old] + list(diag.notes)
+    result.diagnostics = diag

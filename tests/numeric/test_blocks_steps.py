@@ -1,0 +1,50 @@
+"""The bottom layer's block arithmetic and step detector against their naive forms."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+
+@pytest.mark.parametrize("n, block", [(1000, 256), (1030, 256), (5000, 64), (70, 16), (20, 16)])
+def test_kept_block_sums_equals_zeroing_a_copy(n, block):
+    from noisevar.numeric.blocks import block_sums, kept_block_sums
+
+    rng = np.random.default_rng(n + block)
+    nb = max(1, n // block)
+    for k in (0, 1, 5, 200):
+        x = rng.standard_normal(n) ** 2
+        x[rng.integers(0, n, 3)] = 1e15  # a huge outlier must not swamp its block's sum
+        idx = np.union1d(rng.integers(0, n, k), np.flatnonzero(x > 1e10)).astype(int)
+        ref = x.copy()
+        ref[idx] = 0.0
+        before = x.copy()
+        got = kept_block_sums(x, idx, block, nb)
+        np.testing.assert_allclose(got, block_sums(ref, block, nb), rtol=1e-12, atol=0)
+        np.testing.assert_array_equal(x, before)
+
+
+def test_block_medians_equal_numpy_median():
+    from noisevar.numeric.blocks import block_medians
+
+    rng = np.random.default_rng(3)
+    for block in (256, 18, 17):
+        x = rng.standard_normal(50 * block + 7)
+        ref = np.median(x[: 50 * block].reshape(50, block)[:, ::4], axis=1)
+        np.testing.assert_array_equal(block_medians(x, block, 50, 4), ref)
+
+
+def test_step_mask_finds_a_jump_and_ignores_a_parabola():
+    from noisevar.numeric.steps import step_mask
+
+    rng = np.random.default_rng(4)
+    k = np.arange(4000.0)
+    z = 1e-4 * (k - 2000.0) ** 2 + rng.standard_normal(k.size)
+    z[2500:] += 8.0
+
+    def above(x):
+        return x > 1.0  # unit noise variance, scale 1
+
+    hit = step_mask(z, above)
+    assert hit[2490:2510].any()
+    assert not hit[:2400].any() and not hit[2600:].any()
