@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import plotly.graph_objects as go
@@ -29,19 +30,12 @@ from noisevar.figures.kalman import (
 from noisevar.kalman import STRATEGIES, HuberUpdate
 from noisevar.kalman.evaluation import filter_summary
 from noisevar.kalman.result import FilterResult
+from noisevar.params import ParamSpec
 from noisevar.systems.scenarios import GPS_DURATION, SCENARIOS
 
 VIEWS = ["Track", "States", "R estimates", "Innovations and NIS"]
-DEFAULT_STRATEGIES = ["oracle", "somd", "rae", "sage-husa", "vb"]
-
-#: Position / other state groups of each filter scenario, for the RMSE table (the first
-#: group's first two states are the track's axes). Scenarios do not declare them yet.
-KALMAN_STATE_GROUPS: dict[str, dict[str, tuple[int, ...]]] = {
-    "gps-circle": {"position (m)": (0, 1), "speed (m/s)": (2,), "heading (rad)": (3,)},
-    "noise-step": {"position (m)": (0, 2), "velocity (m/s)": (1, 3)},
-    "noise-ramp": {"position (m)": (0, 2), "velocity (m/s)": (1, 3)},
-    "outliers": {"position (m)": (0, 2), "velocity (m/s)": (1, 3)},
-}
+#: The strategies picked at first: the registry's featured ones.
+DEFAULT_STRATEGIES = [name for name, spec in STRATEGIES.items() if spec.featured]
 
 
 @dataclass
@@ -72,59 +66,53 @@ def strategy_picker(is_scenario: bool) -> list[str]:
     )
 
 
+#: The page's widget for each strategy parameter it offers, one value for every strategy
+#: that takes it: (widget key, label, the widget's range and step). An integer parameter
+#: gets a number input, a real one a slider; the default is the registry's.
+SETTING_WIDGETS: dict[str, tuple[str, str, dict[str, Any]]] = {
+    "window": ("af_window", "RAE/IAE window N", {"min_value": 5, "max_value": 1000}),
+    "forgetting": (
+        "af_b",
+        "Sage-Husa b",
+        {"min_value": 0.90, "max_value": 0.999, "step": 0.001, "format": "%.3f"},
+    ),
+    "rho": (
+        "af_rho",
+        "VB ρ",
+        {"min_value": 0.90, "max_value": 1.0, "step": 0.005, "format": "%.3f"},
+    ),
+    "every": ("af_every", "SOMD every N steps", {"min_value": 10, "max_value": 2000, "step": 10}),
+}
+
+
+def tunable_spec(name: str) -> ParamSpec:
+    """The registry's spec of a strategy parameter: the first one with a default."""
+    return next(
+        p
+        for spec in STRATEGIES.values()
+        for p in spec.params
+        if p.name == name and p.default is not None
+    )
+
+
 def strategy_settings() -> tuple[cache.Settings, float | None]:
     """The strategies' tunable settings and the Huber κ (None: plain update)."""
+    settings: cache.Settings = {}
     with st.expander("Strategy settings"):
-        c1, c2, c3, c4, c5 = st.columns(5)
-        window = c1.number_input(
-            "RAE/IAE window N",
-            5,
-            1000,
-            key="af_window",
-            bind="query-params",
-            **initial("af_window", STRATEGIES["rae"].defaults()["window"]),
-        )
-        forgetting = c2.slider(
-            "Sage-Husa b",
-            0.90,
-            0.999,
-            step=0.001,
-            format="%.3f",
-            key="af_b",
-            bind="query-params",
-            **initial("af_b", STRATEGIES["sage-husa"].defaults()["forgetting"]),
-        )
-        rho = c3.slider(
-            "VB ρ",
-            0.90,
-            1.0,
-            step=0.005,
-            format="%.3f",
-            key="af_rho",
-            bind="query-params",
-            **initial("af_rho", STRATEGIES["vb"].defaults()["rho"]),
-        )
-        every = c4.number_input(
-            "SOMD every N steps",
-            10,
-            2000,
-            step=10,
-            key="af_every",
-            bind="query-params",
-            **initial("af_every", STRATEGIES["somd"].defaults()["every"]),
-        )
-        huber = c5.toggle(
+        *cols, last = st.columns(len(SETTING_WIDGETS) + 1)
+        for (name, (key, label, widget)), col in zip(SETTING_WIDGETS.items(), cols, strict=True):
+            spec = tunable_spec(name)
+            draw = col.number_input if spec.kind == "int" else col.slider
+            value = draw(
+                label, key=key, bind="query-params", **widget, **initial(key, spec.default)
+            )
+            settings[name] = int(value) if spec.kind == "int" else float(value)
+        huber = last.toggle(
             f"Huber update (κ = {HuberUpdate.kappa:g})",
             key="af_huber",
             bind="query-params",
             help="Robust M-estimation update (docs/algorithms.md §B3); works with every strategy.",
         )
-    settings: cache.Settings = {
-        "window": int(window),
-        "forgetting": float(forgetting),
-        "rho": float(rho),
-        "every": int(every),
-    }
     return settings, (HuberUpdate.kappa if huber else None)
 
 
@@ -172,7 +160,7 @@ def on_scenario(strategies: list[str], settings: cache.Settings, kappa: float | 
                 runs.results.append(cache.scenario_run(sc, key, s, settings, kappa))
     runs.truth_R = sc.R_true[sc.first_step :]
     runs.z_shown = sc.z[:, sc.first_step :]
-    runs.groups = KALMAN_STATE_GROUPS.get(scen)
+    runs.groups = sc.state_groups or None
     runs.track_states = next(iter(runs.groups.values()))[:2] if runs.groups else (0, 1)
     runs.track_channels = (0, 1)
     runs.title = scen
@@ -355,9 +343,11 @@ def _table1(res1: cache.JsonDict, ask: tuple[int, int]) -> None:
     chans = list(res1["channels"])
     table = [
         {"row": "true", **{c: res1["channels"][c]["true"] for c in chans}},
-        {"row": "paper SOMD", **{c: res1["channels"][c]["paper"]["somd"] for c in chans}},
-        {"row": "paper RAE", **{c: res1["channels"][c]["paper"]["rae"] for c in chans}},
     ]
+    for key in res1["channels"][chans[0]]["paper"]:  # the paper's rows, in its order
+        table.append(
+            {"row": f"paper {key.upper()}", **{c: res1["channels"][c]["paper"][key] for c in chans}}
+        )
     for m in res1["channels"][chans[0]]["methods"]:
         table.append({"row": m, **{c: res1["channels"][c]["methods"][m]["mean"] for c in chans}})
     st.markdown(f"**Noise variance per channel** ({ask[0]} runs, seed {ask[1]})")

@@ -159,7 +159,7 @@ class MonteCarloSettings:
     methods: list[str]
 
 
-def monte_carlo_form(sig: LoadedSignal) -> MonteCarloSettings:  # long: one widget per setting
+def monte_carlo_form(sig: LoadedSignal) -> MonteCarloSettings:
     """Scenario, samples, noise, runs, seed and methods of the Monte Carlo runs."""
     gen_default = None
     if sig.source == "generated" and sig.recipe_base:

@@ -13,8 +13,10 @@ from dashboard.widgets import figure_view, guarded, show_figure, table_and_figur
 from noisevar.figures.fusion import error_figure, isolation_figure, r_track_figure, track_figure
 from noisevar.kalman import STRATEGIES
 from noisevar.systems.fusion import (
+    ADAPTIVE_LOCAL,
     FAULTS,
     LOCAL_STRATEGIES,
+    NOISE_FAULTS,
     FusionData,
     FusionResult,
     FusionScenario,
@@ -48,7 +50,7 @@ class FusionSettings:
         return f"{self.fault}|{self.steps}|{self.runs}|{self.seed}|{self.factor}|{self.bias}"
 
 
-def settings_form() -> FusionSettings:  # long: one widget call per setting
+def settings_form() -> FusionSettings:
     """Fault, steps, runs, seed, fault size, false-alarm probability, configurations."""
     c1, c2, c3, c4 = st.columns(4)
     fault = c1.selectbox(
@@ -81,7 +83,7 @@ def settings_form() -> FusionSettings:  # long: one widget call per setting
         step=0.5,
         key="fu_factor",
         bind="query-params",
-        disabled=fault not in ("noise-step", "noise-ramp"),
+        disabled=fault not in NOISE_FAULTS,
         **initial("fu_factor", SCENARIO.noise_factor),
     )
     bias = c2.slider(
@@ -179,7 +181,7 @@ def _figure(view: str, results: list[FusionResult]) -> go.Figure | None:
     if view == "Position error":
         return error_figure(results)
     if view == "VB estimate of R":
-        vb = [r for r in results if r.label.startswith("vb")]
+        vb = [r for r in results if r.label.startswith(ADAPTIVE_LOCAL)]
         if vb:
             return r_track_figure(vb[0], sensor=0, channel=0)
         st.info("Add a vb configuration to see its estimate of R.")

@@ -16,6 +16,7 @@ from collections.abc import Callable
 import numpy as np
 import streamlit as st
 
+from dashboard.cache import DEFAULT_METHOD
 from dashboard.widgets import fmt, guarded, show_figure
 from noisevar.config import validate_config
 from noisevar.figures.kalman_tuning import (
@@ -84,10 +85,11 @@ def _verdict(t: KalmanTuning) -> None:
 
 
 def _exports(t: KalmanTuning) -> None:
+    config = validate_config(to_config(t, {"method": DEFAULT_METHOD}))  # the default estimator
     c1, c2 = st.columns(2)
     c1.download_button(
         "Config with Q and R (JSON)",
-        data=json.dumps(validate_config(to_config(t)), indent=2) + "\n",
+        data=json.dumps(config, indent=2) + "\n",
         file_name=f"tuned_{t.model}.json",
         mime="application/json",
         key=f"{KEY}_cfg",

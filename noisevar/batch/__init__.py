@@ -217,7 +217,7 @@ def _check_jobs(jobs: int | None) -> int:
     return jobs
 
 
-def batch(  # long: one readable sequence: plan, run, journal, merge
+def batch(
     paths: str | os.PathLike | Iterable[str | os.PathLike],
     columns: str | Sequence[str] | None = "all",
     method: str = DEFAULT_METHOD,

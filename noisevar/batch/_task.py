@@ -20,7 +20,7 @@ def estimate_row(
     The estimate's fields are its :meth:`~noisevar.estimators.results.VarianceEstimate.to_row`;
     a row whose estimate failed has ``n_total`` (the samples read) and ``error``.
     """
-    import noisevar
+    from noisevar.estimators import estimate
     from noisevar.io import pick_column
 
     start = time.perf_counter()
@@ -28,7 +28,7 @@ def estimate_row(
     try:
         z = pick_column(table, channel, drop_nonfinite=bool(params.get("drop_nonfinite")))
         row["n_total"] = int(z.size)
-        est = noisevar.estimate(z, method=method, **params)
+        est = estimate(z, method=method, **params)
     except NoisevarError as exc:
         row["error"] = str(exc)
         row["elapsed_s"] = time.perf_counter() - start

@@ -168,9 +168,8 @@ def _channels(args: argparse.Namespace, params: dict[str, Any]) -> tuple[Any, li
 def _estimate_many(args: argparse.Namespace, columns: Any, method: str, params: dict) -> int:
     import numpy as np
 
-    import noisevar
     from noisevar.batch.channels import table_channels
-    from noisevar.estimators import method_spec
+    from noisevar.estimators import estimate, method_spec
     from noisevar.io import load_table, pick_column
 
     if method_spec(method).needs_reference:
@@ -185,9 +184,9 @@ def _estimate_many(args: argparse.Namespace, columns: Any, method: str, params: 
         except NoisevarError as exc:
             raise NoisevarError(f"column {name!r}: {exc}") from None
     if len({z.size for z in zs}) == 1:  # one 2-D estimate, vectorised where the method allows
-        results = list(noisevar.estimate(np.stack(zs), method=method, axis=-1, **params))
+        results = list(estimate(np.stack(zs), method=method, axis=-1, **params))
     else:
-        results = [noisevar.estimate(z, method=method, **params) for z in zs]
+        results = [estimate(z, method=method, **params) for z in zs]
     pairs = list(zip(names, results, strict=True))
     if args.format == "json":
         print_json(
@@ -238,8 +237,7 @@ def _estimate_streamed(args: argparse.Namespace, column: Any, method: str, param
 
 
 def _cmd_estimate(args: argparse.Namespace) -> int:
-    import noisevar
-    from noisevar.estimators import method_spec
+    from noisevar.estimators import estimate, method_spec
 
     method, params = estimate_params(args)
     column, columns = _channels(args, params)
@@ -256,12 +254,12 @@ def _cmd_estimate(args: argparse.Namespace) -> int:
             )
         z, dropped = load_signal(args.file, column, drop)
         params["reference"], _ = load_signal(args.file, args.reference_column, drop)
-        result = noisevar.estimate(z, method=method, **params)
+        result = estimate(z, method=method, **params)
         if dropped:
             result.notes.insert(0, f"dropped {dropped} non-finite samples of {args.file}")
     else:  # the record with its times and the loader's notes: gaps are split, not spliced
         z, t, notes = load_record(args.file, column, drop)
-        result = noisevar.estimate(z, method=method, t=t, **params)
+        result = estimate(z, method=method, t=t, **params)
         result.notes[:0] = [n for n in notes if n not in result.notes]
     _print(args, column, result)
     return 0

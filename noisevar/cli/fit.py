@@ -32,6 +32,7 @@ def _print_table(t: Any, args: argparse.Namespace) -> None:
 
 def _cmd_fit(args: argparse.Namespace) -> int:
     from noisevar.config import load_config, validate_config
+    from noisevar.estimators import DEFAULT_METHOD
     from noisevar.noise_model import evaluate_kalman, fit_kalman
     from noisevar.noise_model.export import from_config, to_config
 
@@ -56,7 +57,8 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         method = {} if args.method is None else {"method": args.method}  # else fit_kalman's
         tuning = fit_kalman(z, model=args.model or "cv", rate=args.rate, **method)
     if args.save_config:
-        text = json.dumps(validate_config(to_config(tuning)), indent=2) + "\n"
+        config = to_config(tuning, {"method": DEFAULT_METHOD})
+        text = json.dumps(validate_config(config), indent=2) + "\n"
         Path(args.save_config).write_text(text, encoding="utf-8")
     if args.format == "json":
         out = tuning.to_dict()

@@ -32,7 +32,7 @@ from noisevar.errors import NoisevarError
 from noisevar.estimators import METHODS, estimate
 from noisevar.estimators.results import VarianceEstimate, row_columns
 from noisevar.io import LoadedTable, table_from_arrays
-from noisevar.signals import generate, signal_names
+from noisevar.signals import generate, signal_names, signal_spec
 
 #: Record length above which :func:`default_methods` leaves the slow methods out.
 SLOW_METHOD_LIMIT = 20_000
@@ -564,7 +564,8 @@ def simulate_sensors(
         raise NoisevarError("give one offset per sensor")
     base = generate(signal, n=n, seed=seed, noise_std=1.0)
     u = np.linspace(0.0, 1.0, base.clean.size)
-    cols: dict[str, NDArray] = {"time": base.t} if base.name == "gps-circle" else {}
+    timed = "sample_period" in signal_spec(signal).param_specs  # the family sets its period
+    cols: dict[str, NDArray] = {"time": base.t} if timed else {}
     for i, (s, o) in enumerate(zip(stds, offs, strict=True)):
         rng = np.random.default_rng(seed + 1 + i)
         slow = drift * np.sin(2 * np.pi * (0.5 + 0.3 * i) * u + i)

@@ -31,7 +31,7 @@ from noisevar.figures._common import (
 _KIND_COLOR = {"ours": PALETTE[2], "somd": PALETTE[0], "peer": PALETTE[9]}
 
 
-def compare_figure(  # long: one figure, built trace by trace in drawing order
+def compare_figure(
     comp: Comparison, title: str | None = None, height: int | None = None
 ) -> go.Figure:
     """Every method's estimate with its 95 % interval (and the truth when known).

@@ -136,7 +136,7 @@ def envelope_figure(
     return capped(go.Figure(data=data, layout=layout(title, height, annotations=anns, **axes)))
 
 
-def scan_figure(  # long: one figure, built trace by trace in drawing order
+def scan_figure(
     scan: HScan,
     h_selected: Sequence[float] = (),
     h_track: float | None = None,

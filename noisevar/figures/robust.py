@@ -64,7 +64,7 @@ def measured_positions(result: RobustResult, run: int = 0) -> np.ndarray:
     return np.stack([horiz * np.sin(z[:, 1]), horiz * np.cos(z[:, 1])], axis=-1)
 
 
-def track_figure(  # long: one figure, built trace by trace in drawing order
+def track_figure(
     result: RobustResult,
     run: int = 0,
     max_points: int = MAX_POINTS,

@@ -70,19 +70,20 @@ def filterpy_snippet(tuning: KalmanTuning) -> str:
 
 
 def to_config(tuning: KalmanTuning, config: Mapping[str, Any] | None = None) -> dict[str, Any]:
-    """A config (``config``, or ``{"method": "auto"}``) with the tuned filter under ``"kalman"``.
+    """An estimator config with the tuned filter under ``"kalman"``.
 
     Parameters
     ----------
     tuning : KalmanTuning
     config : mapping, optional
-        An estimator config to extend.
+        The estimator config to extend: ``"method"`` and its parameters (the CLI and the
+        dashboard give the default method's). Without it, the filter's entry alone.
 
     Returns
     -------
     dict
     """
-    out = dict(config) if config is not None else {"method": "auto"}
+    out = dict(config) if config is not None else {}
     out[CONFIG_KEY] = {
         "model": tuning.model,
         "rate": tuning.rate,

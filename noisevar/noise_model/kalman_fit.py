@@ -359,7 +359,7 @@ def _units(model: str, rate: float | None) -> dict[str, str]:
     return {"q": f"u²/{t}^{k} ({MODELS[model][2]})", "r": "u²", "h": "1 (per sample)"}
 
 
-def _tuning(
+def _tuning(  # long: assembles the filter, its intervals and its validation
     z: NDArray,
     model: str,
     dt: float,
@@ -368,7 +368,7 @@ def _tuning(
     r: float,
     method: str,
     notes: list[str],
-) -> KalmanTuning:  # long: assembles the filter, its intervals and its validation
+) -> KalmanTuning:
     """Build the :class:`KalmanTuning` for (q, r) and validate it on ``z``."""
     from statsmodels.tsa.stattools import acf, q_stat
 

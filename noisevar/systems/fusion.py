@@ -31,13 +31,16 @@ from noisevar.kalman import (
     RStrategy,
     StateSpaceModel,
     VariationalBayesR,
+    make_strategy,
     quadratic_form_inverse,
     run_filter,
     steps,
+    strategy_spec,
 )
 from noisevar.systems.base import BatchResult
 from noisevar.systems.fusion_scenario import (
     FAULTS,
+    NOISE_FAULTS,
     FusionData,
     FusionScenario,
     Sensor,
@@ -46,8 +49,10 @@ from noisevar.systems.fusion_scenario import (
 )
 
 __all__ = [
+    "ADAPTIVE_LOCAL",
     "FAULTS",
     "LOCAL_STRATEGIES",
+    "NOISE_FAULTS",
     "STATE_NAMES",
     "FusionData",
     "FusionResult",
@@ -61,7 +66,10 @@ __all__ = [
     "simulate_fusion",
 ]
 
-LOCAL_STRATEGIES = ("vb", "fixed", "oracle")
+#: The local filters' ``R`` (names of the strategy registry): the adaptive one of the
+#: paper (variational Bayes, §B2), then the references, the nominal and the true ``R``.
+ADAPTIVE_LOCAL = VariationalBayesR.name
+LOCAL_STRATEGIES = (ADAPTIVE_LOCAL, FixedR.name, OracleR.name)
 STATE_NAMES = ("east", "north", "v_east", "v_north")
 
 
@@ -158,7 +166,7 @@ def max_abs_diff_vs_centralized(
     -------
     float
     """
-    fused = run_fusion(data, local="fixed", feedback=feedback)
+    fused = run_fusion(data, local=FixedR.name, feedback=feedback)
     central = central if central is not None else run_centralized(data)
     return float(np.max(np.abs(fused.x - central.x)))
 
@@ -197,16 +205,14 @@ def _local_model(data: FusionData, sensor: Sensor) -> StateSpaceModel:
 
 
 def _make_strategy(local: str, data: FusionData, i: int, vb_rho: float) -> RStrategy:
-    if local == "vb":
-        return VariationalBayesR(rho=vb_rho)
-    if local == "fixed":
-        return FixedR()
-    return OracleR(data.true_R(i))
+    """The local filter's strategy from the registry (``vb_rho`` for the one that takes ρ)."""
+    rho = {"rho": vb_rho} if "rho" in strategy_spec(local).defaults() else {}
+    return make_strategy(local, R_true=data.true_R(i), **rho)
 
 
 def run_fusion(
     data: FusionData,
-    local: str = "vb",
+    local: str = ADAPTIVE_LOCAL,
     isolation: bool = False,
     false_alarm: float = 1e-3,
     feedback: bool = True,

@@ -11,6 +11,9 @@ from noisevar.errors import NoisevarError
 from noisevar.systems.base import BatchResult
 
 FAULTS = ("none", "noise-step", "noise-ramp", "bias", "frozen")
+#: The faults that scale sensor noise by ``noise_factor`` (``"bias"`` is sized by
+#: ``bias_sigmas``).
+NOISE_FAULTS = ("noise-step", "noise-ramp")
 
 
 @dataclass(frozen=True)

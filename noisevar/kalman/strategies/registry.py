@@ -36,6 +36,8 @@ class StrategySpec:
         Constructor arguments that define this entry (``method="somd-paper"``).
     needs : tuple of str
         Context it must be given: ``"h_smooth"`` (SOMD) or ``"R_true"`` (oracle).
+    featured : bool
+        Among the strategies a comparison shows at first (the dashboard's default pick).
     """
 
     name: str
@@ -44,6 +46,7 @@ class StrategySpec:
     params: tuple[ParamSpec, ...] = ()
     fixed: dict[str, Any] = field(default_factory=dict)
     needs: tuple[str, ...] = ()
+    featured: bool = False
 
     def defaults(self) -> dict[str, Any]:
         """Default value of every tunable parameter."""
@@ -68,7 +71,11 @@ STRATEGIES: dict[str, StrategySpec] = {
     for s in (
         StrategySpec("fixed", FixedR, "the model's nominal R"),
         StrategySpec(
-            "oracle", OracleR, "the true R (simulations only): the lower bound", needs=("R_true",)
+            "oracle",
+            OracleR,
+            "the true R (simulations only): the lower bound",
+            needs=("R_true",),
+            featured=True,
         ),
         StrategySpec(
             "somd",
@@ -76,6 +83,7 @@ STRATEGIES: dict[str, StrategySpec] = {
             "SOMD on a trailing window per channel (bias-corrected)",
             (_SOMD_EVERY, _SOMD_WINDOW),
             needs=("h_smooth",),
+            featured=True,
         ),
         StrategySpec(
             "somd-paper",
@@ -85,11 +93,19 @@ STRATEGIES: dict[str, StrategySpec] = {
             {"method": "somd-paper"},
             ("h_smooth",),
         ),
-        StrategySpec("rae", ResidualR, "residual-based moving-window R", (_WINDOW,)),
+        StrategySpec("rae", ResidualR, "residual-based moving-window R", (_WINDOW,), featured=True),
         StrategySpec("iae", InnovationR, "innovation-based moving-window R", (_WINDOW,)),
         StrategySpec("rae-q", ResidualQR, "residual-based R and Q = K C_d K'", (_WINDOW,)),
-        StrategySpec("sage-husa", SageHusaR, "Sage-Husa recursion with forgetting", (_FORGETTING,)),
-        StrategySpec("vb", VariationalBayesR, "variational Bayes, inverse-gamma R", (_RHO,)),
+        StrategySpec(
+            "sage-husa",
+            SageHusaR,
+            "Sage-Husa recursion with forgetting",
+            (_FORGETTING,),
+            featured=True,
+        ),
+        StrategySpec(
+            "vb", VariationalBayesR, "variational Bayes, inverse-gamma R", (_RHO,), featured=True
+        ),
     )
 }
 

@@ -12,7 +12,7 @@ from noisevar.kalman.strategies import MovingMean, ResidualR
 from noisevar.systems.carrier.scenario import JERK_PSD, Q_RULES, R_STARTS, CarrierScenario
 
 
-def carrier_model(  # long: the four model closures sit beside the matrices they use
+def carrier_model(
     scenario: CarrierScenario,
     control: NDArray[np.float64],
     jerk_psd: float = JERK_PSD,

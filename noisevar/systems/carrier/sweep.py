@@ -163,7 +163,7 @@ class SlipRates:
     rms_phase_error_rad: dict[str, NDArray[np.float64]]
 
 
-def slip_rates(  # long: chunked loop over C/N0 values with its counters
+def slip_rates(
     cn0_dbhz: tuple[float, ...] = (25.0, 30.0, 35.0),
     runs: int = 1000,
     seed: int = 0,

@@ -149,7 +149,7 @@ def _rms(x: NDArray[np.float64]) -> float:
     return float(np.sqrt(np.mean(np.square(x))))
 
 
-def run_latency(  # long: the three steps of the method and the scoring
+def run_latency(
     record: LatencyRecord,
     max_delay_s: float = 2.0,
     process_noise_std_s: float = 1e-4,

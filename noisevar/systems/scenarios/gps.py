@@ -217,4 +217,5 @@ def gps_circle(
             "position (σ = 5 m), speed (σ = √2 m/s), heading (σ = 0.01 rad); EKF on model [20], "
             "initial R = diag(100, 100, 4, 0.01) (docs/algorithms.md §A9)."
         ),
+        state_groups={"position (m)": (0, 1), "speed (m/s)": (2,), "heading (rad)": (3,)},
     )

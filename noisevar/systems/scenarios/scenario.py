@@ -49,6 +49,9 @@ class Scenario(BatchResult):
         Where gross errors were added.
     description : str
         One paragraph for reports.
+    state_groups : dict of str to tuple of int
+        Named groups of states for summaries (an RMSE per group, ``filter_summary``); the
+        first group's first two states are the horizontal position (the track).
     """
 
     name: str
@@ -65,6 +68,7 @@ class Scenario(BatchResult):
     outlier_mask: NDArray | None = None
     description: str = ""
     extra: dict[str, Any] = field(default_factory=dict)
+    state_groups: dict[str, tuple[int, ...]] = field(default_factory=dict)
 
     @property
     def runs(self) -> int:

@@ -122,6 +122,7 @@ def _target_scenario(
         h_smooth=(TARGET_H_SMOOTH, TARGET_H_SMOOTH),
         change=change,
         description=description,
+        state_groups={"position (m)": (0, 2), "velocity (m/s)": (1, 3)},
     )
 
 
