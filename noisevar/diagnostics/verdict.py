@@ -57,6 +57,41 @@ def make_verdict(
     """
     r = f"R = {_g(variance)} (std {_g(float(np.sqrt(max(variance, 0.0))))})"
     quiet = diag.quiet_variance if still is None else still
+    not_white = _not_white(diag, r, quiet, variance)
+    if not_white is not None:
+        return not_white
+    prof = diag.level_profile
+    if diag.level_varies and under_half_a_step(diag, variance):
+        return (
+            f"white noise under half a step on a grid of step {_g(diag.lsb)}: its level "
+            "follows the signal's offset within a step, which is quantisation, not a changing "
+            f"sensor; {r} includes the rounding error"
+        )
+    if diag.level_varies:
+        return (
+            f"the noise level changes along the record: {r} is an average; its quiet "
+            f"stretches ({prof.quiet_share:.0%}) give {_g(quiet)}"
+        )
+    if diag.heavy_tailed:
+        bulk = f"; a robust filter should use the core variance {_g(core)}" if core else ""
+        return (
+            f"white heavy-tailed noise (kurtosis {diag.kurtosis:.1f}, {outliers:.1%} outliers): "
+            f"{r} includes the tails, as a plain Kalman filter needs{bulk}"
+        )
+    if diag.lsb is not None and diag.lsb**2 / 12.0 > 0.01 * variance:
+        return (
+            f"white noise on a grid of step {_g(diag.lsb)}: {r} includes the rounding error "
+            f"lsb²/12 = {_g(diag.lsb**2 / 12.0)}, and is a good Kalman R"
+        )
+    return f"white Gaussian noise: {r} is a good Kalman R"
+
+
+def _not_white(diag: NoiseDiagnostics, r: str, quiet: float, variance: float) -> str | None:
+    """The verdict of a record whose noise is not a white level (None: it may be one).
+
+    In the order the evidence decides: no noise to tell apart, mostly motion, differenced
+    data, motion leaking through still stretches that are white, then coloured noise.
+    """
     prof = diag.level_profile
     if not diag.identifiable:
         return (
@@ -97,29 +132,7 @@ def make_verdict(
             "its white part (or a little above): model the coloured part (see the noise "
             "model), since a white R alone understates what a Kalman filter sees"
         )
-    if diag.level_varies and under_half_a_step(diag, variance):
-        return (
-            f"white noise under half a step on a grid of step {_g(diag.lsb)}: its level "
-            "follows the signal's offset within a step, which is quantisation, not a changing "
-            f"sensor; {r} includes the rounding error"
-        )
-    if diag.level_varies:
-        return (
-            f"the noise level changes along the record: {r} is an average; its quiet "
-            f"stretches ({prof.quiet_share:.0%}) give {_g(quiet)}"
-        )
-    if diag.heavy_tailed:
-        bulk = f"; a robust filter should use the core variance {_g(core)}" if core else ""
-        return (
-            f"white heavy-tailed noise (kurtosis {diag.kurtosis:.1f}, {outliers:.1%} outliers): "
-            f"{r} includes the tails, as a plain Kalman filter needs{bulk}"
-        )
-    if diag.lsb is not None and diag.lsb**2 / 12.0 > 0.01 * variance:
-        return (
-            f"white noise on a grid of step {_g(diag.lsb)}: {r} includes the rounding error "
-            f"lsb²/12 = {_g(diag.lsb**2 / 12.0)}, and is a good Kalman R"
-        )
-    return f"white Gaussian noise: {r} is a good Kalman R"
+    return None
 
 
 def make_notes(diag: NoiseDiagnostics) -> tuple[str, ...]:
