@@ -151,7 +151,8 @@ def sample_acf(e: NDArray, lags: int, keep: NDArray | None = None) -> NDArray:
         count = n - np.arange(lags + 1.0)
     # γ_k = Σ x_i x_{i+k} / (pairs at lag k)
     gamma = lagged_products(x, lags) / np.maximum(count, 1.0)
-    return gamma[1:] / gamma[0]
+    with np.errstate(invalid="ignore", divide="ignore"):  # no variation: NaN, refused after
+        return gamma[1:] / gamma[0]
 
 
 def whiteness_test(
