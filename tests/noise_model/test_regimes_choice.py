@@ -18,6 +18,9 @@ from noisevar.noise_model import allan, fit_coloured_noise, fit_kalman, inertial
 from noisevar.noise_model.export import filterpy_snippet, from_config, to_config
 from noisevar.noise_model.kalibr import kalibr_imu, parse_kalibr
 
+#: the whole motion record's r interval reaches past a float (an infinite upper bound)
+pytestmark = pytest.mark.filterwarnings("ignore:overflow encountered in exp:RuntimeWarning")
+
 SIGMA = 0.15
 STILL = 2000
 
