@@ -136,6 +136,17 @@ def longest_still_stretch(z: ArrayLike, need: int = 0, purpose: str = "the fit")
     return StillStretch(int(a), int(b), int(arr.shape[0]), False)
 
 
+def still_used(est: VarianceEstimate, regimes: str = DEFAULT_REGIMES) -> bool:
+    """Whether ``regimes`` gives the estimate's still R: ``"still"`` and it has one."""
+    return check_regimes(regimes) == "still" and est.still is not None
+
+
+def estimate_for(est: VarianceEstimate, regimes: str = DEFAULT_REGIMES) -> VarianceEstimate:
+    """The estimate a regime choice quotes: ``est``, or ``est.still`` (:func:`still_used`)."""
+    still = est.still
+    return still if still is not None and still_used(est, regimes) else est
+
+
 def variance_for(est: VarianceEstimate, regimes: str = DEFAULT_REGIMES) -> float:
     """The R of an estimate for a regime choice: ``est.variance``, or ``est.still.variance``.
 
@@ -150,9 +161,7 @@ def variance_for(est: VarianceEstimate, regimes: str = DEFAULT_REGIMES) -> float
         With ``"still"``, the still regimes' variance when the estimate has one (the
         level varies); else the whole record's (one regime: the record is still).
     """
-    if check_regimes(regimes) == "still" and est.still is not None:
-        return float(est.still.variance)
-    return float(est.variance)
+    return float(estimate_for(est, regimes).variance)
 
 
 def choose_variances(
