@@ -101,7 +101,7 @@ def longest_still_stretch(z: ArrayLike, need: int = 0, purpose: str = "the fit")
 
     Notes
     -----
-    docs/algorithms.md §F1. The stretches are the diagnostics' still stretches
+    docs/algorithms.md §E1 (Regimes). The stretches are the diagnostics' still stretches
     (``level_profile.still_stretches``: the still regimes' quiet blocks, with the
     samples around level jumps cut out).
     """
