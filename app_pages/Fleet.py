@@ -33,8 +33,9 @@ if frame is None:
     st.info("No batch table yet: run the example fleet, load a table, or run a batch above.")
 else:
     threshold = fleet.threshold_input()
+    regimes = fleet.regime_choice(frame)
     with guarded():
-        report = fleet_report(frame, threshold)
+        report = fleet_report(frame, threshold, regimes)
         fleet.summary(report, frame, label)
         fleet.figures(report)
         fleet.open_sensor(report)

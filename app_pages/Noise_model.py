@@ -33,7 +33,8 @@ sig = require_signal(
     "The Noise model page draws its Allan deviation and fits the IEEE-952 noise terms.",
     explain=HOW_IT_WORKS,
 )
-settings = noise_model.settings_form(sig)
+regimes = noise_model.regime_panel(sig)
+settings = noise_model.settings_form(sig, regimes)
 noise_model.results(sig, settings)
 
 with st.expander("Kalibr imu.yaml", icon=":material/download:"):
@@ -41,6 +42,6 @@ with st.expander("Kalibr imu.yaml", icon=":material/download:"):
 
 if settings.rate > 0:  # a bad rate is said once, above
     st.subheader("Coloured noise and the Kalman filter's Q and R")
-    render_fit(sig.z, settings.rate)
+    render_fit(sig.z, settings.rate, regimes)
 
 how_it_works(*HOW_IT_WORKS)

@@ -14,12 +14,14 @@ import noisevar
 from dashboard.cache import DEFAULT_METHOD
 from dashboard.loading import load_bytes
 from dashboard.pages import ESTIMATOR
+from dashboard.sections.regimes import still_choice
 from dashboard.state import reselect
 from dashboard.widgets import csv_download, fmt, guarded, show_figure
 from noisevar.batch import read_table
 from noisevar.batch.example import EXAMPLE_CHANNELS, write_example_fleet
 from noisevar.batch.fleet import DEFAULT_THRESHOLD, FleetReport, SensorScore
 from noisevar.errors import NoisevarError
+from noisevar.estimators.results import FLAG_PREFIX
 from noisevar.figures.fleet import flagged_sensors, fleet_distribution
 
 #: Session keys: the batch table, where it came from, the folder of uploaded/example files.
@@ -27,6 +29,8 @@ TABLE_KEY = "nv_fleet_table"
 LABEL_KEY = "nv_fleet_label"
 FOLDER_KEY = "nv_fleet_folder"
 SOURCES = ("Example fleet", "Batch table", "Run a batch")
+#: At most this many verdicts in the regime warning.
+MAX_VERDICTS = 5
 
 
 def _folder(sub: str) -> Path:
@@ -210,4 +214,33 @@ def threshold_input() -> float:
             value=DEFAULT_THRESHOLD,
             key="fl_threshold",
         )
+    )
+
+
+def regime_choice(frame: pd.DataFrame) -> str:
+    """The rows whose noise level varies, with their verdicts, and the still-regimes choice.
+
+    Returns ``"still"`` when "use the still regimes only" is ticked (offered when a row's
+    level varies): each sensor's R is then its still regimes' (``still_variance``).
+    """
+    flag = FLAG_PREFIX + "level_varies"
+    moving = frame[frame[flag].fillna(False).astype(bool)] if flag in frame.columns else frame[:0]
+    if len(moving):
+        lines = [
+            f"- {Path(str(r['file'])).name} · {r['channel']}: {r.get('verdict') or ''}"
+            for _, r in moving.head(MAX_VERDICTS).iterrows()
+        ]
+        more = len(moving) - MAX_VERDICTS
+        st.warning(
+            f"The noise level varies along {len(moving)} of {len(frame)} records (motion among "
+            "still stretches):\n"
+            + "\n".join(lines)
+            + (f"\n- and {more} more (the table below has every verdict)" if more > 0 else ""),
+            icon=":material/warning:",
+        )
+    return still_choice(
+        "fl_regimes",
+        bool(len(moving)),
+        help="Each sensor's noise is then its still regimes' (the batch table's "
+        "still_variance), where its level varies; its whole record's where it does not.",
     )

@@ -8,8 +8,11 @@ import numpy as np
 import pandas as pd
 import streamlit as st
 
+from dashboard import cache
+from dashboard.sections.regimes import regime_choice
 from dashboard.state import LoadedSignal, initial
-from dashboard.widgets import figure_downloads, guarded, show_figure
+from dashboard.widgets import figure_downloads, fmt, guarded, show_figure
+from noisevar.estimators.regimes import DEFAULT_REGIMES, still_used, variance_for
 from noisevar.figures.noise_model import allan_figure
 from noisevar.noise_model import AllanResult, InertialNoise, allan, inertial_noise
 from noisevar.noise_model.allan import DATA_KINDS, KINDS
@@ -22,15 +25,42 @@ _TERM_FORMATS = {"value": "%.4g", "low": "%.4g", "high": "%.4g", "per sample": "
 
 @dataclass(frozen=True)
 class NoiseModelSettings:
-    """The page's choices."""
+    """The page's choices (``regimes``: the whole record or its still regimes only)."""
 
     rate: float
     data: str
     kind: str
     unit: str
+    regimes: str = DEFAULT_REGIMES
 
 
-def settings_form(sig: LoadedSignal) -> NoiseModelSettings:
+def regime_panel(sig: LoadedSignal) -> str:
+    """The record's R (method auto, as the Estimator page), the regime warning and choice.
+
+    Returns ``"still"`` when "use the still regimes only" is ticked (offered when the
+    level varies), else ``"all"``.
+    """
+    est = None
+    with guarded("Noise estimate: "):
+        est = cache.estimate(sig, cache.DEFAULT_METHOD, {})
+    regimes = regime_choice(
+        [(None, est)],
+        key="nm_regimes",
+        help="R, the Allan deviation, the noise terms, Kalibr and the Kalman fits below then "
+        "use the record's longest still stretch (each Kalibr column its own).",
+    )
+    if est is not None:
+        value = variance_for(est, regimes)
+        where = "its still regimes" if still_used(est, regimes) else "the whole record"
+        st.metric(
+            "Noise variance R",
+            fmt(value),
+            help=f"Method {est.method}, as on the Estimator page, over {where}.",
+        )
+    return regimes
+
+
+def settings_form(sig: LoadedSignal, regimes: str = DEFAULT_REGIMES) -> NoiseModelSettings:
     """Sample rate (default: the signal's), phase or rate data, deviation, unit."""
     default_rate = 1.0 / sig.sample_period if sig.sample_period else 1.0
     c1, c2, c3, c4 = st.columns(4)
@@ -57,17 +87,19 @@ def settings_form(sig: LoadedSignal) -> NoiseModelSettings:
         **initial("nm_kind", 0, "index"),
     )
     unit = c4.text_input("Unit of the rate", key="nm_unit", **initial("nm_unit", "u"))
-    return NoiseModelSettings(float(rate), str(data), str(kind), unit.strip() or "u")
+    return NoiseModelSettings(float(rate), str(data), str(kind), unit.strip() or "u", regimes)
 
 
 @st.cache_data(max_entries=16, show_spinner="Allan deviation...")
-def _allan_cached(digest: str, rate: float, data: str, kind: str, _z: np.ndarray) -> AllanResult:
-    return allan(_z, rate=rate, data=data, kind=kind)
+def _allan_cached(
+    digest: str, rate: float, data: str, kind: str, regimes: str, _z: np.ndarray
+) -> AllanResult:
+    return allan(_z, rate=rate, data=data, kind=kind, regimes=regimes)
 
 
 @st.cache_data(max_entries=16, show_spinner="Fitting the noise terms...")
-def _fit_cached(digest: str, rate: float, unit: str, _z: np.ndarray) -> InertialNoise:
-    fit = inertial_noise(_z, rate, unit=unit)
+def _fit_cached(digest: str, rate: float, unit: str, regimes: str, _z: np.ndarray) -> InertialNoise:
+    fit = inertial_noise(_z, rate, unit=unit, regimes=regimes)
     assert isinstance(fit, InertialNoise)
     return fit
 
@@ -97,11 +129,13 @@ def results(sig: LoadedSignal, s: NoiseModelSettings) -> InertialNoise | None:
     res: AllanResult | None = None
     fit: InertialNoise | None = None
     with guarded():
-        res = _allan_cached(sig.digest, s.rate, s.data, s.kind, sig.z)
+        res = _allan_cached(sig.digest, s.rate, s.data, s.kind, s.regimes, sig.z)
         if s.data == "rate" and s.kind == "oadev":
-            fit = _fit_cached(sig.digest, s.rate, s.unit, sig.z)
+            fit = _fit_cached(sig.digest, s.rate, s.unit, s.regimes, sig.z)
     if res is None:
         return None
+    for note in res.notes:
+        st.caption(note)
     if not (s.data == "rate" and s.kind == "oadev"):
         st.caption("The IEEE-952 terms are fitted to the overlapping ADEV of rate data.")
     elif fit is not None:
@@ -127,7 +161,7 @@ def _simulation(sig: LoadedSignal, s: NoiseModelSettings, fit: InertialNoise | N
     """The "simulate from the fitted model" button; the simulated ADEV (kept per fit)."""
     if fit is None:
         return None
-    key = (sig.digest, s.rate, s.unit)
+    key = (sig.digest, s.rate, s.unit, s.regimes)
     c1, c2 = st.columns([1, 3])
     seed = c2.number_input(
         "Simulation seed", 0, 2**31 - 1, key="nm_sim_seed", **initial("nm_sim_seed", 0)
@@ -135,7 +169,8 @@ def _simulation(sig: LoadedSignal, s: NoiseModelSettings, fit: InertialNoise | N
     if c1.button("Simulate from the fitted model", key="nm_simulate", icon=":material/casino:"):
         bar = st.progress(0.0, text="Simulating each term...")
         values = {t.name: t.value for t in fit.terms}
-        y = simulate_inertial(sig.n, s.rate, seed=int(seed), **values)
+        # the length of the fitted record (its still stretch with the still regimes only)
+        y = simulate_inertial(fit.allan.n_samples, s.rate, seed=int(seed), **values)
         bar.progress(0.5, text="Allan deviation of the simulated record...")
         st.session_state["nm_sim"] = (key, allan(y, rate=s.rate, data="rate"))
         bar.progress(1.0, text="Done")
@@ -164,7 +199,7 @@ def kalibr_export(sig: LoadedSignal, s: NoiseModelSettings) -> None:
         return
     with guarded("Kalibr export: "):
         fits = {
-            c: _fit_cached(f"{sig.table_digest}:{c}", s.rate, "", _column(sig, c))
+            c: _fit_cached(f"{sig.table_digest}:{c}", s.rate, "", s.regimes, _column(sig, c))
             for c in dict.fromkeys(gyro + accel)
         }
         imu = kalibr_imu(

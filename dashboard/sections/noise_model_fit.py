@@ -19,6 +19,7 @@ import streamlit as st
 from dashboard.cache import DEFAULT_METHOD
 from dashboard.widgets import fmt, guarded, show_figure
 from noisevar.config import validate_config
+from noisevar.estimators.regimes import DEFAULT_REGIMES
 from noisevar.figures.kalman_tuning import (
     coloured_rows,
     innovation_acf_figure,
@@ -51,9 +52,9 @@ def _with_progress(label: str, n: int, work: Callable[[Callable[[float], None] |
         bar.empty()
 
 
-def _fit_models(z: np.ndarray, rate: float, method: str) -> dict[str, KalmanTuning]:
-    """Every kinematic model's fit, kept in the session for this record, rate and method."""
-    key = f"{KEY}_fits_{_digest(z, rate, method)}"
+def _fit_models(z: np.ndarray, rate: float, method: str, regimes: str) -> dict[str, KalmanTuning]:
+    """Every kinematic model's fit, kept in the session for this record, rate, method, regimes."""
+    key = f"{KEY}_fits_{_digest(z, rate, method, regimes)}"
     if key not in st.session_state:
 
         def work(progress: Callable[[float], None] | None) -> dict[str, KalmanTuning]:
@@ -62,7 +63,9 @@ def _fit_models(z: np.ndarray, rate: float, method: str) -> dict[str, KalmanTuni
                 step = (
                     None if progress is None else (lambda f, i=i: progress((i + f) / len(MODELS)))
                 )
-                out[model] = fit_kalman(z, model=model, rate=rate, method=method, progress=step)
+                out[model] = fit_kalman(
+                    z, model=model, rate=rate, method=method, progress=step, regimes=regimes
+                )
             return out
 
         st.session_state[key] = _with_progress("Fitting q and r...", z.size, work)
@@ -108,27 +111,29 @@ def _exports(t: KalmanTuning) -> None:
         st.code(snippet, language="python")
 
 
-def _coloured(z: np.ndarray, rate: float) -> None:
+def _coloured(z: np.ndarray, rate: float, regimes: str) -> None:
     with st.expander("Coloured-noise models (for a static sensor's noise log)"):
         st.caption(
             "White, white + AR(1) and white + random walk, fitted by exact maximum likelihood "
             "to the detrended record and ranked by BIC."
         )
-        key = f"{KEY}_col_{_digest(z, rate)}"
+        key = f"{KEY}_col_{_digest(z, rate, regimes)}"
         if st.button("Fit the coloured-noise models", key=f"{KEY}_col_btn"):
             st.session_state[key] = _with_progress(
                 "Fitting noise models...",
                 0 if z.size < 5000 else PROGRESS_ABOVE + 1,
-                lambda p: fit_coloured_noise(z, rate=rate, progress=p),
+                lambda p: fit_coloured_noise(z, rate=rate, progress=p, regimes=regimes),
             )
         fit = st.session_state.get(key)
         if fit is not None:
             st.markdown(f"Chosen by {fit.criterion.upper()}: **{fit.model}**")
+            for note in fit.notes:
+                st.caption(note)
             st.dataframe(coloured_rows(fit), hide_index=True)
             show_figure(model_comparison_figure(fit), key=f"{KEY}_colfig")
 
 
-def render_fit(z: np.ndarray, rate: float) -> None:
+def render_fit(z: np.ndarray, rate: float, regimes: str = DEFAULT_REGIMES) -> None:
     """Kinematic models compared, the chosen one's Q and R, and its filter run on the record.
 
     Parameters
@@ -137,12 +142,14 @@ def render_fit(z: np.ndarray, rate: float) -> None:
         The record.
     rate : float
         Samples per second.
+    regimes : {"all", "still"}
+        Fit the whole record, or its longest still stretch only.
     """
     with guarded("Kalman fit: "):
         z = np.asarray(z, dtype=float)
         c1, c2 = st.columns(2)
         method = c1.selectbox("Method", METHODS, key=f"{KEY}_method")
-        tunings = _fit_models(z, rate, method)
+        tunings = _fit_models(z, rate, method, regimes)
         best = min(tunings.values(), key=lambda t: t.bic).model
         model = c2.selectbox(
             "Model for the filter",
@@ -160,9 +167,11 @@ def render_fit(z: np.ndarray, rate: float) -> None:
             f"(h = qT^k/r = {fmt(t.h)}); steady-state gain {', '.join(fmt(g) for g in t.gain)}."
         )
         _exports(t)
+        if t.regimes != DEFAULT_REGIMES:
+            st.caption("Fitted on the still stretch; below, the filter runs on the whole record.")
         run = run_tuned(t, z)
         show_figure(tuned_run_figure(run, z, dt=t.dt), key=f"{KEY}_run")
         show_figure(nis_figure(run, dt=t.dt), key=f"{KEY}_nis")
         show_figure(innovation_acf_figure(run), key=f"{KEY}_acf")
     with guarded("Coloured-noise fit: "):
-        _coloured(np.asarray(z, dtype=float), rate)
+        _coloured(np.asarray(z, dtype=float), rate, regimes)

@@ -9,9 +9,11 @@ import streamlit as st
 
 from dashboard import cache, loading
 from dashboard.pages import SIGNAL
+from dashboard.sections.regimes import regime_choice
 from dashboard.state import LoadedSignal, follow_table, initial, keep_valid
 from dashboard.widgets import fmt, guarded, how_it_works, show_figure, table_and_figure_downloads
 from noisevar import RedundantEstimate
+from noisevar.estimators.regimes import DEFAULT_REGIMES, estimate_for
 from noisevar.estimators.results import VarianceEstimate
 from noisevar.figures.estimator import redundant_figure
 from noisevar.systems.latency import DelayEstimate
@@ -108,7 +110,7 @@ def redundant_results(sig: LoadedSignal, cols: list[str], align: bool) -> None:
         return
     res, used, delay, removed = out
     unit = "s" if sig.sample_period else "samples"
-    single = _single_estimates(sig, cols)
+    single = _regime_choice(cols, _single_estimates(sig, cols))
     _metrics(res, cols, single)
     _delay_message(delay, removed, cols, unit, used.shape[0])
     _sensor_table(res, cols, single)
@@ -210,6 +212,28 @@ def _delay_message(
             f"{delay.std_s:.2g} {unit}, not significant (under half a sample or under two "
             "standard deviations): nothing removed."
         )
+
+
+def _regime_choice(
+    cols: list[str], single: list[VarianceEstimate | None]
+) -> list[VarianceEstimate | None]:
+    """The regime warning of each sensor whose level varies and the still-regimes choice.
+
+    Returns each sensor's single-signal estimate for the choice: its whole record's, or
+    its still regimes' (``estimate_for``), the R the Estimator page shows for it.
+    """
+    regimes = regime_choice(
+        list(zip(cols, single, strict=True)),
+        key="ts_regimes",
+        help="Each sensor's single-signal R is then its still regimes' (where its level "
+        "varies); the redundant estimate still uses the whole records.",
+    )
+    if regimes != DEFAULT_REGIMES:
+        st.caption(
+            "Single-signal values: each sensor's still regimes where its level varies, its "
+            "whole record where it does not."
+        )
+    return [None if e is None else estimate_for(e, regimes) for e in single]
 
 
 def _single_estimates(sig: LoadedSignal, cols: list[str]) -> list[VarianceEstimate | None]:

@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.errors import NoisevarError
+from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes, choose_variances
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -107,6 +108,9 @@ class FleetReport:
         Rows of the table without an estimate (their ``error`` says why).
     notes : tuple of str
         Plain-language remarks.
+    regimes : {"all", "still"}
+        Each row's R: its whole record's, or its still regimes' (``still_variance``)
+        where it has one (:func:`~noisevar.estimators.regimes.choose_variances`).
     """
 
     threshold: float
@@ -114,6 +118,7 @@ class FleetReport:
     sensors: tuple[SensorScore, ...]
     n_errors: int
     notes: tuple[str, ...] = ()
+    regimes: str = DEFAULT_REGIMES
 
     @property
     def flagged(self) -> list[SensorScore]:
@@ -145,6 +150,7 @@ class FleetReport:
             ],
             "n_errors": self.n_errors,
             "notes": list(self.notes),
+            "regimes": self.regimes,
         }
 
 
@@ -209,8 +215,18 @@ def _channel(
     return spread, scores
 
 
+def _stds(frame: pd.DataFrame, regimes: str) -> NDArray:
+    """Each row's noise std for the regime choice (its ``std``, or its still regimes')."""
+    std = frame["std"].to_numpy(dtype=float, na_value=np.nan)
+    if regimes == DEFAULT_REGIMES or "still_variance" not in frame.columns:
+        return std
+    return np.sqrt(choose_variances(std**2, frame["still_variance"].to_numpy(), regimes))
+
+
 def fleet_report(
-    table: pd.DataFrame | str | os.PathLike, threshold: float = DEFAULT_THRESHOLD
+    table: pd.DataFrame | str | os.PathLike,
+    threshold: float = DEFAULT_THRESHOLD,
+    regimes: str = DEFAULT_REGIMES,
 ) -> FleetReport:
     """Fleet statistics of a batch table (:func:`noisevar.batch`'s rows, or its file).
 
@@ -221,6 +237,9 @@ def fleet_report(
         ``.csv`` batch table.
     threshold : float
         ``|z|`` above which a sensor is flagged (> 0).
+    regimes : {"all", "still"}
+        Compare the whole records' noise, or each record's still regimes'
+        (``still_variance``, where the level varies; else its whole record's).
 
     Returns
     -------
@@ -230,15 +249,16 @@ def fleet_report(
 
     if not (isinstance(threshold, int | float) and math.isfinite(threshold) and threshold > 0):
         raise NoisevarError(f"the threshold must be a positive number, got {threshold!r}")
+    check_regimes(regimes)
     frame = table if not isinstance(table, str | os.PathLike) else read_table(table)
     missing = {"file", "channel", "std"} - set(frame.columns)
     if missing:
         raise NoisevarError(
             f"not a batch table: no {', '.join(sorted(missing))} column (run noisevar batch)"
         )
-    std = frame["std"].to_numpy(dtype=float, na_value=np.nan)
+    std = _stds(frame, regimes)
     ok = np.isfinite(std) & (std > 0)
-    good = frame[ok]
+    good = frame[ok].assign(std=std[ok])
     channels, sensors, notes = [], [], []
     for name in dict.fromkeys(str(c) for c in good["channel"]):
         part = good[good["channel"].astype(str) == name]
@@ -265,5 +285,5 @@ def fleet_report(
         sensors += scores
     sensors.sort(key=lambda s: -abs(s.z) if s.z is not None else 0.0)
     return FleetReport(
-        float(threshold), tuple(channels), tuple(sensors), int((~ok).sum()), tuple(notes)
+        float(threshold), tuple(channels), tuple(sensors), int((~ok).sum()), tuple(notes), regimes
     )

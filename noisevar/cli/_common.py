@@ -119,3 +119,20 @@ def load_record(
         if not np.all(np.isfinite(t)) or not np.all(np.diff(t) > 0):
             t = None  # the loader's note says why; the samples are taken as uniform
     return z, t, list(table.notes)
+
+
+def add_regimes_flag(p: argparse.ArgumentParser) -> None:
+    """``--regimes {all,still}``: fit the whole record or its longest still stretch."""
+    from noisevar.estimators.regimes import DEFAULT_REGIMES, REGIMES
+
+    p.add_argument(
+        "--regimes",
+        choices=list(REGIMES),
+        help=f"fit the whole record (all) or its longest still stretch (still); default "
+        f"{DEFAULT_REGIMES}",
+    )
+
+
+def regimes_of(args: argparse.Namespace) -> dict[str, str]:
+    """``{"regimes": ...}`` when ``--regimes`` was given, else nothing (the function's default)."""
+    return {} if args.regimes is None else {"regimes": args.regimes}

@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from noisevar.cli._common import print_json
+from noisevar.cli._common import add_regimes_flag, print_json, regimes_of
 from noisevar.errors import NoisevarError
 
 
@@ -39,7 +39,7 @@ def _cmd_allan(args: argparse.Namespace) -> int:
 
     data, rate = load_columns(args.file, [args.column] if args.column else None, args.rate)
     name, z = next(iter(data.items()))
-    res = allan(z, rate=rate, data=args.data, kind=args.kind)
+    res = allan(z, rate=rate, data=args.data, kind=args.kind, **regimes_of(args))
     if args.format == "json":
         print_json({"column": name, **res.to_dict()})
         return 0
@@ -47,6 +47,8 @@ def _cmd_allan(args: argparse.Namespace) -> int:
         f"{res.kind} of {name} ({args.data} data, {res.n_samples} samples at {rate:g} Hz), "
         f"{res.ci:.1%} intervals"
     )
+    for note in res.notes:
+        print(f"note: {note}")
     print(
         f"{'tau (s)':>12} {'deviation':>12} {'low':>12} {'high':>12} {'noise':>6} "
         f"{'slope':>6} {'n':>9}"
@@ -70,5 +72,6 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--data", choices=DATA_KINDS, default="phase")
     p.add_argument("--kind", choices=list(KINDS), default="oadev")
     p.add_argument("--column")
+    add_regimes_flag(p)
     p.add_argument("--format", choices=["table", "json"], default="table")
     p.set_defaults(func=_cmd_allan)

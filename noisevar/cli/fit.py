@@ -8,7 +8,7 @@ import json
 from pathlib import Path
 from typing import Any
 
-from noisevar.cli._common import load_signal, print_json
+from noisevar.cli._common import add_regimes_flag, load_signal, print_json, regimes_of
 from noisevar.errors import NoisevarError
 
 
@@ -17,7 +17,7 @@ def _print_table(t: Any, args: argparse.Namespace) -> None:
         return f"(95 % {pair[0]:.4g} .. {pair[1]:.4g})"
 
     print(f"file      {args.file}" + (f"  column {args.column}" if args.column else ""))
-    print(f"model     {t.model}   method {t.method}   samples {t.n}")
+    print(f"model     {t.model}   method {t.method}   samples {t.n}   regimes {t.regimes}")
     print(f"q         {t.q:.6g} {t.units['q']}  {iv(t.q_interval)}")
     print(f"r         {t.r:.6g} {t.units['r']}  {iv(t.r_interval)}")
     print(f"h         {t.h:.6g} (q T^k / r)  {iv(t.h_interval)}")
@@ -42,6 +42,10 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         )
     z, dropped = load_signal(args.file, args.column)
     if args.config:
+        if args.regimes is not None:
+            raise NoisevarError(
+                "--regimes chooses what a fit runs on: drop it with --config (no fit is made)"
+            )
         kal = from_config(load_config(args.config))
         rate = args.rate if args.rate is not None else kal["rate"]
         model = args.model or kal["model"]
@@ -55,7 +59,8 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         if args.rate is None:
             raise NoisevarError("--rate is required: the sample rate in Hz (samples per second)")
         method = {} if args.method is None else {"method": args.method}  # else fit_kalman's
-        tuning = fit_kalman(z, model=args.model or "cv", rate=args.rate, **method)
+        model = args.model or "cv"
+        tuning = fit_kalman(z, model=model, rate=args.rate, **method, **regimes_of(args))
     if args.save_config:
         config = to_config(tuning, {"method": DEFAULT_METHOD})
         text = json.dumps(validate_config(config), indent=2) + "\n"
@@ -80,6 +85,7 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--rate", type=float, help="sample rate in Hz (required unless in --config)")
     default = inspect.signature(fit_kalman).parameters["method"].default
     p.add_argument("--method", choices=list(METHODS), help=f"default {default}")
+    add_regimes_flag(p)
     p.add_argument("--config", help="apply the Q and R of this config instead of fitting")
     p.add_argument("--save-config", metavar="OUT", help="write the tuned filter as a config")
     p.add_argument("--format", choices=["table", "json"], default="table")

@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from noisevar.cli._common import print_json
+from noisevar.cli._common import add_regimes_flag, print_json, regimes_of
 from noisevar.cli.allan import load_columns
 from noisevar.errors import NoisevarError
 
@@ -35,6 +35,9 @@ def _kalibr(args: argparse.Namespace, fits: dict) -> str:
 def _print_table(fits: dict) -> None:
     for name, fit in fits.items():
         print(f"{name}: {fit.allan.n_samples} samples at {fit.rate:g} Hz, {fit.ci:.1%} intervals")
+        for note in fit.notes:
+            if note.startswith("regimes="):
+                print(f"  note: {note}")
         for t in fit.terms:
             lo, hi = t.interval
             print(
@@ -47,7 +50,8 @@ def _cmd_imu(args: argparse.Namespace) -> int:
     from noisevar.noise_model import inertial_noise
 
     data, rate = load_columns(args.file, _columns(args), args.rate)
-    fits = dict(zip(data, inertial_noise(np.stack(list(data.values())), rate), strict=True))
+    stacked = np.stack(list(data.values()))
+    fits = dict(zip(data, inertial_noise(stacked, rate, **regimes_of(args)), strict=True))
     written = _kalibr(args, fits) if args.kalibr else None
     if args.format == "json":
         print_json({"columns": {c: f.to_dict() for c, f in fits.items()}, "kalibr": written})
@@ -68,5 +72,6 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--accel", nargs="+", help="accelerometer columns (m/s^2), for --kalibr")
     p.add_argument("--kalibr", metavar="OUT.yaml", help="write Kalibr's imu.yaml here")
     p.add_argument("--inflation", type=float, default=1.0, help="factor on the Kalibr values")
+    add_regimes_flag(p)
     p.add_argument("--format", choices=["table", "json"], default="table")
     p.set_defaults(func=_cmd_imu)

@@ -8,7 +8,7 @@ the averaging factors, checks the input, and gathers the results.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import allantools
@@ -17,6 +17,7 @@ from allantools import ci
 from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
+from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes, longest_still_stretch
 
 #: One-sigma confidence (Stable32's default error bars).
 ONE_SIGMA = 0.6826894921370859
@@ -92,7 +93,11 @@ class AllanResult:
     n : ndarray
         Number of terms averaged at each tau.
     n_samples : int
-        Length of the record.
+        Length of the record (of its still stretch with ``regimes="still"``).
+    regimes : {"all", "still"}
+        The record's regimes used (:mod:`noisevar.estimators.regimes`).
+    notes : tuple of str
+        Which stretch a ``regimes="still"`` deviation was computed on.
     """
 
     kind: str
@@ -108,6 +113,8 @@ class AllanResult:
     slope: NDArray
     n: NDArray
     n_samples: int
+    regimes: str = DEFAULT_REGIMES
+    notes: tuple[str, ...] = ()
 
     @property
     def variance(self) -> NDArray:
@@ -131,6 +138,8 @@ class AllanResult:
             "edf": _json(self.edf),
             "slope": _json(self.slope),
             "n": [int(v) for v in self.n],
+            "regimes": self.regimes,
+            "notes": list(self.notes),
         }
 
 
@@ -172,6 +181,35 @@ def to_phase(z: ArrayLike, rate: float, data: str) -> NDArray:
     np.cumsum(y - y.mean(), out=x[1:])
     x[1:] /= rate
     return x
+
+
+def still_record(z: ArrayLike, data: str, need: int, purpose: str) -> tuple[NDArray, str]:
+    """The longest still stretch of a record of phase or rate data, and what to say of it.
+
+    Parameters
+    ----------
+    z : array_like, shape (n,)
+        The record.
+    data : {"phase", "rate"}
+        What ``z`` holds: the regimes of phase data are those of its rate (its first
+        differences).
+    need : int
+        Fewest rate samples ``purpose`` needs.
+    purpose : str
+        What the stretch is for (for the error message).
+
+    Returns
+    -------
+    ndarray, str
+        The stretch's samples and its note
+        (:func:`~noisevar.estimators.regimes.longest_still_stretch`).
+    """
+    y = np.asarray(z, dtype=float)
+    if data == "phase":
+        s = longest_still_stretch(np.diff(y), need, purpose)
+        return y[s.start : s.stop + 1], s.note
+    s = longest_still_stretch(y, need, purpose)
+    return s.take(y), s.note
 
 
 def averaging_factors(n_phase: int, rate: float, taus: str | ArrayLike, kind: str) -> NDArray:
@@ -229,6 +267,7 @@ def allan(
     kind: str = "oadev",
     taus: str | ArrayLike = "octave",
     ci: float = ONE_SIGMA,
+    regimes: str = DEFAULT_REGIMES,
 ) -> AllanResult:
     """Overlapping Allan (or modified Allan, overlapping Hadamard) deviation of a record.
 
@@ -247,6 +286,9 @@ def allan(
         Averaging times: octave factors, every factor, or given times (s).
     ci : float
         Confidence level of the intervals (default one sigma).
+    regimes : {"all", "still"}
+        The whole record, or its longest still stretch only (:func:`still_record`;
+        said in ``notes``).
 
     Returns
     -------
@@ -262,6 +304,11 @@ def allan(
     if not 0 < ci < 1:
         raise NoisevarError(f"ci must be between 0 and 1, not {ci}.")
     x = to_phase(z, rate, data)
+    if check_regimes(regimes) == "still":
+        need = KINDS[kind].span + 2 if kind in KINDS else 0
+        z, note = still_record(z, data, need, f"the {kind}")
+        res = allan(z, rate, data, kind, taus, ci)
+        return replace(res, regimes=regimes, notes=(note,))
     m = averaging_factors(x.size, rate, taus, kind)
     spec = KINDS[kind]
     # the checks above keep allantools off its printing paths (no redirect: not thread-safe)

@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
+from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes, longest_still_stretch
 
 #: The models, each as its white / AR(1) / random-walk parts.
 COLOURED_MODELS: dict[str, tuple[bool, bool]] = {
@@ -29,6 +30,8 @@ COLOURED_MODELS: dict[str, tuple[bool, bool]] = {
 }
 DEFAULT_MODELS = ("white", "white+ar1", "white+rw")
 CRITERIA = ("bic", "aic")
+#: Fewest samples a fit takes.
+MIN_SAMPLES = 50
 
 
 @dataclass(frozen=True)
@@ -81,7 +84,10 @@ class ColouredNoiseFit:
         Every fitted model.
     rate : float or None
     notes : tuple of str
-        Among them, which fits did not converge and whether the choice could change.
+        Among them, which fits did not converge and whether the choice could change, and
+        which stretch a ``regimes="still"`` fit ran on.
+    regimes : {"all", "still"}
+        The record's regimes the fit used (:mod:`noisevar.estimators.regimes`).
     """
 
     model: str
@@ -95,6 +101,7 @@ class ColouredNoiseFit:
     rate: float | None
     n: int
     notes: tuple[str, ...] = field(default_factory=tuple)
+    regimes: str = DEFAULT_REGIMES
 
     @property
     def converged(self) -> dict[str, bool]:
@@ -140,6 +147,7 @@ class ColouredNoiseFit:
             "rate": self.rate,
             "n": self.n,
             "notes": list(self.notes),
+            "regimes": self.regimes,
         }
 
 
@@ -236,9 +244,9 @@ def _check(z: ArrayLike, rate: float | None, models: Sequence[str], criterion: s
         arr = np.asarray(z, dtype=float)
     except (TypeError, ValueError):
         raise NoisevarError("the signal must be a 1-D array of numbers") from None
-    if arr.ndim != 1 or arr.size < 50:
+    if arr.ndim != 1 or arr.size < MIN_SAMPLES:
         raise NoisevarError(
-            f"the signal must be 1-D with at least 50 samples, got shape {arr.shape}"
+            f"the signal must be 1-D with at least {MIN_SAMPLES} samples, got shape {arr.shape}"
         )
     if not np.all(np.isfinite(arr)):
         raise NoisevarError("the signal contains NaN or infinite values: remove or fill them first")
@@ -335,6 +343,7 @@ def fit_coloured_noise(
     models: Sequence[str] = DEFAULT_MODELS,
     criterion: str = "bic",
     progress: Callable[[float], None] | None = None,
+    regimes: str = DEFAULT_REGIMES,
 ) -> ColouredNoiseFit:
     """Fit white, white + AR(1) and white + random-walk noise models; pick one by BIC or AIC.
 
@@ -350,6 +359,9 @@ def fit_coloured_noise(
     criterion : {"bic", "aic"}
     progress : callable, optional
         Called with the fraction done after each model.
+    regimes : {"all", "still"}
+        Fit the whole record, or its longest still stretch only
+        (:func:`~noisevar.estimators.regimes.longest_still_stretch`; said in ``notes``).
 
     Returns
     -------
@@ -363,6 +375,11 @@ def fit_coloured_noise(
     state's increment. A fit that did not converge is said in ``notes``.
     """
     arr = _check(z, rate, models, criterion)
+    regime_notes = []
+    if check_regimes(regimes) == "still":
+        stretch = longest_still_stretch(arr, MIN_SAMPLES, "the noise models")
+        arr = _check(stretch.take(arr), rate, models, criterion)
+        regime_notes.append(stretch.note)
     y, scale = _standardise(arr)
     fits = []
     for i, name in enumerate(models):
@@ -371,7 +388,7 @@ def fit_coloured_noise(
             progress((i + 1) / len(models))
     best = min(fits, key=lambda f: getattr(f, criterion))
     phi, q, tau, s2 = _augmented(best, rate)
-    notes = convergence_notes(fits, best)
+    notes = regime_notes + convergence_notes(fits, best)
     if best.phi is not None and best.phi <= 0:
         notes.append("the AR(1) part has phi <= 0: it is not a Gauss-Markov process")
     return ColouredNoiseFit(
@@ -386,4 +403,5 @@ def fit_coloured_noise(
         rate=rate,
         n=int(arr.size),
         notes=tuple(notes),
+        regimes=regimes,
     )

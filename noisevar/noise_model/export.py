@@ -3,10 +3,12 @@
 The config carries the filter under one key, ``"kalman"``::
 
     {"method": "auto", "kalman": {"model": "cv", "rate": 10.0, "q": 0.02, "r": 4.0,
-                                  "F": [[...]], "H": [[...]], "Q": [[...]], "R": [[4.0]]}}
+                                  "F": [[...]], "H": [[...]], "Q": [[...]], "R": [[4.0]],
+                                  "regimes": "all", "notes": [...]}}
 
 ``q`` and ``r`` are the parameters; ``F``, ``H``, ``Q`` and ``R`` are written for
-readers of the file and checked against them when it is read.
+readers of the file and checked against them when it is read. ``regimes`` says which of
+the record's regimes the fit used (``"all"`` or ``"still"``) and ``notes`` which stretch.
 """
 
 from __future__ import annotations
@@ -17,11 +19,12 @@ from typing import Any
 import numpy as np
 
 from noisevar.errors import NoisevarError
+from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes
 from noisevar.noise_model.kalman_fit import MODELS, KalmanTuning, kinematic_model
 
 #: The config key that holds the tuned filter.
 CONFIG_KEY = "kalman"
-_KEYS = ("model", "rate", "q", "r", "F", "H", "Q", "R")
+_KEYS = ("model", "rate", "q", "r", "F", "H", "Q", "R", "regimes", "notes")
 
 
 def _literal(a: np.ndarray) -> str:
@@ -51,6 +54,7 @@ def filterpy_snippet(tuning: KalmanTuning) -> str:
             "from filterpy.kalman import KalmanFilter",
             "",
             f"# noisevar fit: model {tuning.model!r}, method {tuning.method!r}, T = {t}",
+            f"# {_regimes_said(tuning)}",
             f"# q = {tuning.q!r} {tuning.units.get('q', '')}",
             f"# r = {tuning.r!r} {tuning.units.get('r', '')},  h = q T^k / r = {tuning.h!r}",
             f"kf = KalmanFilter(dim_x={n}, dim_z=1)",
@@ -67,6 +71,12 @@ def filterpy_snippet(tuning: KalmanTuning) -> str:
             "",
         ]
     )
+
+
+def _regimes_said(tuning: KalmanTuning) -> str:
+    """The regime choice of a fit and, for the still regimes, the stretch it ran on."""
+    said = [n for n in tuning.notes if n.startswith("regimes=")]
+    return said[0] if said else f"regimes={tuning.regimes!r}: fitted on the whole record"
 
 
 def to_config(tuning: KalmanTuning, config: Mapping[str, Any] | None = None) -> dict[str, Any]:
@@ -93,6 +103,8 @@ def to_config(tuning: KalmanTuning, config: Mapping[str, Any] | None = None) -> 
         "H": tuning.H.tolist(),
         "Q": tuning.Q.tolist(),
         "R": tuning.R.tolist(),
+        "regimes": tuning.regimes,
+        "notes": list(tuning.notes),
     }
     return out
 
@@ -112,7 +124,8 @@ def check_kalman_config(value: Any) -> dict[str, Any]:
     ------
     NoisevarError
         Not an object, unknown key, unknown model, a non-positive ``q``, ``r`` or
-        ``rate``, or matrices that disagree with ``model``, ``rate``, ``q``, ``r``.
+        ``rate``, matrices that disagree with ``model``, ``rate``, ``q``, ``r``, an
+        unknown ``regimes`` or ``notes`` that are not a list of text.
     """
     if not isinstance(value, Mapping):
         raise NoisevarError("config key 'kalman' must be an object with model, q and r")
@@ -144,11 +157,26 @@ def check_kalman_config(value: Any) -> dict[str, Any]:
                     "edit q and r, not the matrices"
                 )
         out[key] = mat.tolist()
+    out.update(_regimes_entry(value))
     return out
 
 
+def _regimes_entry(value: Mapping[str, Any]) -> dict[str, Any]:
+    """``regimes`` (default ``"all"``) and ``notes`` of a ``"kalman"`` entry, checked."""
+    try:
+        regimes = check_regimes(value.get("regimes", DEFAULT_REGIMES))
+    except NoisevarError as exc:
+        raise NoisevarError(f"config key 'kalman.regimes': {exc}") from None
+    notes = value.get("notes", [])
+    if not isinstance(notes, list) or not all(isinstance(n, str) for n in notes):
+        raise NoisevarError("config key 'kalman.notes' must be a list of text")
+    return {"regimes": regimes, "notes": list(notes)}
+
+
 def from_config(config: Mapping[str, Any]) -> dict[str, Any]:
-    """The tuned filter of a config: ``{"model", "rate", "q", "r", "F", "H", "Q", "R"}``.
+    """The tuned filter of a config: ``{"model", "rate", "q", "r", "F", "H", "Q", "R", ...}``.
+
+    ``regimes`` and ``notes`` too (``"all"`` and none when the file has none).
 
     Raises
     ------

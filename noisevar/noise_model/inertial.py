@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 import os
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -17,7 +17,8 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import nnls
 
 from noisevar.errors import NoisevarError
-from noisevar.noise_model.allan import ONE_SIGMA, AllanResult, allan
+from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes
+from noisevar.noise_model.allan import KINDS, ONE_SIGMA, AllanResult, allan, still_record
 
 #: Bootstrap replicates behind each term's interval.
 BOOTSTRAP = 200
@@ -123,7 +124,10 @@ class InertialNoise:
         the white rate noise that has the record's Allan deviation at ``tau0 = 1/fs``
         (:func:`white_level`). A consumer without a Q term (Kalibr) needs at least this.
     notes : tuple of str
-        When the fit put short-tau noise into Q, and what that does to N.
+        Which stretch a ``regimes="still"`` fit ran on; when the fit put short-tau noise
+        into Q, and what that does to N.
+    regimes : {"all", "still"}
+        The record's regimes the fit used (:mod:`noisevar.estimators.regimes`).
     """
 
     terms: tuple[NoiseTerm, ...]
@@ -133,6 +137,7 @@ class InertialNoise:
     ci: float
     white_level: float
     notes: tuple[str, ...] = ()
+    regimes: str = DEFAULT_REGIMES
 
     def term(self, name: str) -> NoiseTerm:
         """The term called ``name`` (e.g. ``"random_walk"``) or with symbol ``name``."""
@@ -188,6 +193,7 @@ class InertialNoise:
             "allan": self.allan.to_dict(),
             "white_level": float(self.white_level),
             "notes": list(self.notes),
+            "regimes": self.regimes,
         }
 
 
@@ -301,15 +307,27 @@ def _n_against_white(coef: NDArray, ivals: NDArray, white: float, unit: str) -> 
 
 
 def _one_axis(
-    y: NDArray, rate: float, unit: str, taus: str | ArrayLike, ci: float, seed: int
+    y: NDArray,
+    rate: float,
+    unit: str,
+    taus: str | ArrayLike,
+    ci: float,
+    seed: int,
+    regimes: str = DEFAULT_REGIMES,
 ) -> InertialNoise:
+    notes = []
+    if regimes == "still":
+        # two taus of the overlapping ADEV: 2 span + 2 phase samples
+        y, note = still_record(y, "rate", 2 * KINDS["oadev"].span + 2, "the noise terms")
+        notes.append(note)
     res = allan(y, rate=rate, data="rate", kind="oadev", taus=taus, ci=ci)
     if res.taus.size < 2:
         raise NoisevarError("The record is too short: the fit needs at least two taus.")
+    res = replace(res, regimes=regimes, notes=tuple(notes))
     coef, w = fit_terms(res.taus, res.variance, res.edf)
     ivals = _intervals(res.taus, coef, w, res.edf, ci, seed)
     white = white_level(y, rate)
-    notes = _n_against_white(coef, ivals, white, unit)
+    notes += _n_against_white(coef, ivals, white, unit)
     terms = []
     for spec, c, (lo, hi) in zip(TERMS, coef, ivals, strict=True):
         value = float(np.sqrt(c))
@@ -325,7 +343,9 @@ def _one_axis(
                 spec.slope,
             )
         )
-    return InertialNoise(tuple(terms), res, float(rate), unit, float(ci), white, tuple(notes))
+    return InertialNoise(
+        tuple(terms), res, float(rate), unit, float(ci), white, tuple(notes), regimes
+    )
 
 
 def inertial_noise(
@@ -338,6 +358,7 @@ def inertial_noise(
     ci: float = ONE_SIGMA,
     seed: int = 0,
     workers: int | None = None,
+    regimes: str = DEFAULT_REGIMES,
 ) -> InertialNoise | tuple[InertialNoise, ...]:
     """Fit the five IEEE-952 noise terms to the Allan variance of rate data.
 
@@ -360,6 +381,9 @@ def inertial_noise(
         Seed of the bootstrap behind the intervals.
     workers : int, optional
         Threads for several axes (default: the number of CPUs).
+    regimes : {"all", "still"}
+        Fit each axis's whole record, or its longest still stretch only (each axis
+        its own; said in ``notes``).
 
     Returns
     -------
@@ -373,13 +397,14 @@ def inertial_noise(
     taken as independent across taus (so they are rather narrow at long taus); the
     percentile interval joined with the replicates' spread placed on the estimate.
     """
+    check_regimes(regimes)
     arr = np.asarray(z, dtype=float)
     if arr.ndim == 1:
-        return _one_axis(arr, rate, unit, taus, ci, seed)
+        return _one_axis(arr, rate, unit, taus, ci, seed, regimes)
     if arr.ndim != 2:
         raise NoisevarError(f"z must be 1-D or 2-D (time x axes); it has shape {arr.shape}.")
     cols = np.moveaxis(arr, axis, -1)
     n_workers = max(1, min(cols.shape[0], workers or os.cpu_count() or 1))
     with ThreadPoolExecutor(n_workers) as pool:
-        jobs = [pool.submit(_one_axis, c, rate, unit, taus, ci, seed) for c in cols]
+        jobs = [pool.submit(_one_axis, c, rate, unit, taus, ci, seed, regimes) for c in cols]
         return tuple(j.result() for j in jobs)

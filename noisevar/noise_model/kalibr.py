@@ -15,6 +15,7 @@ from dataclasses import asdict, dataclass, field
 from typing import Any
 
 from noisevar.errors import NoisevarError
+from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes
 from noisevar.noise_model.inertial import InertialNoise
 
 #: Keys of the file, in Kalibr's order, with their comments.
@@ -30,11 +31,17 @@ FIELDS = {
 
 #: Prefix of the comment lines that carry the notes.
 NOTE = "# note: "
+#: Prefix of the comment line that says which of the records' regimes were fitted.
+REGIMES_LINE = "# regimes: "
 
 
 @dataclass(frozen=True)
 class KalibrImu:
-    """The values of a Kalibr ``imu.yaml``."""
+    """The values of a Kalibr ``imu.yaml``.
+
+    ``regimes`` (``"all"`` or ``"still"``) is which of the records' regimes the terms were
+    fitted on, written as a comment line; ``notes`` as ``# note:`` lines.
+    """
 
     accelerometer_noise_density: float
     accelerometer_random_walk: float
@@ -43,15 +50,18 @@ class KalibrImu:
     update_rate: float
     rostopic: str = "/imu0"
     notes: tuple[str, ...] = field(default_factory=tuple)
+    regimes: str = DEFAULT_REGIMES
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-safe dictionary of the file's values (the notes are in ``notes``)."""
-        return {k: v for k, v in asdict(self).items() if k != "notes"}
+        return {k: v for k, v in asdict(self).items() if k not in ("notes", "regimes")}
 
     def to_yaml(self) -> str:
-        """The file's text (the notes as ``# note:`` comment lines at the top)."""
+        """The file's text (the regimes and the notes as comment lines at the top)."""
         values = self.to_dict()
         lines = ["# Kalibr IMU noise model, written by noisevar (docs/algorithms.md §E4)"]
+        said = "the whole records" if self.regimes == DEFAULT_REGIMES else "still stretches"
+        lines.append(f"{REGIMES_LINE}{self.regimes} (the terms were fitted on {said})")
         lines += [f"{NOTE}{note}" for note in self.notes]
         for key, comment in FIELDS.items():
             v = values[key]
@@ -70,6 +80,27 @@ def _axes(fits: InertialNoise | Sequence[InertialNoise]) -> list[InertialNoise]:
     if not axes:
         raise NoisevarError("No axis given: pass the InertialNoise of at least one axis.")
     return axes
+
+
+def _regimes(
+    gyro: InertialNoise | Sequence[InertialNoise], accel: InertialNoise | Sequence[InertialNoise]
+) -> tuple[str, list[str]]:
+    """The regime choice of every axis (one for all), and each still stretch's note."""
+    axes = {"gyroscope": _axes(gyro), "accelerometer": _axes(accel)}
+    chosen = {a.regimes for fits in axes.values() for a in fits}
+    if len(chosen) != 1:
+        raise NoisevarError(
+            "The axes were fitted on different regimes (some on the whole record, some on "
+            "still stretches): fit them all with the same regimes."
+        )
+    notes = [
+        f"{sensor} axis {i}: {note}"
+        for sensor, fits in axes.items()
+        for i, a in enumerate(fits)
+        for note in a.notes
+        if note.startswith("regimes=")
+    ]
+    return chosen.pop(), notes
 
 
 def _worst(fits: InertialNoise | Sequence[InertialNoise], name: str) -> float:
@@ -134,6 +165,7 @@ def kalibr_imu(
     rates |= {a.rate for a in ([accel] if isinstance(accel, InertialNoise) else accel)}
     if len(rates) != 1:
         raise NoisevarError(f"The axes were fitted at different rates ({sorted(rates)} Hz).")
+    regimes, regime_notes = _regimes(gyro, accel)
     accel_n, accel_notes = _density(accel, "accelerometer_noise_density")
     gyro_n, gyro_notes = _density(gyro, "gyroscope_noise_density")
     return KalibrImu(
@@ -143,7 +175,8 @@ def kalibr_imu(
         gyroscope_random_walk=inflation * _worst(gyro, "rate_random_walk"),
         update_rate=rates.pop(),
         rostopic=rostopic,
-        notes=tuple(accel_notes + gyro_notes),
+        notes=tuple(regime_notes + accel_notes + gyro_notes),
+        regimes=regimes,
     )
 
 
@@ -192,8 +225,26 @@ def parse_kalibr(text: str) -> KalibrImu:
         values = {k: float(raw[k]) for k in FIELDS if k != "rostopic"}
     except (TypeError, ValueError) as exc:
         raise NoisevarError(f"A Kalibr value is not a number: {exc}.") from exc
-    notes = tuple(line[len(NOTE) :] for line in text.splitlines() if line.startswith(NOTE))
-    return KalibrImu(**values, rostopic=str(raw.get("rostopic", "/imu0")), notes=notes)
+    lines = text.splitlines()
+    notes = tuple(line[len(NOTE) :] for line in lines if line.startswith(NOTE))
+    return KalibrImu(
+        **values,
+        rostopic=str(raw.get("rostopic", "/imu0")),
+        notes=notes,
+        regimes=_regimes_of(lines),
+    )
+
+
+def _regimes_of(lines: list[str]) -> str:
+    """The regime choice a file's ``# regimes:`` line names (``"all"`` without one)."""
+    for line in lines:
+        if line.startswith(REGIMES_LINE):
+            words = line[len(REGIMES_LINE) :].split()
+            try:
+                return check_regimes(words[0] if words else None)
+            except NoisevarError as exc:
+                raise NoisevarError(f"Not a noisevar imu.yaml regimes line: {exc}.") from None
+    return DEFAULT_REGIMES
 
 
 def read_kalibr(path: str | os.PathLike) -> KalibrImu:

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -23,6 +23,7 @@ import scipy.signal
 from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
+from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes, longest_still_stretch
 from noisevar.kalman.divergence import nis_band
 from noisevar.noise_model._steady import FilterPass, diffuse_start, filter_pass, steady_state
 
@@ -103,7 +104,10 @@ class KalmanTuning:
     units : dict
         Units of ``q`` and ``r`` (``u`` is the signal's unit).
     notes : tuple of str
-        Warnings, including "the data reject this model".
+        Warnings, including "the data reject this model", and which stretch a
+        ``regimes="still"`` fit ran on.
+    regimes : {"all", "still"}
+        The record's regimes the fit used (:mod:`noisevar.estimators.regimes`).
     """
 
     model: str
@@ -133,6 +137,7 @@ class KalmanTuning:
     loglik: float
     units: dict[str, str] = field(default_factory=dict)
     notes: tuple[str, ...] = ()
+    regimes: str = DEFAULT_REGIMES
 
     @property
     def aic(self) -> float:
@@ -173,6 +178,7 @@ class KalmanTuning:
             bic=num(self.bic),
             units=dict(self.units),
             notes=list(self.notes),
+            regimes=self.regimes,
         )
         return out
 
@@ -320,6 +326,11 @@ def _als(zc: NDArray, model: str, dt: float, lags: int) -> tuple[float, float, l
 
 
 # ---------------------------------------------------------------- public
+def min_samples(model: str) -> int:
+    """Fewest samples a fit of ``model`` takes: ten per state and per parameter."""
+    return 10 * (MODELS[model][0] + 2)
+
+
 def _check_input(z: ArrayLike, model: str, rate: float | None) -> tuple[NDArray, float]:
     if model not in MODELS:
         raise NoisevarError(f"unknown model {model!r}; choose one of: {', '.join(MODELS)}")
@@ -334,7 +345,7 @@ def _check_input(z: ArrayLike, model: str, rate: float | None) -> tuple[NDArray,
         raise NoisevarError("the signal must be a 1-D array of numbers") from None
     if arr.ndim != 1:
         raise NoisevarError(f"the signal must be 1-D, got shape {arr.shape}")
-    need = 10 * (MODELS[model][0] + 2)
+    need = min_samples(model)
     if arr.size < need:
         raise NoisevarError(
             f"the record has {arr.size} samples; fitting the {model!r} model needs at least {need}"
@@ -444,6 +455,7 @@ def fit_kalman(
     method: str = "auto",
     lags: int = 20,
     progress: Callable[[float], None] | None = None,
+    regimes: str = DEFAULT_REGIMES,
 ) -> KalmanTuning:
     """Fit the process-noise density ``q`` and the measurement variance ``r`` together.
 
@@ -462,6 +474,9 @@ def fit_kalman(
         Innovation autocovariance lags used by ALS.
     progress : callable, optional
         Called with the fraction done (0 to 1).
+    regimes : {"all", "still"}
+        Fit the whole record, or its longest still stretch only
+        (:func:`~noisevar.estimators.regimes.longest_still_stretch`; said in ``notes``).
 
     Returns
     -------
@@ -470,7 +485,8 @@ def fit_kalman(
     Raises
     ------
     NoisevarError
-        Unknown model or method, bad rate, a record too short, non-finite or constant.
+        Unknown model, method or regimes, bad rate, a record too short, non-finite or
+        constant; with ``regimes="still"``, no still stretch long enough.
 
     Notes
     -----
@@ -482,10 +498,14 @@ def fit_kalman(
         raise NoisevarError(f"unknown method {method!r}; choose one of: {', '.join(METHODS)}")
     if not isinstance(lags, int) or lags < 3:
         raise NoisevarError(f"lags must be an integer of at least 3, got {lags!r}")
+    notes: list[str] = []
+    if check_regimes(regimes) == "still":
+        stretch = longest_still_stretch(arr, min_samples(model), f"the {model!r} model")
+        arr, _ = _check_input(stretch.take(arr), model, rate)
+        notes.append(stretch.note)
     chosen = DEFAULT_METHOD if method == "auto" else method
     zc = arr - arr[0]
     k = MODELS[model][1]
-    notes: list[str] = []
     if chosen == "mle":
         log_h = _mle_log_h(zc, model, dt, progress)
         sl, g, n = _profile(zc, model, dt, log_h)
@@ -497,8 +517,9 @@ def fit_kalman(
         if edge[1] - log_h < 0.5:
             notes.append("h is at the top of its range: the measurement noise is negligible")
     else:
-        q, r, notes = _als(zc, model, dt, lags)
-    out = _tuning(arr, model, dt, rate, q, r, chosen, notes)
+        q, r, als_notes = _als(zc, model, dt, lags)
+        notes += als_notes
+    out = replace(_tuning(arr, model, dt, rate, q, r, chosen, notes), regimes=regimes)
     if progress is not None:
         progress(1.0)
     return out

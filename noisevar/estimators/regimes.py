@@ -1,0 +1,197 @@
+"""Which regimes of a record a noise model or a filter's R is made from: all, or the still ones.
+
+A real log is a sequence of regimes (still, moving, ...; :mod:`noisevar.diagnostics.regimes`).
+``regimes="all"`` uses the whole record; ``regimes="still"`` the sensor's own noise: the
+estimate's ``.still`` for R (:func:`variance_for`), the record's longest still stretch for a
+fit (:func:`longest_still_stretch`). One home for the choice, used by ``fit_kalman``,
+``fit_coloured_noise``, ``allan``, ``inertial_noise``, the fleet report, the CLI and the
+dashboard.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from noisevar.errors import NoisevarError
+from noisevar.estimators.results import VarianceEstimate
+
+#: The regime choices: the whole record, or its still regimes only.
+REGIMES = ("all", "still")
+#: The choice a function makes when none is named.
+DEFAULT_REGIMES = "all"
+
+
+def check_regimes(regimes: Any) -> str:
+    """``regimes`` when it is one of :data:`REGIMES`; else a :class:`NoisevarError`."""
+    if not isinstance(regimes, str) or regimes not in REGIMES:
+        raise NoisevarError(
+            f"regimes must be one of {', '.join(map(repr, REGIMES))}, got {regimes!r}"
+        )
+    return regimes
+
+
+@dataclass(frozen=True)
+class StillStretch:
+    """The stretch of a record a ``regimes="still"`` fit runs on.
+
+    Attributes
+    ----------
+    start, stop : int
+        Its sample range ``[start, stop)``.
+    n_record : int
+        Samples of the whole record.
+    one_regime : bool
+        The record is one still regime: the stretch is the whole record.
+    """
+
+    start: int
+    stop: int
+    n_record: int
+    one_regime: bool
+
+    @property
+    def share(self) -> float:
+        """Share of the record's samples in the stretch."""
+        return (self.stop - self.start) / self.n_record
+
+    @property
+    def note(self) -> str:
+        """What a result fitted on this stretch says about it."""
+        if self.one_regime:
+            return (
+                "regimes='still': the record is one still regime (its level does not vary), "
+                "so the whole record was used"
+            )
+        return (
+            f"regimes='still': fitted on the record's longest still stretch, samples "
+            f"{self.start} to {self.stop} ({self.stop - self.start} samples, "
+            f"{self.share:.1%} of the record)"
+        )
+
+    def take(self, z: NDArray) -> NDArray:
+        """The stretch's samples of ``z`` (along its first axis)."""
+        return z[self.start : self.stop]
+
+
+def longest_still_stretch(z: ArrayLike, need: int = 0, purpose: str = "the fit") -> StillStretch:
+    """The longest still stretch of a record, from :func:`noisevar.estimate`'s regimes.
+
+    Parameters
+    ----------
+    z : array_like, shape (n,)
+        The record.
+    need : int
+        Fewest samples ``purpose`` needs.
+    purpose : str
+        What the stretch is for, for the error message (e.g. ``"the 'cv' model"``).
+
+    Returns
+    -------
+    StillStretch
+        The whole record when it is one still regime (``level_varies`` is False).
+
+    Raises
+    ------
+    NoisevarError
+        When the regimes cannot be found, or no still stretch has ``need`` samples.
+
+    Notes
+    -----
+    docs/algorithms.md §E1 (Regimes). The stretches are the diagnostics' still stretches
+    (``level_profile.still_stretches``: the still regimes' quiet blocks, with the
+    samples around level jumps cut out).
+    """
+    from noisevar.estimators import estimate
+
+    arr = np.asarray(z, dtype=float)
+    try:
+        diag = estimate(arr).diagnostics
+    except NoisevarError as exc:
+        raise NoisevarError(
+            f"regimes='still': the record's regimes could not be found ({exc}); use regimes='all'"
+        ) from exc
+    if diag is None:
+        raise NoisevarError(
+            "regimes='still': the record's regimes could not be found; use regimes='all'"
+        )
+    if not diag.level_varies:
+        return StillStretch(0, arr.shape[0], arr.shape[0], True)
+    stretches = diag.level_profile.still_stretches
+    if not stretches:
+        raise NoisevarError(
+            "regimes='still': the record has no still stretch (its level varies throughout); "
+            "record the sensor still for a while, or use regimes='all'"
+        )
+    a, b = max(stretches, key=lambda s: s[1] - s[0])
+    if b - a < need:
+        raise NoisevarError(
+            f"regimes='still': the longest still stretch (samples {a} to {b}, {b - a} samples) "
+            f"is too short for {purpose}, which needs {need}; record the sensor still for "
+            "longer, or use regimes='all'"
+        )
+    return StillStretch(int(a), int(b), int(arr.shape[0]), False)
+
+
+def still_used(est: VarianceEstimate, regimes: str = DEFAULT_REGIMES) -> bool:
+    """Whether ``regimes`` gives the estimate's still R: ``"still"`` and it has one."""
+    return check_regimes(regimes) == "still" and est.still is not None
+
+
+def estimate_for(est: VarianceEstimate, regimes: str = DEFAULT_REGIMES) -> VarianceEstimate:
+    """The estimate a regime choice quotes: ``est``, or ``est.still`` (:func:`still_used`)."""
+    still = est.still
+    return still if still is not None and still_used(est, regimes) else est
+
+
+def variance_for(est: VarianceEstimate, regimes: str = DEFAULT_REGIMES) -> float:
+    """The R of an estimate for a regime choice: ``est.variance``, or ``est.still.variance``.
+
+    Parameters
+    ----------
+    est : VarianceEstimate
+    regimes : {"all", "still"}
+
+    Returns
+    -------
+    float
+        With ``"still"``, the still regimes' variance when the estimate has one (the
+        level varies); else the whole record's (one regime: the record is still).
+    """
+    return float(estimate_for(est, regimes).variance)
+
+
+def choose_variances(
+    variance: ArrayLike, still_variance: ArrayLike, regimes: str = DEFAULT_REGIMES
+) -> NDArray:
+    """:func:`variance_for` on columns of estimates (a batch table's rows).
+
+    Parameters
+    ----------
+    variance, still_variance : array_like, shape (n,)
+        The whole records' variances and the still regimes' (NaN or None where a row
+        has none: the record is one regime).
+    regimes : {"all", "still"}
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        ``still_variance`` where it is finite and ``regimes`` is ``"still"``, else
+        ``variance``.
+    """
+    whole = np.asarray(variance, dtype=float)
+    if check_regimes(regimes) == "all":
+        return whole
+    still = np.array([_number(v) for v in np.ravel(np.asarray(still_variance, dtype=object))])
+    return np.where(np.isfinite(still), still.reshape(whole.shape), whole)
+
+
+def _number(value: Any) -> float:
+    """A float, NaN for a missing value (None, pandas' NA) or text."""
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        return float("nan")
