@@ -20,6 +20,8 @@ from noisevar._distributions import chi2_ppf
 #: The penalty per change point is ``REGIME_PENALTY * log(number of blocks)``; measured to
 #: split white noise of one level in under 5 % of records (tests/diagnostics/test_regimes.py).
 REGIME_PENALTY = 6.0
+#: A regime more than this many times the lowest regime's level is never still.
+STILL_RATIO = 2.0
 #: Regimes whose levels differ by less than this family-wise level are one level (both still).
 STILL_ALPHA = 1e-3
 
@@ -164,7 +166,9 @@ def find_regimes(start: NDArray, stop: NDArray, level: NDArray, dof: NDArray) ->
     alpha = STILL_ALPHA / max(len(pooled) - 1, 1)
     out = []
     for (a, b), (x, nu) in zip(zip(bounds, bounds[1:], strict=False), pooled, strict=True):
-        still = x <= low * _f_quantile(1.0 - alpha, nu, low_dof)
+        # consistent with the lowest level, and not far above it whatever the dof: a short
+        # stretch at twice the floor is not the sensor's still noise
+        still = x <= low * min(_f_quantile(1.0 - alpha, nu, low_dof), STILL_RATIO)
         lo, hi = _interval(x, nu)
         out.append(Regime(int(start[a]), int(stop[b - 1]), x, lo, hi, nu, bool(still)))
     return tuple(out)
