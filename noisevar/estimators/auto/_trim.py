@@ -72,7 +72,7 @@ def _outlier_mask(
     kappa: float,
     block: int,
     widen: int,
-    steps: Callable[[Callable[[NDArray], NDArray], float], NDArray] | None,
+    steps: Callable[[Callable[[NDArray], NDArray], float, NDArray], NDArray] | None,
     step_limit: float,
 ) -> tuple[NDArray | None, NDArray | None, NDArray | None]:
     """Squared residuals that are outliers, and samples next to jumps (the caller widens both).
@@ -121,7 +121,7 @@ def _outlier_mask(
     outlier = above(sq)
     jumps, found = None, None
     if steps is not None:
-        found = steps(above, kappa**2)
+        found = steps(above, kappa**2, outlier)
         if step_limit >= 0 and found.any():
             jumps = _believed(found, block, nb)
     return (outlier if outlier.any() else None), jumps, found
@@ -199,7 +199,24 @@ def _flag(
     if not np.isfinite(trim):
         return None, None, None
     limit = STEP_MAX_FRACTION * z.size if step_limit is None else step_limit
-    return _outlier_mask(sq0, trim, block, half, lambda v, sc: step_mask(z, v, sc), limit)
+    return _outlier_mask(
+        sq0, trim, block, half, lambda v, sc, out: step_mask(_bridged(z, out), v, sc), limit
+    )
+
+
+def _bridged(z: NDArray, outliers: NDArray) -> NDArray:
+    """``z`` with its outlying samples replaced by the line between their neighbours.
+
+    The step detector then sees a glitch as nothing and a jump as a jump: a level change
+    persists on both sides of the few samples it makes outlying, a glitch does not (on a
+    fast signal the detector's window medians alone can be fooled, §F5.3).
+    """
+    if not outliers.any() or outliers.all():
+        return z
+    idx = np.arange(z.size)
+    out = z.copy()
+    out[outliers] = np.interp(idx[outliers], idx[~outliers], z[~outliers])
+    return out
 
 
 def _zero(sq: NDArray, flags: NDArray | None, half: int, block: int, nb: int) -> NDArray:
