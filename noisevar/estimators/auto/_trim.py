@@ -29,6 +29,8 @@ from noisevar.numeric.steps import STEP_MAX_FRACTION, step_mask
 #: Trimmed samples are widened by half of this span (or of the longest span below it).
 AUTO_MASK_SPAN = 41
 AUTO_BLOCK = 256
+#: Runs of at most this many outlying samples are glitches to the step detector (§F5.3).
+GLITCH_MAX = 2
 
 
 def auto_block(n: int) -> int:
@@ -205,17 +207,30 @@ def _flag(
 
 
 def _bridged(z: NDArray, outliers: NDArray) -> NDArray:
-    """``z`` with its outlying samples replaced by the line between their neighbours.
+    """``z`` with its isolated outlying samples replaced by the line between their neighbours.
 
-    The step detector then sees a glitch as nothing and a jump as a jump: a level change
-    persists on both sides of the few samples it makes outlying, a glitch does not (on a
-    fast signal the detector's window medians alone can be fooled, §F5.3).
+    A glitch is one or two samples: bridged, the step detector sees nothing there (on a
+    fast signal its window medians alone can be moved by the signal's curvature, §F5.3).
+    A jump persists on both sides of the samples it makes outlying, and a tap of motion
+    rings over several: runs of more than :data:`GLITCH_MAX` outlying samples are left
+    as they are, for the detector to judge.
     """
-    if not outliers.any() or outliers.all():
+    if not outliers.any():
+        return z
+    edges = np.flatnonzero(np.diff(np.r_[0, outliers.view(np.int8), 0]))
+    a, b = edges[::2], edges[1::2]
+    short = (b - a) <= GLITCH_MAX
+    if not short.any():
+        return z
+    mark = np.zeros(z.size + 1, dtype=np.int64)  # +1 where a short run starts, -1 past it
+    np.add.at(mark, a[short], 1)
+    np.add.at(mark, b[short], -1)
+    glitch = np.cumsum(mark[:-1]) > 0
+    if glitch.all():
         return z
     idx = np.arange(z.size)
     out = z.copy()
-    out[outliers] = np.interp(idx[outliers], idx[~outliers], z[~outliers])
+    out[glitch] = np.interp(idx[glitch], idx[~glitch], z[~glitch])
     return out
 
 
