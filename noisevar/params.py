@@ -157,10 +157,13 @@ def by_name(specs: Iterable[ParamSpec]) -> dict[str, ParamSpec]:
 def validate_params(
     owner: str, specs: Mapping[str, ParamSpec], params: Mapping[str, Any]
 ) -> dict[str, Any]:
-    """Validate keyword parameters against specs; an unknown name is an error."""
+    """Validate keyword parameters against specs; an unknown name is an error.
+
+    The error names the unknown parameters and the known ones, in the owner's order.
+    """
     unknown = sorted(set(params) - set(specs))
     if unknown:
-        known = ", ".join(sorted(specs)) or "none"
+        known = ", ".join(specs) or "none"
         raise NoisevarError(
             f"{owner} does not take parameter(s) {', '.join(unknown)}; its parameters: {known}"
         )

@@ -31,7 +31,7 @@ from numpy.typing import NDArray
 
 from noisevar.errors import NoisevarError
 from noisevar.io.table import SAMPLE_PERIOD_RANGE
-from noisevar.params import ParamSpec, by_name
+from noisevar.params import ParamSpec, by_name, validate_params
 
 
 @dataclass
@@ -294,13 +294,7 @@ class SignalSpec:
     def validate(self, params: Mapping[str, Any]) -> dict[str, Any]:
         """Checked and converted parameters, or one :class:`NoisevarError` naming the bad one."""
         specs = self.param_specs
-        unknown = sorted(set(params) - set(specs))
-        if unknown:
-            raise NoisevarError(
-                f"bad parameter for signal {self.name!r}: {', '.join(unknown)}; "
-                f"it takes {', '.join(specs)}"
-            )
-        out = {k: specs[k].validate(v) for k, v in params.items()}
+        out = validate_params(f"signal {self.name!r}", specs, params)
         n, runs = out.get("n") or specs["n"].default, out.get("runs") or specs["runs"].default
         if n * runs > MAX_TOTAL:
             raise NoisevarError(

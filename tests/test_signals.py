@@ -147,7 +147,7 @@ def test_fast_slow_has_a_fast_burst_and_slow_parts():
         ("fast-slow", {"n": 50}, r"n=50 is out of range: it must be in \[100, "),
         ("fast-slow", {"runs": 0}, r"runs=0 is out of range: it must be in \[1, "),
         ("fast-slow", {"n": 1_000_000, "runs": 100}, "over the limit of 50,000,000"),
-        ("fast-slow", {"colour": "red"}, "bad parameter for signal 'fast-slow': colour"),
+        ("fast-slow", {"colour": "red"}, r"signal .fast-slow. does not take parameter\(s\) colour"),
         ("gps-circle", {"channel": "altitude"}, "channel must be a string: one of east"),
         ("noise-step", {"factor": -1.0}, "factor=-1.0 is out of range"),
         ("gps-circle", {"sample_period": 0.0}, "sample_period=0.0 is out of range"),

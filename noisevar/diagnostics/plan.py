@@ -9,6 +9,7 @@ seen, so that memory stays bounded whatever the record's length (docs/algorithms
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -219,27 +220,24 @@ class Windows:
             if lo < hi:
                 self.got[lo] = (x[lo - start : hi - start], keep[lo - start : hi - start])
 
-    def joined(self) -> tuple[NDArray, NDArray]:
-        """The windows' samples in order, each window followed by ``WHITE_LAGS`` unused slots."""
-        parts, kept = [], []
+    def _pieces(self) -> Iterator[tuple[int, NDArray, NDArray]]:
+        """``(position, samples, kept)`` of each piece in order; ``-1`` for the separators."""
         sep = np.zeros(WHITE_LAGS)
         for a, b in self.spans:
             for lo in sorted(k for k in self.got if a <= k < b):
-                parts.append(self.got[lo][0])
-                kept.append(self.got[lo][1])
+                yield lo, *self.got[lo]
             if len(self.spans) > 1:
-                parts.append(sep)
-                kept.append(sep.astype(bool))
-        if not parts:
+                yield -1, sep, sep.astype(bool)
+
+    def joined(self) -> tuple[NDArray, NDArray]:
+        """The windows' samples in order, each window followed by ``WHITE_LAGS`` unused slots."""
+        pieces = list(self._pieces())
+        if not pieces:
             return np.zeros(0), np.zeros(0, dtype=bool)
-        return np.concatenate(parts), np.concatenate(kept)
+        return np.concatenate([x for _, x, _ in pieces]), np.concatenate([k for *_, k in pieces])
 
     def joined_slots(self) -> NDArray:
         """The position of each sample of :meth:`joined` (-1 for the unused slots)."""
-        parts = []
-        for a, b in self.spans:
-            for lo in sorted(k for k in self.got if a <= k < b):
-                parts.append(np.arange(lo, lo + self.got[lo][0].size))
-            if len(self.spans) > 1:
-                parts.append(np.full(WHITE_LAGS, -1))
-        return np.concatenate(parts) if parts else np.zeros(0, dtype=int)
+        slots = [np.arange(lo, lo + x.size) if lo >= 0 else np.full(x.size, -1)
+                 for lo, x, _ in self._pieces()]  # fmt: skip
+        return np.concatenate(slots) if slots else np.zeros(0, dtype=int)

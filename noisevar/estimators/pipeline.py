@@ -18,6 +18,7 @@ no method is named here.
 
 from __future__ import annotations
 
+import bisect
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import Protocol
@@ -105,14 +106,16 @@ def runs_of(mask: NDArray, offset: int = 0) -> list[tuple[int, int]]:
 
 def cut_out(ranges: list[tuple[int, int]], holes: list[tuple[int, int]]) -> list[tuple[int, int]]:
     """``ranges`` less ``holes`` (both sorted, disjoint), pieces under :data:`STILL_MIN` dropped."""
+    ends = [d for _, d in holes]
     out = []
     for a, b in ranges:
-        for c, d in holes:
-            if d <= a or c >= b:
-                continue
+        i = bisect.bisect_right(ends, a)  # the first hole that ends after a
+        while i < len(holes) and holes[i][0] < b:
+            c, d = holes[i]
             if c > a:
                 out.append((a, c))
             a = max(a, d)
+            i += 1
         if b > a:
             out.append((a, b))
     return [(a, b) for a, b in out if b - a >= STILL_MIN]

@@ -14,9 +14,8 @@ from typing import Any
 
 from numpy.typing import NDArray
 
-from noisevar.errors import NoisevarError
 from noisevar.estimators.params import COMMON_PARAMS, PARAMS
-from noisevar.params import ParamSpec, by_name
+from noisevar.params import ParamSpec, by_name, validate_params
 
 
 @dataclass(frozen=True)
@@ -102,11 +101,4 @@ class MethodSpec:
 
     def validate(self, params: Mapping[str, Any]) -> dict[str, Any]:
         """Validated parameters; a name this method does not take is a :class:`NoisevarError`."""
-        specs = self.param_specs
-        foreign = sorted(set(params) - set(specs))
-        if foreign:
-            raise NoisevarError(
-                f"method {self.name!r} does not take parameter(s) {', '.join(foreign)}; "
-                f"its parameters: {', '.join(specs)}"
-            )
-        return {k: specs[k].validate(v) for k, v in params.items()}
+        return validate_params(f"method {self.name!r}", self.param_specs, params)
