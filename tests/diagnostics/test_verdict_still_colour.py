@@ -42,3 +42,16 @@ def test_white_still_noise_is_not_called_coloured(seed: int) -> None:
     assert diag.level_varies
     assert diag.still_whiteness is not None and diag.still_whiteness.white
     assert "not white" not in diag.verdict
+
+
+@pytest.mark.parametrize("low_passed", [False, True])
+def test_still_whiteness_is_tested_across_a_gap(low_passed: bool) -> None:
+    # a gap splits the record into two uniform segments; the still stretches' whiteness
+    # is still tested (it was skipped on any record of more than one segment)
+    t = np.arange(N) / 100.0
+    t[9000:] += 0.5
+    diag = noisevar.estimate(_record(0, low_passed), t=t).diagnostics
+    assert len(diag.gaps) == 1
+    assert diag.still_whiteness is not None
+    assert diag.still_whiteness.white is (not low_passed)
+    assert ("even there the noise is not white" in diag.verdict) is low_passed
