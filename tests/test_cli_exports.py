@@ -100,3 +100,16 @@ def test_unit_out_converts(capsys, imu_csv) -> None:
     rad = json.loads(capsys.readouterr().out)["columns"]["gx"]["terms"]["random_walk"]
     assert deg["unit"] == "deg/s/√Hz" and rad["unit"] == "rad/s/√Hz"
     assert rad["value"] == pytest.approx(deg["value"] * math.pi / 180, rel=1e-6)
+
+
+def test_allan_and_fit_carry_the_unit(capsys, imu_csv) -> None:
+    argv = ["allan", imu_csv, "--rate", "100", "--data", "rate", "--column", "gx"]
+    assert main([*argv, "--unit", "deg/s"]) == 0
+    assert "deviations in deg/s" in capsys.readouterr().out
+    assert main([*argv, "--unit", "deg/s", "--unit-out", "rad/s", "--format", "json"]) == 0
+    assert json.loads(capsys.readouterr().out)["unit"] == "rad/s"
+    assert "unknown unit" in _error(capsys, [*argv, "--unit", "parsec/"])
+    fit = ["fit", imu_csv, "--column", "ax", "--rate", "100", "--model", "rw", "--unit", "g"]
+    assert main(fit) == 0
+    out = capsys.readouterr().out
+    assert "r " in out and "g²" in out and "u²" not in out
