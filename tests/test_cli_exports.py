@@ -113,3 +113,17 @@ def test_allan_and_fit_carry_the_unit(capsys, imu_csv) -> None:
     assert main(fit) == 0
     out = capsys.readouterr().out
     assert "r " in out and "g²" in out and "u²" not in out
+
+
+def test_estimate_carries_and_converts_the_unit(capsys, imu_csv) -> None:
+    argv = ["estimate", imu_csv, "--column", "gx", "--method", "rice"]
+    assert main([*argv, "--unit", "deg/s"]) == 0
+    out = capsys.readouterr().out
+    assert "(deg/s)²" in out and "std" in out
+    assert main([*argv, "--unit", "deg/s", "--format", "json"]) == 0
+    deg = json.loads(capsys.readouterr().out)
+    assert main([*argv, "--unit", "deg/s", "--unit-out", "rad/s", "--format", "json"]) == 0
+    rad = json.loads(capsys.readouterr().out)
+    assert rad["unit"] == "rad/s"
+    assert rad["variance"] == pytest.approx(deg["variance"] * (math.pi / 180) ** 2, rel=1e-9)
+    assert "unknown unit" in _error(capsys, [*argv, "--unit", "lightyear/"])
