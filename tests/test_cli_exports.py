@@ -127,3 +127,31 @@ def test_estimate_carries_and_converts_the_unit(capsys, imu_csv) -> None:
     assert rad["unit"] == "rad/s"
     assert rad["variance"] == pytest.approx(deg["variance"] * (math.pi / 180) ** 2, rel=1e-9)
     assert "unknown unit" in _error(capsys, [*argv, "--unit", "lightyear/"])
+
+
+def test_gnss_columns_give_px4_and_ardupilot_their_stds(capsys, imu_csv, tmp_path) -> None:
+    rng = np.random.default_rng(5)
+    t = np.arange(3000) / 5.0
+    pos = 0.3 * t + rng.normal(0, 1.5, t.size)  # m, a slow drift plus white noise
+    gnss = tmp_path / "gnss.csv"
+    np.savetxt(gnss, np.column_stack([t, pos]), delimiter=",", header="time,north", comments="")
+    out = tmp_path / "cfg"
+    argv = [
+        "imu",
+        imu_csv,
+        *BASE,
+        "--export",
+        "px4,ardupilot",
+        "--out",
+        str(out),
+        "--gnss-file",
+        str(gnss),
+        "--gnss-pos",
+        "north",
+    ]
+    assert main(argv) == 0
+    px4 = exports.consumer("px4").parse((out / "px4_ekf2.params").read_text())
+    ap = exports.consumer("ardupilot").parse((out / "ardupilot_ekf3.param").read_text())
+    assert px4["EKF2_GPS_P_NOISE"] == pytest.approx(1.5, rel=0.1)
+    assert ap["EK3_POSNE_M_NSE"] == px4["EKF2_GPS_P_NOISE"]
+    assert "EKF2_GPS_V_NOISE" not in px4

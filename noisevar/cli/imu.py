@@ -63,8 +63,22 @@ def _exports(args: argparse.Namespace, fits: dict) -> list[str]:
         [fits[c] for c in args.gyro],
         [fits[c] for c in args.accel],
         variant="conservative" if args.conservative else "best",
+        gnss=_gnss(args),
     )
     return [str(p) for p in exports.write_exports(exports.export(model, keys), args.out)]
+
+
+def _gnss(args: argparse.Namespace) -> dict[str, float]:
+    """GNSS position (m) and velocity (m/s) stds: sqrt(R) of their columns (method auto)."""
+    from noisevar.cli._common import load_record
+    from noisevar.estimators import estimate
+
+    out = {}
+    for key, column in (("position", args.gnss_pos), ("velocity", args.gnss_vel)):
+        if column:
+            z, t, _ = load_record(args.gnss_file or args.file, column)
+            out[key] = float(estimate(z, t=t).std)
+    return out
 
 
 def _print_table(fits: dict) -> None:
@@ -139,6 +153,11 @@ def add_parser(sub: Any) -> None:
         "robot_localization, px4, ardupilot, matlab, filterpy (comma-separated) or all",
     )
     p.add_argument("--out", metavar="DIR", help="directory for the --export files")
+    p.add_argument(
+        "--gnss-pos", metavar="COLUMN", help="GNSS position column (m), for PX4/ArduPilot"
+    )
+    p.add_argument("--gnss-vel", metavar="COLUMN", help="GNSS velocity column (m/s)")
+    p.add_argument("--gnss-file", metavar="FILE", help="file of the GNSS columns (default FILE)")
     p.add_argument(
         "--conservative",
         action="store_true",
