@@ -40,14 +40,8 @@ def _column(sig: LoadedSignal, name: str) -> np.ndarray:
     return np.asarray(pick_column(sig.table, name), dtype=float)
 
 
-def consumer_files(sig: LoadedSignal, rate: float, regimes: str) -> None:
-    """Every consumer's file from the gyroscope and accelerometer columns chosen above."""
-    gyro = list(st.session_state.get("nm_gyro") or [])
-    accel = list(st.session_state.get("nm_accel") or [])
-    st.markdown(
-        "**Every filter's config** (Kalibr, OpenVINS, VINS, ORB-SLAM3, "
-        "robot_localization, PX4, ArduPilot, MATLAB, filterpy)"
-    )
+def _choices() -> tuple[str, str, str]:
+    """Best fit or conservative, and the gyroscope's and accelerometer's units."""
     c1, c2, c3 = st.columns([2, 1, 1])
     variant = c1.radio(
         "Values",
@@ -66,6 +60,42 @@ def consumer_files(sig: LoadedSignal, rate: float, regimes: str) -> None:
         key="nm_accel_unit",
         **initial("nm_accel_unit", _default(declared, "m/s^2")),
     )
+    return str(variant), g_unit, a_unit
+
+
+def _downloads(files: list[exports.ExportFile], variant: str) -> None:
+    """A download button per consumer file, and one for a zip of all."""
+    cols = st.columns(3)
+    for i, f in enumerate(files):
+        cols[i % 3].download_button(
+            f.filename,
+            f.text,
+            file_name=f.filename,
+            key=f"nm_dl_{f.consumer}",
+            icon=":material/download:",
+            on_click="ignore",
+            help=exports.consumer(f.consumer).title,
+        )
+    st.download_button(
+        "All files (zip)",
+        exports.zip_exports(files),
+        file_name=f"filter_configs_{variant}.zip",
+        mime="application/zip",
+        key="nm_dl_zip",
+        icon=":material/folder_zip:",
+        on_click="ignore",
+    )
+
+
+def consumer_files(sig: LoadedSignal, rate: float, regimes: str) -> None:
+    """Every consumer's file from the gyroscope and accelerometer columns chosen above."""
+    gyro = list(st.session_state.get("nm_gyro") or [])
+    accel = list(st.session_state.get("nm_accel") or [])
+    st.markdown(
+        "**Every filter's config** (Kalibr, OpenVINS, VINS, ORB-SLAM3, "
+        "robot_localization, PX4, ArduPilot, MATLAB, filterpy)"
+    )
+    variant, g_unit, a_unit = _choices()
     if not (gyro and accel):
         st.caption("Choose the gyroscope and accelerometer columns above.")
         return
@@ -77,7 +107,7 @@ def consumer_files(sig: LoadedSignal, rate: float, regimes: str) -> None:
         model = exports.imu_model(
             [fits[c] for c in gyro],
             [fits[c] for c in accel],
-            variant=str(variant),
+            variant=variant,
             gyro_unit=g_unit,
             accel_unit=a_unit,
         )
@@ -85,28 +115,10 @@ def consumer_files(sig: LoadedSignal, rate: float, regimes: str) -> None:
         for name, s in (("Gyroscope", model.gyro), ("Accelerometer", model.accel)):
             f = ", ".join(f"{k} x{v:.3g}" for k, v in s.factors.items())
             st.caption(
-                f"{name}: N {s.N:.4g} {s.unit}/√Hz, K {s.K:.4g}"
+                f"{name}: N {s.N:.4g} {units.term_unit(s.unit, 'N')}, "
+                f"K {s.K:.4g} {units.term_unit(s.unit, 'K')}"
                 + (f"; factors over the best fit: {f}" if f else "")
             )
         for note in model.notes:
             st.caption(note)
-        cols = st.columns(3)
-        for i, f in enumerate(files):
-            cols[i % 3].download_button(
-                f.filename,
-                f.text,
-                file_name=f.filename,
-                key=f"nm_dl_{f.consumer}",
-                icon=":material/download:",
-                on_click="ignore",
-                help=exports.consumer(f.consumer).title,
-            )
-        st.download_button(
-            "All files (zip)",
-            exports.zip_exports(files),
-            file_name=f"filter_configs_{variant}.zip",
-            mime="application/zip",
-            key="nm_dl_zip",
-            icon=":material/folder_zip:",
-            on_click="ignore",
-        )
+        _downloads(files, variant)

@@ -192,3 +192,11 @@ def test_conservative_raises_never_lowers_and_is_labelled(fits) -> None:
     assert safe.gyro.factors["K"] > 1  # the bias instability B has to go somewhere
     (f,) = exports.export(safe, "kalibr")
     assert "CONSERVATIVE" in f.text and "factors over the best fit" in f.text
+
+
+def test_px4_warns_outside_its_documented_range() -> None:
+    loud = ImuModel(GYRO, SensorTerms(N=2.5e-3, K=5e-2, B=0.0, unit="m/s^2"), RATE)
+    (f,) = exports.export(loud, "px4")
+    assert "WARNING: EKF2_ACC_B_NOISE is outside" in f.text  # 0.5 m/s³ > 0.01
+    assert "WARNING: EKF2_GYR_NOISE" not in f.text
+    assert exports.consumer("px4").parse(f.text)["EKF2_ACC_B_NOISE"] == pytest.approx(0.5)

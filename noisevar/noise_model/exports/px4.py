@@ -30,6 +30,14 @@ from noisevar.noise_model.exports.model import ImuModel
 
 #: EKF2's default prediction period (``EKF2_PREDICT_US``, µs).
 PREDICT_US = 10000
+#: The documented ranges (ekf2 parameter definitions' ``@min``/``@max``; None: no bound
+#: read): a value outside is written as computed, with a warning line.
+RANGES = {
+    "EKF2_GYR_NOISE": (0.0001, None),
+    "EKF2_ACC_NOISE": (0.01, 1.0),
+    "EKF2_GYR_B_NOISE": (0.0, 0.01),
+    "EKF2_ACC_B_NOISE": (0.0, 0.01),
+}
 #: MAV_PARAM_TYPE_REAL32: the type column of a QGC parameter file.
 _REAL32 = 9
 
@@ -70,6 +78,12 @@ def write(model: ImuModel, *, predict_us: int = PREDICT_US) -> ExportFile:
     lines.append("# Vehicle-Id\tComponent-Id\tName\tValue\tType")
     for v in values:
         lines.append(f"# {v.name}: {v.comment()}")
+        lo, hi = RANGES.get(v.name, (None, None))
+        if (lo is not None and v.value < lo) or (hi is not None and v.value > hi):
+            lines.append(
+                f"# WARNING: {v.name} is outside PX4's documented range [{lo}, {hi}]: the "
+                "ground station may refuse it; written as computed"
+            )
         lines.append(f"1\t1\t{v.name}\t{v.value:.12g}\t{_REAL32}")
     return ExportFile("px4", "px4_ekf2.params", "\n".join(lines) + "\n", tuple(values))
 
