@@ -3,7 +3,10 @@
 Meaning, from PX4's code (PX4/PX4-Autopilot at 765f284): ``src/modules/ekf2/EKF/
 covariance.cpp``, ``Ekf::predictCovariance``: ``gyro_var = sq(_params.gyro_noise)`` and
 ``accel_var = sq(accel_noise)`` go to ``sym::PredictCovariance(..., gyro_var, dt)``, which
-adds ``gyro_var · dt²`` to the angle error per prediction step; the bias states get
+adds ``gyro_var · dt²`` to the angle error per prediction step (the generator,
+``EKF/python/ekf_derivation/derivation.py``, ``predict_covariance``: ``P_new = A P Aᵀ +
+G var_u Gᵀ``; at 0754cab its caller passed ``d_ang_var = sq(dt * gyro_noise)``, the same
+thing); the bias states get
 ``sq(dt * _params.gyro_bias_p_noise)`` per step. The step ``dt`` is EKF2's prediction
 period ``EKF2_PREDICT_US`` (default 10000 µs: 100 Hz), the IMU being down-sampled (its
 delta angles summed) to it. So ``EKF2_GYR_NOISE`` is the std of the rate averaged over one
