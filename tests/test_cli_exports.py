@@ -73,6 +73,8 @@ def test_export_all_then_conservative(capsys, imu_csv, tmp_path) -> None:
     assert main([*argv, "--format", "json"]) == 0
     report = json.loads(capsys.readouterr().out)
     assert len(report["exports"]) == 2
+    factors = report["model"]["gyroscope"]["factors"]
+    assert report["model"]["variant"] == "conservative" and min(factors.values()) >= 1.0
     text = (safe / "imu.yaml").read_text()
     assert "CONSERVATIVE" in text
     safe_k = exports.consumer("kalibr").parse(text)

@@ -51,8 +51,8 @@ def _need_sensors(args: argparse.Namespace, flag: str) -> None:
         )
 
 
-def _exports(args: argparse.Namespace, fits: dict) -> list[str]:
-    """Each consumer's file of ``--export`` written into ``--out``; the paths."""
+def _exports(args: argparse.Namespace, fits: dict) -> tuple[list[str], dict]:
+    """Each consumer's file of ``--export`` written into ``--out``; the paths, the model."""
     from noisevar.noise_model import exports
 
     keys = exports.consumers(args.export)  # an unknown consumer: exit 2 before any work
@@ -65,7 +65,8 @@ def _exports(args: argparse.Namespace, fits: dict) -> list[str]:
         variant="conservative" if args.conservative else "best",
         gnss=_gnss(args),
     )
-    return [str(p) for p in exports.write_exports(exports.export(model, keys), args.out)]
+    paths = exports.write_exports(exports.export(model, keys), args.out)
+    return [str(p) for p in paths], model.to_dict()
 
 
 def _gnss(args: argparse.Namespace) -> dict[str, float]:
@@ -112,13 +113,14 @@ def _cmd_imu(args: argparse.Namespace) -> int:
         fits.update(zip(names, fitted, strict=True))
     fits = {c: fits[c] for c in data}
     written = _kalibr(args, fits) if args.kalibr else None
-    files = _exports(args, fits) if args.export else []
+    files, model = _exports(args, fits) if args.export else ([], None)
     if args.format == "json":
         print_json(
             {
                 "columns": {c: f.to_dict() for c, f in fits.items()},
                 "kalibr": written,
                 "exports": files,
+                "model": model,
             }
         )
     else:

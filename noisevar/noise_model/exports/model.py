@@ -141,10 +141,11 @@ def _sensor(
             )
         return SensorTerms(n * f, k * f, b * f, target), notes
     bounds = [overbound(a, free=NK) for a in fits]
-    n = max(ob.values["N"] for ob in bounds)
-    k = max(ob.values["K"] for ob in bounds)
     n_best = max(max(a.random_walk, a.white_level) for a in fits)
     k_best = max(a.rate_random_walk for a in fits)
+    # never below the best set (whose N is at least the white level)
+    n = max(n_best, *(ob.values["N"] for ob in bounds))
+    k = max(k_best, *(ob.values["K"] for ob in bounds))
     factors = {"N": n / n_best if n_best > 0 else 1.0, "K": k / k_best if k_best > 0 else 1.0}
     covers = dict.fromkeys(c for ob in bounds for c in ob.covers)
     b = max(a.bias_instability for a in fits)
