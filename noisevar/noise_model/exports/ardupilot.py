@@ -18,6 +18,7 @@ from noisevar.noise_model.exports.base import (
     Consumer,
     ExportFile,
     Value,
+    ascii_text,
     walk_sigma,
     white_sigma,
 )
@@ -61,7 +62,9 @@ def write(model: ImuModel, *, target_dt: float = TARGET_DT) -> ExportFile:
     for v in values:
         lines.append(f"# {v.name}: {v.comment()}")
         lines.append(f"{v.name},{v.value:.12g}")
-    return ExportFile("ardupilot", "ardupilot_ekf3.param", "\n".join(lines) + "\n", tuple(values))
+    return ExportFile(
+        "ardupilot", "ardupilot_ekf3.param", ascii_text("\n".join(lines) + "\n"), tuple(values)
+    )
 
 
 def parse(text: str) -> dict[str, float]:

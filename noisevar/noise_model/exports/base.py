@@ -115,3 +115,14 @@ def walk_sigma(model: ImuModel, sensor: str, name: str, rate: float, what: str) 
 def number(v: float) -> str:
     """A value as written in every file: 10 significant digits, exponent form."""
     return f"{v:.9e}"
+
+
+_ASCII = {"√": "sqrt", "²": "^2", "³": "^3", "⁴": "^4", "§": "section ", "µ": "u", "·": "*"}
+
+
+def ascii_text(text: str) -> str:
+    """``text`` in ASCII (``√Hz`` as ``sqrtHz``...): for readers that may not take UTF-8
+    (OpenCV's FileStorage YAML, ground stations' parameter files, older MATLAB)."""
+    for k, v in _ASCII.items():
+        text = text.replace(k, v)
+    return text

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import re
 
-from noisevar.noise_model.exports.base import Consumer, ExportFile, density, number
+from noisevar.noise_model.exports.base import Consumer, ExportFile, ascii_text, density, number
 from noisevar.noise_model.exports.model import ImuModel
 
 _CALL = re.compile(r"^(\w+)\s*=\s*(gyroparams|accelparams)\((.*)\);\s*$")
@@ -44,7 +44,7 @@ def write(model: ImuModel) -> ExportFile:
         f"imu = imuSensor('accel-gyro', 'SampleRate', {model.rate:g}, "
         "'Gyroscope', gyro, 'Accelerometer', accel);"
     )
-    return ExportFile("matlab", "imu_params.m", "\n".join(lines) + "\n", tuple(values))
+    return ExportFile("matlab", "imu_params.m", ascii_text("\n".join(lines) + "\n"), tuple(values))
 
 
 def parse(text: str) -> dict[str, float]:

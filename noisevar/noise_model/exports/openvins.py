@@ -11,7 +11,7 @@ kalibr_imu_chain.yaml`` (identity intrinsics, model "kalibr").
 
 from __future__ import annotations
 
-from noisevar.noise_model.exports.base import Consumer, ExportFile, density, number
+from noisevar.noise_model.exports.base import Consumer, ExportFile, ascii_text, density, number
 from noisevar.noise_model.exports.model import ImuModel
 
 _EYE = ["    - [1.0, 0.0, 0.0]", "    - [0.0, 1.0, 0.0]", "    - [0.0, 0.0, 1.0]"]
@@ -38,7 +38,7 @@ def write(model: ImuModel, *, rostopic: str = "/imu0") -> ExportFile:
     lines += [
         f"  rostopic: {rostopic}",
         "  time_offset: 0.0",
-        f"  update_rate: {model.rate:g}",
+        f"  update_rate: {model.rate:.1f}",
         '  model: "kalibr"',
     ]
     for key, rows in (
@@ -49,7 +49,9 @@ def write(model: ImuModel, *, rostopic: str = "/imu0") -> ExportFile:
         ("Tg", _ZERO),
     ):
         lines += [f"  {key}:", *rows]
-    return ExportFile("openvins", "kalibr_imu_chain.yaml", "\n".join(lines) + "\n", values)
+    return ExportFile(
+        "openvins", "kalibr_imu_chain.yaml", ascii_text("\n".join(lines) + "\n"), values
+    )
 
 
 def parse(text: str) -> dict[str, float]:

@@ -11,7 +11,14 @@ discrete stds itself with ``IMU.Frequency``, the IMU's sample rate.
 
 from __future__ import annotations
 
-from noisevar.noise_model.exports.base import Consumer, ExportFile, Value, density, number
+from noisevar.noise_model.exports.base import (
+    Consumer,
+    ExportFile,
+    Value,
+    ascii_text,
+    density,
+    number,
+)
 from noisevar.noise_model.exports.model import ImuModel
 
 
@@ -34,7 +41,7 @@ def write(model: ImuModel) -> ExportFile:
     lines.append("# Merge these lines into your ORB-SLAM3 settings file.")
     lines += [f"{v.name}: {number(v.value)}  # {v.comment()}" for v in values[:4]]
     lines.append(f"IMU.Frequency: {int(values[4].value)}  # {values[4].comment()}")
-    return ExportFile("orbslam3", "orbslam3_imu.yaml", "\n".join(lines) + "\n", values)
+    return ExportFile("orbslam3", "orbslam3_imu.yaml", ascii_text("\n".join(lines) + "\n"), values)
 
 
 def parse(text: str) -> dict[str, float]:

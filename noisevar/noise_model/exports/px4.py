@@ -26,6 +26,7 @@ from noisevar.noise_model.exports.base import (
     Consumer,
     ExportFile,
     Value,
+    ascii_text,
     walk_sigma,
     white_sigma,
 )
@@ -88,7 +89,7 @@ def write(model: ImuModel, *, predict_us: int = PREDICT_US) -> ExportFile:
                 "ground station may refuse it; written as computed"
             )
         lines.append(f"1\t1\t{v.name}\t{v.value:.12g}\t{_REAL32}")
-    return ExportFile("px4", "px4_ekf2.params", "\n".join(lines) + "\n", tuple(values))
+    return ExportFile("px4", "px4_ekf2.params", ascii_text("\n".join(lines) + "\n"), tuple(values))
 
 
 def parse(text: str) -> dict[str, float]:

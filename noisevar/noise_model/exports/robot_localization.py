@@ -99,10 +99,15 @@ def write(model: ImuModel) -> ExportFile:
         "# AMBIGUOUS: robot_localization has no IMU bias state; the bias random walk K^2 is",
         "# added to its default process noise of the states the IMU measures.",
     ]
-    lines.append("imu_covariance:")
+    lines += [
+        "# imu_driver: rename to your IMU driver's node (ROS 2 parameter file layout), or",
+        "# fill the message's fields in the driver's code.",
+        "imu_driver:",
+        "  ros__parameters:",
+    ]
     for v in values[:2]:
         row = ", ".join(number(v.value) if i % 4 == 0 else "0.0" for i in range(9))
-        lines += [f"  # {v.comment()}", f"  {v.name}: [{row}]"]
+        lines += [f"    # {v.comment()}", f"    {v.name}: [{row}]"]
     lines += ["ekf_filter_node:", "  ros__parameters:", "    # diagonal: " + " ".join(STATES)]
     lines += [f"    # {v.name}: {v.comment()}" for v in values[2:]]
     lines.append(f"    process_noise_covariance: [{', '.join(number(d) for d in diag)}]")
@@ -116,7 +121,7 @@ def parse(text: str) -> dict[str, float]:
     import yaml
 
     d = yaml.safe_load(text)
-    out = {k: float(v[0]) for k, v in d["imu_covariance"].items()}
+    out = {k: float(v[0]) for k, v in d["imu_driver"]["ros__parameters"].items()}
     diag = d["ekf_filter_node"]["ros__parameters"]["process_noise_covariance"]
     out.update(
         {f"process_noise_covariance[{s}]": float(x) for s, x in zip(STATES, diag, strict=True)}

@@ -18,7 +18,14 @@ steps', which makes its propagated angle std ``√2`` smaller than the continuou
 
 from __future__ import annotations
 
-from noisevar.noise_model.exports.base import Consumer, ExportFile, number, walk_sigma, white_sigma
+from noisevar.noise_model.exports.base import (
+    Consumer,
+    ExportFile,
+    ascii_text,
+    number,
+    walk_sigma,
+    white_sigma,
+)
 from noisevar.noise_model.exports.model import ImuModel
 
 
@@ -41,7 +48,7 @@ def write(model: ImuModel) -> ExportFile:
         "# Merge these lines into your VINS config.",
     ]
     lines += [f"{v.name}: {number(v.value)}  # {v.comment()}" for v in values]
-    return ExportFile("vins", "vins_imu.yaml", "\n".join(lines) + "\n", values)
+    return ExportFile("vins", "vins_imu.yaml", ascii_text("\n".join(lines) + "\n"), values)
 
 
 def parse(text: str) -> dict[str, float]:
