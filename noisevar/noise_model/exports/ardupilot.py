@@ -3,8 +3,9 @@
 Meaning, from ArduPilot's code (ArduPilot/ardupilot at 363e7e9): ``libraries/AP_NavEKF3/
 AP_NavEKF3_core.cpp``, ``NavEKF3_core::CovariancePrediction``: ``daxVar = dayVar = dazVar =
 sq(dt*_gyrNoise)`` and ``dvxVar = ... = sq(dt*_accNoise)`` per prediction step, and the
-delta-angle/velocity bias states (bias · dt) get ``dAngBiasSigma = sq(dt) *
-_gyroBiasProcessNoise``: a bias change of ``dt · EK3_GBIAS_P_NSE`` per step.
+delta-angle/velocity bias states (bias · dt, rad and m/s) get ``dAngBiasVar =
+sq(sq(dt) * _gyroBiasProcessNoise)`` per step: a rate-bias change of
+``dt · EK3_GBIAS_P_NSE`` per step.
 ``AP_NavEKF3_core.h``: ``#define EKF_TARGET_DT 0.012f`` (12 ms, 83.3 Hz), the IMU being
 down-sampled to it. So ``EK3_GYRO_P_NSE`` is ``N √f_ekf`` (rad/s), ``EK3_GBIAS_P_NSE``
 ``K √f_ekf`` (rad/s²). GNSS: ``AP_NavEKF3.cpp`` ``@Param: POSNE_M_NSE`` "GPS horizontal
