@@ -338,7 +338,7 @@ def _one_axis(
                 spec.symbol,
                 value,
                 (float(lo), float(hi)),
-                spec.unit.format(u=unit),
+                units.term_unit(unit, spec.symbol),
                 spec.discrete(value, rate),
                 spec.discrete_unit.format(u=unit),
                 spec.slope,
