@@ -10,7 +10,7 @@ import streamlit as st
 
 from dashboard import cache
 from dashboard.sections.regimes import regime_choice
-from dashboard.state import LoadedSignal, initial
+from dashboard.state import LoadedSignal, initial, signal_units
 from dashboard.widgets import figure_downloads, fmt, guarded, show_figure
 from noisevar.estimators.regimes import DEFAULT_REGIMES, still_used, variance_for
 from noisevar.figures.noise_model import allan_figure
@@ -86,7 +86,8 @@ def settings_form(sig: LoadedSignal, regimes: str = DEFAULT_REGIMES) -> NoiseMod
         key="nm_kind",
         **initial("nm_kind", 0, "index"),
     )
-    unit = c4.text_input("Unit of the rate", key="nm_unit", **initial("nm_unit", "u"))
+    declared = signal_units() or "u"  # the unit declared on the Signal page
+    unit = c4.text_input("Unit of the rate", key="nm_unit", **initial("nm_unit", declared))
     return NoiseModelSettings(float(rate), str(data), str(kind), unit.strip() or "u", regimes)
 
 

@@ -8,18 +8,30 @@ import json
 from pathlib import Path
 from typing import Any
 
-from noisevar.cli._common import add_regimes_flag, load_signal, print_json, regimes_of
+from noisevar.cli._common import (
+    add_regimes_flag,
+    add_unit_flags,
+    load_signal,
+    print_json,
+    regimes_of,
+    units_of,
+)
 from noisevar.errors import NoisevarError
 
 
-def _print_table(t: Any, args: argparse.Namespace) -> None:
+def _print_table(t: Any, args: argparse.Namespace, unit: str = "u") -> None:
     def iv(pair: tuple[float, float]) -> str:
         return f"(95 % {pair[0]:.4g} .. {pair[1]:.4g})"
 
+    def said(text: str) -> str:  # the units of q and r in the data's unit
+        from noisevar.units import variance_label
+
+        return text.replace("u²", variance_label(unit))
+
     print(f"file      {args.file}" + (f"  column {args.column}" if args.column else ""))
     print(f"model     {t.model}   method {t.method}   samples {t.n}   regimes {t.regimes}")
-    print(f"q         {t.q:.6g} {t.units['q']}  {iv(t.q_interval)}")
-    print(f"r         {t.r:.6g} {t.units['r']}  {iv(t.r_interval)}")
+    print(f"q         {t.q:.6g} {said(t.units['q'])}  {iv(t.q_interval)}")
+    print(f"r         {t.r:.6g} {said(t.units['r'])}  {iv(t.r_interval)}")
     print(f"h         {t.h:.6g} (q T^k / r)  {iv(t.h_interval)}")
     print(f"gain      {', '.join(f'{g:.6g}' for g in t.gain)}")
     lo, hi = t.nis_band
@@ -41,6 +53,8 @@ def _cmd_fit(args: argparse.Namespace) -> int:
             f"--rate must be a positive number of samples per second, got {args.rate}"
         )
     z, dropped = load_signal(args.file, args.column)
+    scale, unit = units_of(args.unit, args.unit_out)
+    z = z * scale
     if args.config:
         if args.regimes is not None:
             raise NoisevarError(
@@ -67,10 +81,10 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         Path(args.save_config).write_text(text, encoding="utf-8")
     if args.format == "json":
         out = tuning.to_dict()
-        out.update(file=args.file, column=args.column, dropped=dropped)
+        out.update(file=args.file, column=args.column, dropped=dropped, unit=unit)
         print_json(out)
     else:
-        _print_table(tuning, args)
+        _print_table(tuning, args, unit)
     return 0
 
 
@@ -85,6 +99,7 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--rate", type=float, help="sample rate in Hz (required unless in --config)")
     default = inspect.signature(fit_kalman).parameters["method"].default
     p.add_argument("--method", choices=list(METHODS), help=f"default {default}")
+    add_unit_flags(p)
     add_regimes_flag(p)
     p.add_argument("--config", help="apply the Q and R of this config instead of fitting")
     p.add_argument("--save-config", metavar="OUT", help="write the tuned filter as a config")
