@@ -212,6 +212,30 @@ def require_estimator_config(config: Mapping[str, Any], source: str = "the confi
         )
 
 
+def filter_config_json(tuning: Any, column: str | None = None, unit: str = "") -> str:
+    """A tuned filter's config file, as the Noise model page downloads it and ``--save-config``
+    writes it (``noisevar fit FILE --config`` reads it).
+
+    Parameters
+    ----------
+    tuning : KalmanTuning
+        The fitted (or applied) filter.
+    column : str, optional
+        The data column fitted.
+    unit : str
+        The signal's declared unit.
+
+    Returns
+    -------
+    str
+        Indented JSON, validated.
+    """
+    from noisevar.noise_model.export import to_config
+
+    config = validate_config(to_config(tuning, column=column, unit=unit))
+    return json.dumps(config, indent=2, allow_nan=False) + "\n"
+
+
 def params_to_config(method: str, params: Mapping[str, Any]) -> dict[str, Any]:
     """The config for a method and its parameters (for example ``estimate.params``).
 

@@ -13,8 +13,9 @@ import numpy as np
 import pytest
 
 from noisevar.cli import main
+from noisevar.config import filter_config_json
 from noisevar.noise_model import fit_kalman
-from noisevar.noise_model.export import APPLY_COMMAND, config_json
+from noisevar.noise_model.export import APPLY_COMMAND
 
 
 @pytest.fixture(scope="module")
@@ -36,7 +37,7 @@ def page_config(imu_csv, tmp_path_factory):
     _, x, rate = imu_csv
     tuning = fit_kalman(x, model="cv", rate=rate, method="mle")
     path = tmp_path_factory.mktemp("cfg") / "tuned.json"
-    path.write_text(config_json(tuning, "Gyr_Z", "rad/s"), encoding="utf-8")
+    path.write_text(filter_config_json(tuning, "Gyr_Z", "rad/s"), encoding="utf-8")
     return path, tuning
 
 

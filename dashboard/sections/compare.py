@@ -12,6 +12,7 @@ import noisevar
 from dashboard import cache
 from dashboard.sections.estimator_tuning import tuned_methods
 from dashboard.sections.noise_panel import render_assumptions, render_noise_panel
+from dashboard.sections.regimes import record_answer_box
 from dashboard.state import LoadedSignal, initial, times_of
 from dashboard.widgets import (
     csv_download,
@@ -67,6 +68,8 @@ def tuned_params(tuned: dict[str, object] | None) -> dict[str, dict[str, object]
 
 def comparison(sig: LoadedSignal, tuned: dict[str, object] | None) -> None:
     """Choose methods; every chosen method on the signal: table, figure, downloads."""
+    with guarded("Noise estimate: "):  # the record's one answer, as the Estimator page
+        record_answer_box(cache.estimate(sig, cache.DEFAULT_METHOD, {}), differs="method")
     chosen = st.multiselect(
         "Methods",
         single_signal_methods(),

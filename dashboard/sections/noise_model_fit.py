@@ -16,6 +16,8 @@ import numpy as np
 import streamlit as st
 
 from dashboard.widgets import fmt, guarded, show_figure
+from noisevar.config import filter_config_json
+from noisevar.estimators.answer import WHY_DIFFERENT
 from noisevar.estimators.regimes import DEFAULT_REGIMES
 from noisevar.figures.kalman_tuning import (
     coloured_rows,
@@ -26,7 +28,7 @@ from noisevar.figures.kalman_tuning import (
     tuning_rows,
 )
 from noisevar.noise_model import KalmanTuning, fit_coloured_noise, fit_kalman, run_tuned
-from noisevar.noise_model.export import APPLY_COMMAND, config_json, filterpy_snippet
+from noisevar.noise_model.export import APPLY_COMMAND, filterpy_snippet
 from noisevar.noise_model.kalman_fit import METHODS, MODELS
 
 KEY = "nmf"
@@ -90,7 +92,7 @@ def _exports(t: KalmanTuning, column: str | None, unit: str) -> None:
     c1, c2 = st.columns(2)
     c1.download_button(
         "Config with Q and R (JSON)",
-        data=config_json(t, column, unit),
+        data=filter_config_json(t, column, unit),
         file_name=f"tuned_{t.model}.json",
         mime="application/json",
         key=f"{KEY}_cfg",
@@ -172,6 +174,7 @@ def render_fit(
             f"Suggested **q = {fmt(t.q)}** {t.units['q']} and **r = {fmt(t.r)}** {t.units['r']} "
             f"(h = qT^k/r = {fmt(t.h)}); steady-state gain {', '.join(fmt(g) for g in t.gain)}."
         )
+        st.caption(f"This r differs from the record's answer above: {WHY_DIFFERENT['kalman']}.")
         _exports(t, column, unit)
         if t.regimes != DEFAULT_REGIMES:
             st.caption("Fitted on the still stretch; below, the filter runs on the whole record.")

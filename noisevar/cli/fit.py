@@ -69,9 +69,9 @@ def _load(args: argparse.Namespace, config: dict[str, Any] | None) -> tuple[Any,
 
 
 def _cmd_fit(args: argparse.Namespace) -> int:
-    from noisevar.config import load_config
+    from noisevar.config import filter_config_json, load_config
     from noisevar.noise_model import evaluate_kalman, fit_kalman
-    from noisevar.noise_model.export import config_json, from_config
+    from noisevar.noise_model.export import from_config
 
     if args.rate is not None and not args.rate > 0:
         raise NoisevarError(
@@ -101,7 +101,9 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         tuning = fit_kalman(z, model=model, rate=args.rate, **method, **regimes_of(args))
     if args.save_config:
         unit = kal.get("unit", "") if kal is not None else ""
-        Path(args.save_config).write_text(config_json(tuning, column, unit), encoding="utf-8")
+        Path(args.save_config).write_text(
+            filter_config_json(tuning, column, unit), encoding="utf-8"
+        )
     if args.format == "json":
         out = tuning.to_dict()
         out.update(file=args.file, column=column, dropped=dropped)

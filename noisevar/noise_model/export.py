@@ -17,7 +17,6 @@ refuses it (:func:`noisevar.config.require_estimator_config`).
 
 from __future__ import annotations
 
-import json
 from collections.abc import Mapping
 from typing import Any
 
@@ -130,28 +129,6 @@ def to_config(
         "notes": list(tuning.notes),
     }
     return out
-
-
-def config_json(tuning: KalmanTuning, column: str | None = None, unit: str = "") -> str:
-    """The tuned filter's config file, as the dashboard downloads it and ``--save-config`` writes.
-
-    Parameters
-    ----------
-    tuning : KalmanTuning
-    column : str, optional
-        The data column fitted.
-    unit : str
-        The signal's declared unit.
-
-    Returns
-    -------
-    str
-        Indented JSON, validated (:func:`noisevar.config.validate_config`).
-    """
-    from noisevar.config import validate_config
-
-    config = validate_config(to_config(tuning, column=column, unit=unit))
-    return json.dumps(config, indent=2, allow_nan=False) + "\n"
 
 
 def _positive(value: Any, name: str) -> float:
