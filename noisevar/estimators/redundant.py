@@ -144,7 +144,7 @@ SOMD_REDUNDANT = MethodSpec(
 MISMATCH_RATIO = 4.0
 
 
-def same_quantity_notes(  # long: three checks per pair, each worded for the user
+def same_quantity_notes(
     sensors: ArrayLike,
     names: list[str],
     single_variances: ArrayLike,
