@@ -313,8 +313,14 @@ def monte_carlo_results(cancelled: bool) -> None:
         f"{100 * cramer_rao_floor(res.n):.2f} % relative sd."
     )
     summary = res.summary()
+    st.caption(
+        "Parameters in use: "
+        + "; ".join(f"{r['method']}: {r['params']}" for r in summary)
+        + (" (tuned on the Estimator page)" if any(res.params.values()) else "")
+    )
     columns = {
         "method": "method",
+        "status": "status",
         "bias": "bias",
         "sd": "sd",
         "RMSE": "rmse",
@@ -323,6 +329,7 @@ def monte_carlo_results(cancelled: bool) -> None:
         "max |error|": "max_abs",
         "failures": "failures",
         "ms per run": "ms_per_run",
+        "parameters": "params",
     }
     st.dataframe(
         {label: [r[k] for r in summary] for label, k in columns.items()},
