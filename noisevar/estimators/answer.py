@@ -16,6 +16,11 @@ from noisevar.estimators.regimes import DEFAULT_REGIMES, estimate_for, still_use
 from noisevar.estimators.results import VarianceEstimate
 from noisevar.format import eng, eng_range, squared
 
+#: What a record whose noise level varies is warned of (reports, exports).
+REGIME_WARNING = (
+    "the noise level varies across the record (regimes of motion and stillness): the whole "
+    "record's R mixes them; the still regimes' R is the sensor's own noise"
+)
 #: Why a page's R differs from the record's answer: key -> the label the page shows.
 WHY_DIFFERENT: dict[str, str] = {
     "still": "still regimes only: the sensor's own noise, motion left out",
