@@ -48,8 +48,10 @@ class MethodStats:
     first_error: str | None = None
 
     def to_dict(self) -> dict[str, Any]:
-        """The method's JSON entry (``first_error`` only when a run failed)."""
-        out = {k: v for k, v in vars(self).items() if k != "first_error"}
+        """The method's JSON entry (``status`` and ``first_error`` only when a run failed)."""
+        out = {k: v for k, v in vars(self).items() if k not in ("first_error", "status")}
+        if self.status:
+            out["status"] = self.status
         if self.first_error is not None:
             out["first_error"] = self.first_error
         return out
@@ -111,11 +113,11 @@ def format_table(result: dict[str, Any]) -> str:
     ]
     for name, s in result["methods"].items():
         if s["max_abs_rel_error"] is None or s["max_abs_rel_error"] != s["max_abs_rel_error"]:
-            lines.append(f"{name:<14} {s['status']}")  # too few runs: no statistics
+            lines.append(f"{name:<14} {s.get('status', '')}")  # too few runs: no statistics
             continue
         lines.append(
             f"{name:<14} {100 * s['within_10pct']:>9.1f}% {100 * s['max_abs_rel_error']:>9.1f}% "
-            f"{100 * s['bias']:>+7.2f}% {100 * s['rmse']:>7.2f}%  {s['status']}"
+            f"{100 * s['bias']:>+7.2f}% {100 * s['rmse']:>7.2f}%  {s.get('status', '')}"
         )
     return "\n".join(lines)
 
