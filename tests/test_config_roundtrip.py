@@ -113,3 +113,15 @@ def test_save_config_carries_the_column_and_method(imu_csv, tmp_path, capsys):
     cfg = json.loads(out.read_text())
     assert cfg["column"] == "Gyr_Z" and cfg["kalman"]["method"] == "mle"
     assert main(["fit", imu_csv[0], "--config", str(out)]) == 0
+
+
+def test_the_estimator_upload_refuses_it_naming_noisevar_fit(page_config):
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+    from dashboard.sections.estimator_tuning import _parse_with_column
+    from noisevar.errors import NoisevarError
+
+    with pytest.raises(NoisevarError, match="noisevar fit FILE --config tuned.json"):
+        _parse_with_column(page_config[0].read_bytes(), "tuned.json")
