@@ -10,6 +10,7 @@ import streamlit as st
 from dashboard.sections import filter_configs, noise_model
 from dashboard.sections.noise_model_fit import render_fit
 from dashboard.sections.signal_loader import require_signal
+from dashboard.state import signal_units
 from dashboard.widgets import how_it_works
 
 HOW_IT_WORKS = (
@@ -43,6 +44,6 @@ with st.expander("Filter configs: Kalibr imu.yaml and every consumer", icon=":ma
 
 if settings.rate > 0:  # a bad rate is said once, above
     st.subheader("Coloured noise and the Kalman filter's Q and R")
-    render_fit(sig.z, settings.rate, regimes)
+    render_fit(sig.z, settings.rate, regimes, column=sig.column, unit=signal_units())
 
 how_it_works(*HOW_IT_WORKS)

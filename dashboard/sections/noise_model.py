@@ -12,6 +12,7 @@ from dashboard import cache
 from dashboard.sections.regimes import regime_choice
 from dashboard.state import LoadedSignal, initial, signal_units
 from dashboard.widgets import figure_downloads, fmt, guarded, show_figure
+from noisevar.estimators.answer import WHY_DIFFERENT
 from noisevar.estimators.regimes import DEFAULT_REGIMES, still_used, variance_for
 from noisevar.figures.noise_model import allan_figure
 from noisevar.noise_model import AllanResult, InertialNoise, allan, inertial_noise
@@ -57,6 +58,8 @@ def regime_panel(sig: LoadedSignal) -> str:
             fmt(value),
             help=f"Method {est.method}, as on the Estimator page, over {where}.",
         )
+        if still_used(est, regimes):
+            st.caption(f"This page's R differs from the record's answer: {WHY_DIFFERENT['still']}.")
     return regimes
 
 

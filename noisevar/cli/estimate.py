@@ -71,9 +71,10 @@ def read_config(path: str) -> tuple[dict[str, Any], dict[str, Any]]:
 
     Anything wrong with the file is reported by :func:`noisevar.config.load_config`.
     """
-    from noisevar.config import CHANNEL_KEYS, load_config
+    from noisevar.config import CHANNEL_KEYS, load_config, require_estimator_config
 
     cfg = load_config(path)  # safe parsing and validation, channel keys included
+    require_estimator_config(cfg, echo(os.path.basename(path)))  # a tuned filter: noisevar fit
     return cfg, {k: cfg.pop(k) for k in CHANNEL_KEYS if k in cfg}
 
 
