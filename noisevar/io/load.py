@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import codecs
 import os
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -113,8 +113,10 @@ def load_table(
     name: str | None = None,
     *,
     max_bytes: int | None = MAX_BYTES,
+    topic: str | None = None,
+    fields: Sequence[str] | None = None,
 ) -> LoadedTable:
-    """Read a CSV/TSV text table, a ``.npy`` array or an NMEA 0183 log.
+    """Read a CSV/TSV text table, a ``.npy`` array, an NMEA 0183 log, or one topic of a log.
 
     Parameters
     ----------
@@ -126,7 +128,13 @@ def load_table(
         sentences, else a text table). Default: the path's name.
     max_bytes : int or None
         Refuse larger files (checked before reading); default :data:`MAX_BYTES`;
-        None: no limit.
+        None: no limit. A log given by path is streamed and may be larger: the cap is then
+        on the numbers of the topic read (:data:`noisevar.io.logs.MAX_VALUES`).
+    topic : str, optional
+        For a log (ROS bag, ULog, DataFlash, Parquet, HDF5: :mod:`noisevar.io.logs`): the
+        topic to read; may be omitted when the log has one. Refused for other files.
+    fields : sequence of str, optional
+        For a log: the topic's fields to read, by dotted path (default: all).
 
     Returns
     -------
@@ -150,15 +158,50 @@ def load_table(
     >>> tab.data_columns, tab.sample_period
     (['x'], 0.5)
     """
+    from noisevar.io import logs
+
     if isinstance(source, (bytes, bytearray, memoryview)):
         raw = bytes(source)
         name = name or "upload"
         check_bytes(len(raw), name, max_bytes)
+        if logs.reader_for(name, raw[:64]) is not None:
+            return _load_log_bytes(raw, name, topic, fields)
+        _no_topic(name, topic)
         return _parse(raw, name, None, len(raw))
     path = Path(source)
     name = name or path.name
-    size = check_size(path, name, max_bytes)
-    return _parse(_read_head(path, name), name, path, size)
+    if logs.is_ros2_dir(path):
+        return logs.load_log(path, topic, fields, name)
+    size = check_size(path, name, None)
+    head = _read_head(path, name)
+    if logs.reader_for(name, head[:64]) is not None:
+        return logs.load_log(path, topic, fields, name)
+    _no_topic(name, topic)
+    check_bytes(size, name, max_bytes)
+    return _parse(head, name, path, size)
+
+
+def _no_topic(name: str, topic: str | None) -> None:
+    if topic is not None:
+        raise NoisevarError(
+            f"{echo(name)} is not a log (a ROS bag, ULog, DataFlash, Parquet or HDF5 file): "
+            "it has no topics; leave out the topic"
+        )
+
+
+def _load_log_bytes(
+    raw: bytes, name: str, topic: str | None, fields: Sequence[str] | None
+) -> LoadedTable:
+    """One topic of a log uploaded as bytes: written to a private temporary file, read."""
+    import tempfile
+
+    from noisevar.io import logs
+
+    suffix = Path(name).suffix.lower()[:16] if Path(name).suffix.isascii() else ""
+    with tempfile.TemporaryDirectory(prefix="noisevar-log-") as tmp:
+        path = Path(tmp) / f"upload{suffix}"
+        path.write_bytes(raw)
+        return logs.load_log(path, topic, fields, name)
 
 
 def _parse(head: bytes, name: str, path: Path | None, size: int) -> LoadedTable:
