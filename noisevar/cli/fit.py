@@ -8,7 +8,13 @@ import json
 from pathlib import Path
 from typing import Any
 
-from noisevar.cli._common import add_regimes_flag, load_signal, print_json, regimes_of
+from noisevar.cli._common import (
+    add_regimes_flag,
+    add_topic_flag,
+    load_signal,
+    print_json,
+    regimes_of,
+)
 from noisevar.errors import NoisevarError
 
 
@@ -40,7 +46,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         raise NoisevarError(
             f"--rate must be a positive number of samples per second, got {args.rate}"
         )
-    z, dropped = load_signal(args.file, args.column)
+    z, dropped = load_signal(args.file, args.column, topic=args.topic)
     if args.config:
         if args.regimes is not None:
             raise NoisevarError(
@@ -81,6 +87,7 @@ def add_parser(sub: Any) -> None:
     p = sub.add_parser("fit", help="fit Q and R of a kinematic Kalman filter to a record")
     p.add_argument("file", help="CSV/TSV (with or without header), .npy, or NMEA file")
     p.add_argument("--column", help="column name or 0-based index (default: the only/first)")
+    add_topic_flag(p)
     p.add_argument("--model", choices=list(MODELS), help="rw, cv or ca (default cv)")
     p.add_argument("--rate", type=float, help="sample rate in Hz (required unless in --config)")
     default = inspect.signature(fit_kalman).parameters["method"].default

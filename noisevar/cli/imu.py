@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from noisevar.cli._common import add_regimes_flag, print_json, regimes_of
+from noisevar.cli._common import add_regimes_flag, add_topic_flag, print_json, regimes_of
 from noisevar.cli.allan import load_columns
 from noisevar.errors import NoisevarError
 
@@ -49,7 +49,7 @@ def _print_table(fits: dict) -> None:
 def _cmd_imu(args: argparse.Namespace) -> int:
     from noisevar.noise_model import inertial_noise
 
-    data, rate = load_columns(args.file, _columns(args), args.rate)
+    data, rate = load_columns(args.file, _columns(args), args.rate, args.topic)
     stacked = np.stack(list(data.values()))
     fits = dict(zip(data, inertial_noise(stacked, rate, **regimes_of(args)), strict=True))
     written = _kalibr(args, fits) if args.kalibr else None
@@ -72,6 +72,7 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--accel", nargs="+", help="accelerometer columns (m/s^2), for --kalibr")
     p.add_argument("--kalibr", metavar="OUT.yaml", help="write Kalibr's imu.yaml here")
     p.add_argument("--inflation", type=float, default=1.0, help="factor on the Kalibr values")
+    add_topic_flag(p)
     add_regimes_flag(p)
     p.add_argument("--format", choices=["table", "json"], default="table")
     p.set_defaults(func=_cmd_imu)

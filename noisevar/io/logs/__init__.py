@@ -57,6 +57,7 @@ __all__ = [
     "log_suffixes",
     "read_topic",
     "reader_for",
+    "reader_of",
     "readers",
 ]
 
@@ -90,7 +91,8 @@ def is_ros2_dir(path: Path) -> bool:
     return path.is_dir() and (path / "metadata.yaml").is_file()
 
 
-def _reader_of(path: Path, name: str) -> LogReader:
+def reader_of(path: Path, name: str) -> LogReader:
+    """The reader of the log at ``path`` (by its content, else its name), or an error."""
     if is_ros2_dir(path):
         return next(r for r in readers() if r.name == "rosbag")
     try:
@@ -136,7 +138,7 @@ def list_topics(path: str | Path, name: str | None = None) -> list[TopicInfo]:
     """
     path = Path(path)
     name = name or path.name
-    reader = _reader_of(path, name)
+    reader = reader_of(path, name)
     try:
         return reader.topics(path)
     except NoisevarError:
@@ -198,7 +200,7 @@ def read_topic(
     """
     path = Path(path)
     name = name or path.name
-    reader = _reader_of(path, name)
+    reader = reader_of(path, name)
     try:
         yield from reader.read(path, topic, None if fields is None else tuple(fields))
     except NoisevarError:
@@ -274,7 +276,7 @@ def load_log(
     t, cols, rows = _gather(read_topic(path, info.name, names, name), names, max_values)
     if rows == 0:
         raise NoisevarError(f"topic {echo(info.name)!r} of {echo(name)} has no record")
-    reader = _reader_of(path, name)
+    reader = reader_of(path, name)
     where = reader.time_note if t is not None else "no time column: samples taken as uniform"
     notes = [f"topic {info.name} ({info.message}), {rows:,} records; {where}"]
     units = {f: u for f, u in info.units.items() if f in cols}
