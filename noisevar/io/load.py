@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import codecs
+import contextlib
 import os
 from collections.abc import Iterator, Sequence
 from pathlib import Path
@@ -193,15 +194,59 @@ def _load_log_bytes(
     raw: bytes, name: str, topic: str | None, fields: Sequence[str] | None
 ) -> LoadedTable:
     """One topic of a log uploaded as bytes: written to a private temporary file, read."""
-    import tempfile
-
     from noisevar.io import logs
 
-    suffix = Path(name).suffix.lower()[:16] if Path(name).suffix.isascii() else ""
+    with _log_file(raw, name) as path:
+        return logs.load_log(path, topic, fields, name)
+
+
+@contextlib.contextmanager
+def _log_file(raw: bytes, name: str) -> Iterator[Path]:
+    """Log bytes as a file in a private temporary directory (its readers take paths)."""
+    import tempfile
+
+    suffix = Path(name).suffix.lower()
+    suffix = suffix if suffix.isascii() and len(suffix) <= 16 else ""
     with tempfile.TemporaryDirectory(prefix="noisevar-log-") as tmp:
         path = Path(tmp) / f"upload{suffix}"
         path.write_bytes(raw)
-        return logs.load_log(path, topic, fields, name)
+        yield path
+
+
+def log_topics(source: str | os.PathLike | bytes, name: str | None = None) -> list | None:
+    """The topics of a log (a path or its bytes), or None when the file is not a log.
+
+    Parameters
+    ----------
+    source : str, path or bytes
+        The file, or its bytes (an upload).
+    name : str, optional
+        Its name (the suffix helps tell the format); default: the path's name.
+
+    Returns
+    -------
+    list of noisevar.io.logs.TopicInfo, or None
+
+    Raises
+    ------
+    NoisevarError
+        A log its library cannot read.
+    """
+    from noisevar.io import logs
+
+    if isinstance(source, (bytes, bytearray, memoryview)):
+        raw, name = bytes(source), name or "upload"
+        if logs.reader_for(name, raw[:64]) is None:
+            return None
+        with _log_file(raw, name) as path:
+            return logs.list_topics(path, name)
+    path = Path(source)
+    name = name or path.name
+    if not logs.is_ros2_dir(path):
+        check_size(path, name, None)
+        if logs.reader_for(name, _read_head(path, name)[:64]) is None:
+            return None
+    return logs.list_topics(path, name)
 
 
 def _parse(head: bytes, name: str, path: Path | None, size: int) -> LoadedTable:
