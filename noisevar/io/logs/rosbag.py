@@ -11,6 +11,7 @@ in integer nanoseconds before the conversion, so no precision is lost to the epo
 from __future__ import annotations
 
 import operator
+import struct
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 
@@ -161,23 +162,135 @@ def read(path: Path, topic: str, fields: Sequence[str] | None) -> Iterator[Chunk
         names = tuple(fields) if fields is not None else tuple(_leaves(bag.typestore, msgtype))
         getters = _check_fields(bag, msgtype, names)
         stamped = "header" in dict(bag.typestore.fielddefs[msgtype][1])
+        fast = FlatDecoder.of(bag.typestore, msgtype, names, ros1=not bag.is2)
         t0 = None
         ns = np.empty(CHUNK, dtype=np.int64)
         vals = np.empty((CHUNK, len(names)))
         k = 0
         for conn, stamp, raw in bag.messages(connections=conns):
-            msg = bag.deserialize(raw, conn.msgtype)
-            if stamped and (msg.header.stamp.sec or msg.header.stamp.nanosec):
-                stamp = msg.header.stamp.sec * 1_000_000_000 + msg.header.stamp.nanosec
+            got = fast.decode(raw) if fast is not None else None
+            if got is not None:
+                sec, nsec, vals[k] = got
+            else:  # not a flat message, or one the layout does not fit: rosbags decodes it
+                msg = bag.deserialize(raw, conn.msgtype)
+                sec, nsec = (msg.header.stamp.sec, msg.header.stamp.nanosec) if stamped else (0, 0)
+                vals[k] = [g(msg) for g in getters]
+            if sec or nsec:
+                stamp = sec * 1_000_000_000 + nsec
             t0 = stamp if t0 is None else t0
             ns[k] = stamp - t0
-            vals[k] = [g(msg) for g in getters]
             k += 1
             if k == CHUNK:
                 yield _chunk(ns, vals, names, k)
                 ns, vals, k = np.empty_like(ns), np.empty_like(vals), 0
         if k:
             yield _chunk(ns, vals, names, k)
+
+
+#: struct codes and sizes of ROS primitive types.
+_CODES = {
+    "bool": "?",
+    "byte": "B",
+    "char": "B",
+    "int8": "b",
+    "uint8": "B",
+    "int16": "h",
+    "uint16": "H",
+    "int32": "i",
+    "uint32": "I",
+    "float32": "f",
+    "int64": "q",
+    "uint64": "Q",
+    "float64": "d",
+}
+
+
+def _flat(typestore, fdefs: list, prefix: str = "", depth: int = 0) -> list | None:
+    """``[(path, type)]`` of every primitive of the fields ``fdefs`` in wire order, or None
+    if they hold a string or a sequence (no fixed layout)."""
+    from rosbags.interfaces import Nodetype
+
+    if depth > 8:
+        return None
+    out: list[tuple[str, str]] = []
+    for fname, (kind, detail) in fdefs:
+        path = f"{prefix}{fname}"
+        if kind == Nodetype.BASE and detail[0] in _CODES:
+            out.append((path, detail[0]))
+        elif kind == Nodetype.NAME:
+            sub = _flat(typestore, typestore.fielddefs[detail][1], f"{path}.", depth + 1)
+            if sub is None:
+                return None
+            out += sub
+        elif kind == Nodetype.ARRAY and detail[0][0] == Nodetype.BASE and detail[0][1][0] in _CODES:
+            out += [(f"{path}.{i}", detail[0][1][0]) for i in range(detail[1])]
+        else:
+            return None
+    return out
+
+
+class FlatDecoder:
+    """The wanted fields of a message with a fixed layout after its optional
+    ``std_msgs/Header``, read straight from the serialised bytes (ROS 1, or little-endian
+    CDR with its alignment rules) without building message objects: ``sensor_msgs/Imu`` and
+    most sensor messages. The layout depends only on where the body starts (after the
+    header's ``frame_id``), so one ``struct.Struct`` per start is built and kept.
+    """
+
+    def __init__(self, leaves: list, wanted: Sequence[str], header: bool, ros1: bool):
+        self.leaves, self.header, self.ros1 = leaves, header, ros1
+        where = {path: i for i, (path, _) in enumerate(leaves)}
+        self.wanted = [where[w] for w in wanted]
+        order = sorted(range(len(wanted)), key=lambda j: self.wanted[j])
+        self.back = np.argsort(order)  # wire order -> the order asked
+        self.structs: dict[int, struct.Struct] = {}
+
+    @classmethod
+    def of(cls, typestore, msgtype: str, wanted: Sequence[str], ros1: bool):
+        """The decoder of ``wanted`` fields of ``msgtype``, or None (no fixed layout)."""
+        fdefs = typestore.fielddefs[msgtype][1]
+        header = bool(fdefs) and fdefs[0][0] == "header"
+        if header and fdefs[0][1][1] != "std_msgs/msg/Header":
+            return None
+        leaves = _flat(typestore, fdefs[1:] if header else fdefs)
+        if not leaves or len(set(wanted)) != len(wanted):
+            return None
+        if not set(wanted) <= {p for p, _ in leaves}:
+            return None
+        return cls(leaves, wanted, header, ros1)
+
+    def _struct(self, start: int) -> struct.Struct:
+        """The struct of the wanted fields for a body starting at byte ``start``."""
+        fmt, pos, wanted = ["<"], start, set(self.wanted)
+        for i, (_, typ) in enumerate(self.leaves):
+            code = _CODES[typ]
+            size = struct.calcsize(code)
+            if not self.ros1:  # CDR: aligned to its size, counted after the 4-byte preamble
+                pad = -(pos - 4) % size
+                fmt.append("x" * pad)
+                pos += pad
+            fmt.append(code if i in wanted else "x" * size)
+            pos += size
+        return struct.Struct("".join(fmt))
+
+    def decode(self, raw: bytes) -> tuple[int, int, np.ndarray] | None:
+        """``(sec, nanosec, values)`` of one message, or None if it does not fit the layout."""
+        sec = nsec = 0
+        try:
+            if not self.ros1 and raw[:2] != b"\x00\x01":  # little-endian CDR only
+                return None
+            if self.header:  # ROS 1: seq, sec, nsec, len; CDR: preamble, sec, nsec, len
+                sec, nsec, slen = struct.unpack_from("<4xIII" if self.ros1 else "<4xiII", raw)
+                start = 16 + slen
+            else:
+                start = 0 if self.ros1 else 4
+            st = self.structs.get(start)
+            if st is None:
+                st = self.structs[start] = self._struct(start)
+            values = np.asarray(st.unpack_from(raw, start), dtype=float)
+        except struct.error:
+            return None
+        return sec, nsec, values[self.back]
 
 
 def _chunk(ns: np.ndarray, vals: np.ndarray, names: Sequence[str], k: int) -> Chunk:
