@@ -134,6 +134,26 @@ def test_dataflash(tmp_path, name):
     np.testing.assert_allclose(tab.time(), 1 + np.arange(200) / RATE, atol=1e-6)
 
 
+def test_dataflash_text_log(tmp_path):
+    """The text form (mavlogdump's and Mission Planner's .log): FMT lines, then records."""
+    z = imu_values(100)
+    lines = [
+        "FMT, 128, 89, FMT, BBnNZ, Type,Length,Name,Format,Columns",
+        "FMT, 132, 23, BARO, Qff, TimeUS,Press,Temp",
+        *(
+            f"BARO, {1_000_000 + i * 20_000}, {float(101325 + z[i, 0])!r}, {float(20 + z[i, 1])!r}"
+            for i in range(100)
+        ),
+    ]
+    path = tmp_path / "flight.log"
+    path.write_text("\n".join(lines) + "\n")
+    (info,) = list_topics(path)
+    assert (info.name, info.count, info.fields) == ("BARO", 100, ("Press", "Temp"))
+    tab = load_table(path, topic="BARO")
+    np.testing.assert_allclose(tab.columns["Press"], 101325 + z[:, 0], rtol=1e-12)
+    assert tab.sample_period == pytest.approx(0.02) and tab.time()[0] == pytest.approx(1.0)
+
+
 def test_parquet_streamed_by_row_group(tmp_path):
     import pyarrow as pa
     import pyarrow.parquet as pq

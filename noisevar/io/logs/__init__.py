@@ -113,7 +113,8 @@ def reader_of(path: Path, name: str) -> LogReader:
 def _failed(reader: LogReader, name: str, exc: BaseException) -> NoisevarError:
     what = f"{type(exc).__name__}: {echo(exc, 160)}" if str(exc) else type(exc).__name__
     return NoisevarError(
-        f"{echo(name)} could not be read as a {reader.title} ({what}): {reader.repair}"
+        f"{echo(name)} could not be read as {reader.article} {reader.title} ({what}): "
+        f"{reader.repair}"
     )
 
 

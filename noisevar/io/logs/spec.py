@@ -106,6 +106,11 @@ class LogReader:
     time_note: str
     repair: str = "check that the file is complete and is the format its name says"
 
+    @property
+    def article(self) -> str:
+        """``a`` or ``an`` before :attr:`title`."""
+        return "an" if self.title[:1] in "AEIOH" else "a"
+
     def matches(self, name: str, head: bytes) -> bool:
         """Whether this reader claims a file: its first bytes, else its suffix."""
         if any(head.startswith(m) for m in self.magic):
