@@ -163,28 +163,36 @@ def read(path: Path, topic: str, fields: Sequence[str] | None) -> Iterator[Chunk
         getters = _check_fields(bag, msgtype, names)
         stamped = "header" in dict(bag.typestore.fielddefs[msgtype][1])
         fast = FlatDecoder.of(bag.typestore, msgtype, names, ros1=not bag.is2)
+        order = fast.order if fast is not None else list(range(len(names)))
+        back = np.argsort(order)  # rows are kept in wire order (the fast path's), then put back
         t0 = None
-        ns = np.empty(CHUNK, dtype=np.int64)
-        vals = np.empty((CHUNK, len(names)))
-        k = 0
+        stamps: list[int] = []
+        rows: list = []
         for conn, stamp, raw in bag.messages(connections=conns):
             got = fast.decode(raw) if fast is not None else None
             if got is not None:
-                sec, nsec, vals[k] = got
+                sec, nsec, row = got
             else:  # not a flat message, or one the layout does not fit: rosbags decodes it
                 msg = bag.deserialize(raw, conn.msgtype)
                 sec, nsec = (msg.header.stamp.sec, msg.header.stamp.nanosec) if stamped else (0, 0)
-                vals[k] = [g(msg) for g in getters]
+                asked = [g(msg) for g in getters]
+                row = [asked[j] for j in order]
             if sec or nsec:
                 stamp = sec * 1_000_000_000 + nsec
             t0 = stamp if t0 is None else t0
-            ns[k] = stamp - t0
-            k += 1
-            if k == CHUNK:
-                yield _chunk(ns, vals, names, k)
-                ns, vals, k = np.empty_like(ns), np.empty_like(vals), 0
-        if k:
-            yield _chunk(ns, vals, names, k)
+            stamps.append(stamp - t0)
+            rows.append(row)
+            if len(rows) == CHUNK:
+                yield _chunk(stamps, rows, names, back)
+                stamps, rows = [], []
+        if rows:
+            yield _chunk(stamps, rows, names, back)
+
+
+def _chunk(stamps: list[int], rows: list, names: Sequence[str], back: np.ndarray) -> Chunk:
+    vals = np.array(rows, dtype=float).reshape(len(rows), len(names))[:, back]
+    times = np.array(stamps, dtype=np.int64) / 1e9
+    return Chunk(times, {f: np.ascontiguousarray(vals[:, i]) for i, f in enumerate(names)})
 
 
 #: struct codes and sizes of ROS primitive types.
@@ -241,8 +249,8 @@ class FlatDecoder:
         self.leaves, self.header, self.ros1 = leaves, header, ros1
         where = {path: i for i, (path, _) in enumerate(leaves)}
         self.wanted = [where[w] for w in wanted]
-        order = sorted(range(len(wanted)), key=lambda j: self.wanted[j])
-        self.back = np.argsort(order)  # wire order -> the order asked
+        #: the asked fields' positions in wire order (what :meth:`decode` returns)
+        self.order = sorted(range(len(wanted)), key=lambda j: self.wanted[j])
         self.structs: dict[int, struct.Struct] = {}
 
     @classmethod
@@ -273,8 +281,9 @@ class FlatDecoder:
             pos += size
         return struct.Struct("".join(fmt))
 
-    def decode(self, raw: bytes) -> tuple[int, int, np.ndarray] | None:
-        """``(sec, nanosec, values)`` of one message, or None if it does not fit the layout."""
+    def decode(self, raw: bytes) -> tuple[int, int, tuple] | None:
+        """``(sec, nanosec, values)`` of one message, the values in wire order
+        (:attr:`order`), or None if the message does not fit the layout."""
         sec = nsec = 0
         try:
             if not self.ros1 and raw[:2] != b"\x00\x01":  # little-endian CDR only
@@ -287,14 +296,10 @@ class FlatDecoder:
             st = self.structs.get(start)
             if st is None:
                 st = self.structs[start] = self._struct(start)
-            values = np.asarray(st.unpack_from(raw, start), dtype=float)
+            values = st.unpack_from(raw, start)
         except struct.error:
             return None
-        return sec, nsec, values[self.back]
-
-
-def _chunk(ns: np.ndarray, vals: np.ndarray, names: Sequence[str], k: int) -> Chunk:
-    return Chunk(ns[:k] / 1e9, {f: vals[:k, i] for i, f in enumerate(names)})
+        return sec, nsec, values
 
 
 READER = LogReader(
