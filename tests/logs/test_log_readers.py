@@ -134,6 +134,19 @@ def test_dataflash(tmp_path, name):
     np.testing.assert_allclose(tab.time(), 1 + np.arange(200) / RATE, atol=1e-6)
 
 
+def test_dataflash_corrupt_header_is_a_note_not_a_print(tmp_path, capfd):
+    """pymavlink reports skipped bytes by printing: the reader keeps them for the notes."""
+    raw = bytearray(write_dataflash(tmp_path / "x.bin", imu_values(300)).read_bytes())
+    raw[4542] = 0x1D  # the second header byte of a message
+    bad = tmp_path / "bad.bin"
+    bad.write_bytes(bytes(raw))
+    tab = load_table(bad, topic="IMU[0]")
+    out, err = capfd.readouterr()
+    assert out == "" and err == ""
+    assert tab.n_rows >= 299
+    assert any("reported" in n and "bad header" in n for n in tab.notes), tab.notes
+
+
 def test_dataflash_text_log(tmp_path):
     """The text form (mavlogdump's and Mission Planner's .log): FMT lines, then records."""
     z = imu_values(100)

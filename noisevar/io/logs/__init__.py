@@ -22,7 +22,9 @@ held.
 
 from __future__ import annotations
 
+import contextlib
 import importlib
+import io
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 
@@ -141,7 +143,8 @@ def list_topics(path: str | Path, name: str | None = None) -> list[TopicInfo]:
     name = name or path.name
     reader = reader_of(path, name)
     try:
-        return reader.topics(path)
+        with _quiet(None):
+            return reader.topics(path)
     except NoisevarError:
         raise
     except Exception as exc:  # noqa: BLE001 - each library raises its own types on bad logs
@@ -176,6 +179,7 @@ def read_topic(
     topic: str,
     fields: Sequence[str] | None = None,
     name: str | None = None,
+    problems: list[str] | None = None,
 ) -> Iterator[Chunk]:
     """One topic of a log, streamed: chunks of timestamps (seconds) and field values.
 
@@ -189,6 +193,8 @@ def read_topic(
         Fields by dotted path (default: all the topic's fields).
     name : str, optional
         Name for messages (default: the path's name).
+    problems : list, optional
+        Receives what the library printed while reading (skipped corrupt stretches).
 
     Yields
     ------
@@ -202,12 +208,40 @@ def read_topic(
     path = Path(path)
     name = name or path.name
     reader = reader_of(path, name)
+    chunks = reader.read(path, topic, None if fields is None else tuple(fields))
     try:
-        yield from reader.read(path, topic, None if fields is None else tuple(fields))
+        while True:
+            with _quiet(problems):  # per step: the caller's own prints between chunks stay
+                chunk = next(chunks, None)
+            if chunk is None:
+                return
+            yield chunk
     except NoisevarError:
         raise
     except Exception as exc:  # noqa: BLE001 - each library raises its own types on bad logs
         raise _failed(reader, name, exc) from None
+
+
+class _Sink(io.TextIOBase):
+    """Where a library's prints go while it reads: its first lines kept, the rest counted."""
+
+    def __init__(self, problems: list[str] | None):
+        self.problems = problems
+
+    def write(self, text: str) -> int:
+        line = text.strip()
+        if line and self.problems is not None and len(self.problems) < 1000:
+            self.problems.append(line)
+        return len(text)
+
+
+@contextlib.contextmanager
+def _quiet(problems: list[str] | None) -> Iterator[None]:
+    """Silence a library's prints to stdout/stderr (pyulog and pymavlink report skipped
+    corrupt bytes there); keep them in ``problems``."""
+    sink = _Sink(problems)
+    with contextlib.redirect_stdout(sink), contextlib.redirect_stderr(sink):
+        yield
 
 
 def _gather(chunks: Iterator[Chunk], names: Sequence[str], max_values: int) -> tuple:
@@ -274,12 +308,19 @@ def load_log(
     names = tuple(dict.fromkeys(fields)) if fields is not None else info.fields
     if not names:
         raise NoisevarError(f"no field asked of topic {echo(info.name)!r}")
-    t, cols, rows = _gather(read_topic(path, info.name, names, name), names, max_values)
+    problems: list[str] = []
+    chunks = read_topic(path, info.name, names, name, problems)
+    t, cols, rows = _gather(chunks, names, max_values)
     if rows == 0:
         raise NoisevarError(f"topic {echo(info.name)!r} of {echo(name)} has no record")
     reader = reader_of(path, name)
     where = reader.time_note if t is not None else "no time column: samples taken as uniform"
     notes = [f"topic {info.name} ({info.message}), {rows:,} records; {where}"]
+    if problems:
+        notes.append(
+            f"the {reader.title} reader reported {len(problems):,} problems (corrupt stretches "
+            f"are skipped), the first: {echo(problems[0], 120)}"
+        )
     units = {f: u for f, u in info.units.items() if f in cols}
     if t is None or "time" in cols:
         return LoadedTable(name, cols, reader.name, None, None, notes, units)

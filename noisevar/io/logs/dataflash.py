@@ -4,14 +4,17 @@ A topic is a message type (``IMU``, ``GPS``, ``BARO``); a type logged by several
 (its FMTU marks an instance field) is one topic per instance, ``IMU[0]``, ``IMU[1]``.
 Fields are the numeric columns, scaled as pymavlink scales them; units come from the
 log's own FMTU/UNIT/MULT messages. Times are ``TimeUS`` (microseconds since boot), in
-seconds.
+seconds. A binary log is indexed by pymavlink, then each topic's columns are taken from the
+mapped file at once (numpy), not message by message; a text log goes message by message.
 """
 
 from __future__ import annotations
 
 import contextlib
-import io
+import functools
+import os
 import re
+import struct
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 
@@ -53,15 +56,37 @@ def _pint(unit: str) -> str | None:
     return None
 
 
-@contextlib.contextmanager
-def _open(path: Path):
+@functools.cache
+def _reader_classes() -> tuple[type, type]:
+    """pymavlink's binary and text readers without its clock search: pymavlink walks the
+    whole log for a GPS time base when none comes early (a bench log without a fix), and
+    noisevar uses TimeUS, not that clock."""
     from pymavlink import DFReader
 
-    binary = path.open("rb").read(2) == b"\xa3\x95"
-    with contextlib.redirect_stdout(io.StringIO()):  # pymavlink prints warnings
-        dfr = (DFReader.DFReader_binary if binary else DFReader.DFReader_text)(
-            str(path), zero_time_base=True
-        )
+    def init_clock(self) -> None:
+        self.clock = DFReader.DFReaderClock_usec()
+        self._rewind(keep_messages=True)
+
+    binary = type("Binary", (DFReader.DFReader_binary,), {"init_clock": init_clock})
+    text = type("Text", (DFReader.DFReader_text,), {"init_clock": init_clock})
+    return binary, text
+
+
+@contextlib.contextmanager
+def _open(path: Path):
+    with path.open("rb") as fh:
+        binary = fh.read(2) == b"\xa3\x95"
+    # pymavlink's compiled indexer prints skipped corrupt bytes from C, past any Python
+    # redirection; its Python indexer reports them through print, which the registry keeps
+    saved = os.environ.get("PYMAVLINK_FAST_INDEX")
+    os.environ["PYMAVLINK_FAST_INDEX"] = "0"
+    try:
+        dfr = _reader_classes()[0 if binary else 1](str(path), zero_time_base=True)
+    finally:
+        if saved is None:
+            os.environ.pop("PYMAVLINK_FAST_INDEX", None)
+        else:
+            os.environ["PYMAVLINK_FAST_INDEX"] = saved
     try:
         yield dfr
     finally:
@@ -100,16 +125,77 @@ def _records(dfr) -> dict[tuple[str, int | None], list[float]]:
     return seen
 
 
+#: numpy types of pymavlink's struct codes (``FORMAT_TO_STRUCT``), little-endian.
+_NP = {
+    "b": "i1",
+    "B": "u1",
+    "h": "<i2",
+    "H": "<u2",
+    "i": "<i4",
+    "I": "<u4",
+    "q": "<i8",
+    "Q": "<u8",
+    "f": "<f4",
+    "d": "<f8",
+    "e": "<f2",
+}
+
+
+def _binary(dfr) -> bool:
+    return isinstance(dfr, _reader_classes()[0])
+
+
+def _columns(dfr, fmt, names: Sequence[str], offsets: np.ndarray) -> dict[str, np.ndarray]:
+    """Columns ``names`` of the binary messages starting at ``offsets``, scaled as pymavlink
+    scales them, read from the mapped file at once."""
+    from pymavlink.DFReader import FORMAT_TO_STRUCT
+
+    buf = np.frombuffer(dfr.data_map, dtype=np.uint8)
+    try:
+        offsets = offsets[offsets + fmt.len <= buf.size]  # a message cut by the file's end
+        body = buf[(offsets + 3)[:, None] + np.arange(fmt.len - 3)]
+    finally:
+        del buf  # the map is closed later: no view of it may outlive this
+    out, pos = {}, 0
+    for col, ch in zip(fmt.columns, fmt.format, strict=False):
+        code, mult, _ = FORMAT_TO_STRUCT[ch]
+        size = struct.calcsize(code)
+        if col in names and code in _NP:
+            v = body[:, pos : pos + size].copy().view(np.dtype(_NP[code])).ravel().astype(float)
+            out[col] = v / round(1 / mult) if mult is not None and 0 < mult < 1 else v
+        pos += size
+    return out
+
+
+def _binary_records(dfr) -> dict[tuple[str, int | None], np.ndarray]:
+    """Per (type, instance): the TimeUS of its messages, from the index and the mapped file."""
+    seen = {}
+    for fmt in dfr.formats.values():
+        offs = dfr.offsets[fmt.type] if fmt.type < len(dfr.offsets) else []
+        if not offs or "TimeUS" not in fmt.colhash or not _fields(fmt):
+            continue
+        wanted = ["TimeUS", *([fmt.instance_field] if fmt.instance_field else [])]
+        cols = _columns(dfr, fmt, wanted, np.asarray(offs, dtype=np.int64))
+        if fmt.instance_field is None:
+            seen[(fmt.name, None)] = cols["TimeUS"]
+            continue
+        inst = cols[fmt.instance_field]
+        for i in np.unique(inst):
+            seen[(fmt.name, int(i))] = cols["TimeUS"][inst == i]
+    return seen
+
+
 def topics(path: Path) -> list[TopicInfo]:
     """Every message type (per instance) with TimeUS and numeric columns: counts, rates, units."""
     with _open(path) as dfr:
         formats = {f.name: f for f in dfr.formats.values()}
+        records = _binary_records(dfr) if _binary(dfr) else _records(dfr)
         out = []
-        for (name, inst), times in sorted(_records(dfr).items(), key=lambda kv: str(kv[0])):
+        for (name, inst), times in sorted(records.items(), key=lambda kv: str(kv[0])):
             fmt = formats[name]
             fields = _fields(fmt)
-            span = (times[-1] - times[0]) / 1e6 if len(times) > 1 else 0.0
-            rate = (len(times) - 1) / span if span > 0 else None
+            span = float(times[-1] - times[0]) / 1e6 if len(times) > 1 else 0.0
+            rate = float((len(times) - 1) / span) if span > 0 else None
             topic = name if inst is None else f"{name}[{inst}]"
             out.append(TopicInfo(topic, name, len(times), rate, fields, _units(fmt, fields)))
     return out
@@ -133,6 +219,9 @@ def read(path: Path, topic: str, fields: Sequence[str] | None) -> Iterator[Chunk
                 f"message {echo(name)} has no numeric field {echo(bad[0])!r}; fields: "
                 + ", ".join(sorted(have))
             )
+        if _binary(dfr):
+            yield from _read_binary(dfr, fmt, names, inst)
+            return
         rows: list[list[float]] = []
         dfr.rewind()
         while (msg := dfr.recv_match(type=name)) is not None:
@@ -144,6 +233,18 @@ def read(path: Path, topic: str, fields: Sequence[str] | None) -> Iterator[Chunk
                 rows = []
         if rows:
             yield _chunk(rows, names)
+
+
+def _read_binary(dfr, fmt, names: Sequence[str], inst: int | None) -> Iterator[Chunk]:
+    """A binary log's topic, :data:`CHUNK` messages at a time, straight from the mapped file."""
+    offs = np.asarray(dfr.offsets[fmt.type], dtype=np.int64)
+    extra = [fmt.instance_field] if inst is not None else []
+    for lo in range(0, offs.size, CHUNK):
+        cols = _columns(dfr, fmt, ["TimeUS", *names, *extra], offs[lo : lo + CHUNK])
+        keep = cols[fmt.instance_field] == inst if inst is not None else slice(None)
+        if inst is not None and not np.any(keep):
+            continue
+        yield Chunk(cols["TimeUS"][keep] / 1e6, {f: cols[f][keep] for f in names})
 
 
 def _chunk(rows: list[list[float]], names: Sequence[str]) -> Chunk:
