@@ -94,7 +94,13 @@ def _open(path: Path):
             dfr.close() if binary else dfr.filehandle.close()
 
 
+#: The log's own bookkeeping messages (formats, units, multipliers): not topics.
+META = ("FMT", "FMTU", "UNIT", "MULT")
+
+
 def _fields(fmt) -> tuple[str, ...]:
+    if fmt.name in META:
+        return ()
     cols = [
         c
         for c, f in zip(fmt.columns, fmt.format, strict=False)
