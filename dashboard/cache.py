@@ -31,7 +31,7 @@ from noisevar.filters.envelope import (
     noise_amplitude,
     scan_h,
 )
-from noisevar.io import LoadedTable, load_table, pick_column
+from noisevar.io import LoadedTable, load_table, log_topics, pick_column
 
 if TYPE_CHECKING:
     from noisevar.kalman.result import FilterResult
@@ -83,9 +83,16 @@ def sample_descriptions(sample_dir: str) -> dict[str, str]:
 
 
 @st.cache_resource(max_entries=16, show_spinner=False)
-def load_bytes_cached(digest: str, name: str, _raw: bytes) -> LoadedTable:
-    """:func:`noisevar.io.load_table` of file bytes, cached by their content hash."""
-    return load_table(_raw, name)
+def load_bytes_cached(digest: str, name: str, _raw: bytes, topic: str | None = None) -> LoadedTable:
+    """:func:`noisevar.io.load_table` of file bytes (a log's ``topic``), cached by their
+    content hash."""
+    return load_table(_raw, name, topic=topic)
+
+
+@st.cache_resource(max_entries=16, show_spinner=False)
+def log_topics_cached(digest: str, name: str, _raw: bytes) -> list | None:
+    """:func:`noisevar.io.log_topics` of file bytes (None: not a log), cached."""
+    return log_topics(_raw, name)
 
 
 @st.cache_resource(max_entries=16, show_spinner=False)

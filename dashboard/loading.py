@@ -36,6 +36,11 @@ def sample_descriptions() -> dict[str, str]:
     return cache.sample_descriptions(str(SAMPLE_DIR))
 
 
+def log_topics(raw: bytes, name: str) -> list | None:
+    """The topics of an uploaded log (:func:`noisevar.io.log_topics`), None when not a log."""
+    return cache.log_topics_cached(content_digest(raw), name, raw)
+
+
 def max_upload_bytes() -> int:
     """The upload limit of the server config (``server.maxUploadSize``, MB), in bytes."""
     try:
@@ -46,7 +51,11 @@ def max_upload_bytes() -> int:
 
 
 def load_bytes(
-    raw: bytes, name: str, source: str = "upload", drop_nonfinite: bool = False
+    raw: bytes,
+    name: str,
+    source: str = "upload",
+    drop_nonfinite: bool = False,
+    topic: str | None = None,
 ) -> LoadedSignal:
     """Load file bytes as the new signal (raises NoisevarError; the old signal stays then).
 
@@ -60,6 +69,8 @@ def load_bytes(
         ``"upload"`` or ``"sample"``.
     drop_nonfinite : bool
         Drop the rows with an empty or NaN cell instead of refusing them.
+    topic : str, optional
+        For a log (ROS bag, ULog, DataFlash, Parquet, HDF5): the topic to read.
 
     Returns
     -------
@@ -71,7 +82,7 @@ def load_bytes(
             f"{name} is {len(raw) / 1e6:.1f} MB, over the {limit / 1024 / 1024:.0f} MB upload "
             "limit: give a shorter record (or raise server.maxUploadSize)"
         )
-    table = cache.load_bytes_cached(content_digest(raw), name, raw)
+    table = cache.load_bytes_cached(content_digest(raw), name, raw, topic)
     if drop_nonfinite:
         table = drop_nonfinite_rows(table)
     recipe = f"sample:{name}" if source == "sample" else None

@@ -151,11 +151,14 @@ def url_upload() -> str | None:
 
 
 def default_column(table: LoadedTable) -> str:
-    """The first data column without empty/NaN cells (else the first data column)."""
+    """The first data column without empty/NaN cells that is not constant (a log's topic
+    often leads with constant fields: an IMU's unused orientation), else the first without
+    empty/NaN cells, else the first data column."""
     cols = table.data_columns
-    for c in cols:
-        if np.all(np.isfinite(table.columns[c])):
-            return c
+    finite = [c for c in cols if np.all(np.isfinite(table.columns[c]))]
+    varying = [c for c in finite if table.columns[c].size and np.ptp(table.columns[c]) > 0]
+    if varying or finite:
+        return (varying or finite)[0]
     if not cols:
         raise NoisevarError(f"{table.name} has no data column (only a time column)")
     return cols[0]

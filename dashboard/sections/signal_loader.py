@@ -13,6 +13,7 @@ from dashboard.pages import SIGNAL
 from dashboard.state import LoadedSignal, current_signal
 from dashboard.url_params import RECIPE_PARAMS
 from dashboard.widgets import guarded, how_it_works, param_input
+from noisevar.io.logs import log_suffixes
 from noisevar.signals import PAPER_SIGNAL, signal_spec
 
 
@@ -132,6 +133,30 @@ def generator_form(errors: DeltaGenerator) -> None:
             loading.load_generated(family, n=n, seed=seed, noise_std=noise_std, **values)
 
 
+def _log_topic(up, errors: DeltaGenerator) -> str | None | bool:
+    """For an uploaded log, the topic picked in a selectbox (None: not a log; False: the log
+    cannot be read, said in ``errors``)."""
+    try:
+        topics = loading.log_topics(up.getvalue(), up.name)
+    except noisevar.NoisevarError as exc:
+        errors.error(str(exc))
+        return False
+    if topics is None:
+        return None
+    usable = [t for t in topics if t.fields and t.count > 0]
+    if not usable:
+        errors.error(f"{up.name} holds no topic with numbers")
+        return False
+    labels = {
+        t.name: f"{t.name} ({t.message}, {t.count:,} records"
+        + (f", {t.rate:.4g} Hz)" if t.rate else ")")
+        for t in usable
+    }
+    return st.selectbox(
+        "Topic", list(labels), format_func=labels.get, key=f"upload_topic_{up.file_id}"
+    )
+
+
 def uploader(errors: DeltaGenerator) -> None:
     """The file uploader; a failed file is reported once per file (the old signal stays)."""
     limit_mb = loading.max_upload_bytes() / 1024 / 1024
@@ -139,11 +164,14 @@ def uploader(errors: DeltaGenerator) -> None:
         f"CSV/TSV (header optional; a column named t/time gives the sample period; a decimal "
         f"comma with `;` separators, as European spreadsheets export, is read too), `.npy` "
         f"(numeric arrays only), or NMEA 0183 GGA/RMC (converted to local east/north metres, "
-        f"speed and course). Up to {limit_mb:.0f} MB."
+        f"speed and course); or a log: ROS 1/2 bag (`.bag`, `.mcap`, `.db3`), PX4 ULog, "
+        f"ArduPilot DataFlash (`.bin`, `.log`), Parquet or HDF5, one topic at a time with the "
+        f"log's own timestamps. Up to {limit_mb:.0f} MB."
     )
+    log_types = [s.lstrip(".") for s in log_suffixes()]
     up = st.file_uploader(
         "Upload a file",
-        type=["csv", "tsv", "txt", "dat", "npy", "nmea", "log"],
+        type=list(dict.fromkeys(["csv", "tsv", "txt", "dat", "npy", "nmea", "log", *log_types])),
         key="upload",
     )
     drop = st.checkbox(
@@ -153,12 +181,15 @@ def uploader(errors: DeltaGenerator) -> None:
     )
     if up is None:
         return
-    attempt = (up.file_id, bool(drop))
+    topic = _log_topic(up, errors)
+    if topic is False:
+        return
+    attempt = (up.file_id, bool(drop), topic)
     failed = st.session_state.get("upload_failed")
     if st.session_state.get("upload_done") != attempt and (not failed or failed[0] != attempt):
         try:
             with st.spinner(f"Reading {up.name}..."):
-                loading.load_bytes(up.getvalue(), up.name, drop_nonfinite=bool(drop))
+                loading.load_bytes(up.getvalue(), up.name, drop_nonfinite=bool(drop), topic=topic)
             st.session_state["upload_done"] = attempt
             st.session_state.pop("upload_failed", None)
         except noisevar.NoisevarError as exc:

@@ -14,6 +14,10 @@ Sub-commands::
     noisevar allan FILE --rate HZ [--data phase|rate] [--kind oadev|mdev|hdev] [--column C]
     noisevar imu FILE --rate HZ [--columns C ...] [--gyro C ...] [--accel C ...]
                      [--kalibr out.yaml] [--inflation F]
+    noisevar topics LOG [--json]
+
+A log (ROS bag, PX4 ULog, ArduPilot DataFlash, Parquet, HDF5) is read by ``--topic T`` on
+estimate, scan-h, allan, imu and fit; ``--column`` then picks the topic's field.
 
 A command module may also define ``precheck(args)``, run on its raw arguments before
 the parser is built (building it imports the estimators): ``estimate`` refuses a
@@ -48,6 +52,7 @@ COMMANDS: tuple[str, ...] = (
     "imu",
     "fit",
     "batch",
+    "topics",
 )
 
 

@@ -14,6 +14,8 @@ from noisevar.io.limits import echo
 if TYPE_CHECKING:
     import numpy as np
 
+    from noisevar.io import LoadedTable
+
 EXIT_ERROR = 2
 
 
@@ -78,37 +80,55 @@ def one_line(message: str) -> str:
     return echo(" ".join(str(message).splitlines()), MAX_LINE)
 
 
+def add_topic_flag(p: argparse.ArgumentParser) -> None:
+    """``--topic T``: the topic of a log to read (its field is chosen by ``--column``)."""
+    p.add_argument(
+        "--topic",
+        help="for a log (ROS bag, PX4 ULog, ArduPilot DataFlash, Parquet, HDF5): the topic or "
+        "message to read ('noisevar topics LOG' lists them); --column picks its field",
+    )
+
+
+def load_file(path: str, topic: str | None = None) -> LoadedTable:
+    """A data file, or one topic of a log (``topic``), as a table."""
+    from noisevar.io import load_table
+
+    return load_table(path, os.path.basename(os.path.normpath(path)), topic=topic)
+
+
 def load_signal(
-    path: str, column: str | None, drop_nonfinite: bool = False
+    path: str, column: str | None, drop_nonfinite: bool = False, topic: str | None = None
 ) -> tuple[np.ndarray, int]:
-    """One column of a data file as floats, and how many non-finite cells were dropped.
+    """One column of a data file (or of a log's ``topic``) as floats, and how many non-finite
+    cells were dropped.
 
     Empty/NaN/Inf cells are refused (naming the first row) unless
     ``drop_nonfinite``.
     """
     import numpy as np
 
-    from noisevar.io import load_table, pick_column
+    from noisevar.io import pick_column
 
-    table = load_table(path, os.path.basename(path))
+    table = load_file(path, topic)
     z = np.asarray(pick_column(table, column, drop_nonfinite=drop_nonfinite), dtype=float)
     return z, table.n_rows - z.size
 
 
 def load_record(
-    path: str, column: str | None, drop_nonfinite: bool = False
+    path: str, column: str | None, drop_nonfinite: bool = False, topic: str | None = None
 ) -> tuple[np.ndarray, np.ndarray | None, list[str]]:
-    """One column of a data file with its sample times (if the file has a time column).
+    """One column of a data file (or of a log's ``topic``) with its sample times (if the
+    file has a time column; a log always has its timestamps).
 
     Returns the values (non-finite cells kept when ``drop_nonfinite``, for the estimator
     to treat as gaps; refused otherwise), the times or None, and the loader's notes.
     """
     import numpy as np
 
-    from noisevar.io import load_table, pick_column
+    from noisevar.io import pick_column
     from noisevar.io.load import column_values
 
-    table = load_table(path, os.path.basename(path))
+    table = load_file(path, topic)
     if drop_nonfinite:
         z = column_values(table, column)
     else:

@@ -4,12 +4,19 @@ from __future__ import annotations
 
 import argparse
 import math
-import os
 from typing import Any
 
 import numpy as np
 
-from noisevar.cli._common import add_regimes_flag, add_unit_flags, print_json, regimes_of, units_of
+from noisevar.cli._common import (
+    add_regimes_flag,
+    add_topic_flag,
+    add_unit_flags,
+    load_file,
+    print_json,
+    regimes_of,
+    units_of,
+)
 from noisevar.errors import NoisevarError
 
 
@@ -24,11 +31,14 @@ def sample_rate(given: float | None, sample_period: float | None) -> float:
     return given
 
 
-def load_columns(path: str, columns: list[str] | None, rate: float | None):
-    """The chosen columns of a data file (all data columns by default) and the sample rate."""
-    from noisevar.io import load_table, pick_column
+def load_columns(
+    path: str, columns: list[str] | None, rate: float | None, topic: str | None = None
+):
+    """The chosen columns of a data file or of a log's ``topic`` (all data columns by
+    default) and the sample rate."""
+    from noisevar.io import pick_column
 
-    table = load_table(path, os.path.basename(path))
+    table = load_file(path, topic)
     names = columns or list(table.data_columns)
     data = {c: np.asarray(pick_column(table, c), dtype=float) for c in names}
     return data, sample_rate(rate, table.sample_period)
@@ -37,7 +47,8 @@ def load_columns(path: str, columns: list[str] | None, rate: float | None):
 def _cmd_allan(args: argparse.Namespace) -> int:
     from noisevar.noise_model import allan
 
-    data, rate = load_columns(args.file, [args.column] if args.column else None, args.rate)
+    wanted = [args.column] if args.column else None
+    data, rate = load_columns(args.file, wanted, args.rate, args.topic)
     name, z = next(iter(data.items()))
     scale, unit = units_of(args.unit, args.unit_out)
     res = allan(z * scale, rate=rate, data=args.data, kind=args.kind, **regimes_of(args))
@@ -76,6 +87,7 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--kind", choices=list(KINDS), default="oadev")
     p.add_argument("--column")
     add_unit_flags(p)
+    add_topic_flag(p)
     add_regimes_flag(p)
     p.add_argument("--format", choices=["table", "json"], default="table")
     p.set_defaults(func=_cmd_allan)

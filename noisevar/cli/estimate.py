@@ -8,7 +8,15 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from noisevar.cli._common import add_unit_flags, load_record, load_signal, print_json, units_of
+from noisevar.cli._common import (
+    add_topic_flag,
+    add_unit_flags,
+    load_file,
+    load_record,
+    load_signal,
+    print_json,
+    units_of,
+)
 from noisevar.errors import NoisevarError
 from noisevar.io.limits import MAX_BYTES, check_bytes, check_size, echo
 
@@ -28,6 +36,8 @@ def precheck(argv: list[str]) -> None:
     if not argv or argv[0].startswith("-"):
         return
     words = [w for arg in argv[1:] for w in arg.split("=", 1)]  # --method=x: --method, x
+    if "--topic" in words:
+        return  # a log (a ROS 2 bag may be a directory) is streamed: its reader checks it
     size = check_size(argv[0], max_bytes=None)
     if "--stream" in words or "--dtype" in words or size <= MAX_BYTES:
         return
@@ -187,11 +197,11 @@ def _estimate_many(args: argparse.Namespace, columns: Any, method: str, params: 
 
     from noisevar.batch.channels import table_channels
     from noisevar.estimators import estimate, method_spec
-    from noisevar.io import load_table, pick_column
+    from noisevar.io import pick_column
 
     if method_spec(method).needs_reference:
         raise NoisevarError(f"method {method} takes one --column and a --reference-column")
-    table = load_table(args.file, Path(args.file).name)
+    table = load_file(args.file, args.topic)
     names = table_channels(table, columns)
     drop = bool(params.get("drop_nonfinite", False))
     zs = []
@@ -236,6 +246,10 @@ def _estimate_streamed(args: argparse.Namespace, column: Any, method: str, param
     from noisevar.estimators import method_spec
     from noisevar.stream import estimate_file
 
+    if args.topic is not None:
+        raise NoisevarError(
+            "a log's topic is read from the log in chunks already: drop --stream and --dtype"
+        )
     spec = method_spec(method)
     if spec.chunked is None or args.columns is not None:
         raise NoisevarError(
@@ -274,15 +288,15 @@ def _cmd_estimate(args: argparse.Namespace) -> int:
             raise NoisevarError(
                 f"method {method} needs --reference-column: the second sensor's column"
             )
-        z, dropped = load_signal(args.file, column, drop)
+        z, dropped = load_signal(args.file, column, drop, args.topic)
         z = z * scale
-        reference, _ = load_signal(args.file, args.reference_column, drop)
+        reference, _ = load_signal(args.file, args.reference_column, drop, args.topic)
         params["reference"] = reference * scale
         result = estimate(z, method=method, **params)
         if dropped:
             result.notes.insert(0, f"dropped {dropped} non-finite samples of {args.file}")
     else:  # the record with its times and the loader's notes: gaps are split, not spliced
-        z, t, notes = load_record(args.file, column, drop)
+        z, t, notes = load_record(args.file, column, drop, args.topic)
         result = estimate(z * scale, method=method, t=t, **params)
         result.notes[:0] = [n for n in notes if n not in result.notes]
     _print(args, column, result)
@@ -314,6 +328,7 @@ def add_parser(sub: Any) -> None:
     p.add_argument("file", help="CSV/TSV (with or without header), .npy, or NMEA file")
     p.add_argument("--column", help="column name or 0-based index (default: the only/first)")
     p.add_argument("--columns", help="several channels: 'all' or a,b,c (one row each)")
+    add_topic_flag(p)
     add_estimate_flags(p)
     from noisevar.estimators import METHODS
 

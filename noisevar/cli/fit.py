@@ -10,7 +10,9 @@ from typing import Any
 
 from noisevar.cli._common import (
     add_regimes_flag,
+    add_topic_flag,
     add_unit_flags,
+    load_file,
     print_json,
     regimes_of,
     units_of,
@@ -51,10 +53,10 @@ def _load(args: argparse.Namespace, config: dict[str, Any] | None) -> tuple[Any,
     """
     import numpy as np
 
-    from noisevar.io import load_table, pick_column
+    from noisevar.io import pick_column
     from noisevar.io.load import column_name
 
-    table = load_table(args.file, os.path.basename(args.file))
+    table = load_file(args.file, args.topic)
     named = None if config is None else config.get("column")
     column = args.column
     if named is not None:
@@ -133,6 +135,7 @@ def add_parser(sub: Any) -> None:
     p = sub.add_parser("fit", help="fit Q and R of a kinematic Kalman filter to a record")
     p.add_argument("file", help="CSV/TSV (with or without header), .npy, or NMEA file")
     p.add_argument("--column", help="column name or 0-based index (default: the only/first)")
+    add_topic_flag(p)
     p.add_argument("--model", choices=list(MODELS), help="rw, cv or ca (default cv)")
     p.add_argument("--rate", type=float, help="sample rate in Hz (required unless in --config)")
     default = inspect.signature(fit_kalman).parameters["method"].default

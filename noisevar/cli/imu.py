@@ -11,7 +11,14 @@ from typing import Any
 
 import numpy as np
 
-from noisevar.cli._common import add_regimes_flag, add_unit_flags, print_json, regimes_of, units_of
+from noisevar.cli._common import (
+    add_regimes_flag,
+    add_topic_flag,
+    add_unit_flags,
+    print_json,
+    regimes_of,
+    units_of,
+)
 from noisevar.cli.allan import load_columns
 from noisevar.errors import NoisevarError
 
@@ -103,7 +110,7 @@ def _cmd_imu(args: argparse.Namespace) -> int:
         from noisevar.noise_model.exports import consumers
 
         consumers(args.export)  # refuse an unknown consumer before reading the file
-    data, rate = load_columns(args.file, _columns(args), args.rate)
+    data, rate = load_columns(args.file, _columns(args), args.rate, args.topic)
     col_units = _column_units(args, list(data))
     fits = {}
     for scale, unit in dict.fromkeys(col_units.values()):
@@ -166,6 +173,7 @@ def add_parser(sub: Any) -> None:
         help="export the conservative set (N, K raised to overbound the Allan curve's 95 %% "
         "upper bound) instead of the best fit (the default)",
     )
+    add_topic_flag(p)
     add_regimes_flag(p)
     p.add_argument("--format", choices=["table", "json"], default="table")
     p.set_defaults(func=_cmd_imu)

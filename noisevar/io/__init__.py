@@ -1,4 +1,4 @@
-"""Loading measured signals from files: CSV/TSV, ``.npy`` and NMEA 0183 (GGA/RMC).
+"""Loading measured signals from files: CSV/TSV, ``.npy``, NMEA 0183 (GGA/RMC) and logs.
 
 One entry point, :func:`load_table`, turns a file (a path or its bytes) into a
 :class:`LoadedTable`: named float columns, the time column if there is one,
@@ -42,6 +42,10 @@ NMEA 0183
     (m/s) and course (degrees). A sentence with a wrong or missing checksum
     makes the whole file refused, naming the line: a corrupted log should not
     silently feed an estimator. Other sentence types are ignored.
+Logs: ROS 1/2 bags, PX4 ULog, ArduPilot DataFlash, Parquet, HDF5
+    One topic at a time (``load_table(path, topic=...)``; :func:`log_topics` lists them),
+    with the log's own timestamps as the time column and the fields' units where the
+    format defines them (:attr:`LoadedTable.units`). See :mod:`noisevar.io.logs`.
 """
 
 from typing import TYPE_CHECKING
@@ -50,7 +54,7 @@ from noisevar._lazy import lazy_names
 
 if TYPE_CHECKING:
     from noisevar.io.limits import echo
-    from noisevar.io.load import load_table, pick_column
+    from noisevar.io.load import load_table, log_topics, pick_column
     from noisevar.io.nmea import geodetic_to_enu
     from noisevar.io.table import (
         NMEA_EXTENSIONS,
@@ -77,6 +81,7 @@ __all__ = [
     "echo",
     "geodetic_to_enu",
     "load_table",
+    "log_topics",
     "pick_column",
     "signal_summary",
     "table_from_arrays",
@@ -87,11 +92,12 @@ _SOURCES = {
     "echo": "noisevar.io.limits",
     "load_table": "noisevar.io.load",
     "pick_column": "noisevar.io.load",
+    "log_topics": "noisevar.io.load",
     "geodetic_to_enu": "noisevar.io.nmea",
     **{
         name: "noisevar.io.table"
         for name in __all__
-        if name not in {"echo", "load_table", "pick_column", "geodetic_to_enu"}
+        if name not in {"echo", "load_table", "log_topics", "pick_column", "geodetic_to_enu"}
     },
 }
 __getattr__, __dir__ = lazy_names(__name__, _SOURCES, __all__)

@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import codecs
+import contextlib
 import os
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -113,8 +114,10 @@ def load_table(
     name: str | None = None,
     *,
     max_bytes: int | None = MAX_BYTES,
+    topic: str | None = None,
+    fields: Sequence[str] | None = None,
 ) -> LoadedTable:
-    """Read a CSV/TSV text table, a ``.npy`` array or an NMEA 0183 log.
+    """Read a CSV/TSV text table, a ``.npy`` array, an NMEA 0183 log, or one topic of a log.
 
     Parameters
     ----------
@@ -126,7 +129,13 @@ def load_table(
         sentences, else a text table). Default: the path's name.
     max_bytes : int or None
         Refuse larger files (checked before reading); default :data:`MAX_BYTES`;
-        None: no limit.
+        None: no limit. A log given by path is streamed and may be larger: the cap is then
+        on the numbers of the topic read (:data:`noisevar.io.logs.MAX_VALUES`).
+    topic : str, optional
+        For a log (ROS bag, ULog, DataFlash, Parquet, HDF5: :mod:`noisevar.io.logs`): the
+        topic to read; may be omitted when the log has one. Refused for other files.
+    fields : sequence of str, optional
+        For a log: the topic's fields to read, by dotted path (default: all).
 
     Returns
     -------
@@ -150,15 +159,94 @@ def load_table(
     >>> tab.data_columns, tab.sample_period
     (['x'], 0.5)
     """
+    from noisevar.io import logs
+
     if isinstance(source, (bytes, bytearray, memoryview)):
         raw = bytes(source)
         name = name or "upload"
         check_bytes(len(raw), name, max_bytes)
+        if logs.reader_for(name, raw[:64]) is not None:
+            return _load_log_bytes(raw, name, topic, fields)
+        _no_topic(name, topic)
         return _parse(raw, name, None, len(raw))
     path = Path(source)
     name = name or path.name
-    size = check_size(path, name, max_bytes)
-    return _parse(_read_head(path, name), name, path, size)
+    if logs.is_ros2_dir(path):
+        return logs.load_log(path, topic, fields, name)
+    size = check_size(path, name, None)
+    head = _read_head(path, name)
+    if logs.reader_for(name, head[:64]) is not None:
+        return logs.load_log(path, topic, fields, name)
+    _no_topic(name, topic)
+    check_bytes(size, name, max_bytes)
+    return _parse(head, name, path, size)
+
+
+def _no_topic(name: str, topic: str | None) -> None:
+    if topic is not None:
+        raise NoisevarError(
+            f"{echo(name)} is not a log (a ROS bag, ULog, DataFlash, Parquet or HDF5 file): "
+            "it has no topics; leave out the topic"
+        )
+
+
+def _load_log_bytes(
+    raw: bytes, name: str, topic: str | None, fields: Sequence[str] | None
+) -> LoadedTable:
+    """One topic of a log uploaded as bytes: written to a private temporary file, read."""
+    from noisevar.io import logs
+
+    with _log_file(raw, name) as path:
+        return logs.load_log(path, topic, fields, name)
+
+
+@contextlib.contextmanager
+def _log_file(raw: bytes, name: str) -> Iterator[Path]:
+    """Log bytes as a file in a private temporary directory (its readers take paths)."""
+    import tempfile
+
+    suffix = Path(name).suffix.lower()
+    suffix = suffix if suffix.isascii() and len(suffix) <= 16 else ""
+    with tempfile.TemporaryDirectory(prefix="noisevar-log-") as tmp:
+        path = Path(tmp) / f"upload{suffix}"
+        path.write_bytes(raw)
+        yield path
+
+
+def log_topics(source: str | os.PathLike | bytes, name: str | None = None) -> list | None:
+    """The topics of a log (a path or its bytes), or None when the file is not a log.
+
+    Parameters
+    ----------
+    source : str, path or bytes
+        The file, or its bytes (an upload).
+    name : str, optional
+        Its name (the suffix helps tell the format); default: the path's name.
+
+    Returns
+    -------
+    list of noisevar.io.logs.TopicInfo, or None
+
+    Raises
+    ------
+    NoisevarError
+        A log its library cannot read.
+    """
+    from noisevar.io import logs
+
+    if isinstance(source, (bytes, bytearray, memoryview)):
+        raw, name = bytes(source), name or "upload"
+        if logs.reader_for(name, raw[:64]) is None:
+            return None
+        with _log_file(raw, name) as path:
+            return logs.list_topics(path, name)
+    path = Path(source)
+    name = name or path.name
+    if not logs.is_ros2_dir(path):
+        check_size(path, name, None)
+        if logs.reader_for(name, _read_head(path, name)[:64]) is None:
+            return None
+    return logs.list_topics(path, name)
 
 
 def _parse(head: bytes, name: str, path: Path | None, size: int) -> LoadedTable:

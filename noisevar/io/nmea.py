@@ -206,6 +206,10 @@ def _valid_fixes(scan: _Scan, name: str) -> list[tuple[int, float]]:
     return fixes
 
 
+#: Units of the columns an NMEA log gives (pint syntax).
+NMEA_UNITS = {"east_m": "m", "north_m": "m", "up_m": "m", "speed_mps": "m/s", "course_deg": "deg"}
+
+
 def _columns(recs: list[dict[str, Any]], t: NDArray) -> dict[str, NDArray]:
     lat = np.array([r["lat"] for r in recs])
     lon = np.array([r["lon"] for r in recs])
@@ -235,4 +239,5 @@ def _read_nmea(text: str, name: str) -> LoadedTable:
     if scan.parse_errors:
         notes.append(f"{len(scan.parse_errors)} lines skipped ({scan.parse_errors[0]})")
     period = _period_from_time(columns["time"], notes)
-    return LoadedTable(name, columns, "nmea", "time", period, notes)
+    units = {c: u for c, u in NMEA_UNITS.items() if c in columns}
+    return LoadedTable(name, columns, "nmea", "time", period, notes, units)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import hashlib
 import io
 import re
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -39,14 +40,18 @@ class LoadedTable:
     columns : dict of str to ndarray
         Column name to float samples, all of the same length; NaN marks an
         empty cell.
-    kind : {"csv", "tsv", "text", "npy", "nmea", "generated"}
-        The format the file was read as.
+    kind : str
+        The format the file was read as: ``csv``, ``tsv``, ``text``, ``npy``, ``nmea``,
+        ``generated``, or a log reader's name (:data:`noisevar.io.logs.READERS`).
     time_column : str or None
         The column holding the sample times (seconds), if any.
     sample_period : float or None
         Median time step of ``time_column`` (seconds), if any.
     notes : list of str
         Plain-language remarks (non-uniform sampling, skipped sentences...).
+    units : mapping of str to str
+        Column name to its unit (pint syntax, e.g. ``rad/s``, ``m/s**2``), for the columns
+        whose unit the file defines (a log's message definitions); empty otherwise.
     """
 
     name: str
@@ -55,6 +60,7 @@ class LoadedTable:
     time_column: str | None = None
     sample_period: float | None = None
     notes: list[str] = field(default_factory=list)
+    units: Mapping[str, str] = field(default_factory=dict)
 
     @property
     def n_rows(self) -> int:
@@ -176,6 +182,7 @@ def drop_nonfinite_rows(table: LoadedTable) -> LoadedTable:
         table.time_column,
         table.sample_period,
         [*table.notes, note],
+        dict(table.units),
     )
 
 

@@ -224,7 +224,28 @@ def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
         raise NoisevarError(f"{echo(name)} has no numbers: every cell is empty or NaN")
     for c in empty:
         notes.append(f"column {echo(c)!r} is empty")
-    return LoadedTable(name, columns, kind, time_col, period, notes)
+    units = {c: u for c in names if c != time_col and (u := header_unit(c))}
+    return LoadedTable(name, columns, kind, time_col, period, notes, units)
+
+
+_HEADER_UNIT = re.compile(r"^[^\[\(]*[\[\(]\s*([^\[\]\(\)]{1,40}?)\s*[\]\)]\s*$")
+
+
+def header_unit(column: str) -> str | None:
+    """The unit a header names in brackets at its end (``gyro_x [rad/s]``, ``p (Pa)``), or None.
+
+    Parameters
+    ----------
+    column : str
+        A column name.
+
+    Returns
+    -------
+    str or None
+        The text in the brackets, as written (a consumer parses it, e.g. with pint).
+    """
+    m = _HEADER_UNIT.match(column)
+    return m[1] if m else None
 
 
 def _read_frame(

@@ -1,0 +1,271 @@
+"""ArduPilot DataFlash logs (binary ``.bin``, text ``.log``), through ``pymavlink``'s DFReader.
+
+A topic is a message type (``IMU``, ``GPS``, ``BARO``); a type logged by several sensors
+(its FMTU marks an instance field) is one topic per instance, ``IMU[0]``, ``IMU[1]``.
+Fields are the numeric columns, scaled as pymavlink scales them; units come from the
+log's own FMTU/UNIT/MULT messages. Times are ``TimeUS`` (microseconds since boot), in
+seconds. A binary log is indexed by pymavlink, then each topic's columns are taken from the
+mapped file at once (numpy), not message by message; a text log goes message by message.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import functools
+import os
+import re
+import struct
+from collections.abc import Iterator, Sequence
+from pathlib import Path
+
+import numpy as np
+
+from noisevar.errors import NoisevarError
+from noisevar.io.limits import echo
+from noisevar.io.logs.spec import CHUNK, MAX_FIELDS, Chunk, LogReader, TopicInfo
+
+#: DataFlash unit names (the log's UNIT messages) in pint syntax; others are left out.
+UNITS = {
+    "rad/s": "rad/s",
+    "m/s/s": "m/s**2",
+    "m/s": "m/s",
+    "m": "m",
+    "Pa": "Pa",
+    "degC": "degC",
+    "deg": "deg",
+    "deg/s": "deg/s",
+    "rad": "rad",
+    "s": "s",
+    "V": "V",
+    "A": "A",
+    "Hz": "Hz",
+    "Gauss": "gauss",
+    "%": "percent",
+}
+_PREFIX = {"": "", "d": "d", "c": "c", "m": "m", "µ": "u", "n": "n"}
+_TOPIC = re.compile(r"^(?P<type>[A-Za-z0-9_]+)(\[(?P<inst>\d+)\])?$")
+_NUMERIC_FORMATS = set("bBhHiIqQfdcCeELM")
+
+
+def _pint(unit: str) -> str | None:
+    if unit in UNITS:
+        return UNITS[unit]
+    prefix, rest = unit[:1], unit[1:]
+    if prefix in _PREFIX and rest in UNITS and "/" not in UNITS[rest]:
+        return _PREFIX[prefix] + UNITS[rest]
+    return None
+
+
+@functools.cache
+def _reader_classes() -> tuple[type, type]:
+    """pymavlink's binary and text readers without its clock search: pymavlink walks the
+    whole log for a GPS time base when none comes early (a bench log without a fix), and
+    noisevar uses TimeUS, not that clock."""
+    from pymavlink import DFReader
+
+    def init_clock(self) -> None:
+        self.clock = DFReader.DFReaderClock_usec()
+        self._rewind(keep_messages=True)
+
+    binary = type("Binary", (DFReader.DFReader_binary,), {"init_clock": init_clock})
+    text = type("Text", (DFReader.DFReader_text,), {"init_clock": init_clock})
+    return binary, text
+
+
+@contextlib.contextmanager
+def _open(path: Path):
+    with path.open("rb") as fh:
+        binary = fh.read(2) == b"\xa3\x95"
+    # pymavlink's compiled indexer prints skipped corrupt bytes from C, past any Python
+    # redirection; its Python indexer reports them through print, which the registry keeps
+    saved = os.environ.get("PYMAVLINK_FAST_INDEX")
+    os.environ["PYMAVLINK_FAST_INDEX"] = "0"
+    try:
+        dfr = _reader_classes()[0 if binary else 1](str(path), zero_time_base=True)
+    finally:
+        if saved is None:
+            os.environ.pop("PYMAVLINK_FAST_INDEX", None)
+        else:
+            os.environ["PYMAVLINK_FAST_INDEX"] = saved
+    try:
+        yield dfr
+    finally:
+        with contextlib.suppress(Exception):
+            dfr.close() if binary else dfr.filehandle.close()
+
+
+#: The log's own bookkeeping messages (formats, units, multipliers): not topics.
+META = ("FMT", "FMTU", "UNIT", "MULT")
+
+
+def _fields(fmt) -> tuple[str, ...]:
+    if fmt.name in META:
+        return ()
+    cols = [
+        c
+        for c, f in zip(fmt.columns, fmt.format, strict=False)
+        if f in _NUMERIC_FORMATS and c != "TimeUS" and c != fmt.instance_field
+    ]
+    return tuple(cols[:MAX_FIELDS])
+
+
+def _units(fmt, fields: Sequence[str]) -> dict[str, str]:
+    out = {}
+    for f in fields:
+        u = _pint(fmt.get_unit(f) or "")
+        if u is not None:
+            out[f] = u
+    return out
+
+
+def _records(dfr) -> dict[tuple[str, int | None], list[float]]:
+    """Per (type, instance): the TimeUS of every message (one pass over the log)."""
+    seen: dict[tuple[str, int | None], list[float]] = {}
+    dfr.rewind()
+    while (m := dfr.recv_msg()) is not None:
+        fmt = m.fmt
+        if "TimeUS" not in fmt.colhash or not _fields(fmt):
+            continue
+        inst = int(getattr(m, fmt.instance_field)) if fmt.instance_field else None
+        seen.setdefault((fmt.name, inst), []).append(m.TimeUS)
+    return seen
+
+
+#: numpy types of pymavlink's struct codes (``FORMAT_TO_STRUCT``), little-endian.
+_NP = {
+    "b": "i1",
+    "B": "u1",
+    "h": "<i2",
+    "H": "<u2",
+    "i": "<i4",
+    "I": "<u4",
+    "q": "<i8",
+    "Q": "<u8",
+    "f": "<f4",
+    "d": "<f8",
+    "e": "<f2",
+}
+
+
+def _binary(dfr) -> bool:
+    return isinstance(dfr, _reader_classes()[0])
+
+
+def _columns(dfr, fmt, names: Sequence[str], offsets: np.ndarray) -> dict[str, np.ndarray]:
+    """Columns ``names`` of the binary messages starting at ``offsets``, scaled as pymavlink
+    scales them, read from the mapped file at once."""
+    from pymavlink.DFReader import FORMAT_TO_STRUCT
+
+    buf = np.frombuffer(dfr.data_map, dtype=np.uint8)
+    try:
+        offsets = offsets[offsets + fmt.len <= buf.size]  # a message cut by the file's end
+        body = buf[(offsets + 3)[:, None] + np.arange(fmt.len - 3)]
+    finally:
+        del buf  # the map is closed later: no view of it may outlive this
+    out, pos = {}, 0
+    for col, ch in zip(fmt.columns, fmt.format, strict=False):
+        code, mult, _ = FORMAT_TO_STRUCT[ch]
+        size = struct.calcsize(code)
+        if col in names and code in _NP:
+            v = body[:, pos : pos + size].copy().view(np.dtype(_NP[code])).ravel().astype(float)
+            out[col] = v / round(1 / mult) if mult is not None and 0 < mult < 1 else v
+        pos += size
+    return out
+
+
+def _binary_records(dfr) -> dict[tuple[str, int | None], np.ndarray]:
+    """Per (type, instance): the TimeUS of its messages, from the index and the mapped file."""
+    seen = {}
+    for fmt in dfr.formats.values():
+        offs = dfr.offsets[fmt.type] if fmt.type < len(dfr.offsets) else []
+        if not offs or "TimeUS" not in fmt.colhash or not _fields(fmt):
+            continue
+        wanted = ["TimeUS", *([fmt.instance_field] if fmt.instance_field else [])]
+        cols = _columns(dfr, fmt, wanted, np.asarray(offs, dtype=np.int64))
+        if fmt.instance_field is None:
+            seen[(fmt.name, None)] = cols["TimeUS"]
+            continue
+        inst = cols[fmt.instance_field]
+        for i in np.unique(inst):
+            seen[(fmt.name, int(i))] = cols["TimeUS"][inst == i]
+    return seen
+
+
+def topics(path: Path) -> list[TopicInfo]:
+    """Every message type (per instance) with TimeUS and numeric columns: counts, rates, units."""
+    with _open(path) as dfr:
+        formats = {f.name: f for f in dfr.formats.values()}
+        records = _binary_records(dfr) if _binary(dfr) else _records(dfr)
+        out = []
+        for (name, inst), times in sorted(records.items(), key=lambda kv: str(kv[0])):
+            fmt = formats[name]
+            fields = _fields(fmt)
+            span = float(times[-1] - times[0]) / 1e6 if len(times) > 1 else 0.0
+            rate = float((len(times) - 1) / span) if span > 0 else None
+            topic = name if inst is None else f"{name}[{inst}]"
+            out.append(TopicInfo(topic, name, len(times), rate, fields, _units(fmt, fields)))
+    return out
+
+
+def read(path: Path, topic: str, fields: Sequence[str] | None) -> Iterator[Chunk]:
+    """The topic's fields in chunks; times in seconds since boot (TimeUS)."""
+    m = _TOPIC.match(topic)
+    if m is None:
+        raise NoisevarError(f"no message {echo(topic)!r} in {echo(path.name)}")
+    name, inst = m["type"], None if m["inst"] is None else int(m["inst"])
+    with _open(path) as dfr:
+        fmt = next((f for f in dfr.formats.values() if f.name == name), None)
+        if fmt is None or "TimeUS" not in fmt.colhash:
+            raise NoisevarError(f"no message {echo(topic)!r} with TimeUS in {echo(path.name)}")
+        names = tuple(fields) if fields is not None else _fields(fmt)
+        have = set(_fields(fmt))
+        bad = [f for f in names if f not in have]
+        if bad:
+            raise NoisevarError(
+                f"message {echo(name)} has no numeric field {echo(bad[0])!r}; fields: "
+                + ", ".join(sorted(have))
+            )
+        if _binary(dfr):
+            yield from _read_binary(dfr, fmt, names, inst)
+            return
+        rows: list[list[float]] = []
+        dfr.rewind()
+        while (msg := dfr.recv_match(type=name)) is not None:
+            if inst is not None and int(getattr(msg, fmt.instance_field)) != inst:
+                continue
+            rows.append([msg.TimeUS, *(getattr(msg, f) for f in names)])
+            if len(rows) == CHUNK:
+                yield _chunk(rows, names)
+                rows = []
+        if rows:
+            yield _chunk(rows, names)
+
+
+def _read_binary(dfr, fmt, names: Sequence[str], inst: int | None) -> Iterator[Chunk]:
+    """A binary log's topic, :data:`CHUNK` messages at a time, straight from the mapped file."""
+    offs = np.asarray(dfr.offsets[fmt.type], dtype=np.int64)
+    extra = [fmt.instance_field] if inst is not None else []
+    for lo in range(0, offs.size, CHUNK):
+        cols = _columns(dfr, fmt, ["TimeUS", *names, *extra], offs[lo : lo + CHUNK])
+        keep = cols[fmt.instance_field] == inst if inst is not None else slice(None)
+        if inst is not None and not np.any(keep):
+            continue
+        yield Chunk(cols["TimeUS"][keep] / 1e6, {f: cols[f][keep] for f in names})
+
+
+def _chunk(rows: list[list[float]], names: Sequence[str]) -> Chunk:
+    arr = np.asarray(rows, dtype=float)
+    return Chunk(arr[:, 0] / 1e6, {f: arr[:, i + 1] for i, f in enumerate(names)})
+
+
+READER = LogReader(
+    name="dataflash",
+    title="ArduPilot DataFlash log",
+    suffixes=(".bin", ".log"),
+    magic=(b"\xa3\x95\x80", b"FMT, ", b"FMT,"),
+    topics=topics,
+    read=read,
+    time_note="times from TimeUS, seconds since boot",
+    repair="download the log from the vehicle again (a log cut short keeps what was "
+    "written), or convert it with mavlogdump.py",
+)

@@ -1,0 +1,162 @@
+"""HDF5 files (``.h5``, ``.hdf5``), through ``h5py``, read by slices.
+
+Topics are:
+
+- a table (a dataset of a compound type, as PyTables and pandas write): its numeric
+  fields; a field named like a time (:data:`~noisevar.io.table.TIME_NAMES`) gives the times;
+- a 2-D numeric dataset ``(n, k)``: fields ``col0 .. col{k-1}``;
+- a group holding 1-D numeric datasets of one length: one field per dataset, and the one
+  named like a time gives the times. A dataset's ``units`` (or ``unit``) attribute is its
+  unit.
+
+For safety, external links, virtual datasets and datasets stored in external files are
+skipped: an HDF5 file cannot make noisevar read another file.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from collections.abc import Iterator, Sequence
+from pathlib import Path
+
+import numpy as np
+
+from noisevar.errors import NoisevarError
+from noisevar.io.limits import echo
+from noisevar.io.logs.spec import CHUNK, MAX_FIELDS, Chunk, LogReader, TopicInfo
+from noisevar.io.table import _is_time_name
+
+#: Most objects of a file looked at (a file of millions of objects is not a sensor log).
+MAX_OBJECTS = 100_000
+
+
+def _safe_datasets(f) -> dict[str, object]:
+    """Every local, non-virtual, internally stored dataset of the file, by path."""
+    import h5py
+
+    found: dict[str, object] = {}
+    seen = 0
+
+    def visit(group, prefix: str) -> None:
+        nonlocal seen
+        for key in group:
+            seen += 1
+            if seen > MAX_OBJECTS:
+                raise NoisevarError(f"the file holds over {MAX_OBJECTS:,} objects")
+            link = group.get(key, getlink=True)
+            if not isinstance(link, h5py.HardLink):
+                continue  # soft and external links: skipped
+            obj = group[key]
+            path = f"{prefix}/{key}"
+            if isinstance(obj, h5py.Group):
+                visit(obj, path)
+            elif obj.is_virtual or obj.external:
+                continue
+            else:
+                found[path] = obj
+
+    visit(f, "")
+    return found
+
+
+def _numeric(dtype) -> bool:
+    return dtype.kind in "biuf"
+
+
+def _unit(ds) -> str | None:
+    for key in ("units", "unit"):
+        value = ds.attrs.get(key)
+        if isinstance(value, bytes):
+            value = value.decode("utf-8", "replace")
+        if isinstance(value, str) and value:
+            return echo(value, 40)
+    return None
+
+
+def _topics_of(f) -> dict[str, tuple[str | None, dict[str, tuple], int, dict[str, str]]]:
+    """Topic -> (time source, {field: (dataset path, column or field)}, rows, units)."""
+    out = {}
+    datasets = _safe_datasets(f)
+    groups: dict[str, list[tuple[str, object]]] = {}
+    for path, ds in datasets.items():
+        if ds.dtype.names:
+            names = [n for n in ds.dtype.names if _numeric(ds.dtype[n]) and ds.ndim == 1]
+            time = next((n for n in names if _is_time_name(n)), None)
+            fields = {n: (path, n) for n in names if n != time}
+            out[path] = ((path, time) if time else None, fields, int(ds.shape[0]), {})
+        elif ds.ndim == 2 and _numeric(ds.dtype):
+            fields = {f"col{j}": (path, j) for j in range(min(ds.shape[1], MAX_FIELDS))}
+            out[path] = (None, fields, int(ds.shape[0]), {})
+        elif ds.ndim == 1 and _numeric(ds.dtype):
+            groups.setdefault(path.rpartition("/")[0] or "/", []).append((path, ds))
+    for gpath, members in groups.items():
+        length = Counter(int(ds.shape[0]) for _, ds in members).most_common(1)[0][0]
+        same = [(p, ds) for p, ds in members if ds.shape[0] == length]
+        time = next((p for p, _ in same if _is_time_name(p.rpartition("/")[2])), None)
+        fields = {p.rpartition("/")[2]: (p, None) for p, _ in same if p != time}
+        units = {p.rpartition("/")[2]: u for p, ds in same if p != time and (u := _unit(ds))}
+        out[gpath] = ((time, None) if time else None, fields, length, units)
+    return {k: v for k, v in out.items() if v[1]}
+
+
+def _rate(f, time, rows: int) -> float | None:
+    if time is None or rows < 2:
+        return None
+    path, field = time
+    ds = f[path]
+    first, last = (ds[0][field], ds[-1][field]) if field else (ds[0], ds[-1])
+    span = float(last) - float(first)
+    return (rows - 1) / span if span > 0 else None
+
+
+def topics(path: Path) -> list[TopicInfo]:
+    """Tables, 2-D datasets and groups of 1-D datasets: rows, rate, fields, units."""
+    import h5py
+
+    with h5py.File(path, "r") as f:
+        return [
+            TopicInfo(name, "hdf5 table", rows, _rate(f, time, rows), tuple(fields), units)
+            for name, (time, fields, rows, units) in sorted(_topics_of(f).items())
+        ]
+
+
+def read(path: Path, topic: str, fields: Sequence[str] | None) -> Iterator[Chunk]:
+    """The topic's fields, :data:`CHUNK` rows at a time."""
+    import h5py
+
+    with h5py.File(path, "r") as f:
+        found = _topics_of(f)
+        if topic not in found:
+            raise NoisevarError(f"no table {echo(topic)!r} in {echo(path.name)}")
+        time, have, rows, _ = found[topic]
+        names = tuple(fields) if fields is not None else tuple(have)
+        bad = [n for n in names if n not in have]
+        if bad:
+            raise NoisevarError(
+                f"table {echo(topic)!r} has no numeric field {echo(bad[0])!r}; fields: "
+                + ", ".join(echo(n, 40) for n in list(have)[:40])
+            )
+        for lo in range(0, rows, CHUNK):
+            hi = min(lo + CHUNK, rows)
+            t = None if time is None else _slice(f, *time, lo, hi)
+            yield Chunk(t, {n: _slice(f, *have[n], lo, hi) for n in names})
+
+
+def _slice(f, path: str, part, lo: int, hi: int) -> np.ndarray:
+    ds = f[path]
+    if part is None:
+        return np.asarray(ds[lo:hi], dtype=float)
+    if isinstance(part, int):
+        return np.asarray(ds[lo:hi, part], dtype=float)
+    return np.asarray(ds.fields(part)[lo:hi], dtype=float)
+
+
+READER = LogReader(
+    name="hdf5",
+    title="HDF5 file",
+    suffixes=(".h5", ".hdf5", ".hdf"),
+    magic=(b"\x89HDF\r\n\x1a\n",),
+    topics=topics,
+    read=read,
+    time_note="times from the table's time field",
+)

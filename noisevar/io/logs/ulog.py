@@ -1,0 +1,145 @@
+"""PX4 ULog (``.ulg``), through ``pyulog``.
+
+A topic is a logged message (``sensor_combined``); a second instance of a message is
+``name/1`` and so on. Fields are the message's numeric fields as ULog names them
+(``gyro_rad[0]``). Times are the message's ``timestamp_sample`` (the sensor's sample time)
+when it has one, else its ``timestamp``: microseconds since boot, in seconds. pyulog
+parses the whole file; only the chosen topic's data is kept.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterator, Sequence
+from pathlib import Path
+
+import numpy as np
+
+from noisevar.errors import NoisevarError
+from noisevar.io.limits import echo
+from noisevar.io.logs.spec import CHUNK, MAX_FIELDS, Chunk, LogReader, TopicInfo
+
+#: Units of PX4 messages' fields (their ``.msg`` definitions), in pint syntax; a field's
+#: array index is ignored (``gyro_rad[2]`` is a ``gyro_rad``).
+TOPIC_UNITS: dict[str, dict[str, str]] = {
+    "sensor_combined": {
+        "gyro_rad": "rad/s",
+        "accelerometer_m_s2": "m/s**2",
+        "magnetometer_ga": "gauss",
+        "gyro_integral_dt": "us",
+        "accelerometer_integral_dt": "us",
+    },
+    "sensor_gyro": {"x": "rad/s", "y": "rad/s", "z": "rad/s", "temperature": "degC"},
+    "sensor_accel": {"x": "m/s**2", "y": "m/s**2", "z": "m/s**2", "temperature": "degC"},
+    "sensor_mag": {"x": "gauss", "y": "gauss", "z": "gauss", "temperature": "degC"},
+    "vehicle_angular_velocity": {"xyz": "rad/s"},
+    "vehicle_angular_acceleration": {"xyz": "rad/s**2"},
+    "vehicle_imu": {"delta_angle": "rad", "delta_velocity": "m/s"},
+    "vehicle_gps_position": {"eph": "m", "epv": "m", "vel_m_s": "m/s", "s_variance_m_s": "m/s"},
+}
+#: Unit suffixes of PX4 field names (``true_airspeed_m_s``, ``baro_pressure_pa``).
+SUFFIX_UNITS: tuple[tuple[str, str], ...] = (
+    ("_m_s2", "m/s**2"),
+    ("_m_s_s", "m/s**2"),
+    ("_rad_s", "rad/s"),
+    ("_m_s", "m/s"),
+    ("_pa", "Pa"),
+    ("_celsius", "degC"),
+    ("_celcius", "degC"),
+    ("_meter", "m"),
+)
+_INDEX = re.compile(r"\[\d+\]$")
+_TIME_FIELDS = ("timestamp", "timestamp_sample")
+
+
+def _unit(topic: str, field: str) -> str | None:
+    base = _INDEX.sub("", field)
+    hit = TOPIC_UNITS.get(topic, {}).get(base)
+    if hit is not None:
+        return hit
+    return next((u for s, u in SUFFIX_UNITS if base.endswith(s)), None)
+
+
+def _name(data, several: bool) -> str:
+    return f"{data.name}/{data.multi_id}" if several or data.multi_id else data.name
+
+
+def _parse(path: Path, only: Sequence[str] | None = None):
+    from pyulog import ULog
+
+    return ULog(str(path), message_name_filter_list=None if only is None else list(only))
+
+
+def _fields(data) -> tuple[str, ...]:
+    names = [f.field_name for f in data.field_data]
+    keep = [
+        n
+        for n in names
+        if n not in _TIME_FIELDS
+        and not n.startswith("_padding")
+        and data.data[n].dtype.kind in "biuf"
+    ]
+    return tuple(keep[:MAX_FIELDS])
+
+
+def _times(data) -> np.ndarray:
+    stamps = data.data.get("timestamp_sample")
+    if stamps is None or not np.any(stamps):
+        stamps = data.data["timestamp"]
+    return np.asarray(stamps, dtype=np.float64) / 1e6
+
+
+def topics(path: Path) -> list[TopicInfo]:
+    """Every logged message (and instance), its count, mean rate, fields and their units."""
+    ulog = _parse(path)
+    if not ulog.message_formats:
+        raise ValueError("no message format could be parsed: the file is corrupt")
+    counts: dict[str, int] = {}
+    for d in ulog.data_list:
+        counts[d.name] = counts.get(d.name, 0) + 1
+    out = []
+    for d in sorted(ulog.data_list, key=lambda d: (d.name, d.multi_id)):
+        t = _times(d)
+        n = int(t.size)
+        span = float(t[-1] - t[0]) if n > 1 else 0.0
+        rate = (n - 1) / span if span > 0 else None
+        fields = _fields(d)
+        units = {f: u for f in fields if (u := _unit(d.name, f)) is not None}
+        name = _name(d, counts[d.name] > 1)
+        out.append(TopicInfo(name, d.name, n, rate, fields, units))
+    return out
+
+
+def read(path: Path, topic: str, fields: Sequence[str] | None) -> Iterator[Chunk]:
+    """The topic's fields in chunks; times in seconds since boot."""
+    base, _, inst = topic.partition("/")
+    ulog = _parse(path, [base])
+    multi = int(inst) if inst.isdigit() else 0
+    data = next((d for d in ulog.data_list if d.name == base and d.multi_id == multi), None)
+    if data is None or (inst and not inst.isdigit()):
+        raise NoisevarError(f"no message {echo(topic)!r} in {echo(path.name)}")
+    names = tuple(fields) if fields is not None else _fields(data)
+    have = set(_fields(data))
+    for f in names:
+        if f not in have:
+            raise NoisevarError(
+                f"message {echo(topic)!r} has no numeric field {echo(f)!r}; fields: "
+                + ", ".join(sorted(have)[:40])
+            )
+    t = _times(data)
+    for lo in range(0, t.size, CHUNK):
+        hi = lo + CHUNK
+        yield Chunk(t[lo:hi], {f: np.asarray(data.data[f][lo:hi], dtype=float) for f in names})
+
+
+READER = LogReader(
+    name="ulog",
+    title="PX4 ULog",
+    suffixes=(".ulg", ".ulog"),
+    magic=(b"ULog\x01\x12\x35",),
+    topics=topics,
+    read=read,
+    time_note="times from timestamp_sample (else timestamp), seconds since boot",
+    repair="a log cut short while recording loses only its end: check it with ulog_info; "
+    "else copy the file from the vehicle again",
+)

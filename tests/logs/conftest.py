@@ -1,0 +1,108 @@
+"""Logs written by each format's own writer (rosbags, pyarrow, h5py; DataFlash by its
+documented layout, as pymavlink has no writer), in the test's tmp_path."""
+
+from __future__ import annotations
+
+import struct
+from pathlib import Path
+
+import numpy as np
+
+RATE = 400.0
+T0_NS = 1_700_000_000_000_000_000
+
+
+def imu_values(n: int, seed: int = 0) -> np.ndarray:
+    """``(n, 6)``: three rate axes, three acceleration axes."""
+    return np.random.default_rng(seed).normal(size=(n, 6))
+
+
+def write_bag(
+    path: Path,
+    z: np.ndarray,
+    kind: str = "mcap",
+    rate: float = RATE,
+    stamps_ns: np.ndarray | None = None,
+    extra: bool = True,
+    frames: bool = False,
+) -> Path:
+    """``z`` (n, 6) as sensor_msgs/Imu on /imu, plus a std_msgs/Float64 on /level without a
+    header: a ROS 1 bag (``kind="ros1"``) or a ROS 2 bag directory (mcap or sqlite3)."""
+    from rosbags.rosbag1 import Writer as Writer1
+    from rosbags.rosbag2 import StoragePlugin, Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    ros1 = kind == "ros1"
+    store = get_typestore(Stores.ROS1_NOETIC if ros1 else Stores.ROS2_HUMBLE)
+    ty = store.types
+    imu, hdr = ty["sensor_msgs/msg/Imu"], ty["std_msgs/msg/Header"]
+    tm, vec = ty["builtin_interfaces/msg/Time"], ty["geometry_msgs/msg/Vector3"]
+    quat, flt = ty["geometry_msgs/msg/Quaternion"], ty["std_msgs/msg/Float64"]
+    if ros1:
+        w = Writer1(path)
+    else:
+        plugin = StoragePlugin.MCAP if kind == "mcap" else StoragePlugin.SQLITE3
+        w = Writer(path, version=9, storage_plugin=plugin)
+    ser = store.serialize_ros1 if ros1 else store.serialize_cdr
+    w.open()
+    c_imu = w.add_connection("/imu", imu.__msgtype__, typestore=store)
+    c_lvl = w.add_connection("/level", flt.__msgtype__, typestore=store) if extra else None
+    if stamps_ns is None:
+        stamps_ns = T0_NS + np.round(np.arange(len(z)) * 1e9 / rate).astype(np.int64)
+    cov = np.zeros(9)
+    cov[4] = 0.5
+    for i, ns in enumerate(int(s) for s in stamps_ns):
+        stamp = tm(sec=ns // 10**9, nanosec=ns % 10**9)
+        seq = {"seq": i} if ros1 else {}
+        frame = "imu" + "_" * (i % 9) if frames else "imu"  # every CDR alignment of the body
+        header = hdr(**seq, stamp=stamp, frame_id=frame)
+        a, b = z[i, :3], z[i, 3:]
+        msg = imu(
+            header=header,
+            orientation=quat(x=0.0, y=0.0, z=0.0, w=1.0),
+            orientation_covariance=cov,
+            angular_velocity=vec(x=a[0], y=a[1], z=a[2]),
+            angular_velocity_covariance=cov,
+            linear_acceleration=vec(x=b[0], y=b[1], z=b[2]),
+            linear_acceleration_covariance=cov,
+        )
+        w.write(c_imu, ns + 1000, ser(msg, imu.__msgtype__))  # record time: 1 us after the stamp
+        if extra and i % 4 == 0:
+            w.write(c_lvl, ns + 2000, ser(flt(data=float(i)), flt.__msgtype__))
+    w.close()
+    return path
+
+
+def _df_record(mtype: int, fmt: str, *values) -> bytes:
+    return b"\xa3\x95" + bytes([mtype]) + struct.pack("<" + fmt, *values)
+
+
+def _pad(text: str, n: int) -> bytes:
+    return text.encode().ljust(n, b"\0")
+
+
+def write_dataflash(path: Path, z: np.ndarray, rate: float = RATE) -> Path:
+    """A binary DataFlash log: FMT, UNIT, MULT, FMTU and IMU messages (two instances), as
+    ArduPilot's AP_Logger lays them out (header A3 95, type byte, packed fields)."""
+    out = bytearray()
+
+    def fmt(mtype: int, length: int, name: str, form: str, cols: str) -> None:
+        packed = (_pad(name, 4), _pad(form, 16), _pad(cols, 64))
+        out.extend(_df_record(0x80, "BB4s16s64s", mtype, length, *packed))
+
+    fmt(0x80, 89, "FMT", "BBnNZ", "Type,Length,Name,Format,Columns")
+    fmt(0x81, 3 + 8 + 1 + 64, "UNIT", "QbZ", "TimeUS,Id,Label")
+    fmt(0x82, 3 + 8 + 1 + 8, "MULT", "Qbd", "TimeUS,Id,Mult")
+    fmt(0x83, 3 + 8 + 1 + 16 + 16, "FMTU", "QBNN", "TimeUS,FmtType,UnitIds,MultIds")
+    fmt(0x84, 3 + 8 + 1 + 24, "IMU", "QBffffff", "TimeUS,I,GyrX,GyrY,GyrZ,AccX,AccY,AccZ")
+    for uid, label in (("s", "s"), ("#", "instance"), ("E", "rad/s"), ("o", "m/s/s")):
+        out.extend(_df_record(0x81, "Qb64s", 0, ord(uid), _pad(label, 64)))
+    for mid, mult in (("-", 0.0), ("F", 1e-6)):
+        out.extend(_df_record(0x82, "Qbd", 0, ord(mid), mult))
+    out.extend(_df_record(0x83, "QB16s16s", 0, 0x84, _pad("s#EEEooo", 16), _pad("F-------", 16)))
+    for i in range(len(z)):
+        us = 1_000_000 + int(round(i * 1e6 / rate))
+        for inst in (0, 1):
+            out.extend(_df_record(0x84, "QB6f", us, inst, *(z[i] + inst)))
+    path.write_bytes(bytes(out))
+    return path
