@@ -172,6 +172,17 @@ def add_unit_flags(p: argparse.ArgumentParser) -> None:
     )
 
 
+def declared_unit(text: str | None) -> str | None:
+    """A unit a file declares (a log's message definition, a header's ``[unit]``), if
+    ``noisevar.units`` reads it; else None (the file's word is not the user's)."""
+    from noisevar.units import parse_unit
+
+    try:
+        return text if parse_unit(text) is not None else None
+    except NoisevarError:
+        return None
+
+
 def units_of(given: str | None, out: str | None) -> tuple[float, str]:
     """The factor to apply to the data and the unit the results are in (``"u"``: none).
 

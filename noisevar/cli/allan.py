@@ -12,6 +12,7 @@ from noisevar.cli._common import (
     add_regimes_flag,
     add_topic_flag,
     add_unit_flags,
+    declared_unit,
     load_file,
     print_json,
     regimes_of,
@@ -35,22 +36,23 @@ def load_columns(
     path: str, columns: list[str] | None, rate: float | None, topic: str | None = None
 ):
     """The chosen columns of a data file or of a log's ``topic`` (all data columns by
-    default) and the sample rate."""
+    default), the sample rate, and each column's unit as the file declares it (or None)."""
     from noisevar.io import pick_column
 
     table = load_file(path, topic)
     names = columns or list(table.data_columns)
     data = {c: np.asarray(pick_column(table, c), dtype=float) for c in names}
-    return data, sample_rate(rate, table.sample_period)
+    declared = {c: table.units.get(c) for c in names}
+    return data, sample_rate(rate, table.sample_period), declared
 
 
 def _cmd_allan(args: argparse.Namespace) -> int:
     from noisevar.noise_model import allan
 
     wanted = [args.column] if args.column else None
-    data, rate = load_columns(args.file, wanted, args.rate, args.topic)
+    data, rate, declared = load_columns(args.file, wanted, args.rate, args.topic)
     name, z = next(iter(data.items()))
-    scale, unit = units_of(args.unit, args.unit_out)
+    scale, unit = units_of(args.unit or declared_unit(declared[name]), args.unit_out)
     res = allan(z * scale, rate=rate, data=args.data, kind=args.kind, **regimes_of(args))
     # rate data: the deviation is in the data's unit; phase data: the phase's unit per second
     dev_unit = unit if args.data == "rate" else f"{unit}/s"

@@ -15,6 +15,7 @@ from noisevar.cli._common import (
     add_regimes_flag,
     add_topic_flag,
     add_unit_flags,
+    declared_unit,
     print_json,
     regimes_of,
     units_of,
@@ -29,14 +30,22 @@ def _columns(args: argparse.Namespace) -> list[str] | None:
     return list(dict.fromkeys(wanted)) or None
 
 
-def _column_units(args: argparse.Namespace, names: list[str]) -> dict[str, tuple[float, str]]:
-    """Each column's factor (to ``--unit-out``) and the unit its terms are in."""
-    default = units_of(args.unit, args.unit_out)
-    gyro = units_of(args.gyro_unit, None) if args.gyro_unit else default
-    accel = units_of(args.accel_unit, None) if args.accel_unit else default
+def _column_units(
+    args: argparse.Namespace, declared: dict[str, str | None]
+) -> dict[str, tuple[float, str]]:
+    """Each column's factor (to ``--unit-out``) and the unit its terms are in.
+
+    A unit given on the command line wins; else the one the file declares for the column
+    (a log's message definition, a header's ``[unit]``); else none.
+    """
     out = {}
-    for c in names:
-        out[c] = gyro if c in (args.gyro or []) else accel if c in (args.accel or []) else default
+    for c, said in declared.items():
+        flag = args.gyro_unit if c in (args.gyro or []) else None
+        flag = args.accel_unit if c in (args.accel or []) else flag
+        if flag:
+            out[c] = units_of(flag, None)
+        else:
+            out[c] = units_of(args.unit or declared_unit(said), args.unit_out)
     return out
 
 
@@ -110,8 +119,8 @@ def _cmd_imu(args: argparse.Namespace) -> int:
         from noisevar.noise_model.exports import consumers
 
         consumers(args.export)  # refuse an unknown consumer before reading the file
-    data, rate = load_columns(args.file, _columns(args), args.rate, args.topic)
-    col_units = _column_units(args, list(data))
+    data, rate, declared = load_columns(args.file, _columns(args), args.rate, args.topic)
+    col_units = _column_units(args, declared)
     fits = {}
     for scale, unit in dict.fromkeys(col_units.values()):
         names = [c for c in data if col_units[c] == (scale, unit)]

@@ -145,3 +145,23 @@ def test_synthetic_imu_in_a_bag_gives_back_n_and_k(tmp_path):
         terms = {t.symbol: t.value for t in fit.terms}
         assert terms["N"] == pytest.approx(dens_n, rel=0.03)
         assert terms["K"] == pytest.approx(dens_k, rel=0.20)
+
+
+def test_the_units_a_bag_declares_reach_the_terms(capsys, bag):
+    # sensor_msgs/Imu says rad/s and m/s^2: with no --unit, the terms carry them
+    code, out, err = run(
+        capsys, "imu", bag, "--topic", "/imu", "--columns", "angular_velocity.x",
+        "linear_acceleration.z", "--format", "json",
+    )  # fmt: skip
+    assert code == 0, err
+    cols = json.loads(out)["columns"]
+    assert cols["angular_velocity.x"]["unit"] == "rad/s"
+    assert cols["angular_velocity.x"]["terms"]["random_walk"]["unit"] == "rad/s/√Hz"
+    assert cols["linear_acceleration.z"]["unit"].replace(" ", "") in ("m/s**2", "m/s²", "m/s^2")
+    # the user's --unit still wins
+    code, out, err = run(
+        capsys, "imu", bag, "--topic", "/imu", "--columns", "angular_velocity.x",
+        "--unit", "deg/s", "--format", "json",
+    )  # fmt: skip
+    assert code == 0, err
+    assert json.loads(out)["columns"]["angular_velocity.x"]["unit"] == "deg/s"
