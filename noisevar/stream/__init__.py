@@ -15,7 +15,7 @@ from pathlib import Path
 from noisevar.errors import NoisevarError
 from noisevar.estimators import DEFAULT_METHOD, estimate_chunked
 from noisevar.estimators.results import VarianceEstimate
-from noisevar.stream.sources import FileSource, npy_source, raw_source, spool_csv
+from noisevar.stream.sources import FileSource, npy_source, raw_source, regular_file, spool_csv
 
 __all__ = [
     "STREAM_BYTES",
@@ -153,7 +153,14 @@ def estimate_file(
     Returns
     -------
     VarianceEstimate
+
+    Raises
+    ------
+    NoisevarError
+        Not a regular file (a FIFO, a device, a folder), an unreadable or malformed file,
+        non-finite samples, integers beyond 2**53, or a method without a chunked path.
     """
+    regular_file(path)
     spool = None
     if dtype is None and str(path).lower().endswith((".csv", ".txt", ".tsv")):
         src, _ = spool_csv(path, column)
