@@ -23,6 +23,7 @@ import scipy.signal
 from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
+from noisevar.estimators import check_rate, scale_back, scale_exponent
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes, longest_still_stretch
 from noisevar.kalman.divergence import nis_band
 from noisevar.noise_model._steady import FilterPass, diffuse_start, filter_pass, steady_state
@@ -36,6 +37,10 @@ MODELS: dict[str, tuple[int, int, str]] = {
 METHODS = ("mle", "als", "auto")
 #: The method ``"auto"`` uses (chosen on benchmarks/kalman_tuning.py).
 DEFAULT_METHOD = "mle"
+#: Largest magnitudes (powers of two) a fit runs on as they are; beyond, on a copy scaled by
+#: a power of two (exact): the Riccati and likelihood numerics lose their way far from 1
+#: (a record x 1e30 had no Riccati solution), not only where squares overflow.
+SCALE_RANGE = (-20, 20)
 #: Search range of log10 h for the likelihood (per sample).
 LOG10_H_RANGE = (-14.0, 4.0)
 #: p-value of the Ljung-Box test below which the innovations are called coloured.
@@ -334,11 +339,7 @@ def min_samples(model: str) -> int:
 def _check_input(z: ArrayLike, model: str, rate: float | None) -> tuple[NDArray, float]:
     if model not in MODELS:
         raise NoisevarError(f"unknown model {model!r}; choose one of: {', '.join(MODELS)}")
-    if rate is not None:
-        if isinstance(rate, bool) or not isinstance(rate, int | float | np.number):
-            raise NoisevarError(f"rate must be a number of samples per second, got {rate!r}")
-        if not np.isfinite(rate) or rate <= 0:
-            raise NoisevarError(f"rate must be a positive number of samples per second, got {rate}")
+    check_rate(rate)
     try:
         arr = np.asarray(z, dtype=float)
     except (TypeError, ValueError):
@@ -498,6 +499,10 @@ def fit_kalman(
         raise NoisevarError(f"unknown method {method!r}; choose one of: {', '.join(METHODS)}")
     if not isinstance(lags, int) or lags < 3:
         raise NoisevarError(f"lags must be an integer of at least 3, got {lags!r}")
+    e = scale_exponent(arr, SCALE_RANGE)
+    if e:  # scale-safe: the fit on z 2**e (exact), q and r back (estimators' _scale)
+        fit = fit_kalman(np.ldexp(arr, e), model, rate, method, lags, progress, regimes)
+        return rescale_tuning(fit, e)
     notes: list[str] = []
     if check_regimes(regimes) == "still":
         stretch = longest_still_stretch(arr, min_samples(model), f"the {model!r} model")
@@ -550,7 +555,36 @@ def evaluate_kalman(
             raise NoisevarError(f"{name} must be a positive number, got {v!r}")
         if not np.isfinite(v):
             raise NoisevarError(f"{name} must be finite, got {v!r}")
+    e = scale_exponent(arr, SCALE_RANGE)
+    if e:
+        qs, rs = (float(np.ldexp(float(v), 2 * e)) for v in (q, r))
+        if not all(np.isfinite(v) and v > 0 for v in (qs, rs)):
+            raise NoisevarError("q and r are out of floating-point range for this record's scale")
+        return rescale_tuning(_tuning(np.ldexp(arr, e), model, dt, rate, qs, rs, "given", []), e)
     return _tuning(arr, model, dt, rate, float(q), float(r), "given", [])
+
+
+def rescale_tuning(t: KalmanTuning, e: int) -> KalmanTuning:
+    """A tuning fitted on ``z 2**e`` in the units of ``z``: variances (q, r, Q, R, P, P0)
+    x ``2**-2e``, the start state x ``2**-e``, the log-likelihood + ``e ln 2`` per term;
+    h, the gain, the NIS and the whiteness test do not change."""
+
+    def var(v: Any, what: str = "noise variance") -> Any:
+        return scale_back(v, -2 * e, what)
+
+    return replace(
+        t,
+        q=var(t.q, "process noise"),
+        r=var(t.r),
+        q_interval=tuple(var(v, "process noise") for v in t.q_interval),
+        r_interval=tuple(var(v) for v in t.r_interval),
+        Q=var(t.Q, "process noise"),
+        R=var(t.R),
+        P=np.ldexp(t.P, -2 * e),
+        P0=np.ldexp(t.P0, -2 * e),
+        x0=np.ldexp(t.x0, -e),
+        loglik=t.loglik + e * np.log(2.0) * (t.n - t.start),
+    )
 
 
 def run_tuned(tuning: KalmanTuning, z: ArrayLike) -> TunedRun:
