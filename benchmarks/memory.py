@@ -41,8 +41,8 @@ TARGET_MB = 256
 IN_MEMORY = (
     "import json, sys, numpy as np, noisevar as nv\n"
     "r = nv.estimate(np.load(sys.argv[1]))\n"
-    "print(json.dumps({'variance': r.variance, 'ci95': list(r.ci95), 'n_used': r.n_used,"
-    " 'notes': r.notes}))\n"
+    "print(json.dumps({'variance': r.variance, 'ci95_low': r.ci95[0], 'ci95_high': r.ci95[1],"
+    " 'n_used': r.n_used, 'notes': r.notes}))\n"
 )
 
 
@@ -79,7 +79,7 @@ def main() -> None:
 
     diff = max(
         rel(streamed["variance"], memory["variance"]),
-        *(rel(streamed["ci95"][i], memory["ci95"][i]) for i in range(2)),
+        *(rel(streamed[k], memory[k]) for k in ("ci95_low", "ci95_high")),
     )
     same_n = streamed["n_used"] == memory["n_used"]
     met = "met" if s_rss < TARGET_MB else "**NOT met**"

@@ -16,6 +16,7 @@ import numpy as np
 from allantools import ci
 from numpy.typing import ArrayLike, NDArray
 
+from noisevar._arrays import check_exact_ints
 from noisevar.errors import NoisevarError
 from noisevar.estimators import scale_back, scale_exponent
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes, longest_still_stretch
@@ -186,6 +187,7 @@ def to_phase(z: ArrayLike, rate: float, data: str) -> NDArray:
         raise NoisevarError(f"data must be 'phase' or 'rate', not {data!r}.")
     if rate is None or not np.isfinite(rate) or rate <= 0:
         raise NoisevarError(f"The sample rate must be a positive number of Hz, not {rate}.")
+    check_exact_ints(z, "The record")
     y = np.asarray(z, dtype=float)
     if y.ndim != 1:
         raise NoisevarError(f"The record must be one-dimensional; it has shape {y.shape}.")

@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from noisevar._arrays import check_exact_ints
 from noisevar.errors import NoisevarError
 from noisevar.estimators import check_rate, scale_back, scale_exponent
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes, longest_still_stretch
@@ -240,6 +241,7 @@ def _check(z: ArrayLike, rate: float | None, models: Sequence[str], criterion: s
                 f"unknown noise model {m!r}; choose among: {', '.join(COLOURED_MODELS)}"
             )
     check_rate(rate)
+    check_exact_ints(z)
     try:
         arr = np.asarray(z, dtype=float)
     except (TypeError, ValueError):

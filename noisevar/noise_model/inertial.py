@@ -16,6 +16,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import nnls
 
+from noisevar._arrays import check_exact_ints
 from noisevar.errors import NoisevarError
 from noisevar.estimators import check_rate, scale_back, scale_exponent
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes
@@ -430,6 +431,7 @@ def inertial_noise(
     """
     check_regimes(regimes)
     check_rate(rate)
+    check_exact_ints(z)
     arr = np.asarray(z, dtype=float)
     if arr.ndim == 1:
         return _one_axis(arr, rate, unit, taus, ci, seed, regimes)

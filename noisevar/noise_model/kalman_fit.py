@@ -22,6 +22,7 @@ import scipy.optimize
 import scipy.signal
 from numpy.typing import ArrayLike, NDArray
 
+from noisevar._arrays import check_exact_ints
 from noisevar.errors import NoisevarError
 from noisevar.estimators import check_rate, scale_back, scale_exponent
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes, longest_still_stretch
@@ -340,6 +341,7 @@ def _check_input(z: ArrayLike, model: str, rate: float | None) -> tuple[NDArray,
     if model not in MODELS:
         raise NoisevarError(f"unknown model {model!r}; choose one of: {', '.join(MODELS)}")
     check_rate(rate)
+    check_exact_ints(z)
     try:
         arr = np.asarray(z, dtype=float)
     except (TypeError, ValueError):

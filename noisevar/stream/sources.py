@@ -16,9 +16,9 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
+from noisevar._arrays import EXACT_INT
 from noisevar.errors import NoisevarError
 from noisevar.io.table import echo
-from noisevar.io.text import EXACT_INT
 
 
 def regular_file(path: str | os.PathLike) -> Path:
