@@ -3,15 +3,24 @@
 from __future__ import annotations
 
 import argparse
+import re
 import sys
 from typing import Any
 
 from noisevar.errors import NoisevarError
 from noisevar.io.limits import echo
 
+#: A scheduler address: ``[scheme://]host:port`` (tcp://, tls://, ws://, inproc://...).
+_ADDRESS = re.compile(r"^([a-z][a-z0-9+.-]*://)?[^\s/:]+(:\d+)?(/\S*)?$", re.IGNORECASE)
+
 
 def _client(address: str) -> Any:
     """A ``dask.distributed`` client of the scheduler at ``address`` (one clear error if none)."""
+    if not _ADDRESS.match(address) or ("://" not in address and ":" not in address):
+        raise NoisevarError(
+            f"--scheduler {echo(address)!r} is not a scheduler address: give one like "
+            "tcp://host:8786"
+        )
     try:
         from distributed import Client
     except ImportError:

@@ -136,19 +136,26 @@ def test_two_batches_on_one_output_the_second_is_refused(tmp_path, capsys):
     _assert_exact(read_table(out), files)
 
 
-def test_jobs_are_bounded_by_the_machine_and_a_bad_scheduler_is_one_line(tmp_path, capsys):
+def test_jobs_are_bounded_by_the_machine_and_a_bad_scheduler_is_one_line(
+    tmp_path, capsys, monkeypatch
+):
     bound = machine_jobs()
+    assert bound == len(os.sched_getaffinity(0))
     assert check_jobs(bound) == (bound, None) and check_jobs(None) == (1, None)
     jobs, why = check_jobs(10**9)
     assert jobs == bound and f"using {bound}" in why
     with pytest.raises(NoisevarError, match="whole number"):
         check_jobs(0)
     files = _fleet(tmp_path / "logs", 2)
-    with pytest.warns(UserWarning, match=f"using {bound}"):
-        nv.batch(files, method="diff2", jobs=bound + 1, progress=False)
+    monkeypatch.setattr(BATCH, "machine_jobs", lambda: 1)  # a one-CPU machine: no pool
+    with pytest.warns(UserWarning, match="using 1"):
+        nv.batch(files, method="diff2", jobs=3, progress=False)
+    code = main(["batch", *files, "--jobs", "1000000000", "--method", "diff2", "--quiet"])
+    captured = capsys.readouterr()
+    assert code == 0 and "jobs 1000000000 is more than the 1 CPUs" in captured.err
     code = main(["batch", *files, "--scheduler", "not a url", "--quiet"])
     err = capsys.readouterr().err
-    assert code == 2 and err.count("\n") == 1 and "Dask scheduler at not a url" in err
+    assert code == 2 and err.count("\n") == 1 and "'not a url' is not a scheduler address" in err
 
 
 def _group(pgid: int) -> list[int]:
