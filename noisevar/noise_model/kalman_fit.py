@@ -24,9 +24,10 @@ from numpy.typing import ArrayLike, NDArray
 
 from noisevar._arrays import check_exact_ints
 from noisevar.errors import NoisevarError
-from noisevar.estimators import check_rate, scale_back, scale_exponent
+from noisevar.estimators import check_rate, scale_exponent
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes, longest_still_stretch
 from noisevar.kalman.divergence import nis_band
+from noisevar.noise_model._rescale import rescale_tuning
 from noisevar.noise_model._steady import FilterPass, diffuse_start, filter_pass, steady_state
 
 #: Kinematic models: name -> (number of states, power k of T in h = q T^k / r, q's name).
@@ -564,29 +565,6 @@ def evaluate_kalman(
             raise NoisevarError("q and r are out of floating-point range for this record's scale")
         return rescale_tuning(_tuning(np.ldexp(arr, e), model, dt, rate, qs, rs, "given", []), e)
     return _tuning(arr, model, dt, rate, float(q), float(r), "given", [])
-
-
-def rescale_tuning(t: KalmanTuning, e: int) -> KalmanTuning:
-    """A tuning fitted on ``z 2**e`` in the units of ``z``: variances (q, r, Q, R, P, P0)
-    x ``2**-2e``, the start state x ``2**-e``, the log-likelihood + ``e ln 2`` per term;
-    h, the gain, the NIS and the whiteness test do not change."""
-
-    def var(v: Any, what: str = "noise variance") -> Any:
-        return scale_back(v, -2 * e, what)
-
-    return replace(
-        t,
-        q=var(t.q, "process noise"),
-        r=var(t.r),
-        q_interval=tuple(var(v, "process noise") for v in t.q_interval),
-        r_interval=tuple(var(v) for v in t.r_interval),
-        Q=var(t.Q, "process noise"),
-        R=var(t.R),
-        P=np.ldexp(t.P, -2 * e),
-        P0=np.ldexp(t.P0, -2 * e),
-        x0=np.ldexp(t.x0, -e),
-        loglik=t.loglik + e * np.log(2.0) * (t.n - t.start),
-    )
 
 
 def run_tuned(tuning: KalmanTuning, z: ArrayLike) -> TunedRun:
