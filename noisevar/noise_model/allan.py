@@ -323,7 +323,8 @@ def allan(
     """
     if not 0 < ci < 1:
         raise NoisevarError(f"ci must be between 0 and 1, not {ci}.")
-    x = to_phase(z, rate, data)
+    with np.errstate(over="ignore", under="ignore"):  # checks z; scaled below if out of range
+        x = to_phase(z, rate, data)
     e, k = (scale_exponent(np.asarray(v, dtype=float)) for v in (z, [rate]))
     if e or k:  # scale-safe: the record by 2**e, the rate by 2**k (exact), results back
         given = taus if isinstance(taus, str) else np.ldexp(np.asarray(taus, dtype=float), -k)
