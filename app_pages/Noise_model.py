@@ -7,9 +7,10 @@ from __future__ import annotations
 
 import streamlit as st
 
-from dashboard.sections import noise_model
+from dashboard.sections import filter_configs, noise_model
 from dashboard.sections.noise_model_fit import render_fit
 from dashboard.sections.signal_loader import require_signal
+from dashboard.state import signal_units
 from dashboard.widgets import how_it_works
 
 HOW_IT_WORKS = (
@@ -37,11 +38,12 @@ regimes = noise_model.regime_panel(sig)
 settings = noise_model.settings_form(sig, regimes)
 noise_model.results(sig, settings)
 
-with st.expander("Kalibr imu.yaml", icon=":material/download:"):
+with st.expander("Filter configs: Kalibr imu.yaml and every consumer", icon=":material/download:"):
     noise_model.kalibr_export(sig, settings)
+    filter_configs.consumer_files(sig, settings.rate, settings.regimes)
 
 if settings.rate > 0:  # a bad rate is said once, above
     st.subheader("Coloured noise and the Kalman filter's Q and R")
-    render_fit(sig.z, settings.rate, regimes)
+    render_fit(sig.z, settings.rate, regimes, column=sig.column, unit=signal_units())
 
 how_it_works(*HOW_IT_WORKS)

@@ -293,6 +293,10 @@ def _float(x) -> float | None:
     return None if x is None else float(x)
 
 
+def _white(test) -> bool | None:
+    return None if test is None else bool(test.white)
+
+
 def observe(est) -> dict:
     """What one estimate tells a user, read through the public API only."""
     diag = getattr(est, "diagnostics", None)
@@ -308,6 +312,7 @@ def observe(est) -> dict:
         "flags": {k: bool(v) for k, v in (getattr(diag, "flags", {}) or {}).items()},
         "regimes": regimes(est),
         "verdict": getattr(diag, "verdict", "") or "",
+        "still_white": _white(getattr(diag, "still_whiteness", None)),
         "notes": [*est.notes, *(getattr(diag, "notes", ()) or ())],
     }
 
@@ -382,9 +387,20 @@ def results_table(rows: list[dict]) -> list[str]:
             f"{_g(r['quiet'])}{share} | {regs} | "
             f"{_g(ref['value'])} ({_g(ref['lo'], 3)}-{_g(ref['hi'], 3)}) | "
             f"{_g(ref['check'], 3)} | {r['ratio']:.3g} | {_g(r['quiet_ratio'], 3)} | "
-            f"{'PASS' if r['pass'] else 'FAIL'} |"
+            f"{_result(r)} |"
         )
     return lines
+
+
+def flagged(r: dict) -> bool:
+    """A failure the result itself warns of: it says the still stretches' noise is not white."""
+    return not r["pass"] and r["still_white"] is False
+
+
+def _result(r: dict) -> str:
+    if r["pass"]:
+        return "PASS"
+    return "FAIL (flagged: still noise not white)" if flagged(r) else "FAIL"
 
 
 def verdict_table(rows: list[dict]) -> list[str]:
@@ -429,7 +445,10 @@ def report(recs: list[Record], rows: list[dict], seconds: float) -> str:
         "the reference's own "
         f"95 % interval, or R / reference within [{BAND[0]}, {BAND[1]}]. "
         f"**{passed} of {len(rows)} checks pass; records passing on every channel: "
-        f"{sum(by_record.values())} of {len(recs)}.**",
+        f"{sum(by_record.values())} of {len(recs)}.** Of the {len(rows) - passed} failures, "
+        f"{sum(flagged(r) for r in rows)} are flagged by the result itself (its verdict says "
+        "the still stretches' noise is not white, so their level depends on the bandwidth and "
+        "a white reference is not the R); the others are silent.",
         "",
         "Still level is `diagnostics.quiet_variance` (its share of the record); regimes are "
         "printed when the estimate reports them. References (the script's docstring): hand-cut "

@@ -131,6 +131,7 @@ def html_report(
     rows: list[dict[str, object]],
     figures: list[go.Figure],
     notes: Sequence[str] = (),
+    summary: Sequence[str] = (),
 ) -> str:
     """The current analysis as one self-contained HTML page: numbers, notes and figures.
 
@@ -144,6 +145,8 @@ def html_report(
         Drawn interactive (plotly.js embedded once: works offline).
     notes : sequence of str
         Lines shown under the table (the command line, the config...).
+    summary : sequence of str
+        Sentences shown first, under the title (the verdict, the regime warning).
 
     Returns
     -------
@@ -160,7 +163,9 @@ def html_report(
         "<style>body{font-family:sans-serif;max-width:1100px;margin:2em auto}"
         "td{padding:2px 12px;border-bottom:1px solid #ddd}pre{background:#f4f4f4;padding:8px}"
         "</style></head><body>",
-        f"<h1>{html.escape(title)}</h1><table>{cells}</table>",
+        f"<h1>{html.escape(title)}</h1>",
+        *(f"<p><strong>{html.escape(line)}</strong></p>" for line in summary),
+        f"<table>{cells}</table>",
         *(f"<pre>{html.escape(n)}</pre>" for n in notes),
     ]
     for i, fig in enumerate(figures):

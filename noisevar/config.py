@@ -139,6 +139,8 @@ def validate_config(config: Mapping[str, Any]) -> dict[str, Any]:
         raise NoisevarError(
             f"a config must be a JSON object (method and parameters), got {type(config).__name__}"
         )
+    if "method" not in config and "kalman" in config:
+        return _filter_config(config)
     if "method" not in config:
         raise NoisevarError(f"the config has no 'method' key; give one of: {', '.join(methods())}")
     method = config["method"]
@@ -178,6 +180,60 @@ def validate_config(config: Mapping[str, Any]) -> dict[str, Any]:
             continue
         out[key] = _check_value(key, specs[key], value)
     return out
+
+
+def _filter_config(config: Mapping[str, Any]) -> dict[str, Any]:
+    """A tuned filter's config (no estimator ``method``): its ``kalman`` entry and column."""
+    from noisevar.noise_model.export import check_kalman_config
+
+    extra = sorted(set(config) - {"kalman", *CHANNEL_KEYS})
+    if extra:
+        raise NoisevarError(
+            f"config key {echo(repr(extra[0]))} does not belong in a tuned filter's config "
+            "(kalman and column only)"
+        )
+    out: dict[str, Any] = {k: _channel_value(k, config[k]) for k in CHANNEL_KEYS if k in config}
+    out["kalman"] = check_kalman_config(config["kalman"])
+    return out
+
+
+def require_estimator_config(config: Mapping[str, Any], source: str = "the config") -> None:
+    """Refuse a tuned filter's config where an estimator's is expected (``noisevar estimate``).
+
+    Raises
+    ------
+    NoisevarError
+        One line naming the command that reads it (``noisevar fit``).
+    """
+    if "kalman" in config:
+        raise NoisevarError(
+            f"{source} holds a tuned Kalman filter (Q and R), which 'noisevar estimate' does "
+            f"not apply: run 'noisevar fit FILE --config {source}'"
+        )
+
+
+def filter_config_json(tuning: Any, column: str | None = None, unit: str = "") -> str:
+    """A tuned filter's config file, as the Noise model page downloads it and ``--save-config``
+    writes it (``noisevar fit FILE --config`` reads it).
+
+    Parameters
+    ----------
+    tuning : KalmanTuning
+        The fitted (or applied) filter.
+    column : str, optional
+        The data column fitted.
+    unit : str
+        The signal's declared unit.
+
+    Returns
+    -------
+    str
+        Indented JSON, validated.
+    """
+    from noisevar.noise_model.export import to_config
+
+    config = validate_config(to_config(tuning, column=column, unit=unit))
+    return json.dumps(config, indent=2, allow_nan=False) + "\n"
 
 
 def params_to_config(method: str, params: Mapping[str, Any]) -> dict[str, Any]:

@@ -75,7 +75,11 @@ def test_to_frame_cli_csv_and_batch_have_the_same_columns(record, capsys, tmp_pa
 
     # the estimate's columns are the same everywhere, and so are their values
     lead = len(KEY_COLUMNS)
-    assert list(frame.columns)[1:] == list(cli[0])[lead:] == list(returned.columns)[lead:-4]
+    assert (
+        list(frame.columns)[1:]
+        == list(cli[0])[lead:]
+        == list(returned.columns)[lead : -len(RUN_COLUMNS)]
+    )
     for j, name in enumerate(NAMES):
         row = est[j].to_row()
         got = returned[returned["channel"] == name].iloc[0]

@@ -62,6 +62,7 @@ TOP_LEVEL = {
     "params": "core",
     "format": "core",
     "synth": "core",
+    "units": "core",
     "signals": "signals",
     "config": "config",
     "__main__": "noisevar",

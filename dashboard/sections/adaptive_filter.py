@@ -10,6 +10,7 @@ import plotly.graph_objects as go
 import streamlit as st
 
 from dashboard import cache
+from dashboard.sections.regimes import record_answer_box
 from dashboard.sections.signal_loader import require_signal
 from dashboard.state import follow_table, initial, keep_valid
 from dashboard.widgets import (
@@ -20,6 +21,7 @@ from dashboard.widgets import (
     show_figure,
     table_and_figure_downloads,
 )
+from noisevar.estimators.answer import WHY_DIFFERENT
 from noisevar.estimators.compare import rows_to_csv
 from noisevar.figures.kalman import (
     innovations_figure,
@@ -238,6 +240,10 @@ def on_loaded_data(
             + " — drawn as the reference line of the R panels."
         )
         runs.truth_R = np.asarray(quick)
+        for c in chosen:  # each channel's record answer: its verdict and regime warning
+            with guarded(f"{c}: "):
+                record_answer_box(cache.column_estimate(sig, c), name=c)
+        st.caption(f"The filters' R differ from these: {WHY_DIFFERENT['filter']}.")
     if len(chosen) >= 2:
         runs.track_states, runs.track_channels = (0, 2), (0, 1)
     return runs

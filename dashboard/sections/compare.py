@@ -12,6 +12,7 @@ import noisevar
 from dashboard import cache
 from dashboard.sections.estimator_tuning import tuned_methods
 from dashboard.sections.noise_panel import render_assumptions, render_noise_panel
+from dashboard.sections.regimes import record_answer_box
 from dashboard.state import LoadedSignal, initial, times_of
 from dashboard.widgets import (
     csv_download,
@@ -67,6 +68,8 @@ def tuned_params(tuned: dict[str, object] | None) -> dict[str, dict[str, object]
 
 def comparison(sig: LoadedSignal, tuned: dict[str, object] | None) -> None:
     """Choose methods; every chosen method on the signal: table, figure, downloads."""
+    with guarded("Noise estimate: "):  # the record's one answer, as the Estimator page
+        record_answer_box(cache.estimate(sig, cache.DEFAULT_METHOD, {}), differs="method")
     chosen = st.multiselect(
         "Methods",
         single_signal_methods(),
@@ -310,8 +313,14 @@ def monte_carlo_results(cancelled: bool) -> None:
         f"{100 * cramer_rao_floor(res.n):.2f} % relative sd."
     )
     summary = res.summary()
+    st.caption(
+        "Parameters in use: "
+        + "; ".join(f"{r['method']}: {r['params']}" for r in summary)
+        + (" (tuned on the Estimator page)" if any(res.params.values()) else "")
+    )
     columns = {
         "method": "method",
+        "status": "status",
         "bias": "bias",
         "sd": "sd",
         "RMSE": "rmse",
@@ -320,6 +329,7 @@ def monte_carlo_results(cancelled: bool) -> None:
         "max |error|": "max_abs",
         "failures": "failures",
         "ms per run": "ms_per_run",
+        "parameters": "params",
     }
     st.dataframe(
         {label: [r[k] for r in summary] for label, k in columns.items()},

@@ -25,8 +25,9 @@ from dashboard.widgets import (
 )
 from noisevar.config import config_to_json, params_to_config
 from noisevar.estimators import describe_methods
+from noisevar.estimators.answer import REGIME_WARNING, record_answer
 from noisevar.estimators.compare import rows_to_csv
-from noisevar.estimators.results import VarianceEstimate
+from noisevar.estimators.results import VarianceEstimate, row_label
 from noisevar.figures.axes import range_to_slice
 from noisevar.figures.estimator import (
     envelope_figure,
@@ -415,9 +416,10 @@ def _exports(
 ) -> None:
     if est is not None:
         _estimate_downloads(sig, est, truth)
+        unit = signal_units()
         st.download_button(
             "Report of this analysis (HTML: numbers, config, figure)",
-            data=lambda: _report(sig, est, truth, fig),
+            data=lambda: report(sig, est, truth, fig, unit),
             file_name="noisevar-report.html",
             mime="text/html",
             key="dl_report",
@@ -429,16 +431,27 @@ def _exports(
     figure_downloads(fig, "noisevar-estimator", "fig_main")
 
 
-def _report(sig: LoadedSignal, est: VarianceEstimate, truth: float | None, fig: go.Figure) -> str:
+def report(
+    sig: LoadedSignal, est: VarianceEstimate, truth: float | None, fig: go.Figure, unit: str = ""
+) -> str:
+    """The HTML report: the verdict, the record's answer and the regime warning first, then
+    the rows with human labels (:func:`~noisevar.estimators.results.row_label`) and units."""
     rows = [
         {"quantity": "signal", "value": f"{sig.label}, column {sig.column}"},
         {"quantity": "samples", "value": f"{sig.n:,}"},
-        {"quantity": "units", "value": signal_units() or "not given"},
-        *estimate_rows(est, truth),
+        {"quantity": "units", "value": unit or "not given"},
+        *(
+            {"quantity": row_label(r["quantity"], unit), "value": r["value"]}
+            for r in estimate_rows(est, truth)
+        ),
     ]
     cfg = config_to_json(params_to_config(est.params["method"], est.params), column=sig.column)
     notes = [cli_hint(sig), cfg, *est.notes]
-    return html_report(f"noisevar: noise of {sig.label}", rows, [fig], notes)
+    ans = record_answer(est)
+    summary = [s for s in (ans.verdict, ans.sentence(unit)) if s]
+    if ans.level_varies:
+        summary.append(f"Regime warning: {REGIME_WARNING}")
+    return html_report(f"noisevar: noise of {sig.label}", rows, [fig], notes, summary)
 
 
 def cli_hint(sig: LoadedSignal) -> str:

@@ -11,7 +11,7 @@ import streamlit as st
 import noisevar
 from dashboard.state import LoadedSignal, initial, keep_valid, reselect
 from dashboard.widgets import GLOSSARY, h_grid
-from noisevar.config import parse_config
+from noisevar.config import parse_config, require_estimator_config
 from noisevar.estimators import METHODS, PARAMS
 from noisevar.estimators.params import SOMD_PARAMS
 from noisevar.filters.abg import settling_samples
@@ -97,7 +97,9 @@ def _parse_with_column(raw: bytes, name: str) -> tuple[dict[str, object], str | 
     column = data.pop("column", None) if isinstance(data, dict) else None
     if column is not None and not isinstance(column, str):
         raise noisevar.NoisevarError(f"{name}: 'column' must be a column name, got {column!r}")
-    return parse_config(json.dumps(data), name), column
+    cfg = parse_config(json.dumps(data), name)
+    require_estimator_config(cfg, name)  # a tuned filter's config belongs to the Noise model page
+    return cfg, column
 
 
 def follow_config_column(sig: LoadedSignal) -> LoadedSignal:

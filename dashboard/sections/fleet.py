@@ -119,6 +119,8 @@ def summary(report: FleetReport, frame: pd.DataFrame, label: str) -> None:
     st.caption(f"Table: {label}.")
     for note in report.notes:
         st.caption(note)
+    for warning in report.warnings:  # identical files, differing sample rates
+        st.warning(warning, icon=":material/warning:")
     if report.flagged:
         st.warning("\n".join(f"- {s.sentence}" for s in report.flagged))
     elif report.channels:

@@ -10,8 +10,9 @@ import streamlit as st
 
 from dashboard import cache
 from dashboard.sections.regimes import regime_choice
-from dashboard.state import LoadedSignal, initial
+from dashboard.state import LoadedSignal, initial, signal_units
 from dashboard.widgets import figure_downloads, fmt, guarded, show_figure
+from noisevar.estimators.answer import WHY_DIFFERENT
 from noisevar.estimators.regimes import DEFAULT_REGIMES, still_used, variance_for
 from noisevar.figures.noise_model import allan_figure
 from noisevar.noise_model import AllanResult, InertialNoise, allan, inertial_noise
@@ -57,6 +58,8 @@ def regime_panel(sig: LoadedSignal) -> str:
             fmt(value),
             help=f"Method {est.method}, as on the Estimator page, over {where}.",
         )
+        if still_used(est, regimes):
+            st.caption(f"This page's R differs from the record's answer: {WHY_DIFFERENT['still']}.")
     return regimes
 
 
@@ -86,7 +89,8 @@ def settings_form(sig: LoadedSignal, regimes: str = DEFAULT_REGIMES) -> NoiseMod
         key="nm_kind",
         **initial("nm_kind", 0, "index"),
     )
-    unit = c4.text_input("Unit of the rate", key="nm_unit", **initial("nm_unit", "u"))
+    declared = signal_units() or "u"  # the unit declared on the Signal page
+    unit = c4.text_input("Unit of the rate", key="nm_unit", **initial("nm_unit", declared))
     return NoiseModelSettings(float(rate), str(data), str(kind), unit.strip() or "u", regimes)
 
 

@@ -10,15 +10,14 @@ expander fits the coloured-noise models (§E5) to the record.
 from __future__ import annotations
 
 import hashlib
-import json
 from collections.abc import Callable
 
 import numpy as np
 import streamlit as st
 
-from dashboard.cache import DEFAULT_METHOD
 from dashboard.widgets import fmt, guarded, show_figure
-from noisevar.config import validate_config
+from noisevar.config import filter_config_json
+from noisevar.estimators.answer import WHY_DIFFERENT
 from noisevar.estimators.regimes import DEFAULT_REGIMES
 from noisevar.figures.kalman_tuning import (
     coloured_rows,
@@ -29,7 +28,7 @@ from noisevar.figures.kalman_tuning import (
     tuning_rows,
 )
 from noisevar.noise_model import KalmanTuning, fit_coloured_noise, fit_kalman, run_tuned
-from noisevar.noise_model.export import filterpy_snippet, to_config
+from noisevar.noise_model.export import APPLY_COMMAND, filterpy_snippet
 from noisevar.noise_model.kalman_fit import METHODS, MODELS
 
 KEY = "nmf"
@@ -87,12 +86,13 @@ def _verdict(t: KalmanTuning) -> None:
         st.caption(note)
 
 
-def _exports(t: KalmanTuning) -> None:
-    config = validate_config(to_config(t, {"method": DEFAULT_METHOD}))  # the default estimator
+def _exports(t: KalmanTuning, column: str | None, unit: str) -> None:
+    named = f" on column {column!r} (another column is refused)" if column else ""
+    st.caption(f"Apply the config with `{APPLY_COMMAND}`: it replays this q and r{named}.")
     c1, c2 = st.columns(2)
     c1.download_button(
         "Config with Q and R (JSON)",
-        data=json.dumps(config, indent=2) + "\n",
+        data=filter_config_json(t, column, unit),
         file_name=f"tuned_{t.model}.json",
         mime="application/json",
         key=f"{KEY}_cfg",
@@ -133,7 +133,13 @@ def _coloured(z: np.ndarray, rate: float, regimes: str) -> None:
             show_figure(model_comparison_figure(fit), key=f"{KEY}_colfig")
 
 
-def render_fit(z: np.ndarray, rate: float, regimes: str = DEFAULT_REGIMES) -> None:
+def render_fit(
+    z: np.ndarray,
+    rate: float,
+    regimes: str = DEFAULT_REGIMES,
+    column: str | None = None,
+    unit: str = "",
+) -> None:
     """Kinematic models compared, the chosen one's Q and R, and its filter run on the record.
 
     Parameters
@@ -144,6 +150,8 @@ def render_fit(z: np.ndarray, rate: float, regimes: str = DEFAULT_REGIMES) -> No
         Samples per second.
     regimes : {"all", "still"}
         Fit the whole record, or its longest still stretch only.
+    column, unit : str
+        The record's column and declared unit, carried by the exported config.
     """
     with guarded("Kalman fit: "):
         z = np.asarray(z, dtype=float)
@@ -166,7 +174,8 @@ def render_fit(z: np.ndarray, rate: float, regimes: str = DEFAULT_REGIMES) -> No
             f"Suggested **q = {fmt(t.q)}** {t.units['q']} and **r = {fmt(t.r)}** {t.units['r']} "
             f"(h = qT^k/r = {fmt(t.h)}); steady-state gain {', '.join(fmt(g) for g in t.gain)}."
         )
-        _exports(t)
+        st.caption(f"This r differs from the record's answer above: {WHY_DIFFERENT['kalman']}.")
+        _exports(t, column, unit)
         if t.regimes != DEFAULT_REGIMES:
             st.caption("Fitted on the still stretch; below, the filter runs on the whole record.")
         run = run_tuned(t, z)

@@ -12,6 +12,8 @@ from collections.abc import Sequence
 
 import streamlit as st
 
+from dashboard.state import signal_units
+from noisevar.estimators.answer import WHY_DIFFERENT, record_answer
 from noisevar.estimators.regimes import DEFAULT_REGIMES
 from noisevar.estimators.results import VarianceEstimate
 
@@ -25,8 +27,55 @@ def level_varies(est: VarianceEstimate | None) -> bool:
     return bool(diag is not None and diag.level_varies)
 
 
+def record_answer_box(
+    est: VarianceEstimate | None,
+    name: str | None = None,
+    *,
+    regimes: str = DEFAULT_REGIMES,
+    unit: str | None = None,
+    differs: str | None = None,
+) -> bool:
+    """The record's one answer: its verdict and R (as the Estimator page), on any page.
+
+    A warning when the noise level varies (the regime warning) or the verdict says a
+    white R misleads, else an info box; then, when the page's own R is another quantity,
+    why it differs (a label of :data:`~noisevar.estimators.answer.WHY_DIFFERENT`).
+
+    Parameters
+    ----------
+    est : VarianceEstimate or None
+        The record's estimate, method auto (nothing is shown without one).
+    name : str, optional
+        What the record is (a sensor's column), said before the verdict.
+    regimes : {"all", "still"}
+        The page's regime choice (which R is quoted).
+    unit : str, optional
+        The record's unit (default: the one declared on the Signal page).
+    differs : str, optional
+        A key of ``WHY_DIFFERENT``: the page's R differs from this one, and why.
+
+    Returns
+    -------
+    bool
+        Whether the level varies.
+    """
+    if est is None:
+        return False
+    ans = record_answer(est, regimes)
+    unit = signal_units() if unit is None else unit
+    said = f"**{name}**: " if name else ""
+    text = f"{said}{ans.verdict} The record's answer (Estimator page): {ans.sentence(unit)}"
+    if ans.level_varies or ans.severity == "warning":
+        st.warning(text, icon=":material/warning:")
+    else:
+        st.info(text, icon=":material/check_circle:")
+    if differs is not None:
+        st.caption(f"This page's R differs from the record's answer: {WHY_DIFFERENT[differs]}.")
+    return ans.level_varies
+
+
 def regime_warning(est: VarianceEstimate | None, name: str | None = None) -> bool:
-    """The estimate's verdict as a warning when its level varies; whether it does.
+    """The record's verdict and R (:func:`record_answer_box`); whether its level varies.
 
     Parameters
     ----------
@@ -34,12 +83,7 @@ def regime_warning(est: VarianceEstimate | None, name: str | None = None) -> boo
     name : str, optional
         What the record is (a sensor's column), said before the verdict.
     """
-    if not level_varies(est):
-        return False
-    assert est is not None and est.diagnostics is not None
-    said = f"**{name}**: " if name else ""
-    st.warning(f"{said}{est.diagnostics.verdict}", icon=":material/warning:")
-    return True
+    return record_answer_box(est, name)
 
 
 def still_choice(key: str, offered: bool, help: str) -> str:

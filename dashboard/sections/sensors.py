@@ -13,6 +13,8 @@ from dashboard.sections.regimes import regime_choice
 from dashboard.state import LoadedSignal, follow_table, initial, keep_valid
 from dashboard.widgets import fmt, guarded, how_it_works, show_figure, table_and_figure_downloads
 from noisevar import RedundantEstimate
+from noisevar.estimators.answer import WHY_DIFFERENT
+from noisevar.estimators.redundant import same_quantity_notes
 from noisevar.estimators.regimes import DEFAULT_REGIMES, estimate_for
 from noisevar.estimators.results import VarianceEstimate
 from noisevar.figures.estimator import redundant_figure
@@ -64,12 +66,13 @@ def sensor_picker(sig: LoadedSignal) -> tuple[list[str], bool]:
     follow_table("ts_table", "ts_cols", sig.table_digest, default)
     keep_valid("ts_cols", lambda v: all(c in data_cols for c in v), default)
     cols = st.multiselect(
-        "Sensors (columns of the loaded table)",
+        "Sensors of the same quantity (columns of the loaded table)",
         data_cols,
         key="ts_cols",
         bind="query-params",
         max_selections=6,
-        help="Pick two or more columns that measure the same quantity.",
+        help="Pick two or more columns that measure the same quantity (not the x, y and z "
+        "axes of one sensor): a mismatch is flagged below.",
         **initial("ts_cols", default, "default"),
     )
     if len(cols) < 2:
@@ -111,7 +114,9 @@ def redundant_results(sig: LoadedSignal, cols: list[str], align: bool) -> None:
     res, used, delay, removed = out
     unit = "s" if sig.sample_period else "samples"
     single = _regime_choice(cols, _single_estimates(sig, cols))
+    _same_quantity(used, cols, single, res)
     _metrics(res, cols, single)
+    st.caption(f"The redundant R's differ from each record's answer: {WHY_DIFFERENT['redundant']}.")
     _delay_message(delay, removed, cols, unit, used.shape[0])
     _sensor_table(res, cols, single)
     _pair_table(res, cols, delays, unit)
@@ -234,6 +239,21 @@ def _regime_choice(
             "whole record where it does not."
         )
     return [None if e is None else estimate_for(e, regimes) for e in single]
+
+
+def _same_quantity(
+    used: np.ndarray, cols: list[str], single: list[VarianceEstimate | None], res: RedundantEstimate
+) -> None:
+    """A warning when the columns do not look like sensors of one quantity (and why)."""
+    single_r = [e.variance if e is not None else float("nan") for e in single]
+    notes = same_quantity_notes(used, list(cols), single_r, res.variances)
+    if notes:
+        st.warning(
+            "These columns may not measure the same quantity, which the redundant estimate "
+            "assumes; pick only sensors of one quantity above.\n"
+            + "\n".join(f"- {n}" for n in notes),
+            icon=":material/warning:",
+        )
 
 
 def _single_estimates(sig: LoadedSignal, cols: list[str]) -> list[VarianceEstimate | None]:

@@ -33,8 +33,9 @@ FORMATS = {".parquet": "parquet", ".pq": "parquet", ".csv": "csv"}
 #: What a batch row is of, before the estimate's columns.
 KEY_COLUMNS: tuple[str, ...] = ("file", "channel")
 #: How a batch row was made, after the estimate's columns: the time it took, the file's
-#: content hash, the error (when there is no estimate) and the request it answers.
-RUN_COLUMNS: tuple[str, ...] = ("elapsed_s", "hash", "error", "request")
+#: content hash, the error (when there is no estimate), the request it answers and the
+#: file's sample rate (Hz, from its time column; empty without one).
+RUN_COLUMNS: tuple[str, ...] = ("elapsed_s", "hash", "error", "request", "sample_rate_hz")
 #: Columns of tables written before the one row schema, and their names now.
 LEGACY_COLUMNS = {"ci95_lo": "ci95_low", "ci95_hi": "ci95_high", "n": "n_total"}
 #: The commit sequence, each step named as :func:`commit_point` is told of it: a file's rows

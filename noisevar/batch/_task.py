@@ -84,9 +84,29 @@ def file_rows(
             }
         ]
     rows = [estimate_row(path, table, c, method, params) for c in channels]
+    rate = sample_rate(table)
     for r in rows:
         r["hash"] = digest
+        r["sample_rate_hz"] = rate
     return rows
+
+
+def sample_rate(table: Any) -> float | None:
+    """A table's sample rate in Hz: 1 / its sample period, or its time column's median step.
+
+    None without either (or a time column that does not increase), rounded to 12
+    significant digits (a 120 Hz rate is 120, not 120.00000000004799).
+    """
+    import numpy as np
+
+    period = table.sample_period
+    if not period:
+        t = table.time()
+        steps = np.diff(np.asarray(t, dtype=float)) if t is not None and len(t) > 1 else None
+        period = float(np.median(steps)) if steps is not None else None
+    if not period or not np.isfinite(period) or period <= 0:
+        return None
+    return float(f"{1.0 / period:.12g}")
 
 
 def run_task(

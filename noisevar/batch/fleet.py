@@ -111,6 +111,9 @@ class FleetReport:
     regimes : {"all", "still"}
         Each row's R: its whole record's, or its still regimes' (``still_variance``)
         where it has one (:func:`~noisevar.estimators.regimes.choose_variances`).
+    warnings : tuple of str
+        What makes the files not comparable as they stand: byte-identical files
+        (:func:`identical_files`), sample rates that differ (:func:`rate_notes`).
     """
 
     threshold: float
@@ -119,6 +122,7 @@ class FleetReport:
     n_errors: int
     notes: tuple[str, ...] = ()
     regimes: str = DEFAULT_REGIMES
+    warnings: tuple[str, ...] = ()
 
     @property
     def flagged(self) -> list[SensorScore]:
@@ -150,6 +154,7 @@ class FleetReport:
             ],
             "n_errors": self.n_errors,
             "notes": list(self.notes),
+            "warnings": list(self.warnings),
             "regimes": self.regimes,
         }
 
@@ -223,6 +228,59 @@ def _stds(frame: pd.DataFrame, regimes: str) -> NDArray:
     return np.sqrt(choose_variances(std**2, frame["still_variance"].to_numpy(), regimes))
 
 
+def identical_files(frame: pd.DataFrame) -> list[str]:
+    """One note per group of byte-identical files (the same ``hash``): one record counted twice.
+
+    Parameters
+    ----------
+    frame : DataFrame
+        A batch table (its ``file`` and ``hash`` columns; none without ``hash``).
+
+    Returns
+    -------
+    list of str
+    """
+    if "hash" not in frame.columns:
+        return []
+    pairs = frame[["file", "hash"]].dropna().drop_duplicates()
+    notes = []
+    for _, group in pairs.groupby("hash", sort=False):
+        files = sorted({os.path.basename(str(f)) for f in group["file"]})
+        if len(set(group["file"])) > 1:
+            notes.append(
+                f"{', '.join(files)} are byte-identical (the same content hash): one record "
+                "counted as several sensors; compare only one of them"
+            )
+    return notes
+
+
+def rate_notes(frame: pd.DataFrame) -> list[str]:
+    """A note when the files' sample rates differ (``sample_rate_hz``): their per-sample noise
+    std are then not comparable (a white noise's std grows with the square root of the rate).
+
+    Parameters
+    ----------
+    frame : DataFrame
+        A batch table.
+
+    Returns
+    -------
+    list of str
+    """
+    if "sample_rate_hz" not in frame.columns:
+        return []
+    rates = frame[["file", "sample_rate_hz"]].dropna().drop_duplicates("file")
+    values = rates["sample_rate_hz"].astype(float).round(6)
+    if values.nunique() < 2:
+        return []
+    counts = values.value_counts()
+    said = ", ".join(f"{r:g} Hz ({n} file{'s' if n > 1 else ''})" for r, n in counts.items())
+    return [
+        f"sample rates differ: {said}; a sensor's noise std per sample depends on its rate "
+        "(white noise: std ∝ √rate), so compare files of one rate or their noise densities"
+    ]
+
+
 def fleet_report(
     table: pd.DataFrame | str | os.PathLike,
     threshold: float = DEFAULT_THRESHOLD,
@@ -285,5 +343,11 @@ def fleet_report(
         sensors += scores
     sensors.sort(key=lambda s: -abs(s.z) if s.z is not None else 0.0)
     return FleetReport(
-        float(threshold), tuple(channels), tuple(sensors), int((~ok).sum()), tuple(notes), regimes
+        float(threshold),
+        tuple(channels),
+        tuple(sensors),
+        int((~ok).sum()),
+        tuple(notes),
+        regimes,
+        tuple(identical_files(frame) + rate_notes(frame)),
     )

@@ -136,3 +136,32 @@ def add_regimes_flag(p: argparse.ArgumentParser) -> None:
 def regimes_of(args: argparse.Namespace) -> dict[str, str]:
     """``{"regimes": ...}`` when ``--regimes`` was given, else nothing (the function's default)."""
     return {} if args.regimes is None else {"regimes": args.regimes}
+
+
+def add_unit_flags(p: argparse.ArgumentParser) -> None:
+    """``--unit U`` (the data's unit) and ``--unit-out U`` (convert every value to it)."""
+    from noisevar.units import EXAMPLES
+
+    p.add_argument(
+        "--unit",
+        help=f"unit of the data, e.g. {', '.join(EXAMPLES[:6])}; raw counts with a scale "
+        "factor as '0.00875 deg/s' (default: none, printed as 'u')",
+    )
+    p.add_argument(
+        "--unit-out", help="convert the data to this unit first (e.g. deg/s data to rad/s)"
+    )
+
+
+def units_of(given: str | None, out: str | None) -> tuple[float, str]:
+    """The factor to apply to the data and the unit the results are in (``"u"``: none).
+
+    Bad or mismatched units: ``NoisevarError`` naming the unit (exit 2).
+    """
+    from noisevar.units import UNKNOWN, factor, parse_unit
+
+    unit, target = parse_unit(given), parse_unit(out)
+    if target is not None and unit is None:
+        raise NoisevarError("--unit-out needs --unit: the unit the data are in")
+    if target is None:
+        return 1.0, unit.text if unit else UNKNOWN
+    return factor(unit.text, target.text), target.text

@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from noisevar.cli._common import add_regimes_flag, print_json, regimes_of
+from noisevar.cli._common import add_regimes_flag, add_unit_flags, print_json, regimes_of, units_of
 from noisevar.errors import NoisevarError
 
 
@@ -39,13 +39,16 @@ def _cmd_allan(args: argparse.Namespace) -> int:
 
     data, rate = load_columns(args.file, [args.column] if args.column else None, args.rate)
     name, z = next(iter(data.items()))
-    res = allan(z, rate=rate, data=args.data, kind=args.kind, **regimes_of(args))
+    scale, unit = units_of(args.unit, args.unit_out)
+    res = allan(z * scale, rate=rate, data=args.data, kind=args.kind, **regimes_of(args))
+    # rate data: the deviation is in the data's unit; phase data: the phase's unit per second
+    dev_unit = unit if args.data == "rate" else f"{unit}/s"
     if args.format == "json":
-        print_json({"column": name, **res.to_dict()})
+        print_json({"column": name, "unit": dev_unit, **res.to_dict()})
         return 0
     print(
         f"{res.kind} of {name} ({args.data} data, {res.n_samples} samples at {rate:g} Hz), "
-        f"{res.ci:.1%} intervals"
+        f"{res.ci:.1%} intervals; deviations in {dev_unit}, tau in s"
     )
     for note in res.notes:
         print(f"note: {note}")
@@ -72,6 +75,7 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--data", choices=DATA_KINDS, default="phase")
     p.add_argument("--kind", choices=list(KINDS), default="oadev")
     p.add_argument("--column")
+    add_unit_flags(p)
     add_regimes_flag(p)
     p.add_argument("--format", choices=["table", "json"], default="table")
     p.set_defaults(func=_cmd_allan)

@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from noisevar.cli._common import load_record, load_signal, print_json
+from noisevar.cli._common import add_unit_flags, load_record, load_signal, print_json, units_of
 from noisevar.errors import NoisevarError
 from noisevar.io.limits import MAX_BYTES, check_bytes, check_size, echo
 
@@ -71,9 +71,10 @@ def read_config(path: str) -> tuple[dict[str, Any], dict[str, Any]]:
 
     Anything wrong with the file is reported by :func:`noisevar.config.load_config`.
     """
-    from noisevar.config import CHANNEL_KEYS, load_config
+    from noisevar.config import CHANNEL_KEYS, load_config, require_estimator_config
 
     cfg = load_config(path)  # safe parsing and validation, channel keys included
+    require_estimator_config(cfg, echo(os.path.basename(path)))  # a tuned filter: noisevar fit
     return cfg, {k: cfg.pop(k) for k in CHANNEL_KEYS if k in cfg}
 
 
@@ -108,12 +109,20 @@ def _diagnostics_lines(result: Any) -> list[str]:
     return [f"verdict   {echo(getattr(diag, 'verdict', ''), 500)}"]
 
 
+def _unit(args: argparse.Namespace) -> str:
+    """The unit the results are in (``--unit-out``, else ``--unit``, else ``u``)."""
+    return units_of(getattr(args, "unit", None), getattr(args, "unit_out", None))[1]
+
+
 def _print_one(args: argparse.Namespace, column: Any, result: Any) -> None:
+    from noisevar.units import variance_label
+
     lo, hi = result.ci95
+    u = _unit(args)
     print(f"file      {echo(args.file, 200)}" + (f"  column {echo(column)}" if column else ""))
     print(f"method    {result.method}")
-    print(f"variance  {result.variance:.6g}   (95 % CI {lo:.6g} .. {hi:.6g})")
-    print(f"std       {result.std:.6g}")
+    print(f"variance  {result.variance:.6g} {variance_label(u)}   (95 % CI {lo:.6g} .. {hi:.6g})")
+    print(f"std       {result.std:.6g} {u}")
     print(f"samples   {result.n_used} used of {result.n_total}")
     shown = {k: v for k, v in result.params.items() if k != "method" and v is not None}
     if shown:
@@ -126,7 +135,7 @@ def _print_one(args: argparse.Namespace, column: Any, result: Any) -> None:
 
 def _as_json(args: argparse.Namespace, column: Any, result: Any) -> dict[str, Any]:
     """The estimate's :meth:`~noisevar.estimators.results.VarianceEstimate.to_dict`, and where."""
-    return {**result.to_dict(), "file": args.file, "column": column}
+    return {**result.to_dict(), "file": args.file, "column": column, "unit": _unit(args)}
 
 
 def _print_csv(args: argparse.Namespace, pairs: list[tuple[Any, Any]]) -> None:
@@ -142,6 +151,8 @@ def _print_table(args: argparse.Namespace, pairs: list[tuple[Any, Any]]) -> None
     print(f"file      {args.file}")
     print(f"method    {pairs[0][1].method}")
     width = max(7, *(len(str(c)) for c, _ in pairs))
+    u = _unit(args)
+    print(f"units     variance {_variance_label(u)}, std {u}")
     print(f"{'channel':<{width}}  {'variance':>11}  {'std':>11}  {'95 % CI':>25}  samples")
     for c, r in pairs:
         ci = f"{r.ci95[0]:.5g} .. {r.ci95[1]:.5g}"
@@ -151,6 +162,12 @@ def _print_table(args: argparse.Namespace, pairs: list[tuple[Any, Any]]) -> None
     for c, r in pairs:
         for line in _diagnostics_lines(r) + [f"note      {n}" for n in r.notes]:
             print(f"[{c}] {line}")
+
+
+def _variance_label(unit: str) -> str:
+    from noisevar.units import variance_label
+
+    return variance_label(unit)
 
 
 def _channels(args: argparse.Namespace, params: dict[str, Any]) -> tuple[Any, list | None]:
@@ -259,10 +276,16 @@ def _cmd_estimate(args: argparse.Namespace) -> int:
 
     method, params = estimate_params(args)
     column, columns = _channels(args, params)
+    scale = units_of(args.unit, args.unit_out)[0]
+    if scale != 1.0 and (columns is not None or _streamed(args)):
+        raise NoisevarError(
+            "--unit-out converts one column read in memory: drop --columns/--stream"
+        )
     if _streamed(args):
         _print(args, column, _estimate_streamed(args, column, method, params))
         return 0
-    if columns is None and (col := _by_default(args, column, method, params)) is not _IN_MEMORY:
+    in_memory = columns is not None or scale != 1.0  # --unit-out converts in memory
+    if not in_memory and (col := _by_default(args, column, method, params)) is not _IN_MEMORY:
         result = _estimate_streamed(args, col, method, params)  # bounded memory, same numbers
         _print(args, column, result)
         return 0
@@ -275,13 +298,15 @@ def _cmd_estimate(args: argparse.Namespace) -> int:
                 f"method {method} needs --reference-column: the second sensor's column"
             )
         z, dropped = load_signal(args.file, column, drop)
-        params["reference"], _ = load_signal(args.file, args.reference_column, drop)
+        z = z * scale
+        reference, _ = load_signal(args.file, args.reference_column, drop)
+        params["reference"] = reference * scale
         result = estimate(z, method=method, **params)
         if dropped:
             result.notes.insert(0, f"dropped {dropped} non-finite samples of {args.file}")
     else:  # the record with its times and the loader's notes: gaps are split, not spliced
         z, t, notes = load_record(args.file, column, drop)
-        result = estimate(z, method=method, t=t, **params)
+        result = estimate(z * scale, method=method, t=t, **params)
         result.notes[:0] = [n for n in notes if n not in result.notes]
     _print(args, column, result)
     return 0
@@ -317,6 +342,7 @@ def add_parser(sub: Any) -> None:
 
     takes = ", ".join(m for m, spec in METHODS.items() if spec.needs_reference)
     p.add_argument("--reference-column", help=f"second sensor's column ({takes})")
+    add_unit_flags(p)
     p.add_argument("--format", choices=["table", "json", "csv"], default="table")
     p.add_argument(
         "--stream",

@@ -4,22 +4,34 @@ from __future__ import annotations
 
 import argparse
 import inspect
-import json
+import os
 from pathlib import Path
 from typing import Any
 
-from noisevar.cli._common import add_regimes_flag, load_signal, print_json, regimes_of
+from noisevar.cli._common import (
+    add_regimes_flag,
+    add_unit_flags,
+    print_json,
+    regimes_of,
+    units_of,
+)
 from noisevar.errors import NoisevarError
+from noisevar.io.limits import echo
 
 
-def _print_table(t: Any, args: argparse.Namespace) -> None:
+def _print_table(t: Any, args: argparse.Namespace, column: str, unit: str = "u") -> None:
     def iv(pair: tuple[float, float]) -> str:
         return f"(95 % {pair[0]:.4g} .. {pair[1]:.4g})"
 
-    print(f"file      {args.file}" + (f"  column {args.column}" if args.column else ""))
+    def said(text: str) -> str:  # the units of q and r in the data's unit
+        from noisevar.units import variance_label
+
+        return text.replace("u²", variance_label(unit))
+
+    print(f"file      {echo(args.file, 200)}  column {echo(column)}")
     print(f"model     {t.model}   method {t.method}   samples {t.n}   regimes {t.regimes}")
-    print(f"q         {t.q:.6g} {t.units['q']}  {iv(t.q_interval)}")
-    print(f"r         {t.r:.6g} {t.units['r']}  {iv(t.r_interval)}")
+    print(f"q         {t.q:.6g} {said(t.units['q'])}  {iv(t.q_interval)}")
+    print(f"r         {t.r:.6g} {said(t.units['r'])}  {iv(t.r_interval)}")
     print(f"h         {t.h:.6g} (q T^k / r)  {iv(t.h_interval)}")
     print(f"gain      {', '.join(f'{g:.6g}' for g in t.gain)}")
     lo, hi = t.nis_band
@@ -30,23 +42,62 @@ def _print_table(t: Any, args: argparse.Namespace) -> None:
         print(f"note      {note}")
 
 
+def _load(args: argparse.Namespace, config: dict[str, Any] | None) -> tuple[Any, int, str]:
+    """The record's column, the non-finite cells dropped, and the column's name.
+
+    With a tuned filter's config, the column it was fitted on and no other: another
+    ``--column``, a file without that column, or (for a config naming none) a file of
+    several columns without ``--column`` is refused.
+    """
+    import numpy as np
+
+    from noisevar.io import load_table, pick_column
+    from noisevar.io.load import column_name
+
+    table = load_table(args.file, os.path.basename(args.file))
+    named = None if config is None else config.get("column")
+    column = args.column
+    if named is not None:
+        if named not in table.data_columns:
+            raise NoisevarError(
+                f"the config was fitted on column {echo(repr(named))}, which "
+                f"{echo(os.path.basename(args.file))} does not have (columns: "
+                f"{echo(', '.join(table.data_columns), 300)})"
+            )
+        if column is not None and column_name(table, column) != named:
+            raise NoisevarError(
+                f"the config was fitted on column {echo(repr(named))}, not "
+                f"{echo(repr(column_name(table, column)))}: drop --column or fit that column"
+            )
+        column = named
+    elif config is not None and column is None and len(table.data_columns) > 1:
+        raise NoisevarError(
+            "the config names no column and the file has several: give --column (the one "
+            "the filter was fitted on)"
+        )
+    z = np.asarray(pick_column(table, column), dtype=float)
+    return z, table.n_rows - z.size, column_name(table, column)
+
+
 def _cmd_fit(args: argparse.Namespace) -> int:
-    from noisevar.config import load_config, validate_config
-    from noisevar.estimators import DEFAULT_METHOD
+    from noisevar.config import filter_config_json, load_config
     from noisevar.noise_model import evaluate_kalman, fit_kalman
-    from noisevar.noise_model.export import from_config, to_config
+    from noisevar.noise_model.export import from_config
 
     if args.rate is not None and not args.rate > 0:
         raise NoisevarError(
             f"--rate must be a positive number of samples per second, got {args.rate}"
         )
-    z, dropped = load_signal(args.file, args.column)
-    if args.config:
+    config = load_config(args.config) if args.config else None
+    kal = from_config(config) if config is not None else None  # refused before the data load
+    z, dropped, column = _load(args, config)
+    scale, unit = units_of(args.unit, args.unit_out)
+    z = z * scale
+    if kal is not None:
         if args.regimes is not None:
             raise NoisevarError(
                 "--regimes chooses what a fit runs on: drop it with --config (no fit is made)"
             )
-        kal = from_config(load_config(args.config))
         rate = args.rate if args.rate is not None else kal["rate"]
         model = args.model or kal["model"]
         if model != kal["model"] or rate != kal["rate"]:
@@ -62,15 +113,16 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         model = args.model or "cv"
         tuning = fit_kalman(z, model=model, rate=args.rate, **method, **regimes_of(args))
     if args.save_config:
-        config = to_config(tuning, {"method": DEFAULT_METHOD})
-        text = json.dumps(validate_config(config), indent=2) + "\n"
-        Path(args.save_config).write_text(text, encoding="utf-8")
+        said = unit if args.unit else (kal.get("unit", "") if kal is not None else "")
+        Path(args.save_config).write_text(
+            filter_config_json(tuning, column, said), encoding="utf-8"
+        )
     if args.format == "json":
         out = tuning.to_dict()
-        out.update(file=args.file, column=args.column, dropped=dropped)
+        out.update(file=args.file, column=column, dropped=dropped, unit=unit)
         print_json(out)
     else:
-        _print_table(tuning, args)
+        _print_table(tuning, args, column, unit)
     return 0
 
 
@@ -85,6 +137,7 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--rate", type=float, help="sample rate in Hz (required unless in --config)")
     default = inspect.signature(fit_kalman).parameters["method"].default
     p.add_argument("--method", choices=list(METHODS), help=f"default {default}")
+    add_unit_flags(p)
     add_regimes_flag(p)
     p.add_argument("--config", help="apply the Q and R of this config instead of fitting")
     p.add_argument("--save-config", metavar="OUT", help="write the tuned filter as a config")

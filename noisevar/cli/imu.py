@@ -1,4 +1,8 @@
-"""``noisevar imu FILE --rate HZ``: IEEE-952 noise terms per column, Kalibr export (§E4)."""
+"""``noisevar imu FILE --rate HZ``: IEEE-952 noise terms per column, consumer exports (§E4, §E7).
+
+``--export px4,kalibr,...|all --out DIR [--conservative]`` writes each consumer's file
+(:mod:`noisevar.noise_model.exports`) into DIR from the ``--gyro`` and ``--accel`` columns.
+"""
 
 from __future__ import annotations
 
@@ -7,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from noisevar.cli._common import add_regimes_flag, print_json, regimes_of
+from noisevar.cli._common import add_regimes_flag, add_unit_flags, print_json, regimes_of, units_of
 from noisevar.cli.allan import load_columns
 from noisevar.errors import NoisevarError
 
@@ -18,18 +22,64 @@ def _columns(args: argparse.Namespace) -> list[str] | None:
     return list(dict.fromkeys(wanted)) or None
 
 
+def _column_units(args: argparse.Namespace, names: list[str]) -> dict[str, tuple[float, str]]:
+    """Each column's factor (to ``--unit-out``) and the unit its terms are in."""
+    default = units_of(args.unit, args.unit_out)
+    gyro = units_of(args.gyro_unit, None) if args.gyro_unit else default
+    accel = units_of(args.accel_unit, None) if args.accel_unit else default
+    out = {}
+    for c in names:
+        out[c] = gyro if c in (args.gyro or []) else accel if c in (args.accel or []) else default
+    return out
+
+
 def _kalibr(args: argparse.Namespace, fits: dict) -> str:
     from noisevar.noise_model.kalibr import kalibr_imu, write_kalibr
 
-    if not (args.gyro and args.accel):
-        raise NoisevarError(
-            "--kalibr needs --gyro COLUMNS and --accel COLUMNS (which columns are which sensor)"
-        )
+    _need_sensors(args, "--kalibr")
     imu = kalibr_imu(
         [fits[c] for c in args.gyro], [fits[c] for c in args.accel], inflation=args.inflation
     )
     write_kalibr(imu, args.kalibr)
     return args.kalibr
+
+
+def _need_sensors(args: argparse.Namespace, flag: str) -> None:
+    if not (args.gyro and args.accel):
+        raise NoisevarError(
+            f"{flag} needs --gyro COLUMNS and --accel COLUMNS (which columns are which sensor)"
+        )
+
+
+def _exports(args: argparse.Namespace, fits: dict) -> tuple[list[str], dict]:
+    """Each consumer's file of ``--export`` written into ``--out``; the paths, the model."""
+    from noisevar.noise_model import exports
+
+    keys = exports.consumers(args.export)  # an unknown consumer: exit 2 before any work
+    _need_sensors(args, "--export")
+    if not args.out:
+        raise NoisevarError("--export needs --out DIR: the directory the files go into")
+    model = exports.imu_model(
+        [fits[c] for c in args.gyro],
+        [fits[c] for c in args.accel],
+        variant="conservative" if args.conservative else "best",
+        gnss=_gnss(args),
+    )
+    paths = exports.write_exports(exports.export(model, keys), args.out)
+    return [str(p) for p in paths], model.to_dict()
+
+
+def _gnss(args: argparse.Namespace) -> dict[str, float]:
+    """GNSS position (m) and velocity (m/s) stds: sqrt(R) of their columns (method auto)."""
+    from noisevar.cli._common import load_record
+    from noisevar.estimators import estimate
+
+    out = {}
+    for key, column in (("position", args.gnss_pos), ("velocity", args.gnss_vel)):
+        if column:
+            z, t, _ = load_record(args.gnss_file or args.file, column)
+            out[key] = float(estimate(z, t=t).std)
+    return out
 
 
 def _print_table(fits: dict) -> None:
@@ -49,29 +99,73 @@ def _print_table(fits: dict) -> None:
 def _cmd_imu(args: argparse.Namespace) -> int:
     from noisevar.noise_model import inertial_noise
 
+    if args.export:
+        from noisevar.noise_model.exports import consumers
+
+        consumers(args.export)  # refuse an unknown consumer before reading the file
     data, rate = load_columns(args.file, _columns(args), args.rate)
-    stacked = np.stack(list(data.values()))
-    fits = dict(zip(data, inertial_noise(stacked, rate, **regimes_of(args)), strict=True))
+    col_units = _column_units(args, list(data))
+    fits = {}
+    for scale, unit in dict.fromkeys(col_units.values()):
+        names = [c for c in data if col_units[c] == (scale, unit)]
+        stacked = np.stack([data[c] * scale for c in names])  # axes in threads
+        fitted = inertial_noise(stacked, rate, unit=unit, **regimes_of(args))
+        fits.update(zip(names, fitted, strict=True))
+    fits = {c: fits[c] for c in data}
     written = _kalibr(args, fits) if args.kalibr else None
+    files, model = _exports(args, fits) if args.export else ([], None)
     if args.format == "json":
-        print_json({"columns": {c: f.to_dict() for c, f in fits.items()}, "kalibr": written})
+        print_json(
+            {
+                "columns": {c: f.to_dict() for c, f in fits.items()},
+                "kalibr": written,
+                "exports": files,
+                "model": model,
+            }
+        )
     else:
         _print_table(fits)
         if written:
             print(f"Kalibr imu.yaml written to {written} (inflation {args.inflation:g})")
+        for f in files:
+            variant = "conservative" if args.conservative else "best fit"
+            print(f"{variant} export written to {f}")
     return 0
 
 
 def add_parser(sub: Any) -> None:
     """Register ``imu`` on the sub-command set ``sub``."""
-    p = sub.add_parser("imu", help="IEEE-952 noise terms of rate columns; Kalibr imu.yaml (§E4)")
+    p = sub.add_parser(
+        "imu", help="IEEE-952 noise terms of rate columns; each consumer's file (§E4, §E7)"
+    )
     p.add_argument("file")
     p.add_argument("--rate", type=float, help="sample rate in Hz (default: the time column's)")
     p.add_argument("--columns", nargs="+", help="columns to analyse (default: all)")
-    p.add_argument("--gyro", nargs="+", help="gyroscope columns (rad/s), for --kalibr")
-    p.add_argument("--accel", nargs="+", help="accelerometer columns (m/s^2), for --kalibr")
+    p.add_argument("--gyro", nargs="+", help="gyroscope columns, for --kalibr and --export")
+    p.add_argument("--accel", nargs="+", help="accelerometer columns, for --kalibr and --export")
+    add_unit_flags(p)
+    p.add_argument("--gyro-unit", help="unit of the gyroscope columns (default --unit; rad/s)")
+    p.add_argument("--accel-unit", help="unit of the accelerometer columns (default --unit)")
     p.add_argument("--kalibr", metavar="OUT.yaml", help="write Kalibr's imu.yaml here")
     p.add_argument("--inflation", type=float, default=1.0, help="factor on the Kalibr values")
+    p.add_argument(
+        "--export",
+        metavar="LIST",
+        help="consumers whose files to write: kalibr, openvins, vins, orbslam3, "
+        "robot_localization, px4, ardupilot, matlab, filterpy (comma-separated) or all",
+    )
+    p.add_argument("--out", metavar="DIR", help="directory for the --export files")
+    p.add_argument(
+        "--gnss-pos", metavar="COLUMN", help="GNSS position column (m), for PX4/ArduPilot"
+    )
+    p.add_argument("--gnss-vel", metavar="COLUMN", help="GNSS velocity column (m/s)")
+    p.add_argument("--gnss-file", metavar="FILE", help="file of the GNSS columns (default FILE)")
+    p.add_argument(
+        "--conservative",
+        action="store_true",
+        help="export the conservative set (N, K raised to overbound the Allan curve's 95 %% "
+        "upper bound) instead of the best fit (the default)",
+    )
     add_regimes_flag(p)
     p.add_argument("--format", choices=["table", "json"], default="table")
     p.set_defaults(func=_cmd_imu)

@@ -28,7 +28,7 @@ from noisevar.diagnostics.segments import Gap, Segmentation, split_dropped, spli
 from noisevar.diagnostics.sums import DiagSums, diag_part
 from noisevar.diagnostics.tails import kurtosis_from_moments, tail_index
 from noisevar.diagnostics.verdict import make_notes, make_verdict
-from noisevar.diagnostics.whiteness import WhitenessTest, whiteness_test
+from noisevar.diagnostics.whiteness import WHITE_LAGS, WhitenessTest, whiteness_test
 from noisevar.errors import NoisevarError
 from noisevar.numeric.fir import residual_sequence
 
@@ -112,7 +112,7 @@ def from_sums(sums: DiagSums, seg: Segmentation, head: Callable[[], NDArray]) ->
     )  # fmt: skip
     e_w, keep_w = sums.white.joined()
     white = whiteness_test(e_w, d, keep=keep_w, inflation=_hetero(sums.wide))
-    slots = sums.white.joined_slots()
+    slots = _residual_slots(plan, sums.white.joined_slots())
     block_of = np.where(slots >= 0, slots // plan.profile.size, -1)
     still_white = _still_whiteness(plan, profile, e_w, keep_w, block_of, d, blocks)
     dz, used = sums.incr.joined()
@@ -147,12 +147,12 @@ def _still_whiteness(
     d: NDArray,
     blocks: list[int],
 ) -> WhitenessTest | None:
-    """The whiteness test on the quiet blocks alone, when the level varies (one segment).
+    """The whiteness test on the quiet blocks alone, when the level varies.
 
     The evidence that orders the verdict: motion that leaks through the smoother makes
     a record non-white while its still stretches stay white.
     """
-    if len(plan.segments) != 1 or all(r.still for r in profile.regimes):
+    if all(r.still for r in profile.regimes):
         return None
     quiet_ids = np.asarray(blocks)[profile.quiet]
     inside = keep & np.isin(block_of, quiet_ids)
@@ -162,6 +162,20 @@ def _still_whiteness(
         return whiteness_test(e, d, keep=inside)
     except NoisevarError:
         return None
+
+
+def _residual_slots(plan: DiagPlan, white: NDArray) -> NDArray:
+    """The residual slot of each whiteness-window position (-1 stays -1).
+
+    Segment ``k`` (in order, of those diagnosed) lays its windows ``k * WHITE_LAGS`` after
+    its residual slots, so that no lag crosses from one segment into the next.
+    """
+    firsts = np.array([s for s in plan.slot0 if s is not None], dtype=int)
+    if firsts.size == 0:
+        return np.full(white.size, -1)
+    starts = firsts + WHITE_LAGS * np.arange(firsts.size)
+    rank = np.maximum(np.searchsorted(starts, white, side="right") - 1, 0)
+    return np.where(white >= 0, white - WHITE_LAGS * rank, -1)
 
 
 def _sample_of(plan: DiagPlan, slots: NDArray) -> NDArray:

@@ -70,7 +70,7 @@ def make_verdict(
     if diag.level_varies:
         return (
             f"the noise level changes along the record: {r} is an average; its quiet "
-            f"stretches ({prof.quiet_share:.0%}) give {_g(quiet)}"
+            f"stretches ({prof.quiet_share:.0%}) give {_g(quiet)}{still_colour(diag)}"
         )
     if diag.heavy_tailed:
         bulk = f"; a robust filter should use the core variance {_g(core)}" if core else ""
@@ -104,7 +104,7 @@ def _not_white(diag: NoiseDiagnostics, r: str, quiet: float, variance: float) ->
             f"the record is mostly motion or signal leaking through: the sensor noise measured "
             f"in its still stretches ({prof.quiet_share:.0%} of it) is "
             f"{_g(quiet)} (std {_g(float(np.sqrt(quiet)))}), "
-            f"against {_g(variance)} over the whole record"
+            f"against {_g(variance)} over the whole record{still_colour(diag)}"
         )
     if diag.differenced:
         return (
@@ -133,6 +133,23 @@ def _not_white(diag: NoiseDiagnostics, r: str, quiet: float, variance: float) ->
             "model), since a white R alone understates what a Kalman filter sees"
         )
     return None
+
+
+def still_colour(diag: NoiseDiagnostics) -> str:
+    """What the still stretches' own whiteness adds to a still level ('' when white or untested).
+
+    Noise that is not white in the still stretches (low-passed by the sensor, or slow
+    sway left in them) has no one white level: high-pass estimators of different bandwidth
+    disagree on it, so the still level is its white part, not the variance per sample.
+    """
+    w = diag.still_whiteness
+    if w is None or w.white:
+        return ""
+    return (
+        f"; but even there the noise is not white (lag-1 autocorrelation {w.lag1:+.2f}: "
+        "low-passed by the sensor, or slow motion left in the stretches), so this is its "
+        "white part and depends on the bandwidth: model the coloured part (see the noise model)"
+    )
 
 
 def make_notes(diag: NoiseDiagnostics) -> tuple[str, ...]:

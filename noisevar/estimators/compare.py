@@ -30,6 +30,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
 from noisevar.estimators import METHODS, estimate
+from noisevar.estimators.mc_summary import summary_row
 from noisevar.estimators.results import VarianceEstimate, row_columns
 from noisevar.io import LoadedTable, table_from_arrays
 from noisevar.signals import generate, signal_names, signal_spec
@@ -303,6 +304,8 @@ class MonteCarloResult:
         The first failure message of each method that failed.
     signal_params : dict
         Extra generator parameters.
+    params : dict of str to dict
+        Each method's parameters in use (empty: its defaults).
     """
 
     signal: str
@@ -317,6 +320,7 @@ class MonteCarloResult:
     seconds: dict[str, float]
     first_error: dict[str, str] = field(default_factory=dict)
     signal_params: dict[str, Any] = field(default_factory=dict)
+    params: dict[str, dict[str, Any]] = field(default_factory=dict)
 
     @property
     def finished(self) -> bool:
@@ -339,36 +343,20 @@ class MonteCarloResult:
         Returns
         -------
         list of dict
-            ``method, runs, failures, bias, sd, rmse, rmse_over_cr,
-            within_10pct, max_abs, ms_per_run``.
+            ``method, runs, failures, status, params, bias, sd, rmse, rmse_over_cr,
+            within_10pct, max_abs, ms_per_run`` (:func:`~noisevar.estimators.mc_summary.
+            summary_row`: no statistics when too few runs succeeded).
         """
         rows = []
         for m in self.methods:
-            e = self.relative_errors[m]
-            ok = e[np.isfinite(e)]
-            if ok.size:
-                rmse = float(np.sqrt(np.mean(ok**2)))
-                row = {
-                    "method": m,
-                    "runs": int(ok.size),
-                    "failures": int(self.failures.get(m, 0)),
-                    "bias": float(ok.mean()),
-                    "sd": float(ok.std(ddof=1)) if ok.size > 1 else float("nan"),
-                    "rmse": rmse,
-                    "rmse_over_cr": rmse / self.cr_floor,
-                    "within_10pct": float(np.mean(np.abs(ok) <= 0.10)),
-                    "max_abs": float(np.max(np.abs(ok))),
-                }
-            else:
-                row = {
-                    "method": m,
-                    "runs": 0,
-                    "failures": int(self.failures.get(m, 0)),
-                    **dict.fromkeys(
-                        ("bias", "sd", "rmse", "rmse_over_cr", "within_10pct", "max_abs"),
-                        float("nan"),
-                    ),
-                }
+            row = summary_row(
+                m,
+                self.relative_errors[m],
+                self.failures.get(m, 0),
+                self.runs_done,
+                self.cr_floor,
+                self.params.get(m),
+            )
             done = max(self.runs_done, 1)
             row["ms_per_run"] = 1000.0 * self.seconds.get(m, 0.0) / done
             rows.append(row)
@@ -483,6 +471,7 @@ def monte_carlo(
             seconds=dict(seconds),
             first_error=dict(first_error),
             signal_params=dict(gen_kwargs),
+            params={m: dict(params.get(m, {})) for m in names},
         )
 
 

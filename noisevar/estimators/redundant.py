@@ -137,3 +137,74 @@ SOMD_REDUNDANT = MethodSpec(
     ("reference", "reference_variance"),
     needs_reference=True,
 )
+
+
+#: A pair of columns is flagged as not measuring one quantity when their difference's level
+#: or spread, or a redundant R against its single-signal R, is off by more than this factor.
+MISMATCH_RATIO = 4.0
+
+
+def same_quantity_notes(
+    sensors: ArrayLike,
+    names: list[str],
+    single_variances: ArrayLike,
+    redundant_variances: ArrayLike | None = None,
+) -> list[str]:
+    """Why the columns may not measure the same quantity (empty when nothing says so).
+
+    Two sensors of one quantity differ by their noises (and a constant bias): the
+    difference ``z_i - z_j`` has variance ``R_i + R_j`` (their single-signal R), and each
+    redundant R stays near its single-signal R. A pair is flagged when
+
+    - the spread of ``z_i - z_j`` about its mean exceeds :data:`MISMATCH_RATIO` times
+      ``R_i + R_j`` (the difference carries signal: another quantity, axis or unit, or a
+      delay);
+    - its mean level exceeds :data:`MISMATCH_RATIO` noise std ``sqrt(R_i + R_j)`` (an
+      offset: another quantity, or a bias to remove);
+    - with three sensors or more (a pair's redundant R is their sum, the spread above), a
+      redundant R is more than :data:`MISMATCH_RATIO` times its single-signal R, or less
+      than its inverse.
+
+    Parameters
+    ----------
+    sensors : array_like, shape (n, m)
+        One column per sensor.
+    names : list of str
+        The columns' names.
+    single_variances : array_like, shape (m,)
+        Each column's single-signal R (NaN where there is none).
+    redundant_variances : array_like, shape (m,), optional
+        The redundant estimate's R per sensor.
+
+    Returns
+    -------
+    list of str
+    """
+    z = np.asarray(sensors, dtype=float)
+    r = np.asarray(single_variances, dtype=float)
+    notes: list[str] = []
+    m = z.shape[1]
+    for i in range(m):
+        for j in range(i + 1, m):
+            noise = r[i] + r[j]
+            if not (np.isfinite(noise) and noise > 0):
+                continue
+            d = z[:, i] - z[:, j]
+            d = d[np.isfinite(d)]
+            spread, level = float(np.var(d)), abs(float(np.mean(d)))
+            if spread > MISMATCH_RATIO * noise:
+                notes.append(
+                    f"{names[i]} - {names[j]} varies {spread / noise:.3g}x more than their noise "
+                    "allows: they do not measure the same quantity (or a delay separates them)"
+                )
+            if level > MISMATCH_RATIO * np.sqrt(noise):
+                notes.append(
+                    f"{names[i]} and {names[j]} differ in level by {level / np.sqrt(noise):.3g} "
+                    "noise std: another quantity or unit, or a bias to remove"
+                )
+    if redundant_variances is not None and m >= 3:  # a pair gives only their sum, checked above
+        ratio = np.asarray(redundant_variances, dtype=float) / r
+        for name, q in zip(names, ratio, strict=True):
+            if np.isfinite(q) and (q > MISMATCH_RATIO or q < 1.0 / MISMATCH_RATIO):
+                notes.append(f"{name}'s redundant R is {q:.3g}x its single-signal R")
+    return notes

@@ -49,6 +49,72 @@ ROW_COLUMNS: tuple[str, ...] = (
     "notes",
 )
 
+#: Human labels of the row keys (reports, tables shown to people); prefixed keys
+#: (``param_``, ``windows_``, ``flag_``) are labelled by :func:`row_label`.
+ROW_LABELS: dict[str, str] = {
+    "method": "method",
+    "variance": "noise variance R",
+    "std": "noise standard deviation",
+    "ci95_low": "95 % interval, low",
+    "ci95_high": "95 % interval, high",
+    "n_used": "samples used",
+    "n_total": "samples in the record",
+    "dof": "degrees of freedom",
+    "core_variance": "variance without outliers",
+    "outlier_fraction": "fraction of outliers",
+    "still_variance": "noise variance R of the still regimes",
+    "still_ci95_low": "still regimes: 95 % interval, low",
+    "still_ci95_high": "still regimes: 95 % interval, high",
+    "verdict": "verdict",
+    "params": "parameters",
+    "notes": "notes",
+    "true_variance": "true noise variance",
+    "relative_error": "relative error (estimate / true - 1)",
+    "windows_windows": "windows tested",
+    "windows_kept": "windows kept",
+    "windows_failed_amplitude": "windows refused by the amplitude test",
+    "windows_failed_angle": "windows refused by the angle test",
+}
+#: Row keys whose value carries the variance's unit (squared) or the signal's.
+_SQUARED = {"variance", "ci95_low", "ci95_high", "core_variance", "true_variance"} | {
+    "still_variance",
+    "still_ci95_low",
+    "still_ci95_high",
+}
+
+
+def row_label(key: str, unit: str = "") -> str:
+    """The human label of a row key: ``"ci95_low"`` -> ``"95 % interval, low"``.
+
+    Parameters
+    ----------
+    key : str
+        A row key (:data:`ROW_COLUMNS`, ``param_<name>``, ``windows_<name>``,
+        ``flag_<name>``, or :data:`ROW_LABELS`).
+    unit : str
+        The signal's unit: variances are labelled with its square, the std with it.
+
+    Returns
+    -------
+    str
+    """
+    from noisevar.format import squared
+
+    if key in ROW_LABELS:
+        label = ROW_LABELS[key]
+    elif key.startswith("param_"):
+        from noisevar.estimators.params import PARAMS
+
+        name = key.removeprefix("param_")
+        spec = PARAMS.get(name)
+        label = f"parameter {name}" + (f": {spec.help}" if spec is not None else "")
+    elif key.startswith("flag_"):
+        label = "flag: " + key.removeprefix("flag_").replace("_", " ")
+    else:
+        label = key.replace("_", " ")
+    u = squared(unit) if key in _SQUARED else unit if key == "std" else ""
+    return f"{label} [{u}]" if u else label
+
 
 def _still_fields(still: VarianceEstimate | None) -> dict[str, float | None]:
     """``still_variance`` and its interval (None when there is no still estimate)."""

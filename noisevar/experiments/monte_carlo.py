@@ -44,11 +44,14 @@ class MethodStats:
     bias: float
     rmse: float
     failed_runs: int
+    status: str = ""
     first_error: str | None = None
 
     def to_dict(self) -> dict[str, Any]:
-        """The method's JSON entry (``first_error`` only when a run failed)."""
-        out = {k: v for k, v in vars(self).items() if k != "first_error"}
+        """The method's JSON entry (``status`` and ``first_error`` only when a run failed)."""
+        out = {k: v for k, v in vars(self).items() if k not in ("first_error", "status")}
+        if self.status:
+            out["status"] = self.status
         if self.first_error is not None:
             out["first_error"] = self.first_error
         return out
@@ -85,6 +88,7 @@ def run(
             bias=row["bias"],
             rmse=row["rmse"],
             failed_runs=row["failures"],
+            status=row["status"],
             first_error=mc.first_error.get(row["method"]),
         )
         for row in mc.summary()
@@ -108,9 +112,12 @@ def format_table(result: dict[str, Any]) -> str:
         f"{'method':<14} {'within 10%':>10} {'max |err|':>10} {'bias':>8} {'RMSE':>8}",
     ]
     for name, s in result["methods"].items():
+        if s["max_abs_rel_error"] is None or s["max_abs_rel_error"] != s["max_abs_rel_error"]:
+            lines.append(f"{name:<14} {s.get('status', '')}")  # too few runs: no statistics
+            continue
         lines.append(
             f"{name:<14} {100 * s['within_10pct']:>9.1f}% {100 * s['max_abs_rel_error']:>9.1f}% "
-            f"{100 * s['bias']:>+7.2f}% {100 * s['rmse']:>7.2f}%"
+            f"{100 * s['bias']:>+7.2f}% {100 * s['rmse']:>7.2f}%  {s.get('status', '')}"
         )
     return "\n".join(lines)
 

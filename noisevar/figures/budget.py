@@ -73,6 +73,41 @@ def downsample_indices(y: ArrayLike, max_points: int = MAX_POINTS) -> NDArray:
         return np.asarray(out, dtype=np.int64)
 
 
+def curve_indices(x: ArrayLike, y: ArrayLike, max_points: int = MAX_POINTS) -> NDArray:
+    """Indices of at most ``max_points`` samples that keep the shape of a parametric curve.
+
+    A curve drawn in its own order (a track, a phase portrait) is thinned along
+    that order, never re-sorted: MinMax-LTTB of each coordinate against the
+    sample index, half the budget each, and the union of the two index sets, so
+    both coordinates keep their turns and extremes.
+
+    Parameters
+    ----------
+    x, y : array_like, shape (n,)
+        The curve's coordinates, in drawing order.
+    max_points : int
+        Number of points to keep at most (at least 10).
+
+    Returns
+    -------
+    ndarray of int
+        Sorted indices (the curve's own order).
+    """
+    x = np.asarray(x, dtype=float)
+    y = np.asarray(y, dtype=float)
+    max_points = max(int(max_points), 10)
+    if x.size <= max_points:
+        return np.arange(x.size)
+    half = max_points // 2
+    return np.union1d(downsample_indices(x, half), downsample_indices(y, max_points - half))
+
+
+def _is_line(trace: Any) -> bool:
+    """Whether a trace is drawn joined in its own order (lines), not as loose markers."""
+    mode = getattr(trace, "mode", None)
+    return mode is None or "lines" in str(mode)
+
+
 def log_axis(title: str, **extra: Any) -> dict[str, Any]:
     """A logarithmic axis with a label on every decade (``10⁻³, 10⁻², ...``) and minor ticks.
 
@@ -123,14 +158,21 @@ def figure_size(fig: go.Figure) -> tuple[int, int]:
 
 
 def _thin_trace(trace: Any, budget: int) -> None:
-    """Reduce one trace to at most ``budget`` points in place (extremes kept, in ``x`` order)."""
+    """Reduce one trace to at most ``budget`` points in place (extremes kept).
+
+    A line whose ``x`` goes backwards is a parametric curve (a track): it is
+    thinned along its own order (:func:`curve_indices`). Loose markers whose
+    ``x`` goes backwards are thinned along ``x`` (their order is not drawn).
+    """
     x = np.asarray(trace.x, dtype=float) if trace.x is not None else None
     y = np.asarray(trace.y, dtype=float) if trace.y is not None else None
     key = y if y is not None else x
-    order = np.arange(key.size)
-    if x is not None and y is not None and np.any(np.diff(x) < 0):
-        order = np.argsort(x, kind="stable")  # a scatter: thin along x, keep y's extremes
-    idx = order[downsample_indices(key[order], budget)]
+    backwards = x is not None and y is not None and bool(np.any(np.diff(x) < 0))
+    if backwards and _is_line(trace):
+        idx = curve_indices(x, y, budget)
+    else:
+        order = np.argsort(x, kind="stable") if backwards else np.arange(key.size)
+        idx = order[downsample_indices(key[order], budget)]
     upd: dict[str, Any] = {}
     if x is not None:
         upd["x"] = x[idx]

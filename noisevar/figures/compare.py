@@ -140,8 +140,12 @@ def monte_carlo_figure(  # long: one figure, built trace by trace in drawing ord
     cols = max(1, min(cols, k))
     rows = int(math.ceil(k / cols))
     summary = {r["method"]: r for r in mc.summary()}
+    # too few successful runs: the panel says "failed 97/100" and draws no histogram
+    shown = {m: bool(np.isfinite(summary[m]["rmse"])) for m in mc.methods}
     titles = [
-        f"{m}: RMSE {100 * summary[m]['rmse']:.2f} %" if summary[m]["runs"] else f"{m}: no run"
+        f"{m}: RMSE {100 * summary[m]['rmse']:.2f} %"
+        if shown[m]
+        else f"{m}: {summary[m]['status'].split(':')[0] or 'no run'}"
         for m in mc.methods
     ]
     fig = make_subplots(
@@ -162,7 +166,7 @@ def monte_carlo_figure(  # long: one figure, built trace by trace in drawing ord
     for i, m in enumerate(mc.methods):
         r, c = i // cols + 1, i % cols + 1
         e = mc.relative_errors[m]
-        e = e[np.isfinite(e)] * 100
+        e = e[np.isfinite(e)] * 100 if shown[m] else np.array([])
         counts, _ = np.histogram(np.clip(e, edges[0], edges[-1]), bins=edges)
         fig.add_trace(
             go.Bar(

@@ -104,10 +104,11 @@ def flagged_sensors(report: FleetReport, top: int = 20) -> go.Figure:
     plotly.graph_objects.Figure
     """
     shown = [s for s in report.sensors if s.z is not None][:top][::-1]
+    labels = [f"{os.path.basename(s.file)} · {s.channel}" for s in shown]
     fig = go.Figure(
         go.Bar(
             x=[s.z for s in shown],
-            y=[f"{os.path.basename(s.file)} · {s.channel}" for s in shown],
+            y=labels,
             orientation="h",
             marker_color=[FLAG_COLOR if s.flagged else PALETTE[0] for s in shown],
             customdata=[[s.file, s.channel] for s in shown],
@@ -120,7 +121,9 @@ def flagged_sensors(report: FleetReport, top: int = 20) -> go.Figure:
         title=f"Most unusual sensors (robust z of log std; flagged beyond ±{report.threshold:g})",
         xaxis_title="robust z-score",
         height=max(260, 22 * len(shown) + 100),
-        margin={"t": 60, "b": 40, "l": 10},
+        # full names, never cut: the left margin fits the longest label (and grows with it)
+        margin={"t": 60, "b": 40, "l": 20 + 7 * max((len(t) for t in labels), default=0)},
+        yaxis={"automargin": True, "title": {"text": "file · channel"}},
     )
     return fig
 

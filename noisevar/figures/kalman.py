@@ -28,6 +28,7 @@ from noisevar.figures._common import (
     PALETTE,
     as_list,
     check_run,
+    curve_indices,
     downsample_indices,
     layout,
     line_trace,
@@ -128,7 +129,7 @@ def track_figure(
         )
     for c, r in enumerate(res):
         x = _pick(r.x, r, run)
-        idx = downsample_indices(x[:, i], max_points)
+        idx = curve_indices(x[:, i], x[:, j], max_points)
         data.append(
             go.Scatter(
                 x=x[idx, i],

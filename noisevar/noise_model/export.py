@@ -1,14 +1,18 @@
 """Exports of a tuned filter: a filterpy snippet, and its entry in the JSON config.
 
-The config carries the filter under one key, ``"kalman"``::
+The config carries the filter under one key, ``"kalman"``, and the column it was fitted on::
 
-    {"method": "auto", "kalman": {"model": "cv", "rate": 10.0, "q": 0.02, "r": 4.0,
-                                  "F": [[...]], "H": [[...]], "Q": [[...]], "R": [[4.0]],
-                                  "regimes": "all", "notes": [...]}}
+    {"column": "Gyr_Z",
+     "kalman": {"model": "cv", "rate": 10.0, "q": 0.02, "r": 4.0, "method": "mle",
+                "unit": "rad/s", "F": [[...]], "H": [[...]], "Q": [[...]], "R": [[4.0]],
+                "regimes": "all", "notes": [...]}}
 
 ``q`` and ``r`` are the parameters; ``F``, ``H``, ``Q`` and ``R`` are written for
-readers of the file and checked against them when it is read. ``regimes`` says which of
-the record's regimes the fit used (``"all"`` or ``"still"``) and ``notes`` which stretch.
+readers of the file and checked against them when it is read. ``method`` is the fit's
+method (``mle`` ...), ``unit`` the signal's unit as the user declared it (empty: none),
+``regimes`` which of the record's regimes the fit used (``"all"`` or ``"still"``) and
+``notes`` which stretch. One command reads it: :data:`APPLY_COMMAND`; ``noisevar estimate``
+refuses it (:func:`noisevar.config.require_estimator_config`).
 """
 
 from __future__ import annotations
@@ -20,11 +24,15 @@ import numpy as np
 
 from noisevar.errors import NoisevarError
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes
-from noisevar.noise_model.kalman_fit import MODELS, KalmanTuning, kinematic_model
+from noisevar.noise_model.kalman_fit import METHODS, MODELS, KalmanTuning, kinematic_model
 
 #: The config key that holds the tuned filter.
 CONFIG_KEY = "kalman"
-_KEYS = ("model", "rate", "q", "r", "F", "H", "Q", "R", "regimes", "notes")
+#: The one command that applies a tuned filter's config to a record.
+APPLY_COMMAND = "noisevar fit FILE --config CONFIG"
+_KEYS = ("model", "rate", "q", "r", "method", "unit", "F", "H", "Q", "R", "regimes", "notes")
+#: Longest unit text a config carries.
+_MAX_UNIT = 40
 
 
 def _literal(a: np.ndarray) -> str:
@@ -79,26 +87,40 @@ def _regimes_said(tuning: KalmanTuning) -> str:
     return said[0] if said else f"regimes={tuning.regimes!r}: fitted on the whole record"
 
 
-def to_config(tuning: KalmanTuning, config: Mapping[str, Any] | None = None) -> dict[str, Any]:
-    """An estimator config with the tuned filter under ``"kalman"``.
+def to_config(
+    tuning: KalmanTuning,
+    config: Mapping[str, Any] | None = None,
+    *,
+    column: str | None = None,
+    unit: str = "",
+) -> dict[str, Any]:
+    """A config with the tuned filter under ``"kalman"`` and the column it was fitted on.
 
     Parameters
     ----------
     tuning : KalmanTuning
     config : mapping, optional
-        The estimator config to extend: ``"method"`` and its parameters (the CLI and the
-        dashboard give the default method's). Without it, the filter's entry alone.
+        Other config keys to extend. Without it, the filter's entry (and column) alone:
+        the file that :data:`APPLY_COMMAND` reads.
+    column : str, optional
+        The data column fitted (``noisevar fit --config`` refuses another).
+    unit : str
+        The signal's unit as declared (empty: none).
 
     Returns
     -------
     dict
     """
     out = dict(config) if config is not None else {}
+    if column is not None:
+        out["column"] = str(column)
     out[CONFIG_KEY] = {
         "model": tuning.model,
         "rate": tuning.rate,
         "q": float(tuning.q),
         "r": float(tuning.r),
+        "method": tuning.method,
+        "unit": str(unit or ""),
         "F": tuning.F.tolist(),
         "H": tuning.H.tolist(),
         "Q": tuning.Q.tolist(),
@@ -158,6 +180,25 @@ def check_kalman_config(value: Any) -> dict[str, Any]:
                 )
         out[key] = mat.tolist()
     out.update(_regimes_entry(value))
+    out.update(_fit_entry(value))
+    return out
+
+
+def _fit_entry(value: Mapping[str, Any]) -> dict[str, Any]:
+    """``method`` (the fit's, absent in older files) and ``unit`` of a ``"kalman"`` entry."""
+    out: dict[str, Any] = {}
+    method = value.get("method")
+    if method is not None:
+        known = (*METHODS, "given")  # "given": q and r applied, not fitted
+        if method not in known:
+            raise NoisevarError(
+                f"config key 'kalman.method' must be one of {', '.join(known)}, got {method!r}"
+            )
+        out["method"] = method
+    unit = value.get("unit", "")
+    if not isinstance(unit, str) or len(unit) > _MAX_UNIT:
+        raise NoisevarError(f"config key 'kalman.unit' must be a short text, got {unit!r}")
+    out["unit"] = unit
     return out
 
 

@@ -16,6 +16,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import nnls
 
+from noisevar import units
 from noisevar._arrays import check_exact_ints
 from noisevar.errors import NoisevarError
 from noisevar.estimators import check_rate, scale_back, scale_exponent
@@ -64,14 +65,14 @@ class TermSpec:
 
     def discrete(self, value: float, rate: float) -> float:
         """The per-sample equivalent at ``rate`` Hz (docs/algorithms.md §E4)."""
-        factor = {
-            "Q": math.sqrt(2.0) * rate,  # std of (q_k - q_{k-1}) * fs
-            "N": math.sqrt(rate),  # white rate std per sample: N sqrt(fs)
-            "B": 1.0,
-            "K": 1.0 / math.sqrt(rate),  # rate increment std per sample: K / sqrt(fs)
-            "R": 1.0 / rate,  # rate change per sample
+        form = {
+            "Q": lambda v, f: v * math.sqrt(2.0) * f,  # std of (q_k - q_{k-1}) * fs
+            "N": units.sigma_at,  # white rate std per sample: N sqrt(fs)
+            "B": lambda v, f: v,
+            "K": units.walk_step,  # rate increment std per sample: K / sqrt(fs)
+            "R": lambda v, f: v / f,  # rate change per sample
         }[self.symbol]
-        return value * factor
+        return float(form(value, rate))
 
 
 #: The five terms of eq. E4.1, in order of slope.
@@ -350,7 +351,7 @@ def _one_axis(
                 spec.symbol,
                 value,
                 (float(lo), float(hi)),
-                spec.unit.format(u=unit),
+                units.term_unit(unit, spec.symbol),
                 spec.discrete(value, rate),
                 spec.discrete_unit.format(u=unit),
                 spec.slope,

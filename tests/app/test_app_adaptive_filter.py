@@ -81,6 +81,10 @@ def test_loaded_multichannel_data(at):
     table = _table(at)
     assert "oracle" not in set(table["filter"])
     assert (table["channels m"] == 2).all()
+    # each channel's record answer (verdict, R as the Estimator page), and why the filters differ
+    boxes = [b.value for b in [*at.info, *at.warning]]
+    assert sum("The record's answer (Estimator page): R = " in b for b in boxes) == 2
+    assert any("The filters' R differ" in c.value for c in at.caption)
     before = table.to_dict()
     at.select_slider(key="af_r0").set_value(1.0).run()
     _clean(at)

@@ -96,3 +96,23 @@ def test_monte_carlo_generator_can_be_cancelled():
     )
     assert res.runs_done == 5 and not res.finished
     assert res.cr_floor == pytest.approx((2 / 1000) ** 0.5)
+
+
+def test_monte_carlo_names_the_tuned_parameters_and_reports_failed_runs() -> None:
+    """Gamma_amp = 0.05 set on the Estimator: SOMD fails most runs (issue 28 item 5)."""
+    app = AppTest.from_file(APP, default_timeout=90)
+    app.query_params["sig"] = "gen:fast-slow;n=2000;seed=5;noise_std=5.0"
+    app.session_state["nv_tuned"] = {"gamma_amp": 0.05}
+    app.switch_page(PAGE).run()
+    app.number_input(key="mc_runs").set_value(10)
+    app.number_input(key="mc_n").set_value(2000)
+    app.multiselect(key="mc_methods").set_value(["diff2", "somd"])
+    app.button(key="mc_go").click().run()
+    _clean(app)
+    assert any("somd: gamma_amp=0.05" in c.value for c in app.caption)
+    summary = app.dataframe[-1].value.set_index("method")
+    assert summary.loc["somd", "status"].startswith("failed ")
+    assert summary.loc["somd", "status"].split(":")[0].endswith("/10")
+    assert summary[["bias", "sd", "RMSE"]].loc["somd"].isna().all()
+    assert summary.loc["diff2", "parameters"] == "defaults"
+    assert summary[["bias", "sd", "RMSE"]].loc["diff2"].notna().all()

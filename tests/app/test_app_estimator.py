@@ -332,3 +332,33 @@ def test_plotly_preload_names_the_chunk_streamlit_itself_imports():
     assert chunk is not None and chunk.startswith("PlotlyChart.")
     js = Path(streamlit.__file__).parent / "static" / "static" / "js"
     assert any(f"import(`./{chunk}`)" in f.read_text() for f in js.glob("index.*.js"))
+
+
+def test_html_report_carries_the_verdict_regimes_units_and_human_labels():
+    """Issue 28 item 6: the report's first lines are the verdict and the regime warning."""
+    import html
+
+    import numpy as np
+
+    import noisevar
+    from dashboard.sections.estimator_results import report
+    from dashboard.state import make_signal
+    from noisevar.estimators.answer import REGIME_WARNING
+    from noisevar.figures.estimator import signal_figure
+    from noisevar.io import table_from_arrays
+
+    rng = np.random.default_rng(1)
+    z = 0.15 * rng.standard_normal(6000)
+    k = np.arange(2000, 6000)
+    z[2000:] += 3.0 * np.sin(2 * np.pi * k / 7.0) * (1 + 0.5 * rng.standard_normal(k.size))
+    sig = make_signal(table_from_arrays("walk.csv", {"gyro": z}), None, 0.01, "upload", None)
+    est = noisevar.estimate(z, "somd")
+    auto = noisevar.estimate(z)
+    text = report(sig, est, None, signal_figure(z), "rad/s")
+    assert est.diagnostics.verdict.split(":")[0] in text
+    assert est.diagnostics.level_varies and auto.diagnostics.level_varies
+    assert html.escape(f"Regime warning: {REGIME_WARNING}") in text
+    assert "95 % interval, low [(rad/s)²]" in text and "noise variance R [(rad/s)²]" in text
+    for code in ("ci95_low", "windows_failed_amplitude", "param_h_smooth", "n_used"):
+        assert f"<td>{code}</td>" not in text
+    assert "windows refused by the amplitude test" in text

@@ -50,6 +50,10 @@ def test_rate_data_fits_the_terms_and_simulates():
     names = _figure_names(at)
     assert "overlapping ADEV" in names and "sum" in names
     assert "simulated from the fit" not in names
+    # the config's reader is named, with the column it replays (issue 28 item 3)
+    assert any(
+        "noisevar fit FILE --config" in c.value and "'measured'" in c.value for c in at.caption
+    )
     at.button(key="nm_simulate").click().run()
     _clean(at)
     assert "simulated from the fit" in _figure_names(at)

@@ -42,7 +42,7 @@ def test_intervals_bracket_the_estimates(gyro: noisevar.InertialNoise) -> None:
 
 def test_units_and_discrete_equivalents(gyro: noisevar.InertialNoise) -> None:
     n, k, q = gyro.term("random_walk"), gyro.term("K"), gyro.term("Q")
-    assert (n.unit, k.unit, q.unit) == ("rad/s/√Hz", "rad/s/s/√Hz", "rad/s·s")
+    assert (n.unit, k.unit, q.unit) == ("rad/s/√Hz", "rad/s²/√Hz", "rad/s·s")
     assert n.discrete == pytest.approx(n.value * math.sqrt(RATE))
     assert k.discrete == pytest.approx(k.value / math.sqrt(RATE))
     assert [t.slope for t in gyro.terms] == [-1.0, -0.5, 0.0, 0.5, 1.0]

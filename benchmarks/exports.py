@@ -1,0 +1,246 @@
+"""Filter configs: the conservative set's coverage, and log-to-every-export against the field.
+
+(a) Conservative set (docs §E7.3): on ``--runs`` simulated IMU axes with known N, K and B,
+    the N-K overbound (and the five-term one) is checked at every fitted tau against the
+    empirical 95 % upper bound it was built on and against the TRUE Allan deviation of the
+    simulated terms; the median factor of each term over the best fit is reported.
+(b) Speed and accuracy against the field: allan_variance_ros's own simulator configuration
+    (``config/simulation/imu_simulator.yaml`` and ``config/sim.yaml`` at ori-drs/
+    allan_variance_ros 1d54b60: 400 Hz, 11000 s, accelerometer N 0.0025019929573561175,
+    K 6.972435158192731e-05, gyroscope N 0.0001888339269965301, K 2.5565313322052523e-06;
+    its ``src/ImuSimulator.cpp:83-87`` draws white noise N/sqrt(dt) and bias steps
+    K sqrt(dt), as ``noisevar.noise_model.simulate``), 6 axes written to one ``.npy``; the
+    time from that file to every consumer's file with ``noisevar imu --export all``, and
+    ``allan-variance-analyzer`` (PyPI, the Python port; ``pip install
+    allan-variance-analyzer``, benchmark only) from the same file to its ``imu.yaml``, in
+    the same run, each term against the truth.
+
+    python benchmarks/exports.py                 # both parts (part b: ~20 min on 2 cores)
+    python benchmarks/exports.py --parts a --runs 50
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from noisevar.noise_model import inertial_noise
+from noisevar.noise_model.inertial import TERMS
+from noisevar.noise_model.overbound import NK, overbound, upper_bound
+from noisevar.noise_model.simulate import simulate_inertial
+
+OUT = Path(__file__).parent / "results" / "exports.md"
+#: allan_variance_ros's simulator configuration (see the module docstring).
+TRUTH = {
+    "accelerometer": {"N": 0.0025019929573561175, "K": 6.972435158192731e-05},
+    "gyroscope": {"N": 0.0001888339269965301, "K": 2.5565313322052523e-06},
+}
+SIM_RATE, SIM_SECONDS = 400.0, 11000.0
+
+
+def _true_adev(taus: np.ndarray, terms: dict[str, float]) -> np.ndarray:
+    a = np.column_stack([s.coefficient(taus) for s in TERMS])
+    x = np.array([terms.get(s.symbol, 0.0) ** 2 for s in TERMS])
+    return np.sqrt(a @ x)
+
+
+def part_a(runs: int) -> list[str]:
+    """Coverage of the overbounds, and their median factors, on ``runs`` simulated axes."""
+    rate, n = 100.0, 200_000
+    truth = {"N": 1e-3, "K": 5e-5, "B": 2e-4}
+    rows = {free: {"own": 0, "truth": 0, "factors": []} for free in (NK, ("Q", "N", "B", "K", "R"))}
+    best_truth = 0
+    for seed in range(runs):
+        y = simulate_inertial(
+            n,
+            rate,
+            random_walk=truth["N"],
+            rate_random_walk=truth["K"],
+            bias_instability=truth["B"],
+            seed=1000 + seed,
+        )
+        fit = inertial_noise(y, rate, unit="rad/s")
+        true = _true_adev(fit.allan.taus, truth)
+        best_truth += bool(np.all(fit.model()[1] >= true))
+        up = upper_bound(fit)
+        for free, row in rows.items():
+            ob = overbound(fit, free=free)
+            model = ob.model()
+            row["own"] += bool(np.all(model >= up * (1 - 1e-9)))
+            row["truth"] += bool(np.all(model >= true))
+            row["factors"].append(ob.factors)
+    lines = [
+        f"## (a) Conservative set: {runs} simulated axes, {n} samples at {rate:g} Hz, "
+        f"N {truth['N']:g}, K {truth['K']:g}, B {truth['B']:g} (rad/s units), 95 % upper bound",
+        "",
+        "| terms raised | at or above its own upper bound at every fitted tau "
+        "| at or above the TRUE ADEV at every fitted tau | median factor over the best fit |",
+        "|---|---|---|---|",
+    ]
+    for free, row in rows.items():
+        med = ", ".join(
+            f"{s} {np.median([f[s] for f in row['factors'] if np.isfinite(f[s])]):.3g}x"
+            for s in free
+            if any(np.isfinite(f[s]) for f in row["factors"])
+        )
+        lines.append(
+            f"| {' '.join(free)} | {row['own']}/{runs} ({100 * row['own'] / runs:.0f} %) | "
+            f"{row['truth']}/{runs} ({100 * row['truth'] / runs:.0f} %) | {med} |"
+        )
+    lines += [
+        "",
+        f"The best fit itself is at or above the true ADEV at every tau in {best_truth}/{runs}.",
+        "",
+    ]
+    return lines
+
+
+def _simulate_file(path: Path) -> None:
+    n = int(SIM_RATE * SIM_SECONDS)
+    cols = []
+    for i, sensor in enumerate(
+        ("accelerometer", "accelerometer", "accelerometer", "gyroscope", "gyroscope", "gyroscope")
+    ):
+        t = TRUTH[sensor]
+        cols.append(
+            simulate_inertial(n, SIM_RATE, random_walk=t["N"], rate_random_walk=t["K"], seed=i)
+        )
+    np.save(path, np.column_stack(cols))
+
+
+def _run_noisevar(path: Path, out: Path) -> tuple[float, dict]:
+    from noisevar.cli import main
+    from noisevar.noise_model.exports import consumer
+
+    t0 = time.perf_counter()
+    argv = [
+        "imu",
+        str(path),
+        "--rate",
+        f"{SIM_RATE:g}",
+        "--accel",
+        "col0",
+        "col1",
+        "col2",
+        "--gyro",
+        "col3",
+        "col4",
+        "col5",
+        "--export",
+        "all",
+        "--out",
+        str(out),
+        "--format",
+        "json",
+    ]
+    import contextlib
+    import io
+
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        assert main(argv) == 0
+    seconds = time.perf_counter() - t0
+    k = consumer("kalibr").parse((out / "imu.yaml").read_text())
+    report = json.loads(buf.getvalue())["columns"]
+    for sensor, cols in (
+        ("accelerometer", ("col0", "col1", "col2")),
+        ("gyroscope", ("col3", "col4", "col5")),
+    ):
+        for key, term in (("N", "random_walk"), ("K", "rate_random_walk")):
+            errs = [report[c]["terms"][term]["value"] / TRUTH[sensor][key] - 1 for c in cols]
+            k[f"axes_{sensor}_{key}"] = errs
+    return seconds, k
+
+
+def _run_ava(path: Path, out: Path) -> tuple[float, dict] | str:
+    try:
+        from allan_variance_analyzer import AllanVarianceAnalyzer
+    except ImportError:
+        return "not installed (pip install allan-variance-analyzer)"
+    import yaml
+
+    cfg = out / "config.yaml"
+    cfg.write_text(f"imu_rate: {SIM_RATE:g}\nmeasure_rate: {SIM_RATE:g}\n")
+    t0 = time.perf_counter()
+    data = np.load(path)
+    AllanVarianceAnalyzer(cfg, out)(data)  # its defaults: periods 0.1..1000 s, step 0.1 s
+    seconds = time.perf_counter() - t0
+    return seconds, yaml.safe_load((out / "imu.yaml").read_text())
+
+
+def part_b() -> list[str]:
+    """Time from the file to the exports, noisevar and allan-variance-analyzer, and errors."""
+    with tempfile.TemporaryDirectory() as tmp:
+        root = Path(tmp)
+        path = root / "sim_imu.npy"
+        _simulate_file(path)
+        (root / "nv").mkdir()
+        (root / "ava").mkdir()
+        nv_s, nv = _run_noisevar(path, root / "nv")
+        ava = _run_ava(path, root / "ava")
+    mb = 6 * SIM_RATE * SIM_SECONDS * 8 / 1e6
+    lines = [
+        f"## (b) allan_variance_ros's simulator: {SIM_SECONDS:g} s at {SIM_RATE:g} Hz, 6 axes "
+        f"({mb:.0f} MB .npy), same run",
+        "",
+        "| tool | file to outputs (s) | outputs | acc N err | acc K err | gyr N err | gyr K err |",
+        "|---|---|---|---|---|---|---|",
+    ]
+
+    def errs(d: dict) -> str:
+        return " | ".join(
+            f"{100 * (d[f'{s}_{k}'] / TRUTH[s][t] - 1):+.2f} %"
+            for s in ("accelerometer", "gyroscope")
+            for k, t in (("noise_density", "N"), ("random_walk", "K"))
+        )
+
+    lines.append(f"| noisevar imu --export all | {nv_s:.1f} | 9 consumer files | {errs(nv)} |")
+    per_axis = " | ".join(
+        ", ".join(f"{100 * e:+.1f}" for e in nv[f"axes_{s}_{t}"]) + " %"
+        for s in ("accelerometer", "gyroscope")
+        for t in ("N", "K")
+    )
+    lines.append(f"| noisevar, each axis's fitted term | | x, y, z | {per_axis} |")
+    if isinstance(ava, str):
+        lines.append(f"| allan-variance-analyzer 1.0.4 | - | {ava} | | | | |")
+    else:
+        lines.append(
+            f"| allan-variance-analyzer 1.0.4 | {ava[0]:.1f} | imu.yaml (Kalibr) | {errs(ava[1])} |"
+        )
+    lines += [
+        "",
+        "Errors: the value written to Kalibr's imu.yaml (the largest of the 3 axes, both tools) "
+        "against the simulator's truth. allan_variance_ros reports these densities 28-29 % low "
+        "(issue 27); the target is under 3 % for N.",
+        "",
+    ]
+    return lines
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--parts", default="ab")
+    p.add_argument("--runs", type=int, default=50)
+    args = p.parse_args()
+    lines = ["# Filter configs (benchmarks/exports.py)", ""]
+    if "a" in args.parts:
+        lines += part_a(args.runs)
+    if "b" in args.parts:
+        lines += part_b()
+    text = "\n".join(lines)
+    print(text)
+    if args.parts == "ab":
+        OUT.write_text(text + "\n", encoding="utf-8")
+    else:
+        OUT.with_name(f"exports_{args.parts}.md").write_text(text + "\n", encoding="utf-8")
+
+
+if __name__ == "__main__":
+    assert math.isfinite(SIM_RATE)
+    main()

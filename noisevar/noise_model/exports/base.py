@@ -1,0 +1,128 @@
+"""What every consumer's writer returns: the file's text and each value with its meaning."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from noisevar import units
+from noisevar.noise_model.exports.model import ImuModel
+
+#: Kind of a value: a continuous-time density, or a discrete std at a stated rate.
+CONTINUOUS = "continuous-time density"
+
+
+def discrete(rate: float) -> str:
+    """The kind of a value that is a discrete std (or variance) at ``rate`` Hz."""
+    return f"discrete at {rate:g} Hz"
+
+
+@dataclass(frozen=True)
+class Value:
+    """One exported value, its unit, its kind and how it was converted from the model.
+
+    ``expected`` recomputes it from the model (the documented conversion), for tests.
+    """
+
+    name: str
+    value: float
+    unit: str
+    kind: str
+    how: str
+
+    def comment(self) -> str:
+        """``unit; kind; how`` for the file's comment."""
+        return f"{self.unit}; {self.kind}; {self.how}"
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-safe dictionary."""
+        return {
+            "name": self.name,
+            "value": self.value,
+            "unit": self.unit,
+            "kind": self.kind,
+            "how": self.how,
+        }
+
+
+@dataclass(frozen=True)
+class ExportFile:
+    """A consumer's file: its name, its text and the values it holds."""
+
+    consumer: str
+    filename: str
+    text: str
+    values: tuple[Value, ...]
+
+    def value(self, name: str) -> float:
+        """The value called ``name``."""
+        return next(v.value for v in self.values if v.name == name)
+
+
+@dataclass(frozen=True)
+class Consumer:
+    """A registered consumer: its key, title, default file name, writer and reader.
+
+    ``write(model, **options)`` returns an :class:`ExportFile`; ``parse(text)`` reads the
+    file back into ``{name: value}`` through the consumer's own format.
+    """
+
+    key: str
+    title: str
+    filename: str
+    write: Callable[..., ExportFile]
+    parse: Callable[[str], dict[str, float]]
+
+
+def density(model: ImuModel, sensor: str, term: str, name: str) -> Value:
+    """A continuous-time term of ``sensor`` written as it is."""
+    s = model.sensor(sensor)
+    kind = CONTINUOUS if term in ("N", "K") else "continuous-time (not a density)"
+    return Value(
+        name,
+        getattr(s, term),
+        units.term_unit(s.unit, term),
+        kind,
+        f"{term} of the {sensor} as fitted (no conversion)",
+    )
+
+
+def white_sigma(model: ImuModel, sensor: str, name: str, rate: float, what: str) -> Value:
+    """The white noise's std per step at ``rate``: ``N √rate``."""
+    s = model.sensor(sensor)
+    return Value(
+        name,
+        units.sigma_at(s.N, rate),
+        s.unit,
+        discrete(rate),
+        f"N sqrt(f) = {s.N:.6g} x sqrt({rate:g}), {what}",
+    )
+
+
+def walk_sigma(model: ImuModel, sensor: str, name: str, rate: float, what: str) -> Value:
+    """A bias walk's per-step change over the step time at ``rate``: ``K √rate``."""
+    s = model.sensor(sensor)
+    return Value(
+        name,
+        units.walk_rate_sigma(s.K, rate),
+        units.term_unit(s.unit, "R"),
+        discrete(rate),
+        f"K sqrt(f) = {s.K:.6g} x sqrt({rate:g}), {what}",
+    )
+
+
+def number(v: float) -> str:
+    """A value as written in every file: 10 significant digits, exponent form."""
+    return f"{v:.9e}"
+
+
+_ASCII = {"√": "sqrt", "²": "^2", "³": "^3", "⁴": "^4", "§": "section ", "µ": "u", "·": "*"}
+
+
+def ascii_text(text: str) -> str:
+    """``text`` in ASCII (``√Hz`` as ``sqrtHz``...): for readers that may not take UTF-8
+    (OpenCV's FileStorage YAML, ground stations' parameter files, older MATLAB)."""
+    for k, v in _ASCII.items():
+        text = text.replace(k, v)
+    return text

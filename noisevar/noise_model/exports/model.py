@@ -1,0 +1,200 @@
+"""The one noise model every consumer's file is written from (docs/algorithms.md §E7).
+
+An :class:`ImuModel` holds, per sensor (gyroscope in rad/s, accelerometer in m/s²), the
+continuous-time terms the consumers take: the white-noise density N, the bias random
+walk K and the bias instability B, each the largest over the sensor's axes, either the
+best fit or the conservative overbound (:mod:`noisevar.noise_model.overbound`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+from noisevar import units
+from noisevar.errors import NoisevarError
+from noisevar.noise_model.inertial import InertialNoise
+from noisevar.noise_model.overbound import NK, overbound
+
+#: The SI unit each sensor's terms are exported in.
+SENSOR_UNITS = {"gyroscope": "rad/s", "accelerometer": "m/s^2"}
+#: The two sets a consumer file can hold.
+VARIANTS = ("best", "conservative")
+#: The set written when none is asked for.
+DEFAULT_VARIANT = "best"
+
+
+@dataclass(frozen=True)
+class SensorTerms:
+    """Continuous-time terms of one sensor (SI units), the largest over its axes.
+
+    Attributes
+    ----------
+    N : float
+        White-noise density (rad/s/√Hz or m/s²/√Hz).
+    K : float
+        Bias random walk (rad/s²/√Hz or m/s³/√Hz).
+    B : float
+        Bias instability (rad/s or m/s²); 0 in the conservative set, whose N and K hold it.
+    unit : str
+        The sensor's rate unit (``rad/s`` or ``m/s^2``).
+    factors : dict of str to float
+        Conservative set: each term over the best fit; empty for the best fit.
+    """
+
+    N: float
+    K: float
+    B: float
+    unit: str
+    factors: dict[str, float] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class ImuModel:
+    """The noise model of an IMU that every consumer's file is written from.
+
+    Attributes
+    ----------
+    gyro, accel : SensorTerms
+    rate : float
+        The IMU's sample rate (Hz).
+    variant : {"best", "conservative"}
+    regimes : {"all", "still"}
+    notes : tuple of str
+        Conversions done, what the conservative set covers, what a value was raised to.
+    gnss : dict of str to float
+        Optional GNSS measurement stds: ``"position"`` (m), ``"velocity"`` (m/s).
+    """
+
+    gyro: SensorTerms
+    accel: SensorTerms
+    rate: float
+    variant: str = DEFAULT_VARIANT
+    regimes: str = "all"
+    notes: tuple[str, ...] = ()
+    gnss: Mapping[str, float] = field(default_factory=dict)
+
+    def sensor(self, name: str) -> SensorTerms:
+        """``"gyroscope"`` or ``"accelerometer"``."""
+        return {"gyroscope": self.gyro, "accelerometer": self.accel}[name]
+
+    def header(self, consumer: str) -> list[str]:
+        """The comment lines every file starts with (without the comment character)."""
+        said = {
+            "best": "BEST FIT (the IEEE-952 terms fitted to the Allan variance)",
+            "conservative": "CONSERVATIVE (terms raised until the model's Allan curve is at or "
+            "above the data's 95 % upper bound at every fitted tau; docs §E7.3)",
+        }[self.variant]
+        lines = [
+            f"{consumer} noise model written by noisevar (docs/algorithms.md §E7)",
+            f"values: {said}; default of noisevar: {DEFAULT_VARIANT}",
+            f"IMU sample rate {self.rate:g} Hz; fitted on regimes={self.regimes}",
+        ]
+        for name, s in (("gyroscope", self.gyro), ("accelerometer", self.accel)):
+            if s.factors:
+                f = ", ".join(f"{k} x{v:.3g}" for k, v in s.factors.items())
+                lines.append(f"{name}: factors over the best fit: {f}")
+        return lines + [f"note: {n}" for n in self.notes]
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-safe dictionary."""
+        return {
+            "rate": self.rate,
+            "variant": self.variant,
+            "regimes": self.regimes,
+            "gyroscope": vars(self.gyro) | {"factors": dict(self.gyro.factors)},
+            "accelerometer": vars(self.accel) | {"factors": dict(self.accel.factors)},
+            "notes": list(self.notes),
+            "gnss": dict(self.gnss),
+        }
+
+
+def _axes(fits: InertialNoise | Sequence[InertialNoise], name: str) -> list[InertialNoise]:
+    axes = [fits] if isinstance(fits, InertialNoise) else list(fits)
+    if not axes:
+        raise NoisevarError(f"no {name} axis given: pass the fit of at least one axis")
+    return axes
+
+
+def _sensor(
+    fits: list[InertialNoise], name: str, variant: str, unit: str | None
+) -> tuple[SensorTerms, list[str]]:
+    """One sensor's terms in SI: the largest over the axes, best or overbound."""
+    target = SENSOR_UNITS[name]
+    notes = []
+    source = unit or fits[0].unit
+    if units.parse_unit(source) is None:
+        notes.append(f"{name}: no unit declared: the data are taken as {target}")
+        source = target
+    f = units.factor(source, target)
+    if f != 1.0:
+        notes.append(f"{name}: converted from {source} to {target} (x{f:.10g}, by pint)")
+    if variant == "best":
+        n = max(max(a.random_walk, a.white_level) for a in fits)
+        k = max(a.rate_random_walk for a in fits)
+        b = max(a.bias_instability for a in fits)
+        if any(a.white_level > a.random_walk for a in fits):
+            notes.append(
+                f"{name}: N is at least each axis's white level sigma(tau0) sqrt(tau0) (the "
+                "consumers have no quantisation term for what the fit put into Q)"
+            )
+        return SensorTerms(n * f, k * f, b * f, target), notes
+    bounds = [overbound(a, free=NK) for a in fits]
+    n_best = max(max(a.random_walk, a.white_level) for a in fits)
+    k_best = max(a.rate_random_walk for a in fits)
+    # never below the best set (whose N is at least the white level)
+    n = max(n_best, *(ob.values["N"] for ob in bounds))
+    k = max(k_best, *(ob.values["K"] for ob in bounds))
+    factors = {"N": n / n_best if n_best > 0 else 1.0, "K": k / k_best if k_best > 0 else 1.0}
+    covers = dict.fromkeys(c for ob in bounds for c in ob.covers)
+    b = max(a.bias_instability for a in fits)
+    notes.append(
+        f"{name}: the conservative N and K cover "
+        + "; ".join(covers)
+        + f" (best-fit B up to {b:.4g} {fits[0].unit}, before conversion)"
+    )
+    return SensorTerms(n * f, k * f, 0.0, target, factors), notes
+
+
+def imu_model(
+    gyro: InertialNoise | Sequence[InertialNoise],
+    accel: InertialNoise | Sequence[InertialNoise],
+    *,
+    variant: str = DEFAULT_VARIANT,
+    gyro_unit: str | None = None,
+    accel_unit: str | None = None,
+    gnss: Mapping[str, float] | None = None,
+) -> ImuModel:
+    """The IMU's noise model from the fits of its gyroscope and accelerometer axes.
+
+    Parameters
+    ----------
+    gyro, accel : InertialNoise or sequence of them
+        Fits of each axis (:func:`noisevar.inertial_noise`).
+    variant : {"best", "conservative"}
+        The best fit, or the least overbound of N and K (:func:`overbound`).
+    gyro_unit, accel_unit : str, optional
+        The data's units (default: each fit's ``unit``); converted to rad/s and m/s².
+    gnss : mapping, optional
+        GNSS measurement stds ``{"position": m, "velocity": m/s}`` for PX4/ArduPilot.
+
+    Returns
+    -------
+    ImuModel
+    """
+    if variant not in VARIANTS:
+        raise NoisevarError(f"variant must be one of {', '.join(VARIANTS)}, not {variant!r}")
+    g, a = _axes(gyro, "gyroscope"), _axes(accel, "accelerometer")
+    rates = {x.rate for x in g + a}
+    if len(rates) != 1:
+        raise NoisevarError(f"the axes were fitted at different rates ({sorted(rates)} Hz)")
+    regimes = {x.regimes for x in g + a}
+    if len(regimes) != 1:
+        raise NoisevarError("the axes were fitted on different regimes: fit them all alike")
+    gs, gn = _sensor(g, "gyroscope", variant, gyro_unit)
+    acs, an = _sensor(a, "accelerometer", variant, accel_unit)
+    for key, value in (gnss or {}).items():
+        if key not in ("position", "velocity") or not value > 0:
+            raise NoisevarError(f"gnss takes positive 'position' and 'velocity' stds, not {key!r}")
+    return ImuModel(gs, acs, rates.pop(), variant, regimes.pop(), tuple(gn + an), dict(gnss or {}))

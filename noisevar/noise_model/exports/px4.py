@@ -1,0 +1,105 @@
+"""PX4 EKF2 parameters as a QGroundControl ``.params`` file: discrete stds at the EKF rate.
+
+Meaning, from PX4's code (PX4/PX4-Autopilot at 765f284): ``src/modules/ekf2/EKF/
+covariance.cpp``, ``Ekf::predictCovariance``: ``gyro_var = sq(_params.gyro_noise)`` and
+``accel_var = sq(accel_noise)`` go to ``sym::PredictCovariance(..., gyro_var, dt)``, which
+adds ``gyro_var · dt²`` to the angle error per prediction step (the generator,
+``EKF/python/ekf_derivation/derivation.py``, ``predict_covariance``: ``P_new = A P Aᵀ +
+G var_u Gᵀ``; at 0754cab its caller passed ``d_ang_var = sq(dt * gyro_noise)``, the same
+thing); the bias states get
+``sq(dt * _params.gyro_bias_p_noise)`` per step. The step ``dt`` is EKF2's prediction
+period ``EKF2_PREDICT_US`` (default 10000 µs: 100 Hz), the IMU being down-sampled (its
+delta angles summed) to it. So ``EKF2_GYR_NOISE`` is the std of the rate averaged over one
+EKF step, ``N √f_ekf`` (rad/s), and ``EKF2_GYR_B_NOISE`` the bias change per step over the
+step time, ``K √f_ekf`` (rad/s²). ``EKF2_GPS_P_NOISE`` and ``EKF2_GPS_V_NOISE`` are GNSS
+measurement stds (m, m/s), from a GNSS record's R when one is given.
+
+Ambiguity, said in the file: PX4's parameter reference calls them "noise for covariance
+prediction" without a rate; its defaults (0.015 rad/s, 0.35 m/s²) budget vibration and
+unmodelled errors, far above a still sensor's floor. Our value is the still floor at the
+EKF's rate; the conservative set or a flight log's motion regimes raise it.
+"""
+
+from __future__ import annotations
+
+from noisevar.noise_model.exports.base import (
+    Consumer,
+    ExportFile,
+    Value,
+    ascii_text,
+    walk_sigma,
+    white_sigma,
+)
+from noisevar.noise_model.exports.model import ImuModel
+
+#: EKF2's default prediction period (``EKF2_PREDICT_US``, µs).
+PREDICT_US = 10000
+#: The documented ranges (ekf2 parameter definitions' ``@min``/``@max``; None: no bound
+#: read): a value outside is written as computed, with a warning line.
+RANGES = {
+    "EKF2_GYR_NOISE": (0.0001, None),
+    "EKF2_ACC_NOISE": (0.01, 1.0),
+    "EKF2_GYR_B_NOISE": (0.0, 0.01),
+    "EKF2_ACC_B_NOISE": (0.0, 0.01),
+}
+#: MAV_PARAM_TYPE_REAL32: the type column of a QGC parameter file.
+_REAL32 = 9
+
+
+def write(model: ImuModel, *, predict_us: int = PREDICT_US) -> ExportFile:
+    """EKF2's IMU (and GNSS, when measured) noise parameters at its prediction rate."""
+    f = 1e6 / predict_us
+    at = f"EKF step {predict_us} µs"
+    values = [
+        white_sigma(model, "gyroscope", "EKF2_GYR_NOISE", f, f"rate std over one {at}"),
+        white_sigma(model, "accelerometer", "EKF2_ACC_NOISE", f, f"std over one {at}"),
+        walk_sigma(model, "gyroscope", "EKF2_GYR_B_NOISE", f, f"bias step / dt, {at}"),
+        walk_sigma(model, "accelerometer", "EKF2_ACC_B_NOISE", f, f"bias step / dt, {at}"),
+    ]
+    for key, name, unit in (
+        ("position", "EKF2_GPS_P_NOISE", "m"),
+        ("velocity", "EKF2_GPS_V_NOISE", "m/s"),
+    ):
+        if key in model.gnss:
+            values.append(
+                Value(
+                    name,
+                    model.gnss[key],
+                    unit,
+                    "measurement std",
+                    f"sqrt(R) of the GNSS {key} record",
+                )
+            )
+    lines = [f"# {h}" for h in model.header("PX4 EKF2")]
+    lines += [
+        "# AMBIGUOUS in PX4's docs (no rate given); its code (covariance.cpp) adds",
+        "# (dt*value)^2 per EKF step: these are discrete stds at the EKF rate",
+        f"# 1/EKF2_PREDICT_US = {f:g} Hz (not the IMU's {model.rate:g} Hz).",
+    ]
+    if "position" not in model.gnss:
+        lines.append("# EKF2_GPS_P_NOISE, EKF2_GPS_V_NOISE: not written (no GNSS record given)")
+    lines.append(f"# EKF2_PREDICT_US assumed: {predict_us}")
+    lines.append("# Vehicle-Id\tComponent-Id\tName\tValue\tType")
+    for v in values:
+        lines.append(f"# {v.name}: {v.comment()}")
+        lo, hi = RANGES.get(v.name, (None, None))
+        if (lo is not None and v.value < lo) or (hi is not None and v.value > hi):
+            lines.append(
+                f"# WARNING: {v.name} is outside PX4's documented range [{lo}, {hi}]: the "
+                "ground station may refuse it; written as computed"
+            )
+        lines.append(f"1\t1\t{v.name}\t{v.value:.12g}\t{_REAL32}")
+    return ExportFile("px4", "px4_ekf2.params", ascii_text("\n".join(lines) + "\n"), tuple(values))
+
+
+def parse(text: str) -> dict[str, float]:
+    """``Name -> value`` of a QGC ``.params`` file (tab-separated, ``#`` comments)."""
+    out = {}
+    for line in text.splitlines():
+        if line.strip() and not line.startswith("#"):
+            _vid, _cid, name, value, _type = line.split("\t")
+            out[name] = float(value)
+    return out
+
+
+CONSUMER = Consumer("px4", "PX4 EKF2 .params", "px4_ekf2.params", write, parse)

@@ -1,0 +1,217 @@
+"""Units of a record, declared once and carried everywhere (docs/algorithms.md §E7).
+
+The one home of every unit conversion and of the continuous/discrete forms of the
+inertial noise terms:
+
+- a user's unit string (``"deg/s"``, ``"m/s^2"``, ``"g"``, ``"mg"``, ``"0.00875 deg/s"``
+  for raw counts with a scale factor, ``"ns"``, ...) parsed by ``pint`` (imported on
+  first use);
+- values scale by the conversion factor, variances by its square;
+- the labels of the IEEE-952 terms' units (N in ``u/√Hz``, K in ``u/s/√Hz``, ...);
+- white noise of density N seen at rate ``f``: ``σ = N √f``; a bias random walk of
+  density K: its step over ``1/f`` has ``σ = K / √f``, and that step divided by the step
+  time, ``K √f``, is what a filter that adds ``(dt·σ)²`` per step takes.
+
+In an IMU's context ``g`` is standard gravity (9.80665 m/s²), not the gram, and ``mg``,
+``ug``/``µg`` are milli- and micro-g.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from noisevar.errors import NoisevarError
+
+#: Unit strings a user may give, for error messages and help texts.
+EXAMPLES = ("rad/s", "deg/s", "m/s^2", "g", "mg", "m", "ns", "0.00875 deg/s (counts x scale)")
+#: What an undeclared unit is called (no conversion possible).
+UNKNOWN = "u"
+#: IMU spellings pint reads otherwise (g: gram), rewritten before parsing.
+_ALIASES = (
+    (re.compile(r"(?<![\w.])(?:µ|u)g(?![\w^])"), "(1e-6 * standard_gravity)"),
+    (re.compile(r"(?<![\w.])mg(?![\w^])"), "(1e-3 * standard_gravity)"),
+    (re.compile(r"(?<![\w.])g(?![\w^])"), "standard_gravity"),
+    (re.compile(r"(?<![\w.])counts?(?![\w^])"), "count"),
+    (re.compile(r"√"), "sqrt"),
+)
+
+
+@lru_cache(maxsize=1)
+def _registry() -> Any:
+    import pint  # lazily: the units library is needed only when a unit is converted
+
+    return pint.UnitRegistry()
+
+
+@dataclass(frozen=True)
+class Unit:
+    """A parsed unit: the user's text, its scale to the SI unit and that unit's name.
+
+    Attributes
+    ----------
+    text : str
+        As the user wrote it (``"deg/s"``).
+    scale : float
+        One of these in SI base units (``deg/s``: ``π/180``).
+    si : str
+        The SI unit of the same dimension (``"rad / second"``, pint's spelling).
+    """
+
+    text: str
+    scale: float
+    si: str
+
+    @property
+    def label(self) -> str:
+        """The unit as written (for tables and file comments)."""
+        return self.text
+
+
+def parse_unit(text: str | None) -> Unit | None:
+    """The unit named by ``text``; None for no unit (empty, None or ``"u"``).
+
+    Parameters
+    ----------
+    text : str or None
+        A unit (``"deg/s"``), optionally with a scale factor for raw counts
+        (``"0.00875 deg/s"``: one count is 0.00875 deg/s).
+
+    Returns
+    -------
+    Unit or None
+
+    Raises
+    ------
+    NoisevarError
+        Naming the unit and listing examples, when pint cannot read it.
+    """
+    if text is None or not str(text).strip() or str(text).strip() == UNKNOWN:
+        return None
+    raw = str(text).strip()
+    return _parse(raw)
+
+
+@lru_cache(maxsize=256)
+def _parse(raw: str) -> Unit:
+    expr = raw
+    for pattern, repl in _ALIASES:
+        expr = pattern.sub(repl, expr)
+    ureg = _registry()
+    try:
+        q = ureg.Quantity(1.0) * ureg.parse_expression(expr.replace("^", "**"))
+        base = q.to_base_units()
+    except Exception as exc:  # noqa: BLE001 - pint raises many types for a bad unit
+        raise NoisevarError(
+            f"unknown unit {raw!r} ({type(exc).__name__}); examples: {', '.join(EXAMPLES)}"
+        ) from None
+    scale = float(base.magnitude)
+    if not (math.isfinite(scale) and scale > 0):
+        raise NoisevarError(
+            f"unit {raw!r} has a non-positive scale; examples: {', '.join(EXAMPLES)}"
+        )
+    return Unit(raw, scale, str(base.units))
+
+
+def factor(source: str | None, target: str | None) -> float:
+    """The factor that converts values in ``source`` to ``target`` (1 when either is unset).
+
+    Raises
+    ------
+    NoisevarError
+        When the two units have different dimensions (``deg/s`` to ``m/s^2``).
+    """
+    a, b = parse_unit(source), parse_unit(target)
+    if a is None or b is None or a.text == b.text:
+        return 1.0
+    if a.si != b.si:
+        raise NoisevarError(
+            f"cannot convert {a.text!r} ({a.si}) to {b.text!r} ({b.si}): different dimensions"
+        )
+    return a.scale / b.scale
+
+
+def convert(values: ArrayLike, source: str | None, target: str | None) -> NDArray:
+    """``values`` in ``source`` expressed in ``target``."""
+    return np.asarray(values, dtype=float) * factor(source, target)
+
+
+def convert_variance(variance: ArrayLike, source: str | None, target: str | None) -> NDArray:
+    """A variance in ``source²`` expressed in ``target²`` (the factor squared)."""
+    return np.asarray(variance, dtype=float) * factor(source, target) ** 2
+
+
+def variance_label(unit: str | None) -> str:
+    """The unit of a variance: ``(deg/s)²`` (``u²`` without a unit)."""
+    u = unit or UNKNOWN
+    return f"({u})²" if "/" in u or " " in u else f"{u}²"
+
+
+#: The IEEE-952 terms' units as templates on the rate unit (docs/algorithms.md §E4).
+TERM_UNITS = {
+    "Q": "{u}·s",
+    "N": "{u}/√Hz",
+    "B": "{u}",
+    "K": "{u}/s/√Hz",
+    "R": "{u}/s",
+}
+
+
+def term_unit(unit: str | None, symbol: str) -> str:
+    """The unit of term ``symbol`` (Q, N, B, K, R) of rate data in ``unit``.
+
+    ``K`` of ``rad/s`` is ``rad/s²/√Hz``, of ``m/s^2`` ``m/s³/√Hz`` (a rate per second
+    folded into the unit's own ``/s``); any other unit keeps the template.
+    """
+    u = unit or UNKNOWN
+    if symbol not in TERM_UNITS:
+        raise NoisevarError(f"no term {symbol!r}; the terms are {', '.join(TERM_UNITS)}")
+    if symbol in ("K", "R"):
+        folded = _per_second(u)
+        if folded is not None:
+            return folded + ("/√Hz" if symbol == "K" else "")
+    return TERM_UNITS[symbol].format(u=u)
+
+
+def _per_second(u: str) -> str | None:
+    """``u`` divided by a second when ``u`` ends in ``/s`` or ``/s^n`` (else None)."""
+    m = re.fullmatch(r"(.*)/s(?:\^(\d)|([²³]))?", u)
+    if not m:
+        return None
+    power = int(m.group(2) or {"²": 2, "³": 3}.get(m.group(3) or "", 1)) + 1
+    return f"{m.group(1)}/s{'²³⁴'[power - 2]}" if power <= 4 else None
+
+
+def sigma_at(density: float, rate: float) -> float:
+    """The std of white noise of ``density`` (u/√Hz) per sample at ``rate`` Hz: ``N √f``."""
+    return float(density) * math.sqrt(_rate(rate))
+
+
+def density_from_sigma(sigma: float, rate: float) -> float:
+    """The density (u/√Hz) of white noise whose per-sample std at ``rate`` is ``sigma``."""
+    return float(sigma) / math.sqrt(_rate(rate))
+
+
+def walk_step(density: float, rate: float) -> float:
+    """The std of a random walk's step over ``1/rate`` s: ``K / √f`` (K in u/s/√Hz)."""
+    return float(density) / math.sqrt(_rate(rate))
+
+
+def walk_rate_sigma(density: float, rate: float) -> float:
+    """A random walk's step over ``dt = 1/rate`` divided by ``dt``: ``K √f`` (u/s).
+
+    What a filter that adds ``(dt·σ)²`` to a bias's variance each step takes as ``σ``.
+    """
+    return float(density) * math.sqrt(_rate(rate))
+
+
+def _rate(rate: float) -> float:
+    if not (math.isfinite(rate) and rate > 0):
+        raise NoisevarError(f"the rate must be a positive number of Hz, not {rate}")
+    return float(rate)

@@ -1,0 +1,81 @@
+"""AppTest: one answer on every page (issue 28 item 4).
+
+The record's verdict and R (method auto, as the Estimator page) appear on Compare, Noise
+model and Two sensors with the same sentence; a page whose own R is another quantity says
+why; Two sensors flags columns that do not measure the same quantity.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from streamlit.testing.v1 import AppTest
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT))
+APP = str(ROOT / "app.py")
+
+import noisevar  # noqa: E402
+from dashboard.state import SIGNAL_KEY, UNITS_KEY, make_signal  # noqa: E402
+from noisevar.estimators.answer import WHY_DIFFERENT, record_answer  # noqa: E402
+from noisevar.io import load_table  # noqa: E402
+
+RATE, N = 100.0, 4000
+
+
+def _imu(seed: int = 5) -> dict[str, np.ndarray]:
+    """Three axes of one accelerometer (not three sensors of one quantity)."""
+    rng = np.random.default_rng(seed)
+    k = np.arange(N)
+    return {
+        "Acc_X": np.sin(2 * np.pi * k / 400) + 0.05 * rng.standard_normal(N),
+        "Acc_Y": 0.5 * np.cos(2 * np.pi * k / 300) + 0.05 * rng.standard_normal(N),
+        "Acc_Z": 9.81 + 0.05 * rng.standard_normal(N),
+    }
+
+
+def _open(columns: dict[str, np.ndarray], page: str, unit: str = "") -> AppTest:
+    frame = pd.DataFrame({"t": np.arange(N) / RATE, **columns})
+    table = load_table(frame.to_csv(index=False).encode(), "imu.csv")
+    at = AppTest.from_file(APP, default_timeout=180)
+    at.session_state[SIGNAL_KEY] = make_signal(table, None, 1.0 / RATE, "upload", None)
+    if unit:
+        at.session_state[UNITS_KEY] = unit
+    at.switch_page(page).run()
+    assert not at.exception, [e.value for e in at.exception]
+    return at
+
+
+def _boxes(at: AppTest) -> list[str]:
+    return [b.value for b in [*at.info, *at.warning]]
+
+
+def test_the_same_answer_on_compare_noise_model_and_two_sensors() -> None:
+    cols = _imu()
+    sentence = record_answer(noisevar.estimate(cols["Acc_X"])).sentence("m/s^2")
+    for page in ("app_pages/Compare.py", "app_pages/Noise_model.py"):
+        at = _open(cols, page, unit="m/s^2")
+        assert any(f"The record's answer (Estimator page): {sentence}" in b for b in _boxes(at)), (
+            page
+        )
+    at = _open(cols, "app_pages/Compare.py")
+    assert any(WHY_DIFFERENT["method"] in c.value for c in at.caption)
+
+
+def test_two_sensors_flags_three_axes_as_not_one_quantity() -> None:
+    at = _open(_imu(), "app_pages/Two_sensors.py")
+    (flag,) = [w.value for w in at.warning if "may not measure the same quantity" in w.value]
+    assert "Acc_X and Acc_Z differ in level" in flag and "varies" in flag
+    assert any(WHY_DIFFERENT["redundant"] in c.value for c in at.caption)
+    assert any(b.startswith("**Acc_Z**: ") for b in _boxes(at))  # each sensor's own answer
+
+
+def test_two_sensors_of_one_quantity_are_not_flagged() -> None:
+    rng = np.random.default_rng(9)
+    s = np.cumsum(rng.normal(0, 0.05, N))
+    cols = {"a": s + rng.normal(0, 1.0, N), "b": s + rng.normal(0, 2.0, N)}
+    at = _open(cols, "app_pages/Two_sensors.py")
+    assert not any("may not measure the same quantity" in w.value for w in at.warning)
