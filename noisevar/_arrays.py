@@ -1,4 +1,4 @@
-"""Array helpers shared by the filters and the diagnostics."""
+"""Array helpers shared across the package: medians in place, exact integer conversion."""
 
 from __future__ import annotations
 
@@ -16,3 +16,36 @@ def median_inplace(v: NDArray) -> float:
         return float(v[k])
     v.partition((k - 1, k))
     return float((v[k - 1] + v[k]) / 2.0)
+
+
+#: Integers up to this magnitude are exact in float64 (every one of them); beyond, refused.
+EXACT_INT = 2**53
+
+
+def check_exact_ints(z: object, what: str = "the signal") -> None:
+    """Refuse an integer array with values that float64 cannot hold exactly (beyond 2**53).
+
+    Converting them would round the samples silently (at 2**60 by steps of 256), so the
+    noise would be the rounding's, not the record's.
+
+    Raises
+    ------
+    NoisevarError
+        Naming the largest magnitude and what to do.
+    """
+    import numpy as np
+
+    from noisevar.errors import NoisevarError
+
+    dtype = getattr(z, "dtype", None)
+    if dtype is None or getattr(dtype, "kind", "") not in "iu" or dtype.itemsize < 8:
+        return
+    arr = np.asarray(z)
+    if not arr.size:
+        return
+    top = max(abs(int(arr.max())), abs(int(arr.min())))
+    if top > EXACT_INT:
+        raise NoisevarError(
+            f"{what} holds integers beyond 2**53 (up to {float(top):.3g}): float64 cannot "
+            "hold them exactly; subtract an offset (e.g. the first sample) or rescale first"
+        )

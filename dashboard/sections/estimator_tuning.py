@@ -92,7 +92,7 @@ def _parse_with_column(raw: bytes, name: str) -> tuple[dict[str, object], str | 
     """A config's parameters and its ``column`` (the channel is not an estimator parameter)."""
     try:
         data = json.loads(raw)
-    except (ValueError, UnicodeDecodeError):
+    except (ValueError, UnicodeDecodeError, RecursionError):  # RecursionError: nested deeply
         return parse_config(raw, name), None  # parse_config words the JSON error
     column = data.pop("column", None) if isinstance(data, dict) else None
     if column is not None and not isinstance(column, str):

@@ -10,27 +10,32 @@ table into fleet statistics (which sensors are unusually noisy).
 
 from __future__ import annotations
 
+import contextlib
 import glob
 import json
 import math
 import os
 import sys
+import warnings
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from noisevar.batch._lifeline import announce, follow_batch
 from noisevar.batch._output import (
     KEY_COLUMNS,
     RUN_COLUMNS,
     append_rows,
+    commit,
+    journal_groups,
     journal_path,
     open_journal,
     out_format,
-    read_journal,
+    output_lock,
     read_table,
+    rows_by_file,
     rows_frame,
-    write_table,
 )
 from noisevar.batch._task import file_rows, run_task
 from noisevar.batch.channels import parse_columns
@@ -44,7 +49,9 @@ __all__ = [
     "KEY_COLUMNS",
     "RUN_COLUMNS",
     "batch",
+    "check_jobs",
     "expand_paths",
+    "machine_jobs",
     "file_rows",
     "read_table",
     "rows_frame",
@@ -101,12 +108,13 @@ def task_size(n_files: int, workers: int) -> int:
     return max(1, min(MAX_TASK_FILES, per))
 
 
-def _previous(out: Path | None, resume: bool) -> list[dict[str, Any]]:
-    """Rows already done: the output's and its journal's (none when not resuming)."""
+def _previous(out: Path | None, resume: bool, files: list[str]) -> dict[str, list[dict[str, Any]]]:
+    """Rows already done, keyed by file (:func:`~noisevar.batch._output.rows_by_file`):
+    the output's and its journal's, for the files given (none when not resuming)."""
     if out is None or not resume:
-        return []
+        return {}
     rows = read_table(out).to_dict("records") if out.is_file() else []
-    return [*rows, *read_journal(journal_path(out))]
+    return rows_by_file(rows, journal_groups(journal_path(out)), files)
 
 
 def request_key(columns: Any, method: str, params: dict[str, Any]) -> str:
@@ -117,31 +125,29 @@ def request_key(columns: Any, method: str, params: dict[str, Any]) -> str:
 
 
 def _plan(
-    files: list[str], old: list[dict[str, Any]], request: str
+    files: list[str], old: dict[str, list[dict[str, Any]]], request: str
 ) -> tuple[list[str], list[dict[str, Any]]]:
     """Files still to do, and the old rows kept.
 
-    A file is skipped when the old rows hold its current content hash and were made
-    for the same request; a changed file or a new request redoes it.
+    A file is skipped when its old rows were made for the same request and hold its
+    current content hash; a changed file or a new request redoes it.
     """
     from noisevar.io import content_digest
 
-    done: dict[str, Any] = {}
-    for r in old:
-        if r.get("request") == request:
-            done.setdefault(str(r["file"]), r.get("hash"))
-    todo = []
+    todo, kept = [], []
     for f in files:
-        h = done.get(f)
-        if isinstance(h, str) and h:
+        rows = old.get(f, [])
+        hashes = {r.get("hash") for r in rows}
+        h = hashes.pop() if len(hashes) == 1 else None
+        if rows and isinstance(h, str) and h and all(r.get("request") == request for r in rows):
             try:
                 if content_digest(Path(f).read_bytes()) == h:
+                    kept.extend(rows)
                     continue
             except OSError:
                 pass
         todo.append(f)
-    redo = set(todo)
-    return todo, [r for r in old if str(r["file"]) not in redo]
+    return todo, kept
 
 
 def _failed(group: Sequence[str], method: str, exc: BaseException) -> list[dict[str, Any]]:
@@ -174,7 +180,10 @@ def _stream(
     # code loaded: workers forked from it start in a fraction of a second
     ctx = multiprocessing.get_context("forkserver")
     ctx.set_forkserver_preload(["__main__", "noisevar.batch._warm"])
-    with ProcessPoolExecutor(max_workers=jobs, mp_context=ctx) as pool:
+    me = announce()  # the fork server and the workers die with this process (_lifeline)
+    with ProcessPoolExecutor(
+        max_workers=jobs, mp_context=ctx, initializer=follow_batch, initargs=(me,)
+    ) as pool:
         futs = {pool.submit(run_task, g, *args): g for g in groups}
         try:
             for fut in as_completed(futs):
@@ -209,12 +218,40 @@ def _progress(progress: Progress, total: int) -> tuple[Callable[[int], None], Ca
     return bar.update, bar.close
 
 
-def _check_jobs(jobs: int | None) -> int:
+def machine_jobs() -> int:
+    """Worker processes this machine runs at once: the CPUs this process may use."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):  # pragma: no cover - no affinity (macOS, Windows)
+        return max(1, os.cpu_count() or 1)
+
+
+def check_jobs(jobs: int | None) -> tuple[int, str | None]:
+    """``jobs`` bounded by the machine (:func:`machine_jobs`), and a sentence when it was cut.
+
+    Parameters
+    ----------
+    jobs : int or None
+        Worker processes asked for (None: 1).
+
+    Returns
+    -------
+    int, str or None
+        The processes to start, and why fewer than asked (None when as asked).
+
+    Raises
+    ------
+    NoisevarError
+        Not a whole number >= 1.
+    """
     if jobs is None:
-        return 1
+        return 1, None
     if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
         raise NoisevarError(f"jobs must be a whole number >= 1, got {jobs!r}")
-    return jobs
+    bound = machine_jobs()
+    if jobs <= bound:
+        return jobs, None
+    return bound, f"jobs {jobs} is more than the {bound} CPUs this machine gives it: using {bound}"
 
 
 def batch(
@@ -242,7 +279,8 @@ def batch(
         ``.parquet`` or ``.csv`` output, written atomically at the end; rows are
         journalled beside it as they arrive.
     jobs : int, optional
-        Local worker processes (default 1: this process).
+        Local worker processes (default 1: this process); at most the machine's CPUs
+        (:func:`check_jobs`: more is cut to that, with a warning).
     client : distributed.Client, optional
         Run the tasks on this Dask cluster instead (``jobs`` is then ignored).
     resume : bool
@@ -277,7 +315,9 @@ def batch(
         )
     spec.validate(params)  # a bad parameter stops the batch before it starts
     cols = parse_columns(columns)
-    n_jobs = _check_jobs(jobs)
+    n_jobs, cut = check_jobs(jobs)
+    if cut and client is None:
+        warnings.warn(cut, stacklevel=2)
     target = Path(out) if out is not None else None
     if target is not None:
         out_format(target)
@@ -286,8 +326,24 @@ def batch(
     if not files:
         raise NoisevarError("no data file found in the given paths")
     request = request_key(cols, method, dict(params))
-    todo, kept = _plan(files, _previous(target, resume), request)
-    args = (cols, method, dict(params))
+    with output_lock(target) if target is not None else contextlib.nullcontext():
+        todo, kept = _plan(files, _previous(target, resume, files), request)
+        return _run(todo, kept, (cols, method, dict(params)), request, target, n_jobs, client,
+                    resume, progress)  # fmt: skip
+
+
+def _run(  # noqa: PLR0913 - the batch's arguments, once checked
+    todo: list[str],
+    kept: list[dict[str, Any]],
+    args: tuple,
+    request: str,
+    target: Path | None,
+    n_jobs: int,
+    client: Any,
+    resume: bool,
+    progress: Progress,
+) -> pd.DataFrame:
+    """Run the tasks of ``todo``, journalling their rows; the table of kept and new rows."""
     k = task_size(len(todo), _workers(n_jobs, client))
     groups = [todo[i : i + k] for i in range(0, len(todo), k)]
     journal = open_journal(journal_path(target), fresh=not resume) if target else None
@@ -303,13 +359,11 @@ def batch(
             advance(len({r["file"] for r in rows}))
     finally:
         close()
-        frame = _finish(target, journal, kept, new, resume)
+        frame = _finish(target, journal, kept, new)
     return frame
 
 
-def _finish(
-    target: Path | None, journal: Any, kept: list[dict], new: list[dict], resume: bool
-) -> pd.DataFrame:
+def _finish(target: Path | None, journal: Any, kept: list[dict], new: list[dict]) -> pd.DataFrame:
     """The output table: kept and new rows sorted by file; written, and the journal removed."""
     rows = [*kept, *new]
     frame = rows_frame(rows) if rows else rows_frame([{"file": None}]).iloc[0:0]
@@ -319,7 +373,5 @@ def _finish(
             sorted(range(len(frame)), key=lambda i: order[str(frame["file"].iat[i])])
         ].reset_index(drop=True)
     if target is not None:
-        journal.close()
-        write_table(frame, target)
-        journal_path(target).unlink(missing_ok=True)
+        commit(frame, target, journal)
     return frame

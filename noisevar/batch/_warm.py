@@ -2,7 +2,8 @@
 
 Worker processes are forked from the server, so they start with ``noisevar`` and the
 readers' libraries imported and the compiled (numba) kernels loaded, instead of each paying
-for that (seconds) on its first file.
+for that (seconds) on its first file. The fork server dies with the batch that started it
+(:mod:`noisevar.batch._lifeline`).
 """
 
 from __future__ import annotations
@@ -12,8 +13,11 @@ import io
 import numpy as np
 
 import noisevar.batch._task  # noqa: F401 - the task function the workers run
+from noisevar.batch._lifeline import follow_parent
 from noisevar.estimators import estimate
 from noisevar.io import load_table, pick_column
+
+follow_parent()  # the fork server dies with the batch, and its workers with it
 
 _buf = io.BytesIO()
 np.save(_buf, np.random.default_rng(0).normal(size=(512, 2)))

@@ -3,14 +3,24 @@
 from __future__ import annotations
 
 import argparse
+import re
 import sys
 from typing import Any
 
 from noisevar.errors import NoisevarError
+from noisevar.io.limits import echo
+
+#: A scheduler address: ``[scheme://]host:port`` (tcp://, tls://, ws://, inproc://...).
+_ADDRESS = re.compile(r"^([a-z][a-z0-9+.-]*://)?[^\s/:]+(:\d+)?(/\S*)?$", re.IGNORECASE)
 
 
 def _client(address: str) -> Any:
     """A ``dask.distributed`` client of the scheduler at ``address`` (one clear error if none)."""
+    if not _ADDRESS.match(address) or ("://" not in address and ":" not in address):
+        raise NoisevarError(
+            f"--scheduler {echo(address)!r} is not a scheduler address: give one like "
+            "tcp://host:8786"
+        )
     try:
         from distributed import Client
     except ImportError:
@@ -19,8 +29,11 @@ def _client(address: str) -> Any:
         ) from None
     try:
         return Client(address, timeout="10s")
-    except (OSError, TimeoutError) as exc:
-        raise NoisevarError(f"cannot reach the Dask scheduler at {address}: {exc}") from None
+    except (OSError, TimeoutError, ValueError, TypeError) as exc:  # ValueError: not an address
+        raise NoisevarError(
+            f"cannot reach the Dask scheduler at {echo(address)}: {echo(exc, 200)} "
+            "(give its address, e.g. tcp://host:8786)"
+        ) from None
 
 
 def _summary(frame: Any, out: str | None) -> str:
@@ -31,10 +44,13 @@ def _summary(frame: Any, out: str | None) -> str:
 
 
 def _cmd_batch(args: argparse.Namespace) -> int:
-    from noisevar.batch import batch
+    from noisevar.batch import batch, check_jobs
     from noisevar.cli.estimate import estimate_params
 
     method, params = estimate_params(args)
+    jobs, cut = check_jobs(args.jobs)
+    if cut and not args.scheduler:
+        print(f"noisevar: {cut}", file=sys.stderr)
     columns = args.columns if args.columns is not None else params.pop("columns", "all")
     params.pop("column", None)
     client = _client(args.scheduler) if args.scheduler else None
@@ -44,7 +60,7 @@ def _cmd_batch(args: argparse.Namespace) -> int:
             columns=columns,
             method=method,
             out=args.out,
-            jobs=args.jobs,
+            jobs=jobs,
             client=client,
             resume=not args.no_resume,
             progress=not args.quiet,
@@ -67,7 +83,12 @@ def add_parser(sub: Any) -> None:
     p.add_argument("paths", nargs="+", help="files, folders or quoted globs ('logs/**/*.csv')")
     p.add_argument("--columns", help="'all' (default) or a,b,c")
     p.add_argument("--out", help=".parquet or .csv output (default: CSV on stdout)")
-    p.add_argument("--jobs", type=int, default=1, help="local worker processes (default 1)")
+    p.add_argument(
+        "--jobs",
+        type=int,
+        default=1,
+        help="local worker processes (default 1; at most the machine's CPUs: more is cut to that)",
+    )
     p.add_argument("--scheduler", help="a dask.distributed scheduler (tcp://host:8786)")
     p.add_argument("--no-resume", action="store_true", help="redo files already in --out")
     p.add_argument("--quiet", action="store_true", help="no progress bar")

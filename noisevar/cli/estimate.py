@@ -230,15 +230,33 @@ def _estimate_many(args: argparse.Namespace, columns: Any, method: str, params: 
     return 0
 
 
-def _streamed(args: argparse.Namespace, method: str) -> bool:
-    """Read the file in chunks: asked for, a raw binary file, or a .npy over the memory cap
-    for a method with a chunked path."""
-    from noisevar.estimators import method_spec
+def _streamed(args: argparse.Namespace) -> bool:
+    """Read the file in chunks as asked (``--stream``, or a raw binary file: ``--dtype``);
+    a large file is streamed without a flag too (:func:`_by_default`)."""
+    return bool(args.stream or args.dtype)
 
-    if args.stream or args.dtype:
-        return True
-    big = args.file.lower().endswith(".npy") and os.path.getsize(args.file) > MAX_BYTES
-    return big and method_spec(method).chunked is not None
+
+_IN_MEMORY = object()
+
+
+def _by_default(args: argparse.Namespace, column: Any, method: str, params: dict) -> Any:
+    """The column to stream a file over :data:`noisevar.stream.STREAM_BYTES` by, with no flag:
+    one channel, a method with a chunked path and parameters it takes, a file the streamed
+    path reads as memory would (:func:`noisevar.stream.same_column`); else ``_IN_MEMORY``."""
+    from noisevar.estimators import method_spec
+    from noisevar.stream import STREAM_BYTES, same_column
+
+    spec = method_spec(method)
+    own = {getattr(p, "name", p) for p in spec.params}
+    if (
+        args.columns is not None
+        or spec.chunked is None
+        or not set(params) <= own
+        or os.path.getsize(args.file) <= STREAM_BYTES
+    ):
+        return _IN_MEMORY
+    ok, col = same_column(args.file, column)
+    return col if ok else _IN_MEMORY
 
 
 def _estimate_streamed(args: argparse.Namespace, column: Any, method: str, params: dict) -> Any:
@@ -273,12 +291,17 @@ def _cmd_estimate(args: argparse.Namespace) -> int:
     method, params = estimate_params(args)
     column, columns = _channels(args, params)
     scale = units_of(args.unit, args.unit_out)[0]
-    if scale != 1.0 and (columns is not None or _streamed(args, method)):
+    if scale != 1.0 and (columns is not None or _streamed(args)):
         raise NoisevarError(
             "--unit-out converts one column read in memory: drop --columns/--stream"
         )
-    if _streamed(args, method):
+    if _streamed(args):
         _print(args, column, _estimate_streamed(args, column, method, params))
+        return 0
+    in_memory = columns is not None or scale != 1.0  # --unit-out converts in memory
+    if not in_memory and (col := _by_default(args, column, method, params)) is not _IN_MEMORY:
+        result = _estimate_streamed(args, col, method, params)  # bounded memory, same numbers
+        _print(args, column, result)
         return 0
     if columns is not None:
         return _estimate_many(args, columns, method, params)

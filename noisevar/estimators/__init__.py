@@ -17,7 +17,7 @@ from noisevar.diagnostics import Segmentation
 from noisevar.errors import NoisevarError
 from noisevar.estimators import _scale, auto, difference, mle, redundant, somd
 from noisevar.estimators._input import as_channels, as_signal, check_samples
-from noisevar.estimators._scale import scale_exponent
+from noisevar.estimators._scale import RATE_RANGE, check_rate, scale_back, scale_exponent
 from noisevar.estimators.auto import auto_estimate, residual_sequence
 from noisevar.estimators.difference import HKT_SEQUENCES, sequence_efficiency
 from noisevar.estimators.params import PARAMS
@@ -32,10 +32,12 @@ __all__ = [
     "HKT_SEQUENCES",
     "METHODS",
     "PARAMS",
+    "RATE_RANGE",
     "REGISTRY",
     "MethodSpec",
     "as_signal",
     "auto_estimate",
+    "check_rate",
     "describe_methods",
     "estimate",
     "estimate_chunked",
@@ -44,6 +46,7 @@ __all__ = [
     "redundant_estimate",
     "register",
     "residual_sequence",
+    "scale_back",
     "scale_exponent",
     "sequence_efficiency",
     "somd_estimate",

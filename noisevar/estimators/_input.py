@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from noisevar._arrays import check_exact_ints
 from noisevar.errors import NoisevarError
 
 
@@ -38,6 +39,7 @@ def _as_float_array(z: ArrayLike, what: str = "the signal") -> NDArray:
     except (TypeError, ValueError, OverflowError):
         raise NoisevarError(f"{what} is not numeric: give an array of numbers") from None
     _refuse_kind(arr.dtype.kind, what)
+    check_exact_ints(arr, what)
     try:
         return arr.astype(float, copy=False)
     except (TypeError, ValueError, OverflowError):

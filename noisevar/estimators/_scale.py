@@ -6,6 +6,11 @@ therefore multiplied by ``2**e`` (exact in binary floating point: no rounding) s
 its largest magnitude is about 1; the method runs on the copy and the variance and its
 interval are multiplied back by ``2**(-2e)``. Records of ordinary magnitude
 (:data:`SAFE_RANGE`) are not touched, so their results are bit-identical.
+
+The noise-model entry points (``allan``, ``inertial_noise``, ``fit_coloured_noise``,
+``fit_kalman``) scale the same way: :func:`scale_exponent` of the record, the fit on the
+copy, :func:`scale_back` of each result by its power of the signal's unit; their sample
+rate is checked by :func:`check_rate` (``allan`` scales the rate by a power of two too).
 """
 
 from __future__ import annotations
@@ -31,13 +36,16 @@ _VARIANCE_FIELDS = ("variance", "core_variance", "quiet_variance")
 _DETAIL_VARIANCES = ("window_variance",)
 
 
-def scale_exponent(z: NDArray) -> int:
+def scale_exponent(z: NDArray, safe: tuple[int, int] = SAFE_RANGE) -> int:
     """The exponent ``e`` to scale ``z`` by (``2**e``); 0 for records of ordinary size.
 
     Parameters
     ----------
     z : ndarray of float
         Samples (non-finite values are ignored).
+    safe : (int, int)
+        Largest magnitudes (powers of two) left as they are (default :data:`SAFE_RANGE`;
+        a fit whose numerics need magnitudes nearer 1 gives a narrower range).
 
     Returns
     -------
@@ -49,16 +57,18 @@ def scale_exponent(z: NDArray) -> int:
     if not (np.isfinite(lo) and np.isfinite(hi)):
         fin = np.abs(z[np.isfinite(z)])
         lo, hi = 0.0, float(fin.max()) if fin.size else 0.0
-    return exponent_of(max(abs(lo), abs(hi)) if np.isfinite(lo) and np.isfinite(hi) else 0.0)
+    return exponent_of(max(abs(lo), abs(hi)) if np.isfinite(lo) and np.isfinite(hi) else 0.0, safe)
 
 
-def exponent_of(top: float) -> int:
+def exponent_of(top: float, safe: tuple[int, int] = SAFE_RANGE) -> int:
     """:func:`scale_exponent` of a record whose largest magnitude is ``top``.
 
     Parameters
     ----------
     top : float
         The largest ``|z|`` (finite; 0 for no sample).
+    safe : (int, int)
+        As for :func:`scale_exponent`.
 
     Returns
     -------
@@ -68,9 +78,78 @@ def exponent_of(top: float) -> int:
         return 0
     # top = m 2**k with 0.5 <= m < 1
     _, k = math.frexp(top)
-    if SAFE_RANGE[0] <= k <= SAFE_RANGE[1]:
+    if safe[0] <= k <= safe[1]:
         return 0
     return -k
+
+
+#: Sample rates (Hz) the noise-model fits take: beyond, their per-second quantities (q in
+#: u²/s^k, taus, per-sample terms) leave the floating-point range.
+RATE_RANGE = (2.0**-64, 2.0**64)
+
+
+def check_rate(rate: float | None, name: str = "rate") -> None:
+    """Refuse a sample rate that is not a number within :data:`RATE_RANGE` (None passes).
+
+    Raises
+    ------
+    NoisevarError
+        Not a finite positive number, or outside :data:`RATE_RANGE` (one sentence).
+    """
+    if rate is None:
+        return
+    if isinstance(rate, bool) or not isinstance(rate, int | float | np.number):
+        raise NoisevarError(f"{name} must be a number of samples per second, got {rate!r}")
+    if not (math.isfinite(rate) and rate > 0):
+        raise NoisevarError(f"{name} must be a positive number of samples per second, got {rate}")
+    lo, hi = RATE_RANGE
+    if not lo <= rate <= hi:
+        raise NoisevarError(
+            f"{name} {float(rate):.3g} Hz is outside {lo:.3g} .. {hi:.3g} Hz, where the noise "
+            "model's per-second quantities stay in floating-point range: give the rate in "
+            "other units (e.g. samples per hour or per microsecond)"
+        )
+
+
+def scale_back(value: Any, shift: int, what: str = "result") -> Any:
+    """``value * 2**shift`` (exact), refusing a value that leaves the normal float range.
+
+    Parameters
+    ----------
+    value : float or ndarray
+        A result computed on a scaled copy (NaN passes through).
+    shift : int
+        The power of two to multiply by (``-power * e`` for a result in the signal's unit
+        to the ``power``, computed on the record scaled by ``2**e``).
+    what : str
+        The result's name, for the message.
+
+    Returns
+    -------
+    float or ndarray
+        Of the same kind as ``value``.
+
+    Raises
+    ------
+    NoisevarError
+        A finite non-zero value that would overflow, or fall below the smallest normal
+        number (where it would lose its precision), in the record's units.
+    """
+    if shift == 0 or value is None:
+        return value
+    arr = np.asarray(value, dtype=float)
+    fin = arr[np.isfinite(arr) & (arr != 0)]
+    if fin.size:
+        top = math.frexp(float(np.max(np.abs(fin))))[1] + shift
+        low = math.frexp(float(np.min(np.abs(fin))))[1] + shift
+        if top > 1024 or low < -1021:
+            side = "larger than the largest" if top > 1024 else "smaller than the smallest normal"
+            raise NoisevarError(
+                f"the {what} of this record is {side} floating-point number: rescale the "
+                "record (change its units) first"
+            )
+    out = np.ldexp(arr, shift)
+    return float(out) if np.ndim(value) == 0 else out
 
 
 def scale_params(params: dict[str, Any], e: int) -> dict[str, Any]:

@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
+from noisevar._arrays import EXACT_INT
 from noisevar.errors import NoisevarError
 from noisevar.io.table import _NA_TOKENS, LoadedTable, _is_time_name, _period_from_time, echo
 
@@ -20,8 +21,6 @@ if TYPE_CHECKING:
 
 #: Most columns a text table may have (a wider header is refused before parsing).
 MAX_COLUMNS = 1000
-#: Integers above this magnitude are not all exactly representable as float64.
-EXACT_INT = 2**53
 _THOUSANDS = re.compile(r"^[+-]?\d{1,3}(,\d{3})+(\.\d*)?$")
 _DECIMAL_COMMA = re.compile(r"^[+-]?\d*,\d+([eE][+-]?\d+)?$")
 _EURO_THOUSANDS = re.compile(r"^[+-]?\d{1,3}(\.\d{3})+(,\d*)?$")

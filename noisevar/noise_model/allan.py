@@ -16,7 +16,9 @@ import numpy as np
 from allantools import ci
 from numpy.typing import ArrayLike, NDArray
 
+from noisevar._arrays import check_exact_ints
 from noisevar.errors import NoisevarError
+from noisevar.estimators import scale_back, scale_exponent
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes, longest_still_stretch
 
 #: One-sigma confidence (Stable32's default error bars).
@@ -147,6 +149,23 @@ def _json(a: NDArray) -> list[float | None]:
     return [float(v) if np.isfinite(v) else None for v in np.asarray(a, dtype=float)]
 
 
+def rescale_allan(res: AllanResult, rate: float, e: int, k: int) -> AllanResult:
+    """An Allan result computed on ``z 2**e`` at ``rate 2**k``, in the record's units.
+
+    Taus are ``m / rate``: times ``2**k``. A deviation is ``Δx / tau``: phase data are
+    the record (``2**-(e + k)``); rate data are integrated with ``1 / rate``
+    (``2**-e``). Noise types, edf, slopes and counts do not change.
+    """
+    shift = -e - k if res.data == "phase" else -e
+    return replace(
+        res,
+        rate=float(rate),
+        taus=scale_back(res.taus, k, "averaging times"),
+        deviation=scale_back(res.deviation, shift, "Allan deviation"),
+        interval=tuple(scale_back(v, shift, "Allan deviation") for v in res.interval),
+    )
+
+
 def to_phase(z: ArrayLike, rate: float, data: str) -> NDArray:
     """The record as phase: rate data integrated once (mean removed), phase data as is.
 
@@ -168,6 +187,7 @@ def to_phase(z: ArrayLike, rate: float, data: str) -> NDArray:
         raise NoisevarError(f"data must be 'phase' or 'rate', not {data!r}.")
     if rate is None or not np.isfinite(rate) or rate <= 0:
         raise NoisevarError(f"The sample rate must be a positive number of Hz, not {rate}.")
+    check_exact_ints(z, "The record")
     y = np.asarray(z, dtype=float)
     if y.ndim != 1:
         raise NoisevarError(f"The record must be one-dimensional; it has shape {y.shape}.")
@@ -303,7 +323,14 @@ def allan(
     """
     if not 0 < ci < 1:
         raise NoisevarError(f"ci must be between 0 and 1, not {ci}.")
-    x = to_phase(z, rate, data)
+    with np.errstate(over="ignore", under="ignore"):  # checks z; scaled below if out of range
+        x = to_phase(z, rate, data)
+    e, k = (scale_exponent(np.asarray(v, dtype=float)) for v in (z, [rate]))
+    if e or k:  # scale-safe: the record by 2**e, the rate by 2**k (exact), results back
+        given = taus if isinstance(taus, str) else np.ldexp(np.asarray(taus, dtype=float), -k)
+        res = allan(np.ldexp(np.asarray(z, dtype=float), e), np.ldexp(rate, k), data, kind,
+                    given, ci, regimes)  # fmt: skip
+        return rescale_allan(res, rate, e, k)
     if check_regimes(regimes) == "still":
         need = KINDS[kind].span + 2 if kind in KINDS else 0
         z, note = still_record(z, data, need, f"the {kind}")

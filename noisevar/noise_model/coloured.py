@@ -18,7 +18,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from noisevar._arrays import check_exact_ints
 from noisevar.errors import NoisevarError
+from noisevar.estimators import check_rate, scale_back, scale_exponent
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes, longest_still_stretch
 
 #: The models, each as its white / AR(1) / random-walk parts.
@@ -238,8 +240,8 @@ def _check(z: ArrayLike, rate: float | None, models: Sequence[str], criterion: s
             raise NoisevarError(
                 f"unknown noise model {m!r}; choose among: {', '.join(COLOURED_MODELS)}"
             )
-    if rate is not None and (isinstance(rate, bool) or not np.isfinite(rate) or rate <= 0):
-        raise NoisevarError(f"rate must be a positive number of samples per second, got {rate!r}")
+    check_rate(rate)
+    check_exact_ints(z)
     try:
         arr = np.asarray(z, dtype=float)
     except (TypeError, ValueError):
@@ -255,32 +257,41 @@ def _check(z: ArrayLike, rate: float | None, models: Sequence[str], criterion: s
     return arr
 
 
-def _standardise(arr: NDArray) -> tuple[NDArray, float]:
+def _standardise(arr: NDArray) -> tuple[NDArray, float, int]:
     """The record without its mean and least-squares line, divided by its white scale.
 
     The scale is ``sqrt(mean(diff(y)²) / 2)`` (the std of white noise; for white + AR(1)
     or + random walk it keeps every per-sample variance of order 1), so the fits see the
-    same numbers whatever the units.
+    same numbers whatever the units. It is computed on the record scaled by ``2**e``
+    (:func:`~noisevar.estimators.scale_exponent`: exact), so that its squares neither
+    overflow nor underflow; the scale returned is the copy's, with ``e``.
     """
-    y = arr - arr.mean()
+    e = scale_exponent(arr)
+    y = np.ldexp(arr, e) if e else arr
+    y = y - y.mean()
     t = np.arange(y.size, dtype=float)
     y = y - np.polyval(np.polyfit(t, y, 1), t)
     scale = float(np.sqrt(np.mean(np.diff(y) ** 2) / 2.0))
     if not (np.isfinite(scale) and scale > 0):
         raise NoisevarError("the signal is a straight line: there is no noise to fit")
-    return y / scale, scale
+    return y / scale, scale, e
 
 
-def _rescale(fit: ModelFit, scale: float, n: int) -> ModelFit:
-    """A fit of ``y / scale`` in the units of ``y``: variances x scale², l - n ln(scale)."""
+def _rescale(fit: ModelFit, scale: float, n: int, e: int = 0) -> ModelFit:
+    """A fit of ``y / scale`` in the units of ``y 2**-e``: variances x scale² 2**-2e,
+    l - n ln(scale 2**-e)."""
     s2 = scale**2
-    ll = fit.loglik - n * np.log(scale)
+
+    def var(v: float | None) -> float | None:
+        return None if v is None else scale_back(v * s2, -2 * e, "noise variance")
+
+    ll = fit.loglik - n * (np.log(scale) - e * np.log(2.0))
     return ModelFit(
         name=fit.name,
-        r=fit.r * s2,
+        r=var(fit.r),
         phi=fit.phi,
-        q_ar=None if fit.q_ar is None else fit.q_ar * s2,
-        q_rw=None if fit.q_rw is None else fit.q_rw * s2,
+        q_ar=var(fit.q_ar),
+        q_rw=var(fit.q_rw),
         loglik=ll,
         aic=2 * fit.k - 2 * ll,
         bic=fit.k * np.log(n) - 2 * ll,
@@ -380,10 +391,10 @@ def fit_coloured_noise(
         stretch = longest_still_stretch(arr, MIN_SAMPLES, "the noise models")
         arr = _check(stretch.take(arr), rate, models, criterion)
         regime_notes.append(stretch.note)
-    y, scale = _standardise(arr)
+    y, scale, e = _standardise(arr)
     fits = []
     for i, name in enumerate(models):
-        fits.append(_rescale(_fit_one(y, name), scale, arr.size))
+        fits.append(_rescale(_fit_one(y, name), scale, arr.size, e))
         if progress is not None:
             progress((i + 1) / len(models))
     best = min(fits, key=lambda f: getattr(f, criterion))

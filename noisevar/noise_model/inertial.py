@@ -17,9 +17,18 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import nnls
 
 from noisevar import units
+from noisevar._arrays import check_exact_ints
 from noisevar.errors import NoisevarError
+from noisevar.estimators import check_rate, scale_back, scale_exponent
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes
-from noisevar.noise_model.allan import KINDS, ONE_SIGMA, AllanResult, allan, still_record
+from noisevar.noise_model.allan import (
+    KINDS,
+    ONE_SIGMA,
+    AllanResult,
+    allan,
+    rescale_allan,
+    still_record,
+)
 
 #: Bootstrap replicates behind each term's interval.
 BOOTSTRAP = 200
@@ -316,6 +325,10 @@ def _one_axis(
     seed: int,
     regimes: str = DEFAULT_REGIMES,
 ) -> InertialNoise:
+    e = scale_exponent(y)
+    if e:  # scale-safe: every term is linear in the record's unit (estimators' _scale)
+        fit = _one_axis(np.ldexp(y, e), rate, unit, taus, ci, seed, regimes)
+        return _rescaled(fit, e)
     notes = []
     if regimes == "still":
         # two taus of the overlapping ADEV: 2 span + 2 phase samples
@@ -346,6 +359,25 @@ def _one_axis(
         )
     return InertialNoise(
         tuple(terms), res, float(rate), unit, float(ci), white, tuple(notes), regimes
+    )
+
+
+def _rescaled(fit: InertialNoise, e: int) -> InertialNoise:
+    """A fit of ``y 2**e`` in the units of ``y``: every term, level and deviation x ``2**-e``."""
+    terms = tuple(
+        replace(
+            t,
+            value=scale_back(t.value, -e, t.name),
+            interval=tuple(scale_back(v, -e, t.name) for v in t.interval),
+            discrete=scale_back(t.discrete, -e, t.name),
+        )
+        for t in fit.terms
+    )
+    return replace(
+        fit,
+        terms=terms,
+        allan=rescale_allan(fit.allan, fit.rate, e, 0),
+        white_level=scale_back(fit.white_level, -e, "white level"),
     )
 
 
@@ -399,6 +431,8 @@ def inertial_noise(
     percentile interval joined with the replicates' spread placed on the estimate.
     """
     check_regimes(regimes)
+    check_rate(rate)
+    check_exact_ints(z)
     arr = np.asarray(z, dtype=float)
     if arr.ndim == 1:
         return _one_axis(arr, rate, unit, taus, ci, seed, regimes)

@@ -22,9 +22,12 @@ import scipy.optimize
 import scipy.signal
 from numpy.typing import ArrayLike, NDArray
 
+from noisevar._arrays import check_exact_ints
 from noisevar.errors import NoisevarError
+from noisevar.estimators import check_rate, scale_exponent
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes, longest_still_stretch
 from noisevar.kalman.divergence import nis_band
+from noisevar.noise_model._rescale import rescale_tuning
 from noisevar.noise_model._steady import FilterPass, diffuse_start, filter_pass, steady_state
 
 #: Kinematic models: name -> (number of states, power k of T in h = q T^k / r, q's name).
@@ -36,6 +39,10 @@ MODELS: dict[str, tuple[int, int, str]] = {
 METHODS = ("mle", "als", "auto")
 #: The method ``"auto"`` uses (chosen on benchmarks/kalman_tuning.py).
 DEFAULT_METHOD = "mle"
+#: Largest magnitudes (powers of two) a fit runs on as they are; beyond, on a copy scaled by
+#: a power of two (exact): the Riccati and likelihood numerics lose their way far from 1
+#: (a record x 1e30 had no Riccati solution), not only where squares overflow.
+SCALE_RANGE = (-20, 20)
 #: Search range of log10 h for the likelihood (per sample).
 LOG10_H_RANGE = (-14.0, 4.0)
 #: p-value of the Ljung-Box test below which the innovations are called coloured.
@@ -334,11 +341,8 @@ def min_samples(model: str) -> int:
 def _check_input(z: ArrayLike, model: str, rate: float | None) -> tuple[NDArray, float]:
     if model not in MODELS:
         raise NoisevarError(f"unknown model {model!r}; choose one of: {', '.join(MODELS)}")
-    if rate is not None:
-        if isinstance(rate, bool) or not isinstance(rate, int | float | np.number):
-            raise NoisevarError(f"rate must be a number of samples per second, got {rate!r}")
-        if not np.isfinite(rate) or rate <= 0:
-            raise NoisevarError(f"rate must be a positive number of samples per second, got {rate}")
+    check_rate(rate)
+    check_exact_ints(z)
     try:
         arr = np.asarray(z, dtype=float)
     except (TypeError, ValueError):
@@ -498,6 +502,10 @@ def fit_kalman(
         raise NoisevarError(f"unknown method {method!r}; choose one of: {', '.join(METHODS)}")
     if not isinstance(lags, int) or lags < 3:
         raise NoisevarError(f"lags must be an integer of at least 3, got {lags!r}")
+    e = scale_exponent(arr, SCALE_RANGE)
+    if e:  # scale-safe: the fit on z 2**e (exact), q and r back (estimators' _scale)
+        fit = fit_kalman(np.ldexp(arr, e), model, rate, method, lags, progress, regimes)
+        return rescale_tuning(fit, e)
     notes: list[str] = []
     if check_regimes(regimes) == "still":
         stretch = longest_still_stretch(arr, min_samples(model), f"the {model!r} model")
@@ -550,6 +558,12 @@ def evaluate_kalman(
             raise NoisevarError(f"{name} must be a positive number, got {v!r}")
         if not np.isfinite(v):
             raise NoisevarError(f"{name} must be finite, got {v!r}")
+    e = scale_exponent(arr, SCALE_RANGE)
+    if e:
+        qs, rs = (float(np.ldexp(float(v), 2 * e)) for v in (q, r))
+        if not all(np.isfinite(v) and v > 0 for v in (qs, rs)):
+            raise NoisevarError("q and r are out of floating-point range for this record's scale")
+        return rescale_tuning(_tuning(np.ldexp(arr, e), model, dt, rate, qs, rs, "given", []), e)
     return _tuning(arr, model, dt, rate, float(q), float(r), "given", [])
 
 

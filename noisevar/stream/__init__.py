@@ -15,9 +15,23 @@ from pathlib import Path
 from noisevar.errors import NoisevarError
 from noisevar.estimators import DEFAULT_METHOD, estimate_chunked
 from noisevar.estimators.results import VarianceEstimate
-from noisevar.stream.sources import FileSource, npy_source, raw_source, spool_csv
+from noisevar.stream.sources import FileSource, npy_source, raw_source, regular_file, spool_csv
 
-__all__ = ["FileSource", "estimate_chunked", "estimate_file", "source_of"]
+__all__ = [
+    "STREAM_BYTES",
+    "FileSource",
+    "estimate_chunked",
+    "estimate_file",
+    "same_column",
+    "source_of",
+]
+
+#: Files larger than this (bytes) are streamed by ``noisevar estimate`` without a flag,
+#: when :func:`same_column` says the streamed path reads what the in-memory path reads
+#: (and the method has a chunked path): memory stays bounded, the numbers are the same.
+STREAM_BYTES = 32 << 20
+#: Bytes of a file read to tell its columns (and whether it has a time column).
+_HEAD_BYTES = 1 << 16
 
 
 def source_of(
@@ -32,6 +46,75 @@ def source_of(
         f"cannot stream {Path(path).name!r}: give a .npy file, a raw binary file with a dtype, "
         "or a CSV file"
     )
+
+
+def same_column(path: str | os.PathLike, column: str | int | None) -> tuple[bool, str | int | None]:
+    """The ``column`` of :func:`estimate_file` that streams what the in-memory loader picks.
+
+    The in-memory path (:func:`noisevar.io.pick_column`) takes a column name, an index
+    among the data columns, or None for the first; the file's head is read as a table to
+    map that onto the streamed reader's column (an index for ``.npy``, a name for text).
+
+    Parameters
+    ----------
+    path : path-like
+        A ``.npy`` or text (CSV/TSV) file.
+    column : str, int or None
+        The column as the in-memory path takes it.
+
+    Returns
+    -------
+    bool, str or int or None
+        Whether the file streams the same samples (False for a text table with a time
+        column: the in-memory path splits its record at gaps; for a structured or non-numeric
+        ``.npy`` array; for other formats), and the column to give :func:`estimate_file`.
+
+    Raises
+    ------
+    NoisevarError
+        No such column (the in-memory path's message).
+    """
+    import io
+
+    import numpy as np
+
+    from noisevar.io import load_table
+    from noisevar.io.load import column_name
+
+    name = Path(path).name
+    low = name.lower()
+    if low.endswith(".npy"):
+        try:
+            shape = npy_source(path, 0).n, _npy_columns(path)
+        except NoisevarError:
+            return False, None  # structured, non-numeric, 3-D...: read in memory
+        head = io.BytesIO()  # a two-row array of the same columns: the same column names
+        np.save(head, np.zeros((2, shape[1]) if shape[1] else 2))
+        table = load_table(head.getvalue(), name)
+        index = table.data_columns.index(column_name(table, column))
+        return True, (index if shape[1] else None)
+    if not low.endswith((".csv", ".tsv", ".txt")):
+        return False, None
+    with open(path, "rb") as fh:
+        raw = fh.read(_HEAD_BYTES)
+    raw = raw[: raw.rfind(b"\n") + 1] or raw
+    table = load_table(raw, name)
+    if table.time() is not None:
+        return False, None
+    return True, column_name(table, column)
+
+
+def _npy_columns(path: str | os.PathLike) -> int:
+    """Columns of a 2-D ``.npy`` array (0 for 1-D), from its header (read by ``npy_source``)."""
+    import numpy as np
+
+    with open(path, "rb") as f:
+        version = np.lib.format.read_magic(f)
+        read = {(1, 0): np.lib.format.read_array_header_1_0}.get(
+            version, np.lib.format.read_array_header_2_0
+        )
+        shape = read(f)[0]
+    return int(shape[1]) if len(shape) == 2 else 0
 
 
 def _raw_column(path: str | os.PathLike, dtype: str, column: str | int) -> FileSource:
@@ -70,7 +153,14 @@ def estimate_file(
     Returns
     -------
     VarianceEstimate
+
+    Raises
+    ------
+    NoisevarError
+        Not a regular file (a FIFO, a device, a folder), an unreadable or malformed file,
+        non-finite samples, integers beyond 2**53, or a method without a chunked path.
     """
+    regular_file(path)
     spool = None
     if dtype is None and str(path).lower().endswith((".csv", ".txt", ".tsv")):
         src, _ = spool_csv(path, column)

@@ -8,6 +8,7 @@ whatever the file's size.
 from __future__ import annotations
 
 import os
+import stat
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
@@ -15,8 +16,25 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
+from noisevar._arrays import EXACT_INT
 from noisevar.errors import NoisevarError
 from noisevar.io.table import echo
+
+
+def regular_file(path: str | os.PathLike) -> Path:
+    """``path`` if it is a regular file (a FIFO or a device would be read forever), else
+    a :class:`NoisevarError`."""
+    p = Path(path)
+    try:
+        mode = os.stat(p).st_mode
+    except OSError as exc:
+        raise NoisevarError(f"cannot read {echo(str(path))}: {exc.strerror or exc}") from None
+    if not stat.S_ISREG(mode):
+        raise NoisevarError(
+            f"{echo(str(path))} is not a regular file (a pipe, a device or a folder): "
+            "save the record to a file first"
+        )
+    return p
 
 
 @dataclass(frozen=True)
@@ -60,6 +78,7 @@ class FileSource:
                 raise NoisevarError(f"{echo(self.name)}: unsupported row layout")
         if raw.size != b - a:
             raise NoisevarError(f"{echo(self.name)} is shorter than its header says: re-save it")
+        _exact(raw, self.name, a)
         out = raw.astype(float, copy=False)
         if out.size and not (np.isfinite(out.min()) and np.isfinite(out.max())):  # NaN, Inf
             bad = ~np.isfinite(out)
@@ -77,7 +96,22 @@ class FileSource:
             for i in range(*s.indices(self.n)):
                 f.seek(self.offset + i * self.stride)
                 out.append(np.fromfile(f, dtype=self.dtype, count=1))
-        return np.concatenate(out).astype(float) if out else np.zeros(0)
+        raw = np.concatenate(out) if out else np.zeros(0)
+        _exact(raw, self.name, 0)
+        return raw.astype(float)
+
+
+def _exact(raw: NDArray, name: str, start: int) -> None:
+    """Refuse integers that float64 cannot hold exactly (beyond 2**53), as in memory."""
+    if raw.dtype.kind not in "iu" or raw.dtype.itemsize < 8 or not raw.size:
+        return
+    big = (raw > EXACT_INT) | (raw < -EXACT_INT) if raw.dtype.kind == "i" else raw > EXACT_INT
+    if big.any():
+        k = int(np.argmax(big))
+        raise NoisevarError(
+            f"{echo(name)} holds integers beyond 2**53 (sample {start + k}: {int(raw[k])}): "
+            "float64 cannot hold them exactly; subtract an offset or rescale them first"
+        )
 
 
 def _numeric(dtype: np.dtype, name: str) -> np.dtype:
@@ -161,8 +195,12 @@ def spool_csv(
     fd, spool = tempfile.mkstemp(suffix=".f64", dir=directory)
     try:
         with os.fdopen(fd, "wb") as out:
+            row = 0
             for frame in frames:
-                frame.iloc[:, names.index(picked)].to_numpy(dtype=float).tofile(out)
+                col = frame.iloc[:, names.index(picked)].to_numpy()
+                _exact(col, name, row)  # an integer column beyond 2**53: refused, as in memory
+                col.astype(float).tofile(out)
+                row += col.size
     except BaseException:
         os.unlink(spool)
         raise

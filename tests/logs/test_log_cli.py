@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import imu_values, write_bag, write_dataflash
+from logfiles import imu_values, write_bag, write_dataflash
 
 import noisevar
 from noisevar.cli import main

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import RATE, T0_NS, imu_values, write_bag, write_dataflash
+from logfiles import RATE, T0_NS, imu_values, write_bag, write_dataflash
 
 from noisevar.errors import NoisevarError
 from noisevar.io import load_table
