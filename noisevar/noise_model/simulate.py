@@ -80,3 +80,48 @@ def simulate_inertial(
     # rate ramp: slope R per second
     y += rate_ramp * np.arange(n) / rate
     return y
+
+
+def simulate_thermal(
+    temperature: NDArray,
+    rate: float,
+    *,
+    polynomial: tuple[float, ...],
+    warmup: tuple[float, float] = (0.0, 1.0),
+    reference: float = 25.0,
+    seed: int = 0,
+    **terms: float,
+) -> NDArray:
+    """Rate samples with bias ``poly(T - reference) + A exp(-t/tau)`` plus IEEE-952 noise.
+
+    Parameters
+    ----------
+    temperature : ndarray, shape (n,)
+        Temperature (°C) at each sample.
+    rate : float
+        Sample rate (Hz).
+    polynomial : tuple of float
+        Bias coefficients in powers of ``T - reference``, lowest first.
+    warmup : (float, float)
+        Amplitude ``A`` and time constant ``tau`` (s) of the power-on transient.
+    reference : float
+        Reference temperature (°C).
+    seed : int
+    **terms : float
+        Noise terms of :func:`simulate_inertial` (``random_walk=...``).
+
+    Returns
+    -------
+    ndarray
+
+    Notes
+    -----
+    docs/algorithms.md §F6: the model :func:`noisevar.noise_model.temperature_model` fits.
+    """
+    temp = np.asarray(temperature, dtype=float)
+    t = np.arange(temp.size) / rate
+    amplitude, tau = warmup
+    bias = np.polynomial.polynomial.polyval(temp - reference, polynomial)
+    return (
+        bias + amplitude * np.exp(-t / tau) + simulate_inertial(temp.size, rate, seed=seed, **terms)
+    )
