@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 
 from noisevar.cli._common import add_regimes_flag, print_json, regimes_of
+from noisevar.cli._temperature import print_models, split_temperature, temperature_models
 from noisevar.cli.allan import load_columns
 from noisevar.errors import NoisevarError
 
@@ -50,13 +51,19 @@ def _cmd_imu(args: argparse.Namespace) -> int:
     from noisevar.noise_model import inertial_noise
 
     data, rate = load_columns(args.file, _columns(args), args.rate)
+    temp = split_temperature(args, data, rate)
     stacked = np.stack(list(data.values()))
     fits = dict(zip(data, inertial_noise(stacked, rate, **regimes_of(args)), strict=True))
     written = _kalibr(args, fits) if args.kalibr else None
+    thermal = temperature_models(data, temp, rate) if temp is not None else {}
     if args.format == "json":
-        print_json({"columns": {c: f.to_dict() for c, f in fits.items()}, "kalibr": written})
+        out = {"columns": {c: f.to_dict() for c, f in fits.items()}, "kalibr": written}
+        if thermal:
+            out["temperature"] = {c: m.to_dict() for c, m in thermal.items()}
+        print_json(out)
     else:
         _print_table(fits)
+        print_models(thermal, args.temperature)
         if written:
             print(f"Kalibr imu.yaml written to {written} (inflation {args.inflation:g})")
     return 0
@@ -73,5 +80,6 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--kalibr", metavar="OUT.yaml", help="write Kalibr's imu.yaml here")
     p.add_argument("--inflation", type=float, default=1.0, help="factor on the Kalibr values")
     add_regimes_flag(p)
+    p.add_argument("--temperature", metavar="COLUMN", help="fit bias(T), warm-up (§F6)")
     p.add_argument("--format", choices=["table", "json"], default="table")
     p.set_defaults(func=_cmd_imu)
