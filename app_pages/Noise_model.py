@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import streamlit as st
 
-from dashboard.sections import noise_model
+from dashboard.sections import noise_model, noise_model_temperature
 from dashboard.sections.noise_model_fit import render_fit
 from dashboard.sections.signal_loader import require_signal
 from dashboard.widgets import how_it_works
@@ -35,7 +35,7 @@ sig = require_signal(
 )
 regimes = noise_model.regime_panel(sig)
 settings = noise_model.settings_form(sig, regimes)
-noise_model.results(sig, settings)
+fit = noise_model.results(sig, settings)
 
 with st.expander("Kalibr imu.yaml", icon=":material/download:"):
     noise_model.kalibr_export(sig, settings)
@@ -43,5 +43,11 @@ with st.expander("Kalibr imu.yaml", icon=":material/download:"):
 if settings.rate > 0:  # a bad rate is said once, above
     st.subheader("Coloured noise and the Kalman filter's Q and R")
     render_fit(sig.z, settings.rate, regimes)
+
+# temperature, datasheet and composite models (issue 30): dashboard/sections/noise_model_temperature
+with st.expander("Temperature: bias(T), warm-up, bias process noise", icon=":material/thermostat:"):
+    noise_model_temperature.temperature_panel(sig, settings)
+with st.expander("Compare with the datasheet", icon=":material/compare_arrows:"):
+    noise_model_temperature.datasheet_panel(fit, settings)
 
 how_it_works(*HOW_IT_WORKS)

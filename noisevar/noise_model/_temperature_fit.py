@@ -320,16 +320,18 @@ def check_array(name: str, a: ArrayLike, need: str) -> NDArray:
 def options(  # noqa: PLR0913
     order, warmup, reference, ci, bootstrap, seed, unit, bins, t_range, t_rate, max_order
 ) -> Options:
-    """The checked options (``max_order``: the highest order "auto" tries)."""
-    if order == "auto":
+    """The checked options (``max_order``: the highest order BIC chooses from)."""
+    if order is None:
         orders = tuple(range(1, max_order + 1))
     elif isinstance(order, (int, np.integer)) and 0 <= int(order) <= max_order:
         orders = (int(order),)
     else:
-        raise NoisevarError(f"order must be 'auto' or an integer 0-{max_order}; got {order!r}.")
-    choices = {"auto": (False, True), True: (True,), False: (False,)}
-    if not isinstance(warmup, (bool, str)) or warmup not in choices:
-        raise NoisevarError(f"warmup must be 'auto', True or False; got {warmup!r}.")
+        raise NoisevarError(
+            f"order must be None (by BIC) or an integer 0-{max_order}; got {order!r}."
+        )
+    choices = {None: (False, True), True: (True,), False: (False,)}
+    if not (warmup is None or isinstance(warmup, bool)):
+        raise NoisevarError(f"warmup must be None (by BIC), True or False; got {warmup!r}.")
     if not (0.0 < ci < 1.0) or not math.isfinite(reference) or bootstrap < 10 or bins < 1:
         raise NoisevarError(
             "ci must be in (0, 1), reference_temperature finite, bootstrap >= 10 and bins >= 1."

@@ -37,51 +37,6 @@ def flicker(n: int, rate: float, level: float, rng: np.random.Generator) -> NDAr
     return np.fft.irfft(spec, n)
 
 
-def simulate_inertial(
-    n: int,
-    rate: float,
-    *,
-    quantization: float = 0.0,
-    random_walk: float = 0.0,
-    bias_instability: float = 0.0,
-    rate_random_walk: float = 0.0,
-    rate_ramp: float = 0.0,
-    seed: int = 0,
-) -> NDArray:
-    """Rate samples whose Allan variance is eq. E4.1 with the given terms.
-
-    Parameters
-    ----------
-    n : int
-        Samples.
-    rate : float
-        Sample rate (Hz).
-    quantization, random_walk, bias_instability, rate_random_walk, rate_ramp : float
-        Q, N, B, K, R in the units of eq. E4.1.
-    seed : int
-        Seed of the noise.
-
-    Returns
-    -------
-    ndarray
-    """
-    if n < 2 or not rate > 0:
-        raise NoisevarError(f"Need at least 2 samples and a positive rate; got n={n}, {rate}.")
-    rng = np.random.default_rng(seed)
-    # white angle error q_k of std Q, seen as rate: (q_k - q_{k-1}) fs
-    q = quantization * rng.standard_normal(n + 1)
-    y = np.diff(q) * rate
-    # white rate: std N sqrt(fs)
-    y += random_walk * math.sqrt(rate) * rng.standard_normal(n)
-    if bias_instability > 0:
-        y += flicker(n, rate, bias_instability, rng)
-    # rate random walk: increments of std K / sqrt(fs)
-    y += np.cumsum(rate_random_walk / math.sqrt(rate) * rng.standard_normal(n))
-    # rate ramp: slope R per second
-    y += rate_ramp * np.arange(n) / rate
-    return y
-
-
 def simulate_thermal(
     temperature: NDArray,
     rate: float,
@@ -125,3 +80,48 @@ def simulate_thermal(
     return (
         bias + amplitude * np.exp(-t / tau) + simulate_inertial(temp.size, rate, seed=seed, **terms)
     )
+
+
+def simulate_inertial(
+    n: int,
+    rate: float,
+    *,
+    quantization: float = 0.0,
+    random_walk: float = 0.0,
+    bias_instability: float = 0.0,
+    rate_random_walk: float = 0.0,
+    rate_ramp: float = 0.0,
+    seed: int = 0,
+) -> NDArray:
+    """Rate samples whose Allan variance is eq. E4.1 with the given terms.
+
+    Parameters
+    ----------
+    n : int
+        Samples.
+    rate : float
+        Sample rate (Hz).
+    quantization, random_walk, bias_instability, rate_random_walk, rate_ramp : float
+        Q, N, B, K, R in the units of eq. E4.1.
+    seed : int
+        Seed of the noise.
+
+    Returns
+    -------
+    ndarray
+    """
+    if n < 2 or not rate > 0:
+        raise NoisevarError(f"Need at least 2 samples and a positive rate; got n={n}, {rate}.")
+    rng = np.random.default_rng(seed)
+    # white angle error q_k of std Q, seen as rate: (q_k - q_{k-1}) fs
+    q = quantization * rng.standard_normal(n + 1)
+    y = np.diff(q) * rate
+    # white rate: std N sqrt(fs)
+    y += random_walk * math.sqrt(rate) * rng.standard_normal(n)
+    if bias_instability > 0:
+        y += flicker(n, rate, bias_instability, rng)
+    # rate random walk: increments of std K / sqrt(fs)
+    y += np.cumsum(rate_random_walk / math.sqrt(rate) * rng.standard_normal(n))
+    # rate ramp: slope R per second
+    y += rate_ramp * np.arange(n) / rate
+    return y

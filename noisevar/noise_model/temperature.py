@@ -28,7 +28,7 @@ MIN_SPAN = 0.5
 TARGET_BLOCKS = 4000
 #: Fewest block means a fit accepts.
 MIN_BLOCKS = 30
-#: Highest polynomial order offered by ``order="auto"``.
+#: Highest polynomial order BIC chooses from (``order=None``).
 MAX_ORDER = 3
 #: Points of the warm-up time constant's log grid (refined by a parabola in log tau).
 TAU_GRID = 80
@@ -417,15 +417,15 @@ def _one_axis(
     return model
 
 
-def temperature_model(  # long: the public entry; its options are checked in tf.options
+def temperature_model(
     z: ArrayLike,
     temperature: ArrayLike,
     rate: float,
     *,
     axis: int = -1,
     unit: str = "u",
-    order: int | str = "auto",
-    warmup: bool | str = "auto",
+    order: int | None = None,
+    warmup: bool | None = None,
     reference_temperature: float = REFERENCE_TEMPERATURE,
     input_rate: ArrayLike | None = None,
     block: float | None = None,
@@ -451,10 +451,10 @@ def temperature_model(  # long: the public entry; its options are checked in tf.
         The time axis of a 2-D ``z``.
     unit : str
         Unit of the rate data.
-    order : "auto" or int
-        Polynomial order of bias(T) in ``T - T_ref`` (0-3); "auto": 1-3 by BIC.
-    warmup : "auto", True or False
-        Fit the power-on exponential ("auto": when BIC prefers it).
+    order : int, optional
+        Polynomial order of bias(T) in ``T - T_ref`` (0-3); default: 1-3 by BIC.
+    warmup : bool, optional
+        Fit the power-on exponential (default: when BIC prefers it).
     reference_temperature : float
         ``T_ref`` (°C); 25 °C is MATLAB's.
     input_rate : array_like, optional
