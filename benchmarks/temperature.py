@@ -139,6 +139,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--runs", type=int, default=20)
     ap.add_argument("--out", type=Path, default=RESULTS / "temperature.md")
+    ap.add_argument("--configs", nargs="+", choices=list(CONFIGS), default=list(CONFIGS))
     args = ap.parse_args()
     head = [
         "### Temperature model (`python benchmarks/temperature.py`)",
@@ -152,7 +153,8 @@ def main() -> None:
         "|---|---|---|---|---|---|---|---|---|---|",
     ]
     lines = []
-    for name, (k, updown) in CONFIGS.items():
+    for name in args.configs:
+        k, updown = CONFIGS[name]
         line, _ = section(args.runs, name, k, updown)
         print(line, flush=True)
         lines.append(line)

@@ -13,9 +13,14 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy.linalg import cholesky_banded, solve_banded
 from scipy.stats import chi2
 
 from noisevar.errors import NoisevarError
+
+#: Ratios q/s2 (random-walk increment over white variance of the block means) searched by
+#: the profile likelihood; 0 is ordinary least squares on the levels.
+RW_RATIOS = np.concatenate([[0.0], np.geomspace(1e-6, 1e2, 9)])
 
 
 @dataclass(frozen=True, eq=False)
@@ -77,7 +82,7 @@ def rss_profile(x: NDArray, e: NDArray, y: NDArray) -> NDArray:
     With ``r_y``, ``r_e`` the residuals of ``y`` and ``e_g`` on ``x``:
     ``RSS = |r_y|² - (r_e · r_y)² / |r_e|²`` (one projection for the whole grid).
     """
-    q, _ = np.linalg.qr(x)
+    q = np.linalg.qr(x)[0] if x.shape[1] else np.zeros((x.shape[0], 0))
     ry = y - q @ (q.T @ y)
     re = e.T - q @ (q.T @ e.T)
     ee = np.einsum("ij,ij->j", re, re)
@@ -107,7 +112,7 @@ def refine(log_tau: NDArray, rss: NDArray) -> tuple[NDArray, NDArray]:
 
 def lstsq(x: NDArray, y: NDArray) -> tuple[NDArray, float]:
     """Least-squares coefficients and residual sum of squares of one column ``y``."""
-    coef = np.linalg.lstsq(x, y, rcond=None)[0]
+    coef = np.linalg.lstsq(x, y, rcond=None)[0] if x.shape[1] else np.zeros(0)
     r = y - x @ coef
     return coef, float(r @ r)
 
@@ -202,53 +207,177 @@ class Fit:
 
 
 @dataclass(frozen=True, eq=False)
+class Whitener:
+    """First differences, then the inverse Cholesky factor of their covariance.
+
+    Block means ``y = f + u + e`` with ``u`` a random walk (increments of variance ``q``)
+    and ``e`` white (variance ``s2``): ``diff(y) - diff(f)`` is MA(1) with covariance
+    ``tridiag(-s2, q + 2 s2, -s2)``. ``chol`` is its banded lower Cholesky factor (scaled by
+    ``q + s2``). With ``q = 0`` the fit equals ordinary least squares on the levels.
+    """
+
+    chol: NDArray
+    q: float
+    s2: float
+
+    @property
+    def logdet(self) -> float:
+        """``log det`` of the (scaled) covariance that ``chol`` factors."""
+        return 2.0 * float(np.sum(np.log(self.chol[0])))
+
+    def scaled(self, c: float) -> Whitener:
+        """The same factor with ``q``, ``s2`` set from the whitened residual variance ``c``."""
+        ratio = self.q / self.s2 if self.s2 > 0 else 0.0
+        s2 = c / (1.0 + ratio)
+        return Whitener(self.chol, ratio * s2, s2)
+
+    @classmethod
+    def make(cls, q: float, s2: float, m: int) -> Whitener:
+        scale = q + s2 if q + s2 > 0 else 1.0
+        ab = np.zeros((2, m))
+        ab[0] = (q + 2.0 * s2) / scale if q + s2 > 0 else 2.0
+        ab[1, :-1] = -s2 / scale if q + s2 > 0 else -1.0
+        return cls(cholesky_banded(ab, lower=True), q, s2)
+
+    def __call__(self, v: NDArray) -> NDArray:
+        """Whitened differences of ``v`` (along axis 0)."""
+        return solve_banded((1, 0), self.chol, np.diff(v, axis=0))
+
+    def levels(self, first: float, w: NDArray) -> NDArray:
+        """Levels starting at ``first`` whose whitened differences are ``w`` (m, cols)."""
+        d = self.chol[0][:, None] * w
+        d[1:] += self.chol[1][:-1, None] * w[:-1]
+        return first + np.vstack([np.zeros((1, w.shape[1])), np.cumsum(d, axis=0)])
+
+
+@dataclass(frozen=True, eq=False)
 class Axis:
-    """One axis's block means and what its fits share."""
+    """One axis's block means, its whitener and the whitened regressors.
+
+    Fits run on whitened differences (no constant column there); the intercept is then
+    the mean of the levels less the rest of the model.
+    """
 
     y: NDArray  # block means of the data
-    linear: NDArray  # powers of T - T_ref, then the input-rate columns
+    linear: NDArray  # powers of T - T_ref (the constant first), then the input-rate columns
     inputs: int  # input-rate columns at the end of ``linear``
     blocks: Blocks
     grid: NDArray
     exps: NDArray  # block means of exp(-t/tau) on the grid (grid, nb)
+    white: Whitener
+    wy: NDArray
+    wlin: NDArray  # whitened non-constant columns of ``linear``
+    wexps: NDArray  # (grid, m)
 
-    def x(self, order: int) -> NDArray:
-        cols = list(range(order + 1)) + list(
-            range(self.linear.shape[1] - self.inputs, self.linear.shape[1])
+    @classmethod
+    def make(cls, y, linear, inputs, blocks, grid, exps, white: Whitener | None = None) -> Axis:
+        white = white or Whitener.make(0.0, 1.0, y.size - 1)
+        return cls(
+            y,
+            linear,
+            inputs,
+            blocks,
+            grid,
+            exps,
+            white,
+            white(y),
+            white(linear[:, 1:]),
+            white(exps.T).T,
         )
-        return self.linear[:, cols]
+
+    def with_white(self, white: Whitener) -> Axis:
+        """The same axis whitened by ``white``."""
+        return Axis.make(self.y, self.linear, self.inputs, self.blocks, self.grid, self.exps, white)
+
+    def estimate_white(self, order: int, warm: bool) -> Axis:
+        """The ratio ``q/s2`` maximising the Gaussian profile likelihood of the model.
+
+        ``-2 log L = m log(RSS/m) + log det`` over :data:`RW_RATIOS` (0 included), the
+        minimum refined by a parabola in log ratio.
+        """
+        m = self.y.size - 1
+
+        def crit(ratio: float) -> tuple[float, Axis, float]:
+            ax = self.with_white(Whitener.make(ratio, 1.0, m))
+            rss = ax.fit(order, warm).rss
+            return m * math.log(max(rss, np.finfo(float).tiny) / m) + ax.white.logdet, ax, rss
+
+        runs = [crit(r) for r in RW_RATIOS]
+        values = np.array([c[0] for c in runs])
+        i = int(np.argmin(values))
+        best = runs[i]
+        if 1 < i < values.size - 1:
+            logs = np.log(RW_RATIOS[i - 1 : i + 2])
+            log_r, _ = refine(logs, values[i - 1 : i + 2, None])
+            trial = crit(float(np.exp(log_r[0])))
+            best = trial if trial[0] < best[0] else best
+        _, ax, rss = best
+        return Axis(**{**ax.__dict__, "white": ax.white.scaled(rss / m)})
+
+    def cols(self, order: int) -> list[int]:
+        k = self.linear.shape[1]
+        return list(range(order + 1)) + list(range(k - self.inputs, k))
+
+    def _intercept(self, cols: list[int], beta: NDArray, ys: NDArray, e: NDArray | None):
+        """``a = mean(y - X beta - A e)`` for each column of ``ys`` (levels)."""
+        rest = self.linear[:, cols[1:]] @ beta[: len(cols) - 1]
+        if e is not None:
+            rest = rest + e * beta[len(cols) - 1]
+        return np.mean(ys - rest, axis=0)
 
     def fit(self, order: int, warm: bool) -> Fit:
-        x = self.x(order)
+        cols = self.cols(order)
+        wx = self.wlin[:, [c - 1 for c in cols[1:]]]
+        x = self.linear[:, cols]
         if not warm:
-            coef, rss = lstsq(x, self.y)
-            return Fit(order, False, x, coef, math.nan, rss, False)
-        prof = rss_profile(x, self.exps, self.y[:, None])
-        log_tau, edge = refine(np.log(self.grid), prof)
+            beta, rss = lstsq(wx, self.wy)
+            a = self._intercept(cols, beta[:, None], self.y[:, None], None)[0]
+            return Fit(order, False, x, np.r_[a, beta], math.nan, rss, False)
+        log_tau, edge = refine(np.log(self.grid), rss_profile(wx, self.wexps, self.wy[:, None]))
         tau = float(np.exp(log_tau[0]))
-        coef, rss = lstsq(np.column_stack([x, self.blocks.exponential(tau)[0]]), self.y)
-        return Fit(order, True, x, coef, tau, rss, bool(edge[0]))
+        e = self.blocks.exponential(tau)[0]
+        beta, rss = lstsq(np.column_stack([wx, self.white(e)]), self.wy)
+        a = self._intercept(cols, beta[:, None], self.y[:, None], e[:, None])[0]
+        return Fit(order, True, x, np.r_[a, beta], tau, rss, bool(edge[0]))
 
-    def replicates(self, fit: Fit, ys: NDArray) -> tuple[NDArray, NDArray]:
-        """Each bootstrap series' coefficients (replicates, k) and log tau (NaN without)."""
+    def replicates(self, fit: Fit, wys: NDArray, rng) -> tuple[NDArray, NDArray]:
+        """Each whitened bootstrap series' coefficients (replicates, k) and log tau.
+
+        The intercept of a replicate is the data's levels less the replicate's model, plus
+        a draw of the mean of the level noise: variance ``s2/n + q (n+1)(2n+1)/(6n)`` (white,
+        and a random walk from 0 at the first block).
+        """
+        cols = self.cols(fit.order)
+        wx = self.wlin[:, [c - 1 for c in cols[1:]]]
+        n = self.y.size
+        sd = math.sqrt((self.white.s2 + self.white.q * (n + 1) * (2 * n + 1) / 6.0) / n)
+        noise = sd * rng.standard_normal(wys.shape[1])
         if not fit.warmup:
-            return np.linalg.lstsq(fit.x, ys, rcond=None)[0].T, np.full(ys.shape[1], np.nan)
-        log_tau, _ = refine(np.log(self.grid), rss_profile(fit.x, self.exps, ys))
-        coefs = [
-            lstsq(np.column_stack([fit.x, self.blocks.exponential(math.exp(lt))[0]]), col)[0]
-            for lt, col in zip(log_tau, ys.T, strict=True)
-        ]
-        return np.array(coefs), log_tau
+            if wx.shape[1]:
+                beta = np.linalg.lstsq(wx, wys, rcond=None)[0]
+            else:
+                beta = np.zeros((0, wys.shape[1]))
+            a = self._intercept(cols, beta, self.y[:, None], None) + noise
+            return np.vstack([a, beta]).T, np.full(wys.shape[1], np.nan)
+        log_tau, _ = refine(np.log(self.grid), rss_profile(wx, self.wexps, wys))
+        out = []
+        for i, lt in enumerate(log_tau):
+            e = self.blocks.exponential(math.exp(lt))[0]
+            beta = lstsq(np.column_stack([wx, self.white(e)]), wys[:, i])[0]
+            a = self._intercept(cols, beta[:, None], self.y[:, None], e[:, None])[0]
+            out.append(np.r_[a + noise[i], beta])
+        return np.array(out), log_tau
 
 
 def choose(
     axis: Axis, orders: tuple[int, ...], warmups: tuple[bool, ...]
-) -> tuple[list[Fit], list[float], int, list[str]]:
-    """Every candidate fitted, their BIC (n_eff from the largest model's residual), the best."""
+) -> tuple[Axis, list[Fit], list[float], int, list[str]]:
+    """The whitener (from the largest model), every candidate fitted, their BIC, the best."""
+    axis = axis.estimate_white(max(orders), max(warmups))
     fits = [axis.fit(p, w) for p in orders for w in warmups]
-    largest = max(fits, key=lambda f: f.parameters)
-    n = axis.y.size
-    n_eff = effective_n(axis.y - largest.fitted(axis.blocks))
+    big = max(fits, key=lambda f: f.parameters)
+    n = axis.wy.size
+    n_eff = effective_n(axis.wy - axis.white(big.fitted(axis.blocks)))
     scores = [bic(f.rss, n, n_eff, f.parameters) for f in fits]
     notes = []
     usable = [i for i, f in enumerate(fits) if not f.edge] or list(range(len(fits)))
@@ -257,17 +386,17 @@ def choose(
             "a warm-up time constant at the edge of the searched range "
             f"({axis.grid[0]:.3g}-{axis.grid[-1]:.3g} s) is not a warm-up: not offered"
         )
-    return fits, scores, min(usable, key=scores.__getitem__), notes
+    return axis, fits, scores, min(usable, key=scores.__getitem__), notes
 
 
 def intervals(
     axis: Axis, fit: Fit, replicates: int, ci: float, seed: int
 ) -> tuple[NDArray, NDArray, NDArray, NDArray]:
-    """Moving-block bootstrap: the coefficient and log-tau replicates, and their intervals."""
+    """Moving-block bootstrap of the whitened residuals: replicates and intervals."""
     rng = np.random.default_rng(seed)
-    fitted = fit.fitted(axis.blocks)
-    ys = resample(fitted, axis.y - fitted, replicates, rng)
-    coefs, log_tau = axis.replicates(fit, ys)
+    wf = axis.white(fit.fitted(axis.blocks))
+    wys = resample(wf, axis.wy - wf, replicates, rng)
+    coefs, log_tau = axis.replicates(fit, wys, rng)
     lo, hi = basic_interval(fit.coef, coefs, ci)
     if fit.warmup:
         tlo, thi = basic_interval(np.array([math.log(fit.tau)]), log_tau[:, None], ci)

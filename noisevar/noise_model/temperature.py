@@ -221,6 +221,11 @@ class TemperatureModel:
         Confidence level of the intervals.
     n_samples : int
     notes : tuple of str
+    residual_white, residual_walk : float
+        The residual's white level N (unit/√Hz) and rate random walk K (unit/s/√Hz) that
+        the fit's weights assumed. Block means of length h: increments of variance
+        ``q = K² h``, and ``s2 = N²/h - K² h / 6`` (a random walk's block means add
+        ``K² h / 6`` to the lag-1 covariance of their differences).
     """
 
     coefficients: tuple[Coefficient, ...]
@@ -240,6 +245,8 @@ class TemperatureModel:
     ci: float
     n_samples: int
     notes: tuple[str, ...] = ()
+    residual_white: float = math.nan
+    residual_walk: float = math.nan
 
     def coefficient(self, name: str) -> Coefficient:
         """The coefficient called ``name`` (``"a"``, ``"b"``, ... ``"scale_factor_slope"``)."""
@@ -288,6 +295,8 @@ class TemperatureModel:
             "ci": self.ci,
             "n_samples": self.n_samples,
             "notes": list(self.notes),
+            "residual_white": self.residual_white,
+            "residual_walk": self.residual_walk,
         }
 
 
@@ -363,7 +372,7 @@ def _process_noise(model_slope, blocks: tf.Blocks, opts: tf.Options, unit: str) 
 def _one_axis(
     axis: tf.Axis, raw: NDArray, temperature: NDArray, opts: tf.Options, notes: list[str]
 ):
-    fits, scores, best, more = tf.choose(axis, opts.orders, opts.warmups)
+    axis, fits, scores, best, more = tf.choose(axis, opts.orders, opts.warmups)
     fit = fits[best]
     table = tuple(
         ModelChoice(f.order, f.warmup, f.parameters, f.rss, s, i == best)
@@ -385,6 +394,7 @@ def _one_axis(
             opts.unit,
         )
     blocks = axis.blocks
+    model_block = blocks.length / blocks.rate
     lvl, llo, lhi, count = tf.white_levels(
         raw[:, None], temperature, blocks.rate, tf.bin_edges(temperature, opts.bins), opts.ci
     )
@@ -413,6 +423,8 @@ def _one_axis(
         opts.ci,
         raw.size,
         tuple(notes + more),
+        math.sqrt((axis.white.s2 + axis.white.q / 6.0) * model_block),
+        math.sqrt(axis.white.q / model_block),
     )
     return model
 
@@ -530,7 +542,9 @@ def temperature_model(
             d = temp - opts.reference
             extra = [tf.block_means(w[i], length), tf.block_means(d * w[i], length)]
             linear = np.column_stack([linear, *extra])
-        ax = tf.Axis(tf.block_means(col, length), linear, 0 if w is None else 2, blocks, grid, exps)
+        ax = tf.Axis.make(
+            tf.block_means(col, length), linear, 0 if w is None else 2, blocks, grid, exps
+        )
         models.append(_one_axis(ax, col, temp, opts, notes))
     return models[0] if single else tuple(models)
 

@@ -156,3 +156,22 @@ def test_bad_input_says_what_is_needed(change, match):
     kwargs = {k: v for k, v in change.items() if k in ("order", "warmup")}
     with pytest.raises(NoisevarError, match=match):
         temperature_model(z, temp, change.get("rate", RATE), **kwargs)
+
+
+def test_a_random_walk_bias_is_weighted_not_mistaken_for_temperature():
+    # up and down through 30 °C in 4 h at 10 Hz, with a rate random walk (Kalibr's bias
+    # model) whose variance passes the white noise's after about 40 blocks
+    rate, n = 10.0, 4 * 3600 * 10
+    s = np.linspace(0.0, 1.0, n)
+    temp = 10.0 + 30.0 * (1.0 - np.abs(2.0 * s - 1.0))
+    white, k = 1e-4, 4e-6
+    y = simulate_thermal(
+        temp, rate, polynomial=(A_TRUE, B_TRUE), random_walk=white, rate_random_walk=k, seed=9
+    )
+    m = temperature_model(y, temp, rate, warmup=False, bootstrap=60)
+    b = m.coefficient("b")
+    half = (b.interval[1] - b.interval[0]) / 2.0
+    assert abs(b.value - B_TRUE) <= 3.0 * half
+    assert b.value == pytest.approx(B_TRUE, rel=0.1)
+    assert m.residual_walk == pytest.approx(k, rel=0.3)
+    assert m.residual_white == pytest.approx(white, rel=0.1)
