@@ -1,4 +1,4 @@
-"""Temperature model on simulated gyros: bias(T) slope and warm-up time constant (§F6).
+"""Temperature model on simulated gyros: bias(T) slope and warm-up time constant (§E9).
 
     python benchmarks/temperature.py               # 20 runs per configuration (a few minutes)
     python benchmarks/temperature.py --runs 5

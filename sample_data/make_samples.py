@@ -18,7 +18,7 @@ Files:
                        chamber ramp 20 -> 45 °C at 5 Hz, bias 0.1 + 0.01 (T - 25) and
                        -0.05 - 0.004 (T - 25) deg/s, warm-up 0.2 exp(-t/120 s) on gyro_x,
                        white noise 0.005 deg/s/√Hz, temperature sensor noise 0.03 °C
-                       (docs/algorithms.md §F6).
+                       (docs/algorithms.md §E9).
 ``gps_track.nmea``     GGA + RMC sentences of the circle (positions near
                        39.98 N 116.35 E, 1 Hz, noise std 5 m), valid checksums.
 """

@@ -1,4 +1,4 @@
-"""Command line: ``noisevar imu FILE --temperature COLUMN`` (§F6) and its bad input."""
+"""Command line: ``noisevar imu FILE --temperature COLUMN`` (§E9) and its bad input."""
 
 from __future__ import annotations
 

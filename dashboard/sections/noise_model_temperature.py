@@ -1,6 +1,6 @@
 """The Noise model page's temperature model, datasheet comparison and composite-model slot.
 
-docs/algorithms.md §F6. Each part is one function the page calls in its own expander.
+docs/algorithms.md §E9. Each part is one function the page calls in its own expander.
 """
 
 from __future__ import annotations

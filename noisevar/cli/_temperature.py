@@ -1,4 +1,4 @@
-"""``noisevar imu FILE --temperature COLUMN``: bias(T), warm-up and bias process noise (§F6)."""
+"""``noisevar imu FILE --temperature COLUMN``: bias(T), warm-up and bias process noise (§E9)."""
 
 from __future__ import annotations
 

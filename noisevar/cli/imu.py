@@ -80,6 +80,6 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--kalibr", metavar="OUT.yaml", help="write Kalibr's imu.yaml here")
     p.add_argument("--inflation", type=float, default=1.0, help="factor on the Kalibr values")
     add_regimes_flag(p)
-    p.add_argument("--temperature", metavar="COLUMN", help="fit bias(T), warm-up (§F6)")
+    p.add_argument("--temperature", metavar="COLUMN", help="fit bias(T), warm-up (§E9)")
     p.add_argument("--format", choices=["table", "json"], default="table")
     p.set_defaults(func=_cmd_imu)

@@ -1,6 +1,6 @@
 """Noise models of a record for a Kalman filter: Allan deviation, the inertial (IEEE-952)
 noise terms, coloured measurement noise, Q with R (docs/algorithms.md §E4-§E6), and the
-temperature model (§F6).
+temperature model (§E9).
 """
 
 from noisevar.noise_model.allan import AllanResult, allan

@@ -1,4 +1,4 @@
-"""The numerics behind :mod:`noisevar.noise_model.temperature` (docs/algorithms.md §F6).
+"""The numerics behind :mod:`noisevar.noise_model.temperature` (docs/algorithms.md §E9).
 
 Block means, the separable least-squares fit of ``poly(T - T_ref) + A exp(-t/tau)`` with
 tau profiled on a log grid (vectorised over many right-hand sides: the data and the

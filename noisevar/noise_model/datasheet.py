@@ -1,6 +1,6 @@
 """A datasheet's ARW, bias instability and VRW as IEEE-952 terms, and their Allan deviation.
 
-docs/algorithms.md §F6 (compare with the datasheet). A gyro datasheet quotes the angle
+docs/algorithms.md §E9 (compare with the datasheet). A gyro datasheet quotes the angle
 random walk (ARW, e.g. °/√h) and the bias instability (°/h); an accelerometer's the
 velocity random walk (VRW, e.g. m/s/√h) and the bias instability (µg). Both are turned
 into the terms ``N`` (data unit/√Hz) and ``B`` (data unit) of eq. E4.1, in the unit of the

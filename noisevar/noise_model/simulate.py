@@ -71,7 +71,7 @@ def simulate_thermal(
 
     Notes
     -----
-    docs/algorithms.md §F6: the model :func:`noisevar.noise_model.temperature_model` fits.
+    docs/algorithms.md §E9: the model :func:`noisevar.noise_model.temperature_model` fits.
     """
     temp = np.asarray(temperature, dtype=float)
     t = np.arange(temp.size) / rate

@@ -1,6 +1,6 @@
 """Temperature models of rate data: bias(T) with the warm-up, noise(T), bias process noise.
 
-docs/algorithms.md §F6. The bias of each axis is a polynomial in ``T - T_ref`` plus a
+docs/algorithms.md §E9. The bias of each axis is a polynomial in ``T - T_ref`` plus a
 power-on exponential, fitted jointly on block means by separable least squares (the
 time constant profiled on a grid); the model (order, warm-up or not) is chosen by BIC;
 intervals come from a moving-block bootstrap of the residuals.
@@ -494,7 +494,7 @@ def temperature_model(
 
     Notes
     -----
-    docs/algorithms.md §F6. Model of each axis, on block means (t from the first sample):
+    docs/algorithms.md §E9. Model of each axis, on block means (t from the first sample):
     ``y = sum_k c_k (T - T_ref)^k + A exp(-t/tau) [+ (s0 + s1 (T - T_ref)) w] + noise``.
     The warm-up is fitted jointly with bias(T) because T changes during the warm-up too:
     linear least squares for fixed tau, tau profiled on a log grid and refined by a

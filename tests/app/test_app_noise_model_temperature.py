@@ -1,4 +1,4 @@
-"""AppTest: the Noise model page's temperature model and datasheet overlay (§F6)."""
+"""AppTest: the Noise model page's temperature model and datasheet overlay (§E9)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""A datasheet's ARW, bias instability and VRW in the data's unit (§F6), in closed form."""
+"""A datasheet's ARW, bias instability and VRW in the data's unit (§E9), in closed form."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The temperature model: bias(T), warm-up, noise(T), process noise, MATLAB export (§F6)."""
+"""The temperature model: bias(T), warm-up, noise(T), process noise, MATLAB export (§E9)."""
 
 from __future__ import annotations
 
