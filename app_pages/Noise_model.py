@@ -10,7 +10,7 @@ import streamlit as st
 from dashboard.sections import noise_model, noise_model_temperature
 from dashboard.sections.noise_model_fit import render_fit
 from dashboard.sections.signal_loader import require_signal
-from dashboard.widgets import how_it_works
+from dashboard.widgets import how_it_works, lazy_expander
 
 HOW_IT_WORKS = (
     "**Allan deviation.** Average the rate over $\\tau = m\\tau_0$ and take half the mean "
@@ -49,5 +49,9 @@ with st.expander("Temperature: bias(T), warm-up, bias process noise", icon=":mat
     noise_model_temperature.temperature_panel(sig, settings)
 with st.expander("Compare with the datasheet", icon=":material/compare_arrows:"):
     noise_model_temperature.datasheet_panel(fit, settings)
+if settings.rate > 0:
+    with lazy_expander("Composite noise model (GMWM)", key="nm_gmwm_open") as gmwm_open:
+        if gmwm_open:
+            noise_model_temperature.composite_panel(sig, settings)
 
 how_it_works(*HOW_IT_WORKS)

@@ -1,4 +1,4 @@
-"""The Noise model page's temperature model, datasheet comparison and composite-model slot.
+"""The Noise model page's temperature model, datasheet comparison and composite models.
 
 docs/algorithms.md §E9. Each part is one function the page calls in its own expander.
 """
@@ -12,7 +12,12 @@ import streamlit as st
 from dashboard.sections.noise_model import NoiseModelSettings
 from dashboard.state import LoadedSignal, initial
 from dashboard.widgets import figure_downloads, fmt, guarded, show_figure
-from noisevar.figures.noise_model import bias_temperature_figure, datasheet_figure, warmup_figure
+from noisevar.figures.noise_model import (
+    bias_temperature_figure,
+    composite_figure,
+    datasheet_figure,
+    warmup_figure,
+)
 from noisevar.noise_model import InertialNoise
 from noisevar.noise_model.datasheet import BIAS_UNITS, DATA_UNITS, DENSITY_UNITS, datasheet_terms
 from noisevar.noise_model.temperature import (
@@ -182,11 +187,43 @@ def datasheet_panel(fit: InertialNoise | None, s: NoiseModelSettings) -> None:
         )
 
 
-def composite_panel(sig: LoadedSignal, s: NoiseModelSettings) -> None:
-    """Slot for the composite (GMWM) model: components, comparison table, intervals.
+def _gmwm():
+    """``fit_imu_model`` of :mod:`noisevar.noise_model.gmwm`, or None before it is merged."""
+    try:
+        from noisevar.noise_model.gmwm import fit_imu_model
+    except ImportError:
+        return None
+    return fit_imu_model
 
-    TODO(lead): wire to ``noisevar.noise_model.gmwm`` once it is on main: draw each fitted
-    component's wavelet/Allan variance and their sum over the data's, the model comparison
-    table and the parameters' intervals (helper "gmwm" builds them).
-    """
-    st.caption("Composite noise models (GMWM) will be drawn here.")
+
+@st.cache_data(max_entries=8, show_spinner="Fitting composite models (GMWM)...")
+def _composite_cached(digest: str, rate: float, unit: str, robust: bool, _z: np.ndarray):
+    return _gmwm()(_z, rate, unit=unit, robust=robust)
+
+
+def composite_panel(sig: LoadedSignal, s: NoiseModelSettings) -> None:
+    """The composite (GMWM) model: components over the wavelet variance, table, intervals."""
+    if _gmwm() is None:
+        st.caption("Composite noise models (noisevar.noise_model.gmwm) are not installed.")
+        return
+    robust = st.toggle("Robust fit (records with outliers)", key="nm_gmwm_robust")
+    with guarded("Composite model: "):
+        model = _composite_cached(sig.digest, s.rate, s.unit, bool(robust), sig.z)
+        fig = composite_figure(model, unit=s.unit)
+        show_figure(fig, key="nm_gmwm_fig")
+        figure_downloads(fig, "composite_model", key="nm_gmwm_fig_dl")
+        st.dataframe(pd.DataFrame([r.to_dict() for r in model.table]), hide_index=True)
+        st.caption(f"Models compared; the chosen one ({model.model}) has the lowest criterion.")
+        rows = [
+            {
+                "parameter": p.name,
+                "process": p.process,
+                "value": p.value,
+                "low": p.interval[0],
+                "high": p.interval[1],
+                "unit": p.unit,
+            }
+            for p in model.parameters
+        ]
+        st.dataframe(pd.DataFrame(rows), hide_index=True, column_config=_NUMBERS)
+        st.caption(f"{model.ci:.1%} intervals. {model.filter_bias.note}")

@@ -283,4 +283,78 @@ def warmup_figure(model: TemperatureModel, height: int = 420) -> go.Figure:
     )
 
 
-__all__ = ["allan_figure", "bias_temperature_figure", "datasheet_figure", "warmup_figure"]
+def composite_figure(model: Any, unit: str = "", height: int = 520) -> go.Figure:
+    """Haar wavelet variance with its interval, each fitted component and their sum.
+
+    Parameters
+    ----------
+    model : ImuModel
+        A composite model of :mod:`noisevar.noise_model.gmwm` (its ``scales``, ``wv``,
+        ``wv_interval``, ``components()``, ``model_wv()`` and ``model`` are drawn).
+    unit : str
+        Unit of the rate data (the wavelet variance is in unit²).
+    height : int
+
+    Returns
+    -------
+    go.Figure
+    """
+    s = np.asarray(model.scales, dtype=float)
+    lo, hi = model.wv_interval
+    traces = [
+        go.Scatter(
+            x=np.concatenate([s, s[::-1]]),
+            y=np.concatenate([hi, lo[::-1]]),
+            fill="toself",
+            fillcolor=COLORS["band"],
+            line={"width": 0},
+            name=f"{model.ci:.0%} interval",
+            hoverinfo="skip",
+        ),
+        go.Scatter(
+            x=s,
+            y=model.wv,
+            mode="markers",
+            marker={"color": PALETTE[0], "size": 7},
+            name="Haar wavelet variance" + (" (robust)" if model.robust else ""),
+        ),
+    ]
+    t = np.geomspace(s[0], s[-1], 200)
+    for i, (name, wv) in enumerate(model.components(t).items()):
+        traces.append(
+            go.Scatter(
+                x=t,
+                y=wv,
+                mode="lines",
+                name=name,
+                line={"color": PALETTE[(i + 1) % len(PALETTE)], "dash": "dash"},
+            )
+        )
+    traces.append(
+        go.Scatter(
+            x=t,
+            y=model.model_wv(t),
+            mode="lines",
+            name=f"sum: {model.model}",
+            line={"color": COLORS["truth"], "width": 2},
+        )
+    )
+    y_title = f"ν(τ) ({unit}²)" if unit else "ν(τ)"
+    return go.Figure(
+        traces,
+        layout(
+            "Composite model: wavelet variance",
+            height,
+            xaxis=_log_axis("τ (s)"),
+            yaxis=_log_axis(y_title),
+        ),
+    )
+
+
+__all__ = [
+    "allan_figure",
+    "bias_temperature_figure",
+    "composite_figure",
+    "datasheet_figure",
+    "warmup_figure",
+]

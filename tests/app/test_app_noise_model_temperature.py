@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import math
 import sys
@@ -65,3 +66,22 @@ def test_temperature_column_datasheet_overlay_and_a_flat_column():
     at.selectbox(key="nm_temp_col").set_value("gyro_y").run()
     _clean(at)
     assert len(at.error) == 1 and "0.5 °C" in at.error[0].value
+
+
+def test_composite_model_opens_on_demand():
+    at = _open()
+    charts = len(at.get("plotly_chart"))
+    at.session_state["nm_gmwm_open"] = True
+    at.run()
+    _clean(at)
+    assert not at.error
+    if importlib.util.find_spec("noisevar.noise_model.gmwm") is None:  # before the merge
+        assert any("not installed" in c.value for c in at.caption)
+        return
+    assert len(at.get("plotly_chart")) == charts + 1
+    names = _names(at, charts)
+    assert "Haar wavelet variance" in names and any(n.startswith("sum: ") for n in names)
+    tables = [d.value for d in at.dataframe]
+    assert any("chosen" in t.columns and t["chosen"].sum() == 1 for t in tables)
+    params = next(t for t in tables if "parameter" in t.columns)
+    assert (params["low"] <= params["value"]).all() and (params["value"] <= params["high"]).all()
