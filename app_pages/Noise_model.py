@@ -7,11 +7,11 @@ from __future__ import annotations
 
 import streamlit as st
 
-from dashboard.sections import filter_configs, noise_model
+from dashboard.sections import filter_configs, noise_model, noise_model_temperature
 from dashboard.sections.noise_model_fit import render_fit
 from dashboard.sections.signal_loader import require_signal
 from dashboard.state import signal_units
-from dashboard.widgets import how_it_works
+from dashboard.widgets import how_it_works, lazy_expander
 
 HOW_IT_WORKS = (
     "**Allan deviation.** Average the rate over $\\tau = m\\tau_0$ and take half the mean "
@@ -36,7 +36,7 @@ sig = require_signal(
 )
 regimes = noise_model.regime_panel(sig)
 settings = noise_model.settings_form(sig, regimes)
-noise_model.results(sig, settings)
+fit = noise_model.results(sig, settings)
 
 with st.expander("Filter configs: Kalibr imu.yaml and every consumer", icon=":material/download:"):
     noise_model.kalibr_export(sig, settings)
@@ -45,5 +45,15 @@ with st.expander("Filter configs: Kalibr imu.yaml and every consumer", icon=":ma
 if settings.rate > 0:  # a bad rate is said once, above
     st.subheader("Coloured noise and the Kalman filter's Q and R")
     render_fit(sig.z, settings.rate, regimes, column=sig.column, unit=signal_units())
+
+# temperature, datasheet and composite models (issue 30): dashboard/sections/noise_model_temperature
+with st.expander("Temperature: bias(T), warm-up, bias process noise", icon=":material/thermostat:"):
+    noise_model_temperature.temperature_panel(sig, settings)
+with st.expander("Compare with the datasheet", icon=":material/compare_arrows:"):
+    noise_model_temperature.datasheet_panel(fit, settings)
+if settings.rate > 0:
+    with lazy_expander("Composite noise model (GMWM)", key="nm_gmwm_open") as gmwm_open:
+        if gmwm_open:
+            noise_model_temperature.composite_panel(sig, settings)
 
 how_it_works(*HOW_IT_WORKS)

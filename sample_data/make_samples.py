@@ -14,6 +14,11 @@ Files:
 ``two_sensors.csv``    t, sensor_a, sensor_b: one quantity, two sensors (noise
                        std 1 and 4) with slowly drifting biases.
 ``three_sensors.csv``  t, sensor_a, sensor_b, sensor_c (noise std 1, 2, 3).
+``imu_temperature.csv``  t, gyro_x, gyro_y (deg/s), temp_c: a still gyro through a 30 min
+                       chamber ramp 20 -> 45 °C at 5 Hz, bias 0.1 + 0.01 (T - 25) and
+                       -0.05 - 0.004 (T - 25) deg/s, warm-up 0.2 exp(-t/120 s) on gyro_x,
+                       white noise 0.005 deg/s/√Hz, temperature sensor noise 0.03 °C
+                       (docs/algorithms.md §E9).
 ``gps_track.nmea``     GGA + RMC sentences of the circle (positions near
                        39.98 N 116.35 E, 1 Hz, noise std 5 m), valid checksums.
 """
@@ -49,6 +54,20 @@ def _nmea_lat(lat: float) -> tuple[str, str]:
 def _nmea_lon(lon: float) -> tuple[str, str]:
     d = int(abs(lon))
     return f"{d:03d}{(abs(lon) - d) * 60:07.4f}", "E" if lon >= 0 else "W"
+
+
+def imu_temperature() -> None:
+    """``imu_temperature.csv`` (the Noise model page's temperature example)."""
+    from noisevar.noise_model.simulate import simulate_thermal
+
+    rate, n = 5.0, 9000
+    t = np.arange(n) / rate
+    temp = 20.0 + 25.0 * t / t[-1]
+    noise = {"random_walk": 0.005}
+    gx = simulate_thermal(temp, rate, polynomial=(0.1, 0.01), warmup=(0.2, 120.0), seed=61, **noise)
+    gy = simulate_thermal(temp, rate, polynomial=(-0.05, -0.004), seed=62, **noise)
+    measured = temp + np.random.default_rng(63).normal(0.0, 0.03, n)
+    _write_csv("imu_temperature.csv", ["t", "gyro_x", "gyro_y", "temp_c"], [t, gx, gy, measured])
 
 
 def main() -> None:
@@ -127,6 +146,7 @@ def main() -> None:
         )
         lines += [str(gga), str(rmc)]
     (HERE / "gps_track.nmea").write_text("\n".join(lines) + "\n")
+    imu_temperature()
 
 
 if __name__ == "__main__":

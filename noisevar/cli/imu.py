@@ -20,6 +20,7 @@ from noisevar.cli._common import (
     regimes_of,
     units_of,
 )
+from noisevar.cli._temperature import print_models, split_temperature, temperature_models
 from noisevar.cli.allan import load_columns
 from noisevar.errors import NoisevarError
 
@@ -120,7 +121,8 @@ def _cmd_imu(args: argparse.Namespace) -> int:
 
         consumers(args.export)  # refuse an unknown consumer before reading the file
     data, rate, declared = load_columns(args.file, _columns(args), args.rate, args.topic)
-    col_units = _column_units(args, declared)
+    temp = split_temperature(args, data, rate)
+    col_units = _column_units(args, {c: declared[c] for c in data})
     fits = {}
     for scale, unit in dict.fromkeys(col_units.values()):
         names = [c for c in data if col_units[c] == (scale, unit)]
@@ -130,17 +132,20 @@ def _cmd_imu(args: argparse.Namespace) -> int:
     fits = {c: fits[c] for c in data}
     written = _kalibr(args, fits) if args.kalibr else None
     files, model = _exports(args, fits) if args.export else ([], None)
+    thermal = temperature_models(data, temp, rate, col_units) if temp is not None else {}
     if args.format == "json":
-        print_json(
-            {
-                "columns": {c: f.to_dict() for c, f in fits.items()},
-                "kalibr": written,
-                "exports": files,
-                "model": model,
-            }
-        )
+        out = {
+            "columns": {c: f.to_dict() for c, f in fits.items()},
+            "kalibr": written,
+            "exports": files,
+            "model": model,
+        }
+        if thermal:
+            out["temperature"] = {c: m.to_dict() for c, m in thermal.items()}
+        print_json(out)
     else:
         _print_table(fits)
+        print_models(thermal, args.temperature)
         if written:
             print(f"Kalibr imu.yaml written to {written} (inflation {args.inflation:g})")
         for f in files:
@@ -184,5 +189,6 @@ def add_parser(sub: Any) -> None:
     )
     add_topic_flag(p)
     add_regimes_flag(p)
+    p.add_argument("--temperature", metavar="COLUMN", help="fit bias(T), warm-up (§E9)")
     p.add_argument("--format", choices=["table", "json"], default="table")
     p.set_defaults(func=_cmd_imu)

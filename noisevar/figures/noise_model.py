@@ -12,7 +12,9 @@ import plotly.graph_objects as go
 
 from noisevar.figures._common import COLORS, PALETTE, layout
 from noisevar.noise_model.allan import AllanResult
+from noisevar.noise_model.datasheet import DatasheetTerms
 from noisevar.noise_model.inertial import TERMS, InertialNoise
+from noisevar.noise_model.temperature import TemperatureModel
 
 #: Log-log slopes of the guides, with their labels (quantisation ... rate ramp).
 SLOPES = ((-1.0, "τ⁻¹"), (-0.5, "τ⁻¹ᐟ²"), (0.0, "τ⁰"), (0.5, "τ¹ᐟ²"), (1.0, "τ¹"))
@@ -145,4 +147,214 @@ def allan_figure(
     )
 
 
-__all__ = ["allan_figure"]
+def datasheet_figure(
+    result: AllanResult,
+    sheet: DatasheetTerms,
+    fit: InertialNoise | None = None,
+    unit: str = "",
+    height: int = 520,
+) -> go.Figure:
+    """The data's Allan deviation (and fit) with the datasheet's deviation overlaid.
+
+    Parameters
+    ----------
+    result : AllanResult
+    sheet : DatasheetTerms
+        The datasheet's N and B in the data's unit.
+    fit : InertialNoise, optional
+    unit : str
+    height : int
+
+    Returns
+    -------
+    go.Figure
+    """
+    fig = allan_figure(
+        result, fit=fit, title="Allan deviation against the datasheet", height=height, unit=unit
+    )
+    t = np.geomspace(result.taus[0], result.taus[-1], 200)
+    fig.add_trace(
+        go.Scatter(
+            x=t,
+            y=sheet.deviation(t),
+            mode="lines",
+            line={"color": "#000000", "dash": "longdash", "width": 2},
+            name=f"datasheet: {sheet.quoted}",
+        )
+    )
+    return fig
+
+
+def bias_temperature_figure(model: TemperatureModel, height: int = 420) -> go.Figure:
+    """Block means of the data (warm-up removed) against T, the fitted bias(T) and its band.
+
+    Parameters
+    ----------
+    model : TemperatureModel
+    height : int
+
+    Returns
+    -------
+    go.Figure
+    """
+    t, value, lo, hi = model.curve
+    u = model.unit
+    traces = [
+        go.Scattergl(
+            x=model.temperature,
+            y=model.settled(),
+            mode="markers",
+            marker={"color": COLORS["raw"], "size": 3},
+            name=f"block means ({model.block:.3g} s)"
+            + (", warm-up removed" if model.warmup else ""),
+        ),
+        go.Scatter(
+            x=np.concatenate([t, t[::-1]]),
+            y=np.concatenate([hi, lo[::-1]]),
+            fill="toself",
+            fillcolor=COLORS["band"],
+            line={"width": 0},
+            name=f"{model.ci:.0%} band",
+            hoverinfo="skip",
+        ),
+        go.Scatter(
+            x=t,
+            y=value,
+            mode="lines",
+            line={"color": PALETTE[1], "width": 2},
+            name=f"bias(T), order {model.order}",
+        ),
+    ]
+    return go.Figure(
+        traces,
+        layout(
+            "Bias against temperature",
+            height,
+            xaxis={"title": "T (°C)"},
+            yaxis={"title": f"bias ({u})" if u else "bias"},
+        ),
+    )
+
+
+def warmup_figure(model: TemperatureModel, height: int = 420) -> go.Figure:
+    """The data minus bias(T) against time since power-on, and the fitted warm-up.
+
+    Parameters
+    ----------
+    model : TemperatureModel
+    height : int
+
+    Returns
+    -------
+    go.Figure
+    """
+    rest = model.data - model.bias(model.temperature)
+    traces = [
+        go.Scattergl(
+            x=model.time,
+            y=rest,
+            mode="markers",
+            marker={"color": COLORS["raw"], "size": 3},
+            name="data - bias(T)",
+        ),
+    ]
+    w = model.warmup
+    title = "Warm-up: none found"
+    if w is not None:
+        traces.append(
+            go.Scatter(
+                x=model.time,
+                y=w.at(model.time),
+                mode="lines",
+                line={"color": PALETTE[1], "width": 2},
+                name=f"A exp(-t/τ): A {w.amplitude:.3g}, τ {w.time_constant:.3g} s",
+            )
+        )
+        title = f"Warm-up: τ {w.time_constant:.3g} s, within 1 % after {w.settled_after:.3g} s"
+    u = model.unit
+    return go.Figure(
+        traces,
+        layout(
+            title,
+            height,
+            xaxis={"title": "time since power-on (s)"},
+            yaxis={"title": f"bias - bias(T) ({u})" if u else "bias - bias(T)"},
+        ),
+    )
+
+
+def composite_figure(model: Any, unit: str = "", height: int = 520) -> go.Figure:
+    """Haar wavelet variance with its interval, each fitted component and their sum.
+
+    Parameters
+    ----------
+    model : ImuModel
+        A composite model of :mod:`noisevar.noise_model.gmwm` (its ``scales``, ``wv``,
+        ``wv_interval``, ``components()``, ``model_wv()`` and ``model`` are drawn).
+    unit : str
+        Unit of the rate data (the wavelet variance is in unit²).
+    height : int
+
+    Returns
+    -------
+    go.Figure
+    """
+    s = np.asarray(model.scales, dtype=float)
+    lo, hi = model.wv_interval
+    traces = [
+        go.Scatter(
+            x=np.concatenate([s, s[::-1]]),
+            y=np.concatenate([hi, lo[::-1]]),
+            fill="toself",
+            fillcolor=COLORS["band"],
+            line={"width": 0},
+            name=f"{model.ci:.0%} interval",
+            hoverinfo="skip",
+        ),
+        go.Scatter(
+            x=s,
+            y=model.wv,
+            mode="markers",
+            marker={"color": PALETTE[0], "size": 7},
+            name="Haar wavelet variance" + (" (robust)" if model.robust else ""),
+        ),
+    ]
+    t = np.geomspace(s[0], s[-1], 200)
+    for i, (name, wv) in enumerate(model.components(t).items()):
+        traces.append(
+            go.Scatter(
+                x=t,
+                y=wv,
+                mode="lines",
+                name=name,
+                line={"color": PALETTE[(i + 1) % len(PALETTE)], "dash": "dash"},
+            )
+        )
+    traces.append(
+        go.Scatter(
+            x=t,
+            y=model.model_wv(t),
+            mode="lines",
+            name=f"sum: {model.model}",
+            line={"color": COLORS["truth"], "width": 2},
+        )
+    )
+    y_title = f"ν(τ) ({unit}²)" if unit else "ν(τ)"
+    return go.Figure(
+        traces,
+        layout(
+            "Composite model: wavelet variance",
+            height,
+            xaxis=_log_axis("τ (s)"),
+            yaxis=_log_axis(y_title),
+        ),
+    )
+
+
+__all__ = [
+    "allan_figure",
+    "bias_temperature_figure",
+    "composite_figure",
+    "datasheet_figure",
+    "warmup_figure",
+]

@@ -1,5 +1,6 @@
 """Noise models of a record for a Kalman filter: Allan deviation, the inertial (IEEE-952)
-noise terms, coloured measurement noise, and Q with R (docs/algorithms.md §E4-§E6).
+noise terms, coloured measurement noise, Q with R (docs/algorithms.md §E4-§E6), and the
+temperature model (§E9).
 """
 
 from noisevar.noise_model.allan import AllanResult, allan
@@ -12,6 +13,12 @@ from noisevar.noise_model.kalman_fit import (
     fit_kalman,
     run_tuned,
 )
+from noisevar.noise_model.temperature import (
+    TemperatureExport,
+    TemperatureModel,
+    matlab_temperature_params,
+    temperature_model,
+)
 
 __all__ = [
     "AllanResult",
@@ -19,11 +26,15 @@ __all__ = [
     "InertialNoise",
     "KalmanTuning",
     "NoiseTerm",
+    "TemperatureExport",
+    "TemperatureModel",
     "TunedRun",
     "allan",
     "evaluate_kalman",
     "fit_coloured_noise",
     "fit_kalman",
     "inertial_noise",
+    "matlab_temperature_params",
     "run_tuned",
+    "temperature_model",
 ]

@@ -37,6 +37,51 @@ def flicker(n: int, rate: float, level: float, rng: np.random.Generator) -> NDAr
     return np.fft.irfft(spec, n)
 
 
+def simulate_thermal(
+    temperature: NDArray,
+    rate: float,
+    *,
+    polynomial: tuple[float, ...],
+    warmup: tuple[float, float] = (0.0, 1.0),
+    reference: float = 25.0,
+    seed: int = 0,
+    **terms: float,
+) -> NDArray:
+    """Rate samples with bias ``poly(T - reference) + A exp(-t/tau)`` plus IEEE-952 noise.
+
+    Parameters
+    ----------
+    temperature : ndarray, shape (n,)
+        Temperature (°C) at each sample.
+    rate : float
+        Sample rate (Hz).
+    polynomial : tuple of float
+        Bias coefficients in powers of ``T - reference``, lowest first.
+    warmup : (float, float)
+        Amplitude ``A`` and time constant ``tau`` (s) of the power-on transient.
+    reference : float
+        Reference temperature (°C).
+    seed : int
+    **terms : float
+        Noise terms of :func:`simulate_inertial` (``random_walk=...``).
+
+    Returns
+    -------
+    ndarray
+
+    Notes
+    -----
+    docs/algorithms.md §E9: the model :func:`noisevar.noise_model.temperature_model` fits.
+    """
+    temp = np.asarray(temperature, dtype=float)
+    t = np.arange(temp.size) / rate
+    amplitude, tau = warmup
+    bias = np.polynomial.polynomial.polyval(temp - reference, polynomial)
+    return (
+        bias + amplitude * np.exp(-t / tau) + simulate_inertial(temp.size, rate, seed=seed, **terms)
+    )
+
+
 def simulate_inertial(
     n: int,
     rate: float,

@@ -1,0 +1,168 @@
+"""Temperature model on simulated gyros: bias(T) slope and warm-up time constant (§E9).
+
+    python benchmarks/temperature.py               # 20 runs per configuration (a few minutes)
+    python benchmarks/temperature.py --runs 5
+
+Each run simulates one gyro axis for 10 h at 100 Hz: bias ``a + b (T - 25 °C)`` plus a
+power-on transient ``A exp(-t/tau)``, on a slow temperature ramp (the temperature sensor has
+0.05 °C of white noise). Each run draws its own truth: ``b`` log-uniform in
+[0.5, 2] x 1.7e-4 rad/s/°C (0.01 °/s/°C), ``tau`` log-uniform in [300, 1200] s, ``A`` in
+±[0.5, 2] x 1e-3 rad/s, ``a`` in ±2e-3 rad/s. The noise is allan_variance_ros's gyroscope:
+white N = 1.888e-4 rad/s/√Hz, and in the second and third configurations its rate random
+walk K = 2.557e-6 rad/s²/√Hz too (a random bias drift, not driven by T).
+
+Configurations: ``white`` (ramp 5 -> 45 °C), ``white + K`` (same ramp), ``white + K, up and
+down`` (5 -> 45 -> 5 °C). ``temperature_model`` runs with its defaults (order and warm-up
+chosen by BIC). Targets (issue 30): b within 5 %, tau within 20 %; the median and the worst
+absolute relative error over the runs, the intervals' coverage (68.3 % stated) and the
+model choice are reported.
+
+Prints Markdown; also writes ``benchmarks/results/temperature.md``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import time
+from pathlib import Path
+
+import numpy as np
+
+from noisevar.noise_model import temperature_model
+from noisevar.noise_model.simulate import simulate_thermal
+
+RESULTS = Path(__file__).resolve().parent / "results"
+RATE = 100.0
+HOURS = 10.0
+N_GYRO, K_GYRO = 1.888e-4, 2.557e-6
+CONFIGS = {
+    "white": (0.0, False),
+    "white + K": (K_GYRO, False),
+    "white + K, up and down": (K_GYRO, True),
+}
+TARGETS = {"b": 0.05, "tau": 0.20}
+
+
+def _truth(rng: np.random.Generator) -> dict[str, float]:
+    sign = rng.choice([-1.0, 1.0], size=2)
+    return {
+        "a": float(rng.uniform(-2e-3, 2e-3)),
+        "b": float(1.7e-4 * np.exp(rng.uniform(np.log(0.5), np.log(2.0)))),
+        "A": float(sign[0] * 1e-3 * np.exp(rng.uniform(np.log(0.5), np.log(2.0)))),
+        "tau": float(np.exp(rng.uniform(np.log(300.0), np.log(1200.0)))),
+    }
+
+
+def _temperature(n: int, updown: bool, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    """True and measured temperature (°C)."""
+    s = np.linspace(0.0, 1.0, n)
+    true = 5.0 + 40.0 * (1.0 - np.abs(2.0 * s - 1.0) if updown else s)
+    return true, true + 0.05 * rng.standard_normal(n)
+
+
+def one_run(seed: int, k: float, updown: bool) -> dict[str, float]:
+    rng = np.random.default_rng(seed)
+    truth = _truth(rng)
+    n = int(HOURS * 3600 * RATE)
+    true_t, meas_t = _temperature(n, updown, rng)
+    y = simulate_thermal(
+        true_t,
+        RATE,
+        polynomial=(truth["a"], truth["b"]),
+        warmup=(truth["A"], truth["tau"]),
+        random_walk=N_GYRO,
+        rate_random_walk=k,
+        seed=seed + 1,
+    )
+    t0 = time.process_time()
+    m = temperature_model(y, meas_t, RATE, unit="rad/s", seed=seed)
+    cpu = time.process_time() - t0
+    b = m.coefficient("b")
+    out = {
+        "b_err": b.value / truth["b"] - 1.0,
+        "b_cov": float(b.interval[0] <= truth["b"] <= b.interval[1]),
+        "order": m.order,
+        "cpu": cpu,
+        "warm": float(m.warmup is not None),
+        "tau_err": np.nan,
+        "tau_cov": np.nan,
+    }
+    if m.warmup is not None:
+        lo, hi = m.warmup.time_constant_interval
+        out["tau_err"] = m.warmup.time_constant / truth["tau"] - 1.0
+        out["tau_cov"] = float(lo <= truth["tau"] <= hi)
+    return out
+
+
+def _pct(x: float) -> str:
+    return f"{100 * x:.2f} %"
+
+
+def section(runs: int, name: str, k: float, updown: bool) -> tuple[str, dict]:
+    rows = [one_run(1000 * i + 17, k, updown) for i in range(runs)]
+    b = np.abs([r["b_err"] for r in rows])
+    tau = np.abs([r["tau_err"] for r in rows if r["warm"]])
+    found = int(sum(r["warm"] for r in rows))
+    summary = {
+        "b_med": float(np.median(b)),
+        "b_max": float(np.max(b)),
+        "b_cov": float(np.mean([r["b_cov"] for r in rows])),
+        "tau_med": float(np.median(tau)) if tau.size else np.nan,
+        "tau_max": float(np.max(tau)) if tau.size else np.nan,
+        "tau_cov": float(np.nanmean([r["tau_cov"] for r in rows])) if tau.size else np.nan,
+        "found": found,
+        "linear": int(sum(r["order"] == 1 for r in rows)),
+        "cpu": float(np.median([r["cpu"] for r in rows])),
+    }
+    s = summary
+    ok_b = (
+        "yes"
+        if s["b_max"] <= TARGETS["b"]
+        else ("median only" if s["b_med"] <= TARGETS["b"] else "**no**")
+    )
+    ok_t = (
+        "yes"
+        if found == runs and s["tau_max"] <= TARGETS["tau"]
+        else ("median only" if s["tau_med"] <= TARGETS["tau"] else "**no**")
+    )
+    line = (
+        f"| {name} | {_pct(s['b_med'])} / {_pct(s['b_max'])} | {ok_b} | {_pct(s['b_cov'])} | "
+        f"{found}/{runs} | {_pct(s['tau_med'])} / {_pct(s['tau_max'])} | {ok_t} | "
+        f"{_pct(s['tau_cov'])} | {s['linear']}/{runs} | {s['cpu']:.2f} s |"
+    )
+    return line, summary
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--runs", type=int, default=20)
+    ap.add_argument("--out", type=Path, default=RESULTS / "temperature.md")
+    ap.add_argument("--configs", nargs="+", choices=list(CONFIGS), default=list(CONFIGS))
+    args = ap.parse_args()
+    head = [
+        "### Temperature model (`python benchmarks/temperature.py`)",
+        "",
+        f"{args.runs} runs per configuration, 10 h at 100 Hz, one gyro axis each; "
+        f"{platform.python_version()}, {os.cpu_count()} CPUs. Errors are absolute relative "
+        "errors: median / worst. Coverage of the 68.3 % intervals. Targets: b 5 %, tau 20 %.",
+        "",
+        "| configuration | b error | b within 5 % | b coverage | warm-up found | tau error "
+        "| tau within 20 % | tau coverage | order 1 chosen | CPU per fit |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    lines = []
+    for name in args.configs:
+        k, updown = CONFIGS[name]
+        line, _ = section(args.runs, name, k, updown)
+        print(line, flush=True)
+        lines.append(line)
+    text = "\n".join(head + lines) + "\n"
+    print(text)
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    args.out.write_text(text)
+
+
+if __name__ == "__main__":
+    main()
