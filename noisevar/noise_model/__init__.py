@@ -1,9 +1,11 @@
 """Noise models of a record for a Kalman filter: Allan deviation, the inertial (IEEE-952)
-noise terms, coloured measurement noise, and Q with R (docs/algorithms.md §E4-§E6).
+noise terms, composite IMU models (GMWM), coloured measurement noise, and Q with R
+(docs/algorithms.md §E4-§E6, §F4).
 """
 
 from noisevar.noise_model.allan import AllanResult, allan
 from noisevar.noise_model.coloured import ColouredNoiseFit, fit_coloured_noise
+from noisevar.noise_model.gmwm import ImuModel, fit_imu_model, fit_imu_records
 from noisevar.noise_model.inertial import InertialNoise, NoiseTerm, inertial_noise
 from noisevar.noise_model.kalman_fit import (
     KalmanTuning,
@@ -16,6 +18,7 @@ from noisevar.noise_model.kalman_fit import (
 __all__ = [
     "AllanResult",
     "ColouredNoiseFit",
+    "ImuModel",
     "InertialNoise",
     "KalmanTuning",
     "NoiseTerm",
@@ -23,6 +26,8 @@ __all__ = [
     "allan",
     "evaluate_kalman",
     "fit_coloured_noise",
+    "fit_imu_model",
+    "fit_imu_records",
     "fit_kalman",
     "inertial_noise",
     "run_tuned",
