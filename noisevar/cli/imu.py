@@ -1,4 +1,5 @@
-"""``noisevar imu FILE --rate HZ``: IEEE-952 noise terms per column, Kalibr export (§E4)."""
+"""``noisevar imu FILE --rate HZ``: IEEE-952 noise terms per column, Kalibr export (§E4);
+``--model auto|SPEC``: composite models by GMWM with the comparison table (§F4)."""
 
 from __future__ import annotations
 
@@ -46,10 +47,55 @@ def _print_table(fits: dict) -> None:
             )
 
 
+#: ``--model``'s value for the IEEE-952 fit of :func:`noisevar.inertial_noise`.
+IEEE952 = "ieee952"
+
+
+def _print_models(fits: dict) -> None:
+    for name, fit in fits.items():
+        robust = ", robust wavelet variance" if fit.robust else ""
+        print(f"{name}: model {fit.model} at {fit.rate:g} Hz, {fit.ci:.1%} intervals{robust}")
+        for p in fit.parameters:
+            lo, hi = p.interval
+            print(f"  {p.name:<12} {p.value:11.4g} [{lo:.3g}, {hi:.3g}] {p.unit}")
+        fb = fit.filter_bias
+        k_eq = f"K_eq {fb.random_walk:.4g} {fit.unit}/s/√Hz"
+        print(f"  bias as a random walk over {fb.horizon:g} s: {k_eq}")
+        print(f"  {'model':<22} {'params':>6} {'objective':>12} {'WVIC':>12} {'BIC':>12}")
+        for r in fit.table:
+            mark = " <- chosen" if r.chosen else ""
+            print(
+                f"  {r.model:<22} {r.n_params:>6} {r.objective:12.4g} {r.wvic:12.4g} "
+                f"{r.bic:12.4g}{mark}"
+            )
+        for note in fit.notes:
+            print(f"  note: {note}")
+
+
+def _cmd_models(args: argparse.Namespace, data: dict, rate: float) -> int:
+    from noisevar.noise_model import fit_imu_model
+    from noisevar.noise_model.gmwm import AUTO
+
+    if args.kalibr:
+        raise NoisevarError(f"--kalibr takes the IEEE-952 fit: use it with --model {IEEE952}")
+    models = AUTO if args.model == AUTO else [m for m in args.model.split(",") if m]
+    stacked = np.column_stack(list(data.values()))
+    fits = dict(
+        zip(data, fit_imu_model(stacked, rate, models=models, robust=args.robust), strict=True)
+    )
+    if args.format == "json":
+        print_json({"columns": {c: f.to_dict() for c, f in fits.items()}})
+    else:
+        _print_models(fits)
+    return 0
+
+
 def _cmd_imu(args: argparse.Namespace) -> int:
     from noisevar.noise_model import inertial_noise
 
     data, rate = load_columns(args.file, _columns(args), args.rate)
+    if args.model != IEEE952:
+        return _cmd_models(args, data, rate)
     stacked = np.stack(list(data.values()))
     fits = dict(zip(data, inertial_noise(stacked, rate, **regimes_of(args)), strict=True))
     written = _kalibr(args, fits) if args.kalibr else None
@@ -72,6 +118,14 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--accel", nargs="+", help="accelerometer columns (m/s^2), for --kalibr")
     p.add_argument("--kalibr", metavar="OUT.yaml", help="write Kalibr's imu.yaml here")
     p.add_argument("--inflation", type=float, default=1.0, help="factor on the Kalibr values")
+    p.add_argument(
+        "--model",
+        default=IEEE952,
+        help=f"{IEEE952} (default: the five IEEE-952 terms), auto (GMWM composite model "
+        "chosen by BIC, with the comparison table), or candidate models separated by commas, "
+        "e.g. WN+RW,QN+WN+GM+RW (processes QN WN FL GM RW DR)",
+    )
+    p.add_argument("--robust", action="store_true", help="robust wavelet variance (--model)")
     add_regimes_flag(p)
     p.add_argument("--format", choices=["table", "json"], default="table")
     p.set_defaults(func=_cmd_imu)

@@ -16,7 +16,7 @@ from numpy.typing import ArrayLike
 
 from noisevar.errors import NoisevarError
 from noisevar.noise_model.gmwm import estimator as est
-from noisevar.noise_model.gmwm.fitting import as_rows, fit_wv, pooled, wavelet_variances
+from noisevar.noise_model.gmwm.fitting import AUTO, as_rows, fit_wv, pooled, wavelet_variances
 from noisevar.noise_model.gmwm.model import (
     HORIZON,
     ONE_SIGMA,
@@ -27,6 +27,7 @@ from noisevar.noise_model.gmwm.model import (
 )
 
 __all__ = [
+    "AUTO",
     "FilterBias",
     "ImuModel",
     "ModelRow",

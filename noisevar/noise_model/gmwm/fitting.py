@@ -28,6 +28,8 @@ from noisevar.noise_model.gmwm.model import (
 from noisevar.noise_model.gmwm.processes import PROCESSES
 from noisevar.noise_model.gmwm.wavelet import dyadic_scales, haar_wv, robust_inflation
 
+#: ``models=AUTO``: search the model (:func:`search`).
+AUTO = "auto"
 #: The model every automatic search starts from.
 BASE = ("WN",)
 #: Processes an automatic search may add (GM up to :data:`MAX_GM` times).
@@ -140,7 +142,7 @@ def choose(
 ) -> tuple[est.Solution, list[est.Solution]]:
     """The chosen solution and every solution fitted (``models``: "auto" or a list)."""
     score = _score(criterion, wv.n_samples)
-    if isinstance(models, str) and models == "auto":
+    if isinstance(models, str) and models == AUTO:
         return search(wv, criterion)
     specs = [models] if isinstance(models, str) else list(models)
     if not specs:
