@@ -61,12 +61,13 @@ def _print_models(fits: dict) -> None:
         fb = fit.filter_bias
         k_eq = f"K_eq {fb.random_walk:.4g} {fit.unit}/s/√Hz"
         print(f"  bias as a random walk over {fb.horizon:g} s: {k_eq}")
-        print(f"  {'model':<22} {'params':>6} {'objective':>12} {'WVIC':>12} {'BIC':>12}")
+        head = f"{'objective':>12} {'WVIC':>12} {'HQ':>12} {'BIC':>12}"
+        print(f"  {'model':<22} {'params':>6} {head}")
         for r in fit.table:
             mark = " <- chosen" if r.chosen else ""
             print(
                 f"  {r.model:<22} {r.n_params:>6} {r.objective:12.4g} {r.wvic:12.4g} "
-                f"{r.bic:12.4g}{mark}"
+                f"{r.hq:12.4g} {r.bic:12.4g}{mark}"
             )
         for note in fit.notes:
             print(f"  note: {note}")
@@ -122,7 +123,8 @@ def add_parser(sub: Any) -> None:
         "--model",
         default=IEEE952,
         help=f"{IEEE952} (default: the five IEEE-952 terms), auto (GMWM composite model "
-        "chosen by BIC, with the comparison table), or candidate models separated by commas, "
+        "chosen by Hannan-Quinn's criterion, with the comparison table), or candidate "
+        "models separated by commas, "
         "e.g. WN+RW,QN+WN+GM+RW (processes QN WN FL GM RW DR)",
     )
     p.add_argument("--robust", action="store_true", help="robust wavelet variance (--model)")

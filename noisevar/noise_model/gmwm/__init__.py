@@ -16,7 +16,14 @@ from numpy.typing import ArrayLike
 
 from noisevar.errors import NoisevarError
 from noisevar.noise_model.gmwm import estimator as est
-from noisevar.noise_model.gmwm.fitting import AUTO, as_rows, fit_wv, pooled, wavelet_variances
+from noisevar.noise_model.gmwm.fitting import (
+    AUTO,
+    DEFAULT_CRITERION,
+    as_rows,
+    fit_wv,
+    pooled,
+    wavelet_variances,
+)
 from noisevar.noise_model.gmwm.model import (
     HORIZON,
     ONE_SIGMA,
@@ -46,7 +53,7 @@ def fit_imu_model(
     robust: bool = False,
     unit: str = "u",
     ci: float = ONE_SIGMA,
-    criterion: str = "bic",
+    criterion: str = DEFAULT_CRITERION,
     horizon: float = HORIZON,
     workers: int | None = None,
 ) -> ImuModel | tuple[ImuModel, ...]:
@@ -71,8 +78,9 @@ def fit_imu_model(
         Unit of the rate data, for the parameters' units.
     ci : float
         Confidence level of the intervals.
-    criterion : {"bic", "wvic"}
-        The criterion of the choice (:class:`ModelRow` has both).
+    criterion : {"hq", "bic", "wvic"}
+        The criterion of the choice (:class:`ModelRow` has all three): the objective
+        plus, per parameter, ``2 log log n`` (Hannan-Quinn), ``log n`` or 2.
     horizon : float
         Horizon (s) of the random-walk equivalent of the bias (:class:`FilterBias`).
     workers : int, optional
@@ -111,7 +119,7 @@ def fit_imu_records(
     robust: bool = False,
     unit: str = "u",
     ci: float = ONE_SIGMA,
-    criterion: str = "bic",
+    criterion: str = DEFAULT_CRITERION,
     horizon: float = HORIZON,
 ) -> ImuModel:
     """One noise model of a sensor from several still records of it (several nights).

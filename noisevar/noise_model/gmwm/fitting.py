@@ -37,9 +37,11 @@ ADDABLE = ("QN", "FL", "GM", "RW", "DR")
 #: Penalty per parameter of the wavelet variance information criterion (Guerrier et al.'s
 #: WVIC in its asymptotic form: the objective's optimism is 2 per parameter).
 PENALTY = 2.0
-#: Criteria a model may be chosen by: WVIC, or the objective plus ``log(n)`` per
-#: parameter (a BIC analogue, consistent: the default).
-CRITERIA = ("bic", "wvic")
+#: Criteria a model may be chosen by: the objective plus, per parameter, ``2 log log n``
+#: (Hannan-Quinn's, consistent: the default), ``log n`` (BIC's) or 2 (WVIC), ``n`` the
+#: samples.
+CRITERIA = ("hq", "bic", "wvic")
+DEFAULT_CRITERION = "hq"
 
 
 def _merge(parts: list[tuple[str, NDArray]]) -> tuple[tuple[str, ...], NDArray]:
@@ -60,7 +62,16 @@ def _fresh_starts(keys: tuple[str, ...], wv: est.WaveletVariance) -> list[NDArra
 def _grown(sol: est.Solution, new: str, wv: est.WaveletVariance):
     """The model ``sol`` plus the process ``new``, with warm starts."""
     prev = list(zip(sol.keys, est.split(sol.keys, np.exp(sol.log_params)), strict=True))
-    starts = [_merge(prev + [(new, s)]) for s in PROCESSES[new].start(wv.tau, wv.nu)]
+    candidates = PROCESSES[new].start(wv.tau, wv.nu)
+    if new == "GM":
+        # first, a GM that fills the current model's largest shortfall, where it peaks
+        short = wv.nu - est.model_wv(sol.keys, np.exp(sol.log_params), wv.tau)
+        j = int(np.argmax(short / wv.nu))
+        if short[j] > 0:
+            tc = wv.tau[j] / 2.0
+            peak = float(PROCESSES["GM"].wv(np.array([1.0, tc]), wv.tau[j : j + 1])[0])
+            candidates = [np.array([short[j] / peak, tc]), *candidates]
+    starts = [_merge(prev + [(new, s)]) for s in candidates]
     return starts[0][0], [s for _, s in starts]
 
 
@@ -84,10 +95,19 @@ def bic(sol: est.Solution, n: float) -> float:
     return sol.objective + math.log(n) * sol.n_params
 
 
-def _score(criterion: str, n: float):
+def hq(sol: est.Solution, n: float) -> float:
+    """The objective plus ``2 log(log(n))`` per parameter (``n`` samples)."""
+    return sol.objective + 2.0 * math.log(math.log(n)) * sol.n_params
+
+
+def _score(criterion: str, n: float):  # noqa: ANN202
     if criterion not in CRITERIA:
         raise NoisevarError(f"criterion must be one of {', '.join(CRITERIA)}; got {criterion!r}.")
-    return wvic if criterion == "wvic" else (lambda s: bic(s, n))
+    return {
+        "hq": lambda s: hq(s, n),
+        "bic": lambda s: bic(s, n),
+        "wvic": wvic,
+    }[criterion]
 
 
 def _without(sol: est.Solution, drop: int, wv: est.WaveletVariance) -> est.Solution:
@@ -121,24 +141,42 @@ def _backward(current: est.Solution, wv: est.WaveletVariance, score, tried: list
 
 
 def search(
-    wv: est.WaveletVariance, criterion: str = "bic"
+    wv: est.WaveletVariance, criterion: str = DEFAULT_CRITERION
 ) -> tuple[est.Solution, list[est.Solution]]:
     """Stepwise search from :data:`BASE`: add the process that lowers the criterion most
     while one does, then drop the processes whose removal lowers it (a drift taken
-    early for a random walk), and add again, until neither helps."""
+    early for a random walk), swap a flicker or drift for a GM or random walk
+    (:data:`SWAPS`) when that lowers it, and add again, until nothing helps."""
     score = _score(criterion, wv.n_samples)
     current = est.fit(BASE, _fresh_starts(BASE, wv), wv)
     tried = [current]
     for _ in range(3):
         grown = _forward(current, wv, score, tried)
-        current = _backward(grown, wv, score, tried)
+        current = _swapped(_backward(grown, wv, score, tried), wv, score, tried)
         if current is grown:
             break
     return current, tried
 
 
+#: Swaps the search tries: a flicker or a drift taken for a GM or a random walk.
+SWAPS = {"FL": ("GM", "RW"), "DR": ("GM", "RW")}
+
+
+def _swapped(current: est.Solution, wv: est.WaveletVariance, score, tried: list):  # noqa: ANN001, ANN202
+    trials = []
+    for i, k in enumerate(current.keys):
+        for new in SWAPS.get(k, ()):
+            rest = _without(current, i, wv)
+            if new in _addable(rest.keys, wv.tau.size):
+                keys, starts = _grown(rest, new, wv)
+                trials.append(est.fit(keys, starts, wv))
+    tried += trials
+    better = [t for t in trials if score(t) < score(current)]
+    return min(better, key=score) if better else current
+
+
 def choose(
-    wv: est.WaveletVariance, models: str | Sequence[str], criterion: str = "bic"
+    wv: est.WaveletVariance, models: str | Sequence[str], criterion: str = DEFAULT_CRITERION
 ) -> tuple[est.Solution, list[est.Solution]]:
     """The chosen solution and every solution fitted (``models``: "auto" or a list)."""
     score = _score(criterion, wv.n_samples)
@@ -223,7 +261,9 @@ def build(
         if name in seen:
             continue
         seen.add(name)
-        row = ModelRow(name, t.n_params, t.objective, wvic(t), bic(t, n), t.keys == sol.keys)
+        row = ModelRow(
+            name, t.n_params, t.objective, wvic(t), hq(t, n), bic(t, n), t.keys == sol.keys
+        )
         rows.append(row)
     p = np.exp(sol.log_params)
     notes = []
@@ -301,7 +341,7 @@ def fit_wv(
     robust: bool = False,
     unit: str = "u",
     ci: float = ONE_SIGMA,
-    criterion: str = "bic",
+    criterion: str = DEFAULT_CRITERION,
     horizon: float = HORIZON,
 ) -> ImuModel:
     """Fit and choose a model on one wavelet variance (see :func:`fit_imu_model`)."""

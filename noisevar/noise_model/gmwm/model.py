@@ -53,14 +53,16 @@ class ModelRow:
 
     ``objective`` is the GMWM objective at the fit (about chi-square with ``scales -
     n_params`` degrees of freedom for the right model); ``wvic = objective + 2 n_params``
-    (Guerrier et al.'s criterion in its asymptotic form); ``bic = objective + log(n)
-    n_params`` (``n`` samples), the default criterion of the choice.
+    (Guerrier et al.'s criterion in its asymptotic form); ``hq = objective + 2 log(log n)
+    n_params`` (Hannan-Quinn's, the default criterion of the choice) and ``bic =
+    objective + log(n) n_params``, ``n`` the samples.
     """
 
     model: str
     n_params: int
     objective: float
     wvic: float
+    hq: float
     bic: float
     chosen: bool
 
@@ -71,6 +73,7 @@ class ModelRow:
             "n_params": self.n_params,
             "objective": float(self.objective),
             "wvic": float(self.wvic),
+            "hq": float(self.hq),
             "bic": float(self.bic),
             "chosen": self.chosen,
         }
