@@ -300,9 +300,10 @@ def main() -> None:
     ap.add_argument("--hours", type=float, default=10.0, help="composite record length")
     ap.add_argument("--robust-runs", type=int, default=10)
     ap.add_argument("--only", choices=SECTIONS, nargs="+")
+    ap.add_argument("--out", type=Path, default=OUT, help="results file (sections kept)")
     args = ap.parse_args()
     wanted = set(args.only or SECTIONS)
-    kept = _previous_sections()
+    kept = _previous_sections(args.out)
     run = {
         "ros": lambda: ros_section(args.seeds, args.ros_hours),
         "composite": lambda: composite_section(args.runs, args.hours),
@@ -314,13 +315,13 @@ def main() -> None:
         block = run[name]() if name in wanted else kept.get(name)
         if block:
             out += [*block, ""]
-        RESULTS.mkdir(exist_ok=True)
-        OUT.write_text("\n".join(out), encoding="utf-8")
+        args.out.parent.mkdir(exist_ok=True)
+        args.out.write_text("\n".join(out), encoding="utf-8")
     print("\n".join(out))
 
 
-def _previous_sections() -> dict[str, list[str]]:
-    if not OUT.is_file():
+def _previous_sections(path: Path) -> dict[str, list[str]]:
+    if not path.is_file():
         return {}
     heads = {
         "#### allan_variance_ros": "ros",
@@ -330,7 +331,7 @@ def _previous_sections() -> dict[str, list[str]]:
     }
     out: dict[str, list[str]] = {}
     current = None
-    for line in OUT.read_text(encoding="utf-8").splitlines():
+    for line in path.read_text(encoding="utf-8").splitlines():
         if line.startswith("#### "):
             current = next((v for k, v in heads.items() if line.startswith(k)), None)
         if current:

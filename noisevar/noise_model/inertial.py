@@ -395,6 +395,13 @@ def _one_axis(
     ivals = _intervals(res.taus, coef, w, _model_edf(a, coef, m, y.size + 1), ci, seed)
     white = white_level(y, rate)
     notes += _n_against_white(coef, ivals, white, unit)
+    left = [
+        f"{t.symbol} (up to {hi:.3g})"
+        for t, c, (_, hi) in zip(TERMS, coef, ivals, strict=True)
+        if c == 0
+    ]
+    if left:
+        notes.append("left out, the data do not support them: " + ", ".join(left))
     terms = []
     for spec, c, (lo, hi) in zip(TERMS, coef, ivals, strict=True):
         value = float(np.sqrt(c))
