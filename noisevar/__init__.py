@@ -37,10 +37,13 @@ if TYPE_CHECKING:
     )
     from noisevar.noise_model import (
         AllanResult,
+        ImuModel,
         InertialNoise,
         KalmanTuning,
         allan,
         fit_coloured_noise,
+        fit_imu_model,
+        fit_imu_records,
         fit_kalman,
         inertial_noise,
     )
@@ -49,6 +52,7 @@ if TYPE_CHECKING:
 __version__ = "0.1.0"
 __all__ = [
     "AllanResult",
+    "ImuModel",
     "InertialNoise",
     "GeneratedSignal",
     "KalmanTuning",
@@ -64,6 +68,8 @@ __all__ = [
     "estimate",
     "estimate_redundant",
     "fit_coloured_noise",
+    "fit_imu_model",
+    "fit_imu_records",
     "fit_kalman",
     "generate",
     "inertial_noise",
@@ -81,10 +87,13 @@ _LAZY = {
     "VarianceEstimate": "noisevar.estimators.results",
     "VarianceEstimates": "noisevar.estimators.results",
     "AllanResult": "noisevar.noise_model",
+    "ImuModel": "noisevar.noise_model",
     "InertialNoise": "noisevar.noise_model",
     "KalmanTuning": "noisevar.noise_model",
     "allan": "noisevar.noise_model",
     "fit_coloured_noise": "noisevar.noise_model",
+    "fit_imu_model": "noisevar.noise_model",
+    "fit_imu_records": "noisevar.noise_model",
     "fit_kalman": "noisevar.noise_model",
     "inertial_noise": "noisevar.noise_model",
     "GeneratedSignal": "noisevar.signals",

@@ -122,3 +122,18 @@ def test_kalibr_needs_both_sensors(capsys, imu_csv, tmp_path) -> None:
     argv = ["imu", imu_csv[0], "--rate", "50", "--gyro", "gx", "--kalibr", str(tmp_path / "a")]
     assert "--accel" in _error(capsys, argv)
     assert not (tmp_path / "a").exists()
+
+
+def test_imu_model_auto_table_and_json(capsys, imu_csv) -> None:
+    path, _ = imu_csv
+    assert main(["imu", path, "--rate", "50", "--columns", "gx", "--model", "auto"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("gx: model WN+RW at 50 Hz")
+    assert "<- chosen" in out and "WVIC" in out and "K_eq" in out
+    argv = ["imu", path, "--rate", "50", "--columns", "gx", "gy", "--model", "WN,WN+RW"]
+    assert main([*argv, "--format", "json", "--robust"]) == 0
+    d = json.loads(capsys.readouterr().out)["columns"]
+    assert set(d) == {"gx", "gy"} and d["gy"]["robust"]
+    assert [r["model"] for r in d["gx"]["table"]] == ["WN", "WN+RW"]
+    assert "Unknown process" in _error(capsys, [*argv[:-1], "WN+ZZ"])
+    assert "--kalibr" in _error(capsys, [*argv, "--gyro", "gx", "--kalibr", "x.yaml"])

@@ -1,7 +1,9 @@
-"""``noisevar imu FILE --rate HZ``: IEEE-952 noise terms per column, consumer exports (§E4, §E7).
+"""``noisevar imu FILE --rate HZ``: IEEE-952 terms per column, consumer exports (§E4, §E7, §E10).
 
 ``--export px4,kalibr,...|all --out DIR [--conservative]`` writes each consumer's file
-(:mod:`noisevar.noise_model.exports`) into DIR from the ``--gyro`` and ``--accel`` columns.
+(:mod:`noisevar.noise_model.exports`) into DIR from the ``--gyro`` and ``--accel`` columns;
+``--model auto|SPEC``: composite models by GMWM with the comparison table (§E10);
+``--temperature COLUMN``: bias(T), the warm-up and the bias process noise (§E9).
 """
 
 from __future__ import annotations
@@ -113,6 +115,50 @@ def _print_table(fits: dict) -> None:
             )
 
 
+#: ``--model``'s value for the IEEE-952 fit of :func:`noisevar.inertial_noise`.
+IEEE952 = "ieee952"
+
+
+def _print_models(fits: dict) -> None:
+    for name, fit in fits.items():
+        robust = ", robust wavelet variance" if fit.robust else ""
+        print(f"{name}: model {fit.model} at {fit.rate:g} Hz, {fit.ci:.1%} intervals{robust}")
+        for p in fit.parameters:
+            lo, hi = p.interval
+            print(f"  {p.name:<12} {p.value:11.4g} [{lo:.3g}, {hi:.3g}] {p.unit}")
+        fb = fit.filter_bias
+        k_eq = f"K_eq {fb.random_walk:.4g} {fit.unit}/s/√Hz"
+        print(f"  bias as a random walk over {fb.horizon:g} s: {k_eq}")
+        head = f"{'objective':>12} {'WVIC':>12} {'HQ':>12} {'BIC':>12}"
+        print(f"  {'model':<22} {'params':>6} {head}")
+        for r in fit.table:
+            mark = " <- chosen" if r.chosen else ""
+            print(
+                f"  {r.model:<22} {r.n_params:>6} {r.objective:12.4g} {r.wvic:12.4g} "
+                f"{r.hq:12.4g} {r.bic:12.4g}{mark}"
+            )
+        for note in fit.notes:
+            print(f"  note: {note}")
+
+
+def _cmd_models(args: argparse.Namespace, data: dict, rate: float) -> int:
+    from noisevar.noise_model import fit_imu_model
+    from noisevar.noise_model.gmwm import AUTO
+
+    if args.kalibr:
+        raise NoisevarError(f"--kalibr takes the IEEE-952 fit: use it with --model {IEEE952}")
+    models = AUTO if args.model == AUTO else [m for m in args.model.split(",") if m]
+    stacked = np.column_stack(list(data.values()))
+    fits = dict(
+        zip(data, fit_imu_model(stacked, rate, models=models, robust=args.robust), strict=True)
+    )
+    if args.format == "json":
+        print_json({"columns": {c: f.to_dict() for c, f in fits.items()}})
+    else:
+        _print_models(fits)
+    return 0
+
+
 def _cmd_imu(args: argparse.Namespace) -> int:
     from noisevar.noise_model import inertial_noise
 
@@ -122,6 +168,8 @@ def _cmd_imu(args: argparse.Namespace) -> int:
         consumers(args.export)  # refuse an unknown consumer before reading the file
     data, rate, declared = load_columns(args.file, _columns(args), args.rate, args.topic)
     temp = split_temperature(args, data, rate)
+    if args.model != IEEE952:
+        return _cmd_models(args, data, rate)
     col_units = _column_units(args, {c: declared[c] for c in data})
     fits = {}
     for scale, unit in dict.fromkeys(col_units.values()):
@@ -188,6 +236,15 @@ def add_parser(sub: Any) -> None:
         "upper bound) instead of the best fit (the default)",
     )
     add_topic_flag(p)
+    p.add_argument(
+        "--model",
+        default=IEEE952,
+        help=f"{IEEE952} (default: the five IEEE-952 terms), auto (GMWM composite model "
+        "chosen by Hannan-Quinn's criterion, with the comparison table), or candidate "
+        "models separated by commas, "
+        "e.g. WN+RW,QN+WN+GM+RW (processes QN WN FL GM RW DR)",
+    )
+    p.add_argument("--robust", action="store_true", help="robust wavelet variance (--model)")
     add_regimes_flag(p)
     p.add_argument("--temperature", metavar="COLUMN", help="fit bias(T), warm-up (§E9)")
     p.add_argument("--format", choices=["table", "json"], default="table")

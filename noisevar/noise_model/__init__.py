@@ -1,10 +1,11 @@
 """Noise models of a record for a Kalman filter: Allan deviation, the inertial (IEEE-952)
-noise terms, coloured measurement noise, Q with R (docs/algorithms.md §E4-§E6), and the
-temperature model (§E9).
+noise terms, composite IMU models (GMWM), coloured measurement noise, Q with R
+(docs/algorithms.md §E4-§E6, §E10), and the temperature model (§E9).
 """
 
 from noisevar.noise_model.allan import AllanResult, allan
 from noisevar.noise_model.coloured import ColouredNoiseFit, fit_coloured_noise
+from noisevar.noise_model.gmwm import ImuModel, fit_imu_model, fit_imu_records
 from noisevar.noise_model.inertial import InertialNoise, NoiseTerm, inertial_noise
 from noisevar.noise_model.kalman_fit import (
     KalmanTuning,
@@ -23,6 +24,7 @@ from noisevar.noise_model.temperature import (
 __all__ = [
     "AllanResult",
     "ColouredNoiseFit",
+    "ImuModel",
     "InertialNoise",
     "KalmanTuning",
     "NoiseTerm",
@@ -32,6 +34,8 @@ __all__ = [
     "allan",
     "evaluate_kalman",
     "fit_coloured_noise",
+    "fit_imu_model",
+    "fit_imu_records",
     "fit_kalman",
     "inertial_noise",
     "matlab_temperature_params",

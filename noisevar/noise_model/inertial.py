@@ -6,6 +6,7 @@ squares over all taus, with intervals and continuous/discrete forms.
 
 from __future__ import annotations
 
+import itertools
 import math
 import os
 from concurrent.futures import ThreadPoolExecutor
@@ -25,6 +26,7 @@ from noisevar.noise_model.allan import (
     KINDS,
     ONE_SIGMA,
     AllanResult,
+    _edfs,
     allan,
     rescale_allan,
     still_record,
@@ -35,6 +37,9 @@ BOOTSTRAP = 200
 #: Reweighting passes of the fit (weights from the fitted Allan variance).
 PASSES = 3
 _FLICKER = 2.0 * math.log(2.0) / math.pi
+#: Power-law exponent of the rate noise each term is (S_y(f) ~ f^alpha): Greenhall's edf
+#: of a tau is that of the term the fitted model says dominates there.
+ALPHA = {"Q": 2, "N": 0, "B": -1, "K": -2, "R": -2}
 
 
 @dataclass(frozen=True)
@@ -207,22 +212,61 @@ class InertialNoise:
         }
 
 
-def fit_terms(taus: NDArray, avar: NDArray, edf: NDArray) -> tuple[NDArray, NDArray]:
-    """Non-negative weighted least squares of eq. E4.1: the squared terms, and the weights.
+def fit_terms(
+    taus: NDArray,
+    avar: NDArray,
+    edf: NDArray,
+    *,
+    rate: float | None = None,
+    n_phase: int | None = None,
+) -> tuple[NDArray, NDArray]:
+    """Weighted NNLS of eq. E4.1 on the terms the data support: the squared terms, and
+    the weights.
 
     Parameters
     ----------
     taus, avar, edf : ndarray
         Averaging times, Allan variances and their equivalent degrees of freedom.
+    rate, n_phase : float and int, optional
+        Sample rate and phase samples: with them the edf of each tau is recomputed
+        (Greenhall) for the noise type of the term that dominates the fitted model there,
+        instead of the noise identification's, which can call a random walk at the
+        longest taus flicker phase noise and weigh the least reliable points 4-6x.
 
     Returns
     -------
     coef : ndarray
-        ``(Q^2, N^2, B^2, K^2, R^2)``.
+        ``(Q^2, N^2, B^2, K^2, R^2)``; 0 for a term the choice left out.
     weights : ndarray
         The final weights ``sqrt(edf/2) / sigma^2_model`` (one per tau).
+
+    Notes
+    -----
+    The choice: every subset of the terms that holds N is fitted with the final
+    weights; the one with the least ``sum (w (avar - model))^2 + log(n) (non-zero
+    terms)`` is kept (``n`` the samples; the taus alone when ``n_phase`` is not given).
     """
     a = np.column_stack([s.coefficient(taus) for s in TERMS])
+    coef, w = _reweighted(a, avar, edf)
+    if rate is not None and n_phase is not None:
+        m = np.maximum(np.round(np.asarray(taus) * rate), 1).astype(np.int64)
+        edf = _model_edf(a, coef, m, n_phase)
+        coef, w = _reweighted(a, avar, edf)
+    penalty = math.log(n_phase if n_phase else taus.size)
+    best, best_score = coef, np.inf
+    for mask in itertools.product((False, True), repeat=len(TERMS)):
+        if not mask[1]:  # N always
+            continue
+        cols = np.flatnonzero(mask)
+        c = np.zeros(len(TERMS))
+        c[cols] = _nnls(a[:, cols] * w[:, None], avar * w)
+        score = float(np.sum((w * (a @ c - avar)) ** 2)) + penalty * np.count_nonzero(c)
+        if score < best_score - 1e-9:
+            best, best_score = c, score
+    return best, w
+
+
+def _reweighted(a: NDArray, avar: NDArray, edf: NDArray) -> tuple[NDArray, NDArray]:
     model = avar
     for _ in range(PASSES):
         # var(sigma^2 estimate) ~ 2 sigma^4 / edf: weight each tau by 1 / its standard error
@@ -232,6 +276,13 @@ def fit_terms(taus: NDArray, avar: NDArray, edf: NDArray) -> tuple[NDArray, NDAr
         if not np.any(model > 0):
             break
     return coef, w
+
+
+def _model_edf(a: NDArray, coef: NDArray, m: NDArray, n_phase: int) -> NDArray:
+    """Greenhall's edf per tau for the noise type of the term dominating the fit there."""
+    parts = a * coef[None, :]
+    alpha = np.array([ALPHA[TERMS[i].symbol] for i in np.argmax(parts, axis=1)], dtype=float)
+    return _edfs(alpha, KINDS["oadev"], m, n_phase, default=0)
 
 
 def _nnls(a: NDArray, b: NDArray) -> NDArray:
@@ -255,14 +306,22 @@ def _intervals(
     model = a @ coef
     # sigma^2* = sigma^2_fit chi^2_edf / edf, independently per tau
     draws = model * rng.chisquare(edf, size=(BOOTSTRAP, taus.size)) / edf
-    terms = np.sqrt([_nnls(a * w[:, None], d * w) for d in draws])
+    kept = np.flatnonzero(coef > 0)
+    terms = np.zeros((BOOTSTRAP, len(TERMS)))
+    for b, d in enumerate(draws):
+        terms[b, kept] = np.sqrt(_nnls(a[:, kept] * w[:, None], d * w))
     lo, med, hi = np.quantile(terms, [(1.0 - ci) / 2.0, 0.5, (1.0 + ci) / 2.0], axis=0)
     # the replicates' spread about their median, placed on the estimate (clipped at zero),
-    # joined with the plain percentile interval: it holds the estimate, and the percentile
-    # bound of a term fitted as zero
+    # joined with the plain percentile interval: it holds the estimate
     value = np.sqrt(coef)
     low = np.minimum(np.maximum(value - (med - lo), 0.0), lo)
     high = np.maximum(value + (hi - med), hi)
+    # a term the choice left out: from 0 to what all five terms refitted allow
+    out = np.setdiff1d(np.arange(len(TERMS)), kept)
+    if out.size:
+        full = np.sqrt([_nnls(a * w[:, None], d * w) for d in draws[: BOOTSTRAP // 2]])
+        low[out] = 0.0
+        high[out] = np.quantile(full[:, out], (1.0 + ci) / 2.0, axis=0)
     return np.column_stack([low, high])
 
 
@@ -338,10 +397,19 @@ def _one_axis(
     if res.taus.size < 2:
         raise NoisevarError("The record is too short: the fit needs at least two taus.")
     res = replace(res, regimes=regimes, notes=tuple(notes))
-    coef, w = fit_terms(res.taus, res.variance, res.edf)
-    ivals = _intervals(res.taus, coef, w, res.edf, ci, seed)
+    coef, w = fit_terms(res.taus, res.variance, res.edf, rate=rate, n_phase=y.size + 1)
+    a = np.column_stack([s.coefficient(res.taus) for s in TERMS])
+    m = np.maximum(np.round(res.taus * rate), 1).astype(np.int64)
+    ivals = _intervals(res.taus, coef, w, _model_edf(a, coef, m, y.size + 1), ci, seed)
     white = white_level(y, rate)
     notes += _n_against_white(coef, ivals, white, unit)
+    left = [
+        f"{t.symbol} (up to {hi:.3g})"
+        for t, c, (_, hi) in zip(TERMS, coef, ivals, strict=True)
+        if c == 0
+    ]
+    if left:
+        notes.append("left out, the data do not support them: " + ", ".join(left))
     terms = []
     for spec, c, (lo, hi) in zip(TERMS, coef, ivals, strict=True):
         value = float(np.sqrt(c))
@@ -425,10 +493,14 @@ def inertial_noise(
     Notes
     -----
     docs/algorithms.md §E4. Eq. E4.1 is linear in the squared terms; they are fitted
-    with ``scipy.optimize.nnls``, each tau weighted by its edf, and reweighted with the
-    fitted variance. Intervals: parametric bootstrap of chi-square Allan variances,
-    taken as independent across taus (so they are rather narrow at long taus); the
-    percentile interval joined with the replicates' spread placed on the estimate.
+    with ``scipy.optimize.nnls``, each tau weighted by Greenhall's edf for the noise type
+    of the term the fit says dominates there, and reweighted with the fitted variance;
+    only the terms the data support are kept (:func:`fit_terms`; a left-out term is 0,
+    its interval from 0 to what the five terms refitted allow). Intervals: parametric
+    bootstrap of chi-square Allan variances, taken as independent across taus (so they
+    are rather narrow at long taus); the percentile interval joined with the
+    replicates' spread placed on the estimate. Composite models (Gauss-Markov biases)
+    with model choice: :func:`noisevar.fit_imu_model`.
     """
     check_regimes(regimes)
     check_rate(rate)

@@ -169,6 +169,14 @@ def _covers(fit: InertialNoise, free: tuple[str, ...]) -> tuple[str, ...]:
     for s in dropped:
         if s != "B":
             out.append(f"the fitted {s} term, folded into {' and '.join(free)}")
+    for s in TERMS:  # left out by the term choice, yet within what the record allows
+        term = fit.term(s.symbol)
+        if s.symbol not in free and term.value == 0 and term.interval[1] > 0:
+            what = "the bias instability B" if s.symbol == "B" else f"the {s.symbol} term"
+            out.append(
+                f"{what} up to {term.interval[1]:.3g} {term.unit}, which the best fit leaves "
+                "out (the record does not support it) but its upper bound allows"
+            )
     out.append("each tau's chi-square scatter up to its upper bound")
     if fit.regimes == "all":
         out.append("the record's every regime, vibration in motion included")

@@ -91,6 +91,7 @@ def simulate_inertial(
     bias_instability: float = 0.0,
     rate_random_walk: float = 0.0,
     rate_ramp: float = 0.0,
+    gauss_markov: tuple[tuple[float, float], ...] = (),
     seed: int = 0,
 ) -> NDArray:
     """Rate samples whose Allan variance is eq. E4.1 with the given terms.
@@ -103,6 +104,8 @@ def simulate_inertial(
         Sample rate (Hz).
     quantization, random_walk, bias_instability, rate_random_walk, rate_ramp : float
         Q, N, B, K, R in the units of eq. E4.1.
+    gauss_markov : tuple of (sigma, tau_c)
+        First-order Gauss-Markov biases: stationary std (unit) and correlation time (s).
     seed : int
         Seed of the noise.
 
@@ -124,4 +127,21 @@ def simulate_inertial(
     y += np.cumsum(rate_random_walk / math.sqrt(rate) * rng.standard_normal(n))
     # rate ramp: slope R per second
     y += rate_ramp * np.arange(n) / rate
+    for sigma, tau_c in gauss_markov:
+        y += gauss_markov_bias(n, rate, sigma, tau_c, rng)
     return y
+
+
+def gauss_markov_bias(
+    n: int, rate: float, sigma: float, tau_c: float, rng: np.random.Generator
+) -> NDArray:
+    """A stationary first-order Gauss-Markov bias: ``b_k = phi b_(k-1) + w_k``.
+
+    ``phi = exp(-1 / (tau_c fs))``, ``var(w) = sigma^2 (1 - phi^2)``, ``b_0 ~ N(0, sigma^2)``.
+    """
+    from scipy.signal import lfilter
+
+    phi = math.exp(-1.0 / (tau_c * rate))
+    w = sigma * math.sqrt(-math.expm1(-2.0 / (tau_c * rate))) * rng.standard_normal(n)
+    b0 = sigma * rng.standard_normal()
+    return lfilter([1.0], [1.0, -phi], w, zi=[phi * b0])[0]

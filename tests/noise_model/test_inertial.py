@@ -64,8 +64,12 @@ def test_exact_allan_variance_gives_exact_terms() -> None:
     a = np.column_stack(
         [3 / taus**2, 1 / taus, np.full(18, 2 * np.log(2) / np.pi), taus / 3, taus**2 / 2]
     )
-    fitted, _ = fit_terms(taus, a @ coef, np.full(18, 100.0))
+    # exact and precise (large edf): every term is supported and recovered
+    fitted, _ = fit_terms(taus, a @ coef, np.full(18, 1e6))
     np.testing.assert_allclose(fitted, coef, rtol=1e-6)
+    # at edf 100 the small K is not told from 0 among the others: the choice leaves it out
+    fitted, _ = fit_terms(taus, a @ coef, np.full(18, 100.0))
+    assert fitted[3] == 0.0 and fitted[1] == pytest.approx(coef[1], rel=0.05)
 
 
 def test_several_axes_along_either_axis() -> None:

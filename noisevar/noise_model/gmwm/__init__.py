@@ -1,0 +1,161 @@
+"""Composite IMU noise models from the Haar wavelet variance (GMWM; docs/algorithms.md §E10).
+
+:func:`fit_imu_model` fits white noise, quantisation, random walk, drift, Gauss-Markov
+and flicker processes per axis, chooses the model, and gives intervals;
+:func:`fit_imu_records` fits one model to several records of one unit.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from noisevar.errors import NoisevarError
+from noisevar.noise_model.gmwm import estimator as est
+from noisevar.noise_model.gmwm.fitting import (
+    AUTO,
+    DEFAULT_CRITERION,
+    as_rows,
+    fit_wv,
+    pooled,
+    wavelet_variances,
+)
+from noisevar.noise_model.gmwm.model import (
+    HORIZON,
+    ONE_SIGMA,
+    FilterBias,
+    ImuModel,
+    ModelRow,
+    Parameter,
+)
+
+__all__ = [
+    "AUTO",
+    "FilterBias",
+    "ImuModel",
+    "ModelRow",
+    "Parameter",
+    "fit_imu_model",
+    "fit_imu_records",
+]
+
+
+def fit_imu_model(
+    x: ArrayLike,
+    rate: float,
+    *,
+    axis: int = 0,
+    models: str | Sequence[str] = "auto",
+    robust: bool = False,
+    unit: str = "u",
+    ci: float = ONE_SIGMA,
+    criterion: str = DEFAULT_CRITERION,
+    horizon: float = HORIZON,
+    workers: int | None = None,
+) -> ImuModel | tuple[ImuModel, ...]:
+    """Fit a composite noise model to rate data by GMWM, choosing the model.
+
+    Parameters
+    ----------
+    x : array_like, shape (n,) or (n, axes)
+        Rate samples of a still sensor (gyro rate, specific force); several axes
+        (e.g. the 6 of an IMU) in a 2-D array.
+    rate : float
+        Sample rate (Hz).
+    axis : int
+        The time axis of a 2-D ``x`` (default 0: ``(n, axes)``).
+    models : "auto" or list of str
+        ``"auto"``: a forward search from white noise, adding the process (QN, FL, GM up
+        to twice, RW, DR) that lowers the criterion most, while it does. Or the
+        candidate models, e.g. ``["WN+RW", "QN+WN+GM+RW"]``.
+    robust : bool
+        Use Huber's robust wavelet variance (records with outliers).
+    unit : str
+        Unit of the rate data, for the parameters' units.
+    ci : float
+        Confidence level of the intervals.
+    criterion : {"hq", "bic", "wvic"}
+        The criterion of the choice (:class:`ModelRow` has all three): the objective
+        plus, per parameter, ``2 log log n`` (Hannan-Quinn), ``log n`` or 2.
+    horizon : float
+        Horizon (s) of the random-walk equivalent of the bias (:class:`FilterBias`).
+    workers : int, optional
+        Threads for several axes (default: the number of CPUs).
+
+    Returns
+    -------
+    ImuModel, or a tuple of them (one per axis) for a 2-D ``x``
+
+    Notes
+    -----
+    docs/algorithms.md §E10. The wavelet variances of all axes are computed at once;
+    each axis is fitted by weighted least squares on the log-parameters, weighted by
+    the diagonal of the fitted model's asymptotic covariance of the wavelet variance;
+    intervals by the delta method with the full covariance (sandwich form).
+    """
+    arr = as_rows(x, axis)
+    wvs = wavelet_variances(arr, robust)
+    kw = dict(models=models, robust=robust, unit=unit, ci=ci, criterion=criterion)
+
+    def one(wv: est.WaveletVariance) -> ImuModel:
+        return fit_wv(wv, rate, horizon=horizon, **kw)
+
+    if np.ndim(x) == 1:
+        return one(wvs[0])
+    n_workers = max(1, min(len(wvs), workers or os.cpu_count() or 1))
+    with ThreadPoolExecutor(n_workers) as pool:
+        return tuple(pool.map(one, wvs))
+
+
+def fit_imu_records(
+    records: Sequence[ArrayLike],
+    rate: float,
+    *,
+    models: str | Sequence[str] = "auto",
+    robust: bool = False,
+    unit: str = "u",
+    ci: float = ONE_SIGMA,
+    criterion: str = DEFAULT_CRITERION,
+    horizon: float = HORIZON,
+) -> ImuModel:
+    """One noise model of a sensor from several still records of it (several nights).
+
+    Parameters
+    ----------
+    records : sequence of 1-D array_like
+        The records (any lengths), all of one axis at one ``rate``.
+    rate, models, robust, unit, ci, criterion, horizon
+        As :func:`fit_imu_model`.
+
+    Returns
+    -------
+    ImuModel
+
+    Notes
+    -----
+    Each record's wavelet variance is computed on its own (no jump between records
+    enters it); at each scale they are averaged weighted by their coefficients, and
+    the covariance counts all the coefficients.
+    """
+    if len(records) == 0:
+        raise NoisevarError("records is empty: give at least one record.")
+    wvs = []
+    for r in records:
+        arr = as_rows(r, 0)
+        if arr.shape[0] != 1:
+            raise NoisevarError("each record must be 1-D (one axis).")
+        wvs += wavelet_variances(arr, robust)
+    return fit_wv(
+        pooled(wvs),
+        rate,
+        models=models,
+        robust=robust,
+        unit=unit,
+        ci=ci,
+        criterion=criterion,
+        horizon=horizon,
+    )

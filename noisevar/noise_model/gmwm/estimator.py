@@ -1,0 +1,178 @@
+"""The GMWM estimator of one composite model on one wavelet variance (docs/algorithms.md §E10).
+
+Guerrier, Skaloud, Stebler & Victoria-Feser, JASA 108 (2013): minimise
+``(nu_hat - nu(theta))' Omega (nu_hat - nu(theta))``, ``Omega`` the inverse covariance of
+``nu_hat``. The parameters are fitted as logarithms (all positive) with
+``scipy.optimize.least_squares``; ``Omega`` is first the diagonal of a chi-square
+approximation from the data, then the asymptotic covariance of the fitted model.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.linalg import cholesky
+from scipy.optimize import least_squares
+
+from noisevar.noise_model.gmwm.processes import PROCESSES
+from noisevar.noise_model.gmwm.wavelet import wv_covariance
+
+#: Reweighting passes with the fitted model's covariance.
+PASSES = 2
+#: Condition number above which only the diagonal of the covariance is inverted.
+MAX_CONDITION = 1e12
+#: Weight by the diagonal of the covariance only (intervals still use all of it).
+DIAGONAL = True
+
+
+@dataclass(frozen=True)
+class WaveletVariance:
+    """The wavelet variance an estimator fits: scales (samples), values, coefficients."""
+
+    tau: NDArray
+    nu: NDArray
+    m: NDArray
+    inflation: float = 1.0  # variance of a robust estimate over the classical one
+
+    @property
+    def n_samples(self) -> float:
+        """Samples behind the finest scale (all records' for a pooled one)."""
+        return float(self.m[0] + self.tau[0] - 1)
+
+
+@dataclass(frozen=True)
+class Solution:
+    """A fitted model: internal parameters, their log-covariance, objective and weights."""
+
+    keys: tuple[str, ...]
+    log_params: NDArray
+    log_cov: NDArray
+    objective: float
+    cov: NDArray
+
+    @property
+    def n_params(self) -> int:
+        return int(self.log_params.size)
+
+
+def sizes(keys: tuple[str, ...]) -> list[int]:
+    """Number of internal parameters of each process."""
+    return [len(PROCESSES[k].params) for k in keys]
+
+
+def split(keys: tuple[str, ...], p: NDArray) -> list[NDArray]:
+    """The internal parameters of each process, from the flat vector ``p``."""
+    return np.split(np.asarray(p, dtype=float), np.cumsum(sizes(keys))[:-1])
+
+
+def model_wv(keys: tuple[str, ...], p: NDArray, tau: NDArray) -> NDArray:
+    """Wavelet variance of the model: the sum of its processes'."""
+    return np.sum([PROCESSES[k].wv(q, tau) for k, q in zip(keys, split(keys, p), strict=True)], 0)
+
+
+def model_cov(keys: tuple[str, ...], p: NDArray, wv: WaveletVariance) -> NDArray:
+    """Asymptotic covariance of ``nu_hat`` under the model with parameters ``p``."""
+    parts = list(zip(keys, split(keys, p), strict=True))
+
+    def spectrum(f: NDArray, s2: NDArray, c2: NDArray) -> NDArray:
+        return np.sum([PROCESSES[k].spectrum(q, f, s2, c2) for k, q in parts], axis=0)
+
+    cov = wv_covariance(wv.tau, wv.m, spectrum, wv.inflation)
+    # a drift adds no variance to the spectrum: keep every scale's variance positive
+    floor = 2.0 * (model_wv(keys, p, wv.tau) ** 2) / wv.m * 1e-6
+    cov[np.diag_indices_from(cov)] = np.maximum(np.diag(cov), floor)
+    return cov
+
+
+def chi2_cov(wv: WaveletVariance) -> NDArray:
+    """Diagonal start: ``var nu_j = 2 nu_j^2 / eta_j``, ``eta_j = max(M_j / tau_j, 1)``.
+
+    Percival & Walden's third equivalent degrees of freedom, which need no noise type.
+    """
+    eta = np.maximum(wv.m / wv.tau, 1.0)
+    return np.diag(2.0 * wv.nu**2 / eta * wv.inflation)
+
+
+def whitener(cov: NDArray) -> NDArray:
+    """``L^-1`` with ``cov = L L'`` (its diagonal alone when ill-conditioned)."""
+    d = np.sqrt(np.diag(cov))
+    corr = cov / np.outer(d, d)
+    try:
+        if np.linalg.cond(corr) > MAX_CONDITION:
+            raise np.linalg.LinAlgError
+        low = cholesky(corr, lower=True)
+    except (np.linalg.LinAlgError, ValueError):
+        return np.diag(1.0 / d)
+    return np.linalg.inv(low) / d[None, :]
+
+
+def bounds(keys: tuple[str, ...], tau: NDArray, nu: NDArray) -> tuple[NDArray, NDArray]:
+    """Bounds of the log-parameters: a GM's correlation time stays within the scales."""
+    lo, hi = [], []
+    for k in keys:
+        for name in PROCESSES[k].params:
+            if name == "tc":
+                lo.append(math.log(0.5))
+                hi.append(math.log(float(tau[-1])))
+            else:  # no process may exceed the wavelet variance 1e6-fold at any scale
+                lo.append(-np.inf)
+                hi.append(math.log(1e6 * float(np.max(nu * tau**2))))
+    return np.array(lo), np.array(hi)
+
+
+def _solve(keys: tuple[str, ...], start: NDArray, wv: WaveletVariance, wl: NDArray):
+    lo, hi = bounds(keys, wv.tau, wv.nu)
+    x0 = np.clip(np.log(np.maximum(start, 1e-300)), lo + 1e-9, hi - 1e-9)
+
+    def resid(x: NDArray) -> NDArray:
+        return wl @ (wv.nu - model_wv(keys, np.exp(x), wv.tau))
+
+    return least_squares(resid, x0, bounds=(lo, hi), method="trf", x_scale=1.0, max_nfev=400)
+
+
+def fit(keys: tuple[str, ...], starts: list[NDArray], wv: WaveletVariance) -> Solution:
+    """Fit the model ``keys`` from each start (chi-square weights), then reweight.
+
+    Returns the best solution, with the delta-method covariance of the log-parameters
+    ``(J' Omega J)^-1`` at the final weights.
+    """
+    wl = whitener(chi2_cov(wv))
+    best = min((_solve(keys, s, wv, wl) for s in starts), key=lambda r: r.cost)
+    cov = chi2_cov(wv)
+    for _ in range(PASSES):
+        cov = model_cov(keys, np.exp(best.x), wv)
+        wl = whitener(np.diag(np.diag(cov)) if DIAGONAL else cov)
+        best = _solve(keys, np.exp(best.x), wv, wl)
+    # the objective of the choice: the residual under the full covariance
+    resid = whitener(cov) @ (wv.nu - model_wv(keys, np.exp(best.x), wv.tau))
+    return Solution(keys, best.x, sandwich(best.jac, wl, cov), float(resid @ resid), cov)
+
+
+def sandwich(jac: NDArray, wl: NDArray, cov: NDArray) -> NDArray:
+    """Delta-method covariance of the log-parameters, ``jac`` that of ``wl (nu - nu(x))``.
+
+    ``(A'A)^-1 A' (wl cov wl') A (A'A)^-1`` with ``A = jac``: exact for any weights, and
+    ``(J' cov^-1 J)^-1`` when ``wl`` whitens ``cov``.
+    """
+    bread = np.linalg.pinv(jac.T @ jac)
+    meat = jac.T @ (wl @ cov @ wl.T) @ jac
+    return bread @ meat @ bread
+
+
+def order_gm(sol: Solution) -> Solution:
+    """Gauss-Markov processes sorted by correlation time (GM1 the shortest)."""
+    keys = sol.keys
+    blocks = np.split(np.arange(sol.n_params), np.cumsum(sizes(keys))[:-1])
+    gm = [b for k, b in zip(keys, blocks, strict=True) if k == "GM"]
+    if len(gm) < 2:
+        return sol
+    gm_sorted = sorted(gm, key=lambda b: sol.log_params[b[1]])
+    it = iter(gm_sorted)
+    perm = np.concatenate([next(it) if k == "GM" else b for k, b in zip(keys, blocks, strict=True)])
+    perm = perm.astype(int)
+    return Solution(
+        keys, sol.log_params[perm], sol.log_cov[np.ix_(perm, perm)], sol.objective, sol.cov
+    )

@@ -1,0 +1,356 @@
+"""Model choice and the public :func:`fit_imu_model` (docs/algorithms.md §E10)."""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy import stats
+
+from noisevar.errors import NoisevarError
+from noisevar.noise_model.gmwm import estimator as est
+from noisevar.noise_model.gmwm.model import (
+    HORIZON,
+    MAX_GM,
+    ONE_SIGMA,
+    ORDER,
+    FilterBias,
+    ImuModel,
+    ModelRow,
+    Parameter,
+    labels,
+    name_of,
+    parse_model,
+)
+from noisevar.noise_model.gmwm.processes import PROCESSES
+from noisevar.noise_model.gmwm.wavelet import dyadic_scales, haar_wv, robust_inflation
+
+#: ``models=AUTO``: search the model (:func:`search`).
+AUTO = "auto"
+#: The model every automatic search starts from.
+BASE = ("WN",)
+#: Processes an automatic search may add (GM up to :data:`MAX_GM` times).
+ADDABLE = ("QN", "FL", "GM", "RW", "DR")
+#: Penalty per parameter of the wavelet variance information criterion (Guerrier et al.'s
+#: WVIC in its asymptotic form: the objective's optimism is 2 per parameter).
+PENALTY = 2.0
+#: Criteria a model may be chosen by: the objective plus, per parameter, ``2 log log n``
+#: (Hannan-Quinn's, consistent: the default), ``log n`` (BIC's) or 2 (WVIC), ``n`` the
+#: samples.
+CRITERIA = ("hq", "bic", "wvic")
+DEFAULT_CRITERION = "hq"
+
+
+def _merge(parts: list[tuple[str, NDArray]]) -> tuple[tuple[str, ...], NDArray]:
+    """Processes sorted into :data:`ORDER` (GMs by correlation time), flattened."""
+    parts = sorted(parts, key=lambda kp: (ORDER.index(kp[0]), kp[1][-1]))
+    return tuple(k for k, _ in parts), np.concatenate([p for _, p in parts])
+
+
+def _fresh_starts(keys: tuple[str, ...], wv: est.WaveletVariance) -> list[NDArray]:
+    others = [(k, PROCESSES[k].start(wv.tau, wv.nu)[0]) for k in keys if k != "GM"]
+    gm = PROCESSES["GM"].start(wv.tau, wv.nu)
+    starts = []
+    for combo in itertools.combinations(gm, keys.count("GM")):
+        starts.append(_merge(others + [("GM", g) for g in combo])[1])
+    return starts
+
+
+def _grown(sol: est.Solution, new: str, wv: est.WaveletVariance):
+    """The model ``sol`` plus the process ``new``, with warm starts."""
+    prev = list(zip(sol.keys, est.split(sol.keys, np.exp(sol.log_params)), strict=True))
+    candidates = PROCESSES[new].start(wv.tau, wv.nu)
+    if new == "GM":
+        # first, a GM that fills the current model's largest shortfall, where it peaks
+        short = wv.nu - est.model_wv(sol.keys, np.exp(sol.log_params), wv.tau)
+        j = int(np.argmax(short / wv.nu))
+        if short[j] > 0:
+            tc = wv.tau[j] / 2.0
+            peak = float(PROCESSES["GM"].wv(np.array([1.0, tc]), wv.tau[j : j + 1])[0])
+            candidates = [np.array([short[j] / peak, tc]), *candidates]
+    starts = [_merge(prev + [(new, s)]) for s in candidates]
+    return starts[0][0], [s for _, s in starts]
+
+
+def _addable(keys: tuple[str, ...], n_scales: int) -> list[str]:
+    out = []
+    for k in ADDABLE:
+        limit = MAX_GM if k == "GM" else 1
+        size = len(PROCESSES[k].params)
+        if keys.count(k) < limit and sum(est.sizes(keys)) + size < n_scales:
+            out.append(k)
+    return out
+
+
+def wvic(sol: est.Solution) -> float:
+    """Wavelet variance information criterion: objective plus 2 per parameter."""
+    return sol.objective + PENALTY * sol.n_params
+
+
+def bic(sol: est.Solution, n: float) -> float:
+    """The objective plus ``log(n)`` per parameter (``n`` samples)."""
+    return sol.objective + math.log(n) * sol.n_params
+
+
+def hq(sol: est.Solution, n: float) -> float:
+    """The objective plus ``2 log(log(n))`` per parameter (``n`` samples)."""
+    return sol.objective + 2.0 * math.log(math.log(n)) * sol.n_params
+
+
+def _score(criterion: str, n: float):  # noqa: ANN202
+    if criterion not in CRITERIA:
+        raise NoisevarError(f"criterion must be one of {', '.join(CRITERIA)}; got {criterion!r}.")
+    return {
+        "hq": lambda s: hq(s, n),
+        "bic": lambda s: bic(s, n),
+        "wvic": wvic,
+    }[criterion]
+
+
+def _without(sol: est.Solution, drop: int, wv: est.WaveletVariance) -> est.Solution:
+    parts = list(zip(sol.keys, est.split(sol.keys, np.exp(sol.log_params)), strict=True))
+    keys, start = _merge(parts[:drop] + parts[drop + 1 :])
+    return est.fit(keys, [start], wv)
+
+
+def _forward(current: est.Solution, wv: est.WaveletVariance, score, tried: list):  # noqa: ANN001, ANN202
+    while True:
+        trials = []
+        for new in _addable(current.keys, wv.tau.size):
+            keys, starts = _grown(current, new, wv)
+            trials.append(est.fit(keys, starts, wv))
+        tried += trials
+        better = [t for t in trials if score(t) < score(current)]
+        if not better:
+            return current
+        current = min(better, key=score)
+
+
+def _backward(current: est.Solution, wv: est.WaveletVariance, score, tried: list):  # noqa: ANN001, ANN202
+    while len(current.keys) > 1:
+        trials = [_without(current, i, wv) for i, k in enumerate(current.keys) if k != "WN"]
+        tried += trials
+        better = [t for t in trials if score(t) < score(current)]
+        if not better:
+            return current
+        current = min(better, key=score)
+    return current
+
+
+def search(
+    wv: est.WaveletVariance, criterion: str = DEFAULT_CRITERION
+) -> tuple[est.Solution, list[est.Solution]]:
+    """Stepwise search from :data:`BASE`: add the process that lowers the criterion most
+    while one does, then drop the processes whose removal lowers it (a drift taken
+    early for a random walk), swap a flicker or drift for a GM or random walk
+    (:data:`SWAPS`) when that lowers it, and add again, until nothing helps."""
+    score = _score(criterion, wv.n_samples)
+    current = est.fit(BASE, _fresh_starts(BASE, wv), wv)
+    tried = [current]
+    for _ in range(3):
+        grown = _forward(current, wv, score, tried)
+        current = _swapped(_backward(grown, wv, score, tried), wv, score, tried)
+        if current is grown:
+            break
+    return current, tried
+
+
+#: Swaps the search tries: a flicker or a drift taken for a GM or a random walk.
+SWAPS = {"FL": ("GM", "RW"), "DR": ("GM", "RW")}
+
+
+def _swapped(current: est.Solution, wv: est.WaveletVariance, score, tried: list):  # noqa: ANN001, ANN202
+    trials = []
+    for i, k in enumerate(current.keys):
+        for new in SWAPS.get(k, ()):
+            rest = _without(current, i, wv)
+            if new in _addable(rest.keys, wv.tau.size):
+                keys, starts = _grown(rest, new, wv)
+                trials.append(est.fit(keys, starts, wv))
+    tried += trials
+    better = [t for t in trials if score(t) < score(current)]
+    return min(better, key=score) if better else current
+
+
+def choose(
+    wv: est.WaveletVariance, models: str | Sequence[str], criterion: str = DEFAULT_CRITERION
+) -> tuple[est.Solution, list[est.Solution]]:
+    """The chosen solution and every solution fitted (``models``: "auto" or a list)."""
+    score = _score(criterion, wv.n_samples)
+    if isinstance(models, str) and models == AUTO:
+        return search(wv, criterion)
+    specs = [models] if isinstance(models, str) else list(models)
+    if not specs:
+        raise NoisevarError("models must be 'auto' or a non-empty list of models.")
+    fits = []
+    for spec in specs:
+        keys = parse_model(spec)
+        if sum(est.sizes(keys)) >= wv.tau.size:
+            raise NoisevarError(
+                f"The model {spec!r} has more parameters than the {wv.tau.size} scales."
+            )
+        fits.append(est.fit(keys, _fresh_starts(keys, wv), wv))
+    return min(fits, key=score), fits
+
+
+def _parameters(sol: est.Solution, rate: float, unit: str, ci: float) -> list[Parameter]:
+    z = stats.norm.ppf(0.5 + ci / 2.0)
+    se = np.sqrt(np.clip(np.diag(sol.log_cov), 0.0, 50.0**2))
+    out = []
+    logs = zip(
+        est.split(sol.keys, sol.log_params),
+        est.split(sol.keys, se),
+        strict=True,
+    )
+    for label, key, (lp, s) in zip(labels(sol.keys), sol.keys, logs, strict=True):
+        proc = PROCESSES[key]
+        mid, lo, hi = (proc.convert(np.exp(lp + d * s), rate) for d in (0.0, -z, z))
+        for i, (pub, u) in enumerate(zip(proc.public, proc.units, strict=True)):
+            name = pub if key != "GM" else f"{label}.{pub}"
+            out.append(Parameter(name, label, mid[i], (lo[i], hi[i]), u.format(u=unit)))
+    return out
+
+
+def filter_bias(keys: tuple[str, ...], p: NDArray, rate: float, horizon: float) -> FilterBias:
+    """The random walk of the same Allan variance as the bias processes at ``horizon``."""
+    tau = np.array([2.0 * horizon * rate])
+    avar = 0.0
+    gm_sigma, gm_tau = [], []
+    for k, q in zip(keys, est.split(keys, p), strict=True):
+        if k in ("RW", "GM", "FL", "DR"):
+            avar += 2.0 * float(PROCESSES[k].wv(q, tau)[0])  # Allan = 2 x Haar at 2 tau
+        if k == "GM":
+            gm_sigma.append(math.sqrt(q[0]))
+            gm_tau.append(q[1] / rate)
+    note = (
+        f"K_eq = sqrt(3 AVAR_bias(T) / T) at T = {horizon:g} s: the random walk with the "
+        "same Allan variance as the bias processes (RW, GM, flicker, drift) at T. A GM "
+        "(sigma, tau_c) alone gives sigma sqrt(2 / tau_c) for T << tau_c; the random walk "
+        "covers the GM's bias change for horizons from T on and overstates it past tau_c."
+    )
+    order = np.argsort(gm_tau)
+    return FilterBias(
+        math.sqrt(3.0 * avar / horizon),
+        float(horizon),
+        tuple(gm_sigma[i] for i in order),
+        tuple(gm_tau[i] for i in order),
+        note,
+    )
+
+
+def build(
+    sol: est.Solution,
+    tried: list[est.Solution],
+    wv: est.WaveletVariance,
+    rate: float,
+    unit: str,
+    ci: float,
+    robust: bool,
+    horizon: float,
+) -> ImuModel:
+    """The result of one axis from its chosen solution and the table of all fitted."""
+    sol = est.order_gm(sol)
+    z = stats.norm.ppf(0.5 + ci / 2.0)
+    rel = np.sqrt(np.diag(sol.cov)) / wv.nu
+    rows, seen, n = [], set(), wv.n_samples
+    for t in sorted(tried, key=lambda s: (s.n_params, wvic(s))):
+        name = name_of(t.keys)
+        if name in seen:
+            continue
+        seen.add(name)
+        row = ModelRow(
+            name, t.n_params, t.objective, wvic(t), hq(t, n), bic(t, n), t.keys == sol.keys
+        )
+        rows.append(row)
+    p = np.exp(sol.log_params)
+    notes = []
+    if sol.objective > stats.chi2.ppf(0.999, max(1, wv.tau.size - sol.n_params)):
+        notes.append(
+            f"the chosen model {name_of(sol.keys)} misfits the wavelet variance "
+            f"(objective {sol.objective:.3g} on {wv.tau.size} scales): a process is missing"
+        )
+    return ImuModel(
+        name_of(sol.keys),
+        tuple(_parameters(sol, rate, unit, ci)),
+        float(rate),
+        unit,
+        float(ci),
+        robust,
+        wv.tau / rate,
+        wv.nu.copy(),
+        (wv.nu * np.exp(-z * rel), wv.nu * np.exp(z * rel)),
+        tuple(rows),
+        filter_bias(sol.keys, p, rate, horizon),
+        sol.keys,
+        p,
+        tuple(notes),
+    )
+
+
+def _check(rate: float, ci: float, horizon: float) -> None:
+    if not (math.isfinite(rate) and rate > 0):
+        raise NoisevarError(f"rate must be a positive number of Hz; got {rate!r}.")
+    if not 0.0 < ci < 1.0:
+        raise NoisevarError(f"ci must be in (0, 1); got {ci!r}.")
+    if not (math.isfinite(horizon) and horizon > 0):
+        raise NoisevarError(f"horizon must be a positive number of seconds; got {horizon!r}.")
+
+
+def as_rows(x: ArrayLike, axis: int) -> NDArray:
+    arr = np.asarray(x, dtype=float)
+    if arr.ndim not in (1, 2):
+        raise NoisevarError(f"x must be 1-D or 2-D (time x axes); it has shape {arr.shape}.")
+    rows = arr[None, :] if arr.ndim == 1 else np.moveaxis(arr, axis, -1)
+    if not np.all(np.isfinite(rows)):
+        raise NoisevarError("x holds NaN or inf: cut those samples out first.")
+    if rows.shape[-1] < 8:
+        raise NoisevarError(f"The record is too short for a noise model: {rows.shape[-1]} samples.")
+    return rows
+
+
+def wavelet_variances(rows: NDArray, robust: bool) -> list[est.WaveletVariance]:
+    """The (robust) Haar wavelet variance of each row, vectorised over the rows."""
+    tau = dyadic_scales(rows.shape[-1])
+    nu, m = haar_wv(rows, tau, robust=robust)
+    inflation = robust_inflation() if robust else 1.0
+    if np.any(nu <= 0):
+        raise NoisevarError("A column is constant at some scale: there is no noise to model.")
+    return [est.WaveletVariance(tau, v, m, inflation) for v in nu]
+
+
+def pooled(wvs: list[est.WaveletVariance]) -> est.WaveletVariance:
+    """One wavelet variance of several records: each scale's average weighted by its
+    coefficients, over the records long enough for it."""
+    longest = max(wvs, key=lambda w: w.tau.size)
+    nu_sum, m_sum = np.zeros(longest.tau.size), np.zeros(longest.tau.size)
+    for w in wvs:
+        k = w.tau.size
+        nu_sum[:k] += w.nu * w.m
+        m_sum[:k] += w.m
+    return est.WaveletVariance(longest.tau, nu_sum / m_sum, m_sum, longest.inflation)
+
+
+def fit_wv(
+    wv: est.WaveletVariance,
+    rate: float,
+    *,
+    models: str | Sequence[str] = "auto",
+    robust: bool = False,
+    unit: str = "u",
+    ci: float = ONE_SIGMA,
+    criterion: str = DEFAULT_CRITERION,
+    horizon: float = HORIZON,
+) -> ImuModel:
+    """Fit and choose a model on one wavelet variance (see :func:`fit_imu_model`)."""
+    _check(rate, ci, horizon)
+    if horizon * rate < 1.0:
+        raise NoisevarError(f"horizon must be at least one sample (1/rate); got {horizon!r} s.")
+    if wv.tau.size < 3:
+        raise NoisevarError(
+            f"The record is too short: {wv.tau.size} wavelet scales (a model needs 3)."
+        )
+    sol, tried = choose(wv, models, criterion)
+    return build(sol, tried, wv, rate, unit, ci, robust, horizon)
