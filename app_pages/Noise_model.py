@@ -10,7 +10,7 @@ import streamlit as st
 from dashboard.sections import noise_model
 from dashboard.sections.noise_model_fit import render_fit
 from dashboard.sections.signal_loader import require_signal
-from dashboard.widgets import how_it_works
+from dashboard.widgets import ANSWER_KEY, CONTROLS_ABOVE_KEY, how_it_works
 
 HOW_IT_WORKS = (
     "**Allan deviation.** Average the rate over $\\tau = m\\tau_0$ and take half the mean "
@@ -34,8 +34,10 @@ sig = require_signal(
     explain=HOW_IT_WORKS,
 )
 regimes = noise_model.regime_panel(sig)
-settings = noise_model.settings_form(sig, regimes)
-noise_model.results(sig, settings)
+with st.container(key=CONTROLS_ABOVE_KEY):  # on a phone: below the answer
+    settings = noise_model.settings_form(sig, regimes)
+with st.container(key=ANSWER_KEY):
+    noise_model.results(sig, settings)
 
 with st.expander("Kalibr imu.yaml", icon=":material/download:"):
     noise_model.kalibr_export(sig, settings)

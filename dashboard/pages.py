@@ -37,6 +37,9 @@ from dashboard.widgets import page_head
 from noisevar.errors import NoisevarError
 
 ROOT = Path(__file__).resolve().parents[1]
+#: The sidebar at the start: Streamlit's choice by width (collapsed on a phone, where it
+#: covered 77 % of the first screen; open on a desktop).
+SIDEBAR = "auto"
 
 
 @dataclass(frozen=True)
@@ -119,7 +122,7 @@ def frame(page: st.Page) -> LoadedSignal | None:
         page_title=f"{page.title} · noisevar",
         page_icon=page.icon,
         layout="wide",
-        initial_sidebar_state="expanded",
+        initial_sidebar_state=SIDEBAR,
     )
     clean_query_params()  # shared links are untrusted: before any widget reads the URL
     page_head()

@@ -58,6 +58,34 @@ RECIPE_PARAMS: dict[str, ParamSpec] = by_name(
 )
 
 
+#: Browser history as a user expects it, installed once per tab by every page
+#: (:func:`dashboard.widgets.page_head`). Streamlit pushes a history entry whenever the
+#: server changes the query string. On a page change the server first strips the old
+#: page's widget parameters and the frame names the signal again, both while the browser
+#: still shows the old page (each an entry of the old page, without its settings), then
+#: the new page is pushed. Back then landed on the old page with every setting gone, or
+#: on a copy of the new page. Here, between a click on a link to another page and that
+#: page's entry, a change of the query string leaves the old page's entry as it was; any
+#: other change of the query string on the same page replaces the current entry instead
+#: of adding one. One entry per page visited, each with its own settings.
+HISTORY_JS = """<script>(() => {
+  if (window.__nvHistory) return;
+  window.__nvHistory = true;
+  let leaving = 0;
+  document.addEventListener('click', e => {
+    const a = e.target.closest && e.target.closest('a[href]');
+    if (a && new URL(a.href, location.href).pathname !== location.pathname) leaving = Date.now();
+  }, true);
+  const push = history.pushState.bind(history), replace = history.replaceState.bind(history);
+  history.pushState = (state, title, url) => {
+    const next = new URL(url, location.href);
+    if (next.pathname !== location.pathname) { leaving = 0; return push(state, title, url); }
+    if (Date.now() - leaving < 10000) return undefined;
+    return replace(state, title, url);
+  };
+})();</script>"""
+
+
 def value_problem(value: str) -> str | None:
     """Why a URL value cannot be given to any widget, or None when it can."""
     if len(value) > MAX_VALUE_CHARS:
