@@ -51,6 +51,10 @@ _METRIC_CSS = (
     "text-overflow: clip !important; overflow-wrap: anywhere;}"
     "[data-testid='stMetricValue'] {font-size: 1.6rem;}"
     "[data-testid='stMetricLabel'] p {white-space: normal !important;}"
+    # labels of toggles, widgets and buttons wrap instead of ending in "…"
+    "[data-testid='stWidgetLabel'] p, [data-testid='stCheckbox'] p, "
+    "[data-testid^='stBaseButton'] p {white-space: normal !important; "
+    "text-overflow: clip !important; overflow: visible !important;}"
     # this element itself takes no room (with a script, Streamlit would give it a row)
     "[data-testid='stElementContainer']:has(.nv-head) {display: none;}"
     # on a phone the answer comes first, then the controls (ANSWER_KEY, CONTROLS_KEY):
@@ -495,3 +499,12 @@ def param_input(
     if step and not integer:
         number["step"] = float(step)
     return where.number_input(label, **bounds, **number, **common, **initial(key, default))
+
+
+def blank_missing(rows: Sequence[dict[str, Any]], text: str = "—") -> list[dict[str, Any]]:
+    """Table rows with every missing cell (None, or a column a row lacks) shown as ``text``.
+
+    Streamlit's data frame draws a missing cell as a literal "None".
+    """
+    columns = list(dict.fromkeys(k for r in rows for k in r))
+    return [{k: text if r.get(k) is None else r[k] for k in columns} for r in rows]

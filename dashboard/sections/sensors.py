@@ -11,7 +11,14 @@ from dashboard import cache, loading
 from dashboard.pages import SIGNAL
 from dashboard.sections.regimes import regime_choice
 from dashboard.state import LoadedSignal, follow_table, initial, keep_valid
-from dashboard.widgets import fmt, guarded, how_it_works, show_figure, table_and_figure_downloads
+from dashboard.widgets import (
+    blank_missing,
+    fmt,
+    guarded,
+    how_it_works,
+    show_figure,
+    table_and_figure_downloads,
+)
 from noisevar import RedundantEstimate
 from noisevar.estimators.regimes import DEFAULT_REGIMES, estimate_for
 from noisevar.estimators.results import VarianceEstimate
@@ -283,4 +290,4 @@ def _pair_table(res: RedundantEstimate, cols: list[str], delays: list[Delay], un
                     else f"n/a ({d[2]})"
                 )
             pair_rows.append(row)
-    st.dataframe(pair_rows, hide_index=True)
+    st.dataframe(blank_missing(pair_rows), hide_index=True)
