@@ -256,7 +256,9 @@ def test_share_link_after_loading_a_config_restores_the_variance(server, browser
     loaded = page.locator('[data-testid="stMetricValue"]').first.inner_text()
     assert loaded != before
     link = page.url
-    assert "est_method=somd&" in link + "&" and "h_t=0.0007" in link and "win=48" in link
+    # somd is the page's default method: Streamlit writes no default into the link
+    assert "est_method=somd&" in link + "&" or "est_method=" not in link
+    assert "h_t=0.0007" in link and "win=48" in link
     again = ctx.new_page()
     again.goto(link)
     _settle(again)
