@@ -32,7 +32,7 @@ from dashboard.state import (
     url_recipe,
     url_upload,
 )
-from dashboard.url_params import clean_query_params
+from dashboard.url_params import clean_query_params, reset_page_controls
 from dashboard.widgets import page_head
 from noisevar.errors import NoisevarError
 
@@ -157,6 +157,13 @@ def _sidebar(sig: LoadedSignal | None) -> None:
         st.session_state[CARD_KEY] = slot
         signal_card(slot, sig)
         st.page_link(SIGNAL.path, label="Load or change the signal", icon=":material/upload:")
+        st.button(
+            "Reset to defaults",
+            key="nv_reset_page",
+            icon=":material/restart_alt:",
+            on_click=reset_page_controls,
+            help="Every control of this page back to its default (the signal stays).",
+        )
 
 
 def page_links(columns: int = 3) -> None:

@@ -211,3 +211,39 @@ def check_recipe(recipe: str) -> dict[str, float | int | str]:
             raise NoisevarError(f"{echo(key, 20)}={echo(text, 40)}: {problem}")
         out[key] = specs[key].validate(text) if key in specs else text
     return out
+
+
+def reset_page_controls() -> list[str]:
+    """Put every control of the page now shown back to its default (the "Reset to
+    defaults" button's callback); the signal stays.
+
+    The page's controls are its widgets bound to the URL (Streamlit's binding registry
+    knows each one's page); each is set to its own default, as drawn (widgets always get
+    their default: :func:`dashboard.state.initial`), and Streamlit then removes its
+    parameter from the URL.
+
+    Returns
+    -------
+    list of str
+        The keys reset.
+    """
+    from streamlit.runtime.scriptrunner_utils.script_run_context import get_script_run_ctx
+
+    ctx = get_script_run_ctx()
+    if ctx is None:
+        return []
+    done = []
+    try:
+        state = ctx.session_state._state  # noqa: SLF001 - Streamlit's widget metadata
+        metadata = state._new_widget_state.widget_metadata  # noqa: SLF001
+        with ctx.session_state.query_params() as qp:
+            bindings = list(getattr(qp, "_bindings_by_param", {}).values())
+        for b in bindings:
+            meta = metadata.get(b.widget_id)
+            if b.script_hash != ctx.page_script_hash or meta is None:
+                continue
+            st.session_state[b.param_key] = meta.deserializer(None)
+            done.append(b.param_key)
+    except Exception:  # noqa: BLE001 - Streamlit internals changed: nothing is reset
+        LOG.warning("could not reset the page's controls", exc_info=True)
+    return done

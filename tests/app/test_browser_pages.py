@@ -251,6 +251,20 @@ def test_back_and_forward_restore_each_page(server, browser):
     ctx.close()
 
 
+def test_reset_to_defaults(server, browser):
+    ctx = browser.new_context(viewport=VIEWPORTS["desktop"])
+    page = ctx.new_page()
+    page.goto(f"{server}/Estimator?sig={SIG}&win=60&g_amp=0.8")
+    _settle(page)
+    assert _state(page, "Window m")[1] == "60"
+    page.get_by_role("button", name="Reset to defaults").click()
+    page.wait_for_function("() => !location.search.includes('win=')", timeout=30_000)
+    _settle(page)
+    assert _state(page, "Window m")[1] == "40" and _state(page, "Γ_amp")[1] == "0.5"
+    assert "g_amp=" not in page.url and "sig=" in page.url  # the signal stays
+    ctx.close()
+
+
 @pytest.mark.parametrize("path", ["Estimator", "Noise_model"])
 def test_on_a_phone_the_answer_comes_before_the_controls(server, browser, path):
     ctx = browser.new_context(viewport=VIEWPORTS["phone"])
