@@ -11,7 +11,7 @@ from dashboard.sections import filter_configs, noise_model, noise_model_temperat
 from dashboard.sections.noise_model_fit import render_fit
 from dashboard.sections.signal_loader import require_signal
 from dashboard.state import signal_units
-from dashboard.widgets import how_it_works, lazy_expander
+from dashboard.widgets import ANSWER_KEY, CONTROLS_ABOVE_KEY, how_it_works, lazy_expander
 
 HOW_IT_WORKS = (
     "**Allan deviation.** Average the rate over $\\tau = m\\tau_0$ and take half the mean "
@@ -35,8 +35,10 @@ sig = require_signal(
     explain=HOW_IT_WORKS,
 )
 regimes = noise_model.regime_panel(sig)
-settings = noise_model.settings_form(sig, regimes)
-fit = noise_model.results(sig, settings)
+with st.container(key=CONTROLS_ABOVE_KEY):  # on a phone: below the answer
+    settings = noise_model.settings_form(sig, regimes)
+with st.container(key=ANSWER_KEY):
+    fit = noise_model.results(sig, settings)
 
 with st.expander("Filter configs: Kalibr imu.yaml and every consumer", icon=":material/download:"):
     noise_model.kalibr_export(sig, settings)

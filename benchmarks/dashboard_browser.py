@@ -22,9 +22,12 @@ through Playwright (flags: ``--headless --no-sandbox --disable-gpu
 
 Run from the repository root (a few minutes)::
 
-    python benchmarks/dashboard_browser.py [--changes 10] [--opens 5]
+    python benchmarks/dashboard_browser.py [--changes 10] [--opens 5] [--app-dir DIR --label L]
 
-Prints a Markdown report and writes ``benchmarks/results/dashboard_browser.md``.
+Prints a Markdown report and writes ``benchmarks/results/dashboard_browser.md``. With
+``--app-dir`` the app of another checkout is measured (e.g. the code before a change,
+``git archive main | tar -x -C DIR``), so that both are timed back to back under the same
+load; ``--label`` then names its report ``dashboard_browser-L.md``.
 """
 
 from __future__ import annotations
@@ -42,6 +45,8 @@ import urllib.request
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+#: The checkout whose app is served (``--app-dir``; this one by default).
+APP_DIR = ROOT
 CHROMIUM = os.environ.get("NOISEVAR_CHROMIUM", "/usr/bin/chromium")
 CHROME_ARGS = [
     "--headless",
@@ -102,7 +107,7 @@ def start_server() -> tuple[subprocess.Popen, str]:
         [sys.executable, "-m", "streamlit", "run", "app.py", "--server.headless", "true",
          "--server.address", "127.0.0.1", "--server.port", str(port),
          "--server.fileWatcherType", "none"],
-        cwd=ROOT,
+        cwd=APP_DIR,
         env={**os.environ, "STREAMLIT_BROWSER_GATHER_USAGE_STATS": "false"},
         stdout=log,
         stderr=subprocess.STDOUT,
@@ -321,11 +326,18 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--changes", type=int, default=10)
     ap.add_argument("--opens", type=int, default=5, help="2e6-sample opens (median judged)")
+    ap.add_argument("--app-dir", type=Path, default=ROOT, help="checkout whose app is served")
+    ap.add_argument("--label", default="", help="report name suffix (with --app-dir)")
     args = ap.parse_args()
+    global APP_DIR  # noqa: PLW0603 - the one setting start_server reads
+    APP_DIR = args.app_dir.resolve()
     res = run(args.changes, args.opens)
     text = report(res, args.changes)
+    if APP_DIR != ROOT:
+        text += f"\nApp served from `{APP_DIR}` ({args.label or 'another checkout'}).\n"
     print(text)
-    (ROOT / "benchmarks" / "results" / "dashboard_browser.md").write_text(text)
+    name = f"dashboard_browser-{args.label}.md" if args.label else "dashboard_browser.md"
+    (ROOT / "benchmarks" / "results" / name).write_text(text)
 
 
 if __name__ == "__main__":

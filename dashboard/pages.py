@@ -32,11 +32,14 @@ from dashboard.state import (
     url_recipe,
     url_upload,
 )
-from dashboard.url_params import clean_query_params
+from dashboard.url_params import clean_query_params, reset_page_controls
 from dashboard.widgets import page_head
 from noisevar.errors import NoisevarError
 
 ROOT = Path(__file__).resolve().parents[1]
+#: The sidebar at the start: Streamlit's choice by width (collapsed on a phone, where it
+#: covered 77 % of the first screen; open on a desktop).
+SIDEBAR = "auto"
 
 
 @dataclass(frozen=True)
@@ -119,7 +122,7 @@ def frame(page: st.Page) -> LoadedSignal | None:
         page_title=f"{page.title} · noisevar",
         page_icon=page.icon,
         layout="wide",
-        initial_sidebar_state="expanded",
+        initial_sidebar_state=SIDEBAR,
     )
     clean_query_params()  # shared links are untrusted: before any widget reads the URL
     page_head()
@@ -154,6 +157,13 @@ def _sidebar(sig: LoadedSignal | None) -> None:
         st.session_state[CARD_KEY] = slot
         signal_card(slot, sig)
         st.page_link(SIGNAL.path, label="Load or change the signal", icon=":material/upload:")
+        st.button(
+            "Reset to defaults",
+            key="nv_reset_page",
+            icon=":material/restart_alt:",
+            on_click=reset_page_controls,
+            help="Every control of this page back to its default (the signal stays).",
+        )
 
 
 def page_links(columns: int = 3) -> None:

@@ -319,13 +319,23 @@ def clear_load_error() -> None:
 
 # ------------------------------------------------- query-param-bound widgets
 def initial(key: str, default: object, arg: str = "value") -> dict[str, object]:
-    """``{arg: default}`` unless the widget already has a state (avoids Streamlit's warning).
+    """``{arg: default}``: the widget's default, always given (its state, when it has one,
+    still wins).
 
     ``arg`` is the widget's default-value argument: ``value`` for most widgets,
     ``index`` for selectbox and radio, ``default`` for multiselect and
     segmented controls.
+
+    Notes
+    -----
+    A widget bound to the URL that is drawn without its default takes Streamlit's own
+    (a slider's minimum, a select box's first option) when Back or Forward restores a
+    history entry that does not name it: before, Back to the Estimator showed method
+    ``auto`` and every slider at its minimum. Streamlit's log warning about a default
+    beside a state set in code is off (``.streamlit/config.toml``).
     """
-    return {} if key in st.session_state else {arg: default}
+    del key  # kept in the signature: the callers name the widget
+    return {arg: default}
 
 
 def keep_valid(key: str, valid: Callable[[T], bool], fallback: T) -> None:

@@ -58,6 +58,34 @@ RECIPE_PARAMS: dict[str, ParamSpec] = by_name(
 )
 
 
+#: Browser history as a user expects it, installed once per tab by every page
+#: (:func:`dashboard.widgets.page_head`). Streamlit pushes a history entry whenever the
+#: server changes the query string. On a page change the server first strips the old
+#: page's widget parameters and the frame names the signal again, both while the browser
+#: still shows the old page (each an entry of the old page, without its settings), then
+#: the new page is pushed. Back then landed on the old page with every setting gone, or
+#: on a copy of the new page. Here, between a click on a link to another page and that
+#: page's entry, a change of the query string leaves the old page's entry as it was; any
+#: other change of the query string on the same page replaces the current entry instead
+#: of adding one. One entry per page visited, each with its own settings.
+HISTORY_JS = """<script>(() => {
+  if (window.__nvHistory) return;
+  window.__nvHistory = true;
+  let leaving = 0;
+  document.addEventListener('click', e => {
+    const a = e.target.closest && e.target.closest('a[href]');
+    if (a && new URL(a.href, location.href).pathname !== location.pathname) leaving = Date.now();
+  }, true);
+  const push = history.pushState.bind(history), replace = history.replaceState.bind(history);
+  history.pushState = (state, title, url) => {
+    const next = new URL(url, location.href);
+    if (next.pathname !== location.pathname) { leaving = 0; return push(state, title, url); }
+    if (Date.now() - leaving < 10000) return undefined;
+    return replace(state, title, url);
+  };
+})();</script>"""
+
+
 def value_problem(value: str) -> str | None:
     """Why a URL value cannot be given to any widget, or None when it can."""
     if len(value) > MAX_VALUE_CHARS:
@@ -183,3 +211,39 @@ def check_recipe(recipe: str) -> dict[str, float | int | str]:
             raise NoisevarError(f"{echo(key, 20)}={echo(text, 40)}: {problem}")
         out[key] = specs[key].validate(text) if key in specs else text
     return out
+
+
+def reset_page_controls() -> list[str]:
+    """Put every control of the page now shown back to its default (the "Reset to
+    defaults" button's callback); the signal stays.
+
+    The page's controls are its widgets bound to the URL (Streamlit's binding registry
+    knows each one's page); each is set to its own default, as drawn (widgets always get
+    their default: :func:`dashboard.state.initial`), and Streamlit then removes its
+    parameter from the URL.
+
+    Returns
+    -------
+    list of str
+        The keys reset.
+    """
+    from streamlit.runtime.scriptrunner_utils.script_run_context import get_script_run_ctx
+
+    ctx = get_script_run_ctx()
+    if ctx is None:
+        return []
+    done = []
+    try:
+        state = ctx.session_state._state  # noqa: SLF001 - Streamlit's widget metadata
+        metadata = state._new_widget_state.widget_metadata  # noqa: SLF001
+        with ctx.session_state.query_params() as qp:
+            bindings = list(getattr(qp, "_bindings_by_param", {}).values())
+        for b in bindings:
+            meta = metadata.get(b.widget_id)
+            if b.script_hash != ctx.page_script_hash or meta is None:
+                continue
+            st.session_state[b.param_key] = meta.deserializer(None)
+            done.append(b.param_key)
+    except Exception:  # noqa: BLE001 - Streamlit internals changed: nothing is reset
+        LOG.warning("could not reset the page's controls", exc_info=True)
+    return done

@@ -17,6 +17,7 @@ import plotly.graph_objects as go
 import streamlit as st
 
 from dashboard.state import initial
+from dashboard.url_params import HISTORY_JS
 from noisevar.errors import NoisevarError
 from noisevar.estimators.compare import rows_to_csv
 from noisevar.figures.budget import capped
@@ -50,10 +51,28 @@ _METRIC_CSS = (
     "text-overflow: clip !important; overflow-wrap: anywhere;}"
     "[data-testid='stMetricValue'] {font-size: 1.6rem;}"
     "[data-testid='stMetricLabel'] p {white-space: normal !important;}"
+    # labels of toggles, widgets and buttons wrap instead of ending in "…"
+    "[data-testid='stWidgetLabel'] p, [data-testid='stCheckbox'] p, "
+    "[data-testid^='stBaseButton'] p {white-space: normal !important; "
+    "text-overflow: clip !important; overflow: visible !important;}"
     # this element itself takes no room (with a script, Streamlit would give it a row)
     "[data-testid='stElementContainer']:has(.nv-head) {display: none;}"
+    # on a phone the answer comes first, then the controls (ANSWER_KEY, CONTROLS_KEY):
+    # beside each other in columns (the Estimator), the answer's column goes up; one
+    # below the other (the Noise model), the answer goes above the controls and what follows
+    "@media (max-width: 640px) {"
+    "[data-testid='stHorizontalBlock']:has(> [data-testid='stColumn'] .st-key-nv-controls)"
+    " {flex-direction: column-reverse;}"
+    ".st-key-nv-controls-top {order: 1;}"
+    ".st-key-nv-controls-top ~ * {order: 2;}"
+    ".st-key-nv-controls-top ~ .st-key-nv-answer {order: 0;}}"
     "</style><span class='nv-head'></span>"
 )
+#: Container keys of a page's answer and of its controls (on a phone the answer comes
+#: first): controls in a column beside the answer's, or above the answer on the page.
+ANSWER_KEY = "nv-answer"
+CONTROLS_KEY = "nv-controls"
+CONTROLS_ABOVE_KEY = "nv-controls-top"
 
 #: Import Streamlit's plotly.js chunk by the URL its own lazy import resolves to (so the
 #: module is fetched and evaluated once per tab, whoever asks first).
@@ -65,7 +84,8 @@ _PRELOAD_JS = """<script>(() => {{
 
 def page_head() -> None:
     """What every page adds once, in one invisible element: metric values wrap in full,
-    and plotly.js starts loading.
+    and plotly.js starts loading, and Back and Forward keep each page's settings
+    (:data:`dashboard.url_params.HISTORY_JS`).
 
     Notes
     -----
@@ -75,10 +95,8 @@ def page_head() -> None:
     Without the chunk (another Streamlit build) only the style is added.
     """
     chunk = _plotly_chunk()
-    if chunk is None:
-        st.html(_METRIC_CSS)
-    else:
-        st.html(_METRIC_CSS + _PRELOAD_JS.format(chunk=chunk), unsafe_allow_javascript=True)
+    preload = "" if chunk is None else _PRELOAD_JS.format(chunk=chunk)
+    st.html(_METRIC_CSS + preload + HISTORY_JS, unsafe_allow_javascript=True)
 
 
 #: Plain-words meaning of the abbreviations and symbols the pages use.
@@ -486,3 +504,12 @@ def param_input(
     if step and not integer:
         number["step"] = float(step)
     return where.number_input(label, **bounds, **number, **common, **initial(key, default))
+
+
+def blank_missing(rows: Sequence[dict[str, Any]], text: str = "—") -> list[dict[str, Any]]:
+    """Table rows with every missing cell (None, or a column a row lacks) shown as ``text``.
+
+    Streamlit's data frame draws a missing cell as a literal "None".
+    """
+    columns = list(dict.fromkeys(k for r in rows for k in r))
+    return [{k: text if r.get(k) is None else r[k] for k in columns} for r in rows]

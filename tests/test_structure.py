@@ -340,6 +340,7 @@ def test_the_private_check_fails_across_and_passes_within() -> None:
 LITERALS_ALLOWED: dict[str, dict[str, str]] = {
     "noisevar.noise_model.gmwm": {"auto": "the IMU model search's keyword, not the method"},
     "noisevar.noise_model.gmwm.fitting": {"auto": "the IMU model search's keyword"},
+    "dashboard.pages": {"auto": "Streamlit's initial_sidebar_state value, not the method"},
     "noisevar.experiments.gps_circle": {
         "strategy names": "reproduces the 2016 paper's Table 1, whose rows are named filters",
     },

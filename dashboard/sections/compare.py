@@ -123,7 +123,7 @@ def comparison_table(comp: Comparison, sig: LoadedSignal) -> None:
         table["CI covers truth"] = [r["covers_truth"] for r in rows]
     table["samples used"] = [r["n_used"] for r in rows]
     table["time (ms)"] = [r["ms"] for r in rows]
-    table["note"] = [r["error"] or r["notes"] for r in rows]
+    table["note"] = [r["error"] or r["notes"] or "—" for r in rows]  # never a blank or None
     n_rows = len(rows)
     st.dataframe(
         table,

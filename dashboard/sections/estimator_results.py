@@ -204,6 +204,7 @@ def main_figure(sig: LoadedSignal, shown: VarianceEstimate | None, tuning: Tunin
             "params": tuning.params,
             "stretch": None if stretch is None else [stretch.start, stretch.stop],
             "units": units,
+            "name": sig.column,
         }
         fig = cache.figure(
             "signal_filters_windows",
@@ -215,6 +216,7 @@ def main_figure(sig: LoadedSignal, shown: VarianceEstimate | None, tuning: Tunin
                 stretch=stretch,
                 title="Raw signal, filters, windows",
                 units=units,
+                name=sig.column,
             ),
         )
     else:

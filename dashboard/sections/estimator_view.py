@@ -12,6 +12,7 @@ from dashboard.sections import estimator_results as results
 from dashboard.sections.estimator_tuning import CONFIG_COLUMN_KEY, tuning_panel
 from dashboard.sections.noise_panel import render_noise_panel
 from dashboard.state import LoadedSignal, times_of, truth_of
+from dashboard.widgets import CONTROLS_KEY
 
 
 @st.fragment
@@ -22,7 +23,7 @@ def tuned_view(sig: LoadedSignal) -> None:
     reruns (:func:`~dashboard.sections.estimator_tuning.follow_config_column` runs there).
     """
     left, right = st.columns([1, 3], gap="large")
-    with left:
+    with left, st.container(key=CONTROLS_KEY):  # on a phone: below the answer
         tuning = tuning_panel(sig.n)
     if st.session_state.get(CONFIG_COLUMN_KEY) is not None:
         st.rerun(scope="app")  # the config's column: the signal, sidebar and link change

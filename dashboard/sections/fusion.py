@@ -11,6 +11,7 @@ from dashboard import cache
 from dashboard.state import initial
 from dashboard.widgets import figure_view, guarded, show_figure, table_and_figure_downloads
 from noisevar.figures.fusion import error_figure, isolation_figure, r_track_figure, track_figure
+from noisevar.format import percent
 from noisevar.kalman import STRATEGIES
 from noisevar.systems.fusion import (
     ADAPTIVE_LOCAL,
@@ -149,14 +150,15 @@ def fused_results(s: FusionSettings) -> None:
         st.info("Pick at least one configuration.")
         return
     rows = [fusion_row(r) for r in results]
+    isolated = ("sensor 1 isolated in fault", "sensor 1 isolated when healthy")
+    shown = [dict(r) for r in rows]
+    for row in shown:  # a configuration without isolation: said, not a "None" cell
+        for k in isolated:
+            row[k] = "— (no isolation)" if row.get(k) is None else percent(row[k], 3)
     st.dataframe(
-        rows,
+        shown,
         hide_index=True,
-        column_config={
-            "position RMSE (m)": st.column_config.NumberColumn(format="%.3f"),
-            "sensor 1 isolated in fault": st.column_config.NumberColumn(format="percent"),
-            "sensor 1 isolated when healthy": st.column_config.NumberColumn(format="percent"),
-        },
+        column_config={"position RMSE (m)": st.column_config.NumberColumn(format="%.3f")},
     )
     view = figure_view(VIEWS, "fu_view", VIEWS[1])
     fig = None

@@ -8,7 +8,13 @@ import streamlit as st
 
 from dashboard import cache
 from dashboard.state import initial
-from dashboard.widgets import figure_view, guarded, show_figure, table_and_figure_downloads
+from dashboard.widgets import (
+    blank_missing,
+    figure_view,
+    guarded,
+    show_figure,
+    table_and_figure_downloads,
+)
 from noisevar.figures.robust import bearing_figure, error_figure, magvar_figure, track_figure
 from noisevar.systems.robust import DEFAULT_KAPPA, RobustResult
 
@@ -108,7 +114,7 @@ def robust_results(s: RobustSettings) -> None:
         }
         for name in res.filters
     ]
-    st.dataframe(rows, hide_index=True)
+    st.dataframe(blank_missing(rows), hide_index=True)
     view = figure_view(VIEWS, "ro_view", VIEWS[0])
     fig = None
     with guarded():

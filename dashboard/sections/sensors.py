@@ -11,7 +11,14 @@ from dashboard import cache, loading
 from dashboard.pages import SIGNAL
 from dashboard.sections.regimes import regime_choice
 from dashboard.state import LoadedSignal, follow_table, initial, keep_valid
-from dashboard.widgets import fmt, guarded, how_it_works, show_figure, table_and_figure_downloads
+from dashboard.widgets import (
+    blank_missing,
+    fmt,
+    guarded,
+    how_it_works,
+    show_figure,
+    table_and_figure_downloads,
+)
 from noisevar import RedundantEstimate
 from noisevar.estimators.answer import WHY_DIFFERENT
 from noisevar.estimators.redundant import same_quantity_notes
@@ -303,4 +310,4 @@ def _pair_table(res: RedundantEstimate, cols: list[str], delays: list[Delay], un
                     else f"n/a ({d[2]})"
                 )
             pair_rows.append(row)
-    st.dataframe(pair_rows, hide_index=True)
+    st.dataframe(blank_missing(pair_rows), hide_index=True)

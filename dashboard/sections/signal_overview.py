@@ -23,7 +23,7 @@ from noisevar.io import signal_summary
 
 def column_and_period(sig: LoadedSignal, errors: DeltaGenerator) -> LoadedSignal:
     """The column and sample-period widgets; returns the (possibly re-selected) signal."""
-    st.subheader(f"{sig.label}")
+    heading = st.empty()  # written last: the column chosen below, not the previous one
     cols = sig.table.data_columns
     c1, c2 = st.columns(2)
     column = c1.selectbox(
@@ -57,6 +57,7 @@ def column_and_period(sig: LoadedSignal, errors: DeltaGenerator) -> LoadedSignal
     if column != sig.column or period != sig.sample_period:
         with errors, guarded(f"Column {column!r}: "):
             sig = reselect(sig, column, period)
+    heading.subheader(sig.label)
     return sig
 
 

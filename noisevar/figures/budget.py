@@ -9,6 +9,7 @@ the noise band.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -108,16 +109,26 @@ def _is_line(trace: Any) -> bool:
     return mode is None or "lines" in str(mode)
 
 
-def log_axis(title: str, **extra: Any) -> dict[str, Any]:
+#: Below this many decades of data, a log axis labels 1-2-5 values instead of decades only
+#: (one decade or less would otherwise carry a single label).
+SHORT_LOG_SPAN = 1.5
+
+
+def log_axis(title: str, values: Any = None, **extra: Any) -> dict[str, Any]:
     """A logarithmic axis with a label on every decade (``10⁻³, 10⁻², ...``) and minor ticks.
 
     Plotly's default labels the 2 and 5 of short log ranges, which reads as
-    ``2, 100, 5, 2, 10``; here only decades carry labels.
+    ``2, 100, 5, 2, 10``; here only decades carry labels, unless the data (``values``)
+    span less than :data:`SHORT_LOG_SPAN` decades: then the 1-2-5 values inside the data's
+    range are labelled in full (``0.02, 0.05, 0.1``), so that the axis has more than one
+    label.
 
     Parameters
     ----------
     title : str
         Axis title (with units).
+    values : array_like, optional
+        The values drawn on the axis (positive ones count).
     **extra
         More axis keys.
 
@@ -132,8 +143,36 @@ def log_axis(title: str, **extra: Any) -> dict[str, Any]:
         "exponentformat": "power",
         "minor": {"ticks": "outside", "dtick": "D1", "showgrid": True},
     }
+    ticks = _short_log_ticks(values)
+    if ticks:
+        out.pop("dtick")
+        out.update(tickmode="array", tickvals=ticks, ticktext=[f"{t:g}" for t in ticks])
     out.update(extra)
     return out
+
+
+def _short_log_ticks(values: Any) -> list[float]:
+    """1-2-5 values inside the positive values' range when it spans few decades, else []."""
+    if values is None:
+        return []
+    v = np.asarray(values, dtype=float).ravel()
+    v = v[np.isfinite(v) & (v > 0)]
+    if v.size == 0:
+        return []
+    lo, hi = float(v.min()), float(v.max())
+    if math.log10(hi / lo) >= SHORT_LOG_SPAN:
+        return []
+    ticks = [
+        m * 10.0**e
+        for e in range(math.floor(math.log10(lo)) - 1, math.ceil(math.log10(hi)) + 1)
+        for m in (1, 2, 5)
+    ]
+    inside = [float(f"{t:.12g}") for t in ticks if lo / 1.2 <= t <= hi * 1.2]
+    if len(inside) >= 2:
+        return inside
+    below = [t for t in ticks if t < lo][-1:]
+    above = [t for t in ticks if t > hi][:1]
+    return [float(f"{t:.12g}") for t in below + inside + above]
 
 
 def _n_points(trace: Any) -> int:

@@ -29,6 +29,7 @@ from noisevar.figures._common import (
     layout,
     line_trace,
 )
+from noisevar.figures.budget import log_axis
 from noisevar.systems.fusion import FusionResult
 
 Results = FusionResult | Sequence[FusionResult]
@@ -149,10 +150,12 @@ def error_figure(
             title,
             height,
             xaxis={"title": "time (s)"},
-            yaxis={
-                "title": "position error (m)" + (" RMS over runs" if run is None else ""),
-                "type": "log" if log else "linear",
-            },
+            yaxis=log_axis(
+                "position error (m)" + (" RMS over runs" if run is None else ""),
+                np.concatenate([np.ravel(t.y) for t in traces if t.y is not None]),
+            )
+            if log
+            else {"title": "position error (m)" + (" RMS over runs" if run is None else "")},
             shapes=_fault_band(res[0]),
         ),
     )

@@ -64,6 +64,15 @@ def _panel_layout(title: str | None, height: int) -> dict:
     )
 
 
+#: Axis titles of the systems' position states (their names are the equations' symbols).
+STATE_LABELS = {"pE": "east position pE (m)", "pN": "north position pN (m)"}
+
+
+def state_label(name: str) -> str:
+    """An axis title for a state: the quantity and its unit when known, else the name."""
+    return STATE_LABELS.get(name, name)
+
+
 def track_figure(
     results: Results,
     z: ArrayLike | None = None,
@@ -143,8 +152,8 @@ def track_figure(
     lay = layout(
         title,
         height,
-        xaxis={"title": {"text": names[i]}},
-        yaxis={"title": {"text": names[j]}, "scaleanchor": "x", "scaleratio": 1},
+        xaxis={"title": {"text": state_label(names[i])}},
+        yaxis={"title": {"text": state_label(names[j])}, "scaleanchor": "x", "scaleratio": 1},
     )
     return go.Figure(data=data, layout=lay)
 

@@ -92,8 +92,11 @@ def tuned_run_figure(
     max_points: int = MAX_POINTS,
     title: str | None = "The record and the tuned filter",
     height: int = 380,
+    y_title: str = "measured value",
 ) -> go.Figure:
     """The measured record and the filter's position estimate ``x(k|k)``.
+
+    ``y_title`` names the quantity (the record's column and unit).
 
     Returns
     -------
@@ -109,7 +112,7 @@ def tuned_run_figure(
         line={"color": COLORS["estimate"], "width": 2},
     )
     fig = go.Figure([raw, est])
-    fig.update_layout(**layout(title, height, xaxis_title=x_title(dt), yaxis_title="signal"))
+    fig.update_layout(**layout(title, height, xaxis_title=x_title(dt), yaxis_title=y_title))
     return note_downsampled(fig, len(z), max_points) if reduced else fig
 
 

@@ -131,6 +131,7 @@ def somd_figure(  # long: one figure, built trace by trace in drawing order
     title: str | None = None,
     height: int = 520,
     units: str = "",
+    name: str = "signal",
 ) -> go.Figure:
     """Raw samples, smooth and tracking outputs, kept and rejected windows.
 
@@ -158,6 +159,8 @@ def somd_figure(  # long: one figure, built trace by trace in drawing order
         Pixel height.
     units : str
         Units of the samples (axis title).
+    name : str
+        What the samples are (the axis title: the record's column, not "signal").
 
     Returns
     -------
@@ -232,7 +235,7 @@ def somd_figure(  # long: one figure, built trace by trace in drawing order
         dragmode="select",
         selectdirection="h",
         xaxis={"title": {"text": x_title(sample_period)}},
-        yaxis={"title": {"text": unit_name(units, "signal")}},
+        yaxis={"title": {"text": unit_name(units, name)}},
         shapes=shapes,
         annotations=anns,
     )
@@ -446,8 +449,8 @@ def window_tests_figure(  # long: one figure, built trace by trace in drawing or
     lay = layout(
         title,
         height,
-        xaxis=log_axis(f"amplitude test: {_deviation_label(selection)}"),
-        yaxis=log_axis("angle test: |atan a_S − atan a_T| (°)"),
+        xaxis=log_axis(f"amplitude test: {_deviation_label(selection)}", np.r_[dev, gamma_amp]),
+        yaxis=log_axis("angle test: |atan a_S − atan a_T| (°)", np.r_[ang, gamma_ang]),
         shapes=[v_shape, h_shape],
         annotations=anns,
     )

@@ -162,6 +162,7 @@ def test_good_uploads_csv_npy_nmea_and_column_period_choice():
     column.set_value("b").run()
     _clean(at)
     assert at.session_state["nv_signal"].column == "b"
+    assert [h.value for h in at.subheader][0] == "two.csv · b"  # the heading follows at once
     period = next(n for n in at.number_input if n.label.startswith("Sample period"))
     period.set_value(0.5).run()
     _clean(at)

@@ -13,13 +13,8 @@ Needs ``/usr/bin/chromium`` (``apt-get install -y chromium``) and the
 
 from __future__ import annotations
 
-import os
-import shutil
-import socket
-import subprocess
 import sys
 import time
-import urllib.request
 from pathlib import Path
 
 import pytest
@@ -30,96 +25,15 @@ sys.path.insert(0, str(ROOT))
 from dashboard.pages import HOME  # noqa: E402
 from dashboard.pages import PAGES as REGISTRY  # noqa: E402
 
-CHROMIUM = os.environ.get("NOISEVAR_CHROMIUM", "/usr/bin/chromium")
 SHOTS = ROOT / "test-artifacts" / "browser"
-CHROME_ARGS = [
-    "--no-sandbox",
-    "--disable-gpu",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-    "--no-first-run",
-]
 #: (sidebar label, URL path) of every page but Home (the registry's, as st.navigation gets it).
 PAGES = [(p.title, p.url_path) for p in REGISTRY if p is not HOME]
 SIG = "gen:fast-slow;n=6000;seed=0;noise_std=5.0"
 #: Seconds without a running script before a page counts as drawn.
 QUIET_S = 0.5
 
-playwright_api = pytest.importorskip("playwright.sync_api")
-pytestmark = pytest.mark.skipif(
-    not Path(CHROMIUM).exists(), reason=f"no Chromium at {CHROMIUM} (apt-get install chromium)"
-)
-
-
-def _free_port() -> int:
-    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
-
-
-@pytest.fixture(scope="module")
-def server():
-    """The app served by ``streamlit run`` on a free port; stopped after the module."""
-    port = _free_port()
-    env = {**os.environ, "STREAMLIT_BROWSER_GATHER_USAGE_STATS": "false"}
-    log = (ROOT / "test-artifacts").resolve()
-    log.mkdir(parents=True, exist_ok=True)
-    out = open(log / "streamlit-server.log", "w")  # noqa: SIM115 - closed in teardown
-    proc = subprocess.Popen(
-        [
-            sys.executable,
-            "-m",
-            "streamlit",
-            "run",
-            "app.py",
-            "--server.headless",
-            "true",
-            "--server.address",
-            "127.0.0.1",
-            "--server.port",
-            str(port),
-            "--server.fileWatcherType",
-            "none",
-        ],
-        cwd=ROOT,
-        env=env,
-        stdout=out,
-        stderr=subprocess.STDOUT,
-    )
-    base = f"http://127.0.0.1:{port}"
-    deadline = time.time() + 90
-    while True:
-        try:
-            with urllib.request.urlopen(f"{base}/_stcore/health", timeout=2) as r:
-                if r.status == 200:
-                    break
-        except OSError:
-            pass
-        if proc.poll() is not None or time.time() > deadline:
-            proc.terminate()
-            out.close()
-            pytest.fail(f"streamlit did not become healthy; see {log / 'streamlit-server.log'}")
-        time.sleep(0.5)
-    yield base
-    proc.terminate()
-    try:
-        proc.wait(timeout=15)
-    except subprocess.TimeoutExpired:
-        proc.kill()
-    out.close()
-
-
-@pytest.fixture(scope="module")
-def browser():
-    if SHOTS.exists():
-        shutil.rmtree(SHOTS)
-    SHOTS.mkdir(parents=True)
-    print(f"\nbrowser screenshots: {SHOTS}")
-    with playwright_api.sync_playwright() as p:
-        b = p.chromium.launch(executable_path=CHROMIUM, args=CHROME_ARGS, headless=True)
-        yield b
-        b.close()
+# the app's server and the browser are the session's (tests/app/conftest.py): one for every
+# browser test module
 
 
 def _settle(page, timeout: float = 120.0) -> None:
@@ -342,7 +256,9 @@ def test_share_link_after_loading_a_config_restores_the_variance(server, browser
     loaded = page.locator('[data-testid="stMetricValue"]').first.inner_text()
     assert loaded != before
     link = page.url
-    assert "est_method=somd&" in link + "&" and "h_t=0.0007" in link and "win=48" in link
+    # somd is the page's default method: Streamlit writes no default into the link
+    assert "est_method=somd&" in link + "&" or "est_method=" not in link
+    assert "h_t=0.0007" in link and "win=48" in link
     again = ctx.new_page()
     again.goto(link)
     _settle(again)
