@@ -13,6 +13,7 @@ from dashboard import cache
 from dashboard.sections.estimator_tuning import tuned_methods
 from dashboard.sections.noise_panel import render_assumptions, render_noise_panel
 from dashboard.state import LoadedSignal, initial, times_of
+from dashboard.text import plain
 from dashboard.widgets import (
     csv_download,
     figure_downloads,
@@ -288,7 +289,7 @@ def _run(
         status.success(f"Monte Carlo done: {mc.runs} runs.")
     except noisevar.NoisevarError as exc:
         ended = True
-        status.error(str(exc))
+        status.error(plain(exc))
     finally:
         gen.close()
         if ended:
