@@ -14,6 +14,7 @@ Sub-commands::
     noisevar allan FILE --rate HZ [--data phase|rate] [--kind oadev|mdev|hdev] [--column C]
     noisevar imu FILE --rate HZ [--columns C ...] [--gyro C ...] [--accel C ...]
                      [--kalibr out.yaml] [--inflation F]
+    noisevar dashboard [--port P] [--serve-others] [--address A] [--allowed-host NAME ...]
 
 A command module may also define ``precheck(args)``, run on its raw arguments before
 the parser is built (building it imports the estimators): ``estimate`` refuses a
@@ -48,6 +49,7 @@ COMMANDS: tuple[str, ...] = (
     "imu",
     "fit",
     "batch",
+    "dashboard",
 )
 
 
