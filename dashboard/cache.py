@@ -21,6 +21,7 @@ import plotly.graph_objects as go
 import streamlit as st
 
 import noisevar
+from dashboard import workers
 from dashboard.budget import cached
 from dashboard.state import LoadedSignal, sensor_matrix, truth_of
 from noisevar import estimators
@@ -118,7 +119,7 @@ def _estimate_cached(
     digest: str, method: str, params_json: str, start: int, stop: int, _z: np.ndarray
 ) -> VarianceEstimate:
     z = _z if (start, stop) == (0, _z.size) else _z[start:stop]
-    return noisevar.estimate(z, method=method, **json.loads(params_json))
+    return workers.call(noisevar.estimate, z, method=method, **json.loads(params_json))
 
 
 def estimate(
@@ -165,7 +166,7 @@ def _compare_cached(
     true_variance: float | None,
     _z: np.ndarray,
 ) -> Comparison:
-    return compare_methods(_z, list(methods), json.loads(params_json), true_variance)
+    return workers.call(compare_methods, _z, list(methods), json.loads(params_json), true_variance)
 
 
 def compare(
