@@ -72,7 +72,7 @@ def nbytes(obj: object) -> int:
     return _walk(obj, set(), 0)
 
 
-def _walk(obj: object, seen: set[int], depth: int) -> int:  # long: one branch per kind
+def _walk(obj: object, seen: set[int], depth: int) -> int:
     if id(obj) in seen or obj is None or isinstance(obj, bool | int | float | complex):
         return 0 if id(obj) in seen or obj is None else 32
     seen.add(id(obj))

@@ -81,8 +81,10 @@ def test_the_budget_is_one_documented_setting(monkeypatch):
     assert budget_bytes() == budget.DEFAULT_BUDGET_MB * MB
 
 
-def test_the_dashboard_caches_share_one_bounded_cache():
-    from dashboard import cache
+def test_the_dashboard_caches_share_one_bounded_cache(monkeypatch):
+    from dashboard import cache, workers
+
+    monkeypatch.setattr(workers, "WORKERS", 0)  # the cache, not the pool (test_workers.py)
 
     budget.CACHE.clear()
     z = np.random.default_rng(1).normal(size=4000)
