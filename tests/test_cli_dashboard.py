@@ -95,6 +95,8 @@ def test_started_from_another_directory_it_listens_on_loopback_only(tmp_path):
             assert proc.poll() is None, "the dashboard exited"
             time.sleep(0.2)
         assert _listening(port) == ["0100007F"], _listening(port)  # 127.0.0.1, no tcp6
+        environ = Path(f"/proc/{proc.pid}/environ").read_bytes().split(b"\0")
+        assert b"MALLOC_MMAP_THRESHOLD_=1048576" in environ  # freed arrays go back
         # the websocket is refused under a foreign Host (DNS rebinding), accepted locally
         assert " 101 " in _handshake(port, f"127.0.0.1:{port}", f"http://127.0.0.1:{port}")
         foreign = _handshake(port, f"evil.example:{port}", f"http://evil.example:{port}")

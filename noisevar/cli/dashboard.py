@@ -32,6 +32,12 @@ ROOT = Path(__file__).resolve().parents[2]
 DEFAULT_PORT = 8501
 #: Host names of the local machine, always accepted.
 LOCAL_HOSTS = ("localhost", "127.0.0.1", "::1")
+#: The C allocator's settings for the server, unless the environment sets them: every block
+#: of 1 MiB or more (an array of 131,072 float64 samples) is its own mapping, returned to
+#: the system when freed, and two arenas at most. By default glibc raises that threshold
+#: after each free (up to 32 MiB) and gives threads their own arenas, so the arrays of
+#: records opened by many sessions (one script thread each) stay in the server's memory.
+MALLOC_ENV = {"MALLOC_MMAP_THRESHOLD_": "1048576", "MALLOC_ARENA_MAX": "2"}
 #: Settings the launcher always passes, whatever the config file says.
 SAFE_SETTINGS: dict[str, object] = {
     "server.headless": True,
@@ -150,7 +156,7 @@ def _cmd_dashboard(args: argparse.Namespace) -> int:
     if args.print_command:
         print(" ".join(cmd))
         return 0
-    env = dict(os.environ)
+    env = {**MALLOC_ENV, **os.environ}
     if args.memory_mb is not None:
         env["NOISEVAR_MEMORY_MB"] = str(args.memory_mb)
     sys.stdout.flush()
