@@ -51,6 +51,8 @@ def _owner(folder: Path) -> tuple[int, str]:
 
 
 def _running(pid: int) -> bool:
+    if pid <= 0:  # a name without a process id (another program's folder): leave it
+        return True
     try:
         os.kill(pid, 0)
     except ProcessLookupError:
