@@ -2,7 +2,9 @@
 
 Computations on the loaded signal are cached by its **content hash** (computed once
 at load), never by hashing the array on every rerun; arguments named with a leading
-underscore are not hashed. Cached results are shared read-only objects.
+underscore are not hashed. Cached results are shared read-only objects, kept in the
+server's one cache bounded in bytes (:mod:`dashboard.budget`, ``NOISEVAR_MEMORY_MB``):
+every session asking for the same record and parameters gets the one computation.
 """
 
 from __future__ import annotations
@@ -19,6 +21,8 @@ import plotly.graph_objects as go
 import streamlit as st
 
 import noisevar
+from dashboard import workers
+from dashboard.budget import cached
 from dashboard.state import LoadedSignal, sensor_matrix, truth_of
 from noisevar import estimators
 from noisevar.errors import NoisevarError
@@ -82,27 +86,27 @@ def sample_descriptions(sample_dir: str) -> dict[str, str]:
     return out
 
 
-@st.cache_resource(max_entries=16, show_spinner=False)
+@cached
 def load_bytes_cached(digest: str, name: str, _raw: bytes, topic: str | None = None) -> LoadedTable:
     """:func:`noisevar.io.load_table` of file bytes (a log's ``topic``), cached by their
     content hash."""
     return load_table(_raw, name, topic=topic)
 
 
-@st.cache_resource(max_entries=16, show_spinner=False)
+@cached
 def log_topics_cached(digest: str, name: str, _raw: bytes) -> list | None:
     """:func:`noisevar.io.log_topics` of file bytes (None: not a log), cached."""
     return log_topics(_raw, name)
 
 
-@st.cache_resource(max_entries=16, show_spinner=False)
+@cached
 def generate_cached(name: str, kwargs_json: str) -> noisevar.GeneratedSignal:
     """:func:`noisevar.generate` with JSON keyword arguments, cached."""
     return noisevar.generate(name, **json.loads(kwargs_json))
 
 
 # --------------------------------------------------------------------- figures
-@st.cache_resource(max_entries=16, show_spinner=False)
+@cached
 def _figure_cached(kind: str, key: str, _build: Callable[[], go.Figure]) -> go.Figure:
     return _build()
 
@@ -117,12 +121,12 @@ def figure(kind: str, inputs: dict[str, object], build: Callable[[], go.Figure])
 
 
 # ------------------------------------------------------------------ estimators
-@st.cache_resource(max_entries=24, show_spinner=False)
+@cached
 def _estimate_cached(
     digest: str, method: str, params_json: str, start: int, stop: int, _z: np.ndarray
 ) -> VarianceEstimate:
     z = _z if (start, stop) == (0, _z.size) else _z[start:stop]
-    return noisevar.estimate(z, method=method, **json.loads(params_json))
+    return workers.call(noisevar.estimate, z, method=method, **json.loads(params_json))
 
 
 def estimate(
@@ -133,7 +137,7 @@ def estimate(
     return _estimate_cached(sig.digest, method, params_key(params), int(start), int(stop), sig.z)
 
 
-@st.cache_resource(max_entries=8, show_spinner=False)
+@cached
 def _scan_cached(digest: str, window: int, _z: np.ndarray) -> HScan:
     return scan_h(_z, window)
 
@@ -143,7 +147,7 @@ def h_scan(sig: LoadedSignal, window: int) -> HScan:
     return _scan_cached(sig.digest, int(window), sig.z)
 
 
-@st.cache_resource(max_entries=12, show_spinner=False)
+@cached
 def _amplitude_cached(
     digest: str, window: int, which: str, _x: np.ndarray
 ) -> tuple[WindowAmplitude, np.ndarray]:
@@ -161,7 +165,7 @@ def amplitude(
     return _amplitude_cached(sig.digest, int(window), which, sig.z if x is None else x)
 
 
-@st.cache_resource(max_entries=8, show_spinner=False)
+@cached
 def _compare_cached(
     digest: str,
     methods: tuple[str, ...],
@@ -169,7 +173,7 @@ def _compare_cached(
     true_variance: float | None,
     _z: np.ndarray,
 ) -> Comparison:
-    return compare_methods(_z, list(methods), json.loads(params_json), true_variance)
+    return workers.call(compare_methods, _z, list(methods), json.loads(params_json), true_variance)
 
 
 def compare(
@@ -180,7 +184,7 @@ def compare(
 
 
 # --------------------------------------------------------------- several sensors
-@st.cache_resource(max_entries=8, show_spinner=False)
+@cached
 def _redundant_cached(
     table_digest: str, columns: tuple[str, ...], align: bool, period: float, _sig: LoadedSignal
 ) -> tuple[noisevar.RedundantEstimate, np.ndarray, DelayEstimate | None, float]:
@@ -219,7 +223,7 @@ def redundant(
     return _redundant_cached(sig.table_digest, tuple(columns), bool(align), period, sig)
 
 
-@st.cache_resource(max_entries=16, show_spinner=False)
+@cached
 def _delay_cached(
     table_digest: str, ref: str, other: str, period: float, _sig: LoadedSignal
 ) -> DelayEstimate:
@@ -233,7 +237,7 @@ def delay_between(sig: LoadedSignal, ref: str, other: str) -> DelayEstimate:
     return _delay_cached(sig.table_digest, ref, other, float(sig.sample_period or 1.0), sig)
 
 
-@st.cache_resource(max_entries=16, show_spinner=False)
+@cached
 def _column_estimate_cached(
     table_digest: str, column: str, method: str, _sig: LoadedSignal
 ) -> VarianceEstimate:
@@ -258,7 +262,7 @@ def scenario_defaults(name: str) -> dict[str, Any]:
     return {k: p.default for k, p in params.items() if p.default is not inspect.Parameter.empty}
 
 
-@st.cache_resource(max_entries=6, show_spinner=False)
+@cached
 def kalman_scenario(name: str, seed: int, params_json: str) -> Scenario:
     """A seeded filter scenario of :mod:`noisevar.systems.scenarios` (one run), cached.
 
@@ -287,7 +291,7 @@ def make_filter_strategy(
     return make_strategy(name, h_smooth=h_smooth, R_true=R_true, **params)
 
 
-@st.cache_resource(max_entries=24, show_spinner=False)
+@cached
 def _scenario_run_cached(
     scenario_key: str, strategy: str, settings_json: str, huber: float | None, _sc: Scenario
 ) -> FilterResult:
@@ -306,7 +310,7 @@ def scenario_run(
     return _scenario_run_cached(scenario_key, strategy, params_key(settings), huber, sc)
 
 
-@st.cache_resource(max_entries=16, show_spinner=False)
+@cached
 def _data_run_cached(
     table_digest: str,
     columns: tuple[str, ...],
@@ -365,7 +369,7 @@ def data_run(
     )
 
 
-@st.cache_resource(max_entries=4, show_spinner=False)
+@cached
 def table1(runs: int, seed: int) -> JsonDict:
     """The GPS-circle experiment (the paper's Table 1) with ``runs`` Monte Carlo runs, cached."""
     from noisevar.experiments.gps_circle import EXPERIMENT
@@ -374,7 +378,7 @@ def table1(runs: int, seed: int) -> JsonDict:
 
 
 # ------------------------------------------------------ the other seed systems
-@st.cache_resource(max_entries=4, show_spinner=False)
+@cached
 def fusion_data(
     fault: str, steps: int, runs: int, seed: int, noise_factor: float, bias: float
 ) -> FusionData:
@@ -387,7 +391,7 @@ def fusion_data(
     return simulate_fusion(scen, seed=int(seed), runs=int(runs))
 
 
-@st.cache_resource(max_entries=16, show_spinner=False)
+@cached
 def _fusion_run_cached(
     data_key: str, config: str, false_alarm: float, _data: FusionData
 ) -> FusionResult:
@@ -402,7 +406,7 @@ def fusion_run(data: FusionData, data_key: str, config: str, false_alarm: float)
     return _fusion_run_cached(data_key, config, float(false_alarm), data)
 
 
-@st.cache_resource(max_entries=4, show_spinner=False)
+@cached
 def _fusion_equivalence_cached(data_key: str, _data: FusionData) -> float:
     from noisevar.systems.fusion import max_abs_diff_vs_centralized
 
@@ -414,7 +418,7 @@ def fusion_equivalence(data: FusionData, data_key: str) -> float:
     return _fusion_equivalence_cached(data_key, data)
 
 
-@st.cache_resource(max_entries=6, show_spinner=False)
+@cached
 def robust_run(
     outliers: bool,
     magvar: float,
@@ -434,7 +438,7 @@ def robust_run(
     return run_robust(data, kappa=float(kappa), iterations=int(iterations))
 
 
-@st.cache_resource(max_entries=6, show_spinner=False)
+@cached
 def carrier_runs(
     settings_json: str, runs: int, seed: int, window: int, nominal_cn0: float
 ) -> dict[str, CarrierResult]:
@@ -452,7 +456,7 @@ def carrier_runs(
     return compare(scen, chosen, seed=int(seed), runs=int(runs), window=int(window))
 
 
-@st.cache_resource(max_entries=4, show_spinner=False)
+@cached
 def carrier_sweep(
     settings_json: str, cn0: tuple[float, ...], runs: int, seed: int, nominal_cn0: float
 ) -> CarrierSweep:
@@ -465,7 +469,7 @@ def carrier_sweep(
     return cn0_sweep(tuple(cn0), runs=int(runs), seed=int(seed), scenario=scen, variants=chosen)
 
 
-@st.cache_resource(max_entries=8, show_spinner=False)
+@cached
 def latency_run(settings_json: str, seed: int, max_delay: float) -> LatencyResult:
     """:func:`noisevar.systems.latency.run_latency` on a simulated flight, cached."""
     from noisevar.systems.latency import LatencyScenario, run_latency, simulate_latency

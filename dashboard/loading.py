@@ -62,7 +62,8 @@ def load_bytes(
     Parameters
     ----------
     raw : bytes
-        File content.
+        File content (an upload's ``getvalue()`` is its own bytes, not a copy: CPython's
+        BytesIO shares the bytes it was made from).
     name : str
         File name (its extension picks the format).
     source : str

@@ -32,6 +32,7 @@ from dashboard.state import (
     url_recipe,
     url_upload,
 )
+from dashboard.text import plain
 from dashboard.url_params import clean_query_params, reset_page_controls
 from dashboard.widgets import page_head
 from noisevar.errors import NoisevarError
@@ -134,12 +135,15 @@ def frame(page: st.Page) -> LoadedSignal | None:
                 with st.spinner("Reopening the signal named in the link..."):
                     sig = restore_from_recipe(recipe)
             except (NoisevarError, ValueError) as exc:
-                st.warning(f"Could not reopen the signal named in the link ({recipe}): {exc}")
+                st.warning(
+                    f"Could not reopen the signal named in the link ({plain(recipe, 200)}): "
+                    f"{plain(exc)}"
+                )
         elif url_upload():
             st.info(
-                f"This link was made from an uploaded file, **{url_upload()}**. Uploaded data "
-                "never goes into a link: upload the file again on the Signal page, and the "
-                "link's settings apply to it.",
+                f"This link was made from an uploaded file, **{plain(url_upload(), 200)}**. "
+                "Uploaded data never goes into a link: upload the file again on the Signal page, "
+                "and the link's settings apply to it.",
                 icon=":material/upload_file:",
             )
     else:

@@ -16,6 +16,7 @@ import numpy as np
 import streamlit as st
 
 import noisevar
+from dashboard.text import plain
 from noisevar.errors import NoisevarError
 from noisevar.io import LoadedTable, content_digest, pick_column
 
@@ -118,8 +119,8 @@ def signal_card(slot: object, sig: LoadedSignal | None) -> None:
     period = f", T = {sig.sample_period:g} s" if sig.sample_period else ""
     origin = {"upload": "uploaded file", "sample": "sample file", "generated": "generated"}
     slot.caption(  # type: ignore[attr-defined]
-        f"Signal: **{sig.label}** ({origin.get(sig.source, sig.source)}, column "
-        f"`{sig.column}`) — {sig.n:,} samples{period}"
+        f"Signal: **{plain(sig.label)}** ({origin.get(sig.source, sig.source)}, column "
+        f"{plain(sig.column)}) — {sig.n:,} samples{period}"
     )
 
 

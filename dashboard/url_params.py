@@ -20,6 +20,7 @@ import streamlit as st
 
 import noisevar
 from dashboard.state import parse_recipe
+from dashboard.text import plain
 from noisevar.errors import NoisevarError
 from noisevar.io.table import SAMPLE_PERIOD_RANGE, echo
 from noisevar.params import ParamSpec, by_name
@@ -173,7 +174,7 @@ def clean_query_params() -> dict[str, str]:
         for key in bad:
             st.query_params.pop(key, None)
     if bad:
-        listed = "; ".join(f"{echo(k, 40)} ({echo(r, 120)})" for k, r in bad.items())
+        listed = "; ".join(f"{plain(k, 40)} ({plain(r, 120)})" for k, r in bad.items())
         st.warning(f"Ignored values of the link that no control can take: {listed}.")
     return bad
 

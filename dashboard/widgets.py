@@ -17,6 +17,7 @@ import plotly.graph_objects as go
 import streamlit as st
 
 from dashboard.state import initial
+from dashboard.text import plain
 from dashboard.url_params import HISTORY_JS
 from noisevar.errors import NoisevarError
 from noisevar.estimators.compare import rows_to_csv
@@ -220,12 +221,12 @@ def guarded(context: str = "") -> Iterator[None]:
     try:
         yield
     except NoisevarError as exc:
-        st.error(f"{context}{exc}")
+        st.error(f"{context}{plain(exc)}")
     except Exception as exc:  # noqa: BLE001 - no traceback ever reaches the page
         LOG.exception("unexpected error in the dashboard")
         st.error(
-            f"{context}Unexpected error ({type(exc).__name__}: {exc}). This is a bug in noisevar; "
-            "the details are in the server log."
+            f"{context}Unexpected error ({type(exc).__name__}: {plain(exc)}). This is a bug in "
+            "noisevar; the details are in the server log."
         )
 
 

@@ -9,11 +9,12 @@ import streamlit as st
 from streamlit.delta_generator import DeltaGenerator
 
 import noisevar
-from dashboard import cache
+from dashboard import cache, workers
 from dashboard.sections.estimator_tuning import tuned_methods
 from dashboard.sections.noise_panel import render_assumptions, render_noise_panel
 from dashboard.sections.regimes import record_answer_box
 from dashboard.state import LoadedSignal, initial, times_of
+from dashboard.text import plain
 from dashboard.widgets import (
     csv_download,
     figure_downloads,
@@ -28,7 +29,6 @@ from noisevar.estimators.compare import (
     MonteCarloResult,
     cramer_rao_floor,
     default_methods,
-    monte_carlo,
     rows_to_csv,
     single_signal_methods,
 )
@@ -262,8 +262,9 @@ def _run(
 ) -> None:
     st.session_state["mc_running"] = True
     st.session_state.pop("mc_result", None)
-    gen = monte_carlo(
-        mc.family,
+    gen = workers.monte_carlo_chunks(  # on the worker pool (dashboard/workers.py)
+        show=status.caption,
+        signal=mc.family,
         runs=mc.runs,
         methods=mc.methods,
         params=tuned_params(tuned),
@@ -291,7 +292,7 @@ def _run(
         status.success(f"Monte Carlo done: {mc.runs} runs.")
     except noisevar.NoisevarError as exc:
         ended = True
-        status.error(str(exc))
+        status.error(plain(exc))
     finally:
         gen.close()
         if ended:

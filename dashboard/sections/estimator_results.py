@@ -14,6 +14,7 @@ from dashboard import cache
 from dashboard.cache import DEFAULT_METHOD
 from dashboard.sections.estimator_tuning import H_ALL, Tuning, closest, tuned_methods
 from dashboard.state import LoadedSignal, initial, signal_units, time_of
+from dashboard.text import plain
 from dashboard.widgets import (
     csv_download,
     figure_downloads,
@@ -61,7 +62,7 @@ def run_estimate(
             est = cache.estimate(sig, tuning.method, tuning.params)
         return est, est
     except noisevar.NoisevarError as exc:
-        st.error(str(exc))
+        st.error(plain(exc))
         if isinstance(exc, noisevar.NoWindowKept) and exc.diagnosis is not None:
             st.info(
                 "The figures below show every window's tests against your thresholds: "
@@ -257,7 +258,9 @@ def _stretch_estimate(sig: LoadedSignal, tuning: Tuning, stretch: slice) -> None
         cols[2].metric("95 % interval", eng_range(part.ci95[0], part.ci95[1], squared(u), 3))
         cols[3].metric("Samples in stretch", f"{stretch.stop - stretch.start:,}")
     except noisevar.NoisevarError as exc:
-        st.error(f"Stretch {stretch.start}–{stretch.stop - 1}: {exc} (choose a longer stretch)")
+        st.error(
+            f"Stretch {stretch.start}–{stretch.stop - 1}: {plain(exc)} (choose a longer stretch)"
+        )
 
 
 @st.fragment
@@ -471,7 +474,7 @@ def _estimate_downloads(sig: LoadedSignal, est: VarianceEstimate, truth: float |
         )
     except noisevar.NoisevarError as exc:  # pragma: no cover - params come from widgets
         cfg_json = None
-        st.error(str(exc))
+        st.error(plain(exc))
     if cfg_json is not None:
         c1.download_button(
             "Tuned parameters (JSON)",

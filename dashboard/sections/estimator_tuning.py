@@ -10,6 +10,7 @@ import streamlit as st
 
 import noisevar
 from dashboard.state import LoadedSignal, initial, keep_valid, reselect
+from dashboard.text import plain
 from dashboard.widgets import GLOSSARY, h_grid
 from noisevar.config import parse_config, require_estimator_config
 from noisevar.estimators import METHODS, PARAMS
@@ -110,16 +111,17 @@ def follow_config_column(sig: LoadedSignal) -> LoadedSignal:
     columns = sig.table.data_columns
     if column not in columns:
         st.warning(
-            f"The loaded config was tuned on column {column!r}, which this table does not have "
-            f"(columns: {', '.join(columns)}); the parameters apply to column {sig.column!r}."
+            f"The loaded config was tuned on column {plain(repr(column))}, which this table does "
+            f"not have (columns: {plain(', '.join(columns))}); the parameters apply to column "
+            f"{plain(repr(sig.column))}."
         )
         return sig
     try:
         new = reselect(sig, column, sig.sample_period)
     except noisevar.NoisevarError as exc:
-        st.error(f"Column {column!r} of the loaded config: {exc}")
+        st.error(f"Column {plain(repr(column))} of the loaded config: {plain(exc)}")
         return sig
-    st.info(f"Switched to column {column!r}, named by the loaded config.")
+    st.info(f"Switched to column {plain(repr(column))}, named by the loaded config.")
     return new
 
 
@@ -344,4 +346,4 @@ def _config_upload(largest_window: int) -> None:
         help="A config exported here or written for `noisevar estimate --config`.",
     )
     if st.session_state.get("est_config_error"):
-        st.error(st.session_state["est_config_error"])
+        st.error(plain(st.session_state["est_config_error"]))

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import inspect
-import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -15,6 +14,7 @@ from dashboard.cache import DEFAULT_METHOD
 from dashboard.loading import load_bytes
 from dashboard.pages import ESTIMATOR
 from dashboard.sections.regimes import still_choice
+from dashboard.session_dirs import SessionFolder, session_folder
 from dashboard.state import reselect
 from dashboard.widgets import csv_download, fmt, guarded, show_figure
 from noisevar.batch import read_table
@@ -35,11 +35,11 @@ MAX_VERDICTS = 5
 
 def _folder(sub: str) -> Path:
     """A folder of this session for files the page writes (uploads, the example fleet)."""
-    root = st.session_state.get(FOLDER_KEY)
-    if not root or not Path(root).is_dir():
-        root = tempfile.mkdtemp(prefix="noisevar-fleet-")
-        st.session_state[FOLDER_KEY] = root
-    path = Path(root) / sub
+    owner = st.session_state.get(FOLDER_KEY)
+    if not isinstance(owner, SessionFolder) or not owner.path.is_dir():
+        owner = session_folder()  # removed with the session (dashboard/session_dirs.py)
+        st.session_state[FOLDER_KEY] = owner
+    path = owner.path / sub
     path.mkdir(parents=True, exist_ok=True)
     return path
 

@@ -11,6 +11,7 @@ import noisevar
 from dashboard import loading
 from dashboard.pages import SIGNAL
 from dashboard.state import LoadedSignal, current_signal
+from dashboard.text import plain
 from dashboard.url_params import RECIPE_PARAMS
 from dashboard.widgets import guarded, how_it_works, param_input
 from noisevar.io.logs import log_suffixes
@@ -197,5 +198,5 @@ def uploader(errors: DeltaGenerator) -> None:
     failed = st.session_state.get("upload_failed")
     if failed and failed[0] == attempt:
         sig = current_signal()
-        kept = f" (The previous signal, {sig.label}, is kept.)" if sig is not None else ""
-        errors.error(failed[1] + kept)
+        kept = f" (The previous signal, {plain(sig.label)}, is kept.)" if sig is not None else ""
+        errors.error(plain(failed[1]) + kept)

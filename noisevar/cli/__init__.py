@@ -15,6 +15,7 @@ Sub-commands::
     noisevar imu FILE --rate HZ [--columns C ...] [--gyro C ...] [--accel C ...]
                      [--kalibr out.yaml] [--inflation F]
     noisevar topics LOG [--json]
+    noisevar dashboard [--port P] [--serve-others] [--address A] [--allowed-host NAME ...]
 
 A log (ROS bag, PX4 ULog, ArduPilot DataFlash, Parquet, HDF5) is read by ``--topic T`` on
 estimate, scan-h, allan, imu and fit; ``--column`` then picks the topic's field.
@@ -53,6 +54,7 @@ COMMANDS: tuple[str, ...] = (
     "fit",
     "batch",
     "topics",
+    "dashboard",
 )
 
 

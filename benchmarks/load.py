@@ -1,0 +1,390 @@
+"""A class at once: N concurrent browser sessions on one dashboard server (issue 29).
+
+Starts ``noisevar dashboard`` on a free port and drives one headless Chromium (Debian's,
+through Playwright: ``--no-sandbox --disable-gpu --disable-background-networking
+--disable-component-update --disable-sync --no-first-run``) with one browser context per
+session. Each session, all at once:
+
+1. uploads a CSV record on the Signal page (20,000 samples; its own seed, or one shared
+   record for every session);
+2. opens the Estimator (sidebar link) and makes three keyboard steps of the Γ_amp slider;
+3. opens Compare, then Noise model.
+
+An interaction's latency runs from the action to the page's last DOM change (settled: no
+script running, a figure redrawn after a slider step, then 0.4 s without change). The
+waves are N = 1, 4, 8, 16 on distinct records, then 16 on one shared record. The
+server's memory (resident set of the server, its worker pool and fork server) is read
+before each wave and after its contexts close (sessions are dropped
+``server.disconnectedSessionTTL`` = 30 s after their tab closes; the default is 120 s;
+with 5 s, sessions whose websocket reconnected late on an overloaded machine lost their
+state and never completed).
+
+``--proxy`` adds a run of 30 sessions through the README's proxy recipe (Debian's nginx,
+two app processes, one worker each: ``deploy/local.py``); ``--big`` opens 50 distinct
+2e6-sample records one after another (the Estimator page, a new tab each) and reads the
+server's memory after each against its budget. Run from the repository root::
+
+    python benchmarks/load.py [--waves 1 4 8 16] [--shared 16] [--proxy 30] [--big 50]
+
+Writes ``benchmarks/results/load.md``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import io
+import os
+import platform
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "deploy"))
+
+import local  # noqa: E402  (deploy/local.py)
+
+import noisevar  # noqa: E402
+
+CHROMIUM = os.environ.get("NOISEVAR_CHROMIUM", "/usr/bin/chromium")
+CHROME_ARGS = [
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-first-run",
+]
+SAMPLES = 20_000
+BIG_N = 2_000_000
+QUIET_S = 0.4
+SESSION_TTL_S = 30
+OUT = ROOT / "benchmarks" / "results" / "load.md"  # --out changes it
+
+OBSERVER_JS = """() => {
+  if (window.__nvObserved) return; window.__nvObserved = true;
+  window.__nvLast = performance.now();
+  new MutationObserver(() => { window.__nvLast = performance.now(); })
+    .observe(document.body, {subtree: true, childList: true, characterData: true,
+                             attributes: true});
+}"""
+MARK_JS = "() => document.querySelectorAll('.js-plotly-plot').forEach(el => { el.__nvOld = 1; })"
+STATE_JS = """() => ({
+  quiet: performance.now() - window.__nvLast, last: window.__nvLast,
+  busy: document.querySelectorAll('[data-testid="stStatusWidget"]').length > 0,
+  fresh: Array.from(document.querySelectorAll('.js-plotly-plot')).some(el => !el.__nvOld),
+  errors: document.querySelectorAll('[data-testid="stException"]').length,
+})"""
+
+
+def record_csv(seed: int, n: int = SAMPLES) -> bytes:
+    """A fast-slow record with a time column, as CSV bytes."""
+    z = noisevar.generate("fast-slow", n=n, seed=seed).measured
+    buf = io.StringIO()
+    np.savetxt(buf, np.column_stack([np.arange(n) * 0.01, z]), delimiter=",", fmt="%.9g")
+    return b"t,z\n" + buf.getvalue().encode()
+
+
+def tree_rss_mb(pid: int) -> float:
+    """Resident memory of ``pid`` and all its descendants (MB)."""
+    children: dict[int, list[int]] = {}
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        children.setdefault(int(fields[1]), []).append(int(stat.parent.name))
+    total, todo = 0, [pid]
+    while todo:
+        p = todo.pop()
+        todo += children.get(p, [])
+        try:
+            for line in Path(f"/proc/{p}/status").read_text().splitlines():
+                if line.startswith("VmRSS:"):
+                    total += int(line.split()[1])
+        except OSError:
+            pass
+    return total / 1024
+
+
+async def settled(page, since: float, redrawn: bool = False, timeout: float = 900.0) -> float:
+    """Seconds from ``since`` (page clock, ms) to the page's last change once it settled."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        s = await page.evaluate(STATE_JS)
+        if s["errors"]:
+            raise RuntimeError("an exception box on the page")
+        if (s["fresh"] or not redrawn) and not s["busy"] and s["quiet"] > QUIET_S * 1000:
+            return (s["last"] - since) / 1000.0
+        await asyncio.sleep(0.1)
+    raise TimeoutError("the page did not settle")
+
+
+async def now(page) -> float:
+    return await page.evaluate("() => performance.now()")
+
+
+async def go_to(page, title: str, ready: str | None = None) -> float:
+    """Open a page through the sidebar; seconds to settled with a figure drawn (and the
+    ``ready`` element shown: a page waiting for a worker can be quiet for a while)."""
+    await page.evaluate(MARK_JS)
+    t0 = await now(page)
+    nav = page.locator('[data-testid="stSidebarNav"]')
+    await nav.get_by_text(title, exact=True).first.click()
+    await page.locator("h1", has_text=title).first.wait_for(timeout=900_000)
+    if ready:
+        await page.locator(ready).first.wait_for(timeout=900_000)
+    return await settled(page, t0, redrawn=True)
+
+
+async def session(browser, base: str, data: bytes, name: str) -> dict:
+    """One student's path; returns the latency of each interaction (s)."""
+    ctx = await browser.new_context(viewport={"width": 1400, "height": 900})
+    page = await ctx.new_page()
+    page.set_default_timeout(900_000)  # a loaded machine: every step completes or times out
+    out: dict[str, float] = {}
+    try:
+        t0 = time.perf_counter()
+        await page.goto(f"{base}Signal", timeout=900_000)
+        await page.locator("h1").first.wait_for(timeout=900_000)
+        await page.evaluate(OBSERVER_JS)
+        await settled(page, await now(page))
+        out["open"] = time.perf_counter() - t0
+        t0 = await now(page)
+        await page.locator('[data-testid="stFileUploaderDropzoneInput"]').set_input_files(
+            files=[{"name": name, "mimeType": "text/csv", "buffer": data}]
+        )
+        await (
+            page.locator('[data-testid="stSidebar"]')
+            .get_by_text(name)
+            .first.wait_for(timeout=900_000)
+        )
+        out["upload"] = await settled(page, t0)
+        out["estimator"] = await go_to(page, "Estimator", '[data-testid="stMetricValue"]')
+        thumb = page.locator('[data-testid="stSlider"]', has_text="Γ_amp").get_by_role("slider")
+        for i in range(3):
+            await thumb.focus()
+            await page.evaluate(MARK_JS)
+            t0 = await now(page)
+            await thumb.press("ArrowRight")
+            out[f"slider{i + 1}"] = await settled(page, t0, redrawn=True)
+        out["compare"] = await go_to(page, "Compare")
+        out["noise model"] = await go_to(page, "Noise model")
+        out["ok"] = 1.0
+    except Exception as exc:  # noqa: BLE001 - a failed session is counted, not fatal
+        out["ok"] = 0.0
+        out["error"] = f"{type(exc).__name__}: {exc}"[:200]  # type: ignore[assignment]
+    finally:
+        await ctx.close()
+    return out
+
+
+async def wave(browser, base: str, n: int, shared: bool, seed0: int) -> list[dict]:
+    datas = [record_csv(seed0 if shared else seed0 + i) for i in range(n)]
+    names = [f"rec{seed0 if shared else seed0 + i}.csv" for i in range(n)]
+    runs = (session(browser, base, d, nm) for d, nm in zip(datas, names, strict=True))
+    return list(await asyncio.gather(*runs))
+
+
+def summary(results: list[dict]) -> dict:
+    keys = [k for k in results[0] if k not in ("ok", "error", "open")] if results else []
+    lat = [r[k] for r in results if r.get("ok") for k in keys]
+    changes = [r[k] for r in results if r.get("ok") for k in ("slider1", "slider2", "slider3")]
+    return {
+        "done": sum(1 for r in results if r.get("ok")),
+        "n": len(results),
+        "median": statistics.median(lat) if lat else float("nan"),
+        "worst": max(lat) if lat else float("nan"),
+        "change": statistics.median(changes) if changes else float("nan"),
+        "errors": [r["error"] for r in results if not r.get("ok")],
+    }
+
+
+def start_server(env: dict[str, str]) -> tuple[subprocess.Popen, str]:
+    port = local.free_port()
+    log = open(Path("/tmp") / "noisevar-load-server.log", "wb")  # noqa: SIM115
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "noisevar", "dashboard", "--port", str(port)],
+        env={**os.environ, **env},
+        stdout=log,
+        stderr=subprocess.STDOUT,
+        start_new_session=True,
+    )
+    local.wait_listening(port)
+    return proc, f"http://127.0.0.1:{port}/"
+
+
+async def settle_memory(pid: int) -> float:
+    await asyncio.sleep(SESSION_TTL_S + 8)
+    return tree_rss_mb(pid)
+
+
+async def run_waves(pw, args, env, rows: list[str], log) -> None:
+    proc, base = start_server(env)
+    browser = await pw.chromium.launch(executable_path=CHROMIUM, args=CHROME_ARGS)
+    try:
+        await wave(browser, base, 1, False, 10_000)  # warm the server: first imports, pool
+        await asyncio.sleep(SESSION_TTL_S + 3)
+        one = None
+        plan = [(n, False) for n in args.waves] + ([(args.shared, True)] if args.shared else [])
+        for k, (n, shared) in enumerate(plan):
+            before = tree_rss_mb(proc.pid)
+            t0 = time.perf_counter()
+            s = summary(await wave(browser, base, n, shared, 100 * (k + 1)))
+            wall = time.perf_counter() - t0
+            after = await settle_memory(proc.pid)
+            if n == 1 and not shared:
+                one = s
+            ref = one or s
+            fair = 1.3 * max(1.0, n / 2)
+            rows.append(
+                f"| {n}{' shared' if shared else ''} | {s['done']}/{s['n']} | {s['median']:.2f} "
+                f"({s['median'] / ref['median']:.1f}x) | {s['worst']:.2f} "
+                f"({s['worst'] / ref['worst']:.1f}x) | {fair:.1f}x | {s['change']:.2f} | "
+                f"{wall:.0f} | {before:.0f} -> {after:.0f} ({100 * (after / before - 1):+.0f} %) |"
+            )
+            log(rows[-1] + (f"  errors: {s['errors'][:3]}" if s["errors"] else ""))
+    finally:
+        await browser.close()
+        os.killpg(proc.pid, 15)
+        proc.wait(timeout=60)
+
+
+async def run_proxy(pw, n: int, rows: list[str], log) -> None:
+    env = {"NOISEVAR_WORKERS": "1", "STREAMLIT_SERVER_DISCONNECTED_SESSION_TTL": str(SESSION_TTL_S)}
+    dep = local.start(apps=2, env=env)
+    browser = await pw.chromium.launch(executable_path=CHROMIUM, args=CHROME_ARGS)
+    try:
+        t0 = time.perf_counter()
+        s = summary(await wave(browser, dep.url, n, False, 5000))
+        wall = time.perf_counter() - t0
+        used = sorted(set(__import__("re").findall(r"upstream=(\S+)", dep.access_log())))
+        rows.append(
+            f"| {n} via nginx, 2 apps | {s['done']}/{s['n']} | {s['median']:.2f} | "
+            f"{s['worst']:.2f} | {s['change']:.2f} | {wall:.0f} | {', '.join(used)} |"
+        )
+        log(rows[-1] + (f"  errors: {s['errors'][:3]}" if s["errors"] else ""))
+    finally:
+        await browser.close()
+        dep.stop()
+
+
+async def run_big(pw, n: int, env: dict[str, str], rows: list[str], log) -> None:
+    proc, base = start_server(env)
+    browser = await pw.chromium.launch(executable_path=CHROMIUM, args=CHROME_ARGS)
+    budget_mb = float(env.get("NOISEVAR_MEMORY_MB", 512))
+    try:
+        ctx = await browser.new_context(viewport={"width": 1400, "height": 900})
+        start = tree_rss_mb(proc.pid)
+        peak, trail, opens = 0.0, [], []
+        for i in range(n):
+            page = await ctx.new_page()
+            t0 = time.perf_counter()
+            await page.goto(f"{base}Estimator?sig=gen:fast-slow;n={BIG_N};seed={1000 + i}")
+            await page.locator('[data-testid="stMetricValue"]').first.wait_for(timeout=900_000)
+            opens.append(time.perf_counter() - t0)
+            await page.close()
+            rss = tree_rss_mb(proc.pid)
+            peak = max(peak, rss)
+            trail.append(rss)
+            log(f"  2e6 record {i + 1}/{n}: {opens[-1]:.1f} s, server {rss:.0f} MB")
+        await ctx.close()
+        end = await settle_memory(proc.pid)
+        rows.append(
+            f"| {n} distinct 2e6 records, one after another | {start:.0f} | {peak:.0f} | "
+            f"{trail[len(trail) // 2]:.0f} | {end:.0f} | {budget_mb:.0f} | "
+            f"{statistics.median(opens):.1f} |"
+        )
+        log(rows[-1])
+    finally:
+        await browser.close()
+        os.killpg(proc.pid, 15)
+        proc.wait(timeout=60)
+
+
+def report(args, waves: list[str], proxy: list[str], big: list[str], cpus: int) -> str:
+    head = [
+        "# Serving a class: concurrent browser sessions (`benchmarks/load.py`)",
+        "",
+        f"{platform.node()}: {cpus} cores, Python {platform.python_version()}, one headless "
+        f"Chromium (Playwright), one context per session, `noisevar dashboard` (worker pool "
+        f"{os.environ.get('NOISEVAR_WORKERS', 'sized to the machine')}). Each session: upload "
+        f"a {SAMPLES:,}-sample CSV, Estimator + three Γ_amp steps, Compare, Noise model. "
+        "Latency = action to the page's last change (settled: no script running, 0.4 s "
+        "quiet). The browser and the server share the same cores.",
+        "",
+        f"Command: `python benchmarks/load.py {' '.join(sys.argv[1:])}`",
+        "",
+    ]
+    out = head
+    if waves:
+        out += [
+            "| sessions | completed | median s (vs 1) | worst s (vs 1) | target (1.3 x N/2) "
+            "| median slider step s | wave s | server MB before -> after close |",
+            "|---|---|---|---|---|---|---|---|",
+            *waves,
+            "",
+        ]
+    if proxy:
+        out += [
+            "| proxy run | completed | median s | worst s | median slider step s | wave s "
+            "| processes used |",
+            "|---|---|---|---|---|---|---|",
+            *proxy,
+            "",
+        ]
+    if big:
+        out += [
+            "| memory | server MB at start | peak | at the middle | after close | "
+            "cache budget MB (NOISEVAR_MEMORY_MB) | median open s |",
+            "|---|---|---|---|---|---|---|",
+            *big,
+            "",
+        ]
+    return "\n".join(out)
+
+
+async def main_async(args) -> None:
+    from playwright.async_api import async_playwright
+
+    env = {"STREAMLIT_SERVER_DISCONNECTED_SESSION_TTL": str(SESSION_TTL_S)}
+    waves: list[str] = []
+    proxy: list[str] = []
+    big: list[str] = []
+    cpus = len(os.sched_getaffinity(0))
+
+    def log(text: str) -> None:
+        print(text, flush=True)
+        OUT.write_text(report(args, waves, proxy, big, cpus))
+
+    async with async_playwright() as pw:
+        if args.waves or args.shared:
+            await run_waves(pw, args, env, waves, log)
+        if args.proxy:
+            await run_proxy(pw, args.proxy, proxy, log)
+        if args.big:
+            await run_big(pw, args.big, env, big, log)
+    OUT.write_text(report(args, waves, proxy, big, cpus))
+    print(OUT.read_text())
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--waves", type=int, nargs="*", default=[1, 4, 8, 16])
+    p.add_argument("--shared", type=int, default=16)
+    p.add_argument("--proxy", type=int, default=30)
+    p.add_argument("--big", type=int, default=50)
+    p.add_argument("--out", type=Path, default=OUT, help="the Markdown table written")
+    args = p.parse_args()
+    globals()["OUT"] = args.out
+    asyncio.run(main_async(args))
+
+
+if __name__ == "__main__":
+    main()

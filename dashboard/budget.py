@@ -1,0 +1,211 @@
+"""The server's memory budget: one cache of computed results for all sessions, bounded in bytes.
+
+Streamlit's ``st.cache_resource`` bounds a cache by its number of entries: 24 entries of
+a 2e6-sample record's results are gigabytes, 24 of a short record's are kilobytes.
+:class:`ByteCache` bounds the sum of its entries' sizes (:func:`nbytes`: NumPy arrays,
+pandas frames, Plotly figures, dataclasses and containers, walked) by the server's
+budget :data:`MEMORY_BUDGET`. It is one process-wide object, so an identical request
+(the same record's content hash and parameters) is computed once for every session: a
+session asking for a value another one is computing waits for it (one lock per key)
+instead of computing it again.
+
+Notes
+-----
+Eviction (when the sum exceeds the budget) drops the entry with the largest
+``size × (seconds since last use + 1)``: the largest and oldest first, so a big record
+nobody looks at goes before the small results of the one being tuned. A value larger
+than a quarter of the budget is returned without being kept. The budget counts cached
+results only: the server's own code (about 0.5 GB with plotly, pandas and scipy), each
+session's loaded signal and one computation's working memory come on top.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import inspect
+import logging
+import os
+import sys
+import threading
+import time
+from collections.abc import Callable, Hashable
+from typing import Any, TypeVar
+
+import numpy as np
+
+LOG = logging.getLogger("noisevar.dashboard")
+
+#: Environment variable overriding :data:`MEMORY_BUDGET` (megabytes).
+BUDGET_ENV = "NOISEVAR_MEMORY_MB"
+#: Default budget of the cached results, in megabytes.
+DEFAULT_BUDGET_MB = 512
+#: Largest fraction of the budget one kept value may take.
+LARGEST_SHARE = 0.25
+#: Deepest nesting :func:`nbytes` walks (deeper objects count their ``sys.getsizeof``).
+MAX_DEPTH = 12
+
+T = TypeVar("T")
+
+
+def budget_bytes() -> int:
+    """The budget in bytes: ``NOISEVAR_MEMORY_MB`` if set to a positive number, else 512 MB."""
+    text = os.environ.get(BUDGET_ENV, "")
+    try:
+        mb = float(text) if text else DEFAULT_BUDGET_MB
+    except ValueError:
+        mb = DEFAULT_BUDGET_MB
+    if not 1 <= mb <= 1e7:
+        mb = DEFAULT_BUDGET_MB
+    return int(mb * 1024 * 1024)
+
+
+#: The budget of every cached result of the server, in bytes (read once, at start).
+MEMORY_BUDGET = budget_bytes()
+
+
+def nbytes(obj: object) -> int:
+    """Approximate bytes held by ``obj``: arrays, frames, figures and containers, walked once.
+
+    An array that is a view counts its own extent (its base may be shared).
+    """
+    return _walk(obj, set(), 0)
+
+
+def _walk(obj: object, seen: set[int], depth: int) -> int:
+    if id(obj) in seen or obj is None or isinstance(obj, bool | int | float | complex):
+        return 0 if id(obj) in seen or obj is None else 32
+    seen.add(id(obj))
+    if isinstance(obj, np.ndarray):
+        extra = sum(_walk(x, seen, depth + 1) for x in obj.flat) if obj.dtype == object else 0
+        return int(obj.nbytes) + 112 + extra
+    if isinstance(obj, str | bytes | bytearray | memoryview):
+        return sys.getsizeof(obj) if not isinstance(obj, memoryview) else obj.nbytes
+    if depth >= MAX_DEPTH:
+        return sys.getsizeof(obj)
+    if hasattr(obj, "memory_usage") and hasattr(obj, "columns"):  # a pandas DataFrame
+        return int(obj.memory_usage(deep=True).sum())  # type: ignore[attr-defined]
+    if isinstance(obj, dict):
+        items: Any = [*obj.keys(), *obj.values()]
+    elif isinstance(obj, list | tuple | set | frozenset):
+        items = obj
+    elif dataclasses.is_dataclass(obj):
+        items = [getattr(obj, f.name, None) for f in dataclasses.fields(obj)]
+    elif hasattr(obj, "to_plotly_json"):  # a Plotly figure or trace
+        items = [obj.to_plotly_json()]
+    elif hasattr(obj, "__dict__"):
+        items = list(vars(obj).values())
+    else:
+        return sys.getsizeof(obj)
+    return sys.getsizeof(obj) + sum(_walk(x, seen, depth + 1) for x in items)
+
+
+@dataclasses.dataclass
+class _Entry:
+    value: object
+    size: int
+    used: float
+
+
+class ByteCache:
+    """Computed values by key, bounded in total bytes, shared by every session.
+
+    Parameters
+    ----------
+    budget : int
+        Most bytes kept (:func:`nbytes` of the values).
+    """
+
+    def __init__(self, budget: int) -> None:
+        self.budget = int(budget)
+        self._entries: dict[Hashable, _Entry] = {}
+        self._lock = threading.Lock()
+        self._computing: dict[Hashable, threading.Lock] = {}
+        self.total = 0
+        self.evictions = 0
+
+    def get(self, key: Hashable, compute: Callable[[], T]) -> T:
+        """The value of ``key``: kept, being computed by another session, or ``compute()``.
+
+        An exception of ``compute`` is raised and nothing is kept.
+        """
+        with self._lock:
+            hit = self._hit(key)
+            if hit is not None:
+                return hit.value  # type: ignore[return-value]
+            key_lock = self._computing.setdefault(key, threading.Lock())
+        with key_lock:  # one computation per key: the others wait for its value
+            with self._lock:
+                hit = self._hit(key)
+                if hit is not None:
+                    return hit.value  # type: ignore[return-value]
+            try:
+                value = compute()
+                self._put(key, value)
+            finally:
+                with self._lock:
+                    self._computing.pop(key, None)
+        return value
+
+    def _hit(self, key: Hashable) -> _Entry | None:
+        entry = self._entries.get(key)
+        if entry is not None:
+            entry.used = time.monotonic()
+        return entry
+
+    def _put(self, key: Hashable, value: object) -> None:
+        size = nbytes(value)
+        if size > LARGEST_SHARE * self.budget:
+            LOG.info("not caching a %.1f MB value (budget %.0f MB)", size / 1e6, self.budget / 1e6)
+            return
+        with self._lock:
+            old = self._entries.pop(key, None)
+            self.total -= old.size if old else 0
+            self._entries[key] = _Entry(value, size, time.monotonic())
+            self.total += size
+            self._evict()
+
+    def _evict(self) -> None:
+        now = time.monotonic()
+        while self.total > self.budget and len(self._entries) > 1:
+            key = max(self._entries, key=lambda k: self._score(self._entries[k], now))
+            self.total -= self._entries.pop(key).size
+            self.evictions += 1
+
+    @staticmethod
+    def _score(entry: _Entry, now: float) -> float:
+        return entry.size * (now - entry.used + 1.0)
+
+    def clear(self) -> None:
+        """Drop every entry."""
+        with self._lock:
+            self._entries.clear()
+            self.total = 0
+
+    def __len__(self) -> int:
+        return len(self._entries)
+
+
+#: The server's one cache of computed results.
+CACHE = ByteCache(MEMORY_BUDGET)
+
+
+def cached(func: Callable[..., T]) -> Callable[..., T]:
+    """Cache ``func`` in :data:`CACHE`, keyed by its name and its arguments.
+
+    Like ``st.cache_resource``, arguments whose name starts with ``_`` are not part of
+    the key (the record's array: its content hash is passed beside it). The value is
+    shared: do not modify it.
+    """
+    signature = inspect.signature(func)
+    hashed = [name for name in signature.parameters if not name.startswith("_")]
+
+    @functools.wraps(func)
+    def wrapper(*args: Any, **kwargs: Any) -> T:
+        bound = signature.bind(*args, **kwargs)
+        bound.apply_defaults()
+        key = (func.__module__, func.__qualname__, *(bound.arguments[n] for n in hashed))
+        return CACHE.get(key, functools.partial(func, *args, **kwargs))
+
+    wrapper.clear = CACHE.clear  # type: ignore[attr-defined]
+    return wrapper

@@ -1,0 +1,293 @@
+"""Heavy computations off the script thread: one worker process pool per server.
+
+A Streamlit server is one Python process: every session's script shares one GIL, so a
+class clicking together waits in line for one core. The heavy calls (the Compare table,
+the Monte Carlo, an estimate of a long record) run here instead, in a process pool sized
+to the machine (:data:`WORKERS`, ``NOISEVAR_WORKERS`` overrides it; 0 runs them on the
+script thread). The queue is bounded (:data:`QUEUE_PER_WORKER` tasks per worker wait at
+most: a further request waits on its script thread), and a waiting page shows its place
+in the queue.
+
+Notes
+-----
+Workers are started by a fork server that preloads noisevar and warms its kernels
+(:mod:`dashboard.worker_preload`: a new worker costs a fork, not an import). They die
+with the server: the fork server exits when the server is gone, and each worker asks the
+kernel for SIGKILL when the fork server goes (Linux ``PR_SET_PDEATHSIG``) and also
+watches its parent's id, so a killed server leaves no worker behind.
+A Monte Carlo runs as chunks of consecutive runs (run ``i`` draws with seed
+``seed + i`` in :func:`noisevar.estimators.compare.monte_carlo`, so a chunk is the same
+runs), at most :data:`CHUNKS_IN_FLIGHT` at once per session, merged in order: the result
+equals one sequential run, apart from the timings.
+"""
+
+from __future__ import annotations
+
+import atexit
+import concurrent.futures as cf
+import ctypes
+import itertools
+import logging
+import multiprocessing as mp
+import os
+import signal
+import threading
+import time
+from collections.abc import Callable, Iterator
+from dataclasses import replace
+from typing import Any, TypeVar
+
+import numpy as np
+
+from noisevar.errors import NoisevarError
+from noisevar.estimators.compare import MonteCarloResult, monte_carlo, run_monte_carlo
+
+LOG = logging.getLogger("noisevar.dashboard")
+T = TypeVar("T")
+
+#: Environment variable setting the number of workers (0: no pool, the script thread).
+WORKERS_ENV = "NOISEVAR_WORKERS"
+#: Tasks that may wait per worker before a new request blocks its script thread.
+QUEUE_PER_WORKER = 8
+#: Monte Carlo chunks of one session computing at once.
+CHUNKS_IN_FLIGHT = 2
+#: Seconds between two updates of a waiting page.
+POLL_SECONDS = 0.25
+
+
+def machine_workers() -> int:
+    """Workers for this machine: ``NOISEVAR_WORKERS`` if set, else the usable cores."""
+    text = os.environ.get(WORKERS_ENV, "")
+    if text.strip().isdigit():
+        return min(int(text), 64)
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - not Linux
+        return max(1, os.cpu_count() or 1)
+
+
+#: Worker processes of the pool (0: computations run on the script thread).
+WORKERS = machine_workers()
+
+
+def _die_with_parent() -> None:
+    """Worker initializer: exit when the parent (the fork server, which exits with the
+    server) goes."""
+    parent = os.getppid()
+    try:
+        ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):  # pragma: no cover - not Linux
+        pass
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(1.0)
+        os._exit(1)
+
+    threading.Thread(target=watch, daemon=True).start()
+
+
+class Pool:
+    """A bounded process pool with queue positions (one per server: :func:`pool`)."""
+
+    def __init__(self, workers: int) -> None:
+        self.workers = workers
+        method = "forkserver" if "forkserver" in mp.get_all_start_methods() else "spawn"
+        context = mp.get_context(method)
+        if method == "forkserver":
+            context.set_forkserver_preload(["dashboard.worker_preload"])
+        self._executor = cf.ProcessPoolExecutor(
+            workers, mp_context=context, initializer=_die_with_parent
+        )
+        self._slots = threading.BoundedSemaphore(workers * QUEUE_PER_WORKER)
+        self._lock = threading.Lock()
+        self._tickets = itertools.count()
+        self._pending: list[int] = []  # tickets submitted and not done, in order
+
+    def submit(self, fn: Callable[..., T], *args: Any, **kwargs: Any) -> tuple[int, cf.Future]:
+        """Queue ``fn(*args, **kwargs)``; returns its ticket and future."""
+        self._slots.acquire()
+        with self._lock:
+            ticket = next(self._tickets)
+            self._pending.append(ticket)
+        try:
+            future = self._executor.submit(fn, *args, **kwargs)
+        except BaseException:
+            self._done(ticket)
+            raise
+        future.add_done_callback(lambda _: self._done(ticket))
+        return ticket, future
+
+    def _done(self, ticket: int) -> None:
+        with self._lock:
+            if ticket in self._pending:
+                self._pending.remove(ticket)
+                self._slots.release()
+
+    def ahead(self, ticket: int) -> int:
+        """Tasks queued before ``ticket`` that wait for a worker (0: it is computing)."""
+        with self._lock:
+            try:
+                return max(0, self._pending.index(ticket) - self.workers + 1)
+            except ValueError:
+                return 0
+
+    def queued(self) -> int:
+        """Tasks waiting or computing."""
+        with self._lock:
+            return len(self._pending)
+
+    def shutdown(self) -> None:
+        self._executor.shutdown(wait=False, cancel_futures=True)
+
+
+_POOL: Pool | None = None
+_POOL_LOCK = threading.Lock()
+
+
+def pool() -> Pool | None:
+    """The server's pool (started on first use), or None when ``NOISEVAR_WORKERS=0``."""
+    global _POOL
+    if WORKERS <= 0:
+        return None
+    with _POOL_LOCK:
+        if _POOL is None:
+            _POOL = Pool(WORKERS)
+            atexit.register(_POOL.shutdown)
+        return _POOL
+
+
+def _queue_text(ahead: int) -> str:
+    return f"Queued: {ahead} computation{'s' * (ahead != 1)} of other sessions ahead"
+
+
+def wait(ticket: int, future: cf.Future, show: Callable[[str], None] | None = None) -> Any:
+    """The future's result; meanwhile ``show`` gets the queue position when it waits."""
+    shown = False
+    while True:
+        try:
+            return future.result(timeout=POLL_SECONDS)
+        except cf.TimeoutError:
+            p = pool()
+            ahead = p.ahead(ticket) if p is not None else 0
+            if show is not None and (ahead or shown):
+                show(_queue_text(ahead) if ahead else "Computing on a worker process...")
+                shown = True
+
+
+def call(fn: Callable[..., T], *args: Any, **kwargs: Any) -> T:
+    """``fn(*args, **kwargs)`` on a worker process (the caller's thread when no pool).
+
+    While it waits for a worker, the page shows the queue position in a placeholder
+    that is removed afterwards. ``fn`` and its arguments must be picklable (a module-level
+    function, arrays, plain values).
+    """
+    p = pool()
+    if p is None:
+        return fn(*args, **kwargs)
+    ticket, future = p.submit(_carried, fn, *args, **kwargs)
+    slot = None
+
+    def show(text: str) -> None:
+        nonlocal slot
+        import streamlit as st
+
+        if slot is None:
+            slot = st.empty()
+        slot.caption(text)
+
+    try:
+        return _unwrap(wait(ticket, future, show if _in_script() else None))
+    finally:
+        if slot is not None:
+            slot.empty()
+
+
+def _carried(fn: Callable[..., T], *args: Any, **kwargs: Any) -> tuple[bool, Any]:
+    """On a worker: ``(True, value)``, or ``(False, (type, message, attributes))`` for a
+    NoisevarError (pickle rebuilds an exception from its message alone: a
+    ``NoWindowKept``'s summary and diagnosis would be lost)."""
+    try:
+        return True, fn(*args, **kwargs)
+    except NoisevarError as exc:
+        return False, (type(exc), str(exc), dict(vars(exc)))
+
+
+def _unwrap(result: tuple[bool, Any]) -> Any:
+    ok, value = result
+    if ok:
+        return value
+    cls, message, attributes = value
+    exc = cls.__new__(cls)
+    Exception.__init__(exc, message)
+    exc.__dict__.update(attributes)
+    raise exc
+
+
+def _in_script() -> bool:
+    from streamlit.runtime.scriptrunner_utils.script_run_context import get_script_run_ctx
+
+    return get_script_run_ctx() is not None
+
+
+def _chunk(kwargs: dict[str, Any], first: int, runs: int) -> MonteCarloResult:
+    """Runs ``first`` to ``first + runs - 1`` of a Monte Carlo, to the end (on a worker)."""
+    return run_monte_carlo(**{**kwargs, "runs": runs, "seed": int(kwargs["seed"]) + first})
+
+
+def chunk_sizes(runs: int, workers: int) -> list[int]:
+    """Consecutive chunks of a Monte Carlo: about ten, at least one run each."""
+    size = max(1, -(-runs // max(10, 2 * workers)))
+    return [min(size, runs - start) for start in range(0, runs, size)]
+
+
+def _merge(total: MonteCarloResult | None, part: MonteCarloResult, runs: int) -> MonteCarloResult:
+    if total is None:
+        return replace(part, runs_requested=runs)
+    scale = part.true_variance / total.true_variance  # 1: the noise level does not draw
+    errors = {
+        m: np.concatenate([total.relative_errors[m], (part.relative_errors[m] + 1) * scale - 1])
+        for m in total.methods
+    }
+    return replace(
+        total,
+        runs_done=total.runs_done + part.runs_done,
+        relative_errors=errors,
+        failures={m: total.failures[m] + part.failures[m] for m in total.methods},
+        seconds={m: total.seconds[m] + part.seconds[m] for m in total.methods},
+        first_error={**part.first_error, **total.first_error},
+    )
+
+
+def monte_carlo_chunks(
+    show: Callable[[str], None] | None = None, **kwargs: Any
+) -> Iterator[MonteCarloResult]:
+    """:func:`~noisevar.estimators.compare.monte_carlo` on the pool, a snapshot per chunk.
+
+    Same arguments (by keyword) and the same final result; ``show`` receives the queue
+    position while the next chunk waits. Closing the generator cancels the chunks not
+    started. Without a pool, the runs are yielded one by one on this thread.
+    """
+    p = pool()
+    if p is None:
+        yield from monte_carlo(**kwargs)
+        return
+    runs = int(kwargs.get("runs", 100))
+    if not 1 <= runs <= 100_000:  # monte_carlo's own error, on this thread
+        yield from monte_carlo(**kwargs)
+        return
+    starts = list(itertools.accumulate([0, *chunk_sizes(runs, p.workers)]))
+    todo = list(zip(starts[:-1], np.diff(starts).tolist(), strict=True))
+    flying: list[tuple[int, cf.Future]] = []
+    total = None
+    try:
+        while todo or flying:
+            while todo and len(flying) < CHUNKS_IN_FLIGHT:
+                first, size = todo.pop(0)
+                flying.append(p.submit(_carried, _chunk, kwargs, first, size))
+            ticket, future = flying.pop(0)
+            total = _merge(total, _unwrap(wait(ticket, future, show)), runs)
+            yield total
+    finally:
+        for _, future in flying:
+            future.cancel()

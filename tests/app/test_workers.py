@@ -1,0 +1,100 @@
+"""Heavy computations on the worker pool (issue 29, item 7): same results, errors, queue, exit."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT))
+
+import noisevar  # noqa: E402
+from dashboard import workers  # noqa: E402
+from noisevar.estimators.compare import run_monte_carlo  # noqa: E402
+
+
+@pytest.fixture(autouse=True)
+def _two_workers(monkeypatch):
+    monkeypatch.setattr(workers, "WORKERS", 2)
+
+
+def test_a_monte_carlo_in_chunks_equals_one_sequential_run():
+    kwargs = dict(signal="fast-slow", runs=13, methods=["diff2", "mad-diff"], n=1000, seed=5)
+    snaps = list(workers.monte_carlo_chunks(**kwargs))
+    ref = run_monte_carlo(**kwargs)
+    last = snaps[-1]
+    assert last.finished and last.runs_done == 13 and len(snaps) == len(workers.chunk_sizes(13, 2))
+    assert [s.runs_done for s in snaps] == sorted({s.runs_done for s in snaps})
+    for m in ref.methods:
+        np.testing.assert_array_equal(last.relative_errors[m], ref.relative_errors[m])
+    assert last.failures == ref.failures and last.first_error == ref.first_error
+    assert last.true_variance == ref.true_variance and last.seed == ref.seed
+
+
+def test_errors_come_back_whole():
+    z = np.random.default_rng(3).normal(size=3000)
+    with pytest.raises(noisevar.NoWindowKept) as info:
+        workers.call(noisevar.estimate, z, method="somd", gamma_amp=1e-9, gamma_ang=1e-9)
+    assert info.value.summary["kept"] == 0 and info.value.diagnosis is not None
+    with pytest.raises(noisevar.NoisevarError):
+        list(workers.monte_carlo_chunks(signal="fast-slow", runs=0, methods=["diff2"]))
+    assert workers.call(noisevar.estimate, z, method="diff2").variance == pytest.approx(
+        noisevar.estimate(z, method="diff2").variance, rel=0, abs=0
+    )
+
+
+def test_the_queue_position_counts_the_tasks_ahead():
+    pool = workers.pool()
+    tasks = [pool.submit(time.sleep, 0.6) for _ in range(5)]
+    time.sleep(0.2)
+    positions = [pool.ahead(ticket) for ticket, _ in tasks]
+    assert positions == [0, 0, 1, 2, 3]
+    shown: list[str] = []
+    workers.wait(*tasks[-1], show=shown.append)
+    assert any("Queued: " in s for s in shown)
+
+
+def test_workers_die_with_a_killed_server(tmp_path):
+    script = textwrap.dedent(
+        f"""
+        import os, sys, time
+        sys.path.insert(0, {str(ROOT)!r})
+        from dashboard import workers
+        workers.WORKERS = 2
+        pool = workers.pool()
+        pids = [pool.submit(os.getpid)[1].result() for _ in range(4)]
+        print(" ".join(map(str, set(pids))), flush=True)
+        time.sleep(60)
+        """
+    )
+    proc = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
+    pids = [int(p) for p in proc.stdout.readline().split()]
+    assert pids and os.getpid() not in pids
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    deadline = time.monotonic() + 10
+    while any(_alive(p) for p in pids) and time.monotonic() < deadline:
+        time.sleep(0.2)
+    assert not [p for p in pids if _alive(p)]
+
+
+def _alive(pid: int) -> bool:
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except FileNotFoundError:
+        return False
+    return stat.split(")")[-1].split()[0] != "Z"
+
+
+def test_no_pool_runs_on_the_calling_thread(monkeypatch):
+    monkeypatch.setattr(workers, "WORKERS", 0)
+    assert workers.pool() is None
+    assert workers.call(os.getpid) == os.getpid()
