@@ -18,10 +18,8 @@ from __future__ import annotations
 from noisevar.noise_model.exports.base import (
     Consumer,
     ExportFile,
-    Value,
     ascii_text,
-    walk_sigma,
-    white_sigma,
+    ekf_step_values,
 )
 from noisevar.noise_model.exports.model import ImuModel
 
@@ -33,26 +31,13 @@ def write(model: ImuModel, *, target_dt: float = TARGET_DT) -> ExportFile:
     """EKF3's IMU (and GNSS, when measured) noise parameters at its prediction rate."""
     f = 1.0 / target_dt
     at = f"EKF3 step {target_dt * 1e3:g} ms"
-    values = [
-        white_sigma(model, "gyroscope", "EK3_GYRO_P_NSE", f, f"rate std over one {at}"),
-        white_sigma(model, "accelerometer", "EK3_ACC_P_NSE", f, f"std over one {at}"),
-        walk_sigma(model, "gyroscope", "EK3_GBIAS_P_NSE", f, f"bias step / dt, {at}"),
-        walk_sigma(model, "accelerometer", "EK3_ABIAS_P_NSE", f, f"bias step / dt, {at}"),
-    ]
-    for key, name, unit in (
-        ("position", "EK3_POSNE_M_NSE", "m"),
-        ("velocity", "EK3_VELNE_M_NSE", "m/s"),
-    ):
-        if key in model.gnss:
-            values.append(
-                Value(
-                    name,
-                    model.gnss[key],
-                    unit,
-                    "measurement std",
-                    f"sqrt(R) of the GNSS {key} record",
-                )
-            )
+    values = ekf_step_values(
+        model,
+        f,
+        at,
+        ("EK3_GYRO_P_NSE", "EK3_ACC_P_NSE", "EK3_GBIAS_P_NSE", "EK3_ABIAS_P_NSE"),
+        ("EK3_POSNE_M_NSE", "EK3_VELNE_M_NSE"),
+    )
     lines = [f"# {h}" for h in model.header("ArduPilot EKF3")]
     lines += [
         "# AMBIGUOUS in the parameter docs (no rate given); EKF3's code adds (dt*value)^2",

@@ -112,6 +112,29 @@ def walk_sigma(model: ImuModel, sensor: str, name: str, rate: float, what: str) 
     )
 
 
+def ekf_step_values(
+    model: ImuModel, rate: float, at: str, imu: tuple[str, str, str, str], gnss: tuple[str, str]
+) -> list[Value]:
+    """An EKF's IMU noise stds at its prediction ``rate``, and its GNSS stds when measured.
+
+    ``imu`` names gyro noise, accel noise, gyro bias, accel bias; ``gnss`` position and
+    velocity. PX4's EKF2 and ArduPilot's EKF3 both add ``(dt·value)²`` per prediction step
+    (their modules cite the lines), so both take E7.1 and E7.2 at that step's rate.
+    """
+    gyro, acc, gyro_b, acc_b = imu
+    values = [
+        white_sigma(model, "gyroscope", gyro, rate, f"rate std over one {at}"),
+        white_sigma(model, "accelerometer", acc, rate, f"std over one {at}"),
+        walk_sigma(model, "gyroscope", gyro_b, rate, f"bias step / dt, {at}"),
+        walk_sigma(model, "accelerometer", acc_b, rate, f"bias step / dt, {at}"),
+    ]
+    for key, name, unit in zip(("position", "velocity"), gnss, ("m", "m/s"), strict=True):
+        if key in model.gnss:
+            what = f"sqrt(R) of the GNSS {key} record"
+            values.append(Value(name, model.gnss[key], unit, "measurement std", what))
+    return values
+
+
 def number(v: float) -> str:
     """A value as written in every file: 10 significant digits, exponent form."""
     return f"{v:.9e}"

@@ -25,10 +25,8 @@ from __future__ import annotations
 from noisevar.noise_model.exports.base import (
     Consumer,
     ExportFile,
-    Value,
     ascii_text,
-    walk_sigma,
-    white_sigma,
+    ekf_step_values,
 )
 from noisevar.noise_model.exports.model import ImuModel
 
@@ -50,26 +48,13 @@ def write(model: ImuModel, *, predict_us: int = PREDICT_US) -> ExportFile:
     """EKF2's IMU (and GNSS, when measured) noise parameters at its prediction rate."""
     f = 1e6 / predict_us
     at = f"EKF step {predict_us} µs"
-    values = [
-        white_sigma(model, "gyroscope", "EKF2_GYR_NOISE", f, f"rate std over one {at}"),
-        white_sigma(model, "accelerometer", "EKF2_ACC_NOISE", f, f"std over one {at}"),
-        walk_sigma(model, "gyroscope", "EKF2_GYR_B_NOISE", f, f"bias step / dt, {at}"),
-        walk_sigma(model, "accelerometer", "EKF2_ACC_B_NOISE", f, f"bias step / dt, {at}"),
-    ]
-    for key, name, unit in (
-        ("position", "EKF2_GPS_P_NOISE", "m"),
-        ("velocity", "EKF2_GPS_V_NOISE", "m/s"),
-    ):
-        if key in model.gnss:
-            values.append(
-                Value(
-                    name,
-                    model.gnss[key],
-                    unit,
-                    "measurement std",
-                    f"sqrt(R) of the GNSS {key} record",
-                )
-            )
+    values = ekf_step_values(
+        model,
+        f,
+        at,
+        ("EKF2_GYR_NOISE", "EKF2_ACC_NOISE", "EKF2_GYR_B_NOISE", "EKF2_ACC_B_NOISE"),
+        ("EKF2_GPS_P_NOISE", "EKF2_GPS_V_NOISE"),
+    )
     lines = [f"# {h}" for h in model.header("PX4 EKF2")]
     lines += [
         "# AMBIGUOUS in PX4's docs (no rate given); its code (covariance.cpp) adds",
