@@ -6,9 +6,8 @@ velocity random walk (VRW, e.g. m/s/√h) and the bias instability (µg). Both a
 into the terms ``N`` (data unit/√Hz) and ``B`` (data unit) of eq. E4.1, in the unit of the
 rate data, so that their Allan deviation ``sqrt(N²/τ + (2 ln 2/π) B²)`` overlays the data's.
 
-TODO(units): these conversions cover the datasheet units listed here only; once
-``noisevar/units.py`` (pint, helper "exports") is on main, parse the units with it and keep
-only the table of datasheet spellings.
+The spellings a datasheet uses are listed here with the expression ``noisevar.units``
+(pint) reads; every conversion is :func:`noisevar.units.factor`.
 """
 
 from __future__ import annotations
@@ -21,41 +20,38 @@ from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
 
-_DEG = math.pi / 180.0
-_G = 9.80665  # standard gravity (m/s²)
 _FLICKER = 2.0 * math.log(2.0) / math.pi
 
-#: Rate units of the data: (dimension, SI value of one unit: rad/s or m/s²).
+#: Rate units of the data: (dimension, the unit as noisevar.units reads it).
 DATA_UNITS = {
-    "rad/s": ("angular", 1.0),
-    "deg/s": ("angular", _DEG),
-    "°/s": ("angular", _DEG),
-    "dps": ("angular", _DEG),
-    "m/s^2": ("linear", 1.0),
-    "m/s²": ("linear", 1.0),
-    "g": ("linear", _G),
-    "mg": ("linear", 1e-3 * _G),
+    "rad/s": ("angular", "rad/s"),
+    "deg/s": ("angular", "deg/s"),
+    "°/s": ("angular", "deg/s"),
+    "dps": ("angular", "deg/s"),
+    "m/s^2": ("linear", "m/s**2"),
+    "m/s²": ("linear", "m/s**2"),
+    "g": ("linear", "g"),
+    "mg": ("linear", "mg"),
 }
-#: Datasheet units of the white-noise density N: SI value (rad/s/√Hz or m/s²/√Hz) of one.
-#: 1 °/√h = (π/180) rad / √(3600 s) = (π/180)/60 rad/s/√Hz; 1 m/s/√h = 1/60 m/s²/√Hz.
+#: Datasheet units of the white-noise density N (1 °/√h = (π/180)/60 rad/s/√Hz).
 DENSITY_UNITS = {
-    "°/√h": ("angular", _DEG / 60.0),
-    "°/s/√Hz": ("angular", _DEG),
-    "°/h/√Hz": ("angular", _DEG / 3600.0),
-    "rad/s/√Hz": ("angular", 1.0),
-    "m/s/√h": ("linear", 1.0 / 60.0),
-    "m/s²/√Hz": ("linear", 1.0),
-    "mg/√Hz": ("linear", 1e-3 * _G),
-    "µg/√Hz": ("linear", 1e-6 * _G),
+    "°/√h": ("angular", "deg/hour**0.5"),
+    "°/s/√Hz": ("angular", "deg/s/Hz**0.5"),
+    "°/h/√Hz": ("angular", "deg/hour/Hz**0.5"),
+    "rad/s/√Hz": ("angular", "rad/s/Hz**0.5"),
+    "m/s/√h": ("linear", "m/s/hour**0.5"),
+    "m/s²/√Hz": ("linear", "m/s**2/Hz**0.5"),
+    "mg/√Hz": ("linear", "mg/Hz**0.5"),
+    "µg/√Hz": ("linear", "ug/Hz**0.5"),
 }
-#: Datasheet units of the bias instability B: SI value (rad/s or m/s²) of one.
+#: Datasheet units of the bias instability B.
 BIAS_UNITS = {
-    "°/h": ("angular", _DEG / 3600.0),
-    "°/s": ("angular", _DEG),
-    "rad/s": ("angular", 1.0),
-    "mg": ("linear", 1e-3 * _G),
-    "µg": ("linear", 1e-6 * _G),
-    "m/s²": ("linear", 1.0),
+    "°/h": ("angular", "deg/hour"),
+    "°/s": ("angular", "deg/s"),
+    "rad/s": ("angular", "rad/s"),
+    "mg": ("linear", "mg"),
+    "µg": ("linear", "ug"),
+    "m/s²": ("linear", "m/s**2"),
 }
 
 
@@ -86,14 +82,17 @@ class DatasheetTerms:
         return np.sqrt(self.random_walk**2 / t + _FLICKER * self.bias_instability**2)
 
 
-def _factor(table: dict, unit: str, dimension: str, what: str) -> float:
+def _factor(table: dict, unit: str, dimension: str, what: str, target: str) -> float:
+    """One ``unit`` (a key of ``table``) in ``target``, by :func:`noisevar.units.factor`."""
+    from noisevar.units import factor
+
     if unit not in table:
         raise NoisevarError(f"{what}: unit {unit!r} not known; use one of {', '.join(table)}.")
-    dim, si = table[unit]
+    dim, expression = table[unit]
     if dim != dimension:
         kind = "a gyroscope's" if dimension == "angular" else "an accelerometer's"
         raise NoisevarError(f"{what} in {unit} is not {kind}, as the data's unit says.")
-    return si
+    return factor(expression, target)
 
 
 def datasheet_terms(
@@ -125,13 +124,13 @@ def datasheet_terms(
             f"To compare with a datasheet, give the data's unit as one of {', '.join(DATA_UNITS)}"
             f" (it is {data_unit!r})."
         )
-    dim, scale = DATA_UNITS[data_unit]
+    dim, data = DATA_UNITS[data_unit]
     (n_value, n_unit), (b_value, b_unit) = random_walk, bias_instability
     if not all(math.isfinite(v) and v >= 0 for v in (n_value, b_value)):
         raise NoisevarError("The datasheet values must be finite and non-negative.")
     name = "ARW" if dim == "angular" else "VRW"
-    n = n_value * _factor(DENSITY_UNITS, n_unit, dim, name) / scale
-    b = b_value * _factor(BIAS_UNITS, b_unit, dim, "Bias instability") / scale
+    n = n_value * _factor(DENSITY_UNITS, n_unit, dim, name, f"({data})/Hz**0.5")
+    b = b_value * _factor(BIAS_UNITS, b_unit, dim, "Bias instability", data)
     if floor:
         b /= math.sqrt(_FLICKER)
     quoted = f"{name} {n_value:g} {n_unit}, BI {b_value:g} {b_unit}"
