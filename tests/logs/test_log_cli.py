@@ -118,6 +118,13 @@ def test_allan_and_imu_read_the_logs_rate(capsys, bag):
     assert code == 0, err
 
 
+def test_fit_reads_the_logs_rate(capsys, bag):
+    argv = ["fit", bag, "--topic", "/imu", "--column", "angular_velocity.x", "--model", "rw"]
+    code, out, err = run(capsys, *argv, "--format", "json")
+    assert code == 0, err
+    assert json.loads(out)["rate"] == pytest.approx(400.0, rel=1e-6)
+
+
 def test_topic_on_a_table_is_refused(capsys, tmp_path):
     csv = tmp_path / "a.csv"
     csv.write_text("t,x\n0,1\n1,2\n2,1.5\n")
