@@ -13,7 +13,7 @@ import pytest
 from noisevar.cli import main
 from noisevar.errors import NoisevarError
 from noisevar.io import load_table
-from noisevar.io.logs.msgdefs import check_definition, check_types
+from noisevar.io.logs.msgdefs import check_connections, check_definition, check_types
 
 PAYLOAD = "x\"); __import__('pathlib').Path('PWNED').touch() #"
 
@@ -97,3 +97,22 @@ def test_parsed_types_are_checked(typs, why):
 def test_type_name_of_the_connection_is_checked():
     with pytest.raises(NoisevarError, match="is not valid.*type name"):
         check_definition("evil/Ev(object)", "MSG", "float64 data\n")
+
+
+def test_idl_constants_and_the_bags_total_are_checked():
+    from types import SimpleNamespace
+
+    from rosbags.interfaces import MessageDefinitionFormat as Fmt
+
+    ok = "module a { module msg { struct B { double x; }; }; };"
+    check_definition("a/msg/B", "IDL", ok)
+    bad = 'module a { module msg { module B_Constants { const string S = "x\'y"; }; }; };\n' + ok
+    with pytest.raises(NoisevarError, match="'a/msg/B'.*not valid.*value of constant S"):
+        check_definition("a/msg/B", "IDL", bad)
+    big = "# " + "x" * (60 * 1024) + "\nfloat64 data\n"
+    conns = [
+        SimpleNamespace(msgtype=f"a/msg/T{i}", msgdef=SimpleNamespace(format=Fmt.MSG, data=big))
+        for i in range(20)
+    ]
+    with pytest.raises(NoisevarError, match="over 1 MiB in total"):
+        check_connections(conns)
