@@ -47,7 +47,6 @@ def test_json_then_config(track_csv, tmp_path, capsys):
 @pytest.mark.parametrize(
     "extra,match",
     [
-        ([], "--rate is required"),
         (["--rate", "0"], "positive"),
         (["--rate", "-3"], "positive"),
         (["--rate", "10", "--model", "jerk"], "invalid choice"),
@@ -58,6 +57,16 @@ def test_bad_input_exits_2_with_one_line(track_csv, capsys, extra, match):
     assert main(["fit", track_csv, *extra]) == 2
     err = capsys.readouterr().err
     assert match in err and err.count("\n") == 1
+
+
+def test_rate_from_the_time_column_else_one_line_error(track_csv, tmp_path, capsys):
+    assert main(["fit", track_csv, "--column", "pos", "--format", "json"]) == 0
+    assert json.loads(capsys.readouterr().out)["rate"] == pytest.approx(10.0)
+    bare = tmp_path / "bare.csv"
+    np.savetxt(bare, np.random.default_rng(0).normal(size=200))
+    assert main(["fit", str(bare)]) == 2
+    err = capsys.readouterr().err
+    assert "give the sample rate with --rate HZ" in err and err.count("\n") == 1
 
 
 def test_too_short_and_bad_config(tmp_path, capsys):

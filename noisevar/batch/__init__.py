@@ -117,11 +117,13 @@ def _previous(out: Path | None, resume: bool, files: list[str]) -> dict[str, lis
     return rows_by_file(rows, journal_groups(journal_path(out)), files)
 
 
-def request_key(columns: Any, method: str, params: dict[str, Any]) -> str:
-    """What was asked (channels, method, parameters) as JSON: a row is reused only for the same."""
-    return json.dumps(
-        {"columns": columns, "method": method, "params": params}, sort_keys=True, default=str
-    )
+def request_key(columns: Any, method: str, params: dict[str, Any], topic: str | None = None) -> str:
+    """What was asked (channels, method, parameters, a log's topic) as JSON: a row is reused
+    only for the same. Without a topic the key is what it was before topics existed."""
+    asked = {"columns": columns, "method": method, "params": params}
+    if topic is not None:
+        asked["topic"] = topic
+    return json.dumps(asked, sort_keys=True, default=str)
 
 
 def _plan(
@@ -263,6 +265,7 @@ def batch(
     client: Any = None,
     resume: bool = True,
     progress: Progress = True,
+    topic: str | None = None,
     **params: Any,
 ) -> pd.DataFrame:
     """Estimate the noise of every channel of every file: one row per file x channel.
@@ -288,6 +291,9 @@ def batch(
         same request (channels, method, parameters).
     progress : bool or callable
         A tqdm bar on stderr, or ``progress(done, total)`` called as files complete.
+    topic : str, optional
+        For logs (ROS bag files, ULog, DataFlash, Parquet, HDF5): the topic read from each,
+        its fields being the channels; part of the resume key.
     **params
         The method's parameters (as for :func:`noisevar.estimate`).
 
@@ -325,11 +331,11 @@ def batch(
     files = [f for f in expand_paths(paths) if f not in skip]
     if not files:
         raise NoisevarError("no data file found in the given paths")
-    request = request_key(cols, method, dict(params))
+    request = request_key(cols, method, dict(params), topic)
     with output_lock(target) if target is not None else contextlib.nullcontext():
         todo, kept = _plan(files, _previous(target, resume, files), request)
-        return _run(todo, kept, (cols, method, dict(params)), request, target, n_jobs, client,
-                    resume, progress)  # fmt: skip
+        task = (cols, method, dict(params), topic)  # run_task's arguments after the files
+        return _run(todo, kept, task, request, target, n_jobs, client, resume, progress)
 
 
 def _run(  # noqa: PLR0913 - the batch's arguments, once checked

@@ -39,7 +39,11 @@ def estimate_row(
 
 
 def file_rows(
-    path: str, columns: str | list[str] | None, method: str, params: dict[str, Any]
+    path: str,
+    columns: str | list[str] | None,
+    method: str,
+    params: dict[str, Any],
+    topic: str | None = None,
 ) -> list[dict[str, Any]]:
     """Every row of one file: one per channel, or one row with the file's error.
 
@@ -53,6 +57,9 @@ def file_rows(
         Estimator.
     params : dict
         Its parameters.
+    topic : str, optional
+        For a log (ROS bag file, ULog, DataFlash, Parquet, HDF5): the topic to read, its
+        fields being the channels.
 
     Returns
     -------
@@ -69,7 +76,7 @@ def file_rows(
     try:
         raw = Path(path).read_bytes()
         digest = content_digest(raw)
-        table = load_table(raw, os.path.basename(path))
+        table = load_table(raw, os.path.basename(path), topic=topic)
         channels = table_channels(table, columns)
     except (NoisevarError, OSError) as exc:
         msg = str(exc) if isinstance(exc, NoisevarError) else f"cannot read {path}: {exc}"
@@ -110,7 +117,11 @@ def sample_rate(table: Any) -> float | None:
 
 
 def run_task(
-    paths: Sequence[str], columns: str | list[str] | None, method: str, params: dict[str, Any]
+    paths: Sequence[str],
+    columns: str | list[str] | None,
+    method: str,
+    params: dict[str, Any],
+    topic: str | None = None,
 ) -> list[dict[str, Any]]:
     """The rows of a group of files (the unit of work sent to a process or a Dask worker).
 
@@ -119,7 +130,7 @@ def run_task(
     rows: list[dict[str, Any]] = []
     for p in paths:
         try:
-            rows.extend(file_rows(p, columns, method, params))
+            rows.extend(file_rows(p, columns, method, params, topic))
         except Exception as exc:  # noqa: BLE001 - a bad file is a row, never the end of the batch
             rows.append(
                 {

@@ -141,6 +141,17 @@ def load_record(
     return z, t, list(table.notes)
 
 
+def sample_rate(given: float | None, sample_period: float | None) -> float:
+    """The ``--rate`` flag, else the rate of the file's time column; refuse anything else."""
+    if given is None:
+        if sample_period:
+            return 1.0 / sample_period
+        raise NoisevarError("give the sample rate with --rate HZ (the file has no time column)")
+    if not (math.isfinite(given) and given > 0):
+        raise NoisevarError(f"--rate must be a positive number of Hz, not {given:g}")
+    return given
+
+
 def add_regimes_flag(p: argparse.ArgumentParser) -> None:
     """``--regimes {all,still}``: fit the whole record or its longest still stretch."""
     from noisevar.estimators.regimes import DEFAULT_REGIMES, REGIMES

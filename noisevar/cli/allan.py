@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import math
 from typing import Any
 
 import numpy as np
@@ -16,20 +15,9 @@ from noisevar.cli._common import (
     load_file,
     print_json,
     regimes_of,
+    sample_rate,
     units_of,
 )
-from noisevar.errors import NoisevarError
-
-
-def sample_rate(given: float | None, sample_period: float | None) -> float:
-    """The ``--rate`` flag, else the rate of the file's time column; refuse anything else."""
-    if given is None:
-        if sample_period:
-            return 1.0 / sample_period
-        raise NoisevarError("give the sample rate with --rate HZ (the file has no time column)")
-    if not (math.isfinite(given) and given > 0):
-        raise NoisevarError(f"--rate must be a positive number of Hz, not {given:g}")
-    return given
 
 
 def load_columns(

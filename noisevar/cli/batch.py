@@ -64,6 +64,7 @@ def _cmd_batch(args: argparse.Namespace) -> int:
             client=client,
             resume=not args.no_resume,
             progress=not args.quiet,
+            topic=args.topic,
             **params,
         )
     finally:
@@ -77,11 +78,13 @@ def _cmd_batch(args: argparse.Namespace) -> int:
 
 def add_parser(sub: Any) -> None:
     """Register ``batch`` on the sub-command set ``sub``."""
+    from noisevar.cli._common import add_topic_flag
     from noisevar.cli.estimate import add_estimate_flags
 
     p = sub.add_parser("batch", help="estimate every channel of many files (one row each)")
     p.add_argument("paths", nargs="+", help="files, folders or quoted globs ('logs/**/*.csv')")
     p.add_argument("--columns", help="'all' (default) or a,b,c")
+    add_topic_flag(p)
     p.add_argument("--out", help=".parquet or .csv output (default: CSV on stdout)")
     p.add_argument(
         "--jobs",

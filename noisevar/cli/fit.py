@@ -1,4 +1,4 @@
-"""``noisevar fit FILE --model rw|cv|ca --rate HZ``: Q and R of a kinematic Kalman filter."""
+"""``noisevar fit FILE --model rw|cv|ca [--rate HZ]``: Q and R of a kinematic Kalman filter."""
 
 from __future__ import annotations
 
@@ -15,6 +15,7 @@ from noisevar.cli._common import (
     load_file,
     print_json,
     regimes_of,
+    sample_rate,
     units_of,
 )
 from noisevar.errors import NoisevarError
@@ -44,8 +45,11 @@ def _print_table(t: Any, args: argparse.Namespace, column: str, unit: str = "u")
         print(f"note      {note}")
 
 
-def _load(args: argparse.Namespace, config: dict[str, Any] | None) -> tuple[Any, int, str]:
-    """The record's column, the non-finite cells dropped, and the column's name.
+def _load(
+    args: argparse.Namespace, config: dict[str, Any] | None
+) -> tuple[Any, int, str, float | None]:
+    """The record's column, the non-finite cells dropped, the column's name, and the
+    table's sample period (None without a time column).
 
     With a tuned filter's config, the column it was fitted on and no other: another
     ``--column``, a file without that column, or (for a config naming none) a file of
@@ -78,7 +82,7 @@ def _load(args: argparse.Namespace, config: dict[str, Any] | None) -> tuple[Any,
             "the filter was fitted on)"
         )
     z = np.asarray(pick_column(table, column), dtype=float)
-    return z, table.n_rows - z.size, column_name(table, column)
+    return z, table.n_rows - z.size, column_name(table, column), table.sample_period
 
 
 def _cmd_fit(args: argparse.Namespace) -> int:
@@ -92,7 +96,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         )
     config = load_config(args.config) if args.config else None
     kal = from_config(config) if config is not None else None  # refused before the data load
-    z, dropped, column = _load(args, config)
+    z, dropped, column, period = _load(args, config)
     scale, unit = units_of(args.unit, args.unit_out)
     z = z * scale
     if kal is not None:
@@ -109,11 +113,10 @@ def _cmd_fit(args: argparse.Namespace) -> int:
             )
         tuning = evaluate_kalman(z, model, kal["q"], kal["r"], rate=rate)
     else:
-        if args.rate is None:
-            raise NoisevarError("--rate is required: the sample rate in Hz (samples per second)")
+        rate = sample_rate(args.rate, period)  # --rate, else the log's or time column's
         method = {} if args.method is None else {"method": args.method}  # else fit_kalman's
         model = args.model or "cv"
-        tuning = fit_kalman(z, model=model, rate=args.rate, **method, **regimes_of(args))
+        tuning = fit_kalman(z, model=model, rate=rate, **method, **regimes_of(args))
     if args.save_config:
         said = unit if args.unit else (kal.get("unit", "") if kal is not None else "")
         Path(args.save_config).write_text(
@@ -137,7 +140,9 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--column", help="column name or 0-based index (default: the only/first)")
     add_topic_flag(p)
     p.add_argument("--model", choices=list(MODELS), help="rw, cv or ca (default cv)")
-    p.add_argument("--rate", type=float, help="sample rate in Hz (required unless in --config)")
+    p.add_argument(
+        "--rate", type=float, help="sample rate in Hz (default: --config's, else the time column's)"
+    )
     default = inspect.signature(fit_kalman).parameters["method"].default
     p.add_argument("--method", choices=list(METHODS), help=f"default {default}")
     add_unit_flags(p)

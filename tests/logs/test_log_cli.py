@@ -7,6 +7,7 @@ import json
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 from logfiles import imu_values, write_bag, write_dataflash
 
@@ -118,6 +119,13 @@ def test_allan_and_imu_read_the_logs_rate(capsys, bag):
     assert code == 0, err
 
 
+def test_fit_reads_the_logs_rate(capsys, bag):
+    argv = ["fit", bag, "--topic", "/imu", "--column", "angular_velocity.x", "--model", "rw"]
+    code, out, err = run(capsys, *argv, "--format", "json")
+    assert code == 0, err
+    assert json.loads(out)["rate"] == pytest.approx(400.0, rel=1e-6)
+
+
 def test_topic_on_a_table_is_refused(capsys, tmp_path):
     csv = tmp_path / "a.csv"
     csv.write_text("t,x\n0,1\n1,2\n2,1.5\n")
@@ -165,3 +173,29 @@ def test_the_units_a_bag_declares_reach_the_terms(capsys, bag):
     )  # fmt: skip
     assert code == 0, err
     assert json.loads(out)["columns"]["angular_velocity.x"]["unit"] == "deg/s"
+
+
+def test_batch_of_bags_with_a_topic_and_resume(capsys, tmp_path):
+    from noisevar.batch import batch
+
+    bags = [write_bag(tmp_path / f"u{i}.bag", imu_values(400, seed=i), "ros1") for i in (1, 2)]
+    cols = "angular_velocity.x,linear_acceleration.z"
+    out = tmp_path / "noise.csv"
+    argv = ["batch", *bags, "--topic", "/imu", "--columns", cols, "--out", out, "--quiet"]
+    code, _, err = run(capsys, *argv)
+    assert code == 0, err
+    frame = pd.read_csv(out)
+    assert len(frame) == 4 and frame["error"].isna().all()
+    assert set(frame["sample_rate_hz"]) == {400.0}
+    table = load_table(bags[1], topic="/imu")
+    one = noisevar.estimate(table.columns["linear_acceleration.z"])
+    row = frame[(frame["file"] == str(bags[1])) & (frame["channel"] == "linear_acceleration.z")]
+    assert row["variance"].iat[0] == pytest.approx(one.variance, rel=1e-12)
+    todo = []  # the files each run has to do (progress's total)
+    again = dict(columns=cols, out=out, progress=lambda k, n: todo.append(n))
+    batch([str(b) for b in bags], topic="/imu", **again)
+    assert max(todo, default=0) == 0  # the same topic: every file resumed
+    other = batch([str(b) for b in bags], topic="/level", **again)
+    assert max(todo) == 2 and other["error"].notna().all()  # another topic: both redone
+    plain = batch([str(bags[0])], progress=False)  # no topic: the bag holds two
+    assert "holds several topics" in plain["error"].iat[0]

@@ -5,7 +5,9 @@ Fields are the message's numeric leaves by dotted path (``angular_velocity.x``);
 array's elements by index (``orientation_covariance.4``) can be read by naming them. A
 message with a ``header`` is timed by its ``header.stamp`` (the driver's sensor time),
 else by the bag's record time; times are seconds from the topic's first message, taken
-in integer nanoseconds before the conversion, so no precision is lost to the epoch.
+in integer nanoseconds before the conversion, so no precision is lost to the epoch. The
+bag's own message definitions are checked before ``rosbags`` compiles them
+(:mod:`noisevar.io.logs.msgdefs`).
 """
 
 from __future__ import annotations
@@ -19,6 +21,7 @@ import numpy as np
 
 from noisevar.errors import NoisevarError
 from noisevar.io.limits import echo
+from noisevar.io.logs.msgdefs import open_bag
 from noisevar.io.logs.spec import CHUNK, MAX_FIELDS, Chunk, LogReader, TopicInfo
 
 #: Units of standard messages' fields, from their message definitions' documentation
@@ -87,11 +90,12 @@ def _units(msgtype: str, fields: Sequence[str]) -> dict[str, str]:
 
 
 def _open(path: Path):
-    from rosbags.highlevel import AnyReader
+    """The bag's ``AnyReader``; opening it checks the bag's own message definitions before
+    ``rosbags`` compiles them (:mod:`noisevar.io.logs.msgdefs`)."""
     from rosbags.typesys import Stores, get_typestore
 
     store = Stores.ROS1_NOETIC if path.suffix.lower() == ".bag" else Stores.LATEST
-    return AnyReader([path], default_typestore=get_typestore(store))
+    return open_bag(path, get_typestore(store))
 
 
 def topics(path: Path) -> list[TopicInfo]:
