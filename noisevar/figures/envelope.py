@@ -130,10 +130,18 @@ def envelope_figure(
     axes["yaxis2"].update(log_axis("|V|"))
     axes["xaxis"]["title"] = {"text": x_title(sample_period)}
     anns = axes.pop("annotations")
+    lay = layout(title, height, annotations=anns, **axes)
     note = downsample_note(det.size, max_points)
     if note:
-        anns.append(note)
-    return capped(go.Figure(data=data, layout=layout(title, height, annotations=anns, **axes)))
+        # a line of its own under the panel title, not on the title's line (they overlapped)
+        small = note["font"]
+        anns[0]["text"] += (
+            f"<br><span style='font-size:{small['size']}px;color:{small['color']}'>"
+            f"{note['text']}</span>"
+        )
+        anns[0]["align"] = "left"
+        lay["margin"] = {**lay["margin"], "t": lay["margin"]["t"] + 2 * small["size"]}
+    return capped(go.Figure(data=data, layout=lay))
 
 
 def scan_figure(
