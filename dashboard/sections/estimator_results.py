@@ -98,8 +98,11 @@ def headline(sig: LoadedSignal, est: VarianceEstimate, truth: float | None, tuni
             delta_arrow="off",
             help="Known for a generated signal; the delta is the relative error.",
         )
+    # the noise panel below shows the diagnostics' notes under its flags: not twice
+    panel = set(getattr(est.diagnostics, "notes", None) or ())
     for note in est.notes:
-        st.caption(f"Note: {note}")
+        if note not in panel:
+            st.caption(f"Note: {note}")
     _versus_default(sig, est)
     if tuning.somd:
         h = tuning.h_smooth[0]

@@ -362,3 +362,23 @@ def test_html_report_carries_the_verdict_regimes_units_and_human_labels():
     for code in ("ci95_low", "windows_failed_amplitude", "param_h_smooth", "n_used"):
         assert f"<td>{code}</td>" not in text
     assert "windows refused by the amplitude test" in text
+
+
+def test_each_note_is_shown_once():
+    """A quantised record's grid note: under the noise panel's flags, not also above the
+    verdict (issue 28 §8)."""
+    import numpy as np
+
+    from dashboard.state import SIGNAL_KEY, make_signal
+    from noisevar.io import table_from_arrays
+
+    rng = np.random.default_rng(4)
+    z = np.round(np.sin(np.arange(4000) / 300) * 40 + rng.normal(0, 2.0, 4000))  # grid step 1
+    app = AppTest.from_file(APP, default_timeout=120)
+    table = table_from_arrays("grid.csv", {"z": z}, sample_period=0.01)
+    app.session_state[SIGNAL_KEY] = make_signal(table, None, 0.01, "upload", None)
+    app.switch_page(PAGE).run()
+    _clean(app)
+    texts = [c.value.removeprefix("Note: ") for c in app.caption]
+    grid = [t for t in texts if "sit on a grid of step" in t]
+    assert len(grid) == 1, grid
