@@ -382,3 +382,15 @@ def test_each_note_is_shown_once():
     texts = [c.value.removeprefix("Note: ") for c in app.caption]
     grid = [t for t in texts if "sit on a grid of step" in t]
     assert len(grid) == 1, grid
+
+
+def test_select_all_smoothing_filters_keeps_the_sliders_h_s(at):
+    """'Select all' extra filters: h_S (the slider) stays the smallest h, which sets h_T
+    (issue 28 §8: the estimate silently moved to the smallest h)."""
+    at.select_slider(key="h_s").set_value("5e-05").run()
+    box = at.multiselect(key="h_more")
+    assert box.options and all(float(h) > 5e-05 for h in box.options)
+    box.set_value(list(box.options)).run()
+    _clean(at)
+    hs = at.session_state["nv_tuned"]["h_smooth"]
+    assert hs[0] == 5e-05 and min(hs) == 5e-05 and len(hs) == len(box.options) + 1
