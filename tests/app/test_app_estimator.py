@@ -129,6 +129,18 @@ def test_stretch_estimate(at):
     assert not any(m.label == "Samples in stretch" for m in at.metric)
 
 
+def test_refused_stretch_shows_no_whole_record_number_as_its_own(at):
+    """A stretch too short to estimate: its row says refused and the headline says whole
+    record (issue 28 §8: the metrics kept the whole record's values beside the stretch)."""
+    at.number_input(key="s0").set_value(1000).run()
+    at.number_input(key="s1").set_value(1010).run()
+    _clean(at)
+    assert any("Stretch 1000–1009" in e.value for e in at.error)
+    assert _metric(at, "Stretch variance") == "refused"
+    assert _metric(at, "Noise variance (whole record)")
+    assert not any(m.label == "Noise variance" for m in at.metric)
+
+
 def test_exported_config_matches_the_widgets_and_loads_back(at):
     at.slider(key="win").set_value(48).run()
     at.slider(key="g_amp").set_value(0.7).run()
