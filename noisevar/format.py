@@ -115,3 +115,19 @@ def squared(unit: str) -> str:
     if not unit:
         return ""
     return f"{unit}²" if _prefixable(unit) else f"({unit})²"
+
+
+#: Below this a p-value is shown as a bound: its digits say nothing more.
+P_FLOOR = 1e-4
+
+
+def pvalue(p: object) -> str:
+    """A p-value as ``"p = 0.0312"`` (3 significant digits) or ``"p < 0.0001"``.
+
+    One spelling on every page, figure, note and CLI line: ``2.04e-299`` is
+    ``"p < 0.0001"``, never ``"20.4×10⁻³⁰⁰"`` beside ``"2e-299"``.
+    """
+    v = _finite(p)
+    if v is None:
+        return f"p {MISSING}"
+    return f"p = {_plain(v, 3)}" if v >= P_FLOOR else f"p < {_plain(P_FLOOR, 1)}"

@@ -12,6 +12,7 @@ import pytest
 
 import noisevar as nv
 from noisevar.cli import main
+from noisevar.format import eng
 
 N = 3000
 
@@ -92,7 +93,7 @@ def test_estimate_csv_with_header_table(capsys, files, signal):
     assert err == ""
     assert "method    auto" in out
     expected = nv.estimate(signal)
-    assert f"{expected.variance:.6g}" in out
+    assert f"variance  {eng(expected.variance, 'u²')}" in out  # the page's formatter
     assert "95 % CI" in out
 
 
@@ -438,3 +439,13 @@ def test_every_spec_with_a_flag_is_on_the_estimate_parser():
     flags = {s for a in sub._actions for s in a.option_strings}
     for spec in PARAMS.values():
         assert (spec.flag in flags) == spec.cli, spec.name
+
+
+def test_text_output_uses_the_pages_formatter(tmp_path, signal, capsys):
+    """A tiny variance reads 106.8×10⁻²⁴ s² on the page and in the CLI, not 1.06807e-22."""
+    path = tmp_path / "tiny.csv"
+    _write_csv(path, [signal * 1e-11], header="x")
+    assert main(["estimate", str(path), "--unit", "s"]) == 0
+    out = capsys.readouterr().out
+    expected = nv.estimate(signal * 1e-11)
+    assert f"variance  {eng(expected.variance, 's²')}" in out and "e-2" not in out

@@ -27,6 +27,8 @@ def test_table(track_csv, capsys):
     assert main(["fit", track_csv, "--column", "pos", "--model", "cv", "--rate", "10"]) == 0
     out = capsys.readouterr().out
     assert "model     cv   method mle" in out and "NIS mean" in out and "white" in out
+    assert "gain      level " in out and ", rate " in out  # every gain named (issue 28 §8)
+    assert "Ljung-Box p " in out
 
 
 def test_json_then_config(track_csv, tmp_path, capsys):

@@ -54,6 +54,20 @@ def test_csv_with_header_and_time_column():
     np.testing.assert_array_equal(pick_column(tab, 1), [2, 3, 4])
 
 
+@pytest.mark.parametrize(
+    ("times", "rate"),
+    [
+        (np.arange(2000) / 120, 120.0),  # full float digits
+        (np.round(np.arange(2000) / 120, 6), 120.0),  # six decimals: 120.0048 is noise
+        (np.arange(20) * 3600.0, 1 / 3600),  # a round period stays round
+    ],
+)
+def test_rate_from_time_column_keeps_only_supported_digits(times, rate):
+    body = "t,x\n" + "".join(f"{float(t)!r},{i % 7}\n" for i, t in enumerate(times))
+    tab = load_table(body.encode(), "a.csv")
+    assert 1.0 / tab.sample_period == rate  # not 120.00000000004799
+
+
 def test_headerless_whitespace_and_tsv_and_comments():
     tab = load_table(b"# a comment\n1 2\n3 4\n\n5 6\n", "a.txt")
     assert tab.columns.keys() == {"col0", "col1"}

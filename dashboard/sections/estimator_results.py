@@ -75,11 +75,13 @@ def run_estimate(
 def headline(sig: LoadedSignal, est: VarianceEstimate, truth: float | None, tuning: Tuning) -> None:
     """Variance, std, interval, windows kept (or samples used), the truth when known."""
     u = signal_units()
+    # with a stretch chosen (below), these are still the whole record's: say so
+    whole = " (whole record)" if _selected_stretch(sig) is not None else ""
     cols = st.columns(5)
-    cols[0].metric("Noise variance", fmt(est.variance, unit=squared(u)))
-    cols[1].metric("Noise std", fmt(est.std, unit=u))
+    cols[0].metric("Noise variance" + whole, fmt(est.variance, unit=squared(u)))
+    cols[1].metric("Noise std" + whole, fmt(est.std, unit=u))
     cols[2].metric(
-        "95 % interval",
+        "95 % interval" + whole,
         eng_range(est.ci95[0], est.ci95[1], squared(u), 3),
         help=f"{fmt(est.ci95[0], 6)} to {fmt(est.ci95[1], 6)} (chi-square, "
         f"{est.dof:.0f} effective degrees of freedom)",
@@ -98,8 +100,11 @@ def headline(sig: LoadedSignal, est: VarianceEstimate, truth: float | None, tuni
             delta_arrow="off",
             help="Known for a generated signal; the delta is the relative error.",
         )
+    # the noise panel below shows the diagnostics' notes under its flags: not twice
+    panel = set(getattr(est.diagnostics, "notes", None) or ())
     for note in est.notes:
-        st.caption(f"Note: {note}")
+        if note not in panel:
+            st.caption(f"Note: {note}")
     _versus_default(sig, est)
     if tuning.somd:
         h = tuning.h_smooth[0]
@@ -258,9 +263,14 @@ def _stretch_estimate(sig: LoadedSignal, tuning: Tuning, stretch: slice) -> None
         cols[2].metric("95 % interval", eng_range(part.ci95[0], part.ci95[1], squared(u), 3))
         cols[3].metric("Samples in stretch", f"{stretch.stop - stretch.start:,}")
     except noisevar.NoisevarError as exc:
-        st.error(
-            f"Stretch {stretch.start}–{stretch.stop - 1}: {plain(exc)} (choose a longer stretch)"
-        )
+        reason = f"Stretch {stretch.start}–{stretch.stop - 1}: {plain(exc)}"
+        # the stretch's own row says "refused": no whole-record number beside the highlight
+        cols = st.columns(4)
+        cols[0].metric("Stretch variance", "refused", help=reason)
+        cols[1].metric("Stretch std", "refused", help=reason)
+        cols[2].metric("95 % interval", "refused", help=reason)
+        cols[3].metric("Samples in stretch", f"{stretch.stop - stretch.start:,}")
+        st.error(f"{reason} (choose a longer stretch)")
 
 
 @st.fragment

@@ -143,8 +143,9 @@ def _apply_config(largest_window: int) -> None:
     hs = cfg.get("h_smooth")
     if hs is not None:
         hs = hs if isinstance(hs, list) else [hs]
-        state["h_s"] = closest(H_ALL, hs[0])
-        state["h_more"] = sorted({closest(H_ALL, h) for h in hs[1:]}, key=float)
+        # h_S is the smallest (noisevar sets h_T from it); the others are the extra filters
+        state["h_s"] = closest(H_ALL, min(hs))
+        state["h_more"] = sorted({closest(H_ALL, h) for h in hs} - {state["h_s"]}, key=float)
     if "h_track" in cfg:
         state["ht_mode"] = "value"
         state["h_t"] = closest(HT_ALL, cfg["h_track"])
@@ -236,13 +237,19 @@ def _smoothing_filters(n: int, somd: bool) -> tuple[str, list[str]]:
         help=GLOSSARY["h"] + f" Paper: {paper_h:g}.",
         **initial("h_s", closest(hs_opts, paper_h)),
     )
+    # only filters above h_S: the smallest h sets h_T (noisevar.estimators.somd), so a
+    # smaller one would silently replace the h_S the slider shows ("Select all" did)
+    more_opts = [h for h in hs_opts if float(h) > float(h_s)]
+    kept = [h for h in st.session_state.get("h_more", []) if h in more_opts]
+    keep_valid("h_more", lambda v: all(h in more_opts for h in v), kept)
     h_more = st.multiselect(
-        "More smoothing filters (several h)",
-        [h for h in hs_opts if h != h_s],
+        "More smoothing filters (larger h than h_S)",
+        more_opts,
         key="h_more",
         bind="query-params",
         disabled=not somd,
-        help="Section 2.4: a window counts when any smoothing filter passes; more windows.",
+        help="Section 2.4: a window counts when any smoothing filter passes; more windows. "
+        "h_S stays the smallest: h_T is a multiple of it.",
     )
     return h_s, h_more
 

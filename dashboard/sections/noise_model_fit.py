@@ -27,8 +27,9 @@ from noisevar.figures.kalman_tuning import (
     tuned_run_figure,
     tuning_rows,
 )
+from noisevar.format import pvalue
 from noisevar.noise_model import KalmanTuning, fit_coloured_noise, fit_kalman, run_tuned
-from noisevar.noise_model.export import APPLY_COMMAND, filterpy_snippet
+from noisevar.noise_model.export import APPLY_COMMAND, filterpy_snippet, gain_text
 from noisevar.noise_model.kalman_fit import METHODS, MODELS
 
 KEY = "nmf"
@@ -76,7 +77,7 @@ def _verdict(t: KalmanTuning) -> None:
     text = (
         f"NIS mean {fmt(t.nis_mean)} (95 % band {fmt(lo)} .. {fmt(hi)}); innovations "
         f"{'white' if t.innovations_white else 'NOT white'} "
-        f"(Ljung-Box p = {fmt(t.ljung_box_p, 3)})."
+        f"(Ljung-Box {pvalue(t.ljung_box_p)})."
     )
     if t.innovations_white and t.nis_consistent:
         st.success(f"The {t.model!r} filter fits this record. {text}")
@@ -172,7 +173,7 @@ def render_fit(
         _verdict(t)
         st.markdown(
             f"Suggested **q = {fmt(t.q)}** {t.units['q']} and **r = {fmt(t.r)}** {t.units['r']} "
-            f"(h = qT^k/r = {fmt(t.h)}); steady-state gain {', '.join(fmt(g) for g in t.gain)}."
+            f"(h = qT^k/r = {fmt(t.h)}); steady-state gain: {gain_text(t)}."
         )
         st.caption(f"This r differs from the record's answer above: {WHY_DIFFERENT['kalman']}.")
         _exports(t, column, unit)

@@ -131,8 +131,11 @@ def _print_one(args: argparse.Namespace, column: Any, result: Any) -> None:
     u = _unit(args)
     print(f"file      {echo(args.file, 200)}" + (f"  column {echo(column)}" if column else ""))
     print(f"method    {result.method}")
-    print(f"variance  {result.variance:.6g} {variance_label(u)}   (95 % CI {lo:.6g} .. {hi:.6g})")
-    print(f"std       {result.std:.6g} {u}")
+    from noisevar.format import eng, eng_range
+
+    v_unit = variance_label(u)  # the page's formatter: 106.8×10⁻²⁴ s² on both
+    print(f"variance  {eng(result.variance, v_unit)}   (95 % CI {eng_range(lo, hi, v_unit)})")
+    print(f"std       {eng(result.std, u)}")
     print(f"samples   {result.n_used} used of {result.n_total}")
     shown = {k: v for k, v in result.params.items() if k != "method" and v is not None}
     if shown:

@@ -19,12 +19,13 @@ from noisevar.cli._common import (
     units_of,
 )
 from noisevar.errors import NoisevarError
+from noisevar.format import eng, eng_range, pvalue
 from noisevar.io.limits import echo
 
 
 def _print_table(t: Any, args: argparse.Namespace, column: str, unit: str = "u") -> None:
     def iv(pair: tuple[float, float]) -> str:
-        return f"(95 % {pair[0]:.4g} .. {pair[1]:.4g})"
+        return f"(95 % {eng_range(*pair)})"
 
     def said(text: str) -> str:  # the units of q and r in the data's unit
         from noisevar.units import variance_label
@@ -33,14 +34,17 @@ def _print_table(t: Any, args: argparse.Namespace, column: str, unit: str = "u")
 
     print(f"file      {echo(args.file, 200)}  column {echo(column)}")
     print(f"model     {t.model}   method {t.method}   samples {t.n}   regimes {t.regimes}")
-    print(f"q         {t.q:.6g} {said(t.units['q'])}  {iv(t.q_interval)}")
-    print(f"r         {t.r:.6g} {said(t.units['r'])}  {iv(t.r_interval)}")
-    print(f"h         {t.h:.6g} (q T^k / r)  {iv(t.h_interval)}")
-    print(f"gain      {', '.join(f'{g:.6g}' for g in t.gain)}")
+    # the page's formatter (noisevar.format.eng): the same digits on both
+    print(f"q         {eng(t.q)} {said(t.units['q'])}  {iv(t.q_interval)}")
+    print(f"r         {eng(t.r)} {said(t.units['r'])}  {iv(t.r_interval)}")
+    print(f"h         {eng(t.h)} (q T^k / r)  {iv(t.h_interval)}")
+    from noisevar.noise_model.export import gain_text
+
+    print(f"gain      {gain_text(t)}")
     lo, hi = t.nis_band
     print(f"NIS mean  {t.nis_mean:.4g}   (95 % band {lo:.4g} .. {hi:.4g})")
     white = "white" if t.innovations_white else "NOT white"
-    print(f"innov.    {white} (Ljung-Box p = {t.ljung_box_p:.3g})   loglik {t.loglik:.6g}")
+    print(f"innov.    {white} (Ljung-Box {pvalue(t.ljung_box_p)})   loglik {t.loglik:.6g}")
     for note in t.notes:
         print(f"note      {note}")
 

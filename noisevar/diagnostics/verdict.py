@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from noisevar.diagnostics.power_law import describe
+from noisevar.format import eng
 
 if TYPE_CHECKING:
     from noisevar.diagnostics.results import NoiseDiagnostics
@@ -16,7 +17,7 @@ MOSTLY_MOTION = 0.5
 
 
 def _g(x: float) -> str:
-    return f"{x:.4g}"
+    return eng(x)  # the one formatter of shown numbers: pages, CLI and this text agree
 
 
 def under_half_a_step(diag: NoiseDiagnostics, variance: float) -> bool:

@@ -169,6 +169,11 @@ def note_downsampled(fig: go.Figure, n_total: int, max_points: int = MAX_POINTS)
     return fig
 
 
+#: Pixels between the plot's bottom edge and the legend's top: room for the x tick
+#: labels and the axis title.
+LEGEND_GAP_PX = 66
+
+
 def layout(title: str | None = None, height: int = 420, **extra: Any) -> dict[str, Any]:
     """Common layout as a plain dict (legend on top, compact margins).
 
@@ -191,12 +196,21 @@ def layout(title: str | None = None, height: int = 420, **extra: Any) -> dict[st
     -------
     dict
     """
+    top = 56 if title else 36
+    plot = max(float(height) - top - 110, 100.0)
     out: dict[str, Any] = {
         "height": height,
         # wide enough for most tick labels: a margin plotly must widen costs a second draw
-        "margin": {"l": 80, "r": 20, "t": 56 if title else 36, "b": 110},
-        # below the plot: a legend on top collides with the title and the mode bar
-        "legend": {"orientation": "h", "yanchor": "top", "y": -0.2, "x": 0.0},
+        "margin": {"l": 80, "r": 20, "t": top, "b": 110},
+        # below the plot: a legend on top collides with the title and the mode bar; at
+        # least LEGEND_GAP_PX below the plot, under the x tick labels and axis title (in a
+        # short figure, 20 % of the plot height put the legend on the axis title)
+        "legend": {
+            "orientation": "h",
+            "yanchor": "top",
+            "y": min(-0.2, -LEGEND_GAP_PX / plot),
+            "x": 0.0,
+        },
         "hovermode": "closest",
     }
     if title:

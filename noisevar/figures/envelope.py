@@ -130,10 +130,24 @@ def envelope_figure(
     axes["yaxis2"].update(log_axis("|V|"))
     axes["xaxis"]["title"] = {"text": x_title(sample_period)}
     anns = axes.pop("annotations")
-    note = downsample_note(det.size, max_points)
-    if note:
-        anns.append(note)
-    return capped(go.Figure(data=data, layout=layout(title, height, annotations=anns, **axes)))
+    lay = layout(title, height, annotations=anns, **axes)
+    _note_under_title(lay, downsample_note(det.size, max_points))
+    return capped(go.Figure(data=data, layout=lay))
+
+
+def _note_under_title(lay: dict, note: dict | None) -> None:
+    """The downsampling note on a line of its own under the top panel's title (on the
+    title's line, right-aligned, the two overlapped)."""
+    if not note:
+        return
+    small = note["font"]
+    first = lay["annotations"][0]
+    first["align"] = "left"
+    first["text"] += (
+        f"<br><span style='font-size:{small['size']}px;color:{small['color']}'>"
+        f"{note['text']}</span>"
+    )
+    lay["margin"] = {**lay["margin"], "t": lay["margin"]["t"] + 2 * small["size"]}
 
 
 def scan_figure(

@@ -25,6 +25,7 @@ from noisevar.figures._common import (
     x_title,
 )
 from noisevar.figures._shapes import band, hline
+from noisevar.format import eng, eng_range
 from noisevar.kalman.divergence import nis_band
 from noisevar.noise_model.coloured import ColouredNoiseFit
 from noisevar.noise_model.kalman_fit import KalmanTuning, TunedRun
@@ -48,12 +49,13 @@ def tuning_rows(tunings: dict[str, KalmanTuning]) -> list[dict[str, object]]:
         rows.append(
             {
                 "model": name,
-                "q": t.q,
-                "q 95 %": f"{t.q_interval[0]:.4g} .. {t.q_interval[1]:.4g}",
+                # one formatter, four significant digits each (not r 0.3 beside q 1.234567891e-5)
+                "q": eng(t.q),
+                "q 95 %": eng_range(*t.q_interval),
                 "q unit": t.units.get("q", ""),
-                "r": t.r,
-                "r 95 %": f"{t.r_interval[0]:.4g} .. {t.r_interval[1]:.4g}",
-                "h": t.h,
+                "r": eng(t.r),
+                "r 95 %": eng_range(*t.r_interval),
+                "h": eng(t.h),
                 "log-likelihood": t.loglik,
                 "ΔBIC": t.bic - min(u.bic for u in tunings.values()),
                 "NIS mean": t.nis_mean,

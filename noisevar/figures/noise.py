@@ -16,6 +16,7 @@ import plotly.graph_objects as go
 from noisevar.diagnostics.panel import NoisePanelData
 from noisevar.figures._common import COLORS, layout
 from noisevar.figures.budget import log_axis
+from noisevar.format import pvalue
 
 #: Colour of the fitted Student-t.
 T_COLOR = "#D55E00"
@@ -85,10 +86,6 @@ def residual_histogram(
 
 def _top(data: NoisePanelData) -> float:
     return float(max(np.max(data.density), np.max(data.normal_pdf), np.max(data.t_pdf)))
-
-
-def _p(p: float) -> str:
-    return f"= {p:.3g}" if p >= 1e-4 else "< 0.0001"
 
 
 def _dof(dof: float) -> str:
@@ -181,7 +178,7 @@ def acf_plot(
             go.Scatter(
                 x=lags,
                 y=data.acf,
-                name=f"residual ({verdict}, p {_p(data.p_value)})",
+                name=f"residual ({verdict}, {pvalue(data.p_value)})",
                 mode="markers+lines",
                 line={"color": COLORS["clean"]},
             ),

@@ -122,6 +122,62 @@ def _is_time_name(name: str) -> bool:
     return base in TIME_NAMES or base.startswith("time_") or base.endswith("_time")
 
 
+def timestamp_resolution(t: NDArray) -> float:
+    """The finest step the timestamps can tell apart (seconds).
+
+    The decimal step they are written in (``1e-6`` for six decimals), or the float
+    spacing at the largest timestamp when they carry every digit.
+    """
+    floor = 4.0 * float(np.spacing(float(np.max(np.abs(t)))))
+    head = t[:1000]
+    for k in range(13):
+        step = 10.0**-k
+        if step <= floor:
+            break
+        off = np.abs(head / step - np.round(head / step)) * step
+        if np.all(off <= max(floor, 1e-6 * step)):
+            return step
+    return floor
+
+
+def _shortest(x: float, rel: float) -> tuple[int, float]:
+    """The fewest significant digits that keep ``x`` within ``rel`` of itself."""
+    for d in range(1, 16):
+        r = float(f"{x:.{d}g}")
+        if abs(r - x) <= rel * abs(x):
+            return d, r
+    return 16, x
+
+
+def rounded_period(t: NDArray, step: float) -> float:
+    """A sample period cut to the digits the timestamps support.
+
+    Parameters
+    ----------
+    t : ndarray
+        The time column (seconds, increasing).
+    step : float
+        Its median step.
+
+    Returns
+    -------
+    float
+        The step, or ``1 / rate``, whichever of period and rate needs fewer
+        significant digits to stay within the timestamps' precision: timestamps
+        at 1/120 s give exactly ``1 / 120`` (120 Hz, not 120.00000000004799), a
+        step of 3600 s stays 3600 s.
+
+    Notes
+    -----
+    One step is known to about half the timestamps' resolution (relative
+    precision ``resolution / (2 step)``, at least 1e-12); period and rate share it.
+    """
+    rel = max(0.5 * timestamp_resolution(t) / step, 1e-12)
+    d_period, period = _shortest(step, rel)
+    d_rate, rate = _shortest(1.0 / step, rel)
+    return 1.0 / rate if d_rate < d_period else period
+
+
 def _period_from_time(t: NDArray, notes: list[str]) -> float | None:
     if t.size < 2 or not np.all(np.isfinite(t)):
         notes.append("the time column has missing values: sample period not taken from it")
@@ -134,7 +190,7 @@ def _period_from_time(t: NDArray, notes: list[str]) -> float | None:
             "sample period not taken from it"
         )
         return None
-    period = float(f"{float(np.median(dt)):.12g}")  # 0.1, not 0.09999999999999787
+    period = rounded_period(t, float(np.median(dt)))
     lo, hi = SAMPLE_PERIOD_RANGE
     if not lo <= period <= hi:
         notes.append(

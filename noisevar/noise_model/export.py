@@ -24,6 +24,7 @@ import numpy as np
 
 from noisevar.errors import NoisevarError
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes
+from noisevar.format import eng
 from noisevar.noise_model.kalman_fit import METHODS, MODELS, KalmanTuning, kinematic_model
 
 #: The config key that holds the tuned filter.
@@ -230,3 +231,13 @@ def from_config(config: Mapping[str, Any]) -> dict[str, Any]:
             "or with 'noisevar fit FILE --save-config'"
         )
     return check_kalman_config(config[CONFIG_KEY])
+
+
+#: Names of the kinematic states, in the order of the state vector (and of the gain).
+STATE_NAMES = ("level", "rate", "acceleration")
+
+
+def gain_text(tuning: KalmanTuning) -> str:
+    """The steady-state gain, each entry named by its state (``"level 0.382, rate 0.1459"``)."""
+    gains = np.ravel(tuning.gain)
+    return ", ".join(f"{name} {eng(g)}" for name, g in zip(STATE_NAMES, gains, strict=False))

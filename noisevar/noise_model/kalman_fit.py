@@ -26,6 +26,7 @@ from noisevar._arrays import check_exact_ints
 from noisevar.errors import NoisevarError
 from noisevar.estimators import check_rate, scale_exponent
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes, longest_still_stretch
+from noisevar.format import pvalue
 from noisevar.kalman.divergence import nis_band
 from noisevar.noise_model._rescale import rescale_tuning
 from noisevar.noise_model._steady import FilterPass, diffuse_start, filter_pass, steady_state
@@ -413,7 +414,7 @@ def _tuning(  # long: assembles the filter, its intervals and its validation
     var_q = cov[0, 0] + cov[1, 1] + 2 * cov[0, 1]
     if not white:
         notes.append(
-            f"the innovations are not white (Ljung-Box p = {p:.2g} over {lags} lags): the data "
+            f"the innovations are not white (Ljung-Box {pvalue(p)} over {lags} lags): the data "
             f"reject the {model!r} model; try another model or a coloured-noise model"
         )
     if not band[0] <= nis_mean <= band[1]:

@@ -129,6 +129,18 @@ def test_stretch_estimate(at):
     assert not any(m.label == "Samples in stretch" for m in at.metric)
 
 
+def test_refused_stretch_shows_no_whole_record_number_as_its_own(at):
+    """A stretch too short to estimate: its row says refused and the headline says whole
+    record (issue 28 §8: the metrics kept the whole record's values beside the stretch)."""
+    at.number_input(key="s0").set_value(1000).run()
+    at.number_input(key="s1").set_value(1010).run()
+    _clean(at)
+    assert any("Stretch 1000–1009" in e.value for e in at.error)
+    assert _metric(at, "Stretch variance") == "refused"
+    assert _metric(at, "Noise variance (whole record)")
+    assert not any(m.label == "Noise variance" for m in at.metric)
+
+
 def test_exported_config_matches_the_widgets_and_loads_back(at):
     at.slider(key="win").set_value(48).run()
     at.slider(key="g_amp").set_value(0.7).run()
@@ -362,3 +374,35 @@ def test_html_report_carries_the_verdict_regimes_units_and_human_labels():
     for code in ("ci95_low", "windows_failed_amplitude", "param_h_smooth", "n_used"):
         assert f"<td>{code}</td>" not in text
     assert "windows refused by the amplitude test" in text
+
+
+def test_each_note_is_shown_once():
+    """A quantised record's grid note: under the noise panel's flags, not also above the
+    verdict (issue 28 §8)."""
+    import numpy as np
+
+    from dashboard.state import SIGNAL_KEY, make_signal
+    from noisevar.io import table_from_arrays
+
+    rng = np.random.default_rng(4)
+    z = np.round(np.sin(np.arange(4000) / 300) * 40 + rng.normal(0, 2.0, 4000))  # grid step 1
+    app = AppTest.from_file(APP, default_timeout=120)
+    table = table_from_arrays("grid.csv", {"z": z}, sample_period=0.01)
+    app.session_state[SIGNAL_KEY] = make_signal(table, None, 0.01, "upload", None)
+    app.switch_page(PAGE).run()
+    _clean(app)
+    texts = [c.value.removeprefix("Note: ") for c in app.caption]
+    grid = [t for t in texts if "sit on a grid of step" in t]
+    assert len(grid) == 1, grid
+
+
+def test_select_all_smoothing_filters_keeps_the_sliders_h_s(at):
+    """'Select all' extra filters: h_S (the slider) stays the smallest h, which sets h_T
+    (issue 28 §8: the estimate silently moved to the smallest h)."""
+    at.select_slider(key="h_s").set_value("5e-05").run()
+    box = at.multiselect(key="h_more")
+    assert box.options and all(float(h) > 5e-05 for h in box.options)
+    box.set_value(list(box.options)).run()
+    _clean(at)
+    hs = at.session_state["nv_tuned"]["h_smooth"]
+    assert hs[0] == 5e-05 and min(hs) == 5e-05 and len(hs) == len(box.options) + 1

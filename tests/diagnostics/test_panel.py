@@ -154,3 +154,11 @@ def test_severity_and_assumption_rows(heavy, gauss):
     assert "everything it assumes holds" in rows[0]["meaning"]
     assert "white noise" in rows[1]["fails"]
     assert "not a trustworthy R" in rows[1]["meaning"]
+
+
+def test_histogram_legend_clears_its_axis_title(heavy):
+    """The legend sits >= 60 px below the plot, under the x axis title (issue 28 §8)."""
+    fig = residual_histogram(heavy[2])
+    m = fig.layout.margin
+    plot = fig.layout.height - m.t - m.b
+    assert fig.layout.legend.y * plot <= -60 and -fig.layout.legend.y * plot + 40 <= m.b

@@ -89,6 +89,10 @@ def test_envelope_figure(signal, z) -> None:
     assert axis_titles(fig)["yaxis2"] == "|V|"
     small = envelope_figure(amp, det, None, signal.sample_period, max_points=300)
     assert longest_trace(small) <= 300
+    # the panel title and the downsampling note do not share the top line (issue 28 §8)
+    top = [a for a in small.layout.annotations if a.y == 1.0 and a.yanchor == "bottom"]
+    assert len(top) == 1 and "downsampled" in top[0].text
+    assert small.layout.margin.t > fig.layout.margin.t
 
 
 def test_scan_figure(z) -> None:

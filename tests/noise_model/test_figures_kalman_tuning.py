@@ -36,3 +36,18 @@ def test_model_comparison_figure():
     fig = model_comparison_figure(f)
     bic = dict(zip(fig.data[0].x, fig.data[0].y, strict=True))
     assert bic[f.model] == 0.0 and min(bic.values()) == 0.0 and len(bic) == 3
+
+
+def test_tuning_table_gain_and_p_use_one_formatter(make_track):
+    """q, r, h at the same digits; every gain named; one spelling of a tiny p (issue 28 §8)."""
+    from noisevar.figures.kalman_tuning import tuning_rows
+    from noisevar.format import eng, pvalue
+    from noisevar.noise_model.export import gain_text
+
+    z = make_track("cv", 3000, 10.0, 1.0, 1.0, seed=9)
+    t = fit_kalman(z, "cv", rate=10.0)
+    row = tuning_rows({"cv": t})[0]
+    assert (row["q"], row["r"], row["h"]) == (eng(t.q), eng(t.r), eng(t.h))
+    text = gain_text(t)
+    assert text.startswith("level ") and ", rate " in text and len(np.ravel(t.gain)) == 2
+    assert pvalue(2.04e-299) == "p < 0.0001" and pvalue(0.03123) == "p = 0.0312"
