@@ -50,10 +50,6 @@ TIME_LIKE = re.compile(r"time|sample|\(s\)|lag|index|run|window|frequency|\bh\b"
 #: What the pages still show wrong and who mends it (issue 28): a finding matching one of
 #: these does not fail the test; any other does. Shrink the list as the fixes land.
 KNOWN = [
-    # the window-test figure's x-axis title (the amplitude statistic and its ratios,
-    # ~70 characters) is wider than a phone's figure; an axis title broken in two would
-    # run into the legend under it
-    r"^phone Estimator: text cut: 'Window tests: .*: amplitude test: max ",
     # four legend entries of two lines push the figure's bottom margin, and a legend
     # placed in plot fractions then rises onto the x-axis title
     r"^phone Carrier tracking: overlap: Carrier phase tracking error: .* / Carrier phase "
