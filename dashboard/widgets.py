@@ -23,7 +23,7 @@ from noisevar.errors import NoisevarError
 from noisevar.estimators.compare import rows_to_csv
 from noisevar.figures.budget import capped
 from noisevar.figures.export import to_html, to_png
-from noisevar.format import eng
+from noisevar.format import eng, wrap_words
 from noisevar.params import ParamSpec
 
 LOG = logging.getLogger("noisevar.dashboard")
@@ -319,7 +319,11 @@ def display_spec(fig: go.Figure) -> dict[str, Any]:
             axis.setdefault(key, GRID)
         if "minor" in axis:  # a minor container, even without showgrid, draws a minor grid
             axis["minor"].setdefault("gridcolor", GRID)
-    return {"data": [_plain(t) for t in spec["data"]], "layout": lay}
+    data = [_plain(t) for t in spec["data"]]
+    for trace in data:  # a long legend entry runs off a phone's figure: break it
+        if isinstance(trace.get("name"), str):
+            trace["name"] = wrap_words(trace["name"])
+    return {"data": data, "layout": lay}
 
 
 class _Drawn(go.Figure):

@@ -131,3 +131,27 @@ def pvalue(p: object) -> str:
     if v is None:
         return f"p {MISSING}"
     return f"p = {_plain(v, 3)}" if v >= P_FLOOR else f"p < {_plain(P_FLOOR, 1)}"
+
+
+#: Characters a line of a figure's title or legend entry holds on a phone (390 px wide):
+#: longer ones are broken at a word boundary.
+LINE_CHARS = 36
+
+
+def wrap_words(text: str, width: int = LINE_CHARS) -> str:
+    """``text`` broken with ``<br>`` (Plotly's line break) at word boundaries so that no
+    line is longer than ``width`` characters (a longer word keeps its own line).
+
+    Plotly does not wrap titles or legend entries: on a phone a long one runs off the
+    figure. Existing ``<br>`` breaks are kept; markup inside a line is counted as text.
+    """
+    out = []
+    for part in str(text).split("<br>"):
+        lines: list[str] = []
+        for word in part.split(" "):
+            if lines and len(lines[-1]) + 1 + len(word) <= width:
+                lines[-1] += " " + word
+            else:
+                lines.append(word)
+        out.append("<br>".join(lines))
+    return "<br>".join(out)

@@ -58,14 +58,19 @@ def strategy_picker(is_scenario: bool) -> list[str]:
     names = [s for s, spec in STRATEGIES.items() if is_scenario or "R_true" not in spec.needs]
     default = [s for s in DEFAULT_STRATEGIES if s in names]
     keep_valid("af_strats", lambda v: all(s in names for s in v), default)
-    return st.multiselect(
+    picked = st.multiselect(
         "Strategies",
         names,
         key="af_strats",
         bind="query-params",
-        format_func=lambda s: f"{s}: {STRATEGIES[s].help}",
+        # the chip shows the name only (a chip with its description is cut on a phone);
+        # the descriptions are in the help and under the widget
+        help="\n".join(f"- **{s}**: {STRATEGIES[s].help}" for s in names),
         **initial("af_strats", default, "default"),
     )
+    if picked:
+        st.caption("  \n".join(f"**{s}**: {STRATEGIES[s].help}" for s in picked))
+    return picked
 
 
 #: The page's widget for each strategy parameter it offers, one value for every strategy

@@ -47,6 +47,7 @@ from noisevar.figures.budget import (
     figure_size,
     log_axis,
 )
+from noisevar.format import wrap_words
 from noisevar.kalman.result import FilterResult
 from noisevar.systems.base import RunResult, as_list, check_run_index
 
@@ -170,8 +171,15 @@ def note_downsampled(fig: go.Figure, n_total: int, max_points: int = MAX_POINTS)
 
 
 #: Pixels between the plot's bottom edge and the legend's top: room for the x tick
-#: labels and the axis title.
-LEGEND_GAP_PX = 66
+#: labels and the axis title, and half a line for a legend entry broken in two (it is
+#: centred on its symbol, so it reaches up).
+LEGEND_GAP_PX = 84
+#: Pixels at the top of a figure kept for Plotly's toolbar (mode bar): the title is drawn
+#: under it, not beneath it (on a phone a title spans the figure's width).
+MODEBAR_PX = 34
+#: Pixels of a title's line, and of the line under it kept for the downsampling note.
+TITLE_LINE_PX = 20
+NOTE_LINE_PX = 22
 
 
 def layout(title: str | None = None, height: int = 420, **extra: Any) -> dict[str, Any]:
@@ -181,7 +189,9 @@ def layout(title: str | None = None, height: int = 420, **extra: Any) -> dict[st
     a large part of a redraw budget; the dashboard styles figures with its
     own theme, and exports use plotly's default template.
 
-    The legend sits under the plot (horizontal), the title at the top left.
+    The legend sits under the plot (horizontal), the title at the top left under
+    Plotly's toolbar, broken into lines of at most
+    :data:`~noisevar.format.LINE_CHARS` characters (so it fits a phone's width).
 
     Parameters
     ----------
@@ -196,7 +206,12 @@ def layout(title: str | None = None, height: int = 420, **extra: Any) -> dict[st
     -------
     dict
     """
-    top = 56 if title else 36
+    text = wrap_words(title) if title else ""
+    lines = text.count("<br>") + 1 if text else 0
+    # Plotly centres a title of several lines on its anchor: each line after the first
+    # lifts it by half a line, so it is padded down as much
+    pad = MODEBAR_PX + TITLE_LINE_PX // 2 * max(lines - 1, 0)
+    top = pad + TITLE_LINE_PX * lines + NOTE_LINE_PX
     plot = max(float(height) - top - 110, 100.0)
     out: dict[str, Any] = {
         "height": height,
@@ -214,7 +229,17 @@ def layout(title: str | None = None, height: int = 420, **extra: Any) -> dict[st
         "hovermode": "closest",
     }
     if title:
-        out["title"] = {"text": title, "x": 0.0, "xanchor": "left"}
+        # under the toolbar, broken at word boundaries (Plotly does not wrap a title)
+        out["title"] = {
+            "text": text,
+            "x": 0.0,
+            "xanchor": "left",
+            "yref": "container",
+            "y": 1.0,
+            "yanchor": "top",
+            "pad": {"t": pad},
+            "font": {"size": 15},
+        }
     out.update(extra)
     return out
 
@@ -258,10 +283,8 @@ def downsample_note(n_total: int, max_points: int = MAX_POINTS) -> dict[str, Any
     if n_total <= max_points:
         return None
     return {
-        "text": (
-            f"drawn downsampled: {max_points:,} of {n_total:,} samples per trace "
-            "(MinMax-LTTB); computed on all samples"
-        ),
+        # short enough for one line on a phone (the method, MinMax-LTTB, is in the docs)
+        "text": f"drawn downsampled: {max_points:,} of {n_total:,} samples; computed on all",
         "xref": "paper",
         "yref": "paper",
         "x": 1.0,

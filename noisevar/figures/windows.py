@@ -20,6 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 from noisevar.estimators.results import VarianceEstimate
 from noisevar.figures._common import (
     COLORS,
+    LEGEND_GAP_PX,
     MAX_FIGURE_MARKERS,
     MAX_FIGURE_POINTS,
     PALETTE,
@@ -39,6 +40,7 @@ from noisevar.figures._common import (
 )
 from noisevar.figures._shapes import merge_runs, runs_of
 from noisevar.filters.selection import WindowSelection
+from noisevar.format import wrap_words
 
 #: Points per line of the SOMD figure: about one min-max pair per pixel column of the
 #: dashboard's plot (~600 px) keeps the noise band (min-max LTTB); the browser draws each
@@ -449,10 +451,16 @@ def window_tests_figure(  # long: one figure, built trace by trace in drawing or
     lay = layout(
         title,
         height,
-        xaxis=log_axis(f"amplitude test: {_deviation_label(selection)}", np.r_[dev, gamma_amp]),
+        # two lines: one is wider than a phone's figure
+        xaxis=log_axis(
+            wrap_words(f"amplitude test: {_deviation_label(selection)}"), np.r_[dev, gamma_amp]
+        ),
         yaxis=log_axis("angle test: |atan a_S − atan a_T| (°)", np.r_[ang, gamma_ang]),
         shapes=[v_shape, h_shape],
         annotations=anns,
     )
-    lay["margin"]["b"] = 120  # its x tick labels and legend (no second draw to make room)
+    lay["margin"]["b"] = 140  # its x tick labels and legend (no second draw to make room)
+    # the legend a line lower: the x-axis title has two lines
+    plot = max(height - lay["margin"]["t"] - lay["margin"]["b"], 100)
+    lay["legend"]["y"] = min(-0.2, -(LEGEND_GAP_PX + 20) / plot)
     return capped(go.Figure(data=data, layout=lay), max_points=min(max_markers, MAX_FIGURE_MARKERS))

@@ -32,9 +32,12 @@
     }));
   });
   const boxes = [];
-  const text = e => { const g = document.createRange(); g.selectNodeContents(e);
-    return g.getBoundingClientRect(); };
-  for (const e of leaves) { const r = text(e); if (r.width > 2 && r.height > 2) boxes.push({e, r, t: say(e)}); }
+  // one box per drawn line: the bounding box of an inline text that wraps spans both lines
+  // whole and would "overlap" the text beside it on either line
+  const lines = e => { const g = document.createRange(); g.selectNodeContents(e);
+    return Array.from(g.getClientRects()); };
+  for (const e of leaves) for (const r of lines(e)) {
+    if (r.width > 2 && r.height > 2) boxes.push({e, r, t: say(e)}); }
   const plots = Array.from(main.querySelectorAll('.js-plotly-plot'));
   plots.forEach((el, k) => {
     const fl = el._fullLayout; if (!fl) return;
