@@ -174,6 +174,8 @@ def note_downsampled(fig: go.Figure, n_total: int, max_points: int = MAX_POINTS)
 #: labels and the axis title, and half a line for a legend entry broken in two (it is
 #: centred on its symbol, so it reaches up).
 LEGEND_GAP_PX = 84
+#: Bottom margin: the legend's gap plus one line of legend entries under it.
+BOTTOM_PX = LEGEND_GAP_PX + 40
 #: Pixels at the top of a figure kept for Plotly's toolbar (mode bar): the title is drawn
 #: under it, not beneath it (on a phone a title spans the figure's width).
 MODEBAR_PX = 34
@@ -212,11 +214,11 @@ def layout(title: str | None = None, height: int = 420, **extra: Any) -> dict[st
     # lifts it by half a line, so it is padded down as much
     pad = MODEBAR_PX + TITLE_LINE_PX // 2 * max(lines - 1, 0)
     top = pad + TITLE_LINE_PX * lines + NOTE_LINE_PX
-    plot = max(float(height) - top - 110, 100.0)
+    plot = max(float(height) - top - BOTTOM_PX, 100.0)
     out: dict[str, Any] = {
         "height": height,
         # wide enough for most tick labels: a margin plotly must widen costs a second draw
-        "margin": {"l": 80, "r": 20, "t": top, "b": 110},
+        "margin": {"l": 80, "r": 20, "t": top, "b": BOTTOM_PX},
         # below the plot: a legend on top collides with the title and the mode bar; at
         # least LEGEND_GAP_PX below the plot, under the x tick labels and axis title (in a
         # short figure, 20 % of the plot height put the legend on the axis title)
