@@ -366,7 +366,8 @@ def _interval(log_value: float, var: float) -> tuple[float, float]:
     if not np.isfinite(var) or var < 0:
         return (float("nan"), float("nan"))
     half = _Z95 * np.sqrt(var)
-    return (float(np.exp(log_value - half)), float(np.exp(log_value + half)))
+    with np.errstate(over="ignore", under="ignore"):  # an unidentified term: (0, inf)
+        return (float(np.exp(log_value - half)), float(np.exp(log_value + half)))
 
 
 def _units(model: str, rate: float | None) -> dict[str, str]:

@@ -149,3 +149,14 @@ def test_bad_signals(z, match):
 def test_evaluate_refuses_non_positive_q():
     with pytest.raises(NoisevarError, match="q must be a positive"):
         evaluate_kalman(np.random.default_rng(0).normal(size=200), "rw", 0.0, 1.0)
+
+
+def test_an_unidentified_term_gets_an_open_interval_without_a_warning():
+    import warnings
+
+    from noisevar.noise_model.kalman_fit import _interval
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        lo, hi = _interval(0.0, 1e6)
+    assert lo == 0.0 and hi == float("inf")
