@@ -185,3 +185,7 @@ def test_report_holds_the_verdict_units_and_conversions(capsys, imu_csv, tmp_pat
             assert name not in units or cells[1] == html.escape(units[name])
             assert "sqrt(" in cells[3] or "as fitted" in cells[3], cells  # the conversion line
     assert "<script" in text and "Allan deviation of gx" in text  # the fits, drawn
+    skip = tmp_path / "no_report"
+    assert main([*argv[:-4], "--out", str(skip), "--no-report", "--format", "json"]) == 0
+    assert json.loads(capsys.readouterr().out)["report"] is None
+    assert not (skip / "report.html").exists() and (skip / "px4_ekf2.params").exists()

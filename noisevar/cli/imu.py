@@ -90,7 +90,8 @@ def _exports(
     )
     files = exports.export(model, keys)
     paths = [str(p) for p in exports.write_exports(files, args.out)]
-    return paths, model.to_dict(), write_report(args, model, files, fits, data, scales)
+    report = None if args.no_report else write_report(args, model, files, fits, data, scales)
+    return paths, model.to_dict(), report
 
 
 def _gnss(args: argparse.Namespace) -> dict[str, float]:
@@ -233,6 +234,12 @@ def add_parser(sub: Any) -> None:
         "robot_localization, px4, ardupilot, matlab, filterpy (comma-separated) or all",
     )
     p.add_argument("--out", metavar="DIR", help="directory for the --export files")
+    p.add_argument(
+        "--no-report",
+        action="store_true",
+        help="with --export: skip DIR/report.html (each column's verdict, units, "
+        "conversions, Allan fits), which estimates each column's R once more",
+    )
     p.add_argument(
         "--gnss-pos", metavar="COLUMN", help="GNSS position column (m), for PX4/ArduPilot"
     )
