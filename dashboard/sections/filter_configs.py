@@ -160,7 +160,12 @@ def _answer(digest: str, regimes: str, _z: np.ndarray) -> RecordAnswer:
     return record_answer(estimate(_z), regimes)
 
 
-def _report_download(sig: LoadedSignal, model, files, axes) -> None:
+def _report_download(
+    sig: LoadedSignal,
+    model: exports.ImuModel,
+    files: list[exports.ExportFile],
+    axes: list[tuple[str, str, InertialNoise]],
+) -> None:
     """The report's download button (built on click: each column's estimate takes time)."""
     st.download_button(
         "Report (HTML): verdict, units, conversions",
