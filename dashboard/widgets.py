@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import base64
 import functools
-import html
 import logging
 import math
 from collections.abc import Callable, Iterator, Sequence
@@ -19,6 +18,7 @@ import streamlit as st
 from dashboard.state import initial
 from dashboard.text import plain
 from dashboard.url_params import HISTORY_JS
+from noisevar import report
 from noisevar.errors import NoisevarError
 from noisevar.estimators.compare import rows_to_csv
 from noisevar.figures.budget import capped
@@ -171,26 +171,16 @@ def html_report(
     -------
     str
     """
-    cells = "".join(
-        f"<tr><td>{html.escape(str(r['quantity']))}</td><td>"
-        f"{html.escape(fmt(r['value'], 6) if isinstance(r['value'], float) else str(r['value']))}"
-        "</td></tr>"
+    cells = [
+        (r["quantity"], fmt(r["value"], 6) if isinstance(r["value"], float) else r["value"])
         for r in rows
-    )
-    parts = [
-        f"<!doctype html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>"
-        "<style>body{font-family:sans-serif;max-width:1100px;margin:2em auto}"
-        "td{padding:2px 12px;border-bottom:1px solid #ddd}pre{background:#f4f4f4;padding:8px}"
-        "</style></head><body>",
-        f"<h1>{html.escape(title)}</h1>",
-        *(f"<p><strong>{html.escape(line)}</strong></p>" for line in summary),
-        f"<table>{cells}</table>",
-        *(f"<pre>{html.escape(n)}</pre>" for n in notes),
     ]
-    for i, fig in enumerate(figures):
-        parts.append(fig.to_html(full_html=False, include_plotlyjs=i == 0))
-    parts.append("<p><small>Made with noisevar.</small></p></body></html>")
-    return "\n".join(parts)
+    blocks = [
+        report.paragraphs(summary, strong=True),
+        report.table(cells),
+        *(report.pre(n) for n in notes),
+    ]
+    return report.page(title, blocks, figures)
 
 
 def table_height(n_rows: int) -> int:

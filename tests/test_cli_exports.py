@@ -60,7 +60,8 @@ def test_export_all_then_conservative(capsys, imu_csv, tmp_path) -> None:
     assert main(["imu", imu_csv, *BASE, "--export", "all", "--out", str(out)]) == 0
     printed = capsys.readouterr().out
     files = {p.name for p in out.iterdir()}
-    assert files == {exports.consumer(k).filename for k in exports.CONSUMERS}
+    assert files == {exports.consumer(k).filename for k in exports.CONSUMERS} | {"report.html"}
+    assert f"report (verdict, units, conversions) written to {out / 'report.html'}" in printed
     assert "deg/s/√Hz" in printed and "g/√Hz" in printed  # every number with its unit
     px4 = exports.consumer("px4").parse((out / "px4_ekf2.params").read_text())
     kalibr = exports.consumer("kalibr").parse((out / "imu.yaml").read_text())
@@ -157,3 +158,34 @@ def test_gnss_columns_give_px4_and_ardupilot_their_stds(capsys, imu_csv, tmp_pat
     assert px4["EKF2_GPS_P_NOISE"] == pytest.approx(1.5, rel=0.1)
     assert ap["EK3_POSNE_M_NSE"] == px4["EKF2_GPS_P_NOISE"]
     assert "EKF2_GPS_V_NOISE" not in px4
+
+
+def test_report_holds_the_verdict_units_and_conversions(capsys, imu_csv, tmp_path) -> None:
+    """Issue 27 item 5: report.html beside the files: the verdict, each exported value with
+    its unit, its kind and its conversion line, the pint conversions; every string escaped."""
+    import html
+
+    out = tmp_path / "cfg"
+    argv = ["imu", imu_csv, *BASE, "--export", "px4,vins", "--out", str(out), "--format", "json"]
+    assert main(argv) == 0
+    said = json.loads(capsys.readouterr().out)
+    text = (out / "report.html").read_text(encoding="utf-8")
+    assert said["report"] == str(out / "report.html")
+    assert text.count("Verdict, ") == 2 and "white Gaussian noise" in text
+    assert "(deg/s)²" in text  # the record's answer in the unit the axis was read in
+    assert html.escape("converted from deg/s to rad/s (x0.01745329252, by pint)") in text
+    units = {"EKF2_GYR_NOISE": "rad/s", "EKF2_ACC_NOISE": "m/s^2", "gyr_n": "rad/s"}
+    for key in ("px4", "vins"):
+        f = exports.consumer(key)
+        for name in f.parse((out / f.filename).read_text()):
+            row = f"<td>{name}</td><td>"
+            assert row in text, name
+            cells = text.split(row, 1)[1].split("</tr>", 1)[0].split("</td><td>")
+            assert len(cells) == 4 and ("discrete at" in cells[2] or "density" in cells[2])
+            assert name not in units or cells[1] == html.escape(units[name])
+            assert "sqrt(" in cells[3] or "as fitted" in cells[3], cells  # the conversion line
+    assert "<script" in text and "Allan deviation of gx" in text  # the fits, drawn
+    skip = tmp_path / "no_report"
+    assert main([*argv[:-4], "--out", str(skip), "--no-report", "--format", "json"]) == 0
+    assert json.loads(capsys.readouterr().out)["report"] is None
+    assert not (skip / "report.html").exists() and (skip / "px4_ekf2.params").exists()

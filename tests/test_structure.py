@@ -63,6 +63,7 @@ TOP_LEVEL = {
     "format": "core",
     "synth": "core",
     "units": "core",
+    "report": "core",  # the HTML page every report shares (escaping, style): no imports
     "signals": "signals",
     "config": "config",
     "__main__": "noisevar",

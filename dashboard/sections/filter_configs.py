@@ -1,7 +1,8 @@
 """The Noise model page's consumer files: each filter's config from one IMU model (§E7).
 
 Best fit or conservative, the gyroscope's and accelerometer's units (default: the unit
-declared on the Signal page), a download per consumer and a zip of all of them.
+declared on the Signal page), a download per consumer, a zip of all of them and the HTML
+report (verdict, units, conversions: docs/algorithms.md §E7.5).
 """
 
 from __future__ import annotations
@@ -13,7 +14,10 @@ from dashboard.state import LoadedSignal, initial, signal_units
 from dashboard.widgets import guarded
 from noisevar import units
 from noisevar.errors import NoisevarError
+from noisevar.estimators import estimate
+from noisevar.estimators.answer import RecordAnswer, record_answer
 from noisevar.noise_model import InertialNoise, exports, inertial_noise
+from noisevar.noise_model.exports.report import REPORT_FILENAME, Axis, imu_report
 
 _LABELS = {"best": "Best fit (default)", "conservative": "Conservative (overbound)"}
 
@@ -101,12 +105,15 @@ def consumer_files(sig: LoadedSignal, rate: float, regimes: str) -> None:
         return
     with guarded("Filter configs: "):
         fits = {
-            c: _fit(f"{sig.table_digest}:{c}", rate, "", regimes, _column(sig, c))
-            for c in dict.fromkeys(gyro + accel)
+            (c, u): _fit(f"{sig.table_digest}:{c}", rate, u, regimes, _column(sig, c))
+            for cols, u in ((gyro, g_unit), (accel, a_unit))
+            for c in dict.fromkeys(cols)
         }
+        axes = [("gyroscope", c, fits[c, g_unit]) for c in gyro]
+        axes += [("accelerometer", c, fits[c, a_unit]) for c in accel]
         model = exports.imu_model(
-            [fits[c] for c in gyro],
-            [fits[c] for c in accel],
+            [fits[c, g_unit] for c in gyro],
+            [fits[c, a_unit] for c in accel],
             variant=variant,
             gyro_unit=g_unit,
             accel_unit=a_unit,
@@ -122,3 +129,50 @@ def consumer_files(sig: LoadedSignal, rate: float, regimes: str) -> None:
         for note in model.notes:
             st.caption(note)
         _downloads(files, variant)
+        _report_download(sig, model, files, axes)
+
+
+def report_html(
+    sig: LoadedSignal,
+    model: exports.ImuModel,
+    files: list[exports.ExportFile],
+    axes: list[tuple[str, str, InertialNoise]],
+) -> str:
+    """The HTML report (:func:`~noisevar.noise_model.exports.report.imu_report`): each
+    column's verdict (the record's answer, method auto, as the Estimator page), the units,
+    the conversions, every consumer value and each column's Allan fit."""
+    from noisevar.figures.noise_model import allan_figure
+
+    report_axes = [
+        Axis(c, sensor, fit, _answer(f"{sig.table_digest}:{c}", model.regimes, _column(sig, c)))
+        for sensor, c, fit in axes
+    ]
+    figures = [
+        allan_figure(a.fit.allan, fit=a.fit, title=f"Allan deviation of {a.column}", unit=u)
+        for a in report_axes
+        for u in [a.fit.unit]
+    ]
+    return imu_report(model, files, report_axes, source=sig.label, figures=figures)
+
+
+@st.cache_data(max_entries=32, show_spinner="The record's answer...")
+def _answer(digest: str, regimes: str, _z: np.ndarray) -> RecordAnswer:
+    return record_answer(estimate(_z), regimes)
+
+
+def _report_download(
+    sig: LoadedSignal,
+    model: exports.ImuModel,
+    files: list[exports.ExportFile],
+    axes: list[tuple[str, str, InertialNoise]],
+) -> None:
+    """The report's download button (built on click: each column's estimate takes time)."""
+    st.download_button(
+        "Report (HTML): verdict, units, conversions",
+        data=lambda: report_html(sig, model, files, axes),
+        file_name=REPORT_FILENAME,
+        mime="text/html",
+        key="nm_dl_report",
+        icon=":material/description:",
+        on_click="ignore",
+    )

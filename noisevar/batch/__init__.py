@@ -67,20 +67,55 @@ TASKS_PER_WORKER = 8
 Progress = bool | Callable[[int, int], None]
 
 
+#: Logs a folder's search takes (recordings: ROS bags, ULog, DataFlash ``.bin``); Parquet
+#: and HDF5 tables, often a batch's own output, only when named or matched by a pattern.
+FOLDER_LOGS = ("rosbag", "ulog", "dataflash")
+
+
+def _data_suffixes() -> tuple[str, ...]:
+    from noisevar.io.logs import readers
+    from noisevar.io.logs.spec import SHARED_SUFFIXES
+
+    logs = (s for r in readers() if r.name in FOLDER_LOGS for s in r.suffixes)
+    # ".log" is any program's text log too: taken when named, not in a folder's search
+    return tuple(dict.fromkeys(s for s in (*DATA_EXTENSIONS, *logs) if s not in SHARED_SUFFIXES))
+
+
+def _in_folder(folder: Path, suffixes: tuple[str, ...]) -> list[str]:
+    """The data files and ROS 2 bag directories under ``folder``; a bag's own files are
+    its directory's (one log, possibly split over several files)."""
+    from noisevar.io.logs import is_ros2_dir
+
+    if is_ros2_dir(folder):
+        return [str(folder)]
+    found = []
+    for p in sorted(folder.iterdir()):
+        if p.is_dir() and not p.is_symlink():  # a linked folder could loop
+            found.extend(_in_folder(p, suffixes))
+        elif p.is_file() and p.suffix.lower() in suffixes:
+            found.append(str(p))
+    return found
+
+
 def expand_paths(paths: str | os.PathLike | Iterable[str | os.PathLike]) -> list[str]:
     """The files named by paths, directories (searched recursively) and glob patterns.
 
     Parameters
     ----------
     paths : str, path or iterable of them
-        ``'logs/**/*.csv'`` (``**`` spans folders), a file, or a folder.
+        ``'logs/**/*.csv'`` (``**`` spans folders), a file, or a folder (its data files and
+        :data:`FOLDER_LOGS` logs). A ROS 2 bag directory (``metadata.yaml`` inside), named
+        or met in a folder, is one log.
 
     Returns
     -------
     list of str
         Sorted, without duplicates.
     """
+    from noisevar.io.logs import is_ros2_dir
+
     items = [paths] if isinstance(paths, str | os.PathLike) else list(paths)
+    suffixes = _data_suffixes()
     found: list[str] = []
     for item in items:
         s = os.fspath(item)
@@ -88,13 +123,9 @@ def expand_paths(paths: str | os.PathLike | Iterable[str | os.PathLike]) -> list
             hits = glob.glob(s, recursive=True)
             if not hits:
                 raise NoisevarError(f"no file matches {s!r}: check the pattern (quote it)")
-            found.extend(h for h in hits if os.path.isfile(h))
+            found.extend(h for h in hits if os.path.isfile(h) or is_ros2_dir(Path(h)))
         elif os.path.isdir(s):
-            found.extend(
-                str(p)
-                for p in Path(s).rglob("*")
-                if p.is_file() and p.suffix.lower() in DATA_EXTENSIONS
-            )
+            found.extend(_in_folder(Path(s), suffixes))
         elif os.path.isfile(s):
             found.append(s)
         else:
@@ -134,7 +165,7 @@ def _plan(
     A file is skipped when its old rows were made for the same request and hold its
     current content hash; a changed file or a new request redoes it.
     """
-    from noisevar.io import content_digest
+    from noisevar.batch.digest import file_digest
 
     todo, kept = [], []
     for f in files:
@@ -143,7 +174,7 @@ def _plan(
         h = hashes.pop() if len(hashes) == 1 else None
         if rows and isinstance(h, str) and h and all(r.get("request") == request for r in rows):
             try:
-                if content_digest(Path(f).read_bytes()) == h:
+                if file_digest(f) == h:
                     kept.extend(rows)
                     continue
             except OSError:

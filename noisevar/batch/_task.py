@@ -5,7 +5,6 @@ from __future__ import annotations
 import os
 import time
 from collections.abc import Sequence
-from pathlib import Path
 from typing import Any
 
 from noisevar.batch.channels import table_channels
@@ -69,14 +68,15 @@ def file_rows(
         ``hash``, ``error``; a row's ``hash`` is the file's content hash, so that a
         resumed batch can skip it.
     """
-    from noisevar.io import content_digest, load_table
+    from noisevar.batch.digest import file_digest
+    from noisevar.io import load_table
 
     start = time.perf_counter()
     digest = None
     try:
-        raw = Path(path).read_bytes()
-        digest = content_digest(raw)
-        table = load_table(raw, os.path.basename(path), topic=topic)
+        # hashed streamed and read by path (a log streamed too): any size, bounded memory
+        digest = file_digest(path)
+        table = load_table(path, os.path.basename(os.path.normpath(path)), topic=topic)
         channels = table_channels(table, columns)
     except (NoisevarError, OSError) as exc:
         msg = str(exc) if isinstance(exc, NoisevarError) else f"cannot read {path}: {exc}"

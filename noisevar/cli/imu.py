@@ -70,8 +70,12 @@ def _need_sensors(args: argparse.Namespace, flag: str) -> None:
         )
 
 
-def _exports(args: argparse.Namespace, fits: dict) -> tuple[list[str], dict]:
-    """Each consumer's file of ``--export`` written into ``--out``; the paths, the model."""
+def _exports(
+    args: argparse.Namespace, fits: dict, data: dict, scales: dict
+) -> tuple[list[str], dict, str]:
+    """Each consumer's file of ``--export`` written into ``--out``, and the HTML report
+    beside them; the files' paths, the model, the report's path."""
+    from noisevar.cli._imu_report import write_report
     from noisevar.noise_model import exports
 
     keys = exports.consumers(args.export)  # an unknown consumer: exit 2 before any work
@@ -84,8 +88,10 @@ def _exports(args: argparse.Namespace, fits: dict) -> tuple[list[str], dict]:
         variant="conservative" if args.conservative else "best",
         gnss=_gnss(args),
     )
-    paths = exports.write_exports(exports.export(model, keys), args.out)
-    return [str(p) for p in paths], model.to_dict()
+    files = exports.export(model, keys)
+    paths = [str(p) for p in exports.write_exports(files, args.out)]
+    report = None if args.no_report else write_report(args, model, files, fits, data, scales)
+    return paths, model.to_dict(), report
 
 
 def _gnss(args: argparse.Namespace) -> dict[str, float]:
@@ -179,7 +185,8 @@ def _cmd_imu(args: argparse.Namespace) -> int:
         fits.update(zip(names, fitted, strict=True))
     fits = {c: fits[c] for c in data}
     written = _kalibr(args, fits) if args.kalibr else None
-    files, model = _exports(args, fits) if args.export else ([], None)
+    scales = {c: col_units[c][0] for c in data}
+    files, model, report = _exports(args, fits, data, scales) if args.export else ([], None, None)
     thermal = temperature_models(data, temp, rate, col_units) if temp is not None else {}
     if args.format == "json":
         out = {
@@ -187,6 +194,7 @@ def _cmd_imu(args: argparse.Namespace) -> int:
             "kalibr": written,
             "exports": files,
             "model": model,
+            "report": report,
         }
         if thermal:
             out["temperature"] = {c: m.to_dict() for c, m in thermal.items()}
@@ -199,6 +207,8 @@ def _cmd_imu(args: argparse.Namespace) -> int:
         for f in files:
             variant = "conservative" if args.conservative else "best fit"
             print(f"{variant} export written to {f}")
+        if report:
+            print(f"report (verdict, units, conversions) written to {report}")
     return 0
 
 
@@ -224,6 +234,12 @@ def add_parser(sub: Any) -> None:
         "robot_localization, px4, ardupilot, matlab, filterpy (comma-separated) or all",
     )
     p.add_argument("--out", metavar="DIR", help="directory for the --export files")
+    p.add_argument(
+        "--no-report",
+        action="store_true",
+        help="with --export: skip DIR/report.html (each column's verdict, units, "
+        "conversions, Allan fits), which estimates each column's R once more",
+    )
     p.add_argument(
         "--gnss-pos", metavar="COLUMN", help="GNSS position column (m), for PX4/ArduPilot"
     )

@@ -106,3 +106,53 @@ def write_dataflash(path: Path, z: np.ndarray, rate: float = RATE) -> Path:
             out.extend(_df_record(0x84, "QB6f", us, inst, *(z[i] + inst)))
     path.write_bytes(bytes(out))
     return path
+
+
+#: PX4's ``sensor_gyro_fifo`` layout (msg/SensorGyroFifo.msg) as ULog writes formats.
+FIFO_FORMAT = (
+    "uint64_t timestamp;uint64_t timestamp_sample;uint32_t device_id;float dt;float scale;"
+    "uint8_t samples;int16_t[32] x;int16_t[32] y;int16_t[32] z;"
+)
+
+
+def write_ulog_fifo(
+    path: Path,
+    counts: np.ndarray,
+    samples: np.ndarray,
+    dt_us: float,
+    scale: float | None,
+    stamps_us: np.ndarray,
+    name: str = "sensor_gyro_fifo",
+    base: Path | None = None,
+) -> Path:
+    """A ULog with a FIFO topic, written by pyulog's own writer (``ULog.write_ulog``) into
+    a copy of ``base`` (a real PX4 log: its header, formats and topics stay); ``scale=None``
+    leaves the ``scale`` field out (older PX4).
+
+    ``counts`` (messages, 3, 32) raw int16; ``samples`` valid per message; ``stamps_us`` each
+    message's ``timestamp_sample``."""
+    from pyulog import ULog
+
+    ulog = ULog(str(base))
+    layout = FIFO_FORMAT if scale is not None else FIFO_FORMAT.replace("float scale;", "")
+    fmt = ULog.MessageFormat(f"{name}:{layout}".encode(), None)
+    ulog._message_formats[name] = fmt  # noqa: SLF001 - pyulog has no public builder
+    msg_id = 1 + max(d.msg_id for d in ulog.data_list)
+    add = ULog._MessageAddLogged(  # noqa: SLF001
+        struct.pack("<BH", 0, msg_id) + name.encode(), None, ulog._message_formats
+    )
+    rows = np.zeros(len(samples), dtype=add.dtype)
+    rows["timestamp"] = stamps_us + 50
+    rows["timestamp_sample"] = stamps_us
+    rows["device_id"] = 2621474
+    rows["dt"] = dt_us
+    if scale is not None:
+        rows["scale"] = scale
+    rows["samples"] = samples
+    for a, ax in enumerate("xyz"):
+        for i in range(32):
+            rows[f"{ax}[{i}]"] = counts[:, a, i]
+    add.buffer = bytearray(rows.tobytes())
+    ulog._data_list.append(ULog.Data(add))  # noqa: SLF001
+    ulog.write_ulog(str(path))
+    return path

@@ -4,7 +4,9 @@ A topic is a logged message (``sensor_combined``); a second instance of a messag
 ``name/1`` and so on. Fields are the message's numeric fields as ULog names them
 (``gyro_rad[0]``). Times are the message's ``timestamp_sample`` (the sensor's sample time)
 when it has one, else its ``timestamp``: microseconds since boot, in seconds. pyulog
-parses the whole file; only the chosen topic's data is kept.
+parses the whole file; only the chosen topic's data is kept. The raw IMU FIFO topics
+(``sensor_gyro_fifo``, ``sensor_accel_fifo``) are unpacked to one row per sample, fields
+``x``, ``y``, ``z`` in rad/s or m/s² (:mod:`noisevar.io.logs.ulog_fifo`).
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ import numpy as np
 
 from noisevar.errors import NoisevarError
 from noisevar.io.limits import echo
+from noisevar.io.logs import ulog_fifo
 from noisevar.io.logs.spec import CHUNK, MAX_FIELDS, Chunk, LogReader, TopicInfo
 
 #: Units of PX4 messages' fields (their ``.msg`` definitions), in pint syntax; a field's
@@ -71,6 +74,8 @@ def _parse(path: Path, only: Sequence[str] | None = None):
 
 
 def _fields(data) -> tuple[str, ...]:
+    if ulog_fifo.is_fifo(data.name, data.data):
+        return ulog_fifo.AXES
     names = [f.field_name for f in data.field_data]
     keep = [
         n
@@ -82,11 +87,36 @@ def _fields(data) -> tuple[str, ...]:
     return tuple(keep[:MAX_FIELDS])
 
 
-def _times(data) -> np.ndarray:
+def _time_field(data) -> str:
     stamps = data.data.get("timestamp_sample")
-    if stamps is None or not np.any(stamps):
-        stamps = data.data["timestamp"]
-    return np.asarray(stamps, dtype=np.float64) / 1e6
+    return "timestamp" if stamps is None or not np.any(stamps) else "timestamp_sample"
+
+
+def _times(data) -> np.ndarray:
+    return np.asarray(data.data[_time_field(data)], dtype=np.float64) / 1e6
+
+
+def _samples(data, names: Sequence[str]) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """The times (s) and the named fields: a FIFO topic unpacked to one row per sample."""
+    if ulog_fifo.is_fifo(data.name, data.data):
+        t, values = ulog_fifo.unpack(data.data, _time_field(data))
+        return t, {f: values[f] for f in names}
+    return _times(data), {f: np.asarray(data.data[f], dtype=float) for f in names}
+
+
+def _info(data, name: str) -> TopicInfo:
+    """The topic's listing; a FIFO topic counts its samples, at ``1e6 / dt`` Hz."""
+    fields = _fields(data)
+    if ulog_fifo.is_fifo(data.name, data.data):
+        units = ulog_fifo.units(data.name, data.data)
+        n, rate = ulog_fifo.count(data.data), ulog_fifo.rate(data.data)
+        return TopicInfo(name, data.name, n, rate, fields, units)
+    t = _times(data)
+    n = int(t.size)
+    span = float(t[-1] - t[0]) if n > 1 else 0.0
+    rate = (n - 1) / span if span > 0 else None
+    units = {f: u for f in fields if (u := _unit(data.name, f)) is not None}
+    return TopicInfo(name, data.name, n, rate, fields, units)
 
 
 def topics(path: Path) -> list[TopicInfo]:
@@ -99,14 +129,7 @@ def topics(path: Path) -> list[TopicInfo]:
         counts[d.name] = counts.get(d.name, 0) + 1
     out = []
     for d in sorted(ulog.data_list, key=lambda d: (d.name, d.multi_id)):
-        t = _times(d)
-        n = int(t.size)
-        span = float(t[-1] - t[0]) if n > 1 else 0.0
-        rate = (n - 1) / span if span > 0 else None
-        fields = _fields(d)
-        units = {f: u for f in fields if (u := _unit(d.name, f)) is not None}
-        name = _name(d, counts[d.name] > 1)
-        out.append(TopicInfo(name, d.name, n, rate, fields, units))
+        out.append(_info(d, _name(d, counts[d.name] > 1)))
     return out
 
 
@@ -126,10 +149,10 @@ def read(path: Path, topic: str, fields: Sequence[str] | None) -> Iterator[Chunk
                 f"message {echo(topic)!r} has no numeric field {echo(f)!r}; fields: "
                 + ", ".join(sorted(have)[:40])
             )
-    t = _times(data)
+    t, values = _samples(data, names)
     for lo in range(0, t.size, CHUNK):
         hi = lo + CHUNK
-        yield Chunk(t[lo:hi], {f: np.asarray(data.data[f][lo:hi], dtype=float) for f in names})
+        yield Chunk(t[lo:hi], {f: v[lo:hi] for f, v in values.items()})
 
 
 READER = LogReader(

@@ -1,0 +1,62 @@
+"""``noisevar imu ... --export ... --out DIR`` also writes DIR/report.html (§E7.5).
+
+The report (:func:`noisevar.noise_model.exports.report.imu_report`) quotes each gyroscope
+and accelerometer column's verdict: the record's answer of :func:`noisevar.estimate`
+(method auto, as the Estimator page and ``noisevar estimate``), computed here per column,
+and draws each column's Allan fit.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shlex
+import sys
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import numpy as np
+
+from noisevar.noise_model.exports import ExportFile, ImuModel
+from noisevar.noise_model.inertial import InertialNoise
+
+
+def write_report(
+    args: argparse.Namespace,
+    model: ImuModel,
+    files: list[ExportFile],
+    fits: dict[str, InertialNoise],
+    data: dict[str, np.ndarray],
+    scales: dict[str, float],
+) -> str:
+    """Write ``report.html`` into ``--out``; its path."""
+    from noisevar.estimators import estimate
+    from noisevar.estimators.answer import record_answer
+    from noisevar.estimators.regimes import DEFAULT_REGIMES
+    from noisevar.figures.noise_model import allan_figure
+    from noisevar.noise_model.exports.report import REPORT_FILENAME, Axis, imu_report
+
+    regimes = args.regimes or DEFAULT_REGIMES
+    named = [
+        (sensor, c)
+        for sensor, columns in (("gyroscope", args.gyro), ("accelerometer", args.accel))
+        for c in dict.fromkeys(columns)
+    ]
+    # the columns' estimates in threads, as inertial_noise fits the axes
+    with ThreadPoolExecutor(max(1, min(len(named), os.cpu_count() or 1))) as pool:
+        ests = list(pool.map(lambda sc: estimate(data[sc[1]] * scales[sc[1]]), named))
+    axes = [
+        Axis(c, sensor, fits[c], record_answer(est, regimes))
+        for (sensor, c), est in zip(named, ests, strict=True)
+    ]
+    figures = [
+        allan_figure(a.fit.allan, fit=a.fit, title=f"Allan deviation of {a.column}", unit=u)
+        for a in axes
+        for u in [a.fit.unit]
+    ]
+    source = Path(args.file).name + (f", topic {args.topic}" if args.topic else "")
+    command = shlex.join(["noisevar", *sys.argv[1:]]) if sys.argv[1:] else ""
+    text = imu_report(model, files, axes, source=source, command=command, figures=figures)
+    path = Path(args.out) / REPORT_FILENAME
+    path.write_text(text, encoding="utf-8")
+    return str(path)
