@@ -2,6 +2,7 @@
 
     python benchmarks/temperature.py               # 20 runs per configuration (a few minutes)
     python benchmarks/temperature.py --runs 5
+    python benchmarks/temperature.py --weights 60   # also profiled vs oracle K vs no weights
 
 Each run simulates one gyro axis for 10 h at 100 Hz: bias ``a + b (T - 25 °C)`` plus a
 power-on transient ``A exp(-t/tau)``, on a slow temperature ramp (the temperature sensor has
@@ -26,12 +27,15 @@ import argparse
 import os
 import platform
 import time
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
 
+from noisevar.noise_model import _temperature_fit as tf
 from noisevar.noise_model import temperature_model
 from noisevar.noise_model.simulate import simulate_thermal
+from noisevar.noise_model.temperature import TARGET_BLOCKS
 from noisevar.noise_model.temperature_bound import temperature_bound
 
 RESULTS = Path(__file__).resolve().parent / "results"
@@ -64,7 +68,8 @@ def _temperature(n: int, updown: bool, rng: np.random.Generator) -> tuple[np.nda
     return true, true + 0.05 * rng.standard_normal(n)
 
 
-def one_run(seed: int, k: float, updown: bool) -> dict[str, float]:
+def _record(seed: int, k: float, updown: bool):
+    """The truth, true and measured temperature, and the gyro samples of one run."""
     rng = np.random.default_rng(seed)
     truth = _truth(rng)
     n = int(HOURS * 3600 * RATE)
@@ -78,6 +83,11 @@ def one_run(seed: int, k: float, updown: bool) -> dict[str, float]:
         rate_random_walk=k,
         seed=seed + 1,
     )
+    return truth, true_t, meas_t, y
+
+
+def one_run(seed: int, k: float, updown: bool) -> dict[str, float]:
+    truth, true_t, meas_t, y = _record(seed, k, updown)
     t0 = time.process_time()
     m = temperature_model(y, meas_t, RATE, unit="rad/s", seed=seed)
     cpu = time.process_time() - t0
@@ -196,6 +206,64 @@ def _bound_line(name: str, rows: list[dict]) -> str:
     )
 
 
+@contextmanager
+def _weights(ratio: float | None):
+    """Fix the walk/white ratio of the fit's weights (None: profiled, as the package does).
+
+    A benchmark-only probe of the package's private weighting: ``ratio`` is ``q/s2``.
+    """
+    saved = tf.Axis.estimate_white
+    if ratio is not None:
+        tf.Axis.estimate_white = lambda ax, order, warm: ax.with_white(  # noqa: ARG005
+            tf.Whitener.make(ratio, 1.0, ax.y.size - 1)
+        )
+    try:
+        yield
+    finally:
+        tf.Axis.estimate_white = saved
+
+
+def weights_check(runs: int) -> list[str]:
+    """RMS of error / bound on the up-and-down runs: profiled, oracle and no walk weights.
+
+    Order 1 and the warm-up imposed (no model choice); also the fit on the true temperature.
+    """
+    h = (int(HOURS * 3600 * RATE) // TARGET_BLOCKS) / RATE
+    oracle = K_GYRO**2 * h / (N_GYRO**2 / h - K_GYRO**2 * h / 6.0)
+    cases = {
+        "profiled (the package)": (None, False),
+        "oracle K (true walk/white ratio)": (oracle, False),
+        "levels-OLS (no walk)": (0.0, False),
+        "profiled, true temperature": (None, True),
+    }
+    z = {name: ([], []) for name in cases}
+    for i in range(runs):
+        truth, true_t, meas_t, y = _record(1000 * i + 17, K_GYRO, True)
+        bound = temperature_bound(
+            true_t, RATE, white=N_GYRO, walk=K_GYRO, warmup=(truth["A"], truth["tau"])
+        )
+        for name, (ratio, exact) in cases.items():
+            with _weights(ratio):
+                m = temperature_model(
+                    y, true_t if exact else meas_t, RATE, order=1, warmup=True, bootstrap=10
+                )
+            z[name][0].append((m.coefficient("b").value - truth["b"]) / bound.sd("b"))
+            log_err = np.log(m.warmup.time_constant / truth["tau"])
+            z[name][1].append(log_err / bound.sd("log_time_constant"))
+    lines = [
+        "",
+        f"Weights, on {runs} runs of `white + K, up and down` (order 1 and the warm-up "
+        "imposed): RMS of the error over the Cramér-Rao standard deviation "
+        f"(`--weights {runs}`).",
+        "",
+        "| weights | b RMS z | ln tau RMS z |",
+        "|---|---|---|",
+    ]
+    for name, (zb, zt) in z.items():
+        lines.append(f"| {name} | {_rms(zb):.3f} | {_rms(zt):.3f} |")
+    return lines
+
+
 BOUND_HEAD = [
     "",
     "Information limit: the Cramér-Rao bound of each run at its truth "
@@ -219,6 +287,13 @@ def main() -> None:
     ap.add_argument("--runs", type=int, default=20)
     ap.add_argument("--out", type=Path, default=RESULTS / "temperature.md")
     ap.add_argument("--configs", nargs="+", choices=list(CONFIGS), default=list(CONFIGS))
+    ap.add_argument(
+        "--weights",
+        type=int,
+        default=0,
+        metavar="RUNS",
+        help="also compare the fit's weights (profiled, oracle K, none) on RUNS runs",
+    )
     args = ap.parse_args()
     head = [
         "### Temperature model (`python benchmarks/temperature.py`)",
@@ -238,7 +313,8 @@ def main() -> None:
         print(line, bound_line, sep="\n", flush=True)
         lines.append(line)
         bound_lines.append(bound_line)
-    text = "\n".join(head + lines + BOUND_HEAD + bound_lines) + "\n"
+    weights = weights_check(args.weights) if args.weights else []
+    text = "\n".join(head + lines + BOUND_HEAD + bound_lines + weights) + "\n"
     print(text)
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(text)
