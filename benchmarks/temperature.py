@@ -36,7 +36,7 @@ from noisevar.noise_model import _temperature_fit as tf
 from noisevar.noise_model import temperature_model
 from noisevar.noise_model.simulate import simulate_thermal
 from noisevar.noise_model.temperature import TARGET_BLOCKS
-from noisevar.noise_model.temperature_bound import temperature_bound
+from noisevar.noise_model.temperature_bound import model_bound, temperature_bound
 
 RESULTS = Path(__file__).resolve().parent / "results"
 RATE = 100.0
@@ -122,10 +122,7 @@ def _bound_columns(true_t, meas_t, truth, k, m) -> dict[str, float]:
         "fisher_tau_cov": np.nan,
     }
     # the same bound at the fit's own estimates (N, K, A, tau, order): an asymptotic interval
-    warm = None if m.warmup is None else (m.warmup.amplitude, m.warmup.time_constant)
-    est = temperature_bound(
-        meas_t, RATE, white=m.residual_white, walk=m.residual_walk, order=m.order, warmup=warm
-    )
+    est = model_bound(m, meas_t)
     out["fisher_b_cov"] = float(abs(b - truth["b"]) <= Z68 * est.sd("b"))
     if m.warmup is not None:
         log_err = np.log(m.warmup.time_constant / truth["tau"])

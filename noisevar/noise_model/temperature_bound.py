@@ -19,6 +19,7 @@ from noisevar.noise_model.temperature import (
     MIN_BLOCKS,
     REFERENCE_TEMPERATURE,
     TARGET_BLOCKS,
+    TemperatureModel,
 )
 
 #: Relative step (in log tau) of the central difference behind d(warm-up)/d(log tau).
@@ -138,3 +139,37 @@ def temperature_bound(
     except np.linalg.LinAlgError as err:
         raise NoisevarError("The profile does not identify the model (singular).") from err
     return TemperatureBound(tuple(names), cov, float(white), float(walk), h)
+
+
+def model_bound(model: TemperatureModel, temperature: ArrayLike) -> TemperatureBound:
+    """The bound at a fitted model's own estimates: an asymptotic interval's width.
+
+    Parameters
+    ----------
+    model : TemperatureModel
+        One axis's fit (its residual N and K, order, warm-up and block length are used).
+    temperature : array_like, shape (n,)
+        The temperature column the model was fitted on.
+
+    Returns
+    -------
+    TemperatureBound
+
+    Notes
+    -----
+    ``temperature_bound`` with ``white = model.residual_white``, ``walk =
+    model.residual_walk``, the model's order (at least 1) and warm-up ``(A, tau)``.
+    """
+    if not isinstance(model, TemperatureModel):
+        raise NoisevarError("model_bound needs one axis's TemperatureModel.")
+    warm = None if model.warmup is None else (model.warmup.amplitude, model.warmup.time_constant)
+    return temperature_bound(
+        temperature,
+        model.rate,
+        white=model.residual_white,
+        walk=model.residual_walk,
+        order=max(model.order, 1),
+        warmup=warm,
+        reference_temperature=model.reference_temperature,
+        block=model.block,
+    )

@@ -10,7 +10,7 @@ import pytest
 from noisevar.errors import NoisevarError
 from noisevar.noise_model import temperature_model
 from noisevar.noise_model.simulate import simulate_thermal
-from noisevar.noise_model.temperature_bound import temperature_bound
+from noisevar.noise_model.temperature_bound import model_bound, temperature_bound
 
 RATE = 10.0
 N_WHITE, K_WALK = 1e-4, 4e-6
@@ -50,6 +50,28 @@ def test_warmup_adds_its_parameters_and_costs_information():
     assert 0.0 < warm.sd("log_time_constant") < 1.0
     with pytest.raises(NoisevarError, match="No parameter"):
         warm.sd("c")
+
+
+def test_the_bound_at_a_fit_is_near_the_bound_at_the_truth():
+    temp = _ramp(2.0)
+    warm = (1e-3, 600.0)
+    y = simulate_thermal(
+        temp,
+        RATE,
+        polynomial=(2e-3, 3e-4),
+        warmup=warm,
+        random_walk=N_WHITE,
+        rate_random_walk=K_WALK,
+        seed=3,
+    )
+    m = temperature_model(y, temp, RATE, order=1, warmup=True, bootstrap=10)
+    at_fit = model_bound(m, temp)
+    truth = temperature_bound(temp, RATE, white=N_WHITE, walk=K_WALK, warmup=warm)
+    assert at_fit.names == truth.names
+    assert at_fit.sd("b") == pytest.approx(truth.sd("b"), rel=0.25)
+    assert at_fit.block == pytest.approx(m.block)
+    with pytest.raises(NoisevarError, match="TemperatureModel"):
+        model_bound((m,), temp)
 
 
 @pytest.mark.parametrize(
