@@ -209,3 +209,19 @@ def test_pooled_records() -> None:
 def test_bad_input(call) -> None:  # noqa: ANN001
     with pytest.raises(NoisevarError):
         call()
+
+
+def test_covariance_of_the_top_scales_is_a_valid_one() -> None:
+    """Two scales' covariance divides by the smaller scale's (larger) count: dividing by
+    the larger scale's made the top two scales' correlation exceed 1 (the matrix was
+    indefinite and the choice's objective fell back to the diagonal)."""
+    rng = np.random.default_rng(4)
+    n, keys, p = 2**12, ("WN", "RW"), np.array([1.0, 1e-2])
+    tau = dyadic_scales(n)
+    x = rng.standard_normal((400, n)) + np.cumsum(0.1 * rng.standard_normal((400, n)), axis=1)
+    emp = np.corrcoef(haar_wv(x, tau)[0].T)
+    nu = est.model_wv(keys, p, tau)
+    cov = est.model_cov(keys, p, est.WaveletVariance(tau, nu, n - tau + 1))
+    corr = cov / np.sqrt(np.outer(np.diag(cov), np.diag(cov)))
+    assert np.linalg.eigvalsh(corr)[0] > 0
+    assert np.diag(corr, 1)[-3:] == pytest.approx(np.diag(emp, 1)[-3:], abs=0.08)

@@ -180,7 +180,10 @@ def wv_covariance(
     """Asymptotic covariance of the wavelet variances of a Gaussian process of ``spectrum``.
 
     ``cov(nu_i, nu_j) = 2 / M int |H_i|^2 |H_j|^2 S^2 df`` (Percival 1995; Percival &
-    Walden 2000, §8.3, for ``i = j``), ``M`` the coefficients of the larger scale.
+    Walden 2000, §8.3, for ``i = j``), ``M`` the coefficients of the smaller scale (the
+    more numerous: each of the larger scale's ``M_j`` squares meets all the smaller's,
+    so the double sum is ``M_j C`` over ``M_i M_j``; dividing by ``M_j`` made the top
+    scales' correlations exceed 1).
     ``spectrum(f, s2, c2)``
     takes the frequencies with ``sin^2(pi f)`` and ``cos(2 pi f)``.
     """
@@ -189,7 +192,7 @@ def wv_covariance(
     a = np.bincount(idx, weights=w * s * s, minlength=len(pairs))
     cov = np.zeros((tau.size, tau.size))
     for k, (i, j) in enumerate(pairs):
-        cov[i, j] = cov[j, i] = 2.0 * a[k] / m[j] * inflation
+        cov[i, j] = cov[j, i] = 2.0 * a[k] / m[i] * inflation
     return cov
 
 
