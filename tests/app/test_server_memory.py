@@ -183,3 +183,35 @@ def test_an_evicted_entry_in_a_cycle_is_freed_by_the_memory_guard():
         assert not guard.tick()  # nothing new
     finally:
         gc.enable()
+
+
+def test_a_session_past_its_reconnect_time_is_shut_down_and_freed():
+    """Streamlit's session storage hides an expired session but keeps it (and never shuts
+    it down: its uploads stay) until a later write; the reaper removes and shuts it down."""
+    import weakref
+
+    from streamlit.runtime.memory_session_storage import MemorySessionStorage
+    from streamlit.runtime.session_manager import SessionInfo
+
+    from dashboard.session_dirs import shut_down_expired
+
+    shut: list[str] = []
+
+    class Session:
+        def __init__(self, sid: str) -> None:
+            self.id = sid
+            self.signal = np.zeros(MB)
+
+        def shutdown(self) -> None:
+            shut.append(self.id)
+
+    storage = MemorySessionStorage(ttl_seconds=0.05)
+    session = Session("closed-tab")
+    ref = weakref.ref(session)
+    storage.save(SessionInfo(client=None, session=session, script_run_count=1))  # type: ignore[arg-type]
+    del session
+    time.sleep(0.1)
+    assert storage.list() == [] and ref() is not None  # hidden, still held
+    assert shut_down_expired(storage) == 1
+    assert shut == ["closed-tab"] and ref() is None
+    assert shut_down_expired(storage) == 0 and shut_down_expired(object()) == 0
