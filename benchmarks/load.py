@@ -33,9 +33,11 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import collections
 import io
 import os
 import platform
+import shutil
 import statistics
 import subprocess
 import sys
@@ -65,6 +67,8 @@ SAMPLES = 20_000
 BIG_N = 2_000_000
 QUIET_S = 0.4
 SESSION_TTL_S = 30
+#: A session's steps, in order (a failed session names the one it failed at).
+STEPS = ("open", "upload", "estimator", "slider1", "slider2", "slider3", "compare", "noise model")
 OUT = ROOT / "benchmarks" / "results" / "load.md"  # --out changes it
 
 OBSERVER_JS = """() => {
@@ -143,6 +147,22 @@ async def go_to(page, title: str, ready: str | None = None) -> float:
     return await settled(page, t0, redrawn=True)
 
 
+async def page_state(page) -> str:
+    """What a failed session's page shows: its status widget and the start of its text."""
+    try:
+        status = await page.evaluate(
+            "() => Array.from(document.querySelectorAll('[data-testid=\"stStatusWidget\"]'))"
+            ".map(e => e.innerText).join(' ')"
+        )
+        text = await page.evaluate(
+            "() => (document.querySelector('[data-testid=\"stMain\"]') || document.body).innerText"
+        )
+    except Exception as exc:  # noqa: BLE001 - the page itself may be gone
+        return f" (page unreadable: {type(exc).__name__})"
+    words = " ".join(str(text).split())
+    return f" (status: {' '.join(str(status).split())[:40] or 'none'}; page: {words[:120]})"
+
+
 async def session(browser, base: str, data: bytes, name: str) -> dict:
     """One student's path; returns the latency of each interaction (s)."""
     ctx = await browser.new_context(viewport={"width": 1400, "height": 900})
@@ -179,7 +199,9 @@ async def session(browser, base: str, data: bytes, name: str) -> dict:
         out["ok"] = 1.0
     except Exception as exc:  # noqa: BLE001 - a failed session is counted, not fatal
         out["ok"] = 0.0
-        out["error"] = f"{type(exc).__name__}: {exc}"[:200]  # type: ignore[assignment]
+        step = next((k for k in STEPS if k not in out), "?")
+        text = f"at {step}: {type(exc).__name__}: {exc}".splitlines()[0][:120]
+        out["error"] = text + await page_state(page)  # type: ignore[assignment]
     finally:
         await ctx.close()
     return out
@@ -270,8 +292,23 @@ async def run_proxy(pw, n: int, rows: list[str], log) -> None:
             f"{s['worst']:.2f} | {s['change']:.2f} | {wall:.0f} | {', '.join(used)} |"
         )
         log(rows[-1] + (f"  errors: {s['errors'][:3]}" if s["errors"] else ""))
+        kinds = collections.Counter(e.split(" (status")[0] for e in s["errors"])
+        for err, count in kinds.most_common(5):
+            example = next(e for e in s["errors"] if e.startswith(err))
+            rows.append(f"|  | {count} failed {example} |  |  |  |  |  |")
+        for err in s["errors"]:
+            print("  failed session:", err, flush=True)
     finally:
         await browser.close()
+        keep = Path("/tmp") / "noisevar-load-proxy-logs"  # the apps' and nginx's own logs
+        shutil.rmtree(keep, ignore_errors=True)
+        shutil.copytree(
+            dep.folder,
+            keep,
+            ignore=shutil.ignore_patterns(
+                "*_temp", "client_body", "proxy", "fastcgi", "uwsgi", "scgi"
+            ),
+        )
         dep.stop()
 
 
