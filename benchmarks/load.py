@@ -11,7 +11,11 @@ session. Each session, all at once:
 3. opens Compare, then Noise model.
 
 An interaction's latency runs from the action to the page's last DOM change (settled: no
-script running, a figure redrawn after a slider step, then 0.4 s without change). The
+script running, a figure drawn or redrawn after the action, then 0.4 s without change). A
+figure redrawn in place (Streamlit updates the same element, e.g. the Signal page's figure
+becoming the Estimator's) counts as redrawn: a mutation inside any ``.js-plotly-plot``
+after the action; only new elements counted before, and sessions whose figure was updated
+in place never settled. The
 waves are N = 1, 4, 8, 16 on distinct records, then 16 on one shared record. The
 server's memory (resident set of the server, its worker pool and fork server) is read
 before each wave and after its contexts close (sessions are dropped
@@ -74,15 +78,23 @@ OUT = ROOT / "benchmarks" / "results" / "load.md"  # --out changes it
 OBSERVER_JS = """() => {
   if (window.__nvObserved) return; window.__nvObserved = true;
   window.__nvLast = performance.now();
-  new MutationObserver(() => { window.__nvLast = performance.now(); })
-    .observe(document.body, {subtree: true, childList: true, characterData: true,
+  window.__nvPlot = 0;
+  new MutationObserver((records) => {
+    const t = performance.now();
+    window.__nvLast = t;
+    for (const r of records) {
+      const el = r.target.nodeType === 1 ? r.target : r.target.parentElement;
+      if (el && el.closest('.js-plotly-plot')) { window.__nvPlot = t; break; }
+    }
+  }).observe(document.body, {subtree: true, childList: true, characterData: true,
                              attributes: true});
 }"""
 MARK_JS = "() => document.querySelectorAll('.js-plotly-plot').forEach(el => { el.__nvOld = 1; })"
-STATE_JS = """() => ({
+STATE_JS = """(since) => ({
   quiet: performance.now() - window.__nvLast, last: window.__nvLast,
   busy: document.querySelectorAll('[data-testid="stStatusWidget"]').length > 0,
-  fresh: Array.from(document.querySelectorAll('.js-plotly-plot')).some(el => !el.__nvOld),
+  fresh: window.__nvPlot > since
+    || Array.from(document.querySelectorAll('.js-plotly-plot')).some(el => !el.__nvOld),
   errors: document.querySelectorAll('[data-testid="stException"]').length,
 })"""
 
@@ -121,7 +133,7 @@ async def settled(page, since: float, redrawn: bool = False, timeout: float = 90
     """Seconds from ``since`` (page clock, ms) to the page's last change once it settled."""
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
-        s = await page.evaluate(STATE_JS)
+        s = await page.evaluate(STATE_JS, since)
         if s["errors"]:
             raise RuntimeError("an exception box on the page")
         if (s["fresh"] or not redrawn) and not s["busy"] and s["quiet"] > QUIET_S * 1000:
