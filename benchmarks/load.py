@@ -11,7 +11,11 @@ session. Each session, all at once:
 3. opens Compare, then Noise model.
 
 An interaction's latency runs from the action to the page's last DOM change (settled: no
-script running, a figure redrawn after a slider step, then 0.4 s without change). The
+script running, a figure drawn or redrawn after the action, then 0.4 s without change). A
+figure redrawn in place (Streamlit updates the same element, e.g. the Signal page's figure
+becoming the Estimator's) counts as redrawn: a mutation inside any ``.js-plotly-plot``
+after the action; only new elements counted before, and sessions whose figure was updated
+in place never settled. The
 waves are N = 1, 4, 8, 16 on distinct records, then 16 on one shared record. The
 server's memory (resident set of the server, its worker pool and fork server) is read
 before each wave and after its contexts close (sessions are dropped
@@ -33,9 +37,11 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import collections
 import io
 import os
 import platform
+import shutil
 import statistics
 import subprocess
 import sys
@@ -65,20 +71,30 @@ SAMPLES = 20_000
 BIG_N = 2_000_000
 QUIET_S = 0.4
 SESSION_TTL_S = 30
+#: A session's steps, in order (a failed session names the one it failed at).
+STEPS = ("open", "upload", "estimator", "slider1", "slider2", "slider3", "compare", "noise model")
 OUT = ROOT / "benchmarks" / "results" / "load.md"  # --out changes it
 
 OBSERVER_JS = """() => {
   if (window.__nvObserved) return; window.__nvObserved = true;
   window.__nvLast = performance.now();
-  new MutationObserver(() => { window.__nvLast = performance.now(); })
-    .observe(document.body, {subtree: true, childList: true, characterData: true,
+  window.__nvPlot = 0;
+  new MutationObserver((records) => {
+    const t = performance.now();
+    window.__nvLast = t;
+    for (const r of records) {
+      const el = r.target.nodeType === 1 ? r.target : r.target.parentElement;
+      if (el && el.closest('.js-plotly-plot')) { window.__nvPlot = t; break; }
+    }
+  }).observe(document.body, {subtree: true, childList: true, characterData: true,
                              attributes: true});
 }"""
 MARK_JS = "() => document.querySelectorAll('.js-plotly-plot').forEach(el => { el.__nvOld = 1; })"
-STATE_JS = """() => ({
+STATE_JS = """(since) => ({
   quiet: performance.now() - window.__nvLast, last: window.__nvLast,
   busy: document.querySelectorAll('[data-testid="stStatusWidget"]').length > 0,
-  fresh: Array.from(document.querySelectorAll('.js-plotly-plot')).some(el => !el.__nvOld),
+  fresh: window.__nvPlot > since
+    || Array.from(document.querySelectorAll('.js-plotly-plot')).some(el => !el.__nvOld),
   errors: document.querySelectorAll('[data-testid="stException"]').length,
 })"""
 
@@ -117,7 +133,7 @@ async def settled(page, since: float, redrawn: bool = False, timeout: float = 90
     """Seconds from ``since`` (page clock, ms) to the page's last change once it settled."""
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
-        s = await page.evaluate(STATE_JS)
+        s = await page.evaluate(STATE_JS, since)
         if s["errors"]:
             raise RuntimeError("an exception box on the page")
         if (s["fresh"] or not redrawn) and not s["busy"] and s["quiet"] > QUIET_S * 1000:
@@ -141,6 +157,22 @@ async def go_to(page, title: str, ready: str | None = None) -> float:
     if ready:
         await page.locator(ready).first.wait_for(timeout=900_000)
     return await settled(page, t0, redrawn=True)
+
+
+async def page_state(page) -> str:
+    """What a failed session's page shows: its status widget and the start of its text."""
+    try:
+        status = await page.evaluate(
+            "() => Array.from(document.querySelectorAll('[data-testid=\"stStatusWidget\"]'))"
+            ".map(e => e.innerText).join(' ')"
+        )
+        text = await page.evaluate(
+            "() => (document.querySelector('[data-testid=\"stMain\"]') || document.body).innerText"
+        )
+    except Exception as exc:  # noqa: BLE001 - the page itself may be gone
+        return f" (page unreadable: {type(exc).__name__})"
+    words = " ".join(str(text).split())
+    return f" (status: {' '.join(str(status).split())[:40] or 'none'}; page: {words[:120]})"
 
 
 async def session(browser, base: str, data: bytes, name: str) -> dict:
@@ -179,7 +211,9 @@ async def session(browser, base: str, data: bytes, name: str) -> dict:
         out["ok"] = 1.0
     except Exception as exc:  # noqa: BLE001 - a failed session is counted, not fatal
         out["ok"] = 0.0
-        out["error"] = f"{type(exc).__name__}: {exc}"[:200]  # type: ignore[assignment]
+        step = next((k for k in STEPS if k not in out), "?")
+        text = f"at {step}: {type(exc).__name__}: {exc}".splitlines()[0][:120]
+        out["error"] = text + await page_state(page)  # type: ignore[assignment]
     finally:
         await ctx.close()
     return out
@@ -270,8 +304,23 @@ async def run_proxy(pw, n: int, rows: list[str], log) -> None:
             f"{s['worst']:.2f} | {s['change']:.2f} | {wall:.0f} | {', '.join(used)} |"
         )
         log(rows[-1] + (f"  errors: {s['errors'][:3]}" if s["errors"] else ""))
+        kinds = collections.Counter(e.split(" (status")[0] for e in s["errors"])
+        for err, count in kinds.most_common(5):
+            example = next(e for e in s["errors"] if e.startswith(err))
+            rows.append(f"|  | {count} failed {example} |  |  |  |  |  |")
+        for err in s["errors"]:
+            print("  failed session:", err, flush=True)
     finally:
         await browser.close()
+        keep = Path("/tmp") / "noisevar-load-proxy-logs"  # the apps' and nginx's own logs
+        shutil.rmtree(keep, ignore_errors=True)
+        shutil.copytree(
+            dep.folder,
+            keep,
+            ignore=shutil.ignore_patterns(
+                "*_temp", "client_body", "proxy", "fastcgi", "uwsgi", "scgi"
+            ),
+        )
         dep.stop()
 
 

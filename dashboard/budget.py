@@ -17,12 +17,21 @@ nobody looks at goes before the small results of the one being tuned. A value la
 than a quarter of the budget is returned without being kept. The budget counts cached
 results only: the server's own code (about 0.5 GB with plotly, pandas and scipy), each
 session's loaded signal and one computation's working memory come on top.
+
+A closed session's state (its loaded signal, its widgets) is a reference cycle inside
+Streamlit: only the cyclic garbage collector frees it, and the app turns off Streamlit's
+collection after every script run (``runner.postScriptGC``, a quarter of a second per
+slider step). :class:`MemoryGuard` (one daemon thread per server) collects when a session
+has ended or an entry was evicted since its last look, then asks the C allocator to
+return the freed memory to the system (``malloc_trim``).
 """
 
 from __future__ import annotations
 
+import ctypes
 import dataclasses
 import functools
+import gc
 import inspect
 import logging
 import os
@@ -34,6 +43,8 @@ from typing import Any, TypeVar
 
 import numpy as np
 
+from dashboard.session_dirs import live_session_ids
+
 LOG = logging.getLogger("noisevar.dashboard")
 
 #: Environment variable overriding :data:`MEMORY_BUDGET` (megabytes).
@@ -42,6 +53,8 @@ BUDGET_ENV = "NOISEVAR_MEMORY_MB"
 DEFAULT_BUDGET_MB = 512
 #: Largest fraction of the budget one kept value may take.
 LARGEST_SHARE = 0.25
+#: Seconds between two looks of the :class:`MemoryGuard`.
+GUARD_SECONDS = 5.0
 #: Deepest nesting :func:`nbytes` walks (deeper objects count their ``sys.getsizeof``).
 MAX_DEPTH = 12
 
@@ -205,7 +218,72 @@ def cached(func: Callable[..., T]) -> Callable[..., T]:
         bound = signature.bind(*args, **kwargs)
         bound.apply_defaults()
         key = (func.__module__, func.__qualname__, *(bound.arguments[n] for n in hashed))
+        GUARD.start()
         return CACHE.get(key, functools.partial(func, *args, **kwargs))
 
     wrapper.clear = CACHE.clear  # type: ignore[attr-defined]
     return wrapper
+
+
+def trim() -> bool:
+    """Return the C heap's free memory to the system (glibc ``malloc_trim``); False if
+    this C library has none."""
+    try:
+        return bool(ctypes.CDLL(None).malloc_trim(0))
+    except (OSError, AttributeError):  # not glibc
+        return False
+
+
+class MemoryGuard:
+    """Frees what ended sessions and evicted entries held (see the module's Notes).
+
+    Parameters
+    ----------
+    sessions : callable
+        The ids of the server's live sessions, or None when they cannot be read.
+    cache : ByteCache
+        The cache whose evictions also trigger a collection.
+    """
+
+    def __init__(self, sessions: Callable[[], set[str] | None], cache: ByteCache) -> None:
+        self._sessions = sessions
+        self._cache = cache
+        self._seen: set[str] = set()
+        self._evictions = cache.evictions
+        self._thread: threading.Thread | None = None
+        self._lock = threading.Lock()
+        self.collections = 0
+
+    def tick(self) -> bool:
+        """One look: collect and trim if a session ended or an entry was evicted."""
+        live = self._sessions()
+        ended = live is not None and bool(self._seen - live)
+        self._seen = set(live or ())
+        evicted = self._cache.evictions != self._evictions
+        self._evictions = self._cache.evictions
+        if not (ended or evicted):
+            return False
+        gc.collect()
+        trim()
+        self.collections += 1
+        return True
+
+    def start(self) -> None:
+        """Start the guard's thread (once; later calls do nothing)."""
+        with self._lock:
+            if self._thread is not None:
+                return
+            self._thread = threading.Thread(target=self._run, name="noisevar-memory", daemon=True)
+            self._thread.start()
+
+    def _run(self) -> None:
+        while True:
+            time.sleep(GUARD_SECONDS)
+            try:
+                self.tick()
+            except Exception:  # noqa: BLE001 - a guard's failure must not end the server
+                LOG.warning("memory guard failed", exc_info=True)
+
+
+#: The server's one memory guard (started by the first cached call).
+GUARD = MemoryGuard(live_session_ids, CACHE)

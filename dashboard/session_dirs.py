@@ -8,6 +8,13 @@ folder sweeps the folders of this server's sessions that the runtime no longer k
 and those of servers no longer running (a server killed without its exit handlers
 leaves them). A folder's name holds its server's process id and its session id, so
 several app processes behind a proxy never remove each other's folders.
+
+A closed tab's session is kept for ``server.disconnectedSessionTTL`` in case it
+reconnects. Streamlit's session storage then only *hides* it: the session stays in
+memory, and is never shut down (its uploads, its dataframes sent to the browser), until a
+later write to the storage reaps it. :func:`live_session_ids` first reaps and shuts down
+the expired ones (:func:`shut_down_expired`, on the server's event loop, as Streamlit
+closes a session).
 """
 
 from __future__ import annotations
@@ -16,6 +23,7 @@ import logging
 import os
 import shutil
 import tempfile
+import threading
 import weakref
 from pathlib import Path
 
@@ -82,12 +90,49 @@ def sweep(alive: set[str], root: Path | None = None) -> list[Path]:
     return gone
 
 
+#: Seconds :func:`live_session_ids` waits for the event loop to reap expired sessions.
+REAP_WAIT_S = 5.0
+
+
+def shut_down_expired(storage: object) -> int:
+    """Remove from Streamlit's session storage the sessions whose reconnect time has
+    passed, and shut them down; returns how many (0 when the storage is not the one
+    known)."""
+    expire = getattr(getattr(storage, "_cache", None), "expire", None)
+    if not callable(expire):
+        return 0
+    gone = expire()
+    for _, info in gone:
+        info.session.shutdown()
+    return len(gone)
+
+
+def _reap(runtime: object) -> None:
+    """:func:`shut_down_expired` on the runtime's event loop (storage is only touched there)."""
+    manager = runtime._session_mgr  # type: ignore[attr-defined]  # noqa: SLF001
+    loop = runtime._get_async_objs().eventloop  # type: ignore[attr-defined]  # noqa: SLF001
+    done = threading.Event()
+
+    def reap() -> None:
+        try:
+            with manager._storage_lock:  # noqa: SLF001 - Streamlit's own lock of its storage
+                shut_down_expired(manager._session_storage)  # noqa: SLF001
+        finally:
+            done.set()
+
+    loop.call_soon_threadsafe(reap)
+    done.wait(REAP_WAIT_S)
+
+
 def live_session_ids() -> set[str] | None:
-    """The ids of the runtime's sessions, or None when they cannot be read."""
+    """The ids of the runtime's sessions (after reaping the expired ones), or None when
+    they cannot be read."""
     try:
         from streamlit.runtime import Runtime
 
-        manager = Runtime.instance()._session_mgr  # noqa: SLF001 - no public list of sessions
+        runtime = Runtime.instance()
+        _reap(runtime)
+        manager = runtime._session_mgr  # noqa: SLF001 - no public list of sessions
         return {s.session.id for s in manager.list_sessions()}
     except Exception:  # noqa: BLE001 - not in a server (tests), or Streamlit changed
         LOG.debug("could not list the sessions", exc_info=True)

@@ -10,8 +10,9 @@ in the queue.
 
 Notes
 -----
-Workers are started by a fork server that preloads noisevar and warms its kernels
-(:mod:`dashboard.worker_preload`: a new worker costs a fork, not an import). They die
+Every worker starts with the pool (not one more each time the queue grows), from a fork
+server that preloads noisevar and warms its kernels (:mod:`dashboard.worker_preload`: a
+new worker costs a fork, not an import). They die
 with the server: the fork server exits when the server is gone, and each worker asks the
 kernel for SIGKILL when the fork server goes (Linux ``PR_SET_PDEATHSIG``) and also
 watches its parent's id, so a killed server leaves no worker behind.
@@ -51,6 +52,8 @@ WORKERS_ENV = "NOISEVAR_WORKERS"
 QUEUE_PER_WORKER = 8
 #: Monte Carlo chunks of one session computing at once.
 CHUNKS_IN_FLIGHT = 2
+#: Seconds each worker sleeps when the pool starts (so that all of them start at once).
+START_PAUSE_S = 0.5
 #: Seconds between two updates of a waiting page.
 POLL_SECONDS = 0.25
 
@@ -99,6 +102,10 @@ class Pool:
         self._executor = cf.ProcessPoolExecutor(
             workers, mp_context=context, initializer=_die_with_parent
         )
+        # every worker at once: the server reaches its working memory with its first
+        # computation (a pool that grew a worker during a class looked like a leak)
+        for _ in range(workers):
+            self._executor.submit(time.sleep, START_PAUSE_S)
         self._slots = threading.BoundedSemaphore(workers * QUEUE_PER_WORKER)
         self._lock = threading.Lock()
         self._tickets = itertools.count()

@@ -193,7 +193,8 @@ def add_parser(sub: Any) -> None:
     p.add_argument(
         "--memory-mb",
         type=int,
-        help="memory budget of the server's caches (MB; default NOISEVAR_MEMORY_MB or 1024)",
+        help="memory budget of the server's cached results (MB; default: NOISEVAR_MEMORY_MB, "
+        "else dashboard/budget.py's)",
     )
     p.add_argument(
         "--print-command", action="store_true", help="print the streamlit command and exit"

@@ -124,3 +124,94 @@ def test_an_upload_is_read_without_a_whole_file_copy():
     up.read(10)
     assert up.getvalue() is data  # what dashboard/loading.py passes on: the upload's own bytes
     assert isinstance(up, io.BytesIO)
+
+
+class _Cyclic:
+    """A result in a reference cycle (as a Plotly figure and its traces are)."""
+
+    def __init__(self) -> None:
+        self.data = np.zeros(MB // 8)
+        self.me = self
+
+
+def test_a_closed_sessions_signal_is_freed_by_the_memory_guard():
+    """A closed session's state is a reference cycle: without a collection its loaded
+    signal stays (the server turns off Streamlit's collection after each run); the guard
+    collects once it sees the session gone."""
+    import weakref
+
+    from streamlit.testing.v1 import AppTest
+
+    from dashboard.state import SIGNAL_KEY
+
+    live = {"a", "b"}
+    guard = budget.MemoryGuard(lambda: set(live), ByteCache(MB))
+    guard.tick()  # sees the sessions
+    app_file = str(Path(__file__).resolve().parents[2] / "app.py")
+    gc.disable()
+    try:
+        refs = []
+        for seed in (1, 2):
+            app = AppTest.from_file(app_file, default_timeout=60)
+            app.query_params["sig"] = f"gen:fast-slow;n=30000;seed={seed}"
+            app.switch_page("app_pages/Signal.py").run()
+            assert not app.exception
+            refs.append(weakref.ref(app.session_state[SIGNAL_KEY]))
+            del app
+        assert all(r() is not None for r in refs)  # the cycle holds them
+        assert not guard.tick()  # no session ended: nothing to do
+        live.clear()  # Streamlit dropped both sessions
+        assert guard.tick() and guard.collections == 1
+        assert all(r() is None for r in refs)
+    finally:
+        gc.enable()
+
+
+def test_an_evicted_entry_in_a_cycle_is_freed_by_the_memory_guard():
+    cache = ByteCache(6 * MB)
+    guard = budget.MemoryGuard(lambda: None, cache)
+    gc.disable()
+    try:
+        first = cache.get("a", _Cyclic)
+        ref = __import__("weakref").ref(first)
+        del first
+        for key in "bcdefghij":
+            cache.get(key, _Cyclic)
+        assert cache.evictions and ref() is not None
+        assert guard.tick()
+        assert ref() is None
+        assert not guard.tick()  # nothing new
+    finally:
+        gc.enable()
+
+
+def test_a_session_past_its_reconnect_time_is_shut_down_and_freed():
+    """Streamlit's session storage hides an expired session but keeps it (and never shuts
+    it down: its uploads stay) until a later write; the reaper removes and shuts it down."""
+    import weakref
+
+    from streamlit.runtime.memory_session_storage import MemorySessionStorage
+    from streamlit.runtime.session_manager import SessionInfo
+
+    from dashboard.session_dirs import shut_down_expired
+
+    shut: list[str] = []
+
+    class Session:
+        def __init__(self, sid: str) -> None:
+            self.id = sid
+            self.signal = np.zeros(MB)
+
+        def shutdown(self) -> None:
+            shut.append(self.id)
+
+    storage = MemorySessionStorage(ttl_seconds=0.05)
+    session = Session("closed-tab")
+    ref = weakref.ref(session)
+    storage.save(SessionInfo(client=None, session=session, script_run_count=1))  # type: ignore[arg-type]
+    del session
+    time.sleep(0.1)
+    assert storage.list() == [] and ref() is not None  # hidden, still held
+    assert shut_down_expired(storage) == 1
+    assert shut == ["closed-tab"] and ref() is None
+    assert shut_down_expired(storage) == 0 and shut_down_expired(object()) == 0
