@@ -73,6 +73,12 @@ def model_wv(keys: tuple[str, ...], p: NDArray, tau: NDArray) -> NDArray:
     return np.sum([PROCESSES[k].wv(q, tau) for k, q in zip(keys, split(keys, p), strict=True)], 0)
 
 
+def model_jac(keys: tuple[str, ...], p: NDArray, tau: NDArray) -> NDArray:
+    """Derivatives of :func:`model_wv` in the log-parameters, shape ``(scales, params)``."""
+    parts = zip(keys, split(keys, p), strict=True)
+    return np.concatenate([PROCESSES[k].jac(q, tau) for k, q in parts]).T
+
+
 def model_cov(keys: tuple[str, ...], p: NDArray, wv: WaveletVariance) -> NDArray:
     """Asymptotic covariance of ``nu_hat`` under the model with parameters ``p``."""
     parts = list(zip(keys, split(keys, p), strict=True))
@@ -130,7 +136,12 @@ def _solve(keys: tuple[str, ...], start: NDArray, wv: WaveletVariance, wl: NDArr
     def resid(x: NDArray) -> NDArray:
         return wl @ (wv.nu - model_wv(keys, np.exp(x), wv.tau))
 
-    return least_squares(resid, x0, bounds=(lo, hi), method="trf", x_scale=1.0, max_nfev=400)
+    def jac(x: NDArray) -> NDArray:
+        return -wl @ model_jac(keys, np.exp(x), wv.tau)
+
+    return least_squares(
+        resid, x0, jac=jac, bounds=(lo, hi), method="trf", x_scale=1.0, max_nfev=400
+    )
 
 
 def fit(keys: tuple[str, ...], starts: list[NDArray], wv: WaveletVariance) -> Solution:

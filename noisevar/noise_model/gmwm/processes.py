@@ -51,6 +51,18 @@ class Process:
             return flicker_wv(t) * p[0]
         return _gm_wv(p[0], p[1], t)
 
+    def jac(self, p: NDArray, tau: NDArray) -> NDArray:
+        """Derivatives of :meth:`wv` with respect to the log of each parameter.
+
+        Returns shape ``(len(params), scales)``. All but the GM are linear in their one
+        parameter (the derivative is the wavelet variance itself); the GM's in its
+        correlation time is analytic (:func:`_gm_wv_jac`).
+        """
+        t = np.asarray(tau, dtype=float)
+        if self.key != "GM":
+            return self.wv(p, t)[None, :]
+        return np.stack(_gm_wv_jac(p[0], p[1], t))
+
     def spectrum(
         self, p: NDArray, f: NDArray, s2: NDArray | None = None, c2: NDArray | None = None
     ) -> NDArray:
@@ -107,6 +119,45 @@ class Process:
             peak = float(_gm_wv(1.0, tc, np.array([tau[j]]))[0])
             starts.append(np.array([0.5 * nu[j] / peak, tc]))
         return starts
+
+
+def _gm_wv_jac(var: float, tc: float, t: NDArray) -> tuple[NDArray, NDArray]:
+    """The GM's wavelet variance and its derivative with respect to ``log tc``.
+
+    With ``u = 1 / tc``, ``nu = var G(u)``, ``G = bracket / (2 h^2 E(1)^2)``:
+    ``d nu / d log tc = -u var G'(u)``, ``G' = (bracket' - 2 bracket e^-u / E(1)) /
+    (2 h^2 E(1)^2)``, the bracket's derivative by terms (or by its series for small
+    ``h u``, as :func:`_gm_wv`).
+    """
+    u = 1.0 / tc
+    h = t / 2.0
+    e1 = -math.expm1(-u)
+    bracket, dbracket = _bracket(h, u)
+    den = 2.0 * h**2 * e1**2
+    g = bracket / den
+    dg = (dbracket - 2.0 * bracket * math.exp(-u) / e1) / den
+    return var * g, -u * var * dg
+
+
+def _bracket(h: NDArray, u: float) -> tuple[NDArray, NDArray]:
+    """``h E(2) + 3 E(1) - 4 E(h+1) + E(2h+1)`` (``E(a) = 1 - e^(-a u)``) and its
+    derivative in ``u``; for ``h u`` small, their Taylor series from ``u^3`` on."""
+    terms = ((h, 2.0), (3.0, 1.0), (-4.0, h + 1.0), (1.0, 2.0 * h + 1.0))
+    bracket = sum(c * -np.expm1(-a * u) for c, a in terms)
+    dbracket = sum(c * a * np.exp(-a * u) for c, a in terms)
+    small = h * u < 1e-2
+    if np.any(small):
+        hs = h[small]
+        series, dseries = np.zeros(hs.shape), np.zeros(hs.shape)
+        for k in range(3, 10):
+            ck = (
+                hs * 2.0**k + 3.0 - 4.0 * (hs + 1.0) ** k + (2.0 * hs + 1.0) ** k
+            ) / math.factorial(k)
+            series += (-1.0) ** (k + 1) * ck * u**k
+            dseries += (-1.0) ** (k + 1) * k * ck * u ** (k - 1)
+        bracket[small] = series
+        dbracket[small] = dseries
+    return bracket, dbracket
 
 
 def _gm_wv(var: float, tc: float, t: NDArray) -> NDArray:
