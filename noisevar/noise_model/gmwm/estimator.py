@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 from numpy.typing import NDArray
@@ -68,15 +69,60 @@ def split(keys: tuple[str, ...], p: NDArray) -> list[NDArray]:
     return np.split(np.asarray(p, dtype=float), np.cumsum(sizes(keys))[:-1])
 
 
+@dataclass(frozen=True)
+class Design:
+    """A model at given scales: the linear processes' shapes and the GMs' positions.
+
+    ``nu(p) = p[linear] @ shapes + sum of the GMs'``; the Jacobian in the log-parameters
+    has the linear processes' components as columns, and each GM's two derivatives.
+    """
+
+    tau: NDArray
+    linear: NDArray  # indices of the linear processes' parameters
+    shapes: NDArray  # (linear, scales): their wavelet variance per unit parameter
+    gm: tuple[int, ...]  # index of each GM's variance (its correlation time follows)
+    n_params: int
+
+    def wv(self, p: NDArray) -> NDArray:
+        """Wavelet variance of the model at parameters ``p``."""
+        out = p[self.linear] @ self.shapes
+        for i in self.gm:
+            out = out + PROCESSES["GM"].wv(p[i : i + 2], self.tau)
+        return out
+
+    def jac(self, p: NDArray) -> NDArray:
+        """Derivatives of :meth:`wv` in the log-parameters, shape ``(scales, params)``."""
+        out = np.empty((self.tau.size, self.n_params))
+        out[:, self.linear] = (p[self.linear][:, None] * self.shapes).T
+        for i in self.gm:
+            out[:, i : i + 2] = PROCESSES["GM"].jac(p[i : i + 2], self.tau).T
+        return out
+
+
+@lru_cache(maxsize=512)
+def _design(keys: tuple[str, ...], tau: tuple[float, ...]) -> Design:
+    t = np.array(tau)
+    starts = np.concatenate([[0], np.cumsum(sizes(keys))[:-1]]).astype(int)
+    lin = [int(i) for k, i in zip(keys, starts, strict=True) if PROCESSES[k].linear]
+    shapes = [PROCESSES[k].wv(np.ones(1), t) for k in keys if PROCESSES[k].linear]
+    gm = tuple(int(i) for k, i in zip(keys, starts, strict=True) if not PROCESSES[k].linear)
+    shapes_arr = np.array(shapes) if shapes else np.zeros((0, t.size))
+    return Design(t, np.array(lin, dtype=int), shapes_arr, gm, int(sum(sizes(keys))))
+
+
+def design(keys: tuple[str, ...], tau: NDArray) -> Design:
+    """The :class:`Design` of the model ``keys`` at the scales ``tau`` (cached)."""
+    return _design(keys, tuple(np.asarray(tau, dtype=float).tolist()))
+
+
 def model_wv(keys: tuple[str, ...], p: NDArray, tau: NDArray) -> NDArray:
     """Wavelet variance of the model: the sum of its processes'."""
-    return np.sum([PROCESSES[k].wv(q, tau) for k, q in zip(keys, split(keys, p), strict=True)], 0)
+    return design(keys, tau).wv(np.asarray(p, dtype=float))
 
 
 def model_jac(keys: tuple[str, ...], p: NDArray, tau: NDArray) -> NDArray:
     """Derivatives of :func:`model_wv` in the log-parameters, shape ``(scales, params)``."""
-    parts = zip(keys, split(keys, p), strict=True)
-    return np.concatenate([PROCESSES[k].jac(q, tau) for k, q in parts]).T
+    return design(keys, tau).jac(np.asarray(p, dtype=float))
 
 
 def model_cov(keys: tuple[str, ...], p: NDArray, wv: WaveletVariance) -> NDArray:
@@ -133,11 +179,13 @@ def _solve(keys: tuple[str, ...], start: NDArray, wv: WaveletVariance, wl: NDArr
     lo, hi = bounds(keys, wv.tau, wv.nu)
     x0 = np.clip(np.log(np.maximum(start, 1e-300)), lo + 1e-9, hi - 1e-9)
 
+    model = design(keys, wv.tau)
+
     def resid(x: NDArray) -> NDArray:
-        return wl @ (wv.nu - model_wv(keys, np.exp(x), wv.tau))
+        return wl @ (wv.nu - model.wv(np.exp(x)))
 
     def jac(x: NDArray) -> NDArray:
-        return -wl @ model_jac(keys, np.exp(x), wv.tau)
+        return -wl @ model.jac(np.exp(x))
 
     return least_squares(
         resid, x0, jac=jac, bounds=(lo, hi), method="trf", x_scale=1.0, max_nfev=400
