@@ -19,7 +19,11 @@ from scipy.linalg import cholesky
 from scipy.optimize import least_squares
 
 from noisevar.noise_model.gmwm.processes import PROCESSES
-from noisevar.noise_model.gmwm.wavelet import wv_covariance
+from noisevar.noise_model.gmwm.wavelet import (
+    covariance_matrix,
+    covariance_nodes,
+    pair_integrals,
+)
 
 #: Reweighting passes with the fitted model's covariance.
 PASSES = 2
@@ -126,17 +130,49 @@ def model_jac(keys: tuple[str, ...], p: NDArray, tau: NDArray) -> NDArray:
 
 
 def model_cov(keys: tuple[str, ...], p: NDArray, wv: WaveletVariance) -> NDArray:
-    """Asymptotic covariance of ``nu_hat`` under the model with parameters ``p``."""
-    parts = list(zip(keys, split(keys, p), strict=True))
+    """Asymptotic covariance of ``nu_hat`` under the model with parameters ``p``.
 
-    def spectrum(f: NDArray, s2: NDArray, c2: NDArray) -> NDArray:
-        return np.sum([PROCESSES[k].spectrum(q, f, s2, c2) for k, q in parts], axis=0)
-
-    cov = wv_covariance(wv.tau, wv.m, spectrum, wv.inflation)
+    Notes
+    -----
+    ``S = L + G``, ``L = sum p_k s_k`` the linear processes' spectra (fixed shapes ``s_k``),
+    ``G`` the GMs': the integrals of ``S^2`` are ``sum p_k p_l int s_k s_l`` (cached per
+    pair of shapes and scales) plus ``int G (2 L + G)``, evaluated on the nodes only
+    with a GM.
+    """
+    p = np.asarray(p, dtype=float)
+    model = design(keys, wv.tau)
+    tau = tuple(model.tau.tolist())
+    lin = [(k, float(p[i])) for k, i in zip(_linear_keys(keys), model.linear, strict=True)]
+    a = np.zeros(model.tau.size * (model.tau.size + 1) // 2)  # the pairs i <= j
+    for n, (k, pk) in enumerate(lin):
+        for kl, pl in lin[n:]:
+            a += (1.0 if kl == k else 2.0) * pk * pl * _shape_integrals(k, kl, tau)
+    if model.gm:
+        nodes = covariance_nodes(model.tau)
+        g = sum(PROCESSES["GM"].spectrum(p[i : i + 2], *nodes) for i in model.gm)
+        low = sum((pk * _unit_spectrum(k, tau) for k, pk in lin), np.zeros_like(g))
+        a += pair_integrals(model.tau, g * (2.0 * low + g))
+    cov = covariance_matrix(model.tau, wv.m, a, wv.inflation)
     # a drift adds no variance to the spectrum: keep every scale's variance positive
-    floor = 2.0 * (model_wv(keys, p, wv.tau) ** 2) / wv.m * 1e-6
+    floor = 2.0 * (model.wv(p) ** 2) / wv.m * 1e-6
     cov[np.diag_indices_from(cov)] = np.maximum(np.diag(cov), floor)
     return cov
+
+
+def _linear_keys(keys: tuple[str, ...]) -> list[str]:
+    return [k for k in keys if PROCESSES[k].linear]
+
+
+@lru_cache(maxsize=32)
+def _unit_spectrum(key: str, tau: tuple[float, ...]) -> NDArray:
+    """A linear process's spectrum at unit parameter on the covariance's nodes."""
+    return PROCESSES[key].spectrum(np.ones(1), *covariance_nodes(np.array(tau)))
+
+
+@lru_cache(maxsize=256)
+def _shape_integrals(k: str, kl: str, tau: tuple[float, ...]) -> NDArray:
+    """``int |H_i|^2 |H_j|^2 s_k s_l`` for each pair of scales (unit parameters)."""
+    return pair_integrals(np.array(tau), _unit_spectrum(k, tau) * _unit_spectrum(kl, tau))
 
 
 def chi2_cov(wv: WaveletVariance) -> NDArray:

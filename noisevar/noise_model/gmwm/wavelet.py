@@ -174,6 +174,34 @@ def _h2(f: NDArray, tau: float) -> NDArray:
     return 4.0 * np.sin(np.pi * f * tau / 2.0) ** 4 / (tau * np.sin(np.pi * f)) ** 2
 
 
+def covariance_nodes(tau: NDArray) -> tuple[NDArray, NDArray, NDArray]:
+    """The frequencies of :func:`wv_covariance`'s integrals, with ``sin^2(pi f)`` and
+    ``cos(2 pi f)`` (cached per scales)."""
+    return _grid(tuple(np.asarray(tau, dtype=float).tolist()))[0]
+
+
+def pair_integrals(tau: NDArray, g: NDArray) -> NDArray:
+    """``2 int |H_i|^2 |H_j|^2 g df`` for each pair of scales ``i <= j`` (in the order of
+    :func:`covariance_matrix`), ``g`` on :func:`covariance_nodes`."""
+    _, w, idx, pairs = _grid(tuple(np.asarray(tau, dtype=float).tolist()))
+    return np.bincount(idx, weights=w * g, minlength=len(pairs))
+
+
+def covariance_matrix(tau: NDArray, m: NDArray, a: NDArray, inflation: float = 1.0) -> NDArray:
+    """``cov(nu_i, nu_j) = 2 a_ij / M_j``, ``a`` the :func:`pair_integrals` of ``S^2``."""
+    rows, cols = _pair_index(tuple(np.asarray(tau, dtype=float).tolist()))
+    cov = np.zeros((tau.size, tau.size))
+    cov[rows, cols] = 2.0 * a / m[cols] * inflation
+    cov[cols, rows] = cov[rows, cols]
+    return cov
+
+
+@lru_cache(maxsize=16)
+def _pair_index(tau: tuple[float, ...]) -> tuple[NDArray, NDArray]:
+    pairs = np.array(_grid(tau)[3], dtype=int)
+    return pairs[:, 0], pairs[:, 1]
+
+
 def wv_covariance(
     tau: NDArray, m: NDArray, spectrum: Callable[..., NDArray], inflation: float = 1.0
 ) -> NDArray:
@@ -184,13 +212,8 @@ def wv_covariance(
     ``spectrum(f, s2, c2)``
     takes the frequencies with ``sin^2(pi f)`` and ``cos(2 pi f)``.
     """
-    trig, w, idx, pairs = _grid(tuple(float(t) for t in tau))
-    s = spectrum(*trig)
-    a = np.bincount(idx, weights=w * s * s, minlength=len(pairs))
-    cov = np.zeros((tau.size, tau.size))
-    for k, (i, j) in enumerate(pairs):
-        cov[i, j] = cov[j, i] = 2.0 * a[k] / m[j] * inflation
-    return cov
+    s = spectrum(*covariance_nodes(tau))
+    return covariance_matrix(tau, m, pair_integrals(tau, s * s), inflation)
 
 
 @lru_cache(maxsize=16)
