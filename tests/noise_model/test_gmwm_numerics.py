@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from noisevar.noise_model.gmwm import estimator as est
+from noisevar.noise_model.gmwm import wavelet
 from noisevar.noise_model.gmwm.processes import PROCESSES
 
 TAU = 2.0 ** np.arange(1, 23)
@@ -48,3 +49,26 @@ def test_model_jacobian_stacks_the_processes() -> None:
     assert jac.shape == (TAU.size, p.size)
     assert jac[:, 2] == pytest.approx(PROCESSES["GM"].jac(p[2:4], TAU)[0], rel=1e-14)
     assert jac[:, 5] == pytest.approx(PROCESSES["GM"].jac(p[4:6], TAU)[1], rel=1e-14)
+
+
+def _direct_wv(row: np.ndarray, t: int) -> float:
+    """The Haar wavelet variance by its definition: each coefficient's two half-sums."""
+    x = row - row.mean()
+    h = t // 2
+    w = [(x[k + h : k + t].sum() - x[k : k + h].sum()) / t for k in range(x.size - t + 1)]
+    return float(np.mean(np.square(w)))
+
+
+@pytest.mark.parametrize("block", [7, 64, 2**16])
+def test_blocked_wavelet_variance_matches_its_definition(
+    block: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(wavelet, "BLOCK", block)
+    rng = np.random.default_rng(3)
+    x = np.cumsum(rng.standard_normal((301, 3)), axis=0) + 5.0  # (n, axes): rows strided
+    tau = wavelet.dyadic_scales(x.shape[0])
+    nu, m = wavelet.haar_wv(np.moveaxis(x, 0, -1), tau)
+    assert m == pytest.approx(x.shape[0] - tau + 1)
+    for i in range(x.shape[1]):
+        want = [_direct_wv(x[:, i], int(t)) for t in tau]
+        assert nu[i] == pytest.approx(want, rel=1e-10)

@@ -51,15 +51,66 @@ def haar_wv(
         The wavelet variances (classical mean of ``W^2``, or Huber's winsorised one).
     m : ndarray, shape (scales,)
         Coefficients behind each scale, ``n - tau + 1``.
+
+    Notes
+    -----
+    From one cumulative sum of all rows; the classical variance sums ``W^2`` over blocks
+    of :data:`BLOCK` values, so that the coefficients never fill memory.
     """
-    x = np.asarray(x, dtype=float)
-    x = x - x.mean(axis=-1, keepdims=True)
-    n = x.shape[-1]
-    csum = np.zeros((x.shape[0], n + 1))
-    np.cumsum(x, axis=-1, out=csum[:, 1:])
-    nu = np.empty((x.shape[0], tau.size))
+    csum = _centred_cumsum(np.asarray(x, dtype=float))
+    n = csum.shape[1] - 1
     m = (n - tau + 1).astype(float)
-    buf = np.empty((x.shape[0], n))
+    if robust:
+        return _robust_wv(csum, tau, c), m
+    nu = np.empty((csum.shape[0], tau.size))
+    buf = np.empty((csum.shape[0], max(1, BLOCK // csum.shape[0])))
+    for j, t in enumerate(tau.astype(int)):
+        nu[:, j] = _sum_squares(csum, t, buf) / float(t * t) / (n - t + 1)
+    return nu, m
+
+
+#: Values of the Haar coefficients (all rows) summed at once: a block stays in cache.
+BLOCK = 2**16
+
+
+def _centred_cumsum(x: NDArray) -> NDArray:
+    """``[0, cumsum(x - mean)]`` of each row, by blocks of columns (any memory layout of
+    ``x`` is read where it lies); each block's cumulative sum continues the last one's,
+    as one sequential sum would."""
+    mean = x.mean(axis=-1, keepdims=True)
+    rows, n = x.shape
+    csum = np.empty((rows, n + 1))
+    csum[:, 0] = 0.0
+    step = max(1, BLOCK // rows)
+    buf = np.empty((rows, step))
+    for k0 in range(0, n, step):
+        k1 = min(k0 + step, n)
+        b = buf[:, : k1 - k0]
+        np.subtract(x[:, k0:k1], mean, out=b)
+        b[:, 0] += csum[:, k0]
+        np.cumsum(b, axis=-1, out=csum[:, k0 + 1 : k1 + 1])
+    return csum
+
+
+def _sum_squares(csum: NDArray, t: int, buf: NDArray) -> NDArray:
+    """``sum_k (t W_k)^2`` of each row at scale ``t`` from the cumulative sums, by blocks."""
+    h, count = t // 2, csum.shape[1] - t
+    total = np.zeros(csum.shape[0])
+    for k0 in range(0, count, buf.shape[1]):
+        k1 = min(k0 + buf.shape[1], count)
+        w = buf[:, : k1 - k0]
+        np.subtract(csum[:, t + k0 : t + k1], csum[:, h + k0 : h + k1], out=w)
+        np.subtract(w, csum[:, h + k0 : h + k1], out=w)
+        np.add(w, csum[:, k0:k1], out=w)
+        total += np.einsum("ij,ij->i", w, w)
+    return total
+
+
+def _robust_wv(csum: NDArray, tau: NDArray, c: float) -> NDArray:
+    """Huber's wavelet variance of each row (all coefficients of a scale at once)."""
+    n = csum.shape[1] - 1
+    nu = np.empty((csum.shape[0], tau.size))
+    buf = np.empty((csum.shape[0], n))
     for j, t in enumerate(tau.astype(int)):
         h, count = t // 2, n - t + 1
         w = buf[:, :count]
@@ -67,11 +118,8 @@ def haar_wv(
         np.subtract(w, csum[:, h : h + count], out=w)
         np.add(w, csum[:, :count], out=w)
         w /= t
-        if robust:
-            nu[:, j] = [huber_variance(row, c) for row in w]
-        else:
-            nu[:, j] = np.einsum("ij,ij->i", w, w) / count
-    return nu, m
+        nu[:, j] = [huber_variance(row, c) for row in w]
+    return nu
 
 
 def huber_variance(w: NDArray, c: float = HUBER_C, passes: int = 30) -> float:
