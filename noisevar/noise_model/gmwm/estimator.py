@@ -129,8 +129,11 @@ def model_jac(keys: tuple[str, ...], p: NDArray, tau: NDArray) -> NDArray:
     return design(keys, tau).jac(np.asarray(p, dtype=float))
 
 
-def model_cov(keys: tuple[str, ...], p: NDArray, wv: WaveletVariance) -> NDArray:
-    """Asymptotic covariance of ``nu_hat`` under the model with parameters ``p``.
+def model_cov(
+    keys: tuple[str, ...], p: NDArray, wv: WaveletVariance, diagonal: bool = False
+) -> NDArray:
+    """Asymptotic covariance of ``nu_hat`` under the model with parameters ``p``
+    (``diagonal``: only its diagonal, the variances).
 
     Notes
     -----
@@ -143,16 +146,18 @@ def model_cov(keys: tuple[str, ...], p: NDArray, wv: WaveletVariance) -> NDArray
     model = design(keys, wv.tau)
     tau = tuple(model.tau.tolist())
     lin = [(k, float(p[i])) for k, i in zip(_linear_keys(keys), model.linear, strict=True)]
-    a = np.zeros(model.tau.size * (model.tau.size + 1) // 2)  # the pairs i <= j
+    a = 0.0
     for n, (k, pk) in enumerate(lin):
         for kl, pl in lin[n:]:
-            a += (1.0 if kl == k else 2.0) * pk * pl * _shape_integrals(k, kl, tau)
+            a = a + (1.0 if kl == k else 2.0) * pk * pl * _shape_integrals(k, kl, tau, diagonal)
     if model.gm:
-        nodes = covariance_nodes(model.tau)
+        nodes = covariance_nodes(model.tau, diagonal)
         g = sum(PROCESSES["GM"].spectrum(p[i : i + 2], *nodes) for i in model.gm)
-        low = sum((pk * _unit_spectrum(k, tau) for k, pk in lin), np.zeros_like(g))
-        a += pair_integrals(model.tau, g * (2.0 * low + g))
-    cov = covariance_matrix(model.tau, wv.m, a, wv.inflation)
+        low = np.zeros_like(g)
+        for k, pk in lin:
+            low += pk * _unit_spectrum(k, tau, diagonal)
+        a = a + pair_integrals(model.tau, g * (2.0 * low + g), diagonal)
+    cov = covariance_matrix(model.tau, wv.m, a, wv.inflation, diagonal)
     # a drift adds no variance to the spectrum: keep every scale's variance positive
     floor = 2.0 * (model.wv(p) ** 2) / wv.m * 1e-6
     cov[np.diag_indices_from(cov)] = np.maximum(np.diag(cov), floor)
@@ -164,15 +169,16 @@ def _linear_keys(keys: tuple[str, ...]) -> list[str]:
 
 
 @lru_cache(maxsize=32)
-def _unit_spectrum(key: str, tau: tuple[float, ...]) -> NDArray:
+def _unit_spectrum(key: str, tau: tuple[float, ...], diagonal: bool) -> NDArray:
     """A linear process's spectrum at unit parameter on the covariance's nodes."""
-    return PROCESSES[key].spectrum(np.ones(1), *covariance_nodes(np.array(tau)))
+    return PROCESSES[key].spectrum(np.ones(1), *covariance_nodes(np.array(tau), diagonal))
 
 
 @lru_cache(maxsize=256)
-def _shape_integrals(k: str, kl: str, tau: tuple[float, ...]) -> NDArray:
+def _shape_integrals(k: str, kl: str, tau: tuple[float, ...], diagonal: bool) -> NDArray:
     """``int |H_i|^2 |H_j|^2 s_k s_l`` for each pair of scales (unit parameters)."""
-    return pair_integrals(np.array(tau), _unit_spectrum(k, tau) * _unit_spectrum(kl, tau))
+    u = _unit_spectrum(k, tau, diagonal) * _unit_spectrum(kl, tau, diagonal)
+    return pair_integrals(np.array(tau), u, diagonal)
 
 
 def chi2_cov(wv: WaveletVariance) -> NDArray:
@@ -237,8 +243,9 @@ def fit(keys: tuple[str, ...], starts: list[NDArray], wv: WaveletVariance) -> So
     wl = whitener(chi2_cov(wv))
     best = min((_solve(keys, s, wv, wl) for s in starts), key=lambda r: r.cost)
     cov = chi2_cov(wv)
-    for _ in range(PASSES):
-        cov = model_cov(keys, np.exp(best.x), wv)
+    for i in range(PASSES):
+        # the last pass's covariance serves the objective and intervals: all of it
+        cov = model_cov(keys, np.exp(best.x), wv, diagonal=DIAGONAL and i < PASSES - 1)
         wl = whitener(np.diag(np.diag(cov)) if DIAGONAL else cov)
         best = _solve(keys, np.exp(best.x), wv, wl)
     # the objective of the choice: the residual under the full covariance

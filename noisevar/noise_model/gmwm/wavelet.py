@@ -222,32 +222,50 @@ def _h2(f: NDArray, tau: float) -> NDArray:
     return 4.0 * np.sin(np.pi * f * tau / 2.0) ** 4 / (tau * np.sin(np.pi * f)) ** 2
 
 
-def covariance_nodes(tau: NDArray) -> tuple[NDArray, NDArray, NDArray]:
+def covariance_nodes(tau: NDArray, diagonal: bool = False) -> tuple[NDArray, NDArray, NDArray]:
     """The frequencies of :func:`wv_covariance`'s integrals, with ``sin^2(pi f)`` and
-    ``cos(2 pi f)`` (cached per scales)."""
-    return _grid(tuple(np.asarray(tau, dtype=float).tolist()))[0]
+    ``cos(2 pi f)`` (cached per scales); ``diagonal``: those of the variances only."""
+    return _nodes(_key(tau), diagonal)[0]
 
 
-def pair_integrals(tau: NDArray, g: NDArray) -> NDArray:
+def pair_integrals(tau: NDArray, g: NDArray, diagonal: bool = False) -> NDArray:
     """``2 int |H_i|^2 |H_j|^2 g df`` for each pair of scales ``i <= j`` (in the order of
-    :func:`covariance_matrix`), ``g`` on :func:`covariance_nodes`."""
-    _, w, idx, pairs = _grid(tuple(np.asarray(tau, dtype=float).tolist()))
-    return np.bincount(idx, weights=w * g, minlength=len(pairs))
+    :func:`covariance_matrix`; ``diagonal``: ``i = j`` only), ``g`` on
+    :func:`covariance_nodes`."""
+    _, w, idx, rows, _ = _nodes(_key(tau), diagonal)
+    return np.bincount(idx, weights=w * g, minlength=rows.size)
 
 
-def covariance_matrix(tau: NDArray, m: NDArray, a: NDArray, inflation: float = 1.0) -> NDArray:
-    """``cov(nu_i, nu_j) = 2 a_ij / M_j``, ``a`` the :func:`pair_integrals` of ``S^2``."""
-    rows, cols = _pair_index(tuple(np.asarray(tau, dtype=float).tolist()))
+def covariance_matrix(
+    tau: NDArray, m: NDArray, a: NDArray, inflation: float = 1.0, diagonal: bool = False
+) -> NDArray:
+    """``cov(nu_i, nu_j) = 2 a_ij / M_j``, ``a`` the :func:`pair_integrals` of ``S^2``
+    (``diagonal``: a diagonal matrix of the variances)."""
+    _, _, _, rows, cols = _nodes(_key(tau), diagonal)
     cov = np.zeros((tau.size, tau.size))
     cov[rows, cols] = 2.0 * a / m[cols] * inflation
     cov[cols, rows] = cov[rows, cols]
     return cov
 
 
-@lru_cache(maxsize=16)
-def _pair_index(tau: tuple[float, ...]) -> tuple[NDArray, NDArray]:
-    pairs = np.array(_grid(tau)[3], dtype=int)
-    return pairs[:, 0], pairs[:, 1]
+def _key(tau: NDArray) -> tuple[float, ...]:
+    return tuple(np.asarray(tau, dtype=float).tolist())
+
+
+@lru_cache(maxsize=32)
+def _nodes(tau: tuple[float, ...], diagonal: bool) -> tuple:
+    """:func:`_grid` with the pairs' rows and columns; ``diagonal``: its ``i = j`` pairs
+    (their nodes in the same order, so the same sums)."""
+    trig, w, idx, pairs = _grid(tau)
+    ij = np.array(pairs, dtype=int)
+    if not diagonal:
+        return trig, w, idx, ij[:, 0], ij[:, 1]
+    keep = np.flatnonzero(ij[:, 0] == ij[:, 1])
+    renumber = np.full(len(pairs), -1)
+    renumber[keep] = np.arange(keep.size)
+    on = renumber[idx] >= 0
+    sub = tuple(a[on] for a in trig)
+    return sub, w[on], renumber[idx][on], ij[keep, 0], ij[keep, 1]
 
 
 def wv_covariance(
