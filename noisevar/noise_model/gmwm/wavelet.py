@@ -13,7 +13,7 @@ from functools import lru_cache
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy import stats
+from scipy import sparse, stats
 
 from noisevar.errors import NoisevarError
 
@@ -232,8 +232,7 @@ def pair_integrals(tau: NDArray, g: NDArray, diagonal: bool = False) -> NDArray:
     """``2 int |H_i|^2 |H_j|^2 g df`` for each pair of scales ``i <= j`` (in the order of
     :func:`covariance_matrix`; ``diagonal``: ``i = j`` only), ``g`` on
     :func:`covariance_nodes`."""
-    _, w, idx, rows, _ = _nodes(_key(tau), diagonal)
-    return np.bincount(idx, weights=w * g, minlength=rows.size)
+    return _nodes(_key(tau), diagonal)[1] @ g
 
 
 def covariance_matrix(
@@ -241,7 +240,7 @@ def covariance_matrix(
 ) -> NDArray:
     """``cov(nu_i, nu_j) = 2 a_ij / M_j``, ``a`` the :func:`pair_integrals` of ``S^2``
     (``diagonal``: a diagonal matrix of the variances)."""
-    _, _, _, rows, cols = _nodes(_key(tau), diagonal)
+    _, _, rows, cols = _nodes(_key(tau), diagonal)
     cov = np.zeros((tau.size, tau.size))
     cov[rows, cols] = 2.0 * a / m[cols] * inflation
     cov[cols, rows] = cov[rows, cols]
@@ -254,18 +253,20 @@ def _key(tau: NDArray) -> tuple[float, ...]:
 
 @lru_cache(maxsize=32)
 def _nodes(tau: tuple[float, ...], diagonal: bool) -> tuple:
-    """:func:`_grid` with the pairs' rows and columns; ``diagonal``: its ``i = j`` pairs
-    (their nodes in the same order, so the same sums)."""
+    """The distinct frequencies of :func:`_grid` (with ``sin^2``, ``cos``), the sparse
+    matrix of its weights (pairs x frequencies), and the pairs' rows and columns;
+    ``diagonal``: its ``i = j`` pairs only."""
     trig, w, idx, pairs = _grid(tau)
     ij = np.array(pairs, dtype=int)
-    if not diagonal:
-        return trig, w, idx, ij[:, 0], ij[:, 1]
-    keep = np.flatnonzero(ij[:, 0] == ij[:, 1])
-    renumber = np.full(len(pairs), -1)
-    renumber[keep] = np.arange(keep.size)
-    on = renumber[idx] >= 0
-    sub = tuple(a[on] for a in trig)
-    return sub, w[on], renumber[idx][on], ij[keep, 0], ij[keep, 1]
+    freqs, inverse = np.unique(trig[0], return_inverse=True)
+    first = np.zeros(freqs.size, dtype=int)
+    first[inverse] = np.arange(inverse.size)
+    weights = sparse.csr_matrix((w, (idx, inverse)), shape=(len(pairs), freqs.size))
+    keep = np.flatnonzero(ij[:, 0] == ij[:, 1]) if diagonal else np.arange(len(pairs))
+    weights = weights[keep]
+    used = np.unique(weights.indices)
+    nodes = tuple(a[first[used]] for a in trig)
+    return nodes, sparse.csr_matrix(weights[:, used]), ij[keep, 0], ij[keep, 1]
 
 
 def wv_covariance(
