@@ -1,10 +1,11 @@
-"""GMWM numerics for speed (issue 30): analytic Jacobians, the blocked wavelet variance."""
+"""GMWM numerics for speed (issue 30): analytic Jacobians, the wavelet variance pyramid."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
+from noisevar.errors import NoisevarError
 from noisevar.noise_model.gmwm import estimator as est
 from noisevar.noise_model.gmwm import wavelet
 from noisevar.noise_model.gmwm.processes import PROCESSES
@@ -72,3 +73,8 @@ def test_blocked_wavelet_variance_matches_its_definition(
     for i in range(x.shape[1]):
         want = [_direct_wv(x[:, i], int(t)) for t in tau]
         assert nu[i] == pytest.approx(want, rel=1e-10)
+
+
+def test_haar_wv_asks_for_dyadic_scales() -> None:
+    with pytest.raises(NoisevarError, match="powers of two"):
+        wavelet.haar_wv(np.ones((1, 64)), np.array([2.0, 6.0]))

@@ -54,72 +54,75 @@ def haar_wv(
 
     Notes
     -----
-    From one cumulative sum of all rows; the classical variance sums ``W^2`` over blocks
-    of :data:`BLOCK` values, so that the coefficients never fill memory.
+    A pyramid of moving sums: ``D_h(k) = x_k + ... + x_(k+h-1)`` of the centred row,
+    ``t W_k = D_h(k+h) - D_h(k)`` at ``t = 2h``, and ``D_2h(k) = D_h(k) + D_h(k+h)``;
+    each level by blocks of :data:`BLOCK` values that stay in cache. ``tau`` must be
+    powers of two (:func:`dyadic_scales`).
     """
-    csum = _centred_cumsum(np.asarray(x, dtype=float))
-    n = csum.shape[1] - 1
+    x = np.asarray(x, dtype=float)
+    t_int = tau.astype(int)
+    if np.any(t_int < 2) or np.any(t_int & (t_int - 1)) or np.any(t_int != tau):
+        raise NoisevarError("The Haar wavelet scales must be powers of two from 2.")
+    n = x.shape[-1]
     m = (n - tau + 1).astype(float)
-    if robust:
-        return _robust_wv(csum, tau, c), m
-    nu = np.empty((csum.shape[0], tau.size))
-    buf = np.empty((csum.shape[0], max(1, BLOCK // csum.shape[0])))
-    for j, t in enumerate(tau.astype(int)):
-        nu[:, j] = _sum_squares(csum, t, buf) / float(t * t) / (n - t + 1)
+    d = _centred(x)
+    scratch = np.empty(n)
+    nu = np.empty((x.shape[0], tau.size))
+    for i in range(x.shape[0]):
+        nu[i] = _levels(d[i], scratch, t_int, robust, c)
     return nu, m
 
 
-#: Values of the Haar coefficients (all rows) summed at once: a block stays in cache.
+#: Values of a row (or of all rows) processed at once: a block stays in cache.
 BLOCK = 2**16
 
 
-def _centred_cumsum(x: NDArray) -> NDArray:
-    """``[0, cumsum(x - mean)]`` of each row, by blocks of columns (any memory layout of
-    ``x`` is read where it lies); each block's cumulative sum continues the last one's,
-    as one sequential sum would."""
+def _centred(x: NDArray) -> NDArray:
+    """``x - mean`` of each row as contiguous rows, by blocks of columns (any memory
+    layout of ``x`` is read where it lies)."""
     mean = x.mean(axis=-1, keepdims=True)
     rows, n = x.shape
-    csum = np.empty((rows, n + 1))
-    csum[:, 0] = 0.0
+    out = np.empty((rows, n))
     step = max(1, BLOCK // rows)
-    buf = np.empty((rows, step))
     for k0 in range(0, n, step):
-        k1 = min(k0 + step, n)
-        b = buf[:, : k1 - k0]
-        np.subtract(x[:, k0:k1], mean, out=b)
-        b[:, 0] += csum[:, k0]
-        np.cumsum(b, axis=-1, out=csum[:, k0 + 1 : k1 + 1])
-    return csum
+        np.subtract(x[:, k0 : k0 + step], mean, out=out[:, k0 : k0 + step])
+    return out
 
 
-def _sum_squares(csum: NDArray, t: int, buf: NDArray) -> NDArray:
-    """``sum_k (t W_k)^2`` of each row at scale ``t`` from the cumulative sums, by blocks."""
-    h, count = t // 2, csum.shape[1] - t
-    total = np.zeros(csum.shape[0])
-    for k0 in range(0, count, buf.shape[1]):
-        k1 = min(k0 + buf.shape[1], count)
-        w = buf[:, : k1 - k0]
-        np.subtract(csum[:, t + k0 : t + k1], csum[:, h + k0 : h + k1], out=w)
-        np.subtract(w, csum[:, h + k0 : h + k1], out=w)
-        np.add(w, csum[:, k0:k1], out=w)
-        total += np.einsum("ij,ij->i", w, w)
-    return total
-
-
-def _robust_wv(csum: NDArray, tau: NDArray, c: float) -> NDArray:
-    """Huber's wavelet variance of each row (all coefficients of a scale at once)."""
-    n = csum.shape[1] - 1
-    nu = np.empty((csum.shape[0], tau.size))
-    buf = np.empty((csum.shape[0], n))
-    for j, t in enumerate(tau.astype(int)):
-        h, count = t // 2, n - t + 1
-        w = buf[:, :count]
-        np.subtract(csum[:, t:], csum[:, h : h + count], out=w)
-        np.subtract(w, csum[:, h : h + count], out=w)
-        np.add(w, csum[:, :count], out=w)
-        w /= t
-        nu[:, j] = [huber_variance(row, c) for row in w]
+def _levels(d: NDArray, scratch: NDArray, tau: NDArray, robust: bool, c: float) -> NDArray:
+    """The wavelet variance of one centred row ``d`` (overwritten) at scales ``tau``."""
+    nu = np.empty(tau.size)
+    h = 1  # d holds the n - h + 1 moving sums D_h
+    while h <= tau[-1] // 2:
+        t, count = 2 * h, d.size - h
+        if t in tau:
+            j = int(np.searchsorted(tau, t))
+            if robust:
+                w = (d[h : h + count] - d[:count]) / t
+                nu[j] = huber_variance(w, c)
+            else:
+                nu[j] = _sum_squares(d, h, count) / float(t * t) / count
+        if 2 * t > tau[-1]:
+            break
+        # D_2h(k) = D_h(k) + D_h(k + h), for k < n - 2h + 1
+        for k0 in range(0, count, BLOCK):
+            k1 = min(k0 + BLOCK, count)
+            np.add(d[k0:k1], d[k0 + h : k1 + h], out=scratch[k0:k1])
+        d, scratch = scratch[:count], d
+        h = t
     return nu
+
+
+def _sum_squares(d: NDArray, h: int, count: int) -> float:
+    """``sum_k (D_h(k+h) - D_h(k))^2`` for ``k < count``, by blocks."""
+    total = 0.0
+    buf = np.empty(min(BLOCK, count))
+    for k0 in range(0, count, BLOCK):
+        k1 = min(k0 + BLOCK, count)
+        w = buf[: k1 - k0]
+        np.subtract(d[k0 + h : k1 + h], d[k0:k1], out=w)
+        total += float(np.einsum("i,i->", w, w))
+    return total
 
 
 def huber_variance(w: NDArray, c: float = HUBER_C, passes: int = 30) -> float:
