@@ -152,13 +152,23 @@ SERIES_BELOW = 1e-2
 
 
 @lru_cache(maxsize=64)
-def _series_coefficients(h: tuple[float, ...]) -> NDArray:
-    """``(-1)^(k+1) (h 2^k + 3 - 4 (h+1)^k + (2h+1)^k) / k!`` for each power and ``h``."""
+def _constants(h: tuple[float, ...]) -> tuple[NDArray, ...]:
+    """Per half-scale ``h``: ``(h, [h+1, 2h+1], 2h, 4(h+1), 2h+1, series coefficients)``,
+    the coefficients ``(-1)^(k+1) (h 2^k + 3 - 4 (h+1)^k + (2h+1)^k) / k!`` (powers x h)."""
+    hv = np.array(h)
     k = SERIES_POWERS[:, None].astype(float)
-    hh = np.array(h)[None, :]
+    hh = hv[None, :]
     sign = (-1.0) ** (k + 1.0)
     fact = np.array([math.factorial(int(j)) for j in SERIES_POWERS], dtype=float)[:, None]
-    return sign * ((hh * 2.0**k + 3.0 - 4.0 * (hh + 1.0) ** k + (2.0 * hh + 1.0) ** k) / fact)
+    coef = sign * ((hh * 2.0**k + 3.0 - 4.0 * (hh + 1.0) ** k + (2.0 * hh + 1.0) ** k) / fact)
+    return (
+        hv,
+        np.stack([hv + 1.0, 2.0 * hv + 1.0]),
+        2.0 * hv,
+        4.0 * (hv + 1.0),
+        2.0 * hv + 1.0,
+        coef,
+    )
 
 
 def _bracket(h: NDArray, u: float, deriv: bool) -> tuple[NDArray, NDArray | None]:
@@ -168,23 +178,21 @@ def _bracket(h: NDArray, u: float, deriv: bool) -> tuple[NDArray, NDArray | None
     Its terms in ``u`` and ``u^2`` cancel, so for ``h u`` small (:data:`SERIES_BELOW`) it
     is its Taylor series from ``u^3`` on (to ``u^9``).
     """
+    hv, a, two_h, four_h1, two_h1, coef = _constants(tuple(h.tolist()))
     e2, e1 = -math.expm1(-2.0 * u), -math.expm1(-u)
-    eh1, e2h1 = -np.expm1(-(h + 1.0) * u), -np.expm1(-(2.0 * h + 1.0) * u)
-    bracket = h * e2 + 3.0 * e1 - 4.0 * eh1 + e2h1
-    small = h * u < SERIES_BELOW
-    coef = _series_coefficients(tuple(h[small].tolist())) if np.any(small) else None
-    if coef is not None:
-        bracket[small] = u**SERIES_POWERS @ coef
+    m = np.expm1(a * -u)  # -E(h+1), -E(2h+1)
+    bracket = hv * e2 + 3.0 * e1 + 4.0 * m[0] - m[1]
+    small = hv * u < SERIES_BELOW
+    some = bool(small[0] or small.any())
+    if some:
+        bracket[small] = u**SERIES_POWERS @ coef[:, small]
     if not deriv:
         return bracket, None
     dbracket = (
-        2.0 * h * (1.0 - e2)
-        + 3.0 * (1.0 - e1)
-        - 4.0 * (h + 1.0) * (1.0 - eh1)
-        + (2.0 * h + 1.0) * (1.0 - e2h1)
+        two_h * (1.0 - e2) + 3.0 * (1.0 - e1) - four_h1 * (1.0 + m[0]) + two_h1 * (1.0 + m[1])
     )
-    if coef is not None:
-        dbracket[small] = (SERIES_POWERS * u ** (SERIES_POWERS - 1.0)) @ coef
+    if some:
+        dbracket[small] = (SERIES_POWERS * u ** (SERIES_POWERS - 1.0)) @ coef[:, small]
     return bracket, dbracket
 
 
