@@ -94,6 +94,14 @@ class Design:
             out = out + PROCESSES["GM"].wv(p[i : i + 2], self.tau)
         return out
 
+    def wv_jac(self, p: NDArray) -> tuple[NDArray, NDArray]:
+        """:meth:`wv` and :meth:`jac` at once (a GM's first column is its wavelet variance)."""
+        jac = self.jac(p)
+        out = p[self.linear] @ self.shapes
+        for i in self.gm:
+            out = out + jac[:, i]
+        return out, jac
+
     def jac(self, p: NDArray) -> NDArray:
         """Derivatives of :meth:`wv` in the log-parameters, shape ``(scales, params)``."""
         out = np.empty((self.tau.size, self.n_params))
@@ -223,11 +231,16 @@ def _solve(keys: tuple[str, ...], start: NDArray, wv: WaveletVariance, wl: NDArr
 
     model = design(keys, wv.tau)
 
+    last: dict[str, NDArray] = {}  # least_squares asks the Jacobian where it last evaluated
+
     def resid(x: NDArray) -> NDArray:
-        return wl @ (wv.nu - model.wv(np.exp(x)))
+        nu, last["jac"] = model.wv_jac(np.exp(x))
+        last["x"] = x.copy()
+        return wl @ (wv.nu - nu)
 
     def jac(x: NDArray) -> NDArray:
-        return -wl @ model.jac(np.exp(x))
+        same = "x" in last and np.array_equal(x, last["x"])
+        return -wl @ (last["jac"] if same else model.jac(np.exp(x)))
 
     return least_squares(
         resid, x0, jac=jac, bounds=(lo, hi), method="trf", x_scale=1.0, max_nfev=400
