@@ -95,33 +95,35 @@ def _levels(d: NDArray, scratch: NDArray, tau: NDArray, robust: bool, c: float) 
     h = 1  # d holds the n - h + 1 moving sums D_h
     while h <= tau[-1] // 2:
         t, count = 2 * h, d.size - h
-        if t in tau:
-            j = int(np.searchsorted(tau, t))
-            if robust:
-                w = (d[h : h + count] - d[:count]) / t
-                nu[j] = huber_variance(w, c)
-            else:
-                nu[j] = _sum_squares(d, h, count) / float(t * t) / count
-        if 2 * t > tau[-1]:
+        wanted, deeper = t in tau, 2 * t <= tau[-1]
+        j = int(np.searchsorted(tau, t))
+        if wanted and robust:
+            nu[j] = huber_variance((d[h : h + count] - d[:count]) / t, c)
+        # one pass: t W = D_h(k+h) - D_h(k) and D_2h(k) = D_h(k) + D_h(k+h), k < count
+        total = _pass(d, scratch, h, count, wanted and not robust, deeper)
+        if wanted and not robust:
+            nu[j] = total / float(t * t) / count
+        if not deeper:
             break
-        # D_2h(k) = D_h(k) + D_h(k + h), for k < n - 2h + 1
-        for k0 in range(0, count, BLOCK):
-            k1 = min(k0 + BLOCK, count)
-            np.add(d[k0:k1], d[k0 + h : k1 + h], out=scratch[k0:k1])
         d, scratch = scratch[:count], d
         h = t
     return nu
 
 
-def _sum_squares(d: NDArray, h: int, count: int) -> float:
-    """``sum_k (D_h(k+h) - D_h(k))^2`` for ``k < count``, by blocks."""
+def _pass(d: NDArray, out: NDArray, h: int, count: int, squares: bool, sums: bool) -> float:
+    """By blocks: ``sum (D_h(k+h) - D_h(k))^2`` if ``squares``, and the next level's
+    ``D_h(k) + D_h(k+h)`` into ``out`` if ``sums``."""
     total = 0.0
     buf = np.empty(min(BLOCK, count))
     for k0 in range(0, count, BLOCK):
         k1 = min(k0 + BLOCK, count)
-        w = buf[: k1 - k0]
-        np.subtract(d[k0 + h : k1 + h], d[k0:k1], out=w)
-        total += float(np.einsum("i,i->", w, w))
+        lo, hi = d[k0:k1], d[k0 + h : k1 + h]
+        if squares:
+            w = buf[: k1 - k0]
+            np.subtract(hi, lo, out=w)
+            total += float(np.einsum("i,i->", w, w))
+        if sums:
+            np.add(lo, hi, out=out[k0:k1])
     return total
 
 
