@@ -65,11 +65,11 @@ def haar_wv(
         raise NoisevarError("The Haar wavelet scales must be powers of two from 2.")
     n = x.shape[-1]
     m = (n - tau + 1).astype(float)
-    d = _centred(x)
-    scratch = np.empty(n)
+    mean = x.mean(axis=-1)
+    bufs = (np.empty(n), np.empty(n))  # the levels' moving sums, reused row after row
     nu = np.empty((x.shape[0], tau.size))
     for i in range(x.shape[0]):
-        nu[i] = _levels(d[i], scratch, t_int, robust, c)
+        nu[i] = _levels(x[i], float(mean[i]), bufs, t_int, robust, c)
     return nu, m
 
 
@@ -77,21 +77,19 @@ def haar_wv(
 BLOCK = 2**16
 
 
-def _centred(x: NDArray) -> NDArray:
-    """``x - mean`` of each row as contiguous rows, by blocks of columns (any memory
-    layout of ``x`` is read where it lies)."""
-    mean = x.mean(axis=-1, keepdims=True)
-    rows, n = x.shape
-    out = np.empty((rows, n))
-    step = max(1, BLOCK // rows)
-    for k0 in range(0, n, step):
-        np.subtract(x[:, k0 : k0 + step], mean, out=out[:, k0 : k0 + step])
-    return out
+def _levels(
+    row: NDArray, mean: float, bufs: tuple[NDArray, NDArray], tau: NDArray, robust: bool, c: float
+) -> NDArray:
+    """The wavelet variance of one row (read where it lies, never written) at ``tau``.
 
-
-def _levels(d: NDArray, scratch: NDArray, tau: NDArray, robust: bool, c: float) -> NDArray:
-    """The wavelet variance of one centred row ``d`` (overwritten) at scales ``tau``."""
+    The first level reads the row itself, centred block by block (the robust variance
+    centres it whole); the next levels alternate between the two buffers.
+    """
     nu = np.empty(tau.size)
+    d, centre = row, mean
+    if robust:
+        d, centre = np.subtract(row, mean, out=bufs[1]), None
+    scratch = bufs[0]
     h = 1  # d holds the n - h + 1 moving sums D_h
     while h <= tau[-1] // 2:
         t, count = 2 * h, d.size - h
@@ -100,24 +98,33 @@ def _levels(d: NDArray, scratch: NDArray, tau: NDArray, robust: bool, c: float) 
         if wanted and robust:
             nu[j] = huber_variance((d[h : h + count] - d[:count]) / t, c)
         # one pass: t W = D_h(k+h) - D_h(k) and D_2h(k) = D_h(k) + D_h(k+h), k < count
-        total = _pass(d, scratch, h, count, wanted and not robust, deeper)
+        total = _pass(d, scratch, h, count, (wanted and not robust, deeper), centre)
         if wanted and not robust:
             nu[j] = total / float(t * t) / count
         if not deeper:
             break
-        d, scratch = scratch[:count], d
-        h = t
+        d, scratch = scratch[:count], (bufs[1] if d is row else d)
+        centre, h = None, t
     return nu
 
 
-def _pass(d: NDArray, out: NDArray, h: int, count: int, squares: bool, sums: bool) -> float:
-    """By blocks: ``sum (D_h(k+h) - D_h(k))^2`` if ``squares``, and the next level's
-    ``D_h(k) + D_h(k+h)`` into ``out`` if ``sums``."""
+def _pass(
+    d: NDArray, out: NDArray, h: int, count: int, what: tuple[bool, bool], centre: float | None
+) -> float:
+    """By blocks: ``sum (D_h(k+h) - D_h(k))^2`` if ``what[0]``, and the next level's
+    ``D_h(k) + D_h(k+h)`` into ``out`` if ``what[1]``; ``d - centre`` if ``centre``."""
+    squares, sums = what
     total = 0.0
     buf = np.empty(min(BLOCK, count))
+    cbuf = np.empty(min(BLOCK, count) + h) if centre is not None else None
     for k0 in range(0, count, BLOCK):
         k1 = min(k0 + BLOCK, count)
-        lo, hi = d[k0:k1], d[k0 + h : k1 + h]
+        if cbuf is not None:
+            cen = cbuf[: k1 - k0 + h]
+            np.subtract(d[k0 : k1 + h], centre, out=cen)
+            lo, hi = cen[: k1 - k0], cen[h : h + k1 - k0]
+        else:
+            lo, hi = d[k0:k1], d[k0 + h : k1 + h]
         if squares:
             w = buf[: k1 - k0]
             np.subtract(hi, lo, out=w)
