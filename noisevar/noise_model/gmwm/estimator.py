@@ -201,6 +201,8 @@ def chi2_cov(wv: WaveletVariance) -> NDArray:
 def whitener(cov: NDArray) -> NDArray:
     """``L^-1`` with ``cov = L L'`` (its diagonal alone when ill-conditioned)."""
     d = np.sqrt(np.diag(cov))
+    if not np.any(cov - np.diag(np.diag(cov))):  # diagonal: L^-1 = diag(1 / d) exactly
+        return np.diag(1.0 / d)
     corr = cov / np.outer(d, d)
     try:
         if np.linalg.cond(corr) > MAX_CONDITION:
