@@ -9,7 +9,8 @@ Sections (each can run alone with ``--only``; the others are kept from the last 
 2. ``composite``: white + quantisation + one or two Gauss-Markov + random walk, known
    truth: each parameter's error, interval coverage, right model chosen.
 3. ``robust``: 0.1 % of the samples replaced by outliers at 20 sigma: N robust/classical.
-4. ``speed``: 6 axes x 7.2e6 samples, composite fit with model choice: wall and CPU,
+4. ``speed``: 6 axes x 7.2e6 samples, composite fit with model choice: wall and CPU, each
+   tool in a fresh process, 3 repeats interleaved,
    against allan-variance-analyzer's Allan variance and line fits on the same record.
 
 Results: benchmarks/results/imu_models.md. allan-variance-analyzer is a benchmark-only
@@ -19,8 +20,13 @@ dependency (``pip install allan-variance-analyzer``); without it its columns say
 from __future__ import annotations
 
 import argparse
+import json
 import math
+import os
+import resource
+import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -263,10 +269,20 @@ def robust_section(runs: int, hours: float) -> list[str]:
     ]
 
 
-def speed_section() -> list[str]:
+#: The speed section's tools, each run in a fresh process on the same saved record.
+SPEED_TOOLS = {
+    "fit_imu_model": "fit_imu_model, 6 axes, model choice",
+    "ava": "allan-variance-analyzer, Allan variance + line fits",
+    "inertial_noise": "inertial_noise (IEEE-952 NNLS)",
+}
+SPEED_REPEATS = 3
+
+
+def speed_record() -> np.ndarray:
+    """6 axes x 7.2e6 samples (10 h at 200 Hz) of the one-GM composite model."""
     rate, n = 200.0, 7_200_000
     base = COMPOSITE["one GM"]
-    x = np.column_stack(
+    return np.column_stack(
         [
             simulate_inertial(
                 n,
@@ -280,34 +296,81 @@ def speed_section() -> list[str]:
             for s in range(6)
         ]
     )
-    out = {}
-    for name, run in [
-        ("fit_imu_model, 6 axes, model choice", lambda: fit_imu_model(x, rate)),
-        ("allan-variance-analyzer, Allan variance + line fits", lambda: ava_lines(x, rate)),
-        ("inertial_noise (IEEE-952 NNLS)", lambda: inertial_noise(x.T, rate)),
-    ]:
-        w0, c0 = time.perf_counter(), time.process_time()
-        res = run()
-        out[name] = (time.perf_counter() - w0, time.process_time() - c0, res is not None)
-    ours = out["fit_imu_model, 6 axes, model choice"]
-    ava = out["allan-variance-analyzer, Allan variance + line fits"]
+
+
+def speed_worker(tool: str, path: Path) -> None:
+    """One tool on the saved record, in this fresh process: prints wall and CPU (s).
+
+    The CPU is ``resource.getrusage`` of this process (all its threads: user + system)
+    from after the record is loaded to the end of the tool's call.
+    """
+    x = np.load(path)
+    rate = 200.0
+    run = {
+        "fit_imu_model": lambda: fit_imu_model(x, rate),
+        "ava": lambda: ava_lines(x, rate),
+        "inertial_noise": lambda: inertial_noise(x.T, rate),
+    }[tool]
+    r0, w0 = resource.getrusage(resource.RUSAGE_SELF), time.perf_counter()
+    res = run()
+    r1, w1 = resource.getrusage(resource.RUSAGE_SELF), time.perf_counter()
+    cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
+    print(json.dumps({"wall": w1 - w0, "cpu": cpu, "ok": res is not None}))
+
+
+def _load() -> str:
+    """The 1-minute load average (as ``uptime`` shows it)."""
+    return f"{os.getloadavg()[0]:.1f}"
+
+
+def speed_section() -> list[str]:
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "record.npy"
+        np.save(path, speed_record())
+        runs: dict[str, list[tuple[float, float, str]]] = {t: [] for t in SPEED_TOOLS}
+        ok = dict.fromkeys(SPEED_TOOLS, True)
+        for _ in range(SPEED_REPEATS):  # interleaved: each repeat runs every tool
+            for tool in SPEED_TOOLS:
+                load = _load()
+                cmd = [sys.executable, __file__, "--speed-worker", tool, str(path)]
+                out = subprocess.run(cmd, capture_output=True, text=True, check=True)
+                res = json.loads(out.stdout.strip().splitlines()[-1])
+                ok[tool] = ok[tool] and res["ok"]
+                runs[tool].append((res["wall"], res["cpu"], load))
+                print(tool, res, "load", load, file=sys.stderr)
     lines = [
         "#### Speed",
         "",
-        "6 axes x 7.2e6 samples (10 h at 200 Hz), white + quantisation + GM + random walk; "
-        "one run each, in this order, on the shared 2-core machine (other jobs running: "
-        "the wall clock is loaded, the CPU time is this process's).",
+        "6 axes x 7.2e6 samples (10 h at 200 Hz), white + quantisation + GM + random walk, "
+        f"saved once; each tool in a fresh process on it, {SPEED_REPEATS} repeats "
+        "interleaved (each repeat runs every tool in turn). CPU: `resource.getrusage` of "
+        "the process (all threads, user + system) around the call, after loading. The "
+        "machine is shared (2 cores): the 1-minute load average before each run is given; "
+        "wall times are loaded, CPU times less so.",
         "",
-        "| tool | wall (s) | CPU (s) |",
-        "|---|---|---|",
+        "| tool | wall (s) per repeat | CPU (s) per repeat | load before each | "
+        "median wall | median CPU |",
+        "|---|---|---|---|---|---|",
     ]
-    for name, (w, c, ok) in out.items():
-        lines.append(f"| {name} | {w:.1f} | {c:.1f} |" if ok else f"| {name} | not installed | |")
-    if ava[2]:
+    for tool, name in SPEED_TOOLS.items():
+        if not ok[tool]:
+            lines.append(f"| {name} | not installed | | | | |")
+            continue
+        w, c, ld = zip(*runs[tool], strict=True)
+        lines.append(
+            f"| {name} | {', '.join(f'{v:.1f}' for v in w)} | "
+            f"{', '.join(f'{v:.2f}' for v in c)} | {', '.join(ld)} | "
+            f"{np.median(w):.1f} | {np.median(c):.2f} |"
+        )
+    if ok["ava"] and ok["fit_imu_model"]:
+        ours, ava = runs["fit_imu_model"], runs["ava"]
+        cpu = [o[1] / a[1] for o, a in zip(ours, ava, strict=True)]
+        wall = [o[0] / a[0] for o, a in zip(ours, ava, strict=True)]
         lines += [
             "",
-            f"CPU ratio fit_imu_model / allan-variance-analyzer: {ours[1] / ava[1]:.2f}; "
-            f"wall ratio {ours[0] / ava[0]:.2f}.",
+            "fit_imu_model / allan-variance-analyzer, per repeat (adjacent runs): CPU "
+            f"{', '.join(f'{r:.2f}' for r in cpu)} (median {np.median(cpu):.2f}); wall "
+            f"{', '.join(f'{r:.2f}' for r in wall)} (median {np.median(wall):.2f}).",
         ]
     return lines
 
@@ -328,7 +391,11 @@ def main() -> None:
         "--truths", nargs="+", default=(), help='composite truths to run ("one GM", "two GM")'
     )
     ap.add_argument("--out", type=Path, default=OUT, help="results file (sections kept)")
+    ap.add_argument("--speed-worker", nargs=2, metavar=("TOOL", "RECORD"), help=argparse.SUPPRESS)
     args = ap.parse_args()
+    if args.speed_worker:
+        speed_worker(args.speed_worker[0], Path(args.speed_worker[1]))
+        return
     wanted = set(args.only or SECTIONS)
     kept = _previous_sections(args.out)
     run = {

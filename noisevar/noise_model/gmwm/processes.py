@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 from numpy.typing import NDArray
@@ -36,6 +37,11 @@ class Process:
     units: tuple[str, ...]
     description: str
 
+    @property
+    def linear(self) -> bool:
+        """Its wavelet variance is its one parameter times a shape of the scales."""
+        return self.key != "GM"
+
     def wv(self, p: NDArray, tau: NDArray) -> NDArray:
         """Haar wavelet variance at scales ``tau`` (samples) for parameters ``p``."""
         t = np.asarray(tau, dtype=float)
@@ -50,6 +56,18 @@ class Process:
         if self.key == "FL":  # flicker of bias instability B, p = B^2
             return flicker_wv(t) * p[0]
         return _gm_wv(p[0], p[1], t)
+
+    def jac(self, p: NDArray, tau: NDArray) -> NDArray:
+        """Derivatives of :meth:`wv` with respect to the log of each parameter.
+
+        Returns shape ``(len(params), scales)``. All but the GM are linear in their one
+        parameter (the derivative is the wavelet variance itself); the GM's in its
+        correlation time is analytic (:func:`_gm_wv_jac`).
+        """
+        t = np.asarray(tau, dtype=float)
+        if self.linear:
+            return self.wv(p, t)[None, :]
+        return np.stack(_gm_wv_jac(p[0], p[1], t))
 
     def spectrum(
         self, p: NDArray, f: NDArray, s2: NDArray | None = None, c2: NDArray | None = None
@@ -109,6 +127,75 @@ class Process:
         return starts
 
 
+def _gm_wv_jac(var: float, tc: float, t: NDArray) -> tuple[NDArray, NDArray]:
+    """The GM's wavelet variance and its derivative with respect to ``log tc``.
+
+    With ``u = 1 / tc``, ``nu = var G(u)``, ``G = bracket / (2 h^2 E(1)^2)``:
+    ``d nu / d log tc = -u var G'(u)``, ``G' = (bracket' - 2 bracket e^-u / E(1)) /
+    (2 h^2 E(1)^2)``, the bracket's derivative by terms (or by its series for small
+    ``h u``, as :func:`_gm_wv`).
+    """
+    u = 1.0 / tc
+    h = t / 2.0
+    e1 = -math.expm1(-u)
+    bracket, dbracket = _bracket(h, u, True)
+    den = 2.0 * h**2 * e1**2
+    g = bracket / den
+    dg = (dbracket - 2.0 * bracket * math.exp(-u) / e1) / den
+    return var * g, -u * var * dg
+
+
+#: Powers of ``u`` in the bracket's Taylor series (:func:`_bracket`).
+SERIES_POWERS = np.arange(3, 10)
+#: ``h u`` below which the bracket is summed from its Taylor series.
+SERIES_BELOW = 1e-2
+
+
+@lru_cache(maxsize=64)
+def _constants(h: tuple[float, ...]) -> tuple[NDArray, ...]:
+    """Per half-scale ``h``: ``(h, [h+1, 2h+1], 2h, 4(h+1), 2h+1, series coefficients)``,
+    the coefficients ``(-1)^(k+1) (h 2^k + 3 - 4 (h+1)^k + (2h+1)^k) / k!`` (powers x h)."""
+    hv = np.array(h)
+    k = SERIES_POWERS[:, None].astype(float)
+    hh = hv[None, :]
+    sign = (-1.0) ** (k + 1.0)
+    fact = np.array([math.factorial(int(j)) for j in SERIES_POWERS], dtype=float)[:, None]
+    coef = sign * ((hh * 2.0**k + 3.0 - 4.0 * (hh + 1.0) ** k + (2.0 * hh + 1.0) ** k) / fact)
+    return (
+        hv,
+        np.stack([hv + 1.0, 2.0 * hv + 1.0]),
+        2.0 * hv,
+        4.0 * (hv + 1.0),
+        2.0 * hv + 1.0,
+        coef,
+    )
+
+
+def _bracket(h: NDArray, u: float, deriv: bool) -> tuple[NDArray, NDArray | None]:
+    """``h E(2) + 3 E(1) - 4 E(h+1) + E(2h+1)`` (``E(a) = 1 - e^(-a u)``), and its
+    derivative in ``u`` when ``deriv``.
+
+    Its terms in ``u`` and ``u^2`` cancel, so for ``h u`` small (:data:`SERIES_BELOW`) it
+    is its Taylor series from ``u^3`` on (to ``u^9``).
+    """
+    hv, a, two_h, four_h1, two_h1, coef = _constants(tuple(h.tolist()))
+    e2, e1 = -math.expm1(-2.0 * u), -math.expm1(-u)
+    m = np.expm1(a * -u)  # -E(h+1), -E(2h+1)
+    bracket = hv * e2 + 3.0 * e1 + 4.0 * m[0] - m[1]
+    small = hv * u < SERIES_BELOW
+    some = bool(small[0] or small.any())
+    if some:
+        bracket[small] = u**SERIES_POWERS @ coef[:, small]
+    if not deriv:
+        return bracket, None
+    dbracket = (
+        two_h * (1.0 - e2) + 3.0 * (1.0 - e1) - four_h1 * (1.0 + m[0]) + two_h1 * (1.0 + m[1])
+    )
+    if some:
+        dbracket[small] = (SERIES_POWERS * u ** (SERIES_POWERS - 1.0)) @ coef[:, small]
+    return bracket, dbracket
+
+
 def _gm_wv(var: float, tc: float, t: NDArray) -> NDArray:
     """Haar WV of a first-order Gauss-Markov process of stationary variance ``var``.
 
@@ -116,28 +203,12 @@ def _gm_wv(var: float, tc: float, t: NDArray) -> NDArray:
     ``(t/2 - 3 phi - t phi^2/2 + 4 phi^(t/2+1) - phi^(t+1)) s2 / (2 (t/2)^2 (1-phi)^2 (1-phi^2))``.
     That is the spec's eq. F4.5 over 2: with our Haar filter (white noise ``s2 / t``) it
     gives ``v (1 - phi) / 2`` at ``t = 2`` and ``s2 / ((1 - phi)^2 t)`` at large ``t``,
-    as it must, and it matches simulation (tests).
+    as it must, and it matches simulation (tests). The bracket: :func:`_bracket`.
     """
     u = 1.0 / tc
     h = t / 2.0
-
-    def e(a: NDArray | float) -> NDArray:  # 1 - phi^a, accurate for long tc
-        return -np.expm1(-np.asarray(a) * u)
-
-    # the bracket is h E(2) + 3 E(1) - 4 E(h+1) + E(2h+1), E(a) = 1 - phi^a: its terms in u
-    # and u^2 cancel, so for h u small use its Taylor series from u^3 on
-    bracket = h * e(2.0) + 3.0 * e(1.0) - 4.0 * e(h + 1.0) + e(2.0 * h + 1.0)
-    small = h * u < 1e-2
-    if np.any(small):
-        hs = h[small]
-        series = np.zeros(hs.shape)
-        for k in range(3, 10):
-            ck = (
-                hs * 2.0**k + 3.0 - 4.0 * (hs + 1.0) ** k + (2.0 * hs + 1.0) ** k
-            ) / math.factorial(k)
-            series += (-1.0) ** (k + 1) * ck * u**k
-        bracket[small] = series
-    return var * bracket / (2.0 * h**2 * e(1.0) ** 2)
+    bracket, _ = _bracket(h, u, False)
+    return var * bracket / (2.0 * h**2 * math.expm1(-u) ** 2)
 
 
 PROCESSES = {

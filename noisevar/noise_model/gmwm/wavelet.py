@@ -13,7 +13,7 @@ from functools import lru_cache
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy import stats
+from scipy import sparse, stats
 
 from noisevar.errors import NoisevarError
 
@@ -51,27 +51,87 @@ def haar_wv(
         The wavelet variances (classical mean of ``W^2``, or Huber's winsorised one).
     m : ndarray, shape (scales,)
         Coefficients behind each scale, ``n - tau + 1``.
+
+    Notes
+    -----
+    A pyramid of moving sums: ``D_h(k) = x_k + ... + x_(k+h-1)`` of the centred row,
+    ``t W_k = D_h(k+h) - D_h(k)`` at ``t = 2h``, and ``D_2h(k) = D_h(k) + D_h(k+h)``;
+    each level by blocks of :data:`BLOCK` values that stay in cache. ``tau`` must be
+    powers of two (:func:`dyadic_scales`).
     """
     x = np.asarray(x, dtype=float)
-    x = x - x.mean(axis=-1, keepdims=True)
+    t_int = tau.astype(int)
+    if np.any(t_int < 2) or np.any(t_int & (t_int - 1)) or np.any(t_int != tau):
+        raise NoisevarError("The Haar wavelet scales must be powers of two from 2.")
     n = x.shape[-1]
-    csum = np.zeros((x.shape[0], n + 1))
-    np.cumsum(x, axis=-1, out=csum[:, 1:])
-    nu = np.empty((x.shape[0], tau.size))
     m = (n - tau + 1).astype(float)
-    buf = np.empty((x.shape[0], n))
-    for j, t in enumerate(tau.astype(int)):
-        h, count = t // 2, n - t + 1
-        w = buf[:, :count]
-        np.subtract(csum[:, t:], csum[:, h : h + count], out=w)
-        np.subtract(w, csum[:, h : h + count], out=w)
-        np.add(w, csum[:, :count], out=w)
-        w /= t
-        if robust:
-            nu[:, j] = [huber_variance(row, c) for row in w]
-        else:
-            nu[:, j] = np.einsum("ij,ij->i", w, w) / count
+    mean = x.mean(axis=-1)
+    bufs = (np.empty(n), np.empty(n))  # the levels' moving sums, reused row after row
+    nu = np.empty((x.shape[0], tau.size))
+    for i in range(x.shape[0]):
+        nu[i] = _levels(x[i], float(mean[i]), bufs, t_int, robust, c)
     return nu, m
+
+
+#: Values of a row (or of all rows) processed at once: a block stays in cache.
+BLOCK = 2**16
+
+
+def _levels(
+    row: NDArray, mean: float, bufs: tuple[NDArray, NDArray], tau: NDArray, robust: bool, c: float
+) -> NDArray:
+    """The wavelet variance of one row (read where it lies, never written) at ``tau``.
+
+    The first level reads the row itself, centred block by block (the robust variance
+    centres it whole); the next levels alternate between the two buffers.
+    """
+    nu = np.empty(tau.size)
+    d, centre = row, mean
+    if robust:
+        d, centre = np.subtract(row, mean, out=bufs[1]), None
+    scratch = bufs[0]
+    h = 1  # d holds the n - h + 1 moving sums D_h
+    while h <= tau[-1] // 2:
+        t, count = 2 * h, d.size - h
+        wanted, deeper = t in tau, 2 * t <= tau[-1]
+        j = int(np.searchsorted(tau, t))
+        if wanted and robust:
+            nu[j] = huber_variance((d[h : h + count] - d[:count]) / t, c)
+        # one pass: t W = D_h(k+h) - D_h(k) and D_2h(k) = D_h(k) + D_h(k+h), k < count
+        total = _pass(d, scratch, h, count, (wanted and not robust, deeper), centre)
+        if wanted and not robust:
+            nu[j] = total / float(t * t) / count
+        if not deeper:
+            break
+        d, scratch = scratch[:count], (bufs[1] if d is row else d)
+        centre, h = None, t
+    return nu
+
+
+def _pass(
+    d: NDArray, out: NDArray, h: int, count: int, what: tuple[bool, bool], centre: float | None
+) -> float:
+    """By blocks: ``sum (D_h(k+h) - D_h(k))^2`` if ``what[0]``, and the next level's
+    ``D_h(k) + D_h(k+h)`` into ``out`` if ``what[1]``; ``d - centre`` if ``centre``."""
+    squares, sums = what
+    total = 0.0
+    buf = np.empty(min(BLOCK, count))
+    cbuf = np.empty(min(BLOCK, count) + h) if centre is not None else None
+    for k0 in range(0, count, BLOCK):
+        k1 = min(k0 + BLOCK, count)
+        if cbuf is not None:
+            cen = cbuf[: k1 - k0 + h]
+            np.subtract(d[k0 : k1 + h], centre, out=cen)
+            lo, hi = cen[: k1 - k0], cen[h : h + k1 - k0]
+        else:
+            lo, hi = d[k0:k1], d[k0 + h : k1 + h]
+        if squares:
+            w = buf[: k1 - k0]
+            np.subtract(hi, lo, out=w)
+            total += float(np.einsum("i,i->", w, w))
+        if sums:
+            np.add(lo, hi, out=out[k0:k1])
+    return total
 
 
 def huber_variance(w: NDArray, c: float = HUBER_C, passes: int = 30) -> float:
@@ -174,6 +234,54 @@ def _h2(f: NDArray, tau: float) -> NDArray:
     return 4.0 * np.sin(np.pi * f * tau / 2.0) ** 4 / (tau * np.sin(np.pi * f)) ** 2
 
 
+def covariance_nodes(tau: NDArray, diagonal: bool = False) -> tuple[NDArray, NDArray, NDArray]:
+    """The frequencies of :func:`wv_covariance`'s integrals, with ``sin^2(pi f)`` and
+    ``cos(2 pi f)`` (cached per scales); ``diagonal``: those of the variances only."""
+    return _nodes(_key(tau), diagonal)[0]
+
+
+def pair_integrals(tau: NDArray, g: NDArray, diagonal: bool = False) -> NDArray:
+    """``2 int |H_i|^2 |H_j|^2 g df`` for each pair of scales ``i <= j`` (in the order of
+    :func:`covariance_matrix`; ``diagonal``: ``i = j`` only), ``g`` on
+    :func:`covariance_nodes`."""
+    return _nodes(_key(tau), diagonal)[1] @ g
+
+
+def covariance_matrix(
+    tau: NDArray, m: NDArray, a: NDArray, inflation: float = 1.0, diagonal: bool = False
+) -> NDArray:
+    """``cov(nu_i, nu_j) = 2 a_ij / M_i``, ``a`` the :func:`pair_integrals` of ``S^2``,
+    ``M_i`` the smaller scale's (more numerous) coefficients (``diagonal``: a diagonal
+    matrix of the variances)."""
+    _, _, rows, cols = _nodes(_key(tau), diagonal)
+    cov = np.zeros((tau.size, tau.size))
+    cov[rows, cols] = 2.0 * a / m[rows] * inflation
+    cov[cols, rows] = cov[rows, cols]
+    return cov
+
+
+def _key(tau: NDArray) -> tuple[float, ...]:
+    return tuple(np.asarray(tau, dtype=float).tolist())
+
+
+@lru_cache(maxsize=32)
+def _nodes(tau: tuple[float, ...], diagonal: bool) -> tuple:
+    """The distinct frequencies of :func:`_grid` (with ``sin^2``, ``cos``), the sparse
+    matrix of its weights (pairs x frequencies), and the pairs' rows and columns;
+    ``diagonal``: its ``i = j`` pairs only."""
+    trig, w, idx, pairs = _grid(tau)
+    ij = np.array(pairs, dtype=int)
+    freqs, inverse = np.unique(trig[0], return_inverse=True)
+    first = np.zeros(freqs.size, dtype=int)
+    first[inverse] = np.arange(inverse.size)
+    weights = sparse.csr_matrix((w, (idx, inverse)), shape=(len(pairs), freqs.size))
+    keep = np.flatnonzero(ij[:, 0] == ij[:, 1]) if diagonal else np.arange(len(pairs))
+    weights = weights[keep]
+    used = np.unique(weights.indices)
+    nodes = tuple(a[first[used]] for a in trig)
+    return nodes, sparse.csr_matrix(weights[:, used]), ij[keep, 0], ij[keep, 1]
+
+
 def wv_covariance(
     tau: NDArray, m: NDArray, spectrum: Callable[..., NDArray], inflation: float = 1.0
 ) -> NDArray:
@@ -187,13 +295,8 @@ def wv_covariance(
     ``spectrum(f, s2, c2)``
     takes the frequencies with ``sin^2(pi f)`` and ``cos(2 pi f)``.
     """
-    trig, w, idx, pairs = _grid(tuple(float(t) for t in tau))
-    s = spectrum(*trig)
-    a = np.bincount(idx, weights=w * s * s, minlength=len(pairs))
-    cov = np.zeros((tau.size, tau.size))
-    for k, (i, j) in enumerate(pairs):
-        cov[i, j] = cov[j, i] = 2.0 * a[k] / m[i] * inflation
-    return cov
+    s = spectrum(*covariance_nodes(tau))
+    return covariance_matrix(tau, m, pair_integrals(tau, s * s), inflation)
 
 
 @lru_cache(maxsize=16)
