@@ -187,8 +187,16 @@ def test_config_round_trip_carries_the_column_and_the_cli_agrees(tmp_path, capsy
     assert code == 0
     cli = json.loads(capsys.readouterr().out)
     assert fmt(cli["variance"]) == page_variance
-    # loading the exported config back switches to its column
+    # the exported file as it is (it names its column): the same number; another column
+    # is refused in one line (issue 28: a wrong column is refused)
+    path.write_text(json.dumps(cfg))
+    assert main(["estimate", str(data), "--config", str(path), "--format", "json"]) == 0
+    assert fmt(json.loads(capsys.readouterr().out)["variance"]) == page_variance
     other = "sensor_b" if column == "sensor_a" else "sensor_a"
+    assert main(["estimate", str(data), "--config", str(path), "--column", other]) == 2
+    err = capsys.readouterr().err
+    assert f"tuned on column {column!r}, not {other!r}" in err and err.count("\n") == 1, err
+    # loading the exported config back switches to its column
     app.file_uploader(key="est_config_upload").set_value(
         ("tuned.json", json.dumps({**cfg, "column": other}).encode(), "application/json")
     )
