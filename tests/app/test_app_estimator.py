@@ -363,7 +363,7 @@ def test_html_report_carries_the_verdict_regimes_units_and_human_labels():
     import noisevar
     from dashboard.sections.estimator_results import report
     from dashboard.state import make_signal
-    from noisevar.estimators.answer import REGIME_WARNING
+    from noisevar.estimators.answer import REGIME_WARNING, record_answer
     from noisevar.figures.estimator import signal_figure
     from noisevar.io import table_from_arrays
 
@@ -382,6 +382,16 @@ def test_html_report_carries_the_verdict_regimes_units_and_human_labels():
     for code in ("ci95_low", "windows_failed_amplitude", "param_h_smooth", "n_used"):
         assert f"<td>{code}</td>" not in text
     assert "windows refused by the amplitude test" in text
+    # the Estimate CSV ends with the same verdict and regime warning (issue 28: exports)
+    import csv
+    import io
+
+    from dashboard.sections.estimator_results import estimate_csv
+
+    rows = {r["quantity"]: r["value"] for r in csv.DictReader(io.StringIO(estimate_csv(est, None)))}
+    assert rows["verdict"] == record_answer(est).verdict and rows["verdict"] in text
+    assert rows["regime warning"] == REGIME_WARNING
+    assert rows["record's answer"] == record_answer(est).sentence("")
 
 
 def test_each_note_is_shown_once():
