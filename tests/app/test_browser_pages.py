@@ -77,6 +77,10 @@ def whole_page(page, name: str) -> dict:
 
     main = page.locator('[data-testid="stMain"]')
     height, screen = main.evaluate("m => [m.scrollHeight, m.clientHeight]")
+    # Streamlit's header stays at the top of the screen over the scrolled page: the next
+    # screen starts that much higher, and only the first keeps the header in the image
+    bar = page.locator('[data-testid="stHeader"]').bounding_box()
+    header = int(bar["y"] + bar["height"]) if bar and bar["height"] < screen / 2 else 0
     shots, tops = [], []
     top = 0
     while True:
@@ -87,14 +91,18 @@ def whole_page(page, name: str) -> dict:
         tops.append(shown)
         if shown + screen >= height or top >= 40 * screen:
             break
-        top = shown + screen
+        top = shown + screen - header
     height = max(height, tops[-1] + screen)
     width = shots[0].width
     scale = shots[0].height / page.viewport_size["height"]
     offset = int(main.evaluate("m => m.getBoundingClientRect().top") * scale)
     whole = Image.new("RGB", (width, int(height * scale) + offset))
-    for shot, y in zip(shots, tops, strict=True):
-        whole.paste(shot, (0, int(y * scale)))
+    cut = int(header * scale)
+    for k, (shot, y) in enumerate(zip(shots, tops, strict=True)):
+        if k == 0:
+            whole.paste(shot, (0, int(y * scale)))
+        else:
+            whole.paste(shot.crop((0, cut, shot.width, shot.height)), (0, int(y * scale) + cut))
     SHOTS.mkdir(parents=True, exist_ok=True)
     whole.save(SHOTS / f"{name}.png")
     main.evaluate("m => m.scrollTo(0, 0)")
