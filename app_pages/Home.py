@@ -7,6 +7,7 @@ import streamlit as st
 from dashboard import cache
 from dashboard.cache import DEFAULT_METHOD
 from dashboard.pages import page_links
+from dashboard.sections.regimes import record_answer_box
 from dashboard.sections.signal_loader import quick_start
 from dashboard.state import current_signal
 from dashboard.widgets import fmt, guarded, how_it_works
@@ -46,6 +47,7 @@ else:
             f"`{DEFAULT_METHOD}`): noise standard deviation **{fmt(est.std)}**, variance "
             f"{fmt(est.variance)} (95 % interval {fmt(est.ci95[0])} to {fmt(est.ci95[1])})."
         )
+        record_answer_box(est)  # the record's verdict and regime warning, with its R
 
 st.subheader("Pages")
 page_links()

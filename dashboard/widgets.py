@@ -305,6 +305,9 @@ def display_spec(fig: go.Figure) -> dict[str, Any]:
             # as Streamlit's own theme: a grid across y only, no line at x = 0
             axis.setdefault("showgrid", False)
             axis.setdefault("zeroline", False)
+            # room under every subplot's x axis for its title, over the legend's rows
+            # (noisevar.figures' layout reserves them under the axis's own room)
+            axis.setdefault("automargin", True)
         for key in ("gridcolor", "zerolinecolor", "linecolor"):
             axis.setdefault(key, GRID)
         if "minor" in axis:  # a minor container, even without showgrid, draws a minor grid

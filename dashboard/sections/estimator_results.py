@@ -462,11 +462,29 @@ def report(
     ]
     cfg = config_to_json(params_to_config(est.params["method"], est.params), column=sig.column)
     notes = [cli_hint(sig), cfg, *est.notes]
-    ans = record_answer(est)
-    summary = [s for s in (ans.verdict, ans.sentence(unit)) if s]
-    if ans.level_varies:
-        summary.append(f"Regime warning: {REGIME_WARNING}")
+    summary = [
+        f"Regime warning: {r['value']}" if r["quantity"] == "regime warning" else r["value"]
+        for r in answer_rows(est, unit)
+    ]
     return html_report(f"noisevar: noise of {sig.label}", rows, [fig], notes, summary)
+
+
+def estimate_csv(est: VarianceEstimate, truth: float | None, unit: str = "") -> str:
+    """The Estimate CSV: the estimate's rows, then :func:`answer_rows`."""
+    return rows_to_csv([*estimate_rows(est, truth), *answer_rows(est, unit)])
+
+
+def answer_rows(est: VarianceEstimate, unit: str = "") -> list[dict[str, str]]:
+    """The record's verdict, its answer and (when the level varies) the regime warning, as
+    ``{"quantity", "value"}`` rows: the report's first lines and the Estimate CSV's last."""
+    ans = record_answer(est)
+    rows = [
+        {"quantity": "verdict", "value": ans.verdict},
+        {"quantity": "record's answer", "value": ans.sentence(unit)},
+    ]
+    if ans.level_varies:
+        rows.append({"quantity": "regime warning", "value": REGIME_WARNING})
+    return [r for r in rows if r["value"]]
 
 
 def cli_hint(sig: LoadedSignal) -> str:
@@ -500,7 +518,7 @@ def _estimate_downloads(sig: LoadedSignal, est: VarianceEstimate, truth: float |
     csv_download(
         c2,
         "Estimate (CSV)",
-        data=rows_to_csv(estimate_rows(est, truth)),
+        data=estimate_csv(est, truth, signal_units()),
         file_name="noisevar-estimate.csv",
         key="dl_summary",
     )

@@ -64,7 +64,10 @@ def record_answer_box(
     ans = record_answer(est, regimes)
     unit = signal_units() if unit is None else unit
     said = f"**{name}**: " if name else ""
-    text = f"{said}{ans.verdict} The record's answer (Estimator page): {ans.sentence(unit)}"
+    verdict = ans.verdict.rstrip()
+    if verdict and not verdict.endswith((".", "!", "?")):
+        verdict += "."  # a sentence of its own before the answer's
+    text = f"{said}{verdict} The record's answer (Estimator page): {ans.sentence(unit)}"
     if ans.level_varies or ans.severity == "warning":
         st.warning(text, icon=":material/warning:")
     else:

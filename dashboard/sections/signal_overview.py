@@ -7,6 +7,7 @@ import streamlit as st
 from streamlit.delta_generator import DeltaGenerator
 
 from dashboard import cache
+from dashboard.sections.regimes import record_answer_box
 from dashboard.state import (
     UNITS_KEY,
     LoadedSignal,
@@ -95,6 +96,7 @@ def summary_metrics(sig: LoadedSignal, errors: DeltaGenerator) -> None:
             delta_arrow="off",
             help="Quick estimate with the default method; tune it on the Estimator page.",
         )
+    record_answer_box(auto)  # the record's verdict and regime warning, with its R
     for note in sig.notes:
         st.caption(f"Note: {note}")
 

@@ -190,6 +190,13 @@ def _channels(args: argparse.Namespace, params: dict[str, Any]) -> tuple[Any, li
     cfg_column, cfg_columns = params.pop("column", None), params.pop("columns", None)
     if args.column is not None and args.columns is not None:
         raise NoisevarError("give --column (one channel) or --columns (several), not both")
+    if cfg_column is not None and args.column is not None and str(args.column) != cfg_column:
+        # the page's config is for the column it was tuned on (issue 28: a wrong column
+        # is refused, as `noisevar fit` refuses a tuned filter's)
+        raise NoisevarError(
+            f"the config was tuned on column {echo(repr(cfg_column))}, not "
+            f"{echo(repr(str(args.column)))}: drop --column or tune that column"
+        )
     if args.column is not None or (args.columns is None and cfg_columns is None):
         return (args.column if args.column is not None else cfg_column), None
     return None, parse_columns(args.columns if args.columns is not None else cfg_columns)

@@ -170,12 +170,10 @@ def note_downsampled(fig: go.Figure, n_total: int, max_points: int = MAX_POINTS)
     return fig
 
 
-#: Pixels between the plot's bottom edge and the legend's top: room for the x tick
-#: labels and the axis title, and half a line for a legend entry broken in two (it is
-#: centred on its symbol, so it reaches up).
-LEGEND_GAP_PX = 84
-#: Bottom margin: the legend's gap plus one line of legend entries under it.
-BOTTOM_PX = LEGEND_GAP_PX + 40
+#: Bottom margin under the plot: the x tick labels and a one-line axis title. The x axis
+#: grows it for a longer title (``automargin``), and a legend reserves its own rows under
+#: that (it is placed in the figure's pixels, ``yref="container"``, see :func:`layout`).
+BOTTOM_PX = 60
 #: Pixels at the top of a figure kept for Plotly's toolbar (mode bar): the title is drawn
 #: under it, not beneath it (on a phone a title spans the figure's width).
 MODEBAR_PX = 34
@@ -185,7 +183,7 @@ NOTE_LINE_PX = 22
 
 
 def layout(title: str | None = None, height: int = 420, **extra: Any) -> dict[str, Any]:
-    """Common layout as a plain dict (legend on top, compact margins).
+    """Common layout as a plain dict (legend under the plot, compact margins).
 
     No template is set: building a figure with one costs ~20 ms in plotly,
     a large part of a redraw budget; the dashboard styles figures with its
@@ -200,7 +198,8 @@ def layout(title: str | None = None, height: int = 420, **extra: Any) -> dict[st
     title : str, optional
         Figure title.
     height : int
-        Pixel height (the plot area is about ``height - 170`` pixels).
+        Pixel height (the plot area is about ``height - 140`` pixels, less the
+        legend's rows).
     **extra
         More layout keys (merged on top).
 
@@ -214,18 +213,20 @@ def layout(title: str | None = None, height: int = 420, **extra: Any) -> dict[st
     # lifts it by half a line, so it is padded down as much
     pad = MODEBAR_PX + TITLE_LINE_PX // 2 * max(lines - 1, 0)
     top = pad + TITLE_LINE_PX * lines + NOTE_LINE_PX
-    plot = max(float(height) - top - BOTTOM_PX, 100.0)
     out: dict[str, Any] = {
         "height": height,
         # wide enough for most tick labels: a margin plotly must widen costs a second draw
         "margin": {"l": 80, "r": 20, "t": top, "b": BOTTOM_PX},
-        # below the plot: a legend on top collides with the title and the mode bar; at
-        # least LEGEND_GAP_PX below the plot, under the x tick labels and axis title (in a
-        # short figure, 20 % of the plot height put the legend on the axis title)
+        # below the plot (on top it collides with the title and the mode bar), at the
+        # figure's bottom edge in pixels: Plotly then reserves the legend's height, however
+        # many rows its entries wrap to, under the x axis's own room (its automargin). A
+        # legend placed in plot fractions rose onto the axis title once its rows had
+        # shrunk the plot (four two-line entries on a phone).
         "legend": {
             "orientation": "h",
-            "yanchor": "top",
-            "y": min(-0.2, -LEGEND_GAP_PX / plot),
+            "yref": "container",
+            "yanchor": "bottom",
+            "y": 0.0,
             "x": 0.0,
         },
         "hovermode": "closest",
@@ -243,6 +244,7 @@ def layout(title: str | None = None, height: int = 420, **extra: Any) -> dict[st
             "font": {"size": 15},
         }
     out.update(extra)
+    out["xaxis"] = {"automargin": True, **out.get("xaxis", {})}
     return out
 
 
@@ -264,6 +266,7 @@ def base_layout(fig: go.Figure, title: str | None = None, height: int = 420) -> 
         ``fig`` itself.
     """
     fig.update_layout(**layout(title, height))
+    fig.update_xaxes(automargin=True)  # every subplot's x axis makes room under it
     return fig
 
 

@@ -20,7 +20,6 @@ from numpy.typing import ArrayLike, NDArray
 from noisevar.estimators.results import VarianceEstimate
 from noisevar.figures._common import (
     COLORS,
-    LEGEND_GAP_PX,
     MAX_FIGURE_MARKERS,
     MAX_FIGURE_POINTS,
     PALETTE,
@@ -241,7 +240,6 @@ def somd_figure(  # long: one figure, built trace by trace in drawing order
         shapes=shapes,
         annotations=anns,
     )
-    lay["margin"]["b"] = 150  # room for its legend's rows (no second draw to make it)
     return capped(go.Figure(data=data, layout=lay))
 
 
@@ -459,8 +457,4 @@ def window_tests_figure(  # long: one figure, built trace by trace in drawing or
         shapes=[v_shape, h_shape],
         annotations=anns,
     )
-    lay["margin"]["b"] = 140  # its x tick labels and legend (no second draw to make room)
-    # the legend a line lower: the x-axis title has two lines
-    plot = max(height - lay["margin"]["t"] - lay["margin"]["b"], 100)
-    lay["legend"]["y"] = min(-0.2, -(LEGEND_GAP_PX + 20) / plot)
     return capped(go.Figure(data=data, layout=lay), max_points=min(max_markers, MAX_FIGURE_MARKERS))

@@ -187,8 +187,16 @@ def test_config_round_trip_carries_the_column_and_the_cli_agrees(tmp_path, capsy
     assert code == 0
     cli = json.loads(capsys.readouterr().out)
     assert fmt(cli["variance"]) == page_variance
-    # loading the exported config back switches to its column
+    # the exported file as it is (it names its column): the same number; another column
+    # is refused in one line (issue 28: a wrong column is refused)
+    path.write_text(json.dumps(cfg))
+    assert main(["estimate", str(data), "--config", str(path), "--format", "json"]) == 0
+    assert fmt(json.loads(capsys.readouterr().out)["variance"]) == page_variance
     other = "sensor_b" if column == "sensor_a" else "sensor_a"
+    assert main(["estimate", str(data), "--config", str(path), "--column", other]) == 2
+    err = capsys.readouterr().err
+    assert f"tuned on column {column!r}, not {other!r}" in err and err.count("\n") == 1, err
+    # loading the exported config back switches to its column
     app.file_uploader(key="est_config_upload").set_value(
         ("tuned.json", json.dumps({**cfg, "column": other}).encode(), "application/json")
     )
@@ -355,7 +363,7 @@ def test_html_report_carries_the_verdict_regimes_units_and_human_labels():
     import noisevar
     from dashboard.sections.estimator_results import report
     from dashboard.state import make_signal
-    from noisevar.estimators.answer import REGIME_WARNING
+    from noisevar.estimators.answer import REGIME_WARNING, record_answer
     from noisevar.figures.estimator import signal_figure
     from noisevar.io import table_from_arrays
 
@@ -374,6 +382,16 @@ def test_html_report_carries_the_verdict_regimes_units_and_human_labels():
     for code in ("ci95_low", "windows_failed_amplitude", "param_h_smooth", "n_used"):
         assert f"<td>{code}</td>" not in text
     assert "windows refused by the amplitude test" in text
+    # the Estimate CSV ends with the same verdict and regime warning (issue 28: exports)
+    import csv
+    import io
+
+    from dashboard.sections.estimator_results import estimate_csv
+
+    rows = {r["quantity"]: r["value"] for r in csv.DictReader(io.StringIO(estimate_csv(est, None)))}
+    assert rows["verdict"] == record_answer(est).verdict and rows["verdict"] in text
+    assert rows["regime warning"] == REGIME_WARNING
+    assert rows["record's answer"] == record_answer(est).sentence("")
 
 
 def test_each_note_is_shown_once():

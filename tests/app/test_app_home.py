@@ -31,6 +31,9 @@ def test_home_quick_start_loads_a_signal_for_every_page():
     at.button(key="home_generate").click().run()
     _clean(at)
     assert "Quick estimate" in at.success[0].value
+    # the quick R comes with the record's verdict, as on every page showing one (issue 28)
+    boxes = [b.value for b in [*at.info, *at.warning]]
+    assert any("The record's answer (Estimator page): " in b for b in boxes), boxes
     sig = at.session_state["nv_signal"]
     assert sig.n == 6000 and sig.source == "generated"
     assert at.query_params.get("sig", "").startswith("gen:fast-slow")

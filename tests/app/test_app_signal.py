@@ -81,6 +81,10 @@ def test_generate_and_each_generator_widget_changes_the_signal():
         seen.add(sig.digest)
     assert sig.n == 9000 and sig.true_variance == pytest.approx(4.0)
     assert float(_metric(at, "Noise std (auto)")) == pytest.approx(2.0, rel=0.05)
+    # the quick R comes with the record's verdict, as on every page showing one (issue 28)
+    boxes = [b.value for b in [*at.info, *at.warning]]
+    assert any("The record's answer (Estimator page): " in b for b in boxes), boxes
+    assert not any(" R The record's" in b for b in boxes), boxes  # the verdict ends its sentence
     at.selectbox(key="gen_name").set_value("gps-circle").run()
     at.selectbox(key="gen_gps-circle_channel").set_value("speed")
     at.number_input(key="gen_std").set_value(1.5)

@@ -4,9 +4,18 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from plotly.subplots import make_subplots
 
 from noisevar.errors import NoisevarError
-from noisevar.figures._common import MAX_POINTS, as_list, check_run, downsample_indices, line_trace
+from noisevar.figures._common import (
+    MAX_POINTS,
+    as_list,
+    base_layout,
+    check_run,
+    downsample_indices,
+    layout,
+    line_trace,
+)
 from noisevar.kalman import FixedR
 from noisevar.systems.base import RunResult, check_run_index
 from noisevar.systems.fusion import FusionData, FusionScenario, simulate_fusion
@@ -121,3 +130,16 @@ def test_html_export_is_a_whole_page():
 
     page = to_html(go.Figure(go.Scatter(y=[1.0, 2.0])), self_contained=False)
     assert page.lstrip().lower().startswith("<!doctype html>") and "</html>" in page
+
+
+def test_the_legend_reserves_its_rows_under_the_x_axis_title():
+    """A legend placed in plot fractions rose onto the x-axis title once its rows (four
+    two-line entries on a phone) had shrunk the plot (issue 28): it sits at the figure's
+    bottom edge in pixels, where Plotly reserves its height under the x axis's own room,
+    on every x axis of a figure with panels too."""
+    lay = layout("t", 420, xaxis={"title": "time (s)"})
+    assert lay["legend"]["yref"] == "container"
+    assert (lay["legend"]["yanchor"], lay["legend"]["y"]) == ("bottom", 0.0)
+    assert lay["xaxis"] == {"automargin": True, "title": "time (s)"}
+    fig = base_layout(make_subplots(rows=2, cols=1), "t")
+    assert fig.layout.xaxis.automargin and fig.layout.xaxis2.automargin
