@@ -103,6 +103,22 @@ def _check_value(key: str, spec: ParamSpec, value: Any) -> Any:
 
 #: Keys that name data columns, not parameters (the dashboard exports the column).
 CHANNEL_KEYS = ("column", "columns")
+#: The record's answer when the file was written (verdict, R, regime warning): for the
+#: reader, never applied; validated and dropped when a config is read.
+RECORD_KEY = "record"
+_RECORD_FIELDS = ("verdict", "answer", "regime_warning")
+
+
+def record_value(value: Any) -> dict[str, str]:
+    """A config's ``record`` entry: at most the verdict, the answer and the regime warning,
+    each a string (bounded)."""
+    ok = isinstance(value, Mapping) and set(value) <= set(_RECORD_FIELDS)
+    if not ok or not all(isinstance(v, str) and len(v) <= 4000 for v in value.values()):
+        raise NoisevarError(
+            f"config key 'record' must map {', '.join(_RECORD_FIELDS)} to text, "
+            f"got {echo(repr(value))[:200]}"
+        )
+    return {k: value[k] for k in _RECORD_FIELDS if k in value}
 
 
 def _channel_value(key: str, value: Any) -> str | list[str]:
@@ -162,6 +178,9 @@ def validate_config(config: Mapping[str, Any]) -> dict[str, Any]:
         if key in CHANNEL_KEYS:  # which data column(s) the parameters were tuned on
             out[key] = _channel_value(key, value)
             continue
+        if key == RECORD_KEY:  # the record's answer, for the reader: checked, not applied
+            record_value(value)
+            continue
         if key == "kalman":  # a tuned filter's Q and R (noisevar.noise_model.export)
             from noisevar.noise_model.export import check_kalman_config
 
@@ -186,12 +205,14 @@ def _filter_config(config: Mapping[str, Any]) -> dict[str, Any]:
     """A tuned filter's config (no estimator ``method``): its ``kalman`` entry and column."""
     from noisevar.noise_model.export import check_kalman_config
 
-    extra = sorted(set(config) - {"kalman", *CHANNEL_KEYS})
+    extra = sorted(set(config) - {"kalman", RECORD_KEY, *CHANNEL_KEYS})
     if extra:
         raise NoisevarError(
             f"config key {echo(repr(extra[0]))} does not belong in a tuned filter's config "
-            "(kalman and column only)"
+            "(kalman, column and record only)"
         )
+    if RECORD_KEY in config:
+        record_value(config[RECORD_KEY])
     out: dict[str, Any] = {k: _channel_value(k, config[k]) for k in CHANNEL_KEYS if k in config}
     out["kalman"] = check_kalman_config(config["kalman"])
     return out
@@ -212,7 +233,9 @@ def require_estimator_config(config: Mapping[str, Any], source: str = "the confi
         )
 
 
-def filter_config_json(tuning: Any, column: str | None = None, unit: str = "") -> str:
+def filter_config_json(
+    tuning: Any, column: str | None = None, unit: str = "", record: Mapping[str, str] | None = None
+) -> str:
     """A tuned filter's config file, as the Noise model page downloads it and ``--save-config``
     writes it (``noisevar fit FILE --config`` reads it).
 
@@ -224,6 +247,9 @@ def filter_config_json(tuning: Any, column: str | None = None, unit: str = "") -
         The data column fitted.
     unit : str
         The signal's declared unit.
+    record : mapping, optional
+        The record's answer (:meth:`~noisevar.estimators.answer.RecordAnswer.summary`),
+        written for the reader under ``record``.
 
     Returns
     -------
@@ -233,6 +259,8 @@ def filter_config_json(tuning: Any, column: str | None = None, unit: str = "") -
     from noisevar.noise_model.export import to_config
 
     config = validate_config(to_config(tuning, column=column, unit=unit))
+    if record:
+        config[RECORD_KEY] = record_value(record)
     return json.dumps(config, indent=2, allow_nan=False) + "\n"
 
 
@@ -263,7 +291,9 @@ def params_to_config(method: str, params: Mapping[str, Any]) -> dict[str, Any]:
     return validate_config(cfg)
 
 
-def config_to_json(config: Mapping[str, Any], column: str | None = None) -> str:
+def config_to_json(
+    config: Mapping[str, Any], column: str | None = None, record: Mapping[str, str] | None = None
+) -> str:
     """Serialise a config (validated first) as indented JSON text.
 
     Parameters
@@ -272,6 +302,9 @@ def config_to_json(config: Mapping[str, Any], column: str | None = None) -> str:
         A config.
     column : str, optional
         The data column the parameters were tuned on (``noisevar estimate`` reads it).
+    record : mapping, optional
+        The record's answer (:meth:`~noisevar.estimators.answer.RecordAnswer.summary`),
+        written for the reader under ``record`` (not applied when read).
 
     Returns
     -------
@@ -280,6 +313,8 @@ def config_to_json(config: Mapping[str, Any], column: str | None = None) -> str:
     cfg = {k: json_value(v) for k, v in validate_config(config).items()}
     if column:
         cfg["column"] = column
+    if record:
+        cfg[RECORD_KEY] = record_value(record)
     return json.dumps(cfg, indent=2, allow_nan=False) + "\n"
 
 

@@ -26,7 +26,7 @@ from dashboard.widgets import (
 )
 from noisevar.config import config_to_json, params_to_config
 from noisevar.estimators import describe_methods
-from noisevar.estimators.answer import REGIME_WARNING, record_answer
+from noisevar.estimators.answer import record_answer
 from noisevar.estimators.compare import rows_to_csv
 from noisevar.estimators.results import VarianceEstimate, row_label
 from noisevar.figures.axes import range_to_slice
@@ -460,7 +460,11 @@ def report(
             for r in estimate_rows(est, truth)
         ),
     ]
-    cfg = config_to_json(params_to_config(est.params["method"], est.params), column=sig.column)
+    cfg = config_to_json(
+        params_to_config(est.params["method"], est.params),
+        column=sig.column,
+        record=record_answer(est).summary(unit),
+    )
     notes = [cli_hint(sig), cfg, *est.notes]
     summary = [
         f"Regime warning: {r['value']}" if r["quantity"] == "regime warning" else r["value"]
@@ -477,14 +481,10 @@ def estimate_csv(est: VarianceEstimate, truth: float | None, unit: str = "") -> 
 def answer_rows(est: VarianceEstimate, unit: str = "") -> list[dict[str, str]]:
     """The record's verdict, its answer and (when the level varies) the regime warning, as
     ``{"quantity", "value"}`` rows: the report's first lines and the Estimate CSV's last."""
-    ans = record_answer(est)
-    rows = [
-        {"quantity": "verdict", "value": ans.verdict},
-        {"quantity": "record's answer", "value": ans.sentence(unit)},
+    labels = {"verdict": "verdict", "answer": "record's answer", "regime_warning": "regime warning"}
+    return [
+        {"quantity": labels[k], "value": v} for k, v in record_answer(est).summary(unit).items()
     ]
-    if ans.level_varies:
-        rows.append({"quantity": "regime warning", "value": REGIME_WARNING})
-    return [r for r in rows if r["value"]]
 
 
 def cli_hint(sig: LoadedSignal) -> str:
@@ -498,7 +498,9 @@ def _estimate_downloads(sig: LoadedSignal, est: VarianceEstimate, truth: float |
     c1, c2, c3 = st.columns(3)
     try:
         cfg_json = config_to_json(
-            params_to_config(est.params["method"], est.params), column=sig.column
+            params_to_config(est.params["method"], est.params),
+            column=sig.column,
+            record=record_answer(est).summary(signal_units()),
         )
     except noisevar.NoisevarError as exc:  # pragma: no cover - params come from widgets
         cfg_json = None

@@ -12,7 +12,8 @@ from dashboard import cache
 from dashboard.sections.regimes import regime_choice
 from dashboard.state import LoadedSignal, initial, signal_units
 from dashboard.widgets import figure_downloads, fmt, guarded, show_figure
-from noisevar.estimators.answer import WHY_DIFFERENT
+from noisevar.errors import NoisevarError
+from noisevar.estimators.answer import WHY_DIFFERENT, record_answer
 from noisevar.estimators.regimes import DEFAULT_REGIMES, still_used, variance_for
 from noisevar.figures.noise_model import allan_figure
 from noisevar.noise_model import AllanResult, InertialNoise, allan, inertial_noise
@@ -33,6 +34,15 @@ class NoiseModelSettings:
     kind: str
     unit: str
     regimes: str = DEFAULT_REGIMES
+
+
+def record_summary(sig: LoadedSignal, regimes: str) -> dict[str, str] | None:
+    """The record's answer (method auto, as the Estimator page) for the exported configs."""
+    try:
+        est = cache.estimate(sig, cache.DEFAULT_METHOD, {})
+    except NoisevarError:  # said by the regime panel above
+        return None
+    return record_answer(est, regimes).summary(signal_units())
 
 
 def regime_panel(sig: LoadedSignal) -> str:

@@ -87,13 +87,13 @@ def _verdict(t: KalmanTuning) -> None:
         st.caption(note)
 
 
-def _exports(t: KalmanTuning, column: str | None, unit: str) -> None:
+def _exports(t: KalmanTuning, column: str | None, unit: str, record: dict[str, str] | None) -> None:
     named = f" on column {column!r} (another column is refused)" if column else ""
     st.caption(f"Apply the config with `{APPLY_COMMAND}`: it replays this q and r{named}.")
     c1, c2 = st.columns(2)
     c1.download_button(
         "Config with Q and R (JSON)",
-        data=filter_config_json(t, column, unit),
+        data=filter_config_json(t, column, unit, record),
         file_name=f"tuned_{t.model}.json",
         mime="application/json",
         key=f"{KEY}_cfg",
@@ -140,6 +140,7 @@ def render_fit(
     regimes: str = DEFAULT_REGIMES,
     column: str | None = None,
     unit: str = "",
+    record: dict[str, str] | None = None,
 ) -> None:
     """Kinematic models compared, the chosen one's Q and R, and its filter run on the record.
 
@@ -153,6 +154,9 @@ def render_fit(
         Fit the whole record, or its longest still stretch only.
     column, unit : str
         The record's column and declared unit, carried by the exported config.
+    record : dict, optional
+        The record's answer (:meth:`~noisevar.estimators.answer.RecordAnswer.summary`),
+        carried by the exported config.
     """
     with guarded("Kalman fit: "):
         z = np.asarray(z, dtype=float)
@@ -176,7 +180,7 @@ def render_fit(
             f"(h = qT^k/r = {fmt(t.h)}); steady-state gain: {gain_text(t)}."
         )
         st.caption(f"This r differs from the record's answer above: {WHY_DIFFERENT['kalman']}.")
-        _exports(t, column, unit)
+        _exports(t, column, unit, record)
         if t.regimes != DEFAULT_REGIMES:
             st.caption("Fitted on the still stretch; below, the filter runs on the whole record.")
         run = run_tuned(t, z)

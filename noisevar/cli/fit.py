@@ -91,6 +91,8 @@ def _load(
 
 def _cmd_fit(args: argparse.Namespace) -> int:
     from noisevar.config import filter_config_json, load_config
+    from noisevar.estimators import estimate
+    from noisevar.estimators.answer import record_answer
     from noisevar.noise_model import evaluate_kalman, fit_kalman
     from noisevar.noise_model.export import from_config
 
@@ -123,8 +125,12 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         tuning = fit_kalman(z, model=model, rate=rate, **method, **regimes_of(args))
     if args.save_config:
         said = unit if args.unit else (kal.get("unit", "") if kal is not None else "")
+        try:  # the record's answer, written for the reader (not applied when read)
+            record = record_answer(estimate(z), tuning.regimes).summary(said)
+        except NoisevarError:  # a record the estimator refuses: the config without it
+            record = None
         Path(args.save_config).write_text(
-            filter_config_json(tuning, column, said), encoding="utf-8"
+            filter_config_json(tuning, column, said, record), encoding="utf-8"
         )
     if args.format == "json":
         out = tuning.to_dict()

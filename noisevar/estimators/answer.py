@@ -83,6 +83,14 @@ class RecordAnswer:
             out += f" Its still regimes alone: R = {eng(self.still_variance, u)}."
         return out
 
+    def summary(self, unit: str = "") -> dict[str, str]:
+        """The verdict, :meth:`sentence` and (when the level varies) the regime warning, as
+        the exports write them (a config's ``record``, the CSV's last rows)."""
+        out = {"verdict": self.verdict, "answer": self.sentence(unit)}
+        if self.level_varies:
+            out["regime_warning"] = REGIME_WARNING
+        return {k: v for k, v in out.items() if v}
+
 
 def record_answer(est: VarianceEstimate, regimes: str = DEFAULT_REGIMES) -> RecordAnswer:
     """The record's answer from its estimate (method ``auto``, as the Estimator page).
