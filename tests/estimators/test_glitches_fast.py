@@ -29,3 +29,19 @@ def test_glitches_at_ten_sigma_on_a_fast_signal_stay_in_r():
         covered += est.ci95[0] <= v <= est.ci95[1]
     assert abs(np.mean(rel)) <= 0.015, np.mean(rel)
     assert covered >= 0.9 * 40
+
+
+def test_the_interval_of_glitches_on_a_fast_signal_covers_the_process_variance():
+    # the interval was widened for the kurtosis of the diagnostics' fixed-span residual,
+    # which a fast signal leaks into (kurtosis about 15 for the noise's 77): it covered the
+    # process variance in 53 of these 60 records; auto's own residual reads the tails
+    covered, kurt = 0, []
+    for r in range(60):
+        rng = np.random.default_rng(100 + r)
+        noise = synth.noise("contaminated", 6000, rng=1000 + r)
+        est = noisevar.estimate(_fast(6000, rng) + noise.values)
+        covered += est.ci95[0] <= noise.variance <= est.ci95[1]
+        v = noise.values
+        kurt.append(est.kurtosis / (np.mean(v**4) / np.mean(v**2) ** 2))
+    assert covered >= 55, covered
+    assert 0.7 <= np.median(kurt) <= 1.3, np.median(kurt)
