@@ -190,7 +190,10 @@ def _honest_interval(r: VarianceEstimate, diag: NoiseDiagnostics) -> VarianceEst
     c = 1.0
     if not w.white:
         c = max(1.0, (1 + 2 * np.sum(w.acf**2)) / (1 + 2 * np.sum(w.expected**2)))
-    excess = max(diag.kurtosis - 3.0, 0.0) / 2.0
+    # the method's own reading (blind to a fast signal) or the diagnostics' (whose block
+    # levels see a level that changes within a block), whichever says the tails are heavier
+    kurt = diag.kurtosis if r.kurtosis is None else max(r.kurtosis, diag.kurtosis)
+    excess = max(kurt - 3.0, 0.0) / 2.0
     if c == 1.0 and excess == 0.0:
         return r
     dof = float(r.n_used / (eta * c + excess))

@@ -348,6 +348,9 @@ class VarianceEstimate:
         The same method on the record's still regimes alone (the sensor's own noise,
         docs/algorithms.md §E1 Regimes), when the level varies along the record; None
         when the record is one regime or the still regimes are too short to estimate.
+    kurtosis : float or None
+        The noise kurtosis the method read off its own residual, which its interval is
+        widened for (docs/algorithms.md §E1); None: the diagnostics' is used.
     """
 
     method: str
@@ -365,6 +368,7 @@ class VarianceEstimate:
     assumptions: dict[str, bool] = field(default_factory=dict)
     jumps: NDArray | None = field(default=None, repr=False)
     still: VarianceEstimate | None = field(default=None, repr=False)
+    kurtosis: float | None = field(default=None, repr=False)
 
     @property
     def std(self) -> float:

@@ -180,6 +180,7 @@ class _Blocks:
     kept_count: NDArray  # (nb,) samples kept per block
     block_sum: NDArray  # (n_spans, nb)
     fourth: NDArray  # (nb,) sums of the shortest span's e⁴
+    total_fourth: NDArray  # (nb,) the same off the jumps alone (outliers kept: §E1 tails)
     clean_for: NDArray  # (n_spans, nb) span j's residuals untouched by a flagged sample
     recover: tuple[NDArray, NDArray, NDArray] | None  # see _near_flagged
     total_count: NDArray  # (nb,) samples off the jumps (outliers kept: they are noise)
@@ -277,16 +278,19 @@ def _trimmed_blocks(
     recover_total = _recoverable(jumps, spans, half, sq)
     total_count = block_counts(block, nb, m) - _zero(sq, jumps, half, block, nb)
     total_sum = np.stack([block_sums(q, block, nb) for q in sq])
+    total_fourth = block_square_sums(sq[0], block, nb)
     kept_count = block_counts(block, nb, m) - _zero(sq, flagged, half, block, nb)
     block_sum = np.stack([block_sums(q, block, nb) for q in sq])
-    fourth = block_square_sums(sq[0], block, nb)
+    # without outliers the flagged samples are the jumps': the same sums
+    fourth = total_fourth if outliers is None else block_square_sums(sq[0], block, nb)
     out_at = np.zeros(0, dtype=int)
     if outliers is not None:  # residuals next to a jump are the jump's, not outliers
         alone = outliers if jumps is None else outliers & ~dilate(jumps, half)
         # one outlying sample spreads over its neighbours' residuals: count the peaks
         out_at = _local_peaks(sq0_copy, np.flatnonzero(alone), spans[0])
     return _Blocks(
-        block, nb, kept_count, block_sum, fourth, _clean_for(flagged, spans, half, block, nb),
+        block, nb, kept_count, block_sum, fourth, total_fourth,
+        _clean_for(flagged, spans, half, block, nb),
         recover, total_count, total_sum, out_at, _clean_for(jumps, spans, half, block, nb),
         recover_total, np.zeros(m, dtype=bool) if jumps is None else dilate(jumps, half),
         np.zeros(0, dtype=int) if found is None else np.flatnonzero(found),

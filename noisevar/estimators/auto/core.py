@@ -16,6 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.diagnostics import NoiseDiagnostics
+from noisevar.diagnostics.tails import kurtosis_from_moments
 from noisevar.errors import NoisevarError
 from noisevar.estimators.auto._trim import (
     AUTO_MASK_SPAN,
@@ -187,6 +188,25 @@ class AutoPart:
     outliers: NDArray  # record indices of outlying samples
     jumps: NDArray  # bool over the window: samples left out around jumps
     found: int  # samples the jump detector flagged in the stretch (before its limit)
+    tails: tuple[float, float, float] = (0.0, 0.0, 0.0)  # see _tail_sums
+
+
+def _tail_sums(b: _Blocks, rows: slice) -> tuple[float, float, float]:
+    """``(Σ e²/L, Σ e⁴/L², n)`` of the shortest span off the jumps, outliers kept (§F5.5).
+
+    ``L`` is each block's trimmed level (outliers left out, so that it does not follow
+    the tails it scales): level changes between blocks are not tails.
+    """
+    count, s2, s4 = b.total_count[rows], b.total_sum[0, rows], b.total_fourth[rows]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        level = b.block_sum[0, rows] / b.kept_count[rows]
+    ok = (count > 0) & (level > 0) & np.isfinite(level)
+    if not ok.any():
+        return 0.0, 0.0, 0.0
+    lv = level[ok]
+    with np.errstate(over="ignore", invalid="ignore"):  # e⁴ of a huge record may be inf
+        k2, k4 = float(np.sum(s2[ok] / lv)), float(np.sum(s4[ok] / lv / lv))
+    return k2, k4, float(count[ok].sum())
 
 
 @lru_cache(maxsize=64)
@@ -247,6 +267,7 @@ def auto_part(
         outliers=out + offset,
         jumps=b.jumps,
         found=int(np.count_nonzero((b.found >= lo) & (b.found < hi))),
+        tails=_tail_sums(b, rows),
     )
 
 
@@ -299,7 +320,20 @@ def auto_reduce(
     return VarianceEstimate(
         "auto", var, chi2_interval(var, dof), n_total, n, dof, dict(params), notes,
         core_variance=core, outlier_fraction=n_out / n, jumps=jumps,
+        kurtosis=_own_kurtosis(parts, spans[0], int(params["order"])),
     )  # fmt: skip
+
+
+def _own_kurtosis(parts: list[AutoPart], span: int, order: int) -> float | None:
+    """The noise kurtosis read off ``auto``'s own shortest-span residual (§F5.5; None: no sums).
+
+    The residual that made the estimate does not leak a fast signal the way the
+    diagnostics' fixed span does, and a glitch counts in it as in ``.variance``.
+    """
+    k2, k4, kn = (sum(p.tails[i] for p in parts) for i in range(3))
+    if not kn > 0:
+        return None
+    return kurtosis_from_moments(k2 / kn, k4 / kn, residual_sequence(span, order))
 
 
 def auto_estimate(
