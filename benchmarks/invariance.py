@@ -1,6 +1,7 @@
 """Invariance of R on motion-burst records: transforms that change nothing must not move R.
 
     python benchmarks/invariance.py [--records 200] [--n 20000] [--seed 1] [--no-yei]
+    python benchmarks/invariance.py --yei-only     # the real record alone, under a minute
 
 Each record is white noise (σ = 1) on a slow signal, with one to three bursts of motion
 (a fast oscillation, jerky steps, or taps that ring; random amplitude and length). For
@@ -12,7 +13,7 @@ The same on a real record: the hand-held YEI 3-Space IMU of scikit-kinematics' w
 (fetched with ``pip download`` at run time, as ``real_records.py`` does; not committed),
 6 channels x 4 transforms (reversed, drop 2, sign, scale x1e3), for the whole record's R
 and for the R to use (``est.still`` when the level varies, else R), each against its own
-ci95. Results go to benchmarks/results/invariance.md.
+ci95. Results go to benchmarks/results/invariance.md (``--yei-only``: invariance_yei.md).
 """
 
 from __future__ import annotations
@@ -32,6 +33,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _refdata  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results" / "invariance.md"
+OUT_YEI = OUT.with_name("invariance_yei.md")
 
 
 def burst_record(n: int, rng: np.random.Generator) -> NDArray:
@@ -130,7 +132,20 @@ def main() -> None:
     ap.add_argument("--n", type=int, default=20000)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--no-yei", action="store_true", help="skip the real YEI record")
+    ap.add_argument("--yei-only", action="store_true", help="only the real YEI record")
     a = ap.parse_args()
+    if a.yei_only:
+        text = "\n".join(
+            [
+                "# Invariance of R on a real record",
+                "",
+                "`python benchmarks/invariance.py --yei-only`",
+                *yei_lines(yei_rows()),
+            ]
+        )
+        OUT_YEI.write_text(text + "\n")
+        print(text)
+        return
     share = run(a.records, a.n, a.seed)
     lines = [
         "# Invariance of R on motion-burst records",
