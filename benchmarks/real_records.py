@@ -109,6 +109,8 @@ class Reference:
     hi: float
     how: str
     check: float | None = None  # still stretches: var(d1)/2 over var(d2)/6 (1 if white)
+    per_sample: float | None = None  # still stretches: AR(1) noise's per-sample variance
+    phi: float | None = None  # and its lag-1 correlation, 1 + 2 rho_d1(1)
 
 
 # ---------------------------------------------------------------- loaders
@@ -204,11 +206,29 @@ def still_reference(x: NDArray, rate: float, stretches) -> Reference:
     nu = 2.0 * d2.size / ((kappa - 1.0) * D2_RHO2)
     lo = value * nu / float(stats.chi2.ppf(0.975, nu))
     hi = value * nu / float(stats.chi2.ppf(0.025, nu))
-    d1 = np.concatenate([np.diff(x[a:b]) for a, b in spans])
+    d1s = [np.diff(x[a:b]) for a, b in spans]
+    d1 = np.concatenate(d1s)
     check = float(np.mean(d1**2)) / 2.0 / value  # 1 for white noise
     secs = ", ".join(f"{a:g}-{b:g} s" for a, b in stretches)
     how = f"still stretches {secs} ({d2.size + 2 * len(spans)} samples): var(d2)/6"
-    return Reference(value, lo, hi, how, check)
+    return Reference(value, lo, hi, how, check, *ar1_per_sample(d1s))
+
+
+def ar1_per_sample(d1s: list[NDArray]) -> tuple[float | None, float]:
+    """Per-sample variance of AR(1) noise from the first differences of still stretches.
+
+    AR(1) noise of lag-1 correlation phi has first differences of lag-1 correlation
+    -(1 - phi) / 2 and variance 2 gamma0 (1 - phi): phi = 1 + 2 rho_d(1), gamma0 =
+    var(d1) / (2 (1 - phi)). Slow sway barely reaches first differences. None when
+    rho_d(1) >= 0 (phi >= 1): the differences themselves are correlated, motion at the
+    shortest lags, and no AR(1) noise explains the stretch.
+    """
+    dc = [d - d.mean() for d in d1s]
+    c0 = sum(float(d @ d) for d in dc)
+    rho = sum(float(d[:-1] @ d[1:]) for d in dc) / c0
+    phi = 1.0 + 2.0 * rho
+    var_d1 = float(np.mean(np.concatenate(d1s) ** 2))
+    return (var_d1 / (2.0 * (1.0 - phi)) if phi < 1.0 else None), phi
 
 
 def adev_reference(x: NDArray) -> Reference:
@@ -373,9 +393,9 @@ def results_table(rows: list[dict]) -> list[str]:
     """One row per record and channel: R, still level, regimes, reference, result."""
     lines = [
         "| record | channel | n | R (auto, whole record) | ci95 | R to use | still level "
-        "(share) | regimes | reference (95 %) | d1 / d2 | R to use / ref | still / ref | "
-        "result |",
-        "|---" * 13 + "|",
+        "(share) | regimes | reference (95 %) | d1 / d2 | AR(1) phi | per-sample / ref | "
+        "R to use / ref | still / ref | result |",
+        "|---" * 15 + "|",
     ]
     for r in rows:
         ref = r["reference"]
@@ -386,21 +406,41 @@ def results_table(rows: list[dict]) -> list[str]:
             f"{_g(r['ci95'][0], 3)}-{_g(r['ci95'][1], 3)} | {_g(r['use'])} | "
             f"{_g(r['quiet'])}{share} | {regs} | "
             f"{_g(ref['value'])} ({_g(ref['lo'], 3)}-{_g(ref['hi'], 3)}) | "
-            f"{_g(ref['check'], 3)} | {r['ratio']:.3g} | {_g(r['quiet_ratio'], 3)} | "
+            f"{_g(ref['check'], 3)} | {_g(ref['phi'], 2)} | {_per_sample(ref)} | "
+            f"{r['ratio']:.3g} | {_g(r['quiet_ratio'], 3)} | "
             f"{_result(r)} |"
         )
     return lines
 
 
+def _per_sample(ref: dict) -> str:
+    if ref["phi"] is None:
+        return "—"
+    if ref["per_sample"] is None:
+        return "undefined (phi >= 1)"
+    return f"{ref['per_sample'] / ref['value']:.3g}"
+
+
+def untested(r: dict) -> bool:
+    """The verdict says the still level is untested (still stretches too short to test)."""
+    return r["still_white"] is None and "untested" in r["verdict"]
+
+
 def flagged(r: dict) -> bool:
-    """A failure the result itself warns of: it says the still stretches' noise is not white."""
-    return not r["pass"] and r["still_white"] is False
+    """A failure the result itself warns of: still noise not white, or its level untested."""
+    return not r["pass"] and (r["still_white"] is False or untested(r))
 
 
 def _result(r: dict) -> str:
     if r["pass"]:
         return "PASS"
-    return "FAIL (flagged: still noise not white)" if flagged(r) else "FAIL"
+    if not flagged(r):
+        return "FAIL"
+    return (
+        "FAIL (flagged: still level untested)"
+        if untested(r)
+        else ("FAIL (flagged: still noise not white)")
+    )
 
 
 def verdict_table(rows: list[dict]) -> list[str]:
@@ -430,6 +470,19 @@ def caveat(rows: list[dict]) -> str:
     )
 
 
+#: What R low-passed still noise should get, and why the reference stays the white level.
+LOW_PASSED = (
+    "**Low-passed still noise.** A filter that takes the noise as white should use its "
+    "per-sample variance (as for differenced data); the white level understates it. The "
+    "'per-sample / ref' column is that variance for AR(1) noise, from the hand-cut "
+    "stretches' first differences (phi = 1 + 2 rho_d(1), gamma0 = var(d1) / (2 (1 - phi))). "
+    "It is defined only where the differences are negatively correlated; where they are not "
+    "(phi >= 1), the stretch holds motion at the shortest lags and no per-sample noise level "
+    "exists at this rate. The reference stays the white level, and a channel whose still "
+    "noise is not white fails unless its R to use meets that level: its verdict says so."
+)
+
+
 def report(recs: list[Record], rows: list[dict], seconds: float) -> str:
     """The whole result as Markdown."""
     passed = sum(r["pass"] for r in rows)
@@ -448,7 +501,8 @@ def report(recs: list[Record], rows: list[dict], seconds: float) -> str:
         f"{sum(by_record.values())} of {len(recs)}.** Of the {len(rows) - passed} failures, "
         f"{sum(flagged(r) for r in rows)} are flagged by the result itself (its verdict says "
         "the still stretches' noise is not white, so their level depends on the bandwidth and "
-        "a white reference is not the R); the others are silent.",
+        "a white reference is not the R, or that their level is untested); the others are "
+        "silent.",
         "",
         "Still level is `diagnostics.quiet_variance` (its share of the record); regimes are "
         "printed when the estimate reports them. References (the script's docstring): hand-cut "
@@ -456,7 +510,7 @@ def report(recs: list[Record], rows: list[dict], seconds: float) -> str:
         "var(d1)/2 in those stretches over it (1 for white noise; above 1 when slow motion or "
         "low-passed noise is in the stretch, so that the reference is the white level); the "
         "OCXO's is Stable32's published ADEV(1 s)^2 / (1 - rho1); the Nile's is Durbin & "
-        "Koopman's published fit. " + caveat(rows),
+        "Koopman's published fit. " + caveat(rows) + " " + LOW_PASSED,
         "",
         *records_table(recs, rows),
         "",

@@ -193,12 +193,14 @@ def profile_from_blocks(
         still |= r.still & (start >= r.start) & (stop <= r.stop)
     level = 1.0 - QUIET_ALPHA / robust.size
     keep = partial(_quiet_set, still, var, dof)
-    # the seed: still blocks whose mean square is near the still blocks' median (a block
-    # with motion in part of it would widen every test through the kurtosis)
+    # the seed: still blocks whose mean square is near the still blocks' median; where the
+    # record has motion, only those Gaussian noise explains (handling beside the motion)
     seed = still & (var <= SEED_FACTOR * np.median(var[still]))
     if tails is None:
         quiet = keep(chi2_ppf(level, dof) / dof, seed)
     else:  # rounds: mean squares tested with the kurtosis of the last set's other blocks
+        if not still.all():
+            seed &= _gaussian_seed(still, count, var, robust, robust_dof, eta, level)
         quiet = seed
         for _ in range(QUIET_ROUNDS):
             nu = _leave_one_out_dof(count, robust, tails, quiet, eta, dof)
@@ -207,6 +209,30 @@ def profile_from_blocks(
                 break
             quiet = again
     return LevelProfile(start, stop, var, lo, hi, dof, quiet, regimes, count)
+
+
+def _gaussian_seed(
+    still: NDArray,
+    count: NDArray,
+    var: NDArray,
+    robust: NDArray,
+    robust_dof: NDArray,
+    eta: float,
+    level: float,
+) -> NDArray:
+    """The quiet set's seed: the still blocks whose mean square Gaussian noise explains.
+
+    Each still block's mean square is tested against the still regimes' pooled robust
+    level with the dof of Gaussian noise (``n_b / η``, family-wise): a forward search from
+    a clean set (docs/algorithms.md §F1), used where the record has motion. A block with
+    handling or a tap in part of it stays out of the seed, so its tails cannot widen the
+    rounds' tests; tails spread over the record (heavy-tailed noise) enter through the
+    rounds' kurtosis of the set. A record of one still level has no motion to hand on:
+    its excess mean squares are the noise's tails, and the seed is the wider one.
+    """
+    nu = count / eta
+    floor = _pooled(robust, robust_dof, still)
+    return still & (var <= floor * chi2_ppf(level, nu) / nu)
 
 
 def _leave_one_out_dof(

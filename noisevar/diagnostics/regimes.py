@@ -20,7 +20,7 @@ from noisevar._distributions import chi2_ppf
 #: The penalty per change point is ``REGIME_PENALTY * log(number of blocks)``; measured to
 #: split white noise of one level in under 5 % of records (tests/diagnostics/test_regimes.py).
 REGIME_PENALTY = 6.0
-#: A regime more than this many times the lowest regime's level is never still.
+#: A regime more than this many times the lowest regime's upper 95 % bound is never still.
 STILL_RATIO = 2.0
 #: Regimes whose levels differ by less than this family-wise level are one level (both still).
 STILL_ALPHA = 1e-3
@@ -156,19 +156,24 @@ def find_regimes(start: NDArray, stop: NDArray, level: NDArray, dof: NDArray) ->
     Notes
     -----
     A regime is still when its level is consistent with the lowest regime's (a two-sided F
-    test at :data:`STILL_ALPHA` over the regimes, family-wise). One regime is one level:
-    still, as far as the record can tell.
+    test at :data:`STILL_ALPHA` over the regimes, family-wise) and at most
+    :data:`STILL_RATIO` times the lowest regime's upper 95 % bound. One regime is one
+    level: still, as far as the record can tell.
     """
     breaks = regime_breaks(level, dof)
     bounds = [*breaks, level.size]
     pooled = [_pool(level[a:b], dof[a:b]) for a, b in zip(bounds, bounds[1:], strict=False)]
     low, low_dof = min(pooled)
     alpha = STILL_ALPHA / max(len(pooled) - 1, 1)
+    # the floor is known to its interval: the lowest of many short regimes can sit far
+    # below the sensor's level by chance (one block of a shifted grid), and twice it is
+    # not yet motion
+    cap = STILL_RATIO * _interval(low, low_dof)[1]
     out = []
     for (a, b), (x, nu) in zip(zip(bounds, bounds[1:], strict=False), pooled, strict=True):
         # consistent with the lowest level, and not far above it whatever the dof: a short
         # stretch at twice the floor is not the sensor's still noise
-        still = x <= low * min(_f_quantile(1.0 - alpha, nu, low_dof), STILL_RATIO)
+        still = x <= min(low * _f_quantile(1.0 - alpha, nu, low_dof), cap)
         lo, hi = _interval(x, nu)
         out.append(Regime(int(start[a]), int(stop[b - 1]), x, lo, hi, nu, bool(still)))
     return tuple(out)

@@ -137,13 +137,20 @@ def _not_white(diag: NoiseDiagnostics, r: str, quiet: float, variance: float) ->
 
 
 def still_colour(diag: NoiseDiagnostics) -> str:
-    """What the still stretches' own whiteness adds to a still level ('' when white or untested).
+    """What the still stretches' own whiteness adds to a still level ('' when white).
 
     Noise that is not white in the still stretches (low-passed by the sensor, or slow
     sway left in them) has no one white level: high-pass estimators of different bandwidth
     disagree on it, so the still level is its white part, not the variance per sample.
+    Still stretches too short to test are said to be untested.
     """
     w = diag.still_whiteness
+    if w is None and diag.level_varies:  # still stretches too short for the test
+        return (
+            "; the still stretches are too short to test whether their noise is white, so "
+            "this level is untested: if the sensor low-passes its noise it is only the white "
+            "part (record the sensor still for longer)"
+        )
     if w is None or w.white:
         return ""
     return (

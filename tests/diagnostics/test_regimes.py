@@ -111,3 +111,19 @@ def test_coloured_noise_of_one_level_is_still_called_coloured():
     diag = noisevar.estimate(z).diagnostics
     assert not diag.level_varies and diag.still_whiteness is None
     assert diag.verdict.startswith("the noise is coloured")
+
+
+def test_a_one_block_low_regime_does_not_make_the_still_stretches_motion():
+    # YEI hand-held gyroscope X reversed (issue 26): the shifted block grid left one block,
+    # between two motions, at 0.4x the still level; with the cap at twice that block's
+    # level no other regime was still, and the R to use jumped 3.6e3x (the whole record's)
+    rng = np.random.default_rng(2626)
+    nu = 10.0
+    levels = np.r_[np.ones(20), np.full(5, 1e3), 0.4, np.full(5, 1e3), np.ones(20)]
+    level = levels * rng.chisquare(nu, levels.size) / nu
+    level[25] = 0.4  # the low block itself, exactly
+    start = np.arange(levels.size) * 32
+    regimes = find_regimes(start, start + 32, level, np.full(levels.size, nu))
+    still = [r for r in regimes if r.still]
+    assert sum(r.stop - r.start for r in still) >= 40 * 32
+    assert not any(r.still and r.variance > 10.0 for r in regimes)

@@ -55,3 +55,20 @@ def test_still_whiteness_is_tested_across_a_gap(low_passed: bool) -> None:
     assert diag.still_whiteness is not None
     assert diag.still_whiteness.white is (not low_passed)
     assert ("even there the noise is not white" in diag.verdict) is low_passed
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_still_stretch_too_short_to_test_is_said_to_be_untested(seed: int) -> None:
+    # mobgap HA002 accelerometer Y (issue 26): its still stretch is 2 % of the record, too
+    # short for the whiteness test; the verdict quoted its level as the sensor noise, silent
+    rng = np.random.default_rng(seed)
+    noise = lfilter([1.0], [1.0, -0.6], rng.normal(size=N))
+    k = np.arange(N)
+    motion = 10.0 * np.sin(2.0 * np.pi * k / 4.3) * (1.0 + 0.5 * np.sin(k / 900.0))
+    motion[9000:9300] = 0.0  # 1.5 % still
+    est = noisevar.estimate(noise + motion)
+    diag = est.diagnostics
+    assert diag.level_varies
+    assert diag.still_whiteness is None
+    assert "too short to test whether their noise is white" in diag.verdict
+    assert "untested" in diag.verdict
