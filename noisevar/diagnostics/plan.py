@@ -123,7 +123,9 @@ def _grid_candidate(probe: NDArray) -> tuple[float, float] | str | None:
         return "flat"
     steps = np.diff(levels)
     step = float(steps.min())
-    if step <= 0 or float(levels[-1] - levels[0]) / step > 1e9:
+    with np.errstate(over="ignore"):  # a span beyond the float range: inf, not a grid
+        span = float(levels[-1] - levels[0])
+    if step <= 0 or span / step > 1e9:
         return None
     return (float(levels[0]), step) if _on_grid(steps, step) else None
 

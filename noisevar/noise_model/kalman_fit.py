@@ -174,7 +174,8 @@ class KalmanTuning:
             out[name] = num(getattr(self, name))
             out[f"{name}_interval"] = [num(v) for v in getattr(self, f"{name}_interval")]
         for name in ("F", "H", "Q", "R", "gain", "P", "x0", "P0"):
-            out[name] = np.asarray(getattr(self, name), float).tolist()
+            m = np.asarray(getattr(self, name), float)
+            out[name] = np.where(np.isfinite(m), m, None).tolist()
         out.update(
             nis_mean=num(self.nis_mean),
             nis_band=[num(v) for v in self.nis_band],

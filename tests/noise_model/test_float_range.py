@@ -165,6 +165,18 @@ class TestFitKalman:
         assert got.q == pytest.approx(ref.q * x * x, rel=1e-4)
         assert got.h == pytest.approx(ref.h, rel=1e-4)
 
+    def test_a_covariance_beyond_the_float_range_is_said_and_json_safe(self):
+        import json
+        import warnings
+
+        z = np.cumsum(np.cumsum(np.random.default_rng(4).normal(0, 0.01, 1500))) * 0.01
+        z = z + np.random.default_rng(5).normal(0, 1, 1500)
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")  # no overflow warning: said in a note instead
+            t = fit_kalman(z * 1e154, "cv", rate=10.0)
+        assert any("exceeds the largest floating-point number" in n for n in t.notes)
+        json.dumps(t.to_dict(), allow_nan=False)
+
 
 class TestStreamedFile:
     @FUZZ
