@@ -189,3 +189,19 @@ def test_report_holds_the_verdict_units_and_conversions(capsys, imu_csv, tmp_pat
     assert main([*argv[:-4], "--out", str(skip), "--no-report", "--format", "json"]) == 0
     assert json.loads(capsys.readouterr().out)["report"] is None
     assert not (skip / "report.html").exists() and (skip / "px4_ekf2.params").exists()
+
+
+def test_every_consumer_file_says_each_columns_verdict(capsys, imu_csv, tmp_path) -> None:
+    """The verdict is in the exports (issue 28): each file's header, with --no-report too."""
+    from noisevar import estimate
+
+    out = tmp_path / "verdicts"
+    args = ["imu", imu_csv, *BASE, "--export", "all", "--out", str(out), "--no-report"]
+    assert main(args) == 0
+    capsys.readouterr()
+    table = np.loadtxt(imu_csv, delimiter=",", skiprows=1)
+    gx = estimate(table[:, 0] * math.pi / 180).diagnostics.verdict.split(":")[0]
+    for key in exports.CONSUMERS:
+        text = (out / exports.consumer(key).filename).read_text(encoding="utf-8")
+        assert "verdict, column gx: " + gx in text and "verdict, column ax: " in text, key
+        exports.consumer(key).parse(text)  # still the consumer's own format

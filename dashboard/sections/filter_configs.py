@@ -7,6 +7,8 @@ report (verdict, units, conversions: docs/algorithms.md §E7.5).
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import streamlit as st
 
@@ -118,6 +120,8 @@ def consumer_files(sig: LoadedSignal, rate: float, regimes: str) -> None:
             gyro_unit=g_unit,
             accel_unit=a_unit,
         )
+        said = {c: _answer(f"{sig.table_digest}:{c}", regimes, _column(sig, c)) for _, c, _ in axes}
+        model = replace(model, verdicts={c: a.verdict for c, a in said.items() if a.verdict})
         files = exports.export(model, "all")
         for name, s in (("Gyroscope", model.gyro), ("Accelerometer", model.accel)):
             f = ", ".join(f"{k} x{v:.3g}" for k, v in s.factors.items())

@@ -2,8 +2,8 @@
 
 The report (:func:`noisevar.noise_model.exports.report.imu_report`) quotes each gyroscope
 and accelerometer column's verdict: the record's answer of :func:`noisevar.estimate`
-(method auto, as the Estimator page and ``noisevar estimate``), computed here per column,
-and draws each column's Allan fit.
+(method auto, as the Estimator page and ``noisevar estimate``), computed here per column
+(every exported file's header says it too), and draws each column's Allan fit.
 """
 
 from __future__ import annotations
@@ -17,24 +17,19 @@ from pathlib import Path
 
 import numpy as np
 
+from noisevar.estimators.answer import RecordAnswer
 from noisevar.noise_model.exports import ExportFile, ImuModel
 from noisevar.noise_model.inertial import InertialNoise
 
 
-def write_report(
-    args: argparse.Namespace,
-    model: ImuModel,
-    files: list[ExportFile],
-    fits: dict[str, InertialNoise],
-    data: dict[str, np.ndarray],
-    scales: dict[str, float],
-) -> str:
-    """Write ``report.html`` into ``--out``; its path."""
+def column_answers(
+    args: argparse.Namespace, data: dict[str, np.ndarray], scales: dict[str, float]
+) -> list[tuple[str, str, RecordAnswer]]:
+    """Each gyroscope and accelerometer column's record answer (method auto, as the
+    Estimator page): ``(sensor, column, answer)``, for the files' headers and the report."""
     from noisevar.estimators import estimate
     from noisevar.estimators.answer import record_answer
     from noisevar.estimators.regimes import DEFAULT_REGIMES
-    from noisevar.figures.noise_model import allan_figure
-    from noisevar.noise_model.exports.report import REPORT_FILENAME, Axis, imu_report
 
     regimes = args.regimes or DEFAULT_REGIMES
     named = [
@@ -45,10 +40,24 @@ def write_report(
     # the columns' estimates in threads, as inertial_noise fits the axes
     with ThreadPoolExecutor(max(1, min(len(named), os.cpu_count() or 1))) as pool:
         ests = list(pool.map(lambda sc: estimate(data[sc[1]] * scales[sc[1]]), named))
-    axes = [
-        Axis(c, sensor, fits[c], record_answer(est, regimes))
+    return [
+        (sensor, c, record_answer(est, regimes))
         for (sensor, c), est in zip(named, ests, strict=True)
     ]
+
+
+def write_report(
+    args: argparse.Namespace,
+    model: ImuModel,
+    files: list[ExportFile],
+    fits: dict[str, InertialNoise],
+    answers: list[tuple[str, str, RecordAnswer]],
+) -> str:
+    """Write ``report.html`` into ``--out``; its path."""
+    from noisevar.figures.noise_model import allan_figure
+    from noisevar.noise_model.exports.report import REPORT_FILENAME, Axis, imu_report
+
+    axes = [Axis(c, sensor, fits[c], ans) for sensor, c, ans in answers]
     figures = [
         allan_figure(a.fit.allan, fit=a.fit, title=f"Allan deviation of {a.column}", unit=u)
         for a in axes

@@ -9,6 +9,7 @@
 from __future__ import annotations
 
 import argparse
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -75,7 +76,7 @@ def _exports(
 ) -> tuple[list[str], dict, str]:
     """Each consumer's file of ``--export`` written into ``--out``, and the HTML report
     beside them; the files' paths, the model, the report's path."""
-    from noisevar.cli._imu_report import write_report
+    from noisevar.cli._imu_report import column_answers, write_report
     from noisevar.noise_model import exports
 
     keys = exports.consumers(args.export)  # an unknown consumer: exit 2 before any work
@@ -88,9 +89,11 @@ def _exports(
         variant="conservative" if args.conservative else "best",
         gnss=_gnss(args),
     )
+    answers = column_answers(args, data, scales)  # each file's header says each verdict
+    model = replace(model, verdicts={c: a.verdict for _, c, a in answers if a.verdict})
     files = exports.export(model, keys)
     paths = [str(p) for p in exports.write_exports(files, args.out)]
-    report = None if args.no_report else write_report(args, model, files, fits, data, scales)
+    report = None if args.no_report else write_report(args, model, files, fits, answers)
     return paths, model.to_dict(), report
 
 
@@ -238,7 +241,7 @@ def add_parser(sub: Any) -> None:
         "--no-report",
         action="store_true",
         help="with --export: skip DIR/report.html (each column's verdict, units, "
-        "conversions, Allan fits), which estimates each column's R once more",
+        "conversions, Allan fits)",
     )
     p.add_argument(
         "--gnss-pos", metavar="COLUMN", help="GNSS position column (m), for PX4/ArduPilot"

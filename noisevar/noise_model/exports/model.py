@@ -65,6 +65,9 @@ class ImuModel:
         Conversions done, what the conservative set covers, what a value was raised to.
     gnss : dict of str to float
         Optional GNSS measurement stds: ``"position"`` (m), ``"velocity"`` (m/s).
+    verdicts : dict of str to str
+        Each column's verdict (the record's answer, :mod:`noisevar.estimators.answer`),
+        written in every file's header: the file's values assume what it says.
     """
 
     gyro: SensorTerms
@@ -74,6 +77,7 @@ class ImuModel:
     regimes: str = "all"
     notes: tuple[str, ...] = ()
     gnss: Mapping[str, float] = field(default_factory=dict)
+    verdicts: Mapping[str, str] = field(default_factory=dict)
 
     def sensor(self, name: str) -> SensorTerms:
         """``"gyroscope"`` or ``"accelerometer"``."""
@@ -95,7 +99,8 @@ class ImuModel:
             if s.factors:
                 f = ", ".join(f"{k} x{v:.3g}" for k, v in s.factors.items())
                 lines.append(f"{name}: factors over the best fit: {f}")
-        return lines + [f"note: {n}" for n in self.notes]
+        said = [f"verdict, column {c}: {' '.join(v.split())}" for c, v in self.verdicts.items()]
+        return lines + said + [f"note: {n}" for n in self.notes]
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-safe dictionary."""
@@ -107,6 +112,7 @@ class ImuModel:
             "accelerometer": vars(self.accel) | {"factors": dict(self.accel.factors)},
             "notes": list(self.notes),
             "gnss": dict(self.gnss),
+            "verdicts": dict(self.verdicts),
         }
 
 
