@@ -6,6 +6,7 @@ import base64
 import functools
 import logging
 import math
+import numbers
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
@@ -507,7 +508,19 @@ def param_input(
 def blank_missing(rows: Sequence[dict[str, Any]], text: str = "—") -> list[dict[str, Any]]:
     """Table rows with every missing cell (None, or a column a row lacks) shown as ``text``.
 
-    Streamlit's data frame draws a missing cell as a literal "None".
+    Streamlit's data frame draws a missing cell as a literal "None". A column that then
+    mixes text with numbers shows its numbers as text (6 significant digits): Arrow cannot
+    hold both in one column, and Streamlit logs a traceback when it falls back.
     """
     columns = list(dict.fromkeys(k for r in rows for k in r))
-    return [{k: text if r.get(k) is None else r[k] for k in columns} for r in rows]
+    gappy = {k for k in columns if any(r.get(k) is None for r in rows)}
+
+    def cell(r: dict[str, Any], k: str) -> Any:
+        v = r.get(k)
+        if v is None:
+            return text
+        if k in gappy and isinstance(v, numbers.Real) and not isinstance(v, bool):
+            return f"{v:.6g}"
+        return v
+
+    return [{k: cell(r, k) for k in columns} for r in rows]
