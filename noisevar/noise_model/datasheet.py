@@ -19,8 +19,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
+from noisevar.noise_model.inertial import TERMS
 
-_FLICKER = 2.0 * math.log(2.0) / math.pi
+_N, _B = (next(t for t in TERMS if t.symbol == s) for s in ("N", "B"))
 
 #: Rate units of the data: (dimension, the unit as noisevar.units reads it).
 DATA_UNITS = {
@@ -78,8 +79,10 @@ class DatasheetTerms:
 
     def deviation(self, taus: ArrayLike) -> NDArray:
         """The Allan deviation ``sqrt(N²/τ + (2 ln 2/π) B²)`` at ``taus`` (s)."""
-        t = np.asarray(taus, dtype=float)
-        return np.sqrt(self.random_walk**2 / t + _FLICKER * self.bias_instability**2)
+        t = np.asarray(taus, dtype=float)  # the IEEE-952 terms' coefficients (eq. E4.1)
+        return np.sqrt(
+            _N.coefficient(t) * self.random_walk**2 + _B.coefficient(t) * self.bias_instability**2
+        )
 
 
 def _factor(table: dict, unit: str, dimension: str, what: str, target: str) -> float:
@@ -132,6 +135,6 @@ def datasheet_terms(
     n = n_value * _factor(DENSITY_UNITS, n_unit, dim, name, f"({data})/Hz**0.5")
     b = b_value * _factor(BIAS_UNITS, b_unit, dim, "Bias instability", data)
     if floor:
-        b /= math.sqrt(_FLICKER)
+        b /= math.sqrt(float(_B.coefficient(np.ones(1))[0]))  # the flat ADEV's 0.664 B
     quoted = f"{name} {n_value:g} {n_unit}, BI {b_value:g} {b_unit}"
     return DatasheetTerms(n, b, data_unit, quoted)
