@@ -170,7 +170,7 @@ def _report_download(
     files: list[exports.ExportFile],
     axes: list[tuple[str, str, InertialNoise]],
 ) -> None:
-    """The report's download button (built on click: each column's estimate takes time)."""
+    """The report's download button (built on click: its Allan figures take time)."""
     st.download_button(
         "Report (HTML): verdict, units, conversions",
         data=lambda: report_html(sig, model, files, axes),
