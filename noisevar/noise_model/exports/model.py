@@ -15,6 +15,7 @@ from typing import Any
 from noisevar import units
 from noisevar.errors import NoisevarError
 from noisevar.noise_model.inertial import InertialNoise
+from noisevar.noise_model.kalibr import imu_rate
 from noisevar.noise_model.overbound import NK, overbound
 
 #: The SI unit each sensor's terms are exported in.
@@ -192,7 +193,7 @@ def imu_model(
     if variant not in VARIANTS:
         raise NoisevarError(f"variant must be one of {', '.join(VARIANTS)}, not {variant!r}")
     g, a = _axes(gyro, "gyroscope"), _axes(accel, "accelerometer")
-    rate, notes = _rate(g, a)
+    rate, notes = imu_rate(g, a)
     regimes = {x.regimes for x in g + a}
     if len(regimes) != 1:
         raise NoisevarError("the axes were fitted on different regimes: fit them all alike")
@@ -203,24 +204,3 @@ def imu_model(
             raise NoisevarError(f"gnss takes positive 'position' and 'velocity' stds, not {key!r}")
     notes += gn + an
     return ImuModel(gs, acs, rate, variant, regimes.pop(), tuple(notes), dict(gnss or {}))
-
-
-def _rate(g: list[InertialNoise], a: list[InertialNoise]) -> tuple[float, list[str]]:
-    """The IMU rate the files state: the gyroscope's; a note when the accelerometer's
-    differs (two topics of a log, e.g. PX4's FIFOs)."""
-    for name, axes in (("gyroscope", g), ("accelerometer", a)):
-        rates = {x.rate for x in axes}
-        if len(rates) != 1:
-            raise NoisevarError(
-                f"the {name} axes were fitted at different rates ({sorted(rates)} Hz)"
-            )
-    rate, a_rate = g[0].rate, a[0].rate
-    if a_rate == rate:
-        return rate, []
-    return rate, [
-        f"the gyroscope was sampled at {rate:g} Hz, the accelerometer at {a_rate:g} Hz: each "
-        "sensor's N and K are densities fitted at its own rate (they do not depend on it); "
-        f"a file that states one IMU rate states the gyroscope's {rate:g} Hz (set it to your "
-        "filter's IMU rate if that differs); the accelerometer's std per sample at its own "
-        f"rate is N·√{a_rate:g}"
-    ]
