@@ -63,9 +63,7 @@ def test_two_fifo_topics_to_a_px4_file(tmp_path, downloads):
     at.multiselect(key="nm_accel").set_value([f"{ACCEL}/{a}" for a in "xyz"]).run()
     _ok(at)
     text = downloads["px4_ekf2.params"].decode()
-    values = {
-        r.split("\t")[2]: float(r.split("\t")[3]) for r in text.splitlines() if r[:1] == "1"
-    }
+    values = {r.split("\t")[2]: float(r.split("\t")[3]) for r in text.splitlines() if r[:1] == "1"}
     ekf = 100.0**0.5  # discrete at 1/EKF2_PREDICT_US = 100 Hz, as the file says
     assert values["EKF2_GYR_NOISE"] == pytest.approx(truth[GYRO] * ekf, rel=0.05)
     assert values["EKF2_ACC_NOISE"] == pytest.approx(truth[ACCEL] * ekf, rel=0.05)
