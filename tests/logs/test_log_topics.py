@@ -106,3 +106,22 @@ def test_cli_one_topic_unchanged(fifo_log, capsys):
     argv = ["imu", str(fifo_log[0]), "--topic", ACCEL, "--columns", "x", "--format", "json"]
     assert main(argv) == 0
     assert list(json.loads(capsys.readouterr().out)["columns"]) == ["x"]
+
+
+def test_one_imu_rate_stated_with_a_note_when_the_sensors_differ():
+    """Kalibr and every consumer state the gyroscope's rate and say the accelerometer's."""
+    from noisevar.noise_model import exports, inertial_noise
+    from noisevar.noise_model.kalibr import kalibr_imu
+
+    rng = np.random.default_rng(5)
+    g800 = inertial_noise(rng.normal(0, 0.01, 4_000), 800.0, unit="rad/s")
+    g400 = inertial_noise(rng.normal(0, 0.01, 2_000), 400.0, unit="rad/s")
+    a400 = inertial_noise(rng.normal(0, 0.05, 2_000), 400.0, unit="m/s^2")
+    imu = kalibr_imu(g800, a400)
+    model = exports.imu_model(g800, a400)
+    assert imu.update_rate == model.rate == 800.0
+    said = "the gyroscope was sampled at 800 Hz, the accelerometer at 400 Hz"
+    assert any(said in n for n in imu.notes) and any(said in n for n in model.notes)
+    assert not any("sampled at" in n for n in exports.imu_model(g400, a400).notes)
+    with pytest.raises(NoisevarError, match="gyroscope axes were fitted at different rates"):
+        exports.imu_model([g800, g400], a400)
