@@ -15,7 +15,12 @@
     allan-variance-analyzer``, benchmark only) from the same file to its ``imu.yaml``, in
     the same run, each term against the truth.
 
-    python benchmarks/exports.py                 # both parts (part b: ~20 min on 2 cores)
+(c) The same record as a PX4 ULog, the gyroscope and the accelerometer in their own FIFO
+    topics (``sensor_gyro_fifo``, ``sensor_accel_fifo``), from the log to every export
+    with ``noisevar imu --topic sensor_gyro_fifo --topic sensor_accel_fifo --export all``.
+
+    python benchmarks/exports.py                 # every part (part b: ~20 min on 2 cores)
+    python benchmarks/exports.py --parts bc      # the runs against the field only
     python benchmarks/exports.py --parts a --runs 50
 """
 
@@ -24,6 +29,8 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -35,6 +42,7 @@ from noisevar.noise_model.inertial import TERMS
 from noisevar.noise_model.overbound import NK, overbound, upper_bound
 from noisevar.noise_model.simulate import simulate_inertial
 
+ROOT = Path(__file__).resolve().parents[1]
 OUT = Path(__file__).parent / "results" / "exports.md"
 #: allan_variance_ros's simulator configuration (see the module docstring).
 TRUTH = {
@@ -114,46 +122,113 @@ def _simulate_file(path: Path) -> None:
     np.save(path, np.column_stack(cols))
 
 
-def _run_noisevar(path: Path, out: Path) -> tuple[float, dict]:
+#: Part (c): physical unit per count of the simulated FIFOs (their ``scale``): rounding
+#: adds (scale²/12) to a per-sample variance of (N·√400)², under 1e-4 of it.
+FIFO_SCALES = {"accelerometer": 1e-4, "gyroscope": 1e-5}
+FIFO_TOPICS = {"accelerometer": "sensor_accel_fifo", "gyroscope": "sensor_gyro_fifo"}
+NPY_COLUMNS = {"accelerometer": ("col0", "col1", "col2"), "gyroscope": ("col3", "col4", "col5")}
+
+
+#: PX4's ``sensor_*_fifo`` row as ``tests/logs/logfiles.FIFO_FORMAT`` lays it out (ULog
+#: structs are packed), and a ULog data message around it: size, ``D``, msg_id, the row.
+FIFO_ROW = np.dtype(
+    [
+        ("timestamp", "<u8"),
+        ("timestamp_sample", "<u8"),
+        ("device_id", "<u4"),
+        ("dt", "<f4"),
+        ("scale", "<f4"),
+        ("samples", "u1"),
+        ("x", "<i2", (32,)),
+        ("y", "<i2", (32,)),
+        ("z", "<i2", (32,)),
+    ]
+)
+
+
+def _fifo_counts(sensor: str, m: int, per: int, seed0: int) -> np.ndarray:
+    n = m * per
+    t, scale = TRUTH[sensor], FIFO_SCALES[sensor]
+    counts = np.zeros((m, 3, 32), dtype=np.int16)
+    for a in range(3):
+        y = simulate_inertial(
+            n, SIM_RATE, random_walk=t["N"], rate_random_walk=t["K"], seed=seed0 + a
+        )
+        counts[:, a, :per] = np.round(y / scale).reshape(m, per)
+    return counts
+
+
+def _simulate_ulog(path: Path) -> None:
+    """The record of :func:`_simulate_file` (same seeds) as a PX4 ULog: the accelerometer in
+    ``sensor_accel_fifo``, the gyroscope in ``sensor_gyro_fifo`` (8 samples a message, int16
+    counts times ``scale``). pyulog's own writer writes the log (a copy of the real PX4
+    sample log) with each topic's first message (``tests/logs/logfiles.py``); the other
+    messages are appended as ULog data messages (``D``: size, msg_id, the packed row), as
+    the writer takes ~100 ``struct.pack`` calls a message (half an hour for this record)."""
+    sys.path.insert(0, str(ROOT / "tests" / "logs"))
+    from logfiles import write_ulog_fifo
+    from pyulog import ULog
+
+    per = 8
+    m = int(SIM_RATE * SIM_SECONDS) // per
+    dt_us = 1e6 / SIM_RATE
+    stamps = 5_000_000 + (np.arange(1, m + 1) * per * dt_us).astype(np.int64)
+    samples = np.full(m, per)
+    src = ROOT / "tests" / "data" / "px4_sample_log_small.ulg"
+    counts = {"gyroscope": _fifo_counts("gyroscope", m, per, 3)}
+    counts["accelerometer"] = _fifo_counts("accelerometer", m, per, 0)
+    for sensor, out in (("gyroscope", path.with_name("gyro_only.ulg")), ("accelerometer", path)):
+        c, scale = counts[sensor], FIFO_SCALES[sensor]
+        write_ulog_fifo(out, c[:1], samples[:1], dt_us, scale, stamps[:1], FIFO_TOPICS[sensor], src)
+        src = out
+    ids = {d.name: d.msg_id for d in ULog(str(path), list(FIFO_TOPICS.values())).data_list}
+    message = np.dtype([("size", "<u2"), ("type", "u1"), ("id", "<u2"), ("row", FIFO_ROW)])
+    with path.open("ab") as fh:
+        for sensor, topic in FIFO_TOPICS.items():
+            msgs = np.zeros(m - 1, dtype=message)
+            msgs["size"], msgs["type"], msgs["id"] = 2 + FIFO_ROW.itemsize, ord("D"), ids[topic]
+            row = msgs["row"]
+            row["timestamp"], row["timestamp_sample"] = stamps[1:] + 50, stamps[1:]
+            row["device_id"], row["dt"], row["scale"] = 2621474, dt_us, FIFO_SCALES[sensor]
+            row["samples"] = per
+            for a, ax in enumerate("xyz"):
+                row[ax] = counts[sensor][1:, a, :]
+            msgs["row"] = row
+            fh.write(msgs.tobytes())
+
+
+def _run_noisevar(path: Path, out: Path, ulog: bool = False) -> tuple[float, dict]:
+    """Seconds from the file to every export (``ulog``: the two FIFO topics of
+    :func:`_simulate_ulog`, each at its topic's rate from the log's timestamps)."""
     from noisevar.cli import main
     from noisevar.noise_model.exports import consumer
 
-    t0 = time.perf_counter()
-    argv = [
-        "imu",
-        str(path),
-        "--rate",
-        f"{SIM_RATE:g}",
-        "--accel",
-        "col0",
-        "col1",
-        "col2",
-        "--gyro",
-        "col3",
-        "col4",
-        "col5",
-        "--export",
-        "all",
-        "--out",
-        str(out),
-        "--format",
-        "json",
-    ]
+    t0, c0 = time.perf_counter(), time.process_time()
+    cols = (
+        {s: [f"{FIFO_TOPICS[s]}/{a}" for a in "xyz"] for s in FIFO_TOPICS} if ulog else NPY_COLUMNS
+    )
+    argv = ["imu", str(path)]
+    argv += (
+        ["--topic", FIFO_TOPICS["gyroscope"], "--topic", FIFO_TOPICS["accelerometer"]]
+        if ulog
+        else ["--rate", f"{SIM_RATE:g}"]
+    )
+    argv += ["--accel", *cols["accelerometer"], "--gyro", *cols["gyroscope"]]
+    argv += ["--export", "all", "--out", str(out), "--format", "json"]
     import contextlib
     import io
 
     buf = io.StringIO()
     with contextlib.redirect_stdout(buf):
         assert main(argv) == 0
-    seconds = time.perf_counter() - t0
+    seconds, cpu = time.perf_counter() - t0, time.process_time() - c0
     k = consumer("kalibr").parse((out / "imu.yaml").read_text())
+    k["report"] = (out / "report.html").is_file()
+    k["cpu"] = cpu
     report = json.loads(buf.getvalue())["columns"]
-    for sensor, cols in (
-        ("accelerometer", ("col0", "col1", "col2")),
-        ("gyroscope", ("col3", "col4", "col5")),
-    ):
+    for sensor, names in cols.items():
         for key, term in (("N", "random_walk"), ("K", "rate_random_walk")):
-            errs = [report[c]["terms"][term]["value"] / TRUTH[sensor][key] - 1 for c in cols]
+            errs = [report[c]["terms"][term]["value"] / TRUTH[sensor][key] - 1 for c in names]
             k[f"axes_{sensor}_{key}"] = errs
     return seconds, k
 
@@ -167,11 +242,11 @@ def _run_ava(path: Path, out: Path) -> tuple[float, dict] | str:
 
     cfg = out / "config.yaml"
     cfg.write_text(f"imu_rate: {SIM_RATE:g}\nmeasure_rate: {SIM_RATE:g}\n")
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     data = np.load(path)
     AllanVarianceAnalyzer(cfg, out)(data)  # its defaults: periods 0.1..1000 s, step 0.1 s
-    seconds = time.perf_counter() - t0
-    return seconds, yaml.safe_load((out / "imu.yaml").read_text())
+    seconds, cpu = time.perf_counter() - t0, time.process_time() - c0
+    return seconds, yaml.safe_load((out / "imu.yaml").read_text()) | {"cpu": cpu}
 
 
 def part_b() -> list[str]:
@@ -189,7 +264,8 @@ def part_b() -> list[str]:
         f"## (b) allan_variance_ros's simulator: {SIM_SECONDS:g} s at {SIM_RATE:g} Hz, 6 axes "
         f"({mb:.0f} MB .npy), same run",
         "",
-        "| tool | file to outputs (s) | outputs | acc N err | acc K err | gyr N err | gyr K err |",
+        "| tool | file to outputs: wall s (CPU s) | outputs | acc N err | acc K err | gyr N err "
+        "| gyr K err |",
         "|---|---|---|---|---|---|---|",
     ]
 
@@ -200,7 +276,11 @@ def part_b() -> list[str]:
             for k, t in (("noise_density", "N"), ("random_walk", "K"))
         )
 
-    lines.append(f"| noisevar imu --export all | {nv_s:.1f} | 9 consumer files | {errs(nv)} |")
+    written = "9 consumer files" + (" + report.html" if nv.pop("report") else "")
+    load = os.getloadavg()
+    lines.append(
+        f"| noisevar imu --export all | {nv_s:.1f} ({nv['cpu']:.1f}) | {written} | {errs(nv)} |"
+    )
     per_axis = " | ".join(
         ", ".join(f"{100 * e:+.1f}" for e in nv[f"axes_{s}_{t}"]) + " %"
         for s in ("accelerometer", "gyroscope")
@@ -211,10 +291,13 @@ def part_b() -> list[str]:
         lines.append(f"| allan-variance-analyzer 1.0.4 | - | {ava} | | | | |")
     else:
         lines.append(
-            f"| allan-variance-analyzer 1.0.4 | {ava[0]:.1f} | imu.yaml (Kalibr) | {errs(ava[1])} |"
+            f"| allan-variance-analyzer 1.0.4 | {ava[0]:.1f} ({ava[1]['cpu']:.1f}) "
+            f"| imu.yaml (Kalibr) | {errs(ava[1])} |"
         )
     lines += [
         "",
+        f"Load average after the runs: {load[0]:.1f} (1 min), {load[1]:.1f} (5 min) on "
+        f"{os.cpu_count()} cores (shared machine). "
         "Errors: the value written to Kalibr's imu.yaml (the largest of the 3 axes, both tools) "
         "against the simulator's truth. allan_variance_ros reports these densities 28-29 % low "
         "(issue 27); the target is under 3 % for N.",
@@ -223,9 +306,55 @@ def part_b() -> list[str]:
     return lines
 
 
+def part_c() -> list[str]:
+    """From a PX4 ULog with the gyroscope and accelerometer in two FIFO topics (the record
+    of part b) to every export and the report, through ``--topic A --topic B``."""
+    with tempfile.TemporaryDirectory() as tmp:
+        root = Path(tmp)
+        path = root / "sim_imu.ulg"
+        t0 = time.perf_counter()
+        _simulate_ulog(path)
+        written_s = time.perf_counter() - t0
+        mb = path.stat().st_size / 1e6
+        from noisevar.io import load_topics
+
+        t0, c0 = time.perf_counter(), time.process_time()
+        rec = load_topics(path, [FIFO_TOPICS["gyroscope"], FIFO_TOPICS["accelerometer"]])
+        read = (time.perf_counter() - t0, time.process_time() - c0, len(rec.columns))
+        del rec
+        (root / "nv").mkdir()
+        nv_s, nv = _run_noisevar(path, root / "nv", ulog=True)
+    load = os.getloadavg()
+    written = "9 consumer files" + (" + report.html" if nv.pop("report") else "")
+    errs = " | ".join(
+        f"{100 * (nv[f'{s}_{k}'] / TRUTH[s][t] - 1):+.2f} %"
+        for s in ("accelerometer", "gyroscope")
+        for k, t in (("noise_density", "N"), ("random_walk", "K"))
+    )
+    return [
+        f"## (c) The same record in a PX4 ULog ({mb:.0f} MB): sensor_gyro_fifo and "
+        "sensor_accel_fifo, 8 samples a message",
+        "",
+        "| tool | log to outputs: wall s (CPU s) | outputs | acc N err | acc K err | gyr N err "
+        "| gyr K err |",
+        "|---|---|---|---|---|---|---|",
+        f"| noisevar imu --topic sensor_gyro_fifo --topic sensor_accel_fifo --export all "
+        f"| {nv_s:.1f} ({nv['cpu']:.1f}) | {written} | {errs} |",
+        f"| of which reading the two topics (`load_topics`, timed apart) | {read[0]:.1f} "
+        f"({read[1]:.1f}) | {read[2]} columns, {mb / read[0]:.0f} MB/s of log | | | | |",
+        "",
+        f"Writing the log (pyulog's writer, messages appended; not timed above) took "
+        f"{written_s:.0f} s. Counts of "
+        f"{FIFO_SCALES['gyroscope']:g} rad/s and {FIFO_SCALES['accelerometer']:g} m/s² "
+        f"(float32 scale, as PX4 logs it). Load average after the run: {load[0]:.1f} (1 min), "
+        f"{load[1]:.1f} (5 min) on {os.cpu_count()} cores (shared machine).",
+        "",
+    ]
+
+
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--parts", default="ab")
+    p.add_argument("--parts", default="abc")
     p.add_argument("--runs", type=int, default=50)
     args = p.parse_args()
     lines = ["# Filter configs (benchmarks/exports.py)", ""]
@@ -233,9 +362,11 @@ def main() -> None:
         lines += part_a(args.runs)
     if "b" in args.parts:
         lines += part_b()
+    if "c" in args.parts:
+        lines += part_c()
     text = "\n".join(lines)
     print(text)
-    if args.parts == "ab":
+    if args.parts == "abc":
         OUT.write_text(text + "\n", encoding="utf-8")
     else:
         OUT.with_name(f"exports_{args.parts}.md").write_text(text + "\n", encoding="utf-8")

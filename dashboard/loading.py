@@ -15,6 +15,7 @@ from dashboard.state import LoadedSignal, make_signal, parse_recipe, set_signal
 from dashboard.url_params import RECIPE_PARAMS, check_recipe
 from noisevar.errors import NoisevarError
 from noisevar.io import content_digest, drop_nonfinite_rows, table_from_arrays
+from noisevar.io.logs.record import combine_topics
 from noisevar.signals import PAPER_SIGNAL, signal_spec
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -56,6 +57,7 @@ def load_bytes(
     source: str = "upload",
     drop_nonfinite: bool = False,
     topic: str | None = None,
+    also: Sequence[str] = (),
 ) -> LoadedSignal:
     """Load file bytes as the new signal (raises NoisevarError; the old signal stays then).
 
@@ -72,6 +74,9 @@ def load_bytes(
         Drop the rows with an empty or NaN cell instead of refusing them.
     topic : str, optional
         For a log (ROS bag, ULog, DataFlash, Parquet, HDF5): the topic to read.
+    also : sequence of str
+        For a log: more topics read beside ``topic`` (:attr:`LoadedSignal.topics`: the
+        Noise model page's gyroscope and accelerometer columns, each at its topic's rate).
 
     Returns
     -------
@@ -83,11 +88,19 @@ def load_bytes(
             f"{name} is {len(raw) / 1e6:.1f} MB, over the {limit / 1024 / 1024:.0f} MB upload "
             "limit: give a shorter record (or raise server.maxUploadSize)"
         )
-    table = cache.load_bytes_cached(content_digest(raw), name, raw, topic)
+    digest = content_digest(raw)
+    table = cache.load_bytes_cached(digest, name, raw, topic)
     if drop_nonfinite:
         table = drop_nonfinite_rows(table)
     recipe = f"sample:{name}" if source == "sample" else None
     sig = make_signal(table, None, table.sample_period, source, recipe)
+    chosen = list(dict.fromkeys([topic, *also])) if topic and also else []
+    if len(chosen) > 1:
+        tables = {t: cache.load_bytes_cached(digest, name, raw, t) for t in chosen}
+        if drop_nonfinite:
+            tables = {t: drop_nonfinite_rows(tab) for t, tab in tables.items()}
+        sig.topics = combine_topics(name, tables)
+        sig.topics_key = f"{digest}:{int(drop_nonfinite)}:" + "|".join(chosen)
     set_signal(sig)
     return sig
 

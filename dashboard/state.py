@@ -19,6 +19,7 @@ import noisevar
 from dashboard.text import plain
 from noisevar.errors import NoisevarError
 from noisevar.io import LoadedTable, content_digest, pick_column
+from noisevar.io.logs.record import TopicsRecord
 
 LOG = logging.getLogger("noisevar.dashboard")
 
@@ -69,6 +70,11 @@ class LoadedSignal:
         The known noise variance (generated signals).
     notes : list of str
         Remarks from loading.
+    topics : TopicsRecord or None
+        For a log read with more topics than the signal's (the Noise model page's IMU
+        columns): every chosen topic, each column on its own time base.
+    topics_key : str
+        Content key of ``topics`` (the cache key of its columns' fits).
     """
 
     table: LoadedTable
@@ -84,6 +90,8 @@ class LoadedSignal:
     clean: np.ndarray | None = None
     true_variance: float | None = None
     notes: list[str] = field(default_factory=list)
+    topics: TopicsRecord | None = None
+    topics_key: str = ""
 
     @property
     def n(self) -> int:
@@ -241,6 +249,7 @@ def reselect(sig: LoadedSignal, column: str, sample_period: float | None) -> Loa
         clean=sig.clean,
         true_variance=sig.true_variance,
     )
+    new.topics, new.topics_key = sig.topics, sig.topics_key  # the log's other topics stay
     set_signal(new)
     return new
 

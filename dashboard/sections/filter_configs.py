@@ -12,6 +12,7 @@ from dataclasses import replace
 import numpy as np
 import streamlit as st
 
+from dashboard.sections.noise_model import imu_column
 from dashboard.state import LoadedSignal, initial, signal_units
 from dashboard.widgets import guarded
 from noisevar import units
@@ -38,12 +39,6 @@ def _default(declared: str, target: str) -> str:
     except NoisevarError:
         return target
     return declared or target
-
-
-def _column(sig: LoadedSignal, name: str) -> np.ndarray:
-    from noisevar.io import pick_column
-
-    return np.asarray(pick_column(sig.table, name), dtype=float)
 
 
 def _choices() -> tuple[str, str, str]:
@@ -107,9 +102,10 @@ def consumer_files(sig: LoadedSignal, rate: float, regimes: str) -> None:
         return
     with guarded("Filter configs: "):
         fits = {
-            (c, u): _fit(f"{sig.table_digest}:{c}", rate, u, regimes, _column(sig, c))
+            (c, u): _fit(key, r, u, regimes, z)
             for cols, u in ((gyro, g_unit), (accel, a_unit))
             for c in dict.fromkeys(cols)
+            for key, r, z in [imu_column(sig, c, rate)]
         }
         axes = [("gyroscope", c, fits[c, g_unit]) for c in gyro]
         axes += [("accelerometer", c, fits[c, a_unit]) for c in accel]
@@ -120,7 +116,7 @@ def consumer_files(sig: LoadedSignal, rate: float, regimes: str) -> None:
             gyro_unit=g_unit,
             accel_unit=a_unit,
         )
-        said = {c: _answer(f"{sig.table_digest}:{c}", regimes, _column(sig, c)) for _, c, _ in axes}
+        said = {c: _said(sig, c, regimes) for _, c, _ in axes}
         model = replace(model, verdicts={c: a.verdict for c, a in said.items() if a.verdict})
         files = exports.export(model, "all")
         for name, s in (("Gyroscope", model.gyro), ("Accelerometer", model.accel)):
@@ -147,16 +143,19 @@ def report_html(
     the conversions, every consumer value and each column's Allan fit."""
     from noisevar.figures.noise_model import allan_figure
 
-    report_axes = [
-        Axis(c, sensor, fit, _answer(f"{sig.table_digest}:{c}", model.regimes, _column(sig, c)))
-        for sensor, c, fit in axes
-    ]
+    report_axes = [Axis(c, sensor, fit, _said(sig, c, model.regimes)) for sensor, c, fit in axes]
     figures = [
         allan_figure(a.fit.allan, fit=a.fit, title=f"Allan deviation of {a.column}", unit=u)
         for a in report_axes
         for u in [a.fit.unit]
     ]
     return imu_report(model, files, report_axes, source=sig.label, figures=figures)
+
+
+def _said(sig: LoadedSignal, column: str, regimes: str) -> RecordAnswer:
+    """A column's record answer (its samples: the signal's table or the log's topics)."""
+    key, _, z = imu_column(sig, column, 1.0)  # the answer is per sample: no rate
+    return _answer(key, regimes, z)
 
 
 @st.cache_data(max_entries=32, show_spinner="The record's answer...")

@@ -199,9 +199,41 @@ def _simulation(sig: LoadedSignal, s: NoiseModelSettings, fit: InertialNoise | N
     return None
 
 
+def imu_columns(sig: LoadedSignal) -> list[str]:
+    """The gyroscope and accelerometer pickers' columns: the loaded file's, or every column
+    of the log's chosen topics (field, or ``topic/field`` when topics share it)."""
+    return sig.topics.columns if sig.topics is not None else list(sig.table.data_columns)
+
+
+def imu_column(sig: LoadedSignal, name: str, rate: float) -> tuple[str, float, np.ndarray]:
+    """One IMU column: its cache key, its rate (its topic's for a log's chosen topics, else
+    the page's ``rate``) and its samples."""
+    if sig.topics is None:
+        return f"{sig.table_digest}:{name}", rate, _column(sig, name)
+    col = sig.topics.column(name)
+    if col.rate is None:
+        raise NoisevarError(f"topic {col.topic} has no sample rate from its times")
+    return f"{sig.topics_key}:{col.name}", col.rate, col.values
+
+
+def _topic_rates(sig: LoadedSignal) -> None:
+    """Say each chosen topic's rate (its columns are fitted at it, not at the page's)."""
+    if sig.topics is None:
+        return
+    said = ", ".join(
+        f"{t} {1 / tab.sample_period:g} Hz" if tab.sample_period else f"{t} (no rate)"
+        for t, tab in sig.topics.tables.items()
+    )
+    st.caption(
+        f"Columns of the log's topics {said}: each column is fitted at its own topic's "
+        "rate (from the log's timestamps; never resampled), not at the sample rate above."
+    )
+
+
 def kalibr_export(sig: LoadedSignal, s: NoiseModelSettings) -> None:
     """Kalibr imu.yaml from the gyroscope and accelerometer columns of the loaded file."""
-    cols = list(sig.table.data_columns)
+    cols = imu_columns(sig)
+    _topic_rates(sig)
     c1, c2, c3 = st.columns([2, 2, 1])
     gyro = c1.multiselect("Gyroscope columns (rad/s)", cols, key="nm_gyro")
     accel = c2.multiselect("Accelerometer columns (m/s²)", cols, key="nm_accel")
@@ -213,8 +245,9 @@ def kalibr_export(sig: LoadedSignal, s: NoiseModelSettings) -> None:
         return
     with guarded("Kalibr export: "):
         fits = {
-            c: _fit_cached(f"{sig.table_digest}:{c}", s.rate, "", s.regimes, _column(sig, c))
+            c: _fit_cached(key, rate, "", s.regimes, z)
             for c in dict.fromkeys(gyro + accel)
+            for key, rate, z in [imu_column(sig, c, s.rate)]
         }
         imu = kalibr_imu(
             [fits[c] for c in gyro], [fits[c] for c in accel], inflation=float(inflation)

@@ -134,9 +134,10 @@ def generator_form(errors: DeltaGenerator) -> None:
             loading.load_generated(family, n=n, seed=seed, noise_std=noise_std, **values)
 
 
-def _log_topic(up, errors: DeltaGenerator) -> str | None | bool:
-    """For an uploaded log, the topic picked in a selectbox (None: not a log; False: the log
-    cannot be read, said in ``errors``)."""
+def _log_topic(up, errors: DeltaGenerator) -> tuple[str, list[str]] | None | bool:
+    """For an uploaded log, the signal's topic picked in a selectbox and the topics read
+    beside it (a multiselect: the Noise model page's IMU columns); None: not a log; False:
+    the log cannot be read, said in ``errors``."""
     try:
         topics = loading.log_topics(up.getvalue(), up.name)
     except noisevar.NoisevarError as exc:
@@ -153,9 +154,21 @@ def _log_topic(up, errors: DeltaGenerator) -> str | None | bool:
         + (f", {t.rate:.4g} Hz)" if t.rate else ")")
         for t in usable
     }
-    return st.selectbox(
+    topic = st.selectbox(
         "Topic", list(labels), format_func=labels.get, key=f"upload_topic_{up.file_id}"
     )
+    others = [t for t in labels if t != topic]
+    also = st.multiselect(
+        "More topics of this log (IMU model)",
+        others,
+        format_func=labels.get,
+        key=f"upload_topics_{up.file_id}",
+        help="Read these topics too: the Noise model page's gyroscope and accelerometer "
+        "columns then come from every chosen topic (e.g. PX4's sensor_gyro_fifo and "
+        "sensor_accel_fifo), each at its own topic's rate; a field several topics share "
+        "is named topic/field.",
+    )
+    return topic, [t for t in also if t in others]
 
 
 def uploader(errors: DeltaGenerator) -> None:
@@ -166,8 +179,8 @@ def uploader(errors: DeltaGenerator) -> None:
         f"comma with `;` separators, as European spreadsheets export, is read too), `.npy` "
         f"(numeric arrays only), or NMEA 0183 GGA/RMC (converted to local east/north metres, "
         f"speed and course); or a log: ROS 1/2 bag (`.bag`, `.mcap`, `.db3`), PX4 ULog, "
-        f"ArduPilot DataFlash (`.bin`, `.log`), Parquet or HDF5, one topic at a time with the "
-        f"log's own timestamps. Up to {limit_mb:.0f} MB."
+        f"ArduPilot DataFlash (`.bin`, `.log`), Parquet or HDF5, one topic for the signal "
+        f"(more for the IMU model) with the log's own timestamps. Up to {limit_mb:.0f} MB."
     )
     log_types = [s.lstrip(".") for s in log_suffixes()]
     up = st.file_uploader(
@@ -182,15 +195,18 @@ def uploader(errors: DeltaGenerator) -> None:
     )
     if up is None:
         return
-    topic = _log_topic(up, errors)
-    if topic is False:
+    picked = _log_topic(up, errors)
+    if picked is False:
         return
-    attempt = (up.file_id, bool(drop), topic)
+    topic, also = picked if picked else (None, [])
+    attempt = (up.file_id, bool(drop), topic, tuple(also))
     failed = st.session_state.get("upload_failed")
     if st.session_state.get("upload_done") != attempt and (not failed or failed[0] != attempt):
         try:
             with st.spinner(f"Reading {up.name}..."):
-                loading.load_bytes(up.getvalue(), up.name, drop_nonfinite=bool(drop), topic=topic)
+                loading.load_bytes(
+                    up.getvalue(), up.name, drop_nonfinite=bool(drop), topic=topic, also=also
+                )
             st.session_state["upload_done"] = attempt
             st.session_state.pop("upload_failed", None)
         except noisevar.NoisevarError as exc:

@@ -18,7 +18,9 @@ Sub-commands::
     noisevar dashboard [--port P] [--serve-others] [--address A] [--allowed-host NAME ...]
 
 A log (ROS bag, PX4 ULog, ArduPilot DataFlash, Parquet, HDF5) is read by ``--topic T`` on
-estimate, scan-h, allan, imu and fit; ``--column`` then picks the topic's field.
+estimate, scan-h, allan, imu and fit; ``--column`` then picks the topic's field. ``imu``
+takes ``--topic`` several times (PX4's ``sensor_gyro_fifo`` and ``sensor_accel_fifo``):
+each column at its own topic's rate, named by field or ``topic/field``.
 
 A command module may also define ``precheck(args)``, run on its raw arguments before
 the parser is built (building it imports the estimators): ``estimate`` refuses a

@@ -63,7 +63,9 @@ def write_report(
         for a in axes
         for u in [a.fit.unit]
     ]
-    source = Path(args.file).name + (f", topic {args.topic}" if args.topic else "")
+    topics = list(dict.fromkeys(args.topic or []))
+    said = "topics" if len(topics) > 1 else "topic"
+    source = Path(args.file).name + (f", {said} {', '.join(topics)}" if topics else "")
     command = shlex.join(["noisevar", *sys.argv[1:]]) if sys.argv[1:] else ""
     text = imu_report(model, files, axes, source=source, command=command, figures=figures)
     path = Path(args.out) / REPORT_FILENAME

@@ -4,6 +4,9 @@
 (:mod:`noisevar.noise_model.exports`) into DIR from the ``--gyro`` and ``--accel`` columns;
 ``--model auto|SPEC``: composite models by GMWM with the comparison table (§E10);
 ``--temperature COLUMN``: bias(T), the warm-up and the bias process noise (§E9).
+``--topic`` may be repeated: several topics of one log (PX4's ``sensor_gyro_fifo`` and
+``sensor_accel_fifo``), each column at its own topic's rate
+(:func:`noisevar.io.load_topics`), named by field or ``topic/field``.
 """
 
 from __future__ import annotations
@@ -16,7 +19,6 @@ import numpy as np
 
 from noisevar.cli._common import (
     add_regimes_flag,
-    add_topic_flag,
     add_unit_flags,
     declared_unit,
     print_json,
@@ -26,12 +28,60 @@ from noisevar.cli._common import (
 from noisevar.cli._temperature import print_models, split_temperature, temperature_models
 from noisevar.cli.allan import load_columns
 from noisevar.errors import NoisevarError
+from noisevar.io.limits import echo
 
 
 def _columns(args: argparse.Namespace) -> list[str] | None:
     """Every column asked for, each once (None: all data columns)."""
     wanted = [*(args.columns or []), *(args.gyro or []), *(args.accel or [])]
     return list(dict.fromkeys(wanted)) or None
+
+
+def _load(args: argparse.Namespace) -> tuple[dict, dict[str, float], dict]:
+    """The columns asked for, each column's rate and declared unit: from the file or one
+    topic (one rate), or from several topics of a log (each column its topic's rate)."""
+    topics = list(dict.fromkeys(args.topic or []))
+    if len(topics) <= 1:
+        data, rate, declared = load_columns(
+            args.file, _columns(args), args.rate, topics[0] if topics else None
+        )
+        return data, dict.fromkeys(data, rate), declared
+    from noisevar.io import load_topics
+
+    if args.rate is not None:
+        raise NoisevarError(
+            "--rate sets one rate for every column: with several --topic each column keeps "
+            "its topic's rate from the log's timestamps (leave --rate out)"
+        )
+    if args.temperature:
+        raise NoisevarError("--temperature reads one topic: give a single --topic")
+    record = load_topics(args.file, topics, _name(args.file))
+    cols = {c: record.column(c) for c in _columns(args) or record.columns}
+    for col in cols.values():
+        if col.rate is None:
+            notes = "; ".join(record.tables[col.topic].notes[1:]) or "no time column"
+            raise NoisevarError(
+                f"topic {echo(col.topic)} has no sample rate from its times ({echo(notes, 300)})"
+            )
+    return (
+        {c: col.values for c, col in cols.items()},
+        {c: float(col.rate) for c, col in cols.items()},
+        {c: col.unit for c, col in cols.items()},
+    )
+
+
+def _name(path: str) -> str:
+    import os
+
+    return os.path.basename(os.path.normpath(path))
+
+
+def _groups(data: dict, key: dict) -> list[list[str]]:
+    """The columns in groups of one ``key`` value and one length (fitted together)."""
+    groups: dict[tuple, list[str]] = {}
+    for c, z in data.items():
+        groups.setdefault((key[c], len(z)), []).append(c)
+    return list(groups.values())
 
 
 def _column_units(
@@ -150,17 +200,19 @@ def _print_models(fits: dict) -> None:
             print(f"  note: {note}")
 
 
-def _cmd_models(args: argparse.Namespace, data: dict, rate: float) -> int:
+def _cmd_models(args: argparse.Namespace, data: dict, rates: dict[str, float]) -> int:
     from noisevar.noise_model import fit_imu_model
     from noisevar.noise_model.gmwm import AUTO
 
     if args.kalibr:
         raise NoisevarError(f"--kalibr takes the IEEE-952 fit: use it with --model {IEEE952}")
     models = AUTO if args.model == AUTO else [m for m in args.model.split(",") if m]
-    stacked = np.column_stack(list(data.values()))
-    fits = dict(
-        zip(data, fit_imu_model(stacked, rate, models=models, robust=args.robust), strict=True)
-    )
+    fits = {}
+    for names in _groups(data, rates):  # one rate per fit: a topic's columns together
+        stacked = np.column_stack([data[c] for c in names])
+        fitted = fit_imu_model(stacked, rates[names[0]], models=models, robust=args.robust)
+        fits.update(zip(names, fitted, strict=True))
+    fits = {c: fits[c] for c in data}
     if args.format == "json":
         print_json({"columns": {c: f.to_dict() for c, f in fits.items()}})
     else:
@@ -175,16 +227,17 @@ def _cmd_imu(args: argparse.Namespace) -> int:
         from noisevar.noise_model.exports import consumers
 
         consumers(args.export)  # refuse an unknown consumer before reading the file
-    data, rate, declared = load_columns(args.file, _columns(args), args.rate, args.topic)
+    data, rates, declared = _load(args)
+    rate = next(iter(rates.values()), None)  # one topic or file: one rate
     temp = split_temperature(args, data, rate)
     if args.model != IEEE952:
-        return _cmd_models(args, data, rate)
+        return _cmd_models(args, data, rates)
     col_units = _column_units(args, {c: declared[c] for c in data})
     fits = {}
-    for scale, unit in dict.fromkeys(col_units.values()):
-        names = [c for c in data if col_units[c] == (scale, unit)]
+    for names in _groups(data, {c: (col_units[c], rates[c]) for c in data}):
+        scale, unit = col_units[names[0]]
         stacked = np.stack([data[c] * scale for c in names])  # axes in threads
-        fitted = inertial_noise(stacked, rate, unit=unit, **regimes_of(args))
+        fitted = inertial_noise(stacked, rates[names[0]], unit=unit, **regimes_of(args))
         fits.update(zip(names, fitted, strict=True))
     fits = {c: fits[c] for c in data}
     written = _kalibr(args, fits) if args.kalibr else None
@@ -254,7 +307,14 @@ def add_parser(sub: Any) -> None:
         help="export the conservative set (N, K raised to overbound the Allan curve's 95 %% "
         "upper bound) instead of the best fit (the default)",
     )
-    add_topic_flag(p)
+    p.add_argument(
+        "--topic",
+        action="append",
+        help="for a log (ROS bag, PX4 ULog, ArduPilot DataFlash, Parquet, HDF5): the topic or "
+        "message to read ('noisevar topics LOG' lists them); repeat it to read several "
+        "topics of the log (e.g. sensor_gyro_fifo and sensor_accel_fifo), each column at its "
+        "topic's rate, named by field or, when topics share a field, topic/field",
+    )
     p.add_argument(
         "--model",
         default=IEEE952,

@@ -45,7 +45,9 @@ NMEA 0183
 Logs: ROS 1/2 bags, PX4 ULog, ArduPilot DataFlash, Parquet, HDF5
     One topic at a time (``load_table(path, topic=...)``; :func:`log_topics` lists them),
     with the log's own timestamps as the time column and the fields' units where the
-    format defines them (:attr:`LoadedTable.units`). See :mod:`noisevar.io.logs`.
+    format defines them (:attr:`LoadedTable.units`); several topics of one log at once,
+    each column on its own topic's time base, by :func:`load_topics`. See
+    :mod:`noisevar.io.logs`.
 """
 
 from typing import TYPE_CHECKING
@@ -55,6 +57,7 @@ from noisevar._lazy import lazy_names
 if TYPE_CHECKING:
     from noisevar.io.limits import echo
     from noisevar.io.load import load_table, log_topics, pick_column
+    from noisevar.io.logs.record import TopicsRecord, load_topics
     from noisevar.io.nmea import geodetic_to_enu
     from noisevar.io.table import (
         NMEA_EXTENSIONS,
@@ -76,12 +79,14 @@ __all__ = [
     "UNIFORM_TOLERANCE",
     "SAMPLE_PERIOD_RANGE",
     "LoadedTable",
+    "TopicsRecord",
     "content_digest",
     "drop_nonfinite_rows",
     "echo",
     "geodetic_to_enu",
     "load_table",
     "log_topics",
+    "load_topics",
     "pick_column",
     "signal_summary",
     "table_from_arrays",
@@ -94,10 +99,21 @@ _SOURCES = {
     "pick_column": "noisevar.io.load",
     "log_topics": "noisevar.io.load",
     "geodetic_to_enu": "noisevar.io.nmea",
+    "load_topics": "noisevar.io.logs.record",
+    "TopicsRecord": "noisevar.io.logs.record",
     **{
         name: "noisevar.io.table"
         for name in __all__
-        if name not in {"echo", "load_table", "log_topics", "pick_column", "geodetic_to_enu"}
+        if name
+        not in {
+            "echo",
+            "load_table",
+            "log_topics",
+            "pick_column",
+            "geodetic_to_enu",
+            "load_topics",
+            "TopicsRecord",
+        }
     },
 }
 __getattr__, __dir__ = lazy_names(__name__, _SOURCES, __all__)

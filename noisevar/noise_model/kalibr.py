@@ -130,6 +130,35 @@ def _density(fits: InertialNoise | Sequence[InertialNoise], key: str) -> tuple[f
     return white, [note]
 
 
+def imu_rate(
+    gyro: Sequence[InertialNoise], accel: Sequence[InertialNoise]
+) -> tuple[float, list[str]]:
+    """The one IMU rate a consumer's file states: the gyroscope's; a note when the
+    accelerometer was sampled at another rate (two topics of a log: PX4's FIFOs).
+
+    Raises
+    ------
+    NoisevarError
+        One sensor's axes fitted at different rates.
+    """
+    for name, axes in (("gyroscope", gyro), ("accelerometer", accel)):
+        rates = {x.rate for x in axes}
+        if len(rates) != 1:
+            raise NoisevarError(
+                f"the {name} axes were fitted at different rates ({sorted(rates)} Hz)"
+            )
+    rate, a_rate = gyro[0].rate, accel[0].rate
+    if a_rate == rate:
+        return rate, []
+    return rate, [
+        f"the gyroscope was sampled at {rate:g} Hz, the accelerometer at {a_rate:g} Hz: each "
+        "sensor's N and K are densities fitted at its own rate (they do not depend on it); "
+        f"a file that states one IMU rate states the gyroscope's {rate:g} Hz (set it to your "
+        "filter's IMU rate if that differs); the accelerometer's std per sample at its own "
+        f"rate is N·√{a_rate:g}"
+    ]
+
+
 def kalibr_imu(
     gyro: InertialNoise | Sequence[InertialNoise],
     accel: InertialNoise | Sequence[InertialNoise],
@@ -161,10 +190,7 @@ def kalibr_imu(
     """
     if not (math.isfinite(inflation) and inflation > 0):
         raise NoisevarError(f"The inflation must be a positive number, not {inflation}.")
-    rates = {a.rate for a in ([gyro] if isinstance(gyro, InertialNoise) else gyro)}
-    rates |= {a.rate for a in ([accel] if isinstance(accel, InertialNoise) else accel)}
-    if len(rates) != 1:
-        raise NoisevarError(f"The axes were fitted at different rates ({sorted(rates)} Hz).")
+    rate, rate_notes = imu_rate(_axes(gyro), _axes(accel))
     regimes, regime_notes = _regimes(gyro, accel)
     accel_n, accel_notes = _density(accel, "accelerometer_noise_density")
     gyro_n, gyro_notes = _density(gyro, "gyroscope_noise_density")
@@ -173,9 +199,9 @@ def kalibr_imu(
         accelerometer_random_walk=inflation * _worst(accel, "rate_random_walk"),
         gyroscope_noise_density=inflation * gyro_n,
         gyroscope_random_walk=inflation * _worst(gyro, "rate_random_walk"),
-        update_rate=rates.pop(),
+        update_rate=rate,
         rostopic=rostopic,
-        notes=tuple(regime_notes + accel_notes + gyro_notes),
+        notes=tuple(rate_notes + regime_notes + accel_notes + gyro_notes),
         regimes=regimes,
     )
 

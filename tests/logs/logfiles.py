@@ -156,3 +156,42 @@ def write_ulog_fifo(
     ulog._data_list.append(ULog.Data(add))  # noqa: SLF001
     ulog.write_ulog(str(path))
     return path
+
+
+#: rad/s and m/s² per count of :func:`write_ulog_imu_fifos` (float32, as PX4 logs them).
+GYRO_SCALE = float(np.float32(1.0e-3 * np.pi / 180))
+ACCEL_SCALE = float(np.float32(1.0e-3 * 9.80665))
+
+
+def write_ulog_imu_fifos(
+    path: Path,
+    base: Path,
+    seconds: float = 40.0,
+    rates: tuple[float, float] = (800.0, 400.0),
+    sigmas: tuple[float, float] = (300.0, 200.0),
+    per_message: int = 8,
+    seed: int = 0,
+) -> dict[str, float]:
+    """A ULog with ``sensor_gyro_fifo`` and ``sensor_accel_fifo`` at their own rates (pyulog's
+    writer, :func:`write_ulog_fifo`), white counts of std ``sigmas``; the true white-noise
+    densities N (rad/s/√Hz, m/s²/√Hz): ``sigma · scale / √rate``."""
+    rng = np.random.default_rng(seed)
+    truth = {}
+    src = base
+    for name, rate, sigma, scale in zip(
+        ("sensor_gyro_fifo", "sensor_accel_fifo"),
+        rates,
+        sigmas,
+        (GYRO_SCALE, ACCEL_SCALE),
+        strict=True,
+    ):
+        m = int(seconds * rate / per_message)
+        counts = np.clip(np.round(sigma * rng.standard_normal((m, 3, 32))), -32768, 32767)
+        samples = np.full(m, per_message)
+        dt_us = 1e6 / rate
+        stamps = 5_000_000 + np.cumsum(samples * dt_us).astype(np.int64)
+        out = path.with_name(f"{path.stem}_{name}.ulg") if name == "sensor_gyro_fifo" else path
+        write_ulog_fifo(out, counts.astype(np.int16), samples, dt_us, scale, stamps, name, src)
+        src = out
+        truth[name] = float(sigma * scale / np.sqrt(rate))
+    return truth

@@ -15,6 +15,7 @@ from typing import Any
 from noisevar import units
 from noisevar.errors import NoisevarError
 from noisevar.noise_model.inertial import InertialNoise
+from noisevar.noise_model.kalibr import imu_rate
 from noisevar.noise_model.overbound import NK, overbound
 
 #: The SI unit each sensor's terms are exported in.
@@ -192,9 +193,7 @@ def imu_model(
     if variant not in VARIANTS:
         raise NoisevarError(f"variant must be one of {', '.join(VARIANTS)}, not {variant!r}")
     g, a = _axes(gyro, "gyroscope"), _axes(accel, "accelerometer")
-    rates = {x.rate for x in g + a}
-    if len(rates) != 1:
-        raise NoisevarError(f"the axes were fitted at different rates ({sorted(rates)} Hz)")
+    rate, notes = imu_rate(g, a)
     regimes = {x.regimes for x in g + a}
     if len(regimes) != 1:
         raise NoisevarError("the axes were fitted on different regimes: fit them all alike")
@@ -203,4 +202,5 @@ def imu_model(
     for key, value in (gnss or {}).items():
         if key not in ("position", "velocity") or not value > 0:
             raise NoisevarError(f"gnss takes positive 'position' and 'velocity' stds, not {key!r}")
-    return ImuModel(gs, acs, rates.pop(), variant, regimes.pop(), tuple(gn + an), dict(gnss or {}))
+    notes += gn + an
+    return ImuModel(gs, acs, rate, variant, regimes.pop(), tuple(notes), dict(gnss or {}))

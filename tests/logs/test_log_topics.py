@@ -1,0 +1,127 @@
+"""Several topics of one log into one IMU model (issue 27): PX4's gyroscope and
+accelerometer FIFOs at their own rates (noisevar/io/logs/record.py, ``noisevar imu --topic A
+--topic B``), on a ULog written by pyulog's own writer."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from logfiles import write_ulog_imu_fifos
+
+from noisevar.cli import main
+from noisevar.errors import NoisevarError
+from noisevar.io import load_topics
+
+PX4 = Path(__file__).resolve().parents[1] / "data" / "px4_sample_log_small.ulg"
+GYRO, ACCEL = "sensor_gyro_fifo", "sensor_accel_fifo"
+
+
+@pytest.fixture(scope="module")
+def fifo_log(tmp_path_factory) -> tuple[Path, dict[str, float]]:
+    """Gyroscope FIFO at 800 Hz, accelerometer FIFO at 400 Hz, 40 s, known N."""
+    path = tmp_path_factory.mktemp("fifos") / "two_fifos.ulg"
+    return path, write_ulog_imu_fifos(path, PX4, seconds=40.0, rates=(800.0, 400.0), seed=7)
+
+
+def test_each_column_keeps_its_topic_time_base(fifo_log):
+    path, _ = fifo_log
+    rec = load_topics(path, [GYRO, ACCEL])
+    assert rec.columns == [f"{t}/{a}" for t in (GYRO, ACCEL) for a in "xyz"]  # x y z clash
+    g, a = rec.column(f"{GYRO}/x"), rec.column(f"{ACCEL}/z")
+    assert (g.rate, a.rate) == (pytest.approx(800.0), pytest.approx(400.0))
+    assert (g.values.size, a.values.size) == (32_000, 16_000)  # nothing resampled
+    assert g.times.size == g.values.size and a.times.size == a.values.size
+    assert (g.unit, a.unit) == ("rad/s", "m/s**2")
+    # the samples are the topic's own, bit for bit
+    one = load_topics(path, [ACCEL]).column("z")
+    np.testing.assert_array_equal(one.values, a.values)
+    np.testing.assert_array_equal(one.times, a.times)
+    # a field one topic has keeps its bare name; by topic/field too
+    mixed = load_topics(path, [GYRO, "sensor_combined"])
+    assert "x" in mixed.columns and "gyro_rad[0]" in mixed.columns
+    assert mixed.resolve(f"{GYRO}/x") == mixed.resolve("x") == (GYRO, "x")
+
+
+@pytest.mark.parametrize(
+    ("topics", "column", "said"),
+    [
+        ([GYRO, ACCEL], "x", f"is in topics {GYRO}, {ACCEL}: name it {GYRO}/x or {ACCEL}/x"),
+        ([GYRO, ACCEL], f"{GYRO}/w", f"no column '{GYRO}/w' in topics {GYRO}, {ACCEL}"),
+        ([GYRO, "no_such_topic"], "x", "no topic 'no_such_topic' in"),
+        ([], "x", "no topic of"),
+    ],
+)
+def test_bad_names_are_one_error(fifo_log, topics, column, said):
+    with pytest.raises(NoisevarError) as err:
+        load_topics(fifo_log[0], topics).column(column)
+    assert said in str(err.value)
+
+
+def test_cli_two_topics_to_a_px4_file_with_each_rate(fifo_log, tmp_path, capsys):
+    """gyro 800 Hz, accel 400 Hz of known N: each N within 5 %; PX4 gets both sensors."""
+    path, truth = fifo_log
+    gyro = [f"{GYRO}/{a}" for a in "xyz"]
+    accel = [f"{ACCEL}/{a}" for a in "xyz"]
+    argv = ["imu", str(path), "--topic", GYRO, "--topic", ACCEL, "--gyro", *gyro]
+    argv += ["--accel", *accel, "--export", "px4", "--out", str(tmp_path), "--no-report"]
+    assert main([*argv, "--format", "json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    for cols, topic, rate in ((gyro, GYRO, 800.0), (accel, ACCEL, 400.0)):
+        for c in cols:
+            fit = out["columns"][c]
+            assert fit["rate"] == pytest.approx(rate)
+            assert fit["terms"]["random_walk"]["value"] == pytest.approx(truth[topic], rel=0.05)
+    text = (tmp_path / "px4_ekf2.params").read_text()
+    values = {r.split("\t")[2]: float(r.split("\t")[3]) for r in text.splitlines() if r[:1] == "1"}
+    ekf_rate = 100.0  # 1/EKF2_PREDICT_US, as the file says
+    assert "EKF2_PREDICT_US assumed: 10000" in text
+    model = out["model"]
+    assert values["EKF2_GYR_NOISE"] == pytest.approx(model["gyroscope"]["N"] * ekf_rate**0.5)
+    assert values["EKF2_ACC_NOISE"] == pytest.approx(model["accelerometer"]["N"] * ekf_rate**0.5)
+    assert model["gyroscope"]["N"] == pytest.approx(truth[GYRO], rel=0.05)
+    assert model["accelerometer"]["N"] == pytest.approx(truth[ACCEL], rel=0.05)
+    assert "the accelerometer at 400 Hz" in text  # the two rates are said
+
+
+@pytest.mark.parametrize(
+    ("extra", "said"),
+    [
+        (["--topic", GYRO, "--topic", "nope", "--columns", "x"], "no topic 'nope'"),
+        (["--topic", GYRO, "--topic", ACCEL, "--gyro", "x"], "name it sensor_gyro_fifo/x or"),
+        (["--topic", GYRO, "--topic", ACCEL, "--accel", "w"], "no column 'w' in topics"),
+        (["--topic", GYRO, "--topic", ACCEL, "--rate", "100"], "--rate sets one rate"),
+    ],
+)
+def test_cli_bad_combinations_exit_2_with_one_line(fifo_log, capsys, extra, said):
+    assert main(["imu", str(fifo_log[0]), *extra]) == 2
+    err = capsys.readouterr().err
+    assert said in err and err.count("\n") == 1 and "Traceback" not in err
+
+
+def test_cli_one_topic_unchanged(fifo_log, capsys):
+    """One --topic: the topic's fields by their own names, as before."""
+    argv = ["imu", str(fifo_log[0]), "--topic", ACCEL, "--columns", "x", "--format", "json"]
+    assert main(argv) == 0
+    assert list(json.loads(capsys.readouterr().out)["columns"]) == ["x"]
+
+
+def test_one_imu_rate_stated_with_a_note_when_the_sensors_differ():
+    """Kalibr and every consumer state the gyroscope's rate and say the accelerometer's."""
+    from noisevar.noise_model import exports, inertial_noise
+    from noisevar.noise_model.kalibr import kalibr_imu
+
+    rng = np.random.default_rng(5)
+    g800 = inertial_noise(rng.normal(0, 0.01, 4_000), 800.0, unit="rad/s")
+    g400 = inertial_noise(rng.normal(0, 0.01, 2_000), 400.0, unit="rad/s")
+    a400 = inertial_noise(rng.normal(0, 0.05, 2_000), 400.0, unit="m/s^2")
+    imu = kalibr_imu(g800, a400)
+    model = exports.imu_model(g800, a400)
+    assert imu.update_rate == model.rate == 800.0
+    said = "the gyroscope was sampled at 800 Hz, the accelerometer at 400 Hz"
+    assert any(said in n for n in imu.notes) and any(said in n for n in model.notes)
+    assert not any("sampled at" in n for n in exports.imu_model(g400, a400).notes)
+    with pytest.raises(NoisevarError, match="gyroscope axes were fitted at different rates"):
+        exports.imu_model([g800, g400], a400)
