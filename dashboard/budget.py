@@ -43,6 +43,7 @@ from typing import Any, TypeVar
 
 import numpy as np
 
+from dashboard import trace
 from dashboard.session_dirs import live_session_ids
 
 LOG = logging.getLogger("noisevar.dashboard")
@@ -263,9 +264,11 @@ class MemoryGuard:
         self._evictions = self._cache.evictions
         if not (ended or evicted):
             return False
+        t0 = time.perf_counter()
         gc.collect()
         trim()
         self.collections += 1
+        trace.write({"guard": time.time(), "seconds": time.perf_counter() - t0})
         return True
 
     def start(self) -> None:

@@ -40,6 +40,7 @@ from typing import Any, TypeVar
 
 import numpy as np
 
+from dashboard import trace
 from noisevar.errors import NoisevarError
 from noisevar.estimators.compare import MonteCarloResult, monte_carlo, run_monte_carlo
 
@@ -192,7 +193,8 @@ def call(fn: Callable[..., T], *args: Any, **kwargs: Any) -> T:
     p = pool()
     if p is None:
         return fn(*args, **kwargs)
-    ticket, future = p.submit(_carried, fn, *args, **kwargs)
+    with trace.pool_wait():  # a full queue blocks here
+        ticket, future = p.submit(_carried, fn, *args, **kwargs)
     slot = None
 
     def show(text: str) -> None:
@@ -204,7 +206,8 @@ def call(fn: Callable[..., T], *args: Any, **kwargs: Any) -> T:
         slot.caption(text)
 
     try:
-        return _unwrap(wait(ticket, future, show if _in_script() else None))
+        with trace.pool_wait():
+            return _unwrap(wait(ticket, future, show if _in_script() else None))
     finally:
         if slot is not None:
             slot.empty()
@@ -291,9 +294,12 @@ def monte_carlo_chunks(
         while todo or flying:
             while todo and len(flying) < CHUNKS_IN_FLIGHT:
                 first, size = todo.pop(0)
-                flying.append(p.submit(_carried, _chunk, kwargs, first, size))
+                with trace.pool_wait():
+                    flying.append(p.submit(_carried, _chunk, kwargs, first, size))
             ticket, future = flying.pop(0)
-            total = _merge(total, _unwrap(wait(ticket, future, show)), runs)
+            with trace.pool_wait():
+                part = _unwrap(wait(ticket, future, show))
+            total = _merge(total, part, runs)
             yield total
     finally:
         for _, future in flying:
