@@ -311,11 +311,13 @@ def trace_rows(label: str, t0: float, t1: float) -> list[str]:
 
     if not TRACE.exists():
         return []
-    runs, guard = [], []
+    runs, guard, pauses = [], [], []
     for line in TRACE.read_text().splitlines():
         r = json.loads(line)
         if "guard" in r and t0 <= r["guard"] <= t1:
             guard.append(r["seconds"])
+        elif "gc" in r and t0 <= r["gc"] <= t1:
+            pauses.append(r["seconds"])
         elif "start" in r and t0 <= r["start"] <= t1:
             r["wall"] = r["end"] - r["start"]
             r["wait"] = max(0.0, r["wall"] - r["cpu"] - r["pool"])
@@ -327,7 +329,7 @@ def trace_rows(label: str, t0: float, t1: float) -> list[str]:
         f"| {label} | {len(runs)} | {sum(r['cpu'] for r in runs):.1f} | "
         f"{statistics.median(walls):.2f} | {walls[int(0.9 * (len(walls) - 1))]:.2f} | "
         f"{walls[-1]:.2f} | {sum(r['pool'] for r in runs):.1f} | "
-        f"{sum(r['wait'] for r in runs):.1f} | {sum(r['gc_s'] for r in runs):.2f} | "
+        f"{sum(r['wait'] for r in runs):.1f} | {len(pauses)} ({sum(pauses):.2f} s) | "
         f"{len(guard)} ({sum(guard):.2f} s) |"
     ]
     for r in sorted(runs, key=lambda r: -r["wall"])[:5]:
@@ -516,11 +518,12 @@ def report(args, tables: dict[str, list[str]], proxy: list[str], big: list[str],
             "The server's script runs (`--trace`: NOISEVAR_TRACE, dashboard/trace.py): wall = "
             "script start to end; cpu = the script thread's own CPU; pool = waiting for the "
             "worker pool (queue + computation); wait = wall - cpu - pool (runnable but not "
-            "running: the GIL, or I/O); gc = collection pauses inside runs; guard = the memory "
-            "guard's collections in the wave:",
+            "running: the GIL, or I/O); gc = the server's collection pauses of 10 ms or more "
+            "in the wave (the longest runs: pauses inside the run); guard = the memory guard's "
+            "collections in the wave (GIL held):",
             "",
             "| sessions | runs | script CPU-s | median wall s | p90 wall s | worst wall s | "
-            "pool s | wait s | gc s | guard collections |",
+            "pool s | wait s | gc pauses (s) | guard collections |",
             "|---|---|---|---|---|---|---|---|---|---|",
             *tables["trace"],
             "",

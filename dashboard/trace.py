@@ -4,9 +4,10 @@ With ``NOISEVAR_TRACE`` set to a file path, every script run of every session ap
 JSON line to that file: the session, the page, its start and end (wall clock), the script
 thread's own CPU time, the time it waited for the worker pool (queue and computation,
 :func:`pool_wait`), the process's garbage-collection pauses during the run, and how it
-ended. ``wall - cpu - pool`` is then time the thread was runnable or blocked but not
-computing: waiting for the GIL (other sessions' scripts, the server's event loop, the
-memory guard) or for I/O. The benchmark (``benchmarks/load.py --trace``) reads the file.
+ended. Every collection pause of at least :data:`GC_PAUSE_S` is also a line of its own.
+``wall - cpu - pool`` is then time the thread was runnable or blocked but not computing:
+waiting for the GIL (other sessions' scripts, the server's event loop, the memory guard)
+or for I/O. The benchmark (``benchmarks/load.py --trace``) reads the file.
 
 Notes
 -----
@@ -38,13 +39,20 @@ def enabled() -> bool:
     return bool(os.environ.get(TRACE_ENV))
 
 
+#: Shortest garbage-collection pause written to the trace as a line of its own (s).
+GC_PAUSE_S = 0.01
+
+
 def _gc_callback(phase: str, info: dict) -> None:
     if phase == "start":
         _GC["started"] = time.perf_counter()
     elif _GC["started"]:
-        _GC["seconds"] += time.perf_counter() - _GC["started"]
+        pause = time.perf_counter() - _GC["started"]
+        _GC["seconds"] += pause
         _GC["count"] += 1
         _GC["started"] = 0.0
+        if pause >= GC_PAUSE_S:
+            write({"gc": time.time(), "seconds": pause, "generation": info.get("generation")})
 
 
 def write(record: dict) -> None:
@@ -104,5 +112,8 @@ def _traced(page: str) -> Iterator[None]:
 
 
 def script_run(page: str) -> contextlib.AbstractContextManager[None]:
-    """Trace the enclosed script run of ``page`` (a no-op unless ``NOISEVAR_TRACE`` is set)."""
-    return _traced(page) if enabled() else contextlib.nullcontext()
+    """Trace the enclosed script run of ``page`` (a no-op unless ``NOISEVAR_TRACE`` is set,
+    and inside a traced run: a fragment that runs with its page is part of the page's run)."""
+    if enabled() and getattr(_LOCAL, "run", None) is None:
+        return _traced(page)
+    return contextlib.nullcontext()
