@@ -46,6 +46,16 @@ def _stat(pid: str) -> tuple[int, float, float, str] | None:
     return int(fields[1]), float(fields[19]), (int(fields[11]) + int(fields[12])) / TICK, name
 
 
+def _tree(stats: dict[int, tuple[int, float, float, str]], root: int) -> set[int]:
+    """``root`` and its descendants among ``stats`` (pid -> (parent, ...))."""
+    tree, grew = {root}, True
+    while grew:
+        new = {p for p, s in stats.items() if s[0] in tree and p not in tree}
+        tree |= new
+        grew = bool(new)
+    return tree
+
+
 def category(cmd: str) -> str:
     """``browser``, ``server`` or ``other``, by a process's command line (stand-alone use)."""
     if "chrom" in cmd:
@@ -57,17 +67,21 @@ def category(cmd: str) -> str:
 
 class CpuSampler:
     """Running CPU-s totals by class: ``server`` (``server_pid`` and its descendants),
-    ``browser`` (Chromium), ``other``.
+    ``browser`` (Chromium), ``driver`` (``client_pid`` and its other descendants: the
+    benchmark and Playwright's driver), ``other``.
 
     Parameters
     ----------
     server_pid : int
         The dashboard server's process id.
+    client_pid : int, optional
+        The benchmark's own process id.
     """
 
-    def __init__(self, server_pid: int) -> None:
+    def __init__(self, server_pid: int, client_pid: int | None = None) -> None:
         self.server_pid = server_pid
-        self.totals = {"server": 0.0, "browser": 0.0, "other": 0.0}
+        self.client_pid = client_pid
+        self.totals = {"server": 0.0, "browser": 0.0, "driver": 0.0, "other": 0.0}
         self._seen: dict[tuple[int, float], float] = {}
         self._stop = threading.Event()
         self._lock = threading.Lock()
@@ -81,12 +95,8 @@ class CpuSampler:
         for entry in os.listdir("/proc"):
             if entry.isdigit() and (s := _stat(entry)) is not None:
                 stats[int(entry)] = s
-        server = {self.server_pid}
-        grew = True
-        while grew:  # descendants of the server
-            new = {p for p, s in stats.items() if s[0] in server and p not in server}
-            server |= new
-            grew = bool(new)
+        server = _tree(stats, self.server_pid)
+        client = _tree(stats, self.client_pid) if self.client_pid else set()
         with self._lock:
             for pid, (_, start, cpu, name) in stats.items():
                 key = (pid, start)
@@ -94,8 +104,10 @@ class CpuSampler:
                     self._seen[key] = 0.0 if start >= self._last else cpu
                 if pid in server:
                     kind = "server"
+                elif "chrom" in name.lower():
+                    kind = "browser"
                 else:
-                    kind = "browser" if "chrom" in name.lower() else "other"
+                    kind = "driver" if pid in client else "other"
                 self.totals[kind] += cpu - self._seen[key]
                 self._seen[key] = cpu
             self._last = now

@@ -72,6 +72,11 @@ CHROME_ARGS = [
 SAMPLES = 20_000
 BIG_N = 2_000_000
 QUIET_S = 0.4
+#: Longest pause between two looks at a page (s): 0.1 s at first, growing while it waits.
+#: The latency is read from the page's own clock, so a later look does not lengthen it
+#: (unless the page changes again after 0.4 s of quiet); looking every 0.1 s throughout
+#: cost the browser and Playwright's driver CPU in proportion to the waits.
+POLL_MAX_S = 0.3
 SESSION_TTL_S = 30
 #: A session's steps, in order (a failed session names the one it failed at).
 STEPS = ("open", "upload", "estimator", "slider1", "slider2", "slider3", "compare", "noise model")
@@ -136,13 +141,15 @@ def tree_rss_mb(pid: int) -> float:
 async def settled(page, since: float, redrawn: bool = False, timeout: float = 900.0) -> float:
     """Seconds from ``since`` (page clock, ms) to the page's last change once it settled."""
     deadline = time.monotonic() + timeout
+    polls = 0
     while time.monotonic() < deadline:
         s = await page.evaluate(STATE_JS, since)
         if s["errors"]:
             raise RuntimeError("an exception box on the page")
         if (s["fresh"] or not redrawn) and not s["busy"] and s["quiet"] > QUIET_S * 1000:
             return (s["last"] - since) / 1000.0
-        await asyncio.sleep(0.1)
+        polls += 1
+        await asyncio.sleep(min(POLL_MAX_S, 0.1 + 0.02 * polls))
     raise TimeoutError("the page did not settle")
 
 
@@ -346,7 +353,7 @@ async def run_waves(pw, args, env, tables: dict[str, list[str]], log) -> None:
         TRACE.unlink(missing_ok=True)
         env = {**env, "NOISEVAR_TRACE": str(TRACE)}
     proc, base = start_server(env)
-    sampler = CpuSampler(proc.pid).start()
+    sampler = CpuSampler(proc.pid, os.getpid()).start()
     browser = await pw.chromium.launch(executable_path=CHROMIUM, args=CHROME_ARGS)
     try:
         await wave(browser, base, 1, False, 10_000)  # warm the server: first imports, pool
@@ -381,9 +388,9 @@ async def run_waves(pw, args, env, tables: dict[str, list[str]], log) -> None:
             per = len(STEPS) * max(1, s["done"])
             tables["cpu"].append(
                 f"| {label} | {used['server']:.1f} | {used['browser']:.1f} | "
-                f"{used['other']:.1f} | {used['server'] / per:.3f} | "
+                f"{used['driver']:.1f} | {used['other']:.1f} | {used['server'] / per:.3f} | "
                 f"{used['browser'] / per:.3f} | {(used['server'] + used['browser']) / per:.3f} | "
-                f"{(used['server'] + used['browser'] + used['other']) / wall:.2f} |"
+                f"{sum(used.values()) / wall:.2f} |"
             )
             cells = [s["steps"].get(step, (0.0, 0.0)) for step in STEPS[1:]]
             tables["steps"].append(
@@ -491,12 +498,13 @@ def report(args, tables: dict[str, list[str]], proxy: list[str], big: list[str],
             "",
             f"CPU-s of each wave (benchmarks/cpu_split.py's sampler, every {PERIOD_S} s; per "
             f"interaction = wave CPU / (sessions x {len(STEPS)} steps: open, upload, "
-            "Estimator, 3 slider steps, Compare, Noise model); other = every other process "
-            "on the machine, this benchmark and Playwright's driver included):",
+            "Estimator, 3 slider steps, Compare, Noise model); driver = this benchmark and "
+            "Playwright's driver; other = every other process on the machine):",
             "",
-            "| sessions | server CPU-s | browser CPU-s | other CPU-s | server per interaction "
-            "| browser per interaction | both per interaction | cores busy (all processes) |",
-            "|---|---|---|---|---|---|---|---|",
+            "| sessions | server CPU-s | browser CPU-s | driver CPU-s | other CPU-s | server per "
+            "interaction | browser per interaction | both per interaction | cores busy (all "
+            "processes) |",
+            "|---|---|---|---|---|---|---|---|---|",
             *tables["cpu"],
             "",
             "One session (the N = 1 wave), CPU-s by step (from the previous step's end to "
