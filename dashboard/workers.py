@@ -26,7 +26,8 @@ then arrival. An estimate (:func:`call`: what a slider step waits for, milliseco
 short record) goes before every waiting batch (:func:`call_batch`: the Compare table,
 seconds per session with the maximum-likelihood peers; Monte Carlo chunks). In one
 executor queue, a class's slider steps waited behind every Compare table asked before
-them: 45 s at N = 8 for a step that takes 0.1 s alone (``benchmarks/load.py``).
+them: 64 s at N = 8 for a step that takes 0.1 s alone (``benchmarks/load.py``). When every
+worker is computing, an estimate of a short record runs on its script thread instead.
 """
 
 from __future__ import annotations
@@ -64,6 +65,9 @@ QUEUE_PER_WORKER = 8
 CHUNKS_IN_FLIGHT = 2
 #: Seconds each worker sleeps when the pool starts (so that all of them start at once).
 START_PAUSE_S = 0.5
+#: Largest input (samples, all arrays together) a first-rank call computes on its script
+#: thread while every worker is busy (an estimate of 1e5 samples: tens of milliseconds).
+INLINE_MAX_SAMPLES = 100_000
 #: Seconds between two updates of a waiting page.
 POLL_SECONDS = 0.25
 
@@ -213,6 +217,11 @@ class Pool:
             key = (job[0], ticket)
             return 1 + sum(1 for r, t in self._waiting if (r, t) < key and t in self._jobs)
 
+    def busy(self) -> bool:
+        """True when every worker is computing."""
+        with self._lock:
+            return len(self._running) >= self.workers
+
     def queued(self) -> int:
         """Tasks waiting or computing."""
         with self._lock:
@@ -261,8 +270,10 @@ def wait(ticket: int, future: cf.Future, show: Callable[[str], None] | None = No
 
 
 def call(fn: Callable[..., T], *args: Any, **kwargs: Any) -> T:
-    """``fn(*args, **kwargs)`` on a worker process (the caller's thread when no pool),
-    ahead of the waiting batches: what one interaction waits for (an estimate).
+    """``fn(*args, **kwargs)`` on a worker process, ahead of the waiting batches: what one
+    interaction waits for (an estimate). On the caller's thread when there is no pool, or
+    when every worker is computing and the input is small (:data:`INLINE_MAX_SAMPLES`: a
+    Compare table takes seconds, waiting for it cost more than the GIL this call takes).
 
     While it waits for a worker, the page shows the queue position in a placeholder
     that is removed afterwards. ``fn`` and its arguments must be picklable (a module-level
@@ -277,9 +288,15 @@ def call_batch(fn: Callable[..., T], *args: Any, **kwargs: Any) -> T:
     return _call(BATCH, fn, *args, **kwargs)
 
 
+def _small(args: tuple, kwargs: dict) -> bool:
+    """True when the arrays among the arguments hold at most :data:`INLINE_MAX_SAMPLES`."""
+    values = (*args, *kwargs.values())
+    return sum(v.size for v in values if isinstance(v, np.ndarray)) <= INLINE_MAX_SAMPLES
+
+
 def _call(rank: int, fn: Callable[..., T], *args: Any, **kwargs: Any) -> T:
     p = pool()
-    if p is None:
+    if p is None or (rank == FIRST and p.busy() and _small(args, kwargs)):
         return fn(*args, **kwargs)
     submit = p.submit_first if rank == FIRST else p.submit
     with trace.pool_wait():  # a full queue blocks here

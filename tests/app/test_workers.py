@@ -129,3 +129,20 @@ def test_an_estimate_goes_before_the_waiting_batches():
     finally:
         pool.shutdown()
     assert workers.call_batch(os.getpid) != os.getpid()
+
+
+def test_an_estimate_runs_on_its_own_thread_while_every_worker_computes():
+    pool = workers.pool()
+    busy = [pool.submit(time.sleep, 1.0) for _ in range(2)]
+    time.sleep(0.2)
+    assert pool.busy() and workers.call(os.getpid) == os.getpid()
+    for _, future in busy:
+        future.result(timeout=30)
+    assert not pool.busy() and workers.call(os.getpid) != os.getpid()
+    busy = [pool.submit(time.sleep, 1.0) for _ in range(2)]
+    time.sleep(0.2)
+    big = np.zeros(workers.INLINE_MAX_SAMPLES + 1)
+    assert workers.call(np.size, big) == big.size  # a long record waits for a worker
+    assert not pool.busy()
+    for _, future in busy:
+        future.result(timeout=30)
