@@ -68,7 +68,7 @@ def _fit_models(z: np.ndarray, rate: float, method: str, regimes: str) -> dict[s
     """Every kinematic model's fit for this record, rate, method and regimes.
 
     A record of at most :data:`PROGRESS_ABOVE` samples is fitted on the worker pool, once
-    for every session (the server's cache): on the script thread it held the GIL, a third
+    for every session (the server's cache): on the script thread it held the GIL, a quarter
     of the server's GIL time with 8 sessions (py-spy, ``benchmarks/load.py``). A longer one
     is fitted here with a progress bar and kept in the session.
     """
