@@ -10,14 +10,16 @@ from __future__ import annotations
 
 import streamlit as st
 
+from dashboard import trace
 from dashboard.pages import PAGES, frame
 
 
 def main() -> None:
     """Choose the page from the URL, draw the frame, run the page."""
     page = st.navigation([p.st_page() for p in PAGES], expanded=True)
-    frame(page)
-    page.run()
+    with trace.script_run(page.title):
+        frame(page)
+        page.run()
 
 
 # Streamlit runs this script as __main__; a process that merely imports it (a

@@ -53,8 +53,10 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "deploy"))
+sys.path.insert(0, str(ROOT / "benchmarks"))
 
 import local  # noqa: E402  (deploy/local.py)
+from cpu_split import PERIOD_S, CpuSampler  # noqa: E402  (benchmarks/cpu_split.py)
 
 import noisevar  # noqa: E402
 
@@ -70,10 +72,17 @@ CHROME_ARGS = [
 SAMPLES = 20_000
 BIG_N = 2_000_000
 QUIET_S = 0.4
+#: Longest pause between two looks at a page (s): 0.1 s at first, growing while it waits.
+#: The latency is read from the page's own clock, so a later look does not lengthen it
+#: (unless the page changes again after 0.4 s of quiet); looking every 0.1 s throughout
+#: cost the browser and Playwright's driver CPU in proportion to the waits.
+POLL_MAX_S = 0.3
 SESSION_TTL_S = 30
 #: A session's steps, in order (a failed session names the one it failed at).
 STEPS = ("open", "upload", "estimator", "slider1", "slider2", "slider3", "compare", "noise model")
 OUT = ROOT / "benchmarks" / "results" / "load.md"  # --out changes it
+#: The server's script-run trace (``--trace``: ``NOISEVAR_TRACE``, dashboard/trace.py).
+TRACE = Path("/tmp") / "noisevar-load-trace.jsonl"
 
 OBSERVER_JS = """() => {
   if (window.__nvObserved) return; window.__nvObserved = true;
@@ -132,13 +141,15 @@ def tree_rss_mb(pid: int) -> float:
 async def settled(page, since: float, redrawn: bool = False, timeout: float = 900.0) -> float:
     """Seconds from ``since`` (page clock, ms) to the page's last change once it settled."""
     deadline = time.monotonic() + timeout
+    polls = 0
     while time.monotonic() < deadline:
         s = await page.evaluate(STATE_JS, since)
         if s["errors"]:
             raise RuntimeError("an exception box on the page")
         if (s["fresh"] or not redrawn) and not s["busy"] and s["quiet"] > QUIET_S * 1000:
             return (s["last"] - since) / 1000.0
-        await asyncio.sleep(0.1)
+        polls += 1
+        await asyncio.sleep(min(POLL_MAX_S, 0.1 + 0.02 * polls))
     raise TimeoutError("the page did not settle")
 
 
@@ -175,12 +186,31 @@ async def page_state(page) -> str:
     return f" (status: {' '.join(str(status).split())[:40] or 'none'}; page: {words[:120]})"
 
 
-async def session(browser, base: str, data: bytes, name: str) -> dict:
+class StepLog(dict):
+    """A session's latencies by step; with a sampler, also the CPU totals at each step's end
+    (``cpu``: step -> totals by class)."""
+
+    def __init__(self, sampler: CpuSampler | None = None) -> None:
+        super().__init__()
+        self.sampler = sampler
+        self.cpu: dict[str, dict[str, float]] = {}
+        if sampler is not None:
+            self.cpu["start"] = sampler.snapshot()
+
+    def __setitem__(self, key: str, value: object) -> None:
+        super().__setitem__(key, value)
+        if self.sampler is not None and key in STEPS:
+            self.cpu[key] = self.sampler.snapshot()
+
+
+async def session(
+    browser, base: str, data: bytes, name: str, sampler: CpuSampler | None = None
+) -> dict:
     """One student's path; returns the latency of each interaction (s)."""
+    out = StepLog(sampler)
     ctx = await browser.new_context(viewport={"width": 1400, "height": 900})
     page = await ctx.new_page()
     page.set_default_timeout(900_000)  # a loaded machine: every step completes or times out
-    out: dict[str, float] = {}
     try:
         t0 = time.perf_counter()
         await page.goto(f"{base}Signal", timeout=900_000)
@@ -219,10 +249,12 @@ async def session(browser, base: str, data: bytes, name: str) -> dict:
     return out
 
 
-async def wave(browser, base: str, n: int, shared: bool, seed0: int) -> list[dict]:
+async def wave(
+    browser, base: str, n: int, shared: bool, seed0: int, sampler: CpuSampler | None = None
+) -> list[dict]:
     datas = [record_csv(seed0 if shared else seed0 + i) for i in range(n)]
     names = [f"rec{seed0 if shared else seed0 + i}.csv" for i in range(n)]
-    runs = (session(browser, base, d, nm) for d, nm in zip(datas, names, strict=True))
+    runs = (session(browser, base, d, nm, sampler) for d, nm in zip(datas, names, strict=True))
     return list(await asyncio.gather(*runs))
 
 
@@ -237,6 +269,11 @@ def summary(results: list[dict]) -> dict:
         "worst": max(lat) if lat else float("nan"),
         "change": statistics.median(changes) if changes else float("nan"),
         "errors": [r["error"] for r in results if not r.get("ok")],
+        "steps": {
+            k: (statistics.median(v), max(v))
+            for k in keys
+            if (v := [r[k] for r in results if r.get("ok")])
+        },
     }
 
 
@@ -259,8 +296,64 @@ async def settle_memory(pid: int) -> float:
     return tree_rss_mb(pid)
 
 
-async def run_waves(pw, args, env, rows: list[str], log) -> None:
+def one_session_cpu(cpu: dict[str, dict[str, float]]) -> list[str]:
+    """Rows of a single session's CPU-s by step (server, browser)."""
+    rows, prev = [], cpu["start"]
+    for step in STEPS:
+        now = cpu.get(step)
+        if now is None:
+            continue
+        rows.append(
+            f"| {step} | {now['server'] - prev['server']:.2f} | "
+            f"{now['browser'] - prev['browser']:.2f} |"
+        )
+        prev = now
+    return rows
+
+
+def trace_rows(label: str, t0: float, t1: float) -> list[str]:
+    """The server's script runs that started in ``[t0, t1]`` (unix time), from the trace:
+    one summary row, then the five longest runs."""
+    import json
+
+    if not TRACE.exists():
+        return []
+    runs, guard, pauses = [], [], []
+    for line in TRACE.read_text().splitlines():
+        r = json.loads(line)
+        if "guard" in r and t0 <= r["guard"] <= t1:
+            guard.append(r["seconds"])
+        elif "gc" in r and t0 <= r["gc"] <= t1:
+            pauses.append(r["seconds"])
+        elif "start" in r and t0 <= r["start"] <= t1:
+            r["wall"] = r["end"] - r["start"]
+            r["wait"] = max(0.0, r["wall"] - r["cpu"] - r["pool"])
+            runs.append(r)
+    if not runs:
+        return []
+    walls = sorted(r["wall"] for r in runs)
+    rows = [
+        f"| {label} | {len(runs)} | {sum(r['cpu'] for r in runs):.1f} | "
+        f"{statistics.median(walls):.2f} | {walls[int(0.9 * (len(walls) - 1))]:.2f} | "
+        f"{walls[-1]:.2f} | {sum(r['pool'] for r in runs):.1f} | "
+        f"{sum(r['wait'] for r in runs):.1f} | {len(pauses)} ({sum(pauses):.2f} s) | "
+        f"{len(guard)} ({sum(guard):.2f} s) |"
+    ]
+    for r in sorted(runs, key=lambda r: -r["wall"])[:5]:
+        rows.append(
+            f"|  longest: {r['page']} ({r['outcome']}) |  | {r['cpu']:.2f} |  |  | "
+            f"{r['wall']:.2f} | {r['pool']:.2f} | {r['wait']:.2f} | {r['gc_s']:.2f} |  |"
+        )
+    return rows
+
+
+async def run_waves(pw, args, env, tables: dict[str, list[str]], log) -> None:
+    rows = tables["waves"]
+    if args.trace:
+        TRACE.unlink(missing_ok=True)
+        env = {**env, "NOISEVAR_TRACE": str(TRACE)}
     proc, base = start_server(env)
+    sampler = CpuSampler(proc.pid, os.getpid()).start()
     browser = await pw.chromium.launch(executable_path=CHROMIUM, args=CHROME_ARGS)
     try:
         await wave(browser, base, 1, False, 10_000)  # warm the server: first imports, pool
@@ -268,23 +361,47 @@ async def run_waves(pw, args, env, rows: list[str], log) -> None:
         one = None
         plan = [(n, False) for n in args.waves] + ([(args.shared, True)] if args.shared else [])
         for k, (n, shared) in enumerate(plan):
+            label = f"{n}{' shared' if shared else ''}"
             before = tree_rss_mb(proc.pid)
+            cpu0, unix0 = sampler.snapshot(), time.time()
             t0 = time.perf_counter()
-            s = summary(await wave(browser, base, n, shared, 100 * (k + 1)))
+            results = await wave(
+                browser, base, n, shared, 100 * (k + 1), sampler if n == 1 else None
+            )
+            s = summary(results)
             wall = time.perf_counter() - t0
+            if n == 1 and results[0].get("ok"):
+                tables["one"] = one_session_cpu(results[0].cpu)
+            cpu1, unix1 = sampler.snapshot(), time.time()
             after = await settle_memory(proc.pid)
             if n == 1 and not shared:
                 one = s
             ref = one or s
             fair = 1.3 * max(1.0, n / 2)
             rows.append(
-                f"| {n}{' shared' if shared else ''} | {s['done']}/{s['n']} | {s['median']:.2f} "
+                f"| {label} | {s['done']}/{s['n']} | {s['median']:.2f} "
                 f"({s['median'] / ref['median']:.1f}x) | {s['worst']:.2f} "
                 f"({s['worst'] / ref['worst']:.1f}x) | {fair:.1f}x | {s['change']:.2f} | "
                 f"{wall:.0f} | {before:.0f} -> {after:.0f} ({100 * (after / before - 1):+.0f} %) |"
             )
+            used = {c: cpu1[c] - cpu0[c] for c in cpu1}
+            per = len(STEPS) * max(1, s["done"])
+            tables["cpu"].append(
+                f"| {label} | {used['server']:.1f} | {used['browser']:.1f} | "
+                f"{used['driver']:.1f} | {used['other']:.1f} | {used['server'] / per:.3f} | "
+                f"{used['browser'] / per:.3f} | {(used['server'] + used['browser']) / per:.3f} | "
+                f"{sum(used.values()) / wall:.2f} |"
+            )
+            cells = [s["steps"].get(step, (0.0, 0.0)) for step in STEPS[1:]]
+            tables["steps"].append(
+                f"| {label} | " + " | ".join(f"{m:.2f} / {w:.2f}" for m, w in cells) + " |"
+            )
+            tables["trace"] += trace_rows(label, unix0, unix1)
             log(rows[-1] + (f"  errors: {s['errors'][:3]}" if s["errors"] else ""))
+            log(tables["cpu"][-1])
+            log(tables["steps"][-1])
     finally:
+        sampler.stop()
         await browser.close()
         os.killpg(proc.pid, 15)
         proc.wait(timeout=60)
@@ -357,7 +474,7 @@ async def run_big(pw, n: int, env: dict[str, str], rows: list[str], log) -> None
         proc.wait(timeout=60)
 
 
-def report(args, waves: list[str], proxy: list[str], big: list[str], cpus: int) -> str:
+def report(args, tables: dict[str, list[str]], proxy: list[str], big: list[str], cpus: int) -> str:
     head = [
         "# Serving a class: concurrent browser sessions (`benchmarks/load.py`)",
         "",
@@ -372,12 +489,51 @@ def report(args, waves: list[str], proxy: list[str], big: list[str], cpus: int) 
         "",
     ]
     out = head
-    if waves:
+    if tables["waves"]:
         out += [
             "| sessions | completed | median s (vs 1) | worst s (vs 1) | target (1.3 x N/2) "
             "| median slider step s | wave s | server MB before -> after close |",
             "|---|---|---|---|---|---|---|---|",
-            *waves,
+            *tables["waves"],
+            "",
+            f"CPU-s of each wave (benchmarks/cpu_split.py's sampler, every {PERIOD_S} s; per "
+            f"interaction = wave CPU / (sessions x {len(STEPS)} steps: open, upload, "
+            "Estimator, 3 slider steps, Compare, Noise model); driver = this benchmark and "
+            "Playwright's driver; other = every other process on the machine):",
+            "",
+            "| sessions | server CPU-s | browser CPU-s | driver CPU-s | other CPU-s | server per "
+            "interaction | browser per interaction | both per interaction | cores busy (all "
+            "processes) |",
+            "|---|---|---|---|---|---|---|---|---|",
+            *tables["cpu"],
+            "",
+            "One session (the N = 1 wave), CPU-s by step (from the previous step's end to "
+            "this one's):",
+            "",
+            "| step | server CPU-s | browser CPU-s |",
+            "|---|---|---|",
+            *tables.get("one", []),
+            "",
+            "Each step's median / worst latency (s):",
+            "",
+            "| sessions | " + " | ".join(STEPS[1:]) + " |",
+            "|---|" + "---|" * len(STEPS[1:]),
+            *tables["steps"],
+            "",
+        ]
+    if tables["trace"]:
+        out += [
+            "The server's script runs (`--trace`: NOISEVAR_TRACE, dashboard/trace.py): wall = "
+            "script start to end; cpu = the script thread's own CPU; pool = waiting for the "
+            "worker pool (queue + computation); wait = wall - cpu - pool (runnable but not "
+            "running: the GIL, or I/O); gc = the server's collection pauses of 10 ms or more "
+            "in the wave (the longest runs: pauses inside the run); guard = the memory guard's "
+            "collections in the wave (GIL held):",
+            "",
+            "| sessions | runs | script CPU-s | median wall s | p90 wall s | worst wall s | "
+            "pool s | wait s | gc pauses (s) | guard collections |",
+            "|---|---|---|---|---|---|---|---|---|---|",
+            *tables["trace"],
             "",
         ]
     if proxy:
@@ -403,23 +559,23 @@ async def main_async(args) -> None:
     from playwright.async_api import async_playwright
 
     env = {"STREAMLIT_SERVER_DISCONNECTED_SESSION_TTL": str(SESSION_TTL_S)}
-    waves: list[str] = []
+    tables: dict[str, list[str]] = {"waves": [], "cpu": [], "steps": [], "trace": []}
     proxy: list[str] = []
     big: list[str] = []
     cpus = len(os.sched_getaffinity(0))
 
     def log(text: str) -> None:
         print(text, flush=True)
-        OUT.write_text(report(args, waves, proxy, big, cpus))
+        OUT.write_text(report(args, tables, proxy, big, cpus))
 
     async with async_playwright() as pw:
         if args.waves or args.shared:
-            await run_waves(pw, args, env, waves, log)
+            await run_waves(pw, args, env, tables, log)
         if args.proxy:
             await run_proxy(pw, args.proxy, proxy, log)
         if args.big:
             await run_big(pw, args.big, env, big, log)
-    OUT.write_text(report(args, waves, proxy, big, cpus))
+    OUT.write_text(report(args, tables, proxy, big, cpus))
     print(OUT.read_text())
 
 
@@ -429,6 +585,9 @@ def main() -> None:
     p.add_argument("--shared", type=int, default=16)
     p.add_argument("--proxy", type=int, default=30)
     p.add_argument("--big", type=int, default=50)
+    p.add_argument(
+        "--trace", action="store_true", help="log the server's script runs (NOISEVAR_TRACE)"
+    )
     p.add_argument("--out", type=Path, default=OUT, help="the Markdown table written")
     args = p.parse_args()
     globals()["OUT"] = args.out

@@ -24,6 +24,15 @@ collection after every script run (``runner.postScriptGC``, a quarter of a secon
 slider step). :class:`MemoryGuard` (one daemon thread per server) collects when a session
 has ended or an entry was evicted since its last look, then asks the C allocator to
 return the freed memory to the system (``malloc_trim``).
+
+Python's own full collections scan every object of the server (about 190,000 with the
+libraries loaded; 0.4 s holding the GIL, every session's script and the event loop
+waiting), and they come more often as more sessions allocate. After each of its
+collections (and once at its first look) the guard freezes what survived
+(``gc.freeze``): the automatic collections then scan only what was made since. Before
+collecting, it unfreezes, so an ended session's state frozen while it was alive is still
+freed; at the latest every :data:`REFREEZE_SECONDS` it collects and refreezes anyway.
+Outside a server (no session list: tests, scripts) it never freezes.
 """
 
 from __future__ import annotations
@@ -43,6 +52,7 @@ from typing import Any, TypeVar
 
 import numpy as np
 
+from dashboard import trace
 from dashboard.session_dirs import live_session_ids
 
 LOG = logging.getLogger("noisevar.dashboard")
@@ -55,6 +65,8 @@ DEFAULT_BUDGET_MB = 512
 LARGEST_SHARE = 0.25
 #: Seconds between two looks of the :class:`MemoryGuard`.
 GUARD_SECONDS = 5.0
+#: Longest time between two of the guard's collections (frozen garbage waits at most this).
+REFREEZE_SECONDS = 120.0
 #: Deepest nesting :func:`nbytes` walks (deeper objects count their ``sys.getsizeof``).
 MAX_DEPTH = 12
 
@@ -252,20 +264,32 @@ class MemoryGuard:
         self._evictions = cache.evictions
         self._thread: threading.Thread | None = None
         self._lock = threading.Lock()
+        self._last: float | None = None  # monotonic time of the last collection
         self.collections = 0
 
     def tick(self) -> bool:
-        """One look: collect and trim if a session ended or an entry was evicted."""
+        """One look: collect and trim if a session ended or an entry was evicted; in a
+        server (the sessions can be read), also on the first look and once
+        :data:`REFREEZE_SECONDS` passed, and freeze the survivors."""
         live = self._sessions()
         ended = live is not None and bool(self._seen - live)
         self._seen = set(live or ())
         evicted = self._cache.evictions != self._evictions
         self._evictions = self._cache.evictions
-        if not (ended or evicted):
+        now = time.monotonic()
+        serving = live is not None  # in a server (tests and scripts: no freezing)
+        due = serving and (self._last is None or now - self._last >= REFREEZE_SECONDS)
+        if not (ended or evicted or due):
             return False
+        t0 = time.perf_counter()
+        gc.unfreeze()
         gc.collect()
+        if serving:
+            gc.freeze()  # survivors: Python's automatic collections skip them from now on
         trim()
+        self._last = now
         self.collections += 1
+        trace.write({"guard": time.time(), "seconds": time.perf_counter() - t0})
         return True
 
     def start(self) -> None:

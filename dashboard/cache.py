@@ -173,7 +173,9 @@ def _compare_cached(
     true_variance: float | None,
     _z: np.ndarray,
 ) -> Comparison:
-    return workers.call(compare_methods, _z, list(methods), json.loads(params_json), true_variance)
+    return workers.call_batch(
+        compare_methods, _z, list(methods), json.loads(params_json), true_variance
+    )
 
 
 def compare(

@@ -20,6 +20,14 @@ A Monte Carlo runs as chunks of consecutive runs (run ``i`` draws with seed
 ``seed + i`` in :func:`noisevar.estimators.compare.monte_carlo`, so a chunk is the same
 runs), at most :data:`CHUNKS_IN_FLIGHT` at once per session, merged in order: the result
 equals one sequential run, apart from the timings.
+
+The executor gets at most one task per worker; the rest wait in the pool, by rank and
+then arrival. An estimate (:func:`call`: what a slider step waits for, milliseconds on a
+short record) goes before every waiting batch (:func:`call_batch`: the Compare table,
+seconds per session with the maximum-likelihood peers; Monte Carlo chunks). In one
+executor queue, a class's slider steps waited behind every Compare table asked before
+them: 64 s at N = 8 for a step that takes 0.1 s alone (``benchmarks/load.py``). When every
+worker is computing, an estimate of a short record runs on its script thread instead.
 """
 
 from __future__ import annotations
@@ -27,6 +35,8 @@ from __future__ import annotations
 import atexit
 import concurrent.futures as cf
 import ctypes
+import functools
+import heapq
 import itertools
 import logging
 import multiprocessing as mp
@@ -40,6 +50,7 @@ from typing import Any, TypeVar
 
 import numpy as np
 
+from dashboard import trace
 from noisevar.errors import NoisevarError
 from noisevar.estimators.compare import MonteCarloResult, monte_carlo, run_monte_carlo
 
@@ -54,6 +65,9 @@ QUEUE_PER_WORKER = 8
 CHUNKS_IN_FLIGHT = 2
 #: Seconds each worker sleeps when the pool starts (so that all of them start at once).
 START_PAUSE_S = 0.5
+#: Largest input (samples, all arrays together) a first-rank call computes on its script
+#: thread while every worker is busy (an estimate of 1e5 samples: tens of milliseconds).
+INLINE_MAX_SAMPLES = 100_000
 #: Seconds between two updates of a waiting page.
 POLL_SECONDS = 0.25
 
@@ -90,8 +104,18 @@ def _die_with_parent() -> None:
     threading.Thread(target=watch, daemon=True).start()
 
 
+#: Dispatch ranks: what one interaction waits for (an estimate) goes before whole-page
+#: batches (the Compare table, Monte Carlo chunks); FIFO within a rank.
+FIRST, BATCH = 0, 1
+
+
 class Pool:
-    """A bounded process pool with queue positions (one per server: :func:`pool`)."""
+    """A bounded process pool with queue positions and two ranks (one per server:
+    :func:`pool`).
+
+    The pool hands the executor at most one task per worker; the others wait here,
+    ordered by rank, then by arrival (see the module's Notes).
+    """
 
     def __init__(self, workers: int) -> None:
         self.workers = workers
@@ -109,42 +133,105 @@ class Pool:
         self._slots = threading.BoundedSemaphore(workers * QUEUE_PER_WORKER)
         self._lock = threading.Lock()
         self._tickets = itertools.count()
-        self._pending: list[int] = []  # tickets submitted and not done, in order
+        self._waiting: list[tuple[int, int]] = []  # heap of (rank, ticket)
+        self._jobs: dict[int, tuple[int, Callable[..., Any], tuple, dict, cf.Future]] = {}
+        self._running: set[int] = set()
 
     def submit(self, fn: Callable[..., T], *args: Any, **kwargs: Any) -> tuple[int, cf.Future]:
-        """Queue ``fn(*args, **kwargs)``; returns its ticket and future."""
+        """Queue ``fn(*args, **kwargs)`` as a batch (after every waiting first-rank task);
+        returns its ticket and future."""
+        return self._enqueue(BATCH, fn, args, kwargs)
+
+    def submit_first(
+        self, fn: Callable[..., T], *args: Any, **kwargs: Any
+    ) -> tuple[int, cf.Future]:
+        """Queue ``fn(*args, **kwargs)`` ahead of every waiting batch; returns its ticket
+        and future."""
+        return self._enqueue(FIRST, fn, args, kwargs)
+
+    def _enqueue(self, rank: int, fn: Callable, args: tuple, kwargs: dict) -> tuple[int, cf.Future]:
         self._slots.acquire()
+        future: cf.Future = cf.Future()
         with self._lock:
             ticket = next(self._tickets)
-            self._pending.append(ticket)
-        try:
-            future = self._executor.submit(fn, *args, **kwargs)
-        except BaseException:
-            self._done(ticket)
-            raise
-        future.add_done_callback(lambda _: self._done(ticket))
+            heapq.heappush(self._waiting, (rank, ticket))
+            self._jobs[ticket] = (rank, fn, args, kwargs, future)
+        future.add_done_callback(lambda f: f.cancelled() and self._drop(ticket))
+        self._dispatch()
         return ticket, future
 
-    def _done(self, ticket: int) -> None:
+    def _drop(self, ticket: int) -> None:
+        """A waiting task cancelled: forget it, free its place in the queue."""
         with self._lock:
-            if ticket in self._pending:
-                self._pending.remove(ticket)
-                self._slots.release()
+            if self._jobs.pop(ticket, None) is None:
+                return
+        self._slots.release()
+
+    def _next(self) -> tuple[int, Callable, tuple, dict, cf.Future] | None:
+        """The next task to hand the executor (marked running), or None."""
+        with self._lock:
+            while self._waiting and len(self._running) < self.workers:
+                _, ticket = heapq.heappop(self._waiting)
+                job = self._jobs.get(ticket)
+                if job is None or not job[4].set_running_or_notify_cancel():
+                    continue  # cancelled while waiting (its place freed by _drop)
+                del self._jobs[ticket]
+                self._running.add(ticket)
+                return ticket, job[1], job[2], job[3], job[4]
+        return None
+
+    def _dispatch(self) -> None:
+        while (job := self._next()) is not None:
+            ticket, fn, args, kwargs, future = job
+            try:
+                inner = self._executor.submit(fn, *args, **kwargs)
+            except BaseException as exc:  # noqa: BLE001 - handed to the waiting caller
+                future.set_exception(exc)
+                self._finished(ticket)
+                continue
+            inner.add_done_callback(functools.partial(self._relay, ticket, future))
+
+    def _finished(self, ticket: int) -> None:
+        with self._lock:
+            self._running.discard(ticket)
+        self._slots.release()
+
+    def _relay(self, ticket: int, future: cf.Future, inner: cf.Future) -> None:
+        """The executor finished a task: pass its outcome on, start the next one."""
+        if inner.cancelled():
+            future.set_exception(cf.CancelledError())
+        elif inner.exception() is not None:
+            future.set_exception(inner.exception())
+        else:
+            future.set_result(inner.result())
+        self._finished(ticket)
+        self._dispatch()
 
     def ahead(self, ticket: int) -> int:
-        """Tasks queued before ``ticket`` that wait for a worker (0: it is computing)."""
+        """Tasks a waiting ``ticket`` waits for: those dispatched before it, plus one for
+        the busy workers (0: it is computing, or done)."""
         with self._lock:
-            try:
-                return max(0, self._pending.index(ticket) - self.workers + 1)
-            except ValueError:
+            job = self._jobs.get(ticket)
+            if job is None:
                 return 0
+            key = (job[0], ticket)
+            return 1 + sum(1 for r, t in self._waiting if (r, t) < key and t in self._jobs)
+
+    def busy(self) -> bool:
+        """True when every worker is computing."""
+        with self._lock:
+            return len(self._running) >= self.workers
 
     def queued(self) -> int:
         """Tasks waiting or computing."""
         with self._lock:
-            return len(self._pending)
+            return len(self._jobs) + len(self._running)
 
     def shutdown(self) -> None:
+        with self._lock:
+            waiting = [job[4] for job in self._jobs.values()]
+        for future in waiting:
+            future.cancel()
         self._executor.shutdown(wait=False, cancel_futures=True)
 
 
@@ -183,16 +270,37 @@ def wait(ticket: int, future: cf.Future, show: Callable[[str], None] | None = No
 
 
 def call(fn: Callable[..., T], *args: Any, **kwargs: Any) -> T:
-    """``fn(*args, **kwargs)`` on a worker process (the caller's thread when no pool).
+    """``fn(*args, **kwargs)`` on a worker process, ahead of the waiting batches: what one
+    interaction waits for (an estimate). On the caller's thread when there is no pool, or
+    when every worker is computing and the input is small (:data:`INLINE_MAX_SAMPLES`: a
+    Compare table takes seconds, waiting for it cost more than the GIL this call takes).
 
     While it waits for a worker, the page shows the queue position in a placeholder
     that is removed afterwards. ``fn`` and its arguments must be picklable (a module-level
     function, arrays, plain values).
     """
+    return _call(FIRST, fn, *args, **kwargs)
+
+
+def call_batch(fn: Callable[..., T], *args: Any, **kwargs: Any) -> T:
+    """:func:`call` for a whole-page batch (every method at once): queued after the
+    waiting first-rank tasks."""
+    return _call(BATCH, fn, *args, **kwargs)
+
+
+def _small(args: tuple, kwargs: dict) -> bool:
+    """True when the arrays among the arguments hold at most :data:`INLINE_MAX_SAMPLES`."""
+    values = (*args, *kwargs.values())
+    return sum(v.size for v in values if isinstance(v, np.ndarray)) <= INLINE_MAX_SAMPLES
+
+
+def _call(rank: int, fn: Callable[..., T], *args: Any, **kwargs: Any) -> T:
     p = pool()
-    if p is None:
+    if p is None or (rank == FIRST and p.busy() and _small(args, kwargs)):
         return fn(*args, **kwargs)
-    ticket, future = p.submit(_carried, fn, *args, **kwargs)
+    submit = p.submit_first if rank == FIRST else p.submit
+    with trace.pool_wait():  # a full queue blocks here
+        ticket, future = submit(_carried, fn, *args, **kwargs)
     slot = None
 
     def show(text: str) -> None:
@@ -204,7 +312,8 @@ def call(fn: Callable[..., T], *args: Any, **kwargs: Any) -> T:
         slot.caption(text)
 
     try:
-        return _unwrap(wait(ticket, future, show if _in_script() else None))
+        with trace.pool_wait():
+            return _unwrap(wait(ticket, future, show if _in_script() else None))
     finally:
         if slot is not None:
             slot.empty()
@@ -291,9 +400,12 @@ def monte_carlo_chunks(
         while todo or flying:
             while todo and len(flying) < CHUNKS_IN_FLIGHT:
                 first, size = todo.pop(0)
-                flying.append(p.submit(_carried, _chunk, kwargs, first, size))
+                with trace.pool_wait():
+                    flying.append(p.submit(_carried, _chunk, kwargs, first, size))
             ticket, future = flying.pop(0)
-            total = _merge(total, _unwrap(wait(ticket, future, show)), runs)
+            with trace.pool_wait():
+                part = _unwrap(wait(ticket, future, show))
+            total = _merge(total, part, runs)
             yield total
     finally:
         for _, future in flying:

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import streamlit as st
 
+from dashboard import trace
 from dashboard.sections import estimator_results as results
 from dashboard.sections.estimator_tuning import CONFIG_COLUMN_KEY, tuning_panel
 from dashboard.sections.noise_panel import render_noise_panel
@@ -22,6 +23,11 @@ def tuned_view(sig: LoadedSignal) -> None:
     A loaded config that names a column switches the page's signal: the whole page then
     reruns (:func:`~dashboard.sections.estimator_tuning.follow_config_column` runs there).
     """
+    with trace.script_run("Estimator (fragment)"):  # the load benchmark's trace
+        _tuned_view(sig)
+
+
+def _tuned_view(sig: LoadedSignal) -> None:
     left, right = st.columns([1, 3], gap="large")
     with left, st.container(key=CONTROLS_KEY):  # on a phone: below the answer
         tuning = tuning_panel(sig.n)

@@ -15,6 +15,8 @@ from collections.abc import Callable
 import numpy as np
 import streamlit as st
 
+from dashboard import workers
+from dashboard.budget import cached
 from dashboard.widgets import fmt, guarded, show_figure
 from noisevar.config import filter_config_json
 from noisevar.estimators.answer import WHY_DIFFERENT
@@ -52,8 +54,26 @@ def _with_progress(label: str, n: int, work: Callable[[Callable[[float], None] |
         bar.empty()
 
 
+@cached
+def _fits_on_pool(
+    digest: str, rate: float, method: str, regimes: str, _z: np.ndarray
+) -> dict[str, KalmanTuning]:
+    return {
+        model: workers.call(fit_kalman, _z, model=model, rate=rate, method=method, regimes=regimes)
+        for model in MODELS
+    }
+
+
 def _fit_models(z: np.ndarray, rate: float, method: str, regimes: str) -> dict[str, KalmanTuning]:
-    """Every kinematic model's fit, kept in the session for this record, rate, method, regimes."""
+    """Every kinematic model's fit for this record, rate, method and regimes.
+
+    A record of at most :data:`PROGRESS_ABOVE` samples is fitted on the worker pool, once
+    for every session (the server's cache): on the script thread it held the GIL, a quarter
+    of the server's GIL time with 8 sessions (py-spy, ``benchmarks/load.py``). A longer one
+    is fitted here with a progress bar and kept in the session.
+    """
+    if z.size <= PROGRESS_ABOVE:
+        return _fits_on_pool(_digest(z), float(rate), method, regimes, z)
     key = f"{KEY}_fits_{_digest(z, rate, method, regimes)}"
     if key not in st.session_state:
 

@@ -5,10 +5,20 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+import pytest
 from streamlit.testing.v1 import AppTest
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
+
+
+@pytest.fixture(autouse=True)
+def _no_pool(monkeypatch):
+    """The fits run on this thread: a worker pool started under ``from_function`` would
+    re-run the generated script as its main module (app.py guards its own)."""
+    from dashboard import workers
+
+    monkeypatch.setattr(workers, "WORKERS", 0)
 
 
 def _page(n: int, rate: float, seed: int) -> None:

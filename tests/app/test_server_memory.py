@@ -134,7 +134,7 @@ class _Cyclic:
         self.me = self
 
 
-def test_a_closed_sessions_signal_is_freed_by_the_memory_guard():
+def test_a_closed_sessions_signal_is_freed_by_the_memory_guard(unfrozen):
     """A closed session's state is a reference cycle: without a collection its loaded
     signal stays (the server turns off Streamlit's collection after each run); the guard
     collects once it sees the session gone."""
@@ -146,7 +146,7 @@ def test_a_closed_sessions_signal_is_freed_by_the_memory_guard():
 
     live = {"a", "b"}
     guard = budget.MemoryGuard(lambda: set(live), ByteCache(MB))
-    guard.tick()  # sees the sessions
+    assert guard.tick()  # sees the sessions; its first look collects and freezes
     app_file = str(Path(__file__).resolve().parents[2] / "app.py")
     gc.disable()
     try:
@@ -161,13 +161,13 @@ def test_a_closed_sessions_signal_is_freed_by_the_memory_guard():
         assert all(r() is not None for r in refs)  # the cycle holds them
         assert not guard.tick()  # no session ended: nothing to do
         live.clear()  # Streamlit dropped both sessions
-        assert guard.tick() and guard.collections == 1
+        assert guard.tick() and guard.collections == 2
         assert all(r() is None for r in refs)
     finally:
         gc.enable()
 
 
-def test_an_evicted_entry_in_a_cycle_is_freed_by_the_memory_guard():
+def test_an_evicted_entry_in_a_cycle_is_freed_by_the_memory_guard(unfrozen):
     cache = ByteCache(6 * MB)
     guard = budget.MemoryGuard(lambda: None, cache)
     gc.disable()
@@ -181,6 +181,38 @@ def test_an_evicted_entry_in_a_cycle_is_freed_by_the_memory_guard():
         assert guard.tick()
         assert ref() is None
         assert not guard.tick()  # nothing new
+    finally:
+        gc.enable()
+
+
+@pytest.fixture
+def unfrozen():
+    """The guard freezes the survivors of its collections: thaw them after the test."""
+    yield
+    gc.unfreeze()
+
+
+def test_the_guards_collection_freezes_the_survivors_and_thaws_them_for_the_next(
+    unfrozen, monkeypatch
+):
+    """Python's automatic full collections skip what survived the guard's last one (they
+    scanned every object of the server, holding the GIL); a session's state frozen while
+    it was alive is still freed by the guard once the session ends."""
+    live = {"a"}
+    guard = budget.MemoryGuard(lambda: set(live), ByteCache(MB))
+    state = _Cyclic()  # the live session's state, a cycle
+    ref = __import__("weakref").ref(state)
+    gc.disable()
+    try:
+        assert guard.tick() and gc.get_freeze_count() > 1000
+        del state
+        gc.collect()  # an automatic collection: the frozen cycle is not even looked at
+        assert ref() is not None
+        assert not guard.tick()  # nothing ended, not due
+        live.clear()  # the session ended
+        assert guard.tick() and ref() is None and gc.get_freeze_count() > 1000
+        monkeypatch.setattr(budget, "REFREEZE_SECONDS", 0.0)
+        assert guard.tick()  # due: collects and refreezes even with nothing ended
     finally:
         gc.enable()
 

@@ -108,3 +108,41 @@ def test_every_worker_starts_with_the_pool():
         assert len(pool._executor._processes) == 2  # noqa: SLF001 - the executor's own table
     finally:
         pool.shutdown()
+
+
+def test_an_estimate_goes_before_the_waiting_batches():
+    """A slider step's estimate waited behind every Compare table asked before it (45 s at
+    N = 8 in benchmarks/load.py): first-rank tasks pass the waiting batches, FIFO within
+    a rank, and a cancelled waiting task frees its place without running."""
+    pool = workers.Pool(1)  # one worker: the order of the runs is the dispatch order
+    try:
+        busy = pool.submit(time.sleep, 0.5)
+        time.sleep(0.1)
+        batches = [pool.submit(time.monotonic) for _ in range(3)]
+        dropped = pool.submit(time.monotonic)
+        first = pool.submit_first(time.monotonic)
+        assert pool.ahead(first[0]) == 1 and pool.ahead(batches[0][0]) == 2
+        assert dropped[1].cancel() and pool.queued() == 5
+        done_at = [f.result(timeout=30) for _, f in (*batches, first)]
+        assert done_at[3] < min(done_at[:3]) and done_at[:3] == sorted(done_at[:3])
+        assert busy[1].done() and pool.queued() == 0
+    finally:
+        pool.shutdown()
+    assert workers.call_batch(os.getpid) != os.getpid()
+
+
+def test_an_estimate_runs_on_its_own_thread_while_every_worker_computes():
+    pool = workers.pool()
+    busy = [pool.submit(time.sleep, 1.0) for _ in range(2)]
+    time.sleep(0.2)
+    assert pool.busy() and workers.call(os.getpid) == os.getpid()
+    for _, future in busy:
+        future.result(timeout=30)
+    assert not pool.busy() and workers.call(os.getpid) != os.getpid()
+    busy = [pool.submit(time.sleep, 1.0) for _ in range(2)]
+    time.sleep(0.2)
+    big = np.zeros(workers.INLINE_MAX_SAMPLES + 1)
+    assert workers.call(np.size, big) == big.size  # a long record waits for a worker
+    assert not pool.busy()
+    for _, future in busy:
+        future.result(timeout=30)
