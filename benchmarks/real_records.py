@@ -72,7 +72,8 @@ most 1.17) keep their single R and the PASS/FAIL rule.
 The whiteness test: white (independent, identically distributed) noise is exchangeable
 within a stretch, so d1 / d2 of the same samples in :data:`PERMUTATIONS` random orders
 (seeded) is its exact distribution under white noise, tails included; the p-value is
-two-sided.
+two-sided. On 200 seeded pairs of white Student-t(5) stretches (400 and 600 samples, with
+offsets) it was below 0.01 in 0.5 % and below 0.05 in 5.0 %.
 
 Only noisevar's public API is used; what the result tells about regimes (``regimes`` on the
 estimate or its diagnostics, when it has them) and its still level
