@@ -37,10 +37,43 @@ Each record's noise variance has a reference that no noisevar estimator computed
 - a published state-space fit: Durbin & Koopman (2012, ch. 2), local level model of the Nile,
   sigma2_eps = 15099; its interval is statsmodels' MLE of the same model +- 1.96 standard errors.
 
-**Rule** (one for every row): PASS when the R the result tells a filter to use lies within
-the reference's own 95 % interval, or its ratio to the reference lies within [0.8, 1.25].
-That R is ``est.still.variance`` when the level varies along the record (the same method
-on its still regimes: the sensor's own noise), else ``est.variance``; both are printed.
+**Rule.** A channel with a single R PASSES when the R the result tells a filter to use lies
+within the reference's own 95 % interval, or its ratio to the reference lies within
+[0.8, 1.25]. That R is ``est.still.variance`` when the level varies along the record (the
+same method on its still regimes: the sensor's own noise), else ``est.variance``; both are
+printed.
+
+**Still noise that is not white has no single R** (issue 26). On the lower-back IMUs
+(mobgap: a McRoberts MoveMonitor+ on the lower back, sitting or standing) the hand-cut
+still stretches are not white: var(d1)/2 reads 1.1-8 times var(d2)/6, and var(d3)/20
+0.68-0.93 times it, where white noise gives 1 for both. Each difference operator then reads
+a different share of the noise (its own bandwidth), and none of them is "the" R: the
+slower part is body sway or breathing, or noise low-passed by the sensor, and a still
+stretch cannot tell them apart. Other references were weighed and rejected: (a) the
+sensors' datasheets: mobgap's package names the MoveMonitor+ but not its chip, gaitmap's
+records come from NilsPod sensors (its ``extract_example_data.py``) whose chip and digital
+filter settings are not in the package either, and a datasheet's typical noise density
+gives a per-sample variance only through the filter's noise bandwidth, which no record
+states: not a reference to 25 %; (b) the per-sample variance about the local level, the R a
+filter at the full rate needs, depends on the window that defines "local" (the bandwidth)
+when the noise is not white; its AR(1) form is printed ('per-sample / ref'), and it does not
+exist where the first differences are positively correlated (motion at the shortest lags,
+8 of the 18 lower-back channels). So (c): where the hand-cut stretches fail a whiteness
+test (the permutation test of d1 / d2 below, p < :data:`WHITE_ALPHA`) AND another
+operator's white level lies outside the pass band around var(d2)/6 (the choice of
+operator alone would decide the check), the channel has no single R and is checked on what
+the product says: it AGREES when its verdict says its still noise is not white (so the
+still R is the white part and depends on the bandwidth: model the colour), and DISAGREES
+when it says nothing or only that the still level is untested. These are counted apart from
+the PASS/FAIL checks; the ratio to var(d2)/6 is printed for information only. Stretches
+that are not white but whose operators agree within the band (the foot IMUs: d1 / d2 at
+most 1.17) keep their single R and the PASS/FAIL rule.
+
+The whiteness test: white (independent, identically distributed) noise is exchangeable
+within a stretch, so d1 / d2 of the same samples in :data:`PERMUTATIONS` random orders
+(seeded) is its exact distribution under white noise, tails included; the p-value is
+two-sided. On 200 seeded pairs of white Student-t(5) stretches (400 and 600 samples, with
+offsets) it was below 0.01 in 0.5 % and below 0.05 in 5.0 %.
 
 Only noisevar's public API is used; what the result tells about regimes (``regimes`` on the
 estimate or its diagnostics, when it has them) and its still level
@@ -81,6 +114,11 @@ NILE_PUBLISHED = 15099.0
 #: YEI 3-Space record: 2715 samples in 24.68 s of its ChipTimeUS column (jitter 0.1 %, no drift).
 YEI_RATE = 110.0
 OCXO_ADEV = "tests/ocxo/adev_octave.txt"
+#: Hand-cut still stretches are not white when their d1 / d2 permutation p is below this.
+WHITE_ALPHA = 0.01
+#: Random orders of each stretch's samples in that test, and their seed.
+PERMUTATIONS = 999
+PERMUTATION_SEED = 2026
 
 
 @dataclass(frozen=True)
@@ -111,6 +149,8 @@ class Reference:
     check: float | None = None  # still stretches: var(d1)/2 over var(d2)/6 (1 if white)
     per_sample: float | None = None  # still stretches: AR(1) noise's per-sample variance
     phi: float | None = None  # and its lag-1 correlation, 1 + 2 rho_d1(1)
+    check3: float | None = None  # still stretches: var(d3)/20 over var(d2)/6 (1 if white)
+    white_p: float | None = None  # still stretches: permutation p of d1 / d2 (white noise)
 
 
 # ---------------------------------------------------------------- loaders
@@ -170,9 +210,12 @@ RECORDS = (
     Record("gaitmap_long_walk", "IMU: long record (250 s), short still start", _GM, "MIT",
            "example_data/aligned_data_with_mag_l_walks.csv", 400.0,
            _gaitmap("example_data/aligned_data_with_mag_l_walks.csv", None), "still",
-           ((0.5, 4.5),),
-           "the only still stretch: the first 0.5 s settle, and the accelerometer floor rises "
-           "from 4.6 s (weight shifts) before the first step at 7.6 s"),
+           ((1.6, 4.2),),
+           "the only still stretch: the accelerometer X and Z floor settles until 1.6 s (0.5-"
+           "1.5 s at 1.3-3.5x the floor in 0.1 s windows) and rises from 4.2 s (weight shifts) "
+           "before the first step at 7.6 s; until 2026-11-26 the stretch was 0.5-4.5 s, which "
+           "held the settling and put the accelerometer X, Z references 1.4-1.5x above their "
+           "floor"),
     Record("yei_handheld", "IMU: hand-held, moved and set down, still stretches",
            _refdata.SKINEMATICS, "BSD-3-Clause", "tests/data/data_yei.txt", YEI_RATE, _yei,
            "still", ((0.08, 1.05), (2.85, 3.78), (13.90, 15.25), (24.05, 24.65)),
@@ -209,9 +252,38 @@ def still_reference(x: NDArray, rate: float, stretches) -> Reference:
     d1s = [np.diff(x[a:b]) for a, b in spans]
     d1 = np.concatenate(d1s)
     check = float(np.mean(d1**2)) / 2.0 / value  # 1 for white noise
+    d3 = np.concatenate([np.diff(x[a:b], 3) for a, b in spans])
+    check3 = float(np.mean(d3**2)) / 20.0 / value  # 1 for white noise
     secs = ", ".join(f"{a:g}-{b:g} s" for a, b in stretches)
     how = f"still stretches {secs} ({d2.size + 2 * len(spans)} samples): var(d2)/6"
-    return Reference(value, lo, hi, how, check, *ar1_per_sample(d1s))
+    pieces = [x[a:b] for a, b in spans]
+    return Reference(value, lo, hi, how, check, *ar1_per_sample(d1s), check3,
+                     white_p_value(pieces))  # fmt: skip
+
+
+def _d1_over_d2(pieces: list[NDArray]) -> NDArray:
+    """var(d1)/2 over var(d2)/6 of stretches (rows: repetitions; last axis: samples)."""
+    s1 = sum(np.sum(np.diff(p, axis=-1) ** 2, axis=-1) for p in pieces)
+    s2 = sum(np.sum(np.diff(p, 2, axis=-1) ** 2, axis=-1) for p in pieces)
+    n1 = sum(p.shape[-1] - 1 for p in pieces)
+    n2 = sum(p.shape[-1] - 2 for p in pieces)
+    return (s1 / n1 / 2.0) / (s2 / n2 / 6.0)
+
+
+def white_p_value(pieces: list[NDArray]) -> float:
+    """Two-sided permutation p-value of d1 / d2 of the stretches under white noise.
+
+    White (independent, identically distributed) noise is exchangeable within a stretch:
+    the same samples in a random order (:data:`PERMUTATIONS` orders, seeded) give d1 / d2
+    as white noise of exactly these values, tails included, would. A stretch with slow
+    motion or low-passed noise has d1 / d2 above all of them, blue noise below.
+    """
+    rng = np.random.default_rng(PERMUTATION_SEED)
+    ratio = float(_d1_over_d2(pieces))
+    null = _d1_over_d2([rng.permuted(np.tile(p, (PERMUTATIONS, 1)), axis=1) for p in pieces])
+    above = (1 + np.sum(null >= ratio)) / (1 + PERMUTATIONS)
+    below = (1 + np.sum(null <= ratio)) / (1 + PERMUTATIONS)
+    return float(min(1.0, 2.0 * min(above, below)))
 
 
 def ar1_per_sample(d1s: list[NDArray]) -> tuple[float | None, float]:
@@ -346,14 +418,40 @@ def run_record(rec: Record) -> list[dict]:
         seconds = time.perf_counter() - t0
         ref = reference(rec, x)
         ratio = seen["use"] / ref.value
-        ok = ref.lo <= seen["use"] <= ref.hi or BAND[0] <= ratio <= BAND[1]
+        within = ref.lo <= seen["use"] <= ref.hi or BAND[0] <= ratio <= BAND[1]
+        single = has_single_r(ref)
+        says = _says(seen)
         quiet = seen["quiet"]
         rows.append(
             {"record": rec.name, "channel": channel, "n": int(x.size), **seen,
              "seconds": seconds, "reference": dataclasses.asdict(ref), "ratio": ratio,
-             "quiet_ratio": None if quiet is None else float(quiet) / ref.value, "pass": ok}
+             "quiet_ratio": None if quiet is None else float(quiet) / ref.value,
+             "within": within, "single_r": single, "says_not_white": says,
+             "pass": within if single else says == "yes"}
         )  # fmt: skip
     return rows
+
+
+def has_single_r(ref: Reference) -> bool:
+    """Whether the reference is one R to the pass band's precision (module docstring).
+
+    Not when the hand-cut still stretches are not white (permutation p below
+    :data:`WHITE_ALPHA`) and another difference operator's white level, var(d1)/2 or
+    var(d3)/20, lies outside the pass band around var(d2)/6: the choice of operator then
+    moves the reference by more than the rule tolerates.
+    """
+    if ref.white_p is None or ref.white_p >= WHITE_ALPHA:
+        return True
+    return all(BAND[0] <= c <= BAND[1] for c in (ref.check, ref.check3))
+
+
+def _says(seen: dict) -> str:
+    """Whether the result says its still noise is not white: yes, untested or no."""
+    if seen["still_white"] is False:
+        return "yes"
+    if seen["still_white"] is None and "untested" in seen["verdict"]:
+        return "untested"
+    return "no"
 
 
 # ---------------------------------------------------------------- report
@@ -393,9 +491,9 @@ def results_table(rows: list[dict]) -> list[str]:
     """One row per record and channel: R, still level, regimes, reference, result."""
     lines = [
         "| record | channel | n | R (auto, whole record) | ci95 | R to use | still level "
-        "(share) | regimes | reference (95 %) | d1 / d2 | AR(1) phi | per-sample / ref | "
-        "R to use / ref | still / ref | result |",
-        "|---" * 15 + "|",
+        "(share) | regimes | reference (95 %) | d1 / d2 | d3 / d2 | white p | AR(1) phi | "
+        "per-sample / ref | R to use / ref | still / ref | result |",
+        "|---" * 17 + "|",
     ]
     for r in rows:
         ref = r["reference"]
@@ -406,7 +504,8 @@ def results_table(rows: list[dict]) -> list[str]:
             f"{_g(r['ci95'][0], 3)}-{_g(r['ci95'][1], 3)} | {_g(r['use'])} | "
             f"{_g(r['quiet'])}{share} | {regs} | "
             f"{_g(ref['value'])} ({_g(ref['lo'], 3)}-{_g(ref['hi'], 3)}) | "
-            f"{_g(ref['check'], 3)} | {_g(ref['phi'], 2)} | {_per_sample(ref)} | "
+            f"{_g(ref['check'], 3)} | {_g(ref['check3'], 3)} | {_g(ref['white_p'], 2)} | "
+            f"{_g(ref['phi'], 2)} | {_per_sample(ref)} | "
             f"{r['ratio']:.3g} | {_g(r['quiet_ratio'], 3)} | "
             f"{_result(r)} |"
         )
@@ -421,25 +520,17 @@ def _per_sample(ref: dict) -> str:
     return f"{ref['per_sample'] / ref['value']:.3g}"
 
 
-def untested(r: dict) -> bool:
-    """The verdict says the still level is untested (still stretches too short to test)."""
-    return r["still_white"] is None and "untested" in r["verdict"]
-
-
-def flagged(r: dict) -> bool:
-    """A failure the result itself warns of: still noise not white, or its level untested."""
-    return not r["pass"] and (r["still_white"] is False or untested(r))
-
-
 def _result(r: dict) -> str:
+    if not r["single_r"]:
+        said = {"yes": "says so", "untested": "says its still level is untested",
+                "no": "does not say so"}[r["says_not_white"]]  # fmt: skip
+        return f"{'AGREES' if r['pass'] else 'DISAGREES'}: no single R, product {said}"
     if r["pass"]:
         return "PASS"
-    if not flagged(r):
+    if r["says_not_white"] == "no":
         return "FAIL"
-    return (
-        "FAIL (flagged: still level untested)"
-        if untested(r)
-        else ("FAIL (flagged: still noise not white)")
+    return "FAIL (flagged: " + (
+        "still level untested)" if r["says_not_white"] == "untested" else "still noise not white)"
     )
 
 
@@ -452,40 +543,36 @@ def verdict_table(rows: list[dict]) -> list[str]:
     return lines
 
 
-def caveat(rows: list[dict]) -> str:
-    """Which still-stretch references are white levels only (d1 / d2 above 1.25)."""
-    worst: dict[str, float] = {}
-    for r in rows:
-        check = r["reference"]["check"]
-        if check is not None and check > 1.25:
-            worst[r["record"]] = max(worst.get(r["record"], 0.0), check)
-    if not worst:
-        return "Every still stretch is white at the shortest lags (d1 / d2 at most 1.25)."
-    each = ", ".join(f"{k} (up to {v:.2g})" for k, v in worst.items())
-    return (
-        f"Still stretches not white at the shortest lags (d1 / d2 above 1.25): {each}. There "
-        "the reference is the noise's white (highest-frequency) level; the slower part is body "
-        "motion while sitting or standing, or noise low-passed by the sensor, and cannot be told "
-        "apart on these records."
-    )
-
-
-#: What R low-passed still noise should get, and why the reference stays the white level.
-LOW_PASSED = (
-    "**Low-passed still noise.** A filter that takes the noise as white should use its "
-    "per-sample variance (as for differenced data); the white level understates it. The "
-    "'per-sample / ref' column is that variance for AR(1) noise, from the hand-cut "
-    "stretches' first differences (phi = 1 + 2 rho_d(1), gamma0 = var(d1) / (2 (1 - phi))). "
-    "It is defined only where the differences are negatively correlated; where they are not "
-    "(phi >= 1), the stretch holds motion at the shortest lags and no per-sample noise level "
-    "exists at this rate. The reference stays the white level, and a channel whose still "
-    "noise is not white fails unless its R to use meets that level: its verdict says so."
+#: Why a channel whose hand-cut still stretches are not white has no single R to check.
+NO_SINGLE_R = (
+    "**Still noise that is not white has no single R.** Where the hand-cut still stretches "
+    "are not white (d1 / d2 outside what the same samples in random order give: 'white p' "
+    f"below {WHITE_ALPHA}), each difference operator reads a different share of the noise "
+    "(d1 / d2 and d3 / d2 would both be 1 for white noise). When one of them lies outside "
+    f"the pass band [{BAND[0]}, {BAND[1]}] the reference is not defined to the rule's "
+    "precision (the choice of operator alone would decide the check), and the R a filter "
+    "needs depends "
+    "on the bandwidth it runs at; the slow part is body sway while sitting or standing, or "
+    "noise low-passed by the sensor, and these records cannot tell them apart (the sensors' "
+    "datasheets give no reference either: the lower-back sensor's chip and every record's "
+    "filter settings are not in the packages). No white level is then a reference for the "
+    "product's R. Such a channel is checked on what the product says: it AGREES when its "
+    "verdict says the still noise is not white (and points to the noise model), and "
+    "DISAGREES when it says nothing or that the level is untested. Its ratio to var(d2)/6 "
+    "is printed for information only. The 'per-sample / ref' column is the per-sample "
+    "variance AR(1) noise would have (phi = 1 + 2 rho_d(1), gamma0 = var(d1) / (2 (1 - "
+    "phi))), undefined where the differences are not negatively correlated (motion at the "
+    "shortest lags)."
 )
 
 
 def report(recs: list[Record], rows: list[dict], seconds: float) -> str:
     """The whole result as Markdown."""
-    passed = sum(r["pass"] for r in rows)
+    single = [r for r in rows if r["single_r"]]
+    other = [r for r in rows if not r["single_r"]]
+    passed = sum(r["pass"] for r in single)
+    agree = sum(r["pass"] for r in other)
+    silent = sum(not r["pass"] and r["says_not_white"] == "no" for r in single)
     by_record = {r.name: all(x["pass"] for x in rows if x["record"] == r.name) for r in recs}
     lines = [
         "### Real records (`python benchmarks/real_records.py`)",
@@ -494,23 +581,22 @@ def report(recs: list[Record], rows: list[dict], seconds: float) -> str:
         f"PyPI (pinned versions below); {platform.machine()}, {os.cpu_count()} cores, "
         f"{seconds:.0f} s. R is `noisevar.estimate(z).variance` (method `auto`) on the whole "
         "record, each channel alone; the R to use is `est.still.variance` when the level "
-        "varies (the still regimes), else R. **Rule**: PASS when the R to use lies within "
-        "the reference's own "
-        f"95 % interval, or R / reference within [{BAND[0]}, {BAND[1]}]. "
-        f"**{passed} of {len(rows)} checks pass; records passing on every channel: "
-        f"{sum(by_record.values())} of {len(recs)}.** Of the {len(rows) - passed} failures, "
-        f"{sum(flagged(r) for r in rows)} are flagged by the result itself (its verdict says "
-        "the still stretches' noise is not white, so their level depends on the bandwidth and "
-        "a white reference is not the R, or that their level is untested); the others are "
-        "silent.",
+        "varies (the still regimes), else R. **Rule**: a channel with a single R (its "
+        "reference is white noise, a published ADEV or a published fit) PASSES when the R to "
+        "use lies within the reference's own "
+        f"95 % interval, or R / reference within [{BAND[0]}, {BAND[1]}]; a channel whose "
+        "hand-cut still stretches are not white has no single R, and AGREES when the "
+        "product's verdict says its still noise is not white. "
+        f"**{passed} of {len(single)} checks with a single R pass ({silent} silent "
+        f"failures); {agree} of {len(other)} channels with no single R agree; records "
+        f"passing on every channel: {sum(by_record.values())} of {len(recs)}.**",
         "",
         "Still level is `diagnostics.quiet_variance` (its share of the record); regimes are "
         "printed when the estimate reports them. References (the script's docstring): hand-cut "
-        "still stretches give var(d2)/6 with a chi-square interval, and d1 / d2 is "
-        "var(d1)/2 in those stretches over it (1 for white noise; above 1 when slow motion or "
-        "low-passed noise is in the stretch, so that the reference is the white level); the "
-        "OCXO's is Stable32's published ADEV(1 s)^2 / (1 - rho1); the Nile's is Durbin & "
-        "Koopman's published fit. " + caveat(rows) + " " + LOW_PASSED,
+        "still stretches give var(d2)/6 with a chi-square interval; d1 / d2 and d3 / d2 are "
+        "var(d1)/2 and var(d3)/20 in those stretches over it (1 for white noise); 'white p' is "
+        "the permutation p-value of d1 / d2; the OCXO's is Stable32's published "
+        "ADEV(1 s)^2 / (1 - rho1); the Nile's is Durbin & Koopman's published fit. " + NO_SINGLE_R,
         "",
         *records_table(recs, rows),
         "",

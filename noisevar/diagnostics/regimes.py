@@ -155,28 +155,48 @@ def find_regimes(start: NDArray, stop: NDArray, level: NDArray, dof: NDArray) ->
 
     Notes
     -----
-    A regime is still when its level is consistent with the lowest regime's (a two-sided F
-    test at :data:`STILL_ALPHA` over the regimes, family-wise) and at most
-    :data:`STILL_RATIO` times the lowest regime's upper 95 % bound. One regime is one
-    level: still, as far as the record can tell.
+    The still regimes are the floor (:func:`_floor`): from the lowest regime up, in order
+    of level, each regime whose level is consistent with the floor's pooled level so far
+    (a one-sided F test at :data:`STILL_ALPHA` over the regimes, family-wise) and at most
+    :data:`STILL_RATIO` times the lowest regime's upper 95 % bound joins it. One regime is
+    one level: still, as far as the record can tell.
     """
     breaks = regime_breaks(level, dof)
     bounds = [*breaks, level.size]
-    pooled = [_pool(level[a:b], dof[a:b]) for a, b in zip(bounds, bounds[1:], strict=False)]
-    low, low_dof = min(pooled)
+    spans = list(zip(bounds, bounds[1:], strict=False))
+    pooled = [_pool(level[a:b], dof[a:b]) for a, b in spans]
+    floor = _floor(pooled)
+    out = []
+    for i, ((a, b), (x, nu)) in enumerate(zip(spans, pooled, strict=True)):
+        lo, hi = _interval(x, nu)
+        out.append(Regime(int(start[a]), int(stop[b - 1]), x, lo, hi, nu, i in floor))
+    return tuple(out)
+
+
+def _floor(pooled: list[tuple[float, float]]) -> set[int]:
+    """Indices of the still regimes among ``pooled`` (level, dof): the record's floor.
+
+    A forward search in order of level: the floor starts as the lowest regime and takes the
+    next one while its level is below the ``1 - STILL_ALPHA / (k - 1)`` quantile of
+    ``F(ν, ν_floor)`` times the floor's pooled level, and below the cap. Testing against the
+    pooled floor, not the lowest regime alone, keeps a long stretch at twice the floor out
+    (its dof make the difference plain) where the lowest regime's few dof would let it in.
+    """
+    order = sorted(range(len(pooled)), key=lambda i: pooled[i])
+    low, low_dof = pooled[order[0]]
     alpha = STILL_ALPHA / max(len(pooled) - 1, 1)
     # the floor is known to its interval: the lowest of many short regimes can sit far
     # below the sensor's level by chance (one block of a shifted grid), and twice it is
-    # not yet motion
+    # not yet motion; a short stretch at twice the floor is not the sensor's still noise
     cap = STILL_RATIO * _interval(low, low_dof)[1]
-    out = []
-    for (a, b), (x, nu) in zip(zip(bounds, bounds[1:], strict=False), pooled, strict=True):
-        # consistent with the lowest level, and not far above it whatever the dof: a short
-        # stretch at twice the floor is not the sensor's still noise
-        still = x <= min(low * _f_quantile(1.0 - alpha, nu, low_dof), cap)
-        lo, hi = _interval(x, nu)
-        out.append(Regime(int(start[a]), int(stop[b - 1]), x, lo, hi, nu, bool(still)))
-    return tuple(out)
+    floor, sx, sw = {order[0]}, low * low_dof, low_dof
+    for i in order[1:]:
+        x, nu = pooled[i]
+        if not x <= min(sx / sw * _f_quantile(1.0 - alpha, nu, sw), cap):
+            break
+        floor.add(i)
+        sx, sw = sx + x * nu, sw + nu
+    return floor
 
 
 def _f_quantile(q: float, nu1: float, nu2: float) -> float:
