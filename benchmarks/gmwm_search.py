@@ -30,6 +30,8 @@ from noisevar.noise_model.simulate import simulate_inertial
 
 HERE = Path(__file__).resolve().parent
 OUT = HERE / "results" / "gmwm_search.md"
+#: The run of main's code before the search's memo (commit b1f98c8): ``--compare`` it.
+BEFORE = HERE / "results" / "gmwm_search_before.json"
 #: Relative agreement of parameters and objectives with a saved run.
 RTOL = 1e-4
 
@@ -55,7 +57,9 @@ def records(seeds: int, runs: int) -> list[tuple[str, float, est.WaveletVariance
         for k, (nd, kd) in enumerate(im.ROS.values()):
             for a in range(3):
                 s = 1000 * seed + 10 * k + a
-                cols.append(simulate_inertial(n, 400.0, random_walk=nd, rate_random_walk=kd, seed=s))
+                cols.append(
+                    simulate_inertial(n, 400.0, random_walk=nd, rate_random_walk=kd, seed=s)
+                )
         out += [("ros", 400.0, w) for *_, w in _wvs(np.column_stack(cols), "ros")]
     n = int(10.0 * 3600 * 200.0)
     for c, (label, base) in enumerate(im.COMPOSITE.items()):
@@ -164,18 +168,22 @@ def table(res: list[dict], before: list[dict] | None) -> list[str]:
         "estimator.fit calls per axis, median | CPU per axis (s), median | total CPU (s) |",
         "|---|---|---|---|---|---|",
     ]
-    for label, rows in [("all", res), *((g, [r for r in res if r["group"] == g]) for g in
-                                         dict.fromkeys(r["group"] for r in res))]:
+    for label, rows in [
+        ("all", res),
+        *((g, [r for r in res if r["group"] == g]) for g in dict.fromkeys(r["group"] for r in res)),
+    ]:
         s = np.array([r["solves"] for r in rows])
         f = np.array([r["fits"] for r in rows])
         c = np.array([r["cpu"] for r in rows])
         cell = f"{np.median(s):.0f} [{s.min()}, {s.max()}]"
+        cpu = f"{c.sum():.2f}"
         if before is not None:
-            b = np.array([r["solves"] for r in before if label == "all" or r["group"] == label])
+            old = [r for r in before if label == "all" or r["group"] == label]
+            b = np.array([r["solves"] for r in old])
             cell += f" (before {np.median(b):.0f} [{b.min()}, {b.max()}])"
+            cpu += f" (before {sum(r['cpu'] for r in old):.2f})"
         lines.append(
-            f"| {label} | {len(rows)} | {cell} | {np.median(f):.0f} | {np.median(c):.3f} | "
-            f"{c.sum():.2f} |"
+            f"| {label} | {len(rows)} | {cell} | {np.median(f):.0f} | {np.median(c):.3f} | {cpu} |"
         )
     return lines
 
@@ -186,7 +194,9 @@ def main() -> None:
     ap.add_argument("--runs", type=int, default=5, help="composite runs per truth")
     ap.add_argument("--cache", type=Path, default=Path("/tmp/gmwm_search_wv.npz"))
     ap.add_argument("--save", type=Path, help="write the results (JSON) here")
-    ap.add_argument("--compare", type=Path, help="check against a saved run (JSON)")
+    ap.add_argument(
+        "--compare", type=Path, help="check against a saved run (JSON), e.g. " + BEFORE.name
+    )
     ap.add_argument("--out", type=Path, default=OUT)
     args = ap.parse_args()
     recs = cached(args.cache, args.seeds, args.runs)
@@ -208,8 +218,11 @@ def main() -> None:
         lines += [
             "",
             f"Against {args.compare.name}: "
-            + ("same models, models tried and parameters (rtol 1e-4) on every axis."
-               if not bad else f"{len(bad)} differences:"),
+            + (
+                "same models, models tried and parameters (rtol 1e-4) on every axis."
+                if not bad
+                else f"{len(bad)} differences:"
+            ),
             *(f"- {b}" for b in bad),
         ]
     args.out.parent.mkdir(exist_ok=True)
