@@ -78,3 +78,18 @@ def test_blocked_wavelet_variance_matches_its_definition(
 def test_haar_wv_asks_for_dyadic_scales() -> None:
     with pytest.raises(NoisevarError, match="powers of two"):
         wavelet.haar_wv(np.ones((1, 64)), np.array([2.0, 6.0]))
+
+
+@pytest.mark.parametrize("block", [16, 64, 2**10])
+@pytest.mark.parametrize("n", [33, 301, 5000])
+def test_fused_levels_give_the_same_numbers(
+    block: int, n: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The first levels fused tile by tile give the level-by-level sums to the last bit."""
+    monkeypatch.setattr(wavelet, "BLOCK", block)
+    rng = np.random.default_rng(n)
+    rows = np.moveaxis(np.cumsum(rng.standard_normal((n, 2)), axis=0) + 3.0, 0, -1)
+    tau = wavelet.dyadic_scales(n)
+    fused = wavelet.haar_wv(rows, tau)[0]
+    monkeypatch.setattr(wavelet, "FUSED_SHARE", 2 * block)  # nothing fused
+    assert np.array_equal(fused, wavelet.haar_wv(rows, tau)[0])

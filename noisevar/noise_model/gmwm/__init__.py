@@ -55,7 +55,7 @@ def fit_imu_model(
     ci: float = ONE_SIGMA,
     criterion: str = DEFAULT_CRITERION,
     horizon: float = HORIZON,
-    workers: int | None = None,
+    workers: int | None = 1,
 ) -> ImuModel | tuple[ImuModel, ...]:
     """Fit a composite noise model to rate data by GMWM, choosing the model.
 
@@ -83,8 +83,11 @@ def fit_imu_model(
         plus, per parameter, ``2 log log n`` (Hannan-Quinn), ``log n`` or 2.
     horizon : float
         Horizon (s) of the random-walk equivalent of the bias (:class:`FilterBias`).
-    workers : int, optional
-        Threads for several axes (default: the number of CPUs).
+    workers : int or None
+        Threads for several axes (None: the number of CPUs). Default 1: the model
+        search holds the GIL, so threads add CPU without saving time (on 6 axes x
+        7.2e6 samples, 2 threads took 10 % more CPU and no less wall time on a
+        2-core machine; BENCHMARKS.md, issue 30).
 
     Returns
     -------
@@ -107,6 +110,8 @@ def fit_imu_model(
     if np.ndim(x) == 1:
         return one(wvs[0])
     n_workers = max(1, min(len(wvs), workers or os.cpu_count() or 1))
+    if n_workers == 1:
+        return tuple(one(wv) for wv in wvs)
     with ThreadPoolExecutor(n_workers) as pool:
         return tuple(pool.map(one, wvs))
 

@@ -110,18 +110,33 @@ def _score(criterion: str, n: float):  # noqa: ANN202
     }[criterion]
 
 
-def _without(sol: est.Solution, drop: int, wv: est.WaveletVariance) -> est.Solution:
+class Fits:
+    """The fits of one search, each model fitted once: a model the search meets again
+    (dropped, swapped or added back) keeps its first fit."""
+
+    def __init__(self, wv: est.WaveletVariance) -> None:
+        self.wv = wv
+        self.done: dict[tuple[str, ...], est.Solution] = {}
+
+    def __call__(self, keys: tuple[str, ...], starts: list[NDArray]) -> est.Solution:
+        if keys not in self.done:
+            self.done[keys] = est.fit(keys, starts, self.wv)
+        return self.done[keys]
+
+
+def _without(sol: est.Solution, drop: int, fit: Fits) -> est.Solution:
     parts = list(zip(sol.keys, est.split(sol.keys, np.exp(sol.log_params)), strict=True))
     keys, start = _merge(parts[:drop] + parts[drop + 1 :])
-    return est.fit(keys, [start], wv)
+    return fit(keys, [start])
 
 
-def _forward(current: est.Solution, wv: est.WaveletVariance, score, tried: list):  # noqa: ANN001, ANN202
+def _forward(current: est.Solution, fit: Fits, score, tried: list):  # noqa: ANN001, ANN202
+    wv = fit.wv
     while True:
         trials = []
         for new in _addable(current.keys, wv.tau.size):
             keys, starts = _grown(current, new, wv)
-            trials.append(est.fit(keys, starts, wv))
+            trials.append(fit(keys, starts))
         tried += trials
         better = [t for t in trials if score(t) < score(current)]
         if not better:
@@ -129,9 +144,9 @@ def _forward(current: est.Solution, wv: est.WaveletVariance, score, tried: list)
         current = min(better, key=score)
 
 
-def _backward(current: est.Solution, wv: est.WaveletVariance, score, tried: list):  # noqa: ANN001, ANN202
+def _backward(current: est.Solution, fit: Fits, score, tried: list):  # noqa: ANN001, ANN202
     while len(current.keys) > 1:
-        trials = [_without(current, i, wv) for i, k in enumerate(current.keys) if k != "WN"]
+        trials = [_without(current, i, fit) for i, k in enumerate(current.keys) if k != "WN"]
         tried += trials
         better = [t for t in trials if score(t) < score(current)]
         if not better:
@@ -146,13 +161,15 @@ def search(
     """Stepwise search from :data:`BASE`: add the process that lowers the criterion most
     while one does, then drop the processes whose removal lowers it (a drift taken
     early for a random walk), swap a flicker or drift for a GM or random walk
-    (:data:`SWAPS`) when that lowers it, and add again, until nothing helps."""
+    (:data:`SWAPS`) when that lowers it, and add again, until nothing helps. Each model
+    is fitted once (:class:`Fits`)."""
     score = _score(criterion, wv.n_samples)
-    current = est.fit(BASE, _fresh_starts(BASE, wv), wv)
+    fit = Fits(wv)
+    current = fit(BASE, _fresh_starts(BASE, wv))
     tried = [current]
     for _ in range(3):
-        grown = _forward(current, wv, score, tried)
-        current = _swapped(_backward(grown, wv, score, tried), wv, score, tried)
+        grown = _forward(current, fit, score, tried)
+        current = _swapped(_backward(grown, fit, score, tried), fit, score, tried)
         if current is grown:
             break
     return current, tried
@@ -162,14 +179,14 @@ def search(
 SWAPS = {"FL": ("GM", "RW"), "DR": ("GM", "RW")}
 
 
-def _swapped(current: est.Solution, wv: est.WaveletVariance, score, tried: list):  # noqa: ANN001, ANN202
-    trials = []
+def _swapped(current: est.Solution, fit: Fits, score, tried: list):  # noqa: ANN001, ANN202
+    trials, wv = [], fit.wv
     for i, k in enumerate(current.keys):
         for new in SWAPS.get(k, ()):
-            rest = _without(current, i, wv)
+            rest = _without(current, i, fit)
             if new in _addable(rest.keys, wv.tau.size):
                 keys, starts = _grown(rest, new, wv)
-                trials.append(est.fit(keys, starts, wv))
+                trials.append(fit(keys, starts))
     tried += trials
     better = [t for t in trials if score(t) < score(current)]
     return min(better, key=score) if better else current

@@ -56,8 +56,9 @@ def haar_wv(
     -----
     A pyramid of moving sums: ``D_h(k) = x_k + ... + x_(k+h-1)`` of the centred row,
     ``t W_k = D_h(k+h) - D_h(k)`` at ``t = 2h``, and ``D_2h(k) = D_h(k) + D_h(k+h)``;
-    each level by blocks of :data:`BLOCK` values that stay in cache. ``tau`` must be
-    powers of two (:func:`dyadic_scales`).
+    each level by blocks of :data:`BLOCK` values that stay in cache, in one buffer
+    (``D_2h(k)`` overwrites ``D_h(k)``, read for the last time). ``tau`` must be powers
+    of two (:func:`dyadic_scales`).
     """
     x = np.asarray(x, dtype=float)
     t_int = tau.astype(int)
@@ -66,31 +67,38 @@ def haar_wv(
     n = x.shape[-1]
     m = (n - tau + 1).astype(float)
     mean = x.mean(axis=-1)
-    bufs = (np.empty(n), np.empty(n))  # the levels' moving sums, reused row after row
+    buf = np.empty(n)  # the levels' moving sums, reused row after row
     nu = np.empty((x.shape[0], tau.size))
     for i in range(x.shape[0]):
-        nu[i] = _levels(x[i], float(mean[i]), bufs, t_int, robust, c)
+        nu[i] = _levels(x[i], float(mean[i]), buf, t_int, robust, c)
     return nu, m
 
 
 #: Values of a row (or of all rows) processed at once: a block stays in cache.
 BLOCK = 2**16
+#: The first levels are computed together, tile by tile (:func:`_fused`), while their
+#: look-ahead (the sum of their half-scales) stays within this share of a block.
+FUSED_SHARE = 8
 
 
 def _levels(
-    row: NDArray, mean: float, bufs: tuple[NDArray, NDArray], tau: NDArray, robust: bool, c: float
+    row: NDArray, mean: float, buf: NDArray, tau: NDArray, robust: bool, c: float
 ) -> NDArray:
     """The wavelet variance of one row (read where it lies, never written) at ``tau``.
 
     The first level reads the row itself, centred block by block (the robust variance
-    centres it whole); the next levels alternate between the two buffers.
+    centres it whole); the first levels of the classical variance are fused
+    (:func:`_fused`); each next level overwrites the last in ``buf``.
     """
     nu = np.empty(tau.size)
     d, centre = row, mean
     if robust:
-        d, centre = np.subtract(row, mean, out=bufs[1]), None
-    scratch = bufs[0]
+        d, centre = np.subtract(row, mean, out=buf), None
     h = 1  # d holds the n - h + 1 moving sums D_h
+    if not robust:
+        h = _fused(row, mean, buf, tau, nu)
+        if h > 1:
+            d, centre = buf[: row.size - h + 1], None
     while h <= tau[-1] // 2:
         t, count = 2 * h, d.size - h
         wanted, deeper = t in tau, 2 * t <= tau[-1]
@@ -98,14 +106,55 @@ def _levels(
         if wanted and robust:
             nu[j] = huber_variance((d[h : h + count] - d[:count]) / t, c)
         # one pass: t W = D_h(k+h) - D_h(k) and D_2h(k) = D_h(k) + D_h(k+h), k < count
-        total = _pass(d, scratch, h, count, (wanted and not robust, deeper), centre)
+        total = _pass(d, buf, h, count, (wanted and not robust, deeper), centre)
         if wanted and not robust:
             nu[j] = total / float(t * t) / count
         if not deeper:
             break
-        d, scratch = scratch[:count], (bufs[1] if d is row else d)
-        centre, h = None, t
+        d, centre, h = buf[:count], None, t
     return nu
+
+
+def _fused(row: NDArray, mean: float, out: NDArray, tau: NDArray, nu: NDArray) -> int:
+    """The first levels of :func:`_levels` (classical), tile by tile; returns the
+    half-scale ``h`` of the moving sums ``D_h`` left in ``out`` (1: none fused).
+
+    Notes
+    -----
+    Each tile of :data:`BLOCK` coefficients reads the row with the levels' look-ahead
+    and keeps its levels in cache, instead of one pass over the record per level: the
+    same sums of the same values, block by block as :func:`_pass` (the same numbers to
+    the last bit), with one pass over memory for the fused levels.
+    """
+    halves = []
+    while 2 ** (len(halves) + 1) <= BLOCK // FUSED_SHARE and 2 ** (len(halves) + 2) <= tau[-1]:
+        halves.append(2 ** len(halves))
+    if not halves:
+        return 1
+    n, look = row.size, 2 * halves[-1] - 1
+    tiles = (np.empty(BLOCK + look), np.empty(BLOCK + look))
+    w = np.empty(BLOCK)
+    totals = np.zeros(len(halves))
+    for a in range(0, n - 1, BLOCK):
+        cur = np.subtract(
+            row[a : min(a + BLOCK + look, n)], mean, out=tiles[0][: min(BLOCK + look, n - a)]
+        )
+        for i, h in enumerate(halves):
+            k = min(BLOCK, n - 2 * h + 1 - a)  # this tile's coefficients at t = 2h
+            if k > 0 and 2 * h in tau:
+                np.subtract(cur[h : h + k], cur[:k], out=w[:k])
+                totals[i] += float(np.einsum("i,i->", w[:k], w[:k]))
+            size = cur.size - h  # D_2h on [a, a + size)
+            if size <= 0:
+                break
+            cur = np.add(cur[:size], cur[h : h + size], out=tiles[(i + 1) % 2][:size])
+        else:
+            k = min(BLOCK, n - 2 * halves[-1] + 1 - a)
+            out[a : a + k] = cur[:k]
+    for i, h in enumerate(halves):
+        if 2 * h in tau:
+            nu[int(np.searchsorted(tau, 2 * h))] = totals[i] / float(4 * h * h) / (n - 2 * h + 1)
+    return 2 * halves[-1]
 
 
 def _pass(
