@@ -160,6 +160,12 @@ def _public_names(keys: tuple[str, ...]) -> list[str]:
     return out
 
 
+def internal_params(keys: tuple[str, ...], values: NDArray, rate: float) -> NDArray:
+    """The internal (per-sample) parameters of the public ``values`` (IEEE-952 units,
+    all positive) of the processes ``keys``: :meth:`Process.convert` inverted."""
+    return _internal(keys, np.log(np.asarray(values, dtype=float)), rate)[0]
+
+
 def _convert_log(keys: tuple[str, ...], log_p: NDArray, rate: float) -> NDArray:
     """Logs of the public values from the internal parameters' logs."""
     parts = est.split(keys, np.exp(log_p))
