@@ -5,7 +5,13 @@ noise terms, composite IMU models (GMWM), coloured measurement noise, Q with R
 
 from noisevar.noise_model.allan import AllanResult, allan
 from noisevar.noise_model.coloured import ColouredNoiseFit, fit_coloured_noise
-from noisevar.noise_model.gmwm import ImuModel, fit_imu_model, fit_imu_records
+from noisevar.noise_model.gmwm import (
+    ImuModel,
+    InformationBound,
+    fisher_bound,
+    fit_imu_model,
+    fit_imu_records,
+)
 from noisevar.noise_model.inertial import InertialNoise, NoiseTerm, inertial_noise
 from noisevar.noise_model.kalman_fit import (
     KalmanTuning,
@@ -26,6 +32,7 @@ __all__ = [
     "ColouredNoiseFit",
     "ImuModel",
     "InertialNoise",
+    "InformationBound",
     "KalmanTuning",
     "NoiseTerm",
     "TemperatureExport",
@@ -33,6 +40,7 @@ __all__ = [
     "TunedRun",
     "allan",
     "evaluate_kalman",
+    "fisher_bound",
     "fit_coloured_noise",
     "fit_imu_model",
     "fit_imu_records",

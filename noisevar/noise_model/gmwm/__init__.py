@@ -2,7 +2,8 @@
 
 :func:`fit_imu_model` fits white noise, quantisation, random walk, drift, Gauss-Markov
 and flicker processes per axis, chooses the model, and gives intervals;
-:func:`fit_imu_records` fits one model to several records of one unit.
+:func:`fit_imu_records` fits one model to several records of one unit;
+:func:`fisher_bound` is the information bound any estimator of a model meets.
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ from numpy.typing import ArrayLike
 
 from noisevar.errors import NoisevarError
 from noisevar.noise_model.gmwm import estimator as est
+from noisevar.noise_model.gmwm.bound import InformationBound, fisher_bound
 from noisevar.noise_model.gmwm.fitting import (
     AUTO,
     DEFAULT_CRITERION,
@@ -37,8 +39,10 @@ __all__ = [
     "AUTO",
     "FilterBias",
     "ImuModel",
+    "InformationBound",
     "ModelRow",
     "Parameter",
+    "fisher_bound",
     "fit_imu_model",
     "fit_imu_records",
 ]
