@@ -38,7 +38,8 @@ def step_mask(
 
     ``above(x)`` tells where ``x`` exceeds ``scale`` times the local noise
     variance; returns the samples where ``|D3|``
-    exceeds :data:`STEP_THRESHOLD` standard deviations. (The scale is folded
+    exceeds :data:`STEP_THRESHOLD` standard deviations, each with its left neighbour
+    (``D3[k]`` is centred between samples ``k - 1`` and ``k``). (The scale is folded
     into the window means, so the test costs no pass of its own: two work
     arrays, the third differences written in place.)
     """
@@ -61,7 +62,11 @@ def step_mask(
     candidates = above(work)
     if not candidates.any():
         return candidates
-    return _confirm_steps(z, candidates, above, scale, w)
+    out = _confirm_steps(z, candidates, above, scale, w)
+    # D3 at k is centred on the boundary between samples k - 1 and k: both are flagged, so
+    # that the reversed record flags the same samples (symmetric in time, issue 26)
+    out[:-1] = out[:-1] | out[1:]
+    return out
 
 
 @lru_cache(maxsize=8)

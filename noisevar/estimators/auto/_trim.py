@@ -29,6 +29,9 @@ from noisevar.numeric.steps import STEP_MAX_FRACTION, step_mask
 #: Trimmed samples are widened by half of this span (or of the longest span below it).
 AUTO_MASK_SPAN = 41
 AUTO_BLOCK = 256
+#: The core (``core_variance``) leaves out squares beyond this many local standard deviations
+#: (or ``trim``, if lower): a contaminant below ``trim`` is not an outlier but is no bulk.
+AUTO_CORE_TRIM = 3.5
 #: Runs of at most this many outlying samples are glitches to the step detector (§F5.3).
 GLITCH_MAX = 2
 
@@ -62,11 +65,62 @@ def _above_local(x: NDArray, local: NDArray, block: int) -> NDArray:
     np.greater(x[nb * block :], local[-1], out=hit[nb * block :])
     idx = np.flatnonzero(hit)
     if idx.size and nb > 1:
-        own = np.minimum(idx // block, nb - 1)
-        side = np.where(idx - own * block < block // 2, own - 1, own + 1)
-        side = np.clip(side, 0, nb - 1)  # the rest of the record: the last block's level
-        hit[idx[x[idx] <= np.maximum(local[own], local[side])]] = False
+        hit[idx[x[idx] <= _bracketing(idx, local, block)]] = False
     return hit
+
+
+def _bracketing(idx: NDArray, local: NDArray, block: int) -> NDArray:
+    """The larger local level of the two block centres around each sample ``idx``."""
+    nb = local.size
+    own = np.minimum(idx // block, nb - 1)
+    side = np.where(idx - own * block < block // 2, own - 1, own + 1)
+    side = np.clip(side, 0, nb - 1)  # the rest of the record: the last block's level
+    return np.maximum(local[own], local[side])
+
+
+def core_trimmed(
+    sq: NDArray,
+    b: _Blocks,
+    choice: NDArray,
+    sums: tuple[NDArray, NDArray],
+    kappa: float,
+) -> tuple[NDArray, NDArray]:
+    """The core's block sums and counts with the squares beyond ``κ_c`` left out (§F5.4).
+
+    ``sq`` holds every span's squares with the flagged neighbourhoods zeroed, ``choice``
+    each block's span and ``sums`` its chosen sums and counts (recovered samples in).
+    Each kept square of the chosen span above ``κ_c²`` times the bracketing level
+    (:func:`_above_local`; the level ``sum / (count τ(κ))`` without the sample) leaves the
+    core, and so does a recovered one: a contaminant below the outlier threshold ``κ`` is
+    no outlier, yet no bulk either (F5.7b).
+    """
+    chosen_sum, counts = sums
+    if not np.isfinite(kappa):
+        return chosen_sum, counts
+    c = min(kappa, AUTO_CORE_TRIM)
+    block, nb, n = b.block, b.nb, sq.shape[1]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        # e² > c² (S - e²) / ((N - 1) τ): the level without the sample itself (which would
+        # raise its own threshold: +0.15 % on Gaussian noise at c = 3.5)
+        local = c**2 * chosen_sum / ((counts - 1.0) * _truncated_second_moment(kappa) + c**2)
+    local = np.where(np.isfinite(local), local, np.inf)  # an all-trimmed block: nothing
+    x = np.empty(n)
+    x[: nb * block].reshape(nb, block)[:] = sq[:, : nb * block].reshape(-1, nb, block)[
+        choice, np.arange(nb)
+    ]
+    x[nb * block :] = sq[choice[-1], nb * block :]
+    idx = np.flatnonzero(_above_local(x, local, block))
+    rows = np.minimum(idx // block, nb - 1)
+    out_sum = np.bincount(rows, weights=x[idx], minlength=nb).astype(float)  # int if empty
+    out_n = np.bincount(rows, minlength=nb).astype(float)
+    if b.recover is not None:
+        near, usable, values = b.recover
+        rows = np.minimum(near // block, nb - 1)
+        v = values[np.minimum(choice[rows], usable), np.arange(near.size)]
+        far = v > _bracketing(near, local, block)
+        out_sum += np.bincount(rows[far], weights=v[far], minlength=nb)
+        out_n += np.bincount(rows[far], minlength=nb)
+    return np.maximum(chosen_sum - out_sum, 0.0), counts - out_n
 
 
 def _outlier_mask(
@@ -125,25 +179,29 @@ def _outlier_mask(
     if steps is not None:
         found = steps(above, kappa**2, outlier)
         if step_limit >= 0 and found.any():
-            jumps = _believed(found, block, nb)
+            jumps = _believed(found, block)
     return (outlier if outlier.any() else None), jumps, found
 
 
-def _believed(found: NDArray, block: int, nb: int) -> NDArray | None:
-    """The jump samples ``found`` outside blocks where the detector flags too many.
+def _believed(found: NDArray, block: int) -> NDArray | None:
+    """The jump samples ``found`` where the detector does not flag too many around them.
 
-    A block where more than :data:`STEP_MAX_FRACTION` of the samples are flagged holds a
-    fast signal, not jumps: its flags are dropped there alone (§F5.3). The decision is
-    each block's own, so a shift or a reversal of the record moves it only where a block
-    changes, never for the whole record at once.
+    A flagged sample with more than :data:`STEP_MAX_FRACTION` of the ``block`` samples
+    centred on it flagged (fewer at the record's edges: those in it) sees a fast signal,
+    not a jump: its flag is dropped (§F5.3). The window is centred on the sample, not on
+    a block grid anchored at the record's start, so that reversing the record (or
+    dropping its first samples) moves no decision but through ``found`` itself.
     """
     idx = np.flatnonzero(found)
-    share = flagged_per_block(idx, block, nb) / block_counts(block, nb, found.size)
-    fast = share > STEP_MAX_FRACTION
+    half = block // 2
+    lo = np.maximum(idx - half, 0)
+    hi = np.minimum(idx + half, found.size - 1)
+    flagged = np.searchsorted(idx, hi, side="right") - np.searchsorted(idx, lo, side="left")
+    fast = flagged > STEP_MAX_FRACTION * (hi - lo + 1)
     if not fast.any():
         return found
-    where = np.minimum(np.arange(found.size) // block, nb - 1)
-    out = found & ~fast[where]
+    out = found.copy()
+    out[idx[fast]] = False
     return out if out.any() else None
 
 
