@@ -15,14 +15,21 @@ from scipy.ndimage import maximum_filter1d
 
 from noisevar._distributions import norm_cdf, norm_pdf
 from noisevar.errors import NoisevarError
+from noisevar.estimators.auto._levels import (
+    Grids,
+    above_both,
+    above_own,
+    kept_levels,
+    medians,
+)
+from noisevar.estimators.auto._levels import above_local as _above_local
+from noisevar.estimators.auto._levels import bracketing as _bracketing
 from noisevar.numeric.blocks import (
     block_counts,
-    block_medians,
     block_square_sums,
     block_sums,
     dilate,
     flagged_per_block,
-    kept_block_sums,
 )
 from noisevar.numeric.steps import STEP_MAX_FRACTION, step_mask
 
@@ -45,37 +52,6 @@ def _truncated_second_moment(kappa: float) -> float:
     """``E[Z² ; |Z| < κ] / P(|Z| < κ)`` for a standard normal ``Z``."""
     p = 2.0 * norm_cdf(kappa) - 1.0
     return float((p - 2.0 * kappa * norm_pdf(kappa)) / p)
-
-
-def _above_local(x: NDArray, local: NDArray, block: int) -> NDArray:
-    """``x`` above the larger local level of the two block centres around each sample.
-
-    Block ``j``'s level holds at its centre ``(j + 1/2) block``; a sample is
-    compared with the larger of the levels of the two centres around it (the
-    rest of the record after the last block with the last level), so that near a
-    change of noise level the threshold is the louder side's (§F5.4). One
-    blockwise comparison with the block's own level (a lower bound) finds the few
-    candidates; only those are compared with the bracketing level.
-    """
-    n, nb = x.size, local.size
-    hit = np.empty(n, dtype=bool)
-    np.greater(
-        x[: nb * block].reshape(nb, block), local[:, None], out=hit[: nb * block].reshape(nb, block)
-    )
-    np.greater(x[nb * block :], local[-1], out=hit[nb * block :])
-    idx = np.flatnonzero(hit)
-    if idx.size and nb > 1:
-        hit[idx[x[idx] <= _bracketing(idx, local, block)]] = False
-    return hit
-
-
-def _bracketing(idx: NDArray, local: NDArray, block: int) -> NDArray:
-    """The larger local level of the two block centres around each sample ``idx``."""
-    nb = local.size
-    own = np.minimum(idx // block, nb - 1)
-    side = np.where(idx - own * block < block // 2, own - 1, own + 1)
-    side = np.clip(side, 0, nb - 1)  # the rest of the record: the last block's level
-    return np.maximum(local[own], local[side])
 
 
 def core_trimmed(
@@ -130,6 +106,7 @@ def _outlier_mask(
     widen: int,
     steps: Callable[[Callable[[NDArray], NDArray], float, NDArray], NDArray] | None,
     step_limit: float,
+    after: int = 0,
 ) -> tuple[NDArray | None, NDArray | None, NDArray | None]:
     """Squared residuals that are outliers, and samples next to jumps (the caller widens both).
 
@@ -146,33 +123,24 @@ def _outlier_mask(
     None when nothing is flagged (the common case, which then costs no
     masking). Jumps are kept while the detector flags at most ``step_limit``
     samples (more: a fast signal); the third value is what it flagged (None: nothing).
+    Every level is read on two grids, from the window's start and from the record's end,
+    ``after`` samples past the window (:mod:`~noisevar.estimators.auto._levels`): a sample
+    is above only when above on both, so that the reversed record sees the same levels.
     """
-    n = sq.size
-    nb = max(1, n // block)
+    g = Grids.make(sq.size, block, after)
     scale = kappa**2 / 0.4549364231195724  # the median of χ²₁ is 0.4549
-    threshold = block_medians(sq, block, nb, 4) * scale
-    first = np.empty(n, dtype=bool)
-    np.greater(
-        sq[: nb * block].reshape(nb, block),
-        threshold[:, None],
-        out=first[: nb * block].reshape(nb, block),
-    )
-    np.greater(sq[nb * block :], threshold[-1], out=first[nb * block :])
-    tau = _truncated_second_moment(kappa)
-    kept_n = block_counts(block, nb, n)
+    first_f, first_b = medians(sq, g)
+    first = above_own(sq, first_f * scale, first_b * scale, g)
+    idx = None
     if first.any():
         if widen > 0:  # leave the whole neighbourhood of a jump out of the scale
             first = dilate(first, widen)
         idx = np.flatnonzero(first)
-        kept_sum = kept_block_sums(sq, idx, block, nb)
-        kept_n -= flagged_per_block(idx, block, nb)
-    else:
-        kept_sum = block_sums(sq, block, nb)
-    # κ² times the local variance of each block (held at its centre; see _above_local)
-    threshold = kappa**2 * kept_sum / np.maximum(kept_n, 1.0) / tau
+    # κ² times the local variance of each block on both grids (held at its centre)
+    fwd, bwd = kept_levels(sq, idx, g, kappa**2 / _truncated_second_moment(kappa))
 
     def above(x: NDArray) -> NDArray:
-        return _above_local(x, threshold, block)
+        return above_both(x, fwd, bwd, g)
 
     outlier = above(sq)
     jumps, found = None, None
@@ -188,9 +156,9 @@ def _believed(found: NDArray, block: int) -> NDArray | None:
 
     A flagged sample with more than :data:`STEP_MAX_FRACTION` of the ``block`` samples
     centred on it flagged (fewer at the record's edges: those in it) sees a fast signal,
-    not a jump: its flag is dropped (§F5.3). The window is centred on the sample, not on
-    a block grid anchored at the record's start, so that reversing the record (or
-    dropping its first samples) moves no decision but through ``found`` itself.
+    not a jump: its flag is dropped, and so is any within half a block of it (§F5.3).
+    The window is centred on the sample, not on a block grid anchored at the record's
+    start, so that reversing the record moves no decision but through ``found`` itself.
     """
     idx = np.flatnonzero(found)
     half = block // 2
@@ -200,8 +168,14 @@ def _believed(found: NDArray, block: int) -> NDArray | None:
     fast = flagged > STEP_MAX_FRACTION * (hi - lo + 1)
     if not fast.any():
         return found
+    # a flag within half a block of a fast one is the same fast stretch (its edge)
+    at = idx[fast]
+    pos = np.searchsorted(at, idx)
+    after = at[np.minimum(pos, at.size - 1)] - idx
+    before = idx - at[np.maximum(pos - 1, 0)]
+    near = ((after >= 0) & (after <= half)) | ((before >= 0) & (before <= half))
     out = found.copy()
-    out[idx[fast]] = False
+    out[idx[near]] = False
     return out if out.any() else None
 
 
@@ -251,18 +225,26 @@ class _Blocks:
 
 
 def _flag(
-    z: NDArray, sq0: NDArray, trim: float, block: int, half: int, step_limit: float | None
+    z: NDArray,
+    sq0: NDArray,
+    trim: float,
+    block: int,
+    half: int,
+    step_limit: float | None,
+    after: int = 0,
 ) -> tuple:
     """Outliers, jumps (None when none) and what the jump detector flagged, from the shortest span.
 
-    ``step_limit``: at most this many jump samples are believed (default: a fifth of ``z``).
+    ``step_limit``: at most this many jump samples are believed (default: a fifth of ``z``);
+    ``after``: samples of the record after ``z`` (a chunk's window; see :func:`_outlier_mask`).
     """
     if not np.isfinite(trim):
         return None, None, None
     limit = STEP_MAX_FRACTION * z.size if step_limit is None else step_limit
     return _outlier_mask(
-        sq0, trim, block, half, lambda v, sc, out: step_mask(_bridged(z, out), v, sc), limit
-    )
+        sq0, trim, block, half, lambda v, sc, out: step_mask(_bridged(z, out), v, sc), limit,
+        after,
+    )  # fmt: skip
 
 
 def _bridged(z: NDArray, outliers: NDArray) -> NDArray:
@@ -315,7 +297,12 @@ def _recoverable(
 
 
 def _trimmed_blocks(
-    z: NDArray, sq: NDArray, spans: tuple[int, ...], trim: float, step_limit: float | None = None
+    z: NDArray,
+    sq: NDArray,
+    spans: tuple[int, ...],
+    trim: float,
+    step_limit: float | None = None,
+    after: int = 0,
 ) -> _Blocks:
     """Flag jumps and outliers, zero their neighbourhoods in ``sq`` and sum the blocks.
 
@@ -328,7 +315,7 @@ def _trimmed_blocks(
     # flagged samples are widened by half the longest span up to AUTO_MASK_SPAN; a
     # longer span is used only in blocks that its wider neighbourhood leaves alone
     half = max(s for s in spans if s <= max(AUTO_MASK_SPAN, spans[0])) // 2
-    outliers, jumps, found = _flag(z, sq[0], trim, block, half, step_limit)
+    outliers, jumps, found = _flag(z, sq[0], trim, block, half, step_limit, after)
     sq0_copy = sq[0].copy() if outliers is not None else sq[0]
     flagged = jumps if outliers is None else outliers if jumps is None else outliers | jumps
     # before any zeroing: the values near flagged samples (and near jumps, for the total)

@@ -224,6 +224,7 @@ def auto_part(
     own: tuple[int, int] | None = None,
     step_limit: float | None = None,
     offset: int = 0,
+    after: int = 0,
 ) -> AutoPart:
     """``auto``'s block sums for the samples ``own`` of the window ``z`` (§F5.2-§F5.5).
 
@@ -238,6 +239,8 @@ def auto_part(
         At most this many jump samples are believed (default: a fifth of the window).
     offset : int
         Record index of the window's first sample (for the outliers' positions).
+    after : int
+        Samples of the record after the window (its levels' second grid is the record's).
 
     Returns
     -------
@@ -248,7 +251,7 @@ def auto_part(
     sq = np.empty((len(spans), m))
     for j, s in enumerate(spans):
         _residual_squares(z, s, order, out=sq[j])
-    b = _trimmed_blocks(z, sq, spans, trim, step_limit)
+    b = _trimmed_blocks(z, sq, spans, trim, step_limit, after)
     rows = slice(lo // b.block, b.nb if hi == m else hi // b.block)
     choice = _choose_spans(b, spans, order)
     chosen_sum, kept_count = core_trimmed(sq, b, choice, _chosen_sums(b, choice), trim)
