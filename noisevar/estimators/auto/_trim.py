@@ -39,6 +39,8 @@ AUTO_BLOCK = 256
 #: The core (``core_variance``) leaves out squares beyond this many local standard deviations
 #: (or ``trim``, if lower): a contaminant below ``trim`` is not an outlier but is no bulk.
 AUTO_CORE_TRIM = 3.5
+#: The fast-signal rule's window, in blocks, centred on each flag (§F5.3).
+WINDOW_BLOCKS = 2
 #: Runs of at most this many outlying samples are glitches to the step detector (§F5.3).
 GLITCH_MAX = 2
 
@@ -154,21 +156,22 @@ def _outlier_mask(
 def _believed(found: NDArray, block: int) -> NDArray | None:
     """The jump samples ``found`` where the detector does not flag too many around them.
 
-    A flagged sample with more than :data:`STEP_MAX_FRACTION` of the ``block`` samples
-    centred on it flagged (fewer at the record's edges: those in it) sees a fast signal,
-    not a jump: its flag is dropped, and so is any within half a block of it (§F5.3).
+    A flagged sample with more than :data:`STEP_MAX_FRACTION` of the
+    ``WINDOW_BLOCKS * block`` samples centred on it flagged (fewer at the record's edges:
+    those in it) sees a fast signal, not a jump: its flag is dropped, and so is any within
+    half that window of it (§F5.3).
     The window is centred on the sample, not on a block grid anchored at the record's
     start, so that reversing the record moves no decision but through ``found`` itself.
     """
     idx = np.flatnonzero(found)
-    half = block // 2
+    half = WINDOW_BLOCKS * block // 2
     lo = np.maximum(idx - half, 0)
     hi = np.minimum(idx + half, found.size - 1)
     flagged = np.searchsorted(idx, hi, side="right") - np.searchsorted(idx, lo, side="left")
     fast = flagged > STEP_MAX_FRACTION * (hi - lo + 1)
     if not fast.any():
         return found
-    # a flag within half a block of a fast one is the same fast stretch (its edge)
+    # a flag within half the window of a fast one is the same fast stretch (its edge)
     at = idx[fast]
     pos = np.searchsorted(at, idx)
     after = at[np.minimum(pos, at.size - 1)] - idx
