@@ -38,7 +38,8 @@ def step_mask(
 
     ``above(x)`` tells where ``x`` exceeds ``scale`` times the local noise
     variance; returns the samples where ``|D3|``
-    exceeds :data:`STEP_THRESHOLD` standard deviations. (The scale is folded
+    exceeds :data:`STEP_THRESHOLD` standard deviations, each with its left neighbour
+    (``D3[k]`` is centred between samples ``k - 1`` and ``k``). (The scale is folded
     into the window means, so the test costs no pass of its own: two work
     arrays, the third differences written in place.)
     """
@@ -58,10 +59,32 @@ def step_mask(
     np.multiply(d3, d3, out=d3)
     work[: 2 * w] = 0.0  # D3 is not defined there: no jump can be seen
     work[n - 2 * w + 1 :] = 0.0
-    candidates = above(work)
+    candidates = _above_both_sides(work, above)
     if not candidates.any():
         return candidates
-    return _confirm_steps(z, candidates, above, scale, w)
+    out = _confirm_steps(z, candidates, above, scale, w)
+    # D3 at k is centred on the boundary between samples k - 1 and k: both are flagged, so
+    # that the reversed record flags the same samples (symmetric in time, issue 26)
+    out[:-1] = out[:-1] | out[1:]
+    return out
+
+
+def _above_both_sides(x: NDArray, above: Callable[[NDArray], NDArray]) -> NDArray:
+    """``above(x)`` at ``k`` and at ``k - 1`` alike: ``x[k]`` is centred between the two.
+
+    The local level may change between two samples; testing against both keeps the
+    decision the same on the reversed record (where the boundary's sample is ``k - 1``).
+    """
+    hit = above(x)
+    idx = np.flatnonzero(hit)
+    if idx.size:
+        idx = idx[idx > 0]
+        probe = np.zeros_like(x)
+        probe[idx - 1] = x[idx]
+        left = np.zeros_like(hit)
+        left[idx] = above(probe)[idx - 1]
+        hit &= left
+    return hit
 
 
 @lru_cache(maxsize=8)
@@ -88,7 +111,7 @@ def _confirm_steps(
     d3 = med @ np.array([1.0, -3.0, 3.0, -1.0])
     probe = np.zeros(z.size)
     probe[idx] = d3**2 * scale / (STEP_CONFIRM**2 * 20.0 * _median_variance(w))
-    confirmed = above(probe)[idx]
+    confirmed = _above_both_sides(probe, above)[idx]
     run = np.cumsum(np.r_[True, np.diff(idx) > w])  # run label of each candidate
     keep_run = np.zeros(run[-1] + 1, dtype=bool)
     keep_run[run[confirmed]] = True

@@ -3,12 +3,15 @@
 Sign, units, an offset and a linear trend change nothing a polynomial residual sees, so R
 stays inside its own interval on every motion-burst record (hypothesis draws the records).
 Reversal and dropped leading samples move the block grid; their share inside the interval
-is measured by ``python benchmarks/invariance.py`` (target 95 %).
+is measured by ``python benchmarks/invariance.py`` (target 95 %). The jump detector's
+decisions (fast signal or jumps) no longer follow the grid: seeded records where they did
+are checked here.
 """
 
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -48,3 +51,50 @@ def test_the_same_record_reversed_keeps_its_still_level():
     assert fwd.ci95[0] <= bwd.variance <= fwd.ci95[1]
     if fwd.still is not None and bwd.still is not None:
         assert fwd.still.ci95[0] <= bwd.still.variance <= fwd.still.ci95[1]
+
+
+@pytest.mark.parametrize("seed", [18, 24, 48, 63])
+def test_reversed_motion_burst_records_keep_r_inside_its_interval(seed):
+    # seeded records whose reversal moved R out of its ci95 (1.14x, 1.68x, 0.91x, 0.89x):
+    # motion flagged as jumps on one block grid and as a fast signal on the other. Of the
+    # first 80 seeds, 14 moved out before, one now (seed 4, 1.058x: the span chosen per
+    # block, the one decision left on the grid from the start; the rest 0.995-1.02x)
+    z = _record(seed)
+    fwd, bwd = noisevar.estimate(z), noisevar.estimate(z[::-1])
+    assert fwd.ci95[0] <= bwd.variance <= fwd.ci95[1]
+
+
+@pytest.mark.parametrize("seed", [1, 3, 12, 37])
+def test_reversal_leaves_the_jumps_and_a_fixed_span_r_unchanged(seed):
+    # by construction: the levels are read on two grids (from the start and from the end),
+    # the step detector tests each boundary on both sides, and the fast-signal rule uses a
+    # centred window; with one span (no choice per block) R is the same sum
+    from noisevar.estimators.auto import jump_mask
+
+    z = _record(seed)
+    fwd, bwd = jump_mask(z), jump_mask(z[::-1])
+    assert (fwd is None) == (bwd is None)
+    if fwd is not None:
+        np.testing.assert_array_equal(bwd[::-1], fwd)
+    a = noisevar.estimate(z, "auto", span=21).variance
+    assert noisevar.estimate(z[::-1], "auto", span=21).variance == pytest.approx(a, rel=1e-9)
+
+
+def test_fast_signal_flags_are_dropped_by_a_window_centred_on_them():
+    # a block grid anchored at the record's start decided "fast signal" or "jumps" per block:
+    # reversed, the same motion fell on other blocks and R moved (hand-held YEI gyroscope Y
+    # 2.3x, issue 26); the window centred on each flag moves with the record
+    from noisevar.estimators.auto._trim import _believed
+
+    rng = np.random.default_rng(3)
+    for n in (2715, 4096, 1000):
+        found = np.zeros(n, dtype=bool)
+        found[rng.integers(0, n, 40)] = True
+        a = int(rng.integers(0, n - 450))
+        found[a : a + 400 : 2] = True  # a fast signal: every other sample for 400
+        kept = _believed(found, 256)
+        back = _believed(found[::-1], 256)
+        assert (kept is None) == (back is None)
+        if kept is not None:
+            np.testing.assert_array_equal(back[::-1], kept)
+            assert not kept[a : a + 400].any()  # the fast stretch is not jumps

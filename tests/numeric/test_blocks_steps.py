@@ -48,3 +48,22 @@ def test_step_mask_finds_a_jump_and_ignores_a_parabola():
     hit = step_mask(z, above)
     assert hit[2490:2510].any()
     assert not hit[:2400].any() and not hit[2600:].any()
+
+
+def test_step_mask_flags_the_same_samples_on_the_reversed_record():
+    # D3[k] is centred between samples k - 1 and k: flagging both makes the detector
+    # symmetric in time (before, the reversed record's flags sat one sample off; issue 26)
+    from noisevar.numeric.steps import step_mask
+
+    rng = np.random.default_rng(7)
+    z = rng.standard_normal(3000)
+    z[700:] += 9.0
+    z[1801:2300] -= 7.0
+    z[2600:2640] += 12.0 * np.sin(np.arange(40.0))
+
+    def above(x):
+        return x > 1.0
+
+    hit = step_mask(z, above)
+    assert hit[690:710].any() and hit[1790:1810].any()
+    np.testing.assert_array_equal(step_mask(z[::-1], above)[::-1], hit)

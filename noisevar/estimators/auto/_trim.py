@@ -15,20 +15,32 @@ from scipy.ndimage import maximum_filter1d
 
 from noisevar._distributions import norm_cdf, norm_pdf
 from noisevar.errors import NoisevarError
+from noisevar.estimators.auto._levels import (
+    Grids,
+    above_both,
+    above_own,
+    kept_levels,
+    medians,
+)
+from noisevar.estimators.auto._levels import above_local as _above_local
+from noisevar.estimators.auto._levels import bracketing as _bracketing
 from noisevar.numeric.blocks import (
     block_counts,
-    block_medians,
     block_square_sums,
     block_sums,
     dilate,
     flagged_per_block,
-    kept_block_sums,
 )
 from noisevar.numeric.steps import STEP_MAX_FRACTION, step_mask
 
 #: Trimmed samples are widened by half of this span (or of the longest span below it).
 AUTO_MASK_SPAN = 41
 AUTO_BLOCK = 256
+#: The core (``core_variance``) leaves out squares beyond this many local standard deviations
+#: (or ``trim``, if lower): a contaminant below ``trim`` is not an outlier but is no bulk.
+AUTO_CORE_TRIM = 3.5
+#: The fast-signal rule's window, in blocks, centred on each flag (§F5.3).
+WINDOW_BLOCKS = 2
 #: Runs of at most this many outlying samples are glitches to the step detector (§F5.3).
 GLITCH_MAX = 2
 
@@ -44,29 +56,49 @@ def _truncated_second_moment(kappa: float) -> float:
     return float((p - 2.0 * kappa * norm_pdf(kappa)) / p)
 
 
-def _above_local(x: NDArray, local: NDArray, block: int) -> NDArray:
-    """``x`` above the larger local level of the two block centres around each sample.
+def core_trimmed(
+    sq: NDArray,
+    b: _Blocks,
+    choice: NDArray,
+    sums: tuple[NDArray, NDArray],
+    kappa: float,
+) -> tuple[NDArray, NDArray]:
+    """The core's block sums and counts with the squares beyond ``κ_c`` left out (§F5.4).
 
-    Block ``j``'s level holds at its centre ``(j + 1/2) block``; a sample is
-    compared with the larger of the levels of the two centres around it (the
-    rest of the record after the last block with the last level), so that near a
-    change of noise level the threshold is the louder side's (§F5.4). One
-    blockwise comparison with the block's own level (a lower bound) finds the few
-    candidates; only those are compared with the bracketing level.
+    ``sq`` holds every span's squares with the flagged neighbourhoods zeroed, ``choice``
+    each block's span and ``sums`` its chosen sums and counts (recovered samples in).
+    Each kept square of the chosen span above ``κ_c²`` times the bracketing level
+    (:func:`_above_local`; the level ``sum / (count τ(κ))`` without the sample) leaves the
+    core, and so does a recovered one: a contaminant below the outlier threshold ``κ`` is
+    no outlier, yet no bulk either (F5.7b).
     """
-    n, nb = x.size, local.size
-    hit = np.empty(n, dtype=bool)
-    np.greater(
-        x[: nb * block].reshape(nb, block), local[:, None], out=hit[: nb * block].reshape(nb, block)
-    )
-    np.greater(x[nb * block :], local[-1], out=hit[nb * block :])
-    idx = np.flatnonzero(hit)
-    if idx.size and nb > 1:
-        own = np.minimum(idx // block, nb - 1)
-        side = np.where(idx - own * block < block // 2, own - 1, own + 1)
-        side = np.clip(side, 0, nb - 1)  # the rest of the record: the last block's level
-        hit[idx[x[idx] <= np.maximum(local[own], local[side])]] = False
-    return hit
+    chosen_sum, counts = sums
+    if not np.isfinite(kappa):
+        return chosen_sum, counts
+    c = min(kappa, AUTO_CORE_TRIM)
+    block, nb, n = b.block, b.nb, sq.shape[1]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        # e² > c² (S - e²) / ((N - 1) τ): the level without the sample itself (which would
+        # raise its own threshold: +0.15 % on Gaussian noise at c = 3.5)
+        local = c**2 * chosen_sum / ((counts - 1.0) * _truncated_second_moment(kappa) + c**2)
+    local = np.where(np.isfinite(local), local, np.inf)  # an all-trimmed block: nothing
+    x = np.empty(n)
+    x[: nb * block].reshape(nb, block)[:] = sq[:, : nb * block].reshape(-1, nb, block)[
+        choice, np.arange(nb)
+    ]
+    x[nb * block :] = sq[choice[-1], nb * block :]
+    idx = np.flatnonzero(_above_local(x, local, block))
+    rows = np.minimum(idx // block, nb - 1)
+    out_sum = np.bincount(rows, weights=x[idx], minlength=nb).astype(float)  # int if empty
+    out_n = np.bincount(rows, minlength=nb).astype(float)
+    if b.recover is not None:
+        near, usable, values = b.recover
+        rows = np.minimum(near // block, nb - 1)
+        v = values[np.minimum(choice[rows], usable), np.arange(near.size)]
+        far = v > _bracketing(near, local, block)
+        out_sum += np.bincount(rows[far], weights=v[far], minlength=nb)
+        out_n += np.bincount(rows[far], minlength=nb)
+    return np.maximum(chosen_sum - out_sum, 0.0), counts - out_n
 
 
 def _outlier_mask(
@@ -76,6 +108,7 @@ def _outlier_mask(
     widen: int,
     steps: Callable[[Callable[[NDArray], NDArray], float, NDArray], NDArray] | None,
     step_limit: float,
+    after: int = 0,
 ) -> tuple[NDArray | None, NDArray | None, NDArray | None]:
     """Squared residuals that are outliers, and samples next to jumps (the caller widens both).
 
@@ -92,58 +125,60 @@ def _outlier_mask(
     None when nothing is flagged (the common case, which then costs no
     masking). Jumps are kept while the detector flags at most ``step_limit``
     samples (more: a fast signal); the third value is what it flagged (None: nothing).
+    Every level is read on two grids, from the window's start and from the record's end,
+    ``after`` samples past the window (:mod:`~noisevar.estimators.auto._levels`): a sample
+    is above only when above on both, so that the reversed record sees the same levels.
     """
-    n = sq.size
-    nb = max(1, n // block)
+    g = Grids.make(sq.size, block, after)
     scale = kappa**2 / 0.4549364231195724  # the median of χ²₁ is 0.4549
-    threshold = block_medians(sq, block, nb, 4) * scale
-    first = np.empty(n, dtype=bool)
-    np.greater(
-        sq[: nb * block].reshape(nb, block),
-        threshold[:, None],
-        out=first[: nb * block].reshape(nb, block),
-    )
-    np.greater(sq[nb * block :], threshold[-1], out=first[nb * block :])
-    tau = _truncated_second_moment(kappa)
-    kept_n = block_counts(block, nb, n)
+    first_f, first_b = medians(sq, g)
+    first = above_own(sq, first_f * scale, first_b * scale, g)
+    idx = None
     if first.any():
         if widen > 0:  # leave the whole neighbourhood of a jump out of the scale
             first = dilate(first, widen)
         idx = np.flatnonzero(first)
-        kept_sum = kept_block_sums(sq, idx, block, nb)
-        kept_n -= flagged_per_block(idx, block, nb)
-    else:
-        kept_sum = block_sums(sq, block, nb)
-    # κ² times the local variance of each block (held at its centre; see _above_local)
-    threshold = kappa**2 * kept_sum / np.maximum(kept_n, 1.0) / tau
+    # κ² times the local variance of each block on both grids (held at its centre)
+    fwd, bwd = kept_levels(sq, idx, g, kappa**2 / _truncated_second_moment(kappa))
 
     def above(x: NDArray) -> NDArray:
-        return _above_local(x, threshold, block)
+        return above_both(x, fwd, bwd, g)
 
     outlier = above(sq)
     jumps, found = None, None
     if steps is not None:
         found = steps(above, kappa**2, outlier)
         if step_limit >= 0 and found.any():
-            jumps = _believed(found, block, nb)
+            jumps = _believed(found, block)
     return (outlier if outlier.any() else None), jumps, found
 
 
-def _believed(found: NDArray, block: int, nb: int) -> NDArray | None:
-    """The jump samples ``found`` outside blocks where the detector flags too many.
+def _believed(found: NDArray, block: int) -> NDArray | None:
+    """The jump samples ``found`` where the detector does not flag too many around them.
 
-    A block where more than :data:`STEP_MAX_FRACTION` of the samples are flagged holds a
-    fast signal, not jumps: its flags are dropped there alone (§F5.3). The decision is
-    each block's own, so a shift or a reversal of the record moves it only where a block
-    changes, never for the whole record at once.
+    A flagged sample with more than :data:`STEP_MAX_FRACTION` of the
+    ``WINDOW_BLOCKS * block`` samples centred on it flagged (fewer at the record's edges:
+    those in it) sees a fast signal, not a jump: its flag is dropped, and so is any within
+    half that window of it (§F5.3).
+    The window is centred on the sample, not on a block grid anchored at the record's
+    start, so that reversing the record moves no decision but through ``found`` itself.
     """
     idx = np.flatnonzero(found)
-    share = flagged_per_block(idx, block, nb) / block_counts(block, nb, found.size)
-    fast = share > STEP_MAX_FRACTION
+    half = WINDOW_BLOCKS * block // 2
+    lo = np.maximum(idx - half, 0)
+    hi = np.minimum(idx + half, found.size - 1)
+    flagged = np.searchsorted(idx, hi, side="right") - np.searchsorted(idx, lo, side="left")
+    fast = flagged > STEP_MAX_FRACTION * (hi - lo + 1)
     if not fast.any():
         return found
-    where = np.minimum(np.arange(found.size) // block, nb - 1)
-    out = found & ~fast[where]
+    # a flag within half the window of a fast one is the same fast stretch (its edge)
+    at = idx[fast]
+    pos = np.searchsorted(at, idx)
+    after = at[np.minimum(pos, at.size - 1)] - idx
+    before = idx - at[np.maximum(pos - 1, 0)]
+    near = ((after >= 0) & (after <= half)) | ((before >= 0) & (before <= half))
+    out = found.copy()
+    out[idx[near]] = False
     return out if out.any() else None
 
 
@@ -193,18 +228,26 @@ class _Blocks:
 
 
 def _flag(
-    z: NDArray, sq0: NDArray, trim: float, block: int, half: int, step_limit: float | None
+    z: NDArray,
+    sq0: NDArray,
+    trim: float,
+    block: int,
+    half: int,
+    step_limit: float | None,
+    after: int = 0,
 ) -> tuple:
     """Outliers, jumps (None when none) and what the jump detector flagged, from the shortest span.
 
-    ``step_limit``: at most this many jump samples are believed (default: a fifth of ``z``).
+    ``step_limit``: at most this many jump samples are believed (default: a fifth of ``z``);
+    ``after``: samples of the record after ``z`` (a chunk's window; see :func:`_outlier_mask`).
     """
     if not np.isfinite(trim):
         return None, None, None
     limit = STEP_MAX_FRACTION * z.size if step_limit is None else step_limit
     return _outlier_mask(
-        sq0, trim, block, half, lambda v, sc, out: step_mask(_bridged(z, out), v, sc), limit
-    )
+        sq0, trim, block, half, lambda v, sc, out: step_mask(_bridged(z, out), v, sc), limit,
+        after,
+    )  # fmt: skip
 
 
 def _bridged(z: NDArray, outliers: NDArray) -> NDArray:
@@ -257,7 +300,12 @@ def _recoverable(
 
 
 def _trimmed_blocks(
-    z: NDArray, sq: NDArray, spans: tuple[int, ...], trim: float, step_limit: float | None = None
+    z: NDArray,
+    sq: NDArray,
+    spans: tuple[int, ...],
+    trim: float,
+    step_limit: float | None = None,
+    after: int = 0,
 ) -> _Blocks:
     """Flag jumps and outliers, zero their neighbourhoods in ``sq`` and sum the blocks.
 
@@ -270,7 +318,7 @@ def _trimmed_blocks(
     # flagged samples are widened by half the longest span up to AUTO_MASK_SPAN; a
     # longer span is used only in blocks that its wider neighbourhood leaves alone
     half = max(s for s in spans if s <= max(AUTO_MASK_SPAN, spans[0])) // 2
-    outliers, jumps, found = _flag(z, sq[0], trim, block, half, step_limit)
+    outliers, jumps, found = _flag(z, sq[0], trim, block, half, step_limit, after)
     sq0_copy = sq[0].copy() if outliers is not None else sq[0]
     flagged = jumps if outliers is None else outliers if jumps is None else outliers | jumps
     # before any zeroing: the values near flagged samples (and near jumps, for the total)

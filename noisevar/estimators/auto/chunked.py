@@ -122,7 +122,8 @@ def _pass(
             return None, None, top, lo_z, hi_z, []
         if e:
             z = np.ldexp(z, e)
-        part = auto_part(z, spans, order, trim, (c.lo - c.wa, c.hi - c.wa), step_limit, c.wa)
+        stretch = (c.lo - c.wa, c.hi - c.wa)
+        part = auto_part(z, spans, order, trim, stretch, step_limit, c.wa, n - c.wb)
         dpart = None
         if sums is not None:
             dpart = diag_part(z, c.wa, (c.lo, c.hi), 0, sums.plan, part.jumps)

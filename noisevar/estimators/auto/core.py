@@ -19,12 +19,14 @@ from noisevar.diagnostics import NoiseDiagnostics
 from noisevar.diagnostics.tails import kurtosis_from_moments
 from noisevar.errors import NoisevarError
 from noisevar.estimators.auto._trim import (
+    AUTO_CORE_TRIM,
     AUTO_MASK_SPAN,
     _Blocks,
     _flag,
     _trimmed_blocks,
     _truncated_second_moment,
     auto_block,
+    core_trimmed,
 )
 from noisevar.estimators.difference import sequence_efficiency
 from noisevar.estimators.params import AUTO_ORDER, AUTO_TRIM
@@ -222,6 +224,7 @@ def auto_part(
     own: tuple[int, int] | None = None,
     step_limit: float | None = None,
     offset: int = 0,
+    after: int = 0,
 ) -> AutoPart:
     """``auto``'s block sums for the samples ``own`` of the window ``z`` (§F5.2-§F5.5).
 
@@ -236,6 +239,8 @@ def auto_part(
         At most this many jump samples are believed (default: a fifth of the window).
     offset : int
         Record index of the window's first sample (for the outliers' positions).
+    after : int
+        Samples of the record after the window (its levels' second grid is the record's).
 
     Returns
     -------
@@ -246,9 +251,10 @@ def auto_part(
     sq = np.empty((len(spans), m))
     for j, s in enumerate(spans):
         _residual_squares(z, s, order, out=sq[j])
-    b = _trimmed_blocks(z, sq, spans, trim, step_limit)
+    b = _trimmed_blocks(z, sq, spans, trim, step_limit, after)
     rows = slice(lo // b.block, b.nb if hi == m else hi // b.block)
-    chosen_sum, kept_count = _chosen_sums(b, _choose_spans(b, spans, order))
+    choice = _choose_spans(b, spans, order)
+    chosen_sum, kept_count = core_trimmed(sq, b, choice, _chosen_sums(b, choice), trim)
     # outliers stay in the total: a span needs only to stay clear of the jumps
     choice = _choose_spans(b, spans, order, b.clean_total)
     total_sum, total_count = _chosen_sums(b, choice, total=True)
@@ -308,8 +314,8 @@ def auto_reduce(
     trim = float(params["trim"])
     n_kept = int(sum(p.core_count for p in parts))
     n_total = int(sum(p.total_count for p in parts))
-    tau = _truncated_second_moment(trim) if np.isfinite(trim) else 1.0
-    # core = sum e² / (n_kept τ) over the samples off outliers and jumps
+    tau = _truncated_second_moment(min(trim, AUTO_CORE_TRIM)) if np.isfinite(trim) else 1.0
+    # core = sum e² / (n_kept τ(κ_c)) over the samples off outliers and jumps, each below κ_c
     core = float(sum(p.core_sum for p in parts) / (n_kept * tau))
     # var = sum e² / n over the samples off the jumps: outliers and tails are noise
     var = float(sum(p.total_sum for p in parts) / n_total)

@@ -1,0 +1,131 @@
+"""``auto``'s local noise levels on two block grids, one from each end (docs/algorithms.md §F5.4).
+
+A threshold read off one grid anchored at the record's start moves when the record is
+reversed: the blocks fall elsewhere, and a motion transient was an outlier one way and a
+jump the other (issue 26). Here a sample is above the local level only when it is above on
+both grids, the second anchored at the record's end, where the reversed record's own grid
+lies; so the reversed record sees the same thresholds. A window of a longer record (a
+chunk) places its second grid on the record's, given the samples after it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from noisevar.numeric.blocks import block_counts, block_medians, flagged_per_block, kept_block_sums
+
+
+@dataclass(frozen=True)
+class Grids:
+    """Blocks of ``block`` samples over a window of ``m``: from its start and the record's end.
+
+    The second grid is the first grid of the reversed window after its first ``q``
+    samples (``q = 0`` for a whole record; a chunk's window ends ``after`` samples before
+    the record's end, ``q = -after mod block``).
+    """
+
+    m: int
+    block: int
+    nb: int
+    q: int
+    nbb: int
+
+    @classmethod
+    def make(cls, m: int, block: int, after: int = 0) -> Grids:
+        q = (-after) % block
+        if m - q < block:
+            q = 0
+        return cls(m, block, max(1, m // block), q, max(1, (m - q) // block))
+
+    def back(self, x: NDArray) -> NDArray:
+        """``x`` reversed, from the second grid's first sample (a view)."""
+        return x[::-1][self.q :]
+
+    def back_index(self, idx: NDArray) -> NDArray:
+        """Indices of the window on the reversed axis of :meth:`back` (negative: before it)."""
+        return self.m - 1 - idx - self.q
+
+
+def medians(sq: NDArray, g: Grids, stride: int = 4) -> tuple[NDArray, NDArray]:
+    """Block medians of every ``stride``-th square on both grids."""
+    back = block_medians(g.back(sq), g.block, g.nbb, stride)
+    return block_medians(sq, g.block, g.nb, stride), back
+
+
+def above_own(x: NDArray, fwd: NDArray, bwd: NDArray, g: Grids) -> NDArray:
+    """``x`` above its own block's level on both grids."""
+    n, nb, block = x.size, g.nb, g.block
+    hit = np.empty(n, dtype=bool)
+    np.greater(
+        x[: nb * block].reshape(nb, block), fwd[:, None], out=hit[: nb * block].reshape(nb, block)
+    )
+    np.greater(x[nb * block :], fwd[-1], out=hit[nb * block :])
+    idx = np.flatnonzero(hit)
+    if idx.size:
+        j = g.back_index(idx)
+        own = np.clip(j // block, 0, g.nbb - 1)
+        hit[idx[x[idx] <= bwd[own]]] = False
+    return hit
+
+
+def kept_levels(
+    sq: NDArray, idx: NDArray | None, g: Grids, scale: float
+) -> tuple[NDArray, NDArray]:
+    """``scale`` times each block's mean square off the samples ``idx``, on both grids."""
+    out = []
+    back = None if idx is None else g.back_index(idx)
+    for x, i, nb in ((sq, idx, g.nb), (g.back(sq), back, g.nbb)):
+        kept_n = block_counts(g.block, nb, x.size)
+        if i is None or not i.size:
+            kept_sum = kept_block_sums(x, np.zeros(0, dtype=int), g.block, nb)
+        else:
+            i = np.sort(i[i >= 0])
+            kept_sum = kept_block_sums(x, i, g.block, nb)
+            kept_n = kept_n - flagged_per_block(i, g.block, nb)
+        out.append(scale * kept_sum / np.maximum(kept_n, 1.0))
+    return out[0], out[1]
+
+
+def bracketing(idx: NDArray, local: NDArray, block: int) -> NDArray:
+    """The larger local level of the two block centres around each sample ``idx``."""
+    nb = local.size
+    own = np.minimum(idx // block, nb - 1)
+    side = np.where(idx - own * block < block // 2, own - 1, own + 1)
+    side = np.clip(side, 0, nb - 1)  # the rest of the record: the last block's level
+    return np.maximum(local[own], local[side])
+
+
+def above_local(x: NDArray, local: NDArray, block: int) -> NDArray:
+    """``x`` above the larger local level of the two block centres around each sample.
+
+    Block ``j``'s level holds at its centre ``(j + 1/2) block``; a sample is
+    compared with the larger of the levels of the two centres around it (the
+    rest of the record after the last block with the last level), so that near a
+    change of noise level the threshold is the louder side's (§F5.4). One
+    blockwise comparison with the block's own level (a lower bound) finds the few
+    candidates; only those are compared with the bracketing level.
+    """
+    n, nb = x.size, local.size
+    hit = np.empty(n, dtype=bool)
+    np.greater(
+        x[: nb * block].reshape(nb, block), local[:, None], out=hit[: nb * block].reshape(nb, block)
+    )
+    np.greater(x[nb * block :], local[-1], out=hit[nb * block :])
+    idx = np.flatnonzero(hit)
+    if idx.size and nb > 1:
+        hit[idx[x[idx] <= bracketing(idx, local, block)]] = False
+    return hit
+
+
+def above_both(x: NDArray, fwd: NDArray, bwd: NDArray, g: Grids) -> NDArray:
+    """``x`` above the bracketing level (:func:`above_local`) on both grids."""
+    hit = above_local(x, fwd, g.block)
+    idx = np.flatnonzero(hit)
+    if idx.size:
+        j = g.back_index(idx)
+        level = np.where(j >= 0, bracketing(np.maximum(j, 0), bwd, g.block), bwd[0])
+        hit[idx[x[idx] <= level]] = False
+    return hit
