@@ -405,6 +405,56 @@ def composite_spread(runs: int) -> list[str]:
     return lines
 
 
+TWO_GM_HEAD = "#### The bound on issue 30's composite two-GM truth"
+
+
+def two_gm_lines() -> list[str]:
+    """The bound of issue 30's composite two-GM truth (``imu_models.py --truths "two GM"``),
+    with its random walk as given and x 4 (``--strong-rw``): what any efficient estimator
+    can reach on 10 h at 200 Hz."""
+    n = int(10 * 3600 * 200)
+    lines = [
+        "",
+        TWO_GM_HEAD,
+        "",
+        "| truth | parameter | bound sd | median abs. error at the bound | "
+        "P(abs. error < 10 %) at the bound |",
+        "|---|---|---|---|---|",
+    ]
+    for label, k in (("K 1e-5", 1e-5), ("K x 4 (--strong-rw)", 4e-5)):
+        vals = {
+            "Q": 1.29e-4,
+            "N": 1e-3,
+            "GM1.sigma": 2e-3,
+            "GM1.tau_c": 2.0,
+            "GM2.sigma": 5e-4,
+            "GM2.tau_c": 100.0,
+            "K": k,
+        }
+        b = fisher_bound("QN+WN+GM+GM+RW", vals, n, 200.0)
+        for name in b.names:
+            s = b.sd(name)
+            lines.append(
+                f"| two GM, {label} | {name} | {s:.2%} | "
+                f"{math.expm1(stats.norm.ppf(0.75) * s):.2%} | {b.within(name, 0.10):.0%} |"
+            )
+    return lines
+
+
+def replace_section(text: str, head: str, lines: list[str]) -> str:
+    """``text`` with the section starting at ``head`` (to the next ``####`` or the load
+    line) replaced by ``lines``, or ``lines`` added before the load line."""
+    body = text.rstrip("\n").split("\n")
+    tail = [i for i, line in enumerate(body) if line.startswith("Load average")]
+    end = tail[0] if tail else len(body)
+    if head in body:
+        start = body.index(head) - 1
+        nxt = [i for i in range(start + 2, len(body)) if body[i].startswith("####")]
+        end = nxt[0] - 1 if nxt else end
+        return "\n".join(body[:start] + lines + body[end:]) + "\n"
+    return "\n".join(body[:end] + lines + [""] + body[end:]) + "\n"
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--first", type=int, default=0)
@@ -412,9 +462,14 @@ def main() -> None:
     ap.add_argument("--table", action="store_true")
     ap.add_argument("--composite", type=int, default=0, help="runs of the one-GM spread")
     ap.add_argument("--ieee", action="store_true", help="inertial_noise alone (--first, --seeds)")
+    ap.add_argument("--two-gm", action="store_true", help="the two-GM truth's bound, into the file")
     args = ap.parse_args()
     if args.seeds:
         (run_ieee if args.ieee else run)(args.first, args.seeds)
+    if args.two_gm:
+        lines = two_gm_lines()
+        OUT.write_text(replace_section(OUT.read_text(), TWO_GM_HEAD, lines))
+        print("\n".join(lines))
     if args.table:
         load = os.getloadavg()
         lines = table() + one_gm_lines()
