@@ -12,6 +12,10 @@ QN+WN+FL+RW, because QN+WN from its start misfits worse than WN alone (HQ 99372
 against 76023) and the misfitting three-process fits land in other local minima. The
 committed wavelet variance differs from the original by about 1e-13 and keeps the
 choice; a change to the search may have to regenerate this snapshot.
+
+Regenerated when the search began to add a process only where it dominates some scale
+(``fitting.identified``, issue 30): the third axis (white noise + random walk) is now
+WN+RW instead of QN+WN+RW, the others keep their models with other models tried.
 """
 
 from __future__ import annotations

@@ -130,15 +130,47 @@ def _without(sol: est.Solution, drop: int, fit: Fits) -> est.Solution:
     return fit(keys, [start])
 
 
+#: Processes the search adds only where they dominate some scale (:func:`identified`):
+#: the power laws, whose wavelet variance is a line of fixed slope on log-log axes. A GM
+#: is located by its correlation time and left to the criterion alone.
+POWER_LAWS = ("QN", "WN", "FL", "RW", "DR")
+
+
+def identified(sol: est.Solution, wv: est.WaveletVariance, key: str) -> bool:
+    """Whether each process ``key`` of ``sol`` has a scale where its wavelet variance
+    exceeds the sum of the other processes' there (always true for a GM).
+
+    Notes
+    -----
+    A power law (:data:`POWER_LAWS`) under the sum of the others at every scale only
+    bends that sum where the others cross (a flicker between a white noise and a random
+    walk, a quantisation under the white noise): the data do not identify it. The
+    search (:func:`search`) adds a process only where it is identified.
+    """
+    if key not in POWER_LAWS:
+        return True
+    parts = zip(sol.keys, est.split(sol.keys, np.exp(sol.log_params)), strict=True)
+    comps = np.array([PROCESSES[k].wv(p, wv.tau) for k, p in parts])
+    total = comps.sum(axis=0)
+    own = [c for k, c in zip(sol.keys, comps, strict=True) if k == key]
+    return all(np.any(c > total - c) for c in own)
+
+
+def _better(trials: list, current: est.Solution, score, wv):  # noqa: ANN001, ANN202
+    """The trials ``(added process, solution)`` that lower the criterion and whose added
+    process is identified (:func:`identified`)."""
+    return [t for new, t in trials if score(t) < score(current) and identified(t, wv, new)]
+
+
 def _forward(current: est.Solution, fit: Fits, score, tried: list):  # noqa: ANN001, ANN202
     wv = fit.wv
     while True:
         trials = []
         for new in _addable(current.keys, wv.tau.size):
             keys, starts = _grown(current, new, wv)
-            trials.append(fit(keys, starts))
-        tried += trials
-        better = [t for t in trials if score(t) < score(current)]
+            trials.append((new, fit(keys, starts)))
+        tried += [t for _, t in trials]
+        better = _better(trials, current, score, wv)
         if not better:
             return current
         current = min(better, key=score)
@@ -161,8 +193,9 @@ def search(
     """Stepwise search from :data:`BASE`: add the process that lowers the criterion most
     while one does, then drop the processes whose removal lowers it (a drift taken
     early for a random walk), swap a flicker or drift for a GM or random walk
-    (:data:`SWAPS`) when that lowers it, and add again, until nothing helps. Each model
-    is fitted once (:class:`Fits`)."""
+    (:data:`SWAPS`) when that lowers it, and add again, until nothing helps. A power law
+    is added (or swapped in) only where it dominates some scale (:func:`identified`).
+    Each model is fitted once (:class:`Fits`)."""
     score = _score(criterion, wv.n_samples)
     fit = Fits(wv)
     current = fit(BASE, _fresh_starts(BASE, wv))
@@ -186,9 +219,9 @@ def _swapped(current: est.Solution, fit: Fits, score, tried: list):  # noqa: ANN
             rest = _without(current, i, fit)
             if new in _addable(rest.keys, wv.tau.size):
                 keys, starts = _grown(rest, new, wv)
-                trials.append(fit(keys, starts))
-    tried += trials
-    better = [t for t in trials if score(t) < score(current)]
+                trials.append((new, fit(keys, starts)))
+    tried += [t for _, t in trials]
+    better = _better(trials, current, score, wv)
     return min(better, key=score) if better else current
 
 
