@@ -104,14 +104,8 @@ def _smooth_below(m: int) -> int:
 
 
 def one_seed(seed: int) -> list[dict]:
-    n = int(HOURS * 3600 * RATE)
-    cols, truth = [], []
-    for k, (sensor, (nd, kd)) in enumerate(ROS.items()):
-        for a in range(3):
-            s = 1000 * seed + 10 * k + a
-            cols.append(simulate_inertial(n, RATE, random_walk=nd, rate_random_walk=kd, seed=s))
-            truth.append((sensor, a, nd, kd))
-    x = np.column_stack(cols)
+    x, truth = _records(seed)
+    n = x.shape[0]
     auto = fit_imu_model(x, RATE)
     fixed = fit_imu_model(x, RATE, models=["WN+RW"])
     ieee = inertial_noise(x.T, RATE)
