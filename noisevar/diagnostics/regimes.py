@@ -22,7 +22,7 @@ from noisevar._distributions import chi2_ppf
 REGIME_PENALTY = 6.0
 #: A regime more than this many times the lowest regime's upper 95 % bound is never still.
 STILL_RATIO = 2.0
-#: Regimes whose levels differ by less than this family-wise level are one level (both still).
+#: A regime whose level is above the floor's at this level (one-sided, per step) is not still.
 STILL_ALPHA = 1e-3
 
 
@@ -157,15 +157,18 @@ def find_regimes(start: NDArray, stop: NDArray, level: NDArray, dof: NDArray) ->
     -----
     The still regimes are the floor (:func:`_floor`): from the lowest regime up, in order
     of level, each regime whose level is consistent with the floor's pooled level so far
-    (a one-sided F test at :data:`STILL_ALPHA` over the regimes, family-wise) and at most
-    :data:`STILL_RATIO` times the lowest regime's upper 95 % bound joins it. One regime is
-    one level: still, as far as the record can tell.
+    (a one-sided F test at :data:`STILL_ALPHA` per step, its dof divided by the blocks'
+    dispersion, :func:`_dispersion`) and at most :data:`STILL_RATIO` times the lowest
+    regime's upper 95 % bound joins it. One regime is one level: still, as far as the
+    record can tell.
     """
     breaks = regime_breaks(level, dof)
     bounds = [*breaks, level.size]
     spans = list(zip(bounds, bounds[1:], strict=False))
     pooled = [_pool(level[a:b], dof[a:b]) for a, b in spans]
-    floor = _floor(pooled)
+    cap = _cap(pooled)
+    phi = _dispersion(level, dof, [s for s, p in zip(spans, pooled, strict=True) if p[0] <= cap])
+    floor = _floor([(x, nu / phi) for x, nu in pooled], cap)
     out = []
     for i, ((a, b), (x, nu)) in enumerate(zip(spans, pooled, strict=True)):
         lo, hi = _interval(x, nu)
@@ -173,26 +176,58 @@ def find_regimes(start: NDArray, stop: NDArray, level: NDArray, dof: NDArray) ->
     return tuple(out)
 
 
-def _floor(pooled: list[tuple[float, float]]) -> set[int]:
+def _cap(pooled: list[tuple[float, float]]) -> float:
+    """:data:`STILL_RATIO` times the lowest regime's upper 95 % bound: above it, never still.
+
+    The floor is known to its interval: the lowest of many short regimes can sit far below
+    the sensor's level by chance (one block of a shifted grid), and twice it is not yet
+    motion; a short stretch at twice the floor is not the sensor's still noise.
+    """
+    low, low_dof = min(pooled)
+    return STILL_RATIO * _interval(low, low_dof)[1]
+
+
+def _dispersion(level: NDArray, dof: NDArray, spans: list[tuple[int, int]]) -> float:
+    """How much more the blocks' levels scatter inside their regimes than their dof say.
+
+    Each block's log level about its regime's median, squared over its variance
+    ``ψ'(ν/2)`` (a log χ²_ν) and by ``B / (B - 1)`` for a regime of ``B`` blocks; the median
+    of these over the regimes ``spans`` (those that may be still), over the median of χ²₁:
+    a robust quasi-likelihood dispersion (McCullagh & Nelder 1989, §9.2), at least 1. A
+    block's dof count its squares as independent, which noise low-passed by the sensor is
+    not: there the still regimes' levels differ by more than the dof allow and the F test
+    of :func:`_floor` would cut the still stretches apart. A median, so that the blocks at
+    a regime's edge, half in the motion beside it, do not count.
+    """
+    dev = []
+    for a, b in spans:
+        if b - a >= 2 and np.all(level[a:b] > 0):
+            r = np.log(level[a:b])
+            r = r - np.median(r)
+            dev.append(r * r / special.polygamma(1, dof[a:b] / 2.0) * (b - a) / (b - a - 1))
+    if not dev:
+        return 1.0
+    return max(float(np.median(np.concatenate(dev)) / chi2_ppf(0.5, 1.0)), 1.0)
+
+
+def _floor(pooled: list[tuple[float, float]], cap: float) -> set[int]:
     """Indices of the still regimes among ``pooled`` (level, dof): the record's floor.
 
     A forward search in order of level: the floor starts as the lowest regime and takes the
-    next one while its level is below the ``1 - STILL_ALPHA / (k - 1)`` quantile of
-    ``F(ν, ν_floor)`` times the floor's pooled level, and below the cap. Testing against the
-    pooled floor, not the lowest regime alone, keeps a long stretch at twice the floor out
-    (its dof make the difference plain) where the lowest regime's few dof would let it in.
+    next one while its level is below the ``1 - STILL_ALPHA`` quantile of ``F(ν, ν_floor)``
+    times the floor's pooled level, and below ``cap``. Testing against the pooled floor,
+    not the lowest regime alone, keeps a long stretch at twice the floor out (its dof make
+    the difference plain) where the lowest regime's few dof would let it in. The search
+    stops at its first rejection, so each step is tested at the full level, as in a
+    fixed-sequence procedure: the motion regimes above are never tested, and how many a
+    record has does not change how much evidence it takes to leave a stretch out.
     """
     order = sorted(range(len(pooled)), key=lambda i: pooled[i])
     low, low_dof = pooled[order[0]]
-    alpha = STILL_ALPHA / max(len(pooled) - 1, 1)
-    # the floor is known to its interval: the lowest of many short regimes can sit far
-    # below the sensor's level by chance (one block of a shifted grid), and twice it is
-    # not yet motion; a short stretch at twice the floor is not the sensor's still noise
-    cap = STILL_RATIO * _interval(low, low_dof)[1]
     floor, sx, sw = {order[0]}, low * low_dof, low_dof
     for i in order[1:]:
         x, nu = pooled[i]
-        if not x <= min(sx / sw * _f_quantile(1.0 - alpha, nu, sw), cap):
+        if not x <= min(sx / sw * _f_quantile(1.0 - STILL_ALPHA, nu, sw), cap):
             break
         floor.add(i)
         sx, sw = sx + x * nu, sw + nu
