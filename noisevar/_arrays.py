@@ -14,8 +14,23 @@ def median_inplace(v: NDArray) -> float:
     if v.size % 2:
         v.partition(k)
         return float(v[k])
-    v.partition((k - 1, k))
-    return float((v[k - 1] + v[k]) / 2.0)
+    # one selection, then the largest of the lower half: the same order statistic as
+    # partition((k - 1, k)), which NumPy selects far more slowly (6x on 5000 values)
+    v.partition(k)
+    return float((v[:k].max() + v[k]) / 2.0)
+
+
+def row_medians_inplace(v: NDArray) -> NDArray:
+    """:func:`median_inplace` of each row of a 2-D float array (the same numbers).
+
+    No copy and no checks: ``v`` must be finite, with at least one column, and the
+    caller's to reorder.
+    """
+    k = v.shape[1] // 2
+    v.partition(k, axis=1)
+    if v.shape[1] % 2:
+        return v[:, k].copy()
+    return (v[:, :k].max(axis=1) + v[:, k]) / 2.0
 
 
 #: Integers up to this magnitude are exact in float64 (every one of them); beyond, refused.

@@ -28,3 +28,21 @@ def test_sample_acf_is_the_same_with_and_without_the_kernel(monkeypatch):
     np.testing.assert_allclose(compiled, reference, rtol=1e-10, atol=1e-12)
     # MA(2) with taps 1, 0.6, 0.2: ρ1 = (0.6 + 0.12) / (1 + 0.36 + 0.04)
     assert compiled[0] == pytest.approx(0.72 / 1.4, abs=0.03)
+
+
+@pytest.mark.parametrize("span", [3, 5, 9, 11, 13, 21, 41, 81])
+def test_symmetric_fir_adds_its_taps_in_order(span):
+    # the kernel takes four taps per pass over its tile: each output must still be
+    # d_0 z_t + d_1 (z_{t-1} + z_{t+1}) + ... added from k = 1 up, bit for bit
+    rng = np.random.default_rng(span)
+    z = rng.normal(size=3_000) * 10.0 ** rng.uniform(-3, 3, 3_000)
+    d = fir.residual_sequence(span, 3)
+    h = span // 2
+    ref = d[h] * z[h : z.size - h]
+    for k in range(1, h + 1):
+        ref = ref + d[h + k] * (z[h - k : z.size - h - k] + z[h + k : z.size - h + k])
+    out = np.empty(z.size - 2 * h)
+    _fir_numba.symmetric_fir(z, d[h:].copy(), out, False)
+    assert np.array_equal(out, ref)
+    _fir_numba.symmetric_fir_squares(z, d[h:].copy(), out)
+    assert np.array_equal(out, ref * ref)

@@ -319,27 +319,30 @@ def _trimmed_blocks(
     # longer span is used only in blocks that its wider neighbourhood leaves alone
     half = max(s for s in spans if s <= max(AUTO_MASK_SPAN, spans[0])) // 2
     outliers, jumps, found = _flag(z, sq[0], trim, block, half, step_limit, after)
-    sq0_copy = sq[0].copy() if outliers is not None else sq[0]
     flagged = jumps if outliers is None else outliers if jumps is None else outliers | jumps
-    # before any zeroing: the values near flagged samples (and near jumps, for the total)
-    recover = _recoverable(flagged, spans, half, sq)
+    # before any zeroing: the values near jumps (for the total) and near every flag
+    sq0_copy = sq[0] if outliers is None else sq[0].copy()
     recover_total = _recoverable(jumps, spans, half, sq)
+    recover = recover_total if outliers is None else _recoverable(flagged, spans, half, sq)
     total_count = block_counts(block, nb, m) - _zero(sq, jumps, half, block, nb)
     total_sum = np.stack([block_sums(q, block, nb) for q in sq])
     total_fourth = block_square_sums(sq[0], block, nb)
-    kept_count = block_counts(block, nb, m) - _zero(sq, flagged, half, block, nb)
-    block_sum = np.stack([block_sums(q, block, nb) for q in sq])
-    # without outliers the flagged samples are the jumps': the same sums
-    fourth = total_fourth if outliers is None else block_square_sums(sq[0], block, nb)
+    clean_total = _clean_for(jumps, spans, half, block, nb)
+    # without outliers the flagged samples are the jumps': the same sums, not taken again
+    kept_count, block_sum, fourth, clean_for = total_count, total_sum, total_fourth, clean_total
     out_at = np.zeros(0, dtype=int)
-    if outliers is not None:  # residuals next to a jump are the jump's, not outliers
+    if outliers is not None:
+        kept_count = block_counts(block, nb, m) - _zero(sq, flagged, half, block, nb)
+        block_sum = np.stack([block_sums(q, block, nb) for q in sq])
+        fourth = block_square_sums(sq[0], block, nb)
+        clean_for = _clean_for(flagged, spans, half, block, nb)
+        # residuals next to a jump are the jump's, not outliers
         alone = outliers if jumps is None else outliers & ~dilate(jumps, half)
         # one outlying sample spreads over its neighbours' residuals: count the peaks
         out_at = _local_peaks(sq0_copy, np.flatnonzero(alone), spans[0])
     return _Blocks(
-        block, nb, kept_count, block_sum, fourth, total_fourth,
-        _clean_for(flagged, spans, half, block, nb),
-        recover, total_count, total_sum, out_at, _clean_for(jumps, spans, half, block, nb),
+        block, nb, kept_count, block_sum, fourth, total_fourth, clean_for,
+        recover, total_count, total_sum, out_at, clean_total,
         recover_total, np.zeros(m, dtype=bool) if jumps is None else dilate(jumps, half),
         np.zeros(0, dtype=int) if found is None else np.flatnonzero(found),
     )  # fmt: skip

@@ -254,10 +254,14 @@ def auto_part(
     b = _trimmed_blocks(z, sq, spans, trim, step_limit, after)
     rows = slice(lo // b.block, b.nb if hi == m else hi // b.block)
     choice = _choose_spans(b, spans, order)
-    chosen_sum, kept_count = core_trimmed(sq, b, choice, _chosen_sums(b, choice), trim)
-    # outliers stay in the total: a span needs only to stay clear of the jumps
-    choice = _choose_spans(b, spans, order, b.clean_total)
-    total_sum, total_count = _chosen_sums(b, choice, total=True)
+    sums = _chosen_sums(b, choice)
+    chosen_sum, kept_count = core_trimmed(sq, b, choice, sums, trim)
+    # outliers stay in the total: a span needs only to stay clear of the jumps (with no
+    # outliers, the flagged samples are the jumps: the same spans and sums)
+    if b.clean_total is not b.clean_for:
+        choice = _choose_spans(b, spans, order, b.clean_total)
+        sums = _chosen_sums(b, choice, total=True)
+    total_sum, total_count = sums
     choice, total_count = choice[rows], total_count[rows]
     out = b.outliers[(b.outliers >= lo) & (b.outliers < hi)]
     return AutoPart(
