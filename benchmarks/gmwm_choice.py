@@ -26,7 +26,7 @@ from noisevar.noise_model import fit_imu_model
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from imu_k_bias import AXES as BEFORE  # noqa: E402
-from imu_k_bias import RATE, _records  # noqa: E402
+from imu_k_bias import RATE, _records, append_rows  # noqa: E402
 
 RESULTS = Path(__file__).resolve().parent / "results"
 AFTER = RESULTS / "gmwm_choice_axes.csv"
@@ -42,12 +42,7 @@ def run(first: int, seeds: int) -> None:
             dict(seed=seed, sensor=s, axis=a, truth=kd, k=f.value("K"), model=f.model)
             for (s, a, _, kd), f in zip(truth, fits, strict=True)
         ]
-        new = not AFTER.exists()
-        with AFTER.open("a", newline="") as fh:
-            w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-            if new:
-                w.writeheader()
-            w.writerows(rows)
+        append_rows(AFTER, rows)
         print(f"seed {seed}: {time.perf_counter() - t0:.1f} s", file=sys.stderr)
 
 

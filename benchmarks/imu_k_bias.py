@@ -163,13 +163,18 @@ def run_ieee(first: int, seeds: int) -> None:
                     c68=float(lo <= kd <= hi),
                 )
             )
-        new = not IEEE_AXES.exists()
-        with IEEE_AXES.open("a", newline="") as fh:
-            w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-            if new:
-                w.writeheader()
-            w.writerows(rows)
+        append_rows(IEEE_AXES, rows)
         print(f"ieee seed {seed}", file=sys.stderr)
+
+
+def append_rows(path: Path, rows: list[dict]) -> None:
+    """Append ``rows`` to the CSV ``path`` (its header first when the file is new)."""
+    new = not path.exists()
+    with path.open("a", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        if new:
+            w.writeheader()
+        w.writerows(rows)
 
 
 def run(first: int, seeds: int) -> None:
@@ -177,12 +182,7 @@ def run(first: int, seeds: int) -> None:
     for seed in range(first, first + seeds):
         t0 = time.perf_counter()
         rows = one_seed(seed)
-        new = not AXES.exists()
-        with AXES.open("a", newline="") as fh:
-            w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-            if new:
-                w.writeheader()
-            w.writerows(rows)
+        append_rows(AXES, rows)
         print(f"seed {seed}: {time.perf_counter() - t0:.1f} s", file=sys.stderr)
 
 
