@@ -35,7 +35,7 @@ from noisevar.noise_model import fisher_bound, fit_imu_model, inertial_noise
 from noisevar.noise_model.simulate import simulate_inertial
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from imu_models import COMPOSITE, ROS, _truth, covers  # noqa: E402
+from imu_models import COMPOSITE, ROS, _truth, covers, simulate_truth  # noqa: E402
 
 RESULTS = Path(__file__).resolve().parent / "results"
 AXES = RESULTS / "imu_k_bias_axes.csv"
@@ -361,15 +361,7 @@ def composite_spread(runs: int) -> list[str]:
         t = _truth(COMPOSITE["one GM"], rng)
         ((sigma, tc),) = t["GM"]
         vals = {"Q": t["Q"], "N": t["N"], "GM1.sigma": sigma, "GM1.tau_c": tc, "K": t["K"]}
-        y = simulate_inertial(
-            n,
-            rate,
-            quantization=t["Q"],
-            random_walk=t["N"],
-            rate_random_walk=t["K"],
-            gauss_markov=t["GM"],
-            seed=5000 + r,
-        )
+        y = simulate_truth(t, n, rate, 5000 + r)
         fit = fit_imu_model(y, rate)
         b = fisher_bound("QN+WN+GM+RW", vals, n, rate)
         for name, v in vals.items():

@@ -168,6 +168,19 @@ COMPOSITE = {
 STRONG_RW = {k: {**v, "K": 4 * v["K"]} for k, v in COMPOSITE.items()}
 
 
+def simulate_truth(t: dict, n: int, rate: float, seed: int) -> np.ndarray:
+    """A record of the composite truth ``t`` (``Q``, ``N``, ``K``, ``GM``) at ``rate``."""
+    return simulate_inertial(
+        n,
+        rate,
+        quantization=t["Q"],
+        random_walk=t["N"],
+        rate_random_walk=t["K"],
+        gauss_markov=t["GM"],
+        seed=seed,
+    )
+
+
 def _truth(base: dict, rng: np.random.Generator) -> dict:
     """One run's truth: a scale over two decades for all terms, and a factor per term
     log-uniform within +-0.15 decade (each process stays visible)."""
@@ -212,15 +225,7 @@ def composite_section(
         t0 = time.perf_counter()
         for r in range(runs):
             t = _truth(base, rng)
-            y = simulate_inertial(
-                n,
-                rate,
-                quantization=t["Q"],
-                random_walk=t["N"],
-                rate_random_walk=t["K"],
-                gauss_markov=t["GM"],
-                seed=5000 + 100 * c + r,
-            )
+            y = simulate_truth(t, n, rate, 5000 + 100 * c + r)
             fit = fit_imu_model(y, rate)
             right.append(fit.model == want)
             named = {"Q": t["Q"], "N": t["N"], "K": t["K"]}
@@ -282,20 +287,7 @@ def speed_record() -> np.ndarray:
     """6 axes x 7.2e6 samples (10 h at 200 Hz) of the one-GM composite model."""
     rate, n = 200.0, 7_200_000
     base = COMPOSITE["one GM"]
-    return np.column_stack(
-        [
-            simulate_inertial(
-                n,
-                rate,
-                quantization=base["Q"],
-                random_walk=base["N"],
-                rate_random_walk=base["K"],
-                gauss_markov=base["GM"],
-                seed=s,
-            )
-            for s in range(6)
-        ]
-    )
+    return np.column_stack([simulate_truth(base, n, rate, s) for s in range(6)])
 
 
 def speed_worker(tool: str, path: Path) -> None:
