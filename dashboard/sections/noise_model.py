@@ -221,8 +221,7 @@ def _topic_rates(sig: LoadedSignal) -> None:
     if sig.topics is None:
         return
     said = ", ".join(
-        f"{t} {1 / tab.sample_period:g} Hz" if tab.sample_period else f"{t} (no rate)"
-        for t, tab in sig.topics.tables.items()
+        f"{t} {r:g} Hz" if r else f"{t} (no rate)" for t, r in sig.topics.rates.items()
     )
     st.caption(
         f"Columns of the log's topics {said}: each column is fitted at its own topic's "

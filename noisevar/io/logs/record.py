@@ -95,6 +95,14 @@ class TopicsRecord:
         """Every column's name, topic by topic."""
         return list(self.sources)
 
+    @property
+    def rates(self) -> dict[str, float | None]:
+        """Each topic's samples per second (None: not uniform enough to say)."""
+        return {
+            t: 1.0 / tab.sample_period if tab.sample_period else None
+            for t, tab in self.tables.items()
+        }
+
     def resolve(self, name: str) -> tuple[str, str]:
         """The ``(topic, field)`` of a column named by field or by ``topic/field``.
 
