@@ -103,7 +103,8 @@ def table() -> list[str]:
     keys = sorted(set(before) & set(after))
     seeds = sorted({k[0] for k in keys})
     lines = [
-        "### GMWM's model choice before / after the dominance rule: "
+        "### GMWM's model choice before / after the dominance rule (after: the code of "
+        "this run; the random-walk note changes no choice): "
         "`python benchmarks/gmwm_choice.py --table`",
         "",
         f"allan_variance_ros's configuration, seeds {seeds[0]}-{seeds[-1]} ({len(seeds)} "
@@ -131,7 +132,8 @@ def table() -> list[str]:
 
 def _rows(path: Path) -> list[dict]:
     with path.open() as fh:
-        return list(csv.DictReader(fh))
+        rows = list(csv.DictReader(fh))
+    return sorted(rows, key=lambda r: (int(r["seed"]), r["sensor"], int(r["axis"])))
 
 
 def _boundary(x: float) -> float:
