@@ -314,6 +314,12 @@ def random_walk_note(
     """A note when the chosen model holds a GM or flicker but no random walk, and a model
     with a random walk is within one parameter's price of it by the criterion.
 
+    Returns
+    -------
+    str or None
+        The rival model (the best by ``criterion`` among those ``tried`` with a random
+        walk), its margin, and its K with the interval at level ``ci``; None otherwise.
+
     Notes
     -----
     Such a GM or flicker differs from the random walk only at the longest scales, where
