@@ -214,6 +214,8 @@ def composite_panel(sig: LoadedSignal, s: NoiseModelSettings) -> None:
         figure_downloads(fig, "composite_model", key="nm_gmwm_fig_dl")
         st.dataframe(pd.DataFrame([r.to_dict() for r in model.table]), hide_index=True)
         st.caption(f"Models compared; the chosen one ({model.model}) has the lowest criterion.")
+        for note in model.notes:
+            st.caption(note)
         rows = [
             {
                 "parameter": p.name,

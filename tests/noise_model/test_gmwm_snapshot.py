@@ -16,6 +16,8 @@ choice; a change to the search may have to regenerate this snapshot.
 Regenerated when the search began to add a process only where it dominates some scale
 (``fitting.identified``, issue 30): the third axis (white noise + random walk) is now
 WN+RW instead of QN+WN+RW, the others keep their models with other models tried.
+Regenerated for the random-walk note (``fitting.random_walk_note``, issue 30, fifth
+round): only the second axis's notes changed (its QN+WN+FL+GM has QN+WN+GM+RW 0.5 behind).
 """
 
 from __future__ import annotations

@@ -85,6 +85,18 @@ def _addable(keys: tuple[str, ...], n_scales: int) -> list[str]:
     return out
 
 
+def penalty(criterion: str, n: float) -> float:
+    """The criterion's price of one parameter: ``2 log log n`` (HQ), ``log n`` (BIC) or
+    :data:`PENALTY` (WVIC), ``n`` the samples."""
+    if criterion not in CRITERIA:
+        raise NoisevarError(f"criterion must be one of {', '.join(CRITERIA)}; got {criterion!r}.")
+    return {
+        "hq": 2.0 * math.log(math.log(n)),
+        "bic": math.log(n),
+        "wvic": PENALTY,
+    }[criterion]
+
+
 def wvic(sol: est.Solution) -> float:
     """Wavelet variance information criterion: objective plus 2 per parameter."""
     return sol.objective + PENALTY * sol.n_params
@@ -92,22 +104,17 @@ def wvic(sol: est.Solution) -> float:
 
 def bic(sol: est.Solution, n: float) -> float:
     """The objective plus ``log(n)`` per parameter (``n`` samples)."""
-    return sol.objective + math.log(n) * sol.n_params
+    return sol.objective + penalty("bic", n) * sol.n_params
 
 
 def hq(sol: est.Solution, n: float) -> float:
     """The objective plus ``2 log(log(n))`` per parameter (``n`` samples)."""
-    return sol.objective + 2.0 * math.log(math.log(n)) * sol.n_params
+    return sol.objective + penalty("hq", n) * sol.n_params
 
 
 def _score(criterion: str, n: float):  # noqa: ANN202
-    if criterion not in CRITERIA:
-        raise NoisevarError(f"criterion must be one of {', '.join(CRITERIA)}; got {criterion!r}.")
-    return {
-        "hq": lambda s: hq(s, n),
-        "bic": lambda s: bic(s, n),
-        "wvic": wvic,
-    }[criterion]
+    price = penalty(criterion, n)
+    return lambda s: s.objective + price * s.n_params
 
 
 class Fits:
@@ -291,6 +298,56 @@ def filter_bias(keys: tuple[str, ...], p: NDArray, rate: float, horizon: float) 
     )
 
 
+#: Processes that may hold a bias in a random walk's place (:func:`random_walk_note`).
+RW_RIVALS = ("GM", "FL")
+
+
+def random_walk_note(
+    sol: est.Solution,
+    tried: list[est.Solution],
+    criterion: str,
+    n: float,
+    rate: float,
+    unit: str,
+    ci: float,
+) -> str | None:
+    """A note when the chosen model holds a GM or flicker but no random walk, and a model
+    with a random walk is within one parameter's price of it by the criterion.
+
+    Returns
+    -------
+    str or None
+        The rival model (the best by ``criterion`` among those ``tried`` with a random
+        walk), its margin, and its K with the interval at level ``ci``; None otherwise.
+
+    Notes
+    -----
+    Such a GM or flicker differs from the random walk only at the longest scales, where
+    each wavelet variance has a few degrees of freedom; a margin under the price of one
+    parameter (:func:`penalty`) is one the criterion itself does not count as evidence.
+    The note gives K and its interval under the rival, so K = 0 never stands alone.
+    """
+    if "RW" in sol.keys or not set(RW_RIVALS) & set(sol.keys):
+        return None
+    score = _score(criterion, n)
+    rivals = [t for t in tried if "RW" in t.keys]
+    if not rivals:
+        return None
+    rival = min(rivals, key=score)
+    margin, price = score(rival) - score(sol), penalty(criterion, n)
+    if margin >= price:
+        return None
+    k = next(p for p in _parameters(rival, rate, unit, ci) if p.name == "K")
+    held = "/".join(x for x in RW_RIVALS if x in sol.keys)
+    return (
+        f"{name_of(rival.keys)} is within {margin:.2g} of the chosen {name_of(sol.keys)} by "
+        f"{criterion.upper()} (one parameter costs {price:.2g}): the data barely tell its "
+        f"{held} from a random walk, which differ only at the longest scales; under "
+        f"{name_of(rival.keys)}, K = {k.value:.4g} {k.unit} "
+        f"[{k.interval[0]:.4g}, {k.interval[1]:.4g}] ({ci:.1%})"
+    )
+
+
 def build(
     sol: est.Solution,
     tried: list[est.Solution],
@@ -300,6 +357,7 @@ def build(
     ci: float,
     robust: bool,
     horizon: float,
+    criterion: str = DEFAULT_CRITERION,
 ) -> ImuModel:
     """The result of one axis from its chosen solution and the table of all fitted."""
     sol = est.order_gm(sol)
@@ -322,6 +380,9 @@ def build(
             f"the chosen model {name_of(sol.keys)} misfits the wavelet variance "
             f"(objective {sol.objective:.3g} on {wv.tau.size} scales): a process is missing"
         )
+    rw_note = random_walk_note(sol, tried, criterion, n, rate, unit, ci)
+    if rw_note:
+        notes.append(rw_note)
     return ImuModel(
         name_of(sol.keys),
         tuple(_parameters(sol, rate, unit, ci)),
@@ -403,4 +464,4 @@ def fit_wv(
             f"The record is too short: {wv.tau.size} wavelet scales (a model needs 3)."
         )
     sol, tried = choose(wv, models, criterion)
-    return build(sol, tried, wv, rate, unit, ci, robust, horizon)
+    return build(sol, tried, wv, rate, unit, ci, robust, horizon, criterion)

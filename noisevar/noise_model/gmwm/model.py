@@ -138,6 +138,9 @@ class ImuModel:
         Every model fitted, with its criterion; the chosen one flagged.
     filter_bias : FilterBias
         The bias for a filter (GM states, or the equivalent random walk).
+    notes : tuple of str
+        A misfit of the chosen model; a model with a random walk nearly as good as a
+        chosen one without (its K and interval: ``fitting.random_walk_note``).
     """
 
     model: str
