@@ -32,6 +32,13 @@ def _fit(digest: str, rate: float, unit: str, regimes: str, _z: np.ndarray) -> I
     return fit
 
 
+@st.cache_data(max_entries=32, show_spinner="Fitting the composite model (K)...")
+def _composite(digest: str, rate: float, unit: str, _z: np.ndarray):
+    """The column's composite fit, whose bias gives the files' K (``imu_model``)."""
+    (fit,) = exports.composite_fits([_z], [rate], unit=unit)
+    return fit
+
+
 def _default(declared: str, target: str) -> str:
     """The Signal page's unit when it has the dimension of ``target``, else ``target``."""
     try:
@@ -109,12 +116,21 @@ def consumer_files(sig: LoadedSignal, rate: float, regimes: str) -> None:
         }
         axes = [("gyroscope", c, fits[c, g_unit]) for c in gyro]
         axes += [("accelerometer", c, fits[c, a_unit]) for c in accel]
+        bias = {}
+        if regimes == "all":  # the composite fit reads the whole record
+            bias = {
+                key: [
+                    _composite(k, r, u, z) for c in cols for k, r, z in [imu_column(sig, c, rate)]
+                ]
+                for key, cols, u in (("gyro_bias", gyro, g_unit), ("accel_bias", accel, a_unit))
+            }
         model = exports.imu_model(
             [fits[c, g_unit] for c in gyro],
             [fits[c, a_unit] for c in accel],
             variant=variant,
             gyro_unit=g_unit,
             accel_unit=a_unit,
+            **bias,
         )
         said = {c: _said(sig, c, regimes) for _, c, _ in axes}
         model = replace(model, verdicts={c: a.verdict for c, a in said.items() if a.verdict})
@@ -126,6 +142,7 @@ def consumer_files(sig: LoadedSignal, rate: float, regimes: str) -> None:
                 f"K {s.K:.4g} {units.term_unit(s.unit, 'K')}"
                 + (f"; factors over the best fit: {f}" if f else "")
             )
+        st.caption(f"K from {model.k_from}.")
         for note in model.notes:
             st.caption(note)
         _downloads(files, variant)

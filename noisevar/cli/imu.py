@@ -138,6 +138,7 @@ def _exports(
         [fits[c] for c in args.accel],
         variant="conservative" if args.conservative else "best",
         gnss=_gnss(args),
+        **_bias_fits(args, fits, data, scales),
     )
     answers = column_answers(args, data, scales)  # each file's header says each verdict
     model = replace(model, verdicts={c: a.verdict for _, c, a in answers if a.verdict})
@@ -145,6 +146,21 @@ def _exports(
     paths = [str(p) for p in exports.write_exports(files, args.out)]
     report = None if args.no_report else write_report(args, model, files, fits, answers)
     return paths, model.to_dict(), report
+
+
+def _bias_fits(args: argparse.Namespace, fits: dict, data: dict, scales: dict) -> dict:
+    """The composite fits K is taken from (``imu_model``'s ``gyro_bias``/``accel_bias``), of
+    the same scaled columns; none when the fits ran on the still regimes only (the
+    composite fit reads the whole record)."""
+    from noisevar.noise_model import exports
+
+    if any(fits[c].regimes != "all" for c in [*args.gyro, *args.accel]):
+        return {}
+    out = {}
+    for key, cols in (("gyro_bias", args.gyro), ("accel_bias", args.accel)):
+        columns = [np.asarray(data[c], dtype=float) * scales[c] for c in cols]
+        out[key] = exports.composite_fits(columns, [fits[c].rate for c in cols])
+    return out
 
 
 def _gnss(args: argparse.Namespace) -> dict[str, float]:
