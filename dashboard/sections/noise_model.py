@@ -233,7 +233,10 @@ def kalibr_export(sig: LoadedSignal, s: NoiseModelSettings) -> None:
     """Kalibr imu.yaml from the gyroscope and accelerometer columns of the loaded file."""
     cols = imu_columns(sig)
     _topic_rates(sig)
-    c1, c2, c3 = st.columns([2, 2, 1])
+    if sig.topics is None:
+        c1, c2, c3 = st.columns([2, 2, 1])
+    else:  # topic/field names: a picker a row, or three chips overflow a half-width box
+        c1, c2, c3 = st.container(), st.container(), st.columns([1, 3])[0]
     gyro = c1.multiselect("Gyroscope columns (rad/s)", cols, key="nm_gyro")
     accel = c2.multiselect("Accelerometer columns (m/s²)", cols, key="nm_accel")
     inflation = c3.number_input(
