@@ -191,3 +191,28 @@ def test_one_parse_refuses_what_one_topic_refuses(topics, said):
     with pytest.raises(NoisevarError, match=said) as err:
         load_topics(PX4, topics)
     assert "topics:" in str(err.value)  # the listing, as load_log gives it
+
+
+BIN = Path(__file__).resolve().parents[1] / "data" / "ardupilot_pymavlink_test.BIN"
+
+
+def test_dataflash_topics_from_one_opening_equal_each_read_alone(monkeypatch):
+    """A DataFlash log is opened (and indexed by pymavlink) once for several messages."""
+    from noisevar.io.load import load_log_tables
+    from noisevar.io.logs import dataflash
+
+    opened = []
+    real = dataflash._open
+
+    def counted(path):
+        opened.append(path)
+        return real(path)
+
+    topics = ["IMU", "IMU2", "BARO", "GPS"]
+    monkeypatch.setattr(dataflash, "_open", counted)
+    many = load_log_tables(BIN, topics)
+    assert len(opened) == 1 and list(many) == topics
+    monkeypatch.setattr(dataflash, "_open", real)
+    _same_tables(many, BIN)
+    with pytest.raises(NoisevarError, match="no topic 'IMU9' in .*; topics: AETR"):
+        load_log_tables(BIN, ["IMU", "IMU9"])
