@@ -169,7 +169,7 @@ def _k_from(bias: Mapping[str, Sequence[CompositeModel]]) -> str:
     )
 
 
-def _sensor(  # long: best and conservative sets share the units and the axes' maxima
+def _sensor(
     fits: list[InertialNoise],
     name: str,
     variant: str,
