@@ -12,7 +12,7 @@ from dataclasses import replace
 import numpy as np
 import streamlit as st
 
-from dashboard.sections.noise_model import imu_column
+from dashboard.sections.noise_model import composite_cached, imu_column
 from dashboard.state import LoadedSignal, initial, signal_units
 from dashboard.widgets import guarded
 from noisevar import units
@@ -29,13 +29,6 @@ _LABELS = {"best": "Best fit (default)", "conservative": "Conservative (overboun
 def _fit(digest: str, rate: float, unit: str, regimes: str, _z: np.ndarray) -> InertialNoise:
     fit = inertial_noise(_z, rate, unit=unit, regimes=regimes)
     assert isinstance(fit, InertialNoise)
-    return fit
-
-
-@st.cache_data(max_entries=32, show_spinner="Fitting the composite model (K)...")
-def _composite(digest: str, rate: float, unit: str, _z: np.ndarray):
-    """The column's composite fit, whose bias gives the files' K (``imu_model``)."""
-    (fit,) = exports.composite_fits([_z], [rate], unit=unit)
     return fit
 
 
@@ -120,7 +113,9 @@ def consumer_files(sig: LoadedSignal, rate: float, regimes: str) -> None:
         if regimes == "all":  # the composite fit reads the whole record
             bias = {
                 key: [
-                    _composite(k, r, u, z) for c in cols for k, r, z in [imu_column(sig, c, rate)]
+                    composite_cached(k, r, u, z)
+                    for c in cols
+                    for k, r, z in [imu_column(sig, c, rate)]
                 ]
                 for key, cols, u in (("gyro_bias", gyro, g_unit), ("accel_bias", accel, a_unit))
             }

@@ -103,12 +103,15 @@ def _column_units(
     return out
 
 
-def _kalibr(args: argparse.Namespace, fits: dict) -> str:
+def _kalibr(args: argparse.Namespace, fits: dict, data: dict, scales: dict) -> str:
     from noisevar.noise_model.kalibr import kalibr_imu, write_kalibr
 
     _need_sensors(args, "--kalibr")
     imu = kalibr_imu(
-        [fits[c] for c in args.gyro], [fits[c] for c in args.accel], inflation=args.inflation
+        [fits[c] for c in args.gyro],
+        [fits[c] for c in args.accel],
+        inflation=args.inflation,
+        **_bias_fits(args, fits, data, scales),
     )
     write_kalibr(imu, args.kalibr)
     return args.kalibr
@@ -256,8 +259,8 @@ def _cmd_imu(args: argparse.Namespace) -> int:
         fitted = inertial_noise(stacked, rates[names[0]], unit=unit, **regimes_of(args))
         fits.update(zip(names, fitted, strict=True))
     fits = {c: fits[c] for c in data}
-    written = _kalibr(args, fits) if args.kalibr else None
     scales = {c: col_units[c][0] for c in data}
+    written = _kalibr(args, fits, data, scales) if args.kalibr else None
     files, model, report = _exports(args, fits, data, scales) if args.export else ([], None, None)
     thermal = temperature_models(data, temp, rate, col_units) if temp is not None else {}
     if args.format == "json":

@@ -266,3 +266,19 @@ def test_conservative_k_from_the_composite_fit_still_overbounds(axes) -> None:
     assert safe.gyro.factors["K"] == pytest.approx(safe.gyro.K / best.gyro.K, rel=TOL)
     with pytest.raises(NoisevarError, match="1 composite fits for 2 axes"):
         exports.imu_model(allan_g, allan_a, gyro_bias=comp_g[:1])
+
+
+def test_kalibr_imu_takes_the_same_k_as_the_exports(axes) -> None:
+    """The Kalibr block (``kalibr_imu``, CLI --kalibr, the page's imu.yaml) and the exports'
+    Kalibr file hold the same K from the same composite fits."""
+    from noisevar.noise_model.kalibr import kalibr_imu
+
+    allan_g, allan_a, comp_g, comp_a, _ = axes
+    # the same unit for both writers: kalibr_imu writes the fits' unit as it is
+    g = [inertial_noise(z, 100.0, unit="rad/s") for z in axes[4]]
+    imu = kalibr_imu(g, allan_a, gyro_bias=comp_g, accel_bias=comp_a)
+    m = exports.imu_model(g, allan_a, gyro_bias=comp_g, accel_bias=comp_a, accel_unit="m/s^2")
+    assert imu.gyroscope_random_walk == pytest.approx(m.gyro.K, rel=TOL)
+    assert any(n.startswith("random walks from: the composite fit") for n in imu.notes)
+    plain = kalibr_imu(g, allan_a)
+    assert plain.gyroscope_random_walk == max(a.rate_random_walk for a in g)

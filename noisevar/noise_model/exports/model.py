@@ -27,7 +27,7 @@ from noisevar import units
 from noisevar.errors import NoisevarError
 from noisevar.noise_model.gmwm.model import ImuModel as CompositeModel
 from noisevar.noise_model.inertial import InertialNoise
-from noisevar.noise_model.kalibr import imu_rate
+from noisevar.noise_model.kalibr import composite_k, composite_k_note, imu_rate
 from noisevar.noise_model.overbound import NK, overbound
 
 #: The SI unit each sensor's terms are exported in.
@@ -144,31 +144,6 @@ def _axes(fits: InertialNoise | Sequence[InertialNoise], name: str) -> list[Iner
     return axes
 
 
-def _composite_k(fits: list[InertialNoise], bias: Sequence[CompositeModel], name: str) -> float:
-    """The largest over the axes of the composite fits' bias as one random walk."""
-    if len(bias) != len(fits):
-        raise NoisevarError(
-            f"{name}: {len(bias)} composite fits for {len(fits)} axes: give one per axis, "
-            "of the same data in the same order"
-        )
-    return max(b.filter_bias.random_walk for b in bias)
-
-
-def _k_from(bias: Mapping[str, Sequence[CompositeModel]]) -> str:
-    """The header's words for a K taken from the composite fits."""
-    models = "; ".join(
-        f"{name} {', '.join(dict.fromkeys(b.model for b in fits))}" for name, fits in bias.items()
-    )
-    horizons = ", ".join(
-        dict.fromkeys(f"{b.filter_bias.horizon:g}" for fits in bias.values() for b in fits)
-    )
-    return (
-        f"the composite fit (GMWM, noisevar.fit_imu_model; models: {models}): its bias as "
-        "one random walk, the largest over the axes: K itself for a WN+RW model, else "
-        f"K_eq = sqrt(3 AVAR_bias(T) / T) over T = {horizons} s"
-    )
-
-
 def _sensor(
     fits: list[InertialNoise],
     name: str,
@@ -188,7 +163,7 @@ def _sensor(
     if f != 1.0:
         notes.append(f"{name}: converted from {source} to {target} (x{f:.10g}, by pint)")
     k_best = (
-        max(a.rate_random_walk for a in fits) if bias is None else _composite_k(fits, bias, name)
+        max(a.rate_random_walk for a in fits) if bias is None else composite_k(fits, bias, name)
     )
     if variant == "best":
         n = max(max(a.random_walk, a.white_level) for a in fits)
@@ -299,7 +274,7 @@ def imu_model(
         if key not in ("position", "velocity") or not value > 0:
             raise NoisevarError(f"gnss takes positive 'position' and 'velocity' stds, not {key!r}")
     notes += gn + an
-    k_from = _k_from(bias) if bias else K_FROM_ALLAN
+    k_from = composite_k_note(bias) if bias else K_FROM_ALLAN
     if len(bias) == 1:
         k_from += f"; the {'accelerometer' if 'gyroscope' in bias else 'gyroscope'}'s: " + (
             K_FROM_ALLAN
