@@ -19,9 +19,16 @@
     topics (``sensor_gyro_fifo``, ``sensor_accel_fifo``), from the log to every export
     with ``noisevar imu --topic sensor_gyro_fifo --topic sensor_accel_fifo --export all``.
 
-    python benchmarks/exports.py                 # every part (part b: ~20 min on 2 cores)
+(d) The exports' K: on allan_variance_ros's configuration (``imu_k_bias.py``'s records: 3 h at
+    400 Hz, seeds 0 .. ``--seeds``-1, 6 axes each), K per axis and in the files (the largest
+    of 3 axes) from the IEEE-952 Allan fit and from the composite fit (GMWM's bias as one
+    random walk, ``FilterBias.random_walk``), both through ``exports.imu_model`` on the same
+    records; N per axis from both fits; the conservative set's K factor.
+
+    python benchmarks/exports.py                 # parts a-c (part b: ~20 min on 2 cores)
     python benchmarks/exports.py --parts bc      # the runs against the field only
     python benchmarks/exports.py --parts a --runs 50
+    python benchmarks/exports.py --parts d --seeds 30
 """
 
 from __future__ import annotations
@@ -233,6 +240,20 @@ def _run_noisevar(path: Path, out: Path, ulog: bool = False) -> tuple[float, dic
     return seconds, k
 
 
+def _composite_axes(path: Path) -> dict[str, list[float]]:
+    """Each axis's K error from the composite fit (``exports.composite_fits``: the fits whose
+    bias as one random walk gives the files' K)."""
+    from noisevar.noise_model.exports import composite_fits
+
+    x = np.load(path)
+    out = {}
+    for sensor, names in NPY_COLUMNS.items():
+        cols = [x[:, int(c.removeprefix("col"))] for c in names]  # col0 .. col5
+        fits = composite_fits(cols, [SIM_RATE] * len(cols))
+        out[sensor] = [f.filter_bias.random_walk / TRUTH[sensor]["K"] - 1 for f in fits]
+    return out
+
+
 def _run_ava(path: Path, out: Path) -> tuple[float, dict] | str:
     try:
         from allan_variance_analyzer import AllanVarianceAnalyzer
@@ -259,6 +280,7 @@ def part_b() -> list[str]:
         (root / "ava").mkdir()
         nv_s, nv = _run_noisevar(path, root / "nv")
         ava = _run_ava(path, root / "ava")
+        comp = _composite_axes(path)  # not timed: the same fits the export ran
     mb = 6 * SIM_RATE * SIM_SECONDS * 8 / 1e6
     lines = [
         f"## (b) allan_variance_ros's simulator: {SIM_SECONDS:g} s at {SIM_RATE:g} Hz, 6 axes "
@@ -286,7 +308,14 @@ def part_b() -> list[str]:
         for s in ("accelerometer", "gyroscope")
         for t in ("N", "K")
     )
-    lines.append(f"| noisevar, each axis's fitted term | | x, y, z | {per_axis} |")
+    lines.append(f"| noisevar, each axis's IEEE-952 fit | | x, y, z | {per_axis} |")
+    lines.append(
+        "| noisevar, each axis's composite fit (the files' K is its largest) | | x, y, z | "
+        + "".join(
+            f"| {', '.join(f'{100 * e:+.1f}' for e in comp[s])} % | "
+            for s in ("accelerometer", "gyroscope")
+        )
+    )
     if isinstance(ava, str):
         lines.append(f"| allan-variance-analyzer 1.0.4 | - | {ava} | | | | |")
     else:
@@ -352,10 +381,121 @@ def part_c() -> list[str]:
     ]
 
 
+def _k_runs(seeds: int) -> list[dict]:
+    """Per seed and sensor: each axis's K and N from both fits, and the files' K (part d)."""
+    from imu_k_bias import RATE, _records
+
+    from noisevar.noise_model import exports, fit_imu_model
+
+    rows = []
+    for seed in range(seeds):
+        x, truth = _records(seed)
+        ieee = inertial_noise(x.T, RATE)
+        comp = fit_imu_model(x, RATE)
+        by = {"gyroscope": slice(3, 6), "accelerometer": slice(0, 3)}
+        assert [t[0] for t in truth] == ["accelerometer"] * 3 + ["gyroscope"] * 3
+        files = {}
+        for variant in ("best", "conservative"):
+            for src, bias in (("ieee", None), ("composite", comp)):
+                kw = {} if bias is None else {"gyro_bias": bias[3:], "accel_bias": bias[:3]}
+                files[variant, src] = exports.imu_model(ieee[3:], ieee[:3], variant=variant, **kw)
+        for sensor, sl in by.items():
+            nd, kd = truth[sl.start][2], truth[sl.start][3]
+            row = dict(seed=seed, sensor=sensor, n_true=nd, k_true=kd)
+            for j, (a, c) in enumerate(zip(ieee[sl], comp[sl], strict=True)):
+                row[f"ieee_k{j}"] = a.rate_random_walk / kd - 1
+                row[f"comp_k{j}"] = c.filter_bias.random_walk / kd - 1
+                row[f"ieee_n{j}"] = a.random_walk / nd - 1
+                row[f"comp_n{j}"] = c.value("N") / nd - 1
+                row[f"model{j}"] = c.model
+            for (variant, src), m in files.items():
+                terms = m.sensor(sensor)
+                row[f"{variant}_{src}_K"] = terms.K / kd - 1
+                row[f"{variant}_{src}_N"] = terms.N / nd - 1
+            rows.append(row)
+        print(f"part d: seed {seed} done", file=sys.stderr)
+    return rows
+
+
+def _dist(e: np.ndarray) -> str:
+    e = 100 * np.asarray(e, dtype=float)
+    q5, q95 = np.percentile(e, [5, 95])
+    rms = math.sqrt(float(np.mean(e**2)))
+    return (
+        f"{np.median(e):+.2f} % | {q5:+.1f}, {q95:+.1f} % | {e.min():+.1f}, {e.max():+.1f} % "
+        f"| {rms:.1f} % | {int(np.sum(e < -30))}"
+    )
+
+
+def part_d(seeds: int) -> list[str]:
+    """The exports' K from the Allan fit and from the composite fit, same records."""
+    t0, c0 = time.perf_counter(), time.process_time()
+    rows = _k_runs(seeds)
+    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+    load = os.getloadavg()
+    lines = [
+        f"## (d) The exports' K: Allan fit against composite fit, {seeds} seeds x 6 axes "
+        "(allan_variance_ros's configuration, 3 h at 400 Hz)",
+        "",
+        "Errors against the truth. Per axis: every axis of every seed. In the files: the "
+        "value every consumer gets (the largest of the sensor's 3 axes), one per seed. "
+        "Allan: the IEEE-952 NNLS fit (`inertial_noise`); composite: GMWM, model chosen "
+        "(`fit_imu_model`), K as `FilterBias.random_walk`.",
+        "",
+        "| sensor | what | Allan median | 5 %, 95 % | worst low, high | rms | below -30 % "
+        "| composite median | 5 %, 95 % | worst low, high | rms | below -30 % |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for sensor in ("accelerometer", "gyroscope"):
+        rs = [r for r in rows if r["sensor"] == sensor]
+
+        def col(key: str, rs=rs) -> np.ndarray:
+            return np.array([r[key] for r in rs])
+
+        def axes(key: str, rs=rs) -> np.ndarray:
+            return np.array([r[f"{key}{j}"] for r in rs for j in range(3)])
+
+        pairs = (
+            ("K per axis", axes("ieee_k"), axes("comp_k")),
+            ("K in the files (best)", col("best_ieee_K"), col("best_composite_K")),
+            ("N per axis", axes("ieee_n"), axes("comp_n")),
+            ("N in the files (both: the Allan fit's)", col("best_ieee_N"), col("best_composite_N")),
+            (
+                "K in the conservative files",
+                col("conservative_ieee_K"),
+                col("conservative_composite_K"),
+            ),
+        )
+        for what, a, b in pairs:
+            lines.append(f"| {sensor} | {what} | {_dist(a)} | {_dist(b)} |")
+        models = [r[f"model{j}"] for r in rs for j in range(3)]
+        lines.append(
+            f"| {sensor} | composite models chosen | | "
+            + ", ".join(f"{m} {models.count(m)}" for m in sorted(set(models)))
+            + " |"
+        )
+    lines += [
+        "",
+        f"Both fits and the 4 models per seed: {cpu:.0f} CPU-s, {wall:.0f} s wall for {seeds} "
+        f"seeds (simulation included), load average after {load[0]:.1f} (1 min) on "
+        f"{os.cpu_count()} cores (shared machine).",
+        "",
+    ]
+    out = OUT.with_name("exports_k_axes.csv")
+    import csv
+
+    with out.open("w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    return lines
+
+
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--parts", default="abc")
     p.add_argument("--runs", type=int, default=50)
+    p.add_argument("--seeds", type=int, default=30, help="part d's seeds")
     args = p.parse_args()
     lines = ["# Filter configs (benchmarks/exports.py)", ""]
     if "a" in args.parts:
@@ -364,6 +504,8 @@ def main() -> None:
         lines += part_b()
     if "c" in args.parts:
         lines += part_c()
+    if "d" in args.parts:
+        lines += part_d(args.seeds)
     text = "\n".join(lines)
     print(text)
     if args.parts == "abc":

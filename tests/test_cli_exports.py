@@ -80,6 +80,15 @@ def test_export_all_then_conservative(capsys, imu_csv, tmp_path) -> None:
     assert "CONSERVATIVE" in text
     safe_k = exports.consumer("kalibr").parse(text)
     assert safe_k["gyroscope_random_walk"] >= kalibr["gyroscope_random_walk"]
+    # K from the composite fit of the same columns (its bias as one random walk)
+    said = "K (bias random walk) from: the composite fit (GMWM"
+    assert said in (out / "imu.yaml").read_text() and said in text
+    assert report["model"]["k_from"].startswith("the composite fit")
+    from noisevar.noise_model import fit_imu_model
+
+    gx = np.loadtxt(imu_csv, delimiter=",", skiprows=1)[:, 0] * math.pi / 180
+    k_eq = fit_imu_model(gx, RATE).filter_bias.random_walk
+    assert kalibr["gyroscope_random_walk"] == pytest.approx(k_eq, rel=1e-9)
 
 
 @pytest.mark.parametrize(

@@ -12,7 +12,7 @@ from dataclasses import replace
 import numpy as np
 import streamlit as st
 
-from dashboard.sections.noise_model import imu_column
+from dashboard.sections.noise_model import composite_cached, imu_column
 from dashboard.state import LoadedSignal, initial, signal_units
 from dashboard.widgets import guarded
 from noisevar import units
@@ -109,12 +109,23 @@ def consumer_files(sig: LoadedSignal, rate: float, regimes: str) -> None:
         }
         axes = [("gyroscope", c, fits[c, g_unit]) for c in gyro]
         axes += [("accelerometer", c, fits[c, a_unit]) for c in accel]
+        bias = {}
+        if regimes == "all":  # the composite fit reads the whole record
+            bias = {
+                key: [
+                    composite_cached(k, r, u, z)
+                    for c in cols
+                    for k, r, z in [imu_column(sig, c, rate)]
+                ]
+                for key, cols, u in (("gyro_bias", gyro, g_unit), ("accel_bias", accel, a_unit))
+            }
         model = exports.imu_model(
             [fits[c, g_unit] for c in gyro],
             [fits[c, a_unit] for c in accel],
             variant=variant,
             gyro_unit=g_unit,
             accel_unit=a_unit,
+            **bias,
         )
         said = {c: _said(sig, c, regimes) for _, c, _ in axes}
         model = replace(model, verdicts={c: a.verdict for c, a in said.items() if a.verdict})
@@ -126,6 +137,7 @@ def consumer_files(sig: LoadedSignal, rate: float, regimes: str) -> None:
                 f"K {s.K:.4g} {units.term_unit(s.unit, 'K')}"
                 + (f"; factors over the best fit: {f}" if f else "")
             )
+        st.caption(f"K from {model.k_from}.")
         for note in model.notes:
             st.caption(note)
         _downloads(files, variant)

@@ -16,7 +16,7 @@ from noisevar.errors import NoisevarError
 from noisevar.estimators.answer import WHY_DIFFERENT, record_answer
 from noisevar.estimators.regimes import DEFAULT_REGIMES, still_used, variance_for
 from noisevar.figures.noise_model import allan_figure
-from noisevar.noise_model import AllanResult, InertialNoise, allan, inertial_noise
+from noisevar.noise_model import AllanResult, InertialNoise, allan, exports, inertial_noise
 from noisevar.noise_model.allan import DATA_KINDS, KINDS
 from noisevar.noise_model.kalibr import kalibr_imu
 from noisevar.noise_model.simulate import simulate_inertial
@@ -229,11 +229,22 @@ def _topic_rates(sig: LoadedSignal) -> None:
     )
 
 
+@st.cache_data(max_entries=32, show_spinner="Fitting the composite model (K)...")
+def composite_cached(digest: str, rate: float, unit: str, _z: np.ndarray):
+    """A column's composite fit, whose bias gives the files' K (``exports.imu_model``,
+    ``kalibr_imu``)."""
+    (fit,) = exports.composite_fits([_z], [rate], unit=unit)
+    return fit
+
+
 def kalibr_export(sig: LoadedSignal, s: NoiseModelSettings) -> None:
     """Kalibr imu.yaml from the gyroscope and accelerometer columns of the loaded file."""
     cols = imu_columns(sig)
     _topic_rates(sig)
-    c1, c2, c3 = st.columns([2, 2, 1])
+    if sig.topics is None:
+        c1, c2, c3 = st.columns([2, 2, 1])
+    else:  # topic/field names: a picker a row, or three chips overflow a half-width box
+        c1, c2, c3 = st.container(), st.container(), st.columns([1, 3])[0]
     gyro = c1.multiselect("Gyroscope columns (rad/s)", cols, key="nm_gyro")
     accel = c2.multiselect("Accelerometer columns (m/s²)", cols, key="nm_accel")
     inflation = c3.number_input(
@@ -248,8 +259,18 @@ def kalibr_export(sig: LoadedSignal, s: NoiseModelSettings) -> None:
             for c in dict.fromkeys(gyro + accel)
             for key, rate, z in [imu_column(sig, c, s.rate)]
         }
+        bias = {}
+        if s.regimes == "all":  # the composite fit reads the whole record
+            bias = {
+                key: [
+                    composite_cached(k, r, "", z)
+                    for c in cols
+                    for k, r, z in [imu_column(sig, c, s.rate)]
+                ]
+                for key, cols in (("gyro_bias", gyro), ("accel_bias", accel))
+            }
         imu = kalibr_imu(
-            [fits[c] for c in gyro], [fits[c] for c in accel], inflation=float(inflation)
+            [fits[c] for c in gyro], [fits[c] for c in accel], inflation=float(inflation), **bias
         )
         st.code(imu.to_yaml(), language="yaml")
         st.download_button(

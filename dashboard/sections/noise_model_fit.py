@@ -204,7 +204,7 @@ def render_fit(
         if t.regimes != DEFAULT_REGIMES:
             st.caption("Fitted on the still stretch; below, the filter runs on the whole record.")
         run = run_tuned(t, z)
-        named = f"{column or 'record'}" + (f" ({unit})" if unit and unit != "u" else "")
+        named = f"{column or 'record'} ({unit or 'u'})"  # a bare field ("x") names no quantity
         show_figure(tuned_run_figure(run, z, dt=t.dt, y_title=named), key=f"{KEY}_run")
         show_figure(nis_figure(run, dt=t.dt), key=f"{KEY}_nis")
         show_figure(innovation_acf_figure(run), key=f"{KEY}_acf")

@@ -103,12 +103,15 @@ def _column_units(
     return out
 
 
-def _kalibr(args: argparse.Namespace, fits: dict) -> str:
+def _kalibr(args: argparse.Namespace, fits: dict, data: dict, scales: dict) -> str:
     from noisevar.noise_model.kalibr import kalibr_imu, write_kalibr
 
     _need_sensors(args, "--kalibr")
     imu = kalibr_imu(
-        [fits[c] for c in args.gyro], [fits[c] for c in args.accel], inflation=args.inflation
+        [fits[c] for c in args.gyro],
+        [fits[c] for c in args.accel],
+        inflation=args.inflation,
+        **_bias_fits(args, fits, data, scales),
     )
     write_kalibr(imu, args.kalibr)
     return args.kalibr
@@ -138,6 +141,7 @@ def _exports(
         [fits[c] for c in args.accel],
         variant="conservative" if args.conservative else "best",
         gnss=_gnss(args),
+        **_bias_fits(args, fits, data, scales),
     )
     answers = column_answers(args, data, scales)  # each file's header says each verdict
     model = replace(model, verdicts={c: a.verdict for _, c, a in answers if a.verdict})
@@ -145,6 +149,21 @@ def _exports(
     paths = [str(p) for p in exports.write_exports(files, args.out)]
     report = None if args.no_report else write_report(args, model, files, fits, answers)
     return paths, model.to_dict(), report
+
+
+def _bias_fits(args: argparse.Namespace, fits: dict, data: dict, scales: dict) -> dict:
+    """The composite fits K is taken from (``imu_model``'s ``gyro_bias``/``accel_bias``), of
+    the same scaled columns; none when the fits ran on the still regimes only (the
+    composite fit reads the whole record)."""
+    from noisevar.noise_model import exports
+
+    if any(fits[c].regimes != "all" for c in [*args.gyro, *args.accel]):
+        return {}
+    out = {}
+    for key, cols in (("gyro_bias", args.gyro), ("accel_bias", args.accel)):
+        columns = [np.asarray(data[c], dtype=float) * scales[c] for c in cols]
+        out[key] = exports.composite_fits(columns, [fits[c].rate for c in cols])
+    return out
 
 
 def _gnss(args: argparse.Namespace) -> dict[str, float]:
@@ -240,8 +259,8 @@ def _cmd_imu(args: argparse.Namespace) -> int:
         fitted = inertial_noise(stacked, rates[names[0]], unit=unit, **regimes_of(args))
         fits.update(zip(names, fitted, strict=True))
     fits = {c: fits[c] for c in data}
-    written = _kalibr(args, fits) if args.kalibr else None
     scales = {c: col_units[c][0] for c in data}
+    written = _kalibr(args, fits, data, scales) if args.kalibr else None
     files, model, report = _exports(args, fits, data, scales) if args.export else ([], None, None)
     thermal = temperature_models(data, temp, rate, col_units) if temp is not None else {}
     if args.format == "json":

@@ -182,6 +182,56 @@ def load_table(
     return _parse(head, name, path, size)
 
 
+def load_log_tables(
+    source: str | os.PathLike | bytes,
+    topics: Sequence[str],
+    name: str | None = None,
+    *,
+    max_bytes: int | None = MAX_BYTES,
+) -> dict[str, LoadedTable]:
+    """Several topics of one log, each as :func:`load_table` reads it, from one pass over the
+    log where its reader can (:func:`noisevar.io.logs.load_logs`).
+
+    Parameters
+    ----------
+    source : str, path or bytes
+        The log, or its bytes (an upload: written once to a private temporary file).
+    topics : sequence of str
+        The topics (order kept, each once).
+    name : str, optional
+        File name (default: the path's name).
+    max_bytes : int or None
+        Refuse larger uploads (:data:`MAX_BYTES`); a log given by path is streamed.
+
+    Returns
+    -------
+    dict of str to LoadedTable
+
+    Raises
+    ------
+    NoisevarError
+        Not a log, unreadable, a topic not in the log.
+    """
+    from noisevar.io import logs
+
+    wanted = list(dict.fromkeys(topics))
+    if isinstance(source, (bytes, bytearray, memoryview)):
+        raw = bytes(source)
+        name = name or "upload"
+        check_bytes(len(raw), name, max_bytes)
+        if logs.reader_for(name, raw[:64]) is None:
+            _no_topic(name, wanted[0] if wanted else "")
+        with _log_file(raw, name) as path:
+            return logs.load_logs(path, wanted, name)
+    path = Path(source)
+    name = name or path.name
+    if not logs.is_ros2_dir(path):
+        check_size(path, name, None)
+        if logs.reader_for(name, _read_head(path, name)[:64]) is None:
+            _no_topic(name, wanted[0] if wanted else "")
+    return logs.load_logs(path, wanted, name)
+
+
 def _no_topic(name: str, topic: str | None) -> None:
     if topic is not None:
         raise NoisevarError(

@@ -12,11 +12,14 @@ import math
 import os
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from noisevar.errors import NoisevarError
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes
 from noisevar.noise_model.inertial import InertialNoise
+
+if TYPE_CHECKING:
+    from noisevar.noise_model.gmwm.model import ImuModel as CompositeModel
 
 #: Keys of the file, in Kalibr's order, with their comments.
 FIELDS = {
@@ -108,6 +111,35 @@ def _worst(fits: InertialNoise | Sequence[InertialNoise], name: str) -> float:
     return max(a.term(name).value for a in _axes(fits))
 
 
+def composite_k(
+    fits: InertialNoise | Sequence[InertialNoise], bias: Sequence[CompositeModel], name: str
+) -> float:
+    """The largest over the axes of the composite fits' bias as one random walk
+    (``FilterBias.random_walk``: K itself for a WN+RW model, else K_eq over the fit's
+    horizon); ``bias`` holds one composite fit per axis of ``fits``, of the same data."""
+    if len(bias) != len(_axes(fits)):
+        raise NoisevarError(
+            f"{name}: {len(bias)} composite fits for {len(_axes(fits))} axes: give one per "
+            "axis, of the same data in the same order"
+        )
+    return max(b.filter_bias.random_walk for b in bias)
+
+
+def composite_k_note(bias: dict[str, Sequence[CompositeModel]]) -> str:
+    """Where a K taken from the composite fits comes from, in words (files' headers)."""
+    models = "; ".join(
+        f"{name} {', '.join(dict.fromkeys(b.model for b in fits))}" for name, fits in bias.items()
+    )
+    horizons = ", ".join(
+        dict.fromkeys(f"{b.filter_bias.horizon:g}" for fits in bias.values() for b in fits)
+    )
+    return (
+        f"the composite fit (GMWM, noisevar.fit_imu_model; models: {models}): its bias as "
+        "one random walk, the largest over the axes: K itself for a WN+RW model, else "
+        f"K_eq = sqrt(3 AVAR_bias(T) / T) over T = {horizons} s"
+    )
+
+
 def _density(fits: InertialNoise | Sequence[InertialNoise], key: str) -> tuple[float, list[str]]:
     """The white-noise density: the largest of N and of the white level over the axes.
 
@@ -165,6 +197,8 @@ def kalibr_imu(
     *,
     inflation: float = 1.0,
     rostopic: str = "/imu0",
+    gyro_bias: Sequence[CompositeModel] | None = None,
+    accel_bias: Sequence[CompositeModel] | None = None,
 ) -> KalibrImu:
     """Kalibr's values from the fitted terms of the gyroscope and accelerometer axes.
 
@@ -177,6 +211,9 @@ def kalibr_imu(
         values, e.g. by 10, for the unmodelled effects of a moving IMU).
     rostopic : str
         The IMU's topic.
+    gyro_bias, accel_bias : sequence of noisevar.noise_model.gmwm.ImuModel, optional
+        Composite fits of the same axes (same data, order): the random walks are then
+        their bias as one random walk (:func:`composite_k`), as the consumer exports'.
 
     Returns
     -------
@@ -194,14 +231,20 @@ def kalibr_imu(
     regimes, regime_notes = _regimes(gyro, accel)
     accel_n, accel_notes = _density(accel, "accelerometer_noise_density")
     gyro_n, gyro_notes = _density(gyro, "gyroscope_noise_density")
+    walks = {
+        name: _worst(fits, "rate_random_walk") if b is None else composite_k(fits, b, name)
+        for name, fits, b in (("gyroscope", gyro, gyro_bias), ("accelerometer", accel, accel_bias))
+    }
+    bias = {n: list(b) for n, b in (("gyroscope", gyro_bias), ("accelerometer", accel_bias)) if b}
+    k_notes = [f"random walks from: {composite_k_note(bias)}"] if bias else []
     return KalibrImu(
         accelerometer_noise_density=inflation * accel_n,
-        accelerometer_random_walk=inflation * _worst(accel, "rate_random_walk"),
+        accelerometer_random_walk=inflation * walks["accelerometer"],
         gyroscope_noise_density=inflation * gyro_n,
-        gyroscope_random_walk=inflation * _worst(gyro, "rate_random_walk"),
+        gyroscope_random_walk=inflation * walks["gyroscope"],
         update_rate=rate,
         rostopic=rostopic,
-        notes=tuple(rate_notes + regime_notes + accel_notes + gyro_notes),
+        notes=tuple(rate_notes + regime_notes + accel_notes + gyro_notes + k_notes),
         regimes=regimes,
     )
 

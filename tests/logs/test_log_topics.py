@@ -125,3 +125,94 @@ def test_one_imu_rate_stated_with_a_note_when_the_sensors_differ():
     assert not any("sampled at" in n for n in exports.imu_model(g400, a400).notes)
     with pytest.raises(NoisevarError, match="gyroscope axes were fitted at different rates"):
         exports.imu_model([g800, g400], a400)
+
+
+def _same_tables(many: dict, path: Path) -> None:
+    from noisevar.io import load_table
+
+    for topic, tab in many.items():
+        one = load_table(path, topic=topic)  # the topic read on its own, as before
+        assert list(tab.columns) == list(one.columns) and tab.units == one.units
+        assert (tab.kind, tab.time_column, tab.notes) == (one.kind, one.time_column, one.notes)
+        assert tab.sample_period == one.sample_period
+        for c in one.columns:
+            np.testing.assert_array_equal(tab.columns[c], one.columns[c])
+
+
+@pytest.mark.parametrize(
+    "topics",
+    [
+        [GYRO, ACCEL],  # pyulog's writer, FIFO topics unpacked
+        ["sensor_combined", "sensor_accel/1", "sensor_gyro/0", "vehicle_gps_position"],  # PX4's
+    ],
+)
+def test_several_topics_from_one_parse_equal_each_read_alone(fifo_log, topics, monkeypatch):
+    """load_topics parses a ULog once for all its topics; each table equals the one read alone."""
+    import pyulog
+
+    from noisevar.io.load import load_log_tables
+
+    path = fifo_log[0] if topics[0] == GYRO else PX4
+    parses = []
+    real = pyulog.ULog.__init__
+
+    def counted(self, *args, **kwargs):
+        parses.append(kwargs.get("message_name_filter_list"))
+        real(self, *args, **kwargs)
+
+    monkeypatch.setattr(pyulog.ULog, "__init__", counted)
+    many = load_log_tables(path, topics)
+    assert parses == [list(dict.fromkeys(t.partition("/")[0] for t in topics))]  # one parse
+    assert list(many) == topics
+    monkeypatch.setattr(pyulog.ULog, "__init__", real)
+    _same_tables(many, path)
+    rec = load_topics(path, topics)
+    assert rec.columns == combine_names(many)
+    with open(path, "rb") as fh:  # an upload's bytes: the same tables
+        _same_tables(load_log_tables(fh.read(), topics, path.name), path)
+
+
+def combine_names(tables: dict) -> list[str]:
+    from noisevar.io.logs.record import combine_topics
+
+    return combine_topics("x", tables).columns
+
+
+@pytest.mark.parametrize(
+    ("topics", "said"),
+    [
+        (["sensor_combined", "sensor_accel"], "no topic 'sensor_accel' in"),  # 3 instances
+        (["sensor_combined", "sensor_combined/1"], "no topic 'sensor_combined/1' in"),
+        (["sensor_combined", "sensor_accel/x"], "no topic 'sensor_accel/x' in"),
+        (["sensor_combined", GYRO], f"no topic '{GYRO}' in"),
+    ],
+)
+def test_one_parse_refuses_what_one_topic_refuses(topics, said):
+    with pytest.raises(NoisevarError, match=said) as err:
+        load_topics(PX4, topics)
+    assert "topics:" in str(err.value)  # the listing, as load_log gives it
+
+
+BIN = Path(__file__).resolve().parents[1] / "data" / "ardupilot_pymavlink_test.BIN"
+
+
+def test_dataflash_topics_from_one_opening_equal_each_read_alone(monkeypatch):
+    """A DataFlash log is opened (and indexed by pymavlink) once for several messages."""
+    from noisevar.io.load import load_log_tables
+    from noisevar.io.logs import dataflash
+
+    opened = []
+    real = dataflash._open
+
+    def counted(path):
+        opened.append(path)
+        return real(path)
+
+    topics = ["IMU", "IMU2", "BARO", "GPS"]
+    monkeypatch.setattr(dataflash, "_open", counted)
+    many = load_log_tables(BIN, topics)
+    assert len(opened) == 1 and list(many) == topics
+    monkeypatch.setattr(dataflash, "_open", real)
+    _same_tables(many, BIN)
+    with pytest.raises(NoisevarError, match="no topic 'IMU9' in .*; topics: AETR"):
+        load_log_tables(BIN, ["IMU", "IMU9"])

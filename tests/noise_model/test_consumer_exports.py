@@ -203,3 +203,82 @@ def test_px4_warns_outside_its_documented_range() -> None:
     assert "WARNING: EKF2_ACC_B_NOISE is outside" in f.text  # 0.5 m/s³ > 0.01
     assert "WARNING: EKF2_GYR_NOISE" not in f.text
     assert exports.consumer("px4").parse(f.text)["EKF2_ACC_B_NOISE"] == pytest.approx(0.5)
+
+
+@pytest.fixture(scope="module")
+def axes():
+    """Two gyroscope axes (deg/s) and one accelerometer axis (mg): data, Allan and composite
+    fits of the same data."""
+    gyro = [
+        simulate_inertial(40_000, 100.0, random_walk=2e-4, rate_random_walk=2e-5, seed=20 + i)
+        for i in range(2)
+    ]
+    accel = [simulate_inertial(40_000, 100.0, random_walk=2e-3, rate_random_walk=1e-4, seed=29)]
+    allan_g = [inertial_noise(z, 100.0, unit="deg/s") for z in gyro]
+    allan_a = [inertial_noise(z, 100.0, unit="mg") for z in accel]
+    comp_g = exports.composite_fits(gyro, [100.0, 100.0], unit="deg/s")
+    comp_a = exports.composite_fits(accel, [100.0], unit="mg")
+    return allan_g, allan_a, comp_g, comp_a, gyro
+
+
+def test_k_from_the_composite_fit_n_from_the_allan_fit(axes) -> None:
+    """K is the composite fit's bias as one random walk (largest axis, converted), N stays the
+    Allan fit's; each file's header says which fit gave K; every file still round-trips."""
+    allan_g, allan_a, comp_g, comp_a, _ = axes
+    allan = exports.imu_model(allan_g, allan_a)
+    m = exports.imu_model(allan_g, allan_a, gyro_bias=comp_g, accel_bias=comp_a)
+    k_eq = max(c.filter_bias.random_walk for c in comp_g)
+    assert m.gyro.K == pytest.approx(k_eq * math.pi / 180, rel=TOL)
+    assert m.accel.K == pytest.approx(comp_a[0].filter_bias.random_walk * 9.80665e-3, rel=TOL)
+    assert m.gyro.K != allan.gyro.K and (m.gyro.N, m.accel.N) == (allan.gyro.N, allan.accel.N)
+    for f in exports.export(m):
+        assert "K (bias random walk) from: the composite fit (GMWM" in f.text, f.consumer
+        parsed = exports.consumer(f.consumer).parse(f.text)
+        for v in f.values:
+            assert parsed[v.name] == pytest.approx(v.value, rel=TOL), (f.consumer, v.name)
+    for f in exports.export(allan, "kalibr,px4"):
+        assert "K (bias random walk) from: the IEEE-952 fit" in f.text
+    assert m.to_dict()["k_from"].startswith("the composite fit")
+
+
+def test_composite_k_of_a_gauss_markov_bias_is_its_equivalent_walk(axes) -> None:
+    """A chosen model with a GM bias: K is K_eq over the fit's horizon, and the file says so."""
+    from noisevar.noise_model import fit_imu_model
+
+    allan_g, allan_a, _, comp_a, gyro = axes
+    gm = [fit_imu_model(z, 100.0, models=["WN+GM"], horizon=5.0) for z in gyro]
+    m = exports.imu_model(allan_g, allan_a, gyro_bias=gm, accel_bias=comp_a)
+    fb = [g.filter_bias for g in gm]
+    assert m.gyro.K == pytest.approx(max(b.random_walk for b in fb) * math.pi / 180, rel=TOL)
+    assert all(b.gm_sigma for b in fb) and m.gyro.K > 0
+    assert "gyroscope WN+GM" in m.k_from and "over T = 5, 10 s" in m.k_from
+
+
+def test_conservative_k_from_the_composite_fit_still_overbounds(axes) -> None:
+    from noisevar.noise_model.overbound import NK, overbound
+
+    allan_g, allan_a, comp_g, comp_a, _ = axes
+    kw = {"gyro_bias": comp_g, "accel_bias": comp_a}
+    best = exports.imu_model(allan_g, allan_a, **kw)
+    safe = exports.imu_model(allan_g, allan_a, variant="conservative", **kw)
+    bound = max(overbound(a, free=NK).values["K"] for a in allan_g) * math.pi / 180
+    assert safe.gyro.K >= best.gyro.K and safe.gyro.K >= bound * (1 - 1e-12)
+    assert safe.gyro.factors["K"] == pytest.approx(safe.gyro.K / best.gyro.K, rel=TOL)
+    with pytest.raises(NoisevarError, match="1 composite fits for 2 axes"):
+        exports.imu_model(allan_g, allan_a, gyro_bias=comp_g[:1])
+
+
+def test_kalibr_imu_takes_the_same_k_as_the_exports(axes) -> None:
+    """The Kalibr block (``kalibr_imu``, CLI --kalibr, the page's imu.yaml) and the exports'
+    Kalibr file hold the same K from the same composite fits."""
+    from noisevar.noise_model.kalibr import kalibr_imu
+
+    allan_g, allan_a, comp_g, comp_a, _ = axes
+    # the same unit for both writers: kalibr_imu writes the fits' unit as it is
+    g = [inertial_noise(z, 100.0, unit="rad/s") for z in axes[4]]
+    imu = kalibr_imu(g, allan_a, gyro_bias=comp_g, accel_bias=comp_a)
+    m = exports.imu_model(g, allan_a, gyro_bias=comp_g, accel_bias=comp_a, accel_unit="m/s^2")
+    assert imu.gyroscope_random_walk == pytest.approx(m.gyro.K, rel=TOL)
+    assert any(n.startswith("random walks from: the composite fit") for n in imu.notes)
+    plain = kalibr_imu(g, allan_a)
+    assert plain.gyroscope_random_walk == max(a.rate_random_walk for a in g)

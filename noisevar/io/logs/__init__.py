@@ -56,6 +56,7 @@ __all__ = [
     "is_ros2_dir",
     "list_topics",
     "load_log",
+    "load_logs",
     "log_suffixes",
     "read_topic",
     "reader_for",
@@ -300,8 +301,6 @@ def load_log(
     NoisevarError
         Not a log, unreadable, unknown topic (the message lists the topics) or field.
     """
-    from noisevar.io.table import LoadedTable, _period_from_time
-
     path = Path(path)
     name = name or path.name
     info = find_topic(list_topics(path, name), topic, name)
@@ -310,10 +309,80 @@ def load_log(
         raise NoisevarError(f"no field asked of topic {echo(info.name)!r}")
     problems: list[str] = []
     chunks = read_topic(path, info.name, names, name, problems)
+    return _table(reader_of(path, name), name, info, names, chunks, problems, max_values)
+
+
+def load_logs(
+    path: str | Path,
+    topics: Sequence[str],
+    name: str | None = None,
+    *,
+    max_values: int = MAX_VALUES,
+) -> dict:
+    """Several topics of a log, each as :func:`load_log` reads it (all its fields), from one
+    pass over the log where its reader can (``LogReader.read_many``: ULog), else topic by
+    topic.
+
+    Parameters
+    ----------
+    path : str or path
+        The log.
+    topics : sequence of str
+        Topics of :func:`list_topics` (order kept, each once).
+    name : str, optional
+        Name for messages (default: the path's name).
+    max_values : int
+        Most numbers held per topic (:data:`MAX_VALUES`).
+
+    Returns
+    -------
+    dict of str to LoadedTable
+        Each topic's table, equal to ``load_log(path, topic)``'s.
+
+    Raises
+    ------
+    NoisevarError
+        Not a log, unreadable, a topic not in the log (the message lists the topics).
+    """
+    path = Path(path)
+    name = name or path.name
+    wanted = list(dict.fromkeys(topics))
+    reader = reader_of(path, name)
+    if reader.read_many is None or len(wanted) < 2:
+        return {t: load_log(path, t, None, name, max_values=max_values) for t in wanted}
+    problems: list[str] = []
+    out = {}
+    try:
+        with _quiet(problems):
+            got = reader.read_many(path, wanted)
+            for topic in wanted:
+                info, chunks = got.get(topic, (None, None))
+                if info is None or not info.fields or info.count == 0:
+                    find_topic(list_topics(path, name), topic, name)  # lists the topics
+                    raise NoisevarError(f"no topic {echo(topic)!r} in {echo(name)}")
+                out[topic] = _table(reader, name, info, info.fields, chunks, problems, max_values)
+    except NoisevarError:
+        raise
+    except Exception as exc:  # noqa: BLE001 - each library raises its own types on bad logs
+        raise _failed(reader, name, exc) from None
+    return out
+
+
+def _table(
+    reader: LogReader,
+    name: str,
+    info: TopicInfo,
+    names: Sequence[str],
+    chunks: Iterator[Chunk],
+    problems: list[str],
+    max_values: int,
+):
+    """One topic's chunks gathered into a :class:`~noisevar.io.table.LoadedTable`."""
+    from noisevar.io.table import LoadedTable, _period_from_time
+
     t, cols, rows = _gather(chunks, names, max_values)
     if rows == 0:
         raise NoisevarError(f"topic {echo(info.name)!r} of {echo(name)} has no record")
-    reader = reader_of(path, name)
     where = reader.time_note if t is not None else "no time column: samples taken as uniform"
     notes = [f"topic {info.name} ({info.message}), {rows:,} records; {where}"]
     if problems:

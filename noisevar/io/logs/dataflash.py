@@ -191,54 +191,79 @@ def _binary_records(dfr) -> dict[tuple[str, int | None], np.ndarray]:
     return seen
 
 
+def _topics(dfr) -> list[TopicInfo]:
+    formats = {f.name: f for f in dfr.formats.values()}
+    records = _binary_records(dfr) if _binary(dfr) else _records(dfr)
+    out = []
+    for (name, inst), times in sorted(records.items(), key=lambda kv: str(kv[0])):
+        fmt = formats[name]
+        fields = _fields(fmt)
+        span = float(times[-1] - times[0]) / 1e6 if len(times) > 1 else 0.0
+        rate = float((len(times) - 1) / span) if span > 0 else None
+        topic = name if inst is None else f"{name}[{inst}]"
+        out.append(TopicInfo(topic, name, len(times), rate, fields, _units(fmt, fields)))
+    return out
+
+
 def topics(path: Path) -> list[TopicInfo]:
     """Every message type (per instance) with TimeUS and numeric columns: counts, rates, units."""
     with _open(path) as dfr:
-        formats = {f.name: f for f in dfr.formats.values()}
-        records = _binary_records(dfr) if _binary(dfr) else _records(dfr)
-        out = []
-        for (name, inst), times in sorted(records.items(), key=lambda kv: str(kv[0])):
-            fmt = formats[name]
-            fields = _fields(fmt)
-            span = float(times[-1] - times[0]) / 1e6 if len(times) > 1 else 0.0
-            rate = float((len(times) - 1) / span) if span > 0 else None
-            topic = name if inst is None else f"{name}[{inst}]"
-            out.append(TopicInfo(topic, name, len(times), rate, fields, _units(fmt, fields)))
+        return _topics(dfr)
+
+
+def read_many(path: Path, wanted: Sequence[str]) -> dict[str, tuple[TopicInfo, Iterator[Chunk]]]:
+    """Several topics from one opening (one index pass) of the log: each one's listing and
+    its chunks (all its fields, read before the log is closed); a topic not in the log is
+    left out."""
+    out = {}
+    with _open(path) as dfr:
+        infos = {t.name: t for t in _topics(dfr)}
+        for topic in wanted:
+            if topic in infos:
+                chunks = list(_read(dfr, path, topic, None))
+                out[topic] = (infos[topic], iter(chunks))
     return out
 
 
 def read(path: Path, topic: str, fields: Sequence[str] | None) -> Iterator[Chunk]:
     """The topic's fields in chunks; times in seconds since boot (TimeUS)."""
+    if _TOPIC.match(topic) is None:
+        raise NoisevarError(f"no message {echo(topic)!r} in {echo(path.name)}")
+    with _open(path) as dfr:
+        yield from _read(dfr, path, topic, fields)
+
+
+def _read(dfr, path: Path, topic: str, fields: Sequence[str] | None) -> Iterator[Chunk]:
+    """:func:`read` on an open log."""
     m = _TOPIC.match(topic)
     if m is None:
         raise NoisevarError(f"no message {echo(topic)!r} in {echo(path.name)}")
     name, inst = m["type"], None if m["inst"] is None else int(m["inst"])
-    with _open(path) as dfr:
-        fmt = next((f for f in dfr.formats.values() if f.name == name), None)
-        if fmt is None or "TimeUS" not in fmt.colhash:
-            raise NoisevarError(f"no message {echo(topic)!r} with TimeUS in {echo(path.name)}")
-        names = tuple(fields) if fields is not None else _fields(fmt)
-        have = set(_fields(fmt))
-        bad = [f for f in names if f not in have]
-        if bad:
-            raise NoisevarError(
-                f"message {echo(name)} has no numeric field {echo(bad[0])!r}; fields: "
-                + ", ".join(sorted(have))
-            )
-        if _binary(dfr):
-            yield from _read_binary(dfr, fmt, names, inst)
-            return
-        rows: list[list[float]] = []
-        dfr.rewind()
-        while (msg := dfr.recv_match(type=name)) is not None:
-            if inst is not None and int(getattr(msg, fmt.instance_field)) != inst:
-                continue
-            rows.append([msg.TimeUS, *(getattr(msg, f) for f in names)])
-            if len(rows) == CHUNK:
-                yield _chunk(rows, names)
-                rows = []
-        if rows:
+    fmt = next((f for f in dfr.formats.values() if f.name == name), None)
+    if fmt is None or "TimeUS" not in fmt.colhash:
+        raise NoisevarError(f"no message {echo(topic)!r} with TimeUS in {echo(path.name)}")
+    names = tuple(fields) if fields is not None else _fields(fmt)
+    have = set(_fields(fmt))
+    bad = [f for f in names if f not in have]
+    if bad:
+        raise NoisevarError(
+            f"message {echo(name)} has no numeric field {echo(bad[0])!r}; fields: "
+            + ", ".join(sorted(have))
+        )
+    if _binary(dfr):
+        yield from _read_binary(dfr, fmt, names, inst)
+        return
+    rows: list[list[float]] = []
+    dfr.rewind()
+    while (msg := dfr.recv_match(type=name)) is not None:
+        if inst is not None and int(getattr(msg, fmt.instance_field)) != inst:
+            continue
+        rows.append([msg.TimeUS, *(getattr(msg, f) for f in names)])
+        if len(rows) == CHUNK:
             yield _chunk(rows, names)
+            rows = []
+    if rows:
+        yield _chunk(rows, names)
 
 
 def _read_binary(dfr, fmt, names: Sequence[str], inst: int | None) -> Iterator[Chunk]:
@@ -265,6 +290,7 @@ READER = LogReader(
     magic=(b"\xa3\x95\x80", b"FMT, ", b"FMT,"),
     topics=topics,
     read=read,
+    read_many=read_many,
     time_note="times from TimeUS, seconds since boot",
     repair="download the log from the vehicle again (a log cut short keeps what was "
     "written), or convert it with mavlogdump.py",

@@ -4,10 +4,12 @@ PX4 logs the gyroscope and the accelerometer in separate topics (``sensor_gyro_f
 and ``sensor_accel_fifo``, both with fields ``x y z``), and ROS bags often do too; an
 IMU model needs both. :func:`load_topics` reads each topic as
 :func:`~noisevar.io.logs.load_log` does (one :class:`~noisevar.io.table.LoadedTable` per
-topic, with the log's timestamps) and :func:`combine_topics` names their columns:
-a field keeps its name when one topic has it, else it is ``topic/field``
-(``sensor_gyro_fifo/x``). A column's samples, times and rate stay its topic's: nothing
-is resampled or interpolated (an Allan or GMWM fit is per column, at its own rate).
+topic, with the log's timestamps), from one pass over the log where its reader can
+(:func:`~noisevar.io.logs.load_logs`: a ULog is parsed once for all its topics), and
+:func:`combine_topics` names their columns: a field keeps its name when one topic has it,
+else it is ``topic/field`` (``sensor_gyro_fifo/x``). A column's samples, times and rate
+stay its topic's: nothing is resampled or interpolated (an Allan or GMWM fit is per
+column, at its own rate).
 """
 
 from __future__ import annotations
@@ -194,10 +196,10 @@ def load_topics(
     >>> rec.columns  # doctest: +SKIP
     ['sensor_gyro_fifo/x', 'sensor_gyro_fifo/y', ..., 'sensor_accel_fifo/z']
     """
-    from noisevar.io.load import load_table
+    from noisevar.io.load import load_log_tables
 
     if name is None:
         name = "upload" if isinstance(source, bytes | bytearray) else Path(source).name
-    wanted = list(dict.fromkeys(topics))
-    tables = {t: load_table(source, name, topic=t) for t in wanted}
-    return combine_topics(name, tables)
+    if not topics:
+        return combine_topics(name, {})
+    return combine_topics(name, load_log_tables(source, topics, name))

@@ -72,6 +72,10 @@ class Chunk:
     values: Mapping[str, NDArray]
 
 
+#: ``read_many(path, topics) -> {topic: (its TopicInfo, its chunks)}`` (:class:`LogReader`).
+ManyReader = Callable[[Path, Sequence[str]], Mapping[str, tuple[TopicInfo, Iterator[Chunk]]]]
+
+
 @dataclass(frozen=True)
 class LogReader:
     """One log format.
@@ -95,6 +99,10 @@ class LogReader:
         Where the timestamps come from, for the loaded table's notes.
     repair : str
         What to do with a log the library cannot read.
+    read_many : callable or None
+        ``read_many(path, topics) -> {topic: (TopicInfo, Iterator[Chunk])}``: several topics
+        (all their fields) from one pass over a log its library parses whole (ULog); a topic
+        not in the log is left out. None: each topic is read on its own.
     """
 
     name: str
@@ -105,6 +113,7 @@ class LogReader:
     read: Callable[[Path, str, Sequence[str] | None], Iterator[Chunk]]
     time_note: str
     repair: str = "check that the file is complete and is the format its name says"
+    read_many: ManyReader | None = None
 
     @property
     def article(self) -> str:

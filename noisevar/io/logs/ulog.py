@@ -4,7 +4,8 @@ A topic is a logged message (``sensor_combined``); a second instance of a messag
 ``name/1`` and so on. Fields are the message's numeric fields as ULog names them
 (``gyro_rad[0]``). Times are the message's ``timestamp_sample`` (the sensor's sample time)
 when it has one, else its ``timestamp``: microseconds since boot, in seconds. pyulog
-parses the whole file; only the chosen topic's data is kept. The raw IMU FIFO topics
+parses the whole file; only the chosen topics' data is kept, and several topics are
+read from one parse (:func:`read_many`). The raw IMU FIFO topics
 (``sensor_gyro_fifo``, ``sensor_accel_fifo``) are unpacked to one row per sample, fields
 ``x``, ``y``, ``z`` in rad/s or m/s² (:mod:`noisevar.io.logs.ulog_fifo`).
 """
@@ -133,13 +134,41 @@ def topics(path: Path) -> list[TopicInfo]:
     return out
 
 
+def _find(ulog, topic: str):
+    """The parsed data of ``topic`` (``name`` or ``name/instance``), or None."""
+    base, _, inst = topic.partition("/")
+    if inst and not inst.isdigit():
+        return None
+    multi = int(inst) if inst else 0
+    return next((d for d in ulog.data_list if d.name == base and d.multi_id == multi), None)
+
+
+def _chunks(data, names: Sequence[str]) -> Iterator[Chunk]:
+    t, values = _samples(data, names)
+    for lo in range(0, t.size, CHUNK):
+        hi = lo + CHUNK
+        yield Chunk(t[lo:hi], {f: v[lo:hi] for f, v in values.items()})
+
+
+def read_many(path: Path, wanted: Sequence[str]) -> dict[str, tuple[TopicInfo, Iterator[Chunk]]]:
+    """Several topics from one parse of the log (pyulog's message filter): each one's listing
+    and its chunks (all its fields); a topic not in the log is left out."""
+    ulog = _parse(path, list(dict.fromkeys(t.partition("/")[0] for t in wanted)))
+    counts: dict[str, int] = {}
+    for d in ulog.data_list:
+        counts[d.name] = counts.get(d.name, 0) + 1
+    out = {}
+    for topic in wanted:
+        data = _find(ulog, topic)
+        if data is not None and _name(data, counts[data.name] > 1) == topic:
+            out[topic] = (_info(data, topic), _chunks(data, _fields(data)))
+    return out
+
+
 def read(path: Path, topic: str, fields: Sequence[str] | None) -> Iterator[Chunk]:
     """The topic's fields in chunks; times in seconds since boot."""
-    base, _, inst = topic.partition("/")
-    ulog = _parse(path, [base])
-    multi = int(inst) if inst.isdigit() else 0
-    data = next((d for d in ulog.data_list if d.name == base and d.multi_id == multi), None)
-    if data is None or (inst and not inst.isdigit()):
+    data = _find(_parse(path, [topic.partition("/")[0]]), topic)
+    if data is None:
         raise NoisevarError(f"no message {echo(topic)!r} in {echo(path.name)}")
     names = tuple(fields) if fields is not None else _fields(data)
     have = set(_fields(data))
@@ -149,10 +178,7 @@ def read(path: Path, topic: str, fields: Sequence[str] | None) -> Iterator[Chunk
                 f"message {echo(topic)!r} has no numeric field {echo(f)!r}; fields: "
                 + ", ".join(sorted(have)[:40])
             )
-    t, values = _samples(data, names)
-    for lo in range(0, t.size, CHUNK):
-        hi = lo + CHUNK
-        yield Chunk(t[lo:hi], {f: v[lo:hi] for f, v in values.items()})
+    yield from _chunks(data, names)
 
 
 READER = LogReader(
@@ -162,6 +188,7 @@ READER = LogReader(
     magic=(b"ULog\x01\x12\x35",),
     topics=topics,
     read=read,
+    read_many=read_many,
     time_note="times from timestamp_sample (else timestamp), seconds since boot",
     repair="a log cut short while recording loses only its end: check it with ulog_info; "
     "else copy the file from the vehicle again",

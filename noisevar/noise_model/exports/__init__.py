@@ -23,6 +23,7 @@ from noisevar.noise_model.exports.model import (
     VARIANTS,
     ImuModel,
     SensorTerms,
+    composite_fits,
     imu_model,
 )
 
@@ -48,6 +49,7 @@ __all__ = [
     "ImuModel",
     "SensorTerms",
     "Value",
+    "composite_fits",
     "consumer",
     "consumers",
     "export",

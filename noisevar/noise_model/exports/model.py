@@ -4,6 +4,14 @@ An :class:`ImuModel` holds, per sensor (gyroscope in rad/s, accelerometer in m/s
 continuous-time terms the consumers take: the white-noise density N, the bias random
 walk K and the bias instability B, each the largest over the sensor's axes, either the
 best fit or the conservative overbound (:mod:`noisevar.noise_model.overbound`).
+
+N and B come from the IEEE-952 fit (:func:`noisevar.inertial_noise`). K comes from the
+composite fit (:func:`noisevar.fit_imu_model`, GMWM) when its fits are given: its bias as
+one random walk, ``FilterBias.random_walk`` (K itself for a WN+RW model; a Gauss-Markov
+bias's equivalent density over the fit's stated horizon otherwise). On allan_variance_ros's
+configuration that K is nearer the information bound per axis than the Allan fit's
+(``benchmarks/exports.py --parts d``); without composite fits K is the Allan fit's. Each
+file's header says which fit gave K.
 """
 
 from __future__ import annotations
@@ -12,10 +20,14 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
+import numpy as np
+from numpy.typing import NDArray
+
 from noisevar import units
 from noisevar.errors import NoisevarError
+from noisevar.noise_model.gmwm.model import ImuModel as CompositeModel
 from noisevar.noise_model.inertial import InertialNoise
-from noisevar.noise_model.kalibr import imu_rate
+from noisevar.noise_model.kalibr import composite_k, composite_k_note, imu_rate
 from noisevar.noise_model.overbound import NK, overbound
 
 #: The SI unit each sensor's terms are exported in.
@@ -24,6 +36,8 @@ SENSOR_UNITS = {"gyroscope": "rad/s", "accelerometer": "m/s^2"}
 VARIANTS = ("best", "conservative")
 #: The set written when none is asked for.
 DEFAULT_VARIANT = "best"
+#: Where K comes from without composite fits.
+K_FROM_ALLAN = "the IEEE-952 fit to the Allan variance (no composite fit given)"
 
 
 @dataclass(frozen=True)
@@ -69,6 +83,9 @@ class ImuModel:
     verdicts : dict of str to str
         Each column's verdict (the record's answer, :mod:`noisevar.estimators.answer`),
         written in every file's header: the file's values assume what it says.
+    k_from : str
+        Which fit gave K (:data:`K_FROM_ALLAN` or the composite fit's models and horizon),
+        written in every file's header.
     """
 
     gyro: SensorTerms
@@ -79,6 +96,7 @@ class ImuModel:
     notes: tuple[str, ...] = ()
     gnss: Mapping[str, float] = field(default_factory=dict)
     verdicts: Mapping[str, str] = field(default_factory=dict)
+    k_from: str = ""
 
     def sensor(self, name: str) -> SensorTerms:
         """``"gyroscope"`` or ``"accelerometer"``."""
@@ -87,7 +105,7 @@ class ImuModel:
     def header(self, consumer: str) -> list[str]:
         """The comment lines every file starts with (without the comment character)."""
         said = {
-            "best": "BEST FIT (the IEEE-952 terms fitted to the Allan variance)",
+            "best": "BEST FIT (N and B: the IEEE-952 terms fitted to the Allan variance)",
             "conservative": "CONSERVATIVE (terms raised until the model's Allan curve is at or "
             "above the data's 95 % upper bound at every fitted tau; docs §E7.3)",
         }[self.variant]
@@ -95,6 +113,7 @@ class ImuModel:
             f"{consumer} noise model written by noisevar (docs/algorithms.md §E7)",
             f"values: {said}; default of noisevar: {DEFAULT_VARIANT}",
             f"IMU sample rate {self.rate:g} Hz; fitted on regimes={self.regimes}",
+            f"K (bias random walk) from: {self.k_from or K_FROM_ALLAN}",
         ]
         for name, s in (("gyroscope", self.gyro), ("accelerometer", self.accel)):
             if s.factors:
@@ -114,6 +133,7 @@ class ImuModel:
             "notes": list(self.notes),
             "gnss": dict(self.gnss),
             "verdicts": dict(self.verdicts),
+            "k_from": self.k_from or K_FROM_ALLAN,
         }
 
 
@@ -125,9 +145,14 @@ def _axes(fits: InertialNoise | Sequence[InertialNoise], name: str) -> list[Iner
 
 
 def _sensor(
-    fits: list[InertialNoise], name: str, variant: str, unit: str | None
+    fits: list[InertialNoise],
+    name: str,
+    variant: str,
+    unit: str | None,
+    bias: Sequence[CompositeModel] | None = None,
 ) -> tuple[SensorTerms, list[str]]:
-    """One sensor's terms in SI: the largest over the axes, best or overbound."""
+    """One sensor's terms in SI: the largest over the axes, best or overbound; K from the
+    composite fits ``bias`` when given (same data and unit as ``fits``)."""
     target = SENSOR_UNITS[name]
     notes = []
     source = unit or fits[0].unit
@@ -137,9 +162,12 @@ def _sensor(
     f = units.factor(source, target)
     if f != 1.0:
         notes.append(f"{name}: converted from {source} to {target} (x{f:.10g}, by pint)")
+    k_best = (
+        max(a.rate_random_walk for a in fits) if bias is None else composite_k(fits, bias, name)
+    )
     if variant == "best":
         n = max(max(a.random_walk, a.white_level) for a in fits)
-        k = max(a.rate_random_walk for a in fits)
+        k = k_best
         b = max(a.bias_instability for a in fits)
         if any(a.white_level > a.random_walk for a in fits):
             notes.append(
@@ -149,7 +177,6 @@ def _sensor(
         return SensorTerms(n * f, k * f, b * f, target), notes
     bounds = [overbound(a, free=NK) for a in fits]
     n_best = max(max(a.random_walk, a.white_level) for a in fits)
-    k_best = max(a.rate_random_walk for a in fits)
     # never below the best set (whose N is at least the white level)
     n = max(n_best, *(ob.values["N"] for ob in bounds))
     k = max(k_best, *(ob.values["K"] for ob in bounds))
@@ -164,6 +191,42 @@ def _sensor(
     return SensorTerms(n * f, k * f, 0.0, target, factors), notes
 
 
+def composite_fits(
+    columns: Sequence[NDArray], rates: Sequence[float], unit: str = "u"
+) -> list[CompositeModel]:
+    """The composite fit (model chosen, :func:`noisevar.fit_imu_model`) of each column, for
+    :func:`imu_model`'s ``gyro_bias``/``accel_bias``; columns of one rate and length are
+    fitted together.
+
+    Parameters
+    ----------
+    columns : sequence of ndarray
+        Each axis's samples, in the unit of its IEEE-952 fit.
+    rates : sequence of float
+        Each column's sample rate (Hz).
+    unit : str
+        The columns' unit (for the parameters' units).
+
+    Returns
+    -------
+    list of noisevar.noise_model.gmwm.ImuModel
+        One per column, in order.
+    """
+    from noisevar.noise_model.gmwm import fit_imu_model
+
+    if len(columns) != len(rates):
+        raise NoisevarError(f"{len(columns)} columns for {len(rates)} rates: give one rate each")
+    groups: dict[tuple[float, int], list[int]] = {}
+    for i, (z, f) in enumerate(zip(columns, rates, strict=True)):
+        groups.setdefault((float(f), len(z)), []).append(i)
+    out: list[CompositeModel | None] = [None] * len(columns)
+    for (rate, _), idx in groups.items():
+        stacked = np.column_stack([np.asarray(columns[i], dtype=float) for i in idx])
+        for i, fit in zip(idx, fit_imu_model(stacked, rate, unit=unit), strict=True):
+            out[i] = fit
+    return out  # type: ignore[return-value]
+
+
 def imu_model(
     gyro: InertialNoise | Sequence[InertialNoise],
     accel: InertialNoise | Sequence[InertialNoise],
@@ -172,6 +235,8 @@ def imu_model(
     gyro_unit: str | None = None,
     accel_unit: str | None = None,
     gnss: Mapping[str, float] | None = None,
+    gyro_bias: Sequence[CompositeModel] | None = None,
+    accel_bias: Sequence[CompositeModel] | None = None,
 ) -> ImuModel:
     """The IMU's noise model from the fits of its gyroscope and accelerometer axes.
 
@@ -185,6 +250,11 @@ def imu_model(
         The data's units (default: each fit's ``unit``); converted to rad/s and m/s².
     gnss : mapping, optional
         GNSS measurement stds ``{"position": m, "velocity": m/s}`` for PX4/ArduPilot.
+    gyro_bias, accel_bias : sequence of noisevar.noise_model.gmwm.ImuModel, optional
+        Composite fits (:func:`noisevar.fit_imu_model`) of the same axes, same data and
+        unit, same order: K is then their bias as one random walk
+        (``FilterBias.random_walk``), the largest over the axes. The conservative K is
+        still raised to the overbound where that is larger.
 
     Returns
     -------
@@ -197,10 +267,18 @@ def imu_model(
     regimes = {x.regimes for x in g + a}
     if len(regimes) != 1:
         raise NoisevarError("the axes were fitted on different regimes: fit them all alike")
-    gs, gn = _sensor(g, "gyroscope", variant, gyro_unit)
-    acs, an = _sensor(a, "accelerometer", variant, accel_unit)
+    gs, gn = _sensor(g, "gyroscope", variant, gyro_unit, gyro_bias)
+    acs, an = _sensor(a, "accelerometer", variant, accel_unit, accel_bias)
+    bias = {n: list(b) for n, b in (("gyroscope", gyro_bias), ("accelerometer", accel_bias)) if b}
     for key, value in (gnss or {}).items():
         if key not in ("position", "velocity") or not value > 0:
             raise NoisevarError(f"gnss takes positive 'position' and 'velocity' stds, not {key!r}")
     notes += gn + an
-    return ImuModel(gs, acs, rate, variant, regimes.pop(), tuple(notes), dict(gnss or {}))
+    k_from = composite_k_note(bias) if bias else K_FROM_ALLAN
+    if len(bias) == 1:
+        k_from += f"; the {'accelerometer' if 'gyroscope' in bias else 'gyroscope'}'s: " + (
+            K_FROM_ALLAN
+        )
+    return ImuModel(
+        gs, acs, rate, variant, regimes.pop(), tuple(notes), dict(gnss or {}), k_from=k_from
+    )
