@@ -7,6 +7,7 @@ import pytest
 
 import noisevar
 from noisevar.diagnostics import on_both_grids
+from noisevar.estimators import estimate_chunked
 
 
 def _rests(seed: int) -> np.ndarray:
@@ -41,3 +42,12 @@ def test_the_r_to_use_reads_the_same_backwards(seed):
     assert fwd.still is not None and bwd.still is not None
     assert bwd.still.variance == pytest.approx(fwd.still.variance, rel=1e-9)
     assert fwd.still.variance == pytest.approx(1.0, rel=0.25)
+
+
+def test_the_streamed_r_to_use_reads_both_grids_with_the_same_numbers():
+    # the chunked engine reads the record backwards in chunks for the second grid
+    z = np.concatenate([_rests(s) for s in range(10, 14)])
+    one = noisevar.estimate(z)
+    many = estimate_chunked(lambda a, b: z[max(a, 0) : b].copy(), z.size, chunk=4096)
+    np.testing.assert_allclose(many.still.variance, one.still.variance, rtol=1e-9)
+    np.testing.assert_allclose(many.still.ci95, one.still.ci95, rtol=1e-9)
