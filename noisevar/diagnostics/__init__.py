@@ -22,7 +22,7 @@ from noisevar.diagnostics.plan import (
     probe_of,
 )
 from noisevar.diagnostics.power_law import POWER_LAW_MAX, power_law_types
-from noisevar.diagnostics.profile import LevelProfile, profile_from_blocks
+from noisevar.diagnostics.profile import LevelProfile, on_both_grids, profile_from_blocks
 from noisevar.diagnostics.results import NoiseDiagnostics
 from noisevar.diagnostics.segments import Gap, Segmentation, split_dropped, split_times
 from noisevar.diagnostics.sums import DiagSums, diag_part
@@ -40,6 +40,7 @@ __all__ = [
     "WhitenessTest",
     "diagnose",
     "from_sums",
+    "on_both_grids",
     "split_dropped",
     "split_times",
     "with_verdict",

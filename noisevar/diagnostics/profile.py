@@ -311,3 +311,41 @@ def _pooled(x: NDArray, nu: NDArray, members: NDArray) -> float:
     for b in np.flatnonzero(members):
         pool.add(int(b))
     return pool.level()
+
+
+def on_both_grids(
+    forward: list[tuple[int, int]], backward: list[tuple[int, int]], n: int
+) -> list[tuple[int, int]]:
+    """Sample ranges still on both block grids: the record's and its reversal's.
+
+    Parameters
+    ----------
+    forward : list of (int, int)
+        Still stretches of the record (:attr:`LevelProfile.still_stretches`).
+    backward : list of (int, int)
+        Still stretches of the reversed record, in its own sample indices.
+    n : int
+        Samples in the record.
+
+    Returns
+    -------
+    list of (int, int)
+        Their intersection, in order.
+
+    Notes
+    -----
+    A short rest read on one grid can sit at the floor while the same rest read on a
+    grid shifted by a few samples takes a block half in the motion beside it
+    (docs/algorithms.md §E1 Regimes). Blocks laid from the start and from the end are
+    the two grids a reversal swaps, so the intersection is the same stretch either way.
+    """
+    mine = np.zeros(n + 1, dtype=np.int8)
+    for a, b in forward:
+        mine[a] += 1
+        mine[b] -= 1
+    for a, b in backward:
+        mine[n - b] += 1
+        mine[n - a] -= 1
+    both = np.cumsum(mine[:n]) == 2
+    edges = np.flatnonzero(np.diff(np.r_[0, both.view(np.int8), 0]))
+    return [(int(a), int(b)) for a, b in zip(edges[::2], edges[1::2], strict=True)]

@@ -30,6 +30,7 @@ from noisevar.diagnostics import (
     NoiseDiagnostics,
     Segmentation,
     diagnose,
+    on_both_grids,
     split_dropped,
     split_times,
     with_verdict,
@@ -229,7 +230,21 @@ class InMemory:
         else:  # the method's own mask, made over the whole record in one piece
             jumps = own if own.any() else None
         self.jump_runs = [] if jumps is None else runs_of(jumps)
+        self.jumps = jumps
         return diagnose(self.z, self.seg, jumps)
+
+    def still_ranges(self, diag: NoiseDiagnostics) -> list[tuple[int, int]]:
+        """The still stretches of ``diag`` that the reversed record's block grid finds still too.
+
+        The same diagnostics on the record reversed, with the same samples left out around
+        jumps: its blocks end where the record's start (docs/algorithms.md §E1 Regimes).
+        """
+        n = self.z.size
+        seg = Segmentation(tuple((n - b, n - a) for a, b in reversed(self.seg.segments)), ())
+        jumps = getattr(self, "jumps", None)
+        back = diagnose(self.z[::-1], seg, None if jumps is None else jumps[::-1])
+        return on_both_grids(diag.level_profile.still_stretches,
+                             back.level_profile.still_stretches, n)  # fmt: skip
 
     def estimate_in(self, params: dict, ranges: list[tuple[int, int]]) -> VarianceEstimate:
         """The method on the sample ranges ``ranges`` only, less the samples around jumps
@@ -358,6 +373,9 @@ def _still(
     if not diag.level_varies or estimate_in is None:
         return None
     ranges = diag.level_profile.still_stretches
+    both = getattr(record, "still_ranges", None)
+    if ranges and both is not None:
+        ranges = both(diag)
     if not ranges:
         return None
     try:
