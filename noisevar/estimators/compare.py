@@ -267,22 +267,8 @@ def run_methods(
 
 
 def run_method(z: ArrayLike, method: str, params: Mapping[str, Any] | None = None) -> MethodResult:
-    """One row of :func:`compare_methods`: ``method`` on the signal, its failure kept.
-
-    Parameters
-    ----------
-    z : array_like, shape (n,)
-        The signal.
-    method : str
-        A method of :func:`noisevar.methods`.
-    params : mapping, optional
-        The method's keyword parameters.
-
-    Returns
-    -------
-    MethodResult
-        The estimate, or the :class:`NoisevarError`'s message, and the wall time.
-    """
+    """One row of :func:`compare_methods`: ``method`` (with its keyword ``params``) on the
+    signal; a :class:`NoisevarError` is kept as the row's ``error``."""
     _check_methods([method], [])
     t0 = time.perf_counter()
     try:
@@ -296,13 +282,8 @@ def run_method(z: ArrayLike, method: str, params: Mapping[str, Any] | None = Non
 def comparison_of(
     n: int, results: Sequence[MethodResult], true_variance: float | None = None
 ) -> Comparison:
-    """The :class:`Comparison` of rows computed one by one (:func:`run_method`).
-
-    Raises
-    ------
-    NoisevarError
-        When every method failed (the first one's message).
-    """
+    """The :class:`Comparison` of rows computed one by one (:func:`run_method`); a
+    :class:`NoisevarError` when every method failed (the first one's message)."""
     results = list(results)
     if results and all(r.estimate is None for r in results):
         raise NoisevarError(f"every method failed; the first said: {results[0].error}")
