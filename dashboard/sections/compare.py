@@ -40,6 +40,8 @@ from noisevar.estimators.compare import (
 from noisevar.figures.estimator import compare_figure, monte_carlo_figure
 from noisevar.signals import PAPER_SIGNAL
 
+#: The peers' status line while their tasks wait for a place in the pool's bounded queue.
+QUEUE_FULL = "waiting for a place in the worker pool's queue"
 #: Number formats of the comparison table's columns.
 _COMPARE_FORMATS = {
     "variance": "%.4g",
@@ -154,7 +156,9 @@ def _table_as_rows_arrive(
         if not waiting:
             status.empty()
             return
-        for m in waiting:  # started once the first view is drawn (a full queue waits here)
+        if any(pending[m] is None for m in waiting):  # a full queue waits below
+            status.caption(f"{len(waiting)} of the peers still computing: {QUEUE_FULL}")
+        for m in waiting:  # started once the first view is drawn
             pending[m] = pending[m] or cache.peer_row(sig, m, params.get(m, {}))
         started = {m: task for m in waiting if (task := pending[m]) is not None}
         while not any(task.done() for task in started.values()):
