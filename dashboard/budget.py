@@ -172,6 +172,18 @@ class ByteCache:
                     self._computing.pop(key, None)
         return value
 
+    def peek(self, key: Hashable) -> object | None:
+        """The kept value of ``key`` (None when not kept), never computing it."""
+        with self._lock:
+            hit = self._hit(key)
+        return None if hit is None else hit.value
+
+    def forget(self, key: Hashable) -> None:
+        """Drop ``key``'s entry, if kept."""
+        with self._lock:
+            old = self._entries.pop(key, None)
+            self.total -= old.size if old else 0
+
     def _hit(self, key: Hashable) -> _Entry | None:
         entry = self._entries.get(key)
         if entry is not None:
@@ -225,15 +237,20 @@ def cached(func: Callable[..., T]) -> Callable[..., T]:
     signature = inspect.signature(func)
     hashed = [name for name in signature.parameters if not name.startswith("_")]
 
-    @functools.wraps(func)
-    def wrapper(*args: Any, **kwargs: Any) -> T:
+    def key_of(*args: Any, **kwargs: Any) -> tuple:
         bound = signature.bind(*args, **kwargs)
         bound.apply_defaults()
-        key = (func.__module__, func.__qualname__, *(bound.arguments[n] for n in hashed))
+        return (func.__module__, func.__qualname__, *(bound.arguments[n] for n in hashed))
+
+    @functools.wraps(func)
+    def wrapper(*args: Any, **kwargs: Any) -> T:
         GUARD.start()
-        return CACHE.get(key, functools.partial(func, *args, **kwargs))
+        return CACHE.get(key_of(*args, **kwargs), functools.partial(func, *args, **kwargs))
 
     wrapper.clear = CACHE.clear  # type: ignore[attr-defined]
+    # the kept value for these arguments (None: not kept), never computed
+    wrapper.peek = lambda *a, **k: CACHE.peek(key_of(*a, **k))  # type: ignore[attr-defined]
+    wrapper.forget = lambda *a, **k: CACHE.forget(key_of(*a, **k))  # type: ignore[attr-defined]
     return wrapper
 
 

@@ -23,10 +23,10 @@ import streamlit as st
 import noisevar
 from dashboard import workers
 from dashboard.budget import cached
-from dashboard.state import LoadedSignal, sensor_matrix, truth_of
+from dashboard.state import LoadedSignal, sensor_matrix
 from noisevar import estimators
 from noisevar.errors import NoisevarError
-from noisevar.estimators.compare import Comparison, compare_methods
+from noisevar.estimators.compare import MethodResult, run_method, run_methods
 from noisevar.estimators.results import VarianceEstimate
 from noisevar.filters.envelope import (
     HScan,
@@ -166,23 +166,42 @@ def amplitude(
 
 
 @cached
-def _compare_cached(
-    digest: str,
-    methods: tuple[str, ...],
-    params_json: str,
-    true_variance: float | None,
-    _z: np.ndarray,
-) -> Comparison:
-    return workers.call_batch(
-        compare_methods, _z, list(methods), json.loads(params_json), true_variance
-    )
+def _rows_cached(
+    digest: str, methods: tuple[str, ...], params_json: str, _z: np.ndarray
+) -> list[MethodResult]:
+    return workers.call(run_methods, _z, list(methods), json.loads(params_json))
 
 
-def compare(
+@cached
+def _peer_started(digest: str, method: str, params_json: str, _z: np.ndarray) -> workers.Started:
+    return workers.start_batch(run_method, _z, method, json.loads(params_json))
+
+
+def fast_rows(
     sig: LoadedSignal, methods: Sequence[str], params: dict[str, dict[str, object]]
-) -> Comparison:
-    """:func:`noisevar.estimators.compare.compare_methods` on the signal, cached."""
-    return _compare_cached(sig.digest, tuple(methods), params_key(params), truth_of(sig), sig.z)
+) -> list[MethodResult]:
+    """:func:`~noisevar.estimators.compare.run_methods` on the signal (the fast methods: what
+    the Compare table shows at once), cached and ahead of the waiting batches."""
+    return _rows_cached(sig.digest, tuple(methods), params_key(params), sig.z)
+
+
+def peer_row(
+    sig: LoadedSignal, method: str, params: dict[str, object], start: bool = True
+) -> workers.Started | None:
+    """A slow method's row (:func:`~noisevar.estimators.compare.run_method`) as a task on
+    the pool, shared by every session asking for the same record and parameters.
+
+    With ``start=False``, only a task already started (None: none is). A task that ended
+    in an error other than a NoisevarError (a broken pool) is forgotten and started anew.
+    """
+    args = (sig.digest, method, params_key(params), sig.z)
+    started = _peer_started.peek(*args)
+    if started is not None and started.done() and started.future.exception() is not None:
+        _peer_started.forget(*args)
+        started = None
+    if started is None and start:
+        started = _peer_started(*args)
+    return started
 
 
 # --------------------------------------------------------------- several sensors

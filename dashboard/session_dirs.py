@@ -132,6 +132,8 @@ def live_session_ids() -> set[str] | None:
 
         runtime = Runtime.instance()
         _reap(runtime)
+        # no public list of sessions: Streamlit 1.67.0's Runtime offers lookups by id only
+        # (get_app_session, is_active_session, get_client); checked for issue 29
         manager = runtime._session_mgr  # noqa: SLF001 - no public list of sessions
         return {s.session.id for s in manager.list_sessions()}
     except Exception:  # noqa: BLE001 - not in a server (tests), or Streamlit changed

@@ -45,7 +45,7 @@ import signal
 import threading
 import time
 from collections.abc import Callable, Iterator
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from typing import Any, TypeVar
 
 import numpy as np
@@ -68,8 +68,11 @@ START_PAUSE_S = 0.5
 #: Largest input (samples, all arrays together) a first-rank call computes on its script
 #: thread while every worker is busy (an estimate of 1e5 samples: tens of milliseconds).
 INLINE_MAX_SAMPLES = 100_000
-#: Seconds between two updates of a waiting page.
+#: Seconds between two looks of a waiting page at its task.
 POLL_SECONDS = 0.25
+#: Longest time a waiting page sends nothing: its text is sent when it changes, and
+#: again after this long (a rerun asked meanwhile is honoured at the next send).
+RESEND_SECONDS = 1.0
 
 
 def machine_workers() -> int:
@@ -255,18 +258,69 @@ def _queue_text(ahead: int) -> str:
     return f"Queued: {ahead} computation{'s' * (ahead != 1)} of other sessions ahead"
 
 
+def status(ticket: int) -> str:
+    """What a task waits for: its queue position, or that it is computing."""
+    p = pool()
+    ahead = p.ahead(ticket) if p is not None else 0
+    return _queue_text(ahead) if ahead else "Computing on a worker process..."
+
+
 def wait(ticket: int, future: cf.Future, show: Callable[[str], None] | None = None) -> Any:
-    """The future's result; meanwhile ``show`` gets the queue position when it waits."""
-    shown = False
+    """The future's result; meanwhile ``show`` gets the queue position when it waits.
+
+    ``show`` is called when the text changes, and at least every :data:`RESEND_SECONDS`
+    (a script run honours a rerun asked meanwhile only when it sends something).
+    """
+    shown, sent = None, 0.0
     while True:
         try:
             return future.result(timeout=POLL_SECONDS)
         except cf.TimeoutError:
             p = pool()
             ahead = p.ahead(ticket) if p is not None else 0
-            if show is not None and (ahead or shown):
-                show(_queue_text(ahead) if ahead else "Computing on a worker process...")
-                shown = True
+            if show is not None and (ahead or shown is not None):
+                text = _queue_text(ahead) if ahead else "Computing on a worker process..."
+                if text != shown or time.monotonic() - sent >= RESEND_SECONDS:
+                    show(text)
+                    shown, sent = text, time.monotonic()
+
+
+@dataclass(frozen=True)
+class Started:
+    """A batch task started on the pool (:func:`start_batch`): its ticket and future."""
+
+    ticket: int
+    future: cf.Future
+
+    def done(self) -> bool:
+        """True once its result (or error) is there."""
+        return self.future.done()
+
+    def result(self) -> Any:
+        """Its value (waits for it); a NoisevarError of the task is raised as itself."""
+        return _unwrap(self.future.result())
+
+    def status(self) -> str:
+        """Its queue position, or that it is computing."""
+        return status(self.ticket)
+
+
+def start_batch(fn: Callable[..., Any], *args: Any, **kwargs: Any) -> Started:
+    """Queue ``fn(*args, **kwargs)`` as a batch and return at once (without a pool: run
+    it now). A full queue blocks here, as :func:`call_batch`."""
+    p = pool()
+    if p is None:
+        future: cf.Future = cf.Future()
+        future.set_result(_carried(fn, *args, **kwargs))
+        return Started(-1, future)
+    with trace.pool_wait():
+        return Started(*p.submit(_carried, fn, *args, **kwargs))
+
+
+def wait_any(started: list[Started], seconds: float) -> None:
+    """Return when one of ``started`` is done, or after ``seconds``."""
+    with trace.pool_wait():
+        cf.wait([s.future for s in started], seconds, cf.FIRST_COMPLETED)
 
 
 def call(fn: Callable[..., T], *args: Any, **kwargs: Any) -> T:

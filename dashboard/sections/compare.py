@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import time
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import plotly.graph_objects as go
@@ -13,7 +15,7 @@ from dashboard import cache, workers
 from dashboard.sections.estimator_tuning import tuned_methods
 from dashboard.sections.noise_panel import render_assumptions, render_noise_panel
 from dashboard.sections.regimes import record_answer_box
-from dashboard.state import LoadedSignal, initial, times_of
+from dashboard.state import LoadedSignal, initial, times_of, truth_of
 from dashboard.text import plain
 from dashboard.widgets import (
     csv_download,
@@ -26,15 +28,20 @@ from dashboard.widgets import (
 from noisevar.estimators.compare import (
     SLOW_METHODS,
     Comparison,
+    MethodResult,
     MonteCarloResult,
+    comparison_of,
     cramer_rao_floor,
     default_methods,
     rows_to_csv,
     single_signal_methods,
+    slow_methods,
 )
 from noisevar.figures.estimator import compare_figure, monte_carlo_figure
 from noisevar.signals import PAPER_SIGNAL
 
+#: The peers' status line while their tasks wait for a place in the pool's bounded queue.
+QUEUE_FULL = "waiting for a place in the worker pool's queue"
 #: Number formats of the comparison table's columns.
 _COMPARE_FORMATS = {
     "variance": "%.4g",
@@ -95,36 +102,106 @@ def comparison(sig: LoadedSignal, tuned: dict[str, object] | None) -> None:
     if not chosen:
         st.info("Choose at least one method.")
         return
-    comp = None
+    params = tuned_params(tuned)
+    done: dict[str, MethodResult] = {}
+    fast = [m for m in chosen if m not in slow_methods()]
     with guarded(), st.spinner("Running every method..."):
-        comp = cache.compare(sig, chosen, tuned_params(tuned))
-    if comp is not None:
-        comparison_table(comp, sig)
-        estimates = [r.estimate for r in comp.results if r.estimate is not None]
-        if estimates:  # the record's diagnostics are the same for every method
-            st.subheader("Which numbers to trust")
-            render_noise_panel(sig.z, estimates[0], times_of(sig), key="cmp_np", digest=sig.digest)
-            render_assumptions(estimates)
+        if fast:
+            done.update(zip(fast, cache.fast_rows(sig, fast, params), strict=True))
+    if len(done) < len(fast):
+        return  # the fast rows failed: guarded() said why
+    # the slow peers: rows already computed (by any session) go in the first view; the
+    # others are started after it, and their rows drawn as they arrive
+    pending: dict[str, workers.Started | None] = {}
+    for m in chosen:
+        if m not in done:
+            started = cache.peer_row(sig, m, params.get(m, {}), start=False)
+            if started is not None and started.done():
+                with guarded(f"{m}: "):
+                    done[m] = started.result()
+            else:
+                pending[m] = started
+    _table_as_rows_arrive(sig, chosen, done, pending, params)
 
 
-def comparison_table(comp: Comparison, sig: LoadedSignal) -> None:
-    """The comparison table, the Cramér-Rao floor, the figure and the downloads."""
+def _table_as_rows_arrive(
+    sig: LoadedSignal,
+    chosen: list[str],
+    done: dict[str, MethodResult],
+    pending: dict[str, workers.Started | None],
+    params: dict[str, dict[str, object]],
+) -> None:
+    """The table (and figure) of the rows done, redrawn as each pending peer's arrives;
+    the record's diagnostics once, under it; a status line while peers compute."""
+    status, view, panel, assumptions = st.empty(), st.empty(), st.container(), st.empty()
+    paneled, shown, sent = False, None, 0.0
+    while True:
+        rows = [done[m] for m in chosen if m in done]
+        waiting = [m for m in chosen if m in pending]
+        estimates = [r.estimate for r in rows if r.estimate is not None]
+        if estimates or not waiting:
+            with view.container(), guarded():
+                comp = comparison_of(sig.n, rows, truth_of(sig))
+                comparison_table(comp, sig, waiting)
+        if estimates and not paneled:  # the record's diagnostics are the same for every method
+            with panel:
+                st.subheader("Which numbers to trust")
+                render_noise_panel(
+                    sig.z, estimates[0], times_of(sig), key="cmp_np", digest=sig.digest
+                )
+            paneled = True
+        if estimates:
+            with assumptions.container():
+                render_assumptions(estimates)
+        if not waiting:
+            status.empty()
+            return
+        if any(pending[m] is None for m in waiting):  # a full queue waits below
+            status.caption(f"{len(waiting)} of the peers still computing: {QUEUE_FULL}")
+        for m in waiting:  # started once the first view is drawn
+            pending[m] = pending[m] or cache.peer_row(sig, m, params.get(m, {}))
+        started = {m: task for m in waiting if (task := pending[m]) is not None}
+        while not any(task.done() for task in started.values()):
+            text = f"{len(started)} of the peers still computing: " + "; ".join(
+                f"{m}: {task.status()}" for m, task in started.items()
+            )
+            if text != shown or time.monotonic() - sent >= workers.RESEND_SECONDS:
+                status.caption(text)  # a rerun asked meanwhile is honoured here
+                shown, sent = text, time.monotonic()
+            workers.wait_any(list(started.values()), workers.POLL_SECONDS)
+        for m, task in started.items():
+            if task.done():
+                with guarded(f"{m}: "):
+                    done[m] = task.result()
+                del pending[m]
+
+
+def comparison_table(comp: Comparison, sig: LoadedSignal, waiting: Sequence[str] = ()) -> None:
+    """The comparison table, the Cramér-Rao floor, the figure and the downloads.
+
+    ``waiting`` names methods still computing: a row each saying so, and no downloads or
+    figure key until every row is in (the view is redrawn then).
+    """
     rows = comp.rows()
     table = {
-        "method": [r["method"] for r in rows],
-        "variance": [r["variance"] for r in rows],
-        "std": [r["std"] for r in rows],
-        "95 % low": [r["ci95_low"] for r in rows],
-        "95 % high": [r["ci95_high"] for r in rows],
-        "± (rel.)": [r["rel_halfwidth"] for r in rows],
+        "method": [r["method"] for r in rows] + list(waiting),
+        "variance": [r["variance"] for r in rows] + [None] * len(waiting),
+        "std": [r["std"] for r in rows] + [None] * len(waiting),
+        "95 % low": [r["ci95_low"] for r in rows] + [None] * len(waiting),
+        "95 % high": [r["ci95_high"] for r in rows] + [None] * len(waiting),
+        "± (rel.)": [r["rel_halfwidth"] for r in rows] + [None] * len(waiting),
     }
+    more = [None] * len(waiting)
     if comp.true_variance is not None:
-        table["rel. error"] = [r["rel_error"] for r in rows]
-        table["CI covers truth"] = [r["covers_truth"] for r in rows]
-    table["samples used"] = [r["n_used"] for r in rows]
-    table["time (ms)"] = [r["ms"] for r in rows]
-    table["note"] = [r["error"] or r["notes"] or "—" for r in rows]  # never a blank or None
-    n_rows = len(rows)
+        table["rel. error"] = [r["rel_error"] for r in rows] + more
+        table["CI covers truth"] = [r["covers_truth"] for r in rows] + more
+    table["samples used"] = [r["n_used"] for r in rows] + more
+    table["time (ms)"] = [r["ms"] for r in rows] + more
+    # never a blank or None
+    table["note"] = [r["error"] or r["notes"] or "—" for r in rows] + ["computing..."] * len(
+        waiting
+    )
+    n_rows = len(rows) + len(waiting)
     st.dataframe(
         table,
         hide_index=True,
@@ -137,6 +214,9 @@ def comparison_table(comp: Comparison, sig: LoadedSignal) -> None:
         f"{100 * comp.cr_floor:.2f} % (± {196 * comp.cr_floor:.2f} % at 95 %)." + truth
     )
     fig = compare_figure(comp, title=f"Every method on {sig.label}")
+    if waiting:
+        show_figure(fig)
+        return
     show_figure(fig, key="cmp_chart")
     c1, c2 = st.columns([1, 2])
     csv_download(

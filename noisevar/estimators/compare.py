@@ -253,21 +253,41 @@ def compare_methods(
     z = np.asarray(z, dtype=float)
     names = _check_methods(methods, default_methods(z.size))
     params = params or {}
-    results = []
-    for m in names:
-        t0 = time.perf_counter()
-        try:
-            est = estimate(z, method=m, **dict(params.get(m, {})))
-            err = None
-        except NoisevarError as exc:
-            est, err = None, str(exc)
-        meta = METHODS[m]
-        results.append(
-            MethodResult(m, meta.kind, meta.description, est, err, time.perf_counter() - t0)
-        )
-    if all(r.estimate is None for r in results):
+    return comparison_of(z.size, run_methods(z, names, params), true_variance)
+
+
+def run_methods(
+    z: ArrayLike,
+    methods: Sequence[str],
+    params: Mapping[str, Mapping[str, Any]] | None = None,
+) -> list[MethodResult]:
+    """:func:`run_method` for each of ``methods`` in order (``params`` by method)."""
+    z = np.asarray(z, dtype=float)
+    return [run_method(z, m, (params or {}).get(m)) for m in methods]
+
+
+def run_method(z: ArrayLike, method: str, params: Mapping[str, Any] | None = None) -> MethodResult:
+    """One row of :func:`compare_methods`: ``method`` (with its keyword ``params``) on the
+    signal; a :class:`NoisevarError` is kept as the row's ``error``."""
+    _check_methods([method], [])
+    t0 = time.perf_counter()
+    try:
+        est, err = estimate(np.asarray(z, dtype=float), method=method, **dict(params or {})), None
+    except NoisevarError as exc:
+        est, err = None, str(exc)
+    meta = METHODS[method]
+    return MethodResult(method, meta.kind, meta.description, est, err, time.perf_counter() - t0)
+
+
+def comparison_of(
+    n: int, results: Sequence[MethodResult], true_variance: float | None = None
+) -> Comparison:
+    """The :class:`Comparison` of rows computed one by one (:func:`run_method`); a
+    :class:`NoisevarError` when every method failed (the first one's message)."""
+    results = list(results)
+    if results and all(r.estimate is None for r in results):
         raise NoisevarError(f"every method failed; the first said: {results[0].error}")
-    return Comparison(z.size, results, true_variance)
+    return Comparison(n, results, true_variance)
 
 
 # ----------------------------------------------------------------- Monte Carlo

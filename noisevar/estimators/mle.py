@@ -14,6 +14,41 @@ from noisevar.estimators.spec import MethodSpec
 #: Noise variance, as a fraction of the variance of the differences, below which the fit
 #: sits at the boundary 0 (statsmodels' optimiser stops near 1e-12 there).
 BOUNDARY = 1e-8
+#: Smallest starting variance, as a fraction of the variance of the differences
+#: (:func:`level_start`: a moment that comes out negative starts here, inside the box).
+START_FLOOR = 1e-3
+
+
+def level_start(y: NDArray) -> NDArray | None:
+    """The local level fit's starting variances (irregular, level), from the differences.
+
+    Parameters
+    ----------
+    y : ndarray
+        The standardised signal.
+
+    Returns
+    -------
+    ndarray or None
+        ``[-g1, g0 + 2 g1]`` from the differences' autocovariances ``g0, g1`` (F3.2), each
+        at least :data:`START_FLOOR` ``g0``; None (statsmodels' own start) for fewer than
+        8 samples or differences of no variance.
+
+    Notes
+    -----
+    The start of the fit, not its answer: the local level likelihood has one maximum on
+    the records measured (docs/algorithms.md §F3), reached in about half the evaluations.
+    The local linear trend keeps statsmodels' start: its likelihood has two maxima on the
+    fast-slow records, and a moment start reaches the other one on 8 of 20.
+    """
+    if y.size < 8:
+        return None
+    d = np.diff(y)
+    g0, g1 = float(d @ d) / d.size, float(d[1:] @ d[:-1]) / d.size
+    if not (np.isfinite(g0) and np.isfinite(g1) and g0 > 0):
+        return None
+    eps = max(-g1, START_FLOOR * g0)
+    return np.array([eps, max(g0 - 2.0 * eps, START_FLOOR * g0)])
 
 
 def mle_estimate(z: NDArray, trend: bool, notes: list[str]) -> VarianceEstimate:
@@ -42,7 +77,8 @@ def mle_estimate(z: NDArray, trend: bool, notes: list[str]) -> VarianceEstimate:
         warnings.simplefilter("ignore")
         try:
             model = UnobservedComponents(y, level=level)
-            res = model.fit(disp=False, maxiter=200)
+            start = None if trend else level_start(y)
+            res = model.fit(start_params=start, disp=False, maxiter=200)
         except (ValueError, ArithmeticError, np.linalg.LinAlgError) as exc:
             first = (str(exc).splitlines() or [type(exc).__name__])[0][:200]
             raise NoisevarError(

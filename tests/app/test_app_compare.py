@@ -43,6 +43,11 @@ def test_every_method_side_by_side(at, how_it_works_opens):
     assert {"auto", "somd", "somd-paper", "rice", "diff2"} <= set(table["method"])
     assert "rel. error" in table.columns and "CI covers truth" in table.columns
     assert table["variance"].between(15, 35).all()
+    # the peers' rows arrive after the first view; once the run ends every row is in
+    assert {"mle-level", "mle-trend"} <= set(table["method"])
+    assert "computing..." not in set(table["note"])
+    assert not any("still computing" in c.value for c in at.caption)
+    assert any(b.label == "Comparison (CSV)" for b in at.get("download_button"))
     assert at.get("plotly_chart") and how_it_works_opens(at)
     at.multiselect(key="cmp_methods").set_value(["auto", "rice"]).run()
     _clean(at)
@@ -116,3 +121,32 @@ def test_monte_carlo_names_the_tuned_parameters_and_reports_failed_runs() -> Non
     assert summary[["bias", "sd", "RMSE"]].loc["somd"].isna().all()
     assert summary.loc["diff2", "parameters"] == "defaults"
     assert summary[["bias", "sd", "RMSE"]].loc["diff2"].notna().all()
+
+
+def test_a_peer_row_is_one_task_for_every_session(monkeypatch):
+    """Issue 29: a slow peer's row is a task on the pool, started once for every session
+    asking for the same record and parameters; its row equals the estimate."""
+    import concurrent.futures as cf
+    from types import SimpleNamespace
+
+    import noisevar as nv
+    from dashboard import cache, workers
+
+    sig = SimpleNamespace(
+        digest="issue29-peer", z=nv.generate("fast-slow", n=2000, seed=3).measured
+    )
+    assert cache.peer_row(sig, "mle-level", {}, start=False) is None
+    first = cache.peer_row(sig, "mle-level", {})
+    assert cache.peer_row(sig, "mle-level", {}) is first  # a second session: the same task
+    assert first.result().variance == nv.estimate(sig.z, method="mle-level").variance
+    assert first.status() and cache.peer_row(sig, "mle-level", {}, start=False) is first
+
+    broken: cf.Future = cf.Future()
+    broken.set_exception(RuntimeError("a broken pool"))
+    real = workers.start_batch
+    monkeypatch.setattr(workers, "start_batch", lambda *a, **k: workers.Started(-1, broken))
+    other = SimpleNamespace(digest="issue29-broken", z=sig.z)
+    assert cache.peer_row(other, "mle-level", {}).future is broken
+    monkeypatch.setattr(workers, "start_batch", real)
+    again = cache.peer_row(other, "mle-level", {})  # forgotten, started anew
+    assert again.future is not broken and again.result().error is None
