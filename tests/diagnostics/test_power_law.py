@@ -1,0 +1,46 @@
+"""The power-law identification equals allantools' (Riley and Greenhall 2004), vectorised."""
+
+import allantools
+import numpy as np
+import pytest
+
+from noisevar.diagnostics.power_law import AVERAGING_FACTORS, lag1_acf, noise_id
+from noisevar.errors import NoisevarError
+
+
+def _records() -> list[np.ndarray]:
+    rng = np.random.default_rng(20261126)
+    out = []
+    for k in range(24):
+        w = rng.normal(size=4096)
+        kind = k % 4
+        if kind == 1:  # random walk
+            w = np.cumsum(w)
+        elif kind == 2:  # flicker (1/f) by spectral shaping
+            f = np.fft.rfftfreq(w.size)
+            f[0] = f[1]
+            w = np.fft.irfft(np.fft.rfft(w) / np.sqrt(f), n=w.size)
+        elif kind == 3:  # differenced white (blue)
+            w = np.diff(rng.normal(size=4097))
+        out.append(w + rng.normal(0, 0.3 * k / 24, size=w.size))
+    return out
+
+
+@pytest.mark.parametrize("af", AVERAGING_FACTORS)
+def test_noise_id_equals_allantools(af):
+    for x in _records():
+        ours = noise_id(x, af)
+        theirs = int(allantools.autocorr_noise_id(x, af, data_type="phase")[0])
+        assert ours == theirs
+
+
+def test_lag1_acf_equals_allantools_to_rounding():
+    for x in _records()[:6]:
+        assert lag1_acf(x) == pytest.approx(allantools.ci.lag1_acf(x), rel=1e-10, abs=1e-12)
+
+
+def test_constant_or_short_stretches_are_refused():
+    with pytest.raises(NoisevarError):
+        lag1_acf(np.ones(100))
+    with pytest.raises(NoisevarError):
+        noise_id(np.arange(40.0), 4)
