@@ -18,7 +18,8 @@ STEP_THRESHOLD = 6.0
 #: (heavy-tailed noise, a glitch) does not.
 STEP_CONFIRM = 4.0
 #: Above this fraction of flagged samples the step detector is ignored: what it sees is a
-#: fast signal (a sinusoid of a few tens of samples per period), not jumps.
+#: fast signal (a sinusoid of a few tens of samples per period), not jumps. Lone steps
+#: (:func:`lone_steps`) are single jumps whatever the fraction.
 STEP_MAX_FRACTION = 0.2
 
 
@@ -118,3 +119,35 @@ def _confirm_steps(
     out = np.zeros_like(candidates)
     out[idx[keep_run[run]]] = True
     return out
+
+
+def lone_steps(found: NDArray, w: int = STEP_WINDOW) -> NDArray:
+    """The flagged samples of :func:`step_mask` that one jump with quiet sides explains.
+
+    A run of flags (gaps of at most ``w`` merged: ``|D3|`` dips through zero inside one
+    jump's response) is *lone* when it is no longer than ``4 w`` samples and no other flag
+    lies within ``2 w`` samples of either end. A step is one event: ``D3`` of a single
+    step is non-zero on ``4 w - 1`` samples (with the boundary pair flagged, ``4 w``),
+    whatever its size, so a large jump flags up to ``4 w`` samples and a small one two;
+    counting samples weighs a jump by its size, not by being one. ``2 w`` is ``D3``'s reach
+    to either side: with no flag there, the window means that measured the level on each
+    side hold no other event, so the levels either side are known from quiet samples. A
+    fast signal (a sinusoid of a few tens of samples per period) keeps ``|D3|`` high over
+    many windows: its flags form runs longer than one step's response, or runs closer than
+    ``2 w`` to each other; those are left to the fraction rule
+    (:data:`STEP_MAX_FRACTION`). The rule reads only run lengths and gaps, so the reversed
+    record has the same lone steps.
+    """
+    out = np.zeros_like(found)
+    idx = np.flatnonzero(found)
+    if not idx.size:
+        return out
+    cut = np.flatnonzero(np.diff(idx) > w)
+    start, end = idx[np.r_[0, cut + 1]], idx[np.r_[cut, idx.size - 1]]
+    gap = start[1:] - end[:-1] - 1
+    quiet = np.r_[True, gap >= 2 * w] & np.r_[gap >= 2 * w, True]
+    lone = quiet & (end - start + 1 <= 4 * w)
+    mark = np.zeros(found.size + 1, dtype=np.int64)
+    np.add.at(mark, start[lone], 1)
+    np.add.at(mark, end[lone] + 1, -1)
+    return found & (np.cumsum(mark[:-1]) > 0)

@@ -31,7 +31,7 @@ from noisevar.numeric.blocks import (
     dilate,
     flagged_per_block,
 )
-from noisevar.numeric.steps import STEP_MAX_FRACTION, step_mask
+from noisevar.numeric.steps import STEP_MAX_FRACTION, lone_steps, step_mask
 
 #: Trimmed samples are widened by half of this span (or of the longest span below it).
 AUTO_MASK_SPAN = 41
@@ -154,16 +154,22 @@ def _outlier_mask(
 
 
 def _believed(found: NDArray, block: int) -> NDArray | None:
-    """The jump samples ``found`` where the detector does not flag too many around them.
+    """The jump samples ``found`` that are jumps, not a fast signal (§F5.3).
 
-    A flagged sample with more than :data:`STEP_MAX_FRACTION` of the
-    ``WINDOW_BLOCKS * block`` samples centred on it flagged (fewer at the record's edges:
-    those in it) sees a fast signal, not a jump: its flag is dropped, and so is any within
-    half that window of it (§F5.3).
+    Lone steps (:func:`~noisevar.numeric.steps.lone_steps`: one jump's response with
+    quiet sides) are jumps: a step is one event, whatever its size and however many
+    others share the record. Of the other flags, one with more than
+    :data:`STEP_MAX_FRACTION` of the ``WINDOW_BLOCKS * block`` samples centred on it
+    flagged (fewer at the record's edges: those in it; lone steps not counted) sees a
+    fast signal, not a jump: its flag is dropped, and so is any flag within half that
+    window of it (the fast stretch's edge, lone or not).
     The window is centred on the sample, not on a block grid anchored at the record's
     start, so that reversing the record moves no decision but through ``found`` itself.
     """
-    idx = np.flatnonzero(found)
+    rest = found & ~lone_steps(found)
+    idx = np.flatnonzero(rest)
+    if not idx.size:
+        return found
     half = WINDOW_BLOCKS * block // 2
     lo = np.maximum(idx - half, 0)
     hi = np.minimum(idx + half, found.size - 1)
@@ -173,6 +179,7 @@ def _believed(found: NDArray, block: int) -> NDArray | None:
         return found
     # a flag within half the window of a fast one is the same fast stretch (its edge)
     at = idx[fast]
+    idx = np.flatnonzero(found)
     pos = np.searchsorted(at, idx)
     after = at[np.minimum(pos, at.size - 1)] - idx
     before = idx - at[np.maximum(pos - 1, 0)]
