@@ -160,7 +160,8 @@ def _believed(found: NDArray, block: int) -> NDArray | None:
     quiet sides) are jumps: a step is one event, whatever its size and however many
     others share the record. Of the other flags, one with more than
     :data:`STEP_MAX_FRACTION` of the ``WINDOW_BLOCKS * block`` samples centred on it
-    flagged (fewer at the record's edges: those in it; lone steps not counted) sees a
+    flagged (at the record's edges the window is moved inward, not cut short: a cluster of
+    jumps near an edge is not judged on fewer samples; lone steps not counted) sees a
     fast signal, not a jump: its flag is dropped, and so is any flag within half that
     window of it (the fast stretch's edge, lone or not).
     The window is centred on the sample, not on a block grid anchored at the record's
@@ -171,10 +172,14 @@ def _believed(found: NDArray, block: int) -> NDArray | None:
     if not idx.size:
         return found
     half = WINDOW_BLOCKS * block // 2
-    lo = np.maximum(idx - half, 0)
-    hi = np.minimum(idx + half, found.size - 1)
+    # the window of 2 half + 1 samples (the record, if shorter) lies inside the record: at
+    # an edge it is moved inward, not cut short, so that every flag is judged on as many
+    # samples (the mirror image at the other edge: symmetric in time)
+    size = min(2 * half + 1, found.size)
+    lo = np.clip(idx - half, 0, found.size - size)
+    hi = lo + size - 1
     flagged = np.searchsorted(idx, hi, side="right") - np.searchsorted(idx, lo, side="left")
-    fast = flagged > STEP_MAX_FRACTION * (hi - lo + 1)
+    fast = flagged > STEP_MAX_FRACTION * size
     if not fast.any():
         return found
     # a flag within half the window of a fast one is the same fast stretch (its edge)
