@@ -106,7 +106,7 @@ def _outlier_mask(
     kappa: float,
     block: int,
     widen: int,
-    steps: Callable[[Callable[[NDArray], NDArray], float, NDArray], NDArray] | None,
+    steps: Callable[[Callable[[NDArray], NDArray], float, NDArray], tuple[NDArray, NDArray]] | None,
     step_limit: float,
     after: int = 0,
 ) -> tuple[NDArray | None, NDArray | None, NDArray | None]:
@@ -147,18 +147,18 @@ def _outlier_mask(
     outlier = above(sq)
     jumps, found = None, None
     if steps is not None:
-        found = steps(above, kappa**2, outlier)
+        found, lone = steps(above, kappa**2, outlier)
         if step_limit >= 0 and found.any():
-            jumps = _believed(found, block)
+            jumps = _believed(found, block, lone)
     return (outlier if outlier.any() else None), jumps, found
 
 
-def _believed(found: NDArray, block: int) -> NDArray | None:
+def _believed(found: NDArray, block: int, lone: NDArray | None = None) -> NDArray | None:
     """The jump samples ``found`` that are jumps, not a fast signal (§F5.3).
 
-    Lone steps (:func:`~noisevar.numeric.steps.lone_steps`: one jump's response with
-    quiet sides) are jumps: a step is one event, whatever its size and however many
-    others share the record. Of the other flags, one with more than
+    Lone steps ``lone`` (:func:`~noisevar.numeric.steps.lone_steps`: one jump's response
+    between two quiet straight sides; None: none) are jumps: a step is one event, whatever
+    its size and however many others share the record. Of the other flags, one with more than
     :data:`STEP_MAX_FRACTION` of the ``WINDOW_BLOCKS * block`` samples centred on it
     flagged (at the record's edges the window is moved inward, not cut short: a cluster of
     jumps near an edge is not judged on fewer samples; lone steps not counted) sees a
@@ -167,7 +167,7 @@ def _believed(found: NDArray, block: int) -> NDArray | None:
     The window is centred on the sample, not on a block grid anchored at the record's
     start, so that reversing the record moves no decision but through ``found`` itself.
     """
-    rest = found & ~lone_steps(found)
+    rest = found if lone is None else found & ~lone
     idx = np.flatnonzero(rest)
     if not idx.size:
         return found
@@ -257,9 +257,17 @@ def _flag(
         return None, None, None
     limit = STEP_MAX_FRACTION * z.size if step_limit is None else step_limit
     return _outlier_mask(
-        sq0, trim, block, half, lambda v, sc, out: step_mask(_bridged(z, out), v, sc), limit,
-        after,
-    )  # fmt: skip
+        sq0, trim, block, half, lambda v, sc, out: _steps(z, out, v, sc), limit, after
+    )
+
+
+def _steps(
+    z: NDArray, outliers: NDArray, above: Callable[[NDArray], NDArray], scale: float
+) -> tuple[NDArray, NDArray]:
+    """The step detector's flags on ``z`` with its glitches bridged, and its lone steps."""
+    bridged = _bridged(z, outliers)
+    found = step_mask(bridged, above, scale)
+    return found, lone_steps(bridged, found, above, scale)
 
 
 def _bridged(z: NDArray, outliers: NDArray) -> NDArray:
