@@ -2,6 +2,8 @@
 
     python benchmarks/accuracy.py                 # 400 runs (MLE: 50 runs, 20 at n = 50000)
     python benchmarks/accuracy.py --runs 50 --quick
+    python benchmarks/accuracy.py --families steps-ramps --ns 1000 \
+        --methods auto,mle-trend,diff2 --out accuracy_steps1000   # one cell, its own files
 
 For each method, family and record length it reports the bias, the RMSE and
 the 95th percentile of the relative error of the variance, and the RMSE over
@@ -9,7 +11,9 @@ the Cramér-Rao floor (``sqrt(2/n)`` for constant noise; for a varying noise
 level ``sqrt(2 sum σ⁴) / sum σ²``). It then checks the paper's Fig. 2 claim
 (95 % of relative errors within 10 %, none above 20 %) for ``somd-paper`` and
 the targets of ``auto``. Results are printed as Markdown and written to
-``benchmarks/results/accuracy.json``.
+``benchmarks/results/accuracy.json`` (``--out NAME``: ``NAME.json`` and ``NAME.md``; a
+subset of families, sizes or methods must name its own, so that it never overwrites the
+recorded full run). A cell sees the same runs in a subset as in the full run.
 """
 
 from __future__ import annotations
@@ -99,6 +103,8 @@ def markdown(cells: list[dict], figs: list[dict], args: argparse.Namespace) -> s
     lines = [
         "### Accuracy (`python benchmarks/accuracy.py"
         + (f" --runs {args.runs}" if args.runs != 400 else "")
+        + "".join(f" --{k} {v}" for k, v in getattr(args, "given", {}).items())
+        + (f" --out {args.out}" if args.out != "accuracy" else "")
         + ")`",
         "",
         f"Monte Carlo: {args.runs} runs per cell ({args.mle_runs} for the MLE methods, "
@@ -133,7 +139,17 @@ def markdown(cells: list[dict], figs: list[dict], args: argparse.Namespace) -> s
             + " |"
         )
         lines.append("")
-    lines += ["**95th percentile of |relative error| (%), n = 6000**", ""]
+    if 6000 in args.sizes:
+        lines += _p95_table(by, args)
+    if figs:
+        lines += _fig2_table(figs)
+    lines.append("")
+    lines += targets(cells, figs, args)
+    return "\n".join(lines)
+
+
+def _p95_table(by: dict, args: argparse.Namespace) -> list[str]:
+    lines = ["**95th percentile of |relative error| (%), n = 6000**", ""]
     lines.append("| method | " + " | ".join(args.families) + " |")
     lines.append("|---" * (len(args.families) + 1) + "|")
     for m in args.methods:
@@ -142,21 +158,23 @@ def markdown(cells: list[dict], figs: list[dict], args: argparse.Namespace) -> s
             c = by.get((m, f, 6000))
             row.append("—" if not c or "p95" not in c else f"{100 * c['p95']:.1f}")
         lines.append("| " + " | ".join(row) + " |")
-    lines += [
+    return lines
+
+
+def _fig2_table(figs: list[dict]) -> list[str]:
+    lines = [
         "",
         "**The paper's Fig. 2 claim** (fast-slow, σ = 5, n = 6000, h = 1.5e-5, m = 40):",
         "",
+        "| method | runs | within 10 % | max abs rel. error | bias | RMSE |",
+        "|---|---|---|---|---|---|",
     ]
-    lines.append("| method | runs | within 10 % | max abs rel. error | bias | RMSE |")
-    lines.append("|---|---|---|---|---|---|")
     for f in figs:
         lines.append(
             f"| {f['method']} | {f['runs']} | {100 * f['within_10pct']:.1f} % | "
             f"{100 * f['max_abs_rel_error']:.1f} % | {_pct(f['bias'])} | {100 * f['rmse']:.2f} % |"
         )
-    lines.append("")
-    lines += targets(cells, figs, args)
-    return "\n".join(lines)
+    return lines
 
 
 def _beats(peer: dict | None, auto: dict) -> bool:
@@ -220,16 +238,33 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--workers", type=int, default=os.cpu_count() or 1)
     ap.add_argument("--quick", action="store_true", help="n = 6000 only, no MLE")
+    ap.add_argument("--families", help="comma-separated families (default: all)")
+    ap.add_argument("--ns", help="comma-separated record lengths (default: 1000,6000,50000)")
+    ap.add_argument("--methods", help="comma-separated methods (default: all)")
+    ap.add_argument("--out", default="accuracy", help="results/NAME.json and NAME.md")
     args = ap.parse_args(argv)
+    args.given = {k: getattr(args, k) for k in ("families", "ns", "methods") if getattr(args, k)}
+    subset = bool(args.given)
+    if subset and args.out == "accuracy":
+        ap.error("a subset (--families/--ns/--methods) needs its own --out name")
     args.sizes = (6000,) if args.quick else SIZES
-    args.families = FAMILIES
-    args.methods = [m for m in METHODS if not (args.quick and m in SLOW)]
+    if args.ns:
+        args.sizes = tuple(int(x) for x in args.ns.split(","))
+    args.families = args.families.split(",") if args.families else FAMILIES
+    args.methods = args.methods.split(",") if args.methods else METHODS
+    args.methods = [m for m in args.methods if not (args.quick and m in SLOW)]
+    unknown = set(args.families) - set(FAMILIES) | set(args.methods) - set(METHODS)
+    if unknown:
+        ap.error(f"unknown families or methods: {', '.join(sorted(unknown))}")
+    if subset:
+        args.fig2_runs = 0  # the paper's Fig. 2 is the full run's
     fast = tuple(m for m in args.methods if m not in SLOW)
     slow = tuple(m for m in args.methods if m in SLOW)
     tasks = []
     for n in args.sizes:
-        for fi, f in enumerate(args.families):
-            seed = args.seed + 100_000 * fi + n  # every method sees the same noise
+        for f in args.families:
+            # every method sees the same noise, and a subset the full run's
+            seed = args.seed + 100_000 * FAMILIES.index(f) + n
             tasks.append((fast, f, n, args.runs, seed))
             if slow:
                 mle_runs = args.mle_runs if n <= 6000 else args.mle_runs_large
@@ -238,17 +273,17 @@ def main(argv: list[str] | None = None) -> int:
     tasks.sort(key=lambda t: -t[3] * t[2] * (100 if t[0] == slow else 1))
     t0 = time.perf_counter()
     with ProcessPoolExecutor(max_workers=args.workers) as pool:
-        fig_future = pool.submit(fig2, args.fig2_runs, args.seed)
+        fig_future = pool.submit(fig2, args.fig2_runs, args.seed) if args.fig2_runs else None
         cells = [c for group in pool.map(run_cell, tasks, chunksize=1) for c in group]
-        figs = fig_future.result()
+        figs = fig_future.result() if fig_future else []
     elapsed = time.perf_counter() - t0
     RESULTS.mkdir(exist_ok=True)
-    (RESULTS / "accuracy.json").write_text(
+    (RESULTS / f"{args.out}.json").write_text(
         json.dumps({"cells": cells, "fig2": figs, "seconds": elapsed}, indent=1)
     )
     text = markdown(cells, figs, args)
     text += f"\n\n(total {elapsed:.0f} s on {args.workers} workers)\n"
-    (RESULTS / "accuracy.md").write_text(text)
+    (RESULTS / f"{args.out}.md").write_text(text)
     print(text)
     return 0
 

@@ -11,6 +11,8 @@ from functools import lru_cache
 import numpy as np
 from numpy.typing import NDArray
 
+from noisevar._distributions import chi2_ppf
+
 STEP_WINDOW = 6
 STEP_THRESHOLD = 6.0
 #: A candidate jump is confirmed where the third difference of window *medians* stands this
@@ -18,8 +20,12 @@ STEP_THRESHOLD = 6.0
 #: (heavy-tailed noise, a glitch) does not.
 STEP_CONFIRM = 4.0
 #: Above this fraction of flagged samples the step detector is ignored: what it sees is a
-#: fast signal (a sinusoid of a few tens of samples per period), not jumps.
+#: fast signal (a sinusoid of a few tens of samples per period), not jumps. Lone steps
+#: (:func:`lone_steps`) are single jumps whatever the fraction.
 STEP_MAX_FRACTION = 0.2
+#: A lone step's sides are straight lines within the noise unless their residual exceeds
+#: this upper quantile of its chi-squared law (:func:`lone_steps`).
+STEP_SIDES_ALPHA = 1e-3
 
 
 def step_mask(
@@ -118,3 +124,67 @@ def _confirm_steps(
     out = np.zeros_like(candidates)
     out[idx[keep_run[run]]] = True
     return out
+
+
+def lone_steps(
+    z: NDArray,
+    found: NDArray,
+    above: Callable[[NDArray], NDArray],
+    scale: float = 1.0,
+    w: int = STEP_WINDOW,
+) -> NDArray:
+    """The flagged samples of :func:`step_mask` that one jump between two quiet sides explains.
+
+    A run of flags (gaps of at most ``w`` merged: ``|D3|`` dips through zero inside one
+    jump's response) is a *lone step* when
+
+    - it is no longer than ``4 w`` samples: ``D3`` of a single step is non-zero on
+      ``4 w - 1`` samples (with the boundary pair flagged, ``4 w``) whatever its size, so a
+      large jump flags up to ``4 w`` samples and a small one two (a step is one event,
+      not as many as the samples it flags);
+    - no other flag lies within ``2 w`` samples (``D3``'s reach) of either end;
+    - its two sides, the ``2 w - 1`` samples before and after it, are each a straight line
+      within the noise: their pooled residual mean square about a line per side stays
+      below the :data:`STEP_SIDES_ALPHA` quantile of ``σ² χ²_ν / ν`` (``ν = 2 (2 w - 3)``),
+      ``σ²`` the local noise level (``above``, at both ends of the run). A jump is a
+      level change between two sides whose own noise is known.
+
+    A fast signal (a sinusoid of a few tens of samples per period) keeps ``|D3|`` high
+    over many windows: its runs are longer than one step's response or close to each
+    other, and the signal bends within ``2 w`` samples of them; those flags are left to
+    the fraction rule (:data:`STEP_MAX_FRACTION`). Lengths, gaps and line fits read the
+    same on the reversed record, so it has the same lone steps.
+    """
+    out = np.zeros_like(found)
+    idx = np.flatnonzero(found)
+    m = 2 * w - 1
+    if not idx.size or z.size < 4 * w:
+        return out
+    cut = np.flatnonzero(np.diff(idx) > w)
+    start, end = idx[np.r_[0, cut + 1]], idx[np.r_[cut, idx.size - 1]]
+    gap = start[1:] - end[:-1] - 1
+    quiet = np.r_[True, gap >= 2 * w] & np.r_[gap >= 2 * w, True]
+    ok = quiet & (end - start + 1 <= 4 * w) & (start >= m) & (end + m < z.size)
+    if not ok.any():
+        return out
+    a, b = start[ok], end[ok]
+    t = np.arange(m, dtype=float)
+    x = np.c_[np.ones(m), t - t.mean()]
+    resid = np.eye(m) - x @ np.linalg.pinv(x)  # residual maker of a line over m samples
+    rss = np.sum((z[a[:, None] - m + np.arange(m)] @ resid) ** 2, axis=1)
+    rss += np.sum((z[b[:, None] + 1 + np.arange(m)] @ resid) ** 2, axis=1)
+    dof = 2 * (m - 2)
+    probe = np.zeros(z.size)
+    probe[a] = probe[b] = rss / dof * scale / (_sides_quantile(dof) / dof)
+    hit = above(probe)
+    ok[ok] = ~(hit[a] & hit[b])
+    mark = np.zeros(found.size + 1, dtype=np.int64)
+    np.add.at(mark, start[ok], 1)
+    np.add.at(mark, end[ok] + 1, -1)
+    return found & (np.cumsum(mark[:-1]) > 0)
+
+
+@lru_cache(maxsize=8)
+def _sides_quantile(dof: int) -> float:
+    """The ``1 - STEP_SIDES_ALPHA`` quantile of ``χ²`` with ``dof`` degrees of freedom."""
+    return float(chi2_ppf(1.0 - STEP_SIDES_ALPHA, dof))

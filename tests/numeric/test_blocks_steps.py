@@ -67,3 +67,32 @@ def test_step_mask_flags_the_same_samples_on_the_reversed_record():
     hit = step_mask(z, above)
     assert hit[690:710].any() and hit[1790:1810].any()
     np.testing.assert_array_equal(step_mask(z[::-1], above)[::-1], hit)
+
+
+def test_lone_steps_one_run_per_jump_whatever_its_size():
+    # a step is one event: a 40-sigma jump flags its whole response (up to 4w samples),
+    # yet it is one lone step, as a small one is; a run longer than one response, runs
+    # closer than 2w, or a side that bends (a fast signal) are not lone; the same reversed
+    from noisevar.numeric.steps import STEP_WINDOW, lone_steps
+
+    w = STEP_WINDOW
+    rng = np.random.default_rng(5)
+    z = 0.01 * np.arange(700) + rng.standard_normal(700)  # a ramp: straight sides
+
+    def above(x):
+        return x > 1.0  # the local noise variance is 1
+
+    found = np.zeros(700, dtype=bool)
+    found[100 : 100 + 4 * w] = True  # one big jump's whole response
+    found[200:202] = True  # a small jump
+    found[300 : 300 + 4 * w + 1] = True  # longer than one step's response
+    found[400:404] = found[408:412] = True  # two runs 4 apart: one run (gaps <= w merge)
+    found[500:504] = found[515:519] = True  # two runs 11 apart (< 2w): not quiet sides
+    found[600:604] = True  # a run whose left side bends
+    z[600 - 2 * w : 600] += 20.0 * np.sin(np.arange(2 * w) / 2.0)
+    lone = lone_steps(z, found, above)
+    assert lone[100 : 100 + 4 * w].all() and lone[200:202].all()
+    assert lone[400:412].sum() == 8
+    assert not lone[300 : 300 + 4 * w + 1].any() and not lone[500:520].any()
+    assert not lone[600:604].any()
+    np.testing.assert_array_equal(lone_steps(z[::-1], found[::-1], above)[::-1], lone)

@@ -31,7 +31,7 @@ from noisevar.numeric.blocks import (
     dilate,
     flagged_per_block,
 )
-from noisevar.numeric.steps import STEP_MAX_FRACTION, step_mask
+from noisevar.numeric.steps import STEP_MAX_FRACTION, lone_steps, step_mask
 
 #: Trimmed samples are widened by half of this span (or of the longest span below it).
 AUTO_MASK_SPAN = 41
@@ -106,7 +106,7 @@ def _outlier_mask(
     kappa: float,
     block: int,
     widen: int,
-    steps: Callable[[Callable[[NDArray], NDArray], float, NDArray], NDArray] | None,
+    steps: Callable[[Callable[[NDArray], NDArray], float, NDArray], tuple[NDArray, NDArray]] | None,
     step_limit: float,
     after: int = 0,
 ) -> tuple[NDArray | None, NDArray | None, NDArray | None]:
@@ -147,32 +147,44 @@ def _outlier_mask(
     outlier = above(sq)
     jumps, found = None, None
     if steps is not None:
-        found = steps(above, kappa**2, outlier)
+        found, lone = steps(above, kappa**2, outlier)
         if step_limit >= 0 and found.any():
-            jumps = _believed(found, block)
+            jumps = _believed(found, block, lone)
     return (outlier if outlier.any() else None), jumps, found
 
 
-def _believed(found: NDArray, block: int) -> NDArray | None:
-    """The jump samples ``found`` where the detector does not flag too many around them.
+def _believed(found: NDArray, block: int, lone: NDArray | None = None) -> NDArray | None:
+    """The jump samples ``found`` that are jumps, not a fast signal (§F5.3).
 
-    A flagged sample with more than :data:`STEP_MAX_FRACTION` of the
-    ``WINDOW_BLOCKS * block`` samples centred on it flagged (fewer at the record's edges:
-    those in it) sees a fast signal, not a jump: its flag is dropped, and so is any within
-    half that window of it (§F5.3).
+    Lone steps ``lone`` (:func:`~noisevar.numeric.steps.lone_steps`: one jump's response
+    between two quiet straight sides; None: none) are jumps: a step is one event, whatever
+    its size and however many others share the record. Of the other flags, one with more than
+    :data:`STEP_MAX_FRACTION` of the ``WINDOW_BLOCKS * block`` samples centred on it
+    flagged (at the record's edges the window is moved inward, not cut short: a cluster of
+    jumps near an edge is not judged on fewer samples; lone steps not counted) sees a
+    fast signal, not a jump: its flag is dropped, and so is any flag within half that
+    window of it (the fast stretch's edge, lone or not).
     The window is centred on the sample, not on a block grid anchored at the record's
     start, so that reversing the record moves no decision but through ``found`` itself.
     """
-    idx = np.flatnonzero(found)
+    rest = found if lone is None else found & ~lone
+    idx = np.flatnonzero(rest)
+    if not idx.size:
+        return found
     half = WINDOW_BLOCKS * block // 2
-    lo = np.maximum(idx - half, 0)
-    hi = np.minimum(idx + half, found.size - 1)
+    # the window of 2 half + 1 samples (the record, if shorter) lies inside the record: at
+    # an edge it is moved inward, not cut short, so that every flag is judged on as many
+    # samples (the mirror image at the other edge: symmetric in time)
+    size = min(2 * half + 1, found.size)
+    lo = np.clip(idx - half, 0, found.size - size)
+    hi = lo + size - 1
     flagged = np.searchsorted(idx, hi, side="right") - np.searchsorted(idx, lo, side="left")
-    fast = flagged > STEP_MAX_FRACTION * (hi - lo + 1)
+    fast = flagged > STEP_MAX_FRACTION * size
     if not fast.any():
         return found
     # a flag within half the window of a fast one is the same fast stretch (its edge)
     at = idx[fast]
+    idx = np.flatnonzero(found)
     pos = np.searchsorted(at, idx)
     after = at[np.minimum(pos, at.size - 1)] - idx
     before = idx - at[np.maximum(pos - 1, 0)]
@@ -245,9 +257,17 @@ def _flag(
         return None, None, None
     limit = STEP_MAX_FRACTION * z.size if step_limit is None else step_limit
     return _outlier_mask(
-        sq0, trim, block, half, lambda v, sc, out: step_mask(_bridged(z, out), v, sc), limit,
-        after,
-    )  # fmt: skip
+        sq0, trim, block, half, lambda v, sc, out: _steps(z, out, v, sc), limit, after
+    )
+
+
+def _steps(
+    z: NDArray, outliers: NDArray, above: Callable[[NDArray], NDArray], scale: float
+) -> tuple[NDArray, NDArray]:
+    """The step detector's flags on ``z`` with its glitches bridged, and its lone steps."""
+    bridged = _bridged(z, outliers)
+    found = step_mask(bridged, above, scale)
+    return found, lone_steps(bridged, found, above, scale)
 
 
 def _bridged(z: NDArray, outliers: NDArray) -> NDArray:

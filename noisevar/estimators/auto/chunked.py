@@ -183,9 +183,8 @@ class ChunkedAuto:
     -----
     The first :meth:`estimate` is one pass that also sums the diagnostics, and finds the
     power of two the record is scaled by (:attr:`exponent`; a second pass when it is not
-    0); it is passed again without believing any jump when the jump detector flags more
-    than :data:`~noisevar.numeric.steps.STEP_MAX_FRACTION` of the record (a fast signal).
-    Later estimates (coloured noise) are one pass each. ``jumps`` is not kept.
+    0); which jumps are believed is decided in each window (§F5.3), never for the whole
+    record. Later estimates (coloured noise) are one pass each. ``jumps`` is not kept.
     """
 
     def __init__(
