@@ -22,7 +22,13 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from noisevar.diagnostics import NoiseDiagnostics, Segmentation, from_sums, on_both_grids
+from noisevar.diagnostics import (
+    NoiseDiagnostics,
+    Segmentation,
+    from_sums,
+    on_both_grids,
+    profile_from_sums,
+)
 from noisevar.diagnostics.plan import make_plan, probe_of
 from noisevar.diagnostics.power_law import POWER_LAW_MAX
 from noisevar.diagnostics.sums import DiagPart, DiagSums, diag_part
@@ -271,27 +277,22 @@ class ChunkedAuto:
 
     def still_ranges(self, diag: NoiseDiagnostics) -> list[tuple[int, int]]:
         """As :meth:`~noisevar.estimators.pipeline.InMemory.still_ranges`: one more pass,
-        the diagnostics of the record read backwards in chunks (the same numbers)."""
+        the level profile of the record read backwards in chunks (the same numbers)."""
         n, e, runs = self.n, self.exponent, [(self.n - b, self.n - a) for a, b in self.jump_runs]
 
         def back(a: int, b: int) -> NDArray:
             return np.ldexp(self.read(n - b, n - a)[::-1], e)
 
-        def probe(s: slice) -> NDArray:
-            start, stop, step = s.indices(n)
-            return self.probe(slice(n - 1 - start, n - 1 - stop if stop < n else None, -step))
-
-        plan = make_plan(n, ((0, n),), np.ldexp(probe_of(probe, n), e))
+        plan = make_plan(n, ((0, n),), np.zeros(0))  # the profile needs no probe
         sums = DiagSums(plan)
         for c in chunks(n, self.chunk):
             left = np.zeros(c.wb - c.wa, dtype=bool)
             for a, b in runs:
                 left[max(a, c.wa) - c.wa : max(min(b, c.wb) - c.wa, 0)] = True
-            sums.add(diag_part(back(c.wa, c.wb), c.wa, (c.lo, c.hi), 0, plan, left))
-        head = back(0, min(n, POWER_LAW_MAX))
-        rev = from_sums(sums, Segmentation(((0, n),), ()), lambda: head)
-        return on_both_grids(diag.level_profile.still_stretches,
-                             rev.level_profile.still_stretches, n)  # fmt: skip
+            z = back(c.wa, c.wb)
+            sums.add(diag_part(z, c.wa, (c.lo, c.hi), 0, plan, left, profile_only=True))
+        rev = profile_from_sums(sums)
+        return on_both_grids(diag.level_profile.still_stretches, rev.still_stretches, n)
 
     def reader(self) -> Callable[[int, int], NDArray]:
         """``read`` at the record's scale, for the finishing step."""
