@@ -139,7 +139,8 @@ def _pass(
         return part, dpart, top, lo_z, hi_z, runs
 
     parts, top, lo_all, hi_all, runs = [], 0.0, math.inf, -math.inf, []
-    for part, dpart, t, lo_z, hi_z, more in _in_order(work, chunks(n, size), workers):
+    todo = chunks(n, size)  # one chunk: no thread to hand it to and wait for
+    for part, dpart, t, lo_z, hi_z, more in _in_order(work, todo, min(workers, len(todo))):
         if part is not None:
             parts.append(part)
         runs = _join(runs, more)
@@ -184,6 +185,9 @@ class ChunkedAuto:
         How the record was read, for the first note ("streamed in chunks of ...").
     notes : sequence of str
         Remarks carried in front of it.
+    diagnostics : bool
+        Sum the diagnostics in the first pass (False: the estimate alone, for a part of
+        a record whose diagnostics are the record's; :meth:`diagnose` then refuses).
 
     Notes
     -----
@@ -203,8 +207,10 @@ class ChunkedAuto:
         workers: int = 2,
         note: str = "streamed",
         notes: Sequence[str] = (),
+        diagnostics: bool = True,
     ) -> None:
         self.read, self.n, self.workers = read, n, workers
+        self.diagnostics, self.scaled = diagnostics, False
         self.probe = probe or (
             lambda s: np.array([read(i, i + 1)[0] for i in range(*s.indices(n))])
         )
@@ -218,7 +224,7 @@ class ChunkedAuto:
         """``auto``'s estimate of the record with ``params`` (validated, None left out)."""
         p = _config(params)
         spans = auto_spans(p["span"], p["order"], p["trim"], self.n)
-        if self.sums is None:
+        if not self.scaled:
             run = self._first(spans, p)
         else:
             run = self._run(spans, p, None, math.inf)
@@ -235,7 +241,7 @@ class ChunkedAuto:
         for a, b in ranges:
             sub = ChunkedAuto(
                 lambda i, j, a=a: self.read(a + i, a + j), b - a, chunk=self.chunk,
-                workers=self.workers, notes=self.notes[:-1],
+                workers=self.workers, notes=self.notes[:-1], diagnostics=False,
             )  # fmt: skip
             try:
                 part = sub.estimate(params)
@@ -255,17 +261,19 @@ class ChunkedAuto:
         return _pass(self.read, self.n, spans, p, e, sums, limit, self.chunk, self.workers)
 
     def _first(self, spans: tuple[int, ...], p: dict) -> _Pass:
-        """The first pass: estimate, diagnostic sums and the record's scale."""
-        grid = probe_of(self.probe, self.n)
+        """The first pass: estimate, diagnostic sums (when asked) and the record's scale."""
+        grid = probe_of(self.probe, self.n) if self.diagnostics else None
         for _ in range(2):  # a second pass only when the record needs scaling (exact)
-            plan = make_plan(self.n, ((0, self.n),), np.ldexp(grid, self.exponent))
-            run = self._run(spans, p, DiagSums(plan), math.inf)
+            sums = None
+            if grid is not None:
+                sums = DiagSums(make_plan(self.n, ((0, self.n),), np.ldexp(grid, self.exponent)))
+            run = self._run(spans, p, sums, math.inf)
             if run.span == 0:
                 raise NoisevarError("the signal is constant: there is no noise to estimate")
             if exponent_of(run.top) == self.exponent:
                 break
             self.exponent = exponent_of(run.top)
-        self.sums, self.jump_runs = run.diag, run.jump_runs
+        self.sums, self.jump_runs, self.scaled = run.diag, run.jump_runs, True
         return run
 
     def diagnose(self, result: VarianceEstimate) -> NoiseDiagnostics:
