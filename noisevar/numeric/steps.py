@@ -112,7 +112,11 @@ def _confirm_steps(
     idx = np.flatnonzero(candidates)
     windows = np.lib.stride_tricks.sliding_window_view(z, w)
     at = np.clip(idx[:, None] + np.array([w, 0, -w, -2 * w]), 0, windows.shape[0] - 1)
-    med = np.median(windows[at.ravel()], axis=1).reshape(at.shape)
+    # each window's median once (neighbouring candidates share their windows)
+    need = np.zeros(windows.shape[0], dtype=bool)
+    need[at] = True
+    rank = np.cumsum(need) - 1  # the row of each needed window among them
+    med = np.median(windows[need], axis=1)[rank[at]]
     # D3med = m(k+w) - 3 m(k) + 3 m(k-w) - m(k-2w), sd = σ sqrt(20 var(median))
     d3 = med @ np.array([1.0, -3.0, 3.0, -1.0])
     probe = np.zeros(z.size)
