@@ -122,3 +122,11 @@ def test_window_medians_once_are_the_medians_per_candidate(monkeypatch):
     assert fast.any()
     monkeypatch.setattr(steps, "_confirm_steps", per_candidate)
     assert np.array_equal(fast, steps.step_mask(z, above, 1.0, w))
+
+
+def test_the_sorting_network_gives_numpys_medians():
+    rng = np.random.default_rng(5)
+    z = np.r_[rng.normal(size=3000), np.round(rng.normal(size=3000) * 2) / 2]  # ties too
+    starts = np.sort(rng.choice(z.size - 6, 2000, replace=False))
+    windows = np.lib.stride_tricks.sliding_window_view(z, 6)[starts]
+    assert np.array_equal(steps._window_medians(z, starts, 6), np.median(windows, axis=1))
