@@ -278,6 +278,8 @@ class ChunkedAuto:
 
     def diagnose(self, result: VarianceEstimate) -> NoiseDiagnostics:
         """The diagnostics summed by the first pass (``result`` is not needed)."""
+        if not self.diagnostics:
+            raise NoisevarError("this part of a record is estimated without diagnostics")
         if self.sums is None:
             raise NoisevarError("the record has not been estimated yet")
         head, e = self.read(0, min(self.n, POWER_LAW_MAX)), self.exponent
