@@ -41,6 +41,8 @@ __all__ = [
     "diagnose",
     "from_sums",
     "on_both_grids",
+    "profile_from_sums",
+    "profile_of",
     "split_dropped",
     "split_times",
     "with_verdict",
@@ -94,23 +96,8 @@ def from_sums(sums: DiagSums, seg: Segmentation, head: Callable[[], NDArray]) ->
     robust level (spikes stay in it, level changes do not); the whiteness test's null
     covariance is widened by ``n Σσ⁴ / (Σσ²)²`` for a level that changes along the record.
     """
-    sums.check()
     plan, d = sums.plan, residual_sequence(DIAG_SPAN, DIAG_ORDER)
-    # blocks left with a handful of residuals (around jumps) say nothing of the level
-    blocks = sorted(b for b, v in sums.profile.items() if v[0] >= PROFILE_MIN_KEPT)
-    count, total, robust, medians, k2, k4 = (
-        np.array([sums.profile[b][i] for b in blocks], dtype=float) for i in range(6)
-    )
-    kept = float(count.sum())
-    kurt = kurtosis_from_moments(sums.k2 / kept, sums.k4 / kept, d)
-    eta = float(np.sum(white_null_acf_sq(d)))
-    starts = np.array(blocks) * plan.profile.size
-    stops = plan.profile.stop(np.array(blocks))
-    # ν per sample = 1 / (η + (κ - 3) / 2)   (docs/algorithms.md §E1)
-    profile = profile_from_blocks(
-        _sample_of(plan, starts), _sample_of(plan, stops - 1) + 1, count, total / count,
-        robust, 1.0 / (eta + max(kurt - 3.0, 0.0) / 2.0), eta, medians, (k2, k4, d),
-    )  # fmt: skip
+    profile, blocks, total, kept, kurt = _profile(sums)
     e_w, keep_w = sums.white.joined()
     white = whiteness_test(e_w, d, keep=keep_w, inflation=_hetero(sums.wide))
     slots = _residual_slots(plan, sums.white.joined_slots())
@@ -137,6 +124,49 @@ def from_sums(sums: DiagSums, seg: Segmentation, head: Callable[[], NDArray]) ->
         still_whiteness=still_white,
     )
     return with_verdict(diag, float(total.sum() / kept))
+
+
+def profile_of(
+    z: NDArray, segmentation: Segmentation, exclude: NDArray | None = None
+) -> LevelProfile:
+    """The level profile of :func:`diagnose` alone (the same numbers, none of the rest).
+
+    For the reversed record's block grid (the still stretches on both grids,
+    :func:`on_both_grids`): no whiteness test, increments, quantisation or power law.
+    """
+    plan = make_plan(z.size, segmentation.segments, np.zeros(0))
+    sums = DiagSums(plan)
+    for i, (a, b) in enumerate(segmentation.segments):
+        x = None if exclude is None else exclude[a:b]
+        sums.add(diag_part(z[a:b], a, (a, b), i, plan, x, profile_only=True))
+    return profile_from_sums(sums)
+
+
+def profile_from_sums(sums: DiagSums) -> LevelProfile:
+    """The level profile of :func:`from_sums` alone (sums made with ``profile_only``)."""
+    return _profile(sums)[0]
+
+
+def _profile(sums: DiagSums) -> tuple[LevelProfile, list[int], NDArray, float, float]:
+    """The level profile, its blocks, their sums of squares, the kept count, the kurtosis."""
+    sums.check()
+    plan, d = sums.plan, residual_sequence(DIAG_SPAN, DIAG_ORDER)
+    # blocks left with a handful of residuals (around jumps) say nothing of the level
+    blocks = sorted(b for b, v in sums.profile.items() if v[0] >= PROFILE_MIN_KEPT)
+    count, total, robust, medians, k2, k4 = (
+        np.array([sums.profile[b][i] for b in blocks], dtype=float) for i in range(6)
+    )
+    kept = float(count.sum())
+    kurt = kurtosis_from_moments(sums.k2 / kept, sums.k4 / kept, d)
+    eta = float(np.sum(white_null_acf_sq(d)))
+    starts = np.array(blocks) * plan.profile.size
+    stops = plan.profile.stop(np.array(blocks))
+    # ν per sample = 1 / (η + (κ - 3) / 2)   (docs/algorithms.md §E1)
+    profile = profile_from_blocks(
+        _sample_of(plan, starts), _sample_of(plan, stops - 1) + 1, count, total / count,
+        robust, 1.0 / (eta + max(kurt - 3.0, 0.0) / 2.0), eta, medians, (k2, k4, d),
+    )  # fmt: skip
+    return profile, blocks, total, kept, kurt
 
 
 def _still_whiteness(

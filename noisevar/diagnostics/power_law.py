@@ -58,10 +58,12 @@ def lag1_acf(x: NDArray) -> float:
         When ``x`` is constant (no autocorrelation is defined).
     """
     e = x - x.mean()
-    b = float(np.dot(e, e))
+    # sums of products without BLAS: its threads, woken for one product on a busy
+    # machine, cost more than the product (and their split changes its last bits)
+    b = float(np.einsum("i,i->", e, e))
     if not b > 0.0:
         raise NoisevarError("power-law identification failed: a constant stretch.")
-    return float(np.dot(e[:-1], e[1:])) / b
+    return float(np.einsum("i,i->", e[:-1], e[1:])) / b
 
 
 def noise_id(x: NDArray, af: int, dmax: int = 2) -> int:

@@ -67,6 +67,7 @@ def diag_part(
     seg: int,
     plan: DiagPlan,
     exclude: NDArray | None = None,
+    profile_only: bool = False,
 ) -> DiagPart:
     """The share of the samples ``own`` (record indices) of segment ``seg``.
 
@@ -80,6 +81,9 @@ def diag_part(
     plan : DiagPlan
     exclude : ndarray of bool, optional
         Over the window: samples left out (around level jumps).
+    profile_only : bool
+        Only the level profile's blocks (no whiteness windows, increments or
+        quantisation probe): what :func:`~noisevar.diagnostics.profile_of` needs.
     """
     a, b = plan.segments[seg]
     lo, hi = own
@@ -100,9 +104,12 @@ def diag_part(
             profile = block_pieces(plan.profile, s0, e, keep, norm)
             same = plan.wide == plan.profile
             wide = profile if same else block_pieces(plan.wide, s0, e, keep, norm)
-            white += _inside(plan.white, s0 + WHITE_LAGS * rank, e, keep)
-        if hi == b:
+            if not profile_only:
+                white += _inside(plan.white, s0 + WHITE_LAGS * rank, e, keep)
+        if hi == b and not profile_only:
             white.append((r_sep, np.zeros(WHITE_LAGS), np.zeros(WHITE_LAGS, dtype=bool)))
+    if profile_only:
+        return DiagPart(profile, wide, white, [], True, None)
     d0 = sum(b_ - a_ - 1 + WHITE_LAGS for a_, b_ in plan.segments[:seg])
     incr = []
     for p, q in plan.incr:  # first differences inside the windows only

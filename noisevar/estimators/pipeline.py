@@ -31,6 +31,7 @@ from noisevar.diagnostics import (
     Segmentation,
     diagnose,
     on_both_grids,
+    profile_of,
     split_dropped,
     split_times,
     with_verdict,
@@ -236,15 +237,15 @@ class InMemory:
     def still_ranges(self, diag: NoiseDiagnostics) -> list[tuple[int, int]]:
         """The still stretches of ``diag`` that the reversed record's block grid finds still too.
 
-        The same diagnostics on the record reversed, with the same samples left out around
-        jumps: its blocks end where the record's start (docs/algorithms.md §E1 Regimes).
+        The same level profile on the record reversed, with the same samples left out
+        around jumps: its blocks end where the record's start (docs/algorithms.md §E1
+        Regimes); only the profile is computed (:func:`noisevar.diagnostics.profile_of`).
         """
         n = self.z.size
         seg = Segmentation(tuple((n - b, n - a) for a, b in reversed(self.seg.segments)), ())
         jumps = getattr(self, "jumps", None)
-        back = diagnose(self.z[::-1], seg, None if jumps is None else jumps[::-1])
-        return on_both_grids(diag.level_profile.still_stretches,
-                             back.level_profile.still_stretches, n)  # fmt: skip
+        back = profile_of(self.z[::-1], seg, None if jumps is None else jumps[::-1])
+        return on_both_grids(diag.level_profile.still_stretches, back.still_stretches, n)
 
     def estimate_in(self, params: dict, ranges: list[tuple[int, int]]) -> VarianceEstimate:
         """The method on the sample ranges ``ranges`` only, less the samples around jumps

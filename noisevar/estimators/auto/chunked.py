@@ -22,7 +22,13 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from noisevar.diagnostics import NoiseDiagnostics, Segmentation, from_sums, on_both_grids
+from noisevar.diagnostics import (
+    NoiseDiagnostics,
+    Segmentation,
+    from_sums,
+    on_both_grids,
+    profile_from_sums,
+)
 from noisevar.diagnostics.plan import make_plan, probe_of
 from noisevar.diagnostics.power_law import POWER_LAW_MAX
 from noisevar.diagnostics.sums import DiagPart, DiagSums, diag_part
@@ -133,7 +139,8 @@ def _pass(
         return part, dpart, top, lo_z, hi_z, runs
 
     parts, top, lo_all, hi_all, runs = [], 0.0, math.inf, -math.inf, []
-    for part, dpart, t, lo_z, hi_z, more in _in_order(work, chunks(n, size), workers):
+    todo = chunks(n, size)  # one chunk: no thread to hand it to and wait for
+    for part, dpart, t, lo_z, hi_z, more in _in_order(work, todo, min(workers, len(todo))):
         if part is not None:
             parts.append(part)
         runs = _join(runs, more)
@@ -178,6 +185,9 @@ class ChunkedAuto:
         How the record was read, for the first note ("streamed in chunks of ...").
     notes : sequence of str
         Remarks carried in front of it.
+    diagnostics : bool
+        Sum the diagnostics in the first pass (False: the estimate alone, for a part of
+        a record whose diagnostics are the record's; :meth:`diagnose` then refuses).
 
     Notes
     -----
@@ -197,8 +207,10 @@ class ChunkedAuto:
         workers: int = 2,
         note: str = "streamed",
         notes: Sequence[str] = (),
+        diagnostics: bool = True,
     ) -> None:
         self.read, self.n, self.workers = read, n, workers
+        self.diagnostics, self.scaled = diagnostics, False
         self.probe = probe or (
             lambda s: np.array([read(i, i + 1)[0] for i in range(*s.indices(n))])
         )
@@ -212,7 +224,7 @@ class ChunkedAuto:
         """``auto``'s estimate of the record with ``params`` (validated, None left out)."""
         p = _config(params)
         spans = auto_spans(p["span"], p["order"], p["trim"], self.n)
-        if self.sums is None:
+        if not self.scaled:
             run = self._first(spans, p)
         else:
             run = self._run(spans, p, None, math.inf)
@@ -229,7 +241,7 @@ class ChunkedAuto:
         for a, b in ranges:
             sub = ChunkedAuto(
                 lambda i, j, a=a: self.read(a + i, a + j), b - a, chunk=self.chunk,
-                workers=self.workers, notes=self.notes[:-1],
+                workers=self.workers, notes=self.notes[:-1], diagnostics=False,
             )  # fmt: skip
             try:
                 part = sub.estimate(params)
@@ -249,21 +261,25 @@ class ChunkedAuto:
         return _pass(self.read, self.n, spans, p, e, sums, limit, self.chunk, self.workers)
 
     def _first(self, spans: tuple[int, ...], p: dict) -> _Pass:
-        """The first pass: estimate, diagnostic sums and the record's scale."""
-        grid = probe_of(self.probe, self.n)
+        """The first pass: estimate, diagnostic sums (when asked) and the record's scale."""
+        grid = probe_of(self.probe, self.n) if self.diagnostics else None
         for _ in range(2):  # a second pass only when the record needs scaling (exact)
-            plan = make_plan(self.n, ((0, self.n),), np.ldexp(grid, self.exponent))
-            run = self._run(spans, p, DiagSums(plan), math.inf)
+            sums = None
+            if grid is not None:
+                sums = DiagSums(make_plan(self.n, ((0, self.n),), np.ldexp(grid, self.exponent)))
+            run = self._run(spans, p, sums, math.inf)
             if run.span == 0:
                 raise NoisevarError("the signal is constant: there is no noise to estimate")
             if exponent_of(run.top) == self.exponent:
                 break
             self.exponent = exponent_of(run.top)
-        self.sums, self.jump_runs = run.diag, run.jump_runs
+        self.sums, self.jump_runs, self.scaled = run.diag, run.jump_runs, True
         return run
 
     def diagnose(self, result: VarianceEstimate) -> NoiseDiagnostics:
         """The diagnostics summed by the first pass (``result`` is not needed)."""
+        if not self.diagnostics:
+            raise NoisevarError("this part of a record is estimated without diagnostics")
         if self.sums is None:
             raise NoisevarError("the record has not been estimated yet")
         head, e = self.read(0, min(self.n, POWER_LAW_MAX)), self.exponent
@@ -271,27 +287,22 @@ class ChunkedAuto:
 
     def still_ranges(self, diag: NoiseDiagnostics) -> list[tuple[int, int]]:
         """As :meth:`~noisevar.estimators.pipeline.InMemory.still_ranges`: one more pass,
-        the diagnostics of the record read backwards in chunks (the same numbers)."""
+        the level profile of the record read backwards in chunks (the same numbers)."""
         n, e, runs = self.n, self.exponent, [(self.n - b, self.n - a) for a, b in self.jump_runs]
 
         def back(a: int, b: int) -> NDArray:
             return np.ldexp(self.read(n - b, n - a)[::-1], e)
 
-        def probe(s: slice) -> NDArray:
-            start, stop, step = s.indices(n)
-            return self.probe(slice(n - 1 - start, n - 1 - stop if stop < n else None, -step))
-
-        plan = make_plan(n, ((0, n),), np.ldexp(probe_of(probe, n), e))
+        plan = make_plan(n, ((0, n),), np.zeros(0))  # the profile needs no probe
         sums = DiagSums(plan)
         for c in chunks(n, self.chunk):
             left = np.zeros(c.wb - c.wa, dtype=bool)
             for a, b in runs:
                 left[max(a, c.wa) - c.wa : max(min(b, c.wb) - c.wa, 0)] = True
-            sums.add(diag_part(back(c.wa, c.wb), c.wa, (c.lo, c.hi), 0, plan, left))
-        head = back(0, min(n, POWER_LAW_MAX))
-        rev = from_sums(sums, Segmentation(((0, n),), ()), lambda: head)
-        return on_both_grids(diag.level_profile.still_stretches,
-                             rev.level_profile.still_stretches, n)  # fmt: skip
+            z = back(c.wa, c.wb)
+            sums.add(diag_part(z, c.wa, (c.lo, c.hi), 0, plan, left, profile_only=True))
+        rev = profile_from_sums(sums)
+        return on_both_grids(diag.level_profile.still_stretches, rev.still_stretches, n)
 
     def reader(self) -> Callable[[int, int], NDArray]:
         """``read`` at the record's scale, for the finishing step."""

@@ -1,0 +1,132 @@
+"""The shortcuts that make ``auto`` cheaper on records with motion give the same numbers (issue 26).
+
+Each is compared with the long way it replaces, to the last bit: the reversed grid's
+profile-only pass with the full diagnostics, the still ranges' estimate without
+diagnostic sums with the one that sums them, PELT's cost table with a cost per call,
+the window medians computed once with one per candidate.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from noisevar.diagnostics import Segmentation, diagnose, profile_of
+from noisevar.diagnostics.regimes import _Cost, _pelt
+from noisevar.estimators.auto import ChunkedAuto
+from noisevar.numeric import steps
+
+
+def _motion(n: int, seed: int) -> np.ndarray:
+    """White noise (σ = 1) with bursts of a fast sinusoid every ``n // 5`` samples."""
+    rng = np.random.default_rng(seed)
+    x = rng.normal(size=n)
+    t = np.arange(n)
+    for s in range(n // 20, n, n // 5):
+        burst = slice(s, s + n // 30)
+        x[burst] += rng.uniform(3, 20) * np.sin(t[burst] / rng.uniform(2, 7))
+    return x
+
+
+def _same(a, b) -> None:
+    for f in dataclasses.fields(a):
+        x, y = getattr(a, f.name), getattr(b, f.name)
+        if isinstance(x, np.ndarray):
+            assert x.dtype == y.dtype and np.array_equal(x, y), f.name
+        else:
+            assert x == y, f.name
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_the_profile_only_pass_is_the_diagnostics_profile(seed):
+    z = _motion(12_000, seed)
+    seg = Segmentation(((0, 5_000), (5_000, 12_000)), ())
+    exclude = np.zeros(z.size, dtype=bool)
+    exclude[7_000:7_040] = True  # samples around a jump, left out
+    light = profile_of(z, seg, exclude)
+    assert len(light.regimes) > 1 and not light.quiet.all()
+    _same(light, diagnose(z, seg, exclude).level_profile)
+
+
+def test_the_still_ranges_estimate_needs_no_diagnostic_sums():
+    z = _motion(40_000, 7)
+
+    def read(a: int, b: int) -> np.ndarray:
+        return z[max(a, 0) : b].copy()
+
+    full = ChunkedAuto(read, z.size, probe=z.__getitem__, chunk=1 << 13).estimate({})
+    light = ChunkedAuto(read, z.size, chunk=1 << 13, diagnostics=False).estimate({})
+    assert full.to_dict() == light.to_dict()
+    assert (full.variance, full.ci95, full.dof) == (light.variance, light.ci95, light.dof)
+
+
+def test_pelt_from_the_cost_table_finds_the_breaks_of_a_cost_per_call():
+    import ruptures
+
+    rng = np.random.default_rng(3)
+    split = 0
+    for _ in range(20):
+        m = int(rng.integers(5, 120))
+        level = rng.chisquare(40, m) / 40
+        level[rng.integers(0, m) :] *= rng.choice([0.3, 4.0, 12.0])
+        cost = _Cost(level, rng.uniform(20, 500, m))
+
+        class PerCall(ruptures.base.BaseCost):
+            model = "per-call"
+            min_size = 1
+
+            def __init__(self, cost: _Cost) -> None:
+                self.cost = cost
+
+            def fit(self, signal):
+                self.signal = signal
+                return self
+
+            def error(self, start, end):
+                return float(self.cost(start, end))
+
+        pen = 6.0 * np.log(m)
+        direct = ruptures.Pelt(custom_cost=PerCall(cost), min_size=1, jump=1)
+        breaks = _pelt(cost, m, pen)
+        assert breaks == direct.fit(np.zeros((m, 1))).predict(pen=pen)[:-1]
+        split += bool(breaks)
+    assert split >= 10
+
+
+def test_window_medians_once_are_the_medians_per_candidate(monkeypatch):
+    z = _motion(6_000, 11)
+    w = steps.STEP_WINDOW
+
+    def above(x: np.ndarray) -> np.ndarray:
+        return x > 0.5
+
+    def per_candidate(z, candidates, above, scale, w):  # the medians taken per candidate
+        idx = np.flatnonzero(candidates)
+        windows = np.lib.stride_tricks.sliding_window_view(z, w)
+        at = np.clip(idx[:, None] + np.array([w, 0, -w, -2 * w]), 0, windows.shape[0] - 1)
+        med = np.median(windows[at.ravel()], axis=1).reshape(at.shape)
+        d3 = med @ np.array([1.0, -3.0, 3.0, -1.0])
+        probe = np.zeros(z.size)
+        probe[idx] = d3**2 * scale / (steps.STEP_CONFIRM**2 * 20.0 * steps._median_variance(w))
+        confirmed = steps._above_both_sides(probe, above)[idx]
+        run = np.cumsum(np.r_[True, np.diff(idx) > w])
+        keep_run = np.zeros(run[-1] + 1, dtype=bool)
+        keep_run[run[confirmed]] = True
+        out = np.zeros_like(candidates)
+        out[idx[keep_run[run]]] = True
+        return out
+
+    fast = steps.step_mask(z, above, 1.0, w)
+    assert fast.any()
+    monkeypatch.setattr(steps, "_confirm_steps", per_candidate)
+    assert np.array_equal(fast, steps.step_mask(z, above, 1.0, w))
+
+
+def test_the_sorting_network_gives_numpys_medians():
+    rng = np.random.default_rng(5)
+    z = np.r_[rng.normal(size=3000), np.round(rng.normal(size=3000) * 2) / 2]  # ties too
+    starts = np.sort(rng.choice(z.size - 6, 2000, replace=False))
+    windows = np.lib.stride_tricks.sliding_window_view(z, 6)[starts]
+    assert np.array_equal(steps._window_medians(z, starts, 6), np.median(windows, axis=1))
