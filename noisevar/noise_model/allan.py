@@ -20,6 +20,7 @@ from noisevar._arrays import check_exact_ints
 from noisevar.errors import NoisevarError
 from noisevar.estimators import scale_back, scale_exponent
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes, longest_still_stretch
+from noisevar.numeric.noise_id import noise_id
 
 #: One-sigma confidence (Stable32's default error bars).
 ONE_SIGMA = 0.6826894921370859
@@ -427,13 +428,13 @@ def _b1_noise_id(x: NDArray, m: int) -> float:
 
 
 def _noise_id(x: NDArray, m: int, d: int) -> float:
-    """allantools' lag-1 autocorrelation noise exponent at factor ``m`` (B1 when too short)."""
+    """The lag-1 autocorrelation noise exponent at factor ``m`` (B1 when too short)."""
     if x.size // m < NOISE_ID_MIN:
         return _b1_noise_id(x, m)
     head = x[: NOISE_ID_POINTS * m + 1]
     try:
-        alpha_int = allantools.autocorr_noise_id(head, m, data_type="phase", dmin=0, dmax=d)[0]
-    except (NotImplementedError, ValueError, np.linalg.LinAlgError):
+        alpha_int = noise_id(head, m, dmax=d)
+    except (NoisevarError, ValueError, np.linalg.LinAlgError):
         return np.nan
     # the power-law types the d-th difference can tell apart: 2 - 2d .. 2
     return float(min(2, max(alpha_int, 2 - 2 * d)))

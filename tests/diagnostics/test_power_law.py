@@ -4,8 +4,9 @@ import allantools
 import numpy as np
 import pytest
 
-from noisevar.diagnostics.power_law import AVERAGING_FACTORS, lag1_acf, noise_id
+from noisevar.diagnostics.power_law import AVERAGING_FACTORS
 from noisevar.errors import NoisevarError
+from noisevar.numeric.noise_id import lag1_acf, noise_id
 
 
 def _records() -> list[np.ndarray]:
@@ -44,3 +45,12 @@ def test_constant_or_short_stretches_are_refused():
         lag1_acf(np.ones(100))
     with pytest.raises(NoisevarError):
         noise_id(np.arange(40.0), 4)
+
+
+@pytest.mark.parametrize("dmax", [1, 3])
+def test_noise_id_with_the_allan_deviations_differencing_equals_allantools(dmax):
+    # the Allan deviation's edf asks with dmax = 2 (ADEV) or 3 (HDEV)
+    for x in _records()[:8]:
+        for af in (1, 8):
+            theirs = allantools.autocorr_noise_id(x, af, data_type="phase", dmin=0, dmax=dmax)[0]
+            assert noise_id(x, af, dmax=dmax) == int(theirs)
