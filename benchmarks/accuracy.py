@@ -2,6 +2,7 @@
 
     python benchmarks/accuracy.py                 # 400 runs (MLE: 50 runs, 20 at n = 50000)
     python benchmarks/accuracy.py --runs 50 --quick
+    python benchmarks/accuracy.py --render        # accuracy.md again from accuracy.json
     python benchmarks/accuracy.py --families steps-ramps --ns 1000 \
         --methods auto,mle-trend,diff2 --out accuracy_steps1000   # one cell, its own files
 
@@ -128,6 +129,8 @@ def markdown(cells: list[dict], figs: list[dict], args: argparse.Namespace) -> s
                     row.append("—")
                 elif "rmse" not in c:
                     row.append("refused: " + (c["error"] or "")[:40])
+                elif not np.isfinite(c["rmse"]):  # some runs refused the record
+                    row.append(f"refused in {c['failed_runs']} of {c['runs']} runs")
                 else:
                     b, r, q = 100 * c["bias"], 100 * c["rmse"], c["rmse_over_floor"]
                     row.append(f"{b:+.1f} / {r:.1f} ({q:.2f}x)")
@@ -242,6 +245,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--ns", help="comma-separated record lengths (default: 1000,6000,50000)")
     ap.add_argument("--methods", help="comma-separated methods (default: all)")
     ap.add_argument("--out", default="accuracy", help="results/NAME.json and NAME.md")
+    ap.add_argument("--render", action="store_true", help="rewrite NAME.md from NAME.json")
     args = ap.parse_args(argv)
     args.given = {k: getattr(args, k) for k in ("families", "ns", "methods") if getattr(args, k)}
     subset = bool(args.given)
@@ -258,6 +262,9 @@ def main(argv: list[str] | None = None) -> int:
         ap.error(f"unknown families or methods: {', '.join(sorted(unknown))}")
     if subset:
         args.fig2_runs = 0  # the paper's Fig. 2 is the full run's
+    if args.render:
+        saved = json.loads((RESULTS / f"{args.out}.json").read_text())
+        return _write(saved["cells"], saved["fig2"], saved["seconds"], args)
     fast = tuple(m for m in args.methods if m not in SLOW)
     slow = tuple(m for m in args.methods if m in SLOW)
     tasks = []
@@ -281,6 +288,11 @@ def main(argv: list[str] | None = None) -> int:
     (RESULTS / f"{args.out}.json").write_text(
         json.dumps({"cells": cells, "fig2": figs, "seconds": elapsed}, indent=1)
     )
+    return _write(cells, figs, elapsed, args)
+
+
+def _write(cells: list[dict], figs: list[dict], elapsed: float, args: argparse.Namespace) -> int:
+    """Write and print NAME.md."""
     text = markdown(cells, figs, args)
     text += f"\n\n(total {elapsed:.0f} s on {args.workers} workers)\n"
     (RESULTS / f"{args.out}.md").write_text(text)
