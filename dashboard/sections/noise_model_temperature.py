@@ -228,4 +228,9 @@ def composite_panel(sig: LoadedSignal, s: NoiseModelSettings) -> None:
             for p in model.parameters
         ]
         st.dataframe(pd.DataFrame(rows), hide_index=True, column_config=_NUMBERS)
-        st.caption(f"{model.ci:.1%} intervals. {model.filter_bias.note}")
+        fb = model.filter_bias
+        st.caption(
+            f"{model.ci:.1%} intervals. The bias as one random walk over {fb.horizon:g} s (the K "
+            f"the exports take from the composite fit, per axis): K_eq = {fb.random_walk:.4g} "
+            f"[{fb.interval[0]:.3g}, {fb.interval[1]:.3g}] {model.unit}/s/√Hz. {fb.note}"
+        )

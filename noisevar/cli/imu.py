@@ -205,7 +205,8 @@ def _print_models(fits: dict) -> None:
             lo, hi = p.interval
             print(f"  {p.name:<12} {p.value:11.4g} [{lo:.3g}, {hi:.3g}] {p.unit}")
         fb = fit.filter_bias
-        k_eq = f"K_eq {fb.random_walk:.4g} {fit.unit}/s/√Hz"
+        lo, hi = fb.interval
+        k_eq = f"K_eq {fb.random_walk:.4g} [{lo:.3g}, {hi:.3g}] {fit.unit}/s/√Hz"
         print(f"  bias as a random walk over {fb.horizon:g} s: {k_eq}")
         head = f"{'objective':>12} {'WVIC':>12} {'HQ':>12} {'BIC':>12}"
         print(f"  {'model':<22} {'params':>6} {head}")

@@ -85,3 +85,4 @@ def test_composite_model_opens_on_demand():
     assert any("chosen" in t.columns and t["chosen"].sum() == 1 for t in tables)
     params = next(t for t in tables if "parameter" in t.columns)
     assert (params["low"] <= params["value"]).all() and (params["value"] <= params["high"]).all()
+    assert any("K_eq = " in c.value and "the exports take" in c.value for c in at.caption)

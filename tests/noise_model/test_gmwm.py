@@ -145,6 +145,8 @@ def test_filter_bias_conversion(composite: tuple[np.ndarray, float]) -> None:
     # below tau_c this is about sigma sqrt(2 / tau_c), the short-horizon limit
     assert fit.filter_bias.random_walk == pytest.approx(math.sqrt(2 * s2 / tc), rel=0.1)
     assert "T = 1 s" in fit.filter_bias.note
+    lo, hi = fit.filter_bias.interval  # the delta method on log K_eq: around K_eq
+    assert 0 < lo < fit.filter_bias.random_walk < hi
     with pytest.raises(NoisevarError):
         fit_imu_model(y, rate, horizon=0.001)
 
@@ -155,9 +157,13 @@ def test_choice_picks_white_plus_random_walk() -> None:
     fit = fit_imu_model(y, rate)
     assert fit.model == "WN+RW"
     assert fit.value("K") == pytest.approx(2e-4, rel=0.3)
+    # a random walk alone: K_eq is K at any horizon, and so is its interval
+    assert fit.filter_bias.random_walk == pytest.approx(fit.value("K"), rel=1e-6)
+    assert fit.filter_bias.interval == pytest.approx(fit.parameter("K").interval, rel=1e-6)
     white = fit_imu_model(np.random.default_rng(0).standard_normal(2**14), 1.0)
     assert white.model == "WN"
     assert white.value("N") == pytest.approx(1.0, rel=0.03)
+    assert white.filter_bias.random_walk == 0.0 and white.filter_bias.interval == (0.0, 0.0)
 
 
 def test_robust_wv_with_outliers() -> None:

@@ -18,6 +18,8 @@ Regenerated when the search began to add a process only where it dominates some 
 WN+RW instead of QN+WN+RW, the others keep their models with other models tried.
 Regenerated for the random-walk note (``fitting.random_walk_note``, issue 30, fifth
 round): only the second axis's notes changed (its QN+WN+FL+GM has QN+WN+GM+RW 0.5 behind).
+Regenerated when ``FilterBias`` gained K_eq's interval (issue 30, kaxis30): every other
+value agreed with the previous snapshot under this file's comparison.
 """
 
 from __future__ import annotations

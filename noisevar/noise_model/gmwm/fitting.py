@@ -271,29 +271,66 @@ def _parameters(sol: est.Solution, rate: float, unit: str, ci: float) -> list[Pa
     return out
 
 
-def filter_bias(keys: tuple[str, ...], p: NDArray, rate: float, horizon: float) -> FilterBias:
-    """The random walk of the same Allan variance as the bias processes at ``horizon``."""
+#: The bias processes: the ones a filter holding one random-walk bias must cover.
+BIAS = ("RW", "GM", "FL", "DR")
+
+
+def _bias_avar(keys: tuple[str, ...], log_p: NDArray, tau: NDArray) -> float:
+    """The bias processes' Allan variance at ``tau`` (samples; 2 x Haar at 2 tau)."""
+    parts = zip(keys, est.split(keys, np.exp(log_p)), strict=True)
+    return sum(2.0 * float(PROCESSES[k].wv(q, tau)[0]) for k, q in parts if k in BIAS)
+
+
+def _k_eq_interval(
+    keys: tuple[str, ...], log_p: NDArray, log_cov: NDArray, tau: NDArray, z: float
+) -> tuple[float, float]:
+    """K_eq's interval by the delta method on ``log K_eq = log(3 AVAR_bias(T) / T) / 2``,
+    the gradient in the log-parameters by central differences."""
+    avar = _bias_avar(keys, log_p, tau)
+    if not avar > 0:
+        return 0.0, 0.0
+    grad = np.zeros(log_p.size)
+    for j in range(log_p.size):
+        d = np.zeros(log_p.size)
+        d[j] = 1e-5
+        up, down = _bias_avar(keys, log_p + d, tau), _bias_avar(keys, log_p - d, tau)
+        grad[j] = 0.5 * (math.log(up) - math.log(down)) / 2e-5
+    cov = np.clip(log_cov, -(50.0**2), 50.0**2)
+    se = math.sqrt(max(float(grad @ cov @ grad), 0.0))
+    return math.exp(-z * se), math.exp(z * se)
+
+
+def filter_bias(
+    keys: tuple[str, ...],
+    p: NDArray,
+    rate: float,
+    horizon: float,
+    log_cov: NDArray | None = None,
+    ci: float = ONE_SIGMA,
+) -> FilterBias:
+    """The random walk of the same Allan variance as the bias processes at ``horizon``,
+    with its interval at level ``ci`` from the fit's ``log_cov`` (the delta method;
+    ``(K_eq, K_eq)`` without one)."""
     tau = np.array([2.0 * horizon * rate])
-    avar = 0.0
-    gm_sigma, gm_tau = [], []
-    for k, q in zip(keys, est.split(keys, p), strict=True):
-        if k in ("RW", "GM", "FL", "DR"):
-            avar += 2.0 * float(PROCESSES[k].wv(q, tau)[0])  # Allan = 2 x Haar at 2 tau
-        if k == "GM":
-            gm_sigma.append(math.sqrt(q[0]))
-            gm_tau.append(q[1] / rate)
+    log_p = np.log(np.asarray(p, dtype=float))
+    k_eq = math.sqrt(3.0 * _bias_avar(keys, log_p, tau) / horizon)
+    lo, hi = (1.0, 1.0)
+    if log_cov is not None:
+        lo, hi = _k_eq_interval(keys, log_p, log_cov, tau, stats.norm.ppf(0.5 + ci / 2.0))
+    parts = zip(keys, est.split(keys, p), strict=True)
+    gm = sorted(((math.sqrt(q[0]), q[1] / rate) for k, q in parts if k == "GM"), key=lambda g: g[1])
     note = (
         f"K_eq = sqrt(3 AVAR_bias(T) / T) at T = {horizon:g} s: the random walk with the "
         "same Allan variance as the bias processes (RW, GM, flicker, drift) at T. A GM "
         "(sigma, tau_c) alone gives sigma sqrt(2 / tau_c) for T << tau_c; the random walk "
         "covers the GM's bias change for horizons from T on and overstates it past tau_c."
     )
-    order = np.argsort(gm_tau)
     return FilterBias(
-        math.sqrt(3.0 * avar / horizon),
+        k_eq,
+        (k_eq * lo, k_eq * hi),
         float(horizon),
-        tuple(gm_sigma[i] for i in order),
-        tuple(gm_tau[i] for i in order),
+        tuple(g[0] for g in gm),
+        tuple(g[1] for g in gm),
         note,
     )
 
@@ -394,7 +431,7 @@ def build(
         wv.nu.copy(),
         (wv.nu * np.exp(-z * rel), wv.nu * np.exp(z * rel)),
         tuple(rows),
-        filter_bias(sol.keys, p, rate, horizon),
+        filter_bias(sol.keys, p, rate, horizon, sol.log_cov, ci),
         sol.keys,
         p,
         tuple(notes),

@@ -91,6 +91,9 @@ class FilterBias:
         ``K_eq^2 = 3 sigma^2_bias(horizon) / horizon``. For a GM alone and a short horizon
         this is ``sigma sqrt(2 / tau_c)``; it covers the GM's bias change over any
         horizon from ``horizon`` on, and overstates it past ``tau_c``.
+    interval : tuple of float
+        ``K_eq``'s interval at the fit's level: the delta method on ``log K_eq`` with the
+        fit's covariance of the log-parameters (``fitting.filter_bias``).
     horizon : float
         The horizon (s).
     gm_sigma, gm_tau_c : tuple of float
@@ -101,6 +104,7 @@ class FilterBias:
     """
 
     random_walk: float
+    interval: tuple[float, float]
     horizon: float
     gm_sigma: tuple[float, ...]
     gm_tau_c: tuple[float, ...]
@@ -110,6 +114,7 @@ class FilterBias:
         """JSON-safe dictionary."""
         return {
             "random_walk": float(self.random_walk),
+            "interval": [float(self.interval[0]), float(self.interval[1])],
             "horizon": float(self.horizon),
             "gm_sigma": [float(v) for v in self.gm_sigma],
             "gm_tau_c": [float(v) for v in self.gm_tau_c],
