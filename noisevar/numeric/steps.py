@@ -85,11 +85,33 @@ def _above_both_sides(x: NDArray, above: Callable[[NDArray], NDArray]) -> NDArra
     idx = np.flatnonzero(hit)
     if idx.size:
         idx = idx[idx > 0]
-        probe = np.zeros_like(x)
-        probe[idx - 1] = x[idx]
-        left = np.zeros_like(hit)
-        left[idx] = above(probe)[idx - 1]
-        hit &= left
+        left = above_at(above, x[idx], idx - 1, x.size)
+        hit[:] = False
+        hit[idx[left]] = True
+    return hit
+
+
+def above_at(above: Callable[[NDArray], NDArray], values: NDArray, idx: NDArray, n: int) -> NDArray:
+    """``above(x)[idx]`` for the ``n`` samples ``x`` that are ``values`` at ``idx``, 0 elsewhere.
+
+    ``above`` compares each sample with its own local level (0 is never above a level
+    of squares), so only ``idx`` are compared: through ``above.at(values, idx)`` when it
+    has one (no array the window's size), else on a probe that is 0 elsewhere.
+    """
+    at = getattr(above, "at", None)
+    if at is not None:
+        return at(values, idx)
+    probe = np.zeros(n)
+    probe[idx] = values
+    return above(probe)[idx]
+
+
+def _above_both_sides_at(
+    values: NDArray, idx: NDArray, above: Callable[[NDArray], NDArray], n: int
+) -> NDArray:
+    """:func:`_above_both_sides` at the sorted ``idx`` of ``n`` samples 0 but ``values`` there."""
+    hit = above_at(above, values, idx, n) & (idx > 0)
+    hit[hit] = above_at(above, values[hit], idx[hit] - 1, n)
     return hit
 
 
@@ -142,9 +164,8 @@ def _confirm_steps(
     med = _window_medians(z, np.flatnonzero(need), w)[rank[at]]
     # D3med = m(k+w) - 3 m(k) + 3 m(k-w) - m(k-2w), sd = σ sqrt(20 var(median))
     d3 = med @ np.array([1.0, -3.0, 3.0, -1.0])
-    probe = np.zeros(z.size)
-    probe[idx] = d3**2 * scale / (STEP_CONFIRM**2 * 20.0 * _median_variance(w))
-    confirmed = _above_both_sides(probe, above)[idx]
+    level = d3**2 * scale / (STEP_CONFIRM**2 * 20.0 * _median_variance(w))
+    confirmed = _above_both_sides_at(level, idx, above, z.size)
     run = np.cumsum(np.r_[True, np.diff(idx) > w])  # run label of each candidate
     keep_run = np.zeros(run[-1] + 1, dtype=bool)
     keep_run[run[confirmed]] = True
@@ -201,10 +222,8 @@ def lone_steps(
     rss = np.sum((z[a[:, None] - m + np.arange(m)] @ resid) ** 2, axis=1)
     rss += np.sum((z[b[:, None] + 1 + np.arange(m)] @ resid) ** 2, axis=1)
     dof = 2 * (m - 2)
-    probe = np.zeros(z.size)
-    probe[a] = probe[b] = rss / dof * scale / (_sides_quantile(dof) / dof)
-    hit = above(probe)
-    ok[ok] = ~(hit[a] & hit[b])
+    level = rss / dof * scale / (_sides_quantile(dof) / dof)
+    ok[ok] = ~(above_at(above, level, a, z.size) & above_at(above, level, b, z.size))
     mark = np.zeros(found.size + 1, dtype=np.int64)
     np.add.at(mark, start[ok], 1)
     np.add.at(mark, end[ok] + 1, -1)

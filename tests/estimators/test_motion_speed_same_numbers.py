@@ -3,7 +3,8 @@
 Each is compared with the long way it replaces, to the last bit: the reversed grid's
 profile-only pass with the full diagnostics, the still ranges' estimate without
 diagnostic sums with the one that sums them, PELT's cost table with a cost per call,
-the window medians computed once with one per candidate.
+the window medians computed once with one per candidate, the local levels read at
+some samples with the levels of the whole window.
 """
 
 from __future__ import annotations
@@ -130,3 +131,26 @@ def test_the_sorting_network_gives_numpys_medians():
     starts = np.sort(rng.choice(z.size - 6, 2000, replace=False))
     windows = np.lib.stride_tricks.sliding_window_view(z, 6)[starts]
     assert np.array_equal(steps._window_medians(z, starts, 6), np.median(windows, axis=1))
+
+
+@pytest.mark.parametrize("after", [0, 100])
+def test_the_levels_read_at_some_samples_are_the_window_s_levels(after):
+    from noisevar.estimators.auto._levels import Above, Grids, kept_levels
+
+    z = _motion(20_000, 13)
+    sq = np.convolve(z, [1.0, -2.0, 1.0], mode="same") ** 2 / 6.0
+    g = Grids.make(z.size, 256, after)
+    above = Above(*kept_levels(sq, None, g, 12.25), g)
+    rng = np.random.default_rng(after)
+    idx = np.sort(rng.choice(z.size, 3_000, replace=False))
+    probe = np.zeros(z.size)
+    probe[idx] = sq[idx] * rng.uniform(0.5, 2.0, idx.size)
+    assert np.array_equal(above.at(probe[idx], idx), above(probe)[idx])
+
+    def dense(x: np.ndarray) -> np.ndarray:  # the same levels, without ``at``
+        return above(x)
+
+    found = steps.step_mask(z, above, 12.25)
+    assert found.any() and np.array_equal(found, steps.step_mask(z, dense, 12.25))
+    lone = steps.lone_steps(z, found, above, 12.25)
+    assert np.array_equal(lone, steps.lone_steps(z, found, dense, 12.25))

@@ -129,3 +129,34 @@ def above_both(x: NDArray, fwd: NDArray, bwd: NDArray, g: Grids) -> NDArray:
         level = np.where(j >= 0, bracketing(np.maximum(j, 0), bwd, g.block), bwd[0])
         hit[idx[x[idx] <= level]] = False
     return hit
+
+
+def above_both_at(values: NDArray, idx: NDArray, fwd: NDArray, bwd: NDArray, g: Grids) -> NDArray:
+    """:func:`above_both` of samples that are ``values`` at ``idx``, read at ``idx`` only.
+
+    The same comparisons: the blockwise test of :func:`above_local` is implied by its
+    bracketing one (the bracketing level is never below the block's own).
+    """
+    hit = values > bracketing(idx, fwd, g.block)
+    j = g.back_index(idx)
+    level = np.where(j >= 0, bracketing(np.maximum(j, 0), bwd, g.block), bwd[0])
+    return hit & (values > level)
+
+
+@dataclass(frozen=True)
+class Above:
+    """``x`` above ``κ²`` times its local level on both grids (:func:`above_both`).
+
+    Called on a window's samples; :meth:`at` reads only some of them (a sparse probe).
+    """
+
+    fwd: NDArray
+    bwd: NDArray
+    g: Grids
+
+    def __call__(self, x: NDArray) -> NDArray:
+        return above_both(x, self.fwd, self.bwd, self.g)
+
+    def at(self, values: NDArray, idx: NDArray) -> NDArray:
+        """``self(x)[idx]`` for ``x`` that is ``values`` at ``idx``."""
+        return above_both_at(values, idx, self.fwd, self.bwd, self.g)

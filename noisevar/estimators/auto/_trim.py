@@ -16,8 +16,8 @@ from scipy.ndimage import maximum_filter1d
 from noisevar._distributions import norm_cdf, norm_pdf
 from noisevar.errors import NoisevarError
 from noisevar.estimators.auto._levels import (
+    Above,
     Grids,
-    above_both,
     above_own,
     kept_levels,
     medians,
@@ -140,10 +140,7 @@ def _outlier_mask(
         idx = np.flatnonzero(first)
     # κ² times the local variance of each block on both grids (held at its centre)
     fwd, bwd = kept_levels(sq, idx, g, kappa**2 / _truncated_second_moment(kappa))
-
-    def above(x: NDArray) -> NDArray:
-        return above_both(x, fwd, bwd, g)
-
+    above = Above(fwd, bwd, g)
     outlier = above(sq)
     jumps, found = None, None
     if steps is not None:
