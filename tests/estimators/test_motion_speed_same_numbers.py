@@ -4,7 +4,8 @@ Each is compared with the long way it replaces, to the last bit: the reversed gr
 profile-only pass with the full diagnostics, the still ranges' estimate without
 diagnostic sums with the one that sums them, PELT's cost table with a cost per call,
 the window medians computed once with one per candidate, the local levels read at
-some samples with the levels of the whole window.
+some samples with the levels of the whole window, glitches bridged over their
+neighbours alone with the line over every sample.
 """
 
 from __future__ import annotations
@@ -154,3 +155,23 @@ def test_the_levels_read_at_some_samples_are_the_window_s_levels(after):
     assert found.any() and np.array_equal(found, steps.step_mask(z, dense, 12.25))
     lone = steps.lone_steps(z, found, above, 12.25)
     assert np.array_equal(lone, steps.lone_steps(z, found, dense, 12.25))
+
+
+def test_glitches_bridged_over_their_ends_alone_are_bridged_as_over_every_sample():
+    from noisevar.estimators.auto._trim import GLITCH_MAX, _bridged
+
+    rng = np.random.default_rng(17)
+    for _ in range(200):
+        n = int(rng.integers(3, 400))
+        z = rng.normal(size=n)
+        outliers = rng.random(n) < rng.choice([0.02, 0.2, 0.6, 0.95])
+        edges = np.flatnonzero(np.diff(np.r_[0, outliers.view(np.int8), 0]))
+        glitch = np.zeros(n, dtype=bool)
+        for a, b in zip(edges[::2], edges[1::2], strict=True):
+            glitch[a:b] = b - a <= GLITCH_MAX
+        want = z.copy()
+        if glitch.any() and not glitch.all():  # the line over every sample that is no glitch
+            idx = np.arange(n)
+            want[glitch] = np.interp(idx[glitch], idx[~glitch], z[~glitch])
+        got = _bridged(z, outliers)
+        assert got.dtype == want.dtype and np.array_equal(got, want)
