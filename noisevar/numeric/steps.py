@@ -224,10 +224,11 @@ def lone_steps(
     dof = 2 * (m - 2)
     level = rss / dof * scale / (_sides_quantile(dof) / dof)
     ok[ok] = ~(above_at(above, level, a, z.size) & above_at(above, level, b, z.size))
-    mark = np.zeros(found.size + 1, dtype=np.int64)
-    np.add.at(mark, start[ok], 1)
-    np.add.at(mark, end[ok] + 1, -1)
-    return found & (np.cumsum(mark[:-1]) > 0)
+    length = end[ok] - start[ok] + 1  # the runs' samples, flagged or in a gap of the run
+    first = np.cumsum(length) - length
+    at = np.repeat(start[ok] - first, length) + np.arange(int(length.sum()))
+    out[at] = found[at]
+    return out
 
 
 @lru_cache(maxsize=8)

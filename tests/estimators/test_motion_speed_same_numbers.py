@@ -5,7 +5,8 @@ profile-only pass with the full diagnostics, the still ranges' estimate without
 diagnostic sums with the one that sums them, PELT's cost table with a cost per call,
 the window medians computed once with one per candidate, the local levels read at
 some samples with the levels of the whole window, glitches bridged over their
-neighbours alone with the line over every sample.
+neighbours alone with the line over every sample, the bracketing levels looked up per
+half block with the two block centres compared per sample.
 """
 
 from __future__ import annotations
@@ -175,3 +176,21 @@ def test_glitches_bridged_over_their_ends_alone_are_bridged_as_over_every_sample
             want[glitch] = np.interp(idx[glitch], idx[~glitch], z[~glitch])
         got = _bridged(z, outliers)
         assert got.dtype == want.dtype and np.array_equal(got, want)
+
+
+def test_the_half_block_levels_are_the_bracketing_levels():
+    from noisevar.estimators.auto._levels import bracketing
+
+    def per_sample(idx, local, block):  # the two block centres around each sample, compared
+        nb = local.size
+        own = np.minimum(idx // block, nb - 1)
+        side = np.clip(np.where(idx - own * block < block // 2, own - 1, own + 1), 0, nb - 1)
+        return np.maximum(local[own], local[side])
+
+    rng = np.random.default_rng(23)
+    for _ in range(300):
+        block = int(rng.choice([2, 16, 17, 256]))
+        nb = int(rng.integers(1, 40))
+        local = rng.random(nb) * rng.choice([0.0, 1.0, np.inf], nb, p=[0.1, 0.85, 0.05])
+        idx = rng.integers(0, nb * block + int(rng.integers(0, 2 * block)), 300)
+        assert np.array_equal(bracketing(idx, local, block), per_sample(idx, local, block))
