@@ -3,10 +3,10 @@
 Each is compared with the long way it replaces, to the last bit: the reversed grid's
 profile-only pass with the full diagnostics, the still ranges' estimate without
 diagnostic sums with the one that sums them, PELT's cost table with a cost per call,
-the window medians computed once with one per candidate, the local levels read at
-some samples with the levels of the whole window, glitches bridged over their
-neighbours alone with the line over every sample, the bracketing levels looked up per
-half block with the two block centres compared per sample.
+the window medians computed once (each run's middle candidate first) with one per
+candidate, the local levels read at some samples with the levels of the whole window,
+glitches bridged over their neighbours alone with the line over every sample, the
+bracketing levels looked up per half block with the two block centres per sample.
 """
 
 from __future__ import annotations
@@ -98,8 +98,20 @@ def test_pelt_from_the_cost_table_finds_the_breaks_of_a_cost_per_call():
     assert split >= 10
 
 
-def test_window_medians_once_are_the_medians_per_candidate(monkeypatch):
-    z = _motion(6_000, 11)
+def _jumps(n: int, seed: int) -> np.ndarray:
+    """White noise (σ = 1) with three level jumps of 4-8 σ: few candidates."""
+    rng = np.random.default_rng(seed)
+    x = rng.normal(size=n)
+    for at in rng.integers(0, n, 3):
+        x[at:] += rng.choice([-1, 1]) * rng.uniform(4, 8)
+    return x
+
+
+@pytest.mark.parametrize(
+    "z", [_motion(6_000, 11), _motion(20_000, 12), _jumps(20_000, 4), _jumps(3_000, 5)]
+)
+def test_window_medians_once_are_the_medians_per_candidate(monkeypatch, z):
+    """Runs settled by their middle candidate first: the runs every candidate's test keeps."""
     w = steps.STEP_WINDOW
 
     def above(x: np.ndarray) -> np.ndarray:
