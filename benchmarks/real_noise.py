@@ -480,10 +480,10 @@ def speed(n: int = 1_000_000, repeats: int = 5) -> tuple[float, float, float, fl
     z = noisevar.generate("gps-circle", n=n, seed=3).measured
     b, a = signal.butter(3, 0.05)
     noisevar.estimate(z)  # warm caches
-    t, t_ref, _ = _best_time_beside(
+    t, t_ref, *_ = _best_time_beside(
         lambda: noisevar.estimate(z), lambda: signal.lfilter(b, a, z), repeats
     )
-    one, one_ref, _ = _best_time_beside(
+    one, one_ref, *_ = _best_time_beside(
         lambda: estimate_chunked(lambda i, j: z[max(i, 0) : j], n, probe=z.__getitem__,
                                  workers=1),
         lambda: signal.lfilter(b, a, z), repeats,

@@ -85,11 +85,33 @@ def _above_both_sides(x: NDArray, above: Callable[[NDArray], NDArray]) -> NDArra
     idx = np.flatnonzero(hit)
     if idx.size:
         idx = idx[idx > 0]
-        probe = np.zeros_like(x)
-        probe[idx - 1] = x[idx]
-        left = np.zeros_like(hit)
-        left[idx] = above(probe)[idx - 1]
-        hit &= left
+        left = above_at(above, x[idx], idx - 1, x.size)
+        hit[:] = False
+        hit[idx[left]] = True
+    return hit
+
+
+def above_at(above: Callable[[NDArray], NDArray], values: NDArray, idx: NDArray, n: int) -> NDArray:
+    """``above(x)[idx]`` for the ``n`` samples ``x`` that are ``values`` at ``idx``, 0 elsewhere.
+
+    ``above`` compares each sample with its own local level (0 is never above a level
+    of squares), so only ``idx`` are compared: through ``above.at(values, idx)`` when it
+    has one (no array the window's size), else on a probe that is 0 elsewhere.
+    """
+    at = getattr(above, "at", None)
+    if at is not None:
+        return at(values, idx)
+    probe = np.zeros(n)
+    probe[idx] = values
+    return above(probe)[idx]
+
+
+def _above_both_sides_at(
+    values: NDArray, idx: NDArray, above: Callable[[NDArray], NDArray], n: int
+) -> NDArray:
+    """:func:`_above_both_sides` at the sorted ``idx`` of ``n`` samples 0 but ``values`` there."""
+    hit = above_at(above, values, idx, n) & (idx > 0)
+    hit[hit] = above_at(above, values[hit], idx[hit] - 1, n)
     return hit
 
 
@@ -131,26 +153,43 @@ def _confirm_steps(
     ``D3med[k]`` is :func:`step_mask`'s third difference with window medians in place
     of means; a run of candidates (samples closer than ``w``) stays when ``D3med``
     exceeds :data:`STEP_CONFIRM` of its standard deviations at one of its samples.
+    Each candidate's test is its own: the middle one of each run is tested first, and
+    the others only in the runs it did not confirm (a long run of motion is settled by
+    one median test, not thousands).
     """
     idx = np.flatnonzero(candidates)
-    windows = np.lib.stride_tricks.sliding_window_view(z, w)
-    at = np.clip(idx[:, None] + np.array([w, 0, -w, -2 * w]), 0, windows.shape[0] - 1)
-    # each window's median once (neighbouring candidates share their windows)
-    need = np.zeros(windows.shape[0], dtype=bool)
-    need[at] = True
-    rank = np.cumsum(need) - 1  # the row of each needed window among them
-    med = _window_medians(z, np.flatnonzero(need), w)[rank[at]]
-    # D3med = m(k+w) - 3 m(k) + 3 m(k-w) - m(k-2w), sd = σ sqrt(20 var(median))
-    d3 = med @ np.array([1.0, -3.0, 3.0, -1.0])
-    probe = np.zeros(z.size)
-    probe[idx] = d3**2 * scale / (STEP_CONFIRM**2 * 20.0 * _median_variance(w))
-    confirmed = _above_both_sides(probe, above)[idx]
-    run = np.cumsum(np.r_[True, np.diff(idx) > w])  # run label of each candidate
-    keep_run = np.zeros(run[-1] + 1, dtype=bool)
-    keep_run[run[confirmed]] = True
+    first = np.flatnonzero(np.r_[True, np.diff(idx) > w])  # each run's first candidate
+    last = np.r_[first[1:], idx.size] - 1
+    run = np.repeat(np.arange(first.size), last - first + 1)  # run of each candidate
+    mid = (first + last) // 2
+    keep_run = _confirmed(z, idx[mid], above, scale, w)
+    rest = np.flatnonzero(~keep_run[run])
+    rest = rest[rest != mid[run[rest]]]
+    if rest.size:
+        keep_run[run[rest[_confirmed(z, idx[rest], above, scale, w)]]] = True
     out = np.zeros_like(candidates)
     out[idx[keep_run[run]]] = True
     return out
+
+
+def _confirmed(
+    z: NDArray, idx: NDArray, above: Callable[[NDArray], NDArray], scale: float, w: int
+) -> NDArray:
+    """Whether ``D3med`` confirms a level change at each of the sorted samples ``idx``."""
+    last = z.size - w  # the last window's start
+    at = np.clip(idx[:, None] + np.array([w, 0, -w, -2 * w]), 0, last)
+    # each window's median once (neighbouring candidates share their windows)
+    if at.size * 16 < z.size:
+        starts, rank = np.unique(at, return_inverse=True)
+    else:
+        need = np.zeros(last + 1, dtype=bool)
+        need[at] = True
+        starts, rank = np.flatnonzero(need), (np.cumsum(need) - 1)[at]
+    med = _window_medians(z, starts, w)[rank.reshape(at.shape)]
+    # D3med = m(k+w) - 3 m(k) + 3 m(k-w) - m(k-2w), sd = σ sqrt(20 var(median))
+    d3 = med @ np.array([1.0, -3.0, 3.0, -1.0])
+    level = d3**2 * scale / (STEP_CONFIRM**2 * 20.0 * _median_variance(w))
+    return _above_both_sides_at(level, idx, above, z.size)
 
 
 def lone_steps(
@@ -201,14 +240,13 @@ def lone_steps(
     rss = np.sum((z[a[:, None] - m + np.arange(m)] @ resid) ** 2, axis=1)
     rss += np.sum((z[b[:, None] + 1 + np.arange(m)] @ resid) ** 2, axis=1)
     dof = 2 * (m - 2)
-    probe = np.zeros(z.size)
-    probe[a] = probe[b] = rss / dof * scale / (_sides_quantile(dof) / dof)
-    hit = above(probe)
-    ok[ok] = ~(hit[a] & hit[b])
-    mark = np.zeros(found.size + 1, dtype=np.int64)
-    np.add.at(mark, start[ok], 1)
-    np.add.at(mark, end[ok] + 1, -1)
-    return found & (np.cumsum(mark[:-1]) > 0)
+    level = rss / dof * scale / (_sides_quantile(dof) / dof)
+    ok[ok] = ~(above_at(above, level, a, z.size) & above_at(above, level, b, z.size))
+    length = end[ok] - start[ok] + 1  # the runs' samples, flagged or in a gap of the run
+    first = np.cumsum(length) - length
+    at = np.repeat(start[ok] - first, length) + np.arange(int(length.sum()))
+    out[at] = found[at]
+    return out
 
 
 @lru_cache(maxsize=8)

@@ -3,7 +3,10 @@
 Each is compared with the long way it replaces, to the last bit: the reversed grid's
 profile-only pass with the full diagnostics, the still ranges' estimate without
 diagnostic sums with the one that sums them, PELT's cost table with a cost per call,
-the window medians computed once with one per candidate.
+the window medians computed once (each run's middle candidate first) with one per
+candidate, the local levels read at some samples with the levels of the whole window,
+glitches bridged over their neighbours alone with the line over every sample, the
+bracketing levels looked up per half block with the two block centres per sample.
 """
 
 from __future__ import annotations
@@ -95,8 +98,20 @@ def test_pelt_from_the_cost_table_finds_the_breaks_of_a_cost_per_call():
     assert split >= 10
 
 
-def test_window_medians_once_are_the_medians_per_candidate(monkeypatch):
-    z = _motion(6_000, 11)
+def _jumps(n: int, seed: int) -> np.ndarray:
+    """White noise (σ = 1) with three level jumps of 4-8 σ: few candidates."""
+    rng = np.random.default_rng(seed)
+    x = rng.normal(size=n)
+    for at in rng.integers(0, n, 3):
+        x[at:] += rng.choice([-1, 1]) * rng.uniform(4, 8)
+    return x
+
+
+@pytest.mark.parametrize(
+    "z", [_motion(6_000, 11), _motion(20_000, 12), _jumps(20_000, 4), _jumps(3_000, 5)]
+)
+def test_window_medians_once_are_the_medians_per_candidate(monkeypatch, z):
+    """Runs settled by their middle candidate first: the runs every candidate's test keeps."""
     w = steps.STEP_WINDOW
 
     def above(x: np.ndarray) -> np.ndarray:
@@ -130,3 +145,64 @@ def test_the_sorting_network_gives_numpys_medians():
     starts = np.sort(rng.choice(z.size - 6, 2000, replace=False))
     windows = np.lib.stride_tricks.sliding_window_view(z, 6)[starts]
     assert np.array_equal(steps._window_medians(z, starts, 6), np.median(windows, axis=1))
+
+
+@pytest.mark.parametrize("after", [0, 100])
+def test_the_levels_read_at_some_samples_are_the_window_s_levels(after):
+    from noisevar.estimators.auto._levels import Above, Grids, kept_levels
+
+    z = _motion(20_000, 13)
+    sq = np.convolve(z, [1.0, -2.0, 1.0], mode="same") ** 2 / 6.0
+    g = Grids.make(z.size, 256, after)
+    above = Above(*kept_levels(sq, None, g, 12.25), g)
+    rng = np.random.default_rng(after)
+    idx = np.sort(rng.choice(z.size, 3_000, replace=False))
+    probe = np.zeros(z.size)
+    probe[idx] = sq[idx] * rng.uniform(0.5, 2.0, idx.size)
+    assert np.array_equal(above.at(probe[idx], idx), above(probe)[idx])
+
+    def dense(x: np.ndarray) -> np.ndarray:  # the same levels, without ``at``
+        return above(x)
+
+    found = steps.step_mask(z, above, 12.25)
+    assert found.any() and np.array_equal(found, steps.step_mask(z, dense, 12.25))
+    lone = steps.lone_steps(z, found, above, 12.25)
+    assert np.array_equal(lone, steps.lone_steps(z, found, dense, 12.25))
+
+
+def test_glitches_bridged_over_their_ends_alone_are_bridged_as_over_every_sample():
+    from noisevar.estimators.auto._trim import GLITCH_MAX, _bridged
+
+    rng = np.random.default_rng(17)
+    for _ in range(200):
+        n = int(rng.integers(3, 400))
+        z = rng.normal(size=n)
+        outliers = rng.random(n) < rng.choice([0.02, 0.2, 0.6, 0.95])
+        edges = np.flatnonzero(np.diff(np.r_[0, outliers.view(np.int8), 0]))
+        glitch = np.zeros(n, dtype=bool)
+        for a, b in zip(edges[::2], edges[1::2], strict=True):
+            glitch[a:b] = b - a <= GLITCH_MAX
+        want = z.copy()
+        if glitch.any() and not glitch.all():  # the line over every sample that is no glitch
+            idx = np.arange(n)
+            want[glitch] = np.interp(idx[glitch], idx[~glitch], z[~glitch])
+        got = _bridged(z, outliers)
+        assert got.dtype == want.dtype and np.array_equal(got, want)
+
+
+def test_the_half_block_levels_are_the_bracketing_levels():
+    from noisevar.estimators.auto._levels import bracketing
+
+    def per_sample(idx, local, block):  # the two block centres around each sample, compared
+        nb = local.size
+        own = np.minimum(idx // block, nb - 1)
+        side = np.clip(np.where(idx - own * block < block // 2, own - 1, own + 1), 0, nb - 1)
+        return np.maximum(local[own], local[side])
+
+    rng = np.random.default_rng(23)
+    for _ in range(300):
+        block = int(rng.choice([2, 16, 17, 256]))
+        nb = int(rng.integers(1, 40))
+        local = rng.random(nb) * rng.choice([0.0, 1.0, np.inf], nb, p=[0.1, 0.85, 0.05])
+        idx = rng.integers(0, nb * block + int(rng.integers(0, 2 * block)), 300)
+        assert np.array_equal(bracketing(idx, local, block), per_sample(idx, local, block))

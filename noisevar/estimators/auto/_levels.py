@@ -92,6 +92,13 @@ def kept_levels(
 def bracketing(idx: NDArray, local: NDArray, block: int) -> NDArray:
     """The larger local level of the two block centres around each sample ``idx``."""
     nb = local.size
+    if block % 2 == 0:  # the level of each half block, looked up (the same maxima)
+        j = np.arange(nb)
+        halves = np.empty(2 * nb)
+        np.maximum(local, local[np.maximum(j - 1, 0)], out=halves[0::2])
+        np.maximum(local, local[np.minimum(j + 1, nb - 1)], out=halves[1::2])
+        # past the last block (the rest of the record): its second half's, the last level
+        return halves[np.minimum(idx // (block // 2), 2 * nb - 1)]
     own = np.minimum(idx // block, nb - 1)
     side = np.where(idx - own * block < block // 2, own - 1, own + 1)
     side = np.clip(side, 0, nb - 1)  # the rest of the record: the last block's level
@@ -129,3 +136,34 @@ def above_both(x: NDArray, fwd: NDArray, bwd: NDArray, g: Grids) -> NDArray:
         level = np.where(j >= 0, bracketing(np.maximum(j, 0), bwd, g.block), bwd[0])
         hit[idx[x[idx] <= level]] = False
     return hit
+
+
+def above_both_at(values: NDArray, idx: NDArray, fwd: NDArray, bwd: NDArray, g: Grids) -> NDArray:
+    """:func:`above_both` of samples that are ``values`` at ``idx``, read at ``idx`` only.
+
+    The same comparisons: the blockwise test of :func:`above_local` is implied by its
+    bracketing one (the bracketing level is never below the block's own).
+    """
+    hit = values > bracketing(idx, fwd, g.block)
+    j = g.back_index(idx)
+    level = np.where(j >= 0, bracketing(np.maximum(j, 0), bwd, g.block), bwd[0])
+    return hit & (values > level)
+
+
+@dataclass(frozen=True)
+class Above:
+    """``x`` above ``κ²`` times its local level on both grids (:func:`above_both`).
+
+    Called on a window's samples; :meth:`at` reads only some of them (a sparse probe).
+    """
+
+    fwd: NDArray
+    bwd: NDArray
+    g: Grids
+
+    def __call__(self, x: NDArray) -> NDArray:
+        return above_both(x, self.fwd, self.bwd, self.g)
+
+    def at(self, values: NDArray, idx: NDArray) -> NDArray:
+        """``self(x)[idx]`` for ``x`` that is ``values`` at ``idx``."""
+        return above_both_at(values, idx, self.fwd, self.bwd, self.g)

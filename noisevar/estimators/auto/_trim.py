@@ -16,8 +16,8 @@ from scipy.ndimage import maximum_filter1d
 from noisevar._distributions import norm_cdf, norm_pdf
 from noisevar.errors import NoisevarError
 from noisevar.estimators.auto._levels import (
+    Above,
     Grids,
-    above_both,
     above_own,
     kept_levels,
     medians,
@@ -140,10 +140,7 @@ def _outlier_mask(
         idx = np.flatnonzero(first)
     # κ² times the local variance of each block on both grids (held at its centre)
     fwd, bwd = kept_levels(sq, idx, g, kappa**2 / _truncated_second_moment(kappa))
-
-    def above(x: NDArray) -> NDArray:
-        return above_both(x, fwd, bwd, g)
-
+    above = Above(fwd, bwd, g)
     outlier = above(sq)
     jumps, found = None, None
     if steps is not None:
@@ -279,22 +276,25 @@ def _bridged(z: NDArray, outliers: NDArray) -> NDArray:
     rings over several: runs of more than :data:`GLITCH_MAX` outlying samples are left
     as they are, for the detector to judge.
     """
-    if not outliers.any():
+    o = np.flatnonzero(outliers)
+    if not o.size:
         return z
-    edges = np.flatnonzero(np.diff(np.r_[0, outliers.view(np.int8), 0]))
-    a, b = edges[::2], edges[1::2]
+    cut = np.r_[False, np.diff(o) > 1]
+    run = np.cumsum(cut)  # the run of each outlying sample
+    a, b = o[np.r_[True, cut[1:]]], o[np.r_[cut[1:], True]] + 1
     short = (b - a) <= GLITCH_MAX
     if not short.any():
         return z
-    mark = np.zeros(z.size + 1, dtype=np.int64)  # +1 where a short run starts, -1 past it
-    np.add.at(mark, a[short], 1)
-    np.add.at(mark, b[short], -1)
-    glitch = np.cumsum(mark[:-1]) > 0
-    if glitch.all():
+    glitch = o[short[run]]
+    if glitch.size == z.size:
         return z
-    idx = np.arange(z.size)
+    # each glitch lies between the samples just outside its run, which are no glitch: the
+    # line through those two (np.interp over them alone picks the same pair, so the same
+    # numbers as over every sample that is no glitch)
+    ends = np.unique(np.r_[a[short] - 1, b[short]])
+    ends = ends[(ends >= 0) & (ends < z.size)]
     out = z.copy()
-    out[glitch] = np.interp(idx[glitch], idx[~glitch], z[~glitch])
+    out[glitch] = np.interp(glitch, ends, z[ends])
     return out
 
 

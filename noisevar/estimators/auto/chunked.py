@@ -283,7 +283,8 @@ class ChunkedAuto:
         if self.sums is None:
             raise NoisevarError("the record has not been estimated yet")
         head, e = self.read(0, min(self.n, POWER_LAW_MAX)), self.exponent
-        return from_sums(self.sums, Segmentation(((0, self.n),), ()), lambda: np.ldexp(head, e))
+        seg = Segmentation(((0, self.n),), ())
+        return from_sums(self.sums, seg, lambda: np.ldexp(head, e) if e else head)
 
     def still_ranges(self, diag: NoiseDiagnostics) -> list[tuple[int, int]]:
         """As :meth:`~noisevar.estimators.pipeline.InMemory.still_ranges`: one more pass,
@@ -291,7 +292,8 @@ class ChunkedAuto:
         n, e, runs = self.n, self.exponent, [(self.n - b, self.n - a) for a, b in self.jump_runs]
 
         def back(a: int, b: int) -> NDArray:
-            return np.ldexp(self.read(n - b, n - a)[::-1], e)
+            x = self.read(n - b, n - a)[::-1]
+            return np.ldexp(x, e) if e else x.copy()  # ldexp, exact, is slow on a reversed view
 
         plan = make_plan(n, ((0, n),), np.zeros(0))  # the profile needs no probe
         sums = DiagSums(plan)
