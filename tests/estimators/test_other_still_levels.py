@@ -17,7 +17,7 @@ def _postures(seed: int, raised: float) -> np.ndarray:
     for kind, n in (("s", 300), ("m", 400), ("r", 5000), ("m", 400), ("s", 300)):
         t = np.arange(n)
         if kind == "m":
-            parts.append(rng.normal(0, 1, n) + 20 * np.sin(t / rng.uniform(2, 6)))
+            parts.append(30 * np.sin(2 * np.pi * t / 40) * np.hanning(n) + rng.normal(0, 30, n))
         else:
             parts.append(rng.normal(0.0, np.sqrt(raised if kind == "r" else 1.0), n))
     return np.concatenate(parts)
