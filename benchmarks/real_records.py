@@ -97,7 +97,6 @@ import io
 import json
 import os
 import platform
-import re
 import sys
 import time
 from collections.abc import Callable
@@ -429,14 +428,9 @@ def _white(test) -> bool | None:
     return None if test is None else bool(test.white)
 
 
-#: How the result quotes a near-still regime's level over the R to use (its notes).
-OTHER_LEVEL = re.compile(r"at ([0-9.]+)x it \(ci95 ([0-9.]+)-([0-9.]+)x\)")
-
-
-def other_levels(notes: list[str]) -> list[tuple[float, float, float]]:
-    """The other still levels the result quotes: (level, ci95 low, high) over the R to use."""
-    said = [n for n in notes if n.startswith("other still levels")]
-    return [tuple(float(v) for v in m) for n in said for m in OTHER_LEVEL.findall(n)]
+def other_levels(diag) -> list[tuple[float, float, float]]:
+    """The other still levels the result reports: (level, ci95 low, high) over the R to use."""
+    return [(x.ratio, x.lo, x.hi) for x in getattr(diag, "other_still", ())]
 
 
 def observe(est) -> dict:
@@ -456,6 +450,7 @@ def observe(est) -> dict:
         "verdict": getattr(diag, "verdict", "") or "",
         "still_white": _white(getattr(diag, "still_whiteness", None)),
         "notes": [*est.notes, *(getattr(diag, "notes", ()) or ())],
+        "other_levels": other_levels(diag),
     }
 
 
@@ -472,9 +467,7 @@ def run_record(rec: Record) -> list[dict]:
         single = has_single_r(ref)
         says = _says(seen)
         quiet = seen["quiet"]
-        others = [
-            tuple(v * seen["use"] / ref.value for v in o) for o in other_levels(seen["notes"])
-        ]
+        others = [tuple(v * seen["use"] / ref.value for v in o) for o in seen["other_levels"]]
         rows.append(
             {"record": rec.name, "channel": channel, "n": int(x.size), **seen, "others": others,
              "seconds": seconds, "reference": dataclasses.asdict(ref), "ratio": ratio,
@@ -663,9 +656,9 @@ def report(recs: list[Record], rows: list[dict], seconds: float) -> str:
         "the permutation p-value of d1 / d2; 'flat p' is Bartlett's test of one level over "
         f"the stretches' {FLAT_WINDOW}-sample windows (highest over lowest window in "
         "brackets; information only); 'other still levels' are the near-still regimes' "
-        "levels the result quotes in a note (the same method on each; their interval over "
-        "the R to use, times R to use / reference; information only, the R to use stays the "
-        "floor); the OCXO's is Stable32's published "
+        "levels the result reports (`diagnostics.other_still`, said in the verdict; the "
+        "same method on each; their interval over the R to use, times R to use / reference; "
+        "information only, the R to use stays the floor); the OCXO's is Stable32's published "
         "ADEV(1 s)^2 / (1 - rho1); the Nile's is Durbin & Koopman's published fit. " + NO_SINGLE_R,
         "",
         *records_table(recs, rows),

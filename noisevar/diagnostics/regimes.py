@@ -67,6 +67,29 @@ class Regime:
         }
 
 
+@dataclass(frozen=True)
+class StillLevel:
+    """A near-still regime's level on the R to use's own residual, over the R to use.
+
+    Attributes
+    ----------
+    start, stop : int
+        Sample range it was measured on (the regime less one profile block at either end).
+    ratio, lo, hi : float
+        Its level and 95 % interval over the R to use (unit-free).
+    """
+
+    start: int
+    stop: int
+    ratio: float
+    lo: float
+    hi: float
+
+    def to_dict(self) -> dict[str, float | int]:
+        return {"start": self.start, "stop": self.stop, "ratio": self.ratio,
+                "ci95_low": self.lo, "ci95_high": self.hi}  # fmt: skip
+
+
 class _Cost:
     """``W log(Σ w x / W)`` over blocks ``[a, b)`` of level ``x`` and dof ``w``.
 

@@ -37,6 +37,7 @@ from noisevar.diagnostics import (
     with_verdict,
 )
 from noisevar.diagnostics.assumptions import check_assumptions
+from noisevar.diagnostics.regimes import StillLevel
 from noisevar.errors import NoisevarError
 from noisevar.estimators._input import check_samples, check_times
 from noisevar.estimators._scale import check_answer, unscale
@@ -359,9 +360,8 @@ def run_record(
         if still is not None:  # its interval from the record's noise; the diagnostics
             still = conclude(spec, still, diag, None)  # stay on the record's own result
             still.diagnostics = None
+            diag = replace(diag, other_still=_other_levels(spec, record, own, diag, still))
         result = conclude(spec, result, diag, record.reader(), still)
-        if still is not None:
-            result.notes.extend(_other_levels(spec, record, own, diag, still, result.n_total))
     return _in_record_units(result, scaled + record.exponent, spec.name)
 
 
@@ -392,21 +392,15 @@ def _still(
 
 
 def _other_levels(
-    spec: MethodSpec,
-    record: Record,
-    params: dict,
-    diag: NoiseDiagnostics,
-    still: VarianceEstimate,
-    n: int,
-) -> list[str]:
-    """The note on the record's other still levels (:mod:`.still_levels`), if any."""
+    spec: MethodSpec, record: Record, params: dict, diag: NoiseDiagnostics, still: VarianceEstimate
+) -> tuple[StillLevel, ...]:
+    """The record's other still levels (:func:`.still_levels.other_still_levels`)."""
     kept = {k: v for k, v in params.items() if k != "method"}
 
     def measure(ranges: list[tuple[int, int]]) -> VarianceEstimate:
         return conclude(spec, record.estimate_in(kept, ranges), diag, None)  # type: ignore[attr-defined]
 
-    note = other_still_levels(diag, still, measure, n)
-    return [] if note is None else [note]
+    return other_still_levels(diag, still, measure)
 
 
 def _coloured(

@@ -3,7 +3,8 @@
 A record can rest at more than one level: a lower-back IMU sitting and standing, a board
 set down upside down (docs/algorithms.md §E1 Regimes, *Several still levels*). The floor's
 test leaves such a regime out of the still set (the R to use is the lowest level, the
-sensor's own noise); this module measures each one with the same method and says so.
+sensor's own noise); this module measures each one with the same method, for the verdict
+to say so (``NoiseDiagnostics.other_still``).
 """
 
 from __future__ import annotations
@@ -11,7 +12,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from noisevar.diagnostics import NoiseDiagnostics
-from noisevar.diagnostics.regimes import STILL_RATIO
+from noisevar.diagnostics.regimes import STILL_RATIO, StillLevel
 from noisevar.errors import NoisevarError
 from noisevar.estimators.results import VarianceEstimate
 
@@ -24,9 +25,8 @@ def other_still_levels(
     diag: NoiseDiagnostics,
     still: VarianceEstimate,
     measure: Callable[[list[tuple[int, int]]], VarianceEstimate],
-    n: int,
-) -> str | None:
-    """A note on the near-still regimes' levels, each over the R to use (None: none).
+) -> tuple[StillLevel, ...]:
+    """The near-still regimes' levels over the R to use, those above it.
 
     Parameters
     ----------
@@ -37,28 +37,26 @@ def other_still_levels(
     measure : callable
         ``measure(ranges)``: the same method and parameters on those sample ranges, its
         interval widened as the R to use's is.
-    n : int
-        Samples in the record.
 
     Returns
     -------
-    str or None
+    tuple of StillLevel
+        In order of length, longest first.
 
     Notes
     -----
     Each regime loses one profile block at either end (its edge blocks can hold some
-    of the motion beside it). A level is quoted when its interval lies above the R to use
+    of the motion beside it). A level is kept when its interval lies above the R to use
     (a level of its own, not the floor read through another residual) and it is at most
     :data:`~noisevar.diagnostics.regimes.STILL_RATIO` times the R to use's upper bound
     (taps or handling inside the stretch, which the diagnostics' robust levels do not
-    see, make it motion). Levels are quoted as ratios to the R to use, so the note holds
-    in any units.
+    see, make it motion). Levels are ratios to the R to use, so they hold in any units.
     """
     prof = diag.level_profile
     edge = int(prof.stop[0] - prof.start[0]) if prof.start.size else 0
     spans = [(r.start + edge, r.stop - edge) for r in prof.regimes if r.near_still]
     spans = sorted((s for s in spans if s[1] > s[0]), key=lambda s: s[0] - s[1])
-    said = []
+    out = []
     for a, b in spans[:MOST_LEVELS]:
         try:
             est = measure([(a, b)])
@@ -69,15 +67,5 @@ def other_still_levels(
         if not still.variance < est.ci95[0] or est.variance > STILL_RATIO * still.ci95[1]:
             continue
         lo, hi = (c / still.variance for c in est.ci95)
-        said.append(
-            f"samples {a}-{b} ({(b - a) / n:.0%} of the record) at "
-            f"{est.variance / still.variance:.2f}x it (ci95 {lo:.2f}-{hi:.2f}x)"
-        )
-    if not said:
-        return None
-    return (
-        f"other still levels, on the same residual as the R to use: {'; '.join(said)}. "
-        "Still by their level, but noisier than the floor (another posture, or slow sway): "
-        "the R to use is the floor, the sensor's own noise; a filter that runs through "
-        "those stretches without modelling that motion needs their level"
-    )
+        out.append(StillLevel(a, b, est.variance / still.variance, lo, hi))
+    return tuple(out)

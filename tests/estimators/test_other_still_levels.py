@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import re
-
 import numpy as np
 import pytest
 
@@ -24,8 +22,7 @@ def _postures(seed: int, raised: float) -> np.ndarray:
 
 
 def _levels(est) -> list[float]:
-    notes = [n for n in est.notes if n.startswith("other still levels")]
-    return [float(x) for n in notes for x in re.findall(r"at ([0-9.]+)x it", n)]
+    return [x.ratio for x in est.diagnostics.other_still]
 
 
 @pytest.mark.parametrize("seed", range(3))
@@ -38,9 +35,11 @@ def test_a_second_still_level_is_measured_and_quoted(seed):
     assert est.still.variance == pytest.approx(1.0, rel=0.25)
     (ratio,) = _levels(est)
     assert ratio * est.still.variance == pytest.approx(2.2, rel=0.1)
+    assert "Other still stretches rest at a higher level" in est.diagnostics.verdict
 
 
 @pytest.mark.parametrize("seed", range(3))
 def test_rests_of_one_level_quote_no_other_level(seed):
     est = noisevar.estimate(_postures(seed, 1.0))
     assert _levels(est) == []
+    assert "Other still" not in est.diagnostics.verdict
