@@ -428,6 +428,11 @@ def _white(test) -> bool | None:
     return None if test is None else bool(test.white)
 
 
+def other_levels(diag) -> list[tuple[float, float, float]]:
+    """The other still levels the result reports: (level, ci95 low, high) over the R to use."""
+    return [(x.ratio, x.lo, x.hi) for x in getattr(diag, "other_still", ())]
+
+
 def observe(est) -> dict:
     """What one estimate tells a user, read through the public API only."""
     diag = getattr(est, "diagnostics", None)
@@ -445,6 +450,7 @@ def observe(est) -> dict:
         "verdict": getattr(diag, "verdict", "") or "",
         "still_white": _white(getattr(diag, "still_whiteness", None)),
         "notes": [*est.notes, *(getattr(diag, "notes", ()) or ())],
+        "other_levels": other_levels(diag),
     }
 
 
@@ -461,8 +467,9 @@ def run_record(rec: Record) -> list[dict]:
         single = has_single_r(ref)
         says = _says(seen)
         quiet = seen["quiet"]
+        others = [tuple(v * seen["use"] / ref.value for v in o) for o in seen["other_levels"]]
         rows.append(
-            {"record": rec.name, "channel": channel, "n": int(x.size), **seen,
+            {"record": rec.name, "channel": channel, "n": int(x.size), **seen, "others": others,
              "seconds": seconds, "reference": dataclasses.asdict(ref), "ratio": ratio,
              "quiet_ratio": None if quiet is None else float(quiet) / ref.value,
              "within": within, "single_r": single, "says_not_white": says,
@@ -531,8 +538,9 @@ def results_table(rows: list[dict]) -> list[str]:
     lines = [
         "| record | channel | n | R (auto, whole record) | ci95 | R to use | still level "
         "(share) | regimes | reference (95 %) | d1 / d2 | d3 / d2 | white p | flat p "
-        "(spread) | AR(1) phi | per-sample / ref | R to use / ref | still / ref | result |",
-        "|---" * 18 + "|",
+        "(spread) | AR(1) phi | per-sample / ref | R to use / ref | still / ref | other still "
+        "levels / ref (ci95) | result |",
+        "|---" * 19 + "|",
     ]
     for r in rows:
         ref = r["reference"]
@@ -546,10 +554,14 @@ def results_table(rows: list[dict]) -> list[str]:
             f"{_g(ref['check'], 3)} | {_g(ref['check3'], 3)} | {_g(ref['white_p'], 2)} | "
             f"{_flat(ref)} | "
             f"{_g(ref['phi'], 2)} | {_per_sample(ref)} | "
-            f"{r['ratio']:.3g} | {_g(r['quiet_ratio'], 3)} | "
+            f"{r['ratio']:.3g} | {_g(r['quiet_ratio'], 3)} | {_others(r['others'])} | "
             f"{_result(r)} |"
         )
     return lines
+
+
+def _others(others: list) -> str:
+    return "; ".join(f"{v:.3g} ({lo:.3g}-{hi:.3g})" for v, lo, hi in others) or "—"
 
 
 def _flat(ref: dict) -> str:
@@ -643,7 +655,10 @@ def report(recs: list[Record], rows: list[dict], seconds: float) -> str:
         "var(d1)/2 and var(d3)/20 in those stretches over it (1 for white noise); 'white p' is "
         "the permutation p-value of d1 / d2; 'flat p' is Bartlett's test of one level over "
         f"the stretches' {FLAT_WINDOW}-sample windows (highest over lowest window in "
-        "brackets; information only); the OCXO's is Stable32's published "
+        "brackets; information only); 'other still levels' are the near-still regimes' "
+        "levels the result reports (`diagnostics.other_still`, said in the verdict; the "
+        "same method on each; their interval over the R to use, times R to use / reference; "
+        "information only, the R to use stays the floor); the OCXO's is Stable32's published "
         "ADEV(1 s)^2 / (1 - rho1); the Nile's is Durbin & Koopman's published fit. " + NO_SINGLE_R,
         "",
         *records_table(recs, rows),

@@ -27,7 +27,7 @@ from noisevar.diagnostics.results import NoiseDiagnostics
 from noisevar.diagnostics.segments import Gap, Segmentation, split_dropped, split_times
 from noisevar.diagnostics.sums import DiagSums, diag_part
 from noisevar.diagnostics.tails import kurtosis_from_moments, tail_index
-from noisevar.diagnostics.verdict import make_notes, make_verdict
+from noisevar.diagnostics.verdict import make_notes, make_verdict, other_still_clause
 from noisevar.diagnostics.whiteness import WHITE_LAGS, WhitenessTest, whiteness_test
 from noisevar.errors import NoisevarError
 from noisevar.numeric.fir import residual_sequence
@@ -248,5 +248,5 @@ def with_verdict(
 
     ``still``: the same method's estimate on the still regimes alone, when there is one.
     """
-    verdict = make_verdict(diag, variance, core, outliers, still)
+    verdict = make_verdict(diag, variance, core, outliers, still) + other_still_clause(diag)
     return replace(diag, verdict=verdict, notes=make_notes(diag))

@@ -40,6 +40,10 @@ class Regime:
         Degrees of freedom of the level.
     still : bool
         At the record's lowest level: the sensor's own noise, no motion leaking through.
+    near_still : bool
+        Not still, yet at most :data:`STILL_RATIO` times the lowest regime's upper 95 %
+        bound: another still level that the floor's test tells apart (another posture,
+        slow sway), not motion.
     """
 
     start: int
@@ -49,6 +53,7 @@ class Regime:
     hi: float
     dof: float
     still: bool
+    near_still: bool = False
 
     def to_dict(self) -> dict[str, float | int | bool]:
         return {
@@ -58,7 +63,31 @@ class Regime:
             "ci95_low": self.lo,
             "ci95_high": self.hi,
             "still": self.still,
+            "near_still": self.near_still,
         }
+
+
+@dataclass(frozen=True)
+class StillLevel:
+    """A near-still regime's level on the R to use's own residual, over the R to use.
+
+    Attributes
+    ----------
+    start, stop : int
+        Sample range it was measured on (the regime less one profile block at either end).
+    ratio, lo, hi : float
+        Its level and 95 % interval over the R to use (unit-free).
+    """
+
+    start: int
+    stop: int
+    ratio: float
+    lo: float
+    hi: float
+
+    def to_dict(self) -> dict[str, float | int]:
+        return {"start": self.start, "stop": self.stop, "ratio": self.ratio,
+                "ci95_low": self.lo, "ci95_high": self.hi}  # fmt: skip
 
 
 class _Cost:
@@ -169,7 +198,8 @@ def find_regimes(start: NDArray, stop: NDArray, level: NDArray, dof: NDArray) ->
     (a one-sided F test at :data:`STILL_ALPHA` per step, its dof divided by the blocks'
     dispersion, :func:`_dispersion`) and at most :data:`STILL_RATIO` times the lowest
     regime's upper 95 % bound joins it. One regime is one level: still, as far as the
-    record can tell.
+    record can tell. A regime the test leaves out below that bound is near-still: another
+    still level (another posture, slow sway), which the result reports on its own.
     """
     breaks = regime_breaks(level, dof)
     bounds = [*breaks, level.size]
@@ -181,7 +211,9 @@ def find_regimes(start: NDArray, stop: NDArray, level: NDArray, dof: NDArray) ->
     out = []
     for i, ((a, b), (x, nu)) in enumerate(zip(spans, pooled, strict=True)):
         lo, hi = _interval(x, nu)
-        out.append(Regime(int(start[a]), int(stop[b - 1]), x, lo, hi, nu, i in floor))
+        still = i in floor
+        near = not still and x <= cap
+        out.append(Regime(int(start[a]), int(stop[b - 1]), x, lo, hi, nu, still, near))
     return tuple(out)
 
 

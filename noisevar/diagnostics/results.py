@@ -9,6 +9,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.diagnostics.profile import LevelProfile
+from noisevar.diagnostics.regimes import StillLevel
 from noisevar.diagnostics.segments import Gap
 from noisevar.diagnostics.whiteness import WhitenessTest
 
@@ -52,6 +53,10 @@ class NoiseDiagnostics:
         The whiteness test on the still regimes' quiet blocks alone, when the level
         varies (None otherwise): white there and not over the whole record means motion
         leaking through, not coloured noise.
+    other_still : tuple of StillLevel
+        The near-still regimes' levels over the R to use, those whose interval lies above
+        it (another posture, slow sway: docs/algorithms.md §E1 *Several still levels*);
+        set by the estimate, which measures them with its own method.
     verdict : str
         One plain sentence.
     notes : tuple of str
@@ -69,6 +74,7 @@ class NoiseDiagnostics:
     level_profile: LevelProfile
     power_law: tuple[tuple[int, int], ...] = ()
     still_whiteness: WhitenessTest | None = None
+    other_still: tuple[StillLevel, ...] = ()
     verdict: str = ""
     notes: tuple[str, ...] = field(default_factory=tuple)
 
@@ -173,5 +179,6 @@ class NoiseDiagnostics:
             "quiet_share": _finite(self.level_profile.quiet_share),
             "level_profile": self.level_profile.to_dict(),
             "power_law": [list(p) for p in self.power_law],
+            "other_still_levels": [x.to_dict() for x in self.other_still],
             "notes": list(self.notes),
         }

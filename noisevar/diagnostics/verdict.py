@@ -136,6 +136,28 @@ def _not_white(diag: NoiseDiagnostics, r: str, quiet: float, variance: float) ->
     return None
 
 
+def other_still_clause(diag: NoiseDiagnostics) -> str:
+    """What the other still levels add to the verdict ('' when there is none).
+
+    Each near-still regime whose level, measured as the R to use is, lies above it
+    (docs/algorithms.md §E1 *Several still levels*): the R to use stays the floor.
+    """
+    if not diag.other_still:
+        return ""
+    n = max(diag.n, 1)
+    said = "; ".join(
+        f"samples {x.start}-{x.stop} ({(x.stop - x.start) / n:.0%} of the record) at "
+        f"{x.ratio:.2f}x (ci95 {x.lo:.2f}-{x.hi:.2f}x)"
+        for x in diag.other_still
+    )
+    return (
+        f". Other still stretches rest at a higher level on the same residual: {said}: "
+        "another posture, or slow sway; the still level above is the floor, the sensor's "
+        "own noise, and a filter that runs through those stretches without modelling that "
+        "motion needs their level"
+    )
+
+
 def still_colour(diag: NoiseDiagnostics) -> str:
     """What the still stretches' own whiteness adds to a still level ('' when white).
 

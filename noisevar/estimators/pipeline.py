@@ -37,11 +37,13 @@ from noisevar.diagnostics import (
     with_verdict,
 )
 from noisevar.diagnostics.assumptions import check_assumptions
+from noisevar.diagnostics.regimes import StillLevel
 from noisevar.errors import NoisevarError
 from noisevar.estimators._input import check_samples, check_times
 from noisevar.estimators._scale import check_answer, unscale
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
 from noisevar.estimators.spec import MethodSpec
+from noisevar.estimators.still_levels import other_still_levels
 
 #: The method's coloured-noise parameters are used below this whiteness p-value (far
 #: below the flag's 5 %, so that white noise that fails the test by chance keeps the
@@ -353,10 +355,12 @@ def run_record(
     else:
         if diag.whiteness.p_value < COLOURED_P:
             result = _coloured(spec, record, result, params)
-        still = _still(spec, record, result.params | params, diag)
+        own = result.params | params
+        still = _still(spec, record, own, diag)
         if still is not None:  # its interval from the record's noise; the diagnostics
             still = conclude(spec, still, diag, None)  # stay on the record's own result
             still.diagnostics = None
+            diag = replace(diag, other_still=_other_levels(spec, record, own, diag, still))
         result = conclude(spec, result, diag, record.reader(), still)
     return _in_record_units(result, scaled + record.exponent, spec.name)
 
@@ -385,6 +389,18 @@ def _still(
         return None
     still.notes.append(f"the still regimes only: {len(ranges)} stretches, {still.n_total} samples")
     return still
+
+
+def _other_levels(
+    spec: MethodSpec, record: Record, params: dict, diag: NoiseDiagnostics, still: VarianceEstimate
+) -> tuple[StillLevel, ...]:
+    """The record's other still levels (:func:`.still_levels.other_still_levels`)."""
+    kept = {k: v for k, v in params.items() if k != "method"}
+
+    def measure(ranges: list[tuple[int, int]]) -> VarianceEstimate:
+        return conclude(spec, record.estimate_in(kept, ranges), diag, None)  # type: ignore[attr-defined]
+
+    return other_still_levels(diag, still, measure)
 
 
 def _coloured(
