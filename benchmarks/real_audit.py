@@ -176,23 +176,31 @@ def cli_checks(channels: dict[str, np.ndarray], ests: dict) -> list[str]:
     return bad
 
 
-def imu_checks(z: np.ndarray, rate: float) -> list[str]:
+def imu_checks(z: np.ndarray, rate: float, quiet: bool) -> list[str]:
+    """``inertial_noise`` on all and on the still regimes (``quiet``: the record has a
+    quiet set, so ``regimes="still"`` must find a still stretch)."""
     bad = []
     for regimes in ("all", "still"):
         try:
             fit = noisevar.inertial_noise(z, rate, regimes=regimes)
             big = noisevar.inertial_noise(1e3 * z, rate, regimes=regimes)
         except noisevar.NoisevarError as e:
-            bad.append(f"inertial_noise({regimes}): NoisevarError {e}")
+            if regimes == "all" or quiet:
+                bad.append(f"inertial_noise({regimes}): NoisevarError {e}")
             continue
         terms = {t.symbol: t for t in fit.terms}
         vals = [v for t in fit.terms for v in (t.value, *t.interval)]
         if not all(np.isfinite(vals)):
             bad.append(f"inertial_noise({regimes}): not finite")
-        n, n_hi = terms["N"].value, terms["N"].interval[1]
-        if n_hi < fit.white_level * (1 - 1e-9):  # issue 26: N's interval holds sigma/sqrt(fs)
-            bad.append(f"inertial_noise({regimes}): N = {n:.4g} (up to {n_hi:.4g}), "
-                       f"white level {fit.white_level:.4g}")  # fmt: skip
+        # the white level is sqrt(N² + 3 Q² fs) (inertial.white_level): N's and Q's upper
+        # bounds must reach it (issue 26: N never excludes the measured sigma/sqrt(fs))
+        n, n_hi, q_hi = terms["N"].value, terms["N"].interval[1], terms["Q"].interval[1]
+        reach = float(np.sqrt(n_hi**2 + 3.0 * q_hi**2 * rate))
+        if reach < fit.white_level * (1 - 1e-9):
+            bad.append(
+                f"inertial_noise({regimes}): N = {n:.4g} (up to {n_hi:.4g}, Q up to {q_hi:.3g})"
+                f" reach {reach:.4g} < the white level {fit.white_level:.4g}"
+            )
         n_big = {t.symbol: t for t in big.terms}["N"].value
         if n > 0 and abs(n_big / n - 1e3) > 1e-3 * 1e3:
             bad.append(f"inertial_noise({regimes}): N x{n_big / n:.5g} under scale x1e3")
@@ -248,7 +256,8 @@ def audit(name: str) -> list[dict]:
             continue
         ests[ch] = est
         inv, n_r, n_u = invariance(z, est)
-        fail = finite(est) + inv + verdict_checks(est) + imu_checks(z, rate)
+        fail = finite(est) + inv + verdict_checks(est)
+        fail += imu_checks(z, rate, bool(est.diagnostics.level_profile.quiet.any()))
         row |= {
             "R": est.variance, "ci95": est.ci95, "use": to_use(est).variance,
             "still": est.still is not None, "flags": est.diagnostics.flags,
