@@ -101,7 +101,8 @@ def _not_white(diag: NoiseDiagnostics, r: str, quiet: float, variance: float) ->
             f"measurement noise can be told apart from it, so {r} is not a noise level; "
             "model the walk as a state (see the noise model)"
         )
-    if diag.level_varies and not prof.quiet.any():  # no quiet block: no level to quote
+    no_quiet = diag.level_varies and not prof.quiet.any()  # no quiet block: no level to quote
+    if no_quiet and not under_half_a_step(diag, variance):  # (that is quantisation)
         return (
             "the noise level changes along the record and no stretch of it is quiet: the "
             f"sensor noise cannot be measured apart from the motion, so {r} over the whole "
