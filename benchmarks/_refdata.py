@@ -108,3 +108,43 @@ def wheel_file(requirement: str, relpath: str) -> bytes:
     archive = _download(requirement, binary=True)
     with zipfile.ZipFile(archive) as whl:
         return whl.read(relpath)
+
+
+# ---------------------------------------------------------------- real_audit.py (issue 26)
+#: scikit-kinematics' IMU recordings that neither real_noise.py (NGIMU) nor real_records.py
+#: (YEI) reads: name -> (path in the wheel, rate in Hz, what it is). BSD-3-Clause.
+AUDIT_RECORDS = {
+    "xsens_50hz": ("tests/data/data_xsens.txt", 50.0, "Xsens MTw, 50 Hz, hand-moved"),
+    "xsens_lower_leg": ("tests/data/walking_xsens_lowerLeg.txt", 120.0, "Xsens, lower leg, walk"),
+    "xsens_upper_leg": ("tests/data/walking_xsens_upperLeg.txt", 120.0, "Xsens, upper leg, walk"),
+    "polulu": ("tests/data/data_polulu.txt", 0.0, "Pololu MinIMU, raw counts, own ms clock"),
+    "xio": ("tests/data/data_xio/00033_CalInertialAndMag.csv", 256.0, "x-IMU, 256 Hz"),
+    "xio3": ("tests/data/data_xio3/Inertial.csv", 0.0, "x-io NGIMU v3 Inertial, us clock"),
+}
+_IMU6 = ("acc_x", "acc_y", "acc_z", "gyr_x", "gyr_y", "gyr_z")
+
+
+def audit_record(name: str) -> tuple[dict[str, np.ndarray], np.ndarray | None, float]:
+    """Channels (``acc_*``, ``gyr_*`` in the file's units), times in s (or None) and rate."""
+    import io
+
+    import pandas as pd
+
+    path, rate, _ = AUDIT_RECORDS[name]
+    raw = skinematics_file(path)
+    if name.startswith("xsens"):
+        df = pd.read_csv(io.BytesIO(raw), sep="\t", skiprows=4)
+        cols = dict(zip(_IMU6, ["Acc_X", "Acc_Y", "Acc_Z", "Gyr_X", "Gyr_Y", "Gyr_Z"], strict=True))
+        return {k: df[c].to_numpy(float) for k, c in cols.items()}, None, rate
+    if name == "polulu":  # acc, gyr, mag counts, then the acc/gyr and mag clocks (ms)
+        a = np.loadtxt(io.BytesIO(raw))
+        t = a[:, 9] / 1000.0
+        return {k: a[:, i] for i, k in enumerate(_IMU6)}, t, 1.0 / float(np.median(np.diff(t)))
+    df = pd.read_csv(io.BytesIO(raw))
+    gyr = [c for c in df.columns if c.startswith("Gyroscope")]
+    acc = [c for c in df.columns if c.startswith("Accelerometer")]
+    out = {k: df[c].to_numpy(float) for k, c in zip(_IMU6, acc + gyr, strict=True)}
+    if name == "xio3":
+        t = (df["Timestamp (us)"].to_numpy(float) - df["Timestamp (us)"].iloc[0]) * 1e-6
+        return out, t, 1.0 / float(np.median(np.diff(t)))
+    return out, None, rate

@@ -90,8 +90,9 @@ def make_verdict(
 def _not_white(diag: NoiseDiagnostics, r: str, quiet: float, variance: float) -> str | None:
     """The verdict of a record whose noise is not a white level (None: it may be one).
 
-    In the order the evidence decides: no noise to tell apart, mostly motion, differenced
-    data, motion leaking through still stretches that are white, then coloured noise.
+    In the order the evidence decides: no noise to tell apart, no quiet stretch, mostly
+    motion, differenced data, motion leaking through still stretches that are white, then
+    coloured noise.
     """
     prof = diag.level_profile
     if not diag.identifiable:
@@ -99,6 +100,13 @@ def _not_white(diag: NoiseDiagnostics, r: str, quiet: float, variance: float) ->
             "the record behaves like a random walk (its first difference is white): no "
             f"measurement noise can be told apart from it, so {r} is not a noise level; "
             "model the walk as a state (see the noise model)"
+        )
+    no_quiet = diag.level_varies and not prof.quiet.any()  # no quiet block: no level to quote
+    if no_quiet and not under_half_a_step(diag, variance):  # (that is quantisation)
+        return (
+            "the noise level changes along the record and no stretch of it is quiet: the "
+            f"sensor noise cannot be measured apart from the motion, so {r} over the whole "
+            "record includes motion or signal (record the sensor still for a while)"
         )
     if diag.level_varies and prof.quiet_share < MOSTLY_MOTION and not diag.white:
         return (

@@ -244,9 +244,12 @@ def _solve(keys: tuple[str, ...], start: NDArray, wv: WaveletVariance, wl: NDArr
         same = "x" in last and np.array_equal(x, last["x"])
         return -wl @ (last["jac"] if same else model.jac(np.exp(x)))
 
-    return least_squares(
-        resid, x0, jac=jac, bounds=(lo, hi), method="trf", x_scale=1.0, max_nfev=400
-    )
+    # a process the data do not support runs its log-parameter down to its -inf bound, where
+    # trf's step arithmetic overflows: np.errstate changes no number, only the warnings
+    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+        return least_squares(
+            resid, x0, jac=jac, bounds=(lo, hi), method="trf", x_scale=1.0, max_nfev=400
+        )
 
 
 def fit(keys: tuple[str, ...], starts: list[NDArray], wv: WaveletVariance) -> Solution:

