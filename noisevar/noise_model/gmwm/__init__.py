@@ -26,6 +26,7 @@ from noisevar.noise_model.gmwm.fitting import (
     as_rows,
     fit_wv,
     pooled,
+    unexplained,
     wavelet_variances,
 )
 from noisevar.noise_model.gmwm.model import (
@@ -156,8 +157,9 @@ def motion_note(row: NDArray, fit: ImuModel) -> list[str]:
     -------
     list of str
         One note (the record's noise level varies: :data:`REGIME_WARNING`, and
-        ``regimes='still'``) when ``fit`` has a note (it misfits, or N is at its bound)
-        and :func:`noisevar.estimate`'s diagnostics say the level varies; else none.
+        ``regimes='still'``) when ``fit`` leaves the data unexplained (it misfits, or N
+        is at its bound: :func:`~noisevar.noise_model.gmwm.fitting.unexplained`) and
+        :func:`noisevar.estimate`'s diagnostics say the level varies; else none.
 
     Notes
     -----
@@ -165,7 +167,7 @@ def motion_note(row: NDArray, fit: ImuModel) -> list[str]:
     about 4x the fit, so a fit that explains the wavelet variance (a still record) is
     not checked.
     """
-    if not fit.notes:
+    if not unexplained(fit):
         return []
     from noisevar.estimators import estimate
 

@@ -385,6 +385,24 @@ def random_walk_note(
     )
 
 
+#: Level of the chi-square test past which the chosen model misfits (:func:`misfits`).
+MISFIT_LEVEL = 0.999
+
+
+def misfits(objective: float, n_scales: int, n_params: int) -> bool:
+    """Whether a GMWM objective is past the chi-square's :data:`MISFIT_LEVEL` quantile on
+    ``n_scales - n_params`` degrees of freedom (at least 1): a process is missing."""
+    return bool(objective > stats.chi2.ppf(MISFIT_LEVEL, max(1, n_scales - n_params)))
+
+
+def unexplained(fit: ImuModel) -> bool:
+    """Whether a fit leaves the data unexplained: its model misfits (:func:`misfits`) or
+    its N is at its bound (:func:`white_at_bound`)."""
+    chosen = next(r for r in fit.table if r.chosen)
+    at_bound = "WN" in fit.keys and fit.value("N") == 0.0
+    return at_bound or misfits(chosen.objective, fit.scales.size, chosen.n_params)
+
+
 #: Widest half-width of the wavelet variance's interval, in log units (``exp`` of it
 #: stays finite; the parameters' standard errors are clipped alike in :func:`_parameters`).
 MAX_LOG_HALF_WIDTH = 50.0
@@ -479,7 +497,7 @@ def build(
         rows.append(row)
     p = np.exp(sol.log_params)
     notes = []
-    if sol.objective > stats.chi2.ppf(0.999, max(1, wv.tau.size - sol.n_params)):
+    if misfits(sol.objective, wv.tau.size, sol.n_params):
         notes.append(
             f"the chosen model {name_of(sol.keys)} misfits the wavelet variance "
             f"(objective {sol.objective:.3g} on {wv.tau.size} scales): a process is missing"
