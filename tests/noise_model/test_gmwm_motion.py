@@ -63,3 +63,25 @@ def test_wv_interval_stays_finite() -> None:
     lo, hi = wv_band(nu, np.array([1.0, 800.0, np.inf]))
     assert np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)) and np.all(lo > 0)
     assert hi[2] == nu[2] * np.exp(MAX_LOG_HALF_WIDTH)
+
+
+def test_inertial_noise_says_the_level_varies() -> None:
+    z = still_then_motion(1)
+    whole = noisevar.inertial_noise(z, RATE)
+    assert any(t.startswith("regimes='all': the noise level varies") for t in whole.notes)
+    still = noisevar.inertial_noise(0.01 * np.random.default_rng(3).normal(size=4000), RATE)
+    assert not any("level varies" in t for t in still.notes)
+
+
+def test_cli_imu_prints_the_regime_warning(tmp_path, capsys) -> None:
+    from noisevar.cli import main
+
+    path = tmp_path / "imu.csv"
+    np.savetxt(path, still_then_motion(2)[:, None], delimiter=",", header="g", comments="")
+    for extra in ([], ["--model", "auto"]):
+        assert main(["imu", str(path), "--rate", "50", *extra]) == 0
+        assert "note: regimes='all': the noise level varies" in capsys.readouterr().out
+    assert main(["imu", str(path), "--rate", "50", "--model", "auto", "--regimes", "still"]) == 0
+    out = capsys.readouterr().out
+    assert "note: regimes='still': fitted on the record's longest still stretch" in out
+    assert "level varies" not in out

@@ -17,8 +17,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
-from noisevar.estimators.answer import REGIME_WARNING
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes, longest_still_stretch
+from noisevar.noise_model.allan import regime_warning
 from noisevar.noise_model.gmwm.bound import InformationBound, fisher_bound
 from noisevar.noise_model.gmwm.fitting import (
     AUTO,
@@ -144,7 +144,8 @@ STILL_NEED = 16
 
 
 def motion_note(row: NDArray, fit: ImuModel) -> list[str]:
-    """The regime warning when a whole-record fit has notes and the level varies.
+    """The regime warning (:func:`~noisevar.noise_model.allan.regime_warning`) of a
+    whole-record fit that leaves the data unexplained.
 
     Parameters
     ----------
@@ -156,31 +157,17 @@ def motion_note(row: NDArray, fit: ImuModel) -> list[str]:
     Returns
     -------
     list of str
-        One note (the record's noise level varies: :data:`REGIME_WARNING`, and
-        ``regimes='still'``) when ``fit`` leaves the data unexplained (it misfits, or N
-        is at its bound: :func:`~noisevar.noise_model.gmwm.fitting.unexplained`) and
-        :func:`noisevar.estimate`'s diagnostics say the level varies; else none.
+        The warning when ``fit`` misfits or has N at its bound
+        (:func:`~noisevar.noise_model.gmwm.fitting.unexplained`) and the estimate's
+        diagnostics say the level varies; else none.
 
     Notes
     -----
-    The diagnostics are the estimate's own (``level_varies``, one home). They cost
-    about 4x the fit, so a fit that explains the wavelet variance (a still record) is
-    not checked.
+    The diagnostics add about a third to the fit's CPU on a long record; a fit that
+    explains the wavelet variance (a still record) is not checked, so the composite
+    fit's speed on still records is unchanged.
     """
-    if not unexplained(fit):
-        return []
-    from noisevar.estimators import estimate
-
-    try:
-        diag = estimate(row).diagnostics
-    except NoisevarError:
-        return []
-    if diag is None or not diag.level_varies:
-        return []
-    return [
-        f"{REGIME_WARNING}: this model is of the whole record, motion included, not the "
-        "sensor's noise; fit the still regimes only with regimes='still'"
-    ]
+    return regime_warning(row) if unexplained(fit) else []
 
 
 def fit_imu_records(
