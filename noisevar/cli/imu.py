@@ -230,7 +230,9 @@ def _cmd_models(args: argparse.Namespace, data: dict, rates: dict[str, float]) -
     fits = {}
     for names in _groups(data, rates):  # one rate per fit: a topic's columns together
         stacked = np.column_stack([data[c] for c in names])
-        fitted = fit_imu_model(stacked, rates[names[0]], models=models, robust=args.robust)
+        fitted = fit_imu_model(
+            stacked, rates[names[0]], models=models, robust=args.robust, **regimes_of(args)
+        )
         fits.update(zip(names, fitted, strict=True))
     fits = {c: fits[c] for c in data}
     if args.format == "json":

@@ -233,6 +233,41 @@ def still_record(z: ArrayLike, data: str, need: int, purpose: str) -> tuple[NDAr
     return s.take(y), s.note
 
 
+def regime_warning(z: ArrayLike) -> list[str]:
+    """The regime warning of a fit of a whole record whose noise level varies.
+
+    Parameters
+    ----------
+    z : array_like, shape (n,)
+        The record (rate data).
+
+    Returns
+    -------
+    list of str
+        One note when :func:`noisevar.estimate`'s diagnostics say the level varies
+        (regimes of motion and stillness): the record's regime warning and
+        ``regimes='still'``; none otherwise, or when the regimes cannot be found.
+
+    Notes
+    -----
+    The diagnostics are the estimate's own (``level_varies``; one home), as
+    ``regimes='still'`` finds its stretch with (:func:`still_record`).
+    """
+    from noisevar.estimators import estimate
+    from noisevar.estimators.answer import REGIME_WARNING
+
+    try:
+        diag = estimate(np.asarray(z, dtype=float)).diagnostics
+    except NoisevarError:
+        return []
+    if diag is None or not diag.level_varies:
+        return []
+    return [
+        f"regimes='all': {REGIME_WARNING}; this fit is of the whole record, motion "
+        "included, not the sensor's noise: fit the still regimes only with regimes='still'"
+    ]
+
+
 def averaging_factors(n_phase: int, rate: float, taus: str | ArrayLike, kind: str) -> NDArray:
     """The averaging factors m (tau = m / rate) that ``kind`` can use on ``n_phase`` samples.
 

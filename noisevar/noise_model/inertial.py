@@ -29,6 +29,7 @@ from noisevar.noise_model.allan import (
     AllanResult,
     _edfs,
     allan,
+    regime_warning,
     rescale_allan,
     still_record,
 )
@@ -434,7 +435,7 @@ def _one_axis(
     if e:  # scale-safe: every term is linear in the record's unit (estimators' _scale)
         fit = _one_axis(np.ldexp(y, e), rate, unit, taus, ci, seed, regimes)
         return _rescaled(fit, e)
-    notes = []
+    notes = [] if regimes == "still" else regime_warning(y)
     if regimes == "still":
         # two taus of the overlapping ADEV: 2 span + 2 phase samples
         y, note = still_record(y, "rate", 2 * KINDS["oadev"].span + 2, "the noise terms")

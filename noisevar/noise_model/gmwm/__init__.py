@@ -11,12 +11,14 @@ from __future__ import annotations
 import os
 from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
+from dataclasses import replace
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
-from noisevar.noise_model.gmwm import estimator as est
+from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes, longest_still_stretch
+from noisevar.noise_model.allan import regime_warning
 from noisevar.noise_model.gmwm.bound import InformationBound, fisher_bound
 from noisevar.noise_model.gmwm.fitting import (
     AUTO,
@@ -24,6 +26,7 @@ from noisevar.noise_model.gmwm.fitting import (
     as_rows,
     fit_wv,
     pooled,
+    unexplained,
     wavelet_variances,
 )
 from noisevar.noise_model.gmwm.model import (
@@ -60,6 +63,7 @@ def fit_imu_model(
     criterion: str = DEFAULT_CRITERION,
     horizon: float = HORIZON,
     workers: int | None = 1,
+    regimes: str = DEFAULT_REGIMES,
 ) -> ImuModel | tuple[ImuModel, ...]:
     """Fit a composite noise model to rate data by GMWM, choosing the model.
 
@@ -92,6 +96,9 @@ def fit_imu_model(
         search holds the GIL, so threads add CPU without saving time (on 6 axes x
         7.2e6 samples, 2 threads took 10 % more CPU and no less wall time on a
         2-core machine; BENCHMARKS.md, issue 30).
+    regimes : {"all", "still"}
+        Fit each axis's whole record, or its longest still stretch only (each axis its
+        own, said in ``notes``; :mod:`noisevar.estimators.regimes`).
 
     Returns
     -------
@@ -102,22 +109,65 @@ def fit_imu_model(
     docs/algorithms.md §E10. The wavelet variances of all axes are computed at once;
     each axis is fitted by weighted least squares on the log-parameters, weighted by
     the diagonal of the fitted model's asymptotic covariance of the wavelet variance;
-    intervals by the delta method with the full covariance (sandwich form).
+    intervals by the delta method with the full covariance (sandwich form). A fit of
+    the whole record that leaves something unexplained (a misfit, N at its bound) says
+    whether the record's noise level varies (:func:`motion_note`).
     """
+    check_regimes(regimes)
     arr = as_rows(x, axis)
-    wvs = wavelet_variances(arr, robust)
+    notes: list[list[str]] = [[] for _ in arr]
+    if regimes == "still":
+        cut = [longest_still_stretch(row, STILL_NEED, "the composite model") for row in arr]
+        notes = [[s.note] for s in cut]
+        rows = [s.take(row)[None, :] for s, row in zip(cut, arr, strict=True)]
+        wvs = [wavelet_variances(r, robust)[0] for r in rows]
+    else:
+        wvs = wavelet_variances(arr, robust)
     kw = dict(models=models, robust=robust, unit=unit, ci=ci, criterion=criterion)
 
-    def one(wv: est.WaveletVariance) -> ImuModel:
-        return fit_wv(wv, rate, horizon=horizon, **kw)
+    def one(i: int) -> ImuModel:
+        fit = fit_wv(wvs[i], rate, horizon=horizon, **kw)
+        extra = notes[i] if regimes == "still" else motion_note(arr[i], fit)
+        return replace(fit, notes=(*extra, *fit.notes)) if extra else fit
 
     if np.ndim(x) == 1:
-        return one(wvs[0])
+        return one(0)
     n_workers = max(1, min(len(wvs), workers or os.cpu_count() or 1))
     if n_workers == 1:
-        return tuple(one(wv) for wv in wvs)
+        return tuple(one(i) for i in range(len(wvs)))
     with ThreadPoolExecutor(n_workers) as pool:
-        return tuple(pool.map(one, wvs))
+        return tuple(pool.map(one, range(len(wvs))))
+
+
+#: Fewest samples of a still stretch a composite fit takes: 3 wavelet scales.
+STILL_NEED = 16
+
+
+def motion_note(row: NDArray, fit: ImuModel) -> list[str]:
+    """The regime warning (:func:`~noisevar.noise_model.allan.regime_warning`) of a
+    whole-record fit that leaves the data unexplained.
+
+    Parameters
+    ----------
+    row : ndarray, shape (n,)
+        The axis's record.
+    fit : ImuModel
+        Its fit on the whole record.
+
+    Returns
+    -------
+    list of str
+        The warning when ``fit`` misfits or has N at its bound
+        (:func:`~noisevar.noise_model.gmwm.fitting.unexplained`) and the estimate's
+        diagnostics say the level varies; else none.
+
+    Notes
+    -----
+    The diagnostics add about a third to the fit's CPU on a long record; a fit that
+    explains the wavelet variance (a still record) is not checked, so the composite
+    fit's speed on still records is unchanged.
+    """
+    return regime_warning(row) if unexplained(fit) else []
 
 
 def fit_imu_records(

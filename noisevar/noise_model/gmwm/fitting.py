@@ -385,6 +385,91 @@ def random_walk_note(
     )
 
 
+#: Level of the chi-square test past which the chosen model misfits (:func:`misfits`).
+MISFIT_LEVEL = 0.999
+
+
+def misfits(objective: float, n_scales: int, n_params: int) -> bool:
+    """Whether a GMWM objective is past the chi-square's :data:`MISFIT_LEVEL` quantile on
+    ``n_scales - n_params`` degrees of freedom (at least 1): a process is missing."""
+    return bool(objective > stats.chi2.ppf(MISFIT_LEVEL, max(1, n_scales - n_params)))
+
+
+def unexplained(fit: ImuModel) -> bool:
+    """Whether a fit leaves the data unexplained: its model misfits (:func:`misfits`) or
+    its N is at its bound (:func:`white_at_bound`)."""
+    chosen = next(r for r in fit.table if r.chosen)
+    at_bound = "WN" in fit.keys and fit.value("N") == 0.0
+    return at_bound or misfits(chosen.objective, fit.scales.size, chosen.n_params)
+
+
+#: Widest half-width of the wavelet variance's interval, in log units (``exp`` of it
+#: stays finite; the parameters' standard errors are clipped alike in :func:`_parameters`).
+MAX_LOG_HALF_WIDTH = 50.0
+
+
+def wv_band(nu: NDArray, half: NDArray) -> tuple[NDArray, NDArray]:
+    """``nu exp(-half)`` to ``nu exp(half)``, ``half`` clipped to :data:`MAX_LOG_HALF_WIDTH`.
+
+    A model that misfits badly (motion) can give a scale a relative standard error whose
+    ``exp`` overflows: the band is then as wide as finite numbers keep it, never inf.
+    """
+    h = np.minimum(half, MAX_LOG_HALF_WIDTH)
+    return nu * np.exp(-h), nu * np.exp(h)
+
+
+#: N under this fraction of the white level is at its lower bound (0): the white noise
+#: holds under a millionth of the shortest scale's wavelet variance.
+AT_BOUND = 1e-3
+
+
+def white_level(wv: est.WaveletVariance, rate: float) -> float:
+    """The N that alone makes the wavelet variance of the shortest scale (unit/√Hz).
+
+    Notes
+    -----
+    With the Haar wavelet variance at 2 samples (``mean(diff²) / 4``) this is
+    ``std(diff) / sqrt(2 fs)``, :func:`noisevar.noise_model.inertial.white_level`: the
+    white level sigma/sqrt(fs), all of the shortest scale's variance taken as white.
+    """
+    wn = PROCESSES["WN"]
+    unit_wv = float(wn.wv(np.ones(1), wv.tau[:1])[0])
+    return float(wn.convert(np.array([wv.nu[0] / unit_wv]), rate)[0])
+
+
+def white_at_bound(
+    params: list[Parameter], wv: est.WaveletVariance, rate: float, unit: str
+) -> tuple[list[Parameter], list[str]]:
+    """N at its lower bound said so: 0, its interval up to the white level, and a note.
+
+    Returns
+    -------
+    list of Parameter, list of str
+        ``params`` with N replaced when it is under :data:`AT_BOUND` x the white level
+        (:func:`white_level`), and the note; else ``params`` and no note.
+
+    Notes
+    -----
+    When other processes already exceed the shortest scale's wavelet variance (motion's
+    smooth signal, a random walk fitted to it), the fit runs white noise down to its
+    bound at 0. The delta-method interval of a parameter at its bound is not an
+    interval (it has zero width); the data bound N only from above, by the white level.
+    """
+    white = white_level(wv, rate)
+    out, notes = [], []
+    for p in params:
+        if p.name == "N" and p.value < AT_BOUND * white:
+            notes.append(
+                f"N is at its lower bound (fitted {p.value:.3g}): the other processes hold "
+                f"the shortest scale, so the data do not tell N from 0; its interval reaches "
+                f"the white level {white:.4g} {p.unit}, as if all of the shortest scale's "
+                "wavelet variance were white"
+            )
+            p = Parameter(p.name, p.process, 0.0, (0.0, white), p.unit)
+        out.append(p)
+    return out, notes
+
+
 def build(
     sol: est.Solution,
     tried: list[est.Solution],
@@ -412,7 +497,7 @@ def build(
         rows.append(row)
     p = np.exp(sol.log_params)
     notes = []
-    if sol.objective > stats.chi2.ppf(0.999, max(1, wv.tau.size - sol.n_params)):
+    if misfits(sol.objective, wv.tau.size, sol.n_params):
         notes.append(
             f"the chosen model {name_of(sol.keys)} misfits the wavelet variance "
             f"(objective {sol.objective:.3g} on {wv.tau.size} scales): a process is missing"
@@ -420,16 +505,18 @@ def build(
     rw_note = random_walk_note(sol, tried, criterion, n, rate, unit, ci)
     if rw_note:
         notes.append(rw_note)
+    params, n_note = white_at_bound(_parameters(sol, rate, unit, ci), wv, rate, unit)
+    notes += n_note
     return ImuModel(
         name_of(sol.keys),
-        tuple(_parameters(sol, rate, unit, ci)),
+        tuple(params),
         float(rate),
         unit,
         float(ci),
         robust,
         wv.tau / rate,
         wv.nu.copy(),
-        (wv.nu * np.exp(-z * rel), wv.nu * np.exp(z * rel)),
+        wv_band(wv.nu, z * rel),
         tuple(rows),
         filter_bias(sol.keys, p, rate, horizon, sol.log_cov, ci),
         sol.keys,

@@ -145,7 +145,9 @@ class ImuModel:
         The bias for a filter (GM states, or the equivalent random walk).
     notes : tuple of str
         A misfit of the chosen model; a model with a random walk nearly as good as a
-        chosen one without (its K and interval: ``fitting.random_walk_note``).
+        chosen one without (its K and interval: ``fitting.random_walk_note``); N at its
+        lower bound (``fitting.white_at_bound``); a noise level that varies (motion) or
+        the still stretch fitted (``regimes``).
     """
 
     model: str
