@@ -11,18 +11,26 @@ dashboard.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from noisevar.diagnostics.verdict import under_half_a_step
 from noisevar.errors import NoisevarError
 from noisevar.estimators.results import VarianceEstimate
+
+if TYPE_CHECKING:
+    from noisevar.diagnostics.results import NoiseDiagnostics
 
 #: The regime choices: the whole record, or its still regimes only.
 REGIMES = ("all", "still")
 #: The choice a function makes when none is named.
 DEFAULT_REGIMES = "all"
+#: Fewest samples a piece of still stretch needs, still on both block grids and with the
+#: samples around jumps cut out, to be estimated again by R's method (its spans need room;
+#: shorter pieces say little). Fewer in every piece: the record has no still R to use.
+STILL_MIN = 64
 
 
 def check_regimes(regimes: Any) -> str:
@@ -97,7 +105,8 @@ def longest_still_stretch(z: ArrayLike, need: int = 0, purpose: str = "the fit")
     Raises
     ------
     NoisevarError
-        When the regimes cannot be found, or no still stretch has ``need`` samples.
+        When the record has no still R to use (:func:`still_gap`: the same rule as
+        :func:`variance_for`), or no still stretch has ``need`` samples.
 
     Notes
     -----
@@ -109,16 +118,16 @@ def longest_still_stretch(z: ArrayLike, need: int = 0, purpose: str = "the fit")
 
     arr = np.asarray(z, dtype=float)
     try:
-        diag = estimate(arr).diagnostics
+        est = estimate(arr)
     except NoisevarError as exc:
         raise NoisevarError(
             f"regimes='still': the record's regimes could not be found ({exc}); use regimes='all'"
         ) from exc
-    if diag is None:
-        raise NoisevarError(
-            "regimes='still': the record's regimes could not be found; use regimes='all'"
-        )
-    if not diag.level_varies:
+    diag = est.diagnostics
+    gap = still_gap(diag, est.variance, est.still)  # the one rule, as variance_for's
+    if gap is not None:
+        raise NoisevarError(gap)
+    if diag is None or est.still is None:  # one still regime (still_gap)
         return StillStretch(0, arr.shape[0], arr.shape[0], True)
     stretches = diag.level_profile.still_stretches
     if not stretches:
@@ -136,15 +145,78 @@ def longest_still_stretch(z: ArrayLike, need: int = 0, purpose: str = "the fit")
     return StillStretch(int(a), int(b), int(arr.shape[0]), False)
 
 
+def still_gap(
+    diag: NoiseDiagnostics | None, variance: float, still: VarianceEstimate | None
+) -> str | None:
+    """Why a record has no still R to use: the one rule for ``regimes="still"``.
+
+    Parameters
+    ----------
+    diag : NoiseDiagnostics or None
+        The record's diagnostics.
+    variance : float
+        The record's R (a level that varies under half a grid step is quantisation).
+    still : VarianceEstimate or None
+        R's method on the still stretches (the estimate's ``.still``).
+
+    Returns
+    -------
+    str or None
+        None when there is an R to use: ``still``, or the whole record when it is one
+        still regime (its level does not vary, or varies only within a grid step). Else
+        the message that :func:`variance_for` raises, the CLI prints and the verdict
+        quotes: no regimes found, no quiet stretch, or still stretches too short for R's
+        method (fewer than :data:`STILL_MIN` samples in every piece).
+
+    Notes
+    -----
+    docs/algorithms.md §E1 (*The still set*). The verdict, ``.still``, :func:`variance_for`
+    and :func:`longest_still_stretch` all follow it, so a record never gets a still
+    level on one page and the whole record's R as "the R to use" on another.
+    """
+    if still is not None:
+        return None
+    if diag is None:
+        return "regimes='still': the record's regimes could not be found; use regimes='all'"
+    if not diag.level_varies or under_half_a_step(diag, variance):
+        return None
+    prof = diag.level_profile
+    if not prof.quiet.any():
+        return (
+            "regimes='still': the record has no still stretch (its level varies throughout "
+            "and no stretch of it is quiet); record the sensor still for a while, or use "
+            "regimes='all'"
+        )
+    sizes = prof.stop - prof.start
+    total = int(np.sum(sizes[prof.quiet]))
+    return (
+        f"regimes='still': the still stretches total {total} samples ({prof.quiet_share:.0%} "
+        f"of the record), in pieces shorter than the {STILL_MIN} samples R's method needs "
+        "(still on both block grids, away from jumps), so there is no still R to use; "
+        "record the sensor still for longer, or use regimes='all'"
+    )
+
+
 def still_used(est: VarianceEstimate, regimes: str = DEFAULT_REGIMES) -> bool:
     """Whether ``regimes`` gives the estimate's still R: ``"still"`` and it has one."""
     return check_regimes(regimes) == "still" and est.still is not None
 
 
 def estimate_for(est: VarianceEstimate, regimes: str = DEFAULT_REGIMES) -> VarianceEstimate:
-    """The estimate a regime choice quotes: ``est``, or ``est.still`` (:func:`still_used`)."""
+    """The estimate a regime choice quotes: ``est``, or ``est.still`` (:func:`still_used`).
+
+    Raises
+    ------
+    NoisevarError
+        With ``"still"``, when the record has no still R to use (:func:`still_gap`).
+    """
     still = est.still
-    return still if still is not None and still_used(est, regimes) else est
+    if check_regimes(regimes) == "all":
+        return est
+    gap = still_gap(est.diagnostics, est.variance, still)
+    if gap is not None:
+        raise NoisevarError(gap)
+    return est if still is None else still
 
 
 def variance_for(est: VarianceEstimate, regimes: str = DEFAULT_REGIMES) -> float:
@@ -160,6 +232,12 @@ def variance_for(est: VarianceEstimate, regimes: str = DEFAULT_REGIMES) -> float
     float
         With ``"still"``, the still regimes' variance when the estimate has one (the
         level varies); else the whole record's (one regime: the record is still).
+
+    Raises
+    ------
+    NoisevarError
+        With ``"still"``, when the level varies and there is no still R
+        (:func:`still_gap`): never the whole record's R in its place.
     """
     return float(estimate_for(est, regimes).variance)
 
