@@ -197,6 +197,11 @@ def still_gap(
     )
 
 
+def why_no_still(est: VarianceEstimate) -> str | None:
+    """:func:`still_gap` of an estimate: why ``regimes="still"`` has no R for it (or None)."""
+    return still_gap(est.diagnostics, est.variance, est.still)
+
+
 def still_used(est: VarianceEstimate, regimes: str = DEFAULT_REGIMES) -> bool:
     """Whether ``regimes`` gives the estimate's still R: ``"still"`` and it has one."""
     return check_regimes(regimes) == "still" and est.still is not None
@@ -213,7 +218,7 @@ def estimate_for(est: VarianceEstimate, regimes: str = DEFAULT_REGIMES) -> Varia
     still = est.still
     if check_regimes(regimes) == "all":
         return est
-    gap = still_gap(est.diagnostics, est.variance, still)
+    gap = why_no_still(est)
     if gap is not None:
         raise NoisevarError(gap)
     return est if still is None else still
