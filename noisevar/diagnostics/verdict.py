@@ -54,7 +54,7 @@ def make_verdict(
         ``variance``); default the level profile's quiet level.
     still_gap : str, optional
         Why there is no still R to use
-        (:func:`noisevar.estimators.regimes.still_gap`): a quoted still level is then the
+        (:func:`noisevar.estimators.still_set.still_gap`): a quoted still level is then the
         level profile's, and the verdict says it is indicative only.
 
     Returns
@@ -158,7 +158,7 @@ def _not_white(
 def indicative(gap: str | None) -> str:
     """What a quoted still level says when there is no still R to use ('' when there is).
 
-    ``gap``: :func:`noisevar.estimators.regimes.still_gap`'s message. The level quoted is
+    ``gap``: :func:`noisevar.estimators.still_set.still_gap`'s message. The level quoted is
     then the level profile's quiet level, measured on another residual than R.
     """
     if not gap:

@@ -41,10 +41,10 @@ from noisevar.diagnostics.regimes import StillLevel
 from noisevar.errors import NoisevarError
 from noisevar.estimators._input import check_samples, check_times
 from noisevar.estimators._scale import check_answer, unscale
-from noisevar.estimators.regimes import STILL_MIN, still_gap
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
 from noisevar.estimators.spec import MethodSpec
 from noisevar.estimators.still_levels import other_still_levels
+from noisevar.estimators.still_set import STILL_MIN, still_gap
 
 #: The method's coloured-noise parameters are used below this whiteness p-value (far
 #: below the flag's 5 %, so that white noise that fails the test by chance keeps the
@@ -455,7 +455,7 @@ def conclude(
         The same method on the still regimes alone: kept as ``result.still`` and quoted
         by the verdict.
     gap : str, optional
-        Why there is no ``still`` (:func:`~noisevar.estimators.regimes.still_gap`): the
+        Why there is no ``still`` (:func:`~noisevar.estimators.still_set.still_gap`): the
         verdict says its still level is indicative only.
 
     Returns

@@ -11,26 +11,35 @@ dashboard.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from noisevar.diagnostics.verdict import under_half_a_step
 from noisevar.errors import NoisevarError
 from noisevar.estimators.results import VarianceEstimate
+from noisevar.estimators.still_set import STILL_MIN, still_gap
 
-if TYPE_CHECKING:
-    from noisevar.diagnostics.results import NoiseDiagnostics
+__all__ = [
+    "DEFAULT_REGIMES",
+    "REGIMES",
+    "STILL_MIN",
+    "StillStretch",
+    "check_regimes",
+    "choose_variances",
+    "estimate_for",
+    "longest_still_stretch",
+    "no_still_rows",
+    "still_gap",
+    "still_used",
+    "variance_for",
+    "why_no_still",
+]
 
 #: The regime choices: the whole record, or its still regimes only.
 REGIMES = ("all", "still")
 #: The choice a function makes when none is named.
 DEFAULT_REGIMES = "all"
-#: Fewest samples a piece of still stretch needs, still on both block grids and with the
-#: samples around jumps cut out, to be estimated again by R's method (its spans need room;
-#: shorter pieces say little). Fewer in every piece: the record has no still R to use.
-STILL_MIN = 64
 
 
 def check_regimes(regimes: Any) -> str:
@@ -145,58 +154,6 @@ def longest_still_stretch(z: ArrayLike, need: int = 0, purpose: str = "the fit")
     return StillStretch(int(a), int(b), int(arr.shape[0]), False)
 
 
-def still_gap(
-    diag: NoiseDiagnostics | None, variance: float, still: VarianceEstimate | None
-) -> str | None:
-    """Why a record has no still R to use: the one rule for ``regimes="still"``.
-
-    Parameters
-    ----------
-    diag : NoiseDiagnostics or None
-        The record's diagnostics.
-    variance : float
-        The record's R (a level that varies under half a grid step is quantisation).
-    still : VarianceEstimate or None
-        R's method on the still stretches (the estimate's ``.still``).
-
-    Returns
-    -------
-    str or None
-        None when there is an R to use: ``still``, or the whole record when it is one
-        still regime (its level does not vary, or varies only within a grid step). Else
-        the message that :func:`variance_for` raises, the CLI prints and the verdict
-        quotes: no regimes found, no quiet stretch, or still stretches too short for R's
-        method (fewer than :data:`STILL_MIN` samples in every piece).
-
-    Notes
-    -----
-    docs/algorithms.md §E1 (*The still set*). The verdict, ``.still``, :func:`variance_for`
-    and :func:`longest_still_stretch` all follow it, so a record never gets a still
-    level on one page and the whole record's R as "the R to use" on another.
-    """
-    if still is not None:
-        return None
-    if diag is None:
-        return "regimes='still': the record's regimes could not be found; use regimes='all'"
-    if not diag.level_varies or under_half_a_step(diag, variance):
-        return None
-    prof = diag.level_profile
-    if not prof.quiet.any():
-        return (
-            "regimes='still': the record has no still stretch (its level varies throughout "
-            "and no stretch of it is quiet); record the sensor still for a while, or use "
-            "regimes='all'"
-        )
-    sizes = prof.stop - prof.start
-    total = int(np.sum(sizes[prof.quiet]))
-    return (
-        f"regimes='still': the still stretches total {total} samples ({prof.quiet_share:.0%} "
-        f"of the record), in pieces shorter than the {STILL_MIN} samples R's method needs "
-        "(still on both block grids, away from jumps), so there is no still R to use; "
-        "record the sensor still for longer, or use regimes='all'"
-    )
-
-
 def why_no_still(est: VarianceEstimate) -> str | None:
     """:func:`still_gap` of an estimate: why ``regimes="still"`` has no R for it (or None)."""
     return still_gap(est.diagnostics, est.variance, est.still)
@@ -248,7 +205,10 @@ def variance_for(est: VarianceEstimate, regimes: str = DEFAULT_REGIMES) -> float
 
 
 def choose_variances(
-    variance: ArrayLike, still_variance: ArrayLike, regimes: str = DEFAULT_REGIMES
+    variance: ArrayLike,
+    still_variance: ArrayLike,
+    regimes: str = DEFAULT_REGIMES,
+    level_varies: ArrayLike | None = None,
 ) -> NDArray:
     """:func:`variance_for` on columns of estimates (a batch table's rows).
 
@@ -256,20 +216,37 @@ def choose_variances(
     ----------
     variance, still_variance : array_like, shape (n,)
         The whole records' variances and the still regimes' (NaN or None where a row
-        has none: the record is one regime).
+        has none).
     regimes : {"all", "still"}
+    level_varies : array_like of bool, shape (n,), optional
+        The rows' ``flag_level_varies``: a row whose level varies and that has no still
+        variance has no still R (the still_set rule on a row).
 
     Returns
     -------
     ndarray, shape (n,)
-        ``still_variance`` where it is finite and ``regimes`` is ``"still"``, else
-        ``variance``.
+        ``still_variance`` where it is finite and ``regimes`` is ``"still"``; NaN where
+        the row has no still R (``level_varies`` given); else ``variance`` (one regime).
     """
     whole = np.asarray(variance, dtype=float)
     if check_regimes(regimes) == "all":
         return whole
     still = np.array([_number(v) for v in np.ravel(np.asarray(still_variance, dtype=object))])
-    return np.where(np.isfinite(still), still.reshape(whole.shape), whole)
+    still = still.reshape(whole.shape)
+    out = np.where(np.isfinite(still), still, whole)
+    return np.where(no_still_rows(still, level_varies), np.nan, out)
+
+
+def no_still_rows(still_variance: ArrayLike, level_varies: ArrayLike | None) -> NDArray:
+    """Rows with no still R: their level varies and they have no still variance.
+
+    ``level_varies`` None (a table without the flag): none is known to have no still R.
+    """
+    still = np.array([_number(v) for v in np.ravel(np.asarray(still_variance, dtype=object))])
+    if level_varies is None:
+        return np.zeros(still.shape, dtype=bool)
+    varies = np.array([_number(v) == 1.0 for v in np.ravel(np.asarray(level_varies, dtype=object))])
+    return varies & ~np.isfinite(still)
 
 
 def _number(value: Any) -> float:
