@@ -112,3 +112,30 @@ def test_a_bad_choice_exits_2_with_one_line(still_then_motion, capsys, argv, bad
     argv = [a.format(path=still_then_motion[0]) for a in argv]
     line = _one_error_line(capsys, [*argv, "--regimes", bad])
     assert "--regimes" in line and "invalid choice" in line
+
+
+def test_still_too_short_exits_2_with_the_rule(tmp_path, capsys) -> None:
+    """A still start too short for R's method: ``--regimes still`` says so (issue 26)."""
+    from noisevar import estimate
+    from noisevar.estimators.regimes import still_gap
+
+    rng = np.random.default_rng(0)
+    t = np.arange(500)
+    cols = []
+    for _ in range(2):  # white noise (std 0.03) still for 64 samples, then motion
+        z = 0.03 * rng.normal(size=500)
+        z[64:] += 2.0 * np.sin(2 * np.pi * t[64:] / 25.0) + 0.3 * rng.normal(size=436)
+        cols.append(z)
+    path = tmp_path / "short.csv"
+    np.savetxt(path, np.column_stack(cols), delimiter=",", header="g,a", comments="")
+    est = estimate(cols[0])
+    gap = still_gap(est.diagnostics, est.variance, est.still)
+    assert gap is not None  # the case reproduced
+    for argv in (
+        ["imu", str(path), "--rate", "100", "--gyro", "g", "--accel", "a"],
+        ["fit", str(path), "--column", "g", "--rate", "100"],
+    ):
+        line = _one_error_line(capsys, [*argv, "--regimes", "still"])
+        assert "record the sensor still for longer" in line, line
+        assert main(argv) == 0  # regimes all: the whole record
+        capsys.readouterr()

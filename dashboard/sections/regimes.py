@@ -14,7 +14,7 @@ import streamlit as st
 
 from dashboard.state import signal_units
 from noisevar.estimators.answer import WHY_DIFFERENT, record_answer
-from noisevar.estimators.regimes import DEFAULT_REGIMES
+from noisevar.estimators.regimes import DEFAULT_REGIMES, why_no_still
 from noisevar.estimators.results import VarianceEstimate
 
 #: The checkbox's label.
@@ -113,7 +113,17 @@ def regime_choice(
     Returns
     -------
     str
-        ``"still"`` when the box is ticked, else ``"all"``.
+        ``"still"`` when the box is ticked, else ``"all"``; ``"all"`` with an error when
+        a record has no still R to use (:func:`~noisevar.estimators.regimes.why_no_still`:
+        its still stretches are too short), never the whole record's R as the still one.
     """
     warned = [regime_warning(est, name) for name, est in estimates]
-    return still_choice(key, any(warned), help)
+    regimes = still_choice(key, any(warned), help)
+    if regimes == DEFAULT_REGIMES:
+        return regimes
+    gaps = [(name, why_no_still(est)) for name, est in estimates if est is not None]
+    said = "; ".join(f"{name}: {gap}" if name else gap for name, gap in gaps if gap)
+    if said:
+        st.error(f"{said}. This page stays on the whole record.", icon=":material/error:")
+        return DEFAULT_REGIMES
+    return regimes

@@ -19,7 +19,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.errors import NoisevarError
-from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes, choose_variances
+from noisevar.estimators.regimes import (
+    DEFAULT_REGIMES,
+    check_regimes,
+    choose_variances,
+    no_still_rows,
+)
+from noisevar.estimators.results import FLAG_PREFIX
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -32,6 +38,8 @@ MIN_SENSORS = 3
 MAD_TO_SD = 0.6744897501960817
 #: Mean absolute deviation of a normal sample over its standard deviation (``sqrt(2/π)``).
 MEAN_AD_TO_SD = 0.7978845608028654
+#: The batch table's column of each row's ``level_varies`` flag.
+LEVEL_VARIES = FLAG_PREFIX + "level_varies"
 
 
 def _json_float(v: float) -> float | None:
@@ -220,12 +228,16 @@ def _channel(
     return spread, scores
 
 
-def _stds(frame: pd.DataFrame, regimes: str) -> NDArray:
-    """Each row's noise std for the regime choice (its ``std``, or its still regimes')."""
+def _stds(frame: pd.DataFrame, regimes: str) -> tuple[NDArray, NDArray]:
+    """Each row's noise std for the regime choice (its ``std``, or its still regimes'),
+    and the rows with no still R (NaN there: never their whole record's in its place)."""
     std = frame["std"].to_numpy(dtype=float, na_value=np.nan)
     if regimes == DEFAULT_REGIMES or "still_variance" not in frame.columns:
-        return std
-    return np.sqrt(choose_variances(std**2, frame["still_variance"].to_numpy(), regimes))
+        return std, np.zeros(std.shape, dtype=bool)
+    still = frame["still_variance"].to_numpy()
+    varies = frame[LEVEL_VARIES].to_numpy() if LEVEL_VARIES in frame.columns else None
+    chosen = choose_variances(std**2, still, regimes, varies)
+    return np.sqrt(chosen), no_still_rows(still, varies)
 
 
 def identical_files(frame: pd.DataFrame) -> list[str]:
@@ -314,10 +326,16 @@ def fleet_report(
         raise NoisevarError(
             f"not a batch table: no {', '.join(sorted(missing))} column (run noisevar batch)"
         )
-    std = _stds(frame, regimes)
+    std, no_still = _stds(frame, regimes)
     ok = np.isfinite(std) & (std > 0)
     good = frame[ok].assign(std=std[ok])
     channels, sensors, notes = [], [], []
+    if no_still.any():
+        notes.append(
+            f"{int(no_still.sum())} rows have no still R (their level varies and their still "
+            "stretches are too short for R's method, or absent): left out of the still "
+            "comparison; compare them with regimes='all'"
+        )
     for name in dict.fromkeys(str(c) for c in good["channel"]):
         part = good[good["channel"].astype(str) == name]
         files = [str(f) for f in part["file"]]
@@ -346,7 +364,7 @@ def fleet_report(
         float(threshold),
         tuple(channels),
         tuple(sensors),
-        int((~ok).sum()),
+        int((~ok & ~no_still).sum()),
         tuple(notes),
         regimes,
         tuple(identical_files(frame) + rate_notes(frame)),

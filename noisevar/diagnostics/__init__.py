@@ -243,10 +243,13 @@ def with_verdict(
     core: float | None = None,
     outliers: float = 0.0,
     still: float | None = None,
+    still_gap: str | None = None,
 ) -> NoiseDiagnostics:
     """``diag`` with its verdict and notes written for an estimate of ``variance``.
 
-    ``still``: the same method's estimate on the still regimes alone, when there is one.
+    ``still``: the same method's estimate on the still regimes alone, when there is one;
+    ``still_gap``: why there is none (:func:`make_verdict`).
     """
-    verdict = make_verdict(diag, variance, core, outliers, still) + other_still_clause(diag)
+    verdict = make_verdict(diag, variance, core, outliers, still, still_gap)
+    verdict += other_still_clause(diag)
     return replace(diag, verdict=verdict, notes=make_notes(diag))

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import partial
 
 import numpy as np
@@ -208,7 +208,28 @@ def profile_from_blocks(
             if np.array_equal(again, quiet):
                 break
             quiet = again
+    regimes = still_if_quiet(regimes, start, stop, quiet)
     return LevelProfile(start, stop, var, lo, hi, dof, quiet, regimes, count)
+
+
+def still_if_quiet(
+    regimes: tuple[Regime, ...], start: NDArray, stop: NDArray, quiet: NDArray
+) -> tuple[Regime, ...]:
+    """``regimes``, a still one with no quiet block no longer called still.
+
+    The quiet set is the still regimes' blocks that pass the quiet test: a still regime
+    none of whose blocks does has no sensor level to quote, so the regimes and the quiet
+    set agree (docs/algorithms.md §E1 *The still set*). A record of one still level keeps
+    it (its level does not vary).
+    """
+    if all(r.still for r in regimes):
+        return regimes
+    return tuple(
+        r
+        if not r.still or quiet[(start >= r.start) & (stop <= r.stop)].any()
+        else replace(r, still=False)
+        for r in regimes
+    )
 
 
 def _gaussian_seed(

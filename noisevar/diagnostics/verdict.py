@@ -36,6 +36,7 @@ def make_verdict(
     core: float | None = None,
     outliers: float = 0.0,
     still: float | None = None,
+    still_gap: str | None = None,
 ) -> str:
     """One sentence, worst finding first.
 
@@ -51,6 +52,10 @@ def make_verdict(
     still : float, optional
         The estimate on the still regimes alone (the same method and residual as
         ``variance``); default the level profile's quiet level.
+    still_gap : str, optional
+        Why there is no still R to use
+        (:func:`noisevar.estimators.still_set.still_gap`): a quoted still level is then the
+        level profile's, and the verdict says it is indicative only.
 
     Returns
     -------
@@ -58,7 +63,8 @@ def make_verdict(
     """
     r = f"R = {_g(variance)} (std {_g(float(np.sqrt(max(variance, 0.0))))})"
     quiet = diag.quiet_variance if still is None else still
-    not_white = _not_white(diag, r, quiet, variance)
+    said = still_colour(diag) + indicative(still_gap)
+    not_white = _not_white(diag, r, quiet, variance, still_gap)
     if not_white is not None:
         return not_white
     prof = diag.level_profile
@@ -71,7 +77,7 @@ def make_verdict(
     if diag.level_varies:
         return (
             f"the noise level changes along the record: {r} is an average; its quiet "
-            f"stretches ({prof.quiet_share:.0%}) give {_g(quiet)}{still_colour(diag)}"
+            f"stretches ({prof.quiet_share:.0%}) give {_g(quiet)}{said}"
         )
     if diag.heavy_tailed:
         bulk = f"; a robust filter should use the core variance {_g(core)}" if core else ""
@@ -87,14 +93,19 @@ def make_verdict(
     return f"white Gaussian noise: {r} is a good Kalman R"
 
 
-def _not_white(diag: NoiseDiagnostics, r: str, quiet: float, variance: float) -> str | None:
+def _not_white(
+    diag: NoiseDiagnostics, r: str, quiet: float, variance: float, gap: str | None
+) -> str | None:
     """The verdict of a record whose noise is not a white level (None: it may be one).
+
+    ``gap``: why there is no still R to use (:func:`indicative`), or None.
 
     In the order the evidence decides: no noise to tell apart, no quiet stretch, mostly
     motion, differenced data, motion leaking through still stretches that are white, then
     coloured noise.
     """
     prof = diag.level_profile
+    said = still_colour(diag) + indicative(gap)
     if not diag.identifiable:
         return (
             "the record behaves like a random walk (its first difference is white): no "
@@ -113,7 +124,7 @@ def _not_white(diag: NoiseDiagnostics, r: str, quiet: float, variance: float) ->
             f"the record is mostly motion or signal leaking through: the sensor noise measured "
             f"in its still stretches ({prof.quiet_share:.0%} of it) is "
             f"{_g(quiet)} (std {_g(float(np.sqrt(quiet)))}), "
-            f"against {_g(variance)} over the whole record{still_colour(diag)}"
+            f"against {_g(variance)} over the whole record{said}"
         )
     if diag.differenced:
         return (
@@ -128,7 +139,7 @@ def _not_white(diag: NoiseDiagnostics, r: str, quiet: float, variance: float) ->
             f"the noise level changes along the record (motion): {r} is an average over "
             f"still and moving stretches; the still stretches ({prof.quiet_share:.0%}) give "
             f"{_g(quiet)}, and their noise is white: the rest is motion leaking through the "
-            "smoother, not coloured noise"
+            f"smoother, not coloured noise{indicative(gap)}"
         )
     if not diag.white:
         kind = (
@@ -142,6 +153,21 @@ def _not_white(diag: NoiseDiagnostics, r: str, quiet: float, variance: float) ->
             "model), since a white R alone understates what a Kalman filter sees"
         )
     return None
+
+
+def indicative(gap: str | None) -> str:
+    """What a quoted still level says when there is no still R to use ('' when there is).
+
+    ``gap``: :func:`noisevar.estimators.still_set.still_gap`'s message. The level quoted is
+    then the level profile's quiet level, measured on another residual than R.
+    """
+    if not gap:
+        return ""
+    reason = gap.removeprefix("regimes='still': ")
+    return (
+        "; this still level is indicative only (the level profile's, on another residual "
+        f"than R): {reason}"
+    )
 
 
 def other_still_clause(diag: NoiseDiagnostics) -> str:

@@ -44,6 +44,7 @@ from noisevar.estimators._scale import check_answer, unscale
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
 from noisevar.estimators.spec import MethodSpec
 from noisevar.estimators.still_levels import other_still_levels
+from noisevar.estimators.still_set import STILL_MIN, still_gap
 
 #: The method's coloured-noise parameters are used below this whiteness p-value (far
 #: below the flag's 5 %, so that white noise that fails the test by chance keeps the
@@ -95,11 +96,6 @@ def _segmentation(raw: NDArray, t: NDArray | None, drop: bool) -> tuple[NDArray,
     if bad.any():
         return z, split_dropped(bad)
     return z, Segmentation(((0, z.size),), ())
-
-
-#: Still stretches shorter than this, once the samples around jumps are cut out, are not
-#: estimated again (a method's spans need room; such pieces say little).
-STILL_MIN = 64
 
 
 def runs_of(mask: NDArray, offset: int = 0) -> list[tuple[int, int]]:
@@ -361,7 +357,8 @@ def run_record(
             still = conclude(spec, still, diag, None)  # stay on the record's own result
             still.diagnostics = None
             diag = replace(diag, other_still=_other_levels(spec, record, own, diag, still))
-        result = conclude(spec, result, diag, record.reader(), still)
+        gap = still_gap(diag, result.variance, still)  # the one rule (estimators.regimes)
+        result = conclude(spec, result, diag, record.reader(), still, gap)
     return _in_record_units(result, scaled + record.exponent, spec.name)
 
 
@@ -440,6 +437,7 @@ def conclude(
     diag: NoiseDiagnostics,
     record: Callable[[int, int], NDArray] | None = None,
     still: VarianceEstimate | None = None,
+    gap: str | None = None,
 ) -> VarianceEstimate:
     """``result`` with the diagnostics ``diag``: honest interval, verdict, notes, assumptions.
 
@@ -456,6 +454,9 @@ def conclude(
     still : VarianceEstimate, optional
         The same method on the still regimes alone: kept as ``result.still`` and quoted
         by the verdict.
+    gap : str, optional
+        Why there is no ``still`` (:func:`~noisevar.estimators.still_set.still_gap`): the
+        verdict says its still level is indicative only.
 
     Returns
     -------
@@ -470,7 +471,9 @@ def conclude(
     if not diag.identifiable:  # no measurement noise can be told apart: 0 is as likely
         result = replace(result, ci95=(0.0, result.ci95[1]))
     quiet = None if still is None else still.variance
-    diag = with_verdict(diag, result.variance, result.core_variance, result.outlier_fraction, quiet)
+    diag = with_verdict(
+        diag, result.variance, result.core_variance, result.outlier_fraction, quiet, gap
+    )
     result.still = still
     result.notes.extend(n for n in diag.notes if n not in result.notes)
     result.diagnostics = diag
@@ -544,12 +547,14 @@ def rescale_diagnostics(result: VarianceEstimate, e: int) -> None:
     )
     lsb = None if diag.lsb is None else float(back(np.asarray(diag.lsb), 1))
     old = set(diag.notes)
+    diag = replace(diag, level_profile=prof, lsb=lsb)
     diag = with_verdict(
-        replace(diag, level_profile=prof, lsb=lsb),
+        diag,
         result.variance,
         result.core_variance,
         result.outlier_fraction,
         None if result.still is None else result.still.variance,
+        still_gap(diag, result.variance, result.still),
     )
     result.notes = [n for n in result.notes if n not in old] + list(diag.notes)
     result.diagnostics = diag

@@ -18,6 +18,23 @@ from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
 from noisevar.estimators.results import VarianceEstimate
+from noisevar.estimators.still_set import STILL_MIN, still_gap
+
+__all__ = [
+    "DEFAULT_REGIMES",
+    "REGIMES",
+    "STILL_MIN",
+    "StillStretch",
+    "check_regimes",
+    "choose_variances",
+    "estimate_for",
+    "longest_still_stretch",
+    "no_still_rows",
+    "still_gap",
+    "still_used",
+    "variance_for",
+    "why_no_still",
+]
 
 #: The regime choices: the whole record, or its still regimes only.
 REGIMES = ("all", "still")
@@ -97,7 +114,8 @@ def longest_still_stretch(z: ArrayLike, need: int = 0, purpose: str = "the fit")
     Raises
     ------
     NoisevarError
-        When the regimes cannot be found, or no still stretch has ``need`` samples.
+        When the record has no still R to use (:func:`still_gap`: the same rule as
+        :func:`variance_for`), or no still stretch has ``need`` samples.
 
     Notes
     -----
@@ -109,16 +127,16 @@ def longest_still_stretch(z: ArrayLike, need: int = 0, purpose: str = "the fit")
 
     arr = np.asarray(z, dtype=float)
     try:
-        diag = estimate(arr).diagnostics
+        est = estimate(arr)
     except NoisevarError as exc:
         raise NoisevarError(
             f"regimes='still': the record's regimes could not be found ({exc}); use regimes='all'"
         ) from exc
-    if diag is None:
-        raise NoisevarError(
-            "regimes='still': the record's regimes could not be found; use regimes='all'"
-        )
-    if not diag.level_varies:
+    diag = est.diagnostics
+    gap = still_gap(diag, est.variance, est.still)  # the one rule, as variance_for's
+    if gap is not None:
+        raise NoisevarError(gap)
+    if diag is None or est.still is None:  # one still regime (still_gap)
         return StillStretch(0, arr.shape[0], arr.shape[0], True)
     stretches = diag.level_profile.still_stretches
     if not stretches:
@@ -136,15 +154,31 @@ def longest_still_stretch(z: ArrayLike, need: int = 0, purpose: str = "the fit")
     return StillStretch(int(a), int(b), int(arr.shape[0]), False)
 
 
+def why_no_still(est: VarianceEstimate) -> str | None:
+    """:func:`still_gap` of an estimate: why ``regimes="still"`` has no R for it (or None)."""
+    return still_gap(est.diagnostics, est.variance, est.still)
+
+
 def still_used(est: VarianceEstimate, regimes: str = DEFAULT_REGIMES) -> bool:
     """Whether ``regimes`` gives the estimate's still R: ``"still"`` and it has one."""
     return check_regimes(regimes) == "still" and est.still is not None
 
 
 def estimate_for(est: VarianceEstimate, regimes: str = DEFAULT_REGIMES) -> VarianceEstimate:
-    """The estimate a regime choice quotes: ``est``, or ``est.still`` (:func:`still_used`)."""
+    """The estimate a regime choice quotes: ``est``, or ``est.still`` (:func:`still_used`).
+
+    Raises
+    ------
+    NoisevarError
+        With ``"still"``, when the record has no still R to use (:func:`still_gap`).
+    """
     still = est.still
-    return still if still is not None and still_used(est, regimes) else est
+    if check_regimes(regimes) == "all":
+        return est
+    gap = why_no_still(est)
+    if gap is not None:
+        raise NoisevarError(gap)
+    return est if still is None else still
 
 
 def variance_for(est: VarianceEstimate, regimes: str = DEFAULT_REGIMES) -> float:
@@ -160,12 +194,21 @@ def variance_for(est: VarianceEstimate, regimes: str = DEFAULT_REGIMES) -> float
     float
         With ``"still"``, the still regimes' variance when the estimate has one (the
         level varies); else the whole record's (one regime: the record is still).
+
+    Raises
+    ------
+    NoisevarError
+        With ``"still"``, when the level varies and there is no still R
+        (:func:`still_gap`): never the whole record's R in its place.
     """
     return float(estimate_for(est, regimes).variance)
 
 
 def choose_variances(
-    variance: ArrayLike, still_variance: ArrayLike, regimes: str = DEFAULT_REGIMES
+    variance: ArrayLike,
+    still_variance: ArrayLike,
+    regimes: str = DEFAULT_REGIMES,
+    level_varies: ArrayLike | None = None,
 ) -> NDArray:
     """:func:`variance_for` on columns of estimates (a batch table's rows).
 
@@ -173,20 +216,37 @@ def choose_variances(
     ----------
     variance, still_variance : array_like, shape (n,)
         The whole records' variances and the still regimes' (NaN or None where a row
-        has none: the record is one regime).
+        has none).
     regimes : {"all", "still"}
+    level_varies : array_like of bool, shape (n,), optional
+        The rows' ``flag_level_varies``: a row whose level varies and that has no still
+        variance has no still R (the still_set rule on a row).
 
     Returns
     -------
     ndarray, shape (n,)
-        ``still_variance`` where it is finite and ``regimes`` is ``"still"``, else
-        ``variance``.
+        ``still_variance`` where it is finite and ``regimes`` is ``"still"``; NaN where
+        the row has no still R (``level_varies`` given); else ``variance`` (one regime).
     """
     whole = np.asarray(variance, dtype=float)
     if check_regimes(regimes) == "all":
         return whole
     still = np.array([_number(v) for v in np.ravel(np.asarray(still_variance, dtype=object))])
-    return np.where(np.isfinite(still), still.reshape(whole.shape), whole)
+    still = still.reshape(whole.shape)
+    out = np.where(np.isfinite(still), still, whole)
+    return np.where(no_still_rows(still, level_varies), np.nan, out)
+
+
+def no_still_rows(still_variance: ArrayLike, level_varies: ArrayLike | None) -> NDArray:
+    """Rows with no still R: their level varies and they have no still variance.
+
+    ``level_varies`` None (a table without the flag): none is known to have no still R.
+    """
+    still = np.array([_number(v) for v in np.ravel(np.asarray(still_variance, dtype=object))])
+    if level_varies is None:
+        return np.zeros(still.shape, dtype=bool)
+    varies = np.array([_number(v) == 1.0 for v in np.ravel(np.asarray(level_varies, dtype=object))])
+    return varies & ~np.isfinite(still)
 
 
 def _number(value: Any) -> float:

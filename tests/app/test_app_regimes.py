@@ -152,3 +152,25 @@ def test_fleet_warns_and_compares_the_still_regimes(fleet_table) -> None:
     _tick(at, "fl_regimes")
     assert std_of_moved() == pytest.approx(np.sqrt(est.still.variance), rel=1e-9)
     assert {m.label: m.value for m in at.metric}["Flagged"] == "0"
+
+
+def test_noise_model_still_too_short_says_so() -> None:
+    """A still start too short for R's method: ticking the box shows an error and the page
+    stays on the whole record's R, never that R as the still one (issue 26)."""
+    rng = np.random.default_rng(0)
+    t = np.arange(500)
+    z = 0.03 * rng.normal(size=500)  # still for 64 samples, then motion
+    z[64:] += 2.0 * np.sin(2 * np.pi * t[64:] / 25.0) + 0.3 * rng.normal(size=436)
+    est = noisevar.estimate(z)
+    gap = noisevar.estimators.regimes.why_no_still(est)
+    assert gap is not None and est.diagnostics.level_varies
+    csv = pd.DataFrame({"t": t / RATE, "gyro": z}).to_csv(index=False).encode()
+    at = AppTest.from_file(APP, default_timeout=180)
+    table = load_table(csv, "short.csv")
+    at.session_state[SIGNAL_KEY] = make_signal(table, None, 1.0 / RATE, "upload", None)
+    at.switch_page("app_pages/Noise_model.py").run()
+    _clean(at)
+    _tick(at, "nm_regimes")
+    assert any(gap in e.value for e in at.error), [e.value for e in at.error]
+    r = next(m for m in at.metric if m.label == "Noise variance R")
+    assert r.value == fmt(est.variance)

@@ -50,3 +50,16 @@ def test_a_table_without_still_columns_and_a_bad_choice() -> None:
     assert fleet_report(frame, regimes="still").sensors == fleet_report(frame).sensors
     with pytest.raises(NoisevarError, match="regimes must be one of"):
         fleet_report(frame, regimes="moving")
+
+
+def test_a_row_with_no_still_r_is_left_out_not_given_its_whole_r() -> None:
+    """A row whose level varies with no still variance (its still stretches too short):
+    the still comparison never puts its whole record's R in place of a still one (issue 26)."""
+    frame = _table()
+    frame["flag_level_varies"] = False
+    frame.loc[3, "flag_level_varies"] = True
+    frame.loc[7, ["std", "flag_level_varies"]] = [6.0, True]  # moved, no still R
+    still = fleet_report(frame, regimes="still")
+    assert "unit07.csv" not in {s.file[-10:] for s in still.sensors}
+    assert still.n_errors == 0 and any("1 rows have no still R" in n for n in still.notes)
+    assert "unit07.csv" in {s.file[-10:] for s in fleet_report(frame).flagged}

@@ -1,0 +1,75 @@
+"""Whether a record has a still R to use: the one rule for ``regimes="still"`` (issue 26).
+
+Apart from :mod:`noisevar.estimators.regimes` (which runs :func:`noisevar.estimate`) so that
+the pipeline, which writes the verdict, can follow the same rule.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from noisevar.diagnostics.verdict import under_half_a_step
+
+if TYPE_CHECKING:
+    from noisevar.diagnostics.results import NoiseDiagnostics
+    from noisevar.estimators.results import VarianceEstimate
+
+#: Fewest samples a piece of still stretch needs, still on both block grids and with the
+#: samples around jumps cut out, to be estimated again by R's method (its spans need room;
+#: shorter pieces say little). Fewer in every piece: the record has no still R to use.
+STILL_MIN = 64
+
+
+def still_gap(
+    diag: NoiseDiagnostics | None, variance: float, still: VarianceEstimate | None
+) -> str | None:
+    """Why a record has no still R to use: the one rule for ``regimes="still"``.
+
+    Parameters
+    ----------
+    diag : NoiseDiagnostics or None
+        The record's diagnostics.
+    variance : float
+        The record's R (a level that varies under half a grid step is quantisation).
+    still : VarianceEstimate or None
+        R's method on the still stretches (the estimate's ``.still``).
+
+    Returns
+    -------
+    str or None
+        None when there is an R to use: ``still``, or the whole record when it is one
+        still regime (its level does not vary, or varies only within a grid step). Else
+        the message that ``regimes.variance_for`` raises, the CLI prints and the verdict
+        quotes: no regimes found, no quiet stretch, or still stretches too short for R's
+        method (fewer than :data:`STILL_MIN` samples in every piece).
+
+    Notes
+    -----
+    docs/algorithms.md §E1 (*The still set*). The verdict, ``.still``,
+    ``regimes.variance_for`` and ``regimes.longest_still_stretch`` all follow it, so a
+    record never gets a still level on one page and the whole record's R as "the R to
+    use" on another.
+    """
+    if still is not None:
+        return None
+    if diag is None:
+        return "regimes='still': the record's regimes could not be found; use regimes='all'"
+    if not diag.level_varies or under_half_a_step(diag, variance):
+        return None
+    prof = diag.level_profile
+    if not prof.quiet.any():
+        return (
+            "regimes='still': the record has no still stretch (its level varies throughout "
+            "and no stretch of it is quiet); record the sensor still for a while, or use "
+            "regimes='all'"
+        )
+    sizes = prof.stop - prof.start
+    total = int(np.sum(sizes[prof.quiet]))
+    return (
+        f"regimes='still': the still stretches total {total} samples ({prof.quiet_share:.0%} "
+        f"of the record), in pieces shorter than the {STILL_MIN} samples R's method needs "
+        "(still on both block grids, away from jumps), so there is no still R to use; "
+        "record the sensor still for longer, or use regimes='all'"
+    )
