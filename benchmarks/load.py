@@ -404,6 +404,25 @@ def trace_rows(label: str, t0: float, t1: float) -> list[str]:
     return rows
 
 
+def floor_row(label: str, n: int, wall: float, one_wall: float, used: dict[str, float]) -> str:
+    """A wave's time against the cores' floor: the CPU-s it used over the machine's cores,
+    for every process, for ours (server, browser, driver) and for the server alone (a class
+    whose browsers run on their own laptops); each also as a ratio to the one-session wave."""
+    cores = os.cpu_count() or 1
+    ours = used["server"] + used["browser"] + used["driver"]
+    both = used["server"] + used["browser"]
+    cells = [
+        (sum(used.values()) / cores),
+        ours / cores,
+        used["server"] / cores,
+    ]
+    return (
+        f"| {label} | {wall:.0f} ({wall / one_wall:.1f}x) | "
+        + " | ".join(f"{c:.0f} ({c / one_wall:.1f}x)" for c in cells)
+        + f" | {1.3 * max(1.0, n / 2):.1f}x | {100 * used['browser'] / max(both, 1e-9):.0f} % |"
+    )
+
+
 async def run_waves(pw, args, env, tables: dict[str, list[str]], log) -> None:
     rows = tables["waves"]
     if args.trace:
@@ -415,7 +434,7 @@ async def run_waves(pw, args, env, tables: dict[str, list[str]], log) -> None:
     try:
         await wave(browser, base, 1, False, 10_000)  # warm the server: first imports, pool
         await asyncio.sleep(SESSION_TTL_S + 3)
-        one = None
+        one, one_wall = None, None
         plan = [(n, False) for n in args.waves] + ([(args.shared, True)] if args.shared else [])
         for k, (n, shared) in enumerate(plan):
             label = f"{n}{' shared' if shared else ''}"
@@ -450,6 +469,9 @@ async def run_waves(pw, args, env, tables: dict[str, list[str]], log) -> None:
                 f"{used['browser'] / per:.3f} | {(used['server'] + used['browser']) / per:.3f} | "
                 f"{sum(used.values()) / wall:.2f} |"
             )
+            if n == 1 and not shared:
+                one_wall = wall
+            tables["floor"].append(floor_row(label, n, wall, one_wall or wall, used))
             cells = [s["steps"].get(step, (0.0, 0.0)) for step in STEPS[1:]] + [s["rows"]]
             tables["steps"].append(
                 f"| {label} | " + " | ".join(f"{m:.2f} / {w:.2f}" for m, w in cells) + " |"
@@ -457,6 +479,7 @@ async def run_waves(pw, args, env, tables: dict[str, list[str]], log) -> None:
             tables["trace"] += trace_rows(label, unix0, unix1)
             log(rows[-1] + (f"  errors: {s['errors'][:3]}" if s["errors"] else ""))
             log(tables["cpu"][-1])
+            log(tables["floor"][-1])
             log(tables["steps"][-1])
     finally:
         sampler.stop()
@@ -570,6 +593,18 @@ def report(args, tables: dict[str, list[str]], proxy: list[str], big: list[str],
             "|---|---|---|---|---|---|---|---|---|",
             *tables["cpu"],
             "",
+            "The cores' floor: a wave cannot take less than the CPU-s it used divided by the "
+            "machine's cores; each figure also as a ratio to the one-session wave (the "
+            "target's ratio applies to interactions, these to whole waves). 'Ours' = server + "
+            "browser + driver; 'server alone' is the floor when each student's browser runs on "
+            "their own computer, as in a real class:",
+            "",
+            "| sessions | wave s (vs 1) | floor, every process s (vs 1) | floor, ours s (vs 1) | "
+            "floor, server alone s (vs 1) | target (1.3 x N/2) | browser's share of server + "
+            "browser CPU |",
+            "|---|---|---|---|---|---|---|",
+            *tables["floor"],
+            "",
             "One session (the N = 1 wave), CPU-s by step (from the previous step's end to "
             "this one's):",
             "",
@@ -622,7 +657,13 @@ async def main_async(args) -> None:
     from playwright.async_api import async_playwright
 
     env = {"STREAMLIT_SERVER_DISCONNECTED_SESSION_TTL": str(SESSION_TTL_S)}
-    tables: dict[str, list[str]] = {"waves": [], "cpu": [], "steps": [], "trace": []}
+    tables: dict[str, list[str]] = {
+        "waves": [],
+        "cpu": [],
+        "floor": [],
+        "steps": [],
+        "trace": [],
+    }
     proxy: list[str] = []
     big: list[str] = []
     cpus = len(os.sched_getaffinity(0))

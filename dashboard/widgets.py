@@ -45,6 +45,8 @@ def _plotly_chunk() -> str | None:
     return found[0].name if len(found) == 1 else None
 
 
+#: Streamlit's animated running icon (its status widget, while a script runs).
+RUNNING_ICON = "stStatusWidgetRunningIcon"
 #: Wrap long metric values instead of cutting them with "…".
 _METRIC_CSS = (
     "<style>"
@@ -68,6 +70,13 @@ _METRIC_CSS = (
     ".st-key-nv-controls-top {order: 1;}"
     ".st-key-nv-controls-top ~ * {order: 2;}"
     ".st-key-nv-controls-top ~ .st-key-nv-answer {order: 0;}}"
+    # a still running indicator: Streamlit's swaps six icons every 200 ms while a script
+    # runs, a re-render and repaint that cost a waiting page's browser up to a tenth of a
+    # CPU-s per second (issue 29: a class waiting on one server)
+    f"[data-testid='{RUNNING_ICON}'] {{width: auto !important;}}"
+    f"[data-testid='{RUNNING_ICON}'] > * {{display: none !important;}}"
+    f"[data-testid='{RUNNING_ICON}']::after {{content: 'Running…'; white-space: nowrap; "
+    "font-size: 0.875rem; opacity: 0.6;}"
     "</style><span class='nv-head'></span>"
 )
 #: Container keys of a page's answer and of its controls (on a phone the answer comes

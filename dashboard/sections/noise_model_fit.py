@@ -17,7 +17,7 @@ import streamlit as st
 
 from dashboard import workers
 from dashboard.budget import cached
-from dashboard.widgets import fmt, guarded, show_figure
+from dashboard.widgets import fmt, guarded, lazy_expander, show_figure
 from noisevar.config import filter_config_json
 from noisevar.estimators.answer import WHY_DIFFERENT
 from noisevar.estimators.regimes import DEFAULT_REGIMES
@@ -35,6 +35,8 @@ from noisevar.noise_model.export import APPLY_COMMAND, filterpy_snippet, gain_te
 from noisevar.noise_model.kalman_fit import METHODS, MODELS
 
 KEY = "nmf"
+#: Session-state key of the (lazy) filterpy snippet expander.
+SNIPPET_KEY = f"{KEY}_snippet_open"
 #: Records longer than this (samples) take about a second or more to fit: show a progress bar.
 PROGRESS_ABOVE = 20_000
 
@@ -128,8 +130,11 @@ def _exports(t: KalmanTuning, column: str | None, unit: str, record: dict[str, s
         key=f"{KEY}_py",
         on_click="ignore",
     )
-    with st.expander("The tuned filter in filterpy"):
-        st.code(snippet, language="python")
+    # Lazy: a code block, even in a closed expander, loads and runs the browser's syntax
+    # highlighter (about a second of the page's CPU in Chromium's profile, issue 29).
+    with lazy_expander("The tuned filter in filterpy", SNIPPET_KEY) as is_open:
+        if is_open:
+            st.code(snippet, language="python")
 
 
 def _coloured(z: np.ndarray, rate: float, regimes: str) -> None:

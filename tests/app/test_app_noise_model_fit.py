@@ -47,6 +47,14 @@ def test_models_compared_and_the_tuned_filter_shown():
     assert at.success and "fits this record" in at.success[0].value
     assert any("Suggested **q" in m.value for m in at.markdown)
     assert len(at.get("plotly_chart")) == 3
+    # the snippet's code block is sent only once its expander is opened (issue 29)
+    from dashboard.sections.noise_model_fit import SNIPPET_KEY
+
+    assert any(e.label == "The tuned filter in filterpy" for e in at.expander)
+    assert not at.code, "a closed expander's code block loads the browser's highlighter"
+    at.session_state[SNIPPET_KEY] = True
+    at.run()
+    _clean(at)
     assert any("KalmanFilter" in c.value for c in at.code)
 
 

@@ -86,7 +86,11 @@ def test_noise_model_warns_and_fits_the_still_stretch() -> None:
     # the Allan deviation, the terms and the Kalman fits say which stretch they used
     notes = [c.value for c in at.caption if c.value.startswith("regimes='still'")]
     assert len(notes) >= 2 and all("longest still stretch" in n for n in notes)
-    assert any("regimes='still'" in c.value for c in at.code)  # the filterpy snippet
+    from dashboard.sections.noise_model_fit import SNIPPET_KEY
+
+    at.session_state[SNIPPET_KEY] = True  # the filterpy snippet, sent once opened
+    at.run()
+    assert any("regimes='still'" in c.value for c in at.code)
 
 
 def test_noise_model_offers_no_choice_for_one_regime() -> None:

@@ -24,6 +24,7 @@ sys.path.insert(0, str(ROOT))
 
 from dashboard.pages import HOME  # noqa: E402
 from dashboard.pages import PAGES as REGISTRY  # noqa: E402
+from dashboard.widgets import RUNNING_ICON  # noqa: E402
 
 SHOTS = ROOT / "test-artifacts" / "browser"
 #: (sidebar label, URL path) of every page but Home (the registry's, as st.navigation gets it).
@@ -302,4 +303,16 @@ def test_plotly_is_fetched_once_and_the_page_head_takes_no_room(server, browser)
         ".backgroundColor"
     )
     assert bg in ("rgba(0, 0, 0, 0)", "transparent"), bg
+    # a still running indicator (issue 29): Streamlit's cycling icon hidden, a word shown
+    shown = page.evaluate(
+        """(id) => { const d = document.createElement('div');
+        d.setAttribute('data-testid', id);
+        d.appendChild(document.createElementNS('http://www.w3.org/2000/svg', 'svg'));
+        document.body.appendChild(d);
+        const r = [getComputedStyle(d.firstChild).display,
+                   getComputedStyle(d, '::after').content];
+        d.remove(); return r; }""",
+        RUNNING_ICON,
+    )
+    assert shown == ["none", '"Running…"'], shown
     ctx.close()

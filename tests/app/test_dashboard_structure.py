@@ -46,3 +46,14 @@ def test_page_scripts_leave_the_frame_to_app_py(path):
     text = (ROOT / path).read_text(encoding="utf-8")
     for frame_call in ("set_page_config", "st.navigation", "clean_query_params"):
         assert frame_call not in text, f"{path}: {frame_call} belongs to the frame (app.py)"
+
+
+def test_the_still_running_icon_names_streamlits_own_element():
+    """dashboard.widgets hides Streamlit's cycling running icon by its test id (issue 29):
+    the installed frontend must still have that element."""
+    import streamlit as st
+
+    from dashboard.widgets import RUNNING_ICON
+
+    js = Path(st.__file__).parent / "static" / "static" / "js"
+    assert any(RUNNING_ICON in f.read_text(errors="ignore") for f in js.glob("index.*.js"))
