@@ -20,7 +20,7 @@ The Whittle fit (``whittle_fit``):
   bins of equal log width (ratio ``BIN_RATIO``): per bin the sums of ``I``, ``I d`` and
   ``I d^2`` (``d`` = log f minus the bin's mean) are kept, and ``log S`` is taken as a
   quadratic in ``d`` from 3 evaluations, so a bin's terms are exact to third order in its
-  width (bins below ~100 frequencies hold one frequency each: exact);
+  width (below ~50 frequencies each bin holds one: exact);
 - log-parameters optimised by L-BFGS-B from GMWM's starting values (``Process.start`` on
   the Haar wavelet variance) and from each fitted sub-model plus the added process.
 
@@ -408,6 +408,49 @@ def _error_lines(label: str, rows: list[dict]) -> list[str]:
     return out
 
 
+def _drop_lines(data: dict, hq: float, bic: float) -> list[str]:
+    """GMWM's exhaustive choices and its random-walk evidence beside the Whittle's."""
+    if not (DROPS.is_file() and "two GM" in data):
+        return []
+    lines: list[str] = []
+    with DROPS.open() as fh:
+        g = {int(r["run"]): float(r["gmwm_drop"]) for r in csv.DictReader(fh)}
+    w = {int(r["run"]): float(r["drop_rw"]) for r in data["two GM"]}
+    both = sorted(set(g) & set(w))
+    gd, wd = np.array([g[r] for r in both]), np.array([w[r] for r in both])
+    with DROPS.open() as fh:
+        ge = list(csv.DictReader(fh))
+    lines += ["", "GMWM with the same 24 candidates, every one fitted (exhaustive):", ""]
+    lines += ["| truth | method | right model | no random walk | wrong choices |"]
+    lines += ["|---|---|---|---|---|"]
+    for crit in ("hq", "bic"):
+        for tag, what in (("", ""), ("_nofl", ", no flicker candidates")):
+            sub = [{f"ge_{crit}{tag}": r[f"ge_{crit}{tag}"]} for r in ge]
+            lines += _choice_lines(
+                f"two GM ({len(ge)} runs)",
+                sub,
+                "QN+WN+2GM+RW",
+                {f"ge_{crit}{tag}": f"GMWM exhaustive, {crit.upper()}{what}"},
+            )
+    lines += [
+        "",
+        f"The same evidence on the two-GM records ({len(both)} runs), QN+WN+2GM -> "
+        "QN+WN+2GM+RW: Whittle's `-2 log L` drop against GMWM's objective drop "
+        "(`python benchmarks/gm2_limit.py --gmwm-drop 20`); median, runs above HQ's "
+        "price, above BIC's, and the Spearman correlation of the two per run.",
+        "",
+        "| fit | median drop | above HQ | above BIC |",
+        "|---|---|---|---|",
+        f"| Whittle | {np.median(wd):.1f} | {int(np.sum(wd > hq))} | {int(np.sum(wd > bic))} |",
+        f"| GMWM | {np.median(gd):.1f} | {int(np.sum(gd > hq))} | {int(np.sum(gd > bic))} |",
+        "",
+        f"Spearman correlation {stats.spearmanr(wd, gd)[0]:.2f}; per run (Whittle / GMWM): "
+        + ", ".join(f"{a:.1f}/{b:.1f}" for a, b in zip(wd, gd, strict=True))
+        + ".",
+    ]
+    return lines
+
+
 def table() -> list[str]:
     n = HOURS * 3600 * RATE
     hq, bic = penalty("hq", n), penalty("bic", n)
@@ -445,42 +488,7 @@ def table() -> list[str]:
             f"| {label} | {np.median(d):.1f} | {np.quantile(d, 0.1):.1f} | "
             f"{np.quantile(d, 0.9):.1f} | {int(np.sum(d > hq))} | {int(np.sum(d > bic))} |"
         )
-    if DROPS.is_file() and "two GM" in data:
-        with DROPS.open() as fh:
-            g = {int(r["run"]): float(r["gmwm_drop"]) for r in csv.DictReader(fh)}
-        w = {int(r["run"]): float(r["drop_rw"]) for r in data["two GM"]}
-        both = sorted(set(g) & set(w))
-        gd, wd = np.array([g[r] for r in both]), np.array([w[r] for r in both])
-        with DROPS.open() as fh:
-            ge = list(csv.DictReader(fh))
-        lines += ["", "GMWM with the same 24 candidates, every one fitted (exhaustive):", ""]
-        lines += ["| truth | method | right model | no random walk | wrong choices |"]
-        lines += ["|---|---|---|---|---|"]
-        for crit in ("hq", "bic"):
-            for tag, what in (("", ""), ("_nofl", ", no flicker candidates")):
-                sub = [{f"ge_{crit}{tag}": r[f"ge_{crit}{tag}"]} for r in ge]
-                lines += _choice_lines(
-                    f"two GM ({len(ge)} runs)",
-                    sub,
-                    "QN+WN+2GM+RW",
-                    {f"ge_{crit}{tag}": f"GMWM exhaustive, {crit.upper()}{what}"},
-                )
-        lines += [
-            "",
-            f"The same evidence on the two-GM records ({len(both)} runs), QN+WN+2GM -> "
-            "QN+WN+2GM+RW: Whittle's `-2 log L` drop against GMWM's objective drop "
-            "(`python benchmarks/gm2_limit.py --gmwm-drop 20`); median, runs above HQ's "
-            "price, above BIC's, and the Spearman correlation of the two per run.",
-            "",
-            "| fit | median drop | above HQ | above BIC |",
-            "|---|---|---|---|",
-            f"| Whittle | {np.median(wd):.1f} | {int(np.sum(wd > hq))} | {int(np.sum(wd > bic))} |",
-            f"| GMWM | {np.median(gd):.1f} | {int(np.sum(gd > hq))} | {int(np.sum(gd > bic))} |",
-            "",
-            f"Spearman correlation {stats.spearmanr(wd, gd)[0]:.2f}; per run (Whittle / GMWM): "
-            + ", ".join(f"{a:.1f}/{b:.1f}" for a, b in zip(wd, gd, strict=True))
-            + ".",
-        ]
+    lines += _drop_lines(data, hq, bic)
     lines += [
         "",
         "Parameter errors: median |relative error| [90th percentile]; a parameter the "
