@@ -510,7 +510,7 @@ def table() -> list[str]:
     lines = [
         "### Two-GM model choice, GMWM against an efficient fit: "
         "`python benchmarks/gm2_limit.py --null 10 --gmwm-drop 20`, "
-        '`--runs 16 --truths "two GM"`',
+        '`--runs 16 --truths "two GM"`, `--runs 5 --truths "one GM"`',
         "",
         "`imu_models.py`'s composite truths and records (10 h at 200 Hz, its seeds). Whittle: "
         "the likelihood of the Tukey (50 %) tapered periodogram of the differenced record "
