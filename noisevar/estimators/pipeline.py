@@ -349,7 +349,9 @@ def run_record(
     except NoisevarError as exc:
         result.notes.append(f"no diagnostics: {exc}")
     else:
-        if diag.whiteness.p_value < COLOURED_P:
+        # differenced noise is corrected through the residual filter's own correlation
+        # (conclude): a span chosen per block has none, so the fixed coloured-noise span
+        if diag.whiteness.p_value < COLOURED_P or diag.differenced:
             result = _coloured(spec, record, result, params)
         own = result.params | params
         still = _still(spec, record, own, diag)

@@ -129,20 +129,43 @@ SORT6 = (
 
 
 def _window_medians(z: NDArray, starts: NDArray, w: int) -> NDArray:
-    """The median of each window ``z[s : s + w]``, ``s`` in ``starts``.
+    """The median of each window ``z[s : s + w]``, ``s`` in ``starts``."""
+    return _row_medians(z[starts[:, None] + np.arange(w)])
 
-    Six samples (:data:`STEP_WINDOW`) go through :data:`SORT6` column by column: the
+
+def _row_medians(x: NDArray) -> NDArray:
+    """The median along the last axis of ``x``.
+
+    Six values (:data:`STEP_WINDOW`) go through :data:`SORT6` column by column: the
     same numbers as ``np.median`` (the mean of the middle two, ``(a + b) / 2``), seven
     times faster than its partition of many short rows.
     """
-    if w != len({i for pair in SORT6 for i in pair}):
-        return np.median(np.lib.stride_tricks.sliding_window_view(z, w)[starts], axis=1)
-    c = [z[starts + i] for i in range(w)]
+    if x.shape[-1] != len({i for pair in SORT6 for i in pair}):
+        return np.median(x, axis=-1)
+    c = [x[..., i] for i in range(x.shape[-1])]
     for i, j in SORT6:
         lo = np.minimum(c[i], c[j])
-        np.maximum(c[i], c[j], out=c[j])
+        c[j] = np.maximum(c[i], c[j])
         c[i] = lo
     return (c[2] + c[3]) / 2
+
+
+def detrended_windows(z: NDArray, at: NDArray, idx: NDArray, w: int) -> NDArray:
+    """The windows ``z[s : s + w]`` of each row of starts ``at``, less the row's local line.
+
+    The line's slope is the median of the ``2 w`` slopes from each sample of the
+    last two windows to the sample two windows before it (``at`` holds the starts
+    ``k + w, k, k - w, k - 2w``); the line is a function of the sample less ``idx``. An added
+    line adds its slope to every pair's, so to their median, and the four medians then
+    move by one constant, which the third difference cancels; a spike is one pair of
+    ``2 w``, and a median of a window that a steep line crosses, which took the
+    middle samples' noise alone (so a tap moved it like a mean), is taken off the line.
+    """
+    j = at[..., None] + np.arange(w)  # (m, 4, w) sample indices
+    x = z[j]
+    gap = np.maximum(at[:, :2] - at[:, 2:], 1)[..., None]  # two windows apart, (m, 2, 1)
+    slope = np.median(((x[:, :2] - x[:, 2:]) / gap).reshape(x.shape[0], -1), axis=1)
+    return x - slope[:, None, None] * (j - idx[:, None, None])
 
 
 def _confirm_steps(
@@ -178,14 +201,8 @@ def _confirmed(
     """Whether ``D3med`` confirms a level change at each of the sorted samples ``idx``."""
     last = z.size - w  # the last window's start
     at = np.clip(idx[:, None] + np.array([w, 0, -w, -2 * w]), 0, last)
-    # each window's median once (neighbouring candidates share their windows)
-    if at.size * 16 < z.size:
-        starts, rank = np.unique(at, return_inverse=True)
-    else:
-        need = np.zeros(last + 1, dtype=bool)
-        need[at] = True
-        starts, rank = np.flatnonzero(need), (np.cumsum(need) - 1)[at]
-    med = _window_medians(z, starts, w)[rank.reshape(at.shape)]
+    # each candidate's four windows, off their local line (an added trend moves nothing)
+    med = _row_medians(detrended_windows(z, at, idx, w))
     # D3med = m(k+w) - 3 m(k) + 3 m(k-w) - m(k-2w), sd = σ sqrt(20 var(median))
     d3 = med @ np.array([1.0, -3.0, 3.0, -1.0])
     level = d3**2 * scale / (STEP_CONFIRM**2 * 20.0 * _median_variance(w))

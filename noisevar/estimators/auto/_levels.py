@@ -49,10 +49,17 @@ class Grids:
         return self.m - 1 - idx - self.q
 
 
-def medians(sq: NDArray, g: Grids, stride: int = 4) -> tuple[NDArray, NDArray]:
-    """Block medians of every ``stride``-th square on both grids."""
-    back = block_medians(g.back(sq), g.block, g.nbb, stride)
-    return block_medians(sq, g.block, g.nb, stride), back
+def medians(sq: NDArray, g: Grids) -> tuple[NDArray, NDArray]:
+    """Block medians of the squares on both grids, every square of each block.
+
+    Not every fourth one: which fourth a block takes moves with the samples dropped
+    before it, and where a burst of motion fills part of a block its median sits in the
+    burst, so a subsample's median moved by 1.6x with one leading sample dropped, the
+    burst was excluded from the level or not, and R moved 19x (issue 26, the Pololu
+    record's acc_y). All of them: the block's content alone sets its median.
+    """
+    back = block_medians(g.back(sq), g.block, g.nbb, 1)
+    return block_medians(sq, g.block, g.nb, 1), back
 
 
 def above_own(x: NDArray, fwd: NDArray, bwd: NDArray, g: Grids) -> NDArray:

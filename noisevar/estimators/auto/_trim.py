@@ -112,11 +112,11 @@ def _outlier_mask(
 ) -> tuple[NDArray | None, NDArray | None, NDArray | None]:
     """Squared residuals that are outliers, and samples next to jumps (the caller widens both).
 
-    Pass 1 takes a robust local scale from block medians of ``e²`` (every
-    fourth sample: plenty for a scale whose only use is a generous
-    threshold); pass 2 refines it with the mean of each block's kept squares,
-    so that a noise level changing along the record is followed (a noise step
-    is not mistaken for outliers). Residuals beyond ``κ`` local standard
+    Pass 1 takes a robust local scale from block medians of ``e²`` (of every
+    sample: a subsample's phase would move with the samples dropped before it);
+    pass 2 refines it with the mean of each block's kept squares, so that a
+    noise level changing along the record is followed (a noise step is not
+    mistaken for outliers). Residuals beyond ``κ`` local standard
     deviations are flagged, and so are samples next to a jump found by
     ``steps(above, κ²)`` (:func:`step_mask`). Pass 1 leaves ``widen``
     neighbours on each side of what it flags out of the scale (a jump spreads
