@@ -49,6 +49,7 @@ import numpy as np
 import pandas as pd
 
 import noisevar
+from noisevar import synth
 from noisevar.estimators.regimes import variance_for, why_no_still
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -331,16 +332,6 @@ def _burst_levels(seed: int, n: int = 1000) -> np.ndarray:
     return rng.normal(size=n) * np.exp(1.5 * rng.normal(size=n // 50).repeat(50))
 
 
-def _still_start(seed: int, still: int, n: int = 500, sigma: float = 0.03) -> np.ndarray:
-    """White noise (sigma 0.03) still for ``still`` samples, then a 25-sample oscillation."""
-    rng = np.random.default_rng(seed)
-    t = np.arange(n)
-    z = sigma * rng.normal(size=n)
-    m = t >= still
-    z[m] += 2.0 * np.sin(2 * np.pi * t[m] / 25.0) * rng.uniform(0.5, 1.5)
-    return z + m * 0.3 * rng.normal(size=n)
-
-
 def synthetic() -> list[str]:
     """Seeded reproductions of the failure classes the real records show."""
     lines = [
@@ -370,7 +361,7 @@ def synthetic() -> list[str]:
     ]
     for k in (48, 64, 80, 128):
         for seed in (0, 1):
-            e = noisevar.estimate(_still_start(seed, k))
+            e = noisevar.estimate(synth.still_start(k, rng=seed))
             d = e.diagnostics
             try:
                 use = variance_for(e, "still")

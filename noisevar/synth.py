@@ -387,3 +387,33 @@ def motion_bursts(n: int, rng: np.random.Generator | int | None = None) -> NDArr
         a = int(rng.integers(0, n - length))
         out[a : a + length] += _motion(length, rng)
     return out
+
+
+def still_start(
+    still: int, n: int = 500, rng: np.random.Generator | int | None = None, sigma: float = 0.03
+) -> NDArray:
+    """A record still for its first ``still`` samples, then an oscillation with extra noise.
+
+    Parameters
+    ----------
+    still : int
+        Still samples at the start (white noise of std ``sigma`` alone).
+    n : int
+        Samples.
+    rng : Generator, int or None
+        Randomness (a seed for a repeatable record).
+    sigma : float
+        The still noise's standard deviation.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        From ``still`` on, a 25-sample sinusoid of amplitude 1-3 and white noise of std 0.3
+        added: a still stretch too short (or long enough) for an R of its own.
+    """
+    rng = _rng(rng)
+    t = np.arange(n)
+    z = sigma * rng.normal(size=n)
+    m = t >= still
+    z[m] += 2.0 * np.sin(2 * np.pi * t[m] / 25.0) * rng.uniform(0.5, 1.5)
+    return z + m * 0.3 * rng.normal(size=n)

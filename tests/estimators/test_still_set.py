@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 import noisevar
+from noisevar import synth
 from noisevar.diagnostics.profile import still_if_quiet
 from noisevar.diagnostics.regimes import Regime
 from noisevar.estimators.regimes import (
@@ -24,19 +25,9 @@ from noisevar.estimators.regimes import (
 )
 
 
-def still_start(seed: int, still: int, n: int = 500, sigma: float = 0.03) -> np.ndarray:
-    """White noise (sigma 0.03) still for ``still`` samples, then a 25-sample oscillation."""
-    rng = np.random.default_rng(seed)
-    t = np.arange(n)
-    z = sigma * rng.normal(size=n)
-    m = t >= still
-    z[m] += 2.0 * np.sin(2 * np.pi * t[m] / 25.0) * rng.uniform(0.5, 1.5)
-    return z + m * 0.3 * rng.normal(size=n)
-
-
 @pytest.mark.parametrize("seed", [0, 1])
 def test_short_still_start_gives_no_whole_record_r_as_still(seed: int) -> None:
-    est = noisevar.estimate(still_start(seed, 64))
+    est = noisevar.estimate(synth.still_start(64, rng=seed))
     assert est.diagnostics.level_varies and est.still is None  # the case reproduced
     with pytest.raises(noisevar.NoisevarError, match="too short|shorter than"):
         variance_for(est, "still")
@@ -46,7 +37,7 @@ def test_short_still_start_gives_no_whole_record_r_as_still(seed: int) -> None:
 
 
 def test_short_still_start_verdict_says_indicative() -> None:
-    est = noisevar.estimate(still_start(0, 64))
+    est = noisevar.estimate(synth.still_start(64, rng=0))
     gap = still_gap(est.diagnostics, est.variance, est.still)
     assert gap is not None
     assert "indicative only" in est.diagnostics.verdict
@@ -54,7 +45,7 @@ def test_short_still_start_verdict_says_indicative() -> None:
 
 
 def test_long_still_start_gives_its_still_r() -> None:
-    est = noisevar.estimate(still_start(0, 128))
+    est = noisevar.estimate(synth.still_start(128, rng=0))
     assert est.still is not None
     use = variance_for(est, "still")
     assert use == est.still.variance and 0.3 < use / 9e-4 < 3.0
@@ -62,7 +53,7 @@ def test_long_still_start_gives_its_still_r() -> None:
 
 
 def test_fits_follow_the_same_rule() -> None:
-    z = still_start(0, 64)
+    z = synth.still_start(64, rng=0)
     est = noisevar.estimate(z)
     with pytest.raises(noisevar.NoisevarError) as exc:
         longest_still_stretch(z)
