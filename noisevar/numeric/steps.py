@@ -153,18 +153,22 @@ def _row_medians(x: NDArray) -> NDArray:
 def detrended_windows(z: NDArray, at: NDArray, idx: NDArray, w: int) -> NDArray:
     """The windows ``z[s : s + w]`` of each row of starts ``at``, less the row's local line.
 
-    The line's slope is the median of the ``2 w`` slopes from each sample of the
-    last two windows to the sample two windows before it (``at`` holds the starts
-    ``k + w, k, k - w, k - 2w``); the line is a function of the sample less ``idx``. An added
-    line adds its slope to every pair's, so to their median, and the four medians then
-    move by one constant, which the third difference cancels; a spike is one pair of
-    ``2 w``, and a median of a window that a steep line crosses, which took the
-    middle samples' noise alone (so a tap moved it like a mean), is taken off the line.
+    ``at`` holds the starts ``k + w, k, k - w, k - 2w``. The line's slope is the median
+    of the ``2 w`` slopes from each sample of a window to the sample one window before
+    it on the same side of the candidate ``k`` (window ``k + w`` to ``k``, ``k - w`` to
+    ``k - 2w``), so a jump at ``k`` tilts none of them; the line is a function of the
+    sample less ``idx``. An added line adds its slope to every pair's, so to their
+    median, and the four medians then move by one constant, which the third difference
+    cancels; a spike is one pair of ``2 w``, and a median of a window that a steep line
+    crosses, which took the middle samples' noise alone (so a tap moved it like a mean),
+    is taken off the line.
     """
     j = at[..., None] + np.arange(w)  # (m, 4, w) sample indices
     x = z[j]
-    gap = np.maximum(at[:, :2] - at[:, 2:], 1)[..., None]  # two windows apart, (m, 2, 1)
-    slope = np.median(((x[:, :2] - x[:, 2:]) / gap).reshape(x.shape[0], -1), axis=1)
+    # pairs on one side of the candidate each (windows 0-1 after it, 2-3 before it): a
+    # jump at the candidate tilts no pair's slope
+    gap = np.maximum(at[:, 0::2] - at[:, 1::2], 1)[..., None]  # one window apart, (m, 2, 1)
+    slope = np.median(((x[:, 0::2] - x[:, 1::2]) / gap).reshape(x.shape[0], -1), axis=1)
     return x - slope[:, None, None] * (j - idx[:, None, None])
 
 
