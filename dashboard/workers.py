@@ -68,6 +68,10 @@ START_PAUSE_S = 0.5
 #: Largest input (samples, all arrays together) a first-rank call computes on its script
 #: thread while every worker is busy (an estimate of 1e5 samples: tens of milliseconds).
 INLINE_MAX_SAMPLES = 100_000
+#: Niceness added to every worker: the script threads (what each interaction waits for,
+#: in the server's own process) keep the cores first, the pool's long computations (the
+#: Compare table's maximum-likelihood peers) take what is left (issue 29).
+WORKER_NICE = 10
 #: Seconds between two looks of a waiting page at its task.
 POLL_SECONDS = 0.25
 #: Longest time a waiting page sends nothing: its text is sent when it changes, and
@@ -91,9 +95,13 @@ WORKERS = machine_workers()
 
 
 def _die_with_parent() -> None:
-    """Worker initializer: exit when the parent (the fork server, which exits with the
-    server) goes."""
+    """Worker initializer: run below the script threads (:data:`WORKER_NICE`), and exit
+    when the parent (the fork server, which exits with the server) goes."""
     parent = os.getppid()
+    try:
+        os.nice(WORKER_NICE)  # below the script threads (WORKER_NICE)
+    except OSError:  # pragma: no cover - a niceness already at its limit
+        pass
     try:
         ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
     except (OSError, AttributeError):  # pragma: no cover - not Linux
