@@ -81,6 +81,8 @@ def test_imu_and_its_kalibr_file(still_then_motion, tmp_path, capsys) -> None:
     imu = read_kalibr(out_yaml)
     assert imu.regimes == "still" and "# regimes: still" in out_yaml.read_text()
     assert imu.gyroscope_noise_density == pytest.approx(SIGMA / np.sqrt(RATE), rel=0.1)
+    # K from the composite fit of the same still stretch, as with --regimes all
+    assert any(n.startswith("random walks from: the composite fit") for n in imu.notes)
     assert main([*argv, "--format", "json"]) == 0
     cols = json.loads(capsys.readouterr().out)["columns"]
     assert cols["g"]["regimes"] == "still" and cols["a"]["regimes"] == "still"

@@ -109,16 +109,14 @@ def consumer_files(sig: LoadedSignal, rate: float, regimes: str) -> None:
         }
         axes = [("gyroscope", c, fits[c, g_unit]) for c in gyro]
         axes += [("accelerometer", c, fits[c, a_unit]) for c in accel]
-        bias = {}
-        if regimes == "all":  # the composite fit reads the whole record
-            bias = {
-                key: [
-                    composite_cached(k, r, u, z)
-                    for c in cols
-                    for k, r, z in [imu_column(sig, c, rate)]
-                ]
-                for key, cols, u in (("gyro_bias", gyro, g_unit), ("accel_bias", accel, a_unit))
-            }
+        bias = {  # the composite fits of the same regimes as the IEEE-952 fits
+            key: [
+                composite_cached(k, r, u, regimes, z)
+                for c in cols
+                for k, r, z in [imu_column(sig, c, rate)]
+            ]
+            for key, cols, u in (("gyro_bias", gyro, g_unit), ("accel_bias", accel, a_unit))
+        }
         model = exports.imu_model(
             [fits[c, g_unit] for c in gyro],
             [fits[c, a_unit] for c in accel],

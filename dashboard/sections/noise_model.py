@@ -230,10 +230,10 @@ def _topic_rates(sig: LoadedSignal) -> None:
 
 
 @st.cache_data(max_entries=32, show_spinner="Fitting the composite model (K)...")
-def composite_cached(digest: str, rate: float, unit: str, _z: np.ndarray):
-    """A column's composite fit, whose bias gives the files' K (``exports.imu_model``,
-    ``kalibr_imu``)."""
-    (fit,) = exports.composite_fits([_z], [rate], unit=unit)
+def composite_cached(digest: str, rate: float, unit: str, regimes: str, _z: np.ndarray):
+    """A column's composite fit on ``regimes``, whose bias gives the files' K
+    (``exports.imu_model``, ``kalibr_imu``)."""
+    (fit,) = exports.composite_fits([_z], [rate], unit=unit, regimes=regimes)
     return fit
 
 
@@ -259,16 +259,14 @@ def kalibr_export(sig: LoadedSignal, s: NoiseModelSettings) -> None:
             for c in dict.fromkeys(gyro + accel)
             for key, rate, z in [imu_column(sig, c, s.rate)]
         }
-        bias = {}
-        if s.regimes == "all":  # the composite fit reads the whole record
-            bias = {
-                key: [
-                    composite_cached(k, r, "", z)
-                    for c in cols
-                    for k, r, z in [imu_column(sig, c, s.rate)]
-                ]
-                for key, cols in (("gyro_bias", gyro), ("accel_bias", accel))
-            }
+        bias = {  # the composite fits of the same regimes as the IEEE-952 fits
+            key: [
+                composite_cached(k, r, "", s.regimes, z)
+                for c in cols
+                for k, r, z in [imu_column(sig, c, s.rate)]
+            ]
+            for key, cols in (("gyro_bias", gyro), ("accel_bias", accel))
+        }
         imu = kalibr_imu(
             [fits[c] for c in gyro], [fits[c] for c in accel], inflation=float(inflation), **bias
         )

@@ -153,16 +153,14 @@ def _exports(
 
 def _bias_fits(args: argparse.Namespace, fits: dict, data: dict, scales: dict) -> dict:
     """The composite fits K is taken from (``imu_model``'s ``gyro_bias``/``accel_bias``), of
-    the same scaled columns; none when the fits ran on the still regimes only (the
-    composite fit reads the whole record)."""
+    the same scaled columns and regimes as the IEEE-952 fits."""
     from noisevar.noise_model import exports
 
-    if any(fits[c].regimes != "all" for c in [*args.gyro, *args.accel]):
-        return {}
     out = {}
     for key, cols in (("gyro_bias", args.gyro), ("accel_bias", args.accel)):
         columns = [np.asarray(data[c], dtype=float) * scales[c] for c in cols]
-        out[key] = exports.composite_fits(columns, [fits[c].rate for c in cols])
+        rates = [fits[c].rate for c in cols]
+        out[key] = exports.composite_fits(columns, rates, **regimes_of(args))
     return out
 
 

@@ -25,6 +25,7 @@ from numpy.typing import NDArray
 
 from noisevar import units
 from noisevar.errors import NoisevarError
+from noisevar.estimators.regimes import DEFAULT_REGIMES
 from noisevar.noise_model.gmwm.model import ImuModel as CompositeModel
 from noisevar.noise_model.inertial import InertialNoise
 from noisevar.noise_model.kalibr import composite_k, composite_k_note, imu_rate
@@ -192,7 +193,10 @@ def _sensor(
 
 
 def composite_fits(
-    columns: Sequence[NDArray], rates: Sequence[float], unit: str = "u"
+    columns: Sequence[NDArray],
+    rates: Sequence[float],
+    unit: str = "u",
+    regimes: str = DEFAULT_REGIMES,
 ) -> list[CompositeModel]:
     """The composite fit (model chosen, :func:`noisevar.fit_imu_model`) of each column, for
     :func:`imu_model`'s ``gyro_bias``/``accel_bias``; columns of one rate and length are
@@ -206,6 +210,9 @@ def composite_fits(
         Each column's sample rate (Hz).
     unit : str
         The columns' unit (for the parameters' units).
+    regimes : {"all", "still"}
+        Which of each record's regimes are fitted, as for its IEEE-952 fit (``"still"``:
+        each column's longest still stretch, :func:`noisevar.fit_imu_model`).
 
     Returns
     -------
@@ -222,7 +229,8 @@ def composite_fits(
     out: list[CompositeModel | None] = [None] * len(columns)
     for (rate, _), idx in groups.items():
         stacked = np.column_stack([np.asarray(columns[i], dtype=float) for i in idx])
-        for i, fit in zip(idx, fit_imu_model(stacked, rate, unit=unit), strict=True):
+        fits = fit_imu_model(stacked, rate, unit=unit, regimes=regimes)
+        for i, fit in zip(idx, fits, strict=True):
             out[i] = fit
     return out  # type: ignore[return-value]
 
