@@ -85,3 +85,14 @@ def test_cli_imu_prints_the_regime_warning(tmp_path, capsys) -> None:
     out = capsys.readouterr().out
     assert "note: regimes='still': fitted on the record's longest still stretch" in out
     assert "level varies" not in out
+
+
+def test_pooled_records_name_the_one_that_moves() -> None:
+    """``fit_imu_records`` had no motion check: a night with motion pooled with still ones
+    gave a misfit and no word of which record moved."""
+    still = [0.01 * np.random.default_rng(s).normal(size=4000) for s in (4, 5)]
+    fit = noisevar.fit_imu_records([still[0], still_then_motion(0), still[1]], RATE)
+    said = [t for t in fit.notes if "noise level varies" in t]
+    assert len(said) == 1 and said[0].startswith("record 1: ")
+    quiet = noisevar.fit_imu_records(still, RATE)
+    assert not any("noise level varies" in t for t in quiet.notes)

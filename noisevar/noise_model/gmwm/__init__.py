@@ -198,7 +198,8 @@ def fit_imu_records(
     -----
     Each record's wavelet variance is computed on its own (no jump between records
     enters it); at each scale they are averaged weighted by their coefficients, and
-    the covariance counts all the coefficients.
+    the covariance counts all the coefficients. A pooled fit that leaves the data
+    unexplained names the records whose noise level varies (:func:`moving_records`).
     """
     if len(records) == 0:
         raise NoisevarError("records is empty: give at least one record.")
@@ -208,7 +209,7 @@ def fit_imu_records(
         if arr.shape[0] != 1:
             raise NoisevarError("each record must be 1-D (one axis).")
         wvs += wavelet_variances(arr, robust)
-    return fit_wv(
+    fit = fit_wv(
         pooled(wvs),
         rate,
         models=models,
@@ -218,3 +219,16 @@ def fit_imu_records(
         criterion=criterion,
         horizon=horizon,
     )
+    return replace(fit, notes=(*moving_records(records, fit), *fit.notes))
+
+
+def moving_records(records: Sequence[ArrayLike], fit: ImuModel) -> list[str]:
+    """Which of the pooled ``records`` are not still, when their pooled ``fit`` leaves the
+    data unexplained (as :func:`motion_note` of one record; none otherwise)."""
+    if not unexplained(fit):
+        return []
+    return [
+        f"record {i}: {w}"
+        for i, r in enumerate(records)
+        for w in regime_warning(np.ravel(np.asarray(r, dtype=float)))
+    ]
