@@ -119,6 +119,15 @@ def _parse(raw: str) -> Unit:
     return Unit(raw, scale, str(base.units))
 
 
+def declared_unit(text: str | None) -> str | None:
+    """A unit a file declares (a log's message definition, a header's ``[unit]``), if
+    :func:`parse_unit` reads it; else None (the file's word is not the user's)."""
+    try:
+        return text if parse_unit(text) is not None else None
+    except NoisevarError:
+        return None
+
+
 def factor(source: str | None, target: str | None) -> float:
     """The factor that converts values in ``source`` to ``target`` (1 when either is unset).
 

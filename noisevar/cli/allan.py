@@ -11,13 +11,13 @@ from noisevar.cli._common import (
     add_regimes_flag,
     add_topic_flag,
     add_unit_flags,
-    declared_unit,
     load_file,
     print_json,
     regimes_of,
     sample_rate,
     units_of,
 )
+from noisevar.units import declared_unit
 
 
 def load_columns(

@@ -20,7 +20,6 @@ import numpy as np
 from noisevar.cli._common import (
     add_regimes_flag,
     add_unit_flags,
-    declared_unit,
     print_json,
     regimes_of,
     units_of,
@@ -29,6 +28,7 @@ from noisevar.cli._temperature import print_models, split_temperature, temperatu
 from noisevar.cli.allan import load_columns
 from noisevar.errors import NoisevarError
 from noisevar.io.limits import echo
+from noisevar.units import declared_unit
 
 
 def _columns(args: argparse.Namespace) -> list[str] | None:
