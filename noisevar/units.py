@@ -28,11 +28,12 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
+from noisevar.format import NO_UNIT, unit_text
 
 #: Unit strings a user may give, for error messages and help texts.
 EXAMPLES = ("rad/s", "deg/s", "m/s^2", "g", "mg", "m", "ns", "0.00875 deg/s (counts x scale)")
 #: What an undeclared unit is called (no conversion possible).
-UNKNOWN = "u"
+UNKNOWN = NO_UNIT
 #: IMU spellings pint reads otherwise (g: gram), rewritten before parsing.
 _ALIASES = (
     (re.compile(r"(?<![\w.])(?:µ|u)g(?![\w^])"), "(1e-6 * standard_gravity)"),
@@ -158,7 +159,7 @@ def convert_variance(variance: ArrayLike, source: str | None, target: str | None
 
 def variance_label(unit: str | None) -> str:
     """The unit of a variance: ``(deg/s)²`` (``u²`` without a unit)."""
-    u = unit or UNKNOWN
+    u = unit_text(unit or UNKNOWN)
     return f"({u})²" if "/" in u or " " in u else f"{u}²"
 
 
