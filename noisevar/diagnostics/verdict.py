@@ -232,6 +232,7 @@ def make_notes(diag: NoiseDiagnostics) -> tuple[str, ...]:
     if diag.gaps:
         kinds = {g.kind for g in diag.gaps}
         what = "gaps" if kinds == {"gap"} or kinds == {"nan"} else "gaps or irregular steps"
+        what = what if len(diag.gaps) > 1 else what.replace("gaps", "gap").replace("steps", "step")
         notes.append(
             f"{len(diag.gaps)} {what} (first at sample {diag.gaps[0].index}): the record was "
             "estimated per uniform segment and pooled, not spliced"

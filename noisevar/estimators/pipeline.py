@@ -133,9 +133,11 @@ def pool_segments(parts: list[VarianceEstimate], n_total: int, skipped: int) -> 
     core = None if None in cores else float(w @ np.array(cores))
     outliers = float(np.sum([p.outlier_fraction * p.n_total for p in parts]) / n_total)
     notes = list(parts[0].notes)
-    notes.append(f"estimated in {len(parts)} uniform segments and pooled")
+    k = len(parts)
+    pooled = f"estimated in {k} uniform segments and pooled"
+    notes.append(pooled if k > 1 else "estimated on 1 uniform segment")
     if skipped:
-        notes.append(f"{skipped} segments too short to estimate were left out")
+        notes.append(f"{skipped} segment{'s' * (skipped > 1)} too short to estimate left out")
     return VarianceEstimate(
         parts[0].method, var, chi2_interval(var, dof), int(sum(p.n_used for p in parts)),
         n_total, dof, dict(parts[0].params), notes, core_variance=core,
@@ -152,13 +154,13 @@ def _by_segment(
     if len(seg.segments) == 1:
         a, b = seg.segments[0]
         return run(spec, check_samples(z[a:b])[0], notes, params)
-    parts, error = [], None
+    parts, error, longest = [], None, 0
     for a, b in seg.segments:
         try:
             parts.append(run(spec, check_samples(z[a:b])[0], list(notes), params))
         except NoisevarError as exc:
-            error = error or exc
-    if not parts:
+            error, longest = (exc, b - a) if b - a > longest else (error, longest)
+    if not parts:  # the longest segment's reason: the one that says what is wrong
         raise NoisevarError(f"no uniform segment of the record could be estimated: {error}")
     return pool_segments(parts, z.size, len(seg.segments) - len(parts))
 
