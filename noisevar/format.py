@@ -86,7 +86,8 @@ def eng(value: object, unit: str = "", digits: int = 4) -> str:
     -------
     str
         ``1 <= |value| < 1e6``: plain (``"17,690 s"``); otherwise an SI prefix
-        when the unit takes one (``"3.628 ns"``), else ``"13.16×10⁻¹⁸ s²"``.
+        when the unit takes one (``"3.628 ns"``), else plain down to 1e-3
+        (``"0.9951 u²"``, as :func:`eng_range` writes it), else ``"13.16×10⁻¹⁸ s²"``.
     """
     v = _finite(value)
     if v is None:
@@ -94,7 +95,7 @@ def eng(value: object, unit: str = "", digits: int = 4) -> str:
     unit = unit_text(unit)
     tail = f" {unit}" if unit else ""
     digits = max(int(digits), 1)
-    if v == 0 or 1 <= abs(v) < 1e6 or (not unit and 1e-3 <= abs(v) < 1):
+    if v == 0 or 1 <= abs(v) < 1e6 or (not _prefixable(unit) and 1e-3 <= abs(v) < 1):
         return _plain(v, digits) + tail
     e3 = 3 * int(math.floor(math.log10(abs(v)) / 3))
     mantissa = float(f"{v / 10.0**e3:.{digits}g}")
