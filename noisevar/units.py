@@ -179,7 +179,7 @@ def term_unit(unit: str | None, symbol: str) -> str:
     ``K`` of ``rad/s`` is ``rad/s²/√Hz``, of ``m/s^2`` ``m/s³/√Hz`` (a rate per second
     folded into the unit's own ``/s``); any other unit keeps the template.
     """
-    u = unit or UNKNOWN
+    u = unit_text(unit or UNKNOWN)
     if symbol not in TERM_UNITS:
         raise NoisevarError(f"no term {symbol!r}; the terms are {', '.join(TERM_UNITS)}")
     if symbol in ("K", "R"):

@@ -342,6 +342,12 @@ def _intervals(
         full = np.sqrt([_nnls(a * w[:, None], d * w) for d in draws[: BOOTSTRAP // 2]])
         low[out] = 0.0
         high[out] = np.quantile(full[:, out], (1.0 + ci) / 2.0, axis=0)
+        # refits that all put the term at 0 say nothing of its size: bound it by what the
+        # Allan variances alone allow (all of one tau's upper limit from that term), never
+        # by a zero-width interval
+        upper = np.quantile(draws, (1.0 + ci) / 2.0, axis=0)
+        alone = np.sqrt(np.min(upper[:, None] / np.where(a > 0, a, np.nan), axis=0))
+        high[out] = np.where(high[out] > 0, high[out], alone[out])
     return np.column_stack([low, high])
 
 
@@ -469,7 +475,7 @@ def _one_axis(
                 (float(lo), float(hi)),
                 units.term_unit(unit, spec.symbol),
                 spec.discrete(value, rate),
-                spec.discrete_unit.format(u=unit),
+                spec.discrete_unit.format(u=units.unit_text(unit)),
                 spec.slope,
             )
         )
