@@ -42,6 +42,23 @@ NOISE_TYPES = {
 DATA_KINDS = ("phase", "rate")
 
 
+def default_data(unit: str | None) -> str:
+    """What the samples are when nobody said: ``"phase"`` for a time (a clock's time error
+    in ``s``, ``ns``) or an angle (``rad``, ``deg``: the integral of a rate), else
+    ``"rate"`` (a gyro's rate, a specific force, a fractional frequency, and a record with
+    no unit: what IMU and GNSS users hold).
+
+    The one default of the command line's ``--data`` and the Noise model page's choice.
+    """
+    from noisevar.units import parse_unit
+
+    try:
+        parsed = parse_unit(unit)
+    except NoisevarError:
+        parsed = None
+    return "phase" if parsed is not None and parsed.si in ("second", "radian") else "rate"
+
+
 #: Terms per block when a deviation is summed block by block (the blocks stay in cache).
 BLOCK = 2**16
 
