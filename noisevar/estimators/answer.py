@@ -213,23 +213,26 @@ def row_still_levels(value: object) -> tuple[StillLevel, ...]:
     Returns
     -------
     tuple of StillLevel
-        Empty for a missing value (None, NaN) or one that is not such a list.
+        Empty for a missing value (None, NaN) or one that is not such a list (of finite
+        levels over non-empty sample ranges).
     """
     from noisevar.diagnostics.regimes import StillLevel
 
-    if not isinstance(value, str) or not value:
+    if not isinstance(value, str) or not value or len(value) > 100_000:
         return ()
     try:
         items = json.loads(value)
-        return tuple(
+        out = tuple(
             StillLevel(
                 int(d["start"]),
                 int(d["stop"]),
                 float(d["ratio"]),
                 float(d["ci95_low"]),
                 float(d["ci95_high"]),
-            )  # fmt: skip
+            )
             for d in items
         )
-    except (ValueError, TypeError, KeyError):
+    except (ValueError, TypeError, KeyError, OverflowError):
         return ()
+    finite = all(math.isfinite(v) for x in out for v in (x.ratio, x.lo, x.hi))
+    return out if finite and all(0 <= x.start < x.stop for x in out) else ()

@@ -66,9 +66,20 @@ def test_the_table_row_carries_them_and_reads_back(est) -> None:
     )
 
 
-@pytest.mark.parametrize("bad", [None, float("nan"), "", "not json", "[{}]", "{}"])
+BAD_CELLS = [None, float("nan"), "", "not json", "[{}]", "{}", "5", "[5]"]
+ONE = {"start": 1, "stop": 9, "ratio": 2.0, "ci95_low": 1.5, "ci95_high": 2.5}
+BAD_CELLS += [json.dumps([ONE | {k: v}]) for k, v in [("start", 1e400), ("ratio", "nan"),
+              ("ci95_high", float("inf")), ("stop", 0), ("start", -3), ("ratio", [1])]]  # fmt: skip
+
+
+@pytest.mark.parametrize("bad", BAD_CELLS)
 def test_a_missing_or_bad_cell_reads_as_none(bad) -> None:
     assert row_still_levels(bad) == ()
+
+
+def test_a_good_cell_reads() -> None:
+    (x,) = row_still_levels(json.dumps([ONE]))
+    assert (x.start, x.stop, x.ratio, x.lo, x.hi) == (1, 9, 2.0, 1.5, 2.5)
 
 
 def test_one_level_has_no_rows_and_no_export_line() -> None:
