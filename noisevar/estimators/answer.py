@@ -44,10 +44,10 @@ WHY_DIFFERENT: dict[str, str] = {
 #: The columns of :meth:`RecordAnswer.still_level_rows`: field -> the label pages show.
 STILL_LEVEL_COLUMNS: dict[str, str] = {
     "stretch": "Stretch",
-    "share": "Share of the record",
-    "level": "Level (x the still R)",
-    "ci95": "95 % interval (x the still R)",
-    "variance": "R of the stretch",
+    "share": "Share of record",
+    "level": "Level (x still R)",
+    "ci95": "95 % (x still R)",
+    "variance": "R there",
 }
 #: What the other still levels mean, said under their table.
 STILL_LEVELS_NOTE = (
@@ -122,11 +122,11 @@ class RecordAnswer:
     def still_levels_text(self, unit: str = "") -> str:
         """The other still levels in one line ('' when there is none), as the exports write
         them: ``samples 300-5400 (76% of the record) at 2.20x (ci95 1.95-2.48x) the still R,
-        R of the stretch 2.2 m²; ...``."""
+        R there 2.2 m²; ...``."""
         c = STILL_LEVEL_COLUMNS
         return "; ".join(
             f"{r[c['stretch']]} ({r[c['share']]} of the record) at {r[c['level']]} (ci95 "
-            f"{r[c['ci95']]}) the still R, R of the stretch {r[c['variance']]}"
+            f"{r[c['ci95']]}) the still R, R there {r[c['variance']]}"
             for r in self.still_level_rows(unit)
         )
 

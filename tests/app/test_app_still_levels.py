@@ -65,7 +65,7 @@ def _open_with(columns: dict[str, np.ndarray], page: str) -> AppTest:
 
 
 def _level_tables(at: AppTest) -> list[pd.DataFrame]:
-    return [d.value for d in at.dataframe if "Level (x the still R)" in d.value.columns]
+    return [d.value for d in at.dataframe if "Level (x still R)" in d.value.columns]
 
 
 def _expected(z: np.ndarray) -> list[dict[str, str]]:

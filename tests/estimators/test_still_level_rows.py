@@ -94,7 +94,7 @@ def test_the_exports_write_them(est) -> None:
     summary = record_answer(est, "still").summary("m")
     text = summary["other_still_levels"]
     (row,) = record_answer(est).still_level_rows("m")
-    assert text.startswith(row["Stretch"]) and row["R of the stretch"] in text
+    assert text.startswith(row["Stretch"]) and row["R there"] in text
     cfg = json.loads(config_to_json(params_to_config("auto", {}), record=summary))
     assert cfg["record"]["other_still_levels"] == text
     assert record_value(cfg["record"]) == summary  # a config that carries them reads back
