@@ -20,6 +20,7 @@ from noisevar._arrays import check_exact_ints
 from noisevar.errors import NoisevarError
 from noisevar.estimators import scale_back, scale_exponent
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes, longest_still_stretch
+from noisevar.estimators.results import VarianceEstimate
 from noisevar.numeric.noise_id import noise_id
 
 #: One-sigma confidence (Stable32's default error bars).
@@ -221,7 +222,9 @@ def to_phase(z: ArrayLike, rate: float, data: str) -> NDArray:
     return x
 
 
-def still_record(z: ArrayLike, data: str, need: int, purpose: str) -> tuple[NDArray, str]:
+def still_record(
+    z: ArrayLike, data: str, need: int, purpose: str, est: VarianceEstimate | None = None
+) -> tuple[NDArray, str]:
     """The longest still stretch of a record of phase or rate data, and what to say of it.
 
     Parameters
@@ -235,6 +238,9 @@ def still_record(z: ArrayLike, data: str, need: int, purpose: str) -> tuple[NDAr
         Fewest rate samples ``purpose`` needs.
     purpose : str
         What the stretch is for (for the error message).
+    est : VarianceEstimate, optional
+        :func:`noisevar.estimate` of the rate data (``z``, or its first differences for
+        phase data), when it was made already.
 
     Returns
     -------
@@ -244,19 +250,21 @@ def still_record(z: ArrayLike, data: str, need: int, purpose: str) -> tuple[NDAr
     """
     y = np.asarray(z, dtype=float)
     if data == "phase":
-        s = longest_still_stretch(np.diff(y), need, purpose)
+        s = longest_still_stretch(np.diff(y), need, purpose, est)
         return y[s.start : s.stop + 1], s.note
-    s = longest_still_stretch(y, need, purpose)
+    s = longest_still_stretch(y, need, purpose, est)
     return s.take(y), s.note
 
 
-def regime_warning(z: ArrayLike) -> list[str]:
+def regime_warning(z: ArrayLike, est: VarianceEstimate | None = None) -> list[str]:
     """The regime warning of a fit of a whole record whose noise level varies.
 
     Parameters
     ----------
     z : array_like, shape (n,)
         The record (rate data).
+    est : VarianceEstimate, optional
+        :func:`noisevar.estimate` of ``z``, when it was made already (not made again).
 
     Returns
     -------
@@ -274,7 +282,7 @@ def regime_warning(z: ArrayLike) -> list[str]:
     from noisevar.estimators.answer import REGIME_WARNING
 
     try:
-        diag = estimate(np.asarray(z, dtype=float)).diagnostics
+        diag = (estimate(np.asarray(z, dtype=float)) if est is None else est).diagnostics
     except NoisevarError:
         return []
     if diag is None or not diag.level_varies:
