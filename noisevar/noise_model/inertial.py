@@ -344,12 +344,9 @@ def _intervals(
         full = np.sqrt([_nnls(a * w[:, None], d * w) for d in draws[: BOOTSTRAP // 2]])
         low[out] = 0.0
         high[out] = np.quantile(full[:, out], (1.0 + ci) / 2.0, axis=0)
-        # refits that all put the term at 0 say nothing of its size: bound it by what the
-        # Allan variances alone allow (all of one tau's upper limit from that term), never
-        # by a zero-width interval
-        upper = np.quantile(draws, (1.0 + ci) / 2.0, axis=0)
-        alone = np.sqrt(np.min(upper[:, None] / np.where(a > 0, a, np.nan), axis=0))
-        high[out] = np.where(high[out] > 0, high[out], alone[out])
+        # refits all at 0 say nothing of its size: what the Allan variances alone allow
+        upper = np.quantile(draws, (1.0 + ci) / 2.0, axis=0)[:, None]
+        high[out] = np.where(high[out] > 0, high[out], np.sqrt(np.min(upper / a, axis=0))[out])
     return np.column_stack([low, high])
 
 
