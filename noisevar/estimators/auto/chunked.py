@@ -18,6 +18,7 @@ import sys
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -150,6 +151,14 @@ def _pass(
     return _Pass(parts, top, hi_all - lo_all, sums, runs)
 
 
+def _spawn(f: Callable[[], Any]) -> Callable[[], Any]:
+    """``f`` started in a thread of its own; what is returned waits for its result."""
+    pool = ThreadPoolExecutor(1)
+    future = pool.submit(f)
+    pool.shutdown(wait=False)  # the thread ends with ``f``
+    return future.result
+
+
 def _join(runs: list[tuple[int, int]], more: list[tuple[int, int]]) -> list[tuple[int, int]]:
     """Runs of consecutive chunks, a run that crosses a chunk's end made one."""
     if runs and more and runs[-1][1] == more[0][0]:
@@ -230,6 +239,29 @@ class ChunkedAuto:
             run = self._run(spans, p, None, math.inf)
         return auto_reduce(run.parts, spans, p, list(self.notes))
 
+    def branches(self, *work: Callable[[], Any]) -> list[Any]:
+        """``[w() for w in work]``, run at once on the record's threads (results in order).
+
+        The pipeline's steps after the diagnostics are independent of each other (the
+        coloured-noise pass, the still regimes'). The threads are shared: ``k`` branches
+        at once, each reading in chunks with ``workers // k`` threads (never more than
+        :attr:`workers` in all; one thread: one after the other).
+        """
+        k = min(len(work), self.workers)
+        if k <= 1:
+            return [w() for w in work]
+        workers, interval = self.workers, sys.getswitchinterval()
+        self.workers = max(1, workers // k)
+        sys.setswitchinterval(SWITCH)  # Python-heavy steps (PELT) let the others' calls run
+        try:
+            with ThreadPoolExecutor(k - 1) as pool:
+                rest = [pool.submit(w) for w in work[1:]]
+                first = work[0]()
+                return [first, *(f.result() for f in rest)]
+        finally:
+            self.workers = workers
+            sys.setswitchinterval(interval)
+
     def estimate_in(self, params: dict, ranges: list[tuple[int, int]]) -> VarianceEstimate:
         """``auto`` on the sample ranges ``ranges`` only, each read in chunks, pooled.
 
@@ -284,7 +316,8 @@ class ChunkedAuto:
             raise NoisevarError("the record has not been estimated yet")
         head, e = self.read(0, min(self.n, POWER_LAW_MAX)), self.exponent
         seg = Segmentation(((0, self.n),), ())
-        return from_sums(self.sums, seg, lambda: np.ldexp(head, e) if e else head)
+        spawn = _spawn if self.workers > 1 else None  # the power law beside the profile
+        return from_sums(self.sums, seg, lambda: np.ldexp(head, e) if e else head, spawn)
 
     def still_ranges(self, diag: NoiseDiagnostics) -> list[tuple[int, int]]:
         """As :meth:`~noisevar.estimators.pipeline.InMemory.still_ranges`: one more pass,
