@@ -33,7 +33,7 @@ HERE = Path(__file__).resolve().parent
 RESULTS = HERE / "results"
 PHASES = (
     "pass one (estimate + diagnostic sums)",
-    "coloured-noise pass (span 11)",
+    "coloured-noise pass (span 5)",
     "diagnostics from their sums",
     "  of which the power-law identification",
     "  PELT on both grids' profiles (its halves in the row above and the reversed pass)",
