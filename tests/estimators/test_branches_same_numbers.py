@@ -79,3 +79,17 @@ def test_branches_keep_order_and_restore_the_threads():
         rec.workers = 2
         rec.branches(work(4), lambda: 1 / 0)
     assert rec.workers == 2 and sys.getswitchinterval() == interval
+
+
+def test_the_switch_interval_comes_back_whatever_order_the_users_leave_in():
+    from noisevar.estimators.auto import chunked
+
+    interval = sys.getswitchinterval()
+    switch = chunked._FAST_SWITCH
+    switch.__enter__()  # one estimate's pass starts ...
+    assert sys.getswitchinterval() == pytest.approx(chunked.SWITCH)
+    switch.__enter__()  # ... another's, in another thread
+    switch.__exit__()  # the first leaves: the second still runs at the short interval
+    assert sys.getswitchinterval() == pytest.approx(chunked.SWITCH)
+    switch.__exit__()
+    assert sys.getswitchinterval() == interval

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 import sys
+import threading
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
@@ -50,6 +51,33 @@ CHUNK = 1 << 18
 AHEAD = 2
 #: The interpreter's thread switch interval (s) while chunks run in threads.
 SWITCH = 2e-4
+
+
+class _Switch:
+    """The interpreter's switch interval at :data:`SWITCH` while any user is inside.
+
+    Counted, so that estimates in several threads at once (a dashboard's, nested passes)
+    restore the interval the first one found, whatever order they leave in.
+    """
+
+    def __init__(self) -> None:
+        self.lock, self.users, self.saved = threading.Lock(), 0, sys.getswitchinterval()
+
+    def __enter__(self) -> None:
+        with self.lock:
+            if self.users == 0:
+                self.saved = sys.getswitchinterval()
+                sys.setswitchinterval(SWITCH)
+            self.users += 1
+
+    def __exit__(self, *exc: object) -> None:
+        with self.lock:
+            self.users -= 1
+            if self.users == 0:
+                sys.setswitchinterval(self.saved)
+
+
+_FAST_SWITCH = _Switch()
 
 
 @dataclass(frozen=True)
@@ -92,19 +120,14 @@ def _in_order(work: Callable[[_Chunk], tuple], todo: list[_Chunk], workers: int)
         return
     # a thread back from a long compiled call waits for the interpreter lock at most this
     # long while the other runs Python: the chunks' short calls then overlap (restored after)
-    interval = sys.getswitchinterval()
-    sys.setswitchinterval(SWITCH)
-    try:
-        with ThreadPoolExecutor(workers) as pool:
-            queue: list[Future] = []
-            for c in todo:
-                queue.append(pool.submit(work, c))
-                if len(queue) >= AHEAD * workers:
-                    yield queue.pop(0).result()
-            for f in queue:
-                yield f.result()
-    finally:
-        sys.setswitchinterval(interval)
+    with _FAST_SWITCH, ThreadPoolExecutor(workers) as pool:
+        queue: list[Future] = []
+        for c in todo:
+            queue.append(pool.submit(work, c))
+            if len(queue) >= AHEAD * workers:
+                yield queue.pop(0).result()
+        for f in queue:
+            yield f.result()
 
 
 def _pass(
@@ -250,17 +273,15 @@ class ChunkedAuto:
         k = min(len(work), self.workers)
         if k <= 1:
             return [w() for w in work]
-        workers, interval = self.workers, sys.getswitchinterval()
+        workers = self.workers
         self.workers = max(1, workers // k)
-        sys.setswitchinterval(SWITCH)  # Python-heavy steps (PELT) let the others' calls run
-        try:
-            with ThreadPoolExecutor(k - 1) as pool:
+        try:  # Python-heavy steps (PELT) let the others' compiled calls run
+            with _FAST_SWITCH, ThreadPoolExecutor(k - 1) as pool:
                 rest = [pool.submit(w) for w in work[1:]]
                 first = work[0]()
                 return [first, *(f.result() for f in rest)]
         finally:
             self.workers = workers
-            sys.setswitchinterval(interval)
 
     def estimate_in(self, params: dict, ranges: list[tuple[int, int]]) -> VarianceEstimate:
         """``auto`` on the sample ranges ``ranges`` only, each read in chunks, pooled.
