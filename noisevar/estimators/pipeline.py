@@ -387,7 +387,7 @@ def _after_diagnostics(
     branches = getattr(record, "branches", None)
     if extra and branches is not None:
         again, (still, out) = branches(coloured, lambda: quiet(own))
-        if again.params | params == own:
+        if repr(again.params | params) == repr(own):  # the same keys, order, types, values
             return again, still, out
     else:
         again = coloured()

@@ -93,3 +93,38 @@ def test_the_switch_interval_comes_back_whatever_order_the_users_leave_in():
     assert sys.getswitchinterval() == pytest.approx(chunked.SWITCH)
     switch.__exit__()
     assert sys.getswitchinterval() == interval
+
+
+def test_still_levels_are_measured_again_when_the_coloured_result_carries_other_params(
+    monkeypatch,
+):
+    from noisevar.estimators import pipeline
+
+    z = _motion(60_000, 3)
+    coloured = pipeline._coloured
+    seen = []
+
+    def other(spec, record, result, params):
+        again = coloured(spec, record, result, params)
+        again.params = {**again.params, "trim": float(again.params["trim"]) + 0.5}
+        return again
+
+    def read(a: int, b: int) -> np.ndarray:
+        return z[max(a, 0) : b].copy()
+
+    still = pipeline._still
+
+    def counted(spec, record, params, diag):
+        seen.append(params["trim"])
+        return still(spec, record, params, diag)
+
+    monkeypatch.setattr(pipeline, "_coloured", other)
+    monkeypatch.setattr(pipeline, "_still", counted)
+    one, two = (
+        estimate_chunked(read, z.size, probe=z.__getitem__, chunk=1 << 13, workers=w)
+        for w in (1, 2)
+    )
+    trim = one.params["trim"]  # the carried one
+    # each run: the still levels with the expected parameters, then again with the carried
+    assert seen == [trim - 0.5, trim, trim - 0.5, trim]
+    assert _flat(one) == _flat(two)
