@@ -20,6 +20,7 @@ from dashboard.text import plain
 from noisevar.errors import NoisevarError
 from noisevar.io import LoadedTable, content_digest, pick_column, record_times
 from noisevar.io.logs.record import TopicsRecord
+from noisevar.units import declared_unit
 
 LOG = logging.getLogger("noisevar.dashboard")
 
@@ -267,8 +268,14 @@ def truth_of(sig: LoadedSignal) -> float | None:
 
 
 def signal_units() -> str:
-    """The units the user gave the signal on the Signal page (empty: none), e.g. ``"m"``."""
-    return str(st.session_state.get(UNITS_KEY) or "").strip()[:20]
+    """The units the user gave the signal on the Signal page, else the unit its file declares
+    for the column (a log's field, a CSV header's ``[unit]``, as the command line takes it);
+    empty: none. E.g. ``"m"``."""
+    given = str(st.session_state.get(UNITS_KEY) or "").strip()[:20]
+    sig = st.session_state.get(SIGNAL_KEY)
+    if given or not isinstance(sig, LoadedSignal):
+        return given
+    return declared_unit(sig.table.units.get(sig.column)) or ""
 
 
 def time_of(sig: LoadedSignal) -> np.ndarray | float | None:
