@@ -64,7 +64,7 @@ def make_verdict(
     """
     r = f"R = {_g(variance)} (std {_g(float(np.sqrt(max(variance, 0.0))))})"
     quiet = diag.quiet_variance if still is None else still
-    said = still_colour(diag) + indicative(still_gap)
+    said = still_said(diag, still_gap)
     not_white = _not_white(diag, r, quiet, variance, still_gap)
     if not_white is not None:
         return not_white
@@ -106,7 +106,7 @@ def _not_white(
     coloured noise.
     """
     prof = diag.level_profile
-    said = still_colour(diag) + indicative(gap)
+    said = still_said(diag, gap)
     if not diag.identifiable:
         return (
             "the record behaves like a random walk (its first difference is white): no "
@@ -169,6 +169,14 @@ def indicative(gap: str | None) -> str:
         "; this still level is indicative only (the level profile's, on another residual "
         f"than R): {reason}"
     )
+
+
+def still_said(diag: NoiseDiagnostics, gap: str | None) -> str:
+    """What a quoted still level adds: its colour (:func:`still_colour`), and why it is
+    indicative (:func:`indicative`); stretches too short for R's method are too short for
+    the whiteness test too, which the gap's reason already says once."""
+    untested = gap and diag.still_whiteness is None
+    return ("" if untested else still_colour(diag)) + indicative(gap)
 
 
 def still_level_fields(level: StillLevel, n: int) -> dict[str, str]:
