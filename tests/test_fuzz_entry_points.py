@@ -126,6 +126,15 @@ class TestSubnormalVariances:
         z = still_start(1500, 3000, rng=2) * 1e-160
         est = nv.estimate(z)
         assert math.isfinite(est.variance) and est.variance > 0
-        _refused(
-            lambda: fit_coloured_noise(z, rate=100.0, models=("white",), regimes="still")
-        )
+        _refused(lambda: fit_coloured_noise(z, rate=100.0, models=("white",), regimes="still"))
+
+
+def test_px4_range_warning_names_a_one_sided_bound():
+    """A tiny record's PX4 file said "range [0.0001, None]" (Python's None in the file)."""
+    from noisevar.noise_model import inertial_noise
+    from noisevar.noise_model.exports import export, imu_model
+
+    z = [_base(i, 4000) * 2.0**-300 for i in range(2)]
+    model = imu_model(inertial_noise(z[0], 100.0), inertial_noise(z[1], 100.0))
+    (px4,) = export(model, "px4")
+    assert "None" not in px4.text and "documented minimum 0.0001" in px4.text
