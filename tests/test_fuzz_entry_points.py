@@ -138,3 +138,15 @@ def test_px4_range_warning_names_a_one_sided_bound():
     model = imu_model(inertial_noise(z[0], 100.0), inertial_noise(z[1], 100.0))
     (px4,) = export(model, "px4")
     assert "None" not in px4.text and "documented minimum 0.0001" in px4.text
+
+
+@pytest.mark.parametrize("x", [1e300, 1e-300, 1e-160])
+def test_inertial_model_curve_at_the_float_range_edges(x):
+    """InertialNoise.model squared each term as a Python float: OverflowError at 1e300
+    (the Noise model page's Allan figure crashed)."""
+    from noisevar.noise_model import inertial_noise
+
+    z = still_start(2000, 4000, rng=3)
+    ref = inertial_noise(z, 100.0).model()[1]
+    got = inertial_noise(z * x, 100.0).model()[1]
+    np.testing.assert_allclose(got, ref * x, rtol=1e-9)
