@@ -150,3 +150,17 @@ def test_inertial_model_curve_at_the_float_range_edges(x):
     ref = inertial_noise(z, 100.0).model()[1]
     got = inertial_noise(z * x, 100.0).model()[1]
     np.testing.assert_allclose(got, ref * x, rtol=1e-9)
+
+
+@pytest.mark.parametrize("regimes", ["all", "still"])
+def test_kalman_r_interval_when_q_is_at_its_bound(regimes):
+    """With q at the bottom of its range the 2x2 curvature failed and r's interval was
+    (nan, nan) (JSON nulls from ``noisevar fit --regimes still``); r's own curvature
+    bounds it, q's is (0, inf) as when not identified."""
+    from noisevar.noise_model import fit_kalman
+
+    white = np.random.default_rng(0).normal(0, 1e-3, 3000)
+    z = still_start(2000, 4000, rng=3) if regimes == "still" else white
+    t = fit_kalman(z, "rw", rate=100.0, regimes=regimes)
+    assert t.r_interval[0] < t.r < t.r_interval[1] < 1.2 * t.r
+    assert t.q_interval == (0.0, math.inf)
