@@ -164,3 +164,25 @@ def test_kalman_r_interval_when_q_is_at_its_bound(regimes):
     t = fit_kalman(z, "rw", rate=100.0, regimes=regimes)
     assert t.r_interval[0] < t.r < t.r_interval[1] < 1.2 * t.r
     assert t.q_interval == (0.0, math.inf)
+
+
+@pytest.mark.parametrize("x", [1e154, 1e-160, 2.0**-400])
+@pytest.mark.parametrize("regimes", ["all", "still"])
+def test_cli_imu_model_auto_exit_0_or_2(tmp_path, x, regimes):
+    """``noisevar imu --model auto`` exited 3 (internal error: ValueError) at 1e154 and
+    1e-160, with or without ``--regimes still``."""
+    import contextlib
+    import io
+    import json
+
+    from noisevar.cli import main
+
+    np.save(tmp_path / "z.npy", still_start(2000, 4000, rng=3) * x)
+    out, err = io.StringIO(), io.StringIO()
+    args = ["imu", str(tmp_path / "z.npy"), "--rate", "100", "--model", "auto"]
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main([*args, "--regimes", regimes, "--format", "json"])
+    if code == 0:
+        json.loads(out.getvalue(), parse_constant=lambda c: pytest.fail(f"bare {c}"))
+    else:
+        assert code == 2 and err.getvalue().count("\n") == 1, err.getvalue()
