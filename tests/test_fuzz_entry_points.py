@@ -186,3 +186,30 @@ def test_cli_imu_model_auto_exit_0_or_2(tmp_path, x, regimes):
         json.loads(out.getvalue(), parse_constant=lambda c: pytest.fail(f"bare {c}"))
     else:
         assert code == 2 and err.getvalue().count("\n") == 1, err.getvalue()
+
+
+def test_still_composite_fit_whose_whole_record_variance_overflows():
+    """regimes='still' found the still stretch on the record as given: at 1e154 its whole
+    R (motion included) is beyond a float, so the still fit was refused; it is found on the
+    scaled record now, as allan and inertial_noise do."""
+    rng = np.random.default_rng(6)
+    motion = 30 * np.sin(np.arange(2000) / 3.0) + rng.normal(0, 30, 2000)
+    z = np.concatenate([rng.normal(0, 1, 3000), motion])
+    ref = fit_imu_model(z, 100.0, regimes="still")
+    got = fit_imu_model(z * 1e154, 100.0, regimes="still")
+    assert got.model == ref.model and got.notes[0] == ref.notes[0]
+    for a, b in zip(ref.parameters, got.parameters, strict=True):
+        power = 0 if a.name.endswith("tau_c") else 1
+        assert b.value == pytest.approx(a.value * 1e154**power, rel=1e-9)
+
+
+def test_still_coloured_fit_whose_whole_record_variance_overflows():
+    """As for the composite fit: fit_coloured_noise(regimes='still') refused a record whose
+    still R is a float but whose whole R (motion included) is not."""
+    rng = np.random.default_rng(6)
+    motion = 30 * np.sin(np.arange(2000) / 3.0) + rng.normal(0, 30, 2000)
+    z = np.concatenate([rng.normal(0, 1, 3000), motion])
+    ref = fit_coloured_noise(z, rate=100.0, models=("white",), regimes="still")
+    got = fit_coloured_noise(z * 2.0**510, rate=100.0, models=("white",), regimes="still")
+    assert got.r == pytest.approx(ref.r * 4.0**510, rel=1e-12)
+    assert got.notes == ref.notes

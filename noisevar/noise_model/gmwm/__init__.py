@@ -117,14 +117,15 @@ def fit_imu_model(
     check_regimes(regimes)
     arr = as_rows(x, axis)
     notes: list[list[str]] = [[] for _ in arr]
-    if regimes == "still":
-        cut = [longest_still_stretch(row, STILL_NEED, "the composite model") for row in arr]
+    scaled_arr, exps = scaled(arr)  # each axis at its own magnitude (scaling)
+    if regimes == "still":  # found on the scaled axis: its whole R may not be a float here
+        need = STILL_NEED
+        cut = [longest_still_stretch(row, need, "the composite model") for row in scaled_arr]
         notes = [[s.note] for s in cut]
         rows = [scaled(s.take(row)[None, :]) for s, row in zip(cut, arr, strict=True)]
         wvs = [wavelet_variances(r, robust)[0] for r, _ in rows]
         exps = [e for _, (e,) in rows]
     else:
-        scaled_arr, exps = scaled(arr)  # each axis at its own magnitude (scaling)
         wvs = wavelet_variances(scaled_arr, robust)
     kw = dict(models=models, robust=robust, unit=unit, ci=ci, criterion=criterion)
 
