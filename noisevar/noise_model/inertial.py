@@ -202,8 +202,7 @@ class InertialNoise:
         dict of str to ndarray, ndarray
         """
         t = self.allan.taus if taus is None else np.asarray(taus, dtype=float)
-        # in units of 2**k >= the largest term (exact): a term near 1e300 squares to inf
-        m = math.ldexp(1.0, math.frexp(max(abs(x.value) for x in self.terms) or 1.0)[1])
+        m = math.ldexp(1.0, math.frexp(max(abs(x.value) for x in self.terms) or 1.0)[1])  # exact
         parts = {s.name: s.coefficient(t) * (self.term(s.name).value / m) ** 2 for s in TERMS}
         total = np.sum(list(parts.values()), axis=0)
         return {k: np.sqrt(v) * m for k, v in parts.items()}, np.sqrt(total) * m
