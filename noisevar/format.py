@@ -9,6 +9,7 @@ whole number at the chosen significant digits.
 from __future__ import annotations
 
 import math
+from decimal import Decimal
 from numbers import Real
 
 #: SI prefixes by power of ten (engineering exponents).
@@ -98,7 +99,7 @@ def eng(value: object, unit: str = "", digits: int = 4) -> str:
     if v == 0 or 1 <= abs(v) < 1e6 or (not _prefixable(unit) and 1e-3 <= abs(v) < 1):
         return _plain(v, digits) + tail
     e3 = 3 * int(math.floor(math.log10(abs(v)) / 3))
-    mantissa = float(f"{v / 10.0**e3:.{digits}g}")
+    mantissa = float(f"{Decimal(v).scaleb(-e3):.{digits}g}")  # exact: 10**e3 is 0 below 1e-323
     if abs(mantissa) >= 1000:  # rounding carried into the next group: 999.96 -> 1000
         e3, mantissa = e3 + 3, mantissa / 1000
     m_text = _plain(mantissa, digits)

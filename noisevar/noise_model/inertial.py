@@ -204,9 +204,10 @@ class InertialNoise:
         dict of str to ndarray, ndarray
         """
         t = self.allan.taus if taus is None else np.asarray(taus, dtype=float)
-        parts = {s.name: s.coefficient(t) * self.term(s.name).value ** 2 for s in TERMS}
+        m = math.ldexp(1.0, math.frexp(max(abs(x.value) for x in self.terms) or 1.0)[1])  # exact
+        parts = {s.name: s.coefficient(t) * (self.term(s.name).value / m) ** 2 for s in TERMS}
         total = np.sum(list(parts.values()), axis=0)
-        return {k: np.sqrt(v) for k, v in parts.items()}, np.sqrt(total)
+        return {k: np.sqrt(v) * m for k, v in parts.items()}, np.sqrt(total) * m
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-safe dictionary: the terms, and the Allan deviation fitted."""

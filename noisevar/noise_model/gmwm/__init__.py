@@ -37,6 +37,7 @@ from noisevar.noise_model.gmwm.model import (
     ModelRow,
     Parameter,
 )
+from noisevar.noise_model.gmwm.scaling import scaled
 
 __all__ = [
     "AUTO",
@@ -116,17 +117,20 @@ def fit_imu_model(
     check_regimes(regimes)
     arr = as_rows(x, axis)
     notes: list[list[str]] = [[] for _ in arr]
-    if regimes == "still":
-        cut = [longest_still_stretch(row, STILL_NEED, "the composite model") for row in arr]
+    scaled_arr, exps = scaled(arr)  # each axis at its own magnitude (scaling)
+    if regimes == "still":  # found on the scaled axis: its whole R may not be a float here
+        need = STILL_NEED
+        cut = [longest_still_stretch(row, need, "the composite model") for row in scaled_arr]
         notes = [[s.note] for s in cut]
-        rows = [s.take(row)[None, :] for s, row in zip(cut, arr, strict=True)]
-        wvs = [wavelet_variances(r, robust)[0] for r in rows]
+        rows = [scaled(s.take(row)[None, :]) for s, row in zip(cut, arr, strict=True)]
+        wvs = [wavelet_variances(r, robust)[0] for r, _ in rows]
+        exps = [e for _, (e,) in rows]
     else:
-        wvs = wavelet_variances(arr, robust)
+        wvs = wavelet_variances(scaled_arr, robust)
     kw = dict(models=models, robust=robust, unit=unit, ci=ci, criterion=criterion)
 
     def one(i: int) -> ImuModel:
-        fit = fit_wv(wvs[i], rate, horizon=horizon, **kw)
+        fit = fit_wv(wvs[i], rate, horizon=horizon, e=exps[i], **kw)
         extra = notes[i] if regimes == "still" else motion_note(arr[i], fit)
         return replace(fit, notes=(*extra, *fit.notes)) if extra else fit
 
@@ -203,15 +207,15 @@ def fit_imu_records(
     """
     if len(records) == 0:
         raise NoisevarError("records is empty: give at least one record.")
-    wvs = []
-    for r in records:
-        arr = as_rows(r, 0)
-        if arr.shape[0] != 1:
-            raise NoisevarError("each record must be 1-D (one axis).")
-        wvs += wavelet_variances(arr, robust)
+    arrs = [as_rows(r, 0) for r in records]
+    if any(arr.shape[0] != 1 for arr in arrs):
+        raise NoisevarError("each record must be 1-D (one axis).")
+    _, (e,) = scaled(np.concatenate(arrs, axis=None)[None, :])  # one scale: one unit
+    wvs = [wavelet_variances(np.ldexp(arr, e), robust)[0] for arr in arrs]
     fit = fit_wv(
         pooled(wvs),
         rate,
+        e=e,
         models=models,
         robust=robust,
         unit=unit,
