@@ -44,7 +44,7 @@ from noisevar.estimators._scale import check_answer, unscale
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
 from noisevar.estimators.spec import MethodSpec
 from noisevar.estimators.still_levels import other_still_levels
-from noisevar.estimators.still_set import STILL_MIN, still_gap
+from noisevar.estimators.still_set import STILL_MIN, has_still_apart, still_gap
 
 #: The method's coloured-noise parameters are used below this whiteness p-value (far
 #: below the flag's 5 %, so that white noise that fails the test by chance keeps the
@@ -354,7 +354,7 @@ def run_record(
         if diag.whiteness.p_value < COLOURED_P or diag.differenced:
             result = _coloured(spec, record, result, params)
         own = result.params | params
-        still = _still(spec, record, own, diag)
+        still = _still(spec, record, own, diag, result.variance)
         if still is not None:  # its interval from the record's noise; the diagnostics
             still = conclude(spec, still, diag, None)  # stay on the record's own result
             still.diagnostics = None
@@ -365,16 +365,17 @@ def run_record(
 
 
 def _still(
-    spec: MethodSpec, record: Record, params: dict, diag: NoiseDiagnostics
+    spec: MethodSpec, record: Record, params: dict, diag: NoiseDiagnostics, variance: float
 ) -> VarianceEstimate | None:
-    """The method on the still regimes' quiet stretches, when the level varies (else None).
+    """The method on the still regimes' quiet stretches, when they are apart (else None:
+    :func:`~noisevar.estimators.still_set.has_still_apart` of ``diag`` and R ``variance``).
 
     The sensor's own noise, on the same residual as the record's R (docs/algorithms.md
     §E1 Regimes); None when the record cannot be cut (read in chunks) or the stretches
     are too short for the method.
     """
     estimate_in = getattr(record, "estimate_in", None)
-    if not diag.level_varies or estimate_in is None:
+    if not has_still_apart(diag, variance) or estimate_in is None:
         return None
     ranges = diag.level_profile.still_stretches
     both = getattr(record, "still_ranges", None)
