@@ -215,13 +215,15 @@ def level_may_vary(row: NDArray) -> bool:
     nb = n // block
     if nb < 2:
         return True
-    d = np.diff(row[: nb * block + 1]).reshape(nb, block)
-    sq = np.einsum("ij,ij->i", d, d)
+    d2 = np.square(np.diff(row[: nb * block + 1])).reshape(nb, block)
+    sq = d2.sum(axis=1)
     total = float(np.sum(sq))
     if not (np.isfinite(total) and total > 0):
         return True
-    scale = total / d.size
-    kurt = float(np.einsum("ij,ij,ij,ij->", d, d, d, d)) / d.size / scale**2
+    scale = total / d2.size
+    kurt = float(np.einsum("ij,ij->", d2, d2)) / d2.size / scale**2
+    if not np.isfinite(kurt):
+        return True
     nu = block / 1.5 * 2.0 / max(kurt - 1.0, 2.0)
     sums, tests = [sq / (block * scale)], nb
     while sums[-1].size >= 4:
