@@ -45,3 +45,15 @@ def test_heavy_tails_are_not_motion(seed: int) -> None:
     e = noisevar.estimate(z)
     assert not e.diagnostics.level_varies and e.still is None
     assert variance_for(e, "still") == e.variance
+
+
+def test_answer_and_fits_say_the_level_varies() -> None:
+    # one regime by the block medians, but a still R apart: every page says it varies
+    from noisevar.estimators.answer import record_answer
+    from noisevar.noise_model.allan import regime_warning
+
+    z = _burst(0)
+    e = noisevar.estimate(z)
+    assert not e.diagnostics.level_varies and e.still is not None
+    assert record_answer(e).level_varies
+    assert regime_warning(z)
