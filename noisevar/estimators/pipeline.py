@@ -379,8 +379,7 @@ def _after_diagnostics(
         return _coloured(spec, record, result, params) if extra else result
 
     def quiet(own: dict) -> tuple[VarianceEstimate | None, NoiseDiagnostics]:
-        # whether the still stretches are apart: on the first R (the branches run at once)
-        still = _still(spec, record, own, diag, result.variance)
+        still = _still(spec, record, own, diag, result.variance)  # the first R: run at once
         if still is None:
             return None, diag
         still = conclude(spec, still, diag, None)  # its interval from the record's noise;
@@ -400,8 +399,7 @@ def _after_diagnostics(
 def _still(
     spec: MethodSpec, record: Record, params: dict, diag: NoiseDiagnostics, variance: float
 ) -> VarianceEstimate | None:
-    """The method on the still regimes' quiet stretches, when they are apart (else None:
-    :func:`~noisevar.estimators.still_set.has_still_apart` of ``diag`` and R ``variance``).
+    """The method on the still regimes' quiet stretches, when apart (``has_still_apart``).
 
     The sensor's own noise, on the same residual as the record's R (docs/algorithms.md
     §E1 Regimes); None when the record cannot be cut (read in chunks) or the stretches
