@@ -75,7 +75,9 @@ def make_verdict(
             "follows the signal's offset within a step, which is quantisation, not a changing "
             f"sensor; {r} includes the rounding error"
         )
-    if diag.level_varies:
+    # a still R apart from R (estimators.still_set.has_still_apart): the level varies,
+    # though the block medians may not split it into regimes
+    if diag.level_varies or still is not None:
         return (
             f"the noise level changes along the record: {r} is an average; its quiet "
             f"stretches ({prof.quiet_share:.0%}) give {_g(quiet)}{said}"

@@ -44,7 +44,7 @@ from noisevar.estimators._scale import check_answer, unscale
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
 from noisevar.estimators.spec import MethodSpec
 from noisevar.estimators.still_levels import other_still_levels
-from noisevar.estimators.still_set import STILL_MIN, still_gap
+from noisevar.estimators.still_set import STILL_MIN, has_still_apart, still_gap
 
 #: The method's coloured-noise parameters are used below this whiteness p-value (far
 #: below the flag's 5 %, so that white noise that fails the test by chance keeps the
@@ -379,7 +379,7 @@ def _after_diagnostics(
         return _coloured(spec, record, result, params) if extra else result
 
     def quiet(own: dict) -> tuple[VarianceEstimate | None, NoiseDiagnostics]:
-        still = _still(spec, record, own, diag)
+        still = _still(spec, record, own, diag, result.variance)  # the first R: run at once
         if still is None:
             return None, diag
         still = conclude(spec, still, diag, None)  # its interval from the record's noise;
@@ -397,16 +397,16 @@ def _after_diagnostics(
 
 
 def _still(
-    spec: MethodSpec, record: Record, params: dict, diag: NoiseDiagnostics
+    spec: MethodSpec, record: Record, params: dict, diag: NoiseDiagnostics, variance: float
 ) -> VarianceEstimate | None:
-    """The method on the still regimes' quiet stretches, when the level varies (else None).
+    """The method on the still regimes' quiet stretches, when apart (``has_still_apart``).
 
     The sensor's own noise, on the same residual as the record's R (docs/algorithms.md
     §E1 Regimes); None when the record cannot be cut (read in chunks) or the stretches
     are too short for the method.
     """
     estimate_in = getattr(record, "estimate_in", None)
-    if not diag.level_varies or estimate_in is None:
+    if not has_still_apart(diag, variance) or estimate_in is None:
         return None
     ranges = diag.level_profile.still_stretches
     both = getattr(record, "still_ranges", None)

@@ -282,10 +282,12 @@ def regime_warning(z: ArrayLike, est: VarianceEstimate | None = None) -> list[st
     from noisevar.estimators.answer import REGIME_WARNING
 
     try:
-        diag = (estimate(np.asarray(z, dtype=float)) if est is None else est).diagnostics
+        est = estimate(np.asarray(z, dtype=float)) if est is None else est
     except NoisevarError:
         return []
-    if diag is None or not diag.level_varies:
+    diag = est.diagnostics
+    # a still R apart from one regime (estimators.still_set.has_still_apart) too
+    if diag is None or not (diag.level_varies or est.still is not None):
         return []
     return [
         f"regimes='all': {REGIME_WARNING}; this fit is of the whole record, motion "

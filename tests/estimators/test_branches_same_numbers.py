@@ -114,9 +114,9 @@ def test_still_levels_are_measured_again_when_the_coloured_result_carries_other_
 
     still = pipeline._still
 
-    def counted(spec, record, params, diag):
+    def counted(spec, record, params, diag, *rest):
         seen.append(params["trim"])
-        return still(spec, record, params, diag)
+        return still(spec, record, params, diag, *rest)
 
     monkeypatch.setattr(pipeline, "_coloured", other)
     monkeypatch.setattr(pipeline, "_still", counted)
