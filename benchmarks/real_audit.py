@@ -173,6 +173,8 @@ def verdict_checks(est) -> list[str]:
             bad.append(f"verdict quotes {quoted:.4g}, est.still is {est.still.variance:.4g}")
     if est.still is not None and est.still.ci95[0] > est.ci95[1]:
         bad.append(f"still level {est.still.variance:.4g} above R's ci95 {est.ci95}")
+    if re.search(r"coloured: white at [\d-]+ samples? \(", v):
+        bad.append("coloured, and the only colour named is white")
     if flags.get("differenced") and "coloured" in v:
         bad.append("differenced and coloured both")
     quiet, share = d.quiet_variance, d.level_profile.quiet_share
