@@ -110,7 +110,8 @@ def _ppg_iso() -> tuple[dict, float]:
 
 def _co2() -> tuple[dict, float]:
     raw = _refdata.wheel_file(_refdata.STATSMODELS, "statsmodels/datasets/co2/co2.csv")
-    return _loaded(raw, "co2.csv")
+    cols, rate = _loaded(raw, "co2.csv")
+    return {"co2": cols["co2"]}, rate  # its yyyymmdd ``date`` column is data, not a signal
 
 
 def _log(topic: str, fields: dict[str, str]) -> Callable[[], tuple[dict, float]]:
@@ -195,7 +196,8 @@ def ingestion(z: np.ndarray, rate: float) -> list[dict]:
             else:
                 np.save(path, content)
             flags = ["--column", "value"] if fname.endswith(".csv") else []
-            if kw.pop("drop", False):
+            drop = kw.pop("drop", False)
+            if drop:
                 flags.append("--drop-nonfinite")
             rc, out, err = _cli(path, *flags)
             fail = []
@@ -209,7 +211,8 @@ def ingestion(z: np.ndarray, rate: float) -> list[dict]:
                 fail.append("accepted a file it should refuse")
             row = {"variant": what, "rc": rc, "err": err[:160], "fail": fail}
             if rc == 0 and kw:
-                py = noisevar.estimate(np.asarray(kw.pop("z")), t=kw.pop("t", None))
+                z_py, t_py = np.asarray(kw["z"]), kw.get("t")
+                py = noisevar.estimate(z_py, t=t_py, drop_nonfinite=drop)
                 r = out["variance"]
                 row |= {"R": r, "py": py.variance, "notes": "; ".join(out.get("notes", []))[:160]}
                 if abs(r - py.variance) > SAME * py.variance:

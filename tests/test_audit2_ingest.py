@@ -1,8 +1,12 @@
 """Ingestion classes of the second real-record audit (benchmarks/real_audit2.py)."""
 
+import json
+
 import numpy as np
 import pytest
 
+import noisevar
+from noisevar.cli import main
 from noisevar.io import load_table
 
 
@@ -24,3 +28,14 @@ def test_a_date_column_of_numbers_stays_data():
     t = load_table(text.encode(), "co2.csv")
     assert t.time_column is None
     assert t.data_columns == ["date", "co2"]
+
+
+def test_columns_all_on_a_one_column_file(tmp_path, capsys):
+    """pywt's ECG, heartpy's PPG, statsmodels' co2 as one-column CSVs: ``estimate FILE
+    --columns all`` exited 3 (internal error: 'VarianceEstimate' object is not iterable)."""
+    z = np.random.default_rng(0).normal(size=300)
+    path = tmp_path / "one.csv"
+    path.write_text("ecg\n" + "\n".join(f"{v:.17g}" for v in z) + "\n")
+    assert main(["estimate", str(path), "--columns", "all", "--format", "json"]) == 0
+    (row,) = json.loads(capsys.readouterr().out)["channels"]
+    assert row["variance"] == pytest.approx(noisevar.estimate(z).variance, rel=1e-9)

@@ -220,7 +220,8 @@ def _estimate_many(args: argparse.Namespace, columns: Any, method: str, params: 
             zs.append(np.asarray(pick_column(table, name, drop_nonfinite=drop), dtype=float))
         except NoisevarError as exc:
             raise NoisevarError(f"column {name!r}: {exc}") from None
-    if len({z.size for z in zs}) == 1:  # one 2-D estimate, vectorised where the method allows
+    if len(zs) > 1 and len({z.size for z in zs}) == 1:  # one 2-D estimate, vectorised
+        # where the method allows (one row of 2-D is one signal: estimate returns it alone)
         results = list(estimate(np.stack(zs), method=method, axis=-1, **params))
     else:
         results = [estimate(z, method=method, **params) for z in zs]
