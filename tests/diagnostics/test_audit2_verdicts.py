@@ -17,3 +17,19 @@ def test_coloured_verdict_never_names_only_white_slopes():
     assert d.verdict.startswith("the noise is coloured")
     assert "coloured: white at" not in d.verdict
     assert "coloured: lag-1 autocorrelation +" in d.verdict
+
+
+def test_a_constant_stretch_is_no_still_level():
+    """heartpy's PPG class: the sensor lost contact and wrote 0 for 836 samples. The
+    quiet stretches "gave 0", and under a linear trend that stretch became the R to use
+    (7.7e-25). A flat stretch is a dropout, not the sensor's still noise."""
+    n = 15000
+    rng = np.random.default_rng(0)
+    z = 50.0 * np.sin(np.arange(n) / 40.0) + rng.normal(size=n)
+    z[2100:2940] = 0.0
+    trend = np.linspace(0.0, 1e3 * np.std(z), n)
+    for y in (z, z + trend):
+        est = noisevar.estimate(y)
+        assert est.still is not None
+        assert 0.9 < est.still.variance < 1.1
+        assert not any(g.still and g.variance < 1e-6 for g in est.diagnostics.regimes)
