@@ -203,14 +203,14 @@ def find_regimes(start: NDArray, stop: NDArray, level: NDArray, dof: NDArray) ->
     regime's upper 95 % bound joins it. One regime is one level: still, as far as the
     record can tell. A regime the test leaves out below that bound is near-still: another
     still level (another posture, slow sway), which the result reports on its own. A flat
-    regime (:data:`FLAT_RATIO`: constant samples, a dropout) is neither, and takes no part.
+    regime (:data:`FLAT_RATIO`: constant samples, a dropout) is neither, and takes no part,
+    nor does a lone block at its edge (:func:`_not_flat`).
     """
     breaks = regime_breaks(level, dof)
     bounds = [*breaks, level.size]
     spans = list(zip(bounds, bounds[1:], strict=False))
     pooled = [_pool(level[a:b], dof[a:b]) for a, b in spans]
-    top = max(x for x, _ in pooled)
-    live = [i for i, (x, _) in enumerate(pooled) if x > FLAT_RATIO * top] or list(range(len(spans)))
+    live = _not_flat(pooled, spans)
     cap = _cap([pooled[i] for i in live])
     phi = _dispersion(level, dof, [spans[i] for i in live if pooled[i][0] <= cap])
     floor = {live[j] for j in _floor([(pooled[i][0], pooled[i][1] / phi) for i in live], cap)}
@@ -221,6 +221,19 @@ def find_regimes(start: NDArray, stop: NDArray, level: NDArray, dof: NDArray) ->
         near = not still and i in live and x <= cap
         out.append(Regime(int(start[a]), int(stop[b - 1]), x, lo, hi, nu, still, near))
     return tuple(out)
+
+
+def _not_flat(pooled: list[tuple[float, float]], spans: list[tuple[int, int]]) -> list[int]:
+    """Indices of the regimes that are no flat stretch, nor one block at a flat one's edge.
+
+    A flat regime (level at most :data:`FLAT_RATIO` times the highest) is constant samples;
+    a lone block beside it straddles its edge, its mean square diluted by the constant
+    samples it holds. All of them when every regime is flat.
+    """
+    top = max(x for x, _ in pooled)
+    flat = {i for i, (x, _) in enumerate(pooled) if x <= FLAT_RATIO * top}
+    edge = {i for i, (a, b) in enumerate(spans) if b - a == 1 and flat & {i - 1, i + 1}}
+    return [i for i in range(len(spans)) if i not in flat | edge] or list(range(len(spans)))
 
 
 def _cap(pooled: list[tuple[float, float]]) -> float:

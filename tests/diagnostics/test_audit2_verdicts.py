@@ -28,7 +28,7 @@ def test_a_constant_stretch_is_no_still_level():
     z = 50.0 * np.sin(np.arange(n) / 40.0) + rng.normal(size=n)
     z[2100:2940] = 0.0
     trend = np.linspace(0.0, 1e3 * np.std(z), n)
-    for y in (z, z + trend):
+    for y in (z, z + trend, z[1:], z[3:]):
         est = noisevar.estimate(y)
         assert est.still is not None
         assert 0.9 < est.still.variance < 1.1
