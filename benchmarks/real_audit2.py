@@ -276,7 +276,8 @@ def synthetic() -> list[str]:
         "sample moves R x0.05, outside its ci95): "
         "a slow walk + white noise std 4e-4 (variance 1.6e-7) + one 0.22 glitch (seed 0): R = "
         + ", ".join(f"{v:.3g} at sample {k}" for k, v in glitch.items())
-        + f" (x{glitch[0] / glitch[300]:.2f} at the edge). The glitch is kept as noise ('outlying samples: noise, so in the variance') "
+        + f" (x{glitch[0] / glitch[300]:.2f} at the edge). The glitch is kept as noise "
+        "('outlying samples: noise, so in the variance') "
         "inside, but the edge fit absorbs most of it at sample 0. Its home is the auto "
         "pipeline's edge residuals (`estimators/auto/`, speed26c's area): not touched.",
         "- **the quiet level of a one-level record on another residual than R** (ECG x0.27, "
