@@ -184,6 +184,30 @@ def _variants(z: np.ndarray, rate: float) -> dict[str, tuple[str, bytes | np.nda
     }  # fmt: skip
 
 
+def log_cli() -> list[dict]:
+    """The CLI on a topic of the PX4 ULog against Python on the same topic with its times,
+    and Python on int16 / float32 arrays against the same numbers as float64."""
+    t = load_table(ROOT / _PX4, topic="sensor_combined", fields=["gyro_rad[0]"])
+    z = pick_column(t, "gyro_rad[0]")
+    rc, out, err = _cli(ROOT / _PX4, "--topic", "sensor_combined", "--column", "gyro_rad[0]")
+    py = noisevar.estimate(z, t=t.time()).variance
+    row = {"variant": "ULog topic (--topic sensor_combined --column gyro_rad[0])", "rc": rc}
+    row |= {"err": err[:160], "py": py, "fail": [] if rc == 0 else [f"exit {rc}: {err[-120:]}"]}
+    if rc == 0:
+        row |= {"R": out["variance"], "notes": "; ".join(out.get("notes", []))[:160]}
+        if abs(out["variance"] - py) > SAME * py:
+            row["fail"].append(f"CLI R {out['variance']:.6g}, Python {py:.6g}")
+    rows = [row]
+    seis, _ = _seis_uh4_values()
+    for what, arr in (("int16", np.round(seis - np.median(seis)).astype(np.int16)),
+                      ("float32", seis.astype(np.float32))):  # fmt: skip
+        a, b = noisevar.estimate(arr).variance, noisevar.estimate(arr.astype(float)).variance
+        fail = [] if abs(a - b) <= SAME * b else [f"x{a / b:.9g} the float64 copy's R"]
+        rows.append({"variant": f"Python estimate() on {what}", "rc": "-", "R": a, "py": b,
+                     "err": "against estimate(arr.astype(float))", "fail": fail})  # fmt: skip
+    return rows
+
+
 def ingestion(z: np.ndarray, rate: float) -> list[dict]:
     """The CLI on files a user has, against ``noisevar.estimate`` on the same numbers."""
     clean = noisevar.estimate(z)
@@ -321,7 +345,8 @@ def report(rows: list[dict], ing: list[dict], loaded: dict, wall: float) -> str:
         f"## Ingestion: the CLI on the files a user has ({n_ing} of {len(ing)} pass)",
         "",
         "One real record (seis_uh4, 100 Hz) written as each file; Python is "
-        "`noisevar.estimate` on the same numbers (and times, when the file has them).",
+        "`noisevar.estimate` on the same numbers (and times, when the file has them); then "
+        "the committed PX4 ULog's topic through the CLI, and Python on int16 / float32.",
         "",
         "| file | exit | CLI R | Python R | notes / stderr | failures |",
         "|---|---|---|---|---|---|",
@@ -348,7 +373,7 @@ def main() -> None:
         loaded[name] = (", ".join(f"{c} ({v.size})" for c, v in channels.items()), rate)
         rows += audit_channels(name, channels, rate, imu=imu)
         print(name, f"{time.time() - t0:.0f} s", flush=True)
-    ing = ingestion(*_seis_uh4_values()) if a.records in "seis_uh4" else []
+    ing = [*ingestion(*_seis_uh4_values()), *log_cli()] if not a.records else []
     text = report(rows, ing, loaded, time.time() - t0)
     if not a.records:
         text += "\n" + "\n".join(synthetic()) + "\n"
