@@ -10,6 +10,7 @@ from noisevar.diagnostics.power_law import WHITE, describe
 from noisevar.format import eng
 
 if TYPE_CHECKING:
+    from noisevar.diagnostics.regimes import StillLevel
     from noisevar.diagnostics.results import NoiseDiagnostics
 
 #: The quiet stretches cover less than this share: the record is mostly motion.
@@ -172,6 +173,30 @@ def indicative(gap: str | None) -> str:
     )
 
 
+def still_level_fields(level: StillLevel, n: int) -> dict[str, str]:
+    """A near-still regime's stretch, share, level and interval, as every page says them.
+
+    Parameters
+    ----------
+    level : StillLevel
+        One of ``NoiseDiagnostics.other_still``.
+    n : int
+        Samples in the record.
+
+    Returns
+    -------
+    dict
+        ``stretch`` ("samples 300-5400"), ``share`` of the record ("76%"), ``level`` and
+        its ``ci95`` as multiples of the R to use ("2.20x", "1.95-2.48x").
+    """
+    return {
+        "stretch": f"samples {level.start}-{level.stop}",
+        "share": f"{(level.stop - level.start) / max(n, 1):.0%}",
+        "level": f"{level.ratio:.2f}x",
+        "ci95": f"{level.lo:.2f}-{level.hi:.2f}x",
+    }
+
+
 def other_still_clause(diag: NoiseDiagnostics) -> str:
     """What the other still levels add to the verdict ('' when there is none).
 
@@ -180,11 +205,9 @@ def other_still_clause(diag: NoiseDiagnostics) -> str:
     """
     if not diag.other_still:
         return ""
-    n = max(diag.n, 1)
     said = "; ".join(
-        f"samples {x.start}-{x.stop} ({(x.stop - x.start) / n:.0%} of the record) at "
-        f"{x.ratio:.2f}x (ci95 {x.lo:.2f}-{x.hi:.2f}x)"
-        for x in diag.other_still
+        f"{f['stretch']} ({f['share']} of the record) at {f['level']} (ci95 {f['ci95']})"
+        for f in (still_level_fields(x, diag.n) for x in diag.other_still)
     )
     return (
         f". Other still stretches rest at a higher level on the same residual: {said}: "
@@ -234,6 +257,7 @@ def make_notes(diag: NoiseDiagnostics) -> tuple[str, ...]:
     if diag.gaps:
         kinds = {g.kind for g in diag.gaps}
         what = "gaps" if kinds == {"gap"} or kinds == {"nan"} else "gaps or irregular steps"
+        what = what if len(diag.gaps) > 1 else what.replace("gaps", "gap").replace("steps", "step")
         notes.append(
             f"{len(diag.gaps)} {what} (first at sample {diag.gaps[0].index}): the record was "
             "estimated per uniform segment and pooled, not spliced"

@@ -210,7 +210,9 @@ def _period_from_time(t: NDArray, notes: list[str]) -> float | None:
     if spread > UNIFORM_TOLERANCE:
         notes.append(
             f"sampling is not uniform: steps from {dt.min():.4g} s to {dt.max():.4g} s "
-            f"(median {period:.4g} s); the estimators assume uniform sampling"
+            f"(median {period:.4g} s); noise-variance estimates split the record at its gaps "
+            "and pool the uniform segments; the Allan deviation and the filter fits take it "
+            "as uniform"
         )
     return period
 

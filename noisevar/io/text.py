@@ -208,6 +208,10 @@ def table_layout(text: str, name: str, complete: bool) -> tuple[_Format, list[st
     head = _head_lines(text, name, complete)
     fmt = _sniff_format([ln for _, ln in head])
     first = _split(head[0][1], fmt.delim) if fmt.thousands != "," or fmt.delim else [head[0][1]]
+    if fmt.delim is None and len(first) > 1 and not all(_is_number(c, fmt) for c in first):
+        # a one-column file whose name has spaces ("clock [ns]"): every data row one field
+        if len(head) > 1 and all(len(_split(ln, None)) == 1 for _, ln in head[1:]):
+            first = [head[0][1].strip()]
     _check_width(name, first, head, fmt)
     if not all(_is_number(c, fmt) for c in first):
         if len(head) < 2:
