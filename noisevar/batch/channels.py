@@ -129,7 +129,9 @@ def channel_estimates(
         except NoisevarError as exc:
             read.append(str(exc))
     ok = [r for r in read if not isinstance(r, str)]
-    if ok and len(ok) == len(read) and len({z.size for z, _ in ok}) == 1:
+    # one 2-D estimate for two channels or more (one row of 2-D is one signal: estimate
+    # returns it alone, not a list)
+    if len(ok) > 1 and len(ok) == len(read) and len({z.size for z, _ in ok}) == 1:
         try:
             stacked = np.stack([z for z, _ in ok])
             return list(estimate(stacked, method=method, t=ok[0][1], **kw))

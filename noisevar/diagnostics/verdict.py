@@ -6,7 +6,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from noisevar.diagnostics.power_law import describe
+from noisevar.diagnostics.power_law import WHITE, describe
 from noisevar.format import eng
 
 if TYPE_CHECKING:
@@ -145,9 +145,11 @@ def _not_white(
             f"smoother, not coloured noise{indicative(gap)}"
         )
     if not diag.white:
+        # slopes that read white at every factor name no colour: the lag-1 correlation does
+        coloured = any(alpha != WHITE for _, alpha in diag.power_law)
         kind = (
             f"{describe(diag.power_law)} (power-law identification)"
-            if diag.power_law
+            if coloured
             else f"lag-1 autocorrelation {diag.whiteness.lag1:+.2f} beyond white noise's"
         )
         return (

@@ -29,7 +29,8 @@ CSV / TSV / whitespace-separated text
     :func:`pick_column` for the column actually used, unless asked to drop).
     A column named like a time (``t``, ``time``, ``time_s``, ``timestamp``,
     ``seconds``...) gives the sample period (median step); ISO date-times in
-    it are converted to seconds from the first.
+    it are converted to seconds from the first. A column named ``datetime`` or ``date``
+    is the time column when it holds date-times (``19580329`` there stays data).
 ``.npy``
     Read with ``np.load(allow_pickle=False)`` only (a pickled object array is
     refused: loading it could run code). A 1-D array is one column
