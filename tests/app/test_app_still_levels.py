@@ -23,6 +23,7 @@ APP = str(ROOT / "app.py")
 
 import noisevar  # noqa: E402
 from dashboard.state import SIGNAL_KEY, make_signal  # noqa: E402
+from noisevar import synth  # noqa: E402
 from noisevar.estimators.answer import STILL_LEVELS_NOTE, record_answer  # noqa: E402
 from noisevar.io import load_table  # noqa: E402
 
@@ -33,17 +34,8 @@ pytestmark = pytest.mark.filterwarnings("ignore:overflow encountered in exp:Runt
 
 
 def postures(seed: int, raised: float = 2.2) -> np.ndarray:
-    """A short rest at σ² = 1, a long one at ``raised`` (another posture), motion between
-    (the record of tests/estimators/test_other_still_levels.py, its long rest shorter)."""
-    rng = np.random.default_rng(seed)
-    parts = []
-    for kind, n in (("s", 300), ("m", 400), ("r", 1500), ("m", 400), ("s", 300)):
-        t = np.arange(n)
-        if kind == "m":
-            parts.append(30 * np.sin(2 * np.pi * t / 40) * np.hanning(n) + rng.normal(0, 30, n))
-        else:
-            parts.append(rng.normal(0.0, np.sqrt(raised if kind == "r" else 1.0), n))
-    return np.concatenate(parts)
+    """Two still levels, motion between (:func:`noisevar.synth.postures`)."""
+    return synth.postures(raised, rest=1500, rng=seed)
 
 
 def _csv(columns: dict[str, np.ndarray]) -> bytes:
