@@ -132,6 +132,7 @@ def test_python_command_line_and_batch(record, capsys, tmp_path) -> None:
     still = row["still_variance"]
     assert (None if pd.isna(still) else float(still)) == _still(est)
     assert _first_clause(str(row["verdict"])) == _first_clause(est.diagnostics.verdict)
+    assert row["verdict"] == est.diagnostics.verdict
 
 
 def test_dashboard_functions_and_exports(record) -> None:
@@ -155,7 +156,7 @@ def test_estimator_page_and_its_config(record) -> None:
     at = _page(record, "app_pages/Estimator.py", est_method="auto", **{EXPORT_KEY: True})
     metrics = {m.label: m.value for m in at.metric}
     assert metrics["Noise variance"] == fmt(est.variance)
-    assert _says(at, _first_clause(est.diagnostics.verdict))
+    assert _says(at, est.diagnostics.verdict)
     (cfg,) = [json.loads(c.value) for c in at.code if c.value.lstrip().startswith("{")]
     assert cfg["method"] == "auto"
     assert cfg["record"]["answer"] == record_answer(est).sentence()
@@ -184,6 +185,15 @@ def test_two_sensors_page(record) -> None:
     (table,) = [d.value for d in at.dataframe if "sensor" in d.value.columns]
     assert table.set_index("sensor").loc["z", "single-signal estimate (auto)"] == est.variance
     assert any(b.startswith(f"**z**: {est.diagnostics.verdict}") for b in _boxes(at))
+    assert _says(at, record_answer(est).sentence())
+    if est.still is not None:
+        at.checkbox(key="ts_regimes").check().run()
+        _clean(at)
+        metrics = {m.label: m.value for m in at.metric}
+        assert metrics["z: noise variance"] == fmt(est.still.variance)
+        (table,) = [d.value for d in at.dataframe if "sensor" in d.value.columns]
+        still = table.set_index("sensor").loc["z", "single-signal estimate (auto)"]
+        assert still == est.still.variance
 
 
 def test_fleet_page_on_one_file(record) -> None:
@@ -202,6 +212,11 @@ def test_fleet_page_on_one_file(record) -> None:
     if est.diagnostics.level_varies:
         (warning,) = [w.value for w in at.warning if "noise level varies" in w.value]
         assert f"· z: {est.diagnostics.verdict}" in warning
+        at.checkbox(key="fl_regimes").check().run()
+        _clean(at)
+        (scores,) = [d.value for d in at.dataframe if "sentence" in d.value.columns]
+        scores = scores.set_index("channel")
+        assert scores.loc["z", "std"] == pytest.approx(np.sqrt(est.still.variance), rel=1e-12)
 
 
 def test_noise_model_page(record) -> None:
