@@ -267,8 +267,15 @@ def truth_of(sig: LoadedSignal) -> float | None:
 
 
 def signal_units() -> str:
-    """The units the user gave the signal on the Signal page (empty: none), e.g. ``"m"``."""
-    return str(st.session_state.get(UNITS_KEY) or "").strip()[:20]
+    """The signal's units, e.g. ``"m"``: those the user gave on the Signal page, else the unit
+    its file declares for the column (``z [m]``, a log's field unit), as ``noisevar estimate``
+    reads it (empty: none). One record, one answer: the pages say the command line's unit."""
+    given = str(st.session_state.get(UNITS_KEY) or "").strip()
+    if not given:
+        sig = st.session_state.get(SIGNAL_KEY)
+        units = getattr(getattr(sig, "table", None), "units", None) or {}
+        given = str(units.get(getattr(sig, "column", None)) or "").strip()
+    return given[:20]
 
 
 def time_of(sig: LoadedSignal) -> np.ndarray | float | None:

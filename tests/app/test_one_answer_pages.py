@@ -230,3 +230,36 @@ def test_noise_model_page(record) -> None:
         _clean(at)
         r = next(m for m in at.metric if m.label == "Noise variance R")
         assert r.value == fmt(est.still.variance)
+
+
+def test_the_files_unit_is_the_pages_unit(tmp_path, capsys) -> None:
+    """A column that declares its unit (``z [m]``) is in metres on the pages and in their
+    exports, as ``noisevar estimate`` says it (before, the pages said no unit unless one was
+    typed on the Signal page)."""
+    t, z = _gap_record(np.random.default_rng(26))
+    path = tmp_path / "metres.csv"
+    pd.DataFrame({"t": t, "z [m]": z}).to_csv(path, index=False)
+    est = nv.estimate(z, t=t)
+    assert main(["estimate", str(path), "--format", "json"]) == 0
+    assert json.loads(capsys.readouterr().out)["unit"] == "m"
+    sentence = record_answer(est).sentence("m")
+    table = load_table(path)
+    for page, state in (("Signal", {}), ("Estimator", {"est_method": "auto", EXPORT_KEY: True})):
+        at = AppTest.from_file(APP, default_timeout=180)
+        at.session_state[SIGNAL_KEY] = make_signal(
+            table, "z [m]", table.sample_period, "upload", None
+        )
+        for key, value in state.items():
+            at.session_state[key] = value
+        at.switch_page(f"app_pages/{page}.py").run()
+        _clean(at)
+        if page == "Signal":
+            assert _says(at, sentence)
+        else:
+            (cfg,) = [json.loads(c.value) for c in at.code if c.value.lstrip().startswith("{")]
+            assert cfg["record"]["answer"] == sentence
+    # a unit typed on the Signal page wins over the file's
+    at.session_state["units"] = "cm"
+    at.run()
+    (cfg,) = [json.loads(c.value) for c in at.code if c.value.lstrip().startswith("{")]
+    assert cfg["record"]["answer"] == record_answer(est).sentence("cm")
