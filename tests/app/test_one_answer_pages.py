@@ -133,6 +133,14 @@ def test_python_command_line_and_batch(record, capsys, tmp_path) -> None:
     assert (None if pd.isna(still) else float(still)) == _still(est)
     assert _first_clause(str(row["verdict"])) == _first_clause(est.diagnostics.verdict)
     assert row["verdict"] == est.diagnostics.verdict
+    # the other still levels (a second posture), the same numbers in JSON and in the row
+    levels = [
+        {"start": s.start, "stop": s.stop, "ratio": s.ratio, "ci95_low": s.lo, "ci95_high": s.hi}
+        for s in est.diagnostics.other_still
+    ]
+    assert out["diagnostics"].get("other_still_levels", []) == levels
+    in_row = row.get("other_still_levels")
+    assert (json.loads(in_row) if isinstance(in_row, str) else []) == levels
 
 
 def test_dashboard_functions_and_exports(record) -> None:
