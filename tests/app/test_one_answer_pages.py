@@ -271,3 +271,14 @@ def test_the_files_unit_is_the_pages_unit(tmp_path, capsys) -> None:
     at.run()
     (cfg,) = [json.loads(c.value) for c in at.code if c.value.lstrip().startswith("{")]
     assert cfg["record"]["answer"] == record_answer(est).sentence("cm")
+
+
+def test_the_noise_model_report_quotes_the_records_answer(record) -> None:
+    """The Noise model page's IMU report quotes each column's record answer: the one the
+    page's box shows (the record split at its time column's gap, not spliced)."""
+    from dashboard.sections.filter_configs import _said
+
+    table = load_table(record["path"])
+    sig = make_signal(table, "z", table.sample_period, "upload", None)
+    for regimes in ("all", "still"):
+        assert _said(sig, "z", regimes) == record_answer(record["est"], regimes)
