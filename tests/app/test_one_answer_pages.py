@@ -178,11 +178,14 @@ def test_compare_and_channels_tables(record) -> None:
     assert auto["variance"] == est.variance and auto["95 % low"] == est.ci95[0]
     assert _says(at, record_answer(est).sentence())
     at = _page(record, "app_pages/Signal.py")
+    assert {m.label: m.value for m in at.metric}["Noise std (auto)"] == fmt(est.std)
+    assert _says(at, record_answer(est).sentence())
     (channels,) = [d.value for d in at.dataframe if "channel" in d.value.columns]
     row = channels.set_index("channel").loc["z"]
     assert row["variance"] == est.variance
     still = row["still_variance"]
     assert (None if pd.isna(still) else float(still)) == _still(est)
+    assert _says(_page(record, "app_pages/Home.py"), record_answer(est).sentence())
 
 
 def test_two_sensors_page(record) -> None:
