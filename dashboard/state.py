@@ -20,6 +20,7 @@ from dashboard.text import plain
 from noisevar.errors import NoisevarError
 from noisevar.io import LoadedTable, content_digest, pick_column, record_times
 from noisevar.io.logs.record import TopicsRecord
+from noisevar.units import declared_unit
 
 LOG = logging.getLogger("noisevar.dashboard")
 
@@ -268,13 +269,14 @@ def truth_of(sig: LoadedSignal) -> float | None:
 
 def signal_units() -> str:
     """The signal's units, e.g. ``"m"``: those the user gave on the Signal page, else the unit
-    its file declares for the column (``z [m]``, a log's field unit), as ``noisevar estimate``
-    reads it (empty: none). One record, one answer: the pages say the command line's unit."""
+    its file declares for the column (``z [m]``, a log's field unit) when
+    :func:`~noisevar.units.declared_unit` reads it, as ``noisevar estimate`` does (empty:
+    none). One record, one answer: the pages say the command line's unit."""
     given = str(st.session_state.get(UNITS_KEY) or "").strip()
     if not given:
         sig = st.session_state.get(SIGNAL_KEY)
         units = getattr(getattr(sig, "table", None), "units", None) or {}
-        given = str(units.get(getattr(sig, "column", None)) or "").strip()
+        given = declared_unit(units.get(getattr(sig, "column", None))) or ""  # as the CLI
     return given[:20]
 
 

@@ -193,9 +193,7 @@ class Comparison:
 def rows_to_csv(rows: Sequence[Mapping[str, Any]]) -> str:
     """Table rows (dicts) as CSV text: the union of their keys as columns, in first-seen order.
 
-    Floats are written in full (the shortest text that reads back as the same float, as the
-    JSON and batch exports write them: one answer in every export); a key missing from a row
-    is left empty.
+    Floats in full (``repr``: read back, the same float); a key missing from a row is empty.
     """
     if not rows:
         return ""
