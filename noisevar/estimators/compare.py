@@ -193,7 +193,7 @@ class Comparison:
 def rows_to_csv(rows: Sequence[Mapping[str, Any]]) -> str:
     """Table rows (dicts) as CSV text: the union of their keys as columns, in first-seen order.
 
-    Floats are written with 10 significant digits; a key missing from a row is left empty.
+    Floats in full (``repr``: read back, the same float); a key missing from a row is empty.
     """
     if not rows:
         return ""
@@ -204,7 +204,7 @@ def rows_to_csv(rows: Sequence[Mapping[str, Any]]) -> str:
     writer = csv.DictWriter(buf, fieldnames=list(fields), lineterminator="\n", restval="")
     writer.writeheader()
     for row in rows:
-        writer.writerow({k: (f"{v:.10g}" if isinstance(v, float) else v) for k, v in row.items()})
+        writer.writerow({k: repr(float(v)) if isinstance(v, float) else v for k, v in row.items()})
     return buf.getvalue()
 
 
