@@ -18,6 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from noisevar._distributions import chi2_ppf
 from noisevar.errors import NoisevarError
+from noisevar.estimators import scale_exponent
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes, longest_still_stretch
 from noisevar.noise_model.allan import regime_warning
 from noisevar.noise_model.gmwm.bound import InformationBound, fisher_bound
@@ -219,6 +220,8 @@ def level_may_vary(row: NDArray) -> bool:
     nb = n // block
     if nb < 2:
         return True
+    e = scale_exponent(row)  # the screen is scale-free: squares of 2**e row (exact)
+    row = np.ldexp(row, e) if e else row
     d2 = np.square(np.diff(row[: nb * block + 1])).reshape(nb, block)
     sq = d2.sum(axis=1)
     total = float(np.sum(sq))
