@@ -3,12 +3,13 @@
 One Chromium (Playwright) drives ``--reps`` sessions one after another on a fresh
 ``noisevar dashboard`` (after one warm-up session), along ``benchmarks/load.py``'s path:
 open the Signal page, upload a 20,000-sample CSV, Estimator, two Γ_amp steps, Compare to
-its last row, Noise model. For each step it records the CPU-s of every Chromium process and
-of the server (``benchmarks/cpu_split.py``'s sampler), from the step's action to 0.5 s after
-the page settled. The same is run on ``--base`` (``git archive`` into a temporary folder,
-served from there with the same interpreter), alternating ``--rounds`` times, so both
-see the same machine. CPU-s is far less sensitive to other jobs than wall time; the median
-over every session of a tree is reported. Run from the repository root::
+its last row, Noise model. For each step it records the CPU-s of its own Chromium (not
+other jobs' browsers) and of the server (``benchmarks/cpu_split.py``'s sampler), from the
+step's action to 0.5 s after the page settled. The same is run on ``--base`` (``git
+archive`` into a temporary folder, served from there with the same interpreter and this
+tree's driver), alternating ``--rounds`` times, so both see the same machine. CPU-s is far
+less sensitive to other jobs than wall time; the median over every session of a tree is
+reported. Run from the repository root::
 
     python benchmarks/browser_steps.py [--base main] [--reps 3] [--rounds 2]
 
@@ -58,15 +59,14 @@ async def one_session(page, base: str, r: int, sampler, rows: dict) -> None:
 
 
 async def sessions(reps: int) -> dict[str, list[list[float]]]:
-    """``reps`` sessions on a fresh server of the tree in the current directory:
-    step -> [browser CPU-s, server CPU-s] per session."""
-    sys.path.insert(0, str(Path.cwd() / "benchmarks"))
+    """``reps`` sessions on a fresh server of the tree in the current directory (the
+    driver is this file's tree): step -> [browser CPU-s, server CPU-s] per session."""
     import load
     from cpu_split import CpuSampler
     from playwright.async_api import async_playwright
 
     proc, base = load.start_server({})
-    sampler = CpuSampler(proc.pid, os.getpid()).start()
+    sampler = CpuSampler(proc.pid, os.getpid(), own_browser=True).start()
     rows: dict[str, list[list[float]]] = {k: [] for k in STEPS}
     try:
         async with async_playwright() as pw:
@@ -118,8 +118,8 @@ def report(args, trees: dict[str, dict[str, list[list[float]]]], loads: list[flo
         f"Command: `python benchmarks/browser_steps.py --base {args.base} --reps {args.reps} "
         f"--rounds {args.rounds}`",
         "",
-        "Median over every session (browser CPU-s: every Chromium process, from the action to "
-        "0.5 s after the page settled; server CPU-s beside it):",
+        "Median over every session (browser CPU-s: the benchmark's own Chromium, from the "
+        "action to 0.5 s after the page settled; server CPU-s beside it):",
         "",
         f"| step | browser CPU-s, {args.base} | browser CPU-s, this tree | change | "
         f"server CPU-s, {args.base} | server CPU-s, this tree |",
