@@ -148,3 +148,11 @@ def audit_record(name: str) -> tuple[dict[str, np.ndarray], np.ndarray | None, f
         t = (df["Timestamp (us)"].to_numpy(float) - df["Timestamp (us)"].iloc[0]) * 1e-6
         return out, t, 1.0 / float(np.median(np.diff(t)))
     return out, None, rate
+
+
+# ---------------------------------------------------------------- real_audit2.py (issue 26)
+#: Packages whose shipped data ``benchmarks/real_audit2.py`` reads (pinned wheels; the data
+#: is read as files, the packages are never installed or imported).
+OBSPY = "obspy==1.5.1"  # LGPL-3.0: seismometer test traces
+PYWAVELETS = "PyWavelets==1.9.0"  # MIT: pywt/data (an ECG, NOAA's nino3 SST, public domain)
+HEARTPY = "heartpy==1.2.7"  # GPL-3.0: photoplethysmogram (PPG) recordings

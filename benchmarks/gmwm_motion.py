@@ -12,7 +12,8 @@ sigma/sqrt(fs) are inside, the notes, and ``regimes="still"``'s N.
 Still: the records of ``gmwm_choice.py`` (``imu_k_bias.py``'s 400 Hz, 3 h white noise + bias
 random walk; ``imu_models.py``'s composite truths, 10 h at 200 Hz). The branch changes a fit
 only when N is at its bound (``fitting.white_at_bound``), when the fit is unexplained
-(``fitting.unexplained``: then the estimate's diagnostics run) or when the wavelet variance's
+(``fitting.unexplained``) or the one-pass screen cannot rule motion out
+(``gmwm.level_may_vary``): then the estimate's diagnostics run, or when the wavelet variance's
 band is clipped (``fitting.wv_band``); each is counted. None of them: every figure of
 ``gmwm_choice.md`` is the same by construction.
 
@@ -30,6 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from noisevar.noise_model import fit_imu_model
+from noisevar.noise_model.gmwm import level_may_vary
 from noisevar.noise_model.gmwm.fitting import MAX_LOG_HALF_WIDTH, unexplained
 from noisevar.noise_model.inertial import white_level
 
@@ -77,10 +79,11 @@ def motion() -> list[str]:
     return lines
 
 
-def _count(fit, cpu: float, tally: dict) -> None:  # noqa: ANN001
+def _count(fit, row: np.ndarray, cpu: float, tally: dict) -> None:  # noqa: ANN001
     tally["axes"] += 1
     tally["N at bound"] += any(t.startswith("N is at its lower bound") for t in fit.notes)
-    tally["unexplained (diagnostics run)"] += unexplained(fit)
+    # the diagnostics run on an unexplained fit, or where the screen cannot rule motion out
+    tally["unexplained (diagnostics run)"] += unexplained(fit) or level_may_vary(row)
     tally["regime warning"] += any("noise level varies" in t for t in fit.notes)
     tally["band clipped"] += bool(
         np.any(np.isclose(fit.wv_interval[1] / fit.wv, np.exp(MAX_LOG_HALF_WIDTH)))
@@ -104,8 +107,8 @@ def still(seeds: int, runs: int) -> list[str]:
         t0 = time.process_time()
         fits = fit_imu_model(x, RATE)
         cpu = (time.process_time() - t0) / len(fits)
-        for fit in fits:
-            _count(fit, cpu, tally)
+        for i, fit in enumerate(fits):
+            _count(fit, x[:, i], cpu, tally)
     lines.append(_line(f"imu_k_bias seeds 0-{seeds - 1} (400 Hz, 3 h)", tally))
     tally = dict.fromkeys(keys, 0.0)
     for c, base in enumerate(COMPOSITE.values()):
@@ -114,7 +117,7 @@ def still(seeds: int, runs: int) -> list[str]:
             y = simulate_truth(_truth(base, rng), int(10 * 3600 * 200.0), 200.0, 5000 + 100 * c + r)
             t0 = time.process_time()
             fit = fit_imu_model(y, 200.0)
-            _count(fit, time.process_time() - t0, tally)
+            _count(fit, y, time.process_time() - t0, tally)
     lines.append(_line(f"composite truths, {runs} run(s) each (200 Hz, 10 h)", tally))
     return lines
 

@@ -173,6 +173,8 @@ def verdict_checks(est) -> list[str]:
             bad.append(f"verdict quotes {quoted:.4g}, est.still is {est.still.variance:.4g}")
     if est.still is not None and est.still.ci95[0] > est.ci95[1]:
         bad.append(f"still level {est.still.variance:.4g} above R's ci95 {est.ci95}")
+    if re.search(r"coloured: white at [\d-]+ samples? \(", v):
+        bad.append("coloured, and the only colour named is white")
     if flags.get("differenced") and "coloured" in v:
         bad.append("differenced and coloured both")
     quiet, share = d.quiet_variance, d.level_profile.quiet_share
@@ -294,6 +296,14 @@ def gmwm_checks(
 
 def audit(name: str) -> list[dict]:
     channels, _t, rate = _refdata.audit_record(name)
+    return audit_channels(name, channels, rate)
+
+
+def audit_channels(
+    name: str, channels: dict[str, np.ndarray], rate: float, imu: bool = True
+) -> list[dict]:
+    """Every check of the module docstring on one record's channels, one row per channel
+    (``imu=False``: without the IMU checks, for records that are not inertial)."""
     ests, rows = {}, []
     for ch, z in channels.items():
         t0 = time.process_time()
@@ -306,7 +316,8 @@ def audit(name: str) -> list[dict]:
         ests[ch] = est
         inv, n_r, n_u = invariance(z, est)
         fail = finite(est) + inv + verdict_checks(est)
-        fail += imu_checks(z, rate, why_no_still(est))
+        if imu:
+            fail += imu_checks(z, rate, why_no_still(est))
         row |= {
             "R": est.variance, "ci95": est.ci95, "use": _use_text(est),
             "still": est.still is not None, "flags": est.diagnostics.flags,
@@ -315,7 +326,7 @@ def audit(name: str) -> list[dict]:
         }  # fmt: skip
         rows.append(row)
     varies = {c: bool(e.diagnostics.level_varies) for c, e in ests.items() if e.diagnostics}
-    gmwm = gmwm_checks(channels, rate, varies)
+    gmwm = gmwm_checks(channels, rate, varies) if imu else {}
     for row in rows:
         row["fail"].extend(gmwm.get(row["channel"], []))
     for msg in cli_checks({c: channels[c] for c in ests}, ests):
@@ -398,16 +409,6 @@ def synthetic() -> list[str]:
 
 
 def report(rows: list[dict], wall: float) -> str:
-    n_ok = sum(not r["fail"] for r in rows)
-    inv_r = sum(r.get("inv_r", 0) for r in rows)
-    inv_u = sum(r.get("inv_u", 0) for r in rows)
-    n_tf = sum(r.get("n_tf", 0) for r in rows)
-    classes: dict[str, int] = {}
-    for r in rows:
-        for f in r["fail"]:
-            key = re.sub(r"[-+]?\d[\d.e+-]*", "#", f.split(": ", 1)[-1] if ":" in f else f)
-            key = re.sub(r"\(.*?\)", "", key)[:70]
-            classes[key] = classes.get(key, 0) + 1
     recs = "\n".join(
         f"| {k} | {p} | {what} | {rate or 'own clock'} |"
         for k, (p, rate, what) in _refdata.AUDIT_RECORDS.items()
@@ -423,6 +424,23 @@ def report(rows: list[dict], wall: float) -> str:
         "|---|---|---|---|",
         recs,
         "",
+    ]
+    return "\n".join(lines + summary(rows)) + "\n"
+
+
+def summary(rows: list[dict]) -> list[str]:
+    """The pass count, the failure classes and the per-channel table of ``rows``."""
+    n_ok = sum(not r["fail"] for r in rows)
+    inv_r = sum(r.get("inv_r", 0) for r in rows)
+    inv_u = sum(r.get("inv_u", 0) for r in rows)
+    n_tf = sum(r.get("n_tf", 0) for r in rows)
+    classes: dict[str, int] = {}
+    for r in rows:
+        for f in r["fail"]:
+            key = re.sub(r"[-+]?\d[\d.e+-]*", "#", f.split(": ", 1)[-1] if ":" in f else f)
+            key = re.sub(r"\(.*?\)", "", key)[:70]
+            classes[key] = classes.get(key, 0) + 1
+    lines = [
         f"**{n_ok} of {len(rows)} channels pass every check.** Invariance: R inside its ci95 "
         f"in {inv_r} of {n_tf} transforms, the R to use in {inv_u} of {n_tf}.",
         "",
@@ -447,7 +465,7 @@ def report(rows: list[dict], wall: float) -> str:
             f"{r['inv_r']}/{r['n_tf']} | {r['inv_u']}/{r['n_tf']} | "
             f"{'; '.join(r['fail']) or 'ok'} | {r['verdict']} |"
         )
-    return "\n".join(lines) + "\n"
+    return lines
 
 
 def main() -> None:

@@ -1,6 +1,6 @@
 """Reliability (issue 29 items 1-3): batch faults and the float range of the noise models.
 
-    nice -n 10 python benchmarks/reliability.py [--sigkills 20] [--seed 29]
+    nice -n 10 python benchmarks/reliability.py [--sigkills 20] [--seed 29] [--parts still]
 
 1. **A kill at each step of the batch's commit sequence.** A table from an earlier run, one
    file changed, one no longer given, two new; the batch is killed (every later step
@@ -21,7 +21,13 @@
    within the entry point's tolerance), *refused* (one NoisevarError of one line) or
    *misbehaving* (anything else).
 
-Writes ``benchmarks/results/reliability.md``.
+5. **The still regimes and composite fits** (brief hostile29b): the same cases and records
+   no scale makes (short, constant, NaN, +-inf, two still levels 1e12 apart, int16) through
+   ``regimes='still'`` of every noise model, ``fit_imu_model``, ``fit_imu_records``,
+   ``composite_fits`` and ``InertialNoise.model``, on a record with a still start.
+
+Writes ``benchmarks/results/reliability.md``; ``--parts`` reruns some sections and keeps
+the others of the existing file.
 """
 
 from __future__ import annotations
@@ -48,10 +54,14 @@ from noisevar.errors import NoisevarError  # noqa: E402
 from noisevar.noise_model import (  # noqa: E402
     allan,
     fit_coloured_noise,
+    fit_imu_model,
+    fit_imu_records,
     fit_kalman,
     inertial_noise,
 )
+from noisevar.noise_model.exports.model import composite_fits  # noqa: E402
 from noisevar.stream import estimate_file  # noqa: E402
+from noisevar.synth import still_start  # noqa: E402
 
 RESULTS = ROOT / "benchmarks" / "results"
 COLS = ["file", "channel", "variance", "ci95_low", "ci95_high", "n_total", "hash", "error"]
@@ -263,16 +273,91 @@ def _cases() -> list[tuple[str, object, float, float | None]]:
     return cases
 
 
+def _still_entries() -> dict:
+    """What issue 26's last rounds added: ``regimes='still'`` on every noise model, the
+    composite fits (GMWM, their K_eq), pooled records, and the Allan figure's model curve."""
+    still = {"regimes": "still"}
+
+    def gmwm(m):
+        return np.array(
+            [p.value for p in m.parameters if not p.name.endswith("tau_c")]
+            + [m.filter_bias.random_walk]
+        )
+
+    return {
+        "allan (still)": (lambda z, r: allan(z, rate=r, **still), lambda a: a.deviation, 1, 1e-12),
+        "inertial_noise (still)": (
+            lambda z, r: inertial_noise(z, r, **still),
+            lambda f: np.array([t.value for t in f.terms]), 1, 1e-9,
+        ),
+        "InertialNoise.model": (lambda z, r: inertial_noise(z, r), lambda f: f.model()[1], 1, 1e-9),
+        "fit_coloured_noise (still)": (
+            lambda z, r: fit_coloured_noise(z, rate=r, models=("white", "white+rw"), **still),
+            lambda f: np.array([f.r]), 2, 1e-6,
+        ),
+        "fit_kalman (still)": (
+            lambda z, r: fit_kalman(z, "cv", rate=r, **still),
+            lambda t: np.array([t.q, t.r]), 2, 1e-4,
+        ),
+        "fit_imu_model": (lambda z, r: fit_imu_model(z, r), gmwm, 1, 1e-4),
+        "fit_imu_model (still)": (lambda z, r: fit_imu_model(z, r, **still), gmwm, 1, 1e-4),
+        "fit_imu_records": (
+            lambda z, r: fit_imu_records([z[: z.size // 3], z[z.size // 3 :]], r), gmwm, 1, 1e-4,
+        ),
+        "composite_fits (still)": (
+            lambda z, r: composite_fits([z, z[::-1]], [r, r], **still),
+            lambda fits: np.concatenate([gmwm(m) for m in fits]), 1, 1e-4,
+        ),
+    }  # fmt: skip
+
+
+def _hostile_cases() -> list[tuple[str, object, float, float | None]]:
+    """Records no scale makes: short, constant, NaN, infinite, two still levels 1e12 apart,
+    int16; each right when finite (or refused with one line)."""
+    cases: list[tuple[str, object, float, float | None]] = [
+        (f"first {n} samples", lambda z, n=n: z[:n], 100.0, None)
+        for n in (1, 2, 5, 16, 31, 63, 64, 65, 70)
+    ]
+
+    def put(z, where, value):
+        z = z.copy()
+        z[where] = value
+        return z
+
+    cases += [
+        ("constant", lambda z: np.full_like(z, 3.0), 100.0, None),
+        ("all NaN", lambda z: np.full_like(z, np.nan), 100.0, None),
+        ("a NaN run", lambda z: put(z, slice(100, 300), np.nan), 100.0, None),
+        ("+inf", lambda z: put(z, 5, np.inf), 100.0, None),
+        ("-inf", lambda z: put(z, 5, -np.inf), 100.0, None),
+        ("second half x 1e6 (levels 1e12 apart)", lambda z: put(z, slice(z.size // 2, None),
+                                                              z[z.size // 2:] * 1e6), 100.0, None),
+        ("int16", lambda z: np.round(z * 1000).astype(np.int16), 100.0, None),
+    ]  # fmt: skip
+    return cases
+
+
+def still_range() -> list[str]:
+    """:func:`_range_table` of the still-regime and composite entry points, on a record
+    still for its first 2000 of 4000 samples (:func:`noisevar.synth.still_start`)."""
+    return _range_table(
+        _still_entries(), _cases() + _hostile_cases(), still_start(2000, 4000, rng=3)
+    )
+
+
 def float_range() -> list[str]:
-    z0 = _base()
+    return _range_table(_entries(), _cases(), _base())
+
+
+def _range_table(entries: dict, cases: list, z0: np.ndarray) -> list[str]:  # long: one table
     rows = ["| entry point | cases | right | refused (one error) | misbehaving |"]
     rows.append("|---|---|---|---|---|")
     bad_lines: list[str] = []
     totals = [0, 0, 0, 0]
-    for name, (call, numbers, power, tol) in _entries().items():
+    for name, (call, numbers, power, tol) in entries.items():
         ref = numbers(call(z0, 100.0))
         right = refused = bad = 0
-        for label, make, rate, scale in _cases():
+        for label, make, rate, scale in cases:
             try:
                 got = np.asarray(numbers(call(make(z0), rate)), dtype=float)
             except NoisevarError as exc:
@@ -288,7 +373,9 @@ def float_range() -> list[str]:
                 continue
             fine = bool(np.all(np.isfinite(got)))
             if fine and scale is not None:
-                want = ref * float(scale) ** power if np.isfinite(float(scale) ** power) else None
+                with np.errstate(over="ignore", under="ignore"):
+                    factor = np.float64(scale) ** power  # inf or 0 beyond the range
+                want = ref * factor if np.isfinite(factor) and factor > 0 else None
                 if want is None:  # the scale's power overflows a float: compare by logs
                     want_log = np.log(ref) + power * np.log(float(scale))
                     fine = bool(np.allclose(np.log(got), want_log, rtol=0, atol=tol))
@@ -310,39 +397,69 @@ def float_range() -> list[str]:
     return rows
 
 
+#: Sections of the results file: key -> heading (``--parts`` reruns some, keeps the rest).
+SECTIONS = {
+    "commit": "## A kill at each step of the commit sequence, then a rerun",
+    "sigkill": "## Random SIGKILLs of `noisevar batch`",
+    "float": "## The float range of the noise models and the streamed path",
+    "still": "## The float range and hostile records of the still regimes and composite fits",
+}
+FLOAT_NOTE = (
+    "Right: finite and equal to the unscaled answer times the scale's power (allan 1e-12, "
+    "inertial_noise and the streamed estimate 1e-9, fit_coloured_noise 1e-6, fit_kalman "
+    "1e-4: optimiser tolerances, as a non-power-of-two scale rounds the record); float32, "
+    "int64 and rate cases: finite."
+)
+STILL_NOTE = (
+    "The same cases on a record still for its first 2000 of 4000 samples "
+    "(`synth.still_start`), plus records no scale makes (first 1-70 samples, constant, all "
+    "NaN, a NaN run, +-inf, the second half x 1e6, int16: right when finite); the composite "
+    "fits' numbers are their parameters but tau_c, and K_eq (1e-4: within 2^+-100, where "
+    "the record is fitted as it is, their optimiser's answer moves up to 1.4e-5 with a power "
+    "of two; beyond, exactly scaled)."
+)
+
+
+def _previous() -> dict[str, str]:
+    """The sections of the existing results file, by key (kept when not rerun)."""
+    path = RESULTS / "reliability.md"
+    text = path.read_text(encoding="utf-8") if path.exists() else ""
+    out = {}
+    for key, heading in SECTIONS.items():
+        if heading in text:
+            body = text.split(heading, 1)[1]
+            ends = [body.index(h) for h in SECTIONS.values() if h in body]
+            out[key] = heading + (body[: min(ends)] if ends else body).rstrip("\n")
+    return out
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sigkills", type=int, default=20)
     ap.add_argument("--seed", type=int, default=29)
+    ap.add_argument("--parts", nargs="+", choices=list(SECTIONS), default=list(SECTIONS))
     args = ap.parse_args()
     load = os.getloadavg()[0]
+    runs = {
+        "commit": commit_kills,
+        "sigkill": lambda: sigkills(args.sigkills, args.seed),
+        "float": lambda: [FLOAT_NOTE, "", *float_range()],
+        "still": lambda: [STILL_NOTE, "", *still_range()],
+    }
+    sections = _previous()
+    for key in args.parts:
+        sections[key] = "\n".join([SECTIONS[key], "", *runs[key]()])
     lines = [
         "# Reliability (issue 29 items 1-3)",
         "",
         f"Command: `nice -n 10 python benchmarks/reliability.py --sigkills {args.sigkills} "
-        f"--seed {args.seed}` on {platform.machine()}, {os.cpu_count()} cores, Python "
-        f"{platform.python_version()}; 1-minute load average at start {load:.1f}.",
-        "",
-        "## A kill at each step of the commit sequence, then a rerun",
-        "",
-        *commit_kills(),
-        "",
-        "## Random SIGKILLs of `noisevar batch`",
-        "",
-        *sigkills(args.sigkills, args.seed),
-        "",
-        "## The float range of the noise models and the streamed path",
-        "",
-        "Right: finite and equal to the unscaled answer times the scale's power (allan "
-        "1e-12, inertial_noise and the streamed estimate 1e-9, fit_coloured_noise 1e-6, "
-        "fit_kalman 1e-4: optimiser tolerances, as a non-power-of-two scale rounds the "
-        "record); float32, int64 and rate cases: finite.",
-        "",
-        *float_range(),
-        "",
+        f"--seed {args.seed} --parts {' '.join(args.parts)}` on {platform.machine()}, "
+        f"{os.cpu_count()} cores, Python {platform.python_version()}; 1-minute load average "
+        f"at start {load:.1f} (sections not in --parts are kept from the previous run).",
     ]
+    lines += [part for key in SECTIONS if key in sections for part in ("", sections[key])]
     RESULTS.mkdir(exist_ok=True)
-    (RESULTS / "reliability.md").write_text("\n".join(lines), encoding="utf-8")
+    (RESULTS / "reliability.md").write_text("\n".join(lines) + "\n", encoding="utf-8")
     print("\n".join(lines))
 
 

@@ -35,7 +35,7 @@ from noisevar.filters.envelope import (
     noise_amplitude,
     scan_h,
 )
-from noisevar.io import LoadedTable, load_table, log_topics, pick_column
+from noisevar.io import LoadedTable, channel_record, load_table, log_topics, pick_column
 
 if TYPE_CHECKING:
     from noisevar.kalman.result import FilterResult
@@ -123,10 +123,18 @@ def figure(kind: str, inputs: dict[str, object], build: Callable[[], go.Figure])
 # ------------------------------------------------------------------ estimators
 @cached
 def _estimate_cached(
-    digest: str, method: str, params_json: str, start: int, stop: int, _z: np.ndarray
+    digest: str,
+    method: str,
+    params_json: str,
+    start: int,
+    stop: int,
+    _z: np.ndarray,
+    _t: np.ndarray | None,
 ) -> VarianceEstimate:
-    z = _z if (start, stop) == (0, _z.size) else _z[start:stop]
-    return workers.call(noisevar.estimate, z, method=method, **json.loads(params_json))
+    whole = (start, stop) == (0, _z.size)
+    z = _z if whole else _z[start:stop]
+    t = _t if whole or _t is None else _t[start:stop]
+    return workers.call(noisevar.estimate, z, method=method, t=t, **json.loads(params_json))
 
 
 def estimate(
@@ -134,7 +142,8 @@ def estimate(
 ) -> VarianceEstimate:
     """:func:`noisevar.estimate` on the signal (or a stretch of it), cached by content hash."""
     start, stop = (0, sig.n) if stretch is None else (stretch.start, stretch.stop)
-    return _estimate_cached(sig.digest, method, params_key(params), int(start), int(stop), sig.z)
+    key = (sig.digest, method, params_key(params), int(start), int(stop))
+    return _estimate_cached(*key, sig.z, sig.times)  # digest covers the times
 
 
 @cached
@@ -167,14 +176,16 @@ def amplitude(
 
 @cached
 def _rows_cached(
-    digest: str, methods: tuple[str, ...], params_json: str, _z: np.ndarray
+    digest: str, methods: tuple[str, ...], params_json: str, _z: np.ndarray, _t: np.ndarray | None
 ) -> list[MethodResult]:
-    return workers.call(run_methods, _z, list(methods), json.loads(params_json))
+    return workers.call(run_methods, _z, list(methods), json.loads(params_json), _t)
 
 
 @cached
-def _peer_started(digest: str, method: str, params_json: str, _z: np.ndarray) -> workers.Started:
-    return workers.start_batch(run_method, _z, method, json.loads(params_json))
+def _peer_started(
+    digest: str, method: str, params_json: str, _z: np.ndarray, _t: np.ndarray | None
+) -> workers.Started:
+    return workers.start_batch(run_method, _z, method, json.loads(params_json), _t)
 
 
 def fast_rows(
@@ -182,7 +193,7 @@ def fast_rows(
 ) -> list[MethodResult]:
     """:func:`~noisevar.estimators.compare.run_methods` on the signal (the fast methods: what
     the Compare table shows at once), cached and ahead of the waiting batches."""
-    return _rows_cached(sig.digest, tuple(methods), params_key(params), sig.z)
+    return _rows_cached(sig.digest, tuple(methods), params_key(params), sig.z, sig.times)
 
 
 def peer_row(
@@ -194,7 +205,7 @@ def peer_row(
     With ``start=False``, only a task already started (None: none is). A task that ended
     in an error other than a NoisevarError (a broken pool) is forgotten and started anew.
     """
-    args = (sig.digest, method, params_key(params), sig.z)
+    args = (sig.digest, method, params_key(params), sig.z, sig.times)
     started = _peer_started.peek(*args)
     if started is not None and started.done() and started.future.exception() is not None:
         _peer_started.forget(*args)
@@ -262,7 +273,8 @@ def delay_between(sig: LoadedSignal, ref: str, other: str) -> DelayEstimate:
 def _column_estimate_cached(
     table_digest: str, column: str, method: str, _sig: LoadedSignal
 ) -> VarianceEstimate:
-    return noisevar.estimate(pick_column(_sig.table, column), method=method)
+    z, t = channel_record(_sig.table, column)  # as the command line reads it: one answer
+    return noisevar.estimate(z, method=method, t=t)
 
 
 def column_estimate(

@@ -18,8 +18,9 @@ import streamlit as st
 import noisevar
 from dashboard.text import plain
 from noisevar.errors import NoisevarError
-from noisevar.io import LoadedTable, content_digest, pick_column
+from noisevar.io import LoadedTable, content_digest, pick_column, record_times
 from noisevar.io.logs.record import TopicsRecord
+from noisevar.units import declared_unit
 
 LOG = logging.getLogger("noisevar.dashboard")
 
@@ -75,6 +76,10 @@ class LoadedSignal:
         columns): every chosen topic, each column on its own time base.
     topics_key : str
         Content key of ``topics`` (the cache key of its columns' fits).
+    times : ndarray or None
+        The table's own sample times (:func:`noisevar.io.record_times`) unless the user set
+        another sample period: every estimate takes them (a record with gaps is split at
+        them, as the command line does), and ``digest`` covers them.
     """
 
     table: LoadedTable
@@ -92,6 +97,7 @@ class LoadedSignal:
     notes: list[str] = field(default_factory=list)
     topics: TopicsRecord | None = None
     topics_key: str = ""
+    times: np.ndarray | None = None
 
     @property
     def n(self) -> int:
@@ -207,12 +213,14 @@ def make_signal(
     z = pick_column(table, col)
     noisevar.estimators.as_signal(z)  # same checks as the estimators: size, constant
     label = table.name if len(table.data_columns) == 1 else f"{table.name} · {col}"
+    times = record_times(table) if sample_period == table.sample_period else None
     return LoadedSignal(
         table=table,
         column=col,
         z=z,
         sample_period=sample_period,
-        digest=content_digest(z),
+        digest=content_digest(z) + ("" if times is None else content_digest(times)),
+        times=times,
         source=source,
         label=label,
         recipe=_recipe(table, col, sample_period, recipe_base),
@@ -260,8 +268,14 @@ def truth_of(sig: LoadedSignal) -> float | None:
 
 
 def signal_units() -> str:
-    """The units the user gave the signal on the Signal page (empty: none), e.g. ``"m"``."""
-    return str(st.session_state.get(UNITS_KEY) or "").strip()[:20]
+    """The units the user gave the signal on the Signal page, else the unit its file declares
+    for the column (a log's field, a CSV header's ``[unit]``, as the command line takes it);
+    empty: none. E.g. ``"m"``."""
+    given = str(st.session_state.get(UNITS_KEY) or "").strip()[:20]
+    sig = st.session_state.get(SIGNAL_KEY)
+    if given or not isinstance(sig, LoadedSignal):
+        return given
+    return declared_unit(sig.table.units.get(sig.column)) or ""
 
 
 def time_of(sig: LoadedSignal) -> np.ndarray | float | None:
@@ -270,16 +284,7 @@ def time_of(sig: LoadedSignal) -> np.ndarray | float | None:
     The time column wins (gaps are drawn as gaps) unless the user set another
     sample period, or the column is not finite and increasing.
     """
-    t = sig.table.time()
-    if (
-        t is None
-        or t.size != sig.n
-        or sig.sample_period != sig.table.sample_period
-        or not np.all(np.isfinite(t))
-        or np.any(np.diff(t) <= 0)
-    ):
-        return sig.sample_period
-    return np.asarray(t, dtype=float)
+    return sig.sample_period if sig.times is None else sig.times
 
 
 def times_of(sig: LoadedSignal) -> np.ndarray | None:

@@ -103,15 +103,15 @@ def _check_value(key: str, spec: ParamSpec, value: Any) -> Any:
 
 #: Keys that name data columns, not parameters (the dashboard exports the column).
 CHANNEL_KEYS = ("column", "columns")
-#: The record's answer when the file was written (verdict, R, regime warning): for the
-#: reader, never applied; validated and dropped when a config is read.
+#: The record's answer when the file was written (verdict, R, regime warning, other still
+#: levels): for the reader, never applied; validated and dropped when a config is read.
 RECORD_KEY = "record"
-_RECORD_FIELDS = ("verdict", "answer", "regime_warning")
+_RECORD_FIELDS = ("verdict", "answer", "regime_warning", "other_still_levels")
 
 
 def record_value(value: Any) -> dict[str, str]:
-    """A config's ``record`` entry: at most the verdict, the answer and the regime warning,
-    each a string (bounded)."""
+    """A config's ``record`` entry: at most the verdict, the answer, the regime warning and
+    the other still levels, each a string (bounded)."""
     ok = isinstance(value, Mapping) and set(value) <= set(_RECORD_FIELDS)
     if not ok or not all(isinstance(v, str) and len(v) <= 4000 for v in value.values()):
         raise NoisevarError(

@@ -9,6 +9,7 @@ whole number at the chosen significant digits.
 from __future__ import annotations
 
 import math
+from decimal import Decimal
 from numbers import Real
 
 #: SI prefixes by power of ten (engineering exponents).
@@ -47,8 +48,27 @@ def _plain(v: float, digits: int) -> str:
     return text
 
 
+#: The placeholder of a unit nobody gave (``noisevar.units.UNKNOWN``): no SI prefix on it
+#: (``mu`` would read as micro).
+NO_UNIT = "u"
+#: Powers as a log or pint writes them (``m/s**2``, ``m/s^2``), shown as superscripts.
+_POWERS = (("**2", "²"), ("^2", "²"), ("**3", "³"), ("^3", "³"))
+
+
+def unit_text(unit: str) -> str:
+    """A unit as shown: ``m/s**2`` and ``m/s^2`` read ``m/s²``."""
+    for raw, shown in _POWERS:
+        unit = unit.replace(raw, shown)
+    return unit
+
+
 def _prefixable(unit: str) -> bool:
-    return bool(unit) and not any(c in unit for c in "²³^/·*") and " " not in unit.strip()
+    return (
+        bool(unit)
+        and unit != NO_UNIT
+        and not any(c in unit for c in "²³^/·*")
+        and " " not in unit.strip()
+    )
 
 
 def eng(value: object, unit: str = "", digits: int = 4) -> str:
@@ -67,17 +87,19 @@ def eng(value: object, unit: str = "", digits: int = 4) -> str:
     -------
     str
         ``1 <= |value| < 1e6``: plain (``"17,690 s"``); otherwise an SI prefix
-        when the unit takes one (``"3.628 ns"``), else ``"13.16×10⁻¹⁸ s²"``.
+        when the unit takes one (``"3.628 ns"``), else plain down to 1e-3
+        (``"0.9951 u²"``, as :func:`eng_range` writes it), else ``"13.16×10⁻¹⁸ s²"``.
     """
     v = _finite(value)
     if v is None:
         return MISSING
+    unit = unit_text(unit)
     tail = f" {unit}" if unit else ""
     digits = max(int(digits), 1)
-    if v == 0 or 1 <= abs(v) < 1e6 or (not unit and 1e-3 <= abs(v) < 1):
+    if v == 0 or 1 <= abs(v) < 1e6 or (not _prefixable(unit) and 1e-3 <= abs(v) < 1):
         return _plain(v, digits) + tail
     e3 = 3 * int(math.floor(math.log10(abs(v)) / 3))
-    mantissa = float(f"{v / 10.0**e3:.{digits}g}")
+    mantissa = float(f"{Decimal(v).scaleb(-e3):.{digits}g}")  # exact: 10**e3 is 0 below 1e-323
     if abs(mantissa) >= 1000:  # rounding carried into the next group: 999.96 -> 1000
         e3, mantissa = e3 + 3, mantissa / 1000
     m_text = _plain(mantissa, digits)

@@ -417,3 +417,36 @@ def still_start(
     m = t >= still
     z[m] += 2.0 * np.sin(2 * np.pi * t[m] / 25.0) * rng.uniform(0.5, 1.5)
     return z + m * 0.3 * rng.normal(size=n)
+
+
+def postures(
+    raised: float = 2.2, rest: int = 5000, rng: np.random.Generator | int | None = None
+) -> NDArray:
+    """Two still levels: a short rest at variance 1, a long one at ``raised`` (another
+    posture), motion between.
+
+    Parameters
+    ----------
+    raised : float
+        The long rest's noise variance (the short rests' is 1).
+    rest : int
+        Samples of the long rest.
+    rng : Generator, int or None
+        Randomness (a seed for a repeatable record).
+
+    Returns
+    -------
+    ndarray
+        300 still samples, 400 of motion (a 40-sample sinusoid of amplitude 30 under a
+        Hann window, white noise of std 30), ``rest`` at ``raised``, 400 of motion, 300
+        still.
+    """
+    rng = _rng(rng)
+    parts = []
+    for kind, n in (("s", 300), ("m", 400), ("r", rest), ("m", 400), ("s", 300)):
+        t = np.arange(n)
+        if kind == "m":
+            parts.append(30 * np.sin(2 * np.pi * t / 40) * np.hanning(n) + rng.normal(0, 30, n))
+        else:
+            parts.append(rng.normal(0.0, np.sqrt(raised if kind == "r" else 1.0), n))
+    return np.concatenate(parts)

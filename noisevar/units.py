@@ -28,11 +28,12 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
+from noisevar.format import NO_UNIT, unit_text
 
 #: Unit strings a user may give, for error messages and help texts.
 EXAMPLES = ("rad/s", "deg/s", "m/s^2", "g", "mg", "m", "ns", "0.00875 deg/s (counts x scale)")
 #: What an undeclared unit is called (no conversion possible).
-UNKNOWN = "u"
+UNKNOWN = NO_UNIT
 #: IMU spellings pint reads otherwise (g: gram), rewritten before parsing.
 _ALIASES = (
     (re.compile(r"(?<![\w.])(?:µ|u)g(?![\w^])"), "(1e-6 * standard_gravity)"),
@@ -119,6 +120,15 @@ def _parse(raw: str) -> Unit:
     return Unit(raw, scale, str(base.units))
 
 
+def declared_unit(text: str | None) -> str | None:
+    """A unit a file declares (a log's message definition, a header's ``[unit]``), if
+    :func:`parse_unit` reads it; else None (the file's word is not the user's)."""
+    try:
+        return text if parse_unit(text) is not None else None
+    except NoisevarError:
+        return None
+
+
 def factor(source: str | None, target: str | None) -> float:
     """The factor that converts values in ``source`` to ``target`` (1 when either is unset).
 
@@ -149,7 +159,7 @@ def convert_variance(variance: ArrayLike, source: str | None, target: str | None
 
 def variance_label(unit: str | None) -> str:
     """The unit of a variance: ``(deg/s)²`` (``u²`` without a unit)."""
-    u = unit or UNKNOWN
+    u = unit_text(unit or UNKNOWN)
     return f"({u})²" if "/" in u or " " in u else f"{u}²"
 
 
@@ -169,7 +179,7 @@ def term_unit(unit: str | None, symbol: str) -> str:
     ``K`` of ``rad/s`` is ``rad/s²/√Hz``, of ``m/s^2`` ``m/s³/√Hz`` (a rate per second
     folded into the unit's own ``/s``); any other unit keeps the template.
     """
-    u = unit or UNKNOWN
+    u = unit_text(unit or UNKNOWN)
     if symbol not in TERM_UNITS:
         raise NoisevarError(f"no term {symbol!r}; the terms are {', '.join(TERM_UNITS)}")
     if symbol in ("K", "R"):

@@ -114,7 +114,7 @@ def test_bad_rate(capsys, imu_csv, command: str, extra: list[str], message: str)
 def test_too_short_a_record(capsys, tmp_path) -> None:
     path = tmp_path / "short.csv"
     path.write_text("z\n1\n2\n3\n")
-    assert "too short" in _error(capsys, ["allan", str(path), "--rate", "1"])
+    assert "too short" in _error(capsys, ["allan", str(path), "--rate", "1", "--data", "phase"])
     assert "too short" in _error(capsys, ["imu", str(path), "--rate", "1"])
 
 

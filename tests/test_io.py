@@ -231,3 +231,18 @@ def test_loaded_columns_are_writable_for_every_method():
     import noisevar
 
     noisevar.estimate(z, method="wavelet-mad")
+
+
+def test_a_one_column_file_whose_name_has_spaces(tmp_path):
+    """``clock [ns]`` over one number per row: one column named so, with its unit (it was
+    split into two columns at the space, the second all empty: refused)."""
+    from noisevar.io import load_table
+
+    path = tmp_path / "clock.csv"
+    path.write_text("clock offset [ns]\n" + "\n".join(str(0.5 * i) for i in range(200)) + "\n")
+    table = load_table(str(path), "clock.csv")
+    assert table.data_columns == ["clock offset [ns]"] and table.units == {
+        "clock offset [ns]": "ns"
+    }
+    path.write_text("a b\n1 2\n3 4\n")  # whitespace-separated columns stay columns
+    assert load_table(str(path), "ws.txt").data_columns == ["a", "b"]

@@ -2,17 +2,15 @@
 
 from __future__ import annotations
 
-import numpy as np
 import streamlit as st
 
-import noisevar
 from dashboard.cache import DEFAULT_METHOD
 from dashboard.state import LoadedSignal, initial
 from dashboard.widgets import guarded, show_figure
-from noisevar.errors import NoisevarError
+from noisevar.batch.channels import channel_estimates
 from noisevar.estimators.results import VarianceEstimates
 from noisevar.figures.fleet import channels_figure
-from noisevar.io import LoadedTable, pick_column
+from noisevar.io import LoadedTable
 
 #: Channels chosen at first (at most this many of the table's data columns).
 DEFAULT_CHANNELS = 6
@@ -24,21 +22,15 @@ def _estimates(
 ) -> tuple[VarianceEstimates | None, list[str], dict[str, str]]:
     """Each chosen column's estimate (``digest`` keys the table), and why others have none.
 
-    The channels are estimated in one 2-D call when they all can be; a channel that
-    cannot (constant, too short, NaN) is left out and its reason kept.
+    As ``noisevar estimate --columns`` and ``noisevar batch`` estimate them
+    (:func:`noisevar.batch.channels.channel_estimates`: the table's times, one 2-D call
+    when every channel can be estimated); a channel that cannot (constant, too short,
+    NaN) is left out and its reason kept.
     """
-    try:
-        z = np.stack([pick_column(_table, c) for c in columns])
-        return noisevar.estimate(z, axis=-1), list(columns), {}
-    except NoisevarError:
-        pass
-    results, names, errors = [], [], {}
-    for c in columns:
-        try:
-            results.append(noisevar.estimate(pick_column(_table, c)))
-            names.append(c)
-        except NoisevarError as exc:
-            errors[c] = str(exc)
+    answers = channel_estimates(_table, list(columns))
+    results = [a for a in answers if not isinstance(a, str)]
+    names = [c for c, a in zip(columns, answers, strict=True) if not isinstance(a, str)]
+    errors = {c: a for c, a in zip(columns, answers, strict=True) if isinstance(a, str)}
     if not results:
         return None, [], errors
     est = VarianceEstimates(results[0].method, (len(results),), results, dict(results[0].params))

@@ -476,10 +476,8 @@ def report(
         record=record_answer(est).summary(unit),
     )
     notes = [cli_hint(sig), cfg, *est.notes]
-    summary = [
-        f"Regime warning: {r['value']}" if r["quantity"] == "regime warning" else r["value"]
-        for r in answer_rows(est, unit)
-    ]
+    said = {"regime warning": "Regime warning: ", "other still levels": "Other still levels: "}
+    summary = [said.get(r["quantity"], "") + r["value"] for r in answer_rows(est, unit)]
     return html_report(f"noisevar: noise of {sig.label}", rows, [fig], notes, summary)
 
 
@@ -489,9 +487,15 @@ def estimate_csv(est: VarianceEstimate, truth: float | None, unit: str = "") -> 
 
 
 def answer_rows(est: VarianceEstimate, unit: str = "") -> list[dict[str, str]]:
-    """The record's verdict, its answer and (when the level varies) the regime warning, as
-    ``{"quantity", "value"}`` rows: the report's first lines and the Estimate CSV's last."""
-    labels = {"verdict": "verdict", "answer": "record's answer", "regime_warning": "regime warning"}
+    """The record's verdict, its answer, (when the level varies) the regime warning and the
+    other still levels, as ``{"quantity", "value"}`` rows: the report's first lines and the
+    Estimate CSV's last."""
+    labels = {
+        "verdict": "verdict",
+        "answer": "record's answer",
+        "regime_warning": "regime warning",
+        "other_still_levels": "other still levels",
+    }
     return [
         {"quantity": labels[k], "value": v} for k, v in record_answer(est).summary(unit).items()
     ]

@@ -12,6 +12,7 @@ from dataclasses import replace
 import numpy as np
 import streamlit as st
 
+from dashboard import cache
 from dashboard.sections.noise_model import composite_cached, imu_column
 from dashboard.state import LoadedSignal, initial, signal_units
 from dashboard.widgets import guarded
@@ -163,7 +164,11 @@ def report_html(
 
 
 def _said(sig: LoadedSignal, column: str, regimes: str) -> RecordAnswer:
-    """A column's record answer (its samples: the signal's table or the log's topics)."""
+    """A column's record answer (its samples: the signal's table or the log's topics); a
+    table's column as every page reads it (:func:`dashboard.cache.column_estimate`: split at
+    its time column's gaps), so the report quotes the page's R."""
+    if sig.topics is None:
+        return record_answer(cache.column_estimate(sig, column), regimes)
     key, _, z = imu_column(sig, column, 1.0)  # the answer is per sample: no rate
     return _answer(key, regimes, z)
 

@@ -21,6 +21,7 @@ from noisevar.batch import read_table
 from noisevar.batch.example import EXAMPLE_CHANNELS, write_example_fleet
 from noisevar.batch.fleet import DEFAULT_THRESHOLD, FleetReport, SensorScore
 from noisevar.errors import NoisevarError
+from noisevar.estimators.answer import STILL_LEVELS_NOTE, row_still_levels, still_level_rows
 from noisevar.estimators.results import FLAG_PREFIX
 from noisevar.figures.fleet import flagged_sensors, fleet_distribution
 
@@ -240,9 +241,28 @@ def regime_choice(frame: pd.DataFrame) -> str:
             + (f"\n- and {more} more (the table below has every verdict)" if more > 0 else ""),
             icon=":material/warning:",
         )
+    _still_levels(moving)
     return still_choice(
         "fl_regimes",
         bool(len(moving)),
         help="Each sensor's noise is then its still regimes' (the batch table's "
         "still_variance), where its level varies; its whole record's where it does not.",
     )
+
+
+def _still_levels(moving: pd.DataFrame) -> None:
+    """The moving rows' other still levels (the batch table's ``other_still_levels``) as
+    one small table, a row per level, under what they mean (nothing when there is none)."""
+    if "other_still_levels" not in moving.columns:
+        return
+    rows = []
+    for _, r in moving.iterrows():
+        n, still = r.get("n_total"), r.get("still_variance")
+        if pd.isna(n) or pd.isna(still):
+            continue
+        levels = row_still_levels(r["other_still_levels"])
+        sensor = {"Sensor": f"{Path(str(r['file'])).name} · {r['channel']}"}
+        rows += [sensor | x for x in still_level_rows(levels, int(n), float(still))]
+    if rows:
+        st.caption(STILL_LEVELS_NOTE)
+        st.dataframe(pd.DataFrame(rows), hide_index=True, width="stretch")

@@ -17,7 +17,7 @@ from noisevar.estimators.answer import WHY_DIFFERENT, record_answer
 from noisevar.estimators.regimes import DEFAULT_REGIMES, still_used, variance_for
 from noisevar.figures.noise_model import allan_figure
 from noisevar.noise_model import AllanResult, InertialNoise, allan, exports, inertial_noise
-from noisevar.noise_model.allan import DATA_KINDS, KINDS
+from noisevar.noise_model.allan import DATA_KINDS, KINDS, default_data
 from noisevar.noise_model.kalibr import kalibr_imu
 from noisevar.noise_model.simulate import simulate_inertial
 
@@ -84,13 +84,15 @@ def settings_form(sig: LoadedSignal, regimes: str = DEFAULT_REGIMES) -> NoiseMod
         key="nm_rate",
         **initial("nm_rate", float(default_rate)),
     )
+    declared = signal_units() or "u"  # the unit declared on the Signal page
     data = c2.radio(
         "The samples are",
         DATA_KINDS,
         horizontal=True,
         key="nm_data",
-        help="rate: gyro rate, specific force, fractional frequency; phase: angle, time error",
-        **initial("nm_data", 1, "index"),
+        help="rate: gyro rate, specific force, fractional frequency; phase: angle, time error "
+        "(default: phase for a unit of time, else rate, as `noisevar allan`)",
+        **initial("nm_data", DATA_KINDS.index(default_data(declared)), "index"),
     )
     kind = c3.selectbox(
         "Deviation",
@@ -99,7 +101,6 @@ def settings_form(sig: LoadedSignal, regimes: str = DEFAULT_REGIMES) -> NoiseMod
         key="nm_kind",
         **initial("nm_kind", 0, "index"),
     )
-    declared = signal_units() or "u"  # the unit declared on the Signal page
     unit = c4.text_input("Unit of the rate", key="nm_unit", **initial("nm_unit", declared))
     return NoiseModelSettings(float(rate), str(data), str(kind), unit.strip() or "u", regimes)
 

@@ -13,6 +13,7 @@ import pandas as pd
 import streamlit as st
 from numpy.typing import ArrayLike
 
+from dashboard.sections.regimes import still_levels_table
 from dashboard.widgets import guarded, lazy_expander, show_figure
 from noisevar.diagnostics.panel import (
     NoisePanelData,
@@ -20,6 +21,7 @@ from noisevar.diagnostics.panel import (
     noise_panel_data,
     verdict_severity,
 )
+from noisevar.estimators.answer import record_answer
 from noisevar.figures.noise import acf_plot, level_profile_plot, qq_plot, residual_histogram
 
 #: Flag -> (label, the value that is good news; None: neither good nor bad).
@@ -86,6 +88,7 @@ def render_noise_panel(
     _badges(diag.flags)
     for note in diag.notes:
         st.caption(note)
+    still_levels_table(record_answer(estimate))  # the other still levels, as data
     _figures(z, diag, t, key, digest)
 
 

@@ -10,10 +10,16 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+import pandas as pd
 import streamlit as st
 
 from dashboard.state import signal_units
-from noisevar.estimators.answer import WHY_DIFFERENT, record_answer
+from noisevar.estimators.answer import (
+    STILL_LEVELS_NOTE,
+    WHY_DIFFERENT,
+    RecordAnswer,
+    record_answer,
+)
 from noisevar.estimators.regimes import DEFAULT_REGIMES, why_no_still
 from noisevar.estimators.results import VarianceEstimate
 
@@ -78,7 +84,8 @@ def record_answer_box(
 
 
 def regime_warning(est: VarianceEstimate | None, name: str | None = None) -> bool:
-    """The record's verdict and R (:func:`record_answer_box`); whether its level varies.
+    """The record's verdict and R (:func:`record_answer_box`) and its other still levels
+    (:func:`still_levels_table`); whether its level varies.
 
     Parameters
     ----------
@@ -86,7 +93,35 @@ def regime_warning(est: VarianceEstimate | None, name: str | None = None) -> boo
     name : str, optional
         What the record is (a sensor's column), said before the verdict.
     """
-    return record_answer_box(est, name)
+    varies = record_answer_box(est, name)
+    if est is not None:
+        still_levels_table(record_answer(est), name=name)
+    return varies
+
+
+def still_levels_table(ans: RecordAnswer, name: str | None = None, unit: str | None = None) -> None:
+    """The record's other still levels as a small table (nothing when there is none).
+
+    Each near-still stretch above the still R (another posture, slow sway): its samples,
+    share of the record, level and 95 % interval over the still R, and the R there
+    (:meth:`~noisevar.estimators.answer.RecordAnswer.still_level_rows`), under
+    :data:`~noisevar.estimators.answer.STILL_LEVELS_NOTE`.
+
+    Parameters
+    ----------
+    ans : RecordAnswer
+        The record's answer.
+    name : str, optional
+        What the record is (a sensor's column), said before the note.
+    unit : str, optional
+        The record's unit (default: the one declared on the Signal page).
+    """
+    rows = ans.still_level_rows(signal_units() if unit is None else unit)
+    if not rows:
+        return
+    said = f"**{name}**: " if name else ""
+    st.caption(f"{said}{STILL_LEVELS_NOTE}")
+    st.dataframe(pd.DataFrame(rows), hide_index=True, width="stretch")
 
 
 def still_choice(key: str, offered: bool, help: str) -> str:

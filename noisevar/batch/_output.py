@@ -30,8 +30,9 @@ if TYPE_CHECKING:
 
 #: Output formats by file extension.
 FORMATS = {".parquet": "parquet", ".pq": "parquet", ".csv": "csv"}
-#: What a batch row is of, before the estimate's columns.
-KEY_COLUMNS: tuple[str, ...] = ("file", "channel")
+#: What a batch row is of, before the estimate's columns: the file, the channel and the
+#: unit the file declares for it (empty when it declares none).
+KEY_COLUMNS: tuple[str, ...] = ("file", "channel", "unit")
 #: How a batch row was made, after the estimate's columns: the time it took, the file's
 #: content hash, the error (when there is no estimate), the request it answers and the
 #: file's sample rate (Hz, from its time column; empty without one).

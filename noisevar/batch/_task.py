@@ -17,17 +17,21 @@ def estimate_row(
     """One row: the estimate of one channel of a loaded table, or its error.
 
     The estimate's fields are its :meth:`~noisevar.estimators.results.VarianceEstimate.to_row`;
-    a row whose estimate failed has ``n_total`` (the samples read) and ``error``.
+    a row whose estimate failed has ``n_total`` (the samples read) and ``error``. ``unit`` is
+    the unit the file declares for the channel (a log's field, a header's ``[unit]``), if any.
     """
     from noisevar.estimators import estimate
-    from noisevar.io import pick_column
+    from noisevar.io import channel_record
+    from noisevar.units import declared_unit
 
     start = time.perf_counter()
-    row: dict[str, Any] = {"file": file, "channel": channel, "method": method}
+    unit = declared_unit(table.units.get(channel)) if channel is not None else None
+    row: dict[str, Any] = {"file": file, "channel": channel, "unit": unit, "method": method}
     try:
-        z = pick_column(table, channel, drop_nonfinite=bool(params.get("drop_nonfinite")))
+        # as `noisevar estimate` reads a channel: the table's times (gaps split), one answer
+        z, t = channel_record(table, channel, drop_nonfinite=bool(params.get("drop_nonfinite")))
         row["n_total"] = int(z.size)
-        est = estimate(z, method=method, **params)
+        est = estimate(z, method=method, t=t, **params)
     except NoisevarError as exc:
         row["error"] = str(exc)
         row["elapsed_s"] = time.perf_counter() - start

@@ -1,21 +1,23 @@
 """Which channels of a table to estimate: ``"all"``, a list, or the first data column.
 
-Shared by ``noisevar batch`` and ``noisevar estimate --columns``: the ``columns`` argument
-(a string from the command line or a config, or a list from Python) is parsed once by
-:func:`parse_columns`, then resolved against each loaded table by :func:`table_channels`.
+Shared by ``noisevar batch``, ``noisevar estimate --columns`` and the dashboard's channel
+tables: the ``columns`` argument (a string from the command line or a config, or a list from
+Python) is parsed once by :func:`parse_columns`, then resolved against each loaded table by
+:func:`table_channels`; :func:`channel_estimates` estimates them as every path does.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
 
 from noisevar.errors import NoisevarError
 
 if TYPE_CHECKING:
+    from noisevar.estimators.results import VarianceEstimate
     from noisevar.io import LoadedTable
 
-__all__ = ["parse_columns", "table_channels"]
+__all__ = ["channel_estimates", "parse_columns", "table_channels"]
 
 
 def parse_columns(columns: str | Sequence[str] | None) -> str | list[str] | None:
@@ -78,3 +80,67 @@ def table_channels(table: LoadedTable, columns: str | list[str] | None) -> list[
     if columns is None:
         return [table.data_columns[0]] if table.data_columns else [None]
     return list(columns)
+
+
+def channel_estimates(
+    table: LoadedTable,
+    names: Sequence[str | None],
+    method: str | None = None,
+    params: Mapping[str, Any] | None = None,
+) -> list[VarianceEstimate | str]:
+    """Each channel's estimate, with the table's times, or the reason it has none.
+
+    Parameters
+    ----------
+    table : LoadedTable
+        A loaded file.
+    names : sequence of str or None
+        Its channels (:func:`table_channels`).
+    method : str, optional
+        Estimator (default :data:`noisevar.estimators.DEFAULT_METHOD`).
+    params : mapping, optional
+        Its parameters (``drop_nonfinite`` keeps non-finite cells as gaps).
+
+    Returns
+    -------
+    list of VarianceEstimate or str
+        In the order of ``names``; a channel that cannot be estimated (constant, too short,
+        empty cells, unknown) gives its error message instead.
+
+    Notes
+    -----
+    Each channel is read by :func:`noisevar.io.channel_record` (the table's times: a
+    record with gaps is split at them), so that it gets the same answer as alone. The
+    channels are estimated in one 2-D call when they all can be (vectorised where the
+    method allows), else one by one.
+    """
+    import numpy as np
+
+    from noisevar.estimators import DEFAULT_METHOD, estimate
+    from noisevar.io import channel_record
+
+    method = method or DEFAULT_METHOD
+    kw = dict(params or {})
+    drop = bool(kw.get("drop_nonfinite", False))
+    read: list[Any] = []
+    for name in names:
+        try:
+            read.append(channel_record(table, name, drop_nonfinite=drop))
+        except NoisevarError as exc:
+            read.append(str(exc))
+    ok = [r for r in read if not isinstance(r, str)]
+    # one 2-D estimate for two channels or more (one row of 2-D is one signal: estimate
+    # returns it alone, not a list)
+    if len(ok) > 1 and len(ok) == len(read) and len({z.size for z, _ in ok}) == 1:
+        try:
+            stacked = np.stack([z for z, _ in ok])
+            return list(estimate(stacked, method=method, t=ok[0][1], **kw))
+        except NoisevarError:
+            pass  # one channel refused: each on its own, to say which
+    out: list[VarianceEstimate | str] = []
+    for r in read:
+        try:
+            out.append(r if isinstance(r, str) else estimate(r[0], method=method, t=r[1], **kw))
+        except NoisevarError as exc:
+            out.append(str(exc))
+    return out

@@ -118,26 +118,14 @@ def load_record(
     path: str, column: str | None, drop_nonfinite: bool = False, topic: str | None = None
 ) -> tuple[np.ndarray, np.ndarray | None, list[str]]:
     """One column of a data file (or of a log's ``topic``) with its sample times (if the
-    file has a time column; a log always has its timestamps).
+    file has a time column; a log always has its timestamps) and the loader's notes.
 
-    Returns the values (non-finite cells kept when ``drop_nonfinite``, for the estimator
-    to treat as gaps; refused otherwise), the times or None, and the loader's notes.
+    As every estimating path reads a channel: :func:`noisevar.io.channel_record`.
     """
-    import numpy as np
-
-    from noisevar.io import pick_column
-    from noisevar.io.load import column_values
+    from noisevar.io import channel_record
 
     table = load_file(path, topic)
-    if drop_nonfinite:
-        z = column_values(table, column)
-    else:
-        z = np.asarray(pick_column(table, column), dtype=float)
-    t = table.time()
-    if t is not None:
-        t = np.asarray(t, dtype=float)
-        if not np.all(np.isfinite(t)) or not np.all(np.diff(t) > 0):
-            t = None  # the loader's note says why; the samples are taken as uniform
+    z, t = channel_record(table, column, drop_nonfinite=drop_nonfinite)
     return z, t, list(table.notes)
 
 
@@ -181,17 +169,6 @@ def add_unit_flags(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--unit-out", help="convert the data to this unit first (e.g. deg/s data to rad/s)"
     )
-
-
-def declared_unit(text: str | None) -> str | None:
-    """A unit a file declares (a log's message definition, a header's ``[unit]``), if
-    ``noisevar.units`` reads it; else None (the file's word is not the user's)."""
-    from noisevar.units import parse_unit
-
-    try:
-        return text if parse_unit(text) is not None else None
-    except NoisevarError:
-        return None
 
 
 def units_of(given: str | None, out: str | None) -> tuple[float, str]:

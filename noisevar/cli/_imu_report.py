@@ -17,17 +17,42 @@ from pathlib import Path
 
 import numpy as np
 
+from noisevar.errors import NoisevarError
 from noisevar.estimators.answer import RecordAnswer
+from noisevar.estimators.results import VarianceEstimate
 from noisevar.noise_model.exports import ExportFile, ImuModel
 from noisevar.noise_model.inertial import InertialNoise
 
 
-def column_answers(
+def column_estimates(
     args: argparse.Namespace, data: dict[str, np.ndarray], scales: dict[str, float]
+) -> dict[str, VarianceEstimate | NoisevarError]:
+    """Each gyroscope and accelerometer column's :func:`noisevar.estimate` (method auto, as
+    the Estimator page), of the scaled column the fits see: made once, for the IEEE-952
+    fits' regimes (``inertial_noise(estimates=)``) and the answers (:func:`column_answers`);
+    the error instead when there is none (the fit then estimates, and says, as before)."""
+    from noisevar.estimators import estimate
+
+    def one(c: str) -> VarianceEstimate | NoisevarError:
+        try:
+            return estimate(data[c] * scales[c])
+        except NoisevarError as exc:  # raised where the answer is needed, as before
+            return exc
+
+    named = list(dict.fromkeys([*args.gyro, *args.accel]))
+    # the columns' estimates in threads, as inertial_noise fits the axes
+    with ThreadPoolExecutor(max(1, min(len(named), os.cpu_count() or 1))) as pool:
+        ests = list(pool.map(one, named))
+    return dict(zip(named, ests, strict=True))
+
+
+def column_answers(
+    args: argparse.Namespace, estimates: dict[str, VarianceEstimate | NoisevarError]
 ) -> list[tuple[str, str, RecordAnswer]]:
     """Each gyroscope and accelerometer column's record answer (method auto, as the
-    Estimator page): ``(sensor, column, answer)``, for the files' headers and the report."""
-    from noisevar.estimators import estimate
+    Estimator page): ``(sensor, column, answer)``, for the files' headers and the report.
+
+    ``estimates``: :func:`column_estimates`."""
     from noisevar.estimators.answer import record_answer
     from noisevar.estimators.regimes import DEFAULT_REGIMES
 
@@ -37,13 +62,10 @@ def column_answers(
         for sensor, columns in (("gyroscope", args.gyro), ("accelerometer", args.accel))
         for c in dict.fromkeys(columns)
     ]
-    # the columns' estimates in threads, as inertial_noise fits the axes
-    with ThreadPoolExecutor(max(1, min(len(named), os.cpu_count() or 1))) as pool:
-        ests = list(pool.map(lambda sc: estimate(data[sc[1]] * scales[sc[1]]), named))
-    return [
-        (sensor, c, record_answer(est, regimes))
-        for (sensor, c), est in zip(named, ests, strict=True)
-    ]
+    for _, c in named:
+        if isinstance(estimates[c], NoisevarError):
+            raise estimates[c]
+    return [(sensor, c, record_answer(estimates[c], regimes)) for sensor, c in named]
 
 
 def write_report(

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 from typing import Any
 
 import numpy as np
@@ -11,13 +12,13 @@ from noisevar.cli._common import (
     add_regimes_flag,
     add_topic_flag,
     add_unit_flags,
-    declared_unit,
     load_file,
     print_json,
     regimes_of,
     sample_rate,
     units_of,
 )
+from noisevar.units import declared_unit
 
 
 def load_columns(
@@ -36,19 +37,29 @@ def load_columns(
 
 def _cmd_allan(args: argparse.Namespace) -> int:
     from noisevar.noise_model import allan
+    from noisevar.noise_model.allan import default_data
 
     wanted = [args.column] if args.column else None
     data, rate, declared = load_columns(args.file, wanted, args.rate, args.topic)
     name, z = next(iter(data.items()))
     scale, unit = units_of(args.unit or declared_unit(declared[name]), args.unit_out)
-    res = allan(z * scale, rate=rate, data=args.data, kind=args.kind, **regimes_of(args))
+    kind_of_data = args.data or default_data(unit)
+    res = allan(z * scale, rate=rate, data=kind_of_data, kind=args.kind, **regimes_of(args))
+    if args.data is None:
+        other = "rate" if kind_of_data == "phase" else "phase"
+        said = (
+            f"{kind_of_data} data: the default for unit {unit} (--data {other} otherwise: "
+            "phase is a time error or an angle, rate a gyro's rate, a specific force or a "
+            "fractional frequency)"
+        )
+        res = dataclasses.replace(res, notes=(said, *res.notes))
     # rate data: the deviation is in the data's unit; phase data: the phase's unit per second
-    dev_unit = unit if args.data == "rate" else f"{unit}/s"
+    dev_unit = unit if kind_of_data == "rate" else f"{unit}/s"
     if args.format == "json":
         print_json({"column": name, "unit": dev_unit, **res.to_dict()})
         return 0
     print(
-        f"{res.kind} of {name} ({args.data} data, {res.n_samples} samples at {rate:g} Hz), "
+        f"{res.kind} of {name} ({kind_of_data} data, {res.n_samples} samples at {rate:g} Hz), "
         f"{res.ci:.1%} intervals; deviations in {dev_unit}, tau in s"
     )
     for note in res.notes:
@@ -73,7 +84,12 @@ def add_parser(sub: Any) -> None:
     p = sub.add_parser("allan", help="Allan deviation with intervals and noise types (§E4)")
     p.add_argument("file")
     p.add_argument("--rate", type=float, help="sample rate in Hz (default: the time column's)")
-    p.add_argument("--data", choices=DATA_KINDS, default="phase")
+    p.add_argument(
+        "--data",
+        choices=DATA_KINDS,
+        help="phase (a time error, an angle) or rate (a gyro's rate, a specific force, a "
+        "fractional frequency); default: phase for a unit of time, else rate",
+    )
     p.add_argument("--kind", choices=list(KINDS), default="oadev")
     p.add_argument("--column")
     add_unit_flags(p)

@@ -12,8 +12,6 @@ from noisevar.cli._common import (
     add_topic_flag,
     add_unit_flags,
     load_file,
-    load_record,
-    load_signal,
     print_json,
     units_of,
 )
@@ -119,16 +117,25 @@ def _diagnostics_lines(result: Any) -> list[str]:
     return [f"verdict   {echo(getattr(diag, 'verdict', ''), 500)}"]
 
 
-def _unit(args: argparse.Namespace) -> str:
-    """The unit the results are in (``--unit-out``, else ``--unit``, else ``u``)."""
-    return units_of(getattr(args, "unit", None), getattr(args, "unit_out", None))[1]
+def _units(args: argparse.Namespace, declared: str | None = None) -> tuple[float, str]:
+    """The factor to apply to the data and the unit the results are in: ``--unit-out``,
+    else ``--unit``, else the unit the file declares for the channel, else ``u``."""
+    from noisevar.units import declared_unit
+
+    given = getattr(args, "unit", None) or declared_unit(declared)
+    return units_of(given, getattr(args, "unit_out", None))
 
 
-def _print_one(args: argparse.Namespace, column: Any, result: Any) -> None:
+def _unit(args: argparse.Namespace, declared: str | None = None) -> str:
+    """The unit the results are in (:func:`_units`)."""
+    return _units(args, declared)[1]
+
+
+def _print_one(args: argparse.Namespace, column: Any, result: Any, unit: str) -> None:
     from noisevar.units import variance_label
 
     lo, hi = result.ci95
-    u = _unit(args)
+    u = unit
     print(f"file      {echo(args.file, 200)}" + (f"  column {echo(column)}" if column else ""))
     print(f"method    {result.method}")
     from noisevar.format import eng, eng_range
@@ -146,33 +153,52 @@ def _print_one(args: argparse.Namespace, column: Any, result: Any) -> None:
         print(f"note      {echo(note, 500)}")
 
 
-def _as_json(args: argparse.Namespace, column: Any, result: Any) -> dict[str, Any]:
-    """The estimate's :meth:`~noisevar.estimators.results.VarianceEstimate.to_dict`, and where."""
-    return {**result.to_dict(), "file": args.file, "column": column, "unit": _unit(args)}
+def _as_json(args: argparse.Namespace, column: Any, result: Any, unit: str) -> dict[str, Any]:
+    """The estimate's :meth:`~noisevar.estimators.results.VarianceEstimate.to_dict`, and where;
+    a channel that could not be estimated: its ``error``."""
+    if isinstance(result, str):
+        return {"file": args.file, "column": column, "unit": unit, "error": result}
+    return {**result.to_dict(), "file": args.file, "column": column, "unit": unit}
 
 
-def _print_csv(args: argparse.Namespace, pairs: list[tuple[Any, Any]]) -> None:
-    """One row per channel: ``file``, ``channel`` and the estimate's row (the one schema)."""
+def _print_csv(args: argparse.Namespace, rows: list[tuple[Any, Any, str]]) -> None:
+    """One row per channel: ``file``, ``channel``, ``unit`` and the estimate's row (the one
+    schema, as ``noisevar batch`` writes it), or its ``error``."""
     from noisevar.batch import KEY_COLUMNS
     from noisevar.estimators.results import rows_frame
 
-    rows = [dict(zip(KEY_COLUMNS, (args.file, c), strict=True), **r.to_row()) for c, r in pairs]
-    rows_frame(rows, lead=KEY_COLUMNS).to_csv(sys.stdout, index=False)
+    out = [
+        dict(
+            zip(KEY_COLUMNS, (args.file, c, u), strict=True),
+            **({"error": r} if isinstance(r, str) else r.to_row()),
+        )
+        for c, r, u in rows
+    ]
+    tail = ("error",) if any(isinstance(r, str) for _, r, _ in rows) else ()
+    rows_frame(out, lead=KEY_COLUMNS, tail=tail).to_csv(sys.stdout, index=False)
 
 
-def _print_table(args: argparse.Namespace, pairs: list[tuple[Any, Any]]) -> None:
+def _print_table(args: argparse.Namespace, rows: list[tuple[Any, Any, str]]) -> None:
     print(f"file      {args.file}")
-    print(f"method    {pairs[0][1].method}")
-    width = max(7, *(len(str(c)) for c, _ in pairs))
-    u = _unit(args)
-    print(f"units     variance {_variance_label(u)}, std {u}")
-    print(f"{'channel':<{width}}  {'variance':>11}  {'std':>11}  {'95 % CI':>25}  samples")
-    for c, r in pairs:
+    done = [(c, r, u) for c, r, u in rows if not isinstance(r, str)]
+    print(f"method    {done[0][1].method}")
+    width = max(7, *(len(str(c)) for c, _, _ in rows))
+    units = {u for _, _, u in rows}
+    one = units.pop() if len(units) == 1 else None
+    if one is not None:
+        print(f"units     variance {_variance_label(one)}, std {one}")
+    head = f"{'channel':<{width}}  {'variance':>11}  {'std':>11}  {'95 % CI':>25}  samples"
+    print(head + ("" if one is not None else "  unit (std)"))
+    for c, r, u in rows:
+        if isinstance(r, str):
+            print(f"{c!s:<{width}}  not estimated: {echo(r, 300)}")
+            continue
         ci = f"{r.ci95[0]:.5g} .. {r.ci95[1]:.5g}"
         print(
             f"{c!s:<{width}}  {r.variance:>11.6g}  {r.std:>11.6g}  {ci:>25}  {r.n_used}/{r.n_total}"
+            + ("" if one is not None else f"  {u}")
         )
-    for c, r in pairs:
+    for c, r, _ in done:
         for line in _diagnostics_lines(r) + [f"note      {n}" for n in r.notes]:
             print(f"[{c}] {line}")
 
@@ -203,40 +229,33 @@ def _channels(args: argparse.Namespace, params: dict[str, Any]) -> tuple[Any, li
 
 
 def _estimate_many(args: argparse.Namespace, columns: Any, method: str, params: dict) -> int:
-    import numpy as np
-
-    from noisevar.batch.channels import table_channels
-    from noisevar.estimators import estimate, method_spec
-    from noisevar.io import pick_column
+    """Several channels of one table, each with the table's times and its declared unit (as
+    ``noisevar batch`` reads them: one answer); a channel that cannot be estimated is a row
+    with its reason, the others go on (all failing: the first reason, exit 2)."""
+    from noisevar.batch.channels import channel_estimates, table_channels
+    from noisevar.estimators import method_spec
+    from noisevar.io.load import column_name
 
     if method_spec(method).needs_reference:
         raise NoisevarError(f"method {method} takes one --column and a --reference-column")
     table = load_file(args.file, args.topic)
     names = table_channels(table, columns)
-    drop = bool(params.get("drop_nonfinite", False))
-    zs = []
     for name in names:
-        try:
-            zs.append(np.asarray(pick_column(table, name, drop_nonfinite=drop), dtype=float))
-        except NoisevarError as exc:
-            raise NoisevarError(f"column {name!r}: {exc}") from None
-    if len({z.size for z in zs}) == 1:  # one 2-D estimate, vectorised where the method allows
-        results = list(estimate(np.stack(zs), method=method, axis=-1, **params))
-    else:
-        results = [estimate(z, method=method, **params) for z in zs]
-    pairs = list(zip(names, results, strict=True))
+        column_name(table, name)  # a name that is not in the file: the user's typo, exit 2
+    results = channel_estimates(table, names, method, params)
+    if all(isinstance(r, str) for r in results):
+        raise NoisevarError(f"column {names[0]!r}: {results[0]}")
+    rows = [
+        (c, r, _unit(args, table.units.get(c) if c is not None else None))
+        for c, r in zip(names, results, strict=True)
+    ]
     if args.format == "json":
-        print_json(
-            {
-                "file": args.file,
-                "method": method,
-                "channels": [_as_json(args, c, r) for c, r in pairs],
-            }
-        )
+        channels = [_as_json(args, c, r, u) for c, r, u in rows]
+        print_json({"file": args.file, "method": method, "channels": channels})
     elif args.format == "csv":
-        _print_csv(args, pairs)
+        _print_csv(args, rows)
     else:
-        _print_table(args, pairs)
+        _print_table(args, rows)
     return 0
 
 
@@ -296,53 +315,66 @@ def _estimate_streamed(args: argparse.Namespace, column: Any, method: str, param
 
 
 def _cmd_estimate(args: argparse.Namespace) -> int:
-    from noisevar.estimators import estimate, method_spec
-
     method, params = estimate_params(args)
     column, columns = _channels(args, params)
-    scale = units_of(args.unit, args.unit_out)[0]
-    if scale != 1.0 and (columns is not None or _streamed(args)):
-        raise NoisevarError(
-            "--unit-out converts one column read in memory: drop --columns/--stream"
-        )
+    if args.unit_out and (columns is not None or _streamed(args)):
+        if not args.unit or units_of(args.unit, args.unit_out)[0] != 1.0:
+            raise NoisevarError(
+                "--unit-out converts one column read in memory: drop --columns/--stream"
+            )
     if _streamed(args):
-        _print(args, column, _estimate_streamed(args, column, method, params))
+        _print(args, column, _estimate_streamed(args, column, method, params), _unit(args))
         return 0
-    in_memory = columns is not None or scale != 1.0  # --unit-out converts in memory
+    in_memory = columns is not None or bool(args.unit_out)  # --unit-out converts in memory
     if not in_memory and (col := _by_default(args, column, method, params)) is not _IN_MEMORY:
         result = _estimate_streamed(args, col, method, params)  # bounded memory, same numbers
-        _print(args, column, result)
+        _print(args, column, result, _unit(args))
         return 0
     if columns is not None:
         return _estimate_many(args, columns, method, params)
-    drop = bool(params.get("drop_nonfinite", False))
-    if method_spec(method).needs_reference:
-        if not args.reference_column:
-            raise NoisevarError(
-                f"method {method} needs --reference-column: the second sensor's column"
-            )
-        z, dropped = load_signal(args.file, column, drop, args.topic)
-        z = z * scale
-        reference, _ = load_signal(args.file, args.reference_column, drop, args.topic)
-        params["reference"] = reference * scale
-        result = estimate(z, method=method, **params)
-        if dropped:
-            result.notes.insert(0, f"dropped {dropped} non-finite samples of {args.file}")
-    else:  # the record with its times and the loader's notes: gaps are split, not spliced
-        z, t, notes = load_record(args.file, column, drop, args.topic)
-        result = estimate(z * scale, method=method, t=t, **params)
-        result.notes[:0] = [n for n in notes if n not in result.notes]
-    _print(args, column, result)
+    from noisevar.io.load import column_name
+
+    table = load_file(args.file, args.topic)
+    scale, unit = _units(args, table.units.get(column_name(table, column)))
+    result = _estimate_one(args, table, column, method, params, scale)
+    _print(args, column, result, unit)
     return 0
 
 
-def _print(args: argparse.Namespace, column: Any, result: Any) -> None:
+def _estimate_one(
+    args: argparse.Namespace, table: Any, column: Any, method: str, params: dict, scale: float
+) -> Any:
+    """One column of a table: with its times and the loader's notes (gaps split, not
+    spliced), or with the second sensor's column for a method that needs one."""
+    import numpy as np
+
+    from noisevar.estimators import estimate, method_spec
+    from noisevar.io import channel_record, pick_column
+
+    drop = bool(params.get("drop_nonfinite", False))
+    if not method_spec(method).needs_reference:
+        z, t = channel_record(table, column, drop_nonfinite=drop)
+        result = estimate(z * scale, method=method, t=t, **params)
+        result.notes[:0] = [n for n in table.notes if n not in result.notes]
+        return result
+    if not args.reference_column:
+        raise NoisevarError(f"method {method} needs --reference-column: the second sensor's column")
+    z = np.asarray(pick_column(table, column, drop_nonfinite=drop), dtype=float)
+    reference = np.asarray(pick_column(table, args.reference_column, drop_nonfinite=drop))
+    params["reference"] = reference * scale
+    result = estimate(z * scale, method=method, **params)
+    if table.n_rows - z.size:
+        result.notes.insert(0, f"dropped {table.n_rows - z.size} non-finite samples of {args.file}")
+    return result
+
+
+def _print(args: argparse.Namespace, column: Any, result: Any, unit: str) -> None:
     if args.format == "json":
-        print_json(_as_json(args, column, result))
+        print_json(_as_json(args, column, result, unit))
     elif args.format == "csv":
-        _print_csv(args, [(column, result)])
+        _print_csv(args, [(column, result, unit)])
     else:
-        _print_one(args, column, result)
+        _print_one(args, column, result, unit)
 
 
 def add_estimate_flags(p: argparse.ArgumentParser) -> None:

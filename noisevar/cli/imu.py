@@ -20,7 +20,6 @@ import numpy as np
 from noisevar.cli._common import (
     add_regimes_flag,
     add_unit_flags,
-    declared_unit,
     print_json,
     regimes_of,
     units_of,
@@ -29,6 +28,7 @@ from noisevar.cli._temperature import print_models, split_temperature, temperatu
 from noisevar.cli.allan import load_columns
 from noisevar.errors import NoisevarError
 from noisevar.io.limits import echo
+from noisevar.units import declared_unit
 
 
 def _columns(args: argparse.Namespace) -> list[str] | None:
@@ -125,10 +125,11 @@ def _need_sensors(args: argparse.Namespace, flag: str) -> None:
 
 
 def _exports(
-    args: argparse.Namespace, fits: dict, data: dict, scales: dict
+    args: argparse.Namespace, fits: dict, data: dict, scales: dict, ests: dict
 ) -> tuple[list[str], dict, str]:
     """Each consumer's file of ``--export`` written into ``--out``, and the HTML report
-    beside them; the files' paths, the model, the report's path."""
+    beside them; the files' paths, the model, the report's path. ``ests``: each sensor
+    column's estimate (:func:`~noisevar.cli._imu_report.column_estimates`)."""
     from noisevar.cli._imu_report import column_answers, write_report
     from noisevar.noise_model import exports
 
@@ -143,12 +144,24 @@ def _exports(
         gnss=_gnss(args),
         **_bias_fits(args, fits, data, scales),
     )
-    answers = column_answers(args, data, scales)  # each file's header says each verdict
+    answers = column_answers(args, ests)  # each file's header says each verdict
     model = replace(model, verdicts={c: a.verdict for _, c, a in answers if a.verdict})
     files = exports.export(model, keys)
     paths = [str(p) for p in exports.write_exports(files, args.out)]
     report = None if args.no_report else write_report(args, model, files, fits, answers)
     return paths, model.to_dict(), report
+
+
+def _column_estimates(args: argparse.Namespace, data: dict, scales: dict) -> dict:
+    """With ``--export``, each sensor column's estimate, made once for the fits' regimes and
+    the files' verdicts (:func:`~noisevar.cli._imu_report.column_estimates`); else none
+    (each fit estimates its own axis, as it needs)."""
+    if not args.export:
+        return {}
+    from noisevar.cli._imu_report import column_estimates
+
+    _need_sensors(args, "--export")
+    return column_estimates(args, data, scales)
 
 
 def _bias_fits(args: argparse.Namespace, fits: dict, data: dict, scales: dict) -> dict:
@@ -241,6 +254,7 @@ def _cmd_models(args: argparse.Namespace, data: dict, rates: dict[str, float]) -
 
 
 def _cmd_imu(args: argparse.Namespace) -> int:
+    from noisevar.estimators.results import VarianceEstimate
     from noisevar.noise_model import inertial_noise
 
     if args.export:
@@ -253,16 +267,22 @@ def _cmd_imu(args: argparse.Namespace) -> int:
     if args.model != IEEE952:
         return _cmd_models(args, data, rates)
     col_units = _column_units(args, {c: declared[c] for c in data})
+    scales = {c: col_units[c][0] for c in data}
+    ests = _column_estimates(args, data, scales)
     fits = {}
     for names in _groups(data, {c: (col_units[c], rates[c]) for c in data}):
         scale, unit = col_units[names[0]]
         stacked = np.stack([data[c] * scale for c in names])  # axes in threads
-        fitted = inertial_noise(stacked, rates[names[0]], unit=unit, **regimes_of(args))
+        given = [ests.get(c) for c in names]
+        given = given if all(isinstance(e, VarianceEstimate) for e in given) else None
+        fitted = inertial_noise(
+            stacked, rates[names[0]], unit=unit, estimates=given, **regimes_of(args)
+        )
         fits.update(zip(names, fitted, strict=True))
     fits = {c: fits[c] for c in data}
-    scales = {c: col_units[c][0] for c in data}
     written = _kalibr(args, fits, data, scales) if args.kalibr else None
-    files, model, report = _exports(args, fits, data, scales) if args.export else ([], None, None)
+    exported = _exports(args, fits, data, scales, ests) if args.export else ([], None, None)
+    files, model, report = exported
     thermal = temperature_models(data, temp, rate, col_units) if temp is not None else {}
     if args.format == "json":
         out = {

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -82,8 +83,17 @@ def diagnose(
     return from_sums(sums, seg, lambda: z[a : min(b, a + POWER_LAW_MAX)])
 
 
-def from_sums(sums: DiagSums, seg: Segmentation, head: Callable[[], NDArray]) -> NoiseDiagnostics:
+def from_sums(
+    sums: DiagSums,
+    seg: Segmentation,
+    head: Callable[[], NDArray],
+    spawn: Callable[[Callable[[], Any]], Callable[[], Any]] | None = None,
+) -> NoiseDiagnostics:
     """The diagnostics from their sums; ``head()`` gives the start of the longest segment.
+
+    ``spawn(f)`` starts ``f`` in another thread and returns what waits for its result:
+    the power-law identification (numpy, which releases the interpreter) then runs
+    beside the level profile (default: one after the other; the same numbers).
 
     A record in memory is summed by :func:`diagnose`; a record read in chunks adds each
     chunk's :func:`~noisevar.diagnostics.sums.diag_part` to a
@@ -97,19 +107,22 @@ def from_sums(sums: DiagSums, seg: Segmentation, head: Callable[[], NDArray]) ->
     covariance is widened by ``n Σσ⁴ / (Σσ²)²`` for a level that changes along the record.
     """
     plan, d = sums.plan, residual_sequence(DIAG_SPAN, DIAG_ORDER)
-    profile, blocks, total, kept, kurt = _profile(sums)
     e_w, keep_w = sums.white.joined()
     white = whiteness_test(e_w, d, keep=keep_w, inflation=_hetero(sums.wide))
+
+    def kinds() -> tuple[tuple[int, int], ...]:
+        try:
+            return power_law_types(head())
+        except NoisevarError:
+            return ()
+
+    # say which coloured noise (costly: only when it is coloured)
+    types = (lambda: ()) if white.white else (spawn or _now)(kinds)
+    profile, blocks, total, kept, kurt = _profile(sums)
     slots = _residual_slots(plan, sums.white.joined_slots())
     block_of = np.where(slots >= 0, slots // plan.profile.size, -1)
     still_white = _still_whiteness(plan, profile, e_w, keep_w, block_of, d, blocks)
     dz, used = sums.incr.joined()
-    types: tuple[tuple[int, int], ...] = ()
-    if not white.white:  # say which coloured noise (costly: only when it is coloured)
-        try:
-            types = power_law_types(head())
-        except NoisevarError:
-            types = ()
     diag = NoiseDiagnostics(
         n=plan.n,
         whiteness=white,
@@ -120,10 +133,16 @@ def from_sums(sums: DiagSums, seg: Segmentation, head: Callable[[], NDArray]) ->
         gaps=seg.gaps,
         jitter=seg.jitter,
         level_profile=profile,
-        power_law=types,
+        power_law=types(),
         still_whiteness=still_white,
     )
     return with_verdict(diag, float(total.sum() / kept))
+
+
+def _now(f: Callable[[], Any]) -> Callable[[], Any]:
+    """``f`` run now, its result returned by what is returned (``from_sums``'s ``spawn``)."""
+    out = f()
+    return lambda: out
 
 
 def profile_of(

@@ -20,7 +20,9 @@ POWER_LAW_MAX = 2**17
 #: At least this many averaged samples per factor.
 POWER_LAW_MIN = 64
 
-NAMES = {2: "white", 1: "flicker", 0: "random walk", -1: "flicker walk", -2: "random run"}
+#: α of white noise (the phase-noise convention of :func:`power_law_types`).
+WHITE = 2
+NAMES = {WHITE: "white", 1: "flicker", 0: "random walk", -1: "flicker walk", -2: "random run"}
 
 
 def power_law_types(z: NDArray) -> tuple[tuple[int, int], ...]:

@@ -24,6 +24,10 @@ SEED_FACTOR = 20.0
 #: At most this many rounds of the quiet set, each testing mean squares with the kurtosis
 #: of the last round's other blocks.
 QUIET_ROUNDS = 5
+#: Fewest consecutive blocks left out of the quiet set that make a stretch of motion
+#: (:meth:`LevelProfile.left_out_ratio`): one huge spike, spread by the smoother's span,
+#: leaves out one block or two.
+MOTION_RUN = 3
 #: The median of χ²₁.
 CHI2_1_MEDIAN = float(chi2_ppf(0.5, 1))
 #: Degrees of freedom per sample of a block median of χ²₁ values, ``2 (2 f(m) m)²``.
@@ -50,6 +54,9 @@ class LevelProfile:
     count : ndarray, shape (n_blocks,), optional
         Residuals kept in each block (fewer than its samples where some were left out
         around level jumps).
+    robust : ndarray, shape (n_blocks,), optional
+        Each block's robust level (its median square over χ²₁'s), which the regimes are
+        found on.
     """
 
     start: NDArray
@@ -61,6 +68,7 @@ class LevelProfile:
     quiet: NDArray
     regimes: tuple[Regime, ...] = ()
     count: NDArray | None = None
+    robust: NDArray | None = None
 
     @property
     def quiet_variance(self) -> float:
@@ -84,6 +92,39 @@ class LevelProfile:
             (int(self.start[a]), int(self.stop[b - 1]))
             for a, b in zip(edges[::2], edges[1::2], strict=True)
         ]
+
+    def left_out_ratio(self, run: int = MOTION_RUN) -> float:
+        """Robust level of the quiet set's left-out runs over the quiet blocks'.
+
+        Parameters
+        ----------
+        run : int
+            Fewest consecutive blocks left out of the quiet set that count.
+
+        Returns
+        -------
+        float
+            The largest count-weighted mean of :attr:`robust` over such a run, over the
+            quiet blocks'; 0 when there is none, no quiet block, or no robust levels.
+
+        Notes
+        -----
+        A run of blocks whose medians too are raised is a stretch of motion; one huge
+        spike raises the mean square (and, through the smoother, the median) of one
+        block or two only.
+        """
+        if self.robust is None or not self.quiet.any():
+            return 0.0
+        w = self.stop - self.start if self.count is None else self.count
+        quiet = _pooled(self.robust, w, self.quiet)
+        edges = np.flatnonzero(np.diff(np.r_[0, (~self.quiet).view(np.int8), 0]))
+        best = 0.0
+        for a, b in zip(edges[::2], edges[1::2], strict=True):
+            if b - a >= run and quiet > 0:
+                inside = np.zeros(self.quiet.size, dtype=bool)
+                inside[a:b] = True
+                best = max(best, _pooled(self.robust, w, inside) / quiet)
+        return best
 
     @property
     def quiet_share(self) -> float:
@@ -209,7 +250,7 @@ def profile_from_blocks(
                 break
             quiet = again
     regimes = still_if_quiet(regimes, start, stop, quiet)
-    return LevelProfile(start, stop, var, lo, hi, dof, quiet, regimes, count)
+    return LevelProfile(start, stop, var, lo, hi, dof, quiet, regimes, count, robust)
 
 
 def still_if_quiet(

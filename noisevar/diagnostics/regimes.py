@@ -24,6 +24,9 @@ REGIME_PENALTY = 6.0
 STILL_RATIO = 2.0
 #: A regime whose level is above the floor's at this level (one-sided, per step) is not still.
 STILL_ALPHA = 1e-3
+#: A regime at most this many times the record's highest level is flat: constant samples
+#: (a dropout, a held or clipped value) and float rounding, never a still level.
+FLAT_RATIO = 1e-16
 
 
 @dataclass(frozen=True)
@@ -199,22 +202,38 @@ def find_regimes(start: NDArray, stop: NDArray, level: NDArray, dof: NDArray) ->
     dispersion, :func:`_dispersion`) and at most :data:`STILL_RATIO` times the lowest
     regime's upper 95 % bound joins it. One regime is one level: still, as far as the
     record can tell. A regime the test leaves out below that bound is near-still: another
-    still level (another posture, slow sway), which the result reports on its own.
+    still level (another posture, slow sway), which the result reports on its own. A flat
+    regime (:data:`FLAT_RATIO`: constant samples, a dropout) is neither, and takes no part,
+    nor does a lone block at its edge (:func:`_not_flat`).
     """
     breaks = regime_breaks(level, dof)
     bounds = [*breaks, level.size]
     spans = list(zip(bounds, bounds[1:], strict=False))
     pooled = [_pool(level[a:b], dof[a:b]) for a, b in spans]
-    cap = _cap(pooled)
-    phi = _dispersion(level, dof, [s for s, p in zip(spans, pooled, strict=True) if p[0] <= cap])
-    floor = _floor([(x, nu / phi) for x, nu in pooled], cap)
+    live = _not_flat(pooled, spans)
+    cap = _cap([pooled[i] for i in live])
+    phi = _dispersion(level, dof, [spans[i] for i in live if pooled[i][0] <= cap])
+    floor = {live[j] for j in _floor([(pooled[i][0], pooled[i][1] / phi) for i in live], cap)}
     out = []
     for i, ((a, b), (x, nu)) in enumerate(zip(spans, pooled, strict=True)):
         lo, hi = _interval(x, nu)
         still = i in floor
-        near = not still and x <= cap
+        near = not still and i in live and x <= cap
         out.append(Regime(int(start[a]), int(stop[b - 1]), x, lo, hi, nu, still, near))
     return tuple(out)
+
+
+def _not_flat(pooled: list[tuple[float, float]], spans: list[tuple[int, int]]) -> list[int]:
+    """Indices of the regimes that are no flat stretch, nor one block at a flat one's edge.
+
+    A flat regime (level at most :data:`FLAT_RATIO` times the highest) is constant samples;
+    a lone block beside it straddles its edge, its mean square diluted by the constant
+    samples it holds. All of them when every regime is flat.
+    """
+    top = max(x for x, _ in pooled)
+    flat = {i for i, (x, _) in enumerate(pooled) if x <= FLAT_RATIO * top}
+    edge = {i for i, (a, b) in enumerate(spans) if b - a == 1 and flat & {i - 1, i + 1}}
+    return [i for i in range(len(spans)) if i not in flat | edge] or list(range(len(spans)))
 
 
 def _cap(pooled: list[tuple[float, float]]) -> float:

@@ -6,10 +6,11 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from noisevar.diagnostics.power_law import describe
+from noisevar.diagnostics.power_law import WHITE, describe
 from noisevar.format import eng
 
 if TYPE_CHECKING:
+    from noisevar.diagnostics.regimes import StillLevel
     from noisevar.diagnostics.results import NoiseDiagnostics
 
 #: The quiet stretches cover less than this share: the record is mostly motion.
@@ -63,7 +64,7 @@ def make_verdict(
     """
     r = f"R = {_g(variance)} (std {_g(float(np.sqrt(max(variance, 0.0))))})"
     quiet = diag.quiet_variance if still is None else still
-    said = still_colour(diag) + indicative(still_gap)
+    said = still_said(diag, still_gap)
     not_white = _not_white(diag, r, quiet, variance, still_gap)
     if not_white is not None:
         return not_white
@@ -74,7 +75,9 @@ def make_verdict(
             "follows the signal's offset within a step, which is quantisation, not a changing "
             f"sensor; {r} includes the rounding error"
         )
-    if diag.level_varies:
+    # a still R apart from R (estimators.still_set.has_still_apart): the level varies,
+    # though the block medians may not split it into regimes
+    if diag.level_varies or still is not None:
         return (
             f"the noise level changes along the record: {r} is an average; its quiet "
             f"stretches ({prof.quiet_share:.0%}) give {_g(quiet)}{said}"
@@ -105,7 +108,7 @@ def _not_white(
     coloured noise.
     """
     prof = diag.level_profile
-    said = still_colour(diag) + indicative(gap)
+    said = still_said(diag, gap)
     if not diag.identifiable:
         return (
             "the record behaves like a random walk (its first difference is white): no "
@@ -142,9 +145,11 @@ def _not_white(
             f"smoother, not coloured noise{indicative(gap)}"
         )
     if not diag.white:
+        # slopes that read white at every factor name no colour: the lag-1 correlation does
+        coloured = any(alpha != WHITE for _, alpha in diag.power_law)
         kind = (
             f"{describe(diag.power_law)} (power-law identification)"
-            if diag.power_law
+            if coloured
             else f"lag-1 autocorrelation {diag.whiteness.lag1:+.2f} beyond white noise's"
         )
         return (
@@ -170,6 +175,38 @@ def indicative(gap: str | None) -> str:
     )
 
 
+def still_said(diag: NoiseDiagnostics, gap: str | None) -> str:
+    """What a quoted still level adds: its colour (:func:`still_colour`), and why it is
+    indicative (:func:`indicative`); stretches too short for R's method are too short for
+    the whiteness test too, which the gap's reason already says once."""
+    untested = gap and diag.still_whiteness is None
+    return ("" if untested else still_colour(diag)) + indicative(gap)
+
+
+def still_level_fields(level: StillLevel, n: int) -> dict[str, str]:
+    """A near-still regime's stretch, share, level and interval, as every page says them.
+
+    Parameters
+    ----------
+    level : StillLevel
+        One of ``NoiseDiagnostics.other_still``.
+    n : int
+        Samples in the record.
+
+    Returns
+    -------
+    dict
+        ``stretch`` ("samples 300-5400"), ``share`` of the record ("76%"), ``level`` and
+        its ``ci95`` as multiples of the R to use ("2.20x", "1.95-2.48x").
+    """
+    return {
+        "stretch": f"samples {level.start}-{level.stop}",
+        "share": f"{(level.stop - level.start) / max(n, 1):.0%}",
+        "level": f"{level.ratio:.2f}x",
+        "ci95": f"{level.lo:.2f}-{level.hi:.2f}x",
+    }
+
+
 def other_still_clause(diag: NoiseDiagnostics) -> str:
     """What the other still levels add to the verdict ('' when there is none).
 
@@ -178,11 +215,9 @@ def other_still_clause(diag: NoiseDiagnostics) -> str:
     """
     if not diag.other_still:
         return ""
-    n = max(diag.n, 1)
     said = "; ".join(
-        f"samples {x.start}-{x.stop} ({(x.stop - x.start) / n:.0%} of the record) at "
-        f"{x.ratio:.2f}x (ci95 {x.lo:.2f}-{x.hi:.2f}x)"
-        for x in diag.other_still
+        f"{f['stretch']} ({f['share']} of the record) at {f['level']} (ci95 {f['ci95']})"
+        for f in (still_level_fields(x, diag.n) for x in diag.other_still)
     )
     return (
         f". Other still stretches rest at a higher level on the same residual: {said}: "
@@ -232,6 +267,7 @@ def make_notes(diag: NoiseDiagnostics) -> tuple[str, ...]:
     if diag.gaps:
         kinds = {g.kind for g in diag.gaps}
         what = "gaps" if kinds == {"gap"} or kinds == {"nan"} else "gaps or irregular steps"
+        what = what if len(diag.gaps) > 1 else what.replace("gaps", "gap").replace("steps", "step")
         notes.append(
             f"{len(diag.gaps)} {what} (first at sample {diag.gaps[0].index}): the record was "
             "estimated per uniform segment and pooled, not spliced"

@@ -187,13 +187,15 @@ def whiteness_test(
     docs/algorithms.md §E2: ``Q = n (r - ρ)' W⁻¹ (r - ρ)`` with ``W`` from Bartlett's
     formula for the linear process ``d * v``; ``Q`` is about χ²(K) when ``v`` is iid.
     """
+    from noisevar.errors import NoisevarError
+
     n = int(e.size if keep is None else np.count_nonzero(keep))
+    if n == 0:  # every residual left out: nothing to correlate (no numpy warning)
+        raise NoisevarError("the residual is degenerate (no variation to correlate)")
     rho, w = _bartlett(tuple(np.asarray(d, dtype=float)), lags)
     w = w * inflation
     r = sample_acf(e, lags, keep)
     if not (np.all(np.isfinite(r)) and np.all(np.isfinite(w))):
-        from noisevar.errors import NoisevarError
-
         raise NoisevarError("the residual is degenerate (no variation to correlate)")
     lam, u = np.linalg.eigh(w)
     # directions where W is near singular (the residual filter's spectral zeros pin them)

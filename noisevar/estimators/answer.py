@@ -9,12 +9,20 @@ why with a label from :data:`WHY_DIFFERENT`, the one table of those reasons.
 
 from __future__ import annotations
 
+import json
+import math
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from noisevar.diagnostics.panel import verdict_severity
+from noisevar.diagnostics.verdict import still_level_fields
 from noisevar.estimators.regimes import DEFAULT_REGIMES, estimate_for, still_used
 from noisevar.estimators.results import VarianceEstimate
 from noisevar.format import eng, eng_range, squared
+
+if TYPE_CHECKING:
+    from noisevar.diagnostics.regimes import StillLevel
 
 #: What a record whose noise level varies is warned of (reports, exports).
 REGIME_WARNING = (
@@ -31,6 +39,22 @@ WHY_DIFFERENT: dict[str, str] = {
     "only when both measure the same thing)",
     "filter": "the filter's own running R (it follows the innovations), not the record's",
 }
+
+
+#: The columns of :meth:`RecordAnswer.still_level_rows`: field -> the label pages show.
+STILL_LEVEL_COLUMNS: dict[str, str] = {
+    "stretch": "Stretch",
+    "share": "Share of record",
+    "level": "Level (x still R)",
+    "ci95": "95 % (x still R)",
+    "variance": "R there",
+}
+#: What the other still levels mean, said under their table.
+STILL_LEVELS_NOTE = (
+    "Other still stretches rest at a higher level on the same residual (another posture, or "
+    "slow sway): the still R is the floor, the sensor's own noise; a filter that runs through "
+    "those stretches without modelling that motion needs their level."
+)
 
 
 @dataclass(frozen=True)
@@ -59,6 +83,11 @@ class RecordAnswer:
         The whole record's R.
     still_variance : float or None
         The still regimes' R when the record has some beside motion.
+    still_levels : tuple of StillLevel
+        The other still levels (``NoiseDiagnostics.other_still``), their ratios to the
+        still R; empty when there is none (or no still R).
+    n : int
+        Samples in the record (each still level's share of it).
     """
 
     variance: float
@@ -71,6 +100,8 @@ class RecordAnswer:
     level_varies: bool
     whole_variance: float
     still_variance: float | None
+    still_levels: tuple[StillLevel, ...] = ()
+    n: int = 0
 
     def sentence(self, unit: str = "") -> str:
         """``R = 1.2e-3 m² (95 % 1.1e-3 .. 1.3e-3), method auto over the whole record.``"""
@@ -83,12 +114,30 @@ class RecordAnswer:
             out += f" Its still regimes alone: R = {eng(self.still_variance, u)}."
         return out
 
+    def still_level_rows(self, unit: str = "") -> list[dict[str, str]]:
+        """The other still levels as table rows, keyed by :data:`STILL_LEVEL_COLUMNS`' labels:
+        stretch, share of the record, level and interval over the still R, the R there."""
+        return still_level_rows(self.still_levels, self.n, self.still_variance, unit)
+
+    def still_levels_text(self, unit: str = "") -> str:
+        """The other still levels in one line ('' when there is none), as the exports write
+        them: ``samples 300-5400 (76% of the record) at 2.20x (ci95 1.95-2.48x) the still R,
+        R there 2.2 m²; ...``."""
+        c = STILL_LEVEL_COLUMNS
+        return "; ".join(
+            f"{r[c['stretch']]} ({r[c['share']]} of the record) at {r[c['level']]} (ci95 "
+            f"{r[c['ci95']]}) the still R, R there {r[c['variance']]}"
+            for r in self.still_level_rows(unit)
+        )
+
     def summary(self, unit: str = "") -> dict[str, str]:
-        """The verdict, :meth:`sentence` and (when the level varies) the regime warning, as
-        the exports write them (a config's ``record``, the CSV's last rows)."""
+        """The verdict, :meth:`sentence`, (when the level varies) the regime warning and (when
+        there are some) the other still levels, as the exports write them (a config's
+        ``record``, the CSV's last rows)."""
         out = {"verdict": self.verdict, "answer": self.sentence(unit)}
         if self.level_varies:
             out["regime_warning"] = REGIME_WARNING
+        out["other_still_levels"] = self.still_levels_text(unit)
         return {k: v for k, v in out.items() if v}
 
 
@@ -117,7 +166,74 @@ def record_answer(est: VarianceEstimate, regimes: str = DEFAULT_REGIMES) -> Reco
         where="its still regimes" if still_used(est, regimes) else "the whole record",
         verdict="" if diag is None else str(diag.verdict),
         severity="ok" if diag is None else verdict_severity(diag, est.variance),
-        level_varies=bool(diag is not None and diag.level_varies),
+        # a still R apart from one regime (still_set.has_still_apart) is a varying level too
+        level_varies=bool(diag is not None and (diag.level_varies or still is not None)),
         whole_variance=float(est.variance),
         still_variance=None if still is None else float(still.variance),
+        still_levels=() if diag is None or still is None else tuple(diag.other_still),
+        n=0 if diag is None else int(diag.n),
     )
+
+
+def still_level_rows(
+    levels: Sequence[StillLevel], n: int, still_variance: float | None, unit: str = ""
+) -> list[dict[str, str]]:
+    """Other still levels as table rows, keyed by :data:`STILL_LEVEL_COLUMNS`' labels.
+
+    Parameters
+    ----------
+    levels : sequence of StillLevel
+        ``NoiseDiagnostics.other_still`` (or :func:`row_still_levels` of a table's row).
+    n : int
+        Samples in the record.
+    still_variance : float or None
+        The still R the levels are ratios to (no rows without it).
+    unit : str
+        The record's unit.
+
+    Returns
+    -------
+    list of dict
+        Per level: stretch, share of the record, level and 95 % interval over the still
+        R (:func:`~noisevar.diagnostics.verdict.still_level_fields`, as the verdict says
+        them) and the R there.
+    """
+    if still_variance is None or not math.isfinite(still_variance):
+        return []
+    c, u = STILL_LEVEL_COLUMNS, squared(unit)
+    return [
+        {c[k]: v for k, v in still_level_fields(x, n).items()}
+        | {c["variance"]: eng(x.ratio * still_variance, u)}
+        for x in levels
+    ]
+
+
+def row_still_levels(value: object) -> tuple[StillLevel, ...]:
+    """The other still levels of a table's row (its ``other_still_levels`` JSON text).
+
+    Returns
+    -------
+    tuple of StillLevel
+        Empty for a missing value (None, NaN) or one that is not such a list (of finite
+        levels over non-empty sample ranges).
+    """
+    from noisevar.diagnostics.regimes import StillLevel
+
+    if not isinstance(value, str) or not value or len(value) > 100_000:
+        return ()
+    try:
+        items = json.loads(value)
+        out = tuple(
+            StillLevel(
+                int(d["start"]),
+                int(d["stop"]),
+                float(d["ratio"]),
+                float(d["ci95_low"]),
+                float(d["ci95_high"]),
+            )
+            for d in items
+        )
+    except (ValueError, TypeError, KeyError, OverflowError):
+        return ()
+    finite = all(math.isfinite(v) for x in out for v in (x.ratio, x.lo, x.hi))
+    return out if finite and all(0 <= x.start < x.stop for x in out) else ()

@@ -193,7 +193,7 @@ class Comparison:
 def rows_to_csv(rows: Sequence[Mapping[str, Any]]) -> str:
     """Table rows (dicts) as CSV text: the union of their keys as columns, in first-seen order.
 
-    Floats are written with 10 significant digits; a key missing from a row is left empty.
+    Floats in full (``repr``: read back, the same float); a key missing from a row is empty.
     """
     if not rows:
         return ""
@@ -204,7 +204,7 @@ def rows_to_csv(rows: Sequence[Mapping[str, Any]]) -> str:
     writer = csv.DictWriter(buf, fieldnames=list(fields), lineterminator="\n", restval="")
     writer.writeheader()
     for row in rows:
-        writer.writerow({k: (f"{v:.10g}" if isinstance(v, float) else v) for k, v in row.items()})
+        writer.writerow({k: repr(float(v)) if isinstance(v, float) else v for k, v in row.items()})
     return buf.getvalue()
 
 
@@ -227,6 +227,7 @@ def compare_methods(
     methods: Sequence[str] | None = None,
     params: Mapping[str, Mapping[str, Any]] | None = None,
     true_variance: float | None = None,
+    t: ArrayLike | None = None,
 ) -> Comparison:
     """Run several estimators on one signal.
 
@@ -240,6 +241,8 @@ def compare_methods(
         Keyword parameters per method, e.g. ``{"somd": {"h_smooth": 1e-4}}``.
     true_variance : float, optional
         Known noise variance, for relative errors and interval coverage.
+    t : array_like, shape (n,), optional
+        Sample times, as :func:`~noisevar.estimators.estimate` takes them.
 
     Returns
     -------
@@ -252,27 +255,29 @@ def compare_methods(
     """
     z = np.asarray(z, dtype=float)
     names = _check_methods(methods, default_methods(z.size))
-    params = params or {}
-    return comparison_of(z.size, run_methods(z, names, params), true_variance)
+    return comparison_of(z.size, run_methods(z, names, params, t), true_variance)
 
 
 def run_methods(
     z: ArrayLike,
     methods: Sequence[str],
     params: Mapping[str, Mapping[str, Any]] | None = None,
+    t: ArrayLike | None = None,
 ) -> list[MethodResult]:
     """:func:`run_method` for each of ``methods`` in order (``params`` by method)."""
     z = np.asarray(z, dtype=float)
-    return [run_method(z, m, (params or {}).get(m)) for m in methods]
+    return [run_method(z, m, (params or {}).get(m), t) for m in methods]
 
 
-def run_method(z: ArrayLike, method: str, params: Mapping[str, Any] | None = None) -> MethodResult:
+def run_method(
+    z: ArrayLike, method: str, params: Mapping[str, Any] | None = None, t: ArrayLike | None = None
+) -> MethodResult:
     """One row of :func:`compare_methods`: ``method`` (with its keyword ``params``) on the
-    signal; a :class:`NoisevarError` is kept as the row's ``error``."""
+    signal and its times ``t``; a :class:`NoisevarError` is kept as the row's ``error``."""
     _check_methods([method], [])
     t0 = time.perf_counter()
     try:
-        est, err = estimate(np.asarray(z, dtype=float), method=method, **dict(params or {})), None
+        est, err = estimate(np.asarray(z, float), method=method, t=t, **dict(params or {})), None
     except NoisevarError as exc:
         est, err = None, str(exc)
     meta = METHODS[method]

@@ -44,7 +44,7 @@ from noisevar.estimators._scale import check_answer, unscale
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
 from noisevar.estimators.spec import MethodSpec
 from noisevar.estimators.still_levels import other_still_levels
-from noisevar.estimators.still_set import STILL_MIN, still_gap
+from noisevar.estimators.still_set import STILL_MIN, has_still_apart, still_gap
 
 #: The method's coloured-noise parameters are used below this whiteness p-value (far
 #: below the flag's 5 %, so that white noise that fails the test by chance keeps the
@@ -133,9 +133,11 @@ def pool_segments(parts: list[VarianceEstimate], n_total: int, skipped: int) -> 
     core = None if None in cores else float(w @ np.array(cores))
     outliers = float(np.sum([p.outlier_fraction * p.n_total for p in parts]) / n_total)
     notes = list(parts[0].notes)
-    notes.append(f"estimated in {len(parts)} uniform segments and pooled")
+    k = len(parts)
+    pooled = f"estimated in {k} uniform segments and pooled"
+    notes.append(pooled if k > 1 else "estimated on 1 uniform segment")
     if skipped:
-        notes.append(f"{skipped} segments too short to estimate were left out")
+        notes.append(f"{skipped} segment{'s' * (skipped > 1)} too short to estimate left out")
     return VarianceEstimate(
         parts[0].method, var, chi2_interval(var, dof), int(sum(p.n_used for p in parts)),
         n_total, dof, dict(parts[0].params), notes, core_variance=core,
@@ -152,13 +154,13 @@ def _by_segment(
     if len(seg.segments) == 1:
         a, b = seg.segments[0]
         return run(spec, check_samples(z[a:b])[0], notes, params)
-    parts, error = [], None
+    parts, error, longest = [], None, 0
     for a, b in seg.segments:
         try:
             parts.append(run(spec, check_samples(z[a:b])[0], list(notes), params))
         except NoisevarError as exc:
-            error = error or exc
-    if not parts:
+            error, longest = (exc, b - a) if b - a > longest else (error, longest)
+    if not parts:  # the longest segment's reason: the one that says what is wrong
         raise NoisevarError(f"no uniform segment of the record could be estimated: {error}")
     return pool_segments(parts, z.size, len(seg.segments) - len(parts))
 
@@ -351,30 +353,60 @@ def run_record(
     else:
         # differenced noise is corrected through the residual filter's own correlation
         # (conclude): a span chosen per block has none, so the fixed coloured-noise span
+        extra = {}
         if diag.whiteness.p_value < COLOURED_P or diag.differenced:
-            result = _coloured(spec, record, result, params)
-        own = result.params | params
-        still = _still(spec, record, own, diag)
-        if still is not None:  # its interval from the record's noise; the diagnostics
-            still = conclude(spec, still, diag, None)  # stay on the record's own result
-            still.diagnostics = None
-            diag = replace(diag, other_still=_other_levels(spec, record, own, diag, still))
+            extra = _coloured_extra(spec, params)
+        result, still, diag = _after_diagnostics(spec, record, result, params, extra, diag)
         gap = still_gap(diag, result.variance, still)  # the one rule (estimators.regimes)
         result = conclude(spec, result, diag, record.reader(), still, gap)
     return _in_record_units(result, scaled + record.exponent, spec.name)
 
 
+def _after_diagnostics(
+    spec: MethodSpec,
+    record: Record,
+    result: VarianceEstimate,
+    params: dict,
+    extra: dict,
+    diag: NoiseDiagnostics,
+) -> tuple[VarianceEstimate, VarianceEstimate | None, NoiseDiagnostics]:
+    """The coloured-noise estimate (with ``extra``) and the still regimes' levels: two
+    independent branches, run at once by a record that has ``branches`` (the still levels
+    with the parameters the coloured result should carry: again if it carries others)."""
+    own = result.params | extra | params
+
+    def coloured() -> VarianceEstimate:
+        return _coloured(spec, record, result, params) if extra else result
+
+    def quiet(own: dict) -> tuple[VarianceEstimate | None, NoiseDiagnostics]:
+        still = _still(spec, record, own, diag, result.variance)  # the first R: run at once
+        if still is None:
+            return None, diag
+        still = conclude(spec, still, diag, None)  # its interval from the record's noise;
+        still.diagnostics = None  # the diagnostics stay on the record's own result
+        return still, replace(diag, other_still=_other_levels(spec, record, own, diag, still))
+
+    branches = getattr(record, "branches", None)
+    if extra and branches is not None:
+        again, (still, out) = branches(coloured, lambda: quiet(own))
+        if repr(again.params | params) == repr(own):  # the same keys, order, types, values
+            return again, still, out
+    else:
+        again = coloured()
+    return again, *quiet(again.params | params)
+
+
 def _still(
-    spec: MethodSpec, record: Record, params: dict, diag: NoiseDiagnostics
+    spec: MethodSpec, record: Record, params: dict, diag: NoiseDiagnostics, variance: float
 ) -> VarianceEstimate | None:
-    """The method on the still regimes' quiet stretches, when the level varies (else None).
+    """The method on the still regimes' quiet stretches, when apart (``has_still_apart``).
 
     The sensor's own noise, on the same residual as the record's R (docs/algorithms.md
     §E1 Regimes); None when the record cannot be cut (read in chunks) or the stretches
     are too short for the method.
     """
     estimate_in = getattr(record, "estimate_in", None)
-    if not diag.level_varies or estimate_in is None:
+    if not has_still_apart(diag, variance) or estimate_in is None:
         return None
     ranges = diag.level_profile.still_stretches
     both = getattr(record, "still_ranges", None)
@@ -406,12 +438,17 @@ def _coloured(
     spec: MethodSpec, record: Record, result: VarianceEstimate, params: dict
 ) -> VarianceEstimate:
     """Estimate again with the method's parameters for coloured noise (unless the user chose)."""
-    extra = {k: v for k, v in (spec.coloured_params or {}).items() if params.get(k) is None}
+    extra = _coloured_extra(spec, params)
     if not extra:
         return result
     again = record.estimate({**params, **extra})
     again.notes.append(coloured_note(extra))
     return again
+
+
+def _coloured_extra(spec: MethodSpec, params: dict) -> dict:
+    """The method's coloured-noise parameters the user did not set."""
+    return {k: v for k, v in (spec.coloured_params or {}).items() if params.get(k) is None}
 
 
 def _in_record_units(result: VarianceEstimate, e: int, method: str) -> VarianceEstimate:

@@ -94,7 +94,9 @@ class StillStretch:
         return z[self.start : self.stop]
 
 
-def longest_still_stretch(z: ArrayLike, need: int = 0, purpose: str = "the fit") -> StillStretch:
+def longest_still_stretch(
+    z: ArrayLike, need: int = 0, purpose: str = "the fit", est: VarianceEstimate | None = None
+) -> StillStretch:
     """The longest still stretch of a record, from :func:`noisevar.estimate`'s regimes.
 
     Parameters
@@ -105,6 +107,9 @@ def longest_still_stretch(z: ArrayLike, need: int = 0, purpose: str = "the fit")
         Fewest samples ``purpose`` needs.
     purpose : str
         What the stretch is for, for the error message (e.g. ``"the 'cv' model"``).
+    est : VarianceEstimate, optional
+        :func:`noisevar.estimate` of ``z`` (method auto), when it was made already: its
+        regimes are used instead of estimating again.
 
     Returns
     -------
@@ -127,7 +132,7 @@ def longest_still_stretch(z: ArrayLike, need: int = 0, purpose: str = "the fit")
 
     arr = np.asarray(z, dtype=float)
     try:
-        est = estimate(arr)
+        est = estimate(arr) if est is None else est
     except NoisevarError as exc:
         raise NoisevarError(
             f"regimes='still': the record's regimes could not be found ({exc}); use regimes='all'"

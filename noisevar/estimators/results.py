@@ -44,6 +44,7 @@ ROW_COLUMNS: tuple[str, ...] = (
     "still_variance",
     "still_ci95_low",
     "still_ci95_high",
+    "other_still_levels",
     "verdict",
     "params",
     "notes",
@@ -65,6 +66,7 @@ ROW_LABELS: dict[str, str] = {
     "still_variance": "noise variance R of the still regimes",
     "still_ci95_low": "still regimes: 95 % interval, low",
     "still_ci95_high": "still regimes: 95 % interval, high",
+    "other_still_levels": "other still levels (stretches above the still R, over it)",
     "verdict": "verdict",
     "params": "parameters",
     "notes": "notes",
@@ -144,7 +146,16 @@ FLOAT_COLUMNS = (
     "outlier_fraction",
 )
 #: Fields of :meth:`VarianceEstimate.to_row` that :meth:`~VarianceEstimate.to_dict` nests.
-_NESTED = ("verdict", "params", "notes")
+_NESTED = ("other_still_levels", "verdict", "params", "notes")
+
+
+def _other_still(diag: NoiseDiagnostics | None, still: VarianceEstimate | None) -> str | None:
+    """The row's ``other_still_levels``: JSON text of ``NoiseDiagnostics.other_still`` (each
+    ``start``, ``stop``, ``ratio``, ``ci95_low``, ``ci95_high``, over the still R); None
+    when there is none."""
+    if diag is None or still is None or not diag.other_still:
+        return None
+    return json.dumps([x.to_dict() for x in diag.other_still])
 
 
 def _finite(value: Any) -> float | None:
@@ -388,8 +399,10 @@ class VarianceEstimate:
         dict
             Keyed by :data:`ROW_COLUMNS` (in that order, ``flag_<name>`` for each
             diagnostic flag after ``still_ci95_high``): numbers as floats (None when
-            missing or not finite), counts as ints, flags as bools, ``params`` as sorted
-            JSON text and ``notes`` joined by ``" | "`` (None when there is none).
+            missing or not finite), counts as ints, flags as bools, ``params`` and
+            ``other_still_levels`` (the near-still stretches above the still R, as
+            :meth:`~noisevar.diagnostics.regimes.StillLevel.to_dict`) as JSON text and
+            ``notes`` joined by ``" | "`` (None when there is none).
 
         Notes
         -----
@@ -411,6 +424,7 @@ class VarianceEstimate:
             "outlier_fraction": _finite(self.outlier_fraction),
             **_still_fields(self.still),
             **{FLAG_PREFIX + k: bool(flags[k]) for k in sorted(flags)},
+            "other_still_levels": _other_still(diag, self.still),
             "verdict": None if diag is None else (str(diag.verdict) or None),
             "params": json.dumps(self.params, sort_keys=True, default=_json_value),
             "notes": " | ".join(self.notes) if self.notes else None,

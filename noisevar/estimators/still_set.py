@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from noisevar.diagnostics.regimes import STILL_RATIO
 from noisevar.diagnostics.verdict import under_half_a_step
 
 if TYPE_CHECKING:
@@ -56,7 +57,7 @@ def still_gap(
         return None
     if diag is None:
         return "regimes='still': the record's regimes could not be found; use regimes='all'"
-    if not diag.level_varies or under_half_a_step(diag, variance):
+    if not has_still_apart(diag, variance) or under_half_a_step(diag, variance):
         return None
     prof = diag.level_profile
     if not prof.quiet.any():
@@ -72,4 +73,41 @@ def still_gap(
         f"of the record), in pieces shorter than the {STILL_MIN} samples R's method needs "
         "(still on both block grids, away from jumps), so there is no still R to use; "
         "record the sensor still for longer, or use regimes='all'"
+    )
+
+
+def has_still_apart(diag: NoiseDiagnostics, variance: float) -> bool:
+    """Whether the record's still stretches are apart from the rest: R's method runs on them.
+
+    Parameters
+    ----------
+    diag : NoiseDiagnostics
+        The record's diagnostics.
+    variance : float
+        The record's R.
+
+    Returns
+    -------
+    bool
+        True when the level varies (a regime that is not still), or when the record is
+        one regime of robust level but its R is more than
+        :data:`~noisevar.diagnostics.regimes.STILL_RATIO` times the quiet level
+        (``quiet_variance``) and the still stretches leave part of the record out (motion the
+        block medians hardly see: heavy-tailed, or cut out around level jumps).
+
+    Notes
+    -----
+    docs/algorithms.md §E1 (*The still set*). Whether the regimes split on the block
+    medians can hang on one marginal change point that dropping two samples flips (a
+    Pololu accelerometer: PELT's gain 54-60 over the block phases against a penalty of
+    55). The second test keeps the R to use from jumping between the still stretches'
+    R and a whole-record R many times larger: the whole record's R is the R to use only
+    when it is within about ``STILL_RATIO`` of the quiet level, so wherever either test
+    flips the R to use moves by at most about that factor.
+    """
+    if diag.level_varies:
+        return True
+    prof = diag.level_profile
+    return bool(
+        prof.left_out_ratio() > STILL_RATIO and variance > STILL_RATIO * prof.quiet_variance
     )

@@ -29,7 +29,8 @@ CSV / TSV / whitespace-separated text
     :func:`pick_column` for the column actually used, unless asked to drop).
     A column named like a time (``t``, ``time``, ``time_s``, ``timestamp``,
     ``seconds``...) gives the sample period (median step); ISO date-times in
-    it are converted to seconds from the first.
+    it are converted to seconds from the first. A column named ``datetime`` or ``date``
+    is the time column when it holds date-times (``19580329`` there stays data).
 ``.npy``
     Read with ``np.load(allow_pickle=False)`` only (a pickled object array is
     refused: loading it could run code). A 1-D array is one column
@@ -80,6 +81,7 @@ __all__ = [
     "SAMPLE_PERIOD_RANGE",
     "LoadedTable",
     "TopicsRecord",
+    "channel_record",
     "content_digest",
     "drop_nonfinite_rows",
     "echo",
@@ -88,6 +90,7 @@ __all__ = [
     "log_topics",
     "load_topics",
     "pick_column",
+    "record_times",
     "signal_summary",
     "table_from_arrays",
 ]
@@ -97,6 +100,8 @@ _SOURCES = {
     "echo": "noisevar.io.limits",
     "load_table": "noisevar.io.load",
     "pick_column": "noisevar.io.load",
+    "channel_record": "noisevar.io.load",
+    "record_times": "noisevar.io.load",
     "log_topics": "noisevar.io.load",
     "geodetic_to_enu": "noisevar.io.nmea",
     "load_topics": "noisevar.io.logs.record",
@@ -110,6 +115,8 @@ _SOURCES = {
             "load_table",
             "log_topics",
             "pick_column",
+            "channel_record",
+            "record_times",
             "geodetic_to_enu",
             "load_topics",
             "TopicsRecord",

@@ -361,6 +361,42 @@ def column_values(table: LoadedTable, column: str | int | None = None) -> NDArra
     return np.asarray(table.columns[column_name(table, column)], dtype=float)
 
 
+def record_times(table: LoadedTable) -> NDArray | None:
+    """The table's sample times as :func:`noisevar.estimate` takes them (``t=``), or None.
+
+    None when the table has no time column, or its times are not finite and strictly
+    increasing (the loader's note says why; the samples are then taken as uniform).
+
+    Notes
+    -----
+    Every path that estimates a table's channel (``noisevar estimate``, ``--columns``,
+    ``noisevar batch``, the dashboard) passes these times, so that a record with gaps is
+    split at them in each, not spliced in some: one record, one answer.
+    """
+    t = table.time()
+    if t is None:
+        return None
+    t = np.asarray(t, dtype=float)
+    if t.size != table.n_rows or not np.all(np.isfinite(t)) or not np.all(np.diff(t) > 0):
+        return None
+    return t
+
+
+def channel_record(
+    table: LoadedTable, column: str | int | None = None, *, drop_nonfinite: bool = False
+) -> tuple[NDArray, NDArray | None]:
+    """One column and its sample times, as every estimating path reads a table's channel.
+
+    Non-finite cells are kept for the estimator to treat as gaps when ``drop_nonfinite``
+    (refused, naming the first, otherwise); the times are :func:`record_times`.
+    """
+    if drop_nonfinite:
+        z = column_values(table, column)
+    else:
+        z = np.asarray(pick_column(table, column), dtype=float)
+    return z, record_times(table)
+
+
 def pick_column(
     table: LoadedTable, column: str | int | None = None, *, drop_nonfinite: bool = False
 ) -> NDArray:

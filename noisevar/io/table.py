@@ -16,6 +16,9 @@ from noisevar.io.limits import ECHO_LIMIT, echo  # noqa: F401 - their home is io
 
 #: Names (lower case, units in brackets stripped) recognised as a time column.
 TIME_NAMES = ("t", "time", "time_s", "times", "timestamp", "seconds", "sec", "secs", "s", "epoch")
+#: Names of a column that is the time column when it holds date-times (``2016-11-24
+#: 13:58:58.081``); numbers there (``19580329``) are data, not seconds.
+DATE_NAMES = ("datetime", "date", "date_time")
 #: File extensions read as text tables.
 TABLE_EXTENSIONS = (".csv", ".tsv", ".txt", ".dat", ".tab")
 #: File extensions read as NMEA 0183 logs (content is also sniffed).
@@ -117,8 +120,13 @@ def content_digest(data: bytes | ArrayLike) -> str:
     return h.hexdigest()
 
 
+def time_key(name: str) -> str:
+    """A column name as the time names are written: lower case, units in brackets dropped."""
+    return re.sub(r"[\[\(].*?[\]\)]", "", name).strip().lower().replace(" ", "_")
+
+
 def _is_time_name(name: str) -> bool:
-    base = re.sub(r"[\[\(].*?[\]\)]", "", name).strip().lower().replace(" ", "_")
+    base = time_key(name)
     return base in TIME_NAMES or base.startswith("time_") or base.endswith("_time")
 
 
@@ -202,7 +210,9 @@ def _period_from_time(t: NDArray, notes: list[str]) -> float | None:
     if spread > UNIFORM_TOLERANCE:
         notes.append(
             f"sampling is not uniform: steps from {dt.min():.4g} s to {dt.max():.4g} s "
-            f"(median {period:.4g} s); the estimators assume uniform sampling"
+            f"(median {period:.4g} s); noise-variance estimates split the record at its gaps "
+            "and pool the uniform segments; the Allan deviation and the filter fits take it "
+            "as uniform"
         )
     return period
 

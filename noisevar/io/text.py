@@ -14,7 +14,15 @@ from numpy.typing import NDArray
 
 from noisevar._arrays import EXACT_INT
 from noisevar.errors import NoisevarError
-from noisevar.io.table import _NA_TOKENS, LoadedTable, _is_time_name, _period_from_time, echo
+from noisevar.io.table import (
+    _NA_TOKENS,
+    DATE_NAMES,
+    LoadedTable,
+    _is_time_name,
+    _period_from_time,
+    echo,
+    time_key,
+)
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -200,6 +208,10 @@ def table_layout(text: str, name: str, complete: bool) -> tuple[_Format, list[st
     head = _head_lines(text, name, complete)
     fmt = _sniff_format([ln for _, ln in head])
     first = _split(head[0][1], fmt.delim) if fmt.thousands != "," or fmt.delim else [head[0][1]]
+    if fmt.delim is None and len(first) > 1 and not all(_is_number(c, fmt) for c in first):
+        # a one-column file whose name has spaces ("clock [ns]"): every data row one field
+        if len(head) > 1 and all(len(_split(ln, None)) == 1 for _, ln in head[1:]):
+            first = [head[0][1].strip()]
     _check_width(name, first, head, fmt)
     if not all(_is_number(c, fmt) for c in first):
         if len(head) < 2:
@@ -208,10 +220,25 @@ def table_layout(text: str, name: str, complete: bool) -> tuple[_Format, list[st
     return fmt, [f"col{i}" for i in range(len(first))], head[0][0] - 1
 
 
+def _holds_dates(text: str, fmt: _Format, header_line: int, idx: int | None) -> bool:
+    """Whether column ``idx``'s first data cell is a date-time (text, not a number)."""
+    if idx is None:
+        return False
+    for line in text.splitlines()[header_line : header_line + 60]:
+        if _meaningful(line):
+            cells = _split(line, fmt.delim)
+            cell = cells[idx].strip().strip('"') if idx < len(cells) else ""
+            return not _is_number(cell, fmt) and _parse_time_strings([cell]) is not None
+    return False
+
+
 def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
     text = src if isinstance(src, str) else src.head
     fmt, names, header_line = table_layout(text, name, isinstance(src, str))
     time_idx = next((i for i, c in enumerate(names) if _is_time_name(c)), None)
+    if time_idx is None:  # a date column is the time column when it holds date-times
+        date_idx = next((i for i, c in enumerate(names) if time_key(c) in DATE_NAMES), None)
+        time_idx = date_idx if _holds_dates(text, fmt, header_line, date_idx) else None
     columns, notes = _parse_body(src, header_line, names, fmt, name, time_idx)
     if fmt.decimal == ",":
         notes.insert(0, "read with a decimal comma (1,5 = 1.5)")

@@ -20,6 +20,7 @@ from noisevar._arrays import check_exact_ints
 from noisevar.errors import NoisevarError
 from noisevar.estimators import scale_back, scale_exponent
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes, longest_still_stretch
+from noisevar.estimators.results import VarianceEstimate
 from noisevar.numeric.noise_id import noise_id
 
 #: One-sigma confidence (Stable32's default error bars).
@@ -40,6 +41,23 @@ NOISE_TYPES = {
     -4: "RRFM",
 }
 DATA_KINDS = ("phase", "rate")
+
+
+def default_data(unit: str | None) -> str:
+    """What the samples are when nobody said: ``"phase"`` for a time (a clock's time error
+    in ``s``, ``ns``) or an angle (``rad``, ``deg``: the integral of a rate), else
+    ``"rate"`` (a gyro's rate, a specific force, a fractional frequency, and a record with
+    no unit: what IMU and GNSS users hold).
+
+    The one default of the command line's ``--data`` and the Noise model page's choice.
+    """
+    from noisevar.units import parse_unit
+
+    try:
+        parsed = parse_unit(unit)
+    except NoisevarError:
+        parsed = None
+    return "phase" if parsed is not None and parsed.si in ("second", "radian") else "rate"
 
 
 #: Terms per block when a deviation is summed block by block (the blocks stay in cache).
@@ -204,7 +222,9 @@ def to_phase(z: ArrayLike, rate: float, data: str) -> NDArray:
     return x
 
 
-def still_record(z: ArrayLike, data: str, need: int, purpose: str) -> tuple[NDArray, str]:
+def still_record(
+    z: ArrayLike, data: str, need: int, purpose: str, est: VarianceEstimate | None = None
+) -> tuple[NDArray, str]:
     """The longest still stretch of a record of phase or rate data, and what to say of it.
 
     Parameters
@@ -218,6 +238,9 @@ def still_record(z: ArrayLike, data: str, need: int, purpose: str) -> tuple[NDAr
         Fewest rate samples ``purpose`` needs.
     purpose : str
         What the stretch is for (for the error message).
+    est : VarianceEstimate, optional
+        :func:`noisevar.estimate` of the rate data (``z``, or its first differences for
+        phase data), when it was made already.
 
     Returns
     -------
@@ -227,19 +250,21 @@ def still_record(z: ArrayLike, data: str, need: int, purpose: str) -> tuple[NDAr
     """
     y = np.asarray(z, dtype=float)
     if data == "phase":
-        s = longest_still_stretch(np.diff(y), need, purpose)
+        s = longest_still_stretch(np.diff(y), need, purpose, est)
         return y[s.start : s.stop + 1], s.note
-    s = longest_still_stretch(y, need, purpose)
+    s = longest_still_stretch(y, need, purpose, est)
     return s.take(y), s.note
 
 
-def regime_warning(z: ArrayLike) -> list[str]:
+def regime_warning(z: ArrayLike, est: VarianceEstimate | None = None) -> list[str]:
     """The regime warning of a fit of a whole record whose noise level varies.
 
     Parameters
     ----------
     z : array_like, shape (n,)
         The record (rate data).
+    est : VarianceEstimate, optional
+        :func:`noisevar.estimate` of ``z``, when it was made already (not made again).
 
     Returns
     -------
@@ -257,10 +282,12 @@ def regime_warning(z: ArrayLike) -> list[str]:
     from noisevar.estimators.answer import REGIME_WARNING
 
     try:
-        diag = estimate(np.asarray(z, dtype=float)).diagnostics
+        est = estimate(np.asarray(z, dtype=float)) if est is None else est
     except NoisevarError:
         return []
-    if diag is None or not diag.level_varies:
+    diag = est.diagnostics
+    # a still R apart from one regime (estimators.still_set.has_still_apart) too
+    if diag is None or not (diag.level_varies or est.still is not None):
         return []
     return [
         f"regimes='all': {REGIME_WARNING}; this fit is of the whole record, motion "

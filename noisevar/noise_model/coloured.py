@@ -388,7 +388,9 @@ def fit_coloured_noise(
     arr = _check(z, rate, models, criterion)
     regime_notes = []
     if check_regimes(regimes) == "still":
-        stretch = longest_still_stretch(arr, MIN_SAMPLES, "the noise models")
+        # found on the record x 2**e (exact): its whole R may be beyond a float here
+        scaled = np.ldexp(arr, scale_exponent(arr))
+        stretch = longest_still_stretch(scaled, MIN_SAMPLES, "the noise models")
         arr = _check(stretch.take(arr), rate, models, criterion)
         regime_notes.append(stretch.note)
     y, scale, e = _standardise(arr)

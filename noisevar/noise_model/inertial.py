@@ -9,6 +9,7 @@ from __future__ import annotations
 import itertools
 import math
 import os
+from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, replace
 from typing import Any
@@ -23,6 +24,7 @@ from noisevar._arrays import check_exact_ints
 from noisevar.errors import NoisevarError
 from noisevar.estimators import check_rate, scale_back, scale_exponent
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes
+from noisevar.estimators.results import VarianceEstimate
 from noisevar.noise_model.allan import (
     KINDS,
     ONE_SIGMA,
@@ -202,9 +204,10 @@ class InertialNoise:
         dict of str to ndarray, ndarray
         """
         t = self.allan.taus if taus is None else np.asarray(taus, dtype=float)
-        parts = {s.name: s.coefficient(t) * self.term(s.name).value ** 2 for s in TERMS}
+        m = math.ldexp(1.0, math.frexp(max(abs(x.value) for x in self.terms) or 1.0)[1])  # exact
+        parts = {s.name: s.coefficient(t) * (self.term(s.name).value / m) ** 2 for s in TERMS}
         total = np.sum(list(parts.values()), axis=0)
-        return {k: np.sqrt(v) for k, v in parts.items()}, np.sqrt(total)
+        return {k: np.sqrt(v) * m for k, v in parts.items()}, np.sqrt(total) * m
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-safe dictionary: the terms, and the Allan deviation fitted."""
@@ -342,6 +345,9 @@ def _intervals(
         full = np.sqrt([_nnls(a * w[:, None], d * w) for d in draws[: BOOTSTRAP // 2]])
         low[out] = 0.0
         high[out] = np.quantile(full[:, out], (1.0 + ci) / 2.0, axis=0)
+        # refits all at 0 say nothing of its size: what the Allan variances alone allow
+        upper = np.quantile(draws, (1.0 + ci) / 2.0, axis=0)[:, None]
+        high[out] = np.where(high[out] > 0, high[out], np.sqrt(np.min(upper / a, axis=0))[out])
     return np.column_stack([low, high])
 
 
@@ -430,15 +436,18 @@ def _one_axis(
     ci: float,
     seed: int,
     regimes: str = DEFAULT_REGIMES,
+    est: VarianceEstimate | None = None,
 ) -> InertialNoise:
     e = scale_exponent(y)
     if e:  # scale-safe: every term is linear in the record's unit (estimators' _scale)
-        fit = _one_axis(np.ldexp(y, e), rate, unit, taus, ci, seed, regimes)
+        fit = _one_axis(np.ldexp(y, e), rate, unit, taus, ci, seed, regimes, est)
         return _rescaled(fit, e)
-    notes = [] if regimes == "still" else regime_warning(y)
+    # ``est`` (of the unscaled axis) gives the same regimes: the estimate scales by 2**e too
+    notes = [] if regimes == "still" else regime_warning(y, est)
     if regimes == "still":
         # two taus of the overlapping ADEV: 2 span + 2 phase samples
-        y, note = still_record(y, "rate", 2 * KINDS["oadev"].span + 2, "the noise terms")
+        need = 2 * KINDS["oadev"].span + 2
+        y, note = still_record(y, "rate", need, "the noise terms", est)
         notes.append(note)
     res = allan(y, rate=rate, data="rate", kind="oadev", taus=taus, ci=ci)
     if res.taus.size < 2:
@@ -469,7 +478,7 @@ def _one_axis(
                 (float(lo), float(hi)),
                 units.term_unit(unit, spec.symbol),
                 spec.discrete(value, rate),
-                spec.discrete_unit.format(u=unit),
+                spec.discrete_unit.format(u=units.unit_text(unit)),
                 spec.slope,
             )
         )
@@ -508,6 +517,7 @@ def inertial_noise(
     seed: int = 0,
     workers: int | None = None,
     regimes: str = DEFAULT_REGIMES,
+    estimates: VarianceEstimate | Sequence[VarianceEstimate] | None = None,
 ) -> InertialNoise | tuple[InertialNoise, ...]:
     """Fit the five IEEE-952 noise terms to the Allan variance of rate data.
 
@@ -533,6 +543,10 @@ def inertial_noise(
     regimes : {"all", "still"}
         Fit each axis's whole record, or its longest still stretch only (each axis
         its own; said in ``notes``).
+    estimates : VarianceEstimate or sequence of them, optional
+        :func:`noisevar.estimate` of each axis (method auto, one per axis for a 2-D
+        ``z``), when they were made already: the regime warning and the still stretch
+        are taken from them instead of estimating each axis again (the same numbers).
 
     Returns
     -------
@@ -555,11 +569,31 @@ def inertial_noise(
     check_exact_ints(z)
     arr = np.asarray(z, dtype=float)
     if arr.ndim == 1:
-        return _one_axis(arr, rate, unit, taus, ci, seed, regimes)
+        (est,) = _per_axis(estimates, 1, one=True)
+        return _one_axis(arr, rate, unit, taus, ci, seed, regimes, est)
     if arr.ndim != 2:
         raise NoisevarError(f"z must be 1-D or 2-D (time x axes); it has shape {arr.shape}.")
     cols = np.moveaxis(arr, axis, -1)
+    ests = _per_axis(estimates, cols.shape[0])
     n_workers = max(1, min(cols.shape[0], workers or os.cpu_count() or 1))
     with ThreadPoolExecutor(n_workers) as pool:
-        jobs = [pool.submit(_one_axis, c, rate, unit, taus, ci, seed, regimes) for c in cols]
+        jobs = [
+            pool.submit(_one_axis, c, rate, unit, taus, ci, seed, regimes, est)
+            for c, est in zip(cols, ests, strict=True)
+        ]
         return tuple(j.result() for j in jobs)
+
+
+def _per_axis(
+    estimates: VarianceEstimate | Sequence[VarianceEstimate] | None, n: int, one: bool = False
+) -> list[VarianceEstimate | None]:
+    """``inertial_noise``'s ``estimates``, one per axis (None: each axis estimated)."""
+    if estimates is None:
+        return [None] * n
+    if isinstance(estimates, VarianceEstimate):
+        estimates = [estimates]
+    out = list(estimates) if isinstance(estimates, Sequence) else []
+    if len(out) != n or not all(isinstance(e, VarianceEstimate) for e in out):
+        what = "one VarianceEstimate" if one else f"{n} VarianceEstimates, one per axis"
+        raise NoisevarError(f"estimates must be {what} (noisevar.estimate of each axis).")
+    return out

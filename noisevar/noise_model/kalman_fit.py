@@ -262,11 +262,14 @@ def _log_cov(z: NDArray, model: str, dt: float, log_h: float, log_r: float) -> N
     huv = 0.5 * w * (g[2] - g[0]) / (2 * d)
     hvv = -0.5 * g[1] * w
     info = -np.array([[huu, huv], [huv, hvv]])
+    # h not identified (at its bound, a flat or NaN curvature): r's interval given h,
+    # from its own curvature; h's unbounded (inf)
+    given_h = np.diag([np.inf, 1.0 / -hvv if -hvv > 0 else np.inf])
     try:
         cov = np.linalg.inv(info)
     except np.linalg.LinAlgError:
-        return np.full((2, 2), np.inf)
-    return cov if np.all(np.diag(cov) > 0) else np.full((2, 2), np.inf)
+        return given_h
+    return cov if np.all(np.diag(cov) > 0) else given_h
 
 
 # ---------------------------------------------------------------- ALS
@@ -364,6 +367,8 @@ def _check_input(z: ArrayLike, model: str, rate: float | None) -> tuple[NDArray,
 
 
 def _interval(log_value: float, var: float) -> tuple[float, float]:
+    if var == np.inf:  # not identified by the data: (0, inf), as an overflowing exp gives
+        return (0.0, float("inf"))
     if not np.isfinite(var) or var < 0:
         return (float("nan"), float("nan"))
     half = _Z95 * np.sqrt(var)

@@ -13,6 +13,15 @@ from numpy.typing import NDArray
 
 from noisevar._distributions import chi2_ppf
 
+try:  # the compiled slope medians (numba); np.median below is the reference
+    from noisevar.numeric import _steps_numba
+except ImportError:  # pragma: no cover - numba not installed
+    _steps_numba = None  # type: ignore[assignment]
+
+#: The compiled slope medians of :func:`detrended_windows` while true (and numba is
+#: installed); false selects ``np.median`` (the same numbers, tested).
+COMPILED: bool = _steps_numba is not None
+
 STEP_WINDOW = 6
 STEP_THRESHOLD = 6.0
 #: A candidate jump is confirmed where the third difference of window *medians* stands this
@@ -167,9 +176,16 @@ def detrended_windows(z: NDArray, at: NDArray, idx: NDArray, w: int) -> NDArray:
     x = z[j]
     # pairs on one side of the candidate each (windows 0-1 after it, 2-3 before it): a
     # jump at the candidate tilts no pair's slope
-    gap = np.maximum(at[:, 0::2] - at[:, 1::2], 1)[..., None]  # one window apart, (m, 2, 1)
-    slope = np.median(((x[:, 0::2] - x[:, 1::2]) / gap).reshape(x.shape[0], -1), axis=1)
+    if COMPILED and _steps_numba is not None and at.size:
+        slope = _steps_numba.pair_slope_medians(np.ascontiguousarray(z), _ints(at), w)
+    else:
+        gap = np.maximum(at[:, 0::2] - at[:, 1::2], 1)[..., None]  # a window apart, (m, 2, 1)
+        slope = np.median(((x[:, 0::2] - x[:, 1::2]) / gap).reshape(x.shape[0], -1), axis=1)
     return x - slope[:, None, None] * (j - idx[:, None, None])
+
+
+def _ints(x: NDArray) -> NDArray:
+    return np.ascontiguousarray(x, dtype=np.int64)
 
 
 def _confirm_steps(

@@ -79,3 +79,16 @@ def test_two_sensors_of_one_quantity_are_not_flagged() -> None:
     cols = {"a": s + rng.normal(0, 1.0, N), "b": s + rng.normal(0, 2.0, N)}
     at = _open(cols, "app_pages/Two_sensors.py")
     assert not any("may not measure the same quantity" in w.value for w in at.warning)
+
+
+def test_the_files_unit_is_every_pages_unit_unless_the_user_gives_one() -> None:
+    """A CSV header's ``[unit]`` (a log's field unit) reaches the pages as it reaches
+    ``noisevar estimate``: the answer box says it; a unit typed on the Signal page wins."""
+    cols = _imu()
+    cols = {"Acc_X [m/s^2]": cols["Acc_X"]}
+    sentence = record_answer(noisevar.estimate(cols["Acc_X [m/s^2]"])).sentence("m/s^2")
+    at = _open(cols, "app_pages/Compare.py")
+    assert any(sentence in b for b in _boxes(at))
+    other = record_answer(noisevar.estimate(cols["Acc_X [m/s^2]"])).sentence("g")
+    at = _open(cols, "app_pages/Compare.py", unit="g")
+    assert any(other in b for b in _boxes(at)) and not any(sentence in b for b in _boxes(at))

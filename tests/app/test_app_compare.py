@@ -140,7 +140,7 @@ def test_a_peer_row_is_one_task_for_every_session(monkeypatch):
     from dashboard import cache, workers
 
     sig = SimpleNamespace(
-        digest="issue29-peer", z=nv.generate("fast-slow", n=2000, seed=3).measured
+        digest="issue29-peer", z=nv.generate("fast-slow", n=2000, seed=3).measured, times=None
     )
     assert cache.peer_row(sig, "mle-level", {}, start=False) is None
     first = cache.peer_row(sig, "mle-level", {})
@@ -152,7 +152,7 @@ def test_a_peer_row_is_one_task_for_every_session(monkeypatch):
     broken.set_exception(RuntimeError("a broken pool"))
     real = workers.start_batch
     monkeypatch.setattr(workers, "start_batch", lambda *a, **k: workers.Started(-1, broken))
-    other = SimpleNamespace(digest="issue29-broken", z=sig.z)
+    other = SimpleNamespace(digest="issue29-broken", z=sig.z, times=None)
     assert cache.peer_row(other, "mle-level", {}).future is broken
     monkeypatch.setattr(workers, "start_batch", real)
     again = cache.peer_row(other, "mle-level", {})  # forgotten, started anew

@@ -99,3 +99,25 @@ def test_kalibr_export_from_chosen_columns():
     if gyro > 3.0 * n_table * (1 + 1e-9):
         assert "# note: gyroscope_noise_density: raised from N" in text
     assert np.isfinite(float(values["update_rate"]))
+
+
+def test_the_data_kind_defaults_as_the_command_line_does(tmp_path, capsys):
+    """The Signal page's unit decides phase or rate here as `noisevar allan` decides it
+    (:func:`noisevar.noise_model.allan.default_data`): a time or an angle is phase data."""
+    from noisevar.cli import main
+    from noisevar.noise_model.allan import default_data
+
+    for unit, kind in (("ns", "phase"), ("deg", "phase"), ("rad/s", "rate"), ("", "rate")):
+        assert default_data(unit) == kind
+        app = AppTest.from_file(APP, default_timeout=90)
+        app.query_params["sig"] = SIG
+        app.session_state["units"] = unit  # as the Signal page's unit box sets it
+        app.switch_page(PAGE).run()
+        _clean(app)
+        assert app.radio(key="nm_data").value == kind, unit
+    path = tmp_path / "clock.csv"
+    rng = np.random.default_rng(2)
+    path.write_text("x [ns]\n" + "\n".join(f"{v:.6f}" for v in np.cumsum(rng.normal(size=600))))
+    assert main(["allan", str(path), "--rate", "1"]) == 0
+    out = capsys.readouterr().out
+    assert "(phase data," in out and "deviations in ns/s" in out

@@ -88,8 +88,8 @@ def test_the_dashboard_caches_share_one_bounded_cache(monkeypatch):
 
     budget.CACHE.clear()
     z = np.random.default_rng(1).normal(size=4000)
-    a = cache._estimate_cached("digest-a", "auto", "{}", 0, z.size, z)
-    b = cache._estimate_cached("digest-a", "auto", "{}", 0, z.size, z.copy())  # another session
+    a = cache._estimate_cached("digest-a", "auto", "{}", 0, z.size, z, None)
+    b = cache._estimate_cached("digest-a", "auto", "{}", 0, z.size, z.copy(), None)  # another
     assert a is b and 0 < budget.CACHE.total <= budget.CACHE.budget
 
 

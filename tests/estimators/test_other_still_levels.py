@@ -6,19 +6,12 @@ import numpy as np
 import pytest
 
 import noisevar
+from noisevar import synth
 
 
 def _postures(seed: int, raised: float) -> np.ndarray:
-    """A short rest at σ² = 1, a long one at ``raised`` (another posture), motion between."""
-    rng = np.random.default_rng(seed)
-    parts = []
-    for kind, n in (("s", 300), ("m", 400), ("r", 5000), ("m", 400), ("s", 300)):
-        t = np.arange(n)
-        if kind == "m":
-            parts.append(30 * np.sin(2 * np.pi * t / 40) * np.hanning(n) + rng.normal(0, 30, n))
-        else:
-            parts.append(rng.normal(0.0, np.sqrt(raised if kind == "r" else 1.0), n))
-    return np.concatenate(parts)
+    """Two still levels, motion between (:func:`noisevar.synth.postures`)."""
+    return synth.postures(raised, rng=seed)
 
 
 def _levels(est) -> list[float]:

@@ -41,6 +41,8 @@ def test_short_still_start_verdict_says_indicative() -> None:
     gap = still_gap(est.diagnostics, est.variance, est.still)
     assert gap is not None
     assert "indicative only" in est.diagnostics.verdict
+    # said once: the gap's reason covers the whiteness test the short stretches cannot take
+    assert est.diagnostics.verdict.count("record the sensor still for longer") == 1
     assert gap.removeprefix("regimes='still': ") in est.diagnostics.verdict
 
 

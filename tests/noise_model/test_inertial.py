@@ -119,3 +119,25 @@ def test_k_interval_is_as_wide_as_the_information_allows() -> None:
         for f in inertial_noise(np.column_stack(cols).T, RATE)
     ]
     assert 0.9 * sd < np.median(half) < 2.0 * sd
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2, 3])
+def test_a_term_left_out_never_has_a_zero_width_interval(seed: int) -> None:
+    """A short record (6.5 s at 200 Hz, like a small flight log): the refits all put K at
+    0, and its interval was [0, 0], as if K were measured to be nothing. Its upper limit is
+    now what the Allan variances alone allow, and holds the truth."""
+    rng = np.random.default_rng(seed)
+    k_true = 1e-5 * math.sqrt(200.0)  # the random walk's density, u/s/√Hz
+    z = rng.normal(0, 0.003, 1300) + np.cumsum(rng.normal(0, 1e-5, 1300))
+    res = inertial_noise(z, rate=200.0)
+    for t in res.terms:
+        assert t.interval[1] > 0, t.symbol
+    k = next(t for t in res.terms if t.symbol == "K")
+    assert k.interval[0] <= k_true <= k.interval[1]
+    assert units_shown("m/s**2") == ["m/s²·s", "m/s²/√Hz", "m/s²", "m/s³/√Hz", "m/s³"]
+
+
+def units_shown(unit: str) -> list[str]:
+    from noisevar.units import term_unit
+
+    return [term_unit(unit, s) for s in "QNBKR"]

@@ -32,6 +32,7 @@ from noisevar.numeric.blocks import (
     flagged_per_block,
 )
 from noisevar.numeric.steps import STEP_MAX_FRACTION, lone_steps, step_mask
+from noisevar.numeric.sweeps import near_any, window_counts
 
 #: Trimmed samples are widened by half of this span (or of the longest span below it).
 AUTO_MASK_SPAN = 41
@@ -175,17 +176,13 @@ def _believed(found: NDArray, block: int, lone: NDArray | None = None) -> NDArra
     size = min(2 * half + 1, found.size)
     lo = np.clip(idx - half, 0, found.size - size)
     hi = lo + size - 1
-    flagged = np.searchsorted(idx, hi, side="right") - np.searchsorted(idx, lo, side="left")
-    fast = flagged > STEP_MAX_FRACTION * size
+    fast = window_counts(idx, lo, hi) > STEP_MAX_FRACTION * size
     if not fast.any():
         return found
     # a flag within half the window of a fast one is the same fast stretch (its edge)
     at = idx[fast]
     idx = np.flatnonzero(found)
-    pos = np.searchsorted(at, idx)
-    after = at[np.minimum(pos, at.size - 1)] - idx
-    before = idx - at[np.maximum(pos - 1, 0)]
-    near = ((after >= 0) & (after <= half)) | ((before >= 0) & (before <= half))
+    near = near_any(idx, at, half)
     out = found.copy()
     out[idx[near]] = False
     return out if out.any() else None

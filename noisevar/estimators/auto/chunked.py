@@ -15,9 +15,11 @@ from __future__ import annotations
 
 import math
 import sys
+import threading
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -49,6 +51,33 @@ CHUNK = 1 << 18
 AHEAD = 2
 #: The interpreter's thread switch interval (s) while chunks run in threads.
 SWITCH = 2e-4
+
+
+class _Switch:
+    """The interpreter's switch interval at :data:`SWITCH` while any user is inside.
+
+    Counted, so that estimates in several threads at once (a dashboard's, nested passes)
+    restore the interval the first one found, whatever order they leave in.
+    """
+
+    def __init__(self) -> None:
+        self.lock, self.users, self.saved = threading.Lock(), 0, sys.getswitchinterval()
+
+    def __enter__(self) -> None:
+        with self.lock:
+            if self.users == 0:
+                self.saved = sys.getswitchinterval()
+                sys.setswitchinterval(SWITCH)
+            self.users += 1
+
+    def __exit__(self, *exc: object) -> None:
+        with self.lock:
+            self.users -= 1
+            if self.users == 0:
+                sys.setswitchinterval(self.saved)
+
+
+_FAST_SWITCH = _Switch()
 
 
 @dataclass(frozen=True)
@@ -91,19 +120,14 @@ def _in_order(work: Callable[[_Chunk], tuple], todo: list[_Chunk], workers: int)
         return
     # a thread back from a long compiled call waits for the interpreter lock at most this
     # long while the other runs Python: the chunks' short calls then overlap (restored after)
-    interval = sys.getswitchinterval()
-    sys.setswitchinterval(SWITCH)
-    try:
-        with ThreadPoolExecutor(workers) as pool:
-            queue: list[Future] = []
-            for c in todo:
-                queue.append(pool.submit(work, c))
-                if len(queue) >= AHEAD * workers:
-                    yield queue.pop(0).result()
-            for f in queue:
-                yield f.result()
-    finally:
-        sys.setswitchinterval(interval)
+    with _FAST_SWITCH, ThreadPoolExecutor(workers) as pool:
+        queue: list[Future] = []
+        for c in todo:
+            queue.append(pool.submit(work, c))
+            if len(queue) >= AHEAD * workers:
+                yield queue.pop(0).result()
+        for f in queue:
+            yield f.result()
 
 
 def _pass(
@@ -148,6 +172,14 @@ def _pass(
         if sums is not None and dpart is not None:
             sums.add(dpart)
     return _Pass(parts, top, hi_all - lo_all, sums, runs)
+
+
+def _spawn(f: Callable[[], Any]) -> Callable[[], Any]:
+    """``f`` started in a thread of its own; what is returned waits for its result."""
+    pool = ThreadPoolExecutor(1)
+    future = pool.submit(f)
+    pool.shutdown(wait=False)  # the thread ends with ``f``
+    return future.result
 
 
 def _join(runs: list[tuple[int, int]], more: list[tuple[int, int]]) -> list[tuple[int, int]]:
@@ -230,6 +262,27 @@ class ChunkedAuto:
             run = self._run(spans, p, None, math.inf)
         return auto_reduce(run.parts, spans, p, list(self.notes))
 
+    def branches(self, *work: Callable[[], Any]) -> list[Any]:
+        """``[w() for w in work]``, run at once on the record's threads (results in order).
+
+        The pipeline's steps after the diagnostics are independent of each other (the
+        coloured-noise pass, the still regimes'). The threads are shared: ``k`` branches
+        at once, each reading in chunks with ``workers // k`` threads (never more than
+        :attr:`workers` in all; one thread: one after the other).
+        """
+        k = min(len(work), self.workers)
+        if k <= 1:
+            return [w() for w in work]
+        workers = self.workers
+        self.workers = max(1, workers // k)
+        try:  # Python-heavy steps (PELT) let the others' compiled calls run
+            with _FAST_SWITCH, ThreadPoolExecutor(k - 1) as pool:
+                rest = [pool.submit(w) for w in work[1:]]
+                first = work[0]()
+                return [first, *(f.result() for f in rest)]
+        finally:
+            self.workers = workers
+
     def estimate_in(self, params: dict, ranges: list[tuple[int, int]]) -> VarianceEstimate:
         """``auto`` on the sample ranges ``ranges`` only, each read in chunks, pooled.
 
@@ -284,7 +337,8 @@ class ChunkedAuto:
             raise NoisevarError("the record has not been estimated yet")
         head, e = self.read(0, min(self.n, POWER_LAW_MAX)), self.exponent
         seg = Segmentation(((0, self.n),), ())
-        return from_sums(self.sums, seg, lambda: np.ldexp(head, e) if e else head)
+        spawn = _spawn if self.workers > 1 else None  # the power law beside the profile
+        return from_sums(self.sums, seg, lambda: np.ldexp(head, e) if e else head, spawn)
 
     def still_ranges(self, diag: NoiseDiagnostics) -> list[tuple[int, int]]:
         """As :meth:`~noisevar.estimators.pipeline.InMemory.still_ranges`: one more pass,

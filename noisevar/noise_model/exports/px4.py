@@ -69,9 +69,10 @@ def write(model: ImuModel, *, predict_us: int = PREDICT_US) -> ExportFile:
         lines.append(f"# {v.name}: {v.comment()}")
         lo, hi = RANGES.get(v.name, (None, None))
         if (lo is not None and v.value < lo) or (hi is not None and v.value > hi):
+            bound = f"minimum {lo}" if hi is None else f"maximum {hi}" if lo is None else ""
             lines.append(
-                f"# WARNING: {v.name} is outside PX4's documented range [{lo}, {hi}]: the "
-                "ground station may refuse it; written as computed"
+                f"# WARNING: {v.name} is outside PX4's documented {bound or f'range [{lo}, {hi}]'}"
+                ": the ground station may refuse it; written as computed"
             )
         lines.append(f"1\t1\t{v.name}\t{v.value:.12g}\t{_REAL32}")
     return ExportFile("px4", "px4_ekf2.params", ascii_text("\n".join(lines) + "\n"), tuple(values))

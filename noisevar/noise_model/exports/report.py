@@ -60,6 +60,8 @@ def _summary(model: ImuModel, axes: Sequence[Axis]) -> list[str]:
         lines.append(f"Record's answer, {a.column}: {ans.sentence(a.fit.unit)}")
         if ans.level_varies:
             lines.append(f"Regime warning, {a.column}: {REGIME_WARNING}")
+        if ans.still_levels:
+            lines.append(f"Other still levels, {a.column}: {ans.still_levels_text(a.fit.unit)}")
     return lines
 
 

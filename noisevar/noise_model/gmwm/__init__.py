@@ -16,7 +16,9 @@ from dataclasses import replace
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from noisevar._distributions import chi2_ppf
 from noisevar.errors import NoisevarError
+from noisevar.estimators import scale_exponent
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes, longest_still_stretch
 from noisevar.noise_model.allan import regime_warning
 from noisevar.noise_model.gmwm.bound import InformationBound, fisher_bound
@@ -37,6 +39,7 @@ from noisevar.noise_model.gmwm.model import (
     ModelRow,
     Parameter,
 )
+from noisevar.noise_model.gmwm.scaling import scaled
 
 __all__ = [
     "AUTO",
@@ -116,17 +119,20 @@ def fit_imu_model(
     check_regimes(regimes)
     arr = as_rows(x, axis)
     notes: list[list[str]] = [[] for _ in arr]
-    if regimes == "still":
-        cut = [longest_still_stretch(row, STILL_NEED, "the composite model") for row in arr]
+    scaled_arr, exps = scaled(arr)  # each axis at its own magnitude (scaling)
+    if regimes == "still":  # found on the scaled axis: its whole R may not be a float here
+        need = STILL_NEED
+        cut = [longest_still_stretch(row, need, "the composite model") for row in scaled_arr]
         notes = [[s.note] for s in cut]
-        rows = [s.take(row)[None, :] for s, row in zip(cut, arr, strict=True)]
-        wvs = [wavelet_variances(r, robust)[0] for r in rows]
+        rows = [scaled(s.take(row)[None, :]) for s, row in zip(cut, arr, strict=True)]
+        wvs = [wavelet_variances(r, robust)[0] for r, _ in rows]
+        exps = [e for _, (e,) in rows]
     else:
-        wvs = wavelet_variances(arr, robust)
+        wvs = wavelet_variances(scaled_arr, robust)
     kw = dict(models=models, robust=robust, unit=unit, ci=ci, criterion=criterion)
 
     def one(i: int) -> ImuModel:
-        fit = fit_wv(wvs[i], rate, horizon=horizon, **kw)
+        fit = fit_wv(wvs[i], rate, horizon=horizon, e=exps[i], **kw)
         extra = notes[i] if regimes == "still" else motion_note(arr[i], fit)
         return replace(fit, notes=(*extra, *fit.notes)) if extra else fit
 
@@ -163,11 +169,87 @@ def motion_note(row: NDArray, fit: ImuModel) -> list[str]:
 
     Notes
     -----
-    The diagnostics add about a third to the fit's CPU on a long record; a fit that
-    explains the wavelet variance (a still record) is not checked, so the composite
-    fit's speed on still records is unchanged.
+    The diagnostics add about a third to the fit's CPU on a long record; they run
+    only when the fit leaves the data unexplained or the one-pass screen
+    :func:`level_may_vary` cannot rule out a level that varies (polulu gyr_x: a
+    WN+FL+GM fit that absorbs the motion), so a still record's fit costs one more pass.
     """
-    return regime_warning(row) if unexplained(fit) else []
+    return regime_warning(row) if unexplained(fit) or level_may_vary(row) else []
+
+
+#: Blocks of the screen (:func:`level_may_vary`), at most.
+SCREEN_BLOCKS = 256
+#: Fewest first differences per block of the screen.
+SCREEN_MIN_BLOCK = 32
+#: Family-wise level of the screen's χ² bands for one level, over all its blocks.
+SCREEN_ALPHA = 0.01
+#: The finest blocks' Gaussian band is widened by this factor either way.
+SCREEN_SLACK = 1.2
+
+
+def level_may_vary(row: NDArray) -> bool:
+    """A cheap screen before the estimate's regimes: whether the short-scale level of a
+    record may change along it.
+
+    Parameters
+    ----------
+    row : ndarray, shape (n,)
+        The axis's record.
+
+    Returns
+    -------
+    bool
+        False when, at every scale of blocks (the finest, then pairs of them merged,
+        and so on up to two halves), each block's mean square of first differences lies
+        inside the family-wise χ² band of one level about the record's, and the finest
+        blocks inside the Gaussian band widened by :data:`SCREEN_SLACK`; True otherwise
+        (then the estimate's diagnostics decide,
+        :func:`~noisevar.noise_model.allan.regime_warning`).
+
+    Notes
+    -----
+    One pass over the record. A block mean square of ``b`` differences of white noise
+    (lag-1 correlation -1/2) has about ``b / 1.5`` dof, fewer by ``2 / (κ - 1)`` for the
+    differences' kurtosis ``κ``; merged blocks add their dof, so a long stretch at a
+    slightly higher level (1.3x over a third of the record) stands out at a coarse
+    scale. The screen only spares the estimate on records whose level is one beyond
+    doubt (a still IMU); it never decides that a level varies.
+    """
+    n = row.size - 1
+    block = max(SCREEN_MIN_BLOCK, -(-n // SCREEN_BLOCKS))
+    nb = n // block
+    if nb < 2:
+        return True
+    e = scale_exponent(row)  # the screen is scale-free: squares of 2**e row (exact)
+    row = np.ldexp(row, e) if e else row
+    d2 = np.square(np.diff(row[: nb * block + 1])).reshape(nb, block)
+    sq = d2.sum(axis=1)
+    total = float(np.sum(sq))
+    if not (np.isfinite(total) and total > 0):
+        return True
+    scale = total / d2.size
+    kurt = float(np.einsum("ij,ij->", d2, d2)) / d2.size / scale**2
+    if not np.isfinite(kurt):
+        return True
+    nu = block / 1.5 * 2.0 / max(kurt - 1.0, 2.0)
+    sums, tests = [sq / (block * scale)], nb
+    while sums[-1].size >= 4:
+        k = sums[-1].size // 2
+        sums.append(sums[-1][: 2 * k].reshape(k, 2).sum(axis=1))
+        tests += k
+    q = SCREEN_ALPHA / (2 * tests)
+    # the finest blocks also with Gaussian dof, widened by SCREEN_SLACK: motion in heavy
+    # bursts raises the kurtosis, and with it every band above, as much as the level
+    g = block / 1.5
+    lo, hi = chi2_ppf(q, g) / g / SCREEN_SLACK, chi2_ppf(1.0 - q, g) / g * SCREEN_SLACK
+    if np.any(sums[0] < lo) or np.any(sums[0] > hi):
+        return True
+    for level, r in enumerate(sums):
+        m = 2**level  # blocks merged
+        lo, hi = chi2_ppf(q, m * nu) / nu, chi2_ppf(1.0 - q, m * nu) / nu
+        if np.any(r < lo) or np.any(r > hi) or not np.all(np.isfinite(r)):
+            return True
+    return False
 
 
 def fit_imu_records(
@@ -203,15 +285,15 @@ def fit_imu_records(
     """
     if len(records) == 0:
         raise NoisevarError("records is empty: give at least one record.")
-    wvs = []
-    for r in records:
-        arr = as_rows(r, 0)
-        if arr.shape[0] != 1:
-            raise NoisevarError("each record must be 1-D (one axis).")
-        wvs += wavelet_variances(arr, robust)
+    arrs = [as_rows(r, 0) for r in records]
+    if any(arr.shape[0] != 1 for arr in arrs):
+        raise NoisevarError("each record must be 1-D (one axis).")
+    _, (e,) = scaled(np.concatenate(arrs, axis=None)[None, :])  # one scale: one unit
+    wvs = [wavelet_variances(np.ldexp(arr, e), robust)[0] for arr in arrs]
     fit = fit_wv(
         pooled(wvs),
         rate,
+        e=e,
         models=models,
         robust=robust,
         unit=unit,

@@ -10,7 +10,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import stats
 
+from noisevar._arrays import check_exact_ints
 from noisevar.errors import NoisevarError
+from noisevar.estimators import check_rate, scale_back
 from noisevar.noise_model.gmwm import estimator as est
 from noisevar.noise_model.gmwm.model import (
     HORIZON,
@@ -26,6 +28,7 @@ from noisevar.noise_model.gmwm.model import (
     parse_model,
 )
 from noisevar.noise_model.gmwm.processes import PROCESSES
+from noisevar.noise_model.gmwm.scaling import bias_in_units, checked, internal_in_units
 from noisevar.noise_model.gmwm.wavelet import dyadic_scales, haar_wv, robust_inflation
 
 #: ``models=AUTO``: search the model (:func:`search`).
@@ -253,7 +256,8 @@ def choose(
     return min(fits, key=score), fits
 
 
-def _parameters(sol: est.Solution, rate: float, unit: str, ci: float) -> list[Parameter]:
+def _parameters(sol: est.Solution, rate: float, unit: str, ci: float, e=0) -> list[Parameter]:
+    """The parameters and intervals in the record's units (fitted on the record x 2**e)."""
     z = stats.norm.ppf(0.5 + ci / 2.0)
     se = np.sqrt(np.clip(np.diag(sol.log_cov), 0.0, 50.0**2))
     out = []
@@ -267,7 +271,8 @@ def _parameters(sol: est.Solution, rate: float, unit: str, ci: float) -> list[Pa
         mid, lo, hi = (proc.convert(np.exp(lp + d * s), rate) for d in (0.0, -z, z))
         for i, (pub, u) in enumerate(zip(proc.public, proc.units, strict=True)):
             name = pub if key != "GM" else f"{label}.{pub}"
-            out.append(Parameter(name, label, mid[i], (lo[i], hi[i]), u.format(u=unit)))
+            mid_i, lo_i, hi_i = (scale_back(v[i], -e * ("{u}" in u), name) for v in (mid, lo, hi))
+            out.append(Parameter(name, label, mid_i, (lo_i, hi_i), u.format(u=unit)))
     return out
 
 
@@ -347,6 +352,7 @@ def random_walk_note(
     rate: float,
     unit: str,
     ci: float,
+    e: int = 0,
 ) -> str | None:
     """A note when the chosen model holds a GM or flicker but no random walk, and a model
     with a random walk is within one parameter's price of it by the criterion.
@@ -374,7 +380,7 @@ def random_walk_note(
     margin, price = score(rival) - score(sol), penalty(criterion, n)
     if margin >= price:
         return None
-    k = next(p for p in _parameters(rival, rate, unit, ci) if p.name == "K")
+    k = next(p for p in _parameters(rival, rate, unit, ci, e) if p.name == "K")
     held = "/".join(x for x in RW_RIVALS if x in sol.keys)
     return (
         f"{name_of(rival.keys)} is within {margin:.2g} of the chosen {name_of(sol.keys)} by "
@@ -438,7 +444,7 @@ def white_level(wv: est.WaveletVariance, rate: float) -> float:
 
 
 def white_at_bound(
-    params: list[Parameter], wv: est.WaveletVariance, rate: float, unit: str
+    params: list[Parameter], wv: est.WaveletVariance, rate: float, unit: str, e: int = 0
 ) -> tuple[list[Parameter], list[str]]:
     """N at its lower bound said so: 0, its interval up to the white level, and a note.
 
@@ -455,7 +461,7 @@ def white_at_bound(
     bound at 0. The delta-method interval of a parameter at its bound is not an
     interval (it has zero width); the data bound N only from above, by the white level.
     """
-    white = white_level(wv, rate)
+    white = scale_back(white_level(wv, rate), -e, "white level")  # as params: ``wv`` of z 2**e
     out, notes = [], []
     for p in params:
         if p.name == "N" and p.value < AT_BOUND * white:
@@ -480,8 +486,9 @@ def build(
     robust: bool,
     horizon: float,
     criterion: str = DEFAULT_CRITERION,
+    e: int = 0,
 ) -> ImuModel:
-    """The result of one axis from its chosen solution and the table of all fitted."""
+    """One axis's result from its chosen solution and all fitted (``wv``: of z x 2**e)."""
     sol = est.order_gm(sol)
     z = stats.norm.ppf(0.5 + ci / 2.0)
     rel = np.sqrt(np.diag(sol.cov)) / wv.nu
@@ -502,10 +509,10 @@ def build(
             f"the chosen model {name_of(sol.keys)} misfits the wavelet variance "
             f"(objective {sol.objective:.3g} on {wv.tau.size} scales): a process is missing"
         )
-    rw_note = random_walk_note(sol, tried, criterion, n, rate, unit, ci)
+    rw_note = random_walk_note(sol, tried, criterion, n, rate, unit, ci, e)
     if rw_note:
         notes.append(rw_note)
-    params, n_note = white_at_bound(_parameters(sol, rate, unit, ci), wv, rate, unit)
+    params, n_note = white_at_bound(_parameters(sol, rate, unit, ci, e), wv, rate, unit, e)
     notes += n_note
     return ImuModel(
         name_of(sol.keys),
@@ -515,19 +522,18 @@ def build(
         float(ci),
         robust,
         wv.tau / rate,
-        wv.nu.copy(),
-        wv_band(wv.nu, z * rel),
+        np.array(scale_back(wv.nu, -2 * e, "wavelet variance"), copy=True),
+        tuple(scale_back(b, -2 * e, "wavelet variance") for b in wv_band(wv.nu, z * rel)),
         tuple(rows),
-        filter_bias(sol.keys, p, rate, horizon, sol.log_cov, ci),
+        bias_in_units(filter_bias(sol.keys, p, rate, horizon, sol.log_cov, ci), e),
         sol.keys,
-        p,
+        internal_in_units(sol.keys, p, e),
         tuple(notes),
     )
 
 
 def _check(rate: float, ci: float, horizon: float) -> None:
-    if not (math.isfinite(rate) and rate > 0):
-        raise NoisevarError(f"rate must be a positive number of Hz; got {rate!r}.")
+    check_rate(rate)  # the range the other noise models take (RATE_RANGE)
     if not 0.0 < ci < 1.0:
         raise NoisevarError(f"ci must be in (0, 1); got {ci!r}.")
     if not (math.isfinite(horizon) and horizon > 0):
@@ -535,6 +541,7 @@ def _check(rate: float, ci: float, horizon: float) -> None:
 
 
 def as_rows(x: ArrayLike, axis: int) -> NDArray:
+    check_exact_ints(x, "x")
     arr = np.asarray(x, dtype=float)
     if arr.ndim not in (1, 2):
         raise NoisevarError(f"x must be 1-D or 2-D (time x axes); it has shape {arr.shape}.")
@@ -578,8 +585,9 @@ def fit_wv(
     ci: float = ONE_SIGMA,
     criterion: str = DEFAULT_CRITERION,
     horizon: float = HORIZON,
+    e: int = 0,
 ) -> ImuModel:
-    """Fit and choose a model on one wavelet variance (see :func:`fit_imu_model`)."""
+    """Fit and choose a model on the wavelet variance of z x 2**e, in the units of z."""
     _check(rate, ci, horizon)
     if horizon * rate < 1.0:
         raise NoisevarError(f"horizon must be at least one sample (1/rate); got {horizon!r} s.")
@@ -588,4 +596,4 @@ def fit_wv(
             f"The record is too short: {wv.tau.size} wavelet scales (a model needs 3)."
         )
     sol, tried = choose(wv, models, criterion)
-    return build(sol, tried, wv, rate, unit, ci, robust, horizon, criterion)
+    return checked(build(sol, tried, wv, rate, unit, ci, robust, horizon, criterion, e))
