@@ -76,11 +76,17 @@ class CpuSampler:
         The dashboard server's process id.
     client_pid : int, optional
         The benchmark's own process id.
+    own_browser : bool
+        Count as ``browser`` only the Chromium processes ``client_pid`` started (other
+        jobs' browsers, such as another benchmark's or a test's, go to ``other``).
     """
 
-    def __init__(self, server_pid: int, client_pid: int | None = None) -> None:
+    def __init__(
+        self, server_pid: int, client_pid: int | None = None, own_browser: bool = False
+    ) -> None:
         self.server_pid = server_pid
         self.client_pid = client_pid
+        self.own_browser = own_browser
         self.totals = {"server": 0.0, "browser": 0.0, "driver": 0.0, "other": 0.0}
         self._seen: dict[tuple[int, float], float] = {}
         self._stop = threading.Event()
@@ -104,7 +110,7 @@ class CpuSampler:
                     self._seen[key] = 0.0 if start >= self._last else cpu
                 if pid in server:
                     kind = "server"
-                elif "chrom" in name.lower():
+                elif "chrom" in name.lower() and (not self.own_browser or pid in client):
                     kind = "browser"
                 else:
                     kind = "driver" if pid in client else "other"

@@ -133,8 +133,9 @@ def _table_as_rows_arrive(
 ) -> None:
     """The table (and figure) of the rows done, redrawn as each pending peer's arrives;
     the record's diagnostics once, under it; a status line while peers compute."""
-    status, view, panel, assumptions = st.empty(), st.empty(), st.container(), st.empty()
-    paneled, shown, sent = False, None, 0.0
+    status, view, chart = st.empty(), st.empty(), st.empty()
+    panel, assumptions = st.container(), st.empty()
+    paneled, charted, shown, sent = False, False, None, 0.0
     while True:
         rows = [done[m] for m in chosen if m in done]
         waiting = [m for m in chosen if m in pending]
@@ -142,7 +143,11 @@ def _table_as_rows_arrive(
         if estimates or not waiting:
             with view.container(), guarded():
                 comp = comparison_of(sig.n, rows, truth_of(sig))
-                comparison_table(comp, sig, waiting)
+                # the figure: in the first view and once every row is in, not on each
+                # arrival between (each draw costs the browser a quarter of a CPU-s)
+                draw = not charted or not waiting
+                comparison_table(comp, sig, waiting, chart if draw else None)
+                charted = charted or draw
         if estimates and not paneled:  # the record's diagnostics are the same for every method
             with panel:
                 st.subheader("Which numbers to trust")
@@ -176,8 +181,14 @@ def _table_as_rows_arrive(
                 del pending[m]
 
 
-def comparison_table(comp: Comparison, sig: LoadedSignal, waiting: Sequence[str] = ()) -> None:
-    """The comparison table, the Cramér-Rao floor, the figure and the downloads.
+def comparison_table(
+    comp: Comparison,
+    sig: LoadedSignal,
+    waiting: Sequence[str] = (),
+    chart: DeltaGenerator | None = None,
+) -> None:
+    """The comparison table, the Cramér-Rao floor, and in ``chart`` (a placeholder) the
+    figure and the downloads; without ``chart``, the figure already drawn stays.
 
     ``waiting`` names methods still computing: a row each saying so, and no downloads or
     figure key until every row is in (the view is redrawn then).
@@ -213,6 +224,13 @@ def comparison_table(comp: Comparison, sig: LoadedSignal, waiting: Sequence[str]
         f"Cramér-Rao floor for {sig.n:,} samples: relative sd "
         f"{100 * comp.cr_floor:.2f} % (± {196 * comp.cr_floor:.2f} % at 95 %)." + truth
     )
+    if chart is None:
+        return
+    with chart.container():
+        _figure_and_downloads(comp, sig, waiting)
+
+
+def _figure_and_downloads(comp: Comparison, sig: LoadedSignal, waiting: Sequence[str]) -> None:
     fig = compare_figure(comp, title=f"Every method on {sig.label}")
     if waiting:
         show_figure(fig)

@@ -280,15 +280,25 @@ def step_views(
     """The "Step by step" figures: window tests, envelopes, h scan, per-window variance.
 
     A fragment: choosing another view (or running the h scan) reruns this part only.
+
+    Notes
+    -----
+    No view is chosen at first: its figure is drawn only once asked for, and then again on
+    every change of a control. Each Plotly figure costs the browser about a quarter of a
+    CPU-s when the page opens and a tenth on each slider step (issue 29: a class of 16 on
+    one 2-core machine is CPU-bound, mostly in the browsers); the main figure above shows
+    the kept and rejected windows already.
     """
     view = st.segmented_control(
         "Step by step",
         VIEWS,
         key="est_view",
         bind="query-params",
-        **initial("est_view", VIEWS[0], "default"),
+        **initial("est_view", None, "default"),
     )
-    view = view or VIEWS[0]
+    if view is None:
+        st.caption(f"Choose a step to see its figure: {', '.join(VIEWS)}.")
+        return
     detail = None
     d = shown.details if shown is not None else None
     if view == "Window tests":

@@ -37,6 +37,10 @@ from noisevar.noise_model.kalman_fit import METHODS, MODELS
 KEY = "nmf"
 #: Session-state key of the (lazy) filterpy snippet expander.
 SNIPPET_KEY = f"{KEY}_snippet_open"
+#: The tuned filter's run (three figures), drawn while this expander is open.
+RUN_LABEL = "The tuned filter on the record: estimate, NIS band, innovation whiteness"
+#: Session-state key of the (lazy) run expander.
+RUN_KEY = f"{KEY}_run_open"
 #: Records longer than this (samples) take about a second or more to fit: show a progress bar.
 PROGRESS_ABOVE = 20_000
 
@@ -137,6 +141,20 @@ def _exports(t: KalmanTuning, column: str | None, unit: str, record: dict[str, s
             st.code(snippet, language="python")
 
 
+def _run_figures(t: KalmanTuning, z: np.ndarray, named: str) -> None:
+    """The tuned filter run on the record: estimate, NIS band, innovation whiteness.
+
+    Lazy: run and drawn only while its expander is open. Three Plotly figures cost the
+    browser about a quarter of a CPU-s each when the page opens (issue 29).
+    """
+    with lazy_expander(RUN_LABEL, RUN_KEY, icon=":material/show_chart:") as is_open:
+        if is_open:
+            run = run_tuned(t, z)
+            show_figure(tuned_run_figure(run, z, dt=t.dt, y_title=named), key=f"{KEY}_run")
+            show_figure(nis_figure(run, dt=t.dt), key=f"{KEY}_nis")
+            show_figure(innovation_acf_figure(run), key=f"{KEY}_acf")
+
+
 def _coloured(z: np.ndarray, rate: float, regimes: str) -> None:
     with st.expander("Coloured-noise models (for a static sensor's noise log)"):
         st.caption(
@@ -208,10 +226,7 @@ def render_fit(
         _exports(t, column, unit, record)
         if t.regimes != DEFAULT_REGIMES:
             st.caption("Fitted on the still stretch; below, the filter runs on the whole record.")
-        run = run_tuned(t, z)
         named = f"{column or 'record'} ({unit or 'u'})"  # a bare field ("x") names no quantity
-        show_figure(tuned_run_figure(run, z, dt=t.dt, y_title=named), key=f"{KEY}_run")
-        show_figure(nis_figure(run, dt=t.dt), key=f"{KEY}_nis")
-        show_figure(innovation_acf_figure(run), key=f"{KEY}_acf")
+        _run_figures(t, z, named)
     with guarded("Coloured-noise fit: "):
         _coloured(np.asarray(z, dtype=float), rate, regimes)

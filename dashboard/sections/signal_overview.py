@@ -17,9 +17,12 @@ from dashboard.state import (
     time_of,
     truth_of,
 )
-from dashboard.widgets import figure_downloads, fmt, guarded, show_figure
+from dashboard.widgets import figure_downloads, fmt, guarded, lazy_expander, show_figure
 from noisevar.figures.estimator import signal_figure
 from noisevar.io import signal_summary
+
+#: Session-state key of the (lazy) "First rows of the table" expander.
+ROWS_KEY = "sig_rows_open"
 
 
 def column_and_period(sig: LoadedSignal, errors: DeltaGenerator) -> LoadedSignal:
@@ -126,8 +129,10 @@ def preview(sig: LoadedSignal) -> None:
         )
     with c2:
         figure_downloads(fig, "signal", "signal_fig")
-    with st.expander("First rows of the table"):
-        st.dataframe({k: v[:20] for k, v in sig.table.columns.items()}, hide_index=False)
+    # Lazy: a closed expander's table is still drawn (and loads the browser's grid), issue 29
+    with lazy_expander("First rows of the table", ROWS_KEY) as is_open:
+        if is_open:
+            st.dataframe({k: v[:20] for k, v in sig.table.columns.items()}, hide_index=False)
 
 
 def _declared(sig: LoadedSignal) -> str | None:

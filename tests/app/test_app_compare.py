@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import sys
 from pathlib import Path
 
@@ -48,6 +49,12 @@ def test_every_method_side_by_side(at, how_it_works_opens):
     assert "computing..." not in set(table["note"])
     assert not any("still computing" in c.value for c in at.caption)
     assert any(b.label == "Comparison (CSV)" for b in at.get("download_button"))
+    # the figure, drawn in the first view and again once every row is in (not at each
+    # peer's arrival between, issue 29), shows every row, the peers' included
+    (chart,) = at.get("plotly_chart")
+    assert chart.key == "cmp_chart"
+    drawn = {m for t in json.loads(chart.proto.spec)["data"] for m in t.get("y") or []}
+    assert set(table["method"]) <= drawn
     assert at.get("plotly_chart") and how_it_works_opens(at)
     at.multiselect(key="cmp_methods").set_value(["auto", "rice"]).run()
     _clean(at)

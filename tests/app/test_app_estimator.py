@@ -95,6 +95,21 @@ def test_tracking_filter_by_value(at):
     assert _shown(at) != before
 
 
+def test_step_view_sent_only_once_chosen(at):
+    # issue 29: each Plotly figure costs the browser CPU when the page opens and again on
+    # every slider step; the main figure is drawn, the step view waits for a choice
+    keys = [c.key for c in at.get("plotly_chart")]
+    assert keys == ["est_chart"]
+    assert at.segmented_control(key="est_view").value is None
+    assert any("Choose a step" in c.value for c in at.caption)
+    at.segmented_control(key="est_view").set_value("Window tests").run()
+    _clean(at)
+    assert [c.key for c in at.get("plotly_chart")] == ["est_chart", "est_detail"]
+    at.slider(key="g_amp").set_value(0.5).run()  # the choice stays on a control's change
+    _clean(at)
+    assert [c.key for c in at.get("plotly_chart")] == ["est_chart", "est_detail"]
+
+
 def test_every_step_view_renders(at):
     for view in ["Envelopes and |V|", "h scan", "Per-window variance", "Window tests"]:
         at.segmented_control(key="est_view").set_value(view).run()
@@ -311,6 +326,7 @@ def test_the_exports_are_sent_only_when_their_expander_is_opened():
 def test_figures_reach_the_browser_without_what_makes_plotly_draw_them_twice(at):
     # Streamlit hands a remounted chart to plotly twice; the second pass is a no-op only
     # without a template, without base64 arrays and with a datarevision (display_spec).
+    at.segmented_control(key="est_view").set_value("Window tests").run()
     charts = at.get("plotly_chart")
     assert len(charts) >= 2
     for chart in charts:

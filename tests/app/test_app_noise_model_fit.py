@@ -46,7 +46,16 @@ def test_models_compared_and_the_tuned_filter_shown():
     assert bool(table.set_index("model").loc["cv", "best (BIC)"])
     assert at.success and "fits this record" in at.success[0].value
     assert any("Suggested **q" in m.value for m in at.markdown)
-    assert len(at.get("plotly_chart")) == 3
+    # the tuned filter's run (three figures) is run and sent only once its expander is open
+    from dashboard.sections.noise_model_fit import RUN_KEY, RUN_LABEL
+
+    assert any(e.label == RUN_LABEL for e in at.expander)
+    assert not at.get("plotly_chart"), "a closed expander's figures cost the browser"
+    at.session_state[RUN_KEY] = True
+    at.run()
+    _clean(at)
+    keys = [c.key for c in at.get("plotly_chart")]
+    assert keys == ["nmf_run", "nmf_nis", "nmf_acf"]
     # the snippet's code block is sent only once its expander is opened (issue 29)
     from dashboard.sections.noise_model_fit import SNIPPET_KEY
 

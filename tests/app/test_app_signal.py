@@ -107,6 +107,21 @@ def test_every_sample_file_loads_with_one_click():
         assert at.query_params["sig"] == f"sample:{name}"
 
 
+def test_first_rows_table_sent_only_once_its_expander_is_open():
+    # issue 29: a closed expander's table is still drawn by the browser
+    from dashboard.sections.signal_overview import ROWS_KEY
+
+    at = _page()
+    at.button(key="sample_fast_slow.csv").click().run()
+    _clean(at)
+    assert any(e.label == "First rows of the table" for e in at.expander)
+    assert not at.dataframe
+    at.session_state[ROWS_KEY] = True
+    at.run()
+    _clean(at)
+    assert len(at.dataframe) == 1 and len(at.dataframe[0].value) == 20
+
+
 @pytest.mark.parametrize(
     ("name", "content", "fragment"),
     [
