@@ -44,11 +44,16 @@ def steady_state(F: NDArray, h: NDArray, Q: NDArray, r: float) -> tuple[NDArray,
         If the Riccati equation has no stabilising solution.
     """
     try:
-        # P = F P F' - F P h (h'P h + r)^-1 h'P F' + Q
-        P = scipy.linalg.solve_discrete_are(F.T, h[:, None], Q, np.array([[r]]))
+        # P = F P F' - F P h (h'P h + r)^-1 h'P F' + Q; scipy's balancing casts a NaN scale
+        # to int on matrices beyond the float range (a step of 1e19 s): no stray warning,
+        # the non-finite P is refused below
+        with np.errstate(invalid="ignore", over="ignore"):
+            P = scipy.linalg.solve_discrete_are(F.T, h[:, None], Q, np.array([[r]]))
     except (np.linalg.LinAlgError, ValueError) as exc:
         msg = f"the Riccati equation has no solution for these q and r ({exc})"
         raise NoisevarError(msg) from None
+    if not np.all(np.isfinite(P)):
+        raise NoisevarError("the Riccati equation has no finite solution for these q and r")
     P = 0.5 * (P + P.T)
     s = float(h @ P @ h) + r
     return P, P @ h / s, s
