@@ -31,6 +31,8 @@ RESULTS = HERE / "results"
 
 
 def _motion(n: int, seed: int) -> np.ndarray:
+    # noisevar.synth.sine_bursts's record, written here too: each child builds its records
+    # with the noisevar under DIR, which may predate that function
     rng = np.random.default_rng(seed)
     x = rng.normal(size=n)
     t = np.arange(n)

@@ -450,3 +450,29 @@ def postures(
         else:
             parts.append(rng.normal(0.0, np.sqrt(raised if kind == "r" else 1.0), n))
     return np.concatenate(parts)
+
+
+def sine_bursts(n: int, rng: np.random.Generator | int | None = None) -> NDArray:
+    """White noise (σ = 1) with a burst of a fast sinusoid every ``n // 5`` samples.
+
+    Parameters
+    ----------
+    n : int
+        Samples (at least 30).
+    rng : Generator, int or None
+        Randomness (a seed for a repeatable record).
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        Bursts of ``n // 30`` samples from sample ``n // 20`` on, each a sinusoid of
+        amplitude 3-20 and period 2π x 2-7 samples: a record whose level varies, for the
+        same-numbers checks of the estimator's speed work.
+    """
+    rng = _rng(rng)
+    x = rng.normal(size=n)
+    t = np.arange(n)
+    for s in range(n // 20, n, n // 5):
+        burst = slice(s, s + n // 30)
+        x[burst] += rng.uniform(3, 20) * np.sin(t[burst] / rng.uniform(2, 7))
+    return x

@@ -14,6 +14,7 @@ import sys
 import numpy as np
 import pytest
 
+from noisevar import synth
 from noisevar.estimators import estimate_chunked
 from noisevar.estimators.auto import ChunkedAuto
 
@@ -31,14 +32,8 @@ def _flat(o):
 
 
 def _motion(n: int, seed: int) -> np.ndarray:
-    """White noise (σ = 1) with bursts of a fast sinusoid every ``n // 5`` samples."""
-    rng = np.random.default_rng(seed)
-    x = rng.normal(size=n)
-    t = np.arange(n)
-    for s in range(n // 20, n, n // 5):
-        burst = slice(s, s + n // 30)
-        x[burst] += rng.uniform(3, 20) * np.sin(t[burst] / rng.uniform(2, 7))
-    return x
+    """White noise with bursts of a fast sinusoid (:func:`noisevar.synth.sine_bursts`)."""
+    return synth.sine_bursts(n, rng=seed)
 
 
 @pytest.mark.parametrize(("seed", "scale"), [(1, 1.0), (2, 3e-9)])

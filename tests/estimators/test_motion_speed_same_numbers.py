@@ -16,6 +16,7 @@ import dataclasses
 import numpy as np
 import pytest
 
+from noisevar import synth
 from noisevar.diagnostics import Segmentation, diagnose, profile_of
 from noisevar.diagnostics.regimes import _Cost, _pelt
 from noisevar.estimators.auto import ChunkedAuto
@@ -23,14 +24,8 @@ from noisevar.numeric import steps
 
 
 def _motion(n: int, seed: int) -> np.ndarray:
-    """White noise (σ = 1) with bursts of a fast sinusoid every ``n // 5`` samples."""
-    rng = np.random.default_rng(seed)
-    x = rng.normal(size=n)
-    t = np.arange(n)
-    for s in range(n // 20, n, n // 5):
-        burst = slice(s, s + n // 30)
-        x[burst] += rng.uniform(3, 20) * np.sin(t[burst] / rng.uniform(2, 7))
-    return x
+    """White noise with bursts of a fast sinusoid (:func:`noisevar.synth.sine_bursts`)."""
+    return synth.sine_bursts(n, rng=seed)
 
 
 def _same(a, b) -> None:
