@@ -267,15 +267,20 @@ def truth_of(sig: LoadedSignal) -> float | None:
     return sig.true_variance if sig.source == "generated" and sig.column == "measured" else None
 
 
+def declared_units(sig: LoadedSignal) -> str:
+    """The unit the signal's file declares for its column (a log's field, a CSV header's
+    ``[unit]``), as the command line reads it; empty when it declares none."""
+    return declared_unit(sig.table.units.get(sig.column)) or ""
+
+
 def signal_units() -> str:
     """The units the user gave the signal on the Signal page, else the unit its file declares
-    for the column (a log's field, a CSV header's ``[unit]``, as the command line takes it);
-    empty: none. E.g. ``"m"``."""
+    for the column (:func:`declared_units`); empty: none. E.g. ``"m"``."""
     given = str(st.session_state.get(UNITS_KEY) or "").strip()[:20]
     sig = st.session_state.get(SIGNAL_KEY)
     if given or not isinstance(sig, LoadedSignal):
         return given
-    return declared_unit(sig.table.units.get(sig.column)) or ""
+    return declared_units(sig)
 
 
 def time_of(sig: LoadedSignal) -> np.ndarray | float | None:

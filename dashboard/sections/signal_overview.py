@@ -12,6 +12,7 @@ from dashboard.state import (
     UNITS_KEY,
     LoadedSignal,
     clean_of,
+    declared_units,
     reselect,
     signal_units,
     time_of,
@@ -55,7 +56,7 @@ def column_and_period(sig: LoadedSignal, errors: DeltaGenerator) -> LoadedSignal
         key=UNITS_KEY,
         bind="query-params",
         max_chars=20,
-        placeholder=_declared(sig) or "e.g. m, V, s",
+        placeholder=declared_units(sig) or "e.g. m, V, s",
         help="Carried to the axes and numbers of every page: the variance is in units².",
     )
     if column != sig.column or period != sig.sample_period:
@@ -133,10 +134,3 @@ def preview(sig: LoadedSignal) -> None:
     with lazy_expander("First rows of the table", ROWS_KEY) as is_open:
         if is_open:
             st.dataframe({k: v[:20] for k, v in sig.table.columns.items()}, hide_index=False)
-
-
-def _declared(sig: LoadedSignal) -> str | None:
-    """The unit the file declares for the column, shown in the empty units box (and used)."""
-    from noisevar.units import declared_unit
-
-    return declared_unit(sig.table.units.get(sig.column))

@@ -10,7 +10,7 @@ import plotly.graph_objects as go
 
 from noisevar.batch.fleet import FleetReport
 from noisevar.estimators.results import VarianceEstimates
-from noisevar.figures._common import COLORS, PALETTE
+from noisevar.figures._common import COLORS, PALETTE, base_layout
 
 FLAG_COLOR = "#D55E00"
 
@@ -160,11 +160,11 @@ def channels_figure(estimates: VarianceEstimates, names: list[str]) -> go.Figure
             name="noise std",
         )
     )
+    # the shared layout: its title stays clear of Plotly's toolbar on a phone
+    base_layout(fig, f"Noise of each channel (method {estimates.method}; bars: 95 %)", 360)
     fig.update_layout(
-        title=f"Noise of each channel (method {estimates.method}; bars: 95 % interval)",
-        yaxis={"type": "log", "title": "noise standard deviation"},
+        yaxis={"type": "log", "title": "noise std (each channel's unit)"},
         xaxis_title="channel",
-        height=360,
-        margin={"t": 60, "b": 40},
+        showlegend=False,
     )
     return fig
