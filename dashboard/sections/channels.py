@@ -63,7 +63,6 @@ def side_by_side(sig: LoadedSignal) -> None:
             show_figure(channels_figure(est, names))
             frame = est.to_frame()
             frame["channel"] = names
-            frame = frame.dropna(axis=1, how="all")  # no still R anywhere: no empty columns
             floats = frame.select_dtypes("float").columns
             # every float written whole at 4 significant digits (3e-7 stays 3e-07, not 0.0000003)
             config = {c: st.column_config.NumberColumn(format="%.4g") for c in floats}
