@@ -18,9 +18,10 @@ from noisevar.io.table import (
     _NA_TOKENS,
     DATE_NAMES,
     LoadedTable,
-    _is_time_name,
     _period_from_time,
     echo,
+    is_time_column,
+    time_in_seconds,
     time_key,
 )
 
@@ -235,7 +236,7 @@ def _holds_dates(text: str, fmt: _Format, header_line: int, idx: int | None) -> 
 def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
     text = src if isinstance(src, str) else src.head
     fmt, names, header_line = table_layout(text, name, isinstance(src, str))
-    time_idx = next((i for i, c in enumerate(names) if _is_time_name(c)), None)
+    time_idx = next((i for i, c in enumerate(names) if is_time_column(c)), None)
     if time_idx is None:  # a date column is the time column when it holds date-times
         date_idx = next((i for i, c in enumerate(names) if time_key(c) in DATE_NAMES), None)
         time_idx = date_idx if _holds_dates(text, fmt, header_line, date_idx) else None
@@ -244,6 +245,8 @@ def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
         notes.insert(0, "read with a decimal comma (1,5 = 1.5)")
     kind = "tsv" if fmt.delim == "\t" else ("csv" if fmt.delim else "text")
     time_col = names[time_idx] if time_idx is not None else None
+    if time_col:
+        time_in_seconds(columns, time_col, notes)
     period = _period_from_time(columns[time_col], notes) if time_col else None
     empty = [c for c in names if np.all(np.isnan(columns[c]))]
     if len(empty) == len(names):

@@ -1,0 +1,48 @@
+"""A time column whose name states its unit (``time_ns``, ``timestamp_us``, ``t [ms]``) is
+read in that unit (real_audit3: a log exported with nanosecond stamps lost its rate, and a
+``t [ms]`` column was taken as seconds, the rate 1000x too low, silently)."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from noisevar.cli import main
+from noisevar.io import load_table
+
+
+def _csv(name: str, scale: float, offset: int = 0) -> bytes:
+    rng = np.random.default_rng(0)
+    t = np.arange(400) * 0.01  # 100 Hz
+    stamps = t.astype(str) if scale == 1.0 else (np.round(t / scale).astype(np.int64) + offset)
+    z = rng.normal(size=t.size)
+    rows = "\n".join(f"{s},{float(v)!r}" for s, v in zip(stamps, z, strict=True))
+    return f"{name},value\n{rows}\n".encode()
+
+
+@pytest.mark.parametrize(
+    ("name", "scale", "offset"),
+    [("time_ns", 1e-9, 1_700_000_000_000_000_000), ("timestamp_us", 1e-6, 0), ("t [ms]", 1e-3, 0)],
+)
+def test_time_column_in_its_named_unit(name, scale, offset):
+    tab = load_table(_csv(name, scale, offset), "a.csv")
+    assert tab.time_column == name
+    assert tab.sample_period == pytest.approx(0.01, rel=1e-9)
+    assert any("its name" in n for n in tab.notes)
+
+
+def test_allan_reads_the_rate_of_a_nanosecond_column(tmp_path, capsys):
+    path = tmp_path / "ns.csv"
+    path.write_bytes(_csv("time_ns", 1e-9, 1_700_000_000_000_000_000))
+    code = main(["allan", str(path), "--column", "value", "--format", "json"])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    assert json.loads(out)["rate"] == pytest.approx(100.0, rel=1e-9)
+
+
+def test_seconds_are_unchanged():
+    tab = load_table(_csv("time_s", 1.0), "b.csv")
+    assert tab.sample_period == pytest.approx(0.01, rel=1e-9)
+    assert not any("its name" in n for n in tab.notes)
