@@ -222,3 +222,11 @@ def test_ulog_gps_altitude_in_mm_converts_to_m(capsys):
     m = json.loads(out)
     assert code == 0 and (mm["unit"], m["unit"]) == ("mm", "m")
     assert m["variance"] == pytest.approx(1e-6 * mm["variance"], rel=1e-9)
+
+
+def test_topics_takes_format_json_as_every_command(capsys):
+    """``--format json`` as on estimate/allan/imu/fit (main: exit 2, unrecognized)."""
+    code, out, err = run(capsys, "topics", PX4, "--format", "json")
+    assert code == 0, err
+    gps = next(t for t in json.loads(out)["topics"] if t["topic"] == "vehicle_gps_position")
+    assert gps["units"]["alt"] == "mm"
