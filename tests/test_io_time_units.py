@@ -46,3 +46,19 @@ def test_seconds_are_unchanged():
     tab = load_table(_csv("time_s", 1.0), "b.csv")
     assert tab.sample_period == pytest.approx(0.01, rel=1e-9)
     assert not any("its name" in n for n in tab.notes)
+
+
+def test_iso_times_with_a_zone_load_without_a_warning():
+    """GPS tracks (GPX exports) stamp ``...Z`` or ``+02:00``: read in UTC, and numpy's
+    timezone warning does not reach the user (main: a UserWarning on stderr)."""
+    import warnings
+
+    body = (
+        b"time,ele\n2010-08-05T14:23:59Z,542.3\n2010-08-05T16:25:08+02:00,550.9\n"
+        b"2010-08-05T14:26:08Z,551.2\n"
+    )
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        tab = load_table(body, "track.csv")
+    assert not caught
+    np.testing.assert_array_equal(tab.time(), [0.0, 69.0, 129.0])

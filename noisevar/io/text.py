@@ -5,6 +5,7 @@ from __future__ import annotations
 import csv
 import io
 import re
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -138,7 +139,9 @@ def _unique_names(raw: list[str]) -> list[str]:
 def _parse_time_strings(values: list[str]) -> NDArray | None:
     """ISO date-times to seconds from the first; None when they are not date-times."""
     try:
-        t = np.array(values, dtype="datetime64[ns]")
+        with warnings.catch_warnings():  # "...Z" or "+02:00": numpy converts it to UTC, and
+            warnings.simplefilter("ignore", UserWarning)  # says so in a warning to the user
+            t = np.array(values, dtype="datetime64[ns]")
     except (ValueError, TypeError, OverflowError):
         return None
     if np.any(np.isnat(t)):
