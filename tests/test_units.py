@@ -86,3 +86,13 @@ def test_a_temperature_is_a_difference(source: str, target: str, k: float) -> No
     unit is read as its degree and converts by the factor alone (on main: refused)."""
     assert units.factor(source, target) == pytest.approx(k, rel=TOL)
     assert units.declared_unit("degC") == "degC"
+
+
+@pytest.mark.parametrize(
+    ("source", "target", "k"), [("gauss", "T", 1e-4), ("mG", "uT", 0.1), ("mgauss", "gauss", 1e-3)]
+)
+def test_gauss_converts_to_tesla(source: str, target: str, k: float) -> None:
+    """PX4 and DataFlash log the magnetometer in gauss, ROS's MagneticField in tesla (main:
+    'different dimensions': pint's gauss is the Gaussian system's)."""
+    assert units.factor(source, target) == pytest.approx(k, rel=TOL)
+    assert units.factor("g", "m/s^2") == pytest.approx(9.80665, rel=TOL)  # g stays gravity
