@@ -32,6 +32,10 @@ Checks, per channel:
   note quotes the true shortest and longest step);
 - **timestamps**: one topic exported with times in s, ``time_ns`` (1.7e18 ns epoch) and
   ``timestamp_us``: the same R and the same Allan rate; duplicated stamps said;
+- **one answer across formats**: the magnetometer (as tesla), the barometer (Pa, degC) and
+  the hike's fixes written as ROS 2 ``MagneticField``, ``FluidPressure``, ``Temperature``
+  and ``NavSatFix`` messages (``rosbags``' writer; no package ships such a bag): the bag's
+  field through the CLI, ``--unit-out`` the source's unit, = the ULog's or CSV's R;
 - **bad input**: exit 2 and one line on stderr, never a traceback (real processes).
 
 Results: benchmarks/results/real_audit3.md.
@@ -90,7 +94,7 @@ PX4_MSG_UNITS = {
 CONVERTED = 1e-6
 #: A unit of the same dimension for each declared unit (``--unit-out``).
 OTHER_UNIT = {"m": "mm", "mm": "m", "m/s": "km/h", "Pa": "hPa", "degC": "degF",
-              "gauss": "mG", "rad/s": "deg/s", "1e-7 deg": "deg", "m/s**2": "g"}  # fmt: skip
+              "gauss": "uT", "rad/s": "deg/s", "1e-7 deg": "deg", "m/s**2": "g"}  # fmt: skip
 #: record -> gpxpy test file (hand-held GPS receivers)
 GPX = {
     "gpx_hike": "cerknicko-jezero.gpx",
@@ -542,7 +546,8 @@ def report(rows, logs, gnss, stamps, bad, recs, wall) -> str:
         lines.append(f"| {r['record']} | {r['channel']} | {r['unit']} | {r['n_checks']} | "
                      f"{'; '.join(r['fail']) or 'ok'} |")  # fmt: skip
     lines += ["", *_table("GNSS: NMEA against CSV, steps told", gnss),
-              *_table("Timestamps: s, ns, us; duplicates", stamps),
+              *_table("Timestamps (s, ns, us; duplicates) and the same numbers in a ROS 2 bag",
+                      stamps),
               *_table("Bad input: exit 2 and one line (separate processes)", bad)]  # fmt: skip
     return "\n".join(lines) + "\n"
 
@@ -561,12 +566,89 @@ def main() -> None:
         logs = log_cli(a.records)
         gnss, stamps = gnss_checks(recs), timestamp_checks() if not a.records else []
         bad = bad_input(recs) if not a.records else []
-        text = report(rows, logs, gnss, stamps, bad, recs, time.time() - t0)
+        bags = bag_checks(Path(tmp), recs) if not a.records else []
+        text = report(rows, logs, gnss, stamps + bags, bad, recs, time.time() - t0)
     if not a.records:
         text += "\n" + "\n".join(synthetic())
         OUT.parent.mkdir(parents=True, exist_ok=True)
         OUT.write_text(text)
     print(text)
+
+
+# ---------------------------------------------------------------- the same numbers in a bag
+def write_bag(path: Path, topics: dict[str, tuple[str, np.ndarray, dict]]) -> Path:
+    """A ROS 2 bag (mcap) of real numbers: topic -> (message type, stamps in ns, fields),
+    each message's header stamped with the sample's time (``rosbags``' writer)."""
+    from rosbags.rosbag2 import StoragePlugin, Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    ty = store.types
+    hdr, tm, vec = ty["std_msgs/msg/Header"], ty["builtin_interfaces/msg/Time"], None
+    vec = ty["geometry_msgs/msg/Vector3"]
+    w = Writer(path, version=9, storage_plugin=StoragePlugin.MCAP)
+    w.open()
+    for topic, (mtype, stamps, fields) in topics.items():
+        cls = ty[mtype]
+        conn = w.add_connection(topic, cls.__msgtype__, typestore=store)
+        for i, ns in enumerate(int(s) for s in stamps):
+            head = hdr(stamp=tm(sec=ns // 10**9, nanosec=ns % 10**9), frame_id="x")
+            values = {k: v[i] for k, v in fields.items()}
+            if mtype.endswith("MagneticField"):
+                values = {"magnetic_field": vec(x=values["x"], y=values["y"], z=values["z"]),
+                          "magnetic_field_covariance": np.zeros(9)}  # fmt: skip
+            elif mtype.endswith("NavSatFix"):
+                st = ty["sensor_msgs/msg/NavSatStatus"](status=0, service=1)
+                values |= {"status": st, "position_covariance": np.zeros(9),
+                           "position_covariance_type": 0}  # fmt: skip
+            else:
+                values |= {"variance": 0.0}
+            w.write(conn, ns, store.serialize_cdr(cls(header=head, **values), cls.__msgtype__))
+    w.close()
+    return path
+
+
+def bag_checks(tmp: Path, recs: dict) -> list[dict]:
+    """The magnetometer (gauss -> tesla), the barometer (Pa, degC) and the hike's fixes as
+    the standard ROS messages: the bag's field through the CLI = the ULog's / CSV's R."""
+    mag, t_mag, _ = px4_topic("vehicle_magnetometer", TOPICS["vehicle_magnetometer"])
+    air, t_air, _ = px4_topic("vehicle_air_data", ("baro_pressure_pa", "baro_temp_celcius"))
+    ns = lambda t: 1_700_000_000 * 10**9 + np.round(t * 1e9).astype(np.int64)  # noqa: E731
+    topics = {
+        "/mag": ("sensor_msgs/msg/MagneticField", ns(t_mag),
+                 {a: 1e-4 * mag[f"magnetometer_ga[{i}]"] for i, a in enumerate("xyz")}),
+        "/baro": ("sensor_msgs/msg/FluidPressure", ns(t_air),
+                  {"fluid_pressure": air["baro_pressure_pa"]}),
+        "/temp": ("sensor_msgs/msg/Temperature", ns(t_air),
+                  {"temperature": air["baro_temp_celcius"]}),
+    }  # fmt: skip
+    cases = [
+        ("/mag", "magnetic_field.x", "gauss", PX4, "vehicle_magnetometer", "magnetometer_ga[0]"),
+        ("/baro", "fluid_pressure", "Pa", PX4, "vehicle_air_data", "baro_pressure_pa"),
+        ("/temp", "temperature", "degC", PX4, "vehicle_air_data", "baro_temp_celcius"),
+    ]
+    if "gpx_hike" in recs:
+        tab = load_table(recs["gpx_hike"][2])
+        fix = {"latitude": pick_column(tab, "lat"), "longitude": pick_column(tab, "lon"),
+               "altitude": pick_column(tab, "ele")}  # fmt: skip
+        topics["/fix"] = ("sensor_msgs/msg/NavSatFix", ns(tab.time()), fix)
+        cases.append(("/fix", "altitude", "m", recs["gpx_hike"][2], None, "ele"))
+    bag = write_bag(tmp / "real_bag", topics)  # a ROS 2 bag: a directory
+    rows = []
+    for topic, field, unit, src, src_topic, src_field in cases:
+        rc, out, err = cli("estimate", bag, "--topic", topic, "--column", field,
+                           "--unit-out", unit, "--format", "json")  # fmt: skip
+        more = ("--topic", src_topic) if src_topic else ()
+        rc2, out2, err2 = cli("estimate", src, *more, "--column", src_field, "--format", "json")
+        a = json.loads(out)["variance"] if rc == 0 else None
+        b = json.loads(out2)["variance"] if rc2 == 0 else None
+        same = (a is None and b is None and err.split(": ", 2)[-1] == err2.split(": ", 2)[-1]) or (
+            a is not None and b is not None and abs(a - b) <= CONVERTED * b
+        )
+        said = f"bag {a if a is not None else err[:70]}; source {b if b is not None else err2[:70]}"
+        rows.append({"check": f"bag {topic} {field} (--unit-out {unit}) = {src.name} {src_field}",
+                     "ok": same, "detail": said})  # fmt: skip
+    return rows
 
 
 if __name__ == "__main__":
