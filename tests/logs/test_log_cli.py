@@ -230,3 +230,17 @@ def test_topics_takes_format_json_as_every_command(capsys):
     assert code == 0, err
     gps = next(t for t in json.loads(out)["topics"] if t["topic"] == "vehicle_gps_position")
     assert gps["units"]["alt"] == "mm"
+
+
+def test_fit_takes_the_logs_unit_as_estimate_does(capsys):
+    """``fit`` read the log's field as unitless ('u') and refused ``--unit-out`` ('needs
+    --unit'), where estimate and allan take the unit the log declares (gauss here)."""
+    args = (PX4, "--topic", "vehicle_magnetometer", "--column", "magnetometer_ga[0]")
+    code, out, err = run(capsys, "fit", *args, "--format", "json")
+    assert code == 0, err
+    gauss = json.loads(out)
+    code, out, err = run(capsys, "fit", *args, "--unit-out", "uT", "--format", "json")
+    assert code == 0, err
+    ut = json.loads(out)
+    assert (gauss["unit"], ut["unit"]) == ("gauss", "uT")
+    assert ut["r"] == pytest.approx(1e4 * gauss["r"], rel=1e-6)
