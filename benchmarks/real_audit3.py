@@ -283,6 +283,12 @@ def _unit_checks(args: tuple, unit: str, r: float, js: dict) -> dict[str, str]:
     got = json.loads(out)["variance"] if rc == 0 else math.nan
     ok = rc == 0 and abs(got - r * k * k) <= CONVERTED * r * k * k
     res = {"--unit-out": "" if ok else f"to {other}: exit {rc} {err[:60]} R {got} vs {r * k * k}"}
+    rc, out, err = cli("fit", *args, "--format", "json")
+    if rc == 0:  # fit's r in the log's unit, and with --unit-out
+        rc2, out2, err2 = cli("fit", *args, "--unit-out", other, "--format", "json")
+        a, b = json.loads(out), json.loads(out2) if rc2 == 0 else {}
+        ok = a["unit"] == unit and rc2 == 0 and abs(b["r"] - a["r"] * k * k) <= 1e-6 * b["r"]
+        res["fit in the log's unit, --unit-out"] = "" if ok else f"{a['unit']!r}, {err2[:70]}"
     topic, field = args[2], args[4]
     z = pick_column(load_table(PX4, topic=topic, fields=[field]), field)
     with tempfile.TemporaryDirectory() as tmp:  # x1000 in a unit 1000x smaller
