@@ -62,3 +62,16 @@ def test_iso_times_with_a_zone_load_without_a_warning():
         tab = load_table(body, "track.csv")
     assert not caught
     np.testing.assert_array_equal(tab.time(), [0.0, 69.0, 129.0])
+
+
+def test_npy_field_of_epoch_nanoseconds_is_the_time(tmp_path):
+    """A structured ``.npy`` with ``time_ns`` int64 since the epoch (1.7e18, beyond 2**53):
+    taken relative to its first value and read in ns (main refused it: 'subtract an
+    offset first', the exception meant for time fields never matched a field's name)."""
+    a = np.zeros(500, dtype=[("time_ns", "<i8"), ("gyro", "<f8")])
+    a["time_ns"] = 1_700_000_000_000_000_000 + np.arange(500) * 2_500_000
+    a["gyro"] = np.random.default_rng(0).normal(size=500)
+    np.save(tmp_path / "s.npy", a)
+    tab = load_table(tmp_path / "s.npy")
+    assert tab.time_column == "time_ns"
+    assert tab.sample_period == pytest.approx(0.0025, rel=1e-12)

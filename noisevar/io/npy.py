@@ -38,8 +38,9 @@ def _load(source: Path | bytes, name: str) -> np.ndarray:
         ) from None
 
 
-def _as_float(values: np.ndarray, field: str, name: str) -> NDArray:
-    """One column as floats: real numbers only, integers exactly representable."""
+def _as_float(values: np.ndarray, field: str, name: str, column: str = "") -> NDArray:
+    """One column as floats: real numbers only, integers exactly representable (``field``
+    names it in messages; ``column``, its name, says whether it is a time column)."""
     kind = values.dtype.kind
     if kind not in "biuf":
         what = "complex" if kind == "c" else f"of dtype {values.dtype}"
@@ -50,7 +51,7 @@ def _as_float(values: np.ndarray, field: str, name: str) -> NDArray:
     if kind in "iu" and values.size:
         top = max(abs(int(values.max())), abs(int(values.min())))
         if top > EXACT_INT:
-            if is_time_column(field):
+            if column and is_time_column(column):
                 # t - t[0] in integers (exact), then float
                 return (values.astype(object) - int(values[0])).astype(float)
             raise NoisevarError(
@@ -79,7 +80,7 @@ def _read_npy(source: Path | bytes, name: str) -> LoadedTable:
                 raise NoisevarError(
                     f"{echo(name)}: field {echo(fname)!r} is a sub-array: give scalar fields"
                 )
-            columns[fname] = _as_float(arr[fname], f"field {echo(fname)!r}", name)
+            columns[fname] = _as_float(arr[fname], f"field {echo(fname)!r}", name, fname)
     else:
         _as_float(np.empty(0, arr.dtype), "the array", name)
         if arr.ndim == 0 or arr.size == 0:
