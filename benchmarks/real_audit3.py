@@ -31,7 +31,8 @@ Checks, per channel:
   from the degrees by WGS-84's radii): inside the ci95; the CSV's irregular steps told (the
   note quotes the true shortest and longest step);
 - **timestamps**: one topic exported with times in s, ``time_ns`` (1.7e18 ns epoch) and
-  ``timestamp_us``: the same R and the same Allan rate; duplicated stamps said;
+  ``timestamp_us`` (CSV), and ``time_ns`` in a structured ``.npy``: the same R and the same
+  Allan rate; duplicated stamps said;
 - **one answer across formats**: the magnetometer (as tesla), the barometer (Pa, degC) and
   the hike's fixes written as ROS 2 ``MagneticField``, ``FluidPressure``, ``Temperature``
   and ``NavSatFix`` messages (``rosbags``' writer; no package ships such a bag): the bag's
@@ -400,9 +401,16 @@ def timestamp_checks() -> list[dict]:
             "timestamp_us": np.round(tt * 1e6).astype(np.int64)}  # fmt: skip
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
+        files = []
         for name, col in cols.items():
             path = Path(tmp) / f"{name}.csv"
             pd.DataFrame({name: col, "alt": z}).to_csv(path, index=False, float_format="%.17g")
+            files.append((name, path))
+        rec = np.zeros(z.size, dtype=[("time_ns", "<i8"), ("alt", "<f8")])
+        rec["time_ns"], rec["alt"] = cols["time_ns"], z
+        np.save(Path(tmp) / "ns.npy", rec)  # a structured .npy, epoch ns (beyond 2**53)
+        files.append(("time_ns in a .npy", Path(tmp) / "ns.npy"))
+        for name, path in files:
             rc, out, err = cli("estimate", path, "--column", "alt", "--format", "json")
             r = json.loads(out)["variance"] if rc == 0 else math.nan
             rc2, out2, err2 = cli("allan", path, "--column", "alt", "--format", "json")
