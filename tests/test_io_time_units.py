@@ -75,3 +75,34 @@ def test_npy_field_of_epoch_nanoseconds_is_the_time(tmp_path):
     tab = load_table(tmp_path / "s.npy")
     assert tab.time_column == "time_ns"
     assert tab.sample_period == pytest.approx(0.0025, rel=1e-12)
+
+
+@pytest.mark.parametrize("kind", ["parquet", "hdf5"])
+@pytest.mark.parametrize(("name", "scale"), [("time_ns", 1e-9), ("timestamp_us", 1e-6)])
+def test_log_tables_read_the_time_in_its_named_unit(tmp_path, kind, name, scale):
+    """Parquet and HDF5 tables: ``time_ns`` was taken as seconds (the rate listed 4e-7 Hz
+    for 400 Hz, the period refused) and ``timestamp_us`` was data."""
+    from noisevar.io import log_topics
+
+    n = 300
+    stamps = np.arange(n, dtype=np.int64) * round(0.0025 / scale)
+    if name == "time_ns":
+        stamps += 1_700_000_000_000_000_000
+    z = np.random.default_rng(0).normal(size=n)
+    if kind == "parquet":
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+
+        path = tmp_path / "t.parquet"
+        pq.write_table(pa.table({name: stamps, "gyro": z}), path)
+    else:
+        import h5py
+
+        path = tmp_path / "t.h5"
+        with h5py.File(path, "w") as f:
+            f[f"imu/{name}"], f["imu/gyro"] = stamps, z
+    (info,) = log_topics(path)
+    assert info.rate == pytest.approx(400.0, rel=1e-9)
+    tab = load_table(path, topic=info.name)
+    assert tab.sample_period == pytest.approx(0.0025, rel=1e-9)
+    assert list(tab.data_columns) == ["gyro"]

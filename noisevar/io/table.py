@@ -151,6 +151,12 @@ def time_unit(name: str) -> str | None:
     return word if word in TIME_UNITS else None
 
 
+def time_scale(name: str) -> float:
+    """Seconds per unit of a time column called ``name`` (1 unless its name states one)."""
+    unit = time_unit(name)
+    return 1.0 if unit is None else TIME_UNITS[unit]
+
+
 def time_in_seconds(columns: dict[str, NDArray], time_column: str, notes: list[str]) -> None:
     """Scale ``columns[time_column]`` to seconds when its name states another unit (in
     place, with a note): ``time_ns`` in nanoseconds is read as nanoseconds, not seconds."""
