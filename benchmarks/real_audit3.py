@@ -31,8 +31,8 @@ Checks, per channel:
   from the degrees by WGS-84's radii): inside the ci95; the CSV's irregular steps told (the
   note quotes the true shortest and longest step);
 - **timestamps**: one topic exported with times in s, ``time_ns`` (1.7e18 ns epoch) and
-  ``timestamp_us`` (CSV), and ``time_ns`` in a structured ``.npy``: the same R and the same
-  Allan rate; duplicated stamps said;
+  ``timestamp_us`` (CSV), ``time_ns`` in a structured ``.npy`` and a Parquet table: the
+  same R and the same Allan rate; duplicated stamps said;
 - **one answer across formats**: the magnetometer (as tesla), the barometer (Pa, degC) and
   the hike's fixes written as ROS 2 ``MagneticField``, ``FluidPressure``, ``Temperature``
   and ``NavSatFix`` messages (``rosbags``' writer; no package ships such a bag): the bag's
@@ -410,10 +410,17 @@ def timestamp_checks() -> list[dict]:
         rec["time_ns"], rec["alt"] = cols["time_ns"], z
         np.save(Path(tmp) / "ns.npy", rec)  # a structured .npy, epoch ns (beyond 2**53)
         files.append(("time_ns in a .npy", Path(tmp) / "ns.npy"))
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+
+        pq.write_table(pa.table({"time_ns": rec["time_ns"], "alt": z}), Path(tmp) / "t.parquet")
+        files.append(("time_ns in a Parquet table", Path(tmp) / "t.parquet"))
         for name, path in files:
-            rc, out, err = cli("estimate", path, "--column", "alt", "--format", "json")
+            more = ("--topic", "table") if path.suffix == ".parquet" else ()
+            path = (path, *more)
+            rc, out, err = cli("estimate", *path, "--column", "alt", "--format", "json")
             r = json.loads(out)["variance"] if rc == 0 else math.nan
-            rc2, out2, err2 = cli("allan", path, "--column", "alt", "--format", "json")
+            rc2, out2, err2 = cli("allan", *path, "--column", "alt", "--format", "json")
             rate = json.loads(out2)["rate"] if rc2 == 0 else math.nan
             ok = _same(r, py) and abs(rate * t.sample_period - 1) < 1e-6
             rows.append(
