@@ -106,3 +106,15 @@ def test_log_tables_read_the_time_in_its_named_unit(tmp_path, kind, name, scale)
     tab = load_table(path, topic=info.name)
     assert tab.sample_period == pytest.approx(0.0025, rel=1e-9)
     assert list(tab.data_columns) == ["gyro"]
+
+
+def test_date_times_with_empty_cells_are_the_time_column():
+    """A GPS track whose first fixes have no time (gpxpy's korita-zbevnica.gpx): main refused
+    the file with "'2010-10-03T09:36:30Z' is not a number"; now its time column has missing
+    values, said, and the signal loads."""
+    body = b"time,ele\n,733.6\n,735.5\n2010-10-03T09:36:30Z,728.3\n2010-10-03T09:36:31Z,729.0\n"
+    tab = load_table(body, "track.csv")
+    assert tab.time_column == "time" and tab.sample_period is None
+    np.testing.assert_array_equal(tab.time()[2:], [0.0, 1.0])
+    assert np.isnan(tab.time()[:2]).all()
+    assert any("missing values" in n for n in tab.notes)

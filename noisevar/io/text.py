@@ -400,10 +400,13 @@ def _text_column(
     coerced = pd.to_numeric(col, errors="coerce")
     bad = (coerced.isna() & col.notna()).to_numpy()
     if bad.any():
-        if is_time:
-            times = _parse_time_strings([str(v).strip() for v in col.tolist()])
+        if is_time:  # date-times, some cells perhaps empty (a track's untimed fixes)
+            present = col.notna().to_numpy()
+            times = _parse_time_strings([str(v).strip() for v in col[present].tolist()])
             if times is not None:
-                return times
+                out = np.full(col.size, np.nan)
+                out[present] = times
+                return out
         j = int(np.argmax(bad))
         text = src if isinstance(src, str) else src.text()
         raise NoisevarError(
