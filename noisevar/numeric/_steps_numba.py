@@ -71,9 +71,8 @@ def median_third_differences(z, idx, last, net):  # pragma: no cover - compiled
     pair's six sorted by ``net``, ``steps.SORT6`` as an array, then the sixth and seventh
     of both); each window
     ``z[s + i] - slope * (s + i - k)`` sorted, its median the mean of the middle two; then
-    ``(m0 + 3 m2) + (-3 m1 - m3)``, the order in which the matrix product with
-    ``(1, -3, 3, -1)`` added them (OpenBLAS). The same operations and order statistics as
-    ``detrended_windows`` and its row medians, without their ``(m, 4, 6)`` work arrays.
+    ``(m0 + 3 m2) + (-3 m1 - m3)`` (the reference's order). The same operations and order
+    statistics as ``detrended_windows`` and its row medians, without their work arrays.
     """
     w = 6
     m = idx.shape[0]

@@ -233,8 +233,9 @@ def _confirmed(
         at = np.clip(idx[:, None] + np.array([w, 0, -w, -2 * w]), 0, last)
         # each candidate's four windows, off their local line (an added trend moves nothing)
         med = _row_medians(detrended_windows(z, at, idx, w))
-        # D3med = m(k+w) - 3 m(k) + 3 m(k-w) - m(k-2w), sd = σ sqrt(20 var(median))
-        d3 = med @ np.array([1.0, -3.0, 3.0, -1.0])
+        # D3med = m(k+w) - 3 m(k) + 3 m(k-w) - m(k-2w), sd = σ sqrt(20 var(median)), added
+        # in pairs as OpenBLAS's product with (1, -3, 3, -1) did (on any BLAS, the kernel's)
+        d3 = (med[:, 0] * 1.0 + med[:, 2] * 3.0) + (med[:, 1] * -3.0 + med[:, 3] * -1.0)
     level = d3**2 * scale / (STEP_CONFIRM**2 * 20.0 * _median_variance(w))
     return _above_both_sides_at(level, idx, above, z.size)
 
