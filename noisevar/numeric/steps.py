@@ -91,8 +91,15 @@ def _above_both_sides(x: NDArray, above: Callable[[NDArray], NDArray]) -> NDArra
     The local level may change between two samples; testing against both keeps the
     decision the same on the reversed record (where the boundary's sample is ``k - 1``).
     """
-    hit = above(x)
-    idx = np.flatnonzero(hit)
+    floor = getattr(above, "floor", None)
+    if floor is not None and getattr(above, "at", None) is not None:
+        # no sample at or below the lowest level is above: compare only the others
+        idx = np.flatnonzero(x > floor)
+        idx = idx[above.at(x[idx], idx)]  # type: ignore[attr-defined]
+        hit = np.zeros(x.size, dtype=bool)
+    else:
+        hit = above(x)
+        idx = np.flatnonzero(hit)
     if idx.size:
         idx = idx[idx > 0]
         left = above_at(above, x[idx], idx - 1, x.size)
