@@ -211,11 +211,12 @@ def test_the_residual_filter_read_backwards_is_the_residual_mirrored():
     assert np.array_equal(centred_fir(z[::-1].copy(), d), centred_fir(z, d)[::-1])
 
 
-@pytest.mark.parametrize("seed", [1, 2])
-def test_the_reversed_grid_read_off_pass_one_is_the_reversed_records_profile(seed):
+@pytest.mark.parametrize(("seed", "n"), [(1, 150_000), (2, 150_000), (3, 20_000)])
+def test_the_reversed_grid_read_off_pass_one_is_the_reversed_records_profile(seed, n):
     """The first pass's mirrored blocks (no pass over the reversed record): the profile of
-    the record reversed, the same blocks, quiet set and regimes, its sums to rounding."""
-    z = _jumps(150_000, seed) + _motion(150_000, seed)
+    the record reversed, the same blocks, quiet set and regimes, its sums to rounding (at
+    20,000 samples the kurtosis's blocks are not the profile's)."""
+    z = _jumps(n, seed) + _motion(n, seed)
     ca = ChunkedAuto(lambda a, b: z[max(a, 0) : b], z.size, probe=z.__getitem__, chunk=1 << 13)
     ca.estimate({})
     assert ca.sums is not None and ca.sums.back is not None and ca.jump_runs
