@@ -472,16 +472,15 @@ def bad_input(recs: dict) -> list[dict]:
         bad.write_text(good + "\n" + good[:-2] + "00\n")  # a wrong checksum on line 2
         cases.append(("estimate", bad))
         rows = []
+        dirs = [str(ROOT), tmp, *([str(csv.parent)] if csv is not None else [])]
         for argv in cases:
             rc, _, err = process(*argv)
+            line = " ".join(map(str, argv))
+            for d in dirs:  # paths as the user sees them, not this run's temporary folders
+                line = line.replace(d + "/", "")
             said = err.replace(str(ROOT) + "/", "")
-            rows.append(
-                {
-                    "check": " ".join(str(a).replace(str(ROOT) + "/", "") for a in argv)[:90],
-                    "ok": _one_line(rc, err),
-                    "detail": f"exit {rc}: {said[:140]}",
-                }
-            )
+            rows.append({"check": line[:90], "ok": _one_line(rc, err),
+                         "detail": f"exit {rc}: {said[:140]}"})  # fmt: skip
     return rows
 
 
