@@ -11,6 +11,12 @@ from numpy.typing import NDArray
 GAP_RTOL = 0.5
 #: Jitter (relative spread of the steps within segments) worth a note.
 JITTER_NOTE = 1e-2
+#: A uniform segment this long or longer is long enough to estimate on its own.
+SEGMENT_USABLE = 64
+#: Steps (in periods) from which the record is split, tried in turn when splitting at every
+#: irregular step leaves less than half of the samples in usable segments (a logger that
+#: drops samples often): the shorter steps are bridged, the samples taken in order.
+BRIDGE_STEPS = (2.5, 4.5, 8.5, 16.5)
 
 
 @dataclass(frozen=True)
@@ -77,6 +83,15 @@ def split_times(t: NDArray) -> Segmentation:
     Returns
     -------
     Segmentation
+
+    Notes
+    -----
+    A step outside ``1 +- GAP_RTOL`` periods splits the record. When that leaves less
+    than half of the samples in segments of :data:`SEGMENT_USABLE` or more (a logger
+    that drops every other sample now and then), the record is split only at steps of
+    :data:`BRIDGE_STEPS` periods or more, the first that leaves more of it usable; the
+    samples between are taken in order as if uniform, which the jitter (then 0.5 or
+    more) says.
     """
     n = t.size
     if n < 2:
@@ -85,6 +100,13 @@ def split_times(t: NDArray) -> Segmentation:
     period = float(np.median(dt))
     ratio = dt / period
     cut = np.flatnonzero(np.abs(ratio - 1.0) >= GAP_RTOL)
+    share = _usable_share(cut, n)
+    for limit in BRIDGE_STEPS:  # too fragmented to estimate: split at longer steps only
+        if share >= 0.5:
+            break
+        wider = np.flatnonzero(ratio >= limit)
+        if (more := _usable_share(wider, n)) > share:
+            cut, share = wider, more
     gaps = tuple(
         Gap(
             int(i + 1),
@@ -100,6 +122,13 @@ def split_times(t: NDArray) -> Segmentation:
     inside = np.delete(ratio, cut)
     jitter = float(np.max(np.abs(inside - 1.0))) if inside.size else 0.0
     return Segmentation(segments, gaps, period, jitter)
+
+
+def _usable_share(cut: NDArray, n: int) -> float:
+    """The share of ``n`` samples in segments of :data:`SEGMENT_USABLE` or more, split
+    before each sample ``cut + 1``."""
+    lengths = np.diff(np.r_[0, cut + 1, n])
+    return float(lengths[lengths >= SEGMENT_USABLE].sum() / n)
 
 
 def split_dropped(dropped: NDArray) -> Segmentation:

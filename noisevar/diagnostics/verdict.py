@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from noisevar.diagnostics.power_law import WHITE, describe
+from noisevar.diagnostics.segments import GAP_RTOL, JITTER_NOTE
 from noisevar.format import eng
 
 if TYPE_CHECKING:
@@ -272,6 +273,13 @@ def make_notes(diag: NoiseDiagnostics) -> tuple[str, ...]:
             f"{len(diag.gaps)} {what} (first at sample {diag.gaps[0].index}): the record was "
             "estimated per uniform segment and pooled, not spliced"
         )
-    if diag.jitter > 1e-2:
+    if diag.jitter >= GAP_RTOL:
+        notes.append(
+            f"irregular sampling: steps differ from the period by up to {diag.jitter:.0%} "
+            "(samples dropped, or stamped late); too little of the record lies between such "
+            "steps to split at each, so the samples are taken in order as if uniform: right "
+            "for the noise when the signal changes little from one sample to the next"
+        )
+    elif diag.jitter > JITTER_NOTE:
         notes.append(f"sampling jitter up to {diag.jitter:.1%} of the period: treated as uniform")
     return tuple(notes)
