@@ -231,15 +231,16 @@ def level_profile_plot(
         )
     x0 = float(data.block_x[0] - data.block_half[0])
     x1 = float(data.block_x[-1] + data.block_half[-1])
-    traces.append(
-        go.Scatter(
-            x=[x0, x1],
-            y=[data.quiet_variance] * 2,
-            name=f"quiet level {data.quiet_variance:.4g}",
-            mode="lines",
-            line={"color": QUIET_COLOR, "dash": "dash"},
+    if data.quiet_variance is not None:  # none: the record has no quiet level on R's residual
+        traces.append(
+            go.Scatter(
+                x=[x0, x1],
+                y=[data.quiet_variance] * 2,
+                name=f"quiet level {data.quiet_variance:.4g}",
+                mode="lines",
+                line={"color": QUIET_COLOR, "dash": "dash"},
+            )
         )
-    )
     fig = go.Figure(traces)
     fig.update_layout(
         **layout(title, height),
