@@ -181,6 +181,7 @@ def verdict_checks(est) -> list[str]:
     if (
         not flags["level_varies"]
         and share > 0.5
+        and quiet is not None  # none on R's residual: its reason is said (d.quiet.reason)
         and not est.ci95[0] / 2 <= quiet <= 2 * est.ci95[1]
     ):
         bad.append(f"one level (level_varies False), but R is x{est.variance / quiet:.3g} "
