@@ -381,9 +381,15 @@ def synthetic() -> list[str]:
             except noisevar.NoisevarError:
                 said, ratio = "raises (too short)", "-"
             still = "None" if e.still is None else f"{e.still.variance:.3g}"
+            prof = d.level_profile  # no quiet level on R's residual: the profile's, indicative
+            quiet = (
+                f"{d.quiet_variance:.3g}"
+                if d.quiet_variance is not None
+                else f"none (profile's {prof.quiet_variance:.3g})"
+            )
             lines.append(
                 f"| {k} | {seed} | {e.variance:.3g} | {d.flags['level_varies']} | "
-                f"{d.quiet_variance:.3g} ({d.level_profile.quiet_share:.0%}) | {still} | "
+                f"{quiet} ({prof.quiet_share:.0%}) | {still} | "
                 f"{said} | {ratio} | {'indicative only' in d.verdict} |"
             )
     lines += [

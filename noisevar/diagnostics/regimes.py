@@ -109,9 +109,10 @@ class QuietLevel:
         Share of the record's samples in the quiet blocks.
     source : str
         ``"still"``: R's method on the still stretches (the estimate's ``.still``);
-        ``"record"``: the whole record is one quiet level, so R itself;
+        ``"record"``: the whole record is one quiet level, so R itself (every block quiet,
+        or those left out change nothing the quiet level's interval can tell);
         ``"quiet stretches"``: R's method on the quiet stretches of a one-level record
-        some of whose blocks are not quiet; ``""`` when absent.
+        whose other blocks change its level; ``""`` when absent.
     reason : str
         Why there is none (``""`` when there is one).
     """

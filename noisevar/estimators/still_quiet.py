@@ -24,7 +24,7 @@ if TYPE_CHECKING:
 
 
 def on_still_stretches(
-    record: Record | Any, params: dict, diag: NoiseDiagnostics
+    record: Record | Any, params: dict, diag: NoiseDiagnostics, both: bool = True
 ) -> VarianceEstimate | None:
     """R's method on the still regimes' quiet stretches, still on both block grids.
 
@@ -36,6 +36,9 @@ def on_still_stretches(
         R's method's parameters (``"method"`` is left out).
     diag : NoiseDiagnostics
         The record's diagnostics (its quiet blocks).
+    both : bool
+        Keep only what the reversed record's block grid finds still too (the record's
+        ``still_ranges``: one more profile pass); False: the record's own grid.
 
     Returns
     -------
@@ -46,9 +49,9 @@ def on_still_stretches(
     if estimate_in is None:
         return None
     ranges = diag.level_profile.still_stretches
-    both = getattr(record, "still_ranges", None)
-    if ranges and both is not None:
-        ranges = both(diag)
+    grids = getattr(record, "still_ranges", None) if both else None
+    if ranges and grids is not None:
+        ranges = grids(diag)
     if not ranges:
         return None
     try:
@@ -85,15 +88,18 @@ def quiet_apart(
     -------
     QuietLevel or None
         None unless the record is of one level, its still stretches are not apart
-        (:func:`~noisevar.estimators.still_set.has_still_apart`: no ``.still``), and some
-        but not all of its blocks are quiet: the quiet blocks' level on R's residual is
-        then neither R nor ``.still``. Absent, with the reason, when the quiet stretches
-        are too short for the method.
+        (:func:`~noisevar.estimators.still_set.has_still_apart`: no ``.still``), and the
+        blocks left out of the quiet set change its level beyond its interval
+        (:attr:`~noisevar.diagnostics.LevelProfile.one_quiet_level` False): the quiet
+        blocks' level on R's residual is then neither R nor ``.still``. Absent, with the
+        reason, when the quiet stretches are too short for the method.
     """
-    quiet = diag.level_profile.quiet
-    if not quiet.any() or quiet.all() or has_still_apart(diag, variance):
+    prof = diag.level_profile
+    if not prof.quiet.any() or prof.one_quiet_level or has_still_apart(diag, variance):
         return None
-    est = on_still_stretches(record, params, diag)
+    # one grid: a record of one level has no motion beside its quiet stretches for the
+    # other grid to cut off, and the reversed profile would cost a pass of its own
+    est = on_still_stretches(record, params, diag, both=False)
     share = diag.level_profile.quiet_share
     if est is None:
         return QuietLevel(None, None, None, share, reason=_too_short(share))
@@ -125,7 +131,8 @@ def quiet_level(
     -------
     QuietLevel
         ``.still`` when there is one; else the level measured apart (:func:`quiet_apart`);
-        else R itself when every block is quiet (one quiet level); else absent, with the
+        else R itself when the record is one quiet level (every block quiet, or those left
+        out change nothing the quiet level's interval can tell); else absent, with the
         reason (no quiet block, or still stretches too short for R's method).
 
     Notes
@@ -140,7 +147,7 @@ def quiet_level(
         return QuietLevel(still.variance, *still.ci95, share, "still")
     if diag.quiet is not None:
         return diag.quiet
-    if prof.quiet.size and prof.quiet.all():
+    if prof.one_quiet_level:
         return QuietLevel(result.variance, *result.ci95, share, "record")
     if not prof.quiet.any():
         reason = "no stretch of the record is quiet (its level varies throughout)"
@@ -154,5 +161,5 @@ def quiet_level(
 def _too_short(share: float) -> str:
     return (
         f"the quiet stretches ({share:.0%} of the record) are in pieces shorter than the "
-        f"{STILL_MIN} samples R's method needs (still on both block grids, away from jumps)"
+        f"{STILL_MIN} samples R's method needs (away from jumps)"
     )
