@@ -459,7 +459,8 @@ def run_record(rec: Record) -> list[dict]:
     rows = []
     for channel, x in rec.load().items():
         t0 = time.perf_counter()
-        seen = observe(noisevar.estimate(x))
+        est = noisevar.estimate(x)
+        seen = observe(est)
         seconds = time.perf_counter() - t0
         ref = reference(rec, x)
         ratio = seen["use"] / ref.value
@@ -468,14 +469,42 @@ def run_record(rec: Record) -> list[dict]:
         says = _says(seen)
         quiet = seen["quiet"]
         others = [tuple(v * seen["use"] / ref.value for v in o) for o in seen["other_levels"]]
+        same = same_stretches(x, est) if rec.reference == "still" else []
         rows.append(
             {"record": rec.name, "channel": channel, "n": int(x.size), **seen, "others": others,
+             "same_stretches": same,
              "seconds": seconds, "reference": dataclasses.asdict(ref), "ratio": ratio,
              "quiet_ratio": None if quiet is None else float(quiet) / ref.value,
              "within": within, "single_r": single, "says_not_white": says,
              "pass": within if single else says == "yes"}
         )  # fmt: skip
     return rows
+
+
+def same_stretches(x: NDArray, est) -> list[dict]:
+    """Each still level the result reports, against var(d2)/6 on the same samples.
+
+    Information only: it tells a failure of the level from a failure of the choice of
+    stretch. The still R (the floor) is measured on the still regimes (``regimes`` with
+    ``still``), each other still level on its own stretch (``diagnostics.other_still``); the
+    hand-cut reference is made the same way on those samples (:func:`still_reference`, at
+    one sample per unit of time).
+    """
+    diag, still = getattr(est, "diagnostics", None), getattr(est, "still", None)
+    spans = [(r.start, r.stop) for r in getattr(diag, "regimes", None) or () if r.still]
+    if still is None or not spans:
+        return []
+    rows = [("still R (floor)", float(still.variance), spans)]
+    for o in getattr(diag, "other_still", ()):
+        rows.append(
+            (f"other level {o.start}-{o.stop}", o.ratio * still.variance, [(o.start, o.stop)])
+        )
+    out = []
+    for label, level, where in rows:
+        ref = still_reference(x, 1.0, where)
+        out.append({"level": label, "product": float(level), "reference": ref.value,
+                    "lo": ref.lo, "hi": ref.hi, "ratio": float(level) / ref.value})  # fmt: skip
+    return out
 
 
 def has_single_r(ref: Reference) -> bool:
@@ -592,6 +621,23 @@ def _result(r: dict) -> str:
     )
 
 
+def same_stretch_table(rows: list[dict]) -> list[str]:
+    """The failing channels' still levels against the reference on the same samples."""
+    lines = [
+        "| record | channel | level | product | var(d2)/6 on the same samples (95 %) | ratio |",
+        "|---|---|---|---|---|---|",
+    ]
+    for r in rows:
+        if r["single_r"] and not r["pass"]:
+            for s in r["same_stretches"]:
+                lines.append(
+                    f"| {r['record']} | {r['channel']} | {s['level']} | {_g(s['product'])} | "
+                    f"{_g(s['reference'])} ({_g(s['lo'], 3)}-{_g(s['hi'], 3)}) | "
+                    f"{s['ratio']:.2f} |"
+                )
+    return lines if len(lines) > 2 else []
+
+
 def verdict_table(rows: list[dict]) -> list[str]:
     """The verdict (or the notes) each channel got."""
     lines = ["| record | channel | verdict (or notes) |", "|---|---|---|"]
@@ -664,6 +710,13 @@ def report(recs: list[Record], rows: list[dict], seconds: float) -> str:
         *records_table(recs, rows),
         "",
         *results_table(rows),
+        "",
+        "**The failing channels' still levels on their own samples** (information only: "
+        "each level the result reports, against var(d2)/6 of the same samples; a ratio in "
+        f"[{BAND[0]}, {BAND[1]}] there while the check fails means the result and the "
+        "hand-cut reference measured different stretches, not a different level)",
+        "",
+        *same_stretch_table(rows),
         "",
         "**What each channel was told**",
         "",

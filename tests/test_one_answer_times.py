@@ -97,3 +97,19 @@ def test_columns_all_reports_a_channel_it_cannot_estimate(capsys, tmp_path):
     assert "constant" in flag["error"] and "variance" not in flag
     assert main(["estimate", str(path), "--columns", "flag"]) == 2  # nothing to estimate
     assert "constant" in capsys.readouterr().err
+
+
+def test_imu_export_verdicts_split_at_the_gap(capsys, record, tmp_path):
+    """``noisevar imu --export``'s files and report say the verdict of the record split at its
+    gap (the answer every other path gives); before, they spliced it. The IEEE-952 fits
+    still run on the spliced samples (an Allan variance needs one uniform record)."""
+    path, t, gyro = record
+    truth = nv.estimate(gyro, t=t).diagnostics.verdict
+    assert truth != nv.estimate(gyro).diagnostics.verdict
+    out = tmp_path / "exports"
+    argv = ["imu", path, "--gyro", "gyro [rad/s]", "--accel", "acc [m/s^2]"]
+    argv += ["--export", "px4", "--out", str(out), "--format", "json"]
+    data = _json(capsys, *argv)
+    assert data["model"]["verdicts"]["gyro [rad/s]"] == truth
+    text = (out / "px4_ekf2.params").read_text(encoding="utf-8")
+    assert "verdict, column gyro [rad/s]: " + truth.split(":")[0] in text

@@ -23,27 +23,48 @@ from noisevar.estimators.results import VarianceEstimate
 from noisevar.noise_model.exports import ExportFile, ImuModel
 from noisevar.noise_model.inertial import InertialNoise
 
+#: A column's estimate, or why it has none.
+Estimated = VarianceEstimate | NoisevarError
+
 
 def column_estimates(
-    args: argparse.Namespace, data: dict[str, np.ndarray], scales: dict[str, float]
-) -> dict[str, VarianceEstimate | NoisevarError]:
+    args: argparse.Namespace,
+    data: dict[str, np.ndarray],
+    scales: dict[str, float],
+    times: dict[str, np.ndarray | None],
+) -> tuple[dict[str, Estimated], dict[str, Estimated]]:
     """Each gyroscope and accelerometer column's :func:`noisevar.estimate` (method auto, as
-    the Estimator page), of the scaled column the fits see: made once, for the IEEE-952
-    fits' regimes (``inertial_noise(estimates=)``) and the answers (:func:`column_answers`);
-    the error instead when there is none (the fit then estimates, and says, as before)."""
+    the Estimator page) of the scaled column the fits see, for the IEEE-952 fits' regimes
+    (``inertial_noise(estimates=)``), and for the answers (:func:`column_answers`); the
+    error instead when there is none (the fit then estimates, and says, as before).
+
+    Notes
+    -----
+    The answer is the record's, split at the gaps in its times as on every other path
+    (:func:`noisevar.io.record_times`); the fits run on the samples end to end (an Allan
+    variance needs one uniform record), so a column whose times have a gap is estimated
+    twice, once each way; otherwise once, for both.
+    """
+    from noisevar.diagnostics.segments import split_times
     from noisevar.estimators import estimate
 
-    def one(c: str) -> VarianceEstimate | NoisevarError:
+    def one(c: str, t: np.ndarray | None) -> Estimated:
         try:
-            return estimate(data[c] * scales[c])
+            return estimate(data[c] * scales[c], t=t)
         except NoisevarError as exc:  # raised where the answer is needed, as before
             return exc
 
     named = list(dict.fromkeys([*args.gyro, *args.accel]))
+    gapped = {
+        c for c in named if times.get(c) is not None and len(split_times(times[c]).segments) > 1
+    }
+    work = [(c, None) for c in named] + [(c, times[c]) for c in sorted(gapped, key=named.index)]
     # the columns' estimates in threads, as inertial_noise fits the axes
-    with ThreadPoolExecutor(max(1, min(len(named), os.cpu_count() or 1))) as pool:
-        ests = list(pool.map(one, named))
-    return dict(zip(named, ests, strict=True))
+    with ThreadPoolExecutor(max(1, min(len(work), os.cpu_count() or 1))) as pool:
+        ests = list(pool.map(lambda w: one(*w), work))
+    fits = dict(zip(named, ests[: len(named)], strict=True))
+    split = dict(zip(sorted(gapped, key=named.index), ests[len(named) :], strict=True))
+    return fits, {**fits, **split}
 
 
 def column_answers(

@@ -25,14 +25,15 @@ def load_columns(
     path: str, columns: list[str] | None, rate: float | None, topic: str | None = None
 ):
     """The chosen columns of a data file or of a log's ``topic`` (all data columns by
-    default), the sample rate, and each column's unit as the file declares it (or None)."""
-    from noisevar.io import pick_column
+    default), the sample rate, each column's unit as the file declares it (or None), and
+    the sample times every estimating path takes (:func:`noisevar.io.record_times`)."""
+    from noisevar.io import pick_column, record_times
 
     table = load_file(path, topic)
     names = columns or list(table.data_columns)
     data = {c: np.asarray(pick_column(table, c), dtype=float) for c in names}
     declared = {c: table.units.get(c) for c in names}
-    return data, sample_rate(rate, table.sample_period), declared
+    return data, sample_rate(rate, table.sample_period), declared, record_times(table)
 
 
 def _cmd_allan(args: argparse.Namespace) -> int:
@@ -40,7 +41,7 @@ def _cmd_allan(args: argparse.Namespace) -> int:
     from noisevar.noise_model.allan import default_data
 
     wanted = [args.column] if args.column else None
-    data, rate, declared = load_columns(args.file, wanted, args.rate, args.topic)
+    data, rate, declared, _ = load_columns(args.file, wanted, args.rate, args.topic)
     name, z = next(iter(data.items()))
     scale, unit = units_of(args.unit or declared_unit(declared[name]), args.unit_out)
     kind_of_data = args.data or default_data(unit)

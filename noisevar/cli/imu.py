@@ -37,16 +37,17 @@ def _columns(args: argparse.Namespace) -> list[str] | None:
     return list(dict.fromkeys(wanted)) or None
 
 
-def _load(args: argparse.Namespace) -> tuple[dict, dict[str, float], dict]:
-    """The columns asked for, each column's rate and declared unit: from the file or one
-    topic (one rate), or from several topics of a log (each column its topic's rate)."""
+def _load(args: argparse.Namespace) -> tuple[dict, dict[str, float], dict, dict]:
+    """The columns asked for, each column's rate, declared unit and sample times (or None):
+    from the file or one topic (one rate), or from several topics of a log (each column its
+    topic's rate and times)."""
     topics = list(dict.fromkeys(args.topic or []))
     if len(topics) <= 1:
-        data, rate, declared = load_columns(
+        data, rate, declared, t = load_columns(
             args.file, _columns(args), args.rate, topics[0] if topics else None
         )
-        return data, dict.fromkeys(data, rate), declared
-    from noisevar.io import load_topics
+        return data, dict.fromkeys(data, rate), declared, dict.fromkeys(data, t)
+    from noisevar.io import load_topics, record_times
 
     if args.rate is not None:
         raise NoisevarError(
@@ -67,6 +68,7 @@ def _load(args: argparse.Namespace) -> tuple[dict, dict[str, float], dict]:
         {c: col.values for c, col in cols.items()},
         {c: float(col.rate) for c, col in cols.items()},
         {c: col.unit for c, col in cols.items()},
+        {c: record_times(record.tables[col.topic]) for c, col in cols.items()},
     )
 
 
@@ -129,7 +131,7 @@ def _exports(
 ) -> tuple[list[str], dict, str]:
     """Each consumer's file of ``--export`` written into ``--out``, and the HTML report
     beside them; the files' paths, the model, the report's path. ``ests``: each sensor
-    column's estimate (:func:`~noisevar.cli._imu_report.column_estimates`)."""
+    column's estimate for its answer (:func:`~noisevar.cli._imu_report.column_estimates`)."""
     from noisevar.cli._imu_report import column_answers, write_report
     from noisevar.noise_model import exports
 
@@ -152,16 +154,18 @@ def _exports(
     return paths, model.to_dict(), report
 
 
-def _column_estimates(args: argparse.Namespace, data: dict, scales: dict) -> dict:
-    """With ``--export``, each sensor column's estimate, made once for the fits' regimes and
-    the files' verdicts (:func:`~noisevar.cli._imu_report.column_estimates`); else none
-    (each fit estimates its own axis, as it needs)."""
+def _column_estimates(
+    args: argparse.Namespace, data: dict, scales: dict, times: dict
+) -> tuple[dict, dict]:
+    """With ``--export``, each sensor column's estimates for the fits' regimes and for the
+    files' verdicts (:func:`~noisevar.cli._imu_report.column_estimates`); else none (each
+    fit estimates its own axis, as it needs)."""
     if not args.export:
-        return {}
+        return {}, {}
     from noisevar.cli._imu_report import column_estimates
 
     _need_sensors(args, "--export")
-    return column_estimates(args, data, scales)
+    return column_estimates(args, data, scales, times)
 
 
 def _bias_fits(args: argparse.Namespace, fits: dict, data: dict, scales: dict) -> dict:
@@ -261,14 +265,14 @@ def _cmd_imu(args: argparse.Namespace) -> int:
         from noisevar.noise_model.exports import consumers
 
         consumers(args.export)  # refuse an unknown consumer before reading the file
-    data, rates, declared = _load(args)
+    data, rates, declared, times = _load(args)
     rate = next(iter(rates.values()), None)  # one topic or file: one rate
     temp = split_temperature(args, data, rate)
     if args.model != IEEE952:
         return _cmd_models(args, data, rates)
     col_units = _column_units(args, {c: declared[c] for c in data})
     scales = {c: col_units[c][0] for c in data}
-    ests = _column_estimates(args, data, scales)
+    ests, answered = _column_estimates(args, data, scales, times)
     fits = {}
     for names in _groups(data, {c: (col_units[c], rates[c]) for c in data}):
         scale, unit = col_units[names[0]]
@@ -281,7 +285,7 @@ def _cmd_imu(args: argparse.Namespace) -> int:
         fits.update(zip(names, fitted, strict=True))
     fits = {c: fits[c] for c in data}
     written = _kalibr(args, fits, data, scales) if args.kalibr else None
-    exported = _exports(args, fits, data, scales, ests) if args.export else ([], None, None)
+    exported = _exports(args, fits, data, scales, answered) if args.export else ([], None, None)
     files, model, report = exported
     thermal = temperature_models(data, temp, rate, col_units) if temp is not None else {}
     if args.format == "json":

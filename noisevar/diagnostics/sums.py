@@ -6,7 +6,7 @@ one stretch per chunk (``auto``'s chunked engine). Stretches are added in record
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
@@ -39,6 +39,8 @@ class DiagPart:
     incr: list[tuple[int, NDArray, NDArray]]  # (index, first differences, used)
     on_grid: bool
     uniques: NDArray | None  # distinct values, when the quantisation probe was flat
+    # the reversed record's (profile, wide) pieces (diag_part's ``back``)
+    back: tuple[dict[int, Piece], dict[int, Piece]] = field(default_factory=lambda: ({}, {}))
 
 
 def _sequence() -> NDArray:
@@ -68,6 +70,7 @@ def diag_part(
     plan: DiagPlan,
     exclude: NDArray | None = None,
     profile_only: bool = False,
+    back: bool = False,
 ) -> DiagPart:
     """The share of the samples ``own`` (record indices) of segment ``seg``.
 
@@ -84,6 +87,13 @@ def diag_part(
     profile_only : bool
         Only the level profile's blocks (no whiteness windows, increments or
         quantisation probe): what :func:`~noisevar.diagnostics.profile_of` needs.
+    back : bool
+        Also the pieces of the reversed record's profile (and shape) grid, from the same
+        residuals read backwards (``DiagPart.back``; a plan of one segment). The residual
+        filter is symmetric and the compiled filter adds each pair of taps first, so the
+        reversed record's residuals are these, mirrored, to the last bit, and so is the
+        kept mask (a residual is kept when no sample under its window is left out): the
+        reversed grid's blocks without a pass over the reversed record.
     """
     a, b = plan.segments[seg]
     lo, hi = own
@@ -95,6 +105,7 @@ def diag_part(
     white: list[tuple[int, NDArray, NDArray]] = []
     rank = sum(s is not None for s in plan.slot0[:seg])
     s_first = plan.slot0[seg]
+    mirrored: tuple[dict[int, Piece], dict[int, Piece]] = ({}, {})
     if s_first is not None:
         k0, k1 = max(lo, a + h), min(hi, b - h)
         r_sep = s_first + (b - a - 2 * h) + WHITE_LAGS * rank  # this segment's separator
@@ -106,10 +117,12 @@ def diag_part(
             wide = profile if same else block_pieces(plan.wide, s0, e, keep, norm)
             if not profile_only:
                 white += _inside(plan.white, s0 + WHITE_LAGS * rank, e, keep)
+            if back:
+                mirrored = _mirrored(plan, s0, e, keep, norm)
         if hi == b and not profile_only:
             white.append((r_sep, np.zeros(WHITE_LAGS), np.zeros(WHITE_LAGS, dtype=bool)))
     if profile_only:
-        return DiagPart(profile, wide, white, [], True, None)
+        return DiagPart(profile, wide, white, [], True, None, mirrored)
     d0 = sum(b_ - a_ - 1 + WHITE_LAGS for a_, b_ in plan.segments[:seg])
     incr = []
     for p, q in plan.incr:  # first differences inside the windows only
@@ -126,7 +139,24 @@ def diag_part(
         on_grid = _on_grid(own_z - plan.probe[0], plan.probe[1])
     elif plan.probe == "flat":
         uniques = np.unique(own_z)[: UNIQUE_MAX + 1]
-    return DiagPart(profile, wide, white, incr, on_grid, uniques)
+    return DiagPart(profile, wide, white, incr, on_grid, uniques, mirrored)
+
+
+def _mirrored(
+    plan: DiagPlan, s0: int, e: NDArray, keep: NDArray, norm: float
+) -> tuple[dict[int, Piece], dict[int, Piece]]:
+    """The pieces of the reversed record's grids that residual slots ``s0 ..`` fall in.
+
+    Slot ``s`` of a record of ``m`` slots (one segment) is slot ``m - 1 - s`` of the
+    record reversed; contiguous copies, so that the sums run as on the reversed record.
+    """
+    if len(plan.segments) != 1:
+        raise NoisevarError("the reversed grid is read off a record of one segment only")
+    r0 = plan.profile.m - s0 - e.size
+    e_r, keep_r = np.ascontiguousarray(e[::-1]), np.ascontiguousarray(keep[::-1])
+    profile = block_pieces(plan.profile, r0, e_r, keep_r, norm)
+    same = plan.wide == plan.profile
+    return profile, profile if same else block_pieces(plan.wide, r0, e_r, keep_r, norm)
 
 
 def _inside(
@@ -144,8 +174,10 @@ def _inside(
 class DiagSums:
     """Running sums of the diagnostics; blocks are reduced as soon as they are complete."""
 
-    def __init__(self, plan: DiagPlan) -> None:
+    def __init__(self, plan: DiagPlan, back: bool = False) -> None:
         self.plan = plan
+        #: The reversed record's profile sums (from the parts' ``back`` pieces), when asked.
+        self.back: DiagSums | None = DiagSums(plan) if back else None
         self.open: tuple[dict[int, Piece], dict[int, Piece]] = ({}, {})
         # block: kept count, Σ squares, robust level, squares its median was taken over,
         # Σ e²/L and Σ e⁴/L² (the block's tails, for the quiet set)
@@ -162,6 +194,10 @@ class DiagSums:
         self._blocks(0, part.profile, self.plan.profile)
         if self.plan.wide != self.plan.profile:
             self._blocks(1, part.wide, self.plan.wide)
+        if self.back is not None:
+            self.back._blocks(0, part.back[0], self.plan.profile)
+            if self.plan.wide != self.plan.profile:
+                self.back._blocks(1, part.back[1], self.plan.wide)
         for start, e, keep in part.white:
             self.white.add(start, e, keep)
         for start, dz, used in part.incr:

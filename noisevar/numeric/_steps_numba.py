@@ -35,3 +35,67 @@ def pair_slope_medians(z, at, w):  # pragma: no cover - compiled
                 buf[k] = v
         out[r] = (buf[w - 1] + buf[w]) / 2.0
     return out
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _sort6(v, o, net):  # pragma: no cover - compiled
+    """Sort ``v[o : o + 6]`` in place through the network ``net`` (min and max, no branches)."""
+    for c in range(net.shape[0]):
+        i, j = net[c, 0], net[c, 1]
+        a, b = v[o + i], v[o + j]
+        v[o + i] = min(a, b)
+        v[o + j] = max(a, b)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _kth_of_two(v, k):  # pragma: no cover - compiled
+    """The ``k``-th smallest (from 1) of ``v[0:6]`` and ``v[6:12]``, each sorted.
+
+    ``min over i of max(a_i, b_(k - i))`` (``a_0 = b_0 = -inf``): the split of the ``k``
+    smallest between the two gives it, and every other split a value at least as large.
+    """
+    best = np.inf
+    for i in range(max(0, k - 6), min(k, 6) + 1):
+        a = v[i - 1] if i > 0 else -np.inf
+        b = v[6 + k - i - 1] if k - i > 0 else -np.inf
+        best = min(best, max(a, b))
+    return best
+
+
+@njit(cache=True, nogil=True)
+def median_third_differences(z, idx, last, net):  # pragma: no cover - compiled
+    """``D3med`` at each candidate ``idx`` for windows of six: detrended window medians.
+
+    Per candidate ``k``: window starts ``k + 6, k, k - 6, k - 12`` clipped to ``0 .. last``;
+    the slope is the median of the twelve pair slopes (:func:`pair_slope_medians`: each
+    pair's six sorted by ``net``, ``steps.SORT6`` as an array, then the sixth and seventh
+    of both); each window
+    ``z[s + i] - slope * (s + i - k)`` sorted, its median the mean of the middle two; then
+    ``(m0 + 3 m2) + (-3 m1 - m3)`` (the reference's order). The same operations and order
+    statistics as ``detrended_windows`` and its row medians, without their work arrays.
+    """
+    w = 6
+    m = idx.shape[0]
+    out = np.empty(m)
+    at = np.empty(4, dtype=np.int64)
+    v = np.empty(2 * w)
+    med = np.empty(4)
+    for r in range(m):
+        k = idx[r]
+        for q in range(4):
+            at[q] = min(max(k + (1 - q) * w, 0), last)
+        for p in range(2):  # the slope: median of both pairs' slopes
+            a0, a1 = at[2 * p], at[2 * p + 1]
+            gap = np.float64(max(a0 - a1, 1))
+            for i in range(w):
+                v[p * w + i] = (z[a0 + i] - z[a1 + i]) / gap
+            _sort6(v, p * w, net)
+        slope = (_kth_of_two(v, w) + _kth_of_two(v, w + 1)) / 2.0
+        for q in range(4):
+            s = at[q]
+            for i in range(w):
+                v[i] = z[s + i] - slope * np.float64(s + i - k)
+            _sort6(v, 0, net)
+            med[q] = (v[2] + v[3]) / 2.0
+        out[r] = (med[0] * 1.0 + med[2] * 3.0) + (med[1] * -3.0 + med[3] * -1.0)
+    return out

@@ -18,8 +18,9 @@ try:  # the compiled slope medians (numba); np.median below is the reference
 except ImportError:  # pragma: no cover - numba not installed
     _steps_numba = None  # type: ignore[assignment]
 
-#: The compiled slope medians of :func:`detrended_windows` while true (and numba is
-#: installed); false selects ``np.median`` (the same numbers, tested).
+#: The compiled slope medians of :func:`detrended_windows` and the compiled confirmation
+#: (:func:`_confirmed`) while true (and numba is installed); false selects the NumPy
+#: references (the same numbers, tested).
 COMPILED: bool = _steps_numba is not None
 
 STEP_WINDOW = 6
@@ -90,8 +91,15 @@ def _above_both_sides(x: NDArray, above: Callable[[NDArray], NDArray]) -> NDArra
     The local level may change between two samples; testing against both keeps the
     decision the same on the reversed record (where the boundary's sample is ``k - 1``).
     """
-    hit = above(x)
-    idx = np.flatnonzero(hit)
+    floor = getattr(above, "floor", None)
+    if floor is not None and getattr(above, "at", None) is not None:
+        # no sample at or below the lowest level is above: compare only the others
+        idx = np.flatnonzero(x > floor)
+        idx = idx[above.at(x[idx], idx)]  # type: ignore[attr-defined]
+        hit = np.zeros(x.size, dtype=bool)
+    else:
+        hit = above(x)
+        idx = np.flatnonzero(hit)
     if idx.size:
         idx = idx[idx > 0]
         left = above_at(above, x[idx], idx - 1, x.size)
@@ -137,6 +145,11 @@ SORT6 = (
 )  # fmt: skip
 
 
+#: The values :data:`SORT6` sorts.
+SORT6_VALUES = sorted({i for pair in SORT6 for i in pair})
+_NET = np.array(SORT6, dtype=np.int64)  # for the compiled kernel
+
+
 def _window_medians(z: NDArray, starts: NDArray, w: int) -> NDArray:
     """The median of each window ``z[s : s + w]``, ``s`` in ``starts``."""
     return _row_medians(z[starts[:, None] + np.arange(w)])
@@ -149,7 +162,7 @@ def _row_medians(x: NDArray) -> NDArray:
     same numbers as ``np.median`` (the mean of the middle two, ``(a + b) / 2``), seven
     times faster than its partition of many short rows.
     """
-    if x.shape[-1] != len({i for pair in SORT6 for i in pair}):
+    if x.shape[-1] != len(SORT6_VALUES):
         return np.median(x, axis=-1)
     c = [x[..., i] for i in range(x.shape[-1])]
     for i, j in SORT6:
@@ -220,11 +233,16 @@ def _confirmed(
 ) -> NDArray:
     """Whether ``D3med`` confirms a level change at each of the sorted samples ``idx``."""
     last = z.size - w  # the last window's start
-    at = np.clip(idx[:, None] + np.array([w, 0, -w, -2 * w]), 0, last)
-    # each candidate's four windows, off their local line (an added trend moves nothing)
-    med = _row_medians(detrended_windows(z, at, idx, w))
-    # D3med = m(k+w) - 3 m(k) + 3 m(k-w) - m(k-2w), sd = σ sqrt(20 var(median))
-    d3 = med @ np.array([1.0, -3.0, 3.0, -1.0])
+    if COMPILED and _steps_numba is not None and w == len(SORT6_VALUES) and idx.size:
+        # the same numbers, one candidate at a time without work arrays (5x faster)
+        d3 = _steps_numba.median_third_differences(np.ascontiguousarray(z), _ints(idx), last, _NET)
+    else:
+        at = np.clip(idx[:, None] + np.array([w, 0, -w, -2 * w]), 0, last)
+        # each candidate's four windows, off their local line (an added trend moves nothing)
+        med = _row_medians(detrended_windows(z, at, idx, w))
+        # D3med = m(k+w) - 3 m(k) + 3 m(k-w) - m(k-2w), sd = σ sqrt(20 var(median)), added
+        # in pairs as OpenBLAS's product with (1, -3, 3, -1) did (on any BLAS, the kernel's)
+        d3 = (med[:, 0] * 1.0 + med[:, 2] * 3.0) + (med[:, 1] * -3.0 + med[:, 3] * -1.0)
     level = d3**2 * scale / (STEP_CONFIRM**2 * 20.0 * _median_variance(w))
     return _above_both_sides_at(level, idx, above, z.size)
 

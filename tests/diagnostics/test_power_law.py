@@ -54,3 +54,14 @@ def test_noise_id_with_the_allan_deviations_differencing_equals_allantools(dmax)
         for af in (1, 8):
             theirs = allantools.autocorr_noise_id(x, af, data_type="phase", dmin=0, dmax=dmax)[0]
             assert noise_id(x, af, dmax=dmax) == int(theirs)
+
+
+def test_the_quadratic_removed_is_polyfits_to_rounding():
+    from noisevar.numeric.noise_id import _less_quadratic
+
+    rng = np.random.default_rng(8)
+    for n in (30, 1001, 2**15):
+        t = np.arange(n)
+        x = rng.normal(size=n).cumsum() + 1e-3 * (t - n / 3) ** 2 + 40.0
+        want = x - np.polyval(np.polyfit(t, x, 2), t)
+        np.testing.assert_allclose(_less_quadratic(x), want, rtol=0, atol=1e-9 * np.abs(want).max())

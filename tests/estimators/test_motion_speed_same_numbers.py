@@ -200,3 +200,35 @@ def test_the_half_block_levels_are_the_bracketing_levels():
         local = rng.random(nb) * rng.choice([0.0, 1.0, np.inf], nb, p=[0.1, 0.85, 0.05])
         idx = rng.integers(0, nb * block + int(rng.integers(0, 2 * block)), 300)
         assert np.array_equal(bracketing(idx, local, block), per_sample(idx, local, block))
+
+
+def test_the_residual_filter_read_backwards_is_the_residual_mirrored():
+    from noisevar.diagnostics.plan import DIAG_ORDER, DIAG_SPAN
+    from noisevar.numeric.fir import centred_fir, residual_sequence
+
+    z = _motion(50_000, 21) * 3.7e-3 + 12.0
+    d = residual_sequence(DIAG_SPAN, DIAG_ORDER)
+    assert np.array_equal(centred_fir(z[::-1].copy(), d), centred_fir(z, d)[::-1])
+
+
+@pytest.mark.parametrize(("seed", "n"), [(1, 150_000), (2, 150_000), (3, 20_000)])
+def test_the_reversed_grid_read_off_pass_one_is_the_reversed_records_profile(seed, n):
+    """The first pass's mirrored blocks (no pass over the reversed record): the profile of
+    the record reversed, the same blocks, quiet set and regimes, its sums to rounding (at
+    20,000 samples the kurtosis's blocks are not the profile's)."""
+    z = _jumps(n, seed) + _motion(n, seed)
+    ca = ChunkedAuto(lambda a, b: z[max(a, 0) : b], z.size, probe=z.__getitem__, chunk=1 << 13)
+    ca.estimate({})
+    assert ca.sums is not None and ca.sums.back is not None and ca.jump_runs
+    from noisevar.diagnostics import profile_from_sums
+
+    got = profile_from_sums(ca.sums.back)
+    left = np.zeros(z.size, dtype=bool)
+    for a, b in ca.jump_runs:
+        left[a:b] = True
+    want = profile_of(z[::-1].copy(), Segmentation(((0, z.size),), ()), left[::-1].copy())
+    assert got.still_stretches == want.still_stretches and got.regimes == want.regimes
+    for f in ("start", "stop", "count", "quiet", "robust"):
+        assert np.array_equal(getattr(got, f), getattr(want, f)), f
+    for f in ("variance", "lo", "hi", "dof"):
+        np.testing.assert_allclose(getattr(got, f), getattr(want, f), rtol=1e-12, err_msg=f)

@@ -46,3 +46,17 @@ def test_symmetric_fir_adds_its_taps_in_order(span):
     assert np.array_equal(out, ref)
     _fir_numba.symmetric_fir_squares(z, d[h:].copy(), out)
     assert np.array_equal(out, ref * ref)
+
+
+@pytest.mark.parametrize("n", [1, 7, 24, 25, 26, 27, 1001])
+def test_lagged_products_add_one_sample_at_a_time(n):
+    """Four samples per pass over the lags: each lag's sum is still added in sample order."""
+    rng = np.random.default_rng(n)
+    x = rng.normal(size=n) * 10.0 ** rng.uniform(-50, 50)
+    lags = 20
+    out = np.empty(lags + 1)
+    _fir_numba.lagged_products(x, lags, out)
+    want = np.zeros(lags + 1)
+    for k in range(min(lags + 1, n)):  # a running sum from 0, as the kernel's
+        want[k] = np.cumsum(np.r_[0.0, x[: n - k] * x[k:]])[-1]
+    assert out.tobytes() == want.tobytes()

@@ -1,4 +1,5 @@
-"""The compiled slope medians of ``detrended_windows`` give ``np.median``'s numbers, bit for bit."""
+"""The compiled slope medians of ``detrended_windows`` and the compiled confirmation give the
+NumPy references' numbers, bit for bit."""
 
 from __future__ import annotations
 
@@ -22,3 +23,28 @@ def test_compiled_detrended_windows_are_the_reference(monkeypatch, seed):
     monkeypatch.setattr(steps, "COMPILED", False)
     slow = steps.detrended_windows(z, at, idx, w)
     assert fast.tobytes() == slow.tobytes()
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_compiled_confirmation_is_the_reference(monkeypatch, seed):
+    """The confirmation's third differences of window medians (one kernel per candidate)."""
+    rng = np.random.default_rng(100 + seed)
+    w = steps.STEP_WINDOW
+    n = int(rng.integers(8 * w, 20_000))
+    z = rng.normal(size=n) * 10.0 ** rng.uniform(-12, 9) + np.sin(np.arange(n) / 7.0)
+    if seed % 3 == 0:  # quantised: ties among the slopes and the window values
+        z = np.round(z / np.std(z) * 2.0)
+    if seed % 4 == 1:
+        z[rng.integers(0, n) :] += 40.0 * np.std(z)  # a jump
+    idx = np.sort(rng.choice(n, size=int(rng.integers(1, n // 3)), replace=False))
+    seen = []
+
+    def above(x: np.ndarray) -> np.ndarray:
+        seen.append(x.copy())
+        return x > np.median(x)
+
+    fast = steps._confirmed(z, idx, above, 3.0, w)
+    monkeypatch.setattr(steps, "COMPILED", False)
+    slow = steps._confirmed(z, idx, above, 3.0, w)
+    assert np.array_equal(fast, slow)
+    assert seen[0].tobytes() == seen[len(seen) // 2].tobytes()  # the levels tested, bit for bit

@@ -174,3 +174,11 @@ class Above:
     def at(self, values: NDArray, idx: NDArray) -> NDArray:
         """``self(x)[idx]`` for ``x`` that is ``values`` at ``idx``."""
         return above_both_at(values, idx, self.fwd, self.bwd, self.g)
+
+    @property
+    def floor(self) -> float:
+        """No value at or below this is above: every threshold is at least both grids' least
+        level (a NaN level is never exceeded; -inf when every level is NaN)."""
+        least = [float(np.fmin.reduce(v)) if v.size else -np.inf for v in (self.fwd, self.bwd)]
+        top = max(least)
+        return -np.inf if np.isnan(top) else top

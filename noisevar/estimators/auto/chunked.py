@@ -156,7 +156,8 @@ def _pass(
         part = auto_part(z, spans, order, trim, stretch, step_limit, c.wa, n - c.wb)
         dpart = None
         if sums is not None:
-            dpart = diag_part(z, c.wa, (c.lo, c.hi), 0, sums.plan, part.jumps)
+            back = sums.back is not None
+            dpart = diag_part(z, c.wa, (c.lo, c.hi), 0, sums.plan, part.jumps, back=back)
         own = part.jumps[c.lo - c.wa : c.hi - c.wa]
         runs = runs_of(own, c.lo) if own.any() else []
         part.jumps = np.zeros(0, dtype=bool)  # not kept: a mask the record's size
@@ -319,7 +320,8 @@ class ChunkedAuto:
         for _ in range(2):  # a second pass only when the record needs scaling (exact)
             sums = None
             if grid is not None:
-                sums = DiagSums(make_plan(self.n, ((0, self.n),), np.ldexp(grid, self.exponent)))
+                plan = make_plan(self.n, ((0, self.n),), np.ldexp(grid, self.exponent))
+                sums = DiagSums(plan, back=True)  # the reversed grid's profile too
             run = self._run(spans, p, sums, math.inf)
             if run.span == 0:
                 raise NoisevarError("the signal is constant: there is no noise to estimate")
@@ -341,24 +343,13 @@ class ChunkedAuto:
         return from_sums(self.sums, seg, lambda: np.ldexp(head, e) if e else head, spawn)
 
     def still_ranges(self, diag: NoiseDiagnostics) -> list[tuple[int, int]]:
-        """As :meth:`~noisevar.estimators.pipeline.InMemory.still_ranges`: one more pass,
-        the level profile of the record read backwards in chunks (the same numbers)."""
-        n, e, runs = self.n, self.exponent, [(self.n - b, self.n - a) for a, b in self.jump_runs]
-
-        def back(a: int, b: int) -> NDArray:
-            x = self.read(n - b, n - a)[::-1]
-            return np.ldexp(x, e) if e else x.copy()  # ldexp, exact, is slow on a reversed view
-
-        plan = make_plan(n, ((0, n),), np.zeros(0))  # the profile needs no probe
-        sums = DiagSums(plan)
-        for c in chunks(n, self.chunk):
-            left = np.zeros(c.wb - c.wa, dtype=bool)
-            for a, b in runs:
-                left[max(a, c.wa) - c.wa : max(min(b, c.wb) - c.wa, 0)] = True
-            z = back(c.wa, c.wb)
-            sums.add(diag_part(z, c.wa, (c.lo, c.hi), 0, plan, left, profile_only=True))
-        rev = profile_from_sums(sums)
-        return on_both_grids(diag.level_profile.still_stretches, rev.still_stretches, n)
+        """As :meth:`~noisevar.estimators.pipeline.InMemory.still_ranges`: the reversed
+        record's level profile, its blocks summed by the first pass (the same residuals
+        read backwards, :func:`~noisevar.diagnostics.sums.diag_part`'s ``back``): no pass."""
+        if self.sums is None or self.sums.back is None:
+            raise NoisevarError("the record has not been estimated yet")
+        rev = profile_from_sums(self.sums.back)
+        return on_both_grids(diag.level_profile.still_stretches, rev.still_stretches, self.n)
 
     def reader(self) -> Callable[[int, int], NDArray]:
         """``read`` at the record's scale, for the finishing step."""
