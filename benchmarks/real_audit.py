@@ -160,6 +160,9 @@ def _no_still_said(est, quoted: float) -> list[str]:
 
 def verdict_checks(est) -> list[str]:
     d = est.diagnostics
+    if d is None:  # real_audit3: 32 GPS fixes; the notes say why
+        why = next((n for n in est.notes if "diagnostics" in n), "no note")
+        return [f"no diagnostics, so no verdict ({why})"]
     v = d.verdict
     flags = d.flags
     bad = []
@@ -209,7 +212,8 @@ def cli_checks(channels: dict[str, np.ndarray], ests: dict) -> list[str]:
             py_still is not None and abs(row["still_variance"] - py_still) > SAME * py_still
         ):
             bad.append(f"{ch}: CLI still {row['still_variance']}, Python {py_still}")
-        if row["diagnostics"]["verdict"] != est.diagnostics.verdict:
+        said = row["diagnostics"] and row["diagnostics"]["verdict"]
+        if said != (est.diagnostics and est.diagnostics.verdict):
             bad.append(f"{ch}: CLI and Python verdicts differ")
     return bad
 
@@ -300,6 +304,10 @@ def audit(name: str) -> list[dict]:
     return audit_channels(name, channels, rate)
 
 
+#: The flags a row shows for an estimate without diagnostics.
+_NO_FLAGS = {"level_varies": None, "white": None}
+
+
 def audit_channels(
     name: str, channels: dict[str, np.ndarray], rate: float, imu: bool = True
 ) -> list[dict]:
@@ -316,13 +324,14 @@ def audit_channels(
             continue
         ests[ch] = est
         inv, n_r, n_u = invariance(z, est)
+        d = est.diagnostics
         fail = finite(est) + inv + verdict_checks(est)
         if imu:
             fail += imu_checks(z, rate, why_no_still(est))
         row |= {
             "R": est.variance, "ci95": est.ci95, "use": _use_text(est),
-            "still": est.still is not None, "flags": est.diagnostics.flags,
-            "verdict": est.diagnostics.verdict, "inv_r": n_r, "inv_u": n_u,
+            "still": est.still is not None, "flags": d.flags if d else _NO_FLAGS,
+            "verdict": d.verdict if d else "(none)", "inv_r": n_r, "inv_u": n_u,
             "n_tf": len(transforms(z)), "fail": fail, "cpu": time.process_time() - t0,
         }  # fmt: skip
         rows.append(row)

@@ -14,6 +14,11 @@ inertial noise terms:
 
 In an IMU's context ``g`` is standard gravity (9.80665 m/s²), not the gram, and ``mg``,
 ``ug``/``µg`` are milli- and micro-g.
+A magnetometer's ``gauss`` (``G``, ``mG``; PX4, DataFlash) is 1e-4 T, so it converts to
+the tesla of ROS's ``sensor_msgs/MagneticField``.
+A temperature unit (``degC``, ``degF``, as logs declare them) is a temperature difference:
+noise and its variance have no offset, so ``degC`` to ``degF`` is the factor 1.8 (the
+values converted have no offset either).
 """
 
 from __future__ import annotations
@@ -40,6 +45,13 @@ _ALIASES = (
     (re.compile(r"(?<![\w.])mg(?![\w^])"), "(1e-3 * standard_gravity)"),
     (re.compile(r"(?<![\w.])g(?![\w^])"), "standard_gravity"),
     (re.compile(r"(?<![\w.])counts?(?![\w^])"), "count"),
+    # gauss as SI's 1e-4 T (pint's gauss is the Gaussian system's: not convertible to T)
+    (re.compile(r"(?<![\w.])(?:milli|m)(?:gauss|G)(?![\w^])"), "(1e-7 * tesla)"),
+    (re.compile(r"(?<![\w.])(?:micro|u|µ)(?:gauss|G)(?![\w^])"), "(1e-10 * tesla)"),
+    (re.compile(r"(?<![\w.])(?:gauss|G)(?![\w^])"), "(1e-4 * tesla)"),
+    # a temperature's noise is a difference: degC and degF are their degrees (no offset)
+    (re.compile(r"(?<![\w.])(?:degC|celsius|degree_Celsius|°C)(?![\w^])"), "delta_degC"),
+    (re.compile(r"(?<![\w.])(?:degF|fahrenheit|degree_Fahrenheit|°F)(?![\w^])"), "delta_degF"),
     (re.compile(r"√"), "sqrt"),
 )
 

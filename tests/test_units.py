@@ -78,3 +78,21 @@ def test_discrete_forms() -> None:
     with pytest.raises(NoisevarError):
         units.sigma_at(n, 0.0)
     assert units.variance_label("deg/s") == "(deg/s)²" and units.variance_label("m") == "m²"
+
+
+@pytest.mark.parametrize(("source", "target", "k"), [("degC", "degF", 1.8), ("°C", "K", 1.0)])
+def test_a_temperature_is_a_difference(source: str, target: str, k: float) -> None:
+    """Logs declare temperatures in degC (PX4, ROS, DataFlash): noise has no offset, so the
+    unit is read as its degree and converts by the factor alone (on main: refused)."""
+    assert units.factor(source, target) == pytest.approx(k, rel=TOL)
+    assert units.declared_unit("degC") == "degC"
+
+
+@pytest.mark.parametrize(
+    ("source", "target", "k"), [("gauss", "T", 1e-4), ("mG", "uT", 0.1), ("mgauss", "gauss", 1e-3)]
+)
+def test_gauss_converts_to_tesla(source: str, target: str, k: float) -> None:
+    """PX4 and DataFlash log the magnetometer in gauss, ROS's MagneticField in tesla (main:
+    'different dimensions': pint's gauss is the Gaussian system's)."""
+    assert units.factor(source, target) == pytest.approx(k, rel=TOL)
+    assert units.factor("g", "m/s^2") == pytest.approx(9.80665, rel=TOL)  # g stays gravity

@@ -134,7 +134,9 @@ def sample_rate(given: float | None, sample_period: float | None) -> float:
     if given is None:
         if sample_period:
             return 1.0 / sample_period
-        raise NoisevarError("give the sample rate with --rate HZ (the file has no time column)")
+        raise NoisevarError(
+            "give the sample rate with --rate HZ (the file has no time column that gives one)"
+        )
     if not (math.isfinite(given) and given > 0):
         raise NoisevarError(f"--rate must be a positive number of Hz, not {given:g}")
     return given

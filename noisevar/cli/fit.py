@@ -21,6 +21,7 @@ from noisevar.cli._common import (
 from noisevar.errors import NoisevarError
 from noisevar.format import eng, eng_range, pvalue
 from noisevar.io.limits import echo
+from noisevar.units import declared_unit
 
 
 def _print_table(t: Any, args: argparse.Namespace, column: str, unit: str = "u") -> None:
@@ -51,9 +52,10 @@ def _print_table(t: Any, args: argparse.Namespace, column: str, unit: str = "u")
 
 def _load(
     args: argparse.Namespace, config: dict[str, Any] | None
-) -> tuple[Any, int, str, float | None]:
-    """The record's column, the non-finite cells dropped, the column's name, and the
-    table's sample period (None without a time column).
+) -> tuple[Any, int, str, float | None, str | None]:
+    """The record's column, the non-finite cells dropped, the column's name, the unit the
+    file declares for it (or None), and the table's sample period (None without a time
+    column).
 
     With a tuned filter's config, the column it was fitted on and no other: another
     ``--column``, a file without that column, or (for a config naming none) a file of
@@ -86,7 +88,8 @@ def _load(
             "the filter was fitted on)"
         )
     z = np.asarray(pick_column(table, column), dtype=float)
-    return z, table.n_rows - z.size, column_name(table, column), table.sample_period
+    name = column_name(table, column)
+    return z, table.n_rows - z.size, name, table.sample_period, table.units.get(name)
 
 
 def _cmd_fit(args: argparse.Namespace) -> int:
@@ -102,8 +105,9 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         )
     config = load_config(args.config) if args.config else None
     kal = from_config(config) if config is not None else None  # refused before the data load
-    z, dropped, column, period = _load(args, config)
-    scale, unit = units_of(args.unit, args.unit_out)
+    z, dropped, column, period, declared = _load(args, config)
+    given = args.unit or declared_unit(declared)  # the user's, else the file's (as estimate)
+    scale, unit = units_of(given, args.unit_out)
     z = z * scale
     if kal is not None:
         if args.regimes is not None:
@@ -124,7 +128,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         model = args.model or "cv"
         tuning = fit_kalman(z, model=model, rate=rate, **method, **regimes_of(args))
     if args.save_config:
-        said = unit if args.unit else (kal.get("unit", "") if kal is not None else "")
+        said = unit if given else (kal.get("unit", "") if kal is not None else "")
         try:  # the record's answer, written for the reader (not applied when read)
             record = record_answer(estimate(z), tuning.regimes).summary(said)
         except NoisevarError:  # a record the estimator refuses: the config without it

@@ -49,11 +49,16 @@ def add_parser(sub: Any) -> None:
     )
     p.add_argument("log", help="the log (a ROS 2 bag may be its directory)")
     p.add_argument(
+        "--format",
+        choices=("table", "json"),
+        default="table",
+        help="table (default) or json, as every other command",
+    )
+    p.add_argument(
         "--json",
         dest="format",
         action="store_const",
         const="json",
-        default="table",
-        help="print JSON",
+        help="the same as --format json",
     )
     p.set_defaults(func=_cmd_topics)

@@ -9,7 +9,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.errors import NoisevarError
-from noisevar.io.table import LoadedTable, _is_time_name, _period_from_time, echo
+from noisevar.io.table import (
+    LoadedTable,
+    _period_from_time,
+    echo,
+    is_time_column,
+    time_in_seconds,
+)
 from noisevar.io.text import EXACT_INT, MAX_COLUMNS
 
 
@@ -32,8 +38,9 @@ def _load(source: Path | bytes, name: str) -> np.ndarray:
         ) from None
 
 
-def _as_float(values: np.ndarray, field: str, name: str) -> NDArray:
-    """One column as floats: real numbers only, integers exactly representable."""
+def _as_float(values: np.ndarray, field: str, name: str, column: str = "") -> NDArray:
+    """One column as floats: real numbers only, integers exactly representable (``field``
+    names it in messages; ``column``, its name, says whether it is a time column)."""
     kind = values.dtype.kind
     if kind not in "biuf":
         what = "complex" if kind == "c" else f"of dtype {values.dtype}"
@@ -44,7 +51,7 @@ def _as_float(values: np.ndarray, field: str, name: str) -> NDArray:
     if kind in "iu" and values.size:
         top = max(abs(int(values.max())), abs(int(values.min())))
         if top > EXACT_INT:
-            if _is_time_name(field):
+            if column and is_time_column(column):
                 # t - t[0] in integers (exact), then float
                 return (values.astype(object) - int(values[0])).astype(float)
             raise NoisevarError(
@@ -73,7 +80,7 @@ def _read_npy(source: Path | bytes, name: str) -> LoadedTable:
                 raise NoisevarError(
                     f"{echo(name)}: field {echo(fname)!r} is a sub-array: give scalar fields"
                 )
-            columns[fname] = _as_float(arr[fname], f"field {echo(fname)!r}", name)
+            columns[fname] = _as_float(arr[fname], f"field {echo(fname)!r}", name, fname)
     else:
         _as_float(np.empty(0, arr.dtype), "the array", name)
         if arr.ndim == 0 or arr.size == 0:
@@ -98,6 +105,8 @@ def _read_npy(source: Path | bytes, name: str) -> LoadedTable:
                 f"{echo(name)} has shape {arr.shape}: give a 1-D signal or a 2-D (samples, "
                 "columns) array"
             )
-    time_col = next((c for c in columns if _is_time_name(c)), None)
+    time_col = next((c for c in columns if is_time_column(c)), None)
+    if time_col:
+        time_in_seconds(columns, time_col, notes)
     period = _period_from_time(columns[time_col], notes) if time_col else None
     return LoadedTable(name, columns, "npy", time_col, period, notes)

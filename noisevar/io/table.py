@@ -130,6 +130,43 @@ def _is_time_name(name: str) -> bool:
     return base in TIME_NAMES or base.startswith("time_") or base.endswith("_time")
 
 
+def is_time_column(name: str) -> bool:
+    """A text or ``.npy`` column read as the time column: a time name, or ``timestamp_us``,
+    ``t_ms`` (a time word with its unit; :func:`time_in_seconds` scales them)."""
+    base = time_key(name)
+    named = base.startswith(("timestamp_", "t_")) and time_unit(name) is not None
+    return _is_time_name(name) or named
+
+
+#: Time units a time column's name may state, as a suffix (``time_ns``, ``timestamp_us``,
+#: ``t_ms``) or in brackets (``time [ms]``): seconds per unit.
+TIME_UNITS = {"ns": 1e-9, "nsec": 1e-9, "us": 1e-6, "usec": 1e-6, "µs": 1e-6, "ms": 1e-3,
+              "msec": 1e-3, "s": 1.0, "sec": 1.0}  # fmt: skip
+
+
+def time_unit(name: str) -> str | None:
+    """The time unit a column's name states (``time_ns``: ``"ns"``; ``t [ms]``), else None."""
+    m = re.search(r"[\[\(]\s*([^\[\]\(\)]{1,8}?)\s*[\]\)]\s*$", name)
+    word = m[1] if m else name.strip().lower().rpartition("_")[2] if "_" in name else ""
+    return word if word in TIME_UNITS else None
+
+
+def time_scale(name: str) -> float:
+    """Seconds per unit of a time column called ``name`` (1 unless its name states one)."""
+    unit = time_unit(name)
+    return 1.0 if unit is None else TIME_UNITS[unit]
+
+
+def time_in_seconds(columns: dict[str, NDArray], time_column: str, notes: list[str]) -> None:
+    """Scale ``columns[time_column]`` to seconds when its name states another unit (in
+    place, with a note): ``time_ns`` in nanoseconds is read as nanoseconds, not seconds."""
+    unit = time_unit(time_column)
+    if unit is None or TIME_UNITS[unit] == 1.0:
+        return
+    columns[time_column] = columns[time_column] * TIME_UNITS[unit]
+    notes.append(f"time column {echo(time_column)!r} read in {unit} (its name), as seconds")
+
+
 def timestamp_resolution(t: NDArray) -> float:
     """The finest step the timestamps can tell apart (seconds).
 

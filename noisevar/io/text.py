@@ -5,6 +5,7 @@ from __future__ import annotations
 import csv
 import io
 import re
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -18,9 +19,10 @@ from noisevar.io.table import (
     _NA_TOKENS,
     DATE_NAMES,
     LoadedTable,
-    _is_time_name,
     _period_from_time,
     echo,
+    is_time_column,
+    time_in_seconds,
     time_key,
 )
 
@@ -137,7 +139,9 @@ def _unique_names(raw: list[str]) -> list[str]:
 def _parse_time_strings(values: list[str]) -> NDArray | None:
     """ISO date-times to seconds from the first; None when they are not date-times."""
     try:
-        t = np.array(values, dtype="datetime64[ns]")
+        with warnings.catch_warnings():  # "...Z" or "+02:00": numpy converts it to UTC, and
+            warnings.simplefilter("ignore", UserWarning)  # says so in a warning to the user
+            t = np.array(values, dtype="datetime64[ns]")
     except (ValueError, TypeError, OverflowError):
         return None
     if np.any(np.isnat(t)):
@@ -235,7 +239,7 @@ def _holds_dates(text: str, fmt: _Format, header_line: int, idx: int | None) -> 
 def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
     text = src if isinstance(src, str) else src.head
     fmt, names, header_line = table_layout(text, name, isinstance(src, str))
-    time_idx = next((i for i, c in enumerate(names) if _is_time_name(c)), None)
+    time_idx = next((i for i, c in enumerate(names) if is_time_column(c)), None)
     if time_idx is None:  # a date column is the time column when it holds date-times
         date_idx = next((i for i, c in enumerate(names) if time_key(c) in DATE_NAMES), None)
         time_idx = date_idx if _holds_dates(text, fmt, header_line, date_idx) else None
@@ -244,6 +248,8 @@ def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
         notes.insert(0, "read with a decimal comma (1,5 = 1.5)")
     kind = "tsv" if fmt.delim == "\t" else ("csv" if fmt.delim else "text")
     time_col = names[time_idx] if time_idx is not None else None
+    if time_col:
+        time_in_seconds(columns, time_col, notes)
     period = _period_from_time(columns[time_col], notes) if time_col else None
     empty = [c for c in names if np.all(np.isnan(columns[c]))]
     if len(empty) == len(names):
@@ -394,10 +400,13 @@ def _text_column(
     coerced = pd.to_numeric(col, errors="coerce")
     bad = (coerced.isna() & col.notna()).to_numpy()
     if bad.any():
-        if is_time:
-            times = _parse_time_strings([str(v).strip() for v in col.tolist()])
+        if is_time:  # date-times, some cells perhaps empty (a track's untimed fixes)
+            present = col.notna().to_numpy()
+            times = _parse_time_strings([str(v).strip() for v in col[present].tolist()])
             if times is not None:
-                return times
+                out = np.full(col.size, np.nan)
+                out[present] = times
+                return out
         j = int(np.argmax(bad))
         text = src if isinstance(src, str) else src.text()
         raise NoisevarError(

@@ -199,3 +199,48 @@ def test_batch_of_bags_with_a_topic_and_resume(capsys, tmp_path):
     assert max(todo) == 2 and other["error"].notna().all()  # another topic: both redone
     plain = batch([str(bags[0])], progress=False)  # no topic: the bag holds two
     assert "holds several topics" in plain["error"].iat[0]
+
+
+def test_a_logs_degc_field_keeps_its_unit(capsys):
+    """The log declares degC: the CLI shows it and converts it (main printed 'u' and refused
+    ``--unit degC`` with an OffsetUnitCalculusError)."""
+    args = (PX4, "--topic", "vehicle_air_data", "--column", "baro_temp_celcius")
+    code, out, _ = run(capsys, "estimate", *args, "--format", "json")
+    assert code == 0 and json.loads(out)["unit"] == "degC"
+    r = json.loads(out)["variance"]
+    code, out, _ = run(capsys, "estimate", *args, "--unit-out", "degF", "--format", "json")
+    assert code == 0 and json.loads(out)["variance"] == pytest.approx(1.8**2 * r, rel=1e-9)
+    code, out, err = run(capsys, "estimate", *args, "--unit", "degC", "--format", "json")
+    assert code == 0, err
+
+
+def test_ulog_gps_altitude_in_mm_converts_to_m(capsys):
+    args = (PX4, "--topic", "vehicle_gps_position", "--column", "alt", "--format", "json")
+    code, out, _ = run(capsys, "estimate", *args)
+    mm = json.loads(out)
+    code, out, _ = run(capsys, "estimate", *args, "--unit-out", "m")
+    m = json.loads(out)
+    assert code == 0 and (mm["unit"], m["unit"]) == ("mm", "m")
+    assert m["variance"] == pytest.approx(1e-6 * mm["variance"], rel=1e-9)
+
+
+def test_topics_takes_format_json_as_every_command(capsys):
+    """``--format json`` as on estimate/allan/imu/fit (main: exit 2, unrecognized)."""
+    code, out, err = run(capsys, "topics", PX4, "--format", "json")
+    assert code == 0, err
+    gps = next(t for t in json.loads(out)["topics"] if t["topic"] == "vehicle_gps_position")
+    assert gps["units"]["alt"] == "mm"
+
+
+def test_fit_takes_the_logs_unit_as_estimate_does(capsys):
+    """``fit`` read the log's field as unitless ('u') and refused ``--unit-out`` ('needs
+    --unit'), where estimate and allan take the unit the log declares (gauss here)."""
+    args = (PX4, "--topic", "vehicle_magnetometer", "--column", "magnetometer_ga[0]")
+    code, out, err = run(capsys, "fit", *args, "--format", "json")
+    assert code == 0, err
+    gauss = json.loads(out)
+    code, out, err = run(capsys, "fit", *args, "--unit-out", "uT", "--format", "json")
+    assert code == 0, err
+    ut = json.loads(out)
+    assert (gauss["unit"], ut["unit"]) == ("gauss", "uT")
+    assert ut["r"] == pytest.approx(1e4 * gauss["r"], rel=1e-6)

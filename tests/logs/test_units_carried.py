@@ -27,3 +27,26 @@ def test_nmea_units():
 
 def test_no_units_by_default():
     assert load_table(b"x,y\n1,2\n3,4\n5,6\n", "b.csv").units == {}
+
+
+def test_ulog_gps_integers_magnetometer_and_local_position_units():
+    """PX4 logs positions as integers (1e-7 deg, mm) before v1.14: R of ``alt`` is in mm²,
+    not in an unnamed unit (real_audit3: the committed log's GPS, mag and position)."""
+    from noisevar.io import log_topics
+
+    px4 = ROOT / "tests" / "data" / "px4_sample_log_small.ulg"
+    units = {t.name: t.units for t in log_topics(px4)}
+    gps = units["vehicle_gps_position"]
+    assert gps["lat"] == gps["lon"] == "1e-7 deg" and gps["alt"] == "mm"
+    assert units["vehicle_magnetometer"]["magnetometer_ga[0]"] == "gauss"
+    local = units["vehicle_local_position"]
+    assert (local["z"], local["vz"], local["az"]) == ("m", "m/s", "m/s**2")
+
+
+def test_ulog_float_positions_keep_degrees():
+    from noisevar.io.logs import ulog
+
+    assert ulog._unit("sensor_gps", "lat", "f") is None  # a float lat is not 1e-7 deg
+    assert ulog._unit("sensor_gps", "latitude_deg", "f") == "deg"
+    assert ulog._unit("sensor_gps", "altitude_msl_m", "f") == "m"
+    assert ulog._unit("sensor_gps", "alt", "i") == "mm"

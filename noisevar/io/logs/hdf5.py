@@ -24,7 +24,7 @@ import numpy as np
 from noisevar.errors import NoisevarError
 from noisevar.io.limits import echo
 from noisevar.io.logs.spec import CHUNK, MAX_FIELDS, Chunk, LogReader, TopicInfo
-from noisevar.io.table import _is_time_name
+from noisevar.io.table import is_time_column, time_scale
 
 #: Most objects of a file looked at (a file of millions of objects is not a sensor log).
 MAX_OBJECTS = 100_000
@@ -81,7 +81,7 @@ def _topics_of(f) -> dict[str, tuple[str | None, dict[str, tuple], int, dict[str
     for path, ds in datasets.items():
         if ds.dtype.names:
             names = [n for n in ds.dtype.names if _numeric(ds.dtype[n]) and ds.ndim == 1]
-            time = next((n for n in names if _is_time_name(n)), None)
+            time = next((n for n in names if is_time_column(n)), None)
             fields = {n: (path, n) for n in names if n != time}
             out[path] = ((path, time) if time else None, fields, int(ds.shape[0]), {})
         elif ds.ndim == 2 and _numeric(ds.dtype):
@@ -92,7 +92,7 @@ def _topics_of(f) -> dict[str, tuple[str | None, dict[str, tuple], int, dict[str
     for gpath, members in groups.items():
         length = Counter(int(ds.shape[0]) for _, ds in members).most_common(1)[0][0]
         same = [(p, ds) for p, ds in members if ds.shape[0] == length]
-        time = next((p for p, _ in same if _is_time_name(p.rpartition("/")[2])), None)
+        time = next((p for p, _ in same if is_time_column(p.rpartition("/")[2])), None)
         fields = {p.rpartition("/")[2]: (p, None) for p, _ in same if p != time}
         units = {p.rpartition("/")[2]: u for p, ds in same if p != time and (u := _unit(ds))}
         out[gpath] = ((time, None) if time else None, fields, length, units)
@@ -105,8 +105,16 @@ def _rate(f, time, rows: int) -> float | None:
     path, field = time
     ds = f[path]
     first, last = (ds[0][field], ds[-1][field]) if field else (ds[0], ds[-1])
-    span = float(last) - float(first)
+    exact = np.issubdtype(np.asarray(first).dtype, np.integer)  # an epoch in ns: exact
+    step = int(last) - int(first) if exact else float(last) - float(first)
+    span = step * time_scale(_time_name(time))
     return (rows - 1) / span if span > 0 else None
+
+
+def _time_name(time: tuple) -> str:
+    """The time source's own name: its field, or its dataset's last path component."""
+    path, field = time
+    return field if isinstance(field, str) else path.rpartition("/")[2]
 
 
 def topics(path: Path) -> list[TopicInfo]:
@@ -138,7 +146,7 @@ def read(path: Path, topic: str, fields: Sequence[str] | None) -> Iterator[Chunk
             )
         for lo in range(0, rows, CHUNK):
             hi = min(lo + CHUNK, rows)
-            t = None if time is None else _slice(f, *time, lo, hi)
+            t = None if time is None else _slice(f, *time, lo, hi) * time_scale(_time_name(time))
             yield Chunk(t, {n: _slice(f, *have[n], lo, hi) for n in names})
 
 

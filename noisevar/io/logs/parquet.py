@@ -16,7 +16,7 @@ import numpy as np
 from noisevar.errors import NoisevarError
 from noisevar.io.limits import echo
 from noisevar.io.logs.spec import CHUNK, MAX_FIELDS, Chunk, LogReader, TopicInfo
-from noisevar.io.table import _is_time_name
+from noisevar.io.table import is_time_column, time_scale
 
 TOPIC = "table"
 
@@ -29,7 +29,7 @@ def _layout(schema) -> tuple[str | None, tuple[str, ...], dict[str, str]]:
     for col in schema:
         t = col.type
         if pa.types.is_timestamp(t) or (
-            (pa.types.is_integer(t) or pa.types.is_floating(t)) and _is_time_name(col.name)
+            (pa.types.is_integer(t) or pa.types.is_floating(t)) and is_time_column(col.name)
         ):
             time = time or col.name
             continue
@@ -55,7 +55,12 @@ def topics(path: Path) -> list[TopicInfo]:
         stats = [pf.metadata.row_group(i).column(_index(pf, time)).statistics for i in groups]
         if all(s is not None and s.has_min_max for s in stats):
             lo, hi = min(s.min for s in stats), max(s.max for s in stats)
-            span = _seconds(hi) - _seconds(lo)
+            if isinstance(hi, int) and isinstance(lo, int):  # exact: an epoch in ns
+                span = (hi - lo) * time_scale(time)
+            else:
+                span = (_seconds(hi) - _seconds(lo)) * (
+                    1.0 if hasattr(hi, "timestamp") else time_scale(time)
+                )
             rate = (n - 1) / span if span > 0 else None
     return [TopicInfo(TOPIC, "parquet table", int(n), rate, fields, units)]
 
@@ -99,9 +104,9 @@ def read(path: Path, topic: str, fields: Sequence[str] | None) -> Iterator[Chunk
             raw = arr.to_numpy(zero_copy_only=False)
             if is_ts or (raw.dtype.kind in "iu" and (origin is not None or _big(raw))):
                 origin = int(raw[0]) if origin is None else origin
-                t = (raw - origin) / (1e9 if is_ts else 1.0)
-            else:
-                t = raw.astype(float)
+                t = (raw - origin) * (1e-9 if is_ts else time_scale(time))
+            else:  # a number column: in seconds, or in the unit its name states (time_ns)
+                t = raw.astype(float) * time_scale(time)
         values = {f: _floats(batch.column(f)) for f in names}
         yield Chunk(t, values)
 

@@ -40,6 +40,24 @@ TOPIC_UNITS: dict[str, dict[str, str]] = {
     "vehicle_angular_acceleration": {"xyz": "rad/s**2"},
     "vehicle_imu": {"delta_angle": "rad", "delta_velocity": "m/s"},
     "vehicle_gps_position": {"eph": "m", "epv": "m", "vel_m_s": "m/s", "s_variance_m_s": "m/s"},
+    "sensor_gps": {"eph": "m", "epv": "m", "vel_m_s": "m/s", "s_variance_m_s": "m/s"},
+    "vehicle_local_position": {
+        **{k: "m" for k in ("x", "y", "z", "delta_xy", "delta_z", "eph", "epv", "dist_bottom")},
+        **{k: "m/s" for k in ("vx", "vy", "vz", "z_deriv", "delta_vxy", "delta_vz")},
+        **{k: "m/s" for k in ("evh", "evv")},
+        **{k: "m/s**2" for k in ("ax", "ay", "az")},
+        "heading": "rad",
+        "ref_alt": "m",
+        "ref_lat": "deg",
+        "ref_lon": "deg",
+    },
+}
+#: Units of integer fields (PX4 before v1.14 logged positions as integers: ``int32 lat``
+#: in 1e-7 degrees, ``int32 alt`` in millimetres); a float field of the same name (later
+#: versions) is not given this unit.
+INT_UNITS: dict[str, dict[str, str]] = {
+    name: {"lat": "1e-7 deg", "lon": "1e-7 deg", "alt": "mm", "alt_ellipsoid": "mm"}
+    for name in ("vehicle_gps_position", "sensor_gps")
 }
 #: Unit suffixes of PX4 field names (``true_airspeed_m_s``, ``baro_pressure_pa``).
 SUFFIX_UNITS: tuple[tuple[str, str], ...] = (
@@ -47,6 +65,10 @@ SUFFIX_UNITS: tuple[tuple[str, str], ...] = (
     ("_m_s_s", "m/s**2"),
     ("_rad_s", "rad/s"),
     ("_m_s", "m/s"),
+    ("_ga", "gauss"),
+    ("_deg", "deg"),
+    ("_rad", "rad"),
+    ("_m", "m"),
     ("_pa", "Pa"),
     ("_celsius", "degC"),
     ("_celcius", "degC"),
@@ -56,8 +78,11 @@ _INDEX = re.compile(r"\[\d+\]$")
 _TIME_FIELDS = ("timestamp", "timestamp_sample")
 
 
-def _unit(topic: str, field: str) -> str | None:
+def _unit(topic: str, field: str, kind: str = "f") -> str | None:
+    """The unit of ``field`` of message ``topic`` (``kind``: its dtype's kind), or None."""
     base = _INDEX.sub("", field)
+    if kind in "iu" and (hit := INT_UNITS.get(topic, {}).get(base)) is not None:
+        return hit
     hit = TOPIC_UNITS.get(topic, {}).get(base)
     if hit is not None:
         return hit
@@ -116,7 +141,8 @@ def _info(data, name: str) -> TopicInfo:
     n = int(t.size)
     span = float(t[-1] - t[0]) if n > 1 else 0.0
     rate = (n - 1) / span if span > 0 else None
-    units = {f: u for f in fields if (u := _unit(data.name, f)) is not None}
+    kinds = {f: data.data[f].dtype.kind for f in fields}
+    units = {f: u for f in fields if (u := _unit(data.name, f, kinds[f])) is not None}
     return TopicInfo(name, data.name, n, rate, fields, units)
 
 
