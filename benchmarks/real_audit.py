@@ -184,6 +184,7 @@ def verdict_checks(est) -> list[str]:
     if (
         not flags["level_varies"]
         and share > 0.5
+        and quiet is not None  # none on R's residual: its reason is said (d.quiet.reason)
         and not est.ci95[0] / 2 <= quiet <= 2 * est.ci95[1]
     ):
         bad.append(f"one level (level_varies False), but R is x{est.variance / quiet:.3g} "
@@ -389,9 +390,15 @@ def synthetic() -> list[str]:
             except noisevar.NoisevarError:
                 said, ratio = "raises (too short)", "-"
             still = "None" if e.still is None else f"{e.still.variance:.3g}"
+            prof = d.level_profile  # no quiet level on R's residual: the profile's, indicative
+            quiet = (
+                f"{d.quiet_variance:.3g}"
+                if d.quiet_variance is not None
+                else f"none (profile's {prof.quiet_variance:.3g})"
+            )
             lines.append(
                 f"| {k} | {seed} | {e.variance:.3g} | {d.flags['level_varies']} | "
-                f"{d.quiet_variance:.3g} ({d.level_profile.quiet_share:.0%}) | {still} | "
+                f"{quiet} ({prof.quiet_share:.0%}) | {still} | "
                 f"{said} | {ratio} | {'indicative only' in d.verdict} |"
             )
     lines += [

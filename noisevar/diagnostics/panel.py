@@ -64,7 +64,9 @@ class NoisePanelData:
         Level profile: block centres and half-widths (samples, or the times given), levels
         and their 95 % intervals.
     quiet : ndarray of bool
-    quiet_variance : float
+    quiet_variance : float or None
+        The quiet level, on the same residual as R (None: the record has none; its
+        ``diag.quiet.reason`` says why).
     x_title : str
     """
 
@@ -93,7 +95,7 @@ class NoisePanelData:
     lo: NDArray
     hi: NDArray
     quiet: NDArray
-    quiet_variance: float
+    quiet_variance: float | None
     x_title: str
 
     def to_dict(self) -> dict[str, Any]:
@@ -221,7 +223,7 @@ def _profile_fields(diag: NoiseDiagnostics, t: ArrayLike | None) -> dict[str, An
         "lo": np.asarray(prof.lo),
         "hi": np.asarray(prof.hi),
         "quiet": np.asarray(prof.quiet, dtype=bool),
-        "quiet_variance": float(diag.quiet_variance),
+        "quiet_variance": None if diag.quiet_variance is None else float(diag.quiet_variance),
         "x_title": "sample" if t is None else "time (s)",
     }
 

@@ -57,6 +57,10 @@ class LevelProfile:
     robust : ndarray, shape (n_blocks,), optional
         Each block's robust level (its median square over χ²₁'s), which the regimes are
         found on.
+    quiet_dof : ndarray, shape (n_blocks,), optional
+        Each block's mean-square dof with the noise kurtosis of the quiet set's other
+        blocks (default :attr:`dof`, the record's kurtosis, which motion outside the set
+        can raise).
     """
 
     start: NDArray
@@ -69,11 +73,34 @@ class LevelProfile:
     regimes: tuple[Regime, ...] = ()
     count: NDArray | None = None
     robust: NDArray | None = None
+    quiet_dof: NDArray | None = None
 
     @property
     def quiet_variance(self) -> float:
         """Pooled level (mean square) of the quiet blocks."""
         return _pooled(self.variance, self.dof, self.quiet)
+
+    @property
+    def one_quiet_level(self) -> bool:
+        """The blocks left out of the quiet set change nothing its interval can tell.
+
+        True when the pooled mean square of every block lies inside the 95 % interval of
+        the quiet blocks' pooled mean square (χ² on their summed dof, with the quiet set's
+        own kurtosis: :attr:`quiet_dof`): every block quiet, or a few left out by chance or
+        by the noise's own tails. The record is then one quiet level, and its quiet level
+        is R (docs/algorithms.md §E1 *The quiet level*). False when no block is quiet.
+        """
+        if not self.quiet.any():
+            return False
+        dof = self.dof if self.quiet_dof is None else self.quiet_dof
+        nu = float(np.sum(dof[self.quiet]))
+        quiet, every = _pooled(self.variance, self.dof, self.quiet), self.pooled_level
+        return bool(nu * quiet / chi2_ppf(0.975, nu) <= every <= nu * quiet / chi2_ppf(0.025, nu))
+
+    @property
+    def pooled_level(self) -> float:
+        """The dof-weighted level of every block."""
+        return _pooled(self.variance, self.dof, np.ones(self.quiet.size, dtype=bool))
 
     @property
     def still_stretches(self) -> list[tuple[int, int]]:
@@ -237,6 +264,7 @@ def profile_from_blocks(
     # the seed: still blocks whose mean square is near the still blocks' median; where the
     # record has motion, only those Gaussian noise explains (handling beside the motion)
     seed = still & (var <= SEED_FACTOR * np.median(var[still]))
+    quiet_dof = None
     if tails is None:
         quiet = keep(chi2_ppf(level, dof) / dof, seed)
     else:  # rounds: mean squares tested with the kurtosis of the last set's other blocks
@@ -249,8 +277,9 @@ def profile_from_blocks(
             if np.array_equal(again, quiet):
                 break
             quiet = again
+        quiet_dof = _leave_one_out_dof(count, robust, tails, quiet, eta, dof)
     regimes = still_if_quiet(regimes, start, stop, quiet)
-    return LevelProfile(start, stop, var, lo, hi, dof, quiet, regimes, count, robust)
+    return LevelProfile(start, stop, var, lo, hi, dof, quiet, regimes, count, robust, quiet_dof)
 
 
 def still_if_quiet(

@@ -9,7 +9,8 @@ the regimes of a reversed record are the reversed regimes.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Callable
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -91,6 +92,47 @@ class StillLevel:
     def to_dict(self) -> dict[str, float | int]:
         return {"start": self.start, "stop": self.stop, "ratio": self.ratio,
                 "ci95_low": self.lo, "ci95_high": self.hi}  # fmt: skip
+
+
+@dataclass(frozen=True)
+class QuietLevel:
+    """The quiet level: the still regimes pooled, on the same residual as R.
+
+    Set by the estimate (``noisevar.estimators.still_quiet.quiet_level``), which measures
+    it with R's own method (docs/algorithms.md §E1 *The quiet level*).
+
+    Attributes
+    ----------
+    variance, lo, hi : float or None
+        The level and its 95 % interval; None when the record has none.
+    share : float
+        Share of the record's samples in the quiet blocks.
+    source : str
+        ``"still"``: R's method on the still stretches (the estimate's ``.still``);
+        ``"record"``: the whole record is one quiet level, so R itself (every block quiet,
+        or those left out change nothing the quiet level's interval can tell);
+        ``"quiet stretches"``: R's method on the quiet stretches of a one-level record
+        whose other blocks change its level; ``""`` when absent.
+    reason : str
+        Why there is none (``""`` when there is one).
+    """
+
+    variance: float | None
+    lo: float | None
+    hi: float | None
+    share: float
+    source: str = ""
+    reason: str = ""
+
+    def mapped(self, f: Callable[[float], float]) -> QuietLevel:
+        """The level, ``lo`` and ``hi`` through ``f`` (into other units); absent stays absent."""
+        if self.variance is None or self.lo is None or self.hi is None:
+            return self
+        return replace(self, variance=f(self.variance), lo=f(self.lo), hi=f(self.hi))
+
+    def to_dict(self) -> dict[str, float | str | None]:
+        return {"variance": self.variance, "ci95_low": self.lo, "ci95_high": self.hi,
+                "share": self.share, "source": self.source, "reason": self.reason}  # fmt: skip
 
 
 class _Cost:

@@ -9,7 +9,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.diagnostics.profile import LevelProfile
-from noisevar.diagnostics.regimes import StillLevel
+from noisevar.diagnostics.regimes import QuietLevel, StillLevel
 from noisevar.diagnostics.segments import Gap
 from noisevar.diagnostics.whiteness import WhitenessTest
 
@@ -57,6 +57,10 @@ class NoiseDiagnostics:
         The near-still regimes' levels over the R to use, those whose interval lies above
         it (another posture, slow sway: docs/algorithms.md §E1 *Several still levels*);
         set by the estimate, which measures them with its own method.
+    quiet : QuietLevel or None
+        The quiet level on the same residual as R, or why there is none
+        (docs/algorithms.md §E1 *The quiet level*); set by the estimate (None: diagnostics
+        made without one, :func:`noisevar.diagnostics.diagnose`).
     verdict : str
         One plain sentence.
     notes : tuple of str
@@ -75,6 +79,7 @@ class NoiseDiagnostics:
     power_law: tuple[tuple[int, int], ...] = ()
     still_whiteness: WhitenessTest | None = None
     other_still: tuple[StillLevel, ...] = ()
+    quiet: QuietLevel | None = None
     verdict: str = ""
     notes: tuple[str, ...] = field(default_factory=tuple)
 
@@ -104,9 +109,16 @@ class NoiseDiagnostics:
         )
 
     @property
-    def quiet_variance(self) -> float:
-        """Noise level of the still regimes (the lowest level, however short its stretches)."""
-        return self.level_profile.quiet_variance
+    def quiet_variance(self) -> float | None:
+        """Noise level of the still regimes, on the same residual as R; None when there is none.
+
+        The estimate's :attr:`quiet` (``quiet.reason`` says why there is none). Diagnostics
+        made without an estimate give the level profile's quiet level, on the diagnostics'
+        own residual, which their verdict's level is measured on too.
+        """
+        if self.quiet is None:
+            return self.level_profile.quiet_variance
+        return self.quiet.variance
 
     @property
     def level_varies(self) -> bool:
@@ -177,6 +189,7 @@ class NoiseDiagnostics:
             "jitter": _finite(self.jitter),
             "quiet_variance": _finite(self.quiet_variance),
             "quiet_share": _finite(self.level_profile.quiet_share),
+            "quiet_level": None if self.quiet is None else self.quiet.to_dict(),
             "level_profile": self.level_profile.to_dict(),
             "power_law": [list(p) for p in self.power_law],
             "other_still_levels": [x.to_dict() for x in self.other_still],

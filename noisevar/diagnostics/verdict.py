@@ -53,7 +53,8 @@ def make_verdict(
         Share of samples outside the bulk.
     still : float, optional
         The estimate on the still regimes alone (the same method and residual as
-        ``variance``); default the level profile's quiet level.
+        ``variance``); default the quiet level (``diag.quiet_variance``), or where there
+        is none the level profile's, which ``still_gap`` then calls indicative.
     still_gap : str, optional
         Why there is no still R to use
         (:func:`noisevar.estimators.still_set.still_gap`): a quoted still level is then the
@@ -64,7 +65,9 @@ def make_verdict(
     str
     """
     r = f"R = {_g(variance)} (std {_g(float(np.sqrt(max(variance, 0.0))))})"
-    quiet = diag.quiet_variance if still is None else still
+    quiet = still if still is not None else diag.quiet_variance
+    if quiet is None:  # none on R's residual: the level profile's, said to be indicative
+        quiet = diag.level_profile.quiet_variance
     said = still_said(diag, still_gap)
     not_white = _not_white(diag, r, quiet, variance, still_gap)
     if not_white is not None:

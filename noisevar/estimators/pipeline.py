@@ -21,6 +21,7 @@ from __future__ import annotations
 import bisect
 from collections.abc import Callable
 from dataclasses import dataclass, replace
+from functools import partial
 from typing import Protocol
 
 import numpy as np
@@ -37,13 +38,14 @@ from noisevar.diagnostics import (
     with_verdict,
 )
 from noisevar.diagnostics.assumptions import check_assumptions
-from noisevar.diagnostics.regimes import StillLevel
+from noisevar.diagnostics.regimes import QuietLevel, StillLevel
 from noisevar.errors import NoisevarError
 from noisevar.estimators._input import check_samples, check_times
 from noisevar.estimators._scale import check_answer, unscale
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
 from noisevar.estimators.spec import MethodSpec
 from noisevar.estimators.still_levels import other_still_levels
+from noisevar.estimators.still_quiet import on_still_stretches, quiet_apart, quiet_level
 from noisevar.estimators.still_set import STILL_MIN, has_still_apart, still_gap
 
 #: The method's coloured-noise parameters are used below this whiteness p-value (far
@@ -379,9 +381,9 @@ def _after_diagnostics(
         return _coloured(spec, record, result, params) if extra else result
 
     def quiet(own: dict) -> tuple[VarianceEstimate | None, NoiseDiagnostics]:
-        still = _still(spec, record, own, diag, result.variance)  # the first R: run at once
+        still, level = _still(spec, record, own, diag, result.variance)  # the first R: at once
         if still is None:
-            return None, diag
+            return None, replace(diag, quiet=level)
         still = conclude(spec, still, diag, None)  # its interval from the record's noise;
         still.diagnostics = None  # the diagnostics stay on the record's own result
         return still, replace(diag, other_still=_other_levels(spec, record, own, diag, still))
@@ -398,28 +400,13 @@ def _after_diagnostics(
 
 def _still(
     spec: MethodSpec, record: Record, params: dict, diag: NoiseDiagnostics, variance: float
-) -> VarianceEstimate | None:
-    """The method on the still regimes' quiet stretches, when apart (``has_still_apart``).
-
-    The sensor's own noise, on the same residual as the record's R (docs/algorithms.md
-    §E1 Regimes); None when the record cannot be cut (read in chunks) or the stretches
-    are too short for the method.
-    """
-    estimate_in = getattr(record, "estimate_in", None)
-    if not has_still_apart(diag, variance) or estimate_in is None:
-        return None
-    ranges = diag.level_profile.still_stretches
-    both = getattr(record, "still_ranges", None)
-    if ranges and both is not None:
-        ranges = both(diag)
-    if not ranges:
-        return None
-    try:
-        still = estimate_in({k: v for k, v in params.items() if k != "method"}, ranges)
-    except NoisevarError:
-        return None
-    still.notes.append(f"the still regimes only: {len(ranges)} stretches, {still.n_total} samples")
-    return still
+) -> tuple[VarianceEstimate | None, QuietLevel | None]:
+    """The method on the still regimes' quiet stretches: the still R when apart
+    (``has_still_apart``), else the quiet level measured apart when R is not it
+    (:func:`~noisevar.estimators.still_quiet.quiet_apart`; docs/algorithms.md §E1)."""
+    if not has_still_apart(diag, variance):
+        return None, quiet_apart(record, params, diag, variance, partial(conclude, spec, diag=diag))
+    return on_still_stretches(record, params, diag), None
 
 
 def _other_levels(
@@ -510,6 +497,7 @@ def conclude(
     if not diag.identifiable:  # no measurement noise can be told apart: 0 is as likely
         result = replace(result, ci95=(0.0, result.ci95[1]))
     quiet = None if still is None else still.variance
+    diag = replace(diag, quiet=quiet_level(diag, result, still, gap))
     diag = with_verdict(
         diag, result.variance, result.core_variance, result.outlier_fraction, quiet, gap
     )
@@ -586,7 +574,10 @@ def rescale_diagnostics(result: VarianceEstimate, e: int) -> None:
     )
     lsb = None if diag.lsb is None else float(back(np.asarray(diag.lsb), 1))
     old = set(diag.notes)
-    diag = replace(diag, level_profile=prof, lsb=lsb)
+    quiet = (
+        None if diag.quiet is None else diag.quiet.mapped(lambda v: float(back(np.asarray(v), 2)))
+    )
+    diag = replace(diag, level_profile=prof, lsb=lsb, quiet=quiet)
     diag = with_verdict(
         diag,
         result.variance,

@@ -193,6 +193,10 @@ def level_profile_plot(
 ) -> go.Figure:
     """Block levels with 95 % intervals, quiet blocks marked, and the quiet level.
 
+    The blocks are read through the diagnostics' fixed-span residual, the quiet level
+    through R's (docs/algorithms.md §E1 *The quiet level*): where a smooth signal leaks
+    through the former, the line lies below the blocks.
+
     Parameters
     ----------
     data : NoisePanelData
@@ -231,15 +235,16 @@ def level_profile_plot(
         )
     x0 = float(data.block_x[0] - data.block_half[0])
     x1 = float(data.block_x[-1] + data.block_half[-1])
-    traces.append(
-        go.Scatter(
-            x=[x0, x1],
-            y=[data.quiet_variance] * 2,
-            name=f"quiet level {data.quiet_variance:.4g}",
-            mode="lines",
-            line={"color": QUIET_COLOR, "dash": "dash"},
+    if data.quiet_variance is not None:  # none: the record has no quiet level on R's residual
+        traces.append(
+            go.Scatter(
+                x=[x0, x1],
+                y=[data.quiet_variance] * 2,
+                name=f"quiet level {data.quiet_variance:.4g} (on R's residual)",
+                mode="lines",
+                line={"color": QUIET_COLOR, "dash": "dash"},
+            )
         )
-    )
     fig = go.Figure(traces)
     fig.update_layout(
         **layout(title, height),

@@ -1,0 +1,165 @@
+"""The quiet level: the still regimes pooled, measured on the same residual as R (issue 26).
+
+The level profile finds which blocks are quiet on the diagnostics' own residual (a fixed
+span); a smooth signal leaks through it where R's method, which picks its spans from the
+record, lets none through (a seasonal series: 14 against 0.04). So the level quoted as
+the quiet level is measured with R's own method: on the still stretches (the estimate's
+``.still``), or R itself when the whole record is quiet, or absent with a reason
+(docs/algorithms.md §E1 *The quiet level*).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
+
+from noisevar.diagnostics import NoiseDiagnostics
+from noisevar.diagnostics.regimes import QuietLevel
+from noisevar.errors import NoisevarError
+from noisevar.estimators.results import VarianceEstimate
+from noisevar.estimators.still_set import STILL_MIN, has_still_apart
+
+if TYPE_CHECKING:
+    from noisevar.estimators.pipeline import Record
+
+
+def on_still_stretches(
+    record: Record | Any, params: dict, diag: NoiseDiagnostics, both: bool = True
+) -> VarianceEstimate | None:
+    """R's method on the still regimes' quiet stretches, still on both block grids.
+
+    Parameters
+    ----------
+    record : Record
+        The record (``estimate_in`` and, when it has it, ``still_ranges``).
+    params : dict
+        R's method's parameters (``"method"`` is left out).
+    diag : NoiseDiagnostics
+        The record's diagnostics (its quiet blocks).
+    both : bool
+        Keep only what the reversed record's block grid finds still too (the record's
+        ``still_ranges``: one more profile pass); False: the record's own grid.
+
+    Returns
+    -------
+    VarianceEstimate or None
+        None when the record cannot be cut, or the stretches are too short for the method.
+    """
+    estimate_in = getattr(record, "estimate_in", None)
+    if estimate_in is None:
+        return None
+    ranges = diag.level_profile.still_stretches
+    grids = getattr(record, "still_ranges", None) if both else None
+    if ranges and grids is not None:
+        ranges = grids(diag)
+    if not ranges:
+        return None
+    try:
+        est = estimate_in({k: v for k, v in params.items() if k != "method"}, ranges)
+    except NoisevarError:
+        return None
+    est.notes.append(f"the still regimes only: {len(ranges)} stretches, {est.n_total} samples")
+    return est
+
+
+def quiet_apart(
+    record: Record | Any,
+    params: dict,
+    diag: NoiseDiagnostics,
+    variance: float,
+    conclude: Callable[[VarianceEstimate], VarianceEstimate],
+) -> QuietLevel | None:
+    """The quiet level measured by a pass of R's method of its own, when it needs one.
+
+    Parameters
+    ----------
+    record : Record
+        The record (as :func:`on_still_stretches`).
+    params : dict
+        R's method's parameters.
+    diag : NoiseDiagnostics
+        The record's diagnostics.
+    variance : float
+        The record's R.
+    conclude : callable
+        ``conclude(est)``: the estimate with its interval widened as R's is.
+
+    Returns
+    -------
+    QuietLevel or None
+        None unless the record is of one level, its still stretches are not apart
+        (:func:`~noisevar.estimators.still_set.has_still_apart`: no ``.still``), and the
+        blocks left out of the quiet set change its level beyond its interval
+        (:attr:`~noisevar.diagnostics.LevelProfile.one_quiet_level` False): the quiet
+        blocks' level on R's residual is then neither R nor ``.still``. Absent, with the
+        reason, when the quiet stretches are too short for the method.
+    """
+    prof = diag.level_profile
+    if not prof.quiet.any() or prof.one_quiet_level or has_still_apart(diag, variance):
+        return None
+    # one grid: a record of one level has no motion beside its quiet stretches for the
+    # other grid to cut off, and the reversed profile would cost a pass of its own
+    est = on_still_stretches(record, params, diag, both=False)
+    share = diag.level_profile.quiet_share
+    if est is None:
+        return QuietLevel(None, None, None, share, reason=_too_short(share))
+    est = conclude(est)
+    return QuietLevel(est.variance, *est.ci95, share, "quiet stretches")
+
+
+def quiet_level(
+    diag: NoiseDiagnostics,
+    result: VarianceEstimate,
+    still: VarianceEstimate | None,
+    gap: str | None,
+) -> QuietLevel:
+    """The quiet level on the same residual as R, or why there is none.
+
+    Parameters
+    ----------
+    diag : NoiseDiagnostics
+        The record's diagnostics (``diag.quiet``: :func:`quiet_apart`'s, when it was).
+    result : VarianceEstimate
+        The record's R, concluded (its interval widened).
+    still : VarianceEstimate or None
+        R's method on the still stretches (the estimate's ``.still``).
+    gap : str or None
+        Why there is no still R to use
+        (:func:`~noisevar.estimators.still_set.still_gap`).
+
+    Returns
+    -------
+    QuietLevel
+        ``.still`` when there is one; else the level measured apart (:func:`quiet_apart`);
+        else R itself when the record is one quiet level (every block quiet, or those left
+        out change nothing the quiet level's interval can tell); else absent, with the
+        reason (no quiet block, or still stretches too short for R's method).
+
+    Notes
+    -----
+    docs/algorithms.md §E1 *The quiet level*. Every level is R's own method, so the
+    quiet level and R are on one residual: a one-level record's quiet level is R, within
+    their intervals by construction.
+    """
+    prof = diag.level_profile
+    share = prof.quiet_share
+    if still is not None:
+        return QuietLevel(still.variance, *still.ci95, share, "still")
+    if diag.quiet is not None:
+        return diag.quiet
+    if prof.one_quiet_level:
+        return QuietLevel(result.variance, *result.ci95, share, "record")
+    if not prof.quiet.any():
+        reason = "no stretch of the record is quiet (its level varies throughout)"
+    elif gap:
+        reason = gap.removeprefix("regimes='still': ")
+    else:
+        reason = _too_short(share)
+    return QuietLevel(None, None, None, share, reason=reason)
+
+
+def _too_short(share: float) -> str:
+    return (
+        f"the quiet stretches ({share:.0%} of the record) are in pieces shorter than the "
+        f"{STILL_MIN} samples R's method needs (away from jumps)"
+    )
