@@ -486,7 +486,7 @@ def bad_input(recs: dict) -> list[dict]:
 
 # ---------------------------------------------------------------- findings, seeded
 def synthetic() -> list[str]:
-    """The class the real records show that is not fixed here (estimators' area)."""
+    """The classes the real records show: one not fixed here, one fixed (seeded)."""
     rng = np.random.default_rng(0)
     z = rng.normal(size=1800)
     step = np.where(rng.random(1799) < 0.45, 2.0, 1.0) / 409.0  # the logger drops a sample
@@ -514,24 +514,21 @@ def synthetic() -> list[str]:
         "residual was left out at the record's edges: `diagnostics/whiteness.py`). White "
         f"noise, seed 0: {said_short}.",
         "",
-        "## Not fixed here: records whose stamps are irregular are refused (seeded)",
+        "## Fixed: records whose stamps are irregular (seeded)",
         "",
-        "`noisevar.estimate(z, t=t)` splits the record at every step that is not the median "
-        "one (`diagnostics/segments.split_times`, pooled by `estimators/pipeline.py`, other "
-        "helpers' area) and estimates the segments of at least 22-100 samples. A PX4 topic "
-        "whose logger drops a sample now and then (`vehicle_angular_velocity`: 973 steps of "
-        "2.44 ms, 770 of 4.89 ms) and a hand-held GPS's track (fixes 1 s to 15 min apart) have "
-        "no such segment, so the CLI exits 2 on them, while without times the same numbers "
-        "give an R:",
+        "`noisevar.estimate(z, t=t)` split the record at every step that is not the median "
+        "one and estimated only segments of at least 22-100 samples. A PX4 topic whose "
+        "logger drops a sample now and then (`vehicle_angular_velocity`: 973 steps of "
+        "2.44 ms, 770 of 4.89 ms) and a hand-held GPS's track (fixes 1 s to 15 min apart) had "
+        "no such segment, and the CLI exited 2 on them. Now, when splitting at each "
+        "irregular step leaves less than half of the record in segments of 64 samples or "
+        "more, `diagnostics/segments.split_times` splits only at longer steps (2.5, 4.5, "
+        "8.5, 16.5 periods, or nowhere) and the note says the samples were taken in order "
+        "as if uniform (docs/algorithms.md §E1 *Gaps*):",
         "",
         f"- white noise (variance 1), 1,800 samples at 409 Hz, 45 % of the steps doubled "
         f"(seed 0): {said}; without times R = {plain:.4g};",
         f"- white noise, 300 fixes 1-60 s apart (seed 0): {gps}.",
-        "",
-        "A missing sample does not change the noise of those around it; the estimators could "
-        "treat whole-sample drops as gaps of 1-2 samples (splice, or pool runs shorter than "
-        "the minimum with the Rice-type differences the pooled path already uses) instead of "
-        "refusing, and say 'times irregular: R per sample, not per second'.",
         "",
     ]
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -15,8 +16,9 @@ JITTER_NOTE = 1e-2
 SEGMENT_USABLE = 64
 #: Steps (in periods) from which the record is split, tried in turn when splitting at every
 #: irregular step leaves less than half of the samples in usable segments (a logger that
-#: drops samples often): the shorter steps are bridged, the samples taken in order.
-BRIDGE_STEPS = (2.5, 4.5, 8.5, 16.5)
+#: drops samples often; fixes logged at irregular times): the shorter steps are bridged,
+#: the samples taken in order (the last: no split at all).
+BRIDGE_STEPS = (2.5, 4.5, 8.5, 16.5, math.inf)
 
 
 @dataclass(frozen=True)
@@ -89,9 +91,9 @@ def split_times(t: NDArray) -> Segmentation:
     A step outside ``1 +- GAP_RTOL`` periods splits the record. When that leaves less
     than half of the samples in segments of :data:`SEGMENT_USABLE` or more (a logger
     that drops every other sample now and then), the record is split only at steps of
-    :data:`BRIDGE_STEPS` periods or more, the first that leaves more of it usable; the
-    samples between are taken in order as if uniform, which the jitter (then 0.5 or
-    more) says.
+    :data:`BRIDGE_STEPS` periods or more, the first that leaves more of it usable (at
+    the last, nowhere); the samples between are taken in order as if uniform, which the
+    jitter (then 0.5 or more) says.
     """
     n = t.size
     if n < 2:

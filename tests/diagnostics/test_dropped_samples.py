@@ -58,3 +58,12 @@ def test_a_short_record_is_not_bridged():
     """Nothing can be made usable in 50 samples: the gap is kept (not bridged for nothing)."""
     t = np.r_[np.arange(25), np.arange(25) + 40.0]
     assert split_times(t).segments == ((0, 25), (25, 50))
+
+
+def test_fixes_logged_at_irregular_times_are_estimated():
+    """A track whose fixes are 1 s to a minute apart: no step is typical; taken in order."""
+    rng = np.random.default_rng(0)
+    t = np.r_[0.0, np.cumsum(rng.choice([1.0, 2.0, 3.0, 5.0, 10.0, 60.0], size=299))]
+    est = nv.estimate(rng.normal(size=300), t=t)
+    assert est.ci95[0] <= 1.0 <= est.ci95[1]
+    assert any("as if uniform" in note for note in est.notes)
