@@ -15,6 +15,7 @@ from scipy.ndimage import maximum_filter1d
 
 from noisevar._distributions import norm_cdf, norm_pdf
 from noisevar.errors import NoisevarError
+from noisevar.estimators.auto._edges import bridge_edges, detection_squares
 from noisevar.estimators.auto._levels import (
     Above,
     Grids,
@@ -241,30 +242,40 @@ def _flag(
     half: int,
     step_limit: float | None,
     after: int = 0,
+    start: bool = True,
 ) -> tuple:
     """Outliers, jumps (None when none) and what the jump detector flagged, from the shortest span.
 
     ``step_limit``: at most this many jump samples are believed (default: a fifth of ``z``);
-    ``after``: samples of the record after ``z`` (a chunk's window; see :func:`_outlier_mask`).
+    ``after``: samples of the record after ``z`` (a chunk's window; see :func:`_outlier_mask`);
+    ``start``: ``z`` starts where the record does.
     """
     if not np.isfinite(trim):
         return None, None, None
     limit = STEP_MAX_FRACTION * z.size if step_limit is None else step_limit
+    ends = (start, after == 0)
     return _outlier_mask(
-        sq0, trim, block, half, lambda v, sc, out: _steps(z, out, v, sc), limit, after
+        sq0, trim, block, half, lambda v, sc, out: _steps(z, out, v, sc, ends), limit, after
     )
 
 
 def _steps(
-    z: NDArray, outliers: NDArray, above: Callable[[NDArray], NDArray], scale: float
+    z: NDArray,
+    outliers: NDArray,
+    above: Callable[[NDArray], NDArray],
+    scale: float,
+    ends: tuple[bool, bool] = (True, True),
 ) -> tuple[NDArray, NDArray]:
-    """The step detector's flags on ``z`` with its glitches bridged, and its lone steps."""
-    bridged = _bridged(z, outliers)
+    """The step detector's flags on ``z`` with its glitches bridged, and its lone steps.
+
+    ``ends``: whether ``z`` starts (ends) where the record does (a glitch there, _edges).
+    """
+    bridged = _bridged(z, outliers, ends)
     found = step_mask(bridged, above, scale)
     return found, lone_steps(bridged, found, above, scale)
 
 
-def _bridged(z: NDArray, outliers: NDArray) -> NDArray:
+def _bridged(z: NDArray, outliers: NDArray, ends: tuple[bool, bool] = (True, True)) -> NDArray:
     """``z`` with its isolated outlying samples replaced by the line between their neighbours.
 
     A glitch is one or two samples: bridged, the step detector sees nothing there (on a
@@ -279,19 +290,26 @@ def _bridged(z: NDArray, outliers: NDArray) -> NDArray:
     cut = np.r_[False, np.diff(o) > 1]
     run = np.cumsum(cut)  # the run of each outlying sample
     a, b = o[np.r_[True, cut[1:]]], o[np.r_[cut[1:], True]] + 1
-    short = (b - a) <= GLITCH_MAX
-    if not short.any():
-        return z
+    # a run at the record's edge: one glitch, spread by the one-sided rows over more
+    # samples than inside; the fit without it finds it (_edges.bridge_edges)
+    edge = np.zeros(a.size, dtype=bool)
+    edge[0] |= bool(ends[0] and a[0] == 0)
+    edge[-1] |= bool(ends[1] and b[-1] == z.size)
+    short = ((b - a) <= GLITCH_MAX) & ~edge
     glitch = o[short[run]]
     if glitch.size == z.size:
         return z
+    out = z.copy()
+    if edge.any():
+        out = bridge_edges(out, list(zip(a[edge], b[edge], strict=True)))
+    if not glitch.size:
+        return out
     # each glitch lies between the samples just outside its run, which are no glitch: the
     # line through those two (np.interp over them alone picks the same pair, so the same
     # numbers as over every sample that is no glitch)
-    ends = np.unique(np.r_[a[short] - 1, b[short]])
-    ends = ends[(ends >= 0) & (ends < z.size)]
-    out = z.copy()
-    out[glitch] = np.interp(glitch, ends, z[ends])
+    sides = np.unique(np.r_[a[short] - 1, b[short]])
+    sides = sides[(sides >= 0) & (sides < z.size)]
+    out[glitch] = np.interp(glitch, sides, out[sides])
     return out
 
 
@@ -323,11 +341,13 @@ def _trimmed_blocks(
     trim: float,
     step_limit: float | None = None,
     after: int = 0,
+    start: bool = True,
 ) -> _Blocks:
     """Flag jumps and outliers, zero their neighbourhoods in ``sq`` and sum the blocks.
 
     Block sums are taken twice: with only the jumps left out (the total variance:
-    outliers are noise) and with outliers left out too (the core, §F5.4).
+    outliers are noise) and with outliers left out too (the core, §F5.4). ``start``:
+    ``z`` starts where the record does (see :func:`_flag`).
     """
     m = z.size
     block = auto_block(m)
@@ -335,7 +355,8 @@ def _trimmed_blocks(
     # flagged samples are widened by half the longest span up to AUTO_MASK_SPAN; a
     # longer span is used only in blocks that its wider neighbourhood leaves alone
     half = max(s for s in spans if s <= max(AUTO_MASK_SPAN, spans[0])) // 2
-    outliers, jumps, found = _flag(z, sq[0], trim, block, half, step_limit, after)
+    det = detection_squares(z, sq[0], spans[0], (start, after == 0))  # a glitch at an edge
+    outliers, jumps, found = _flag(z, det, trim, block, half, step_limit, after, start)
     flagged = jumps if outliers is None else outliers if jumps is None else outliers | jumps
     # before any zeroing: the values near jumps (for the total) and near every flag
     sq0_copy = sq[0] if outliers is None else sq[0].copy()

@@ -18,6 +18,11 @@ from numpy.typing import NDArray
 from noisevar.diagnostics import NoiseDiagnostics
 from noisevar.diagnostics.tails import kurtosis_from_moments
 from noisevar.errors import NoisevarError
+from noisevar.estimators.auto._edges import (
+    detection_squares,
+    edge_glitches,
+    edge_residual_rows,
+)
 from noisevar.estimators.auto._trim import (
     AUTO_CORE_TRIM,
     AUTO_MASK_SPAN,
@@ -54,25 +59,6 @@ def _difference_variance_factor(span_a: int, span_b: int, order: int) -> float:
     return float(np.sum(raa**2) + np.sum(rbb**2) - 2.0 * np.sum(rab**2))
 
 
-@lru_cache(maxsize=64)
-def _edge_residual_rows(span: int, order: int) -> tuple[NDArray, NDArray]:
-    """Rows of ``I - P`` for the first and last ``span // 2`` samples of a ``span`` window.
-
-    ``P`` is the hat matrix of a polynomial fit of degree ``order`` over the
-    window; row ``h = span // 2`` is the interior sequence ``d``. The edge rows
-    let the estimator use every sample, not only those a centred span fits.
-    """
-    h = span // 2
-    i = np.arange(span, dtype=float) - h
-    v = np.vander(i / max(h, 1), order + 1)
-    q, _ = np.linalg.qr(v)
-    resid = np.eye(span) - q @ q.T
-    head, tail = resid[:h].copy(), resid[span - h :].copy()
-    head.setflags(write=False)
-    tail.setflags(write=False)
-    return head, tail
-
-
 def _residual_squares(z: NDArray, span: int, order: int, out: NDArray | None = None) -> NDArray:
     """Normalised squared residuals ``e_k² / (I - P)_kk`` of a local polynomial, every sample.
 
@@ -88,7 +74,7 @@ def _residual_squares(z: NDArray, span: int, order: int, out: NDArray | None = N
     out = np.empty(n) if out is None else out
     unit = d / np.sqrt(np.sum(d**2))
     centred_fir(z, unit, out[h : n - h], square=True)
-    head, tail = _edge_residual_rows(span, order)
+    head, tail = edge_residual_rows(span, order)
     out[:h] = (head @ z[:span]) ** 2 / np.diag(head[:, :h])
     out[n - h :] = (tail @ z[n - span :]) ** 2 / np.diag(tail[:, span - h :])
     return out
@@ -251,7 +237,7 @@ def auto_part(
     sq = np.empty((len(spans), m))
     for j, s in enumerate(spans):
         _residual_squares(z, s, order, out=sq[j])
-    b = _trimmed_blocks(z, sq, spans, trim, step_limit, after)
+    b = _trimmed_blocks(z, sq, spans, trim, step_limit, after, offset == 0)
     rows = slice(lo // b.block, b.nb if hi == m else hi // b.block)
     choice = _choose_spans(b, spans, order)
     sums = _chosen_sums(b, choice)
@@ -262,8 +248,16 @@ def auto_part(
         choice = _choose_spans(b, spans, order, b.clean_total)
         sums = _chosen_sums(b, choice, total=True)
     total_sum, total_count = sums
+    # a glitch at the record's edge: at its sample, and counted as inside (_edges)
+    ends = (offset == 0 and rows.start == 0, after == 0 and rows.stop == b.nb)
+    edge = (spans[choice[0]], spans[choice[-1]])
+    peaks, first, last = edge_glitches(z, b.outliers, edge, spans[0], order, ends)
+    if first or last:
+        total_sum = total_sum.copy()
+        total_sum[0] += first
+        total_sum[-1] += last
     choice, total_count = choice[rows], total_count[rows]
-    out = b.outliers[(b.outliers >= lo) & (b.outliers < hi)]
+    out = peaks[(peaks >= lo) & (peaks < hi)]
     return AutoPart(
         n=hi - lo,
         core_sum=float(chosen_sum[rows].sum()),
@@ -447,5 +441,6 @@ def jump_mask(z: NDArray, order: int = AUTO_ORDER, trim: float = AUTO_TRIM) -> N
     spans = auto_spans(None, order, trim, z.size)
     block = auto_block(z.size)
     half = max(s for s in spans if s <= max(AUTO_MASK_SPAN, spans[0])) // 2
-    _, jumps, _ = _flag(z, _residual_squares(z, spans[0], order), trim, block, half, None)
+    sq0 = detection_squares(z, _residual_squares(z, spans[0], order), spans[0], (True, True))
+    _, jumps, _ = _flag(z, sq0, trim, block, half, None)
     return None if jumps is None else dilate(jumps, half)
