@@ -1,4 +1,4 @@
-"""One glitch counts in R the same wherever it is: first, last or inside sample (issue 26 item 4)."""
+"""One glitch counts in R the same wherever it is: first, last or inside (issue 26 item 4)."""
 
 from __future__ import annotations
 
