@@ -60,7 +60,7 @@ def test_the_pipeline_reports_a_glitch_at_its_sample_and_with_the_same_r():
 
 
 @settings(
-    max_examples=25, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow]
+    max_examples=60, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow]
 )
 @given(
     seed=st.integers(0, 10_000),
@@ -100,3 +100,36 @@ def test_one_glitch_anywhere_counts_as_inside(seed, sigmas, sign, where, bursts,
         b.variance,
     )
     assert k in _outliers(at_edge, span), (k, _outliers(at_edge, span))
+
+
+def _verdict_class(r) -> str:
+    return r.diagnostics.verdict.split(":")[0] + ":" + r.diagnostics.verdict.split(":")[1][:25]
+
+
+def test_one_glitch_leaves_the_verdict_as_it_is_without_it():
+    # main: no glitch "coloured: random walk"; x[300] += 0.22 "white heavy-tailed noise";
+    # x[0] += 0.22 "behaves like a random walk" with a ci95 from 0
+    x = _walk()
+    want = _verdict_class(noisevar.estimate(x))
+    assert want.startswith("the noise is coloured: random walk"), want
+    for k in (0, 1, 300, x.size - 1):
+        y = x.copy()
+        y[k] += 0.22
+        r = noisevar.estimate(y)
+        assert _verdict_class(r) == want, (k, r.diagnostics.verdict)
+        assert r.ci95[0] > 0, (k, r.ci95)
+        assert r.diagnostics.identifiable and not r.diagnostics.white
+
+
+def test_the_streamed_path_reads_the_glitches_as_in_memory():
+    from noisevar.stream import estimate_chunked
+
+    x = _walk(40_000)
+    for k in (0, 20_000, x.size - 1):
+        y = x.copy()
+        y[k] += 0.22
+        one = noisevar.estimate(y)
+        many = estimate_chunked(lambda a, b, y=y: y[max(a, 0) : b].copy(), y.size, chunk=4096)
+        np.testing.assert_allclose(many.variance, one.variance, rtol=1e-9)
+        np.testing.assert_allclose(many.ci95, one.ci95, rtol=1e-9)
+        assert many.diagnostics.verdict == one.diagnostics.verdict

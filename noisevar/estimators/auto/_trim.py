@@ -232,6 +232,7 @@ class _Blocks:
     recover_total: tuple[NDArray, NDArray, NDArray] | None  # as recover, near the jumps
     jumps: NDArray  # samples left out around jumps (widened; all False when none)
     found: NDArray  # indices of the samples the jump detector flagged (before its limit)
+    near_jumps: NDArray  # outlying samples in a jump's neighbourhood (one per spike; left out)
 
 
 def _flag(
@@ -368,7 +369,7 @@ def _trimmed_blocks(
     clean_total = _clean_for(jumps, spans, half, block, nb)
     # without outliers the flagged samples are the jumps': the same sums, not taken again
     kept_count, block_sum, fourth, clean_for = total_count, total_sum, total_fourth, clean_total
-    out_at = np.zeros(0, dtype=int)
+    out_at = near = np.zeros(0, dtype=int)
     if outliers is not None:
         kept_count = block_counts(block, nb, m) - _zero(sq, flagged, half, block, nb)
         block_sum = np.stack([block_sums(q, block, nb) for q in sq])
@@ -378,11 +379,13 @@ def _trimmed_blocks(
         alone = outliers if jumps is None else outliers & ~dilate(jumps, half)
         # one outlying sample spreads over its neighbours' residuals: count the peaks
         out_at = _local_peaks(sq0_copy, np.flatnonzero(alone), spans[0])
+        if jumps is not None:  # for the diagnostics (estimators.glitches)
+            near = _local_peaks(sq0_copy, np.flatnonzero(outliers & ~alone), spans[0])
     return _Blocks(
         block, nb, kept_count, block_sum, fourth, total_fourth, clean_for,
         recover, total_count, total_sum, out_at, clean_total,
         recover_total, np.zeros(m, dtype=bool) if jumps is None else dilate(jumps, half),
-        np.zeros(0, dtype=int) if found is None else np.flatnonzero(found),
+        np.zeros(0, dtype=int) if found is None else np.flatnonzero(found), near,
     )  # fmt: skip
 
 

@@ -9,7 +9,7 @@ trimmed mean corrected; §F5.5 gives the estimate and its degrees of freedom.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import lru_cache
 
 import numpy as np
@@ -177,6 +177,7 @@ class AutoPart:
     jumps: NDArray  # bool over the window: samples left out around jumps
     found: int  # samples the jump detector flagged in the stretch (before its limit)
     tails: tuple[float, float, float] = (0.0, 0.0, 0.0)  # see _tail_sums
+    glitches: NDArray = field(default_factory=lambda: np.zeros(0, dtype=int))  # all outliers
 
 
 def _tail_sums(b: _Blocks, rows: slice) -> tuple[float, float, float]:
@@ -257,7 +258,7 @@ def auto_part(
         total_sum[0] += first
         total_sum[-1] += last
     choice, total_count = choice[rows], total_count[rows]
-    out = peaks[(peaks >= lo) & (peaks < hi)]
+    out, near = peaks[(peaks >= lo) & (peaks < hi)], b.near_jumps
     return AutoPart(
         n=hi - lo,
         core_sum=float(chosen_sum[rows].sum()),
@@ -272,6 +273,8 @@ def auto_part(
         jumps=b.jumps,
         found=int(np.count_nonzero((b.found >= lo) & (b.found < hi))),
         tails=_tail_sums(b, rows),
+        # every outlying sample, also in a jump's neighbourhood: the diagnostics' glitches
+        glitches=np.union1d(out, near[(near >= lo) & (near < hi)]) + offset,
     )
 
 
@@ -325,6 +328,7 @@ def auto_reduce(
         "auto", var, chi2_interval(var, dof), n_total, n, dof, dict(params), notes,
         core_variance=core, outlier_fraction=n_out / n, jumps=jumps,
         kurtosis=_own_kurtosis(parts, spans[0], int(params["order"])),
+        outliers=np.concatenate([p.glitches for p in parts]),
     )  # fmt: skip
 
 
