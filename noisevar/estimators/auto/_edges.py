@@ -11,6 +11,7 @@ sample and gives it the weight it has inside.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from functools import lru_cache
 
 import numpy as np
@@ -209,4 +210,46 @@ def detection_squares(z: NDArray, sq0: NDArray, span: int, ends: tuple[bool, boo
             _, t = deleted_residuals(x, reach, EDGE_ORDER)
             own = out[:reach] if side == 0 else out[::-1][:reach]
             np.maximum(own, t**2, out=own)
+    return out
+
+
+def lone_glitches(
+    z: NDArray,
+    runs: list[tuple[int, int]],
+    above: Callable[[NDArray, NDArray], NDArray],
+    detect: tuple[int, int],
+) -> list[tuple[int, float]]:
+    """Runs of outlying samples inside the record that one glitch explains: its sample and value.
+
+    A glitch of many σ makes every residual whose window holds it outlying (span 5: five
+    of them), more than the step detector's bridge takes (:data:`GLITCH_MAX`
+    samples), whose window medians then see a jump: inside the record it was left out
+    with a jump's neighbourhood, while at the edge (:func:`bridge_edges`) it counted. A
+    run no longer than the detecting span ``detect = (span, order)`` is one glitch when,
+    with the sample where the centred deleted residual (a degree-:data:`EDGE_ORDER` fit
+    over ``max(11, span)`` samples) peaks set to the fit without it, none of the
+    detecting span's squares around it is above its level (``above(values, idx)``, the
+    outlier test's). A jump or a ringing tap is not explained by one sample: left as is.
+    """
+    span, order = detect
+    fit = max(EDGE_FIT_SPAN, span) | 1
+    hf, h = fit // 2, span // 2
+    dfit = residual_sequence(fit, EDGE_ORDER)
+    unit = residual_sequence(span, order)
+    unit = unit / np.sqrt(np.sum(unit**2))
+    out = []
+    for a, b in runs:
+        if b - a > span or a - hf < 0 or b + hf > z.size or a - 2 * h < h:
+            continue
+        if b + 2 * h + h > z.size:
+            continue
+        e = np.correlate(z[a - hf : b + hf], dfit, mode="valid")  # residuals at a .. b - 1
+        j = a + int(np.argmax(np.abs(e)))
+        value = z[j] - e[j - a] / dfit[hf]
+        lo, hi = min(a, j - h), max(b, j + h + 1)  # the run and the glitch's reach
+        x = z[lo - h : hi + h].copy()
+        x[j - lo + h] = value
+        sq = np.correlate(x, unit, mode="valid") ** 2  # the detecting squares at lo .. hi - 1
+        if not above(sq, np.arange(lo, hi)).any():
+            out.append((j, float(value)))
     return out

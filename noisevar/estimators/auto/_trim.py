@@ -15,7 +15,7 @@ from scipy.ndimage import maximum_filter1d
 
 from noisevar._distributions import norm_cdf, norm_pdf
 from noisevar.errors import NoisevarError
-from noisevar.estimators.auto._edges import bridge_edges, detection_squares
+from noisevar.estimators.auto._edges import bridge_edges, detection_squares, lone_glitches
 from noisevar.estimators.auto._levels import (
     Above,
     Grids,
@@ -244,20 +244,23 @@ def _flag(
     step_limit: float | None,
     after: int = 0,
     start: bool = True,
+    detect: tuple[int, int] | None = None,
 ) -> tuple:
     """Outliers, jumps (None when none) and what the jump detector flagged, from the shortest span.
 
     ``step_limit``: at most this many jump samples are believed (default: a fifth of ``z``);
     ``after``: samples of the record after ``z`` (a chunk's window; see :func:`_outlier_mask`);
-    ``start``: ``z`` starts where the record does.
+    ``start``: ``z`` starts where the record does; ``detect``: the span and order of
+    ``sq0`` (a longer run of outlying samples may then be one glitch: _edges.lone_glitches).
     """
     if not np.isfinite(trim):
         return None, None, None
     limit = STEP_MAX_FRACTION * z.size if step_limit is None else step_limit
     ends = (start, after == 0)
     return _outlier_mask(
-        sq0, trim, block, half, lambda v, sc, out: _steps(z, out, v, sc, ends), limit, after
-    )
+        sq0, trim, block, half, lambda v, sc, out: _steps(z, out, v, sc, ends, detect), limit,
+        after,
+    )  # fmt: skip
 
 
 def _steps(
@@ -266,17 +269,25 @@ def _steps(
     above: Callable[[NDArray], NDArray],
     scale: float,
     ends: tuple[bool, bool] = (True, True),
+    detect: tuple[int, int] | None = None,
 ) -> tuple[NDArray, NDArray]:
     """The step detector's flags on ``z`` with its glitches bridged, and its lone steps.
 
-    ``ends``: whether ``z`` starts (ends) where the record does (a glitch there, _edges).
+    ``ends``: whether ``z`` starts (ends) where the record does (a glitch there, _edges);
+    ``detect``: see :func:`_flag`.
     """
-    bridged = _bridged(z, outliers, ends)
+    lone = None if detect is None else (above, detect)
+    bridged = _bridged(z, outliers, ends, lone)
     found = step_mask(bridged, above, scale)
     return found, lone_steps(bridged, found, above, scale)
 
 
-def _bridged(z: NDArray, outliers: NDArray, ends: tuple[bool, bool] = (True, True)) -> NDArray:
+def _bridged(
+    z: NDArray,
+    outliers: NDArray,
+    ends: tuple[bool, bool] = (True, True),
+    lone: tuple[Above, tuple[int, int]] | None = None,
+) -> NDArray:
     """``z`` with its isolated outlying samples replaced by the line between their neighbours.
 
     A glitch is one or two samples: bridged, the step detector sees nothing there (on a
@@ -303,6 +314,10 @@ def _bridged(z: NDArray, outliers: NDArray, ends: tuple[bool, bool] = (True, Tru
     out = z.copy()
     if edge.any():
         out = bridge_edges(out, list(zip(a[edge], b[edge], strict=True)))
+    if lone is not None:  # a longer run inside: one glitch when its sample explains it
+        runs = list(zip(a[~short & ~edge], b[~short & ~edge], strict=True))
+        for j, value in lone_glitches(z, runs, lone[0].at, lone[1]):
+            out[j] = value
     if not glitch.size:
         return out
     # each glitch lies between the samples just outside its run, which are no glitch: the
@@ -343,6 +358,7 @@ def _trimmed_blocks(
     step_limit: float | None = None,
     after: int = 0,
     start: bool = True,
+    order: int | None = None,
 ) -> _Blocks:
     """Flag jumps and outliers, zero their neighbourhoods in ``sq`` and sum the blocks.
 
@@ -357,7 +373,8 @@ def _trimmed_blocks(
     # longer span is used only in blocks that its wider neighbourhood leaves alone
     half = max(s for s in spans if s <= max(AUTO_MASK_SPAN, spans[0])) // 2
     det = detection_squares(z, sq[0], spans[0], (start, after == 0))  # a glitch at an edge
-    outliers, jumps, found = _flag(z, det, trim, block, half, step_limit, after, start)
+    detect = None if order is None else (spans[0], order)
+    outliers, jumps, found = _flag(z, det, trim, block, half, step_limit, after, start, detect)
     flagged = jumps if outliers is None else outliers if jumps is None else outliers | jumps
     # before any zeroing: the values near jumps (for the total) and near every flag
     sq0_copy = sq[0] if outliers is None else sq[0].copy()

@@ -238,7 +238,7 @@ def auto_part(
     sq = np.empty((len(spans), m))
     for j, s in enumerate(spans):
         _residual_squares(z, s, order, out=sq[j])
-    b = _trimmed_blocks(z, sq, spans, trim, step_limit, after, offset == 0)
+    b = _trimmed_blocks(z, sq, spans, trim, step_limit, after, offset == 0, order)
     rows = slice(lo // b.block, b.nb if hi == m else hi // b.block)
     choice = _choose_spans(b, spans, order)
     sums = _chosen_sums(b, choice)
@@ -446,5 +446,5 @@ def jump_mask(z: NDArray, order: int = AUTO_ORDER, trim: float = AUTO_TRIM) -> N
     block = auto_block(z.size)
     half = max(s for s in spans if s <= max(AUTO_MASK_SPAN, spans[0])) // 2
     sq0 = detection_squares(z, _residual_squares(z, spans[0], order), spans[0], (True, True))
-    _, jumps, _ = _flag(z, sq0, trim, block, half, None)
+    _, jumps, _ = _flag(z, sq0, trim, block, half, None, detect=(spans[0], order))
     return None if jumps is None else dilate(jumps, half)
