@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 import noisevar
@@ -60,7 +60,10 @@ def test_the_pipeline_reports_a_glitch_at_its_sample_and_with_the_same_r():
 
 
 @settings(
-    max_examples=60, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow]
+    max_examples=40,
+    deadline=None,
+    derandomize=True,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much],
 )
 @given(
     seed=st.integers(0, 10_000),
@@ -82,23 +85,31 @@ def test_one_glitch_anywhere_counts_as_inside(seed, sigmas, sign, where, bursts,
         "near_start": int(rng.integers(2, 12)),
         "near_end": n - 1 - int(rng.integers(1, 12)),
     }[where]
-    # the inside glitch away from the bursts (a glitch in a jump's neighbourhood goes with it)
+    # both glitches away from the bursts: a glitch in a jump's neighbourhood goes with it,
+    # and one within the jump detector's window (2 blocks) of a burst can move a jump
+    # decision there (a knife-edge of issue 26 item 4 that an inside glitch meets too)
+    away = np.convolve(motion != 0, np.ones(2 * 600 + 1), mode="same") == 0
+    assume(away[k])
     still = np.convolve(motion != 0, np.ones(301), mode="same") == 0
     still[:200] = still[-200:] = False
-    if not still.any():
-        return
-    mid = int(rng.choice(np.flatnonzero(still)))
+    assume(still.any())
     delta = sign * sigmas
-    at_edge, inside = z.copy(), z.copy()
+    at_edge = z.copy()
     at_edge[k] += delta
-    inside[mid] += delta
-    a, b = auto_estimate(at_edge, span=span), auto_estimate(inside, span=span)
-    # the same R within its interval, and within a fifth of the glitch's own share
-    assert b.ci95[0] <= a.variance <= b.ci95[1], (a.variance, b.variance, b.ci95)
-    assert abs(a.variance - b.variance) <= 0.2 * delta**2 / n + 0.1 * b.variance, (
-        a.variance,
-        b.variance,
-    )
+    a = auto_estimate(at_edge, span=span)
+    # inside, the glitch's cross terms with the noise move R with its place (about 2δσ/n):
+    # R at the edge is compared with R at five places inside, away from the bursts
+    inside = []
+    for mid in rng.choice(np.flatnonzero(still), 5, replace=False):
+        y = z.copy()
+        y[mid] += delta
+        inside.append(auto_estimate(y, span=span))
+    lo, hi = min(b.ci95[0] for b in inside), max(b.ci95[1] for b in inside)
+    assert lo <= a.variance <= hi, (a.variance, [b.variance for b in inside])
+    # and within a quarter of the glitch's own share δ²/n of their range (main: -96 % at 0)
+    v = [b.variance for b in inside]
+    share = delta**2 / n
+    assert min(v) - 0.25 * share <= a.variance <= max(v) + 0.25 * share, (a.variance, v, share)
     assert k in _outliers(at_edge, span), (k, _outliers(at_edge, span))
 
 

@@ -86,12 +86,12 @@ def _fit_rows(span: int, order: int) -> tuple[NDArray, NDArray]:
 def deleted_residuals(z: NDArray, reach: int, order: int, span: int = 0) -> tuple[NDArray, NDArray]:
     """Each of the first ``reach`` samples less a fit without it: ``e_k / (I-P)_kk``, and its t.
 
-    The fit is a polynomial of degree ``order`` over the first ``max(11, span, 2 reach + 1)``
+    The fit is a polynomial of degree ``order`` over the first ``max(11, span, reach + 1)``
     samples (:data:`EDGE_FIT_SPAN`; the record, if shorter). The standardised value
     ``t_k = e_k / sqrt((I-P)_kk)`` peaks at a lone glitch, whatever its size
     (``|(I-P)_kj| <= sqrt((I-P)_kk (I-P)_jj)``), and ``e_j / (I-P)_jj`` is its size.
     """
-    fit = min(max(EDGE_FIT_SPAN, span, 2 * reach + 1), z.size)
+    fit = min(max(EDGE_FIT_SPAN, span, reach + 1), z.size)
     rows, diag = _fit_rows(fit, order)
     reach = min(reach, fit)
     e = rows[:reach] @ z[:fit]
@@ -103,11 +103,12 @@ def _one_edge(
 ) -> tuple[NDArray, float]:
     """:func:`edge_glitches` at the record's start (``z`` read from it)."""
     w = edge_weights(span, order)
-    reach = max(w.size, detect)
+    reach = max(w.size, 2 * detect - 1)
     size, t = deleted_residuals(z, reach, EDGE_ORDER, span)
     # the detecting span's edge rows see a glitch there on several samples (span 5,
-    # order 3: the same square on three): the deleted residual tells its own
-    at = int(np.argmax(t[:detect]))
+    # order 3: the same square on three): the deleted residual tells its own, searched
+    # as far as a glitch reaches into them (one just past them is that one: merged)
+    at = int(np.argmax(t[: 2 * detect - 1]))
     moved = np.unique(np.where(peaks < detect - 1, at, peaks))
     near = moved[moved < w.size]
     return moved, float(np.sum((1.0 - w[near]) * size[near] ** 2))
