@@ -272,6 +272,13 @@ def synthetic() -> list[str]:
     sst = 25 + 2 * np.sin(2 * np.pi * m / 12) + np.cumsum(rng.normal(0, 0.05, 800))
     est = noisevar.estimate(sst + rng.normal(0, 0.1, 800))
     d, r_sst = est.diagnostics, est.variance
+    from noisevar.estimators.auto.core import auto_estimate
+
+    uh4 = _seis_uh4()[0]["ehz"]
+    holes = np.ones(uh4.size, dtype=bool)
+    holes[np.arange(500, uh4.size, 997)] = False  # the ingestion table's NaN rows
+    cuts = {"whole": uh4, "last8": uh4[:-8], "first11": uh4[11:], "first1": uh4[1:]}
+    seis = {k: auto_estimate(v, span=5).variance for k, v in (cuts | {"nan": uh4[holes]}).items()}
     return [
         "## Failure classes, seeded",
         "",
@@ -294,30 +301,34 @@ def synthetic() -> list[str]:
         "the first run) (`tests/test_audit2_ingest.py`).",
         "- **the quiet level of a one-level record on another residual than R** (ECG x0.27, "
         "nino3 SST x0.011, anomaly x0.13: R over the quiet level of 100 % of the record; "
-        "issue 26 item 5, quiet26b): a monthly seasonal series (period 12 samples) + slow walk "
-        "+ white noise std 0.1 (seed 0): on main quiet level 2.3 (the level profile's, on the "
+        "issue 26 item 5): a monthly seasonal series (period 12 samples) + slow walk "
+        "+ white noise std 0.1 (seed 0): the quiet level read 2.3 (the level profile's, on the "
         "diagnostics' fixed span) against R 0.01; now the quiet level is measured with R's own "
         f"method: {d.quiet_variance:.3g} ({d.quiet.source}) against R {r_sst:.3g}, level_varies "
-        f"{d.flags['level_varies']} (`tests/estimators/test_quiet_level.py`). On PX4 airspeed "
-        "ias/tas the quiet stretches (83 %) now read about 1/30 of R, which the start-up "
-        "glitch at sample 0 inflates (below): the one-level check flags it there.",
+        f"{d.flags['level_varies']} (`tests/estimators/test_quiet_level.py`).",
+        "- **one glitch at the record's first sample counted a fraction of the same glitch "
+        "inside** (PX4 airspeed ias/tas: a 0.22 start-up glitch at sample 0; "
+        "`estimators/auto/_edges.py`, `tests/estimators/test_edge_glitches.py`): "
+        "a slow walk + white noise std 4e-4 (variance 1.6e-7) + one 0.22 glitch (seed 0): R = "
+        + ", ".join(f"{v:.3g} at sample {k}" for k, v in glitch.items())
+        + f" (x{glitch[0] / glitch[300]:.2f} at the edge; it read 3.39e-05, 0.000114, "
+        "0.000147, 0.000146). The glitch is noise, in R, wherever it is; so dropping the "
+        "record's first sample now takes a whole glitch out of R (PX4 airspeed, seis_karc's "
+        "start-up transient of 27,000 counts at both ends): the 'drop 1-3' checks there fail "
+        "by the glitch's own share, as they should.",
         "",
         "Left (not fixed; numbers from this run):",
         "",
-        "- **one glitch at the record's first sample counts a fraction of the same glitch "
-        "inside** (PX4 airspeed ias/tas: a 0.22 start-up glitch at sample 0; dropping 1 "
-        "sample moves R x0.05, outside its ci95): "
-        "a slow walk + white noise std 4e-4 (variance 1.6e-7) + one 0.22 glitch (seed 0): R = "
-        + ", ".join(f"{v:.3g} at sample {k}" for k, v in glitch.items())
-        + f" (x{glitch[0] / glitch[300]:.2f} at the edge). The glitch is kept as noise "
-        "('outlying samples: noise, so in the variance') "
-        "inside, but the edge fit absorbs most of it at sample 0. Its home is the auto "
-        "pipeline's edge residuals (`estimators/auto/`, speed26c's area): not touched.",
         "- **NaN rows on an event record** (ingestion table: the 100 Hz seismometer with 23 "
-        "NaN rows, `--drop-nonfinite`): the record is split at each NaN and pooled; R x0.35 "
-        "the clean record's, outside its ci95 (tail index 1.5: its interval is unreliable, "
-        "and the event's samples flip between 'level jump' and 'outlier' per segment). Not "
-        "reproduced on seeded bursts (3 seeds: x0.99-1.01).",
+        "NaN rows, `--drop-nonfinite`): R x0.35 the clean record's, outside its ci95. Found "
+        "by glitch26: not the pooling. The answer is `auto` with the coloured span 5, and "
+        "on this record R with span 5 moves with the block grid's phase alone: "
+        f"{seis['whole']:.0f} for the record, {seis['last8']:.0f} less its last 8 samples, "
+        f"{seis['first11']:.0f} less its first 11, {seis['first1']:.0f} less its first 1; "
+        f"{seis['nan']:.0f} with the 23 rows dropped and the record kept whole (no split). "
+        "The samples at the event's peak flip between outlier (in R) and jump (left out) "
+        "with the end-anchored block grid (`_levels.Grids`): issue 26 item 4 (invariance), "
+        "on an event 1,000x the noise.",
         "",
     ]
 

@@ -234,7 +234,7 @@ class InMemory:
             jumps = own if own.any() else None
         self.jump_runs = [] if jumps is None else runs_of(jumps)
         self.jumps = jumps
-        return diagnose(self.z, self.seg, jumps)
+        return diagnose(self.z, self.seg, jumps, result.outliers)
 
     def still_ranges(self, diag: NoiseDiagnostics) -> list[tuple[int, int]]:
         """The still stretches of ``diag`` that the reversed record's block grid finds still too.

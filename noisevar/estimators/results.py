@@ -362,6 +362,10 @@ class VarianceEstimate:
     kurtosis : float or None
         The noise kurtosis the method read off its own residual, which its interval is
         widened for (docs/algorithms.md §E1); None: the diagnostics' is used.
+    outliers : ndarray of int or None
+        The outlying samples the method found, one per spike (record indices): those in
+        R (not in the core) and those left out with a jump's neighbourhood; None for
+        methods that do not look for them, or an estimate pooled over segments.
     """
 
     method: str
@@ -380,6 +384,7 @@ class VarianceEstimate:
     jumps: NDArray | None = field(default=None, repr=False)
     still: VarianceEstimate | None = field(default=None, repr=False)
     kurtosis: float | None = field(default=None, repr=False)
+    outliers: NDArray | None = field(default=None, repr=False)
 
     @property
     def std(self) -> float:

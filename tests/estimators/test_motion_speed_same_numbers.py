@@ -180,7 +180,7 @@ def test_glitches_bridged_over_their_ends_alone_are_bridged_as_over_every_sample
         if glitch.any() and not glitch.all():  # the line over every sample that is no glitch
             idx = np.arange(n)
             want[glitch] = np.interp(idx[glitch], idx[~glitch], z[~glitch])
-        got = _bridged(z, outliers)
+        got = _bridged(z, outliers, (False, False))  # inside the record (edges: _edges)
         assert got.dtype == want.dtype and np.array_equal(got, want)
 
 

@@ -29,8 +29,10 @@ def _burst(seed: int, n: int = 3600) -> np.ndarray:
 def test_r_to_use_stays_when_leading_samples_are_dropped() -> None:
     z = _burst(0)
     ests = [noisevar.estimate(z[k:]) for k in range(4)]
-    # the knife-edge reproduced: the regimes split on some phases and not on others
-    assert len({e.diagnostics.level_varies for e in ests}) == 2
+    # the knife-edge of main before glitch26: the regimes split on some phases and not on
+    # others; since a lone glitch inside a run is bridged for the step detector (_edges),
+    # every phase splits them. Either way the R to use is the sensor's own noise:
+    assert any(e.diagnostics.level_varies for e in ests)
     use = np.array([variance_for(e, "still") for e in ests])
     assert np.all(use < 1.2)  # the sensor's own noise (variance 1), never R (2.4)
     assert use.max() / use.min() < 1.05
@@ -54,6 +56,8 @@ def test_answer_and_fits_say_the_level_varies() -> None:
 
     z = _burst(0)
     e = noisevar.estimate(z)
-    assert not e.diagnostics.level_varies and e.still is not None
+    # (on main before glitch26 the block medians saw one regime here; now its spikes are
+    # glitches, not jumps, and they split it: the pages must say it varies either way)
+    assert e.still is not None
     assert record_answer(e).level_varies
     assert regime_warning(z)

@@ -15,6 +15,7 @@ from scipy.ndimage import maximum_filter1d
 
 from noisevar._distributions import norm_cdf, norm_pdf
 from noisevar.errors import NoisevarError
+from noisevar.estimators.auto._edges import bridge_edges, detection_squares, lone_glitches
 from noisevar.estimators.auto._levels import (
     Above,
     Grids,
@@ -231,6 +232,7 @@ class _Blocks:
     recover_total: tuple[NDArray, NDArray, NDArray] | None  # as recover, near the jumps
     jumps: NDArray  # samples left out around jumps (widened; all False when none)
     found: NDArray  # indices of the samples the jump detector flagged (before its limit)
+    near_jumps: NDArray  # outlying samples in a jump's neighbourhood (one per spike; left out)
 
 
 def _flag(
@@ -241,30 +243,51 @@ def _flag(
     half: int,
     step_limit: float | None,
     after: int = 0,
+    start: bool = True,
+    detect: tuple[int, int] | None = None,
 ) -> tuple:
     """Outliers, jumps (None when none) and what the jump detector flagged, from the shortest span.
 
     ``step_limit``: at most this many jump samples are believed (default: a fifth of ``z``);
-    ``after``: samples of the record after ``z`` (a chunk's window; see :func:`_outlier_mask`).
+    ``after``: samples of the record after ``z`` (a chunk's window; see :func:`_outlier_mask`);
+    ``start``: ``z`` starts where the record does; ``detect``: the span and order of
+    ``sq0`` (a longer run of outlying samples may then be one glitch: _edges.lone_glitches).
     """
     if not np.isfinite(trim):
         return None, None, None
     limit = STEP_MAX_FRACTION * z.size if step_limit is None else step_limit
+    ends = (start, after == 0)
     return _outlier_mask(
-        sq0, trim, block, half, lambda v, sc, out: _steps(z, out, v, sc), limit, after
-    )
+        sq0, trim, block, half, lambda v, sc, out: _steps(z, out, v, sc, ends, detect), limit,
+        after,
+    )  # fmt: skip
 
 
 def _steps(
-    z: NDArray, outliers: NDArray, above: Callable[[NDArray], NDArray], scale: float
+    z: NDArray,
+    outliers: NDArray,
+    above: Callable[[NDArray], NDArray],
+    scale: float,
+    ends: tuple[bool, bool] = (True, True),
+    detect: tuple[int, int] | None = None,
 ) -> tuple[NDArray, NDArray]:
-    """The step detector's flags on ``z`` with its glitches bridged, and its lone steps."""
-    bridged = _bridged(z, outliers)
+    """The step detector's flags on ``z`` with its glitches bridged, and its lone steps.
+
+    ``ends``: whether ``z`` starts (ends) where the record does (a glitch there, _edges);
+    ``detect``: see :func:`_flag`.
+    """
+    lone = None if detect is None else (above, detect)
+    bridged = _bridged(z, outliers, ends, lone)
     found = step_mask(bridged, above, scale)
     return found, lone_steps(bridged, found, above, scale)
 
 
-def _bridged(z: NDArray, outliers: NDArray) -> NDArray:
+def _bridged(
+    z: NDArray,
+    outliers: NDArray,
+    ends: tuple[bool, bool] = (True, True),
+    lone: tuple[Above, tuple[int, int]] | None = None,
+) -> NDArray:
     """``z`` with its isolated outlying samples replaced by the line between their neighbours.
 
     A glitch is one or two samples: bridged, the step detector sees nothing there (on a
@@ -279,19 +302,30 @@ def _bridged(z: NDArray, outliers: NDArray) -> NDArray:
     cut = np.r_[False, np.diff(o) > 1]
     run = np.cumsum(cut)  # the run of each outlying sample
     a, b = o[np.r_[True, cut[1:]]], o[np.r_[cut[1:], True]] + 1
-    short = (b - a) <= GLITCH_MAX
-    if not short.any():
-        return z
+    # a run at the record's edge: one glitch, spread by the one-sided rows over more
+    # samples than inside; the fit without it finds it (_edges.bridge_edges)
+    edge = np.zeros(a.size, dtype=bool)
+    edge[0] |= bool(ends[0] and a[0] == 0)
+    edge[-1] |= bool(ends[1] and b[-1] == z.size)
+    short = ((b - a) <= GLITCH_MAX) & ~edge
     glitch = o[short[run]]
     if glitch.size == z.size:
         return z
+    out = z.copy()
+    if edge.any():
+        out = bridge_edges(out, list(zip(a[edge], b[edge], strict=True)))
+    if lone is not None:  # a longer run inside: one glitch when its sample explains it
+        runs = list(zip(a[~short & ~edge], b[~short & ~edge], strict=True))
+        for j, value in lone_glitches(z, runs, lone[0].at, lone[1]):
+            out[j] = value
+    if not glitch.size:
+        return out
     # each glitch lies between the samples just outside its run, which are no glitch: the
     # line through those two (np.interp over them alone picks the same pair, so the same
     # numbers as over every sample that is no glitch)
-    ends = np.unique(np.r_[a[short] - 1, b[short]])
-    ends = ends[(ends >= 0) & (ends < z.size)]
-    out = z.copy()
-    out[glitch] = np.interp(glitch, ends, z[ends])
+    sides = np.unique(np.r_[a[short] - 1, b[short]])
+    sides = sides[(sides >= 0) & (sides < z.size)]
+    out[glitch] = np.interp(glitch, sides, out[sides])
     return out
 
 
@@ -323,11 +357,14 @@ def _trimmed_blocks(
     trim: float,
     step_limit: float | None = None,
     after: int = 0,
+    start: bool = True,
+    order: int | None = None,
 ) -> _Blocks:
     """Flag jumps and outliers, zero their neighbourhoods in ``sq`` and sum the blocks.
 
     Block sums are taken twice: with only the jumps left out (the total variance:
-    outliers are noise) and with outliers left out too (the core, §F5.4).
+    outliers are noise) and with outliers left out too (the core, §F5.4). ``start``:
+    ``z`` starts where the record does (see :func:`_flag`).
     """
     m = z.size
     block = auto_block(m)
@@ -335,7 +372,9 @@ def _trimmed_blocks(
     # flagged samples are widened by half the longest span up to AUTO_MASK_SPAN; a
     # longer span is used only in blocks that its wider neighbourhood leaves alone
     half = max(s for s in spans if s <= max(AUTO_MASK_SPAN, spans[0])) // 2
-    outliers, jumps, found = _flag(z, sq[0], trim, block, half, step_limit, after)
+    det = detection_squares(z, sq[0], spans[0], (start, after == 0))  # a glitch at an edge
+    detect = None if order is None else (spans[0], order)
+    outliers, jumps, found = _flag(z, det, trim, block, half, step_limit, after, start, detect)
     flagged = jumps if outliers is None else outliers if jumps is None else outliers | jumps
     # before any zeroing: the values near jumps (for the total) and near every flag
     sq0_copy = sq[0] if outliers is None else sq[0].copy()
@@ -347,7 +386,7 @@ def _trimmed_blocks(
     clean_total = _clean_for(jumps, spans, half, block, nb)
     # without outliers the flagged samples are the jumps': the same sums, not taken again
     kept_count, block_sum, fourth, clean_for = total_count, total_sum, total_fourth, clean_total
-    out_at = np.zeros(0, dtype=int)
+    out_at = near = np.zeros(0, dtype=int)
     if outliers is not None:
         kept_count = block_counts(block, nb, m) - _zero(sq, flagged, half, block, nb)
         block_sum = np.stack([block_sums(q, block, nb) for q in sq])
@@ -357,25 +396,30 @@ def _trimmed_blocks(
         alone = outliers if jumps is None else outliers & ~dilate(jumps, half)
         # one outlying sample spreads over its neighbours' residuals: count the peaks
         out_at = _local_peaks(sq0_copy, np.flatnonzero(alone), spans[0])
+        if jumps is not None:  # for the diagnostics (estimators.glitches)
+            near = _local_peaks(sq0_copy, np.flatnonzero(outliers & ~alone), spans[0])
     return _Blocks(
         block, nb, kept_count, block_sum, fourth, total_fourth, clean_for,
         recover, total_count, total_sum, out_at, clean_total,
         recover_total, np.zeros(m, dtype=bool) if jumps is None else dilate(jumps, half),
-        np.zeros(0, dtype=int) if found is None else np.flatnonzero(found),
+        np.zeros(0, dtype=int) if found is None else np.flatnonzero(found), near,
     )  # fmt: skip
 
 
 def _local_peaks(x: NDArray, idx: NDArray, size: int) -> NDArray:
-    """The ``idx`` where ``x`` is the largest of the ``size`` samples centred there.
+    """The ``idx`` where ``x`` is the largest of the ``size`` samples centred there (to 1e-9).
 
     ``maximum_filter1d(x, size)[idx] == x[idx]``, reading only the windows around ``idx``
     (the filter's reflected edges hold no value outside the clipped window).
     """
     if idx.size * size > x.size:  # many: one pass of the filter is cheaper
-        return idx[x[idx] == maximum_filter1d(x, size)[idx]]
-    reach = np.arange(-(size // 2), size // 2 + 1)
-    window = x[np.clip(idx[:, None] + reach, 0, x.size - 1)]
-    return idx[x[idx] == window.max(axis=1, initial=-np.inf)]
+        top = maximum_filter1d(x, size)[idx]
+    else:
+        reach = np.arange(-(size // 2), size // 2 + 1)
+        top = x[np.clip(idx[:, None] + reach, 0, x.size - 1)].max(axis=1, initial=-np.inf)
+    # equal to rounding counts as the largest: at an edge a short span's rows read one
+    # glitch as the same square on several samples (span 5: three; _edges moves it to its own)
+    return idx[x[idx] >= top * (1.0 - 1e-9)]
 
 
 def _clean_for(

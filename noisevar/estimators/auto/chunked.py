@@ -332,7 +332,7 @@ class ChunkedAuto:
         return run
 
     def diagnose(self, result: VarianceEstimate) -> NoiseDiagnostics:
-        """The diagnostics summed by the first pass (``result`` is not needed)."""
+        """The diagnostics summed by the first pass (``result``: its glitches, see from_sums)."""
         if not self.diagnostics:
             raise NoisevarError("this part of a record is estimated without diagnostics")
         if self.sums is None:
@@ -340,7 +340,8 @@ class ChunkedAuto:
         head, e = self.read(0, min(self.n, POWER_LAW_MAX)), self.exponent
         seg = Segmentation(((0, self.n),), ())
         spawn = _spawn if self.workers > 1 else None  # the power law beside the profile
-        return from_sums(self.sums, seg, lambda: np.ldexp(head, e) if e else head, spawn)
+        calm = result.outliers  # the glitches, left out of the correlations
+        return from_sums(self.sums, seg, lambda: np.ldexp(head, e) if e else head, spawn, calm)
 
     def still_ranges(self, diag: NoiseDiagnostics) -> list[tuple[int, int]]:
         """As :meth:`~noisevar.estimators.pipeline.InMemory.still_ranges`: the reversed

@@ -9,7 +9,7 @@ trimmed mean corrected; §F5.5 gives the estimate and its degrees of freedom.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import lru_cache
 
 import numpy as np
@@ -18,6 +18,11 @@ from numpy.typing import NDArray
 from noisevar.diagnostics import NoiseDiagnostics
 from noisevar.diagnostics.tails import kurtosis_from_moments
 from noisevar.errors import NoisevarError
+from noisevar.estimators.auto._edges import (
+    detection_squares,
+    edge_glitches,
+    edge_residual_rows,
+)
 from noisevar.estimators.auto._trim import (
     AUTO_CORE_TRIM,
     AUTO_MASK_SPAN,
@@ -54,25 +59,6 @@ def _difference_variance_factor(span_a: int, span_b: int, order: int) -> float:
     return float(np.sum(raa**2) + np.sum(rbb**2) - 2.0 * np.sum(rab**2))
 
 
-@lru_cache(maxsize=64)
-def _edge_residual_rows(span: int, order: int) -> tuple[NDArray, NDArray]:
-    """Rows of ``I - P`` for the first and last ``span // 2`` samples of a ``span`` window.
-
-    ``P`` is the hat matrix of a polynomial fit of degree ``order`` over the
-    window; row ``h = span // 2`` is the interior sequence ``d``. The edge rows
-    let the estimator use every sample, not only those a centred span fits.
-    """
-    h = span // 2
-    i = np.arange(span, dtype=float) - h
-    v = np.vander(i / max(h, 1), order + 1)
-    q, _ = np.linalg.qr(v)
-    resid = np.eye(span) - q @ q.T
-    head, tail = resid[:h].copy(), resid[span - h :].copy()
-    head.setflags(write=False)
-    tail.setflags(write=False)
-    return head, tail
-
-
 def _residual_squares(z: NDArray, span: int, order: int, out: NDArray | None = None) -> NDArray:
     """Normalised squared residuals ``e_k² / (I - P)_kk`` of a local polynomial, every sample.
 
@@ -88,7 +74,7 @@ def _residual_squares(z: NDArray, span: int, order: int, out: NDArray | None = N
     out = np.empty(n) if out is None else out
     unit = d / np.sqrt(np.sum(d**2))
     centred_fir(z, unit, out[h : n - h], square=True)
-    head, tail = _edge_residual_rows(span, order)
+    head, tail = edge_residual_rows(span, order)
     out[:h] = (head @ z[:span]) ** 2 / np.diag(head[:, :h])
     out[n - h :] = (tail @ z[n - span :]) ** 2 / np.diag(tail[:, span - h :])
     return out
@@ -191,6 +177,7 @@ class AutoPart:
     jumps: NDArray  # bool over the window: samples left out around jumps
     found: int  # samples the jump detector flagged in the stretch (before its limit)
     tails: tuple[float, float, float] = (0.0, 0.0, 0.0)  # see _tail_sums
+    glitches: NDArray = field(default_factory=lambda: np.zeros(0, dtype=int))  # all outliers
 
 
 def _tail_sums(b: _Blocks, rows: slice) -> tuple[float, float, float]:
@@ -251,7 +238,7 @@ def auto_part(
     sq = np.empty((len(spans), m))
     for j, s in enumerate(spans):
         _residual_squares(z, s, order, out=sq[j])
-    b = _trimmed_blocks(z, sq, spans, trim, step_limit, after)
+    b = _trimmed_blocks(z, sq, spans, trim, step_limit, after, offset == 0, order)
     rows = slice(lo // b.block, b.nb if hi == m else hi // b.block)
     choice = _choose_spans(b, spans, order)
     sums = _chosen_sums(b, choice)
@@ -262,8 +249,16 @@ def auto_part(
         choice = _choose_spans(b, spans, order, b.clean_total)
         sums = _chosen_sums(b, choice, total=True)
     total_sum, total_count = sums
+    # a glitch at the record's edge: at its sample, and counted as inside (_edges)
+    ends = (offset == 0 and rows.start == 0, after == 0 and rows.stop == b.nb)
+    edge = (spans[choice[0]], spans[choice[-1]])
+    peaks, first, last = edge_glitches(z, b.outliers, edge, spans[0], order, ends)
+    if first or last:
+        total_sum = total_sum.copy()
+        total_sum[0] += first
+        total_sum[-1] += last
     choice, total_count = choice[rows], total_count[rows]
-    out = b.outliers[(b.outliers >= lo) & (b.outliers < hi)]
+    out, near = peaks[(peaks >= lo) & (peaks < hi)], b.near_jumps
     return AutoPart(
         n=hi - lo,
         core_sum=float(chosen_sum[rows].sum()),
@@ -278,6 +273,8 @@ def auto_part(
         jumps=b.jumps,
         found=int(np.count_nonzero((b.found >= lo) & (b.found < hi))),
         tails=_tail_sums(b, rows),
+        # every outlying sample, also in a jump's neighbourhood: the diagnostics' glitches
+        glitches=np.union1d(out, near[(near >= lo) & (near < hi)]) + offset,
     )
 
 
@@ -331,6 +328,7 @@ def auto_reduce(
         "auto", var, chi2_interval(var, dof), n_total, n, dof, dict(params), notes,
         core_variance=core, outlier_fraction=n_out / n, jumps=jumps,
         kurtosis=_own_kurtosis(parts, spans[0], int(params["order"])),
+        outliers=np.concatenate([p.glitches for p in parts]),
     )  # fmt: skip
 
 
@@ -447,5 +445,6 @@ def jump_mask(z: NDArray, order: int = AUTO_ORDER, trim: float = AUTO_TRIM) -> N
     spans = auto_spans(None, order, trim, z.size)
     block = auto_block(z.size)
     half = max(s for s in spans if s <= max(AUTO_MASK_SPAN, spans[0])) // 2
-    _, jumps, _ = _flag(z, _residual_squares(z, spans[0], order), trim, block, half, None)
+    sq0 = detection_squares(z, _residual_squares(z, spans[0], order), spans[0], (True, True))
+    _, jumps, _ = _flag(z, sq0, trim, block, half, None, detect=(spans[0], order))
     return None if jumps is None else dilate(jumps, half)
