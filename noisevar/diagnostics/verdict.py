@@ -89,7 +89,8 @@ def make_verdict(
     if diag.heavy_tailed:
         bulk = f"; a robust filter should use the core variance {_g(core)}" if core else ""
         return (
-            f"white heavy-tailed noise (kurtosis {diag.kurtosis:.1f}, {outliers:.1%} outliers): "
+            f"white heavy-tailed noise (kurtosis {diag.kurtosis:.1f}, {_share(outliers)} "
+            "outliers): "
             f"{r} includes the tails, as a plain Kalman filter needs{bulk}"
         )
     if diag.lsb is not None and diag.lsb**2 / 12.0 > 0.01 * variance:
@@ -253,6 +254,11 @@ def still_colour(diag: NoiseDiagnostics) -> str:
         "low-passed by the sensor, or slow motion left in the stretches), so this is its "
         "white part and depends on the bandwidth: model the coloured part (see the noise model)"
     )
+
+
+def _share(x: float) -> str:
+    """A share as a percentage that does not round a few samples to 0.0%."""
+    return f"{100 * x:.2g}%" if 0 < x < 1e-3 else f"{x:.1%}"
 
 
 def make_notes(diag: NoiseDiagnostics) -> tuple[str, ...]:

@@ -191,7 +191,11 @@ def whiteness_test(
 
     n = int(e.size if keep is None else np.count_nonzero(keep))
     if n == 0:  # every residual left out: nothing to correlate (no numpy warning)
-        raise NoisevarError("the residual is degenerate (no variation to correlate)")
+        raise NoisevarError(
+            "the record is too short for the whiteness test: every residual of its "
+            f"{len(d)}-sample window touches an edge or a left-out sample, so R comes "
+            "without a verdict (a record of a few hundred samples has both)"
+        )
     rho, w = _bartlett(tuple(np.asarray(d, dtype=float)), lags)
     w = w * inflation
     r = sample_acf(e, lags, keep)
