@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from noisevar.diagnostics.glitches import Glitch, bridge_blocks, bridged, deviations, lone
 from noisevar.diagnostics.plan import (
     DIAG_ORDER,
     DIAG_SPAN,
@@ -35,6 +36,7 @@ from noisevar.numeric.fir import residual_sequence
 
 __all__ = [
     "Gap",
+    "Glitch",
     "LevelProfile",
     "NoiseDiagnostics",
     "Segmentation",
@@ -77,7 +79,7 @@ def diagnose(
         Samples to leave out (around level jumps: signal, not noise).
     glitches : ndarray of int, optional
         Outlying samples (the estimator's, one per spike): left out of the correlation
-        findings only (see :func:`from_sums`).
+        findings, and the lone ones bridged in the level profile (see :func:`from_sums`).
 
     Returns
     -------
@@ -91,7 +93,8 @@ def diagnose(
     for i, (a, b) in enumerate(seg.segments):
         sums.add(diag_part(z[a:b], a, (a, b), i, plan, None if exclude is None else exclude[a:b]))
     a, b = max(seg.segments, key=lambda s: s[1] - s[0])
-    return from_sums(sums, seg, lambda: z[a : min(b, a + POWER_LAW_MAX)], glitches=glitches)
+    head = lambda: z[a : min(b, a + POWER_LAW_MAX)]  # noqa: E731
+    return from_sums(sums, seg, head, glitches=glitches, read=lambda p, q: z[p:q])
 
 
 def from_sums(
@@ -100,6 +103,7 @@ def from_sums(
     head: Callable[[], NDArray],
     spawn: Callable[[Callable[[], Any]], Callable[[], Any]] | None = None,
     glitches: NDArray | None = None,
+    read: Callable[[int, int], NDArray] | None = None,
 ) -> NoiseDiagnostics:
     """The diagnostics from their sums; ``head()`` gives the start of the longest segment.
 
@@ -109,8 +113,12 @@ def from_sums(
     not kept) and the power-law identification (on ``head()`` with each bridged). One
     glitch dominates a sample autocorrelation: inside the record its residual's shape made
     coloured noise read white, and its two increments a random walk read as measurable
-    noise; at the first sample its one increment did neither (issue 26). The tails and
-    the level profile keep them: they are noise, and in R.
+    noise; at the first sample its one increment did neither (issue 26). The tails keep
+    them: they are noise, and in R. The level profile reads the blocks within reach of a
+    lone one (:func:`~noisevar.diagnostics.glitches.lone`) with it bridged, when
+    ``read(a, b)`` gives samples ``a .. b`` (the sums are then changed in place, and the
+    reversed grid's in ``sums.back`` too): one sample is never a regime of its own
+    (:mod:`noisevar.diagnostics.glitches`). They are listed in ``.glitches``.
 
     ``spawn(f)`` starts ``f`` in another thread and returns what waits for its result:
     the power-law identification (numpy, which releases the interpreter) then runs
@@ -130,8 +138,12 @@ def from_sums(
     plan, d = sums.plan, residual_sequence(DIAG_SPAN, DIAG_ORDER)
     e_w, keep_w = sums.white.joined()
     dz, used = sums.incr.joined()
-    if glitches is not None and 0 < glitches.size <= GLITCHES_APART * plan.n:
+    apart = glitches is not None and 0 < glitches.size <= GLITCHES_APART * plan.n
+    lone_ones = lone(glitches) if apart and read is not None else np.zeros(0, dtype=int)
+    if apart:
         keep_w, used, head = _without_glitches(sums, keep_w, used, head, seg, glitches)
+    if lone_ones.size and read is not None:
+        _bridge(sums, lone_ones, read)
     white = whiteness_test(e_w, d, keep=keep_w, inflation=_hetero(sums.wide))
 
     def kinds() -> tuple[tuple[int, int], ...]:
@@ -158,8 +170,34 @@ def from_sums(
         level_profile=profile,
         power_law=types(),
         still_whiteness=still_white,
+        glitches=_sized(lone_ones, read, plan.n, profile),
     )
     return with_verdict(diag, float(total.sum() / kept))
+
+
+def _bridge(sums: DiagSums, glitches: NDArray, read: Callable[[int, int], NDArray]) -> None:
+    """:func:`~noisevar.diagnostics.glitches.bridge_blocks` on the sums and the reversed
+    grid's (``sums.back``, read backwards)."""
+    bridge_blocks(sums, glitches, read)
+    if sums.back is not None:
+        n = sums.plan.n
+        back = sums.back
+        bridge_blocks(back, np.sort(n - 1 - glitches), lambda a, b: read(n - b, n - a)[::-1])
+
+
+def _sized(
+    glitches: NDArray, read: Callable[[int, int], NDArray] | None, n: int, prof: LevelProfile
+) -> tuple[Glitch, ...]:
+    """The lone glitches with their size over the quiet level's standard deviation."""
+    if read is None or glitches.size == 0:
+        return ()
+    level = prof.quiet_variance if prof.quiet.any() else prof.pooled_level
+    if not (np.isfinite(level) and level > 0):
+        return ()
+    dev = deviations(glitches, read, n) / np.sqrt(level)
+    return tuple(
+        Glitch(int(g), float(s)) for g, s in zip(glitches, dev, strict=True) if np.isfinite(s)
+    )
 
 
 def _now(f: Callable[[], Any]) -> Callable[[], Any]:
@@ -169,18 +207,24 @@ def _now(f: Callable[[], Any]) -> Callable[[], Any]:
 
 
 def profile_of(
-    z: NDArray, segmentation: Segmentation, exclude: NDArray | None = None
+    z: NDArray,
+    segmentation: Segmentation,
+    exclude: NDArray | None = None,
+    glitches: NDArray | None = None,
 ) -> LevelProfile:
     """The level profile of :func:`diagnose` alone (the same numbers, none of the rest).
 
     For the reversed record's block grid (the still stretches on both grids,
     :func:`on_both_grids`): no whiteness test, increments, quantisation or power law.
+    ``glitches``: lone glitches (``NoiseDiagnostics.glitches``' indices), bridged.
     """
     plan = make_plan(z.size, segmentation.segments, np.zeros(0))
     sums = DiagSums(plan)
     for i, (a, b) in enumerate(segmentation.segments):
         x = None if exclude is None else exclude[a:b]
         sums.add(diag_part(z[a:b], a, (a, b), i, plan, x, profile_only=True))
+    if glitches is not None and glitches.size:
+        bridge_blocks(sums, np.sort(glitches), lambda p, q: z[p:q])
     return profile_from_sums(sums)
 
 
@@ -239,13 +283,8 @@ def _without_glitches(
     a0 = max(seg.segments, key=lambda s: s[1] - s[0])[0]
 
     def calm() -> NDArray:
-        x = np.array(head(), dtype=float)
-        at = g[(g >= a0) & (g < a0 + x.size)] - a0
-        if at.size and at.size < x.size:
-            ok = np.ones(x.size, dtype=bool)
-            ok[at] = False
-            x[at] = np.interp(at, np.flatnonzero(ok), x[ok])
-        return x
+        x = np.asarray(head())
+        return bridged(x, g[(g >= a0) & (g < a0 + x.size)] - a0)
 
     return keep_w & ~near, used & ~touch, calm
 

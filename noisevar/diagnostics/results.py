@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from noisevar.diagnostics.glitches import Glitch
 from noisevar.diagnostics.profile import LevelProfile
 from noisevar.diagnostics.regimes import QuietLevel, StillLevel
 from noisevar.diagnostics.segments import Gap
@@ -57,6 +58,9 @@ class NoiseDiagnostics:
         The near-still regimes' levels over the R to use, those whose interval lies above
         it (another posture, slow sway: docs/algorithms.md §E1 *Several still levels*);
         set by the estimate, which measures them with its own method.
+    glitches : tuple of Glitch
+        The lone outlying samples (``noisevar.diagnostics.glitches``): noise in R, read
+        bridged by the level profile, named by the verdict.
     quiet : QuietLevel or None
         The quiet level on the same residual as R, or why there is none
         (docs/algorithms.md §E1 *The quiet level*); set by the estimate (None: diagnostics
@@ -79,6 +83,7 @@ class NoiseDiagnostics:
     power_law: tuple[tuple[int, int], ...] = ()
     still_whiteness: WhitenessTest | None = None
     other_still: tuple[StillLevel, ...] = ()
+    glitches: tuple[Glitch, ...] = ()
     quiet: QuietLevel | None = None
     verdict: str = ""
     notes: tuple[str, ...] = field(default_factory=tuple)
@@ -193,5 +198,6 @@ class NoiseDiagnostics:
             "level_profile": self.level_profile.to_dict(),
             "power_law": [list(p) for p in self.power_law],
             "other_still_levels": [x.to_dict() for x in self.other_still],
+            "glitches": [g.to_dict() for g in self.glitches],
             "notes": list(self.notes),
         }

@@ -171,6 +171,19 @@ def _inside(
     return out
 
 
+def _entry(piece: Piece) -> tuple[int, float, float, int, float, float]:
+    """A closed block's profile entry: count, Σ squares, robust level, median's squares,
+    Σ e²/L and Σ e⁴/L²."""
+    level = block_level(piece)
+    k2 = k4 = 0.0
+    if piece.count and level > 0:
+        # Σ e²/L = (peak² / L) Σ (e/peak)², and the same for the fourth powers
+        # (huge levels may overflow to inf here: the caller ignores the warning)
+        r = piece.peak**2 / level
+        k2, k4 = r * piece.s2, r * r * piece.s4
+    return (piece.count, piece.total, level, piece.n_values, k2, k4)
+
+
 class DiagSums:
     """Running sums of the diagnostics; blocks are reduced as soon as they are complete."""
 
@@ -219,19 +232,19 @@ class DiagSums:
                     self._close(which, b, open_.pop(b))
 
     def _close(self, which: int, b: int, piece: Piece) -> None:
-        level = block_level(piece)
-        k2 = k4 = 0.0
-        if piece.count and level > 0:
-            # Σ e²/L = (peak² / L) Σ (e/peak)², and the same for the fourth powers
-            # (huge levels may overflow to inf here: the caller ignores the warning)
-            r = piece.peak**2 / level
-            k2, k4 = r * piece.s2, r * r * piece.s4
+        entry = _entry(piece)
         if which == 0:
-            self.profile[b] = (piece.count, piece.total, level, piece.n_values, k2, k4)
+            self.profile[b] = entry
         if which == 1 or self.plan.wide == self.plan.profile:
-            self.wide[b] = (piece.count, level)
-            self.k2 += k2
-            self.k4 += k4
+            self.wide[b] = (piece.count, entry[2])
+            self.k2 += entry[4]
+            self.k4 += entry[5]
+
+    def reblock(self, b: int, piece: Piece) -> None:
+        """Profile block ``b`` anew from its whole ``piece`` (the shape grid's sums, the
+        kurtosis' and the whiteness windows' stay): :mod:`noisevar.diagnostics.glitches`."""
+        with np.errstate(over="ignore"):
+            self.profile[b] = _entry(piece)
 
     def lsb(self) -> float | None:
         """The quantisation step, when every stretch sat on the probe's grid."""

@@ -86,6 +86,8 @@ def make_verdict(
             f"the noise level changes along the record: {r} is an average; its quiet "
             f"stretches ({prof.quiet_share:.0%}) give {_g(quiet)}{said}"
         )
+    if diag.glitches:
+        return glitch_verdict(diag, r, core)
     if diag.heavy_tailed:
         bulk = f"; a robust filter should use the core variance {_g(core)}" if core else ""
         return (
@@ -99,6 +101,37 @@ def make_verdict(
             f"lsb²/12 = {_g(diag.lsb**2 / 12.0)}, and is a good Kalman R"
         )
     return f"white Gaussian noise: {r} is a good Kalman R"
+
+
+def glitch_verdict(diag: NoiseDiagnostics, r: str, core: float | None) -> str:
+    """The verdict of white noise of one level with lone glitches (``diag.glitches``).
+
+    They are noise, so in R (a plain Kalman filter sees them); the core variance leaves
+    them out (docs/algorithms.md §E1 *Lone glitches*). One sample is not a level change.
+    """
+    g = diag.glitches
+    it = "it" if len(g) == 1 else "them"
+    bulk = f"; without {it} the core variance is {_g(core)}, for a robust filter" if core else ""
+    return (
+        f"white noise with {glitch_words(diag)}: {r} counts {it} as noise, as a plain "
+        f"Kalman filter needs{bulk}"
+    )
+
+
+def glitch_words(diag: NoiseDiagnostics) -> str:
+    """ "1 outlying sample, at sample 1500, 80σ" (up to three placed, the largest's size)."""
+    g = diag.glitches
+    top = max(x.sigmas for x in g)
+    size = f"{top:.0f}σ" if top >= 10 else f"{top:.1f}σ"
+    if len(g) == 1:
+        return f"1 outlying sample, at sample {g[0].index}, {size}"
+    at = [str(x.index) for x in g]
+    where = (
+        f"at samples {', '.join(at[:-1])} and {at[-1]}"
+        if len(g) <= 3
+        else f"the first at sample {at[0]}"
+    )
+    return f"{len(g)} outlying samples, {where}, up to {size}"
 
 
 def _not_white(

@@ -246,7 +246,8 @@ class InMemory:
         n = self.z.size
         seg = Segmentation(tuple((n - b, n - a) for a, b in reversed(self.seg.segments)), ())
         jumps = getattr(self, "jumps", None)
-        back = profile_of(self.z[::-1], seg, None if jumps is None else jumps[::-1])
+        lone = np.array([n - 1 - g.index for g in diag.glitches], dtype=int)
+        back = profile_of(self.z[::-1], seg, None if jumps is None else jumps[::-1], lone)
         return on_both_grids(diag.level_profile.still_stretches, back.still_stretches, n)
 
     def estimate_in(self, params: dict, ranges: list[tuple[int, int]]) -> VarianceEstimate:

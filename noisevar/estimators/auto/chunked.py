@@ -341,7 +341,8 @@ class ChunkedAuto:
         seg = Segmentation(((0, self.n),), ())
         spawn = _spawn if self.workers > 1 else None  # the power law beside the profile
         calm = result.outliers  # the glitches, left out of the correlations
-        return from_sums(self.sums, seg, lambda: np.ldexp(head, e) if e else head, spawn, calm)
+        scaled = lambda: np.ldexp(head, e) if e else head  # noqa: E731
+        return from_sums(self.sums, seg, scaled, spawn, calm, read=self.reader())
 
     def still_ranges(self, diag: NoiseDiagnostics) -> list[tuple[int, int]]:
         """As :meth:`~noisevar.estimators.pipeline.InMemory.still_ranges`: the reversed
