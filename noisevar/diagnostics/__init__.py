@@ -171,8 +171,18 @@ def from_sums(
         power_law=types(),
         still_whiteness=still_white,
         glitches=_sized(lone_ones, read, plan.n, profile),
+        core_kurtosis=_bridged_kurtosis(sums, d) if lone_ones.size else kurt,
     )
     return with_verdict(diag, float(total.sum() / kept))
+
+
+def _bridged_kurtosis(sums: DiagSums, d: NDArray) -> float:
+    """The noise kurtosis on the profile's blocks, its lone glitches bridged."""
+    kept = [v for v in sums.profile.values() if v[0] >= PROFILE_MIN_KEPT]
+    n = float(sum(v[0] for v in kept))
+    with np.errstate(over="ignore", invalid="ignore"):
+        k2, k4 = sum(v[4] for v in kept) / n, sum(v[5] for v in kept) / n
+    return kurtosis_from_moments(k2, k4, d)
 
 
 def _bridge(sums: DiagSums, glitches: NDArray, read: Callable[[int, int], NDArray]) -> None:

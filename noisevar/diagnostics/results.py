@@ -61,6 +61,9 @@ class NoiseDiagnostics:
     glitches : tuple of Glitch
         The lone outlying samples (``noisevar.diagnostics.glitches``): noise in R, read
         bridged by the level profile, named by the verdict.
+    core_kurtosis : float or None
+        The noise kurtosis with the lone glitches bridged (the profile blocks'): heavy
+        tails beyond them are the noise's own, and the verdict says so, not the glitches.
     quiet : QuietLevel or None
         The quiet level on the same residual as R, or why there is none
         (docs/algorithms.md §E1 *The quiet level*); set by the estimate (None: diagnostics
@@ -84,6 +87,7 @@ class NoiseDiagnostics:
     still_whiteness: WhitenessTest | None = None
     other_still: tuple[StillLevel, ...] = ()
     glitches: tuple[Glitch, ...] = ()
+    core_kurtosis: float | None = None
     quiet: QuietLevel | None = None
     verdict: str = ""
     notes: tuple[str, ...] = field(default_factory=tuple)
@@ -103,6 +107,14 @@ class NoiseDiagnostics:
         from noisevar.diagnostics.tails import HEAVY_KURTOSIS
 
         return bool(self.kurtosis > HEAVY_KURTOSIS)
+
+    @property
+    def tails_beyond_glitches(self) -> bool:
+        """Heavy-tailed even with the lone glitches bridged: the tails are the noise's."""
+        from noisevar.diagnostics.tails import HEAVY_KURTOSIS
+
+        k = self.kurtosis if self.core_kurtosis is None else self.core_kurtosis
+        return bool(k > HEAVY_KURTOSIS)
 
     @property
     def fourth_moment_unreliable(self) -> bool:

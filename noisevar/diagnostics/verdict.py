@@ -86,7 +86,7 @@ def make_verdict(
             f"the noise level changes along the record: {r} is an average; its quiet "
             f"stretches ({prof.quiet_share:.0%}) give {_g(quiet)}{said}"
         )
-    if diag.glitches:
+    if diag.glitches and not diag.tails_beyond_glitches:
         return glitch_verdict(diag, r, core)
     if diag.heavy_tailed:
         bulk = f"; a robust filter should use the core variance {_g(core)}" if core else ""
