@@ -194,18 +194,36 @@ def _gnss(args: argparse.Namespace) -> dict[str, float]:
     return out
 
 
+def _with_sampling_note(fit: Any, t: np.ndarray | None) -> Any:
+    """``fit`` with a note when its column's times are not uniform: the Allan variance
+    takes the samples as uniform at the fit's rate."""
+    from noisevar.diagnostics.segments import GAP_RTOL
+
+    if t is None or t.size < 3:
+        return fit
+    steps = np.diff(t) / np.median(np.diff(t))
+    off = int(np.count_nonzero(np.abs(steps - 1.0) >= GAP_RTOL))
+    if not off:
+        return fit
+    said = (
+        f"{off} of {steps.size} steps of the times are not the median one (samples dropped, "
+        f"or gaps): the Allan variance takes the samples as uniform at {fit.rate:g} Hz, so "
+        "its taus are in samples at that rate, not in the record's seconds"
+    )
+    return replace(fit, notes=(*fit.notes, said))
+
+
 def _print_table(fits: dict) -> None:
     for name, fit in fits.items():
         print(f"{name}: {fit.allan.n_samples} samples at {fit.rate:g} Hz, {fit.ci:.1%} intervals")
-        for note in fit.notes:
-            if note.startswith("regimes="):
-                print(f"  note: {note}")
         for t in fit.terms:
             lo, hi = t.interval
             print(
                 f"  {t.symbol} {t.name:<17} {t.value:11.4g} [{lo:.3g}, {hi:.3g}] {t.unit:<12}"
                 f" per sample {t.discrete:.4g} {t.discrete_unit}"
             )
+        for note in fit.notes:  # what the figures assume and what the data could not tell
+            print(f"  note: {note}")
 
 
 #: ``--model``'s value for the IEEE-952 fit of :func:`noisevar.inertial_noise`.
@@ -283,7 +301,7 @@ def _cmd_imu(args: argparse.Namespace) -> int:
             stacked, rates[names[0]], unit=unit, estimates=given, **regimes_of(args)
         )
         fits.update(zip(names, fitted, strict=True))
-    fits = {c: fits[c] for c in data}
+    fits = {c: _with_sampling_note(fits[c], times[c]) for c in data}
     written = _kalibr(args, fits, data, scales) if args.kalibr else None
     exported = _exports(args, fits, data, scales, answered) if args.export else ([], None, None)
     files, model, report = exported
