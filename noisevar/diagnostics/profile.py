@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 from functools import partial
 
@@ -92,10 +93,20 @@ class LevelProfile:
         """
         if not self.quiet.any():
             return False
+        lo, hi = self.quiet_interval
+        return bool(lo <= self.pooled_level <= hi)
+
+    @property
+    def quiet_interval(self) -> tuple[float, float]:
+        """The 95 % interval of the quiet blocks' pooled mean square: χ² on their summed
+        dof, with the quiet set's own kurtosis (:attr:`quiet_dof`); NaN without a quiet
+        block."""
+        if not self.quiet.any():
+            return math.nan, math.nan
         dof = self.dof if self.quiet_dof is None else self.quiet_dof
         nu = float(np.sum(dof[self.quiet]))
-        quiet, every = _pooled(self.variance, self.dof, self.quiet), self.pooled_level
-        return bool(nu * quiet / chi2_ppf(0.975, nu) <= every <= nu * quiet / chi2_ppf(0.025, nu))
+        quiet = _pooled(self.variance, self.dof, self.quiet)
+        return nu * quiet / chi2_ppf(0.975, nu), nu * quiet / chi2_ppf(0.025, nu)
 
     @property
     def pooled_level(self) -> float:

@@ -382,7 +382,7 @@ def _after_diagnostics(
         return _coloured(spec, record, result, params) if extra else result
 
     def quiet(own: dict) -> tuple[VarianceEstimate | None, NoiseDiagnostics]:
-        still, level = _still(spec, record, own, diag, result.variance)  # the first R: at once
+        still, level = _still(spec, record, own, diag, result)  # the first R: at once
         if still is None:
             return None, replace(diag, quiet=level)
         still = conclude(spec, still, diag, None)  # its interval from the record's noise;
@@ -400,13 +400,15 @@ def _after_diagnostics(
 
 
 def _still(
-    spec: MethodSpec, record: Record, params: dict, diag: NoiseDiagnostics, variance: float
+    spec: MethodSpec, record: Record, params: dict, diag: NoiseDiagnostics, first: VarianceEstimate
 ) -> tuple[VarianceEstimate | None, QuietLevel | None]:
     """The method on the still regimes' quiet stretches: the still R when apart
     (``has_still_apart``), else the quiet level measured apart when R is not it
     (:func:`~noisevar.estimators.still_quiet.quiet_apart`; docs/algorithms.md §E1)."""
+    variance = first.variance
     if not has_still_apart(diag, variance):
-        return None, quiet_apart(record, params, diag, variance, partial(conclude, spec, diag=diag))
+        finish = partial(conclude, spec, diag=diag)
+        return None, quiet_apart(record, params, diag, variance, finish, first.core_variance)
     return on_still_stretches(record, params, diag), None
 
 

@@ -68,6 +68,7 @@ def quiet_apart(
     diag: NoiseDiagnostics,
     variance: float,
     conclude: Callable[[VarianceEstimate], VarianceEstimate],
+    core: float | None = None,
 ) -> QuietLevel | None:
     """The quiet level measured by a pass of R's method of its own, when it needs one.
 
@@ -83,6 +84,9 @@ def quiet_apart(
         The record's R.
     conclude : callable
         ``conclude(est)``: the estimate with its interval widened as R's is.
+    core : float, optional
+        The record's core variance (R without its outlying samples), compared with the
+        quiet blocks' level: R is the quiet level only when it is not above their interval.
 
     Returns
     -------
@@ -95,7 +99,8 @@ def quiet_apart(
         reason, when the quiet stretches are too short for the method.
     """
     prof = diag.level_profile
-    if not prof.quiet.any() or prof.one_quiet_level or has_still_apart(diag, variance):
+    level = variance if core is None else core
+    if not prof.quiet.any() or _r_is_quiet(prof, level) or has_still_apart(diag, variance):
         return None
     # one grid: a record of one level has no motion beside its quiet stretches for the
     # other grid to cut off, and the reversed profile would cost a pass of its own
@@ -147,7 +152,7 @@ def quiet_level(
         return QuietLevel(still.variance, *still.ci95, share, "still")
     if diag.quiet is not None:
         return diag.quiet
-    if prof.one_quiet_level:
+    if prof.one_quiet_level:  # and R agrees with it, or quiet_apart measured it apart
         return QuietLevel(result.variance, *result.ci95, share, "record")
     if not prof.quiet.any():
         reason = "no stretch of the record is quiet (its level varies throughout)"
@@ -156,6 +161,16 @@ def quiet_level(
     else:
         reason = _too_short(share)
     return QuietLevel(None, None, None, share, reason=reason)
+
+
+def _r_is_quiet(prof: Any, level: float) -> bool:
+    """R itself is the quiet level: the record is one quiet level (the blocks left out of
+    the quiet set change nothing its interval can tell) and R's core (``level``) is not
+    above that interval. Not when R holds what the profile's blocks do not see (the
+    samples around level jumps: a still IMU tapped at its start, R's core 93x its still
+    level): the quiet level is then measured apart. (A level below the interval is a
+    signal leaking into the profile's residual and not into R's: R is the quiet level.)"""
+    return bool(prof.one_quiet_level and level <= prof.quiet_interval[1])
 
 
 def _too_short(share: float) -> str:
