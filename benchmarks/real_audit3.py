@@ -461,7 +461,6 @@ def bad_input(recs: dict) -> list[dict]:
         ("estimate", PX4, "--topic", "airspeed", "--column", "nope"),
         ("allan", PX4, "--topic", "vehicle_gps_position", "--column", "lat", "--unit", "m/s/s/x"),
         ("fit", PX4, "--topic", "vehicle_gps_position", "--column", "alt"),
-        ("estimate", PX4, "--topic", "vehicle_angular_velocity", "--column", "xyz[0]"),
         ("estimate", PX4, "--topic", "vehicle_gps_position", "--column", "alt", "--unit-out", "s"),
     ]
     if csv is not None:
