@@ -291,7 +291,9 @@ def still_colour(diag: NoiseDiagnostics) -> str:
 
 def _share(x: float) -> str:
     """A share as a percentage that does not round a few samples to 0.0%."""
-    return f"{100 * x:.2g}%" if 0 < x < 1e-3 else f"{x:.1%}"
+    if x == 0:
+        return "no"
+    return f"{100 * x:.2g}%" if x < 1e-3 else f"{x:.1%}"
 
 
 def make_notes(diag: NoiseDiagnostics) -> tuple[str, ...]:
