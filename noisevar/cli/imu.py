@@ -197,12 +197,12 @@ def _gnss(args: argparse.Namespace) -> dict[str, float]:
 def _with_sampling_note(fit: Any, t: np.ndarray | None) -> Any:
     """``fit`` with a note when its column's times are not uniform: the Allan variance
     takes the samples as uniform at the fit's rate."""
-    from noisevar.diagnostics.segments import GAP_RTOL
+    from noisevar.diagnostics.segments import off_period
 
     if t is None or t.size < 3:
         return fit
-    steps = np.diff(t) / np.median(np.diff(t))
-    off = int(np.count_nonzero(np.abs(steps - 1.0) >= GAP_RTOL))
+    steps = off_period(t)
+    off = int(np.count_nonzero(steps))
     if not off:
         return fit
     said = (

@@ -101,7 +101,7 @@ def split_times(t: NDArray) -> Segmentation:
     dt = np.diff(t)
     period = float(np.median(dt))
     ratio = dt / period
-    cut = np.flatnonzero(np.abs(ratio - 1.0) >= GAP_RTOL)
+    cut = np.flatnonzero(off_period(t))
     share = _usable_share(cut, n)
     for limit in BRIDGE_STEPS:  # too fragmented to estimate: split at longer steps only
         if share >= 0.5:
@@ -124,6 +124,13 @@ def split_times(t: NDArray) -> Segmentation:
     inside = np.delete(ratio, cut)
     jitter = float(np.max(np.abs(inside - 1.0))) if inside.size else 0.0
     return Segmentation(segments, gaps, period, jitter)
+
+
+def off_period(t: NDArray) -> NDArray:
+    """Which steps of the times ``t`` (finite, increasing, 2 or more) are not the typical
+    one: outside ``1 +- GAP_RTOL`` times the median step (where a record is split first)."""
+    dt = np.diff(t)
+    return np.abs(dt / np.median(dt) - 1.0) >= GAP_RTOL
 
 
 def _usable_share(cut: NDArray, n: int) -> float:
