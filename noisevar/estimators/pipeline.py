@@ -42,6 +42,7 @@ from noisevar.diagnostics.regimes import QuietLevel, StillLevel
 from noisevar.errors import NoisevarError
 from noisevar.estimators._input import check_samples, check_times
 from noisevar.estimators._scale import check_answer, unscale
+from noisevar.estimators.pooling import pool_segments
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
 from noisevar.estimators.spec import MethodSpec
 from noisevar.estimators.still_levels import other_still_levels
@@ -123,30 +124,6 @@ def cut_out(ranges: list[tuple[int, int]], holes: list[tuple[int, int]]) -> list
     return [(a, b) for a, b in out if b - a >= STILL_MIN]
 
 
-def pool_segments(parts: list[VarianceEstimate], n_total: int, skipped: int) -> VarianceEstimate:
-    """Segments' estimates pooled with weights their samples (the record's mean level)."""
-    w = np.array([p.n_used for p in parts], dtype=float)
-    w /= w.sum()
-    v = np.array([p.variance for p in parts])
-    # var = Σ w_s v_s,  ν = var² / Σ w_s² v_s² / ν_s   (Satterthwaite)
-    var = float(w @ v)
-    dof = float(var**2 / np.sum(w**2 * v**2 / np.array([p.dof for p in parts])))
-    cores = [p.core_variance for p in parts]
-    core = None if None in cores else float(w @ np.array(cores))
-    outliers = float(np.sum([p.outlier_fraction * p.n_total for p in parts]) / n_total)
-    notes = list(parts[0].notes)
-    k = len(parts)
-    pooled = f"estimated in {k} uniform segments and pooled"
-    notes.append(pooled if k > 1 else "estimated on 1 uniform segment")
-    if skipped:
-        notes.append(f"{skipped} segment{'s' * (skipped > 1)} too short to estimate left out")
-    return VarianceEstimate(
-        parts[0].method, var, chi2_interval(var, dof), int(sum(p.n_used for p in parts)),
-        n_total, dof, dict(parts[0].params), notes, core_variance=core,
-        outlier_fraction=outliers,
-    )  # fmt: skip
-
-
 def _by_segment(
     spec: MethodSpec, z: NDArray, seg: Segmentation, notes: list[str], params: dict, run: Runner
 ) -> VarianceEstimate:
@@ -156,15 +133,16 @@ def _by_segment(
     if len(seg.segments) == 1:
         a, b = seg.segments[0]
         return run(spec, check_samples(z[a:b])[0], notes, params)
-    parts, error, longest = [], None, 0
+    parts, starts, error, longest = [], [], None, 0
     for a, b in seg.segments:
         try:
             parts.append(run(spec, check_samples(z[a:b])[0], list(notes), params))
+            starts.append(a)
         except NoisevarError as exc:
             error, longest = (exc, b - a) if b - a > longest else (error, longest)
     if not parts:  # the longest segment's reason: the one that says what is wrong
         raise NoisevarError(f"no uniform segment of the record could be estimated: {error}")
-    return pool_segments(parts, z.size, len(seg.segments) - len(parts))
+    return pool_segments(parts, z.size, len(seg.segments) - len(parts), starts)
 
 
 def _jumps(z: NDArray, seg: Segmentation, jump_mask: JumpMask) -> NDArray | None:

@@ -365,7 +365,7 @@ class VarianceEstimate:
     outliers : ndarray of int or None
         The outlying samples the method found, one per spike (record indices): those in
         R (not in the core) and those left out with a jump's neighbourhood; None for
-        methods that do not look for them, or an estimate pooled over segments.
+        methods that do not look for them.
     """
 
     method: str

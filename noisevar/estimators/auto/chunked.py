@@ -39,7 +39,8 @@ from noisevar.estimators._scale import exponent_of, unscale
 from noisevar.estimators.auto._trim import AUTO_BLOCK
 from noisevar.estimators.auto.core import AutoPart, auto_part, auto_reduce, auto_spans
 from noisevar.estimators.params import AUTO_ORDER, AUTO_TRIM
-from noisevar.estimators.pipeline import cut_out, pool_segments, runs_of
+from noisevar.estimators.pipeline import cut_out, runs_of
+from noisevar.estimators.pooling import pool_segments
 from noisevar.estimators.results import VarianceEstimate
 
 #: Samples added on each side of a chunk: far beyond what one block's numbers depend on
@@ -290,7 +291,7 @@ class ChunkedAuto:
         The same numbers as the record in memory (each range is a record of its own, at
         this record's scale; docs/algorithms.md §F5.7).
         """
-        parts, error = [], None
+        parts, starts, error = [], [], None
         ranges = cut_out(ranges, self.jump_runs)
         for a, b in ranges:
             sub = ChunkedAuto(
@@ -304,11 +305,12 @@ class ChunkedAuto:
                 continue
             unscale([part], sub.exponent - self.exponent)
             parts.append(part)
+            starts.append(a)
         if not parts:
             raise NoisevarError(f"no range of the record could be estimated: {error}")
         if len(ranges) == 1:
             return parts[0]
-        return pool_segments(parts, self.n, len(ranges) - len(parts))
+        return pool_segments(parts, self.n, len(ranges) - len(parts), starts)
 
     def _run(self, spans: tuple[int, ...], p: dict, sums: DiagSums | None, limit: float) -> _Pass:
         e = self.exponent

@@ -35,6 +35,7 @@ from noisevar.estimators.auto._trim import (
 )
 from noisevar.estimators.difference import sequence_efficiency
 from noisevar.estimators.params import AUTO_ORDER, AUTO_TRIM
+from noisevar.estimators.pooling import outlier_note
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
 from noisevar.numeric.blocks import dilate
 from noisevar.numeric.fir import centred_fir, residual_sequence
@@ -297,10 +298,7 @@ def _auto_notes(parts: list[AutoPart], spans: tuple[int, ...], block: int) -> li
     outliers = [p.outliers for p in parts if p.outliers.size]
     if outliers:
         k = sum(o.size for o in outliers)
-        notes.append(
-            f"{k} outlying sample{'s' if k > 1 else ''} ({k / n:.2%}; the first at sample "
-            f"{outliers[0][0]}): noise, so in the variance; left out of core_variance"
-        )
+        notes.append(outlier_note(k, n, int(outliers[0][0])))
     return notes
 
 
