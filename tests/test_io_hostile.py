@@ -127,14 +127,19 @@ def test_nanosecond_time_column_is_taken_relative_exactly():
         f"{1_700_000_000_000_000_000 + 1000 * i},{i % 7}" for i in range(100)
     )
     tab = load_table(text.encode(), "t.csv")
-    assert tab.columns["time"][:3].tolist() == [0.0, 1000.0, 2000.0]
+    # nanoseconds since 1970 (its values say so): offsets from the first, in seconds
+    np.testing.assert_allclose(tab.columns["time"][:3], [0.0, 1e-6, 2e-6], rtol=1e-12)
+    assert tab.sample_period == pytest.approx(1e-6, rel=1e-12)
 
 
 def test_time_step_outside_the_period_range_is_not_the_sample_period():
     text = "time,x\n" + "\n".join(
         f"{1_700_000_000_000 + 3_600_000 * i},{i % 7}" for i in range(100)
     )
-    tab = load_table(text.encode(), "ms.csv")
+    tab = load_table(text.encode(), "ms.csv")  # milliseconds since 1970: hourly
+    assert tab.sample_period == pytest.approx(3600.0)
+    text = "time,x\n" + "\n".join(f"{3_600_000 * i},{i % 7}" for i in range(100))
+    tab = load_table(text.encode(), "ms.csv")  # the same from 0: no unit to read off it
     assert tab.sample_period is None
     assert any("another unit" in n for n in tab.notes)
     text = "time,x\n" + "\n".join(f"{i * 1e-12!r},{i % 7}" for i in range(100))

@@ -107,6 +107,7 @@ def _read_npy(source: Path | bytes, name: str) -> LoadedTable:
             )
     time_col = next((c for c in columns if is_time_column(c)), None)
     if time_col:
-        time_in_seconds(columns, time_col, notes)
+        first = float(arr[time_col][0]) if arr.dtype.names and arr.size else None
+        time_in_seconds(columns, time_col, notes, first)
     period = _period_from_time(columns[time_col], notes) if time_col else None
     return LoadedTable(name, columns, "npy", time_col, period, notes)

@@ -151,20 +151,55 @@ def time_unit(name: str) -> str | None:
     return word if word in TIME_UNITS else None
 
 
-def time_scale(name: str) -> float:
-    """Seconds per unit of a time column called ``name`` (1 unless its name states one)."""
+def time_scale(name: str, first: float | None = None) -> float:
+    """Seconds per unit of a time column called ``name`` whose first value is ``first``.
+
+    The unit its name states; else the unit in which ``first`` is a Unix time of
+    2000-2100 (:func:`epoch_unit`); else 1 (seconds).
+    """
     unit = time_unit(name)
+    if unit is None and first is not None and np.isfinite(first):
+        unit = epoch_unit(float(first))
     return 1.0 if unit is None else TIME_UNITS[unit]
 
 
-def time_in_seconds(columns: dict[str, NDArray], time_column: str, notes: list[str]) -> None:
-    """Scale ``columns[time_column]`` to seconds when its name states another unit (in
-    place, with a note): ``time_ns`` in nanoseconds is read as nanoseconds, not seconds."""
-    unit = time_unit(time_column)
-    if unit is None or TIME_UNITS[unit] == 1.0:
+#: Unix times from 2000-01-01 to 2100-01-01, in seconds: a time column whose name states no
+#: unit is read in the unit (ms, us, ns) that puts its first value in this span.
+EPOCH_SPAN = (946_684_800.0, 4_102_444_800.0)
+
+
+def epoch_unit(first: float) -> str | None:
+    """The unit in which ``first`` is a Unix time of 2000-2100 (``"ms"``, ``"us"``, ``"ns"``).
+
+    None when it is none of them (seconds since 1970 need no scaling; a clock from 0 has
+    no unit to read off its values).
+    """
+    lo, hi = EPOCH_SPAN
+    for unit in ("ms", "us", "ns"):
+        if lo <= first * TIME_UNITS[unit] < hi:
+            return unit
+    return None
+
+
+def time_in_seconds(
+    columns: dict[str, NDArray], time_column: str, notes: list[str], first: float | None = None
+) -> None:
+    """Scale ``columns[time_column]`` to seconds (in place, with a note).
+
+    In the unit its name states (``time_ns`` in nanoseconds); a name that states none
+    (Kalibr's and EuRoC's ``timestamp``) in the unit in which its first value is a Unix
+    time of 2000-2100 (:func:`epoch_unit`: 1.4e18 is nanoseconds). ``first``: the column's
+    first value when the column was taken relative to it.
+    """
+    t = columns[time_column]
+    raw = first if first is not None else (float(t[0]) if t.size else None)
+    scale = time_scale(time_column, raw)
+    if scale == 1.0:
         return
-    columns[time_column] = columns[time_column] * TIME_UNITS[unit]
-    notes.append(f"time column {echo(time_column)!r} read in {unit} (its name), as seconds")
+    columns[time_column] = t * scale
+    unit = next(u for u, v in TIME_UNITS.items() if v == scale)
+    why = "its name" if time_unit(time_column) else "its values are Unix times in that unit"
+    notes.append(f"time column {echo(time_column)!r} read in {unit} ({why}), as seconds")
 
 
 def timestamp_resolution(t: NDArray) -> float:

@@ -221,7 +221,30 @@ def table_layout(text: str, name: str, complete: bool) -> tuple[_Format, list[st
         if len(head) < 2:
             raise NoisevarError(f"{echo(name)} has a header but no data rows")
         return fmt, _unique_names(first), head[0][0]
-    return fmt, [f"col{i}" for i in range(len(first))], head[0][0] - 1
+    names = _commented_header(text, head[0][0], len(first), fmt)
+    return fmt, names or [f"col{i}" for i in range(len(first))], head[0][0] - 1
+
+
+def _commented_header(text: str, data_line: int, width: int, fmt: _Format) -> list[str] | None:
+    """The column names of a header written as a comment just above the data, or None.
+
+    EuRoC, TUM-VI and Kalibr IMU files start ``#timestamp [ns],w_RS_S_x [rad s^-1],...``:
+    the last ``#`` line before the first data row names the columns when it splits into
+    as many fields as that row, none a number, and one of them is a time column or states
+    a unit in brackets (a remark such as ``# sensor A, 2024`` is not a header).
+    """
+    lines = text.splitlines()[: data_line - 1]
+    while lines and not lines[-1].strip():
+        lines.pop()
+    if not lines or not lines[-1].lstrip().startswith("#"):
+        return None
+    fields = [f.strip() for f in _split(lines[-1].lstrip()[1:], fmt.delim)]
+    if len(fields) != width or any(_is_number(c, fmt) for c in fields):
+        return None
+    # names, not a remark that happens to hold the delimiter: a time column or a unit
+    if not any(is_time_column(c) or header_unit(c) for c in fields):
+        return None
+    return _unique_names(fields)
 
 
 def _holds_dates(text: str, fmt: _Format, header_line: int, idx: int | None) -> bool:
@@ -243,13 +266,13 @@ def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
     if time_idx is None:  # a date column is the time column when it holds date-times
         date_idx = next((i for i, c in enumerate(names) if time_key(c) in DATE_NAMES), None)
         time_idx = date_idx if _holds_dates(text, fmt, header_line, date_idx) else None
-    columns, notes = _parse_body(src, header_line, names, fmt, name, time_idx)
+    columns, notes, first = _parse_body(src, header_line, names, fmt, name, time_idx)
     if fmt.decimal == ",":
         notes.insert(0, "read with a decimal comma (1,5 = 1.5)")
     kind = "tsv" if fmt.delim == "\t" else ("csv" if fmt.delim else "text")
     time_col = names[time_idx] if time_idx is not None else None
     if time_col:
-        time_in_seconds(columns, time_col, notes)
+        time_in_seconds(columns, time_col, notes, first)
     period = _period_from_time(columns[time_col], notes) if time_col else None
     empty = [c for c in names if np.all(np.isnan(columns[c]))]
     if len(empty) == len(names):
@@ -356,7 +379,9 @@ def _parse_body(
     fmt: _Format,
     name: str,
     time_idx: int | None,
-) -> tuple[dict[str, NDArray], list[str]]:
+) -> tuple[dict[str, NDArray], list[str], float | None]:
+    """The columns as floats, the loader's notes, and the time column's first value when it
+    was taken relative to it (integers beyond 2**53: nanoseconds since 1970)."""
     import pandas as pd
 
     df = _read_frame(src, header_line, len(names), fmt, name)
@@ -364,12 +389,13 @@ def _parse_body(
         raise NoisevarError(f"{echo(name)} has a header but no data rows")
     columns: dict[str, NDArray] = {}
     notes: list[str] = []
+    first = None
     for i, cname in enumerate(names):
         col = df[i]
         if pd.api.types.is_integer_dtype(col.dtype):
             exact = _integer_column(col, cname, name, i == time_idx)
             if exact is not None:
-                columns[cname] = exact
+                columns[cname], first = exact, float(col.iloc[0])
                 notes.append(f"time column {echo(cname)!r} taken relative to its first value")
                 continue
         if pd.api.types.is_numeric_dtype(col.dtype) and not pd.api.types.is_bool_dtype(col.dtype):
@@ -378,7 +404,7 @@ def _parse_body(
             columns[cname] = np.array(col.to_numpy(dtype=float, na_value=np.nan), dtype=float)
             continue
         columns[cname] = _text_column(col, cname, src, header_line, name, i == time_idx)
-    return columns, notes
+    return columns, notes, first
 
 
 def _text_column(

@@ -107,7 +107,7 @@ def _rate(f, time, rows: int) -> float | None:
     first, last = (ds[0][field], ds[-1][field]) if field else (ds[0], ds[-1])
     exact = np.issubdtype(np.asarray(first).dtype, np.integer)  # an epoch in ns: exact
     step = int(last) - int(first) if exact else float(last) - float(first)
-    span = step * time_scale(_time_name(time))
+    span = step * time_scale(_time_name(time), float(first))
     return (rows - 1) / span if span > 0 else None
 
 
@@ -144,9 +144,11 @@ def read(path: Path, topic: str, fields: Sequence[str] | None) -> Iterator[Chunk
                 f"table {echo(topic)!r} has no numeric field {echo(bad[0])!r}; fields: "
                 + ", ".join(echo(n, 40) for n in list(have)[:40])
             )
+        # its name's unit, or the unit its first value is a Unix time in
+        scale = None if time is None else time_scale(_time_name(time), _slice(f, *time, 0, 1)[0])
         for lo in range(0, rows, CHUNK):
             hi = min(lo + CHUNK, rows)
-            t = None if time is None else _slice(f, *time, lo, hi) * time_scale(_time_name(time))
+            t = None if time is None else _slice(f, *time, lo, hi) * scale
             yield Chunk(t, {n: _slice(f, *have[n], lo, hi) for n in names})
 
 

@@ -56,10 +56,10 @@ def topics(path: Path) -> list[TopicInfo]:
         if all(s is not None and s.has_min_max for s in stats):
             lo, hi = min(s.min for s in stats), max(s.max for s in stats)
             if isinstance(hi, int) and isinstance(lo, int):  # exact: an epoch in ns
-                span = (hi - lo) * time_scale(time)
+                span = (hi - lo) * time_scale(time, lo)
             else:
                 span = (_seconds(hi) - _seconds(lo)) * (
-                    1.0 if hasattr(hi, "timestamp") else time_scale(time)
+                    1.0 if hasattr(hi, "timestamp") else time_scale(time, _seconds(lo))
                 )
             rate = (n - 1) / span if span > 0 else None
     return [TopicInfo(TOPIC, "parquet table", int(n), rate, fields, units)]
@@ -92,7 +92,7 @@ def read(path: Path, topic: str, fields: Sequence[str] | None) -> Iterator[Chunk
             f"{echo(path.name)} has no numeric column {echo(bad[0])!r}; columns: "
             + ", ".join(echo(f, 40) for f in have[:40])
         )
-    origin = None
+    origin, scale = None, None
     cols = [*names, time] if time else list(names)
     is_ts = time is not None and pa.types.is_timestamp(pf.schema_arrow.field(time).type)
     for batch in pf.iter_batches(batch_size=CHUNK, columns=cols):
@@ -102,11 +102,13 @@ def read(path: Path, topic: str, fields: Sequence[str] | None) -> Iterator[Chunk
             if is_ts:
                 arr = arr.cast(pa.timestamp("ns")).cast(pa.int64())
             raw = arr.to_numpy(zero_copy_only=False)
+            if scale is None and raw.size:  # its name's unit, or its first value's epoch unit
+                scale = 1e-9 if is_ts else time_scale(time, float(raw[0]))
             if is_ts or (raw.dtype.kind in "iu" and (origin is not None or _big(raw))):
                 origin = int(raw[0]) if origin is None else origin
-                t = (raw - origin) * (1e-9 if is_ts else time_scale(time))
+                t = (raw - origin) * scale
             else:  # a number column: in seconds, or in the unit its name states (time_ns)
-                t = raw.astype(float) * time_scale(time)
+                t = raw.astype(float) * (scale or 1.0)
         values = {f: _floats(batch.column(f)) for f in names}
         yield Chunk(t, values)
 

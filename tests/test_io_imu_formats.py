@@ -1,0 +1,97 @@
+"""The IMU files VIO engineers have: EuRoC / TUM-VI (a ``#`` header) and Kalibr (epoch ns).
+
+EuRoC's ``imu0/data.csv`` starts ``#timestamp [ns],w_RS_S_x [rad s^-1],...``: the header
+was read as a comment, the time column became ``col0`` of integers beyond 2**53, and the
+file was refused. Kalibr's ``timestamp`` column (nanoseconds since 1970, no unit in its
+name) was read in seconds: its step 5e6 "is outside 1e-09 s to 1e+06 s", so ``noisevar
+imu`` asked for ``--rate``; a ``time`` column in milliseconds since 1970 read 1000x slow.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from noisevar.io import load_table
+from noisevar.io.logs import list_topics
+
+N, STEP_NS, T0 = 600, 5_000_000, 1_403_636_579_758_555_392  # 200 Hz, EuRoC's first stamp
+
+
+def _write(path: Path, header: str, stamp) -> np.ndarray:
+    rng = np.random.default_rng(0)
+    g = rng.normal(0.0, 0.002, size=(N, 2))
+    rows = [header] + [f"{stamp(i)},{g[i, 0]:.9f},{g[i, 1]:.9f}" for i in range(N)]
+    path.write_text("\n".join(rows) + "\n")
+    return g
+
+
+def test_euroc_header_and_ns_stamps(tmp_path: Path) -> None:
+    f = tmp_path / "data.csv"
+    g = _write(f, "#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y [rad s^-1]",
+               lambda i: T0 + i * STEP_NS)  # fmt: skip
+    tab = load_table(f)
+    assert list(tab.columns) == ["timestamp [ns]", "w_RS_S_x [rad s^-1]", "w_RS_S_y [rad s^-1]"]
+    assert tab.time_column == "timestamp [ns]"
+    assert tab.sample_period == pytest.approx(0.005, rel=1e-12)
+    assert tab.units["w_RS_S_x [rad s^-1]"] == "rad s^-1"
+    np.testing.assert_allclose(tab.columns["w_RS_S_y [rad s^-1]"], np.round(g[:, 1], 9))
+
+
+@pytest.mark.parametrize(
+    ("stamp", "unit"),
+    [
+        (lambda i: T0 + i * STEP_NS, "ns"),  # Kalibr: integers beyond 2**53
+        (lambda i: f"{1.7e15 + i * 5000:.0f}", "us"),
+        (lambda i: f"{1.7e12 + i * 5.0:.1f}", "ms"),
+    ],
+)
+def test_epoch_stamps_read_in_their_unit(tmp_path: Path, stamp, unit: str) -> None:
+    f = tmp_path / "imu.csv"
+    _write(f, "timestamp,omega_x,omega_y", stamp)
+    tab = load_table(f)
+    assert tab.sample_period == pytest.approx(0.005, rel=1e-9)
+    assert any(f"read in {unit} (its values are Unix times" in n for n in tab.notes)
+
+
+@pytest.mark.parametrize(
+    "stamp", [lambda i: f"{i * 0.005:.3f}", lambda i: f"{1.7e9 + i * 0.005:.3f}"]
+)
+def test_seconds_stay_seconds(tmp_path: Path, stamp) -> None:
+    f = tmp_path / "imu.csv"
+    _write(f, "timestamp,omega_x,omega_y", stamp)
+    tab = load_table(f)
+    assert tab.sample_period == pytest.approx(0.005, rel=1e-9)
+    assert not any("Unix times" in n for n in tab.notes)
+
+
+def test_commented_line_that_is_not_a_header(tmp_path: Path) -> None:
+    f = tmp_path / "x.csv"
+    f.write_text(
+        "# recorded 2024-01-01, sensor A\n" + "\n".join(f"{i},{i * 0.5}" for i in range(50))
+    )
+    assert list(load_table(f).columns) == ["col0", "col1"]
+
+
+def test_parquet_epoch_ns_without_unit_name(tmp_path: Path) -> None:
+    import pandas as pd
+
+    f = tmp_path / "imu.parquet"
+    t = T0 + np.arange(N, dtype=np.int64) * STEP_NS
+    pd.DataFrame({"timestamp": t, "gx": np.random.default_rng(1).normal(size=N)}).to_parquet(f)
+    (info,) = list_topics(f)
+    assert info.rate == pytest.approx(200.0, rel=1e-9)
+
+
+def test_cli_imu_reads_a_kalibr_file(tmp_path: Path) -> None:
+    f = tmp_path / "imu.csv"
+    _write(f, "timestamp,omega_x,omega_y", lambda i: T0 + i * STEP_NS)
+    out = subprocess.run(
+        [sys.executable, "-m", "noisevar", "imu", str(f)], capture_output=True, text=True
+    )
+    assert out.returncode == 0, out.stderr
+    assert "at 200 Hz" in out.stdout
