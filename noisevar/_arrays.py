@@ -1,4 +1,5 @@
-"""Array helpers shared across the package: medians in place, exact integer conversion."""
+"""Array helpers shared across the package: medians in place, exact integer conversion,
+counters."""
 
 from __future__ import annotations
 
@@ -64,3 +65,18 @@ def check_exact_ints(z: object, what: str = "the signal") -> None:
             f"{what} holds integers beyond 2**53 (up to {float(top):.3g}): float64 cannot "
             "hold them exactly; subtract an offset (e.g. the first sample) or rescale first"
         )
+
+
+def steps_evenly(z: NDArray) -> bool:
+    """Whether ``z`` (8 samples or more, not constant) steps by the same amount every sample.
+
+    A counter (a message's sequence number) or a clock: exactly zero second differences,
+    no measurement noise to estimate.
+    """
+    import numpy as np
+
+    z = np.asarray(z)
+    if z.size < 8 or not z.max() > z.min():
+        return False
+    with np.errstate(over="ignore", invalid="ignore"):  # 1e308: inf, not zero, so not even
+        return bool(np.all(z[2:] - 2 * z[1:-1] + z[:-2] == 0))

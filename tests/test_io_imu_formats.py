@@ -95,3 +95,47 @@ def test_cli_imu_reads_a_kalibr_file(tmp_path: Path) -> None:
     )
     assert out.returncode == 0, out.stderr
     assert "at 200 Hz" in out.stdout
+
+
+def _rostopic(path: Path) -> None:
+    """``rostopic echo -p /imu > imu.csv``: receive time, seq, stamp, frame, then the fields."""
+    rng = np.random.default_rng(2)
+    head = (
+        "%time,field.header.seq,field.header.stamp,field.header.frame_id,"
+        "field.orientation.x,field.orientation_covariance0,field.angular_velocity.x"
+    )
+    rows = [head]
+    for i in range(N):
+        stamp = T0 + i * STEP_NS
+        rows.append(f"{stamp + 40_000 + int(rng.integers(0, 90_000))},{i},{stamp},imu_link,"
+                    f"0,-1,{rng.normal(0.0, 0.01)!r}")  # fmt: skip
+    path.write_text("\n".join(rows) + "\n")
+
+
+def test_rostopic_echo_csv(tmp_path: Path) -> None:
+    f = tmp_path / "imu.csv"
+    _rostopic(f)
+    tab = load_table(f)
+    assert tab.time_column == "field.header.stamp"  # when the sensor sampled, not received
+    assert tab.sample_period == pytest.approx(0.005, rel=1e-12)
+    assert "field.header.frame_id" not in tab.columns
+    assert any("holds text ('imu_link'), not numbers: left out" in n for n in tab.notes)
+    assert tab.first_signal == "field.angular_velocity.x"
+    from noisevar import NoisevarError, estimate
+
+    with pytest.raises(NoisevarError, match="a counter or a clock"):
+        estimate(tab.columns["field.header.seq"])
+    out = subprocess.run(
+        [sys.executable, "-m", "noisevar", "estimate", str(f)], capture_output=True, text=True
+    )
+    assert out.returncode == 0, out.stderr
+    assert "column field.angular_velocity.x" in out.stdout.splitlines()[0]
+
+
+def test_a_file_of_text_only_is_still_refused(tmp_path: Path) -> None:
+    f = tmp_path / "t.csv"
+    f.write_text("a,b\n" + "\n".join("x,y" for _ in range(20)))
+    from noisevar import NoisevarError
+
+    with pytest.raises(NoisevarError, match="is not a number"):
+        load_table(f)

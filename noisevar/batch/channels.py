@@ -63,7 +63,7 @@ def table_channels(table: LoadedTable, columns: str | list[str] | None) -> list[
     Returns
     -------
     list of str or None
-        Every data column for ``"all"``; the first data column for None (``[None]`` when
+        Every data column for ``"all"``; the first that varies for None (``[None]`` when
         the table has none: the reader then picks or refuses); the names as given
         otherwise (a missing one is refused when it is read).
 
@@ -78,7 +78,7 @@ def table_channels(table: LoadedTable, columns: str | list[str] | None) -> list[
             raise NoisevarError(f"{table.name} has no data column (only a time column)")
         return names
     if columns is None:
-        return [table.data_columns[0]] if table.data_columns else [None]
+        return [table.first_signal] if table.data_columns else [None]
     return list(columns)
 
 

@@ -335,6 +335,8 @@ def _cmd_estimate(args: argparse.Namespace) -> int:
     from noisevar.io.load import column_name
 
     table = load_file(args.file, args.topic)
+    if column is None and len(table.data_columns) > 1:  # say which one was read
+        column = column_name(table, None)
     scale, unit = _units(args, table.units.get(column_name(table, column)))
     result = _estimate_one(args, table, column, method, params, scale)
     _print(args, column, result, unit)

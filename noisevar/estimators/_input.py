@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from noisevar._arrays import check_exact_ints
+from noisevar._arrays import check_exact_ints, steps_evenly
 from noisevar.errors import NoisevarError
 
 
@@ -82,6 +82,11 @@ def check_samples(arr: NDArray, drop_nonfinite: bool = False) -> tuple[NDArray, 
     if np.ptp(arr) == 0:
         raise NoisevarError(
             "the signal is constant: its noise variance is 0 and there is nothing to estimate"
+        )
+    if steps_evenly(arr):
+        raise NoisevarError(
+            "the signal steps by the same amount every sample (a counter or a clock, not a "
+            "measurement): its noise variance is 0 and there is nothing to estimate"
         )
     return arr, notes
 

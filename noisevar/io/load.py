@@ -328,7 +328,7 @@ def column_name(table: LoadedTable, column: str | int | None = None) -> str:
     if not data_cols:
         raise NoisevarError(f"{echo(table.name)} has no data column (only a time column)")
     if column is None:
-        cname = data_cols[0]
+        cname = table.first_signal or data_cols[0]
     elif isinstance(column, (int, np.integer)) and not isinstance(column, bool):
         if not 0 <= int(column) < len(data_cols):
             raise NoisevarError(
@@ -408,7 +408,7 @@ def pick_column(
         A loaded file.
     column : str or int, optional
         Column name, or index among :attr:`LoadedTable.data_columns`
-        (default: the first data column).
+        (default: :attr:`LoadedTable.first_signal`, the first data column that varies).
     drop_nonfinite : bool
         Drop empty/NaN cells instead of refusing them.
 

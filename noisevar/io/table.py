@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from noisevar._arrays import steps_evenly
 from noisevar.errors import NoisevarError
 from noisevar.io.limits import ECHO_LIMIT, echo  # noqa: F401 - their home is io.limits
 
@@ -75,6 +76,25 @@ class LoadedTable:
         """Column names other than the time column (the candidate signals)."""
         return [c for c in self.columns if c != self.time_column]
 
+    @property
+    def first_signal(self) -> str | None:
+        """The column read when none is named: the first data column that is a signal.
+
+        Not a log's second clock (``rostopic echo -p``'s ``%time`` beside the message's own
+        stamp), a counter (``field.header.seq``: :func:`noisevar._arrays.steps_evenly`) or a
+        constant field (an orientation the log does not fill, a covariance of -1), which
+        come first in ROS messages; each can still be named. The first data column when
+        none is a signal; None when there is no data column.
+        """
+        cols = self.data_columns
+        return next((c for c in cols if self._is_signal(c)), cols[0] if cols else None)
+
+    def _is_signal(self, name: str) -> bool:
+        z = self.columns[name]
+        finite = z[np.isfinite(z)]
+        varies = finite.size > 1 and finite.max() > finite.min()
+        return varies and not is_time_column(name) and not steps_evenly(finite)
+
     def time(self) -> NDArray | None:
         """The time column (seconds) or None."""
         return self.columns.get(self.time_column) if self.time_column else None
@@ -121,13 +141,33 @@ def content_digest(data: bytes | ArrayLike) -> str:
 
 
 def time_key(name: str) -> str:
-    """A column name as the time names are written: lower case, units in brackets dropped."""
-    return re.sub(r"[\[\(].*?[\]\)]", "", name).strip().lower().replace(" ", "_")
+    """A column name as the time names are written: lower case, units in brackets dropped
+    (and the ``%`` of ``rostopic echo -p``'s ``%time``)."""
+    base = re.sub(r"[\[\(].*?[\]\)]", "", name).strip().lower().replace(" ", "_")
+    return base.lstrip("%")
+
+
+def _is_stamp(base: str) -> bool:
+    """A ROS message's own time (``field.header.stamp``): when the sensor sampled."""
+    return base == "stamp" or base.endswith((".stamp", "_stamp"))
 
 
 def _is_time_name(name: str) -> bool:
     base = time_key(name)
-    return base in TIME_NAMES or base.startswith("time_") or base.endswith("_time")
+    return (
+        base in TIME_NAMES or base.startswith("time_") or base.endswith("_time") or _is_stamp(base)
+    )
+
+
+def pick_time_column(names: list[str]) -> int | None:
+    """The index of the record's time column among ``names`` (None: there is none).
+
+    The first time column, except that a message's own stamp (``field.header.stamp``)
+    comes before the time a logger received it (``rostopic echo -p``'s ``%time``).
+    """
+    times = [i for i, c in enumerate(names) if is_time_column(c)]
+    stamps = [i for i in times if _is_stamp(time_key(names[i]))]
+    return (stamps or times or [None])[0]
 
 
 def is_time_column(name: str) -> bool:

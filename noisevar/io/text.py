@@ -22,6 +22,7 @@ from noisevar.io.table import (
     _period_from_time,
     echo,
     is_time_column,
+    pick_time_column,
     time_in_seconds,
     time_key,
 )
@@ -262,15 +263,16 @@ def _holds_dates(text: str, fmt: _Format, header_line: int, idx: int | None) -> 
 def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
     text = src if isinstance(src, str) else src.head
     fmt, names, header_line = table_layout(text, name, isinstance(src, str))
-    time_idx = next((i for i, c in enumerate(names) if is_time_column(c)), None)
+    time_idx = pick_time_column(names)
     if time_idx is None:  # a date column is the time column when it holds date-times
         date_idx = next((i for i, c in enumerate(names) if time_key(c) in DATE_NAMES), None)
         time_idx = date_idx if _holds_dates(text, fmt, header_line, date_idx) else None
     columns, notes, first = _parse_body(src, header_line, names, fmt, name, time_idx)
+    time_col = names[time_idx] if time_idx is not None else None
+    names = [c for c in names if c in columns]  # text columns are left out (noted)
     if fmt.decimal == ",":
         notes.insert(0, "read with a decimal comma (1,5 = 1.5)")
     kind = "tsv" if fmt.delim == "\t" else ("csv" if fmt.delim else "text")
-    time_col = names[time_idx] if time_idx is not None else None
     if time_col:
         time_in_seconds(columns, time_col, notes, first)
     period = _period_from_time(columns[time_col], notes) if time_col else None
@@ -390,12 +392,16 @@ def _parse_body(
     columns: dict[str, NDArray] = {}
     notes: list[str] = []
     first = None
+    # a column of text is left out when another holds numbers (else its error says why)
+    numeric = any(not _only_text(df[i]) for i in range(len(names)) if i != time_idx)
     for i, cname in enumerate(names):
         col = df[i]
         if pd.api.types.is_integer_dtype(col.dtype):
-            exact = _integer_column(col, cname, name, i == time_idx)
+            # any time column (a log's second clock too) may be an epoch beyond 2**53
+            exact = _integer_column(col, cname, name, i == time_idx or is_time_column(cname))
             if exact is not None:
-                columns[cname], first = exact, float(col.iloc[0])
+                columns[cname] = exact
+                first = float(col.iloc[0]) if i == time_idx else first
                 notes.append(f"time column {echo(cname)!r} taken relative to its first value")
                 continue
         if pd.api.types.is_numeric_dtype(col.dtype) and not pd.api.types.is_bool_dtype(col.dtype):
@@ -403,8 +409,19 @@ def _parse_body(
             # some numerical libraries (PyWavelets) refuse
             columns[cname] = np.array(col.to_numpy(dtype=float, na_value=np.nan), dtype=float)
             continue
+        if i != time_idx and _only_text(col) and numeric:  # a log's label (frame_id)
+            notes.append(f"column {echo(cname)!r} holds text ({echo(str(col.iloc[0]), 40)!r}), "
+                         "not numbers: left out")  # fmt: skip
+            continue
         columns[cname] = _text_column(col, cname, src, header_line, name, i == time_idx)
     return columns, notes, first
+
+
+def _only_text(col: pd.Series) -> bool:
+    """Whether no cell of ``col`` is a number (and some cell is not empty)."""
+    import pandas as pd
+
+    return bool(col.notna().any()) and not pd.to_numeric(col, errors="coerce").notna().any()
 
 
 def _text_column(

@@ -68,9 +68,15 @@ def write_bag(
         )
         w.write(c_imu, ns + 1000, ser(msg, imu.__msgtype__))  # record time: 1 us after the stamp
         if extra and i % 4 == 0:
-            w.write(c_lvl, ns + 2000, ser(flt(data=float(i)), flt.__msgtype__))
+            w.write(c_lvl, ns + 2000, ser(flt(data=level(i)), flt.__msgtype__))
     w.close()
     return path
+
+
+def level(i: int) -> float:
+    """The /level topic's value at IMU sample ``i``: a ramp with a wobble (not a counter,
+    which the estimator refuses as no measurement)."""
+    return float(i) + 0.25 * (i % 3)
 
 
 def _df_record(mtype: int, fmt: str, *values) -> bytes:

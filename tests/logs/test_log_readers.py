@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from logfiles import RATE, T0_NS, imu_values, write_bag, write_dataflash
+from logfiles import RATE, T0_NS, imu_values, level, write_bag, write_dataflash
 
 from noisevar.errors import NoisevarError
 from noisevar.io import load_table
@@ -81,7 +81,7 @@ def test_flat_decoder_equals_rosbags_deserialiser(tmp_path, kind, monkeypatch):
 def test_topic_without_header_uses_record_time(tmp_path):
     bag = write_bag(tmp_path / "b", imu_values(40), "mcap")
     tab = load_table(bag, topic="/level")
-    np.testing.assert_array_equal(tab.columns["data"], np.arange(0, 40, 4))
+    np.testing.assert_array_equal(tab.columns["data"], [level(i) for i in range(0, 40, 4)])
     np.testing.assert_allclose(tab.columns["time"], np.arange(0, 40, 4) / RATE, atol=1e-9)
 
 
