@@ -166,17 +166,12 @@ def url_upload() -> str | None:
 
 
 def default_column(table: LoadedTable) -> str:
-    """The first data column without empty/NaN cells that is not constant (a log's topic
-    often leads with constant fields: an IMU's unused orientation), else the first without
-    empty/NaN cells, else the first data column."""
-    cols = table.data_columns
-    finite = [c for c in cols if np.all(np.isfinite(table.columns[c]))]
-    varying = [c for c in finite if table.columns[c].size and np.ptp(table.columns[c]) > 0]
-    if varying or finite:
-        return (varying or finite)[0]
-    if not cols:
+    """The column a table opens on: :attr:`~noisevar.io.LoadedTable.first_signal` (the
+    first data column that is a signal: not a constant field, a counter or a second clock)."""
+    col = table.first_signal
+    if col is None:
         raise NoisevarError(f"{table.name} has no data column (only a time column)")
-    return cols[0]
+    return col
 
 
 def make_signal(

@@ -83,11 +83,14 @@ class LoadedTable:
         Not a log's second clock (``rostopic echo -p``'s ``%time`` beside the message's own
         stamp), a counter (``field.header.seq``: :func:`noisevar._arrays.steps_evenly`) or a
         constant field (an orientation the log does not fill, a covariance of -1), which
-        come first in ROS messages; each can still be named. The first data column when
-        none is a signal; None when there is no data column.
+        come first in ROS messages; each can still be named. A signal without empty/NaN
+        cells comes before one with them; with no signal, the first data column without
+        them, else the first; None when there is no data column.
         """
         cols = self.data_columns
-        return next((c for c in cols if self._is_signal(c)), cols[0] if cols else None)
+        whole = [c for c in cols if np.all(np.isfinite(self.columns[c]))]
+        signals = [c for c in cols if self._is_signal(c)]
+        return next(iter([c for c in signals if c in whole] + signals + whole + cols), None)
 
     def _is_signal(self, name: str) -> bool:
         z = self.columns[name]
