@@ -139,3 +139,32 @@ def test_a_file_of_text_only_is_still_refused(tmp_path: Path) -> None:
 
     with pytest.raises(NoisevarError, match="is not a number"):
         load_table(f)
+
+
+def test_microseconds_since_boot_are_said(tmp_path: Path) -> None:
+    """PX4's ulog2csv: ``timestamp`` in microseconds since boot, which reads as 4000 s steps."""
+    f = tmp_path / "log_sensor_gyro_0.csv"
+    f.write_text("timestamp,x\n" + "\n".join(f"{12_345_678 + 4000 * i},{i % 7}" for i in range(50)))
+    tab = load_table(f)
+    assert any("PX4's ulog2csv writes microseconds since boot" in n for n in tab.notes)
+    f.write_text(
+        "timestamp_us,x\n" + "\n".join(f"{12_345_678 + 4000 * i},{i % 7}" for i in range(50))
+    )
+    tab = load_table(f)
+    assert tab.sample_period == pytest.approx(0.004)
+    assert not any("ulog2csv" in n for n in tab.notes)
+
+
+def test_imu_and_allan_fit_the_signals_of_a_rostopic_csv(tmp_path: Path) -> None:
+    """Every data column was fitted: the constant orientation aborted ``noisevar imu`` ("The
+    record does not vary"), and ``noisevar allan`` took the receive clock ``%time``."""
+    f = tmp_path / "imu.csv"
+    _rostopic(f)
+    run = [sys.executable, "-m", "noisevar"]
+    imu = subprocess.run([*run, "imu", str(f)], capture_output=True, text=True)
+    assert imu.returncode == 0, imu.stderr
+    assert imu.stdout.count("samples at 200 Hz") == 1  # the one signal
+    assert "file note: column 'field.header.frame_id' holds text" in imu.stdout
+    allan = subprocess.run([*run, "allan", str(f)], capture_output=True, text=True)
+    assert allan.returncode == 0, allan.stderr
+    assert "of field.angular_velocity.x (" in allan.stdout

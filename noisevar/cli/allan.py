@@ -24,16 +24,19 @@ from noisevar.units import declared_unit
 def load_columns(
     path: str, columns: list[str] | None, rate: float | None, topic: str | None = None
 ):
-    """The chosen columns of a data file or of a log's ``topic`` (all data columns by
-    default), the sample rate, each column's unit as the file declares it (or None), and
-    the sample times every estimating path takes (:func:`noisevar.io.record_times`)."""
+    """The chosen columns of a data file or of a log's ``topic`` (its signals by default:
+    :attr:`noisevar.io.LoadedTable.signals`), the sample rate, each column's unit as the
+    file declares it (or None), and the sample times every estimating path takes
+    (:func:`noisevar.io.record_times`), and the loader's notes."""
     from noisevar.io import pick_column, record_times
 
     table = load_file(path, topic)
-    names = columns or list(table.data_columns)
+    # by default every signal: not a log's constant fields, counters or second clock
+    names = columns or table.signals or list(table.data_columns)
     data = {c: np.asarray(pick_column(table, c), dtype=float) for c in names}
     declared = {c: table.units.get(c) for c in names}
-    return data, sample_rate(rate, table.sample_period), declared, record_times(table)
+    rate = sample_rate(rate, table.sample_period)
+    return data, rate, declared, record_times(table), list(table.notes)
 
 
 def _cmd_allan(args: argparse.Namespace) -> int:
@@ -41,7 +44,7 @@ def _cmd_allan(args: argparse.Namespace) -> int:
     from noisevar.noise_model.allan import default_data
 
     wanted = [args.column] if args.column else None
-    data, rate, declared, _ = load_columns(args.file, wanted, args.rate, args.topic)
+    data, rate, declared, _, loaded = load_columns(args.file, wanted, args.rate, args.topic)
     name, z = next(iter(data.items()))
     scale, unit = units_of(args.unit or declared_unit(declared[name]), args.unit_out)
     kind_of_data = args.data or default_data(unit)
@@ -57,8 +60,10 @@ def _cmd_allan(args: argparse.Namespace) -> int:
     # rate data: the deviation is in the data's unit; phase data: the phase's unit per second
     dev_unit = unit if kind_of_data == "rate" else f"{unit}/s"
     if args.format == "json":
-        print_json({"column": name, "unit": dev_unit, **res.to_dict()})
+        print_json({"column": name, "unit": dev_unit, **res.to_dict(), "file_notes": loaded})
         return 0
+    for note in loaded:  # how the file was read: its clock, its unit, columns left out
+        print(f"file note: {note}")
     print(
         f"{res.kind} of {name} ({kind_of_data} data, {res.n_samples} samples at {rate:g} Hz), "
         f"{res.ci:.1%} intervals; deviations in {dev_unit}, tau in s"

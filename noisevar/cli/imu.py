@@ -37,16 +37,16 @@ def _columns(args: argparse.Namespace) -> list[str] | None:
     return list(dict.fromkeys(wanted)) or None
 
 
-def _load(args: argparse.Namespace) -> tuple[dict, dict[str, float], dict, dict]:
-    """The columns asked for, each column's rate, declared unit and sample times (or None):
-    from the file or one topic (one rate), or from several topics of a log (each column its
-    topic's rate and times)."""
+def _load(args: argparse.Namespace) -> tuple[dict, dict[str, float], dict, dict, list[str]]:
+    """The columns asked for, each column's rate, declared unit and sample times (or None),
+    and the loader's notes: from the file or one topic (one rate), or from several topics
+    of a log (each column its topic's rate and times)."""
     topics = list(dict.fromkeys(args.topic or []))
     if len(topics) <= 1:
-        data, rate, declared, t = load_columns(
+        data, rate, declared, t, notes = load_columns(
             args.file, _columns(args), args.rate, topics[0] if topics else None
         )
-        return data, dict.fromkeys(data, rate), declared, dict.fromkeys(data, t)
+        return data, dict.fromkeys(data, rate), declared, dict.fromkeys(data, t), notes
     from noisevar.io import load_topics, record_times
 
     if args.rate is not None:
@@ -69,6 +69,7 @@ def _load(args: argparse.Namespace) -> tuple[dict, dict[str, float], dict, dict]
         {c: float(col.rate) for c, col in cols.items()},
         {c: col.unit for c, col in cols.items()},
         {c: record_times(record.tables[col.topic]) for c, col in cols.items()},
+        [],
     )
 
 
@@ -283,7 +284,7 @@ def _cmd_imu(args: argparse.Namespace) -> int:
         from noisevar.noise_model.exports import consumers
 
         consumers(args.export)  # refuse an unknown consumer before reading the file
-    data, rates, declared, times = _load(args)
+    data, rates, declared, times, loaded = _load(args)
     rate = next(iter(rates.values()), None)  # one topic or file: one rate
     temp = split_temperature(args, data, rate)
     if args.model != IEEE952:
@@ -313,11 +314,14 @@ def _cmd_imu(args: argparse.Namespace) -> int:
             "exports": files,
             "model": model,
             "report": report,
+            "file_notes": loaded,
         }
         if thermal:
             out["temperature"] = {c: m.to_dict() for c, m in thermal.items()}
         print_json(out)
     else:
+        for note in loaded:  # how the file was read: its clock, its unit, columns left out
+            print(f"file note: {note}")
         _print_table(fits)
         print_models(thermal, args.temperature)
         if written:

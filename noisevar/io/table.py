@@ -89,8 +89,14 @@ class LoadedTable:
         """
         cols = self.data_columns
         whole = [c for c in cols if np.all(np.isfinite(self.columns[c]))]
-        signals = [c for c in cols if self._is_signal(c)]
+        signals = self.signals
         return next(iter([c for c in signals if c in whole] + signals + whole + cols), None)
+
+    @property
+    def signals(self) -> list[str]:
+        """The data columns that are signals (:attr:`first_signal`'s rule), in order: what
+        ``noisevar imu`` fits when no column is named."""
+        return [c for c in self.data_columns if self._is_signal(c)]
 
     def _is_signal(self, name: str) -> bool:
         z = self.columns[name]
@@ -238,11 +244,28 @@ def time_in_seconds(
     raw = first if first is not None else (float(t[0]) if t.size else None)
     scale = time_scale(time_column, raw)
     if scale == 1.0:
+        _say_if_counting(t, time_column, notes)
         return
     columns[time_column] = t * scale
     unit = next(u for u, v in TIME_UNITS.items() if v == scale)
     why = "its name" if time_unit(time_column) else "its values are Unix times in that unit"
     notes.append(f"time column {echo(time_column)!r} read in {unit} ({why}), as seconds")
+
+
+def _say_if_counting(t: NDArray, name: str, notes: list[str]) -> None:
+    """A note when a time column read in seconds steps by a whole 100 or more: it may count
+    microseconds or milliseconds from boot (PX4's ``ulog2csv`` writes ``timestamp`` in
+    microseconds), which its values cannot tell from a slow logger's seconds."""
+    if time_unit(name) is not None or t.size < 2 or not np.all(np.isfinite(t[:1000])):
+        return
+    step = float(np.median(np.diff(t[:1000])))
+    if step >= 100 and np.all(t[:1000] == np.round(t[:1000])):
+        notes.append(
+            f"time column {echo(name)!r} steps by {step:g}, read as seconds ({1 / step:.3g} "
+            "Hz): if it counts microseconds or milliseconds (PX4's ulog2csv writes "
+            "microseconds since boot), state its unit in its name (timestamp_us) or give "
+            "the sample rate"
+        )
 
 
 def timestamp_resolution(t: NDArray) -> float:
