@@ -168,3 +168,24 @@ def test_imu_and_allan_fit_the_signals_of_a_rostopic_csv(tmp_path: Path) -> None
     allan = subprocess.run([*run, "allan", str(f)], capture_output=True, text=True)
     assert allan.returncode == 0, allan.stderr
     assert "of field.angular_velocity.x (" in allan.stdout
+
+
+@pytest.mark.parametrize(
+    ("head", "row", "period", "signal"),
+    [
+        # Sensor Logger (Android/iOS): ns since 1970 and the same clock in seconds
+        ("time,seconds_elapsed,z,y,x", lambda i: f"{T0 + i * STEP_NS},{i * 0.005:.3f}", 0.005, "z"),
+        # an Arduino's Serial.print(millis())
+        ("millis,ax,ay,az", lambda i: f"{1000 + 10 * i}", 0.01, "ax"),
+        ("micros,ax,ay,az", lambda i: f"{1000 + 2500 * i}", 0.0025, "ax"),
+    ],
+)
+def test_phone_and_arduino_clocks(tmp_path: Path, head: str, row, period: float, signal: str):
+    rng = np.random.default_rng(3)
+    k = head.count(",") - row(0).count(",")
+    lines = [head] + [row(i) + "".join(f",{float(v)!r}" for v in rng.normal(size=k)) for i in range(N)]
+    f = tmp_path / "log.csv"
+    f.write_text("\n".join(lines) + "\n")
+    tab = load_table(f)
+    assert tab.sample_period == pytest.approx(period, rel=1e-9)
+    assert tab.first_signal == signal  # not the second clock, not the clock

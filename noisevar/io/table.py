@@ -16,7 +16,10 @@ from noisevar.errors import NoisevarError
 from noisevar.io.limits import ECHO_LIMIT, echo  # noqa: F401 - their home is io.limits
 
 #: Names (lower case, units in brackets stripped) recognised as a time column.
-TIME_NAMES = ("t", "time", "time_s", "times", "timestamp", "seconds", "sec", "secs", "s", "epoch")
+TIME_NAMES = ("t", "time", "time_s", "times", "timestamp", "seconds", "sec", "secs", "s", "epoch",
+              "elapsed", "seconds_elapsed", "millis", "micros")  # fmt: skip
+#: Time names that state their unit by themselves: an Arduino's ``millis()`` and ``micros()``.
+NAMED_TIME_UNITS = {"millis": "ms", "micros": "us"}
 #: Names of a column that is the time column when it holds date-times (``2016-11-24
 #: 13:58:58.081``); numbers there (``19580329``) are data, not seconds.
 DATE_NAMES = ("datetime", "date", "date_time")
@@ -197,7 +200,9 @@ def time_unit(name: str) -> str | None:
     """The time unit a column's name states (``time_ns``: ``"ns"``; ``t [ms]``), else None."""
     m = re.search(r"[\[\(]\s*([^\[\]\(\)]{1,8}?)\s*[\]\)]\s*$", name)
     word = m[1] if m else name.strip().lower().rpartition("_")[2] if "_" in name else ""
-    return word if word in TIME_UNITS else None
+    if word in TIME_UNITS:
+        return word
+    return NAMED_TIME_UNITS.get(time_key(name))
 
 
 def time_scale(name: str, first: float | None = None) -> float:
