@@ -183,9 +183,37 @@ def test_imu_and_allan_fit_the_signals_of_a_rostopic_csv(tmp_path: Path) -> None
 def test_phone_and_arduino_clocks(tmp_path: Path, head: str, row, period: float, signal: str):
     rng = np.random.default_rng(3)
     k = head.count(",") - row(0).count(",")
-    lines = [head] + [row(i) + "".join(f",{float(v)!r}" for v in rng.normal(size=k)) for i in range(N)]
+    lines = [head] + [
+        row(i) + "".join(f",{float(v)!r}" for v in rng.normal(size=k)) for i in range(N)
+    ]
     f = tmp_path / "log.csv"
     f.write_text("\n".join(lines) + "\n")
     tab = load_table(f)
     assert tab.sample_period == pytest.approx(period, rel=1e-9)
     assert tab.first_signal == signal  # not the second clock, not the clock
+
+
+@pytest.mark.parametrize(
+    ("stamp", "period"),
+    [
+        (lambda i: f"24-Nov-2023 13:{i // 60:02d}:{i % 60:02d}.000", 1.0),  # MATLAB
+        (lambda i: f"11/24/2023 13:{i // 60:02d}:{i % 60:02d}", 1.0),  # Excel, US
+        (lambda i: f"{1 + i // 2:02d}/03/2024 {12 * (i % 2):02d}:00", 43200.0),  # day first
+    ],
+)
+def test_date_times_as_matlab_and_excel_write_them(tmp_path: Path, stamp, period: float):
+    f = tmp_path / "log.csv"
+    f.write_text("Timestamp,x\n" + "\n".join(f"{stamp(i)},{(i * 7919) % 101}" for i in range(50)))
+    assert load_table(f).sample_period == pytest.approx(period)
+
+
+def test_units_row_utf16_and_a_time_unit_in_it(tmp_path: Path) -> None:
+    """A row of units under the header (data loggers, LabVIEW) and a UTF-16 file (Excel's
+    "Unicode Text", Windows tools) were refused ("'s' is not a number"; "binary file")."""
+    rows = "\n".join(f"{5 * i},{(i * 7919) % 101 / 10}" for i in range(200))
+    f = tmp_path / "units.txt"
+    f.write_text("time,ax\nms,m/s^2\n" + rows, encoding="utf-16")
+    tab = load_table(f)
+    assert tab.sample_period == pytest.approx(0.005)
+    assert tab.units == {"ax": "m/s^2"}
+    assert any("read in ms (the units row)" in n for n in tab.notes)

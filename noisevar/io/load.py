@@ -27,8 +27,16 @@ HEAD_BYTES = 1 << 20
 
 
 def _decode(raw: bytes, name: str, final: bool = True) -> tuple[str, str]:
-    """Text of ``raw`` and its encoding (UTF-8, else Latin-1 for mostly printable text)."""
+    """Text of ``raw`` and its encoding (UTF-16 with its byte-order mark, as Windows tools
+    and Excel's "Unicode Text" write it; UTF-8; else Latin-1 for mostly printable text)."""
     head = raw[:65536]
+    if head.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
+        try:
+            return codecs.getincrementaldecoder("utf-16")().decode(raw, final=final), "utf-16"
+        except UnicodeDecodeError:
+            raise NoisevarError(
+                f"{name} starts as UTF-16 text but is not: save it as UTF-8 (CSV UTF-8)"
+            ) from None
     if b"\x00" in head:
         raise NoisevarError(
             f"{name} looks like a binary file (it contains NUL bytes): give a CSV/TSV text "
@@ -99,7 +107,7 @@ def read_text_chunks(
     head = _read_head(p, name)
     whole = p.stat().st_size <= len(head)
     text, encoding = _decode(head, name, final=whole)
-    fmt, names, header_line = table_layout(text, name, whole)
+    fmt, names, header_line, _ = table_layout(text, name, whole)
     src = TextSource(p, text, encoding)
 
     def frames() -> Iterator[pd.DataFrame]:

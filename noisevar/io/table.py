@@ -205,13 +205,13 @@ def time_unit(name: str) -> str | None:
     return NAMED_TIME_UNITS.get(time_key(name))
 
 
-def time_scale(name: str, first: float | None = None) -> float:
+def time_scale(name: str, first: float | None = None, stated: str | None = None) -> float:
     """Seconds per unit of a time column called ``name`` whose first value is ``first``.
 
-    The unit its name states; else the unit in which ``first`` is a Unix time of
-    2000-2100 (:func:`epoch_unit`); else 1 (seconds).
+    The unit its name states (or ``stated``, a units row's cell); else the unit in which
+    ``first`` is a Unix time of 2000-2100 (:func:`epoch_unit`); else 1 (seconds).
     """
-    unit = time_unit(name)
+    unit = time_unit(name) or (stated if stated in TIME_UNITS else None)
     if unit is None and first is not None and np.isfinite(first):
         unit = epoch_unit(float(first))
     return 1.0 if unit is None else TIME_UNITS[unit]
@@ -236,24 +236,34 @@ def epoch_unit(first: float) -> str | None:
 
 
 def time_in_seconds(
-    columns: dict[str, NDArray], time_column: str, notes: list[str], first: float | None = None
+    columns: dict[str, NDArray],
+    time_column: str,
+    notes: list[str],
+    first: float | None = None,
+    stated: str | None = None,
 ) -> None:
     """Scale ``columns[time_column]`` to seconds (in place, with a note).
 
     In the unit its name states (``time_ns`` in nanoseconds); a name that states none
     (Kalibr's and EuRoC's ``timestamp``) in the unit in which its first value is a Unix
     time of 2000-2100 (:func:`epoch_unit`: 1.4e18 is nanoseconds). ``first``: the column's
-    first value when the column was taken relative to it.
+    first value when the column was taken relative to it; ``stated``: the unit a row under
+    the header gives it.
     """
     t = columns[time_column]
     raw = first if first is not None else (float(t[0]) if t.size else None)
-    scale = time_scale(time_column, raw)
+    scale = time_scale(time_column, raw, stated)
     if scale == 1.0:
-        _say_if_counting(t, time_column, notes)
+        if stated not in TIME_UNITS:
+            _say_if_counting(t, time_column, notes)
         return
     columns[time_column] = t * scale
     unit = next(u for u, v in TIME_UNITS.items() if v == scale)
-    why = "its name" if time_unit(time_column) else "its values are Unix times in that unit"
+    why = (
+        "its name" if time_unit(time_column)
+        else "the units row" if stated in TIME_UNITS
+        else "its values are Unix times in that unit"
+    )  # fmt: skip
     notes.append(f"time column {echo(time_column)!r} read in {unit} ({why}), as seconds")
 
 

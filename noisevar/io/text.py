@@ -138,16 +138,44 @@ def _unique_names(raw: list[str]) -> list[str]:
 
 
 def _parse_time_strings(values: list[str]) -> NDArray | None:
-    """ISO date-times to seconds from the first; None when they are not date-times."""
+    """Date-times to seconds from the first; None when they are not date-times.
+
+    ISO 8601 first (numpy); else the format pandas guesses from the first value
+    (``24-Nov-2023 13:58:58.081`` as MATLAB writes it, ``11/24/2023 13:58:58`` as Excel
+    does), with day and month swapped when that format does not read every value.
+    """
     try:
         with warnings.catch_warnings():  # "...Z" or "+02:00": numpy converts it to UTC, and
             warnings.simplefilter("ignore", UserWarning)  # says so in a warning to the user
             t = np.array(values, dtype="datetime64[ns]")
     except (ValueError, TypeError, OverflowError):
-        return None
+        t = _guessed_times(values)
+        if t is None:
+            return None
     if np.any(np.isnat(t)):
         return None
     return (t - t[0]).astype("timedelta64[ns]").astype(float) / 1e9
+
+
+def _guessed_times(values: list[str]) -> NDArray | None:
+    """``values`` in the date-time format pandas guesses from the first (or with its day
+    and month swapped), as datetime64[ns]; None when neither reads every value."""
+    import pandas as pd
+    from pandas.tseries.api import guess_datetime_format
+
+    if not values:
+        return None
+    with warnings.catch_warnings():  # "dayfirst=False was specified": the swap is tried next
+        warnings.simplefilter("ignore", UserWarning)
+        fmt = guess_datetime_format(values[0])
+    if fmt is None or "%Y" not in fmt:  # a time of day alone has no date to anchor it
+        return None
+    swapped = fmt.replace("%m", "\0").replace("%d", "%m").replace("\0", "%d")
+    for f in dict.fromkeys((fmt, swapped)):
+        t = pd.to_datetime(pd.Series(values), format=f, errors="coerce")
+        if not t.isna().any():
+            return t.dt.tz_localize(None).to_numpy(dtype="datetime64[ns]")
+    return None
 
 
 def _meaningful(line: str) -> bool:
@@ -205,8 +233,11 @@ def _check_width(name: str, fields: list[str], head: list[tuple[int, str]], fmt:
             )
 
 
-def table_layout(text: str, name: str, complete: bool) -> tuple[_Format, list[str], int]:
-    """How a text table is written, its column names and the line its header is on.
+def table_layout(
+    text: str, name: str, complete: bool
+) -> tuple[_Format, list[str], int, list[str] | None]:
+    """How a text table is written, its column names, the last line before its data, and
+    the units a row under the header states (None: no such row).
 
     ``text`` is the whole file (``complete``) or its head.
     """
@@ -221,9 +252,25 @@ def table_layout(text: str, name: str, complete: bool) -> tuple[_Format, list[st
     if not all(_is_number(c, fmt) for c in first):
         if len(head) < 2:
             raise NoisevarError(f"{echo(name)} has a header but no data rows")
-        return fmt, _unique_names(first), head[0][0]
+        units = _units_row(head, len(first), fmt)
+        line = head[1][0] if units is not None else head[0][0]
+        return fmt, _unique_names(first), line, units
     names = _commented_header(text, head[0][0], len(first), fmt)
-    return fmt, names or [f"col{i}" for i in range(len(first))], head[0][0] - 1
+    return fmt, names or [f"col{i}" for i in range(len(first))], head[0][0] - 1, None
+
+
+def _units_row(head: list[tuple[int, str]], width: int, fmt: _Format) -> list[str] | None:
+    """The row of units under a header (``s,m/s^2,m/s^2``: data loggers and LabVIEW write
+    one), or None: a row of as many fields, none a number, above a row that holds numbers."""
+    if len(head) < 3:
+        return None
+    cells = [c.strip().strip('"').strip() for c in _split(head[1][1], fmt.delim)]
+    below = _split(head[2][1], fmt.delim)
+    if len(cells) != width or any(_is_number(c, fmt) for c in cells if c):
+        return None
+    if not any(_is_number(c.strip().strip('"'), fmt) for c in below):
+        return None
+    return [c.strip("[]() ") for c in cells]
 
 
 def _commented_header(text: str, data_line: int, width: int, fmt: _Format) -> list[str] | None:
@@ -262,26 +309,27 @@ def _holds_dates(text: str, fmt: _Format, header_line: int, idx: int | None) -> 
 
 def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
     text = src if isinstance(src, str) else src.head
-    fmt, names, header_line = table_layout(text, name, isinstance(src, str))
+    fmt, names, header_line, unit_row = table_layout(text, name, isinstance(src, str))
     time_idx = pick_time_column(names)
     if time_idx is None:  # a date column is the time column when it holds date-times
         date_idx = next((i for i, c in enumerate(names) if time_key(c) in DATE_NAMES), None)
         time_idx = date_idx if _holds_dates(text, fmt, header_line, date_idx) else None
     columns, notes, first = _parse_body(src, header_line, names, fmt, name, time_idx)
     time_col = names[time_idx] if time_idx is not None else None
+    stated = {c: u for c, u in zip(names, unit_row or [], strict=False) if u}  # a units row
     names = [c for c in names if c in columns]  # text columns are left out (noted)
     if fmt.decimal == ",":
         notes.insert(0, "read with a decimal comma (1,5 = 1.5)")
     kind = "tsv" if fmt.delim == "\t" else ("csv" if fmt.delim else "text")
     if time_col:
-        time_in_seconds(columns, time_col, notes, first)
+        time_in_seconds(columns, time_col, notes, first, stated.get(time_col))
     period = _period_from_time(columns[time_col], notes) if time_col else None
     empty = [c for c in names if np.all(np.isnan(columns[c]))]
     if len(empty) == len(names):
         raise NoisevarError(f"{echo(name)} has no numbers: every cell is empty or NaN")
     for c in empty:
         notes.append(f"column {echo(c)!r} is empty")
-    units = {c: u for c in names if c != time_col and (u := header_unit(c))}
+    units = {c: u for c in names if c != time_col and (u := header_unit(c) or stated.get(c))}
     return LoadedTable(name, columns, kind, time_col, period, notes, units)
 
 
