@@ -174,6 +174,9 @@ def verdict_checks(est) -> list[str]:
             bad += _no_still_said(est, quoted)
         elif abs(quoted - est.still.variance) > 1e-3 * est.still.variance:  # 4 digits shown
             bad.append(f"verdict quotes {quoted:.4g}, est.still is {est.still.variance:.4g}")
+    if est.still is not None and quoted is None:  # the R to use, unsaid
+        bad.append(f"the R to use is the still R {est.still.variance:.4g}, but the verdict "
+                   "quotes no still level")  # fmt: skip
     if est.still is not None and est.still.ci95[0] > est.ci95[1]:
         bad.append(f"still level {est.still.variance:.4g} above R's ci95 {est.ci95}")
     if re.search(r"coloured: white at [\d-]+ samples? \(", v):

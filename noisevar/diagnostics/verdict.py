@@ -69,7 +69,7 @@ def make_verdict(
     if quiet is None:  # none on R's residual: the level profile's, said to be indicative
         quiet = diag.level_profile.quiet_variance
     said = still_said(diag, still_gap)
-    not_white = _not_white(diag, r, quiet, variance, still_gap)
+    not_white = _not_white(diag, r, quiet, variance, still_gap, still is not None)
     if not_white is not None:
         return not_white
     prof = diag.level_profile
@@ -82,10 +82,7 @@ def make_verdict(
     # a still R apart from R (estimators.still_set.has_still_apart): the level varies,
     # though the block medians may not split it into regimes
     if diag.level_varies or still is not None:
-        return (
-            f"the noise level changes along the record: {r} is an average; its quiet "
-            f"stretches ({prof.quiet_share:.0%}) give {_g(quiet)}{said}"
-        )
+        return _level_changes(prof.quiet_share, r, quiet, said)
     if diag.glitches and not diag.tails_beyond_glitches:
         return glitch_verdict(diag, r, core)
     if diag.heavy_tailed:
@@ -134,15 +131,30 @@ def glitch_words(diag: NoiseDiagnostics) -> str:
     return f"{len(g)} outlying samples, {where}, up to {size}"
 
 
+def _level_changes(share: float, r: str, quiet: float, said: str) -> str:
+    """The verdict of a record whose level varies: R an average, the quiet level to use."""
+    return (
+        f"the noise level changes along the record: {r} is an average; its quiet "
+        f"stretches ({share:.0%}) give {_g(quiet)}{said}"
+    )
+
+
 def _not_white(
-    diag: NoiseDiagnostics, r: str, quiet: float, variance: float, gap: str | None
+    diag: NoiseDiagnostics,
+    r: str,
+    quiet: float,
+    variance: float,
+    gap: str | None,
+    still_apart: bool = False,
 ) -> str | None:
     """The verdict of a record whose noise is not a white level (None: it may be one).
 
-    ``gap``: why there is no still R to use (:func:`indicative`), or None.
+    ``gap``: why there is no still R to use (:func:`indicative`), or None; ``still_apart``:
+    there is a still R to use apart from R.
 
     In the order the evidence decides: no noise to tell apart, no quiet stretch, mostly
-    motion, differenced data, motion leaking through still stretches that are white, then
+    motion, differenced data, motion leaking through still stretches that are white, a
+    still R to use (the level changes; the still stretches' own colour said), then
     coloured noise.
     """
     prof = diag.level_profile
@@ -182,6 +194,10 @@ def _not_white(
             f"{_g(quiet)}, and their noise is white: the rest is motion leaking through the "
             f"smoother, not coloured noise{indicative(gap)}"
         )
+    if still_apart and diag.level_varies:
+        # the R to use is the still R: the level change comes first, then the still
+        # stretches' own colour (a coloured verdict would quote R, an average, as white)
+        return _level_changes(prof.quiet_share, r, quiet, said)
     if not diag.white:
         # slopes that read white at every factor name no colour: the lag-1 correlation does
         coloured = any(alpha != WHITE for _, alpha in diag.power_law)

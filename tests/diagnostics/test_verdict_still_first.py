@@ -1,0 +1,37 @@
+"""A record whose level varies and whose still noise is coloured: the verdict quotes the R
+to use (the still R), not the whole record's R as "its white part".
+
+The Pololu MinIMU's accelerometer X (real_audit) read "the noise is coloured ...; R = 74,680
+is its white part", while the R to use, `est.still`, was 3,688: the coloured branch came
+before the level change, and the sentence users read named another R than the one to use
+(issue 26 item 4).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy import signal
+
+import noisevar
+
+
+def _record(seed: int) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    n = 8000
+    z = signal.lfilter([1.0], [1.0, -0.5], rng.normal(size=n))  # AR(1) noise everywhere
+    k = np.arange(n)
+    for start in (1500, 5200):  # two bursts of motion: 15 % of the record
+        burst = slice(start, start + 600)
+        z[burst] += 40.0 * np.sin(2 * np.pi * k[burst] / 9.0) * rng.normal(1.0, 0.3, 600)
+    return z
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_the_verdict_quotes_the_still_r(seed: int) -> None:
+    est = noisevar.estimate(_record(seed))
+    assert est.still is not None and est.still.variance < est.variance / 5
+    v = est.diagnostics.verdict
+    assert v.startswith("the noise level changes along the record")
+    assert noisevar.format.eng(est.still.variance) in v
+    assert "even there the noise is not white" in v
