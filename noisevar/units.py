@@ -132,6 +132,20 @@ def _parse(raw: str) -> Unit:
     return Unit(raw, scale, str(base.units))
 
 
+#: The SI unit (pint's spelling) of each IMU sensor's measurement.
+SENSOR_SI = {"gyro": "radian / second", "accel": "meter / second ** 2"}
+
+
+def sensor_of(text: str | None) -> str | None:
+    """``"gyro"`` for an angular rate unit (rad/s, deg/s, rpm), ``"accel"`` for an
+    acceleration (m/s^2, g, mg), else None (no unit, an unknown one, or another kind)."""
+    try:
+        unit = parse_unit(text)
+    except NoisevarError:
+        return None
+    return next((k for k, si in SENSOR_SI.items() if unit is not None and unit.si == si), None)
+
+
 def declared_unit(text: str | None) -> str | None:
     """A unit a file declares (a log's message definition, a header's ``[unit]``), if
     :func:`parse_unit` reads it; else None (the file's word is not the user's)."""

@@ -217,3 +217,27 @@ def test_units_row_utf16_and_a_time_unit_in_it(tmp_path: Path) -> None:
     assert tab.sample_period == pytest.approx(0.005)
     assert tab.units == {"ax": "m/s^2"}
     assert any("read in ms (the units row)" in n for n in tab.notes)
+
+
+def test_euroc_file_to_a_filter_config_in_one_command(tmp_path: Path) -> None:
+    """``noisevar imu data.csv --export ...`` asked for --gyro and --accel though the file
+    declares which columns are rates (rad s^-1) and which accelerations (m s^-2)."""
+    rng = np.random.default_rng(4)
+    head = "#timestamp [ns]," + ",".join(
+        [f"w_RS_S_{a} [rad s^-1]" for a in "xyz"] + [f"a_RS_S_{a} [m s^-2]" for a in "xyz"]
+    )
+    rows = [head] + [
+        f"{T0 + i * STEP_NS}," + ",".join(f"{float(v)!r}" for v in rng.normal(0, 0.01, 6))
+        for i in range(2000)
+    ]
+    f = tmp_path / "data.csv"
+    f.write_text("\n".join(rows) + "\n")
+    out = subprocess.run(
+        [sys.executable, "-m", "noisevar", "imu", str(f), "--export", "kalibr", "--out",
+         str(tmp_path / "cfg"), "--no-report"],
+        capture_output=True, text=True,
+    )  # fmt: skip
+    assert out.returncode == 0, out.stderr
+    assert "by the units the file declares" in out.stdout
+    kalibr = next((tmp_path / "cfg").glob("*.yaml")).read_text()
+    assert "gyroscope_noise_density" in kalibr and "update_rate:" in kalibr

@@ -28,7 +28,7 @@ from noisevar.cli._temperature import print_models, split_temperature, temperatu
 from noisevar.cli.allan import load_columns
 from noisevar.errors import NoisevarError
 from noisevar.io.limits import echo
-from noisevar.units import declared_unit
+from noisevar.units import declared_unit, sensor_of
 
 
 def _columns(args: argparse.Namespace) -> list[str] | None:
@@ -124,6 +124,24 @@ def _need_sensors(args: argparse.Namespace, flag: str) -> None:
     if not (args.gyro and args.accel):
         raise NoisevarError(
             f"{flag} needs --gyro COLUMNS and --accel COLUMNS (which columns are which sensor)"
+        )
+
+
+def _sensors_by_unit(args: argparse.Namespace, declared: dict, notes: list[str]) -> None:
+    """``--gyro`` and ``--accel`` from the units the file declares, when neither is given and
+    a consumer file is asked for: three columns in an angular-rate unit and three in an
+    acceleration (EuRoC's ``[rad s^-1]`` and ``[m s^-2]``, a ROS Imu message), with a note;
+    else left for :func:`_need_sensors` to ask for."""
+    if args.gyro or args.accel or not (args.kalibr or args.export):
+        return
+    kinds = {c: sensor_of(u) for c, u in declared.items()}
+    gyro = [c for c, k in kinds.items() if k == "gyro"]
+    accel = [c for c, k in kinds.items() if k == "accel"]
+    if len(gyro) == 3 and len(accel) == 3:
+        args.gyro, args.accel = gyro, accel
+        notes.append(
+            f"--gyro {' '.join(gyro)} and --accel {' '.join(accel)}: by the units the file "
+            "declares (give --gyro and --accel to choose otherwise)"
         )
 
 
@@ -285,6 +303,7 @@ def _cmd_imu(args: argparse.Namespace) -> int:
 
         consumers(args.export)  # refuse an unknown consumer before reading the file
     data, rates, declared, times, loaded = _load(args)
+    _sensors_by_unit(args, declared, loaded)
     rate = next(iter(rates.values()), None)  # one topic or file: one rate
     temp = split_temperature(args, data, rate)
     if args.model != IEEE952:
