@@ -351,13 +351,20 @@ def _estimate_one(
     import numpy as np
 
     from noisevar.estimators import estimate, method_spec
+    from noisevar.estimators.answer import declared_note, record_answer
     from noisevar.io import channel_record, pick_column
+    from noisevar.io.load import column_name
 
     drop = bool(params.get("drop_nonfinite", False))
     if not method_spec(method).needs_reference:
         z, t = channel_record(table, column, drop_nonfinite=drop)
         result = estimate(z * scale, method=method, t=t, **params)
         result.notes[:0] = [n for n in table.notes if n not in result.notes]
+        cname = column_name(table, column)
+        declared = table.declared_variance.get(cname)
+        if declared is not None and result.diagnostics is not None:  # a ROS message's own R
+            unit = _unit(args, table.units.get(cname))
+            result.notes.append(declared_note(record_answer(result), declared * scale**2, unit))
         return result
     if not args.reference_column:
         raise NoisevarError(f"method {method} needs --reference-column: the second sensor's column")

@@ -141,6 +141,36 @@ class RecordAnswer:
         return {k: v for k, v in out.items() if v}
 
 
+def declared_note(answer: RecordAnswer, declared: float | None, unit: str = "") -> str | None:
+    """What the log's declared variance for a field (a ROS message's covariance, which a ROS
+    filter such as robot_localization takes as R) is against the R to use; None without one.
+
+    Within R's 95 % interval it agrees; else the note says by how much, and which way the
+    filter told the declared value is wrong (docs/algorithms.md §E8, *Declared noise*).
+    """
+    if declared is None or not declared > 0:
+        return None
+    u = squared(unit)
+    said = (
+        f"the log declares a variance of {eng(declared, u)} for this field (its messages' "
+        "covariance, which a ROS filter such as robot_localization takes as R); "
+        f"the R to use is {eng(answer.variance, u)}"
+    )
+    lo, hi = answer.ci95
+    ratio = answer.variance / declared
+    if lo <= declared <= hi:
+        return said + ", and the declared value lies inside its 95 % interval"
+    if ratio > 1:
+        return (
+            said + f", {ratio:.3g}x the declared value: a filter given the declared value "
+            "trusts this sensor more than it should"
+        )
+    return (
+        said + f", {1 / ratio:.3g}x below the declared value: a filter given the declared "
+        "value trusts this sensor less than it could"
+    )
+
+
 def record_answer(est: VarianceEstimate, regimes: str = DEFAULT_REGIMES) -> RecordAnswer:
     """The record's answer from its estimate (method ``auto``, as the Estimator page).
 

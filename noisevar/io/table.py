@@ -59,6 +59,10 @@ class LoadedTable:
     units : mapping of str to str
         Column name to its unit (pint syntax, e.g. ``rad/s``, ``m/s**2``), for the columns
         whose unit the file defines (a log's message definitions); empty otherwise.
+    declared_variance : mapping of str to float
+        Column name to the noise variance the log declares for it (a ROS message's
+        covariance diagonal, its median over the messages; in the column's unit squared),
+        for the columns whose messages declare a known one; empty otherwise.
     """
 
     name: str
@@ -68,6 +72,7 @@ class LoadedTable:
     sample_period: float | None = None
     notes: list[str] = field(default_factory=list)
     units: Mapping[str, str] = field(default_factory=dict)
+    declared_variance: Mapping[str, float] = field(default_factory=dict)
 
     @property
     def n_rows(self) -> int:

@@ -308,8 +308,12 @@ def load_log(
     if not names:
         raise NoisevarError(f"no field asked of topic {echo(info.name)!r}")
     problems: list[str] = []
-    chunks = read_topic(path, info.name, names, name, problems)
-    return _table(reader_of(path, name), name, info, names, chunks, problems, max_values)
+    # the fields that hold the asked fields' declared variances are read beside them
+    extra = tuple(dict.fromkeys(v for f, v in info.declared.items() if f in names))
+    extra = tuple(v for v in extra if v not in names)
+    chunks = read_topic(path, info.name, names + extra, name, problems)
+    reader = reader_of(path, name)
+    return _table(reader, name, info, names + extra, chunks, problems, max_values, extra)
 
 
 def load_logs(
@@ -376,8 +380,10 @@ def _table(
     chunks: Iterator[Chunk],
     problems: list[str],
     max_values: int,
+    extra: Sequence[str] = (),
 ):
-    """One topic's chunks gathered into a :class:`~noisevar.io.table.LoadedTable`."""
+    """One topic's chunks gathered into a :class:`~noisevar.io.table.LoadedTable`; ``extra``:
+    fields read only for the variances they declare (not columns of the table)."""
     from noisevar.io.table import LoadedTable, _period_from_time
 
     t, cols, rows = _gather(chunks, names, max_values)
@@ -390,8 +396,27 @@ def _table(
             f"the {reader.title} reader reported {len(problems):,} problems (corrupt stretches "
             f"are skipped), the first: {echo(problems[0], 120)}"
         )
+    declared = _declared(info, cols)
+    for f in extra:
+        cols.pop(f, None)
     units = {f: u for f, u in info.units.items() if f in cols}
     if t is None or "time" in cols:
-        return LoadedTable(name, cols, reader.name, None, None, notes, units)
+        return LoadedTable(name, cols, reader.name, None, None, notes, units, declared)
     period = _period_from_time(t, notes)
-    return LoadedTable(name, {"time": t, **cols}, reader.name, "time", period, notes, units)
+    return LoadedTable(
+        name, {"time": t, **cols}, reader.name, "time", period, notes, units, declared
+    )
+
+
+def _declared(info: TopicInfo, cols: dict) -> dict[str, float]:
+    """Each field's declared variance: the median over the messages of the field holding
+    it; ROS's 0 (unknown) and -1 (not given) declare none."""
+    out = {}
+    for f, source in info.declared.items():
+        values = cols.get(source)
+        if f not in cols or values is None or not values.size:
+            continue
+        med = float(np.nanmedian(values))
+        if np.isfinite(med) and med > 0:
+            out[f] = med
+    return out

@@ -22,6 +22,7 @@ import numpy as np
 from noisevar.errors import NoisevarError
 from noisevar.io.limits import echo
 from noisevar.io.logs.msgdefs import open_bag
+from noisevar.io.logs.ros_declared import declared_fields
 from noisevar.io.logs.spec import CHUNK, MAX_FIELDS, Chunk, LogReader, TopicInfo
 
 #: Units of standard messages' fields, from their message definitions' documentation
@@ -110,7 +111,10 @@ def topics(path: Path) -> list[TopicInfo]:
                 fields = tuple(_leaves(bag.typestore, msgtype))[:MAX_FIELDS]
             count = int(info.msgcount)
             rate = (count - 1) / span if count > 1 and bag.duration > 0 else None
-            out.append(TopicInfo(name, msgtype, count, rate, fields, _units(msgtype, fields)))
+            declared = declared_fields(msgtype, fields)
+            out.append(
+                TopicInfo(name, msgtype, count, rate, fields, _units(msgtype, fields), declared)
+            )
     return out
 
 

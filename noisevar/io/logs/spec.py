@@ -42,6 +42,9 @@ class TopicInfo:
     units : mapping of str to str
         Unit of a field, as the format defines it (pint syntax: ``rad/s``, ``m/s**2``);
         fields without a defined unit are absent.
+    declared : mapping of str to str
+        A field whose message declares its noise variance -> the field holding it (a ROS
+        message's covariance element: :mod:`noisevar.io.logs.ros_declared`).
     """
 
     name: str
@@ -50,6 +53,7 @@ class TopicInfo:
     rate: float | None
     fields: tuple[str, ...]
     units: Mapping[str, str] = field(default_factory=dict)
+    declared: Mapping[str, str] = field(default_factory=dict)
 
     def to_dict(self) -> dict:
         """The topic as plain JSON-ready values."""
@@ -60,6 +64,7 @@ class TopicInfo:
             "rate_hz": self.rate,
             "fields": list(self.fields),
             "units": dict(self.units),
+            "declared_variance_fields": dict(self.declared),
         }
 
 
