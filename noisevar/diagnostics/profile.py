@@ -475,8 +475,8 @@ def regimes_on_both_grids(
     -------
     NoiseDiagnostics
         Its profile's regimes those of ``back(diag)`` (in the record's sample indices)
-        when the record's own grid finds one still level with blocks left out of the quiet
-        set and the reversed grid regimes that are not still, all in the record's last
+        when the record's own grid finds one still level with its last block left out of
+        the quiet set and the reversed grid regimes that are not still, all in that last
         block; else ``diag``.
 
     Notes
@@ -490,10 +490,15 @@ def regimes_on_both_grids(
     that is not still inside the record's last block; elsewhere the two grids differ by a
     phase only, and one huge spike's reach (Student-t noise) fits one block of either by
     chance. The quiet set stays the record's own grid's. ``back`` is called only when the
-    record's quiet set leaves a block out (a record all quiet has no burst to find).
+    record's last block is left out of its quiet set (a burst there raises its mean square).
     """
     prof = diag.level_profile
-    if back is None or any(not r.still for r in prof.regimes) or prof.quiet.all():
+    if (
+        back is None
+        or any(not r.still for r in prof.regimes)
+        or not prof.quiet.size
+        or prof.quiet[-1]
+    ):
         return diag
     rev = back(diag)
     if all(r.still for r in rev.regimes):
