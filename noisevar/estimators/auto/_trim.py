@@ -32,7 +32,7 @@ from noisevar.numeric.blocks import (
     dilate,
     flagged_per_block,
 )
-from noisevar.numeric.steps import STEP_MAX_FRACTION, STEP_WINDOW, lone_steps, step_mask
+from noisevar.numeric.steps import STEP_MAX_FRACTION, lone_steps, step_mask
 from noisevar.numeric.sweeps import near_any, window_counts
 
 #: Trimmed samples are widened by half of this span (or of the longest span below it).
@@ -177,8 +177,7 @@ def _believed(found: NDArray, block: int, lone: NDArray | None = None) -> NDArra
     size = min(2 * half + 1, found.size)
     lo = np.clip(idx - half, 0, found.size - size)
     hi = lo + size - 1
-    counted = idx if lone is None else np.union1d(idx, _run_ends(np.flatnonzero(lone)))
-    fast = window_counts(counted, lo, hi) > STEP_MAX_FRACTION * size
+    fast = window_counts(idx, lo, hi) > STEP_MAX_FRACTION * size
     if not fast.any():
         return found
     # a flag within half the window of a fast one is the same fast stretch (its edge)
@@ -188,15 +187,6 @@ def _believed(found: NDArray, block: int, lone: NDArray | None = None) -> NDArra
     out = found.copy()
     out[idx[near]] = False
     return out if out.any() else None
-
-
-def _run_ends(idx: NDArray) -> NDArray:
-    """The first and last of each run of the sorted flags ``idx`` (gaps of at most
-    ``STEP_WINDOW`` merged, as :func:`~noisevar.numeric.steps.lone_steps` merges them)."""
-    if not idx.size:
-        return idx
-    cut = np.flatnonzero(np.diff(idx) > STEP_WINDOW)
-    return np.union1d(idx[np.r_[0, cut + 1]], idx[np.r_[cut, idx.size - 1]])
 
 
 def _near_flagged(
