@@ -3,14 +3,19 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from functools import partial
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 
 from noisevar._distributions import chi2_pdf, chi2_ppf
 from noisevar.diagnostics.regimes import Regime, find_regimes
+
+if TYPE_CHECKING:
+    from noisevar.diagnostics.results import NoiseDiagnostics
 
 #: At most this many blocks in a level profile (blocks grow with the record).
 PROFILE_BLOCKS = 200
@@ -451,3 +456,59 @@ def on_both_grids(
     both = np.cumsum(mine[:n]) == 2
     edges = np.flatnonzero(np.diff(np.r_[0, both.view(np.int8), 0]))
     return [(int(a), int(b)) for a, b in zip(edges[::2], edges[1::2], strict=True)]
+
+
+def regimes_on_both_grids(
+    diag: NoiseDiagnostics, back: Callable[[NoiseDiagnostics], LevelProfile] | None
+) -> NoiseDiagnostics:
+    """``diag`` with the reversed grid's regimes when only they find the level varies.
+
+    Parameters
+    ----------
+    diag : NoiseDiagnostics
+        The record's diagnostics (its profile on the grid from the record's start).
+    back : callable or None
+        ``back(diag)``: the same profile of the record reversed (its blocks end where the
+        record's start); None: the record has none (``diag`` is returned).
+
+    Returns
+    -------
+    NoiseDiagnostics
+        Its profile's regimes those of ``back(diag)`` (in the record's sample indices)
+        when the record's own grid finds one still level with its last block left out of
+        the quiet set and the reversed grid regimes that are not still, all in that last
+        block; else ``diag``.
+
+    Notes
+    -----
+    docs/algorithms.md §E1 *Regimes*. Regimes are found on block medians: a burst shorter
+    than half a block is seen by the grid that puts it in one block, not by the record's
+    own grid when its last block, which takes the rest of the record (up to twice a
+    block), joins it to quiet samples. A GPS track ending in 30 wild fixes was one level
+    forwards and two regimes reversed, and its R to use flipped between R and the still R
+    66x below it (issue 26). So the level varies when the reversed grid finds a regime
+    that is not still inside the record's last block; elsewhere the two grids differ by a
+    phase only, and one huge spike's reach (Student-t noise) fits one block of either by
+    chance. The quiet set stays the record's own grid's. ``back`` is called only when the
+    record's last block is left out of its quiet set (a burst there raises its mean square).
+    """
+    prof = diag.level_profile
+    if (
+        back is None
+        or any(not r.still for r in prof.regimes)
+        or not prof.quiet.size
+        or prof.quiet[-1]
+    ):
+        return diag
+    rev = back(diag)
+    if all(r.still for r in rev.regimes):
+        return diag
+    n = diag.n
+    mirrored = tuple(replace(r, start=n - r.stop, stop=n - r.start) for r in reversed(rev.regimes))
+    # only where the record's grid dilutes a burst that the reversed one does not: its
+    # last block, which takes the rest of the record (elsewhere the grids differ by a phase,
+    # and one huge spike's reach fits one block of either grid by chance: not a regime)
+    last = int(prof.start[-1])
+    if any(not r.still and r.start < last for r in mirrored):
+        return diag
+    return replace(diag, level_profile=replace(prof, regimes=mirrored))

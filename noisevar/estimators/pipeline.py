@@ -38,6 +38,7 @@ from noisevar.diagnostics import (
     with_verdict,
 )
 from noisevar.diagnostics.assumptions import check_assumptions
+from noisevar.diagnostics.profile import LevelProfile, regimes_on_both_grids
 from noisevar.diagnostics.regimes import QuietLevel, StillLevel
 from noisevar.errors import NoisevarError
 from noisevar.estimators._input import check_samples, check_times
@@ -214,19 +215,23 @@ class InMemory:
         self.jumps = jumps
         return diagnose(self.z, self.seg, jumps, result.outliers)
 
-    def still_ranges(self, diag: NoiseDiagnostics) -> list[tuple[int, int]]:
-        """The still stretches of ``diag`` that the reversed record's block grid finds still too.
+    def back_profile(self, diag: NoiseDiagnostics) -> LevelProfile:
+        """The level profile of the record reversed, the same samples left out around jumps
+        (docs/algorithms.md §E1 Regimes): :func:`noisevar.diagnostics.profile_of`, once."""
+        back = getattr(self, "_back", None)
+        if back is None:
+            n = self.z.size
+            seg = Segmentation(tuple((n - b, n - a) for a, b in reversed(self.seg.segments)), ())
+            jumps = getattr(self, "jumps", None)
+            lone = np.array([n - 1 - g.index for g in diag.glitches], dtype=int)
+            back = profile_of(self.z[::-1], seg, None if jumps is None else jumps[::-1], lone)
+            self._back = back
+        return back
 
-        The same level profile on the record reversed, with the same samples left out
-        around jumps: its blocks end where the record's start (docs/algorithms.md §E1
-        Regimes); only the profile is computed (:func:`noisevar.diagnostics.profile_of`).
-        """
-        n = self.z.size
-        seg = Segmentation(tuple((n - b, n - a) for a, b in reversed(self.seg.segments)), ())
-        jumps = getattr(self, "jumps", None)
-        lone = np.array([n - 1 - g.index for g in diag.glitches], dtype=int)
-        back = profile_of(self.z[::-1], seg, None if jumps is None else jumps[::-1], lone)
-        return on_both_grids(diag.level_profile.still_stretches, back.still_stretches, n)
+    def still_ranges(self, diag: NoiseDiagnostics) -> list[tuple[int, int]]:
+        """The still stretches of ``diag`` that the reversed record's block grid finds still too."""
+        back = self.back_profile(diag).still_stretches
+        return on_both_grids(diag.level_profile.still_stretches, back, self.z.size)
 
     def estimate_in(self, params: dict, ranges: list[tuple[int, int]]) -> VarianceEstimate:
         """The method on the sample ranges ``ranges`` only, less the samples around jumps
@@ -332,6 +337,7 @@ def run_record(
     except NoisevarError as exc:
         result.notes.append(f"no diagnostics: {exc}")
     else:
+        diag = regimes_on_both_grids(diag, getattr(record, "back_profile", None))
         # differenced noise is corrected through the residual filter's own correlation
         # (conclude): a span chosen per block has none, so the fixed coloured-noise span
         extra = {}

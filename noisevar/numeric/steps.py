@@ -285,7 +285,10 @@ def lone_steps(
     start, end = idx[np.r_[0, cut + 1]], idx[np.r_[cut, idx.size - 1]]
     gap = start[1:] - end[:-1] - 1
     quiet = np.r_[True, gap >= 2 * w] & np.r_[gap >= 2 * w, True]
-    ok = quiet & (end - start + 1 <= 4 * w) & (start >= m) & (end + m < z.size)
+    # no flag within 2w is known only where D3 could have flagged there (k from 2w to
+    # n - 2w, with its boundary pair): a run nearer an edge may have a neighbour unseen
+    seen = (start >= 4 * w - 1) & (end + 4 * w <= z.size)
+    ok = quiet & (end - start + 1 <= 4 * w) & seen
     if not ok.any():
         return out
     a, b = start[ok], end[ok]

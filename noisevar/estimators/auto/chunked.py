@@ -25,6 +25,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.diagnostics import (
+    LevelProfile,
     NoiseDiagnostics,
     Segmentation,
     from_sums,
@@ -346,13 +347,17 @@ class ChunkedAuto:
         scaled = lambda: np.ldexp(head, e) if e else head  # noqa: E731
         return from_sums(self.sums, seg, scaled, spawn, calm, read=self.reader())
 
-    def still_ranges(self, diag: NoiseDiagnostics) -> list[tuple[int, int]]:
-        """As :meth:`~noisevar.estimators.pipeline.InMemory.still_ranges`: the reversed
+    def back_profile(self, diag: NoiseDiagnostics) -> LevelProfile:
+        """As :meth:`~noisevar.estimators.pipeline.InMemory.back_profile`: the reversed
         record's level profile, its blocks summed by the first pass (the same residuals
         read backwards, :func:`~noisevar.diagnostics.sums.diag_part`'s ``back``): no pass."""
         if self.sums is None or self.sums.back is None:
             raise NoisevarError("the record has not been estimated yet")
-        rev = profile_from_sums(self.sums.back)
+        return profile_from_sums(self.sums.back)
+
+    def still_ranges(self, diag: NoiseDiagnostics) -> list[tuple[int, int]]:
+        """As :meth:`~noisevar.estimators.pipeline.InMemory.still_ranges`."""
+        rev = self.back_profile(diag)
         return on_both_grids(diag.level_profile.still_stretches, rev.still_stretches, self.n)
 
     def reader(self) -> Callable[[int, int], NDArray]:
