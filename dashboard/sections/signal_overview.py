@@ -19,6 +19,7 @@ from dashboard.state import (
     truth_of,
 )
 from dashboard.widgets import figure_downloads, fmt, guarded, lazy_expander, show_figure
+from noisevar.estimators.answer import declared_note, record_answer
 from noisevar.figures.estimator import signal_figure
 from noisevar.io import signal_summary
 
@@ -101,6 +102,11 @@ def summary_metrics(sig: LoadedSignal, errors: DeltaGenerator) -> None:
             help="Quick estimate with the default method; tune it on the Estimator page.",
         )
     record_answer_box(auto)  # the record's verdict and regime warning, with its R
+    said = declared_note(
+        record_answer(auto), sig.table.declared_variance.get(sig.column), signal_units()
+    )
+    if said and auto.diagnostics is not None:  # a ROS message's own covariance: its R
+        st.info(said[0].upper() + said[1:] + ".", icon=":material/compare_arrows:")
     for note in sig.notes:
         st.caption(f"Note: {note}")
 

@@ -46,3 +46,18 @@ def test_cli_compares_the_measured_r_with_the_declared(bag: Path, capsys) -> Non
     assert f"declares a variance of {0.5 * (180 / np.pi) ** 2:,.0f} (deg/s)²" in out
     assert main(["estimate", str(bag), "--topic", "/imu", "--column", "angular_velocity.x"]) == 0
     assert "declares" not in capsys.readouterr().out  # 0: ROS's "unknown"
+
+
+def test_signal_page_says_it(bag: Path) -> None:
+    from streamlit.testing.v1 import AppTest
+
+    at = AppTest.from_file(str(Path(__file__).parents[2] / "app.py"), default_timeout=120)
+    at.switch_page("app_pages/Signal.py").run()
+    at.file_uploader(key="upload").set_value(
+        ("robot.mcap", next(bag.glob("*.mcap")).read_bytes(), "")
+    ).run()
+    box = next(s for s in at.selectbox if s.label == "Signal column")
+    box.set_value("angular_velocity.y").run()
+    assert not at.exception, [e.value for e in at.exception]
+    said = [i.value for i in at.info if "declares a variance of 0.5" in i.value]
+    assert said and "trusts this sensor more than it should" in said[0]
