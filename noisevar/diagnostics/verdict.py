@@ -160,10 +160,17 @@ def _not_white(
     prof = diag.level_profile
     said = still_said(diag, gap)
     if not diag.identifiable:
+        # a track that stops: where it stood still, its noise is measured apart (the R to use)
+        stood = (
+            f"; its still stretches ({prof.quiet_share:.0%} of it) give {_g(quiet)}: the "
+            f"noise where it stood still, the R to use{said}"
+            if still_apart
+            else ""
+        )
         return (
             "the record behaves like a random walk (its first difference is white): no "
             f"measurement noise can be told apart from it, so {r} is not a noise level; "
-            "model the walk as a state (see the noise model)"
+            f"model the walk as a state (see the noise model){stood}"
         )
     no_quiet = diag.level_varies and not prof.quiet.any()  # no quiet block: no level to quote
     if no_quiet and not under_half_a_step(diag, variance):  # (that is quantisation)

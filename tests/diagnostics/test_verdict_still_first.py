@@ -35,3 +35,24 @@ def test_the_verdict_quotes_the_still_r(seed: int) -> None:
     assert v.startswith("the noise level changes along the record")
     assert noisevar.format.eng(est.still.variance) in v
     assert "even there the noise is not white" in v
+
+
+def _track(seed: int) -> np.ndarray:
+    """A walker's position: a random walk that stops twice, with the receiver's noise."""
+    rng = np.random.default_rng(seed)
+    steps = rng.normal(0.0, 3.0, 3000)
+    steps[800:1000] = 0.0  # standing still
+    steps[2000:2150] = 0.0
+    return np.cumsum(steps) + rng.normal(0.0, 0.1, 3000)  # the receiver's noise: 0.01
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_a_walk_that_stops_quotes_its_still_noise(seed: int) -> None:
+    """GPS tracks (real_audit3): "a random walk ... R is not a noise level", with no word of
+    the still R 5.3e-11 deg² that was the R to use."""
+    est = noisevar.estimate(_track(seed))
+    v = est.diagnostics.verdict
+    assert v.startswith("the record behaves like a random walk")
+    assert est.still is not None and 0.007 < est.still.variance < 0.013  # 0.1²
+    assert noisevar.format.eng(est.still.variance) in v
+    assert "the noise where it stood still, the R to use" in v
