@@ -42,6 +42,7 @@ from noisevar.diagnostics.regimes import QuietLevel, StillLevel
 from noisevar.errors import NoisevarError
 from noisevar.estimators._input import check_samples, check_times
 from noisevar.estimators._scale import check_answer, unscale
+from noisevar.estimators.interval import honest_interval, ranges_mask
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
 from noisevar.estimators.spec import MethodSpec
 from noisevar.estimators.still_levels import other_still_levels
@@ -178,30 +179,6 @@ def _jumps(z: NDArray, seg: Segmentation, jump_mask: JumpMask) -> NDArray | None
         if m is not None:
             out[a:b] = m
     return out if out.any() else None
-
-
-def _honest_interval(r: VarianceEstimate, diag: NoiseDiagnostics) -> VarianceEstimate:
-    """Widen a moment estimator's interval for the noise's kurtosis and correlation.
-
-    ``ν = n / (η c + (κ - 3) / 2)`` with ``η = n / ν₀`` the method's own factor, ``κ``
-    the noise kurtosis and ``c`` the excess of the residual's correlation over white
-    noise's (1 when the noise passes the whiteness test) (docs/algorithms.md §E1).
-    """
-    if not (r.dof > 0 and r.n_used > 0):
-        return r
-    eta = r.n_used / r.dof
-    w = diag.whiteness
-    c = 1.0
-    if not w.white:
-        c = max(1.0, (1 + 2 * np.sum(w.acf**2)) / (1 + 2 * np.sum(w.expected**2)))
-    # the method's own reading (blind to a fast signal) or the diagnostics' (whose block
-    # levels see a level that changes within a block), whichever says the tails are heavier
-    kurt = diag.kurtosis if r.kurtosis is None else max(r.kurtosis, diag.kurtosis)
-    excess = max(kurt - 3.0, 0.0) / 2.0
-    if c == 1.0 and excess == 0.0:
-        return r
-    dof = float(r.n_used / (eta * c + excess))
-    return replace(r, dof=dof, ci95=chi2_interval(r.variance, dof))
 
 
 @dataclass
@@ -361,7 +338,8 @@ def run_record(
             extra = _coloured_extra(spec, params)
         result, still, diag = _after_diagnostics(spec, record, result, params, extra, diag)
         gap = still_gap(diag, result.variance, still)  # the one rule (estimators.regimes)
-        result = conclude(spec, result, diag, record.reader(), still, gap)
+        off = ~ranges_mask(getattr(record, "jump_runs", []), diag.n)  # R's samples
+        result = conclude(spec, result, diag, record.reader(), still, gap, off)
     return _in_record_units(result, scaled + record.exponent, spec.name)
 
 
@@ -385,7 +363,8 @@ def _after_diagnostics(
         still, level = _still(spec, record, own, diag, result)  # the first R: at once
         if still is None:
             return None, replace(diag, quiet=level)
-        still = conclude(spec, still, diag, None)  # its interval from the record's noise;
+        # its interval from the record's noise (the lone glitches in the still stretches)
+        still = conclude(spec, still, diag, None, inside=_still_mask(diag))
         still.diagnostics = None  # the diagnostics stay on the record's own result
         return still, replace(diag, other_still=_other_levels(spec, record, own, diag, still))
 
@@ -407,9 +386,14 @@ def _still(
     (:func:`~noisevar.estimators.still_quiet.quiet_apart`; docs/algorithms.md §E1)."""
     variance = first.variance
     if not has_still_apart(diag, variance):
-        finish = partial(conclude, spec, diag=diag)
+        finish = partial(conclude, spec, diag=diag, inside=_still_mask(diag))
         return None, quiet_apart(record, params, diag, variance, finish, first.core_variance)
     return on_still_stretches(record, params, diag), None
+
+
+def _still_mask(diag: NoiseDiagnostics) -> NDArray:
+    """The still stretches' samples (a superset of those the still R is measured on)."""
+    return ranges_mask(diag.level_profile.still_stretches, diag.n)
 
 
 def _other_levels(
@@ -419,7 +403,8 @@ def _other_levels(
     kept = {k: v for k, v in params.items() if k != "method"}
 
     def measure(ranges: list[tuple[int, int]]) -> VarianceEstimate:
-        return conclude(spec, record.estimate_in(kept, ranges), diag, None)  # type: ignore[attr-defined]
+        est = record.estimate_in(kept, ranges)  # type: ignore[attr-defined]
+        return conclude(spec, est, diag, None, inside=ranges_mask(ranges, diag.n))
 
     return other_still_levels(diag, still, measure)
 
@@ -467,6 +452,7 @@ def conclude(
     record: Callable[[int, int], NDArray] | None = None,
     still: VarianceEstimate | None = None,
     gap: str | None = None,
+    inside: NDArray | None = None,
 ) -> VarianceEstimate:
     """``result`` with the diagnostics ``diag``: honest interval, verdict, notes, assumptions.
 
@@ -486,6 +472,9 @@ def conclude(
     gap : str, optional
         Why there is no ``still`` (:func:`~noisevar.estimators.still_set.still_gap`): the
         verdict says its still level is indicative only.
+    inside : ndarray of bool, optional
+        The samples ``result`` was measured on (only the lone glitches there are in its
+        R: :func:`~.interval.honest_interval`); default all.
 
     Returns
     -------
@@ -496,7 +485,7 @@ def conclude(
     if diag.differenced and spec.residual is not None:
         result = _differenced(result, spec.residual(result.params), diag.whiteness.noise_lag1)
     if spec.moment:
-        result = _honest_interval(result, diag)
+        result = honest_interval(result, diag, inside)
     if not diag.identifiable:  # no measurement noise can be told apart: 0 is as likely
         result = replace(result, ci95=(0.0, result.ci95[1]))
     quiet = None if still is None else still.variance

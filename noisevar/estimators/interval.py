@@ -1,0 +1,165 @@
+"""R's interval for a moment estimator (docs/algorithms.md §E1 *Kurtosis*, *Glitches in R*).
+
+:func:`honest_interval` widens the method's Gaussian χ² interval for the measured
+kurtosis and correlation. When a few lone glitches carry much of R, ``R = C + G``:
+``C`` the noise without them, ``G`` their share. R's sampling distribution is then not a
+scaled χ² (which the kurtosis widening assumes) but ``C`` plus a Poisson number of
+glitches times their energies: ``G``'s interval is the gamma interval of a weighted
+Poisson sum (Fay & Feuer 1997; Garwood's exact Poisson interval when the energies are
+equal), ``C``'s a χ² interval with the core's own kurtosis, and the two are added by the
+method of variance estimates recovery (MOVER: Zou & Donner 2008).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+from numpy.typing import NDArray
+
+from noisevar._distributions import chi2_ppf
+from noisevar.diagnostics import NoiseDiagnostics
+from noisevar.estimators.results import VarianceEstimate, chi2_interval
+
+#: A lone glitch's deviation from the line through its two neighbours holds noise of
+#: variance 1.5 σ² (its own sample and half of each neighbour's): subtracted from its energy.
+NOISE_IN_DEVIATION = 1.5
+#: The normal 97.5 % quantile.
+Z95 = 1.959963984540054
+
+
+def poisson_sum_interval(weights: NDArray, level: float = 0.95) -> tuple[float, float]:
+    """Interval of the mean of ``Σ w_j X_j``, ``X_j`` Poisson, from one draw each ``x_j = 1``.
+
+    The gamma interval of Fay & Feuer (1997): with ``y = Σ w``, ``v = Σ w²``, ``m = max w``,
+    ``(v / 2y · χ²_{a/2}(2y²/v),  (v + m²) / 2(y + m) · χ²_{1-a/2}(2(y + m)²/(v + m²)))``.
+
+    Parameters
+    ----------
+    weights : ndarray
+        The observed events' weights (> 0): here each glitch's energy over ``n``.
+    level : float
+        Confidence level.
+
+    Returns
+    -------
+    (low, high) : tuple of float
+
+    Notes
+    -----
+    Equal weights ``w`` give Garwood's exact Poisson interval times ``w``:
+    ``(w χ²_{a/2}(2k) / 2, w χ²_{1-a/2}(2k + 2) / 2)``; one glitch: ``0.0253 w .. 5.57 w``.
+    Unequal energies count as fewer events (``2y²/v`` dof, ``y²/v`` the effective count).
+    """
+    w = np.asarray(weights, dtype=float)
+    a = 1.0 - level
+    y, v, m = float(w.sum()), float(np.sum(w**2)), float(w.max())
+    lo = v / (2.0 * y) * float(chi2_ppf(a / 2.0, 2.0 * y * y / v))
+    up = 2.0 * (y + m) ** 2 / (v + m * m)
+    hi = (v + m * m) / (2.0 * (y + m)) * float(chi2_ppf(1.0 - a / 2.0, up))
+    return lo, hi
+
+
+def mover_sum(value: float, parts: list[tuple[float, float, float]]) -> tuple[float, float]:
+    """Interval of a sum of independent parts from each part's interval (MOVER).
+
+    ``Σ x ∓ sqrt(Σ (x - x_lo)²)`` below, ``sqrt(Σ (x_hi - x)²)`` above (Zou & Donner
+    2008): each side of each part's interval stands for its spread on that side, so skewed
+    parts (Poisson, χ²) keep their shape. ``parts``: ``(x, x_lo, x_hi)``; ``value`` = Σ x.
+    """
+    p = np.asarray(parts, dtype=float)
+    lo = value - float(np.sqrt(np.sum((p[:, 0] - p[:, 1]) ** 2)))
+    hi = value + float(np.sqrt(np.sum((p[:, 2] - p[:, 0]) ** 2)))
+    return max(lo, 0.0), hi
+
+
+def glitch_energies(diag: NoiseDiagnostics, inside: NDArray | None = None) -> tuple[NDArray, float]:
+    """Each lone glitch's energy in ``Σ e²`` (squared units, as ``diag``) and the level σ².
+
+    ``d_j² - 1.5 σ²`` for a glitch ``d_j`` off the line through its neighbours, σ² the
+    level its size was read against (the quiet set's, else the pooled one). ``inside``: a
+    mask of the samples the estimate used (glitches elsewhere are not in its R).
+    """
+    prof = diag.level_profile
+    level = prof.quiet_variance if prof.quiet.any() else prof.pooled_level
+    if not diag.glitches or not (np.isfinite(level) and level > 0):
+        return np.zeros(0), 0.0
+    at = np.array([g.index for g in diag.glitches])
+    s = np.array([g.sigmas for g in diag.glitches])
+    if inside is not None:
+        s = s[(at < inside.size) & inside[np.minimum(at, inside.size - 1)]]
+    e = (s**2 - NOISE_IN_DEVIATION) * level
+    return e[e > 0], float(level)
+
+
+def glitch_interval(
+    variance: float, n_used: int, eta: float, diag: NoiseDiagnostics, inside: NDArray | None = None
+) -> tuple[float, float] | None:
+    """R's interval as its core's plus its lone glitches' share (None: no lone glitch in R).
+
+    Parameters
+    ----------
+    variance : float
+        R, glitches in.
+    n_used : int
+        Residuals in R.
+    eta : float
+        The method's ``n / ν₀`` times the correlation excess (:func:`honest_interval`).
+    diag : NoiseDiagnostics
+        Its lone glitches and the core's kurtosis (glitches bridged).
+    inside : ndarray of bool, optional
+        The samples R was taken on (default: all).
+
+    Returns
+    -------
+    (low, high) or None
+    """
+    energy, level = glitch_energies(diag, inside)
+    if energy.size == 0 or not (variance > 0 and n_used > 0):
+        return None
+    g = min(float(energy.sum()) / n_used, variance)
+    c = variance - g
+    kurt = diag.kurtosis if diag.core_kurtosis is None else diag.core_kurtosis
+    dof = n_used / (eta + max(kurt - 3.0, 0.0) / 2.0)
+    c_lo, c_hi = chi2_interval(c, dof) if c > 0 else (0.0, 0.0)
+    g_lo, g_hi = poisson_sum_interval(energy * (g / energy.sum()))
+    # the split: d² - a² = 2 a ν with ν of variance 1.5 σ², so var = 6 σ² Σ a² / n²
+    split = Z95 * np.sqrt(4.0 * NOISE_IN_DEVIATION * level * energy.sum()) / n_used
+    return mover_sum(variance, [(c, c_lo, c_hi), (g, g_lo, g_hi), (0.0, -split, split)])
+
+
+def ranges_mask(ranges: list[tuple[int, int]], n: int) -> NDArray:
+    """The samples of ``n`` inside the sample ranges ``ranges`` (a sub-estimate's ``inside``)."""
+    out = np.zeros(n, dtype=bool)
+    for a, b in ranges:
+        out[a:b] = True
+    return out
+
+
+def honest_interval(
+    r: VarianceEstimate, diag: NoiseDiagnostics, inside: NDArray | None = None
+) -> VarianceEstimate:
+    """Widen a moment estimator's interval for the noise's kurtosis and correlation.
+
+    ``ν = n / (η c + (κ - 3) / 2)`` with ``η = n / ν₀`` the method's own factor, ``κ``
+    the noise kurtosis and ``c`` the excess of the residual's correlation over white
+    noise's (1 when the noise passes the whiteness test) (docs/algorithms.md §E1). With
+    lone glitches in R (``inside``: the samples R used), ``ci95`` is the core's plus the
+    glitches' share instead (:func:`glitch_interval`); ``dof`` stays.
+    """
+    if not (r.dof > 0 and r.n_used > 0):
+        return r
+    eta = r.n_used / r.dof
+    w = diag.whiteness
+    c = 1.0
+    if not w.white:
+        c = max(1.0, (1 + 2 * np.sum(w.acf**2)) / (1 + 2 * np.sum(w.expected**2)))
+    # the method's own reading (blind to a fast signal) or the diagnostics' (whose block
+    # levels see a level that changes within a block), whichever says the tails are heavier
+    kurt = diag.kurtosis if r.kurtosis is None else max(r.kurtosis, diag.kurtosis)
+    excess = max(kurt - 3.0, 0.0) / 2.0
+    lone = glitch_interval(r.variance, r.n_used, eta * c, diag, inside)
+    if c == 1.0 and excess == 0.0 and lone is None:
+        return r
+    dof = float(r.n_used / (eta * c + excess))
+    return replace(r, dof=dof, ci95=lone or chi2_interval(r.variance, dof))
