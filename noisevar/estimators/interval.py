@@ -12,18 +12,26 @@ method of variance estimates recovery (MOVER: Zou & Donner 2008).
 
 from __future__ import annotations
 
-from dataclasses import replace
+from collections.abc import Callable
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
 
 from noisevar._distributions import chi2_ppf
 from noisevar.diagnostics import NoiseDiagnostics
+from noisevar.diagnostics.glitches import bridged, deviations, lone
+from noisevar.diagnostics.plan import DIAG_ORDER, DIAG_SPAN
+from noisevar.diagnostics.tails import kurtosis_from_moments
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
+from noisevar.numeric.fir import residual_sequence
 
 #: A lone glitch's deviation from the line through its two neighbours holds noise of
 #: variance 1.5 σ² (its own sample and half of each neighbour's): subtracted from its energy.
 NOISE_IN_DEVIATION = 1.5
+#: At most this many lone outlying samples are counted as a Poisson number of glitches:
+#: more, and their count's interval is near the normal one the kurtosis widening gives.
+FEW_GLITCHES = 10
 #: The normal 97.5 % quantile.
 Z95 = 1.959963984540054
 
@@ -73,29 +81,89 @@ def mover_sum(value: float, parts: list[tuple[float, float, float]]) -> tuple[fl
     return max(lo, 0.0), hi
 
 
-def glitch_energies(diag: NoiseDiagnostics, inside: NDArray | None = None) -> tuple[NDArray, float]:
-    """Each lone glitch's energy in ``Σ e²`` (squared units, as ``diag``) and the level σ².
+@dataclass(frozen=True)
+class LoneGlitches:
+    """A record's lone outlying samples in R, each with its energy in ``Σ e²``.
 
-    ``d_j² - 1.5 σ²`` for a glitch ``d_j`` off the line through its neighbours, σ² the
-    level its size was read against (the quiet set's, else the pooled one). ``inside``: a
-    mask of the samples the estimate used (glitches elsewhere are not in its R).
+    Attributes
+    ----------
+    at : ndarray of int
+        Their samples (record indices).
+    energy : ndarray of float
+        ``d² - 1.5 σ²`` each (squared units of the record as estimated), ``d`` its
+        distance from the line through its neighbours.
+    level : float
+        σ², the level their sizes were read against.
+    core_kurtosis : float or None
+        The noise kurtosis with them bridged (None: unknown; the record's is used).
+    """
+
+    at: NDArray
+    energy: NDArray
+    level: float
+    core_kurtosis: float | None
+
+    def within(self, inside: NDArray | None) -> LoneGlitches:
+        """Those at the samples ``inside`` (a mask of the record; None: all)."""
+        if inside is None:
+            return self
+        keep = (self.at < inside.size) & inside[np.minimum(self.at, inside.size - 1)]
+        return LoneGlitches(self.at[keep], self.energy[keep], self.level, self.core_kurtosis)
+
+
+def lone_glitches(
+    outliers: NDArray | None, diag: NoiseDiagnostics, read: Callable[[int, int], NDArray] | None
+) -> LoneGlitches | None:
+    """The lone glitches R counts, sized (None: none, or more than :data:`FEW_GLITCHES`).
+
+    The diagnostics' (``diag.glitches``, at most 0.1 % of the samples) with their sizes;
+    else the method's outlying samples ``outliers`` that come alone
+    (:func:`~noisevar.diagnostics.glitches.lone`), sized off ``read`` as the diagnostics
+    size theirs (a short record: one glitch in fewer than 1000 samples).
     """
     prof = diag.level_profile
-    level = prof.quiet_variance if prof.quiet.any() else prof.pooled_level
-    if not diag.glitches or not (np.isfinite(level) and level > 0):
-        return np.zeros(0), 0.0
-    at = np.array([g.index for g in diag.glitches])
-    s = np.array([g.sigmas for g in diag.glitches])
-    if inside is not None:
-        s = s[(at < inside.size) & inside[np.minimum(at, inside.size - 1)]]
-    e = (s**2 - NOISE_IN_DEVIATION) * level
-    return e[e > 0], float(level)
+    level = float(prof.quiet_variance if prof.quiet.any() else prof.pooled_level)
+    if not (np.isfinite(level) and level > 0):
+        return None
+    if diag.glitches:
+        at = np.array([g.index for g in diag.glitches])
+        sigmas = np.array([g.sigmas for g in diag.glitches])
+        core = diag.core_kurtosis
+    else:
+        if outliers is None or read is None or not 0 < outliers.size <= 2 * FEW_GLITCHES:
+            return None
+        at = lone(outliers)
+        if not 0 < at.size <= FEW_GLITCHES or at.size < np.unique(outliers).size:
+            return None  # a burst beside them: the kurtosis interval's case
+        sigmas = deviations(at, read, diag.n) / np.sqrt(level)
+        core = _bridged_kurtosis(read(0, diag.n), at)
+    energy = (sigmas**2 - NOISE_IN_DEVIATION) * level
+    ok = np.isfinite(energy) & (energy > 0)
+    if not ok.any():
+        return None
+    return LoneGlitches(at[ok], energy[ok], level, core)
+
+
+def _bridged_kurtosis(x: NDArray, at: NDArray) -> float | None:
+    """The noise kurtosis of the diagnostics' residual of ``x`` with ``at`` bridged (a
+    record of fewer than ``2e4`` samples: one pass; None when too short)."""
+    d = residual_sequence(DIAG_SPAN, DIAG_ORDER)
+    if x.size < 4 * d.size:
+        return None
+    e = np.convolve(bridged(x, at), d / np.sqrt(np.dot(d, d)), mode="valid")
+    e2 = e * e
+    return kurtosis_from_moments(float(e2.mean()), float(np.mean(e2 * e2)), d)
 
 
 def glitch_interval(
-    variance: float, n_used: int, eta: float, diag: NoiseDiagnostics, inside: NDArray | None = None
+    variance: float,
+    n_used: int,
+    eta: float,
+    kurtosis: float,
+    glitches: LoneGlitches,
+    core: float | None = None,
 ) -> tuple[float, float] | None:
-    """R's interval as its core's plus its lone glitches' share (None: no lone glitch in R).
+    """R's interval as its core's plus its lone glitches' share (None: none in R).
 
     Parameters
     ----------
@@ -105,26 +173,30 @@ def glitch_interval(
         Residuals in R.
     eta : float
         The method's ``n / ν₀`` times the correlation excess (:func:`honest_interval`).
-    diag : NoiseDiagnostics
-        Its lone glitches and the core's kurtosis (glitches bridged).
-    inside : ndarray of bool, optional
-        The samples R was taken on (default: all).
+    kurtosis : float
+        The core's noise kurtosis (the glitches' own left out when known).
+    glitches : LoneGlitches
+        Those in R.
+    core : float, optional
+        R without its outlying samples (``core_variance``): ``G`` is at most ``R - core``
+        (a glitch at the record's edge reads larger off its one neighbour than in R).
 
     Returns
     -------
     (low, high) or None
     """
-    energy, level = glitch_energies(diag, inside)
+    energy = glitches.energy
     if energy.size == 0 or not (variance > 0 and n_used > 0):
         return None
     g = min(float(energy.sum()) / n_used, variance)
+    if core is not None and 0 < core < variance:
+        g = min(g, variance - core)
     c = variance - g
-    kurt = diag.kurtosis if diag.core_kurtosis is None else diag.core_kurtosis
-    dof = n_used / (eta + max(kurt - 3.0, 0.0) / 2.0)
+    dof = n_used / (eta + max(kurtosis - 3.0, 0.0) / 2.0)
     c_lo, c_hi = chi2_interval(c, dof) if c > 0 else (0.0, 0.0)
     g_lo, g_hi = poisson_sum_interval(energy * (g / energy.sum()))
     # the split: d² - a² = 2 a ν with ν of variance 1.5 σ², so var = 6 σ² Σ a² / n²
-    split = Z95 * np.sqrt(4.0 * NOISE_IN_DEVIATION * level * energy.sum()) / n_used
+    split = Z95 * np.sqrt(4.0 * NOISE_IN_DEVIATION * glitches.level * energy.sum()) / n_used
     return mover_sum(variance, [(c, c_lo, c_hi), (g, g_lo, g_hi), (0.0, -split, split)])
 
 
@@ -137,15 +209,16 @@ def ranges_mask(ranges: list[tuple[int, int]], n: int) -> NDArray:
 
 
 def honest_interval(
-    r: VarianceEstimate, diag: NoiseDiagnostics, inside: NDArray | None = None
+    r: VarianceEstimate, diag: NoiseDiagnostics, glitches: LoneGlitches | None = None
 ) -> VarianceEstimate:
     """Widen a moment estimator's interval for the noise's kurtosis and correlation.
 
     ``ν = n / (η c + (κ - 3) / 2)`` with ``η = n / ν₀`` the method's own factor, ``κ``
     the noise kurtosis and ``c`` the excess of the residual's correlation over white
     noise's (1 when the noise passes the whiteness test) (docs/algorithms.md §E1). With
-    lone glitches in R (``inside``: the samples R used), ``ci95`` is the core's plus the
-    glitches' share instead (:func:`glitch_interval`); ``dof`` stays.
+    lone glitches in R (``glitches``, those at R's samples), each side of ``ci95`` is the
+    wider of that χ² interval's and the core's plus the glitches' share
+    (:func:`glitch_interval`); ``dof`` stays the χ² one.
     """
     if not (r.dof > 0 and r.n_used > 0):
         return r
@@ -158,8 +231,14 @@ def honest_interval(
     # levels see a level that changes within a block), whichever says the tails are heavier
     kurt = diag.kurtosis if r.kurtosis is None else max(r.kurtosis, diag.kurtosis)
     excess = max(kurt - 3.0, 0.0) / 2.0
-    lone = glitch_interval(r.variance, r.n_used, eta * c, diag, inside)
+    lone = None
+    if glitches is not None:
+        core = kurt if glitches.core_kurtosis is None else glitches.core_kurtosis
+        lone = glitch_interval(r.variance, r.n_used, eta * c, core, glitches, r.core_variance)
     if c == 1.0 and excess == 0.0 and lone is None:
         return r
     dof = float(r.n_used / (eta * c + excess))
-    return replace(r, dof=dof, ci95=lone or chi2_interval(r.variance, dof))
+    lo, hi = chi2_interval(r.variance, dof)
+    if lone is not None:
+        lo, hi = min(lo, lone[0]), max(hi, lone[1])
+    return replace(r, dof=dof, ci95=(lo, hi))

@@ -42,7 +42,7 @@ from noisevar.diagnostics.regimes import QuietLevel, StillLevel
 from noisevar.errors import NoisevarError
 from noisevar.estimators._input import check_samples, check_times
 from noisevar.estimators._scale import check_answer, unscale
-from noisevar.estimators.interval import honest_interval, ranges_mask
+from noisevar.estimators.interval import LoneGlitches, honest_interval, lone_glitches, ranges_mask
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
 from noisevar.estimators.spec import MethodSpec
 from noisevar.estimators.still_levels import other_still_levels
@@ -336,10 +336,11 @@ def run_record(
         extra = {}
         if diag.whiteness.p_value < COLOURED_P or diag.differenced:
             extra = _coloured_extra(spec, params)
-        result, still, diag = _after_diagnostics(spec, record, result, params, extra, diag)
+        lone = _lone(record, result, diag)
+        result, still, diag = _after_diagnostics(spec, record, result, params, extra, diag, lone)
         gap = still_gap(diag, result.variance, still)  # the one rule (estimators.regimes)
         off = ~ranges_mask(getattr(record, "jump_runs", []), diag.n)  # R's samples
-        result = conclude(spec, result, diag, record.reader(), still, gap, off)
+        result = conclude(spec, result, diag, record.reader(), still, gap, _within(lone, off))
     return _in_record_units(result, scaled + record.exponent, spec.name)
 
 
@@ -350,6 +351,7 @@ def _after_diagnostics(
     params: dict,
     extra: dict,
     diag: NoiseDiagnostics,
+    lone: LoneGlitches | None = None,
 ) -> tuple[VarianceEstimate, VarianceEstimate | None, NoiseDiagnostics]:
     """The coloured-noise estimate (with ``extra``) and the still regimes' levels: two
     independent branches, run at once by a record that has ``branches`` (the still levels
@@ -360,13 +362,13 @@ def _after_diagnostics(
         return _coloured(spec, record, result, params) if extra else result
 
     def quiet(own: dict) -> tuple[VarianceEstimate | None, NoiseDiagnostics]:
-        still, level = _still(spec, record, own, diag, result)  # the first R: at once
+        still, level = _still(spec, record, own, diag, result, lone)  # the first R: at once
         if still is None:
             return None, replace(diag, quiet=level)
         # its interval from the record's noise (the lone glitches in the still stretches)
-        still = conclude(spec, still, diag, None, inside=_still_mask(diag))
+        still = conclude(spec, still, diag, None, glitches=_within(lone, _still_mask(diag)))
         still.diagnostics = None  # the diagnostics stay on the record's own result
-        return still, replace(diag, other_still=_other_levels(spec, record, own, diag, still))
+        return still, replace(diag, other_still=_other_levels(spec, record, own, diag, still, lone))
 
     branches = getattr(record, "branches", None)
     if extra and branches is not None:
@@ -379,14 +381,19 @@ def _after_diagnostics(
 
 
 def _still(
-    spec: MethodSpec, record: Record, params: dict, diag: NoiseDiagnostics, first: VarianceEstimate
+    spec: MethodSpec,
+    record: Record,
+    params: dict,
+    diag: NoiseDiagnostics,
+    first: VarianceEstimate,
+    lone: LoneGlitches | None = None,
 ) -> tuple[VarianceEstimate | None, QuietLevel | None]:
     """The method on the still regimes' quiet stretches: the still R when apart
     (``has_still_apart``), else the quiet level measured apart when R is not it
     (:func:`~noisevar.estimators.still_quiet.quiet_apart`; docs/algorithms.md §E1)."""
     variance = first.variance
     if not has_still_apart(diag, variance):
-        finish = partial(conclude, spec, diag=diag, inside=_still_mask(diag))
+        finish = partial(conclude, spec, diag=diag, glitches=_within(lone, _still_mask(diag)))
         return None, quiet_apart(record, params, diag, variance, finish, first.core_variance)
     return on_still_stretches(record, params, diag), None
 
@@ -396,15 +403,33 @@ def _still_mask(diag: NoiseDiagnostics) -> NDArray:
     return ranges_mask(diag.level_profile.still_stretches, diag.n)
 
 
+def _lone(record: Record, result: VarianceEstimate, diag: NoiseDiagnostics) -> LoneGlitches | None:
+    """The record's lone glitches in R, sized (:func:`~.interval.lone_glitches`)."""
+    read = record.reader()
+    z = getattr(record, "z", None)
+    if read is None and z is not None:  # segments: the glitch's neighbours are samples
+        read = lambda a, b: z[a:b]  # noqa: E731
+    return lone_glitches(result.outliers, diag, read)
+
+
+def _within(lone: LoneGlitches | None, inside: NDArray) -> LoneGlitches | None:
+    return None if lone is None else lone.within(inside)
+
+
 def _other_levels(
-    spec: MethodSpec, record: Record, params: dict, diag: NoiseDiagnostics, still: VarianceEstimate
+    spec: MethodSpec,
+    record: Record,
+    params: dict,
+    diag: NoiseDiagnostics,
+    still: VarianceEstimate,
+    lone: LoneGlitches | None = None,
 ) -> tuple[StillLevel, ...]:
     """The record's other still levels (:func:`.still_levels.other_still_levels`)."""
     kept = {k: v for k, v in params.items() if k != "method"}
 
     def measure(ranges: list[tuple[int, int]]) -> VarianceEstimate:
         est = record.estimate_in(kept, ranges)  # type: ignore[attr-defined]
-        return conclude(spec, est, diag, None, inside=ranges_mask(ranges, diag.n))
+        return conclude(spec, est, diag, None, glitches=_within(lone, ranges_mask(ranges, diag.n)))
 
     return other_still_levels(diag, still, measure)
 
@@ -452,7 +477,7 @@ def conclude(
     record: Callable[[int, int], NDArray] | None = None,
     still: VarianceEstimate | None = None,
     gap: str | None = None,
-    inside: NDArray | None = None,
+    glitches: LoneGlitches | None = None,
 ) -> VarianceEstimate:
     """``result`` with the diagnostics ``diag``: honest interval, verdict, notes, assumptions.
 
@@ -472,9 +497,9 @@ def conclude(
     gap : str, optional
         Why there is no ``still`` (:func:`~noisevar.estimators.still_set.still_gap`): the
         verdict says its still level is indicative only.
-    inside : ndarray of bool, optional
-        The samples ``result`` was measured on (only the lone glitches there are in its
-        R: :func:`~.interval.honest_interval`); default all.
+    glitches : LoneGlitches, optional
+        The lone glitches in ``result``'s R (at the samples it was measured on): its
+        interval allows for their Poisson count (:func:`~.interval.honest_interval`).
 
     Returns
     -------
@@ -485,7 +510,7 @@ def conclude(
     if diag.differenced and spec.residual is not None:
         result = _differenced(result, spec.residual(result.params), diag.whiteness.noise_lag1)
     if spec.moment:
-        result = honest_interval(result, diag, inside)
+        result = honest_interval(result, diag, glitches)
     if not diag.identifiable:  # no measurement noise can be told apart: 0 is as likely
         result = replace(result, ci95=(0.0, result.ci95[1]))
     quiet = None if still is None else still.variance
