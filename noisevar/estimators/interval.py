@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar._distributions import chi2_ppf
-from noisevar.diagnostics import NoiseDiagnostics
+from noisevar.diagnostics import GLITCHES_APART, NoiseDiagnostics
 from noisevar.diagnostics.glitches import bridged, deviations, lone
 from noisevar.diagnostics.plan import DIAG_ORDER, DIAG_SPAN
 from noisevar.diagnostics.tails import kurtosis_from_moments
@@ -83,23 +83,23 @@ def mover_sum(value: float, parts: list[tuple[float, float, float]]) -> tuple[fl
 
 @dataclass(frozen=True)
 class LoneGlitches:
-    """A record's lone outlying samples in R, each with its energy in ``Σ e²``.
+    """A record's lone outlying samples in R, each with its squared size.
 
     Attributes
     ----------
     at : ndarray of int
         Their samples (record indices).
-    energy : ndarray of float
-        ``d² - 1.5 σ²`` each (squared units of the record as estimated), ``d`` its
-        distance from the line through its neighbours.
+    squares : ndarray of float
+        ``d²`` each (squared units of the record as estimated), ``d`` its distance from
+        the line through its neighbours.
     level : float
-        σ², the level their sizes were read against.
+        σ², the diagnostics' level their sizes were read against.
     core_kurtosis : float or None
         The noise kurtosis with them bridged (None: unknown; the record's is used).
     """
 
     at: NDArray
-    energy: NDArray
+    squares: NDArray
     level: float
     core_kurtosis: float | None
 
@@ -108,7 +108,7 @@ class LoneGlitches:
         if inside is None:
             return self
         keep = (self.at < inside.size) & inside[np.minimum(self.at, inside.size - 1)]
-        return LoneGlitches(self.at[keep], self.energy[keep], self.level, self.core_kurtosis)
+        return LoneGlitches(self.at[keep], self.squares[keep], self.level, self.core_kurtosis)
 
 
 def lone_glitches(
@@ -132,16 +132,18 @@ def lone_glitches(
     else:
         if outliers is None or read is None or not 0 < outliers.size <= 2 * FEW_GLITCHES:
             return None
+        if outliers.size <= GLITCHES_APART * diag.n:  # apart, yet not listed: not lone
+            return None
         at = lone(outliers)
         if not 0 < at.size <= FEW_GLITCHES or at.size < np.unique(outliers).size:
             return None  # a burst beside them: the kurtosis interval's case
         sigmas = deviations(at, read, diag.n) / np.sqrt(level)
         core = _bridged_kurtosis(read(0, diag.n), at)
-    energy = (sigmas**2 - NOISE_IN_DEVIATION) * level
-    ok = np.isfinite(energy) & (energy > 0)
+    squares = sigmas**2 * level
+    ok = np.isfinite(squares)
     if not ok.any():
         return None
-    return LoneGlitches(at[ok], energy[ok], level, core)
+    return LoneGlitches(at[ok], squares[ok], level, core)
 
 
 def _bridged_kurtosis(x: NDArray, at: NDArray) -> float | None:
@@ -178,14 +180,18 @@ def glitch_interval(
     glitches : LoneGlitches
         Those in R.
     core : float, optional
-        R without its outlying samples (``core_variance``): ``G`` is at most ``R - core``
-        (a glitch at the record's edge reads larger off its one neighbour than in R).
+        R without its outlying samples (``core_variance``): the σ² each glitch's energy
+        ``d² - 1.5 σ²`` is taken against, and ``G`` is at most ``R - core`` (a glitch at
+        the record's edge reads larger off its one neighbour than it counts in R).
 
     Returns
     -------
     (low, high) or None
     """
-    energy = glitches.energy
+    # σ² on R's own residual (the core), else the diagnostics' (which a fast signal raises)
+    s2 = core if core is not None and 0 < core < variance else glitches.level
+    energy = glitches.squares - NOISE_IN_DEVIATION * s2
+    energy = energy[energy > 0]
     if energy.size == 0 or not (variance > 0 and n_used > 0):
         return None
     g = min(float(energy.sum()) / n_used, variance)
@@ -196,7 +202,7 @@ def glitch_interval(
     c_lo, c_hi = chi2_interval(c, dof) if c > 0 else (0.0, 0.0)
     g_lo, g_hi = poisson_sum_interval(energy * (g / energy.sum()))
     # the split: d² - a² = 2 a ν with ν of variance 1.5 σ², so var = 6 σ² Σ a² / n²
-    split = Z95 * np.sqrt(4.0 * NOISE_IN_DEVIATION * glitches.level * energy.sum()) / n_used
+    split = Z95 * np.sqrt(4.0 * NOISE_IN_DEVIATION * s2 * energy.sum()) / n_used
     return mover_sum(variance, [(c, c_lo, c_hi), (g, g_lo, g_hi), (0.0, -split, split)])
 
 
