@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -155,6 +156,23 @@ def _bridged_kurtosis(x: NDArray, at: NDArray) -> float | None:
     e = np.convolve(bridged(x, at), d / np.sqrt(np.dot(d, d)), mode="valid")
     e2 = e * e
     return kurtosis_from_moments(float(e2.mean()), float(np.mean(e2 * e2)), d)
+
+
+def record_glitches(
+    record: Any, outliers: NDArray | None, diag: NoiseDiagnostics
+) -> LoneGlitches | None:
+    """:func:`lone_glitches` of a record (``estimators.pipeline.Record``): read off its
+    ``reader()``, or its samples ``z`` when it is in segments (a glitch's neighbours)."""
+    read = record.reader()
+    z = getattr(record, "z", None)
+    if read is None and z is not None:
+        read = lambda a, b: z[a:b]  # noqa: E731
+    return lone_glitches(outliers, diag, read)
+
+
+def glitches_within(lone: LoneGlitches | None, inside: NDArray) -> LoneGlitches | None:
+    """``lone`` at the samples ``inside`` only (None stays None)."""
+    return None if lone is None else lone.within(inside)
 
 
 def glitch_interval(

@@ -42,7 +42,13 @@ from noisevar.diagnostics.regimes import QuietLevel, StillLevel
 from noisevar.errors import NoisevarError
 from noisevar.estimators._input import check_samples, check_times
 from noisevar.estimators._scale import check_answer, unscale
-from noisevar.estimators.interval import LoneGlitches, honest_interval, lone_glitches, ranges_mask
+from noisevar.estimators.interval import (
+    LoneGlitches,
+    glitches_within,
+    honest_interval,
+    ranges_mask,
+    record_glitches,
+)
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
 from noisevar.estimators.spec import MethodSpec
 from noisevar.estimators.still_levels import other_still_levels
@@ -336,11 +342,11 @@ def run_record(
         extra = {}
         if diag.whiteness.p_value < COLOURED_P or diag.differenced:
             extra = _coloured_extra(spec, params)
-        lone = _lone(record, result, diag)
+        lone = record_glitches(record, result.outliers, diag)
         result, still, diag = _after_diagnostics(spec, record, result, params, extra, diag, lone)
         gap = still_gap(diag, result.variance, still)  # the one rule (estimators.regimes)
-        off = ~ranges_mask(getattr(record, "jump_runs", []), diag.n)  # R's samples
-        result = conclude(spec, result, diag, record.reader(), still, gap, _within(lone, off))
+        lone = glitches_within(lone, ~ranges_mask(getattr(record, "jump_runs", []), diag.n))
+        result = conclude(spec, result, diag, record.reader(), still, gap, lone)  # off jumps
     return _in_record_units(result, scaled + record.exponent, spec.name)
 
 
@@ -365,8 +371,9 @@ def _after_diagnostics(
         still, level = _still(spec, record, own, diag, result, lone)  # the first R: at once
         if still is None:
             return None, replace(diag, quiet=level)
-        # its interval from the record's noise (the lone glitches in the still stretches)
-        still = conclude(spec, still, diag, None, glitches=_within(lone, _still_mask(diag)))
+        # its interval from the record's noise, with the lone glitches in the still stretches
+        at = glitches_within(lone, ranges_mask(diag.level_profile.still_stretches, diag.n))
+        still = conclude(spec, still, diag, None, glitches=at)
         still.diagnostics = None  # the diagnostics stay on the record's own result
         return still, replace(diag, other_still=_other_levels(spec, record, own, diag, still, lone))
 
@@ -393,27 +400,10 @@ def _still(
     (:func:`~noisevar.estimators.still_quiet.quiet_apart`; docs/algorithms.md §E1)."""
     variance = first.variance
     if not has_still_apart(diag, variance):
-        finish = partial(conclude, spec, diag=diag, glitches=_within(lone, _still_mask(diag)))
+        lone = glitches_within(lone, ranges_mask(diag.level_profile.still_stretches, diag.n))
+        finish = partial(conclude, spec, diag=diag, glitches=lone)
         return None, quiet_apart(record, params, diag, variance, finish, first.core_variance)
     return on_still_stretches(record, params, diag), None
-
-
-def _still_mask(diag: NoiseDiagnostics) -> NDArray:
-    """The still stretches' samples (a superset of those the still R is measured on)."""
-    return ranges_mask(diag.level_profile.still_stretches, diag.n)
-
-
-def _lone(record: Record, result: VarianceEstimate, diag: NoiseDiagnostics) -> LoneGlitches | None:
-    """The record's lone glitches in R, sized (:func:`~.interval.lone_glitches`)."""
-    read = record.reader()
-    z = getattr(record, "z", None)
-    if read is None and z is not None:  # segments: the glitch's neighbours are samples
-        read = lambda a, b: z[a:b]  # noqa: E731
-    return lone_glitches(result.outliers, diag, read)
-
-
-def _within(lone: LoneGlitches | None, inside: NDArray) -> LoneGlitches | None:
-    return None if lone is None else lone.within(inside)
 
 
 def _other_levels(
@@ -429,7 +419,8 @@ def _other_levels(
 
     def measure(ranges: list[tuple[int, int]]) -> VarianceEstimate:
         est = record.estimate_in(kept, ranges)  # type: ignore[attr-defined]
-        return conclude(spec, est, diag, None, glitches=_within(lone, ranges_mask(ranges, diag.n)))
+        inside = glitches_within(lone, ranges_mask(ranges, diag.n))
+        return conclude(spec, est, diag, None, glitches=inside)
 
     return other_still_levels(diag, still, measure)
 
