@@ -345,8 +345,8 @@ def run_record(
         lone = record_glitches(record, result.outliers, diag)
         result, still, diag = _after_diagnostics(spec, record, result, params, extra, diag, lone)
         gap = still_gap(diag, result.variance, still)  # the one rule (estimators.regimes)
-        lone = glitches_within(lone, ~ranges_mask(getattr(record, "jump_runs", []), diag.n))
-        result = conclude(spec, result, diag, record.reader(), still, gap, lone)  # off jumps
+        # every lone glitch (one at the record's edge is in R, though near a jump's samples)
+        result = conclude(spec, result, diag, record.reader(), still, gap, lone)
     return _in_record_units(result, scaled + record.exponent, spec.name)
 
 
