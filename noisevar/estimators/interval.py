@@ -33,6 +33,9 @@ NOISE_IN_DEVIATION = 1.5
 #: At most this many lone outlying samples are counted as a Poisson number of glitches:
 #: more, and their count's interval is near the normal one the kurtosis widening gives.
 FEW_GLITCHES = 10
+#: A lone glitch this close to the record's edge is in R even among a jump's left-out
+#: samples: ``auto`` counts it as inside (its shortest span - 1, ``auto._edges``).
+EDGE_IN_R = 10
 #: The normal 97.5 % quantile.
 Z95 = 1.959963984540054
 
@@ -156,6 +159,15 @@ def _bridged_kurtosis(x: NDArray, at: NDArray) -> float | None:
     e = np.convolve(bridged(x, at), d / np.sqrt(np.dot(d, d)), mode="valid")
     e2 = e * e
     return kurtosis_from_moments(float(e2.mean()), float(np.mean(e2 * e2)), d)
+
+
+def off_jumps(runs: list[tuple[int, int]], n: int) -> NDArray:
+    """The samples of a record of ``n`` whose glitches R counts: off the ``runs`` left out
+    around level jumps, and the first and last ``EDGE_IN_R`` whatever (a glitch there
+    counts in R as inside: ``auto._edges``, docs/algorithms.md §F5.4)."""
+    out = ~ranges_mask(runs, n)
+    out[:EDGE_IN_R] = out[n - EDGE_IN_R :] = True
+    return out
 
 
 def record_glitches(

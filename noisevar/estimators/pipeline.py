@@ -46,6 +46,7 @@ from noisevar.estimators.interval import (
     LoneGlitches,
     glitches_within,
     honest_interval,
+    off_jumps,
     ranges_mask,
     record_glitches,
 )
@@ -345,7 +346,7 @@ def run_record(
         lone = record_glitches(record, result.outliers, diag)
         result, still, diag = _after_diagnostics(spec, record, result, params, extra, diag, lone)
         gap = still_gap(diag, result.variance, still)  # the one rule (estimators.regimes)
-        # every lone glitch (one at the record's edge is in R, though near a jump's samples)
+        lone = glitches_within(lone, off_jumps(getattr(record, "jump_runs", []), diag.n))
         result = conclude(spec, result, diag, record.reader(), still, gap, lone)
     return _in_record_units(result, scaled + record.exponent, spec.name)
 
