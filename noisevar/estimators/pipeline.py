@@ -43,8 +43,16 @@ from noisevar.diagnostics.regimes import QuietLevel, StillLevel
 from noisevar.errors import NoisevarError
 from noisevar.estimators._input import check_samples, check_times
 from noisevar.estimators._scale import check_answer, unscale
+from noisevar.estimators.interval import (
+    LoneGlitches,
+    glitches_within,
+    honest_interval,
+    off_jumps,
+    ranges_mask,
+    record_glitches,
+)
 from noisevar.estimators.pooling import pool_segments
-from noisevar.estimators.results import VarianceEstimate, chi2_interval
+from noisevar.estimators.results import VarianceEstimate
 from noisevar.estimators.spec import MethodSpec
 from noisevar.estimators.still_levels import other_still_levels
 from noisevar.estimators.still_quiet import on_still_stretches, quiet_apart, quiet_level
@@ -157,30 +165,6 @@ def _jumps(z: NDArray, seg: Segmentation, jump_mask: JumpMask) -> NDArray | None
         if m is not None:
             out[a:b] = m
     return out if out.any() else None
-
-
-def _honest_interval(r: VarianceEstimate, diag: NoiseDiagnostics) -> VarianceEstimate:
-    """Widen a moment estimator's interval for the noise's kurtosis and correlation.
-
-    ``ν = n / (η c + (κ - 3) / 2)`` with ``η = n / ν₀`` the method's own factor, ``κ``
-    the noise kurtosis and ``c`` the excess of the residual's correlation over white
-    noise's (1 when the noise passes the whiteness test) (docs/algorithms.md §E1).
-    """
-    if not (r.dof > 0 and r.n_used > 0):
-        return r
-    eta = r.n_used / r.dof
-    w = diag.whiteness
-    c = 1.0
-    if not w.white:
-        c = max(1.0, (1 + 2 * np.sum(w.acf**2)) / (1 + 2 * np.sum(w.expected**2)))
-    # the method's own reading (blind to a fast signal) or the diagnostics' (whose block
-    # levels see a level that changes within a block), whichever says the tails are heavier
-    kurt = diag.kurtosis if r.kurtosis is None else max(r.kurtosis, diag.kurtosis)
-    excess = max(kurt - 3.0, 0.0) / 2.0
-    if c == 1.0 and excess == 0.0:
-        return r
-    dof = float(r.n_used / (eta * c + excess))
-    return replace(r, dof=dof, ci95=chi2_interval(r.variance, dof))
 
 
 @dataclass
@@ -343,9 +327,11 @@ def run_record(
         extra = {}
         if diag.whiteness.p_value < COLOURED_P or diag.differenced:
             extra = _coloured_extra(spec, params)
-        result, still, diag = _after_diagnostics(spec, record, result, params, extra, diag)
+        lone = record_glitches(record, result.outliers, diag)
+        result, still, diag = _after_diagnostics(spec, record, result, params, extra, diag, lone)
         gap = still_gap(diag, result.variance, still)  # the one rule (estimators.regimes)
-        result = conclude(spec, result, diag, record.reader(), still, gap)
+        lone = glitches_within(lone, off_jumps(getattr(record, "jump_runs", []), diag.n))
+        result = conclude(spec, result, diag, record.reader(), still, gap, lone)
     return _in_record_units(result, scaled + record.exponent, spec.name)
 
 
@@ -356,6 +342,7 @@ def _after_diagnostics(
     params: dict,
     extra: dict,
     diag: NoiseDiagnostics,
+    lone: LoneGlitches | None = None,
 ) -> tuple[VarianceEstimate, VarianceEstimate | None, NoiseDiagnostics]:
     """The coloured-noise estimate (with ``extra``) and the still regimes' levels: two
     independent branches, run at once by a record that has ``branches`` (the still levels
@@ -366,12 +353,14 @@ def _after_diagnostics(
         return _coloured(spec, record, result, params) if extra else result
 
     def quiet(own: dict) -> tuple[VarianceEstimate | None, NoiseDiagnostics]:
-        still, level = _still(spec, record, own, diag, result)  # the first R: at once
+        still, level = _still(spec, record, own, diag, result, lone)  # the first R: at once
         if still is None:
             return None, replace(diag, quiet=level)
-        still = conclude(spec, still, diag, None)  # its interval from the record's noise;
+        # its interval from the record's noise, with the lone glitches in the still stretches
+        at = glitches_within(lone, ranges_mask(diag.level_profile.still_stretches, diag.n))
+        still = conclude(spec, still, diag, None, glitches=at)
         still.diagnostics = None  # the diagnostics stay on the record's own result
-        return still, replace(diag, other_still=_other_levels(spec, record, own, diag, still))
+        return still, replace(diag, other_still=_other_levels(spec, record, own, diag, still, lone))
 
     branches = getattr(record, "branches", None)
     if extra and branches is not None:
@@ -384,26 +373,39 @@ def _after_diagnostics(
 
 
 def _still(
-    spec: MethodSpec, record: Record, params: dict, diag: NoiseDiagnostics, first: VarianceEstimate
+    spec: MethodSpec,
+    record: Record,
+    params: dict,
+    diag: NoiseDiagnostics,
+    first: VarianceEstimate,
+    lone: LoneGlitches | None = None,
 ) -> tuple[VarianceEstimate | None, QuietLevel | None]:
     """The method on the still regimes' quiet stretches: the still R when apart
     (``has_still_apart``), else the quiet level measured apart when R is not it
     (:func:`~noisevar.estimators.still_quiet.quiet_apart`; docs/algorithms.md §E1)."""
     variance = first.variance
     if not has_still_apart(diag, variance):
-        finish = partial(conclude, spec, diag=diag)
+        lone = glitches_within(lone, ranges_mask(diag.level_profile.still_stretches, diag.n))
+        finish = partial(conclude, spec, diag=diag, glitches=lone)
         return None, quiet_apart(record, params, diag, variance, finish, first.core_variance)
     return on_still_stretches(record, params, diag), None
 
 
 def _other_levels(
-    spec: MethodSpec, record: Record, params: dict, diag: NoiseDiagnostics, still: VarianceEstimate
+    spec: MethodSpec,
+    record: Record,
+    params: dict,
+    diag: NoiseDiagnostics,
+    still: VarianceEstimate,
+    lone: LoneGlitches | None = None,
 ) -> tuple[StillLevel, ...]:
     """The record's other still levels (:func:`.still_levels.other_still_levels`)."""
     kept = {k: v for k, v in params.items() if k != "method"}
 
     def measure(ranges: list[tuple[int, int]]) -> VarianceEstimate:
-        return conclude(spec, record.estimate_in(kept, ranges), diag, None)  # type: ignore[attr-defined]
+        est = record.estimate_in(kept, ranges)  # type: ignore[attr-defined]
+        inside = glitches_within(lone, ranges_mask(ranges, diag.n))
+        return conclude(spec, est, diag, None, glitches=inside)
 
     return other_still_levels(diag, still, measure)
 
@@ -451,6 +453,7 @@ def conclude(
     record: Callable[[int, int], NDArray] | None = None,
     still: VarianceEstimate | None = None,
     gap: str | None = None,
+    glitches: LoneGlitches | None = None,
 ) -> VarianceEstimate:
     """``result`` with the diagnostics ``diag``: honest interval, verdict, notes, assumptions.
 
@@ -470,6 +473,9 @@ def conclude(
     gap : str, optional
         Why there is no ``still`` (:func:`~noisevar.estimators.still_set.still_gap`): the
         verdict says its still level is indicative only.
+    glitches : LoneGlitches, optional
+        The lone glitches in ``result``'s R (at the samples it was measured on): its
+        interval allows for their Poisson count (:func:`~.interval.honest_interval`).
 
     Returns
     -------
@@ -480,7 +486,7 @@ def conclude(
     if diag.differenced and spec.residual is not None:
         result = _differenced(result, spec.residual(result.params), diag.whiteness.noise_lag1)
     if spec.moment:
-        result = _honest_interval(result, diag)
+        result = honest_interval(result, diag, glitches)
     if not diag.identifiable:  # no measurement noise can be told apart: 0 is as likely
         result = replace(result, ci95=(0.0, result.ci95[1]))
     quiet = None if still is None else still.variance
