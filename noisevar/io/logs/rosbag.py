@@ -333,6 +333,7 @@ READER = LogReader(
     read=read,
     time_note="times from header.stamp (else the bag's record time), seconds from the "
     "topic's first message",
-    repair="a ROS 1 bag cut short can be re-indexed (rosbag reindex), a ROS 2 bag checked "
-    "with ros2 bag info; else copy the file again",
+    repair="a ROS 1 bag cut short can be re-indexed (rosbag reindex), an MCAP file cut short "
+    "recovered (mcap recover: its footer is gone), a ROS 2 bag checked with ros2 bag info; else "
+    "copy the file again",
 )
