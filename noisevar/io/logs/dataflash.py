@@ -40,6 +40,9 @@ UNITS = {
     "A": "A",
     "Hz": "Hz",
     "Gauss": "gauss",
+    "deglatitude": "deg",  # ArduPilot's names for degrees of latitude, longitude, heading
+    "deglongitude": "deg",
+    "degheading": "deg",
     "%": "percent",
 }
 _PREFIX = {"": "", "d": "d", "c": "c", "m": "m", "µ": "u", "n": "n"}
@@ -192,8 +195,10 @@ def _binary_records(dfr) -> dict[tuple[str, int | None], np.ndarray]:
 
 
 def _topics(dfr) -> list[TopicInfo]:
-    formats = {f.name: f for f in dfr.formats.values()}
     records = _binary_records(dfr) if _binary(dfr) else _records(dfr)
+    # after the pass: a text log's FMT lines are parsed again into new formats there, and
+    # only those get their units (pymavlink's text index reads the first UNIT line alone)
+    formats = {f.name: f for f in dfr.formats.values()}
     out = []
     for (name, inst), times in sorted(records.items(), key=lambda kv: str(kv[0])):
         fmt = formats[name]

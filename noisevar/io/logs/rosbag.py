@@ -41,6 +41,21 @@ MESSAGE_UNITS: dict[str, dict[str, str]] = {
     "sensor_msgs/Range": {"range": "m", "min_range": "m", "max_range": "m", "field_of_view": "rad"},
     "sensor_msgs/NavSatFix": {"latitude": "deg", "longitude": "deg", "altitude": "m"},
     "geometry_msgs/Vector3Stamped": {},
+    # poses, velocities and forces, whose definitions state no unit: REP 103's SI units
+    # (metre, m/s, rad/s, newton); a key may be a dotted path (a quaternion has no unit)
+    "geometry_msgs/PointStamped": {"point": "m"},
+    "geometry_msgs/PoseStamped": {"pose.position": "m"},
+    "geometry_msgs/PoseWithCovarianceStamped": {"pose.pose.position": "m"},
+    "geometry_msgs/TwistStamped": {"twist.linear": "m/s", "twist.angular": "rad/s"},
+    "geometry_msgs/Twist": {"linear": "m/s", "angular": "rad/s"},
+    "geometry_msgs/AccelStamped": {"accel.linear": "m/s**2", "accel.angular": "rad/s**2"},
+    "geometry_msgs/Wrench": {"force": "N", "torque": "N*m"},
+    "geometry_msgs/WrenchStamped": {"wrench.force": "N", "wrench.torque": "N*m"},
+    "nav_msgs/Odometry": {
+        "pose.pose.position": "m",
+        "twist.twist.linear": "m/s",
+        "twist.twist.angular": "rad/s",
+    },
 }
 _NUMERIC = {
     "bool",
@@ -84,9 +99,12 @@ def _units(msgtype: str, fields: Sequence[str]) -> dict[str, str]:
     table = MESSAGE_UNITS.get(_short(msgtype), {})
     out = {}
     for f in fields:
-        top = f.split(".", 1)[0]
-        if top in table:
-            out[f] = table[top]
+        parts = f.split(".")
+        for k in range(len(parts), 0, -1):  # the longest key that is the field or above it
+            unit = table.get(".".join(parts[:k]))
+            if unit is not None:
+                out[f] = unit
+                break
     return out
 
 
@@ -319,6 +337,7 @@ READER = LogReader(
     read=read,
     time_note="times from header.stamp (else the bag's record time), seconds from the "
     "topic's first message",
-    repair="a ROS 1 bag cut short can be re-indexed (rosbag reindex), a ROS 2 bag checked "
-    "with ros2 bag info; else copy the file again",
+    repair="a ROS 1 bag cut short can be re-indexed (rosbag reindex), an MCAP file cut short "
+    "recovered (mcap recover: its footer is gone), a ROS 2 bag checked with ros2 bag info; else "
+    "copy the file again",
 )
