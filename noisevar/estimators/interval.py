@@ -278,3 +278,96 @@ def honest_interval(
     if lone is not None:
         lo, hi = min(lo, lone[0]), max(hi, lone[1])
     return replace(r, dof=dof, ci95=(lo, hi))
+
+
+#: Within this factor of the coloured-noise threshold either side, the whiteness test's
+#: p-value does not decide between the per-block spans and the coloured-noise span: a few
+#: samples more or less move it by up to this much (``benchmarks/colour_edge.py``: log10 p
+#: of AR(1) records near the threshold moves by up to 1.5 when 1-3 samples are dropped).
+EDGE_FACTOR = 30.0
+
+
+def edge_weight(p: float, threshold: float, factor: float | None = None) -> float:
+    """The coloured-noise estimate's weight at whiteness p-value ``p``: 0 at and above
+    ``threshold * factor``, 1 at and below ``threshold / factor``, linear in ``log p``
+    between (1/2 at the threshold; ``factor`` :data:`EDGE_FACTOR` unless given)."""
+    factor = EDGE_FACTOR if factor is None else factor
+    if not factor > 1.0:
+        return float(p < threshold)
+    w = np.log(threshold * factor / max(p, 1e-300)) / np.log(factor * factor)
+    return float(np.clip(w, 0.0, 1.0))
+
+
+def at_edge(white: VarianceEstimate, coloured: VarianceEstimate, w: float) -> VarianceEstimate:
+    """R at the edge of white noise: the two estimates weighed, its interval covering both.
+
+    Parameters
+    ----------
+    white, coloured : VarianceEstimate
+        The method's estimate with its own parameters and with its coloured-noise
+        parameters, each with its interval.
+    w : float
+        The coloured estimate's weight (:func:`edge_weight`), strictly between 0 and 1.
+
+    Returns
+    -------
+    VarianceEstimate
+        The one of the two with the larger weight, with ``R = white^(1-w) coloured^w``,
+        its interval the same weighted mean of theirs widened to hold both estimates
+        (model uncertainty), and a note that says both.
+
+    Notes
+    -----
+    docs/algorithms.md §E1 *At the edge of white*. Weighing in logs keeps R continuous
+    in ``log p``, so that a p-value that crosses the threshold moves R by little.
+    """
+    a, b = white.variance, coloured.variance
+    main = coloured if w > 0.5 else white
+    if not (a > 0 and b > 0 and 0.0 < w < 1.0):
+        return main
+
+    def mix(x: float, y: float) -> float:
+        return float(x ** (1.0 - w) * y**w) if x > 0 and y > 0 else (1.0 - w) * x + w * y
+
+    lo = min(mix(white.ci95[0], coloured.ci95[0]), a, b)
+    hi = max(mix(white.ci95[1], coloured.ci95[1]), a, b)
+    core = None
+    if white.core_variance is not None and coloured.core_variance is not None:
+        core = mix(white.core_variance, coloured.core_variance)
+    span = ", ".join(f"{k}={v}" for k, v in coloured.params.items() if white.params.get(k) != v)
+    note = (
+        f"the noise is at the edge of white: R with {span} is {b / a:.3g} times R with the "
+        f"method's own parameters; R weighs the two by the whiteness test ({w:.0%} the "
+        "former) and its ci95 covers both"
+    )
+    return replace(
+        main, variance=mix(a, b), ci95=(lo, hi), core_variance=core, notes=[*main.notes, note]
+    )
+
+
+def differenced(result: VarianceEstimate, d: NDArray, r: float) -> VarianceEstimate:
+    """``result`` for MA(1) noise of lag-1 correlation ``r`` seen through the residual ``d``.
+
+    Notes
+    -----
+    docs/algorithms.md §E2: ``E[e²] = σ² (Σd² + 2 r Σ d_i d_{i+1})``, so an estimate
+    normalised for white noise (``mean(e²) / Σd²``) is ``1 + 2 r α₁`` times σ², the
+    variance per sample (``α₁`` the filter's lag-1 autocorrelation). Differenced white
+    noise (``r = -1/2``) seen through a smoother's residual (``α₁`` near -0.8) reads
+    about 1.8 times too high without it.
+    """
+    alpha1 = float(np.dot(d[:-1], d[1:]) / np.dot(d, d))
+    factor = 1.0 / (1.0 + 2.0 * r * alpha1)
+    if not (np.isfinite(factor) and factor > 0):
+        return result
+    core = None if result.core_variance is None else result.core_variance * factor
+    lo, hi = result.ci95
+    notes = [
+        *result.notes,
+        f"the noise looks differenced (lag-1 correlation {r:+.2f}): the white-noise "
+        f"estimate was multiplied by {factor:.3g}, the residual's response to such noise",
+    ]
+    return replace(
+        result, variance=result.variance * factor, ci95=(lo * factor, hi * factor),
+        core_variance=core, notes=notes,
+    )  # fmt: skip

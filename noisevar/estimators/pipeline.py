@@ -45,6 +45,9 @@ from noisevar.estimators._input import check_samples, check_times
 from noisevar.estimators._scale import check_answer, unscale
 from noisevar.estimators.interval import (
     LoneGlitches,
+    at_edge,
+    differenced,
+    edge_weight,
     glitches_within,
     honest_interval,
     off_jumps,
@@ -328,10 +331,12 @@ def run_record(
         if diag.whiteness.p_value < COLOURED_P or diag.differenced:
             extra = _coloured_extra(spec, params)
         lone = record_glitches(record, result.outliers, diag)
+        first = result
         result, still, diag = _after_diagnostics(spec, record, result, params, extra, diag, lone)
+        edge = _edge(spec, record, first, result, params, diag)
         gap = still_gap(diag, result.variance, still)  # the one rule (estimators.regimes)
         lone = glitches_within(lone, off_jumps(getattr(record, "jump_runs", []), diag.n))
-        result = conclude(spec, result, diag, record.reader(), still, gap, lone)
+        result = conclude(spec, result, diag, record.reader(), still, gap, lone, edge)
     return _in_record_units(result, scaled + record.exponent, spec.name)
 
 
@@ -410,6 +415,18 @@ def _other_levels(
     return other_still_levels(diag, still, measure)
 
 
+def _edge(
+    spec: MethodSpec, record: Record, first: VarianceEstimate, result: VarianceEstimate,
+    params: dict, diag: NoiseDiagnostics,
+) -> tuple[VarianceEstimate, float] | None:  # fmt: skip
+    """Near :data:`COLOURED_P` (:func:`~.interval.edge_weight`): the estimate the threshold
+    did not choose and the coloured one's weight (docs/algorithms.md §E1 *At the edge*)."""
+    w = edge_weight(diag.whiteness.p_value, COLOURED_P)
+    if diag.differenced or not 0.0 < w < 1.0 or not _coloured_extra(spec, params):
+        return None
+    return (first, w) if result is not first else (_coloured(spec, record, first, params), w)
+
+
 def _coloured(
     spec: MethodSpec, record: Record, result: VarianceEstimate, params: dict
 ) -> VarianceEstimate:
@@ -454,6 +471,7 @@ def conclude(
     still: VarianceEstimate | None = None,
     gap: str | None = None,
     glitches: LoneGlitches | None = None,
+    edge: tuple[VarianceEstimate, float] | None = None,
 ) -> VarianceEstimate:
     """``result`` with the diagnostics ``diag``: honest interval, verdict, notes, assumptions.
 
@@ -476,17 +494,27 @@ def conclude(
     glitches : LoneGlitches, optional
         The lone glitches in ``result``'s R (at the samples it was measured on): its
         interval allows for their Poisson count (:func:`~.interval.honest_interval`).
+    edge : tuple, optional
+        At the edge of white noise (:func:`_edge`): the other estimate and the coloured
+        one's weight; R weighs the two and its interval covers both (:func:`~.interval.at_edge`).
 
     Returns
     -------
     VarianceEstimate
     """
-    if spec.finish is not None:
-        result = spec.finish(result, diag, record)
-    if diag.differenced and spec.residual is not None:
-        result = _differenced(result, spec.residual(result.params), diag.whiteness.noise_lag1)
-    if spec.moment:
-        result = honest_interval(result, diag, glitches)
+
+    def own(result: VarianceEstimate) -> VarianceEstimate:
+        if spec.finish is not None:
+            result = spec.finish(result, diag, record)
+        if diag.differenced and spec.residual is not None:
+            d = spec.residual(result.params)
+            result = differenced(result, d, diag.whiteness.noise_lag1)
+        return honest_interval(result, diag, glitches) if spec.moment else result
+
+    result = own(result)
+    if edge is not None:
+        pair = (result, own(edge[0])) if edge[1] <= 0.5 else (own(edge[0]), result)
+        result = at_edge(*pair, edge[1])
     if not diag.identifiable:  # no measurement noise can be told apart: 0 is as likely
         result = replace(result, ci95=(0.0, result.ci95[1]))
     quiet = None if still is None else still.variance
@@ -499,34 +527,6 @@ def conclude(
     result.diagnostics = diag
     result.assumptions = check_assumptions(spec.assumes, diag)
     return result
-
-
-def _differenced(result: VarianceEstimate, d: NDArray, r: float) -> VarianceEstimate:
-    """``result`` for MA(1) noise of lag-1 correlation ``r`` seen through the residual ``d``.
-
-    Notes
-    -----
-    docs/algorithms.md §E2: ``E[e²] = σ² (Σd² + 2 r Σ d_i d_{i+1})``, so an estimate
-    normalised for white noise (``mean(e²) / Σd²``) is ``1 + 2 r α₁`` times σ², the
-    variance per sample (``α₁`` the filter's lag-1 autocorrelation). Differenced white
-    noise (``r = -1/2``) seen through a smoother's residual (``α₁`` near -0.8) reads
-    about 1.8 times too high without it.
-    """
-    alpha1 = float(np.dot(d[:-1], d[1:]) / np.dot(d, d))
-    factor = 1.0 / (1.0 + 2.0 * r * alpha1)
-    if not (np.isfinite(factor) and factor > 0):
-        return result
-    core = None if result.core_variance is None else result.core_variance * factor
-    lo, hi = result.ci95
-    notes = [
-        *result.notes,
-        f"the noise looks differenced (lag-1 correlation {r:+.2f}): the white-noise "
-        f"estimate was multiplied by {factor:.3g}, the residual's response to such noise",
-    ]
-    return replace(
-        result, variance=result.variance * factor, ci95=(lo * factor, hi * factor),
-        core_variance=core, notes=notes,
-    )  # fmt: skip
 
 
 def rescale_diagnostics(result: VarianceEstimate, e: int) -> None:
