@@ -496,7 +496,7 @@ def conclude(
         interval allows for their Poisson count (:func:`~.interval.honest_interval`).
     edge : tuple, optional
         At the edge of white noise (:func:`_edge`): the other estimate and the coloured
-        one's weight; R weighs the two and its interval covers both (:func:`~.interval.at_edge`).
+        one's weight; R weighs the two, its interval their mixture's (:func:`~.interval.at_edge`).
 
     Returns
     -------
