@@ -332,7 +332,7 @@ def at_edge(white: VarianceEstimate, coloured: VarianceEstimate, w: float) -> Va
         return float(x ** (1.0 - w) * y**w) if x > 0 and y > 0 else (1.0 - w) * x + w * y
 
     lo, hi = mixture_interval((white, coloured), (1.0 - w, w))
-    core = None
+    core = main.core_variance
     if white.core_variance is not None and coloured.core_variance is not None:
         core = mix(white.core_variance, coloured.core_variance)
     span = ", ".join(f"{k}={v}" for k, v in coloured.params.items() if white.params.get(k) != v)

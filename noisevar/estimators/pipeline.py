@@ -420,7 +420,7 @@ def _edge(
     params: dict, diag: NoiseDiagnostics,
 ) -> tuple[VarianceEstimate, float] | None:  # fmt: skip
     """Near :data:`COLOURED_P` (:func:`~.interval.edge_weight`): the estimate the threshold
-    did not choose and the coloured one's weight (docs/algorithms.md §E1 *At the edge*)."""
+    did not choose and the coloured one's weight (docs/algorithms.md §E1 *At the edge of white*)."""
     w = edge_weight(diag.whiteness.p_value, COLOURED_P)
     if diag.differenced or not 0.0 < w < 1.0 or not _coloured_extra(spec, params):
         return None
