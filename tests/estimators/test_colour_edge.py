@@ -80,3 +80,20 @@ def test_near_the_threshold_streamed_equals_in_memory(phi, seed) -> None:
     np.testing.assert_allclose(many.ci95, one.ci95, rtol=1e-9)
     np.testing.assert_allclose(many.core_variance, one.core_variance, rtol=1e-9)
     assert many.notes[1:] == one.notes
+
+
+def test_the_mixture_interval_of_one_estimate_is_its_own_and_widens_with_two() -> None:
+    from dataclasses import replace
+
+    from noisevar.estimators.interval import at_edge, mixture_interval
+
+    base = noisevar.estimate(np.random.default_rng(3).normal(size=500))
+    a = replace(base, variance=1.0, ci95=(0.8, 1.3), notes=[])
+    b = replace(base, variance=0.7, ci95=(0.5, 1.0), notes=[], params={**base.params, "span": 5})
+    np.testing.assert_allclose(mixture_interval((a,), (1.0,)), a.ci95, rtol=1e-9)
+    lo, hi = mixture_interval((a, b), (0.5, 0.5))
+    assert b.ci95[0] < lo < a.ci95[0] and b.ci95[1] < hi < a.ci95[1]  # inside the hull
+    mid = at_edge(a, b, 0.5)
+    assert mid.variance == pytest.approx(np.sqrt(0.7)) and mid.ci95 == (lo, hi)
+    assert mid.ci95[0] < b.variance < a.variance < mid.ci95[1]
+    assert "span=5 is 0.7 times" in mid.notes[-1]
