@@ -381,8 +381,9 @@ def _period_from_time(t: NDArray, notes: list[str]) -> float | None:
         notes.append(
             f"sampling is not uniform: steps from {dt.min():.4g} s to {dt.max():.4g} s "
             f"(median {period:.4g} s); noise-variance estimates split the record at its gaps "
-            "and pool the uniform segments; the Allan deviation and the filter fits take it "
-            "as uniform"
+            "and pool the uniform segments; the Allan deviation places rate samples on their "
+            "period when the steps are whole periods (samples dropped), else takes it as "
+            "uniform, as the filter fits do"
         )
     return period
 
