@@ -241,3 +241,19 @@ def test_euroc_file_to_a_filter_config_in_one_command(tmp_path: Path) -> None:
     assert "by the units the file declares" in out.stdout
     kalibr = next((tmp_path / "cfg").glob("*.yaml")).read_text()
     assert "gyroscope_noise_density" in kalibr and "update_rate:" in kalibr
+
+
+def test_a_stamp_that_repeats_or_steps_back_keeps_the_rate(tmp_path: Path) -> None:
+    """One duplicated or backward stamp (a mocap logger, a DataFlash line) threw the whole
+    time axis away: no rate, so ``noisevar imu`` asked for --rate."""
+    t = np.arange(600) * 0.005
+    t[200] = t[199]  # repeats
+    t[400] = t[398]  # steps back
+    f = tmp_path / "imu.csv"
+    f.write_text("time,gx\n" + "\n".join(f"{v:.3f},{(i * 7919) % 101}" for i, v in enumerate(t)))
+    tab = load_table(f)
+    assert tab.sample_period == pytest.approx(0.005)
+    assert any("repeats or steps back at 2 of 599 steps (first at row 200)" in n for n in tab.notes)
+    t[100:110] = t[99]  # many: the axis is not a clock
+    f.write_text("time,gx\n" + "\n".join(f"{v:.3f},{(i * 7919) % 101}" for i, v in enumerate(t)))
+    assert load_table(f).sample_period is None

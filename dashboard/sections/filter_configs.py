@@ -13,7 +13,7 @@ import numpy as np
 import streamlit as st
 
 from dashboard import cache
-from dashboard.sections.noise_model import composite_cached, imu_column
+from dashboard.sections.noise_model import composite_cached, imu_column, imu_times
 from dashboard.state import LoadedSignal, initial, signal_units
 from dashboard.widgets import guarded
 from noisevar import units
@@ -27,8 +27,10 @@ _LABELS = {"best": "Best fit (default)", "conservative": "Conservative (overboun
 
 
 @st.cache_data(max_entries=32, show_spinner="Fitting the noise terms...")
-def _fit(digest: str, rate: float, unit: str, regimes: str, _z: np.ndarray) -> InertialNoise:
-    fit = inertial_noise(_z, rate, unit=unit, regimes=regimes)
+def _fit(
+    digest: str, rate: float, unit: str, regimes: str, _z: np.ndarray, _t: np.ndarray | None
+) -> InertialNoise:
+    fit = inertial_noise(_z, rate, unit=unit, regimes=regimes, t=_t)
     assert isinstance(fit, InertialNoise)
     return fit
 
@@ -103,7 +105,7 @@ def consumer_files(sig: LoadedSignal, rate: float, regimes: str) -> None:
         return
     with guarded("Filter configs: "):
         fits = {
-            (c, u): _fit(key, r, u, regimes, z)
+            (c, u): _fit(key, r, u, regimes, z, imu_times(sig, c, rate, z.size))
             for cols, u in ((gyro, g_unit), (accel, a_unit))
             for c in dict.fromkeys(cols)
             for key, r, z in [imu_column(sig, c, rate)]

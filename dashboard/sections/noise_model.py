@@ -16,6 +16,7 @@ from noisevar.errors import NoisevarError
 from noisevar.estimators.answer import WHY_DIFFERENT, record_answer
 from noisevar.estimators.regimes import DEFAULT_REGIMES, still_used, variance_for
 from noisevar.figures.noise_model import allan_figure
+from noisevar.io import record_times
 from noisevar.noise_model import AllanResult, InertialNoise, allan, exports, inertial_noise
 from noisevar.noise_model.allan import DATA_KINDS, KINDS, default_data
 from noisevar.noise_model.kalibr import kalibr_imu
@@ -107,14 +108,22 @@ def settings_form(sig: LoadedSignal, regimes: str = DEFAULT_REGIMES) -> NoiseMod
 
 @st.cache_data(max_entries=16, show_spinner="Allan deviation...")
 def _allan_cached(
-    digest: str, rate: float, data: str, kind: str, regimes: str, _z: np.ndarray
+    digest: str,
+    rate: float,
+    data: str,
+    kind: str,
+    regimes: str,
+    _z: np.ndarray,
+    _t: np.ndarray | None = None,
 ) -> AllanResult:
-    return allan(_z, rate=rate, data=data, kind=kind, regimes=regimes)
+    return allan(_z, rate=rate, data=data, kind=kind, regimes=regimes, t=_t)
 
 
 @st.cache_data(max_entries=16, show_spinner="Fitting the noise terms...")
-def _fit_cached(digest: str, rate: float, unit: str, regimes: str, _z: np.ndarray) -> InertialNoise:
-    fit = inertial_noise(_z, rate, unit=unit, regimes=regimes)
+def _fit_cached(
+    digest: str, rate: float, unit: str, regimes: str, _z: np.ndarray, _t: np.ndarray | None = None
+) -> InertialNoise:
+    fit = inertial_noise(_z, rate, unit=unit, regimes=regimes, t=_t)
     assert isinstance(fit, InertialNoise)
     return fit
 
@@ -144,9 +153,10 @@ def results(sig: LoadedSignal, s: NoiseModelSettings) -> InertialNoise | None:
     res: AllanResult | None = None
     fit: InertialNoise | None = None
     with guarded():
-        res = _allan_cached(sig.digest, s.rate, s.data, s.kind, s.regimes, sig.z)
+        t = imu_times(sig, None, s.rate, sig.z.size)  # a log that drops samples
+        res = _allan_cached(sig.digest, s.rate, s.data, s.kind, s.regimes, sig.z, t)
         if s.data == "rate" and s.kind == "oadev":
-            fit = _fit_cached(sig.digest, s.rate, s.unit, s.regimes, sig.z)
+            fit = _fit_cached(sig.digest, s.rate, s.unit, s.regimes, sig.z, t)
     if res is None:
         return None
     for note in res.notes:
@@ -217,6 +227,21 @@ def imu_column(sig: LoadedSignal, name: str, rate: float) -> tuple[str, float, n
     return f"{sig.topics_key}:{col.name}", col.rate, col.values
 
 
+def imu_times(sig: LoadedSignal, name: str | None, rate: float, n: int) -> np.ndarray | None:
+    """One IMU column's sample times (``name`` None: the signal's), as the command line
+    passes them (a log that drops samples is placed on its sample grid:
+    :mod:`noisevar.noise_model.allan_gaps`): its topic's, or the file's when the page's rate
+    is the file's; None when the user set another rate (the samples are then uniform at
+    it, as ``--rate`` does)."""
+    if sig.topics is not None and name is not None:
+        t = record_times(sig.topics.tables[sig.topics.column(name).topic])
+    elif sig.times is not None and sig.sample_period and abs(rate * sig.sample_period - 1) < 1e-9:
+        t = sig.times
+    else:
+        return None
+    return t if t is not None and t.size == n else None
+
+
 def _topic_rates(sig: LoadedSignal) -> None:
     """Say each chosen topic's rate (its columns are fitted at it, not at the page's)."""
     if sig.topics is None:
@@ -256,7 +281,7 @@ def kalibr_export(sig: LoadedSignal, s: NoiseModelSettings) -> None:
         return
     with guarded("Kalibr export: "):
         fits = {
-            c: _fit_cached(key, rate, "", s.regimes, z)
+            c: _fit_cached(key, rate, "", s.regimes, z, imu_times(sig, c, s.rate, z.size))
             for c in dict.fromkeys(gyro + accel)
             for key, rate, z in [imu_column(sig, c, s.rate)]
         }

@@ -21,6 +21,25 @@ from noisevar.cli._common import (
 from noisevar.units import declared_unit
 
 
+def sampling_note(t: np.ndarray | None, rate: float) -> list[str]:
+    """A note when the times ``t`` are not uniform and the samples were taken as uniform
+    at ``rate`` (not placed on a grid of whole periods: :func:`noisevar.allan`'s ``t``)."""
+    from noisevar.diagnostics.segments import off_period
+
+    if t is None or t.size < 3:
+        return []
+    steps = off_period(t)
+    off = int(np.count_nonzero(steps))
+    if not off:
+        return []
+    return [
+        f"{off} of {steps.size} steps of the times are not the median one and are not whole "
+        f"multiples of one period (jitter, or --rate given): the Allan variance takes the "
+        f"samples as uniform at {rate:g} Hz, so its taus are in samples at that rate, not "
+        "in the record's seconds"
+    ]
+
+
 def load_columns(
     path: str, columns: list[str] | None, rate: float | None, topic: str | None = None
 ):
@@ -42,13 +61,18 @@ def load_columns(
 def _cmd_allan(args: argparse.Namespace) -> int:
     from noisevar.noise_model import allan
     from noisevar.noise_model.allan import default_data
+    from noisevar.noise_model.allan_gaps import gap_grid
 
     wanted = [args.column] if args.column else None
-    data, rate, declared, _, loaded = load_columns(args.file, wanted, args.rate, args.topic)
+    data, rate, declared, times, loaded = load_columns(args.file, wanted, args.rate, args.topic)
     name, z = next(iter(data.items()))
     scale, unit = units_of(args.unit or declared_unit(declared[name]), args.unit_out)
     kind_of_data = args.data or default_data(unit)
-    res = allan(z * scale, rate=rate, data=kind_of_data, kind=args.kind, **regimes_of(args))
+    # times whose steps are whole periods (samples dropped): rate data on that grid
+    t = None if args.rate is not None else times  # --rate: the samples as uniform at it
+    res = allan(z * scale, rate, kind_of_data, args.kind, t=t, **regimes_of(args))
+    if gap_grid(t, kind_of_data, args.kind, **regimes_of(args)) is None:
+        res = dataclasses.replace(res, notes=(*res.notes, *sampling_note(times, rate)))
     if args.data is None:
         other = "rate" if kind_of_data == "phase" else "phase"
         said = (
@@ -65,7 +89,7 @@ def _cmd_allan(args: argparse.Namespace) -> int:
     for note in loaded:  # how the file was read: its clock, its unit, columns left out
         print(f"file note: {note}")
     print(
-        f"{res.kind} of {name} ({kind_of_data} data, {res.n_samples} samples at {rate:g} Hz), "
+        f"{res.kind} of {name} ({kind_of_data} data, {res.n_samples} samples at {res.rate:g} Hz), "
         f"{res.ci:.1%} intervals; deviations in {dev_unit}, tau in s"
     )
     for note in res.notes:

@@ -213,23 +213,19 @@ def _gnss(args: argparse.Namespace) -> dict[str, float]:
     return out
 
 
-def _with_sampling_note(fit: Any, t: np.ndarray | None) -> Any:
-    """``fit`` with a note when its column's times are not uniform: the Allan variance
-    takes the samples as uniform at the fit's rate."""
-    from noisevar.diagnostics.segments import off_period
+def _group_times(args: argparse.Namespace, times: dict, names: list[str]) -> Any:
+    """The times of a group of columns, when they share them and ``--rate`` was not given
+    (with it the samples are taken as uniform at that rate)."""
+    t = times[names[0]]
+    return None if args.rate is not None or any(times[c] is not t for c in names) else t
 
-    if t is None or t.size < 3:
-        return fit
-    steps = off_period(t)
-    off = int(np.count_nonzero(steps))
-    if not off:
-        return fit
-    said = (
-        f"{off} of {steps.size} steps of the times are not the median one (samples dropped, "
-        f"or gaps): the Allan variance takes the samples as uniform at {fit.rate:g} Hz, so "
-        "its taus are in samples at that rate, not in the record's seconds"
-    )
-    return replace(fit, notes=(*fit.notes, said))
+
+def _with_sampling_note(fit: Any, t: np.ndarray | None, placed: bool) -> Any:
+    """``fit`` with a note when its column's times are not uniform and its samples were
+    not ``placed`` on a grid of whole periods: taken as uniform at the fit's rate."""
+    from noisevar.cli.allan import sampling_note
+
+    return fit if placed else replace(fit, notes=(*fit.notes, *sampling_note(t, fit.rate)))
 
 
 def _print_table(fits: dict) -> None:
@@ -297,6 +293,7 @@ def _cmd_models(args: argparse.Namespace, data: dict, rates: dict[str, float]) -
 def _cmd_imu(args: argparse.Namespace) -> int:
     from noisevar.estimators.results import VarianceEstimate
     from noisevar.noise_model import inertial_noise
+    from noisevar.noise_model.allan_gaps import gap_grid
 
     if args.export:
         from noisevar.noise_model.exports import consumers
@@ -311,17 +308,19 @@ def _cmd_imu(args: argparse.Namespace) -> int:
     col_units = _column_units(args, {c: declared[c] for c in data})
     scales = {c: col_units[c][0] for c in data}
     ests, answered = _column_estimates(args, data, scales, times)
-    fits = {}
+    fits, placed = {}, {}
     for names in _groups(data, {c: (col_units[c], rates[c]) for c in data}):
         scale, unit = col_units[names[0]]
         stacked = np.stack([data[c] * scale for c in names])  # axes in threads
         given = [ests.get(c) for c in names]
         given = given if all(isinstance(e, VarianceEstimate) for e in given) else None
+        t = _group_times(args, times, names)
         fitted = inertial_noise(
-            stacked, rates[names[0]], unit=unit, estimates=given, **regimes_of(args)
+            stacked, rates[names[0]], unit=unit, estimates=given, t=t, **regimes_of(args)
         )
         fits.update(zip(names, fitted, strict=True))
-    fits = {c: _with_sampling_note(fits[c], times[c]) for c in data}
+        placed.update(dict.fromkeys(names, gap_grid(t, "rate", "oadev", **regimes_of(args))))
+    fits = {c: _with_sampling_note(fits[c], times[c], placed[c] is not None) for c in data}
     written = _kalibr(args, fits, data, scales) if args.kalibr else None
     exported = _exports(args, fits, data, scales, answered) if args.export else ([], None, None)
     files, model, report = exported

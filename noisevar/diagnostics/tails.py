@@ -39,7 +39,7 @@ def noise_kurtosis(e: NDArray, d: NDArray) -> float:
 
 def kurtosis_from_moments(m2: float, m4: float, d: NDArray) -> float:
     """:func:`noise_kurtosis` from the residual's second and fourth moments (any common scale)."""
-    if not (m2 > 0 and np.isfinite(m2) and np.isfinite(m4)):
+    if not (m2 * m2 > 0 and np.isfinite(m2) and np.isfinite(m4)):  # m2² may underflow to 0
         return 3.0
     u = d / np.sqrt(np.dot(d, d))
     # κ_v = 3 + (κ_e - 3) / Σ d⁴

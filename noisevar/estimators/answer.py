@@ -154,7 +154,7 @@ def declared_note(answer: RecordAnswer, declared: float | None, unit: str = "") 
     said = (
         f"the log declares a variance of {eng(declared, u)} for this field (its messages' "
         "covariance, which a ROS filter such as robot_localization takes as R); "
-        f"the R to use is {eng(answer.variance, u)}"
+        f"the R to use (its sample-to-sample noise, measured) is {eng(answer.variance, u)}"
     )
     lo, hi = answer.ci95
     ratio = answer.variance / declared

@@ -349,13 +349,25 @@ def _period_from_time(t: NDArray, notes: list[str]) -> float | None:
         notes.append("the time column has missing values: sample period not taken from it")
         return None
     dt = np.diff(t)
-    if np.any(dt <= 0):
-        first = int(np.argmax(dt <= 0)) + 1
+    back = dt <= 0
+    if np.any(back):
+        first = int(np.argmax(back)) + 1
+        k = int(np.count_nonzero(back))
+        if k > max(1, 0.01 * dt.size):
+            notes.append(
+                f"the time column is not strictly increasing (row {first}): "
+                "sample period not taken from it"
+            )
+            return None
+        # a stamp that repeats or steps back now and then (a logger's clock, a duplicated
+        # message): the rate from the other steps; the samples are taken in file order
         notes.append(
-            f"the time column is not strictly increasing (row {first}): "
-            "sample period not taken from it"
+            f"the time column repeats or steps back at {k} of {dt.size:,} steps (first at row "
+            f"{first}): the samples are taken in file order as if uniform, the sample period "
+            "from the other steps"
         )
-        return None
+        dt = dt[~back]
+        t = np.concatenate([[0.0], np.cumsum(dt)])
     period = rounded_period(t, float(np.median(dt)))
     lo, hi = SAMPLE_PERIOD_RANGE
     if not lo <= period <= hi:
@@ -365,12 +377,13 @@ def _period_from_time(t: NDArray, notes: list[str]) -> float | None:
         )
         return None
     spread = float((dt.max() - dt.min()) / period)
-    if spread > UNIFORM_TOLERANCE:
+    if spread > UNIFORM_TOLERANCE and not np.any(back):  # (else taken as uniform, said)
         notes.append(
             f"sampling is not uniform: steps from {dt.min():.4g} s to {dt.max():.4g} s "
             f"(median {period:.4g} s); noise-variance estimates split the record at its gaps "
-            "and pool the uniform segments; the Allan deviation and the filter fits take it "
-            "as uniform"
+            "and pool the uniform segments; the Allan deviation places rate samples on their "
+            "period when the steps are whole periods (samples dropped), else takes it as "
+            "uniform, as the filter fits do"
         )
     return period
 

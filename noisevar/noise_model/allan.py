@@ -21,6 +21,7 @@ from noisevar.errors import NoisevarError
 from noisevar.estimators import scale_back, scale_exponent
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes, longest_still_stretch
 from noisevar.estimators.results import VarianceEstimate
+from noisevar.noise_model.allan_gaps import StampGrid, gap_grid, gapped_adev
 from noisevar.numeric.noise_id import noise_id
 
 #: One-sigma confidence (Stable32's default error bars).
@@ -351,6 +352,7 @@ def allan(
     taus: str | ArrayLike = "octave",
     ci: float = ONE_SIGMA,
     regimes: str = DEFAULT_REGIMES,
+    t: ArrayLike | None = None,
 ) -> AllanResult:
     """Overlapping Allan (or modified Allan, overlapping Hadamard) deviation of a record.
 
@@ -372,6 +374,10 @@ def allan(
     regimes : {"all", "still"}
         The whole record, or its longest still stretch only (:func:`still_record`;
         said in ``notes``).
+    t : array_like, optional
+        Sample times (s) of rate data: when they are whole multiples of one period with
+        samples missing (:func:`~noisevar.noise_model.allan_gaps.stamp_grid`), the
+        overlapping Allan deviation is taken on that grid, at its rate (:func:`gapped`).
 
     Returns
     -------
@@ -391,14 +397,20 @@ def allan(
     e, k = (scale_exponent(np.asarray(v, dtype=float)) for v in (z, [rate]))
     if e or k:  # scale-safe: the record by 2**e, the rate by 2**k (exact), results back
         given = taus if isinstance(taus, str) else np.ldexp(np.asarray(taus, dtype=float), -k)
+        t = None if t is None else np.ldexp(np.asarray(t, dtype=float), -k)
         res = allan(np.ldexp(np.asarray(z, dtype=float), e), np.ldexp(rate, k), data, kind,
-                    given, ci, regimes)  # fmt: skip
+                    given, ci, regimes, t)  # fmt: skip
         return rescale_allan(res, rate, e, k)
     if check_regimes(regimes) == "still":
         need = KINDS[kind].span + 2 if kind in KINDS else 0
         z, note = still_record(z, data, need, f"the {kind}")
         res = allan(z, rate, data, kind, taus, ci)
         return replace(res, regimes=regimes, notes=(note,))
+    if t is not None and np.asarray(t).shape != np.asarray(z).shape:
+        raise NoisevarError("t must hold one time per sample of the record.")
+    grid = gap_grid(t, data, kind)
+    if grid is not None:
+        return gapped(z, grid, taus, ci)
     m = averaging_factors(x.size, rate, taus, kind)
     spec = KINDS[kind]
     # the checks above keep allantools off its printing paths (no redirect: not thread-safe)
@@ -431,6 +443,67 @@ def allan(
         n=n.astype(np.int64),
         n_samples=int(np.asarray(z).size),
     )
+
+
+def gapped(z: ArrayLike, grid: StampGrid, taus: str | ArrayLike, ci: float) -> AllanResult:
+    """The overlapping Allan deviation of rate data ``z`` on ``grid`` (dropped samples).
+
+    Parameters
+    ----------
+    z : array_like, shape (n,)
+        Rate samples, one per stamp of ``grid``.
+    grid : StampGrid
+        :func:`~noisevar.noise_model.allan_gaps.stamp_grid` of their times.
+    taus : "octave", "all" or array_like
+        As :func:`allan`'s, at the grid's rate.
+    ci : float
+        Confidence level.
+
+    Returns
+    -------
+    AllanResult
+        At the grid's rate; a tau where too few windows hold enough samples is left out.
+
+    Notes
+    -----
+    docs/algorithms.md §E4 (gaps): the deviation of
+    :func:`~noisevar.noise_model.allan_gaps.gapped_adev`; the noise type per tau that
+    of the samples present at the factor spanning as many of them; Greenhall's edf for
+    the full grid times the share of its terms present and ``(avar / raw)^2`` (the
+    removed excess leaves its spread).
+    """
+    y = np.asarray(z, dtype=float)
+    if y.size != grid.slot.size:
+        raise NoisevarError(f"{y.size} samples but {grid.slot.size} times: one time per sample.")
+    rate = 1.0 / grid.period
+    g = gapped_adev(y, grid, averaging_factors(grid.size + 1, rate, taus, "oadev"))
+    keep = np.isfinite(g.deviation) & (g.n >= 2)
+    if np.count_nonzero(keep) < 1:
+        raise NoisevarError("Too few samples are present for an Allan deviation at any tau.")
+    m, dev, n, full = g.m[keep], g.deviation[keep], g.n[keep], g.full[keep]
+    t = m / rate
+    # the noise type of the samples present, at the factor spanning as many of them
+    x, share_kept = to_phase(y, rate, "rate"), y.size / grid.size
+    alpha = np.array([_noise_id(x, max(1, round(k * share_kept)), 2) for k in m], dtype=float)
+    share = n / full * (dev**2 / g.raw[keep]) ** 2  # terms present; the excess's spread
+    edf = np.maximum(_edfs(alpha, KINDS["oadev"], m, grid.size + 1, default=0) * share, 1.0)
+    lo, hi = np.empty_like(dev), np.empty_like(dev)
+    for i in range(dev.size):
+        lo[i], hi[i] = allantools.confidence_interval(dev[i], edf[i], ci)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        slope = np.gradient(np.log(dev), np.log(t)) if t.size > 1 else np.full(t.size, np.nan)
+    note = (
+        f"{grid.dropped} of {grid.size} samples dropped (the times are whole multiples of "
+        f"{grid.period:.6g} s): the deviation is of the samples on that grid, each window's "
+        "mean of the samples it holds (at least half), its excess white noise removed; "
+        "taus are in the record's seconds"
+    )
+    return AllanResult(
+        kind="oadev", data="rate", rate=rate, taus=t, deviation=dev, interval=(lo, hi),
+        ci=float(ci), alpha=alpha,
+        noise_type=tuple(None if np.isnan(a) else NOISE_TYPES.get(int(a)) for a in alpha),
+        edf=edf, slope=slope, n=n.astype(np.int64), n_samples=int(y.size), notes=(note,),
+    )  # fmt: skip
 
 
 def _deviations(

@@ -38,6 +38,7 @@ from noisevar.noise_model.allan import (
 from noisevar.noise_model.gmwm.bound import internal_params
 from noisevar.noise_model.gmwm.processes import PROCESSES
 from noisevar.noise_model.gmwm.wavelet import wv_covariance
+from noisevar.noise_model.inertial_white import n_against_white, white_level
 
 #: Bootstrap replicates behind each term's interval.
 BOOTSTRAP = 200
@@ -230,6 +231,7 @@ def fit_terms(
     *,
     rate: float | None = None,
     n_phase: int | None = None,
+    share: NDArray | float = 1.0,
 ) -> tuple[NDArray, NDArray]:
     """Weighted NNLS of eq. E4.1 on the terms the data support: the squared terms, and
     the weights.
@@ -243,6 +245,9 @@ def fit_terms(
         (Greenhall) for the noise type of the term that dominates the fitted model there,
         instead of the noise identification's, which can call a random walk at the
         longest taus flicker phase noise and weigh the least reliable points 4-6x.
+    share : ndarray or float
+        The recomputed edf times this (a record with samples dropped: ``res.edf`` over
+        Greenhall's for its noise types, :func:`noisevar.noise_model.allan.gapped`).
 
     Returns
     -------
@@ -261,7 +266,7 @@ def fit_terms(
     coef, w = _reweighted(a, avar, edf)
     if rate is not None and n_phase is not None:
         m = np.maximum(np.round(np.asarray(taus) * rate), 1).astype(np.int64)
-        edf = _model_edf(a, coef, m, n_phase)
+        edf = _model_edf(a, coef, m, n_phase) * share
         coef, w = _reweighted(a, avar, edf)
     penalty = math.log(n_phase if n_phase else taus.size)
     best, best_score = coef, np.inf
@@ -378,56 +383,6 @@ def _root(corr: NDArray) -> NDArray:
     return vecs * np.sqrt(np.clip(vals, 0.0, None))
 
 
-def white_level(y: ArrayLike, rate: float) -> float:
-    """The white level ``sigma(tau0) sqrt(tau0)`` of rate data (unit/√Hz).
-
-    Parameters
-    ----------
-    y : array_like, shape (n,)
-        Rate samples.
-    rate : float
-        Sample rate (Hz).
-
-    Returns
-    -------
-    float
-
-    Notes
-    -----
-    docs/algorithms.md §E4. At ``tau0 = 1/fs`` the overlapping Allan variance is
-    ``mean(diff(y)²) / 2``, so this is the std of first differences over ``sqrt(2 fs)``:
-    ``N`` exactly for white rate noise, ``sqrt(N² + 3 Q² fs)`` with quantisation
-    (its per-sample variance is ``2 Q² fs²``: counted 1.5x, on the safe side), and
-    blind to a slow bias.
-    """
-    d = np.diff(np.asarray(y, dtype=float))
-    return math.sqrt(float(np.mean(d**2)) / 2.0 / rate)
-
-
-def _n_against_white(coef: NDArray, ivals: NDArray, white: float, unit: str) -> list[str]:
-    """Keep N's interval honest when Q took the short-tau noise; ``ivals`` is edited in place.
-
-    When N is not told from 0 its upper bound is at least the white level (all of the
-    short-tau noise white): the bootstrap, taking the taus as independent, overstates
-    how well a short record splits Q from N.
-    """
-    n_value, q_value = math.sqrt(coef[1]), math.sqrt(coef[0])
-    notes = []
-    if ivals[1, 0] == 0.0 and ivals[1, 1] < white:
-        ivals[1, 1] = white
-        why = f" (Q = {q_value:.4g} {unit}·s took the short-tau noise)" if q_value > 0 else ""
-        notes.append(
-            f"N is not told from 0{why}: its upper bound is the white level "
-            f"{white:.4g} {unit}/√Hz, as if all of the short-tau noise were white"
-        )
-    if q_value > 0 and n_value < white:
-        notes.append(
-            f"Q holds part of the Allan variance at tau0: N = {n_value:.4g} is below the white "
-            f"level {white:.4g} {unit}/√Hz; a model without Q (Kalibr) needs the white level"
-        )
-    return notes
-
-
 def _one_axis(
     y: NDArray,
     rate: float,
@@ -437,10 +392,11 @@ def _one_axis(
     seed: int,
     regimes: str = DEFAULT_REGIMES,
     est: VarianceEstimate | None = None,
+    t: ArrayLike | None = None,
 ) -> InertialNoise:
     e = scale_exponent(y)
     if e:  # scale-safe: every term is linear in the record's unit (estimators' _scale)
-        fit = _one_axis(np.ldexp(y, e), rate, unit, taus, ci, seed, regimes, est)
+        fit = _one_axis(np.ldexp(y, e), rate, unit, taus, ci, seed, regimes, est, t)
         return _rescaled(fit, e)
     # ``est`` (of the unscaled axis) gives the same regimes: the estimate scales by 2**e too
     notes = [] if regimes == "still" else regime_warning(y, est)
@@ -449,17 +405,22 @@ def _one_axis(
         need = 2 * KINDS["oadev"].span + 2
         y, note = still_record(y, "rate", need, "the noise terms", est)
         notes.append(note)
-    res = allan(y, rate=rate, data="rate", kind="oadev", taus=taus, ci=ci)
+        t = None  # the stretch's own times are not kept
+    res = allan(y, rate=rate, data="rate", kind="oadev", taus=taus, ci=ci, t=t)
+    rate = res.rate  # the stamps' base rate when samples were dropped (allan's t)
     if res.taus.size < 2:
         raise NoisevarError("The record is too short: the fit needs at least two taus.")
+    notes = [*res.notes, *notes]  # how the samples were placed first
     res = replace(res, regimes=regimes, notes=tuple(notes))
-    coef, w = fit_terms(res.taus, res.variance, res.edf, rate=rate, n_phase=y.size + 1)
-    a = np.column_stack([s.coefficient(res.taus) for s in TERMS])
     m = np.maximum(np.round(res.taus * rate), 1).astype(np.int64)
-    edf = _model_edf(a, coef, m, y.size + 1)
+    # 1 exactly for a uniform record; the edf lost to dropped samples otherwise
+    share = res.edf / _edfs(res.alpha, KINDS["oadev"], m, y.size + 1, default=0)
+    coef, w = fit_terms(res.taus, res.variance, res.edf, rate=rate, n_phase=y.size + 1, share=share)
+    a = np.column_stack([s.coefficient(res.taus) for s in TERMS])
+    edf = _model_edf(a, coef, m, y.size + 1) * share
     ivals = _intervals(res.taus, coef, w, edf, ci, seed, rate, y.size)
     white = white_level(y, rate)
-    notes += _n_against_white(coef, ivals, white, unit)
+    notes += n_against_white(coef, ivals, white, unit)
     left = [
         f"{t.symbol} (up to {hi:.3g})"
         for t, c, (_, hi) in zip(TERMS, coef, ivals, strict=True)
@@ -518,6 +479,7 @@ def inertial_noise(
     workers: int | None = None,
     regimes: str = DEFAULT_REGIMES,
     estimates: VarianceEstimate | Sequence[VarianceEstimate] | None = None,
+    t: ArrayLike | None = None,
 ) -> InertialNoise | tuple[InertialNoise, ...]:
     """Fit the five IEEE-952 noise terms to the Allan variance of rate data.
 
@@ -547,6 +509,9 @@ def inertial_noise(
         :func:`noisevar.estimate` of each axis (method auto, one per axis for a 2-D
         ``z``), when they were made already: the regime warning and the still stretch
         are taken from them instead of estimating each axis again (the same numbers).
+    t : array_like, optional
+        Sample times (s), one per sample: samples dropped are placed on their base
+        period (:func:`noisevar.allan`'s ``t``).
 
     Returns
     -------
@@ -570,7 +535,7 @@ def inertial_noise(
     arr = np.asarray(z, dtype=float)
     if arr.ndim == 1:
         (est,) = _per_axis(estimates, 1, one=True)
-        return _one_axis(arr, rate, unit, taus, ci, seed, regimes, est)
+        return _one_axis(arr, rate, unit, taus, ci, seed, regimes, est, t)
     if arr.ndim != 2:
         raise NoisevarError(f"z must be 1-D or 2-D (time x axes); it has shape {arr.shape}.")
     cols = np.moveaxis(arr, axis, -1)
@@ -578,7 +543,7 @@ def inertial_noise(
     n_workers = max(1, min(cols.shape[0], workers or os.cpu_count() or 1))
     with ThreadPoolExecutor(n_workers) as pool:
         jobs = [
-            pool.submit(_one_axis, c, rate, unit, taus, ci, seed, regimes, est)
+            pool.submit(_one_axis, c, rate, unit, taus, ci, seed, regimes, est, t)
             for c, est in zip(cols, ests, strict=True)
         ]
         return tuple(j.result() for j in jobs)

@@ -121,3 +121,28 @@ def test_the_data_kind_defaults_as_the_command_line_does(tmp_path, capsys):
     assert main(["allan", str(path), "--rate", "1"]) == 0
     out = capsys.readouterr().out
     assert "(phase data," in out and "deviations in ns/s" in out
+
+
+def test_a_log_that_drops_samples_gets_the_command_lines_terms():
+    """The page fitted a log that drops samples as uniform at its median rate while `noisevar
+    imu` places it on its sample grid (noise_model.allan_gaps): two answers for one record."""
+    from noisevar.io import load_table, record_times
+    from noisevar.noise_model import inertial_noise
+
+    rng = np.random.default_rng(5)
+    n = 6000
+    keep = np.sort(rng.choice(n, size=int(0.65 * n), replace=False))
+    t = keep / 400.0
+    z = rng.normal(0.0, 0.01, n)[keep] + np.cumsum(rng.normal(0.0, 2e-4, n))[keep]
+    body = "time,gyro\n" + "\n".join(f"{a:.6f},{b:.9f}" for a, b in zip(t, z, strict=True))
+    app = AppTest.from_file(APP, default_timeout=120)
+    app.switch_page("app_pages/Signal.py").run()
+    app.file_uploader(key="upload").set_value(("drops.csv", body.encode(), "text/csv")).run()
+    app.switch_page(PAGE).run()
+    _clean(app)
+    shown = app.dataframe[0].value.set_index("symbol")
+    tab = load_table(body.encode(), "drops.csv")
+    cli = inertial_noise(tab.columns["gyro"], 1 / tab.sample_period, t=record_times(tab))
+    for sym in ("N", "B", "K"):
+        assert shown.loc[sym, "value"] == cli.term(sym).value
+        assert shown.loc[sym, "high"] == cli.term(sym).interval[1]

@@ -71,6 +71,7 @@ READERS: dict[str, str] = {
     "dataflash": "noisevar.io.logs.dataflash",
     "parquet": "noisevar.io.logs.parquet",
     "hdf5": "noisevar.io.logs.hdf5",
+    "matlab": "noisevar.io.logs.matlab",
 }
 
 

@@ -4,9 +4,11 @@ A driver publishes ``sensor_msgs/Imu`` with ``angular_velocity_covariance``, a G
 receiver ``NavSatFix`` with ``position_covariance``; a ROS filter (robot_localization's
 EKF and UKF) takes those numbers as its measurement noise R. Measured R against the
 declared one says whether the filter is told the truth (docs/algorithms.md §E8, *Declared
-noise*). Each entry maps a field to the element holding its variance (row-major 3x3 or 6x6
-arrays: index ``4`` is the second diagonal element of a 3x3). NavSatFix's latitude and
-longitude are in degrees while their covariance is in m² (east, north): not paired.
+noise*). Each entry maps a field to the element holding its variance (row-major 3x3 arrays:
+index ``4`` is the second diagonal element). Only a sensor's own noise is paired: the
+covariance of an estimate (``Odometry``, AMCL's ``PoseWithCovarianceStamped``) or of a GNSS
+fix (``NavSatFix``) covers slow errors too (drift, multipath) that the sample-to-sample R
+does not see, so a ratio to it would mislead.
 """
 
 from __future__ import annotations
@@ -31,23 +33,10 @@ DECLARED_VARIANCE: dict[str, dict[str, str]] = {
     "sensor_msgs/MagneticField": _diagonal(
         [f"magnetic_field.{a}" for a in _XYZ], "magnetic_field_covariance", 3
     ),
-    "sensor_msgs/NavSatFix": {"altitude": "position_covariance.8"},
     "sensor_msgs/FluidPressure": {"fluid_pressure": "variance"},
     "sensor_msgs/Temperature": {"temperature": "variance"},
     "sensor_msgs/RelativeHumidity": {"relative_humidity": "variance"},
     "sensor_msgs/Illuminance": {"illuminance": "variance"},
-    "nav_msgs/Odometry": {
-        **_diagonal([f"pose.pose.position.{a}" for a in _XYZ], "pose.covariance", 6),
-        **_diagonal([f"twist.twist.linear.{a}" for a in _XYZ], "twist.covariance", 6),
-        **_diagonal([f"twist.twist.angular.{a}" for a in _XYZ], "twist.covariance", 6, 3),
-    },
-    "geometry_msgs/PoseWithCovarianceStamped": _diagonal(
-        [f"pose.pose.position.{a}" for a in _XYZ], "pose.covariance", 6
-    ),
-    "geometry_msgs/TwistWithCovarianceStamped": {
-        **_diagonal([f"twist.twist.linear.{a}" for a in _XYZ], "twist.covariance", 6),
-        **_diagonal([f"twist.twist.angular.{a}" for a in _XYZ], "twist.covariance", 6, 3),
-    },
 }
 
 

@@ -23,6 +23,7 @@ from noisevar.errors import NoisevarError
 from noisevar.io.limits import echo
 from noisevar.io.logs.msgdefs import open_bag
 from noisevar.io.logs.ros_declared import declared_fields
+from noisevar.io.logs.rosbag_spans import topic_span
 from noisevar.io.logs.spec import CHUNK, MAX_FIELDS, Chunk, LogReader, TopicInfo
 
 #: Units of standard messages' fields, from their message definitions' documentation
@@ -118,7 +119,11 @@ def _open(path: Path):
 
 
 def topics(path: Path) -> list[TopicInfo]:
-    """Every topic of the bag, its type, count, mean rate, numeric fields and their units."""
+    """Every topic of the bag, its type, count, mean rate, numeric fields and their units.
+
+    The rate is the count over the topic's own span of record times when the bag's index
+    gives it (:func:`~noisevar.io.logs.rosbag_spans.topic_span`), else over the bag's.
+    """
     out = []
     with _open(path) as bag:
         span = max(bag.duration, 1) / 1e9
@@ -129,6 +134,9 @@ def topics(path: Path) -> list[TopicInfo]:
                 fields = tuple(_leaves(bag.typestore, msgtype))[:MAX_FIELDS]
             count = int(info.msgcount)
             rate = (count - 1) / span if count > 1 and bag.duration > 0 else None
+            own = topic_span(info.connections) if count > 1 else None
+            if own is not None and own[1] > own[0]:  # its own first and last record times
+                rate = (count - 1) / ((own[1] - own[0]) / 1e9)
             declared = declared_fields(msgtype, fields)
             out.append(
                 TopicInfo(name, msgtype, count, rate, fields, _units(msgtype, fields), declared)
