@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from noisevar.diagnostics.power_law import WHITE, describe
+from noisevar.diagnostics.regimes import STILL_RATIO
 from noisevar.diagnostics.segments import GAP_RTOL, JITTER_NOTE
 from noisevar.format import eng
 
@@ -201,9 +202,10 @@ def _not_white(
             f"{_g(quiet)}, and their noise is white: the rest is motion leaking through the "
             f"smoother, not coloured noise{indicative(gap)}"
         )
-    if still_apart and diag.level_varies:
-        # the R to use is the still R: the level change comes first, then the still
-        # stretches' own colour (a coloured verdict would quote R, an average, as white)
+    if still_apart and diag.level_varies and variance > STILL_RATIO * quiet:
+        # the R to use is the still R, well below R: the level change comes first, then the
+        # still stretches' own colour (a coloured verdict would quote R, an average, as its
+        # white part); a still R near R leaves the colour the finding (GPS 1PPS: 0.99x)
         return _level_changes(prof.quiet_share, r, quiet, said)
     if not diag.white:
         # slopes that read white at every factor name no colour: the lag-1 correlation does
