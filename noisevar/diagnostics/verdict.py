@@ -215,10 +215,16 @@ def _not_white(
             if coloured
             else f"lag-1 autocorrelation {diag.whiteness.lag1:+.2f} beyond white noise's"
         )
+        # a still R near R (within STILL_RATIO): quoted too, as the R to use
+        still = (
+            f"; its still stretches ({prof.quiet_share:.0%}) give {_g(quiet)}, the R to use"
+            if still_apart and diag.level_varies
+            else ""
+        )
         return (
             f"the noise is coloured: {kind}, or signal leaks through the smoother; {r} is "
             "its white part (or a little above): model the coloured part (see the noise "
-            "model), since a white R alone understates what a Kalman filter sees"
+            f"model), since a white R alone understates what a Kalman filter sees{still}"
         )
     return None
 
