@@ -411,10 +411,11 @@ def findings() -> list[str]:
         "`tests/estimators/test_held_records_invariance.py`); the transformed record's R / "
         "(R x factor²) now: "
         + ", ".join(f"{k} x{v:.4f}" for k, v in moved.items())
-        + ". **Not fixed here.** The any-record table's misses (above): a still R (the R to "
-        "use) that moves under reversal, offset and trend (evo's ground truth), or appears or "
-        "vanishes at the 64-sample edge when 2 samples are dropped (GPS Alt); "
-        "`inertial_noise`'s N interval ending just below the white level sigma/sqrt(fs).",
+        + "; evo's ground truth's still R, which moved x0.514 under reversal, offset and "
+        "trend, no longer moves (the same change). **Not fixed here.** The any-record "
+        "table's misses (above): a still R that appears or vanishes at the 64-sample edge "
+        "when 3 samples are dropped (GPS Alt; before, 2); `inertial_noise`'s N interval "
+        "ending just below the white level sigma/sqrt(fs).",
         "",
     ]
 
