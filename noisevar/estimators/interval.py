@@ -25,7 +25,7 @@ from noisevar.diagnostics.glitches import bridged, deviations, lone
 from noisevar.diagnostics.plan import DIAG_ORDER, DIAG_SPAN
 from noisevar.diagnostics.tails import kurtosis_from_moments
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
-from noisevar.numeric.fir import centred_fir, residual_sequence
+from noisevar.numeric.fir import residual_sequence
 
 #: A lone glitch's deviation from the line through its two neighbours holds noise of
 #: variance 1.5 σ² (its own sample and half of each neighbour's): subtracted from its energy.
@@ -156,7 +156,7 @@ def _bridged_kurtosis(x: NDArray, at: NDArray) -> float | None:
     d = residual_sequence(DIAG_SPAN, DIAG_ORDER)
     if x.size < 4 * d.size:
         return None
-    e = centred_fir(bridged(x, at), d / np.sqrt(np.dot(d, d)))
+    e = np.convolve(bridged(x, at), d / np.sqrt(np.dot(d, d)), mode="valid")
     e2 = e * e
     return kurtosis_from_moments(float(e2.mean()), float(np.mean(e2 * e2)), d)
 
