@@ -402,16 +402,20 @@ def findings() -> list[str]:
         "repair line of an unreadable bag names `mcap recover` for an MCAP file cut short "
         "(rosbags needs its footer: such a file is refused, not read up to the cut).",
         "",
-        "**Not fixed here (estimator level, outside io/).** The ship's temperature (1-degree "
-        "steps with spikes to 139-255 degC) read with its stamps: the transformed record's "
-        "R / (R x factor²) is not 1 under an offset or a scale that is not a power of two, "
-        "so `--unit-out degF` moves R: "
+        "**Fixed since (flat28).** The ship's temperature (1-degree steps with spikes to "
+        "139-255 degC) read with its stamps: an offset or a scale that is not a power of two "
+        "moved R (`--unit-out degF` failed: +32 x1.0785, x1.8 x0.9886, x1.8 + 32 x1.0706), "
+        "and plus a trend its held stretches gave a still R of 2.5e-29. Each residual is now "
+        "read from the differences to its own sample, one at float rounding is 0, and no "
+        "local level is below the rounding of its samples (docs/algorithms.md F5.1, "
+        "`tests/estimators/test_held_records_invariance.py`); the transformed record's R / "
+        "(R x factor²) now: "
         + ", ".join(f"{k} x{v:.4f}" for k, v in moved.items())
-        + ". The any-record table's misses (above): a still R (the R to use) that moves "
-        "under reversal, offset and trend (evo's ground truth), or appears or vanishes at "
-        "the 64-sample edge when 2 samples are dropped or the record is scaled; a quantised "
-        "temperature's still level of about 1e-29 (constant stretches) quoted as a level; "
-        "`inertial_noise`'s N interval ending just below the white level sigma/sqrt(fs).",
+        + "; evo's ground truth's still R, which moved x0.514 under reversal, offset and "
+        "trend, no longer moves (the same change). **Not fixed here.** The any-record "
+        "table's misses (above): a still R that appears or vanishes at the 64-sample edge "
+        "when 3 samples are dropped (GPS Alt; before, 2); `inertial_noise`'s N interval "
+        "ending just below the white level sigma/sqrt(fs).",
         "",
     ]
 

@@ -263,7 +263,10 @@ def _profile(sums: DiagSums) -> tuple[LevelProfile, list[int], NDArray, float, f
         np.array([sums.profile[b][i] for b in blocks], dtype=float) for i in range(6)
     )
     kept = float(count.sum())
-    kurt = kurtosis_from_moments(sums.k2 / kept, sums.k4 / kept, d)
+    # a held block (level 0: its residuals are 0, not float rounding) adds nothing to the
+    # tails' sums and has no noise to count in them (issue 26)
+    live = float(count[robust > 0].sum()) or kept
+    kurt = kurtosis_from_moments(sums.k2 / live, sums.k4 / live, d)
     eta = float(np.sum(white_null_acf_sq(d)))
     starts = np.array(blocks) * plan.profile.size
     stops = plan.profile.stop(np.array(blocks))

@@ -267,7 +267,8 @@ def profile_from_blocks(
     lo = dof * var / chi2_ppf(0.975, dof)
     # a block of very few dof has a lower quantile that underflows to 0: its bound is huge
     q = np.maximum(chi2_ppf(0.025, dof), np.finfo(float).tiny)
-    hi = np.minimum(dof * var / q, np.finfo(float).max)
+    with np.errstate(over="ignore"):  # a tail kurtosis so heavy that dof underflow: inf
+        hi = np.minimum(dof * var / q, np.finfo(float).max)
     # a median of χ²₁ has relative sd 1 / (2 f(m) m sqrt(n)): as a χ² with 0.368 n dof
     robust_dof = (count if medians is None else medians) * MEDIAN_DOF / eta
     # regimes on the robust levels, which a few spikes do not move (docs/algorithms.md §F1)

@@ -43,7 +43,8 @@ def on_still_stretches(
     Returns
     -------
     VarianceEstimate or None
-        None when the record cannot be cut, or the stretches are too short for the method.
+        None when the record cannot be cut, the stretches are too short for the method, or
+        their residual is all float rounding (held values, plus a trend: issue 26).
     """
     estimate_in = getattr(record, "estimate_in", None)
     if estimate_in is None:
@@ -57,6 +58,8 @@ def on_still_stretches(
     try:
         est = estimate_in({k: v for k, v in params.items() if k != "method"}, ranges)
     except NoisevarError:
+        return None
+    if not est.variance > 0.0:  # held values (plus a trend): no noise above float rounding
         return None
     est.notes.append(f"the still regimes only: {len(ranges)} stretches, {est.n_total} samples")
     return est

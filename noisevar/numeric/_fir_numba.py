@@ -2,13 +2,13 @@
 
 ``auto`` filters the whole record with four centred Savitzky-Golay residual
 sequences (spans 11, 21, 41 and 81). ``np.convolve`` spends one dot product of
-``span`` taps per output sample; these sequences are symmetric, so the
-kernel adds each pair ``z[t - k] + z[t + k]`` first (half the
-multiplications) and runs over tiles of the output that stay in the first
-level cache, with the innermost loop along the tile, which the compiler
-vectorises; four taps per pass over the tile (one store of the running sum
-instead of four: 15 % faster, the same additions in the same order). Same
-filter, same result to rounding (tested against ``np.convolve``).
+``span`` taps per output sample; these sequences are symmetric, so the kernel adds
+each pair ``(z[t - k] - z[t]) + (z[t + k] - z[t])`` first (half the multiplications;
+the differences to the centre sample make an offset cancel exactly) and runs over
+tiles of the output that stay in the first level cache, with the innermost loop along
+the tile, which the compiler vectorises; four taps per pass over the tile (one store of
+the running sum instead of four: 15 % faster, the same additions in the same order).
+Same filter, same result to rounding (tested against ``np.convolve``).
 
 ``cache=True``: compiled once per machine into ``__pycache__``; ``nogil``: chunks of a
 streamed record are filtered in parallel threads.
@@ -30,7 +30,11 @@ def symmetric_fir_squares(z, half, out):  # pragma: no cover - compiled
 
 @njit(cache=True, nogil=True)
 def symmetric_fir(z, half, out, square):  # pragma: no cover - compiled
-    """``out[t] = sum_k d_k z[t + k]`` (squared if ``square``) at centred ``t``, ``d`` symmetric.
+    """``out[t] = sum_k d_k (z[t + k] - z[t])`` (squared if ``square``) at centred ``t``.
+
+    ``d`` is symmetric and sums to zero (a residual sequence), so this is ``sum_k d_k
+    z[t + k]``, read from the differences to the centre sample: an offset cancels
+    exactly and a held (constant) stretch gives exactly 0, whatever its value.
 
     Parameters
     ----------
@@ -45,7 +49,6 @@ def symmetric_fir(z, half, out, square):  # pragma: no cover - compiled
     n = z.shape[0]
     h = half.shape[0] - 1
     acc = np.empty(_TILE)
-    centre = half[0]
     for start in range(h, n - h, _TILE):
         stop = min(start + _TILE, n - h)
         m = stop - start
@@ -53,24 +56,28 @@ def symmetric_fir(z, half, out, square):  # pragma: no cover - compiled
         a = acc[:m]
         mid = z[start:stop]
         for i in range(m):
-            a[i] = centre * mid[i]
+            a[i] = 0.0  # the centre tap's difference
         k = 1
         while k + 3 <= h:  # four taps per pass over the tile, added in the same order
             c1, c2, c3, c4 = half[k], half[k + 1], half[k + 2], half[k + 3]
             left = z[start - k - 3 : stop - k]  # left[i + 3 - u] = z[t - k - u]
             right = z[start + k : stop + k + 3]  # right[i + u] = z[t + k + u]
             for i in range(m):
+                c = mid[i]
                 a[i] = (
-                    ((a[i] + c1 * (left[i + 3] + right[i])) + c2 * (left[i + 2] + right[i + 1]))
-                    + c3 * (left[i + 1] + right[i + 2])
-                ) + c4 * (left[i] + right[i + 3])
+                    (
+                        (a[i] + c1 * ((left[i + 3] - c) + (right[i] - c)))
+                        + c2 * ((left[i + 2] - c) + (right[i + 1] - c))
+                    )
+                    + c3 * ((left[i + 1] - c) + (right[i + 2] - c))
+                ) + c4 * ((left[i] - c) + (right[i + 3] - c))
             k += 4
         while k <= h:
             c = half[k]
             left = z[start - k : stop - k]
             right = z[start + k : stop + k]
             for i in range(m):
-                a[i] += c * (left[i] + right[i])
+                a[i] += c * ((left[i] - mid[i]) + (right[i] - mid[i]))
             k += 1
         o = out[start - h : stop - h]
         if square:

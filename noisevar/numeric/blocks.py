@@ -1,4 +1,4 @@
-"""Block arithmetic: sums, counts and medians per block of samples, widened masks (``auto``)."""
+"""Block arithmetic: sums, counts, maxima and medians per block, widened masks (``auto``)."""
 
 from __future__ import annotations
 
@@ -12,6 +12,14 @@ def block_sums(x: NDArray, block: int, nb: int) -> NDArray:
     sums = x[: nb * block].reshape(nb, block).sum(axis=1, dtype=float)
     sums[-1] += x[nb * block :].sum()
     return sums
+
+
+def block_maxima(x: NDArray, block: int, nb: int) -> NDArray:
+    """Maxima over the blocks of :func:`block_sums` (the rest joins the last)."""
+    out = x[: nb * block].reshape(nb, block).max(axis=1)
+    if x.size > nb * block:
+        out[-1] = max(out[-1], x[nb * block :].max())
+    return out
 
 
 def block_square_sums(x: NDArray, block: int, nb: int) -> NDArray:

@@ -14,6 +14,7 @@ from functools import lru_cache
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy.ndimage import maximum_filter1d
 
 try:  # the compiled kernels (numba); np.convolve and einsum below are the reference
     from noisevar.numeric import _fir_numba
@@ -23,6 +24,13 @@ except ImportError:  # pragma: no cover - numba not installed
 #: The one compiled/NumPy switch of the residual filters: the compiled kernels while this
 #: is true (and numba is installed); false selects ``np.convolve`` and ``einsum``.
 USE_COMPILED: bool = _fir_numba is not None
+#: The rounding of a record's floats, in units in the last place of its magnitude: a
+#: residual (or a noise level's standard deviation) no larger than ``ROUNDING_ULPS`` ulps
+#: of the largest sample it reads is float rounding, not noise. The residual of a held or
+#: straight stretch is 0 in exact arithmetic and such rounding in floats, which an offset,
+#: a scale or a trend moves (issue 26: a quantised temperature plus a trend gave a still
+#: level of 1e-29; x1.8 moved R by 1.4 %).
+ROUNDING_ULPS = 4.0
 
 
 @lru_cache(maxsize=64)
@@ -61,7 +69,8 @@ def centred_fir(
     ----------
     x : ndarray, shape (n,)
     d : ndarray, shape (2h + 1,)
-        A symmetric sequence (the compiled kernel reads its second half).
+        A symmetric sequence that sums to zero (a residual sequence, blind to a constant;
+        the compiled kernel reads its second half).
     out : ndarray, shape (n - 2h,), optional
         Written in place and returned.
     square : bool
@@ -70,6 +79,13 @@ def centred_fir(
     Returns
     -------
     ndarray, shape (n - 2h,)
+
+    Notes
+    -----
+    Computed as ``Σ_k d_k ((x[t - k] - x[t]) + (x[t + k] - x[t]))`` over ``k >= 1``, taps
+    added in order: an offset cancels exactly, and a held (constant) stretch gives exactly
+    0 whatever its value, so that ties at 0 (a quantised record's held values) stay ties
+    under an offset or a scale (issue 26).
     """
     if USE_COMPILED and _fir_numba is not None:
         out = np.empty(x.size - d.size + 1) if out is None else out
@@ -79,13 +95,82 @@ def centred_fir(
         else:
             _fir_numba.symmetric_fir(np.ascontiguousarray(x), half, out, False)
         return out
-    e = np.convolve(x, d[::-1], mode="valid")
+    h, n = d.size // 2, x.size
+    mid = x[h : n - h]
+    e = np.zeros(mid.size)
+    for k in range(1, h + 1):
+        e += d[h + k] * ((x[h - k : n - h - k] - mid) + (x[h + k : n - h + k] - mid))
     if square:
         return np.multiply(e, e, out=e if out is None else out)
     if out is None:
         return e
     out[:] = e
     return out
+
+
+def rounded_off(e: NDArray, x: NDArray, d: NDArray, squared: bool = False) -> NDArray:
+    """``e = centred_fir(x, d)`` with the outputs at float rounding set to 0 (in place).
+
+    Parameters
+    ----------
+    e : ndarray, shape (n - 2h,)
+        The filter's outputs.
+    x : ndarray, shape (n,)
+        Its input.
+    d : ndarray, shape (2h + 1,)
+    squared : bool
+        ``e`` holds the squared outputs.
+
+    Returns
+    -------
+    ndarray
+        ``e``, 0 where ``|e|`` is at most :data:`ROUNDING_ULPS` ulps of the largest
+        ``|x|`` under the output's window, times ``|d|``.
+    """
+    h = d.size // 2
+    if not e.size:
+        return e
+    unit = ROUNDING_ULPS * np.finfo(float).eps * float(np.sqrt(np.dot(d, d)))
+    # candidates against the largest |x| of all (no window's is larger): on most records
+    # none, and this one comparison is all it costs
+    top = unit * max(float(np.max(x)), -float(np.min(x)))
+    idx = np.flatnonzero(e <= top * top if squared else np.abs(e) <= top)
+    if not idx.size:
+        return e
+    if idx.size > e.size // 16:  # many (held values): every window's largest |x| at once
+        local = maximum_filter1d(np.abs(x), d.size)[h : x.size - h][idx]
+    else:
+        local = np.abs(x[idx[:, None] + np.arange(d.size)]).max(axis=1)
+    top = unit * local
+    v = e[idx]
+    e[idx[v <= top * top if squared else np.abs(v) <= top]] = 0.0
+    return e
+
+
+def centred_rows(rows: NDArray, x: NDArray, at: NDArray) -> NDArray:
+    """``rows @ x`` for rows that each sum to zero, read from differences to ``x[at]``.
+
+    Parameters
+    ----------
+    rows : ndarray, shape (m, k)
+        Residual rows (of ``I - P`` for a fit that holds constants: each sums to zero).
+    x : ndarray, shape (k,) or (r, k)
+        Samples (one window per row of ``x`` when 2-D).
+    at : ndarray of int, shape (m,)
+        Each row's own sample in the window.
+
+    Returns
+    -------
+    ndarray, shape (m,) or (r, m)
+
+    Notes
+    -----
+    ``Σ_i r_i (x_i - x_at)``: as :func:`centred_fir`, an offset cancels exactly and a held
+    stretch gives exactly 0.
+    """
+    x = np.asarray(x, dtype=float)
+    ref = x[..., at]  # (m,) or (r, m)
+    return np.einsum("mk,...mk->...m", rows, x[..., None, :] - ref[..., :, None])
 
 
 def lagged_products(x: NDArray, lags: int) -> NDArray:

@@ -12,6 +12,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar._distributions import chi2_ppf
+from noisevar.numeric.fir import centred_rows
 
 try:  # the compiled slope medians (numba); np.median below is the reference
     from noisevar.numeric import _steps_numba
@@ -295,8 +296,9 @@ def lone_steps(
     t = np.arange(m, dtype=float)
     x = np.c_[np.ones(m), t - t.mean()]
     resid = np.eye(m) - x @ np.linalg.pinv(x)  # residual maker of a line over m samples
-    rss = np.sum((z[a[:, None] - m + np.arange(m)] @ resid) ** 2, axis=1)
-    rss += np.sum((z[b[:, None] + 1 + np.arange(m)] @ resid) ** 2, axis=1)
+    own = np.arange(m)  # each residual read from its own sample (a held side: exactly 0)
+    rss = np.sum(centred_rows(resid, z[a[:, None] - m + own], own) ** 2, axis=1)
+    rss += np.sum(centred_rows(resid, z[b[:, None] + 1 + own], own) ** 2, axis=1)
     dof = 2 * (m - 2)
     level = rss / dof * scale / (_sides_quantile(dof) / dof)
     ok[ok] = ~(above_at(above, level, a, z.size) & above_at(above, level, b, z.size))

@@ -33,19 +33,39 @@ def test_sample_acf_is_the_same_with_and_without_the_kernel(monkeypatch):
 @pytest.mark.parametrize("span", [3, 5, 9, 11, 13, 21, 41, 81])
 def test_symmetric_fir_adds_its_taps_in_order(span):
     # the kernel takes four taps per pass over its tile: each output must still be
-    # d_0 z_t + d_1 (z_{t-1} + z_{t+1}) + ... added from k = 1 up, bit for bit
+    # d_1 ((z_{t-1} - z_t) + (z_{t+1} - z_t)) + ... added from k = 1 up, bit for bit
     rng = np.random.default_rng(span)
     z = rng.normal(size=3_000) * 10.0 ** rng.uniform(-3, 3, 3_000)
     d = fir.residual_sequence(span, 3)
     h = span // 2
-    ref = d[h] * z[h : z.size - h]
+    mid = z[h : z.size - h]
+    ref = np.zeros(mid.size)
     for k in range(1, h + 1):
-        ref = ref + d[h + k] * (z[h - k : z.size - h - k] + z[h + k : z.size - h + k])
+        ref = ref + d[h + k] * (
+            (z[h - k : z.size - h - k] - mid) + (z[h + k : z.size - h + k] - mid)
+        )
     out = np.empty(z.size - 2 * h)
     _fir_numba.symmetric_fir(z, d[h:].copy(), out, False)
     assert np.array_equal(out, ref)
     _fir_numba.symmetric_fir_squares(z, d[h:].copy(), out)
     assert np.array_equal(out, ref * ref)
+    assert np.array_equal(fir.centred_fir(z, d), ref)  # the compiled path
+    np.testing.assert_allclose(out, np.convolve(z, d, mode="valid") ** 2, rtol=1e-9, atol=1e-9)
+
+
+def test_the_residual_filter_is_exactly_blind_to_an_offset_and_a_held_value(monkeypatch):
+    """Differences to the centre sample: a held stretch gives exactly 0 at any level, and
+    an integer offset changes no bit (issue 26: ties at 0 moved R under an offset)."""
+    rng = np.random.default_rng(8)
+    z = np.repeat(rng.integers(20, 26, 300), rng.integers(1, 90, 300)).astype(float)
+    d = fir.residual_sequence(11, 3)
+    for compiled in (True, False):
+        monkeypatch.setattr(fir, "USE_COMPILED", compiled)
+        e = fir.centred_fir(z, d)
+        held = np.ptp(np.lib.stride_tricks.sliding_window_view(z, 11), axis=1) == 0
+        assert held.sum() > 1000 and np.all(e[held] == 0.0)
+        assert np.array_equal(fir.centred_fir(z + 32.0, d), e)
+        assert np.all(fir.centred_fir(1.8 * z, d)[held] == 0.0)
 
 
 @pytest.mark.parametrize("n", [1, 7, 24, 25, 26, 27, 1001])

@@ -17,7 +17,7 @@ from functools import lru_cache
 import numpy as np
 from numpy.typing import NDArray
 
-from noisevar.numeric.fir import residual_sequence
+from noisevar.numeric.fir import centred_fir, centred_rows, residual_sequence
 
 #: Samples of the one-sided fit that locates and sizes a glitch at an edge (at least;
 #: the block's own span when longer): long enough that the fit is not the glitch's (span 5,
@@ -94,7 +94,7 @@ def deleted_residuals(z: NDArray, reach: int, order: int, span: int = 0) -> tupl
     fit = min(max(EDGE_FIT_SPAN, span, reach + 1), z.size)
     rows, diag = _fit_rows(fit, order)
     reach = min(reach, fit)
-    e = rows[:reach] @ z[:fit]
+    e = centred_rows(rows[:reach], z[:fit], np.arange(reach))
     return e / diag[:reach], np.abs(e) / np.sqrt(diag[:reach])
 
 
@@ -244,13 +244,13 @@ def lone_glitches(
             continue
         if b + 2 * h + h > z.size:
             continue
-        e = np.correlate(z[a - hf : b + hf], dfit, mode="valid")  # residuals at a .. b - 1
+        e = centred_fir(z[a - hf : b + hf], dfit)  # residuals at a .. b - 1
         j = a + int(np.argmax(np.abs(e)))
         value = z[j] - e[j - a] / dfit[hf]
         lo, hi = min(a, j - h), max(b, j + h + 1)  # the run and the glitch's reach
         x = z[lo - h : hi + h].copy()
         x[j - lo + h] = value
-        sq = np.correlate(x, unit, mode="valid") ** 2  # the detecting squares at lo .. hi - 1
+        sq = centred_fir(x, unit, square=True)  # the detecting squares at lo .. hi - 1
         if not above(sq, np.arange(lo, hi)).any():
             out.append((j, float(value)))
     return out

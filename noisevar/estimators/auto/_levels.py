@@ -15,7 +15,14 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from noisevar.numeric.blocks import block_counts, block_medians, flagged_per_block, kept_block_sums
+from noisevar.numeric.blocks import (
+    block_counts,
+    block_maxima,
+    block_medians,
+    flagged_per_block,
+    kept_block_sums,
+)
+from noisevar.numeric.fir import ROUNDING_ULPS
 
 
 @dataclass(frozen=True)
@@ -49,6 +56,21 @@ class Grids:
         return self.m - 1 - idx - self.q
 
 
+def rounding_floors(z: NDArray, g: Grids) -> tuple[NDArray, NDArray]:
+    """The least level of each block on both grids: the rounding of its samples.
+
+    ``(ROUNDING_ULPS · ε · max |z|)²`` over each block of ``z`` (the window the squares
+    are of), ``ε`` float64's machine epsilon (:data:`~noisevar.numeric.fir.ROUNDING_ULPS`):
+    against a level of 0 (a held stretch) the rounding that an offset, a scale or a trend
+    leaves in a residual was above or not by chance, and R moved (issue 26).
+    """
+    a = np.abs(z)
+    unit = ROUNDING_ULPS * np.finfo(float).eps
+    fwd = block_maxima(a, g.block, g.nb)
+    bwd = block_maxima(g.back(a), g.block, g.nbb)
+    return (unit * fwd) ** 2, (unit * bwd) ** 2
+
+
 def medians(sq: NDArray, g: Grids) -> tuple[NDArray, NDArray]:
     """Block medians of the squares on both grids, every square of each block.
 
@@ -79,12 +101,20 @@ def above_own(x: NDArray, fwd: NDArray, bwd: NDArray, g: Grids) -> NDArray:
 
 
 def kept_levels(
-    sq: NDArray, idx: NDArray | None, g: Grids, scale: float
+    sq: NDArray,
+    idx: NDArray | None,
+    g: Grids,
+    scale: float,
+    floors: tuple[NDArray, NDArray] | None = None,
 ) -> tuple[NDArray, NDArray]:
-    """``scale`` times each block's mean square off the samples ``idx``, on both grids."""
+    """``scale`` times each block's mean square off the samples ``idx``, on both grids.
+
+    ``floors`` (:func:`rounding_floors`): each block's least level, before ``scale``.
+    """
     out = []
     back = None if idx is None else g.back_index(idx)
-    for x, i, nb in ((sq, idx, g.nb), (g.back(sq), back, g.nbb)):
+    least = (None, None) if floors is None else floors
+    for x, i, nb, f in ((sq, idx, g.nb, least[0]), (g.back(sq), back, g.nbb, least[1])):
         kept_n = block_counts(g.block, nb, x.size)
         if i is None or not i.size:
             kept_sum = kept_block_sums(x, np.zeros(0, dtype=int), g.block, nb)
@@ -92,7 +122,8 @@ def kept_levels(
             i = np.sort(i[i >= 0])
             kept_sum = kept_block_sums(x, i, g.block, nb)
             kept_n = kept_n - flagged_per_block(i, g.block, nb)
-        out.append(scale * kept_sum / np.maximum(kept_n, 1.0))
+        level = kept_sum / np.maximum(kept_n, 1.0)
+        out.append(scale * (level if f is None else np.maximum(level, f)))
     return out[0], out[1]
 
 

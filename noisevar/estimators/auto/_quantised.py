@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 from scipy import optimize, signal, special
 
 from noisevar.estimators.results import VarianceEstimate
-from noisevar.numeric.fir import residual_sequence
+from noisevar.numeric.fir import centred_fir, residual_sequence
 
 #: Corrected only below this noise standard deviation, in steps: above it the mean
 #: rounding error ``b`` is under 1e-4 of the error variance.
@@ -332,7 +332,7 @@ def own_seen(off: Offsets, span: int, order: int) -> float:
     total = count = 0.0
     for z, (a, b), use in zip(off.z, off.keep, _uses(off, h), strict=True):
         at = use[h : use.size - h]
-        total += float(np.sum((np.convolve(z[a - h : b + h], u, mode="valid") ** 2)[at]))
+        total += float(np.sum(centred_fir(z[a - h : b + h], u, square=True)[at]))
         count += int(at.sum())
     return total / count
 

@@ -22,6 +22,7 @@ from noisevar.estimators.auto._levels import (
     above_own,
     kept_levels,
     medians,
+    rounding_floors,
 )
 from noisevar.estimators.auto._levels import above_local as _above_local
 from noisevar.estimators.auto._levels import bracketing as _bracketing
@@ -111,6 +112,7 @@ def _outlier_mask(
     steps: Callable[[Callable[[NDArray], NDArray], float, NDArray], tuple[NDArray, NDArray]] | None,
     step_limit: float,
     after: int = 0,
+    z: NDArray | None = None,
 ) -> tuple[NDArray | None, NDArray | None, NDArray | None]:
     """Squared residuals that are outliers, and samples next to jumps (the caller widens both).
 
@@ -130,10 +132,14 @@ def _outlier_mask(
     Every level is read on two grids, from the window's start and from the record's end,
     ``after`` samples past the window (:mod:`~noisevar.estimators.auto._levels`): a sample
     is above only when above on both, so that the reversed record sees the same levels.
+    No level is below the rounding of the samples ``z`` (the window's; :func:`rounding_floors`).
     """
     g = Grids.make(sq.size, block, after)
     scale = kappa**2 / 0.4549364231195724  # the median of χ²₁ is 0.4549
+    floors = None if z is None else rounding_floors(z, g)
     first_f, first_b = medians(sq, g)
+    if floors is not None:
+        first_f, first_b = np.maximum(first_f, floors[0]), np.maximum(first_b, floors[1])
     first = above_own(sq, first_f * scale, first_b * scale, g)
     idx = None
     if first.any():
@@ -141,7 +147,7 @@ def _outlier_mask(
             first = dilate(first, widen)
         idx = np.flatnonzero(first)
     # κ² times the local variance of each block on both grids (held at its centre)
-    fwd, bwd = kept_levels(sq, idx, g, kappa**2 / _truncated_second_moment(kappa))
+    fwd, bwd = kept_levels(sq, idx, g, kappa**2 / _truncated_second_moment(kappa), floors)
     above = Above(fwd, bwd, g)
     outlier = above(sq)
     jumps, found = None, None
@@ -259,7 +265,7 @@ def _flag(
     ends = (start, after == 0)
     return _outlier_mask(
         sq0, trim, block, half, lambda v, sc, out: _steps(z, out, v, sc, ends, detect), limit,
-        after,
+        after, z,
     )  # fmt: skip
 
 

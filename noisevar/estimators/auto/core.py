@@ -38,7 +38,13 @@ from noisevar.estimators.params import AUTO_ORDER, AUTO_TRIM
 from noisevar.estimators.pooling import outlier_note
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
 from noisevar.numeric.blocks import dilate
-from noisevar.numeric.fir import centred_fir, residual_sequence
+from noisevar.numeric.fir import (
+    ROUNDING_ULPS,
+    centred_fir,
+    centred_rows,
+    residual_sequence,
+    rounded_off,
+)
 
 AUTO_SPANS = (11, 21, 41, 81)
 AUTO_LEAK_SE = 3.5
@@ -67,17 +73,23 @@ def _residual_squares(z: NDArray, span: int, order: int, out: NDArray | None = N
     :func:`~noisevar.numeric.fir.centred_fir`, squared straight into ``out``); the first
     and last ``span // 2`` use the one-sided fit over the first (last) ``span``
     samples, so each square has expectation ``σ_k²`` for noise whose variance
-    is locally constant.
+    is locally constant. Every residual is read from differences to its own sample: an
+    offset cancels exactly and a held stretch gives exactly 0; one at float rounding
+    (:func:`~noisevar.numeric.fir.rounded_off`: a held stretch plus a trend) is 0 too
+    (issue 26).
     """
     n = z.size
     d = residual_sequence(span, order)
     h = span // 2
     out = np.empty(n) if out is None else out
     unit = d / np.sqrt(np.sum(d**2))
-    centred_fir(z, unit, out[h : n - h], square=True)
+    rounded_off(centred_fir(z, unit, out[h : n - h], square=True), z, unit, squared=True)
     head, tail = edge_residual_rows(span, order)
-    out[:h] = (head @ z[:span]) ** 2 / np.diag(head[:, :h])
-    out[n - h :] = (tail @ z[n - span :]) ** 2 / np.diag(tail[:, span - h :])
+    out[:h] = centred_rows(head, z[:span], np.arange(h)) ** 2 / np.diag(head[:, :h])
+    at = np.arange(span - h, span)
+    out[n - h :] = centred_rows(tail, z[n - span :], at) ** 2 / np.diag(tail[:, span - h :])
+    for part, x in ((out[:h], z[:span]), (out[n - h :], z[n - span :])):
+        part[part <= (ROUNDING_ULPS * np.finfo(float).eps * np.max(np.abs(x))) ** 2] = 0.0
     return out
 
 
