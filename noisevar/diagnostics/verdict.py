@@ -70,6 +70,8 @@ def make_verdict(
     if quiet is None:  # none on R's residual: the level profile's, said to be indicative
         quiet = diag.level_profile.quiet_variance
     said = still_said(diag, still_gap)
+    if still is None and diag.level_varies and quiet > variance:
+        return _none_quieter(r, quiet)
     not_white = _not_white(diag, r, quiet, variance, still_gap, still is not None)
     if not_white is not None:
         return not_white
@@ -130,6 +132,17 @@ def glitch_words(diag: NoiseDiagnostics) -> str:
         else f"the first at sample {at[0]}"
     )
     return f"{len(g)} outlying samples, {where}, up to {size}"
+
+
+def _none_quieter(r: str, quiet: float) -> str:
+    """The verdict of a varying level whose quietest stretches, as the level profile reads
+    them (indicative: no still R), are not below R: nothing quieter to quote as the sensor's."""
+    return (
+        f"the noise level changes along the record: {r} is an average, and no stretch of it "
+        "is measurably quieter: the level profile's quietest stretches read "
+        f"{_g(quiet)}, above R (spikes or held values, not a sensor at rest), so R over the "
+        "whole record is the only level measured"
+    )
 
 
 def _level_changes(share: float, r: str, quiet: float, said: str) -> str:

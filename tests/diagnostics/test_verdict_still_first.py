@@ -56,3 +56,16 @@ def test_a_walk_that_stops_quotes_its_still_noise(seed: int) -> None:
     assert est.still is not None and 0.007 < est.still.variance < 0.013  # 0.1²
     assert noisevar.format.eng(est.still.variance) in v
     assert "the noise where it stood still, the R to use" in v
+
+
+def test_a_quiet_level_above_r_is_never_quoted_as_the_quiet_one() -> None:
+    """A model ship's temperature (held 1-degree values, spikes to 255 degC; real_audit4):
+    "its quiet stretches (6%) give 214.1" against R = 42.2."""
+    from noisevar.diagnostics.verdict import make_verdict
+
+    est = noisevar.estimate(_record(0))  # its level varies
+    diag = est.diagnostics
+    quiet = diag.level_profile.quiet_variance
+    v = make_verdict(diag, 0.5 * quiet, still_gap="too short")  # a quiet level above R
+    assert "no stretch of it is measurably quieter" in v
+    assert "quiet stretches (" not in v
