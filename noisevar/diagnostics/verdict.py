@@ -221,25 +221,29 @@ def _not_white(
         # white part); a still R near R leaves the colour the finding (GPS 1PPS: 0.99x)
         return _level_changes(prof.quiet_share, r, quiet, said)
     if not diag.white:
-        # slopes that read white at every factor name no colour: the lag-1 correlation does
-        coloured = any(alpha != WHITE for _, alpha in diag.power_law)
-        kind = (
-            f"{describe(diag.power_law)} (power-law identification)"
-            if coloured
-            else f"lag-1 autocorrelation {diag.whiteness.lag1:+.2f} beyond white noise's"
-        )
-        # a still R near R (within STILL_RATIO): quoted too, as the R to use
-        still = (
-            f"; its still stretches ({prof.quiet_share:.0%}) give {_g(quiet)}, the R to use"
-            if still_apart and diag.level_varies
-            else ""
-        )
-        return (
-            f"the noise is coloured: {kind}, or signal leaks through the smoother; {r} is "
-            "its white part (or a little above): model the coloured part (see the noise "
-            f"model), since a white R alone understates what a Kalman filter sees{still}"
-        )
+        return _coloured(diag, r, quiet, still_apart and diag.level_varies)
     return None
+
+
+def _coloured(diag: NoiseDiagnostics, r: str, quiet: float, still_near: bool) -> str:
+    """The verdict of coloured noise; ``still_near``: a still R to use near R (within
+    STILL_RATIO), quoted too."""
+    # slopes that read white at every factor name no colour: the lag-1 correlation does
+    coloured = any(alpha != WHITE for _, alpha in diag.power_law)
+    kind = (
+        f"{describe(diag.power_law)} (power-law identification)"
+        if coloured
+        else f"lag-1 autocorrelation {diag.whiteness.lag1:+.2f} beyond white noise's"
+    )
+    share = diag.level_profile.quiet_share
+    still = (
+        f"; its still stretches ({share:.0%}) give {_g(quiet)}, the R to use" if still_near else ""
+    )
+    return (
+        f"the noise is coloured: {kind}, or signal leaks through the smoother; {r} is "
+        "its white part (or a little above): model the coloured part (see the noise "
+        f"model), since a white R alone understates what a Kalman filter sees{still}"
+    )
 
 
 def indicative(gap: str | None) -> str:
