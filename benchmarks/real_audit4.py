@@ -67,7 +67,7 @@ from noisevar.units import factor
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _refdata  # noqa: E402
 from real_audit import audit_channels, summary  # noqa: E402
-from real_audit3 import CONVERTED, OTHER_UNIT, _one_line, _same, cli, process  # noqa: E402
+from real_audit3 import CONVERTED, OTHER_UNIT, _one_line, _same, _table, cli, process  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results" / "real_audit4.md"
 _IMU = ("angular_velocity", "linear_acceleration")
@@ -439,16 +439,6 @@ def any_record(want: str) -> list[dict]:
             rows += audit_channels(f"{name} {topic}", channels, rate, imu=imu)
             print("any-record", name, topic, f"{time.time() - T0:.0f} s", flush=True)
     return rows
-
-
-def _table(title: str, rows: list[dict]) -> list[str]:
-    n = sum(r["ok"] for r in rows)
-    out = [f"## {title} ({n} of {len(rows)} pass)", "", "| check | result | detail |",
-           "|---|---|---|"]  # fmt: skip
-    for r in rows:
-        detail = r["detail"].replace("|", "/").replace("\n", " ")
-        out.append(f"| {r['check']} | {'ok' if r['ok'] else 'FAIL'} | {detail} |")
-    return [*out, ""]
 
 
 def report(anyrec, logs, inst, fmts, bad, wall, cpu) -> str:
