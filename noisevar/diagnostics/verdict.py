@@ -70,8 +70,6 @@ def make_verdict(
     if quiet is None:  # none on R's residual: the level profile's, said to be indicative
         quiet = diag.level_profile.quiet_variance
     said = still_said(diag, still_gap)
-    if still is None and diag.level_varies and quiet > variance:
-        return _none_quieter(r, quiet)
     not_white = _not_white(diag, r, quiet, variance, still_gap, still is not None)
     if not_white is not None:
         return not_white
@@ -166,10 +164,10 @@ def _not_white(
     ``gap``: why there is no still R to use (:func:`indicative`), or None; ``still_apart``:
     there is a still R to use apart from R.
 
-    In the order the evidence decides: no noise to tell apart, no quiet stretch, mostly
-    motion, differenced data, motion leaking through still stretches that are white, a
-    still R to use (the level changes; the still stretches' own colour said), then
-    coloured noise.
+    In the order the evidence decides: no noise to tell apart, no quiet stretch, no
+    stretch quieter than R (an indicative quiet level above it), mostly motion, differenced
+    data, motion leaking through still stretches that are white, a still R to use (the
+    level changes; the still stretches' own colour said), then coloured noise.
     """
     prof = diag.level_profile
     said = still_said(diag, gap)
@@ -193,6 +191,8 @@ def _not_white(
             f"sensor noise cannot be measured apart from the motion, so {r} over the whole "
             "record includes motion or signal (record the sensor still for a while)"
         )
+    if not still_apart and diag.level_varies and quiet > variance:  # no quieter level to quote
+        return _none_quieter(r, quiet)
     if diag.level_varies and prof.quiet_share < MOSTLY_MOTION and not diag.white:
         return (
             f"the record is mostly motion or signal leaking through: the sensor noise measured "

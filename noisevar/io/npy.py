@@ -14,6 +14,7 @@ from noisevar.io.table import (
     _period_from_time,
     echo,
     is_time_column,
+    pick_time_column,
     time_in_seconds,
 )
 from noisevar.io.text import EXACT_INT, MAX_COLUMNS
@@ -105,7 +106,8 @@ def _read_npy(source: Path | bytes, name: str) -> LoadedTable:
                 f"{echo(name)} has shape {arr.shape}: give a 1-D signal or a 2-D (samples, "
                 "columns) array"
             )
-    time_col = next((c for c in columns if is_time_column(c)), None)
+    idx = pick_time_column(list(columns))
+    time_col = None if idx is None else list(columns)[idx]
     if time_col:
         first = float(arr[time_col][0]) if arr.dtype.names and arr.size else None
         time_in_seconds(columns, time_col, notes, first)

@@ -210,15 +210,25 @@ def time_unit(name: str) -> str | None:
     return NAMED_TIME_UNITS.get(time_key(name))
 
 
-def time_scale(name: str, first: float | None = None, stated: str | None = None) -> float:
-    """Seconds per unit of a time column called ``name`` whose first value is ``first``.
+def _clock_unit(name: str, first: float | None, stated: str | None) -> tuple[str | None, str]:
+    """The unit of a time column called ``name`` whose first value is ``first``, and why.
 
     The unit its name states (or ``stated``, a units row's cell); else the unit in which
-    ``first`` is a Unix time of 2000-2100 (:func:`epoch_unit`); else 1 (seconds).
+    ``first`` is a Unix time of 2000-2100 (:func:`epoch_unit`); else None (seconds).
     """
-    unit = time_unit(name) or (stated if stated in TIME_UNITS else None)
-    if unit is None and first is not None and np.isfinite(first):
-        unit = epoch_unit(float(first))
+    if (unit := time_unit(name)) is not None:
+        return unit, "its name"
+    if stated in TIME_UNITS:
+        return stated, "the units row"
+    if first is not None and np.isfinite(first):
+        return epoch_unit(float(first)), "its values are Unix times in that unit"
+    return None, ""
+
+
+def time_scale(name: str, first: float | None = None, stated: str | None = None) -> float:
+    """Seconds per unit of a time column called ``name`` whose first value is ``first``
+    (:func:`_clock_unit`; 1 when it has none)."""
+    unit = _clock_unit(name, first, stated)[0]
     return 1.0 if unit is None else TIME_UNITS[unit]
 
 
@@ -257,26 +267,22 @@ def time_in_seconds(
     """
     t = columns[time_column]
     raw = first if first is not None else (float(t[0]) if t.size else None)
-    scale = time_scale(time_column, raw, stated)
-    if scale == 1.0:
-        if stated not in TIME_UNITS:
-            _say_if_counting(t, time_column, notes)
+    unit, why = _clock_unit(time_column, raw, stated)
+    if unit is None:
+        _say_if_counting(t, time_column, notes)
         return
-    columns[time_column] = t * scale
-    unit = next(u for u, v in TIME_UNITS.items() if v == scale)
-    why = (
-        "its name" if time_unit(time_column)
-        else "the units row" if stated in TIME_UNITS
-        else "its values are Unix times in that unit"
-    )  # fmt: skip
+    if TIME_UNITS[unit] == 1.0:
+        return
+    columns[time_column] = t * TIME_UNITS[unit]
     notes.append(f"time column {echo(time_column)!r} read in {unit} ({why}), as seconds")
 
 
 def _say_if_counting(t: NDArray, name: str, notes: list[str]) -> None:
     """A note when a time column read in seconds steps by a whole 100 or more: it may count
     microseconds or milliseconds from boot (PX4's ``ulog2csv`` writes ``timestamp`` in
-    microseconds), which its values cannot tell from a slow logger's seconds."""
-    if time_unit(name) is not None or t.size < 2 or not np.all(np.isfinite(t[:1000])):
+    microseconds), which its values cannot tell from a slow logger's seconds; for a column
+    whose unit nothing states (:func:`_clock_unit`)."""
+    if t.size < 2 or not np.all(np.isfinite(t[:1000])):
         return
     step = float(np.median(np.diff(t[:1000])))
     if step >= 100 and np.all(t[:1000] == np.round(t[:1000])):
@@ -366,8 +372,7 @@ def _period_from_time(t: NDArray, notes: list[str]) -> float | None:
             f"{first}): the samples are taken in file order as if uniform, the sample period "
             "from the other steps"
         )
-        dt = dt[~back]
-        t = np.concatenate([[0.0], np.cumsum(dt)])
+        dt = dt[~back]  # (t's own decimals still give the stamps' resolution)
     period = rounded_period(t, float(np.median(dt)))
     lo, hi = SAMPLE_PERIOD_RANGE
     if not lo <= period <= hi:

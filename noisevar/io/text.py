@@ -441,7 +441,8 @@ def _parse_body(
     notes: list[str] = []
     first = None
     # a column of text is left out when another holds numbers (else its error says why)
-    numeric = any(not _only_text(df[i]) for i in range(len(names)) if i != time_idx)
+    text = {i for i in range(len(names)) if i != time_idx and _only_text(df[i])}
+    numeric = len(text) < len(names) - (time_idx is not None)
     for i, cname in enumerate(names):
         col = df[i]
         if pd.api.types.is_integer_dtype(col.dtype):
@@ -457,7 +458,7 @@ def _parse_body(
             # some numerical libraries (PyWavelets) refuse
             columns[cname] = np.array(col.to_numpy(dtype=float, na_value=np.nan), dtype=float)
             continue
-        if i != time_idx and _only_text(col) and numeric:  # a log's label (frame_id)
+        if i in text and numeric:  # a log's label (frame_id)
             notes.append(f"column {echo(cname)!r} holds text ({echo(str(col.iloc[0]), 40)!r}), "
                          "not numbers: left out")  # fmt: skip
             continue
@@ -469,6 +470,8 @@ def _only_text(col: pd.Series) -> bool:
     """Whether no cell of ``col`` is a number (and some cell is not empty)."""
     import pandas as pd
 
+    if pd.api.types.is_numeric_dtype(col.dtype):  # (pandas parsed every cell as a number)
+        return False
     return bool(col.notna().any()) and not pd.to_numeric(col, errors="coerce").notna().any()
 
 
