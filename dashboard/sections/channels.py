@@ -48,7 +48,8 @@ def side_by_side(sig: LoadedSignal) -> None:
         "Channels",
         cols,
         key=key,
-        **initial(key, cols[:DEFAULT_CHANNELS], "default"),
+        # a log's constant fields, counters and second clocks are left to pick by hand
+        **initial(key, (sig.table.signals or cols)[:DEFAULT_CHANNELS], "default"),
         help=f"Each channel's noise by method {DEFAULT_METHOD}, estimated in one call on all "
         "of them.",
     )
