@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import pandas as pd
 import plotly.graph_objects as go
 import streamlit as st
 
@@ -528,8 +529,22 @@ def blank_missing(rows: Sequence[dict[str, Any]], text: str = "—") -> list[dic
         v = r.get(k)
         if v is None:
             return text
-        if k in gappy and isinstance(v, numbers.Real) and not isinstance(v, bool):
+        if k in gappy and isinstance(v, bool):
+            return str(v)
+        if k in gappy and isinstance(v, numbers.Real):
             return f"{v:.6g}"
         return v
 
     return [{k: cell(r, k) for k in columns} for r in rows]
+
+
+def blank_frame(frame: pd.DataFrame, text: str = "—") -> pd.DataFrame:
+    """A table of result rows to show: every missing cell (None, NaN, pandas' NA) as ``text``.
+
+    :func:`blank_missing` on the frame's rows; the reason a value is absent is the row's
+    own (e.g. ``still_note``), never a "None" or "nan" cell.
+    """
+    import pandas as pd
+
+    rows = frame.astype(object).where(frame.notna(), None).to_dict("records")
+    return pd.DataFrame(blank_missing(rows, text), columns=frame.columns)

@@ -194,3 +194,18 @@ def test_a_batch_table_with_text_for_a_number_is_refused_in_one_sentence(tmp_pat
     bad.write_text("file,channel,std,n_used\na.csv,x,loud,3\n")
     with pytest.raises(NoisevarError, match="cannot read the batch table bad.csv"):
         read_table(bad)
+
+
+def test_a_row_without_a_still_r_says_why_and_its_cells_are_numbers_or_empty(tmp_path):
+    rng = np.random.default_rng(26)
+    white = rng.normal(0, 1, 4000)
+    burst = white.copy()
+    burst[:3000] *= 0.05  # a still start, then motion
+    rows = [nv.estimate(white).to_row(), nv.estimate(burst).to_row()]
+    assert rows[0]["still_variance"] is None
+    assert "one still regime" in rows[0]["still_note"]
+    assert rows[1]["still_variance"] is not None and rows[1]["still_note"] is None
+    frame = nv.estimate(np.column_stack([white, burst]), axis=0).to_frame()
+    for c in ("still_variance", "still_ci95_low", "still_ci95_high"):
+        assert frame[c].dtype == "float64"  # NaN where absent, never the text "None"
+    assert "None" not in frame.to_csv(index=False)

@@ -6,7 +6,7 @@ import streamlit as st
 
 from dashboard.cache import DEFAULT_METHOD
 from dashboard.state import LoadedSignal, initial
-from dashboard.widgets import guarded, show_figure
+from dashboard.widgets import blank_frame, csv_download, guarded, show_figure
 from noisevar.batch.channels import channel_estimates
 from noisevar.estimators.results import VarianceEstimates
 from noisevar.figures.fleet import channels_figure
@@ -64,7 +64,17 @@ def side_by_side(sig: LoadedSignal) -> None:
             show_figure(channels_figure(est, names))
             frame = est.to_frame()
             frame["channel"] = names
-            floats = frame.select_dtypes("float").columns
+            # a column with an absent value (no still R: ``still_note`` says why) shows "—"
+            shown = blank_frame(frame)
+            floats = shown.select_dtypes("float").columns
             # every float written whole at 4 significant digits (3e-7 stays 3e-07, not 0.0000003)
             config = {c: st.column_config.NumberColumn(format="%.4g") for c in floats}
-            st.dataframe(frame, hide_index=True, column_config=config)
+            st.dataframe(shown, hide_index=True, column_config=config)
+            csv_download(
+                st,
+                "Channels table as CSV",
+                frame.to_csv(index=False),
+                "noisevar-channels.csv",
+                f"sig_channels_csv_{sig.table_digest}",
+                help="Absent values are empty cells; still_note says why a still R is absent.",
+            )

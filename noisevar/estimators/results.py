@@ -29,7 +29,7 @@ if TYPE_CHECKING:
 
 #: The columns of one estimate's row (:meth:`VarianceEstimate.to_row`), in table order.
 #: One ``flag_<name>`` column per diagnostic flag (``flag_white``, ``flag_heavy_tailed``,
-#: ...) comes after ``still_ci95_high``, in name order.
+#: ...) comes after ``still_note``, in name order.
 ROW_COLUMNS: tuple[str, ...] = (
     "method",
     "variance",
@@ -44,6 +44,7 @@ ROW_COLUMNS: tuple[str, ...] = (
     "still_variance",
     "still_ci95_low",
     "still_ci95_high",
+    "still_note",
     "other_still_levels",
     "verdict",
     "params",
@@ -66,6 +67,7 @@ ROW_LABELS: dict[str, str] = {
     "still_variance": "noise variance R of the still regimes",
     "still_ci95_low": "still regimes: 95 % interval, low",
     "still_ci95_high": "still regimes: 95 % interval, high",
+    "still_note": "why there is no still R",
     "other_still_levels": "other still levels (stretches above the still R, over it)",
     "verdict": "verdict",
     "params": "parameters",
@@ -118,21 +120,32 @@ def row_label(key: str, unit: str = "") -> str:
     return f"{label} [{u}]" if u else label
 
 
-def _still_fields(still: VarianceEstimate | None) -> dict[str, float | None]:
-    """``still_variance`` and its interval (None when there is no still estimate)."""
+def _still_fields(est: VarianceEstimate) -> dict[str, float | str | None]:
+    """``still_variance`` and its interval (None when there is no still estimate), and
+    ``still_note``: why they are empty (:func:`~noisevar.estimators.still_set.still_note`)."""
+    from noisevar.estimators.still_set import still_note
+
+    still = est.still
+    note = still_note(est.diagnostics, est.variance, still)
     if still is None:
-        return {"still_variance": None, "still_ci95_low": None, "still_ci95_high": None}
+        return {
+            "still_variance": None,
+            "still_ci95_low": None,
+            "still_ci95_high": None,
+            "still_note": note,
+        }
     return {
         "still_variance": _finite(still.variance),
         "still_ci95_low": _finite(still.ci95[0]),
         "still_ci95_high": _finite(still.ci95[1]),
+        "still_note": note,
     }
 
 
 #: Prefix of the diagnostic flags' columns.
 FLAG_PREFIX = "flag_"
 #: The flag columns follow this column.
-_FLAGS_AFTER = "still_ci95_high"
+_FLAGS_AFTER = "still_note"
 #: Count columns: nullable integers in a frame (a row without an estimate has none).
 COUNT_COLUMNS = ("n_used", "n_total")
 #: Number columns: floats in a frame (NaN where a row has none).
@@ -144,6 +157,9 @@ FLOAT_COLUMNS = (
     "dof",
     "core_variance",
     "outlier_fraction",
+    "still_variance",
+    "still_ci95_low",
+    "still_ci95_high",
 )
 #: Fields of :meth:`VarianceEstimate.to_row` that :meth:`~VarianceEstimate.to_dict` nests.
 _NESTED = ("other_still_levels", "verdict", "params", "notes")
@@ -193,7 +209,7 @@ def row_columns(
     -------
     list of str
         Every column of ``lead``, :data:`ROW_COLUMNS` and ``tail`` (present or not), the
-        ``flag_*`` columns present after ``still_ci95_high``, then any other column.
+        ``flag_*`` columns present after ``still_note``, then any other column.
     """
     cols = list(dict.fromkeys(columns))
     own = {*lead, *tail}
@@ -403,7 +419,7 @@ class VarianceEstimate:
         -------
         dict
             Keyed by :data:`ROW_COLUMNS` (in that order, ``flag_<name>`` for each
-            diagnostic flag after ``still_ci95_high``): numbers as floats (None when
+            diagnostic flag after ``still_note``): numbers as floats (None when
             missing or not finite), counts as ints, flags as bools, ``params`` and
             ``other_still_levels`` (the near-still stretches above the still R, as
             :meth:`~noisevar.diagnostics.regimes.StillLevel.to_dict`) as JSON text and
@@ -427,7 +443,7 @@ class VarianceEstimate:
             "dof": _finite(self.dof),
             "core_variance": _finite(self.core_variance),
             "outlier_fraction": _finite(self.outlier_fraction),
-            **_still_fields(self.still),
+            **_still_fields(self),
             **{FLAG_PREFIX + k: bool(flags[k]) for k in sorted(flags)},
             "other_still_levels": _other_still(diag, self.still),
             "verdict": None if diag is None else (str(diag.verdict) or None),

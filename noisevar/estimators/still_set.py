@@ -53,27 +53,74 @@ def still_gap(
     record never gets a still level on one page and the whole record's R as "the R to
     use" on another.
     """
-    if still is not None:
+    kind, total, share = _gap(diag, variance, still)
+    if kind in ("have", "one"):
         return None
-    if diag is None:
+    if kind == "unknown":
         return "regimes='still': the record's regimes could not be found; use regimes='all'"
-    if not has_still_apart(diag, variance) or under_half_a_step(diag, variance):
-        return None
-    prof = diag.level_profile
-    if not prof.quiet.any():
+    if kind == "none":
         return (
             "regimes='still': the record has no still stretch (its level varies throughout "
             "and no stretch of it is quiet); record the sensor still for a while, or use "
             "regimes='all'"
         )
-    sizes = prof.stop - prof.start
-    total = int(np.sum(sizes[prof.quiet]))
     return (
-        f"regimes='still': the still stretches total {total} samples ({prof.quiet_share:.0%} "
+        f"regimes='still': the still stretches total {total} samples ({share:.0%} "
         f"of the record), in pieces shorter than the {STILL_MIN} samples R's method needs "
         "(still on both block grids, away from jumps), so there is no still R to use; "
         "record the sensor still for longer, or use regimes='all'"
     )
+
+
+def still_note(
+    diag: NoiseDiagnostics | None, variance: float, still: VarianceEstimate | None
+) -> str | None:
+    """Why a result row's still-R cells are empty, in a few words (None when they are not).
+
+    Parameters
+    ----------
+    diag, variance, still
+        As :func:`still_gap`.
+
+    Returns
+    -------
+    str or None
+        The row's ``still_note``: no diagnostics, one still regime (the record's R is its
+        still R), no still stretch, or still stretches too short; None when ``still`` is
+        given.
+
+    Notes
+    -----
+    The same cases as :func:`still_gap` (one rule), phrased for a table cell.
+    """
+    kind, total, share = _gap(diag, variance, still)
+    return {
+        "have": None,
+        "unknown": "no still R: the record's regimes could not be found",
+        "one": "no separate still R: the record is one still regime (its R is the still R)",
+        "none": "no still stretch: the level varies throughout",
+        "short": f"no still R: still stretches too short ({total} samples, {share:.0%} of "
+        f"the record, each piece under {STILL_MIN})",
+    }[kind]
+
+
+def _gap(
+    diag: NoiseDiagnostics | None, variance: float, still: VarianceEstimate | None
+) -> tuple[str, int, float]:
+    """The case of :func:`still_gap`: ``"have"`` (a still R), ``"unknown"`` (no
+    diagnostics), ``"one"`` (one still regime), ``"none"`` (no quiet stretch) or ``"short"``;
+    with the quiet samples and their share of the record."""
+    if still is not None:
+        return "have", 0, 0.0
+    if diag is None:
+        return "unknown", 0, 0.0
+    if not has_still_apart(diag, variance) or under_half_a_step(diag, variance):
+        return "one", 0, 0.0
+    prof = diag.level_profile
+    if not prof.quiet.any():
+        return "none", 0, 0.0
+    sizes = prof.stop - prof.start
+    return "short", int(np.sum(sizes[prof.quiet])), prof.quiet_share
 
 
 def has_still_apart(diag: NoiseDiagnostics, variance: float) -> bool:

@@ -48,3 +48,15 @@ def test_a_single_column_file_has_no_channel_picker():
     at = _signal_page("fast_slow.csv")
     assert "Channels side by side" not in [s.value for s in at.subheader]
     assert not [m for m in at.multiselect if m.label == "Channels"]
+
+
+def test_channels_table_says_why_a_still_r_is_absent_and_never_none():
+    at = _signal_page("three_sensors.csv")
+    frame = _channel_table(at)
+    for c in ("still_variance", "still_ci95_low", "still_ci95_high", "other_still_levels"):
+        assert list(frame[c]) == ["—"] * 3, c  # was None: Streamlit draws it as "None"
+    assert all("one still regime" in n for n in frame["still_note"])
+    assert not frame.isna().any().any()
+    cells = {str(v) for v in frame.to_numpy().ravel()}
+    assert not cells & {"None", "nan", "NaN", "<NA>"}
+    assert at.get("download_button")  # the table's CSV

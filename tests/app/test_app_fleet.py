@@ -105,3 +105,13 @@ def test_the_example_fleet_spread_is_the_one_generated(tmp_path):
     np.testing.assert_allclose(
         [typical[c] for c in EXAMPLE_CHANNELS], list(EXAMPLE_CHANNELS.values()), rtol=0.15
     )
+
+
+def test_fleet_tables_show_no_none_cell():
+    at = _example(_open())
+    frames = [d.value for d in at.dataframe]
+    batch = [f for f in frames if "still_variance" in f.columns]
+    assert batch and all("still_note" in f.columns for f in batch)
+    for f in frames:
+        assert not f.isna().any().any()
+        assert not {str(v) for v in f.to_numpy().ravel()} & {"None", "nan", "NaN", "<NA>"}
