@@ -5,7 +5,8 @@ A topic is a message type (``IMU``, ``GPS``, ``BARO``); a type logged by several
 Fields are the numeric columns, scaled as pymavlink scales them; units come from the
 log's own FMTU/UNIT/MULT messages. Times are ``TimeUS`` (microseconds since boot), in
 seconds. A binary log is indexed by pymavlink, then each topic's columns are taken from the
-mapped file at once (numpy), not message by message; a text log goes message by message.
+mapped file at once (numpy), not message by message; a text log is read once, line by
+line, and only the asked types' fields are converted (:mod:`noisevar.io.logs.dataflash_text`).
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ import numpy as np
 
 from noisevar.errors import NoisevarError
 from noisevar.io.limits import echo
+from noisevar.io.logs import dataflash_text
 from noisevar.io.logs.spec import CHUNK, MAX_FIELDS, Chunk, LogReader, TopicInfo
 
 #: DataFlash unit names (the log's UNIT messages) in pint syntax; others are left out.
@@ -121,19 +123,6 @@ def _units(fmt, fields: Sequence[str]) -> dict[str, str]:
     return out
 
 
-def _records(dfr) -> dict[tuple[str, int | None], list[float]]:
-    """Per (type, instance): the TimeUS of every message (one pass over the log)."""
-    seen: dict[tuple[str, int | None], list[float]] = {}
-    dfr.rewind()
-    while (m := dfr.recv_msg()) is not None:
-        fmt = m.fmt
-        if "TimeUS" not in fmt.colhash or not _fields(fmt):
-            continue
-        inst = int(getattr(m, fmt.instance_field)) if fmt.instance_field else None
-        seen.setdefault((fmt.name, inst), []).append(m.TimeUS)
-    return seen
-
-
 #: numpy types of pymavlink's struct codes (``FORMAT_TO_STRUCT``), little-endian.
 _NP = {
     "b": "i1",
@@ -148,10 +137,6 @@ _NP = {
     "d": "<f8",
     "e": "<f2",
 }
-
-
-def _binary(dfr) -> bool:
-    return isinstance(dfr, _reader_classes()[0])
 
 
 def _columns(dfr, fmt, names: Sequence[str], offsets: np.ndarray) -> dict[str, np.ndarray]:
@@ -194,11 +179,20 @@ def _binary_records(dfr) -> dict[tuple[str, int | None], np.ndarray]:
     return seen
 
 
+def _is_text(path: Path) -> bool:
+    with path.open("rb") as fh:
+        return fh.read(2) != b"\xa3\x95"
+
+
 def _topics(dfr) -> list[TopicInfo]:
-    records = _binary_records(dfr) if _binary(dfr) else _records(dfr)
-    # after the pass: a text log's FMT lines are parsed again into new formats there, and
-    # only those get their units (pymavlink's text index reads the first UNIT line alone)
-    formats = {f.name: f for f in dfr.formats.values()}
+    """The topics of an open log: a binary log's reader, or a :class:`TextLog`."""
+    if isinstance(dfr, dataflash_text.TextLog):
+        return _topic_infos(dataflash_text.records(dfr, _fields), dfr.formats)
+    return _topic_infos(_binary_records(dfr), {f.name: f for f in dfr.formats.values()})
+
+
+def _topic_infos(records: dict, formats: dict) -> list[TopicInfo]:
+    """Each (type, instance)'s listing from its TimeUS."""
     out = []
     for (name, inst), times in sorted(records.items(), key=lambda kv: str(kv[0])):
         fmt = formats[name]
@@ -212,8 +206,19 @@ def _topics(dfr) -> list[TopicInfo]:
 
 def topics(path: Path) -> list[TopicInfo]:
     """Every message type (per instance) with TimeUS and numeric columns: counts, rates, units."""
-    with _open(path) as dfr:
+    with _log(path) as dfr:
         return _topics(dfr)
+
+
+@contextlib.contextmanager
+def _log(path: Path):
+    """The open log: a text log parsed (:func:`~noisevar.io.logs.dataflash_text.text_log`),
+    a binary one through pymavlink (:func:`_open`)."""
+    if _is_text(path):
+        yield dataflash_text.text_log(path)
+        return
+    with _open(path) as dfr:
+        yield dfr
 
 
 def read_many(path: Path, wanted: Sequence[str]) -> dict[str, tuple[TopicInfo, Iterator[Chunk]]]:
@@ -221,7 +226,7 @@ def read_many(path: Path, wanted: Sequence[str]) -> dict[str, tuple[TopicInfo, I
     its chunks (all its fields, read before the log is closed); a topic not in the log is
     left out."""
     out = {}
-    with _open(path) as dfr:
+    with _log(path) as dfr:
         infos = {t.name: t for t in _topics(dfr)}
         for topic in wanted:
             if topic in infos:
@@ -232,7 +237,7 @@ def read_many(path: Path, wanted: Sequence[str]) -> dict[str, tuple[TopicInfo, I
 
 def read(path: Path, topic: str, fields: Sequence[str] | None) -> Iterator[Chunk]:
     """The topic's fields in chunks; times in seconds since boot (TimeUS)."""
-    with _open(path) as dfr:
+    with _log(path) as dfr:
         yield from _read(dfr, path, topic, fields)
 
 
@@ -242,7 +247,9 @@ def _read(dfr, path: Path, topic: str, fields: Sequence[str] | None) -> Iterator
     if m is None:
         raise NoisevarError(f"no message {echo(topic)!r} in {echo(path.name)}")
     name, inst = m["type"], None if m["inst"] is None else int(m["inst"])
-    fmt = next((f for f in dfr.formats.values() if f.name == name), None)
+    text = isinstance(dfr, dataflash_text.TextLog)
+    fmt = dfr.formats.get(name) if text else None
+    fmt = fmt or next((f for f in dfr.formats.values() if f.name == name), None)
     if fmt is None or "TimeUS" not in fmt.colhash:
         raise NoisevarError(f"no message {echo(topic)!r} with TimeUS in {echo(path.name)}")
     names = tuple(fields) if fields is not None else _fields(fmt)
@@ -253,20 +260,11 @@ def _read(dfr, path: Path, topic: str, fields: Sequence[str] | None) -> Iterator
             f"message {echo(name)} has no numeric field {echo(bad[0])!r}; fields: "
             + ", ".join(sorted(have))
         )
-    if _binary(dfr):
-        yield from _read_binary(dfr, fmt, names, inst)
+    if text:
+        for times, values in dataflash_text.read(dfr, name, names, inst, CHUNK):
+            yield Chunk(times, values)
         return
-    rows: list[list[float]] = []
-    dfr.rewind()
-    while (msg := dfr.recv_match(type=name)) is not None:
-        if inst is not None and int(getattr(msg, fmt.instance_field)) != inst:
-            continue
-        rows.append([msg.TimeUS, *(getattr(msg, f) for f in names)])
-        if len(rows) == CHUNK:
-            yield _chunk(rows, names)
-            rows = []
-    if rows:
-        yield _chunk(rows, names)
+    yield from _read_binary(dfr, fmt, names, inst)
 
 
 def _read_binary(dfr, fmt, names: Sequence[str], inst: int | None) -> Iterator[Chunk]:
@@ -279,11 +277,6 @@ def _read_binary(dfr, fmt, names: Sequence[str], inst: int | None) -> Iterator[C
         if inst is not None and not np.any(keep):
             continue
         yield Chunk(cols["TimeUS"][keep] / 1e6, {f: cols[f][keep] for f in names})
-
-
-def _chunk(rows: list[list[float]], names: Sequence[str]) -> Chunk:
-    arr = np.asarray(rows, dtype=float)
-    return Chunk(arr[:, 0] / 1e6, {f: arr[:, i + 1] for i, f in enumerate(names)})
 
 
 READER = LogReader(
