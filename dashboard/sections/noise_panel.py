@@ -35,13 +35,17 @@ FLAG_LABELS: dict[str, tuple[str, bool | None]] = {
 }
 
 
-def _badges(flags: dict[str, bool]) -> None:
-    """One small badge per flag: green when good news, orange when not, grey when neutral.
+def _badges(flags: dict[str, bool | None]) -> None:
+    """One small badge per flag: green when good news, orange when not, grey when neutral
+    or not checked (None: the record is too short to check it).
 
     One line of Markdown badges, which wraps (fixed columns cut the longer labels off).
     """
     badges = []
     for key, (label, good) in FLAG_LABELS.items():
+        if key in flags and flags[key] is None:
+            badges.append(f":gray-badge[:material/help: {label}: not checked]")
+            continue
         value = bool(flags.get(key, False))
         color = "gray" if good is None else ("green" if value == good else "orange")
         icon = ":material/check:" if value else ":material/close:"
@@ -79,7 +83,11 @@ def render_noise_panel(
     """
     diag = getattr(estimate, "diagnostics", None)
     if diag is None:
-        st.caption("This estimate carries no noise diagnostics.")
+        verdict = getattr(estimate, "verdict", "")  # a record too short to diagnose says so
+        if verdict:
+            st.warning(verdict, icon=":material/warning:")
+        else:
+            st.caption("This estimate carries no noise diagnostics.")
         return
     if verdict_severity(diag, estimate.variance) == "ok":
         st.info(diag.verdict, icon=":material/check_circle:")

@@ -109,12 +109,12 @@ def estimate_params(args: argparse.Namespace) -> tuple[str, dict[str, Any]]:
 
 
 def _diagnostics_lines(result: Any) -> list[str]:
-    """The diagnostics' verdict, when the estimate has diagnostics."""
-    diag = getattr(result, "diagnostics", None)
-    if diag is None:
+    """The estimate's verdict (a short record's too, without diagnostics), when it has one."""
+    verdict = getattr(result, "verdict", "")
+    if not verdict:
         return []
-    # its notes are among the estimate's notes, printed after
-    return [f"verdict   {echo(getattr(diag, 'verdict', ''), 500)}"]
+    # the diagnostics' notes are among the estimate's notes, printed after
+    return [f"verdict   {echo(verdict, 500)}"]
 
 
 def _units(args: argparse.Namespace, declared: str | None = None) -> tuple[float, str]:

@@ -17,7 +17,7 @@ from numpy.typing import ArrayLike, NDArray
 from noisevar.diagnostics.plan import DIAG_ORDER, DIAG_SPAN
 from noisevar.diagnostics.profile import block_bounds, robust_levels
 from noisevar.diagnostics.results import NoiseDiagnostics
-from noisevar.diagnostics.verdict import under_half_a_step
+from noisevar.diagnostics.verdict import SHORT_RECORD, unchecked, under_half_a_step
 from noisevar.errors import NoisevarError
 from noisevar.numeric.fir import residual_sequence
 
@@ -228,14 +228,24 @@ def _profile_fields(diag: NoiseDiagnostics, t: ArrayLike | None) -> dict[str, An
     }
 
 
-def verdict_severity(diag: NoiseDiagnostics, variance: float | None = None) -> str:
-    """``"ok"``, ``"caution"`` (heavy tails, gaps) or ``"warning"`` (a white R misleads).
+def verdict_severity(
+    diag: NoiseDiagnostics | None, variance: float | None = None, n: int | None = None
+) -> str:
+    """``"ok"``, ``"caution"`` (heavy tails, gaps, a short record) or ``"warning"`` (a white
+    R misleads).
 
     With the estimate's ``variance``, a level that varies on a grid with noise under half
     a step (:func:`~noisevar.diagnostics.verdict.under_half_a_step`) is neither a warning
     nor, with it, heavy tails a caution: rounding makes both (a level that follows the
-    offset within a step, an error that is mostly zero), and the verdict says so.
+    offset within a step, an error that is mostly zero), and the verdict says so. A record
+    too short for some checks (:func:`~noisevar.diagnostics.verdict.unchecked`; ``diag``
+    None: too short to diagnose, of ``n`` samples) is a caution, or a warning when the
+    checks it allows fail; no diagnostics and no ``n``: ``"ok"`` (nothing to say).
     """
+    if diag is None:
+        return "caution" if n is not None and n < SHORT_RECORD else "ok"
+    if unchecked(diag.n, diag):
+        return "caution" if diag.white and diag.identifiable else "warning"
     f = diag.flags
     # the verdict's own case: a varying level explained by rounding (make_verdict)
     rounding = f["level_varies"] and variance is not None and under_half_a_step(diag, variance)

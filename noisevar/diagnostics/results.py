@@ -170,20 +170,27 @@ class NoiseDiagnostics:
 
     @property
     def identifiable(self) -> bool:
-        """False when the record behaves like a random walk (white first difference)."""
-        return bool(not self.increments.white or self.increments.lag1 < -0.1)
+        """False when the record behaves like a random walk (white first difference);
+        True when its increments are too few to test."""
+        inc = self.increments
+        return bool(not inc.tested or not inc.white or inc.lag1 < -0.1)
 
     @property
-    def flags(self) -> dict[str, bool]:
-        """The yes/no findings, for tables."""
+    def flags(self) -> dict[str, bool | None]:
+        """The yes/no findings, for tables; None for what the record is too short to check
+        (:func:`~noisevar.diagnostics.verdict.unchecked`)."""
+        from noisevar.diagnostics.verdict import SHORT_RECORD
+
+        white = self.whiteness.tested
+        long = self.n >= SHORT_RECORD
         return {
-            "white": self.white,
-            "heavy_tailed": self.heavy_tailed,
+            "white": self.white if white else None,
+            "heavy_tailed": self.heavy_tailed if long else None,
             "quantised": self.lsb is not None,
             "gaps": bool(self.gaps),
-            "level_varies": self.level_varies,
-            "identifiable": self.identifiable,
-            "differenced": self.differenced,
+            "level_varies": self.level_varies if long else None,
+            "identifiable": self.identifiable if self.increments.tested else None,
+            "differenced": self.differenced if white else None,
         }
 
     def to_dict(self) -> dict[str, Any]:

@@ -265,6 +265,6 @@ class DiagSums:
         """Refuse a record with no residual kept (nothing to diagnose)."""
         if not any(v[0] >= PROFILE_MIN_KEPT for v in self.profile.values()):
             raise NoisevarError(
-                f"no stretch of the record has {2 * DIAG_SPAN} uniformly sampled samples "
-                f"(span {DIAG_SPAN}) free of jumps: nothing to diagnose"
+                f"the record is too short to diagnose: no stretch of it has {2 * DIAG_SPAN} "
+                f"uniformly sampled samples (span {DIAG_SPAN}) free of jumps"
             )

@@ -17,6 +17,10 @@ if TYPE_CHECKING:
 
 #: The quiet stretches cover less than this share: the record is mostly motion.
 MOSTLY_MOTION = 0.5
+#: Fewest samples for every check of the verdict: two blocks of the level profile to
+#: compare, and a kurtosis that means something (white Gaussian noise read heavy-tailed
+#: in 9 % of 64-sample records, 3.5 % of 100-sample ones). Fewer: :func:`short_verdict`.
+SHORT_RECORD = 100
 
 
 def _g(x: float) -> str:
@@ -65,7 +69,9 @@ def make_verdict(
     -------
     str
     """
-    r = f"R = {_g(variance)} (std {_g(float(np.sqrt(max(variance, 0.0))))})"
+    if unchecked(diag.n, diag):
+        return short_verdict(diag.n, variance, diag)
+    r = _r(variance)
     quiet = still if still is not None else diag.quiet_variance
     if quiet is None:  # none on R's residual: the level profile's, said to be indicative
         quiet = diag.level_profile.quiet_variance
@@ -99,6 +105,67 @@ def make_verdict(
             f"lsb²/12 = {_g(diag.lsb**2 / 12.0)}, and is a good Kalman R"
         )
     return f"white Gaussian noise: {r} is a good Kalman R"
+
+
+def _r(variance: float) -> str:
+    return f"R = {_g(variance)} (std {_g(float(np.sqrt(max(variance, 0.0))))})"
+
+
+def unchecked(n: int, diag: NoiseDiagnostics | None) -> tuple[str, ...]:
+    """What a record of ``n`` samples is too short to check (empty: every check was made).
+
+    The one rule of short records: the whiteness test needs
+    :data:`~noisevar.diagnostics.whiteness.WHITE_MIN` residuals (``whiteness.tested``);
+    level changes, heavy tails and glitches :data:`SHORT_RECORD` samples. ``diag`` None:
+    the record was too short to diagnose at all.
+    """
+    out = []
+    if diag is None or not diag.whiteness.tested:
+        out.append("whether the noise is white")
+    if diag is None or n < SHORT_RECORD:
+        out += ["whether its level changes (motion, steps)", "its tails and glitches"]
+    return tuple(out)
+
+
+def short_verdict(n: int, variance: float, diag: NoiseDiagnostics | None = None) -> str:
+    """The verdict of a record too short for some checks (:func:`unchecked`): R is a first
+    value, what could not be checked, what the checks made found.
+
+    Notes
+    -----
+    docs/algorithms.md §E2 (*Short records*). ``diag`` None: no check could be made.
+    """
+    gaps = unchecked(n, diag)
+    todo = ", ".join(gaps[:-1]) + (" or " if len(gaps) > 1 else "") + gaps[-1]
+    return (
+        f"only {n} samples: {_r(variance)} is a first value, to be read with its wide "
+        f"interval; too few samples to check {todo} (every check needs about "
+        f"{SHORT_RECORD}){_weak_findings(diag)}; measure a longer record before trusting it "
+        "in a filter"
+    )
+
+
+def _weak_findings(diag: NoiseDiagnostics | None) -> str:
+    """What the checks a short record allows found (a clause, or nothing)."""
+    if diag is None:
+        return ""
+    w = diag.whiteness
+    if diag.increments.tested and not diag.identifiable:
+        return "; its first difference looks white (a random walk): R may be the walk's, not noise"
+    if not w.tested:
+        return ""
+    lags = f"lags 1-{w.acf.size}"
+    if not w.white:
+        return f"; over {lags} it is not white (lag-1 {w.lag1:+.2f}), so R may be off"
+    return f"; over {lags} it looks white (a weak test on so few samples)"
+
+
+def verdict_of(diag: NoiseDiagnostics | None, n: int, variance: float) -> str:
+    """An estimate's verdict: its diagnostics', or, without them, a short record's
+    (:func:`short_verdict`: a record too short to diagnose); else empty."""
+    if diag is not None:
+        return str(diag.verdict)
+    return short_verdict(n, variance) if n < SHORT_RECORD else ""
 
 
 def glitch_verdict(diag: NoiseDiagnostics, r: str, core: float | None) -> str:

@@ -194,8 +194,8 @@ def record_answer(est: VarianceEstimate, regimes: str = DEFAULT_REGIMES) -> Reco
         method=str(est.method),
         regimes=regimes,
         where="its still regimes" if still_used(est, regimes) else "the whole record",
-        verdict="" if diag is None else str(diag.verdict),
-        severity="ok" if diag is None else verdict_severity(diag, est.variance),
+        verdict=est.verdict,
+        severity=verdict_severity(diag, est.variance, int(est.n_total)),
         # a still R apart from one regime (still_set.has_still_apart) is a varying level too
         level_varies=bool(diag is not None and (diag.level_varies or still is not None)),
         whole_variance=float(est.variance),

@@ -174,6 +174,11 @@ def _other_still(diag: NoiseDiagnostics | None, still: VarianceEstimate | None) 
     return json.dumps([x.to_dict() for x in diag.other_still])
 
 
+def _flag(value: bool | None) -> bool | None:
+    """A flag's cell: None where the record was too short to check it."""
+    return None if value is None else bool(value)
+
+
 def _finite(value: Any) -> float | None:
     """A float, or None for a missing or non-finite value (rows are strict-JSON safe)."""
     if value is None:
@@ -408,6 +413,14 @@ class VarianceEstimate:
         return float(np.sqrt(self.variance)) if self.variance >= 0 else float("nan")
 
     @property
+    def verdict(self) -> str:
+        """The verdict sentence: the diagnostics', or a short record's without them
+        (:func:`~noisevar.diagnostics.verdict.verdict_of`); empty when there is none."""
+        from noisevar.diagnostics.verdict import verdict_of
+
+        return verdict_of(self.diagnostics, int(self.n_total), float(self.variance))
+
+    @property
     def relative_halfwidth(self) -> float:
         """Half the CI width over the estimate (a quick precision figure)."""
         return float((self.ci95[1] - self.ci95[0]) / 2.0 / self.variance)
@@ -420,7 +433,8 @@ class VarianceEstimate:
         dict
             Keyed by :data:`ROW_COLUMNS` (in that order, ``flag_<name>`` for each
             diagnostic flag after ``still_note``): numbers as floats (None when
-            missing or not finite), counts as ints, flags as bools, ``params`` and
+            missing or not finite), counts as ints, flags as bools (None: not checked,
+            the record too short), ``params`` and
             ``other_still_levels`` (the near-still stretches above the still R, as
             :meth:`~noisevar.diagnostics.regimes.StillLevel.to_dict`) as JSON text and
             ``notes`` joined by ``" | "`` (None when there is none).
@@ -444,9 +458,9 @@ class VarianceEstimate:
             "core_variance": _finite(self.core_variance),
             "outlier_fraction": _finite(self.outlier_fraction),
             **_still_fields(self),
-            **{FLAG_PREFIX + k: bool(flags[k]) for k in sorted(flags)},
+            **{FLAG_PREFIX + k: _flag(flags[k]) for k in sorted(flags)},
             "other_still_levels": _other_still(diag, self.still),
-            "verdict": None if diag is None else (str(diag.verdict) or None),
+            "verdict": self.verdict or None,
             "params": json.dumps(self.params, sort_keys=True, default=_json_value),
             "notes": " | ".join(self.notes) if self.notes else None,
         }
@@ -464,6 +478,7 @@ class VarianceEstimate:
         row = self.to_row()
         return {
             **{k: v for k, v in row.items() if k not in _NESTED and not k.startswith(FLAG_PREFIX)},
+            "verdict": row["verdict"],
             "params": dict(self.params),
             "notes": list(self.notes),
             "assumptions": dict(self.assumptions),

@@ -38,7 +38,9 @@ def test_the_px4_magnetometer_without_three_samples_stays_inside_its_interval() 
     z = _px4_magnetometer()
     ests = [noisevar.estimate(z[k:]) for k in range(4)]
     p = [e.diagnostics.whiteness.p_value for e in ests]
-    assert p[0] > COLOURED_P > p[3]  # the test's p-value crosses the threshold
+    # the test's p-value jumps tenfold near the threshold (1.04e-4 to 9.7e-6 with 20 lags;
+    # 6.3e-5 to 5.8e-6 with the 19 its 299 residuals now get, whiteness.white_lags)
+    assert p[0] > 5 * p[3] and p[3] < COLOURED_P < 2 * p[0]
     for k in (1, 2, 3):
         assert _inside(ests[k], ests[0]) and _inside(ests[0], ests[k])
     assert any("edge of white" in n for n in ests[0].notes)
