@@ -160,8 +160,10 @@ def _no_still_said(est, quoted: float) -> list[str]:
 
 def verdict_checks(est) -> list[str]:
     d = est.diagnostics
-    if d is None:  # real_audit3: 32 GPS fixes; the notes say why
+    if d is None:  # real_audit3: 32 GPS fixes; a short record's verdict says what it lacks
         why = next((n for n in est.notes if "diagnostics" in n), "no note")
+        if "too few samples to check" in est.verdict:
+            return []
         return [f"no diagnostics, so no verdict ({why})"]
     v = d.verdict
     flags = d.flags
@@ -185,7 +187,7 @@ def verdict_checks(est) -> list[str]:
         bad.append("differenced and coloured both")
     quiet, share = d.quiet_variance, d.level_profile.quiet_share
     if (
-        not flags["level_varies"]
+        flags["level_varies"] is False  # None: too short to check
         and share > 0.5
         and quiet is not None  # none on R's residual: its reason is said (d.quiet.reason)
         and not est.ci95[0] / 2 <= quiet <= 2 * est.ci95[1]
@@ -215,8 +217,7 @@ def cli_checks(channels: dict[str, np.ndarray], ests: dict) -> list[str]:
             py_still is not None and abs(row["still_variance"] - py_still) > SAME * py_still
         ):
             bad.append(f"{ch}: CLI still {row['still_variance']}, Python {py_still}")
-        said = row["diagnostics"] and row["diagnostics"]["verdict"]
-        if said != (est.diagnostics and est.diagnostics.verdict):
+        if row["verdict"] != (est.verdict or None):
             bad.append(f"{ch}: CLI and Python verdicts differ")
     return bad
 
@@ -334,7 +335,7 @@ def audit_channels(
         row |= {
             "R": est.variance, "ci95": est.ci95, "use": _use_text(est),
             "still": est.still is not None, "flags": d.flags if d else _NO_FLAGS,
-            "verdict": d.verdict if d else "(none)", "inv_r": n_r, "inv_u": n_u,
+            "verdict": est.verdict or "(none)", "inv_r": n_r, "inv_u": n_u,
             "n_tf": len(transforms(z)), "fail": fail, "cpu": time.process_time() - t0,
         }  # fmt: skip
         rows.append(row)

@@ -503,15 +503,19 @@ def synthetic() -> list[str]:
     plain = noisevar.estimate(z).variance
     short = {n: noisevar.estimate(np.random.default_rng(0).normal(size=n)) for n in (32, 40, 48)}
     said_short = "; ".join(
-        f"{n} samples: " + (next((x for x in e.notes if "diagnostics" in x), "diagnostics run"))
+        f"{n} samples: R = {e.variance:.4g} (95 % {e.ci95[0]:.3g}-{e.ci95[1]:.3g}), "
+        f"verdict: {e.verdict}"
         for n, e in short.items()
     )
     return [
-        "## Not fixed here: a short record's missing diagnostics are called 'degenerate'",
+        "## Fixed: a short record's verdict says what could not be checked",
         "",
-        "The GPS topic has 32 fixes: R and its interval are given, but no diagnostics and so no "
-        "verdict, with a note that is not true of the data (the residual varies; every "
-        "residual was left out at the record's edges: `diagnostics/whiteness.py`). White "
+        "The GPS topic has 32 fixes: too few to diagnose (no stretch of 42 samples for the "
+        "span-21 residual), and it had R and its interval but no verdict. Now every record "
+        "under 100 samples gets one sentence: R is a first value, what could not be checked "
+        "(whiteness, level changes, tails and glitches), what the checks it allows found "
+        "(`diagnostics/verdict.short_verdict`; the whiteness test's lags scale with its "
+        "residuals: with 20 it called half of 48-sample white records coloured). White "
         f"noise, seed 0: {said_short}.",
         "",
         "## Fixed: records whose stamps are irregular (seeded)",

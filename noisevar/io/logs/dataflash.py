@@ -188,19 +188,20 @@ def _topics(dfr) -> list[TopicInfo]:
     """The topics of an open log: a binary log's reader, or a :class:`TextLog`."""
     if isinstance(dfr, dataflash_text.TextLog):
         return _topic_infos(dataflash_text.records(dfr, _fields), dfr.formats)
-    return _topic_infos(_binary_records(dfr), {f.name: f for f in dfr.formats.values()})
+    spans = {k: (len(t), t[0], t[-1]) for k, t in _binary_records(dfr).items() if len(t)}
+    return _topic_infos(spans, {f.name: f for f in dfr.formats.values()})
 
 
 def _topic_infos(records: dict, formats: dict) -> list[TopicInfo]:
-    """Each (type, instance)'s listing from its TimeUS."""
+    """Each (type, instance)'s listing from its count and first and last TimeUS."""
     out = []
-    for (name, inst), times in sorted(records.items(), key=lambda kv: str(kv[0])):
+    for (name, inst), (count, first, last) in sorted(records.items(), key=lambda kv: str(kv[0])):
         fmt = formats[name]
         fields = _fields(fmt)
-        span = float(times[-1] - times[0]) / 1e6 if len(times) > 1 else 0.0
-        rate = float((len(times) - 1) / span) if span > 0 else None
+        span = float(last - first) / 1e6 if count > 1 else 0.0
+        rate = float((count - 1) / span) if span > 0 else None
         topic = name if inst is None else f"{name}[{inst}]"
-        out.append(TopicInfo(topic, name, len(times), rate, fields, _units(fmt, fields)))
+        out.append(TopicInfo(topic, name, count, rate, fields, _units(fmt, fields)))
     return out
 
 

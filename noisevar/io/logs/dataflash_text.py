@@ -38,11 +38,16 @@ class TextLog:
     def elements(self, name: str, upto: int | None = None) -> list[list[bytes]]:
         """The fields of each of ``name``'s messages (pymavlink skips shorter lines); with
         ``upto``, only the fields before that index are split off."""
-        need, d = len(self.formats[name].format), self.delimiter
-        lines = [line for line in self.lines.get(name, []) if line.count(d) >= need - 1]
-        if upto is None or upto >= need:
+        d = self.delimiter
+        lines = self.valid(name)
+        if upto is None or upto >= len(self.formats[name].format):
             return [line.split(d) for line in lines]
         return [line.split(d, upto) for line in lines]
+
+    def valid(self, name: str) -> list[bytes]:
+        """``name``'s lines with all its fields (pymavlink skips shorter lines)."""
+        need, d = len(self.formats[name].format), self.delimiter
+        return [line for line in self.lines.get(name, []) if line.count(d) >= need - 1]
 
     def column(self, name: str, rows: list[list[bytes]], field: str) -> np.ndarray:
         """One field of ``rows`` (:meth:`elements`) as floats."""
@@ -158,24 +163,30 @@ class _Meta:
         fmtu.set_mult_ids(self._get("FMTU", e, "MultIds"), self.mult_lookup)
 
 
-def records(log: TextLog, wanted) -> dict[tuple[str, int | None], np.ndarray]:
-    """Per (type, instance): the TimeUS of its messages, for the types ``wanted(fmt)`` keeps."""
-    seen: dict[tuple[str, int | None], np.ndarray] = {}
+def records(log: TextLog, wanted) -> dict[tuple[str, int | None], tuple[int, float, float]]:
+    """Per (type, instance): its count and first and last TimeUS, for the types
+    ``wanted(fmt)`` keeps (a type without instances converts only those two)."""
+    seen: dict[tuple[str, int | None], tuple[int, float, float]] = {}
     for name in log.lines:
         fmt = log.formats[name]
         if "TimeUS" not in fmt.colhash or not wanted(fmt):
             continue
-        cols = [fmt.colhash[f] for f in ("TimeUS", fmt.instance_field) if f is not None]
+        if fmt.instance_field is None:
+            lines = log.valid(name)
+            if lines:
+                ends = [lines[0].split(log.delimiter), lines[-1].split(log.delimiter)]
+                t = log.column(name, ends, "TimeUS")
+                seen[(name, None)] = (len(lines), float(t[0]), float(t[1]))
+            continue
+        cols = [fmt.colhash[f] for f in ("TimeUS", fmt.instance_field)]
         rows = log.elements(name, max(cols) + 1)
         if not rows:
             continue
         times = log.column(name, rows, "TimeUS")
-        if fmt.instance_field is None:
-            seen[(name, None)] = times
-            continue
         inst = log.column(name, rows, fmt.instance_field)
         for i in np.unique(inst):
-            seen[(name, int(i))] = times[inst == i]
+            mine = times[inst == i]
+            seen[(name, int(i))] = (mine.size, float(mine[0]), float(mine[-1]))
     return seen
 
 
