@@ -41,6 +41,7 @@ from noisevar.io.logs.spec import (
     Chunk,
     LogReader,
     TopicInfo,
+    collecting,
 )
 
 __all__ = [
@@ -387,11 +388,13 @@ def _table(
     fields read only for the variances they declare (not columns of the table)."""
     from noisevar.io.table import LoadedTable, _period_from_time
 
-    t, cols, rows = _gather(chunks, names, max_values)
+    said: list[str] = []  # what the reader reports of the file (cut short...)
+    with collecting(said):
+        t, cols, rows = _gather(chunks, names, max_values)
     if rows == 0:
         raise NoisevarError(f"topic {echo(info.name)!r} of {echo(name)} has no record")
     where = reader.time_note if t is not None else "no time column: samples taken as uniform"
-    notes = [f"topic {info.name} ({info.message}), {rows:,} records; {where}"]
+    notes = [f"topic {info.name} ({info.message}), {rows:,} records; {where}", *said]
     if problems:
         notes.append(
             f"the {reader.title} reader reported {len(problems):,} problems (corrupt stretches "

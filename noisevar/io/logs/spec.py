@@ -4,6 +4,8 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
+from contextvars import ContextVar
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -131,3 +133,24 @@ class LogReader:
             return True
         lower = name.lower()
         return any(lower.endswith(s) for s in self.suffixes if s not in SHARED_SUFFIXES)
+
+
+_NOTES: ContextVar[list[str] | None] = ContextVar("noisevar_log_notes", default=None)
+
+
+def report(note: str) -> None:
+    """Tell the user something about the log being read (a file cut short, say): it joins
+    the loaded table's notes (:func:`collecting`); said once."""
+    got = _NOTES.get()
+    if got is not None and note not in got:
+        got.append(note)
+
+
+@contextmanager
+def collecting(notes: list[str]) -> Iterator[None]:
+    """Collect the readers' :func:`report` notes made in this block into ``notes``."""
+    token = _NOTES.set(notes)
+    try:
+        yield
+    finally:
+        _NOTES.reset(token)
