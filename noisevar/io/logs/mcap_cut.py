@@ -3,37 +3,23 @@
 An MCAP file ends with a summary, a footer and the magic bytes; a recording that never
 closed has none of them, and ``rosbags`` refuses it. Its records before the cut are
 whole: the ``mcap`` library's stream reader reads them in order (each chunk's checksum
-checked), and its writer lays them out again as a complete file, which ``rosbags`` then
-reads as any bag, its message definitions checked as usual (what ``mcap recover`` does).
-The records after the last whole chunk are lost; :func:`recovered` says how many
-messages were kept and where the file was cut.
-
-The copy lives in a temporary directory for the process; the last :data:`KEPT` copies
-are kept (a dashboard reads one log many times), older ones deleted.
+checked, its size bounded), and its writer lays them out again as a complete file
+(:func:`~noisevar.io.logs.repaired.repaired`), which ``rosbags`` then reads as any bag,
+its message definitions checked as usual (what ``mcap recover`` does). What was recorded
+after the last whole record is lost; the note says how many messages were kept and
+where the file was cut.
 """
 
 from __future__ import annotations
 
-import atexit
-import shutil
-import tempfile
-from collections import OrderedDict
-from itertools import count
+from dataclasses import replace
 from pathlib import Path
 
 from noisevar.errors import NoisevarError
-from noisevar.io.limits import MAX_BYTES, echo
+from noisevar.io.limits import echo
+from noisevar.io.logs.repaired import INFLATE_LIMIT, inflate, repaired
 
 MAGIC = b"\x89MCAP0\r\n"
-#: Recovered copies kept per process.
-KEPT = 4
-#: Largest chunk (uncompressed) or record read: the table cap, so a forged size cannot
-#: make the reader hold more than a log may.
-RECORD_LIMIT = MAX_BYTES
-
-_copies: OrderedDict[tuple, tuple[Path, str]] = OrderedDict()
-_home: list[Path] = []
-_serial = count()
 
 
 def cut_short(path: Path) -> bool:
@@ -58,35 +44,11 @@ def recovered(path: Path) -> tuple[Path, str]:
     NoisevarError
         No whole message before the cut.
     """
-    stat = path.stat()
-    key = (str(path.resolve()), stat.st_size, stat.st_mtime_ns)
-    if key in _copies:
-        _copies.move_to_end(key)
-        return _copies[key]
-    out = _workdir() / f"{next(_serial)}-{path.stem}.mcap"
-    kept, at, why = _rewrite(path, out)
-    if kept == 0:
-        out.unlink(missing_ok=True)
-        raise NoisevarError(
-            f"{echo(path.name)} is an MCAP file cut short with no whole message before the "
-            f"cut (whole records up to byte {at:,} of {stat.st_size:,}, {why}): copy the "
-            "file again, or record with smaller chunks"
-        )
-    note = (
-        f"the MCAP file is cut short (no summary or footer: a recording that never closed); "
-        f"{kept:,} messages (all topics) read from its whole records, up to byte {at:,} of "
-        f"{stat.st_size:,} ({why}); what was recorded after them is lost"
-    )
-    _copies[key] = (out, note)
-    while len(_copies) > KEPT:
-        old, _ = _copies.popitem(last=False)[1]
-        old.unlink(missing_ok=True)
-    return out, note
+    return repaired(path, _rewrite, ".mcap")
 
 
-def _rewrite(src: Path, dst: Path) -> tuple[int, int, str]:
-    """Copy ``src``'s whole records into a complete MCAP at ``dst``: (messages, where the
-    reading stopped, why)."""
+def _rewrite(src: Path, dst: Path) -> str:
+    """Copy ``src``'s whole records into a complete MCAP at ``dst``; the note."""
     from mcap.records import Channel, Chunk, Message, Schema
     from mcap.stream_reader import StreamReader, breakup_chunk
     from mcap.writer import CompressionType, Writer
@@ -115,13 +77,12 @@ def _rewrite(src: Path, dst: Path) -> tuple[int, int, str]:
                 kept += 1
 
         why, at = "the end of the file", len(MAGIC)
-        reader = StreamReader(fh, emit_chunks=True, record_size_limit=RECORD_LIMIT)
+        reader = StreamReader(fh, emit_chunks=True, record_size_limit=INFLATE_LIMIT)
         try:
             for rec in reader.records:
-                if isinstance(rec, Chunk):
-                    if rec.uncompressed_size > RECORD_LIMIT:
-                        why = f"a chunk of {rec.uncompressed_size:,} bytes, over the limit"
-                        break
+                if isinstance(rec, Chunk):  # inflated here, bounded; then split by mcap
+                    data = inflate(rec.compression, rec.data, rec.uncompressed_size)
+                    rec = replace(rec, compression="", data=data)
                     for inner in breakup_chunk(rec, validate_crc=True):
                         take(inner)
                 else:
@@ -130,13 +91,15 @@ def _rewrite(src: Path, dst: Path) -> tuple[int, int, str]:
         except Exception as exc:  # noqa: BLE001 - the cut ends the records any way it falls
             why = f"then a record cut short or damaged: {type(exc).__name__}"
         writer.finish()
-    return kept, at, why
-
-
-def _workdir() -> Path:
-    """This process's directory of recovered copies (removed at exit)."""
-    if not _home:
-        home = Path(tempfile.mkdtemp(prefix="noisevar-mcap-"))
-        atexit.register(shutil.rmtree, home, True)
-        _home.append(home)
-    return _home[0]
+    size = src.stat().st_size
+    if kept == 0:
+        raise NoisevarError(
+            f"{echo(src.name)} is an MCAP file cut short with no whole message before the "
+            f"cut (whole records up to byte {at:,} of {size:,}, {why}): copy the file "
+            "again, or record with smaller chunks"
+        )
+    return (
+        f"the MCAP file is cut short (no summary or footer: a recording that never closed); "
+        f"{kept:,} messages (all topics) read from its whole records, up to byte {at:,} of "
+        f"{size:,} ({why}); what was recorded after them is lost"
+    )

@@ -24,6 +24,8 @@ from noisevar.io.limits import echo
 from noisevar.io.logs.mcap_cut import cut_short, recovered
 from noisevar.io.logs.msgdefs import open_bag
 from noisevar.io.logs.ros_declared import declared_fields
+from noisevar.io.logs.rosbag1_cut import recovered as reindexed
+from noisevar.io.logs.rosbag1_cut import unindexed
 from noisevar.io.logs.rosbag_spans import topic_span
 from noisevar.io.logs.spec import CHUNK, MAX_FIELDS, Chunk, LogReader, TopicInfo, report
 
@@ -114,15 +116,19 @@ def _open(path: Path):
     """The bag's ``AnyReader``; opening it checks the bag's own message definitions before
     ``rosbags`` compiles them (:mod:`noisevar.io.logs.msgdefs`).
 
-    An MCAP file cut short is read through its recovered copy
-    (:mod:`noisevar.io.logs.mcap_cut`); what was kept joins the loaded table's notes.
+    An MCAP file cut short and a ROS 1 bag without its index are read through their
+    repaired copies (:mod:`noisevar.io.logs.mcap_cut`, :mod:`noisevar.io.logs.rosbag1_cut`);
+    what was kept joins the loaded table's notes.
     """
     from rosbags.typesys import Stores, get_typestore
 
-    store = Stores.ROS1_NOETIC if path.suffix.lower() == ".bag" else Stores.LATEST
     if path.suffix.lower() == ".mcap" and cut_short(path):
         path, note = recovered(path)
         report(note)
+    elif unindexed(path):  # also a recorder's .bag.active
+        path, note = reindexed(path)
+        report(note)
+    store = Stores.ROS1_NOETIC if path.suffix.lower() == ".bag" else Stores.LATEST
     return open_bag(path, get_typestore(store))
 
 
@@ -353,7 +359,7 @@ READER = LogReader(
     read=read,
     time_note="times from header.stamp (else the bag's record time), seconds from the "
     "topic's first message",
-    repair="a ROS 1 bag cut short can be re-indexed (rosbag reindex), an MCAP file damaged "
-    "inside recovered (mcap recover; one cut short is read up to its cut), a ROS 2 bag checked "
+    repair="a ROS 1 bag damaged inside can be re-indexed (rosbag reindex), an MCAP file "
+    "recovered (mcap recover; a bag only cut short is read up to its cut), a ROS 2 bag checked "
     "with ros2 bag info; else copy the file again",
 )
