@@ -121,6 +121,7 @@ def _rewrite(src: Path, dst: Path) -> str:
             fh.seek(len(MAGIC))
             Header.read(fh, None)  # the bag header, then its padding
             fh.seek(struct.unpack("<I", fh.read(4))[0], 1)
+            copy.at = fh.tell()
             copy.records(fh)  # up to the end or the cut
         except Exception as exc:  # noqa: BLE001 - the cut ends the records any way it falls
             why = f"then a record cut short or damaged: {type(exc).__name__}"
