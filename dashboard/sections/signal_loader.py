@@ -178,7 +178,8 @@ def uploader(errors: DeltaGenerator) -> None:
         f"CSV/TSV (header optional; a column named t/time gives the sample period; a decimal "
         f"comma with `;` separators, as European spreadsheets export, is read too), `.npy` "
         f"(numeric arrays only), or NMEA 0183 GGA/RMC (converted to local east/north metres, "
-        f"speed and course); or a log: ROS 1/2 bag (`.bag`, `.mcap`, `.db3`), PX4 ULog, "
+        f"speed and course); or a log: ROS 1/2 bag (`.bag`, `.mcap`, `.db3`; one cut short, "
+        f"or a recorder's `.bag.active`, is read up to its cut), PX4 ULog, "
         f"ArduPilot DataFlash (`.bin`, `.log`), Parquet or HDF5, one topic for the signal "
         f"(more for the IMU model) with the log's own timestamps. Up to {limit_mb:.0f} MB."
     )

@@ -353,7 +353,7 @@ class FlatDecoder:
 READER = LogReader(
     name="rosbag",
     title="ROS bag",
-    suffixes=(".bag", ".mcap", ".db3"),
+    suffixes=(".bag", ".mcap", ".db3", ".active"),  # .bag.active: a recorder's unclosed bag
     magic=(b"#ROSBAG V2.0", b"\x89MCAP0\r\n"),
     topics=topics,
     read=read,
