@@ -14,6 +14,7 @@ from numpy.typing import ArrayLike, NDArray
 from noisevar._arrays import steps_evenly
 from noisevar.errors import NoisevarError
 from noisevar.io.limits import ECHO_LIMIT, echo  # noqa: F401 - their home is io.limits
+from noisevar.units import sensor_of
 
 #: Names (lower case, units in brackets stripped) recognised as a time column.
 TIME_NAMES = ("t", "time", "time_s", "times", "timestamp", "seconds", "sec", "secs", "s", "epoch",
@@ -91,14 +92,18 @@ class LoadedTable:
         Not a log's second clock (``rostopic echo -p``'s ``%time`` beside the message's own
         stamp), a counter (``field.header.seq``: :func:`noisevar._arrays.steps_evenly`) or a
         constant field (an orientation the log does not fill, a covariance of -1), which
-        come first in ROS messages; each can still be named. A signal without empty/NaN
-        cells comes before one with them; with no signal, the first data column without
-        them, else the first; None when there is no data column.
+        come first in ROS messages; each can still be named. A signal in a sensor's unit
+        (an angular rate, an acceleration: :func:`noisevar.units.sensor_of`) comes first
+        (a ROS Imu message's ``angular_velocity.x``, not the orientation an AHRS fills);
+        then one without empty/NaN cells before one with them; with no signal, the first
+        data column without them, else the first; None when there is no data column.
         """
         cols = self.data_columns
         whole = [c for c in cols if np.all(np.isfinite(self.columns[c]))]
         signals = self.signals
-        return next(iter([c for c in signals if c in whole] + signals + whole + cols), None)
+        sensed = [c for c in signals if c in whole and sensor_of(self.units.get(c))]
+        order = sensed + [c for c in signals if c in whole] + signals + whole + cols
+        return next(iter(order), None)
 
     @property
     def signals(self) -> list[str]:
