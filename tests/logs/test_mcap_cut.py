@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from logfiles import imu_values, write_bag
+from logfiles import imu_values, rechunked_mcap, write_bag
 
 from noisevar.cli import main
 from noisevar.errors import NoisevarError
@@ -18,34 +18,12 @@ from noisevar.io.logs.mcap_cut import cut_short
 N = 3000
 
 
-def _rechunked(src: Path, dst: Path, compression: str) -> Path:
-    """``src`` written again in small chunks (about 150 messages each), as a recorder does."""
-    from mcap.reader import make_reader
-    from mcap.writer import CompressionType, Writer
-
-    with src.open("rb") as fh, dst.open("wb") as out:
-        reader = make_reader(fh)
-        w = Writer(out, chunk_size=20_000, compression=CompressionType[compression])
-        w.start(profile="ros2", library="test")
-        ids_s, ids_c = {}, {}
-        for schema, channel, msg in reader.iter_messages():
-            if schema.id not in ids_s:
-                ids_s[schema.id] = w.register_schema(schema.name, schema.encoding, schema.data)
-            if channel.id not in ids_c:
-                ids_c[channel.id] = w.register_channel(
-                    channel.topic, channel.message_encoding, ids_s[schema.id], channel.metadata
-                )
-            w.add_message(ids_c[channel.id], msg.log_time, msg.data, msg.publish_time)
-        w.finish()
-    return dst
-
-
 @pytest.fixture(scope="module")
 def whole(tmp_path_factory) -> tuple[Path, np.ndarray]:
     d = tmp_path_factory.mktemp("mcap")
     z = imu_values(N)
     bag = write_bag(d / "b", z, "mcap")
-    return _rechunked(next(bag.glob("*.mcap")), d / "whole.mcap", "ZSTD"), z
+    return rechunked_mcap(next(bag.glob("*.mcap")), d / "whole.mcap", "ZSTD"), z
 
 
 def _cut(path: Path, frac: float, out: Path) -> Path:

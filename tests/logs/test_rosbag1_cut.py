@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from logfiles import imu_values
+from logfiles import imu_values, write_ros1_chunked
 
 from noisevar.cli import main
 from noisevar.errors import NoisevarError
@@ -19,45 +19,10 @@ from noisevar.io.logs.rosbag1_cut import unindexed
 N = 3000
 
 
-def _bag(path: Path, z: np.ndarray, compression: str | None) -> Path:
-    """``z[:, 0]`` as sensor_msgs/Imu angular_velocity.x on /imu, in small chunks."""
-    from rosbags.rosbag1 import Writer
-    from rosbags.typesys import Stores, get_typestore
-
-    store = get_typestore(Stores.ROS1_NOETIC)
-    ty = store.types
-    imu, hdr, tm = (
-        ty["sensor_msgs/msg/Imu"],
-        ty["std_msgs/msg/Header"],
-        ty["builtin_interfaces/msg/Time"],
-    )
-    vec, quat = ty["geometry_msgs/msg/Vector3"], ty["geometry_msgs/msg/Quaternion"]
-    w = Writer(path)
-    if compression:
-        w.set_compression(Writer.CompressionFormat[compression])
-    w.chunk_threshold = 40_000  # small chunks, as a recorder writes them (1 MB by default)
-    w.open()
-    conn = w.add_connection("/imu", imu.__msgtype__, typestore=store)
-    zero = np.zeros(9)
-    for i in range(len(z)):
-        ns = 1_700_000_000 * 10**9 + i * 2_500_000
-        msg = imu(
-            header=hdr(seq=i, stamp=tm(sec=ns // 10**9, nanosec=ns % 10**9), frame_id="imu"),
-            orientation=quat(x=0.0, y=0.0, z=0.0, w=1.0), orientation_covariance=zero,
-            angular_velocity=vec(x=z[i, 0], y=z[i, 1], z=z[i, 2]),
-            angular_velocity_covariance=zero,
-            linear_acceleration=vec(x=z[i, 3], y=z[i, 4], z=z[i, 5]),
-            linear_acceleration_covariance=zero,
-        )  # fmt: skip
-        w.write(conn, ns, store.serialize_ros1(msg, imu.__msgtype__))
-    w.close()
-    return path
-
-
 @pytest.fixture(scope="module", params=[None, "BZ2", "LZ4"])
 def whole(request, tmp_path_factory) -> tuple[Path, np.ndarray]:
     z = imu_values(N, seed=3)
-    return _bag(tmp_path_factory.mktemp("ros1") / "whole.bag", z, request.param), z
+    return write_ros1_chunked(tmp_path_factory.mktemp("ros1") / "whole.bag", z, request.param), z
 
 
 def _read(path: Path) -> tuple[np.ndarray, list[str]]:
