@@ -3,6 +3,7 @@ one with no whole message is refused with one clear error (noisevar.io.logs.mcap
 
 from __future__ import annotations
 
+import json
 import struct
 from pathlib import Path
 
@@ -66,6 +67,18 @@ def test_cut_before_any_message_is_refused(whole, tmp_path, capsys):
     code = main(["topics", str(cut)])
     out, err = capsys.readouterr()
     assert code == 2 and err.count("\n") == 1 and "copy the file again" in err
+
+
+def test_topics_says_the_file_is_cut(whole, tmp_path, capsys):
+    cut = _cut(whole[0], 0.5, tmp_path / "cut.mcap")
+    assert main(["topics", str(cut)]) == 0
+    out, _ = capsys.readouterr()
+    assert "note      the MCAP file is cut short" in out
+    assert main(["topics", str(cut), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert any("cut short" in n for n in data["notes"])
+    assert main(["topics", str(whole[0]), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["notes"] == []
 
 
 def test_forged_chunk_size_stops_the_reading(whole, tmp_path):
