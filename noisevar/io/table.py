@@ -115,7 +115,12 @@ class LoadedTable:
         z = self.columns[name]
         finite = z[np.isfinite(z)]
         varies = finite.size > 1 and finite.max() > finite.min()
-        return varies and not is_time_column(name) and not steps_evenly(finite)
+        return (
+            varies
+            and not is_time_column(name)
+            and not steps_evenly(finite)
+            and not _frame_counter(finite)
+        )
 
     def time(self) -> NDArray | None:
         """The time column (seconds) or None."""
@@ -495,3 +500,16 @@ def table_from_arrays(
     if len(sizes) != 1:
         raise NoisevarError(f"columns of {name} have different lengths: {sorted(sizes)}")
     return LoadedTable(name, cols, kind, None, sample_period, list(notes or []))
+
+
+def _frame_counter(z: NDArray) -> bool:
+    """Whether ``z`` counts frames with some dropped: whole numbers rising by 1 at most steps
+    and never falling or holding (a camera's ``frame_number``, a message's ``seq`` with
+    drops), which :func:`~noisevar._arrays.steps_evenly` does not catch."""
+    steps = np.diff(z)
+    return bool(
+        steps.size > 1
+        and np.all(steps >= 1)
+        and np.all(z == np.round(z))
+        and np.median(steps) == 1
+    )

@@ -43,6 +43,7 @@ from noisevar.io.logs.spec import (
     TopicInfo,
     collecting,
 )
+from noisevar.units import sensor_of
 
 __all__ = [
     "CHUNK",
@@ -53,6 +54,7 @@ __all__ = [
     "Chunk",
     "LogReader",
     "TopicInfo",
+    "default_topic",
     "find_topic",
     "is_ros2_dir",
     "list_topics",
@@ -152,6 +154,22 @@ def list_topics(path: str | Path, name: str | None = None) -> list[TopicInfo]:
         raise
     except Exception as exc:  # noqa: BLE001 - each library raises its own types on bad logs
         raise _failed(reader, name, exc) from None
+
+
+def default_topic(topics: Sequence[TopicInfo]) -> TopicInfo | None:
+    """The topic a log opens on: the first (in the log's order) whose fields hold both an
+    angular rate and an acceleration (an IMU: a ROS ``sensor_msgs/Imu``, PX4's
+    ``sensor_combined``), else the first with either, else the first with numbers; None
+    when none has (the first topic in name order is a ROS log's ``/markers`` or PX4's
+    ``actuator_armed``, seldom the sensor an engineer came for)."""
+    usable = [t for t in topics if t.fields and t.count > 0]
+
+    def kinds(t: TopicInfo) -> set[str]:
+        return {k for f in t.fields if (k := sensor_of(t.units.get(f))) is not None}
+
+    both = [t for t in usable if len(kinds(t)) == 2]
+    either = [t for t in usable if kinds(t)]
+    return next(iter(both + either + usable), None)
 
 
 def find_topic(topics: Sequence[TopicInfo], topic: str | None, name: str) -> TopicInfo:
