@@ -92,3 +92,19 @@ def test_forged_chunk_size_stops_the_reading(whole, tmp_path):
     cut.write_bytes(bytes(data[: len(data) // 2]))
     with pytest.raises(NoisevarError, match="cut short"):
         list_topics(cut)
+
+
+def test_recording_directory_that_never_closed(whole, tmp_path, capsys):
+    """``ros2 bag record`` writes metadata.yaml on closing: a crashed recording's directory
+    has its bag file alone (here cut short too); two files (a split recording) are asked."""
+    rec = tmp_path / "rosbag2_2026_11_27"
+    rec.mkdir()
+    _cut(whole[0], 0.5, rec / "rosbag2_2026_11_27_0.mcap")
+    table = load_log(rec, "/imu", ["angular_velocity.x"])
+    assert table.columns["angular_velocity.x"].size > 0
+    joined = " ".join(table.notes)
+    assert "no metadata.yaml" in joined and "cut short" in joined
+    _cut(whole[0], 0.9, rec / "rosbag2_2026_11_27_1.mcap")
+    assert main(["topics", str(rec)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "give one file" in err

@@ -33,6 +33,7 @@ from numpy.typing import NDArray
 
 from noisevar.errors import NoisevarError
 from noisevar.io.limits import echo
+from noisevar.io.logs.repaired import bag_files, unclosed_dir
 from noisevar.io.logs.spec import (
     CHUNK,
     MAX_FIELDS,
@@ -94,14 +95,25 @@ def reader_for(name: str, head: bytes = b"") -> LogReader | None:
 
 
 def is_ros2_dir(path: Path) -> bool:
-    """Whether ``path`` is a ROS 2 bag directory (``metadata.yaml`` inside)."""
-    return path.is_dir() and (path / "metadata.yaml").is_file()
+    """Whether ``path`` is a ROS 2 bag directory: ``metadata.yaml`` inside, or one bag file
+    and no ``metadata.yaml`` (a recording that never closed: that file is read)."""
+    return path.is_dir() and ((path / "metadata.yaml").is_file() or unclosed_dir(path) is not None)
 
 
 def reader_of(path: Path, name: str) -> LogReader:
     """The reader of the log at ``path`` (by its content, else its name), or an error."""
     if is_ros2_dir(path):
         return next(r for r in readers() if r.name == "rosbag")
+    if path.is_dir():  # not a bag directory (is_ros2_dir): say what it holds
+        files = bag_files(path)
+        held = (
+            f"{len(files)} bag files and no metadata.yaml (a split recording that never "
+            f"closed): give one file, e.g. {echo(files[0].name)}"
+            if files
+            else "no metadata.yaml and no .mcap or .db3 file: give a log file or a ROS 2 bag "
+            "directory"
+        )
+        raise NoisevarError(f"{echo(name)} is a directory with {held}")
     try:
         with path.open("rb") as fh:
             head = fh.read(64)

@@ -34,6 +34,24 @@ _home: list[Path] = []
 _serial = count()
 
 
+#: The files of a ROS 2 bag directory.
+BAG_FILES = (".mcap", ".db3")
+
+
+def bag_files(path: Path) -> list[Path]:
+    """The ROS 2 bag files (``.mcap``, ``.db3``) directly inside the directory ``path``."""
+    return sorted(p for p in path.iterdir() if p.suffix.lower() in BAG_FILES and p.is_file())
+
+
+def unclosed_dir(path: Path) -> Path | None:
+    """The one bag file of a ROS 2 bag directory without ``metadata.yaml`` (a recording that
+    never closed: ``ros2 bag record`` writes it on closing), or None."""
+    if not path.is_dir() or (path / "metadata.yaml").is_file():
+        return None
+    files = bag_files(path)
+    return files[0] if len(files) == 1 else None
+
+
 def repaired(path: Path, rewrite: Callable[[Path, Path], str], suffix: str) -> tuple[Path, str]:
     """The repaired copy of ``path`` (named with ``suffix``) and its note: ``rewrite(src,
     dst)`` writes the copy and returns the note (or raises

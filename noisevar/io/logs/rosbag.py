@@ -23,6 +23,7 @@ from noisevar.errors import NoisevarError
 from noisevar.io.limits import echo
 from noisevar.io.logs.mcap_cut import cut_short, recovered
 from noisevar.io.logs.msgdefs import open_bag
+from noisevar.io.logs.repaired import unclosed_dir
 from noisevar.io.logs.ros_declared import declared_fields
 from noisevar.io.logs.rosbag1_cut import recovered as reindexed
 from noisevar.io.logs.rosbag1_cut import unindexed
@@ -122,6 +123,13 @@ def _open(path: Path):
     """
     from rosbags.typesys import Stores, get_typestore
 
+    lone = unclosed_dir(path)
+    if lone is not None:
+        report(
+            f"the bag directory has no metadata.yaml (a recording that never closed): its "
+            f"one file {lone.name} is read"
+        )
+        path = lone
     if path.suffix.lower() == ".mcap" and cut_short(path):
         path, note = recovered(path)
         report(note)
