@@ -249,6 +249,11 @@ def _with_sampling_note(fit: Any, t: np.ndarray | None, placed: bool) -> Any:
 
 
 def _print_table(fits: dict) -> None:
+    # a note every column carries (their shared times' jitter, say) is printed once, first
+    shared = [n for n in next(iter(fits.values())).notes if len(fits) > 1] if fits else []
+    shared = [n for n in shared if all(n in f.notes for f in fits.values())]
+    for note in shared:
+        print(f"note (every column): {note}")
     for name, fit in fits.items():
         print(f"{name}: {fit.allan.n_samples} samples at {fit.rate:g} Hz, {fit.ci:.1%} intervals")
         for t in fit.terms:
@@ -258,7 +263,8 @@ def _print_table(fits: dict) -> None:
                 f" per sample {t.discrete:.4g} {t.discrete_unit}"
             )
         for note in fit.notes:  # what the figures assume and what the data could not tell
-            print(f"  note: {note}")
+            if note not in shared:
+                print(f"  note: {note}")
 
 
 #: ``--model``'s value for the IEEE-952 fit of :func:`noisevar.inertial_noise`.
