@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 from pathlib import Path
+from typing import BinaryIO
 
 from noisevar.errors import NoisevarError
 from noisevar.io.limits import echo
@@ -47,52 +48,59 @@ def recovered(path: Path) -> tuple[Path, str]:
     return repaired(path, _rewrite, ".mcap")
 
 
+class _Copy:
+    """The MCAP file being written again: its schemas and channels by their id in the cut one."""
+
+    def __init__(self, out: BinaryIO) -> None:
+        from mcap.writer import CompressionType, Writer
+
+        self.writer = Writer(out, compression=CompressionType.NONE)
+        self.writer.start(profile="ros2", library="noisevar (recovered)")
+        self.schemas: dict[int, int] = {}
+        self.channels: dict[int, int] = {}
+        self.kept = 0
+
+    def take(self, rec: object) -> None:
+        """One schema, channel or message record (others are not needed to read messages)."""
+        from mcap.records import Channel, Message, Schema
+
+        w = self.writer
+        if isinstance(rec, Schema) and rec.id not in self.schemas:
+            self.schemas[rec.id] = w.register_schema(rec.name, rec.encoding, rec.data)
+        elif isinstance(rec, Channel) and rec.id not in self.channels:
+            schema = self.schemas.get(rec.schema_id, 0)
+            self.channels[rec.id] = w.register_channel(
+                rec.topic, rec.message_encoding, schema, dict(rec.metadata)
+            )
+        elif isinstance(rec, Message) and rec.channel_id in self.channels:
+            ch = self.channels[rec.channel_id]
+            w.add_message(ch, rec.log_time, rec.data, rec.publish_time, rec.sequence)
+            self.kept += 1
+
+
 def _rewrite(src: Path, dst: Path) -> str:
     """Copy ``src``'s whole records into a complete MCAP at ``dst``; the note."""
-    from mcap.records import Channel, Chunk, Message, Schema
+    from mcap.records import Chunk
     from mcap.stream_reader import StreamReader, breakup_chunk
-    from mcap.writer import CompressionType, Writer
 
-    schemas: dict[int, int] = {}
-    channels: dict[int, int] = {}
-    kept = 0
     with src.open("rb") as fh, dst.open("wb") as out:
-        writer = Writer(out, compression=CompressionType.NONE)
-        writer.start(profile="ros2", library="noisevar (recovered)")
-
-        def take(rec: object) -> None:
-            nonlocal kept
-            if isinstance(rec, Schema) and rec.id not in schemas:
-                schemas[rec.id] = writer.register_schema(rec.name, rec.encoding, rec.data)
-            elif isinstance(rec, Channel) and rec.id not in channels:
-                schema = schemas.get(rec.schema_id, 0)
-                channels[rec.id] = writer.register_channel(
-                    rec.topic, rec.message_encoding, schema, dict(rec.metadata)
-                )
-            elif isinstance(rec, Message) and rec.channel_id in channels:
-                writer.add_message(
-                    channels[rec.channel_id], rec.log_time, rec.data, rec.publish_time,
-                    rec.sequence,
-                )  # fmt: skip
-                kept += 1
-
+        copy = _Copy(out)
         why, at = "the end of the file", len(MAGIC)
         reader = StreamReader(fh, emit_chunks=True, record_size_limit=INFLATE_LIMIT)
         try:
             for rec in reader.records:
                 if isinstance(rec, Chunk):  # inflated here, bounded; then split by mcap
                     data = inflate(rec.compression, rec.data, rec.uncompressed_size)
-                    rec = replace(rec, compression="", data=data)
-                    for inner in breakup_chunk(rec, validate_crc=True):
-                        take(inner)
+                    for inner in breakup_chunk(replace(rec, compression="", data=data), True):
+                        copy.take(inner)
                 else:
-                    take(rec)
+                    copy.take(rec)
                 at = fh.tell()  # the end of the last whole record
         except Exception as exc:  # noqa: BLE001 - the cut ends the records any way it falls
             why = f"then a record cut short or damaged: {type(exc).__name__}"
-        writer.finish()
+        copy.writer.finish()
     size = src.stat().st_size
-    if kept == 0:
+    if copy.kept == 0:
         raise NoisevarError(
             f"{echo(src.name)} is an MCAP file cut short with no whole message before the "
             f"cut (whole records up to byte {at:,} of {size:,}, {why}): copy the file "
@@ -100,6 +108,6 @@ def _rewrite(src: Path, dst: Path) -> str:
         )
     return (
         f"the MCAP file is cut short (no summary or footer: a recording that never closed); "
-        f"{kept:,} messages (all topics) read from its whole records, up to byte {at:,} of "
-        f"{size:,} ({why}); what was recorded after them is lost"
+        f"{copy.kept:,} messages (all topics) read from its whole records, up to byte {at:,} "
+        f"of {size:,} ({why}); what was recorded after them is lost"
     )
