@@ -79,3 +79,23 @@ def test_forged_chunk_size_stops_the_reading(whole, tmp_path):
     got, notes = _read(cut)
     assert 0 < got.size < N and np.array_equal(got, z[: got.size, 0])
     assert any("damaged" in n for n in notes)
+
+
+def test_batch_rows_say_a_bag_was_cut(whole, tmp_path):
+    """A fleet folder of bags: one cut short, one whole; the folder holding one .mcap among
+    others is a folder of logs, not a recording directory."""
+    from noisevar.batch._task import file_rows
+    from noisevar.io.logs import is_ros2_dir
+
+    src, _ = whole
+    folder = tmp_path / "fleet"
+    folder.mkdir()
+    data = src.read_bytes()
+    (folder / "cut.bag").write_bytes(data[: int(0.6 * len(data))])
+    (folder / "whole.bag").write_bytes(data)
+    (folder / "one.mcap").write_bytes(b"\x89MCAP0\r\n")
+    assert not is_ros2_dir(folder)
+    cut = file_rows(str(folder / "cut.bag"), ["angular_velocity.x"], "auto", {}, topic="/imu")
+    fine = file_rows(str(folder / "whole.bag"), ["angular_velocity.x"], "auto", {}, topic="/imu")
+    assert cut[0]["notes"].startswith("the ROS 1 bag has no index")
+    assert "no index" not in (fine[0]["notes"] or "")

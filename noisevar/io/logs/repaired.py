@@ -45,11 +45,19 @@ def bag_files(path: Path) -> list[Path]:
 
 def unclosed_dir(path: Path) -> Path | None:
     """The one bag file of a ROS 2 bag directory without ``metadata.yaml`` (a recording that
-    never closed: ``ros2 bag record`` writes it on closing), or None."""
+    never closed: ``ros2 bag record`` writes it on closing), or None.
+
+    The directory holds that file alone (with sqlite's ``-wal``/``-shm``/``-journal`` beside
+    a ``.db3``): a folder of logs that happens to hold one ``.mcap`` is not a bag.
+    """
     if not path.is_dir() or (path / "metadata.yaml").is_file():
         return None
     files = bag_files(path)
-    return files[0] if len(files) == 1 else None
+    if len(files) != 1:
+        return None
+    sidecars = {files[0].name + s for s in ("-wal", "-shm", "-journal")}
+    rest = [p for p in path.iterdir() if p != files[0] and not p.name.startswith(".")]
+    return files[0] if all(p.name in sidecars for p in rest) else None
 
 
 def repaired(path: Path, rewrite: Callable[[Path, Path], str], suffix: str) -> tuple[Path, str]:

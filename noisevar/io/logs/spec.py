@@ -135,21 +135,22 @@ class LogReader:
         return any(lower.endswith(s) for s in self.suffixes if s not in SHARED_SUFFIXES)
 
 
-_NOTES: ContextVar[list[str] | None] = ContextVar("noisevar_log_notes", default=None)
+_NOTES: ContextVar[tuple[list[str], ...]] = ContextVar("noisevar_log_notes", default=())
 
 
 def report(note: str) -> None:
     """Tell the user something about the log being read (a file cut short, say): it joins
-    the loaded table's notes (:func:`collecting`); said once."""
-    got = _NOTES.get()
-    if got is not None and note not in got:
-        got.append(note)
+    every enclosing :func:`collecting` list (the loaded table's notes, a batch row's), once."""
+    for got in _NOTES.get():
+        if note not in got:
+            got.append(note)
 
 
 @contextmanager
 def collecting(notes: list[str]) -> Iterator[None]:
-    """Collect the readers' :func:`report` notes made in this block into ``notes``."""
-    token = _NOTES.set(notes)
+    """Collect the readers' :func:`report` notes made in this block into ``notes`` (nested
+    blocks each get them)."""
+    token = _NOTES.set((*_NOTES.get(), notes))
     try:
         yield
     finally:
