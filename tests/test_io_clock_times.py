@@ -1,6 +1,7 @@
-"""Time columns written as a clock (Physics Toolbox Sensor Suite, a teacher's phone app):
-``13:58:58:081`` (Android, milliseconds after a colon), ``58:58.081`` (iOS, a minute clock,
-``;``-separated), across midnight and the hour: read as seconds, the sample period kept."""
+"""Phone apps' time columns (the exports teachers and students bring): a clock (Physics
+Toolbox Sensor Suite: ``13:58:58:081`` on Android, milliseconds after a colon; ``58:58.081``
+on iOS, a minute clock, ``;``-separated), across midnight and the hour, read as seconds;
+AndroSensor's and SensorLog's time columns in their stated units."""
 
 from __future__ import annotations
 
@@ -49,3 +50,27 @@ def test_hours_and_minutes_alone_are_not_a_clock(tmp_path):
     path.write_text("time,x\n" + "".join(f"12:{i:02d},{i % 7}\n" for i in range(50)))
     with pytest.raises(NoisevarError, match="is not a number"):
         load_table(path)
+
+
+def test_phone_app_time_columns(tmp_path):
+    """AndroSensor's ``Time since start in ms`` and SensorLog's
+    ``accelerometerTimestamp_sinceReboot(s)``: time columns in their stated units."""
+    rng = np.random.default_rng(1)
+    andro = tmp_path / "andro.csv"
+    andro.write_text(
+        "ACCELEROMETER X (m/s²);ACCELEROMETER Y (m/s²);Time since start in ms \n"
+        + "".join(f"{rng.normal():.4f};{rng.normal():.4f};{i * 20}\n" for i in range(500))
+    )
+    table = load_table(andro)
+    assert table.time_column == "Time since start in ms"
+    assert table.sample_period == pytest.approx(0.02)
+    assert table.first_signal == "ACCELEROMETER X (m/s²)"
+    sl = tmp_path / "sensorlog.csv"
+    sl.write_text(
+        "loggingSample(N),accelerometerTimestamp_sinceReboot(s),accelerometerAccelerationX(G)\n"
+        + "".join(f"{i},{1000 + i * 0.01:.3f},{rng.normal() * 0.01:.5f}\n" for i in range(500))
+    )
+    table = load_table(sl)
+    assert table.time_column == "accelerometerTimestamp_sinceReboot(s)"
+    assert table.sample_period == pytest.approx(0.01)
+    assert table.first_signal == "accelerometerAccelerationX(G)"  # not the sample counter

@@ -201,8 +201,9 @@ def is_time_column(name: str) -> bool:
     """A text or ``.npy`` column read as the time column: a time name, or ``timestamp_us``,
     ``t_ms`` (a time word with its unit; :func:`time_in_seconds` scales them)."""
     base = time_key(name)
-    named = base.startswith(("timestamp_", "t_")) and time_unit(name) is not None
-    return _is_time_name(name) or named
+    # a time word with its unit: timestamp_us, t_ms, SensorLog's accelerometerTimestamp(s)
+    worded = base.startswith(("timestamp_", "t_")) or "timestamp" in base
+    return _is_time_name(name) or (worded and time_unit(name) is not None)
 
 
 #: Time units a time column's name may state, as a suffix (``time_ns``, ``timestamp_us``,
@@ -214,7 +215,8 @@ TIME_UNITS = {"ns": 1e-9, "nsec": 1e-9, "us": 1e-6, "usec": 1e-6, "µs": 1e-6, "
 def time_unit(name: str) -> str | None:
     """The time unit a column's name states (``time_ns``: ``"ns"``; ``t [ms]``), else None."""
     m = re.search(r"[\[\(]\s*([^\[\]\(\)]{1,8}?)\s*[\]\)]\s*$", name)
-    word = m[1] if m else name.strip().lower().rpartition("_")[2] if "_" in name else ""
+    key = name.strip().lower().replace(" ", "_")  # AndroSensor's "Time since start in ms"
+    word = m[1] if m else key.rpartition("_")[2] if "_" in key else ""
     if word in TIME_UNITS:
         return word
     return NAMED_TIME_UNITS.get(time_key(name))
