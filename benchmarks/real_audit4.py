@@ -403,8 +403,10 @@ def findings() -> list[str]:
         f"(`tests/logs/test_short_pieces_between_gaps.py`: evo's 165 steps, seed 223: R = "
         f"{r.variance:.4g}, ci95 {r.ci95[0]:.3g}-{r.ci95[1]:.3g}). (3) ROS poses, velocities "
         "and forces carry REP 103's units (`tests/logs/test_ros_pose_units.py`). (4) The "
-        "repair line of an unreadable bag names `mcap recover` for an MCAP file cut short "
-        "(rosbags needs its footer: such a file is refused, not read up to the cut).",
+        "repair line of an unreadable bag names `mcap recover` for an MCAP file damaged "
+        "inside. **Since (fourteenth session):** an MCAP file cut short (no footer: rosbags "
+        "refused it) is read up to its last whole chunk through the `mcap` library, with a "
+        "note (`noisevar/io/logs/mcap_cut.py`, `tests/logs/test_mcap_cut.py`).",
         "",
         "**Fixed since (flat28).** The ship's temperature (1-degree steps with spikes to "
         "139-255 degC) read with its stamps: an offset or a scale that is not a power of two "

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any
@@ -144,6 +145,16 @@ def sensor_of(text: str | None) -> str | None:
     except NoisevarError:
         return None
     return next((k for k, si in SENSOR_SI.items() if unit is not None and unit.si == si), None)
+
+
+def sensor_columns(declared: Mapping[str, str | None]) -> tuple[list[str], list[str]]:
+    """The columns whose declared unit is an angular rate, and those in an acceleration
+    (:func:`sensor_of`), each in the columns' order: a ROS Imu message's
+    ``angular_velocity.*`` and ``linear_acceleration.*``, EuRoC's ``[rad s^-1]`` and
+    ``[m s^-2]``."""
+    kinds = {c: sensor_of(u) for c, u in declared.items()}
+    gyro = [c for c, k in kinds.items() if k == "gyro"]
+    return gyro, [c for c, k in kinds.items() if k == "accel"]
 
 
 def declared_unit(text: str | None) -> str | None:

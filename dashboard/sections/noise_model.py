@@ -21,6 +21,7 @@ from noisevar.noise_model import AllanResult, InertialNoise, allan, exports, ine
 from noisevar.noise_model.allan import DATA_KINDS, KINDS, default_data
 from noisevar.noise_model.kalibr import kalibr_imu
 from noisevar.noise_model.simulate import simulate_inertial
+from noisevar.units import sensor_columns
 
 _KIND_LABELS = {"oadev": "Overlapping ADEV", "mdev": "Modified ADEV", "hdev": "Overlapping HDEV"}
 _TERM_FORMATS = {"value": "%.4g", "low": "%.4g", "high": "%.4g", "per sample": "%.4g"}
@@ -263,6 +264,20 @@ def composite_cached(digest: str, rate: float, unit: str, regimes: str, _z: np.n
     return fit
 
 
+def _sensor_defaults(sig: LoadedSignal, cols: list[str]) -> None:
+    """The gyroscope and accelerometer pickers start on the columns the file declares in an
+    angular-rate and an acceleration unit (as ``noisevar imu --export`` takes them), and
+    drop a choice the loaded file does not have."""
+    if sig.topics is not None:
+        units = {c: sig.topics.column(c).unit for c in cols}
+    else:
+        units = {c: sig.table.units.get(c) for c in cols}
+    for key, found in zip(("nm_gyro", "nm_accel"), sensor_columns(units), strict=True):
+        held = st.session_state.get(key)
+        if held is None or any(c not in cols for c in held):
+            st.session_state[key] = found
+
+
 def kalibr_export(sig: LoadedSignal, s: NoiseModelSettings) -> None:
     """Kalibr imu.yaml from the gyroscope and accelerometer columns of the loaded file."""
     cols = imu_columns(sig)
@@ -271,6 +286,7 @@ def kalibr_export(sig: LoadedSignal, s: NoiseModelSettings) -> None:
         c1, c2, c3 = st.columns([2, 2, 1])
     else:  # topic/field names: a picker a row, or three chips overflow a half-width box
         c1, c2, c3 = st.container(), st.container(), st.columns([1, 3])[0]
+    _sensor_defaults(sig, cols)
     gyro = c1.multiselect("Gyroscope columns (rad/s)", cols, key="nm_gyro")
     accel = c2.multiselect("Accelerometer columns (m/s²)", cols, key="nm_accel")
     inflation = c3.number_input(

@@ -14,7 +14,7 @@ from dashboard.state import LoadedSignal, current_signal
 from dashboard.text import plain
 from dashboard.url_params import RECIPE_PARAMS
 from dashboard.widgets import guarded, how_it_works, param_input
-from noisevar.io.logs import log_suffixes
+from noisevar.io.logs import default_topic, log_suffixes
 from noisevar.signals import PAPER_SIGNAL, signal_spec
 
 
@@ -154,8 +154,13 @@ def _log_topic(up, errors: DeltaGenerator) -> tuple[str, list[str]] | None | boo
         + (f", {t.rate:.4g} Hz)" if t.rate else ")")
         for t in usable
     }
+    first = default_topic(usable)  # an IMU's topic when the log has one
     topic = st.selectbox(
-        "Topic", list(labels), format_func=labels.get, key=f"upload_topic_{up.file_id}"
+        "Topic",
+        list(labels),
+        index=list(labels).index(first.name) if first is not None else 0,
+        format_func=labels.get,
+        key=f"upload_topic_{up.file_id}",
     )
     others = [t for t in labels if t != topic]
     also = st.multiselect(
@@ -178,7 +183,8 @@ def uploader(errors: DeltaGenerator) -> None:
         f"CSV/TSV (header optional; a column named t/time gives the sample period; a decimal "
         f"comma with `;` separators, as European spreadsheets export, is read too), `.npy` "
         f"(numeric arrays only), or NMEA 0183 GGA/RMC (converted to local east/north metres, "
-        f"speed and course); or a log: ROS 1/2 bag (`.bag`, `.mcap`, `.db3`), PX4 ULog, "
+        f"speed and course); or a log: ROS 1/2 bag (`.bag`, `.mcap`, `.db3`; one cut short, "
+        f"or a recorder's `.bag.active`, is read up to its cut), PX4 ULog, "
         f"ArduPilot DataFlash (`.bin`, `.log`), Parquet or HDF5, one topic for the signal "
         f"(more for the IMU model) with the log's own timestamps. Up to {limit_mb:.0f} MB."
     )

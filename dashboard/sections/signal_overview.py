@@ -102,10 +102,11 @@ def summary_metrics(sig: LoadedSignal, errors: DeltaGenerator) -> None:
             help="Quick estimate with the default method; tune it on the Estimator page.",
         )
     record_answer_box(auto)  # the record's verdict and regime warning, with its R
-    said = declared_note(
-        record_answer(auto), sig.table.declared_variance.get(sig.column), signal_units()
-    )
-    if said and auto.diagnostics is not None:  # a ROS message's own covariance: its R
+    declared = sig.table.declared_variance.get(sig.column)
+    said = None  # no estimate (the column could not be estimated): nothing to compare
+    if auto is not None and auto.diagnostics is not None:
+        said = declared_note(record_answer(auto), declared, signal_units())
+    if said:  # a ROS message's own covariance: its R
         st.info(said[0].upper() + said[1:] + ".", icon=":material/compare_arrows:")
     for note in sig.notes:
         st.caption(f"Note: {note}")

@@ -74,13 +74,16 @@ def file_rows(
     """
     from noisevar.batch.digest import file_digest
     from noisevar.io import load_table
+    from noisevar.io.logs.spec import collecting
 
     start = time.perf_counter()
     digest = None
+    said: list[str] = []  # what a log's reader says of the file (a bag cut short...)
     try:
         # hashed streamed and read by path (a log streamed too): any size, bounded memory
         digest = file_digest(path)
-        table = load_table(path, os.path.basename(os.path.normpath(path)), topic=topic)
+        with collecting(said):
+            table = load_table(path, os.path.basename(os.path.normpath(path)), topic=topic)
         channels = table_channels(table, columns)
     except (NoisevarError, OSError) as exc:
         msg = str(exc) if isinstance(exc, NoisevarError) else f"cannot read {path}: {exc}"
@@ -99,6 +102,8 @@ def file_rows(
     for r in rows:
         r["hash"] = digest
         r["sample_rate_hz"] = rate
+        if said:  # the file's own notes first, in the row's one notes field
+            r["notes"] = " | ".join([*said, *([r["notes"]] if r.get("notes") else [])])
     return rows
 
 

@@ -28,7 +28,7 @@ from noisevar.cli._temperature import print_models, split_temperature, temperatu
 from noisevar.cli.allan import load_columns
 from noisevar.errors import NoisevarError
 from noisevar.io.limits import echo
-from noisevar.units import declared_unit, sensor_of
+from noisevar.units import declared_unit, sensor_columns
 
 
 def _columns(args: argparse.Namespace) -> list[str] | None:
@@ -127,6 +127,28 @@ def _need_sensors(args: argparse.Namespace, flag: str) -> None:
         )
 
 
+def _inertial_only(args: argparse.Namespace, data: dict, declared: dict, notes: list[str]) -> dict:
+    """With no column asked for, the columns whose declared unit is an angular rate or an
+    acceleration, when the file declares any (a ROS Imu message's orientation quaternion is
+    not a sensor's noise), with a note of those left out; else every column."""
+    if _columns(args) is not None:
+        return data
+    gyro, accel = sensor_columns({c: declared.get(c) for c in data})
+    inertial = {*gyro, *accel}
+    if not inertial:
+        return data
+    keep = inertial | {args.temperature} if args.temperature else inertial
+    out = {c: z for c, z in data.items() if c in keep}
+    left = [c for c in data if c not in keep]
+    if left:
+        notes.append(
+            f"fitting the {len(inertial)} columns in an angular-rate or acceleration unit; "
+            f"left out: {', '.join(left[:8])}{' ...' if len(left) > 8 else ''} (give "
+            "--columns to fit others)"
+        )
+    return out
+
+
 def _sensors_by_unit(args: argparse.Namespace, declared: dict, notes: list[str]) -> None:
     """``--gyro`` and ``--accel`` from the units the file declares, when neither is given and
     a consumer file is asked for: three columns in an angular-rate unit and three in an
@@ -134,9 +156,7 @@ def _sensors_by_unit(args: argparse.Namespace, declared: dict, notes: list[str])
     else left for :func:`_need_sensors` to ask for."""
     if args.gyro or args.accel or not (args.kalibr or args.export):
         return
-    kinds = {c: sensor_of(u) for c, u in declared.items()}
-    gyro = [c for c, k in kinds.items() if k == "gyro"]
-    accel = [c for c, k in kinds.items() if k == "accel"]
+    gyro, accel = sensor_columns(declared)
     if len(gyro) == 3 and len(accel) == 3:
         args.gyro, args.accel = gyro, accel
         notes.append(
@@ -229,6 +249,11 @@ def _with_sampling_note(fit: Any, t: np.ndarray | None, placed: bool) -> Any:
 
 
 def _print_table(fits: dict) -> None:
+    # a note every column carries (their shared times' jitter, say) is printed once, first
+    shared = [n for n in next(iter(fits.values())).notes if len(fits) > 1] if fits else []
+    shared = [n for n in shared if all(n in f.notes for f in fits.values())]
+    for note in shared:
+        print(f"note (every column): {note}")
     for name, fit in fits.items():
         print(f"{name}: {fit.allan.n_samples} samples at {fit.rate:g} Hz, {fit.ci:.1%} intervals")
         for t in fit.terms:
@@ -238,7 +263,8 @@ def _print_table(fits: dict) -> None:
                 f" per sample {t.discrete:.4g} {t.discrete_unit}"
             )
         for note in fit.notes:  # what the figures assume and what the data could not tell
-            print(f"  note: {note}")
+            if note not in shared:
+                print(f"  note: {note}")
 
 
 #: ``--model``'s value for the IEEE-952 fit of :func:`noisevar.inertial_noise`.
@@ -300,6 +326,7 @@ def _cmd_imu(args: argparse.Namespace) -> int:
 
         consumers(args.export)  # refuse an unknown consumer before reading the file
     data, rates, declared, times, loaded = _load(args)
+    data = _inertial_only(args, data, declared, loaded)
     _sensors_by_unit(args, declared, loaded)
     rate = next(iter(rates.values()), None)  # one topic or file: one rate
     temp = split_temperature(args, data, rate)

@@ -18,16 +18,20 @@ def _cmd_topics(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from noisevar.io.logs import list_topics, reader_of
+    from noisevar.io.logs.spec import collecting
 
     name = os.path.basename(os.path.normpath(args.log))
     reader = reader_of(Path(args.log), name)
-    topics = list_topics(args.log, name)
+    notes: list[str] = []  # what the reader says of the file (a bag cut short...)
+    with collecting(notes):
+        topics = list_topics(args.log, name)
     if args.format == "json":
-        print_json(
-            {"file": args.log, "format": reader.name, "topics": [t.to_dict() for t in topics]}
-        )
+        listed = [t.to_dict() for t in topics]
+        print_json({"file": args.log, "format": reader.name, "topics": listed, "notes": notes})
         return 0
     print(f"log       {echo(args.log, 200)} ({reader.title}, {len(topics)} topics)")
+    for note in notes:
+        print(f"note      {note}")
     width = max([len("topic"), *(len(echo(t.name)) for t in topics)])
     mwidth = max([len("message"), *(len(echo(t.message)) for t in topics)])
     print(f"{'topic':<{width}}  {'message':<{mwidth}}  {'count':>9}  {'rate_hz':>9}")

@@ -144,6 +144,12 @@ def from_sums(
         keep_w, used, head = _without_glitches(sums, keep_w, used, head, seg, glitches)
     if lone_ones.size and read is not None:
         _bridge(sums, lone_ones, read)
+    # the increments' test and the tails (numpy, which releases the interpreter) beside
+    # the whiteness test and the level profile (PELT: Python); the same numbers
+    def beside() -> tuple[WhitenessTest, float]:
+        return whiteness_test(dz, np.ones(1), keep=used), tail_index(e_w[keep_w])
+
+    aside = spawn(beside) if spawn is not None else beside
     white = whiteness_test(e_w, d, keep=keep_w, inflation=_hetero(sums.wide))
 
     def kinds() -> tuple[tuple[int, int], ...]:
@@ -155,15 +161,14 @@ def from_sums(
     # say which coloured noise (costly: only when it is coloured)
     types = (lambda: ()) if white.white else (spawn or _now)(kinds)
     profile, blocks, total, kept, kurt = _profile(sums)
-    slots = _residual_slots(plan, sums.white.joined_slots())
-    block_of = np.where(slots >= 0, slots // plan.profile.size, -1)
-    still_white = _still_whiteness(plan, profile, e_w, keep_w, block_of, d, blocks)
+    still_white = _still_whiteness(plan, profile, e_w, keep_w, sums, d, blocks)
+    increments, tails = aside()
     diag = NoiseDiagnostics(
         n=plan.n,
         whiteness=white,
-        increments=whiteness_test(dz, np.ones(1), keep=used),
+        increments=increments,
         kurtosis=kurt,
-        tail_index=tail_index(e_w[keep_w]),
+        tail_index=tails,
         lsb=sums.lsb(),
         gaps=seg.gaps,
         jitter=seg.jitter,
@@ -317,17 +322,20 @@ def _still_whiteness(
     profile: LevelProfile,
     e: NDArray,
     keep: NDArray,
-    block_of: NDArray,
+    sums: DiagSums,
     d: NDArray,
     blocks: list[int],
 ) -> WhitenessTest | None:
     """The whiteness test on the quiet blocks alone, when the level varies.
 
     The evidence that orders the verdict: motion that leaks through the smoother makes
-    a record non-white while its still stretches stay white.
+    a record non-white while its still stretches stay white. (Each whiteness-window
+    position's profile block is found only then.)
     """
     if all(r.still for r in profile.regimes):
         return None
+    slots = _residual_slots(plan, sums.white.joined_slots())
+    block_of = np.where(slots >= 0, slots // plan.profile.size, -1)
     quiet_ids = np.asarray(blocks)[profile.quiet]
     inside = keep & np.isin(block_of, quiet_ids)
     if np.count_nonzero(inside) < STILL_WHITE_MIN:

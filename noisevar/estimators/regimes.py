@@ -18,7 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
 from noisevar.estimators.results import VarianceEstimate
-from noisevar.estimators.still_set import STILL_MIN, still_gap
+from noisevar.estimators.still_set import STILL_MIN, USE_ALL, still_gap
 
 __all__ = [
     "DEFAULT_REGIMES",
@@ -135,7 +135,7 @@ def longest_still_stretch(
         est = estimate(arr) if est is None else est
     except NoisevarError as exc:
         raise NoisevarError(
-            f"regimes='still': the record's regimes could not be found ({exc}); use regimes='all'"
+            f"regimes='still': the record's regimes could not be found ({exc}); {USE_ALL}"
         ) from exc
     diag = est.diagnostics
     gap = still_gap(diag, est.variance, est.still)  # the one rule, as variance_for's
@@ -147,14 +147,14 @@ def longest_still_stretch(
     if not stretches:
         raise NoisevarError(
             "regimes='still': the record has no still stretch (its level varies throughout); "
-            "record the sensor still for a while, or use regimes='all'"
+            f"record the sensor still for a while, or {USE_ALL}"
         )
     a, b = max(stretches, key=lambda s: s[1] - s[0])
     if b - a < need:
         raise NoisevarError(
             f"regimes='still': the longest still stretch (samples {a} to {b}, {b - a} samples) "
             f"is too short for {purpose}, which needs {need}; record the sensor still for "
-            "longer, or use regimes='all'"
+            f"longer, or {USE_ALL}"
         )
     return StillStretch(int(a), int(b), int(arr.shape[0]), False)
 

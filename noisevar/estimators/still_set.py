@@ -22,6 +22,9 @@ if TYPE_CHECKING:
 #: shorter pieces say little). Fewer in every piece: the record has no still R to use.
 STILL_MIN = 64
 
+#: What a still fit that cannot be made asks for instead, on every surface.
+USE_ALL = "use regimes='all' (CLI --regimes all; dashboard: untick the still regimes only)"
+
 
 def still_gap(
     diag: NoiseDiagnostics | None, variance: float, still: VarianceEstimate | None
@@ -57,18 +60,17 @@ def still_gap(
     if kind in ("have", "one"):
         return None
     if kind == "unknown":
-        return "regimes='still': the record's regimes could not be found; use regimes='all'"
+        return f"regimes='still': the record's regimes could not be found; {USE_ALL}"
     if kind == "none":
         return (
             "regimes='still': the record has no still stretch (its level varies throughout "
-            "and no stretch of it is quiet); record the sensor still for a while, or use "
-            "regimes='all'"
+            f"and no stretch of it is quiet); record the sensor still for a while, or {USE_ALL}"
         )
     return (
         f"regimes='still': the still stretches total {total} samples ({share:.0%} "
         f"of the record), in pieces shorter than the {STILL_MIN} samples R's method needs "
         "(still on both block grids, away from jumps), so there is no still R to use; "
-        "record the sensor still for longer, or use regimes='all'"
+        f"record the sensor still for longer, or {USE_ALL}"
     )
 
 

@@ -14,6 +14,7 @@ from numpy.typing import ArrayLike, NDArray
 from noisevar._arrays import steps_evenly
 from noisevar.errors import NoisevarError
 from noisevar.io.limits import ECHO_LIMIT, echo  # noqa: F401 - their home is io.limits
+from noisevar.units import sensor_of
 
 #: Names (lower case, units in brackets stripped) recognised as a time column.
 TIME_NAMES = ("t", "time", "time_s", "times", "timestamp", "seconds", "sec", "secs", "s", "epoch",
@@ -91,14 +92,18 @@ class LoadedTable:
         Not a log's second clock (``rostopic echo -p``'s ``%time`` beside the message's own
         stamp), a counter (``field.header.seq``: :func:`noisevar._arrays.steps_evenly`) or a
         constant field (an orientation the log does not fill, a covariance of -1), which
-        come first in ROS messages; each can still be named. A signal without empty/NaN
-        cells comes before one with them; with no signal, the first data column without
-        them, else the first; None when there is no data column.
+        come first in ROS messages; each can still be named. A signal in a sensor's unit
+        (an angular rate, an acceleration: :func:`noisevar.units.sensor_of`) comes first
+        (a ROS Imu message's ``angular_velocity.x``, not the orientation an AHRS fills);
+        then one without empty/NaN cells before one with them; with no signal, the first
+        data column without them, else the first; None when there is no data column.
         """
         cols = self.data_columns
         whole = [c for c in cols if np.all(np.isfinite(self.columns[c]))]
         signals = self.signals
-        return next(iter([c for c in signals if c in whole] + signals + whole + cols), None)
+        sensed = [c for c in signals if c in whole and sensor_of(self.units.get(c))]
+        order = sensed + [c for c in signals if c in whole] + signals + whole + cols
+        return next(iter(order), None)
 
     @property
     def signals(self) -> list[str]:
@@ -110,7 +115,12 @@ class LoadedTable:
         z = self.columns[name]
         finite = z[np.isfinite(z)]
         varies = finite.size > 1 and finite.max() > finite.min()
-        return varies and not is_time_column(name) and not steps_evenly(finite)
+        return (
+            varies
+            and not is_time_column(name)
+            and not steps_evenly(finite)
+            and not _frame_counter(finite)
+        )
 
     def time(self) -> NDArray | None:
         """The time column (seconds) or None."""
@@ -191,8 +201,9 @@ def is_time_column(name: str) -> bool:
     """A text or ``.npy`` column read as the time column: a time name, or ``timestamp_us``,
     ``t_ms`` (a time word with its unit; :func:`time_in_seconds` scales them)."""
     base = time_key(name)
-    named = base.startswith(("timestamp_", "t_")) and time_unit(name) is not None
-    return _is_time_name(name) or named
+    # a time word with its unit: timestamp_us, t_ms, SensorLog's accelerometerTimestamp(s)
+    worded = base.startswith(("timestamp_", "t_")) or "timestamp" in base
+    return _is_time_name(name) or (worded and time_unit(name) is not None)
 
 
 #: Time units a time column's name may state, as a suffix (``time_ns``, ``timestamp_us``,
@@ -204,7 +215,8 @@ TIME_UNITS = {"ns": 1e-9, "nsec": 1e-9, "us": 1e-6, "usec": 1e-6, "µs": 1e-6, "
 def time_unit(name: str) -> str | None:
     """The time unit a column's name states (``time_ns``: ``"ns"``; ``t [ms]``), else None."""
     m = re.search(r"[\[\(]\s*([^\[\]\(\)]{1,8}?)\s*[\]\)]\s*$", name)
-    word = m[1] if m else name.strip().lower().rpartition("_")[2] if "_" in name else ""
+    key = name.strip().lower().replace(" ", "_")  # AndroSensor's "Time since start in ms"
+    word = m[1] if m else key.rpartition("_")[2] if "_" in key else ""
     if word in TIME_UNITS:
         return word
     return NAMED_TIME_UNITS.get(time_key(name))
@@ -490,3 +502,16 @@ def table_from_arrays(
     if len(sizes) != 1:
         raise NoisevarError(f"columns of {name} have different lengths: {sorted(sizes)}")
     return LoadedTable(name, cols, kind, None, sample_period, list(notes or []))
+
+
+def _frame_counter(z: NDArray) -> bool:
+    """Whether ``z`` counts frames with some dropped: whole numbers rising by 1 at most steps
+    and never falling or holding (a camera's ``frame_number``, a message's ``seq`` with
+    drops), which :func:`~noisevar._arrays.steps_evenly` does not catch."""
+    steps = np.diff(z)
+    return bool(
+        steps.size > 1
+        and np.all(steps >= 1)
+        and np.all(z == np.round(z))
+        and np.median(steps) == 1
+    )

@@ -151,10 +151,38 @@ def _parse_time_strings(values: list[str]) -> NDArray | None:
     except (ValueError, TypeError, OverflowError):
         t = _guessed_times(values)
         if t is None:
-            return None
+            return _clock_times(values)
     if np.any(np.isnat(t)):
         return None
     return (t - t[0]).astype("timedelta64[ns]").astype(float) / 1e9
+
+
+#: A time of day, ``13:58:58.081`` or, as Physics Toolbox writes it on Android,
+#: ``13:58:58:081`` (its milliseconds after a colon); and a minute clock, ``58:58.081``.
+_HMS = re.compile(r"(\d{1,2}):(\d{2}):(\d{2})(?:[.:](\d{1,9}))?")
+_MS = re.compile(r"(\d{1,3}):(\d{2})\.(\d{1,9})")
+
+
+def _clock_times(values: list[str]) -> NDArray | None:
+    """Times of day (or minute clocks) to seconds from the first; None unless every value is one.
+
+    A clock that steps back by over half its turn has turned (midnight; the hour of a
+    minute clock): the turn is added, so the seconds keep rising.
+    """
+    for pattern, turn in ((_HMS, 86400.0), (_MS, 3600.0)):
+        hits = [pattern.fullmatch(v) for v in values]
+        if not values or not all(hits):
+            continue
+        parts = [m.groups() for m in hits if m is not None]
+        if turn == 3600.0:
+            parts = [("0", *g) for g in parts]
+        sec = np.array(
+            [int(h) * 3600 + int(m) * 60 + int(s) + float(f"0.{f or 0}") for h, m, s, f in parts]
+        )
+        back = np.diff(sec) < -turn / 2
+        sec[1:] += turn * np.cumsum(back)
+        return sec - sec[0]
+    return None
 
 
 def _guessed_times(values: list[str]) -> NDArray | None:

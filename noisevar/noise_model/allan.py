@@ -292,7 +292,8 @@ def regime_warning(z: ArrayLike, est: VarianceEstimate | None = None) -> list[st
         return []
     return [
         f"regimes='all': {REGIME_WARNING}; this fit is of the whole record, motion "
-        "included, not the sensor's noise: fit the still regimes only with regimes='still'"
+        "included, not the sensor's noise: fit the still regimes only (regimes='still'; "
+        "CLI --regimes still; dashboard: use the still regimes only)"
     ]
 
 

@@ -201,3 +201,60 @@ def write_ulog_imu_fifos(
         src = out
         truth[name] = float(sigma * scale / np.sqrt(rate))
     return truth
+
+
+def rechunked_mcap(src: Path, dst: Path, compression: str = "ZSTD", chunk: int = 20_000) -> Path:
+    """The MCAP file ``src`` written again in small chunks (``chunk`` bytes), as a recorder does."""
+    from mcap.reader import make_reader
+    from mcap.writer import CompressionType, Writer
+
+    with src.open("rb") as fh, dst.open("wb") as out:
+        reader = make_reader(fh)
+        w = Writer(out, chunk_size=chunk, compression=CompressionType[compression])
+        w.start(profile="ros2", library="test")
+        ids_s, ids_c = {}, {}
+        for schema, channel, msg in reader.iter_messages():
+            if schema.id not in ids_s:
+                ids_s[schema.id] = w.register_schema(schema.name, schema.encoding, schema.data)
+            if channel.id not in ids_c:
+                ids_c[channel.id] = w.register_channel(
+                    channel.topic, channel.message_encoding, ids_s[schema.id], channel.metadata
+                )
+            w.add_message(ids_c[channel.id], msg.log_time, msg.data, msg.publish_time)
+        w.finish()
+    return dst
+
+
+def write_ros1_chunked(
+    path: Path, z: np.ndarray, compression: str | None = None, chunk: int = 40_000
+) -> Path:
+    """``z`` (n, 6) as sensor_msgs/Imu on /imu in a ROS 1 bag of small chunks (``chunk``
+    bytes; a recorder's are 768 KB), optionally BZ2 or LZ4 compressed."""
+    from rosbags.rosbag1 import Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    store = get_typestore(Stores.ROS1_NOETIC)
+    ty = store.types
+    imu, hdr = ty["sensor_msgs/msg/Imu"], ty["std_msgs/msg/Header"]
+    tm, vec = ty["builtin_interfaces/msg/Time"], ty["geometry_msgs/msg/Vector3"]
+    quat = ty["geometry_msgs/msg/Quaternion"]
+    w = Writer(path)
+    if compression:
+        w.set_compression(Writer.CompressionFormat[compression])
+    w.chunk_threshold = chunk
+    w.open()
+    conn = w.add_connection("/imu", imu.__msgtype__, typestore=store)
+    zero = np.zeros(9)
+    for i in range(len(z)):
+        ns = T0_NS + i * 2_500_000
+        msg = imu(
+            header=hdr(seq=i, stamp=tm(sec=ns // 10**9, nanosec=ns % 10**9), frame_id="imu"),
+            orientation=quat(x=0.0, y=0.0, z=0.0, w=1.0), orientation_covariance=zero,
+            angular_velocity=vec(x=z[i, 0], y=z[i, 1], z=z[i, 2]),
+            angular_velocity_covariance=zero,
+            linear_acceleration=vec(x=z[i, 3], y=z[i, 4], z=z[i, 5]),
+            linear_acceleration_covariance=zero,
+        )  # fmt: skip
+        w.write(conn, ns, store.serialize_ros1(msg, imu.__msgtype__))
+    w.close()
+    return path

@@ -45,10 +45,11 @@ def test_uploaded_bag_offers_its_topics(tmp_path):
 def test_uploaded_ulog_and_a_corrupt_log(tmp_path):
     at = _page()
     at.file_uploader(key="upload").set_value(("flight.ulg", PX4.read_bytes(), "")).run()
+    assert not at.exception  # its first topic's column has no estimate: no traceback either
     _topic_box(at).set_value("sensor_combined").run()
     assert not at.exception and not at.error
     assert at.session_state["nv_signal"].table.n_rows == 1298
     at.file_uploader(key="upload").set_value(("cut.mcap", b"\x89MCAP0\r\n" + b"\0" * 64, "")).run()
     assert not at.exception
-    assert len(at.error) == 1 and "could not be read as a ROS bag" in at.error[0].value
+    assert len(at.error) == 1 and "MCAP file cut short" in at.error[0].value
     assert at.session_state["nv_signal"].table.n_rows == 1298  # the previous signal stays

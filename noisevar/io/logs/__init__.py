@@ -33,6 +33,7 @@ from numpy.typing import NDArray
 
 from noisevar.errors import NoisevarError
 from noisevar.io.limits import echo
+from noisevar.io.logs.repaired import bag_files, unclosed_dir
 from noisevar.io.logs.spec import (
     CHUNK,
     MAX_FIELDS,
@@ -41,7 +42,9 @@ from noisevar.io.logs.spec import (
     Chunk,
     LogReader,
     TopicInfo,
+    collecting,
 )
+from noisevar.units import sensor_of
 
 __all__ = [
     "CHUNK",
@@ -52,6 +55,7 @@ __all__ = [
     "Chunk",
     "LogReader",
     "TopicInfo",
+    "default_topic",
     "find_topic",
     "is_ros2_dir",
     "list_topics",
@@ -91,14 +95,25 @@ def reader_for(name: str, head: bytes = b"") -> LogReader | None:
 
 
 def is_ros2_dir(path: Path) -> bool:
-    """Whether ``path`` is a ROS 2 bag directory (``metadata.yaml`` inside)."""
-    return path.is_dir() and (path / "metadata.yaml").is_file()
+    """Whether ``path`` is a ROS 2 bag directory: ``metadata.yaml`` inside, or one bag file
+    and no ``metadata.yaml`` (a recording that never closed: that file is read)."""
+    return path.is_dir() and ((path / "metadata.yaml").is_file() or unclosed_dir(path) is not None)
 
 
 def reader_of(path: Path, name: str) -> LogReader:
     """The reader of the log at ``path`` (by its content, else its name), or an error."""
     if is_ros2_dir(path):
         return next(r for r in readers() if r.name == "rosbag")
+    if path.is_dir():  # not a bag directory (is_ros2_dir): say what it holds
+        files = bag_files(path)
+        held = (
+            f"{len(files)} bag files and no metadata.yaml (a split recording that never "
+            f"closed): give one file, e.g. {echo(files[0].name)}"
+            if files
+            else "no metadata.yaml and no .mcap or .db3 file: give a log file or a ROS 2 bag "
+            "directory"
+        )
+        raise NoisevarError(f"{echo(name)} is a directory with {held}")
     try:
         with path.open("rb") as fh:
             head = fh.read(64)
@@ -151,6 +166,22 @@ def list_topics(path: str | Path, name: str | None = None) -> list[TopicInfo]:
         raise
     except Exception as exc:  # noqa: BLE001 - each library raises its own types on bad logs
         raise _failed(reader, name, exc) from None
+
+
+def default_topic(topics: Sequence[TopicInfo]) -> TopicInfo | None:
+    """The topic a log opens on: the first (in the log's order) whose fields hold both an
+    angular rate and an acceleration (an IMU: a ROS ``sensor_msgs/Imu``, PX4's
+    ``sensor_combined``), else the first with either, else the first with numbers; None
+    when none has (the first topic in name order is a ROS log's ``/markers`` or PX4's
+    ``actuator_armed``, seldom the sensor an engineer came for)."""
+    usable = [t for t in topics if t.fields and t.count > 0]
+
+    def kinds(t: TopicInfo) -> set[str]:
+        return {k for f in t.fields if (k := sensor_of(t.units.get(f))) is not None}
+
+    both = [t for t in usable if len(kinds(t)) == 2]
+    either = [t for t in usable if kinds(t)]
+    return next(iter(both + either + usable), None)
 
 
 def find_topic(topics: Sequence[TopicInfo], topic: str | None, name: str) -> TopicInfo:
@@ -387,11 +418,13 @@ def _table(
     fields read only for the variances they declare (not columns of the table)."""
     from noisevar.io.table import LoadedTable, _period_from_time
 
-    t, cols, rows = _gather(chunks, names, max_values)
+    said: list[str] = []  # what the reader reports of the file (cut short...)
+    with collecting(said):
+        t, cols, rows = _gather(chunks, names, max_values)
     if rows == 0:
         raise NoisevarError(f"topic {echo(info.name)!r} of {echo(name)} has no record")
     where = reader.time_note if t is not None else "no time column: samples taken as uniform"
-    notes = [f"topic {info.name} ({info.message}), {rows:,} records; {where}"]
+    notes = [f"topic {info.name} ({info.message}), {rows:,} records; {where}", *said]
     if problems:
         notes.append(
             f"the {reader.title} reader reported {len(problems):,} problems (corrupt stretches "

@@ -21,10 +21,14 @@ import numpy as np
 
 from noisevar.errors import NoisevarError
 from noisevar.io.limits import echo
+from noisevar.io.logs.mcap_cut import cut_short, recovered
 from noisevar.io.logs.msgdefs import open_bag
+from noisevar.io.logs.repaired import unclosed_dir
 from noisevar.io.logs.ros_declared import declared_fields
+from noisevar.io.logs.rosbag1_cut import recovered as reindexed
+from noisevar.io.logs.rosbag1_cut import unindexed
 from noisevar.io.logs.rosbag_spans import topic_span
-from noisevar.io.logs.spec import CHUNK, MAX_FIELDS, Chunk, LogReader, TopicInfo
+from noisevar.io.logs.spec import CHUNK, MAX_FIELDS, Chunk, LogReader, TopicInfo, report
 
 #: Units of standard messages' fields, from their message definitions' documentation
 #: (``sensor_msgs/Imu``: rad/sec, m/s^2; ``MagneticField``: tesla...), in pint syntax.
@@ -111,9 +115,27 @@ def _units(msgtype: str, fields: Sequence[str]) -> dict[str, str]:
 
 def _open(path: Path):
     """The bag's ``AnyReader``; opening it checks the bag's own message definitions before
-    ``rosbags`` compiles them (:mod:`noisevar.io.logs.msgdefs`)."""
+    ``rosbags`` compiles them (:mod:`noisevar.io.logs.msgdefs`).
+
+    An MCAP file cut short and a ROS 1 bag without its index are read through their
+    repaired copies (:mod:`noisevar.io.logs.mcap_cut`, :mod:`noisevar.io.logs.rosbag1_cut`);
+    what was kept joins the loaded table's notes.
+    """
     from rosbags.typesys import Stores, get_typestore
 
+    lone = unclosed_dir(path)
+    if lone is not None:
+        report(
+            f"the bag directory has no metadata.yaml (a recording that never closed): its "
+            f"one file {lone.name} is read"
+        )
+        path = lone
+    if path.suffix.lower() == ".mcap" and cut_short(path):
+        path, note = recovered(path)
+        report(note)
+    elif unindexed(path):  # also a recorder's .bag.active
+        path, note = reindexed(path)
+        report(note)
     store = Stores.ROS1_NOETIC if path.suffix.lower() == ".bag" else Stores.LATEST
     return open_bag(path, get_typestore(store))
 
@@ -339,13 +361,13 @@ class FlatDecoder:
 READER = LogReader(
     name="rosbag",
     title="ROS bag",
-    suffixes=(".bag", ".mcap", ".db3"),
+    suffixes=(".bag", ".mcap", ".db3", ".active"),  # .bag.active: a recorder's unclosed bag
     magic=(b"#ROSBAG V2.0", b"\x89MCAP0\r\n"),
     topics=topics,
     read=read,
     time_note="times from header.stamp (else the bag's record time), seconds from the "
     "topic's first message",
-    repair="a ROS 1 bag cut short can be re-indexed (rosbag reindex), an MCAP file cut short "
-    "recovered (mcap recover: its footer is gone), a ROS 2 bag checked with ros2 bag info; else "
-    "copy the file again",
+    repair="a ROS 1 bag damaged inside can be re-indexed (rosbag reindex), an MCAP file "
+    "recovered (mcap recover; a bag only cut short is read up to its cut), a ROS 2 bag checked "
+    "with ros2 bag info; else copy the file again",
 )

@@ -4,6 +4,8 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
+from contextvars import ContextVar
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -131,3 +133,25 @@ class LogReader:
             return True
         lower = name.lower()
         return any(lower.endswith(s) for s in self.suffixes if s not in SHARED_SUFFIXES)
+
+
+_NOTES: ContextVar[tuple[list[str], ...]] = ContextVar("noisevar_log_notes", default=())
+
+
+def report(note: str) -> None:
+    """Tell the user something about the log being read (a file cut short, say): it joins
+    every enclosing :func:`collecting` list (the loaded table's notes, a batch row's), once."""
+    for got in _NOTES.get():
+        if note not in got:
+            got.append(note)
+
+
+@contextmanager
+def collecting(notes: list[str]) -> Iterator[None]:
+    """Collect the readers' :func:`report` notes made in this block into ``notes`` (nested
+    blocks each get them)."""
+    token = _NOTES.set((*_NOTES.get(), notes))
+    try:
+        yield
+    finally:
+        _NOTES.reset(token)
