@@ -333,7 +333,11 @@ def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
     return LoadedTable(name, columns, kind, time_col, period, notes, units)
 
 
-_HEADER_UNIT = re.compile(r"^[^\[\(]*[\[\(]\s*([^\[\]\(\)]{1,40}?)\s*[\]\)]\s*$")
+#: the unit in the header's last brackets; earlier bracketed words are names, not units
+#: (MIDC's ``Global Horiz (tracker) [W/m^2]``)
+_HEADER_UNIT = re.compile(
+    r"^(?:[^\[\(]|[\[\(][^\[\]\(\)]*[\]\)])*?[\[\(]\s*([^\[\]\(\)]{1,40}?)\s*[\]\)]\s*$"
+)
 
 
 def header_unit(column: str) -> str | None:
