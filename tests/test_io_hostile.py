@@ -191,3 +191,14 @@ def test_drop_nonfinite_rows_keeps_rows_aligned():
     assert out.columns["x"].tolist() == [2.0, 4.0]
     assert "dropped 2 rows" in out.notes[-1]
     assert MAX_COLUMNS >= 100
+
+
+def test_a_header_shorter_than_every_row_is_said_so():
+    """NREL MIDC's logger CSV in pvlib's tests (real_audit5): 20 names, 26 fields on every
+    row (the logger added channels and kept its header). The error blamed thousands
+    separators; it says the header is short."""
+    rows = "".join(",".join(str(i + k) for k in range(6)) + "\n" for i in range(50))
+    body = ("a,b,c,d\n" + rows).encode()
+    with pytest.raises(NoisevarError, match=r"the header \(line 1\) names 4 columns but every "
+                       r"row under it has 6 fields: name every column"):  # fmt: skip
+        load_table(body, "short_header.csv")

@@ -218,8 +218,9 @@ def _check_width(name: str, fields: list[str], head: list[tuple[int, str]], fmt:
             f"{echo(name)} has {len(fields):,} columns, over the limit of {MAX_COLUMNS}: "
             "give a table of at most that many signals"
         )
-    for line_no, ln in head[1:]:
-        n = len(_split(ln, fmt.delim)) if fmt.thousands != "," or fmt.delim else 1
+    widths = [len(_split(ln, fmt.delim)) if fmt.thousands != "," or fmt.delim else 1
+              for _, ln in head[1:]]  # fmt: skip
+    for (line_no, _), n in zip(head[1:], widths, strict=True):
         if n > len(fields):  # fewer fields are empty cells (NaN)
             hint = (
                 " (numbers with unquoted thousands separators, like 4,867.69, split a "
@@ -227,10 +228,30 @@ def _check_width(name: str, fields: list[str], head: list[tuple[int, str]], fmt:
                 if fmt.delim == ","
                 else ""
             )
+            if _short_header(fields, widths):
+                raise NoisevarError(
+                    f"{echo(name)}: the header (line {head[0][0]}) names {len(fields)} columns "
+                    f"but every row under it has {n} fields: name every column in the "
+                    f"header{hint}"
+                )
             raise NoisevarError(
                 f"{echo(name)}: line {line_no} has {n} fields but line {head[0][0]} has "
                 f"{len(fields)}: every row must have the same columns{hint}"
             )
+
+
+def _short_header(fields: list[str], widths: list[int]) -> bool:
+    """A header of names with fewer fields than every row under it, which agree (a logger
+    that added channels and kept its header: NREL MIDC), not numbers split by separators."""
+    named = any(_number(f) is None for f in fields)
+    return named and len(widths) > 1 and len(set(widths)) == 1 and widths[0] > len(fields)
+
+
+def _number(text: str) -> float | None:
+    try:
+        return float(text.strip().strip('"'))
+    except ValueError:
+        return None
 
 
 def table_layout(
