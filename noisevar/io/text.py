@@ -350,8 +350,42 @@ def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
         raise NoisevarError(f"{echo(name)} has no numbers: every cell is empty or NaN")
     for c in empty:
         notes.append(f"column {echo(c)!r} is empty")
+    notes += [n for c in names if c != time_col and (n := _code_note(c, columns[c]))]
     units = {c: u for c in names if c != time_col and (u := header_unit(c) or stated.get(c))}
     return LoadedTable(name, columns, kind, time_col, period, notes, units)
+
+
+#: share of a column's values at one extreme from which that value may be a missing-value code
+CODE_SHARE = 0.05
+#: ... when it lies further from every other value than this many times their range
+CODE_GAP = 2.0
+
+
+def _code_note(cname: str, z: NDArray) -> str | None:
+    """A note when many of a column's values are one extreme value far outside the others
+    (NREL MIDC writes -7999, SURFRAD -9999.9, BSRN -999 for a missing value), else None.
+
+    Such a value is read as a number, so it is in R: the note says how to leave it out.
+    """
+    z = z[np.isfinite(z)]
+    if z.size < 20:
+        return None
+    for v in (float(z.min()), float(z.max())):
+        same = z == v
+        k = int(same.sum())
+        if k < max(10, CODE_SHARE * z.size) or k == z.size:
+            continue
+        rest = z[~same]
+        span = float(rest.max() - rest.min())
+        gap = float(min(abs(rest.min() - v), abs(rest.max() - v)))
+        # (a signal of a few levels, a switch or a counter, is not a code and its values)
+        if gap > CODE_GAP * span > 0 and np.unique(rest).size >= 10:
+            return (
+                f"column {echo(cname)!r}: {k:,} of {z.size:,} values ({k / z.size:.0%}) are "
+                f"{v:g}, far outside the others: a logger's missing-value code? In R as they "
+                "are; write those cells empty and drop them (CLI: --drop-nonfinite)"
+            )
+    return None
 
 
 #: the unit in the header's last brackets; earlier bracketed words are names, not units
