@@ -376,8 +376,8 @@ def _code_note(cname: str, z: NDArray) -> str | None:
         if k < max(10, CODE_SHARE * z.size) or k == z.size:
             continue
         rest = z[~same]
-        span = float(rest.max() - rest.min())
-        gap = float(min(abs(rest.min() - v), abs(rest.max() - v)))
+        lo, hi = float(rest.min()), float(rest.max())  # Python floats: inf, not a warning
+        span, gap = hi - lo, min(abs(lo - v), abs(hi - v))
         # (a signal of a few levels, a switch or a counter, is not a code and its values)
         if gap > CODE_GAP * span > 0 and np.unique(rest).size >= 10:
             return (
