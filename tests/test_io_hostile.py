@@ -191,3 +191,31 @@ def test_drop_nonfinite_rows_keeps_rows_aligned():
     assert out.columns["x"].tolist() == [2.0, 4.0]
     assert "dropped 2 rows" in out.notes[-1]
     assert MAX_COLUMNS >= 100
+
+
+def test_a_header_shorter_than_every_row_is_said_so():
+    """NREL MIDC's logger CSV in pvlib's tests (real_audit5): 20 names, 26 fields on every
+    row (the logger added channels and kept its header). The error blamed thousands
+    separators; it says the header is short."""
+    rows = "".join(",".join(str(i + k) for k in range(6)) + "\n" for i in range(50))
+    body = ("a,b,c,d\n" + rows).encode()
+    with pytest.raises(NoisevarError, match=r"the header \(line 1\) names 4 columns but every "
+                       r"row under it has 6 fields: name every column"):  # fmt: skip
+        load_table(body, "short_header.csv")
+
+
+def test_a_missing_value_code_is_noted():
+    """NREL MIDC's logger writes -7999 for a missing value (real_audit5: a pyranometer's
+    body temperature, 87 % of the day): read as numbers, R was 2.9e6 (deg C)² with a tight
+    interval and no word about it. The loader notes such a value (many samples at one
+    extreme, far outside every other value); a few-level signal is not one."""
+    rng = np.random.default_rng(9)
+    temp = 20 + np.cumsum(rng.normal(0, 0.05, 1000))
+    temp[rng.random(1000) < 0.3] = -7999.0
+    switch = np.where(rng.random(1000) < 0.5, 0.0, 1.0)  # two levels: no code
+    cells = zip(temp, switch, rng.normal(size=1000), strict=True)
+    body = "temp [deg C],switch,z\n" + "".join(f"{a:.3f},{b:.0f},{c:.4f}\n" for a, b, c in cells)
+    notes = load_table(body.encode(), "logger.csv").notes
+    coded = [n for n in notes if "missing-value code" in n]
+    assert len(coded) == 1 and coded[0].startswith("column 'temp [deg C]': ")
+    assert "are -7999" in coded[0]

@@ -16,6 +16,7 @@ from noisevar.errors import NoisevarError
 from noisevar.estimators.answer import WHY_DIFFERENT, record_answer
 from noisevar.estimators.regimes import DEFAULT_REGIMES, still_used, variance_for
 from noisevar.figures.noise_model import allan_figure
+from noisevar.format import squared
 from noisevar.io import record_times
 from noisevar.noise_model import AllanResult, InertialNoise, allan, exports, inertial_noise
 from noisevar.noise_model.allan import DATA_KINDS, KINDS, default_data
@@ -67,7 +68,7 @@ def regime_panel(sig: LoadedSignal) -> str:
         where = "its still regimes" if still_used(est, regimes) else "the whole record"
         st.metric(
             "Noise variance R",
-            fmt(value),
+            fmt(value, unit=squared(signal_units())),  # as the Estimator page writes it
             help=f"Method {est.method}, as on the Estimator page, over {where}.",
         )
         if still_used(est, regimes):

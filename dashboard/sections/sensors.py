@@ -68,7 +68,9 @@ def sensor_picker(sig: LoadedSignal) -> tuple[list[str], bool]:
     The toggle only acts with exactly two sensors.
     """
     data_cols = sig.table.data_columns
-    default = [c for c in data_cols if np.all(np.isfinite(sig.table.columns[c]))][:3]
+    # a logger's index, year and day-of-year columns are constant: left to pick by hand
+    usable = sig.table.signals or data_cols
+    default = [c for c in usable if np.all(np.isfinite(sig.table.columns[c]))][:3]
     # a new table: start from its first (up to three) usable columns
     follow_table("ts_table", "ts_cols", sig.table_digest, default)
     keep_valid("ts_cols", lambda v: all(c in data_cols for c in v), default)

@@ -205,7 +205,7 @@ def _none_quieter(r: str, quiet: float) -> str:
     return (
         f"the noise level changes along the record: {r} is an average, and no stretch of it "
         "is measurably quieter: the level profile's quietest stretches read "
-        f"{_g(quiet)}, above R (spikes or held values, not a sensor at rest), so R over the "
+        f"{_g(quiet)}, not below R (spikes or held values, not a sensor at rest), so R over the "
         "whole record is the only level measured"
     )
 
@@ -258,9 +258,15 @@ def _not_white(
             f"sensor noise cannot be measured apart from the motion, so {r} over the whole "
             "record includes motion or signal (record the sensor still for a while)"
         )
-    if not still_apart and diag.level_varies and quiet > variance:  # no quieter level to quote
+    if not still_apart and diag.level_varies and quiet >= variance:  # none quieter to quote
         return _none_quieter(r, quiet)
-    if diag.level_varies and prof.quiet_share < MOSTLY_MOTION and not diag.white:
+    # no quiet block (a grid's noise under half a step): no still level to quote
+    if (
+        diag.level_varies
+        and prof.quiet.any()
+        and prof.quiet_share < MOSTLY_MOTION
+        and not diag.white
+    ):
         return (
             f"the record is mostly motion or signal leaking through: the sensor noise measured "
             f"in its still stretches ({prof.quiet_share:.0%} of it) is "

@@ -246,8 +246,9 @@ def _check_width(name: str, fields: list[str], head: list[tuple[int, str]], fmt:
             f"{echo(name)} has {len(fields):,} columns, over the limit of {MAX_COLUMNS}: "
             "give a table of at most that many signals"
         )
-    for line_no, ln in head[1:]:
-        n = len(_split(ln, fmt.delim)) if fmt.thousands != "," or fmt.delim else 1
+    widths = [len(_split(ln, fmt.delim)) if fmt.thousands != "," or fmt.delim else 1
+              for _, ln in head[1:]]  # fmt: skip
+    for (line_no, _), n in zip(head[1:], widths, strict=True):
         if n > len(fields):  # fewer fields are empty cells (NaN)
             hint = (
                 " (numbers with unquoted thousands separators, like 4,867.69, split a "
@@ -255,10 +256,30 @@ def _check_width(name: str, fields: list[str], head: list[tuple[int, str]], fmt:
                 if fmt.delim == ","
                 else ""
             )
+            if _short_header(fields, widths):
+                raise NoisevarError(
+                    f"{echo(name)}: the header (line {head[0][0]}) names {len(fields)} columns "
+                    f"but every row under it has {n} fields: name every column in the "
+                    f"header{hint}"
+                )
             raise NoisevarError(
                 f"{echo(name)}: line {line_no} has {n} fields but line {head[0][0]} has "
                 f"{len(fields)}: every row must have the same columns{hint}"
             )
+
+
+def _short_header(fields: list[str], widths: list[int]) -> bool:
+    """A header of names with fewer fields than every row under it, which agree (a logger
+    that added channels and kept its header: NREL MIDC), not numbers split by separators."""
+    named = any(_number(f) is None for f in fields)
+    return named and len(widths) > 1 and len(set(widths)) == 1 and widths[0] > len(fields)
+
+
+def _number(text: str) -> float | None:
+    try:
+        return float(text.strip().strip('"'))
+    except ValueError:
+        return None
 
 
 def table_layout(
@@ -357,11 +378,49 @@ def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
         raise NoisevarError(f"{echo(name)} has no numbers: every cell is empty or NaN")
     for c in empty:
         notes.append(f"column {echo(c)!r} is empty")
+    notes += [n for c in names if c != time_col and (n := _code_note(c, columns[c]))]
     units = {c: u for c in names if c != time_col and (u := header_unit(c) or stated.get(c))}
     return LoadedTable(name, columns, kind, time_col, period, notes, units)
 
 
-_HEADER_UNIT = re.compile(r"^[^\[\(]*[\[\(]\s*([^\[\]\(\)]{1,40}?)\s*[\]\)]\s*$")
+#: share of a column's values at one extreme from which that value may be a missing-value code
+CODE_SHARE = 0.05
+#: ... when it lies further from every other value than this many times their range
+CODE_GAP = 2.0
+
+
+def _code_note(cname: str, z: NDArray) -> str | None:
+    """A note when many of a column's values are one extreme value far outside the others
+    (NREL MIDC writes -7999, SURFRAD -9999.9, BSRN -999 for a missing value), else None.
+
+    Such a value is read as a number, so it is in R: the note says how to leave it out.
+    """
+    z = z[np.isfinite(z)]
+    if z.size < 20:
+        return None
+    for v in (float(z.min()), float(z.max())):
+        same = z == v
+        k = int(same.sum())
+        if k < max(10, CODE_SHARE * z.size) or k == z.size:
+            continue
+        rest = z[~same]
+        lo, hi = float(rest.min()), float(rest.max())  # Python floats: inf, not a warning
+        span, gap = hi - lo, min(abs(lo - v), abs(hi - v))
+        # (a signal of a few levels, a switch or a counter, is not a code and its values)
+        if gap > CODE_GAP * span > 0 and np.unique(rest).size >= 10:
+            return (
+                f"column {echo(cname)!r}: {k:,} of {z.size:,} values ({k / z.size:.0%}) are "
+                f"{v:g}, far outside the others: a logger's missing-value code? In R as they "
+                "are; write those cells empty and drop them (CLI: --drop-nonfinite)"
+            )
+    return None
+
+
+#: the unit in the header's last brackets; earlier bracketed words are names, not units
+#: (MIDC's ``Global Horiz (tracker) [W/m^2]``)
+_HEADER_UNIT = re.compile(
+    r"^(?:[^\[\(]|[\[\(][^\[\]\(\)]*[\]\)])*?[\[\(]\s*([^\[\]\(\)]{1,40}?)\s*[\]\)]\s*$"
+)
 
 
 def header_unit(column: str) -> str | None:

@@ -146,3 +146,25 @@ def test_a_log_that_drops_samples_gets_the_command_lines_terms():
     for sym in ("N", "B", "K"):
         assert shown.loc[sym, "value"] == cli.term(sym).value
         assert shown.loc[sym, "high"] == cli.term(sym).interval[1]
+
+
+def test_r_is_written_with_the_files_unit_as_on_the_estimator_page():
+    """NREL MIDC's ``Global Horiz (tracker) [W/m^2]`` (real_audit5): the Estimator page
+    wrote R as "0.07313 (W/m²)²", the Noise model page as "0.07313", no unit."""
+    from dashboard.state import SIGNAL_KEY, make_signal
+    from dashboard.widgets import fmt
+    from noisevar import estimate
+    from noisevar.format import squared
+    from noisevar.io import load_table
+
+    rng = np.random.default_rng(7)
+    z = np.sin(np.arange(2000) / 50.0) + rng.normal(0, 0.1, 2000)
+    body = "GHI [W/m^2]\n" + "".join(f"{v:.6f}\n" for v in z)
+    table = load_table(body.encode(), "ghi.csv")
+    at = AppTest.from_file(APP, default_timeout=90)
+    at.session_state[SIGNAL_KEY] = make_signal(table, "GHI [W/m^2]", None, "upload", None)
+    at.switch_page(PAGE).run()
+    _clean(at)
+    r = next(m.value for m in at.metric if m.label == "Noise variance R")
+    est = estimate(table.columns["GHI [W/m^2]"])
+    assert r == fmt(est.variance, unit=squared("W/m^2"))

@@ -5,6 +5,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 from streamlit.testing.v1 import AppTest
 
@@ -85,3 +86,26 @@ def test_single_column_signal_is_explained():
     at.switch_page(PAGE).run()
     _clean(at)
     assert any("single column" in i.value for i in at.info)
+
+
+def test_a_loggers_constant_columns_are_not_the_default_sensors():
+    """NREL MIDC's logger CSV (real_audit5) starts with an index, the year and the day of
+    year, all constant: the page opened on those three and showed "noise variance 0" for
+    each. It opens on the table's signals."""
+    from dashboard.state import SIGNAL_KEY, make_signal
+    from noisevar.io import load_table
+
+    rng = np.random.default_rng(5)
+    ghi = 500 + np.cumsum(rng.normal(0, 1, 1440))
+    body = "Unnamed: 0,Year,DOY,GHI a [W/m^2],GHI b [W/m^2]\n" + "".join(
+        f"0,2018,291,{g + rng.normal(0, 0.3):.4f},{g + rng.normal(0, 0.5):.4f}\n" for g in ghi
+    )
+    table = load_table(body.encode(), "midc.csv")
+    at = AppTest.from_file(APP, default_timeout=60)
+    at.session_state[SIGNAL_KEY] = make_signal(
+        table, "GHI a [W/m^2]", table.sample_period, "upload", None
+    )
+    at.switch_page(PAGE).run()
+    _clean(at)
+    assert at.multiselect(key="ts_cols").value == ["GHI a [W/m^2]", "GHI b [W/m^2]"]
+    assert all(v > 0 for v in _variances(at).values())

@@ -50,3 +50,17 @@ def test_ulog_float_positions_keep_degrees():
     assert ulog._unit("sensor_gps", "latitude_deg", "f") == "deg"
     assert ulog._unit("sensor_gps", "altitude_msl_m", "f") == "m"
     assert ulog._unit("sensor_gps", "alt", "i") == "mm"
+
+
+def test_a_named_bracket_before_the_unit():
+    """NREL MIDC's logger CSV (real_audit5): ``Global Horiz (tracker) [W/m^2]`` lost its unit
+    (shown as 'u') while ``Direct Normal [W/m^2]`` beside it kept it; the unit is in the
+    header's last brackets, an earlier bracketed word is part of the name."""
+    body = b"Direct Normal [W/m^2],Global Horiz (tracker) [W/m^2],Temp CM22 (tracker) [deg C]\n"
+    body += b"1,2,3\n2,3,4\n3,4,5\n"
+    tab = load_table(body, "midc.csv")
+    assert tab.units == {
+        "Direct Normal [W/m^2]": "W/m^2",
+        "Global Horiz (tracker) [W/m^2]": "W/m^2",
+        "Temp CM22 (tracker) [deg C]": "deg C",
+    }
