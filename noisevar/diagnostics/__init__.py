@@ -144,6 +144,7 @@ def from_sums(
         keep_w, used, head = _without_glitches(sums, keep_w, used, head, seg, glitches)
     if lone_ones.size and read is not None:
         _bridge(sums, lone_ones, read)
+
     # the increments' test and the tails (numpy, which releases the interpreter) beside
     # the whiteness test and the level profile (PELT: Python); the same numbers
     def beside() -> tuple[WhitenessTest, float]:

@@ -510,8 +510,5 @@ def _frame_counter(z: NDArray) -> bool:
     drops), which :func:`~noisevar._arrays.steps_evenly` does not catch."""
     steps = np.diff(z)
     return bool(
-        steps.size > 1
-        and np.all(steps >= 1)
-        and np.all(z == np.round(z))
-        and np.median(steps) == 1
+        steps.size > 1 and np.all(steps >= 1) and np.all(z == np.round(z)) and np.median(steps) == 1
     )
