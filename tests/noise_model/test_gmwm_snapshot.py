@@ -45,6 +45,12 @@ RTOL = 1e-4
 ATOL_OBJECTIVE = 0.05
 #: The comparison table's criteria (compared with the absolute floor as well).
 CRITERIA = ("objective", "wvic", "hq", "bic")
+#: A model not chosen stops where its optimiser's path ends, and the path follows the
+#: CPU's rounding (BLAS and SIMD sums): on an AMD EPYC the first axis's GM models ended
+#: 0.06-0.3 chi-square units from the snapshot's machine's, every choice the same. Their
+#: criteria agree to a tenth of the choice's penalty per parameter (2 log log n, about 5);
+#: which model is chosen is compared exactly.
+ATOL_OTHERS = 0.5
 RATE = 200.0
 N = 2**18
 
@@ -99,8 +105,11 @@ def _compare_table(got: list[dict], want: list[dict], scales: int, path: str) ->
         misfit = stats.chi2.ppf(0.999, max(1, scales - w["n_params"]))
         if w["objective"] > misfit:
             assert g["objective"] > misfit, f"{path}.{w['model']}"
-        else:
+        elif w["chosen"]:
             _compare({k: g[k] for k in CRITERIA}, {k: w[k] for k in CRITERIA}, path)
+        else:
+            for k in CRITERIA:
+                assert g[k] == pytest.approx(w[k], rel=RTOL, abs=ATOL_OTHERS), f"{path}.{k}"
 
 
 def test_results_match_the_snapshot() -> None:
