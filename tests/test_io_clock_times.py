@@ -74,3 +74,10 @@ def test_phone_app_time_columns(tmp_path):
     assert table.time_column == "accelerometerTimestamp_sinceReboot(s)"
     assert table.sample_period == pytest.approx(0.01)
     assert table.first_signal == "accelerometerAccelerationX(G)"  # not the sample counter
+    assert table.units["accelerometerAccelerationX(G)"] == "g"  # gravities, not gauss
+
+
+def test_a_magnetometer_in_gauss_keeps_its_g():
+    from noisevar.io.text import header_unit
+
+    assert header_unit("mag_x (G)") == "G" and header_unit("accel_x (G)") == "g"

@@ -437,7 +437,15 @@ def header_unit(column: str) -> str | None:
         The text in the brackets, as written (a consumer parses it, e.g. with pint).
     """
     m = _HEADER_UNIT.match(column)
-    return m[1] if m else None
+    if m is None:
+        return None
+    # an acceleration "in G" is in standard gravities (SensorLog's
+    # accelerometerAccelerationX(G)); pint's G is the gauss, a magnetometer's unit
+    return "g" if m[1] == "G" and _ACCELERATION.search(column) else m[1]
+
+
+#: Names of an acceleration column (``acc``, ``gravity``, ``g-force``).
+_ACCELERATION = re.compile(r"acc|gravity|g-?force", re.IGNORECASE)
 
 
 def _read_frame(
