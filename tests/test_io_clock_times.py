@@ -81,3 +81,17 @@ def test_a_magnetometer_in_gauss_keeps_its_g():
     from noisevar.io.text import header_unit
 
     assert header_unit("mag_x (G)") == "G" and header_unit("accel_x (G)") == "g"
+
+
+def test_a_date_column_and_a_clock_column_are_one_time(tmp_path):
+    """NREL MIDC's logger CSV: ``DATE (MM/DD/YYYY),MST,...`` with ``1/1/2020,13:58``."""
+    rng = np.random.default_rng(2)
+    rows = [f"1/{d}/2020,{m // 60}:{m % 60:02d},{rng.normal():.3f}" for d in (1, 2)
+            for m in range(1440)]  # fmt: skip
+    path = tmp_path / "midc.csv"
+    path.write_text("DATE (MM/DD/YYYY),MST,Global Horiz [W/m^2]\n" + "\n".join(rows) + "\n")
+    table = load_table(path)
+    assert table.sample_period == pytest.approx(60.0)
+    t = table.columns[table.time_column]
+    assert t[-1] == pytest.approx(2 * 86400 - 60) and np.all(np.diff(t) == 60)
+    assert "MST" not in table.columns and any("joined into one time" in n for n in table.notes)

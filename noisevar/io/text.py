@@ -535,10 +535,18 @@ def _parse_body(
     columns: dict[str, NDArray] = {}
     notes: list[str] = []
     first = None
+    done: set[int] = set()
+    clock = _clock_beside(df, names, time_idx)
+    if clock is not None and time_idx is not None:  # a date column, a clock column: one time
+        columns[names[time_idx]], joined = clock
+        notes.append(joined)
+        done = {time_idx, time_idx + 1}
     # a column of text is left out when another holds numbers (else its error says why)
-    text = {i for i in range(len(names)) if i != time_idx and _only_text(df[i])}
-    numeric = len(text) < len(names) - (time_idx is not None)
+    text = {i for i in range(len(names)) if i != time_idx and i not in done and _only_text(df[i])}
+    numeric = len(text) < len(names) - (time_idx is not None) - len(done) // 2
     for i, cname in enumerate(names):
+        if i in done:
+            continue
         col = df[i]
         if pd.api.types.is_integer_dtype(col.dtype):
             # any time column (a log's second clock too) may be an epoch beyond 2**53
@@ -559,6 +567,33 @@ def _parse_body(
             continue
         columns[cname] = _text_column(col, cname, src, header_line, name, i == time_idx)
     return columns, notes, first
+
+
+#: A clock column beside a date column (MIDC's ``DATE (MM/DD/YYYY)``, ``MST``: ``13:58``).
+_CLOCK = re.compile(r"\d{1,2}:\d{2}(?::\d{2}(?:\.\d{1,9})?)?")
+
+
+def _clock_beside(
+    df: pd.DataFrame, names: list[str], time_idx: int | None
+) -> tuple[NDArray, str] | None:
+    """The times of a date column joined with the clock column right after it (seconds from
+    the first) and a note; None unless the time column is a date column holding dates
+    without a time of day and the next column a time of day in every cell."""
+    if time_idx is None or time_idx + 1 >= len(names):
+        return None
+    if time_key(names[time_idx]) not in DATE_NAMES:
+        return None
+    dates, clocks = df[time_idx].astype(str).str.strip(), df[time_idx + 1].astype(str).str.strip()
+    if not (clocks.str.fullmatch(_CLOCK.pattern).all() and not dates.str.contains(":").any()):
+        return None
+    times = _parse_time_strings((dates + " " + clocks).tolist())
+    if times is None:
+        return None
+    note = (
+        f"date column {echo(names[time_idx])!r} and clock column {echo(names[time_idx + 1])!r} "
+        "joined into one time"
+    )
+    return times, note
 
 
 def _only_text(col: pd.Series) -> bool:
