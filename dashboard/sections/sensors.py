@@ -25,7 +25,9 @@ from noisevar.estimators.redundant import same_quantity_notes
 from noisevar.estimators.regimes import DEFAULT_REGIMES, estimate_for
 from noisevar.estimators.results import VarianceEstimate
 from noisevar.figures.estimator import redundant_figure
+from noisevar.format import squared
 from noisevar.systems.latency import DelayEstimate
+from noisevar.units import declared_unit
 
 #: The delay of a sensor behind the first: (column, estimate or None, error or None).
 Delay = tuple[str, DelayEstimate | None, str | None]
@@ -124,7 +126,7 @@ def redundant_results(sig: LoadedSignal, cols: list[str], align: bool) -> None:
     unit = "s" if sig.sample_period else "samples"
     single = _regime_choice(cols, _single_estimates(sig, cols))
     _same_quantity(used, cols, single, res)
-    _metrics(res, cols, single)
+    _metrics(res, cols, single, _variance_units(sig, cols))
     st.caption(f"The redundant R's differ from each record's answer: {WHY_DIFFERENT['redundant']}.")
     _delay_message(delay, removed, cols, unit, used.shape[0])
     _sensor_table(res, cols, single)
@@ -165,15 +167,24 @@ def redundant_results(sig: LoadedSignal, cols: list[str], align: bool) -> None:
     )
 
 
+def _variance_units(sig: LoadedSignal, cols: list[str]) -> list[str]:
+    """Each sensor's variance unit: the square of the unit its file declares ('' if none)."""
+    return [squared(declared_unit(sig.table.units.get(c)) or "") for c in cols]
+
+
 def _metrics(
-    res: RedundantEstimate, cols: list[str], single: list[VarianceEstimate | None]
+    res: RedundantEstimate,
+    cols: list[str],
+    single: list[VarianceEstimate | None],
+    units: list[str],
 ) -> None:
-    """One headline per sensor: its own variance, never the pair's sum.
+    """One headline per sensor: its own variance, never the pair's sum; each in its unit.
 
     Two sensors only give ``var a + var b``: each sensor's headline is then its
     single-signal estimate and the redundant sum is shown beside them as a check.
     """
     ci = res.ci95
+    u = units[0] if len(set(units)) == 1 else ""  # a sum or a hat across units: none
     pair_only = len(cols) == 2
     mcols = st.columns(len(cols) + (1 if pair_only else 0))
     for j, c in enumerate(cols):
@@ -181,7 +192,7 @@ def _metrics(
             e = single[j]
             mcols[j].metric(
                 f"{c}: noise variance",
-                fmt(e.variance if e is not None else None),
+                fmt(e.variance if e is not None else None, unit=units[j]),
                 help="This sensor alone (method auto): two sensors only give the sum of the two "
                 "variances.",
             )
@@ -192,7 +203,7 @@ def _metrics(
             continue
         mcols[j].metric(
             f"{c}: noise variance",
-            fmt(res.variances[j]),
+            fmt(res.variances[j], unit=u),
             help=f"Three-cornered hat; 95 % interval {fmt(ci[j, 0])} to {fmt(ci[j, 1])}",
         )
         mcols[j].caption(f"std {fmt(float(res.stds[j]))}; 95 % {fmt(ci[j, 0])} to {fmt(ci[j, 1])}")
@@ -200,7 +211,7 @@ def _metrics(
         total = sum(e.variance for e in single if e is not None)
         mcols[2].metric(
             f"{cols[0]} + {cols[1]} (two sensors)",
-            fmt(res.pair_sums[0, 1]),
+            fmt(res.pair_sums[0, 1], unit=u),
             help="½ E[(ΔZa − ΔZb)²]: the sum of the two noise variances, the only quantity two "
             "sensors determine (a third sensor separates them).",
         )

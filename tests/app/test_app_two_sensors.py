@@ -20,7 +20,11 @@ def _clean(at: AppTest) -> None:
 
 
 def _variances(at: AppTest) -> dict[str, float]:
-    return {m.label.split(":")[0]: float(m.value) for m in at.metric if "noise variance" in m.label}
+    return {  # the number before its unit ("0.07313 (W/m²)²")
+        m.label.split(":")[0]: float(m.value.split(" (")[0])
+        for m in at.metric
+        if "noise variance" in m.label
+    }
 
 
 def _open() -> AppTest:
@@ -109,3 +113,24 @@ def test_a_loggers_constant_columns_are_not_the_default_sensors():
     _clean(at)
     assert at.multiselect(key="ts_cols").value == ["GHI a [W/m^2]", "GHI b [W/m^2]"]
     assert all(v > 0 for v in _variances(at).values())
+
+
+def test_each_sensors_variance_is_written_in_its_unit():
+    """As the Estimator and Noise model pages write R (real_audit5: the metrics had none)."""
+    from dashboard.state import SIGNAL_KEY, make_signal
+    from noisevar.io import load_table
+
+    rng = np.random.default_rng(6)
+    ghi = 500 + np.cumsum(rng.normal(0, 1, 1440))
+    body = "GHI a [W/m^2],GHI b [W/m^2]\n" + "".join(
+        f"{g + rng.normal(0, 0.3):.4f},{g + rng.normal(0, 0.5):.4f}\n" for g in ghi
+    )
+    table = load_table(body.encode(), "midc.csv")
+    at = AppTest.from_file(APP, default_timeout=60)
+    at.session_state[SIGNAL_KEY] = make_signal(
+        table, "GHI a [W/m^2]", table.sample_period, "upload", None
+    )
+    at.switch_page(PAGE).run()
+    _clean(at)
+    shown = [m.value for m in at.metric if "noise variance" in m.label or "two sensors" in m.label]
+    assert len(shown) == 3 and all("(W/m²)²" in v for v in shown), shown
