@@ -508,7 +508,7 @@ def _frame_counter(z: NDArray) -> bool:
     """Whether ``z`` counts frames with some dropped: whole numbers rising by 1 at most steps
     and never falling or holding (a camera's ``frame_number``, a message's ``seq`` with
     drops), which :func:`~noisevar._arrays.steps_evenly` does not catch."""
-    steps = np.diff(z)
-    return bool(
-        steps.size > 1 and np.all(steps >= 1) and np.all(z == np.round(z)) and np.median(steps) == 1
-    )
+    with np.errstate(over="ignore", invalid="ignore"):  # 1e308 cells: inf steps, no counter
+        steps = np.diff(z)
+        whole = bool(np.all(z == np.round(z)))
+        return bool(steps.size > 1 and np.all(steps >= 1) and whole and np.median(steps) == 1)
