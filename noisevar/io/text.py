@@ -5,7 +5,6 @@ from __future__ import annotations
 import csv
 import io
 import re
-import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -26,6 +25,7 @@ from noisevar.io.table import (
     time_in_seconds,
     time_key,
 )
+from noisevar.io.text_times import clock_beside, parse_time_strings
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -135,75 +135,6 @@ def _unique_names(raw: list[str]) -> list[str]:
         taken.add(candidate)
         names.append(candidate)
     return names
-
-
-def _parse_time_strings(values: list[str]) -> NDArray | None:
-    """Date-times to seconds from the first; None when they are not date-times.
-
-    ISO 8601 first (numpy); else the format pandas guesses from the first value
-    (``24-Nov-2023 13:58:58.081`` as MATLAB writes it, ``11/24/2023 13:58:58`` as Excel
-    does), with day and month swapped when that format does not read every value.
-    """
-    try:
-        with warnings.catch_warnings():  # "...Z" or "+02:00": numpy converts it to UTC, and
-            warnings.simplefilter("ignore", UserWarning)  # says so in a warning to the user
-            t = np.array(values, dtype="datetime64[ns]")
-    except (ValueError, TypeError, OverflowError):
-        t = _guessed_times(values)
-        if t is None:
-            return _clock_times(values)
-    if np.any(np.isnat(t)):
-        return None
-    return (t - t[0]).astype("timedelta64[ns]").astype(float) / 1e9
-
-
-#: A time of day, ``13:58:58.081`` or, as Physics Toolbox writes it on Android,
-#: ``13:58:58:081`` (its milliseconds after a colon); and a minute clock, ``58:58.081``.
-_HMS = re.compile(r"(\d{1,2}):(\d{2}):(\d{2})(?:[.:](\d{1,9}))?")
-_MS = re.compile(r"(\d{1,3}):(\d{2})\.(\d{1,9})")
-
-
-def _clock_times(values: list[str]) -> NDArray | None:
-    """Times of day (or minute clocks) to seconds from the first; None unless every value is one.
-
-    A clock that steps back by over half its turn has turned (midnight; the hour of a
-    minute clock): the turn is added, so the seconds keep rising.
-    """
-    for pattern, turn in ((_HMS, 86400.0), (_MS, 3600.0)):
-        hits = [pattern.fullmatch(v) for v in values]
-        if not values or not all(hits):
-            continue
-        parts = [m.groups() for m in hits if m is not None]
-        if turn == 3600.0:
-            parts = [("0", *g) for g in parts]
-        sec = np.array(
-            [int(h) * 3600 + int(m) * 60 + int(s) + float(f"0.{f or 0}") for h, m, s, f in parts]
-        )
-        back = np.diff(sec) < -turn / 2
-        sec[1:] += turn * np.cumsum(back)
-        return sec - sec[0]
-    return None
-
-
-def _guessed_times(values: list[str]) -> NDArray | None:
-    """``values`` in the date-time format pandas guesses from the first (or with its day
-    and month swapped), as datetime64[ns]; None when neither reads every value."""
-    import pandas as pd
-    from pandas.tseries.api import guess_datetime_format
-
-    if not values:
-        return None
-    with warnings.catch_warnings():  # "dayfirst=False was specified": the swap is tried next
-        warnings.simplefilter("ignore", UserWarning)
-        fmt = guess_datetime_format(values[0])
-    if fmt is None or "%Y" not in fmt:  # a time of day alone has no date to anchor it
-        return None
-    swapped = fmt.replace("%m", "\0").replace("%d", "%m").replace("\0", "%d")
-    for f in dict.fromkeys((fmt, swapped)):
-        t = pd.to_datetime(pd.Series(values), format=f, errors="coerce")
-        if not t.isna().any():
-            return t.dt.tz_localize(None).to_numpy(dtype="datetime64[ns]")
-    return None
 
 
 def _meaningful(line: str) -> bool:
@@ -352,7 +283,7 @@ def _holds_dates(text: str, fmt: _Format, header_line: int, idx: int | None) -> 
         if _meaningful(line):
             cells = _split(line, fmt.delim)
             cell = cells[idx].strip().strip('"') if idx < len(cells) else ""
-            return not _is_number(cell, fmt) and _parse_time_strings([cell]) is not None
+            return not _is_number(cell, fmt) and parse_time_strings([cell]) is not None
     return False
 
 
@@ -536,7 +467,7 @@ def _parse_body(
     notes: list[str] = []
     first = None
     done: set[int] = set()
-    clock = _clock_beside(df, names, time_idx)
+    clock = clock_beside(df, names, time_idx)
     if clock is not None and time_idx is not None:  # a date column, a clock column: one time
         columns[names[time_idx]], joined = clock
         notes.append(joined)
@@ -569,33 +500,6 @@ def _parse_body(
     return columns, notes, first
 
 
-#: A clock column beside a date column (MIDC's ``DATE (MM/DD/YYYY)``, ``MST``: ``13:58``).
-_CLOCK = re.compile(r"\d{1,2}:\d{2}(?::\d{2}(?:\.\d{1,9})?)?")
-
-
-def _clock_beside(
-    df: pd.DataFrame, names: list[str], time_idx: int | None
-) -> tuple[NDArray, str] | None:
-    """The times of a date column joined with the clock column right after it (seconds from
-    the first) and a note; None unless the time column is a date column holding dates
-    without a time of day and the next column a time of day in every cell."""
-    if time_idx is None or time_idx + 1 >= len(names):
-        return None
-    if time_key(names[time_idx]) not in DATE_NAMES:
-        return None
-    dates, clocks = df[time_idx].astype(str).str.strip(), df[time_idx + 1].astype(str).str.strip()
-    if not (clocks.str.fullmatch(_CLOCK.pattern).all() and not dates.str.contains(":").any()):
-        return None
-    times = _parse_time_strings((dates + " " + clocks).tolist())
-    if times is None:
-        return None
-    note = (
-        f"date column {echo(names[time_idx])!r} and clock column {echo(names[time_idx + 1])!r} "
-        "joined into one time"
-    )
-    return times, note
-
-
 def _only_text(col: pd.Series) -> bool:
     """Whether no cell of ``col`` is a number (and some cell is not empty)."""
     import pandas as pd
@@ -626,7 +530,7 @@ def _text_column(
     if bad.any():
         if is_time:  # date-times, some cells perhaps empty (a track's untimed fixes)
             present = col.notna().to_numpy()
-            times = _parse_time_strings([str(v).strip() for v in col[present].tolist()])
+            times = parse_time_strings([str(v).strip() for v in col[present].tolist()])
             if times is not None:
                 out = np.full(col.size, np.nan)
                 out[present] = times
