@@ -198,7 +198,9 @@ def rounding_floor(still: VarianceEstimate, lsb: float | None) -> VarianceEstima
     -------
     VarianceEstimate
         ``still`` itself when it is at least lsb²/12 (or there is no grid); else lsb²/12,
-        its interval and core raised to it, with a note.
+        its core raised to it, the top of its interval σ²'s top plus lsb²/12 (the bottom
+        stays the measurement's: off the grid, under a trend, the same stretches read
+        it), with a note.
 
     Notes
     -----
@@ -224,7 +226,7 @@ def rounding_floor(still: VarianceEstimate, lsb: float | None) -> VarianceEstima
     return replace(
         still,
         variance=q,
-        ci95=(max(lo, q), max(hi, q)),
+        ci95=(lo, hi + q),
         core_variance=None if still.core_variance is None else max(still.core_variance, q),
         notes=[*still.notes, note],
     )
