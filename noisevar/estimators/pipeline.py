@@ -58,7 +58,12 @@ from noisevar.estimators.pooling import pool_segments
 from noisevar.estimators.results import VarianceEstimate
 from noisevar.estimators.spec import MethodSpec
 from noisevar.estimators.still_levels import other_still_levels
-from noisevar.estimators.still_quiet import on_still_stretches, quiet_apart, quiet_level
+from noisevar.estimators.still_quiet import (
+    on_still_stretches,
+    quiet_apart,
+    quiet_level,
+    rounding_floor,
+)
 from noisevar.estimators.still_set import STILL_MIN, has_still_apart, still_gap
 
 #: The method's coloured-noise parameters are used below this whiteness p-value (far
@@ -363,7 +368,7 @@ def _after_diagnostics(
             return None, replace(diag, quiet=level)
         # its interval from the record's noise, with the lone glitches in the still stretches
         at = glitches_within(lone, ranges_mask(diag.level_profile.still_stretches, diag.n))
-        still = conclude(spec, still, diag, None, glitches=at)
+        still = rounding_floor(conclude(spec, still, diag, None, glitches=at), diag.lsb)
         still.diagnostics = None  # the diagnostics stay on the record's own result
         return still, replace(diag, other_still=_other_levels(spec, record, own, diag, still, lone))
 

@@ -11,6 +11,7 @@ the quiet level is measured with R's own method: on the still stretches (the est
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 from typing import TYPE_CHECKING, Any
 
 from noisevar.diagnostics import NoiseDiagnostics
@@ -180,4 +181,52 @@ def _too_short(share: float) -> str:
     return (
         f"the quiet stretches ({share:.0%} of the record) are in pieces shorter than the "
         f"{STILL_MIN} samples R's method needs (away from jumps)"
+    )
+
+
+def rounding_floor(still: VarianceEstimate, lsb: float | None) -> VarianceEstimate:
+    """The still R on a grid of step ``lsb``: at least its rounding error lsb²/12.
+
+    Parameters
+    ----------
+    still : VarianceEstimate
+        R's method on the still stretches (the estimate's ``.still``).
+    lsb : float or None
+        The record's grid step (``diagnostics.lsb``), None when it is not on a grid.
+
+    Returns
+    -------
+    VarianceEstimate
+        ``still`` itself when it is at least lsb²/12 (or there is no grid); else lsb²/12,
+        its core raised to it, the top of its interval σ²'s top plus lsb²/12 (the bottom
+        stays the measurement's: off the grid, under a trend, the same stretches read
+        it), with a note.
+
+    Notes
+    -----
+    docs/algorithms.md §E3 (*Held values*). A sensor at rest whose noise is well under the
+    grid step writes held values that flip by a step now and then: R's residual sees the
+    flips, not the rounding error, which is a constant offset per stretch (uniform over
+    the step from stretch to stretch). The error a filter sees there is σ² + lsb²/12 with σ
+    under the step, so no still R under lsb²/12 is a noise level; the floor is the rounding
+    error, the product's convention for data on a grid (the whole record's R has it
+    already, §E3).
+    """
+    if lsb is None or not lsb > 0.0:
+        return still
+    q = lsb * lsb / 12.0
+    if still.variance >= q:
+        return still
+    lo, hi = still.ci95
+    note = (
+        f"the still stretches read {still.variance:.4g}, under the rounding error "
+        f"lsb²/12 = {q:.4g} of the grid step {lsb:.4g}: held values (the noise under the "
+        "step), so the still R is that rounding error (docs/algorithms.md §E3)"
+    )
+    return replace(
+        still,
+        variance=q,
+        ci95=(lo, hi + q),
+        core_variance=None if still.core_variance is None else max(still.core_variance, q),
+        notes=[*still.notes, note],
     )
