@@ -10,7 +10,7 @@ import numbers
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
@@ -27,6 +27,9 @@ from noisevar.figures.budget import capped
 from noisevar.figures.export import to_html, to_png
 from noisevar.format import eng, wrap_words
 from noisevar.params import ParamSpec
+
+if TYPE_CHECKING:
+    from pandas.io.formats.style import Styler
 
 LOG = logging.getLogger("noisevar.dashboard")
 
@@ -538,13 +541,15 @@ def blank_missing(rows: Sequence[dict[str, Any]], text: str = "—") -> list[dic
     return [{k: cell(r, k) for k in columns} for r in rows]
 
 
-def blank_frame(frame: pd.DataFrame, text: str = "—") -> pd.DataFrame:
+def blank_frame(frame: pd.DataFrame, text: str = "—", digits: int = 6) -> Styler:
     """A table of result rows to show: every missing cell (None, NaN, pandas' NA) as ``text``.
 
-    :func:`blank_missing` on the frame's rows; the reason a value is absent is the row's
-    own (e.g. ``still_note``), never a "None" or "nan" cell.
+    A pandas ``Styler``: the numbers stay numbers (a fleet sorts by R's value, not by its
+    text) shown to ``digits`` significant digits, and a missing cell reads ``text``; the reason a
+    value is absent is the row's own (e.g. ``still_note``), never a "None" or "nan" cell.
     """
-    import pandas as pd
 
-    rows = frame.astype(object).where(frame.notna(), None).to_dict("records")
-    return pd.DataFrame(blank_missing(rows, text), columns=frame.columns)
+    def cell(v: Any) -> Any:
+        return f"{v:.{digits}g}" if isinstance(v, float) else v
+
+    return frame.style.format(cell, na_rep=text)

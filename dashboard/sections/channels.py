@@ -65,11 +65,8 @@ def side_by_side(sig: LoadedSignal) -> None:
             frame = est.to_frame()
             frame["channel"] = names
             # a column with an absent value (no still R: ``still_note`` says why) shows "—"
-            shown = blank_frame(frame)
-            floats = shown.select_dtypes("float").columns
             # every float written whole at 4 significant digits (3e-7 stays 3e-07, not 0.0000003)
-            config = {c: st.column_config.NumberColumn(format="%.4g") for c in floats}
-            st.dataframe(shown, hide_index=True, column_config=config)
+            st.dataframe(blank_frame(frame, digits=4), hide_index=True)
             csv_download(
                 st,
                 "Channels table as CSV",
