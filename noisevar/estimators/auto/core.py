@@ -454,7 +454,7 @@ def jump_mask(z: NDArray, order: int = AUTO_ORDER, trim: float = AUTO_TRIM) -> N
     Parameters
     ----------
     z : ndarray, shape (n,)
-        Finite samples (at least 22).
+        Finite samples (at least 10).
     order, trim : see :func:`auto_estimate`.
 
     Returns
