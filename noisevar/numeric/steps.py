@@ -254,7 +254,6 @@ def lone_steps(
     above: Callable[[NDArray], NDArray],
     scale: float = 1.0,
     w: int = STEP_WINDOW,
-    alone: bool = True,
 ) -> NDArray:
     """The flagged samples of :func:`step_mask` that one jump between two quiet sides explains.
 
@@ -276,8 +275,7 @@ def lone_steps(
     over many windows: its runs are longer than one step's response or close to each
     other, and the signal bends within ``2 w`` samples of them; those flags are left to
     the fraction rule (:data:`STEP_MAX_FRACTION`). Lengths, gaps and line fits read the
-    same on the reversed record, so it has the same lone steps. ``alone`` False: the runs
-    that one jump explains, other flags near or not (the second condition left out).
+    same on the reversed record, so it has the same lone steps.
     """
     out = np.zeros_like(found)
     idx = np.flatnonzero(found)
@@ -287,7 +285,7 @@ def lone_steps(
     cut = np.flatnonzero(np.diff(idx) > w)
     start, end = idx[np.r_[0, cut + 1]], idx[np.r_[cut, idx.size - 1]]
     gap = start[1:] - end[:-1] - 1
-    quiet = np.r_[True, gap >= 2 * w] & np.r_[gap >= 2 * w, True] if alone else True
+    quiet = np.r_[True, gap >= 2 * w] & np.r_[gap >= 2 * w, True]
     # no flag within 2w is known only where D3 could have flagged there (k from 2w to
     # n - 2w, with its boundary pair): a run nearer an edge may have a neighbour unseen
     seen = (start >= 4 * w - 1) & (end + 4 * w <= z.size)

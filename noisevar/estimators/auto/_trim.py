@@ -33,7 +33,7 @@ from noisevar.numeric.blocks import (
     dilate,
     flagged_per_block,
 )
-from noisevar.numeric.steps import STEP_MAX_FRACTION, STEP_WINDOW, lone_steps, step_mask
+from noisevar.numeric.steps import STEP_MAX_FRACTION, lone_steps, step_mask
 from noisevar.numeric.sweeps import near_any, window_counts
 
 #: Trimmed samples are widened by half of this span (or of the longest span below it).
@@ -109,7 +109,7 @@ def _outlier_mask(
     kappa: float,
     block: int,
     widen: int,
-    steps: Callable[[Callable[[NDArray], NDArray], float, NDArray], tuple[NDArray, ...]] | None,
+    steps: Callable[[Callable[[NDArray], NDArray], float, NDArray], tuple[NDArray, NDArray]] | None,
     step_limit: float,
     after: int = 0,
     z: NDArray | None = None,
@@ -152,34 +152,28 @@ def _outlier_mask(
     outlier = above(sq)
     jumps, found = None, None
     if steps is not None:
-        found, lone, shaped = steps(above, kappa**2, outlier)
+        found, lone = steps(above, kappa**2, outlier)
         if step_limit >= 0 and found.any():
-            jumps = _believed(found, block, lone, shaped)
+            jumps = _believed(found, block, lone)
     return (outlier if outlier.any() else None), jumps, found
 
 
-def _believed(
-    found: NDArray, block: int, lone: NDArray | None = None, shaped: NDArray | None = None
-) -> NDArray | None:
+def _believed(found: NDArray, block: int, lone: NDArray | None = None) -> NDArray | None:
     """The jump samples ``found`` that are jumps, not a fast signal (§F5.3).
 
     Lone steps ``lone`` (:func:`~noisevar.numeric.steps.lone_steps`: one jump's response
     between two quiet straight sides; None: none) are jumps: a step is one event, whatever
-    its size and however many others share the record. A flag that no one jump explains
-    (outside the runs ``shaped``: ``lone_steps(..., alone=False)``, lone or not; default
-    ``lone``), with more than :data:`STEP_MAX_FRACTION` of the ``WINDOW_BLOCKS * block``
-    samples centred on it flagged (:func:`_event_counts`: a ``shaped`` run counts once),
-    sees a fast signal, not a jump: its flag is dropped, and so is any flag within half
-    that window of it (the fast stretch's edge, lone or not). At the
-    record's edges the window is moved inward, not cut short (a cluster of jumps near an
-    edge is not judged on fewer samples). The window is centred on the sample, not on a
-    block grid anchored at the record's start, so that reversing the record moves no
-    decision but through ``found`` itself.
+    its size and however many others share the record. Of the other flags, one with more than
+    :data:`STEP_MAX_FRACTION` of the ``WINDOW_BLOCKS * block`` samples centred on it
+    flagged (at the record's edges the window is moved inward, not cut short: a cluster of
+    jumps near an edge is not judged on fewer samples; lone steps not counted) sees a
+    fast signal, not a jump: its flag is dropped, and so is any flag within half that
+    window of it (the fast stretch's edge, lone or not).
+    The window is centred on the sample, not on a block grid anchored at the record's
+    start, so that reversing the record moves no decision but through ``found`` itself.
     """
-    shaped = lone if shaped is None else shaped
-    # only a flag that no one jump explains can see a fast signal: which step-shaped runs
-    # are lone (no other within 2 w) moves with one sample's shift of the flags
-    idx = np.flatnonzero(found if shaped is None else found & ~shaped)
+    rest = found if lone is None else found & ~lone
+    idx = np.flatnonzero(rest)
     if not idx.size:
         return found
     half = WINDOW_BLOCKS * block // 2
@@ -188,7 +182,8 @@ def _believed(
     # samples (the mirror image at the other edge: symmetric in time)
     size = min(2 * half + 1, found.size)
     lo = np.clip(idx - half, 0, found.size - size)
-    fast = _event_counts(found, shaped, lo, lo + size - 1) > STEP_MAX_FRACTION * size
+    hi = lo + size - 1
+    fast = window_counts(idx, lo, hi) > STEP_MAX_FRACTION * size
     if not fast.any():
         return found
     # a flag within half the window of a fast one is the same fast stretch (its edge)
@@ -198,33 +193,6 @@ def _believed(
     out = found.copy()
     out[idx[near]] = False
     return out if out.any() else None
-
-
-def _event_counts(found: NDArray, shaped: NDArray | None, lo: NDArray, hi: NDArray) -> NDArray:
-    """How many flags the fast-signal rule counts in each window ``[lo, hi]``.
-
-    Each run of ``shaped`` (the runs one jump explains: no longer than ``4 w``, straight
-    sides; :func:`~noisevar.numeric.steps.lone_steps` with ``alone=False``) counts once
-    (half at each end, so that the reversed record counts the same), whether or not
-    another run lies within ``2 w`` of it; every other flag counts.
-
-    Notes
-    -----
-    The rule counted every flag but the lone steps'. Whether a step-shaped run is lone
-    turns on its gap to the next run (``2 w``), which one sample's shift of the flags
-    moves: on ``gpx_untimed`` (issue 26) dropping the first fix made two runs near the
-    start lone no more and another lone, the count crossed the fraction, the stretch's 222
-    flags were dropped as a fast signal and R moved x6.6. Counted once, lone or not, such
-    a run no longer moves the count with its class.
-    """
-    idx = np.flatnonzero(found if shaped is None else found & ~shaped)
-    counts = window_counts(idx, lo, hi).astype(float)
-    if shaped is None or not shaped.any():
-        return counts
-    s = np.flatnonzero(shaped)
-    cut = np.flatnonzero(np.diff(s) > STEP_WINDOW)
-    start, end = s[np.r_[0, cut + 1]], s[np.r_[cut, s.size - 1]]
-    return counts + 0.5 * (window_counts(start, lo, hi) + window_counts(end, lo, hi))
 
 
 def _near_flagged(
@@ -308,9 +276,8 @@ def _steps(
     scale: float,
     ends: tuple[bool, bool] = (True, True),
     detect: tuple[int, int] | None = None,
-) -> tuple[NDArray, NDArray, NDArray]:
-    """The step detector's flags on ``z`` with its glitches bridged, its lone steps, and the
-    runs one jump explains, lone or not (``lone_steps(..., alone=False)``).
+) -> tuple[NDArray, NDArray]:
+    """The step detector's flags on ``z`` with its glitches bridged, and its lone steps.
 
     ``ends``: whether ``z`` starts (ends) where the record does (a glitch there, _edges);
     ``detect``: see :func:`_flag`.
@@ -318,8 +285,7 @@ def _steps(
     lone = None if detect is None else (above, detect)
     bridged = _bridged(z, outliers, ends, lone)
     found = step_mask(bridged, above, scale)
-    shaped = lone_steps(bridged, found, above, scale, alone=False)
-    return found, lone_steps(bridged, found, above, scale), shaped
+    return found, lone_steps(bridged, found, above, scale)
 
 
 def _bridged(
