@@ -400,7 +400,7 @@ WHITE = RNG.normal(0.0, 1.0, 3000)
         (np.full(500, 3.0), {"method": "somd"}, "constant"),
         (WHITE[:800], {"method": "somd", "window": 1000}, "too few samples for the window"),
         (WHITE[:500], {"method": "somd"}, "too few samples"),
-        (WHITE[:15], {"method": "auto"}, "too few samples (15) for the auto estimator"),
+        (WHITE[:9], {"method": "auto"}, "too few samples (9) for the auto estimator"),
         (WHITE, {"method": "somd", "h_smooth": 0}, "h_smooth=0 is outside the stable range"),
         (WHITE, {"method": "somd", "h_smooth": -1e-5}, "outside the stable range"),
         (WHITE, {"method": "somd", "h_smooth": 0.5}, "outside the stable range"),

@@ -49,8 +49,8 @@ GLITCH_MAX = 2
 
 
 def auto_block(n: int) -> int:
-    """Samples per block of ``auto`` on a record of ``n`` samples."""
-    return AUTO_BLOCK if n >= 2 * AUTO_BLOCK else max(n // 2, 16)
+    """Samples per block of ``auto`` on a record of ``n`` samples (a short record: one block)."""
+    return AUTO_BLOCK if n >= 2 * AUTO_BLOCK else min(max(n // 2, 16), n)
 
 
 def _truncated_second_moment(kappa: float) -> float:

@@ -51,6 +51,12 @@ AUTO_LEAK_SE = 3.5
 #: The span used on noise that is not white: the shortest, which lets the least of a
 #: coloured part (flicker, random walk) into the residual (docs/algorithms.md §F5.6).
 AUTO_COLOURED_SPAN = 5
+#: What the estimate of a record too short for the first of ``AUTO_SPANS`` assumes.
+SHORT_SPAN_NOTE = (
+    "a short record: the residual of a local polynomial of order {order} over {span} samples, "
+    "which assumes white noise and a signal that such a polynomial follows over {span} "
+    "samples; the interval is from its degrees of freedom"
+)
 
 
 @lru_cache(maxsize=64)
@@ -106,8 +112,10 @@ def auto_spans(span: int | None, order: int, trim: float, n: int) -> tuple[int, 
     else:
         spans = tuple(s for s in AUTO_SPANS if s > order + 1)
         spans = tuple(s for s in spans if 4 * s <= n) or spans[:1]
-    need = max(2 * max(spans), auto_block(0))  # and one block: a span of 5 on 11 samples
-    if n < need:  # (a piece between a log's gaps) raised ValueError (issue 26, real_audit4)
+        if n < 2 * spans[0] and AUTO_COLOURED_SPAN > order + 1:
+            spans = (AUTO_COLOURED_SPAN,)  # a short record (issue 26): the shortest span
+    need = 2 * max(spans)  # coverage of the ci95 at 9 samples: 88-89 % (short_records)
+    if n < need:
         raise NoisevarError(f"too few samples ({n}) for the auto estimator: give at least {need}")
     return spans
 
@@ -395,10 +403,13 @@ def auto_estimate(
     order, trim = int(order), float(trim)
     span = None if span is None else int(span)
     spans = auto_spans(span, order, trim, z.size)
+    notes = list(notes or [])
+    if span is None and spans[0] < AUTO_SPANS[0]:
+        notes.append(SHORT_SPAN_NOTE.format(span=spans[0], order=order))
     part = auto_part(z, spans, order, trim)
     # params are the config form: the requested span, None when it is chosen per block
     params = {"span": span, "order": order, "trim": trim}
-    return auto_reduce([part], spans, params, list(notes or []))
+    return auto_reduce([part], spans, params, notes)
 
 
 def auto_method(z: NDArray, notes: list[str], **p: object) -> VarianceEstimate:
@@ -443,7 +454,7 @@ def jump_mask(z: NDArray, order: int = AUTO_ORDER, trim: float = AUTO_TRIM) -> N
     Parameters
     ----------
     z : ndarray, shape (n,)
-        Finite samples (at least 22).
+        Finite samples (at least 10).
     order, trim : see :func:`auto_estimate`.
 
     Returns
