@@ -92,17 +92,16 @@ def test_single_column_signal_is_explained():
     assert any("single column" in i.value for i in at.info)
 
 
-def test_a_loggers_constant_columns_are_not_the_default_sensors():
-    """NREL MIDC's logger CSV (real_audit5) starts with an index, the year and the day of
-    year, all constant: the page opened on those three and showed "noise variance 0" for
-    each. It opens on the table's signals."""
+def _ghi_page(header: str, lead: str, seed: int) -> AppTest:
+    """The page on two co-located pyranometers (GHI a, b) after ``lead`` columns, as NREL
+    MIDC's logger writes them (real_audit5)."""
     from dashboard.state import SIGNAL_KEY, make_signal
     from noisevar.io import load_table
 
-    rng = np.random.default_rng(5)
+    rng = np.random.default_rng(seed)
     ghi = 500 + np.cumsum(rng.normal(0, 1, 1440))
-    body = "Unnamed: 0,Year,DOY,GHI a [W/m^2],GHI b [W/m^2]\n" + "".join(
-        f"0,2018,291,{g + rng.normal(0, 0.3):.4f},{g + rng.normal(0, 0.5):.4f}\n" for g in ghi
+    body = header + "GHI a [W/m^2],GHI b [W/m^2]\n" + "".join(
+        f"{lead}{g + rng.normal(0, 0.3):.4f},{g + rng.normal(0, 0.5):.4f}\n" for g in ghi
     )
     table = load_table(body.encode(), "midc.csv")
     at = AppTest.from_file(APP, default_timeout=60)
@@ -111,26 +110,20 @@ def test_a_loggers_constant_columns_are_not_the_default_sensors():
     )
     at.switch_page(PAGE).run()
     _clean(at)
+    return at
+
+
+def test_a_loggers_constant_columns_are_not_the_default_sensors():
+    """NREL MIDC's logger CSV (real_audit5) starts with an index, the year and the day of
+    year, all constant: the page opened on those three and showed "noise variance 0" for
+    each. It opens on the table's signals."""
+    at = _ghi_page("Unnamed: 0,Year,DOY,", "0,2018,291,", seed=5)
     assert at.multiselect(key="ts_cols").value == ["GHI a [W/m^2]", "GHI b [W/m^2]"]
     assert all(v > 0 for v in _variances(at).values())
 
 
 def test_each_sensors_variance_is_written_in_its_unit():
     """As the Estimator and Noise model pages write R (real_audit5: the metrics had none)."""
-    from dashboard.state import SIGNAL_KEY, make_signal
-    from noisevar.io import load_table
-
-    rng = np.random.default_rng(6)
-    ghi = 500 + np.cumsum(rng.normal(0, 1, 1440))
-    body = "GHI a [W/m^2],GHI b [W/m^2]\n" + "".join(
-        f"{g + rng.normal(0, 0.3):.4f},{g + rng.normal(0, 0.5):.4f}\n" for g in ghi
-    )
-    table = load_table(body.encode(), "midc.csv")
-    at = AppTest.from_file(APP, default_timeout=60)
-    at.session_state[SIGNAL_KEY] = make_signal(
-        table, "GHI a [W/m^2]", table.sample_period, "upload", None
-    )
-    at.switch_page(PAGE).run()
-    _clean(at)
+    at = _ghi_page("", "", seed=6)
     shown = [m.value for m in at.metric if "noise variance" in m.label or "two sensors" in m.label]
     assert len(shown) == 3 and all("(W/m²)²" in v for v in shown), shown
