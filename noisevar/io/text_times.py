@@ -53,16 +53,19 @@ def _clock_times(values: list[str]) -> NDArray | None:
     A clock that steps back by over half its turn has turned (midnight; the hour of a
     minute clock): the turn is added, so the seconds keep rising.
     """
+    import pandas as pd
+
+    cells = pd.Series(values, dtype=object).astype(str)
     for pattern, turn in ((_HMS, 86400.0), (_MS, 3600.0)):
-        hits = [pattern.fullmatch(v) for v in values]
-        if not values or not all(hits):
+        parts = cells.str.extract(f"^(?:{pattern.pattern})$")  # one column per group
+        whole = parts.iloc[:, :-1]  # the fraction may be absent; the rest must be there
+        if not values or whole.isna().to_numpy().any():
             continue
-        parts = [m.groups() for m in hits if m is not None]
-        if turn == 3600.0:
-            parts = [("0", *g) for g in parts]
-        sec = np.array(
-            [int(h) * 3600 + int(m) * 60 + int(s) + float(f"0.{f or 0}") for h, m, s, f in parts]
-        )
+        clock = whole.astype(int).to_numpy()
+        if turn == 3600.0:  # a minute clock: no hours
+            clock = np.c_[np.zeros(len(clock), dtype=int), clock]
+        fraction = ("0." + parts.iloc[:, -1].fillna("0")).astype(float).to_numpy()
+        sec = clock @ np.array([3600.0, 60.0, 1.0]) + fraction
         back = np.diff(sec) < -turn / 2
         sec[1:] += turn * np.cumsum(back)
         return sec - sec[0]
