@@ -265,13 +265,10 @@ def _streamed(args: argparse.Namespace) -> bool:
     return bool(args.stream or args.dtype)
 
 
-_IN_MEMORY = object()
-
-
-def _by_default(args: argparse.Namespace, column: Any, method: str, params: dict) -> Any:
-    """The column to stream a file over :data:`noisevar.stream.STREAM_BYTES` by, with no flag:
+def _by_default(args: argparse.Namespace, column: Any, method: str, params: dict) -> bool:
+    """Whether a file over :data:`noisevar.stream.STREAM_BYTES` is streamed with no flag:
     one channel, a method with a chunked path and parameters it takes, a file the streamed
-    path reads as memory would (:func:`noisevar.stream.same_column`); else ``_IN_MEMORY``."""
+    path reads as memory would (:func:`noisevar.stream.same_column`)."""
     from noisevar.estimators import method_spec
     from noisevar.stream import STREAM_BYTES, same_column
 
@@ -283,9 +280,8 @@ def _by_default(args: argparse.Namespace, column: Any, method: str, params: dict
         or not set(params) <= own
         or os.path.getsize(args.file) <= STREAM_BYTES
     ):
-        return _IN_MEMORY
-    ok, col = same_column(args.file, column)
-    return col if ok else _IN_MEMORY
+        return False
+    return same_column(args.file, column)[0]
 
 
 def _estimate_streamed(args: argparse.Namespace, column: Any, method: str, params: dict) -> Any:
@@ -322,13 +318,16 @@ def _cmd_estimate(args: argparse.Namespace) -> int:
             raise NoisevarError(
                 "--unit-out converts one column read in memory: drop --columns/--stream"
             )
-    if _streamed(args):
-        _print(args, column, _estimate_streamed(args, column, method, params), _unit(args))
-        return 0
     in_memory = columns is not None or bool(args.unit_out)  # --unit-out converts in memory
-    if not in_memory and (col := _by_default(args, column, method, params)) is not _IN_MEMORY:
-        result = _estimate_streamed(args, col, method, params)  # bounded memory, same numbers
-        _print(args, column, result, _unit(args))
+    if _streamed(args) or (not in_memory and _by_default(args, column, method, params)):
+        from noisevar.stream import streamed_column
+
+        if args.topic is None and columns is None:  # (their own messages, below)
+            _, column, declared = streamed_column(args.file, column, args.dtype)
+        else:
+            declared = None
+        result = _estimate_streamed(args, column, method, params)  # bounded memory
+        _print(args, column, result, _unit(args, declared))
         return 0
     if columns is not None:
         return _estimate_many(args, columns, method, params)

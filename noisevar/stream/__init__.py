@@ -11,11 +11,15 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from noisevar.errors import NoisevarError
 from noisevar.estimators import DEFAULT_METHOD, estimate_chunked
 from noisevar.estimators.results import VarianceEstimate
 from noisevar.stream.sources import FileSource, npy_source, raw_source, regular_file, spool_csv
+
+if TYPE_CHECKING:
+    from noisevar.io.table import LoadedTable
 
 __all__ = [
     "STREAM_BYTES",
@@ -24,6 +28,7 @@ __all__ = [
     "estimate_file",
     "same_column",
     "source_of",
+    "streamed_column",
 ]
 
 #: Files larger than this (bytes) are streamed by ``noisevar estimate`` without a flag,
@@ -51,10 +56,6 @@ def source_of(
 def same_column(path: str | os.PathLike, column: str | int | None) -> tuple[bool, str | int | None]:
     """The ``column`` of :func:`estimate_file` that streams what the in-memory loader picks.
 
-    The in-memory path (:func:`noisevar.io.pick_column`) takes a column name, an index
-    among the data columns, or None for the first; the file's head is read as a table to
-    map that onto the streamed reader's column (an index for ``.npy``, a name for text).
-
     Parameters
     ----------
     path : path-like
@@ -74,34 +75,85 @@ def same_column(path: str | os.PathLike, column: str | int | None) -> tuple[bool
     NoisevarError
         No such column (the in-memory path's message).
     """
+    low = str(path).lower()
+    if not low.endswith((".npy", ".csv", ".tsv", ".txt")):
+        return False, None
+    table = _head_table(path)
+    if table is None or (not low.endswith(".npy") and table.time() is not None):
+        return False, None
+    return True, streamed_column(path, column)[0]
+
+
+def streamed_column(
+    path: str | os.PathLike, column: str | int | None, dtype: str | None = None
+) -> tuple[str | int | None, str | int | None, str | None]:
+    """The column the streamed reader takes for what the in-memory loader picks.
+
+    Parameters
+    ----------
+    path : path-like
+        The file :func:`estimate_file` reads.
+    column : str, int or None
+        The column as the in-memory path takes it (:func:`noisevar.io.pick_column`): a
+        name, an index among the *data* columns (a time column is not counted), or None
+        for the first signal. A raw binary file (``dtype``) takes ``'K/COLUMNS'``.
+    dtype : str, optional
+        The raw file's sample type.
+
+    Returns
+    -------
+    tuple
+        The column to give the file's streamed reader (a name for text, an index for
+        ``.npy``, as given for raw files), its name to show, and the unit the file declares
+        for it (None if none).
+
+    Raises
+    ------
+    NoisevarError
+        No such column (the in-memory path's message).
+
+    Notes
+    -----
+    The file's head is read as a table (:data:`_HEAD_BYTES`), so ``--column 1`` names the
+    same channel, with the same unit, streamed or not.
+    """
+    from noisevar.io.load import column_name
+
+    table = None if dtype is not None else _head_table(path)
+    if table is None:
+        return column, column, None
+    name = column_name(table, column)
+    index = table.data_columns.index(name)
+    reader = (index if _npy_columns(path) else None) if str(path).lower().endswith(".npy") else name
+    return reader, name, table.units.get(name)
+
+
+def _head_table(path: str | os.PathLike) -> LoadedTable | None:
+    """The file's head as the in-memory loader reads it (a ``.npy``: a two-row array of
+    its shape, so the same column names); None for a file that does not stream so."""
     import io
 
     import numpy as np
 
     from noisevar.io import load_table
-    from noisevar.io.load import column_name
 
     name = Path(path).name
     low = name.lower()
     if low.endswith(".npy"):
         try:
-            shape = npy_source(path, 0).n, _npy_columns(path)
+            npy_source(path, 0)
+            cols = _npy_columns(path)
         except NoisevarError:
-            return False, None  # structured, non-numeric, 3-D...: read in memory
-        head = io.BytesIO()  # a two-row array of the same columns: the same column names
-        np.save(head, np.zeros((2, shape[1]) if shape[1] else 2))
-        table = load_table(head.getvalue(), name)
-        index = table.data_columns.index(column_name(table, column))
-        return True, (index if shape[1] else None)
+            return None  # structured, non-numeric, 3-D...: read in memory
+        head = io.BytesIO()
+        np.save(head, np.zeros((2, cols) if cols else 2))
+        return load_table(head.getvalue(), name)
     if not low.endswith((".csv", ".tsv", ".txt")):
-        return False, None
+        return None
     with open(path, "rb") as fh:
         raw = fh.read(_HEAD_BYTES)
     raw = raw[: raw.rfind(b"\n") + 1] or raw
-    table = load_table(raw, name)
-    if table.time() is not None:
-        return False, None
-    return True, column_name(table, column)
+    return load_table(raw, name)
 
 
 def _npy_columns(path: str | os.PathLike) -> int:
@@ -142,6 +194,8 @@ def estimate_file(
         ``.npy`` (1-D, or 2-D with ``column``), a headerless binary file of ``dtype``
         samples (``column='K/COLUMNS'`` for interleaved channels), or a CSV file.
     column : str or int, optional
+        As the in-memory loader takes it (:func:`streamed_column`): a name, an index among
+        the data columns, or None for the first signal; ``'K/COLUMNS'`` for a raw file.
     dtype : str, optional
         The raw file's sample type (``"float64"``, ``"<f4"``, ``"int16"``, ...).
     method : str
@@ -161,6 +215,7 @@ def estimate_file(
         non-finite samples, integers beyond 2**53, or a method without a chunked path.
     """
     regular_file(path)
+    column = streamed_column(path, column, dtype)[0]  # as the in-memory path counts them
     spool = None
     if dtype is None and str(path).lower().endswith((".csv", ".txt", ".tsv")):
         src, _ = spool_csv(path, column)

@@ -122,7 +122,6 @@ def test_files_npy_raw_csv(tmp_path) -> None:
     [
         (lambda p: np.save(p / "x.npy", np.r_[np.ones(5000), np.nan]), "non-finite"),
         (lambda p: np.save(p / "x.npy", np.zeros((10, 3, 2))), "shape"),
-        (lambda p: np.save(p / "x.npy", np.zeros((5000, 3))), "pick one"),
         (lambda p: np.save(p / "x.npy", np.zeros(5000, dtype="c16")), "integers or floats"),
         (lambda p: np.save(p / "x.npy", np.full(5000, 2.0)), "constant"),
     ],
@@ -191,3 +190,10 @@ def test_profile_bounds_stay_finite_on_blocks_of_few_dof() -> None:
         np.array([0, 50]), np.array([50, 100]), np.array([1.0, 50.0]), one, one, 1e-3, 1.0
     )
     assert np.all(np.isfinite(prof.hi)) and np.all(prof.hi >= prof.variance)
+
+
+def test_a_2d_npy_without_a_column_streams_its_first_as_in_memory(tmp_path) -> None:
+    x = np.random.default_rng(8).normal(size=(5000, 3)) * [1.0, 2.0, 3.0]
+    np.save(tmp_path / "x.npy", x)
+    got = estimate_file(tmp_path / "x.npy", chunk=1024)
+    assert got.variance == pytest.approx(noisevar.estimate(x[:, 0]).variance, rel=1e-9)

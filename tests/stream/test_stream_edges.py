@@ -3,6 +3,7 @@ a FIFO refused instead of read forever, ``method=`` taken; the config loader's d
 
 from __future__ import annotations
 
+import json
 import os
 import sys
 
@@ -68,3 +69,26 @@ def test_the_dashboards_config_upload_words_a_deep_json_too():
 
     with pytest.raises(NoisevarError, match="nested too deeply"):
         _parse_with_column(b"[" * 50_000 + b"]" * 50_000, "tuned.json")
+
+
+@pytest.mark.parametrize("column", [None, "0", "1", "gyro_z [rad/s]"])
+def test_a_streamed_column_is_the_in_memory_one_with_its_name_and_unit(tmp_path, capsys, column):
+    """--column counts data columns streamed or not (a time column is not one), and the
+    streamed answer is printed under the channel's name, in its declared unit."""
+    rng = np.random.default_rng(5)
+    n = 3000
+    table = np.c_[np.arange(n) * 0.01, rng.normal(size=n), 2 * rng.normal(size=n)]
+    path = tmp_path / "imu.csv"
+    np.savetxt(path, table, delimiter=",", header="time,accel_x [m/s^2],gyro_z [rad/s]",
+               comments="", fmt="%.6f")  # fmt: skip
+    pick = [] if column is None else ["--column", column]
+    outs = []
+    for extra in ([], ["--stream"]):
+        assert main(["estimate", str(path), *pick, *extra, "--format", "json"]) == 0
+        outs.append(json.loads(capsys.readouterr().out))
+    memory, streamed = outs
+    assert streamed["variance"] == pytest.approx(memory["variance"], rel=1e-6)
+    for key in ("column", "unit"):
+        assert streamed.get(key) == memory.get(key), key
+    want = 1 if column in ("1", "gyro_z [rad/s]") else 0
+    assert memory["column"] == ["accel_x [m/s^2]", "gyro_z [rad/s]"][want]
