@@ -541,15 +541,27 @@ def blank_missing(rows: Sequence[dict[str, Any]], text: str = "—") -> list[dic
     return [{k: cell(r, k) for k in columns} for r in rows]
 
 
-def blank_frame(frame: pd.DataFrame, text: str = "—", digits: int = 6) -> Styler:
+def blank_frame(
+    frame: pd.DataFrame,
+    text: str = "—",
+    digits: int = 6,
+    formats: dict[str, str] | None = None,
+) -> Styler:
     """A table of result rows to show: every missing cell (None, NaN, pandas' NA) as ``text``.
 
     A pandas ``Styler``: the numbers stay numbers (a fleet sorts by R's value, not by its
     text) shown to ``digits`` significant digits, and a missing cell reads ``text``; the reason a
     value is absent is the row's own (e.g. ``still_note``), never a "None" or "nan" cell.
+    ``formats`` gives a column its own format: a printf pattern (``"%.4g"``) or ``"percent"``.
     """
 
     def cell(v: Any) -> Any:
         return f"{v:.{digits}g}" if isinstance(v, float) else v
 
-    return frame.style.format(cell, na_rep=text)
+    def column(fmt: str) -> Callable[[Any], str]:
+        if fmt == "percent":
+            return lambda v: f"{100 * v:.2f} %"
+        return lambda v: fmt % v
+
+    own = {k: column(f) for k, f in (formats or {}).items() if k in frame.columns}
+    return frame.style.format(cell, na_rep=text).format(own, na_rep=text)

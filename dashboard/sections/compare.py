@@ -6,8 +6,10 @@ import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+import pandas as pd
 import plotly.graph_objects as go
 import streamlit as st
+from pandas.io.formats.style import Styler
 from streamlit.delta_generator import DeltaGenerator
 
 import noisevar
@@ -18,6 +20,7 @@ from dashboard.sections.regimes import record_answer_box
 from dashboard.state import LoadedSignal, initial, times_of, truth_of
 from dashboard.text import plain
 from dashboard.widgets import (
+    blank_frame,
     csv_download,
     figure_downloads,
     fmt,
@@ -62,10 +65,6 @@ _MC_FORMATS = {
     "max |error|": "percent",
     "ms per run": "%.2f",
 }
-
-
-def _number_columns(formats: dict[str, str]) -> dict[str, st.column_config.NumberColumn]:
-    return {k: st.column_config.NumberColumn(format=f) for k, f in formats.items()}
 
 
 def tuned_params(tuned: dict[str, object] | None) -> dict[str, dict[str, object]]:
@@ -193,6 +192,26 @@ def comparison_table(
     ``waiting`` names methods still computing: a row each saying so, and no downloads or
     figure key until every row is in (the view is redrawn then).
     """
+    n_rows = len(comp.rows()) + len(waiting)
+    st.dataframe(  # a failed or waiting method's cells read "—", never "None"
+        comparison_frame(comp, waiting),
+        hide_index=True,
+        height=table_height(n_rows),  # every method visible: no rows behind a scroll bar
+    )
+    truth = f" True variance {fmt(comp.true_variance)}." if comp.true_variance is not None else ""
+    st.caption(
+        f"Cramér-Rao floor for {sig.n:,} samples: relative sd "
+        f"{100 * comp.cr_floor:.2f} % (± {196 * comp.cr_floor:.2f} % at 95 %)." + truth
+    )
+    if chart is None:
+        return
+    with chart.container():
+        _figure_and_downloads(comp, sig, waiting)
+
+
+def comparison_frame(comp: Comparison, waiting: Sequence[str] = ()) -> Styler:
+    """The comparison table as drawn: one row per method (``waiting``: still computing),
+    its numbers in their formats, and a missing cell (a failed or waiting method) as "—"."""
     rows = comp.rows()
     table = {
         "method": [r["method"] for r in rows] + list(waiting),
@@ -212,22 +231,7 @@ def comparison_table(
     table["note"] = [r["error"] or r["notes"] or "—" for r in rows] + ["computing..."] * len(
         waiting
     )
-    n_rows = len(rows) + len(waiting)
-    st.dataframe(
-        table,
-        hide_index=True,
-        column_config=_number_columns(_COMPARE_FORMATS),
-        height=table_height(n_rows),  # every method visible: no rows behind a scroll bar
-    )
-    truth = f" True variance {fmt(comp.true_variance)}." if comp.true_variance is not None else ""
-    st.caption(
-        f"Cramér-Rao floor for {sig.n:,} samples: relative sd "
-        f"{100 * comp.cr_floor:.2f} % (± {196 * comp.cr_floor:.2f} % at 95 %)." + truth
-    )
-    if chart is None:
-        return
-    with chart.container():
-        _figure_and_downloads(comp, sig, waiting)
+    return blank_frame(pd.DataFrame(table), formats=_COMPARE_FORMATS)
 
 
 def _figure_and_downloads(comp: Comparison, sig: LoadedSignal, waiting: Sequence[str]) -> None:
@@ -430,10 +434,10 @@ def monte_carlo_results(cancelled: bool) -> None:
         "ms per run": "ms_per_run",
         "parameters": "params",
     }
+    frame = pd.DataFrame({label: [r[k] for r in summary] for label, k in columns.items()})
     st.dataframe(
-        {label: [r[k] for r in summary] for label, k in columns.items()},
+        blank_frame(frame, formats=_MC_FORMATS),
         hide_index=True,
-        column_config=_number_columns(_MC_FORMATS),
         height=table_height(len(summary)),
     )
     for m, msg in res.first_error.items():

@@ -157,3 +157,23 @@ def test_a_peer_row_is_one_task_for_every_session(monkeypatch):
     monkeypatch.setattr(workers, "start_batch", real)
     again = cache.peer_row(other, "mle-level", {})  # forgotten, started anew
     assert again.future is not broken and again.result().error is None
+
+
+def test_a_failed_or_waiting_method_reads_a_dash_never_none() -> None:
+    """A method that failed (or is still computing) has no numbers: its cells read "—"."""
+    import re
+
+    import numpy as np
+
+    from dashboard.sections.compare import comparison_frame
+    from noisevar.estimators.compare import MethodResult, comparison_of, run_method
+
+    z = np.random.default_rng(3).normal(size=2000)
+    ok = run_method(z, "diff2")
+    failed = MethodResult("somd", "somd", "", None, "gamma_amp too small", 0.01)
+    styler = comparison_frame(comparison_of(z.size, [ok, failed], 1.0), waiting=["mle-level"])
+    cells = re.findall(r"<td[^>]*>(.*?)</td>", styler.to_html())
+    assert not {"None", "nan", "NaN", "<NA>"} & set(cells), cells
+    assert cells.count("—") >= 2 * 8  # the failed and the waiting rows' numbers
+    assert "gamma_amp too small" in cells and "computing..." in cells
+    assert any(re.fullmatch(r"\d+\.\d\d %", c) for c in cells)  # the percent columns
