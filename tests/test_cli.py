@@ -466,3 +466,15 @@ def test_a_column_index_is_answered_with_the_columns_name(capsys, tmp_path):
     assert data["column"] == "Temperature [degC]"
     assert main(["estimate", str(path), "--column", "1"]) == 0
     assert "column Temperature [degC]" in capsys.readouterr().out
+
+
+def test_the_channels_table_writes_one_unit_form(capsys, tmp_path):
+    """--columns all: the std's unit is written as the variance's (m/s², not m/s^2)."""
+    rng = np.random.default_rng(4)
+    path = tmp_path / "phyphox.csv"
+    rows = np.c_[np.arange(600) * 0.01, rng.normal(size=(600, 2))]
+    np.savetxt(path, rows, delimiter=",", comments="", fmt="%.6f",
+               header='"Time (s)","Acceleration x (m/s^2)","Acceleration y (m/s^2)"')  # fmt: skip
+    assert main(["estimate", str(path), "--columns", "all"]) == 0
+    line = next(x for x in capsys.readouterr().out.splitlines() if x.startswith("units"))
+    assert line.split() == ["units", "variance", "(m/s²)²,", "std", "m/s²"]

@@ -186,7 +186,9 @@ def _print_table(args: argparse.Namespace, rows: list[tuple[Any, Any, str]]) -> 
     units = {u for _, _, u in rows}
     one = units.pop() if len(units) == 1 else None
     if one is not None:
-        print(f"units     variance {_variance_label(one)}, std {one}")
+        from noisevar.format import unit_text
+
+        print(f"units     variance {_variance_label(one)}, std {unit_text(one)}")
     head = f"{'channel':<{width}}  {'variance':>11}  {'std':>11}  {'95 % CI':>25}  samples"
     print(head + ("" if one is not None else "  unit (std)"))
     for c, r, u in rows:
