@@ -14,7 +14,7 @@ from dashboard.state import LoadedSignal, current_signal
 from dashboard.text import plain
 from dashboard.url_params import RECIPE_PARAMS
 from dashboard.widgets import guarded, how_it_works, param_input
-from noisevar.io.logs import default_topic, log_suffixes
+from noisevar.io.logs import default_topic, log_suffixes, readers
 from noisevar.signals import PAPER_SIGNAL, signal_spec
 
 
@@ -183,10 +183,9 @@ def uploader(errors: DeltaGenerator) -> None:
         f"CSV/TSV (header optional; a column named t/time gives the sample period; a decimal "
         f"comma with `;` separators, as European spreadsheets export, is read too), `.npy` "
         f"(numeric arrays only), or NMEA 0183 GGA/RMC (converted to local east/north metres, "
-        f"speed and course); or a log: ROS 1/2 bag (`.bag`, `.mcap`, `.db3`; one cut short, "
-        f"or a recorder's `.bag.active`, is read up to its cut), PX4 ULog, "
-        f"ArduPilot DataFlash (`.bin`, `.log`), Parquet or HDF5, one topic for the signal "
-        f"(more for the IMU model) with the log's own timestamps. Up to {limit_mb:.0f} MB."
+        f"speed and course); or a log or workbook, one topic (a sheet) for the signal (more "
+        f"for the IMU model) with its own timestamps: {_log_kinds()}. A ROS bag cut short, or "
+        f"a recorder's `.bag.active`, is read up to its cut. Up to {limit_mb:.0f} MB."
     )
     log_types = [s.lstrip(".") for s in log_suffixes()]
     up = st.file_uploader(
@@ -222,3 +221,8 @@ def uploader(errors: DeltaGenerator) -> None:
         sig = current_signal()
         kept = f" (The previous signal, {plain(sig.label)}, is kept.)" if sig is not None else ""
         errors.error(plain(failed[1]) + kept)
+
+
+def _log_kinds() -> str:
+    """The log readers' formats and suffixes, from their registry (one line each)."""
+    return "; ".join(f"{r.title} ({', '.join(f'`{x}`' for x in r.suffixes)})" for r in readers())

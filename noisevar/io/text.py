@@ -287,6 +287,12 @@ def _holds_dates(text: str, fmt: _Format, header_line: int, idx: int | None) -> 
     return False
 
 
+def read_text_table(text: str, name: str) -> LoadedTable:
+    """A whole text table held in memory (a workbook's sheet written as CSV), read as the
+    loader reads a CSV file: header, units, time column, missing cells, notes."""
+    return _read_text_table(text, name)
+
+
 def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
     text = src if isinstance(src, str) else src.head
     fmt, names, header_line, unit_row = table_layout(text, name, isinstance(src, str))
