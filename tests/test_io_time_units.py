@@ -24,7 +24,13 @@ def _csv(name: str, scale: float, offset: int = 0) -> bytes:
 
 @pytest.mark.parametrize(
     ("name", "scale", "offset"),
-    [("time_ns", 1e-9, 1_700_000_000_000_000_000), ("timestamp_us", 1e-6, 0), ("t [ms]", 1e-3, 0)],
+    [
+        ("time_ns", 1e-9, 1_700_000_000_000_000_000),
+        ("timestamp_us", 1e-6, 0),
+        ("t [ms]", 1e-3, 0),
+        ("TimeUS", 1e-6, 2_000_000),  # ArduPilot's field, as Mission Planner's CSV writes it
+        ("Time_US_GPS_20190123_Flight2", 1e-6, 0),  # autoflpy's workbooks
+    ],
 )
 def test_time_column_in_its_named_unit(name, scale, offset):
     tab = load_table(_csv(name, scale, offset), "a.csv")

@@ -202,7 +202,7 @@ def is_time_column(name: str) -> bool:
     ``t_ms`` (a time word with its unit; :func:`time_in_seconds` scales them)."""
     base = time_key(name)
     # a time word with its unit: timestamp_us, t_ms, SensorLog's accelerometerTimestamp(s)
-    worded = base.startswith(("timestamp_", "t_")) or "timestamp" in base
+    worded = base.startswith(("timestamp_", "t_", "time")) or "timestamp" in base
     return _is_time_name(name) or (worded and time_unit(name) is not None)
 
 
@@ -219,7 +219,14 @@ def time_unit(name: str) -> str | None:
     word = m[1] if m else key.rpartition("_")[2] if "_" in key else ""
     if word in TIME_UNITS:
         return word
+    # a time word with its unit glued on or next: ArduPilot's TimeUS, autoflpy's Time_US_GPS_..
+    if glued := _GLUED_UNIT.match(time_key(name)):
+        return glued[1]
     return NAMED_TIME_UNITS.get(time_key(name))
+
+
+#: ``time``/``timestamp`` followed by a time unit (``timeus``, ``time_us_gps``).
+_GLUED_UNIT = re.compile(r"(?:time|timestamp)_?(ns|nsec|us|usec|µs|ms|msec)(?:_|$)")
 
 
 def _clock_unit(name: str, first: float | None, stated: str | None) -> tuple[str | None, str]:
