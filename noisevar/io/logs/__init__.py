@@ -76,7 +76,7 @@ READERS: dict[str, str] = {
     "parquet": "noisevar.io.logs.parquet",
     "hdf5": "noisevar.io.logs.hdf5",
     "matlab": "noisevar.io.logs.matlab",
-    "excel": "noisevar.io.logs.excel",
+    "workbook": "noisevar.io.logs.workbook",
 }
 
 

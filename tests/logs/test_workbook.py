@@ -1,5 +1,5 @@
-"""Excel workbooks (phyphox's and lab loggers' exports): each sheet with numbers a topic,
-read as its CSV would be; bad, cut and hostile workbooks refused in one line."""
+"""Spreadsheet workbooks (phyphox's and lab loggers' exports): each sheet with numbers a
+topic, read as its CSV would be; bad, cut and hostile workbooks refused in one line."""
 
 from __future__ import annotations
 
@@ -10,6 +10,7 @@ import zipfile
 from pathlib import Path
 
 import numpy as np
+import openpyxl  # writes the workbooks (a test dependency)
 import pytest
 from streamlit.testing.v1 import AppTest
 
@@ -18,8 +19,6 @@ from noisevar.cli import main
 from noisevar.errors import NoisevarError
 from noisevar.io import load_table
 from noisevar.io.logs import list_topics, load_log
-
-openpyxl = pytest.importorskip("openpyxl")
 
 ROOT = Path(__file__).resolve().parents[2]
 HEAD = ["Time (s)", "Acceleration x (m/s^2)", "Acceleration y (m/s^2)", "Absolute (m/s^2)"]
@@ -59,7 +58,7 @@ def test_a_sheet_reads_as_its_csv_with_units_and_rate(tmp_path):
     assert topic.units["Acceleration x (m/s^2)"] == "m/s^2"
     book = load_log(tmp_path / "walk.xlsx")
     text = load_table(tmp_path / "walk.csv")
-    assert book.kind == "excel" and book.data_columns == text.data_columns
+    assert book.kind == "workbook" and book.data_columns == text.data_columns
     for c in text.data_columns:
         np.testing.assert_array_equal(book.columns[c], text.columns[c])
         assert noisevar.estimate(book.columns[c]).variance == (
@@ -97,8 +96,8 @@ def test_date_time_cells_give_the_times(tmp_path):
 @pytest.mark.parametrize(
     ("content", "message"),
     [
-        (b"not a zip at all", "not a whole Excel workbook"),
-        (b"PK\x03\x04" + b"\0" * 40, "not a whole Excel workbook"),
+        (b"not a zip at all", "not a whole workbook"),
+        (b"PK\x03\x04" + b"\0" * 40, "not a whole workbook"),
     ],
 )
 def test_bad_workbooks_are_one_error(tmp_path, capsys, content, message):
@@ -119,17 +118,17 @@ def test_a_cut_workbook_is_one_error(tmp_path, capsys):
 
 
 def test_an_expanding_workbook_is_refused_before_it_is_parsed(tmp_path, monkeypatch):
-    from noisevar.io.logs import excel
+    from noisevar.io.logs import workbook
 
     _phyphox(tmp_path / "walk.xlsx")
-    monkeypatch.setattr(excel, "MAX_UNZIPPED", 10_000)  # the sheet's XML is larger
-    excel._tables.cache_clear()
+    monkeypatch.setattr(workbook, "MAX_UNZIPPED", 10_000)  # the sheet's XML is larger
+    workbook._tables.cache_clear()
     with pytest.raises(NoisevarError, match="expands to"):
         list_topics(tmp_path / "walk.xlsx")
 
 
 def test_entities_in_a_sheets_xml_are_refused(tmp_path):
-    """A 'billion laughs' sheet: defusedxml refuses its entities, nothing is expanded."""
+    """A 'billion laughs' sheet: calamine's parser expands no entity; the file is refused."""
     _phyphox(tmp_path / "walk.xlsx")
     bomb = (
         '<?xml version="1.0"?><!DOCTYPE lol [<!ENTITY lol "lol">'
@@ -144,7 +143,7 @@ def test_entities_in_a_sheets_xml_are_refused(tmp_path):
     with zipfile.ZipFile(tmp_path / "bomb.xlsx", "w") as z:
         for name, data in entries.items():
             z.writestr(name, data)
-    with pytest.raises(NoisevarError, match="could not be read as an Excel workbook"):
+    with pytest.raises(NoisevarError, match="could not be read as a spreadsheet workbook"):
         list_topics(tmp_path / "bomb.xlsx")
 
 
@@ -157,6 +156,16 @@ def test_the_signal_page_takes_a_workbook(tmp_path):
     at.file_uploader(key="upload").set_value(upload).run()
     assert not at.exception and not at.error
     sig = at.session_state["nv_signal"]
-    assert sig.table.kind == "excel" and sig.table.n_rows == 1500
+    assert sig.table.kind == "workbook" and sig.table.n_rows == 1500
     assert abs(sig.sample_period - 0.005) < 1e-12
-    assert any("Excel workbook (`.xlsx`" in c.value for c in at.caption)
+    assert any("spreadsheet workbook (`.xlsx`" in c.value for c in at.caption)
+
+
+@pytest.mark.parametrize("suffix", [".ods", ".xls"])
+def test_other_spreadsheet_formats_are_read_or_refused_in_one_line(tmp_path, capsys, suffix):
+    """A LibreOffice or old Excel file that is not one (here: an .xlsx renamed) is one error."""
+    _phyphox(tmp_path / "walk.xlsx")
+    (tmp_path / f"walk{suffix}").write_bytes((tmp_path / "walk.xlsx").read_bytes())
+    code = main(["topics", str(tmp_path / f"walk{suffix}")])
+    out, err = capsys.readouterr()
+    assert (code == 0 and "Accelerometer" in out) or (code == 2 and err.count("\n") == 1)

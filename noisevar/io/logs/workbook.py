@@ -1,16 +1,17 @@
-"""Excel workbooks (``.xlsx``, ``.xlsm``), through ``openpyxl``; nothing is evaluated.
+"""Spreadsheet workbooks (Excel ``.xlsx``/``.xlsm``/``.xlsb``/``.xls``, LibreOffice ``.ods``),
+through ``python-calamine``; nothing is evaluated.
 
 Each sheet holding numbers is a topic (phyphox's and lab loggers' exports: one sheet per
 sensor, beside sheets of metadata). A sheet is read as a text table is
 (:func:`noisevar.io.text.read_text_table`): its header row and the units in it
 (``Acceleration x (m/s^2)``), its time column (seconds, a clock or a date-time) and its
 missing cells, so one record gives one answer as a sheet or saved as CSV. Cells keep the
-values Excel stored: a formula's last computed value, never the formula (``data_only``).
+values the spreadsheet stored: a formula's last computed value, never the formula.
 
-Untrusted files: the workbook is a zip of XML; the sizes its entries declare are summed
-before anything is parsed (:data:`MAX_UNZIPPED`: a small file cannot expand to gigabytes),
-the XML is parsed through ``defusedxml`` (no entity expansion), and the numbers one sheet
-holds are capped (:data:`~noisevar.io.logs.spec.MAX_VALUES`).
+Untrusted files: a zipped workbook's entries are sized from the zip's directory before
+anything is parsed (:data:`MAX_UNZIPPED`: a small file cannot expand to gigabytes), and
+calamine's XML parser expands no entities; the cells one sheet holds are capped
+(:data:`~noisevar.io.logs.spec.MAX_VALUES`).
 """
 
 from __future__ import annotations
@@ -33,17 +34,22 @@ from noisevar.io.text import read_text_table
 if TYPE_CHECKING:
     from noisevar.io.table import LoadedTable
 
-#: Most bytes the workbook's zip entries may expand to (their declared sizes, summed).
-MAX_UNZIPPED = MAX_BYTES
+#: Most bytes a zipped workbook's entries may expand to (their declared sizes, summed): a
+#: sheet is held whole while it is read, about 50 bytes a cell for 20 bytes of its XML.
+MAX_UNZIPPED = MAX_BYTES // 4
+#: Workbook formats that are zip files (the binary ``.xls`` is not).
+ZIPPED = (".xlsx", ".xlsm", ".xlsb", ".ods")
 
 
 def _check_zip(path: Path) -> None:
-    """Refuse a file that is no zip, or whose entries would expand past :data:`MAX_UNZIPPED`."""
+    """Refuse a zipped workbook that is no whole zip, or whose entries would expand past
+    :data:`MAX_UNZIPPED`."""
+    if not path.name.lower().endswith(ZIPPED):
+        return
     if not zipfile.is_zipfile(path):
         raise NoisevarError(
-            f"{echo(path.name)} is not a whole Excel workbook (an .xlsx is a zip file; this "
-            "one is cut short, or another format: an old .xls is not read): save it as .xlsx "
-            "or CSV in Excel or LibreOffice"
+            f"{echo(path.name)} is not a whole workbook (an .xlsx or .ods is a zip file; this "
+            "one is cut short, or another format): save it again, or save the sheet as CSV"
         )
     with zipfile.ZipFile(path) as z:
         total = sum(i.file_size for i in z.infolist())
@@ -70,7 +76,7 @@ def _cell(value: object) -> str:
     return str(value)
 
 
-def _sheet_csv(rows: Iterator[tuple], name: str) -> str | None:
+def _sheet_csv(rows: Iterator[list], name: str) -> str | None:
     """A sheet's rows as CSV text, trailing empty cells and rows dropped; None if empty."""
     buf = io.StringIO()
     out = csv.writer(buf, lineterminator="\n")
@@ -98,21 +104,21 @@ def _tables(path: str, stamp: tuple[int, int]) -> dict[str, tuple[LoadedTable | 
     Cached on the file's path, size and modification time: listing the topics and reading
     one parse the workbook once.
     """
-    import openpyxl
+    from python_calamine import CalamineWorkbook
 
     _check_zip(Path(path))
-    book = openpyxl.load_workbook(path, read_only=True, data_only=True)
+    book = CalamineWorkbook.from_path(path)
     try:
         out: dict[str, tuple[LoadedTable | None, str]] = {}
-        for ws in book.worksheets:
-            text = _sheet_csv(ws.iter_rows(values_only=True), ws.title)
+        for title in book.sheet_names:
+            text = _sheet_csv(book.get_sheet_by_name(title).iter_rows(), title)
             if text is None:
-                out[ws.title] = None, "empty"
+                out[title] = None, "empty"
                 continue
             try:
-                out[ws.title] = read_text_table(text, f"{ws.title}.csv"), ""
+                out[title] = read_text_table(text, f"{title}.csv"), ""
             except NoisevarError as exc:
-                out[ws.title] = None, str(exc)
+                out[title] = None, str(exc)
         return out
     finally:
         book.close()
@@ -132,7 +138,7 @@ def topics(path: Path) -> list[TopicInfo]:
         rate = 1.0 / table.sample_period if table.sample_period else None
         fields = tuple(table.data_columns[:MAX_FIELDS])
         units = {f: u for f, u in table.units.items() if f in fields}
-        found.append(TopicInfo(title, "Excel sheet", table.n_rows, rate, fields, units))
+        found.append(TopicInfo(title, "sheet", table.n_rows, rate, fields, units))
     return found
 
 
@@ -159,12 +165,12 @@ def read(path: Path, topic: str, fields: Sequence[str] | None) -> Iterator[Chunk
 
 
 READER = LogReader(
-    name="excel",
-    title="Excel workbook",
-    suffixes=(".xlsx", ".xlsm"),
+    name="workbook",
+    title="spreadsheet workbook",
+    suffixes=(*ZIPPED, ".xls"),
     magic=(),
     topics=topics,
     read=read,
     time_note="times from the sheet's time column",
-    repair="save it again from Excel or LibreOffice as .xlsx, or save the sheet as CSV",
+    repair="save it again from Excel or LibreOffice, or save the sheet as CSV",
 )
