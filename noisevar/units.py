@@ -147,14 +147,57 @@ def sensor_of(text: str | None) -> str | None:
     return next((k for k, si in SENSOR_SI.items() if unit is not None and unit.si == si), None)
 
 
-def sensor_columns(declared: Mapping[str, str | None]) -> tuple[list[str], list[str]]:
+def sensor_columns(
+    declared: Mapping[str, str | None], data: Mapping[str, ArrayLike] | None = None
+) -> tuple[list[str], list[str]]:
     """The columns whose declared unit is an angular rate, and those in an acceleration
     (:func:`sensor_of`), each in the columns' order: a ROS Imu message's
     ``angular_velocity.*`` and ``linear_acceleration.*``, EuRoC's ``[rad s^-1]`` and
-    ``[m s^-2]``."""
+    ``[m s^-2]``. With the columns' ``data``, a column that is the Euclidean norm of the
+    others of its kind (phyphox's ``Absolute acceleration``: :func:`norm_columns`) is left
+    out: it is no axis."""
     kinds = {c: sensor_of(u) for c, u in declared.items()}
     gyro = [c for c, k in kinds.items() if k == "gyro"]
-    return gyro, [c for c, k in kinds.items() if k == "accel"]
+    accel = [c for c, k in kinds.items() if k == "accel"]
+    if data is not None:
+        gyro, accel = ([c for c in g if c not in norm_columns(data, g)] for g in (gyro, accel))
+    return gyro, accel
+
+
+#: A column within this relative error of the norm of others, on every row, is their norm
+#: (phyphox writes 9 significant digits: its norm column agrees to about 1e-8).
+NORM_RTOL = 1e-6
+
+
+def norm_columns(data: Mapping[str, ArrayLike], group: list[str]) -> list[str]:
+    """The columns of ``group`` equal, row by row, to the Euclidean norm of the others.
+
+    Parameters
+    ----------
+    data : mapping of str to array
+        The columns' samples.
+    group : list of str
+        Columns of one kind (one sensor's axes and, maybe, their magnitude).
+
+    Returns
+    -------
+    list of str
+        Each column whose finite samples are within :data:`NORM_RTOL` of
+        ``sqrt(sum(others**2))`` (at least two others, of the same length; empty when none
+        is).
+    """
+    found: list[str] = []
+    cols = {c: np.asarray(data[c], dtype=float) for c in group}
+    if len(group) < 3 or len({z.shape for z in cols.values()}) != 1:
+        return found  # (columns of several topics: no row-by-row norm)
+    for c in group:
+        others = np.stack([cols[o] for o in group if o != c and o not in found])
+        norm = np.sqrt(np.sum(others**2, axis=0))
+        z = cols[c]
+        ok = np.isfinite(z) & np.isfinite(norm)
+        if ok.sum() >= 2 and np.all(np.abs(z[ok] - norm[ok]) <= NORM_RTOL * norm[ok] + 1e-300):
+            found.append(c)
+    return found
 
 
 def declared_unit(text: str | None) -> str | None:

@@ -267,13 +267,16 @@ def composite_cached(digest: str, rate: float, unit: str, regimes: str, _z: np.n
 
 def _sensor_defaults(sig: LoadedSignal, cols: list[str]) -> None:
     """The gyroscope and accelerometer pickers start on the columns the file declares in an
-    angular-rate and an acceleration unit (as ``noisevar imu --export`` takes them), and
-    drop a choice the loaded file does not have."""
+    angular-rate and an acceleration unit, not their norm (as ``noisevar imu --export``
+    takes them), and drop a choice the loaded file does not have."""
     if sig.topics is not None:
-        units = {c: sig.topics.column(c).unit for c in cols}
+        picked = {c: sig.topics.column(c) for c in cols}
+        units = {c: col.unit for c, col in picked.items()}
+        data = {c: col.values for c, col in picked.items()}
     else:
         units = {c: sig.table.units.get(c) for c in cols}
-    for key, found in zip(("nm_gyro", "nm_accel"), sensor_columns(units), strict=True):
+        data = {c: sig.table.columns[c] for c in cols}
+    for key, found in zip(("nm_gyro", "nm_accel"), sensor_columns(units, data), strict=True):
         held = st.session_state.get(key)
         if held is None or any(c not in cols for c in held):
             st.session_state[key] = found

@@ -133,7 +133,7 @@ def _inertial_only(args: argparse.Namespace, data: dict, declared: dict, notes: 
     not a sensor's noise), with a note of those left out; else every column."""
     if _columns(args) is not None:
         return data
-    gyro, accel = sensor_columns({c: declared.get(c) for c in data})
+    gyro, accel = sensor_columns({c: declared.get(c) for c in data}, data)
     inertial = {*gyro, *accel}
     if not inertial:
         return data
@@ -142,21 +142,24 @@ def _inertial_only(args: argparse.Namespace, data: dict, declared: dict, notes: 
     left = [c for c in data if c not in keep]
     if left:
         notes.append(
-            f"fitting the {len(inertial)} columns in an angular-rate or acceleration unit; "
+            f"fitting the {len(inertial)} sensor axes (columns in an angular-rate or acceleration "
+            "unit, not their norm); "
             f"left out: {', '.join(left[:8])}{' ...' if len(left) > 8 else ''} (give "
             "--columns to fit others)"
         )
     return out
 
 
-def _sensors_by_unit(args: argparse.Namespace, declared: dict, notes: list[str]) -> None:
+def _sensors_by_unit(
+    args: argparse.Namespace, declared: dict, data: dict, notes: list[str]
+) -> None:
     """``--gyro`` and ``--accel`` from the units the file declares, when neither is given and
     a consumer file is asked for: three columns in an angular-rate unit and three in an
     acceleration (EuRoC's ``[rad s^-1]`` and ``[m s^-2]``, a ROS Imu message), with a note;
     else left for :func:`_need_sensors` to ask for."""
     if args.gyro or args.accel or not (args.kalibr or args.export):
         return
-    gyro, accel = sensor_columns(declared)
+    gyro, accel = sensor_columns({c: declared.get(c) for c in data}, data)
     if len(gyro) == 3 and len(accel) == 3:
         args.gyro, args.accel = gyro, accel
         notes.append(
@@ -327,7 +330,7 @@ def _cmd_imu(args: argparse.Namespace) -> int:
         consumers(args.export)  # refuse an unknown consumer before reading the file
     data, rates, declared, times, loaded = _load(args)
     data = _inertial_only(args, data, declared, loaded)
-    _sensors_by_unit(args, declared, loaded)
+    _sensors_by_unit(args, declared, data, loaded)
     rate = next(iter(rates.values()), None)  # one topic or file: one rate
     temp = split_temperature(args, data, rate)
     if args.model != IEEE952:

@@ -88,3 +88,48 @@ def test_noise_model_pickers_start_on_the_sensors(bag):
     assert any("gyroscope_noise_density" in c.value for c in at.code)  # Kalibr's imu.yaml
     # the file opens on its first sensor channel, not the orientation an AHRS fills
     assert at.session_state["nv_signal"].column == "angular_velocity.x"
+
+
+def _phyphox_csv(path: Path, n: int = 3000) -> Path:
+    """A phone's gyroscope and accelerometer as phyphox writes them: three axes and their
+    norm ("Absolute"), 9 significant digits, in one table."""
+    rng = np.random.default_rng(11)
+    g = rng.normal(0, 0.01, (n, 3))
+    a = rng.normal(0, 0.05, (n, 3)) + [0.0, 0.0, 9.81]
+    cols = [np.arange(n) * 0.005, *g.T, np.linalg.norm(g, axis=1), *a.T, np.linalg.norm(a, axis=1)]
+    gyro = [f"Gyroscope {x} (rad/s)" for x in "xyz"]
+    accel = [f"Acceleration {x} (m/s^2)" for x in "xyz"]
+    head = ["Time (s)", *gyro, "Absolute (rad/s)", *accel, "Absolute acceleration (m/s^2)"]
+    np.savetxt(path, np.column_stack(cols), delimiter=",", fmt="%.9E", comments="",
+               header=",".join(head))  # fmt: skip
+    return path
+
+
+def test_a_norm_column_is_no_axis(tmp_path, capsys):
+    """phyphox's "Absolute" columns are the norm of the axes: not fitted, not exported."""
+    path = _phyphox_csv(tmp_path / "phone.csv")
+    import json
+
+    from noisevar.io import load_table
+
+    assert main(["imu", str(path), "--format", "json"]) == 0
+    fitted = json.loads(capsys.readouterr().out)["columns"]
+    assert len(fitted) == 6 and not any("Absolute" in c for c in fitted)
+    assert main(["imu", str(path), "--kalibr", str(tmp_path / "imu.yaml")]) == 0
+    assert "--gyro Gyroscope x (rad/s)" in capsys.readouterr().out
+    assert (tmp_path / "imu.yaml").exists()
+
+    table = load_table(path)
+    gyro, accel = sensor_columns(table.units, table.columns)
+    assert gyro == [f"Gyroscope {x} (rad/s)" for x in "xyz"]
+    assert accel == [f"Acceleration {x} (m/s^2)" for x in "xyz"]
+    assert len(sensor_columns(table.units)[1]) == 4  # without the data: by unit alone
+
+
+def test_columns_of_several_lengths_have_no_norm():
+    from noisevar.units import norm_columns
+
+    data = {"x": np.ones(5), "y": np.ones(5), "n": np.full(4, np.sqrt(2))}
+    assert norm_columns(data, ["x", "y", "n"]) == []
+    data["n"] = np.full(5, np.sqrt(2))
+    assert norm_columns(data, ["x", "y", "n"]) == ["n"]
