@@ -67,16 +67,11 @@ TASKS_PER_WORKER = 8
 Progress = bool | Callable[[int, int], None]
 
 
-#: Logs a folder's search takes (recordings: ROS bags, ULog, DataFlash ``.bin``); Parquet
-#: and HDF5 tables, often a batch's own output, only when named or matched by a pattern.
-FOLDER_LOGS = ("rosbag", "ulog", "dataflash")
-
-
 def _data_suffixes() -> tuple[str, ...]:
     from noisevar.io.logs import readers
     from noisevar.io.logs.spec import SHARED_SUFFIXES
 
-    logs = (s for r in readers() if r.name in FOLDER_LOGS for s in r.suffixes)
+    logs = (s for r in readers() if r.in_folders for s in r.suffixes)  # (LogReader.in_folders)
     # ".log" is any program's text log too: taken when named, not in a folder's search
     return tuple(dict.fromkeys(s for s in (*DATA_EXTENSIONS, *logs) if s not in SHARED_SUFFIXES))
 
@@ -104,8 +99,8 @@ def expand_paths(paths: str | os.PathLike | Iterable[str | os.PathLike]) -> list
     ----------
     paths : str, path or iterable of them
         ``'logs/**/*.csv'`` (``**`` spans folders), a file, or a folder (its data files and
-        :data:`FOLDER_LOGS` logs). A ROS 2 bag directory (``metadata.yaml`` inside), named
-        or met in a folder, is one log.
+        the logs whose reader says ``in_folders``: recordings and workbooks). A ROS 2 bag
+        directory (``metadata.yaml`` inside), named or met in a folder, is one log.
 
     Returns
     -------

@@ -17,7 +17,7 @@ Sub-commands::
     noisevar topics LOG [--json]
     noisevar dashboard [--port P] [--serve-others] [--address A] [--allowed-host NAME ...]
 
-A log (ROS bag, PX4 ULog, ArduPilot DataFlash, Parquet, HDF5) is read by ``--topic T`` on
+A log or workbook (``noisevar.io.logs.log_kinds``) is read by ``--topic T`` on
 estimate, scan-h, allan, imu and fit; ``--column`` then picks the topic's field. ``imu``
 takes ``--topic`` several times (PX4's ``sensor_gyro_fifo`` and ``sensor_accel_fifo``):
 each column at its own topic's rate, named by field or ``topic/field``.

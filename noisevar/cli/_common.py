@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any, NoReturn
 
 from noisevar.errors import NoisevarError
 from noisevar.io.limits import echo
+from noisevar.io.logs import log_kinds
 
 if TYPE_CHECKING:
     import numpy as np
@@ -84,8 +85,8 @@ def add_topic_flag(p: argparse.ArgumentParser) -> None:
     """``--topic T``: the topic of a log to read (its field is chosen by ``--column``)."""
     p.add_argument(
         "--topic",
-        help="for a log (ROS bag, PX4 ULog, ArduPilot DataFlash, Parquet, HDF5): the topic or "
-        "message to read ('noisevar topics LOG' lists them); --column picks its field",
+        help=f"for a log ({log_kinds()}): the topic, message or sheet to read "
+        "('noisevar topics LOG' lists them); --column picks its field",
     )
 
 

@@ -28,6 +28,7 @@ from noisevar.cli._temperature import print_models, split_temperature, temperatu
 from noisevar.cli.allan import load_columns
 from noisevar.errors import NoisevarError
 from noisevar.io.limits import echo
+from noisevar.io.logs import log_kinds
 from noisevar.units import declared_unit, sensor_columns
 
 
@@ -424,8 +425,8 @@ def add_parser(sub: Any) -> None:
     p.add_argument(
         "--topic",
         action="append",
-        help="for a log (ROS bag, PX4 ULog, ArduPilot DataFlash, Parquet, HDF5): the topic or "
-        "message to read ('noisevar topics LOG' lists them); repeat it to read several "
+        help=f"for a log ({log_kinds()}): the topic, message or sheet to read "
+        "('noisevar topics LOG' lists them); repeat it to read several "
         "topics of the log (e.g. sensor_gyro_fifo and sensor_accel_fifo), each column at its "
         "topic's rate, named by field or, when topics share a field, topic/field",
     )

@@ -169,3 +169,17 @@ def test_other_spreadsheet_formats_are_read_or_refused_in_one_line(tmp_path, cap
     code = main(["topics", str(tmp_path / f"walk{suffix}")])
     out, err = capsys.readouterr()
     assert (code == 0 and "Accelerometer" in out) or (code == 2 and err.count("\n") == 1)
+
+
+def test_a_folder_of_workbooks_is_a_batch(tmp_path, capsys):
+    """A class's folder of phyphox exports: noisevar batch takes each workbook's signal."""
+    from noisevar.batch import expand_paths
+
+    for i in range(2):
+        _phyphox(tmp_path / f"pupil{i}.xlsx", n=600, seed=i)
+    (tmp_path / "noise.parquet").write_bytes(b"PAR1")  # a batch's own output: not searched
+    assert [Path(p).name for p in expand_paths([str(tmp_path)])] == ["pupil0.xlsx", "pupil1.xlsx"]
+    assert main(["batch", str(tmp_path / "pupil0.xlsx"), str(tmp_path / "pupil1.xlsx"),
+                 "--quiet"]) == 0  # fmt: skip
+    out = capsys.readouterr().out
+    assert out.count("pupil0.xlsx,Acceleration") == 2 and out.count("pupil1.xlsx,") == 3

@@ -61,6 +61,7 @@ __all__ = [
     "list_topics",
     "load_log",
     "load_logs",
+    "log_kinds",
     "log_suffixes",
     "read_topic",
     "reader_for",
@@ -83,6 +84,13 @@ READERS: dict[str, str] = {
 def readers() -> list[LogReader]:
     """Every registered reader, in :data:`READERS` order."""
     return [importlib.import_module(mod).READER for mod in READERS.values()]
+
+
+def log_kinds() -> str:
+    """The formats the readers read, for help texts: ``"ROS bag, PX4 ULog, ... or
+    spreadsheet workbook"``."""
+    titles = [r.title for r in readers()]
+    return ", ".join(titles[:-1]) + " or " + titles[-1]
 
 
 def log_suffixes() -> tuple[str, ...]:

@@ -291,4 +291,5 @@ READER = LogReader(
     time_note="times from TimeUS, seconds since boot",
     repair="download the log from the vehicle again (a log cut short keeps what was "
     "written), or convert it with mavlogdump.py",
+    in_folders=True,
 )

@@ -370,4 +370,5 @@ READER = LogReader(
     repair="a ROS 1 bag damaged inside can be re-indexed (rosbag reindex), an MCAP file "
     "recovered (mcap recover; a bag only cut short is read up to its cut), a ROS 2 bag checked "
     "with ros2 bag info; else copy the file again",
+    in_folders=True,
 )

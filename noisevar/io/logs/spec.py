@@ -110,6 +110,10 @@ class LogReader:
         ``read_many(path, topics) -> {topic: (TopicInfo, Iterator[Chunk])}``: several topics
         (all their fields) from one pass over a log its library parses whole (ULog); a topic
         not in the log is left out. None: each topic is read on its own.
+    in_folders : bool
+        Whether ``noisevar batch`` takes its files when it searches a folder (recordings and
+        exports: bags, ULog, DataFlash, workbooks); else only when named or matched by a
+        pattern (Parquet and HDF5 tables are often a batch's own output).
     """
 
     name: str
@@ -121,6 +125,7 @@ class LogReader:
     time_note: str
     repair: str = "check that the file is complete and is the format its name says"
     read_many: ManyReader | None = None
+    in_folders: bool = False
 
     @property
     def article(self) -> str:

@@ -218,4 +218,5 @@ READER = LogReader(
     time_note="times from timestamp_sample (else timestamp), seconds since boot",
     repair="a log cut short while recording loses only its end: check it with ulog_info; "
     "else copy the file from the vehicle again",
+    in_folders=True,
 )

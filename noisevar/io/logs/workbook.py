@@ -173,4 +173,5 @@ READER = LogReader(
     read=read,
     time_note="times from the sheet's time column",
     repair="save it again from Excel or LibreOffice, or save the sheet as CSV",
+    in_folders=True,
 )
