@@ -124,3 +124,23 @@ def test_date_times_with_empty_cells_are_the_time_column():
     np.testing.assert_array_equal(tab.time()[2:], [0.0, 1.0])
     assert np.isnan(tab.time()[:2]).all()
     assert any("missing values" in n for n in tab.notes)
+
+
+def test_a_run_per_column_pair_reads_its_units_and_one_clock(capsys, tmp_path):
+    """PASCO Capstone's export: ``Time (s) Run #1, Position (m) Run #1, Time (s) Run #2, ...``:
+    the units are read, and the second run's clock is no channel of ``--columns all``."""
+    rng = np.random.default_rng(2)
+    t = np.arange(400) * 0.05
+    x = np.sin(t) + rng.normal(0, 0.002, t.size)
+    rows = "\n".join(f"{a:.2f},{b:.4f},{a:.2f},{b + 0.1:.4f}" for a, b in zip(t, x, strict=True))
+    path = tmp_path / "pasco.csv"
+    path.write_text(
+        f"Time (s) Run #1,Position (m) Run #1,Time (s) Run #2,Position (m) Run #2\n{rows}\n"
+    )
+    table = load_table(path)
+    assert table.units["Position (m) Run #2"] == "m" and table.sample_period == pytest.approx(0.05)
+    assert main(["estimate", str(path), "--columns", "all", "--format", "json"]) == 0
+    got = json.loads(capsys.readouterr().out)
+    rows = got if isinstance(got, list) else got["channels"]
+    assert [r["column"] for r in rows] == ["Position (m) Run #1", "Position (m) Run #2"]
+    assert {r["unit"] for r in rows} == {"m"}

@@ -12,6 +12,7 @@ from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 from noisevar.errors import NoisevarError
+from noisevar.io.table import is_time_column
 
 if TYPE_CHECKING:
     from noisevar.estimators.results import VarianceEstimate
@@ -63,17 +64,18 @@ def table_channels(table: LoadedTable, columns: str | list[str] | None) -> list[
     Returns
     -------
     list of str or None
-        Every data column for ``"all"``; the first that varies for None (``[None]`` when
-        the table has none: the reader then picks or refuses); the names as given
-        otherwise (a missing one is refused when it is read).
+        Every data column for ``"all"`` but one named like a time (a second clock); the
+        first that varies for None (``[None]`` when the table has none: the reader then
+        picks or refuses); the names as given otherwise (a missing one is refused when it
+        is read).
 
     Raises
     ------
     NoisevarError
         ``"all"`` of a table with no data column.
     """
-    if columns == "all":
-        names: list[str | None] = list(table.data_columns)
+    if columns == "all":  # not a second clock (PASCO's "Time (s) Run #2"): no signal
+        names: list[str | None] = [c for c in table.data_columns if not is_time_column(c)]
         if not names:
             raise NoisevarError(f"{table.name} has no data column (only a time column)")
         return names

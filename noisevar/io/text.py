@@ -355,13 +355,16 @@ def _code_note(cname: str, z: NDArray) -> str | None:
 
 #: the unit in the header's last brackets; earlier bracketed words are names, not units
 #: (MIDC's ``Global Horiz (tracker) [W/m^2]``)
-_HEADER_UNIT = re.compile(
-    r"^(?:[^\[\(]|[\[\(][^\[\]\(\)]*[\]\)])*?[\[\(]\s*([^\[\]\(\)]{1,40}?)\s*[\]\)]\s*$"
+_HEADER_UNIT = re.compile(  # (a trailing "Run #1": PASCO Capstone's columns of each run)
+    r"^(?:[^\[\(]|[\[\(][^\[\]\(\)]*[\]\)])*?[\[\(]\s*([^\[\]\(\)]{1,40}?)\s*[\]\)]"
+    r"\s*(?:run\s*#?\s*\d+\s*)?$",
+    re.IGNORECASE,
 )
 
 
 def header_unit(column: str) -> str | None:
-    """The unit a header names in brackets at its end (``gyro_x [rad/s]``, ``p (Pa)``), or None.
+    """The unit a header names in brackets at its end (``gyro_x [rad/s]``, ``p (Pa)``,
+    ``Position (m) Run #1``), or None.
 
     Parameters
     ----------
