@@ -14,8 +14,9 @@ from noisevar.diagnostics.regimes import QuietLevel, StillLevel
 from noisevar.diagnostics.segments import Gap
 from noisevar.diagnostics.whiteness import WhitenessTest
 
-#: A fitted noise lag-1 correlation below this (differenced white noise: -1/2) reads as
-#: differenced data; white noise gives 0, and smooth coloured noise a positive one.
+#: A fitted noise correlation below this at some lag (differenced white noise: -1/2 at lag
+#: 1; a central difference, -1/2 at lag 2) reads as differenced data; white noise gives 0,
+#: and smooth coloured noise positive ones.
 DIFFERENCED_LAG1 = -0.3
 
 
@@ -159,14 +160,28 @@ class NoiseDiagnostics:
 
     @property
     def differenced(self) -> bool:
-        """The noise looks differenced: not white, with a lag-1 correlation near -1/2.
+        """The noise looks differenced: not white, with a correlation near -1/2 at a short lag.
 
         A record that is the difference of a noisy one (frequency from phase, velocity
-        from positions) carries MA(1) noise of lag-1 correlation -1/2 (docs/algorithms.md
-        §E2); this is the noise's fitted lag-1 correlation below
-        :data:`DIFFERENCED_LAG1`.
+        from positions) carries MA(1) noise of lag-1 correlation -1/2; a central
+        difference (``np.gradient``) or a derivative filter, MA(q) noise negative at a
+        lag up to 4 (docs/algorithms.md §E2): :attr:`noise_correlation` is not None.
         """
-        return bool(not self.white and self.whiteness.noise_lag1 < DIFFERENCED_LAG1)
+        return bool(not self.white and self.noise_correlation is not None)
+
+    @property
+    def noise_correlation(self) -> NDArray | None:
+        """The differenced noise's correlations ``r_1..r_q`` (None: not differenced).
+
+        The lag-1 fit (``whiteness.noise_lag1``) when it is below
+        :data:`DIFFERENCED_LAG1`; else the short-memory fit (``whiteness.short_memory``)
+        when one of its correlations is.
+        """
+        w = self.whiteness
+        if w.noise_lag1 < DIFFERENCED_LAG1:
+            return np.array([w.noise_lag1])
+        r = w.short_memory
+        return r if r is not None and float(r.min()) < DIFFERENCED_LAG1 else None
 
     @property
     def identifiable(self) -> bool:
@@ -206,6 +221,9 @@ class NoiseDiagnostics:
             "acf_band": w.band.tolist(),
             "lag1_excess": _finite(w.lag1),
             "noise_lag1": _finite(w.noise_lag1),
+            "noise_correlation": None
+            if (r := self.noise_correlation) is None
+            else [_finite(x) for x in r],
             "kurtosis": _finite(self.kurtosis),
             "tail_index": _finite(self.tail_index),
             "lsb": _finite(self.lsb),

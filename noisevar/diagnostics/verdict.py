@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import NDArray
 
 from noisevar.diagnostics.power_law import WHITE, describe
 from noisevar.diagnostics.regimes import STILL_RATIO
@@ -274,13 +275,7 @@ def _not_white(
             f"against {_g(variance)} over the whole record{said}"
         )
     if diag.differenced:
-        return (
-            "the data look differenced (a frequency from phase, a velocity from positions): "
-            f"the noise's lag-1 correlation is {diag.whiteness.noise_lag1:+.2f}, as the "
-            f"difference of white noise gives (-0.5); {r} is the variance per sample, but "
-            "successive errors are correlated: filter the undifferenced quantity (its R is "
-            "about half this) or model MA(1) measurement noise"
-        )
+        return _differenced(diag.noise_correlation, r)
     if diag.motion_explains_colour:
         return (
             f"the noise level changes along the record (motion): {r} is an average over "
@@ -448,3 +443,24 @@ def make_notes(diag: NoiseDiagnostics) -> tuple[str, ...]:
     elif diag.jitter > JITTER_NOTE:
         notes.append(f"sampling jitter up to {diag.jitter:.1%} of the period: treated as uniform")
     return tuple(notes)
+
+
+def _differenced(corr: NDArray, r: str) -> str:
+    """The verdict on differenced data: MA(1) (a difference) or MA(q) (a derivative filter)."""
+    if corr.size == 1:
+        return (
+            "the data look differenced (a frequency from phase, a velocity from positions): "
+            f"the noise's lag-1 correlation is {corr[0]:+.2f}, as the difference of white "
+            f"noise gives (-0.5); {r} is the variance per sample, but successive errors are "
+            "correlated: filter the undifferenced quantity (its R is about half this) or "
+            "model MA(1) measurement noise"
+        )
+    lag = int(np.argmin(corr)) + 1
+    return (
+        "the data look differenced (a velocity from positions by a central difference or a "
+        f"derivative filter): the noise's correlation at lag {lag} is {corr[lag - 1]:+.2f} "
+        f"(np.gradient's central difference gives -0.5 at lag 2); {r} is the variance per "
+        "sample, but errors up to "
+        f"{corr.size} samples apart are correlated: filter the undifferenced quantity or "
+        f"model MA({corr.size}) measurement noise"
+    )

@@ -33,6 +33,14 @@ WHITE_EIG_FLOOR = 0.02
 WHITE_ALPHA = 0.05
 #: Lags of the residual's autocorrelation that the noise's lag-1 correlation is fitted on.
 MA1_LAGS = 3
+#: Lags of correlation of short-memory noise (a difference over k samples, a derivative
+#: filter: ``np.gradient``'s central difference is -1/2 at lag 2) fitted when lag 1 alone
+#: does not say it (:attr:`WhitenessTest.short_memory`).
+MA_ORDER = 4
+#: Share of the residual's departure from white noise (over every lag tested) that such a
+#: fit must explain; a vibration leaking through the smoother (its correlation lasts at
+#: every lag) explains 15-25 %, derivative filters 86-99 % (docs/algorithms.md §E2).
+MA_EXPLAINS = 0.75
 
 
 @dataclass(frozen=True)
@@ -95,6 +103,44 @@ class WhitenessTest:
         y = rho - alpha[1 : k + 1]
         den = float(c @ c)
         return float(c @ y / den) if den > 0 else 0.0
+
+    @property
+    def short_memory(self) -> NDArray | None:
+        """The noise's correlations ``r_1..r_q`` (``q`` up to :data:`MA_ORDER`), fitted as
+        MA(q) noise through the residual filter, when that explains at least
+        :data:`MA_EXPLAINS` of the residual's departure from white noise; else None.
+
+        Notes
+        -----
+        docs/algorithms.md §E2: noise of autocorrelation ``(1, r_1, .., r_q, 0, ...)``
+        seen through a filter of autocorrelation ``α`` gives a residual of autocorrelation
+        ``ρ_k = (α_k + Σ_j r_j (α_{|k-j|} + α_{k+j})) / (1 + 2 Σ_j r_j α_j)``, linear in
+        ``r`` once multiplied out: least squares over lags ``1..q+2``. The departure is
+        ``Σ_k ((acf_k - model_k) / band_k)²`` over every lag tested, against the same sum
+        for white noise.
+        """
+        q = min(MA_ORDER, self.acf.size - 2)
+        if q < 1 or not self.tested:
+            return None
+        c, y, pair, alpha = self._ma_design(q)
+        r = np.linalg.lstsq(c, y, rcond=None)[0]
+        j = np.arange(1, q + 1)
+        model = (alpha[1 : self.acf.size + 1] + pair @ r) / (1.0 + 2.0 * float(r @ alpha[j]))
+        scale = np.where(self.band > 0, self.band, np.inf)
+        white = float(np.sum(((self.acf - self.expected) / scale) ** 2))
+        left = float(np.sum(((self.acf - model) / scale) ** 2))
+        return r if white > 0 and left <= (1.0 - MA_EXPLAINS) * white else None
+
+    def _ma_design(self, q: int) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+        """The linear system ``c r = y`` of the MA(q) fit over lags ``1..q+2`` (at most
+        those tested), the pair sums ``α_{|k-j|} + α_{k+j}`` at every lag, and ``α``."""
+        alpha = np.r_[1.0, self.expected, np.zeros(q + 1)]  # α_0..α_K, 0 beyond the filter
+        k = np.arange(1, self.acf.size + 1)
+        j = np.arange(1, q + 1)
+        pair = alpha[np.abs(k[:, None] - j[None, :])] + alpha[k[:, None] + j[None, :]]
+        fit = slice(0, min(q + 2, self.acf.size))
+        c = pair[fit] - 2.0 * self.acf[fit, None] * alpha[j][None, :]
+        return c, self.acf[fit] - alpha[k[fit]], pair, alpha
 
 
 def _null_acf(d: NDArray, reach: int) -> NDArray:

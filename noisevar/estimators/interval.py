@@ -346,32 +346,42 @@ def at_edge(white: VarianceEstimate, coloured: VarianceEstimate, w: float) -> Va
     )
 
 
-def differenced(result: VarianceEstimate, d: NDArray, r: float) -> VarianceEstimate:
-    """``result`` for MA(1) noise of lag-1 correlation ``r`` seen through the residual ``d``.
+def differenced(result: VarianceEstimate, d: NDArray, r: NDArray) -> VarianceEstimate:
+    """``result`` for MA(q) noise of correlations ``r`` (lags 1..q) seen through the residual ``d``.
 
     Notes
     -----
-    docs/algorithms.md §E2: ``E[e²] = σ² (Σd² + 2 r Σ d_i d_{i+1})``, so an estimate
-    normalised for white noise (``mean(e²) / Σd²``) is ``1 + 2 r α₁`` times σ², the
-    variance per sample (``α₁`` the filter's lag-1 autocorrelation). Differenced white
-    noise (``r = -1/2``) seen through a smoother's residual (``α₁`` near -0.8) reads
-    about 1.8 times too high without it.
+    docs/algorithms.md §E2: ``E[e²] = σ² (Σd² + 2 Σ_j r_j Σ_i d_i d_{i+j})``, so an
+    estimate normalised for white noise (``mean(e²) / Σd²``) is ``1 + 2 Σ_j r_j α_j``
+    times σ², the variance per sample (``α_j`` the filter's autocorrelation at lag j).
+    Differenced white noise (``r = (-1/2,)``) seen through a smoother's residual (``α₁``
+    near -0.8) reads about 1.8 times too high without it; a central difference
+    (``r = (0, -1/2)``) about 0.6 times.
     """
-    alpha1 = float(np.dot(d[:-1], d[1:]) / np.dot(d, d))
-    factor = 1.0 / (1.0 + 2.0 * r * alpha1)
+    r = np.atleast_1d(np.asarray(r, dtype=float))
+    factor = 1.0 / (1.0 + 2.0 * float(r @ _lag_alpha(d, r.size)))
     if not (np.isfinite(factor) and factor > 0):
         return result
     core = None if result.core_variance is None else result.core_variance * factor
     lo, hi = result.ci95
+    values = ", ".join(f"{x:+.2f}" for x in r)
+    said = f"correlations {values} at lags 1-{r.size}" if r.size > 1 else ""
+    said = said or f"lag-1 correlation {values}"
     notes = [
         *result.notes,
-        f"the noise looks differenced (lag-1 correlation {r:+.2f}): the white-noise "
-        f"estimate was multiplied by {factor:.3g}, the residual's response to such noise",
+        f"the noise looks differenced ({said}): the white-noise estimate was multiplied by "
+        f"{factor:.3g}, the residual's response to such noise",
     ]
     return replace(
         result, variance=result.variance * factor, ci95=(lo * factor, hi * factor),
         core_variance=core, notes=notes,
     )  # fmt: skip
+
+
+def _lag_alpha(d: NDArray, q: int) -> NDArray:
+    """The filter ``d``'s autocorrelation at lags 1..q."""
+    dd = float(np.dot(d, d))
+    return np.array([np.dot(d[:-j], d[j:]) / dd if j < d.size else 0.0 for j in range(1, q + 1)])
 
 
 def mixture_interval(

@@ -512,8 +512,7 @@ def conclude(
         if spec.finish is not None:
             result = spec.finish(result, diag, record)
         if diag.differenced and spec.residual is not None:
-            d = spec.residual(result.params)
-            result = differenced(result, d, diag.whiteness.noise_lag1)
+            result = differenced(result, spec.residual(result.params), diag.noise_correlation)
         return honest_interval(result, diag, glitches) if spec.moment else result
 
     result = own(result)
