@@ -73,7 +73,7 @@ def load_bytes(
     drop_nonfinite : bool
         Drop the rows with an empty or NaN cell instead of refusing them.
     topic : str, optional
-        For a log (ROS bag, ULog, DataFlash, Parquet, HDF5): the topic to read.
+        For a log or workbook (``noisevar.io.logs.log_kinds``): the topic or sheet to read.
     also : sequence of str
         For a log: more topics read beside ``topic`` (:attr:`LoadedSignal.topics`: the
         Noise model page's gyroscope and accelerometer columns, each at its topic's rate).

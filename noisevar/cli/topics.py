@@ -8,6 +8,7 @@ from typing import Any
 
 from noisevar.cli._common import print_json
 from noisevar.io.limits import echo
+from noisevar.io.logs import log_kinds
 
 
 def _rate(rate: float | None) -> str:
@@ -48,8 +49,7 @@ def add_parser(sub: Any) -> None:
     """Register ``topics`` on the sub-command set ``sub``."""
     p = sub.add_parser(
         "topics",
-        help="list a log's topics: fields, counts, rates, units (ROS bag, ULog, DataFlash, "
-        "Parquet, HDF5)",
+        help=f"list a log's topics: fields, counts, rates, units ({log_kinds()})",
     )
     p.add_argument("log", help="the log (a ROS 2 bag may be its directory)")
     p.add_argument(
