@@ -7,8 +7,8 @@ import dataclasses
 import numpy as np
 import pytest
 
-from noisevar.numeric.blocks import row_medians
 from noisevar.diagnostics import plan
+from noisevar.numeric.blocks import row_medians
 
 
 @pytest.mark.parametrize(
