@@ -285,6 +285,10 @@ class Windows:
             return np.zeros(0), np.zeros(0, dtype=bool)
         return np.concatenate([x for _, x, _ in pieces]), np.concatenate([k for *_, k in pieces])
 
+    def joined_runs(self) -> list[tuple[int, int]]:
+        """``(position, size)`` of each piece of :meth:`joined`, in order (``-1``: unused slots)."""
+        return [(lo, x.size) for lo, x, _ in self._pieces()]
+
     def joined_slots(self) -> NDArray:
         """The position of each sample of :meth:`joined` (-1 for the unused slots)."""
         slots = [np.arange(lo, lo + x.size) if lo >= 0 else np.full(x.size, -1)
