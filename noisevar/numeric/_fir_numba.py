@@ -23,13 +23,13 @@ _TILE = 1024
 
 
 @njit(cache=True, nogil=True)
-def symmetric_fir_squares(z, half, out):  # pragma: no cover - compiled
+def symmetric_fir_squares(z, half, out, limit=-np.inf):  # pragma: no cover - compiled
     """``out[t] = (sum_k d_k z[t + k])²``: :func:`symmetric_fir`, squared."""
-    symmetric_fir(z, half, out, True)
+    return symmetric_fir(z, half, out, True, limit)
 
 
 @njit(cache=True, nogil=True)
-def symmetric_fir(z, half, out, square):  # pragma: no cover - compiled
+def symmetric_fir(z, half, out, square, limit=-np.inf):  # pragma: no cover - compiled
     """``out[t] = sum_k d_k (z[t + k] - z[t])`` (squared if ``square``) at centred ``t``.
 
     ``d`` is symmetric and sums to zero (a residual sequence), so this is ``sum_k d_k
@@ -45,10 +45,18 @@ def symmetric_fir(z, half, out, square):  # pragma: no cover - compiled
         Written in place: the filter output at ``t = h .. n - h - 1``.
     square : bool
         Write the squared output.
+    limit : float
+        Count the outputs (squares if ``square``, else magnitudes) at or below it.
+
+    Returns
+    -------
+    int
+        That count (a screen the caller reads instead of a pass over ``out``).
     """
     n = z.shape[0]
     h = half.shape[0] - 1
     acc = np.empty(_TILE)
+    low = 0
     for start in range(h, n - h, _TILE):
         stop = min(start + _TILE, n - h)
         m = stop - start
@@ -82,10 +90,14 @@ def symmetric_fir(z, half, out, square):  # pragma: no cover - compiled
         o = out[start - h : stop - h]
         if square:
             for i in range(m):
-                o[i] = a[i] * a[i]
+                v = a[i] * a[i]
+                o[i] = v
+                low += v <= limit
         else:
             for i in range(m):
                 o[i] = a[i]
+                low += abs(a[i]) <= limit
+    return low
 
 
 @njit(cache=True, nogil=True)

@@ -108,6 +108,52 @@ def centred_fir(
     return out
 
 
+def rounded_fir(
+    x: NDArray,
+    d: NDArray,
+    out: NDArray | None = None,
+    square: bool = False,
+    peak: float | None = None,
+) -> NDArray:
+    """``rounded_off(centred_fir(x, d, out, square), x, d, square)``, screened as it is written.
+
+    Parameters
+    ----------
+    x, d, out, square : see :func:`centred_fir`.
+    peak : float, optional
+        ``max |x|``, when the caller has it.
+
+    Returns
+    -------
+    ndarray, shape (n - 2h,)
+
+    Notes
+    -----
+    :func:`rounded_off`'s first screen (outputs at or below the rounding of the largest
+    ``|x|``) is counted by the compiled kernel as it writes them: on most records none,
+    and no pass of its own; else :func:`rounded_off` as it is.
+    """
+    if not (USE_COMPILED and _fir_numba is not None) or x.size < d.size:
+        return rounded_off(centred_fir(x, d, out, square), x, d, square)
+    top = _rounding_unit(d) * (_peak(x) if peak is None else peak)
+    out = np.empty(x.size - d.size + 1) if out is None else out
+    half = d[d.size // 2 :].copy()
+    limit = top * top if square else top
+    if _fir_numba.symmetric_fir(np.ascontiguousarray(x), half, out, square, limit):
+        rounded_off(out, x, d, square)
+    return out
+
+
+def _rounding_unit(d: NDArray) -> float:
+    """:func:`rounded_off`'s bound per unit of ``max |x|``."""
+    return ROUNDING_ULPS * np.finfo(float).eps * float(np.sqrt(np.dot(d, d)))
+
+
+def _peak(x: NDArray) -> float:
+    """``max |x|`` (from the largest and the least value: no ``|x|`` array)."""
+    return max(float(np.max(x)), -float(np.min(x)))
+
+
 def rounded_off(e: NDArray, x: NDArray, d: NDArray, squared: bool = False) -> NDArray:
     """``e = centred_fir(x, d)`` with the outputs at float rounding set to 0 (in place).
 
@@ -130,10 +176,10 @@ def rounded_off(e: NDArray, x: NDArray, d: NDArray, squared: bool = False) -> ND
     h = d.size // 2
     if not e.size:
         return e
-    unit = ROUNDING_ULPS * np.finfo(float).eps * float(np.sqrt(np.dot(d, d)))
+    unit = _rounding_unit(d)
     # candidates against the largest |x| of all (no window's is larger): on most records
     # none, and this one comparison is all it costs
-    top = unit * max(float(np.max(x)), -float(np.min(x)))
+    top = unit * _peak(x)
     idx = np.flatnonzero(e <= top * top if squared else np.abs(e) <= top)
     if not idx.size:
         return e
