@@ -71,10 +71,12 @@ def _sort_head(work, m):  # pragma: no cover - compiled
 def _two_ranks(row, ra, rb, bufs, samp):  # pragma: no cover - compiled
     """Order statistics ``ra <= rb`` of ``row`` (``rb - ra <= 1``); ``row`` is not changed."""
     m = row.shape[0]
-    src = bufs[0]
-    for i in range(m):
-        src[i] = row[i]
-    which = 1
+    src = row  # read, never written: the first band goes to a buffer
+    which = 0
+    if m <= _SMALL:
+        src = bufs[1]
+        for i in range(m):
+            src[i] = row[i]
     while m > _SMALL:
         s = _sorted_sample(src, m, samp)
         dst = bufs[which]
