@@ -121,3 +121,43 @@ def row_medians(x, out):  # pragma: no cover - compiled
         else:
             a, b = _two_ranks(x[r], k - 1, k, bufs, samp)
             out[r] = (a + b) / 2.0
+
+
+@njit(cache=True, nogil=True, error_model="numpy")  # a row of zeros: 0 / 0 is NaN, as NumPy's
+def scaled_square_rows(rows, offset, stride, norm, x2, peak, med):  # pragma: no cover - compiled
+    """Per row: its peak, the row over it squared (``x2``), its squares' median.
+
+    ``peak[r] = max(max(row, 0), -min(row, 0))``; ``x2[r] = (row / peak[r])²``;
+    ``med[r]`` the median of ``(v * v) * norm`` over ``v = row[offset::stride]`` (the
+    products NumPy forms, in its order). No work array of the squares.
+    """
+    size = rows.shape[1]
+    k = (size - offset + stride - 1) // stride
+    vals = np.empty(k)
+    bufs = np.empty((2, k))
+    samp = np.empty(_SAMPLE)
+    h = k // 2
+    for r in range(rows.shape[0]):
+        row = rows[r]
+        top = 0.0
+        least = 0.0
+        for i in range(size):
+            v = row[i]
+            if v > top:
+                top = v
+            if v < least:
+                least = v
+        p = -least if -least > top else top
+        peak[r] = p
+        for i in range(size):
+            q = row[i] / p
+            x2[r, i] = q * q
+        for j in range(k):
+            v = row[offset + j * stride]
+            vals[j] = (v * v) * norm
+        if k % 2:
+            a, b = _two_ranks(vals, h, h, bufs, samp)
+            med[r] = b
+        else:
+            a, b = _two_ranks(vals, h - 1, h, bufs, samp)
+            med[r] = (a + b) / 2.0
