@@ -10,6 +10,7 @@ references (the same numbers, to rounding; tested).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from functools import lru_cache
 
 import numpy as np
@@ -141,6 +142,63 @@ def rounded_fir(
     limit = top * top if square else top
     if _fir_numba.symmetric_fir(np.ascontiguousarray(x), half, out, square, limit):
         rounded_off(out, x, d, square)
+    return out
+
+
+def rounded_fir_squares(
+    x: NDArray, ds: Sequence[NDArray], out: NDArray, peak: float | None = None
+) -> NDArray:
+    """:func:`rounded_fir` of ``x`` squared for several sequences at once.
+
+    Parameters
+    ----------
+    x : ndarray, shape (n,)
+    ds : sequence of ndarray
+        Symmetric sequences (see :func:`centred_fir`), ``2 h_s + 1`` taps each.
+    out : ndarray, shape (len(ds), n)
+        Row ``s`` takes sequence ``s``'s squared outputs at samples ``h_s .. n - h_s``
+        (its other samples are not written); returned.
+    peak : float, optional
+        ``max |x|``, when the caller has it.
+
+    Notes
+    -----
+    Compiled: one pass over the samples that every sequence reaches, each pair of taps'
+    differences formed once for all the sequences
+    (:func:`~noisevar.numeric._fir_numba.symmetric_firs_squares`; each sequence's taps
+    added in its own order), and the single kernel at the shorter sequences' other
+    samples: the same numbers as one :func:`rounded_fir` per sequence.
+    """
+    hs = [d.size // 2 for d in ds]
+    n, top = x.size, max(hs)
+    order = sorted(range(len(ds)), key=lambda s: -hs[s])  # the kernel's: longest first
+    if not (USE_COMPILED and _fir_numba is not None) or n < 2 * top + 2 or len(ds) > 4:
+        for d, h, row in zip(ds, hs, out, strict=True):
+            rounded_fir(x, d, row[h : n - h], square=True, peak=peak)
+        return out
+    x = np.ascontiguousarray(x, dtype=float)
+    peak = _peak(x) if peak is None else peak
+    limits = np.empty(len(ds))
+    halves = np.zeros((len(ds), top + 1))
+    for s, (d, h) in enumerate(zip(ds, hs, strict=True)):
+        bound = _rounding_unit(d) * peak
+        limits[s] = bound * bound
+        halves[s, : h + 1] = d[h:]
+    low = np.zeros(len(ds), dtype=np.int64)
+    lows = np.zeros(len(ds), dtype=np.int64)
+    _fir_numba.symmetric_firs_squares(
+        x, halves[order], np.array(hs)[order], top, n - top, out, np.array(order), limits[order],
+        lows,
+    )  # fmt: skip
+    low[order] = lows
+    for s, h in enumerate(hs):
+        if h < top:  # the samples the longest sequence does not reach, at both ends
+            half = halves[s, : h + 1].copy()
+            low[s] += _fir_numba.symmetric_fir(x[: top + h], half, out[s, h:top], True, limits[s])
+            tail = out[s, n - top : n - h]
+            low[s] += _fir_numba.symmetric_fir(x[n - top - h :], half, tail, True, limits[s])
+        if low[s]:
+            rounded_off(out[s, h : n - h], x, ds[s], True)
     return out
 
 
