@@ -19,7 +19,7 @@ from noisevar._arrays import median_inplace
 from noisevar.diagnostics.profile import CHI2_1_MEDIAN, PROFILE_BLOCKS, PROFILE_MIN_BLOCK
 from noisevar.diagnostics.quantisation import LSB_PROBE, LSB_TOL
 from noisevar.diagnostics.whiteness import WHITE_LAGS
-from noisevar.numeric.blocks import scaled_square_rows
+from noisevar.numeric.blocks import row_medians
 
 #: At most this many samples enter the whiteness tests (spread over the record).
 WHITE_MAX = 2**18
@@ -219,17 +219,23 @@ def _whole_pieces(grid: Grid, s0: int, e: NDArray, keep: NDArray, norm: float) -
     every = keep[lo : lo + (b1 - b0) * size].reshape(-1, size).all(axis=1)
     if not every.all():
         rows = rows[every]
-    # the loop's offset for a block's first slot: size % stride
-    peak, x2, med = scaled_square_rows(rows, size % stride, stride, norm)
+    top, low = rows.max(axis=1, initial=0.0), -rows.min(axis=1, initial=0.0)
+    peak = np.where(low > top, low, top)  # as max(top, low): +0.0 when both are zero
+    with np.errstate(invalid="ignore", divide="ignore"):
+        x2 = rows / peak[:, None]
+    x2 *= x2
     on = peak > 0
     s2 = np.where(on, x2.sum(axis=1), 0.0)
     s4 = np.where(on, np.einsum("ij,ij->i", x2, x2), 0.0)
     total = s2 * peak * peak * norm  # Σ e² norm
-    n_values = len(range(size % stride, size, stride))
+    strided = rows[:, size % stride :: stride]  # the loop's offset for a block's first slot
+    values = strided * strided
+    values *= norm
+    med = row_medians(values)
     out = {}
     for i, b in enumerate(np.flatnonzero(every) + b0):
         piece = Piece(size, size, float(total[i]), [], float(peak[i]), float(s2[i]), float(s4[i]))
-        piece.n_values = n_values
+        piece.n_values = values.shape[1]
         piece.level = _level(float(med[i]), piece)
         out[int(b)] = piece
     return out

@@ -83,49 +83,6 @@ def row_medians(x: NDArray) -> NDArray:
     return (v[:, :k].max(axis=1) + v[:, k]) / 2.0
 
 
-def scaled_square_rows(
-    rows: NDArray, offset: int, stride: int, norm: float
-) -> tuple[NDArray, NDArray, NDArray]:
-    """Each row's peak, the rows over their peaks squared, and their squares' medians.
-
-    Parameters
-    ----------
-    rows : ndarray, shape (r, k)
-        Finite values.
-    offset, stride : int
-        The medians are of ``norm * rows[:, offset::stride] ** 2``, row by row.
-    norm : float
-
-    Returns
-    -------
-    peak : ndarray, shape (r,)
-        ``max(max(row, 0), -min(row, 0))``.
-    x2 : ndarray, shape (r, k)
-        ``(rows / peak) ** 2`` (NaN in a row of zeros).
-    med : ndarray, shape (r,)
-        As :func:`row_medians` of those squares.
-
-    Notes
-    -----
-    Compiled: one pass per row for the peak, one for ``x2``, and the medians without an
-    array of the squares; the same products and order statistics as the NumPy path.
-    """
-    if COMPILED_MEDIANS and _select_numba is not None and rows.shape[1]:
-        rows = np.ascontiguousarray(rows, dtype=float)
-        peak, med, x2 = np.empty(rows.shape[0]), np.empty(rows.shape[0]), np.empty(rows.shape)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            _select_numba.scaled_square_rows(rows, offset, stride, norm, x2, peak, med)
-        return peak, x2, med
-    top, low = rows.max(axis=1, initial=0.0), -rows.min(axis=1, initial=0.0)
-    peak = np.where(low > top, low, top)  # as max(top, low): +0.0 when both are zero
-    with np.errstate(invalid="ignore", divide="ignore"):
-        x2 = rows / peak[:, None]
-    x2 *= x2
-    values = rows[:, offset::stride] * rows[:, offset::stride]
-    values *= norm
-    return peak, x2, row_medians(values)
-
-
 def dilate(mask: NDArray, half: int) -> NDArray:
     """``mask`` widened by ``half`` samples on each side (cheap when few are set)."""
     idx = np.flatnonzero(mask)

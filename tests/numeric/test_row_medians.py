@@ -43,24 +43,3 @@ def test_row_medians_when_the_sample_misses_the_middle():
     v = np.tile(np.linspace(0.0, 1.0, 5000), (3, 1))
     v[:, np.arange(64) * 5000 // 64] = 1e9
     assert np.array_equal(blocks.row_medians(v), np.median(v, axis=1))
-
-
-@pytest.mark.parametrize("compiled", [True, False])
-@pytest.mark.parametrize("offset, stride", [(0, 1), (1, 2), (3, 4)])
-def test_scaled_square_rows_equal_numpy(offset, stride, compiled, monkeypatch):
-    """Peaks, rows over their peaks squared (NaN in a row of zeros) and squares' medians."""
-    monkeypatch.setattr(blocks, "COMPILED_MEDIANS", compiled)
-    rng = np.random.default_rng(stride)
-    rows = rng.standard_t(3, (6, 5000))
-    rows[1] = 0.0  # a held stretch
-    rows[2] = -np.abs(rows[2])  # the peak on the negative side
-    rows[3, ::2] = 0.0
-    peak, x2, med = blocks.scaled_square_rows(rows, offset, stride, 0.37)
-    top, low = rows.max(axis=1, initial=0.0), -rows.min(axis=1, initial=0.0)
-    ref_peak = np.where(low > top, low, top)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        ref_x2 = (rows / ref_peak[:, None]) ** 2
-    values = rows[:, offset::stride] * rows[:, offset::stride] * 0.37
-    assert np.array_equal(peak, ref_peak)
-    assert np.array_equal(x2, ref_x2, equal_nan=True) and np.isnan(x2[1]).all()
-    assert np.array_equal(med, np.median(values, axis=1))
