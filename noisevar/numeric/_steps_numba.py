@@ -127,3 +127,18 @@ def above_both_sides(x, floor, fwd, bwd, bwd0, half, q):  # pragma: no cover - c
         if v > floor and _above_at(v, k, fwd, bwd, bwd0, half, m):
             hit[k] = _above_at(v, k - 1, fwd, bwd, bwd0, half, m)
     return hit
+
+
+@njit(cache=True, nogil=True)
+def above_both_sides_at(values, idx, fwd, bwd, bwd0, half, m):  # pragma: no cover - compiled
+    """:func:`above_both_sides` of samples that are ``values`` at the ``idx`` (0 elsewhere).
+
+    ``m``: the samples the reversed grid reads (the window's less its first ``q``).
+    """
+    hit = np.zeros(idx.shape[0], dtype=np.bool_)
+    for r in range(idx.shape[0]):
+        k = idx[r]
+        v = values[r]
+        if k > 0 and _above_at(v, k, fwd, bwd, bwd0, half, m):
+            hit[r] = _above_at(v, k - 1, fwd, bwd, bwd0, half, m)
+    return hit

@@ -142,6 +142,21 @@ def above_on_two_grids(
     )
 
 
+def above_on_two_grids_at(
+    values: NDArray, idx: NDArray, halves: tuple[NDArray, NDArray], first: float, half: int, m: int
+) -> NDArray | None:
+    """:func:`above_on_two_grids` of samples that are ``values`` at ``idx``, read there only.
+
+    ``m``: the samples of the reversed grid (the window's less its first ``q``); None: no numba.
+    """
+    if not COMPILED or _steps_numba is None:
+        return None
+    fwd, bwd = halves
+    return _steps_numba.above_both_sides_at(
+        np.ascontiguousarray(values, dtype=float), _ints(idx), fwd, bwd, first, half, m
+    )
+
+
 def above_at(above: Callable[[NDArray], NDArray], values: NDArray, idx: NDArray, n: int) -> NDArray:
     """``above(x)[idx]`` for the ``n`` samples ``x`` that are ``values`` at ``idx``, 0 elsewhere.
 
@@ -161,6 +176,10 @@ def _above_both_sides_at(
     values: NDArray, idx: NDArray, above: Callable[[NDArray], NDArray], n: int
 ) -> NDArray:
     """:func:`_above_both_sides` at the sorted ``idx`` of ``n`` samples 0 but ``values`` there."""
+    sides_at = getattr(above, "sides_at", None)
+    hit = None if sides_at is None else sides_at(values, idx)  # compiled: the same flags
+    if hit is not None:
+        return hit
     hit = above_at(above, values, idx, n) & (idx > 0)
     hit[hit] = above_at(above, values[hit], idx[hit] - 1, n)
     return hit

@@ -70,3 +70,22 @@ def test_above_both_sides_compiled_equals_numpy(m, block, after, monkeypatch):
     monkeypatch.setattr(Above, "sides", lambda self, x: None)
     ref = steps._above_both_sides(x, above)
     assert ref.any() and np.array_equal(got, ref)
+
+
+@pytest.mark.parametrize("m, block, after", [(5000, 256, 0), (5000, 256, 77), (1030, 16, 5)])
+def test_above_both_sides_at_compiled_equals_numpy(m, block, after, monkeypatch):
+    """The same flags at a few samples (the confirmation's), read there only."""
+    from noisevar.estimators.auto._levels import Above, Grids
+
+    rng = np.random.default_rng(m + after)
+    g = Grids.make(m, block, after)
+    fwd, bwd = rng.uniform(0.5, 2.0, g.nb), rng.uniform(0.5, 2.0, g.nbb)
+    bwd[-1] = np.nan
+    above = Above(fwd, bwd, g)
+    idx = np.unique(np.r_[0, 1, m - 1, rng.integers(0, m, 300)])
+    values = rng.uniform(0.0, 3.0, idx.size)
+    got = steps._above_both_sides_at(values, idx, above, m)
+    assert above.sides_at(values, idx) is not None
+    monkeypatch.setattr(Above, "sides_at", lambda self, v, i: None)
+    ref = steps._above_both_sides_at(values, idx, above, m)
+    assert ref.any() and (~ref).any() and np.array_equal(got, ref)

@@ -23,7 +23,7 @@ from noisevar.numeric.blocks import (
     kept_block_sums,
 )
 from noisevar.numeric.fir import ROUNDING_ULPS
-from noisevar.numeric.steps import above_on_two_grids
+from noisevar.numeric.steps import above_on_two_grids, above_on_two_grids_at
 
 
 @dataclass(frozen=True)
@@ -222,8 +222,20 @@ class Above:
         g = self.g
         if g.block % 2 or x.size != g.m:
             return None
-        halves = (half_levels(self.fwd), half_levels(self.bwd))
-        return above_on_two_grids(x, self.floor, halves, float(self.bwd[0]), g.block // 2, g.q)
+        return above_on_two_grids(
+            x, self.floor, self._halves(), float(self.bwd[0]), g.block // 2, g.q
+        )
+
+    def sides_at(self, values: NDArray, idx: NDArray) -> NDArray | None:
+        """:meth:`sides` of samples that are ``values`` at ``idx`` (0 elsewhere), read there."""
+        g = self.g
+        if g.block % 2:
+            return None
+        halves, first = self._halves(), float(self.bwd[0])
+        return above_on_two_grids_at(values, idx, halves, first, g.block // 2, g.m - g.q)
+
+    def _halves(self) -> tuple[NDArray, NDArray]:
+        return half_levels(self.fwd), half_levels(self.bwd)
 
     @property
     def floor(self) -> float:
