@@ -54,17 +54,23 @@ def _band(src, m, lo, hi, dst):  # pragma: no cover - compiled
 
 @njit(cache=True, nogil=True)
 def _sort_head(work, m):  # pragma: no cover - compiled
-    """``work[:m]`` sorted in place (insertion sort when short)."""
-    if m > _SMALL:
-        work[:m].sort()
-        return
-    for i in range(1, m):
-        v = work[i]
-        j = i
-        while j > 0 and work[j - 1] > v:
-            work[j] = work[j - 1]
-            j -= 1
-        work[j] = v
+    """``work[:m]`` sorted in place: Shell's sort (insertion sort, the last gap 1).
+
+    Short or nearly sorted heads are the common case; a long one (a band of ties) costs
+    ``m^1.3``, and the kernel compiles in a fraction of the time NumPy's sort takes in numba.
+    """
+    gap = 1
+    while gap < m // 3:
+        gap = 3 * gap + 1  # Knuth's gaps
+    while gap >= 1:
+        for i in range(gap, m):
+            v = work[i]
+            j = i
+            while j >= gap and work[j - gap] > v:
+                work[j] = work[j - gap]
+                j -= gap
+            work[j] = v
+        gap //= 3
 
 
 @njit(cache=True, nogil=True)
