@@ -6,10 +6,10 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.ndimage import maximum_filter1d
 
-try:  # the compiled row medians (numba); NumPy's partition below is the reference
-    from noisevar.numeric import _select_numba
+try:  # the compiled kernels (numba); the NumPy paths below are the reference
+    from noisevar.numeric import _blocks_numba, _select_numba
 except ImportError:  # pragma: no cover - numba not installed
-    _select_numba = None  # type: ignore[assignment]
+    _select_numba = _blocks_numba = None  # type: ignore[assignment]
 
 #: The compiled row medians of :func:`row_medians` while true (and numba is installed);
 #: false selects NumPy's partition (the same numbers, tested).
@@ -81,6 +81,39 @@ def row_medians(x: NDArray) -> NDArray:
         return v[:, k].copy()
     # the largest of the lower half: the same order statistic as partition((k - 1, k))
     return (v[:, :k].max(axis=1) + v[:, k]) / 2.0
+
+
+def chosen_above_sums(
+    sq: NDArray, choice: NDArray, local: NDArray, halves: NDArray, block: int
+) -> tuple[NDArray, NDArray] | None:
+    """Per block: sum and count of its chosen row's values above its levels (None: no numba).
+
+    Parameters
+    ----------
+    sq : ndarray, shape (k, n)
+        Rows of values; block ``b`` reads row ``choice[b]`` (the last block the rest too).
+    choice : ndarray of int, shape (nb,)
+    local : ndarray, shape (nb,)
+        Each block's own level: a value is above when it exceeds it and (more than one
+        block) the level ``halves[t // (block / 2)]`` of its half block (the last past them).
+    halves : ndarray, shape (2 nb,)
+    block : int
+        Even.
+
+    Returns
+    -------
+    (ndarray, ndarray) or None
+        The sums (added in sample order, as ``np.bincount``'s weights) and the counts.
+    """
+    if _blocks_numba is None or block % 2:
+        return None
+    return _blocks_numba.chosen_above_sums(
+        np.ascontiguousarray(sq, dtype=float), _int64(choice), local.astype(float), halves, block
+    )
+
+
+def _int64(x: NDArray) -> NDArray:
+    return np.ascontiguousarray(x, dtype=np.int64)
 
 
 def dilate(mask: NDArray, half: int) -> NDArray:
