@@ -179,7 +179,7 @@ def rounded_fir_squares(
     x = np.ascontiguousarray(x, dtype=float)
     peak = _peak(x) if peak is None else peak
     limits = np.empty(len(ds))
-    halves = np.zeros((len(ds), top + 1))
+    halves = np.zeros((4, top + 1))  # the kernel's four rows
     for s, (d, h) in enumerate(zip(ds, hs, strict=True)):
         bound = _rounding_unit(d) * peak
         limits[s] = bound * bound
@@ -187,8 +187,8 @@ def rounded_fir_squares(
     low = np.zeros(len(ds), dtype=np.int64)
     lows = np.zeros(len(ds), dtype=np.int64)
     _fir_numba.symmetric_firs_squares(
-        x, halves[order], np.array(hs)[order], top, n - top, out, np.array(order), limits[order],
-        lows,
+        x, halves[order + [s for s in range(4) if s >= len(ds)]], np.array(hs)[order], top,
+        n - top, out, np.array(order), limits[order], lows,
     )  # fmt: skip
     low[order] = lows
     for s, h in enumerate(hs):
