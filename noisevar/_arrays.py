@@ -21,19 +21,6 @@ def median_inplace(v: NDArray) -> float:
     return float((v[:k].max() + v[k]) / 2.0)
 
 
-def row_medians_inplace(v: NDArray) -> NDArray:
-    """:func:`median_inplace` of each row of a 2-D float array (the same numbers).
-
-    No copy and no checks: ``v`` must be finite, with at least one column, and the
-    caller's to reorder.
-    """
-    k = v.shape[1] // 2
-    v.partition(k, axis=1)
-    if v.shape[1] % 2:
-        return v[:, k].copy()
-    return (v[:, :k].max(axis=1) + v[:, k]) / 2.0
-
-
 #: Integers up to this magnitude are exact in float64 (every one of them); beyond, refused.
 EXACT_INT = 2**53
 

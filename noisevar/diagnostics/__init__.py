@@ -294,21 +294,21 @@ def _without_glitches(
 ) -> tuple[NDArray, NDArray, Callable[[], NDArray]]:
     """The whiteness windows' and increments' kept masks, and ``head``, without ``glitches``."""
     plan, g = sums.plan, np.unique(glitches)
-    slots = _residual_slots(plan, sums.white.joined_slots())
-    near = np.zeros(slots.size, dtype=bool)
-    on = slots >= 0
-    if on.any():  # a residual reaches h samples either way
-        k = _sample_of(plan, slots[on])
-        i = np.searchsorted(g, k)  # the glitches either side of each residual's sample
-        left, right = g[np.maximum(i - 1, 0)], g[np.minimum(i, g.size - 1)]
-        near[on] = np.minimum(np.abs(k - left), np.abs(k - right)) <= plan.h
-    inc = sums.incr.joined_slots()
-    touch = np.zeros(inc.size, dtype=bool)
+
+    def residual_sample(pos: int) -> int | None:
+        return int(_sample_of(plan, _residual_slots(plan, np.array([pos])))[0])
+
     d0 = np.cumsum([0] + [b - a - 1 + WHITE_LAGS for a, b in plan.segments])
-    for (a, b), s0 in zip(plan.segments, d0, strict=False):  # difference z[k+1] - z[k]
-        mine = (inc >= s0) & (inc < s0 + b - a - 1)
-        k = inc[mine] - s0 + a
-        touch[mine] = np.isin(k, g) | np.isin(k + 1, g)
+
+    def increment_sample(pos: int) -> int | None:  # difference z[k+1] - z[k]
+        for (a, b), s0 in zip(plan.segments, d0, strict=False):
+            if s0 <= pos < s0 + b - a - 1:
+                return int(pos - s0 + a)
+        return None
+
+    # a residual reaches h samples either way
+    near = _reaching(sums.white.joined_runs(), residual_sample, g, -plan.h, plan.h)
+    touch = _reaching(sums.incr.joined_runs(), increment_sample, g, 0, 1)
     a0 = max(seg.segments, key=lambda s: s[1] - s[0])[0]
 
     def calm() -> NDArray:
@@ -316,6 +316,31 @@ def _without_glitches(
         return bridged(x, g[(g >= a0) & (g < a0 + x.size)] - a0)
 
     return keep_w & ~near, used & ~touch, calm
+
+
+def _reaching(
+    runs: list[tuple[int, int]],
+    sample: Callable[[int], int | None],
+    g: NDArray,
+    lo: int,
+    hi: int,
+) -> NDArray:
+    """Over the positions of ``runs`` (:meth:`~noisevar.diagnostics.plan.Windows.joined_runs`):
+    whether one of the sorted samples ``g`` lies within ``k + lo .. k + hi`` of the sample ``k``.
+
+    ``sample(position)``: the sample of a run's first position (None: none); the run's
+    samples follow it one by one. Each glitch marks the positions it reaches, run by run.
+    """
+    edges = np.zeros(sum(size for _, size in runs) + 1, dtype=np.int64)
+    at = 0
+    for pos, size in runs:
+        k0 = sample(pos) if pos >= 0 else None
+        if k0 is not None:
+            i = g[np.searchsorted(g, k0 + lo) : np.searchsorted(g, k0 + size - 1 + hi, "right")]
+            np.add.at(edges, at + np.clip(i - hi - k0, 0, size), 1)
+            np.add.at(edges, at + np.clip(i - lo - k0 + 1, 0, size), -1)
+        at += size
+    return np.cumsum(edges[:-1]) > 0
 
 
 def _still_whiteness(

@@ -15,10 +15,11 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-from noisevar._arrays import median_inplace, row_medians_inplace
+from noisevar._arrays import median_inplace
 from noisevar.diagnostics.profile import CHI2_1_MEDIAN, PROFILE_BLOCKS, PROFILE_MIN_BLOCK
 from noisevar.diagnostics.quantisation import LSB_PROBE, LSB_TOL
 from noisevar.diagnostics.whiteness import WHITE_LAGS
+from noisevar.numeric.blocks import row_medians
 
 #: At most this many samples enter the whiteness tests (spread over the record).
 WHITE_MAX = 2**18
@@ -230,7 +231,7 @@ def _whole_pieces(grid: Grid, s0: int, e: NDArray, keep: NDArray, norm: float) -
     strided = rows[:, size % stride :: stride]  # the loop's offset for a block's first slot
     values = strided * strided
     values *= norm
-    med = row_medians_inplace(values)
+    med = row_medians(values)
     out = {}
     for i, b in enumerate(np.flatnonzero(every) + b0):
         piece = Piece(size, size, float(total[i]), [], float(peak[i]), float(s2[i]), float(s4[i]))
@@ -283,6 +284,10 @@ class Windows:
         if not pieces:
             return np.zeros(0), np.zeros(0, dtype=bool)
         return np.concatenate([x for _, x, _ in pieces]), np.concatenate([k for *_, k in pieces])
+
+    def joined_runs(self) -> list[tuple[int, int]]:
+        """``(position, size)`` of each piece of :meth:`joined`, in order (``-1``: unused slots)."""
+        return [(lo, x.size) for lo, x, _ in self._pieces()]
 
     def joined_slots(self) -> NDArray:
         """The position of each sample of :meth:`joined` (-1 for the unused slots)."""

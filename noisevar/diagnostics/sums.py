@@ -26,7 +26,7 @@ from noisevar.diagnostics.plan import (
 )
 from noisevar.diagnostics.whiteness import WHITE_LAGS
 from noisevar.errors import NoisevarError
-from noisevar.numeric.fir import centred_fir, residual_sequence, rounded_off
+from noisevar.numeric.fir import residual_sequence, rounded_fir
 
 
 @dataclass
@@ -54,7 +54,7 @@ def _residual_part(
     h = DIAG_SPAN // 2
     x = z[k0 - wa - h : k1 - wa + h]
     # at float rounding: 0 (a held stretch plus a trend is no still level, issue 26)
-    e = rounded_off(centred_fir(x, _sequence()), x, _sequence())
+    e = rounded_fir(x, _sequence())
     x = None if exclude is None else exclude[k0 - wa - h : k1 - wa + h]
     if x is None or not x.any():
         return e, np.ones(e.size, dtype=bool)

@@ -99,3 +99,46 @@ def median_third_differences(z, idx, last, net):  # pragma: no cover - compiled
             med[q] = (v[2] + v[3]) / 2.0
         out[r] = (med[0] * 1.0 + med[2] * 3.0) + (med[1] * -3.0 + med[3] * -1.0)
     return out
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _above_at(v, i, fwd, bwd, bwd0, half, m):  # pragma: no cover - compiled
+    """``v`` above the level of sample ``i`` on both grids (each a level per half block)."""
+    if not v > fwd[min(i // half, fwd.shape[0] - 1)]:
+        return False
+    j = m - 1 - i
+    return v > (bwd[min(j // half, bwd.shape[0] - 1)] if j >= 0 else bwd0)
+
+
+@njit(cache=True, nogil=True)
+def above_both_sides(x, floor, fwd, bwd, bwd0, half, q):  # pragma: no cover - compiled
+    """``x[k]`` above the levels of samples ``k`` and ``k - 1`` (``k >= 1``), on both grids.
+
+    ``fwd``: the level of each half block from the window's start (samples ``i // half``,
+    the last one for the rest); ``bwd`` the same on the reversed window less its first
+    ``q`` samples (``bwd0`` before it); only ``x[k] > floor`` can be above. Comparisons
+    with the levels looked up as the NumPy path looks them up: the same flags.
+    """
+    n = x.shape[0]
+    m = n - q
+    hit = np.zeros(n, dtype=np.bool_)
+    for k in range(1, n):
+        v = x[k]
+        if v > floor and _above_at(v, k, fwd, bwd, bwd0, half, m):
+            hit[k] = _above_at(v, k - 1, fwd, bwd, bwd0, half, m)
+    return hit
+
+
+@njit(cache=True, nogil=True)
+def above_both_sides_at(values, idx, fwd, bwd, bwd0, half, m):  # pragma: no cover - compiled
+    """:func:`above_both_sides` of samples that are ``values`` at the ``idx`` (0 elsewhere).
+
+    ``m``: the samples the reversed grid reads (the window's less its first ``q``).
+    """
+    hit = np.zeros(idx.shape[0], dtype=np.bool_)
+    for r in range(idx.shape[0]):
+        k = idx[r]
+        v = values[r]
+        if k > 0 and _above_at(v, k, fwd, bwd, bwd0, half, m):
+            hit[r] = _above_at(v, k - 1, fwd, bwd, bwd0, half, m)
+    return hit

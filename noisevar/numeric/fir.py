@@ -10,6 +10,7 @@ references (the same numbers, to rounding; tested).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from functools import lru_cache
 
 import numpy as np
@@ -108,6 +109,109 @@ def centred_fir(
     return out
 
 
+def rounded_fir(
+    x: NDArray,
+    d: NDArray,
+    out: NDArray | None = None,
+    square: bool = False,
+    peak: float | None = None,
+) -> NDArray:
+    """``rounded_off(centred_fir(x, d, out, square), x, d, square)``, screened as it is written.
+
+    Parameters
+    ----------
+    x, d, out, square : see :func:`centred_fir`.
+    peak : float, optional
+        ``max |x|``, when the caller has it.
+
+    Returns
+    -------
+    ndarray, shape (n - 2h,)
+
+    Notes
+    -----
+    :func:`rounded_off`'s first screen (outputs at or below the rounding of the largest
+    ``|x|``) is counted by the compiled kernel as it writes them: on most records none,
+    and no pass of its own; else :func:`rounded_off` as it is.
+    """
+    if not (USE_COMPILED and _fir_numba is not None) or x.size < d.size:
+        return rounded_off(centred_fir(x, d, out, square), x, d, square)
+    top = _rounding_unit(d) * (_peak(x) if peak is None else peak)
+    out = np.empty(x.size - d.size + 1) if out is None else out
+    half = d[d.size // 2 :].copy()
+    limit = top * top if square else top
+    if _fir_numba.symmetric_fir(np.ascontiguousarray(x), half, out, square, limit):
+        rounded_off(out, x, d, square)
+    return out
+
+
+def rounded_fir_squares(
+    x: NDArray, ds: Sequence[NDArray], out: NDArray, peak: float | None = None
+) -> NDArray:
+    """:func:`rounded_fir` of ``x`` squared for several sequences at once.
+
+    Parameters
+    ----------
+    x : ndarray, shape (n,)
+    ds : sequence of ndarray
+        Symmetric sequences (see :func:`centred_fir`), ``2 h_s + 1`` taps each.
+    out : ndarray, shape (len(ds), n)
+        Row ``s`` takes sequence ``s``'s squared outputs at samples ``h_s .. n - h_s``
+        (its other samples are not written); returned.
+    peak : float, optional
+        ``max |x|``, when the caller has it.
+
+    Notes
+    -----
+    Compiled: one pass over the samples that every sequence reaches, each pair of taps'
+    differences formed once for all the sequences
+    (:func:`~noisevar.numeric._fir_numba.symmetric_firs_squares`; each sequence's taps
+    added in its own order), and the single kernel at the shorter sequences' other
+    samples: the same numbers as one :func:`rounded_fir` per sequence.
+    """
+    hs = [d.size // 2 for d in ds]
+    n, top = x.size, max(hs)
+    order = sorted(range(len(ds)), key=lambda s: -hs[s])  # the kernel's: longest first
+    if not (USE_COMPILED and _fir_numba is not None) or n < 2 * top + 2 or len(ds) > 4:
+        for d, h, row in zip(ds, hs, out, strict=True):
+            rounded_fir(x, d, row[h : n - h], square=True, peak=peak)
+        return out
+    x = np.ascontiguousarray(x, dtype=float)
+    peak = _peak(x) if peak is None else peak
+    limits = np.empty(len(ds))
+    halves = np.zeros((4, top + 1))  # the kernel's four rows
+    for s, (d, h) in enumerate(zip(ds, hs, strict=True)):
+        bound = _rounding_unit(d) * peak
+        limits[s] = bound * bound
+        halves[s, : h + 1] = d[h:]
+    low = np.zeros(len(ds), dtype=np.int64)
+    lows = np.zeros(len(ds), dtype=np.int64)
+    _fir_numba.symmetric_firs_squares(
+        x, halves[order + [s for s in range(4) if s >= len(ds)]], np.array(hs)[order], top,
+        n - top, out, np.array(order), limits[order], lows,
+    )  # fmt: skip
+    low[order] = lows
+    for s, h in enumerate(hs):
+        if h < top:  # the samples the longest sequence does not reach, at both ends
+            half = halves[s, : h + 1].copy()
+            low[s] += _fir_numba.symmetric_fir(x[: top + h], half, out[s, h:top], True, limits[s])
+            tail = out[s, n - top : n - h]
+            low[s] += _fir_numba.symmetric_fir(x[n - top - h :], half, tail, True, limits[s])
+        if low[s]:
+            rounded_off(out[s, h : n - h], x, ds[s], True)
+    return out
+
+
+def _rounding_unit(d: NDArray) -> float:
+    """:func:`rounded_off`'s bound per unit of ``max |x|``."""
+    return ROUNDING_ULPS * np.finfo(float).eps * float(np.sqrt(np.dot(d, d)))
+
+
+def _peak(x: NDArray) -> float:
+    """``max |x|`` (from the largest and the least value: no ``|x|`` array)."""
+    return max(float(np.max(x)), -float(np.min(x)))
+
+
 def rounded_off(e: NDArray, x: NDArray, d: NDArray, squared: bool = False) -> NDArray:
     """``e = centred_fir(x, d)`` with the outputs at float rounding set to 0 (in place).
 
@@ -130,10 +234,10 @@ def rounded_off(e: NDArray, x: NDArray, d: NDArray, squared: bool = False) -> ND
     h = d.size // 2
     if not e.size:
         return e
-    unit = ROUNDING_ULPS * np.finfo(float).eps * float(np.sqrt(np.dot(d, d)))
+    unit = _rounding_unit(d)
     # candidates against the largest |x| of all (no window's is larger): on most records
     # none, and this one comparison is all it costs
-    top = unit * max(float(np.max(x)), -float(np.min(x)))
+    top = unit * _peak(x)
     idx = np.flatnonzero(e <= top * top if squared else np.abs(e) <= top)
     if not idx.size:
         return e

@@ -92,6 +92,10 @@ def _above_both_sides(x: NDArray, above: Callable[[NDArray], NDArray]) -> NDArra
     The local level may change between two samples; testing against both keeps the
     decision the same on the reversed record (where the boundary's sample is ``k - 1``).
     """
+    sides = getattr(above, "sides", None)
+    hit = None if sides is None else sides(x)  # compiled: the same flags in one pass
+    if hit is not None:
+        return hit
     floor = getattr(above, "floor", None)
     if floor is not None and getattr(above, "at", None) is not None:
         # no sample at or below the lowest level is above: compare only the others
@@ -107,6 +111,50 @@ def _above_both_sides(x: NDArray, above: Callable[[NDArray], NDArray]) -> NDArra
         hit[:] = False
         hit[idx[left]] = True
     return hit
+
+
+def above_on_two_grids(
+    x: NDArray, floor: float, halves: tuple[NDArray, NDArray], first: float, half: int, q: int
+) -> NDArray | None:
+    """``x[k]`` above the levels of both samples ``k`` and ``k - 1`` on two grids (None: no numba).
+
+    Parameters
+    ----------
+    x : ndarray, shape (n,)
+    floor : float
+        No value at or below it is above (a screen).
+    halves : (ndarray, ndarray)
+        The level of each half block of ``half`` samples from the window's start (the last
+        for the rest), and the same on the reversed window after its first ``q`` samples.
+    first : float
+        The level of the samples past the reversed grid's start.
+
+    Returns
+    -------
+    ndarray of bool or None
+        False at ``k = 0``.
+    """
+    if not COMPILED or _steps_numba is None:
+        return None
+    fwd, bwd = halves
+    return _steps_numba.above_both_sides(
+        np.ascontiguousarray(x, dtype=float), floor, fwd, bwd, first, half, q
+    )
+
+
+def above_on_two_grids_at(
+    values: NDArray, idx: NDArray, halves: tuple[NDArray, NDArray], first: float, half: int, m: int
+) -> NDArray | None:
+    """:func:`above_on_two_grids` of samples that are ``values`` at ``idx``, read there only.
+
+    ``m``: the samples of the reversed grid (the window's less its first ``q``); None: no numba.
+    """
+    if not COMPILED or _steps_numba is None:
+        return None
+    fwd, bwd = halves
+    return _steps_numba.above_both_sides_at(
+        np.ascontiguousarray(values, dtype=float), _ints(idx), fwd, bwd, first, half, m
+    )
 
 
 def above_at(above: Callable[[NDArray], NDArray], values: NDArray, idx: NDArray, n: int) -> NDArray:
@@ -128,6 +176,10 @@ def _above_both_sides_at(
     values: NDArray, idx: NDArray, above: Callable[[NDArray], NDArray], n: int
 ) -> NDArray:
     """:func:`_above_both_sides` at the sorted ``idx`` of ``n`` samples 0 but ``values`` there."""
+    sides_at = getattr(above, "sides_at", None)
+    hit = None if sides_at is None else sides_at(values, idx)  # compiled: the same flags
+    if hit is not None:
+        return hit
     hit = above_at(above, values, idx, n) & (idx > 0)
     hit[hit] = above_at(above, values[hit], idx[hit] - 1, n)
     return hit

@@ -96,3 +96,23 @@ def test_lone_steps_one_run_per_jump_whatever_its_size():
     assert not lone[300 : 300 + 4 * w + 1].any() and not lone[500:520].any()
     assert not lone[600:604].any()
     np.testing.assert_array_equal(lone_steps(z[::-1], found[::-1], above)[::-1], lone)
+
+
+@pytest.mark.parametrize("n, block", [(5000, 256), (5100, 256), (300, 16), (200, 100), (150, 100)])
+def test_chosen_above_sums_compiled_equal_the_numpy_path(n, block):
+    """One pass over each block's chosen row: the same sums (added in sample order) and counts."""
+    from noisevar.estimators.auto._levels import half_levels
+    from noisevar.estimators.auto._trim import _above_sums
+    from noisevar.numeric.blocks import chosen_above_sums
+
+    rng = np.random.default_rng(n + block)
+    nb = max(1, n // block)
+    sq = rng.standard_t(3, (4, n)) ** 2 * rng.uniform(0.1, 10.0, (4, 1))
+    choice = rng.integers(0, 4, nb)
+    local = rng.uniform(1.0, 6.0, nb)
+    if nb > 1:
+        local[rng.integers(0, nb)] = np.inf  # an all-trimmed block
+    got = chosen_above_sums(sq, choice, local, half_levels(local), block)
+    ref = _above_sums(sq, choice, local, block)
+    assert got is not None and ref[1].sum() > 0
+    assert np.array_equal(got[0], ref[0]) and np.array_equal(got[1], ref[1])

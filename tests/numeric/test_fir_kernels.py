@@ -80,3 +80,45 @@ def test_lagged_products_add_one_sample_at_a_time(n):
     for k in range(min(lags + 1, n)):  # a running sum from 0, as the kernel's
         want[k] = np.cumsum(np.r_[0.0, x[: n - k] * x[k:]])[-1]
     assert out.tobytes() == want.tobytes()
+
+
+@pytest.mark.parametrize("square", [False, True])
+@pytest.mark.parametrize("kind", ["white", "held", "held+trend", "huge"])
+def test_rounded_fir_screens_as_it_writes(kind, square, monkeypatch):
+    """One pass (the kernel counts rounded_off's candidates): the same numbers as the two."""
+    rng = np.random.default_rng(len(kind))
+    z = rng.standard_normal(5000)
+    if kind.startswith("held"):  # a quantised record: residuals at 0 and at rounding
+        z = np.repeat(rng.integers(20, 26, 100), rng.integers(1, 90, 100)).astype(float)
+        z = z + (1e-3 * np.arange(z.size) if kind == "held+trend" else 0.0)
+    elif kind == "huge":
+        z = z * 1e150  # squares near the float limit
+    d = fir.residual_sequence(21, 3)
+    ref = fir.rounded_off(fir.centred_fir(z, d, square=square), z, d, squared=square)
+    for peak in (None, max(float(z.max()), -float(z.min()))):
+        assert np.array_equal(fir.rounded_fir(z, d, square=square, peak=peak), ref)
+    monkeypatch.setattr(fir, "USE_COMPILED", False)
+    assert np.array_equal(fir.rounded_fir(z, d, square=square), ref)
+    if kind == "held+trend":  # the screen found candidates, and some were zeroed
+        assert np.count_nonzero(ref == 0) > np.count_nonzero(fir.centred_fir(z, d) == 0)
+
+
+@pytest.mark.parametrize(
+    "spans", [(11, 21, 41, 81), (81, 11, 41), (5,), (21, 13), (5, 9, 13, 17, 21)]
+)
+@pytest.mark.parametrize("kind", ["white", "held+trend"])
+def test_rounded_fir_squares_equal_one_filter_at_a_time(spans, kind):
+    """Every span's squares at once (each pair of taps formed once): the same numbers."""
+    rng = np.random.default_rng(len(spans))
+    z = rng.standard_normal(3000) * 7.0 + 1e3
+    if kind == "held+trend":
+        z = np.repeat(rng.integers(20, 26, 60), rng.integers(1, 90, 60)).astype(float)
+        z = z + 1e-3 * np.arange(z.size)
+    ds = [fir.residual_sequence(s, 3) / np.linalg.norm(fir.residual_sequence(s, 3)) for s in spans]
+    ref = np.full((len(ds), z.size), -1.0)
+    for d, row in zip(ds, ref, strict=True):
+        h = d.size // 2
+        fir.rounded_fir(z, d, row[h : z.size - h], square=True)
+    got = np.full_like(ref, -1.0)
+    assert fir.rounded_fir_squares(z, ds, got) is got
+    assert np.array_equal(got, ref)

@@ -48,3 +48,44 @@ def test_compiled_confirmation_is_the_reference(monkeypatch, seed):
     slow = steps._confirmed(z, idx, above, 3.0, w)
     assert np.array_equal(fast, slow)
     assert seen[0].tobytes() == seen[len(seen) // 2].tobytes()  # the levels tested, bit for bit
+
+
+@pytest.mark.parametrize(
+    "m, block, after", [(5000, 256, 0), (5000, 256, 77), (1030, 16, 5), (700, 64, 0)]
+)
+def test_above_both_sides_compiled_equals_numpy(m, block, after, monkeypatch):
+    """One compiled pass over the third differences: the flags of the NumPy path."""
+    from noisevar.estimators.auto._levels import Above, Grids
+
+    rng = np.random.default_rng(m + block + after)
+    g = Grids.make(m, block, after)
+    fwd = rng.uniform(0.5, 2.0, g.nb)
+    bwd = rng.uniform(0.5, 2.0, g.nbb)
+    fwd[rng.integers(0, g.nb)] = np.nan  # a block with no level: never exceeded
+    x = rng.standard_normal(m) ** 2 * 1.5
+    x[rng.integers(0, m, 50)] = 40.0
+    above = Above(fwd, bwd, g)
+    got = steps._above_both_sides(x, above)
+    assert above.sides(x) is not None  # the compiled path ran
+    monkeypatch.setattr(Above, "sides", lambda self, x: None)
+    ref = steps._above_both_sides(x, above)
+    assert ref.any() and np.array_equal(got, ref)
+
+
+@pytest.mark.parametrize("m, block, after", [(5000, 256, 0), (5000, 256, 77), (1030, 16, 5)])
+def test_above_both_sides_at_compiled_equals_numpy(m, block, after, monkeypatch):
+    """The same flags at a few samples (the confirmation's), read there only."""
+    from noisevar.estimators.auto._levels import Above, Grids
+
+    rng = np.random.default_rng(m + after)
+    g = Grids.make(m, block, after)
+    fwd, bwd = rng.uniform(0.5, 2.0, g.nb), rng.uniform(0.5, 2.0, g.nbb)
+    bwd[-1] = np.nan
+    above = Above(fwd, bwd, g)
+    idx = np.unique(np.r_[0, 1, m - 1, rng.integers(0, m, 300)])
+    values = rng.uniform(0.0, 3.0, idx.size)
+    got = steps._above_both_sides_at(values, idx, above, m)
+    assert above.sides_at(values, idx) is not None
+    monkeypatch.setattr(Above, "sides_at", lambda self, v, i: None)
+    ref = steps._above_both_sides_at(values, idx, above, m)
+    assert ref.any() and (~ref).any() and np.array_equal(got, ref)

@@ -23,6 +23,7 @@ from noisevar.numeric.blocks import (
     kept_block_sums,
 )
 from noisevar.numeric.fir import ROUNDING_ULPS
+from noisevar.numeric.steps import above_on_two_grids, above_on_two_grids_at
 
 
 @dataclass(frozen=True)
@@ -131,16 +132,22 @@ def bracketing(idx: NDArray, local: NDArray, block: int) -> NDArray:
     """The larger local level of the two block centres around each sample ``idx``."""
     nb = local.size
     if block % 2 == 0:  # the level of each half block, looked up (the same maxima)
-        j = np.arange(nb)
-        halves = np.empty(2 * nb)
-        np.maximum(local, local[np.maximum(j - 1, 0)], out=halves[0::2])
-        np.maximum(local, local[np.minimum(j + 1, nb - 1)], out=halves[1::2])
         # past the last block (the rest of the record): its second half's, the last level
-        return halves[np.minimum(idx // (block // 2), 2 * nb - 1)]
+        return half_levels(local)[np.minimum(idx // (block // 2), 2 * nb - 1)]
     own = np.minimum(idx // block, nb - 1)
     side = np.where(idx - own * block < block // 2, own - 1, own + 1)
     side = np.clip(side, 0, nb - 1)  # the rest of the record: the last block's level
     return np.maximum(local[own], local[side])
+
+
+def half_levels(local: NDArray) -> NDArray:
+    """The bracketing level of each half block (an even block): its own and its neighbour's."""
+    nb = local.size
+    j = np.arange(nb)
+    halves = np.empty(2 * nb)
+    np.maximum(local, local[np.maximum(j - 1, 0)], out=halves[0::2])
+    np.maximum(local, local[np.minimum(j + 1, nb - 1)], out=halves[1::2])
+    return halves
 
 
 def above_local(x: NDArray, local: NDArray, block: int) -> NDArray:
@@ -205,6 +212,30 @@ class Above:
     def at(self, values: NDArray, idx: NDArray) -> NDArray:
         """``self(x)[idx]`` for ``x`` that is ``values`` at ``idx``."""
         return above_both_at(values, idx, self.fwd, self.bwd, self.g)
+
+    def sides(self, x: NDArray) -> NDArray | None:
+        """``self(x)`` at ``k`` and at ``k - 1`` alike, at ``k >= 1`` (None: not compiled).
+
+        :func:`~noisevar.numeric.steps.above_on_two_grids`: one compiled pass over ``x`` with
+        each half block's level looked up (an even block, ``x`` the window's size).
+        """
+        g = self.g
+        if g.block % 2 or x.size != g.m:
+            return None
+        return above_on_two_grids(
+            x, self.floor, self._halves(), float(self.bwd[0]), g.block // 2, g.q
+        )
+
+    def sides_at(self, values: NDArray, idx: NDArray) -> NDArray | None:
+        """:meth:`sides` of samples that are ``values`` at ``idx`` (0 elsewhere), read there."""
+        g = self.g
+        if g.block % 2:
+            return None
+        halves, first = self._halves(), float(self.bwd[0])
+        return above_on_two_grids_at(values, idx, halves, first, g.block // 2, g.m - g.q)
+
+    def _halves(self) -> tuple[NDArray, NDArray]:
+        return half_levels(self.fwd), half_levels(self.bwd)
 
     @property
     def floor(self) -> float:

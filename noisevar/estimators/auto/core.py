@@ -40,10 +40,10 @@ from noisevar.estimators.results import VarianceEstimate, chi2_interval
 from noisevar.numeric.blocks import dilate
 from noisevar.numeric.fir import (
     ROUNDING_ULPS,
-    centred_fir,
     centred_rows,
     residual_sequence,
-    rounded_off,
+    rounded_fir,
+    rounded_fir_squares,
 )
 
 AUTO_SPANS = (11, 21, 41, 81)
@@ -72,7 +72,9 @@ def _difference_variance_factor(span_a: int, span_b: int, order: int) -> float:
     return float(np.sum(raa**2) + np.sum(rbb**2) - 2.0 * np.sum(rab**2))
 
 
-def _residual_squares(z: NDArray, span: int, order: int, out: NDArray | None = None) -> NDArray:
+def _residual_squares(
+    z: NDArray, span: int, order: int, out: NDArray | None = None, peak: float | None = None
+) -> NDArray:
     """Normalised squared residuals ``e_k² / (I - P)_kk`` of a local polynomial, every sample.
 
     Interior samples use the centred sequence ``d`` (``d / |d|``, symmetric, through
@@ -82,21 +84,44 @@ def _residual_squares(z: NDArray, span: int, order: int, out: NDArray | None = N
     is locally constant. Every residual is read from differences to its own sample: an
     offset cancels exactly and a held stretch gives exactly 0; one at float rounding
     (:func:`~noisevar.numeric.fir.rounded_off`: a held stretch plus a trend) is 0 too
-    (issue 26).
+    (issue 26). ``peak``: ``max |z|``, when the caller has it.
     """
     n = z.size
-    d = residual_sequence(span, order)
     h = span // 2
     out = np.empty(n) if out is None else out
-    unit = d / np.sqrt(np.sum(d**2))
-    rounded_off(centred_fir(z, unit, out[h : n - h], square=True), z, unit, squared=True)
+    rounded_fir(z, _unit_sequence(span, order), out[h : n - h], square=True, peak=peak)
+    _edge_squares(z, span, order, out)
+    return out
+
+
+def _unit_sequence(span: int, order: int) -> NDArray:
+    """The residual sequence of ``span`` and ``order`` over its norm."""
+    d = residual_sequence(span, order)
+    return d / np.sqrt(np.sum(d**2))
+
+
+def _every_span_squares(
+    z: NDArray, spans: tuple[int, ...], order: int, out: NDArray, peak: float
+) -> NDArray:
+    """:func:`_residual_squares` of every span into the rows of ``out``, the filters at once.
+
+    (:func:`~noisevar.numeric.fir.rounded_fir_squares`: the same numbers.)
+    """
+    rounded_fir_squares(z, [_unit_sequence(s, order) for s in spans], out, peak)
+    for s, row in zip(spans, out, strict=True):
+        _edge_squares(z, s, order, row)
+    return out
+
+
+def _edge_squares(z: NDArray, span: int, order: int, out: NDArray) -> None:
+    """The first and last ``span // 2`` of :func:`_residual_squares`, into ``out``."""
+    n, h = z.size, span // 2
     head, tail = edge_residual_rows(span, order)
     out[:h] = centred_rows(head, z[:span], np.arange(h)) ** 2 / np.diag(head[:, :h])
     at = np.arange(span - h, span)
     out[n - h :] = centred_rows(tail, z[n - span :], at) ** 2 / np.diag(tail[:, span - h :])
     for part, x in ((out[:h], z[:span]), (out[n - h :], z[n - span :])):
         part[part <= (ROUNDING_ULPS * np.finfo(float).eps * np.max(np.abs(x))) ** 2] = 0.0
-    return out
 
 
 def auto_spans(span: int | None, order: int, trim: float, n: int) -> tuple[int, ...]:
@@ -256,8 +281,8 @@ def auto_part(
     m = z.size
     lo, hi = own or (0, m)
     sq = np.empty((len(spans), m))
-    for j, s in enumerate(spans):
-        _residual_squares(z, s, order, out=sq[j])
+    peak = max(float(np.max(z)), -float(np.min(z)))  # every span's rounding bound's
+    _every_span_squares(z, spans, order, sq, peak)
     b = _trimmed_blocks(z, sq, spans, trim, step_limit, after, offset == 0, order)
     rows = slice(lo // b.block, b.nb if hi == m else hi // b.block)
     choice = _choose_spans(b, spans, order)
