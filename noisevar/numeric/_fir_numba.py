@@ -159,6 +159,8 @@ def _grouped(acc, halves, g, k, left, right, mid, m):  # pragma: no cover - comp
     """Taps ``k .. k + 3`` into the first ``g`` running sums (each pair formed once)."""
     a0, a1, a2, a3 = acc[0], acc[1], acc[2], acc[3]
     c0, c1, c2, c3 = halves[0], halves[1], halves[2], halves[3]
+    # one loop per group size, written out: a loop over the g sums inside the sample loop
+    # would keep them in memory, not registers (the duplication is the speed)
     if g == 4:
         for i in range(m):
             p0, p1, p2, p3 = _pairs(left, right, i, mid[i])
