@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from noisevar.diagnostics.power_law import WHITE, describe
+from noisevar.diagnostics.quantisation import half_a_step
 from noisevar.diagnostics.regimes import STILL_RATIO
 from noisevar.diagnostics.segments import GAP_RTOL, JITTER_NOTE
 from noisevar.format import eng
@@ -33,8 +34,7 @@ def under_half_a_step(diag: NoiseDiagnostics, variance: float) -> bool:
     There, a level that varies along the record follows the signal's offset within a
     step: it is quantisation, not a changing sensor.
     """
-    # σ² + Δ²/12 < (Δ/2)² + Δ²/12
-    return diag.lsb is not None and variance < diag.lsb**2 * (0.25 + 1.0 / 12.0)
+    return diag.lsb is not None and variance < half_a_step(diag.lsb)
 
 
 def make_verdict(
