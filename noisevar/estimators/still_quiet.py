@@ -14,6 +14,7 @@ from collections.abc import Callable
 from dataclasses import replace
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.diagnostics import NoiseDiagnostics
@@ -72,7 +73,7 @@ def still_estimate(
     if est is None and both:  # the quiet blocks in pieces: the still regimes themselves
         back = getattr(record, "back_profile", None)
         ranges = still_regime_ranges(diag, None if back is None else back(diag))
-        est = _bulk(_measured(estimate_in, kept, ranges))
+        est = _measured(estimate_in, kept, ranges)
     if est is None:
         return ranges, None
     est.notes.append(f"the still regimes only: {len(ranges)} stretches, {est.n_total} samples")
@@ -147,25 +148,6 @@ def _measured(
     return est if est.variance > 0.0 else None
 
 
-def _bulk(est: VarianceEstimate | None) -> VarianceEstimate | None:
-    """``est`` without its outlying samples: its core variance, the interval scaled with it.
-
-    The still regimes hold the blocks the quiet set leaves out for a spike or a tap, which
-    R's method flags as outlying; the quiet stretches leave them out whole, so the still R
-    from the regimes is their core (an isolated spike is an outlier inside a still regime,
-    not the sensor's still noise), and the two ways agree.
-    """
-    if est is None or est.core_variance is None or not 0 < est.core_variance < est.variance:
-        return est
-    f = est.core_variance / est.variance
-    note = (
-        f"the still regimes' {est.outlier_fraction:.1%} outlying samples left out (its core "
-        f"variance): {est.variance:.4g} with them"
-    )
-    lo, hi = est.ci95
-    return replace(est, variance=est.core_variance, ci95=(lo * f, hi * f), notes=[*est.notes, note])
-
-
 def still_regime_ranges(
     diag: NoiseDiagnostics, back: LevelProfile | None = None
 ) -> list[tuple[int, int]]:
@@ -199,6 +181,26 @@ def still_regime_ranges(
     if back is None:
         return ranges
     return on_either_grid(ranges, _trimmed(back), diag.n)
+
+
+def regime_stretches(diag: NoiseDiagnostics) -> list[tuple[int, int]]:
+    """The still regimes' stretches on the record's grid, for a fit on one of them.
+
+    Each still regime less one block at either end (:func:`still_regime_ranges`), cut at the
+    blocks that lost residuals around a level jump (as ``LevelProfile.still_stretches``);
+    pieces of at least :data:`STILL_MIN` samples, in order.
+    """
+    prof = diag.level_profile
+    whole = np.zeros(diag.n, dtype=bool)
+    for a, b in still_regime_ranges(diag):
+        whole[a:b] = True
+    if prof.count is not None:
+        for a, b, c in zip(prof.start, prof.stop, prof.count, strict=True):
+            if c < b - a:
+                whole[a:b] = False
+    edges = np.flatnonzero(np.diff(np.r_[0, whole.view(np.int8), 0]))
+    pieces = zip(edges[::2], edges[1::2], strict=True)
+    return [(int(a), int(b)) for a, b in pieces if b - a >= STILL_MIN]
 
 
 def _trimmed(prof: LevelProfile) -> list[tuple[int, int]]:

@@ -4,8 +4,8 @@ Three kinds of night that had no right still R to use:
 
 (a) a still night whose quiet blocks are cut into pieces under 64 samples (one-count
     spikes of a logger, MIDC's pyranometers), while PELT finds the nights still: the still R
-    comes from the still regimes themselves, the spikes outliers inside them (its core, as
-    the quiet blocks, which leave a spike's block out, read);
+    comes from the still regimes themselves, R's method on them (the spikes are outlying
+    samples inside a still regime: in R, as in the whole record's R, and out of its core);
 (b) staircase nights on a grid (BSRN's whole W/m²): each night's offset sits elsewhere in
     a step, so a night reads 1e-4 step² and another 0.5: regimes held on the grid are one
     still level, whose R is the rounding error lsb²/12 (§E3), also under a trend;
@@ -20,7 +20,7 @@ import pytest
 
 import noisevar as nv
 from noisevar.diagnostics.quantisation import second_difference_step
-from noisevar.estimators.regimes import why_no_still
+from noisevar.estimators.regimes import longest_still_stretch, why_no_still
 
 
 def _sun(n: int, per_day: int = 1440) -> np.ndarray:
@@ -35,15 +35,16 @@ def _clouds(rng: np.random.Generator, n: int) -> np.ndarray:
 SIGMA = 0.05
 
 
-def spiky_nights(seed: int, n: int = 1440) -> np.ndarray:
-    """(a) Night noise 0.05, 30 spikes of 1.0 in the nights, a cloudy day of 800."""
+def spiky_nights(seed: int, n: int = 1440) -> tuple[np.ndarray, np.ndarray]:
+    """(a) Night noise 0.05, 30 spikes of 1.0 in the nights, a cloudy day of 800; the
+    record and the nights' errors (noise and spikes)."""
     rng = np.random.default_rng(seed)
     sun = _sun(n)
     c = 2.03 + 0.02 * np.sin(np.arange(n) / 90) + 800 * sun**1.5 * _clouds(rng, n)
-    z = c + SIGMA * rng.standard_normal(n)
+    err = SIGMA * rng.standard_normal(n)
     night = np.flatnonzero(sun == 0)
-    z[rng.choice(night[20:-20], 30, replace=False)] += 1.0
-    return z
+    err[rng.choice(night[20:-20], 30, replace=False)] += 1.0
+    return c + err, err[sun == 0]
 
 
 def staircase_nights(seed: int, n_days: int = 10, sigma: float = 0.2) -> np.ndarray:
@@ -67,12 +68,13 @@ def floor_nights(seed: int, n: int = 1440) -> np.ndarray:
 
 @pytest.mark.parametrize("seed", [0, 1, 3])
 def test_spiky_nights_give_the_still_regimes_r(seed):
-    z = spiky_nights(seed)
+    z, err = spiky_nights(seed)
     est = nv.estimate(z)
     assert est.still is not None  # was: still stretches too short (pieces under 64)
-    truth = SIGMA**2
+    truth = float(np.var(err))  # the spikes in, as R counts them
     assert truth / 1.5 <= est.still.variance <= 1.5 * truth
     assert est.still.ci95[0] <= truth <= est.still.ci95[1]
+    assert SIGMA**2 / 1.5 <= est.still.core_variance <= 1.5 * SIGMA**2  # and out
     back = nv.estimate(z[::-1]).still
     assert back is not None and est.still.ci95[0] <= back.variance <= est.still.ci95[1]
 
@@ -120,3 +122,13 @@ def test_second_differences_keep_the_grid_under_a_trend_and_an_offset():
         assert second_difference_step(x) == pytest.approx(step, rel=1e-6)
     assert second_difference_step(z + 1e-3 * rng.standard_normal(z.size)) is None
     assert second_difference_step(3.0 + 0.37 * np.arange(50)) == 0.0  # a line: no step
+
+
+def test_a_fit_on_the_still_regimes_takes_one_of_them():
+    """The fits' still stretch follows the same rule as the still R: a night of the still
+    regimes when the quiet blocks are in pieces (was: no still stretch, said)."""
+    z, _ = spiky_nights(0)
+    est = nv.estimate(z)
+    s = longest_still_stretch(z, need=200, est=est)
+    night = _sun(z.size) == 0
+    assert s.stop - s.start >= 200 and night[s.start : s.stop].all()
