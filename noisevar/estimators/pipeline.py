@@ -401,17 +401,8 @@ def _still(
         finish = partial(conclude, spec, diag=diag, glitches=lone)
         return None, quiet_apart(record, params, diag, variance, finish, first.core_variance)
     ranges, still = still_estimate(record, params, diag)
-    held = held_digits(_samples(record), diag, still, ranges)
+    held = held_digits(record, diag, still, ranges)
     return (None, held) if held is not None else (still, None)
-
-
-def _samples(record: Record) -> Callable[[int, int], NDArray] | None:
-    """``read(a, b)``: samples ``a .. b`` of the record in its estimates' units (any
-    segment; None when it cannot be read)."""
-    z = getattr(record, "z", None)
-    if z is not None:
-        return lambda a, b: z[a:b]
-    return record.reader()
 
 
 def _other_levels(

@@ -81,7 +81,7 @@ def still_estimate(
 
 
 def held_digits(
-    read: Callable[[int, int], NDArray] | None,
+    record: Record | Any,
     diag: NoiseDiagnostics,
     still: VarianceEstimate | None,
     ranges: list[tuple[int, int]],
@@ -90,8 +90,9 @@ def held_digits(
 
     Parameters
     ----------
-    read : callable or None
-        ``read(a, b)``: samples ``a .. b`` of the record, in the units of ``still``.
+    record : Record
+        The record (its samples ``z`` in memory, or its ``reader()``), in the units of
+        ``still``.
     diag : NoiseDiagnostics
         The record's diagnostics (its ``grid``: None, or the rounding floor applies).
     still : VarianceEstimate or None
@@ -117,6 +118,7 @@ def held_digits(
     read 1.1e-13). A floor at δ²/12 would change nothing there (the level is about it),
     so there is no still R, said.
     """
+    read = _reader(record)
     if still is None or read is None or diag.grid is not None or not ranges:
         return None
     step = joined_step([second_difference_step(read(a, b)) for a, b in ranges])
@@ -319,6 +321,16 @@ def _r_is_quiet(prof: Any, level: float) -> bool:
     level): the quiet level is then measured apart. (A level below the interval is a
     signal leaking into the profile's residual and not into R's: R is the quiet level.)"""
     return bool(prof.one_quiet_level and level <= prof.quiet_interval[1])
+
+
+def _reader(record: Record | Any) -> Callable[[int, int], NDArray] | None:
+    """``read(a, b)``: samples ``a .. b`` of a record in its estimates' units (any segment
+    of one in memory; a chunked record's reader; None when it has neither)."""
+    z = getattr(record, "z", None)
+    if z is not None:
+        return lambda a, b: z[a:b]
+    reader = getattr(record, "reader", None)
+    return None if reader is None else reader()
 
 
 def _too_short(share: float) -> str:
