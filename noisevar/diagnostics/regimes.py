@@ -259,7 +259,7 @@ def find_regimes(
     spans = list(zip(bounds, bounds[1:], strict=False))
     pooled = [_pool(level[a:b], dof[a:b]) for a, b in spans]
     held = 0.0 if lsb is None else half_a_step(lsb)
-    live = _not_flat(pooled, spans, held)
+    live = _not_flat(pooled, spans)
     cap = _cap([pooled[i] for i in live])
     phi = _dispersion(level, dof, [spans[i] for i in live if pooled[i][0] <= cap])
     floor = {live[j] for j in _floor([(pooled[i][0], pooled[i][1] / phi) for i in live], cap, held)}
@@ -272,24 +272,16 @@ def find_regimes(
     return tuple(out)
 
 
-def _not_flat(
-    pooled: list[tuple[float, float]], spans: list[tuple[int, int]], held: float = 0.0
-) -> list[int]:
+def _not_flat(pooled: list[tuple[float, float]], spans: list[tuple[int, int]]) -> list[int]:
     """Indices of the regimes that are no flat stretch, nor one block at a flat one's edge.
 
     A flat regime (level at most :data:`FLAT_RATIO` times the highest) is constant samples;
     a lone block beside it straddles its edge, its mean square diluted by the constant
-    samples it holds. All of them when every regime is flat. On a grid (``held``: half a
-    step's error variance) such a block under ``held`` stays: held values with a flip,
-    diluted or not, are the same held level (:func:`_floor`).
+    samples it holds. All of them when every regime is flat.
     """
     top = max(x for x, _ in pooled)
     flat = {i for i, (x, _) in enumerate(pooled) if x <= FLAT_RATIO * top}
-    edge = {
-        i
-        for i, (a, b) in enumerate(spans)
-        if b - a == 1 and flat & {i - 1, i + 1} and not pooled[i][0] < held
-    }
+    edge = {i for i, (a, b) in enumerate(spans) if b - a == 1 and flat & {i - 1, i + 1}}
     return [i for i in range(len(spans)) if i not in flat | edge] or list(range(len(spans)))
 
 
