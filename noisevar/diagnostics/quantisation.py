@@ -49,20 +49,35 @@ def second_difference_step(z: NDArray) -> float | None:
     -----
     docs/algorithms.md §E3 (*Held values*). A linear trend or an offset adds nothing to a
     second difference, so the grid of a record held on a grid stays found under them
-    (:func:`find_lsb` needs the samples themselves on it).
+    (:func:`find_lsb` needs the samples themselves on it). The first :data:`LSB_PROBE`
+    second differences are tried first: a record off any grid (most) costs no pass over
+    the whole (a probe whose smallest second difference is not its grid is taken for off a
+    grid).
     """
     if z.size < 3:
         return 0.0
+    if z.size > LSB_PROBE + 2 and _d2_step(z[: LSB_PROBE + 2]) is None:
+        return None
+    return _d2_step(z)
+
+
+def _d2_step(z: NDArray) -> float | None:
+    """:func:`second_difference_step` of ``z`` (at least 3 samples), over all of it."""
     d2 = np.abs(np.diff(z, 2))
     tol = ROUNDING_EPS * float(np.max(np.abs(z)))
-    big = d2[d2 > tol]
-    if not big.size:
+    d2[d2 <= tol] = 0.0  # float rounding
+    top = float(d2.max())
+    if not top > 0:
         return 0.0
-    step = float(big.min())
-    if step <= ROUNDING_STEPS * tol or float(big.max()) / step > 1e9:
+    step = float(np.min(d2, where=d2 > 0, initial=top))
+    if step <= ROUNDING_STEPS * tol or top / step > 1e9:
         return None
-    r = np.where(d2 > tol, d2, 0.0) / step
-    return step if float(np.max(np.abs(r - np.rint(r)))) < LSB_TOL + tol / step else None
+    # in pieces, so that a record off any grid (most) is told at its first piece
+    for a in range(0, d2.size, LSB_PROBE):
+        r = d2[a : a + LSB_PROBE] / step
+        if not float(np.max(np.abs(r - np.rint(r)))) < LSB_TOL + tol / step:
+            return None
+    return step
 
 
 def joined_step(steps: list[float | None]) -> float | None:

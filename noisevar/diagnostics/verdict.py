@@ -92,6 +92,14 @@ def make_verdict(
         return _level_changes(prof.quiet_share, r, quiet, said)
     if diag.glitches and not diag.tails_beyond_glitches:
         return glitch_verdict(diag, r, core)
+    if diag.heavy_tailed and under_half_a_step(diag, variance):
+        # held regimes on the grid are one still level (regimes._floor): the rounding's
+        # tails, not the sensor's
+        return (
+            f"white noise under half a step on a grid of step {_g(diag.lsb)}: its tails "
+            f"(kurtosis {diag.kurtosis:.1f}) are the rounding error's, which follows the "
+            f"signal's offset within a step, not the sensor's; {r} includes the rounding error"
+        )
     if diag.heavy_tailed:
         bulk = f"; a robust filter should use the core variance {_g(core)}" if core else ""
         return (

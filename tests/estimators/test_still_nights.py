@@ -19,6 +19,7 @@ import numpy as np
 import pytest
 
 import noisevar as nv
+from noisevar import synth
 from noisevar.diagnostics.quantisation import second_difference_step
 from noisevar.estimators.regimes import longest_still_stretch, why_no_still
 
@@ -132,3 +133,15 @@ def test_a_fit_on_the_still_regimes_takes_one_of_them():
     s = longest_still_stretch(z, need=200, est=est)
     night = _sun(z.size) == 0
     assert s.stop - s.start >= 200 and night[s.start : s.stop].all()
+
+
+def test_a_record_held_on_its_grid_is_called_quantised_not_heavy_tailed():
+    """Noise of 0.3 step on a grid (benchmarks/real_noise.py's family): its held regimes are
+    one still level now, so its level does not vary; its tails are the rounding's."""
+    clean = nv.generate("noise-step", n=6000).clean
+    d = synth.noise("gauss", 6000, 3, runs=3, std=5.0)
+    z, _ = synth.quantise(clean + d.values, 5.0 / 0.3, d.variance, clean=clean)
+    for row in z:
+        verdict = nv.estimate(row).diagnostics.verdict
+        assert verdict.startswith("white noise under half a step on a grid of step 16.67")
+        assert "heavy-tailed" not in verdict
