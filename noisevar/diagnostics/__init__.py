@@ -161,7 +161,9 @@ def from_sums(
 
     # say which coloured noise (costly: only when it is coloured)
     types = (lambda: ()) if white.white else (spawn or _now)(kinds)
-    profile, blocks, total, kept, kurt = _profile(sums)
+    lsb = sums.lsb()
+    grid = sums.held_step(lsb)
+    profile, blocks, total, kept, kurt = _profile(sums, grid)
     still_white = _still_whiteness(plan, profile, e_w, keep_w, sums, d, blocks)
     increments, tails = aside()
     diag = NoiseDiagnostics(
@@ -170,7 +172,8 @@ def from_sums(
         increments=increments,
         kurtosis=kurt,
         tail_index=tails,
-        lsb=sums.lsb(),
+        lsb=lsb,
+        grid=grid,
         gaps=seg.gaps,
         jitter=seg.jitter,
         level_profile=profile,
@@ -237,12 +240,14 @@ def profile_of(
     segmentation: Segmentation,
     exclude: NDArray | None = None,
     glitches: NDArray | None = None,
+    lsb: float | None = None,
 ) -> LevelProfile:
     """The level profile of :func:`diagnose` alone (the same numbers, none of the rest).
 
     For the reversed record's block grid (the still stretches on both grids,
     :func:`on_both_grids`): no whiteness test, increments, quantisation or power law.
-    ``glitches``: lone glitches (``NoiseDiagnostics.glitches``' indices), bridged.
+    ``glitches``: lone glitches (``NoiseDiagnostics.glitches``' indices), bridged;
+    ``lsb``: the record's grid step (``NoiseDiagnostics.lsb``), for its regimes.
     """
     plan = make_plan(z.size, segmentation.segments, np.zeros(0))
     sums = DiagSums(plan)
@@ -251,16 +256,20 @@ def profile_of(
         sums.add(diag_part(z[a:b], a, (a, b), i, plan, x, profile_only=True))
     if glitches is not None and glitches.size:
         bridge_blocks(sums, np.sort(glitches), lambda p, q: z[p:q])
-    return profile_from_sums(sums)
+    return profile_from_sums(sums, lsb)
 
 
-def profile_from_sums(sums: DiagSums) -> LevelProfile:
-    """The level profile of :func:`from_sums` alone (sums made with ``profile_only``)."""
-    return _profile(sums)[0]
+def profile_from_sums(sums: DiagSums, lsb: float | None = None) -> LevelProfile:
+    """The level profile of :func:`from_sums` alone (sums made with ``profile_only``);
+    ``lsb`` the record's grid step (``NoiseDiagnostics.lsb``)."""
+    return _profile(sums, lsb)[0]
 
 
-def _profile(sums: DiagSums) -> tuple[LevelProfile, list[int], NDArray, float, float]:
-    """The level profile, its blocks, their sums of squares, the kept count, the kurtosis."""
+def _profile(
+    sums: DiagSums, lsb: float | None
+) -> tuple[LevelProfile, list[int], NDArray, float, float]:
+    """The level profile, its blocks, their sums of squares, the kept count, the kurtosis
+    (regimes held on the grid of step ``lsb`` are one still level)."""
     sums.check()
     plan, d = sums.plan, residual_sequence(DIAG_SPAN, DIAG_ORDER)
     # blocks left with a handful of residuals (around jumps) say nothing of the level
@@ -279,7 +288,7 @@ def _profile(sums: DiagSums) -> tuple[LevelProfile, list[int], NDArray, float, f
     # ν per sample = 1 / (η + (κ - 3) / 2)   (docs/algorithms.md §E1)
     profile = profile_from_blocks(
         _sample_of(plan, starts), _sample_of(plan, stops - 1) + 1, count, total / count,
-        robust, 1.0 / (eta + max(kurt - 3.0, 0.0) / 2.0), eta, medians, (k2, k4, d),
+        robust, 1.0 / (eta + max(kurt - 3.0, 0.0) / 2.0), eta, medians, (k2, k4, d), lsb,
     )  # fmt: skip
     return profile, blocks, total, kept, kurt
 

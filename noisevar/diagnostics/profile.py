@@ -254,6 +254,7 @@ def profile_from_blocks(
     eta: float,
     medians: NDArray | None = None,
     tails: tuple[NDArray, NDArray, NDArray] | None = None,
+    lsb: float | None = None,
 ) -> LevelProfile:
     """The profile of blocks with ``count`` squares of mean ``var`` and robust level ``robust``.
 
@@ -261,7 +262,8 @@ def profile_from_blocks(
     ``medians`` the number of squares each robust level is the median of (default
     ``count``); ``tails`` each block's ``Σ e²/L`` and ``Σ e⁴/L²`` over its robust level
     ``L``, and the residual filter: the quiet set then tests a block's mean square with the
-    kurtosis of the other blocks (default: the record's, in ``dof_per_sample``).
+    kurtosis of the other blocks (default: the record's, in ``dof_per_sample``); ``lsb``
+    the record's grid step (:func:`~noisevar.diagnostics.regimes.find_regimes`).
     """
     dof = count * dof_per_sample
     lo = dof * var / chi2_ppf(0.975, dof)
@@ -272,7 +274,7 @@ def profile_from_blocks(
     # a median of χ²₁ has relative sd 1 / (2 f(m) m sqrt(n)): as a χ² with 0.368 n dof
     robust_dof = (count if medians is None else medians) * MEDIAN_DOF / eta
     # regimes on the robust levels, which a few spikes do not move (docs/algorithms.md §F1)
-    regimes = find_regimes(start, stop, robust, robust_dof)
+    regimes = find_regimes(start, stop, robust, robust_dof, lsb)
     still = np.zeros(robust.size, dtype=bool)
     for r in regimes:
         still |= r.still & (start >= r.start) & (stop <= r.stop)
@@ -447,6 +449,25 @@ def on_both_grids(
     (docs/algorithms.md §E1 Regimes). Blocks laid from the start and from the end are
     the two grids a reversal swaps, so the intersection is the same stretch either way.
     """
+    return _runs(_grids_holding(forward, backward, n) == 2)
+
+
+def on_either_grid(
+    forward: list[tuple[int, int]], backward: list[tuple[int, int]], n: int
+) -> list[tuple[int, int]]:
+    """Sample ranges on the record's block grid or its reversal's: their union, in order.
+
+    As :func:`on_both_grids` (the same arguments), for stretches that each grid finds
+    whole where the other may cut them short (a still regime's extent moves by a block
+    with the grid's phase): the union is the same stretch either way.
+    """
+    return _runs(_grids_holding(forward, backward, n) >= 1)
+
+
+def _grids_holding(
+    forward: list[tuple[int, int]], backward: list[tuple[int, int]], n: int
+) -> NDArray:
+    """How many of the two grids hold each sample (``backward`` in reversed indices)."""
     mine = np.zeros(n + 1, dtype=np.int8)
     for a, b in forward:
         mine[a] += 1
@@ -454,8 +475,12 @@ def on_both_grids(
     for a, b in backward:
         mine[n - b] += 1
         mine[n - a] -= 1
-    both = np.cumsum(mine[:n]) == 2
-    edges = np.flatnonzero(np.diff(np.r_[0, both.view(np.int8), 0]))
+    return np.cumsum(mine[:n])
+
+
+def _runs(mask: NDArray) -> list[tuple[int, int]]:
+    """The runs of True in ``mask`` as ``(start, stop)`` ranges."""
+    edges = np.flatnonzero(np.diff(np.r_[0, mask.view(np.int8), 0]))
     return [(int(a), int(b)) for a, b in zip(edges[::2], edges[1::2], strict=True)]
 
 

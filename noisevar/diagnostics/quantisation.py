@@ -9,6 +9,90 @@ from numpy.typing import NDArray
 LSB_PROBE = 4096
 #: A sample is on the grid when within this fraction of a step of a grid point.
 LSB_TOL = 1e-3
+#: A second difference up to this many times float64's epsilon times the largest sample is
+#: float rounding (a held stretch plus a trend), not a step: its three samples carry up to
+#: half a unit in the last place each, weighed 1, 2, 1.
+ROUNDING_EPS = 8 * float(np.finfo(float).eps)
+#: A grid step of second differences is at least this many times their float rounding.
+ROUNDING_STEPS = 16
+
+
+def half_a_step(lsb: float) -> float:
+    """The error variance of noise of half a grid step ``lsb``: ``(1/4 + 1/12) lsb²``.
+
+    Below it, the noise is under half a step and the error a sample carries follows the
+    signal's offset within a step (docs/algorithms.md §E3): quantisation, not a level of
+    its own.
+    """
+    # σ² + Δ²/12 with σ = Δ/2
+    return lsb * lsb * (0.25 + 1.0 / 12.0)
+
+
+def second_difference_step(z: NDArray) -> float | None:
+    """The step of the grid the samples' second differences sit on (0 when they are all 0).
+
+    Parameters
+    ----------
+    z : ndarray
+        Consecutive samples.
+
+    Returns
+    -------
+    float or None
+        The smallest second difference above float rounding (:data:`ROUNDING_EPS` times the
+        largest ``|z|``), when it is at least :data:`ROUNDING_STEPS` times that rounding
+        and every second difference is a whole multiple of it (to :data:`LSB_TOL` plus the
+        rounding); 0.0 when none is above float rounding (held values, a line); None off a
+        grid.
+
+    Notes
+    -----
+    docs/algorithms.md §E3 (*Held values*). A linear trend or an offset adds nothing to a
+    second difference, so the grid of a record held on a grid stays found under them
+    (:func:`find_lsb` needs the samples themselves on it). The first :data:`LSB_PROBE`
+    second differences are tried first: a record off any grid (most) costs no pass over
+    the whole (a probe whose smallest second difference is not its grid is taken for off a
+    grid).
+    """
+    if z.size < 3:
+        return 0.0
+    if z.size > LSB_PROBE + 2 and _d2_step(z[: LSB_PROBE + 2]) is None:
+        return None
+    return _d2_step(z)
+
+
+def _d2_step(z: NDArray) -> float | None:
+    """:func:`second_difference_step` of ``z`` (at least 3 samples), over all of it."""
+    d2 = np.abs(np.diff(z, 2))
+    tol = ROUNDING_EPS * float(np.max(np.abs(z)))
+    d2[d2 <= tol] = 0.0  # float rounding
+    top = float(d2.max())
+    if not top > 0:
+        return 0.0
+    step = float(np.min(d2, where=d2 > 0, initial=top))
+    if step <= ROUNDING_STEPS * tol or top / step > 1e9:
+        return None
+    # in pieces, so that a record off any grid (most) is told at its first piece
+    for a in range(0, d2.size, LSB_PROBE):
+        r = d2[a : a + LSB_PROBE] / step
+        if not float(np.max(np.abs(r - np.rint(r)))) < LSB_TOL + tol / step:
+            return None
+    return step
+
+
+def joined_step(steps: list[float | None]) -> float | None:
+    """The grid step of a record from its parts' :func:`second_difference_step`.
+
+    None when a part is off a grid or the steps are not whole multiples of the smallest;
+    parts with no step (0.0) say nothing.
+    """
+    if any(s is None for s in steps):
+        return None
+    found = np.array([s for s in steps if s], dtype=float)
+    if not found.size:
+        return None
+    step = float(found.min())
+    return step if _on_grid(found, step) else None
 
 
 def find_lsb(z: NDArray) -> float | None:

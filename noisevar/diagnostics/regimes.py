@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 from scipy import special
 
 from noisevar._distributions import chi2_ppf
+from noisevar.diagnostics.quantisation import half_a_step
 
 #: The penalty per change point is ``REGIME_PENALTY * log(number of blocks)``; measured to
 #: split white noise of one level in under 5 % of records (tests/diagnostics/test_regimes.py).
@@ -233,8 +234,12 @@ def _interval(x: float, nu: float) -> tuple[float, float]:
     return nu * x / float(chi2_ppf(0.975, nu)), nu * x / float(chi2_ppf(0.025, nu))
 
 
-def find_regimes(start: NDArray, stop: NDArray, level: NDArray, dof: NDArray) -> tuple[Regime, ...]:
+def find_regimes(
+    start: NDArray, stop: NDArray, level: NDArray, dof: NDArray, lsb: float | None = None
+) -> tuple[Regime, ...]:
     """The record's regimes from its profile blocks (sample ranges, levels and their dof).
+
+    ``lsb``: the record's grid step (``diagnostics.lsb``), None off a grid.
 
     Notes
     -----
@@ -246,16 +251,18 @@ def find_regimes(start: NDArray, stop: NDArray, level: NDArray, dof: NDArray) ->
     record can tell. A regime the test leaves out below that bound is near-still: another
     still level (another posture, slow sway), which the result reports on its own. A flat
     regime (:data:`FLAT_RATIO`: constant samples, a dropout) is neither, and takes no part,
-    nor does a lone block at its edge (:func:`_not_flat`).
+    nor does a lone block at its edge (:func:`_not_flat`). On a grid, regimes held on it
+    (each under half a step's error variance, :func:`_floor`) are one still level.
     """
     breaks = regime_breaks(level, dof)
     bounds = [*breaks, level.size]
     spans = list(zip(bounds, bounds[1:], strict=False))
     pooled = [_pool(level[a:b], dof[a:b]) for a, b in spans]
+    held = 0.0 if lsb is None else half_a_step(lsb)
     live = _not_flat(pooled, spans)
     cap = _cap([pooled[i] for i in live])
     phi = _dispersion(level, dof, [spans[i] for i in live if pooled[i][0] <= cap])
-    floor = {live[j] for j in _floor([(pooled[i][0], pooled[i][1] / phi) for i in live], cap)}
+    floor = {live[j] for j in _floor([(pooled[i][0], pooled[i][1] / phi) for i in live], cap, held)}
     out = []
     for i, ((a, b), (x, nu)) in enumerate(zip(spans, pooled, strict=True)):
         lo, hi = _interval(x, nu)
@@ -312,7 +319,7 @@ def _dispersion(level: NDArray, dof: NDArray, spans: list[tuple[int, int]]) -> f
     return max(float(np.median(np.concatenate(dev)) / chi2_ppf(0.5, 1.0)), 1.0)
 
 
-def _floor(pooled: list[tuple[float, float]], cap: float) -> set[int]:
+def _floor(pooled: list[tuple[float, float]], cap: float, held: float = 0.0) -> set[int]:
     """Indices of the still regimes among ``pooled`` (level, dof): the record's floor.
 
     A forward search in order of level: the floor starts as the lowest regime and takes the
@@ -323,13 +330,20 @@ def _floor(pooled: list[tuple[float, float]], cap: float) -> set[int]:
     stops at its first rejection, so each step is tested at the full level, as in a
     fixed-sequence procedure: the motion regimes above are never tested, and how many a
     record has does not change how much evidence it takes to leave a stretch out.
+
+    On a grid, ``held`` is half a step's error variance: the next regime also joins when
+    its level is under it (the floor's is then too). Held values read far under the
+    rounding error they carry (a night near a grid point ~1e-4 step², one flipping near
+    half a step ~0.5): their levels differ by where the signal sits within a step, not by
+    what the sensor does (docs/algorithms.md §E3). The levels are block medians, so
+    spikes on held values raise no regime to it.
     """
     order = sorted(range(len(pooled)), key=lambda i: pooled[i])
     low, low_dof = pooled[order[0]]
     floor, sx, sw = {order[0]}, low * low_dof, low_dof
     for i in order[1:]:
         x, nu = pooled[i]
-        if not x <= min(sx / sw * _f_quantile(1.0 - STILL_ALPHA, nu, sw), cap):
+        if not (x <= min(sx / sw * _f_quantile(1.0 - STILL_ALPHA, nu, sw), cap) or x < held):
             break
         floor.add(i)
         sx, sw = sx + x * nu, sw + nu

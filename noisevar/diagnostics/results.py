@@ -42,6 +42,10 @@ class NoiseDiagnostics:
         Hill's tail index of the residual (about ν for Student-t with ν dof).
     lsb : float or None
         Quantisation step when the samples sit on a grid.
+    grid : float or None
+        The step held values are judged on (docs/algorithms.md §E3 *Held values*): the
+        grid of the record's second differences, which a trend or an offset keeps, else
+        ``lsb``; None off a grid.
     gaps : tuple of Gap
         Spliced or non-uniform places.
     jitter : float
@@ -90,6 +94,7 @@ class NoiseDiagnostics:
     glitches: tuple[Glitch, ...] = ()
     core_kurtosis: float | None = None
     quiet: QuietLevel | None = None
+    grid: float | None = None
     verdict: str = ""
     notes: tuple[str, ...] = field(default_factory=tuple)
 

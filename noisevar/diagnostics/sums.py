@@ -24,6 +24,7 @@ from noisevar.diagnostics.plan import (
     block_level,
     block_pieces,
 )
+from noisevar.diagnostics.quantisation import joined_step, second_difference_step
 from noisevar.diagnostics.whiteness import WHITE_LAGS
 from noisevar.errors import NoisevarError
 from noisevar.numeric.fir import residual_sequence, rounded_fir
@@ -41,6 +42,8 @@ class DiagPart:
     uniques: NDArray | None  # distinct values, when the quantisation probe was flat
     # the reversed record's (profile, wide) pieces (diag_part's ``back``)
     back: tuple[dict[int, Piece], dict[int, Piece]] = field(default_factory=lambda: ({}, {}))
+    # the grid step of the stretch's second differences (quantisation.second_difference_step)
+    d2_step: float | None = 0.0
 
 
 def _sequence() -> NDArray:
@@ -140,7 +143,8 @@ def diag_part(
         on_grid = _on_grid(own_z - plan.probe[0], plan.probe[1])
     elif plan.probe == "flat":
         uniques = np.unique(own_z)[: UNIQUE_MAX + 1]
-    return DiagPart(profile, wide, white, incr, on_grid, uniques, mirrored)
+    step = second_difference_step(own_z)
+    return DiagPart(profile, wide, white, incr, on_grid, uniques, mirrored, step)
 
 
 def _mirrored(
@@ -201,6 +205,7 @@ class DiagSums:
         self.white = Windows(plan.white)
         self.incr = Windows(plan.incr)
         self.on_grid = True
+        self.d2_steps: list[float | None] = []
         self.uniques: NDArray | None = np.zeros(0) if plan.probe == "flat" else None
 
     def add(self, part: DiagPart) -> None:
@@ -217,6 +222,7 @@ class DiagSums:
         for start, dz, used in part.incr:
             self.incr.add(start, dz, used)
         self.on_grid &= part.on_grid
+        self.d2_steps.append(part.d2_step)
         if self.uniques is not None and part.uniques is not None:
             self.uniques = np.union1d(self.uniques, part.uniques)[: UNIQUE_MAX + 1]
 
@@ -260,6 +266,12 @@ class DiagSums:
         if step <= 0 or spread / step > 1e9 or not _on_grid(self.uniques - self.uniques[0], step):
             return None
         return step
+
+    def held_step(self, lsb: float | None) -> float | None:
+        """The grid step held values are judged on: the step the record's second
+        differences sit on (a trend or an offset keeps it), else ``lsb``."""
+        step = joined_step(self.d2_steps)
+        return lsb if step is None else step
 
     def check(self) -> None:
         """Refuse a record with no residual kept (nothing to diagnose)."""

@@ -8,6 +8,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.diagnostics.power_law import WHITE, describe
+from noisevar.diagnostics.quantisation import half_a_step
 from noisevar.diagnostics.regimes import STILL_RATIO
 from noisevar.diagnostics.segments import GAP_RTOL, JITTER_NOTE
 from noisevar.format import eng
@@ -34,8 +35,7 @@ def under_half_a_step(diag: NoiseDiagnostics, variance: float) -> bool:
     There, a level that varies along the record follows the signal's offset within a
     step: it is quantisation, not a changing sensor.
     """
-    # σ² + Δ²/12 < (Δ/2)² + Δ²/12
-    return diag.lsb is not None and variance < diag.lsb**2 * (0.25 + 1.0 / 12.0)
+    return diag.lsb is not None and variance < half_a_step(diag.lsb)
 
 
 def make_verdict(
@@ -93,6 +93,14 @@ def make_verdict(
         return _level_changes(prof.quiet_share, r, quiet, said)
     if diag.glitches and not diag.tails_beyond_glitches:
         return glitch_verdict(diag, r, core)
+    if diag.heavy_tailed and under_half_a_step(diag, variance):
+        # held regimes on the grid are one still level (regimes._floor): the rounding's
+        # tails, not the sensor's
+        return (
+            f"white noise under half a step on a grid of step {_g(diag.lsb)}: its tails "
+            f"(kurtosis {diag.kurtosis:.1f}) are the rounding error's, which follows the "
+            f"signal's offset within a step, not the sensor's; {r} includes the rounding error"
+        )
     if diag.heavy_tailed:
         bulk = f"; a robust filter should use the core variance {_g(core)}" if core else ""
         return (

@@ -59,10 +59,11 @@ from noisevar.estimators.results import VarianceEstimate
 from noisevar.estimators.spec import MethodSpec
 from noisevar.estimators.still_levels import other_still_levels
 from noisevar.estimators.still_quiet import (
-    on_still_stretches,
+    held_digits,
     quiet_apart,
     quiet_level,
     rounding_floor,
+    still_estimate,
 )
 from noisevar.estimators.still_set import STILL_MIN, has_still_apart, still_gap
 
@@ -216,7 +217,8 @@ class InMemory:
             seg = Segmentation(tuple((n - b, n - a) for a, b in reversed(self.seg.segments)), ())
             jumps = getattr(self, "jumps", None)
             lone = np.array([n - 1 - g.index for g in diag.glitches], dtype=int)
-            back = profile_of(self.z[::-1], seg, None if jumps is None else jumps[::-1], lone)
+            cut = None if jumps is None else jumps[::-1]
+            back = profile_of(self.z[::-1], seg, cut, lone, diag.grid)
             self._back = back
         return back
 
@@ -368,7 +370,7 @@ def _after_diagnostics(
             return None, replace(diag, quiet=level)
         # its interval from the record's noise, with the lone glitches in the still stretches
         at = glitches_within(lone, ranges_mask(diag.level_profile.still_stretches, diag.n))
-        still = rounding_floor(conclude(spec, still, diag, None, glitches=at), diag.lsb)
+        still = rounding_floor(conclude(spec, still, diag, None, glitches=at), diag.grid)
         still.diagnostics = None  # the diagnostics stay on the record's own result
         return still, replace(diag, other_still=_other_levels(spec, record, own, diag, still, lone))
 
@@ -398,7 +400,9 @@ def _still(
         lone = glitches_within(lone, ranges_mask(diag.level_profile.still_stretches, diag.n))
         finish = partial(conclude, spec, diag=diag, glitches=lone)
         return None, quiet_apart(record, params, diag, variance, finish, first.core_variance)
-    return on_still_stretches(record, params, diag), None
+    ranges, still = still_estimate(record, params, diag)
+    held = held_digits(record, diag, still, ranges)
+    return (None, held) if held is not None else (still, None)
 
 
 def _other_levels(
@@ -570,11 +574,12 @@ def rescale_diagnostics(result: VarianceEstimate, e: int) -> None:
         regimes=regimes,
     )
     lsb = None if diag.lsb is None else float(back(np.asarray(diag.lsb), 1))
+    grid = None if diag.grid is None else float(back(np.asarray(diag.grid), 1))
     old = set(diag.notes)
     quiet = (
         None if diag.quiet is None else diag.quiet.mapped(lambda v: float(back(np.asarray(v), 2)))
     )
-    diag = replace(diag, level_profile=prof, lsb=lsb, quiet=quiet)
+    diag = replace(diag, level_profile=prof, lsb=lsb, grid=grid, quiet=quiet)
     diag = with_verdict(
         diag,
         result.variance,

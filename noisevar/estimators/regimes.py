@@ -18,6 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
 from noisevar.estimators.results import VarianceEstimate
+from noisevar.estimators.still_quiet import regime_stretches
 from noisevar.estimators.still_set import STILL_MIN, USE_ALL, still_gap
 
 __all__ = [
@@ -126,7 +127,10 @@ def longest_still_stretch(
     -----
     docs/algorithms.md §E1 (Regimes). The stretches are the diagnostics' still stretches
     (``level_profile.still_stretches``: the still regimes' quiet blocks, with the
-    samples around level jumps cut out).
+    samples around level jumps cut out); when none is of :data:`STILL_MIN` samples, the
+    still regimes' own stretches too (less a block at either end and the blocks that lost
+    samples around a jump), from which the still R then comes
+    (:func:`~noisevar.estimators.still_quiet.regime_stretches`).
     """
     from noisevar.estimators import estimate
 
@@ -143,7 +147,11 @@ def longest_still_stretch(
         raise NoisevarError(gap)
     if diag is None or est.still is None:  # one still regime (still_gap)
         return StillStretch(0, arr.shape[0], arr.shape[0], True)
+    # the still regimes' own stretches where the quiet blocks are all in pieces (as the
+    # still R, still_quiet.still_estimate)
     stretches = diag.level_profile.still_stretches
+    if not any(b - a >= STILL_MIN for a, b in stretches):
+        stretches = stretches + regime_stretches(diag)
     if not stretches:
         raise NoisevarError(
             "regimes='still': the record has no still stretch (its level varies throughout); "

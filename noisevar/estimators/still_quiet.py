@@ -14,11 +14,16 @@ from collections.abc import Callable
 from dataclasses import replace
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
+from numpy.typing import NDArray
+
 from noisevar.diagnostics import NoiseDiagnostics
+from noisevar.diagnostics.profile import LevelProfile, on_either_grid
+from noisevar.diagnostics.quantisation import half_a_step, joined_step, second_difference_step
 from noisevar.diagnostics.regimes import QuietLevel
 from noisevar.errors import NoisevarError
 from noisevar.estimators.results import VarianceEstimate
-from noisevar.estimators.still_set import STILL_MIN, has_still_apart
+from noisevar.estimators.still_set import HELD, STILL_MIN, has_still_apart
 
 if TYPE_CHECKING:
     from noisevar.estimators.pipeline import Record
@@ -27,6 +32,13 @@ if TYPE_CHECKING:
 def on_still_stretches(
     record: Record | Any, params: dict, diag: NoiseDiagnostics, both: bool = True
 ) -> VarianceEstimate | None:
+    """R's method on the still regimes' quiet stretches (:func:`still_estimate`'s estimate)."""
+    return still_estimate(record, params, diag, both)[1]
+
+
+def still_estimate(
+    record: Record | Any, params: dict, diag: NoiseDiagnostics, both: bool = True
+) -> tuple[list[tuple[int, int]], VarianceEstimate | None]:
     """R's method on the still regimes' quiet stretches, still on both block grids.
 
     Parameters
@@ -43,27 +55,161 @@ def on_still_stretches(
 
     Returns
     -------
+    ranges : list of (int, int)
+        The sample ranges measured (before the samples around jumps are cut out).
     VarianceEstimate or None
         None when the record cannot be cut, the stretches are too short for the method, or
         their residual is all float rounding (held values, plus a trend: issue 26).
     """
     estimate_in = getattr(record, "estimate_in", None)
     if estimate_in is None:
-        return None
+        return [], None
     ranges = diag.level_profile.still_stretches
     grids = getattr(record, "still_ranges", None) if both else None
     if ranges and grids is not None:
         ranges = grids(diag)
+    kept = {k: v for k, v in params.items() if k != "method"}
+    est = _measured(estimate_in, kept, ranges)
+    if est is None and both:  # the quiet blocks in pieces: the still regimes themselves
+        back = getattr(record, "back_profile", None)
+        ranges = still_regime_ranges(diag, None if back is None else back(diag))
+        est = _measured(estimate_in, kept, ranges)
+    if est is None:
+        return ranges, None
+    est.notes.append(f"the still regimes only: {len(ranges)} stretches, {est.n_total} samples")
+    return ranges, est
+
+
+def held_digits(
+    record: Record | Any,
+    diag: NoiseDiagnostics,
+    still: VarianceEstimate | None,
+    ranges: list[tuple[int, int]],
+) -> QuietLevel | None:
+    """Why a still R off any grid is held values, not noise (None when it is noise).
+
+    Parameters
+    ----------
+    record : Record
+        The record (its samples ``z`` in memory, or its ``reader()``), in the units of
+        ``still``.
+    diag : NoiseDiagnostics
+        The record's diagnostics (its ``grid``: None, or the rounding floor applies).
+    still : VarianceEstimate or None
+        R's method on the still stretches ``ranges``.
+    ranges : list of (int, int)
+        The still stretches it was measured on.
+
+    Returns
+    -------
+    QuietLevel or None
+        Absent (``source`` :data:`HELD`), with the reason, when the record sits on no grid
+        but the still stretches' second differences do (the stored digits' last step
+        ``δ``) and ``still`` is under half a step's error variance
+        (:func:`~noisevar.diagnostics.quantisation.half_a_step`): the stretches hold their
+        values and move only by the last stored digit, so what R's residual reads there is
+        that digit's rounding, not the sensor's noise.
+
+    Notes
+    -----
+    docs/algorithms.md §E3 (*Held values*): the same rule as a grid's (noise under half a
+    step is no level of its own), where the grid is the stored digits of a stretch
+    (MIDC's direct normal at night: the logger's floor, -0.433491, drifting by 1e-6,
+    read 1.1e-13). A floor at δ²/12 would change nothing there (the level is about it),
+    so there is no still R, said.
+    """
+    read = _reader(record)
+    if still is None or read is None or diag.grid is not None or not ranges:
+        return None
+    step = joined_step([second_difference_step(read(a, b)) for a, b in ranges])
+    if step is None or not step > 0 or still.variance >= half_a_step(step):
+        return None
+    reason = (
+        f"the still stretches hold their values, moving only by the last stored digit "
+        f"({step:.3g}): they read {still.variance:.3g}, under the error of noise of half "
+        "that step, so the sensor's noise is under what the record's digits hold "
+        "(docs/algorithms.md §E3 Held values)"
+    )
+    return QuietLevel(None, None, None, diag.level_profile.quiet_share, HELD, reason)
+
+
+def _measured(
+    estimate_in: Callable[[dict, list[tuple[int, int]]], VarianceEstimate],
+    params: dict,
+    ranges: list[tuple[int, int]],
+) -> VarianceEstimate | None:
+    """R's method on ``ranges`` (less the samples around jumps, pieces of at least
+    :data:`STILL_MIN`); None when there is none, or its residual is all float rounding
+    (held values, plus a trend: issue 26)."""
     if not ranges:
         return None
     try:
-        est = estimate_in({k: v for k, v in params.items() if k != "method"}, ranges)
+        est = estimate_in(params, ranges)
     except NoisevarError:
         return None
-    if not est.variance > 0.0:  # held values (plus a trend): no noise above float rounding
-        return None
-    est.notes.append(f"the still regimes only: {len(ranges)} stretches, {est.n_total} samples")
-    return est
+    return est if est.variance > 0.0 else None
+
+
+def still_regime_ranges(
+    diag: NoiseDiagnostics, back: LevelProfile | None = None
+) -> list[tuple[int, int]]:
+    """The still regimes' sample ranges, less one profile block at either end.
+
+    Parameters
+    ----------
+    diag : NoiseDiagnostics
+        The record's diagnostics (its regimes).
+    back : LevelProfile, optional
+        The reversed record's profile: what its still regimes hold is added (the two block
+        grids that a reversal swaps; the union is the same stretches either way).
+
+    Returns
+    -------
+    list of (int, int)
+        In order. Empty when the record's level does not vary (one regime).
+
+    Notes
+    -----
+    docs/algorithms.md §E1 (*The still set*). The quiet set drops a still regime's blocks
+    one by one (a tap, a flip of a held value on a grid, a logger's drift step), so a long
+    still night can leave only pieces under :data:`STILL_MIN`; the regime itself, found on
+    block medians that such blocks do not move, is the sensor still. Its edge blocks can
+    hold part of the motion beside it (as ``still_levels.other_still_levels``); the samples
+    around level jumps are cut out where R's method runs (``estimate_in``).
+    """
+    if not diag.level_varies:
+        return []
+    ranges = _trimmed(diag.level_profile)
+    if back is None:
+        return ranges
+    return on_either_grid(ranges, _trimmed(back), diag.n)
+
+
+def regime_stretches(diag: NoiseDiagnostics) -> list[tuple[int, int]]:
+    """The still regimes' stretches on the record's grid, for a fit on one of them.
+
+    Each still regime less one block at either end (:func:`still_regime_ranges`), cut at the
+    blocks that lost residuals around a level jump (as ``LevelProfile.still_stretches``);
+    pieces of at least :data:`STILL_MIN` samples, in order.
+    """
+    prof = diag.level_profile
+    whole = np.zeros(diag.n, dtype=bool)
+    for a, b in still_regime_ranges(diag):
+        whole[a:b] = True
+    if prof.count is not None:
+        for a, b, c in zip(prof.start, prof.stop, prof.count, strict=True):
+            if c < b - a:
+                whole[a:b] = False
+    edges = np.flatnonzero(np.diff(np.r_[0, whole.view(np.int8), 0]))
+    pieces = zip(edges[::2], edges[1::2], strict=True)
+    return [(int(a), int(b)) for a, b in pieces if b - a >= STILL_MIN]
+
+
+def _trimmed(prof: LevelProfile) -> list[tuple[int, int]]:
+    """The still regimes of ``prof``, each less one block at either end."""
+    edge = int(prof.stop[0] - prof.start[0]) if prof.start.size else 0
+    spans = [(r.start + edge, r.stop - edge) for r in prof.regimes if r.still]
+    return [(a, b) for a, b in spans if b - a >= STILL_MIN]
 
 
 def quiet_apart(
@@ -175,6 +321,16 @@ def _r_is_quiet(prof: Any, level: float) -> bool:
     level): the quiet level is then measured apart. (A level below the interval is a
     signal leaking into the profile's residual and not into R's: R is the quiet level.)"""
     return bool(prof.one_quiet_level and level <= prof.quiet_interval[1])
+
+
+def _reader(record: Record | Any) -> Callable[[int, int], NDArray] | None:
+    """``read(a, b)``: samples ``a .. b`` of a record in its estimates' units (any segment
+    of one in memory; a chunked record's reader; None when it has neither)."""
+    z = getattr(record, "z", None)
+    if z is not None:
+        return lambda a, b: z[a:b]
+    reader = getattr(record, "reader", None)
+    return None if reader is None else reader()
 
 
 def _too_short(share: float) -> str:

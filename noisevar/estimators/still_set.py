@@ -22,6 +22,10 @@ if TYPE_CHECKING:
 #: shorter pieces say little). Fewer in every piece: the record has no still R to use.
 STILL_MIN = 64
 
+#: The quiet level's source when the still stretches are held values under the stored
+#: digits (``still_quiet.held_digits``): no still R, for that reason.
+HELD = "held"
+
 #: What a still fit that cannot be made asks for instead, on every surface.
 USE_ALL = "use regimes='all' (CLI --regimes all; dashboard: untick the still regimes only)"
 
@@ -46,8 +50,9 @@ def still_gap(
         None when there is an R to use: ``still``, or the whole record when it is one
         still regime (its level does not vary, or varies only within a grid step). Else
         the message that ``regimes.variance_for`` raises, the CLI prints and the verdict
-        quotes: no regimes found, no quiet stretch, or still stretches too short for R's
-        method (fewer than :data:`STILL_MIN` samples in every piece).
+        quotes: no regimes found, no quiet stretch, still stretches too short for R's
+        method (fewer than :data:`STILL_MIN` samples in every piece), or held values under
+        the stored digits (the quiet level's source :data:`HELD`).
 
     Notes
     -----
@@ -61,6 +66,8 @@ def still_gap(
         return None
     if kind == "unknown":
         return f"regimes='still': the record's regimes could not be found; {USE_ALL}"
+    if kind == "held" and diag is not None and diag.quiet is not None:
+        return f"regimes='still': {diag.quiet.reason}, so there is no still R to use; {USE_ALL}"
     if kind == "none":
         return (
             "regimes='still': the record has no still stretch (its level varies throughout "
@@ -101,6 +108,7 @@ def still_note(
         "unknown": "no still R: the record's regimes could not be found",
         "one": "no separate still R: the record is one still regime (its R is the still R)",
         "none": "no still stretch: the level varies throughout",
+        "held": "no still R: the still stretches hold values under the stored digits",
         "short": f"no still R: still stretches too short ({total} samples, {share:.0%} of "
         f"the record, each piece under {STILL_MIN})",
     }[kind]
@@ -116,6 +124,8 @@ def _gap(
         return "have", 0, 0.0
     if diag is None:
         return "unknown", 0, 0.0
+    if diag.quiet is not None and diag.quiet.source == HELD:
+        return "held", 0, 0.0
     if not has_still_apart(diag, variance) or under_half_a_step(diag, variance):
         return "one", 0, 0.0
     prof = diag.level_profile
