@@ -38,7 +38,7 @@ def test_an_offset_does_not_move_r_and_a_scale_moves_it_by_its_square(seed):
 
 
 @pytest.mark.parametrize("seed", [7, 10])
-def test_a_trend_does_not_move_r_nor_make_rounding_a_still_level(seed):
+def test_a_trend_does_not_move_r_nor_the_held_still_level(seed):
     z = held_record(seed)
     base = noisevar.estimate(z)
     again = noisevar.estimate(z + np.linspace(0.0, 1e3 * np.std(z), z.size))
