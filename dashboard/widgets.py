@@ -564,4 +564,6 @@ def blank_frame(
         return lambda v: fmt % v
 
     own = {k: column(f) for k, f in (formats or {}).items() if k in frame.columns}
-    return frame.style.format(cell, na_rep=text).format(own, na_rep=text)
+    styled = frame.style.format(cell, na_rep=text)
+    # (a formatter dict re-formats every column it does not name with pandas' default)
+    return styled.format(own, na_rep=text, subset=list(own)) if own else styled

@@ -67,3 +67,18 @@ def _cells(html: str) -> list[str]:
     import re
 
     return [c.strip() for c in re.findall(r"<td[^>]*>(.*?)</td>", html)]
+
+
+def test_a_tiny_value_is_written_whole_at_its_significant_digits():
+    """A latitude's R of 5.7e-15 read "0.000000" (a per-column format reset every column
+    to pandas' default); every float is written at the table's significant digits."""
+    import pandas as pd
+
+    frame = pd.DataFrame({"variance": [5.692e-15, 1897.404971], "dof": [36.6, None]})
+    for styled in (
+        blank_frame(frame, digits=4),
+        blank_frame(frame, digits=4, formats={"dof": "%.1f"}),
+    ):
+        cells = _cells(styled.to_html())
+        assert cells[0] == "5.692e-15" and cells[2] == "1897", cells
+        assert "—" in cells
