@@ -192,11 +192,11 @@ def comparison_table(
     ``waiting`` names methods still computing: a row each saying so, and no downloads or
     figure key until every row is in (the view is redrawn then).
     """
-    n_rows = len(comp.rows()) + len(waiting)
-    st.dataframe(  # a failed or waiting method's cells read "—", never "None"
-        comparison_frame(comp, waiting),
+    frame = comparison_frame(comp, waiting)  # a failed or waiting method's cells read "—"
+    st.dataframe(
+        frame,
         hide_index=True,
-        height=table_height(n_rows),  # every method visible: no rows behind a scroll bar
+        height=table_height(len(frame.data)),  # every method visible: no rows behind a scroll bar
     )
     truth = f" True variance {fmt(comp.true_variance)}." if comp.true_variance is not None else ""
     st.caption(
