@@ -57,9 +57,11 @@ def _child() -> dict:  # noqa: C901 (one measurement script)
             y[k] += 0.22
         r = noisevar.estimate(y)
         v = r.diagnostics.verdict
+        lead = "outliers hold R; " if "; without them, " in v else ""  # then the rest's
+        v = v.split("; without them, ")[-1]
         brief.append(
             {"at": k, "R": r.variance, "ci": list(r.ci95), "first": first_at(r),
-             "verdict": v.split(":")[0] + ":" + v.split(":")[1][:40]}
+             "verdict": lead + v.split(":")[0] + ":" + v.split(":")[1][:40]}
         )  # fmt: skip
 
     air = []

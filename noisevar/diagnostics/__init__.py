@@ -43,6 +43,7 @@ __all__ = [
     "WhitenessTest",
     "diagnose",
     "from_sums",
+    "glitches_apart",
     "on_both_grids",
     "profile_from_sums",
     "profile_of",
@@ -59,6 +60,13 @@ STILL_WHITE_MIN = 400
 #: (a hand-held IMU: 1.6 %), which the tests must see, and whose set moves with the block
 #: grid (reversed, 44 against 40: the verdict's colour flipped).
 GLITCHES_APART = 1e-3
+
+
+def glitches_apart(count: int, n: int) -> bool:
+    """Whether ``count`` outlying samples of ``n`` are few enough to leave out of the
+    correlation findings: at most :data:`GLITCHES_APART` of the samples, or one (a start-up
+    value in a record of 600 samples made a coloured record read as a random walk)."""
+    return 0 < count <= max(1.0, GLITCHES_APART * n)
 
 
 def diagnose(
@@ -138,7 +146,7 @@ def from_sums(
     plan, d = sums.plan, residual_sequence(DIAG_SPAN, DIAG_ORDER)
     e_w, keep_w = sums.white.joined()
     dz, used = sums.incr.joined()
-    apart = glitches is not None and 0 < glitches.size <= GLITCHES_APART * plan.n
+    apart = glitches is not None and glitches_apart(glitches.size, plan.n)
     lone_ones = lone(glitches) if apart and read is not None else np.zeros(0, dtype=int)
     if apart:
         keep_w, used, head = _without_glitches(sums, keep_w, used, head, seg, glitches)

@@ -19,6 +19,8 @@ if TYPE_CHECKING:
 
 #: The quiet stretches cover less than this share: the record is mostly motion.
 MOSTLY_MOTION = 0.5
+#: R over the core variance above which the outlying samples hold most of R (over half).
+OUTLIERS_HOLD = 2.0
 #: Fewest samples for every check of the verdict: two blocks of the level profile to
 #: compare, and a kurtosis that means something (white Gaussian noise read heavy-tailed
 #: in 9 % of 64-sample records, 3.5 % of 100-sample ones). Fewer: :func:`short_verdict`.
@@ -48,6 +50,11 @@ def make_verdict(
 ) -> str:
     """One sentence, worst finding first.
 
+    When a few outlying samples hold most of R and the sentence would not quote the core
+    variance, they come first (:func:`outliers_hold`) and the sentence describes the
+    record without them: on a coloured record a start-up value held 99.8 % of R, which the
+    sentence called the noise's white part (PX4 airspeed, issue 26).
+
     Parameters
     ----------
     diag : NoiseDiagnostics
@@ -72,7 +79,45 @@ def make_verdict(
     """
     if unchecked(diag.n, diag):
         return short_verdict(diag.n, variance, diag)
-    r = _r(variance)
+    said = _sentence(diag, variance, core, outliers, still, still_gap)
+    lead = outliers_hold(variance, core, outliers)
+    if still is not None or not lead or "core variance" in said:
+        return said
+    assert core is not None  # outliers_hold said so
+    return lead + _sentence(diag, core, core, 0.0, None, still_gap, "the core variance")
+
+
+def outliers_hold(variance: float, core: float | None, outliers: float) -> str:
+    """The verdict's lead when a few outlying samples hold most of R ('' when they do not).
+
+    R counts them as noise (a plain Kalman filter sees them); when they hold over half of
+    it, R is mostly those few samples, and the core variance (without them) is what the
+    rest of the record reads: the R to use when they are not the sensor's noise (a
+    start-up value, a logging error), or a robust filter's. The verdict then goes on
+    about the record without them.
+    """
+    if core is None or not outliers or not variance > OUTLIERS_HOLD * core:
+        return ""
+    return (
+        f"{_share(outliers)} of the samples are outlying and hold {_share(1 - core / variance)} "
+        f"of {_r(variance)}: it counts them as noise, as a plain Kalman filter needs; without "
+        f"them the core variance is {_g(core)}, the R to use if they are not the sensor's "
+        "noise (a start-up value, a logging error), or a robust filter's; without them, "
+    )
+
+
+def _sentence(
+    diag: NoiseDiagnostics,
+    variance: float,
+    core: float | None,
+    outliers: float,
+    still: float | None,
+    still_gap: str | None,
+    label: str = "R",
+) -> str:
+    """:func:`make_verdict`'s sentence, worst finding first (its parameters; ``label``
+    names ``variance`` in the text)."""
+    r = _r(variance, label)
     quiet = still if still is not None else diag.quiet_variance
     if quiet is None:  # none on R's residual: the level profile's, said to be indicative
         quiet = diag.level_profile.quiet_variance
@@ -116,8 +161,8 @@ def make_verdict(
     return f"white Gaussian noise: {r} is a good Kalman R"
 
 
-def _r(variance: float) -> str:
-    return f"R = {_g(variance)} (std {_g(float(np.sqrt(max(variance, 0.0))))})"
+def _r(variance: float, label: str = "R") -> str:
+    return f"{label} = {_g(variance)} (std {_g(float(np.sqrt(max(variance, 0.0))))})"
 
 
 def unchecked(n: int, diag: NoiseDiagnostics | None) -> tuple[str, ...]:

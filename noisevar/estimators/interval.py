@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar._distributions import chi2_ppf, norm_cdf
-from noisevar.diagnostics import GLITCHES_APART, NoiseDiagnostics
+from noisevar.diagnostics import NoiseDiagnostics, glitches_apart
 from noisevar.diagnostics.glitches import bridged, deviations, lone
 from noisevar.diagnostics.plan import DIAG_ORDER, DIAG_SPAN
 from noisevar.diagnostics.tails import kurtosis_from_moments
@@ -136,7 +136,7 @@ def lone_glitches(
     else:
         if outliers is None or read is None or not 0 < outliers.size <= 2 * FEW_GLITCHES:
             return None
-        if outliers.size <= GLITCHES_APART * diag.n:  # apart, yet not listed: not lone
+        if glitches_apart(outliers.size, diag.n):  # apart, yet not listed: not lone
             return None
         at = lone(outliers)
         if not 0 < at.size <= FEW_GLITCHES or at.size < np.unique(outliers).size:

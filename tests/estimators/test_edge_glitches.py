@@ -114,7 +114,9 @@ def test_one_glitch_anywhere_counts_as_inside(seed, sigmas, sign, where, bursts,
 
 
 def _verdict_class(r) -> str:
-    return r.diagnostics.verdict.split(":")[0] + ":" + r.diagnostics.verdict.split(":")[1][:25]
+    # a glitch holding most of R leads the verdict, which then reads the record without it
+    v = r.diagnostics.verdict.split("; without them, ")[-1]
+    return v.split(":")[0] + ":" + v.split(":")[1][:25]
 
 
 def test_one_glitch_leaves_the_verdict_as_it_is_without_it():
@@ -128,6 +130,7 @@ def test_one_glitch_leaves_the_verdict_as_it_is_without_it():
         y[k] += 0.22
         r = noisevar.estimate(y)
         assert _verdict_class(r) == want, (k, r.diagnostics.verdict)
+        assert "outlying and hold" in r.diagnostics.verdict, (k, r.diagnostics.verdict)
         assert r.ci95[0] > 0, (k, r.ci95)
         assert r.diagnostics.identifiable and not r.diagnostics.white
 

@@ -1,0 +1,61 @@
+"""A few outlying samples that hold most of R lead the verdict (issue 26).
+
+PX4's airspeed topic starts with a value 0.22 m/s off (the sensor starting): without its
+clock that one sample held 99.8 % of R, and the verdict called R "its white part (or a
+little above)" of coloured noise, 590x the rest of the record's level.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.signal import lfilter
+
+import noisevar
+
+LOG = Path(__file__).resolve().parents[1] / "data" / "px4_sample_log_small.ulg"
+
+
+def _coloured(n: int, seed: int = 0) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    return np.sin(np.arange(n) / 50) + 0.01 * lfilter([1], [1, -0.8], rng.normal(size=n))
+
+
+@pytest.mark.parametrize("n", [600, 3000])
+def test_a_start_up_value_that_holds_r_leads_the_verdict(n: int) -> None:
+    x = _coloured(n)
+    clean = noisevar.estimate(x)
+    x[0] += 3.0
+    r = noisevar.estimate(x)
+    v = r.diagnostics.verdict
+    assert r.variance > 10 * r.core_variance
+    assert v.startswith(f"{r.outlier_fraction:.2g}"[:3]) or "outlying and hold" in v.split(":")[0]
+    assert "outlying and hold" in v and "core variance is" in v, v
+    # the rest says what the record without it says, of the core variance, not of R
+    rest = v.split("; without them, ")[-1]
+    assert rest.split(":")[0] == clean.diagnostics.verdict.split(":")[0], (rest, clean)
+    assert "the core variance = " in rest and "R = " not in rest, rest
+
+
+def test_no_lead_when_outliers_are_a_small_part_of_r() -> None:
+    rng = np.random.default_rng(1)
+    x = _coloured(3000, 1)
+    x[rng.choice(3000, 30, replace=False)] += 0.02  # 2σ of the coloured noise: a tail
+    v = noisevar.estimate(x).diagnostics.verdict
+    assert "outlying and hold" not in v, v
+
+
+def test_px4_airspeed_start_up_value_is_said() -> None:
+    from pyulog import ULog
+
+    d = next(d for d in ULog(str(LOG)).data_list if d.name == "airspeed")
+    x = d.data["indicated_airspeed_m_s"].astype(float)
+    r = noisevar.estimate(x)  # no clock: sample 0 is not cut off by its gap
+    v = r.diagnostics.verdict
+    assert "outlying and hold 99.8% of R" in v, v
+    assert "is its white part" not in v.split("; without them, ")[0], v
+    # the same figures with it dropped: the core variance is the rest's R's order
+    rest = noisevar.estimate(x[1:])
+    assert 0.3 < r.core_variance / rest.variance < 3, (r.core_variance, rest.variance)
