@@ -31,8 +31,7 @@ def test_a_start_up_value_that_holds_r_leads_the_verdict(n: int) -> None:
     r = noisevar.estimate(x)
     v = r.diagnostics.verdict
     assert r.variance > 10 * r.core_variance
-    assert v.startswith(f"{r.outlier_fraction:.2g}"[:3]) or "outlying and hold" in v.split(":")[0]
-    assert "outlying and hold" in v and "core variance is" in v, v
+    assert "outlying and hold" in v.split(":")[0] and "core variance is" in v, v  # first
     # the rest says what the record without it says, of the core variance, not of R
     rest = v.split("; without them, ")[-1]
     assert rest.split(":")[0] == clean.diagnostics.verdict.split(":")[0], (rest, clean)

@@ -135,8 +135,9 @@ def test_still_r_counts_only_the_glitches_in_its_stretches() -> None:
 def test_a_short_record_with_one_glitch_at_its_start(seed: int) -> None:
     """600 samples (PX4 ``vehicle_local_position``: 636) and one 20σ glitch at sample 0:
     more than 0.1 % of the samples, yet one, so the diagnostics list it (they did not
-    before: ``glitches_apart``), and R's interval counts it as a Poisson glitch: the glitch-free R is inside (G (2q - q²)^½
-    = 0.15 against the core's spread 0.12: the rule's edge); the χ² interval was above it."""
+    before: ``glitches_apart``), and R's interval counts it as a Poisson glitch: the
+    glitch-free R is inside (G (2q - q²)^½ = 0.15 against the core's spread 0.12: the
+    rule's edge); the χ² interval was above it."""
     z = np.random.default_rng(seed).normal(size=600)
     clean = z.copy()
     z[0] += 20.0
