@@ -232,6 +232,7 @@ class NoiseDiagnostics:
             "kurtosis": _finite(self.kurtosis),
             "tail_index": _finite(self.tail_index),
             "lsb": _finite(self.lsb),
+            "grid": _finite(self.grid),
             "gaps": [g.to_dict() for g in self.gaps],
             "jitter": _finite(self.jitter),
             "quiet_variance": _finite(self.quiet_variance),
