@@ -129,7 +129,7 @@ def load_sample(name: str, column: str | None = None, period: float | None = Non
     sig = make_signal(
         table,
         column,
-        period if period else table.sample_period,
+        period if period else table.period_of(column or table.first_signal),
         "sample",
         f"sample:{path.name}",
     )

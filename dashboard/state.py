@@ -208,7 +208,8 @@ def make_signal(
     z = pick_column(table, col)
     noisevar.estimators.as_signal(z)  # same checks as the estimators: size, constant
     label = table.name if len(table.data_columns) == 1 else f"{table.name} · {col}"
-    times = record_times(table) if sample_period == table.sample_period else None
+    own = sample_period == table.period_of(col)  # the file's own (its run's clock)
+    times = record_times(table, col) if own else None
     return LoadedSignal(
         table=table,
         column=col,
@@ -236,13 +237,17 @@ def _recipe(
     recipe = recipe_base
     if col != default_column(table):
         recipe += f";col={col}"
-    if sample_period != table.sample_period and sample_period:
+    if sample_period != table.period_of(col) and sample_period:
         recipe += f";T={sample_period:g}"
     return recipe
 
 
 def reselect(sig: LoadedSignal, column: str, sample_period: float | None) -> LoadedSignal:
-    """The same source with another column or sample period (raises NoisevarError)."""
+    """The same source with another column or sample period (raises NoisevarError).
+
+    The file's own period of the old column is the new column's own (a run's clock)."""
+    if sample_period == sig.table.period_of(sig.column):
+        sample_period = sig.table.period_of(column)
     new = make_signal(
         sig.table,
         column,

@@ -9,6 +9,7 @@ import json
 import numpy as np
 import pytest
 
+import noisevar
 from noisevar.cli import main
 from noisevar.io import load_table
 
@@ -144,3 +145,73 @@ def test_a_run_per_column_pair_reads_its_units_and_one_clock(capsys, tmp_path):
     rows = got if isinstance(got, list) else got["channels"]
     assert [r["column"] for r in rows] == ["Position (m) Run #1", "Position (m) Run #2"]
     assert {r["unit"] for r in rows} == {"m"}
+
+
+def _runs(tmp_path, unit: str = "s", scale: float = 1.0):
+    """PASCO-style runs: run 1 at 20 Hz (400 rows), run 2 at 50 Hz (250 rows, then blank)."""
+    rng = np.random.default_rng(2)
+    t1, t2 = np.arange(400) * 0.05, np.arange(250) * 0.02
+    x1 = np.sin(t1) + rng.normal(0, 0.002, t1.size)
+    x2 = np.cos(t2) + rng.normal(0, 0.004, t2.size)
+    lines = [f"Time ({unit}) Run #1,Position (m) Run #1,Time ({unit}) Run #2,Position (m) Run #2"]
+    for i in range(400):
+        two = f"{t2[i] * scale:.6g},{x2[i]:.5f}" if i < 250 else ","
+        lines.append(f"{t1[i] * scale:.6g},{x1[i]:.5f},{two}")
+    path = tmp_path / "runs.csv"
+    path.write_text("\n".join(lines) + "\n")
+    alone = tmp_path / "run2.csv"
+    alone.write_text(
+        "\n".join([f"Time ({unit}),Position (m)"] + [f"{t2[i] * scale:.6g},{x2[i]:.5f}"
+                                                      for i in range(250)]) + "\n"
+    )  # fmt: skip
+    return path, alone
+
+
+@pytest.mark.parametrize(("unit", "scale"), [("s", 1.0), ("ms", 1e3)])
+def test_each_run_reads_its_own_clock_and_rows(tmp_path, unit, scale):
+    """PASCO Capstone's runs of other lengths and rates: run 2 is its 250 rows on its own
+    clock, as the same run saved alone (before: run 1's clock, and its blank rows made it an
+    error row of ``--columns all``; ``Time (ms) Run #1`` was read in seconds)."""
+    from noisevar.io import channel_record
+
+    path, alone = _runs(tmp_path, unit, scale)
+    table, single = load_table(path), load_table(alone)
+    z, t = channel_record(table, "Position (m) Run #2")
+    z1, t1 = channel_record(single, "Position (m)")
+    np.testing.assert_array_equal(z, z1)
+    np.testing.assert_allclose(t, t1, rtol=1e-12)
+    assert table.period_of("Position (m) Run #2") == pytest.approx(0.02, rel=1e-12)
+    assert table.period_of("Position (m) Run #1") == pytest.approx(0.05, rel=1e-12)
+    a = noisevar.estimate(z, t=t)
+    assert a.variance == noisevar.estimate(z1, t=t1).variance
+
+
+def test_runs_through_the_cli(capsys, tmp_path):
+    path, alone = _runs(tmp_path)
+    assert main(["estimate", str(path), "--columns", "all", "--format", "json"]) == 0
+    got = json.loads(capsys.readouterr().out)
+    rows = got if isinstance(got, list) else got["channels"]
+    assert [r["n_total"] for r in rows] == [400, 250], rows
+    assert main(["estimate", str(alone), "--format", "json"]) == 0
+    assert json.loads(capsys.readouterr().out)["variance"] == rows[1]["variance"]
+    assert main(["allan", str(path), "--column", "Position (m) Run #2", "--format", "json"]) == 0
+    assert json.loads(capsys.readouterr().out)["rate"] == 50.0
+    assert main(["allan", str(path), "--format", "json"]) == 0  # the first run's by default
+    assert json.loads(capsys.readouterr().out)["rate"] == 20.0
+    out = tmp_path / "batch.csv"
+    assert main(["batch", str(path), "--columns", "all", "--out", str(out), "--quiet"]) == 0
+    import pandas as pd
+
+    assert list(pd.read_csv(out)["sample_rate_hz"]) == [20.0, 50.0]
+
+
+def test_runs_on_the_dashboard(tmp_path):
+    from dashboard.state import make_signal
+
+    path, _ = _runs(tmp_path)
+    table = load_table(path)
+    one = make_signal(table, None, table.sample_period, "upload", None)
+    two = make_signal(table, "Position (m) Run #2", table.period_of("Position (m) Run #2"),
+                      "upload", None)  # fmt: skip
+    assert one.sample_period == pytest.approx(0.05) and two.sample_period == pytest.approx(0.02)
+    assert two.z.size == 250 and two.times is not None and two.times.size == 250

@@ -98,26 +98,26 @@ def file_rows(
             }
         ]
     rows = [estimate_row(path, table, c, method, params) for c in channels]
-    rate = sample_rate(table)
-    for r in rows:
+    for r, c in zip(rows, channels, strict=True):
         r["hash"] = digest
-        r["sample_rate_hz"] = rate
+        r["sample_rate_hz"] = sample_rate(table, c)
         if said:  # the file's own notes first, in the row's one notes field
             r["notes"] = " | ".join([*said, *([r["notes"]] if r.get("notes") else [])])
     return rows
 
 
-def sample_rate(table: Any) -> float | None:
-    """A table's sample rate in Hz: 1 / its sample period, or its time column's median step.
+def sample_rate(table: Any, column: str | None = None) -> float | None:
+    """A channel's sample rate in Hz: 1 / its sample period (its run's, in a table of runs:
+    ``LoadedTable.period_of``), or its time column's median step.
 
     None without either (or a time column that does not increase), rounded to 12
     significant digits (a 120 Hz rate is 120, not 120.00000000004799).
     """
     import numpy as np
 
-    period = table.sample_period
+    period = table.period_of(column)
     if not period:
-        t = table.time()
+        t = table.time(column)
         steps = np.diff(np.asarray(t, dtype=float)) if t is not None and len(t) > 1 else None
         period = float(np.median(steps)) if steps is not None else None
     if not period or not np.isfinite(period) or period <= 0:

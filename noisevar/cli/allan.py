@@ -18,6 +18,8 @@ from noisevar.cli._common import (
     sample_rate,
     units_of,
 )
+from noisevar.errors import NoisevarError
+from noisevar.io.limits import echo
 from noisevar.units import declared_unit
 
 
@@ -52,10 +54,20 @@ def load_columns(
     table = load_file(path, topic)
     # by default every signal: not a log's constant fields, counters or second clock
     names = columns or table.signals or list(table.data_columns)
+    if not columns and names:  # a table of runs (PASCO's): the first run's
+        names = [c for c in names if table.clock_of(c) == table.clock_of(names[0])]
+    clocks = {table.clock_of(c) for c in names}
+    if len(clocks) > 1:  # PASCO's runs: one clock each
+        raise NoisevarError(
+            f"the columns {echo(', '.join(names))} have {len(clocks)} clocks (one per run): "
+            "give the columns of one run (--column)"
+        )
     data = {c: np.asarray(pick_column(table, c), dtype=float) for c in names}
     declared = {c: table.units.get(c) for c in names}
-    rate = sample_rate(rate, table.sample_period)
-    return data, rate, declared, record_times(table), list(table.notes)
+    rate = sample_rate(rate, table.period_of(names[0]) if names else table.sample_period)
+    return data, rate, declared, record_times(table, names[0] if names else None), list(
+        table.notes
+    )
 
 
 def _cmd_allan(args: argparse.Namespace) -> int:

@@ -89,7 +89,8 @@ def _load(
         )
     z = np.asarray(pick_column(table, column), dtype=float)
     name = column_name(table, column)
-    return z, table.n_rows - z.size, name, table.sample_period, table.units.get(name)
+    rows = len(range(*table.rows_of(name).indices(table.n_rows)))  # a run's rows
+    return z, rows - z.size, name, table.period_of(name), table.units.get(name)
 
 
 def _cmd_fit(args: argparse.Namespace) -> int:

@@ -365,15 +365,19 @@ def column_name(table: LoadedTable, column: str | int | None = None) -> str:
 
 
 def column_values(table: LoadedTable, column: str | int | None = None) -> NDArray:
-    """One column as floats, non-finite cells kept (the estimators treat them as gaps)."""
-    return np.asarray(table.columns[column_name(table, column)], dtype=float)
+    """One column as floats over its rows (a run's: ``LoadedTable.rows_of``), non-finite
+    cells kept (the estimators treat them as gaps)."""
+    cname = column_name(table, column)
+    return np.asarray(table.columns[cname][table.rows_of(cname)], dtype=float)
 
 
-def record_times(table: LoadedTable) -> NDArray | None:
-    """The table's sample times as :func:`noisevar.estimate` takes them (``t=``), or None.
+def record_times(table: LoadedTable, column: str | int | None = None) -> NDArray | None:
+    """A channel's sample times as :func:`noisevar.estimate` takes them (``t=``), or None.
 
-    None when the table has no time column, or its times are not finite and strictly
-    increasing (the loader's note says why; the samples are then taken as uniform).
+    ``column``: the channel (default the first signal), whose clock is its run's when the
+    table holds one per run (``LoadedTable.clock_of``). None when the table has no time
+    column, or its times are not finite and strictly increasing (the loader's note says
+    why; the samples are then taken as uniform).
 
     Notes
     -----
@@ -381,11 +385,13 @@ def record_times(table: LoadedTable) -> NDArray | None:
     ``noisevar batch``, the dashboard) passes these times, so that a record with gaps is
     split at them in each, not spliced in some: one record, one answer.
     """
-    t = table.time()
+    cname = column_name(table, column) if table.data_columns else None
+    t = table.time(cname)
     if t is None:
         return None
     t = np.asarray(t, dtype=float)
-    if t.size != table.n_rows or not np.all(np.isfinite(t)) or not np.all(np.diff(t) > 0):
+    rows = len(range(*table.rows_of(cname).indices(table.n_rows)))
+    if t.size != rows or not np.all(np.isfinite(t)) or not np.all(np.diff(t) > 0):
         return None
     return t
 
@@ -402,7 +408,7 @@ def channel_record(
         z = column_values(table, column)
     else:
         z = np.asarray(pick_column(table, column), dtype=float)
-    return z, record_times(table)
+    return z, record_times(table, column)
 
 
 def pick_column(
@@ -430,7 +436,7 @@ def pick_column(
         Unknown column, or a column with empty/NaN cells (unless dropped).
     """
     cname = column_name(table, column)
-    z = np.asarray(table.columns[cname], dtype=float)
+    z = np.asarray(table.columns[cname][table.rows_of(cname)], dtype=float)
     bad = ~np.isfinite(z)
     if bad.any():
         if not drop_nonfinite:

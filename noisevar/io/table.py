@@ -122,9 +122,46 @@ class LoadedTable:
             and not _frame_counter(finite)
         )
 
-    def time(self) -> NDArray | None:
-        """The time column (seconds) or None."""
-        return self.columns.get(self.time_column) if self.time_column else None
+    def clock_of(self, column: str | None) -> str | None:
+        """The time column of ``column``: its own run's, when the table holds one clock per
+        run (PASCO Capstone's ``Time (s) Run #2`` beside ``Position (m) Run #2``), else
+        :attr:`time_column`."""
+        run = run_of(column or "")
+        if run is not None and run_of(self.time_column or "") != run:
+            own = [c for c in self.columns if run_of(c) == run and is_time_column(c)]
+            if own:
+                return own[0]
+        return self.time_column
+
+    def rows_of(self, column: str | None) -> slice:
+        """The rows of ``column``: for a run's column, up to its clock's last value (a
+        shorter run's cells below are blank, not missing samples); else every row."""
+        clock = self.clock_of(column)
+        if clock is None or run_of(column or "") is None:
+            return slice(None)
+        finite = np.flatnonzero(np.isfinite(self.columns[clock]))
+        return slice(0, int(finite[-1]) + 1 if finite.size else 0)
+
+    def period_of(self, column: str | None) -> float | None:
+        """The sample period of ``column`` (seconds): its run's clock's median step, else
+        :attr:`sample_period`."""
+        if self.clock_of(column) == self.time_column:
+            return self.sample_period
+        t = self.time(column)
+        steps = np.diff(t[np.isfinite(t)]) if t is not None else np.zeros(0)
+        step = float(f"{np.median(steps):.12g}") if steps.size else 0.0  # 0.05, not 0.04999..
+        return step if np.isfinite(step) and step > 0 else None
+
+    def time(self, column: str | None = None) -> NDArray | None:
+        """The time column (seconds) or None; ``column``: that column's clock
+        (:meth:`clock_of`) over its rows (:meth:`rows_of`), in seconds."""
+        clock = self.clock_of(column)
+        if clock is None:
+            return None
+        t = self.columns[clock][self.rows_of(column)]
+        if clock == self.time_column:  # scaled to seconds when read
+            return t
+        return t * time_scale(clock, float(t[0]) if t.size else None)
 
     def digest(self) -> str:
         """Content hash of all columns (names and values): a cache key."""
@@ -212,8 +249,20 @@ TIME_UNITS = {"ns": 1e-9, "nsec": 1e-9, "us": 1e-6, "usec": 1e-6, "µs": 1e-6, "
               "msec": 1e-3, "s": 1.0, "sec": 1.0}  # fmt: skip
 
 
+#: A run's suffix on a column's name (PASCO Capstone's ``Position (m) Run #2``).
+_RUN = re.compile(r"\s*\brun\s*#?\s*(\d+)\s*$", re.IGNORECASE)
+
+
+def run_of(name: str) -> str | None:
+    """The run a column's name ends with (``Time (s) Run #2``: ``"2"``), else None."""
+    m = _RUN.search(name)
+    return None if m is None else m[1]
+
+
 def time_unit(name: str) -> str | None:
-    """The time unit a column's name states (``time_ns``: ``"ns"``; ``t [ms]``), else None."""
+    """The time unit a column's name states (``time_ns``: ``"ns"``; ``t [ms]``;
+    ``Time (ms) Run #1``), else None."""
+    name = _RUN.sub("", name)
     m = re.search(r"[\[\(]\s*([^\[\]\(\)]{1,8}?)\s*[\]\)]\s*$", name)
     key = name.strip().lower().replace(" ", "_")  # AndroSensor's "Time since start in ms"
     word = m[1] if m else key.rpartition("_")[2] if "_" in key else ""
