@@ -518,7 +518,21 @@ def param_input(
     return where.number_input(label, **bounds, **number, **common, **initial(key, default))
 
 
-def blank_missing(rows: Sequence[dict[str, Any]], text: str = "—") -> list[dict[str, Any]]:
+#: What a missing cell of a table reads (never "None" or "nan").
+MISSING = "—"
+
+
+def show_table(data: Any, **kwargs: Any) -> None:
+    """``st.dataframe`` with a missing cell drawn as :data:`MISSING`.
+
+    Streamlit draws a null cell as a literal "None" whatever a ``Styler``'s ``na_rep``
+    says (seen in Chromium: the channels table's ``still_variance``); its ``placeholder``
+    is the text it draws instead. Every table of the pages is drawn here.
+    """
+    st.dataframe(data, placeholder=MISSING, **kwargs)
+
+
+def blank_missing(rows: Sequence[dict[str, Any]], text: str = MISSING) -> list[dict[str, Any]]:
     """Table rows with every missing cell (None, or a column a row lacks) shown as ``text``.
 
     Streamlit's data frame draws a missing cell as a literal "None". A column that then
@@ -543,7 +557,7 @@ def blank_missing(rows: Sequence[dict[str, Any]], text: str = "—") -> list[dic
 
 def blank_frame(
     frame: pd.DataFrame,
-    text: str = "—",
+    text: str = MISSING,
     digits: int = 6,
     formats: dict[str, str] | None = None,
 ) -> Styler:

@@ -542,6 +542,18 @@ def test_noisevar_never_imports_streamlit_or_the_dashboard() -> None:
             assert bad not in text, f"{path.relative_to(ROOT)}: {bad}"
 
 
+def test_every_table_of_the_pages_draws_missing_cells_as_a_dash() -> None:
+    """Streamlit draws a null cell "None" whatever a Styler says: every table goes through
+    ``dashboard.widgets.show_table`` (its ``placeholder``)."""
+    home = ROOT / "dashboard" / "widgets.py"
+    bad = [
+        str(p.relative_to(ROOT))
+        for p in APP_FILES
+        if p != home and "st.dataframe(" in p.read_text(encoding="utf-8")
+    ]
+    assert not bad, f"st.dataframe outside dashboard/widgets.show_table: {bad}"
+
+
 # entry points a cycle inside the package would break (the graph walk covers every module)
 @pytest.mark.parametrize(
     "module", ["noisevar.kalman.strategies.vb", "noisevar.kalman.run", "noisevar.kalman.steps"]

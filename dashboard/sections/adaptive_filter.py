@@ -19,6 +19,7 @@ from dashboard.widgets import (
     guarded,
     h_grid,
     show_figure,
+    show_table,
     table_and_figure_downloads,
 )
 from noisevar.estimators.answer import WHY_DIFFERENT
@@ -258,7 +259,7 @@ def results_view(runs: FilterRuns, is_scenario: bool) -> None:
     """The filter table (RMSE, NIS), the chosen figure and the downloads."""
     results = runs.results
     rows = [filter_summary(r, runs.groups) for r in results]
-    st.dataframe(
+    show_table(
         rows,
         hide_index=True,
         column_config={
@@ -362,7 +363,7 @@ def _table1(res1: cache.JsonDict, ask: tuple[int, int]) -> None:
     for m in res1["channels"][chans[0]]["methods"]:
         table.append({"row": m, **{c: res1["channels"][c]["methods"][m]["mean"] for c in chans}})
     st.markdown(f"**Noise variance per channel** ({ask[0]} runs, seed {ask[1]})")
-    st.dataframe(
+    show_table(
         table,
         hide_index=True,
         column_config={c: st.column_config.NumberColumn(format="%.4g") for c in chans},
@@ -376,7 +377,7 @@ def _table1(res1: cache.JsonDict, ask: tuple[int, int]) -> None:
         for k, v in res1["rmse"].items()
     ]
     st.markdown("**RMSE over runs and steps**")
-    st.dataframe(rm, hide_index=True)
+    show_table(rm, hide_index=True)
     st.caption(
         "diverged: runs in which the filter's NEES left its chi-square band, i.e. its claimed "
         "covariance P became too small for its actual errors. That judges the filter's "

@@ -10,7 +10,13 @@ import streamlit as st
 
 from dashboard import cache
 from dashboard.state import initial
-from dashboard.widgets import figure_view, guarded, show_figure, table_and_figure_downloads
+from dashboard.widgets import (
+    figure_view,
+    guarded,
+    show_figure,
+    show_table,
+    table_and_figure_downloads,
+)
 from noisevar.figures.carrier import (
     adaptation_figure,
     doppler_figure,
@@ -127,7 +133,7 @@ def tracking_results(s: CarrierSettings) -> None:
         }
         for name, r in by_name.items()
     ]
-    st.dataframe(rows, hide_index=True, width="stretch")
+    show_table(rows, hide_index=True, width="stretch")
     st.caption(
         "EKF: fixed noise designed for the C/N0 above. AEKF: adapts R from its residuals (its "
         "window starts full of the design R) with a stabilised Q from the same design. EKF, "

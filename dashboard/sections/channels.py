@@ -6,7 +6,7 @@ import streamlit as st
 
 from dashboard.cache import DEFAULT_METHOD
 from dashboard.state import LoadedSignal, initial
-from dashboard.widgets import blank_frame, csv_download, guarded, show_figure
+from dashboard.widgets import blank_frame, csv_download, guarded, show_figure, show_table
 from noisevar.batch.channels import channel_estimates
 from noisevar.estimators.results import VarianceEstimates
 from noisevar.figures.fleet import channels_figure
@@ -66,7 +66,7 @@ def side_by_side(sig: LoadedSignal) -> None:
             frame["channel"] = names
             # a column with an absent value (no still R: ``still_note`` says why) shows "—"
             # every float written whole at 4 significant digits (3e-7 stays 3e-07, not 0.0000003)
-            st.dataframe(blank_frame(frame, digits=4), hide_index=True)
+            show_table(blank_frame(frame, digits=4), hide_index=True)
             csv_download(
                 st,
                 "Channels table as CSV",

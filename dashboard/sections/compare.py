@@ -26,6 +26,7 @@ from dashboard.widgets import (
     fmt,
     guarded,
     show_figure,
+    show_table,
     table_height,
 )
 from noisevar.estimators.compare import (
@@ -193,7 +194,7 @@ def comparison_table(
     figure key until every row is in (the view is redrawn then).
     """
     frame = comparison_frame(comp, waiting)  # a failed or waiting method's cells read "—"
-    st.dataframe(
+    show_table(
         frame,
         hide_index=True,
         height=table_height(len(frame.data)),  # every method visible: no rows behind a scroll bar
@@ -435,7 +436,7 @@ def monte_carlo_results(cancelled: bool) -> None:
         "parameters": "params",
     }
     frame = pd.DataFrame({label: [r[k] for r in summary] for label, k in columns.items()})
-    st.dataframe(
+    show_table(
         blank_frame(frame, formats=_MC_FORMATS),
         hide_index=True,
         height=table_height(len(summary)),

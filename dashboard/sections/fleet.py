@@ -16,7 +16,7 @@ from dashboard.pages import ESTIMATOR
 from dashboard.sections.regimes import still_choice
 from dashboard.session_dirs import SessionFolder, session_folder
 from dashboard.state import reselect
-from dashboard.widgets import blank_frame, csv_download, fmt, guarded, show_figure
+from dashboard.widgets import blank_frame, csv_download, fmt, guarded, show_figure, show_table
 from noisevar.batch import read_table
 from noisevar.batch.example import EXAMPLE_CHANNELS, write_example_fleet
 from noisevar.batch.fleet import DEFAULT_THRESHOLD, FleetReport, SensorScore
@@ -201,8 +201,8 @@ def _open(sensor: SensorScore) -> None:
 def table(report: FleetReport, frame: pd.DataFrame) -> None:
     """The sensors' scores and the batch table, with a CSV download."""
     with st.expander("Every sensor and the batch table"):
-        st.dataframe(blank_frame(report.to_frame()), hide_index=True)
-        st.dataframe(blank_frame(frame), hide_index=True)
+        show_table(blank_frame(report.to_frame()), hide_index=True)
+        show_table(blank_frame(frame), hide_index=True)
         csv_download(st, "Batch table as CSV", frame.to_csv(index=False), "fleet.csv", "fl_csv")
 
 
@@ -265,4 +265,4 @@ def _still_levels(moving: pd.DataFrame) -> None:
         rows += [sensor | x for x in still_level_rows(levels, int(n), float(still))]
     if rows:
         st.caption(STILL_LEVELS_NOTE)
-        st.dataframe(pd.DataFrame(rows), hide_index=True, width="stretch")
+        show_table(pd.DataFrame(rows), hide_index=True, width="stretch")

@@ -9,7 +9,13 @@ import streamlit as st
 
 from dashboard import cache
 from dashboard.state import initial
-from dashboard.widgets import figure_view, guarded, show_figure, table_and_figure_downloads
+from dashboard.widgets import (
+    figure_view,
+    guarded,
+    show_figure,
+    show_table,
+    table_and_figure_downloads,
+)
 from noisevar.figures.fusion import error_figure, isolation_figure, r_track_figure, track_figure
 from noisevar.format import percent
 from noisevar.kalman import STRATEGIES
@@ -155,7 +161,7 @@ def fused_results(s: FusionSettings) -> None:
     for row in shown:  # a configuration without isolation: said, not a "None" cell
         for k in isolated:
             row[k] = "— (no isolation)" if row.get(k) is None else percent(row[k], 3)
-    st.dataframe(
+    show_table(
         shown,
         hide_index=True,
         column_config={"position RMSE (m)": st.column_config.NumberColumn(format="%.3f")},

@@ -10,7 +10,13 @@ import streamlit as st
 
 from dashboard import cache
 from dashboard.state import initial
-from dashboard.widgets import figure_view, guarded, show_figure, table_and_figure_downloads
+from dashboard.widgets import (
+    figure_view,
+    guarded,
+    show_figure,
+    show_table,
+    table_and_figure_downloads,
+)
 from noisevar.figures.latency import cost_figure, delay_figure, records_figure
 from noisevar.systems.latency import LatencyResult
 
@@ -91,7 +97,7 @@ def delay_results(s: LatencySettings) -> None:
         {"compensation": "per-segment coarse", "residual delay RMS (s)": res.residual_coarse_s},
         {"compensation": "filtered", "residual delay RMS (s)": res.residual_filtered_s},
     ]
-    st.dataframe(
+    show_table(
         rows,
         hide_index=True,
         column_config={"residual delay RMS (s)": st.column_config.NumberColumn(format="%.4f")},

@@ -11,7 +11,7 @@ import streamlit as st
 from dashboard import cache
 from dashboard.sections.regimes import regime_choice
 from dashboard.state import LoadedSignal, initial, signal_units
-from dashboard.widgets import figure_downloads, fmt, guarded, show_figure
+from dashboard.widgets import figure_downloads, fmt, guarded, show_figure, show_table
 from noisevar.errors import NoisevarError
 from noisevar.estimators.answer import WHY_DIFFERENT, record_answer
 from noisevar.estimators.regimes import DEFAULT_REGIMES, still_used, variance_for
@@ -166,7 +166,7 @@ def results(sig: LoadedSignal, s: NoiseModelSettings) -> InertialNoise | None:
     if not (s.data == "rate" and s.kind == "oadev"):
         st.caption("The IEEE-952 terms are fitted to the overlapping ADEV of rate data.")
     elif fit is not None:
-        st.dataframe(
+        show_table(
             terms_table(fit),
             hide_index=True,
             column_config={

@@ -17,7 +17,7 @@ import streamlit as st
 
 from dashboard import workers
 from dashboard.budget import cached
-from dashboard.widgets import fmt, guarded, lazy_expander, show_figure
+from dashboard.widgets import fmt, guarded, lazy_expander, show_figure, show_table
 from noisevar.config import filter_config_json
 from noisevar.estimators.answer import WHY_DIFFERENT
 from noisevar.estimators.regimes import DEFAULT_REGIMES
@@ -173,7 +173,7 @@ def _coloured(z: np.ndarray, rate: float, regimes: str) -> None:
             st.markdown(f"Chosen by {fit.criterion.upper()}: **{fit.model}**")
             for note in fit.notes:
                 st.caption(note)
-            st.dataframe(coloured_rows(fit), hide_index=True)
+            show_table(coloured_rows(fit), hide_index=True)
             show_figure(model_comparison_figure(fit), key=f"{KEY}_colfig")
 
 
@@ -215,7 +215,7 @@ def render_fit(
             help="rw: random walk, cv: constant velocity, ca: constant "
             "acceleration. The best by BIC is preselected.",
         )
-        st.dataframe(tuning_rows(tunings), hide_index=True)
+        show_table(tuning_rows(tunings), hide_index=True)
         t = tunings[model]
         _verdict(t)
         st.markdown(

@@ -11,7 +11,7 @@ import streamlit as st
 
 from dashboard.sections.noise_model import NoiseModelSettings
 from dashboard.state import LoadedSignal, initial
-from dashboard.widgets import figure_downloads, fmt, guarded, show_figure
+from dashboard.widgets import figure_downloads, fmt, guarded, show_figure, show_table
 from noisevar.figures.noise_model import (
     bias_temperature_figure,
     composite_figure,
@@ -103,7 +103,7 @@ def _coefficient_table(model: TemperatureModel) -> pd.DataFrame:
 
 
 def _show_model(model: TemperatureModel) -> None:
-    st.dataframe(_coefficient_table(model), hide_index=True, column_config=_NUMBERS)
+    show_table(_coefficient_table(model), hide_index=True, column_config=_NUMBERS)
     st.caption(
         f"bias(T) = a + b (T - {model.reference_temperature:g} °C) + ... of order {model.order} "
         f"(chosen by BIC among {len(model.candidates)} models) "
@@ -121,7 +121,7 @@ def _show_model(model: TemperatureModel) -> None:
     figure_downloads(fig, "bias_temperature", key="nm_temp_fig_dl")
     show_figure(warmup_figure(model), key="nm_warm_fig")
     n = model.noise
-    st.dataframe(
+    show_table(
         pd.DataFrame(
             {
                 "T (°C)": n.centres,
@@ -174,7 +174,7 @@ def datasheet_panel(fit: InertialNoise | None, s: NoiseModelSettings) -> None:
         sheet = datasheet_terms((n_value, n_unit), (b_value, b_unit), data_unit, floor=floor)
         fig = datasheet_figure(fit.allan, sheet, fit=fit, unit=data_unit)
         show_figure(fig, key="nm_ds_fig")
-        st.dataframe(
+        show_table(
             pd.DataFrame(
                 {
                     "term": ["N", "B"],
@@ -212,7 +212,7 @@ def composite_panel(sig: LoadedSignal, s: NoiseModelSettings) -> None:
         fig = composite_figure(model, unit=s.unit)
         show_figure(fig, key="nm_gmwm_fig")
         figure_downloads(fig, "composite_model", key="nm_gmwm_fig_dl")
-        st.dataframe(pd.DataFrame([r.to_dict() for r in model.table]), hide_index=True)
+        show_table(pd.DataFrame([r.to_dict() for r in model.table]), hide_index=True)
         st.caption(f"Models compared; the chosen one ({model.model}) has the lowest criterion.")
         for note in model.notes:
             st.caption(note)
@@ -227,7 +227,7 @@ def composite_panel(sig: LoadedSignal, s: NoiseModelSettings) -> None:
             }
             for p in model.parameters
         ]
-        st.dataframe(pd.DataFrame(rows), hide_index=True, column_config=_NUMBERS)
+        show_table(pd.DataFrame(rows), hide_index=True, column_config=_NUMBERS)
         fb = model.filter_bias
         st.caption(
             f"{model.ci:.1%} intervals. The bias as one random walk over {fb.horizon:g} s (the K "

@@ -14,7 +14,7 @@ import streamlit as st
 from numpy.typing import ArrayLike
 
 from dashboard.sections.regimes import still_levels_table
-from dashboard.widgets import guarded, lazy_expander, show_figure
+from dashboard.widgets import guarded, lazy_expander, show_figure, show_table
 from noisevar.diagnostics.panel import (
     NoisePanelData,
     assumption_rows,
@@ -140,4 +140,4 @@ def render_assumptions(estimates: Iterable[Any]) -> None:
     frame = pd.DataFrame(rows).rename(
         columns={"method": "Method", "holds": "Holds", "fails": "Fails", "meaning": "Meaning"}
     )
-    st.dataframe(frame, hide_index=True, width="stretch")
+    show_table(frame, hide_index=True, width="stretch")

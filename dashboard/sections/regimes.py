@@ -14,6 +14,7 @@ import pandas as pd
 import streamlit as st
 
 from dashboard.state import signal_units
+from dashboard.widgets import show_table
 from noisevar.estimators.answer import (
     STILL_LEVELS_NOTE,
     WHY_DIFFERENT,
@@ -121,7 +122,7 @@ def still_levels_table(ans: RecordAnswer, name: str | None = None, unit: str | N
         return
     said = f"**{name}**: " if name else ""
     st.caption(f"{said}{STILL_LEVELS_NOTE}")
-    st.dataframe(pd.DataFrame(rows), hide_index=True, width="stretch")
+    show_table(pd.DataFrame(rows), hide_index=True, width="stretch")
 
 
 def still_choice(key: str, offered: bool, help: str) -> str:

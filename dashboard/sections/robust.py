@@ -13,6 +13,7 @@ from dashboard.widgets import (
     figure_view,
     guarded,
     show_figure,
+    show_table,
     table_and_figure_downloads,
 )
 from noisevar.figures.robust import bearing_figure, error_figure, magvar_figure, track_figure
@@ -114,7 +115,7 @@ def robust_results(s: RobustSettings) -> None:
         }
         for name in res.filters
     ]
-    st.dataframe(blank_missing(rows), hide_index=True)
+    show_table(blank_missing(rows), hide_index=True)
     view = figure_view(VIEWS, "ro_view", VIEWS[0])
     fig = None
     with guarded():

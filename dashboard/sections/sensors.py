@@ -17,6 +17,7 @@ from dashboard.widgets import (
     guarded,
     how_it_works,
     show_figure,
+    show_table,
     table_and_figure_downloads,
 )
 from noisevar import RedundantEstimate
@@ -298,7 +299,7 @@ def _sensor_table(
         "95 % high": [float(v) for v in ci[:, 1]],
         "single-signal estimate (auto)": [e.variance if e else float("nan") for e in single],
     }
-    st.dataframe(
+    show_table(
         table,
         hide_index=True,
         column_config={k: st.column_config.NumberColumn(format="%.4g") for k in list(table)[1:]},
@@ -323,4 +324,4 @@ def _pair_table(res: RedundantEstimate, cols: list[str], delays: list[Delay], un
                     else f"n/a ({d[2]})"
                 )
             pair_rows.append(row)
-    st.dataframe(blank_missing(pair_rows), hide_index=True)
+    show_table(blank_missing(pair_rows), hide_index=True)

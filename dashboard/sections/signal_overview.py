@@ -18,7 +18,7 @@ from dashboard.state import (
     time_of,
     truth_of,
 )
-from dashboard.widgets import figure_downloads, fmt, guarded, lazy_expander, show_figure
+from dashboard.widgets import figure_downloads, fmt, guarded, lazy_expander, show_figure, show_table
 from noisevar.estimators.answer import declared_note, record_answer
 from noisevar.figures.estimator import signal_figure
 from noisevar.io import signal_summary
@@ -140,4 +140,4 @@ def preview(sig: LoadedSignal) -> None:
     # Lazy: a closed expander's table is still drawn (and loads the browser's grid), issue 29
     with lazy_expander("First rows of the table", ROWS_KEY) as is_open:
         if is_open:
-            st.dataframe({k: v[:20] for k, v in sig.table.columns.items()}, hide_index=False)
+            show_table({k: v[:20] for k, v in sig.table.columns.items()}, hide_index=False)
