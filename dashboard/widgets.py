@@ -522,13 +522,20 @@ def param_input(
 MISSING = "—"
 
 
-def show_table(data: Any, **kwargs: Any) -> None:
-    """``st.dataframe`` with a missing cell drawn as :data:`MISSING`.
+def show_table(data: Any, digits: int = 4, **kwargs: Any) -> None:
+    """``st.dataframe`` with every number at ``digits`` significant digits and a missing
+    cell drawn as :data:`MISSING`.
 
-    Streamlit draws a null cell as a literal "None" whatever a ``Styler``'s ``na_rep``
-    says (seen in Chromium: the channels table's ``still_variance``); its ``placeholder``
-    is the text it draws instead. Every table of the pages is drawn here.
+    Seen in Chromium: Streamlit draws a float at six decimals (a pair's noise 1.22e-5 read
+    "0.00001", 7.1e-6 "0.000007") and a null cell as a literal "None" whatever a ``Styler``'s
+    ``na_rep`` says; its ``placeholder`` is the text it draws instead. Data that is not a
+    ``Styler`` is drawn through :func:`blank_frame` (a ``column_config`` format still wins
+    for its column). Every table of the pages is drawn here.
     """
+    from pandas.io.formats.style import Styler  # (pandas' styler module: loaded when drawn)
+
+    if not isinstance(data, Styler):
+        data = blank_frame(pd.DataFrame(data), digits=digits)
     st.dataframe(data, placeholder=MISSING, **kwargs)
 
 

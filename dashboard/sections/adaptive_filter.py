@@ -259,15 +259,7 @@ def results_view(runs: FilterRuns, is_scenario: bool) -> None:
     """The filter table (RMSE, NIS), the chosen figure and the downloads."""
     results = runs.results
     rows = [filter_summary(r, runs.groups) for r in results]
-    show_table(
-        rows,
-        hide_index=True,
-        column_config={
-            k: st.column_config.NumberColumn(format="%.4g")
-            for k in rows[0]
-            if k.startswith("RMSE") or k == "mean NIS"
-        },
-    )
+    show_table(rows, hide_index=True)
     glossary("NIS", "NEES", "RMSE")
     st.caption(
         "Mean NIS near the number of channels m means the filter's innovations match its "
@@ -363,11 +355,7 @@ def _table1(res1: cache.JsonDict, ask: tuple[int, int]) -> None:
     for m in res1["channels"][chans[0]]["methods"]:
         table.append({"row": m, **{c: res1["channels"][c]["methods"][m]["mean"] for c in chans}})
     st.markdown(f"**Noise variance per channel** ({ask[0]} runs, seed {ask[1]})")
-    show_table(
-        table,
-        hide_index=True,
-        column_config={c: st.column_config.NumberColumn(format="%.4g") for c in chans},
-    )
+    show_table(table, hide_index=True)
     rm = [
         {
             "filter": k,

@@ -25,9 +25,6 @@ from noisevar.noise_model.simulate import simulate_inertial
 from noisevar.units import sensor_columns
 
 _KIND_LABELS = {"oadev": "Overlapping ADEV", "mdev": "Modified ADEV", "hdev": "Overlapping HDEV"}
-_TERM_FORMATS = {"value": "%.4g", "low": "%.4g", "high": "%.4g", "per sample": "%.4g"}
-
-
 @dataclass(frozen=True)
 class NoiseModelSettings:
     """The page's choices (``regimes``: the whole record or its still regimes only)."""
@@ -166,13 +163,7 @@ def results(sig: LoadedSignal, s: NoiseModelSettings) -> InertialNoise | None:
     if not (s.data == "rate" and s.kind == "oadev"):
         st.caption("The IEEE-952 terms are fitted to the overlapping ADEV of rate data.")
     elif fit is not None:
-        show_table(
-            terms_table(fit),
-            hide_index=True,
-            column_config={
-                k: st.column_config.NumberColumn(format=f) for k, f in _TERM_FORMATS.items()
-            },
-        )
+        show_table(terms_table(fit), hide_index=True)
         st.caption(
             f"{fit.ci:.1%} intervals. Continuous-time values; *per sample* is the discrete "
             f"equivalent at {s.rate:g} Hz (docs/algorithms.md §E4)."

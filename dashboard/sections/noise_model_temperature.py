@@ -26,8 +26,6 @@ from noisevar.noise_model.temperature import (
     temperature_model,
 )
 
-_NUMBERS = {k: st.column_config.NumberColumn(format="%.4g") for k in ("value", "low", "high")}
-
 
 @st.cache_data(max_entries=8, show_spinner="Fitting bias(T) and the warm-up...")
 def _temperature_cached(
@@ -103,7 +101,7 @@ def _coefficient_table(model: TemperatureModel) -> pd.DataFrame:
 
 
 def _show_model(model: TemperatureModel) -> None:
-    show_table(_coefficient_table(model), hide_index=True, column_config=_NUMBERS)
+    show_table(_coefficient_table(model), hide_index=True)
     st.caption(
         f"bias(T) = a + b (T - {model.reference_temperature:g} °C) + ... of order {model.order} "
         f"(chosen by BIC among {len(model.candidates)} models) "
@@ -227,7 +225,7 @@ def composite_panel(sig: LoadedSignal, s: NoiseModelSettings) -> None:
             }
             for p in model.parameters
         ]
-        show_table(pd.DataFrame(rows), hide_index=True, column_config=_NUMBERS)
+        show_table(pd.DataFrame(rows), hide_index=True)
         fb = model.filter_bias
         st.caption(
             f"{model.ci:.1%} intervals. The bias as one random walk over {fb.horizon:g} s (the K "

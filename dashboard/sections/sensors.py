@@ -22,7 +22,10 @@ from dashboard.widgets import (
 )
 from noisevar import RedundantEstimate
 from noisevar.estimators.answer import WHY_DIFFERENT
-from noisevar.estimators.redundant import same_quantity_notes
+from noisevar.estimators.redundant import (
+    same_quantity_columns,
+    same_quantity_notes,
+)
 from noisevar.estimators.regimes import DEFAULT_REGIMES, estimate_for
 from noisevar.estimators.results import VarianceEstimate
 from noisevar.figures.estimator import redundant_figure
@@ -73,8 +76,9 @@ def sensor_picker(sig: LoadedSignal) -> tuple[list[str], bool]:
     data_cols = sig.table.data_columns
     # a logger's index, year and day-of-year columns are constant: left to pick by hand
     usable = sig.table.signals or data_cols
-    default = [c for c in usable if np.all(np.isfinite(sig.table.columns[c]))][:3]
-    # a new table: start from its first (up to three) usable columns
+    finite = {c: sig.table.columns[c] for c in usable if np.all(np.isfinite(sig.table.columns[c]))}
+    # a new table: start from the columns that look like one quantity (not a sensor's axes)
+    default = same_quantity_columns(finite, dict(sig.table.units))
     follow_table("ts_table", "ts_cols", sig.table_digest, default)
     keep_valid("ts_cols", lambda v: all(c in data_cols for c in v), default)
     cols = st.multiselect(
@@ -88,7 +92,13 @@ def sensor_picker(sig: LoadedSignal) -> tuple[list[str], bool]:
         **initial("ts_cols", default, "default"),
     )
     if len(cols) < 2:
-        st.info("Pick at least two sensors.")
+        st.info(
+            "Pick at least two sensors of one quantity. No two columns of this table follow "
+            "the same signal (their difference varies more than their noise allows), so none "
+            "is picked for you: the x, y and z axes of one sensor are not two sensors."
+            if not default
+            else "Pick at least two sensors."
+        )
         st.stop()
     align = st.toggle(
         "Estimate and remove the delay between the two sensors first",
@@ -299,11 +309,7 @@ def _sensor_table(
         "95 % high": [float(v) for v in ci[:, 1]],
         "single-signal estimate (auto)": [e.variance if e else float("nan") for e in single],
     }
-    show_table(
-        table,
-        hide_index=True,
-        column_config={k: st.column_config.NumberColumn(format="%.4g") for k in list(table)[1:]},
-    )
+    show_table(table, hide_index=True)
     st.caption(
         "The single-signal column estimates each sensor alone (method auto): a cross-check "
         "that needs no second sensor."

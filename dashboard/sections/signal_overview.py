@@ -140,4 +140,5 @@ def preview(sig: LoadedSignal) -> None:
     # Lazy: a closed expander's table is still drawn (and loads the browser's grid), issue 29
     with lazy_expander("First rows of the table", ROWS_KEY) as is_open:
         if is_open:
-            show_table({k: v[:20] for k, v in sig.table.columns.items()}, hide_index=False)
+            first = {k: v[:20] for k, v in sig.table.columns.items()}
+            show_table(first, digits=12, hide_index=False)  # the raw values, whole

@@ -22,7 +22,11 @@ from noisevar.estimators.auto import auto_estimate, residual_sequence
 from noisevar.estimators.difference import HKT_SEQUENCES, sequence_efficiency
 from noisevar.estimators.params import PARAMS
 from noisevar.estimators.pipeline import InMemory, estimate_record, run_record
-from noisevar.estimators.redundant import estimate_redundant, redundant_estimate
+from noisevar.estimators.redundant import (
+    estimate_redundant,
+    redundant_estimate,
+    same_quantity_columns,
+)
 from noisevar.estimators.results import VarianceEstimate, VarianceEstimates
 from noisevar.estimators.somd import somd_estimate, somd_variance_records, somd_variance_windows
 from noisevar.estimators.spec import MethodSpec
@@ -44,6 +48,7 @@ __all__ = [
     "estimate_redundant",
     "methods",
     "redundant_estimate",
+    "same_quantity_columns",
     "register",
     "residual_sequence",
     "scale_back",

@@ -208,3 +208,71 @@ def same_quantity_notes(
             if np.isfinite(q) and (q > MISMATCH_RATIO or q < 1.0 / MISMATCH_RATIO):
                 notes.append(f"{name}'s redundant R is {q:.3g}x its single-signal R")
     return notes
+
+
+#: Rows read from each column to tell which measure one quantity (its first ones).
+SAME_QUANTITY_ROWS = 20_000
+#: A column follows a signal when its variance is at least this many times its noise's.
+SIGNAL_SHARE = 2.0
+
+
+def same_quantity_columns(
+    columns: dict[str, NDArray], units: dict[str, str] | None = None, most: int = 3
+) -> list[str]:
+    """Up to ``most`` columns that look like sensors of one quantity, else none.
+
+    Two sensors of one quantity differ by their noises: a pair passes when the spread of
+    ``z_i - z_j`` and its mean level are within :func:`same_quantity_notes`' bounds
+    (:data:`MISMATCH_RATIO` times ``R_i + R_j``, and its square root), each R read as
+    ``var(Δ²z) / 6`` on the first :data:`SAME_QUANTITY_ROWS` rows, and each column follows
+    a signal (its variance at least :data:`SIGNAL_SHARE` times its noise: columns of noise
+    alone, a still IMU's axes or a logger's sample interval, pass any such test). The x, y
+    and z axes of one moving sensor, or a signal beside its integral, fail. The pair whose
+    difference is nearest its noise is taken, then each column that passes with every one taken; a
+    column of another declared unit never joins.
+
+    Parameters
+    ----------
+    columns : dict of str to ndarray
+        Candidate columns (finite, of one length), in the table's order.
+    units : dict of str to str, optional
+        Each column's declared unit, where it has one.
+    most : int
+        At most this many columns.
+
+    Returns
+    -------
+    list of str
+        In the table's order; empty when no pair passes (the page then asks for them).
+    """
+    names = list(columns)
+    if len(names) < 2:
+        return []
+    z = np.array([np.asarray(columns[c], dtype=float)[:SAME_QUANTITY_ROWS] for c in names])
+    noise = np.var(np.diff(z, 2, axis=1), axis=1) / 6.0 if z.shape[1] > 3 else np.zeros(len(z))
+    signal = np.var(z, axis=1) >= SIGNAL_SHARE * noise  # a signal to follow, not noise alone
+    units = units or {}
+    m = len(names)
+    ratio = np.full((m, m), np.inf)
+    for i in range(m):
+        for j in range(i + 1, m):
+            a, b = units.get(names[i]), units.get(names[j])
+            both = noise[i] + noise[j]
+            if (a and b and a != b) or not both > 0 or not (signal[i] and signal[j]):
+                continue
+            d = z[i] - z[j]
+            spread, level = float(np.var(d)) / both, abs(float(np.mean(d))) / np.sqrt(both)
+            if spread <= MISMATCH_RATIO and level <= MISMATCH_RATIO:
+                ratio[i, j] = ratio[j, i] = spread
+    i, j = np.unravel_index(int(np.argmin(ratio)), ratio.shape)
+    if not np.isfinite(ratio[i, j]):
+        return []
+    chosen = [int(i), int(j)]
+    while len(chosen) < most:
+        worst = ratio[:, chosen].max(axis=1)
+        worst[chosen] = np.inf
+        k = int(np.argmin(worst))
+        if not np.isfinite(worst[k]):
+            break
+        chosen.append(k)
+    return [names[k] for k in sorted(chosen)]

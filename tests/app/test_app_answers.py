@@ -67,6 +67,10 @@ def test_the_same_answer_on_compare_noise_model_and_two_sensors() -> None:
 
 def test_two_sensors_flags_three_axes_as_not_one_quantity() -> None:
     at = _open(_imu(), "app_pages/Two_sensors.py")
+    # three axes of one sensor are not picked for the user (their samples do not correlate)
+    assert at.multiselect(key="ts_cols").value == []
+    assert any("No two columns of this table follow the same signal" in b for b in _boxes(at))
+    at.multiselect(key="ts_cols").set_value(["Acc_X", "Acc_Y", "Acc_Z"]).run()
     (flag,) = [w.value for w in at.warning if "may not measure the same quantity" in w.value]
     assert "Acc_X and Acc_Z differ in level" in flag and "varies" in flag
     assert any(WHY_DIFFERENT["redundant"] in c.value for c in at.caption)
@@ -78,6 +82,10 @@ def test_two_sensors_of_one_quantity_are_not_flagged() -> None:
     s = np.cumsum(rng.normal(0, 0.05, N))
     cols = {"a": s + rng.normal(0, 1.0, N), "b": s + rng.normal(0, 2.0, N)}
     at = _open(cols, "app_pages/Two_sensors.py")
+    # a walk under noise twice its size: too little signal to be picked for the user
+    assert at.multiselect(key="ts_cols").value == []
+    at.multiselect(key="ts_cols").set_value(["a", "b"]).run()
+    assert at.metric, "no estimate drawn"
     assert not any("may not measure the same quantity" in w.value for w in at.warning)
 
 

@@ -81,6 +81,7 @@ def test_noise_model_shows_the_other_still_level(record) -> None:
 def test_two_sensors_show_each_sensors_levels() -> None:
     cols = {"a": postures(2), "b": postures(3)}
     at = _open_with(cols, "app_pages/Two_sensors.py")
+    _clean(at.multiselect(key="ts_cols").set_value(["a", "b"]).run())  # noise: picked by hand
     tables = _level_tables(at)
     assert [t.to_dict("records") for t in tables] == [_expected(z) for z in cols.values()]
     assert any(c.value == f"**a**: {STILL_LEVELS_NOTE}" for c in at.caption)
