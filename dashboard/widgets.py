@@ -520,6 +520,9 @@ def param_input(
 
 #: What a missing cell of a table reads (never "None" or "nan").
 MISSING = "—"
+#: Tables of at most this many rows are drawn whole (Streamlit's default height shows
+#: about ten and scrolls the rest: the Compare page's assumptions table hid two methods).
+WHOLE_TABLE_ROWS = 30
 
 
 def show_table(data: Any, digits: int = 4, **kwargs: Any) -> None:
@@ -530,12 +533,16 @@ def show_table(data: Any, digits: int = 4, **kwargs: Any) -> None:
     "0.00001", 7.1e-6 "0.000007") and a null cell as a literal "None" whatever a ``Styler``'s
     ``na_rep`` says; its ``placeholder`` is the text it draws instead. Data that is not a
     ``Styler`` is drawn through :func:`blank_frame` (a ``column_config`` format still wins
-    for its column). Every table of the pages is drawn here.
+    for its column); a table of up to :data:`WHOLE_TABLE_ROWS` rows is drawn whole. Every
+    table of the pages is drawn here.
     """
     from pandas.io.formats.style import Styler  # (pandas' styler module: loaded when drawn)
 
     if not isinstance(data, Styler):
         data = blank_frame(pd.DataFrame(data), digits=digits)
+    rows = len(data.data)
+    if "height" not in kwargs and rows <= WHOLE_TABLE_ROWS:  # no row behind a scroll bar
+        kwargs["height"] = table_height(rows)
     st.dataframe(data, placeholder=MISSING, **kwargs)
 
 

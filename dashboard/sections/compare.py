@@ -27,7 +27,6 @@ from dashboard.widgets import (
     guarded,
     show_figure,
     show_table,
-    table_height,
 )
 from noisevar.estimators.compare import (
     SLOW_METHODS,
@@ -194,11 +193,7 @@ def comparison_table(
     figure key until every row is in (the view is redrawn then).
     """
     frame = comparison_frame(comp, waiting)  # a failed or waiting method's cells read "—"
-    show_table(
-        frame,
-        hide_index=True,
-        height=table_height(len(frame.data)),  # every method visible: no rows behind a scroll bar
-    )
+    show_table(frame, hide_index=True)  # drawn whole: every method visible
     truth = f" True variance {fmt(comp.true_variance)}." if comp.true_variance is not None else ""
     st.caption(
         f"Cramér-Rao floor for {sig.n:,} samples: relative sd "
@@ -436,11 +431,7 @@ def monte_carlo_results(cancelled: bool) -> None:
         "parameters": "params",
     }
     frame = pd.DataFrame({label: [r[k] for r in summary] for label, k in columns.items()})
-    show_table(
-        blank_frame(frame, formats=_MC_FORMATS),
-        hide_index=True,
-        height=table_height(len(summary)),
-    )
+    show_table(blank_frame(frame, formats=_MC_FORMATS), hide_index=True)
     for m, msg in res.first_error.items():
         st.caption(f"{m} failed {res.failures[m]} times; first: {msg}")
     mc_fig = monte_carlo_figure(res, title="Relative error of the variance (the paper's Fig. 2)")
