@@ -50,9 +50,9 @@ def make_verdict(
 ) -> str:
     """One sentence, worst finding first.
 
-    When a few outlying samples hold most of R and the sentence would not quote the core
-    variance, they come first (:func:`outliers_hold`) and the sentence describes the
-    record without them: on a coloured record a start-up value held 99.8 % of R, which the
+    When a few outlying samples hold most of R of a record of one level and the sentence
+    would not quote the core variance, they come first (:func:`outliers_hold`) and the
+    sentence describes the record without them: on a coloured record a start-up value held 99.8 % of R, which the
     sentence called the noise's white part (PX4 airspeed, issue 26).
 
     Parameters
@@ -81,7 +81,9 @@ def make_verdict(
         return short_verdict(diag.n, variance, diag)
     said = _sentence(diag, variance, core, outliers, still, still_gap)
     lead = outliers_hold(variance, core, outliers)
-    if still is not None or not lead or "core variance" in said:
+    # on one level only: where the level varies, motion is the finding (a cloudy day's
+    # transients are its outlying samples, and the core variance is no noise level either)
+    if still is not None or diag.level_varies or not lead or "core variance" in said:
         return said
     assert core is not None  # outliers_hold said so
     return lead + _sentence(diag, core, core, 0.0, None, still_gap, "the core variance")

@@ -58,3 +58,22 @@ def test_px4_airspeed_start_up_value_is_said() -> None:
     # the same figures with it dropped: the core variance is the rest's R's order
     rest = noisevar.estimate(x[1:])
     assert 0.3 < r.core_variance / rest.variance < 3, (r.core_variance, rest.variance)
+
+
+def test_no_lead_where_the_level_varies() -> None:
+    """A day of irradiance with cloud transients (MIDC UAT less 2 samples, real_audit5: no
+    still R): its transients are outlying samples holding 99 % of R, yet motion is the
+    finding, and the core variance no noise level either; the lead was quoted there."""
+    from noisevar.diagnostics.verdict import make_verdict
+
+    rng = np.random.default_rng(1)
+    k = np.arange(1440)
+    day = (k > 50) & (k < 1400)
+    x = np.where(day, 300 * np.sin(np.pi * (k - 50) / 1350), 0.0) + rng.normal(0, 0.03, k.size)
+    cloud = rng.choice(np.flatnonzero(day), 18, replace=False)
+    x[cloud] -= rng.uniform(50, 200, 18)
+    r = noisevar.estimate(x)
+    d = r.diagnostics
+    assert d.level_varies and r.variance > 100 * r.core_variance
+    v = make_verdict(d, r.variance, r.core_variance, r.outlier_fraction, None, "no still R")
+    assert "outlying and hold" not in v, v
