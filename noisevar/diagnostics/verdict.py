@@ -52,8 +52,9 @@ def make_verdict(
 
     When a few outlying samples hold most of R of a record of one level and the sentence
     would not quote the core variance, they come first (:func:`outliers_hold`) and the
-    sentence describes the record without them: on a coloured record a start-up value held 99.8 % of R, which the
-    sentence called the noise's white part (PX4 airspeed, issue 26).
+    sentence describes the record without them: on a coloured record a start-up value
+    held 99.8 % of R, which the sentence called the noise's white part (PX4 airspeed,
+    issue 26).
 
     Parameters
     ----------
