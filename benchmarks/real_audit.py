@@ -158,6 +158,15 @@ def _no_still_said(est, quoted: float) -> list[str]:
             f"(regimes='still' gives R = {use:.4g})"]  # fmt: skip
 
 
+def _outliers_said(est, quiet: float) -> bool:
+    """The verdict leads with outlying samples that hold R, and quotes a core variance
+    within 2x of the quiet level (PX4 airspeed's start-up value: R 382x the quiet level)."""
+    core = est.core_variance
+    return "outlying and hold" in est.diagnostics.verdict and bool(
+        core and core / 2 <= quiet <= 2 * core
+    )
+
+
 def verdict_checks(est) -> list[str]:
     d = est.diagnostics
     if d is None:  # real_audit3: 32 GPS fixes; a short record's verdict says what it lacks
@@ -191,6 +200,7 @@ def verdict_checks(est) -> list[str]:
         and share > 0.5
         and quiet is not None  # none on R's residual: its reason is said (d.quiet.reason)
         and not est.ci95[0] / 2 <= quiet <= 2 * est.ci95[1]
+        and not _outliers_said(est, quiet)
     ):
         bad.append(f"one level (level_varies False), but R is x{est.variance / quiet:.3g} "
                    f"the quiet level of {share:.0%} of the record")  # fmt: skip
