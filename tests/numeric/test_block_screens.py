@@ -1,4 +1,4 @@
-"""The trimming's compiled block screens give the NumPy references' flags and levels, bit for bit."""
+"""The trimming's compiled block screens: the NumPy references' flags and levels, bit for bit."""
 
 from __future__ import annotations
 
