@@ -396,31 +396,20 @@ def _quiet_set(
     return quiet
 
 
-class _Pool:
-    """The dof-weighted mean of a growing set of levels ``x`` (weights ``nu``).
-
-    Running sums of the levels over the largest (no overflow of huge levels); 0 while empty.
-    """
-
-    def __init__(self, x: NDArray, nu: NDArray) -> None:
-        top = float(np.max(x, initial=0.0))
-        self.scale = top if np.isfinite(top) and top > 0 else 1.0
-        self.x, self.nu, self.sx, self.sw = x / self.scale, nu, 0.0, 0.0
-
-    def add(self, b: int) -> None:
-        self.sx += float(self.nu[b] * self.x[b])
-        self.sw += float(self.nu[b])
-
-    def level(self) -> float:
-        return self.sx / self.sw * self.scale if self.sw > 0 else 0.0
-
-
 def _pooled(x: NDArray, nu: NDArray, members: NDArray) -> float:
-    """The dof-weighted level of the ``members`` blocks (:class:`_Pool` over them)."""
-    pool = _Pool(x, nu)
-    for b in np.flatnonzero(members):
-        pool.add(int(b))
-    return pool.level()
+    """The dof-weighted level of the ``members`` blocks; 0 when there is none.
+
+    Running sums of the levels over the largest (no overflow of huge levels), added one
+    block after another in block order (a running sum from 0: the additions a loop over
+    the blocks makes, at once).
+    """
+    top = float(np.max(x, initial=0.0))
+    scale = top if np.isfinite(top) and top > 0 else 1.0
+    idx = np.flatnonzero(members)
+    w = np.asarray(nu, dtype=float)[idx]
+    sx = float(np.cumsum(np.r_[0.0, w * (x / scale)[idx]])[-1])
+    sw = float(np.cumsum(np.r_[0.0, w])[-1])
+    return sx / sw * scale if sw > 0 else 0.0
 
 
 def on_both_grids(
