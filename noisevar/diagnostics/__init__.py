@@ -377,16 +377,39 @@ def _still_whiteness(
     """
     if all(r.still for r in profile.regimes):
         return None
-    slots = _residual_slots(plan, sums.white.joined_slots())
-    block_of = np.where(slots >= 0, slots // plan.profile.size, -1)
     quiet_ids = np.asarray(blocks)[profile.quiet]
-    inside = keep & np.isin(block_of, quiet_ids)
+    inside = keep & _in_blocks(plan, sums.white.joined_runs(), quiet_ids)
     if np.count_nonzero(inside) < STILL_WHITE_MIN:
         return None
     try:
         return whiteness_test(e, d, keep=inside)
     except NoisevarError:
         return None
+
+
+def _in_blocks(plan: DiagPlan, runs: list[tuple[int, int]], ids: NDArray) -> NDArray:
+    """Whether each position of the joined whiteness windows lies in a profile block ``ids``.
+
+    ``runs``: :meth:`~noisevar.diagnostics.plan.Windows.joined_runs`. The blocks of
+    :func:`_residual_slots` (each position's residual slot over the block size), read run by
+    run: a run's slots follow one by one, and its residual slots too between the segments'
+    starts (integers: the same positions, no array of slots).
+    """
+    out = np.zeros(sum(size for _, size in runs), dtype=bool)
+    firsts = np.array([s for s in plan.slot0 if s is not None], dtype=int)
+    if firsts.size == 0 or ids.size == 0:
+        return out
+    starts = firsts + WHITE_LAGS * np.arange(firsts.size)
+    wanted, size, at = {int(b) for b in ids}, plan.profile.size, 0
+    for lo, n in runs:
+        cuts = [lo, *(int(s) for s in starts if lo < s < lo + n), lo + n] if lo >= 0 else []
+        for p, q in zip(cuts, cuts[1:], strict=False):  # one segment's rank each
+            r0 = p - WHITE_LAGS * max(int(np.searchsorted(starts, p, side="right")) - 1, 0)
+            for b in wanted.intersection(range(r0 // size, (r0 + q - p - 1) // size + 1)):
+                a, z = max(b * size, r0), min((b + 1) * size, r0 + q - p)
+                out[at + p - lo + a - r0 : at + p - lo + z - r0] = True
+        at += n
+    return out
 
 
 def _residual_slots(plan: DiagPlan, white: NDArray) -> NDArray:

@@ -396,31 +396,20 @@ def _quiet_set(
     return quiet
 
 
-class _Pool:
-    """The dof-weighted mean of a growing set of levels ``x`` (weights ``nu``).
-
-    Running sums of the levels over the largest (no overflow of huge levels); 0 while empty.
-    """
-
-    def __init__(self, x: NDArray, nu: NDArray) -> None:
-        top = float(np.max(x, initial=0.0))
-        self.scale = top if np.isfinite(top) and top > 0 else 1.0
-        self.x, self.nu, self.sx, self.sw = x / self.scale, nu, 0.0, 0.0
-
-    def add(self, b: int) -> None:
-        self.sx += float(self.nu[b] * self.x[b])
-        self.sw += float(self.nu[b])
-
-    def level(self) -> float:
-        return self.sx / self.sw * self.scale if self.sw > 0 else 0.0
-
-
 def _pooled(x: NDArray, nu: NDArray, members: NDArray) -> float:
-    """The dof-weighted level of the ``members`` blocks (:class:`_Pool` over them)."""
-    pool = _Pool(x, nu)
-    for b in np.flatnonzero(members):
-        pool.add(int(b))
-    return pool.level()
+    """The dof-weighted level of the ``members`` blocks; 0 when there is none.
+
+    Running sums of the levels over the largest (no overflow of huge levels), added one
+    block after another in block order (a running sum from 0: the additions a loop over
+    the blocks makes, at once).
+    """
+    top = float(np.max(x, initial=0.0))
+    scale = top if np.isfinite(top) and top > 0 else 1.0
+    idx = np.flatnonzero(members)
+    w = np.asarray(nu, dtype=float)[idx]
+    sx = float(np.cumsum(np.r_[0.0, w * (x / scale)[idx]])[-1])
+    sw = float(np.cumsum(np.r_[0.0, w])[-1])
+    return sx / sw * scale if sw > 0 else 0.0
 
 
 def on_both_grids(
@@ -449,7 +438,7 @@ def on_both_grids(
     (docs/algorithms.md §E1 Regimes). Blocks laid from the start and from the end are
     the two grids a reversal swaps, so the intersection is the same stretch either way.
     """
-    return _runs(_grids_holding(forward, backward, n) == 2)
+    return _holding_runs(forward, backward, n, 2)
 
 
 def on_either_grid(
@@ -461,27 +450,35 @@ def on_either_grid(
     whole where the other may cut them short (a still regime's extent moves by a block
     with the grid's phase): the union is the same stretch either way.
     """
-    return _runs(_grids_holding(forward, backward, n) >= 1)
+    return _holding_runs(forward, backward, n, 1)
 
 
-def _grids_holding(
-    forward: list[tuple[int, int]], backward: list[tuple[int, int]], n: int
-) -> NDArray:
-    """How many of the two grids hold each sample (``backward`` in reversed indices)."""
-    mine = np.zeros(n + 1, dtype=np.int8)
-    for a, b in forward:
-        mine[a] += 1
-        mine[b] -= 1
-    for a, b in backward:
-        mine[n - b] += 1
-        mine[n - a] -= 1
-    return np.cumsum(mine[:n])
+def _holding_runs(
+    forward: list[tuple[int, int]], backward: list[tuple[int, int]], n: int, least: int
+) -> list[tuple[int, int]]:
+    """The runs of samples ``0 .. n`` that at least ``least`` of the ranges hold, in order.
 
-
-def _runs(mask: NDArray) -> list[tuple[int, int]]:
-    """The runs of True in ``mask`` as ``(start, stop)`` ranges."""
-    edges = np.flatnonzero(np.diff(np.r_[0, mask.view(np.int8), 0]))
-    return [(int(a), int(b)) for a, b in zip(edges[::2], edges[1::2], strict=True)]
+    ``backward`` in reversed indices. Each range adds 1 from its start and takes it off at
+    its stop; the count is constant between two of these ends, so the runs are read off
+    the ends alone (no array the record's size).
+    """
+    delta: dict[int, int] = {}
+    for a, b in [*forward, *((n - b, n - a) for a, b in backward)]:
+        delta[a] = delta.get(a, 0) + 1
+        delta[b] = delta.get(b, 0) - 1
+    out: list[tuple[int, int]] = []
+    count, start = 0, None
+    for at in sorted(k for k in delta if k < n):
+        count += delta[at]
+        if count >= least and start is None:
+            start = at
+        elif count < least and start is not None:
+            if at > start:
+                out.append((start, at))
+            start = None
+    if start is not None and start < n:
+        out.append((start, n))
+    return out
 
 
 def regimes_on_both_grids(

@@ -166,14 +166,15 @@ def _pelt(cost: _Cost, m: int, pen: float) -> list[int]:
     """``ruptures``' PELT with :class:`_Cost` (imported here: it brings ``scipy.stats``).
 
     The cost of every stretch of blocks is computed at once (at most ``PROFILE_BLOCKS``
-    blocks: a small table; the same numbers as one call per stretch) and looked up.
+    blocks: a small table; the same numbers as one call per stretch) and looked up, one
+    Python float per stretch PELT asks for (it prunes most of them: no list of them all).
     """
     import ruptures
 
     a, b = np.triu_indices(m + 1, k=1)
     table = np.zeros((m + 1, m + 1))
     table[a, b] = cost(a, b)
-    rows = table.tolist()
+    item = table.item
 
     class LevelCost(ruptures.base.BaseCost):
         model = "noise-level"
@@ -184,7 +185,7 @@ def _pelt(cost: _Cost, m: int, pen: float) -> list[int]:
             return self
 
         def error(self, start: int, end: int) -> float:
-            return rows[start][end]
+            return item(start, end)
 
     algo = ruptures.Pelt(custom_cost=LevelCost(), min_size=1, jump=1)
     return algo.fit(np.zeros((m, 1))).predict(pen=pen)[:-1]

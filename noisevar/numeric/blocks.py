@@ -31,6 +31,19 @@ def block_maxima(x: NDArray, block: int, nb: int) -> NDArray:
     return out
 
 
+def abs_block_maxima(x: NDArray, block: int, nb: int, off: int = 0, back: bool = False) -> NDArray:
+    """:func:`block_maxima` of ``|x|`` over ``x[off:]`` (``back``: over ``x[::-1][off:]``).
+
+    The same numbers (a maximum is one of the values); compiled when numba is installed,
+    without the ``|x|`` copy.
+    """
+    if _blocks_numba is None:
+        a = np.abs(x)
+        return block_maxima((a[::-1] if back else a)[off:], block, nb)
+    bits = np.ascontiguousarray(x, dtype=float).view(np.int64)
+    return _blocks_numba.abs_block_maxima(bits, block, nb, off, back)
+
+
 def block_square_sums(x: NDArray, block: int, nb: int) -> NDArray:
     """Sums of ``x²`` over the blocks of :func:`block_sums`, without a squared copy of ``x``."""
     head = x[: nb * block].reshape(nb, block)
@@ -49,6 +62,39 @@ def block_medians(x: NDArray, block: int, nb: int, stride: int) -> NDArray:
     y = np.sort(x[: nb * block].reshape(nb, block)[:, ::stride], axis=1)
     k = y.shape[1]
     return y[:, k // 2] if k % 2 else 0.5 * (y[:, k // 2 - 1] + y[:, k // 2])
+
+
+def medians_needed(
+    x: NDArray, block: int, nb: int, scale: float, off: int = 0, back: bool = False
+) -> NDArray | None:
+    """Which of the ``nb`` blocks' medians a value may exceed ``scale`` times (None: no numba).
+
+    Parameters
+    ----------
+    x : ndarray, shape (m,)
+        Values ``>= 0`` (others only make blocks needed).
+    block, nb : int
+        Block ``b`` holds positions ``off + b block`` to ``off + (b + 1) block`` (``m - 1 - p``
+        for position ``p`` when ``back``: the grid of the reversed values); ``block <= m``.
+    scale : float
+        Positive.
+
+    Returns
+    -------
+    ndarray of bool, shape (nb,), or None
+        False where no value of the block, nor of the positions before the first block or
+        after the last (they take the first's and the last's level), exceeds ``scale``
+        times the block's median or any level above it: that median need not be taken.
+
+    Notes
+    -----
+    Compiled (:func:`noisevar.numeric._blocks_numba.medians_needed`): the largest value and
+    one count per block, two passes the processor vectorises, against a sort of the block.
+    """
+    if _blocks_numba is None:
+        return None
+    bits = np.ascontiguousarray(x, dtype=float).view(np.int64)
+    return _blocks_numba.medians_needed(bits, block, nb, off, back, float(scale))
 
 
 def row_medians(x: NDArray) -> NDArray:

@@ -345,9 +345,7 @@ def lone_steps(
     if not ok.any():
         return out
     a, b = start[ok], end[ok]
-    t = np.arange(m, dtype=float)
-    x = np.c_[np.ones(m), t - t.mean()]
-    resid = np.eye(m) - x @ np.linalg.pinv(x)  # residual maker of a line over m samples
+    resid = _line_residuals(m)
     own = np.arange(m)  # each residual read from its own sample (a held side: exactly 0)
     rss = np.sum(centred_rows(resid, z[a[:, None] - m + own], own) ** 2, axis=1)
     rss += np.sum(centred_rows(resid, z[b[:, None] + 1 + own], own) ** 2, axis=1)
@@ -359,6 +357,16 @@ def lone_steps(
     at = np.repeat(start[ok] - first, length) + np.arange(int(length.sum()))
     out[at] = found[at]
     return out
+
+
+@lru_cache(maxsize=8)
+def _line_residuals(m: int) -> NDArray:
+    """The residual maker of a line fitted over ``m`` samples (read-only: it is shared)."""
+    t = np.arange(m, dtype=float)
+    x = np.c_[np.ones(m), t - t.mean()]
+    resid = np.eye(m) - x @ np.linalg.pinv(x)
+    resid.flags.writeable = False
+    return resid
 
 
 @lru_cache(maxsize=8)

@@ -116,3 +116,14 @@ def test_chosen_above_sums_compiled_equal_the_numpy_path(n, block):
     ref = _above_sums(sq, choice, local, block)
     assert got is not None and ref[1].sum() > 0
     assert np.array_equal(got[0], ref[0]) and np.array_equal(got[1], ref[1])
+
+
+def test_lone_steps_share_one_residual_maker_per_side_length():
+    """The line's residual maker is made once per length and cannot be changed by a caller."""
+    from noisevar.numeric.steps import _line_residuals
+
+    r = _line_residuals(11)
+    assert r is _line_residuals(11) and not r.flags.writeable
+    t = np.arange(11.0)
+    np.testing.assert_allclose(r @ (2.0 - 3.0 * t), 0.0, atol=1e-12)  # a line: no residual
+    np.testing.assert_allclose(r @ r, r, atol=1e-12)  # a projection

@@ -16,11 +16,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.numeric.blocks import (
+    abs_block_maxima,
     block_counts,
-    block_maxima,
     block_medians,
     flagged_per_block,
     kept_block_sums,
+    medians_needed,
 )
 from noisevar.numeric.fir import ROUNDING_ULPS
 from noisevar.numeric.steps import above_on_two_grids, above_on_two_grids_at
@@ -65,10 +66,9 @@ def rounding_floors(z: NDArray, g: Grids) -> tuple[NDArray, NDArray]:
     against a level of 0 (a held stretch) the rounding that an offset, a scale or a trend
     leaves in a residual was above or not by chance, and R moved (issue 26).
     """
-    a = np.abs(z)
     unit = ROUNDING_ULPS * np.finfo(float).eps
-    fwd = block_maxima(a, g.block, g.nb)
-    bwd = block_maxima(g.back(a), g.block, g.nbb)
+    fwd = abs_block_maxima(z, g.block, g.nb)
+    bwd = abs_block_maxima(z, g.block, g.nbb, g.q, back=True)
     return (unit * fwd) ** 2, (unit * bwd) ** 2
 
 
@@ -83,6 +83,38 @@ def medians(sq: NDArray, g: Grids) -> tuple[NDArray, NDArray]:
     """
     back = block_medians(g.back(sq), g.block, g.nbb, 1)
     return block_medians(sq, g.block, g.nb, 1), back
+
+
+def above_medians(
+    sq: NDArray, g: Grids, scale: float, floors: tuple[NDArray, NDArray] | None = None
+) -> NDArray:
+    """``sq`` above ``scale`` times its block's median (at least its floor) on both grids.
+
+    :func:`above_own` with the levels ``max(median, floor) scale`` of :func:`medians`; a
+    block's median is taken only where a square within its reach may exceed it
+    (:func:`~noisevar.numeric.blocks.medians_needed`): elsewhere no square is above
+    whatever the median, and the level is left infinite. The same flags.
+    """
+    floor_f, floor_b = (None, None) if floors is None else floors
+    need = medians_needed(sq, g.block, g.nb, scale)
+    fwd = _scaled_medians(sq, g.block, g.nb, scale, floor_f, need)
+    need = medians_needed(sq, g.block, g.nbb, scale, g.q, back=True)
+    bwd = _scaled_medians(g.back(sq), g.block, g.nbb, scale, floor_b, need)
+    return above_own(sq, fwd, bwd, g)
+
+
+def _scaled_medians(
+    x: NDArray, block: int, nb: int, scale: float, floor: NDArray | None, need: NDArray | None
+) -> NDArray:
+    """``max(median, floor) scale`` of the blocks ``need`` (None: all), ``inf`` elsewhere."""
+    if need is None:
+        need = np.ones(nb, dtype=bool)
+    out = np.full(nb, np.inf)
+    if need.any():
+        rows = x[: nb * block].reshape(nb, block)[need]  # those blocks' values, in order
+        med = block_medians(rows.reshape(-1), block, rows.shape[0], 1)
+        out[need] = (med if floor is None else np.maximum(med, floor[need])) * scale
+    return out
 
 
 def above_own(x: NDArray, fwd: NDArray, bwd: NDArray, g: Grids) -> NDArray:

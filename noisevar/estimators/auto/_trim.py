@@ -19,10 +19,9 @@ from noisevar.estimators.auto._edges import bridge_edges, detection_squares, lon
 from noisevar.estimators.auto._levels import (
     Above,
     Grids,
-    above_own,
+    above_medians,
     half_levels,
     kept_levels,
-    medians,
     rounding_floors,
 )
 from noisevar.estimators.auto._levels import above_local as _above_local
@@ -149,10 +148,7 @@ def _outlier_mask(
     g = Grids.make(sq.size, block, after)
     scale = kappa**2 / 0.4549364231195724  # the median of χ²₁ is 0.4549
     floors = None if z is None else rounding_floors(z, g)
-    first_f, first_b = medians(sq, g)
-    if floors is not None:
-        first_f, first_b = np.maximum(first_f, floors[0]), np.maximum(first_b, floors[1])
-    first = above_own(sq, first_f * scale, first_b * scale, g)
+    first = above_medians(sq, g, scale, floors)  # the block medians' flags
     idx = None
     if first.any():
         if widen > 0:  # leave the whole neighbourhood of a jump out of the scale
