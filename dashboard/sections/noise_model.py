@@ -13,7 +13,7 @@ from dashboard.sections.regimes import regime_choice
 from dashboard.state import LoadedSignal, initial, signal_units
 from dashboard.widgets import figure_downloads, fmt, guarded, show_figure, show_table
 from noisevar.errors import NoisevarError
-from noisevar.estimators.answer import WHY_DIFFERENT, record_answer
+from noisevar.estimators.answer import REGIME_WARNING, WHY_DIFFERENT, record_answer
 from noisevar.estimators.regimes import DEFAULT_REGIMES, still_used, variance_for
 from noisevar.figures.noise_model import allan_figure
 from noisevar.format import squared
@@ -168,6 +168,8 @@ def results(sig: LoadedSignal, s: NoiseModelSettings) -> InertialNoise | None:
             f"{fit.ci:.1%} intervals. Continuous-time values; *per sample* is the discrete "
             f"equivalent at {s.rate:g} Hz (docs/algorithms.md §E4)."
         )
+        for note in fit.notes:  # what the fit assumes and where the record breaks it
+            (st.warning if REGIME_WARNING in note else st.caption)(note)
     simulated = _simulation(sig, s, fit)
     fig = allan_figure(res, fit=fit, simulated=simulated, unit=s.unit)
     show_figure(fig, key="nm_fig")

@@ -168,3 +168,28 @@ def test_r_is_written_with_the_files_unit_as_on_the_estimator_page():
     r = next(m.value for m in at.metric if m.label == "Noise variance R")
     est = estimate(table.columns["GHI [W/m^2]"])
     assert r == fmt(est.variance, unit=squared("W/m^2"))
+
+
+def test_a_moving_records_terms_say_they_are_not_the_sensors():
+    """The IEEE-952 terms of a record with motion describe the motion too: the fit's regime
+    warning is shown under them (it was in ``InertialNoise.notes`` only: a flight's gyro
+    showed B 0.177 rad/s, interval 0.174-0.180, with no word under the table), and goes with
+    the still regimes ticked."""
+    from dashboard.state import SIGNAL_KEY, make_signal
+    from noisevar.io import load_table
+
+    rng = np.random.default_rng(4)
+    n = 20000
+    z = rng.normal(0, 0.01, n)
+    for c in (4000, 11000, 16000):
+        z[c : c + 1500] += rng.normal(0, 0.2, 1500)  # handling: 20x the noise
+    csv = "gyro [rad/s]\n" + "\n".join(f"{v:.6g}" for v in z) + "\n"
+    table = load_table(csv.encode(), "handled.csv")
+    at = AppTest.from_file(APP, default_timeout=120)
+    at.session_state[SIGNAL_KEY] = make_signal(table, None, 0.01, "upload", None)
+    at.switch_page(PAGE).run()
+    _clean(at)
+    assert any("this fit is of the whole record, motion included" in w.value for w in at.warning)
+    at.checkbox(key="nm_regimes").check().run()
+    _clean(at)
+    assert not any("this fit is of the whole record" in w.value for w in at.warning)
