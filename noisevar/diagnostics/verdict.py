@@ -128,7 +128,6 @@ def _sentence(
     not_white = _not_white(diag, r, quiet, variance, still_gap, still is not None)
     if not_white is not None:
         return not_white
-    prof = diag.level_profile
     if diag.level_varies and under_half_a_step(diag, variance):
         return (
             f"white noise under half a step on a grid of step {_g(diag.lsb)}: its level "
@@ -138,7 +137,7 @@ def _sentence(
     # a still R apart from R (estimators.still_set.has_still_apart): the level varies,
     # though the block medians may not split it into regimes
     if diag.level_varies or still is not None:
-        return _level_changes(prof.quiet_share, r, quiet, said)
+        return _level_changes(still_share(diag), r, quiet, said)
     if diag.glitches and not diag.tails_beyond_glitches:
         return glitch_verdict(diag, r, core)
     if diag.heavy_tailed and under_half_a_step(diag, variance):
@@ -162,6 +161,12 @@ def _sentence(
             f"lsb²/12 = {_g(diag.lsb**2 / 12.0)}, and is a good Kalman R"
         )
     return f"white Gaussian noise: {r} is a good Kalman R"
+
+
+def still_share(diag: NoiseDiagnostics) -> float:
+    """The share of the record the quoted still level was measured on: the quiet blocks',
+    or, with none, the still regimes' a still R was measured on (``diag.quiet.share``)."""
+    return diag.quiet.share if diag.quiet is not None else diag.level_profile.quiet_share
 
 
 def _r(variance: float, label: str = "R") -> str:
@@ -298,7 +303,7 @@ def _not_white(
     if not diag.identifiable:
         # a track that stops: where it stood still, its noise is measured apart (the R to use)
         stood = (
-            f"; its still stretches ({prof.quiet_share:.0%} of it) give {_g(quiet)}: the "
+            f"; its still stretches ({still_share(diag):.0%} of it) give {_g(quiet)}: the "
             f"noise where it stood still, the R to use{said}"
             if still_apart
             else ""
@@ -308,7 +313,8 @@ def _not_white(
             f"measurement noise can be told apart from it, so {r} is not a noise level; "
             f"model the walk as a state (see the noise model){stood}"
         )
-    no_quiet = diag.level_varies and not prof.quiet.any()  # no quiet block: no level to quote
+    # no quiet block, and no still R from the still regimes: no level to quote
+    no_quiet = diag.level_varies and not prof.quiet.any() and not still_apart
     if no_quiet and not under_half_a_step(diag, variance):  # (that is quantisation)
         return (
             "the noise level changes along the record and no stretch of it is quiet: the "
@@ -326,7 +332,7 @@ def _not_white(
     ):
         return (
             f"the record is mostly motion or signal leaking through: the sensor noise measured "
-            f"in its still stretches ({prof.quiet_share:.0%} of it) is "
+            f"in its still stretches ({still_share(diag):.0%} of it) is "
             f"{_g(quiet)} (std {_g(float(np.sqrt(quiet)))}), "
             f"against {_g(variance)} over the whole record{said}"
         )
@@ -335,7 +341,7 @@ def _not_white(
     if diag.motion_explains_colour:
         return (
             f"the noise level changes along the record (motion): {r} is an average over "
-            f"still and moving stretches; the still stretches ({prof.quiet_share:.0%}) give "
+            f"still and moving stretches; the still stretches ({still_share(diag):.0%}) give "
             f"{_g(quiet)}, and their noise is white: the rest is motion leaking through the "
             f"smoother, not coloured noise{indicative(gap)}"
         )
@@ -343,7 +349,7 @@ def _not_white(
         # the R to use is the still R, well below R: the level change comes first, then the
         # still stretches' own colour (a coloured verdict would quote R, an average, as its
         # white part); a still R near R leaves the colour the finding (GPS 1PPS: 0.99x)
-        return _level_changes(prof.quiet_share, r, quiet, said)
+        return _level_changes(still_share(diag), r, quiet, said)
     if not diag.white:
         return _coloured(diag, r, quiet, still_apart and diag.level_varies)
     return None

@@ -151,7 +151,9 @@ def longest_still_stretch(
     # still R, still_quiet.still_estimate)
     stretches = diag.level_profile.still_stretches
     if not any(b - a >= STILL_MIN for a, b in stretches):
-        stretches = stretches + regime_stretches(diag)
+        # the ranges the still R was measured on (both block grids), else this grid's
+        measured = None if est.still.stretches is None else list(est.still.stretches)
+        stretches = stretches + regime_stretches(diag, measured)
     if not stretches:
         raise NoisevarError(
             "regimes='still': the record has no still stretch (its level varies throughout); "

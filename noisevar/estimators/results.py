@@ -387,6 +387,9 @@ class VarianceEstimate:
         The outlying samples the method found, one per spike (record indices): those in
         R (not in the core) and those left out with a jump's neighbourhood; None for
         methods that do not look for them.
+    stretches : tuple of (int, int) or None
+        A still R's sample ranges (record indices, before the samples around jumps are
+        cut out): what ``regimes="still"`` fits take their stretch from; None otherwise.
     """
 
     method: str
@@ -406,6 +409,7 @@ class VarianceEstimate:
     still: VarianceEstimate | None = field(default=None, repr=False)
     kurtosis: float | None = field(default=None, repr=False)
     outliers: NDArray | None = field(default=None, repr=False)
+    stretches: tuple[tuple[int, int], ...] | None = field(default=None, repr=False)
 
     @property
     def std(self) -> float:

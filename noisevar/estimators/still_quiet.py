@@ -77,6 +77,7 @@ def still_estimate(
     if est is None:
         return ranges, None
     est.notes.append(f"the still regimes only: {len(ranges)} stretches, {est.n_total} samples")
+    est.stretches = tuple((int(a), int(b)) for a, b in ranges)  # the fits' stretches too
     return ranges, est
 
 
@@ -185,16 +186,20 @@ def still_regime_ranges(
     return on_either_grid(ranges, _trimmed(back), diag.n)
 
 
-def regime_stretches(diag: NoiseDiagnostics) -> list[tuple[int, int]]:
-    """The still regimes' stretches on the record's grid, for a fit on one of them.
+def regime_stretches(
+    diag: NoiseDiagnostics, ranges: list[tuple[int, int]] | None = None
+) -> list[tuple[int, int]]:
+    """The still regimes' stretches, for a fit on one of them.
 
-    Each still regime less one block at either end (:func:`still_regime_ranges`), cut at the
-    blocks that lost residuals around a level jump (as ``LevelProfile.still_stretches``);
-    pieces of at least :data:`STILL_MIN` samples, in order.
+    Each still regime less one block at either end (:func:`still_regime_ranges`), or
+    ``ranges`` (those a still R was measured on: ``VarianceEstimate.stretches``, which
+    hold the reversed grid's too), cut at the blocks that lost residuals around a level
+    jump (as ``LevelProfile.still_stretches``); pieces of at least :data:`STILL_MIN`
+    samples, in order.
     """
     prof = diag.level_profile
     whole = np.zeros(diag.n, dtype=bool)
-    for a, b in still_regime_ranges(diag):
+    for a, b in still_regime_ranges(diag) if ranges is None else ranges:
         whole[a:b] = True
     if prof.count is not None:
         for a, b, c in zip(prof.start, prof.stop, prof.count, strict=True):
@@ -299,6 +304,8 @@ def quiet_level(
     prof = diag.level_profile
     share = prof.quiet_share
     if still is not None:
+        if not share and still.stretches:  # no quiet block: the still regimes measured
+            share = sum(b - a for a, b in still.stretches) / max(diag.n, 1)
         return QuietLevel(still.variance, *still.ci95, share, "still")
     if diag.quiet is not None:
         return diag.quiet
