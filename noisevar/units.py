@@ -42,6 +42,9 @@ EXAMPLES = ("rad/s", "deg/s", "m/s^2", "g", "mg", "m", "ns", "0.00875 deg/s (cou
 UNKNOWN = NO_UNIT
 #: IMU spellings pint reads otherwise (g: gram), rewritten before parsing.
 _ALIASES = (
+    # UDUNITS' exponents (netCDF/CF files, HDF5 attributes: "W/m2", "m s-1"): a unit's
+    # letters followed by an integer; a number's own exponent (1e-6) is left alone
+    (re.compile(r"(?<![\w.])([A-Za-zµΩ]+)([-+]?\d+)(?![\w.^])"), r"\1^\2"),
     (re.compile(r"(?<![\w.])(?:µ|u)g(?![\w^])"), "(1e-6 * standard_gravity)"),
     (re.compile(r"(?<![\w.])mg(?![\w^])"), "(1e-3 * standard_gravity)"),
     (re.compile(r"(?<![\w.])g(?![\w^])"), "standard_gravity"),
