@@ -240,13 +240,17 @@ def _not_white(
     ``gap``: why there is no still R to use (:func:`indicative`), or None; ``still_apart``:
     there is a still R to use apart from R.
 
-    In the order the evidence decides: no noise to tell apart, no quiet stretch, no
+    In the order the evidence decides: the rounding (noise under half a grid step: its
+    residual follows the signal), no noise to tell apart, no quiet stretch, no
     stretch quieter than R (an indicative quiet level above it), mostly motion, differenced
     data, motion leaking through still stretches that are white, a still R to use (the
     level changes; the still stretches' own colour said), then coloured noise.
     """
     prof = diag.level_profile
     said = still_said(diag, gap)
+    rounding = diag.identifiable and not diag.differenced and not diag.white
+    if rounding and under_half_a_step(diag, variance):
+        return _rounding_first(diag, r, quiet, said if still_apart else None)
     if not diag.identifiable:
         # a track that stops: where it stood still, its noise is measured apart (the R to use)
         stood = (
@@ -299,6 +303,30 @@ def _not_white(
     if not diag.white:
         return _coloured(diag, r, quiet, still_apart and diag.level_varies)
     return None
+
+
+def _rounding_first(diag: NoiseDiagnostics, r: str, quiet: float, said: str | None) -> str:
+    """The verdict of noise under half a grid step that is not one white level.
+
+    The error is then mostly the rounding, which follows the signal's offset within a step
+    (docs/algorithms.md §E3): a slow signal on a coarse grid gives a residual that is
+    neither white nor of one level, and that is no coloured noise and no motion (the
+    systole EDA class of benchmarks/real_audit6.py). ``said``: a still R to use apart from
+    R (its clause), else None.
+    """
+    stood = (
+        f"; its still stretches ({diag.level_profile.quiet_share:.0%}) give {_g(quiet)}, "
+        f"the R to use{said}"
+        if said is not None
+        else ""
+    )
+    level = " nor of one level" if diag.level_varies else ""
+    return (
+        f"noise under half a step on a grid of step {_g(diag.lsb)}: the error is mostly the "
+        "rounding, which follows the signal's offset within a step, so the residual is not "
+        f"white{level} (quantisation, not coloured noise or motion); {r} includes the "
+        f"rounding error lsb²/12 = {_g(diag.lsb**2 / 12.0)}{stood}"
+    )
 
 
 def _coloured(diag: NoiseDiagnostics, r: str, quiet: float, still_near: bool) -> str:
