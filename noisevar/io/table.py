@@ -120,6 +120,7 @@ class LoadedTable:
             and not is_time_column(name)
             and not steps_evenly(finite)
             and not _frame_counter(finite)
+            and not _wrapping_counter(finite)
         )
 
     def time(self) -> NDArray | None:
@@ -509,6 +510,19 @@ def table_from_arrays(
     if len(sizes) != 1:
         raise NoisevarError(f"columns of {name} have different lengths: {sorted(sizes)}")
     return LoadedTable(name, cols, kind, None, sample_period, list(notes or []))
+
+
+def _wrapping_counter(z: NDArray) -> bool:
+    """Whether ``z`` is a sequence counter that wraps (BITalino's 4-bit ``nSeq``: 0..15, 0,
+    1, ...): whole numbers that rise by 1 each step except where they fall back to their
+    least value."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        if z.size < 3 or not np.all(z == np.round(z)):
+            return False
+        steps = np.diff(z)
+        lo, hi = float(z.min()), float(z.max())
+        wrap = steps == lo - hi
+        return bool(hi > lo and wrap.any() and np.all((steps == 1) | wrap))
 
 
 def _frame_counter(z: NDArray) -> bool:

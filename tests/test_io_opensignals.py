@@ -1,0 +1,39 @@
+"""OpenSignals text files (PLUX, BITalino) as the device writes them: the column names of
+their JSON header, the wrapping sequence counter not taken for the signal
+(benchmarks/real_audit6.py: pyhrv's SampleECG.txt read as col0..col6, nSeq first)."""
+
+import json
+
+import numpy as np
+
+from noisevar.cli import main
+from noisevar.io import load_table
+
+
+def _opensignals(path, n: int = 600, seed: int = 6) -> np.ndarray:
+    """A BITalino file: ``#`` header lines, the JSON header, tab-separated rows with a
+    trailing tab; nSeq counts 0..15 and wraps, I1/I2/O1/O2 digital, A2 the ECG in counts."""
+    ecg = np.round(500 + 3 * np.random.default_rng(seed).normal(size=n))
+    cols = ["nSeq", "I1", "I2", "O1", "O2", "A2"]
+    device = {"column": cols, "sampling rate": 1000, "label": ["A2"], "sensor": ["ECG"]}
+    head = {"00:00:00:00:00:00": device}
+    rows = [f"{(i + 1) % 16}\t1\t1\t0\t0\t{int(v)}\t" for i, v in enumerate(ecg)]
+    lines = ["# OpenSignals Text File Format", "# " + json.dumps(head), "# EndOfHeader"]
+    path.write_text("\n".join([*lines, *rows]) + "\n")
+    return ecg
+
+
+def test_opensignals_header_names_the_columns(tmp_path):
+    path = tmp_path / "ecg.txt"
+    ecg = _opensignals(path)
+    table = load_table(path)
+    assert table.data_columns[:6] == ["nSeq", "I1", "I2", "O1", "O2", "A2"]
+    np.testing.assert_array_equal(table.columns["A2"], ecg)
+    assert table.first_signal == "A2"  # not the counter that wraps, not a digital input
+
+
+def test_opensignals_file_estimates_its_ecg_by_default(tmp_path, capsys):
+    path = tmp_path / "ecg.txt"
+    _opensignals(path)
+    assert main(["estimate", str(path), "--format", "json"]) == 0
+    assert json.loads(capsys.readouterr().out)["column"] == "A2"
