@@ -1,4 +1,5 @@
-"""OpenSignals text files (PLUX, BITalino) as the device writes them: the column names of
+"""Files of the sixth real-record audit as users have them. OpenSignals text files (PLUX,
+BITalino) as the device writes them: the column names of
 their JSON header, the wrapping sequence counter not taken for the signal
 (benchmarks/real_audit6.py: pyhrv's SampleECG.txt read as col0..col6, nSeq first)."""
 
@@ -37,3 +38,21 @@ def test_opensignals_file_estimates_its_ecg_by_default(tmp_path, capsys):
     _opensignals(path)
     assert main(["estimate", str(path), "--format", "json"]) == 0
     assert json.loads(capsys.readouterr().out)["column"] == "A2"
+
+
+def test_another_tools_comment_lines_are_named_in_the_refusal(tmp_path, capsys):
+    """SDO/EVE's text files start with ``;`` comment lines (IDL's marker): the refusal blamed
+    thousands separators; it names the marker now, in one line."""
+    path = tmp_path / "eve.txt"
+    prose = [
+        "; DATA_list: 20160610_EVE_L0CS_DIODES_1m.txt",
+        "; Origin: SDO/EVE Science Processing and Operations Center, LASP/CU",
+        "; Units: W/m^2 for irradiance, dark is counts/(0.25s sample), quadrants are unitless",
+        ";END_OF_HEADER",
+        "2016 162 06 10",
+    ]
+    rows = [f"{i:04d}  2.18e-07  1.84e-10  4.98e-04" for i in range(200)]
+    path.write_text("\n".join([*prose, *rows]) + "\n")
+    assert main(["estimate", str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "starts with ';'" in err and "thousands" not in err and "\n" not in err
