@@ -1,7 +1,7 @@
-"""Files of the sixth real-record audit as users have them. OpenSignals text files (PLUX,
-BITalino) as the device writes them: the column names of
-their JSON header, the wrapping sequence counter not taken for the signal
-(benchmarks/real_audit6.py: pyhrv's SampleECG.txt read as col0..col6, nSeq first)."""
+"""Files of the sixth real-record audit (benchmarks/real_audit6.py) as users have them:
+OpenSignals text files (PLUX, BITalino) as the device writes them, their columns named from
+the JSON header and the wrapping sequence counter not taken for the signal (pyhrv's
+SampleECG.txt was read as col0..col6, nSeq first); another tool's comment lines."""
 
 import json
 
