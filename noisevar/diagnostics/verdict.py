@@ -308,11 +308,11 @@ def _not_white(
 def _rounding_first(diag: NoiseDiagnostics, r: str, quiet: float, said: str | None) -> str:
     """The verdict of noise under half a grid step that is not one white level.
 
-    The error is then mostly the rounding, which follows the signal's offset within a step
-    (docs/algorithms.md §E3): a slow signal on a coarse grid gives a residual that is
-    neither white nor of one level, and that is no coloured noise and no motion (the
-    systole EDA class of benchmarks/real_audit6.py). ``said``: a still R to use apart from
-    R (its clause), else None.
+    The rounding error then follows the signal's offset within a step (docs/algorithms.md
+    §E3): a slow signal on a coarse grid gives a residual that is neither white nor of one
+    level whatever the sensor does, so the whiteness and level tests read the rounding (the
+    systole EDA class of benchmarks/real_audit6.py: "coloured ... model the coloured part").
+    ``said``: a still R to use apart from R (its clause), else None.
     """
     stood = (
         f"; its still stretches ({diag.level_profile.quiet_share:.0%}) give {_g(quiet)}, "
@@ -322,10 +322,10 @@ def _rounding_first(diag: NoiseDiagnostics, r: str, quiet: float, said: str | No
     )
     level = " nor of one level" if diag.level_varies else ""
     return (
-        f"noise under half a step on a grid of step {_g(diag.lsb)}: the error is mostly the "
-        "rounding, which follows the signal's offset within a step, so the residual is not "
-        f"white{level} (quantisation, not coloured noise or motion); {r} includes the "
-        f"rounding error lsb²/12 = {_g(diag.lsb**2 / 12.0)}{stood}"
+        f"noise under half a step on a grid of step {_g(diag.lsb)}: the rounding error "
+        "follows the signal's offset within a step, so the residual is not white"
+        f"{level}, and a colour or a motion cannot be told apart from quantisation; {r} "
+        f"includes the rounding error lsb²/12 = {_g(diag.lsb**2 / 12.0)}{stood}"
     )
 
 
