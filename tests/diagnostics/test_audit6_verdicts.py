@@ -28,3 +28,13 @@ def test_noise_under_half_a_step_is_the_rounding_not_colour(sigma: float) -> Non
     assert "coloured part" not in v and "mostly motion" not in v
     assert "lsb²/12 = 0.08333" in v
     assert est.variance <= est.diagnostics.lsb**2 * (0.25 + 1 / 12)  # under half a step
+
+
+def test_uniform_noise_is_not_called_gaussian() -> None:
+    """nolds' quantum random numbers (16-bit, uniform) read "white Gaussian noise"; R is
+    right, the word was not. Gaussian noise keeps it."""
+    rng = np.random.default_rng(6)
+    uniform = noisevar.estimate(rng.uniform(size=1000)).diagnostics.verdict
+    assert uniform.startswith("white noise with tails lighter than Gaussian"), uniform
+    gaussian = noisevar.estimate(rng.normal(size=1000)).diagnostics.verdict
+    assert gaussian.startswith("white Gaussian noise")
