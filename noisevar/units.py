@@ -5,7 +5,7 @@ inertial noise terms:
 
 - a user's unit string (``"deg/s"``, ``"m/s^2"``, ``"g"``, ``"mg"``, ``"0.00875 deg/s"``
   for raw counts with a scale factor, ``"ns"``, ...) parsed by ``pint`` (imported on
-  first use);
+  first use), and UDUNITS' exponents of netCDF files (``"W/m2"``, ``"m s-1"``);
 - values scale by the conversion factor, variances by its square;
 - the labels of the IEEE-952 terms' units (N in ``u/√Hz``, K in ``u/s/√Hz``, ...);
 - white noise of density N seen at rate ``f``: ``σ = N √f``; a bias random walk of
