@@ -13,12 +13,15 @@ from noisevar.io import load_table
 
 def _opensignals(path, n: int = 600, seed: int = 6) -> np.ndarray:
     """A BITalino file: ``#`` header lines, the JSON header, tab-separated rows with a
-    trailing tab; nSeq counts 0..15 and wraps, I1/I2/O1/O2 digital, A2 the ECG in counts."""
+    trailing tab; nSeq counts 0..15 and wraps, I1/I2/O1/O2 digital (O1 switched: pyhrv's
+    file switches it for 262 samples, and it was read by default), A2 the ECG in counts."""
     ecg = np.round(500 + 3 * np.random.default_rng(seed).normal(size=n))
     cols = ["nSeq", "I1", "I2", "O1", "O2", "A2"]
     device = {"column": cols, "sampling rate": 1000, "label": ["A2"], "sensor": ["ECG"]}
     head = {"00:00:00:00:00:00": device}
-    rows = [f"{(i + 1) % 16}\t1\t1\t0\t0\t{int(v)}\t" for i, v in enumerate(ecg)]
+    out = (np.arange(n) // 50) % 2  # O1: a digital output the recording switched
+    cells = zip(out, ecg, strict=True)
+    rows = [f"{(i + 1) % 16}\t1\t1\t{o}\t0\t{int(v)}\t" for i, (o, v) in enumerate(cells)]
     lines = ["# OpenSignals Text File Format", "# " + json.dumps(head), "# EndOfHeader"]
     path.write_text("\n".join([*lines, *rows]) + "\n")
     return ecg
@@ -30,7 +33,7 @@ def test_opensignals_header_names_the_columns(tmp_path):
     table = load_table(path)
     assert table.data_columns[:6] == ["nSeq", "I1", "I2", "O1", "O2", "A2"]
     np.testing.assert_array_equal(table.columns["A2"], ecg)
-    assert table.first_signal == "A2"  # not the counter that wraps, not a digital input
+    assert table.first_signal == "A2"  # not the counter that wraps, nor a digital line
 
 
 def test_opensignals_file_estimates_its_ecg_by_default(tmp_path, capsys):

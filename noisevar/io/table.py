@@ -90,13 +90,15 @@ class LoadedTable:
         """The column read when none is named: the first data column that is a signal.
 
         Not a log's second clock (``rostopic echo -p``'s ``%time`` beside the message's own
-        stamp), a counter (``field.header.seq``: :func:`noisevar._arrays.steps_evenly`) or a
-        constant field (an orientation the log does not fill, a covariance of -1), which
-        come first in ROS messages; each can still be named. A signal in a sensor's unit
-        (an angular rate, an acceleration: :func:`noisevar.units.sensor_of`) comes first
-        (a ROS Imu message's ``angular_velocity.x``, not the orientation an AHRS fills);
-        then one without empty/NaN cells before one with them; with no signal, the first
-        data column without them, else the first; None when there is no data column.
+        stamp), a counter (``field.header.seq``: :func:`noisevar._arrays.steps_evenly`, or
+        one that wraps: BITalino's ``nSeq``), a digital line of 0s and 1s (BITalino's
+        outputs ``O1``, ``O2``) or a constant field (an orientation the log does not fill, a
+        covariance of -1), which come first in ROS messages; each can still be named. A
+        signal in a sensor's unit (an angular rate, an acceleration:
+        :func:`noisevar.units.sensor_of`) comes first (a ROS Imu message's
+        ``angular_velocity.x``, not the orientation an AHRS fills); then one without
+        empty/NaN cells before one with them; with no signal, the first data column without
+        them, else the first; None when there is no data column.
         """
         cols = self.data_columns
         whole = [c for c in cols if np.all(np.isfinite(self.columns[c]))]
@@ -121,6 +123,7 @@ class LoadedTable:
             and not steps_evenly(finite)
             and not _frame_counter(finite)
             and not _wrapping_counter(finite)
+            and not bool(np.all((finite == 0) | (finite == 1)))  # a digital line, a flag
         )
 
     def time(self) -> NDArray | None:
