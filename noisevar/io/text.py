@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 import re
 from dataclasses import dataclass
 from pathlib import Path
@@ -15,6 +14,7 @@ from numpy.typing import NDArray
 
 from noisevar._arrays import EXACT_INT
 from noisevar.errors import NoisevarError
+from noisevar.io.opensignals import opensignals_names
 from noisevar.io.table import (
     _NA_TOKENS,
     DATE_NAMES,
@@ -253,9 +253,9 @@ def table_layout(
         units = _units_row(head, len(first), fmt)
         line = head[1][0] if units is not None else head[0][0]
         return fmt, _unique_names(first), line, units
-    names = _commented_header(text, head[0][0], len(first), fmt) or _opensignals_names(
-        text, len(first)
-    )
+    names = _commented_header(text, head[0][0], len(first), fmt)
+    if names is None and (found := opensignals_names(text, len(first))) is not None:
+        names = _unique_names(found)  # an empty name past the header's: col<i>
     return fmt, names or [f"col{i}" for i in range(len(first))], head[0][0] - 1, None
 
 
@@ -293,34 +293,6 @@ def _commented_header(text: str, data_line: int, width: int, fmt: _Format) -> li
     if not any(is_time_column(c) or header_unit(c) for c in fields):
         return None
     return _unique_names(fields)
-
-
-#: The first line of an OpenSignals text file (PLUX, BITalino); its second holds the header
-#: as JSON (``# {"<device>": {"column": [...], "sampling rate": 1000, ...}}``).
-OPENSIGNALS = "# OpenSignals Text File Format"
-
-
-def _opensignals_names(text: str, width: int) -> list[str] | None:
-    """The column names an OpenSignals file's JSON header gives (its first device's
-    ``column``: ``nSeq, I1, I2, O1, O2, A2``), or None for any other file.
-
-    The device writes a tab after each row's last value: a last field past the header's
-    names keeps its ``col<i>`` name (it is empty, and said to be).
-    """
-    if not text.startswith(OPENSIGNALS):
-        return None
-    line = next((ln for ln in text.splitlines()[1:4] if ln.startswith("# {")), None)
-    try:
-        devices = json.loads(line[2:]) if line else None
-    except ValueError:
-        return None
-    device = next(iter(devices.values()), None) if isinstance(devices, dict) else None
-    cols = device.get("column") if isinstance(device, dict) else None
-    if not isinstance(cols, list) or not 0 < len(cols) <= width:
-        return None
-    if not all(isinstance(c, str) and c.strip() for c in cols):
-        return None
-    return _unique_names([*cols, *[""] * (width - len(cols))])
 
 
 def _holds_dates(text: str, fmt: _Format, header_line: int, idx: int | None) -> bool:
