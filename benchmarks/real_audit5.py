@@ -226,10 +226,11 @@ def page_values(table, col: str, other: str | None) -> dict[str, tuple]:
 
     out = {}
     at = _page(table, col, "app_pages/Signal.py")
-    (ch,) = [d.value for d in at.dataframe if "channel" in d.value.columns]
-    ch = ch.set_index("channel")
-    # the table holds the first signals of the file: another column is picked by hand
-    r = float(ch.loc[col, "variance"]) if col in ch.index else _metric(at, "Noise std (auto)")
+    tabs = [d.value.set_index("channel") for d in at.dataframe if "channel" in d.value.columns]
+    # the table holds the first signals of the file (none for a one-column file, e.g. a
+    # .npy: real_audit6): another column is picked by hand
+    on = tabs and col in tabs[0].index
+    r = float(tabs[0].loc[col, "variance"]) if on else _metric(at, "Noise std (auto)")
     out["Signal"] = (r, _boxes(at), None)
     at = _page(table, col, "app_pages/Estimator.py", est_method="auto", **{EXPORT_KEY: True})
     cfg = [json.loads(c.value) for c in at.code if c.value.lstrip().startswith("{")]
@@ -271,13 +272,14 @@ def _same(a: float | None, b: float) -> bool:
     return a is not None and math.isfinite(a) and abs(a - b) <= 1e-9 * abs(b)
 
 
-def one_answer(name: str, path: Path) -> list[dict]:
-    """Check 2 on the record's file: one row per channel shown on the pages."""
+def one_answer(name: str, path: Path, chosen: list[str] | None = None) -> list[dict]:
+    """Check 2 on the record's file: one row per channel shown on the pages (``chosen``,
+    by default the record's ``PAGES``; real_audit6 gives its own)."""
     table = load_table(path)
     rc, out, err = cli("estimate", path, "--columns", "all", "--format", "csv")
     rows_csv = pd.read_csv(io.StringIO(out)).set_index("channel") if rc == 0 else None
     batch = nv.batch([str(path)], progress=False).set_index("channel")
-    chosen = PAGES.get(name, [])
+    chosen = PAGES.get(name, []) if chosen is None else chosen
     fleet = fleet_page(nv.batch([str(path)], progress=False), path.name, chosen)
     res = []
     for i, col in enumerate(chosen):

@@ -5,7 +5,7 @@ inertial noise terms:
 
 - a user's unit string (``"deg/s"``, ``"m/s^2"``, ``"g"``, ``"mg"``, ``"0.00875 deg/s"``
   for raw counts with a scale factor, ``"ns"``, ...) parsed by ``pint`` (imported on
-  first use);
+  first use), and UDUNITS' exponents of netCDF files (``"W/m2"``, ``"m s-1"``);
 - values scale by the conversion factor, variances by its square;
 - the labels of the IEEE-952 terms' units (N in ``u/√Hz``, K in ``u/s/√Hz``, ...);
 - white noise of density N seen at rate ``f``: ``σ = N √f``; a bias random walk of
@@ -42,6 +42,9 @@ EXAMPLES = ("rad/s", "deg/s", "m/s^2", "g", "mg", "m", "ns", "0.00875 deg/s (cou
 UNKNOWN = NO_UNIT
 #: IMU spellings pint reads otherwise (g: gram), rewritten before parsing.
 _ALIASES = (
+    # UDUNITS' exponents (netCDF/CF files, HDF5 attributes: "W/m2", "m s-1"): a unit's
+    # letters followed by an integer; a number's own exponent (1e-6) is left alone
+    (re.compile(r"(?<![\w.])([A-Za-zµΩ]+)([-+]?\d+)(?![\w.^])"), r"\1^\2"),
     (re.compile(r"(?<![\w.])(?:µ|u)g(?![\w^])"), "(1e-6 * standard_gravity)"),
     (re.compile(r"(?<![\w.])mg(?![\w^])"), "(1e-3 * standard_gravity)"),
     (re.compile(r"(?<![\w.])g(?![\w^])"), "standard_gravity"),

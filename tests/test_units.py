@@ -96,3 +96,19 @@ def test_gauss_converts_to_tesla(source: str, target: str, k: float) -> None:
     'different dimensions': pint's gauss is the Gaussian system's)."""
     assert units.factor(source, target) == pytest.approx(k, rel=TOL)
     assert units.factor("g", "m/s^2") == pytest.approx(9.80665, rel=TOL)  # g stays gravity
+
+
+@pytest.mark.parametrize(
+    ("source", "target", "closed_form"),
+    [
+        ("W/m2", "W/m^2", 1.0),  # GOES XRS netCDF4 (sunpy's test files): real_audit6
+        ("W m-2", "W/m^2", 1.0),  # CF conventions
+        ("m s-2", "m/s^2", 1.0),
+        ("km2", "m^2", 1e6),
+        ("1e-6 m/s2", "m/s^2", 1e-6),  # the number's exponent stays a number's
+    ],
+)
+def test_udunits_exponents(source: str, target: str, closed_form: float) -> None:
+    """A netCDF/HDF5 file's unit in UDUNITS' syntax is read, not dropped to ``u``."""
+    assert units.factor(source, target) == pytest.approx(closed_form, rel=TOL)
+    assert units.declared_unit(source) == source

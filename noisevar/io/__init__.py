@@ -31,6 +31,7 @@ CSV / TSV / whitespace-separated text
     ``seconds``...) gives the sample period (median step); ISO date-times in
     it are converted to seconds from the first. A column named ``datetime`` or ``date``
     is the time column when it holds date-times (``19580329`` there stays data).
+    An OpenSignals file (PLUX, BITalino) takes its column names from its JSON header.
 ``.npy``
     Read with ``np.load(allow_pickle=False)`` only (a pickled object array is
     refused: loading it could run code). A 1-D array is one column

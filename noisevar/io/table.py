@@ -90,13 +90,15 @@ class LoadedTable:
         """The column read when none is named: the first data column that is a signal.
 
         Not a log's second clock (``rostopic echo -p``'s ``%time`` beside the message's own
-        stamp), a counter (``field.header.seq``: :func:`noisevar._arrays.steps_evenly`) or a
-        constant field (an orientation the log does not fill, a covariance of -1), which
-        come first in ROS messages; each can still be named. A signal in a sensor's unit
-        (an angular rate, an acceleration: :func:`noisevar.units.sensor_of`) comes first
-        (a ROS Imu message's ``angular_velocity.x``, not the orientation an AHRS fills);
-        then one without empty/NaN cells before one with them; with no signal, the first
-        data column without them, else the first; None when there is no data column.
+        stamp), a counter (``field.header.seq``: :func:`noisevar._arrays.steps_evenly`, or
+        one that wraps: BITalino's ``nSeq``), a digital line of 0s and 1s (BITalino's
+        outputs ``O1``, ``O2``) or a constant field (an orientation the log does not fill, a
+        covariance of -1), which come first in ROS messages; each can still be named. A
+        signal in a sensor's unit (an angular rate, an acceleration:
+        :func:`noisevar.units.sensor_of`) comes first (a ROS Imu message's
+        ``angular_velocity.x``, not the orientation an AHRS fills); then one without
+        empty/NaN cells before one with them; with no signal, the first data column without
+        them, else the first; None when there is no data column.
         """
         cols = self.data_columns
         whole = [c for c in cols if np.all(np.isfinite(self.columns[c]))]
@@ -120,6 +122,8 @@ class LoadedTable:
             and not is_time_column(name)
             and not steps_evenly(finite)
             and not _frame_counter(finite)
+            and not _wrapping_counter(finite)
+            and not bool(np.all((finite == 0) | (finite == 1)))  # a digital line, a flag
         )
 
     def clock_of(self, column: str | None) -> str | None:
@@ -558,6 +562,19 @@ def table_from_arrays(
     if len(sizes) != 1:
         raise NoisevarError(f"columns of {name} have different lengths: {sorted(sizes)}")
     return LoadedTable(name, cols, kind, None, sample_period, list(notes or []))
+
+
+def _wrapping_counter(z: NDArray) -> bool:
+    """Whether ``z`` is a sequence counter that wraps (BITalino's 4-bit ``nSeq``: 0..15, 0,
+    1, ...): whole numbers that rise by 1 each step except where they fall back to their
+    least value."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        if z.size < 3 or not np.all(z == np.round(z)):
+            return False
+        steps = np.diff(z)
+        lo, hi = float(z.min()), float(z.max())
+        wrap = steps == lo - hi
+        return bool(hi > lo and wrap.any() and np.all((steps == 1) | wrap))
 
 
 def _frame_counter(z: NDArray) -> bool:

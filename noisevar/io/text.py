@@ -14,6 +14,7 @@ from numpy.typing import NDArray
 
 from noisevar._arrays import EXACT_INT
 from noisevar.errors import NoisevarError
+from noisevar.io.opensignals import opensignals_names
 from noisevar.io.table import (
     _NA_TOKENS,
     DATE_NAMES,
@@ -187,6 +188,7 @@ def _check_width(name: str, fields: list[str], head: list[tuple[int, str]], fmt:
                 if fmt.delim == ","
                 else ""
             )
+            hint = _comment_hint(head[0][1]) or hint
             if _short_header(fields, widths):
                 raise NoisevarError(
                     f"{echo(name)}: the header (line {head[0][0]}) names {len(fields)} columns "
@@ -197,6 +199,22 @@ def _check_width(name: str, fields: list[str], head: list[tuple[int, str]], fmt:
                 f"{echo(name)}: line {line_no} has {n} fields but line {head[0][0]} has "
                 f"{len(fields)}: every row must have the same columns{hint}"
             )
+
+
+#: Comment markers of other tools (IDL and LASP's ``;``, MATLAB's ``%``, Fortran's ``!``)
+_OTHER_COMMENTS = (";", "%", "!", "//")
+
+
+def _comment_hint(first: str) -> str | None:
+    """The hint when the first line starts with another tool's comment marker (SDO/EVE's
+    ``; Origin: ...`` lines were taken for a header, and the rows blamed on separators)."""
+    mark = next((m for m in _OTHER_COMMENTS if first.lstrip().startswith(m)), None)
+    if mark is None:
+        return None
+    return (
+        f" (the first line starts with {mark!r}, a comment marker this reader does not "
+        "know: only '#' starts a comment line; remove those lines or start them with '#')"
+    )
 
 
 def _short_header(fields: list[str], widths: list[int]) -> bool:
@@ -236,6 +254,8 @@ def table_layout(
         line = head[1][0] if units is not None else head[0][0]
         return fmt, _unique_names(first), line, units
     names = _commented_header(text, head[0][0], len(first), fmt)
+    if names is None and (found := opensignals_names(text, len(first))) is not None:
+        names = _unique_names(found)  # an empty name past the header's: col<i>
     return fmt, names or [f"col{i}" for i in range(len(first))], head[0][0] - 1, None
 
 

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
+
 from noisevar.io import drop_nonfinite_rows, load_table
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -64,3 +66,22 @@ def test_a_named_bracket_before_the_unit():
         "Global Horiz (tracker) [W/m^2]": "W/m^2",
         "Temp CM22 (tracker) [deg C]": "deg C",
     }
+
+
+def test_a_netcdf_udunits_unit_reaches_the_answer(tmp_path, capsys):
+    """A netCDF4 file's ``units = "W/m2"`` (UDUNITS, as GOES's X-ray files write it:
+    benchmarks/real_audit6.py) is the unit the CLI answers in, not ``u``."""
+    import json
+
+    import h5py
+
+    from noisevar.cli import main
+
+    path = tmp_path / "xrs.nc"
+    rng = np.random.default_rng(6)
+    with h5py.File(path, "w") as f:
+        f["time"] = np.arange(600) * 2.0
+        f["b_flux"] = 1e-7 + 3e-9 * rng.normal(size=600)
+        f["b_flux"].attrs["units"] = np.bytes_(b"W/m2")
+    assert main(["estimate", str(path), "--column", "b_flux", "--format", "json"]) == 0
+    assert json.loads(capsys.readouterr().out)["unit"] == "W/m2"
