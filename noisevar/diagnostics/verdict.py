@@ -386,7 +386,7 @@ def _rounding_first(diag: NoiseDiagnostics, r: str, quiet: float, said: str | No
     ``said``: a still R to use apart from R (its clause), else None.
     """
     stood = (
-        f"; its still stretches ({diag.level_profile.quiet_share:.0%}) give {_g(quiet)}, "
+        f"; its still stretches ({still_share(diag):.0%}) give {_g(quiet)}, "
         f"the R to use{said}"
         if said is not None
         else ""
@@ -410,7 +410,7 @@ def _coloured(diag: NoiseDiagnostics, r: str, quiet: float, still_near: bool) ->
         if coloured
         else f"lag-1 autocorrelation {diag.whiteness.lag1:+.2f} beyond white noise's"
     )
-    share = diag.level_profile.quiet_share
+    share = still_share(diag)
     still = (
         f"; its still stretches ({share:.0%}) give {_g(quiet)}, the R to use" if still_near else ""
     )
