@@ -21,6 +21,8 @@ if TYPE_CHECKING:
 MOSTLY_MOTION = 0.5
 #: R over the core variance above which the outlying samples hold most of R (over half).
 OUTLIERS_HOLD = 2.0
+#: At most this share of outlying samples is "a few" (a start-up value, a logging error).
+OUTLIERS_FEW = 0.01
 #: Fewest samples for every check of the verdict: two blocks of the level profile to
 #: compare, and a kurtosis that means something (white Gaussian noise read heavy-tailed
 #: in 9 % of 64-sample records, 3.5 % of 100-sample ones). Fewer: :func:`short_verdict`.
@@ -83,8 +85,10 @@ def make_verdict(
     said = _sentence(diag, variance, core, outliers, still, still_gap)
     lead = outliers_hold(variance, core, outliers)
     # on one level only: where the level varies, motion is the finding (a cloudy day's
-    # transients are its outlying samples, and the core variance is no noise level either)
-    if still is not None or diag.level_varies or not lead or "core variance" in said:
+    # transients are its outlying samples, and the core variance is no noise level either);
+    # off a grid's half step (there the rounding's flips are the outlying samples)
+    rounding = under_half_a_step(diag, variance)
+    if still is not None or diag.level_varies or rounding or not lead or "core variance" in said:
         return said
     assert core is not None  # outliers_hold said so
     return lead + _sentence(diag, core, core, 0.0, None, still_gap, "the core variance")
@@ -99,7 +103,7 @@ def outliers_hold(variance: float, core: float | None, outliers: float) -> str:
     start-up value, a logging error), or a robust filter's. The verdict then goes on
     about the record without them.
     """
-    if core is None or not outliers or not variance > OUTLIERS_HOLD * core:
+    if core is None or not 0 < outliers <= OUTLIERS_FEW or not variance > OUTLIERS_HOLD * core:
         return ""
     return (
         f"{_share(outliers)} of the samples are outlying and hold {_share(1 - core / variance)} "

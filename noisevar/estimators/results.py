@@ -388,8 +388,7 @@ class VarianceEstimate:
         R (not in the core) and those left out with a jump's neighbourhood; None for
         methods that do not look for them.
     stretches : tuple of (int, int) or None
-        A still R's sample ranges (record indices, before the samples around jumps are
-        cut out): what ``regimes="still"`` fits take their stretch from; None otherwise.
+        A still R's sample ranges, whence ``regimes="still"`` fits take theirs; else None.
     """
 
     method: str
