@@ -59,6 +59,7 @@ from noisevar.estimators.results import VarianceEstimate
 from noisevar.estimators.spec import MethodSpec
 from noisevar.estimators.still_levels import other_still_levels
 from noisevar.estimators.still_quiet import (
+    above_record,
     held_digits,
     quiet_apart,
     quiet_level,
@@ -401,7 +402,7 @@ def _still(
         finish = partial(conclude, spec, diag=diag, glitches=lone)
         return None, quiet_apart(record, params, diag, variance, finish, first.core_variance)
     ranges, still = still_estimate(record, params, diag)
-    held = held_digits(record, diag, still, ranges)
+    held = held_digits(record, diag, still, ranges) or above_record(diag, still, first)
     return (None, held) if held is not None else (still, None)
 
 

@@ -25,6 +25,9 @@ STILL_MIN = 64
 #: The quiet level's source when the still stretches are held values under the stored
 #: digits (``still_quiet.held_digits``): no still R, for that reason.
 HELD = "held"
+#: The quiet level's source when R's method reads the still stretches above the whole
+#: record (``still_quiet.above_record``): no quiet level, so no still R, for that reason.
+ABOVE = "above"
 
 #: What a still fit that cannot be made asks for instead, on every surface.
 USE_ALL = "use regimes='all' (CLI --regimes all; dashboard: untick the still regimes only)"
@@ -66,7 +69,7 @@ def still_gap(
         return None
     if kind == "unknown":
         return f"regimes='still': the record's regimes could not be found; {USE_ALL}"
-    if kind == "held" and diag is not None and diag.quiet is not None:
+    if kind in (HELD, ABOVE) and diag is not None and diag.quiet is not None:
         return f"regimes='still': {diag.quiet.reason}, so there is no still R to use; {USE_ALL}"
     if kind == "none":
         return (
@@ -109,6 +112,7 @@ def still_note(
         "one": "no separate still R: the record is one still regime (its R is the still R)",
         "none": "no still stretch: the level varies throughout",
         "held": "no still R: the still stretches hold values under the stored digits",
+        "above": "no still R: the still stretches read above the whole record",
         "short": f"no still R: still stretches too short ({total} samples, {share:.0%} of "
         f"the record, each piece under {STILL_MIN})",
     }[kind]
@@ -124,8 +128,8 @@ def _gap(
         return "have", 0, 0.0
     if diag is None:
         return "unknown", 0, 0.0
-    if diag.quiet is not None and diag.quiet.source == HELD:
-        return "held", 0, 0.0
+    if diag.quiet is not None and diag.quiet.source in (HELD, ABOVE):
+        return diag.quiet.source, 0, 0.0
     if not has_still_apart(diag, variance) or under_half_a_step(diag, variance):
         return "one", 0, 0.0
     prof = diag.level_profile
