@@ -143,10 +143,9 @@ def above_record(
 
     The still regimes are the record's quietest on the diagnostics' residual; where R's
     own residual reads them above the whole record (a ship's temperature logged in
-    1-degree steps with spikes: still R 107 against R 42; MIDC SRRL's diffuse pyranometer
-    0.0121 against R's interval 0.0045-0.0073), they are not a level quieter than R, and
-    quoting them as the sensor's noise would be untrue: no still R, for that reason
-    (source :data:`~noisevar.estimators.still_set.ABOVE`). A still R a little above R is
+    1-degree steps with spikes: still R 107 against R 42), they are not a level quieter
+    than R, and quoting them as the sensor's noise would be untrue: no still R, for that
+    reason (source :data:`~noisevar.estimators.still_set.ABOVE`). A still R a little above R is
     kept: a dropout or held stretch in the record pulls R down (heartpy's PPG, 840 samples
     of 0: still R 1.05x R, the noise's own).
     """

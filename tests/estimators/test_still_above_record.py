@@ -1,6 +1,6 @@
 """A still set that R's own residual reads above the whole record is no quiet level
 (real_audit4: a ship's temperature, still R 107.1 against R 42.2, which dropping 2 or 3
-samples removed; real_audit5: MIDC SRRL's diffuse 0.0121 above R's interval)."""
+samples removed)."""
 
 from __future__ import annotations
 
