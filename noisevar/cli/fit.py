@@ -89,8 +89,7 @@ def _load(
         )
     z = np.asarray(pick_column(table, column), dtype=float)
     name = column_name(table, column)
-    rows = len(range(*table.rows_of(name).indices(table.n_rows)))  # a run's rows
-    return z, rows - z.size, name, table.period_of(name), table.units.get(name)
+    return z, table.n_rows_of(name) - z.size, name, table.period_of(name), table.units.get(name)
 
 
 def _cmd_fit(args: argparse.Namespace) -> int:

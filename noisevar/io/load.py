@@ -390,8 +390,7 @@ def record_times(table: LoadedTable, column: str | int | None = None) -> NDArray
     if t is None:
         return None
     t = np.asarray(t, dtype=float)
-    rows = len(range(*table.rows_of(cname).indices(table.n_rows)))
-    if t.size != rows or not np.all(np.isfinite(t)) or not np.all(np.diff(t) > 0):
+    if t.size != table.n_rows_of(cname) or not np.all(np.isfinite(t)) or not np.all(np.diff(t) > 0):
         return None
     return t
 

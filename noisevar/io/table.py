@@ -146,6 +146,10 @@ class LoadedTable:
         finite = np.flatnonzero(np.isfinite(self.columns[clock]))
         return slice(0, int(finite[-1]) + 1 if finite.size else 0)
 
+    def n_rows_of(self, column: str | None) -> int:
+        """How many rows :meth:`rows_of` gives ``column``."""
+        return len(range(*self.rows_of(column).indices(self.n_rows)))
+
     def period_of(self, column: str | None) -> float | None:
         """The sample period of ``column`` (seconds): its run's clock's median step, else
         :attr:`sample_period`."""

@@ -6,19 +6,14 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-import numpy as np
-
 import noisevar
 from noisevar.estimators.still_quiet import above_record
 from noisevar.estimators.still_set import ABOVE, still_gap, still_note
+from tests.estimators.test_still_from_regimes_everywhere import moving_record
 
 
 def _moving():
-    rng = np.random.default_rng(8)
-    z = rng.normal(0, 1.0, 20000)
-    for c in (3000, 9000, 15000):
-        z[c : c + 2000] += rng.normal(0, 20.0, 2000)
-    e = noisevar.estimate(z)
+    e = noisevar.estimate(moving_record())
     assert e.still is not None
     return e
 

@@ -16,12 +16,18 @@ from noisevar.diagnostics.verdict import make_verdict
 from noisevar.estimators.regimes import longest_still_stretch
 
 
-@pytest.fixture(scope="module")
-def moving():
+def moving_record() -> np.ndarray:
+    """White noise (σ 1) with three bursts of 20x the noise: a still R apart from R."""
     rng = np.random.default_rng(8)
     z = rng.normal(0, 1.0, 20000)
     for c in (3000, 9000, 15000):
         z[c : c + 2000] += rng.normal(0, 20.0, 2000)
+    return z
+
+
+@pytest.fixture(scope="module")
+def moving():
+    z = moving_record()
     e = noisevar.estimate(z)
     assert e.still is not None and e.diagnostics.level_varies and e.still.stretches
     return z, e
