@@ -13,6 +13,8 @@ LSB_TOL = 1e-3
 #: float rounding (a held stretch plus a trend), not a step: its three samples carry up to
 #: half a unit in the last place each, weighed 1, 2, 1.
 ROUNDING_EPS = 8 * float(np.finfo(float).eps)
+#: The same for samples stored as float32 (:func:`second_difference_step`).
+F32_EPS = 8 * float(np.finfo(np.float32).eps)
 #: A grid step of second differences is at least this many times their float rounding.
 ROUNDING_STEPS = 16
 
@@ -56,15 +58,35 @@ def second_difference_step(z: NDArray) -> float | None:
     """
     if z.size < 3:
         return 0.0
-    if z.size > LSB_PROBE + 2 and _d2_step(z[: LSB_PROBE + 2]) is None:
+    if z.size > LSB_PROBE + 2 and _stored_step(z[: LSB_PROBE + 2]) is None:
         return None
-    return _d2_step(z)
+    return _stored_step(z)
 
 
-def _d2_step(z: NDArray) -> float | None:
-    """:func:`second_difference_step` of ``z`` (at least 3 samples), over all of it."""
+def _stored_step(z: NDArray) -> float | None:
+    """:func:`_d2_step` at float64's rounding, or at float32's for samples stored as float32.
+
+    A grid scaled into float32 (counts times a calibration, as HDF5 and netCDF files keep
+    them) is off by float32's rounding, far above float64's: there the smallest second
+    difference above float64's rounding is float32's own spacing, not the grid.
+    """
+    step = _d2_step(z, ROUNDING_EPS)
+    if step is not None and step >= ROUNDING_STEPS * F32_EPS * float(np.max(np.abs(z))):
+        return step
+    if not np.array_equal(z.astype(np.float32).astype(float), z):
+        return step
+    wide = _d2_step(z, F32_EPS)
+    if not wide:
+        return step
     d2 = np.abs(np.diff(z, 2))
-    tol = ROUNDING_EPS * float(np.max(np.abs(z)))
+    return float(d2.sum() / np.rint(d2 / wide).sum())  # every multiple, not the least alone
+
+
+def _d2_step(z: NDArray, eps: float) -> float | None:
+    """:func:`second_difference_step` of ``z`` (at least 3 samples), over all of it, with
+    second differences up to ``eps`` times the largest ``|z|`` taken for rounding."""
+    d2 = np.abs(np.diff(z, 2))
+    tol = eps * float(np.max(np.abs(z)))
     d2[d2 <= tol] = 0.0  # float rounding
     top = float(d2.max())
     if not top > 0:
