@@ -298,6 +298,26 @@ def estimate_record(
     return run_record(spec, record, params, scaled=scaled)
 
 
+def held_but_for(result: VarianceEstimate) -> None:
+    """Refuse a record that holds one value but for its outlying samples (no diagnostics).
+
+    Raises
+    ------
+    NoisevarError
+        When the estimate without its outlying samples is 0: a trigger or event channel
+        (0 with one-sample pulses), whose R would be the pulses' alone, with an interval
+        from their count.
+    """
+    if result.core_variance == 0.0 and result.outlier_fraction > 0.0:
+        k = round(result.outlier_fraction * result.n_used)
+        raise NoisevarError(
+            f"the signal holds one value but for {k} samples "
+            f"({100 * result.outlier_fraction:.2g}%): a trigger or event channel, or a "
+            "sensor far below its resolution; between them its noise variance is 0 and "
+            "there is nothing to estimate"
+        )
+
+
 def run_record(
     spec: MethodSpec,
     record: Record,
@@ -330,6 +350,7 @@ def run_record(
     try:
         diag = record.diagnose(result)
     except NoisevarError as exc:
+        held_but_for(result)
         result.notes.append(f"no diagnostics: {exc}")
     else:
         diag = regimes_on_both_grids(diag, getattr(record, "back_profile", None))
