@@ -346,7 +346,13 @@ def _not_white(
             f"sensor noise cannot be measured apart from the motion, so {r} over the whole "
             "record includes motion or signal (record the sensor still for a while)"
         )
-    if not still_apart and diag.level_varies and quiet >= variance:  # none quieter to quote
+    # none quieter to quote (under half a step, the rounding's flips: quantisation)
+    if (
+        not still_apart
+        and diag.level_varies
+        and quiet >= variance
+        and not under_half_a_step(diag, variance)
+    ):
         return _none_quieter(r, quiet)
     # no quiet block (a grid's noise under half a step): no still level to quote
     if (
@@ -390,8 +396,7 @@ def _rounding_first(diag: NoiseDiagnostics, r: str, quiet: float, said: str | No
     ``said``: a still R to use apart from R (its clause), else None.
     """
     stood = (
-        f"; its still stretches ({still_share(diag):.0%}) give {_g(quiet)}, "
-        f"the R to use{said}"
+        f"; its still stretches ({still_share(diag):.0%}) give {_g(quiet)}, the R to use{said}"
         if said is not None
         else ""
     )

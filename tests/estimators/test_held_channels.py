@@ -1,4 +1,4 @@
-"""A channel that holds one value but for a few pulses is refused (systole's Stim, audit6)."""
+"""Channels that hold one value: a trigger (refused, systole's Stim, audit6), rare flips."""
 
 from __future__ import annotations
 
@@ -39,3 +39,12 @@ def test_a_held_sensor_with_flips_keeps_its_estimate() -> None:
     rng = np.random.default_rng(2)
     z = 100 + (rng.random(20_000) < 0.02).astype(float)  # one-step flips: rounding, not pulses
     assert noisevar.estimate(z).variance > 0
+
+
+def test_rare_one_step_flips_are_rounding_not_a_changing_level() -> None:
+    rng = np.random.default_rng(0)
+    z = 100 + (rng.random(20_000) < 0.003).astype(float)
+    v = noisevar.estimate(z).verdict
+    # was: "the noise level changes along the record: ... no stretch of it is measurably
+    # quieter" (blocks with and without a flip)
+    assert v.startswith("white noise under half a step on a grid of step 1"), v
