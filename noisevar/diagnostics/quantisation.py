@@ -51,7 +51,7 @@ def second_difference_step(z: NDArray) -> float | None:
     -----
     docs/algorithms.md §E3 (*Held values*). A linear trend or an offset adds nothing to a
     second difference, so the grid of a record held on a grid stays found under them
-    (:func:`find_lsb` needs the samples themselves on it). The first :data:`LSB_PROBE`
+    (the distinct values' step needs the samples themselves on it). The first :data:`LSB_PROBE`
     second differences are tried first: a record off any grid (most) costs no pass over
     the whole (a probe whose smallest second difference is not its grid is taken for off a
     grid).
@@ -114,41 +114,10 @@ def joined_step(steps: list[float | None]) -> float | None:
     if not found.size:
         return None
     step = float(found.min())
-    return step if _on_grid(found, step) else None
+    return step if on_grid(found, step) else None
 
 
-def find_lsb(z: NDArray) -> float | None:
-    """The step of the grid the samples sit on, or None when they are not on one.
-
-    Parameters
-    ----------
-    z : ndarray
-        Samples.
-
-    Returns
-    -------
-    float or None
-        The smallest step ``Δ`` such that every ``(z - z₀) / Δ`` is an integer (to
-        :data:`LSB_TOL`), proposed from the smallest gap between distinct values of a
-        probe of the record.
-    """
-    probe = z[:: max(1, z.size // LSB_PROBE)]
-    levels = np.unique(probe)
-    if levels.size < 2:
-        levels = np.unique(z)
-        if levels.size < 2:
-            return None
-    steps = np.diff(levels)
-    step = float(steps.min())
-    spread = float(levels[-1] - levels[0])
-    if step <= 0 or spread / step > 1e9:  # a grid finer than float64 resolves: continuous
-        return None
-    if not _on_grid(steps, step):
-        return None
-    return step if _on_grid(z - levels[0], step) else None
-
-
-def _on_grid(x: NDArray, step: float) -> bool:
+def on_grid(x: NDArray, step: float) -> bool:
     """Every ``x / step`` within :data:`LSB_TOL` of an integer."""
     r = x / step
-    return bool(np.max(np.abs(r - np.rint(r))) < LSB_TOL)
+    return bool(np.max(np.abs(r - np.rint(r)), initial=0.0) < LSB_TOL)

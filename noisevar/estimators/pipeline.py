@@ -42,7 +42,7 @@ from noisevar.diagnostics.profile import LevelProfile, regimes_on_both_grids
 from noisevar.diagnostics.regimes import QuietLevel, StillLevel
 from noisevar.errors import NoisevarError
 from noisevar.estimators._input import check_samples, check_times
-from noisevar.estimators._scale import check_answer, unscale
+from noisevar.estimators._scale import check_answer, held_but_for, unscale
 from noisevar.estimators.interval import (
     LoneGlitches,
     at_edge,
@@ -296,26 +296,6 @@ def estimate_record(
     else:
         record = InMemory(spec, z, seg, run, jump_mask, notes)
     return run_record(spec, record, params, scaled=scaled)
-
-
-def held_but_for(result: VarianceEstimate) -> None:
-    """Refuse a record that holds one value but for its outlying samples (no diagnostics).
-
-    Raises
-    ------
-    NoisevarError
-        When the estimate without its outlying samples is 0: a trigger or event channel
-        (0 with one-sample pulses), whose R would be the pulses' alone, with an interval
-        from their count.
-    """
-    if result.core_variance == 0.0 and result.outlier_fraction > 0.0:
-        k = round(result.outlier_fraction * result.n_used)
-        raise NoisevarError(
-            f"the signal holds one value but for {k} samples "
-            f"({100 * result.outlier_fraction:.2g}%): a trigger or event channel, or a "
-            "sensor far below its resolution; between them its noise variance is 0 and "
-            "there is nothing to estimate"
-        )
 
 
 def run_record(
