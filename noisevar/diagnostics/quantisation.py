@@ -13,7 +13,7 @@ LSB_TOL = 1e-3
 #: float rounding (a held stretch plus a trend), not a step: its three samples carry up to
 #: half a unit in the last place each, weighed 1, 2, 1.
 ROUNDING_EPS = 8 * float(np.finfo(float).eps)
-#: The same for samples stored as float32 (:func:`second_difference_step`).
+#: The same for samples that passed through float32 (:func:`second_difference_step`).
 F32_EPS = 8 * float(np.finfo(np.float32).eps)
 #: A grid step of second differences is at least this many times their float rounding.
 ROUNDING_STEPS = 16
@@ -64,16 +64,18 @@ def second_difference_step(z: NDArray) -> float | None:
 
 
 def _stored_step(z: NDArray) -> float | None:
-    """:func:`_d2_step` at float64's rounding, or at float32's for samples stored as float32.
+    """:func:`_d2_step` at float64's rounding, else at float32's.
 
     A grid scaled into float32 (counts times a calibration, as HDF5 and netCDF files keep
-    them) is off by float32's rounding, far above float64's: there the smallest second
-    difference above float64's rounding is float32's own spacing, not the grid.
+    them) is off by float32's rounding, far above float64's, and stays so when the values
+    are scaled or moved after: there the smallest second difference above float64's
+    rounding is float32's own spacing (or none is on a grid), not the grid. Second
+    differences that are whole multiples of one step at float32's rounding are a grid all
+    the same (random values are not: each of thousands would have to fall within
+    :data:`LSB_TOL` of a multiple).
     """
     step = _d2_step(z, ROUNDING_EPS)
     if step is not None and step >= ROUNDING_STEPS * F32_EPS * float(np.max(np.abs(z))):
-        return step
-    if not np.array_equal(z.astype(np.float32).astype(float), z):
         return step
     wide = _d2_step(z, F32_EPS)
     if not wide:

@@ -38,3 +38,17 @@ def test_float32_noise_off_any_grid_is_not_given_one() -> None:
     z = (rng.normal(size=4000) * 1e-3 + 0.5).astype(np.float32).astype(np.float64)
     step = second_difference_step(z)
     assert step is None or step < 1e-6  # float32's spacing at most, never a coarse grid
+
+
+@pytest.mark.parametrize("move", ["scale", "offset", "trend"])
+def test_float32_counts_keep_the_grid_when_scaled_or_moved_after(move) -> None:
+    """GOES's flux x1e3, + an offset, + a trend (real_audit6's transforms): float64 values
+    that carry float32's rounding read 'white Gaussian noise' against 'on a grid'. (An
+    offset of 1e4 standard deviations, as the audit's, hides float32's rounding under the
+    offset's own: the grid is lost there, a limit docs/algorithms.md §E3 states.)"""
+    flux = (_counts(5) * 4.7e-10).astype(np.float32).astype(np.float64)
+    s = float(np.std(flux))
+    moved = {"scale": 1e3 * flux, "offset": flux + 10 * float(np.max(flux)),
+             "trend": flux + np.linspace(0.0, 1e3 * s, flux.size)}[move]  # fmt: skip
+    k = 1e3 if move == "scale" else 1.0
+    assert noisevar.estimate(moved).diagnostics.lsb == pytest.approx(8 * 4.7e-10 * k, rel=1e-4)
