@@ -75,8 +75,8 @@ def _stored_step(z: NDArray) -> float | None:
     :data:`LSB_TOL` of a multiple).
     """
     step = _d2_step(z, ROUNDING_EPS)
-    if step is not None and step >= ROUNDING_STEPS * F32_EPS * float(np.max(np.abs(z))):
-        return step
+    if step is not None and step >= F32_EPS * float(np.max(np.abs(z))):
+        return step  # coarser than float32's rounding: a grid (most grids end here)
     wide = _d2_step(z, F32_EPS)
     if not wide:
         return step
