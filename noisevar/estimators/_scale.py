@@ -253,7 +253,7 @@ def held_but_for(result: Any) -> None:
     if result.core_variance == 0.0 and result.outlier_fraction > 0.0:
         k = round(result.outlier_fraction * result.n_used)
         raise NoisevarError(
-            f"the signal holds one value but for {k} samples "
+            f"the signal holds one value but for {k} sample{'' if k == 1 else 's'} "
             f"({100 * result.outlier_fraction:.2g}%): a trigger or event channel, or a "
             "sensor far below its resolution; between them its noise variance is 0 and "
             "there is nothing to estimate"
