@@ -16,7 +16,10 @@ from noisevar.format import eng
 if TYPE_CHECKING:
     from noisevar.diagnostics.regimes import StillLevel
     from noisevar.diagnostics.results import NoiseDiagnostics
+    from noisevar.diagnostics.whiteness import WhitenessTest
 
+#: A whiteness test failed at a p-value above this, with no colour named, is a weak finding.
+WEAK_P = 0.01
 #: The quiet stretches cover less than this share: the record is mostly motion.
 MOSTLY_MOTION = 0.5
 #: R over the core variance above which the outlying samples hold most of R (over half).
@@ -413,23 +416,48 @@ def _rounding_first(diag: NoiseDiagnostics, r: str, quiet: float, said: str | No
 
 def _coloured(diag: NoiseDiagnostics, r: str, quiet: float, still_near: bool) -> str:
     """The verdict of coloured noise; ``still_near``: a still R to use near R (within
-    STILL_RATIO), quoted too."""
-    # slopes that read white at every factor name no colour: the lag-1 correlation does
+    STILL_RATIO), quoted too.
+
+    With no colour named by the power law and a whiteness test failed at a p-value of
+    :data:`WEAK_P` or more, the finding is weak (white noise gives such a p-value 1 time
+    in ``1/p``, 1 in 20 at most;
+    Student-t noise read "coloured: lag-1 autocorrelation -0.00 beyond white noise's"): the
+    sentence says so, with the lag that departs most.
+    """
+    # slopes that read white at every factor name no colour: the farthest lag does
     coloured = any(alpha != WHITE for _, alpha in diag.power_law)
+    w = diag.whiteness
+    weak = not coloured and w.p_value >= WEAK_P
     kind = (
-        f"{describe(diag.power_law)} (power-law identification)"
-        if coloured
-        else f"lag-1 autocorrelation {diag.whiteness.lag1:+.2f} beyond white noise's"
+        f"{describe(diag.power_law)} (power-law identification)" if coloured else _farthest_lag(w)
     )
     share = still_share(diag)
     still = (
         f"; its still stretches ({share:.0%}) give {_g(quiet)}, the R to use" if still_near else ""
     )
+    if weak:
+        return (
+            f"the noise may be coloured (a weak finding: whiteness test p = {w.p_value:.2g}, "
+            f"as low as white noise gives 1 time in {1 / w.p_value:.0f}): {kind}, or signal "
+            "leaks through the "
+            f"smoother; {r} is its white part, and a good Kalman R if the noise is white: "
+            f"check on a longer record (see the noise model){still}"
+        )
     return (
         f"the noise is coloured: {kind}, or signal leaks through the smoother; {r} is "
         "its white part (or a little above): model the coloured part (see the noise "
         f"model), since a white R alone understates what a Kalman filter sees{still}"
     )
+
+
+def _farthest_lag(w: WhitenessTest) -> str:
+    """The lag whose autocorrelation departs most from white noise's, in its band.
+
+    Named by the lag that departs, not lag 1 alone: Student-t noise failed the test at
+    p = 0.007 by lags 2-6 and read "lag-1 autocorrelation -0.00 beyond white noise's".
+    """
+    k = int(np.argmax(np.abs((w.acf - w.expected) / w.band)))
+    return f"lag-{k + 1} autocorrelation {w.acf[k] - w.expected[k]:+.2f} beyond white noise's"
 
 
 def indicative(gap: str | None) -> str:
