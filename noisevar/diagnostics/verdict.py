@@ -365,7 +365,8 @@ def _not_white(
         and not diag.white
     ):
         return (
-            f"the record is mostly motion or signal leaking through: the sensor noise measured "
+            f"the noise level changes along the record, mostly motion or signal leaking through: "
+            "the sensor noise measured "
             f"in its still stretches ({still_share(diag):.0%} of it) is "
             f"{_g(quiet)} (std {_g(float(np.sqrt(quiet)))}), "
             f"against {_g(variance)} over the whole record{said}"
