@@ -15,6 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.diagnostics.glitches import Glitch, bridge_blocks, bridged, deviations, lone
+from noisevar.diagnostics.notes import make_notes
 from noisevar.diagnostics.plan import (
     DIAG_ORDER,
     DIAG_SPAN,
@@ -29,7 +30,7 @@ from noisevar.diagnostics.results import NoiseDiagnostics
 from noisevar.diagnostics.segments import Gap, Segmentation, split_dropped, split_times
 from noisevar.diagnostics.sums import DiagSums, diag_part
 from noisevar.diagnostics.tails import kurtosis_from_moments, tail_index
-from noisevar.diagnostics.verdict import make_notes, make_verdict, other_still_clause
+from noisevar.diagnostics.verdict import make_verdict, other_still_clause
 from noisevar.diagnostics.whiteness import WHITE_LAGS, WhitenessTest, whiteness_test
 from noisevar.errors import NoisevarError
 from noisevar.numeric.fir import residual_sequence
