@@ -16,6 +16,7 @@ from noisevar.format import eng
 if TYPE_CHECKING:
     from noisevar.diagnostics.regimes import StillLevel
     from noisevar.diagnostics.results import NoiseDiagnostics
+    from noisevar.diagnostics.whiteness import WhitenessTest
 
 #: The quiet stretches cover less than this share: the record is mostly motion.
 MOSTLY_MOTION = 0.5
@@ -412,7 +413,7 @@ def _coloured(diag: NoiseDiagnostics, r: str, quiet: float, still_near: bool) ->
     kind = (
         f"{describe(diag.power_law)} (power-law identification)"
         if coloured
-        else f"lag-1 autocorrelation {diag.whiteness.lag1:+.2f} beyond white noise's"
+        else _excess_lag1(diag.whiteness)
     )
     share = still_share(diag)
     still = (
@@ -492,6 +493,18 @@ def other_still_clause(diag: NoiseDiagnostics) -> str:
     )
 
 
+def _excess_lag1(w: WhitenessTest) -> str:
+    """The residual's lag-1 autocorrelation beyond white noise's.
+
+    Notes
+    -----
+    An excess over white noise's own (-2/3 through the residual filter), so it may pass 1:
+    written without "beyond white noise's" it read as an autocorrelation of +1.02 (the IERS's
+    UT1-UTC, real_audit7).
+    """
+    return f"lag-1 autocorrelation {w.lag1:+.2f} beyond white noise's"
+
+
 def still_colour(diag: NoiseDiagnostics) -> str:
     """What the still stretches' own whiteness adds to a still level ('' when white).
 
@@ -510,7 +523,7 @@ def still_colour(diag: NoiseDiagnostics) -> str:
     if w is None or w.white:
         return ""
     return (
-        f"; but even there the noise is not white (lag-1 autocorrelation {w.lag1:+.2f}: "
+        f"; but even there the noise is not white ({_excess_lag1(w)}: "
         "low-passed by the sensor, or slow motion left in the stretches), so this is its "
         "white part and depends on the bandwidth: model the coloured part (see the noise model)"
     )

@@ -241,6 +241,8 @@ def table_layout(
     """
     head = _head_lines(text, name, complete)
     fmt = _sniff_format([ln for _, ln in head])
+    if _title_line(head, fmt):
+        head = head[1:]
     first = _split(head[0][1], fmt.delim) if fmt.thousands != "," or fmt.delim else [head[0][1]]
     if fmt.delim is None and len(first) > 1 and not all(_is_number(c, fmt) for c in first):
         # a one-column file whose name has spaces ("clock [ns]"): every data row one field
@@ -257,6 +259,29 @@ def table_layout(
     if names is None and (found := opensignals_names(text, len(first))) is not None:
         names = _unique_names(found)  # an empty name past the header's: col<i>
     return fmt, names or [f"col{i}" for i in range(len(first))], head[0][0] - 1, None
+
+
+def _title_line(head: list[tuple[int, str]], fmt: _Format) -> bool:
+    """Whether the first line is a title above the header (``Southern Oscillation Index
+    (SOI),,`` then ``Date,Year,Value``): one named cell, the others empty, over a row of as
+    many names, none empty or a number, over a row of numbers.
+
+    Notes
+    -----
+    Read as the header, the title named the first column and the real header became a units
+    row: the index's values were ``col2`` and the channel named after the title was the dates.
+    """
+    if len(head) < 3 or fmt.delim is None:
+        return False
+    title, names, below = (_split(ln, fmt.delim) for _, ln in head[:3])
+    cells = [c.strip().strip('"').strip() for c in title]
+    named = [c.strip().strip('"').strip() for c in names]
+    return (
+        len(cells) == len(named) > 1
+        and bool(cells[0]) and not any(cells[1:]) and not _is_number(cells[0], fmt)
+        and all(c and not _is_number(c, fmt) for c in named)
+        and any(_is_number(c.strip().strip('"'), fmt) for c in below)
+    )  # fmt: skip
 
 
 def _units_row(head: list[tuple[int, str]], width: int, fmt: _Format) -> list[str] | None:
@@ -382,6 +407,10 @@ _HEADER_UNIT = re.compile(  # (a trailing "Run #1": PASCO Capstone's columns of 
 )
 
 
+#: a level or a quantile in brackets, not a unit: HadCRUT's ``Lower confidence limit (2.5%)``
+_NOT_A_UNIT = re.compile(r"^[+-]?\d+(?:\.\d+)?\s*%$|^[+-]?\d*\.\d+$")
+
+
 def header_unit(column: str) -> str | None:
     """The unit a header names in brackets at its end (``gyro_x [rad/s]``, ``p (Pa)``,
     ``Position (m) Run #1``), or None.
@@ -397,7 +426,7 @@ def header_unit(column: str) -> str | None:
         The text in the brackets, as written (a consumer parses it, e.g. with pint).
     """
     m = _HEADER_UNIT.match(column)
-    if m is None:
+    if m is None or _NOT_A_UNIT.match(m[1]):
         return None
     # an acceleration "in G" is in standard gravities (SensorLog's
     # accelerometerAccelerationX(G)); pint's G is the gauss, a magnetometer's unit
