@@ -70,3 +70,23 @@ def test_a_rinex_file_is_refused_in_one_line_that_says_what_to_do(tmp_path, caps
     err = capsys.readouterr().err.strip()
     assert "\n" not in err
     assert "RINEX" in err and "CSV" in err
+
+
+def test_lines_above_the_header_are_named_in_the_refusal(tmp_path, capsys):
+    """LR04's CSV: three lines of citation above the header; the refusal blamed a cell of the
+    second line and said nothing of the lines to delete."""
+    rng = np.random.default_rng(4)
+    rows = [f"{i},{3.2 + v:.2f},0.03" for i, v in enumerate(rng.normal(scale=0.1, size=200))]
+    cite = [
+        'Please,cite:,"Lisiecki, L. E., and M. E. Raymo (2005), A Pliocene-"',
+        'Pleist,ocene,"stack of 57 globally distributed benthic d18O records,"',
+        'Paleoc,eanogr,"aphy,20, PA1003, doi:10.1029/2004PA001071."',
+        ",,",
+        "Time (ka),Benthic d18O (per mil),Standard error (per mil)",
+    ]
+    path = tmp_path / "LR04.csv"
+    path.write_text("\n".join([*cite, *rows]) + "\n")
+    assert main(["estimate", str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err
+    assert "the numbers start at line 6" in err and "delete them" in err

