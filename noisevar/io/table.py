@@ -123,6 +123,8 @@ class LoadedTable:
             and not steps_evenly(finite)
             and not _frame_counter(finite)
             and not _wrapping_counter(finite)
+            and not _calendar_part(finite)
+            and not _axis(finite)
             and not bool(np.all((finite == 0) | (finite == 1)))  # a digital line, a flag
         )
 
@@ -579,6 +581,27 @@ def _wrapping_counter(z: NDArray) -> bool:
         lo, hi = float(z.min()), float(z.max())
         wrap = steps == lo - hi
         return bool(hi > lo and wrap.any() and np.all((steps == 1) | wrap))
+
+
+def _calendar_part(z: NDArray) -> bool:
+    """Whether ``z`` is a part of a date: whole numbers that hold or rise by 1 and fall back
+    only to their least value (a year, a month or a day column of daily rows: the IERS's
+    ``YR MM DD``, NOAA's ``YEAR``), which the counters' rules do not catch (they hold)."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        if z.size < 8 or not np.all(z == np.round(z)):
+            return False
+        steps = np.diff(z)
+        wrap = (steps < 0) & (z[1:] == z.min())
+        return bool(np.all((steps == 0) | (steps == 1) | wrap))
+
+
+def _axis(z: NDArray) -> bool:
+    """Whether ``z`` is an axis the rows are written along: strictly monotone (an ice core's
+    depth or age, a decimal year rounded to 6 digits), which no signal with noise is over
+    a record (:func:`~noisevar._arrays.steps_evenly` catches the even ones only)."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        steps = np.diff(z)
+        return bool(z.size >= 8 and (np.all(steps > 0) or np.all(steps < 0)))
 
 
 def _frame_counter(z: NDArray) -> bool:

@@ -304,7 +304,9 @@ def _commented_header(text: str, data_line: int, width: int, fmt: _Format) -> li
     EuRoC, TUM-VI and Kalibr IMU files start ``#timestamp [ns],w_RS_S_x [rad s^-1],...``:
     the last ``#`` line before the first data row names the columns when it splits into
     as many fields as that row, none a number, and one of them is a time column or states
-    a unit in brackets (a remark such as ``# sensor A, 2024`` is not a header).
+    a unit in brackets (a remark such as ``# sensor A, 2024`` is not a header). In a table
+    split on whitespace, names that hold a space (the IERS's EOP C04: ``x Er``) are told
+    apart by two spaces or more between them.
     """
     lines = text.splitlines()[: data_line - 1]
     while lines and not lines[-1].strip():
@@ -312,6 +314,8 @@ def _commented_header(text: str, data_line: int, width: int, fmt: _Format) -> li
     if not lines or not lines[-1].lstrip().startswith("#"):
         return None
     fields = [f.strip() for f in _split(lines[-1].lstrip()[1:], fmt.delim)]
+    if fmt.delim is None and len(fields) != width:  # names with a space, two between them
+        fields = re.split(r"\s{2,}", lines[-1].lstrip()[1:].strip())
     if len(fields) != width or any(_is_number(c, fmt) for c in fields):
         return None
     # names, not a remark that happens to hold the delimiter: a time column or a unit
@@ -585,6 +589,24 @@ def _preamble_hint(coerced: pd.Series, j: int, text: str, header_line: int) -> s
     )
 
 
+def _numbers_for_names(cname: str, header_line: int) -> str:
+    """The hint when the header's names are numbers: a data row was taken for the header.
+
+    Notes
+    -----
+    The IERS's finals2000A.all has no header, and its rows hold flag letters (``I``, ``P``)
+    in fixed-width fields that touch or are left empty: its first row became the header and
+    the refusal blamed "column '2'".
+    """
+    if _number(cname) is None:
+        return ""
+    return (
+        f"; the header (line {header_line}) holds numbers, so the file has none: if its rows "
+        "hold flag letters or fixed-width fields that touch or are left empty, export the "
+        "columns you want to a CSV file with a header"
+    )
+
+
 def _text_column(
     col: pd.Series,
     cname: str,
@@ -617,5 +639,6 @@ def _text_column(
             f"{echo(name)}: line {_data_line_number(text, header_line, j)}, column "
             f"{echo(cname)!r}: {echo(str(col.iloc[j]))!r} is not a number (only numeric "
             f"columns can be loaded){_preamble_hint(coerced, j, text, header_line)}"
+            f"{_numbers_for_names(cname, header_line)}"
         )
     return np.array(coerced.to_numpy(dtype=float, na_value=np.nan), dtype=float)
