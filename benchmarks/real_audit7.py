@@ -233,6 +233,28 @@ def references(name: str, chans: dict[str, np.ndarray]) -> list[dict]:
     return []
 
 
+# ---------------------------------------------------------------- 5: reproductions
+def leap_seconds(seed: int = 26, n: int = 20000) -> list[dict]:
+    """UT1-UTC's class on synthetic data: a smooth drift plus noise (white, or low-passed by
+    two poles at 0.5 / 0.8, as C04's smoothing does), with and without 27 steps of 1 s
+    (1e5 noise std): a step is a level jump, so R should not move."""
+    from scipy.signal import lfilter
+
+    rng = np.random.default_rng(seed)
+    t = np.arange(n)
+    drift = -0.002 * t + 2e-9 * (t - n / 2) ** 2
+    out = []
+    for pole in (0.0, 0.5, 0.8):
+        noise = lfilter([1.0], np.convolve([1.0, -pole], [1.0, -pole]), rng.normal(size=n))
+        smooth = drift + 1e-5 * noise / noise.std()
+        steps = np.zeros(n)
+        steps[np.sort(rng.choice(np.arange(500, n - 500), 27, replace=False))] = 1.0
+        a, b = nv.estimate(smooth), nv.estimate(smooth + np.cumsum(steps))
+        out.append({"pole": pole, "R": a.variance, "ci": a.ci95, "R_steps": b.variance,
+                    "ci_steps": b.ci95, "verdict": (b.verdict or "")[:160]})  # fmt: skip
+    return out
+
+
 # ---------------------------------------------------------------- check 4: the files
 #: the files' date and axis columns: no default signal
 _NOT_SIGNALS = {"YR", "MM", "DD", "HH", "MJD", "YEAR", "MON/MMM", "Dec year", "Date", "Year",
@@ -299,7 +321,11 @@ def _table(title: str, head: str, rows: list[str]) -> list[str]:
     return [title, "", head, "|" + "---|" * cols, *rows, ""]
 
 
-def report(rows, answers, refs, bad, wall) -> str:
+def _noise(pole: float) -> str:
+    return "white" if pole == 0 else f"two poles at {pole}"
+
+
+def report(rows, answers, refs, bad, leaps, wall) -> str:
     n = {k: sum(not r["fail"] for r in v) for k, v in
          {"ans": answers, "ref": refs, "bad": bad}.items()}  # fmt: skip
     lines = [
@@ -335,6 +361,13 @@ def report(rows, answers, refs, bad, wall) -> str:
                 "| file | exit | what the CLI said | failures |",
                 [f"| {r['case']} | {r['exit']} | {r['said'][:300].replace('|', '/')} | "
                  f"{'; '.join(r['fail']) or 'ok'} |" for r in bad]),
+        *_table("## 5. UT1-UTC's leap seconds, reproduced (not fixed here: the estimator's)",
+                "| noise | R without steps (ci95) | R with 27 steps of 1e5 std (ci95) | ratio "
+                "| verdict with the steps |",
+                [f"| {_noise(r['pole'])} | {r['R']:.3g} ({r['ci'][0]:.3g}-{r['ci'][1]:.3g}) "
+                 f"| {r['R_steps']:.3g} ({r['ci_steps'][0]:.3g}-{r['ci_steps'][1]:.3g}) "
+                 f"| x{r['R_steps'] / r['R']:.3g} "
+                 f"| {r['verdict']} |" for r in leaps]),
     ]  # fmt: skip
     return "\n".join(lines)
 
@@ -358,7 +391,8 @@ def main() -> None:
             answers += one_answer(name, raw(name), PAGES[name])
         print(f"{name}: {time.time() - t0:.0f} s", file=sys.stderr)
     bad = bad_input()
-    text = report(rows, answers, refs, bad, time.time() - t0)
+    leaps = leap_seconds() if a.records in "eop_c04" else []
+    text = report(rows, answers, refs, bad, leaps, time.time() - t0)
     if not a.records and not a.no_pages:
         OUT.parent.mkdir(parents=True, exist_ok=True)
         OUT.write_text(text + "\n")

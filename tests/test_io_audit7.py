@@ -124,6 +124,7 @@ def test_a_commented_header_whose_names_hold_spaces_names_the_columns(tmp_path):
     assert table.data_columns[-3:] == ['x(")', "LOD(s)", "x Er"]
     np.testing.assert_array_equal(table.columns['x(")'], np.round(x, 6))
     assert table.units.get("LOD(s)") == "s"
+    assert table.units.get('x(")') == "arcsec"  # the mark of seconds of arc, which pint reads
 
 
 def test_dates_and_axes_are_not_the_default_signal(tmp_path, capsys):

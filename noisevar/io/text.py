@@ -411,6 +411,8 @@ _HEADER_UNIT = re.compile(  # (a trailing "Run #1": PASCO Capstone's columns of 
 )
 
 
+#: the astronomers' marks for seconds and minutes of arc
+_ARC = {'"': "arcsec", "'": "arcmin"}
 #: a level or a quantile in brackets, not a unit: HadCRUT's ``Lower confidence limit (2.5%)``
 _NOT_A_UNIT = re.compile(r"^[+-]?\d+(?:\.\d+)?\s*%$|^[+-]?\d*\.\d+$")
 
@@ -432,6 +434,8 @@ def header_unit(column: str) -> str | None:
     m = _HEADER_UNIT.match(column)
     if m is None or _NOT_A_UNIT.match(m[1]):
         return None
+    if m[1][0] in _ARC and m[1][1:2] in ("", "/"):  # the IERS's x(") and xrt("/day)
+        return _ARC[m[1][0]] + m[1][1:]
     # an acceleration "in G" is in standard gravities (SensorLog's
     # accelerometerAccelerationX(G)); pint's G is the gauss, a magnetometer's unit
     return "g" if m[1] == "G" and _ACCELERATION.search(column) else m[1]
