@@ -7,6 +7,7 @@ row's field count."""
 import json
 
 import numpy as np
+import pytest
 
 from noisevar.cli import main
 from noisevar.io import load_table
@@ -145,3 +146,18 @@ def test_dates_and_axes_are_not_the_default_signal(tmp_path, capsys):
     assert table.signals == ["NINO34_MEAN"]
     assert main(["estimate", str(path), "--format", "json"]) == 0
     assert json.loads(capsys.readouterr().out)["column"] == "NINO34_MEAN"
+
+
+def test_a_header_in_deg_c_is_a_temperature(tmp_path, capsys):
+    """HadCRUT5's ``Anomaly (deg C)``: "deg C" was read as degree x coulomb, and
+    ``--unit-out K`` refused "'deg C' (ampere * radian * second) to 'K': different
+    dimensions"; a temperature difference in degrees Celsius is one kelvin per degree."""
+    rng = np.random.default_rng(8)
+    a = rng.normal(scale=0.1, size=150)
+    rows = [f"{1850 + i},{v:.5f}" for i, v in enumerate(a)]
+    path = tmp_path / "hadcrut.csv"
+    path.write_text("\n".join(["Time,Anomaly (deg C)", *rows]) + "\n")
+    assert main(["estimate", str(path), "--format", "json"]) == 0
+    base = json.loads(capsys.readouterr().out)["variance"]
+    assert main(["estimate", str(path), "--unit-out", "K", "--format", "json"]) == 0
+    assert json.loads(capsys.readouterr().out)["variance"] == pytest.approx(base, rel=1e-9)
