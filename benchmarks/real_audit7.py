@@ -256,9 +256,11 @@ def leap_seconds(seed: int = 26, n: int = 20000) -> list[dict]:
 
 
 # ---------------------------------------------------------------- check 4: the files
-#: the files' date and axis columns: no default signal
+#: the files' dates, their parts and axes (the leftmost columns, col0.. where unnamed):
+#: no default signal
 _NOT_SIGNALS = {"YR", "MM", "DD", "HH", "MJD", "YEAR", "MON/MMM", "Dec year", "Date", "Year",
-                "Southern Oscillation Index (SOI)", "col0"}  # fmt: skip
+                "Southern Oscillation Index (SOI)", "col0", "col1", "col2", "col3",
+                "col4"}  # fmt: skip
 #: words of a refusal that says what to do
 _TO_DO = ("give", "delete", "remove", "drop", "export", "clean", "convert", "try", "use ")
 
@@ -272,6 +274,7 @@ def bad_input() -> list[dict]:
         "IERS finals2000A.all (fixed width, I/P flags)": (
             _refdata.wheel_path(_refdata.IERS_DATA, _IERS + "finals2000A.all"), []),
         "HadCRUT5 CSV, '(2.5%)' in a header": (raw("hadcrut5"), ["--columns", "all"]),
+        "HadCRUT5 CSV, (deg C) --unit-out K": (raw("hadcrut5"), ["--unit-out", "K"]),
         "LR04 CSV, citation lines above the header": (raw("lr04"), []),
         "SOI CSV, a title line above the header": (raw("soi"), ["--columns", "all"]),
         "ONI CSV, a text column, NaN": (raw("oni"), ["--column", "ONI"]),
@@ -301,6 +304,8 @@ def bad_input() -> list[dict]:
             units = [r.get("unit") for r in json.loads(out).get("channels", [])]
             if "(2.5%)" in what and "2.5%" in units:
                 fail.append("'2.5%' read as a unit")
+        elif "no --column" in what or "--unit-out" in what:
+            fail.append("refused: a measured column, its unit declared, must answer")
         res.append({"case": what, "exit": rc, "said": err if rc else _said(out), "fail": fail})
     return res
 
