@@ -169,9 +169,9 @@ def from_sums(
 
     # say which coloured noise (costly: only when it is coloured)
     types = (lambda: ()) if white.white else (spawn or _now)(kinds)
-    lsb = sums.lsb()
-    grid = sums.held_step(lsb)
-    profile, blocks, total, kept, kurt = _profile(sums, grid)
+    # second differences on a grid: the samples sit on one that moves linearly (a trend)
+    lsb = sums.held_step(sums.lsb())
+    profile, blocks, total, kept, kurt = _profile(sums, lsb)
     still_white = _still_whiteness(plan, profile, e_w, keep_w, sums, d, blocks)
     increments, tails = aside()
     diag = NoiseDiagnostics(
@@ -181,7 +181,6 @@ def from_sums(
         kurtosis=kurt,
         tail_index=tails,
         lsb=lsb,
-        grid=grid,
         gaps=seg.gaps,
         jitter=seg.jitter,
         level_profile=profile,

@@ -1,13 +1,14 @@
-"""Columns of a table that are bookkeeping, not a signal: counters, a date's parts, axes.
-
-:attr:`noisevar.io.LoadedTable.first_signal` and ``.signals`` pass them over (each can
-still be named).
+"""Columns of a table that are bookkeeping, not a signal: counters, a date's parts, axes
+(:attr:`noisevar.io.LoadedTable.first_signal` and ``.signals`` pass them over; each can
+still be named), and a logger's missing-value code read as a number (a note).
 """
 
 from __future__ import annotations
 
 import numpy as np
 from numpy.typing import NDArray
+
+from noisevar.io.limits import echo
 
 
 def bookkeeping(z: NDArray) -> bool:
@@ -71,3 +72,36 @@ def _frame_counter(z: NDArray) -> bool:
         steps = np.diff(z)
         whole = bool(np.all(z == np.round(z)))
         return bool(steps.size > 1 and np.all(steps >= 1) and whole and np.median(steps) == 1)
+
+
+#: share of a column's values at one extreme from which that value may be a missing-value code
+CODE_SHARE = 0.05
+#: ... when it lies further from every other value than this many times their range
+CODE_GAP = 2.0
+
+
+def code_note(cname: str, z: NDArray) -> str | None:
+    """A note when many of a column's values are one extreme value far outside the others
+    (NREL MIDC writes -7999, SURFRAD -9999.9, BSRN -999 for a missing value), else None.
+
+    Such a value is read as a number, so it is in R: the note says how to leave it out.
+    """
+    z = z[np.isfinite(z)]
+    if z.size < 20:
+        return None
+    for v in (float(z.min()), float(z.max())):
+        same = z == v
+        k = int(same.sum())
+        if k < max(10, CODE_SHARE * z.size) or k == z.size:
+            continue
+        rest = z[~same]
+        lo, hi = float(rest.min()), float(rest.max())  # Python floats: inf, not a warning
+        span, gap = hi - lo, min(abs(lo - v), abs(hi - v))
+        # (a signal of a few levels, a switch or a counter, is not a code and its values)
+        if gap > CODE_GAP * span > 0 and np.unique(rest).size >= 10:
+            return (
+                f"column {echo(cname)!r}: {k:,} of {z.size:,} values ({k / z.size:.0%}) are "
+                f"{v:g}, far outside the others: a logger's missing-value code? In R as they "
+                "are; write those cells empty and drop them (CLI: --drop-nonfinite)"
+            )
+    return None

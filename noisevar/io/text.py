@@ -14,6 +14,7 @@ from numpy.typing import NDArray
 
 from noisevar._arrays import EXACT_INT
 from noisevar.errors import NoisevarError
+from noisevar.io.column_kinds import code_note
 from noisevar.io.header_units import header_unit
 from noisevar.io.opensignals import opensignals_names
 from noisevar.io.refusal_hints import comment_hint, numbers_for_names, preamble_hint
@@ -336,6 +337,9 @@ def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
         date_idx = next((i for i, c in enumerate(names) if time_key(c) in DATE_NAMES), None)
         time_idx = date_idx if _holds_dates(text, fmt, header_line, date_idx) else None
     columns, notes, first = _parse_body(src, header_line, names, fmt, name, time_idx)
+    if names == [f"col{i}" for i in range(len(names))] and (head := header_of_numbers(columns)):
+        columns = {c: v[1:] for c, v in columns.items()}
+        notes.insert(0, head)
     time_col = names[time_idx] if time_idx is not None else None
     stated = {c: u for c, u in zip(names, unit_row or [], strict=False) if u}  # a units row
     names = [c for c in names if c in columns]  # text columns are left out (noted)
@@ -350,42 +354,53 @@ def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
         raise NoisevarError(f"{echo(name)} has no numbers: every cell is empty or NaN")
     for c in empty:
         notes.append(f"column {echo(c)!r} is empty")
-    notes += [n for c in names if c != time_col and (n := _code_note(c, columns[c]))]
+    notes += [n for c in names if c != time_col and (n := code_note(c, columns[c]))]
     units = {c: u for c in names if c != time_col and (u := header_unit(c) or stated.get(c))}
     return LoadedTable(name, columns, kind, time_col, period, notes, units)
 
 
-#: share of a column's values at one extreme from which that value may be a missing-value code
-CODE_SHARE = 0.05
-#: ... when it lies further from every other value than this many times their range
-CODE_GAP = 2.0
+#: A headerless table's first row is a header of numbers when it lies further than this many
+#: mean steps of the rest outside their range in every column but one, and in at least
+#: this many columns
+HEADER_FAR = 10.0
+HEADER_MIN_COLUMNS = 3
+NUMBERS_HEADER = (
+    "the first row lies far outside the rest in {far} of {of} columns (a header of numbers, "
+    "as UO SRML's files begin: a station, a year, element codes; or a logger's start-up "
+    "row): left out of the data"
+)
 
 
-def _code_note(cname: str, z: NDArray) -> str | None:
-    """A note when many of a column's values are one extreme value far outside the others
-    (NREL MIDC writes -7999, SURFRAD -9999.9, BSRN -999 for a missing value), else None.
+def header_of_numbers(columns: dict[str, NDArray]) -> str | None:
+    """The note when a headerless table's first row is a header written in numbers, else None.
 
-    Such a value is read as a number, so it is in R: the note says how to leave it out.
+    A header when, of columns of 20 values or more (all of the table's), the first value
+    lies outside the others' range by more than :data:`HEADER_FAR` times their mean step
+    (any amount where the others are one value) in all but one, and in at least
+    :data:`HEADER_MIN_COLUMNS`. A clock's first value is one step before the rest, and a
+    signal's within a few steps of its next: data rows are not that far in nearly every
+    column at once. UO SRML's day files begin ``94255 2018 1000 0 2010 0 ...`` (station,
+    year, element codes and flags; the year falls inside the HHMM clock's range), which a
+    user's CLI read as a glitch holding R = 3,519 of a pyranometer's 0.04.
     """
-    z = z[np.isfinite(z)]
-    if z.size < 20:
+    cols = [v for v in columns.values() if v.size >= 20]
+    if len(cols) < len(columns):
         return None
-    for v in (float(z.min()), float(z.max())):
-        same = z == v
-        k = int(same.sum())
-        if k < max(10, CODE_SHARE * z.size) or k == z.size:
-            continue
-        rest = z[~same]
-        lo, hi = float(rest.min()), float(rest.max())  # Python floats: inf, not a warning
-        span, gap = hi - lo, min(abs(lo - v), abs(hi - v))
-        # (a signal of a few levels, a switch or a counter, is not a code and its values)
-        if gap > CODE_GAP * span > 0 and np.unique(rest).size >= 10:
-            return (
-                f"column {echo(cname)!r}: {k:,} of {z.size:,} values ({k / z.size:.0%}) are "
-                f"{v:g}, far outside the others: a logger's missing-value code? In R as they "
-                "are; write those cells empty and drop them (CLI: --drop-nonfinite)"
-            )
-    return None
+    far = sum(_far_first(v) for v in cols)
+    if far < max(HEADER_MIN_COLUMNS, len(cols) - 1):
+        return None
+    return NUMBERS_HEADER.format(far=far, of=len(cols))
+
+
+def _far_first(v: NDArray) -> bool:
+    """The first value lies far outside the rest (:func:`header_of_numbers`)."""
+    rest = v[1:][np.isfinite(v[1:])]
+    if not np.isfinite(v[0]) or rest.size < 2:
+        return False
+    lo, hi = float(rest.min()), float(rest.max())
+    gap = max(lo - float(v[0]), float(v[0]) - hi)
+    step = float(np.mean(np.abs(np.diff(rest))))
+    return gap > HEADER_FAR * step and gap > 0.0
 
 
 def _read_frame(
