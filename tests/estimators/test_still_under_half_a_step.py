@@ -46,3 +46,14 @@ def test_dropping_samples_keeps_the_r_to_use():
         again = nv.estimate(z[d:])
         assert again.still is None
         assert lo <= variance_for(again, "still") <= hi
+
+
+def test_a_trend_keeps_the_r_to_use():
+    """Under the audits' trend (1e3 x the std over the record) the samples leave the grid
+    but their second differences stay on it (``diagnostics.grid``): still no still R."""
+    z = held_record()
+    est = nv.estimate(z)
+    lo, hi = est.ci95
+    trended = nv.estimate(z + np.linspace(0.0, 1e3 * np.std(z), z.size))
+    assert trended.still is None
+    assert lo <= variance_for(trended, "still") <= hi
