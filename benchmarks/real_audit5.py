@@ -25,7 +25,8 @@ CO2, gpxpy, autoflpy, evo, blobjugglerpy; ``real_noise``: allantools):
   global, direct, diffuse and long-wave irradiance, temperature, humidity, pressure;
   the cleaned CSVs of SURFRAD and BSRN drop the rows with a missing value (gaps in time);
 - ``srml_eugene``: University of Oregon SRML, one day at 1 min, a tab-separated file whose
-  header row is numbers (station, year, element codes): read as a user's CLI reads it.
+  header row is numbers (station, year, element codes): read as a user's CLI reads it
+  (the loader leaves that row out, with a note: `noisevar.io.quirks.header_of_numbers`).
 
 Checks (``--records`` narrows them):
 

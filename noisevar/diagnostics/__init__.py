@@ -15,6 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.diagnostics.glitches import Glitch, bridge_blocks, bridged, deviations, lone
+from noisevar.diagnostics.notes import make_notes
 from noisevar.diagnostics.plan import (
     DIAG_ORDER,
     DIAG_SPAN,
@@ -29,7 +30,7 @@ from noisevar.diagnostics.results import NoiseDiagnostics
 from noisevar.diagnostics.segments import Gap, Segmentation, split_dropped, split_times
 from noisevar.diagnostics.sums import DiagSums, diag_part
 from noisevar.diagnostics.tails import kurtosis_from_moments, tail_index
-from noisevar.diagnostics.verdict import make_notes, make_verdict, other_still_clause
+from noisevar.diagnostics.verdict import make_verdict, other_still_clause
 from noisevar.diagnostics.whiteness import WHITE_LAGS, WhitenessTest, whiteness_test
 from noisevar.errors import NoisevarError
 from noisevar.numeric.fir import residual_sequence
@@ -169,9 +170,9 @@ def from_sums(
 
     # say which coloured noise (costly: only when it is coloured)
     types = (lambda: ()) if white.white else (spawn or _now)(kinds)
-    lsb = sums.lsb()
-    grid = sums.held_step(lsb)
-    profile, blocks, total, kept, kurt = _profile(sums, grid)
+    # second differences on a grid: the samples sit on one that moves linearly (a trend)
+    lsb = sums.held_step(sums.lsb())
+    profile, blocks, total, kept, kurt = _profile(sums, lsb)
     still_white = _still_whiteness(plan, profile, e_w, keep_w, sums, d, blocks)
     increments, tails = aside()
     diag = NoiseDiagnostics(
@@ -181,7 +182,6 @@ def from_sums(
         kurtosis=kurt,
         tail_index=tails,
         lsb=lsb,
-        grid=grid,
         gaps=seg.gaps,
         jitter=seg.jitter,
         level_profile=profile,

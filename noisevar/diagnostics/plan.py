@@ -17,7 +17,7 @@ from numpy.typing import NDArray
 
 from noisevar._arrays import median_inplace
 from noisevar.diagnostics.profile import CHI2_1_MEDIAN, PROFILE_BLOCKS, PROFILE_MIN_BLOCK
-from noisevar.diagnostics.quantisation import LSB_PROBE, LSB_TOL
+from noisevar.diagnostics.quantisation import LSB_PROBE, on_grid
 from noisevar.diagnostics.whiteness import WHITE_LAGS
 from noisevar.numeric.blocks import row_medians
 
@@ -128,12 +128,7 @@ def _grid_candidate(probe: NDArray) -> tuple[float, float] | str | None:
         span = float(levels[-1] - levels[0])
     if step <= 0 or span / step > 1e9:
         return None
-    return (float(levels[0]), step) if _on_grid(steps, step) else None
-
-
-def _on_grid(x: NDArray, step: float) -> bool:
-    r = x / step
-    return bool(np.max(np.abs(r - np.rint(r)), initial=0.0) < LSB_TOL)
+    return (float(levels[0]), step) if on_grid(steps, step) else None
 
 
 @dataclass

@@ -13,6 +13,8 @@ LSB_TOL = 1e-3
 #: float rounding (a held stretch plus a trend), not a step: its three samples carry up to
 #: half a unit in the last place each, weighed 1, 2, 1.
 ROUNDING_EPS = 8 * float(np.finfo(float).eps)
+#: The same for samples that passed through float32 (:func:`second_difference_step`).
+F32_EPS = 8 * float(np.finfo(np.float32).eps)
 #: A grid step of second differences is at least this many times their float rounding.
 ROUNDING_STEPS = 16
 
@@ -49,22 +51,44 @@ def second_difference_step(z: NDArray) -> float | None:
     -----
     docs/algorithms.md §E3 (*Held values*). A linear trend or an offset adds nothing to a
     second difference, so the grid of a record held on a grid stays found under them
-    (:func:`find_lsb` needs the samples themselves on it). The first :data:`LSB_PROBE`
+    (the distinct values' step needs the samples themselves on it). The first :data:`LSB_PROBE`
     second differences are tried first: a record off any grid (most) costs no pass over
     the whole (a probe whose smallest second difference is not its grid is taken for off a
     grid).
     """
     if z.size < 3:
         return 0.0
-    if z.size > LSB_PROBE + 2 and _d2_step(z[: LSB_PROBE + 2]) is None:
+    if z.size > LSB_PROBE + 2 and _stored_step(z[: LSB_PROBE + 2]) is None:
         return None
-    return _d2_step(z)
+    return _stored_step(z)
 
 
-def _d2_step(z: NDArray) -> float | None:
-    """:func:`second_difference_step` of ``z`` (at least 3 samples), over all of it."""
+def _stored_step(z: NDArray) -> float | None:
+    """:func:`_d2_step` at float64's rounding, else at float32's.
+
+    A grid scaled into float32 (counts times a calibration, as HDF5 and netCDF files keep
+    them) is off by float32's rounding, far above float64's, and stays so when the values
+    are scaled or moved after: there the smallest second difference above float64's
+    rounding is float32's own spacing (or none is on a grid), not the grid. Second
+    differences that are whole multiples of one step at float32's rounding are a grid all
+    the same (random values are not: each of thousands would have to fall within
+    :data:`LSB_TOL` of a multiple).
+    """
+    step = _d2_step(z, ROUNDING_EPS)
+    if step is not None and step >= F32_EPS * float(np.max(np.abs(z))):
+        return step  # coarser than float32's rounding: a grid (most grids end here)
+    wide = _d2_step(z, F32_EPS)
+    if not wide:
+        return step
     d2 = np.abs(np.diff(z, 2))
-    tol = ROUNDING_EPS * float(np.max(np.abs(z)))
+    return float(d2.sum() / np.rint(d2 / wide).sum())  # every multiple, not the least alone
+
+
+def _d2_step(z: NDArray, eps: float) -> float | None:
+    """:func:`second_difference_step` of ``z`` (at least 3 samples), over all of it, with
+    second differences up to ``eps`` times the largest ``|z|`` taken for rounding."""
+    d2 = np.abs(np.diff(z, 2))
+    tol = eps * float(np.max(np.abs(z)))
     d2[d2 <= tol] = 0.0  # float rounding
     top = float(d2.max())
     if not top > 0:
@@ -92,41 +116,10 @@ def joined_step(steps: list[float | None]) -> float | None:
     if not found.size:
         return None
     step = float(found.min())
-    return step if _on_grid(found, step) else None
+    return step if on_grid(found, step) else None
 
 
-def find_lsb(z: NDArray) -> float | None:
-    """The step of the grid the samples sit on, or None when they are not on one.
-
-    Parameters
-    ----------
-    z : ndarray
-        Samples.
-
-    Returns
-    -------
-    float or None
-        The smallest step ``Δ`` such that every ``(z - z₀) / Δ`` is an integer (to
-        :data:`LSB_TOL`), proposed from the smallest gap between distinct values of a
-        probe of the record.
-    """
-    probe = z[:: max(1, z.size // LSB_PROBE)]
-    levels = np.unique(probe)
-    if levels.size < 2:
-        levels = np.unique(z)
-        if levels.size < 2:
-            return None
-    steps = np.diff(levels)
-    step = float(steps.min())
-    spread = float(levels[-1] - levels[0])
-    if step <= 0 or spread / step > 1e9:  # a grid finer than float64 resolves: continuous
-        return None
-    if not _on_grid(steps, step):
-        return None
-    return step if _on_grid(z - levels[0], step) else None
-
-
-def _on_grid(x: NDArray, step: float) -> bool:
+def on_grid(x: NDArray, step: float) -> bool:
     """Every ``x / step`` within :data:`LSB_TOL` of an integer."""
     r = x / step
-    return bool(np.max(np.abs(r - np.rint(r))) < LSB_TOL)
+    return bool(np.max(np.abs(r - np.rint(r)), initial=0.0) < LSB_TOL)

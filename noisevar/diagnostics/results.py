@@ -41,11 +41,9 @@ class NoiseDiagnostics:
     tail_index : float or None
         Hill's tail index of the residual (about ν for Student-t with ν dof).
     lsb : float or None
-        Quantisation step when the samples sit on a grid.
-    grid : float or None
-        The step held values are judged on (docs/algorithms.md §E3 *Held values*): the
-        grid of the record's second differences, which a trend or an offset keeps, else
-        ``lsb``; None off a grid.
+        Quantisation step when the samples sit on a grid, or on one that moves linearly
+        (a trend added to a quantised record: its second differences keep the grid,
+        docs/algorithms.md §E3 *Held values*); None off a grid.
     gaps : tuple of Gap
         Spliced or non-uniform places.
     jitter : float
@@ -94,7 +92,6 @@ class NoiseDiagnostics:
     glitches: tuple[Glitch, ...] = ()
     core_kurtosis: float | None = None
     quiet: QuietLevel | None = None
-    grid: float | None = None
     verdict: str = ""
     notes: tuple[str, ...] = field(default_factory=tuple)
 
@@ -232,7 +229,6 @@ class NoiseDiagnostics:
             "kurtosis": _finite(self.kurtosis),
             "tail_index": _finite(self.tail_index),
             "lsb": _finite(self.lsb),
-            "grid": _finite(self.grid),
             "gaps": [g.to_dict() for g in self.gaps],
             "jitter": _finite(self.jitter),
             "quiet_variance": _finite(self.quiet_variance),

@@ -20,11 +20,10 @@ from noisevar.diagnostics.plan import (
     Grid,
     Piece,
     Windows,
-    _on_grid,
     block_level,
     block_pieces,
 )
-from noisevar.diagnostics.quantisation import joined_step, second_difference_step
+from noisevar.diagnostics.quantisation import joined_step, on_grid, second_difference_step
 from noisevar.diagnostics.whiteness import WHITE_LAGS
 from noisevar.errors import NoisevarError
 from noisevar.numeric.fir import residual_sequence, rounded_fir
@@ -138,13 +137,13 @@ def diag_part(
     if hi == b:
         incr.append((d0 + b - a - 1, np.zeros(WHITE_LAGS), np.zeros(WHITE_LAGS, dtype=bool)))
     own_z = z[lo - wa : hi - wa]
-    on_grid, uniques = True, None
+    sits, uniques = True, None
     if isinstance(plan.probe, tuple):
-        on_grid = _on_grid(own_z - plan.probe[0], plan.probe[1])
+        sits = on_grid(own_z - plan.probe[0], plan.probe[1])
     elif plan.probe == "flat":
         uniques = np.unique(own_z)[: UNIQUE_MAX + 1]
     step = second_difference_step(own_z)
-    return DiagPart(profile, wide, white, incr, on_grid, uniques, mirrored, step)
+    return DiagPart(profile, wide, white, incr, sits, uniques, mirrored, step)
 
 
 def _mirrored(
@@ -263,7 +262,7 @@ class DiagSums:
         steps = np.diff(self.uniques)
         step = float(steps.min())
         spread = float(self.uniques[-1] - self.uniques[0])
-        if step <= 0 or spread / step > 1e9 or not _on_grid(self.uniques - self.uniques[0], step):
+        if step <= 0 or spread / step > 1e9 or not on_grid(self.uniques - self.uniques[0], step):
             return None
         return step
 

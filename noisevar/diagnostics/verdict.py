@@ -10,13 +10,15 @@ from numpy.typing import NDArray
 from noisevar.diagnostics.power_law import WHITE, describe
 from noisevar.diagnostics.quantisation import half_a_step
 from noisevar.diagnostics.regimes import STILL_RATIO
-from noisevar.diagnostics.segments import GAP_RTOL, JITTER_NOTE
 from noisevar.format import eng
 
 if TYPE_CHECKING:
     from noisevar.diagnostics.regimes import StillLevel
     from noisevar.diagnostics.results import NoiseDiagnostics
+    from noisevar.diagnostics.whiteness import WhitenessTest
 
+#: A whiteness test failed at a p-value above this, with no colour named, is a weak finding.
+WEAK_P = 0.01
 #: The quiet stretches cover less than this share: the record is mostly motion.
 MOSTLY_MOTION = 0.5
 #: R over the core variance above which the outlying samples hold most of R (over half).
@@ -346,7 +348,13 @@ def _not_white(
             f"sensor noise cannot be measured apart from the motion, so {r} over the whole "
             "record includes motion or signal (record the sensor still for a while)"
         )
-    if not still_apart and diag.level_varies and quiet >= variance:  # none quieter to quote
+    # none quieter to quote (under half a step, the rounding's flips: quantisation)
+    if (
+        not still_apart
+        and diag.level_varies
+        and quiet >= variance
+        and not under_half_a_step(diag, variance)
+    ):
         return _none_quieter(r, quiet)
     # no quiet block (a grid's noise under half a step): no still level to quote
     if (
@@ -356,7 +364,8 @@ def _not_white(
         and not diag.white
     ):
         return (
-            f"the record is mostly motion or signal leaking through: the sensor noise measured "
+            f"the noise level changes along the record, mostly motion or signal leaking through: "
+            "the sensor noise measured "
             f"in its still stretches ({still_share(diag):.0%} of it) is "
             f"{_g(quiet)} (std {_g(float(np.sqrt(quiet)))}), "
             f"against {_g(variance)} over the whole record{said}"
@@ -370,13 +379,15 @@ def _not_white(
             f"{_g(quiet)}, and their noise is white: the rest is motion leaking through the "
             f"smoother, not coloured noise{indicative(gap)}"
         )
-    if still_apart and diag.level_varies and variance > STILL_RATIO * quiet:
+    if still_apart and variance > STILL_RATIO * quiet:
         # the R to use is the still R, well below R: the level change comes first, then the
         # still stretches' own colour (a coloured verdict would quote R, an average, as its
-        # white part); a still R near R leaves the colour the finding (GPS 1PPS: 0.99x)
+        # white part); a still R near R leaves the colour the finding (GPS 1PPS: 0.99x).
+        # Whether PELT split the record or not (a marginal change point: a Pololu
+        # accelerometer less 3 samples), the still R apart from R says the level changes
         return _level_changes(still_share(diag), r, quiet, said)
     if not diag.white:
-        return _coloured(diag, r, quiet, still_apart and diag.level_varies)
+        return _coloured(diag, r, quiet, still_apart)
     return None
 
 
@@ -390,8 +401,7 @@ def _rounding_first(diag: NoiseDiagnostics, r: str, quiet: float, said: str | No
     ``said``: a still R to use apart from R (its clause), else None.
     """
     stood = (
-        f"; its still stretches ({still_share(diag):.0%}) give {_g(quiet)}, "
-        f"the R to use{said}"
+        f"; its still stretches ({still_share(diag):.0%}) give {_g(quiet)}, the R to use{said}"
         if said is not None
         else ""
     )
@@ -406,23 +416,48 @@ def _rounding_first(diag: NoiseDiagnostics, r: str, quiet: float, said: str | No
 
 def _coloured(diag: NoiseDiagnostics, r: str, quiet: float, still_near: bool) -> str:
     """The verdict of coloured noise; ``still_near``: a still R to use near R (within
-    STILL_RATIO), quoted too."""
-    # slopes that read white at every factor name no colour: the lag-1 correlation does
+    STILL_RATIO), quoted too.
+
+    With no colour named by the power law and a whiteness test failed at a p-value of
+    :data:`WEAK_P` or more, the finding is weak (white noise gives such a p-value 1 time
+    in ``1/p``, 1 in 20 at most;
+    Student-t noise read "coloured: lag-1 autocorrelation -0.00 beyond white noise's"): the
+    sentence says so, with the lag that departs most.
+    """
+    # slopes that read white at every factor name no colour: the farthest lag does
     coloured = any(alpha != WHITE for _, alpha in diag.power_law)
+    w = diag.whiteness
+    weak = not coloured and w.p_value >= WEAK_P
     kind = (
-        f"{describe(diag.power_law)} (power-law identification)"
-        if coloured
-        else f"lag-1 autocorrelation {diag.whiteness.lag1:+.2f} beyond white noise's"
+        f"{describe(diag.power_law)} (power-law identification)" if coloured else _farthest_lag(w)
     )
     share = still_share(diag)
     still = (
         f"; its still stretches ({share:.0%}) give {_g(quiet)}, the R to use" if still_near else ""
     )
+    if weak:
+        return (
+            f"the noise may be coloured (a weak finding: whiteness test p = {w.p_value:.2g}, "
+            f"as low as white noise gives 1 time in {1 / w.p_value:.0f}): {kind}, or signal "
+            "leaks through the "
+            f"smoother; {r} is its white part, and a good Kalman R if the noise is white: "
+            f"check on a longer record (see the noise model){still}"
+        )
     return (
         f"the noise is coloured: {kind}, or signal leaks through the smoother; {r} is "
         "its white part (or a little above): model the coloured part (see the noise "
         f"model), since a white R alone understates what a Kalman filter sees{still}"
     )
+
+
+def _farthest_lag(w: WhitenessTest) -> str:
+    """The lag whose autocorrelation departs most from white noise's, in its band.
+
+    Named by the lag that departs, not lag 1 alone: Student-t noise failed the test at
+    p = 0.007 by lags 2-6 and read "lag-1 autocorrelation -0.00 beyond white noise's".
+    """
+    k = int(np.argmax(np.abs((w.acf - w.expected) / w.band)))
+    return f"lag-{k + 1} autocorrelation {w.acf[k] - w.expected[k]:+.2f} beyond white noise's"
 
 
 def indicative(gap: str | None) -> str:
@@ -521,39 +556,6 @@ def _share(x: float) -> str:
     if x == 0:
         return "no"
     return f"{100 * x:.2g}%" if x < 1e-3 else f"{x:.1%}"
-
-
-def make_notes(diag: NoiseDiagnostics) -> tuple[str, ...]:
-    """Remarks beyond the verdict: interval reliability, quantisation, gaps, jitter."""
-    notes = []
-    if diag.fourth_moment_unreliable:
-        notes.append(
-            f"the tails are very heavy (tail index {diag.tail_index:.1f}, below 4: the noise "
-            "may have no finite fourth moment): the interval of the variance is unreliable"
-        )
-    if diag.lsb is not None:
-        notes.append(
-            f"the samples sit on a grid of step {_g(diag.lsb)}: the error variance is "
-            f"σ² + lsb²/12, with lsb²/12 = {_g(diag.lsb**2 / 12.0)}"
-        )
-    if diag.gaps:
-        kinds = {g.kind for g in diag.gaps}
-        what = "gaps" if kinds == {"gap"} or kinds == {"nan"} else "gaps or irregular steps"
-        what = what if len(diag.gaps) > 1 else what.replace("gaps", "gap").replace("steps", "step")
-        notes.append(
-            f"{len(diag.gaps)} {what} (first at sample {diag.gaps[0].index}): the record was "
-            "estimated per uniform segment and pooled, not spliced"
-        )
-    if diag.jitter >= GAP_RTOL:
-        notes.append(
-            f"irregular sampling: steps differ from the period by up to {diag.jitter:.0%} "
-            "(samples dropped, or stamped late); too little of the record lies between such "
-            "steps to split at each, so the samples are taken in order as if uniform: right "
-            "for the noise when the signal changes little from one sample to the next"
-        )
-    elif diag.jitter > JITTER_NOTE:
-        notes.append(f"sampling jitter up to {diag.jitter:.1%} of the period: treated as uniform")
-    return tuple(notes)
 
 
 def _differenced(corr: NDArray, r: str) -> str:

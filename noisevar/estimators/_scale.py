@@ -238,3 +238,23 @@ def check_answer(result: Any) -> None:
             f"method {name!r} gave no usable confidence interval on this record (the fit is "
             "degenerate): the noise is not identifiable by this method; try another one"
         )
+
+
+def held_but_for(result: Any) -> None:
+    """Refuse a record that holds one value but for its outlying samples (no diagnostics).
+
+    Raises
+    ------
+    NoisevarError
+        When the estimate without its outlying samples is 0: a trigger or event channel
+        (0 with one-sample pulses), whose R would be the pulses' alone, with an interval
+        from their count.
+    """
+    if result.core_variance == 0.0 and result.outlier_fraction > 0.0:
+        k = round(result.outlier_fraction * result.n_used)
+        raise NoisevarError(
+            f"the signal holds one value but for {k} sample{'' if k == 1 else 's'} "
+            f"({100 * result.outlier_fraction:.2g}%): a trigger or event channel, or a "
+            "sensor far below its resolution; between them its noise variance is 0 and "
+            "there is nothing to estimate"
+        )

@@ -42,7 +42,7 @@ from noisevar.diagnostics.profile import LevelProfile, regimes_on_both_grids
 from noisevar.diagnostics.regimes import QuietLevel, StillLevel
 from noisevar.errors import NoisevarError
 from noisevar.estimators._input import check_samples, check_times
-from noisevar.estimators._scale import check_answer, unscale
+from noisevar.estimators._scale import check_answer, held_but_for, unscale
 from noisevar.estimators.interval import (
     LoneGlitches,
     at_edge,
@@ -219,7 +219,7 @@ class InMemory:
             jumps = getattr(self, "jumps", None)
             lone = np.array([n - 1 - g.index for g in diag.glitches], dtype=int)
             cut = None if jumps is None else jumps[::-1]
-            back = profile_of(self.z[::-1], seg, cut, lone, diag.grid)
+            back = profile_of(self.z[::-1], seg, cut, lone, diag.lsb)
             self._back = back
         return back
 
@@ -330,6 +330,7 @@ def run_record(
     try:
         diag = record.diagnose(result)
     except NoisevarError as exc:
+        held_but_for(result)
         result.notes.append(f"no diagnostics: {exc}")
     else:
         diag = regimes_on_both_grids(diag, getattr(record, "back_profile", None))
@@ -372,7 +373,7 @@ def _after_diagnostics(
             return None, replace(diag, quiet=level)
         # its interval from the record's noise, with the lone glitches in the still stretches
         at = glitches_within(lone, ranges_mask(diag.level_profile.still_stretches, diag.n))
-        still = rounding_floor(conclude(spec, still, diag, None, glitches=at), diag.grid)
+        still = rounding_floor(conclude(spec, still, diag, None, glitches=at), diag.lsb)
         still.diagnostics = None  # the diagnostics stay on the record's own result
         return still, replace(diag, other_still=_other_levels(spec, record, own, diag, still, lone))
 
@@ -576,12 +577,11 @@ def rescale_diagnostics(result: VarianceEstimate, e: int) -> None:
         regimes=regimes,
     )
     lsb = None if diag.lsb is None else float(back(np.asarray(diag.lsb), 1))
-    grid = None if diag.grid is None else float(back(np.asarray(diag.grid), 1))
     old = set(diag.notes)
     quiet = (
         None if diag.quiet is None else diag.quiet.mapped(lambda v: float(back(np.asarray(v), 2)))
     )
-    diag = replace(diag, level_profile=prof, lsb=lsb, grid=grid, quiet=quiet)
+    diag = replace(diag, level_profile=prof, lsb=lsb, quiet=quiet)
     diag = with_verdict(
         diag,
         result.variance,

@@ -225,7 +225,7 @@ def held_digits(
     so there is no still R, said.
     """
     read = _reader(record)
-    if still is None or read is None or diag.grid is not None or not ranges:
+    if still is None or read is None or diag.lsb is not None or not ranges:
         return None
     step = joined_step([second_difference_step(read(a, b)) for a, b in ranges])
     if step is None or not step > 0 or still.variance >= half_a_step(step):

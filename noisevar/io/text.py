@@ -15,6 +15,7 @@ from numpy.typing import NDArray
 from noisevar._arrays import EXACT_INT
 from noisevar.errors import NoisevarError
 from noisevar.io.opensignals import opensignals_names
+from noisevar.io.quirks import code_note, header_of_numbers
 from noisevar.io.table import (
     _NA_TOKENS,
     DATE_NAMES,
@@ -321,6 +322,9 @@ def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
         date_idx = next((i for i, c in enumerate(names) if time_key(c) in DATE_NAMES), None)
         time_idx = date_idx if _holds_dates(text, fmt, header_line, date_idx) else None
     columns, notes, first = _parse_body(src, header_line, names, fmt, name, time_idx)
+    if names == [f"col{i}" for i in range(len(names))] and (head := header_of_numbers(columns)):
+        columns = {c: v[1:] for c, v in columns.items()}
+        notes.insert(0, head)
     time_col = names[time_idx] if time_idx is not None else None
     stated = {c: u for c, u in zip(names, unit_row or [], strict=False) if u}  # a units row
     names = [c for c in names if c in columns]  # text columns are left out (noted)
@@ -335,42 +339,9 @@ def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
         raise NoisevarError(f"{echo(name)} has no numbers: every cell is empty or NaN")
     for c in empty:
         notes.append(f"column {echo(c)!r} is empty")
-    notes += [n for c in names if c != time_col and (n := _code_note(c, columns[c]))]
+    notes += [n for c in names if c != time_col and (n := code_note(c, columns[c]))]
     units = {c: u for c in names if c != time_col and (u := header_unit(c) or stated.get(c))}
     return LoadedTable(name, columns, kind, time_col, period, notes, units)
-
-
-#: share of a column's values at one extreme from which that value may be a missing-value code
-CODE_SHARE = 0.05
-#: ... when it lies further from every other value than this many times their range
-CODE_GAP = 2.0
-
-
-def _code_note(cname: str, z: NDArray) -> str | None:
-    """A note when many of a column's values are one extreme value far outside the others
-    (NREL MIDC writes -7999, SURFRAD -9999.9, BSRN -999 for a missing value), else None.
-
-    Such a value is read as a number, so it is in R: the note says how to leave it out.
-    """
-    z = z[np.isfinite(z)]
-    if z.size < 20:
-        return None
-    for v in (float(z.min()), float(z.max())):
-        same = z == v
-        k = int(same.sum())
-        if k < max(10, CODE_SHARE * z.size) or k == z.size:
-            continue
-        rest = z[~same]
-        lo, hi = float(rest.min()), float(rest.max())  # Python floats: inf, not a warning
-        span, gap = hi - lo, min(abs(lo - v), abs(hi - v))
-        # (a signal of a few levels, a switch or a counter, is not a code and its values)
-        if gap > CODE_GAP * span > 0 and np.unique(rest).size >= 10:
-            return (
-                f"column {echo(cname)!r}: {k:,} of {z.size:,} values ({k / z.size:.0%}) are "
-                f"{v:g}, far outside the others: a logger's missing-value code? In R as they "
-                "are; write those cells empty and drop them (CLI: --drop-nonfinite)"
-            )
-    return None
 
 
 #: the unit in the header's last brackets; earlier bracketed words are names, not units

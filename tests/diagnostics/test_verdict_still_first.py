@@ -69,3 +69,26 @@ def test_a_quiet_level_above_r_is_never_quoted_as_the_quiet_one() -> None:
     v = make_verdict(diag, 0.5 * quiet, still_gap="too short")  # a quiet level above R
     assert "no stretch of it is measurably quieter" in v
     assert "quiet stretches (" not in v
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_still_r_apart_leads_whether_or_not_pelt_split_the_record(seed: int) -> None:
+    """Pololu's accelerometer Z less 3 samples (real_audit): PELT's marginal change point
+    gone (one regime), the still R 13,159 against R 129,693, and the verdict read "the noise
+    is coloured ...; R is its white part" where the R to use was the still R."""
+    from dataclasses import replace
+
+    from noisevar.diagnostics.verdict import make_verdict
+
+    est = noisevar.estimate(_record(seed))
+    d = est.diagnostics
+    one = replace(
+        d.level_profile, regimes=tuple(replace(r, still=True) for r in d.level_profile.regimes)
+    )
+    flat = replace(d, level_profile=one)
+    assert not flat.level_varies
+    v = make_verdict(
+        flat, est.variance, est.core_variance, est.outlier_fraction, est.still.variance
+    )
+    assert v.startswith("the noise level changes along the record"), v
+    assert noisevar.format.eng(est.still.variance) in v

@@ -84,7 +84,7 @@ def test_spiky_nights_give_the_still_regimes_r(seed):
 def test_staircase_nights_on_a_grid_are_one_still_level(seed):
     z = staircase_nights(seed)
     est = nv.estimate(z)
-    assert est.diagnostics.grid == pytest.approx(1.0)
+    assert est.diagnostics.lsb == pytest.approx(1.0)
     assert est.still is not None  # was: no still regime (each night its own level)
     truth = 0.2**2 + 1.0 / 12.0  # σ² + lsb²/12 (§E3)
     assert truth / 1.5 <= est.still.variance <= 1.5 * truth
@@ -97,7 +97,7 @@ def test_staircase_nights_keep_their_still_r_under_a_trend_and_an_offset(seed):
     s = float(np.std(z))
     for moved in (z + np.linspace(0.0, 1e3 * s, z.size), z + 1e4 * s):
         again = nv.estimate(moved)
-        assert again.diagnostics.grid == pytest.approx(1.0)  # the second differences' grid
+        assert again.diagnostics.lsb == pytest.approx(1.0)  # the grid moves with the trend
         assert again.still is not None
         assert base.ci95[0] <= again.still.variance <= base.ci95[1]
 
@@ -106,7 +106,7 @@ def test_staircase_nights_keep_their_still_r_under_a_trend_and_an_offset(seed):
 def test_a_floor_held_to_the_last_digit_has_no_still_r(seed):
     z = floor_nights(seed)
     est = nv.estimate(z)
-    assert est.diagnostics.lsb is None and est.diagnostics.grid is None
+    assert est.diagnostics.lsb is None
     assert est.still is None  # was: 1.6e-13 to 3e-13, the sixth decimal's rounding
     gap = why_no_still(est)
     assert gap is not None and "last stored digit" in gap

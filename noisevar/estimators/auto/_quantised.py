@@ -48,6 +48,9 @@ MIN_STEPS_PER_SPAN = 1.5
 #: noise under half a step move them by at most about one).
 JUMP_STEPS = 1.5
 JUMP_WINDOW = 40
+#: First differences within this fraction of a step of one drift (plus whole steps) are a
+#: grid that moves (:func:`undrifted`).
+DRIFT_TOL = 1e-3
 #: Smallest noise, in steps, the solver tries (the tables need ``σ > 0``).
 _SIGMA_FLOOR = 1e-3
 _U = np.arange(TABLE + 1) / TABLE
@@ -234,7 +237,7 @@ def _offsets_at(
     zs, keep = [], []
     for lo, a, b, hi in _pieces(n, span, fit):
         x = read(lo, hi)
-        zs.append((x - x[0]) / lsb)  # from a grid point: the grid may be offset from 0
+        zs.append(undrifted((x - x[0]) / lsb))  # from a grid point: it may be offset from 0
         keep.append((a - lo, b - lo))
     cuts = [_level_jumps(z, _smooth(z, fit)) for z in zs]
     cs = [_smooth_between(z, k, fit) for z, k in zip(zs, cuts, strict=True)]
@@ -242,6 +245,25 @@ def _offsets_at(
     if sum(int(u[h : u.size - h].sum()) for u in use) < fit:
         return None
     return Offsets(zs, cs, keep, use, cuts, fit)
+
+
+def undrifted(u: NDArray) -> NDArray:
+    """``u`` (in grid steps, from a grid point) less the drift of a grid that moves.
+
+    A linear trend added to a quantised record moves its grid by a fixed fraction ``a`` of
+    a step per sample: every first difference is then ``a`` plus a whole number of steps
+    (its second differences stay on the grid, ``diagnostics.lsb``). The rounding error
+    is the record's own offset from the moved grid, ``u - a k``; ``u`` itself when its
+    first differences are not so (``a`` = 0 on a grid that does not move).
+    """
+    if u.size < 2:
+        return u
+    d = np.diff(u)
+    a = float(d[0] - np.rint(d[0]))
+    r = d - a
+    if a == 0.0 or not float(np.max(np.abs(r - np.rint(r)))) < DRIFT_TOL:
+        return u
+    return u - a * np.arange(u.size)
 
 
 def _smooth_between(x: NDArray, cuts: NDArray, fit: int) -> NDArray:

@@ -353,7 +353,7 @@ class ChunkedAuto:
         read backwards, :func:`~noisevar.diagnostics.sums.diag_part`'s ``back``): no pass."""
         if self.sums is None or self.sums.back is None:
             raise NoisevarError("the record has not been estimated yet")
-        return profile_from_sums(self.sums.back, diag.grid)
+        return profile_from_sums(self.sums.back, diag.lsb)
 
     def still_ranges(self, diag: NoiseDiagnostics) -> list[tuple[int, int]]:
         """As :meth:`~noisevar.estimators.pipeline.InMemory.still_ranges`."""

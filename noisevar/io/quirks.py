@@ -1,0 +1,88 @@
+"""What loggers write into a table that is not data: a header in numbers, a missing-value code.
+
+Both are read as numbers by a table reader, and both would be in R: the loader says so
+(docs/algorithms.md, *Reading logs*).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from noisevar.io.limits import echo
+
+#: A headerless table's first row is a header of numbers when it lies further than this many
+#: mean steps of the rest outside their range in every column but one, and in at least
+#: this many columns
+HEADER_FAR = 10.0
+HEADER_MIN_COLUMNS = 3
+NUMBERS_HEADER = (
+    "the first row lies far outside the rest in {far} of {of} columns (a header of numbers, "
+    "as UO SRML's files begin: a station, a year, element codes; or a logger's start-up "
+    "row): left out of the data"
+)
+
+
+def header_of_numbers(columns: dict[str, NDArray]) -> str | None:
+    """The note when a headerless table's first row is a header written in numbers, else None.
+
+    A header when, of columns of 20 values or more (all of the table's), the first value
+    lies outside the others' range by more than :data:`HEADER_FAR` times their mean step
+    (any amount where the others are one value) in all but one, and in at least
+    :data:`HEADER_MIN_COLUMNS`. A clock's first value is one step before the rest, and a
+    signal's within a few steps of its next: data rows are not that far in nearly every
+    column at once. UO SRML's day files begin ``94255 2018 1000 0 2010 0 ...`` (station,
+    year, element codes and flags; the year falls inside the HHMM clock's range), which a
+    user's CLI read as a glitch holding R = 3,519 of a pyranometer's 0.04.
+    """
+    cols = [v for v in columns.values() if v.size >= 20]
+    if len(cols) < len(columns):
+        return None
+    far = sum(_far_first(v) for v in cols)
+    if far < max(HEADER_MIN_COLUMNS, len(cols) - 1):
+        return None
+    return NUMBERS_HEADER.format(far=far, of=len(cols))
+
+
+def _far_first(v: NDArray) -> bool:
+    """The first value lies far outside the rest (:func:`header_of_numbers`)."""
+    rest = v[1:][np.isfinite(v[1:])]
+    if not np.isfinite(v[0]) or rest.size < 2:
+        return False
+    lo, hi = float(rest.min()), float(rest.max())
+    gap = max(lo - float(v[0]), float(v[0]) - hi)
+    step = float(np.mean(np.abs(np.diff(rest))))
+    return gap > HEADER_FAR * step and gap > 0.0
+
+
+#: share of a column's values at one extreme from which that value may be a missing-value code
+CODE_SHARE = 0.05
+#: ... when it lies further from every other value than this many times their range
+CODE_GAP = 2.0
+
+
+def code_note(cname: str, z: NDArray) -> str | None:
+    """A note when many of a column's values are one extreme value far outside the others
+    (NREL MIDC writes -7999, SURFRAD -9999.9, BSRN -999 for a missing value), else None.
+
+    Such a value is read as a number, so it is in R: the note says how to leave it out.
+    """
+    z = z[np.isfinite(z)]
+    if z.size < 20:
+        return None
+    for v in (float(z.min()), float(z.max())):
+        same = z == v
+        k = int(same.sum())
+        if k < max(10, CODE_SHARE * z.size) or k == z.size:
+            continue
+        rest = z[~same]
+        lo, hi = float(rest.min()), float(rest.max())  # Python floats: inf, not a warning
+        span, gap = hi - lo, min(abs(lo - v), abs(hi - v))
+        # (a signal of a few levels, a switch or a counter, is not a code and its values)
+        if gap > CODE_GAP * span > 0 and np.unique(rest).size >= 10:
+            return (
+                f"column {echo(cname)!r}: {k:,} of {z.size:,} values ({k / z.size:.0%}) are "
+                f"{v:g}, far outside the others: a logger's missing-value code? In R as they "
+                "are; write those cells empty and drop them (CLI: --drop-nonfinite)"
+            )
+    return None
