@@ -11,7 +11,6 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from noisevar.diagnostics.quantisation import half_a_step
 from noisevar.diagnostics.regimes import STILL_RATIO
 from noisevar.diagnostics.verdict import under_half_a_step
 
@@ -154,9 +153,9 @@ def has_still_apart(diag: NoiseDiagnostics, variance: float) -> bool:
     Returns
     -------
     bool
-        False when R is under half a grid step's error variance (``half_a_step`` of
-        ``diag.grid``, the step held values are judged on, which a trend keeps: the
-        levels follow the signal's offset within a step, §E3). Else True when the
+        False when R is under half a grid step's error variance (``under_half_a_step``
+        on ``diag.lsb``, the grid a trend moves and keeps: the levels follow the signal's
+        offset within a step, §E3). Else True when the
         level varies (a regime that is not still), or when the record is
         one regime of robust level but its R is more than
         :data:`~noisevar.diagnostics.regimes.STILL_RATIO` times the quiet level
@@ -173,7 +172,7 @@ def has_still_apart(diag: NoiseDiagnostics, variance: float) -> bool:
     when it is within about ``STILL_RATIO`` of the quiet level, so wherever either test
     flips the R to use moves by at most about that factor.
     """
-    if diag.grid is not None and variance < half_a_step(diag.grid):  # quantisation (§E3)
+    if under_half_a_step(diag, variance):  # a level within a grid step is quantisation
         return False
     if diag.level_varies:
         return True
