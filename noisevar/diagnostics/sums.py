@@ -65,6 +65,27 @@ def _residual_part(
     return e, c[DIAG_SPAN:] == c[: c.size - DIAG_SPAN]
 
 
+#: A first difference this many robust standard deviations out, by a level jump, is the jump.
+JUMP_INCREMENT = 5.0
+
+
+def _untouched(exclude: NDArray | None, k: int, dz: NDArray) -> NDArray:
+    """The first differences ``dz`` (from window index ``k``) that are no level jump: those
+    that touch samples left out around a jump and lie beyond :data:`JUMP_INCREMENT` robust
+    standard deviations of the part's differences are left out (27 leap seconds made
+    UT1-UTC's first difference read white, "a random walk", its interval from 0; a walk's
+    own steps, which the step detector flags too, stay: they are its increments)."""
+    keep = np.ones(dz.size, dtype=bool)
+    if exclude is None or not dz.size:
+        return keep
+    x = exclude[k : k + dz.size + 1]
+    touch = x[:-1] | x[1:]
+    if touch.any():
+        mad = float(np.median(np.abs(dz))) / 0.6744897501960817  # a robust std
+        keep &= ~(touch & (np.abs(dz) > JUMP_INCREMENT * mad))
+    return keep
+
+
 def diag_part(
     z: NDArray,
     wa: int,
@@ -133,7 +154,7 @@ def diag_part(
         if i0 < i1:
             k = i0 - d0 + a - wa  # window index of the first difference's first sample
             dz = np.diff(z[k : k + i1 - i0 + 1])
-            incr.append((i0, dz, np.ones(dz.size, dtype=bool)))
+            incr.append((i0, dz, _untouched(exclude, k, dz)))
     if hi == b:
         incr.append((d0 + b - a - 1, np.zeros(WHITE_LAGS), np.zeros(WHITE_LAGS, dtype=bool)))
     own_z = z[lo - wa : hi - wa]

@@ -322,11 +322,33 @@ def _parse(head: bytes, name: str, path: Path | None, size: int) -> LoadedTable:
         )
     whole = path is None or size <= len(head)
     text, encoding = _decode(head, name, final=whole)
+    _refuse_rinex(text, name)
     if lower.endswith(NMEA_EXTENSIONS) or _looks_like_nmea(text):
         if not whole:
             text = _decode(_read_all(path, name), name)[0]
         return _read_nmea(text, name)
     return _read_text_table(text if whole else TextSource(path, text, encoding), name)
+
+
+def _refuse_rinex(text: str, name: str) -> None:
+    """Refuse a RINEX file (GNSS observations, navigation, meteorology) in one line that
+    says what to do.
+
+    Notes
+    -----
+    Its header lines end in labels (``RINEX VERSION / TYPE`` in columns 61-80) and each epoch
+    lists satellites with several observables: read as a table, it was refused blaming a
+    row's field count (hatanaka's ``sample.rnx``).
+    """
+    first = text.lstrip("\ufeff").split("\n", 1)[0]
+    if "RINEX VERSION / TYPE" not in first and "CRINEX VERS" not in first:
+        return
+    kind = first[20:40].strip().lower() or "observation"
+    raise NoisevarError(
+        f"{echo(name)} is a RINEX file ({kind}), which noisevar does not read: export one "
+        "observable per epoch (e.g. a satellite's pseudorange C1C, carrier phase L1C or "
+        "SNR S1C) as a column of a CSV file, e.g. with georinex, and give that file"
+    )
 
 
 def column_name(table: LoadedTable, column: str | int | None = None) -> str:

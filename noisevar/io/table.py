@@ -13,6 +13,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from noisevar._arrays import steps_evenly
 from noisevar.errors import NoisevarError
+from noisevar.io.column_kinds import bookkeeping
 from noisevar.io.limits import ECHO_LIMIT, echo  # noqa: F401 - their home is io.limits
 from noisevar.units import sensor_of
 
@@ -121,8 +122,7 @@ class LoadedTable:
             varies
             and not is_time_column(name)
             and not steps_evenly(finite)
-            and not _frame_counter(finite)
-            and not _wrapping_counter(finite)
+            and not bookkeeping(finite)
             and not bool(np.all((finite == 0) | (finite == 1)))  # a digital line, a flag
         )
 
@@ -566,26 +566,3 @@ def table_from_arrays(
     if len(sizes) != 1:
         raise NoisevarError(f"columns of {name} have different lengths: {sorted(sizes)}")
     return LoadedTable(name, cols, kind, None, sample_period, list(notes or []))
-
-
-def _wrapping_counter(z: NDArray) -> bool:
-    """Whether ``z`` is a sequence counter that wraps (BITalino's 4-bit ``nSeq``: 0..15, 0,
-    1, ...): whole numbers that rise by 1 each step except where they fall back to their
-    least value."""
-    with np.errstate(over="ignore", invalid="ignore"):
-        if z.size < 3 or not np.all(z == np.round(z)):
-            return False
-        steps = np.diff(z)
-        lo, hi = float(z.min()), float(z.max())
-        wrap = steps == lo - hi
-        return bool(hi > lo and wrap.any() and np.all((steps == 1) | wrap))
-
-
-def _frame_counter(z: NDArray) -> bool:
-    """Whether ``z`` counts frames with some dropped: whole numbers rising by 1 at most steps
-    and never falling or holding (a camera's ``frame_number``, a message's ``seq`` with
-    drops), which :func:`~noisevar._arrays.steps_evenly` does not catch."""
-    with np.errstate(over="ignore", invalid="ignore"):  # 1e308 cells: inf steps, no counter
-        steps = np.diff(z)
-        whole = bool(np.all(z == np.round(z)))
-        return bool(steps.size > 1 and np.all(steps >= 1) and whole and np.median(steps) == 1)

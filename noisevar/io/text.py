@@ -14,8 +14,10 @@ from numpy.typing import NDArray
 
 from noisevar._arrays import EXACT_INT
 from noisevar.errors import NoisevarError
+from noisevar.io.header_units import header_unit
 from noisevar.io.opensignals import opensignals_names
 from noisevar.io.quirks import code_note, header_of_numbers
+from noisevar.io.refusal_hints import comment_hint, numbers_for_names, preamble_hint
 from noisevar.io.table import (
     _NA_TOKENS,
     DATE_NAMES,
@@ -189,7 +191,7 @@ def _check_width(name: str, fields: list[str], head: list[tuple[int, str]], fmt:
                 if fmt.delim == ","
                 else ""
             )
-            hint = _comment_hint(head[0][1]) or hint
+            hint = comment_hint(head[0][1]) or hint
             if _short_header(fields, widths):
                 raise NoisevarError(
                     f"{echo(name)}: the header (line {head[0][0]}) names {len(fields)} columns "
@@ -200,22 +202,6 @@ def _check_width(name: str, fields: list[str], head: list[tuple[int, str]], fmt:
                 f"{echo(name)}: line {line_no} has {n} fields but line {head[0][0]} has "
                 f"{len(fields)}: every row must have the same columns{hint}"
             )
-
-
-#: Comment markers of other tools (IDL and LASP's ``;``, MATLAB's ``%``, Fortran's ``!``)
-_OTHER_COMMENTS = (";", "%", "!", "//")
-
-
-def _comment_hint(first: str) -> str | None:
-    """The hint when the first line starts with another tool's comment marker (SDO/EVE's
-    ``; Origin: ...`` lines were taken for a header, and the rows blamed on separators)."""
-    mark = next((m for m in _OTHER_COMMENTS if first.lstrip().startswith(m)), None)
-    if mark is None:
-        return None
-    return (
-        f" (the first line starts with {mark!r}, a comment marker this reader does not "
-        "know: only '#' starts a comment line; remove those lines or start them with '#')"
-    )
 
 
 def _short_header(fields: list[str], widths: list[int]) -> bool:
@@ -242,6 +228,8 @@ def table_layout(
     """
     head = _head_lines(text, name, complete)
     fmt = _sniff_format([ln for _, ln in head])
+    if _title_line(head, fmt):
+        head = head[1:]
     first = _split(head[0][1], fmt.delim) if fmt.thousands != "," or fmt.delim else [head[0][1]]
     if fmt.delim is None and len(first) > 1 and not all(_is_number(c, fmt) for c in first):
         # a one-column file whose name has spaces ("clock [ns]"): every data row one field
@@ -258,6 +246,29 @@ def table_layout(
     if names is None and (found := opensignals_names(text, len(first))) is not None:
         names = _unique_names(found)  # an empty name past the header's: col<i>
     return fmt, names or [f"col{i}" for i in range(len(first))], head[0][0] - 1, None
+
+
+def _title_line(head: list[tuple[int, str]], fmt: _Format) -> bool:
+    """Whether the first line is a title above the header (``Southern Oscillation Index
+    (SOI),,`` then ``Date,Year,Value``): one named cell, the others empty, over a row of as
+    many names, none empty or a number, over a row of numbers.
+
+    Notes
+    -----
+    Read as the header, the title named the first column and the real header became a units
+    row: the index's values were ``col2`` and the channel named after the title was the dates.
+    """
+    if len(head) < 3 or fmt.delim is None:
+        return False
+    title, names, below = (_split(ln, fmt.delim) for _, ln in head[:3])
+    cells = [c.strip().strip('"').strip() for c in title]
+    named = [c.strip().strip('"').strip() for c in names]
+    return (
+        len(cells) == len(named) > 1
+        and bool(cells[0]) and not any(cells[1:]) and not _is_number(cells[0], fmt)
+        and all(c and not _is_number(c, fmt) for c in named)
+        and any(_is_number(c.strip().strip('"'), fmt) for c in below)
+    )  # fmt: skip
 
 
 def _units_row(head: list[tuple[int, str]], width: int, fmt: _Format) -> list[str] | None:
@@ -280,7 +291,9 @@ def _commented_header(text: str, data_line: int, width: int, fmt: _Format) -> li
     EuRoC, TUM-VI and Kalibr IMU files start ``#timestamp [ns],w_RS_S_x [rad s^-1],...``:
     the last ``#`` line before the first data row names the columns when it splits into
     as many fields as that row, none a number, and one of them is a time column or states
-    a unit in brackets (a remark such as ``# sensor A, 2024`` is not a header).
+    a unit in brackets (a remark such as ``# sensor A, 2024`` is not a header). In a table
+    split on whitespace, names that hold a space (the IERS's EOP C04: ``x Er``) are told
+    apart by two spaces or more between them.
     """
     lines = text.splitlines()[: data_line - 1]
     while lines and not lines[-1].strip():
@@ -288,6 +301,8 @@ def _commented_header(text: str, data_line: int, width: int, fmt: _Format) -> li
     if not lines or not lines[-1].lstrip().startswith("#"):
         return None
     fields = [f.strip() for f in _split(lines[-1].lstrip()[1:], fmt.delim)]
+    if fmt.delim is None and len(fields) != width:  # names with a space, two between them
+        fields = re.split(r"\s{2,}", lines[-1].lstrip()[1:].strip())
     if len(fields) != width or any(_is_number(c, fmt) for c in fields):
         return None
     # names, not a remark that happens to hold the delimiter: a time column or a unit
@@ -344,39 +359,6 @@ def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
     return LoadedTable(name, columns, kind, time_col, period, notes, units)
 
 
-#: the unit in the header's last brackets; earlier bracketed words are names, not units
-#: (MIDC's ``Global Horiz (tracker) [W/m^2]``)
-_HEADER_UNIT = re.compile(  # (a trailing "Run #1": PASCO Capstone's columns of each run)
-    r"^(?:[^\[\(]|[\[\(][^\[\]\(\)]*[\]\)])*?[\[\(]\s*([^\[\]\(\)]{1,40}?)\s*[\]\)]"
-    r"\s*(?:run\s*#?\s*\d+\s*)?$",
-    re.IGNORECASE,
-)
-
-
-def header_unit(column: str) -> str | None:
-    """The unit a header names in brackets at its end (``gyro_x [rad/s]``, ``p (Pa)``,
-    ``Position (m) Run #1``), or None.
-
-    Parameters
-    ----------
-    column : str
-        A column name.
-
-    Returns
-    -------
-    str or None
-        The text in the brackets, as written (a consumer parses it, e.g. with pint).
-    """
-    m = _HEADER_UNIT.match(column)
-    if m is None:
-        return None
-    # an acceleration "in G" is in standard gravities (SensorLog's
-    # accelerometerAccelerationX(G)); pint's G is the gauss, a magnetometer's unit
-    return "g" if m[1] == "G" and _ACCELERATION.search(column) else m[1]
-
-
-#: Names of an acceleration column (``acc``, ``gravity``, ``g-force``).
-_ACCELERATION = re.compile(r"acc|gravity|g-?force", re.IGNORECASE)
 
 
 def _read_frame(
@@ -537,9 +519,15 @@ def _text_column(
                 return out
         j = int(np.argmax(bad))
         text = src if isinstance(src, str) else src.text()
+
+        def line_of(row: int) -> int:
+            return _data_line_number(text, header_line, row)
+
         raise NoisevarError(
-            f"{echo(name)}: line {_data_line_number(text, header_line, j)}, column "
+            f"{echo(name)}: line {line_of(j)}, column "
             f"{echo(cname)!r}: {echo(str(col.iloc[j]))!r} is not a number (only numeric "
-            "columns can be loaded)"
+            f"columns can be loaded)"
+            f"{preamble_hint(coerced.notna().to_numpy(), j, line_of)}"
+            f"{numbers_for_names(cname, header_line)}"
         )
     return np.array(coerced.to_numpy(dtype=float, na_value=np.nan), dtype=float)

