@@ -66,7 +66,7 @@ from noisevar.estimators.still_quiet import (
     rounding_floor,
     still_estimate,
 )
-from noisevar.estimators.still_set import STILL_MIN, has_still_apart, still_gap
+from noisevar.estimators.still_set import STILL_MIN, has_still_apart, kept_still, still_gap
 
 #: The method's coloured-noise parameters are used below this whiteness p-value (far
 #: below the flag's 5 %, so that white noise that fails the test by chance keeps the
@@ -342,6 +342,7 @@ def run_record(
         lone = record_glitches(record, result.outliers, diag)
         first = result
         result, still, diag = _after_diagnostics(spec, record, result, params, extra, diag, lone)
+        still, diag = kept_still(diag, result.variance, still)  # decided on R as quoted
         edge = _edge(spec, record, first, result, params, diag)
         gap = still_gap(diag, result.variance, still)  # the one rule (estimators.regimes)
         lone = glitches_within(lone, off_jumps(getattr(record, "jump_runs", []), diag.n))

@@ -6,6 +6,7 @@ the pipeline, which writes the verdict, can follow the same rule.
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -152,7 +153,10 @@ def has_still_apart(diag: NoiseDiagnostics, variance: float) -> bool:
     Returns
     -------
     bool
-        True when the level varies (a regime that is not still), or when the record is
+        False when R is under half a grid step's error variance (``under_half_a_step``
+        on ``diag.lsb``, the grid a trend moves and keeps: the levels follow the signal's
+        offset within a step, §E3). Else True when the
+        level varies (a regime that is not still), or when the record is
         one regime of robust level but its R is more than
         :data:`~noisevar.diagnostics.regimes.STILL_RATIO` times the quiet level
         (``quiet_variance``) and the still stretches leave part of the record out (motion the
@@ -168,9 +172,43 @@ def has_still_apart(diag: NoiseDiagnostics, variance: float) -> bool:
     when it is within about ``STILL_RATIO`` of the quiet level, so wherever either test
     flips the R to use moves by at most about that factor.
     """
+    if under_half_a_step(diag, variance):  # a level within a grid step is quantisation
+        return False
     if diag.level_varies:
         return True
     prof = diag.level_profile
     return bool(
         prof.left_out_ratio() > STILL_RATIO and variance > STILL_RATIO * prof.quiet_variance
     )
+
+
+def kept_still(
+    diag: NoiseDiagnostics, variance: float, still: VarianceEstimate | None
+) -> tuple[VarianceEstimate | None, NoiseDiagnostics]:
+    """``still`` and ``diag``, or no still R when the record's R leaves none apart.
+
+    Parameters
+    ----------
+    diag : NoiseDiagnostics
+        The record's diagnostics (its ``other_still`` levels over ``still``).
+    variance : float
+        The record's R as quoted (the coloured-noise one when it replaced the first).
+    still : VarianceEstimate or None
+        R's method on the still stretches, decided on the first R.
+
+    Returns
+    -------
+    (VarianceEstimate or None, NoiseDiagnostics)
+        ``(None, diag without other still levels)`` when :func:`has_still_apart` is False
+        for ``variance`` (R under half a grid step: the still stretches are no level of
+        their own); else both as given.
+
+    Notes
+    -----
+    The still R is measured beside the coloured-noise pass, on the first R; whether it
+    is apart is decided again on the R the record quotes, so that the one rule
+    (:func:`still_gap`) reads one R (docs/algorithms.md §E1 *The still set*).
+    """
+    if still is None or has_still_apart(diag, variance):
+        return still, diag
+    return None, replace(diag, other_still=())
