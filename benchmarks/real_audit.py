@@ -76,6 +76,20 @@ def transforms(z: np.ndarray) -> dict[str, tuple[Callable[[np.ndarray], np.ndarr
     }
 
 
+_NUM = re.compile(r"[0-9][0-9.,]*(×10[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+)?%?")
+_LEAD = re.compile(r":|, | and | \(")
+
+
+def clause(verdict: str | None) -> str:
+    """The verdict's first clause, its numbers masked."""
+    return _NUM.sub("#", (verdict or "(none)").split(":")[0])
+
+
+def finding(verdict: str | None) -> str:
+    """The verdict's lead, up to its first ":", ",", " and " or " (": its finding."""
+    return _LEAD.split(clause(verdict))[0]
+
+
 def to_use(est):
     """The R to use (``regimes="still"``), None when the record has none (said, not R)."""
     if est.still is not None:

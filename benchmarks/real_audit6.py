@@ -72,6 +72,7 @@ from noisevar.io import channel_record, load_table
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _refdata  # noqa: E402
 from real_audit import audit_channels, summary, to_use  # noqa: E402
+from real_audit import clause as finding  # noqa: E402
 from real_audit3 import _one_line, process  # noqa: E402
 from real_audit5 import _clause, one_answer  # noqa: E402
 
@@ -210,9 +211,12 @@ def _conversion(name: str, a: str, chans: dict, ests: dict) -> dict:
     ec, ef = ests[f"{a}_counts"], ests[f"{a}_flux"]
     ref = k * k * ec.variance
     fail = [] if ef.ci95[0] <= ref <= ef.ci95[1] else [f"R_flux x{ef.variance / ref:.4g}"]
-    if _clause(ef.verdict) != _clause(ec.verdict):
+    if finding(ef.verdict) != finding(ec.verdict):  # the same class, its numbers aside
         fail.append(f"verdict class '{_clause(ef.verdict)}' in W/m², "
                     f"'{_clause(ec.verdict)}' in counts")  # fmt: skip
+    lc, lf = ec.diagnostics.lsb, ef.diagnostics.lsb
+    if (lc is None) != (lf is None) or (lc and abs(lf / (k * lc) - 1) > 1e-3):
+        fail.append(f"grid {lf} in W/m², k x {lc} in counts")
     return _ref_row(name, f"{a}_flux", f"k² R_counts (k = {k:.4g})", ref, ef, fail)
 
 

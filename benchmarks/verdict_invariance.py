@@ -18,7 +18,6 @@ committed). Writes ``benchmarks/results/verdict_invariance.md``.
 from __future__ import annotations
 
 import argparse
-import re
 import sys
 import tempfile
 import time
@@ -34,23 +33,9 @@ import _refdata  # noqa: E402
 import real_audit2  # noqa: E402
 import real_audit5  # noqa: E402
 import real_audit6  # noqa: E402
-from real_audit import transforms  # noqa: E402
+from real_audit import clause, finding, transforms  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results" / "verdict_invariance.md"
-_NUM = re.compile(r"[0-9][0-9.,]*(×10[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+)?%?")
-_LEAD = re.compile(r":|, | and | \(")
-
-
-def clause(verdict: str | None) -> str:
-    """The verdict's first clause, its numbers masked."""
-    return _NUM.sub("#", (verdict or "(none)").split(":")[0])
-
-
-def finding(verdict: str | None) -> str:
-    """The verdict's lead (module docstring)."""
-    return _LEAD.split(clause(verdict))[0]
-
-
 def channels(tmp: Path) -> Iterator[tuple[str, str, np.ndarray]]:
     """(record, channel, samples) of the real audits' records."""
     for name in _refdata.AUDIT_RECORDS:
