@@ -90,6 +90,20 @@ def finding(verdict: str | None) -> str:
     return _LEAD.split(clause(verdict))[0]
 
 
+def ref_row(name, ch, what, ref, est, fail) -> dict:
+    """One row of a reference check: the record's R, interval, R to use and verdict."""
+    use = to_use(est)
+    return {"record": name, "channel": ch, "what": what, "ref": ref, "R": est.variance,
+            "ci": est.ci95, "use": None if use is None else use.variance,
+            "verdict": est.verdict or "(none)", "fail": fail}  # fmt: skip
+
+
+def md_table(title: str, head: str, rows: list[str]) -> list[str]:
+    """A Markdown table under its title: ``head`` is its header row."""
+    cols = head.count("|") - 1
+    return [title, "", head, "|" + "---|" * cols, *rows, ""]
+
+
 def to_use(est):
     """The R to use (``regimes="still"``), None when the record has none (said, not R)."""
     if est.still is not None:

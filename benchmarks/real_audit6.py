@@ -71,7 +71,7 @@ from noisevar.io import channel_record, load_table
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _refdata  # noqa: E402
-from real_audit import audit_channels, summary, to_use  # noqa: E402
+from real_audit import audit_channels, md_table, ref_row, summary  # noqa: E402
 from real_audit import clause as finding  # noqa: E402
 from real_audit3 import _one_line, process  # noqa: E402
 from real_audit5 import _clause, one_answer  # noqa: E402
@@ -146,13 +146,6 @@ def channels_of(name: str) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray 
 
 
 # ---------------------------------------------------------------- check 3: references
-def _ref_row(name, ch, what, ref, est, fail) -> dict:
-    use = to_use(est)
-    return {"record": name, "channel": ch, "what": what, "ref": ref, "R": est.variance,
-            "ci": est.ci95, "use": None if use is None else use.variance,
-            "verdict": est.verdict or "(none)", "fail": fail}  # fmt: skip
-
-
 def references(name: str, chans: dict[str, np.ndarray]) -> list[dict]:
     """Check 3 on one record's channels (module docstring)."""
     res = []
@@ -173,13 +166,13 @@ def references(name: str, chans: dict[str, np.ndarray]) -> list[dict]:
         under = (name, ch) in LSB and est.variance < lsb * lsb * (0.25 + 1 / 12)
         if under and "grid" not in (est.verdict or ""):
             fail.append(f"R {est.variance / q:.3g} x lsb²/12, under half a step: no grid said")
-        res.append(_ref_row(name, ch, f"grid step {lsb:.4g}: lsb²/12", q, est, fail))
+        res.append(ref_row(name, ch, f"grid step {lsb:.4g}: lsb²/12", q, est, fail))
     if name == "qrandom":  # uniform 16-bit; differenced: twice that, lag-1 correlation -0.5
         for ch, k, start in (("value", 1, "white"), ("diff", 2, "the data look differenced")):
             est, ref = ests[ch], k * (65536.0**2 - 1) / 12
             fail = [] if est.ci95[0] <= ref <= est.ci95[1] else [f"R x{est.variance / ref:.4g}"]
             fail += [] if (est.verdict or "").startswith(start) else [f"verdict not '{start}'"]
-            res.append(_ref_row(name, ch, f"{k} x (65536²-1)/12", ref, est, fail))
+            res.append(ref_row(name, ch, f"{k} x (65536²-1)/12", ref, est, fail))
     if name == "goes15_xrs":
         for a in "ab":
             res.append(_conversion(name, a, chans, ests))
@@ -201,7 +194,7 @@ def _trigger_row(name: str, ch: str, z: np.ndarray) -> dict:
         f"R {est.variance:.4g} (ci95 {est.ci95[0]:.4g}-{est.ci95[1]:.4g}) of a channel that is "
         f"{np.median(z):g} but for {int(np.count_nonzero(z != np.median(z)))} samples, no verdict"
     ]  # fmt: skip
-    return _ref_row(name, ch, "no noise: refused or told", 0.0, est, fail)
+    return ref_row(name, ch, "no noise: refused or told", 0.0, est, fail)
 
 
 def _conversion(name: str, a: str, chans: dict, ests: dict) -> dict:
@@ -217,7 +210,7 @@ def _conversion(name: str, a: str, chans: dict, ests: dict) -> dict:
     lc, lf = ec.diagnostics.lsb, ef.diagnostics.lsb
     if (lc is None) != (lf is None) or (lc and abs(lf / (k * lc) - 1) > 1e-3):
         fail.append(f"grid {lf} in W/m², k x {lc} in counts")
-    return _ref_row(name, f"{a}_flux", f"k² R_counts (k = {k:.4g})", ref, ef, fail)
+    return ref_row(name, f"{a}_flux", f"k² R_counts (k = {k:.4g})", ref, ef, fail)
 
 
 # ---------------------------------------------------------------- check 4: the files
@@ -266,11 +259,6 @@ def _said(out: str) -> str:
 
 
 # ---------------------------------------------------------------- the run
-def _table(title: str, head: str, rows: list[str]) -> list[str]:
-    cols = head.count("|") - 1
-    return [title, "", head, "|" + "---|" * cols, *rows, ""]
-
-
 def report(rows, answers, refs, bad, wall) -> str:
     n = {k: sum(not r["fail"] for r in v) for k, v in
          {"ans": answers, "ref": refs, "bad": bad}.items()}  # fmt: skip
@@ -290,11 +278,11 @@ def report(rows, answers, refs, bad, wall) -> str:
         "",
         *summary(rows),
         "",
-        *_table(f"## 2. One answer everywhere ({n['ans']} of {len(answers)} channels pass)",
+        *md_table(f"## 2. One answer everywhere ({n['ans']} of {len(answers)} channels pass)",
                 "| record | channel | R | surfaces | failures | answer (sentence) |",
                 [f"| {r['record']} | {r['channel']} | {r['R']:.4g} | {r['surfaces']} | "
                  f"{'; '.join(r['fail']) or 'ok'} | {r['answer']} |" for r in answers]),
-        *_table(f"## 3. References ({n['ref']} of {len(refs)} pass)",
+        *md_table(f"## 3. References ({n['ref']} of {len(refs)} pass)",
                 "| record | channel | reference | value | R (ci95) | R to use | failures "
                 "| verdict |",
                 [f"| {r['record']} | {r['channel']} | {r['what']} | {r['ref']:.4g} | "
@@ -302,7 +290,7 @@ def report(rows, answers, refs, bad, wall) -> str:
                  + ("none" if r["use"] is None else f"{r['use']:.4g}")
                  + f" | {'; '.join(r['fail']) or 'ok'} | {r['verdict'][:300]} |"
                  for r in refs]),
-        *_table(f"## 4. The files as users have them ({n['bad']} of {len(bad)} pass)",
+        *md_table(f"## 4. The files as users have them ({n['bad']} of {len(bad)} pass)",
                 "| file | exit | what the CLI said | failures |",
                 [f"| {r['case']} | {r['exit']} | {r['said'][:300].replace('|', '/')} | "
                  f"{'; '.join(r['fail']) or 'ok'} |" for r in bad]),

@@ -73,7 +73,7 @@ from noisevar.io import channel_record, load_table
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _refdata  # noqa: E402
-from real_audit import audit_channels, summary, to_use  # noqa: E402
+from real_audit import audit_channels, md_table, ref_row, summary, to_use  # noqa: E402
 from real_audit3 import _one_line, process  # noqa: E402
 from real_audit5 import one_answer  # noqa: E402
 
@@ -160,13 +160,6 @@ def channels_of(name: str) -> dict[str, np.ndarray]:
 
 
 # ---------------------------------------------------------------- check 3: references
-def _row(name, ch, what, ref, est, fail) -> dict:
-    use = to_use(est)
-    return {"record": name, "channel": ch, "what": what, "ref": ref, "R": est.variance,
-            "ci": est.ci95, "use": None if use is None else use.variance,
-            "verdict": est.verdict or "(none)", "fail": fail}  # fmt: skip
-
-
 def _white(est) -> bool:
     return (est.verdict or "").startswith("white")
 
@@ -177,7 +170,7 @@ def published(name, ch, ref, est, what="published error² (mean)") -> dict:
     fail = [] if inside or not _white(est) else [
         f"white R {est.variance:.3g} (ci95 {est.ci95[0]:.3g}-{est.ci95[1]:.3g}) is "
         f"x{est.variance / ref:.3g} the published error²"]  # fmt: skip
-    return _row(name, ch, what, ref, est, fail)
+    return ref_row(name, ch, what, ref, est, fail)
 
 
 def eop_references(df: pd.DataFrame) -> list[dict]:
@@ -191,7 +184,7 @@ def eop_references(df: pd.DataFrame) -> list[dict]:
         fail.append("an R to use on one of UT1-UTC, UT1-TAI only")
     elif u_utc is not None and not u_tai.ci95[0] <= u_utc.variance <= u_tai.ci95[1]:
         fail.append(f"R to use x{u_utc.variance / u_tai.variance:.3g}")
-    res.append(_row("eop_c04", "ut1_utc", "R(UT1-TAI): leap seconds out", tai.variance, utc,
+    res.append(ref_row("eop_c04", "ut1_utc", "R(UT1-TAI): leap seconds out", tai.variance, utc,
                     fail))  # fmt: skip
     recent = df[df["mjd"] >= RECENT_MJD]
     for ch in ("x", "y", "ut1_utc", "lod", "dX", "dY"):
@@ -206,7 +199,7 @@ def eop_references(df: pd.DataFrame) -> list[dict]:
         fail = [] if use is None or use.variance >= ref / 100 else [
             f"R to use {use.variance:.3g}, x{use.variance / ref:.3g} the published error²: "
             "the years written 0 quoted as the sensor's noise"]  # fmt: skip
-        res.append(_row("eop_c04", ch, "published error² (2016-) / 100", ref / 100, est, fail))
+        res.append(ref_row("eop_c04", ch, "published error² (2016-) / 100", ref / 100, est, fail))
     return res
 
 
@@ -229,7 +222,7 @@ def references(name: str, chans: dict[str, np.ndarray]) -> list[dict]:
         est = nv.estimate(chans["ONI"])
         ratio = est.variance / nv.estimate(chans["NINO34_ANOM"]).variance
         fail = [f"ONI called white (R x{ratio:.3g} the anomaly's)"] if _white(est) else []
-        return [_row(name, "ONI", "3-month mean: not white", 0.0, est, fail)]
+        return [ref_row(name, "ONI", "3-month mean: not white", 0.0, est, fail)]
     return []
 
 
@@ -321,11 +314,6 @@ def _said(out: str) -> str:
 
 
 # ---------------------------------------------------------------- the run
-def _table(title: str, head: str, rows: list[str]) -> list[str]:
-    cols = head.count("|") - 1
-    return [title, "", head, "|" + "---|" * cols, *rows, ""]
-
-
 def _noise(pole: float) -> str:
     return "white" if pole == 0 else f"two poles at {pole}"
 
@@ -350,11 +338,11 @@ def report(rows, answers, refs, bad, leaps, wall) -> str:
         "",
         *summary(rows),
         "",
-        *_table(f"## 2. One answer everywhere ({n['ans']} of {len(answers)} channels pass)",
+        *md_table(f"## 2. One answer everywhere ({n['ans']} of {len(answers)} channels pass)",
                 "| record | channel | R | surfaces | failures | answer (sentence) |",
                 [f"| {r['record']} | {r['channel']} | {r['R']:.4g} | {r['surfaces']} | "
                  f"{'; '.join(r['fail']) or 'ok'} | {r['answer']} |" for r in answers]),
-        *_table(f"## 3. References ({n['ref']} of {len(refs)} pass)",
+        *md_table(f"## 3. References ({n['ref']} of {len(refs)} pass)",
                 "| record | channel | reference | value | R (ci95) | R to use | failures "
                 "| verdict |",
                 [f"| {r['record']} | {r['channel']} | {r['what']} | {r['ref']:.4g} | "
@@ -362,11 +350,11 @@ def report(rows, answers, refs, bad, leaps, wall) -> str:
                  + ("none" if r["use"] is None else f"{r['use']:.4g}")
                  + f" | {'; '.join(r['fail']) or 'ok'} | {r['verdict'][:300]} |"
                  for r in refs]),
-        *_table(f"## 4. The files as users have them ({n['bad']} of {len(bad)} pass)",
+        *md_table(f"## 4. The files as users have them ({n['bad']} of {len(bad)} pass)",
                 "| file | exit | what the CLI said | failures |",
                 [f"| {r['case']} | {r['exit']} | {r['said'][:300].replace('|', '/')} | "
                  f"{'; '.join(r['fail']) or 'ok'} |" for r in bad]),
-        *_table("## 5. UT1-UTC's leap seconds, reproduced (not fixed here: the estimator's)",
+        *md_table("## 5. UT1-UTC's leap seconds, reproduced (not fixed here: the estimator's)",
                 "| noise | R without steps (ci95) | R with 27 steps of 1e5 std (ci95) | ratio "
                 "| verdict with the steps |",
                 [f"| {_noise(r['pole'])} | {r['R']:.3g} ({r['ci'][0]:.3g}-{r['ci'][1]:.3g}) "
