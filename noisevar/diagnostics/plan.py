@@ -17,7 +17,7 @@ from numpy.typing import NDArray
 
 from noisevar._arrays import median_inplace
 from noisevar.diagnostics.profile import CHI2_1_MEDIAN, PROFILE_BLOCKS, PROFILE_MIN_BLOCK
-from noisevar.diagnostics.quantisation import LSB_PROBE, on_grid
+from noisevar.diagnostics.quantisation import LSB_PROBE, level_step
 from noisevar.diagnostics.whiteness import WHITE_LAGS
 from noisevar.numeric.blocks import row_medians
 
@@ -122,13 +122,8 @@ def _grid_candidate(probe: NDArray) -> tuple[float, float] | str | None:
     levels = np.unique(probe)
     if levels.size < 2:
         return "flat"
-    steps = np.diff(levels)
-    step = float(steps.min())
-    with np.errstate(over="ignore"):  # a span beyond the float range: inf, not a grid
-        span = float(levels[-1] - levels[0])
-    if step <= 0 or span / step > 1e9:
-        return None
-    return (float(levels[0]), step) if on_grid(steps, step) else None
+    step = level_step(levels)
+    return None if step is None else (float(levels[0]), step)
 
 
 @dataclass

@@ -119,6 +119,19 @@ def joined_step(steps: list[float | None]) -> float | None:
     return step if on_grid(found, step) else None
 
 
+def level_step(levels: NDArray) -> float | None:
+    """The grid step of sorted distinct values ``levels`` (at least 2): their smallest gap,
+    when every gap is a whole multiple of it and float64 resolves the grid (the span under
+    1e9 steps); else None."""
+    steps = np.diff(levels)
+    step = float(steps.min())
+    with np.errstate(over="ignore"):  # a span beyond the float range: inf, not a grid
+        span = float(levels[-1] - levels[0])
+    if step <= 0 or span / step > 1e9:
+        return None
+    return step if on_grid(steps, step) else None
+
+
 def on_grid(x: NDArray, step: float) -> bool:
     """Every ``x / step`` within :data:`LSB_TOL` of an integer."""
     r = x / step

@@ -23,7 +23,12 @@ from noisevar.diagnostics.plan import (
     block_level,
     block_pieces,
 )
-from noisevar.diagnostics.quantisation import joined_step, on_grid, second_difference_step
+from noisevar.diagnostics.quantisation import (
+    joined_step,
+    level_step,
+    on_grid,
+    second_difference_step,
+)
 from noisevar.diagnostics.whiteness import WHITE_LAGS
 from noisevar.errors import NoisevarError
 from noisevar.numeric.fir import residual_sequence, rounded_fir
@@ -280,12 +285,7 @@ class DiagSums:
             return probe[1] if self.on_grid else None
         if probe is None or self.uniques is None or not 2 <= self.uniques.size <= UNIQUE_MAX:
             return None
-        steps = np.diff(self.uniques)
-        step = float(steps.min())
-        spread = float(self.uniques[-1] - self.uniques[0])
-        if step <= 0 or spread / step > 1e9 or not on_grid(self.uniques - self.uniques[0], step):
-            return None
-        return step
+        return level_step(self.uniques)
 
     def held_step(self, lsb: float | None) -> float | None:
         """The grid step held values are judged on: the step the record's second

@@ -439,8 +439,8 @@ def _coloured(diag: NoiseDiagnostics, r: str, quiet: float, still_near: bool) ->
         return (
             f"the noise may be coloured (a weak finding: whiteness test p = {w.p_value:.2g}, "
             f"as low as white noise gives 1 time in {1 / w.p_value:.0f}): {kind}, or signal "
-            "leaks through the "
-            f"smoother; {r} is its white part, and a good Kalman R if the noise is white: "
+            f"leaks through the smoother; {r} is its white part, and a good Kalman R if the "
+            "noise is white: "
             f"check on a longer record (see the noise model){still}"
         )
     return (

@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import optimize, signal, special
 
+from noisevar.diagnostics.quantisation import LSB_TOL
 from noisevar.estimators.results import VarianceEstimate
 from noisevar.numeric.fir import centred_fir, residual_sequence
 
@@ -48,9 +49,6 @@ MIN_STEPS_PER_SPAN = 1.5
 #: noise under half a step move them by at most about one).
 JUMP_STEPS = 1.5
 JUMP_WINDOW = 40
-#: First differences within this fraction of a step of one drift (plus whole steps) are a
-#: grid that moves (:func:`undrifted`).
-DRIFT_TOL = 1e-3
 #: Smallest noise, in steps, the solver tries (the tables need ``σ > 0``).
 _SIGMA_FLOOR = 1e-3
 _U = np.arange(TABLE + 1) / TABLE
@@ -254,14 +252,15 @@ def undrifted(u: NDArray) -> NDArray:
     a step per sample: every first difference is then ``a`` plus a whole number of steps
     (its second differences stay on the grid, ``diagnostics.lsb``). The rounding error
     is the record's own offset from the moved grid, ``u - a k``; ``u`` itself when its
-    first differences are not so (``a`` = 0 on a grid that does not move).
+    first differences are not so, each within :data:`LSB_TOL` of a step (``a`` = 0 on a
+    grid that does not move).
     """
     if u.size < 2:
         return u
     d = np.diff(u)
     a = float(d[0] - np.rint(d[0]))
     r = d - a
-    if a == 0.0 or not float(np.max(np.abs(r - np.rint(r)))) < DRIFT_TOL:
+    if a == 0.0 or not float(np.max(np.abs(r - np.rint(r)))) < LSB_TOL:
         return u
     return u - a * np.arange(u.size)
 
