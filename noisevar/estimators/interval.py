@@ -170,6 +170,16 @@ def off_jumps(runs: list[tuple[int, int]], n: int) -> NDArray:
     return out
 
 
+def in_r(outliers: NDArray | None, runs: list[tuple[int, int]], n: int) -> NDArray | None:
+    """The ``outliers`` (record indices) that R counts: off the ``runs`` left out around level
+    jumps (:func:`off_jumps`). A jump's own sample stands out of its neighbours' line like a
+    glitch: 20 steps read "20 outlying samples" that R "counts as noise", and crowded a true
+    glitch out of the diagnostics' few (issue 26)."""
+    if outliers is None or not outliers.size or not runs:
+        return outliers
+    return outliers[off_jumps(runs, n)[outliers]]
+
+
 def record_glitches(
     record: Any, outliers: NDArray | None, diag: NoiseDiagnostics
 ) -> LoneGlitches | None:

@@ -50,6 +50,7 @@ from noisevar.estimators.interval import (
     edge_weight,
     glitches_within,
     honest_interval,
+    in_r,
     off_jumps,
     ranges_mask,
     record_glitches,
@@ -207,7 +208,7 @@ class InMemory:
             jumps = own if own.any() else None
         self.jump_runs = [] if jumps is None else runs_of(jumps)
         self.jumps = jumps
-        return diagnose(self.z, self.seg, jumps, result.outliers)
+        return diagnose(self.z, self.seg, jumps, in_r(result.outliers, self.jump_runs, self.z.size))
 
     def back_profile(self, diag: NoiseDiagnostics) -> LevelProfile:
         """The level profile of the record reversed, the same samples left out around jumps

@@ -79,11 +79,37 @@ def step_mask(
     candidates = _above_both_sides(work, above)
     if not candidates.any():
         return candidates
+    above = _own_levels(work, candidates, above)
+    if not candidates.any():
+        return candidates
     out = _confirm_steps(z, candidates, above, scale, w)
     # D3 at k is centred on the boundary between samples k - 1 and k: both are flagged, so
     # that the reversed record flags the same samples (symmetric in time, issue 26)
     out[:-1] = out[:-1] | out[1:]
     return out
+
+
+def _own_levels(
+    work: NDArray, candidates: NDArray, above: Callable[[NDArray], NDArray]
+) -> Callable[[NDArray], NDArray]:
+    """``above`` with its levels raised to ``D3``'s own where the noise is not white, and
+    ``candidates`` (in place) those still above.
+
+    The levels are the residual's, and ``D3`` of white noise at that level has a known
+    variance; low-passed noise (a sensor's own filter) gives ``D3`` far more (window means
+    wander), so at the white threshold it flagged a fifth of every record as jumps, then a
+    fast signal (:data:`STEP_MAX_FRACTION`) whose true steps stayed in R (x1e4, issue 26).
+    ``above.raised(work, idx, expected)`` raises each level where the block's own median of
+    ``work`` stands well above ``expected`` times it (``None``: a plain callable, kept).
+    """
+    raised = getattr(above, "raised", None)
+    if raised is None:
+        return above
+    idx = np.flatnonzero(candidates)
+    own = raised(work, idx, STEP_THRESHOLD**-2)
+    if own is not above:
+        candidates[idx] = _above_both_sides_at(work[idx], idx, own, work.size)
+    return own
 
 
 def _above_both_sides(x: NDArray, above: Callable[[NDArray], NDArray]) -> NDArray:

@@ -102,6 +102,11 @@ def _jumps(n: int, seed: int) -> np.ndarray:
     return x
 
 
+def _steps_of(n: int, seed: int) -> np.ndarray:
+    """:func:`_jumps`' three level jumps alone, twice their size (8-16 σ of white noise)."""
+    return 2.0 * (_jumps(n, seed) - np.random.default_rng(seed).normal(size=n))
+
+
 @pytest.mark.parametrize(
     "z", [_motion(6_000, 11), _motion(20_000, 12), _jumps(20_000, 4), _jumps(3_000, 5)]
 )
@@ -145,7 +150,7 @@ def test_the_sorting_network_gives_numpys_medians():
 def test_the_levels_read_at_some_samples_are_the_window_s_levels(after):
     from noisevar.estimators.auto._levels import Above, Grids, kept_levels
 
-    z = _motion(20_000, 13)
+    z = _motion(20_000, 13) + _steps_of(20_000, 13)  # its bursts are no jumps: add some
     sq = np.convolve(z, [1.0, -2.0, 1.0], mode="same") ** 2 / 6.0
     g = Grids.make(z.size, 256, after)
     above = Above(*kept_levels(sq, None, g, 12.25), g)
@@ -155,8 +160,17 @@ def test_the_levels_read_at_some_samples_are_the_window_s_levels(after):
     probe[idx] = sq[idx] * rng.uniform(0.5, 2.0, idx.size)
     assert np.array_equal(above.at(probe[idx], idx), above(probe)[idx])
 
-    def dense(x: np.ndarray) -> np.ndarray:  # the same levels, without ``at``
-        return above(x)
+    class Dense:  # the same levels, without ``at`` (raised as ``above`` is, read densely)
+        def __init__(self, a):
+            self.a = a
+
+        def __call__(self, x: np.ndarray) -> np.ndarray:
+            return self.a(x)
+
+        def raised(self, x, idx, expected):
+            return Dense(self.a.raised(x, idx, expected))
+
+    dense = Dense(above)
 
     found = steps.step_mask(z, above, 12.25)
     assert found.any() and np.array_equal(found, steps.step_mask(z, dense, 12.25))
@@ -216,7 +230,7 @@ def test_the_reversed_grid_read_off_pass_one_is_the_reversed_records_profile(see
     """The first pass's mirrored blocks (no pass over the reversed record): the profile of
     the record reversed, the same blocks, quiet set and regimes, its sums to rounding (at
     20,000 samples the kurtosis's blocks are not the profile's)."""
-    z = _jumps(n, seed) + _motion(n, seed)
+    z = _steps_of(n, seed) + _motion(n, seed)  # bursts are no jumps (their own level)
     ca = ChunkedAuto(lambda a, b: z[max(a, 0) : b], z.size, probe=z.__getitem__, chunk=1 << 13)
     ca.estimate({})
     assert ca.sums is not None and ca.sums.back is not None and ca.jump_runs

@@ -36,7 +36,7 @@ def test_the_quiet_level_is_not_r_when_r_holds_what_the_blocks_do_not_see():
     q = e.diagnostics.quiet
     ref = _reference(t, x)
     assert e.variance > 100 * ref  # R holds the taps: not the still level
-    assert q.source == "quiet stretches"
+    assert q.source in ("quiet stretches", "still")  # not R: measured apart
     assert abs(q.variance / ref - 1.0) <= 0.25
 
 

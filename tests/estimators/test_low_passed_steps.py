@@ -1,0 +1,64 @@
+"""Level steps in low-passed noise are jumps, and low-passed noise alone has none (issue 26).
+
+The step detector compared its third difference of window means with what white noise at
+the residual's level gives. Noise low-passed by the sensor (lag-one correlation 0.8 and
+up) wanders far more over a window: a fifth of a record of it was left out "around level
+jumps", the fast-signal rule then dropped the flags, and true steps stayed in R as
+outliers (AR(1) 0.9 with 20 steps of 1e4: R 9,794 against 0.060). Each block's own level
+of the statistic now raises its threshold (``Above.raised``)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.signal import lfilter
+
+import noisevar as nv
+from noisevar.estimators.pipeline import runs_of
+
+N = 20_000
+
+
+def _ar1(a: float, seed: int = 1) -> tuple[np.ndarray, np.ndarray]:
+    rng = np.random.default_rng(seed)
+    x = lfilter([1.0], [1.0, -a], rng.normal(size=N)) * np.sqrt(1.0 - a * a)
+    at = np.sort(rng.choice(np.arange(200, N - 200), 20, replace=False))
+    return x, at
+
+
+def _with_steps(x: np.ndarray, at: np.ndarray, size: float) -> np.ndarray:
+    steps = np.zeros(N)
+    for i in at:
+        steps[i:] += size
+    return x + steps
+
+
+@pytest.mark.parametrize("a", [0.8, 0.9, 0.98])
+@pytest.mark.parametrize("size", [50.0, 1e4])
+def test_steps_in_low_passed_noise_leave_r_as_it_was(a, size):
+    x, at = _ar1(a)
+    plain = nv.estimate(x)
+    e = nv.estimate(_with_steps(x, at, size))
+    lo, hi = plain.ci95
+    assert lo <= e.variance <= hi, (e.variance, plain.variance)
+    runs = runs_of(e.jumps) if e.jumps is not None else []
+    assert all(any(a0 <= i <= b0 for a0, b0 in runs) for i in at)  # every step is a jump
+
+
+@pytest.mark.parametrize("a", [0.8, 0.9, 0.95])
+def test_low_passed_noise_alone_has_no_jumps(a):
+    x, _ = _ar1(a)
+    e = nv.estimate(x)
+    left = 0 if e.jumps is None else int(e.jumps.sum())
+    assert left < 0.01 * N, left
+    assert not any("left out around level jumps" in s for s in e.notes)
+
+
+def test_white_noise_keeps_every_step_and_the_same_r():
+    rng = np.random.default_rng(2)
+    x = rng.normal(size=N)
+    at = np.sort(rng.choice(np.arange(200, N - 200), 20, replace=False))
+    e = nv.estimate(_with_steps(x, at, 12.0))
+    runs = runs_of(e.jumps)
+    assert all(any(a0 <= i <= b0 for a0, b0 in runs) for i in at)
+    assert abs(e.variance - 1.0) < 0.05
