@@ -24,7 +24,7 @@ from noisevar.diagnostics.plan import (
     make_plan,
     probe_of,
 )
-from noisevar.diagnostics.power_law import POWER_LAW_MAX, power_law_types
+from noisevar.diagnostics.power_law import POWER_LAW_MAX, power_law_types, without_jumps
 from noisevar.diagnostics.profile import LevelProfile, on_both_grids, profile_from_blocks
 from noisevar.diagnostics.results import NoiseDiagnostics
 from noisevar.diagnostics.segments import Gap, Segmentation, split_dropped, split_times
@@ -103,7 +103,14 @@ def diagnose(
         sums.add(diag_part(z[a:b], a, (a, b), i, plan, None if exclude is None else exclude[a:b]))
     a, b = max(seg.segments, key=lambda s: s[1] - s[0])
     head = lambda: z[a : min(b, a + POWER_LAW_MAX)]  # noqa: E731
-    return from_sums(sums, seg, head, glitches=glitches, read=lambda p, q: z[p:q])
+    jumps = None if exclude is None else _runs(exclude)
+    return from_sums(sums, seg, head, glitches=glitches, read=lambda p, q: z[p:q], jumps=jumps)
+
+
+def _runs(mask: NDArray) -> list[tuple[int, int]]:
+    """The runs ``(a, b)`` of true samples of ``mask``."""
+    d = np.diff(np.r_[0, mask.astype(np.int8), 0])
+    return list(zip(np.flatnonzero(d == 1).tolist(), np.flatnonzero(d == -1).tolist(), strict=True))
 
 
 def from_sums(
@@ -113,8 +120,12 @@ def from_sums(
     spawn: Callable[[Callable[[], Any]], Callable[[], Any]] | None = None,
     glitches: NDArray | None = None,
     read: Callable[[int, int], NDArray] | None = None,
+    jumps: list[tuple[int, int]] | None = None,
 ) -> NoiseDiagnostics:
     """The diagnostics from their sums; ``head()`` gives the start of the longest segment.
+
+    ``jumps``: the runs of samples left out around level jumps (record indices), cut out of
+    ``head()`` for the power-law identification (:func:`~.power_law.without_jumps`).
 
     ``glitches`` (record indices of outlying samples, one per spike), when at most
     :data:`GLITCHES_APART` of the samples, are left out of the correlation findings: the
@@ -163,8 +174,10 @@ def from_sums(
     white = whiteness_test(e_w, d, keep=keep_w, inflation=_hetero(sums.wide))
 
     def kinds() -> tuple[tuple[int, int], ...]:
+        a0 = max(seg.segments, key=lambda s: s[1] - s[0])[0]
+        cut = [(a - a0, b - a0) for a, b in jumps or ()]
         try:
-            return power_law_types(head())
+            return power_law_types(without_jumps(np.asarray(head()), cut))
         except NoisevarError:
             return ()
 

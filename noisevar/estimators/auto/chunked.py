@@ -346,7 +346,7 @@ class ChunkedAuto:
         spawn = _spawn if self.workers > 1 else None  # the power law beside the profile
         calm = in_r(result.outliers, self.jump_runs, self.n)  # left out of the correlations
         scaled = lambda: np.ldexp(head, e) if e else head  # noqa: E731
-        return from_sums(self.sums, seg, scaled, spawn, calm, read=self.reader())
+        return from_sums(self.sums, seg, scaled, spawn, calm, self.reader(), self.jump_runs)
 
     def back_profile(self, diag: NoiseDiagnostics) -> LevelProfile:
         """As :meth:`~noisevar.estimators.pipeline.InMemory.back_profile`: the reversed
