@@ -79,3 +79,24 @@ def test_a_file_stacking_several_series_is_refused(tmp_path):
     one = tmp_path / "msft.csv"
     pd.DataFrame(rows[:60], columns=["symbol", "date", "price"]).to_csv(one, index=False)
     assert load_table(one).columns["price"].size == 60
+
+
+def _lines(path, a: np.ndarray) -> None:
+    path.write_text("\n".join(" ".join(f"{v:6.1f}" for v in row) for row in a) + "\n")
+
+
+def test_one_series_written_twelve_values_a_line_is_said(tmp_path):
+    """pmdarima's sunspots.txt (R's print of a monthly series): col0 is every January."""
+    rng = np.random.default_rng(11)
+    t = np.arange(2400)
+    z = 80 + 60 * np.sin(2 * np.pi * t / 132) + np.cumsum(rng.normal(size=t.size)) * 0.5
+    path = tmp_path / "sunspots.txt"
+    _lines(path, z.reshape(-1, 12))
+    assert any("12 values a line" in n for n in load_table(path).notes)
+    # channels side by side, and four sensors of one fast signal: no such note
+    imu = np.column_stack([off + rng.normal(size=600) for off in (0, 0, 9.8, 0, 0, 0)])
+    motion = 5 * np.sin(np.arange(600) / 3.0)
+    same = np.column_stack([motion + 0.1 * rng.normal(size=600) for _ in range(4)])
+    for name, a in (("imu.txt", imu), ("same.txt", same)):
+        _lines(tmp_path / name, a)
+        assert not any("values a line" in n for n in load_table(tmp_path / name).notes)
