@@ -40,7 +40,8 @@ Checks (``--records`` narrows them):
    dropping 1-3 leading samples, sign flip, scale x1e3, offset, linear trend; CLI
    ``--columns all`` = Python; a self-consistent verdict;
 2. **one answer everywhere** (``real_audit5.one_answer``, imported) on the file as a user
-   has it: Python, CLI ``--column`` JSON and ``--columns all`` CSV, ``noisevar.batch`` and
+   has it (the smartwatch's record: cut into a CSV with a 10 Hz time column): Python, CLI
+   ``--column`` JSON and ``--columns all`` CSV, ``noisevar.batch`` and
    the pages that show R (Signal, Estimator, Noise model, Two sensors, Fleet);
 3. **references**: (a) the smartwatch's Standing case, a hand-cut still stretch: its
    var(d2)/6 against the R to use of the standing-then-walking record (within x1.5, or its
@@ -115,8 +116,8 @@ CHANNELS = {
     "seattle_weather": ["precipitation", "temp_max", "temp_min", "wind"],
 }  # fmt: skip
 #: channels shown on the pages (AppTest is slow)
-PAGES = {"mitdb": ["data"], "seattle_temps": ["temp"], "uschange": ["Consumption", "Income"],
-         "msft": ["Close"]}  # fmt: skip
+PAGES = {"basicmotions": ["acc_x", "gyr_y"], "mitdb": ["data"], "seattle_temps": ["temp"],
+         "uschange": ["Consumption", "Income"], "msft": ["Close"]}  # fmt: skip
 #: datasheet grids (3b): MIT-BIH's 200 counts a mV, NOAA's 0.1 °F, the sunspots' 0.1
 LSB = {("mitdb", "data"): 0.005, ("seattle_temps", "temp"): 0.1, ("sunspots", "sunspots"): 0.1}
 #: channels whose held zeros are no sensor noise (3c)
@@ -161,6 +162,17 @@ def basicmotions() -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
     walk = [d for lab, d in cases if lab == "Walking"][:4]
     rec = {c: np.concatenate([stand[i], *(w[i] for w in walk)]) for i, c in enumerate(_IMU6)}
     return rec, {c: stand[i] for i, c in enumerate(_IMU6)}
+
+
+def basicmotions_csv() -> Path:
+    """The standing-then-walking record as a user cuts it into a CSV (``time`` at 10 Hz, the
+    six channels): the file the pages and the CLI read (check 2)."""
+    out = raw("basicmotions").with_name("basicmotions_standing_walking.csv")
+    if not out.exists():
+        rec = basicmotions()[0]
+        n = rec["acc_x"].size
+        pd.DataFrame({"time": np.arange(n) / 10.0, **rec}).to_csv(out, index=False)
+    return out
 
 
 def stocks() -> dict[str, np.ndarray]:
@@ -413,7 +425,8 @@ def main() -> None:
             rows += new
         refs += references(name, chans)
         if not a.no_pages and name in PAGES:
-            answers += one_answer(name, raw(name), PAGES[name])
+            path = basicmotions_csv() if name == "basicmotions" else raw(name)
+            answers += one_answer(name, path, PAGES[name])
         print(f"{name}: {time.time() - t0:.0f} s", file=sys.stderr)
     bad = bad_input()
     text = report(rows, answers, refs, bad, time.time() - t0)
