@@ -37,7 +37,8 @@ def test_calendar_dates_give_their_period(tmp_path, freq):
     dates = pd.date_range("2000-01-01", periods=123, freq=freq)
     _dated(path, dates.strftime("%b %d %Y"))  # vega's stocks: "Jan 1 2000"
     table = load_table(path)
-    assert table.sample_period == pytest.approx(np.mean(np.diff(dates.to_numpy()) / np.timedelta64(1, "s")))
+    steps = np.diff(dates.to_numpy()) / np.timedelta64(1, "s")
+    assert table.sample_period == pytest.approx(np.mean(steps))
     text = " ".join(table.notes)
     assert "another unit" not in text and "not uniform" not in text
     assert "calendar" in text
