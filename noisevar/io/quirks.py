@@ -1,4 +1,5 @@
-"""What loggers write into a table that is not data: a header in numbers, a missing-value code.
+"""What loggers write into a table that is not data: a header in numbers, a missing-value code,
+one series written several values a line.
 
 Both are read as numbers by a table reader, and both would be in R: the loader says so
 (docs/algorithms.md, *Reading logs*).
@@ -42,6 +43,42 @@ def header_of_numbers(columns: dict[str, NDArray]) -> str | None:
     if far < max(HEADER_MIN_COLUMNS, len(cols) - 1):
         return None
     return NUMBERS_HEADER.format(far=far, of=len(cols))
+
+
+#: A headerless table of at least this many columns whose values, read row after row, step
+#: (mean square) under ``ROWS_CONTINUE`` times down a column, also from one line's last value
+#: to the next line's first, is one series written several values a line
+ROWS_MIN_COLUMNS = 4
+ROWS_CONTINUE = 0.5
+
+
+def rows_continue(columns: dict[str, NDArray]) -> str | None:
+    """The note when a headerless table is one series written k values a line, else None.
+
+    Notes
+    -----
+    R prints a monthly series 12 values a line (pmdarima's ``sunspots.txt``): each column
+    is then one calendar month of every year, and the first column's R is a yearly series'.
+    Channels side by side step further across a line than down it, and several sensors of
+    one quantity step from a line's last value to the next line's first as down a column.
+    """
+    cols = list(columns.values())
+    if len(cols) < ROWS_MIN_COLUMNS or cols[0].size < 20:
+        return None
+    a = np.column_stack(cols)
+    a = a[np.all(np.isfinite(a), axis=1)]  # (a last line cut short)
+    down = float(np.mean(np.diff(a, axis=0) ** 2)) if a.shape[0] > 1 else 0.0
+    along = float(np.mean(np.diff(a.ravel()) ** 2)) if a.size > 1 else 0.0
+    wrap = float(np.mean((a[1:, 0] - a[:-1, -1]) ** 2)) if a.shape[0] > 1 else 0.0
+    if not down > 0 or max(along, wrap) >= ROWS_CONTINUE * down:
+        return None
+    k = len(cols)
+    return (
+        f"the {k} columns continue each other along each line (read line after line the "
+        f"values step {np.sqrt(down / along):.2g}x less than down a column): one series "
+        f"written {k} values a line, as R prints a monthly series? Each column is then every "
+        f"{k}th value: give the values one a line"
+    )
 
 
 def _far_first(v: NDArray) -> bool:

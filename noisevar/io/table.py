@@ -34,6 +34,8 @@ UNIFORM_TOLERANCE = 0.01
 #: Sample periods (seconds) taken from a time column; a step outside is a unit mistake
 #: (milliseconds, nanoseconds) more often than a real rate.
 SAMPLE_PERIOD_RANGE = (1e-9, 1e6)
+#: Calendar steps of date-times, in days: a month, a quarter, a year differ in length.
+CALENDAR_STEPS = {"month": (28, 31), "quarter": (89, 92), "year": (365, 366)}
 _NPY_MAGIC = b"\x93NUMPY"
 _NA_TOKENS = ["", "nan", "NaN", "NAN", "na", "NA", "n/a", "N/A", "null", "NULL", "None", "-"]
 
@@ -426,7 +428,25 @@ def rounded_period(t: NDArray, step: float) -> float:
     return 1.0 / rate if d_rate < d_period else period
 
 
-def _period_from_time(t: NDArray, notes: list[str]) -> float | None:
+def calendar_step(dt: NDArray) -> str | None:
+    """The calendar unit every step of ``dt`` (seconds) is one of (``"month"``: 28-31
+    days; :data:`CALENDAR_STEPS`), or None."""
+    days = np.asarray(dt, float) / 86400.0
+    for unit, (lo, hi) in CALENDAR_STEPS.items():
+        if days.size and np.all((days >= lo) & (days <= hi)):
+            return unit
+    return None
+
+
+def _period_from_time(t: NDArray, notes: list[str], dated: bool = False) -> float | None:
+    """The sample period of the time column ``t`` (seconds), or None (with a note).
+
+    Notes
+    -----
+    ``dated``: ``t`` was read from date-times, so it is in seconds whatever its step (a
+    monthly series' 2.6e6 s is no unit mistake), and steps of a calendar month, quarter or
+    year (:func:`calendar_step`) are one period, said, not non-uniform sampling.
+    """
     if t.size < 2 or not np.all(np.isfinite(t)):
         notes.append("the time column has missing values: sample period not taken from it")
         return None
@@ -449,9 +469,16 @@ def _period_from_time(t: NDArray, notes: list[str]) -> float | None:
             "from the other steps"
         )
         dt = dt[~back]  # (t's own decimals still give the stamps' resolution)
+    unit = calendar_step(dt) if dated and not np.any(back) else None
+    if unit is not None:
+        lo_d, hi_d = CALENDAR_STEPS[unit]
+        period = float(np.mean(dt))
+        notes.append(f"the dates step by a calendar {unit} ({lo_d}-{hi_d} days): one sample a "
+                     f"{unit}, taken as uniform (period {period / 86400:.4g} days)")  # fmt: skip
+        return period
     period = rounded_period(t, float(np.median(dt)))
     lo, hi = SAMPLE_PERIOD_RANGE
-    if not lo <= period <= hi:
+    if not lo <= period <= (np.inf if dated else hi):
         notes.append(
             f"the time column's step ({period:.4g}) is outside {lo:g} s to {hi:g} s: is it in "
             "another unit (milliseconds, nanoseconds)? Sample period not taken from it; set T"

@@ -16,20 +16,18 @@ from noisevar._arrays import EXACT_INT
 from noisevar.errors import NoisevarError
 from noisevar.io.header_units import header_unit
 from noisevar.io.opensignals import opensignals_names
-from noisevar.io.quirks import code_note, header_of_numbers
+from noisevar.io.quirks import code_note, header_of_numbers, rows_continue
 from noisevar.io.refusal_hints import comment_hint, numbers_for_names, preamble_hint
 from noisevar.io.table import (
     _NA_TOKENS,
-    DATE_NAMES,
     LoadedTable,
     _period_from_time,
     echo,
     is_time_column,
     pick_time_column,
     time_in_seconds,
-    time_key,
 )
-from noisevar.io.text_times import clock_beside, parse_time_strings
+from noisevar.io.text_times import clock_beside, is_date_name, parse_time_strings
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -334,21 +332,23 @@ def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
     fmt, names, header_line, unit_row = table_layout(text, name, isinstance(src, str))
     time_idx = pick_time_column(names)
     if time_idx is None:  # a date column is the time column when it holds date-times
-        date_idx = next((i for i, c in enumerate(names) if time_key(c) in DATE_NAMES), None)
+        date_idx = next((i for i, c in enumerate(names) if is_date_name(c)), None)
         time_idx = date_idx if _holds_dates(text, fmt, header_line, date_idx) else None
-    columns, notes, first = _parse_body(src, header_line, names, fmt, name, time_idx)
+    columns, notes, first, dated = _parse_body(src, header_line, names, fmt, name, time_idx)
     if names == [f"col{i}" for i in range(len(names))] and (head := header_of_numbers(columns)):
         columns = {c: v[1:] for c, v in columns.items()}
         notes.insert(0, head)
+    if names == [f"col{i}" for i in range(len(names))] and (rows := rows_continue(columns)):
+        notes.insert(0, rows)
     time_col = names[time_idx] if time_idx is not None else None
     stated = {c: u for c, u in zip(names, unit_row or [], strict=False) if u}  # a units row
     names = [c for c in names if c in columns]  # text columns are left out (noted)
     if fmt.decimal == ",":
         notes.insert(0, "read with a decimal comma (1,5 = 1.5)")
     kind = "tsv" if fmt.delim == "\t" else ("csv" if fmt.delim else "text")
-    if time_col:
+    if time_col and not dated:  # date-times are read in seconds
         time_in_seconds(columns, time_col, notes, first, stated.get(time_col))
-    period = _period_from_time(columns[time_col], notes) if time_col else None
+    period = _period_from_time(columns[time_col], notes, dated) if time_col else None
     empty = [c for c in names if np.all(np.isnan(columns[c]))]
     if len(empty) == len(names):
         raise NoisevarError(f"{echo(name)} has no numbers: every cell is empty or NaN")
@@ -437,9 +437,10 @@ def _parse_body(
     fmt: _Format,
     name: str,
     time_idx: int | None,
-) -> tuple[dict[str, NDArray], list[str], float | None]:
-    """The columns as floats, the loader's notes, and the time column's first value when it
-    was taken relative to it (integers beyond 2**53: nanoseconds since 1970)."""
+) -> tuple[dict[str, NDArray], list[str], float | None, bool]:
+    """The columns as floats, the loader's notes, the time column's first value when it
+    was taken relative to it (integers beyond 2**53: nanoseconds since 1970), and whether
+    the time column was read from date-times or clock times (text: seconds already)."""
     import pandas as pd
 
     df = _read_frame(src, header_line, len(names), fmt, name)
@@ -454,6 +455,8 @@ def _parse_body(
         columns[names[time_idx]], joined = clock
         notes.append(joined)
         done = {time_idx, time_idx + 1}
+    dated = bool(done)
+    keys: dict[str, pd.Series] = {}  # the text columns left out
     # a column of text is left out when another holds numbers (else its error says why)
     text = {i for i in range(len(names)) if i != time_idx and i not in done and _only_text(df[i])}
     numeric = len(text) < len(names) - (time_idx is not None) - len(done) // 2
@@ -477,9 +480,39 @@ def _parse_body(
         if i in text and numeric:  # a log's label (frame_id)
             notes.append(f"column {echo(cname)!r} holds text ({echo(str(col.iloc[0]), 40)!r}), "
                          "not numbers: left out")  # fmt: skip
+            keys[cname] = col
             continue
         columns[cname] = _text_column(col, cname, src, header_line, name, i == time_idx)
-    return columns, notes, first
+        dated = dated or (i == time_idx and _only_text(col))  # (numbers raised, or parsed)
+    if time_idx is not None:
+        for cname, col in keys.items():
+            _refuse_stacked(col, columns[names[time_idx]], cname, name)
+    return columns, notes, first, dated
+
+
+def _refuse_stacked(key: pd.Series, t: NDArray, cname: str, name: str) -> None:
+    """Refuse a file that stacks several series (the long format: a text column ``key``
+    whose value holds in blocks, the time column ``t`` restarting at each block), in one
+    line that says to give one series.
+
+    Notes
+    -----
+    Read as one record, the series were spliced (vega_datasets' ``stocks.csv``: five
+    stocks' prices one after the other, R over their joins).
+    """
+    change = np.flatnonzero(key.to_numpy()[1:] != key.to_numpy()[:-1])
+    labels = list(dict.fromkeys(key.tolist()))
+    if not change.size or change.size != len(labels) - 1:
+        return
+    back = np.flatnonzero(np.diff(t) <= 0)
+    if not np.array_equal(back, change):
+        return
+    shown = ", ".join(repr(echo(str(v), 20)) for v in labels[:3])
+    raise NoisevarError(
+        f"{echo(name)} stacks {len(labels)} series, one per value of column {echo(cname)!r} "
+        f"({shown}{', ...' if len(labels) > 3 else ''}), its time restarting at each: give "
+        f"one series, e.g. the rows of one {echo(cname)!r} saved as their own file"
+    )
 
 
 def _only_text(col: pd.Series) -> bool:

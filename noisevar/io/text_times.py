@@ -93,6 +93,16 @@ def _guessed_times(values: list[str]) -> NDArray | None:
     return None
 
 
+#: A date column's name with its time zone (Sheffield Solar's ``datetime_gmt``).
+_DATE_NAME = re.compile(r"(?:" + "|".join(DATE_NAMES) + r")(?:_(?:utc|gmt|local|tz))?")
+
+
+def is_date_name(name: str) -> bool:
+    """A name of :data:`DATE_NAMES`, perhaps with its time zone (``datetime_gmt``,
+    ``Date (UTC)``): the time column when it holds date-times."""
+    return _DATE_NAME.fullmatch(time_key(name)) is not None
+
+
 #: A clock column beside a date column (MIDC's ``DATE (MM/DD/YYYY)``, ``MST``: ``13:58``).
 _CLOCK = re.compile(r"\d{1,2}:\d{2}(?::\d{2}(?:\.\d{1,9})?)?")
 
@@ -105,7 +115,7 @@ def clock_beside(
     without a time of day and the next column a time of day in every cell."""
     if time_idx is None or time_idx + 1 >= len(names):
         return None
-    if time_key(names[time_idx]) not in DATE_NAMES:
+    if not is_date_name(names[time_idx]):
         return None
     dates, clocks = df[time_idx].astype(str).str.strip(), df[time_idx + 1].astype(str).str.strip()
     if not (clocks.str.fullmatch(_CLOCK.pattern).all() and not dates.str.contains(":").any()):
