@@ -81,7 +81,8 @@ def check_samples(arr: NDArray, drop_nonfinite: bool = False) -> tuple[NDArray, 
         arr = arr.copy()
     if np.ptp(arr) == 0:
         raise NoisevarError(
-            "the signal is constant: its noise variance is 0 and there is nothing to estimate"
+            "the signal is constant: its noise variance is 0 and there is nothing to estimate "
+            "(a field the logger never changes?): give a channel that varies"
         )
     if steps_evenly(arr):
         raise NoisevarError(

@@ -48,3 +48,9 @@ def test_rare_one_step_flips_are_rounding_not_a_changing_level() -> None:
     # was: "the noise level changes along the record: ... no stretch of it is measurably
     # quieter" (blocks with and without a flip)
     assert v.startswith("white noise under half a step on a grid of step 1"), v
+
+
+def test_a_constant_channel_is_refused_saying_what_to_do():
+    """real_audit8: a price file's `OpenInt` (always 0) was refused without a hint."""
+    with pytest.raises(NoisevarError, match="give a channel that varies"):
+        noisevar.estimate(np.zeros(500))
