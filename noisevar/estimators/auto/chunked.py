@@ -328,7 +328,10 @@ class ChunkedAuto:
                 sums = DiagSums(plan, back=True)  # the reversed grid's profile too
             run = self._run(spans, p, sums, math.inf)
             if run.span == 0:
-                raise NoisevarError("the signal is constant: there is no noise to estimate: give a channel that varies")
+                raise NoisevarError(
+                    "the signal is constant: there is no noise to estimate: give a channel "
+                    "that varies"
+                )
             if exponent_of(run.top) == self.exponent:
                 break
             self.exponent = exponent_of(run.top)
