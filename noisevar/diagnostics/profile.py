@@ -6,7 +6,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from functools import partial
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -38,6 +38,27 @@ MOTION_RUN = 3
 CHI2_1_MEDIAN = float(chi2_ppf(0.5, 1))
 #: Degrees of freedom per sample of a block median of χ²₁ values, ``2 (2 f(m) m)²``.
 MEDIAN_DOF = float(2.0 * (2.0 * chi2_pdf(CHI2_1_MEDIAN, 1) * CHI2_1_MEDIAN) ** 2)
+
+
+class BackGrid(NamedTuple):
+    """The reversed record's block grid, in the record's sample indices.
+
+    Attributes
+    ----------
+    quiet : tuple of (int, int)
+        Runs of its quiet blocks.
+    spans : tuple of (int, int)
+        Runs of all its blocks.
+    quiet_variance : float
+        Its quiet blocks' pooled level (0 when none is quiet).
+    one_quiet_level : bool
+        Its :attr:`LevelProfile.one_quiet_level`.
+    """
+
+    quiet: tuple[tuple[int, int], ...]
+    spans: tuple[tuple[int, int], ...]
+    quiet_variance: float
+    one_quiet_level: bool
 
 
 @dataclass(frozen=True)
@@ -80,10 +101,14 @@ class LevelProfile:
     count: NDArray | None = None
     robust: NDArray | None = None
     quiet_dof: NDArray | None = None
+    back_grid: BackGrid | None = None
 
     @property
     def quiet_variance(self) -> float:
-        """Pooled level (mean square) of the quiet blocks."""
+        """Pooled level (mean square) of the quiet blocks (of the reversed grid's,
+        :attr:`back_grid`, when the record's own grid has none)."""
+        if self.back_grid is not None and not self.quiet.any():
+            return self.back_grid.quiet_variance
         return _pooled(self.variance, self.dof, self.quiet)
 
     @property
@@ -94,9 +119,13 @@ class LevelProfile:
         the quiet blocks' pooled mean square (χ² on their summed dof, with the quiet set's
         own kurtosis: :attr:`quiet_dof`): every block quiet, or a few left out by chance or
         by the noise's own tails. The record is then one quiet level, and its quiet level
-        is R (docs/algorithms.md §E1 *The quiet level*). False when no block is quiet.
+        is R (docs/algorithms.md §E1 *The quiet level*). False when no block is quiet, or
+        the reversed grid (:attr:`back_grid`) finds otherwise (one quiet block of few dof
+        has an interval wide enough to hold any level: on one grid only, by its phase).
         """
-        if not self.quiet.any():
+        if not self.quiet.any() or (
+            self.back_grid is not None and not self.back_grid.one_quiet_level
+        ):
             return False
         lo, hi = self.quiet_interval
         return bool(lo <= self.pooled_level <= hi)
@@ -171,9 +200,26 @@ class LevelProfile:
 
     @property
     def quiet_share(self) -> float:
-        """Share of the record's samples in the quiet blocks."""
-        sizes = self.stop - self.start
-        return float(np.sum(sizes[self.quiet]) / np.sum(sizes))
+        """Share of the record's samples in the quiet blocks of either block grid.
+
+        The record's own grid alone without :attr:`back_grid`; with it, the samples in
+        a quiet block of either grid over those in a block of either (the same share for
+        the record reversed, whose grids are these two swapped).
+        """
+        if self.back_grid is None:
+            sizes = self.stop - self.start
+            return float(np.sum(sizes[self.quiet]) / np.sum(sizes))
+        back = self.back_grid
+        n = int(max(self.stop[-1], *(b for _, b in back.spans)))
+        quiet = _union(_runs(self.start, self.stop, self.quiet), back.quiet, n)
+        spans = _union(_runs(self.start, self.stop, np.ones_like(self.quiet)), back.spans, n)
+        return float(quiet / spans) if spans else 0.0
+
+    @property
+    def any_quiet(self) -> bool:
+        """Whether a block of either grid is quiet (:attr:`back_grid`; the record's own
+        grid alone without it): the same for the record reversed."""
+        return bool(self.quiet.any() or (self.back_grid is not None and self.back_grid.quiet))
 
     def to_dict(self) -> dict[str, list]:
         return {
@@ -185,6 +231,53 @@ class LevelProfile:
             "quiet": self.quiet.tolist(),
             "regimes": [r.to_dict() for r in self.regimes],
         }
+
+
+def _runs(start: NDArray, stop: NDArray, member: NDArray) -> tuple[tuple[int, int], ...]:
+    """Sample ranges of the ``member`` blocks, those that touch joined, in order (a
+    block left out between two, around a jump, is not bridged)."""
+    idx = np.flatnonzero(member)
+    ranges = [(int(a), int(b)) for a, b in zip(start[idx], stop[idx], strict=True)]
+    return tuple(_holding_runs(ranges, [], int(stop[-1]) if stop.size else 0, 1))
+
+
+def _union(forward: tuple[tuple[int, int], ...], other: tuple[tuple[int, int], ...], n: int) -> int:
+    """Samples of ``0 .. n`` in a range of either set (both in the record's indices)."""
+    return sum(b - a for a, b in _holding_runs([*forward, *other], [], n, 1))
+
+
+def with_back_grid(prof: LevelProfile, back: LevelProfile, n: int) -> LevelProfile:
+    """``prof`` with the reversed record's block grid's quiet blocks and blocks.
+
+    Parameters
+    ----------
+    prof : LevelProfile
+        The record's profile.
+    back : LevelProfile
+        The record reversed's (its own sample indices).
+    n : int
+        Samples in the record.
+
+    Returns
+    -------
+    LevelProfile
+        ``prof`` with :attr:`LevelProfile.back_grid` (in the record's indices).
+
+    Notes
+    -----
+    docs/algorithms.md §E1 *Regimes*. Which blocks are quiet moves with the grid's phase:
+    a short rest can fill a block of one grid and straddle two of the other, and a quiet
+    set of a few blocks can be found on one grid and not on the other (a 953-sample
+    IMU channel: 7 % quiet forwards, none reversed, so its verdict flipped between
+    "mostly motion" and "no stretch of it is quiet"). Read on both grids, a record and its
+    reversal are the same two grids swapped, so the share is the same either way.
+    """
+    mirror = lambda runs: tuple((n - b, n - a) for a, b in reversed(runs))  # noqa: E731
+    quiet = mirror(_runs(back.start, back.stop, back.quiet))
+    spans = mirror(_runs(back.start, back.stop, np.ones_like(back.quiet)))
+    return replace(
+        prof, back_grid=BackGrid(quiet, spans, back.quiet_variance, back.one_quiet_level)
+    )
 
 
 def block_bounds(n: int, min_block: int = PROFILE_MIN_BLOCK) -> NDArray:
@@ -484,7 +577,7 @@ def _holding_runs(
 def regimes_on_both_grids(
     diag: NoiseDiagnostics, back: Callable[[NoiseDiagnostics], LevelProfile] | None
 ) -> NoiseDiagnostics:
-    """``diag`` with the reversed grid's regimes when only they find the level varies.
+    """``diag`` read on both block grids: the record's and its reversal's.
 
     Parameters
     ----------
@@ -500,28 +593,45 @@ def regimes_on_both_grids(
         Its profile's regimes those of ``back(diag)`` (in the record's sample indices)
         when the record's own grid finds one still level with its last block left out of
         the quiet set and the reversed grid regimes that are not still, all in that last
-        block; else ``diag``.
+        block (:func:`_back_regimes`); where the level then varies, its profile with the
+        reversed grid's quiet blocks (:func:`with_back_grid`), so that the quiet share and
+        whether any stretch is quiet read both grids.
 
     Notes
     -----
-    docs/algorithms.md §E1 *Regimes*. Regimes are found on block medians: a burst shorter
-    than half a block is seen by the grid that puts it in one block, not by the record's
-    own grid when its last block, which takes the rest of the record (up to twice a
-    block), joins it to quiet samples. A GPS track ending in 30 wild fixes was one level
-    forwards and two regimes reversed, and its R to use flipped between R and the still R
-    66x below it (issue 26). So the level varies when the reversed grid finds a regime
-    that is not still inside the record's last block; elsewhere the two grids differ by a
-    phase only, and one huge spike's reach (Student-t noise) fits one block of either by
-    chance. The quiet set stays the record's own grid's. ``back`` is called only when the
-    record's last block is left out of its quiet set (a burst there raises its mean square).
+    docs/algorithms.md §E1 *Regimes*. ``back`` is called only where the level varies or
+    the record's last block is left out of its quiet set: a record whose level varies
+    has its still stretches measured on both grids (the same profile, made once).
+    """
+    if back is None or not diag.level_profile.quiet.size:
+        return diag
+    diag = _back_regimes(diag, back)
+    if not diag.level_varies:
+        return diag
+    prof = with_back_grid(diag.level_profile, back(diag), diag.n)
+    return replace(diag, level_profile=prof)
+
+
+def _back_regimes(
+    diag: NoiseDiagnostics, back: Callable[[NoiseDiagnostics], LevelProfile]
+) -> NoiseDiagnostics:
+    """``diag`` with the reversed grid's regimes when only they find the level varies.
+
+    Notes
+    -----
+    Regimes are found on block medians: a burst shorter than half a block is seen by the
+    grid that puts it in one block, not by the record's own grid when its last block,
+    which takes the rest of the record (up to twice a block), joins it to quiet samples.
+    A GPS track ending in 30 wild fixes was one level forwards and two regimes reversed,
+    and its R to use flipped between R and the still R 66x below it (issue 26). So the
+    level varies when the reversed grid finds a regime that is not still inside the
+    record's last block; elsewhere the two grids differ by a phase only, and one huge
+    spike's reach (Student-t noise) fits one block of either by chance. ``back`` is called
+    only when the record's last block is left out of its quiet set (a burst there raises
+    its mean square).
     """
     prof = diag.level_profile
-    if (
-        back is None
-        or any(not r.still for r in prof.regimes)
-        or not prof.quiet.size
-        or prof.quiet[-1]
-    ):
+    if any(not r.still for r in prof.regimes) or prof.quiet[-1]:
         return diag
     rev = back(diag)
     if all(r.still for r in rev.regimes):

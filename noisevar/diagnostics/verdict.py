@@ -341,7 +341,7 @@ def _not_white(
             f"model the walk as a state (see the noise model){stood}"
         )
     # no quiet block, and no still R from the still regimes: no level to quote
-    no_quiet = diag.level_varies and not prof.quiet.any() and not still_apart
+    no_quiet = diag.level_varies and not prof.any_quiet and not still_apart
     if no_quiet and not under_half_a_step(diag, variance):  # (that is quantisation)
         return (
             "the noise level changes along the record and no stretch of it is quiet: the "
@@ -359,7 +359,7 @@ def _not_white(
     # no quiet block (a grid's noise under half a step): no still level to quote
     if (
         diag.level_varies
-        and prof.quiet.any()
+        and prof.any_quiet
         and prof.quiet_share < MOSTLY_MOTION
         and not diag.white
     ):

@@ -443,7 +443,7 @@ def quiet_level(
         return diag.quiet
     if prof.one_quiet_level:  # and R agrees with it, or quiet_apart measured it apart
         return QuietLevel(result.variance, *result.ci95, share, "record")
-    if not prof.quiet.any():
+    if not prof.any_quiet:
         reason = "no stretch of the record is quiet (its level varies throughout)"
     elif gap:
         reason = gap.removeprefix("regimes='still': ")
