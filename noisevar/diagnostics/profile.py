@@ -6,13 +6,13 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from functools import partial
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 
 from noisevar._distributions import chi2_pdf, chi2_ppf
-from noisevar.diagnostics.regimes import Regime, find_regimes
+from noisevar.diagnostics.regimes import STILL_RATIO, Regime, find_regimes
 
 if TYPE_CHECKING:
     from noisevar.diagnostics.results import NoiseDiagnostics
@@ -40,7 +40,8 @@ CHI2_1_MEDIAN = float(chi2_ppf(0.5, 1))
 MEDIAN_DOF = float(2.0 * (2.0 * chi2_pdf(CHI2_1_MEDIAN, 1) * CHI2_1_MEDIAN) ** 2)
 
 
-class BackGrid(NamedTuple):
+@dataclass(frozen=True)
+class BackGrid:
     """The reversed record's block grid, in the record's sample indices.
 
     Attributes
@@ -51,14 +52,20 @@ class BackGrid(NamedTuple):
         Runs of all its blocks.
     quiet_variance : float
         Its quiet blocks' pooled level (0 when none is quiet).
+    quiet_dof : float
+        Its quiet blocks' summed dof (the weight of that level).
     one_quiet_level : bool
         Its :attr:`LevelProfile.one_quiet_level`.
+    left_out_ratio : float
+        Its :meth:`LevelProfile.left_out_ratio` (runs of :data:`MOTION_RUN` blocks).
     """
 
     quiet: tuple[tuple[int, int], ...]
     spans: tuple[tuple[int, int], ...]
     quiet_variance: float
+    quiet_dof: float
     one_quiet_level: bool
+    left_out_ratio: float
 
 
 @dataclass(frozen=True)
@@ -105,11 +112,14 @@ class LevelProfile:
 
     @property
     def quiet_variance(self) -> float:
-        """Pooled level (mean square) of the quiet blocks (of the reversed grid's,
-        :attr:`back_grid`, when the record's own grid has none)."""
-        if self.back_grid is not None and not self.quiet.any():
-            return self.back_grid.quiet_variance
-        return _pooled(self.variance, self.dof, self.quiet)
+        """Pooled level (mean square) of the quiet blocks; with :attr:`back_grid`, the
+        dof-weighted level of both grids' quiet blocks (the same for the record reversed)."""
+        own = _pooled(self.variance, self.dof, self.quiet)
+        back = self.back_grid
+        if back is None or not back.quiet_dof > 0:
+            return own
+        w = float(np.sum(self.dof[self.quiet]))
+        return (own * w + back.quiet_variance * back.quiet_dof) / (w + back.quiet_dof)
 
     @property
     def one_quiet_level(self) -> bool:
@@ -183,8 +193,19 @@ class LevelProfile:
         -----
         A run of blocks whose medians too are raised is a stretch of motion; one huge
         spike raises the mean square (and, through the smoother, the median) of one
-        block or two only.
+        block or two only. With :attr:`back_grid` (runs of :data:`MOTION_RUN`), the
+        smaller of the two grids' ratios: a run of three blocks is found on one grid
+        and cut to two by the other's phase (a Pololu gyroscope: reversed, its still
+        stretches were apart from R and too short to measure), and the record reversed
+        reads the same two grids.
         """
+        own = self._left_out_ratio(run)
+        if self.back_grid is None or run != MOTION_RUN:
+            return own
+        return min(own, self.back_grid.left_out_ratio)
+
+    def _left_out_ratio(self, run: int) -> float:
+        """:meth:`left_out_ratio` on the record's own grid."""
         if self.robust is None or not self.quiet.any():
             return 0.0
         w = self.stop - self.start if self.count is None else self.count
@@ -276,7 +297,15 @@ def with_back_grid(prof: LevelProfile, back: LevelProfile, n: int) -> LevelProfi
     quiet = mirror(_runs(back.start, back.stop, back.quiet))
     spans = mirror(_runs(back.start, back.stop, np.ones_like(back.quiet)))
     return replace(
-        prof, back_grid=BackGrid(quiet, spans, back.quiet_variance, back.one_quiet_level)
+        prof,
+        back_grid=BackGrid(
+            quiet,
+            spans,
+            back.quiet_variance,
+            float(np.sum(back.dof[back.quiet])),
+            back.one_quiet_level,
+            back.left_out_ratio(),
+        ),
     )
 
 
@@ -595,18 +624,21 @@ def regimes_on_both_grids(
         the quiet set and the reversed grid regimes that are not still, all in that last
         block (:func:`_back_regimes`); where the level then varies, its profile with the
         reversed grid's quiet blocks (:func:`with_back_grid`), so that the quiet share and
-        whether any stretch is quiet read both grids.
+        whether any stretch is quiet read both grids; so too where one level has a run
+        of left-out blocks over :data:`~noisevar.diagnostics.regimes.STILL_RATIO` times
+        the quiet level (:meth:`LevelProfile.left_out_ratio`, then the smaller of both).
 
     Notes
     -----
-    docs/algorithms.md §E1 *Regimes*. ``back`` is called only where the level varies or
-    the record's last block is left out of its quiet set: a record whose level varies
-    has its still stretches measured on both grids (the same profile, made once).
+    docs/algorithms.md §E1 *Regimes*. ``back`` is called only in those cases or where
+    the record's last block is left out of its quiet set: a record whose still stretches
+    are apart (``still_set.has_still_apart``) has them measured on both grids anyway (the
+    same profile, made once).
     """
     if back is None or not diag.level_profile.quiet.size:
         return diag
     diag = _back_regimes(diag, back)
-    if not diag.level_varies:
+    if not diag.level_varies and diag.level_profile.left_out_ratio() <= STILL_RATIO:
         return diag
     prof = with_back_grid(diag.level_profile, back(diag), diag.n)
     return replace(diag, level_profile=prof)
