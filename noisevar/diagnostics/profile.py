@@ -53,7 +53,7 @@ class BackGrid:
     quiet_variance : float
         Its quiet blocks' pooled level (0 when none is quiet).
     quiet_dof : float
-        Its quiet blocks' summed dof (the weight of that level).
+        Its quiet blocks' summed dof, with its quiet set's kurtosis (that level's weight).
     one_quiet_level : bool
         Its :attr:`LevelProfile.one_quiet_level`.
     left_out_ratio : float
@@ -113,13 +113,34 @@ class LevelProfile:
     @property
     def quiet_variance(self) -> float:
         """Pooled level (mean square) of the quiet blocks; with :attr:`back_grid`, the
-        dof-weighted level of both grids' quiet blocks (the same for the record reversed)."""
+        level of both grids' quiet blocks, each grid's weighted by its dof (the same for
+        the record reversed)."""
         own = _pooled(self.variance, self.dof, self.quiet)
         back = self.back_grid
         if back is None or not back.quiet_dof > 0:
             return own
-        w = float(np.sum(self.dof[self.quiet]))
+        w = self._quiet_nu
         return (own * w + back.quiet_variance * back.quiet_dof) / (w + back.quiet_dof)
+
+    @property
+    def quiet_bounds(self) -> tuple[float, float]:
+        """The 95 % interval of :attr:`quiet_variance`: χ² on its quiet blocks' summed dof
+        (:attr:`quiet_dof`), the mean of the two grids' with :attr:`back_grid` (both read
+        the same samples); NaN without a quiet block."""
+        nus = [self._quiet_nu]
+        if self.back_grid is not None:
+            nus.append(self.back_grid.quiet_dof)
+        nus = [v for v in nus if v > 0]
+        if not nus:
+            return math.nan, math.nan
+        nu, v = float(np.mean(nus)), self.quiet_variance
+        return nu * v / chi2_ppf(0.975, nu), nu * v / chi2_ppf(0.025, nu)
+
+    @property
+    def _quiet_nu(self) -> float:
+        """The quiet blocks' summed dof, with the quiet set's own kurtosis."""
+        dof = self.dof if self.quiet_dof is None else self.quiet_dof
+        return float(np.sum(dof[self.quiet]))
 
     @property
     def one_quiet_level(self) -> bool:
@@ -302,7 +323,7 @@ def with_back_grid(prof: LevelProfile, back: LevelProfile, n: int) -> LevelProfi
             quiet,
             spans,
             back.quiet_variance,
-            float(np.sum(back.dof[back.quiet])),
+            back._quiet_nu,
             back.one_quiet_level,
             back.left_out_ratio(),
         ),
