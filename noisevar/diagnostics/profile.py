@@ -12,6 +12,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar._distributions import chi2_pdf, chi2_ppf
+from noisevar.diagnostics.quiet_set import (
+    QUIET_ROUNDS,
+    gaussian_seed,
+    leave_one_out_dof,
+    pooled,
+    quiet_set,
+    still_if_quiet,
+)
 from noisevar.diagnostics.regimes import STILL_RATIO, Regime, find_regimes
 
 if TYPE_CHECKING:
@@ -27,9 +35,6 @@ QUIET_ALPHA = 0.05
 #: The quiet set's seed: still blocks whose mean square is at most this many times the
 #: still blocks' median mean square.
 SEED_FACTOR = 20.0
-#: At most this many rounds of the quiet set, each testing mean squares with the kurtosis
-#: of the last round's other blocks.
-QUIET_ROUNDS = 5
 #: Fewest consecutive blocks left out of the quiet set that make a stretch of motion
 #: (:meth:`LevelProfile.left_out_ratio`): one huge spike, spread by the smoother's span,
 #: leaves out one block or two.
@@ -115,7 +120,7 @@ class LevelProfile:
         """Pooled level (mean square) of the quiet blocks; with :attr:`back_grid`, the
         level of both grids' quiet blocks, each grid's weighted by its dof (the same for
         the record reversed)."""
-        own = _pooled(self.variance, self.dof, self.quiet)
+        own = pooled(self.variance, self.dof, self.quiet)
         back = self.back_grid
         if back is None or not back.quiet_dof > 0:
             return own
@@ -170,13 +175,13 @@ class LevelProfile:
             return math.nan, math.nan
         dof = self.dof if self.quiet_dof is None else self.quiet_dof
         nu = float(np.sum(dof[self.quiet]))
-        quiet = _pooled(self.variance, self.dof, self.quiet)
+        quiet = pooled(self.variance, self.dof, self.quiet)
         return nu * quiet / chi2_ppf(0.975, nu), nu * quiet / chi2_ppf(0.025, nu)
 
     @property
     def pooled_level(self) -> float:
         """The dof-weighted level of every block."""
-        return _pooled(self.variance, self.dof, np.ones(self.quiet.size, dtype=bool))
+        return pooled(self.variance, self.dof, np.ones(self.quiet.size, dtype=bool))
 
     @property
     def still_stretches(self) -> list[tuple[int, int]]:
@@ -230,14 +235,14 @@ class LevelProfile:
         if self.robust is None or not self.quiet.any():
             return 0.0
         w = self.stop - self.start if self.count is None else self.count
-        quiet = _pooled(self.robust, w, self.quiet)
+        quiet = pooled(self.robust, w, self.quiet)
         edges = np.flatnonzero(np.diff(np.r_[0, (~self.quiet).view(np.int8), 0]))
         best = 0.0
         for a, b in zip(edges[::2], edges[1::2], strict=True):
             if b - a >= run and quiet > 0:
                 inside = np.zeros(self.quiet.size, dtype=bool)
                 inside[a:b] = True
-                best = max(best, _pooled(self.robust, w, inside) / quiet)
+                best = max(best, pooled(self.robust, w, inside) / quiet)
         return best
 
     @property
@@ -422,7 +427,7 @@ def profile_from_blocks(
     for r in regimes:
         still |= r.still & (start >= r.start) & (stop <= r.stop)
     level = 1.0 - QUIET_ALPHA / robust.size
-    keep = partial(_quiet_set, still, var, dof)
+    keep = partial(quiet_set, still, var, dof)
     # the seed: still blocks whose mean square is near the still blocks' median; where the
     # record has motion, only those Gaussian noise explains (handling beside the motion)
     seed = still & (var <= SEED_FACTOR * np.median(var[still]))
@@ -431,128 +436,17 @@ def profile_from_blocks(
         quiet = keep(chi2_ppf(level, dof) / dof, seed)
     else:  # rounds: mean squares tested with the kurtosis of the last set's other blocks
         if not still.all():
-            seed &= _gaussian_seed(still, count, var, robust, robust_dof, eta, level)
+            seed &= gaussian_seed(still, count, var, robust, robust_dof, eta, level)
         quiet = seed
         for _ in range(QUIET_ROUNDS):
-            nu = _leave_one_out_dof(count, robust, tails, quiet, eta, dof)
+            nu = leave_one_out_dof(count, robust, tails, quiet, eta, dof)
             again = keep(chi2_ppf(level, nu) / nu, quiet)
             if np.array_equal(again, quiet):
                 break
             quiet = again
-        quiet_dof = _leave_one_out_dof(count, robust, tails, quiet, eta, dof)
+        quiet_dof = leave_one_out_dof(count, robust, tails, quiet, eta, dof)
     regimes = still_if_quiet(regimes, start, stop, quiet)
     return LevelProfile(start, stop, var, lo, hi, dof, quiet, regimes, count, robust, quiet_dof)
-
-
-def still_if_quiet(
-    regimes: tuple[Regime, ...], start: NDArray, stop: NDArray, quiet: NDArray
-) -> tuple[Regime, ...]:
-    """``regimes``, a still one with no quiet block no longer called still.
-
-    The quiet set is the still regimes' blocks that pass the quiet test: a still regime
-    none of whose blocks does has no sensor level to quote, so the regimes and the quiet
-    set agree (docs/algorithms.md §E1 *The still set*). A record of one still level keeps
-    it (its level does not vary).
-    """
-    if all(r.still for r in regimes):
-        return regimes
-    return tuple(
-        r
-        if not r.still or quiet[(start >= r.start) & (stop <= r.stop)].any()
-        else replace(r, still=False)
-        for r in regimes
-    )
-
-
-def _gaussian_seed(
-    still: NDArray,
-    count: NDArray,
-    var: NDArray,
-    robust: NDArray,
-    robust_dof: NDArray,
-    eta: float,
-    level: float,
-) -> NDArray:
-    """The quiet set's seed: the still blocks whose mean square Gaussian noise explains.
-
-    Each still block's mean square is tested against the still regimes' pooled robust
-    level with the dof of Gaussian noise (``n_b / η``, family-wise): a forward search from
-    a clean set (docs/algorithms.md §F1), used where the record has motion. A block with
-    handling or a tap in part of it stays out of the seed, so its tails cannot widen the
-    rounds' tests; tails spread over the record (heavy-tailed noise) enter through the
-    rounds' kurtosis of the set. A record of one still level has no motion to hand on:
-    its excess mean squares are the noise's tails, and the seed is the wider one.
-    """
-    nu = count / eta
-    floor = _pooled(robust, robust_dof, still)
-    return still & (var <= floor * chi2_ppf(level, nu) / nu)
-
-
-def _leave_one_out_dof(
-    count: NDArray,
-    robust: NDArray,
-    tails: tuple[NDArray, NDArray, NDArray],
-    members: NDArray,
-    eta: float,
-    fallback: NDArray,
-) -> NDArray:
-    """Each block's mean-square dof with the noise kurtosis of the other ``members`` blocks.
-
-    A burst of motion inside one block does not widen its own test; tails spread over the
-    record (heavy-tailed noise) stay in the other blocks' kurtosis. The kurtosis is taken
-    on one scale for the set, not on each block's own level, which a spike raises.
-    """
-    k2, k4, d = tails
-    inside = members.astype(float)
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        # one scale for the set (its levels agree): Σ e² / S and Σ e⁴ / S², S its top level
-        w = robust / np.max(robust[members], initial=0.0)
-        k2, k4 = k2 * w, k4 * w * w
-        n = np.sum(count * inside) - count * inside
-        m2 = (np.sum(k2 * inside) - k2 * inside) / n
-        m4 = (np.sum(k4 * inside) - k4 * inside) / n
-        u = d / np.sqrt(np.dot(d, d))
-        # κ_v = 3 + (κ_e - 3) / Σ u⁴   (as kurtosis_from_moments)
-        kurt = np.maximum(3.0 + (m4 / m2**2 - 3.0) / np.sum(u**4), 1.0)
-        # ν = n_b / (η + (κ - 3) / 2)   (docs/algorithms.md §E1)
-        dof = count / (eta + np.maximum(kurt - 3.0, 0.0) / 2.0)
-    return np.where(np.isfinite(dof) & (m2 > 0), dof, fallback)
-
-
-def _quiet_set(
-    still: NDArray, var: NDArray, dof: NDArray, var_q: NDArray, seed: NDArray
-) -> NDArray:
-    """The still regimes' blocks whose mean square is consistent with their pooled level.
-
-    A block with motion in part of it keeps a low median (so it sits in a still regime)
-    but not a low mean square: it leaves the set when its mean square is above a high
-    quantile (``var_q``: each block's ``χ²(ν)/ν`` quantile, family-wise) of the set's
-    pooled mean square. Rounds from ``seed`` until the set stays the same (at most
-    :data:`QUIET_ROUNDS`); no order of blocks enters, so time runs either way.
-    """
-    quiet = seed.copy()
-    for _ in range(QUIET_ROUNDS):
-        again = still & (var <= _pooled(var, dof, quiet) * var_q)
-        if np.array_equal(again, quiet) or not again.any():
-            break
-        quiet = again
-    return quiet
-
-
-def _pooled(x: NDArray, nu: NDArray, members: NDArray) -> float:
-    """The dof-weighted level of the ``members`` blocks; 0 when there is none.
-
-    Running sums of the levels over the largest (no overflow of huge levels), added one
-    block after another in block order (a running sum from 0: the additions a loop over
-    the blocks makes, at once).
-    """
-    top = float(np.max(x, initial=0.0))
-    scale = top if np.isfinite(top) and top > 0 else 1.0
-    idx = np.flatnonzero(members)
-    w = np.asarray(nu, dtype=float)[idx]
-    sx = float(np.cumsum(np.r_[0.0, w * (x / scale)[idx]])[-1])
-    sw = float(np.cumsum(np.r_[0.0, w])[-1])
-    return sx / sw * scale if sw > 0 else 0.0
 
 
 def on_both_grids(
