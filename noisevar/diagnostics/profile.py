@@ -63,6 +63,8 @@ class BackGrid:
         Its :attr:`LevelProfile.one_quiet_level`.
     left_out_ratio : float
         Its :meth:`LevelProfile.left_out_ratio` (runs of :data:`MOTION_RUN` blocks).
+    profile : LevelProfile, optional
+        The reversed record's profile itself (its own sample indices), made once.
     """
 
     quiet: tuple[tuple[int, int], ...]
@@ -71,6 +73,7 @@ class BackGrid:
     quiet_dof: float
     one_quiet_level: bool
     left_out_ratio: float
+    profile: LevelProfile | None = None
 
 
 @dataclass(frozen=True)
@@ -331,6 +334,7 @@ def with_back_grid(prof: LevelProfile, back: LevelProfile, n: int) -> LevelProfi
             back._quiet_nu,
             back.one_quiet_level,
             back.left_out_ratio(),
+            back,
         ),
     )
 
@@ -552,10 +556,17 @@ def regimes_on_both_grids(
     """
     if back is None or not diag.level_profile.quiet.size:
         return diag
-    diag = _back_regimes(diag, back)
+    made: list[LevelProfile] = []
+
+    def once(d: NoiseDiagnostics) -> LevelProfile:
+        if not made:
+            made.append(back(d))
+        return made[0]
+
+    diag = _back_regimes(diag, once)
     if not diag.level_varies and diag.level_profile.left_out_ratio() <= STILL_RATIO:
         return diag
-    prof = with_back_grid(diag.level_profile, back(diag), diag.n)
+    prof = with_back_grid(diag.level_profile, once(diag), diag.n)
     return replace(diag, level_profile=prof)
 
 
