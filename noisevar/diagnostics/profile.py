@@ -297,21 +297,8 @@ def _union(forward: tuple[tuple[int, int], ...], other: tuple[tuple[int, int], .
 
 
 def with_back_grid(prof: LevelProfile, back: LevelProfile, n: int) -> LevelProfile:
-    """``prof`` with the reversed record's block grid's quiet blocks and blocks.
-
-    Parameters
-    ----------
-    prof : LevelProfile
-        The record's profile.
-    back : LevelProfile
-        The record reversed's (its own sample indices).
-    n : int
-        Samples in the record.
-
-    Returns
-    -------
-    LevelProfile
-        ``prof`` with :attr:`LevelProfile.back_grid` (in the record's indices).
+    """``prof`` (the record's profile, ``n`` samples) with :attr:`LevelProfile.back_grid`:
+    that of ``back``, the record reversed's profile (its own sample indices).
 
     Notes
     -----
