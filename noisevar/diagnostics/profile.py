@@ -12,7 +12,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar._distributions import chi2_pdf, chi2_ppf
-from noisevar.diagnostics.regimes import Regime, find_regimes
+from noisevar.diagnostics.quiet_set import (
+    QUIET_ROUNDS,
+    gaussian_seed,
+    leave_one_out_dof,
+    pooled,
+    quiet_set,
+    still_if_quiet,
+)
+from noisevar.diagnostics.regimes import STILL_RATIO, Regime, find_regimes
 
 if TYPE_CHECKING:
     from noisevar.diagnostics.results import NoiseDiagnostics
@@ -27,9 +35,6 @@ QUIET_ALPHA = 0.05
 #: The quiet set's seed: still blocks whose mean square is at most this many times the
 #: still blocks' median mean square.
 SEED_FACTOR = 20.0
-#: At most this many rounds of the quiet set, each testing mean squares with the kurtosis
-#: of the last round's other blocks.
-QUIET_ROUNDS = 5
 #: Fewest consecutive blocks left out of the quiet set that make a stretch of motion
 #: (:meth:`LevelProfile.left_out_ratio`): one huge spike, spread by the smoother's span,
 #: leaves out one block or two.
@@ -38,6 +43,37 @@ MOTION_RUN = 3
 CHI2_1_MEDIAN = float(chi2_ppf(0.5, 1))
 #: Degrees of freedom per sample of a block median of χ²₁ values, ``2 (2 f(m) m)²``.
 MEDIAN_DOF = float(2.0 * (2.0 * chi2_pdf(CHI2_1_MEDIAN, 1) * CHI2_1_MEDIAN) ** 2)
+
+
+@dataclass(frozen=True)
+class BackGrid:
+    """The reversed record's block grid, in the record's sample indices.
+
+    Attributes
+    ----------
+    quiet : tuple of (int, int)
+        Runs of its quiet blocks.
+    spans : tuple of (int, int)
+        Runs of all its blocks.
+    quiet_variance : float
+        Its quiet blocks' pooled level (0 when none is quiet).
+    quiet_dof : float
+        Its quiet blocks' summed dof, with its quiet set's kurtosis (that level's weight).
+    one_quiet_level : bool
+        Its :attr:`LevelProfile.one_quiet_level`.
+    left_out_ratio : float
+        Its :meth:`LevelProfile.left_out_ratio` (runs of :data:`MOTION_RUN` blocks).
+    profile : LevelProfile, optional
+        The reversed record's profile itself (its own sample indices), made once.
+    """
+
+    quiet: tuple[tuple[int, int], ...]
+    spans: tuple[tuple[int, int], ...]
+    quiet_variance: float
+    quiet_dof: float
+    one_quiet_level: bool
+    left_out_ratio: float
+    profile: LevelProfile | None = None
 
 
 @dataclass(frozen=True)
@@ -80,11 +116,39 @@ class LevelProfile:
     count: NDArray | None = None
     robust: NDArray | None = None
     quiet_dof: NDArray | None = None
+    back_grid: BackGrid | None = None
 
     @property
     def quiet_variance(self) -> float:
-        """Pooled level (mean square) of the quiet blocks."""
-        return _pooled(self.variance, self.dof, self.quiet)
+        """Pooled level (mean square) of the quiet blocks; with :attr:`back_grid`, the
+        level of both grids' quiet blocks, each grid's weighted by its dof (the same for
+        the record reversed)."""
+        own = pooled(self.variance, self.dof, self.quiet)
+        back = self.back_grid
+        if back is None or not back.quiet_dof > 0:
+            return own
+        w = self._quiet_nu
+        return (own * w + back.quiet_variance * back.quiet_dof) / (w + back.quiet_dof)
+
+    @property
+    def quiet_bounds(self) -> tuple[float, float]:
+        """The 95 % interval of :attr:`quiet_variance`: χ² on its quiet blocks' summed dof
+        (:attr:`quiet_dof`), the mean of the two grids' with :attr:`back_grid` (both read
+        the same samples); NaN without a quiet block."""
+        nus = [self._quiet_nu]
+        if self.back_grid is not None:
+            nus.append(self.back_grid.quiet_dof)
+        nus = [v for v in nus if v > 0]
+        if not nus:
+            return math.nan, math.nan
+        nu, v = float(np.mean(nus)), self.quiet_variance
+        return nu * v / chi2_ppf(0.975, nu), nu * v / chi2_ppf(0.025, nu)
+
+    @property
+    def _quiet_nu(self) -> float:
+        """The quiet blocks' summed dof, with the quiet set's own kurtosis."""
+        dof = self.dof if self.quiet_dof is None else self.quiet_dof
+        return float(np.sum(dof[self.quiet]))
 
     @property
     def one_quiet_level(self) -> bool:
@@ -94,9 +158,13 @@ class LevelProfile:
         the quiet blocks' pooled mean square (χ² on their summed dof, with the quiet set's
         own kurtosis: :attr:`quiet_dof`): every block quiet, or a few left out by chance or
         by the noise's own tails. The record is then one quiet level, and its quiet level
-        is R (docs/algorithms.md §E1 *The quiet level*). False when no block is quiet.
+        is R (docs/algorithms.md §E1 *The quiet level*). False when no block is quiet, or
+        the reversed grid (:attr:`back_grid`) finds otherwise (one quiet block of few dof
+        has an interval wide enough to hold any level: on one grid only, by its phase).
         """
-        if not self.quiet.any():
+        if not self.quiet.any() or (
+            self.back_grid is not None and not self.back_grid.one_quiet_level
+        ):
             return False
         lo, hi = self.quiet_interval
         return bool(lo <= self.pooled_level <= hi)
@@ -110,13 +178,13 @@ class LevelProfile:
             return math.nan, math.nan
         dof = self.dof if self.quiet_dof is None else self.quiet_dof
         nu = float(np.sum(dof[self.quiet]))
-        quiet = _pooled(self.variance, self.dof, self.quiet)
+        quiet = pooled(self.variance, self.dof, self.quiet)
         return nu * quiet / chi2_ppf(0.975, nu), nu * quiet / chi2_ppf(0.025, nu)
 
     @property
     def pooled_level(self) -> float:
         """The dof-weighted level of every block."""
-        return _pooled(self.variance, self.dof, np.ones(self.quiet.size, dtype=bool))
+        return pooled(self.variance, self.dof, np.ones(self.quiet.size, dtype=bool))
 
     @property
     def still_stretches(self) -> list[tuple[int, int]]:
@@ -154,26 +222,54 @@ class LevelProfile:
         -----
         A run of blocks whose medians too are raised is a stretch of motion; one huge
         spike raises the mean square (and, through the smoother, the median) of one
-        block or two only.
+        block or two only. With :attr:`back_grid` (runs of :data:`MOTION_RUN`), the
+        smaller of the two grids' ratios: a run of three blocks is found on one grid
+        and cut to two by the other's phase (a Pololu gyroscope: reversed, its still
+        stretches were apart from R and too short to measure), and the record reversed
+        reads the same two grids.
         """
+        own = self._left_out_ratio(run)
+        if self.back_grid is None or run != MOTION_RUN:
+            return own
+        return min(own, self.back_grid.left_out_ratio)
+
+    def _left_out_ratio(self, run: int) -> float:
+        """:meth:`left_out_ratio` on the record's own grid."""
         if self.robust is None or not self.quiet.any():
             return 0.0
         w = self.stop - self.start if self.count is None else self.count
-        quiet = _pooled(self.robust, w, self.quiet)
+        quiet = pooled(self.robust, w, self.quiet)
         edges = np.flatnonzero(np.diff(np.r_[0, (~self.quiet).view(np.int8), 0]))
         best = 0.0
         for a, b in zip(edges[::2], edges[1::2], strict=True):
             if b - a >= run and quiet > 0:
                 inside = np.zeros(self.quiet.size, dtype=bool)
                 inside[a:b] = True
-                best = max(best, _pooled(self.robust, w, inside) / quiet)
+                best = max(best, pooled(self.robust, w, inside) / quiet)
         return best
 
     @property
     def quiet_share(self) -> float:
-        """Share of the record's samples in the quiet blocks."""
-        sizes = self.stop - self.start
-        return float(np.sum(sizes[self.quiet]) / np.sum(sizes))
+        """Share of the record's samples in the quiet blocks of either block grid.
+
+        The record's own grid alone without :attr:`back_grid`; with it, the samples in
+        a quiet block of either grid over those in a block of either (the same share for
+        the record reversed, whose grids are these two swapped).
+        """
+        if self.back_grid is None:
+            sizes = self.stop - self.start
+            return float(np.sum(sizes[self.quiet]) / np.sum(sizes))
+        back = self.back_grid
+        n = int(max(self.stop[-1], *(b for _, b in back.spans)))
+        quiet = _union(_runs(self.start, self.stop, self.quiet), back.quiet, n)
+        spans = _union(_runs(self.start, self.stop, np.ones_like(self.quiet)), back.spans, n)
+        return float(quiet / spans) if spans else 0.0
+
+    @property
+    def any_quiet(self) -> bool:
+        """Whether a block of either grid is quiet (:attr:`back_grid`; the record's own
+        grid alone without it): the same for the record reversed."""
+        return bool(self.quiet.any() or (self.back_grid is not None and self.back_grid.quiet))
 
     def to_dict(self) -> dict[str, list]:
         return {
@@ -185,6 +281,49 @@ class LevelProfile:
             "quiet": self.quiet.tolist(),
             "regimes": [r.to_dict() for r in self.regimes],
         }
+
+
+def _runs(start: NDArray, stop: NDArray, member: NDArray) -> tuple[tuple[int, int], ...]:
+    """Sample ranges of the ``member`` blocks, those that touch joined, in order (a
+    block left out between two, around a jump, is not bridged)."""
+    idx = np.flatnonzero(member)
+    ranges = [(int(a), int(b)) for a, b in zip(start[idx], stop[idx], strict=True)]
+    return tuple(_holding_runs(ranges, [], int(stop[-1]) if stop.size else 0, 1))
+
+
+def _union(forward: tuple[tuple[int, int], ...], other: tuple[tuple[int, int], ...], n: int) -> int:
+    """Samples of ``0 .. n`` in a range of either set (both in the record's indices)."""
+    return sum(b - a for a, b in _holding_runs([*forward, *other], [], n, 1))
+
+
+def with_back_grid(prof: LevelProfile, back: LevelProfile, n: int) -> LevelProfile:
+    """``prof`` (the record's profile, ``n`` samples) with :attr:`LevelProfile.back_grid`:
+    that of ``back``, the record reversed's profile (its own sample indices).
+
+    Notes
+    -----
+    docs/algorithms.md §E1 *Regimes*. Which blocks are quiet moves with the grid's phase:
+    a short rest can fill a block of one grid and straddle two of the other, and a quiet
+    set of a few blocks can be found on one grid and not on the other (a 953-sample
+    IMU channel: 7 % quiet forwards, none reversed, so its verdict flipped between
+    "mostly motion" and "no stretch of it is quiet"). Read on both grids, a record and its
+    reversal are the same two grids swapped, so the share is the same either way.
+    """
+    mirror = lambda runs: tuple((n - b, n - a) for a, b in reversed(runs))  # noqa: E731
+    quiet = mirror(_runs(back.start, back.stop, back.quiet))
+    spans = mirror(_runs(back.start, back.stop, np.ones_like(back.quiet)))
+    return replace(
+        prof,
+        back_grid=BackGrid(
+            quiet,
+            spans,
+            back.quiet_variance,
+            back._quiet_nu,
+            back.one_quiet_level,
+            back.left_out_ratio(),
+            back,
+        ),
+    )
 
 
 def block_bounds(n: int, min_block: int = PROFILE_MIN_BLOCK) -> NDArray:
@@ -279,7 +418,7 @@ def profile_from_blocks(
     for r in regimes:
         still |= r.still & (start >= r.start) & (stop <= r.stop)
     level = 1.0 - QUIET_ALPHA / robust.size
-    keep = partial(_quiet_set, still, var, dof)
+    keep = partial(quiet_set, still, var, dof)
     # the seed: still blocks whose mean square is near the still blocks' median; where the
     # record has motion, only those Gaussian noise explains (handling beside the motion)
     seed = still & (var <= SEED_FACTOR * np.median(var[still]))
@@ -288,128 +427,17 @@ def profile_from_blocks(
         quiet = keep(chi2_ppf(level, dof) / dof, seed)
     else:  # rounds: mean squares tested with the kurtosis of the last set's other blocks
         if not still.all():
-            seed &= _gaussian_seed(still, count, var, robust, robust_dof, eta, level)
+            seed &= gaussian_seed(still, count, var, robust, robust_dof, eta, level)
         quiet = seed
         for _ in range(QUIET_ROUNDS):
-            nu = _leave_one_out_dof(count, robust, tails, quiet, eta, dof)
+            nu = leave_one_out_dof(count, robust, tails, quiet, eta, dof)
             again = keep(chi2_ppf(level, nu) / nu, quiet)
             if np.array_equal(again, quiet):
                 break
             quiet = again
-        quiet_dof = _leave_one_out_dof(count, robust, tails, quiet, eta, dof)
+        quiet_dof = leave_one_out_dof(count, robust, tails, quiet, eta, dof)
     regimes = still_if_quiet(regimes, start, stop, quiet)
     return LevelProfile(start, stop, var, lo, hi, dof, quiet, regimes, count, robust, quiet_dof)
-
-
-def still_if_quiet(
-    regimes: tuple[Regime, ...], start: NDArray, stop: NDArray, quiet: NDArray
-) -> tuple[Regime, ...]:
-    """``regimes``, a still one with no quiet block no longer called still.
-
-    The quiet set is the still regimes' blocks that pass the quiet test: a still regime
-    none of whose blocks does has no sensor level to quote, so the regimes and the quiet
-    set agree (docs/algorithms.md §E1 *The still set*). A record of one still level keeps
-    it (its level does not vary).
-    """
-    if all(r.still for r in regimes):
-        return regimes
-    return tuple(
-        r
-        if not r.still or quiet[(start >= r.start) & (stop <= r.stop)].any()
-        else replace(r, still=False)
-        for r in regimes
-    )
-
-
-def _gaussian_seed(
-    still: NDArray,
-    count: NDArray,
-    var: NDArray,
-    robust: NDArray,
-    robust_dof: NDArray,
-    eta: float,
-    level: float,
-) -> NDArray:
-    """The quiet set's seed: the still blocks whose mean square Gaussian noise explains.
-
-    Each still block's mean square is tested against the still regimes' pooled robust
-    level with the dof of Gaussian noise (``n_b / η``, family-wise): a forward search from
-    a clean set (docs/algorithms.md §F1), used where the record has motion. A block with
-    handling or a tap in part of it stays out of the seed, so its tails cannot widen the
-    rounds' tests; tails spread over the record (heavy-tailed noise) enter through the
-    rounds' kurtosis of the set. A record of one still level has no motion to hand on:
-    its excess mean squares are the noise's tails, and the seed is the wider one.
-    """
-    nu = count / eta
-    floor = _pooled(robust, robust_dof, still)
-    return still & (var <= floor * chi2_ppf(level, nu) / nu)
-
-
-def _leave_one_out_dof(
-    count: NDArray,
-    robust: NDArray,
-    tails: tuple[NDArray, NDArray, NDArray],
-    members: NDArray,
-    eta: float,
-    fallback: NDArray,
-) -> NDArray:
-    """Each block's mean-square dof with the noise kurtosis of the other ``members`` blocks.
-
-    A burst of motion inside one block does not widen its own test; tails spread over the
-    record (heavy-tailed noise) stay in the other blocks' kurtosis. The kurtosis is taken
-    on one scale for the set, not on each block's own level, which a spike raises.
-    """
-    k2, k4, d = tails
-    inside = members.astype(float)
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        # one scale for the set (its levels agree): Σ e² / S and Σ e⁴ / S², S its top level
-        w = robust / np.max(robust[members], initial=0.0)
-        k2, k4 = k2 * w, k4 * w * w
-        n = np.sum(count * inside) - count * inside
-        m2 = (np.sum(k2 * inside) - k2 * inside) / n
-        m4 = (np.sum(k4 * inside) - k4 * inside) / n
-        u = d / np.sqrt(np.dot(d, d))
-        # κ_v = 3 + (κ_e - 3) / Σ u⁴   (as kurtosis_from_moments)
-        kurt = np.maximum(3.0 + (m4 / m2**2 - 3.0) / np.sum(u**4), 1.0)
-        # ν = n_b / (η + (κ - 3) / 2)   (docs/algorithms.md §E1)
-        dof = count / (eta + np.maximum(kurt - 3.0, 0.0) / 2.0)
-    return np.where(np.isfinite(dof) & (m2 > 0), dof, fallback)
-
-
-def _quiet_set(
-    still: NDArray, var: NDArray, dof: NDArray, var_q: NDArray, seed: NDArray
-) -> NDArray:
-    """The still regimes' blocks whose mean square is consistent with their pooled level.
-
-    A block with motion in part of it keeps a low median (so it sits in a still regime)
-    but not a low mean square: it leaves the set when its mean square is above a high
-    quantile (``var_q``: each block's ``χ²(ν)/ν`` quantile, family-wise) of the set's
-    pooled mean square. Rounds from ``seed`` until the set stays the same (at most
-    :data:`QUIET_ROUNDS`); no order of blocks enters, so time runs either way.
-    """
-    quiet = seed.copy()
-    for _ in range(QUIET_ROUNDS):
-        again = still & (var <= _pooled(var, dof, quiet) * var_q)
-        if np.array_equal(again, quiet) or not again.any():
-            break
-        quiet = again
-    return quiet
-
-
-def _pooled(x: NDArray, nu: NDArray, members: NDArray) -> float:
-    """The dof-weighted level of the ``members`` blocks; 0 when there is none.
-
-    Running sums of the levels over the largest (no overflow of huge levels), added one
-    block after another in block order (a running sum from 0: the additions a loop over
-    the blocks makes, at once).
-    """
-    top = float(np.max(x, initial=0.0))
-    scale = top if np.isfinite(top) and top > 0 else 1.0
-    idx = np.flatnonzero(members)
-    w = np.asarray(nu, dtype=float)[idx]
-    sx = float(np.cumsum(np.r_[0.0, w * (x / scale)[idx]])[-1])
-    sw = float(np.cumsum(np.r_[0.0, w])[-1])
-    return sx / sw * scale if sw > 0 else 0.0
 
 
 def on_both_grids(
@@ -484,7 +512,7 @@ def _holding_runs(
 def regimes_on_both_grids(
     diag: NoiseDiagnostics, back: Callable[[NoiseDiagnostics], LevelProfile] | None
 ) -> NoiseDiagnostics:
-    """``diag`` with the reversed grid's regimes when only they find the level varies.
+    """``diag`` read on both block grids: the record's and its reversal's.
 
     Parameters
     ----------
@@ -500,28 +528,55 @@ def regimes_on_both_grids(
         Its profile's regimes those of ``back(diag)`` (in the record's sample indices)
         when the record's own grid finds one still level with its last block left out of
         the quiet set and the reversed grid regimes that are not still, all in that last
-        block; else ``diag``.
+        block (:func:`_back_regimes`); where the level then varies, its profile with the
+        reversed grid's quiet blocks (:func:`with_back_grid`), so that the quiet share and
+        whether any stretch is quiet read both grids; so too where one level has a run
+        of left-out blocks over :data:`~noisevar.diagnostics.regimes.STILL_RATIO` times
+        the quiet level (:meth:`LevelProfile.left_out_ratio`, then the smaller of both).
 
     Notes
     -----
-    docs/algorithms.md §E1 *Regimes*. Regimes are found on block medians: a burst shorter
-    than half a block is seen by the grid that puts it in one block, not by the record's
-    own grid when its last block, which takes the rest of the record (up to twice a
-    block), joins it to quiet samples. A GPS track ending in 30 wild fixes was one level
-    forwards and two regimes reversed, and its R to use flipped between R and the still R
-    66x below it (issue 26). So the level varies when the reversed grid finds a regime
-    that is not still inside the record's last block; elsewhere the two grids differ by a
-    phase only, and one huge spike's reach (Student-t noise) fits one block of either by
-    chance. The quiet set stays the record's own grid's. ``back`` is called only when the
-    record's last block is left out of its quiet set (a burst there raises its mean square).
+    docs/algorithms.md §E1 *Regimes*. ``back`` is called only in those cases or where
+    the record's last block is left out of its quiet set: a record whose still stretches
+    are apart (``still_set.has_still_apart``) has them measured on both grids anyway (the
+    same profile, made once).
+    """
+    if back is None or not diag.level_profile.quiet.size:
+        return diag
+    made: list[LevelProfile] = []
+
+    def once(d: NoiseDiagnostics) -> LevelProfile:
+        if not made:
+            made.append(back(d))
+        return made[0]
+
+    diag = _back_regimes(diag, once)
+    if not diag.level_varies and diag.level_profile.left_out_ratio() <= STILL_RATIO:
+        return diag
+    prof = with_back_grid(diag.level_profile, once(diag), diag.n)
+    return replace(diag, level_profile=prof)
+
+
+def _back_regimes(
+    diag: NoiseDiagnostics, back: Callable[[NoiseDiagnostics], LevelProfile]
+) -> NoiseDiagnostics:
+    """``diag`` with the reversed grid's regimes when only they find the level varies.
+
+    Notes
+    -----
+    Regimes are found on block medians: a burst shorter than half a block is seen by the
+    grid that puts it in one block, not by the record's own grid when its last block,
+    which takes the rest of the record (up to twice a block), joins it to quiet samples.
+    A GPS track ending in 30 wild fixes was one level forwards and two regimes reversed,
+    and its R to use flipped between R and the still R 66x below it (issue 26). So the
+    level varies when the reversed grid finds a regime that is not still inside the
+    record's last block; elsewhere the two grids differ by a phase only, and one huge
+    spike's reach (Student-t noise) fits one block of either by chance. ``back`` is called
+    only when the record's last block is left out of its quiet set (a burst there raises
+    its mean square).
     """
     prof = diag.level_profile
-    if (
-        back is None
-        or any(not r.still for r in prof.regimes)
-        or not prof.quiet.size
-        or prof.quiet[-1]
-    ):
+    if any(not r.still for r in prof.regimes) or prof.quiet[-1]:
         return diag
     rev = back(diag)
     if all(r.still for r in rev.regimes):

@@ -284,6 +284,18 @@ def glitch_words(diag: NoiseDiagnostics) -> str:
     return f"{len(g)} outlying samples, {where}, up to {size}"
 
 
+def _measurably_below(diag: NoiseDiagnostics, variance: float) -> bool:
+    """Whether the quiet level is measurably below R (``variance``): its 95 %
+    interval's top under R (the quiet level's on R's residual, else the level profile's
+    on both grids). A point comparison flipped the verdict's first clause between "no
+    stretch measurably quieter" and "mostly motion" when the two were a few % apart and
+    two samples were dropped (issue 26)."""
+    q = diag.quiet
+    if q is not None and q.variance is not None and q.hi is not None:
+        return bool(q.hi < variance)
+    return bool(diag.level_profile.quiet_bounds[1] < variance)
+
+
 def _none_quieter(r: str, quiet: float) -> str:
     """The verdict of a varying level whose quietest stretches, as the level profile reads
     them (indicative: no still R), are not below R: nothing quieter to quote as the sensor's."""
@@ -341,7 +353,7 @@ def _not_white(
             f"model the walk as a state (see the noise model){stood}"
         )
     # no quiet block, and no still R from the still regimes: no level to quote
-    no_quiet = diag.level_varies and not prof.quiet.any() and not still_apart
+    no_quiet = diag.level_varies and not prof.any_quiet and not still_apart
     if no_quiet and not under_half_a_step(diag, variance):  # (that is quantisation)
         return (
             "the noise level changes along the record and no stretch of it is quiet: the "
@@ -352,17 +364,12 @@ def _not_white(
     if (
         not still_apart
         and diag.level_varies
-        and quiet >= variance
+        and not _measurably_below(diag, variance)
         and not under_half_a_step(diag, variance)
     ):
         return _none_quieter(r, quiet)
     # no quiet block (a grid's noise under half a step): no still level to quote
-    if (
-        diag.level_varies
-        and prof.quiet.any()
-        and prof.quiet_share < MOSTLY_MOTION
-        and not diag.white
-    ):
+    if diag.level_varies and prof.any_quiet and prof.quiet_share < MOSTLY_MOTION and not diag.white:
         return (
             f"the noise level changes along the record, mostly motion or signal leaking through: "
             "the sensor noise measured "

@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.diagnostics import NoiseDiagnostics
-from noisevar.diagnostics.profile import LevelProfile, on_either_grid
+from noisevar.diagnostics.profile import LevelProfile, on_both_grids, on_either_grid
 from noisevar.diagnostics.quantisation import half_a_step, joined_step, second_difference_step
 from noisevar.diagnostics.regimes import STILL_RATIO, QuietLevel
 from noisevar.errors import NoisevarError
@@ -65,12 +65,14 @@ def still_estimate(
     if estimate_in is None:
         return [], None
     ranges = diag.level_profile.still_stretches
+    back = back_of(record, diag) if both else None
     grids = getattr(record, "still_ranges", None) if both else None
-    if ranges and grids is not None:
+    if ranges and back is not None:
+        ranges = on_both_grids(ranges, back(diag).still_stretches, diag.n)
+    elif ranges and grids is not None:
         ranges = grids(diag)
     kept = {k: v for k, v in params.items() if k != "method"}
     est = _measured(estimate_in, kept, ranges)
-    back = getattr(record, "back_profile", None) if both else None
     if est is not None and back is not None and ranges:  # the extent known to a block
         prof = diag.level_profile
         either = on_either_grid(prof.still_stretches, back(diag).still_stretches, diag.n)
@@ -85,6 +87,19 @@ def still_estimate(
     est.notes.append(f"the still regimes only: {len(ranges)} stretches, {est.n_total} samples")
     est.stretches = tuple((int(a), int(b)) for a, b in ranges)  # the fits' stretches too
     return ranges, est
+
+
+def back_of(
+    record: Record | Any, diag: NoiseDiagnostics
+) -> Callable[[NoiseDiagnostics], LevelProfile] | None:
+    """``back(diag)``: the reversed record's level profile, the one the diagnostics were
+    read with when they hold it (``level_profile.back_grid``: no second profile, nor its
+    PELT), else the record's ``back_profile``; None when the record has neither."""
+    grid = diag.level_profile.back_grid
+    if grid is not None and grid.profile is not None:
+        made = grid.profile
+        return lambda _diag: made
+    return getattr(record, "back_profile", None)
 
 
 def _shrunk(ranges: list[tuple[int, int]], prof: LevelProfile) -> list[tuple[int, int]]:
@@ -443,7 +458,7 @@ def quiet_level(
         return diag.quiet
     if prof.one_quiet_level:  # and R agrees with it, or quiet_apart measured it apart
         return QuietLevel(result.variance, *result.ci95, share, "record")
-    if not prof.quiet.any():
+    if not prof.any_quiet:
         reason = "no stretch of the record is quiet (its level varies throughout)"
     elif gap:
         reason = gap.removeprefix("regimes='still': ")

@@ -9,8 +9,6 @@ from __future__ import annotations
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
-import numpy as np
-
 from noisevar.diagnostics.regimes import STILL_RATIO
 from noisevar.diagnostics.verdict import under_half_a_step
 
@@ -134,10 +132,9 @@ def _gap(
     if not has_still_apart(diag, variance) or under_half_a_step(diag, variance):
         return "one", 0, 0.0
     prof = diag.level_profile
-    if not prof.quiet.any():
+    if not prof.any_quiet:
         return "none", 0, 0.0
-    sizes = prof.stop - prof.start
-    return "short", int(np.sum(sizes[prof.quiet])), prof.quiet_share
+    return "short", round(prof.quiet_share * diag.n), prof.quiet_share
 
 
 def has_still_apart(diag: NoiseDiagnostics, variance: float) -> bool:

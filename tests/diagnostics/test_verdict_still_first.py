@@ -66,7 +66,7 @@ def test_a_quiet_level_above_r_is_never_quoted_as_the_quiet_one() -> None:
     est = noisevar.estimate(_record(0))  # its level varies
     diag = est.diagnostics
     quiet = diag.quiet_variance  # the level the verdict quotes (the profile's is on another
-    v = make_verdict(diag, 0.5 * quiet, still_gap="too short")  # residual): above this R
+    v = make_verdict(diag, 0.4 * quiet, still_gap="too short")  # residual): above this R
     assert "no stretch of it is measurably quieter" in v
     assert "quiet stretches (" not in v
 

@@ -123,10 +123,12 @@ def test_no_quiet_level_when_still_stretches_are_too_short() -> None:
 
 
 def test_no_quiet_level_when_no_stretch_is_quiet() -> None:
-    rng = np.random.default_rng(2)  # tests/estimators/test_still_set.py's level-changing noise
+    # tests/estimators/test_still_set.py's level-changing noise (seed 2 has a quiet block on
+    # the reversed record's grid, which the quiet set reads too: seed 6 has none on either)
+    rng = np.random.default_rng(6)
     est = noisevar.estimate(rng.normal(size=1000) * np.exp(1.5 * rng.normal(size=20).repeat(50)))
     d = est.diagnostics
-    assert not d.level_profile.quiet.any()
+    assert not d.level_profile.any_quiet
     assert d.quiet_variance is None and "no stretch of the record is quiet" in d.quiet.reason
 
 
