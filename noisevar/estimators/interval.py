@@ -170,14 +170,13 @@ def off_jumps(runs: list[tuple[int, int]], n: int) -> NDArray:
     return out
 
 
-def in_r(outliers: NDArray | None, runs: list[tuple[int, int]], n: int) -> NDArray | None:
-    """The ``outliers`` (record indices) that R counts: off the ``runs`` left out around level
-    jumps (:func:`off_jumps`). A jump's own sample stands out of its neighbours' line like a
-    glitch: 20 steps read "20 outlying samples" that R "counts as noise", and crowded a true
-    glitch out of the diagnostics' few (issue 26)."""
-    if outliers is None or not outliers.size or not runs:
-        return outliers
-    return outliers[off_jumps(runs, n)[outliers]]
+def listed_in_r(diag: NoiseDiagnostics, inside: NDArray) -> NoiseDiagnostics:
+    """``diag`` listing only the glitches at the samples ``inside`` (:func:`off_jumps`): those
+    R counts. A jump's own sample stands out of its neighbours' line like a glitch, and 20
+    steps read "20 outlying samples" that R "counts as noise" (issue 26). The diagnostics'
+    correlation findings still leave every outlying sample out (``from_sums``)."""
+    kept = tuple(g for g in diag.glitches if g.index < inside.size and inside[g.index])
+    return diag if len(kept) == len(diag.glitches) else replace(diag, glitches=kept)
 
 
 def record_glitches(

@@ -50,7 +50,7 @@ from noisevar.estimators.interval import (
     edge_weight,
     glitches_within,
     honest_interval,
-    in_r,
+    listed_in_r,
     off_jumps,
     ranges_mask,
     record_glitches,
@@ -208,7 +208,7 @@ class InMemory:
             jumps = own if own.any() else None
         self.jump_runs = [] if jumps is None else runs_of(jumps)
         self.jumps = jumps
-        return diagnose(self.z, self.seg, jumps, in_r(result.outliers, self.jump_runs, self.z.size))
+        return diagnose(self.z, self.seg, jumps, result.outliers)
 
     def back_profile(self, diag: NoiseDiagnostics) -> LevelProfile:
         """The level profile of the record reversed, the same samples left out around jumps
@@ -346,7 +346,8 @@ def run_record(
         still, diag = kept_still(diag, result.variance, still)  # decided on R as quoted
         edge = _edge(spec, record, first, result, params, diag)
         gap = still_gap(diag, result.variance, still)  # the one rule (estimators.regimes)
-        lone = glitches_within(lone, off_jumps(getattr(record, "jump_runs", []), diag.n))
+        off = off_jumps(getattr(record, "jump_runs", []), diag.n)
+        lone, diag = glitches_within(lone, off), listed_in_r(diag, off)
         result = conclude(spec, result, diag, record.reader(), still, gap, lone, edge)
     return _in_record_units(result, scaled + record.exponent, spec.name)
 

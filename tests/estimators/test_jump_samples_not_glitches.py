@@ -14,10 +14,12 @@ import noisevar as nv
 N = 20_000
 
 
-def _steps(seed: int, size: float, glitch: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+def _steps(
+    seed: int, size: float, glitch: int | None = None, k: int = 20
+) -> tuple[np.ndarray, np.ndarray]:
     rng = np.random.default_rng(seed)
     x = rng.normal(size=N)
-    at = np.sort(rng.choice(np.arange(200, N - 200), 20, replace=False))
+    at = np.sort(rng.choice(np.arange(200, N - 200), k, replace=False))
     for i in at:
         x[i:] += size
     if glitch is not None:
@@ -35,7 +37,9 @@ def test_the_steps_are_not_listed_as_glitches():
 
 
 def test_a_glitch_away_from_the_steps_is_still_listed_and_in_r():
-    x, at = _steps(1, 50.0)
+    # (with 20 steps, the 21 outlying samples are over the diagnostics' few, 0.1 %: the
+    # correlation findings then keep them all, and none is listed; docs/algorithms.md §E1)
+    x, at = _steps(1, 50.0, k=10)
     gap = int(np.argmax(np.diff(at)))
     far = int(at[gap] + at[gap + 1]) // 2  # the middle of the longest stretch between steps
     x[far] += 40.0

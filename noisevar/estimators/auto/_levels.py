@@ -233,6 +233,8 @@ CHI2_1_MEDIAN = 0.4549364231195724
 #: A block's own level of the step statistic raises its threshold only beyond this many
 #: times white noise's (the spread of a block's median: :meth:`Above.raised`).
 OWN_MARGIN = 2.0
+#: Levels are raised only on a grid of at least this many blocks (:meth:`Above.raised`).
+OWN_MIN_BLOCKS = 8
 
 
 def _raised(
@@ -321,9 +323,14 @@ class Above:
         -----
         A block's median of 256 correlated values is known to about half of itself,
         so white noise sits at ``r`` = 1 and below :data:`OWN_MARGIN`; low-passed noise
-        reads ``r`` = 3 to 18 (lag-one correlation 0.5 to 0.98). Read on both grids.
+        reads ``r`` = 3 to 18 (lag-one correlation 0.5 to 0.98). Read on both grids. On
+        fewer than :data:`OWN_MIN_BLOCKS` blocks the levels stay: there the fast-signal rule's
+        window (two blocks) is most of the record, and a raise read off one or two blocks'
+        medians moved a GPS track's flags across it with 3 samples dropped (R x27).
         """
         g = self.g
+        if min(g.nb, g.nbb) < OWN_MIN_BLOCKS:
+            return self
         fwd = _raised(x, idx, self.fwd, g.block, g.nb, expected)
         j = g.back_index(idx)
         bwd = _raised(g.back(x), j[j >= 0], self.bwd, g.block, g.nbb, expected)

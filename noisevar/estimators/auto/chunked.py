@@ -39,7 +39,6 @@ from noisevar.errors import NoisevarError
 from noisevar.estimators._scale import exponent_of, unscale
 from noisevar.estimators.auto._trim import AUTO_BLOCK
 from noisevar.estimators.auto.core import AutoPart, auto_part, auto_reduce, auto_spans
-from noisevar.estimators.interval import in_r
 from noisevar.estimators.params import AUTO_ORDER, AUTO_TRIM
 from noisevar.estimators.pipeline import cut_out, runs_of
 from noisevar.estimators.pooling import pool_segments
@@ -347,7 +346,7 @@ class ChunkedAuto:
         head, e = self.read(0, min(self.n, POWER_LAW_MAX)), self.exponent
         seg = Segmentation(((0, self.n),), ())
         spawn = _spawn if self.workers > 1 else None  # the power law beside the profile
-        calm = in_r(result.outliers, self.jump_runs, self.n)  # left out of the correlations
+        calm = result.outliers  # the glitches, left out of the correlations
         scaled = lambda: np.ldexp(head, e) if e else head  # noqa: E731
         return from_sums(self.sums, seg, scaled, spawn, calm, self.reader(), self.jump_runs)
 
