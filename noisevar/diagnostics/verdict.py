@@ -386,14 +386,16 @@ def _not_white(
             f"{_g(quiet)}, and their noise is white: the rest is motion leaking through the "
             f"smoother, not coloured noise{indicative(gap)}"
         )
-    if still_apart and (variance > STILL_RATIO * quiet or diag.level_varies and variance > quiet):
+    measurably = diag.level_varies and _measurably_below(diag, variance)
+    if still_apart and (variance > STILL_RATIO * quiet or measurably):
         # the R to use is the still R, well below R: the level change comes first, then the
         # still stretches' own colour (a coloured verdict would quote R, an average, as its
         # white part); a still R near R leaves the colour the finding (GPS 1PPS: 0.99x).
         # Whether PELT split the record or not (a marginal change point: a Pololu
         # accelerometer less 3 samples), the still R apart from R says the level changes;
-        # where PELT did split it, a still R below R says so too, whatever its ratio (at 2x,
-        # SURFRAD's wind speed read "coloured" less 1 sample and the level change with it)
+        # where PELT did split it, a still R measurably below R (its interval's top under R)
+        # says so too, whatever its ratio (at 2x, SURFRAD's wind speed read "coloured" less 1
+        # sample and the level change with it; GPS 1PPS's still R, 0.99x R, stays colour)
         return _level_changes(still_share(diag), r, quiet, said)
     if not diag.white:
         return _coloured(diag, r, quiet, still_apart)
