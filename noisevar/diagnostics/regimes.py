@@ -29,6 +29,9 @@ STILL_ALPHA = 1e-3
 #: A regime at most this many times the record's highest level is flat: constant samples
 #: (a dropout, a held or clipped value) and float rounding, never a still level.
 FLAT_RATIO = 1e-16
+#: The quiet level's source when R's method reads the still stretches no quieter than the
+#: whole record (``estimators.still_quiet.above_record``): no quiet level, so no still R.
+ABOVE = "above"
 #: A regime of fewer blocks is all edge (no block away from its ends), which the block
 #: grid's phase moves: beside a flat regime, or held values alone, it sets no floor.
 FLOOR_BLOCKS = 3

@@ -9,7 +9,7 @@ from numpy.typing import NDArray
 
 from noisevar.diagnostics.power_law import WHITE, describe
 from noisevar.diagnostics.quantisation import half_a_step
-from noisevar.diagnostics.regimes import STILL_RATIO
+from noisevar.diagnostics.regimes import ABOVE, STILL_RATIO
 from noisevar.format import eng
 
 if TYPE_CHECKING:
@@ -329,10 +329,10 @@ def _not_white(
     there is a still R to use apart from R.
 
     In the order the evidence decides: the rounding (noise under half a grid step: its
-    residual follows the signal), no noise to tell apart, no quiet stretch, no
-    stretch quieter than R (an indicative quiet level above it), mostly motion, differenced
-    data, motion leaking through still stretches that are white, a still R to use (the
-    level changes; the still stretches' own colour said), then coloured noise.
+    residual follows the signal), no noise to tell apart, no quiet stretch, no stretch
+    quieter than R (an indicative level above it; not when R's method read none), mostly
+    motion, differenced data, motion leaking through white still stretches, a still R to
+    use (the level changes; their own colour said), then coloured noise.
     """
     prof = diag.level_profile
     said = still_said(diag, gap)
@@ -360,10 +360,10 @@ def _not_white(
             f"sensor noise cannot be measured apart from the motion, so {r} over the whole "
             "record includes motion or signal (record the sensor still for a while)"
         )
-    # none quieter to quote (under half a step, the rounding's flips: quantisation)
     if (
         not still_apart
         and diag.level_varies
+        and not (diag.quiet is not None and diag.quiet.source == ABOVE and not diag.white)
         and not _measurably_below(diag, variance)
         and not under_half_a_step(diag, variance)
     ):
@@ -471,8 +471,8 @@ def _farthest_lag(w: WhitenessTest) -> str:
 def indicative(gap: str | None) -> str:
     """What a quoted still level says when there is no still R to use ('' when there is).
 
-    ``gap``: :func:`noisevar.estimators.still_set.still_gap`'s message. The level quoted is
-    then the level profile's quiet level, measured on another residual than R.
+    ``gap``: :func:`noisevar.estimators.still_set.still_gap`'s message; the level quoted is
+    then the level profile's quiet level, on another residual than R.
     """
     if not gap:
         return ""
