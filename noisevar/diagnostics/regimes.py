@@ -142,6 +142,16 @@ class QuietLevel:
                 "share": self.share, "source": self.source, "reason": self.reason}  # fmt: skip
 
 
+def read_above(quiet: QuietLevel | None) -> bool:
+    """R's method read the still stretches no quieter than R (:data:`ABOVE`): no still R.
+
+    Where they are half the record or more and the noise is not white, the verdict says
+    its colour first, not a level change that only the level profile's residual reads
+    (sktime's solar generation: PELT splits it on one block grid's phase, not on others).
+    """
+    return quiet is not None and quiet.source == ABOVE
+
+
 class _Cost:
     """``W log(Σ w x / W)`` over blocks ``[a, b)`` of level ``x`` and dof ``w``.
 

@@ -9,7 +9,7 @@ from numpy.typing import NDArray
 
 from noisevar.diagnostics.power_law import WHITE, describe
 from noisevar.diagnostics.quantisation import half_a_step
-from noisevar.diagnostics.regimes import ABOVE, STILL_RATIO
+from noisevar.diagnostics.regimes import STILL_RATIO, read_above
 from noisevar.format import eng
 
 if TYPE_CHECKING:
@@ -330,9 +330,9 @@ def _not_white(
 
     In the order the evidence decides: the rounding (noise under half a grid step: its
     residual follows the signal), no noise to tell apart, no quiet stretch, no stretch
-    quieter than R (an indicative level above it; not when R's method read none), mostly
-    motion, differenced data, motion leaking through white still stretches, a still R to
-    use (the level changes; their own colour said), then coloured noise.
+    quieter than R (an indicative level above it; not when R's method read the quiet half
+    or more no quieter), mostly motion, differenced data, motion leaking through white
+    still stretches, a still R to use (the level changes; its colour said), then colour.
     """
     prof = diag.level_profile
     said = still_said(diag, gap)
@@ -363,7 +363,7 @@ def _not_white(
     if (
         not still_apart
         and diag.level_varies
-        and not (diag.quiet is not None and diag.quiet.source == ABOVE and not diag.white)
+        and not (read_above(diag.quiet) and not diag.white and prof.quiet_share >= MOSTLY_MOTION)
         and not _measurably_below(diag, variance)
         and not under_half_a_step(diag, variance)
     ):
