@@ -29,6 +29,12 @@ STILL_ALPHA = 1e-3
 #: A regime at most this many times the record's highest level is flat: constant samples
 #: (a dropout, a held or clipped value) and float rounding, never a still level.
 FLAT_RATIO = 1e-16
+#: The quiet level's source when R's method reads the still stretches no quieter than the
+#: whole record (``estimators.still_quiet.above_record``): no quiet level, so no still R.
+ABOVE = "above"
+#: A regime of fewer blocks is all edge (no block away from its ends), which the block
+#: grid's phase moves: beside a flat regime, or held values alone, it sets no floor.
+FLOOR_BLOCKS = 3
 
 
 @dataclass(frozen=True)
@@ -134,6 +140,16 @@ class QuietLevel:
     def to_dict(self) -> dict[str, float | str | None]:
         return {"variance": self.variance, "ci95_low": self.lo, "ci95_high": self.hi,
                 "share": self.share, "source": self.source, "reason": self.reason}  # fmt: skip
+
+
+def read_above(quiet: QuietLevel | None) -> bool:
+    """R's method read the still stretches no quieter than R (:data:`ABOVE`): no still R.
+
+    Where they are half the record or more and the noise is not white, the verdict says
+    its colour first, not a level change that only the level profile's residual reads
+    (sktime's solar generation: PELT splits it on one block grid's phase, not on others).
+    """
+    return quiet is not None and quiet.source == ABOVE
 
 
 class _Cost:
@@ -252,7 +268,9 @@ def find_regimes(
     record can tell. A regime the test leaves out below that bound is near-still: another
     still level (another posture, slow sway), which the result reports on its own. A flat
     regime (:data:`FLAT_RATIO`: constant samples, a dropout) is neither, and takes no part,
-    nor does a lone block at its edge (:func:`_not_flat`). On a grid, regimes held on it
+    nor does a regime of fewer than :data:`FLOOR_BLOCKS` blocks at its edge
+    (:func:`_not_flat`), nor a floor of such short regimes held on a grid
+    (:func:`_supported_floor`). On a grid, regimes held on it
     (each under half a step's error variance, :func:`_floor`) are one still level.
     """
     breaks = regime_breaks(level, dof)
@@ -260,10 +278,7 @@ def find_regimes(
     spans = list(zip(bounds, bounds[1:], strict=False))
     pooled = [_pool(level[a:b], dof[a:b]) for a, b in spans]
     held = 0.0 if lsb is None else half_a_step(lsb)
-    live = _not_flat(pooled, spans)
-    cap = _cap([pooled[i] for i in live])
-    phi = _dispersion(level, dof, [spans[i] for i in live if pooled[i][0] <= cap])
-    floor = {live[j] for j in _floor([(pooled[i][0], pooled[i][1] / phi) for i in live], cap, held)}
+    live, floor, cap = _supported_floor(level, dof, spans, pooled, held)
     out = []
     for i, ((a, b), (x, nu)) in enumerate(zip(spans, pooled, strict=True)):
         lo, hi = _interval(x, nu)
@@ -273,17 +288,69 @@ def find_regimes(
     return tuple(out)
 
 
+def _supported_floor(
+    level: NDArray,
+    dof: NDArray,
+    spans: list[tuple[int, int]],
+    pooled: list[tuple[float, float]],
+    held: float,
+) -> tuple[list[int], set[int], float]:
+    """The regimes that take part, the floor among them (:func:`_floor`) and its cap.
+
+    A floor of held values alone (each regime under ``held``, on a grid) with no regime
+    of :data:`FLOOR_BLOCKS` blocks is left out, and the floor is sought again above it.
+
+    Notes
+    -----
+    A regime of one or two blocks has no block away from its edges. Inside a short hold
+    (a calm wind written 0) the residual's span reaches the hold's ends, so one block of
+    it reads 1e-3 of the sensor's level on one phase of the block grid, and on another
+    the hold is flat or shared with the noise beside it: one sample dropped at the
+    record's start makes it the floor or not. As the floor it set the cap and left every
+    other stretch out (SURFRAD wind speed: 1 block of 40 still, 33 with 3 samples fewer).
+    Held values are no noise level (docs/algorithms.md §E3); a long hold stays the floor
+    (BSRN's nights). The regimes left out are neither still nor near-still.
+    """
+    live = _not_flat(pooled, spans)
+    while True:
+        cap = _cap([pooled[i] for i in live])
+        phi = _dispersion(level, dof, [spans[i] for i in live if pooled[i][0] <= cap])
+        lows = _floor([(pooled[i][0], pooled[i][1] / phi) for i in live], cap, held)
+        floor = {live[j] for j in lows}
+        rest = [i for i in live if i not in floor]
+        if not rest or not _held_and_short(floor, spans, pooled, held):
+            return live, floor, cap
+        live = rest
+
+
+def _held_and_short(
+    floor: set[int], spans: list[tuple[int, int]], pooled: list[tuple[float, float]], held: float
+) -> bool:
+    """Every regime of ``floor`` is held values (under ``held``), none of
+    :data:`FLOOR_BLOCKS` blocks."""
+    return all(pooled[i][0] < held and spans[i][1] - spans[i][0] < FLOOR_BLOCKS for i in floor)
+
+
 def _not_flat(pooled: list[tuple[float, float]], spans: list[tuple[int, int]]) -> list[int]:
-    """Indices of the regimes that are no flat stretch, nor one block at a flat one's edge.
+    """Indices of the regimes that are no flat stretch, nor all edge beside a flat one.
 
     A flat regime (level at most :data:`FLAT_RATIO` times the highest) is constant samples;
-    a lone block beside it straddles its edge, its mean square diluted by the constant
-    samples it holds. All of them when every regime is flat.
+    a regime of fewer than :data:`FLOOR_BLOCKS` blocks beside it is all edge: a block
+    straddling the flat one's end, its mean square diluted by the constant samples it
+    holds, and one at its other end (MIDC SRRL's temperature between two runs of its
+    -7999 code: one regime of 2 blocks, or 2 lone blocks, with the grid's phase). Those
+    beside a flat one too when no other is left (a walk held on a grid for hundreds of
+    samples at a time, with spikes); all of them when every regime is flat.
     """
     top = max(x for x, _ in pooled)
     flat = {i for i, (x, _) in enumerate(pooled) if x <= FLAT_RATIO * top}
-    edge = {i for i, (a, b) in enumerate(spans) if b - a == 1 and flat & {i - 1, i + 1}}
-    return [i for i in range(len(spans)) if i not in flat | edge] or list(range(len(spans)))
+    edge = {i for i, (a, b) in enumerate(spans) if b - a < FLOOR_BLOCKS and flat & {i - 1, i + 1}}
+    every = range(len(spans))
+    return (
+        [i for i in every if i not in flat | edge]
+        or [i for i in every if i not in flat]
+        or [*every]
+    )
 
 
 def _cap(pooled: list[tuple[float, float]]) -> float:

@@ -9,7 +9,7 @@ from numpy.typing import NDArray
 
 from noisevar.diagnostics.power_law import WHITE, describe
 from noisevar.diagnostics.quantisation import half_a_step
-from noisevar.diagnostics.regimes import STILL_RATIO
+from noisevar.diagnostics.regimes import STILL_RATIO, read_above
 from noisevar.format import eng
 
 if TYPE_CHECKING:
@@ -329,10 +329,10 @@ def _not_white(
     there is a still R to use apart from R.
 
     In the order the evidence decides: the rounding (noise under half a grid step: its
-    residual follows the signal), no noise to tell apart, no quiet stretch, no
-    stretch quieter than R (an indicative quiet level above it), mostly motion, differenced
-    data, motion leaking through still stretches that are white, a still R to use (the
-    level changes; the still stretches' own colour said), then coloured noise.
+    residual follows the signal), no noise to tell apart, no quiet stretch, no stretch
+    quieter than R (an indicative level above it; not when R's method read the quiet half
+    or more no quieter), mostly motion, differenced data, motion leaking through white
+    still stretches, a still R to use (the level changes; its colour said), then colour.
     """
     prof = diag.level_profile
     said = still_said(diag, gap)
@@ -360,10 +360,10 @@ def _not_white(
             f"sensor noise cannot be measured apart from the motion, so {r} over the whole "
             "record includes motion or signal (record the sensor still for a while)"
         )
-    # none quieter to quote (under half a step, the rounding's flips: quantisation)
     if (
         not still_apart
         and diag.level_varies
+        and not (read_above(diag.quiet) and not diag.white and prof.quiet_share >= MOSTLY_MOTION)
         and not _measurably_below(diag, variance)
         and not under_half_a_step(diag, variance)
     ):
@@ -386,16 +386,14 @@ def _not_white(
             f"{_g(quiet)}, and their noise is white: the rest is motion leaking through the "
             f"smoother, not coloured noise{indicative(gap)}"
         )
-    measurably = diag.level_varies and _measurably_below(diag, variance)
-    if still_apart and (variance > STILL_RATIO * quiet or measurably):
+    if still_apart and (
+        variance > STILL_RATIO * quiet or diag.level_varies and _measurably_below(diag, variance)
+    ):
         # the R to use is the still R, well below R: the level change comes first, then the
         # still stretches' own colour (a coloured verdict would quote R, an average, as its
         # white part); a still R near R leaves the colour the finding (GPS 1PPS: 0.99x).
-        # Whether PELT split the record or not (a marginal change point: a Pololu
-        # accelerometer less 3 samples), the still R apart from R says the level changes;
-        # where PELT did split it, a still R measurably below R (its interval's top under R)
-        # says so too, whatever its ratio (at 2x, SURFRAD's wind speed read "coloured" less 1
-        # sample and the level change with it; GPS 1PPS's still R, 0.99x R, stays colour)
+        # whether PELT split the record or not (Pololu acc less 3 samples), a still R apart says
+        # the level changes; where it did, one measurably below R too (SURFRAD wind; GPS 1PPS)
         return _level_changes(still_share(diag), r, quiet, said)
     if not diag.white:
         return _coloured(diag, r, quiet, still_apart)
@@ -473,8 +471,8 @@ def _farthest_lag(w: WhitenessTest) -> str:
 def indicative(gap: str | None) -> str:
     """What a quoted still level says when there is no still R to use ('' when there is).
 
-    ``gap``: :func:`noisevar.estimators.still_set.still_gap`'s message. The level quoted is
-    then the level profile's quiet level, measured on another residual than R.
+    ``gap``: :func:`noisevar.estimators.still_set.still_gap`'s message; the level quoted is
+    then the level profile's quiet level, on another residual than R.
     """
     if not gap:
         return ""

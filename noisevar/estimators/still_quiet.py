@@ -20,10 +20,10 @@ from numpy.typing import NDArray
 from noisevar.diagnostics import NoiseDiagnostics
 from noisevar.diagnostics.profile import LevelProfile, on_both_grids, on_either_grid
 from noisevar.diagnostics.quantisation import half_a_step, joined_step, second_difference_step
-from noisevar.diagnostics.regimes import STILL_RATIO, QuietLevel
+from noisevar.diagnostics.regimes import QuietLevel
 from noisevar.errors import NoisevarError
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
-from noisevar.estimators.still_set import ABOVE, HELD, STILL_MIN, has_still_apart
+from noisevar.estimators.still_set import ABOVE, HELD, STILL_MIN, has_still_apart, not_quieter
 
 if TYPE_CHECKING:
     from noisevar.estimators.pipeline import Record
@@ -257,27 +257,13 @@ def held_digits(
 def above_record(
     diag: NoiseDiagnostics, still: VarianceEstimate | None, record_r: VarianceEstimate
 ) -> QuietLevel | None:
-    """Why a still R is no quiet level: R's method reads the still stretches above the
-    whole record (their interval above R's, and their R over
-    :data:`~noisevar.diagnostics.regimes.STILL_RATIO` times it); None when it does not.
-
-    The still regimes are the record's quietest on the diagnostics' residual; where R's
-    own residual reads them above the whole record (a ship's temperature logged in
-    1-degree steps with spikes: still R 107 against R 42), they are not a level quieter
-    than R, and quoting them as the sensor's noise would be untrue: no still R, for that
-    reason (source :data:`~noisevar.estimators.still_set.ABOVE`). A still R a little above R is
-    kept: a dropout or held stretch in the record pulls R down (heartpy's PPG, 840 samples
-    of 0: still R 1.05x R, the noise's own).
+    """Why a still R is no quiet level (:func:`~noisevar.estimators.still_set.not_quieter`
+    against the first R; ``still_set.kept_still`` asks again on R as quoted): absent, for
+    that reason (source :data:`~noisevar.estimators.still_set.ABOVE`); None when it may be.
     """
-    if still is None or not still.ci95[0] > record_r.ci95[1]:
+    reason = None if still is None else not_quieter(still, record_r.variance)
+    if reason is None:
         return None
-    if not still.variance > STILL_RATIO * record_r.variance:
-        return None
-    reason = (
-        f"the still stretches read {still.variance:.3g} on R's residual, above the whole "
-        f"record's R {record_r.variance:.3g} (its 95 % interval up to {record_r.ci95[1]:.3g}), "
-        "so they are no quieter level than R"
-    )
     return QuietLevel(None, None, None, diag.level_profile.quiet_share, ABOVE, reason)
 
 
