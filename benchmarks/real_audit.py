@@ -104,6 +104,38 @@ def md_table(title: str, head: str, rows: list[str]) -> list[str]:
     return [title, "", head, "|" + "---|" * cols, *rows, ""]
 
 
+def audit_sections(
+    rows: list[dict], answers: list[dict], refs: list[dict], bad: list[dict]
+) -> list[str]:
+    """Sections 1-4 of an audit's report: what must hold on any record (:func:`summary`),
+    one answer everywhere, the references (:func:`ref_row`'s) and the files as users have
+    them, each titled with its pass count."""
+    n = {k: sum(not r["fail"] for r in v) for k, v in
+         {"ans": answers, "ref": refs, "bad": bad}.items()}  # fmt: skip
+    return [
+        "## 1. What must hold on any record",
+        "",
+        *summary(rows),
+        "",
+        *md_table(f"## 2. One answer everywhere ({n['ans']} of {len(answers)} channels pass)",
+                "| record | channel | R | surfaces | failures | answer (sentence) |",
+                [f"| {r['record']} | {r['channel']} | {r['R']:.4g} | {r['surfaces']} | "
+                 f"{'; '.join(r['fail']) or 'ok'} | {r['answer']} |" for r in answers]),
+        *md_table(f"## 3. References ({n['ref']} of {len(refs)} pass)",
+                "| record | channel | reference | value | R (ci95) | R to use | failures "
+                "| verdict |",
+                [f"| {r['record']} | {r['channel']} | {r['what']} | {r['ref']:.4g} | "
+                 f"{r['R']:.4g} ({r['ci'][0]:.3g}-{r['ci'][1]:.3g}) | "
+                 + ("none" if r["use"] is None else f"{r['use']:.4g}")
+                 + f" | {'; '.join(r['fail']) or 'ok'} | {r['verdict'][:300]} |"
+                 for r in refs]),
+        *md_table(f"## 4. The files as users have them ({n['bad']} of {len(bad)} pass)",
+                "| file | exit | what the CLI said | failures |",
+                [f"| {r['case']} | {r['exit']} | {r['said'][:300].replace('|', '/')} | "
+                 f"{'; '.join(r['fail']) or 'ok'} |" for r in bad]),
+    ]  # fmt: skip
+
+
 def to_use(est):
     """The R to use (``regimes="still"``), None when the record has none (said, not R)."""
     if est.still is not None:

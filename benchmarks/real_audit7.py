@@ -73,7 +73,7 @@ from noisevar.io import channel_record, load_table
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _refdata  # noqa: E402
-from real_audit import audit_channels, md_table, ref_row, summary, to_use  # noqa: E402
+from real_audit import audit_channels, audit_sections, md_table, ref_row, to_use  # noqa: E402
 from real_audit3 import _one_line, process  # noqa: E402
 from real_audit5 import one_answer  # noqa: E402
 
@@ -319,8 +319,6 @@ def _noise(pole: float) -> str:
 
 
 def report(rows, answers, refs, bad, leaps, wall) -> str:
-    n = {k: sum(not r["fail"] for r in v) for k, v in
-         {"ans": answers, "ref": refs, "bad": bad}.items()}  # fmt: skip
     lines = [
         "# A seventh audit on real records nobody here wrote: the Earth's rotation, climate "
         "indices, ice cores, GNSS files (issue 26)",
@@ -334,26 +332,7 @@ def report(rows, answers, refs, bad, leaps, wall) -> str:
         "|---|---|---|---|",
         *(f"| {k} | {r} | `{p}` | {w} |" for k, (r, _, p, w) in RECORDS.items()),
         "",
-        "## 1. What must hold on any record",
-        "",
-        *summary(rows),
-        "",
-        *md_table(f"## 2. One answer everywhere ({n['ans']} of {len(answers)} channels pass)",
-                "| record | channel | R | surfaces | failures | answer (sentence) |",
-                [f"| {r['record']} | {r['channel']} | {r['R']:.4g} | {r['surfaces']} | "
-                 f"{'; '.join(r['fail']) or 'ok'} | {r['answer']} |" for r in answers]),
-        *md_table(f"## 3. References ({n['ref']} of {len(refs)} pass)",
-                "| record | channel | reference | value | R (ci95) | R to use | failures "
-                "| verdict |",
-                [f"| {r['record']} | {r['channel']} | {r['what']} | {r['ref']:.4g} | "
-                 f"{r['R']:.4g} ({r['ci'][0]:.3g}-{r['ci'][1]:.3g}) | "
-                 + ("none" if r["use"] is None else f"{r['use']:.4g}")
-                 + f" | {'; '.join(r['fail']) or 'ok'} | {r['verdict'][:300]} |"
-                 for r in refs]),
-        *md_table(f"## 4. The files as users have them ({n['bad']} of {len(bad)} pass)",
-                "| file | exit | what the CLI said | failures |",
-                [f"| {r['case']} | {r['exit']} | {r['said'][:300].replace('|', '/')} | "
-                 f"{'; '.join(r['fail']) or 'ok'} |" for r in bad]),
+        *audit_sections(rows, answers, refs, bad),
         *md_table("## 5. UT1-UTC's leap seconds, reproduced (not fixed here: the estimator's)",
                 "| noise | R without steps (ci95) | R with 27 steps of 1e5 std (ci95) | ratio "
                 "| verdict with the steps |",

@@ -33,6 +33,7 @@ from noisevar.diagnostics.tails import kurtosis_from_moments, tail_index
 from noisevar.diagnostics.verdict import make_verdict, other_still_clause
 from noisevar.diagnostics.whiteness import WHITE_LAGS, WhitenessTest, whiteness_test
 from noisevar.errors import NoisevarError
+from noisevar.numeric.blocks import runs_of
 from noisevar.numeric.fir import residual_sequence
 
 __all__ = [
@@ -103,14 +104,8 @@ def diagnose(
         sums.add(diag_part(z[a:b], a, (a, b), i, plan, None if exclude is None else exclude[a:b]))
     a, b = max(seg.segments, key=lambda s: s[1] - s[0])
     head = lambda: z[a : min(b, a + POWER_LAW_MAX)]  # noqa: E731
-    jumps = None if exclude is None else _runs(exclude)
+    jumps = None if exclude is None else runs_of(exclude)
     return from_sums(sums, seg, head, glitches=glitches, read=lambda p, q: z[p:q], jumps=jumps)
-
-
-def _runs(mask: NDArray) -> list[tuple[int, int]]:
-    """The runs ``(a, b)`` of true samples of ``mask``."""
-    d = np.diff(np.r_[0, mask.astype(np.int8), 0])
-    return list(zip(np.flatnonzero(d == 1).tolist(), np.flatnonzero(d == -1).tolist(), strict=True))
 
 
 def from_sums(

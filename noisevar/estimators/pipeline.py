@@ -68,6 +68,7 @@ from noisevar.estimators.still_quiet import (
     still_estimate,
 )
 from noisevar.estimators.still_set import STILL_MIN, has_still_apart, kept_still, still_gap
+from noisevar.numeric.blocks import runs_of
 
 #: The method's coloured-noise parameters are used below this whiteness p-value (far
 #: below the flag's 5 %, so that white noise that fails the test by chance keeps the
@@ -119,12 +120,6 @@ def _segmentation(raw: NDArray, t: NDArray | None, drop: bool) -> tuple[NDArray,
     if bad.any():
         return z, split_dropped(bad)
     return z, Segmentation(((0, z.size),), ())
-
-
-def runs_of(mask: NDArray, offset: int = 0) -> list[tuple[int, int]]:
-    """The runs of True in ``mask`` as ``(start, stop)`` ranges (plus ``offset``)."""
-    edges = np.flatnonzero(np.diff(np.r_[0, mask.view(np.int8), 0])) + offset
-    return [(int(a), int(b)) for a, b in zip(edges[::2], edges[1::2], strict=True)]
 
 
 def cut_out(ranges: list[tuple[int, int]], holes: list[tuple[int, int]]) -> list[tuple[int, int]]:

@@ -162,6 +162,12 @@ def _int64(x: NDArray) -> NDArray:
     return np.ascontiguousarray(x, dtype=np.int64)
 
 
+def runs_of(mask: NDArray, offset: int = 0) -> list[tuple[int, int]]:
+    """The runs of True in the boolean ``mask`` as ``(start, stop)`` ranges (plus ``offset``)."""
+    edges = np.flatnonzero(np.diff(np.r_[0, mask.view(np.int8), 0])) + offset
+    return [(int(a), int(b)) for a, b in zip(edges[::2], edges[1::2], strict=True)]
+
+
 def dilate(mask: NDArray, half: int) -> NDArray:
     """``mask`` widened by ``half`` samples on each side (cheap when few are set)."""
     idx = np.flatnonzero(mask)

@@ -14,7 +14,7 @@ import pytest
 from scipy.signal import lfilter
 
 import noisevar as nv
-from noisevar.estimators.pipeline import runs_of
+from noisevar.numeric.blocks import runs_of
 
 N = 20_000
 

@@ -40,9 +40,10 @@ from noisevar.estimators._scale import exponent_of, unscale
 from noisevar.estimators.auto._trim import AUTO_BLOCK
 from noisevar.estimators.auto.core import AutoPart, auto_part, auto_reduce, auto_spans
 from noisevar.estimators.params import AUTO_ORDER, AUTO_TRIM
-from noisevar.estimators.pipeline import cut_out, runs_of
+from noisevar.estimators.pipeline import cut_out
 from noisevar.estimators.pooling import pool_segments
 from noisevar.estimators.results import VarianceEstimate
+from noisevar.numeric.blocks import runs_of
 
 #: Samples added on each side of a chunk: far beyond what one block's numbers depend on
 #: (the longest span's reach, the jump detector's windows, neighbouring blocks).
