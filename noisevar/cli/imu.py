@@ -455,9 +455,16 @@ def add_parser(sub: Any) -> None:
         "conversions, Allan fits)",
     )
     p.add_argument(
-        "--gnss-pos", metavar="COLUMN", help="GNSS position column (m), for PX4/ArduPilot"
+        "--gnss-pos",
+        metavar="COLUMN",
+        help="GNSS position column, for PX4/ArduPilot: m, or a length unit its header "
+        "declares (not latitude or longitude in degrees)",
     )
-    p.add_argument("--gnss-vel", metavar="COLUMN", help="GNSS velocity column (m/s)")
+    p.add_argument(
+        "--gnss-vel",
+        metavar="COLUMN",
+        help="GNSS velocity column: m/s, or a speed unit its header declares, e.g. (kn)",
+    )
     p.add_argument("--gnss-file", metavar="FILE", help="file of the GNSS columns (default FILE)")
     p.add_argument(
         "--conservative",
