@@ -226,6 +226,12 @@ def _bias_fits(args: argparse.Namespace, fits: dict, data: dict, scales: dict) -
 
 #: The unit each GNSS column's std goes into the EKFs' parameters in.
 GNSS_UNITS = {"position": "m", "velocity": "m/s"}
+#: ``--gnss-pos``/``--gnss-vel``'s help.
+GNSS_HELP = {
+    "position": "GNSS position column, for PX4/ArduPilot: m, or a length unit its header "
+    "declares (not latitude or longitude in degrees)",
+    "velocity": "GNSS velocity column: m/s, or a speed unit its header declares, e.g. (kn)",
+}
 #: Words of a column name that say geodetic coordinates (degrees), not metres.
 _GEODETIC = {"lat", "lon", "lng", "latitude", "longitude"}
 
@@ -454,17 +460,8 @@ def add_parser(sub: Any) -> None:
         help="with --export: skip DIR/report.html (each column's verdict, units, "
         "conversions, Allan fits)",
     )
-    p.add_argument(
-        "--gnss-pos",
-        metavar="COLUMN",
-        help="GNSS position column, for PX4/ArduPilot: m, or a length unit its header "
-        "declares (not latitude or longitude in degrees)",
-    )
-    p.add_argument(
-        "--gnss-vel",
-        metavar="COLUMN",
-        help="GNSS velocity column: m/s, or a speed unit its header declares, e.g. (kn)",
-    )
+    p.add_argument("--gnss-pos", metavar="COLUMN", help=GNSS_HELP["position"])
+    p.add_argument("--gnss-vel", metavar="COLUMN", help=GNSS_HELP["velocity"])
     p.add_argument("--gnss-file", metavar="FILE", help="file of the GNSS columns (default FILE)")
     p.add_argument(
         "--conservative",
