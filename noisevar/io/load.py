@@ -321,15 +321,66 @@ def _parse(head: bytes, name: str, path: Path | None, size: int) -> LoadedTable:
         raise NoisevarError(
             f"{echo(name)}: .npz archives are not supported; save one array as .npy"
         )
+    _refuse_compressed(head, name)
     whole = path is None or size <= len(head)
     text, encoding = _decode(head, name, final=whole)
     _refuse_rinex(text, name)
     _refuse_ts(text, name)
+    _refuse_json(text, name)
     if lower.endswith(NMEA_EXTENSIONS) or _looks_like_nmea(text):
         if not whole:
             text = _decode(_read_all(path, name), name)[0]
         return _read_nmea(text, name)
     return _read_text_table(text if whole else TextSource(path, text, encoding), name)
+
+
+#: Magic bytes of compressed files and archives: (bytes, what it is, what to do).
+_COMPRESSED = (
+    (b"\x1f\x8b", "gzip-compressed", "decompress it (e.g. gunzip, 7-Zip)"),
+    (b"BZh", "bzip2-compressed", "decompress it (e.g. bunzip2, 7-Zip)"),
+    (b"\xfd7zXZ\x00", "xz-compressed", "decompress it (e.g. unxz, 7-Zip)"),
+    (b"PK\x03\x04", "a zip archive", "extract the file you want from it"),
+    (b"7z\xbc\xaf\x27\x1c", "a 7z archive", "extract the file you want from it"),
+)
+
+
+def _refuse_compressed(head: bytes, name: str) -> None:
+    """Refuse a compressed file or an archive by name, in one line that says what to do.
+
+    Notes
+    -----
+    traffic's samples are ``.json.gz``: refused as "a binary file (it contains NUL bytes)",
+    which did not say that the table is inside. A workbook (a zip too) is read before this.
+    """
+    for magic, what, todo in _COMPRESSED:
+        if head.startswith(magic):
+            raise NoisevarError(
+                f"{echo(name)} is {what}: {todo} and give the file inside (a CSV/TSV text "
+                "table, an NMEA 0183 log, a .npy array or a log)"
+            )
+
+
+def _refuse_json(text: str, name: str) -> None:
+    """Refuse a JSON or JSON-lines file in one line that says how to make it a table.
+
+    Notes
+    -----
+    readsb's trace and Flightradar24's export (one object over many lines) and rs1090's JSON
+    lines were read as a text table and refused blaming thousands separators. A file counts
+    as JSON when it starts with ``{``, or with ``[`` then an object, an array, a string or a
+    line end (a header of bracketed names, ``[time],[x]``, is a table's).
+    """
+    body = text.lstrip("\ufeff \t\r\n")
+    if not body.startswith("{") and not (
+        body.startswith("[") and body[1:].lstrip(" \t")[:1] in ("{", "[", '"', "\n", "\r")
+    ):
+        return
+    raise NoisevarError(
+        f"{echo(name)} is a JSON file, which noisevar does not read as a table: write the "
+        "values you want as columns of a CSV file (e.g. pandas.read_json(path).to_csv(...), "
+        "with lines=True for JSON lines; a trace nested in an object: json_normalize it "
+        "first) and give that file"
+    )
 
 
 def _refuse_rinex(text: str, name: str) -> None:

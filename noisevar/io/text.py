@@ -458,7 +458,7 @@ def _parse_body(
     dated = bool(done)
     keys: dict[str, pd.Series] = {}  # the text columns left out
     # a column of text is left out when another holds numbers (else its error says why)
-    text = {i for i in range(len(names)) if i != time_idx and i not in done and _only_text(df[i])}
+    text = {i for i in range(len(names)) if i != time_idx and i not in done and _is_label(df[i])}
     numeric = len(text) < len(names) - (time_idx is not None) - len(done) // 2
     for i, cname in enumerate(names):
         if i in done:
@@ -491,27 +491,33 @@ def _parse_body(
 
 
 def _refuse_stacked(key: pd.Series, t: NDArray, cname: str, name: str) -> None:
-    """Refuse a file that stacks several series (the long format: a text column ``key``
-    whose value holds in blocks, the time column ``t`` restarting at each block), in one
-    line that says to give one series.
+    """Refuse a file that stacks or interleaves several series (the long format: a text
+    column ``key`` naming each row's series, the time column ``t`` falling back or repeating
+    where ``key`` changes), in one line that says to give one series.
 
     Notes
     -----
-    Read as one record, the series were spliced (vega_datasets' ``stocks.csv``: five
-    stocks' prices one after the other, R over their joins).
+    Read as one record, the series were spliced: vega_datasets' ``stocks.csv`` (five stocks'
+    prices one after the other, R over their joins), traffic's ten aircraft at Zurich (in
+    blocks, each on its own day) and OpenOA's La Haute Borne SCADA file (four turbines' rows
+    interleaved, each time stamp four times: R 163 on the blade pitch against 11 on one
+    turbine's). A time stamp that repeats inside one series, away from a change of the
+    label (a status column), is no stacking.
     """
-    change = np.flatnonzero(key.to_numpy()[1:] != key.to_numpy()[:-1])
+    k = key.to_numpy()
     labels = list(dict.fromkeys(key.tolist()))
-    if not change.size or change.size != len(labels) - 1:
+    back = np.flatnonzero(~(np.diff(t) > 0))  # falls back or repeats (NaN: not a rise)
+    if len(labels) < 2 or not back.size:
         return
-    back = np.flatnonzero(np.diff(t) <= 0)
-    if not np.array_equal(back, change):
+    at = np.intersect1d(back, np.flatnonzero(k[1:] != k[:-1])).size
+    if at < max(1.0, (len(labels) - 1) / 2) or at < back.size / 2:
         return
     shown = ", ".join(repr(echo(str(v), 20)) for v in labels[:3])
     raise NoisevarError(
         f"{echo(name)} stacks {len(labels)} series, one per value of column {echo(cname)!r} "
-        f"({shown}{', ...' if len(labels) > 3 else ''}), its time restarting at each: give "
-        f"one series, e.g. the rows of one {echo(cname)!r} saved as their own file"
+        f"({shown}{', ...' if len(labels) > 3 else ''}), its time falling back or repeating "
+        f"where the value changes: give one series, e.g. the rows of one {echo(cname)!r} "
+        "saved as their own file"
     )
 
 
@@ -522,6 +528,27 @@ def _only_text(col: pd.Series) -> bool:
     if pd.api.types.is_numeric_dtype(col.dtype):  # (pandas parsed every cell as a number)
         return False
     return bool(col.notna().any()) and not pd.to_numeric(col, errors="coerce").notna().any()
+
+
+def _is_label(col: pd.Series) -> bool:
+    """Whether ``col`` names things rather than measures them: text (:func:`_only_text`),
+    or mostly text in a few values, some of which read as numbers.
+
+    Notes
+    -----
+    ADS-B's ``icao24`` hex codes: ``4690e2`` reads as 469000.0, so traffic's CSV of ten
+    aircraft was refused on that column, with a hint about lines above the header.
+    """
+    import pandas as pd
+
+    if _only_text(col):
+        return True
+    if pd.api.types.is_numeric_dtype(col.dtype):
+        return False
+    cells = col.dropna()
+    numbers = pd.to_numeric(cells, errors="coerce").notna()
+    few = cells.nunique() <= max(2, cells.size // 20)
+    return bool(cells.size) and few and float(numbers.mean()) < 0.5
 
 
 def _text_column(
