@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from functools import lru_cache
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -42,6 +43,25 @@ STEP_SIDES_ALPHA = 1e-3
 def step_mask(
     z: NDArray, above: Callable[[NDArray], NDArray], scale: float = 1.0, w: int = STEP_WINDOW
 ) -> NDArray:
+    """Samples next to a jump, found by a step detector blind to parabolas
+    (:func:`step_flags`' first value)."""
+    return step_flags(z, above, scale, w).found
+
+
+class StepFlags(NamedTuple):
+    """What the step detector flagged, and at which levels (:func:`step_flags`)."""
+
+    found: NDArray
+    #: The levels the flags were confirmed at (raised to the statistic's own, or ``above``).
+    levels: Callable[[NDArray], NDArray]
+    #: Where the levels were raised over the whole window (a short record): the flags at the
+    #: levels before the raise, which judge a fast signal (None: not raised so).
+    plain: NDArray | None = None
+
+
+def step_flags(
+    z: NDArray, above: Callable[[NDArray], NDArray], scale: float = 1.0, w: int = STEP_WINDOW
+) -> StepFlags:
     """Samples next to a jump, found by a step detector blind to parabolas.
 
     With ``M[i] = mean(z[i:i+w])``, ``D3[k] = M[k+w] - 3 M[k] + 3 M[k-w] -
@@ -54,15 +74,19 @@ def step_mask(
     trips it; the caller then ignores it (:data:`STEP_MAX_FRACTION`).
 
     ``above(x)`` tells where ``x`` exceeds ``scale`` times the local noise
-    variance; returns the samples where ``|D3|``
+    variance; ``found`` holds the samples where ``|D3|``
     exceeds :data:`STEP_THRESHOLD` standard deviations, each with its left neighbour
-    (``D3[k]`` is centred between samples ``k - 1`` and ``k``). (The scale is folded
+    (``D3[k]`` is centred between samples ``k - 1`` and ``k``), at ``above``'s levels
+    raised to the statistic's own where that stands above white noise's
+    (:func:`_own_levels`; ``levels``, and ``plain`` when raised over the whole window:
+    then only lone steps are jumps whatever the fraction, and the others are judged a
+    fast signal by ``plain``'s fraction, docs/algorithms.md §F5.3). (The scale is folded
     into the window means, so the test costs no pass of its own: two work
     arrays, the third differences written in place.)
     """
     n = z.size
     if n < 4 * w:
-        return np.zeros(n, dtype=bool)
+        return StepFlags(np.zeros(n, dtype=bool), above)
     # mm[i] = mean(z[i:i+w]), pre-scaled so that D3² compares with threshold_var directly
     gain = np.sqrt(scale / (STEP_THRESHOLD**2 * 20.0 / w)) / w
     mm = np.convolve(z, np.full(w, gain), mode="valid")  # n - w + 1
@@ -78,13 +102,22 @@ def step_mask(
     work[n - 2 * w + 1 :] = 0.0
     candidates = _above_both_sides(work, above)
     if not candidates.any():
-        return candidates
-    above = _own_levels(work, candidates, above)
+        return StepFlags(candidates, above)
+    idx = np.flatnonzero(candidates)
+    own = _own_levels(work, candidates, above)
+    plain = None
+    if getattr(own, "whole", False):  # raised over a short record: the flags before, too
+        first = np.zeros_like(candidates)
+        first[idx] = True
+        plain = _paired(_confirm_steps(z, first, above, scale, w))
     if not candidates.any():
-        return candidates
-    out = _confirm_steps(z, candidates, above, scale, w)
-    # D3 at k is centred on the boundary between samples k - 1 and k: both are flagged, so
-    # that the reversed record flags the same samples (symmetric in time, issue 26)
+        return StepFlags(candidates, own, plain)
+    return StepFlags(_paired(_confirm_steps(z, candidates, own, scale, w)), own, plain)
+
+
+def _paired(out: NDArray) -> NDArray:
+    """``D3`` at ``k`` is centred on the boundary between samples ``k - 1`` and ``k``: both
+    are flagged, so that the reversed record flags the same samples (symmetric in time)."""
     out[:-1] = out[:-1] | out[1:]
     return out
 

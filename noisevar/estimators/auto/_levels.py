@@ -233,8 +233,14 @@ CHI2_1_MEDIAN = 0.4549364231195724
 #: A block's own level of the step statistic raises its threshold only beyond this many
 #: times white noise's (the spread of a block's median: :meth:`Above.raised`).
 OWN_MARGIN = 2.0
-#: Levels are raised only on a grid of at least this many blocks (:meth:`Above.raised`).
+#: Levels are raised block by block only on a grid of at least this many blocks
+#: (:meth:`Above.raised`).
 OWN_MIN_BLOCKS = 8
+#: On fewer blocks, every level is raised (and only lone steps are jumps) beyond this many
+#: times white noise's level, read off the whole window (:meth:`Above._raised_whole`).
+OWN_WHOLE_MARGIN = 3.0
+#: ... read off at least this many values of the statistic (the verdict's checks need ~100).
+OWN_WHOLE_VALUES = 100
 
 
 def _raised(
@@ -269,6 +275,8 @@ class Above:
     fwd: NDArray
     bwd: NDArray
     g: Grids
+    #: Raised over the whole window (a grid of few blocks: :meth:`_raised_whole`).
+    whole: bool = False
 
     def __call__(self, x: NDArray) -> NDArray:
         return above_both(x, self.fwd, self.bwd, self.g)
@@ -330,13 +338,37 @@ class Above:
         """
         g = self.g
         if min(g.nb, g.nbb) < OWN_MIN_BLOCKS:
-            return self
+            return self._raised_whole(x, expected)
         fwd = _raised(x, idx, self.fwd, g.block, g.nb, expected)
         j = g.back_index(idx)
         bwd = _raised(g.back(x), j[j >= 0], self.bwd, g.block, g.nbb, expected)
         if fwd is self.fwd and bwd is self.bwd:
             return self
         return Above(fwd, bwd, g)
+
+    def _raised_whole(self, x: NDArray, expected: float) -> Above:
+        """:meth:`raised` on a grid of few blocks: every level times ``r / OWN_MARGIN`` where
+        ``r``, read off the whole window (the median of ``x`` over its own level, the larger
+        of both grids'), exceeds :data:`OWN_WHOLE_MARGIN`; then only lone steps are jumps.
+
+        White noise under a signal reads ``r`` up to 2.3 (``steps-ramps``, 1,000 samples),
+        AR(1) noise of lag-one correlation 0.7-0.9 reads 4.2-9, a GPS track 40-1,300 (its
+        walk): at raised levels its fast signal would flag under a fifth of the record and
+        be believed, so a raised window believes lone steps only (docs/algorithms.md §F5.3).
+        """
+        g = self.g
+        k = np.flatnonzero(x > 0.0)  # D3 is 0 where it is not defined
+        lf = self.fwd[np.minimum(k // g.block, g.nb - 1)]
+        lb = self.bwd[np.clip(g.back_index(k) // g.block, 0, g.nbb - 1)]
+        ok = (lf > 0) & (lb > 0) & np.isfinite(lf) & np.isfinite(lb)
+        if ok.sum() < OWN_WHOLE_VALUES:
+            return self
+        r = max(np.median(x[k][ok] / lf[ok]), np.median(x[k][ok] / lb[ok]))
+        r /= CHI2_1_MEDIAN * expected
+        if not r > OWN_WHOLE_MARGIN:
+            return self
+        f = r / OWN_MARGIN
+        return Above(self.fwd * f, self.bwd * f, self.g, whole=True)
 
     def _halves(self) -> tuple[NDArray, NDArray]:
         return half_levels(self.fwd), half_levels(self.bwd)

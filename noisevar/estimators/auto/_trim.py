@@ -34,7 +34,7 @@ from noisevar.numeric.blocks import (
     dilate,
     flagged_per_block,
 )
-from noisevar.numeric.steps import STEP_MAX_FRACTION, lone_steps, step_mask
+from noisevar.numeric.steps import STEP_MAX_FRACTION, lone_steps, step_flags
 from noisevar.numeric.sweeps import near_any, window_counts
 
 #: Trimmed samples are widened by half of this span (or of the longest span below it).
@@ -120,7 +120,7 @@ def _outlier_mask(
     kappa: float,
     block: int,
     widen: int,
-    steps: Callable[[Callable[[NDArray], NDArray], float, NDArray], tuple[NDArray, NDArray]] | None,
+    steps: Callable[[Callable[[NDArray], NDArray], float, NDArray], tuple] | None,
     step_limit: float,
     after: int = 0,
     z: NDArray | None = None,
@@ -160,13 +160,15 @@ def _outlier_mask(
     outlier = above(sq)
     jumps, found = None, None
     if steps is not None:
-        found, lone = steps(above, kappa**2, outlier)
+        found, lone, plain = steps(above, kappa**2, outlier)
         if step_limit >= 0 and found.any():
-            jumps = _believed(found, block, lone)
+            jumps = _believed(found, block, lone, plain)
     return (outlier if outlier.any() else None), jumps, found
 
 
-def _believed(found: NDArray, block: int, lone: NDArray | None = None) -> NDArray | None:
+def _believed(
+    found: NDArray, block: int, lone: NDArray | None = None, plain: NDArray | None = None
+) -> NDArray | None:
     """The jump samples ``found`` that are jumps, not a fast signal (§F5.3).
 
     Lone steps ``lone`` (:func:`~noisevar.numeric.steps.lone_steps`: one jump's response
@@ -179,6 +181,9 @@ def _believed(found: NDArray, block: int, lone: NDArray | None = None) -> NDArra
     window of it (the fast stretch's edge, lone or not).
     The window is centred on the sample, not on a block grid anchored at the record's
     start, so that reversing the record moves no decision but through ``found`` itself.
+    ``plain`` (a short record whose levels the detector raised to its statistic's own:
+    :class:`~noisevar.numeric.steps.StepFlags`): the flags at the levels before, which
+    are counted instead (at the raised levels a fast signal flags under the fraction).
     """
     rest = found if lone is None else found & ~lone
     idx = np.flatnonzero(rest)
@@ -191,7 +196,8 @@ def _believed(found: NDArray, block: int, lone: NDArray | None = None) -> NDArra
     size = min(2 * half + 1, found.size)
     lo = np.clip(idx - half, 0, found.size - size)
     hi = lo + size - 1
-    fast = window_counts(idx, lo, hi) > STEP_MAX_FRACTION * size
+    counted = idx if plain is None else np.flatnonzero(plain if lone is None else plain & ~lone)
+    fast = window_counts(counted, lo, hi) > STEP_MAX_FRACTION * size
     if not fast.any():
         return found
     # a flag within half the window of a fast one is the same fast stretch (its edge)
@@ -284,16 +290,18 @@ def _steps(
     scale: float,
     ends: tuple[bool, bool] = (True, True),
     detect: tuple[int, int] | None = None,
-) -> tuple[NDArray, NDArray]:
-    """The step detector's flags on ``z`` with its glitches bridged, and its lone steps.
+) -> tuple[NDArray, NDArray, NDArray | None]:
+    """The step detector's flags on ``z`` with its glitches bridged, its lone steps (at the
+    levels it confirmed them at) and :class:`~noisevar.numeric.steps.StepFlags`' ``plain``.
 
     ``ends``: whether ``z`` starts (ends) where the record does (a glitch there, _edges);
     ``detect``: see :func:`_flag`.
     """
     lone = None if detect is None else (above, detect)
     bridged = _bridged(z, outliers, ends, lone)
-    found = step_mask(bridged, above, scale)
-    return found, lone_steps(bridged, found, above, scale)
+    flags = step_flags(bridged, above, scale)
+    found = flags.found
+    return found, lone_steps(bridged, found, flags.levels, scale), flags.plain
 
 
 def _bridged(
