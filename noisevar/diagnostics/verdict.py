@@ -55,10 +55,11 @@ def make_verdict(
     """One sentence, worst finding first.
 
     When a few outlying samples hold most of R of a record of one level and the sentence
-    would not quote the core variance, they come first (:func:`outliers_hold`) and the
-    sentence describes the record without them: on a coloured record a start-up value
-    held 99.8 % of R, which the sentence called the noise's white part (PX4 airspeed,
-    issue 26).
+    would not quote the core variance, the sentence describes the record without them (a
+    start-up value held 99.8 % of R, which it called the noise's white part) and says them
+    second (:func:`outliers_hold`): their share of R is a point ratio that the record's
+    edge moves (PX4 airspeed less 0-4 samples: 99.8, 42, 14, 65, 70 %), its colour is not
+    (issue 26).
 
     Parameters
     ----------
@@ -93,25 +94,24 @@ def make_verdict(
     if still is not None or diag.level_varies or rounding or not lead or "core variance" in said:
         return said
     assert core is not None  # outliers_hold said so
-    return lead + _sentence(diag, core, core, 0.0, None, still_gap, "the core variance")
+    return _sentence(diag, core, core, 0.0, None, still_gap, "the core variance") + lead
 
 
 def outliers_hold(variance: float, core: float | None, outliers: float) -> str:
-    """The verdict's lead when a few outlying samples hold most of R ('' when they do not).
+    """The verdict's last clause when a few outlying samples hold most of R ('' when not).
 
     R counts them as noise (a plain Kalman filter sees them); when they hold over half of
-    it, R is mostly those few samples, and the core variance (without them) is what the
-    rest of the record reads: the R to use when they are not the sensor's noise (a
-    start-up value, a logging error), or a robust filter's. The verdict then goes on
-    about the record without them.
+    it, R is mostly those few samples, and the core variance (without them), which the
+    verdict's finding is read on, is the R to use when they are not the sensor's noise (a
+    start-up value, a logging error), or a robust filter's.
     """
     if core is None or not 0 < outliers <= OUTLIERS_FEW or not variance > OUTLIERS_HOLD * core:
         return ""
     return (
-        f"{_share(outliers)} of the samples are outlying and hold {_share(1 - core / variance)} "
-        f"of {_r(variance)}: it counts them as noise, as a plain Kalman filter needs; without "
-        f"them the core variance is {_g(core)}, the R to use if they are not the sensor's "
-        "noise (a start-up value, a logging error), or a robust filter's; without them, "
+        f"; {_share(outliers)} of the samples are outlying and hold "
+        f"{_share(1 - core / variance)} of {_r(variance)}, which counts them as noise, as a "
+        "plain Kalman filter needs: the core variance leaves them out, the R to use if they "
+        "are not the sensor's noise (a start-up value, a logging error), or a robust filter's"
     )
 
 
