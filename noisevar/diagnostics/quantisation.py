@@ -17,6 +17,10 @@ ROUNDING_EPS = 8 * float(np.finfo(float).eps)
 F32_EPS = 8 * float(np.finfo(np.float32).eps)
 #: A grid step of second differences is at least this many times their float rounding.
 ROUNDING_STEPS = 16
+#: float32's rounding seen in the samples: up to this many of their smallest second
+#: difference (half a unit in the last place on each of three samples weighed 1, 2, 1 is
+#: 2 units; 4 more for units that differ across binades).
+F32_SEEN = 8
 
 
 def half_a_step(lsb: float) -> float:
@@ -69,15 +73,21 @@ def _stored_step(z: NDArray) -> float | None:
     A grid scaled into float32 (counts times a calibration, as HDF5 and netCDF files keep
     them) is off by float32's rounding, far above float64's, and stays so when the values
     are scaled or moved after: there the smallest second difference above float64's
-    rounding is float32's own spacing (or none is on a grid), not the grid. Second
+    rounding is float32's own spacing (or none is on a grid), not the grid. An offset far
+    above the values leaves that spacing as it was, under ``F32_EPS`` times the moved
+    values: the rounding is then read off the samples, :data:`F32_SEEN` times that
+    spacing (GOES's flux plus 1e4 standard deviations lost its grid). Second
     differences that are whole multiples of one step at float32's rounding are a grid all
     the same (random values are not: each of thousands would have to fall within
     :data:`LSB_TOL` of a multiple).
     """
+    top = float(np.max(np.abs(z)))
     step = _d2_step(z, ROUNDING_EPS)
-    if step is not None and step >= F32_EPS * float(np.max(np.abs(z))):
+    if step is not None and step >= F32_EPS * top:
         return step  # coarser than float32's rounding: a grid (most grids end here)
     wide = _d2_step(z, F32_EPS)
+    if wide is None and step:  # float32's rounding at the values' own scale, moved after
+        wide = _d2_step(z, F32_SEEN * step / top)
     if not wide:
         return step
     d2 = np.abs(np.diff(z, 2))
