@@ -21,6 +21,10 @@ ROUNDING_STEPS = 16
 #: difference (half a unit in the last place on each of three samples weighed 1, 2, 1 is
 #: 2 units; 4 more for units that differ across binades).
 F32_SEEN = 8
+#: Fewest second differences above float32's rounding that a grid read there needs: random
+#: values fall within LSB_TOL of a multiple of the least 1 time in 500 at most, so 8 that
+#: all do are no chance (an offset over a reset left one, the reset's, read as a "grid").
+F32_CONFIRM = 8
 
 
 def half_a_step(lsb: float) -> float:
@@ -85,12 +89,14 @@ def _stored_step(z: NDArray) -> float | None:
     step = _d2_step(z, ROUNDING_EPS)
     if step is not None and step >= F32_EPS * top:
         return step  # coarser than float32's rounding: a grid (most grids end here)
-    wide = _d2_step(z, F32_EPS)
+    eps = F32_EPS
+    wide = _d2_step(z, eps)
     if wide is None and step:  # float32's rounding at the values' own scale, moved after
-        wide = _d2_step(z, F32_SEEN * step / top)
-    if not wide:
-        return step
+        eps = F32_SEEN * step / top
+        wide = _d2_step(z, eps)
     d2 = np.abs(np.diff(z, 2))
+    if not wide or np.count_nonzero(d2 > eps * top) < F32_CONFIRM:
+        return step
     return float(d2.sum() / np.rint(d2 / wide).sum())  # every multiple, not the least alone
 
 
