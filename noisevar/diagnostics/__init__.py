@@ -30,7 +30,8 @@ from noisevar.diagnostics.results import NoiseDiagnostics
 from noisevar.diagnostics.segments import Gap, Segmentation, split_dropped, split_times
 from noisevar.diagnostics.sums import DiagSums, diag_part
 from noisevar.diagnostics.tails import kurtosis_from_moments, tail_index
-from noisevar.diagnostics.verdict import make_verdict, other_still_clause
+from noisevar.diagnostics.verdict import make_verdict
+from noisevar.diagnostics.verdict_parts import other_still_clause
 from noisevar.diagnostics.whiteness import WHITE_LAGS, WhitenessTest, whiteness_test
 from noisevar.errors import NoisevarError
 from noisevar.numeric.blocks import runs_of
