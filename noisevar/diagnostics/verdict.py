@@ -20,6 +20,12 @@ if TYPE_CHECKING:
 WEAK_P = 0.01
 #: The quiet stretches cover less than this share: the record is mostly motion.
 MOSTLY_MOTION = 0.5
+#: The first clause of every sentence on a level that changes: which kind (no quiet
+#: stretch, none quieter than R, mostly motion, a quiet level to use) is said after it.
+#: The kind rests on the quiet set's share and level, which the block grid's phase moves:
+#: SURFRAD's wind less 0-3 samples had 51, 38, 47, 43 % quiet (13, 4, 11, 10 quiet blocks on
+#: its own grid, 10 on the reversed one), and its first clause flipped at half (issue 26).
+CHANGES = "the noise level changes along the record"
 #: R over the core variance above which the outlying samples hold most of R (over half).
 OUTLIERS_HOLD = 2.0
 #: At most this share of outlying samples is "a few" (a start-up value, a logging error).
@@ -299,7 +305,7 @@ def _none_quieter(r: str, quiet: float) -> str:
     """The verdict of a varying level whose quietest stretches, as the level profile reads
     them (indicative: no still R), are not below R: nothing quieter to quote as the sensor's."""
     return (
-        f"the noise level changes along the record: {r} is an average, and no stretch of it "
+        f"{CHANGES}: {r} is an average, and no stretch of it "
         "is measurably quieter: the level profile's quietest stretches read "
         f"{_g(quiet)}, not below R (spikes or held values, not a sensor at rest), so R over the "
         "whole record is the only level measured"
@@ -308,10 +314,7 @@ def _none_quieter(r: str, quiet: float) -> str:
 
 def _level_changes(share: float, r: str, quiet: float, said: str) -> str:
     """The verdict of a record whose level varies: R an average, the quiet level to use."""
-    return (
-        f"the noise level changes along the record: {r} is an average; its quiet "
-        f"stretches ({share:.0%}) give {_g(quiet)}{said}"
-    )
+    return f"{CHANGES}: {r} is an average; its quiet stretches ({share:.0%}) give {_g(quiet)}{said}"
 
 
 def _not_white(
@@ -355,9 +358,9 @@ def _not_white(
     no_quiet = diag.level_varies and not prof.any_quiet and not still_apart
     if no_quiet and not under_half_a_step(diag, variance):  # (that is quantisation)
         return (
-            "the noise level changes along the record and no stretch of it is quiet: the "
-            f"sensor noise cannot be measured apart from the motion, so {r} over the whole "
-            "record includes motion or signal (record the sensor still for a while)"
+            f"{CHANGES}: no stretch of it is quiet, so the sensor noise cannot be measured "
+            f"apart from the motion, and {r} over the whole record includes motion or signal "
+            "(record the sensor still for a while)"
         )
     if (
         not still_apart
@@ -370,9 +373,9 @@ def _not_white(
     # no quiet block (a grid's noise under half a step): no still level to quote
     if diag.level_varies and prof.any_quiet and prof.quiet_share < MOSTLY_MOTION and not diag.white:
         return (
-            f"the noise level changes along the record, mostly motion or signal leaking through: "
-            "the sensor noise measured "
-            f"in its still stretches ({still_share(diag):.0%} of it) is "
+            f"{CHANGES}: the sensor noise measured in its still stretches "
+            f"({still_share(diag):.0%} of it; the rest is mostly motion or signal leaking "
+            "through) is "
             f"{_g(quiet)} (std {_g(float(np.sqrt(quiet)))}), "
             f"against {_g(variance)} over the whole record{said}"
         )
@@ -380,7 +383,7 @@ def _not_white(
         return differenced_verdict(diag.noise_correlation, r)
     if diag.motion_explains_colour:
         return (
-            f"the noise level changes along the record (motion): {r} is an average over "
+            f"{CHANGES}: motion; {r} is an average over "
             f"still and moving stretches; the still stretches ({still_share(diag):.0%}) give "
             f"{_g(quiet)}, and their noise is white: the rest is motion leaking through the "
             f"smoother, not coloured noise{indicative(gap)}"
