@@ -373,9 +373,8 @@ def _not_white(
     # no quiet block (a grid's noise under half a step): no still level to quote
     if diag.level_varies and prof.any_quiet and prof.quiet_share < MOSTLY_MOTION and not diag.white:
         return (
-            f"{CHANGES}: the sensor noise measured in its still stretches "
-            f"({still_share(diag):.0%} of it; the rest is mostly motion or signal leaking "
-            "through) is "
+            f"{CHANGES}: mostly motion or signal leaking through; the sensor noise measured "
+            f"in its still stretches ({still_share(diag):.0%} of it) is "
             f"{_g(quiet)} (std {_g(float(np.sqrt(quiet)))}), "
             f"against {_g(variance)} over the whole record{said}"
         )
