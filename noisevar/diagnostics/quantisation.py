@@ -85,17 +85,18 @@ def _stored_step(z: NDArray) -> float | None:
     the same (random values are not: each of thousands would have to fall within
     :data:`LSB_TOL` of a multiple).
     """
-    top = float(np.max(np.abs(z)))
     step = _d2_step(z, ROUNDING_EPS)
-    if step is not None and step >= F32_EPS * top:
+    if step is not None and step >= F32_EPS * float(np.max(np.abs(z))):
         return step  # coarser than float32's rounding: a grid (most grids end here)
     eps = F32_EPS
     wide = _d2_step(z, eps)
     if wide is None and step:  # float32's rounding at the values' own scale, moved after
-        eps = F32_SEEN * step / top
+        eps = F32_SEEN * step / float(np.max(np.abs(z)))
         wide = _d2_step(z, eps)
+    if not wide:
+        return step
     d2 = np.abs(np.diff(z, 2))
-    if not wide or np.count_nonzero(d2 > eps * top) < F32_CONFIRM:
+    if np.count_nonzero(d2 > eps * float(np.max(np.abs(z)))) < F32_CONFIRM:
         return step
     return float(d2.sum() / np.rint(d2 / wide).sum())  # every multiple, not the least alone
 
