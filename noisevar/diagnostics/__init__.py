@@ -30,7 +30,8 @@ from noisevar.diagnostics.results import NoiseDiagnostics
 from noisevar.diagnostics.segments import Gap, Segmentation, split_dropped, split_times
 from noisevar.diagnostics.sums import DiagSums, diag_part
 from noisevar.diagnostics.tails import kurtosis_from_moments, tail_index
-from noisevar.diagnostics.verdict import make_verdict, other_still_clause
+from noisevar.diagnostics.verdict import make_verdict
+from noisevar.diagnostics.verdict_parts import other_still_clause
 from noisevar.diagnostics.whiteness import WHITE_LAGS, WhitenessTest, whiteness_test
 from noisevar.errors import NoisevarError
 from noisevar.numeric.blocks import runs_of
@@ -46,6 +47,7 @@ __all__ = [
     "diagnose",
     "from_sums",
     "glitches_apart",
+    "lone_apart",
     "on_both_grids",
     "profile_from_sums",
     "profile_of",
@@ -69,6 +71,21 @@ def glitches_apart(count: int, n: int) -> bool:
     correlation findings: at most :data:`GLITCHES_APART` of the samples, or one (a start-up
     value in a record of 600 samples made a coloured record read as a random walk)."""
     return 0 < count <= max(1.0, GLITCHES_APART * n)
+
+
+def lone_apart(glitches: NDArray | None, n: int) -> NDArray | None:
+    """The lone glitches of ``glitches`` (:func:`~.glitches.lone`) when few enough to leave
+    out of the correlation findings (:func:`glitches_apart`), else None.
+
+    Beside a burst the outlying samples are too many to leave out, yet a lone one still
+    holds the sample autocorrelation: MIDC's accumulated irradiance opens with the day
+    before's total, one increment of 99.99 % of the increments' sum of squares, and read
+    as a random walk (increments' autocorrelation 0.001, p = 1; 0.99 without it).
+    """
+    if glitches is None:
+        return None
+    one = lone(glitches)
+    return one if glitches_apart(one.size, n) else None
 
 
 def diagnose(
@@ -129,7 +146,10 @@ def from_sums(
     glitch dominates a sample autocorrelation: inside the record its residual's shape made
     coloured noise read white, and its two increments a random walk read as measurable
     noise; at the first sample its one increment did neither (issue 26). The tails keep
-    them: they are noise, and in R. The level profile reads the blocks within reach of a
+    them: they are noise, and in R. Beside a burst (more outlying samples than that), the
+    lone ones alone are left out when as few (:func:`lone_apart`): a burst of motion
+    elsewhere does not make a start-up value part of the noise's correlation. The level
+    profile reads the blocks within reach of a
     lone one (:func:`~noisevar.diagnostics.glitches.lone`) with it bridged, when
     ``read(a, b)`` gives samples ``a .. b`` (the sums are then changed in place, and the
     reversed grid's in ``sums.back`` too): one sample is never a regime of its own
@@ -155,8 +175,9 @@ def from_sums(
     dz, used = sums.incr.joined()
     apart = glitches is not None and glitches_apart(glitches.size, plan.n)
     lone_ones = lone(glitches) if apart and read is not None else np.zeros(0, dtype=int)
-    if apart:
-        keep_w, used, head = _without_glitches(sums, keep_w, used, head, seg, glitches)
+    out = glitches if apart else lone_apart(glitches, plan.n)
+    if out is not None and out.size:
+        keep_w, used, head = _without_glitches(sums, keep_w, used, head, seg, out)
     if lone_ones.size and read is not None:
         _bridge(sums, lone_ones, read)
 

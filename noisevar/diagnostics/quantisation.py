@@ -17,6 +17,14 @@ ROUNDING_EPS = 8 * float(np.finfo(float).eps)
 F32_EPS = 8 * float(np.finfo(np.float32).eps)
 #: A grid step of second differences is at least this many times their float rounding.
 ROUNDING_STEPS = 16
+#: float32's rounding seen in the samples: up to this many of their smallest second
+#: difference (half a unit in the last place on each of three samples weighed 1, 2, 1 is
+#: 2 units; 4 more for units that differ across binades).
+F32_SEEN = 8
+#: Fewest second differences above float32's rounding that a grid read there needs: random
+#: values fall within LSB_TOL of a multiple of the least 1 time in 500 at most, so 8 that
+#: all do are no chance (an offset over a reset left one, the reset's, read as a "grid").
+F32_CONFIRM = 8
 
 
 def half_a_step(lsb: float) -> float:
@@ -69,7 +77,10 @@ def _stored_step(z: NDArray) -> float | None:
     A grid scaled into float32 (counts times a calibration, as HDF5 and netCDF files keep
     them) is off by float32's rounding, far above float64's, and stays so when the values
     are scaled or moved after: there the smallest second difference above float64's
-    rounding is float32's own spacing (or none is on a grid), not the grid. Second
+    rounding is float32's own spacing (or none is on a grid), not the grid. An offset far
+    above the values leaves that spacing as it was, under ``F32_EPS`` times the moved
+    values: the rounding is then read off the samples, :data:`F32_SEEN` times that
+    spacing (GOES's flux plus 1e4 standard deviations lost its grid). Second
     differences that are whole multiples of one step at float32's rounding are a grid all
     the same (random values are not: each of thousands would have to fall within
     :data:`LSB_TOL` of a multiple).
@@ -77,10 +88,16 @@ def _stored_step(z: NDArray) -> float | None:
     step = _d2_step(z, ROUNDING_EPS)
     if step is not None and step >= F32_EPS * float(np.max(np.abs(z))):
         return step  # coarser than float32's rounding: a grid (most grids end here)
-    wide = _d2_step(z, F32_EPS)
+    eps = F32_EPS
+    wide = _d2_step(z, eps)
+    if wide is None and step:  # float32's rounding at the values' own scale, moved after
+        eps = F32_SEEN * step / float(np.max(np.abs(z)))
+        wide = _d2_step(z, eps)
     if not wide:
         return step
     d2 = np.abs(np.diff(z, 2))
+    if np.count_nonzero(d2 > eps * float(np.max(np.abs(z)))) < F32_CONFIRM:
+        return step
     return float(d2.sum() / np.rint(d2 / wide).sum())  # every multiple, not the least alone
 
 

@@ -5,15 +5,14 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 import numpy as np
-from numpy.typing import NDArray
 
 from noisevar.diagnostics.power_law import WHITE, describe
 from noisevar.diagnostics.quantisation import half_a_step
 from noisevar.diagnostics.regimes import STILL_RATIO, read_above
+from noisevar.diagnostics.verdict_parts import differenced_verdict
 from noisevar.format import eng
 
 if TYPE_CHECKING:
-    from noisevar.diagnostics.regimes import StillLevel
     from noisevar.diagnostics.results import NoiseDiagnostics
     from noisevar.diagnostics.whiteness import WhitenessTest
 
@@ -21,6 +20,12 @@ if TYPE_CHECKING:
 WEAK_P = 0.01
 #: The quiet stretches cover less than this share: the record is mostly motion.
 MOSTLY_MOTION = 0.5
+#: The first clause of every sentence on a level that changes: which kind (no quiet
+#: stretch, none quieter than R, mostly motion, a quiet level to use) is said after it.
+#: The kind rests on the quiet set's share and level, which the block grid's phase moves:
+#: SURFRAD's wind less 0-3 samples had 51, 38, 47, 43 % quiet (13, 4, 11, 10 quiet blocks on
+#: its own grid, 10 on the reversed one), and its first clause flipped at half (issue 26).
+CHANGES = "the noise level changes along the record"
 #: R over the core variance above which the outlying samples hold most of R (over half).
 OUTLIERS_HOLD = 2.0
 #: At most this share of outlying samples is "a few" (a start-up value, a logging error).
@@ -55,10 +60,11 @@ def make_verdict(
     """One sentence, worst finding first.
 
     When a few outlying samples hold most of R of a record of one level and the sentence
-    would not quote the core variance, they come first (:func:`outliers_hold`) and the
-    sentence describes the record without them: on a coloured record a start-up value
-    held 99.8 % of R, which the sentence called the noise's white part (PX4 airspeed,
-    issue 26).
+    would not quote the core variance, the sentence describes the record without them (a
+    start-up value held 99.8 % of R, which it called the noise's white part) and says them
+    second (:func:`outliers_hold`): their share of R is a point ratio that the record's
+    edge moves (PX4 airspeed less 0-4 samples: 99.8, 42, 14, 65, 70 %), its colour is not
+    (issue 26).
 
     Parameters
     ----------
@@ -93,25 +99,24 @@ def make_verdict(
     if still is not None or diag.level_varies or rounding or not lead or "core variance" in said:
         return said
     assert core is not None  # outliers_hold said so
-    return lead + _sentence(diag, core, core, 0.0, None, still_gap, "the core variance")
+    return _sentence(diag, core, core, 0.0, None, still_gap, "the core variance") + lead
 
 
 def outliers_hold(variance: float, core: float | None, outliers: float) -> str:
-    """The verdict's lead when a few outlying samples hold most of R ('' when they do not).
+    """The verdict's last clause when a few outlying samples hold most of R ('' when not).
 
     R counts them as noise (a plain Kalman filter sees them); when they hold over half of
-    it, R is mostly those few samples, and the core variance (without them) is what the
-    rest of the record reads: the R to use when they are not the sensor's noise (a
-    start-up value, a logging error), or a robust filter's. The verdict then goes on
-    about the record without them.
+    it, R is mostly those few samples, and the core variance (without them), which the
+    verdict's finding is read on, is the R to use when they are not the sensor's noise (a
+    start-up value, a logging error), or a robust filter's.
     """
     if core is None or not 0 < outliers <= OUTLIERS_FEW or not variance > OUTLIERS_HOLD * core:
         return ""
     return (
-        f"{_share(outliers)} of the samples are outlying and hold {_share(1 - core / variance)} "
-        f"of {_r(variance)}: it counts them as noise, as a plain Kalman filter needs; without "
-        f"them the core variance is {_g(core)}, the R to use if they are not the sensor's "
-        "noise (a start-up value, a logging error), or a robust filter's; without them, "
+        f"; {_share(outliers)} of the samples are outlying and hold "
+        f"{_share(1 - core / variance)} of {_r(variance)}, which counts them as noise, as a "
+        "plain Kalman filter needs: the core variance leaves them out, the R to use if they "
+        "are not the sensor's noise (a start-up value, a logging error), or a robust filter's"
     )
 
 
@@ -300,7 +305,7 @@ def _none_quieter(r: str, quiet: float) -> str:
     """The verdict of a varying level whose quietest stretches, as the level profile reads
     them (indicative: no still R), are not below R: nothing quieter to quote as the sensor's."""
     return (
-        f"the noise level changes along the record: {r} is an average, and no stretch of it "
+        f"{CHANGES}: {r} is an average, and no stretch of it "
         "is measurably quieter: the level profile's quietest stretches read "
         f"{_g(quiet)}, not below R (spikes or held values, not a sensor at rest), so R over the "
         "whole record is the only level measured"
@@ -309,10 +314,7 @@ def _none_quieter(r: str, quiet: float) -> str:
 
 def _level_changes(share: float, r: str, quiet: float, said: str) -> str:
     """The verdict of a record whose level varies: R an average, the quiet level to use."""
-    return (
-        f"the noise level changes along the record: {r} is an average; its quiet "
-        f"stretches ({share:.0%}) give {_g(quiet)}{said}"
-    )
+    return f"{CHANGES}: {r} is an average; its quiet stretches ({share:.0%}) give {_g(quiet)}{said}"
 
 
 def _not_white(
@@ -356,9 +358,9 @@ def _not_white(
     no_quiet = diag.level_varies and not prof.any_quiet and not still_apart
     if no_quiet and not under_half_a_step(diag, variance):  # (that is quantisation)
         return (
-            "the noise level changes along the record and no stretch of it is quiet: the "
-            f"sensor noise cannot be measured apart from the motion, so {r} over the whole "
-            "record includes motion or signal (record the sensor still for a while)"
+            f"{CHANGES}: no stretch of it is quiet, so the sensor noise cannot be measured "
+            f"apart from the motion, and {r} over the whole record includes motion or signal "
+            "(record the sensor still for a while)"
         )
     if (
         not still_apart
@@ -371,17 +373,16 @@ def _not_white(
     # no quiet block (a grid's noise under half a step): no still level to quote
     if diag.level_varies and prof.any_quiet and prof.quiet_share < MOSTLY_MOTION and not diag.white:
         return (
-            f"the noise level changes along the record, mostly motion or signal leaking through: "
-            "the sensor noise measured "
+            f"{CHANGES}: mostly motion or signal leaking through; the sensor noise measured "
             f"in its still stretches ({still_share(diag):.0%} of it) is "
             f"{_g(quiet)} (std {_g(float(np.sqrt(quiet)))}), "
             f"against {_g(variance)} over the whole record{said}"
         )
     if diag.differenced:
-        return _differenced(diag.noise_correlation, r)
+        return differenced_verdict(diag.noise_correlation, r)
     if diag.motion_explains_colour:
         return (
-            f"the noise level changes along the record (motion): {r} is an average over "
+            f"{CHANGES}: motion; {r} is an average over "
             f"still and moving stretches; the still stretches ({still_share(diag):.0%}) give "
             f"{_g(quiet)}, and their noise is white: the rest is motion leaking through the "
             f"smoother, not coloured noise{indicative(gap)}"
@@ -491,50 +492,6 @@ def still_said(diag: NoiseDiagnostics, gap: str | None) -> str:
     return ("" if untested else still_colour(diag)) + indicative(gap)
 
 
-def still_level_fields(level: StillLevel, n: int) -> dict[str, str]:
-    """A near-still regime's stretch, share, level and interval, as every page says them.
-
-    Parameters
-    ----------
-    level : StillLevel
-        One of ``NoiseDiagnostics.other_still``.
-    n : int
-        Samples in the record.
-
-    Returns
-    -------
-    dict
-        ``stretch`` ("samples 300-5400"), ``share`` of the record ("76%"), ``level`` and
-        its ``ci95`` as multiples of the R to use ("2.20x", "1.95-2.48x").
-    """
-    return {
-        "stretch": f"samples {level.start}-{level.stop}",
-        "share": f"{(level.stop - level.start) / max(n, 1):.0%}",
-        "level": f"{level.ratio:.2f}x",
-        "ci95": f"{level.lo:.2f}-{level.hi:.2f}x",
-    }
-
-
-def other_still_clause(diag: NoiseDiagnostics) -> str:
-    """What the other still levels add to the verdict ('' when there is none).
-
-    Each near-still regime whose level, measured as the R to use is, lies above it
-    (docs/algorithms.md §E1 *Several still levels*): the R to use stays the floor.
-    """
-    if not diag.other_still:
-        return ""
-    said = "; ".join(
-        f"{f['stretch']} ({f['share']} of the record) at {f['level']} (ci95 {f['ci95']})"
-        for f in (still_level_fields(x, diag.n) for x in diag.other_still)
-    )
-    return (
-        f". Other still stretches rest at a higher level on the same residual: {said}: "
-        "another posture, or slow sway; the still level above is the floor, the sensor's "
-        "own noise, and a filter that runs through those stretches without modelling that "
-        "motion needs their level"
-    )
-
-
 def _lag_excess(w: WhitenessTest, k: int) -> str:
     """The residual's lag-``k + 1`` autocorrelation beyond white noise's.
 
@@ -576,24 +533,3 @@ def _share(x: float) -> str:
     if x == 0:
         return "no"
     return f"{100 * x:.2g}%" if x < 1e-3 else f"{x:.1%}"
-
-
-def _differenced(corr: NDArray, r: str) -> str:
-    """The verdict on differenced data: MA(1) (a difference) or MA(q) (a derivative filter)."""
-    if corr.size == 1:
-        return (
-            "the data look differenced (a frequency from phase, a velocity from positions): "
-            f"the noise's lag-1 correlation is {corr[0]:+.2f}, as the difference of white "
-            f"noise gives (-0.5); {r} is the variance per sample, but successive errors are "
-            "correlated: filter the undifferenced quantity (its R is about half this) or "
-            "model MA(1) measurement noise"
-        )
-    lag = int(np.argmin(corr)) + 1
-    return (
-        "the data look differenced (a velocity from positions by a central difference or a "
-        f"derivative filter): the noise's correlation at lag {lag} is {corr[lag - 1]:+.2f} "
-        f"(np.gradient's central difference gives -0.5 at lag 2); {r} is the variance per "
-        "sample, but errors up to "
-        f"{corr.size} samples apart are correlated: filter the undifferenced quantity or "
-        f"model MA({corr.size}) measurement noise"
-    )

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from noisevar.diagnostics.panel import verdict_severity
-from noisevar.diagnostics.verdict import still_level_fields
+from noisevar.diagnostics.verdict_parts import still_level_fields
 from noisevar.estimators.regimes import DEFAULT_REGIMES, estimate_for, still_used
 from noisevar.estimators.results import VarianceEstimate
 from noisevar.format import eng, eng_range, squared
@@ -225,7 +225,7 @@ def still_level_rows(
     -------
     list of dict
         Per level: stretch, share of the record, level and 95 % interval over the still
-        R (:func:`~noisevar.diagnostics.verdict.still_level_fields`, as the verdict says
+        R (:func:`~noisevar.diagnostics.verdict_parts.still_level_fields`, as the verdict says
         them) and the R there.
     """
     if still_variance is None or not math.isfinite(still_variance):

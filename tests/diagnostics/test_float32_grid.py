@@ -43,12 +43,22 @@ def test_float32_noise_off_any_grid_is_not_given_one() -> None:
 @pytest.mark.parametrize("move", ["scale", "offset", "trend"])
 def test_float32_counts_keep_the_grid_when_scaled_or_moved_after(move) -> None:
     """GOES's flux x1e3, + an offset, + a trend (real_audit6's transforms): float64 values
-    that carry float32's rounding read 'white Gaussian noise' against 'on a grid'. (An
-    offset of 1e4 standard deviations, as the audit's, hides float32's rounding under the
-    offset's own: the grid is lost there, a limit docs/algorithms.md §E3 states.)"""
+    that carry float32's rounding read 'white Gaussian noise' against 'on a grid'."""
     flux = (_counts(5) * 4.7e-10).astype(np.float32).astype(np.float64)
     s = float(np.std(flux))
     moved = {"scale": 1e3 * flux, "offset": flux + 10 * float(np.max(flux)),
              "trend": flux + np.linspace(0.0, 1e3 * s, flux.size)}[move]  # fmt: skip
     k = 1e3 if move == "scale" else 1.0
     assert noisevar.estimate(moved).diagnostics.lsb == pytest.approx(8 * 4.7e-10 * k, rel=1e-4)
+
+
+@pytest.mark.parametrize("seed", [5, 6, 7])
+def test_float32_counts_keep_the_grid_under_an_offset_far_above_them(seed) -> None:
+    """An offset of 1e4 standard deviations (verdict_invariance's) leaves float32's rounding
+    as it was, far under float32's rounding at the moved values, which the grid was read
+    at: GOES's flux lost its grid there ("white Gaussian noise", was "on a grid")."""
+    flux = (_counts(seed) * 4.7e-10).astype(np.float32).astype(np.float64)
+    moved = flux + 1e4 * float(np.std(flux))
+    a, b = noisevar.estimate(flux), noisevar.estimate(moved)
+    assert b.diagnostics.lsb == pytest.approx(a.diagnostics.lsb, rel=1e-6)
+    assert b.verdict.split(":")[0] == a.verdict.split(":")[0], (a.verdict, b.verdict)

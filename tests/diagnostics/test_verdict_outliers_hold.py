@@ -1,8 +1,10 @@
-"""A few outlying samples that hold most of R lead the verdict (issue 26).
+"""A few outlying samples that hold most of R are said in the verdict (issue 26).
 
 PX4's airspeed topic starts with a value 0.22 m/s off (the sensor starting): without its
 clock that one sample held 99.8 % of R, and the verdict called R "its white part (or a
-little above)" of coloured noise, 590x the rest of the record's level.
+little above)" of coloured noise, 590x the rest of the record's level. They led the
+verdict, and dropping 1-2 samples (their share of R 42 %, 14 %) changed its finding: the
+record's finding now leads, read on the core variance, and they come second.
 """
 
 from __future__ import annotations
@@ -24,18 +26,29 @@ def _coloured(n: int, seed: int = 0) -> np.ndarray:
 
 
 @pytest.mark.parametrize("n", [600, 3000])
-def test_a_start_up_value_that_holds_r_leads_the_verdict(n: int) -> None:
+def test_a_start_up_value_that_holds_r_is_said_after_the_finding(n: int) -> None:
     x = _coloured(n)
     clean = noisevar.estimate(x)
     x[0] += 3.0
     r = noisevar.estimate(x)
     v = r.diagnostics.verdict
     assert r.variance > 10 * r.core_variance
-    assert "outlying and hold" in v.split(":")[0] and "core variance is" in v, v  # first
-    # the rest says what the record without it says, of the core variance, not of R
-    rest = v.split("; without them, ")[-1]
-    assert rest.split(":")[0] == clean.diagnostics.verdict.split(":")[0], (rest, clean)
-    assert "the core variance = " in rest and "R = " not in rest, rest
+    # the finding and first clause are the record's without it, said of the core variance
+    assert v.split(":")[0] == clean.diagnostics.verdict.split(":")[0], (v, clean)
+    head, _, tail = v.partition(" of the samples are outlying")
+    assert "the core variance = " in head and "R = " not in head, v
+    assert tail.startswith(" and hold") and "the core variance leaves them out" in tail, v
+
+
+@pytest.mark.parametrize("drop", [1, 2, 3])
+def test_the_finding_does_not_hang_on_the_start_up_value(drop: int) -> None:
+    """Dropping the start-up value (and 1-2 samples more) leaves the finding as it is:
+    its share of R moved about a half on PX4's airspeed (99.8, 42, 14, 65 %) and led the
+    verdict above a half only."""
+    x = _coloured(600, 3)
+    x[0] += 3.0
+    first = noisevar.estimate(x).diagnostics.verdict.split(":")[0]
+    assert first == noisevar.estimate(x[drop:]).diagnostics.verdict.split(":")[0]
 
 
 def test_no_lead_when_outliers_are_a_small_part_of_r() -> None:
@@ -54,7 +67,7 @@ def test_px4_airspeed_start_up_value_is_said() -> None:
     r = noisevar.estimate(x)  # no clock: sample 0 is not cut off by its gap
     v = r.diagnostics.verdict
     assert "outlying and hold 99.8% of R" in v, v
-    assert "is its white part" not in v.split("; without them, ")[0], v
+    assert v.startswith("the noise is coloured") and "R = " not in v.split(";")[1], v
     # the same figures with it dropped: the core variance is the rest's R's order
     rest = noisevar.estimate(x[1:])
     assert 0.3 < r.core_variance / rest.variance < 3, (r.core_variance, rest.variance)
