@@ -98,6 +98,17 @@ def ref_row(name, ch, what, ref, est, fail) -> dict:
             "verdict": est.verdict or "(none)", "fail": fail}  # fmt: skip
 
 
+def cli_said(out: str, rows: int = 4, cut: int = 120, unit: bool = True) -> str:
+    """What ``noisevar estimate --format json`` said, in one line: each of the first ``rows``
+    channels' column (and unit), then its error, or R and its verdict, cut at ``cut``."""
+    js = json.loads(out)
+    return "; ".join(
+        f"{r.get('column')}" + (f" [{r.get('unit')}]" if unit else "") + ": "
+        + (r["error"][:90] if "error" in r else f"R {r['variance']:.4g}, {r.get('verdict')}"[:cut])
+        for r in js.get("channels", [js])[:rows]
+    )
+
+
 def md_table(title: str, head: str, rows: list[str]) -> list[str]:
     """A Markdown table under its title: ``head`` is its header row."""
     cols = head.count("|") - 1

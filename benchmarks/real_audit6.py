@@ -71,7 +71,7 @@ from noisevar.io import channel_record, load_table
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _refdata  # noqa: E402
-from real_audit import audit_channels, audit_sections, ref_row  # noqa: E402
+from real_audit import audit_channels, audit_sections, cli_said, ref_row  # noqa: E402
 from real_audit import clause as finding  # noqa: E402
 from real_audit3 import _one_line, process  # noqa: E402
 from real_audit5 import _clause, one_answer  # noqa: E402
@@ -244,18 +244,9 @@ def bad_input(tmp: Path) -> list[dict]:
             fail.append("the default column is not the ECG")
         if "netCDF4" in what and rc == 0 and json.loads(out).get("unit") != "W/m2":
             fail.append(f"unit {json.loads(out).get('unit')!r}, the file's is 'W/m2'")
-        res.append({"case": what, "exit": rc, "said": err if rc else _said(out), "fail": fail})
+        said = err if rc else cli_said(out, rows=3, cut=160)
+        res.append({"case": what, "exit": rc, "said": said, "fail": fail})
     return res
-
-
-def _said(out: str) -> str:
-    js = json.loads(out)
-    rows = js.get("channels", [js])
-    return "; ".join(
-        f"{r.get('column')} [{r.get('unit')}]: "
-        + (r["error"][:90] if "error" in r else f"R {r['variance']:.4g}, {r.get('verdict')}"[:160])
-        for r in rows[:3]
-    )
 
 
 # ---------------------------------------------------------------- the run

@@ -73,7 +73,7 @@ from noisevar.io import channel_record, load_table
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _refdata  # noqa: E402
-from real_audit import audit_channels, audit_sections, md_table, ref_row, to_use  # noqa: E402
+from real_audit import audit_channels, audit_sections, cli_said, md_table, ref_row, to_use  # noqa: E402
 from real_audit3 import _one_line, process  # noqa: E402
 from real_audit5 import one_answer  # noqa: E402
 
@@ -299,18 +299,8 @@ def bad_input() -> list[dict]:
                 fail.append("'2.5%' read as a unit")
         elif "no --column" in what or "--unit-out" in what:
             fail.append("refused: a measured column, its unit declared, must answer")
-        res.append({"case": what, "exit": rc, "said": err if rc else _said(out), "fail": fail})
+        res.append({"case": what, "exit": rc, "said": err if rc else cli_said(out), "fail": fail})
     return res
-
-
-def _said(out: str) -> str:
-    js = json.loads(out)
-    rows = js.get("channels", [js])
-    return "; ".join(
-        f"{r.get('column')} [{r.get('unit')}]: "
-        + (r["error"][:90] if "error" in r else f"R {r['variance']:.4g}, {r.get('verdict')}"[:120])
-        for r in rows[:4]
-    )
 
 
 # ---------------------------------------------------------------- the run

@@ -87,7 +87,7 @@ from noisevar.io import channel_record, load_table
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _refdata  # noqa: E402
-from real_audit import audit_channels, audit_sections, ref_row, to_use  # noqa: E402
+from real_audit import audit_channels, audit_sections, cli_said, ref_row, to_use  # noqa: E402
 from real_audit3 import _one_line, process  # noqa: E402
 from real_audit5 import one_answer  # noqa: E402
 from real_audit8 import _TO_DO, finding_kept, grid_reference, held_reference  # noqa: E402
@@ -367,19 +367,9 @@ def bad_input() -> list[dict]:
     res = []
     for what, (path, args) in cases.items():
         rc, out, err = process("estimate", path, *args, "--format", "json")
-        res.append({"case": what, "exit": rc, "said": err if rc else _said(out),
+        res.append({"case": what, "exit": rc, "said": err if rc else cli_said(out, unit=False),
                     "fail": _file_checks(what, rc, out, err)})  # fmt: skip
     return res
-
-
-def _said(out: str) -> str:
-    js = json.loads(out)
-    rows = js.get("channels", [js])
-    return "; ".join(
-        f"{r.get('column')}: "
-        + (r["error"][:90] if "error" in r else f"R {r['variance']:.4g}, {r.get('verdict')}"[:120])
-        for r in rows[:4]
-    )
 
 
 # ---------------------------------------------------------------- the run
