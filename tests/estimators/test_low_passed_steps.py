@@ -105,3 +105,16 @@ def test_short_random_walk_is_no_cluster_of_jumps():
         walk = np.cumsum(rng.normal(size=300)) + 0.05 * rng.normal(size=300)
         e = nv.estimate(walk)
         assert e.jumps is None or not e.jumps.any(), (seed, int(e.jumps.sum()))
+
+
+@pytest.mark.parametrize("seed", [16, 29])
+def test_short_held_record_in_other_units_scales_exactly(seed):
+    """Whole degrees held between changes, with spikes (a ship's temperature topic): in
+    degF (x1.8 + 32) R is x3.24 exactly. Held blocks' D3 is 0, or rounding under the
+    offset: it must not enter the record's own level (R moved 0.8-1.3 %)."""
+    rng = np.random.default_rng(seed)
+    t = np.round(20 + np.cumsum(rng.normal(0, 0.08, 900)))
+    spikes = rng.choice(900, 3, replace=False)
+    t[spikes] += rng.choice([-40, 40], 3)
+    a, b = nv.estimate(t).variance, nv.estimate(1.8 * t + 32).variance
+    assert b == pytest.approx(3.24 * a, rel=1e-9)

@@ -275,6 +275,9 @@ class Above:
     fwd: NDArray
     bwd: NDArray
     g: Grids
+    #: Each grid's least levels (the rounding of the samples, :func:`rounding_floors`, times
+    #: the levels' scale): a block at its floor is held (None: not known).
+    floors: tuple[NDArray, NDArray] | None = None
     #: Raised over the whole window (a grid of few blocks: :meth:`_raised_whole`).
     whole: bool = False
 
@@ -344,31 +347,36 @@ class Above:
         bwd = _raised(g.back(x), j[j >= 0], self.bwd, g.block, g.nbb, expected)
         if fwd is self.fwd and bwd is self.bwd:
             return self
-        return Above(fwd, bwd, g)
+        return Above(fwd, bwd, g, self.floors)
 
     def _raised_whole(self, x: NDArray, expected: float) -> Above:
-        """:meth:`raised` on a grid of few blocks: every level times ``r / OWN_MARGIN`` where
+        """:meth:`raised` on a grid of few blocks: every level times ``1 + (r - m) / 2`` where
         ``r``, read off the whole window (the median of ``x`` over its own level, the larger
-        of both grids'), exceeds :data:`OWN_WHOLE_MARGIN`; then only lone steps are jumps.
+        of both grids', held blocks left out), exceeds ``m`` (:data:`OWN_WHOLE_MARGIN`; 1 at
+        the margin: continuous); lone steps are then jumps, the other flags judged by the
+        flags before the raise (:class:`~noisevar.numeric.steps.StepFlags`).
 
         White noise under a signal reads ``r`` up to 2.3 (``steps-ramps``, 1,000 samples),
         AR(1) noise of lag-one correlation 0.7-0.9 reads 4.2-9, a GPS track 40-1,300 (its
         walk): at raised levels its fast signal would flag under a fifth of the record and
-        be believed, so a raised window believes lone steps only (docs/algorithms.md §F5.3).
+        be believed (docs/algorithms.md §F5.3).
         """
         g = self.g
         k = np.flatnonzero(x > 0.0)  # D3 is 0 where it is not defined
-        lf = self.fwd[np.minimum(k // g.block, g.nb - 1)]
-        lb = self.bwd[np.clip(g.back_index(k) // g.block, 0, g.nbb - 1)]
+        fi = np.minimum(k // g.block, g.nb - 1)
+        bi = np.clip(g.back_index(k) // g.block, 0, g.nbb - 1)
+        lf, lb = self.fwd[fi], self.bwd[bi]
         ok = (lf > 0) & (lb > 0) & np.isfinite(lf) & np.isfinite(lb)
+        if self.floors is not None:  # held blocks: their D3 is 0, or rounding under an offset
+            ok &= (lf > self.floors[0][fi]) & (lb > self.floors[1][bi])
         if ok.sum() < OWN_WHOLE_VALUES:
             return self
         r = max(np.median(x[k][ok] / lf[ok]), np.median(x[k][ok] / lb[ok]))
         r /= CHI2_1_MEDIAN * expected
         if not r > OWN_WHOLE_MARGIN:
             return self
-        f = r / OWN_MARGIN
-        return Above(self.fwd * f, self.bwd * f, self.g, whole=True)
+        f = 1.0 + (r - OWN_WHOLE_MARGIN) / OWN_MARGIN  # continuous: 1 at the margin
+        return Above(self.fwd * f, self.bwd * f, self.g, self.floors, whole=True)
 
     def _halves(self) -> tuple[NDArray, NDArray]:
         return half_levels(self.fwd), half_levels(self.bwd)

@@ -155,8 +155,9 @@ def _outlier_mask(
             first = dilate(first, widen)
         idx = np.flatnonzero(first)
     # κ² times the local variance of each block on both grids (held at its centre)
-    fwd, bwd = kept_levels(sq, idx, g, kappa**2 / _truncated_second_moment(kappa), floors)
-    above = Above(fwd, bwd, g)
+    k = kappa**2 / _truncated_second_moment(kappa)
+    fwd, bwd = kept_levels(sq, idx, g, k, floors)
+    above = Above(fwd, bwd, g, None if floors is None else (k * floors[0], k * floors[1]))
     outlier = above(sq)
     jumps, found = None, None
     if steps is not None:
