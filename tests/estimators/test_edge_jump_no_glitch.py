@@ -9,8 +9,6 @@ from noisevar.estimators.auto._edges import edge_glitches
 
 #: The pitch's take-off rotation (grid steps), as the record reads with two samples dropped.
 _ROTATION = np.array([41.0, 41, 42, 46, 48, 48, 46, 45, 44, 44, 45, 47, 47, 48, 47, 47, 47, 47])
-#: The outlier test's level of a square there: lsb²/12 (the rounding floor), 5² times.
-_LIMIT = 25.0 / 12.0
 
 
 def _quiet(seed: int, n: int = 400) -> np.ndarray:
@@ -22,17 +20,13 @@ def test_a_rotation_at_the_start_is_not_credited_as_a_glitch() -> None:
     for seed in (0, 1, 2):
         z = _quiet(seed)
         z[: _ROTATION.size] = _ROTATION
-        peaks, first, _ = edge_glitches(
-            z, np.array([0, 1, 2]), (5, 5), 5, 3, limits=(_LIMIT, _LIMIT)
-        )
+        peaks, first, _ = edge_glitches(z, np.array([0, 1, 2]), (5, 5), 5, 3)
         # was: 50.5 steps² added, 25x the square the one-sided rows give sample 0
         assert first == 0.0
         assert peaks.tolist() == [0, 1, 2]
         # the reversed record: the same at its end
-        _, _, last = edge_glitches(
-            z[::-1].copy(), np.array([z.size - 3, z.size - 2, z.size - 1]), (5, 5), 5, 3,
-            limits=(_LIMIT, _LIMIT),
-        )  # fmt: skip
+        back = np.array([z.size - 3, z.size - 2, z.size - 1])
+        _, _, last = edge_glitches(z[::-1].copy(), back, (5, 5), 5, 3)
         assert last == 0.0
 
 
@@ -40,8 +34,6 @@ def test_a_lone_glitch_at_the_start_keeps_its_credit() -> None:
     for seed in (0, 1, 2):
         z = _quiet(seed)
         z[0] += 6.0
-        peaks, first, _ = edge_glitches(
-            z, np.array([0, 1, 2]), (5, 5), 5, 3, limits=(_LIMIT, _LIMIT)
-        )
+        peaks, first, _ = edge_glitches(z, np.array([0, 1, 2]), (5, 5), 5, 3)
         assert peaks.tolist() == [0]
         assert first > 0.9 * 36.0 * 0.9  # (1 - w_0) 6², w_0 about 4 %

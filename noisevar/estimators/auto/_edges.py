@@ -99,7 +99,7 @@ def deleted_residuals(z: NDArray, reach: int, order: int, span: int = 0) -> tupl
 
 
 def _one_edge(
-    z: NDArray, peaks: NDArray, span: int, detect: int, order: int, limit: float = np.inf
+    z: NDArray, peaks: NDArray, span: int, detect: int, order: int
 ) -> tuple[NDArray, float]:
     """:func:`edge_glitches` at the record's start (``z`` read from it)."""
     w = edge_weights(span, order)
@@ -109,24 +109,32 @@ def _one_edge(
     # order 3: the same square on three): the deleted residual tells its own, searched
     # as far as a glitch reaches into them (one just past them is that one: merged)
     at = int(np.argmax(t[: 2 * detect - 1]))
-    if not explains(z, at, size[at], 2 * detect - 1, span, limit):
+    if not explains(z, at, reach, span):
         return peaks, 0.0  # a jump or fast motion at the edge: its samples count as they are
     moved = np.unique(np.where(peaks < detect - 1, at, peaks))
     near = moved[moved < w.size]
     return moved, float(np.sum((1.0 - w[near]) * size[near] ** 2))
 
 
-def explains(z: NDArray, at: int, size: float, reach: int, span: int, limit: float) -> bool:
-    """Whether one glitch of ``size`` at sample ``at`` explains the first ``reach`` samples:
-    with it taken out, no other sample's standardised deleted residual squared is over
-    ``limit`` (the outlier test's level there; infinite: not asked)."""
-    if not np.isfinite(limit):
-        return True
-    x = z.copy() if z.flags.writeable else np.array(z)
-    x[at] -= size
-    _, t = deleted_residuals(x, reach, EDGE_ORDER, span)
-    t[at] = 0.0
-    return bool(np.max(t * t) <= limit)
+def explains(z: NDArray, at: int, reach: int, span: int) -> bool:
+    """Whether one glitch at sample ``at`` explains the start of ``z`` better than one jump.
+
+    Over the deleted residuals' fit (:func:`deleted_residuals`' samples), a cubic plus the
+    glitch (``at`` alone) leaves no more residual sum of squares than a cubic plus a
+    step at any sample ``2 .. reach - 1`` (a step at 1 is a glitch at 0): both add one
+    parameter, so the one that fits better is what the edge holds.
+    """
+    fit = min(max(EDGE_FIT_SPAN, span, reach + 1), z.size)
+    k = np.arange(fit, dtype=float)
+    base = np.vander(k / max(fit - 1, 1), EDGE_ORDER + 1)
+    y = z[:fit]
+
+    def rss(extra: NDArray) -> float:
+        a = np.column_stack([base, extra])
+        return float(np.sum((y - a @ np.linalg.lstsq(a, y, rcond=None)[0]) ** 2))
+
+    glitch = rss((k == at).astype(float))
+    return all(glitch <= rss((k >= s).astype(float)) for s in range(2, min(reach, fit - 1)))
 
 
 def edge_glitches(
@@ -136,7 +144,6 @@ def edge_glitches(
     detect: int,
     order: int,
     ends: tuple[bool, bool] = (True, True),
-    limits: tuple[float, float] = (np.inf, np.inf),
 ) -> tuple[NDArray, float, float]:
     """Outlying samples at the record's edges: their true sample, and what they lack in R.
 
@@ -154,12 +161,6 @@ def edge_glitches(
         Polynomial degree.
     ends : (bool, bool)
         Whether the window starts (ends) where the record does.
-    limits : (float, float)
-        The outlier test's level of a square at the start (end): a run there is one glitch
-        only when its sample explains it (:func:`explains`); a jump or fast motion at an
-        edge, which the step detector cannot see there, made a "glitch" whose credit
-        moved traffic's A320 pitch x1.26 with two samples dropped (issue 26).
-
     Returns
     -------
     peaks : ndarray of int
@@ -188,7 +189,7 @@ def edge_glitches(
         edge = own[own < max(spans[side], detect) - 1]
         if not edge.size:
             continue
-        moved, add[side] = _one_edge(x, edge, spans[side], detect, order, limits[side])
+        moved, add[side] = _one_edge(x, edge, spans[side], detect, order)
         rest = own[own >= max(spans[side], detect) - 1]
         own = np.union1d(moved, rest)
         out = own if forward else np.sort(m - 1 - own)

@@ -297,7 +297,7 @@ def auto_part(
     # a glitch at the record's edge: at its sample, and counted as inside (_edges)
     ends = (offset == 0 and rows.start == 0, after == 0 and rows.stop == b.nb)
     edge = (spans[choice[0]], spans[choice[-1]])
-    peaks, first, last = edge_glitches(z, b.outliers, edge, spans[0], order, ends, _limits(b, trim))
+    peaks, first, last = edge_glitches(z, b.outliers, edge, spans[0], order, ends)
     if first or last:
         total_sum = total_sum.copy()
         total_sum[0] += first
@@ -321,15 +321,6 @@ def auto_part(
         # every outlying sample, also in a jump's neighbourhood: the diagnostics' glitches
         glitches=np.union1d(out, near[(near >= lo) & (near < hi)]) + offset,
     )
-
-
-def _limits(b: _Blocks, trim: float) -> tuple[float, float]:
-    """The outlier test's level of a square in the first and the last block: ``trim²`` times
-    the block's kept mean square of the shortest span (infinite where none is kept)."""
-    with np.errstate(invalid="ignore", divide="ignore"):
-        level = b.block_sum[0, [0, -1]] / b.kept_count[[0, -1]]
-    ok = np.isfinite(level) & (level > 0)
-    return tuple(float(x) for x in np.where(ok, trim * trim * level, np.inf))  # type: ignore[return-value]
 
 
 def _auto_notes(parts: list[AutoPart], spans: tuple[int, ...], block: int) -> list[str]:
