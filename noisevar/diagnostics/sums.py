@@ -85,9 +85,10 @@ def _untouched(exclude: NDArray | None, k: int, dz: NDArray) -> NDArray:
         return keep
     x = exclude[k : k + dz.size + 1]
     touch = x[:-1] | x[1:]
-    if touch.any():
-        mad = float(np.median(np.abs(dz))) / 0.6744897501960817  # a robust std
-        keep &= ~(touch & (np.abs(dz) > JUMP_INCREMENT * mad))
+    if touch.any():  # about their median: a trend (a constant on dz) moves nothing
+        dev = np.abs(dz - np.median(dz))
+        mad = float(np.median(dev)) / 0.6744897501960817  # a robust std
+        keep &= ~(touch & (dev > JUMP_INCREMENT * mad))
     return keep
 
 

@@ -56,3 +56,24 @@ def test_the_grid_under_a_trend_is_exported(tmp_path) -> None:
     )  # fmt: skip
     got = json.loads(out.stdout)
     assert abs(got["diagnostics"]["lsb"] - 0.01) < 1e-9, got["diagnostics"].keys()
+
+
+def test_a_trend_of_whole_steps_a_sample_is_taken_out_too() -> None:
+    k = np.arange(60.0)
+    u = np.round(np.sin(k / 7) * 5)
+    for drift in (3.0, 2.3125, -7.75):
+        assert np.max(np.abs(undrifted(u + drift * k) - u)) < 1e-9
+
+
+@pytest.mark.parametrize("seed", [11, 12])
+def test_a_steep_trend_leaves_r_of_a_coarse_grid_as_it_was(seed) -> None:
+    """Noise under half a step on a 64-unit grid (ADS-B's vertical rate) and a trend of 1.7
+    steps a sample: its whole step moved the signal's travel, so the fit's span, and R
+    (x0.984 here; x0.68 on spoofing's vertical rate, real_audit9)."""
+    rng = np.random.default_rng(seed)
+    n = 8000
+    t = np.arange(n)
+    z = np.round((300 * np.sin(2 * np.pi * t / 3000) + 14.0 * rng.normal(size=n)) / 64.0) * 64.0
+    base = noisevar.estimate(z)
+    moved = noisevar.estimate(z + 1.7 * 64.0 * t)
+    assert moved.variance == pytest.approx(base.variance, rel=1e-6)

@@ -109,9 +109,32 @@ def _one_edge(
     # order 3: the same square on three): the deleted residual tells its own, searched
     # as far as a glitch reaches into them (one just past them is that one: merged)
     at = int(np.argmax(t[: 2 * detect - 1]))
+    if not explains(z, at, reach, span):
+        return peaks, 0.0  # a jump or fast motion at the edge: its samples count as they are
     moved = np.unique(np.where(peaks < detect - 1, at, peaks))
     near = moved[moved < w.size]
     return moved, float(np.sum((1.0 - w[near]) * size[near] ** 2))
+
+
+def explains(z: NDArray, at: int, reach: int, span: int) -> bool:
+    """Whether one glitch at sample ``at`` explains the start of ``z`` better than one jump.
+
+    Over the deleted residuals' fit (:func:`deleted_residuals`' samples), a cubic plus the
+    glitch (``at`` alone) leaves no more residual sum of squares than a cubic plus a
+    step at any sample ``2 .. reach - 1`` (a step at 1 is a glitch at 0): both add one
+    parameter, so the one that fits better is what the edge holds.
+    """
+    fit = min(max(EDGE_FIT_SPAN, span, reach + 1), z.size)
+    k = np.arange(fit, dtype=float)
+    base = np.vander(k / max(fit - 1, 1), EDGE_ORDER + 1)
+    y = z[:fit]
+
+    def rss(extra: NDArray) -> float:
+        a = np.column_stack([base, extra])
+        return float(np.sum((y - a @ np.linalg.lstsq(a, y, rcond=None)[0]) ** 2))
+
+    glitch = rss((k == at).astype(float))
+    return all(glitch <= rss((k >= s).astype(float)) for s in range(2, min(reach, fit - 1)))
 
 
 def edge_glitches(
@@ -138,7 +161,6 @@ def edge_glitches(
         Polynomial degree.
     ends : (bool, bool)
         Whether the window starts (ends) where the record does.
-
     Returns
     -------
     peaks : ndarray of int

@@ -259,16 +259,21 @@ def undrifted(u: NDArray) -> NDArray:
     (its second differences stay on the grid, ``diagnostics.lsb``). The rounding error
     is the record's own offset from the moved grid, ``u - a k``; ``u`` itself when its
     first differences are not so, each within :data:`LSB_TOL` of a step (``a`` = 0 on a
-    grid that does not move).
+    grid that does not move). The trend's whole steps per sample go too (the median first
+    difference less ``a``, rounded): they leave the offsets as they are, but the signal's
+    travel, and so the fit's span, read them (a trend moved a 64 ft/min vertical rate's
+    R x0.68: issue 26).
     """
     if u.size < 2:
         return u
     d = np.diff(u)
     a = float(d[0] - np.rint(d[0]))
     r = d - a
-    if a == 0.0 or not float(np.max(np.abs(r - np.rint(r)))) < LSB_TOL:
+    if not float(np.max(np.abs(r - np.rint(r)))) < LSB_TOL:
         return u
-    return u - a * np.arange(u.size)
+    # and the whole steps of the drift: the median first difference's (rounded)
+    drift = a + float(np.rint(np.median(r)))
+    return u if drift == 0.0 else u - drift * np.arange(u.size)
 
 
 def _smooth_between(x: NDArray, cuts: NDArray, fit: int) -> NDArray:
