@@ -10,6 +10,9 @@ from noisevar.diagnostics.power_law import WHITE, describe
 from noisevar.diagnostics.quantisation import half_a_step
 from noisevar.diagnostics.regimes import STILL_RATIO, read_above
 from noisevar.diagnostics.verdict_parts import (
+    GLITCHES_DOMINATE,
+    MOSTLY_MOTION,
+    OUTLIERS_SOME,
     differenced_verdict,
     glitches_lead,
     glitches_verdict,
@@ -22,8 +25,6 @@ if TYPE_CHECKING:
 
 #: A whiteness test failed at a p-value above this, with no colour named, is a weak finding.
 WEAK_P = 0.01
-#: The quiet stretches cover less than this share: the record is mostly motion.
-MOSTLY_MOTION = 0.5
 #: The first clause of every sentence on a level that changes: which kind (no quiet
 #: stretch, none quieter than R, mostly motion, a quiet level to use) is said after it.
 #: The kind rests on the quiet set's share and level, which the block grid's phase moves:
@@ -107,13 +108,22 @@ def make_verdict(
     # transients are its outlying samples, and the core variance is no noise level either);
     # off a grid's half step (there the rounding's flips are the outlying samples)
     rounding = under_half_a_step(diag, variance)
-    if still is not None or diag.level_varies or rounding or not lead or "core variance" in said:
+    if still is not None or diag.level_varies:  # named after the finding, when nearly all of R
+        held = outliers_hold(variance, core, outliers, OUTLIERS_SOME, GLITCHES_DOMINATE)
+        return said + ("" if "outlying" in said else held)
+    if rounding or not lead or "core variance" in said:
         return said
     assert core is not None  # outliers_hold said so
     return _sentence(diag, core, core, 0.0, None, still_gap, "the core variance") + lead
 
 
-def outliers_hold(variance: float, core: float | None, outliers: float) -> str:
+def outliers_hold(
+    variance: float,
+    core: float | None,
+    outliers: float,
+    few: float = OUTLIERS_FEW,
+    hold: float = OUTLIERS_HOLD,
+) -> str:
     """The verdict's last clause when a few outlying samples hold most of R ('' when not).
 
     R counts them as noise (a plain Kalman filter sees them); when they hold over half of
@@ -121,13 +131,14 @@ def outliers_hold(variance: float, core: float | None, outliers: float) -> str:
     verdict's finding is read on, is the R to use when they are not the sensor's noise (a
     start-up value, a logging error), or a robust filter's.
     """
-    if core is None or not 0 < outliers <= OUTLIERS_FEW or not variance > OUTLIERS_HOLD * core:
+    if core is None or not 0 < outliers <= few or not variance > hold * core:
         return ""
     return (
         f"; {_share(outliers)} of the samples are outlying and hold "
         f"{_share(1 - core / variance)} of {_r(variance)}, which counts them as noise, as a "
-        "plain Kalman filter needs: the core variance leaves them out, the R to use if they "
-        "are not the sensor's noise (a start-up value, a logging error), or a robust filter's"
+        "plain Kalman filter needs: the core variance leaves them out "
+        f"({_g(core)}), the R to use if they are not the sensor's noise (a start-up value, a "
+        "logging error, spoofed or garbled values), or a robust filter's"
     )
 
 

@@ -9,6 +9,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
+#: The quiet stretches cover less than this share: the record is mostly motion.
+MOSTLY_MOTION = 0.5
 #: R over the core variance above which the outlying samples hold nearly all of R (over
 #: 90 %): on a record whose level varies they, not the level, are then the finding when the
 #: bulk without them rests at the still level (:func:`glitches_lead`). traffic's ADS-B
@@ -97,16 +99,21 @@ def glitches_lead(
     only by them: the verdict's finding (:func:`glitches_verdict`).
 
     Decided on evidence: at most :data:`OUTLIERS_SOME` of the samples, R over
-    :data:`GLITCHES_DOMINATE` times the core variance, and the core (the record without
-    them) no louder than the quiet level's 95 % interval allows: without them the level
-    does not change. Motion that raises the bulk keeps the level change the finding.
+    :data:`GLITCHES_DOMINATE` times the core variance, the still stretches most of the
+    record (:data:`MOSTLY_MOTION`) and the core (the record without them) no louder than
+    their level's 95 % interval allows: without them the level does not change. Motion that
+    raises the bulk, or still stretches too few to say (ADS-B positions spoofed for a while:
+    8 % still, the spoofed stretch a regime of its own), keep the level change the finding,
+    and the verdict names the outlying samples after it.
     """
     if core is None or not 0 < outliers <= OUTLIERS_SOME or not variance > GLITCHES_DOMINATE * core:
         return False
     if not diag.level_varies:
         return False
-    q = diag.quiet
-    top = q.hi if q is not None and q.hi is not None else diag.level_profile.quiet_bounds[1]
+    q, prof = diag.quiet, diag.level_profile
+    if (q.share if q is not None else prof.quiet_share) < MOSTLY_MOTION:
+        return False
+    top = q.hi if q is not None and q.hi is not None else prof.quiet_bounds[1]
     return bool(core <= top)
 
 
