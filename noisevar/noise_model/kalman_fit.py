@@ -25,13 +25,14 @@ from numpy.typing import ArrayLike, NDArray
 from noisevar._arrays import check_exact_ints
 from noisevar.errors import NoisevarError
 from noisevar.estimators import check_rate, scale_exponent
+from noisevar.estimators.interval import heavy_tails
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes, longest_still_stretch
 from noisevar.format import pvalue
 from noisevar.kalman.divergence import nis_band
 from noisevar.noise_model._rescale import rescale_tuning
 from noisevar.noise_model._steady import FilterPass, diffuse_start, filter_pass, steady_state
 from noisevar.noise_model.kalman_als import als_columns, innovations_lti
-from noisevar.noise_model.kalman_tails import heavy_tails, tails_widening
+from noisevar.noise_model.kalman_tails import tails_widening
 
 #: Kinematic models: name -> (number of states, power k of T in h = q T^k / r, q's name).
 MODELS: dict[str, tuple[int, int, str]] = {

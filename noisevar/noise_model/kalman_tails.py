@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from noisevar.diagnostics.tails import HEAVY_KURTOSIS, TAIL_INDEX_MIN, tail_index
+from noisevar.estimators.interval import heavy_tails, unreliable_tail
 
 
 def innovation_kurtosis(nu: NDArray) -> float:
@@ -22,12 +22,6 @@ def innovation_kurtosis(nu: NDArray) -> float:
     x = (nu / peak) ** 2  # scale-free: keep the fourth powers in range
     m2 = float(np.mean(x))
     return float(np.mean(x * x) / m2**2) if m2 > 0 else 3.0
-
-
-def heavy_tails(kurtosis: float) -> bool:
-    """Innovations' kurtosis beyond the Gaussian fit's assumption (the estimate's rule,
-    :data:`~noisevar.diagnostics.tails.HEAVY_KURTOSIS`)."""
-    return bool(kurtosis > HEAVY_KURTOSIS)
 
 
 def tails_widening(nu: NDArray) -> tuple[float, str | None, float]:
@@ -51,17 +45,17 @@ def tails_widening(nu: NDArray) -> tuple[float, str | None, float]:
     -----
     With ``m`` glitches that hold most of ``r``, ``κ ≈ n / m``, so the widened interval is the
     glitch count's Poisson one: ``r`` is as uncertain as the number of glitches in the record.
-    Heavy: :func:`heavy_tails`.
+    Heavy: :func:`~noisevar.estimators.interval.heavy_tails`, the estimate's rule.
     """
     kurt = innovation_kurtosis(nu)
     if not heavy_tails(kurt):
         return 1.0, None, kurt
     factor = (kurt - 1.0) / 2.0
-    alpha = tail_index(nu)
+    alpha = unreliable_tail(nu)
     unreliable = (
-        f"; their tail index {alpha:.1f} is below {TAIL_INDEX_MIN:.0f} (no finite fourth "
-        "moment, or a few glitches of one size): even the widened interval is unreliable"
-        if alpha is not None and alpha < TAIL_INDEX_MIN
+        f"; their tail index {alpha:.1f} is too low for a finite fourth moment (or a few "
+        "glitches of one size): even the widened interval is unreliable"
+        if alpha is not None
         else ""
     )
     return (
