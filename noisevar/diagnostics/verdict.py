@@ -11,7 +11,6 @@ from noisevar.diagnostics.quantisation import half_a_step
 from noisevar.diagnostics.regimes import STILL_RATIO, read_above
 from noisevar.diagnostics.verdict_parts import (
     GLITCHES_DOMINATE,
-    MOSTLY_MOTION,
     OUTLIERS_SOME,
     differenced_verdict,
     glitches_lead,
@@ -25,6 +24,8 @@ if TYPE_CHECKING:
 
 #: A whiteness test failed at a p-value above this, with no colour named, is a weak finding.
 WEAK_P = 0.01
+#: The quiet stretches cover less than this share: the record is mostly motion.
+MOSTLY_MOTION = 0.5
 #: The first clause of every sentence on a level that changes: which kind (no quiet
 #: stretch, none quieter than R, mostly motion, a quiet level to use) is said after it.
 #: The kind rests on the quiet set's share and level, which the block grid's phase moves:
