@@ -23,6 +23,11 @@ OUTLIERS_SOME = 0.05
 #: (measured: the ADS-B altitude's longest 1 block, the seeded reproducer's 150 held samples
 #: 4; a 1,500-sample motion burst 25, SURFRAD's irradiance by day 14).
 MOTION_BLOCKS = 8
+#: A core variance more than this many times below the quiet level is no still level: on a
+#: grid the core reads below it (the seeded reproducer 0.48x, the ADS-B altitude 0.58x: noise
+#: under the step), far below it the quiet level is something else (MIDC's CHP1 temperature
+#: 1e-8x, its samples mostly the held missing code; MIDC's accumulated PSP 0.07-0.08x).
+CORE_BELOW = 4.0
 #: The finding of a record whose R is nearly all a few outlying samples.
 GLITCHES_HOLD = "a few outlying samples hold nearly all of R"
 
@@ -105,7 +110,8 @@ def glitches_lead(
     Decided on evidence: at most :data:`OUTLIERS_SOME` of the samples, R over
     :data:`GLITCHES_DOMINATE` times the core variance, and the core (the record without
     them) at the still level, as a still regime is (at most
-    :data:`~noisevar.diagnostics.regimes.STILL_RATIO` times it): without them the level
+    :data:`~noisevar.diagnostics.regimes.STILL_RATIO` times it, at least a
+    :data:`CORE_BELOW`-th of it): without them the level
     does not change; and no regime louder than that longer than :data:`MOTION_BLOCKS`
     blocks (a burst of motion, which R's method may follow). A bulk louder than that
     (ADS-B positions spoofed for a while, 4.2x;
@@ -124,7 +130,8 @@ def glitches_lead(
     loud = [
         r.stop - r.start for r in diag.regimes if not r.still and r.variance > STILL_RATIO * quiet
     ]
-    return bool(core <= STILL_RATIO * quiet and max(loud, default=0) <= MOTION_BLOCKS * block)
+    at_still = quiet / CORE_BELOW <= core <= STILL_RATIO * quiet
+    return bool(at_still and max(loud, default=0) <= MOTION_BLOCKS * block)
 
 
 def glitches_verdict(r: str, core: str, held: tuple[str, str], level: str) -> str:
