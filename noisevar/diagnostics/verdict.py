@@ -9,7 +9,13 @@ import numpy as np
 from noisevar.diagnostics.power_law import WHITE, describe
 from noisevar.diagnostics.quantisation import half_a_step
 from noisevar.diagnostics.regimes import STILL_RATIO, read_above
-from noisevar.diagnostics.verdict_parts import differenced_verdict
+from noisevar.diagnostics.verdict_parts import (
+    GLITCHES_DOMINATE,
+    OUTLIERS_SOME,
+    differenced_verdict,
+    glitches_lead,
+    glitches_verdict,
+)
 from noisevar.format import eng
 
 if TYPE_CHECKING:
@@ -90,19 +96,35 @@ def make_verdict(
     """
     if unchecked(diag.n, diag):
         return short_verdict(diag.n, variance, diag)
+    if glitches_lead(diag, variance, core, outliers):
+        assert core is not None  # glitches_lead said so
+        quiet = still if still is not None else diag.quiet_variance
+        share, said = still_share(diag), still_said(diag, still_gap)
+        level = f"; its quiet stretches ({share:.0%}) give {_g(quiet)}{said}" if quiet else ""
+        held = (_share(outliers), _held(1 - core / variance))
+        return glitches_verdict(_r(variance), _g(core), held, level)
     said = _sentence(diag, variance, core, outliers, still, still_gap)
     lead = outliers_hold(variance, core, outliers)
     # on one level only: where the level varies, motion is the finding (a cloudy day's
     # transients are its outlying samples, and the core variance is no noise level either);
     # off a grid's half step (there the rounding's flips are the outlying samples)
     rounding = under_half_a_step(diag, variance)
-    if still is not None or diag.level_varies or rounding or not lead or "core variance" in said:
+    if still is not None or diag.level_varies:  # named after the finding, when nearly all of R
+        held = outliers_hold(variance, core, outliers, OUTLIERS_SOME, GLITCHES_DOMINATE)
+        return said + ("" if "outlying" in said else held)
+    if rounding or not lead or "core variance" in said:
         return said
     assert core is not None  # outliers_hold said so
     return _sentence(diag, core, core, 0.0, None, still_gap, "the core variance") + lead
 
 
-def outliers_hold(variance: float, core: float | None, outliers: float) -> str:
+def outliers_hold(
+    variance: float,
+    core: float | None,
+    outliers: float,
+    few: float = OUTLIERS_FEW,
+    hold: float = OUTLIERS_HOLD,
+) -> str:
     """The verdict's last clause when a few outlying samples hold most of R ('' when not).
 
     R counts them as noise (a plain Kalman filter sees them); when they hold over half of
@@ -110,13 +132,14 @@ def outliers_hold(variance: float, core: float | None, outliers: float) -> str:
     verdict's finding is read on, is the R to use when they are not the sensor's noise (a
     start-up value, a logging error), or a robust filter's.
     """
-    if core is None or not 0 < outliers <= OUTLIERS_FEW or not variance > OUTLIERS_HOLD * core:
+    if core is None or not 0 < outliers <= few or not variance > hold * core:
         return ""
     return (
         f"; {_share(outliers)} of the samples are outlying and hold "
         f"{_share(1 - core / variance)} of {_r(variance)}, which counts them as noise, as a "
-        "plain Kalman filter needs: the core variance leaves them out, the R to use if they "
-        "are not the sensor's noise (a start-up value, a logging error), or a robust filter's"
+        "plain Kalman filter needs: the core variance leaves them out "
+        f"({_g(core)}), the R to use if they are not the sensor's noise (a start-up value, a "
+        "logging error, spoofed or garbled values), or a robust filter's"
     )
 
 
@@ -510,7 +533,11 @@ def still_colour(diag: NoiseDiagnostics) -> str:
     Noise that is not white in the still stretches (low-passed by the sensor, or slow
     sway left in them) has no one white level: high-pass estimators of different bandwidth
     disagree on it, so the still level is its white part, not the variance per sample.
-    Still stretches too short to test are said to be untested.
+    Still stretches too short to test are said to be untested. The clause names the lag
+    that departs most (it quoted lag 1's +0.00 where lag 6 failed), and says nothing when
+    the whole record, still stretches in, tests white and theirs fails only weakly (p of
+    :data:`WEAK_P` or more: two tests of white noise give that 1 time in 50 or more; the
+    ADS-B altitude of benchmarks/real_audit9.py, p = 0.99 and 0.03).
     """
     w = diag.still_whiteness
     if w is None and diag.level_varies:  # still stretches too short for the test
@@ -519,13 +546,18 @@ def still_colour(diag: NoiseDiagnostics) -> str:
             "this level is untested: if the sensor low-passes its noise it is only the white "
             "part (record the sensor still for longer)"
         )
-    if w is None or w.white:
+    if w is None or w.white or (diag.white and w.p_value >= WEAK_P):
         return ""
     return (
-        f"; but even there the noise is not white ({_lag_excess(w, 0)}: "
+        f"; but even there the noise is not white ({_farthest_lag(w)}: "
         "low-passed by the sensor, or slow motion left in the stretches), so this is its "
         "white part and depends on the bandwidth: model the coloured part (see the noise model)"
     )
+
+
+def _held(x: float) -> str:
+    """A share of R near all of it, not rounded up to 100 % ("over 99.9%")."""
+    return "over 99.9%" if x > 0.999 else _share(x)
 
 
 def _share(x: float) -> str:

@@ -1,5 +1,6 @@
-"""Parts of the verdict that stand alone: the other still levels' clause and fields, and
-the sentence on differenced data (:mod:`noisevar.diagnostics.verdict` joins them)."""
+"""Parts of the verdict that stand alone: the other still levels' clause and fields, the
+sentence on a record whose R is a few glitches, and the sentence on differenced data
+(:mod:`noisevar.diagnostics.verdict` joins them)."""
 
 from __future__ import annotations
 
@@ -7,6 +8,28 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
+
+from noisevar.diagnostics.regimes import STILL_RATIO
+
+#: R over the core variance above which the outlying samples hold nearly all of R (over
+#: 90 %): on a record whose level varies they, not the level, are then the finding when the
+#: bulk without them rests at the still level (:func:`glitches_lead`). traffic's ADS-B
+#: altitude: 13,153x, from 2.2 % of the samples (benchmarks/real_audit9.py).
+GLITCHES_DOMINATE = 10.0
+#: At most this share of outlying samples is "some" glitches (garbled or spoofed values).
+OUTLIERS_SOME = 0.05
+#: A regime louder than the still level over more blocks than this is motion, not glitches:
+#: a lone glitch raises the blocks its smoother reaches, a held or garbled stretch a few
+#: (measured: the ADS-B altitude's longest 1 block, the seeded reproducer's 150 held samples
+#: 4; a 1,500-sample motion burst 25, SURFRAD's irradiance by day 14).
+MOTION_BLOCKS = 8
+#: A core variance more than this many times below the quiet level is no still level: on a
+#: grid the core reads below it (the seeded reproducer 0.48x, the ADS-B altitude 0.58x: noise
+#: under the step), far below it the quiet level is something else (MIDC's CHP1 temperature
+#: 1e-8x, its samples mostly the held missing code; MIDC's accumulated PSP 0.07-0.08x).
+CORE_BELOW = 4.0
+#: The finding of a record whose R is nearly all a few outlying samples.
+GLITCHES_HOLD = "a few outlying samples hold nearly all of R"
 
 if TYPE_CHECKING:
     from noisevar.diagnostics.regimes import StillLevel
@@ -75,4 +98,53 @@ def differenced_verdict(corr: NDArray, r: str) -> str:
         "sample, but errors up to "
         f"{corr.size} samples apart are correlated: filter the undifferenced quantity or "
         f"model MA({corr.size}) measurement noise"
+    )
+
+
+def glitches_lead(
+    diag: NoiseDiagnostics, variance: float, core: float | None, outliers: float
+) -> bool:
+    """Whether some outlying samples hold nearly all of R of a record whose level varies
+    only by them: the verdict's finding (:func:`glitches_verdict`).
+
+    Decided on evidence: at most :data:`OUTLIERS_SOME` of the samples, R over
+    :data:`GLITCHES_DOMINATE` times the core variance, and the core (the record without
+    them) at the still level, as a still regime is (at most
+    :data:`~noisevar.diagnostics.regimes.STILL_RATIO` times it, at least a
+    :data:`CORE_BELOW`-th of it): without them the level
+    does not change; and no regime louder than that longer than :data:`MOTION_BLOCKS`
+    blocks (a burst of motion, which R's method may follow). A bulk louder than that
+    (ADS-B positions spoofed for a while, 4.2x;
+    SURFRAD's solar irradiance by day against its nights, 4-6x) keeps the level change the
+    finding, and the verdict names the outlying samples after it. The still level's upper
+    95 % bound is no measure here: SURFRAD's quiet set read 0.004 then 0.04 with 2 samples
+    dropped, and the finding flipped.
+    """
+    if core is None or not 0 < outliers <= OUTLIERS_SOME or not variance > GLITCHES_DOMINATE * core:
+        return False
+    if not diag.level_varies:
+        return False
+    prof, quiet = diag.level_profile, diag.quiet_variance
+    quiet = prof.quiet_variance if quiet is None else quiet
+    block = float(np.median(prof.stop - prof.start)) if prof.start.size else 1.0
+    loud = [
+        r.stop - r.start for r in diag.regimes if not r.still and r.variance > STILL_RATIO * quiet
+    ]
+    at_still = quiet / CORE_BELOW <= core <= STILL_RATIO * quiet
+    return bool(at_still and max(loud, default=0) <= MOTION_BLOCKS * block)
+
+
+def glitches_verdict(r: str, core: str, held: tuple[str, str], level: str) -> str:
+    """The verdict of a record whose R is nearly all a few outlying samples
+    (:func:`glitches_lead`): said first, with the level without them and the R to use.
+
+    ``r``: R as the verdict says it; ``core``: the core variance; ``held``: the outlying
+    samples' share of the record and of R; ``level``: the quiet level's clause, or ''.
+    """
+    return (
+        f"{GLITCHES_HOLD}: {held[0]} of the samples are outlying (garbled, spoofed or held "
+        f"values, or short bursts) and hold {held[1]} of {r}; without them the record is of "
+        f"one level, the core variance {core}{level}. R counts them as noise, as a plain "
+        "Kalman filter needs; if they are not the sensor's noise, reject them (a gate on the "
+        "innovations) and use the core variance, or a robust filter"
     )

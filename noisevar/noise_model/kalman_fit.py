@@ -25,11 +25,14 @@ from numpy.typing import ArrayLike, NDArray
 from noisevar._arrays import check_exact_ints
 from noisevar.errors import NoisevarError
 from noisevar.estimators import check_rate, scale_exponent
+from noisevar.estimators.interval import heavy_tails
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes, longest_still_stretch
 from noisevar.format import pvalue
 from noisevar.kalman.divergence import nis_band
 from noisevar.noise_model._rescale import rescale_tuning
 from noisevar.noise_model._steady import FilterPass, diffuse_start, filter_pass, steady_state
+from noisevar.noise_model.kalman_als import als_columns, innovations_lti
+from noisevar.noise_model.kalman_tails import tails_widening
 
 #: Kinematic models: name -> (number of states, power k of T in h = q T^k / r, q's name).
 MODELS: dict[str, tuple[int, int, str]] = {
@@ -116,6 +119,10 @@ class KalmanTuning:
         ``regimes="still"`` fit ran on.
     regimes : {"all", "still"}
         The record's regimes the fit used (:mod:`noisevar.estimators.regimes`).
+    innovations_kurtosis : float
+        Of the normalised innovations (3 for Gaussian noise); above
+        :data:`~noisevar.diagnostics.tails.HEAVY_KURTOSIS` the fit's Gaussian assumption is
+        broken (:attr:`innovations_gaussian` False): intervals widened, a note says so.
     """
 
     model: str
@@ -146,6 +153,12 @@ class KalmanTuning:
     units: dict[str, str] = field(default_factory=dict)
     notes: tuple[str, ...] = ()
     regimes: str = DEFAULT_REGIMES
+    innovations_kurtosis: float = 3.0
+
+    @property
+    def innovations_gaussian(self) -> bool:
+        """Whether the innovations' tails are Gaussian enough for the fit's intervals."""
+        return not heavy_tails(self.innovations_kurtosis)
 
     @property
     def aic(self) -> float:
@@ -182,6 +195,7 @@ class KalmanTuning:
             nis_consistent=self.nis_consistent,
             ljung_box_p=num(self.ljung_box_p),
             innovations_white=self.innovations_white,
+            innovations_kurtosis=num(self.innovations_kurtosis),
             loglik=num(self.loglik),
             aic=num(self.aic),
             bic=num(self.bic),
@@ -242,12 +256,8 @@ def _mle_log_h(z: NDArray, model: str, dt: float, progress: Callable | None) -> 
             progress((i + 1) / (grid.size + 20))
     best = int(np.nanargmin(values))
     lo, hi = grid[max(best - 1, 0)], grid[min(best + 1, grid.size - 1)]
-    res = scipy.optimize.minimize_scalar(
-        lambda u: _concentrated(z, model, dt, u),
-        bounds=(lo, hi),
-        method="bounded",
-        options={"xatol": 1e-7},
-    )
+    f, opt = (lambda u: _concentrated(z, model, dt, u)), {"xatol": 1e-7}
+    res = scipy.optimize.minimize_scalar(f, bounds=(lo, hi), method="bounded", options=opt)
     return float(res.x) if res.fun <= values[best] else float(grid[best])
 
 
@@ -273,30 +283,6 @@ def _log_cov(z: NDArray, model: str, dt: float, log_h: float, log_r: float) -> N
 
 
 # ---------------------------------------------------------------- ALS
-def _als_columns(F: NDArray, hv: NDArray, Q1: NDArray, Kp: NDArray, lags: int) -> NDArray:
-    """Innovation autocovariances per unit q and per unit r of the filter with predictor gain Kp."""
-    Abar = F - np.outer(Kp, hv)
-    # P = Abar P Abar' + q Q1 + r Kp Kp'  (stationary prediction error)
-    Pq = scipy.linalg.solve_discrete_lyapunov(Abar, Q1)
-    Pr = scipy.linalg.solve_discrete_lyapunov(Abar, np.outer(Kp, Kp))
-    cols = np.empty((lags, 2))
-    row = hv.copy()  # h' Abar^j
-    prev = None
-    for j in range(lags):  # lags <= ~50 small matrix products
-        # C_0 = h'P h + r;  C_j = h'Abar^j P h - h'Abar^(j-1) Kp r
-        cols[j, 0] = row @ Pq @ hv
-        cols[j, 1] = row @ Pr @ hv + (1.0 if j == 0 else -(prev @ Kp))
-        prev, row = row, row @ Abar
-    return cols
-
-
-def _innovations_lti(zc: NDArray, F: NDArray, hv: NDArray, Kp: NDArray) -> NDArray:
-    """Innovations of the fixed-gain predictor, one lfilter pass from a zero state."""
-    Abar = F - np.outer(Kp, hv)
-    b, a = scipy.signal.ss2tf(Abar, Kp[:, None], -hv[None, :], np.array([[1.0]]))
-    return scipy.signal.lfilter(b[0], a, zc)
-
-
 def _als(zc: NDArray, model: str, dt: float, lags: int) -> tuple[float, float, list[str]]:
     """Iterated ALS: fit (q, r), rebuild the gain from the fit, fit again (at most 12 times)."""
     F, hv, Q1 = kinematic_model(model, dt)
@@ -308,11 +294,11 @@ def _als(zc: NDArray, model: str, dt: float, lags: int) -> tuple[float, float, l
         Kp = F @ K
         rho = max(abs(np.linalg.eigvals(F - np.outer(Kp, hv))))
         burn = int(min(zc.size // 4, 20 + 40 / max(1.0 - rho, 1e-3)))
-        e = _innovations_lti(zc, F, hv, Kp)[burn:]
+        e = innovations_lti(zc, F, hv, Kp)[burn:]
         m = e.size
         # C_j = mean(e_{k+j} e_k)
         c = np.array([np.dot(e[j:], e[: m - j]) / (m - j) for j in range(lags)])
-        A = _als_columns(F, hv, Q1, Kp, lags)
+        A = als_columns(F, hv, Q1, Kp, lags)
         scale = np.linalg.norm(A, axis=0)
         scale[scale == 0] = 1.0
         sol, _ = scipy.optimize.nnls(A / scale, c)
@@ -417,13 +403,15 @@ def _tuning(  # long: assembles the filter, its intervals and its validation
     # l = -n/2 log 2 pi - 1/2 sum_{k >= d} (log S_k + e_k²/S_k)   (diffuse, Durbin-Koopman)
     loglik = -0.5 * float(z.size * np.log(2 * np.pi) + np.sum(np.log(fp.s) + nu**2))
     h_ratio = q * dt**k / r
-    cov = _log_cov(zc, model, dt, np.log(h_ratio), np.log(r))
+    widen, tails, kurt = tails_widening(nu)  # the Gaussian information, widened for tails
+    cov = widen * _log_cov(zc, model, dt, np.log(h_ratio), np.log(r))
     var_q = cov[0, 0] + cov[1, 1] + 2 * cov[0, 1]
     if not white:
         notes.append(
             f"the innovations are not white (Ljung-Box {pvalue(p)} over {lags} lags): the data "
             f"reject the {model!r} model; try another model or a coloured-noise model"
         )
+    notes += [tails] if tails else []
     if not band[0] <= nis_mean <= band[1]:
         notes.append(
             f"the mean NIS {nis_mean:.3g} is outside its 95 % band "
@@ -454,6 +442,7 @@ def _tuning(  # long: assembles the filter, its intervals and its validation
         nis_band=band,
         ljung_box_p=p,
         innovations_white=white,
+        innovations_kurtosis=kurt,
         loglik=loglik,
         units=_units(model, rate),
         notes=tuple(notes),
