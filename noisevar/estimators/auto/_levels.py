@@ -241,6 +241,8 @@ OWN_MIN_BLOCKS = 8
 OWN_WHOLE_MARGIN = 3.0
 #: ... read off at least this many values of the statistic (the verdict's checks need ~100).
 OWN_WHOLE_VALUES = 100
+#: A value of the statistic under this fraction of its level is float rounding, not noise.
+ROUNDING_RATIO = 1e-12
 
 
 def _raised(
@@ -369,6 +371,9 @@ class Above:
         ok = (lf > 0) & (lb > 0) & np.isfinite(lf) & np.isfinite(lb)
         if self.floors is not None:  # held blocks: their D3 is 0, or rounding under an offset
             ok &= (lf > self.floors[0][fi]) & (lb > self.floors[1][bi])
+        # D3 at float rounding is no level: a scale moves which such values are exactly 0
+        # (a gyroscope in deg/s: one value more, R 0.015 % off rad/s's)
+        ok &= (x[k] > ROUNDING_RATIO * lf) & (x[k] > ROUNDING_RATIO * lb)
         if ok.sum() < OWN_WHOLE_VALUES:
             return self
         r = max(np.median(x[k][ok] / lf[ok]), np.median(x[k][ok] / lb[ok]))
