@@ -7,6 +7,7 @@ look at (a log's first topic before the test picks another, say).
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 
@@ -27,3 +28,16 @@ def _no_uncaught_dashboard_exception(monkeypatch):
 
     monkeypatch.setattr(AppTest, "run", checked)
     yield
+
+
+@pytest.fixture
+def glitched_altitude() -> np.ndarray:
+    """ADS-B altitude as traffic's ``time_issue`` holds it (issue 26, real_audit9): a 25 ft
+    grid, 60 lone glitches 16,000 ft down and 150 held samples; R is mostly the glitches."""
+    rng = np.random.default_rng(0)
+    n = 8000
+    z = np.round((36000 + rng.normal(0, 7, n)) / 25) * 25
+    idx = rng.choice(np.arange(100, n - 100), 60, replace=False)
+    z[idx] -= 16000
+    z[3000:3150] = 20800
+    return z

@@ -19,19 +19,8 @@ from noisevar.diagnostics.whiteness import WhitenessTest
 from noisevar.format import eng
 
 
-def glitched_altitude() -> np.ndarray:
-    """A 25 ft grid, 60 lone glitches 16,000 ft down and 150 held samples (the brief's)."""
-    rng = np.random.default_rng(0)
-    n = 8000
-    z = np.round((36000 + rng.normal(0, 7, n)) / 25) * 25
-    idx = rng.choice(np.arange(100, n - 100), 60, replace=False)
-    z[idx] -= 16000
-    z[3000:3150] = 20800
-    return z
-
-
-def test_glitches_that_hold_r_lead_the_verdict() -> None:
-    e = noisevar.estimate(glitched_altitude())
+def test_glitches_that_hold_r_lead_the_verdict(glitched_altitude) -> None:
+    e = noisevar.estimate(glitched_altitude)
     v = e.verdict
     assert e.variance > 1e4 * e.core_variance
     assert v.startswith(GLITCHES_HOLD + ":"), v
@@ -39,10 +28,10 @@ def test_glitches_that_hold_r_lead_the_verdict() -> None:
     assert "is an average" not in v, v
 
 
-def test_the_still_stretches_colour_does_not_contradict_itself() -> None:
+def test_the_still_stretches_colour_does_not_contradict_itself(glitched_altitude) -> None:
     """The record tests white (p = 0.99), its still stretches fail weakly (p = 0.03): no
     "not white ... +0.00" clause."""
-    e = noisevar.estimate(glitched_altitude())
+    e = noisevar.estimate(glitched_altitude)
     d = e.diagnostics
     assert d.white and d.still_whiteness is not None and not d.still_whiteness.white
     assert "not white" not in e.verdict and "+0.00" not in e.verdict, e.verdict

@@ -20,24 +20,13 @@ from noisevar.noise_model import fit_kalman
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 
-def glitched_altitude() -> np.ndarray:
-    """A 25 ft grid, 60 lone glitches 16,000 ft down and 150 held samples (the brief's)."""
-    rng = np.random.default_rng(0)
-    n = 8000
-    z = np.round((36000 + rng.normal(0, 7, n)) / 25) * 25
-    idx = rng.choice(np.arange(100, n - 100), 60, replace=False)
-    z[idx] -= 16000
-    z[3000:3150] = 20800
-    return z
-
-
 def _track(seed: int, n: int = 3000) -> np.ndarray:
     rng = np.random.default_rng(seed)
     return np.cumsum(np.cumsum(rng.normal(0, 0.3, n))) * 0.1 + rng.normal(0, 1.0, n)
 
 
-def test_glitches_widen_the_interval_and_say_the_assumption_is_broken() -> None:
-    t = fit_kalman(glitched_altitude())
+def test_glitches_widen_the_interval_and_say_the_assumption_is_broken(glitched_altitude) -> None:
+    t = fit_kalman(glitched_altitude)
     lo, hi = t.r_interval
     assert not t.innovations_gaussian and t.innovations_kurtosis > 10
     assert any("heavy-tailed" in n and "Gaussian assumption is broken" in n for n in t.notes)
@@ -62,9 +51,9 @@ def test_the_widened_interval_covers_r_with_glitches() -> None:
     assert hits >= 30, hits
 
 
-def test_cli_fit_says_the_tails(tmp_path, capsys) -> None:
+def test_cli_fit_says_the_tails(tmp_path, capsys, glitched_altitude) -> None:
     path = tmp_path / "altitude.csv"
-    np.savetxt(path, glitched_altitude(), header="altitude", comments="")
+    np.savetxt(path, glitched_altitude, header="altitude", comments="")
     assert main(["fit", str(path), "--column", "altitude", "--rate", "1"]) == 0
     out = capsys.readouterr().out
     assert "tails     NOT Gaussian (kurtosis" in out, out
@@ -76,7 +65,7 @@ def _page() -> None:
 
     from dashboard.sections.noise_model_fit import render_fit
 
-    rng = np.random.default_rng(0)  # glitched_altitude(): the page's script is this body
+    rng = np.random.default_rng(0)  # glitched_altitude: the page's script is this body
     z = np.round((36000 + rng.normal(0, 7, 8000)) / 25) * 25
     z[rng.choice(np.arange(100, 7900), 60, replace=False)] -= 16000
     z[3000:3150] = 20800
