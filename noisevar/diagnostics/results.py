@@ -107,26 +107,23 @@ class NoiseDiagnostics:
 
     @property
     def heavy_tailed(self) -> bool:
-        from noisevar.diagnostics.tails import HEAVY_KURTOSIS
+        from noisevar.diagnostics.tails import heavy_tails
 
-        return bool(self.kurtosis > HEAVY_KURTOSIS)
+        return heavy_tails(self.kurtosis)
 
     @property
     def tails_beyond_glitches(self) -> bool:
         """Heavy-tailed even with the lone glitches bridged: the tails are the noise's."""
-        from noisevar.diagnostics.tails import HEAVY_KURTOSIS
+        from noisevar.diagnostics.tails import heavy_tails
 
-        k = self.kurtosis if self.core_kurtosis is None else self.core_kurtosis
-        return bool(k > HEAVY_KURTOSIS)
+        return heavy_tails(self.kurtosis if self.core_kurtosis is None else self.core_kurtosis)
 
     @property
     def fourth_moment_unreliable(self) -> bool:
         """The tails are so heavy that a variance interval cannot be trusted."""
-        from noisevar.diagnostics.tails import TAIL_INDEX_MIN
+        from noisevar.diagnostics.tails import unreliable_tail
 
-        return bool(
-            self.heavy_tailed and self.tail_index is not None and self.tail_index < TAIL_INDEX_MIN
-        )
+        return self.heavy_tailed and unreliable_tail(self.tail_index)
 
     @property
     def quiet_variance(self) -> float | None:

@@ -11,6 +11,17 @@ TAIL_INDEX_MIN = 4.0
 HEAVY_KURTOSIS = 4.0
 
 
+def heavy_tails(kurtosis: float) -> bool:
+    """Whether noise of this kurtosis is beyond a Gaussian interval's assumption."""
+    return bool(kurtosis > HEAVY_KURTOSIS)
+
+
+def unreliable_tail(alpha: float | None) -> bool:
+    """Whether a tail index ``alpha`` (:func:`tail_index`) leaves no finite fourth moment:
+    no variance interval can then be trusted."""
+    return alpha is not None and alpha < TAIL_INDEX_MIN
+
+
 def noise_kurtosis(e: NDArray, d: NDArray) -> float:
     """Kurtosis of iid noise ``v`` from its residual ``e = d * v`` (3 for Gaussian noise).
 

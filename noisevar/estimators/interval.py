@@ -23,12 +23,10 @@ from noisevar._distributions import chi2_ppf, norm_cdf
 from noisevar.diagnostics import NoiseDiagnostics, glitches_apart
 from noisevar.diagnostics.glitches import bridged, deviations, lone
 from noisevar.diagnostics.plan import DIAG_ORDER, DIAG_SPAN
-from noisevar.diagnostics.tails import (
-    HEAVY_KURTOSIS,
-    TAIL_INDEX_MIN,
-    kurtosis_from_moments,
-    tail_index,
-)
+from noisevar.diagnostics.tails import heavy_tails as heavy_tails  # the tail rules, for
+from noisevar.diagnostics.tails import kurtosis_from_moments  # noise_model (no edge to
+from noisevar.diagnostics.tails import tail_index as tail_index  # diagnostics there)
+from noisevar.diagnostics.tails import unreliable_tail as unreliable_tail
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
 from noisevar.numeric.fir import residual_sequence
 
@@ -248,19 +246,6 @@ def glitch_interval(
     # the split: d² - a² = 2 a ν with ν of variance 1.5 σ², so var = 6 σ² Σ a² / n²
     split = Z95 * np.sqrt(4.0 * NOISE_IN_DEVIATION * s2 * energy.sum()) / n_used
     return mover_sum(variance, [(c, c_lo, c_hi), (g, g_lo, g_hi), (0.0, -split, split)])
-
-
-def heavy_tails(kurtosis: float) -> bool:
-    """Whether noise of this kurtosis is beyond a Gaussian interval's assumption (the
-    diagnostics' rule, :data:`~noisevar.diagnostics.tails.HEAVY_KURTOSIS`)."""
-    return bool(kurtosis > HEAVY_KURTOSIS)
-
-
-def unreliable_tail(x: NDArray) -> float | None:
-    """``x``'s tail index where it is below :data:`~noisevar.diagnostics.tails.TAIL_INDEX_MIN`
-    (no finite fourth moment: no variance interval can be trusted), else None."""
-    alpha = tail_index(x)
-    return alpha if alpha is not None and alpha < TAIL_INDEX_MIN else None
 
 
 def ranges_mask(ranges: list[tuple[int, int]], n: int) -> NDArray:

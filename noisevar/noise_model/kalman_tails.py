@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from noisevar.estimators.interval import heavy_tails, unreliable_tail
+from noisevar.estimators.interval import heavy_tails, tail_index, unreliable_tail
 
 
 def innovation_kurtosis(nu: NDArray) -> float:
@@ -51,11 +51,11 @@ def tails_widening(nu: NDArray) -> tuple[float, str | None, float]:
     if not heavy_tails(kurt):
         return 1.0, None, kurt
     factor = (kurt - 1.0) / 2.0
-    alpha = unreliable_tail(nu)
+    alpha = tail_index(nu)
     unreliable = (
         f"; their tail index {alpha:.1f} is too low for a finite fourth moment (or a few "
         "glitches of one size): even the widened interval is unreliable"
-        if alpha is not None
+        if unreliable_tail(alpha)
         else ""
     )
     return (
