@@ -58,6 +58,15 @@ def _free_port() -> int:
         return int(s.getsockname()[1])
 
 
+def pytest_collection_modifyitems(items):
+    """One worker runs every test that needs the served app or the browser (pytest-xdist's
+    ``loadgroup``): one ``streamlit run`` and one Chromium per suite, and one writer of
+    ``test-artifacts/``."""
+    for item in items:
+        if {"server", "browser"} & set(getattr(item, "fixturenames", ())):
+            item.add_marker(pytest.mark.xdist_group("browser"))
+
+
 @pytest.fixture(scope="session")
 def server():
     """The app served by ``streamlit run`` on a free port, once per session."""
