@@ -1,4 +1,4 @@
-"""Suite-wide guards.
+"""Suite-wide guards and settings.
 
 Every dashboard run a test makes (``AppTest.run``) must end without an uncaught exception:
 a page that raises shows users a traceback, even on a run whose state the test does not
@@ -9,6 +9,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import settings
+
+# Every property test is seeded (the same examples on every run and every machine) and has no
+# per-example deadline (a loaded CI machine, or parallel workers, must not fail a slow example).
+settings.register_profile("noisevar", derandomize=True, deadline=None)
+settings.load_profile("noisevar")
 
 
 @pytest.fixture(autouse=True)
