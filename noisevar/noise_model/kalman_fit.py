@@ -32,7 +32,13 @@ from noisevar.kalman.divergence import nis_band
 from noisevar.noise_model._rescale import rescale_tuning
 from noisevar.noise_model._steady import FilterPass, diffuse_start, filter_pass, steady_state
 from noisevar.noise_model.kalman_als import als_columns, innovations_lti
-from noisevar.noise_model.kalman_tails import RobustCovariance, sandwich, tails_note
+from noisevar.noise_model.kalman_tails import (
+    STEP,
+    RobustCovariance,
+    information_and_scores,
+    sandwich,
+    tails_note,
+)
 
 #: Kinematic models: name -> (number of states, power k of T in h = q T^k / r, q's name).
 MODELS: dict[str, tuple[int, int, str]] = {
@@ -49,6 +55,9 @@ DEFAULT_METHOD = "mle"
 SCALE_RANGE = (-20, 20)
 #: Search range of log10 h for the likelihood (per sample).
 LOG10_H_RANGE = (-14.0, 4.0)
+#: An estimate of ln h closer than this to an end of its range is at that end (noted; at
+#: the bottom, h and q are not identified and their intervals are open).
+EDGE_MARGIN = 0.5
 #: p-value of the Ljung-Box test below which the innovations are called coloured.
 WHITE_ALPHA = 0.01
 #: The interval of a term the data do not identify.
@@ -264,30 +273,27 @@ def _mle_log_h(z: NDArray, model: str, dt: float, progress: Callable | None) -> 
     return float(res.x) if res.fun <= values[best] else float(grid[best])
 
 
+def _at_edge(log_h: float) -> tuple[bool, bool]:
+    """Whether ``ln h`` is at the bottom, at the top of its search range."""
+    lo, hi = np.log(10.0) * np.array(LOG10_H_RANGE)
+    return bool(log_h - lo < EDGE_MARGIN), bool(hi - log_h < EDGE_MARGIN)
+
+
 def _log_cov(
     z: NDArray, model: str, dt: float, log_h: float, log_r: float
 ) -> tuple[RobustCovariance, bool]:
     """Robust covariance of ``(log h, log r)``, or of ``log r`` alone, and whether h is
     identified: the sandwich of the observed information (central differences in ``log h``,
     analytic in ``log r``) and the per-sample scores."""
-    d = 1e-3
-    fps = [_unit_pass(z, model, dt, float(np.exp(log_h + s * d))) for s in (-1, 0, 1)]
-    w = np.exp(-log_r)
-    # -2 l_k (constants dropped) at log h - d, log h, log h + d
-    terms = [np.log(fp.s) + w * fp.innovations**2 / fp.s for fp in fps]
-    sums = [float(np.sum(t)) for t in terms]
-    g = [w * float(np.sum(fp.innovations**2 / fp.s)) for fp in fps]
-    huu = -0.5 * (sums[2] - 2 * sums[1] + sums[0]) / d**2
-    huv = 0.5 * (g[2] - g[0]) / (2 * d)
-    info = np.array([[-huu, -huv], [-huv, 0.5 * g[1]]])
-    nu2 = w * fps[1].innovations ** 2 / fps[1].s
-    scores = np.column_stack([-(terms[2] - terms[0]) / (4 * d), 0.5 * (nu2 - 1.0)])
+    fps = [_unit_pass(z, model, dt, float(np.exp(log_h + s * STEP))) for s in (-1, 0, 1)]
+    info, scores = information_and_scores(fps, log_r)
     try:
-        if np.all(np.diag(np.linalg.inv(info)) > 0):
+        if not _at_edge(log_h)[0] and np.all(np.diag(np.linalg.inv(info)) > 0):
             return sandwich(info, scores), True
     except np.linalg.LinAlgError:
         pass
-    # h not identified (at its bound, a flat or NaN curvature): r's interval given h
+    # h not identified (at the bottom of its range: the likelihood flat, its score and
+    # curvature both near 0, their sandwich meaningless; a NaN curvature): r's given h
     return sandwich(info[1:, 1:], scores[:, 1:]), False
 
 
@@ -520,10 +526,10 @@ def fit_kalman(
         sl, g, n = _profile(zc, model, dt, log_h)
         r = g / n
         q = float(np.exp(log_h)) * r / dt**k
-        edge = np.log(10.0) * np.array(LOG10_H_RANGE)
-        if log_h - edge[0] < 0.5:
+        bottom, top = _at_edge(log_h)
+        if bottom:
             notes.append("q is at the bottom of its range: no process noise is detectable")
-        if edge[1] - log_h < 0.5:
+        if top:
             notes.append("h is at the top of its range: the measurement noise is negligible")
     else:
         q, r, als_notes = _als(zc, model, dt, lags)

@@ -15,9 +15,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.stats
 from numpy.typing import ArrayLike, NDArray
 
 from noisevar.estimators.interval import heavy_tails, tail_index, unreliable_tail
+from noisevar.noise_model._steady import FilterPass
 
 
 def innovation_kurtosis(nu: NDArray) -> float:
@@ -30,6 +32,8 @@ def innovation_kurtosis(nu: NDArray) -> float:
     return float(np.mean(x * x) / m2**2) if m2 > 0 else 3.0
 
 
+#: Step in ln h of the central differences.
+STEP = 1e-3
 #: Bootstrap resamples of the scores' blocks for the intervals' quantiles.
 RESAMPLES = 999
 #: The bootstrap's seed: one record, one interval (in Python, the CLI and the page).
@@ -38,8 +42,38 @@ SEED = 26
 CHUNK = 64
 #: Most blocks the scores are summed over (longer blocks beyond).
 MAX_BLOCKS = 1000
+#: Fewest blocks the bootstrap-t runs on; below, Student-t quantiles on blocks - 1 dof.
+MIN_BLOCKS = 50
 #: The intervals' tail probabilities (95 %).
 TAILS = (0.025, 0.975)
+
+
+def information_and_scores(fps: list[FilterPass], log_r: float) -> tuple[NDArray, NDArray]:
+    """Observed information of ``(ln h, ln r)`` and the per-sample scores.
+
+    Parameters
+    ----------
+    fps : list of FilterPass
+        The unit-r filter at ``ln h - STEP``, ``ln h``, ``ln h + STEP``.
+    log_r : float
+
+    Returns
+    -------
+    info : ndarray (2, 2)
+        Central differences in ``ln h``, analytic in ``ln r``.
+    scores : ndarray (n, 2)
+        ``∂l_k/∂ln h`` (central differences of ``l_k``) and ``∂l_k/∂ln r = (ν_k² - 1)/2``.
+    """
+    w = np.exp(-log_r)
+    # -2 l_k (constants dropped) at ln h - d, ln h, ln h + d
+    terms = [np.log(fp.s) + w * fp.innovations**2 / fp.s for fp in fps]
+    sums = [float(np.sum(t)) for t in terms]
+    g = [w * float(np.sum(fp.innovations**2 / fp.s)) for fp in fps]
+    huu = -0.5 * (sums[2] - 2 * sums[1] + sums[0]) / STEP**2
+    huv = 0.5 * (g[2] - g[0]) / (2 * STEP)
+    info = np.array([[-huu, -huv], [-huv, 0.5 * g[1]]])
+    nu2 = w * fps[1].innovations ** 2 / fps[1].s
+    return info, np.column_stack([-(terms[2] - terms[0]) / (4 * STEP), 0.5 * (nu2 - 1.0)])
 
 
 def block_sums(scores: NDArray) -> NDArray:
@@ -70,14 +104,17 @@ class RobustCovariance:
     cov : ndarray (p, p)
         ``H^-1 J H^-1``, ``J`` the block sums' covariance (batch means).
     theta : ndarray (B, p)
-        One-step estimates ``H^-1 sum(blocks*)`` of resampled blocks.
+        One-step estimates ``H^-1 sum(blocks*)`` of resampled blocks (none: too few blocks).
     covs : ndarray (B, p, p)
         Each resample's own sandwich.
+    dof : float
+        Degrees of freedom of the Student-t quantiles used without resamples.
     """
 
     cov: NDArray
     theta: NDArray
     covs: NDArray
+    dof: float = np.inf
 
     def interval(self, centre: float, c: ArrayLike) -> tuple[float, float]:
         """95 % interval of ``exp(c · θ)`` around ``exp(centre)``: bootstrap-t quantiles of
@@ -89,7 +126,7 @@ class RobustCovariance:
         with np.errstate(divide="ignore", invalid="ignore"):
             t = (self.theta @ c) / np.sqrt(np.einsum("i,bij,j->b", c, self.covs, c))
         t = t[np.isfinite(t)]
-        q_lo, q_hi = np.quantile(t, TAILS) if t.size else (-np.inf, np.inf)
+        q_lo, q_hi = np.quantile(t, TAILS) if t.size else scipy.stats.t.ppf(TAILS, self.dof)
         se = np.sqrt(var)
         with np.errstate(over="ignore", under="ignore"):  # an unidentified term: (0, inf)
             return (float(np.exp(centre - q_hi * se)), float(np.exp(centre - q_lo * se)))
@@ -121,11 +158,16 @@ def sandwich(info: NDArray, scores: NDArray) -> RobustCovariance:
     make ``r`` a mean of a few large squares, skewed, whose estimated spread is small
     exactly where few glitches fell: the quantiles of the studentised one-step estimate
     over :data:`RESAMPLES` resamples of the blocks (moving-block bootstrap-t, seeded)
-    replace ±1.96.
+    replace ±1.96. With fewer than :data:`MIN_BLOCKS` blocks (a short record) a resample
+    of them is too coarse (its spread can vanish): Student-t quantiles on ``blocks - 1``
+    dof, batch means' own.
     """
     inv = np.linalg.inv(info)
     b = block_sums(scores)
     m, p = b.shape
+    cov = inv @ (b.T @ b) @ inv
+    if m < MIN_BLOCKS:  # batch means: the studentised sum has about m - 1 dof
+        return RobustCovariance(cov, np.empty((0, p)), np.empty((0, p, p)), float(m - 1))
     moments = np.hstack([b, (b[:, :, None] * b[:, None, :]).reshape(m, p * p)])
     rng = np.random.default_rng(SEED)
     theta, covs = [], []
@@ -139,7 +181,6 @@ def sandwich(info: NDArray, scores: NDArray) -> RobustCovariance:
         spread = sums[:, p:].reshape(-1, p, p) - total[:, :, None] * total[:, None, :] / m
         theta.append(total @ inv.T)
         covs.append(inv @ spread @ inv)
-    cov = inv @ (b.T @ b) @ inv
     return RobustCovariance(cov, np.concatenate(theta), np.concatenate(covs))
 
 

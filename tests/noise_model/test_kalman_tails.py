@@ -69,6 +69,18 @@ def test_glitches_in_r_do_not_widen_q() -> None:
     assert width(glitched) > 0.7 * width(clean)
 
 
+def test_q_at_the_bottom_of_its_range_has_an_open_interval() -> None:
+    """White noise fitted with a cv or ca model: no process noise is detectable, so h and q
+    are not identified (0, inf); main gave ca's q (1.1e-16, 9.5e-13), as if it were measured
+    (a flat likelihood's curvature and score are both near 0)."""
+    z = np.random.default_rng(1).normal(size=2000)
+    for model in ("cv", "ca"):
+        t = fit_kalman(z, model)
+        assert any("bottom of its range" in n for n in t.notes)
+        assert t.q_interval == t.h_interval == (0.0, float("inf")), (model, t.q_interval)
+        assert 0.9 < t.r_interval[0] < t.r < t.r_interval[1] < 1.1, t.r_interval
+
+
 def test_one_interval_in_python_the_cli_and_the_page(tmp_path, capsys) -> None:
     """A record the kurtosis-widened interval missed (1.48-1.99 against 2): the robust one
     covers it, the same in Python, the CLI (json and table) and the Noise model page."""
