@@ -32,7 +32,13 @@ from noisevar.kalman.divergence import nis_band
 from noisevar.noise_model._rescale import rescale_tuning
 from noisevar.noise_model._steady import FilterPass, diffuse_start, filter_pass, steady_state
 from noisevar.noise_model.kalman_als import als_columns, innovations_lti
-from noisevar.noise_model.kalman_tails import tails_widening
+from noisevar.noise_model.kalman_tails import (
+    STEP,
+    RobustCovariance,
+    information_and_scores,
+    sandwich,
+    tails_note,
+)
 
 #: Kinematic models: name -> (number of states, power k of T in h = q T^k / r, q's name).
 MODELS: dict[str, tuple[int, int, str]] = {
@@ -49,9 +55,13 @@ DEFAULT_METHOD = "mle"
 SCALE_RANGE = (-20, 20)
 #: Search range of log10 h for the likelihood (per sample).
 LOG10_H_RANGE = (-14.0, 4.0)
+#: An estimate of ln h closer than this to an end of its range is at that end (noted; at
+#: the bottom, h and q are not identified and their intervals are open).
+EDGE_MARGIN = 0.5
 #: p-value of the Ljung-Box test below which the innovations are called coloured.
 WHITE_ALPHA = 0.01
-_Z95 = 1.959963984540054
+#: The interval of a term the data do not identify.
+OPEN = (0.0, float("inf"))
 
 
 def kinematic_model(model: str, dt: float) -> tuple[NDArray, NDArray, NDArray]:
@@ -99,7 +109,8 @@ class KalmanTuning:
     q, r, h : float
         Process-noise density, measurement variance, ``h = q T^k / r``.
     q_interval, r_interval, h_interval : (float, float)
-        95 % intervals (from the likelihood's curvature, in logs).
+        95 % intervals (in logs; the sandwich of the likelihood's curvature and its scores,
+        right for non-Gaussian noise too).
     F, H, Q, R, gain, P : ndarray
         The filter; ``gain`` is the steady-state Kalman gain, ``P`` the steady
         predicted covariance.
@@ -122,7 +133,8 @@ class KalmanTuning:
     innovations_kurtosis : float
         Of the normalised innovations (3 for Gaussian noise); above
         :data:`~noisevar.diagnostics.tails.HEAVY_KURTOSIS` the fit's Gaussian assumption is
-        broken (:attr:`innovations_gaussian` False): intervals widened, a note says so.
+        broken (:attr:`innovations_gaussian` False): a note says so (the intervals are the
+        robust sandwich ones either way).
     """
 
     model: str
@@ -261,25 +273,28 @@ def _mle_log_h(z: NDArray, model: str, dt: float, progress: Callable | None) -> 
     return float(res.x) if res.fun <= values[best] else float(grid[best])
 
 
-def _log_cov(z: NDArray, model: str, dt: float, log_h: float, log_r: float) -> NDArray:
-    """Covariance of ``(log h, log r)`` from the observed information (central differences)."""
-    d = 1e-3
-    pts = [_profile(z, model, dt, log_h + s * d) for s in (-1, 0, 1)]
-    sl = np.array([p[0] for p in pts])
-    g = np.array([p[1] for p in pts])
-    w = np.exp(-log_r)
-    huu = -0.5 * ((sl[2] - 2 * sl[1] + sl[0]) + w * (g[2] - 2 * g[1] + g[0])) / d**2
-    huv = 0.5 * w * (g[2] - g[0]) / (2 * d)
-    hvv = -0.5 * g[1] * w
-    info = -np.array([[huu, huv], [huv, hvv]])
-    # h not identified (at its bound, a flat or NaN curvature): r's interval given h,
-    # from its own curvature; h's unbounded (inf)
-    given_h = np.diag([np.inf, 1.0 / -hvv if -hvv > 0 else np.inf])
+def _at_edge(log_h: float) -> tuple[bool, bool]:
+    """Whether ``ln h`` is at the bottom, at the top of its search range."""
+    lo, hi = np.log(10.0) * np.array(LOG10_H_RANGE)
+    return bool(log_h - lo < EDGE_MARGIN), bool(hi - log_h < EDGE_MARGIN)
+
+
+def _log_cov(
+    z: NDArray, model: str, dt: float, log_h: float, log_r: float
+) -> tuple[RobustCovariance, bool]:
+    """Robust covariance of ``(log h, log r)``, or of ``log r`` alone, and whether h is
+    identified: the sandwich of the observed information (central differences in ``log h``,
+    analytic in ``log r``) and the per-sample scores."""
+    fps = [_unit_pass(z, model, dt, float(np.exp(log_h + s * STEP))) for s in (-1, 0, 1)]
+    info, scores = information_and_scores(fps, log_r)
     try:
-        cov = np.linalg.inv(info)
+        if not _at_edge(log_h)[0] and np.all(np.diag(np.linalg.inv(info)) > 0):
+            return sandwich(info, scores), True
     except np.linalg.LinAlgError:
-        return given_h
-    return cov if np.all(np.diag(cov) > 0) else given_h
+        pass
+    # h not identified (at the bottom of its range: the likelihood flat, its score and
+    # curvature both near 0, their sandwich meaningless; a NaN curvature): r's given h
+    return sandwich(info[1:, 1:], scores[:, 1:]), False
 
 
 # ---------------------------------------------------------------- ALS
@@ -352,16 +367,6 @@ def _check_input(z: ArrayLike, model: str, rate: float | None) -> tuple[NDArray,
     return arr, 1.0 / float(rate) if rate is not None else 1.0
 
 
-def _interval(log_value: float, var: float) -> tuple[float, float]:
-    if var == np.inf:  # not identified by the data: (0, inf), as an overflowing exp gives
-        return (0.0, float("inf"))
-    if not np.isfinite(var) or var < 0:
-        return (float("nan"), float("nan"))
-    half = _Z95 * np.sqrt(var)
-    with np.errstate(over="ignore", under="ignore"):  # an unidentified term: (0, inf)
-        return (float(np.exp(log_value - half)), float(np.exp(log_value + half)))
-
-
 def _units(model: str, rate: float | None) -> dict[str, str]:
     k = MODELS[model][1]
     t = "s" if rate is not None else "sample"
@@ -403,9 +408,14 @@ def _tuning(  # long: assembles the filter, its intervals and its validation
     # l = -n/2 log 2 pi - 1/2 sum_{k >= d} (log S_k + e_k²/S_k)   (diffuse, Durbin-Koopman)
     loglik = -0.5 * float(z.size * np.log(2 * np.pi) + np.sum(np.log(fp.s) + nu**2))
     h_ratio = q * dt**k / r
-    widen, tails, kurt = tails_widening(nu)  # the Gaussian information, widened for tails
-    cov = widen * _log_cov(zc, model, dt, np.log(h_ratio), np.log(r))
-    var_q = cov[0, 0] + cov[1, 1] + 2 * cov[0, 1]
+    tails, kurt = tails_note(nu)
+    rc, h_known = _log_cov(zc, model, dt, np.log(h_ratio), np.log(r))
+    # ln q = ln h + ln r - k ln T; h not identified: h and q unbounded
+    q_iv, h_iv = (
+        (rc.interval(np.log(q), [1, 1]), rc.interval(np.log(h_ratio), [1, 0]))
+        if h_known
+        else (OPEN, OPEN)
+    )
     if not white:
         notes.append(
             f"the innovations are not white (Ljung-Box {pvalue(p)} over {lags} lags): the data "
@@ -425,9 +435,9 @@ def _tuning(  # long: assembles the filter, its intervals and its validation
         q=float(q),
         r=float(r),
         h=float(h_ratio),
-        q_interval=_interval(np.log(q), var_q),
-        r_interval=_interval(np.log(r), cov[1, 1]),
-        h_interval=_interval(np.log(h_ratio), cov[0, 0]),
+        q_interval=q_iv,
+        r_interval=rc.interval(np.log(r), [0, 1] if h_known else [1]),
+        h_interval=h_iv,
         F=F,
         H=hv[None, :],
         Q=Q,
@@ -516,10 +526,10 @@ def fit_kalman(
         sl, g, n = _profile(zc, model, dt, log_h)
         r = g / n
         q = float(np.exp(log_h)) * r / dt**k
-        edge = np.log(10.0) * np.array(LOG10_H_RANGE)
-        if log_h - edge[0] < 0.5:
+        bottom, top = _at_edge(log_h)
+        if bottom:
             notes.append("q is at the bottom of its range: no process noise is detectable")
-        if edge[1] - log_h < 0.5:
+        if top:
             notes.append("h is at the top of its range: the measurement noise is negligible")
     else:
         q, r, als_notes = _als(zc, model, dt, lags)

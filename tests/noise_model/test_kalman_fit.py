@@ -154,9 +154,10 @@ def test_evaluate_refuses_non_positive_q():
 def test_an_unidentified_term_gets_an_open_interval_without_a_warning():
     import warnings
 
-    from noisevar.noise_model.kalman_fit import _interval
+    from noisevar.noise_model.kalman_tails import RobustCovariance
 
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        lo, hi = _interval(0.0, 1e6)
+        draws = np.linspace(-2.0, 2.0, 9)[:, None]
+        lo, hi = RobustCovariance(np.eye(1) * 1e6, draws, np.ones((9, 1, 1))).interval(0.0, [1])
     assert lo == 0.0 and hi == float("inf")
