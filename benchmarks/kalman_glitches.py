@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import argparse
 import platform
+import shlex
 import sys
 import time
 from pathlib import Path
@@ -134,7 +135,7 @@ def main() -> None:
         "# The Kalman fit on glitches and heavy tails",
         "",
         *([args.note, ""] if args.note else []),
-        f"`python benchmarks/kalman_glitches.py --runs {args.runs}` ({args.n} samples per "
+        f"`python benchmarks/kalman_glitches.py {shlex.join(sys.argv[1:])}` ({args.n} samples per "
         f"record, {platform.python_version()}). r's bias against the realised noise variance "
         "(glitches in) and the process variance, RMSE against the process variance, ci95 "
         "coverage of the process variance (target 90-98 %) and of the realised one, the median "
