@@ -344,9 +344,25 @@ def regime_stretches(
 
 
 def _trimmed(prof: LevelProfile) -> list[tuple[int, int]]:
-    """The still regimes of ``prof``, each less one block at either end."""
-    edge = int(prof.stop[0] - prof.start[0]) if prof.start.size else 0
-    spans = [(r.start + edge, r.stop - edge) for r in prof.regimes if r.still]
+    """The still regimes of ``prof``, each less its edge blocks that are not whole quiet
+    blocks (those that may hold part of the motion beside it, or a burst of their own).
+
+    A whole quiet block is as clean as the still stretches themselves: cut off, a still
+    start of 90 samples whose third block takes the motion after it kept 32 samples on
+    the record's grid, and 64 or 63 on the reversed one with its phase.
+    """
+    if not prof.start.size:
+        return []
+    whole = prof.quiet.copy()
+    if prof.count is not None:
+        whole &= prof.count >= prof.stop - prof.start
+    spans = []
+    for r in (r for r in prof.regimes if r.still):
+        first = int(np.searchsorted(prof.start, r.start))
+        last = int(np.searchsorted(prof.stop, r.stop))
+        a = r.start if whole[first] else int(prof.stop[first])
+        b = r.stop if whole[last] else int(prof.start[last])
+        spans.append((a, b))
     return [(a, b) for a, b in spans if b - a >= STILL_MIN]
 
 
