@@ -12,8 +12,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar._distributions import chi2_pdf, chi2_ppf
-from noisevar.diagnostics.quiet_set import pooled, quiet_blocks, still_if_quiet
-from noisevar.diagnostics.regimes import STILL_RATIO, Regime, find_regimes, floor_again
+from noisevar.diagnostics.quiet_set import (
+    QUIET_ROUNDS,
+    gaussian_seed,
+    leave_one_out_dof,
+    pooled,
+    quiet_set,
+    still_if_quiet,
+)
+from noisevar.diagnostics.regimes import STILL_RATIO, Regime, find_regimes
 
 if TYPE_CHECKING:
     from noisevar.diagnostics.results import NoiseDiagnostics
@@ -22,6 +29,12 @@ if TYPE_CHECKING:
 PROFILE_BLOCKS = 200
 #: At least this many samples per block.
 PROFILE_MIN_BLOCK = 32
+#: A block joins the quiet set while its level is below the ``1 - QUIET_ALPHA / n_blocks``
+#: quantile of the set's (a family-wise level over the blocks).
+QUIET_ALPHA = 0.05
+#: The quiet set's seed: still blocks whose mean square is at most this many times the
+#: still blocks' median mean square.
+SEED_FACTOR = 20.0
 #: Fewest consecutive blocks left out of the quiet set that make a stretch of motion
 #: (:meth:`LevelProfile.left_out_ratio`): one huge spike, spread by the smoother's span,
 #: leaves out one block or two.
@@ -401,26 +414,30 @@ def profile_from_blocks(
     robust_dof = (count if medians is None else medians) * MEDIAN_DOF / eta
     # regimes on the robust levels, which a few spikes do not move (docs/algorithms.md §F1)
     regimes = find_regimes(start, stop, robust, robust_dof, lsb)
-    blocks = partial(quiet_blocks, start, stop, count, var, robust, robust_dof, dof, eta, tails)
-    quiet, quiet_dof = blocks(regimes)
-    without = floor_again(regimes, quiet, start, stop)
-    if without:  # no still regime keeps a quiet block: the floor sought above them
-        burst = pooled(var, dof, _blocks_of(regimes, without, start, stop))
-        again = find_regimes(start, stop, robust, robust_dof, lsb, without, burst)
-        if any(r.still for r in again):
-            regimes, (quiet, quiet_dof) = again, blocks(again)
+    still = np.zeros(robust.size, dtype=bool)
+    for r in regimes:
+        still |= r.still & (start >= r.start) & (stop <= r.stop)
+    level = 1.0 - QUIET_ALPHA / robust.size
+    keep = partial(quiet_set, still, var, dof)
+    # the seed: still blocks whose mean square is near the still blocks' median; where the
+    # record has motion, only those Gaussian noise explains (handling beside the motion)
+    seed = still & (var <= SEED_FACTOR * np.median(var[still]))
+    quiet_dof = None
+    if tails is None:
+        quiet = keep(chi2_ppf(level, dof) / dof, seed)
+    else:  # rounds: mean squares tested with the kurtosis of the last set's other blocks
+        if not still.all():
+            seed &= gaussian_seed(still, count, var, robust, robust_dof, eta, level)
+        quiet = seed
+        for _ in range(QUIET_ROUNDS):
+            nu = leave_one_out_dof(count, robust, tails, quiet, eta, dof)
+            again = keep(chi2_ppf(level, nu) / nu, quiet)
+            if np.array_equal(again, quiet):
+                break
+            quiet = again
+        quiet_dof = leave_one_out_dof(count, robust, tails, quiet, eta, dof)
     regimes = still_if_quiet(regimes, start, stop, quiet)
     return LevelProfile(start, stop, var, lo, hi, dof, quiet, regimes, count, robust, quiet_dof)
-
-
-def _blocks_of(
-    regimes: tuple[Regime, ...], which: frozenset[int], start: NDArray, stop: NDArray
-) -> NDArray:
-    """The blocks inside the regimes of indices ``which``."""
-    inside = np.zeros(start.size, dtype=bool)
-    for i in which:
-        inside |= (start >= regimes[i].start) & (stop <= regimes[i].stop)
-    return inside
 
 
 def on_both_grids(

@@ -8,7 +8,6 @@ runs them.
 from __future__ import annotations
 
 from dataclasses import replace
-from functools import partial
 
 import numpy as np
 from numpy.typing import NDArray
@@ -19,53 +18,6 @@ from noisevar.diagnostics.regimes import Regime
 #: At most this many rounds of the quiet set, each testing mean squares with the kurtosis
 #: of the last round's other blocks.
 QUIET_ROUNDS = 5
-#: A block joins the quiet set while its level is below the ``1 - QUIET_ALPHA / n_blocks``
-#: quantile of the set's (a family-wise level over the blocks).
-QUIET_ALPHA = 0.05
-#: The quiet set's seed: still blocks whose mean square is at most this many times the
-#: still blocks' median mean square.
-SEED_FACTOR = 20.0
-
-
-def quiet_blocks(
-    start: NDArray,
-    stop: NDArray,
-    count: NDArray,
-    var: NDArray,
-    robust: NDArray,
-    robust_dof: NDArray,
-    dof: NDArray,
-    eta: float,
-    tails: tuple[NDArray, NDArray, NDArray] | None,
-    regimes: tuple[Regime, ...],
-) -> tuple[NDArray, NDArray | None]:
-    """The quiet set of the still ``regimes``' blocks, and its dof with its own kurtosis.
-
-    The blocks' ranges, squares counted, mean squares, robust levels and their dof, and
-    mean-square dof as :func:`~noisevar.diagnostics.profile.profile_from_blocks`'s; the
-    dof are None without ``tails`` (the record's kurtosis, in ``dof``).
-    """
-    still = np.zeros(robust.size, dtype=bool)
-    for r in regimes:
-        still |= r.still & (start >= r.start) & (stop <= r.stop)
-    level = 1.0 - QUIET_ALPHA / robust.size
-    keep = partial(quiet_set, still, var, dof)
-    # the seed: still blocks whose mean square is near the still blocks' median; where the
-    # record has motion, only those Gaussian noise explains (handling beside the motion)
-    seed = still & (var <= SEED_FACTOR * np.median(var[still]))
-    if tails is None:
-        return keep(chi2_ppf(level, dof) / dof, seed), None
-    # rounds: mean squares tested with the kurtosis of the last set's other blocks
-    if not still.all():
-        seed &= gaussian_seed(still, count, var, robust, robust_dof, eta, level)
-    quiet = seed
-    for _ in range(QUIET_ROUNDS):
-        nu = leave_one_out_dof(count, robust, tails, quiet, eta, dof)
-        again = keep(chi2_ppf(level, nu) / nu, quiet)
-        if np.array_equal(again, quiet):
-            break
-        quiet = again
-    return quiet, leave_one_out_dof(count, robust, tails, quiet, eta, dof)
 
 
 def still_if_quiet(

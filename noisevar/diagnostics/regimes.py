@@ -252,20 +252,11 @@ def _interval(x: float, nu: float) -> tuple[float, float]:
 
 
 def find_regimes(
-    start: NDArray,
-    stop: NDArray,
-    level: NDArray,
-    dof: NDArray,
-    lsb: float | None = None,
-    without: frozenset[int] = frozenset(),
-    burst: float = 0.0,
+    start: NDArray, stop: NDArray, level: NDArray, dof: NDArray, lsb: float | None = None
 ) -> tuple[Regime, ...]:
     """The record's regimes from its profile blocks (sample ranges, levels and their dof).
 
-    ``lsb``: the record's grid step (``diagnostics.lsb``), None off a grid. ``without``:
-    indices of regimes (in order) that take no part in the floor, which is sought again
-    among the others under the cap, or :data:`STILL_RATIO` times ``burst`` (their blocks'
-    mean square) when that is higher (:func:`floor_again`).
+    ``lsb``: the record's grid step (``diagnostics.lsb``), None off a grid.
 
     Notes
     -----
@@ -288,10 +279,6 @@ def find_regimes(
     pooled = [_pool(level[a:b], dof[a:b]) for a, b in spans]
     held = 0.0 if lsb is None else half_a_step(lsb)
     live, floor, cap = _supported_floor(level, dof, spans, pooled, held)
-    if without:
-        cap = max(cap, STILL_RATIO * burst)
-        live = [i for i in live if i not in without and pooled[i][0] <= cap]
-        floor = _floor_among(level, dof, spans, pooled, live, cap, held)
     out = []
     for i, ((a, b), (x, nu)) in enumerate(zip(spans, pooled, strict=True)):
         lo, hi = _interval(x, nu)
@@ -327,51 +314,13 @@ def _supported_floor(
     live = _not_flat(pooled, spans)
     while True:
         cap = _cap([pooled[i] for i in live])
-        floor = _floor_among(level, dof, spans, pooled, live, cap, held)
+        phi = _dispersion(level, dof, [spans[i] for i in live if pooled[i][0] <= cap])
+        lows = _floor([(pooled[i][0], pooled[i][1] / phi) for i in live], cap, held)
+        floor = {live[j] for j in lows}
         rest = [i for i in live if i not in floor]
         if not rest or not _held_and_short(floor, spans, pooled, held):
             return live, floor, cap
         live = rest
-
-
-def _floor_among(
-    level: NDArray,
-    dof: NDArray,
-    spans: list[tuple[int, int]],
-    pooled: list[tuple[float, float]],
-    live: list[int],
-    cap: float,
-    held: float,
-) -> set[int]:
-    """The floor (:func:`_floor`) among the regimes ``live``, their dof over the blocks'
-    dispersion (:func:`_dispersion`); empty when none is left."""
-    if not live:
-        return set()
-    phi = _dispersion(level, dof, [spans[i] for i in live if pooled[i][0] <= cap])
-    lows = _floor([(pooled[i][0], pooled[i][1] / phi) for i in live], cap, held)
-    return {live[j] for j in lows}
-
-
-def floor_again(
-    regimes: tuple[Regime, ...], quiet: NDArray, start: NDArray, stop: NDArray
-) -> frozenset[int]:
-    """Indices of the still regimes to leave out of a floor sought again (empty: none).
-
-    When no still regime keeps a quiet block, the floor has no sensor level to quote:
-    its regimes, a block or two whose mean square a burst raises though their median is
-    the lowest, are left out and the floor is sought among the others
-    (:func:`find_regimes`' ``without``), under the cap or twice the left-out blocks' mean
-    square (their level, bursts in: a regime under it is no more motion than they are),
-    so that a still stretch above them is not lost with them on one grid's phase
-    (docs/algorithms.md §E1 *The still set*). Not when every regime is still (one
-    level) or one keeps a quiet block.
-    """
-    if all(r.still for r in regimes):
-        return frozenset()
-    floor = [i for i, r in enumerate(regimes) if r.still]
-    if any(quiet[(start >= regimes[i].start) & (stop <= regimes[i].stop)].any() for i in floor):
-        return frozenset()
-    return frozenset(floor)
 
 
 def _held_and_short(
