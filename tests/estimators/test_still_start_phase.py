@@ -1,10 +1,11 @@
 """A short still start's R to use does not hang on the block grid's phase (issue 26).
 
-A still start of 100 samples then motion: the record's grid ends its still stretch a
-block before the motion, the reversed grid a sample or so earlier with its phase, so the
-stretch still on both grids was 64 samples or 63 (too short) as leading samples were
-dropped; the still regime less its edge blocks that are not whole quiet blocks is the
-same stretch on every grid (BasicMotions' smartwatch, docs/algorithms.md §E1).
+A still start of 100 samples then motion: the record's grid, laid from its start, ends
+the still stretch a block before the motion; the reversed grid, whose block at the start
+takes the rest of the record, a sample or so earlier with its phase, so the stretch still
+on both grids was 64 samples or 63 (too short) as leading samples were dropped. Read on
+the grid laid from the end it touches, it is the same stretch (BasicMotions' smartwatch,
+docs/algorithms.md §E1 *A still stretch at a record's end*).
 """
 
 from __future__ import annotations
