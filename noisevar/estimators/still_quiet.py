@@ -79,13 +79,14 @@ def still_estimate(
         for other in (either, _shrunk(ranges, prof)):
             if other and other != ranges and _may_leave(est, prof, ranges, other):
                 est = over_either_grid(est, _measured(estimate_in, kept, other))
-    if est is None and back is not None and ranges:  # the record's ends on their own grids
-        ends = at_the_ends(ranges, diag.level_profile, back(diag), diag.n)
-        est = _measured(estimate_in, kept, ends) if ends != ranges else None
-        ranges = ends if est is not None else ranges
+    pieces = ranges
     if est is None and both:  # the quiet blocks in pieces: the still regimes themselves
         ranges = still_regime_ranges(diag, None if back is None else back(diag))
         est = _measured(estimate_in, kept, ranges)
+    if est is None and back is not None and pieces:  # the record's ends on their own grids
+        ends = at_the_ends(pieces, diag.level_profile, back(diag), diag.n)
+        est = _measured(estimate_in, kept, ends) if ends != pieces else None
+        ranges = ends if est is not None else ranges
     if est is None:
         return ranges, None
     est.notes.append(f"the still regimes only: {len(ranges)} stretches, {est.n_total} samples")
