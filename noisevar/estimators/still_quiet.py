@@ -79,9 +79,14 @@ def still_estimate(
         for other in (either, _shrunk(ranges, prof)):
             if other and other != ranges and _may_leave(est, prof, ranges, other):
                 est = over_either_grid(est, _measured(estimate_in, kept, other))
+    pieces = ranges
     if est is None and both:  # the quiet blocks in pieces: the still regimes themselves
         ranges = still_regime_ranges(diag, None if back is None else back(diag))
         est = _measured(estimate_in, kept, ranges)
+    if est is None and back is not None and pieces:  # the record's ends on their own grids
+        ends = at_the_ends(pieces, diag.level_profile, back(diag), diag.n)
+        est = _measured(estimate_in, kept, ends) if ends != pieces else None
+        ranges = ends if est is not None else ranges
     if est is None:
         return ranges, None
     est.notes.append(f"the still regimes only: {len(ranges)} stretches, {est.n_total} samples")
@@ -100,6 +105,56 @@ def back_of(
         made = grid.profile
         return lambda _diag: made
     return getattr(record, "back_profile", None)
+
+
+def at_the_ends(
+    ranges: list[tuple[int, int]], prof: LevelProfile, back: LevelProfile, n: int
+) -> list[tuple[int, int]]:
+    """The still stretches on both block grids, those at the record's ends read on the
+    grid laid from that end.
+
+    Parameters
+    ----------
+    ranges : list of (int, int)
+        The stretches still on both grids (:func:`~noisevar.diagnostics.profile.on_both_grids`).
+    prof, back : LevelProfile
+        The record's profile and the reversed record's (its own sample indices).
+    n : int
+        Samples in the record.
+
+    Returns
+    -------
+    list of (int, int)
+        ``ranges``, a piece that starts at the record's first block replaced by the
+        record's own still stretch that holds it, one that ends at its last block by the
+        reversed record's.
+
+    Notes
+    -----
+    docs/algorithms.md §E1 (*The still set*). The record's grid is laid from its start,
+    the reversed record's from its end: a still stretch at the start is cut into whole
+    blocks by the first, while the second's phase there moves with the record's length
+    (its block at the start takes the rest, 32 to 63 samples). Both find it still, and
+    the stretch still on both was 64 samples or 63 (too short for R's method) as leading
+    samples were dropped (sktime's BasicMotions: a 100-sample Standing start). Read on
+    the grid aligned with its end, it is the same stretch whatever is dropped at the
+    other end; reversal swaps the grids and the ends together. A stretch inside the
+    record stays on both grids (a rest a block long, quiet on one grid and straddling
+    two blocks of the other, is no still stretch).
+    """
+    if not ranges or not prof.start.size or not back.start.size:
+        return ranges
+    first, last = int(prof.start[0]), n - int(back.start[0])
+    own = prof.still_stretches
+    rev = [(n - b, n - a) for a, b in back.still_stretches]
+    out = []
+    for c, d in ranges:
+        if c == first:
+            c, d = next(((a, b) for a, b in own if a <= c and d <= b), (c, d))
+        if d == last:
+            c, d = next(((a, b) for a, b in rev if a <= c and d <= b), (c, d))
+        out.append((c, d))
+    return out
 
 
 def _shrunk(ranges: list[tuple[int, int]], prof: LevelProfile) -> list[tuple[int, int]]:
