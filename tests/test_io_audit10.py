@@ -1,0 +1,68 @@
+"""Files of the tenth real-record audit (benchmarks/real_audit10.py) as users have them:
+geomagpy's IAGA-2002 files of the Conrad Observatory (a magnetometer's 1-second data, the
+format INTERMAGNET's observatories publish) were refused blaming a row's field count, and
+their 99999 / 88888 codes would have been read as values."""
+
+import json
+
+import numpy as np
+import pytest
+
+from noisevar import NoisevarError
+from noisevar.cli import main
+from noisevar.io import channel_record, load_table
+
+_HEAD = """\
+ Format                 IAGA-2002                                    |
+ Source of Data         Some Observatory                             |
+ IAGA Code              XYZ                                          |
+ Reported               EHZF                                         |
+ Data Interval Type     1-second (501-1500)                          |
+ # gaussian filter with 0.3 Hz passband                              |
+DATE       TIME         DOY     XYZE      XYZH      XYZZ      XYZF   |
+"""
+
+
+def _iaga(n: int, seed: int, f_code: str | None = None) -> tuple[str, np.ndarray]:
+    """An IAGA-2002 file of ``n`` seconds; sample 5 of every element is 99999 (missing),
+    and F is ``f_code`` throughout when given (88888: not recorded)."""
+    rng = np.random.default_rng(seed)
+    h = np.round(21027.0 + np.cumsum(rng.normal(0, 0.01, n)) + rng.normal(0, 0.02, n), 2)
+    rows = []
+    for i in range(n):
+        s = f"2018-08-29 {i // 3600:02d}:{i // 60 % 60:02d}:{i % 60:02d}.000 241"
+        e, hh, z, f = (16.5, h[i], 43859.3, 48632.9) if i != 5 else (99999.0,) * 4
+        f = float(f_code) if f_code else f
+        rows.append(f"{s} {e:12.2f}{hh:10.2f}{z:10.2f}{f:10.2f}")
+    return _HEAD + "\n".join(rows) + "\n", h
+
+
+def test_an_iaga_2002_file_is_read_with_its_times_units_and_codes(tmp_path):
+    text, h = _iaga(400, 1)
+    path = tmp_path / "wic20180829vsec.sec"
+    path.write_text(text)
+    table = load_table(path)
+    assert table.time_column == "time" and table.sample_period == pytest.approx(1.0)
+    assert table.units["XYZH"] == "nT" and "DOY" not in table.columns
+    z, t = channel_record(table, "XYZH", drop_nonfinite=True)
+    assert np.flatnonzero(np.isnan(z)).tolist() == [5] and t[-1] == pytest.approx(399.0)
+    np.testing.assert_allclose(np.delete(z, 5), np.delete(h, 5))
+    assert any("IAGA-2002" in n for n in table.notes)
+
+
+def test_the_cli_answers_an_iaga_file_and_an_element_not_recorded_is_empty(tmp_path, capsys):
+    text, _ = _iaga(400, 2, f_code="88888.00")
+    path = tmp_path / "wic20230712vsec.sec"
+    path.write_text(text)
+    assert main(["estimate", str(path), "--column", "XYZH", "--drop-nonfinite",
+                 "--format", "json"]) == 0  # fmt: skip
+    js = json.loads(capsys.readouterr().out)
+    assert js["unit"] == "nT" and js["variance"] < 1.0
+    assert np.all(np.isnan(load_table(path).columns["XYZF"]))
+
+
+def test_an_iaga_file_without_its_column_line_is_refused_in_one_line(tmp_path):
+    path = tmp_path / "cut.sec"
+    path.write_text(_HEAD.splitlines()[0] + "\n2018-08-29 00:00:00.000 241 1 2 3 4\n")
+    with pytest.raises(NoisevarError, match="DATE TIME"):
+        load_table(path)
