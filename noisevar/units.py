@@ -68,6 +68,23 @@ def _registry() -> Any:
     return pint.UnitRegistry()
 
 
+@lru_cache(maxsize=256)
+def has_prefix(text: str) -> bool:
+    """Whether the unit ``text`` already carries an SI prefix (``nT``, ``ms``, ``mg``, ``kPa``),
+    as pint reads it first (``ft`` is a foot, not a femto-tonne; ``m`` a metre).
+
+    Notes
+    -----
+    A magnetometer's std of 0.0049 nT was shown "4.924 mnT" (a milli-nanotesla): a prefixed
+    unit takes no second prefix (:func:`noisevar.format.eng`).
+    """
+    try:
+        readings = list(_registry().parse_unit_name(text.strip()))
+    except Exception:  # noqa: BLE001 - pint raises many types for a name it cannot read
+        return False
+    return bool(readings) and bool(readings[0][0])
+
+
 @dataclass(frozen=True)
 class Unit:
     """A parsed unit: the user's text, its scale to the SI unit and that unit's name.
