@@ -66,3 +66,38 @@ def test_an_iaga_file_without_its_column_line_is_refused_in_one_line(tmp_path):
     path.write_text(_HEAD.splitlines()[0] + "\n2018-08-29 00:00:00.000 241 1 2 3 4\n")
     with pytest.raises(NoisevarError, match="DATE TIME"):
         load_table(path)
+
+
+@pytest.mark.parametrize(
+    ("value", "unit", "shown"),
+    [(0.004924, "nT", "0.004924 nT"), (2.5e-5, "nT", "25×10⁻⁶ nT"), (4e-4, "ms", "400×10⁻⁶ ms"),
+     (3.628e-9, "s", "3.628 ns"), (4e-4, "m", "400 µm")],
+)  # fmt: skip
+def test_a_unit_that_has_a_prefix_takes_no_second_one(value, unit, shown):
+    from noisevar.format import eng
+
+    assert eng(value, unit) == shown
+
+
+def test_the_magnetometer_std_is_not_shown_in_milli_nanotesla(tmp_path, capsys):
+    text, _ = _iaga(400, 3)
+    path = tmp_path / "wic.sec"
+    path.write_text(text)
+    assert main(["estimate", str(path), "--column", "XYZH", "--drop-nonfinite"]) == 0
+    out = capsys.readouterr().out
+    assert "nT" in out and "mnT" not in out and "µnT" not in out
+
+
+def test_a_column_of_the_clock_s_steps_is_not_read_as_the_signal(tmp_path, capsys):
+    """gtsam's KITTI IMU file: ``Time dt accelX ...``, the first row's dt its own time."""
+    rng = np.random.default_rng(4)
+    t = 46534.48 + np.r_[0.0, 1.92 + 0.01 * np.arange(299)] + rng.normal(0, 1e-4, 300)
+    dt = np.r_[t[0], np.diff(t)]
+    rows = [f"{a:.9f} {b:.9f} {c:.6f}" for a, b, c in zip(t, dt, rng.normal(0, 0.02, 300),
+                                                           strict=True)]  # fmt: skip
+    path = tmp_path / "KittiEquivBiasedImu.txt"
+    path.write_text("Time dt accelX\n" + "\n".join(rows) + "\n")
+    assert load_table(path).first_signal == "accelX"
+    assert main(["estimate", str(path), "--format", "json"]) == 0
+    assert json.loads(capsys.readouterr().out)["column"] == "accelX"
+    assert main(["estimate", str(path), "--column", "dt", "--format", "json"]) == 0  # named

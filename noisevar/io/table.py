@@ -13,7 +13,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from noisevar._arrays import steps_evenly
 from noisevar.errors import NoisevarError
-from noisevar.io.column_kinds import bookkeeping
+from noisevar.io.column_kinds import bookkeeping, time_steps
 from noisevar.io.limits import ECHO_LIMIT, echo  # noqa: F401 - their home is io.limits
 from noisevar.units import sensor_of
 
@@ -126,7 +126,15 @@ class LoadedTable:
             and not steps_evenly(finite)
             and not bookkeeping(finite)
             and not bool(np.all((finite == 0) | (finite == 1)))  # a digital line, a flag
+            and not self._clock_steps(name)
         )
+
+    def _clock_steps(self, name: str) -> bool:
+        """Whether ``name`` holds its clock's steps (a ``dt`` column: :func:`time_steps`)."""
+        clock = self.clock_of(name)
+        if clock is None or clock == name:
+            return False
+        return time_steps(self.columns[name], self.columns[clock])
 
     def clock_of(self, column: str | None) -> str | None:
         """The time column of ``column``: its own run's, when the table holds one clock per
