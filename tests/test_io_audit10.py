@@ -12,6 +12,12 @@ from noisevar import NoisevarError
 from noisevar.cli import main
 from noisevar.io import channel_record, load_table
 
+def _one_line(capsys) -> str:
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "Traceback" not in err
+    return err
+
+
 _HEAD = """\
  Format                 IAGA-2002                                    |
  Source of Data         Some Observatory                             |
@@ -101,3 +107,20 @@ def test_a_column_of_the_clock_s_steps_is_not_read_as_the_signal(tmp_path, capsy
     assert main(["estimate", str(path), "--format", "json"]) == 0
     assert json.loads(capsys.readouterr().out)["column"] == "accelX"
     assert main(["estimate", str(path), "--column", "dt", "--format", "json"]) == 0  # named
+
+
+def test_a_file_of_rows_of_several_kinds_is_refused_saying_to_keep_one_kind(tmp_path, capsys):
+    """gtsam's EuRoC excerpt: ``imu``, ``vision_feature`` and ``meta`` rows in one CSV."""
+    rng = np.random.default_rng(5)
+    lines = ["row_type,t_abs,gx,u_norm,key,value", "meta,,,,format_version,1",
+             "meta,,,,measurement_space,normalized"]  # fmt: skip
+    for i in range(200):
+        t = 1403715273.26 + 0.005 * i
+        lines.append(f"imu,{t:.4f},{rng.normal(0, 0.01):.6f},,,")
+        if i % 4 == 0:
+            lines += [f"vision_feature,{t:.4f},,{rng.uniform():.5f},," for _ in range(3)]
+    path = tmp_path / "eqvio_processed_30s.csv"
+    path.write_text("\n".join(lines) + "\n")
+    assert main(["estimate", str(path), "--column", "gx"]) == 2
+    err = _one_line(capsys)
+    assert "3 kinds" in err and "'row_type'" in err and "keep the rows of one kind" in err
