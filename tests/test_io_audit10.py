@@ -12,6 +12,7 @@ from noisevar import NoisevarError
 from noisevar.cli import main
 from noisevar.io import channel_record, load_table
 
+
 def _one_line(capsys) -> str:
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "Traceback" not in err
@@ -124,3 +125,19 @@ def test_a_file_of_rows_of_several_kinds_is_refused_saying_to_keep_one_kind(tmp_
     assert main(["estimate", str(path), "--column", "gx"]) == 2
     err = _one_line(capsys)
     assert "3 kinds" in err and "'row_type'" in err and "keep the rows of one kind" in err
+
+
+def test_fit_takes_the_drop_nonfinite_its_refusal_of_empty_cells_tells_users_to_give(
+    tmp_path, capsys
+):
+    """geomagpy's magnetometer day has one 99999 (an empty cell once read): ``noisevar
+    fit`` refused it saying "(CLI: --drop-nonfinite)", then refused that flag."""
+    text, _ = _iaga(400, 6)
+    path = tmp_path / "wic.sec"
+    path.write_text(text)
+    assert main(["fit", str(path), "--column", "XYZH", "--format", "json"]) == 2
+    assert "--drop-nonfinite" in _one_line(capsys)
+    assert main(["fit", str(path), "--column", "XYZH", "--drop-nonfinite",
+                 "--format", "json"]) == 0  # fmt: skip
+    js = json.loads(capsys.readouterr().out)
+    assert js["dropped"] == 1 and js["unit"] == "nT" and js["r"] > 0
