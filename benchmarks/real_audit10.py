@@ -45,7 +45,8 @@ Checks (``--records`` narrows them):
    verdict; ``inertial_noise`` and ``fit_imu_model`` on the IMUs;
 2. **one answer everywhere** (``real_audit5.one_answer``, imported): Python, CLI
    ``--column`` JSON and ``--columns all`` CSV, ``noisevar.batch`` and the pages that show R
-   (Signal, Estimator, Noise model, Two sensors, Fleet);
+   (Signal, Estimator, Noise model, Two sensors, Fleet); the magnetometer's day as a CSV
+   without its rows holding a code (``clean_iaga``: the refusal of empty cells says to);
 3. **references**: (a) published noise figures of the sensors: EuRoC's ``sensor.yaml`` for
    its ADIS16448 (gyroscope 1.6968e-4 rad/s/√Hz, accelerometer 2.0e-3 m/s²/√Hz) and the
    noise model gtsam ships with the KITTI IMU (its ``_metadata.txt``: 1.75e-4 rad/s/√Hz,
@@ -187,6 +188,21 @@ def user_file(name: str) -> Path:
     return out
 
 
+def clean_iaga() -> Path:
+    """The magnetometer's day as a user cleans it after the refusal of its empty cells (read
+    with pandas, not the product: its rows holding a 99999 dropped), a CSV for the pages."""
+    out = raw("wic_mag").with_name("wic_mag_clean.csv")
+    if not out.exists():
+        lines = raw("wic_mag").read_text().splitlines()
+        at = next(i for i, ln in enumerate(lines) if ln.startswith("DATE"))
+        names = lines[at].rstrip("| ").split()
+        df = pd.read_csv(raw("wic_mag"), sep=r"\s+", skiprows=at + 1, names=names)
+        df = df[~df[names[3:]].isin([99999.0, 88888.0]).any(axis=1)]
+        df.insert(0, "time", df.pop("DATE") + "T" + df.pop("TIME"))
+        df.drop(columns="DOY").to_csv(out, index=False)
+    return out
+
+
 def channels_of(name: str) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray | None]]:
     """Each channel's finite samples as the product reads them from the user's file, and
     their times (s); the GPS adds the east velocity a user differences from its fixes."""
@@ -298,14 +314,16 @@ def kalibr_reference(name: str, chans: dict[str, np.ndarray], rate: float, tmp: 
                    est, fail)  # fmt: skip
 
 
-def fit_reference(name: str, col: str) -> dict:
+def fit_reference(name: str, col: str, rate: float) -> dict:
     """3i: ``noisevar fit`` (the Kalman fit, another estimator of the same R) gives an r
     inside the estimate's ci95, or refuses in one line."""
     path = user_file(name)
     z, t = channel_record(load_table(path), col, drop_nonfinite=True)
     keep = np.isfinite(z)
     est = nv.estimate(z[keep], t=None if t is None else t[keep])
-    rc, out, err = process("fit", path, "--column", col, "--drop-nonfinite", "--format", "json")
+    given = ["--rate", f"{rate:.9g}"] if name in CLOCKS else []  # a clock it does not take
+    rc, out, err = process("fit", path, "--column", col, "--drop-nonfinite", *given,
+                           "--format", "json")  # fmt: skip
     r = json.loads(out)["r"] if rc == 0 else float("nan")
     fail = [] if (rc == 0 or _one_line(rc, err)) else [f"exit {rc}: {err[:120]}"]
     if rc == 0 and not est.ci95[0] <= r <= est.ci95[1]:
@@ -328,7 +346,7 @@ def references(name: str, chans: dict[str, np.ndarray], rate: float, tmp: Path) 
         out.append(quiet_reference(chans["H"]))
     if name in ("kitti_imu", "euroc_imu"):
         out.append(kalibr_reference(name, chans, rate, tmp))
-    out += [fit_reference(name, col) for col in PAGES.get(name, [])]
+    out += [fit_reference(name, col, rate) for col in PAGES.get(name, [])]
     return out
 
 
@@ -437,7 +455,8 @@ def main() -> None:
                 rows += new
             refs += references(name, chans, rate, Path(tmp))
             if not a.no_pages and name in PAGES:
-                answers += one_answer(name, user_file(name), PAGES[name])
+                page_file = clean_iaga() if name == "wic_mag" else user_file(name)
+                answers += one_answer(name, page_file, PAGES[name])
             print(f"{name}: {time.time() - t0:.0f} s", file=sys.stderr)
     bad = bad_input()
     text = report(rows, answers, refs, bad, time.time() - t0)
