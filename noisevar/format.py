@@ -73,10 +73,10 @@ def _prefixable(unit: str) -> bool:
 
 def _takes_prefix(unit: str) -> bool:
     """Whether an SI prefix may go on ``unit``: not on a compound or a power, nor on a unit
-    that already has one (``nT``: :func:`noisevar.units.has_prefix`)."""
+    that already has one (``nT``: :func:`noisevar.unit_registry.has_prefix`)."""
     if not _prefixable(unit):
         return False
-    from noisevar.units import has_prefix  # lazily: units imports this module
+    from noisevar.unit_registry import has_prefix  # lazily: pint only when asked
 
     return not has_prefix(unit)
 

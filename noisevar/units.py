@@ -35,6 +35,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
 from noisevar.format import NO_UNIT, unit_text
+from noisevar.unit_registry import registry
 
 #: Unit strings a user may give, for error messages and help texts.
 EXAMPLES = ("rad/s", "deg/s", "m/s^2", "g", "mg", "m", "ns", "0.00875 deg/s (counts x scale)")
@@ -61,28 +62,9 @@ _ALIASES = (
 )
 
 
-@lru_cache(maxsize=1)
 def _registry() -> Any:
-    import pint  # lazily: the units library is needed only when a unit is converted
-
-    return pint.UnitRegistry()
-
-
-@lru_cache(maxsize=256)
-def has_prefix(text: str) -> bool:
-    """Whether the unit ``text`` already carries an SI prefix (``nT``, ``ms``, ``mg``, ``kPa``),
-    as pint reads it first (``ft`` is a foot, not a femto-tonne; ``m`` a metre).
-
-    Notes
-    -----
-    A magnetometer's std of 0.0049 nT was shown "4.924 mnT" (a milli-nanotesla): a prefixed
-    unit takes no second prefix (:func:`noisevar.format.eng`).
-    """
-    try:
-        readings = list(_registry().parse_unit_name(text.strip()))
-    except Exception:  # noqa: BLE001 - pint raises many types for a name it cannot read
-        return False
-    return bool(readings) and bool(readings[0][0])
+    """The package's pint registry (lazily: only when a unit is converted)."""
+    return registry()
 
 
 @dataclass(frozen=True)

@@ -120,21 +120,15 @@ class LoadedTable:
         z = self.columns[name]
         finite = z[np.isfinite(z)]
         varies = finite.size > 1 and finite.max() > finite.min()
+        clock = self.clock_of(name)  # its steps (a dt column: time_steps) are no signal
         return (
             varies
             and not is_time_column(name)
             and not steps_evenly(finite)
             and not bookkeeping(finite)
             and not bool(np.all((finite == 0) | (finite == 1)))  # a digital line, a flag
-            and not self._clock_steps(name)
+            and not (clock not in (None, name) and time_steps(z, self.columns[clock]))
         )
-
-    def _clock_steps(self, name: str) -> bool:
-        """Whether ``name`` holds its clock's steps (a ``dt`` column: :func:`time_steps`)."""
-        clock = self.clock_of(name)
-        if clock is None or clock == name:
-            return False
-        return time_steps(self.columns[name], self.columns[clock])
 
     def clock_of(self, column: str | None) -> str | None:
         """The time column of ``column``: its own run's, when the table holds one clock per

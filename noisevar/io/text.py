@@ -17,7 +17,12 @@ from noisevar.errors import NoisevarError
 from noisevar.io.header_units import header_unit
 from noisevar.io.opensignals import opensignals_names
 from noisevar.io.quirks import code_note, header_of_numbers, rows_continue
-from noisevar.io.refusal_hints import comment_hint, numbers_for_names, preamble_hint
+from noisevar.io.refusal_hints import (
+    comment_hint,
+    kinds_hint,
+    numbers_for_names,
+    preamble_hint,
+)
 from noisevar.io.table import (
     _NA_TOKENS,
     LoadedTable,
@@ -483,42 +488,12 @@ def _parse_body(
         try:
             columns[cname] = _text_column(col, cname, src, header_line, name, i == time_idx)
         except NoisevarError as e:
-            raise NoisevarError(f"{e}{_kinds_hint(df, names, text, col)}") from None
+            raise NoisevarError(f"{e}{kinds_hint(df, names, text, col)}") from None
         dated = dated or (i == time_idx and _only_text(col))  # (numbers raised, or parsed)
     if time_idx is not None:
         for cname, col in keys.items():
             _refuse_stacked(col, columns[names[time_idx]], cname, name)
     return columns, notes, first, dated
-
-
-#: At most this many kinds of rows named by a label column (a record type, not an id)
-_MAX_KINDS = 20
-
-
-def _kinds_hint(df: pd.DataFrame, names: list[str], text: set[int], col: pd.Series) -> str:
-    """The hint when a refused column is empty in most rows and a label column names each
-    row's kind: the file interleaves rows of several kinds, each filling its own columns.
-
-    Notes
-    -----
-    gtsam's EuRoC excerpt holds ``imu``, ``vision_feature`` and ``meta`` rows in one CSV
-    (a ``row_type`` column); the meta rows' ``value`` cell (``normalized``) was refused
-    as "not a number" without a word on what to give.
-    """
-    if col.notna().mean() >= 0.5:
-        return ""
-    for i in sorted(text):
-        kinds = list(dict.fromkeys(df[i].dropna().tolist()))
-        if 2 <= len(kinds) <= _MAX_KINDS:
-            cname, shown = echo(names[i]), ", ".join(repr(echo(str(v), 20)) for v in kinds[:3])
-            last = echo(str(kinds[-1]), 20)
-            return (
-                f"; the rows are of {len(kinds)} kinds (column {cname!r}: {shown}"
-                f"{', ...' if len(kinds) > 3 else ''}), each filling its own columns: keep the "
-                f"rows of one kind (e.g. pandas: df[df[{cname!r}] == {last!r}]) and give them "
-                "as their own file"
-            )
-    return ""
 
 
 def _refuse_stacked(key: pd.Series, t: NDArray, cname: str, name: str) -> None:
