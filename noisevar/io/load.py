@@ -418,8 +418,7 @@ def _refuse_rinex(text: str, name: str) -> None:
 #: A line of the header of sktime's / the UEA and UCR archives' ``.ts`` format.
 _TS_HEADER = re.compile(
     r"^@(problemname|timestamps|missing|univariate|dimensions?|equallength|serieslength|"
-    r"classlabel|targetlabel|data)\b",
-    re.IGNORECASE | re.MULTILINE,
+    r"classlabel|targetlabel|data)\b", re.IGNORECASE | re.MULTILINE
 )
 
 
