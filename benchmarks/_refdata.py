@@ -260,3 +260,13 @@ VEGA = "vega_datasets==0.9.0"
 #: ENGIE's open SCADA data of four wind turbines, 10-minute means, 2014-2015).
 TRAFFIC = "traffic==2.13"
 OPENOA = "openoa==3.2"
+
+
+# ---------------------------------------------------------------- real_audit10.py (issue 26)
+#: Packages whose shipped measured data ``benchmarks/real_audit10.py`` reads (read as files,
+#: never installed or imported): gtsam's wheel (BSD: its ``Data`` folder's real records, a
+#: KITTI drive's OXTS IMU and GPS, EuRoC MH_01's ADIS16448 IMU in a mixed-row CSV, a legged
+#: robot's IMU, the CMU Plaza robot's wheel odometry) and geomagpy's sdist (BSD-3-Clause:
+#: the Conrad Observatory's 1-second magnetometer data in IAGA-2002 files).
+GTSAM = "gtsam==4.3.0"
+GEOMAGPY = "geomagpy==2.0.2"

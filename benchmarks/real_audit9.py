@@ -220,14 +220,15 @@ def cruise_reference(chans: dict[str, np.ndarray]) -> list[dict]:
     return res
 
 
-def differenced_reference(z: np.ndarray) -> dict:
-    """3d: velocity differenced from positions is said differenced, or at least not white."""
+def differenced_reference(z: np.ndarray, name: str = "zurich_taxi", ch: str = "v_north") -> dict:
+    """3d: velocity differenced from positions is said differenced, or at least not white
+    (``name``, ``ch``: another audit's differenced channel)."""
     est = nv.estimate(z)
     flags = est.diagnostics.flags if est.diagnostics else {}
     said = bool(flags.get("differenced")) or "differenced" in (est.verdict or "")
     fail = [] if said or not (est.verdict or "").startswith("white") else [
-        "velocity differenced from positions called white"]  # fmt: skip
-    return ref_row("zurich_taxi", "v_north", "differenced: said, or not white", 0.0, est, fail)
+        "differenced data called white"]  # fmt: skip
+    return ref_row(name, ch, "differenced: said, or not white", 0.0, est, fail)
 
 
 def unit_reference(name: str, ch: str) -> dict:

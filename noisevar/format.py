@@ -71,6 +71,16 @@ def _prefixable(unit: str) -> bool:
     )
 
 
+def _takes_prefix(unit: str) -> bool:
+    """Whether an SI prefix may go on ``unit``: not on a compound or a power, nor on a unit
+    that already has one (``nT``: :func:`noisevar.unit_registry.has_prefix`)."""
+    if not _prefixable(unit):
+        return False
+    from noisevar.unit_registry import has_prefix  # lazily: pint only when asked
+
+    return not has_prefix(unit)
+
+
 def eng(value: object, unit: str = "", digits: int = 4) -> str:
     """A number in engineering notation with its unit.
 
@@ -87,7 +97,8 @@ def eng(value: object, unit: str = "", digits: int = 4) -> str:
     -------
     str
         ``1 <= |value| < 1e6``: plain (``"17,690 s"``); otherwise an SI prefix
-        when the unit takes one (``"3.628 ns"``), else plain down to 1e-3
+        when the unit takes one (``"3.628 ns"``; not ``nT``, which has one), else plain down
+        to 1e-3
         (``"0.9951 u²"``, as :func:`eng_range` writes it), else ``"13.16×10⁻¹⁸ s²"``.
     """
     v = _finite(value)
@@ -96,14 +107,15 @@ def eng(value: object, unit: str = "", digits: int = 4) -> str:
     unit = unit_text(unit)
     tail = f" {unit}" if unit else ""
     digits = max(int(digits), 1)
-    if v == 0 or 1 <= abs(v) < 1e6 or (not _prefixable(unit) and 1e-3 <= abs(v) < 1):
+    prefix = _takes_prefix(unit) if not (v == 0 or 1 <= abs(v) < 1e6) else False
+    if v == 0 or 1 <= abs(v) < 1e6 or (not prefix and 1e-3 <= abs(v) < 1):
         return _plain(v, digits) + tail
     e3 = 3 * int(math.floor(math.log10(abs(v)) / 3))
     mantissa = float(f"{Decimal(v).scaleb(-e3):.{digits}g}")  # exact: 10**e3 is 0 below 1e-323
     if abs(mantissa) >= 1000:  # rounding carried into the next group: 999.96 -> 1000
         e3, mantissa = e3 + 3, mantissa / 1000
     m_text = _plain(mantissa, digits)
-    if _prefixable(unit) and e3 in PREFIXES:
+    if prefix and e3 in PREFIXES:
         return f"{m_text} {PREFIXES[e3]}{unit}"
     return f"{m_text}×10{str(e3).translate(_SUPERSCRIPT)}{tail}"
 
@@ -113,7 +125,7 @@ def eng_range(lo: object, hi: object, unit: str = "", digits: int = 4) -> str:
 
     A unit that takes no prefix is written once, at the end.
     """
-    first = eng(lo, unit if _prefixable(unit) else "", digits)
+    first = eng(lo, unit if _takes_prefix(unit) else "", digits)
     return f"{first} to {eng(hi, unit, digits)}"
 
 

@@ -35,6 +35,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
 from noisevar.format import NO_UNIT, unit_text
+from noisevar.unit_registry import registry
 
 #: Unit strings a user may give, for error messages and help texts.
 EXAMPLES = ("rad/s", "deg/s", "m/s^2", "g", "mg", "m", "ns", "0.00875 deg/s (counts x scale)")
@@ -61,11 +62,9 @@ _ALIASES = (
 )
 
 
-@lru_cache(maxsize=1)
 def _registry() -> Any:
-    import pint  # lazily: the units library is needed only when a unit is converted
-
-    return pint.UnitRegistry()
+    """The package's pint registry (lazily: only when a unit is converted)."""
+    return registry()
 
 
 @dataclass(frozen=True)

@@ -81,6 +81,14 @@ def one_line(message: str) -> str:
     return echo(" ".join(str(message).splitlines()), MAX_LINE)
 
 
+def add_drop_flag(p: argparse.ArgumentParser) -> None:
+    """``--drop-nonfinite``, as ``estimate`` has it (its one spec: ``PARAMS``), for a command
+    that reads one channel: the refusal of empty cells tells users to give it."""
+    from noisevar.estimators.params import PARAMS
+
+    PARAMS["drop_nonfinite"].add_to(p, default=False)
+
+
 def add_topic_flag(p: argparse.ArgumentParser) -> None:
     """``--topic T``: the topic of a log to read (its field is chosen by ``--column``)."""
     p.add_argument(

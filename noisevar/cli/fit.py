@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from noisevar.cli._common import (
+    add_drop_flag,
     add_regimes_flag,
     add_topic_flag,
     add_unit_flags,
@@ -89,7 +90,7 @@ def _load(
             "the config names no column and the file has several: give --column (the one "
             "the filter was fitted on)"
         )
-    z = np.asarray(pick_column(table, column), dtype=float)
+    z = np.asarray(pick_column(table, column, drop_nonfinite=args.drop_nonfinite), dtype=float)
     name = column_name(table, column)
     return z, table.n_rows_of(name) - z.size, name, table.period_of(name), table.units.get(name)
 
@@ -155,6 +156,7 @@ def add_parser(sub: Any) -> None:
     p.add_argument("file", help="CSV/TSV (with or without header), .npy, or NMEA file")
     p.add_argument("--column", help="column name or 0-based index (default: the only/first)")
     add_topic_flag(p)
+    add_drop_flag(p)
     p.add_argument("--model", choices=list(MODELS), help="rw, cv or ca (default cv)")
     p.add_argument(
         "--rate", type=float, help="sample rate in Hz (default: --config's, else the time column's)"

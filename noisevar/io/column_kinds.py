@@ -71,3 +71,31 @@ def _frame_counter(z: NDArray) -> bool:
         steps = np.diff(z)
         whole = bool(np.all(z == np.round(z)))
         return bool(steps.size > 1 and np.all(steps >= 1) and whole and np.median(steps) == 1)
+
+
+#: A column whose values after the first are the clock's steps times one of these (seconds
+#: to ns .. s) is the clock's steps
+_STEP_SCALES = (1e-9, 1e-6, 1e-3, 1.0, 1e3, 1e6, 1e9)
+
+
+def time_steps(z: NDArray, t: NDArray) -> bool:
+    """Whether the column ``z`` holds the steps of the clock ``t`` (a ``dt`` column), in
+    any of :data:`_STEP_SCALES`: from its second row on, each value is the time since the
+    row before (the first has no step and holds anything: KITTI's holds its own time).
+
+    Notes
+    -----
+    gtsam's KITTI IMU file starts ``Time dt accelX ...``: with no column named, ``dt`` was
+    read as the signal, and its first row (46,534 s) as a glitch.
+    """
+    if z.shape != t.shape or z.size < 8:
+        return False
+    steps, vals = np.diff(t), z[1:]
+    ok = np.isfinite(steps) & np.isfinite(vals)
+    if ok.sum() < 7 or not np.any(steps[ok] > 0):
+        return False
+    steps, vals = steps[ok], vals[ok]
+    tol = 1e-9 * float(np.abs(steps).max())
+    with np.errstate(over="ignore", invalid="ignore"):
+        return any(bool(np.allclose(vals, k * steps, rtol=1e-6, atol=k * tol))
+                   for k in _STEP_SCALES)  # fmt: skip

@@ -14,6 +14,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.errors import NoisevarError
+from noisevar.io.iaga import NOTE as IAGA_NOTE
+from noisevar.io.iaga import iaga_csv, is_iaga
 from noisevar.io.limits import MAX_BYTES, check_bytes, check_size
 from noisevar.io.nmea import _looks_like_nmea, _read_nmea
 from noisevar.io.npy import _read_npy
@@ -331,7 +333,16 @@ def _parse(head: bytes, name: str, path: Path | None, size: int) -> LoadedTable:
         if not whole:
             text = _decode(_read_all(path, name), name)[0]
         return _read_nmea(text, name)
+    if is_iaga(text):
+        return _read_iaga(text if whole else _decode(_read_all(path, name), name)[0], name)
     return _read_text_table(text if whole else TextSource(path, text, encoding), name)
+
+
+def _read_iaga(text: str, name: str) -> LoadedTable:
+    """An IAGA-2002 file, read as the CSV table it holds (:func:`noisevar.io.iaga.iaga_csv`)."""
+    table = _read_text_table(iaga_csv(text, name), name)
+    table.notes.insert(0, IAGA_NOTE)
+    return table
 
 
 #: Magic bytes of compressed files and archives: (bytes, what it is, what to do).

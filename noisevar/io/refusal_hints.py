@@ -1,12 +1,18 @@
 """What a refusal of a text table adds to say what to do: lines above the header, a data
-row taken for the header, another tool's comment marker."""
+row taken for the header, another tool's comment marker, rows of several kinds."""
 
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
+
+from noisevar.io.limits import echo
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 #: Comment markers of other tools (IDL and LASP's ``;``, MATLAB's ``%``, Fortran's ``!``)
 _OTHER_COMMENTS = (";", "%", "!", "//")
@@ -63,3 +69,33 @@ def numbers_for_names(cname: str, header_line: int) -> str:
         "hold flag letters or fixed-width fields that touch or are left empty, export the "
         "columns you want to a CSV file with a header"
     )
+
+
+#: At most this many kinds of rows named by a label column (a record type, not an id)
+_MAX_KINDS = 20
+
+
+def kinds_hint(df: pd.DataFrame, names: list[str], text: set[int], col: pd.Series) -> str:
+    """The hint when a refused column is empty in most rows and a label column names each
+    row's kind: the file interleaves rows of several kinds, each filling its own columns.
+
+    Notes
+    -----
+    gtsam's EuRoC excerpt holds ``imu``, ``vision_feature`` and ``meta`` rows in one CSV
+    (a ``row_type`` column); the meta rows' ``value`` cell (``normalized``) was refused
+    as "not a number" without a word on what to give.
+    """
+    if col.notna().mean() >= 0.5:
+        return ""
+    for i in sorted(text):
+        kinds = list(dict.fromkeys(df[i].dropna().tolist()))
+        if 2 <= len(kinds) <= _MAX_KINDS:
+            cname, shown = echo(names[i]), ", ".join(repr(echo(str(v), 20)) for v in kinds[:3])
+            last = echo(str(kinds[-1]), 20)
+            return (
+                f"; the rows are of {len(kinds)} kinds (column {cname!r}: {shown}"
+                f"{', ...' if len(kinds) > 3 else ''}), each filling its own columns: keep the "
+                f"rows of one kind (e.g. pandas: df[df[{cname!r}] == {last!r}]) and give them "
+                "as their own file"
+            )
+    return ""

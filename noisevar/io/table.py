@@ -13,7 +13,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from noisevar._arrays import steps_evenly
 from noisevar.errors import NoisevarError
-from noisevar.io.column_kinds import bookkeeping
+from noisevar.io.column_kinds import bookkeeping, time_steps
 from noisevar.io.limits import ECHO_LIMIT, echo  # noqa: F401 - their home is io.limits
 from noisevar.units import sensor_of
 
@@ -120,12 +120,14 @@ class LoadedTable:
         z = self.columns[name]
         finite = z[np.isfinite(z)]
         varies = finite.size > 1 and finite.max() > finite.min()
+        clock = self.clock_of(name)  # its steps (a dt column: time_steps) are no signal
         return (
             varies
             and not is_time_column(name)
             and not steps_evenly(finite)
             and not bookkeeping(finite)
             and not bool(np.all((finite == 0) | (finite == 1)))  # a digital line, a flag
+            and not (clock not in (None, name) and time_steps(z, self.columns[clock]))
         )
 
     def clock_of(self, column: str | None) -> str | None:

@@ -17,7 +17,12 @@ from noisevar.errors import NoisevarError
 from noisevar.io.header_units import header_unit
 from noisevar.io.opensignals import opensignals_names
 from noisevar.io.quirks import code_note, header_of_numbers, rows_continue
-from noisevar.io.refusal_hints import comment_hint, numbers_for_names, preamble_hint
+from noisevar.io.refusal_hints import (
+    comment_hint,
+    kinds_hint,
+    numbers_for_names,
+    preamble_hint,
+)
 from noisevar.io.table import (
     _NA_TOKENS,
     LoadedTable,
@@ -359,8 +364,6 @@ def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
     return LoadedTable(name, columns, kind, time_col, period, notes, units)
 
 
-
-
 def _read_frame(
     src: str | TextSource,
     header_line: int,
@@ -482,7 +485,10 @@ def _parse_body(
                          "not numbers: left out")  # fmt: skip
             keys[cname] = col
             continue
-        columns[cname] = _text_column(col, cname, src, header_line, name, i == time_idx)
+        try:
+            columns[cname] = _text_column(col, cname, src, header_line, name, i == time_idx)
+        except NoisevarError as e:
+            raise NoisevarError(f"{e}{kinds_hint(df, names, text, col)}") from None
         dated = dated or (i == time_idx and _only_text(col))  # (numbers raised, or parsed)
     if time_idx is not None:
         for cname, col in keys.items():
