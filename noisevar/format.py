@@ -71,14 +71,17 @@ def _prefixable(unit: str) -> bool:
     )
 
 
-def _takes_prefix(unit: str) -> bool:
-    """Whether an SI prefix may go on ``unit``: not on a compound or a power, nor on a unit
-    that already has one (``nT``: :func:`noisevar.unit_registry.has_prefix`)."""
-    if not _prefixable(unit):
-        return False
-    from noisevar.unit_registry import has_prefix  # lazily: pint only when asked
+#: Units that take an SI prefix: the SI's own (and g, read as grams or as g-force alike, as
+#: accelerometers' µg). A unit with a prefix already (``nT``, ``ms``, ``hPa``) takes no second
+#: one, nor one outside the SI (``min``, ``ft``, ``deg``, ``kt``, ``degC``, counts).
+SI_PREFIXABLE = frozenset(
+    "s m g T Pa V A Hz W N J C F H S K rad sr mol cd lm lx Wb Ω ohm Bq Gy Sv bar L l eV".split()
+)
 
-    return not has_prefix(unit)
+
+def _takes_prefix(unit: str) -> bool:
+    """Whether an SI prefix may go on ``unit`` (:data:`SI_PREFIXABLE`)."""
+    return _prefixable(unit) and unit.strip() in SI_PREFIXABLE
 
 
 def eng(value: object, unit: str = "", digits: int = 4) -> str:

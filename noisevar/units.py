@@ -35,7 +35,6 @@ from numpy.typing import ArrayLike, NDArray
 
 from noisevar.errors import NoisevarError
 from noisevar.format import NO_UNIT, unit_text
-from noisevar.unit_registry import registry
 
 #: Unit strings a user may give, for error messages and help texts.
 EXAMPLES = ("rad/s", "deg/s", "m/s^2", "g", "mg", "m", "ns", "0.00875 deg/s (counts x scale)")
@@ -62,9 +61,11 @@ _ALIASES = (
 )
 
 
+@lru_cache(maxsize=1)
 def _registry() -> Any:
-    """The package's pint registry (lazily: only when a unit is converted)."""
-    return registry()
+    import pint  # lazily: the units library is needed only when a unit is converted
+
+    return pint.UnitRegistry()
 
 
 @dataclass(frozen=True)

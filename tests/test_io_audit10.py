@@ -78,7 +78,8 @@ def test_an_iaga_file_without_its_column_line_is_refused_in_one_line(tmp_path):
 @pytest.mark.parametrize(
     ("value", "unit", "shown"),
     [(0.004924, "nT", "0.004924 nT"), (2.5e-5, "nT", "25×10⁻⁶ nT"), (4e-4, "ms", "400×10⁻⁶ ms"),
-     (3.628e-9, "s", "3.628 ns"), (4e-4, "m", "400 µm")],
+     (3.628e-9, "s", "3.628 ns"), (4e-4, "m", "400 µm"), (0.0049, "min", "0.0049 min"),
+     (1e-5, "ft", "10×10⁻⁶ ft"), (2e-6, "g", "2 µg")],
 )  # fmt: skip
 def test_a_unit_that_has_a_prefix_takes_no_second_one(value, unit, shown):
     from noisevar.format import eng

@@ -63,7 +63,6 @@ TOP_LEVEL = {
     "format": "core",
     "synth": "core",
     "units": "core",
-    "unit_registry": "core",  # pint's registry: units converts, format asks for prefixes
     "report": "core",  # the HTML page every report shares (escaping, style): no imports
     "signals": "signals",
     "config": "config",
