@@ -80,3 +80,17 @@ def test_too_short_and_bad_config(tmp_path, capsys):
     bad.write_text('{"method": "auto", "kalman": {"model": "cv", "q": -1, "r": 1}}')
     assert main(["fit", str(short), "--config", str(bad)]) == 2
     assert "positive" in capsys.readouterr().err
+
+
+def test_the_json_units_of_q_and_r_are_the_data_s(tmp_path, capsys):
+    """`noisevar fit --format json` said r in u² beside `unit: nT` (real_audit10); the table
+    said nT²."""
+    rng = np.random.default_rng(0)
+    z = np.cumsum(np.cumsum(rng.normal(0, 0.01, 3000))) + rng.normal(0, 1, 3000)
+    path = tmp_path / "mag.csv"
+    rows = "\n".join(f"{0.1 * k:.1f},{v:.6f}" for k, v in enumerate(z))
+    path.write_text("time [s],x [nT]\n" + rows + "\n")
+    assert main(["fit", str(path), "--format", "json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["unit"] == "nT" and out["units"]["r"] == "nT²"
+    assert out["units"]["q"].startswith("nT²/s^3")

@@ -42,6 +42,13 @@ def sampling_note(t: np.ndarray | None, rate: float) -> list[str]:
     ]
 
 
+#: The refusal of empty cells by the commands that need every sample in its place.
+EVERY_SAMPLE = (
+    "fill them, or cut the record there: the Allan deviation and the noise terms need every "
+    "sample in its place (dropping cells would close the gaps)"
+)
+
+
 def load_columns(
     path: str, columns: list[str] | None, rate: float | None, topic: str | None = None
 ):
@@ -62,7 +69,7 @@ def load_columns(
             f"the columns {echo(', '.join(names))} have {len(clocks)} clocks (one per run): "
             "give the columns of one run (--column)"
         )
-    data = {c: np.asarray(pick_column(table, c), dtype=float) for c in names}
+    data = {c: np.asarray(pick_column(table, c, fix=EVERY_SAMPLE), dtype=float) for c in names}
     declared = {c: table.units.get(c) for c in names}
     rate = sample_rate(rate, table.period_of(names[0]) if names else table.sample_period)
     return data, rate, declared, record_times(table, names[0] if names else None), list(

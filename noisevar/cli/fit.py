@@ -25,14 +25,19 @@ from noisevar.io.limits import echo
 from noisevar.units import declared_unit
 
 
+def _said(text: str, unit: str) -> str:
+    """A unit of q or r (``u²/s^3``) in the data's unit (``nT²/s^3``), in the table and JSON."""
+    from noisevar.units import variance_label
+
+    return text.replace("u²", variance_label(unit))
+
+
 def _print_table(t: Any, args: argparse.Namespace, column: str, unit: str = "u") -> None:
     def iv(pair: tuple[float, float]) -> str:
         return f"(95 % {eng_range(*pair)})"
 
-    def said(text: str) -> str:  # the units of q and r in the data's unit
-        from noisevar.units import variance_label
-
-        return text.replace("u²", variance_label(unit))
+    def said(text: str) -> str:
+        return _said(text, unit)
 
     print(f"file      {echo(args.file, 200)}  column {echo(column)}")
     print(f"model     {t.model}   method {t.method}   samples {t.n}   regimes {t.regimes}")
@@ -142,6 +147,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     if args.format == "json":
         out = tuning.to_dict()
         out.update(file=args.file, column=column, dropped=dropped, unit=unit)
+        out["units"] = {k: _said(v, unit) for k, v in out["units"].items()}
         print_json(out)
     else:
         _print_table(tuning, args, column, unit)

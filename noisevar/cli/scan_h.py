@@ -7,14 +7,14 @@ from typing import Any
 
 import numpy as np
 
-from noisevar.cli._common import add_topic_flag, load_signal, print_json
+from noisevar.cli._common import add_drop_flag, add_topic_flag, load_signal, print_json
 
 
 def _cmd_scan_h(args: argparse.Namespace) -> int:
     from noisevar.estimators import scale_exponent
     from noisevar.filters.envelope import scan_h
 
-    z, _ = load_signal(args.file, args.column, topic=args.topic)
+    z, _ = load_signal(args.file, args.column, args.drop_nonfinite, topic=args.topic)
     # the ratios do not depend on the units: an exact power-of-two rescale keeps squares finite
     scan = scan_h(np.ldexp(z, scale_exponent(z)), window=args.window)
     if args.format == "json":
@@ -36,6 +36,7 @@ def add_parser(sub: Any) -> None:
     p.add_argument("file")
     p.add_argument("--column")
     add_topic_flag(p)
+    add_drop_flag(p)
     p.add_argument("--window", type=int, default=40)
     p.add_argument("--format", choices=["table", "json"], default="table")
     p.set_defaults(func=_cmd_scan_h)

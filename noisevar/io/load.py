@@ -524,8 +524,16 @@ def channel_record(
     return z, record_times(table, column)
 
 
+#: What a refusal of empty cells tells users to do, where dropping them is right.
+DROP_THEM = "clean the file, or drop them (CLI: --drop-nonfinite)"
+
+
 def pick_column(
-    table: LoadedTable, column: str | int | None = None, *, drop_nonfinite: bool = False
+    table: LoadedTable,
+    column: str | int | None = None,
+    *,
+    drop_nonfinite: bool = False,
+    fix: str = DROP_THEM,
 ) -> NDArray:
     """One column of a table as a signal for :func:`noisevar.estimate`.
 
@@ -538,6 +546,9 @@ def pick_column(
         (default: :attr:`LoadedTable.first_signal`, the first data column that varies).
     drop_nonfinite : bool
         Drop empty/NaN cells instead of refusing them.
+    fix : str
+        What the refusal of empty cells tells users to do (:data:`DROP_THEM`; an analysis
+        that needs every sample in its place says so instead).
 
     Returns
     -------
@@ -557,8 +568,7 @@ def pick_column(
             raise NoisevarError(
                 f"column {echo(cname)!r} of {echo(table.name)} has {int(bad.sum())} empty or NaN "
                 "values "
-                f"(the first at data row {first + 1}): clean the file, or drop them "
-                "(CLI: --drop-nonfinite)"
+                f"(the first at data row {first + 1}): {fix}"
             )
         z = z[~bad]
     return z
