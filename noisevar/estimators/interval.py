@@ -287,9 +287,21 @@ def honest_interval(
         return r
     dof = float(r.n_used / (eta * c + excess))
     lo, hi = chi2_interval(r.variance, dof)
+    notes = r.notes
     if lone is not None:
         lo, hi = min(lo, lone[0]), max(hi, lone[1])
-    return replace(r, dof=dof, ci95=(lo, hi))
+        notes = [*notes, sizes_seen(glitches.squares.size)]
+    return replace(r, dof=dof, ci95=(lo, hi), notes=notes)
+
+
+def sizes_seen(k: int) -> str:
+    """What R's interval assumes when ``k`` lone glitches are in it (docs/algorithms.md §E1
+    *Glitches in R*: no interval from a few glitches can bound the sizes not seen)."""
+    which = "a lone glitch" if k == 1 else f"{k} lone glitches"
+    return (
+        f"R holds {which}: its ci95 counts a Poisson number of glitches of the sizes seen; "
+        "larger glitches, which so few cannot rule out, would put the long-run R above it"
+    )
 
 
 #: Within this factor of the coloured-noise threshold either side, the whiteness test's

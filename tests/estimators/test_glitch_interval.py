@@ -144,3 +144,13 @@ def test_a_short_record_with_one_glitch_at_its_start(seed: int) -> None:
     e, r0 = noisevar.estimate(z), noisevar.estimate(clean).variance
     assert [g.index for g in e.diagnostics.glitches] == [0] and list(e.outliers) == [0]
     assert e.ci95[0] <= r0 < chi2_interval(e.variance, e.dof)[0]
+
+
+def test_the_interval_says_it_holds_for_the_sizes_seen() -> None:
+    """One glitch of 40σ cannot tell the sizes of those not seen (log-uniform 20-300σ at
+    λ = 2 puts R at 12 while one 40σ glitch's Poisson upper bound is 1 + 5.57 x 0.53):
+    the estimate says what its interval assumes; a record without glitches does not."""
+    z, clean = _record(40.0, 1200, seed=5)
+    said = [n for n in noisevar.estimate(z).notes if "sizes seen" in n]
+    assert len(said) == 1 and "a lone glitch" in said[0]
+    assert not any("sizes seen" in n for n in noisevar.estimate(clean).notes)
