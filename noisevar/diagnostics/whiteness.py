@@ -131,6 +131,29 @@ class WhitenessTest:
         left = float(np.sum(((self.acf - model) / scale) ** 2))
         return r if white > 0 and left <= (1.0 - MA_EXPLAINS) * white else None
 
+    def ma_fit(self, q: int) -> NDArray:
+        """The noise's correlations ``r_1..r_q`` fitted as MA(q) noise, whether or not
+        the fit explains the residual (``q = 1``: :attr:`noise_lag1`, over its lags).
+
+        Parameters
+        ----------
+        q : int
+            The order: the size of :attr:`~noisevar.diagnostics.NoiseDiagnostics.noise_correlation`.
+
+        Returns
+        -------
+        ndarray, shape (q,)
+
+        Notes
+        -----
+        The fit :attr:`noise_lag1` and :attr:`short_memory` make, refitted on another
+        ``acf`` (the differenced interval's block jackknife, docs/algorithms.md §E2).
+        """
+        if q == 1:
+            return np.array([self.noise_lag1])
+        c, y, _, _ = self._ma_design(q)
+        return np.linalg.lstsq(c, y, rcond=None)[0]
+
     def _ma_design(self, q: int) -> tuple[NDArray, NDArray, NDArray, NDArray]:
         """The linear system ``c r = y`` of the MA(q) fit over lags ``1..q+2`` (at most
         those tested), the pair sums ``α_{|k-j|} + α_{k+j}`` at every lag, and ``α``."""

@@ -43,6 +43,7 @@ from noisevar.diagnostics.regimes import QuietLevel, StillLevel
 from noisevar.errors import NoisevarError
 from noisevar.estimators._input import check_samples, check_times
 from noisevar.estimators._scale import check_answer, held_but_for, unscale
+from noisevar.estimators.differenced_interval import jackknife_interval
 from noisevar.estimators.interval import (
     LoneGlitches,
     at_edge,
@@ -515,9 +516,12 @@ def conclude(
     def own(result: VarianceEstimate) -> VarianceEstimate:
         if spec.finish is not None:
             result = spec.finish(result, diag, record)
-        if diag.differenced and spec.residual is not None:
-            result = differenced(result, spec.residual(result.params), diag.noise_correlation)
-        return honest_interval(result, diag, glitches) if spec.moment else result
+        if not (diag.differenced and spec.residual is not None):
+            return honest_interval(result, diag, glitches) if spec.moment else result
+        d = spec.residual(result.params)
+        result = differenced(result, d, diag.noise_correlation)
+        result = honest_interval(result, diag, glitches) if spec.moment else result
+        return jackknife_interval(result, record, diag, d)  # the correction's error in it
 
     result = own(result)
     if edge is not None:

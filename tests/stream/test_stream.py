@@ -45,6 +45,9 @@ def _families() -> dict[str, np.ndarray]:
         "huge": (smooth + rng.standard_normal(n)) * 1e120,
         "tiny": (smooth + rng.standard_normal(n)) * 1e-140,
         "odd_length": (smooth + rng.standard_normal(n))[: n - 77],
+        # differenced noise: R's interval is a block jackknife read block by block
+        "differenced": smooth + np.diff(rng.standard_normal(n + 1)),
+        "derivative": smooth + np.convolve(rng.standard_normal(n + 4), [1, 1, 0, -1, -1], "valid"),
     }
 
 
