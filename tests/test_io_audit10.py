@@ -57,6 +57,17 @@ def test_an_iaga_2002_file_is_read_with_its_times_units_and_codes(tmp_path):
     assert any("IAGA-2002" in n for n in table.notes)
 
 
+def test_an_iaga_file_s_angles_are_in_minutes_of_arc(tmp_path):
+    """D and I (a DHIF file) are in minutes of arc; H and F in nT."""
+    text, _ = _iaga(50, 3)
+    text = text.replace("XYZE      XYZH      XYZZ      XYZF", "XYZD      XYZH      XYZI      XYZF")
+    path = tmp_path / "dhif.sec"
+    path.write_text(text)
+    units = load_table(path).units
+    assert (units["XYZD"], units["XYZI"], units["XYZH"], units["XYZF"]) == (
+        "arcmin", "arcmin", "nT", "nT")  # fmt: skip
+
+
 def test_the_cli_answers_an_iaga_file_and_an_element_not_recorded_is_empty(tmp_path, capsys):
     text, _ = _iaga(400, 2, f_code="88888.00")
     path = tmp_path / "wic20230712vsec.sec"

@@ -36,14 +36,11 @@ def _print_table(t: Any, args: argparse.Namespace, column: str, unit: str = "u")
     def iv(pair: tuple[float, float]) -> str:
         return f"(95 % {eng_range(*pair)})"
 
-    def said(text: str) -> str:
-        return _said(text, unit)
-
     print(f"file      {echo(args.file, 200)}  column {echo(column)}")
     print(f"model     {t.model}   method {t.method}   samples {t.n}   regimes {t.regimes}")
     # the page's formatter (noisevar.format.eng): the same digits on both
-    print(f"q         {eng(t.q)} {said(t.units['q'])}  {iv(t.q_interval)}")
-    print(f"r         {eng(t.r)} {said(t.units['r'])}  {iv(t.r_interval)}")
+    print(f"q         {eng(t.q)} {_said(t.units['q'], unit)}  {iv(t.q_interval)}")
+    print(f"r         {eng(t.r)} {_said(t.units['r'], unit)}  {iv(t.r_interval)}")
     print(f"h         {eng(t.h)} (q T^k / r)  {iv(t.h_interval)}")
     from noisevar.noise_model.export import gain_text
 

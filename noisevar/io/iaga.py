@@ -1,5 +1,5 @@
 """IAGA-2002 files (INTERMAGNET's exchange format for geomagnetic observatory data): a
-header block of ``|``-ended lines, a date and a time column, the elements in nT (D in
+header block of ``|``-ended lines, a date and a time column, the elements in nT (D and I in
 minutes of arc), and the format's codes for missing data."""
 
 from __future__ import annotations
@@ -13,8 +13,9 @@ from noisevar.io.limits import echo
 IAGA = re.compile(r"\A\ufeff?\s*Format\s+IAGA-2002\b", re.IGNORECASE)
 #: The format's codes: 99999 a missing value, 88888 an element not recorded.
 CODES = (99999.0, 88888.0)
-#: The element whose values are in minutes of arc (declination); the others are in nT.
-_ARC = "D"
+#: The elements whose values are in minutes of arc (declination, inclination); the others
+#: (X, Y, Z, H, E, F, G) are in nT.
+_ARC = ("D", "I")
 NOTE = (
     "read as IAGA-2002 (a geomagnetic observatory's file): its header block skipped, the "
     "date and time joined, and the format's codes 99999 (missing) and 88888 (not recorded) "
