@@ -13,14 +13,14 @@ from noisevar.filters.selection import robust_noise_scale
 finite = st.floats(-1e6, 1e6, allow_nan=False, allow_infinity=False)
 
 
-@settings(max_examples=200, deadline=None)
+@settings(max_examples=200)
 @given(arrays(np.float64, st.integers(1, 60), elements=finite))
 def test_median_inplace_equals_numpy_median(v):
     expected = np.median(v)
     assert median_inplace(v.copy()) == expected
 
 
-@settings(max_examples=100, deadline=None)
+@settings(max_examples=100)
 @given(arrays(np.float64, st.integers(3, 80), elements=finite))
 def test_robust_noise_scale_is_the_mad_of_second_differences(z):
     d2 = np.diff(z, n=2)

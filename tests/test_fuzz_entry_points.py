@@ -21,8 +21,6 @@ from noisevar.synth import still_start
 
 FUZZ = settings(
     max_examples=8,
-    deadline=None,
-    derandomize=True,
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
 )
 

@@ -54,9 +54,7 @@ def _check(result) -> None:
 
 
 @pytest.mark.parametrize("method", METHODS)
-@settings(
-    max_examples=12, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow]
-)
+@settings(max_examples=12, suppress_health_check=[HealthCheck.too_slow])
 @given(z=records)
 def test_any_finite_record_gives_a_finite_answer_or_one_clear_error(method, z):
     try:

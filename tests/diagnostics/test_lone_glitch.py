@@ -63,7 +63,7 @@ def test_the_streamed_record_reads_the_glitch_the_same():
     assert many.diagnostics.glitches == one.diagnostics.glitches
 
 
-@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=25, suppress_health_check=[HealthCheck.too_slow])
 @given(a=st.floats(25.0, 1000.0), i=st.integers(0, 1999), sign=st.sampled_from([-1.0, 1.0]))
 def test_any_one_glitch_on_white_noise_is_no_regime(a, i, sign):
     e = noisevar.estimate(_record(i, sign * a, 2000))

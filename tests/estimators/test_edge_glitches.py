@@ -61,8 +61,6 @@ def test_the_pipeline_reports_a_glitch_at_its_sample_and_with_the_same_r():
 
 @settings(
     max_examples=40,
-    deadline=None,
-    derandomize=True,
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much],
 )
 @given(

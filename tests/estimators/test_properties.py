@@ -18,8 +18,6 @@ N = 3000
 FAMILIES = nv.signal_names()
 SETTINGS = settings(
     max_examples=12,
-    deadline=None,
-    derandomize=True,  # seeded: the same examples on every run
     database=None,
     suppress_health_check=[HealthCheck.too_slow],
 )

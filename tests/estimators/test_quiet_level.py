@@ -140,7 +140,7 @@ def test_the_quiet_level_in_the_record_units(scale: float) -> None:
     assert est.diagnostics.quiet.hi == pytest.approx(one.diagnostics.quiet.hi * scale**2)
 
 
-@settings(max_examples=60, deadline=None, derandomize=True)
+@settings(max_examples=60)
 @given(
     n=st.integers(120, 3000),
     period=st.floats(6.0, 600.0),

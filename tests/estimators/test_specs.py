@@ -321,7 +321,7 @@ def test_registry_is_the_list_of_methods():
     assert set(nv.describe_methods()) == set(nv.methods())
 
 
-@settings(max_examples=20, deadline=None)
+@settings(max_examples=20)
 @given(st.integers(min_value=2, max_value=5), st.integers(min_value=0, max_value=2**16))
 def test_difference_estimators_vectorise_exactly(k, seed):
     Z = np.random.default_rng(seed).normal(0.0, 1.0, (k, 300)).cumsum(axis=1)

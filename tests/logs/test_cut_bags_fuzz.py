@@ -25,8 +25,6 @@ def bags(tmp_path_factory) -> dict[str, bytes]:
 
 @settings(
     max_examples=80,
-    deadline=None,
-    derandomize=True,
     suppress_health_check=[HealthCheck.function_scoped_fixture],
 )
 @given(

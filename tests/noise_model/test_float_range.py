@@ -26,8 +26,6 @@ from noisevar.stream import estimate_file
 
 FUZZ = settings(
     max_examples=10,
-    deadline=None,
-    derandomize=True,
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
 )
 N = (240, 320)
@@ -211,8 +209,6 @@ class TestCommandLine:
     @pytest.mark.parametrize("command", list(COMMANDS))
     @settings(
         max_examples=6,
-        deadline=None,
-        derandomize=True,
         suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
     )
     @given(z=records, rate=rates)

@@ -86,7 +86,7 @@ def test_threads_and_chunk_sizes_agree() -> None:
         np.testing.assert_allclose(r.diagnostics.kurtosis, ref.diagnostics.kurtosis, rtol=1e-12)
 
 
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=60)
 @given(st.integers(600, 200_000), st.integers(2, 64))
 def test_chunks_tile_the_record_on_the_block_grid(n: int, blocks: int) -> None:
     cs = chunks(n, blocks * AUTO_BLOCK)
