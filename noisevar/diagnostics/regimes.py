@@ -32,6 +32,10 @@ FLAT_RATIO = 1e-16
 #: The quiet level's source when R's method reads the still stretches no quieter than the
 #: whole record (``estimators.still_quiet.above_record``): no quiet level, so no still R.
 ABOVE = "above"
+#: The quiet level's source when R's method reads the still stretches above the whole
+#: record but R inside their interval (``estimators.still_set.same_level``): they read R's
+#: level, so the quiet level, and the R to use, is R itself.
+SAME = "same"
 #: A regime of fewer blocks is all edge (no block away from its ends), which the block
 #: grid's phase moves: beside a flat regime, or held values alone, it sets no floor.
 FLOOR_BLOCKS = 3
@@ -143,13 +147,14 @@ class QuietLevel:
 
 
 def read_above(quiet: QuietLevel | None) -> bool:
-    """R's method read the still stretches no quieter than R (:data:`ABOVE`): no still R.
+    """R's method read the still stretches no quieter than R (:data:`ABOVE` or
+    :data:`SAME`): no still R apart from R.
 
     Where they are half the record or more and the noise is not white, the verdict says
     its colour first, not a level change that only the level profile's residual reads
     (sktime's solar generation: PELT splits it on one block grid's phase, not on others).
     """
-    return quiet is not None and quiet.source == ABOVE
+    return quiet is not None and quiet.source in (ABOVE, SAME)
 
 
 class _Cost:

@@ -23,7 +23,13 @@ from noisevar.diagnostics.quantisation import half_a_step, joined_step, second_d
 from noisevar.diagnostics.regimes import QuietLevel
 from noisevar.errors import NoisevarError
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
-from noisevar.estimators.still_set import ABOVE, HELD, STILL_MIN, has_still_apart, not_quieter
+from noisevar.estimators.still_set import (
+    HELD,
+    SAME,
+    STILL_MIN,
+    has_still_apart,
+    no_quieter_level,
+)
 
 if TYPE_CHECKING:
     from noisevar.estimators.pipeline import Record
@@ -87,6 +93,10 @@ def still_estimate(
         ends = at_the_ends(pieces, diag.level_profile, back(diag), diag.n)
         est = _measured(estimate_in, kept, ends) if ends != pieces else None
         ranges = ends if est is not None else ranges
+    if est is None and back is not None and pieces:  # whole on either grid, still on both
+        grown = grown_to_either(pieces, diag.level_profile, back(diag), diag.n)
+        est = _measured(estimate_in, kept, grown) if grown != pieces else None
+        ranges = grown if est is not None else ranges
     if est is None:
         return ranges, None
     est.notes.append(f"the still regimes only: {len(ranges)} stretches, {est.n_total} samples")
@@ -155,6 +165,44 @@ def at_the_ends(
             c, d = next(((a, b) for a, b in rev if a <= c and d <= b), (c, d))
         out.append((c, d))
     return out
+
+
+def grown_to_either(
+    ranges: list[tuple[int, int]], prof: LevelProfile, back: LevelProfile, n: int
+) -> list[tuple[int, int]]:
+    """The stretches still on either block grid that hold a stretch still on both.
+
+    Parameters
+    ----------
+    ranges : list of (int, int)
+        The stretches still on both grids (:func:`~noisevar.diagnostics.profile.on_both_grids`).
+    prof, back : LevelProfile
+        The record's profile and the reversed record's (its own sample indices).
+    n : int
+        Samples in the record.
+
+    Returns
+    -------
+    list of (int, int)
+        Each run of the two grids' still stretches' union that holds a piece of
+        ``ranges``, in order (those that hold none left out). A grid whose blocks are all
+        quiet adds nothing: it finds the record one level, no stretch of it apart.
+
+    Notes
+    -----
+    docs/algorithms.md §E1 (*A still stretch inside the record*). A rest about two blocks
+    long is cut into whole blocks by each grid: both find it still, and their
+    intersection is 64 samples when the grids' phases agree and 61-63 when dropping a
+    leading sample moves the record's own grid (sktime's BasicMotions: acc_z, gyr_z's R to
+    use came and went). Each sample of the union is in a still block of one grid, and
+    both grids find the rest still, so it is one still stretch whatever the phase; the
+    reversed grid, laid from the record's end, does not move when leading samples are
+    dropped, and reversal swaps the grids. The intersection is still read first (the
+    union adds at most a block at each end that the other grid found with motion in part).
+    """
+    apart = [p.still_stretches if not p.quiet.all() else [] for p in (prof, back)]
+    either = on_either_grid(*apart, n)
+    return [(a, b) for a, b in either if any(a <= c and d <= b for c, d in ranges)]
 
 
 def _shrunk(ranges: list[tuple[int, int]], prof: LevelProfile) -> list[tuple[int, int]]:
@@ -314,12 +362,9 @@ def above_record(
 ) -> QuietLevel | None:
     """Why a still R is no quiet level (:func:`~noisevar.estimators.still_set.not_quieter`
     against the first R; ``still_set.kept_still`` asks again on R as quoted): absent, for
-    that reason (source :data:`~noisevar.estimators.still_set.ABOVE`); None when it may be.
+    that reason (:func:`~noisevar.estimators.still_set.no_quieter_level`); None when it may be.
     """
-    reason = None if still is None else not_quieter(still, record_r.variance)
-    if reason is None:
-        return None
-    return QuietLevel(None, None, None, diag.level_profile.quiet_share, ABOVE, reason)
+    return None if still is None else no_quieter_level(diag, still, record_r.variance)
 
 
 def _measured(
@@ -350,7 +395,9 @@ def still_regime_ranges(
         The record's diagnostics (its regimes).
     back : LevelProfile, optional
         The reversed record's profile: what its still regimes hold is added (the two block
-        grids that a reversal swaps; the union is the same stretches either way).
+        grids that a reversal swaps; the union is the same stretches either way), when
+        its level varies too (reversed, a record can be one regime, still by default and
+        over its motion as well: a 75-sample rest in motion read 6x its noise).
 
     Returns
     -------
@@ -369,7 +416,7 @@ def still_regime_ranges(
     if not diag.level_varies:
         return []
     ranges = _trimmed(diag.level_profile)
-    if back is None:
+    if back is None or all(r.still for r in back.regimes):  # one level reversed: no regime
         return ranges
     return on_either_grid(ranges, _trimmed(back), diag.n)
 
@@ -495,6 +542,8 @@ def quiet_level(
         if not share and still.stretches:  # no quiet block: the still regimes measured
             share = sum(b - a for a, b in still.stretches) / max(diag.n, 1)
         return QuietLevel(still.variance, *still.ci95, share, "still")
+    if diag.quiet is not None and diag.quiet.source == SAME:  # R's level: R is the R to use
+        return replace(diag.quiet, variance=result.variance, lo=result.ci95[0], hi=result.ci95[1])
     if diag.quiet is not None:
         return diag.quiet
     if prof.one_quiet_level:  # and R agrees with it, or quiet_apart measured it apart

@@ -9,7 +9,7 @@ from __future__ import annotations
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
-from noisevar.diagnostics.regimes import ABOVE, STILL_RATIO, QuietLevel
+from noisevar.diagnostics.regimes import ABOVE, SAME, STILL_RATIO, QuietLevel
 from noisevar.diagnostics.verdict import under_half_a_step
 
 if TYPE_CHECKING:
@@ -61,7 +61,7 @@ def still_gap(
     use" on another.
     """
     kind, total, share = _gap(diag, variance, still)
-    if kind in ("have", "one"):
+    if kind in ("have", "one", SAME):
         return None
     if kind == "unknown":
         return f"regimes='still': the record's regimes could not be found; {USE_ALL}"
@@ -106,6 +106,8 @@ def still_note(
         "have": None,
         "unknown": "no still R: the record's regimes could not be found",
         "one": "no separate still R: the record is one still regime (its R is the still R)",
+        "same": "no separate still R: the still stretches read the whole record's level "
+        "(its R is the still R)",
         "none": "no still stretch: the level varies throughout",
         "held": "no still R: the still stretches hold values under the stored digits",
         "above": "no still R: the still stretches read above the whole record",
@@ -118,13 +120,14 @@ def _gap(
     diag: NoiseDiagnostics | None, variance: float, still: VarianceEstimate | None
 ) -> tuple[str, int, float]:
     """The case of :func:`still_gap`: ``"have"`` (a still R), ``"unknown"`` (no
-    diagnostics), ``"one"`` (one still regime), ``"none"`` (no quiet stretch) or ``"short"``;
-    with the quiet samples and their share of the record."""
+    diagnostics), ``"one"`` (one still regime), ``"same"`` (still stretches at R's level:
+    :func:`same_level`), ``"held"``, ``"above"``, ``"none"`` (no quiet stretch) or
+    ``"short"``; with the quiet samples and their share of the record."""
     if still is not None:
         return "have", 0, 0.0
     if diag is None:
         return "unknown", 0, 0.0
-    if diag.quiet is not None and diag.quiet.source in (HELD, ABOVE):
+    if diag.quiet is not None and diag.quiet.source in (HELD, ABOVE, SAME):
         return diag.quiet.source, 0, 0.0
     if not has_still_apart(diag, variance) or under_half_a_step(diag, variance):
         return "one", 0, 0.0
@@ -150,7 +153,8 @@ def has_still_apart(diag: NoiseDiagnostics, variance: float) -> bool:
         False when R is under half a grid step's error variance (``under_half_a_step``
         on ``diag.lsb``, the grid a trend moves and keeps: the levels follow the signal's
         offset within a step, §E3). Else True when the
-        level varies (a regime that is not still), or when the record is
+        level varies (a regime that is not still; not when no block is quiet on the
+        record's grid and the reversed grid finds one quiet level), or when the record is
         one regime of robust level but its R is more than
         :data:`~noisevar.diagnostics.regimes.STILL_RATIO` times the quiet level
         (``quiet_variance``) and the still stretches leave part of the record out (motion the
@@ -169,11 +173,36 @@ def has_still_apart(diag: NoiseDiagnostics, variance: float) -> bool:
     if under_half_a_step(diag, variance):  # a level within a grid step is quantisation
         return False
     if diag.level_varies:
-        return True
+        return not _one_level_reversed(diag, variance)
     prof = diag.level_profile
-    return bool(
-        prof.left_out_ratio() > STILL_RATIO and variance > STILL_RATIO * prof.quiet_variance
-    )
+    return _run_apart(prof.left_out_ratio(), variance, prof.quiet_variance)
+
+
+def _run_apart(left_out_ratio: float, variance: float, quiet_variance: float) -> bool:
+    """A run of left-out blocks over :data:`STILL_RATIO` times the quiet level, and R over
+    that many times it: motion apart from a record of one regime."""
+    return bool(left_out_ratio > STILL_RATIO and variance > STILL_RATIO * quiet_variance)
+
+
+def _one_level_reversed(diag: NoiseDiagnostics, variance: float) -> bool:
+    """The record's own grid finds no quiet block and the reversed record's grid finds it
+    one level with nothing apart (every regime still, and no run of left-out blocks
+    apart as :func:`has_still_apart` asks of a record of one level).
+
+    Notes
+    -----
+    docs/algorithms.md §E1 (*The still set*). PELT's split can hang on the grid's phase:
+    KITTI's GPS east velocity is one still level on both grids, and with 2 samples
+    dropped two regimes on the record's grid, neither with a quiet block, while the
+    reversed grid still finds one quiet level. Nothing is quiet apart from the rest on
+    either grid, so the record's R is the R to use, as with no sample dropped.
+    """
+    back = diag.level_profile.back_grid
+    if back is None or back.profile is None or diag.level_profile.quiet.any():
+        return False
+    if not all(r.still for r in back.profile.regimes):
+        return False
+    return not _run_apart(back.left_out_ratio, variance, back.quiet_variance)
 
 
 def kept_still(
@@ -208,11 +237,46 @@ def kept_still(
         return still, diag
     if not has_still_apart(diag, variance):
         return None, replace(diag, other_still=())
+    level = no_quieter_level(diag, still, variance)
+    if level is None:
+        return still, diag
+    return None, replace(diag, quiet=level, other_still=())
+
+
+def no_quieter_level(
+    diag: NoiseDiagnostics, still: VarianceEstimate, variance: float
+) -> QuietLevel | None:
+    """The quiet level when the still R is no quieter than R (:func:`not_quieter`), else None.
+
+    Absent, source :data:`SAME` when the still stretches read R's level
+    (:func:`same_level`: R, the R to use, is the quiet level), else :data:`ABOVE` (no
+    still R to use); with :func:`not_quieter`'s reason.
+    """
     reason = not_quieter(still, variance)
     if reason is None:
-        return still, diag
-    level = QuietLevel(None, None, None, diag.level_profile.quiet_share, ABOVE, reason)
-    return None, replace(diag, quiet=level, other_still=())
+        return None
+    source = SAME if same_level(still, variance) else ABOVE
+    return QuietLevel(None, None, None, diag.level_profile.quiet_share, source, reason)
+
+
+def same_level(still: VarianceEstimate, variance: float) -> bool:
+    """Whether the still stretches read R's level: the still R at or above R (at most
+    :data:`~noisevar.diagnostics.regimes.STILL_RATIO` times it) with R inside its 95 %
+    interval.
+
+    Notes
+    -----
+    docs/algorithms.md §E1 (*The still set*). A still R just under R is the R to use, and
+    one just over it with R inside its interval is no quieter level: which side it falls
+    on hangs on the block grid's phase where the still stretches are most of the record
+    (gtsam's legged robot gyr_x: 0.95x R, then 1.02x with 2 samples dropped; KITTI's GPS
+    east velocity: one regime, then two, reading 1.13x R). Were the R to use then none,
+    it would come and go with the phase; it is R itself, inside the still R's interval
+    on both sides of the edge.
+    """
+    return still.variance >= variance and still.variance <= STILL_RATIO * variance and (
+        still.ci95[0] <= variance
+    )
 
 
 def not_quieter(still: VarianceEstimate, variance: float) -> str | None:
