@@ -274,8 +274,10 @@ def same_level(still: VarianceEstimate, variance: float) -> bool:
     it would come and go with the phase; it is R itself, inside the still R's interval
     on both sides of the edge.
     """
-    return still.variance >= variance and still.variance <= STILL_RATIO * variance and (
-        still.ci95[0] <= variance
+    return (
+        still.variance >= variance
+        and still.variance <= STILL_RATIO * variance
+        and (still.ci95[0] <= variance)
     )
 
 
