@@ -121,18 +121,12 @@ def row_label(key: str, unit: str = "") -> str:
 
 
 def _still_fields(est: VarianceEstimate) -> dict[str, float | str | None]:
-    """``still_variance`` and its interval (None when there is no still estimate; R's own
-    where the level varies and R is the R to use), and ``still_note``: why they are empty
-    or R's (:func:`~noisevar.estimators.still_set.still_note`)."""
-    from noisevar.estimators.still_set import still_gap, still_note
+    """``still_variance`` and its interval (None when there is no still estimate), and
+    ``still_note``: why they are empty (:func:`~noisevar.estimators.still_set.still_note`)."""
+    from noisevar.estimators.still_set import still_note
 
     still = est.still
     note = still_note(est.diagnostics, est.variance, still)
-    diag = est.diagnostics
-    if still is None and diag is not None and diag.level_varies:
-        # the level varies and R is the R to use (still_gap None): the row's still R is R,
-        # as regimes.variance_for gives (a row whose level varies, with none, has no R)
-        still = est if still_gap(diag, est.variance, None) is None else None
     if still is None:
         return {
             "still_variance": None,

@@ -29,6 +29,7 @@ from noisevar.estimators.still_set import (
     STILL_MIN,
     has_still_apart,
     no_quieter_level,
+    one_level_reversed,
 )
 
 if TYPE_CHECKING:
@@ -481,6 +482,9 @@ def quiet_apart(
     Returns
     -------
     QuietLevel or None
+        Source ``"same"`` (R, :func:`quiet_level`) when nothing is quiet on the record's
+        grid and the reversed grid finds one level
+        (:func:`~noisevar.estimators.still_set.one_level_reversed`). Else
         None unless the record is of one level, its still stretches are not apart
         (:func:`~noisevar.estimators.still_set.has_still_apart`: no ``.still``), and the
         blocks left out of the quiet set change its level beyond its interval
@@ -489,6 +493,8 @@ def quiet_apart(
         reason, when the quiet stretches are too short for the method.
     """
     prof = diag.level_profile
+    if one_level_reversed(diag, variance):  # nothing quiet apart on either grid: R's level
+        return QuietLevel(None, None, None, prof.quiet_share, SAME, _nothing_apart())
     level = variance if core is None else core
     if not prof.quiet.any() or _r_is_quiet(prof, level) or has_still_apart(diag, variance):
         return None
@@ -525,7 +531,9 @@ def quiet_level(
     Returns
     -------
     QuietLevel
-        ``.still`` when there is one; else the level measured apart (:func:`quiet_apart`);
+        ``.still`` when there is one; R itself, source ``"same"``, when the still stretches
+        read R's level (``still_set.same_level``) or nothing is apart on either grid; else
+        the level measured apart (:func:`quiet_apart`);
         else R itself when the record is one quiet level (every block quiet, or those left
         out change nothing the quiet level's interval can tell); else absent, with the
         reason (no quiet block, or still stretches too short for R's method).
@@ -575,6 +583,13 @@ def _reader(record: Record | Any) -> Callable[[int, int], NDArray] | None:
         return lambda a, b: z[a:b]
     reader = getattr(record, "reader", None)
     return None if reader is None else reader()
+
+
+def _nothing_apart() -> str:
+    return (
+        "the record's block grid finds no quiet block and the reversed record's finds one "
+        "level with nothing apart, so R is the quiet level"
+    )
 
 
 def _too_short(share: float) -> str:

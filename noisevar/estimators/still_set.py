@@ -173,7 +173,7 @@ def has_still_apart(diag: NoiseDiagnostics, variance: float) -> bool:
     if under_half_a_step(diag, variance):  # a level within a grid step is quantisation
         return False
     if diag.level_varies:
-        return not _one_level_reversed(diag, variance)
+        return not one_level_reversed(diag, variance)
     prof = diag.level_profile
     return _run_apart(prof.left_out_ratio(), variance, prof.quiet_variance)
 
@@ -184,7 +184,7 @@ def _run_apart(left_out_ratio: float, variance: float, quiet_variance: float) ->
     return bool(left_out_ratio > STILL_RATIO and variance > STILL_RATIO * quiet_variance)
 
 
-def _one_level_reversed(diag: NoiseDiagnostics, variance: float) -> bool:
+def one_level_reversed(diag: NoiseDiagnostics, variance: float) -> bool:
     """The record's own grid finds no quiet block and the reversed record's grid finds it
     one level with nothing apart (every regime still, and no run of left-out blocks
     apart as :func:`has_still_apart` asks of a record of one level).

@@ -21,6 +21,7 @@ import noisevar
 from noisevar.diagnostics.profile import LevelProfile, with_back_grid
 from noisevar.diagnostics.regimes import Regime
 from noisevar.estimators.regimes import variance_for, why_no_still
+from noisevar.estimators.still_quiet import quiet_apart
 from noisevar.estimators.still_set import (
     ABOVE,
     SAME,
@@ -127,16 +128,6 @@ def test_a_still_r_at_rs_level_makes_r_the_r_to_use() -> None:
     assert "no still R to use" in still_gap(diag, r, None)
 
 
-def test_a_row_whose_r_is_the_r_to_use_carries_it_as_its_still_r() -> None:
-    est = _moving_still()
-    r = est.variance
-    _, diag = kept_still(
-        est.diagnostics, r, replace(est.still, variance=1.02 * r, ci95=(0.6 * r, 2 * r))
-    )
-    row = replace(est, still=None, diagnostics=diag).to_row()
-    assert row["still_variance"] == r
-
-
 def _profile(quiet: list[bool], regimes: list[tuple[int, int, bool]], n: int) -> LevelProfile:
     k = len(quiet)
     start = np.arange(k) * 32
@@ -159,6 +150,9 @@ def test_no_quiet_block_on_one_grid_and_one_level_on_the_other_leaves_nothing_ap
     diag = replace(est.diagnostics, n=n, level_profile=with_back_grid(own, back, n))
     assert diag.level_varies and not has_still_apart(diag, 1.0)
     assert still_gap(diag, 1.0, None) is None
+    quiet = quiet_apart(None, {}, diag, 1.0, lambda e: e)  # R is the quiet level
+    assert quiet is not None and quiet.source == SAME
+    assert still_gap(replace(diag, quiet=quiet), 1.0, None) is None
     # a reversed grid that finds the level varies too: no still R to use, as before
     split = _profile([True] * 5 + [False] * 5, [(0, 160, True), (160, n, False)], n)
     diag = replace(diag, level_profile=with_back_grid(own, split, n))
