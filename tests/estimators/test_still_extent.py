@@ -5,7 +5,7 @@ still at the start, motion, then a short noisier stretch and a quiet end. Which 
 quiet end starts at depends on where the block grid starts, so dropping 2 leading samples
 moved the still R from 0.0212 to 0.0118, outside its ci95 (0.0144-0.0341). The still R's
 interval now holds its readings on the stretches grown to either grid's and shrunk by a
-block at their inner ends (``still_quiet.over_either_grid``), so it does not claim to know
+block at their inner ends (``still_grids.over_either_grid``), so it does not claim to know
 the stretch's end better than a block.
 """
 
