@@ -28,6 +28,7 @@ from noisevar.errors import NoisevarError
 from noisevar.estimators.regimes import DEFAULT_REGIMES
 from noisevar.noise_model.gmwm.model import ImuModel as CompositeModel
 from noisevar.noise_model.inertial import InertialNoise
+from noisevar.noise_model.inertial_white import why_below_white
 from noisevar.noise_model.kalibr import composite_k, composite_k_note, imu_rate
 from noisevar.noise_model.overbound import NK, overbound
 
@@ -170,10 +171,11 @@ def _sensor(
         n = max(max(a.random_walk, a.white_level) for a in fits)
         k = k_best
         b = max(a.bias_instability for a in fits)
-        if any(a.white_level > a.random_walk for a in fits):
+        below = [i for i, a in enumerate(fits) if a.white_level > a.random_walk]
+        if below:
+            why = "; ".join(f"axis {i}: {why_below_white(fits[i].tau0_holders)}" for i in below)
             notes.append(
-                f"{name}: N is at least each axis's white level sigma(tau0) sqrt(tau0) (the "
-                "consumers have no quantisation term for what the fit put into Q)"
+                f"{name}: N is at least each axis's white level sigma(tau0) sqrt(tau0) ({why})"
             )
         return SensorTerms(n * f, k * f, b * f, target), notes
     bounds = [overbound(a, free=NK) for a in fits]
