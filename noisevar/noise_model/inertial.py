@@ -162,10 +162,12 @@ class InertialNoise:
     white_level : float
         The measured white level ``sigma(tau0) sqrt(tau0)`` (unit/√Hz): the density of
         the white rate noise that has the record's Allan deviation at ``tau0 = 1/fs``
-        (:func:`white_level`). A consumer without a Q term (Kalibr) needs at least this.
+        (:func:`white_level`). A consumer without Q and B terms (Kalibr) needs at least
+        this; N's upper bound reaches it with Q's.
     notes : tuple of str
-        Which stretch a ``regimes="still"`` fit ran on; when the fit put short-tau noise
-        into Q, and what that does to N.
+        Which stretch a ``regimes="still"`` fit ran on; when the fit gave the Allan
+        variance at tau0 to terms other than N (:attr:`tau0_holders`), and what that does
+        to N and its interval.
     regimes : {"all", "still"}
         The record's regimes the fit used (:mod:`noisevar.estimators.regimes`).
     """
