@@ -420,8 +420,10 @@ def findings() -> list[str]:
         + "; evo's ground truth's still R, which moved x0.514 under reversal, offset and "
         "trend, no longer moves (the same change). **Not fixed here.** The any-record "
         "table's misses (above): a still R that appears or vanishes at the 64-sample edge "
-        "when 3 samples are dropped (GPS Alt; before, 2); `inertial_noise`'s N interval "
-        "ending just below the white level sigma/sqrt(fs).",
+        "when 3 samples are dropped (GPS Alt; before, 2). **Fixed since (imu11):** "
+        "`inertial_noise`'s N interval ending just below the white level sigma/sqrt(fs) "
+        "(voyager gyr_x, gyr_z): N's upper bound now reaches it with Q's on every record "
+        "(docs/algorithms.md §E4, `tests/noise_model/test_white_reach.py`).",
         "",
     ]
 

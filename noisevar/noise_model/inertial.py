@@ -38,7 +38,11 @@ from noisevar.noise_model.allan import (
 from noisevar.noise_model.gmwm.bound import internal_params
 from noisevar.noise_model.gmwm.processes import PROCESSES
 from noisevar.noise_model.gmwm.wavelet import wv_covariance
-from noisevar.noise_model.inertial_white import n_against_white, white_level
+from noisevar.noise_model.inertial_white import (
+    n_against_white,
+    tau0_holders,
+    white_level,
+)
 
 #: Bootstrap replicates behind each term's interval.
 BOOTSTRAP = 200
@@ -100,6 +104,16 @@ TERMS = (
     TermSpec("rate_ramp", "R", 1.0, "{u}/s", "{u}", "rate change per sample"),
 )
 TERM_NAMES = tuple(t.name for t in TERMS)
+#: Each term's label in the notes, e.g. ``"B (bias instability)"``.
+TERM_LABELS = tuple(f"{t.symbol} ({t.name.replace('_', ' ')})" for t in TERMS)
+
+
+def tau0_weights(rate: float) -> NDArray:
+    """Each squared term's weight in the white level squared ``W² = sigma²(tau0) tau0``
+    (eq. E4.1 at ``tau0 = 1/rate``): ``3 fs``, 1, ``2 ln 2 / (pi fs)``, ``1 / (3 fs²)``,
+    ``1 / (2 fs³)``."""
+    tau0 = np.array([1.0 / rate])
+    return np.array([s.coefficient(tau0)[0] * tau0[0] for s in TERMS])
 
 
 @dataclass(frozen=True)
@@ -148,10 +162,12 @@ class InertialNoise:
     white_level : float
         The measured white level ``sigma(tau0) sqrt(tau0)`` (unit/√Hz): the density of
         the white rate noise that has the record's Allan deviation at ``tau0 = 1/fs``
-        (:func:`white_level`). A consumer without a Q term (Kalibr) needs at least this.
+        (:func:`white_level`). A consumer without Q and B terms (Kalibr) needs at least
+        this; N's upper bound reaches it with Q's.
     notes : tuple of str
-        Which stretch a ``regimes="still"`` fit ran on; when the fit put short-tau noise
-        into Q, and what that does to N.
+        Which stretch a ``regimes="still"`` fit ran on; when the fit gave the Allan
+        variance at tau0 to terms other than N (:attr:`tau0_holders`), and what that does
+        to N and its interval.
     regimes : {"all", "still"}
         The record's regimes the fit used (:mod:`noisevar.estimators.regimes`).
     """
@@ -196,6 +212,14 @@ class InertialNoise:
     def rate_ramp(self) -> float:
         """R (unit/s)."""
         return self.term("R").value
+
+    @property
+    def tau0_holders(self) -> str:
+        """The terms other than N that hold the fitted Allan variance at ``tau0``, with
+        their shares (:func:`~noisevar.noise_model.inertial_white.tau0_holders`)."""
+        v = np.array([t.value for t in self.terms])
+        coef = (v / (np.max(v) or 1.0)) ** 2  # shares only: scale-safe
+        return tau0_holders(coef, tau0_weights(self.rate), TERM_LABELS)
 
     def model(self, taus: ArrayLike | None = None) -> tuple[dict[str, NDArray], NDArray]:
         """Each term's Allan deviation and that of their sum, at ``taus`` (default the data's).
@@ -420,7 +444,7 @@ def _one_axis(
     edf = _model_edf(a, coef, m, y.size + 1) * share
     ivals = _intervals(res.taus, coef, w, edf, ci, seed, rate, y.size)
     white = white_level(y, rate)
-    notes += n_against_white(coef, ivals, white, unit)
+    notes += n_against_white(coef, ivals, white, unit, tau0_weights(rate), TERM_LABELS)
     left = [
         f"{t.symbol} (up to {hi:.3g})"
         for t, c, (_, hi) in zip(TERMS, coef, ivals, strict=True)
@@ -526,8 +550,10 @@ def inertial_noise(
     its interval from 0 to what the five terms refitted allow). Intervals: parametric
     bootstrap of chi-square Allan variances, taken as independent across taus (so they
     are rather narrow at long taus); the percentile interval joined with the
-    replicates' spread placed on the estimate. Composite models (Gauss-Markov biases)
-    with model choice: :func:`noisevar.fit_imu_model`.
+    replicates' spread placed on the estimate; N's upper bound then reaches the white
+    level with Q's (:func:`~noisevar.noise_model.inertial_white.n_against_white`: the
+    terms that took the Allan variance at tau0 are named in ``notes``). Composite
+    models (Gauss-Markov biases) with model choice: :func:`noisevar.fit_imu_model`.
     """
     check_regimes(regimes)
     check_rate(rate)

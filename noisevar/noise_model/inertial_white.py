@@ -1,11 +1,9 @@
-"""The white level of rate data and N's interval held against it (docs/algorithms.md §E4).
-
-Moved from :mod:`noisevar.noise_model.inertial` (unchanged) to keep that module short.
-"""
+"""The white level of rate data and N's interval held against it (docs/algorithms.md §E4)."""
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -37,25 +35,102 @@ def white_level(y: ArrayLike, rate: float) -> float:
     return math.sqrt(float(np.mean(d**2)) / 2.0 / rate)
 
 
-def n_against_white(coef: NDArray, ivals: NDArray, white: float, unit: str) -> list[str]:
-    """Keep N's interval honest when Q took the short-tau noise; ``ivals`` is edited in place.
+def tau0_holders(coef: NDArray, weights: NDArray, labels: Sequence[str]) -> str:
+    """The terms other than N that hold the fitted Allan variance at tau0, with their shares.
 
-    When N is not told from 0 its upper bound is at least the white level (all of the
-    short-tau noise white): the bootstrap, taking the taus as independent, overstates
-    how well a short record splits Q from N.
+    Parameters
+    ----------
+    coef : ndarray
+        The squared terms ``(Q², N², B², K², R²)``.
+    weights : ndarray
+        Each squared term's weight in the white level squared (E4.2: ``3 fs``, 1,
+        ``2 ln 2 / (pi fs)``, ...).
+    labels : sequence of str
+        Each term's label, e.g. ``"B (bias instability)"``.
+
+    Returns
+    -------
+    str
+        ``"B (bias instability) 81 %, Q (quantization) 3 %"``, largest first; shares
+        under 0.5 % are left out; empty when N holds it all.
     """
-    n_value, q_value = math.sqrt(coef[1]), math.sqrt(coef[0])
-    notes = []
-    if ivals[1, 0] == 0.0 and ivals[1, 1] < white:
-        ivals[1, 1] = white
-        why = f" (Q = {q_value:.4g} {unit}·s took the short-tau noise)" if q_value > 0 else ""
-        notes.append(
-            f"N is not told from 0{why}: its upper bound is the white level "
-            f"{white:.4g} {unit}/√Hz, as if all of the short-tau noise were white"
+    parts = np.asarray(coef, dtype=float) * weights
+    total = float(np.sum(parts))
+    if not total > 0:
+        return ""
+    shares = sorted(((p / total, lab) for i, (p, lab) in enumerate(zip(parts, labels, strict=True))
+                     if i != 1 and p / total >= 0.005), reverse=True)  # fmt: skip
+    return ", ".join(f"{lab} {share:.0%}" for share, lab in shares)
+
+
+def why_below_white(held: str) -> str:
+    """Why an axis's N is below its white level, for the consumers' notes (``held``:
+    :func:`tau0_holders`)."""
+    if held:
+        return (
+            f"the fit gave part of the Allan variance at tau0 to {held}, which the consumers "
+            "have no field for"
         )
-    if q_value > 0 and n_value < white:
+    return "the fitted Allan variance at tau0 falls short of the measured one"
+
+
+def n_against_white(
+    coef: NDArray, ivals: NDArray, white: float, unit: str, weights: NDArray, labels: Sequence[str]
+) -> list[str]:
+    """Keep N's interval reaching the white level; ``ivals`` is edited in place.
+
+    Parameters
+    ----------
+    coef, ivals : ndarray
+        The squared terms (Q, N, B, K, R) and their intervals (unsquared, one row each).
+    white : float
+        The measured white level (:func:`white_level`).
+    unit : str
+        The rate data's unit, for the notes.
+    weights, labels
+        As :func:`tau0_holders`.
+
+    Returns
+    -------
+    list of str
+        The notes.
+
+    Notes
+    -----
+    docs/algorithms.md §E4. N's upper bound is raised until N and Q at their upper
+    bounds reach the white level, ``N_hi² + 3 Q_hi² fs >= W²`` (to ``W`` itself when N is
+    not told from 0): what the fit gives B, K or R at tau0 is extrapolated from longer
+    taus, and the bootstrap, drawing from that fit, never doubts it, while motion or a
+    short record can leave white noise there (gtsam's legged robot: B took 85 % of it).
+    """
+    n_value = math.sqrt(coef[1])
+    held = tau0_holders(coef, weights, labels)
+    told = ivals[1, 0] > 0.0
+    need = math.sqrt(max(white**2 - weights[0] * ivals[0, 1] ** 2, 0.0)) if told else white
+    notes, raised = [], ivals[1, 1] < need
+    if raised:
+        old, ivals[1, 1] = ivals[1, 1], need
+        if told:
+            notes.append(
+                f"N's upper bound is raised from {old:.4g} to {need:.4g} {unit}/√Hz, where N "
+                f"and Q's upper bound reach the white level {white:.4g}: "
+                + (
+                    f"the fit gave {held} of the Allan variance at tau0, extrapolated from "
+                    "longer taus, where motion or a short record can leave white noise"
+                    if held
+                    else "the fitted Allan variance at tau0 falls short of the measured one"
+                )
+            )
+        else:
+            why = f" (the fit gave {held} of the short-tau noise)" if held else ""
+            notes.append(
+                f"N is not told from 0{why}: its upper bound is the white level "
+                f"{white:.4g} {unit}/√Hz, as if all of the short-tau noise were white"
+            )
+    if held and n_value < white:
+        why = "" if raised else f" (the fit gave {held} of the Allan variance at tau0)"
         notes.append(
-            f"Q holds part of the Allan variance at tau0: N = {n_value:.4g} is below the white "
-            f"level {white:.4g} {unit}/√Hz; a model without Q (Kalibr) needs the white level"
+            f"N = {n_value:.4g} is below the white level {white:.4g} {unit}/√Hz{why}: a "
+            "model with N alone there (Kalibr, OpenVINS) needs the white level"
         )
     return notes

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any
 from noisevar.errors import NoisevarError
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes
 from noisevar.noise_model.inertial import InertialNoise
+from noisevar.noise_model.inertial_white import why_below_white
 
 if TYPE_CHECKING:
     from noisevar.noise_model.gmwm.model import ImuModel as CompositeModel
@@ -143,9 +144,10 @@ def composite_k_note(bias: dict[str, Sequence[CompositeModel]]) -> str:
 def _density(fits: InertialNoise | Sequence[InertialNoise], key: str) -> tuple[float, list[str]]:
     """The white-noise density: the largest of N and of the white level over the axes.
 
-    Kalibr has no quantisation field, so short-tau noise the fit put into Q would be
-    lost: the density is at least the white level ``sigma(tau0) sqrt(tau0)`` of every
-    axis (docs/algorithms.md §E4), with a note when that raises it above N.
+    Kalibr has no quantisation or bias-instability field, so short-tau noise the fit put
+    into Q or B would be lost: the density is at least the white level
+    ``sigma(tau0) sqrt(tau0)`` of every axis (docs/algorithms.md §E4), with a note when
+    that raises it above N, naming the terms that took it.
     """
     axes = _axes(fits)
     n = max(a.random_walk for a in axes)
@@ -155,9 +157,9 @@ def _density(fits: InertialNoise | Sequence[InertialNoise], key: str) -> tuple[f
         return n, []
     note = (
         f"{key}: raised from N = {n:.4g} (IEEE-952 fit, largest axis) to the white level "
-        f"sigma(tau0) sqrt(tau0) = {white:.4g} of axis {i}, before inflation: the fit put "
-        "part of the short-tau noise into the quantisation term Q, which Kalibr has no field "
-        "for (on a short record Q and N are hard to tell apart)"
+        f"sigma(tau0) sqrt(tau0) = {white:.4g} of axis {i}, before inflation: "
+        f"{why_below_white(axes[i].tau0_holders)} (on a short record or one with motion, "
+        "they are hard to tell from white noise)"
     )
     return white, [note]
 
@@ -222,8 +224,9 @@ def kalibr_imu(
     Notes
     -----
     Over several axes the largest N and K are kept. The noise density is at least
-    each axis's white level ``sigma(tau0) sqrt(tau0)`` (Kalibr has no quantisation
-    term to hold what the fit put into Q); ``notes`` says when that raised it.
+    each axis's white level ``sigma(tau0) sqrt(tau0)`` (Kalibr has no quantisation or
+    bias-instability term to hold what the fit put into Q or B at tau0); ``notes`` says
+    when that raised it, and why.
     """
     if not (math.isfinite(inflation) and inflation > 0):
         raise NoisevarError(f"The inflation must be a positive number, not {inflation}.")

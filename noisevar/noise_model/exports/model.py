@@ -28,6 +28,7 @@ from noisevar.errors import NoisevarError
 from noisevar.estimators.regimes import DEFAULT_REGIMES
 from noisevar.noise_model.gmwm.model import ImuModel as CompositeModel
 from noisevar.noise_model.inertial import InertialNoise
+from noisevar.noise_model.inertial_white import why_below_white
 from noisevar.noise_model.kalibr import composite_k, composite_k_note, imu_rate
 from noisevar.noise_model.overbound import NK, overbound
 
@@ -170,12 +171,7 @@ def _sensor(
         n = max(max(a.random_walk, a.white_level) for a in fits)
         k = k_best
         b = max(a.bias_instability for a in fits)
-        if any(a.white_level > a.random_walk for a in fits):
-            notes.append(
-                f"{name}: N is at least each axis's white level sigma(tau0) sqrt(tau0) (the "
-                "consumers have no quantisation term for what the fit put into Q)"
-            )
-        return SensorTerms(n * f, k * f, b * f, target), notes
+        return SensorTerms(n * f, k * f, b * f, target), notes + _white_note(fits, name)
     bounds = [overbound(a, free=NK) for a in fits]
     n_best = max(max(a.random_walk, a.white_level) for a in fits)
     # never below the best set (whose N is at least the white level)
@@ -190,6 +186,15 @@ def _sensor(
         + f" (best-fit B up to {b:.4g} {fits[0].unit}, before conversion)"
     )
     return SensorTerms(n * f, k * f, 0.0, target, factors), notes
+
+
+def _white_note(fits: list[InertialNoise], name: str) -> list[str]:
+    """Why N was raised to the white level of some axes (docs/algorithms.md §E4)."""
+    below = [i for i, a in enumerate(fits) if a.white_level > a.random_walk]
+    if not below:
+        return []
+    why = "; ".join(f"axis {i}: {why_below_white(fits[i].tau0_holders)}" for i in below)
+    return [f"{name}: N is at least each axis's white level sigma(tau0) sqrt(tau0) ({why})"]
 
 
 def composite_fits(
