@@ -18,10 +18,10 @@ from noisevar.io.header_units import header_unit
 from noisevar.io.opensignals import opensignals_names
 from noisevar.io.quirks import code_note, header_of_numbers, rows_continue
 from noisevar.io.refusal_hints import (
-    comment_hint,
     kinds_hint,
     numbers_for_names,
     preamble_hint,
+    width_hint,
 )
 from noisevar.io.table import (
     _NA_TOKENS,
@@ -194,7 +194,7 @@ def _check_width(name: str, fields: list[str], head: list[tuple[int, str]], fmt:
                 if fmt.delim == ","
                 else ""
             )
-            hint = comment_hint(head[0][1]) or hint
+            hint = width_hint(head, line_no, n, hint)
             if _short_header(fields, widths):
                 raise NoisevarError(
                     f"{echo(name)}: the header (line {head[0][0]}) names {len(fields)} columns "
