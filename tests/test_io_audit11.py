@@ -121,3 +121,39 @@ def test_a_fit_file_is_refused_saying_what_it_is(tmp_path, capsys):
     assert main(["estimate", str(path)]) == 2
     err = _one_line(capsys)
     assert "FIT file" in err and "CSV" in err
+
+
+def _indexed(n: int, seed: int, first: str) -> tuple[str, np.ndarray]:
+    """A table as pandas writes a frame indexed by time: an unnamed first column of
+    date-times (with their UTC offset), then one measured column, as pvanalytics ships."""
+    rng = np.random.default_rng(seed)
+    z = rng.normal(0.0, 1.0, n)
+    stamps = [f"2022-01-20 {i // 60:02d}:{i % 60:02d}:00-07:00" for i in range(n)]
+    if first == "us":
+        stamps = [f"1/20/2022 {i // 60}:{i % 60:02d}" for i in range(n)]
+    rows = [f"{s},{v:.6f}" for s, v in zip(stamps, z, strict=True)]
+    return ",Global CMP22 (vent/cor) [W/m^2]\n" + "\n".join(rows) + "\n", z
+
+
+@pytest.mark.parametrize("first", ["iso", "us"])
+def test_an_unnamed_first_column_of_date_times_is_the_time(tmp_path, first):
+    text, z = _indexed(300, 6, first)
+    path = tmp_path / "midc.csv"
+    path.write_text(text)
+    table = load_table(path)
+    assert table.time_column == "col0" and table.sample_period == pytest.approx(60.0)
+    assert not any("left out" in n for n in table.notes)
+    got, t = channel_record(table, "Global CMP22 (vent/cor) [W/m^2]")
+    np.testing.assert_allclose(got, np.round(z, 6))
+    assert t[-1] == pytest.approx(299 * 60.0)
+
+
+def test_the_json_names_the_one_column_it_read(tmp_path, capsys):
+    import json
+
+    text, _z = _indexed(300, 7, "iso")
+    path = tmp_path / "midc.csv"
+    path.write_text(text)
+    assert main(["estimate", str(path), "--format", "json"]) == 0
+    js = json.loads(capsys.readouterr().out)
+    assert js["column"] == "Global CMP22 (vent/cor) [W/m^2]" and js["unit"] == "W/m^2"

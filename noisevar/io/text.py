@@ -336,8 +336,8 @@ def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
     text = src if isinstance(src, str) else src.head
     fmt, names, header_line, unit_row = table_layout(text, name, isinstance(src, str))
     time_idx = pick_time_column(names)
-    if time_idx is None:  # a date column is the time column when it holds date-times
-        date_idx = next((i for i, c in enumerate(names) if is_date_name(c)), None)
+    if time_idx is None:  # a date column (else the first: pandas' index) holding date-times
+        date_idx = next((i for i, c in enumerate(names) if is_date_name(c)), 0)
         time_idx = date_idx if _holds_dates(text, fmt, header_line, date_idx) else None
     columns, notes, first, dated = _parse_body(src, header_line, names, fmt, name, time_idx)
     if names == [f"col{i}" for i in range(len(names))] and (head := header_of_numbers(columns)):
