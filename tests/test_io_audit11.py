@@ -157,3 +157,25 @@ def test_the_json_names_the_one_column_it_read(tmp_path, capsys):
     assert main(["estimate", str(path), "--format", "json"]) == 0
     js = json.loads(capsys.readouterr().out)
     assert js["column"] == "Global CMP22 (vent/cor) [W/m^2]" and js["unit"] == "W/m^2"
+
+
+def test_rows_repeated_whole_are_left_out_and_the_times_kept(tmp_path):
+    """Garmin's TCX repeats a track point at a pause (sweat's smart recording: 4 of 100):
+    the time column was not increasing, so its times and its pause were not used."""
+    rng = np.random.default_rng(8)
+    t = np.r_[np.arange(60), 92 + np.arange(60)]  # a 32 s pause
+    z = np.round(rng.normal(0.0, 0.1, t.size), 3)
+    stamps = [f"2020-06-01T14:{52 + s // 60:02d}:{s % 60:02d}.000Z" for s in t]
+    rows = [f"{s},{v}" for s, v in zip(stamps, z, strict=True)]
+    for i in (20, 40, 70, 90):  # each repeated, time and value
+        rows.insert(i, rows[i - 1])
+    path = tmp_path / "smart.csv"
+    path.write_text("time,speed\n" + "\n".join(rows) + "\n")
+    table = load_table(path)
+    assert table.sample_period == pytest.approx(1.0)
+    assert any("4 rows repeat the row before" in n for n in table.notes)
+    got, times = channel_record(table, "speed")
+    np.testing.assert_allclose(got, z)
+    np.testing.assert_allclose(times, t)
+    path.write_text("speed\n" + "\n".join(f"{v}" for v in np.repeat(z, 2)) + "\n")
+    assert load_table(path).columns["speed"].size == 2 * z.size  # no time: held values are data

@@ -16,13 +16,8 @@ from noisevar._arrays import EXACT_INT
 from noisevar.errors import NoisevarError
 from noisevar.io.header_units import header_unit
 from noisevar.io.opensignals import opensignals_names
-from noisevar.io.quirks import code_note, header_of_numbers, rows_continue
-from noisevar.io.refusal_hints import (
-    kinds_hint,
-    numbers_for_names,
-    preamble_hint,
-    width_hint,
-)
+from noisevar.io.quirks import code_note, header_of_numbers, repeated_rows, rows_continue
+from noisevar.io.refusal_hints import kinds_hint, numbers_for_names, preamble_hint, width_hint
 from noisevar.io.table import (
     _NA_TOKENS,
     LoadedTable,
@@ -346,6 +341,7 @@ def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
     if names == [f"col{i}" for i in range(len(names))] and (rows := rows_continue(columns)):
         notes.insert(0, rows)
     time_col = names[time_idx] if time_idx is not None else None
+    columns = repeated_rows(columns, time_col, notes)
     stated = {c: u for c, u in zip(names, unit_row or [], strict=False) if u}  # a units row
     names = [c for c in names if c in columns]  # text columns are left out (noted)
     if fmt.decimal == ",":
