@@ -506,7 +506,8 @@ def bad_input() -> list[dict]:
     res = []
     for what, (path, args) in cases.items():
         rc, out, err = process("estimate", path, *args, "--format", "json")
-        res.append({"case": what, "exit": rc, "said": err if rc else cli_said(out),
+        said = (err if rc else cli_said(out)).replace("\n", " / ")  # a warning's lines too
+        res.append({"case": what, "exit": rc, "said": said,
                     "fail": _file_checks(what, rc, out, err)})  # fmt: skip
     return res
 
