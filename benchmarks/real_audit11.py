@@ -454,9 +454,10 @@ _NOT_SIGNALS = {"time", "Unnamed: 0", "col0", "outlier", "stale_data_mask", "but
 
 
 def _file_checks(what: str, rc: int, out: str, err: str) -> list[str]:
-    fail = [] if rc == 0 or _one_line(rc, err) else [f"exit {rc}: {err[-160:]}"]
+    said = err.replace("\n", " / ")  # a table row
+    fail = [] if rc == 0 or _one_line(rc, err) else [f"exit {rc}: {said[-160:]}"]
     if rc == 0 and err:
-        fail.append(f"exit 0 with stderr: {err[:120]}")
+        fail.append(f"exit 0 with stderr: {said[:120]}")
     if rc == 2 and not any(w in err for w in _TO_DO):
         fail.append("the refusal does not say what to do")
     for kind in ("TCX", "GPX", "FIT"):
