@@ -270,3 +270,15 @@ OPENOA = "openoa==3.2"
 #: the Conrad Observatory's 1-second magnetometer data in IAGA-2002 files).
 GTSAM = "gtsam==4.3.0"
 GEOMAGPY = "geomagpy==2.0.2"
+
+
+# ---------------------------------------------------------------- real_audit11.py (issue 26)
+#: Packages whose shipped measured data ``benchmarks/real_audit11.py`` reads (wheels, read as
+#: files, never installed or imported; all MIT): sweat's (Garmin Edge 1000 and Forerunner 935
+#: rides and a Polar M400 run as TCX files: GNSS tracks with barometric altitude, speed,
+#: heart rate, cadence and power), gaitpy's (a GENEActiv accelerometer's CSV export, 50 Hz,
+#: worn at the lower back while walking) and pvanalytics' (NREL's measured irradiance,
+#: weather station and inverter records, some with labelled outliers and stale values).
+SWEAT = "sweat==0.25.0"
+GAITPY = "gaitpy==1.6.1"
+PVANALYTICS = "pvanalytics==0.2.2"

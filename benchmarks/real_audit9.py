@@ -293,6 +293,11 @@ def gaps_reference() -> dict:
     return ref_row("time_issue", "altitude (with t)", "gaps flagged", 0.0, est, fail)
 
 
+#: a verdict that says what holds R: outlying samples (or heavy tails' outliers and the
+#: core variance for a robust filter, audit 11's inverter), or motion or signal
+_HOLDERS = ("outlying", "outliers", "includes motion or signal")
+
+
 def glitch_reference(name: str, ch: str, z: np.ndarray) -> dict | None:
     """3g: where a few outlying samples hold R (R over 10x its core, the variance without
     them), the verdict says so, or at least that R includes motion or signal: not that R
@@ -301,7 +306,7 @@ def glitch_reference(name: str, ch: str, z: np.ndarray) -> dict | None:
     core = est.core_variance
     if not core or est.variance < GLITCH_HOLD * core:
         return None
-    said = any(w in (est.verdict or "") for w in ("outlying", "includes motion or signal"))
+    said = any(w in (est.verdict or "") for w in _HOLDERS)
     fail = [] if said else [
         f"R x{est.variance / core:.4g} its core: {est.outlier_fraction:.2%} outlying samples "
         "hold it, unsaid by the verdict"]  # fmt: skip

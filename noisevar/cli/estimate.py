@@ -338,9 +338,7 @@ def _cmd_estimate(args: argparse.Namespace) -> int:
     table = load_file(args.file, args.topic)
     # say which one was read: the first, or the one an index names (text columns left out
     # of the count, an index is not the file's column number)
-    if (column is None and len(table.data_columns) > 1) or (
-        column is not None and str(column) not in table.columns
-    ):
+    if column is None or str(column) not in table.columns:  # one column too (pvanalytics')
         column = column_name(table, column)
     scale, unit = _units(args, table.units.get(column_name(table, column)))
     result = _estimate_one(args, table, column, method, params, scale)

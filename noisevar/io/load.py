@@ -14,6 +14,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.errors import NoisevarError
+from noisevar.io.foreign import NUL_NOTE, nul_padding, refuse_fit, refuse_xml
 from noisevar.io.iaga import NOTE as IAGA_NOTE
 from noisevar.io.iaga import iaga_csv, is_iaga
 from noisevar.io.limits import MAX_BYTES, check_bytes, check_size
@@ -40,11 +41,12 @@ def _decode(raw: bytes, name: str, final: bool = True) -> tuple[str, str]:
             raise NoisevarError(
                 f"{name} starts as UTF-16 text but is not: save it as UTF-8 (CSV UTF-8)"
             ) from None
-    if b"\x00" in head:
+    if b"\x00" in head and not nul_padding(head):
         raise NoisevarError(
             f"{name} looks like a binary file (it contains NUL bytes): give a CSV/TSV text "
             "table, an NMEA 0183 log, or a .npy array"
         )
+    raw = raw.replace(b"\x00", b"")  # padding of text fields (nul_padding)
     try:
         # a head cut inside a multi-byte character is still UTF-8
         dec = codecs.getincrementaldecoder("utf-8-sig")()
@@ -324,8 +326,24 @@ def _parse(head: bytes, name: str, path: Path | None, size: int) -> LoadedTable:
             f"{echo(name)}: .npz archives are not supported; save one array as .npy"
         )
     _refuse_compressed(head, name)
+    refuse_fit(head, name)
     whole = path is None or size <= len(head)
+    padding = nul_padding(head)
+    if padding and not whole:  # the padding is left out of the text: read all of it
+        head, whole = _read_all(path, name), True
+        padding = head.count(b"\x00")
+    table = _parse_text(head, name, path, whole)
+    if padding:
+        table.notes.append(NUL_NOTE.format(n=padding))
+    return table
+
+
+def _parse_text(head: bytes, name: str, path: Path | None, whole: bool) -> LoadedTable:
+    """A text file: refused when it is of a format noisevar does not read, else NMEA,
+    IAGA-2002 or a text table."""
+    lower = name.lower()
     text, encoding = _decode(head, name, final=whole)
+    refuse_xml(text, name)
     _refuse_rinex(text, name)
     _refuse_ts(text, name)
     _refuse_json(text, name)

@@ -123,3 +123,31 @@ def code_note(cname: str, z: NDArray) -> str | None:
                 "are; write those cells empty and drop them (CLI: --drop-nonfinite)"
             )
     return None
+
+
+def repeated_rows(
+    columns: dict[str, NDArray], time_col: str | None, notes: list[str]
+) -> dict[str, NDArray]:
+    """``columns`` without the rows that repeat the row before in every column, time
+    included (a logger's duplicated record), with a note; as they are without a time column
+    (a held value is data there).
+
+    Notes
+    -----
+    Garmin Connect's TCX export repeats a track point at a pause or a lap (sweat's smart
+    recording: 4 of 100 rows): the time column was not increasing, so its times and its
+    32 s pause were not used.
+    """
+    if time_col is None or columns[time_col].size < 2:
+        return columns
+    table = np.column_stack(list(columns.values()))
+    same = np.all((table[1:] == table[:-1]) | (np.isnan(table[1:]) & np.isnan(table[:-1])), axis=1)
+    k = int(np.count_nonzero(same))
+    if k == 0:
+        return columns
+    keep = np.r_[True, ~same]
+    notes.append(
+        f"{k} rows repeat the row before in every column, time included (a duplicated "
+        f"record, the first at data row {int(np.argmax(same)) + 2}): left out"
+    )
+    return {c: v[keep] for c, v in columns.items()}

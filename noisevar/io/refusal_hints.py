@@ -99,3 +99,39 @@ def kinds_hint(df: pd.DataFrame, names: list[str], text: set[int], col: pd.Serie
                 "as their own file"
             )
     return ""
+
+
+#: A block of metadata: at least this many lines above the first row of the table
+_MIN_BLOCK = 5
+
+
+def metadata_hint(head: list[tuple[int, str]], line_no: int, width: int) -> str | None:
+    """The hint when a block of short lines (name, value pairs) sits above a table with no
+    header: every line above ``line_no`` is narrower than its ``width`` fields, most of them
+    start with a name, and that line starts with a number (a date-time's year too).
+
+    ``head``: the first meaningful lines (number, text).
+
+    Notes
+    -----
+    GENEActiv's CSV export (gaitpy's demo file) starts with 100 lines of device, subject and
+    sensor fields, then its rows with no header: refused blaming thousands separators.
+    """
+    above = [ln for i, ln in head if i < line_no]
+    row = next((ln for i, ln in head if i == line_no), "")
+    named = sum(not ln.lstrip()[:1].isdigit() for ln in above)  # rows of numbers: no block
+    if len(above) < _MIN_BLOCK or named < 0.5 * len(above) or not row.lstrip()[:1].isdigit():
+        return None
+    return (
+        f" (lines {head[0][0]}-{line_no - 1} look like a block of metadata, name and value "
+        f"pairs as a device's export writes them, above a table with no header whose rows "
+        f"start at line {line_no}: delete those lines and give the table with a header line "
+        f"naming its {width} columns, e.g. pandas.read_csv(path, skiprows={line_no - 1}, "
+        "header=None, names=[...]).to_csv(...))"
+    )
+
+
+def width_hint(head: list[tuple[int, str]], line_no: int, width: int, default: str) -> str:
+    """The hint of a refusal of line ``line_no``'s ``width`` fields, more than the header's:
+    another tool's comment marker, a block of metadata, else ``default``."""
+    return comment_hint(head[0][1]) or metadata_hint(head, line_no, width) or default

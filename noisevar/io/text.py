@@ -16,13 +16,8 @@ from noisevar._arrays import EXACT_INT
 from noisevar.errors import NoisevarError
 from noisevar.io.header_units import header_unit
 from noisevar.io.opensignals import opensignals_names
-from noisevar.io.quirks import code_note, header_of_numbers, rows_continue
-from noisevar.io.refusal_hints import (
-    comment_hint,
-    kinds_hint,
-    numbers_for_names,
-    preamble_hint,
-)
+from noisevar.io.quirks import code_note, header_of_numbers, repeated_rows, rows_continue
+from noisevar.io.refusal_hints import kinds_hint, numbers_for_names, preamble_hint, width_hint
 from noisevar.io.table import (
     _NA_TOKENS,
     LoadedTable,
@@ -194,7 +189,7 @@ def _check_width(name: str, fields: list[str], head: list[tuple[int, str]], fmt:
                 if fmt.delim == ","
                 else ""
             )
-            hint = comment_hint(head[0][1]) or hint
+            hint = width_hint(head, line_no, n, hint)
             if _short_header(fields, widths):
                 raise NoisevarError(
                     f"{echo(name)}: the header (line {head[0][0]}) names {len(fields)} columns "
@@ -336,8 +331,8 @@ def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
     text = src if isinstance(src, str) else src.head
     fmt, names, header_line, unit_row = table_layout(text, name, isinstance(src, str))
     time_idx = pick_time_column(names)
-    if time_idx is None:  # a date column is the time column when it holds date-times
-        date_idx = next((i for i, c in enumerate(names) if is_date_name(c)), None)
+    if time_idx is None:  # a date column (else the first: pandas' index) holding date-times
+        date_idx = next((i for i, c in enumerate(names) if is_date_name(c)), 0)
         time_idx = date_idx if _holds_dates(text, fmt, header_line, date_idx) else None
     columns, notes, first, dated = _parse_body(src, header_line, names, fmt, name, time_idx)
     if names == [f"col{i}" for i in range(len(names))] and (head := header_of_numbers(columns)):
@@ -346,6 +341,7 @@ def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
     if names == [f"col{i}" for i in range(len(names))] and (rows := rows_continue(columns)):
         notes.insert(0, rows)
     time_col = names[time_idx] if time_idx is not None else None
+    columns = repeated_rows(columns, time_col, notes)
     stated = {c: u for c, u in zip(names, unit_row or [], strict=False) if u}  # a units row
     names = [c for c in names if c in columns]  # text columns are left out (noted)
     if fmt.decimal == ",":

@@ -35,7 +35,8 @@ def parse_time_strings(values: list[str]) -> NDArray | None:
     except (ValueError, TypeError, OverflowError):
         t = _guessed_times(values)
         if t is None:
-            return _clock_times(values)
+            clock = _clock_times(values)
+            return _colon_fraction(values) if clock is None else clock
     if np.any(np.isnat(t)):
         return None
     return (t - t[0]).astype("timedelta64[ns]").astype(float) / 1e9
@@ -70,6 +71,29 @@ def _clock_times(values: list[str]) -> NDArray | None:
         sec[1:] += turn * np.cumsum(back)
         return sec - sec[0]
     return None
+
+
+#: A date-time with its fraction of a second after a colon (``2019-08-06 10:25:50:020``)
+_COLON_FRACTION = re.compile(r"(.*\d{1,2}:\d{2}:\d{2}):(\d{1,9})")
+
+
+def _colon_fraction(values: list[str]) -> NDArray | None:
+    """Date-times whose milliseconds follow a colon, read with a point there; None unless
+    every value is one.
+
+    Notes
+    -----
+    GENEActiv's CSV export writes ``2019-08-06 10:25:50:020`` (gaitpy's demo file): the time
+    column was refused as "not a number". A time of day alone is :func:`_clock_times`'.
+    """
+    import pandas as pd
+
+    cells = pd.Series(values, dtype=object).astype(str).str.strip()
+    if not values or not cells.str.fullmatch(_COLON_FRACTION.pattern).all():
+        return None
+    return parse_time_strings(
+        cells.str.replace(_COLON_FRACTION.pattern, r"\1.\2", regex=True).tolist()
+    )
 
 
 def _guessed_times(values: list[str]) -> NDArray | None:

@@ -1,0 +1,87 @@
+"""Files of formats noisevar does not read as tables, told apart from text: a FIT activity,
+an XML track (GPX, TCX, KML) refused in one line that says what to do; text whose fields a
+device pads with NUL bytes, read as the text it is."""
+
+from __future__ import annotations
+
+import re
+
+from noisevar.errors import NoisevarError
+from noisevar.io.limits import echo
+
+#: NUL bytes pad text when they are at most this share of the head, and every line that
+#: holds them is otherwise text (a device's fixed-width fields)
+NUL_SHARE = 0.05
+NUL_NOTE = (
+    "{n} NUL bytes (padding of fixed-width text fields, as GENEActiv's CSV export writes its "
+    "notes) left out"
+)
+
+
+def nul_padding(head: bytes) -> int:
+    """How many NUL bytes pad the text fields of ``head`` (0 when it has none, or when they
+    are those of a binary file or of UTF-16 text without its byte-order mark).
+
+    Notes
+    -----
+    GENEActiv's CSV export pads its ``Subject Notes`` and ``Config Notes`` with NULs (260
+    in gaitpy's demo file, in 2 of 8,500 lines): refused as "a binary file", which it is not.
+    """
+    n = head.count(b"\x00")
+    if n == 0 or n > NUL_SHARE * len(head):
+        return 0
+    lines = [ln for ln in head.split(b"\n") if b"\x00" in ln]
+    text = b"".join(ln.replace(b"\x00", b"") for ln in lines)
+    if any(b < 32 and b not in b"\r\t" for b in text):
+        return 0
+    return n
+
+
+def refuse_fit(head: bytes, name: str) -> None:
+    """Refuse a FIT file (Garmin's and other sports devices' binary activity format) in one
+    line that says what to do.
+
+    Notes
+    -----
+    sweat's rides (a Garmin Edge 1000's, a Forerunner 935's) were refused as "a binary file
+    (it contains NUL bytes)", which did not say what the file is nor how to make it a table.
+    """
+    if len(head) < 12 or head[0] not in (12, 14) or head[8:12] != b".FIT":
+        return
+    raise NoisevarError(
+        f"{echo(name)} is a FIT file (a sports device's binary activity log), which noisevar "
+        "does not read: export its records to a CSV file (e.g. with fitdecode, fitparse or "
+        "Garmin's FitCSVTool; a time column and one column per field) and give that file"
+    )
+
+
+#: XML files users have: the root element's name -> what it is
+_XML_KINDS = {
+    "gpx": "a GPX track (GPS exchange format)",
+    "trainingcenterdatabase": "a TCX activity (Garmin's Training Center XML)",
+    "kml": "a KML file (Google Earth)",
+}
+_XML_ROOT = re.compile(r"<([A-Za-z_][\w.:-]*)")
+
+
+def refuse_xml(text: str, name: str) -> None:
+    """Refuse an XML file (a GPX track, a TCX activity, KML) in one line that says what to do.
+
+    Notes
+    -----
+    sweat's TCX rides were refused as "'<TrainingCenterDatabase' is not a number", its GPX
+    tracks blaming a row's field count: neither said what the file is. Only the root element
+    is looked at (the file is not parsed).
+    """
+    body = text.lstrip("\ufeff \t\r\n")
+    if not body.startswith("<"):
+        return
+    roots = (m.group(1) for m in _XML_ROOT.finditer(body[:4096]))
+    root = next((r for r in roots if not r.startswith(("?", "!"))), "")
+    what = _XML_KINDS.get(root.split(":")[-1].lower(), "an XML file")
+    raise NoisevarError(
+        f"{echo(name)} is {what}, which noisevar does not read as a table: write its points "
+        "to a CSV file (a time column and one column per value: elevation, speed, heart "
+        "rate...; e.g. with gpxpy, or pandas.read_xml) and give that file; for a GPS "
+        "track, an NMEA 0183 log is read too"
+    )
