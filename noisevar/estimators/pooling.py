@@ -104,7 +104,10 @@ def pool_segments(
     v = np.array([p.variance for p in parts])
     # var = Σ w_s v_s,  ν = var² / Σ w_s² v_s² / ν_s   (Satterthwaite)
     var = float(w @ v)
-    dof = float(var**2 / np.sum(w**2 * v**2 / np.array([p.dof for p in parts])))
+    dofs = np.array([p.dof for p in parts])
+    spread = float(np.sum(w**2 * v**2 / dofs))
+    # every part at 0 (held values): the parts' dof, not 0/0; the answer's check refuses it
+    dof = float(var**2 / spread) if spread > 0 else float(np.sum(dofs))
     cores = [p.core_variance for p in parts]
     core = None if None in cores else float(w @ np.array(cores))
     outliers = float(np.sum([p.outlier_fraction * p.n_total for p in parts]) / n_total)

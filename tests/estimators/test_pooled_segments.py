@@ -49,3 +49,20 @@ def test_outliers_in_both_pieces_are_counted_once_each() -> None:
         "2 outlying samples (0.10%; the first at sample 200): noise, so in the variance; "
         "left out of core_variance"
     ]
+
+
+def test_held_segments_are_refused_with_one_error_and_no_warning() -> None:
+    """Every gap-split segment of held values (a 0.1-degree temperature staircase, audit 11's
+    GENEActiv) is refused as the record without times is, with no 0/0 warning on the way."""
+    import warnings
+
+    z = np.round(np.repeat(31.6 - 0.1 * np.arange(11), 800)[:8400], 1)
+    t = np.arange(8400) * 0.02
+    t[4200:] += 0.5
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(noisevar.NoisevarError, match="noise variance of 0") as with_t:
+            noisevar.estimate(z, t=t)
+        with pytest.raises(noisevar.NoisevarError) as without:
+            noisevar.estimate(z)
+    assert str(with_t.value) == str(without.value)
