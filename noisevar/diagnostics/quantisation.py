@@ -87,11 +87,13 @@ def _stored_step(z: NDArray) -> float | None:
     """
     step = _d2_step(z, ROUNDING_EPS)
     if step is not None and step >= F32_EPS * float(np.max(np.abs(z))):
-        return step  # coarser than float32's rounding: a grid (most grids end here)
+        coarse = _float32_spacing_moved(z, step)
+        return coarse or step  # coarser than float32's rounding: a grid (most grids end here)
     eps = F32_EPS
     wide = _d2_step(z, eps)
-    if wide is None and step:  # float32's rounding at the values' own scale, moved after
-        eps = F32_SEEN * step / float(np.max(np.abs(z)))
+    seen = step or _least_d2(z)  # float32's rounding at the values' own scale, moved after
+    if not wide and seen:  # none found, or all under float32 rounding at a moved scale
+        eps = F32_SEEN * seen / float(np.max(np.abs(z)))
         wide = _d2_step(z, eps)
     if not wide:
         return step
@@ -99,6 +101,39 @@ def _stored_step(z: NDArray) -> float | None:
     if np.count_nonzero(d2 > eps * float(np.max(np.abs(z)))) < F32_CONFIRM:
         return step
     return float(d2.sum() / np.rint(d2 / wide).sum())  # every multiple, not the least alone
+
+
+def _float32_spacing_moved(z: NDArray, step: float) -> float | None:
+    """The grid above ``step`` when ``step`` is float32's spacing at the values' scale
+    before an offset moved them (a power of two, every second difference a multiple of
+    it): read with second differences up to :data:`F32_SEEN` steps taken for rounding,
+    confirmed as in :func:`_stored_step`; else None.
+
+    Notes
+    -----
+    An altitude on a 0.2 m grid written through float32 (473.7999878) sits on float32's
+    spacing there, 2^-15; moved by -470 it keeps that spacing, which is then coarser
+    than float32's rounding at the moved values and was taken for the grid.
+    """
+    if np.frexp(step)[0] != 0.5:  # not a power of two: not float32's spacing
+        return None
+    eps = F32_SEEN * step / float(np.max(np.abs(z)))
+    wide = _d2_step(z, eps)
+    if not wide or wide <= step:
+        return None
+    d2 = np.abs(np.diff(z, 2))
+    if np.count_nonzero(d2 > eps * float(np.max(np.abs(z)))) < F32_CONFIRM:
+        return None
+    return float(d2.sum() / np.rint(d2 / wide).sum())
+
+
+def _least_d2(z: NDArray) -> float:
+    """The smallest second difference above float64's rounding (0.0 when none is): where
+    the values moved after float32 kept its rounding (an altitude of 473.7999878 moved by
+    -470: 13.7999878), the float32 rounding they carry."""
+    d2 = np.abs(np.diff(z, 2))
+    above = d2 > ROUNDING_EPS * float(np.max(np.abs(z)))
+    return float(np.min(d2, where=above, initial=np.inf)) if above.any() else 0.0
 
 
 def _d2_step(z: NDArray, eps: float) -> float | None:

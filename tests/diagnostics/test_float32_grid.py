@@ -62,3 +62,15 @@ def test_float32_counts_keep_the_grid_under_an_offset_far_above_them(seed) -> No
     a, b = noisevar.estimate(flux), noisevar.estimate(moved)
     assert b.diagnostics.lsb == pytest.approx(a.diagnostics.lsb, rel=1e-6)
     assert b.verdict.split(":")[0] == a.verdict.split(":")[0], (a.verdict, b.verdict)
+
+
+@pytest.mark.parametrize("move", [0.0, 1.0, -470.0, 9.1e5])
+def test_a_float32_decimal_grid_keeps_its_step_under_any_offset(move) -> None:
+    """An altitude on a 0.2 m grid written through float32 (Garmin's TCX: 473.7999878),
+    moved by an offset after: the step is 0.2 at every offset (audit 11: it was found at
+    +0 and +1 but lost at -470 and +9.1e5, so the still level came and went)."""
+    rng = np.random.default_rng(7)
+    k = 2415 + np.cumsum(rng.integers(-1, 2, size=400))  # ramps leave float32's rounding
+    alt = (0.2 * k).astype(np.float32).astype(np.float64)
+    step = second_difference_step(alt + move)
+    assert step == pytest.approx(0.2, rel=1e-3)
