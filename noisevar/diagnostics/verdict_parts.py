@@ -34,6 +34,13 @@ GLITCHES_HOLD = "a few outlying samples hold nearly all of R"
 if TYPE_CHECKING:
     from noisevar.diagnostics.regimes import StillLevel
     from noisevar.diagnostics.results import NoiseDiagnostics
+    from noisevar.diagnostics.whiteness import Oscillation, WhitenessTest
+
+#: What to do with an oscillation the verdict names (:func:`oscillation_words`).
+OSC_TO_DO = (
+    "notch or low-pass it out before the filter (a filter that sees it takes it for "
+    "noise), or model it as a state"
+)
 
 
 def still_level_fields(level: StillLevel, n: int) -> dict[str, str]:
@@ -148,3 +155,39 @@ def glitches_verdict(r: str, core: str, held: tuple[str, str], level: str) -> st
         "Kalman filter needs; if they are not the sensor's noise, reject them (a gate on the "
         "innovations) and use the core variance, or a robust filter"
     )
+
+
+def oscillation_words(o: Oscillation) -> str:
+    """An oscillation the whiteness test found (:attr:`~.whiteness.WhitenessTest.oscillation`),
+    as the verdict says it: its frequency as a share of the sample rate and its period.
+
+    A vibration (rotors, motors, a gait) or a periodic signal: its correlation alternates in
+    sign lag after lag, which no low-pass or difference of white noise does
+    (docs/algorithms.md §E2 *Vibration*). The record's rate is not known here: the share
+    times the rate in Hz is its frequency.
+    """
+    return (
+        f"an oscillation at {o.frequency:.2f} of the sample rate (period "
+        f"{1.0 / o.frequency:.1f} samples): a vibration (rotors, motors, a gait) or a periodic "
+        "signal, not white sensor noise"
+    )
+
+
+def found_oscillation(w: WhitenessTest | None) -> Oscillation | None:
+    """The oscillation of a failed whiteness test that is its finding, or None."""
+    if w is None or w.white:
+        return None
+    o = w.oscillation
+    return o if o is not None and o.found else None
+
+
+def departure_cause(w: WhitenessTest, k: int) -> str:
+    """What a still stretch's departure from white noise at lag ``k + 1`` may be.
+
+    A positive correlation is what a sensor's low-pass gives; a negative one no low-pass
+    gives (EuRoC's hexacopter's still stretches: lag-3 -0.34, said "low-passed by the
+    sensor"): an oscillation, or motion left in the stretches.
+    """
+    if w.acf[k] - w.expected[k] < 0:
+        return "a vibration, or motion left in the stretches"
+    return "low-passed by the sensor, or slow motion left in the stretches"
