@@ -19,6 +19,9 @@ from noisevar.diagnostics.verdict_parts import (
     glitches_lead,
     glitches_verdict,
     oscillation_words,
+    still_oscillation,
+    to_use_words,
+    upper_bound_words,
 )
 from noisevar.format import eng
 
@@ -429,9 +432,12 @@ def _not_white(
 
 
 def _vibrates(diag: NoiseDiagnostics) -> str:
-    """What the whole record's oscillation adds to a sentence on motion ('' when none)."""
+    """What the whole record's oscillation adds to a sentence on motion ('' when none, or
+    when the still stretches' clause named it: :func:`still_oscillation`)."""
     o = found_oscillation(diag.whiteness)
-    return "" if o is None else f"; the whole record carries {oscillation_words(o)}: {OSC_TO_DO}"
+    if o is None or still_oscillation(diag) is not None:
+        return ""
+    return f"; the whole record carries {oscillation_words(o)}: {OSC_TO_DO}"
 
 
 def _rounding_first(diag: NoiseDiagnostics, r: str, quiet: float, said: str | None) -> str:
@@ -475,8 +481,11 @@ def _coloured(diag: NoiseDiagnostics, r: str, quiet: float, still_near: bool) ->
         f"{describe(diag.power_law)} (power-law identification)" if coloured else _farthest_lag(w)
     )
     share = still_share(diag)
+    named = found_oscillation(w) is not None
     still = (
-        f"; its still stretches ({share:.0%}) give {_g(quiet)}, the R to use" if still_near else ""
+        f"; its still stretches ({share:.0%}) give {_g(quiet)}, {to_use_words(diag, named)}"
+        if still_near
+        else ""
     )
     if (o := found_oscillation(w)) is not None:
         return (
@@ -560,11 +569,8 @@ def still_colour(diag: NoiseDiagnostics) -> str:
     ADS-B altitude of benchmarks/real_audit9.py, p = 0.99 and 0.03).
     """
     w = diag.still_whiteness
-    if (o := found_oscillation(w)) is not None:
-        return (
-            f"; but even there the noise is not white: it carries {oscillation_words(o)}: "
-            f"{OSC_TO_DO}; this level is then the white part with it in"
-        )
+    if (o := still_oscillation(diag)) is not None:
+        return f"; this level is {upper_bound_words(o)}"
     if w is None and diag.level_varies:  # still stretches too short for the test
         return (
             "; the still stretches are too short to test whether their noise is white, so "

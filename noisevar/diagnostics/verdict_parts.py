@@ -191,3 +191,51 @@ def departure_cause(w: WhitenessTest, k: int) -> str:
     if w.acf[k] - w.expected[k] < 0:
         return "a vibration, or motion left in the stretches"
     return "low-passed by the sensor, or slow motion left in the stretches"
+
+
+
+#: The still stretches share the record's oscillation (:func:`still_oscillation`) when theirs
+#: is at a frequency this close to it (relative) and explains at least
+#: :data:`SHARED_EXPLAINS` of their departure from white noise: the record's oscillation is
+#: then the evidence, which their shorter test alone may not reach (the legged robot's acc_z:
+#: 0.13 against 0.124 of the rate, 56 % of its still stretches' departure).
+SHARED_FREQUENCY = 0.15
+SHARED_EXPLAINS = 0.5
+
+
+def still_oscillation(diag: NoiseDiagnostics) -> Oscillation | None:
+    """The oscillation the still stretches' own noise carries (None: none found).
+
+    Their own (:func:`found_oscillation`), or the whole record's when theirs is at the same
+    frequency (:data:`SHARED_FREQUENCY`) and explains at least :data:`SHARED_EXPLAINS` of
+    their departure. A still stretch of a walking robot (a slower phase of the gait) or of
+    a sensor at rest on a running machine carries the gait's or the machine's oscillation:
+    its level is then an upper bound on the sensor's noise, not its level at rest
+    (docs/algorithms.md §E2 *Vibration*).
+    """
+    w = diag.still_whiteness
+    own = found_oscillation(w)
+    whole = found_oscillation(diag.whiteness)
+    if own is not None or whole is None or w is None or w.white:
+        return own
+    o = w.oscillation
+    if o is None or abs(o.frequency - whole.frequency) > SHARED_FREQUENCY * whole.frequency:
+        return None
+    return o if o.explains >= SHARED_EXPLAINS else None
+
+
+def upper_bound_words(o: Oscillation, named: bool = False) -> str:
+    """What a still level that carries an oscillation is (:func:`still_oscillation`);
+    ``named``: the sentence has named the record's oscillation already."""
+    which = "that oscillation too" if named else oscillation_words(o)
+    to_do = "" if named else f": {OSC_TO_DO}"
+    return (
+        "an upper bound on the sensor's noise, not its level at rest: the still stretches "
+        f"carry {which} (a slower phase of a gait, or a machine running){to_do}"
+    )
+
+
+def to_use_words(diag: NoiseDiagnostics, named: bool = False) -> str:
+    """How the verdict names a still level it quotes: "the R to use", or an upper bound."""
+    o = still_oscillation(diag)
+    return "the R to use" if o is None else upper_bound_words(o, named)
