@@ -196,9 +196,11 @@ def departure_cause(w: WhitenessTest, k: int) -> str:
 
 #: The still stretches share the record's oscillation (:func:`still_oscillation`) when theirs
 #: is at a frequency this close to it (relative) and explains at least
-#: :data:`SHARED_EXPLAINS` of their departure from white noise: the record's oscillation is
-#: then the evidence, which their shorter test alone may not reach (the legged robot's acc_z:
-#: 0.13 against 0.124 of the rate, 56 % of its still stretches' departure).
+#: :data:`SHARED_EXPLAINS` of their departure from white noise, more than a low-pass does:
+#: the record's oscillation is then the evidence, which their shorter test alone may not
+#: reach (the legged robot's acc_z: 0.13 against 0.124 of the rate, 56 % of its still
+#: stretches' departure, a low-pass 5 %; AR(1) still noise beside oscillating bursts: a
+#: low-pass explains more, and it is not called an oscillation).
 SHARED_FREQUENCY = 0.15
 SHARED_EXPLAINS = 0.5
 
@@ -208,9 +210,10 @@ def still_oscillation(diag: NoiseDiagnostics) -> Oscillation | None:
 
     Their own (:func:`found_oscillation`), or the whole record's when theirs is at the same
     frequency (:data:`SHARED_FREQUENCY`) and explains at least :data:`SHARED_EXPLAINS` of
-    their departure. A still stretch of a walking robot (a slower phase of the gait) or of
-    a sensor at rest on a running machine carries the gait's or the machine's oscillation:
-    its level is then an upper bound on the sensor's noise, not its level at rest
+    their departure, more than a low-pass (``low_pass``). A still stretch of a walking robot
+    (a slower phase of the gait) or of a sensor at rest on a running machine carries the
+    gait's or the machine's oscillation: its level is then an upper bound on the sensor's
+    noise, not its level at rest
     (docs/algorithms.md §E2 *Vibration*).
     """
     w = diag.still_whiteness
@@ -221,7 +224,7 @@ def still_oscillation(diag: NoiseDiagnostics) -> Oscillation | None:
     o = w.oscillation
     if o is None or abs(o.frequency - whole.frequency) > SHARED_FREQUENCY * whole.frequency:
         return None
-    return o if o.explains >= SHARED_EXPLAINS else None
+    return o if o.explains >= SHARED_EXPLAINS and o.explains > o.low_pass else None
 
 
 def upper_bound_words(o: Oscillation, named: bool = False) -> str:

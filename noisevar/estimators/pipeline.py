@@ -340,8 +340,7 @@ def run_record(
         lone = record_glitches(record, result.outliers, diag)
         first = result
         result, still, diag = _after_diagnostics(spec, record, result, params, extra, diag, lone)
-        if result is not first:  # the glitches of the R quoted (the coloured span's own)
-            lone = record_glitches(record, result.outliers, diag)
+        lone = lone if result is first else record_glitches(record, result.outliers, diag)
         still, diag = kept_still(diag, result.variance, still)  # decided on R as quoted
         edge = _edge(spec, record, first, result, params, diag)
         gap = still_gap(diag, result.variance, still)  # the one rule (estimators.regimes)
