@@ -41,8 +41,9 @@ MA_ORDER = 4
 #: fit must explain; a vibration leaking through the smoother (its correlation lasts at
 #: every lag) explains 15-25 %, derivative filters 86-99 % (docs/algorithms.md §E2).
 MA_EXPLAINS = 0.75
-#: Share of the residual's departure from white noise that the MA(1) fit
-#: (:attr:`WhitenessTest.noise_lag1`) must explain for the data to read as differenced:
+#: Share of the residual's departure from white noise under which the MA(1) fit
+#: (:attr:`WhitenessTest.noise_lag1`) gives way to an oscillation that is found
+#: (``NoiseDiagnostics.noise_correlation``):
 #: measured, np.diff of white noise 48-99 % (300 samples with a burst of motion and a slow
 #: signal: 48 %; 20,000 samples: 98-99 %), a vibration near the Nyquist rate 8-9 % (a
 #: sinusoid of period 2.1 samples in white noise) and 14-38 % (EuRoC's hexacopter ADIS16448).

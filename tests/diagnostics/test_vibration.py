@@ -86,3 +86,21 @@ def test_low_passed_noise_is_not_named_an_oscillation(seed: int) -> None:
         est = nv.estimate(z)
         o = est.diagnostics.whiteness.oscillation
         assert o is not None and not o.found and "oscillation" not in est.verdict
+
+
+def test_differenced_data_with_motion_at_many_lags_stays_differenced() -> None:
+    """A taxiing airliner's velocity from ADS-B positions (real_audit9's zurich_taxi
+    v_north): lag-1 fit -0.45, but motion departs at lags 7-9 and 15-17, so the MA(1) fit
+    explains 13 % of the departure; no oscillation is found. It stays differenced (with the
+    fit's share alone as the rule, its R read 138.6 instead of 80.6)."""
+    from dataclasses import replace
+
+    d = nv.estimate(np.diff(np.random.default_rng(0).normal(size=20_001))).diagnostics
+    w = d.whiteness
+    excess = np.array([-4.21, 1.75, 1.07, 0.35, 1.27, -1.16, 4.99, -5.46, 3.46, -1.92,
+                       -0.88, 0.28, -0.78, 0.79, -3.36, 7.12, -3.34, 0.01, 0.3, -0.77])  # fmt: skip
+    band = w.band * np.sqrt(w.n / 657)  # the record's 657 samples
+    taxi = WhitenessTest(w.expected + excess * band, w.expected, band, 300.0, 1e-20, 657)
+    assert taxi.noise_lag1 < -0.3 and taxi.ma_left(np.array([taxi.noise_lag1])) > 0.55
+    assert not taxi.oscillation.found
+    assert replace(d, whiteness=taxi).differenced
