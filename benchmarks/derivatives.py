@@ -6,8 +6,9 @@ Seeded white noise through a first difference (``np.diff``), a central differenc
 (``np.gradient``) and a 5-point smoothing derivative (``[1, 1, 0, -1, -1] / 6``): the R
 ``auto`` gives against the per-sample variance (``Σ k²``), its ci95's coverage, and how
 often the record is called ``differenced``. Records that must not be called so: a
-sinusoid of period 4.3, 6 and 8 samples leaking through white noise, and AR(1) noise
-(φ = 0.5). Writes ``benchmarks/results/derivatives.md``.
+sinusoid of period 4.3, 6 and 8 samples leaking through white noise, AR(1) noise
+(φ = 0.5), and a vibration near the Nyquist rate (period 2.1 samples, amplitude 1.5).
+Writes ``benchmarks/results/derivatives.md``.
 """
 
 from __future__ import annotations
@@ -36,6 +37,11 @@ def _others(n: int, rng: np.random.Generator) -> dict[str, np.ndarray]:
     out = {f"sinusoid of period {p} samples + white": rng.normal(size=n)
            + 0.5 * np.sin(2 * np.pi * t / p) for p in (4.3, 6.0, 8.0)}  # fmt: skip
     out["AR(1) noise, phi 0.5"] = ar
+    # a vibration near the Nyquist rate (a multicopter's rotors, EuRoC MH_01's ADIS16448):
+    # its correlation alternates in sign at every lag, and the MA(1) fit reads about -0.4
+    out["sinusoid of period 2.1 samples, amplitude 1.5, + white"] = rng.normal(size=n) + 1.5 * (
+        np.sin(2 * np.pi * t / 2.1 + rng.uniform(0, 2 * np.pi))
+    )
     return out
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from noisevar.diagnostics.segments import GAP_RTOL, JITTER_NOTE
+from noisevar.diagnostics.verdict_parts import still_oscillation
 from noisevar.format import eng
 
 if TYPE_CHECKING:
@@ -12,8 +13,12 @@ if TYPE_CHECKING:
 
 
 def make_notes(diag: NoiseDiagnostics) -> tuple[str, ...]:
-    """Remarks beyond the verdict: interval reliability, quantisation, gaps, jitter."""
+    """Remarks beyond the verdict: interval reliability, quantisation, gaps, jitter, and a
+    still level that is an upper bound (its stretches oscillate: docs/algorithms.md §E2
+    *Vibration*)."""
     notes = []
+    if (bound := upper_bound_note(diag)) is not None:
+        notes.append(bound)
     if diag.fourth_moment_unreliable:
         notes.append(
             f"the tails are very heavy (tail index {diag.tail_index:.1f}, below 4: the noise "
@@ -42,3 +47,19 @@ def make_notes(diag: NoiseDiagnostics) -> tuple[str, ...]:
     elif diag.jitter > JITTER_NOTE:
         notes.append(f"sampling jitter up to {diag.jitter:.1%} of the period: treated as uniform")
     return tuple(notes)
+
+
+def upper_bound_note(diag: NoiseDiagnostics) -> str | None:
+    """The note of a still level that is an upper bound (None: it is not one).
+
+    Its stretches carry an oscillation (:func:`~.verdict_parts.still_oscillation`): said on
+    the estimate and on its still R (``regimes='still'``), which users put in their filter.
+    """
+    o = still_oscillation(diag)
+    if o is None or diag.quiet_variance is None:
+        return None
+    return (
+        f"the still stretches carry an oscillation at {o.frequency:.2f} of the sample rate "
+        "(a slower phase of a gait, or a machine running): their level, the R to use of "
+        "regimes='still', is an upper bound on the sensor's noise, not its level at rest"
+    )

@@ -12,7 +12,7 @@ from noisevar.diagnostics.glitches import Glitch
 from noisevar.diagnostics.profile import LevelProfile
 from noisevar.diagnostics.regimes import QuietLevel, StillLevel
 from noisevar.diagnostics.segments import Gap
-from noisevar.diagnostics.whiteness import WhitenessTest
+from noisevar.diagnostics.whiteness import MA1_EXPLAINS, WhitenessTest
 
 #: A fitted noise correlation below this at some lag (differenced white noise: -1/2 at lag
 #: 1; a central difference, -1/2 at lag 2) reads as differenced data; white noise gives 0,
@@ -173,14 +173,28 @@ class NoiseDiagnostics:
         """The differenced noise's correlations ``r_1..r_q`` (None: not differenced).
 
         The lag-1 fit (``whiteness.noise_lag1``) when it is below
-        :data:`DIFFERENCED_LAG1`; else the short-memory fit (``whiteness.short_memory``)
-        when one of its correlations is.
+        :data:`DIFFERENCED_LAG1`, unless an oscillation explains the residual's departure
+        from white noise and the fit does not (a vibration near the Nyquist rate alternates
+        in sign at every lag, and its lag-1 fit reads -0.56: docs/algorithms.md §E2
+        *Vibration*); else the
+        short-memory fit (``whiteness.short_memory``) when one of its correlations is.
         """
         w = self.whiteness
-        if w.noise_lag1 < DIFFERENCED_LAG1:
-            return np.array([w.noise_lag1])
+        lag1 = np.array([w.noise_lag1])
+        if lag1[0] < DIFFERENCED_LAG1 and not self._vibration_not_ma1(lag1):
+            return lag1
         r = w.short_memory
         return r if r is not None and float(r.min()) < DIFFERENCED_LAG1 else None
+
+    def _vibration_not_ma1(self, lag1: NDArray) -> bool:
+        """The departure is an oscillation, not MA(1) noise: the MA(1) fit explains under
+        :data:`~noisevar.diagnostics.whiteness.MA1_EXPLAINS` of it, and an oscillation is
+        the finding (:attr:`~.whiteness.Oscillation.found`). A fit that explains little
+        alone is no evidence against differencing: a taxiing airliner's velocity from
+        positions (motion at many lags, the fit 13 %) stays differenced."""
+        w = self.whiteness
+        o = w.oscillation
+        return bool(w.ma_left(lag1) > 1.0 - MA1_EXPLAINS and o is not None and o.found)
 
     @property
     def identifiable(self) -> bool:

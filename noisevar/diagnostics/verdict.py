@@ -11,10 +11,17 @@ from noisevar.diagnostics.quantisation import half_a_step
 from noisevar.diagnostics.regimes import STILL_RATIO, read_above
 from noisevar.diagnostics.verdict_parts import (
     GLITCHES_DOMINATE,
+    OSC_TO_DO,
     OUTLIERS_SOME,
+    departure_cause,
     differenced_verdict,
+    found_oscillation,
     glitches_lead,
     glitches_verdict,
+    oscillation_words,
+    still_oscillation,
+    to_use_words,
+    upper_bound_words,
 )
 from noisevar.format import eng
 
@@ -399,7 +406,7 @@ def _not_white(
             f"{CHANGES}: mostly motion or signal leaking through; the sensor noise measured "
             f"in its still stretches ({still_share(diag):.0%} of it) is "
             f"{_g(quiet)} (std {_g(float(np.sqrt(quiet)))}), "
-            f"against {_g(variance)} over the whole record{said}"
+            f"against {_g(variance)} over the whole record{said}{_vibrates(diag)}"
         )
     if diag.differenced:
         return differenced_verdict(diag.noise_correlation, r)
@@ -422,6 +429,15 @@ def _not_white(
     if not diag.white:
         return _coloured(diag, r, quiet, still_apart)
     return None
+
+
+def _vibrates(diag: NoiseDiagnostics) -> str:
+    """What the whole record's oscillation adds to a sentence on motion ('' when none, or
+    when the still stretches' clause named it: :func:`still_oscillation`)."""
+    o = found_oscillation(diag.whiteness)
+    if o is None or still_oscillation(diag) is not None:
+        return ""
+    return f"; the whole record carries {oscillation_words(o)}: {OSC_TO_DO}"
 
 
 def _rounding_first(diag: NoiseDiagnostics, r: str, quiet: float, said: str | None) -> str:
@@ -465,9 +481,17 @@ def _coloured(diag: NoiseDiagnostics, r: str, quiet: float, still_near: bool) ->
         f"{describe(diag.power_law)} (power-law identification)" if coloured else _farthest_lag(w)
     )
     share = still_share(diag)
+    named = found_oscillation(w) is not None
     still = (
-        f"; its still stretches ({share:.0%}) give {_g(quiet)}, the R to use" if still_near else ""
+        f"; its still stretches ({share:.0%}) give {_g(quiet)}, {to_use_words(diag, named)}"
+        if still_near
+        else ""
     )
+    if (o := found_oscillation(w)) is not None:
+        return (
+            f"the noise is not white: it carries {oscillation_words(o)}; {r} includes it "
+            f"(or part of it): {OSC_TO_DO}{still}"
+        )
     if weak:
         return (
             f"the noise may be coloured (a weak finding: whiteness test p = {w.p_value:.2g}, "
@@ -489,7 +513,12 @@ def _farthest_lag(w: WhitenessTest) -> str:
     Named by the lag that departs, not lag 1 alone: Student-t noise failed the test at
     p = 0.007 by lags 2-6 and read "lag-1 autocorrelation -0.00 beyond white noise's".
     """
-    return _lag_excess(w, int(np.argmax(np.abs((w.acf - w.expected) / w.band))))
+    return _lag_excess(w, _farthest(w))
+
+
+def _farthest(w: WhitenessTest) -> int:
+    """The index of the lag whose autocorrelation departs most from white noise's."""
+    return int(np.argmax(np.abs((w.acf - w.expected) / w.band)))
 
 
 def indicative(gap: str | None) -> str:
@@ -540,6 +569,8 @@ def still_colour(diag: NoiseDiagnostics) -> str:
     ADS-B altitude of benchmarks/real_audit9.py, p = 0.99 and 0.03).
     """
     w = diag.still_whiteness
+    if (o := still_oscillation(diag)) is not None:
+        return f"; this level is {upper_bound_words(o)}"
     if w is None and diag.level_varies:  # still stretches too short for the test
         return (
             "; the still stretches are too short to test whether their noise is white, so "
@@ -548,9 +579,10 @@ def still_colour(diag: NoiseDiagnostics) -> str:
         )
     if w is None or w.white or (diag.white and w.p_value >= WEAK_P):
         return ""
+    k = _farthest(w)
     return (
-        f"; but even there the noise is not white ({_farthest_lag(w)}: "
-        "low-passed by the sensor, or slow motion left in the stretches), so this is its "
+        f"; but even there the noise is not white ({_lag_excess(w, k)}: "
+        f"{departure_cause(w, k)}), so this is its "
         "white part and depends on the bandwidth: model the coloured part (see the noise model)"
     )
 

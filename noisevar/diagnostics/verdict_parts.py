@@ -34,6 +34,13 @@ GLITCHES_HOLD = "a few outlying samples hold nearly all of R"
 if TYPE_CHECKING:
     from noisevar.diagnostics.regimes import StillLevel
     from noisevar.diagnostics.results import NoiseDiagnostics
+    from noisevar.diagnostics.whiteness import Oscillation, WhitenessTest
+
+#: What to do with an oscillation the verdict names (:func:`oscillation_words`).
+OSC_TO_DO = (
+    "notch or low-pass it out before the filter (a filter that sees it takes it for "
+    "noise), or model it as a state"
+)
 
 
 def still_level_fields(level: StillLevel, n: int) -> dict[str, str]:
@@ -148,3 +155,90 @@ def glitches_verdict(r: str, core: str, held: tuple[str, str], level: str) -> st
         "Kalman filter needs; if they are not the sensor's noise, reject them (a gate on the "
         "innovations) and use the core variance, or a robust filter"
     )
+
+
+def oscillation_words(o: Oscillation) -> str:
+    """An oscillation the whiteness test found (:attr:`~.whiteness.WhitenessTest.oscillation`),
+    as the verdict says it: its frequency as a share of the sample rate and its period.
+
+    A vibration (rotors, motors, a gait) or a periodic signal: its correlation alternates in
+    sign lag after lag, which no low-pass or difference of white noise does
+    (docs/algorithms.md §E2 *Vibration*). The record's rate is not known here: the share
+    times the rate in Hz is its frequency.
+    """
+    return (
+        f"an oscillation at {o.frequency:.2f} of the sample rate (period "
+        f"{1.0 / o.frequency:.1f} samples): a vibration (rotors, motors, a gait) or a periodic "
+        "signal, not white sensor noise"
+    )
+
+
+def found_oscillation(w: WhitenessTest | None) -> Oscillation | None:
+    """The oscillation of a failed whiteness test that is its finding, or None."""
+    if w is None or w.white:
+        return None
+    o = w.oscillation
+    return o if o is not None and o.found else None
+
+
+def departure_cause(w: WhitenessTest, k: int) -> str:
+    """What a still stretch's departure from white noise at lag ``k + 1`` may be.
+
+    A positive correlation is what a sensor's low-pass gives; a negative one no low-pass
+    gives (EuRoC's hexacopter's still stretches: lag-3 -0.34, said "low-passed by the
+    sensor"): an oscillation, or motion left in the stretches.
+    """
+    if w.acf[k] - w.expected[k] < 0:
+        return "a vibration, or motion left in the stretches"
+    return "low-passed by the sensor, or slow motion left in the stretches"
+
+
+
+#: The still stretches share the record's oscillation (:func:`still_oscillation`) when theirs
+#: is at a frequency this close to it (relative) and explains at least
+#: :data:`SHARED_EXPLAINS` of their departure from white noise, more than a low-pass does:
+#: the record's oscillation is then the evidence, which their shorter test alone may not
+#: reach (the legged robot's acc_z: 0.13 against 0.124 of the rate, 56 % of its still
+#: stretches' departure, a low-pass 5 %; AR(1) still noise beside oscillating bursts: a
+#: low-pass explains more, and it is not called an oscillation).
+SHARED_FREQUENCY = 0.15
+SHARED_EXPLAINS = 0.5
+
+
+def still_oscillation(diag: NoiseDiagnostics) -> Oscillation | None:
+    """The oscillation the still stretches' own noise carries (None: none found).
+
+    Their own (:func:`found_oscillation`), or the whole record's when theirs is at the same
+    frequency (:data:`SHARED_FREQUENCY`) and explains at least :data:`SHARED_EXPLAINS` of
+    their departure, more than a low-pass (``low_pass``). A still stretch of a walking robot
+    (a slower phase of the gait) or of a sensor at rest on a running machine carries the
+    gait's or the machine's oscillation: its level is then an upper bound on the sensor's
+    noise, not its level at rest
+    (docs/algorithms.md §E2 *Vibration*).
+    """
+    w = diag.still_whiteness
+    own = found_oscillation(w)
+    whole = found_oscillation(diag.whiteness)
+    if own is not None or whole is None or w is None or w.white:
+        return own
+    o = w.oscillation
+    if o is None or abs(o.frequency - whole.frequency) > SHARED_FREQUENCY * whole.frequency:
+        return None
+    return o if o.explains >= SHARED_EXPLAINS and o.explains > o.low_pass else None
+
+
+def upper_bound_words(o: Oscillation, named: bool = False) -> str:
+    """What a still level that carries an oscillation is (:func:`still_oscillation`);
+    ``named``: the sentence has named the record's oscillation already."""
+    which = "that oscillation too" if named else oscillation_words(o)
+    to_do = "" if named else f": {OSC_TO_DO}"
+    return (
+        "an upper bound on the sensor's noise, not its level at rest: the still stretches "
+        f"carry {which} (a slower phase of a gait, or a machine running){to_do}"
+    )
+
+
+def to_use_words(diag: NoiseDiagnostics, named: bool = False) -> str:
+    """How the verdict names a still level it quotes: "the R to use", or an upper bound."""
+    o = still_oscillation(diag)
+    return "the R to use" if o is None else upper_bound_words(o, named)

@@ -41,6 +41,57 @@ MA_ORDER = 4
 #: fit must explain; a vibration leaking through the smoother (its correlation lasts at
 #: every lag) explains 15-25 %, derivative filters 86-99 % (docs/algorithms.md §E2).
 MA_EXPLAINS = 0.75
+#: Share of the residual's departure from white noise under which the MA(1) fit
+#: (:attr:`WhitenessTest.noise_lag1`) gives way to an oscillation that is found
+#: (``NoiseDiagnostics.noise_correlation``):
+#: measured, np.diff of white noise 48-99 % (300 samples with a burst of motion and a slow
+#: signal: 48 %; 20,000 samples: 98-99 %), a vibration near the Nyquist rate 8-9 % (a
+#: sinusoid of period 2.1 samples in white noise) and 14-38 % (EuRoC's hexacopter ADIS16448).
+MA1_EXPLAINS = 0.45
+#: Decays per lag of the oscillation fitted to the residual's departure
+#: (:attr:`WhitenessTest.oscillation`): a vibration's correlation lasts many cycles (the
+#: fit's share on them: 0.86-0.99); a faster decay fits the residual filter's response to
+#: low-passed noise as well (a 2nd-order Butterworth at 0.3: 0.86-0.99 at a decay of 0.8).
+OSC_DECAYS = (1.0, 0.95)
+#: Fewest periods of an oscillation inside the lags tested: a slower one cannot be told
+#: from low-frequency noise shaped by the residual filter (positive, then negative lags).
+OSC_PERIODS = 2.0
+#: Share of the residual's departure from white noise an oscillation must explain to be
+#: the finding: measured, vibrations 0.86-0.99 (EuRoC's hexacopter at 0.48 of the sample
+#: rate, a legged robot at 0.12, sinusoids in white noise); low-passed, AR(1) and
+#: differenced noise 0.14-0.74 (docs/algorithms.md §E2 *Vibration*).
+OSC_EXPLAINS = 0.8
+
+
+@dataclass(frozen=True)
+class Oscillation:
+    """An oscillation in the noise's autocorrelation (:attr:`WhitenessTest.oscillation`).
+
+    Attributes
+    ----------
+    frequency : float
+        Cycles per sample (x the sample rate: Hz), up to 0.5.
+    explains : float
+        The share of the residual's departure from white noise it explains.
+    low_pass : float
+        The share AR(1) noise of the best φ in [0, 0.95] explains, seen through the
+        residual filter (:meth:`WhitenessTest.low_pass`).
+    returns : bool
+        The departure two periods on (the lag nearest ``2 / frequency``) is positive beyond
+        its 95 % band: the correlation comes back, as a vibration's does and the residual
+        filter's response to low-passed noise (a negative lobe, then none) does not.
+    """
+
+    frequency: float
+    explains: float
+    low_pass: float = 0.0
+    returns: bool = True
+
+    @property
+    def found(self) -> bool:
+        """The finding: it explains at least :data:`OSC_EXPLAINS` of the departure, more
+        than noise low-passed by the sensor does (``low_pass``), and it ``returns``."""
+        return self.explains >= OSC_EXPLAINS and self.explains > self.low_pass and self.returns
 
 
 @dataclass(frozen=True)
@@ -130,6 +181,77 @@ class WhitenessTest:
         white = float(np.sum(((self.acf - self.expected) / scale) ** 2))
         left = float(np.sum(((self.acf - model) / scale) ** 2))
         return r if white > 0 and left <= (1.0 - MA_EXPLAINS) * white else None
+
+    def ma_left(self, r: NDArray) -> float:
+        """The share of the residual's departure from white noise that MA(q) noise of
+        correlations ``r`` (``q = r.size``) leaves unexplained (1 when there is none).
+
+        Notes
+        -----
+        ``Σ_k ((acf_k - model_k) / band_k)²`` over every lag tested, over the same sum for
+        white noise (:attr:`short_memory`'s measure).
+        """
+        r = np.atleast_1d(np.asarray(r, dtype=float))
+        _, _, pair, alpha = self._ma_design(r.size)
+        j = np.arange(1, r.size + 1)
+        model = (alpha[1 : self.acf.size + 1] + pair @ r) / (1.0 + 2.0 * float(r @ alpha[j]))
+        scale = np.where(self.band > 0, self.band, np.inf)
+        white = float(np.sum(((self.acf - self.expected) / scale) ** 2))
+        left = float(np.sum(((self.acf - model) / scale) ** 2))
+        return left / white if white > 0 else 1.0
+
+    @property
+    def oscillation(self) -> Oscillation | None:
+        """The slowly decaying oscillation ``a λ^k cos(2π f k)`` that best explains the
+        residual's departure from white noise (a vibration, a periodic signal), or None
+        when the lags tested hold fewer than :data:`OSC_PERIODS` periods of any.
+
+        Notes
+        -----
+        docs/algorithms.md §E2 *Vibration*: a weighted least-squares fit (weights the
+        null's band) of the departure ``acf - expected`` over a grid of frequencies
+        ``f`` from ``OSC_PERIODS / K`` to 0.5 cycles per sample and decays ``λ`` in
+        :data:`OSC_DECAYS`; ``explains`` is the share of the departure it explains.
+        """
+        k = np.arange(1, self.acf.size + 1)
+        low = OSC_PERIODS / k.size
+        if not self.tested or low >= 0.5:
+            return None
+        scale = np.where(self.band > 0, self.band, np.inf)
+        x = (self.acf - self.expected) / scale
+        total = float(x @ x)
+        if total <= 0:
+            return None
+        f = np.linspace(low, 0.5, 200)
+        lam = np.asarray(OSC_DECAYS)
+        basis = lam[:, None, None] ** k * np.cos(2 * np.pi * f[None, :, None] * k) / scale
+        num = (basis @ x) ** 2
+        share = num / np.maximum(np.sum(basis**2, axis=-1), 1e-300) / total
+        i = np.unravel_index(int(np.argmax(share)), share.shape)
+        lag = min(int(round(2.0 / f[i[1]])), k.size) - 1  # two periods on (f >= 2 / K)
+        back = bool(self.acf[lag] - self.expected[lag] >= self.band[lag])
+        return Oscillation(float(f[i[1]]), float(share[i]), self.low_pass(), back)
+
+    def low_pass(self) -> float:
+        """The share of the residual's departure from white noise that AR(1) noise (a
+        sensor's low-pass, φ from 0 to 0.95) explains at best, seen through the residual
+        filter.
+
+        Notes
+        -----
+        Noise of autocorrelation ``φ^|m|`` through a filter of autocorrelation ``α`` gives a
+        residual of autocorrelation ``Σ_m α_m φ^|k-m|`` over its lag-0 value; ``α`` beyond
+        the lags tested is taken as 0 (exact when they reach the filter's span).
+        """
+        k, m = np.arange(self.acf.size + 1), np.arange(-self.acf.size, self.acf.size + 1)
+        am = np.r_[1.0, self.expected][np.abs(m)]
+        phi = np.linspace(0.0, 0.95, 20)
+        rho = (phi[:, None, None] ** np.abs(k[:, None] - m[None, :])) @ am
+        model = rho[:, 1:] / rho[:, :1]
+        scale = np.where(self.band > 0, self.band, np.inf)
+        white = float(np.sum(((self.acf - self.expected) / scale) ** 2))
+        left = np.sum(((self.acf - model) / scale) ** 2, axis=1)
+        return float(1.0 - left.min() / white) if white > 0 else 0.0
 
     def ma_fit(self, q: int) -> NDArray:
         """The noise's correlations ``r_1..r_q`` fitted as MA(q) noise, whether or not

@@ -38,6 +38,7 @@ from noisevar.diagnostics import (
     with_verdict,
 )
 from noisevar.diagnostics.assumptions import check_assumptions
+from noisevar.diagnostics.notes import upper_bound_note
 from noisevar.diagnostics.profile import LevelProfile, regimes_on_both_grids
 from noisevar.diagnostics.regimes import QuietLevel, StillLevel
 from noisevar.errors import NoisevarError
@@ -339,6 +340,7 @@ def run_record(
         lone = record_glitches(record, result.outliers, diag)
         first = result
         result, still, diag = _after_diagnostics(spec, record, result, params, extra, diag, lone)
+        lone = lone if result is first else record_glitches(record, result.outliers, diag)
         still, diag = kept_still(diag, result.variance, still)  # decided on R as quoted
         edge = _edge(spec, record, first, result, params, diag)
         gap = still_gap(diag, result.variance, still)  # the one rule (estimators.regimes)
@@ -535,6 +537,8 @@ def conclude(
         diag, result.variance, result.core_variance, result.outlier_fraction, quiet, gap
     )
     result.still = still
+    if still is not None and (bound := upper_bound_note(diag)) is not None:
+        still.notes.append(bound)  # the still R users take says it too
     result.notes.extend(n for n in diag.notes if n not in result.notes)
     result.diagnostics = diag
     result.assumptions = check_assumptions(spec.assumes, diag)
