@@ -179,3 +179,17 @@ def test_rows_repeated_whole_are_left_out_and_the_times_kept(tmp_path):
     np.testing.assert_allclose(times, t)
     path.write_text("speed\n" + "\n".join(f"{v}" for v in np.repeat(z, 2)) + "\n")
     assert load_table(path).columns["speed"].size == 2 * z.size  # no time: held values are data
+
+
+def test_rows_repeated_with_no_time_are_data(tmp_path):
+    """A GPX track whose first fixes have no time (real_audit3's korita-zbevnica): a fix held
+    while still, repeated with an empty time, is data, not a duplicated record."""
+    rng = np.random.default_rng(9)
+    ele = np.round(300 + np.cumsum(rng.normal(0.0, 0.5, 200)), 1)
+    ele[10:14] = ele[9]  # held while still, untimed
+    stamps = ["" if i < 100 else f"2020-06-01T15:{i // 60:02d}:{i % 60:02d}Z" for i in range(200)]
+    path = tmp_path / "partly_timed.csv"
+    path.write_text("time,ele\n" + "\n".join(f"{s},{v}" for s, v in zip(stamps, ele, strict=True)) + "\n")
+    table = load_table(path)
+    assert table.columns["ele"].size == 200
+    assert not any("repeat the row before" in n for n in table.notes)

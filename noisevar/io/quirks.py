@@ -129,8 +129,8 @@ def repeated_rows(
     columns: dict[str, NDArray], time_col: str | None, notes: list[str]
 ) -> dict[str, NDArray]:
     """``columns`` without the rows that repeat the row before in every column, time
-    included (a logger's duplicated record), with a note; as they are without a time column
-    (a held value is data there).
+    included and given (a logger's duplicated record), with a note; as they are without a
+    time column or a time in the row (a held value is data there).
 
     Notes
     -----
@@ -142,6 +142,9 @@ def repeated_rows(
         return columns
     table = np.column_stack(list(columns.values()))
     same = np.all((table[1:] == table[:-1]) | (np.isnan(table[1:]) & np.isnan(table[:-1])), axis=1)
+    # a row with no time is no duplicated record: a fix held while still, untimed (a GPX
+    # track whose first fixes have no time)
+    same &= np.isfinite(np.asarray(columns[time_col], dtype=float)[1:])
     k = int(np.count_nonzero(same))
     if k == 0:
         return columns
