@@ -189,7 +189,8 @@ def test_rows_repeated_with_no_time_are_data(tmp_path):
     ele[10:14] = ele[9]  # held while still, untimed
     stamps = ["" if i < 100 else f"2020-06-01T15:{i // 60:02d}:{i % 60:02d}Z" for i in range(200)]
     path = tmp_path / "partly_timed.csv"
-    path.write_text("time,ele\n" + "\n".join(f"{s},{v}" for s, v in zip(stamps, ele, strict=True)) + "\n")
+    lines = [f"{s},{v}" for s, v in zip(stamps, ele, strict=True)]
+    path.write_text("time,ele\n" + "\n".join(lines) + "\n")
     table = load_table(path)
     assert table.columns["ele"].size == 200
     assert not any("repeat the row before" in n for n in table.notes)
