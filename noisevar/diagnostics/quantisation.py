@@ -95,12 +95,7 @@ def _stored_step(z: NDArray) -> float | None:
     if not wide and seen:  # none found, or all under float32 rounding at a moved scale
         eps = F32_SEEN * seen / float(np.max(np.abs(z)))
         wide = _d2_step(z, eps)
-    if not wide:
-        return step
-    d2 = np.abs(np.diff(z, 2))
-    if np.count_nonzero(d2 > eps * float(np.max(np.abs(z)))) < F32_CONFIRM:
-        return step
-    return float(d2.sum() / np.rint(d2 / wide).sum())  # every multiple, not the least alone
+    return (_confirmed(z, eps, wide) if wide else None) or step
 
 
 def _float32_spacing_moved(z: NDArray, step: float) -> float | None:
@@ -119,8 +114,13 @@ def _float32_spacing_moved(z: NDArray, step: float) -> float | None:
         return None
     eps = F32_SEEN * step / float(np.max(np.abs(z)))
     wide = _d2_step(z, eps)
-    if not wide or wide <= step:
-        return None
+    return _confirmed(z, eps, wide) if wide and wide > step else None
+
+
+def _confirmed(z: NDArray, eps: float, wide: float) -> float | None:
+    """The grid step ``wide`` read at rounding ``eps``, from every multiple (not the least
+    alone), when at least :data:`F32_CONFIRM` second differences are above that rounding;
+    else None."""
     d2 = np.abs(np.diff(z, 2))
     if np.count_nonzero(d2 > eps * float(np.max(np.abs(z)))) < F32_CONFIRM:
         return None

@@ -173,14 +173,9 @@ class WhitenessTest:
         q = min(MA_ORDER, self.acf.size - 2)
         if q < 1 or not self.tested:
             return None
-        c, y, pair, alpha = self._ma_design(q)
+        c, y, _, _ = self._ma_design(q)
         r = np.linalg.lstsq(c, y, rcond=None)[0]
-        j = np.arange(1, q + 1)
-        model = (alpha[1 : self.acf.size + 1] + pair @ r) / (1.0 + 2.0 * float(r @ alpha[j]))
-        scale = np.where(self.band > 0, self.band, np.inf)
-        white = float(np.sum(((self.acf - self.expected) / scale) ** 2))
-        left = float(np.sum(((self.acf - model) / scale) ** 2))
-        return r if white > 0 and left <= (1.0 - MA_EXPLAINS) * white else None
+        return r if self.ma_left(r) <= 1.0 - MA_EXPLAINS else None
 
     def ma_left(self, r: NDArray) -> float:
         """The share of the residual's departure from white noise that MA(q) noise of
@@ -195,10 +190,14 @@ class WhitenessTest:
         _, _, pair, alpha = self._ma_design(r.size)
         j = np.arange(1, r.size + 1)
         model = (alpha[1 : self.acf.size + 1] + pair @ r) / (1.0 + 2.0 * float(r @ alpha[j]))
+        white = float(self._misfit(self.expected))
+        return float(self._misfit(model)) / white if white > 0 else 1.0
+
+    def _misfit(self, model: NDArray) -> NDArray | float:
+        """``Σ_k ((acf_k - model_k) / band_k)²`` over the lags tested (each row of a 2-D
+        ``model``); lags with no band count for nothing."""
         scale = np.where(self.band > 0, self.band, np.inf)
-        white = float(np.sum(((self.acf - self.expected) / scale) ** 2))
-        left = float(np.sum(((self.acf - model) / scale) ** 2))
-        return left / white if white > 0 else 1.0
+        return np.sum(((self.acf - model) / scale) ** 2, axis=-1)
 
     @property
     def oscillation(self) -> Oscillation | None:
@@ -248,10 +247,8 @@ class WhitenessTest:
         phi = np.linspace(0.0, 0.95, 20)
         rho = (phi[:, None, None] ** np.abs(k[:, None] - m[None, :])) @ am
         model = rho[:, 1:] / rho[:, :1]
-        scale = np.where(self.band > 0, self.band, np.inf)
-        white = float(np.sum(((self.acf - self.expected) / scale) ** 2))
-        left = np.sum(((self.acf - model) / scale) ** 2, axis=1)
-        return float(1.0 - left.min() / white) if white > 0 else 0.0
+        white = float(self._misfit(self.expected))
+        return float(1.0 - np.min(self._misfit(model)) / white) if white > 0 else 0.0
 
     def ma_fit(self, q: int) -> NDArray:
         """The noise's correlations ``r_1..r_q`` fitted as MA(q) noise, whether or not
