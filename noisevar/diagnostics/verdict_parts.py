@@ -193,7 +193,6 @@ def departure_cause(w: WhitenessTest, k: int) -> str:
     return "low-passed by the sensor, or slow motion left in the stretches"
 
 
-
 #: The still stretches share the record's oscillation (:func:`still_oscillation`) when theirs
 #: is at a frequency this close to it (relative) and explains at least
 #: :data:`SHARED_EXPLAINS` of their departure from white noise, more than a low-pass does:

@@ -10,7 +10,7 @@ kurtosis of an iid noise.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cached_property, lru_cache
 
 import numpy as np
 from numpy.typing import NDArray
@@ -199,7 +199,7 @@ class WhitenessTest:
         scale = np.where(self.band > 0, self.band, np.inf)
         return np.sum(((self.acf - model) / scale) ** 2, axis=-1)
 
-    @property
+    @cached_property
     def oscillation(self) -> Oscillation | None:
         """The slowly decaying oscillation ``a λ^k cos(2π f k)`` that best explains the
         residual's departure from white noise (a vibration, a periodic signal), or None

@@ -76,8 +76,7 @@ def refuse_xml(text: str, name: str) -> None:
     body = text.lstrip("\ufeff \t\r\n")
     if not body.startswith("<"):
         return
-    roots = (m.group(1) for m in _XML_ROOT.finditer(body[:4096]))
-    root = next((r for r in roots if not r.startswith(("?", "!"))), "")
+    root = next((m.group(1) for m in _XML_ROOT.finditer(body[:4096])), "")  # not <?xml, <!--
     what = _XML_KINDS.get(root.split(":")[-1].lower(), "an XML file")
     raise NoisevarError(
         f"{echo(name)} is {what}, which noisevar does not read as a table: write its points "
