@@ -122,11 +122,20 @@ def row_label(key: str, unit: str = "") -> str:
 
 def _still_fields(est: VarianceEstimate) -> dict[str, float | str | None]:
     """``still_variance`` and its interval (None when there is no still estimate), and
-    ``still_note``: why they are empty (:func:`~noisevar.estimators.still_set.still_note`)."""
-    from noisevar.estimators.still_set import still_note
+    ``still_note``: why they are empty (:func:`~noisevar.estimators.still_set.still_note`).
+
+    A record whose level varies with no separate still R but an R to use (its still
+    stretches read R's level, or its level varies within a grid step: ``still_gap`` is
+    None) has R in the still cells, as ``regimes="still"`` quotes it everywhere else:
+    a table's still column left empty there dropped the row from a still comparison.
+    """
+    from noisevar.estimators.still_set import still_gap, still_note
 
     still = est.still
-    note = still_note(est.diagnostics, est.variance, still)
+    diag = est.diagnostics
+    note = still_note(diag, est.variance, still)
+    if still is None and diag is not None and diag.level_varies:
+        still = est if still_gap(diag, est.variance, None) is None else None
     if still is None:
         return {
             "still_variance": None,
