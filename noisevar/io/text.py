@@ -228,6 +228,8 @@ def table_layout(
     fmt = _sniff_format([ln for _, ln in head])
     if _title_line(head, fmt):
         head = head[1:]
+    if (toa5 := _toa5(head, fmt)) is not None:
+        return toa5
     first = _split(head[0][1], fmt.delim) if fmt.thousands != "," or fmt.delim else [head[0][1]]
     if fmt.delim is None and len(first) > 1 and not all(_is_number(c, fmt) for c in first):
         # a one-column file whose name has spaces ("clock [ns]"): every data row one field
@@ -267,6 +269,27 @@ def _title_line(head: list[tuple[int, str]], fmt: _Format) -> bool:
         and all(c and not _is_number(c, fmt) for c in named)
         and any(_is_number(c.strip().strip('"'), fmt) for c in below)
     )  # fmt: skip
+
+
+def _toa5(
+    head: list[tuple[int, str]], fmt: _Format
+) -> tuple[_Format, list[str], int, list[str]] | None:
+    """A Campbell Scientific datalogger's TOA5 table (LoggerNet's export): its layout when
+    the first line is the file's environment (``TOA5,station,CR1000,...``), else None.
+
+    Notes
+    -----
+    Line 2 names the columns, line 3 states their units, line 4 how each was processed
+    (``Smp``, ``Avg``, ``Std``); the data follow. Read as a plain CSV, the environment line
+    was the header: brightwind's met-mast file was refused for its width.
+    """
+    cells = [c.strip().strip('"').strip() for c in _split(head[0][1], fmt.delim)]
+    if len(head) < 5 or cells[0].lstrip("\ufeff") != "TOA5":
+        return None
+    names, units = (_split(ln, fmt.delim) for _, ln in head[1:3])
+    if len(units) != len(names):
+        return None
+    return fmt, _unique_names(names), head[3][0], [c.strip().strip('"').strip() for c in units]
 
 
 def _units_row(head: list[tuple[int, str]], width: int, fmt: _Format) -> list[str] | None:
