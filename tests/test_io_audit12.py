@@ -86,3 +86,28 @@ def test_a_windographer_export_is_refused_saying_to_delete_its_metadata(tmp_path
     assert main(["estimate", str(path)]) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "delete those lines" in err and "line 13" in err
+
+
+def _vane(n: int, seed: int) -> np.ndarray:
+    """A wind vane around north (0/360), read from 0 to 360 on a 0.1 degree grid."""
+    rng = np.random.default_rng(seed)
+    angle = np.cumsum(rng.normal(0.0, 3.0, n)) + rng.normal(0.0, 2.0, n)
+    return np.round(np.mod(angle, 360.0), 1)
+
+
+def test_a_wrapping_wind_vane_is_noted(tmp_path, capsys):
+    z = _vane(2000, 5)
+    assert np.sum(np.abs(np.diff(z)) > 180) >= 3
+    path = tmp_path / "vane.csv"
+    path.write_text("Dir78mS,T2m\n" + "\n".join(f"{v},{5 + i % 7 * 0.01}" for i, v in
+                                                 enumerate(z)) + "\n")  # fmt: skip
+    table = load_table(path)
+    assert any("'Dir78mS' wraps" in n and "period=360" in n for n in table.notes)
+    assert not any("'T2m' wraps" in n for n in table.notes)
+    assert main(["estimate", str(path), "--column", "Dir78mS", "--format", "json"]) == 0
+    assert "numpy.unwrap" in capsys.readouterr().out
+    rng = np.random.default_rng(6)  # an angle that swings but does not wrap: no note
+    swing = np.round(180 + 60 * np.sin(np.linspace(0, 20, 2000)) + rng.normal(0, 2, 2000), 1)
+    path.write_text("Dir\n" + "\n".join(map(str, swing)) + "\n")
+    assert not any("wraps" in n for n in load_table(path).notes)
+

@@ -16,7 +16,13 @@ from noisevar._arrays import EXACT_INT
 from noisevar.errors import NoisevarError
 from noisevar.io.header_units import header_unit
 from noisevar.io.opensignals import opensignals_names
-from noisevar.io.quirks import code_note, header_of_numbers, repeated_rows, rows_continue
+from noisevar.io.quirks import (
+    code_note,
+    header_of_numbers,
+    repeated_rows,
+    rows_continue,
+    wrap_note,
+)
 from noisevar.io.refusal_hints import kinds_hint, numbers_for_names, preamble_hint, width_hint
 from noisevar.io.table import (
     _NA_TOKENS,
@@ -379,6 +385,7 @@ def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
     for c in empty:
         notes.append(f"column {echo(c)!r} is empty")
     notes += [n for c in names if c != time_col and (n := code_note(c, columns[c]))]
+    notes += [n for c in names if c != time_col and (n := wrap_note(c, columns[c]))]
     units = {c: u for c in names if c != time_col and (u := header_unit(c) or stated.get(c))}
     return LoadedTable(name, columns, kind, time_col, period, notes, units)
 
