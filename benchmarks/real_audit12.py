@@ -224,10 +224,10 @@ def icing_reference(table, ch: str, mask: np.ndarray) -> dict:
 
 
 def unit_reference() -> dict:
-    """3g: ``--unit mbar --unit-out Pa`` on the barometer gives 100² R; the TOA5 file's
-    units row (``Millibars``) is the unit the CLI reports."""
-    z = channel_record(load_table(raw("met_mast")), "P2m")[0]
-    est = nv.estimate(z)
+    """3g: ``--unit mbar --unit-out Pa`` on the barometer gives 100² R (with its times); the
+    TOA5 file's units row (``Millibars``) is the unit the CLI reports."""
+    z, t = channel_record(load_table(raw("met_mast")), "P2m")
+    est = nv.estimate(z, t=t)  # with its times, as the CLI reads the file
     rc, out, err = process("estimate", raw("met_mast"), "--column", "P2m", "--unit", "mbar",
                            "--unit-out", "Pa", "--format", "json")  # fmt: skip
     fail = [f"exit {rc}: {err[:120]}"] if rc else []
@@ -246,20 +246,23 @@ def unit_reference() -> dict:
 
 
 def toa5_reference() -> dict:
-    """3h: the TOA5 export gives the CSV's R (1e-9) on every channel the CSV holds."""
+    """3h: the TOA5 export gives the CSV's R (1e-9, both with their times) on every channel
+    the CSV holds."""
     csv, toa5 = load_table(raw("met_mast")), load_table(raw("met_mast_toa5"))
     rc, out, err = process("estimate", raw("met_mast_toa5"), "--columns", "all", "--format",
                            "json")  # fmt: skip
     got = {r["column"]: r.get("variance") for r in json.loads(out)["channels"]} if rc == 0 else {}
     fail = [f"exit {rc}: {err[:120]}"] if rc else []
     for c in CHANNELS["met_mast"]:
-        want = nv.estimate(channel_record(csv, c)[0]).variance
+        z, t = channel_record(csv, c)
+        want = nv.estimate(z, t=t).variance  # with its times, as the CLI reads the file
         if got.get(c) is None or abs(got[c] - want) > 1e-9 * want:
             fail.append(f"{c}: TOA5 R {got.get(c)}, CSV {want:.6g}")
     missing = [c for c in csv.data_columns if c not in toa5.data_columns]
     if missing:
         fail.append(f"TOA5 lacks {missing}")
-    est = nv.estimate(channel_record(csv, "Spd80mN")[0])
+    z, t = channel_record(csv, "Spd80mN")
+    est = nv.estimate(z, t=t)
     return ref_row("met_mast_toa5", "every channel", "the CSV's R (1e-9)", est.variance, est,
                    fail)  # fmt: skip
 
