@@ -44,7 +44,7 @@ def _toa5(n: int, seed: int) -> tuple[str, np.ndarray]:
     stamps = np.datetime64("2016-01-09T15:30") + np.arange(n) * np.timedelta64(10, "m")
     head = ['"TOA5","some_site","CR1000","E7000","CR1000.Std.22","CPU:mast.CR1","123","mast"',
             '"TIMESTAMP","RECORD","Site","Spd80mN","P2m"',
-            '"TS","RN","","m/s","mbar"',
+            '"TS","RN","","Metres/Second","Millibars"',
             '"","","Smp","Avg","Avg"']  # fmt: skip
     rows = [f'"{s.astype(object):%Y-%m-%d %H:%M:%S}",{i},"mast",{v},{935 + i % 3}'
             for i, (s, v) in enumerate(zip(stamps, z, strict=True))]  # fmt: skip
@@ -58,7 +58,8 @@ def test_a_toa5_file_is_read_with_its_units(tmp_path):
     table = load_table(path)
     assert table.time_column == "TIMESTAMP" and table.sample_period == pytest.approx(600.0)
     np.testing.assert_allclose(channel_record(table, "Spd80mN")[0], z)
-    assert table.units["Spd80mN"] == "m/s" and table.units["P2m"] == "mbar"
+    assert table.units["Spd80mN"] == "metres/second" and table.units["P2m"] == "millibars"
+    assert "RECORD" not in table.units  # TOA5's record-number mark, no unit
     assert table.first_signal == "Spd80mN"
 
 
@@ -68,7 +69,7 @@ def test_the_cli_reads_a_toa5_file(tmp_path, capsys):
     path.write_text(text)
     assert main(["estimate", str(path), "--format", "json"]) == 0
     out = capsys.readouterr().out
-    assert '"column": "Spd80mN"' in out and '"unit": "m/s"' in out
+    assert '"column": "Spd80mN"' in out and '"unit": "metres/second"' in out
 
 
 def test_a_windographer_export_is_refused_saying_to_delete_its_metadata(tmp_path, capsys):

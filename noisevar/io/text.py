@@ -34,6 +34,7 @@ from noisevar.io.table import (
     time_in_seconds,
 )
 from noisevar.io.text_times import clock_beside, is_date_name, parse_time_strings
+from noisevar.units import declared_unit
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -295,7 +296,32 @@ def _toa5(
     names, units = (_split(ln, fmt.delim) for _, ln in head[1:3])
     if len(units) != len(names):
         return None
-    return fmt, _unique_names(names), head[3][0], [c.strip().strip('"').strip() for c in units]
+    said = [c.strip().strip('"').strip() for c in units]
+    return fmt, _unique_names(names), head[3][0], ["" if u in _TOA5_MARKS else u for u in said]
+
+
+#: TOA5's units row marks the time stamp ``TS`` and the record number ``RN``: no units (pint
+#: reads them as tesla-seconds and rankine-newtons)
+_TOA5_MARKS = ("TS", "RN")
+
+
+def _stated_unit(word: str) -> str:
+    """A units row's word as pint reads it: as written, else in lower case when only that
+    reads (a Campbell Scientific logger's ``Metres/Second``, ``Millibars``, ``Volts``).
+
+    Parameters
+    ----------
+    word : str
+        The units row's cell.
+
+    Returns
+    -------
+    str
+        The unit the table states for the column.
+    """
+    if declared_unit(word) is None and declared_unit(word.lower()) is not None:
+        return word.lower()
+    return word
 
 
 def _units_row(head: list[tuple[int, str]], width: int, fmt: _Format) -> list[str] | None:
@@ -371,7 +397,7 @@ def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
         notes.insert(0, rows)
     time_col = names[time_idx] if time_idx is not None else None
     columns = repeated_rows(columns, time_col, notes)
-    stated = {c: u for c, u in zip(names, unit_row or [], strict=False) if u}  # a units row
+    stated = {c: _stated_unit(u) for c, u in zip(names, unit_row or [], strict=False) if u}
     names = [c for c in names if c in columns]  # text columns are left out (noted)
     if fmt.decimal == ",":
         notes.insert(0, "read with a decimal comma (1,5 = 1.5)")
