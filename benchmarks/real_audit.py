@@ -189,6 +189,7 @@ def audit_report(
         *extra,
     ])  # fmt: skip
 
+
 def md_table(title: str, head: str, rows: list[str]) -> list[str]:
     """A Markdown table under its title: ``head`` is its header row."""
     cols = head.count("|") - 1

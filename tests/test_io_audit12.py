@@ -111,4 +111,3 @@ def test_a_wrapping_wind_vane_is_noted(tmp_path, capsys):
     swing = np.round(180 + 60 * np.sin(np.linspace(0, 20, 2000)) + rng.normal(0, 2, 2000), 1)
     path.write_text("Dir\n" + "\n".join(map(str, swing)) + "\n")
     assert not any("wraps" in n for n in load_table(path).notes)
-
