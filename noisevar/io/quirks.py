@@ -149,9 +149,10 @@ def wrap_note(cname: str, z: NDArray) -> str | None:
     z = z[np.isfinite(z)]
     if z.size < 20:
         return None
-    span = float(z.max() - z.min())
+    lo, hi = float(z.min()), float(z.max())
     for turn in TURNS:
-        if not (turn / 2 < span <= turn * (1 + 1e-9) and abs(z).max() <= turn * (1 + 1e-9)):
+        within = max(abs(lo), abs(hi)) <= turn * (1 + 1e-9)  # first: no overflow at 1e308
+        if not (within and turn / 2 < hi - lo <= turn * (1 + 1e-9)):
             continue
         steps = np.diff(z)
         wraps = int(np.count_nonzero(np.abs(steps) > turn / 2))
