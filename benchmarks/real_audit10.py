@@ -78,8 +78,6 @@ from __future__ import annotations
 
 import json
 import sys
-import tempfile
-import time
 import zipfile
 from pathlib import Path
 
@@ -94,11 +92,11 @@ from noisevar.noise_model.inertial import white_level
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _refdata  # noqa: E402
 from real_audit import (  # noqa: E402
-    audit_args,
     audit_channels,
-    audit_sections,
+    audit_main,
+    audit_report,
+    by_length,
     cli_said,
-    records_table,
     ref_row,
     to_use,
 )
@@ -423,49 +421,35 @@ def bad_input() -> list[dict]:
 
 # ---------------------------------------------------------------- the run
 def report(rows, answers, refs, bad, wall) -> str:
-    lines = [
-        "# A tenth audit, for navigation, GNSS and IMU engineers: KITTI's IMU and GPS, "
+    return audit_report(
+        "A tenth audit, for navigation, GNSS and IMU engineers: KITTI's IMU and GPS, "
         "EuRoC's IMU, a legged robot, a robot's odometry, an observatory's magnetometer "
         "(issue 26)",
-        "",
-        f"`python benchmarks/real_audit10.py` (records and checks: its docstring). Files of "
-        f"`{_refdata.GTSAM}`'s wheel and `{_refdata.GEOMAGPY}`'s sdist, fetched with "
-        f"`pip download --no-deps`; {wall:.0f} s wall.",
-        "",
-        *records_table(RECORDS),
-        "",
-        *audit_sections(rows, answers, refs, bad),
-    ]  # fmt: skip
-    return "\n".join(lines)
+        "real_audit10.py", f"`{_refdata.GTSAM}`'s wheel and `{_refdata.GEOMAGPY}`'s sdist",
+        RECORDS, [rows, answers, refs, bad], wall,
+    )  # fmt: skip
+
+
+def record(name: str, pages: bool, tmp: Path) -> tuple[list[dict], list[dict], list[dict]]:
+    """Checks 1-3 on one record (``real_audit.audit_main``'s ``record``)."""
+    chans, _times = channels_of(name)
+    rate = rate_of(name)
+    audited = {c: z for c, z in chans.items() if c in CHECK1.get(name, chans)}
+    rows = []
+    for same in by_length(audited):
+        new = audit_channels(name, same, rate, imu=name in IMUS)
+        finding_kept(new, same)
+        rows += new
+    refs = references(name, chans, rate, tmp)
+    answers = []
+    if pages and name in PAGES:
+        path = clean_iaga() if name == "wic_mag" else user_file(name)
+        answers = one_answer(name, path, PAGES[name])
+    return rows, refs, answers
 
 
 def main() -> None:
-    a = audit_args(__doc__)
-    t0 = time.time()
-    rows, answers, refs = [], [], []
-    with tempfile.TemporaryDirectory() as tmp:
-        for name in CHANNELS:
-            if a.records not in name:
-                continue
-            chans, _times = channels_of(name)
-            rate = rate_of(name)
-            audited = {c: z for c, z in chans.items() if c in CHECK1.get(name, chans)}
-            for size in dict.fromkeys(z.size for z in audited.values()):  # one CSV per length
-                same = {c: z for c, z in audited.items() if z.size == size}
-                new = audit_channels(name, same, rate, imu=name in IMUS)
-                finding_kept(new, same)
-                rows += new
-            refs += references(name, chans, rate, Path(tmp))
-            if not a.no_pages and name in PAGES:
-                page_file = clean_iaga() if name == "wic_mag" else user_file(name)
-                answers += one_answer(name, page_file, PAGES[name])
-            print(f"{name}: {time.time() - t0:.0f} s", file=sys.stderr)
-    bad = bad_input()
-    text = report(rows, answers, refs, bad, time.time() - t0)
-    if not a.records and not a.no_pages:
-        OUT.parent.mkdir(parents=True, exist_ok=True)
-        OUT.write_text(text + "\n")
-    print(text)
+    audit_main(__doc__, OUT, CHANNELS, record, lambda _tmp: bad_input(), report)
 
 
 if __name__ == "__main__":

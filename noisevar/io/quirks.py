@@ -125,6 +125,47 @@ def code_note(cname: str, z: NDArray) -> str | None:
     return None
 
 
+#: An angle's turn: degrees, radians
+TURNS = (360.0, 2.0 * np.pi)
+#: ... a column wraps when at least this many steps exceed half a turn and unwrapping them
+#: cuts the steps' mean square by this factor
+WRAP_MIN = 3
+WRAP_CUT = 4.0
+
+
+def wrap_note(cname: str, z: NDArray) -> str | None:
+    """A note when a column is an angle that wraps (a wind vane, a heading read from 0 to
+    360 degrees), else None.
+
+    Each wrap is a step of nearly a turn, so R counts it as a jump or an outlier: the note
+    says to unwrap the column first.
+
+    Notes
+    -----
+    brightwind's met mast and floating lidar write their wind directions from 0 to 360: R
+    read as written was 7.8x (the mast's vane, 801 wraps) and 33x (the lidar's, 13 wraps)
+    its R unwrapped, and no verdict said why.
+    """
+    z = z[np.isfinite(z)]
+    if z.size < 20:
+        return None
+    lo, hi = float(z.min()), float(z.max())
+    for turn in TURNS:
+        within = max(abs(lo), abs(hi)) <= turn * (1 + 1e-9)  # first: no overflow at 1e308
+        if not (within and turn / 2 < hi - lo <= turn * (1 + 1e-9)):
+            continue
+        steps = np.diff(z)
+        wraps = int(np.count_nonzero(np.abs(steps) > turn / 2))
+        unwrapped = np.diff(np.unwrap(z, period=turn))
+        if wraps >= WRAP_MIN and WRAP_CUT * np.mean(unwrapped**2) < np.mean(steps**2):
+            return (
+                f"column {echo(cname)!r} wraps like an angle read from one turn ({wraps:,} "
+                f"steps of over half of {turn:.4g}: a wind vane, a heading): R counts each wrap "
+                f"as a jump; unwrap it first (numpy.unwrap(z, period={turn:.4g}))"
+            )
+    return None
+
+
 def repeated_rows(
     columns: dict[str, NDArray], time_col: str | None, notes: list[str]
 ) -> dict[str, NDArray]:

@@ -106,9 +106,10 @@ _MIN_BLOCK = 5
 
 
 def metadata_hint(head: list[tuple[int, str]], line_no: int, width: int) -> str | None:
-    """The hint when a block of short lines (name, value pairs) sits above a table with no
-    header: every line above ``line_no`` is narrower than its ``width`` fields, most of them
-    start with a name, and that line starts with a number (a date-time's year too).
+    """The hint when a block of short lines (name, value pairs) sits above a table: every
+    line above ``line_no`` is narrower than its ``width`` fields, most of them start with a
+    name, and that line starts with a number (a table with no header: a date-time's year
+    too) or names the columns above a line that does.
 
     ``head``: the first meaningful lines (number, text).
 
@@ -116,19 +117,30 @@ def metadata_hint(head: list[tuple[int, str]], line_no: int, width: int) -> str 
     -----
     GENEActiv's CSV export (gaitpy's demo file) starts with 100 lines of device, subject and
     sensor fields, then its rows with no header: refused blaming thousands separators.
+    Windographer's text export (brightwind's demo file) starts with 8 lines of site and
+    flag fields above its header: refused saying only that the rows' widths differ.
     """
     above = [ln for i, ln in head if i < line_no]
-    row = next((ln for i, ln in head if i == line_no), "")
+    rows = [ln for i, ln in head if i >= line_no]
     named = sum(not ln.lstrip()[:1].isdigit() for ln in above)  # rows of numbers: no block
-    if len(above) < _MIN_BLOCK or named < 0.5 * len(above) or not row.lstrip()[:1].isdigit():
+    if len(above) < _MIN_BLOCK or named < 0.5 * len(above) or not rows:
         return None
-    return (
-        f" (lines {head[0][0]}-{line_no - 1} look like a block of metadata, name and value "
-        f"pairs as a device's export writes them, above a table with no header whose rows "
-        f"start at line {line_no}: delete those lines and give the table with a header line "
-        f"naming its {width} columns, e.g. pandas.read_csv(path, skiprows={line_no - 1}, "
-        "header=None, names=[...]).to_csv(...))"
-    )
+    lines = f"lines {head[0][0]}-{line_no - 1} look like a block of metadata, name and value"
+    if rows[0].lstrip()[:1].isdigit():
+        return (
+            f" ({lines} pairs as a device's export writes them, above a table with no header "
+            f"whose rows start at line {line_no}: delete those lines and give the table with a "
+            f"header line naming its {width} columns, e.g. pandas.read_csv(path, "
+            f"skiprows={line_no - 1}, header=None, names=[...]).to_csv(...))"
+        )
+    if len(rows) > 1 and rows[1].lstrip()[:1].isdigit():
+        return (
+            f" ({lines} pairs as a program's export writes them, above the table's header at "
+            f"line {line_no}: delete those lines so that the file starts with the column "
+            f"names, e.g. pandas.read_csv(path, sep=None, engine='python', "
+            f"skiprows={line_no - 1}).to_csv(...))"
+        )
+    return None
 
 
 def width_hint(head: list[tuple[int, str]], line_no: int, width: int, default: str) -> str:

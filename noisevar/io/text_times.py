@@ -97,8 +97,16 @@ def _colon_fraction(values: list[str]) -> NDArray | None:
 
 
 def _guessed_times(values: list[str]) -> NDArray | None:
-    """``values`` in the date-time format pandas guesses from the first (or with its day
-    and month swapped), as datetime64[ns]; None when neither reads every value."""
+    """``values`` in the date-time format pandas guesses from the first or with its day
+    and month swapped, as datetime64[ns]; None when neither reads every value.
+
+    Notes
+    -----
+    When both read every value (no day past the 12th: ``09/01/2016 23:50``,
+    ``10/01/2016 00:00``), the reading whose times step back least often, then whose
+    largest step is least, is kept: read month-first, brightwind's day-first met-mast file
+    stepped 29 days at its first midnight, a gap that is not there.
+    """
     import pandas as pd
     from pandas.tseries.api import guess_datetime_format
 
@@ -110,11 +118,18 @@ def _guessed_times(values: list[str]) -> NDArray | None:
     if fmt is None or "%Y" not in fmt:  # a time of day alone has no date to anchor it
         return None
     swapped = fmt.replace("%m", "\0").replace("%d", "%m").replace("\0", "%d")
+    read = []
     for f in dict.fromkeys((fmt, swapped)):
         t = pd.to_datetime(pd.Series(values), format=f, errors="coerce")
         if not t.isna().any():
-            return t.dt.tz_localize(None).to_numpy(dtype="datetime64[ns]")
-    return None
+            read.append(t.dt.tz_localize(None).to_numpy(dtype="datetime64[ns]"))
+    return min(read, key=_disorder) if read else None
+
+
+def _disorder(t: NDArray) -> tuple[int, float]:
+    """How far times are from rising evenly: their steps back, then their largest step."""
+    steps = np.diff(t.astype("int64")).astype(float)
+    return int(np.sum(steps < 0)), float(np.max(steps, initial=0.0))
 
 
 #: A date column's name with its time zone (Sheffield Solar's ``datetime_gmt``).
