@@ -111,3 +111,7 @@ def test_a_wrapping_wind_vane_is_noted(tmp_path, capsys):
     swing = np.round(180 + 60 * np.sin(np.linspace(0, 20, 2000)) + rng.normal(0, 2, 2000), 1)
     path.write_text("Dir\n" + "\n".join(map(str, swing)) + "\n")
     assert not any("wraps" in n for n in load_table(path).notes)
+    # a 0/5 V logic channel steps by over half a radian turn, but is no angle: no note
+    logic = np.repeat(np.tile([0.0, 5.0], 20), 10) + rng.normal(0, 0.01, 400)
+    path.write_text("Trig\n" + "\n".join(map(str, logic)) + "\n")
+    assert not any("wraps" in n for n in load_table(path).notes)

@@ -131,6 +131,8 @@ TURNS = (360.0, 2.0 * np.pi)
 #: cuts the steps' mean square by this factor
 WRAP_MIN = 3
 WRAP_CUT = 4.0
+#: ... and its values spread over at least this share of the turn
+WRAP_SPREAD = 0.9
 
 
 def wrap_note(cname: str, z: NDArray) -> str | None:
@@ -152,7 +154,8 @@ def wrap_note(cname: str, z: NDArray) -> str | None:
     lo, hi = float(z.min()), float(z.max())
     for turn in TURNS:
         within = max(abs(lo), abs(hi)) <= turn * (1 + 1e-9)  # first: no overflow at 1e308
-        if not (within and turn / 2 < hi - lo <= turn * (1 + 1e-9)):
+        # spread over most of the turn (a 0/5 V logic channel is no angle in radians)
+        if not (within and WRAP_SPREAD * turn < hi - lo <= turn * (1 + 1e-9)):
             continue
         steps = np.diff(z)
         wraps = int(np.count_nonzero(np.abs(steps) > turn / 2))
