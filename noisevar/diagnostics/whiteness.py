@@ -226,7 +226,7 @@ class WhitenessTest:
         the lags tested is taken as 0 (exact when they reach the filter's span). The misfit
         is :meth:`ma_left`'s sum.
         """
-        phi = np.linspace(-0.95, 0.95, 39)
+        phi = np.round(np.linspace(-0.95, 0.95, 39), 2)
         misfit = self._misfit(self._ar1_models(phi))
         i = int(np.argmin(misfit))
         return float(phi[i]), float(misfit[i])
