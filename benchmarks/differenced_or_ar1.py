@@ -20,6 +20,7 @@ import numpy as np
 from scipy.signal import lfilter
 
 import noisevar as nv
+from noisevar.diagnostics.verdict_parts import found_oscillation
 
 LENGTHS = (300, 500, 1000, 2000, 3000, 5000)
 KINDS = ("np.diff of white noise", "AR(1), phi -0.4", "AR(1), phi -0.5", "AR(1), phi -0.7")
@@ -43,7 +44,7 @@ def call(d) -> str:
         return "either"
     if d.differenced:
         return "differenced"
-    return "oscillation" if d.vibration is not None else "none"
+    return "oscillation" if found_oscillation(d.whiteness) is not None else "none"
 
 
 def main() -> None:

@@ -14,6 +14,7 @@ from noisevar.diagnostics.regimes import QuietLevel, StillLevel
 from noisevar.diagnostics.segments import Gap
 from noisevar.diagnostics.whiteness import (
     AR1_EVIDENCE,
+    MA1_EXPLAINS,
     MA1_SHORT,
     MA1_SHORT_EXPLAINS,
     MA_ORDER,
@@ -212,7 +213,9 @@ class NoiseDiagnostics:
 
     def _vibration_not_ma1(self, lag1: NDArray) -> bool:
         """The departure is an oscillation's, not MA(1) noise's: an oscillation is the
-        finding (:attr:`~.whiteness.Oscillation.found`), and at the short lags
+        finding (:attr:`~.whiteness.Oscillation.found`), the MA(1) fit explains under
+        :data:`~noisevar.diagnostics.whiteness.MA1_EXPLAINS` of it over every lag, and at
+        the short lags
         (:data:`~noisevar.diagnostics.whiteness.MA1_SHORT`), where differenced noise departs
         at lag 1 alone, the MA(1) fit explains under
         :data:`~noisevar.diagnostics.whiteness.MA1_SHORT_EXPLAINS` of it. The fit's share
@@ -221,7 +224,7 @@ class NoiseDiagnostics:
         short lags are MA(1)'s (96 %)."""
         w = self.whiteness
         o = w.oscillation
-        if o is None or not o.found:
+        if o is None or not o.found or w.ma_left(lag1) <= 1.0 - MA1_EXPLAINS:
             return False
         return bool(w.ma_left(lag1, MA1_SHORT) > 1.0 - MA1_SHORT_EXPLAINS)
 

@@ -51,6 +51,13 @@ MA1_SHORT = MA1_LAGS + 2
 #: Share of the departure over the first :data:`MA1_SHORT` lags the MA(1) fit must
 #: explain for the record to be differenced rather than vibrating (both above).
 MA1_SHORT_EXPLAINS = 0.5
+#: ... and over every lag tested (:meth:`WhitenessTest.ma_left`): np.diff of white noise
+#: 48-99 % (300 samples with a burst of motion and a slow signal: 48 %; 20,000 samples:
+#: 98-99 %), a sinusoid of period 2.1 samples in white noise 8-9 %, EuRoC's hexacopter
+#: 14-38 %; AR(1) noise, whose power rises to the Nyquist rate, 40-64 % at φ = -0.7 (an
+#: oscillation 1 time in 20) and 26-47 % at φ = -0.8 (an oscillation 37 times in 40: seeds
+#: 20000-20019 at 1,000 and 5,000 samples; docs/algorithms.md §E2 *Differenced or AR(1)*).
+MA1_EXPLAINS = 0.45
 #: Evidence (a difference of χ²-like misfits, :attr:`WhitenessTest.ar1_evidence`) for
 #: AR(1) noise of negative φ against MA(1) noise at which one is told from the other: the
 #: two share a lag-1 correlation of -1/2 at φ = -1/2 and differ from lag 2 on (+1/4 against
