@@ -12,7 +12,14 @@ from noisevar.diagnostics.glitches import Glitch
 from noisevar.diagnostics.profile import LevelProfile
 from noisevar.diagnostics.regimes import QuietLevel, StillLevel
 from noisevar.diagnostics.segments import Gap
-from noisevar.diagnostics.whiteness import MA1_EXPLAINS, WhitenessTest
+from noisevar.diagnostics.whiteness import (
+    AR1_EVIDENCE,
+    MA1_EXPLAINS,
+    MA1_SHORT,
+    MA1_SHORT_EXPLAINS,
+    MA_ORDER,
+    WhitenessTest,
+)
 
 #: A fitted noise correlation below this at some lag (differenced white noise: -1/2 at lag
 #: 1; a central difference, -1/2 at lag 2) reads as differenced data; white noise gives 0,
@@ -164,37 +171,89 @@ class NoiseDiagnostics:
         A record that is the difference of a noisy one (frequency from phase, velocity
         from positions) carries MA(1) noise of lag-1 correlation -1/2; a central
         difference (``np.gradient``) or a derivative filter, MA(q) noise negative at a
-        lag up to 4 (docs/algorithms.md §E2): :attr:`noise_correlation` is not None.
+        lag up to 4 (docs/algorithms.md §E2): :attr:`noise_correlation` is not None, and
+        the noise is not evidently AR(1) (:attr:`ar1_phi`). Below the evidence either way
+        it may be both (:attr:`differenced_or_ar1`).
         """
+        return bool(self.short_correlated and self.ar1_phi is None)
+
+    @property
+    def short_correlated(self) -> bool:
+        """Not white, with a short-memory correlation R is corrected for to the variance
+        per sample (:attr:`noise_correlation`): differenced data or AR(1) noise of negative φ."""
         return bool(not self.white and self.noise_correlation is not None)
 
     @property
     def noise_correlation(self) -> NDArray | None:
-        """The differenced noise's correlations ``r_1..r_q`` (None: not differenced).
+        """The noise's correlations ``r_1..r_q`` R is corrected for (None: none).
 
         The lag-1 fit (``whiteness.noise_lag1``) when it is below
-        :data:`DIFFERENCED_LAG1`, unless an oscillation explains the residual's departure
-        from white noise and the fit does not (a vibration near the Nyquist rate alternates
-        in sign at every lag, and its lag-1 fit reads -0.56: docs/algorithms.md §E2
-        *Vibration*); else the
-        short-memory fit (``whiteness.short_memory``) when one of its correlations is.
+        :data:`DIFFERENCED_LAG1`, unless the departure is an oscillation's
+        (:meth:`_vibration_not_ma1`: a vibration near the Nyquist rate alternates in sign
+        at every lag, and its lag-1 fit reads -0.56: docs/algorithms.md §E2 *Vibration*);
+        MA(4) ones (``whiteness.ma_fit``) when AR(1) noise is evident (:attr:`ar1_phi`:
+        R's residual filter sees the noise's correlations at lags 1-4);
+        else the short-memory fit (``whiteness.short_memory``) when one of its
+        correlations is.
         """
         w = self.whiteness
         lag1 = np.array([w.noise_lag1])
-        if lag1[0] < DIFFERENCED_LAG1 and not self._vibration_not_ma1(lag1):
-            return lag1
+        if lag1[0] < DIFFERENCED_LAG1:
+            if self._vibration_not_ma1(lag1):
+                return None  # nor MA(q): a near-Nyquist vibration's MA(4) fit alternates too
+            return w.ma_fit(MA_ORDER) if self._ar1_evident() else lag1
         r = w.short_memory
         return r if r is not None and float(r.min()) < DIFFERENCED_LAG1 else None
 
+    def _lag1_correlated(self) -> bool:
+        """The lag-1 fit reads a short correlation (below :data:`DIFFERENCED_LAG1`) that no
+        oscillation explains better."""
+        lag1 = np.array([self.whiteness.noise_lag1])
+        return bool(lag1[0] < DIFFERENCED_LAG1 and not self._vibration_not_ma1(lag1))
+
     def _vibration_not_ma1(self, lag1: NDArray) -> bool:
-        """The departure is an oscillation, not MA(1) noise: the MA(1) fit explains under
-        :data:`~noisevar.diagnostics.whiteness.MA1_EXPLAINS` of it, and an oscillation is
-        the finding (:attr:`~.whiteness.Oscillation.found`). A fit that explains little
-        alone is no evidence against differencing: a taxiing airliner's velocity from
-        positions (motion at many lags, the fit 13 %) stays differenced."""
+        """The departure is an oscillation's, not MA(1) noise's: an oscillation is the
+        finding (:attr:`~.whiteness.Oscillation.found`), the MA(1) fit explains under
+        :data:`~noisevar.diagnostics.whiteness.MA1_EXPLAINS` of it over every lag, and at
+        the short lags
+        (:data:`~noisevar.diagnostics.whiteness.MA1_SHORT`), where differenced noise departs
+        at lag 1 alone, the MA(1) fit explains under
+        :data:`~noisevar.diagnostics.whiteness.MA1_SHORT_EXPLAINS` of it. The fit's share
+        over every lag is no evidence: a taxiing airliner's velocity from positions (motion
+        at lags 7-9 and 15-17: the fit 13 %, an oscillation 75 %) is differenced, and its
+        short lags are MA(1)'s (96 %)."""
         w = self.whiteness
         o = w.oscillation
-        return bool(w.ma_left(lag1) > 1.0 - MA1_EXPLAINS and o is not None and o.found)
+        if o is None or not o.found or w.ma_left(lag1) <= 1.0 - MA1_EXPLAINS:
+            return False
+        return bool(w.ma_left(lag1, MA1_SHORT) > 1.0 - MA1_SHORT_EXPLAINS)
+
+    def _ar1_evident(self) -> bool:
+        """AR(1) noise of negative φ fits the departure better than MA(1) noise by
+        :data:`~noisevar.diagnostics.whiteness.AR1_EVIDENCE`."""
+        w = self.whiteness
+        return bool(w.ar1[0] < 0 and w.ar1_evidence >= AR1_EVIDENCE)
+
+    @property
+    def ar1_phi(self) -> float | None:
+        """φ of AR(1) noise the record's short correlation evidently is (None: not).
+
+        Its lag-1 correlation reads as differenced data's, and from lag 2 on AR(1) noise
+        (``φ^k``) fits better than MA(1) noise (0) by
+        :data:`~noisevar.diagnostics.whiteness.AR1_EVIDENCE` (docs/algorithms.md §E2
+        *Differenced or AR(1)*).
+        """
+        if self.white or not self._lag1_correlated() or not self._ar1_evident():
+            return None
+        return self.whiteness.ar1[0]
+
+    @property
+    def differenced_or_ar1(self) -> bool:
+        """Differenced by its lag-1 correlation, but neither MA(1) nor AR(1) noise of
+        negative φ fits evidently better: the record is too short to tell them apart."""
+        w = self.whiteness
+        lag1 = self.differenced and self._lag1_correlated()
+        return bool(lag1 and w.ar1[0] < 0 and w.ar1_evidence > -AR1_EVIDENCE)
 
     @property
     def identifiable(self) -> bool:

@@ -368,7 +368,7 @@ def _not_white(
     """
     prof = diag.level_profile
     said = still_said(diag, gap)
-    rounding = diag.identifiable and not diag.differenced and not diag.white
+    rounding = diag.identifiable and not diag.short_correlated and not diag.white
     if rounding and under_half_a_step(diag, variance):
         return _rounding_first(diag, r, quiet, said if still_apart else None)
     if not diag.identifiable:
@@ -408,8 +408,8 @@ def _not_white(
             f"{_g(quiet)} (std {_g(float(np.sqrt(quiet)))}), "
             f"against {_g(variance)} over the whole record{said}{_vibrates(diag)}"
         )
-    if diag.differenced:
-        return differenced_verdict(diag.noise_correlation, r)
+    if diag.short_correlated:
+        return differenced_verdict(diag, r)
     if diag.motion_explains_colour:
         return (
             f"{CHANGES}: motion; {r} is an average over "

@@ -7,7 +7,6 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 import numpy as np
-from numpy.typing import NDArray
 
 from noisevar.diagnostics.regimes import STILL_RATIO
 
@@ -87,8 +86,32 @@ def other_still_clause(diag: NoiseDiagnostics) -> str:
     )
 
 
-def differenced_verdict(corr: NDArray, r: str) -> str:
-    """The verdict on differenced data: MA(1) (a difference) or MA(q) (a derivative filter)."""
+def differenced_verdict(diag: NoiseDiagnostics, r: str) -> str:
+    """The verdict on short-correlated noise (``diag.short_correlated``): MA(1) (a
+    difference), AR(1) of negative φ (:attr:`~.results.NoiseDiagnostics.ar1_phi`), either
+    when the record cannot tell them apart, or MA(q) (a derivative filter)."""
+    corr = diag.noise_correlation
+    if diag.ar1_phi is not None:
+        phi = diag.ar1_phi
+        return (
+            f"the noise is AR(1) noise of φ = {phi:+.2f}: its correlation alternates and decays "
+            f"(lag 1 {phi:+.2f}, lag 2 {phi**2:+.2f}, where differenced data give -0.5 and 0), "
+            "so the data are not differenced; its power rises towards the Nyquist rate, as a "
+            "vibration spread near it does (rotors); "
+            f"{r} is the variance per sample, but successive errors are correlated: model "
+            "AR(1) measurement noise (a state), or whiten the measurements (z_k - φ z_{k-1}), "
+            "or low-pass a vibration out before the filter"
+        )
+    if diag.differenced_or_ar1:
+        return (
+            "the data look differenced (a frequency from phase, a velocity from positions), "
+            f"or the noise is AR(1) noise of negative φ: the noise's lag-1 correlation is "
+            f"{corr[0]:+.2f}, which both give (the difference of white noise -0.5); they differ "
+            "from lag 2 on, and this record is too short to tell them apart (a longer one "
+            f"would); {r} is the variance per sample, but successive errors are correlated: "
+            "if the data are a difference, filter the undifferenced quantity (its R is about "
+            "half this) or model MA(1) measurement noise; if not, model AR(1) measurement noise"
+        )
     if corr.size == 1:
         return (
             "the data look differenced (a frequency from phase, a velocity from positions): "
@@ -157,6 +180,14 @@ def glitches_verdict(r: str, core: str, held: tuple[str, str], level: str) -> st
     )
 
 
+#: An oscillation at this share of the sample rate or above is at the Nyquist rate itself
+#: (period 2.0 samples, as said; the fit's frequency step is 0.002): what a record whose
+#: every other sample repeats the one before gives, its signal a staircase of two-sample
+#: steps (a Polar M400's altitude, read at 0.5 Hz and written at 1 Hz:
+#: benchmarks/real_audit11.py). A rotor's lines lie below it (EuRoC's hexacopter: 0.47-0.49).
+HELD_PAIRS = 0.495
+
+
 def oscillation_words(o: Oscillation) -> str:
     """An oscillation the whiteness test found (:attr:`~.whiteness.WhitenessTest.oscillation`),
     as the verdict says it: its frequency as a share of the sample rate and its period.
@@ -164,12 +195,19 @@ def oscillation_words(o: Oscillation) -> str:
     A vibration (rotors, motors, a gait) or a periodic signal: its correlation alternates in
     sign lag after lag, which no low-pass or difference of white noise does
     (docs/algorithms.md §E2 *Vibration*). The record's rate is not known here: the share
-    times the rate in Hz is its frequency.
+    times the rate in Hz is its frequency. At the Nyquist rate itself (:data:`HELD_PAIRS`)
+    it may be values held for two samples, said first.
     """
+    held = (
+        "values held for two samples (every other sample repeating the one before: a sensor "
+        "read at half the record's rate; keep one sample in two), "
+        if o.frequency >= HELD_PAIRS
+        else ""
+    )
     return (
         f"an oscillation at {o.frequency:.2f} of the sample rate (period "
-        f"{1.0 / o.frequency:.1f} samples): a vibration (rotors, motors, a gait) or a periodic "
-        "signal, not white sensor noise"
+        f"{1.0 / o.frequency:.1f} samples): {held}a vibration (rotors, motors, a gait) or a "
+        "periodic signal, not white sensor noise"
     )
 
 

@@ -41,13 +41,28 @@ MA_ORDER = 4
 #: fit must explain; a vibration leaking through the smoother (its correlation lasts at
 #: every lag) explains 15-25 %, derivative filters 86-99 % (docs/algorithms.md §E2).
 MA_EXPLAINS = 0.75
-#: Share of the residual's departure from white noise under which the MA(1) fit
-#: (:attr:`WhitenessTest.noise_lag1`) gives way to an oscillation that is found
-#: (``NoiseDiagnostics.noise_correlation``):
-#: measured, np.diff of white noise 48-99 % (300 samples with a burst of motion and a slow
-#: signal: 48 %; 20,000 samples: 98-99 %), a vibration near the Nyquist rate 8-9 % (a
-#: sinusoid of period 2.1 samples in white noise) and 14-38 % (EuRoC's hexacopter ADIS16448).
+#: Lags the MA(1) fit must explain most of the departure on (:meth:`WhitenessTest.ma_left`
+#: with ``lags``): differenced noise departs at lag 1 alone, so over lags 1-5 its fit
+#: leaves little (measured: np.diff of white noise 0.3-16 %, with a slow signal and a burst
+#: up to 32 %; a taxiing airliner's velocity from positions 4 %), while a vibration near the
+#: Nyquist rate alternates at every lag (EuRoC's hexacopter ADIS16448: 60-82 % left, a
+#: sinusoid of period 2.1 samples 72-78 %).
+MA1_SHORT = MA1_LAGS + 2
+#: Share of the departure over the first :data:`MA1_SHORT` lags the MA(1) fit must
+#: explain for the record to be differenced rather than vibrating (both above).
+MA1_SHORT_EXPLAINS = 0.5
+#: ... and over every lag tested (:meth:`WhitenessTest.ma_left`): np.diff of white noise
+#: 48-99 % (300 samples with a burst of motion and a slow signal: 48 %; 20,000 samples:
+#: 98-99 %), a sinusoid of period 2.1 samples in white noise 8-9 %, EuRoC's hexacopter
+#: 14-38 %; AR(1) noise, whose power rises to the Nyquist rate, 40-64 % at φ = -0.7 (an
+#: oscillation 1 time in 20) and 26-47 % at φ = -0.8 (an oscillation 37 times in 40: seeds
+#: 20000-20019 at 1,000 and 5,000 samples; docs/algorithms.md §E2 *Differenced or AR(1)*).
 MA1_EXPLAINS = 0.45
+#: Evidence (a difference of χ²-like misfits, :attr:`WhitenessTest.ar1_evidence`) for
+#: AR(1) noise of negative φ against MA(1) noise at which one is told from the other: the
+#: two share a lag-1 correlation of -1/2 at φ = -1/2 and differ from lag 2 on (+1/4 against
+#: 0). Measured over seeded records (docs/algorithms.md §E2 *Differenced or AR(1)*).
+AR1_EVIDENCE = 25.0
 #: Decays per lag of the oscillation fitted to the residual's departure
 #: (:attr:`WhitenessTest.oscillation`): a vibration's correlation lasts many cycles (the
 #: fit's share on them: 0.86-0.99); a faster decay fits the residual filter's response to
@@ -177,27 +192,78 @@ class WhitenessTest:
         r = np.linalg.lstsq(c, y, rcond=None)[0]
         return r if self.ma_left(r) <= 1.0 - MA_EXPLAINS else None
 
-    def ma_left(self, r: NDArray) -> float:
+    def ma_left(self, r: NDArray, lags: int | None = None) -> float:
         """The share of the residual's departure from white noise that MA(q) noise of
         correlations ``r`` (``q = r.size``) leaves unexplained (1 when there is none).
 
+        Parameters
+        ----------
+        r : ndarray, shape (q,)
+        lags : int, optional
+            Measure over lags ``1..lags`` only (default: every lag tested).
+
         Notes
         -----
-        ``Σ_k ((acf_k - model_k) / band_k)²`` over every lag tested, over the same sum for
+        ``Σ_k ((acf_k - model_k) / band_k)²`` over the lags, over the same sum for
         white noise (:attr:`short_memory`'s measure).
         """
         r = np.atleast_1d(np.asarray(r, dtype=float))
         _, _, pair, alpha = self._ma_design(r.size)
         j = np.arange(1, r.size + 1)
         model = (alpha[1 : self.acf.size + 1] + pair @ r) / (1.0 + 2.0 * float(r @ alpha[j]))
-        white = float(self._misfit(self.expected))
-        return float(self._misfit(model)) / white if white > 0 else 1.0
+        white = float(self._misfit(self.expected, lags))
+        return float(self._misfit(model, lags)) / white if white > 0 else 1.0
 
-    def _misfit(self, model: NDArray) -> NDArray | float:
-        """``Σ_k ((acf_k - model_k) / band_k)²`` over the lags tested (each row of a 2-D
-        ``model``); lags with no band count for nothing."""
+    def _misfit(self, model: NDArray, lags: int | None = None) -> NDArray | float:
+        """``Σ_k ((acf_k - model_k) / band_k)²`` over the lags tested, or lags
+        ``1..lags`` (each row of a 2-D ``model``); lags with no band count for nothing."""
         scale = np.where(self.band > 0, self.band, np.inf)
-        return np.sum(((self.acf - model) / scale) ** 2, axis=-1)
+        x = ((self.acf - model) / scale)[..., :lags]
+        return np.sum(x**2, axis=-1)
+
+    @cached_property
+    def ar1(self) -> tuple[float, float]:
+        """The AR(1) noise (φ from -0.95 to 0.95) that best explains the residual's
+        departure from white noise, seen through the residual filter: ``(φ, misfit)``.
+
+        Notes
+        -----
+        Noise of autocorrelation ``φ^|m|`` through a filter of autocorrelation ``α`` gives a
+        residual of autocorrelation ``Σ_m α_m φ^|k-m|`` over its lag-0 value; ``α`` beyond
+        the lags tested is taken as 0 (exact when they reach the filter's span). The misfit
+        is :meth:`ma_left`'s sum.
+        """
+        phi = np.round(np.linspace(-0.95, 0.95, 39), 2)
+        misfit = self._misfit(self._ar1_models(phi))
+        i = int(np.argmin(misfit))
+        return float(phi[i]), float(misfit[i])
+
+    def _ar1_models(self, phi: NDArray) -> NDArray:
+        """The residual's autocorrelation at lags ``1..K`` for AR(1) noise of each ``φ``."""
+        k, m = np.arange(self.acf.size + 1), np.arange(-self.acf.size, self.acf.size + 1)
+        am = np.r_[1.0, self.expected][np.abs(m)]
+        rho = (phi[:, None, None] ** np.abs(k[:, None] - m[None, :])) @ am
+        return rho[:, 1:] / rho[:, :1]
+
+    @cached_property
+    def ar1_evidence(self) -> float:
+        """Evidence for AR(1) noise over MA(1) noise: the best MA(1) fit's misfit less the
+        best AR(1) fit's, in χ² units (positive: AR(1) fits better).
+
+        Notes
+        -----
+        docs/algorithms.md §E2 *Differenced or AR(1)*: both one-parameter shapes, fitted by
+        weighted least squares over a grid (MA(1): ``r`` from -1 to 1, a shape, not only an
+        invertible process: a differenced record's sample lag-1 correlation goes below
+        -1/2), each misfit ``Σ_k ((acf_k - model_k) / (band_k / 1.96))²`` over every lag
+        tested. MA(1) noise departs at lag 1 alone, AR(1) noise at every lag by ``φ^k``.
+        """
+        r = np.linspace(-1.0, 1.0, 201)
+        _, _, pair, alpha = self._ma_design(1)
+        ma = alpha[1 : self.acf.size + 1] + r[:, None] * pair[:, 0]
+        ma /= 1.0 + 2.0 * r[:, None] * alpha[1]
+        ma_misfit = float(np.min(self._misfit(ma)))
+        return (ma_misfit - self.ar1[1]) * 1.96**2
 
     @cached_property
     def oscillation(self) -> Oscillation | None:
@@ -238,15 +304,9 @@ class WhitenessTest:
 
         Notes
         -----
-        Noise of autocorrelation ``φ^|m|`` through a filter of autocorrelation ``α`` gives a
-        residual of autocorrelation ``Σ_m α_m φ^|k-m|`` over its lag-0 value; ``α`` beyond
-        the lags tested is taken as 0 (exact when they reach the filter's span).
+        :attr:`ar1`'s models, over φ >= 0 only.
         """
-        k, m = np.arange(self.acf.size + 1), np.arange(-self.acf.size, self.acf.size + 1)
-        am = np.r_[1.0, self.expected][np.abs(m)]
-        phi = np.linspace(0.0, 0.95, 20)
-        rho = (phi[:, None, None] ** np.abs(k[:, None] - m[None, :])) @ am
-        model = rho[:, 1:] / rho[:, :1]
+        model = self._ar1_models(np.linspace(0.0, 0.95, 20))
         white = float(self._misfit(self.expected))
         return float(1.0 - np.min(self._misfit(model)) / white) if white > 0 else 0.0
 

@@ -418,7 +418,8 @@ def differenced(result: VarianceEstimate, d: NDArray, r: NDArray) -> VarianceEst
     said = said or f"lag-1 correlation {values}"
     notes = [
         *result.notes,
-        f"the noise looks differenced ({said}): the white-noise estimate was multiplied by "
+        f"the noise is correlated over short lags ({said}: differenced data, or AR(1) noise "
+        f"of negative φ): the white-noise estimate was multiplied by "
         f"{factor:.3g}, the residual's response to such noise",
     ]
     return replace(

@@ -335,7 +335,7 @@ def run_record(
         # differenced noise is corrected through the residual filter's own correlation
         # (conclude): a span chosen per block has none, so the fixed coloured-noise span
         extra = {}
-        if diag.whiteness.p_value < COLOURED_P or diag.differenced:
+        if diag.whiteness.p_value < COLOURED_P or diag.short_correlated:
             extra = _coloured_extra(spec, params)
         lone = record_glitches(record, result.outliers, diag)
         first = result
@@ -434,7 +434,7 @@ def _edge(
     """Near :data:`COLOURED_P` (:func:`~.interval.edge_weight`): the estimate the threshold
     did not choose and the coloured one's weight (docs/algorithms.md §E1 *At the edge of white*)."""
     w = edge_weight(diag.whiteness.p_value, COLOURED_P)
-    if diag.differenced or not 0.0 < w < 1.0 or not _coloured_extra(spec, params):
+    if diag.short_correlated or not 0.0 < w < 1.0 or not _coloured_extra(spec, params):
         return None
     return (first, w) if result is not first else (_coloured(spec, record, first, params), w)
 
@@ -518,7 +518,7 @@ def conclude(
     def own(result: VarianceEstimate) -> VarianceEstimate:
         if spec.finish is not None:
             result = spec.finish(result, diag, record)
-        if not (diag.differenced and spec.residual is not None):
+        if not (diag.short_correlated and spec.residual is not None):
             return honest_interval(result, diag, glitches) if spec.moment else result
         d = spec.residual(result.params)
         result = differenced(result, d, diag.noise_correlation)
