@@ -139,8 +139,8 @@ class KalmanTuning:
     record : RecordCheck or None
         ``r`` beside the record's answer (:func:`noisevar.estimate`, method auto) for the same
         regime choice: whether they agree, the fit's assumptions the record breaks, the R to
-        use and what to do (its ``note`` is the last of ``notes``); None for a given
-        ``(q, r)`` or a record the estimate refuses (a note says so).
+        use and what to do (its ``note`` is the last of ``notes``); None for a record the
+        estimate refuses (a note says so).
     """
 
     model: str
@@ -549,12 +549,11 @@ def evaluate_kalman(
         if not np.isfinite(v):
             raise NoisevarError(f"{name} must be finite, got {v!r}")
     e = scale_exponent(arr, SCALE_RANGE)
-    if e:
-        qs, rs = (float(np.ldexp(float(v), 2 * e)) for v in (q, r))
-        if not all(np.isfinite(v) and v > 0 for v in (qs, rs)):
-            raise NoisevarError("q and r are out of floating-point range for this record's scale")
-        return rescale_tuning(_tuning(np.ldexp(arr, e), model, dt, rate, qs, rs, "given", []), e)
-    return _tuning(arr, model, dt, rate, float(q), float(r), "given", [])
+    qs, rs = (float(np.ldexp(float(v), 2 * e)) for v in (q, r))
+    if not all(np.isfinite(v) and v > 0 for v in (qs, rs)):
+        raise NoisevarError("q and r are out of floating-point range for this record's scale")
+    fit = _tuning(np.ldexp(arr, e), model, dt, rate, qs, rs, "given", [])
+    return with_record(rescale_tuning(fit, e) if e else fit, record_estimate(arr))
 
 
 def run_tuned(tuning: KalmanTuning, z: ArrayLike) -> TunedRun:

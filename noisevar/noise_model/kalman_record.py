@@ -24,7 +24,10 @@ from noisevar.format import eng, eng_range
 #: Where each regime choice's R is measured.
 WHERE = {"all": "the whole record", "still": "its still regimes"}
 #: What to do when the noise level varies and the record has a still R.
-USE_STILL = "fit the still regimes only (regimes='still'; CLI --regimes still)"
+USE_STILL = (
+    "fit the still regimes only (regimes='still'; CLI --regimes still; dashboard: tick the "
+    "still regimes only)"
+)
 #: What to do when the noise level varies and no still stretch measures the sensor's noise.
 NO_STILL = "record the sensor still for a while"
 

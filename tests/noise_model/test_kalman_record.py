@@ -93,3 +93,14 @@ def test_to_dict_and_the_cli_carry_it(tmp_path) -> None:
     assert "record R  " in table and "inside its interval" in table
     assert f"R to use  {noisevar.format.eng(fit.record.use)} m²" in table
     assert "not met   the fit's assumption of one noise level (it varies" in table
+
+
+def test_a_given_q_and_r_are_checked_too() -> None:
+    from noisevar.noise_model import evaluate_kalman
+
+    z = track(1, "level")
+    fit = fit_kalman(z, model="rw")
+    given = evaluate_kalman(z, "rw", fit.q, fit.r)
+    assert given.record == fit.record and given.notes[-1] == fit.record.note
+    small = evaluate_kalman(z, "rw", fit.q, fit.record.use).record  # the still R, given
+    assert not small.agrees and small.ratio == pytest.approx(fit.record.use / fit.record.variance)
