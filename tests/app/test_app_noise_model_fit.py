@@ -105,3 +105,11 @@ def test_r_is_said_beside_the_records_answer():
     said = [w.value for w in at.warning if "r and the record's R" in w.value]
     assert said and "one noise level" in said[0] and "--regimes still" in said[0]
     assert any(m.value.startswith("R to use: **") for m in at.markdown)
+
+
+def test_the_models_table_says_r_against_the_records_r():
+    at = AppTest.from_function(_level_page, default_timeout=120).run()
+    _clean(at)
+    table = at.dataframe[0].value.set_index("model")
+    ratio = table["r / record's R"]
+    assert ratio.notna().all() and ((ratio > 0.9) & (ratio < 1.1)).all()
