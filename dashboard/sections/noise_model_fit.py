@@ -19,7 +19,6 @@ from dashboard import workers
 from dashboard.budget import cached
 from dashboard.widgets import fmt, guarded, lazy_expander, show_figure, show_table
 from noisevar.config import filter_config_json
-from noisevar.estimators.answer import WHY_DIFFERENT
 from noisevar.estimators.regimes import DEFAULT_REGIMES
 from noisevar.figures.kalman_tuning import (
     coloured_rows,
@@ -29,7 +28,7 @@ from noisevar.figures.kalman_tuning import (
     tuned_run_figure,
     tuning_rows,
 )
-from noisevar.format import pvalue
+from noisevar.format import pvalue, squared
 from noisevar.noise_model import KalmanTuning, fit_coloured_noise, fit_kalman, run_tuned
 from noisevar.noise_model.export import APPLY_COMMAND, filterpy_snippet, gain_text
 from noisevar.noise_model.kalman_fit import METHODS, MODELS
@@ -112,7 +111,22 @@ def _verdict(t: KalmanTuning) -> None:
     else:
         st.warning(f"The {t.model!r} filter does not fit this record. {text}")
     for note in t.notes:
-        st.caption(note)
+        if t.record is None or note != t.record.note:  # that one is said by _record
+            st.caption(note)
+
+
+def _record(t: KalmanTuning, unit: str) -> None:
+    """r beside the record's answer (``KalmanTuning.record``): agree, or why not and what to do."""
+    c = t.record
+    if c is None:
+        return
+    text = f"**r and the record's R (method auto).** {c.note}."
+    if c.agrees and not c.broken:
+        st.info(text)
+        return
+    st.warning(text)
+    use = "none (no still stretch measures it)" if c.use is None else fmt(c.use, unit=squared(unit))
+    st.markdown(f"R to use: **{use}**; this fit's r: {fmt(t.r, unit=squared(unit))}.")
 
 
 def _exports(t: KalmanTuning, column: str | None, unit: str, record: dict[str, str] | None) -> None:
@@ -224,7 +238,7 @@ def render_fit(
             f"Suggested **q = {fmt(t.q)}** {t.units['q']} and **r = {fmt(t.r)}** {t.units['r']} "
             f"(h = qT^k/r = {fmt(t.h)}); steady-state gain: {gain_text(t)}."
         )
-        st.caption(f"This r differs from the record's answer above: {WHY_DIFFERENT['kalman']}.")
+        _record(t, unit)
         _exports(t, column, unit, record)
         if t.regimes != DEFAULT_REGIMES:
             st.caption("Fitted on the still stretch; below, the filter runs on the whole record.")

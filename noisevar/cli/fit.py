@@ -51,8 +51,24 @@ def _print_table(t: Any, args: argparse.Namespace, column: str, unit: str = "u")
     tails = "Gaussian" if t.innovations_gaussian else "NOT Gaussian"
     print(f"innov.    {white} (Ljung-Box {pvalue(t.ljung_box_p)})   loglik {t.loglik:.6g}")
     print(f"tails     {tails} (kurtosis {t.innovations_kurtosis:.3g}; Gaussian 3)")
+    _print_record(t.record, _said("u²", unit))
     for note in t.notes:
         print(f"note      {note}")
+
+
+def _print_record(c: Any, var_unit: str) -> None:
+    """The record's answer beside r (``KalmanTuning.record``): R, its interval, the R to use."""
+    if c is None:
+        return
+    where = "inside" if c.agrees else "OUTSIDE"
+    print(
+        f"record R  {eng(c.variance)} {var_unit}  (95 % {eng_range(*c.ci95)}; method auto "
+        f"over {c.where}): r is {c.ratio:.3g}x, {where} its interval"
+    )
+    use = "none (no still stretch measures it)" if c.use is None else f"{eng(c.use)} {var_unit}"
+    print(f"R to use  {use}")
+    for broken in c.broken:
+        print(f"not met   the fit's assumption of {broken}")
 
 
 def _load(

@@ -55,6 +55,8 @@ def tuning_rows(tunings: dict[str, KalmanTuning]) -> list[dict[str, object]]:
                 "q unit": t.units.get("q", ""),
                 "r": eng(t.r),
                 "r 95 %": eng_range(*t.r_interval),
+                # r against the record's answer (auto's R): which model agrees with it
+                "r / record's R": None if t.record is None else round(t.record.ratio, 3),
                 "h": eng(t.h),
                 "log-likelihood": t.loglik,
                 "ΔBIC": t.bic - min(u.bic for u in tunings.values()),

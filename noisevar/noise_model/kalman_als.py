@@ -1,12 +1,17 @@
-"""Autocovariance least squares' pieces: a fixed-gain predictor's innovations and their
-autocovariances per unit q and r (:func:`noisevar.noise_model.kalman_fit.fit_kalman`)."""
+"""Autocovariance least squares (:func:`noisevar.noise_model.kalman_fit.fit_kalman`'s
+``method="als"``): a fixed-gain predictor's innovations, their autocovariances per unit q
+and r, and the iterated fit (docs/algorithms.md §E6 *ALS*)."""
 
 from __future__ import annotations
 
 import numpy as np
 import scipy.linalg
+import scipy.optimize
 import scipy.signal
 from numpy.typing import NDArray
+
+from noisevar.errors import NoisevarError
+from noisevar.noise_model._steady import steady_state
 
 
 def als_columns(F: NDArray, hv: NDArray, Q1: NDArray, Kp: NDArray, lags: int) -> NDArray:
@@ -31,3 +36,48 @@ def innovations_lti(zc: NDArray, F: NDArray, hv: NDArray, Kp: NDArray) -> NDArra
     Abar = F - np.outer(Kp, hv)
     b, a = scipy.signal.ss2tf(Abar, Kp[:, None], -hv[None, :], np.array([[1.0]]))
     return scipy.signal.lfilter(b[0], a, zc)
+
+
+def als_fit(
+    zc: NDArray, fhq: tuple[NDArray, NDArray, NDArray], tk: float, lags: int, h_floor: float
+) -> tuple[float, float, list[str]]:
+    """Iterated ALS: fit (q, r), rebuild the gain from the fit, fit again (at most 12 times).
+
+    ``fhq`` is the model's ``(F, h, Q / q)``, ``tk`` its ``T^k`` (``h = q T^k / r``),
+    ``h_floor`` the smallest ``h`` a retry with a slower gain goes to.
+    """
+    F, hv, Q1 = fhq
+    notes: list[str] = []
+    h_ratio, q, r = 1.0, 0.0, 0.0
+    for _ in range(12):
+        _, K, _ = steady_state(F, hv, Q1 * (h_ratio / tk), 1.0)
+        Kp = F @ K
+        rho = max(abs(np.linalg.eigvals(F - np.outer(Kp, hv))))
+        burn = int(min(zc.size // 4, 20 + 40 / max(1.0 - rho, 1e-3)))
+        e = innovations_lti(zc, F, hv, Kp)[burn:]
+        m = e.size
+        # C_j = mean(e_{k+j} e_k)
+        c = np.array([np.dot(e[j:], e[: m - j]) / (m - j) for j in range(lags)])
+        A = als_columns(F, hv, Q1, Kp, lags)
+        scale = np.linalg.norm(A, axis=0)
+        scale[scale == 0] = 1.0
+        sol, _ = scipy.optimize.nnls(A / scale, c)
+        q, r = sol / scale
+        if q <= 0 and h_ratio > h_floor:
+            h_ratio *= 1e-2  # q hidden by a gain too fast for it: try a slower filter
+            continue
+        if r <= 0 or q <= 0:
+            break
+        new = q * tk / r
+        done = abs(np.log(new / h_ratio)) < 1e-3
+        h_ratio = new
+        if done:
+            break
+    if q <= 0:
+        notes.append("ALS found no process noise (q = 0): the record is a polynomial plus noise")
+    if r <= 0:
+        raise NoisevarError(
+            "ALS found no measurement noise (r = 0): the record is too smooth for this model; "
+            "use method='mle' or a lower-order model"
+        )
+    return float(q), float(r), notes

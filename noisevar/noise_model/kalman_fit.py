@@ -31,7 +31,8 @@ from noisevar.format import pvalue
 from noisevar.kalman.divergence import nis_band
 from noisevar.noise_model._rescale import rescale_tuning
 from noisevar.noise_model._steady import FilterPass, diffuse_start, filter_pass, steady_state
-from noisevar.noise_model.kalman_als import als_columns, innovations_lti
+from noisevar.noise_model.kalman_als import als_fit
+from noisevar.noise_model.kalman_record import RecordCheck, record_estimate, with_record
 from noisevar.noise_model.kalman_tails import (
     STEP,
     RobustCovariance,
@@ -135,6 +136,11 @@ class KalmanTuning:
         :data:`~noisevar.diagnostics.tails.HEAVY_KURTOSIS` the fit's Gaussian assumption is
         broken (:attr:`innovations_gaussian` False): a note says so (the intervals are the
         robust sandwich ones either way).
+    record : RecordCheck or None
+        ``r`` beside the record's answer (:func:`noisevar.estimate`, method auto) for the same
+        regime choice: whether they agree, the fit's assumptions the record breaks, the R to
+        use and what to do (its ``note`` is the last of ``notes``); None for a record the
+        estimate refuses (a note says so).
     """
 
     model: str
@@ -166,6 +172,7 @@ class KalmanTuning:
     notes: tuple[str, ...] = ()
     regimes: str = DEFAULT_REGIMES
     innovations_kurtosis: float = 3.0
+    record: RecordCheck | None = None
 
     @property
     def innovations_gaussian(self) -> bool:
@@ -214,6 +221,7 @@ class KalmanTuning:
             units=dict(self.units),
             notes=list(self.notes),
             regimes=self.regimes,
+            record=None if self.record is None else self.record.to_dict(),
         )
         return out
 
@@ -295,47 +303,6 @@ def _log_cov(
     # h not identified (at the bottom of its range: the likelihood flat, its score and
     # curvature both near 0, their sandwich meaningless; a NaN curvature): r's given h
     return sandwich(info[1:, 1:], scores[:, 1:]), False
-
-
-# ---------------------------------------------------------------- ALS
-def _als(zc: NDArray, model: str, dt: float, lags: int) -> tuple[float, float, list[str]]:
-    """Iterated ALS: fit (q, r), rebuild the gain from the fit, fit again (at most 12 times)."""
-    F, hv, Q1 = kinematic_model(model, dt)
-    k = MODELS[model][1]
-    notes: list[str] = []
-    h_ratio, q, r = 1.0, 0.0, 0.0
-    for _ in range(12):
-        _, K, _ = steady_state(F, hv, Q1 * (h_ratio / dt**k), 1.0)
-        Kp = F @ K
-        rho = max(abs(np.linalg.eigvals(F - np.outer(Kp, hv))))
-        burn = int(min(zc.size // 4, 20 + 40 / max(1.0 - rho, 1e-3)))
-        e = innovations_lti(zc, F, hv, Kp)[burn:]
-        m = e.size
-        # C_j = mean(e_{k+j} e_k)
-        c = np.array([np.dot(e[j:], e[: m - j]) / (m - j) for j in range(lags)])
-        A = als_columns(F, hv, Q1, Kp, lags)
-        scale = np.linalg.norm(A, axis=0)
-        scale[scale == 0] = 1.0
-        sol, _ = scipy.optimize.nnls(A / scale, c)
-        q, r = sol / scale
-        if q <= 0 and h_ratio > 10.0 ** LOG10_H_RANGE[0]:
-            h_ratio *= 1e-2  # q hidden by a gain too fast for it: try a slower filter
-            continue
-        if r <= 0 or q <= 0:
-            break
-        new = q * dt**k / r
-        done = abs(np.log(new / h_ratio)) < 1e-3
-        h_ratio = new
-        if done:
-            break
-    if q <= 0:
-        notes.append("ALS found no process noise (q = 0): the record is a polynomial plus noise")
-    if r <= 0:
-        raise NoisevarError(
-            "ALS found no measurement noise (r = 0): the record is too smooth for this model; "
-            "use method='mle' or a lower-order model"
-        )
-    return float(q), float(r), notes
 
 
 # ---------------------------------------------------------------- public
@@ -509,15 +476,33 @@ def fit_kalman(
         raise NoisevarError(f"unknown method {method!r}; choose one of: {', '.join(METHODS)}")
     if not isinstance(lags, int) or lags < 3:
         raise NoisevarError(f"lags must be an integer of at least 3, got {lags!r}")
-    e = scale_exponent(arr, SCALE_RANGE)
-    if e:  # scale-safe: the fit on z 2**e (exact), q and r back (estimators' _scale)
-        fit = fit_kalman(np.ldexp(arr, e), model, rate, method, lags, progress, regimes)
-        return rescale_tuning(fit, e)
+    est = record_estimate(arr)
     notes: list[str] = []
     if check_regimes(regimes) == "still":
-        stretch = longest_still_stretch(arr, min_samples(model), f"the {model!r} model")
+        need, purpose = min_samples(model), f"the {model!r} model"
+        stretch = longest_still_stretch(arr, need, purpose, est)
         arr, _ = _check_input(stretch.take(arr), model, rate)
         notes.append(stretch.note)
+    e = scale_exponent(arr, SCALE_RANGE)
+    # scale-safe: the fit on z 2**e (exact), q and r back (estimators' _scale)
+    fit = _fit(np.ldexp(arr, e), model, dt, rate, method, lags, progress, notes)
+    fit = replace(rescale_tuning(fit, e) if e else fit, regimes=regimes)
+    if progress is not None:
+        progress(1.0)
+    return with_record(fit, est)
+
+
+def _fit(
+    arr: NDArray,
+    model: str,
+    dt: float,
+    rate: float | None,
+    method: str,
+    lags: int,
+    progress: Callable[[float], None] | None,
+    notes: list[str],
+) -> KalmanTuning:
+    """:func:`fit_kalman` on a record of safe magnitude (its stretch already taken)."""
     chosen = DEFAULT_METHOD if method == "auto" else method
     zc = arr - arr[0]
     k = MODELS[model][1]
@@ -532,12 +517,10 @@ def fit_kalman(
         if top:
             notes.append("h is at the top of its range: the measurement noise is negligible")
     else:
-        q, r, als_notes = _als(zc, model, dt, lags)
+        F, hv, Q1 = kinematic_model(model, dt)
+        q, r, als_notes = als_fit(zc, (F, hv, Q1), dt**k, lags, 10.0 ** LOG10_H_RANGE[0])
         notes += als_notes
-    out = replace(_tuning(arr, model, dt, rate, q, r, chosen, notes), regimes=regimes)
-    if progress is not None:
-        progress(1.0)
-    return out
+    return _tuning(arr, model, dt, rate, q, r, chosen, notes)
 
 
 def evaluate_kalman(
@@ -566,12 +549,11 @@ def evaluate_kalman(
         if not np.isfinite(v):
             raise NoisevarError(f"{name} must be finite, got {v!r}")
     e = scale_exponent(arr, SCALE_RANGE)
-    if e:
-        qs, rs = (float(np.ldexp(float(v), 2 * e)) for v in (q, r))
-        if not all(np.isfinite(v) and v > 0 for v in (qs, rs)):
-            raise NoisevarError("q and r are out of floating-point range for this record's scale")
-        return rescale_tuning(_tuning(np.ldexp(arr, e), model, dt, rate, qs, rs, "given", []), e)
-    return _tuning(arr, model, dt, rate, float(q), float(r), "given", [])
+    qs, rs = (float(np.ldexp(float(v), 2 * e)) for v in (q, r))
+    if not all(np.isfinite(v) and v > 0 for v in (qs, rs)):
+        raise NoisevarError("q and r are out of floating-point range for this record's scale")
+    fit = _tuning(np.ldexp(arr, e), model, dt, rate, qs, rs, "given", [])
+    return with_record(rescale_tuning(fit, e) if e else fit, record_estimate(arr))
 
 
 def run_tuned(tuning: KalmanTuning, z: ArrayLike) -> TunedRun:

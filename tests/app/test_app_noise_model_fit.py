@@ -82,3 +82,34 @@ def test_bad_rate_is_one_error():
     at = AppTest.from_function(_page, args=(500, -1.0, 3), default_timeout=60).run()
     assert not at.exception
     assert len(at.error) == 1 and "rate" in at.error[0].value
+
+
+def _level_page() -> None:
+    import numpy as np
+
+    from dashboard.sections.noise_model_fit import render_fit
+
+    rng = np.random.default_rng(3)
+    e = rng.normal(0, 1.0, 4000)
+    e[2000:] *= 3.0  # the noise level changes: a still R to use beside r
+    render_fit(np.cumsum(rng.normal(0, 0.1, 4000)) + e, 10.0)
+
+
+def test_r_is_said_beside_the_records_answer():
+    at = AppTest.from_function(_page, args=(3000, 10.0, 1), default_timeout=120).run()
+    _clean(at)
+    assert any("r and the record's R (method auto)" in i.value for i in at.info)
+    assert any("r agrees with the record's R" in i.value for i in at.info)
+    at = AppTest.from_function(_level_page, default_timeout=120).run()
+    _clean(at)
+    said = [w.value for w in at.warning if "r and the record's R" in w.value]
+    assert said and "one noise level" in said[0] and "--regimes still" in said[0]
+    assert any(m.value.startswith("R to use: **") for m in at.markdown)
+
+
+def test_the_models_table_says_r_against_the_records_r():
+    at = AppTest.from_function(_level_page, default_timeout=120).run()
+    _clean(at)
+    table = at.dataframe[0].value.set_index("model")
+    ratio = table["r / record's R"]
+    assert ratio.notna().all() and ((ratio > 0.9) & (ratio < 1.1)).all()
