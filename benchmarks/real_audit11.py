@@ -106,7 +106,7 @@ from real_audit import (  # noqa: E402
     ref_row,
     to_use,
 )
-from real_audit3 import _one_line, process  # noqa: E402
+from real_audit3 import _one_line, fit_said, process  # noqa: E402
 from real_audit5 import one_answer  # noqa: E402
 from real_audit8 import _TO_DO, finding_kept, grid_reference, held_reference  # noqa: E402
 from real_audit9 import _HOLDERS, differenced_reference, glitch_reference  # noqa: E402
@@ -371,16 +371,14 @@ def stale_reference(z: np.ndarray) -> dict:
 
 
 def fit_reference(name: str, col: str) -> dict:
-    """3h: ``noisevar fit`` gives an r inside the estimate's ci95, or refuses in one line."""
+    """3h: ``noisevar fit`` gives an r inside the estimate's ci95 or names the assumption the
+    record breaks, or refuses in one line (`real_audit3.fit_said`)."""
     path = user_file(name)
     z, t = channel_record(load_table(path), col, drop_nonfinite=True)
     keep = np.isfinite(z)
     est = nv.estimate(z[keep], t=None if t is None else t[keep])
     rc, out, err = process("fit", path, "--column", col, "--drop-nonfinite", "--format", "json")
-    r = json.loads(out)["r"] if rc == 0 else float("nan")
-    fail = [] if (rc == 0 or _one_line(rc, err)) else [f"exit {rc}: {err[:120]}"]
-    if rc == 0 and not est.ci95[0] <= r <= est.ci95[1]:
-        fail.append(f"fit's r x{r / est.variance:.3g} R, outside its ci95")
+    r, fail = fit_said(est, rc, out, err)
     return ref_row(name, f"{col} (noisevar fit)", "the Kalman fit's r", r, est, fail)
 
 

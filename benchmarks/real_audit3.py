@@ -126,6 +126,25 @@ def _one_line(rc: int, err: str) -> bool:
     return rc == 2 and err.count("\n") == 0 and "Traceback" not in err
 
 
+def fit_said(
+    est: noisevar.VarianceEstimate, rc: int, out: str, err: str
+) -> tuple[float, list[str]]:
+    """``noisevar fit --format json``'s r against the record's R: r inside R's ci95, or
+    outside with the fit's assumption the record breaks named (its ``record`` check), its
+    record R the estimate's (one answer); or a one-line refusal. Returns r and the failures.
+    """
+    if rc != 0:
+        return float("nan"), [] if _one_line(rc, err) else [f"exit {rc}: {err[:120]}"]
+    said = json.loads(out)
+    r, record = said["r"], said.get("record") or {}
+    fail = []
+    if record and abs(record["variance"] - est.variance) > 1e-6 * est.variance:
+        fail.append(f"fit's record R {record['variance']:.6g}, the estimate's {est.variance:.6g}")
+    if not est.ci95[0] <= r <= est.ci95[1] and not record.get("broken"):
+        fail.append(f"fit's r x{r / est.variance:.3g} R, outside its ci95, no cause said")
+    return r, fail
+
+
 # ---------------------------------------------------------------- records
 def gpx_points(fname: str) -> pd.DataFrame:
     """A gpxpy test track: ISO time (or none), lat, lon, ele of every track point."""
