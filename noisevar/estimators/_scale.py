@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from noisevar.diagnostics.quantisation import half_a_step, held_step
 from noisevar.errors import NoisevarError
 
 #: Largest magnitudes (powers of two) left as they are: squares and sums of squares of
@@ -211,6 +212,37 @@ def unscale(results: Sequence[Any], e: int) -> None:
         r.notes.append(f"computed on a copy scaled by 2^{e} (exact) to keep the squares in range")
 
 
+class ZeroVariance(NoisevarError):
+    """:func:`check_answer`'s refusal of a variance of 0 (:func:`held_refusal` may say
+    more)."""
+
+
+def held_refusal(z: NDArray, method: str) -> NoisevarError | None:
+    """The refusal of a variance of 0 on samples ``z`` (in the record's units) held on a
+    grid: the noise is under the resolution, and the rounding error is the R to use; None
+    when ``z`` is on no grid.
+
+    Notes
+    -----
+    docs/algorithms.md §E3 (*Held values*): GENEActiv's temperature, 0.1 °C values held for
+    hundreds of samples, was told to "try another method such as 'rice'", whose R would be
+    its steps'.
+    """
+    step = held_step(z)
+    if step is None:
+        return None
+    moves = int(np.count_nonzero(np.diff(z)))
+    every = f", every {z.size / moves:.0f} samples on average" if moves else ""
+    return NoisevarError(
+        f"method {method!r} found a noise variance of 0 on this record: its values are held "
+        f"on a grid of step {step:.4g} (they change {moves} times in {z.size} samples{every}), "
+        "so the sensor's noise is under the resolution and cannot be measured; a filter "
+        f"reading them sees their rounding error: use R = lsb²/12 = {step * step / 12:.4g} "
+        f"(a bound: at most (1/4 + 1/12) lsb² = {half_a_step(step):.4g} while the noise stays "
+        "under half a step), or record the sensor at a finer resolution"
+    )
+
+
 def check_answer(result: Any) -> None:
     """Refuse a degenerate answer: a non-finite or zero variance, or an unusable interval.
 
@@ -228,7 +260,7 @@ def check_answer(result: Any) -> None:
             "larger than floating point can square; rescale the record first"
         )
     if var <= 0.0:
-        raise NoisevarError(
+        raise ZeroVariance(
             f"method {name!r} found a noise variance of {var:.3g} on this record (not positive: "
             "the noise is below the method's resolution, e.g. quantised samples, or a known "
             "reference variance is too large): try another method such as 'rice'"

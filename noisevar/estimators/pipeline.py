@@ -43,7 +43,13 @@ from noisevar.diagnostics.profile import LevelProfile, regimes_on_both_grids
 from noisevar.diagnostics.regimes import QuietLevel, StillLevel
 from noisevar.errors import NoisevarError
 from noisevar.estimators._input import check_samples, check_times
-from noisevar.estimators._scale import check_answer, held_but_for, unscale
+from noisevar.estimators._scale import (
+    ZeroVariance,
+    check_answer,
+    held_but_for,
+    held_refusal,
+    unscale,
+)
 from noisevar.estimators.differenced_interval import jackknife_interval
 from noisevar.estimators.interval import (
     LoneGlitches,
@@ -293,7 +299,10 @@ def estimate_record(
         )  # fmt: skip
     else:
         record = InMemory(spec, z, seg, run, jump_mask, notes)
-    return run_record(spec, record, params, scaled=scaled)
+    try:
+        return run_record(spec, record, params, scaled=scaled)
+    except ZeroVariance as exc:  # held values on a grid: say so, not another method
+        raise (held_refusal(np.ldexp(z, -scaled), spec.name) or exc) from None
 
 
 def run_record(
