@@ -15,8 +15,9 @@ rate is checked by :func:`check_rate` (``allan`` scales the rate by a power of t
 
 from __future__ import annotations
 
+import functools
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import fields, is_dataclass
 from typing import Any
 
@@ -241,6 +242,20 @@ def held_refusal(z: NDArray, method: str) -> NoisevarError | None:
         f"(a bound: at most (1/4 + 1/12) lsb² = {half_a_step(step):.4g} while the noise stays "
         "under half a step), or record the sensor at a finer resolution"
     )
+
+
+def refusing_held(run: Callable[..., Any], z: NDArray, scaled: int, method: str) -> Any:
+    """``run``, raising :func:`held_refusal` of ``z`` (the samples times ``2**scaled``) in
+    place of a :class:`ZeroVariance`, when ``z`` is on a grid."""
+
+    @functools.wraps(run)
+    def refusing(*args: Any, **kwargs: Any) -> Any:
+        try:
+            return run(*args, **kwargs)
+        except ZeroVariance as exc:
+            raise (held_refusal(np.ldexp(z, -scaled), method) or exc) from None
+
+    return refusing
 
 
 def check_answer(result: Any) -> None:
