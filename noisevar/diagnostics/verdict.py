@@ -102,7 +102,7 @@ def make_verdict(
     str
     """
     if unchecked(diag.n, diag):
-        return short_verdict(diag.n, variance, diag)
+        return short_verdict(diag.n, variance, diag) + short_outliers(variance, core, outliers)
     if glitches_lead(diag, variance, core, outliers):
         assert core is not None  # glitches_lead said so
         quiet = still if still is not None else diag.quiet_variance
@@ -263,6 +263,20 @@ def short_verdict(n: int, variance: float, diag: NoiseDiagnostics | None = None)
         f"{SHORT_RECORD}){_weak_findings(diag)}; measure a longer record before trusting it "
         "in a filter"
     )
+
+
+def short_outliers(variance: float, core: float | None, outliers: float) -> str:
+    """What a short record's verdict adds when a few outlying samples hold nearly all of R
+    (:func:`outliers_hold` at :data:`OUTLIERS_SOME` and :data:`GLITCHES_DOMINATE`, as a long
+    record's): its tails cannot be tested, but R over 10x its core is evidence at any
+    length, and one sample in under 100 is already over :data:`OUTLIERS_FEW` of them.
+
+    Notes
+    -----
+    docs/algorithms.md §E2 (*Short records*): Edge's smart-recorded cadence (96 samples)
+    had R 122x its core from 3 samples, unsaid (``benchmarks/real_audit11.py``).
+    """
+    return outliers_hold(variance, core, outliers, OUTLIERS_SOME, GLITCHES_DOMINATE)
 
 
 def _weak_findings(diag: NoiseDiagnostics | None) -> str:
