@@ -93,10 +93,11 @@ def _stored_step(z: NDArray) -> float | None:
     the same (random values are not: each of thousands would have to fall within
     :data:`LSB_TOL` of a multiple).
     """
-    written = _above_resolution(z)
-    if written:  # a grid under the rounding of the written digits (offset-free)
-        return written
     step = _d2_step(z, ROUNDING_EPS)
+    if step is None or (step > 0 and _power_of_ten(step)):  # under the written digits?
+        written = _above_resolution(z)
+        if written:
+            return written
     if step is not None and step >= F32_EPS * float(np.max(np.abs(z))):
         coarse = _float32_spacing_moved(z, step)
         return coarse or step  # coarser than float32's rounding: a grid (most grids end here)
@@ -133,6 +134,12 @@ def written_resolution(z: NDArray) -> float | None:
             return unit
         k -= 1
     return None
+
+
+def _power_of_ten(x: float) -> bool:
+    """``x`` is a power of ten (to float64's rounding of its logarithm)."""
+    e = float(np.log10(x))
+    return abs(e - round(e)) < 1e-9
 
 
 def _multiples(d: NDArray, unit: float, tol: float) -> bool:

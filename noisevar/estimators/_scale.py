@@ -220,8 +220,8 @@ class ZeroVariance(NoisevarError):
 
 def held_refusal(z: NDArray, method: str) -> NoisevarError | None:
     """The refusal of a variance of 0 on samples ``z`` (in the record's units) held on a
-    grid: the noise is under the resolution, and the rounding error is the R to use; None
-    when ``z`` is on no grid.
+    grid (most samples repeat the one before): the noise is under the resolution, and the
+    rounding error is the R to use; None when ``z`` is not held or on no grid (a line).
 
     Notes
     -----
@@ -229,10 +229,10 @@ def held_refusal(z: NDArray, method: str) -> NoisevarError | None:
     hundreds of samples, was told to "try another method such as 'rice'", whose R would be
     its steps'.
     """
-    step = held_step(z)
+    moves = int(np.count_nonzero(np.diff(z)))
+    step = held_step(z) if 2 * moves < z.size else None  # most samples repeat the last
     if step is None:
         return None
-    moves = int(np.count_nonzero(np.diff(z)))
     every = f", every {z.size / moves:.0f} samples on average" if moves else ""
     return NoisevarError(
         f"method {method!r} found a noise variance of 0 on this record: its values are held "
