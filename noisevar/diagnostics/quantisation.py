@@ -111,19 +111,20 @@ def _stored_step(z: NDArray) -> float | None:
 
 
 def written_resolution(z: NDArray) -> float | None:
-    """The largest power of ten that every first difference of ``z`` is a whole multiple
+    """The largest power of ten that every second difference of ``z`` is a whole multiple
     of, to float64's rounding or :data:`UNIT_TOL` of it (the decimal digits the samples
     were written with); None when there is none above :data:`ROUNDING_STEPS` times float64's
-    rounding, or no difference.
+    rounding, or no second difference above it.
 
     Notes
     -----
-    First differences do not see an offset, so neither does this resolution: 926.146 m
-    written in mm has 0.001 at +0 and at +1000 m. Binary digits (float32) are not read
-    here: float32 rounding scaled after is no written digit (:func:`_stored_step`).
+    Second differences see neither an offset nor a linear trend, so neither does this
+    resolution: 926.146 m written in mm has 0.001 at +0, at +1000 m and on a ramp. Binary
+    digits (float32) are not read here: float32 rounding scaled after is no written digit
+    (:func:`_stored_step`).
     """
     tol = ROUNDING_EPS * float(np.max(np.abs(z), initial=0.0))
-    d = np.abs(np.diff(z))
+    d = np.abs(np.diff(z, 2))
     d = d[d > tol]
     if not d.size:
         return None

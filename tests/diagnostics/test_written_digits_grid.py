@@ -39,6 +39,8 @@ def test_r_and_the_verdict_do_not_move_under_an_offset(seed) -> None:
     assert a.diagnostics.lsb == pytest.approx(0.1524, rel=1e-3)
 
 
-def test_the_written_resolution_does_not_see_an_offset() -> None:
+def test_the_written_resolution_does_not_see_an_offset_or_a_trend() -> None:
     z = _half_feet(5)
-    assert [written_resolution(z + m) for m in (0.0, 1000.0, -900.0)] == [0.001] * 3
+    ramp = np.linspace(0.0, 1e3 * float(np.std(z)), z.size)
+    moved = [z, z + 1000.0, z - 900.0, z + ramp]
+    assert [written_resolution(x) for x in moved] == [0.001] * 4
