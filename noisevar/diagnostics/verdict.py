@@ -101,8 +101,9 @@ def make_verdict(
     -------
     str
     """
-    if unchecked(diag.n, diag):
-        return short_verdict(diag.n, variance, diag) + short_outliers(variance, core, outliers)
+    holders = outliers_hold(variance, core, outliers, OUTLIERS_SOME, GLITCHES_DOMINATE)
+    if unchecked(diag.n, diag):  # R over 10x its core is evidence at any length
+        return short_verdict(diag.n, variance, diag) + holders
     if glitches_lead(diag, variance, core, outliers):
         assert core is not None  # glitches_lead said so
         quiet = still if still is not None else diag.quiet_variance
@@ -117,8 +118,7 @@ def make_verdict(
     # off a grid's half step (there the rounding's flips are the outlying samples)
     rounding = under_half_a_step(diag, variance)
     if still is not None or diag.level_varies:  # named after the finding, when nearly all of R
-        held = outliers_hold(variance, core, outliers, OUTLIERS_SOME, GLITCHES_DOMINATE)
-        return said + ("" if "outlying" in said else held)
+        return said + ("" if "outlying" in said else holders)
     if rounding or not lead or "core variance" in said:
         return said
     assert core is not None  # outliers_hold said so
@@ -263,20 +263,6 @@ def short_verdict(n: int, variance: float, diag: NoiseDiagnostics | None = None)
         f"{SHORT_RECORD}){_weak_findings(diag)}; measure a longer record before trusting it "
         "in a filter"
     )
-
-
-def short_outliers(variance: float, core: float | None, outliers: float) -> str:
-    """What a short record's verdict adds when a few outlying samples hold nearly all of R
-    (:func:`outliers_hold` at :data:`OUTLIERS_SOME` and :data:`GLITCHES_DOMINATE`, as a long
-    record's): its tails cannot be tested, but R over 10x its core is evidence at any
-    length, and one sample in under 100 is already over :data:`OUTLIERS_FEW` of them.
-
-    Notes
-    -----
-    docs/algorithms.md §E2 (*Short records*): Edge's smart-recorded cadence (96 samples)
-    had R 122x its core from 3 samples, unsaid (``benchmarks/real_audit11.py``).
-    """
-    return outliers_hold(variance, core, outliers, OUTLIERS_SOME, GLITCHES_DOMINATE)
 
 
 def _weak_findings(diag: NoiseDiagnostics | None) -> str:
