@@ -25,6 +25,14 @@ F32_SEEN = 8
 #: values fall within LSB_TOL of a multiple of the least 1 time in 500 at most, so 8 that
 #: all do are no chance (an offset over a reset left one, the reset's, read as a "grid").
 F32_CONFIRM = 8
+#: Rounding to the decimal digits the samples are written with (the largest power of ten
+#: every first difference is a whole multiple of), seen in a second difference: half a unit
+#: on each of three samples weighed 1, 2, 1 is 2 units at most.
+WRITTEN_SEEN = 2
+#: A first difference on the written resolution is within this fraction of a unit of a
+#: whole multiple: float64's rounding at the values' size before an offset moved them
+#: (926.146 - 900 keeps 926's); random values fall there 1 time in 5e5.
+UNIT_TOL = 1e-6
 
 
 def half_a_step(lsb: float) -> float:
@@ -86,6 +94,10 @@ def _stored_step(z: NDArray) -> float | None:
     :data:`LSB_TOL` of a multiple).
     """
     step = _d2_step(z, ROUNDING_EPS)
+    if step is None or (step > 0 and _power_of_ten(step)):  # under the written digits?
+        written = _above_resolution(z)
+        if written:
+            return written
     if step is not None and step >= F32_EPS * float(np.max(np.abs(z))):
         coarse = _float32_spacing_moved(z, step)
         return coarse or step  # coarser than float32's rounding: a grid (most grids end here)
@@ -96,6 +108,72 @@ def _stored_step(z: NDArray) -> float | None:
         eps = F32_SEEN * seen / float(np.max(np.abs(z)))
         wide = _d2_step(z, eps)
     return (_confirmed(z, eps, wide) if wide else None) or step
+
+
+def written_resolution(z: NDArray) -> float | None:
+    """The largest power of ten that every second difference of ``z`` is a whole multiple
+    of, to float64's rounding or :data:`UNIT_TOL` of it (the decimal digits the samples
+    were written with); None when there is none above :data:`ROUNDING_STEPS` times float64's
+    rounding, or no second difference above it.
+
+    Notes
+    -----
+    Second differences see neither an offset nor a linear trend, so neither does this
+    resolution: 926.146 m written in mm has 0.001 at +0, at +1000 m and on a ramp. Binary
+    digits (float32) are not read here: float32 rounding scaled after is no written digit
+    (:func:`_stored_step`).
+    """
+    tol = ROUNDING_EPS * float(np.max(np.abs(z), initial=0.0))
+    d = np.abs(np.diff(z, 2))
+    d = d[d > tol]
+    if not d.size:
+        return None
+    k = np.floor(np.log10(float(d.min())))
+    while (unit := float(10.0**k)) >= ROUNDING_STEPS * tol:
+        near = max(tol, UNIT_TOL * unit)
+        if _multiples(d[:64], unit, near) and _multiples(d, unit, near):
+            return unit
+        k -= 1
+    return None
+
+
+def _power_of_ten(x: float) -> bool:
+    """``x`` is a power of ten (to float64's rounding of its logarithm)."""
+    e = float(np.log10(x))
+    return abs(e - round(e)) < 1e-9
+
+
+def _multiples(d: NDArray, unit: float, tol: float) -> bool:
+    """Every ``d`` within ``tol`` of a whole multiple of ``unit``."""
+    return bool(np.max(np.abs(d - np.rint(d / unit) * unit)) <= tol)
+
+
+def _above_resolution(z: NDArray) -> float | None:
+    """The grid the second differences sit on up to the rounding of the samples' written
+    digits (:data:`WRITTEN_SEEN` times :func:`written_resolution`), at least
+    :data:`ROUNDING_STEPS` times that rounding, confirmed by :data:`F32_CONFIRM` second
+    differences above it and read from every multiple; else None.
+
+    Notes
+    -----
+    docs/algorithms.md §E3 (*The grid of the second differences*): Polar's altitude, a
+    0.1524 m grid written in mm (926.146), is off its grid by the mm, at every offset.
+    """
+    unit = written_resolution(z)
+    if unit is None:
+        return None
+    tol = WRITTEN_SEEN * unit + ROUNDING_EPS * float(np.max(np.abs(z)))
+    d2 = np.abs(np.diff(z, 2))
+    big = d2[d2 > tol]
+    if big.size < F32_CONFIRM or float(big.min()) <= ROUNDING_STEPS * tol:
+        return None
+    step = float(big.min())
+    if float(big.max()) / step > 1e9:
+        return None
+    one = big[big < 1.5 * step]  # a step apart: no multiple to mistake
+    step = float(one.mean())
+    step = float(big.sum() / np.rint(big / step).sum())
+    return step if _multiples(big, step, tol + LSB_TOL * step) else None
 
 
 def _float32_spacing_moved(z: NDArray, step: float) -> float | None:
@@ -182,6 +260,15 @@ def level_step(levels: NDArray) -> float | None:
     if step <= 0 or span / step > 1e9:
         return None
     return step if on_grid(steps, step) else None
+
+
+def held_step(z: NDArray) -> float | None:
+    """The grid step of held values ``z``: their distinct values' :func:`level_step`, else
+    their :func:`written_resolution` (a staircase of 0.2 and 0.3 steps written with one
+    decimal is on a grid of 0.1 at least); None on neither."""
+    levels = np.unique(z)
+    step = level_step(levels) if levels.size >= 2 else None
+    return step or written_resolution(z)
 
 
 def on_grid(x: NDArray, step: float) -> bool:

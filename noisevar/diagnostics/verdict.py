@@ -101,8 +101,9 @@ def make_verdict(
     -------
     str
     """
-    if unchecked(diag.n, diag):
-        return short_verdict(diag.n, variance, diag)
+    holders = outliers_hold(variance, core, outliers, OUTLIERS_SOME, GLITCHES_DOMINATE)
+    if unchecked(diag.n, diag):  # R over 10x its core is evidence at any length
+        return short_verdict(diag.n, variance, diag) + holders
     if glitches_lead(diag, variance, core, outliers):
         assert core is not None  # glitches_lead said so
         quiet = still if still is not None else diag.quiet_variance
@@ -117,8 +118,7 @@ def make_verdict(
     # off a grid's half step (there the rounding's flips are the outlying samples)
     rounding = under_half_a_step(diag, variance)
     if still is not None or diag.level_varies:  # named after the finding, when nearly all of R
-        held = outliers_hold(variance, core, outliers, OUTLIERS_SOME, GLITCHES_DOMINATE)
-        return said + ("" if "outlying" in said else held)
+        return said + ("" if "outlying" in said else holders)
     if rounding or not lead or "core variance" in said:
         return said
     assert core is not None  # outliers_hold said so

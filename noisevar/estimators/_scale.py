@@ -15,14 +15,16 @@ rate is checked by :func:`check_rate` (``allan`` scales the rate by a power of t
 
 from __future__ import annotations
 
+import functools
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import fields, is_dataclass
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from noisevar.diagnostics.quantisation import half_a_step, held_step
 from noisevar.errors import NoisevarError
 
 #: Largest magnitudes (powers of two) left as they are: squares and sums of squares of
@@ -211,6 +213,51 @@ def unscale(results: Sequence[Any], e: int) -> None:
         r.notes.append(f"computed on a copy scaled by 2^{e} (exact) to keep the squares in range")
 
 
+class ZeroVariance(NoisevarError):
+    """:func:`check_answer`'s refusal of a variance of 0 (:func:`held_refusal` may say
+    more)."""
+
+
+def held_refusal(z: NDArray, method: str) -> NoisevarError | None:
+    """The refusal of a variance of 0 on samples ``z`` (in the record's units) held on a
+    grid (most samples repeat the one before): the noise is under the resolution, and the
+    rounding error is the R to use; None when ``z`` is not held or on no grid (a line).
+
+    Notes
+    -----
+    docs/algorithms.md §E3 (*Held values*): GENEActiv's temperature, 0.1 °C values held for
+    hundreds of samples, was told to "try another method such as 'rice'", whose R would be
+    its steps'.
+    """
+    moves = int(np.count_nonzero(np.diff(z)))
+    step = held_step(z) if 2 * moves < z.size else None  # most samples repeat the last
+    if step is None:
+        return None
+    every = f", every {z.size / moves:.0f} samples on average" if moves else ""
+    return NoisevarError(
+        f"method {method!r} found a noise variance of 0 on this record: its values are held "
+        f"on a grid of step {step:.4g} (they change {moves} times in {z.size} samples{every}), "
+        "so the sensor's noise is under the resolution and cannot be measured; a filter "
+        f"reading them sees their rounding error: use R = lsb²/12 = {step * step / 12:.4g} "
+        f"(a bound: at most (1/4 + 1/12) lsb² = {half_a_step(step):.4g} while the noise stays "
+        "under half a step), or record the sensor at a finer resolution"
+    )
+
+
+def refusing_held(run: Callable[..., Any], z: NDArray, scaled: int, method: str) -> Any:
+    """``run``, raising :func:`held_refusal` of ``z`` (the samples times ``2**scaled``) in
+    place of a :class:`ZeroVariance`, when ``z`` is on a grid."""
+
+    @functools.wraps(run)
+    def refusing(*args: Any, **kwargs: Any) -> Any:
+        try:
+            return run(*args, **kwargs)
+        except ZeroVariance as exc:
+            raise (held_refusal(np.ldexp(z, -scaled), method) or exc) from None
+
+    return refusing
+
+
 def check_answer(result: Any) -> None:
     """Refuse a degenerate answer: a non-finite or zero variance, or an unusable interval.
 
@@ -228,7 +275,7 @@ def check_answer(result: Any) -> None:
             "larger than floating point can square; rescale the record first"
         )
     if var <= 0.0:
-        raise NoisevarError(
+        raise ZeroVariance(
             f"method {name!r} found a noise variance of {var:.3g} on this record (not positive: "
             "the noise is below the method's resolution, e.g. quantised samples, or a known "
             "reference variance is too large): try another method such as 'rice'"

@@ -43,7 +43,7 @@ from noisevar.diagnostics.profile import LevelProfile, regimes_on_both_grids
 from noisevar.diagnostics.regimes import QuietLevel, StillLevel
 from noisevar.errors import NoisevarError
 from noisevar.estimators._input import check_samples, check_times
-from noisevar.estimators._scale import check_answer, held_but_for, unscale
+from noisevar.estimators._scale import check_answer, held_but_for, refusing_held, unscale
 from noisevar.estimators.differenced_interval import jackknife_interval
 from noisevar.estimators.interval import (
     LoneGlitches,
@@ -60,7 +60,7 @@ from noisevar.estimators.interval import (
 from noisevar.estimators.pooling import pool_segments
 from noisevar.estimators.results import VarianceEstimate
 from noisevar.estimators.spec import MethodSpec
-from noisevar.estimators.still_levels import other_still_levels
+from noisevar.estimators.still_levels import other_still_levels, own_tails
 from noisevar.estimators.still_quiet import (
     above_record,
     held_digits,
@@ -293,7 +293,7 @@ def estimate_record(
         )  # fmt: skip
     else:
         record = InMemory(spec, z, seg, run, jump_mask, notes)
-    return run_record(spec, record, params, scaled=scaled)
+    return refusing_held(run_record, z, scaled, spec.name)(spec, record, params, scaled=scaled)
 
 
 def run_record(
@@ -422,7 +422,7 @@ def _other_levels(
     def measure(ranges: list[tuple[int, int]]) -> VarianceEstimate:
         est = record.estimate_in(kept, ranges)  # type: ignore[attr-defined]
         inside = glitches_within(lone, ranges_mask(ranges, diag.n))
-        return conclude(spec, est, diag, None, glitches=inside)
+        return conclude(spec, est, own_tails(diag, est), None, glitches=inside)
 
     return other_still_levels(diag, still, measure)
 
