@@ -107,6 +107,17 @@ def audit_args(doc: str) -> argparse.Namespace:
     return ap.parse_args()
 
 
+#: What a refusal of values held under their grid's resolution says (``_scale.held_refusal``):
+#: the noise cannot be measured, and the rounding error lsb²/12 is the R to use
+HELD_UNDER_RESOLUTION = ("the sensor's noise is under the resolution", "use R = lsb²/12")
+
+
+def held_refusal(said: str) -> bool:
+    """Whether a refusal says the record's values are held under their grid's resolution and
+    gives the R to use: an honest answer for a column that cannot be measured."""
+    return all(w in said for w in HELD_UNDER_RESOLUTION)
+
+
 def records_table(records: dict[str, tuple]) -> list[str]:
     """The report's table of records: name, package, file, what it is (``records``' values
     start with the requirement, end with the file and the description)."""
@@ -486,7 +497,8 @@ def audit_channels(
         try:
             est = noisevar.estimate(z)
         except Exception as e:  # noqa: BLE001 - a traceback is itself a finding
-            rows.append(row | {"fail": [f"estimate raised {type(e).__name__}: {e}"]})
+            said = [] if held_refusal(str(e)) else [f"estimate raised {type(e).__name__}: {e}"]
+            rows.append(row | {"fail": said, "refused": str(e)})
             continue
         ests[ch] = est
         inv, n_r, n_u = invariance(z, est)
@@ -637,7 +649,7 @@ def summary(rows: list[dict]) -> list[str]:
     for r in rows:
         if "R" not in r:
             lines.append(f"| {r['record']} | {r['channel']} | {r['n']} | | | | | | | | | "
-                         f"{'; '.join(r['fail'])} | |")  # fmt: skip
+                         f"{'; '.join(r['fail']) or 'ok'} | {r.get('refused', '')} |")  # fmt: skip
             continue
         fl = r["flags"]
         lines.append(
