@@ -94,3 +94,22 @@ def test_the_json_units_of_q_and_r_are_the_data_s(tmp_path, capsys):
     out = json.loads(capsys.readouterr().out)
     assert out["unit"] == "nT" and out["units"]["r"] == "nT²"
     assert out["units"]["q"].startswith("nT²/s^3")
+
+
+def test_the_fits_record_r_is_estimates_on_the_files_times(tmp_path, capsys) -> None:
+    # the record's answer beside r is `noisevar estimate`'s, which reads the time column (a
+    # gap splits the record): it was estimate(z) without times (real_audit11's GENEActiv x:
+    # 0.03569 against estimate's 0.03589)
+    rng = np.random.default_rng(12)
+    n = 1200
+    t = np.arange(n) * 0.1
+    t[n // 2 :] += 600.0  # a 10-minute gap
+    z = np.cumsum(rng.normal(0, 0.05, n)) + rng.normal(0, 1, n)
+    z[n // 2 :] += 40.0  # the level moved during the gap
+    path = tmp_path / "gap.csv"
+    path.write_text("t,x\n" + "\n".join(f"{a:.1f},{b:.6f}" for a, b in zip(t, z)) + "\n")
+    assert main(["estimate", str(path), "--column", "x", "--format", "json"]) == 0
+    said = json.loads(capsys.readouterr().out)
+    assert main(["fit", str(path), "--column", "x", "--format", "json"]) == 0
+    fit = json.loads(capsys.readouterr().out)
+    assert fit["record"]["variance"] == pytest.approx(said["variance"], rel=1e-12)

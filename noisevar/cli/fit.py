@@ -73,10 +73,11 @@ def _print_record(c: Any, var_unit: str) -> None:
 
 def _load(
     args: argparse.Namespace, config: dict[str, Any] | None
-) -> tuple[Any, int, str, float | None, str | None]:
-    """The record's column, the non-finite cells dropped, the column's name, the unit the
-    file declares for it (or None), and the table's sample period (None without a time
-    column).
+) -> tuple[Any, int, str, float | None, str | None, Any]:
+    """The record's column, the non-finite cells dropped, the column's name, the table's
+    sample period (None without a time column), the unit the file declares for it (or None),
+    and the kept samples' times (None without a time column: the record's answer is
+    ``estimate``'s on them).
 
     With a tuned filter's config, the column it was fitted on and no other: another
     ``--column``, a file without that column, or (for a config naming none) a file of
@@ -85,7 +86,7 @@ def _load(
     import numpy as np
 
     from noisevar.io import pick_column
-    from noisevar.io.load import column_name
+    from noisevar.io.load import column_name, column_values, record_times
 
     table = load_file(args.file, args.topic)
     named = None if config is None else config.get("column")
@@ -110,15 +111,19 @@ def _load(
         )
     z = np.asarray(pick_column(table, column, drop_nonfinite=args.drop_nonfinite), dtype=float)
     name = column_name(table, column)
-    return z, table.n_rows_of(name) - z.size, name, table.period_of(name), table.units.get(name)
+    t = record_times(table, name)
+    if t is not None and t.size != z.size:  # the non-finite cells dropped: their times too
+        t = t[np.isfinite(np.asarray(column_values(table, name), dtype=float))]
+    t = None if t is None or t.size != z.size else t
+    return z, table.n_rows_of(name) - z.size, name, table.period_of(name), table.units.get(name), t
 
 
 def _cmd_fit(args: argparse.Namespace) -> int:
     from noisevar.config import filter_config_json, load_config
-    from noisevar.estimators import estimate
     from noisevar.estimators.answer import record_answer
     from noisevar.noise_model import evaluate_kalman, fit_kalman
     from noisevar.noise_model.export import from_config
+    from noisevar.noise_model.kalman_record import record_estimate
 
     if args.rate is not None and not args.rate > 0:
         raise NoisevarError(
@@ -126,10 +131,12 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         )
     config = load_config(args.config) if args.config else None
     kal = from_config(config) if config is not None else None  # refused before the data load
-    z, dropped, column, period, declared = _load(args, config)
+    z, dropped, column, period, declared, t = _load(args, config)
     given = args.unit or declared_unit(declared)  # the user's, else the file's (as estimate)
     scale, unit = units_of(given, args.unit_out)
     z = z * scale
+    answer = record_estimate(z, t)  # the record's answer on its times, as `estimate` gives it
+    record = None if isinstance(answer, str) else answer
     if kal is not None:
         if args.regimes is not None:
             raise NoisevarError(
@@ -142,20 +149,23 @@ def _cmd_fit(args: argparse.Namespace) -> int:
                 f"the config's filter is model {kal['model']!r} at rate {kal['rate']}: "
                 "drop --model/--rate or give the same values"
             )
-        tuning = evaluate_kalman(z, model, kal["q"], kal["r"], rate=rate)
+        tuning = evaluate_kalman(z, model, kal["q"], kal["r"], rate=rate, record=record)
     else:
         rate = sample_rate(args.rate, period)  # --rate, else the log's or time column's
         method = {} if args.method is None else {"method": args.method}  # else fit_kalman's
         model = args.model or "cv"
-        tuning = fit_kalman(z, model=model, rate=rate, **method, **regimes_of(args))
+        tuning = fit_kalman(
+            z, model=model, rate=rate, **method, **regimes_of(args), record=record
+        )
     if args.save_config:
         said = unit if given else (kal.get("unit", "") if kal is not None else "")
         try:  # the record's answer, written for the reader (not applied when read)
-            record = record_answer(estimate(z), tuning.regimes).summary(said)
+            summary = None if record is None else record_answer(record, tuning.regimes)
+            written = None if summary is None else summary.summary(said)
         except NoisevarError:  # a record the estimator refuses: the config without it
-            record = None
+            written = None
         Path(args.save_config).write_text(
-            filter_config_json(tuning, column, said, record), encoding="utf-8"
+            filter_config_json(tuning, column, said, written), encoding="utf-8"
         )
     if args.format == "json":
         out = tuning.to_dict()

@@ -27,6 +27,7 @@ from noisevar.errors import NoisevarError
 from noisevar.estimators import check_rate, scale_exponent
 from noisevar.estimators.interval import heavy_tails
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes, longest_still_stretch
+from noisevar.estimators.results import VarianceEstimate
 from noisevar.format import pvalue
 from noisevar.kalman.divergence import nis_band
 from noisevar.noise_model._rescale import rescale_tuning
@@ -434,6 +435,7 @@ def fit_kalman(
     lags: int = 20,
     progress: Callable[[float], None] | None = None,
     regimes: str = DEFAULT_REGIMES,
+    record: VarianceEstimate | None = None,
 ) -> KalmanTuning:
     """Fit the process-noise density ``q`` and the measurement variance ``r`` together.
 
@@ -455,6 +457,9 @@ def fit_kalman(
     regimes : {"all", "still"}
         Fit the whole record, or its longest still stretch only
         (:func:`~noisevar.estimators.regimes.longest_still_stretch`; said in ``notes``).
+    record : VarianceEstimate, optional
+        The record's answer (:func:`noisevar.estimate` of ``z``, with its sample times where
+        it has some) that ``r`` is checked against; default ``estimate(z)``.
 
     Returns
     -------
@@ -476,7 +481,7 @@ def fit_kalman(
         raise NoisevarError(f"unknown method {method!r}; choose one of: {', '.join(METHODS)}")
     if not isinstance(lags, int) or lags < 3:
         raise NoisevarError(f"lags must be an integer of at least 3, got {lags!r}")
-    est = record_estimate(arr)
+    est = record if record is not None else record_estimate(arr)
     notes: list[str] = []
     if check_regimes(regimes) == "still":
         need, purpose = min_samples(model), f"the {model!r} model"
@@ -524,7 +529,12 @@ def _fit(
 
 
 def evaluate_kalman(
-    z: ArrayLike, model: str, q: float, r: float, rate: float | None = None
+    z: ArrayLike,
+    model: str,
+    q: float,
+    r: float,
+    rate: float | None = None,
+    record: VarianceEstimate | None = None,
 ) -> KalmanTuning:
     """Validate a given ``q`` and ``r`` (for example from a config) on a record.
 
@@ -536,6 +546,8 @@ def evaluate_kalman(
         Process-noise density (per second when ``rate`` is given) and
         measurement variance, both positive.
     rate : float, optional
+    record : VarianceEstimate, optional
+        The record's answer ``r`` is checked against (as :func:`fit_kalman`'s).
 
     Returns
     -------
@@ -553,7 +565,8 @@ def evaluate_kalman(
     if not all(np.isfinite(v) and v > 0 for v in (qs, rs)):
         raise NoisevarError("q and r are out of floating-point range for this record's scale")
     fit = _tuning(np.ldexp(arr, e), model, dt, rate, qs, rs, "given", [])
-    return with_record(rescale_tuning(fit, e) if e else fit, record_estimate(arr))
+    est = record if record is not None else record_estimate(arr)
+    return with_record(rescale_tuning(fit, e) if e else fit, est)
 
 
 def run_tuned(tuning: KalmanTuning, z: ArrayLike) -> TunedRun:

@@ -225,12 +225,13 @@ def record_check(
     )
 
 
-def record_estimate(z: NDArray) -> VarianceEstimate | str:
-    """The record's answer (:func:`noisevar.estimate`, method auto), or why there is none."""
+def record_estimate(z: NDArray, t: NDArray | None = None) -> VarianceEstimate | str:
+    """The record's answer (:func:`noisevar.estimate`, method auto, on the sample times ``t``
+    where given: the CLI's ``estimate`` reads a file's), or why there is none."""
     from noisevar.estimators import estimate
 
     try:
-        return estimate(z)
+        return estimate(z, t=t)
     except NoisevarError as exc:
         return str(exc)
 
