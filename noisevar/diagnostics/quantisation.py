@@ -129,7 +129,10 @@ def written_resolution(z: NDArray) -> float | None:
     if not d.size:
         return None
     k = np.floor(np.log10(float(d.min())))
-    while (unit := float(10.0**k)) >= ROUNDING_STEPS * tol:
+    # at least the smallest normal float: a record of subnormal values has tol 0, and
+    # 10**k reaches 0 (the loop would not end)
+    least = max(ROUNDING_STEPS * tol, float(np.finfo(float).tiny))
+    while (unit := float(10.0**k)) >= least:
         near = max(tol, UNIT_TOL * unit)
         if _multiples(d[:64], unit, near) and _multiples(d, unit, near):
             return unit

@@ -44,3 +44,12 @@ def test_the_written_resolution_does_not_see_an_offset_or_a_trend() -> None:
     ramp = np.linspace(0.0, 1e3 * float(np.std(z)), z.size)
     moved = [z, z + 1000.0, z - 900.0, z + ramp]
     assert [written_resolution(x) for x in moved] == [0.001] * 4
+
+
+def test_subnormal_values_end_the_search_for_written_digits() -> None:
+    # a record of subnormal values has a rounding tolerance of 0 and 10**k reached 0: the
+    # search for the written resolution never ended (hypothesis's float-range records)
+    from noisevar.diagnostics.quantisation import written_resolution
+
+    z = np.array([0.0, 5e-324, 0.0, 1e-323, 0.0, 2e-323] * 30)
+    assert written_resolution(z) is None
