@@ -107,7 +107,8 @@ def test_the_fits_record_r_is_estimates_on_the_files_times(tmp_path, capsys) -> 
     z = np.cumsum(rng.normal(0, 0.05, n)) + rng.normal(0, 1, n)
     z[n // 2 :] += 40.0  # the level moved during the gap
     path = tmp_path / "gap.csv"
-    path.write_text("t,x\n" + "\n".join(f"{a:.1f},{b:.6f}" for a, b in zip(t, z)) + "\n")
+    rows = (f"{a:.1f},{b:.6f}" for a, b in zip(t, z, strict=True))
+    path.write_text("t,x\n" + "\n".join(rows) + "\n")
     assert main(["estimate", str(path), "--column", "x", "--format", "json"]) == 0
     said = json.loads(capsys.readouterr().out)
     assert main(["fit", str(path), "--column", "x", "--format", "json"]) == 0
