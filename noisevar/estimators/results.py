@@ -121,33 +121,19 @@ def row_label(key: str, unit: str = "") -> str:
 
 
 def _still_fields(est: VarianceEstimate) -> dict[str, float | str | None]:
-    """``still_variance`` and its interval (None when there is no still estimate), and
-    ``still_note``: why they are empty (:func:`~noisevar.estimators.still_set.still_note`).
-
-    A record whose level varies with no separate still R but an R to use (its still
-    stretches read R's level, or its level varies within a grid step: ``still_gap`` is
-    None) has R in the still cells, as ``regimes="still"`` quotes it everywhere else:
-    a table's still column left empty there dropped the row from a still comparison.
-    """
+    """``still_variance``, its interval and ``still_note`` (why they are empty:
+    ``still_set.still_note``); R there when the level varies and R is the R to use (its still
+    stretches read R's level: ``still_gap`` None), as ``regimes="still"`` quotes it."""
     from noisevar.estimators.still_set import still_gap, still_note
 
-    still = est.still
-    diag = est.diagnostics
+    still, diag = est.still, est.diagnostics
     note = still_note(diag, est.variance, still)
     if still is None and diag is not None and diag.level_varies:
         still = est if still_gap(diag, est.variance, None) is None else None
-    if still is None:
-        return {
-            "still_variance": None,
-            "still_ci95_low": None,
-            "still_ci95_high": None,
-            "still_note": note,
-        }
-    return {
-        "still_variance": _finite(still.variance),
-        "still_ci95_low": _finite(still.ci95[0]),
-        "still_ci95_high": _finite(still.ci95[1]),
-        "still_note": note,
+    cells = (None, None, None) if still is None else (still.variance, *still.ci95)
+    keys = ("still_variance", "still_ci95_low", "still_ci95_high")
+    return {k: None if v is None else _finite(v) for k, v in zip(keys, cells, strict=True)} | {
+        "still_note": note
     }
 
 

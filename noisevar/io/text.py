@@ -16,13 +16,7 @@ from noisevar._arrays import EXACT_INT
 from noisevar.errors import NoisevarError
 from noisevar.io.header_units import header_unit
 from noisevar.io.opensignals import opensignals_names
-from noisevar.io.quirks import (
-    code_note,
-    header_of_numbers,
-    repeated_rows,
-    rows_continue,
-    wrap_note,
-)
+from noisevar.io.quirks import code_note, header_of_numbers, repeated_rows, rows_continue, wrap_note
 from noisevar.io.refusal_hints import kinds_hint, numbers_for_names, preamble_hint, width_hint
 from noisevar.io.table import (
     _NA_TOKENS,
@@ -34,7 +28,7 @@ from noisevar.io.table import (
     time_in_seconds,
 )
 from noisevar.io.text_times import clock_beside, is_date_name, parse_time_strings
-from noisevar.units import declared_unit
+from noisevar.io.toa5 import stated_unit, toa5_layout
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -235,8 +229,8 @@ def table_layout(
     fmt = _sniff_format([ln for _, ln in head])
     if _title_line(head, fmt):
         head = head[1:]
-    if (toa5 := _toa5(head, fmt)) is not None:
-        return toa5
+    if toa5 := toa5_layout(head, lambda ln: _split(ln, fmt.delim)):
+        return fmt, _unique_names(toa5[0]), *toa5[1:]
     first = _split(head[0][1], fmt.delim) if fmt.thousands != "," or fmt.delim else [head[0][1]]
     if fmt.delim is None and len(first) > 1 and not all(_is_number(c, fmt) for c in first):
         # a one-column file whose name has spaces ("clock [ns]"): every data row one field
@@ -276,52 +270,6 @@ def _title_line(head: list[tuple[int, str]], fmt: _Format) -> bool:
         and all(c and not _is_number(c, fmt) for c in named)
         and any(_is_number(c.strip().strip('"'), fmt) for c in below)
     )  # fmt: skip
-
-
-def _toa5(
-    head: list[tuple[int, str]], fmt: _Format
-) -> tuple[_Format, list[str], int, list[str]] | None:
-    """A Campbell Scientific datalogger's TOA5 table (LoggerNet's export): its layout when
-    the first line is the file's environment (``TOA5,station,CR1000,...``), else None.
-
-    Notes
-    -----
-    Line 2 names the columns, line 3 states their units, line 4 how each was processed
-    (``Smp``, ``Avg``, ``Std``); the data follow. Read as a plain CSV, the environment line
-    was the header: brightwind's met-mast file was refused for its width.
-    """
-    cells = [c.strip().strip('"').strip() for c in _split(head[0][1], fmt.delim)]
-    if len(head) < 5 or cells[0].lstrip("\ufeff") != "TOA5":
-        return None
-    names, units = (_split(ln, fmt.delim) for _, ln in head[1:3])
-    if len(units) != len(names):
-        return None
-    said = [c.strip().strip('"').strip() for c in units]
-    return fmt, _unique_names(names), head[3][0], ["" if u in _TOA5_MARKS else u for u in said]
-
-
-#: TOA5's units row marks the time stamp ``TS`` and the record number ``RN``: no units (pint
-#: reads them as tesla-seconds and rankine-newtons)
-_TOA5_MARKS = ("TS", "RN")
-
-
-def _stated_unit(word: str) -> str:
-    """A units row's word as pint reads it: as written, else in lower case when only that
-    reads (a Campbell Scientific logger's ``Metres/Second``, ``Millibars``, ``Volts``).
-
-    Parameters
-    ----------
-    word : str
-        The units row's cell.
-
-    Returns
-    -------
-    str
-        The unit the table states for the column.
-    """
-    if declared_unit(word) is None and declared_unit(word.lower()) is not None:
-        return word.lower()
-    return word
 
 
 def _units_row(head: list[tuple[int, str]], width: int, fmt: _Format) -> list[str] | None:
@@ -397,7 +345,7 @@ def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
         notes.insert(0, rows)
     time_col = names[time_idx] if time_idx is not None else None
     columns = repeated_rows(columns, time_col, notes)
-    stated = {c: _stated_unit(u) for c, u in zip(names, unit_row or [], strict=False) if u}
+    stated = {c: stated_unit(u) for c, u in zip(names, unit_row or [], strict=False) if u}
     names = [c for c in names if c in columns]  # text columns are left out (noted)
     if fmt.decimal == ",":
         notes.insert(0, "read with a decimal comma (1,5 = 1.5)")
