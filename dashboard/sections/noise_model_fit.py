@@ -32,6 +32,7 @@ from noisevar.format import pvalue, squared
 from noisevar.noise_model import KalmanTuning, fit_coloured_noise, fit_kalman, run_tuned
 from noisevar.noise_model.export import APPLY_COMMAND, filterpy_snippet, gain_text
 from noisevar.noise_model.kalman_fit import METHODS, MODELS
+from noisevar.noise_model.kalman_record import record_estimate
 
 KEY = "nmf"
 #: Session-state key of the (lazy) filterpy snippet expander.
@@ -84,12 +85,14 @@ def _fit_models(z: np.ndarray, rate: float, method: str, regimes: str) -> dict[s
 
         def work(progress: Callable[[float], None] | None) -> dict[str, KalmanTuning]:
             out = {}
+            answer = record_estimate(z)  # the record's answer, once for every model
+            record = None if isinstance(answer, str) else answer
             for i, model in enumerate(MODELS):
                 step = (
                     None if progress is None else (lambda f, i=i: progress((i + f) / len(MODELS)))
                 )
                 out[model] = fit_kalman(
-                    z, model=model, rate=rate, method=method, progress=step, regimes=regimes
+                    z, model, rate, method, progress=step, regimes=regimes, record=record
                 )
             return out
 
