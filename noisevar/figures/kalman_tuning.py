@@ -28,7 +28,8 @@ from noisevar.figures._shapes import band, hline
 from noisevar.format import eng, eng_range
 from noisevar.kalman.divergence import nis_band
 from noisevar.noise_model.coloured import ColouredNoiseFit
-from noisevar.noise_model.kalman_fit import KalmanTuning, TunedRun
+from noisevar.noise_model.kalman_fit import KalmanTuning
+from noisevar.noise_model.kalman_run import TunedRun
 
 
 def tuning_rows(tunings: dict[str, KalmanTuning]) -> list[dict[str, object]]:

@@ -13,13 +13,8 @@ from noisevar.noise_model.gmwm import (
     fit_imu_records,
 )
 from noisevar.noise_model.inertial import InertialNoise, NoiseTerm, inertial_noise
-from noisevar.noise_model.kalman_fit import (
-    KalmanTuning,
-    TunedRun,
-    evaluate_kalman,
-    fit_kalman,
-    run_tuned,
-)
+from noisevar.noise_model.kalman_fit import KalmanTuning, evaluate_kalman, fit_kalman
+from noisevar.noise_model.kalman_run import TunedRun, run_tuned
 from noisevar.noise_model.temperature import (
     TemperatureExport,
     TemperatureModel,

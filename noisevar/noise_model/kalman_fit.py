@@ -31,8 +31,9 @@ from noisevar.estimators.results import VarianceEstimate
 from noisevar.format import pvalue
 from noisevar.kalman.divergence import nis_band
 from noisevar.noise_model._rescale import rescale_tuning
-from noisevar.noise_model._steady import FilterPass, diffuse_start, filter_pass, steady_state
+from noisevar.noise_model._steady import FilterPass, diffuse_start, steady_state
 from noisevar.noise_model.kalman_als import als_fit
+from noisevar.noise_model.kalman_pieces import Pieces, between_jumps, pieces_pass, whole
 from noisevar.noise_model.kalman_record import RecordCheck, record_estimate, with_record
 from noisevar.noise_model.kalman_tails import (
     STEP,
@@ -174,6 +175,7 @@ class KalmanTuning:
     regimes: str = DEFAULT_REGIMES
     innovations_kurtosis: float = 3.0
     record: RecordCheck | None = None
+    left_out: int = 0
 
     @property
     def innovations_gaussian(self) -> bool:
@@ -223,31 +225,23 @@ class KalmanTuning:
             notes=list(self.notes),
             regimes=self.regimes,
             record=None if self.record is None else self.record.to_dict(),
+            left_out=self.left_out,
         )
         return out
 
 
-@dataclass(frozen=True)
-class TunedRun:
-    """The tuned filter run on a record: estimates ``x(k|k)``, innovations, NIS, from ``start``."""
-
-    index: NDArray
-    states: NDArray
-    innovations: NDArray
-    s: NDArray
-    nis: NDArray
-    nis_band: tuple[float, float]
-
-
 # ---------------------------------------------------------------- likelihood
-def _unit_pass(z: NDArray, model: str, dt: float, h_ratio: float) -> FilterPass:
-    """The filter with ``r = 1`` and ``q = h / T^k`` (gains depend on ``h`` only)."""
+def _unit_pass(z: tuple[NDArray, ...], model: str, dt: float, h_ratio: float) -> FilterPass:
+    """The filter with ``r = 1`` and ``q = h / T^k`` (gains depend on ``h`` only) on the
+    record's pieces."""
     F, hv, Q1 = kinematic_model(model, dt)
     k = MODELS[model][1]
-    return filter_pass(z, F, hv, Q1 * (h_ratio / dt**k), 1.0, states=False)
+    return pieces_pass(z, F, hv, Q1 * (h_ratio / dt**k), 1.0, states=False)
 
 
-def _profile(z: NDArray, model: str, dt: float, log_h: float) -> tuple[float, float, float]:
+def _profile(
+    z: tuple[NDArray, ...], model: str, dt: float, log_h: float
+) -> tuple[float, float, float]:
     """``(sum log s, sum e²/s, n)`` of the unit-r filter at ``h = exp(log_h)``."""
     fp = _unit_pass(z, model, dt, float(np.exp(log_h)))
     return float(np.sum(np.log(fp.s))), float(np.sum(fp.innovations**2 / fp.s)), fp.s.size
@@ -258,7 +252,7 @@ def _loglik(sum_log_s: float, g: float, n: int, log_r: float) -> float:
     return -0.5 * (n * (np.log(2 * np.pi) + log_r) + sum_log_s + g * np.exp(-log_r))
 
 
-def _concentrated(z: NDArray, model: str, dt: float, log_h: float) -> float:
+def _concentrated(z: tuple[NDArray, ...], model: str, dt: float, log_h: float) -> float:
     """Negative log-likelihood with ``r`` at its optimum ``r = mean(e²/s)``."""
     try:
         sl, g, n = _profile(z, model, dt, log_h)
@@ -267,7 +261,7 @@ def _concentrated(z: NDArray, model: str, dt: float, log_h: float) -> float:
     return -_loglik(sl, g, n, np.log(g / n))
 
 
-def _mle_log_h(z: NDArray, model: str, dt: float, progress: Callable | None) -> float:
+def _mle_log_h(z: tuple[NDArray, ...], model: str, dt: float, progress: Callable | None) -> float:
     """Grid over log h, then Brent's method around the best grid point."""
     grid = np.log(10.0) * np.arange(LOG10_H_RANGE[0], LOG10_H_RANGE[1] + 1.0, 1.0)
     values = []
@@ -289,7 +283,7 @@ def _at_edge(log_h: float) -> tuple[bool, bool]:
 
 
 def _log_cov(
-    z: NDArray, model: str, dt: float, log_h: float, log_r: float
+    z: tuple[NDArray, ...], model: str, dt: float, log_h: float, log_r: float
 ) -> tuple[RobustCovariance, bool]:
     """Robust covariance of ``(log h, log r)``, or of ``log r`` alone, and whether h is
     identified: the sandwich of the observed information (central differences in ``log h``,
@@ -350,8 +344,10 @@ def _tuning(  # long: assembles the filter, its intervals and its validation
     r: float,
     method: str,
     notes: list[str],
+    pieces: Pieces | None = None,
 ) -> KalmanTuning:
-    """Build the :class:`KalmanTuning` for (q, r) and validate it on ``z``."""
+    """Build the :class:`KalmanTuning` for (q, r) and validate it on ``z``'s ``pieces``
+    (default the whole record); the initial state is the whole record's."""
     from statsmodels.tsa.stattools import acf, q_stat
 
     F, hv, Q1 = kinematic_model(model, dt)
@@ -359,11 +355,12 @@ def _tuning(  # long: assembles the filter, its intervals and its validation
     lo_h = 10.0 ** LOG10_H_RANGE[0]
     if q * dt**k / r < lo_h:
         q = lo_h * r / dt**k
-    zc = z - z[0]
+    pieces = pieces or whole(z.size)
+    zc = pieces.take(z)
     Q = q * Q1
     P, K, _ = steady_state(F, hv, Q, r)
-    fp = filter_pass(zc, F, hv, Q, r)
-    x0, P0, start = diffuse_start(zc, F, hv, Q, r)
+    fp = pieces_pass(zc, F, hv, Q, r, states=True)
+    x0, P0, start = diffuse_start(z - z[0], F, hv, Q, r)
     x0 = x0.copy()
     x0[0] += z[0]
     nu = fp.innovations / np.sqrt(fp.s)
@@ -374,7 +371,7 @@ def _tuning(  # long: assembles the filter, its intervals and its validation
     p = float(q_stat(acf(nu, nlags=lags, fft=True)[1:], nu.size)[1][-1])
     white = bool(p >= WHITE_ALPHA)
     # l = -n/2 log 2 pi - 1/2 sum_{k >= d} (log S_k + e_k²/S_k)   (diffuse, Durbin-Koopman)
-    loglik = -0.5 * float(z.size * np.log(2 * np.pi) + np.sum(np.log(fp.s) + nu**2))
+    loglik = -0.5 * float(pieces.size * np.log(2 * np.pi) + np.sum(np.log(fp.s) + nu**2))
     h_ratio = q * dt**k / r
     tails, kurt = tails_note(nu)
     rc, h_known = _log_cov(zc, model, dt, np.log(h_ratio), np.log(r))
@@ -415,7 +412,7 @@ def _tuning(  # long: assembles the filter, its intervals and its validation
         x0=x0,
         P0=P0,
         start=start,
-        n=int(z.size),
+        n=int(pieces.size),
         nis_mean=nis_mean,
         nis_band=band,
         ljung_box_p=p,
@@ -424,6 +421,7 @@ def _tuning(  # long: assembles the filter, its intervals and its validation
         loglik=loglik,
         units=_units(model, rate),
         notes=tuple(notes),
+        left_out=pieces.left_out,
     )
 
 
@@ -483,14 +481,18 @@ def fit_kalman(
         raise NoisevarError(f"lags must be an integer of at least 3, got {lags!r}")
     est = record if record is not None else record_estimate(arr)
     notes: list[str] = []
+    need = min_samples(model)
     if check_regimes(regimes) == "still":
-        need, purpose = min_samples(model), f"the {model!r} model"
-        stretch = longest_still_stretch(arr, need, purpose, est)
+        stretch = longest_still_stretch(arr, need, f"the {model!r} model", est)
         arr, _ = _check_input(stretch.take(arr), model, rate)
         notes.append(stretch.note)
+        pieces = whole(arr.size)
+    else:
+        pieces = between_jumps(arr.size, est, need)
+        notes += [pieces.note] if pieces.note else []
     e = scale_exponent(arr, SCALE_RANGE)
     # scale-safe: the fit on z 2**e (exact), q and r back (estimators' _scale)
-    fit = _fit(np.ldexp(arr, e), model, dt, rate, method, lags, progress, notes)
+    fit = _fit(np.ldexp(arr, e), pieces, model, dt, rate, method, lags, progress, notes)
     fit = replace(rescale_tuning(fit, e) if e else fit, regimes=regimes)
     if progress is not None:
         progress(1.0)
@@ -499,6 +501,7 @@ def fit_kalman(
 
 def _fit(
     arr: NDArray,
+    pieces: Pieces,
     model: str,
     dt: float,
     rate: float | None,
@@ -507,9 +510,10 @@ def _fit(
     progress: Callable[[float], None] | None,
     notes: list[str],
 ) -> KalmanTuning:
-    """:func:`fit_kalman` on a record of safe magnitude (its stretch already taken)."""
+    """:func:`fit_kalman` on a record of safe magnitude (its stretch already taken), over
+    its ``pieces``; ALS on the longest (its autocovariances need one unbroken run)."""
     chosen = DEFAULT_METHOD if method == "auto" else method
-    zc = arr - arr[0]
+    zc = pieces.take(arr)
     k = MODELS[model][1]
     if chosen == "mle":
         log_h = _mle_log_h(zc, model, dt, progress)
@@ -523,9 +527,10 @@ def _fit(
             notes.append("h is at the top of its range: the measurement noise is negligible")
     else:
         F, hv, Q1 = kinematic_model(model, dt)
-        q, r, als_notes = als_fit(zc, (F, hv, Q1), dt**k, lags, 10.0 ** LOG10_H_RANGE[0])
+        longest = max(zc, key=len)
+        q, r, als_notes = als_fit(longest, (F, hv, Q1), dt**k, lags, 10.0 ** LOG10_H_RANGE[0])
         notes += als_notes
-    return _tuning(arr, model, dt, rate, q, r, chosen, notes)
+    return _tuning(arr, model, dt, rate, q, r, chosen, notes, pieces)
 
 
 def evaluate_kalman(
@@ -567,27 +572,3 @@ def evaluate_kalman(
     fit = _tuning(np.ldexp(arr, e), model, dt, rate, qs, rs, "given", [])
     est = record if record is not None else record_estimate(arr)
     return with_record(rescale_tuning(fit, e) if e else fit, est)
-
-
-def run_tuned(tuning: KalmanTuning, z: ArrayLike) -> TunedRun:
-    """Run a tuned filter on a record, from its exact diffuse start.
-
-    Parameters
-    ----------
-    tuning : KalmanTuning
-    z : array_like, shape (n,)
-
-    Returns
-    -------
-    TunedRun
-        Estimates ``x(k|k)``, innovations, their variances and NIS for
-        ``k >= start``.
-    """
-    arr, _ = _check_input(z, tuning.model, tuning.rate)
-    zc = arr - arr[0]
-    fp = filter_pass(zc, tuning.F, tuning.H[0], tuning.Q, float(tuning.R[0, 0]))
-    states = fp.states.copy()
-    states[:, 0] += arr[0]
-    nis = fp.innovations**2 / fp.s
-    index = np.arange(fp.start, arr.size)
-    return TunedRun(index, states, fp.innovations, fp.s, nis, nis_band(1, nis.size))

@@ -133,11 +133,12 @@ def _colour(est: VarianceEstimate) -> list[tuple[str, str]]:
     ]
 
 
-def _jumps_and_tails(est: VarianceEstimate) -> list[tuple[str, str]]:
-    """(broken assumption, advice) for level jumps left out of R and heavy tails."""
+def _jumps_and_tails(est: VarianceEstimate, left_out: bool) -> list[tuple[str, str]]:
+    """(broken assumption, advice) for level jumps left out of R (unless the fit
+    ``left_out`` them too) and heavy tails."""
     out = []
     jumps = 0 if est.jumps is None else int(np.count_nonzero(est.jumps))
-    if jumps:
+    if jumps and not left_out:
         out.append(
             (
                 f"no level jumps ({jumps} samples around jumps are left out of R, not of the fit)",
@@ -182,7 +183,7 @@ def _note(
 
 
 def record_check(
-    r: float, est: VarianceEstimate, regimes: str = DEFAULT_REGIMES
+    r: float, est: VarianceEstimate, regimes: str = DEFAULT_REGIMES, left_out: bool = False
 ) -> RecordCheck | None:
     """A fit's ``r`` against the record's answer, and why they differ.
 
@@ -194,6 +195,9 @@ def record_check(
         :func:`noisevar.estimate` (method ``auto``) of the whole record the fit was given.
     regimes : {"all", "still"}
         The fit's regime choice: its ``r`` is compared with that choice's R.
+    left_out : bool
+        Whether the fit left out the samples R leaves out around level jumps
+        (:func:`~noisevar.noise_model.kalman_pieces.between_jumps`).
 
     Returns
     -------
@@ -210,7 +214,9 @@ def record_check(
     except NoisevarError:
         return None
     use = None if (est.still is None and why_no_still(est)) else estimate_for(est, "still").variance
-    pairs = ([] if regimes == "still" else _level(est)) + _colour(ans) + _jumps_and_tails(ans)
+    pairs = (
+        ([] if regimes == "still" else _level(est)) + _colour(ans) + _jumps_and_tails(ans, left_out)
+    )
     where = WHERE["all"] if ans is est else WHERE["still"]
     return RecordCheck(
         variance=float(ans.variance),
@@ -238,7 +244,9 @@ def record_estimate(z: NDArray, t: NDArray | None = None) -> VarianceEstimate | 
 
 def with_record(fit: Any, est: VarianceEstimate | str) -> Any:
     """A ``KalmanTuning`` with its :class:`RecordCheck`, the check's sentence last in its notes."""
-    check = None if isinstance(est, str) else record_check(fit.r, est, fit.regimes)
+    check = (
+        None if isinstance(est, str) else record_check(fit.r, est, fit.regimes, fit.left_out > 0)
+    )
     if check is None:
         why = est if isinstance(est, str) else "the record has no R for this regime choice"
         note = f"the record's answer (method auto) is not made ({why}), so r is not checked"
