@@ -8,7 +8,9 @@ Synthetic families, ``n = 4000`` samples, unit white noise unless said, two sign
 walk (step std 0.1, fitted ``"rw"``) and a constant-velocity track (velocity a random walk of
 step std 0.01 per sample, fitted ``"cv"``); departures: none (``white``), a motion burst (a
 500-sample Hann-windowed sinusoid of amplitude 5 at 0.3 rad/sample), a noise level that
-changes (std x3 in the second half), glitches (1 % of samples x10), differenced noise
+changes (std x3 in the second half), level steps (+40, -60, +25 at a quarter, five eighths
+and 33/40 of the record: R leaves the samples around them out, the fit fits between them),
+glitches (1 % of samples x10), differenced noise
 (``np.diff`` of white noise / √2: variance 1, lag-1 correlation -1/2) and a vibration (a
 sinusoid of amplitude 1 at 0.23 of the sample rate). Per family: how often ``fit_kalman``'s r
 (defaults, ``method="auto"``) lies inside ``noisevar.estimate``'s R ci95 (``KalmanTuning.record
@@ -49,6 +51,7 @@ DEPARTURES = {
     "white": 1.0,
     "motion burst": 1.0,
     "level x3 (half)": 5.0,
+    "level steps": 1.0,
     "glitches 1 % x10": 1.99,
     "differenced": 1.0,
     "vibration": 1.0,
@@ -69,6 +72,9 @@ def record(signal: str, departure: str, seed: int) -> np.ndarray:
         x[a : a + m] += 5.0 * np.sin(0.3 * np.arange(m)) * np.hanning(m)
     elif departure == "level x3 (half)":
         e[N // 2 :] *= 3.0
+    elif departure == "level steps":
+        for at, step in ((N // 4, 40.0), (5 * N // 8, -60.0), (33 * N // 40, 25.0)):
+            x[at:] += step
     elif departure == "glitches 1 % x10":
         e[rng.random(N) < 0.01] *= 10.0
     elif departure == "differenced":
@@ -94,7 +100,7 @@ def family(signal: str, departure: str, runs: int) -> dict:
         ratio.append(c.ratio)
         r_true.append(fit.r / truth)
         big_r_true.append(c.variance / truth)
-        if departure.startswith("level"):
+        if departure == "level x3 (half)":
             s = fit_kalman(z, model=SIGNALS[signal], regimes="still")
             still_in += s.record.agrees
             still_true.append(s.r)
