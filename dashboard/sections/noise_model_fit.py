@@ -29,10 +29,9 @@ from noisevar.figures.kalman_tuning import (
     tuning_rows,
 )
 from noisevar.format import pvalue, squared
-from noisevar.noise_model import KalmanTuning, fit_coloured_noise, fit_kalman, run_tuned
+from noisevar.noise_model import KalmanTuning, fit_coloured_noise, fit_models, run_tuned
 from noisevar.noise_model.export import APPLY_COMMAND, filterpy_snippet, gain_text
 from noisevar.noise_model.kalman_fit import METHODS, MODELS
-from noisevar.noise_model.kalman_record import record_estimate
 
 KEY = "nmf"
 #: Session-state key of the (lazy) filterpy snippet expander.
@@ -64,10 +63,7 @@ def _with_progress(label: str, n: int, work: Callable[[Callable[[float], None] |
 def _fits_on_pool(
     digest: str, rate: float, method: str, regimes: str, _z: np.ndarray
 ) -> dict[str, KalmanTuning]:
-    return {
-        model: workers.call(fit_kalman, _z, model=model, rate=rate, method=method, regimes=regimes)
-        for model in MODELS
-    }
+    return workers.call(fit_models, _z, rate=rate, method=method, regimes=regimes)
 
 
 def _fit_models(z: np.ndarray, rate: float, method: str, regimes: str) -> dict[str, KalmanTuning]:
@@ -84,17 +80,7 @@ def _fit_models(z: np.ndarray, rate: float, method: str, regimes: str) -> dict[s
     if key not in st.session_state:
 
         def work(progress: Callable[[float], None] | None) -> dict[str, KalmanTuning]:
-            out = {}
-            answer = record_estimate(z)  # the record's answer, once for every model
-            record = None if isinstance(answer, str) else answer
-            for i, model in enumerate(MODELS):
-                step = (
-                    None if progress is None else (lambda f, i=i: progress((i + f) / len(MODELS)))
-                )
-                out[model] = fit_kalman(
-                    z, model, rate, method, progress=step, regimes=regimes, record=record
-                )
-            return out
+            return fit_models(z, rate, method, regimes, progress=progress)
 
         st.session_state[key] = _with_progress("Fitting q and r...", z.size, work)
     return st.session_state[key]

@@ -14,7 +14,7 @@ from noisevar.noise_model.gmwm import (
 )
 from noisevar.noise_model.inertial import InertialNoise, NoiseTerm, inertial_noise
 from noisevar.noise_model.kalman_fit import KalmanTuning, evaluate_kalman, fit_kalman
-from noisevar.noise_model.kalman_run import TunedRun, run_tuned
+from noisevar.noise_model.kalman_run import TunedRun, fit_models, run_tuned
 from noisevar.noise_model.temperature import (
     TemperatureExport,
     TemperatureModel,
@@ -42,6 +42,7 @@ __all__ = [
     "fit_kalman",
     "inertial_noise",
     "matlab_temperature_params",
+    "fit_models",
     "run_tuned",
     "temperature_model",
 ]

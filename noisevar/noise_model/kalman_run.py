@@ -1,16 +1,20 @@
-"""The tuned filter run on a record (:func:`run_tuned` -> :class:`TunedRun`): what the
-Noise model page draws and the exports' reference run."""
+"""Every kinematic model fitted to one record (:func:`fit_models`) and the tuned filter run
+on it (:func:`run_tuned` -> :class:`TunedRun`): what the Noise model page shows and the
+exports' reference run."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from noisevar.estimators.regimes import DEFAULT_REGIMES
 from noisevar.kalman.divergence import nis_band
 from noisevar.noise_model._steady import filter_pass
-from noisevar.noise_model.kalman_fit import KalmanTuning, _check_input
+from noisevar.noise_model.kalman_fit import MODELS, KalmanTuning, _check_input, fit_kalman
+from noisevar.noise_model.kalman_record import record_estimate
 
 
 @dataclass(frozen=True)
@@ -47,3 +51,38 @@ def run_tuned(tuning: KalmanTuning, z: ArrayLike) -> TunedRun:
     nis = fp.innovations**2 / fp.s
     index = np.arange(fp.start, arr.size)
     return TunedRun(index, states, fp.innovations, fp.s, nis, nis_band(1, nis.size))
+
+
+def fit_models(
+    z: ArrayLike,
+    rate: float | None = None,
+    method: str = "auto",
+    regimes: str = DEFAULT_REGIMES,
+    progress: Callable[[float], None] | None = None,
+) -> dict[str, KalmanTuning]:
+    """:func:`~noisevar.noise_model.kalman_fit.fit_kalman` of every kinematic model, the
+    record's answer (``estimate``) made once for all of them.
+
+    Parameters
+    ----------
+    z : array_like, shape (n,)
+    rate, method, regimes
+        As :func:`~noisevar.noise_model.kalman_fit.fit_kalman`'s.
+    progress : callable, optional
+        Called with the fraction done over all the models (0 to 1).
+
+    Returns
+    -------
+    dict
+        Model name -> its fit, in :data:`~noisevar.noise_model.kalman_fit.MODELS`' order.
+    """
+    arr = np.asarray(z, dtype=float)
+    answer = record_estimate(arr)
+    record = None if isinstance(answer, str) else answer
+    out = {}
+    for i, model in enumerate(MODELS):
+        step = None if progress is None else (lambda f, i=i: progress((i + f) / len(MODELS)))
+        out[model] = fit_kalman(
+            arr, model, rate, method, progress=step, regimes=regimes, record=record
+        )
+    return out
