@@ -110,7 +110,7 @@ def exactness(n: int) -> list[str]:
             r = [
                 rel(got["variance"], one.variance),
                 rel(got["core_variance"], one.core_variance),
-                max(rel(got["ci95"][i], one.ci95[i]) for i in range(2)),
+                max(rel(got[k], one.ci95[i]) for i, k in enumerate(("ci95_low", "ci95_high"))),
                 rel(d["kurtosis"], one.diagnostics.kurtosis),
             ]
             worst = max(worst, *r)
