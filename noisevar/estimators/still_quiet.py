@@ -23,6 +23,7 @@ from noisevar.diagnostics.quantisation import half_a_step, joined_step, second_d
 from noisevar.diagnostics.regimes import QuietLevel
 from noisevar.errors import NoisevarError
 from noisevar.estimators.results import VarianceEstimate
+from noisevar.estimators.still_extent import to_the_sample
 from noisevar.estimators.still_grids import (
     at_the_ends,
     grown_to_either,
@@ -106,6 +107,11 @@ def still_estimate(
         est = _measured(estimate_in, kept, grown) if grown != pieces else None
         est = None if est is None or _held_values(record, est, grown) else est
         ranges = grown if est is not None else ranges
+    if est is None and back is not None and pieces:  # a short rest: its ends to the sample
+        rest = to_the_sample(pieces, diag.level_profile, back(diag), _reader(record), diag.n)
+        est = _measured(estimate_in, kept, rest)
+        est = None if est is None or _held_values(record, est, rest) else est
+        ranges = rest if est is not None else ranges
     if est is None:
         return ranges, None
     est.notes.append(f"the still regimes only: {len(ranges)} stretches, {est.n_total} samples")

@@ -284,18 +284,21 @@ def same_level(still: VarianceEstimate, variance: float) -> bool:
 def not_quieter(still: VarianceEstimate, variance: float) -> str | None:
     """Why the still R is no quieter level than R (``variance``), or None when it may be.
 
-    Not below R, and either over :data:`~noisevar.diagnostics.regimes.STILL_RATIO` times
-    it or with R inside its 95 % interval: the still regimes are the record's quietest on
-    the diagnostics' residual, and R's own method reads them no quieter (a ship's
-    temperature in 1-degree steps with spikes: 107 against R 42; sktime's solar
-    generation, 38 % night zeros: 1.77e-4 against R 7.33e-5, its interval 0.68x-77x R,
-    on one block grid's phase only). A still R above R and told apart from it, by at most
-    twice, may be: a dropout or held stretch pulls R down (heartpy's PPG, 840 samples of
-    0: still R 1.05x R, the noise's own).
+    Not below R, and either told apart over
+    :data:`~noisevar.diagnostics.regimes.STILL_RATIO` times it (its 95 % interval's low
+    end there: the value alone crossed it as the block grid's phase moved the stretches,
+    UT1-UTC's still R 1.9x R, ci95 1.1-3.8x, then 2.8x with 2 samples dropped) or with R
+    inside its 95 % interval: the still regimes are the record's quietest on the
+    diagnostics' residual, and R's own method reads them no quieter (a ship's temperature
+    in 1-degree steps with spikes: 107 against R 42; sktime's solar generation, 38 % night
+    zeros: 1.77e-4 against R 7.33e-5, its interval 0.68x-77x R, on one block grid's phase
+    only). A still R above R and told apart from it, by at most twice, may be: a dropout
+    or held stretch pulls R down (heartpy's PPG, 840 samples of 0: still R 1.05x R, the
+    noise's own).
     """
     if still.variance < variance:
         return None
-    over = still.variance > STILL_RATIO * variance
+    over = still.ci95[0] >= STILL_RATIO * variance  # told apart over twice R
     if not (over or still.ci95[0] <= variance):
         return None
     how = (

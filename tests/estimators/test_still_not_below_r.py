@@ -57,3 +57,13 @@ def test_a_still_r_above_r_told_apart_by_under_twice_stays() -> None:
     assert not_quieter(ppg, r) is None
     assert "inside their 95 % interval" in not_quieter(replace(ppg, ci95=(0.9 * r, 2 * r)), r)
     assert "over 2 times" in not_quieter(replace(ppg, variance=2.1 * r, ci95=(2 * r, 2.2 * r)), r)
+
+
+def test_a_still_r_not_told_apart_from_twice_r_stays() -> None:
+    # UT1-UTC (real_audit7): still R 1.9x R, then 2.8x with 2 samples dropped (ci95 1.9-4.4x):
+    # its value crossed twice R with the grid's phase while its interval did not leave it
+    e = noisevar.estimate(solar_like(42))
+    r = e.variance
+    near = replace(e, variance=2.3 * r, ci95=(1.5 * r, 3.5 * r))
+    assert not_quieter(near, r) is None
+    assert "over 2 times" in not_quieter(replace(near, ci95=(2.05 * r, 3.5 * r)), r)
