@@ -12,6 +12,7 @@ import re
 from collections.abc import Sequence
 
 import numpy as np
+from numpy.typing import NDArray
 
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
 
@@ -115,6 +116,7 @@ def pool_segments(
     found = None
     if starts is not None and all(p.outliers is not None for p in parts):
         found = np.concatenate([p.outliers + s for p, s in zip(parts, starts, strict=True)])
+    jumps = None if starts is None else _pooled_jumps(parts, n_total, starts)
     notes = list(parts[0].notes) if starts is None else _pooled_notes(parts, n_total, starts)
     k = len(parts)
     notes.append(f"estimated in {k} uniform segments and pooled" if k > 1 else
@@ -124,5 +126,16 @@ def pool_segments(
     return VarianceEstimate(
         parts[0].method, var, chi2_interval(var, dof), int(sum(p.n_used for p in parts)),
         n_total, dof, dict(parts[0].params), notes, core_variance=core,
-        outlier_fraction=outliers, kurtosis=kurt, outliers=found,
+        outlier_fraction=outliers, kurtosis=kurt, outliers=found, jumps=jumps,
     )  # fmt: skip
+
+
+def _pooled_jumps(
+    parts: list[VarianceEstimate], n_total: int, starts: Sequence[int]
+) -> NDArray | None:
+    """The parts' samples left out around level jumps, in record indices (None: none)."""
+    out = np.zeros(n_total, dtype=bool)
+    for p, s in zip(parts, starts, strict=True):
+        if p.jumps is not None:
+            out[s : s + p.jumps.size] = p.jumps
+    return out if out.any() else None

@@ -103,3 +103,20 @@ def test_pieces_are_each_from_a_diffuse_start():
     np.testing.assert_allclose(
         joined.innovations, np.concatenate([p.innovations for p in parts]), rtol=0, atol=1e-9
     )
+
+
+def test_a_timed_record_in_segments_carries_its_jumps_to_the_fit():
+    """The CLI's record is estimated on the file's times: split at a gap, the segments'
+    jumps are pooled in record indices, so the fit leaves them out as without times."""
+    rng = np.random.default_rng(5)
+    n = 3000
+    z = np.cumsum(rng.normal(0, 0.05, n)) + rng.normal(0, 1, n)
+    z[1500:] += 60
+    t = np.arange(n, dtype=float)
+    t[1000:] += 50  # a gap: two uniform segments
+    timed = noisevar.estimate(z, t=t)
+    assert timed.jumps is not None and timed.jumps.size == n
+    assert timed.jumps[1490:1510].any() and not timed.jumps[:1000].any()
+    fit = fit_kalman(z, model="cv", record=timed)
+    assert fit.left_out > 0
+    assert timed.ci95[0] <= fit.r <= timed.ci95[1]
