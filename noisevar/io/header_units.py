@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import re
 
+from noisevar.io.limits import echo
+from noisevar.units import declared_unit
+
 #: the unit in the header's last brackets; earlier bracketed words are names, not units
 #: (MIDC's ``Global Horiz (tracker) [W/m^2]``)
 _HEADER_UNIT = re.compile(  # (a trailing "Run #1": PASCO Capstone's columns of each run)
@@ -45,3 +48,42 @@ def header_unit(column: str) -> str | None:
 
 #: Names of an acceleration column (``acc``, ``gravity``, ``g-force``).
 _ACCELERATION = re.compile(r"acc|gravity|g-?force", re.IGNORECASE)
+
+
+def column_units(
+    names: list[str], time_col: str | None, stated: dict[str, str], notes: list[str]
+) -> dict[str, str]:
+    """Each column's unit, from its header's brackets or the units row; a unit pint does not
+    read is kept as written but said on load, once (``temp [Celcius]``: read unitless).
+
+    Parameters
+    ----------
+    names : list of str
+        The table's columns.
+    time_col : str or None
+        The time column (its unit is the time's, not a value's).
+    stated : dict
+        Column to the units row's word.
+    notes : list of str
+        The load notes; one is appended when some unit is not understood.
+
+    Returns
+    -------
+    dict
+        Column to its unit as written.
+
+    Notes
+    -----
+    Misspellings are not guessed: pint is the only reader of units (``noisevar.units``), and a
+    guess would put a conversion factor on values nobody declared.
+    """
+    units = {c: u for c in names if c != time_col and (u := header_unit(c) or stated.get(c))}
+    unread = [(c, u) for c, u in units.items() if declared_unit(u) is None]
+    if unread:
+        said = ", ".join(f"{u!r} (column {echo(c)!r})" for c, u in unread[:3])
+        more = f" and {len(unread) - 3} more" if len(unread) > 3 else ""
+        notes.append(
+            f"unit {said}{more} not understood (pint does not read it): the values are read "
+            "unitless; to convert them, give the unit as pint spells it (CLI: --unit, e.g. degC)"
+        )
+    return units

@@ -14,7 +14,7 @@ from numpy.typing import NDArray
 
 from noisevar._arrays import EXACT_INT
 from noisevar.errors import NoisevarError
-from noisevar.io.header_units import header_unit
+from noisevar.io.header_units import column_units, header_unit
 from noisevar.io.opensignals import opensignals_names
 from noisevar.io.quirks import code_note, header_of_numbers, repeated_rows, rows_continue, wrap_note
 from noisevar.io.refusal_hints import kinds_hint, numbers_for_names, preamble_hint, width_hint
@@ -360,7 +360,7 @@ def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
         notes.append(f"column {echo(c)!r} is empty")
     notes += [n for c in names if c != time_col and (n := code_note(c, columns[c]))]
     notes += [n for c in names if c != time_col and (n := wrap_note(c, columns[c]))]
-    units = {c: u for c in names if c != time_col and (u := header_unit(c) or stated.get(c))}
+    units = column_units(names, time_col, stated, notes)
     return LoadedTable(name, columns, kind, time_col, period, notes, units)
 
 
