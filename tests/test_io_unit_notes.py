@@ -24,6 +24,12 @@ def test_a_unit_pint_does_not_read_is_said_on_load(tmp_path, header):
     assert len(said) == 1 and "not understood" in said[0] and "unitless" in said[0]
 
 
+def test_a_unit_pint_reads_is_not_noted(tmp_path):
+    path = tmp_path / "t.csv"
+    _write(path, "time,temp [degC]\n")
+    assert not [n for n in load_table(path).notes if "understood" in n]
+
+
 def test_the_cli_says_the_unit_was_not_understood(tmp_path, capsys):
     path = tmp_path / "t.csv"
     _write(path, "time,temp [Celcius]\n")
@@ -31,5 +37,3 @@ def test_the_cli_says_the_unit_was_not_understood(tmp_path, capsys):
     out = json.loads(capsys.readouterr().out)
     assert out["unit"] == "u"
     assert any("'Celcius'" in n and "unitless" in n for n in out["notes"])
-    _write(path, "time,temp [degC]\n")  # a unit pint reads: no such note
-    assert not [n for n in load_table(path).notes if "understood" in n]
