@@ -28,7 +28,6 @@ from noisevar.diagnostics.power_law import POWER_LAW_MAX, power_law_types, witho
 from noisevar.diagnostics.profile import LevelProfile, on_both_grids, profile_from_blocks
 from noisevar.diagnostics.results import NoiseDiagnostics
 from noisevar.diagnostics.segments import Gap, Segmentation, split_dropped, split_times
-from noisevar.diagnostics.still_words import calm_not_still
 from noisevar.diagnostics.sums import DiagSums, diag_part
 from noisevar.diagnostics.tails import kurtosis_from_moments, tail_index
 from noisevar.diagnostics.verdict import make_verdict
@@ -498,5 +497,5 @@ def with_verdict(
     ``still_gap``: why there is none (:func:`make_verdict`).
     """
     verdict = make_verdict(diag, variance, core, outliers, still, still_gap)
-    verdict += other_still_clause(diag, calm_not_still(diag))
+    verdict += other_still_clause(diag)
     return replace(diag, verdict=verdict, notes=make_notes(diag))

@@ -5,7 +5,6 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from noisevar.diagnostics.segments import GAP_RTOL, JITTER_NOTE
-from noisevar.diagnostics.still_words import calm_not_still, calm_words
 from noisevar.diagnostics.verdict_parts import still_oscillation
 from noisevar.format import eng
 
@@ -57,11 +56,8 @@ def upper_bound_note(diag: NoiseDiagnostics) -> str | None:
     the estimate and on its still R (``regimes='still'``), which users put in their filter.
     """
     o = still_oscillation(diag)
-    if diag.quiet_variance is None:
+    if o is None or diag.quiet_variance is None:
         return None
-    if o is None:
-        return f"the still level (the R to use of regimes='still') is {calm_words(diag)}" if (
-            calm_not_still(diag)) else None  # fmt: skip
     return (
         f"the still stretches carry an oscillation at {o.frequency:.2f} of the sample rate "
         "(a slower phase of a gait, or a machine running): their level, the R to use of "

@@ -9,11 +9,11 @@ import numpy as np
 from noisevar.diagnostics.power_law import WHITE, describe
 from noisevar.diagnostics.quantisation import half_a_step
 from noisevar.diagnostics.regimes import STILL_RATIO, read_above
-from noisevar.diagnostics.still_words import WEAK_P, farthest, lag_excess, still_colour, still_named
 from noisevar.diagnostics.verdict_parts import (
     GLITCHES_DOMINATE,
     OSC_TO_DO,
     OUTLIERS_SOME,
+    departure_cause,
     differenced_verdict,
     found_oscillation,
     glitches_lead,
@@ -21,6 +21,7 @@ from noisevar.diagnostics.verdict_parts import (
     oscillation_words,
     still_oscillation,
     to_use_words,
+    upper_bound_words,
 )
 from noisevar.format import eng
 
@@ -28,6 +29,8 @@ if TYPE_CHECKING:
     from noisevar.diagnostics.results import NoiseDiagnostics
     from noisevar.diagnostics.whiteness import WhitenessTest
 
+#: A whiteness test failed at a p-value above this, with no colour named, is a weak finding.
+WEAK_P = 0.01
 #: The quiet stretches cover less than this share: the record is mostly motion.
 MOSTLY_MOTION = 0.5
 #: The first clause of every sentence on a level that changes: which kind (no quiet
@@ -400,8 +403,8 @@ def _not_white(
     # no quiet block (a grid's noise under half a step): no still level to quote
     if diag.level_varies and prof.any_quiet and prof.quiet_share < MOSTLY_MOTION and not diag.white:
         return (
-            f"{CHANGES}: mostly motion or signal leaking through; {still_named(diag)} "
-            f"({still_share(diag):.0%} of it) is "
+            f"{CHANGES}: mostly motion or signal leaking through; the sensor noise measured "
+            f"in its still stretches ({still_share(diag):.0%} of it) is "
             f"{_g(quiet)} (std {_g(float(np.sqrt(quiet)))}), "
             f"against {_g(variance)} over the whole record{said}{_vibrates(diag)}"
         )
@@ -510,7 +513,12 @@ def _farthest_lag(w: WhitenessTest) -> str:
     Named by the lag that departs, not lag 1 alone: Student-t noise failed the test at
     p = 0.007 by lags 2-6 and read "lag-1 autocorrelation -0.00 beyond white noise's".
     """
-    return lag_excess(w, farthest(w))
+    return _lag_excess(w, _farthest(w))
+
+
+def _farthest(w: WhitenessTest) -> int:
+    """The index of the lag whose autocorrelation departs most from white noise's."""
+    return int(np.argmax(np.abs((w.acf - w.expected) / w.band)))
 
 
 def indicative(gap: str | None) -> str:
@@ -534,6 +542,49 @@ def still_said(diag: NoiseDiagnostics, gap: str | None) -> str:
     the whiteness test too, which the gap's reason already says once."""
     untested = gap and diag.still_whiteness is None
     return ("" if untested else still_colour(diag)) + indicative(gap)
+
+
+def _lag_excess(w: WhitenessTest, k: int) -> str:
+    """The residual's lag-``k + 1`` autocorrelation beyond white noise's.
+
+    Notes
+    -----
+    An excess over white noise's own (-2/3 at lag 1 through the residual filter), so it may
+    pass 1: written without "beyond white noise's" it read as an autocorrelation of +1.02
+    (the IERS's UT1-UTC, real_audit7).
+    """
+    return f"lag-{k + 1} autocorrelation {w.acf[k] - w.expected[k]:+.2f} beyond white noise's"
+
+
+def still_colour(diag: NoiseDiagnostics) -> str:
+    """What the still stretches' own whiteness adds to a still level ('' when white).
+
+    Noise that is not white in the still stretches (low-passed by the sensor, or slow
+    sway left in them) has no one white level: high-pass estimators of different bandwidth
+    disagree on it, so the still level is its white part, not the variance per sample.
+    Still stretches too short to test are said to be untested. The clause names the lag
+    that departs most (it quoted lag 1's +0.00 where lag 6 failed), and says nothing when
+    the whole record, still stretches in, tests white and theirs fails only weakly (p of
+    :data:`WEAK_P` or more: two tests of white noise give that 1 time in 50 or more; the
+    ADS-B altitude of benchmarks/real_audit9.py, p = 0.99 and 0.03).
+    """
+    w = diag.still_whiteness
+    if (o := still_oscillation(diag)) is not None:
+        return f"; this level is {upper_bound_words(o)}"
+    if w is None and diag.level_varies:  # still stretches too short for the test
+        return (
+            "; the still stretches are too short to test whether their noise is white, so "
+            "this level is untested: if the sensor low-passes its noise it is only the white "
+            "part (record the sensor still for longer)"
+        )
+    if w is None or w.white or (diag.white and w.p_value >= WEAK_P):
+        return ""
+    k = _farthest(w)
+    return (
+        f"; but even there the noise is not white ({_lag_excess(w, k)}: "
+        f"{departure_cause(w, k)}), so this is its "
+        "white part and depends on the bandwidth: model the coloured part (see the noise model)"
+    )
 
 
 def _held(x: float) -> str:

@@ -66,12 +66,11 @@ def still_level_fields(level: StillLevel, n: int) -> dict[str, str]:
     }
 
 
-def other_still_clause(diag: NoiseDiagnostics, calm: bool = False) -> str:
+def other_still_clause(diag: NoiseDiagnostics) -> str:
     """What the other still levels add to the verdict ('' when there is none).
 
     Each near-still regime whose level, measured as the R to use is, lies above it
-    (docs/algorithms.md §E1 *Several still levels*): the R to use stays the floor, the
-    sensor's own noise unless ``calm``: the stretches are calm, not still (an upper bound).
+    (docs/algorithms.md §E1 *Several still levels*): the R to use stays the floor.
     """
     if not diag.other_still:
         return ""
@@ -81,9 +80,9 @@ def other_still_clause(diag: NoiseDiagnostics, calm: bool = False) -> str:
     )
     return (
         f". Other still stretches rest at a higher level on the same residual: {said}: "
-        "another posture, or slow sway; the still level above is the floor, "
-        f"{'an upper bound on the' if calm else 'the'} sensor's own noise, and a filter that "
-        "runs through those stretches without modelling that motion needs their level"
+        "another posture, or slow sway; the still level above is the floor, the sensor's "
+        "own noise, and a filter that runs through those stretches without modelling that "
+        "motion needs their level"
     )
 
 
