@@ -178,7 +178,7 @@ def report_hint(text: str, split: Callable[[str], list[str]], line_no: int) -> s
     named = len(names) >= width - 1 and not any(_number(c) is not None for c in names)
     above = at - 1 if named else first - 1
     report = f" (lines 1-{above} look like a program's report (name and value lines) above"
-    read = f"pandas.read_csv(path, sep=None, engine='python', skiprows={above}"
+    read = f"pandas.read_csv(path, sep=None, engine='python', index_col=False, skiprows={above}"
     if named:
         return (
             f"{report} its table, whose header is line {at} and rows start at line {first}: "
