@@ -91,3 +91,18 @@ def test_a_date_column_not_named_date_is_joined_with_the_clock_beside_it(tmp_pat
     got, t = channel_record(load_table(path), "Luminosidade")
     np.testing.assert_allclose(got, np.round(z, 4))
     assert t is not None and np.allclose(np.diff(t), 60.0)
+
+
+def test_columns_all_refused_says_the_reason_of_another_kind(tmp_path, capsys):
+    """A line counter first, then measured columns with a few NaN: with ``--columns all``
+    the one-line refusal names ``--drop-nonfinite`` too, not only the counter's reason."""
+    rng = np.random.default_rng(5)
+    z = rng.normal(0.0, 1.0, 200)
+    cells = [f"{v:.4f}" if i % 50 else "NaN" for i, v in enumerate(z)]
+    rows = [f"{i + 1},{c},{c}" for i, c in enumerate(cells)]
+    path = tmp_path / "epochs.csv"
+    path.write_text("Line,Activity,Light\n" + "\n".join(rows) + "\n")
+    assert main(["estimate", str(path), "--columns", "all"]) == 2
+    err = _one_line(capsys)
+    assert "'Line'" in err and "counter" in err and "--drop-nonfinite" in err
+    assert main(["estimate", str(path), "--columns", "all", "--drop-nonfinite"]) == 0
