@@ -106,3 +106,15 @@ def test_columns_all_refused_says_the_reason_of_another_kind(tmp_path, capsys):
     err = _one_line(capsys)
     assert "'Line'" in err and "counter" in err and "--drop-nonfinite" in err
     assert main(["estimate", str(path), "--columns", "all", "--drop-nonfinite"]) == 0
+
+
+def test_a_row_wider_than_the_table_far_down_says_what_to_do(tmp_path, capsys):
+    """An AWD-like file: one count a line, a mark after some (``71 M``) far below the
+    head: the refusal names the line and says to remove the extra fields."""
+    counts = np.random.default_rng(6).integers(0, 900, 20000)
+    lines = [str(c) + (" M" if i == 15000 else "") for i, c in enumerate(counts)]
+    path = tmp_path / "example.awd.txt"
+    path.write_text("\n".join(lines) + "\n")
+    assert main(["estimate", str(path)]) == 2
+    err = _one_line(capsys)
+    assert "line 15001" in err and "remove the extra fields" in err

@@ -406,7 +406,9 @@ def _read_frame(
         if m:
             raise NoisevarError(
                 f"{echo(name)}: line {m.group(2)} has {m.group(3)} fields but the "
-                f"table has {m.group(1)}: every row must have the same columns"
+                f"table has {m.group(1)}: every row must have the same columns (remove the "
+                "extra fields from that line and any like it, e.g. a mark after a value; or "
+                "name every column in a header)"
             ) from None
         if "No columns to parse" in msg:
             raise NoisevarError(f"{echo(name)} has a header but no data rows") from None
