@@ -167,6 +167,16 @@ def user_file(name: str) -> Path:
     return out
 
 
+def hand_cut(name: str) -> Path:
+    """A logger's export with its report lines deleted by hand (the refusal's first advice),
+    the rest of each line kept as written."""
+    out = raw(name).with_name(f"{name}_hand.csv")
+    if not out.exists():
+        lines = raw(name).read_text(encoding="utf-8", errors="replace").splitlines()
+        out.write_text("\n".join(lines[CUT[name][0] :]) + "\n")
+    return out
+
+
 def channels_of(name: str) -> dict[str, np.ndarray]:
     """Each channel's finite samples as the product reads them from the user's file."""
     table = load_table(user_file(name))
@@ -338,6 +348,8 @@ def bad_input() -> list[dict]:
             (user_file("actiwatch_rpx"), ["--columns", "all"]),
         "TAL text export (a report above the table), refused": (raw("tal"), []),
         "TAL, cut as the refusal says (index_col=False), no --column": (user_file("tal"), []),
+        "TAL, its report lines deleted by hand (';' ends each row), no --column":
+            (hand_cut("tal"), []),
         "DQT (a report above rows with no header), refused": (raw("dqt"), []),
         "DQT, cut, names given, --columns all": (user_file("dqt"), ["--columns", "all"]),
         "AWD (a 7-line header, one count a line, 'M' marks), refused":

@@ -81,10 +81,11 @@ def test_a_binary_measurement_format_is_named_with_a_way_to_export_it(
 
 
 def test_a_date_column_not_named_date_is_joined_with_the_clock_beside_it(tmp_path):
-    """A Mini-Mitter export's ``Data`` and ``Hora`` (Portuguese) columns: one time."""
+    """A Mini-Mitter export's ``Data`` and ``Hora`` (Portuguese) columns: one time; a ``;``
+    ending every row is an empty last field, not a column the header does not name."""
     rng = np.random.default_rng(4)
     z = rng.normal(0.0, 1.0, 3 * 1440)
-    rows = [f"2000/1/{1 + i // 1440}; {i // 60 % 24:02d}:{i % 60:02d}:00; {v:.4f}"
+    rows = [f"2000/1/{1 + i // 1440}; {i // 60 % 24:02d}:{i % 60:02d}:00; {v:.4f};"
             for i, v in enumerate(z)]  # fmt: skip
     path = tmp_path / "tal.csv"
     path.write_text("Data; Hora; Luminosidade\n" + "\n".join(rows) + "\n")

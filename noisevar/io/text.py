@@ -191,8 +191,9 @@ def _check_width(
             "give a table of at most that many signals"
         )
     split = lambda ln: _split(ln, fmt.delim)  # noqa: E731
-    widths = [len(_split(ln, fmt.delim)) if fmt.thousands != "," or fmt.delim else 1
-              for _, ln in head[1:]]  # fmt: skip
+    end = fmt.delim or " "  # a delimiter ending every row: an empty last field, no column
+    widths = [len(split(ln.rstrip().removesuffix(end))) if fmt.thousands != "," or fmt.delim
+              else 1 for _, ln in head[1:]]  # fmt: skip
     for (line_no, _), n in zip(head[1:], widths, strict=True):
         if n > len(fields):  # fewer fields are empty cells (NaN)
             hint = (
