@@ -218,7 +218,7 @@ def gaps_reference(name: str, col: str) -> dict:
     est = nv.estimate(z, t=t)
     flags = est.diagnostics.flags if est.diagnostics else {}
     big = float(np.max(np.diff(t)) / np.median(np.diff(t)))
-    said = any(w in n for n in est.notes for w in ("gap", "not uniform", "irregular"))
+    said = any(w in n for n in est.notes for w in ("gap", "not uniform", "irregular", "jitter"))
     fail = [] if flags.get("gaps") or said else [f"a step {big:.2f}x the median, unsaid"]
     return ref_row(name, f"{col} (with t)", f"steps flagged (largest x{big:.2f})", big, est,
                    fail)  # fmt: skip
