@@ -291,3 +291,17 @@ PVANALYTICS = "pvanalytics==0.2.2"
 #: the battery, as a CSV, as the logger's TOA5 export and as a Windographer export, with the
 #: icing periods its authors flagged; and a floating lidar's wind at two heights.
 BRIGHTWIND = "brightwind==2.7.0"
+
+
+# ---------------------------------------------------------------- real_audit13.py (issue 26)
+#: Packages whose shipped measured data ``benchmarks/real_audit13.py`` reads (read as files,
+#: never installed or imported): river's wheel (BSD-3-Clause: a pipe's hourly water flow with
+#: UTC offsets across a DST change, an office's temperature, humidity, light and CO2 from
+#: the UCI occupancy set, a runner's pace and distance), pyActigraphy's wheel (GPL-3.0: wrist
+#: actigraphs' recordings as their software exports them: Philips Actiware CSV in English,
+#: French and German, Condor ActTrust and Mini-Mitter TAL text, a DQT file, Cambridge
+#: Neurotechnology AWD, an MTN XML, an ActiGraph .agd) and npTDMS's sdist (LGPL-3.0: NI
+#: LabVIEW TDMS test files, refused as a format).
+RIVER = "river==0.26.1"
+PYACTIGRAPHY = "pyActigraphy==1.2.2"
+NPTDMS = "nptdms==1.13.0"

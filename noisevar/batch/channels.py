@@ -8,6 +8,7 @@ Python) is parsed once by :func:`parse_columns`, then resolved against each load
 
 from __future__ import annotations
 
+import re
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
@@ -18,7 +19,7 @@ if TYPE_CHECKING:
     from noisevar.estimators.results import VarianceEstimate
     from noisevar.io import LoadedTable
 
-__all__ = ["channel_estimates", "parse_columns", "table_channels"]
+__all__ = ["all_refused", "channel_estimates", "parse_columns", "table_channels"]
 
 
 def parse_columns(columns: str | Sequence[str] | None) -> str | list[str] | None:
@@ -146,3 +147,27 @@ def channel_estimates(
         except NoisevarError as exc:
             out.append(str(exc))
     return out
+
+
+#: A reason's kind: its quoted names and numbers masked
+_NAMES_NUMBERS = re.compile(r"'[^']*'|\d[\d.,]*")
+
+
+def all_refused(names: Sequence[str], reasons: Sequence[str]) -> str:
+    """The refusal when every channel of ``names`` is refused: the first reason, and the
+    first of another kind after it (one line).
+
+    Notes
+    -----
+    An Actiware export cut to its epoch table (pyActigraphy's French file) starts with a
+    line counter and a seconds counter; its measured columns hold a few NaN. With
+    ``--columns all`` the refusal gave only the counter's reason, not that
+    ``--drop-nonfinite`` reads the others.
+    """
+    first = f"column {names[0]!r}: {reasons[0]}"
+    kind = _NAMES_NUMBERS.sub("#", reasons[0])
+    other = next(((n, r) for n, r in zip(names, reasons, strict=True)
+                  if _NAMES_NUMBERS.sub("#", r) != kind), None)  # fmt: skip
+    if other is None:
+        return first
+    return f"no column could be estimated: {first}; column {other[0]!r}: {other[1]}"

@@ -233,8 +233,9 @@ def _channels(args: argparse.Namespace, params: dict[str, Any]) -> tuple[Any, li
 def _estimate_many(args: argparse.Namespace, columns: Any, method: str, params: dict) -> int:
     """Several channels of one table, each with the table's times and its declared unit (as
     ``noisevar batch`` reads them: one answer); a channel that cannot be estimated is a row
-    with its reason, the others go on (all failing: the first reason, exit 2)."""
-    from noisevar.batch.channels import channel_estimates, table_channels
+    with its reason, the others go on (all failing: the first reason and the first of
+    another kind, exit 2)."""
+    from noisevar.batch.channels import all_refused, channel_estimates, table_channels
     from noisevar.estimators import method_spec
     from noisevar.io.load import column_name
 
@@ -246,7 +247,7 @@ def _estimate_many(args: argparse.Namespace, columns: Any, method: str, params: 
         column_name(table, name)  # a name that is not in the file: the user's typo, exit 2
     results = channel_estimates(table, names, method, params)
     if all(isinstance(r, str) for r in results):
-        raise NoisevarError(f"column {names[0]!r}: {results[0]}")
+        raise NoisevarError(all_refused(names, results))
     rows = [
         (c, r, _unit(args, table.units.get(c) if c is not None else None))
         for c, r in zip(names, results, strict=True)

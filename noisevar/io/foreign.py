@@ -1,6 +1,7 @@
 """Files of formats noisevar does not read as tables, told apart from text: a FIT activity,
-an XML track (GPX, TCX, KML) refused in one line that says what to do; text whose fields a
-device pads with NUL bytes, read as the text it is."""
+an XML track (GPX, TCX, KML), a TDMS, MDF, EDF, BLF, SQLite or MATLAB file refused in one
+line that says what to do; text whose fields a device pads with NUL bytes, read as the text
+it is."""
 
 from __future__ import annotations
 
@@ -52,6 +53,52 @@ def refuse_fit(head: bytes, name: str) -> None:
         f"{echo(name)} is a FIT file (a sports device's binary activity log), which noisevar "
         "does not read: export its records to a CSV file (e.g. with fitdecode, fitparse or "
         "Garmin's FitCSVTool; a time column and one column per field) and give that file"
+    )
+
+
+#: Binary files of measurements users have: leading bytes -> (what it is, how to convert)
+_BINARY_KINDS = {
+    b"TDSm": ("a TDMS file (National Instruments LabVIEW or DAQ)",
+              "with npTDMS: TdmsFile.read(path).as_dataframe().to_csv(...)"),
+    b"TDSh": ("a TDMS index file (National Instruments)",
+              "give the .tdms file beside it, exported with npTDMS"),
+    b"MDF     ": ("an MDF file (ASAM MDF, a vehicle or test-bench logger's)",
+                  "with asammdf: MDF(path).to_dataframe().to_csv(...)"),
+    b"UnFinMF ": ("an unfinalised MDF file (ASAM MDF)",
+                  "with asammdf: MDF(path).to_dataframe().to_csv(...)"),
+    b"\xffBIOSEMI": ("a BDF file (BioSemi, biosignals)",
+                     "with pyedflib or mne: mne.io.read_raw_bdf(path).to_data_frame()"),
+    b"LOGG": ("a BLF file (Vector's binary CAN log)",
+              "decode its signals with python-can and cantools and the bus's DBC file"),
+    b"SQLite format 3\x00": ("an SQLite database (an ActiGraph .agd file is one)",
+                             "with sqlite3 or pandas.read_sql: the table of samples"),
+    b"MATLAB 5.0 MAT-file": ("a MATLAB .mat file",
+                             "with MATLAB's writetable, or scipy.io.loadmat in Python"),
+}  # fmt: skip
+#: EDF's header: version "0" and 7 spaces, its start date (dd.mm.yy) at byte 168
+_EDF = re.compile(rb"0 {7}.{160}\d\d\.\d\d\.\d\d", re.DOTALL)
+
+
+def refuse_binary(head: bytes, name: str) -> None:
+    """Refuse a binary file of measurements in a format noisevar does not read (TDMS, MDF,
+    EDF, BDF, BLF, SQLite, MATLAB), known by its leading bytes, in one line that names it
+    and a way to export it to CSV.
+
+    Notes
+    -----
+    npTDMS's test files (a LabVIEW DAQ's TDMS) and pyActigraphy's ActiGraph .agd (SQLite)
+    were refused as "a binary file (it contains NUL bytes)", which did not say what the file
+    is nor how to make it a table.
+    """
+    found = next((v for k, v in _BINARY_KINDS.items() if head.startswith(k)), None)
+    if found is None and _EDF.match(head[:176]):
+        found = ("an EDF file (European Data Format, biosignals)",
+                 "with pyedflib or mne: mne.io.read_raw_edf(path).to_data_frame()")  # fmt: skip
+    if found is None:
+        return
+    raise NoisevarError(
+        f"{echo(name)} is {found[0]}, which noisevar does not read: export its channels to "
+        f"a CSV file ({found[1]}; a time column and one column per channel) and give that file"
     )
 
 

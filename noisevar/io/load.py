@@ -14,7 +14,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.errors import NoisevarError
-from noisevar.io.foreign import NUL_NOTE, nul_padding, refuse_fit, refuse_xml
+from noisevar.io.foreign import NUL_NOTE, nul_padding, refuse_binary, refuse_fit, refuse_xml
 from noisevar.io.iaga import NOTE as IAGA_NOTE
 from noisevar.io.iaga import iaga_csv, is_iaga
 from noisevar.io.limits import MAX_BYTES, check_bytes, check_size
@@ -327,6 +327,7 @@ def _parse(head: bytes, name: str, path: Path | None, size: int) -> LoadedTable:
         )
     _refuse_compressed(head, name)
     refuse_fit(head, name)
+    refuse_binary(head, name)
     whole = path is None or size <= len(head)
     padding = nul_padding(head)
     if padding and not whole:  # the padding is left out of the text: read all of it

@@ -143,7 +143,77 @@ def metadata_hint(head: list[tuple[int, str]], line_no: int, width: int) -> str 
     return None
 
 
-def width_hint(head: list[tuple[int, str]], line_no: int, width: int, default: str) -> str:
+#: A table under a report: at least this many rows of one width end the file's head
+_MIN_ROWS = 10
+
+
+def _starts_number(line: str) -> bool:
+    """Whether a line's first cell starts with a number (a date too), quoted or not."""
+    s = line.lstrip().lstrip('"')
+    return s[:1].isdigit() or (s[:1] in "+-." and s[1:2].isdigit())
+
+
+def report_hint(text: str, split: Callable[[str], list[str]], line_no: int) -> str | None:
+    """The hint when a program's report sits above its table, far below the refused line
+    ``line_no``: the rows that end ``text`` (a file's head, its last line dropped: it may be
+    cut) have one width of 2 or more fields, start with numbers, and start after it.
+
+    Notes
+    -----
+    Philips Actiware's CSV export (pyActigraphy's test files) holds 140 lines of quoted
+    sections (subject, statistics, column meanings) above its epoch table, and a Condor
+    logger's DQT file a start, rate and bits block above rows with no header: both were
+    refused blaming thousands separators, which they do not have.
+    """
+    rows = [(i, ln) for i, ln in enumerate(text.splitlines()[:-1], 1) if ln.strip()]
+    if not rows:
+        return None
+    width, k = len(split(rows[-1][1])), len(rows)
+    while k > 0 and _starts_number(rows[k - 1][1]) and len(split(rows[k - 1][1])) == width:
+        k -= 1
+    if width < 2 or len(rows) - k < _MIN_ROWS or k == 0 or rows[k][0] <= line_no:
+        return None
+    first, (at, header) = rows[k][0], rows[k - 1]  # names, or a report's last line
+    names = [c.strip() for c in split(header) if c.strip()]
+    named = len(names) >= width - 1 and not any(_number(c) is not None for c in names)
+    above = at - 1 if named else first - 1
+    report = f" (lines 1-{above} look like a program's report (name and value lines) above"
+    read = f"pandas.read_csv(path, sep=None, engine='python', index_col=False, skiprows={above}"
+    if named:
+        return (
+            f"{report} its table, whose header is line {at} and rows start at line {first}: "
+            f"delete those lines so that the file starts with the column names, e.g. {read})"
+            ".to_csv(...))"
+        )
+    return (
+        f"{report} a table with no header whose rows start at line {first}: delete those "
+        f"lines and give the table with a header line naming its {width} columns, e.g. "
+        f"{read}, header=None, names=[...]).to_csv(...))"
+    )
+
+
+def width_hint(
+    head: list[tuple[int, str]], line_no: int, width: int, default: str,
+    below: Callable[[int], str | None] = lambda _line: None,
+) -> str:  # fmt: skip
     """The hint of a refusal of line ``line_no``'s ``width`` fields, more than the header's:
-    another tool's comment marker, a block of metadata, else ``default``."""
-    return comment_hint(head[0][1]) or metadata_hint(head, line_no, width) or default
+    another tool's comment marker, a block of metadata, a report above a table far below
+    (``below(line_no)``: :func:`report_hint` on the file's head), else ``default``."""
+    return (
+        comment_hint(head[0][1]) or metadata_hint(head, line_no, width) or below(line_no)
+        or default
+    )  # fmt: skip
+
+
+def short_header(fields: list[str], widths: list[int]) -> bool:
+    """A header of names with fewer fields than every row under it, which agree (a logger
+    that added channels and kept its header: NREL MIDC), not numbers split by separators."""
+    named = any(_number(f) is None for f in fields)
+    return named and len(widths) > 1 and len(set(widths)) == 1 and widths[0] > len(fields)
+
+
+def _number(text: str) -> float | None:
+    try:
+        return float(text.strip().strip('"'))
+    except ValueError:
+        return None

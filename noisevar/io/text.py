@@ -17,7 +17,14 @@ from noisevar.errors import NoisevarError
 from noisevar.io.header_units import column_units, header_unit
 from noisevar.io.opensignals import opensignals_names
 from noisevar.io.quirks import code_note, header_of_numbers, repeated_rows, rows_continue, wrap_note
-from noisevar.io.refusal_hints import kinds_hint, numbers_for_names, preamble_hint, width_hint
+from noisevar.io.refusal_hints import (
+    kinds_hint,
+    numbers_for_names,
+    preamble_hint,
+    report_hint,
+    short_header,
+    width_hint,
+)
 from noisevar.io.table import (
     _NA_TOKENS,
     LoadedTable,
@@ -173,15 +180,20 @@ def _head_lines(head: str, name: str, complete: bool) -> list[tuple[int, str]]:
     return out[:60]
 
 
-def _check_width(name: str, fields: list[str], head: list[tuple[int, str]], fmt: _Format) -> None:
-    """Refuse too many columns, and rows whose field count differs from the first row's."""
+def _check_width(
+    name: str, fields: list[str], head: list[tuple[int, str]], fmt: _Format, text: str = ""
+) -> None:
+    """Refuse too many columns, and rows whose field count differs from the first row's
+    (``text``: the file's head, for :func:`report_hint`)."""
     if len(fields) > MAX_COLUMNS:
         raise NoisevarError(
             f"{echo(name)} has {len(fields):,} columns, over the limit of {MAX_COLUMNS}: "
             "give a table of at most that many signals"
         )
-    widths = [len(_split(ln, fmt.delim)) if fmt.thousands != "," or fmt.delim else 1
-              for _, ln in head[1:]]  # fmt: skip
+    split = lambda ln: _split(ln, fmt.delim)  # noqa: E731
+    end = fmt.delim or " "  # a delimiter ending every row: an empty last field, no column
+    widths = [len(split(ln.rstrip().removesuffix(end))) if fmt.thousands != "," or fmt.delim
+              else 1 for _, ln in head[1:]]  # fmt: skip
     for (line_no, _), n in zip(head[1:], widths, strict=True):
         if n > len(fields):  # fewer fields are empty cells (NaN)
             hint = (
@@ -190,8 +202,8 @@ def _check_width(name: str, fields: list[str], head: list[tuple[int, str]], fmt:
                 if fmt.delim == ","
                 else ""
             )
-            hint = width_hint(head, line_no, n, hint)
-            if _short_header(fields, widths):
+            hint = width_hint(head, line_no, n, hint, lambda at: report_hint(text, split, at))
+            if short_header(fields, widths):
                 raise NoisevarError(
                     f"{echo(name)}: the header (line {head[0][0]}) names {len(fields)} columns "
                     f"but every row under it has {n} fields: name every column in the "
@@ -201,20 +213,6 @@ def _check_width(name: str, fields: list[str], head: list[tuple[int, str]], fmt:
                 f"{echo(name)}: line {line_no} has {n} fields but line {head[0][0]} has "
                 f"{len(fields)}: every row must have the same columns{hint}"
             )
-
-
-def _short_header(fields: list[str], widths: list[int]) -> bool:
-    """A header of names with fewer fields than every row under it, which agree (a logger
-    that added channels and kept its header: NREL MIDC), not numbers split by separators."""
-    named = any(_number(f) is None for f in fields)
-    return named and len(widths) > 1 and len(set(widths)) == 1 and widths[0] > len(fields)
-
-
-def _number(text: str) -> float | None:
-    try:
-        return float(text.strip().strip('"'))
-    except ValueError:
-        return None
 
 
 def table_layout(
@@ -236,7 +234,7 @@ def table_layout(
         # a one-column file whose name has spaces ("clock [ns]"): every data row one field
         if len(head) > 1 and all(len(_split(ln, None)) == 1 for _, ln in head[1:]):
             first = [head[0][1].strip()]
-    _check_width(name, first, head, fmt)
+    _check_width(name, first, head, fmt, text)
     if not all(_is_number(c, fmt) for c in first):
         if len(head) < 2:
             raise NoisevarError(f"{echo(name)} has a header but no data rows")
@@ -409,7 +407,9 @@ def _read_frame(
         if m:
             raise NoisevarError(
                 f"{echo(name)}: line {m.group(2)} has {m.group(3)} fields but the "
-                f"table has {m.group(1)}: every row must have the same columns"
+                f"table has {m.group(1)}: every row must have the same columns (remove the "
+                "extra fields from that line and any like it, e.g. a mark after a value; or "
+                "name every column in a header)"
             ) from None
         if "No columns to parse" in msg:
             raise NoisevarError(f"{echo(name)} has a header but no data rows") from None

@@ -142,6 +142,8 @@ def is_date_name(name: str) -> bool:
     return _DATE_NAME.fullmatch(time_key(name)) is not None
 
 
+#: A date with no time of day, its parts split by ``-``, ``/`` or ``.`` (``2000/1/1``).
+_DAY = re.compile(r"\d{1,4}[-/.]\d{1,2}[-/.]\d{1,4}")
 #: A clock column beside a date column (MIDC's ``DATE (MM/DD/YYYY)``, ``MST``: ``13:58``).
 _CLOCK = re.compile(r"\d{1,2}:\d{2}(?::\d{2}(?:\.\d{1,9})?)?")
 
@@ -150,13 +152,21 @@ def clock_beside(
     df: pd.DataFrame, names: list[str], time_idx: int | None
 ) -> tuple[NDArray, str] | None:
     """The times of a date column joined with the clock column right after it (seconds from
-    the first) and a note; None unless the time column is a date column holding dates
-    without a time of day and the next column a time of day in every cell."""
+    the first) and a note; None unless the time column holds dates without a time of day
+    (named as a date column, or each cell a date: ``2000/1/1``) and the next column a time
+    of day in every cell.
+
+    Notes
+    -----
+    A Mini-Mitter logger's export (pyActigraphy's TAL file) names its columns ``Data`` and
+    ``Hora`` (Portuguese): the dates alone were its time, and the file was refused as 1,440
+    stacked series, one per time of day.
+    """
     if time_idx is None or time_idx + 1 >= len(names):
         return None
-    if not is_date_name(names[time_idx]):
-        return None
     dates, clocks = df[time_idx].astype(str).str.strip(), df[time_idx + 1].astype(str).str.strip()
+    if not (is_date_name(names[time_idx]) or dates.str.fullmatch(_DAY.pattern).all()):
+        return None
     if not (clocks.str.fullmatch(_CLOCK.pattern).all() and not dates.str.contains(":").any()):
         return None
     times = parse_time_strings((dates + " " + clocks).tolist())
