@@ -35,9 +35,3 @@ def test_r_of_a_vibration_is_the_noise_without_it(period: float, amplitude: floa
     assert sum(e.ci95[0] <= truth <= e.ci95[1] for e in ests) >= 10
     assert any("taken out of R" in n for n in ests[0].notes)
 
-
-def test_white_noise_and_low_passed_noise_keep_their_r() -> None:
-    """Nothing is taken out where no oscillation is found."""
-    z = np.random.default_rng(3).normal(size=4000)
-    est = nv.estimate(z)
-    assert not any("taken out of R" in n for n in est.notes)
