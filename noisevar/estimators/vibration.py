@@ -6,9 +6,9 @@ Nyquist rate: several times its gain on white noise), so R read the noise plus t
 times that gain. A filter that is told to notch or low-pass the vibration out (what the
 verdict says to do) sees the noise without it: the sinusoid at the found frequency is
 fitted to R's residual by least squares and its share of the residual's power taken out of
-R. The frequency is read in a first pass (the phase the residual's demodulated sums turn by
-from block to block), the fit's sums in a second, by blocks, so that a record read in
-chunks reads each block twice and gives the same numbers; the interval is the block
+R. The frequency is read in a first pass (the periodogram's peak near the one found, from
+the residual's demodulated sums by blocks), the fit's sums in a second, by blocks, so that
+a record read in chunks reads each block twice and gives the same numbers; the interval is the block
 jackknife's of the whole statistic (Künsch 1989), as on differenced data.
 """
 
@@ -26,9 +26,12 @@ from noisevar.diagnostics.verdict_parts import found_oscillation
 from noisevar.estimators.differenced_interval import BLOCK_FILTERS, JACK_BLOCKS
 from noisevar.estimators.results import VarianceEstimate
 
-#: Residuals per block of the first pass: the frequency found (a grid step of 0.002 cycles
-#: per sample) is off by well under half a turn per block (``1 / (2 · 64)``).
-PHASE_BLOCK = 64
+#: Residuals per block of the first pass: a line off the frequency found by up to
+#: :data:`FREQUENCY_REACH` turns by under a fifth of a cycle in a block.
+PHASE_BLOCK = 16
+#: How far the line's frequency is looked for from the oscillation's (cycles per sample:
+#: five steps of its grid).
+FREQUENCY_REACH = 0.01
 
 
 def _residuals(
@@ -45,8 +48,11 @@ def _residuals(
 
 
 def _frequency(read: Callable[[int, int], NDArray], n: int, d: NDArray, f0: float) -> float:
-    """The line's frequency near ``f0`` (cycles per sample): ``f0`` plus the mean phase
-    turn of the demodulated sums ``Σ e_t exp(-2πi f0 t)`` between neighbouring blocks."""
+    """The line's frequency near ``f0`` (cycles per sample): the peak of the periodogram of
+    R's residual within :data:`FREQUENCY_REACH` of ``f0`` (and up to 1/2, a real line's
+    image lying above), read off the demodulated sums ``Σ e_t exp(-2πi f0 t)`` of blocks of
+    :data:`PHASE_BLOCK` residuals by a zero-padded FFT over the blocks (a step of
+    ``1 / (8 n)``)."""
     m = n - d.size + 1
     edges = np.arange(0, m + 1, PHASE_BLOCK)
     s = np.array(
@@ -55,8 +61,11 @@ def _frequency(read: Callable[[int, int], NDArray], n: int, d: NDArray, f0: floa
             for a, e in _residuals(read, n, d, edges)
         ]
     )
-    turn = np.angle(np.sum(s[1:] * np.conj(s[:-1]))) if s.size > 1 else 0.0
-    return float(np.clip(f0 + turn / (2 * np.pi * PHASE_BLOCK), 0.0, 0.5))
+    size = 1 << int(np.ceil(np.log2(8 * max(s.size, 1))))
+    power = np.abs(np.fft.fft(s, size)) ** 2
+    shift = np.fft.fftfreq(size) / PHASE_BLOCK  # δ: the line's frequency less f0
+    near = (np.abs(shift) <= FREQUENCY_REACH) & (f0 + shift <= 0.5)
+    return float(f0 + shift[near][np.argmax(power[near])]) if near.any() else f0
 
 
 def _sums(
