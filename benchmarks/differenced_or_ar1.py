@@ -51,6 +51,15 @@ def call(d) -> str:
     return "oscillation" if found_oscillation(d.whiteness) is not None else "none"
 
 
+def _picked(args: argparse.Namespace) -> str:
+    """The rows picked on the command line, as written there."""
+    kinds = f" --kinds {' '.join(args.kinds)}" if args.kinds else ""
+    lengths = (
+        "" if tuple(args.lengths) == LENGTHS else f" --lengths {' '.join(map(str, args.lengths))}"
+    )
+    return kinds + lengths
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--runs", type=int, default=100)
@@ -82,7 +91,8 @@ def main() -> None:
             print(rows[-1], flush=True)
     head = (
         "# Differenced data or AR(1) noise\n\n"
-        f"`python benchmarks/differenced_or_ar1.py --runs {args.runs}`: {args.runs} seeded "
+        f"`python benchmarks/differenced_or_ar1.py --runs {args.runs}{_picked(args)}`: "
+        f"{args.runs} seeded "
         "records per row (seeds 20000 on); the calls of `auto`'s diagnostics and R over the "
         f"per-sample variance (mean, 5-95 %). {time.perf_counter() - t0:.0f} s.\n\n"
         "| record | samples | " + " | ".join(CALLS) + " | R / per-sample variance | ci95 covers |\n"
