@@ -17,7 +17,6 @@ from noisevar.diagnostics.whiteness import (
     MA1_EXPLAINS,
     MA1_SHORT,
     MA1_SHORT_EXPLAINS,
-    MA_ORDER,
     WhitenessTest,
 )
 
@@ -191,8 +190,8 @@ class NoiseDiagnostics:
         :data:`DIFFERENCED_LAG1`, unless the departure is an oscillation's
         (:meth:`_vibration_not_ma1`: a vibration near the Nyquist rate alternates in sign
         at every lag, and its lag-1 fit reads -0.56: docs/algorithms.md §E2 *Vibration*);
-        MA(4) ones (``whiteness.ma_fit``) when AR(1) noise is evident (:attr:`ar1_phi`:
-        R's residual filter sees the noise's correlations at lags 1-4);
+        AR(1) ones (``φ^k`` at every lag tested: ``whiteness.ar1_correlation``) when AR(1)
+        noise is evident (:attr:`ar1_phi`; an MA(4) fit read φ = -0.7 26 % high);
         else the short-memory fit (``whiteness.short_memory``) when one of its
         correlations is.
         """
@@ -201,9 +200,15 @@ class NoiseDiagnostics:
         if lag1[0] < DIFFERENCED_LAG1:
             if self._vibration_not_ma1(lag1):
                 return None  # nor MA(q): a near-Nyquist vibration's MA(4) fit alternates too
-            return w.ma_fit(MA_ORDER) if self._ar1_evident() else lag1
+            return w.ar1_correlation(w.acf.size) if self._ar1_evident() else lag1
         r = w.short_memory
         return r if r is not None and float(r.min()) < DIFFERENCED_LAG1 else None
+
+    def refit_correlation(self, w: WhitenessTest) -> NDArray:
+        """:attr:`noise_correlation`'s model (AR(1), else MA(q) of its size) fitted on
+        another test ``w`` of the same lags: the jackknife's, with a block left out."""
+        q = self.noise_correlation.size
+        return w.ar1_correlation(q) if self.ar1_phi is not None else w.ma_fit(q)
 
     def _lag1_correlated(self) -> bool:
         """The lag-1 fit reads a short correlation (below :data:`DIFFERENCED_LAG1`) that no

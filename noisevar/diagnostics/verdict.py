@@ -489,8 +489,8 @@ def _coloured(diag: NoiseDiagnostics, r: str, quiet: float, still_near: bool) ->
     )
     if (o := found_oscillation(w)) is not None:
         return (
-            f"the noise is not white: it carries {oscillation_words(o)}; {r} includes it "
-            f"(or part of it): {OSC_TO_DO}{still}"
+            f"the noise is not white: it carries {oscillation_words(o)}; {r} leaves its line out "
+            f"(on one segment; a spread band in part: see the notes): {OSC_TO_DO}{still}"
         )
     if weak:
         return (

@@ -9,7 +9,7 @@ kurtosis of an iid noise.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property, lru_cache
 
 import numpy as np
@@ -76,6 +76,25 @@ OSC_PERIODS = 2.0
 #: rate, a legged robot at 0.12, sinusoids in white noise); low-passed, AR(1) and
 #: differenced noise 0.14-0.74 (docs/algorithms.md §E2 *Vibration*).
 OSC_EXPLAINS = 0.8
+#: Evidence (:attr:`Oscillation.apart`) that an oscillation near the Nyquist rate lies
+#: below it: the misfit of a damped resonance plus white noise fitted through the residual
+#: filter at the Nyquist rate itself (AR(1) noise of negative φ plus white noise, whose
+#: power rises to it) less that at the best frequency near the oscillation's, in units of
+#: that AR(1) noise's spread of sample autocorrelations. Measured (seeds 20000-20099,
+#: 300-5,000 samples, the records whose oscillation passes the other counts): AR(1) noise
+#: of φ = -0.6 up to 23, -0.7 28, -0.8 64, -0.9 57; sinusoids of amplitude 0.7 in unit
+#: white noise at 0.47 of the rate 38-103 at 300 samples, 141-359 at 1,000; values held
+#: for two samples 94-130; EuRoC's hexacopter acc_z 82 (docs/algorithms.md §E2 *Vibration*).
+OSC_APART = 70.0
+#: Resonance fits (:meth:`WhitenessTest.resonance`): frequencies either side of the
+#: oscillation's (cycles per sample), and the grids of radius and of the resonant share.
+RES_REACH = 0.05
+RES_FREQUENCIES = 51
+RES_RADII = np.linspace(0.0, 1.0, 41)
+RES_SHARES = np.linspace(0.02, 1.0, 50)
+#: The AR(1) fit's grid of φ, refined to :data:`AR1_STEP` about its best point.
+AR1_GRID = np.round(np.linspace(-0.95, 0.95, 39), 2)
+AR1_STEP = 0.001
 
 
 @dataclass(frozen=True)
@@ -95,18 +114,25 @@ class Oscillation:
         The departure two periods on (the lag nearest ``2 / frequency``) is positive beyond
         its 95 % band: the correlation comes back, as a vibration's does and the residual
         filter's response to low-passed noise (a negative lobe, then none) does not.
+    apart : float
+        Evidence (χ² units) that its frequency is told from the Nyquist rate, where AR(1)
+        noise of negative φ peaks (:meth:`WhitenessTest.resonance`); infinite when not
+        measured (an oscillation that is no finding on the other counts).
     """
 
     frequency: float
     explains: float
     low_pass: float = 0.0
     returns: bool = True
+    apart: float = float("inf")
 
     @property
     def found(self) -> bool:
         """The finding: it explains at least :data:`OSC_EXPLAINS` of the departure, more
-        than noise low-passed by the sensor does (``low_pass``), and it ``returns``."""
-        return self.explains >= OSC_EXPLAINS and self.explains > self.low_pass and self.returns
+        than noise low-passed by the sensor does (``low_pass``), it ``returns``, and it is
+        ``apart`` from the Nyquist rate by :data:`OSC_APART` (not AR(1) noise of negative φ)."""
+        near = self.explains >= OSC_EXPLAINS and self.explains > self.low_pass
+        return near and self.returns and self.apart >= OSC_APART
 
 
 @dataclass(frozen=True)
@@ -233,10 +259,18 @@ class WhitenessTest:
         the lags tested is taken as 0 (exact when they reach the filter's span). The misfit
         is :meth:`ma_left`'s sum.
         """
-        phi = np.round(np.linspace(-0.95, 0.95, 39), 2)
+        misfit = self._misfit(self._ar1_models(AR1_GRID))
+        i = int(np.argmin(misfit))
+        step = float(AR1_GRID[1] - AR1_GRID[0])
+        lo, hi = max(AR1_GRID[i] - step, AR1_GRID[0]), min(AR1_GRID[i] + step, AR1_GRID[-1])
+        phi = np.linspace(lo, hi, int(round((hi - lo) / AR1_STEP)) + 1)
         misfit = self._misfit(self._ar1_models(phi))
         i = int(np.argmin(misfit))
         return float(phi[i]), float(misfit[i])
+
+    def ar1_correlation(self, lags: int) -> NDArray:
+        """The correlations ``φ^1..φ^lags`` of the AR(1) noise :attr:`ar1` fits."""
+        return self.ar1[0] ** np.arange(1, lags + 1)
 
     def _ar1_models(self, phi: NDArray) -> NDArray:
         """The residual's autocorrelation at lags ``1..K`` for AR(1) noise of each ``φ``."""
@@ -295,7 +329,41 @@ class WhitenessTest:
         i = np.unravel_index(int(np.argmax(share)), share.shape)
         lag = min(int(round(2.0 / f[i[1]])), k.size) - 1  # two periods on (f >= 2 / K)
         back = bool(self.acf[lag] - self.expected[lag] >= self.band[lag])
-        return Oscillation(float(f[i[1]]), float(share[i]), self.low_pass(), back)
+        o = Oscillation(float(f[i[1]]), float(share[i]), self.low_pass(), back)
+        if o.explains < OSC_EXPLAINS or o.explains <= o.low_pass or not back:
+            return o  # no finding: the resonance fits are not needed
+        near = np.linspace(max(o.frequency - RES_REACH, low), 0.5, RES_FREQUENCIES)
+        ar1, radius, share = self.resonance(np.array([0.5]), AR1_GRID[AR1_GRID >= 0])
+        # in the spread of the sample autocorrelation of that AR(1) noise (Bartlett's
+        # 1 + 2 Σ g(m)², over white noise's): its lags err together, and far more
+        spread = 1.0 + 2.0 * share**2 * radius**2 / (1.0 - radius**2)
+        return replace(o, apart=(ar1 - self.resonance(near, RES_RADII)[0]) / spread)
+
+    def resonance(self, f: NDArray, radii: NDArray) -> tuple[float, float, float]:
+        """The damped resonance plus white noise at the frequencies ``f`` and radii
+        ``radii`` that best fits the residual's autocorrelation through the residual
+        filter: ``(misfit, ϱ, c)``, the misfit in χ² units.
+
+        Notes
+        -----
+        docs/algorithms.md §E2 *Vibration*: noise of autocorrelation
+        ``c ϱ^|m| cos(2π f m)`` (``m ≠ 0``; 1 at lag 0) through a filter of autocorrelation
+        ``α`` gives a residual of autocorrelation ``Σ_m α_m g(k - m)`` over its lag-0
+        value; ``c`` over :data:`RES_SHARES`. At ``f = 1/2`` it is AR(1) noise of
+        ``φ = -ϱ`` plus white noise; a sinusoid plus white noise is ``ϱ = 1``. The misfit
+        is :attr:`ar1_evidence`'s.
+        """
+        size = self.acf.size
+        k, m = np.arange(size + 1), np.arange(-size, size + 1)
+        am = np.r_[1.0, self.expected][np.abs(m)]
+        lag = np.abs(k[:, None] - m[None, :])
+        g = radii[None, :, None, None] ** lag * np.cos(2 * np.pi * f[:, None, None, None] * lag)
+        rho = (g @ am)[:, :, None, :]  # (f, ϱ, 1, lags 0..K) for c = 1
+        c = RES_SHARES[None, None, :, None]
+        model = c * rho + (1.0 - c) * am[size:]
+        misfit = self._misfit(model[..., 1:] / model[..., :1])
+        i = np.unravel_index(int(np.argmin(misfit)), misfit.shape)
+        return float(misfit[i]) * 1.96**2, float(radii[i[1]]), float(RES_SHARES[i[2]])
 
     def low_pass(self) -> float:
         """The share of the residual's departure from white noise that AR(1) noise (a

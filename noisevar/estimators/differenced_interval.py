@@ -29,49 +29,52 @@ JACK_BLOCKS = 40
 #: Fewest samples per block (times the longer filter's length): shorter records keep the
 #: interval :func:`~noisevar.estimators.interval.honest_interval` gives.
 BLOCK_FILTERS = 4
-#: Lags of the diagnostic residual summed per block (the MA fits use at most ``q + 2``).
+#: Lags of the diagnostic residual past each block a block's length allows for (the MA
+#: fits use at most ``q + 2``; every lag the whiteness test has is summed: the AR(1) fit's).
 FIT_LAGS = 6
 
 
 def _block_sums(
-    read: Callable[[int, int], NDArray], n: int, d: NDArray, u: NDArray, blocks: int
+    read: Callable[[int, int], NDArray], n: int, d: NDArray, u: NDArray, blocks: int, lags: int
 ) -> tuple[NDArray, NDArray, NDArray, NDArray]:
-    """Per block: ``Σ e²`` and its count for ``e = d * z``; ``Σ u_i u_{i+k}`` (``k = 0..``
-    :data:`FIT_LAGS`) and their pair counts for the diagnostic residual ``u = dd * z``.
+    """Per block: ``Σ e²`` and its count for ``e = d * z``; ``Σ u_i u_{i+k}`` (``k = 0..
+    lags``, the lags the whiteness test has) and their pair counts for the diagnostic
+    residual ``u = dd * z``.
 
     Each residual belongs to the block of its first sample; a pair to that of its first.
     """
     me, mu = n - d.size + 1, n - u.size + 1  # residuals of each filter
     edges = np.linspace(0, n, blocks + 1).astype(int)
     se, ne = np.zeros(blocks), np.zeros(blocks)
-    su, nu = np.zeros((blocks, FIT_LAGS + 1)), np.zeros((blocks, FIT_LAGS + 1))
-    k = np.arange(FIT_LAGS + 1)
+    su, nu = np.zeros((blocks, lags + 1)), np.zeros((blocks, lags + 1))
+    k = np.arange(lags + 1)
     for b, (a, c) in enumerate(zip(edges[:-1], edges[1:], strict=True)):
-        z = np.asarray(read(a, min(n, c + max(d.size, u.size + FIT_LAGS) - 1)), dtype=float)
+        z = np.asarray(read(a, min(n, c + max(d.size, u.size + lags) - 1)), dtype=float)
         e = np.convolve(z, d[::-1], mode="valid")[: max(min(c, me) - a, 0)]
         se[b], ne[b] = lagged_products(e, 0)[0], e.size  # (a BLAS dot: threads woken per block)
-        x = np.convolve(z, u[::-1], mode="valid")[: max(min(c + FIT_LAGS, mu) - a, 0)]
+        x = np.convolve(z, u[::-1], mode="valid")[: max(min(c + lags, mu) - a, 0)]
         own = max(min(c, mu) - a, 0)  # pairs starting in this block
-        su[b] = lagged_products(x, FIT_LAGS) - _tails(x, own)
+        su[b] = lagged_products(x, lags) - _tails(x, own, lags)
         nu[b] = np.maximum(np.minimum(own, x.size - k), 0)
     return se, ne, su, nu
 
 
-def _tails(x: NDArray, own: int) -> NDArray:
+def _tails(x: NDArray, own: int, lags: int) -> NDArray:
     """``Σ x_i x_{i+k}`` over the pairs whose first member is past ``own`` (another block's)."""
     rest = x[own:]
-    return lagged_products(rest, FIT_LAGS) if rest.size else np.zeros(FIT_LAGS + 1)
+    return lagged_products(rest, lags) if rest.size else np.zeros(lags + 1)
 
 
 def _corrected(
     se: NDArray, ne: NDArray, su: NDArray, nu: NDArray, diag: NoiseDiagnostics, alpha: NDArray
 ) -> NDArray:
-    """The corrected statistic ``mean(e²) / (1 + 2 r·α)`` of each row of sums."""
-    q = alpha.size
+    """The corrected statistic ``mean(e²) / (1 + 2 r·α)`` of each row of sums, ``r``
+    refitted on each row by the record's own model
+    (:meth:`~noisevar.diagnostics.NoiseDiagnostics.refit_correlation`)."""
     gamma = su / np.maximum(nu, 1.0)
     acf = gamma[:, 1:] / gamma[:, :1]
     w = diag.whiteness  # its null (the filter's own correlation) at every lag it has
-    r = np.array([replace(w, acf=row).ma_fit(q) for row in acf])
+    r = np.array([diag.refit_correlation(replace(w, acf=row)) for row in acf])
     return se / ne / (1.0 + 2.0 * r @ alpha)
 
 
@@ -111,7 +114,7 @@ def jackknife_interval(
     blocks = min(JACK_BLOCKS, n // (BLOCK_FILTERS * max(d.size, u.size + FIT_LAGS)))
     if read is None or blocks < JACK_BLOCKS // 2 or diag.whiteness.expected.size < FIT_LAGS:
         return result
-    se, ne, su, nu = _block_sums(read, n, d, u, blocks)
+    se, ne, su, nu = _block_sums(read, n, d, u, blocks, diag.whiteness.expected.size)
     alpha = _lag_alpha(d, diag.noise_correlation.size)
     drop = _corrected(se.sum() - se, ne.sum() - ne, su.sum(0) - su, nu.sum(0) - nu, diag, alpha)
     if not np.all(np.isfinite(drop) & (drop > 0)):

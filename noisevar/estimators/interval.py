@@ -413,7 +413,7 @@ def differenced(result: VarianceEstimate, d: NDArray, r: NDArray) -> VarianceEst
         return result
     core = None if result.core_variance is None else result.core_variance * factor
     lo, hi = result.ci95
-    values = ", ".join(f"{x:+.2f}" for x in r)
+    values = ", ".join([f"{x:+.2f}" for x in r[:4]] + ["..."] * (r.size > 4))  # AR(1): φ^k
     said = f"correlations {values} at lags 1-{r.size}" if r.size > 1 else ""
     said = said or f"lag-1 correlation {values}"
     notes = [

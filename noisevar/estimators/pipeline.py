@@ -8,8 +8,8 @@ pooled) and a record read in chunks (the method's engine, ``spec.chunked``) alik
 2. look at the noise once (``record.diagnose``: :func:`noisevar.diagnostics.diagnose`);
 3. estimate again with ``spec.coloured_params`` when the noise is not white;
 4. the method's finishing step (``spec.finish``);
-5. conclude: the interval of a moment estimator widened for the measured tails and
-   correlation, the verdict, the assumptions (docs/algorithms.md §E1-§E3);
+5. conclude: the interval widened for the tails and correlation, a vibration's line taken
+   out (``estimators.vibration``), the verdict, the assumptions (docs/algorithms.md §E1-§E3);
 6. back to the record's units (it was scaled by an exact power of two).
 
 What is special to a method is on its :class:`~noisevar.estimators.spec.MethodSpec`:
@@ -70,6 +70,7 @@ from noisevar.estimators.still_quiet import (
     still_estimate,
 )
 from noisevar.estimators.still_set import STILL_MIN, has_still_apart, kept_still, still_gap
+from noisevar.estimators.vibration import without_vibration
 from noisevar.numeric.blocks import runs_of
 
 #: The method's coloured-noise parameters are used below this whiteness p-value (far
@@ -495,14 +496,12 @@ def conclude(
     diag : NoiseDiagnostics
         The record's diagnostics.
     record : callable, optional
-        ``record(a, b)``: samples ``a .. b`` of the (one-segment) record, for the
-        method's finishing step (``spec.finish``).
+        ``record(a, b)``: samples ``a .. b`` of the (one-segment) record (``spec.finish``).
     still : VarianceEstimate, optional
         The same method on the still regimes alone: kept as ``result.still`` and quoted
         by the verdict.
     gap : str, optional
-        Why there is no ``still`` (:func:`~noisevar.estimators.still_set.still_gap`): the
-        verdict says its still level is indicative only.
+        Why there is no ``still`` (:func:`~.still_set.still_gap`): its level is indicative only.
     glitches : LoneGlitches, optional
         The lone glitches in ``result``'s R (at the samples it was measured on): its
         interval allows for their Poisson count (:func:`~.interval.honest_interval`).
@@ -519,7 +518,8 @@ def conclude(
         if spec.finish is not None:
             result = spec.finish(result, diag, record)
         if not (diag.short_correlated and spec.residual is not None):
-            return honest_interval(result, diag, glitches) if spec.moment else result
+            result = honest_interval(result, diag, glitches) if spec.moment else result
+            return without_vibration(result, record, diag, spec.residual)  # §E2 Vibration
         d = spec.residual(result.params)
         result = differenced(result, d, diag.noise_correlation)
         result = honest_interval(result, diag, glitches) if spec.moment else result

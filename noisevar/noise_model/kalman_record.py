@@ -120,7 +120,7 @@ def _colour(est: VarianceEstimate) -> list[tuple[str, str]]:
         return [
             (
                 f"white noise (an oscillation at {osc.frequency:.2f} of the sample rate: r "
-                "takes all of it, R only part)",
+                "takes all of it, R leaves its line out)",
                 "notch or low-pass it out before the filter, or model it as a state",
             )
         ]

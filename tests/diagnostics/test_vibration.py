@@ -30,9 +30,9 @@ def test_a_vibration_near_nyquist_is_not_differenced(seed: int) -> None:
     d = est.diagnostics
     assert not d.differenced and d.flags["differenced"] is False
     assert d.noise_correlation is None
-    # R is the variance per sample the filter sees (noise 1 + the sinusoid's 1.125), not
-    # halved by a differenced-noise correction
-    assert est.variance > 1.5, est.variance
+    # R is the noise a filter sees once the vibration is notched out (1), not halved by a
+    # differenced-noise correction nor the sinusoid's 1.125 through the residual's gain
+    assert est.variance == pytest.approx(1.0, rel=0.05), est.variance
 
 
 @pytest.mark.parametrize("f", [0.47, 0.3, 0.13])
@@ -125,15 +125,17 @@ def test_a_vibration_spread_near_nyquist_with_a_low_pass_is_not_differenced(seed
     """On these seeds one slowly decaying oscillation explains 75-77 % of the departure (under
     the 80 % that names one) and the MA(1) fit 46-47 %; AR(1) noise of φ = -0.65 explains it
     best, evidently better than MA(1) noise. They were flagged differenced, with "the data
-    look differenced"; now AR(1) noise is named, with the vibration it may be. R stays the
-    variance per sample (the noise's, 3.52 without the slow motion: 3.9-4.1)."""
+    look differenced"; now AR(1) noise is named, with the vibration it may be. R is near the
+    variance per sample (the noise's, 3.52 without the slow motion): corrected by the AR(1)
+    fit's correlations 3.2-3.3 (by an MA(4) fit of them, as before, 3.9-4.1); the noise is
+    not AR(1) (a resonance, white and low-passed noise), and neither model is exact."""
     est = nv.estimate(_rotor_band(seed))
     d = est.diagnostics
     assert not d.differenced and d.flags["differenced"] is False
     assert d.ar1_phi is not None and d.ar1_phi < -0.5
     assert "differenced" not in est.verdict.split("so the data are not differenced")[1]
     assert "AR(1) noise of φ = -0.6" in est.verdict and "vibration spread near it" in est.verdict
-    assert 3.5 < est.variance < 4.5, est.variance
+    assert 3.0 < est.variance < 4.5, est.variance
 
 
 @pytest.mark.parametrize("seed", [0, 1])
