@@ -119,8 +119,8 @@ def make_verdict(
     rounding = under_half_a_step(diag, variance)
     if still is not None or diag.level_varies:  # named after the finding, when nearly all of R
         return said + ("" if "outlying" in said else holders)
-    if rounding or not lead or "core variance" in said:
-        return said
+    if rounding or not lead or "core variance" in said:  # some (1-5 %) holding R: said last
+        return said if rounding or lead or "core variance" in said else said + holders
     assert core is not None  # outliers_hold said so
     return _sentence(diag, core, core, 0.0, None, still_gap, "the core variance") + lead
 

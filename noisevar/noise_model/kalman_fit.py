@@ -50,6 +50,8 @@ MODELS: dict[str, tuple[int, int, str]] = {
     "ca": (3, 5, "white-jerk density"),
 }
 METHODS = ("mle", "als", "auto")
+#: The method a fit is asked for by default: the best of the others (:data:`DEFAULT_METHOD`).
+AUTO_METHOD = METHODS[-1]
 #: The method ``"auto"`` uses (chosen on benchmarks/kalman_tuning.py).
 DEFAULT_METHOD = "mle"
 #: Largest magnitudes (powers of two) a fit runs on as they are; beyond, on a copy scaled by
@@ -429,7 +431,7 @@ def fit_kalman(
     z: ArrayLike,
     model: str = "cv",
     rate: float | None = None,
-    method: str = "auto",
+    method: str = AUTO_METHOD,
     lags: int = 20,
     progress: Callable[[float], None] | None = None,
     regimes: str = DEFAULT_REGIMES,
@@ -512,7 +514,7 @@ def _fit(
 ) -> KalmanTuning:
     """:func:`fit_kalman` on a record of safe magnitude (its stretch already taken), over
     its ``pieces``; ALS on the longest (its autocovariances need one unbroken run)."""
-    chosen = DEFAULT_METHOD if method == "auto" else method
+    chosen = DEFAULT_METHOD if method == AUTO_METHOD else method
     zc = pieces.take(arr)
     k = MODELS[model][1]
     if chosen == "mle":

@@ -13,7 +13,13 @@ from numpy.typing import ArrayLike, NDArray
 from noisevar.estimators.regimes import DEFAULT_REGIMES
 from noisevar.kalman.divergence import nis_band
 from noisevar.noise_model._steady import filter_pass
-from noisevar.noise_model.kalman_fit import MODELS, KalmanTuning, _check_input, fit_kalman
+from noisevar.noise_model.kalman_fit import (
+    AUTO_METHOD,
+    MODELS,
+    KalmanTuning,
+    _check_input,
+    fit_kalman,
+)
 from noisevar.noise_model.kalman_record import record_estimate
 
 
@@ -56,7 +62,7 @@ def run_tuned(tuning: KalmanTuning, z: ArrayLike) -> TunedRun:
 def fit_models(
     z: ArrayLike,
     rate: float | None = None,
-    method: str = "auto",
+    method: str = AUTO_METHOD,
     regimes: str = DEFAULT_REGIMES,
     progress: Callable[[float], None] | None = None,
 ) -> dict[str, KalmanTuning]:
