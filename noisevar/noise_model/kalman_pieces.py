@@ -18,6 +18,7 @@ from numpy.typing import NDArray
 
 from noisevar.estimators.results import VarianceEstimate
 from noisevar.noise_model._steady import FilterPass, filter_pass
+from noisevar.numeric.blocks import runs_of
 
 
 @dataclass(frozen=True)
@@ -48,12 +49,6 @@ def whole(n: int) -> Pieces:
     return Pieces(n, ((0, n),))
 
 
-def _runs(keep: NDArray) -> list[tuple[int, int]]:
-    """The ``[start, stop)`` runs of True in a boolean mask."""
-    edges = np.flatnonzero(np.diff(np.concatenate([[0], keep.astype(np.int8), [0]])))
-    return [(int(a), int(b)) for a, b in zip(edges[::2], edges[1::2], strict=True)]
-
-
 def between_jumps(n: int, est: VarianceEstimate | str, need: int) -> Pieces:
     """The spans between the samples the record's R leaves out around level jumps.
 
@@ -75,7 +70,7 @@ def between_jumps(n: int, est: VarianceEstimate | str, need: int) -> Pieces:
     jumps = getattr(est, "jumps", None)
     if jumps is None or jumps.size != n or not jumps.any():
         return whole(n)
-    runs = [r for r in _runs(~jumps) if r[1] - r[0] >= need]
+    runs = [r for r in runs_of(~np.asarray(jumps, bool)) if r[1] - r[0] >= need]
     left = int(np.count_nonzero(jumps))
     if not runs:
         return Pieces(
