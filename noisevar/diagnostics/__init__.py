@@ -183,11 +183,16 @@ def from_sums(
 
     # the increments' test and the tails (numpy, which releases the interpreter) beside
     # the whiteness test and the level profile (PELT: Python); the same numbers
+    # the increments' null widened as the residual's: a walk whose steps change in size
+    # (by day and by night) has white increments of a level that changes
+    hetero = _hetero(sums.wide)
+
     def beside() -> tuple[WhitenessTest, float]:
-        return whiteness_test(dz, np.ones(1), keep=used), tail_index(e_w[keep_w])
+        inc = whiteness_test(dz, np.ones(1), keep=used, inflation=hetero)
+        return inc, tail_index(e_w[keep_w])
 
     aside = spawn(beside) if spawn is not None else beside
-    white = whiteness_test(e_w, d, keep=keep_w, inflation=_hetero(sums.wide))
+    white = whiteness_test(e_w, d, keep=keep_w, inflation=hetero)
 
     def kinds() -> tuple[tuple[int, int], ...]:
         a0 = max(seg.segments, key=lambda s: s[1] - s[0])[0]
@@ -203,6 +208,7 @@ def from_sums(
     lsb = sums.held_step(sums.lsb())
     profile, blocks, total, kept, kurt = _profile(sums, lsb)
     still_white = _still_whiteness(plan, profile, e_w, keep_w, sums, d, blocks)
+    still_incr = _still_increments(profile, dz, used, sums.incr.joined_slots())
     increments, tails = aside()
     diag = NoiseDiagnostics(
         n=plan.n,
@@ -216,6 +222,7 @@ def from_sums(
         level_profile=profile,
         power_law=types(),
         still_whiteness=still_white,
+        still_increments=still_incr,
         glitches=_sized(lone_ones, read, plan.n, profile),
         core_kurtosis=_bridged_kurtosis(sums, d) if lone_ones.size else kurt,
     )
@@ -414,6 +421,31 @@ def _still_whiteness(
         return whiteness_test(e, d, keep=inside)
     except NoisevarError:
         return None
+
+
+def _still_increments(
+    profile: LevelProfile, dz: NDArray, used: NDArray, slots: NDArray
+) -> WhitenessTest | None:
+    """The increments' whiteness test on the still stretches alone, when the level varies.
+
+    ``slots``: each increment's sample (-1: an unused slot). Too few there: not tested.
+    """
+    if all(r.still for r in profile.regimes):
+        return None
+    inside = used & (slots >= 0)
+    inside &= _in_ranges(slots, profile.still_stretches)
+    try:
+        return whiteness_test(dz, np.ones(1), keep=inside)
+    except NoisevarError:
+        return None
+
+
+def _in_ranges(x: NDArray, ranges: list[tuple[int, int]]) -> NDArray:
+    """Whether each of ``x`` lies in one of the sample ranges ``[a, b)``."""
+    out = np.zeros(x.size, dtype=bool)
+    for a, b in ranges:
+        out |= (x >= a) & (x < b)
+    return out
 
 
 def _in_blocks(plan: DiagPlan, runs: list[tuple[int, int]], ids: NDArray) -> NDArray:

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -63,6 +63,11 @@ class NoiseDiagnostics:
         The whiteness test on the still regimes' quiet blocks alone, when the level
         varies (None otherwise): white there and not over the whole record means motion
         leaking through, not coloured noise.
+    still_increments : WhitenessTest or None
+        The increments' whiteness test on the still stretches alone, when the level varies
+        (None otherwise): a track that stops is a walk with its noise measurable where it
+        stood; a walk of smaller steps there (a temperature at night) is not
+        (:attr:`on_still`).
     other_still : tuple of StillLevel
         The near-still regimes' levels over the R to use, those whose interval lies above
         it (another posture, slow sway: docs/algorithms.md §E1 *Several still levels*);
@@ -94,6 +99,7 @@ class NoiseDiagnostics:
     level_profile: LevelProfile
     power_law: tuple[tuple[int, int], ...] = ()
     still_whiteness: WhitenessTest | None = None
+    still_increments: WhitenessTest | None = None
     other_still: tuple[StillLevel, ...] = ()
     glitches: tuple[Glitch, ...] = ()
     core_kurtosis: float | None = None
@@ -264,8 +270,21 @@ class NoiseDiagnostics:
     def identifiable(self) -> bool:
         """False when the record behaves like a random walk (white first difference);
         True when its increments are too few to test."""
-        inc = self.increments
-        return bool(not inc.tested or not inc.white or inc.lag1 < -0.1)
+        return _measurable(self.increments)
+
+    @property
+    def still_a_walk(self) -> bool:
+        """The still stretches' increments are white: there too the record is a walk (of
+        smaller steps), no noise level; its still level only bounds the noise."""
+        inc = self.still_increments
+        return inc is not None and not _measurable(inc)
+
+    @property
+    def on_still(self) -> NoiseDiagnostics:
+        """These diagnostics with the still stretches' increments for the record's: what
+        the still R's interval rests on (:attr:`identifiable` there, not over the walk)."""
+        inc = self.still_increments
+        return self if inc is None else replace(self, increments=inc)
 
     @property
     def flags(self) -> dict[str, bool | None]:
@@ -315,3 +334,9 @@ class NoiseDiagnostics:
             "glitches": [g.to_dict() for g in self.glitches],
             "notes": list(self.notes),
         }
+
+
+def _measurable(inc: WhitenessTest) -> bool:
+    """Noise measurable apart from a walk: increments too few to test, not white, or of a
+    lag-1 correlation towards white noise's own (-0.5)."""
+    return bool(not inc.tested or not inc.white or inc.lag1 < -0.1)

@@ -13,6 +13,7 @@ from noisevar.diagnostics.verdict_parts import (
     GLITCHES_DOMINATE,
     OSC_TO_DO,
     OUTLIERS_SOME,
+    STILL_WALK,
     departure_cause,
     differenced_verdict,
     found_oscillation,
@@ -22,6 +23,7 @@ from noisevar.diagnostics.verdict_parts import (
     still_oscillation,
     to_use_words,
     upper_bound_words,
+    walk_verdict,
 )
 from noisevar.format import eng
 
@@ -371,19 +373,9 @@ def _not_white(
     rounding = diag.identifiable and not diag.short_correlated and not diag.white
     if rounding and under_half_a_step(diag, variance):
         return _rounding_first(diag, r, quiet, said if still_apart else None)
-    if not diag.identifiable:
-        # a track that stops: where it stood still, its noise is measured apart (the R to use)
-        stood = (
-            f"; its still stretches ({still_share(diag):.0%} of it) give {_g(quiet)}: the "
-            f"noise where it stood still, the R to use{said}"
-            if still_apart
-            else ""
-        )
-        return (
-            "the record behaves like a random walk (its first difference is white): no "
-            f"measurement noise can be told apart from it, so {r} is not a noise level; "
-            f"model the walk as a state (see the noise model){stood}"
-        )
+    if not diag.identifiable:  # a track that stops: its still stretches, the R to use
+        stood = None if not still_apart else (still_share(diag), _g(quiet), said)
+        return walk_verdict(r, stood, not diag.still_a_walk)
     # no quiet block, and no still R from the still regimes: no level to quote
     no_quiet = diag.level_varies and not prof.any_quiet and not still_apart
     if no_quiet and not under_half_a_step(diag, variance):  # (that is quantisation)
@@ -562,13 +554,17 @@ def still_colour(diag: NoiseDiagnostics) -> str:
     Noise that is not white in the still stretches (low-passed by the sensor, or slow
     sway left in them) has no one white level: high-pass estimators of different bandwidth
     disagree on it, so the still level is its white part, not the variance per sample.
-    Still stretches too short to test are said to be untested. The clause names the lag
-    that departs most (it quoted lag 1's +0.00 where lag 6 failed), and says nothing when
-    the whole record, still stretches in, tests white and theirs fails only weakly (p of
+    Still stretches too short to test are said to be untested; still stretches that are a
+    walk (:attr:`~.results.NoiseDiagnostics.still_a_walk`) to bound the noise only. The
+    clause names the lag that departs most (it quoted lag 1's +0.00 where lag 6 failed),
+    and says nothing when the whole record, still stretches in, tests white and theirs
+    fails only weakly (p of
     :data:`WEAK_P` or more: two tests of white noise give that 1 time in 50 or more; the
     ADS-B altitude of benchmarks/real_audit9.py, p = 0.99 and 0.03).
     """
     w = diag.still_whiteness
+    if diag.still_a_walk:
+        return STILL_WALK
     if (o := still_oscillation(diag)) is not None:
         return f"; this level is {upper_bound_words(o)}"
     if w is None and diag.level_varies:  # still stretches too short for the test

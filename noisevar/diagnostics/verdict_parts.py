@@ -1,6 +1,6 @@
 """Parts of the verdict that stand alone: the other still levels' clause and fields, the
-sentence on a record whose R is a few glitches, and the sentence on differenced data
-(:mod:`noisevar.diagnostics.verdict` joins them)."""
+sentence on a record whose R is a few glitches, the sentence on differenced data and the
+one on a random walk (:mod:`noisevar.diagnostics.verdict` joins them)."""
 
 from __future__ import annotations
 
@@ -34,6 +34,13 @@ if TYPE_CHECKING:
     from noisevar.diagnostics.regimes import StillLevel
     from noisevar.diagnostics.results import NoiseDiagnostics
     from noisevar.diagnostics.whiteness import Oscillation, WhitenessTest
+
+#: What a still level adds where the still stretches are a walk too (white increments).
+STILL_WALK = (
+    "; but there the record behaves like a random walk of small steps (its first "
+    "difference is white): no noise can be told apart from it, so this level only bounds "
+    "the noise from above (record the sensor at rest to measure it)"
+)
 
 #: What to do with an oscillation the verdict names (:func:`oscillation_words`).
 OSC_TO_DO = (
@@ -279,3 +286,28 @@ def to_use_words(diag: NoiseDiagnostics, named: bool = False) -> str:
     """How the verdict names a still level it quotes: "the R to use", or an upper bound."""
     o = still_oscillation(diag)
     return "the R to use" if o is None else upper_bound_words(o, named)
+
+
+def walk_verdict(r: str, stood: tuple[float, str, str] | None, measured: bool) -> str:
+    """The verdict of a record that behaves like a random walk (white first difference).
+
+    ``stood``: its still stretches' share, level and what that level adds (a track that
+    stops: where it stood still its noise is measured apart, the R to use), or None.
+    ``measured``: their increments are not white. Where they are, the still stretches are
+    a walk too, of smaller steps (a temperature at night): their level only bounds the
+    noise (:data:`STILL_WALK`), never "the R to use".
+    """
+    lead = (
+        "the record behaves like a random walk (its first difference is white): no "
+        f"measurement noise can be told apart from it, so {r} is not a noise level; "
+        "model the walk as a state (see the noise model)"
+    )
+    if stood is None:
+        return lead
+    share, level, said = stood
+    if not measured:
+        return f"{lead}; its still stretches ({share:.0%} of it) read {level}{said}"
+    return (
+        f"{lead}; its still stretches ({share:.0%} of it) give {level}: the noise where "
+        f"it stood still, the R to use{said}"
+    )

@@ -374,7 +374,7 @@ def _after_diagnostics(
             return None, replace(diag, quiet=level)
         # its interval from the record's noise, with the lone glitches in the still stretches
         at = glitches_within(lone, ranges_mask(diag.level_profile.still_stretches, diag.n))
-        still = rounding_floor(conclude(spec, still, diag, None, glitches=at), diag.lsb)
+        still = rounding_floor(conclude(spec, still, diag.on_still, None, glitches=at), diag.lsb)
         still.diagnostics = None  # the diagnostics stay on the record's own result
         return still, replace(diag, other_still=_other_levels(spec, record, own, diag, still, lone))
 

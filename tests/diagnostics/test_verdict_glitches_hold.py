@@ -46,7 +46,11 @@ def _departing_at(lag: int) -> WhitenessTest:
 
 def test_the_still_colour_names_the_lag_that_departs() -> None:
     diag = SimpleNamespace(
-        still_whiteness=_departing_at(6), whiteness=None, level_varies=True, white=False
+        still_whiteness=_departing_at(6),
+        whiteness=None,
+        level_varies=True,
+        white=False,
+        still_a_walk=False,
     )
     said = still_colour(diag)
     assert "lag-6 autocorrelation +0.20" in said, said
