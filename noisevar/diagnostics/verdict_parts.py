@@ -306,7 +306,7 @@ def walk_verdict(r: str, stood: tuple[float, str, str] | None, measured: bool) -
         return lead
     share, level, said = stood
     if not measured:
-        return f"{lead}; its still stretches ({share:.0%} of it) read {level}{said}"
+        return f"{lead}; its still stretches ({share:.0%} of it) give {level}{said}"
     return (
         f"{lead}; its still stretches ({share:.0%} of it) give {level}: the noise where "
         f"it stood still, the R to use{said}"
