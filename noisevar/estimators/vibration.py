@@ -118,9 +118,9 @@ def without_vibration(
     VarianceEstimate
         ``R (1 - share)``, ``share`` the fitted sinusoid's part of the residual's power,
         with the block jackknife's interval (``R e^{± t se}``) on records of at least
-        ``JACK_BLOCKS / 2`` blocks of ``BLOCK_FILTERS`` filter lengths, widened to R's own
-        interval scaled by the same factor where that is wider (shorter records: R's own
-        interval so scaled), and a note.
+        ``JACK_BLOCKS / 2`` blocks of ``BLOCK_FILTERS`` filter lengths (widened to R's own
+        interval scaled by the same factor where R holds lone glitches, whose Poisson count
+        it has; shorter records: R's own interval so scaled), and a note.
 
     Notes
     -----
@@ -161,8 +161,7 @@ def without_vibration(
     half = float(special.stdtrit(blocks - 1, 0.975)) * np.sqrt(var)
     if not (np.isfinite(half) and var > 0):
         return replace(out, ci95=(result.ci95[0] * factor, result.ci95[1] * factor))
-    # the jackknife's interval is the correction's; R's own (a glitch's Poisson count, heavy
-    # tails) is kept where wider: a start-up glitch the residual's blocks do not reach
-    lo = min(r * float(np.exp(-half)), result.ci95[0] * factor)
-    hi = max(r * float(np.exp(half)), result.ci95[1] * factor)
+    lo, hi = r * float(np.exp(-half)), r * float(np.exp(half))
+    if diag.glitches:  # R's own interval counts them (Poisson) where the blocks do not reach
+        lo, hi = min(lo, result.ci95[0] * factor), max(hi, result.ci95[1] * factor)
     return replace(out, dof=2.0 / var, ci95=(lo, hi))
