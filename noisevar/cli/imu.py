@@ -29,6 +29,7 @@ from noisevar.cli.allan import load_columns
 from noisevar.errors import NoisevarError
 from noisevar.io.limits import echo
 from noisevar.io.logs import log_kinds
+from noisevar.io.logs.params import log_parameters
 from noisevar.units import declared_unit, sensor_columns
 
 
@@ -191,7 +192,7 @@ def _exports(
     )
     answers = column_answers(args, ests)  # each file's header says each verdict
     model = replace(model, verdicts={c: a.verdict for _, c, a in answers if a.verdict})
-    files = exports.export(model, keys)
+    files = exports.export(model, keys, params=log_parameters(args.file))  # the EKF's step
     paths = [str(p) for p in exports.write_exports(files, args.out)]
     report = None if args.no_report else write_report(args, model, files, fits, answers)
     return paths, model.to_dict(), report

@@ -222,6 +222,24 @@ def _log(path: Path):
         yield dfr
 
 
+def parameters(path: Path) -> dict[str, float]:
+    """The log's ``PARM`` messages, name -> the first value logged (the configuration the
+    flight started with; a value changed in flight is logged again, later)."""
+    out: dict[str, float] = {}
+    with _log(path) as dfr:
+        if isinstance(dfr, dataflash_text.TextLog):
+            if "PARM" in dfr.formats:
+                cols = dfr.formats["PARM"].colhash
+                for row in dfr.elements("PARM"):
+                    name = row[cols["Name"]].strip().decode("utf-8", "replace")
+                    with contextlib.suppress(ValueError):
+                        out.setdefault(name, float(row[cols["Value"]]))
+            return out
+        while (m := dfr.recv_match(type="PARM")) is not None:
+            out.setdefault(str(m.Name), float(m.Value))
+    return out
+
+
 def read_many(path: Path, wanted: Sequence[str]) -> dict[str, tuple[TopicInfo, Iterator[Chunk]]]:
     """Several topics from one opening (one index pass) of the log: each one's listing and
     its chunks (all its fields, read before the log is closed); a topic not in the log is

@@ -80,11 +80,22 @@ def consumers(spec: str | Iterable[str]) -> list[str]:
 
 
 def export(
-    model: ImuModel, keys: str | Iterable[str] = "all", options: Mapping[str, Any] | None = None
+    model: ImuModel,
+    keys: str | Iterable[str] = "all",
+    options: Mapping[str, Any] | None = None,
+    params: Mapping[str, float] | None = None,
 ) -> list[ExportFile]:
-    """Each consumer's file of ``model``; ``options`` maps a key to its writer's options."""
+    """Each consumer's file of ``model``; ``options`` maps a key to its writer's options;
+    ``params``: the flight log's parameters (:func:`noisevar.io.logs.params.log_parameters`),
+    each writer given those it reads (:attr:`Consumer.log_params`: the EKF's step)."""
     opts = options or {}
-    return [consumer(k).write(model, **opts.get(k, {})) for k in consumers(keys)]
+    out = []
+    for k in consumers(keys):
+        c = consumer(k)
+        given = {n: params[n] for n in c.log_params if params and n in params}
+        extra = {"params": given} if given else {}
+        out.append(c.write(model, **extra, **opts.get(k, {})))
+    return out
 
 
 def write_exports(files: Iterable[ExportFile], out: str | os.PathLike) -> list[Path]:

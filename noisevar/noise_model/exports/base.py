@@ -65,7 +65,9 @@ class Consumer:
     """A registered consumer: its key, title, default file name, writer and reader.
 
     ``write(model, **options)`` returns an :class:`ExportFile`; ``parse(text)`` reads the
-    file back into ``{name: value}`` through the consumer's own format.
+    file back into ``{name: value}`` through the consumer's own format. ``log_params``: the
+    flight-log parameters the writer takes as ``params=`` (the EKF's step: PX4's
+    ``EKF2_PREDICT_US``, ArduPilot's ``SCHED_LOOP_RATE``), empty for a writer that takes none.
     """
 
     key: str
@@ -73,6 +75,7 @@ class Consumer:
     filename: str
     write: Callable[..., ExportFile]
     parse: Callable[[str], dict[str, float]]
+    log_params: tuple[str, ...] = ()
 
 
 def density(model: ImuModel, sensor: str, term: str, name: str) -> Value:
@@ -133,6 +136,19 @@ def ekf_step_values(
             what = f"sqrt(R) of the GNSS {key} record"
             values.append(Value(name, model.gnss[key], unit, "measurement std", what))
     return values
+
+
+def range_warning(name: str, value: float, bounds: tuple[float | None, float | None]) -> str | None:
+    """The warning line (without its comment character) for ``value`` outside a consumer's
+    documented ``bounds`` (``(lo, hi)``, None: no bound), or None inside them."""
+    lo, hi = bounds
+    if not ((lo is not None and value < lo) or (hi is not None and value > hi)):
+        return None
+    bound = f"minimum {lo}" if hi is None else f"maximum {hi}" if lo is None else ""
+    return (
+        f"WARNING: {name} is outside the documented {bound or f'range [{lo}, {hi}]'}"
+        ": the ground station may refuse it or the EKF clip it; written as computed"
+    )
 
 
 def number(v: float) -> str:

@@ -22,11 +22,14 @@ EKF's rate; the conservative set or a flight log's motion regimes raise it.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 from noisevar.noise_model.exports.base import (
     Consumer,
     ExportFile,
     ascii_text,
     ekf_step_values,
+    range_warning,
 )
 from noisevar.noise_model.exports.model import ImuModel
 
@@ -44,8 +47,19 @@ RANGES = {
 _REAL32 = 9
 
 
-def write(model: ImuModel, *, predict_us: int = PREDICT_US) -> ExportFile:
-    """EKF2's IMU (and GNSS, when measured) noise parameters at its prediction rate."""
+def write(
+    model: ImuModel, *, predict_us: int | None = None, params: Mapping[str, float] | None = None
+) -> ExportFile:
+    """EKF2's IMU (and GNSS, when measured) noise parameters at its prediction rate.
+
+    ``predict_us`` sets the step outright; else the flight log's ``EKF2_PREDICT_US``
+    (``params``) when it has one, else PX4's default :data:`PREDICT_US`.
+    """
+    logged = (params or {}).get("EKF2_PREDICT_US")
+    how = "assumed" if predict_us is None and not logged else "given"
+    if predict_us is None:
+        how = "read from the flight log" if logged else how
+        predict_us = int(logged) if logged else PREDICT_US
     f = 1e6 / predict_us
     at = f"EKF step {predict_us} µs"
     values = ekf_step_values(
@@ -63,17 +77,13 @@ def write(model: ImuModel, *, predict_us: int = PREDICT_US) -> ExportFile:
     ]
     if "position" not in model.gnss:
         lines.append("# EKF2_GPS_P_NOISE, EKF2_GPS_V_NOISE: not written (no GNSS record given)")
-    lines.append(f"# EKF2_PREDICT_US assumed: {predict_us}")
+    lines.append(f"# EKF2_PREDICT_US {how}: {predict_us}")
     lines.append("# Vehicle-Id\tComponent-Id\tName\tValue\tType")
     for v in values:
         lines.append(f"# {v.name}: {v.comment()}")
-        lo, hi = RANGES.get(v.name, (None, None))
-        if (lo is not None and v.value < lo) or (hi is not None and v.value > hi):
-            bound = f"minimum {lo}" if hi is None else f"maximum {hi}" if lo is None else ""
-            lines.append(
-                f"# WARNING: {v.name} is outside PX4's documented {bound or f'range [{lo}, {hi}]'}"
-                ": the ground station may refuse it; written as computed"
-            )
+        warning = range_warning(v.name, v.value, RANGES.get(v.name, (None, None)))
+        if warning:
+            lines.append(f"# {warning}")
         lines.append(f"1\t1\t{v.name}\t{v.value:.12g}\t{_REAL32}")
     return ExportFile("px4", "px4_ekf2.params", ascii_text("\n".join(lines) + "\n"), tuple(values))
 
@@ -88,4 +98,7 @@ def parse(text: str) -> dict[str, float]:
     return out
 
 
-CONSUMER = Consumer("px4", "PX4 EKF2 .params", "px4_ekf2.params", write, parse)
+#: The flight-log parameters the writer reads (:data:`Consumer.log_params`).
+LOG_PARAMS = ("EKF2_PREDICT_US",)
+
+CONSUMER = Consumer("px4", "PX4 EKF2 .params", "px4_ekf2.params", write, parse, LOG_PARAMS)
