@@ -94,6 +94,14 @@ def load_bytes_cached(digest: str, name: str, _raw: bytes, topic: str | None = N
 
 
 @cached
+def log_params_cached(digest: str, name: str, _raw: bytes) -> dict[str, float]:
+    """:func:`noisevar.io.logs.params.log_parameters` of file bytes ({}: none), cached."""
+    from noisevar.io.logs.params import log_parameters
+
+    return log_parameters(_raw, name)
+
+
+@cached
 def log_topics_cached(digest: str, name: str, _raw: bytes) -> list | None:
     """:func:`noisevar.io.log_topics` of file bytes (None: not a log), cached."""
     return log_topics(_raw, name)

@@ -94,6 +94,7 @@ def load_bytes(
         table = drop_nonfinite_rows(table)
     recipe = f"sample:{name}" if source == "sample" else None
     sig = make_signal(table, None, table.sample_period, source, recipe)
+    sig.log_params = cache.log_params_cached(digest, name, raw)  # the filter files' EKF step
     chosen = list(dict.fromkeys([topic, *also])) if topic and also else []
     if len(chosen) > 1:
         tables = {t: cache.load_bytes_cached(digest, name, raw, t) for t in chosen}

@@ -74,6 +74,10 @@ class LoadedSignal:
     topics : TopicsRecord or None
         For a log read with more topics than the signal's (the Noise model page's IMU
         columns): every chosen topic, each column on its own time base.
+    log_params : dict of str to float
+        The vehicle's configuration a flight log carries (ULog parameters, DataFlash
+        ``PARM``: :func:`noisevar.io.logs.params.log_parameters`), for the filter files'
+        EKF step as the command line takes it; empty for other files.
     topics_key : str
         Content key of ``topics`` (the cache key of its columns' fits).
     times : ndarray or None
@@ -97,6 +101,7 @@ class LoadedSignal:
     notes: list[str] = field(default_factory=list)
     topics: TopicsRecord | None = None
     topics_key: str = ""
+    log_params: dict[str, float] = field(default_factory=dict)
     times: np.ndarray | None = None
 
     @property
@@ -258,6 +263,7 @@ def reselect(sig: LoadedSignal, column: str, sample_period: float | None) -> Loa
         true_variance=sig.true_variance,
     )
     new.topics, new.topics_key = sig.topics, sig.topics_key  # the log's other topics stay
+    new.log_params = sig.log_params
     set_signal(new)
     return new
 

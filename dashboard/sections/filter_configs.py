@@ -130,7 +130,7 @@ def consumer_files(sig: LoadedSignal, rate: float, regimes: str) -> None:
         )
         said = {c: _said(sig, c, regimes) for _, c, _ in axes}
         model = replace(model, verdicts={c: a.verdict for c, a in said.items() if a.verdict})
-        files = exports.export(model, "all")
+        files = exports.export(model, "all", params=sig.log_params)  # as the CLI: the log's
         for name, s in (("Gyroscope", model.gyro), ("Accelerometer", model.accel)):
             f = ", ".join(f"{k} x{v:.3g}" for k, v in s.factors.items())
             st.caption(

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import codecs
-import contextlib
 import os
 import re
 from collections.abc import Iterator, Sequence
@@ -22,6 +21,7 @@ from noisevar.io.nmea import _looks_like_nmea, _read_nmea
 from noisevar.io.npy import _read_npy
 from noisevar.io.table import _NPY_MAGIC, NMEA_EXTENSIONS, LoadedTable, echo
 from noisevar.io.text import TextSource, _read_frame, _read_text_table, table_layout
+from noisevar.io.upload import log_file
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -234,7 +234,7 @@ def load_log_tables(
         check_bytes(len(raw), name, max_bytes)
         if logs.reader_for(name, raw[:64]) is None:
             _no_topic(name, wanted[0] if wanted else "")
-        with _log_file(raw, name) as path:
+        with log_file(raw, name) as path:
             return logs.load_logs(path, wanted, name)
     path = Path(source)
     name = name or path.name
@@ -259,21 +259,8 @@ def _load_log_bytes(
     """One topic of a log uploaded as bytes: written to a private temporary file, read."""
     from noisevar.io import logs
 
-    with _log_file(raw, name) as path:
+    with log_file(raw, name) as path:
         return logs.load_log(path, topic, fields, name)
-
-
-@contextlib.contextmanager
-def _log_file(raw: bytes, name: str) -> Iterator[Path]:
-    """Log bytes as a file in a private temporary directory (its readers take paths)."""
-    import tempfile
-
-    suffix = Path(name).suffix.lower()
-    suffix = suffix if suffix.isascii() and len(suffix) <= 16 else ""
-    with tempfile.TemporaryDirectory(prefix="noisevar-log-") as tmp:
-        path = Path(tmp) / f"upload{suffix}"
-        path.write_bytes(raw)
-        yield path
 
 
 def log_topics(source: str | os.PathLike | bytes, name: str | None = None) -> list | None:
@@ -301,7 +288,7 @@ def log_topics(source: str | os.PathLike | bytes, name: str | None = None) -> li
         raw, name = bytes(source), name or "upload"
         if logs.reader_for(name, raw[:64]) is None:
             return None
-        with _log_file(raw, name) as path:
+        with log_file(raw, name) as path:
             return logs.list_topics(path, name)
     path = Path(source)
     name = name or path.name

@@ -76,3 +76,22 @@ def test_log_to_every_consumer_file_and_the_report():
             assert row in text, v.name
             tail = text.split(row, 1)[1].split("</tr>", 1)[0]
             assert html.escape(v.unit) in tail and html.escape(v.how) in tail
+
+
+def test_a_flight_logs_parameters_reach_the_filter_files():
+    """The Filter configs' files take the EKF's step from the flight log, as ``noisevar imu
+    --export`` does: before, the page wrote EKF3's names at 83.3 Hz for a 50 Hz EKF2 Plane
+    (``SCHED_LOOP_RATE`` 50, ``AHRS_EKF_TYPE`` 2) that the command line wrote as EKF2's."""
+    from dashboard.state import reselect
+
+    log = ROOT / "tests" / "data" / "ardupilot_pymavlink_test.BIN"
+    at = AppTest.from_file(APP, default_timeout=120)
+    at.switch_page("app_pages/Signal.py").run()
+    at.file_uploader(key="upload").set_value(("flight.BIN", log.read_bytes(), "")).run()
+    next(s for s in at.selectbox if s.label == "Topic").set_value("IMU").run()
+    assert not at.exception and not at.error
+    sig = at.session_state["nv_signal"]
+    assert sig.log_params["SCHED_LOOP_RATE"] == 50.0
+    assert sig.log_params["AHRS_EKF_TYPE"] == 2.0
+    other = next(c for c in sig.table.data_columns if c != sig.column)
+    assert reselect(sig, other, sig.sample_period).log_params == sig.log_params

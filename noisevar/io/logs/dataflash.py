@@ -310,4 +310,5 @@ READER = LogReader(
     repair="download the log from the vehicle again (a log cut short keeps what was "
     "written), or convert it with mavlogdump.py",
     in_folders=True,
+    parameters=parameters,
 )

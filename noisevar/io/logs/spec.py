@@ -114,6 +114,10 @@ class LogReader:
         Whether ``noisevar batch`` takes its files when it searches a folder (recordings and
         exports: bags, ULog, DataFlash, workbooks); else only when named or matched by a
         pattern (Parquet and HDF5 tables are often a batch's own output).
+    parameters : callable or None
+        ``parameters(path) -> {name: value}``: the vehicle's configuration the log carries
+        (ULog's initial parameters, DataFlash ``PARM``: :mod:`noisevar.io.logs.params`);
+        None: the format carries none.
     """
 
     name: str
@@ -126,6 +130,7 @@ class LogReader:
     repair: str = "check that the file is complete and is the format its name says"
     read_many: ManyReader | None = None
     in_folders: bool = False
+    parameters: Callable[[Path], dict[str, float]] | None = None
 
     @property
     def article(self) -> str:

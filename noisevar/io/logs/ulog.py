@@ -207,6 +207,12 @@ def read(path: Path, topic: str, fields: Sequence[str] | None) -> Iterator[Chunk
     yield from _chunks(data, names)
 
 
+def parameters(path: Path) -> dict[str, float]:
+    """The log's initial parameters (the configuration the flight started with), no
+    message read."""
+    return {str(k): float(v) for k, v in _parse(path, ()).initial_parameters.items()}
+
+
 READER = LogReader(
     name="ulog",
     title="PX4 ULog",
@@ -219,4 +225,5 @@ READER = LogReader(
     repair="a log cut short while recording loses only its end: check it with ulog_info; "
     "else copy the file from the vehicle again",
     in_folders=True,
+    parameters=parameters,
 )
