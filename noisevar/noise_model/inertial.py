@@ -496,7 +496,7 @@ def inertial_noise(
     rate: float,
     *,
     axis: int = -1,
-    unit: str = "u",
+    unit: str | None = "u",
     taus: str | ArrayLike = "octave",
     ci: float = ONE_SIGMA,
     seed: int = 0,
@@ -516,8 +516,9 @@ def inertial_noise(
         Sample rate (Hz).
     axis : int
         The time axis of ``z``.
-    unit : str
-        Unit of the rate data, for the terms' units (e.g. ``"rad/s"``, ``"m/s^2"``).
+    unit : str or None
+        Unit of the rate data, for the terms' units (e.g. ``"rad/s"``, ``"m/s^2"``);
+        None: no unit (``"u"``).
     taus : "octave", "all" or array_like
         Averaging times of the Allan deviation (see :func:`noisevar.allan`).
     ci : float
@@ -558,6 +559,9 @@ def inertial_noise(
     check_regimes(regimes)
     check_rate(rate)
     check_exact_ints(z)
+    unit = "u" if unit is None else unit
+    if not isinstance(unit, str):
+        raise NoisevarError(f"unit must be a unit's name such as 'rad/s', not {unit!r}")
     arr = np.asarray(z, dtype=float)
     if arr.ndim == 1:
         (est,) = _per_axis(estimates, 1, one=True)
