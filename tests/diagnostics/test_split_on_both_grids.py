@@ -18,6 +18,7 @@ from hypothesis import strategies as st
 import noisevar
 from noisevar.diagnostics.regimes import hints_a_change
 from noisevar.estimators.regimes import why_no_still
+from noisevar.stream import estimate_chunked
 from tests.estimators.rest_records import rest_in_motion
 
 TRANSFORMS = {
@@ -55,14 +56,18 @@ def test_a_borderline_rest_gives_the_same_r_to_use_on_every_phase() -> None:
     assert not bad, bad
 
 
-def test_the_r_to_use_is_the_rests_noise() -> None:
-    # the rest's noise is 0.01, the motion's about 0.09: every phase finds the rest
+def test_the_r_to_use_is_the_rests_noise_streamed_too() -> None:
+    # the rest's noise is 0.01, the motion's about 0.09: every phase finds the rest, and
+    # the streamed path (its reversed grid from the same sums) reads the same still R
     for case in CASES:
         z = rest_in_motion(*case)
         for f in (lambda x: x, *TRANSFORMS.values()):
-            est = noisevar.estimate(f(z))
+            x = np.ascontiguousarray(f(z))
+            est = noisevar.estimate(x)
             assert est.diagnostics.level_varies, case
             assert est.still is not None and est.still.ci95[0] <= 0.01 <= est.still.ci95[1], case
+            many = estimate_chunked(lambda a, b, x=x: x[max(a, 0) : b].copy(), x.size, chunk=512)
+            np.testing.assert_allclose(many.still.variance, est.still.variance, rtol=1e-9)
 
 
 def test_white_noise_hints_no_change() -> None:
