@@ -7,7 +7,7 @@ from collections.abc import Callable
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
-from noisevar.diagnostics.profile import LevelProfile, with_back_grid
+from noisevar.diagnostics.profile import MOTION_RUN, LevelProfile, with_back_grid
 from noisevar.diagnostics.regimes import STILL_RATIO
 
 if TYPE_CHECKING:
@@ -99,6 +99,18 @@ def _back_regimes(
     # without a hint on the record's grid, only where it dilutes a burst that the reversed
     # one does not: its last block, which takes the rest of the record
     last = int(prof.start[-1])
-    if not prof.near_split and any(not r.still and r.start < last for r in mirrored):
+    at_end = not prof.quiet[-1] and all(r.still or r.start >= last for r in mirrored)
+    if not (at_end or (prof.near_split and _runs_of_motion(rev))):
         return diag
     return replace(diag, level_profile=replace(prof, regimes=mirrored))
+
+
+def _runs_of_motion(prof: LevelProfile) -> bool:
+    """Every regime of ``prof`` that is not still spans :data:`MOTION_RUN` blocks or more:
+    a stretch of motion, not one huge spike's reach (Student-t(3) noise: one block at
+    13x, on one grid's phase)."""
+    return all(
+        int(((prof.start >= r.start) & (prof.stop <= r.stop)).sum()) >= MOTION_RUN
+        for r in prof.regimes
+        if not r.still
+    )
