@@ -3,10 +3,8 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass, replace
 from functools import partial
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -20,10 +18,7 @@ from noisevar.diagnostics.quiet_set import (
     quiet_set,
     still_if_quiet,
 )
-from noisevar.diagnostics.regimes import STILL_RATIO, Regime, find_regimes
-
-if TYPE_CHECKING:
-    from noisevar.diagnostics.results import NoiseDiagnostics
+from noisevar.diagnostics.regimes import Regime, find_regimes, hints_a_change
 
 #: At most this many blocks in a level profile (blocks grow with the record).
 PROFILE_BLOCKS = 200
@@ -103,6 +98,9 @@ class LevelProfile:
         Each block's mean-square dof with the noise kurtosis of the quiet set's other
         blocks (default :attr:`dof`, the record's kurtosis, which motion outside the set
         can raise).
+    near_split : bool
+        One regime, though a change is hinted (``regimes.hints_a_change``): a split that
+        PELT may make on another grid's phase (``diagnostics.both_grids``).
     """
 
     start: NDArray
@@ -117,6 +115,7 @@ class LevelProfile:
     robust: NDArray | None = None
     quiet_dof: NDArray | None = None
     back_grid: BackGrid | None = None
+    near_split: bool = False
 
     @property
     def quiet_variance(self) -> float:
@@ -437,7 +436,10 @@ def profile_from_blocks(
             quiet = again
         quiet_dof = leave_one_out_dof(count, robust, tails, quiet, eta, dof)
     regimes = still_if_quiet(regimes, start, stop, quiet)
-    return LevelProfile(start, stop, var, lo, hi, dof, quiet, regimes, count, robust, quiet_dof)
+    near = len(regimes) == 1 and hints_a_change(robust, robust_dof)
+    return LevelProfile(
+        start, stop, var, lo, hi, dof, quiet, regimes, count, robust, quiet_dof, None, near
+    )
 
 
 def on_both_grids(
@@ -507,86 +509,3 @@ def _holding_runs(
     if start is not None and start < n:
         out.append((start, n))
     return out
-
-
-def regimes_on_both_grids(
-    diag: NoiseDiagnostics, back: Callable[[NoiseDiagnostics], LevelProfile] | None
-) -> NoiseDiagnostics:
-    """``diag`` read on both block grids: the record's and its reversal's.
-
-    Parameters
-    ----------
-    diag : NoiseDiagnostics
-        The record's diagnostics (its profile on the grid from the record's start).
-    back : callable or None
-        ``back(diag)``: the same profile of the record reversed (its blocks end where the
-        record's start); None: the record has none (``diag`` is returned).
-
-    Returns
-    -------
-    NoiseDiagnostics
-        Its profile's regimes those of ``back(diag)`` (in the record's sample indices)
-        when the record's own grid finds one still level with its last block left out of
-        the quiet set and the reversed grid regimes that are not still, all in that last
-        block (:func:`_back_regimes`); where the level then varies, its profile with the
-        reversed grid's quiet blocks (:func:`with_back_grid`), so that the quiet share and
-        whether any stretch is quiet read both grids; so too where one level has a run
-        of left-out blocks over :data:`~noisevar.diagnostics.regimes.STILL_RATIO` times
-        the quiet level (:meth:`LevelProfile.left_out_ratio`, then the smaller of both).
-
-    Notes
-    -----
-    docs/algorithms.md §E1 *Regimes*. ``back`` is called only in those cases or where
-    the record's last block is left out of its quiet set: a record whose still stretches
-    are apart (``still_set.has_still_apart``) has them measured on both grids anyway (the
-    same profile, made once).
-    """
-    if back is None or not diag.level_profile.quiet.size:
-        return diag
-    made: list[LevelProfile] = []
-
-    def once(d: NoiseDiagnostics) -> LevelProfile:
-        if not made:
-            made.append(back(d))
-        return made[0]
-
-    diag = _back_regimes(diag, once)
-    if not diag.level_varies and diag.level_profile.left_out_ratio() <= STILL_RATIO:
-        return diag
-    prof = with_back_grid(diag.level_profile, once(diag), diag.n)
-    return replace(diag, level_profile=prof)
-
-
-def _back_regimes(
-    diag: NoiseDiagnostics, back: Callable[[NoiseDiagnostics], LevelProfile]
-) -> NoiseDiagnostics:
-    """``diag`` with the reversed grid's regimes when only they find the level varies.
-
-    Notes
-    -----
-    Regimes are found on block medians: a burst shorter than half a block is seen by the
-    grid that puts it in one block, not by the record's own grid when its last block,
-    which takes the rest of the record (up to twice a block), joins it to quiet samples.
-    A GPS track ending in 30 wild fixes was one level forwards and two regimes reversed,
-    and its R to use flipped between R and the still R 66x below it (issue 26). So the
-    level varies when the reversed grid finds a regime that is not still inside the
-    record's last block; elsewhere the two grids differ by a phase only, and one huge
-    spike's reach (Student-t noise) fits one block of either by chance. ``back`` is called
-    only when the record's last block is left out of its quiet set (a burst there raises
-    its mean square).
-    """
-    prof = diag.level_profile
-    if any(not r.still for r in prof.regimes) or prof.quiet[-1]:
-        return diag
-    rev = back(diag)
-    if all(r.still for r in rev.regimes):
-        return diag
-    n = diag.n
-    mirrored = tuple(replace(r, start=n - r.stop, stop=n - r.start) for r in reversed(rev.regimes))
-    # only where the record's grid dilutes a burst that the reversed one does not: its
-    # last block, which takes the rest of the record (elsewhere the grids differ by a phase,
-    # and one huge spike's reach fits one block of either grid by chance: not a regime)
-    last = int(prof.start[-1])
-    if any(not r.still and r.start < last for r in mirrored):
-        return diag
-    return replace(diag, level_profile=replace(prof, regimes=mirrored))

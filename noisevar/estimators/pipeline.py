@@ -38,8 +38,9 @@ from noisevar.diagnostics import (
     with_verdict,
 )
 from noisevar.diagnostics.assumptions import check_assumptions
+from noisevar.diagnostics.both_grids import regimes_on_both_grids
 from noisevar.diagnostics.notes import upper_bound_note
-from noisevar.diagnostics.profile import LevelProfile, regimes_on_both_grids
+from noisevar.diagnostics.profile import LevelProfile
 from noisevar.diagnostics.regimes import QuietLevel, StillLevel
 from noisevar.errors import NoisevarError
 from noisevar.estimators._input import check_samples, check_times
@@ -127,8 +128,7 @@ def _segmentation(raw: NDArray, t: NDArray | None, drop: bool) -> tuple[NDArray,
 
 def cut_out(ranges: list[tuple[int, int]], holes: list[tuple[int, int]]) -> list[tuple[int, int]]:
     """``ranges`` less ``holes`` (both sorted, disjoint), pieces under :data:`STILL_MIN` dropped."""
-    ends = [d for _, d in holes]
-    out = []
+    ends, out = [d for _, d in holes], []
     for a, b in ranges:
         i = bisect.bisect_right(ends, a)  # the first hole that ends after a
         while i < len(holes) and holes[i][0] < b:

@@ -1,0 +1,116 @@
+"""A record's regimes read on both block grids: the record's, laid from its start, and its
+reversal's, laid from its end (docs/algorithms.md §E1 *Regimes*)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import replace
+from typing import TYPE_CHECKING
+
+from noisevar.diagnostics.profile import MOTION_RUN, LevelProfile, with_back_grid
+from noisevar.diagnostics.regimes import STILL_RATIO
+
+if TYPE_CHECKING:
+    from noisevar.diagnostics.results import NoiseDiagnostics
+
+
+def regimes_on_both_grids(
+    diag: NoiseDiagnostics, back: Callable[[NoiseDiagnostics], LevelProfile] | None
+) -> NoiseDiagnostics:
+    """``diag`` read on both block grids: the record's and its reversal's.
+
+    Parameters
+    ----------
+    diag : NoiseDiagnostics
+        The record's diagnostics (its profile on the grid from the record's start).
+    back : callable or None
+        ``back(diag)``: the same profile of the record reversed (its blocks end where the
+        record's start); None: the record has none (``diag`` is returned).
+
+    Returns
+    -------
+    NoiseDiagnostics
+        Its profile's regimes those of ``back(diag)`` (in the record's sample indices)
+        when the record's own grid finds one still level and the reversed grid regimes
+        that are not still (:func:`_back_regimes`: a split hinted on the record's grid, or
+        all in its last block); where the level then varies, its profile with the
+        reversed grid's quiet blocks (:func:`~noisevar.diagnostics.profile.with_back_grid`),
+        so that the quiet share and whether any stretch is quiet read both grids; so too
+        where one level has a run of left-out blocks over
+        :data:`~noisevar.diagnostics.regimes.STILL_RATIO` times the quiet level
+        (:meth:`LevelProfile.left_out_ratio`, then the smaller of both).
+
+    Notes
+    -----
+    docs/algorithms.md §E1 *Regimes*. ``back`` is called only in those cases, where the
+    record's last block is left out of its quiet set, or where its grid hints a change
+    it does not make (:attr:`LevelProfile.near_split`): a record whose still stretches
+    are apart (``still_set.has_still_apart``) has them measured on both grids anyway (the
+    same profile, made once).
+    """
+    if back is None or not diag.level_profile.quiet.size:
+        return diag
+    made: list[LevelProfile] = []
+
+    def once(d: NoiseDiagnostics) -> LevelProfile:
+        if not made:
+            made.append(back(d))
+        return made[0]
+
+    diag = _back_regimes(diag, once)
+    if not diag.level_varies and diag.level_profile.left_out_ratio() <= STILL_RATIO:
+        return diag
+    prof = with_back_grid(diag.level_profile, once(diag), diag.n)
+    return replace(diag, level_profile=prof)
+
+
+def _back_regimes(
+    diag: NoiseDiagnostics, back: Callable[[NoiseDiagnostics], LevelProfile]
+) -> NoiseDiagnostics:
+    """``diag`` with the reversed grid's regimes when only they find the level varies.
+
+    Notes
+    -----
+    Regimes are found on block medians: a burst shorter than half a block is seen by the
+    grid that puts it in one block, not by the record's own grid when its last block,
+    which takes the rest of the record (up to twice a block), joins it to quiet samples.
+    A GPS track ending in 30 wild fixes was one level forwards and two regimes reversed,
+    and its R to use flipped between R and the still R 66x below it (issue 26). So the
+    level varies when the reversed grid finds a regime that is not still inside the
+    record's last block (``back`` is called when that block is left out of the quiet set:
+    a burst there raises its mean square). Elsewhere the two grids differ by a phase
+    only: one huge spike's reach (Student-t noise) fits one block of either by chance,
+    but a change that PELT makes at its penalty on one grid's phase and not on the other
+    is hinted on the grid that does not make it (:attr:`LevelProfile.near_split`). A rest
+    of 72-95 samples in motion was one level or three regimes, and its R to use R or the
+    still R 9x below it, as 1-3 leading samples were dropped or the record reversed (7 of
+    100 records, ``benchmarks/still_phase.py``); with the reversed grid's regimes there,
+    which dropping leading samples does not move and reversal swaps with the record's,
+    the split is made on both grids or on neither.
+    """
+    prof = diag.level_profile
+    if any(not r.still for r in prof.regimes) or (prof.quiet[-1] and not prof.near_split):
+        return diag
+    rev = back(diag)
+    if all(r.still for r in rev.regimes):
+        return diag
+    n = diag.n
+    mirrored = tuple(replace(r, start=n - r.stop, stop=n - r.start) for r in reversed(rev.regimes))
+    # without a hint on the record's grid, only where it dilutes a burst that the reversed
+    # one does not: its last block, which takes the rest of the record
+    last = int(prof.start[-1])
+    at_end = not prof.quiet[-1] and all(r.still or r.start >= last for r in mirrored)
+    if not (at_end or (prof.near_split and _runs_of_motion(rev))):
+        return diag
+    return replace(diag, level_profile=replace(prof, regimes=mirrored))
+
+
+def _runs_of_motion(prof: LevelProfile) -> bool:
+    """Every regime of ``prof`` that is not still spans :data:`MOTION_RUN` blocks or more:
+    a stretch of motion, not one huge spike's reach (Student-t(3) noise: one block at
+    13x, on one grid's phase)."""
+    return all(
+        int(((prof.start >= r.start) & (prof.stop <= r.stop)).sum()) >= MOTION_RUN
+        for r in prof.regimes
+        if not r.still
+    )
