@@ -83,9 +83,10 @@ def clock_period(t: NDArray, dt: NDArray) -> tuple[float, str] | None:
     -------
     tuple of (float, str) or None
         The clock's step (the stamps' least-squares slope), cut to the digits the
-        whole span supports (as :func:`rounded_period`), and a note; None unless the steps take two values one
-        resolution apart, the smaller at least two resolutions, and every stamp lies within
-        one resolution of the straight line from the first to the last.
+        whole span supports (as :func:`rounded_period`), and a note; None unless the
+        steps take two values one resolution apart, the smaller at least two
+        resolutions, and every stamp lies within one resolution of the straight line
+        from the first to the last.
 
     Notes
     -----
