@@ -305,3 +305,17 @@ BRIGHTWIND = "brightwind==2.7.0"
 RIVER = "river==0.26.1"
 PYACTIGRAPHY = "pyActigraphy==1.2.2"
 NPTDMS = "nptdms==1.13.0"
+
+
+# ---------------------------------------------------------------- real_audit14.py (issue 26)
+#: Packages whose shipped measured data ``benchmarks/real_audit14.py`` reads (read as files,
+#: never installed or imported): aeon's wheel (BSD-3-Clause: the Daphnet freezing-of-gait
+#: set's body-worn accelerometers, the UCR anomaly archive's InternalBleeding16 with its
+#: label, UCR's Wiimote gestures as ``.ts``, a Monash ``.tsf``), lmfit's sdist (BSD-3-Clause;
+#: NIST's Statistical Reference Datasets, public domain: ENSO with its certified residual
+#: deviation, below NIST's report), python-can's sdist (LGPL-3.0: Vector ASC and BLF CAN
+#: logs, refused as formats) and pyedflib's wheel (BSD-2-Clause: EDF and BDF files, refused).
+AEON = "aeon==1.6.0"
+LMFIT = "lmfit==1.3.4"
+PYTHON_CAN = "python-can==4.6.1"
+PYEDFLIB = "pyedflib==0.1.42"

@@ -1,7 +1,7 @@
 """Files of formats noisevar does not read as tables, told apart from text: a FIT activity,
-an XML track (GPX, TCX, KML), a TDMS, MDF, EDF, BLF, SQLite or MATLAB file refused in one
-line that says what to do; text whose fields a device pads with NUL bytes, read as the text
-it is."""
+an XML track (GPX, TCX, KML), a TDMS, MDF, EDF, BLF, SQLite or MATLAB file, a ``.ts`` or
+``.tsf`` archive file, a Vector ASC CAN log refused in one line that says what to do; text
+whose fields a device pads with NUL bytes, read as the text it is."""
 
 from __future__ import annotations
 
@@ -131,3 +131,75 @@ def refuse_xml(text: str, name: str) -> None:
         "rate...; e.g. with gpxpy, or pandas.read_xml) and give that file; for a GPS "
         "track, an NMEA 0183 log is read too"
     )
+
+
+#: A line of the header of sktime's / the UEA and UCR archives' ``.ts`` format, and of the
+#: Monash forecasting archive's ``.tsf`` (its ``@attribute``, ``@frequency``, ``@horizon``)
+_TS_HEADER = re.compile(
+    r"^@(problemname|timestamps|missing|univariate|dimensions?|equallength|serieslength|"
+    r"classlabel|targetlabel|data|attribute|frequency|horizon)\b",
+    re.IGNORECASE | re.MULTILINE,
+)
+#: The tags only a ``.tsf`` file has
+_TSF_TAGS = {"attribute", "frequency", "horizon"}
+
+
+def refuse_ts(text: str, name: str) -> None:
+    """Refuse a ``.ts`` file (sktime's, the UEA/UCR time-series classification archives') or
+    a ``.tsf`` file (the Monash forecasting archive's) in one line that says what to do.
+
+    Notes
+    -----
+    Its ``@`` header lines are followed, after ``@data``, by one case a line (its dimensions
+    parted by ``:``, then its label): read as a table, it was refused blaming thousands
+    separators (sktime's BasicMotions and ACSF1). aeon's ``.tsf`` test file (one series a
+    line, its attributes then its values parted by ``:``) was called a ``.ts`` file, with
+    the ``.ts`` loader as the way out.
+    """
+    tags = {m.lower() for m in _TS_HEADER.findall(text)}
+    if "data" not in tags or len(tags) < 2:
+        return
+    if tags & _TSF_TAGS:
+        raise NoisevarError(
+            f"{echo(name)} is a .tsf file (the Monash forecasting archive's format: one series "
+            "a line after @data, its attributes then its values parted by ':'), which noisevar "
+            "does not read: write one series as a column of a CSV file (e.g. with aeon's "
+            "load_from_tsf_file or sktime's load_tsf_to_dataframe) and give that file"
+        )
+    raise NoisevarError(
+        f"{echo(name)} is a .ts file (sktime's time-series classification format: one case a "
+        "line after @data, dimensions parted by ':'), which noisevar does not read: write "
+        "one case's series as a column of a CSV file (e.g. with sktime's load_from_tsfile) "
+        "and give that file"
+    )
+
+
+#: Vector's ASC CAN log: its ``base hex|dec  timestamps absolute|relative`` line
+_ASC = re.compile(r"^\s*base\s+(hex|dec)\s+timestamps\s+(absolute|relative)", re.MULTILINE)
+
+
+def refuse_asc(text: str, name: str) -> None:
+    """Refuse a Vector ASC file (a CAN bus log as text) in one line that says what to do.
+
+    Notes
+    -----
+    python-can's ASC logs (a 2014 bus trace, error frames) were refused as rows of differing
+    widths, one blaming thousands separators: neither said what the file is, though its BLF
+    twin is named. Only the ``base ... timestamps ...`` line of its head is looked at.
+    """
+    if _ASC.search(text[:4096]) is None:
+        return
+    raise NoisevarError(
+        f"{echo(name)} is a Vector ASC file (a CAN bus log as text: frames of bytes by "
+        "message id), which noisevar does not read: export its channels to a CSV file "
+        "(decode its signals with python-can and cantools and the bus's DBC file; a time "
+        "column and one column per signal) and give that file"
+    )
+
+
+def refuse_text(text: str, name: str) -> None:
+    """Refuse a text file of a format noisevar does not read as a table (:func:`refuse_xml`,
+    :func:`refuse_ts`, :func:`refuse_asc`) in one line that says what to do."""
+    refuse_xml(text, name)
+    refuse_ts(text, name)
+    refuse_asc(text, name)

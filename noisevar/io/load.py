@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import codecs
 import os
-import re
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -13,7 +12,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.errors import NoisevarError
-from noisevar.io.foreign import NUL_NOTE, nul_padding, refuse_binary, refuse_fit, refuse_xml
+from noisevar.io.foreign import NUL_NOTE, nul_padding, refuse_binary, refuse_fit, refuse_text
 from noisevar.io.iaga import NOTE as IAGA_NOTE
 from noisevar.io.iaga import iaga_csv, is_iaga
 from noisevar.io.limits import MAX_BYTES, check_bytes, check_size
@@ -331,9 +330,8 @@ def _parse_text(head: bytes, name: str, path: Path | None, whole: bool) -> Loade
     IAGA-2002 or a text table."""
     lower = name.lower()
     text, encoding = _decode(head, name, final=whole)
-    refuse_xml(text, name)
+    refuse_text(text, name)
     _refuse_rinex(text, name)
-    _refuse_ts(text, name)
     _refuse_json(text, name)
     if lower.endswith(NMEA_EXTENSIONS) or _looks_like_nmea(text):
         if not whole:
@@ -418,34 +416,6 @@ def _refuse_rinex(text: str, name: str) -> None:
         f"{echo(name)} is a RINEX file ({kind}), which noisevar does not read: export one "
         "observable per epoch (e.g. a satellite's pseudorange C1C, carrier phase L1C or "
         "SNR S1C) as a column of a CSV file, e.g. with georinex, and give that file"
-    )
-
-
-#: A line of the header of sktime's / the UEA and UCR archives' ``.ts`` format.
-_TS_HEADER = re.compile(
-    r"^@(problemname|timestamps|missing|univariate|dimensions?|equallength|serieslength|"
-    r"classlabel|targetlabel|data)\b", re.IGNORECASE | re.MULTILINE
-)
-
-
-def _refuse_ts(text: str, name: str) -> None:
-    """Refuse a ``.ts`` file (sktime's, the UEA/UCR time-series classification archives') in
-    one line that says what to do.
-
-    Notes
-    -----
-    Its ``@`` header lines are followed, after ``@data``, by one case a line (its dimensions
-    parted by ``:``, then its label): read as a table, it was refused blaming thousands
-    separators (sktime's BasicMotions and ACSF1).
-    """
-    tags = {m.lower() for m in _TS_HEADER.findall(text)}
-    if "data" not in tags or len(tags) < 2:
-        return
-    raise NoisevarError(
-        f"{echo(name)} is a .ts file (sktime's time-series classification format: one case a "
-        "line after @data, dimensions parted by ':'), which noisevar does not read: write "
-        "one case's series as a column of a CSV file (e.g. with sktime's load_from_tsfile) "
-        "and give that file"
     )
 
 

@@ -156,15 +156,29 @@ def _starts_number(line: str) -> bool:
 def report_hint(text: str, split: Callable[[str], list[str]], line_no: int) -> str | None:
     """The hint when a program's report sits above its table, far below the refused line
     ``line_no``: the rows that end ``text`` (a file's head, its last line dropped: it may be
-    cut) have one width of 2 or more fields, start with numbers, and start after it.
+    cut) have one width of 2 or more fields, start with numbers, and start after it; split
+    as the table's delimiter says, else at whitespace (a report whose prose has commas).
 
     Notes
     -----
     Philips Actiware's CSV export (pyActigraphy's test files) holds 140 lines of quoted
     sections (subject, statistics, column meanings) above its epoch table, and a Condor
     logger's DQT file a start, rate and bits block above rows with no header: both were
-    refused blaming thousands separators, which they do not have.
+    refused blaming thousands separators, which they do not have. NIST's StRD files (lmfit's
+    ENSO.dat, Hahn1.dat) hold a 60-line report whose prose has commas above a table parted
+    by spaces under ``Data:   y   x``: the commas were taken for its delimiter and the rows
+    blamed on thousands separators.
     """
+    sep = "None, engine='python'"
+    return _report_hint(text, split, line_no, sep) or _report_hint(
+        text, str.split, line_no, "r'\\s+'"
+    )
+
+
+def _report_hint(
+    text: str, split: Callable[[str], list[str]], line_no: int, sep: str
+) -> str | None:
+    """:func:`report_hint` with one way to split a line (``sep``: pandas' for it)."""
     rows = [(i, ln) for i, ln in enumerate(text.splitlines()[:-1], 1) if ln.strip()]
     if not rows:
         return None
@@ -175,10 +189,11 @@ def report_hint(text: str, split: Callable[[str], list[str]], line_no: int) -> s
         return None
     first, (at, header) = rows[k][0], rows[k - 1]  # names, or a report's last line
     names = [c.strip() for c in split(header) if c.strip()]
-    named = len(names) >= width - 1 and not any(_number(c) is not None for c in names)
+    # one name a column (an index's may be left empty); a label before them ("Data:") is not
+    named = width - 1 <= len(names) <= width and not any(_number(c) is not None for c in names)
     above = at - 1 if named else first - 1
     report = f" (lines 1-{above} look like a program's report (name and value lines) above"
-    read = f"pandas.read_csv(path, sep=None, engine='python', index_col=False, skiprows={above}"
+    read = f"pandas.read_csv(path, sep={sep}, index_col=False, skiprows={above}"
     if named:
         return (
             f"{report} its table, whose header is line {at} and rows start at line {first}: "

@@ -15,6 +15,7 @@ from noisevar._arrays import steps_evenly
 from noisevar.errors import NoisevarError
 from noisevar.io.column_kinds import bookkeeping, time_steps
 from noisevar.io.limits import ECHO_LIMIT, echo  # noqa: F401 - their home is io.limits
+from noisevar.io.period import clock_period, rounded_period
 from noisevar.units import sensor_of
 
 #: Names (lower case, units in brackets stripped) recognised as a time column.
@@ -374,62 +375,6 @@ def _say_if_counting(t: NDArray, name: str, notes: list[str]) -> None:
         )
 
 
-def timestamp_resolution(t: NDArray) -> float:
-    """The finest step the timestamps can tell apart (seconds).
-
-    The decimal step they are written in (``1e-6`` for six decimals), or the float
-    spacing at the largest timestamp when they carry every digit.
-    """
-    floor = 4.0 * float(np.spacing(float(np.max(np.abs(t)))))
-    head = t[:1000]
-    for k in range(13):
-        step = 10.0**-k
-        if step <= floor:
-            break
-        off = np.abs(head / step - np.round(head / step)) * step
-        if np.all(off <= max(floor, 1e-6 * step)):
-            return step
-    return floor
-
-
-def _shortest(x: float, rel: float) -> tuple[int, float]:
-    """The fewest significant digits that keep ``x`` within ``rel`` of itself."""
-    for d in range(1, 16):
-        r = float(f"{x:.{d}g}")
-        if abs(r - x) <= rel * abs(x):
-            return d, r
-    return 16, x
-
-
-def rounded_period(t: NDArray, step: float) -> float:
-    """A sample period cut to the digits the timestamps support.
-
-    Parameters
-    ----------
-    t : ndarray
-        The time column (seconds, increasing).
-    step : float
-        Its median step.
-
-    Returns
-    -------
-    float
-        The step, or ``1 / rate``, whichever of period and rate needs fewer
-        significant digits to stay within the timestamps' precision: timestamps
-        at 1/120 s give exactly ``1 / 120`` (120 Hz, not 120.00000000004799), a
-        step of 3600 s stays 3600 s.
-
-    Notes
-    -----
-    One step is known to about half the timestamps' resolution (relative
-    precision ``resolution / (2 step)``, at least 1e-12); period and rate share it.
-    """
-    rel = max(0.5 * timestamp_resolution(t) / step, 1e-12)
-    d_period, period = _shortest(step, rel)
-    d_rate, rate = _shortest(1.0 / step, rel)
-    return 1.0 / rate if d_rate < d_period else period
-
-
 def calendar_step(dt: NDArray) -> str | None:
     """The calendar unit every step of ``dt`` (seconds) is one of (``"month"``: 28-31
     days; :data:`CALENDAR_STEPS`), or None."""
@@ -478,7 +423,9 @@ def _period_from_time(t: NDArray, notes: list[str], dated: bool = False) -> floa
         notes.append(f"the dates step by a calendar {unit} ({lo_d}-{hi_d} days): one sample a "
                      f"{unit}, taken as uniform (period {period / 86400:.4g} days)")  # fmt: skip
         return period
-    period = rounded_period(t, float(np.median(dt)))
+    clock = None if np.any(back) else clock_period(t, dt)  # stamps rounded: said there
+    period = rounded_period(t, float(np.median(dt))) if clock is None else clock[0]
+    notes += [] if clock is None else [clock[1]]
     lo, hi = SAMPLE_PERIOD_RANGE
     if not lo <= period <= (np.inf if dated else hi):
         notes.append(
@@ -487,7 +434,7 @@ def _period_from_time(t: NDArray, notes: list[str], dated: bool = False) -> floa
         )
         return None
     spread = float((dt.max() - dt.min()) / period)
-    if spread > UNIFORM_TOLERANCE and not np.any(back):  # (else taken as uniform, said)
+    if spread > UNIFORM_TOLERANCE and not np.any(back) and clock is None:  # (else said)
         notes.append(
             f"sampling is not uniform: steps from {dt.min():.4g} s to {dt.max():.4g} s "
             f"(median {period:.4g} s); noise-variance estimates split the record at its gaps "
