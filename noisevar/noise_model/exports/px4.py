@@ -56,10 +56,12 @@ def write(
     (``params``) when it has one, else PX4's default :data:`PREDICT_US`.
     """
     logged = (params or {}).get("EKF2_PREDICT_US")
-    how = "assumed" if predict_us is None and not logged else "given"
-    if predict_us is None:
-        how = "read from the flight log" if logged else how
-        predict_us = int(logged) if logged else PREDICT_US
+    if predict_us is not None:
+        how = "given"
+    elif logged:
+        how, predict_us = "read from the flight log", int(logged)
+    else:
+        how, predict_us = "assumed", PREDICT_US
     f = 1e6 / predict_us
     at = f"EKF step {predict_us} µs"
     values = ekf_step_values(
