@@ -25,7 +25,12 @@ from noisevar.diagnostics.plan import (
     probe_of,
 )
 from noisevar.diagnostics.power_law import POWER_LAW_MAX, power_law_types, without_jumps
-from noisevar.diagnostics.profile import LevelProfile, on_both_grids, profile_from_blocks
+from noisevar.diagnostics.profile import (
+    MOTION_RUN,
+    LevelProfile,
+    on_both_grids,
+    profile_from_blocks,
+)
 from noisevar.diagnostics.results import NoiseDiagnostics
 from noisevar.diagnostics.segments import Gap, Segmentation, split_dropped, split_times
 from noisevar.diagnostics.sums import DiagSums, diag_part
@@ -334,7 +339,28 @@ def _profile(
         _sample_of(plan, starts), _sample_of(plan, stops - 1) + 1, count, total / count,
         robust, 1.0 / (eta + max(kurt - 3.0, 0.0) / 2.0), eta, medians, (k2, k4, d), lsb,
     )  # fmt: skip
+    profile = replace(profile, unmeasured=_unmeasured(sums))
     return profile, blocks, total, kept, kurt
+
+
+def _unmeasured(sums: DiagSums) -> tuple[tuple[int, int], ...]:
+    """Sample ranges of runs of :data:`~.profile.MOTION_RUN` profile blocks or more that keep
+    fewer than :data:`~.plan.PROFILE_MIN_KEPT` residuals each (``LevelProfile.unmeasured``).
+
+    A vehicle that drives, then parks: its drive is all level jumps to the jump detector,
+    every residual there is left out, and the profile saw the parked part alone, one still
+    level, while R held the drive (3.9x the parked level, "white Gaussian noise").
+    """
+    plan = sums.plan
+    thin = np.ones(plan.profile.count, dtype=bool)
+    thin[[b for b, v in sums.profile.items() if v[0] >= PROFILE_MIN_KEPT]] = False
+    out = []
+    for a, b in runs_of(thin):
+        if b - a >= MOTION_RUN:
+            ends = np.array([a * plan.profile.size, plan.profile.end(b - 1) - 1])
+            first, last = _sample_of(plan, ends)
+            out.append((int(first), int(last) + 1))
+    return tuple(out)
 
 
 def _without_glitches(

@@ -101,6 +101,10 @@ class LevelProfile:
     near_split : bool
         One regime, though a change is hinted (``regimes.hints_a_change``): a split that
         PELT may make on another grid's phase (``diagnostics.both_grids``).
+    unmeasured : tuple of (int, int)
+        Sample ranges of runs of :data:`MOTION_RUN` blocks or more left with too few
+        residuals to measure (all but a handful left out around level jumps): stretches
+        where the signal moved faster than the noise, motion of no measured level.
     """
 
     start: NDArray
@@ -116,6 +120,7 @@ class LevelProfile:
     quiet_dof: NDArray | None = None
     back_grid: BackGrid | None = None
     near_split: bool = False
+    unmeasured: tuple[tuple[int, int], ...] = ()
 
     @property
     def quiet_variance(self) -> float:
@@ -228,6 +233,8 @@ class LevelProfile:
         reads the same two grids.
         """
         own = self._left_out_ratio(run)
+        if self.unmeasured and self.quiet.any():  # motion too fast to measure: no ratio
+            own = math.inf
         if self.back_grid is None or run != MOTION_RUN:
             return own
         return min(own, self.back_grid.left_out_ratio)
@@ -251,17 +258,20 @@ class LevelProfile:
     def quiet_share(self) -> float:
         """Share of the record's samples in the quiet blocks of either block grid.
 
-        The record's own grid alone without :attr:`back_grid`; with it, the samples in
-        a quiet block of either grid over those in a block of either (the same share for
-        the record reversed, whose grids are these two swapped).
+        Over the samples in a block or an :attr:`unmeasured` stretch. The record's own grid
+        alone without :attr:`back_grid`; with it, the samples in a quiet block of either grid
+        over those in a block (or unmeasured stretch) of either (the same share for the
+        record reversed, whose grids are these two swapped).
         """
+        moved = sum(b - a for a, b in self.unmeasured)
         if self.back_grid is None:
             sizes = self.stop - self.start
-            return float(np.sum(sizes[self.quiet]) / np.sum(sizes))
+            return float(np.sum(sizes[self.quiet]) / (np.sum(sizes) + moved))
         back = self.back_grid
-        n = int(max(self.stop[-1], *(b for _, b in back.spans)))
+        own = _runs(self.start, self.stop, np.ones_like(self.quiet)) + self.unmeasured
+        n = int(max(b for _, b in (*own, *back.spans)))
         quiet = _union(_runs(self.start, self.stop, self.quiet), back.quiet, n)
-        spans = _union(_runs(self.start, self.stop, np.ones_like(self.quiet)), back.spans, n)
+        spans = _union(own, back.spans, n)
         return float(quiet / spans) if spans else 0.0
 
     @property
@@ -279,6 +289,7 @@ class LevelProfile:
             "hi": self.hi.tolist(),
             "quiet": self.quiet.tolist(),
             "regimes": [r.to_dict() for r in self.regimes],
+            "unmeasured": [list(r) for r in self.unmeasured],
         }
 
 
@@ -310,7 +321,7 @@ def with_back_grid(prof: LevelProfile, back: LevelProfile, n: int) -> LevelProfi
     """
     mirror = lambda runs: tuple((n - b, n - a) for a, b in reversed(runs))  # noqa: E731
     quiet = mirror(_runs(back.start, back.stop, back.quiet))
-    spans = mirror(_runs(back.start, back.stop, np.ones_like(back.quiet)))
+    spans = mirror(sorted(_runs(back.start, back.stop, np.ones_like(back.quiet)) + back.unmeasured))
     return replace(
         prof,
         back_grid=BackGrid(

@@ -1,0 +1,54 @@
+"""A short record that drives, then parks (a GNSS position of a few hundred fixes).
+
+The drive is all level jumps to the jump detector: every residual of the level profile
+there is left out around them, so the profile saw the parked half alone, one still level,
+while R held the drive: "white Gaussian noise: R = ... is a good Kalman R" at 3.9-22x the
+parked noise. Runs of blocks too thin to measure are now motion of no measured level
+(``LevelProfile.unmeasured``), and the parked half's R is the one quoted beside R.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import noisevar
+
+SIGMA = 0.05
+
+
+def _drive_then_park(seed: int, n: int, step: float, smooth: bool) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    m = n // 2
+    steps = step * rng.normal(size=m)
+    drive = np.cumsum(np.cumsum(0.1 * steps)) if smooth else np.cumsum(steps)
+    return np.r_[drive, np.full(n - m, drive[-1])] + SIGMA * rng.normal(size=n)
+
+
+CASES = [(3, 300, 5.0, True), (3, 400, 2.0, True), (0, 400, 2.0, False)]
+
+
+@pytest.mark.parametrize(("seed", "n", "step", "smooth"), CASES)
+def test_the_drive_is_motion_and_the_parked_noise_is_quoted(
+    seed: int, n: int, step: float, smooth: bool
+) -> None:
+    z = _drive_then_park(seed, n, step, smooth)
+    for rec in (z, z[::-1]):
+        est = noisevar.estimate(rec)
+        v = est.diagnostics.verdict
+        assert not v.startswith("white"), v
+        assert v.startswith("the noise level changes along the record"), v
+        assert est.still is not None
+        lo, hi = est.still.ci95
+        assert lo <= SIGMA**2 <= hi, (est.still.variance, est.still.ci95)
+        assert est.ci95[0] > hi  # R holds the drive: the still R is apart from it
+        share = est.diagnostics.level_profile.quiet_share
+        assert 0.3 < share < 0.7  # the parked half, over the record (not over its blocks)
+        assert est.diagnostics.level_profile.unmeasured
+
+
+def test_a_record_with_no_thin_run_has_none() -> None:
+    rng = np.random.default_rng(1)
+    est = noisevar.estimate(rng.normal(size=2000))
+    assert est.diagnostics.level_profile.unmeasured == ()
+    assert est.diagnostics.verdict.startswith("white")
