@@ -8,7 +8,7 @@ standardised to unit mean square, so the histogram shows the noise's shape, not 
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -68,6 +68,9 @@ class NoisePanelData:
         The quiet level, on the same residual as R (None: the record has none; its
         ``diag.quiet.reason`` says why).
     x_title : str
+    unmeasured_x : ndarray, shape (k, 2)
+        Stretches moving too fast to measure (``LevelProfile.unmeasured``), first and last
+        sample (or time) of each.
     """
 
     residuals: NDArray
@@ -97,6 +100,7 @@ class NoisePanelData:
     quiet: NDArray
     quiet_variance: float | None
     x_title: str
+    unmeasured_x: NDArray = field(default_factory=lambda: np.zeros((0, 2)))
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready (arrays as lists, non-finite values as None)."""
@@ -210,13 +214,15 @@ def _acf_fields(diag: NoiseDiagnostics) -> dict[str, Any]:
 def _profile_fields(diag: NoiseDiagnostics, t: ArrayLike | None) -> dict[str, Any]:
     prof = diag.level_profile
     a, b = prof.start.astype(float), prof.stop.astype(float) - 1.0
+    moved = np.array(prof.unmeasured, dtype=float).reshape(-1, 2) - [0.0, 1.0]
     if t is not None:
         tt = np.asarray(t, dtype=float).ravel()
         if tt.size != diag.n:
             raise NoisevarError(f"give one time per sample ({diag.n}), got {tt.size}")
         idx = np.arange(tt.size)
-        a, b = np.interp(a, idx, tt), np.interp(b, idx, tt)
+        a, b, moved = (np.interp(x, idx, tt) for x in (a, b, moved))
     return {
+        "unmeasured_x": moved,
         "block_x": 0.5 * (a + b),
         "block_half": 0.5 * (b - a),
         "variance": np.asarray(prof.variance),

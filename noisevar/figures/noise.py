@@ -191,7 +191,8 @@ def acf_plot(
 def level_profile_plot(
     data: NoisePanelData, title: str | None = "Noise level along the record", height: int = 400
 ) -> go.Figure:
-    """Block levels with 95 % intervals, quiet blocks marked, and the quiet level.
+    """Block levels with 95 % intervals, quiet blocks marked, the quiet level, and the
+    stretches that moved too fast to measure shaded.
 
     The blocks are read through the diagnostics' fixed-span residual, the quiet level
     through R's (docs/algorithms.md §E1 *The quiet level*): where a smooth signal leaks
@@ -246,6 +247,11 @@ def level_profile_plot(
             )
         )
     fig = go.Figure(traces)
+    for lo, hi in data.unmeasured_x:  # left out around level jumps: no level to draw
+        fig.add_vrect(
+            x0=lo, x1=hi, fillcolor=COLORS["raw"], opacity=0.12, line_width=0,
+            annotation_text="moving too fast to measure", annotation_position="top left",
+        )  # fmt: skip
     fig.update_layout(
         **layout(title, height),
         xaxis_title=data.x_title,

@@ -52,3 +52,21 @@ def test_a_record_with_no_thin_run_has_none() -> None:
     est = noisevar.estimate(rng.normal(size=2000))
     assert est.diagnostics.level_profile.unmeasured == ()
     assert est.diagnostics.verdict.startswith("white")
+
+
+def test_the_level_profile_shades_the_drive() -> None:
+    """The Noise panel shows where the record moved too fast to measure, in its times."""
+    import json
+
+    from noisevar.diagnostics.panel import noise_panel_data
+    from noisevar.figures.noise import level_profile_plot
+
+    z = _drive_then_park(3, 300, 5.0, True)
+    est = noisevar.estimate(z)
+    t = 100.0 + 0.5 * np.arange(z.size)
+    panel = noise_panel_data(z, est.diagnostics, t)
+    (a, b), = est.diagnostics.level_profile.unmeasured
+    assert panel.unmeasured_x.tolist() == [[t[a], t[b - 1]]]
+    json.dumps(panel.to_dict(), allow_nan=False)
+    shapes = level_profile_plot(panel).layout.shapes
+    assert [(s.x0, s.x1) for s in shapes] == [(t[a], t[b - 1])]
