@@ -259,11 +259,15 @@ def short_verdict(n: int, variance: float, diag: NoiseDiagnostics | None = None)
     """
     gaps = unchecked(n, diag)
     todo = ", ".join(gaps[:-1]) + (" or " if len(gaps) > 1 else "") + gaps[-1]
+    if diag is None or n < SHORT_RECORD:
+        lead, cure = f"only {n} samples", "measure a longer record"
+        few = f"samples to check {todo} (every check needs about {SHORT_RECORD})"
+    else:  # long, but few residuals clear of level jumps (a staircase of close steps)
+        lead = f"{n} samples, but only {diag.whiteness.n} residuals clear of the level jumps"
+        few, cure = f"to check {todo}", "record longer stretches between the jumps"
     return (
-        f"only {n} samples: {_r(variance)} is a first value, to be read with its wide "
-        f"interval; too few samples to check {todo} (every check needs about "
-        f"{SHORT_RECORD}){_weak_findings(diag)}; measure a longer record before trusting it "
-        "in a filter"
+        f"{lead}: {_r(variance)} is a first value, to be read with its wide interval; too "
+        f"few {few}{_weak_findings(diag)}; {cure} before trusting it in a filter"
     )
 
 

@@ -70,3 +70,13 @@ def test_the_level_profile_shades_the_drive() -> None:
     json.dumps(panel.to_dict(), allow_nan=False)
     shapes = level_profile_plot(panel).layout.shapes
     assert [(s.x0, s.x1) for s in shapes] == [(t[a], t[b - 1])]
+
+
+def test_a_long_staircase_is_not_called_a_short_record() -> None:
+    """Close steps leave few residuals clear of jumps: before, "only 20000 samples"."""
+    rng = np.random.default_rng(0)
+    n = 20000
+    z = rng.normal(size=n) + 20.0 * np.floor(np.arange(n) / 60)
+    v = noisevar.estimate(z).diagnostics.verdict
+    assert v.startswith(f"{n} samples, but only ")
+    assert "residuals clear of the level jumps" in v and "only 20000 samples" not in v
