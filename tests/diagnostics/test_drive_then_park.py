@@ -13,17 +13,8 @@ import numpy as np
 import pytest
 
 import noisevar
-
-SIGMA = 0.05
-
-
-def _drive_then_park(seed: int, n: int, step: float, smooth: bool) -> np.ndarray:
-    rng = np.random.default_rng(seed)
-    m = n // 2
-    steps = step * rng.normal(size=m)
-    drive = np.cumsum(np.cumsum(0.1 * steps)) if smooth else np.cumsum(steps)
-    return np.r_[drive, np.full(n - m, drive[-1])] + SIGMA * rng.normal(size=n)
-
+from tests.diagnostics.park_records import SIGMA
+from tests.diagnostics.park_records import drive_then_park as _drive_then_park
 
 CASES = [(3, 300, 5.0, True), (3, 400, 2.0, True), (0, 400, 2.0, False)]
 
