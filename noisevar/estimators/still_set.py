@@ -158,7 +158,9 @@ def has_still_apart(diag: NoiseDiagnostics, variance: float) -> bool:
         one regime of robust level but its R is more than
         :data:`~noisevar.diagnostics.regimes.STILL_RATIO` times the quiet level
         (``quiet_variance``) and the still stretches leave part of the record out (motion the
-        block medians hardly see: heavy-tailed, or cut out around level jumps).
+        block medians hardly see: heavy-tailed, or cut out around level jumps); or when
+        the profile has still stretches and stretches too fast to measure
+        (``LevelProfile.unmeasured``: R's residuals hold motion), whatever R's ratio.
 
     Notes
     -----
@@ -175,6 +177,8 @@ def has_still_apart(diag: NoiseDiagnostics, variance: float) -> bool:
     if diag.level_varies:
         return not one_level_reversed(diag, variance)
     prof = diag.level_profile
+    if prof.unmeasured and prof.still_stretches:  # R's residuals hold motion no block reads
+        return True
     return _run_apart(prof.left_out_ratio(), variance, prof.quiet_variance)
 
 

@@ -71,3 +71,13 @@ def test_a_long_staircase_is_not_called_a_short_record() -> None:
     v = noisevar.estimate(z).diagnostics.verdict
     assert v.startswith(f"{n} samples, but only ")
     assert "residuals clear of the level jumps" in v and "only 20000 samples" not in v
+
+
+def test_under_twice_the_parked_noise_the_drive_is_still_apart() -> None:
+    """2 samples dropped: R 1.92x the parked noise, under the 2x of a left-out run's rule;
+    before, "white Gaussian noise: R = 0.004798 ... is a good Kalman R"."""
+    est = noisevar.estimate(_drive_then_park(6, 300, 2.0, True)[2:])
+    assert est.diagnostics.verdict.startswith("the noise level changes along the record")
+    assert est.still is not None
+    lo, hi = est.still.ci95
+    assert lo <= SIGMA**2 <= hi < est.variance
