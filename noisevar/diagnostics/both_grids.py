@@ -33,7 +33,9 @@ def regimes_on_both_grids(
         Its profile's regimes those of ``back(diag)`` (in the record's sample indices)
         when the record's own grid finds one still level and the reversed grid regimes
         that are not still (:func:`_back_regimes`: a split hinted on the record's grid, or
-        all in its last block); where the level then varies, its profile with the
+        all in its last block), or its one level when the record's own grid finds only
+        regimes of motion under :data:`MOTION_RUN` blocks that the reversed grid does not
+        (:func:`_short_motion_read_twice`); where the level then varies, its profile with the
         reversed grid's quiet blocks (:func:`~noisevar.diagnostics.profile.with_back_grid`),
         so that the quiet share and whether any stretch is quiet read both grids; so too
         where one level has a run of left-out blocks over
@@ -43,8 +45,9 @@ def regimes_on_both_grids(
     Notes
     -----
     docs/algorithms.md §E1 *Regimes*. ``back`` is called only in those cases, where the
-    record's last block is left out of its quiet set, or where its grid hints a change
-    it does not make (:attr:`LevelProfile.near_split`): a record whose still stretches
+    record's last block is left out of its quiet set, where its grid hints a change
+    it does not make (:attr:`LevelProfile.near_split`), or where its only regimes of
+    motion are short: a record whose still stretches
     are apart (``still_set.has_still_apart``) has them measured on both grids anyway (the
     same profile, made once).
     """
