@@ -33,7 +33,9 @@ def regimes_on_both_grids(
         Its profile's regimes those of ``back(diag)`` (in the record's sample indices)
         when the record's own grid finds one still level and the reversed grid regimes
         that are not still (:func:`_back_regimes`: a split hinted on the record's grid, or
-        all in its last block); where the level then varies, its profile with the
+        all in its last block), or its one level when the record's own grid finds only
+        regimes of motion under :data:`MOTION_RUN` blocks that the reversed grid does not
+        (:func:`_short_motion_read_twice`); where the level then varies, its profile with the
         reversed grid's quiet blocks (:func:`~noisevar.diagnostics.profile.with_back_grid`),
         so that the quiet share and whether any stretch is quiet read both grids; so too
         where one level has a run of left-out blocks over
@@ -43,8 +45,9 @@ def regimes_on_both_grids(
     Notes
     -----
     docs/algorithms.md §E1 *Regimes*. ``back`` is called only in those cases, where the
-    record's last block is left out of its quiet set, or where its grid hints a change
-    it does not make (:attr:`LevelProfile.near_split`): a record whose still stretches
+    record's last block is left out of its quiet set, where its grid hints a change
+    it does not make (:attr:`LevelProfile.near_split`), or where its only regimes of
+    motion are short: a record whose still stretches
     are apart (``still_set.has_still_apart``) has them measured on both grids anyway (the
     same profile, made once).
     """
@@ -89,7 +92,9 @@ def _back_regimes(
     the split is made on both grids or on neither.
     """
     prof = diag.level_profile
-    if any(not r.still for r in prof.regimes) or (prof.quiet[-1] and not prof.near_split):
+    if any(not r.still for r in prof.regimes):
+        return _short_motion_read_twice(diag, back)
+    if prof.quiet[-1] and not prof.near_split:
         return diag
     rev = back(diag)
     if all(r.still for r in rev.regimes):
@@ -105,12 +110,52 @@ def _back_regimes(
     return replace(diag, level_profile=replace(prof, regimes=mirrored))
 
 
+def _short_motion_read_twice(
+    diag: NoiseDiagnostics, back: Callable[[NoiseDiagnostics], LevelProfile]
+) -> NoiseDiagnostics:
+    """``diag`` with the reversed grid's one level when the record's grid finds motion
+    only in regimes shorter than :data:`MOTION_RUN` blocks and the reversed grid none.
+
+    Notes
+    -----
+    The mirror of :func:`_back_regimes`, which takes the reversed grid's regimes of
+    motion onto a record's one level only when each spans :data:`MOTION_RUN` blocks, or
+    lies in the record's last block (which takes the rest of the record). Read on the
+    record reversed, that rule keeps a short regime of motion found on its own grid only
+    there: elsewhere a burst shorter than half a block, its residuals spread by the
+    smoother's span, lifts the median of the one block that holds it whole and of
+    neither block that shares it (UCR InternalBleeding16's 12-sample anomaly: one block
+    at 82x reversed, two at 2.8x and 3.1x forwards), so it was a regime reversed and not
+    forwards, and the R to use moved x0.134. A short regime is kept when the reversed
+    grid finds it too.
+    """
+    prof = diag.level_profile
+    if any(k >= MOTION_RUN for k in _motion_blocks(prof)):
+        return diag
+    rev = back(diag)
+    if not all(r.still for r in rev.regimes):
+        return diag
+    n = diag.n
+    # the reversed grid's last block takes the rest of the record: a burst there, diluted
+    # on that grid, is the record's own grid's to find (as _back_regimes' ``at_end``)
+    tail = n - int(rev.start[-1])
+    if not rev.quiet[-1] and all(r.still or r.stop <= tail for r in prof.regimes):
+        return diag
+    mirrored = tuple(replace(r, start=n - r.stop, stop=n - r.start) for r in reversed(rev.regimes))
+    return replace(diag, level_profile=replace(prof, regimes=mirrored))
+
+
 def _runs_of_motion(prof: LevelProfile) -> bool:
     """Every regime of ``prof`` that is not still spans :data:`MOTION_RUN` blocks or more:
     a stretch of motion, not one huge spike's reach (Student-t(3) noise: one block at
     13x, on one grid's phase)."""
-    return all(
-        int(((prof.start >= r.start) & (prof.stop <= r.stop)).sum()) >= MOTION_RUN
+    return all(k >= MOTION_RUN for k in _motion_blocks(prof))
+
+
+def _motion_blocks(prof: LevelProfile) -> list[int]:
+    """The number of blocks of ``prof`` in each of its regimes that is not still."""
+    return [
+        int(((prof.start >= r.start) & (prof.stop <= r.stop)).sum())
         for r in prof.regimes
         if not r.still
-    )
+    ]
