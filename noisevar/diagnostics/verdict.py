@@ -10,6 +10,7 @@ from noisevar.diagnostics.power_law import WHITE, describe
 from noisevar.diagnostics.quantisation import half_a_step
 from noisevar.diagnostics.regimes import STILL_RATIO, read_above
 from noisevar.diagnostics.verdict_parts import (
+    CHANGES,
     GLITCHES_DOMINATE,
     OSC_TO_DO,
     OUTLIERS_SOME,
@@ -19,6 +20,9 @@ from noisevar.diagnostics.verdict_parts import (
     found_oscillation,
     glitches_lead,
     glitches_verdict,
+    level_changes,
+    moved_clause,
+    none_quieter,
     oscillation_words,
     still_oscillation,
     to_use_words,
@@ -35,12 +39,6 @@ if TYPE_CHECKING:
 WEAK_P = 0.01
 #: The quiet stretches cover less than this share: the record is mostly motion.
 MOSTLY_MOTION = 0.5
-#: The first clause of every sentence on a level that changes: which kind (no quiet
-#: stretch, none quieter than R, mostly motion, a quiet level to use) is said after it.
-#: The kind rests on the quiet set's share and level, which the block grid's phase moves:
-#: SURFRAD's wind less 0-3 samples had 51, 38, 47, 43 % quiet (13, 4, 11, 10 quiet blocks on
-#: its own grid, 10 on the reversed one), and its first clause flipped at half (issue 26).
-CHANGES = "the noise level changes along the record"
 #: R over the core variance above which the outlying samples hold most of R (over half).
 OUTLIERS_HOLD = 2.0
 #: At most this share of outlying samples is "a few" (a start-up value, a logging error).
@@ -180,7 +178,7 @@ def _sentence(
     # a still R apart from R (estimators.still_set.has_still_apart): the level varies,
     # though the block medians may not split it into regimes
     if diag.level_varies or still is not None:
-        return _level_changes(still_share(diag), r, quiet, said)
+        return level_changes(still_share(diag), r, quiet, said, moved_clause(diag))
     if diag.glitches and not diag.tails_beyond_glitches:
         return glitch_verdict(diag, r, core)
     if diag.heavy_tailed and under_half_a_step(diag, variance):
@@ -337,22 +335,6 @@ def _measurably_below(diag: NoiseDiagnostics, variance: float) -> bool:
     return bool(diag.level_profile.quiet_bounds[1] < variance)
 
 
-def _none_quieter(r: str, quiet: float) -> str:
-    """The verdict of a varying level whose quietest stretches, as the level profile reads
-    them (indicative: no still R), are not below R: nothing quieter to quote as the sensor's."""
-    return (
-        f"{CHANGES}: {r} is an average, and no stretch of it "
-        "is measurably quieter: the level profile's quietest stretches read "
-        f"{_g(quiet)}, not below R (spikes or held values, not a sensor at rest), so R over the "
-        "whole record is the only level measured"
-    )
-
-
-def _level_changes(share: float, r: str, quiet: float, said: str) -> str:
-    """The verdict of a record whose level varies: R an average, the quiet level to use."""
-    return f"{CHANGES}: {r} is an average; its quiet stretches ({share:.0%}) give {_g(quiet)}{said}"
-
-
 def _not_white(
     diag: NoiseDiagnostics,
     r: str,
@@ -395,7 +377,7 @@ def _not_white(
         and not _measurably_below(diag, variance)
         and not under_half_a_step(diag, variance)
     ):
-        return _none_quieter(r, quiet)
+        return none_quieter(r, quiet)
     # no quiet block (a grid's noise under half a step): no still level to quote
     if diag.level_varies and prof.any_quiet and prof.quiet_share < MOSTLY_MOTION and not diag.white:
         return (
@@ -421,7 +403,7 @@ def _not_white(
         # white part); a still R near R leaves the colour the finding (GPS 1PPS: 0.99x).
         # whether PELT split the record or not (Pololu acc less 3 samples), a still R apart says
         # the level changes; where it did, one measurably below R too (SURFRAD wind; GPS 1PPS)
-        return _level_changes(still_share(diag), r, quiet, said)
+        return level_changes(still_share(diag), r, quiet, said, moved_clause(diag))
     if not diag.white:
         return _coloured(diag, r, quiet, still_apart)
     return None

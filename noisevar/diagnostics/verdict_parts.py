@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from noisevar.diagnostics.regimes import STILL_RATIO
+from noisevar.format import eng
 
 #: R over the core variance above which the outlying samples hold nearly all of R (over
 #: 90 %): on a record whose level varies they, not the level, are then the finding when the
@@ -27,6 +28,12 @@ MOTION_BLOCKS = 8
 #: under the step), far below it the quiet level is something else (MIDC's CHP1 temperature
 #: 1e-8x, its samples mostly the held missing code; MIDC's accumulated PSP 0.07-0.08x).
 CORE_BELOW = 4.0
+#: The first clause of every sentence on a level that changes: which kind (no quiet
+#: stretch, none quieter than R, mostly motion, a quiet level to use) is said after it.
+#: The kind rests on the quiet set's share and level, which the block grid's phase moves:
+#: SURFRAD's wind less 0-3 samples had 51, 38, 47, 43 % quiet (13, 4, 11, 10 quiet blocks on
+#: its own grid, 10 on the reversed one), and its first clause flipped at half (issue 26).
+CHANGES = "the noise level changes along the record"
 #: The finding of a record whose R is nearly all a few outlying samples.
 GLITCHES_HOLD = "a few outlying samples hold nearly all of R"
 
@@ -311,3 +318,33 @@ def walk_verdict(r: str, stood: tuple[float, str, str] | None, measured: bool) -
         f"{lead}; its still stretches ({share:.0%} of it) give {level}: the noise where "
         f"it stood still, the R to use{said}"
     )
+
+
+def none_quieter(r: str, quiet: float) -> str:
+    """The verdict of a varying level whose quietest stretches, as the level profile reads
+    them (indicative: no still R), are not below R: nothing quieter to quote as the sensor's."""
+    return (
+        f"{CHANGES}: {r} is an average, and no stretch of it "
+        "is measurably quieter: the level profile's quietest stretches read "
+        f"{eng(quiet)}, not below R (spikes or held values, not a sensor at rest), so R over the "
+        "whole record is the only level measured"
+    )
+
+
+def level_changes(share: float, r: str, quiet: float, said: str, moved: str = "") -> str:
+    """The verdict of a record whose level varies: R an average (``moved``: where it moved
+    too fast to measure, :func:`moved_clause`), the quiet level to use."""
+    return (
+        f"{CHANGES}: {r} is an average{moved}; its quiet stretches ({share:.0%}) give "
+        f"{eng(quiet)}{said}"
+    )
+
+
+def moved_clause(diag: NoiseDiagnostics) -> str:
+    """Where the record moved too fast to measure (``LevelProfile.unmeasured``: every
+    residual left out around level jumps), as a clause; '' where nowhere."""
+    runs = diag.level_profile.unmeasured
+    if not runs:
+        return ""
+    where = ", ".join(f"{a}-{b}" for a, b in runs[:3]) + (", ..." if len(runs) > 3 else "")
+    return f" (samples {where} move too fast to measure, left out around level jumps)"

@@ -29,6 +29,7 @@ def test_the_drive_is_motion_and_the_parked_noise_is_quoted(
         v = est.diagnostics.verdict
         assert not v.startswith("white"), v
         assert v.startswith("the noise level changes along the record"), v
+        assert "move too fast to measure" in v  # where, said
         assert est.still is not None
         lo, hi = est.still.ci95
         assert lo <= SIGMA**2 <= hi, (est.still.variance, est.still.ci95)
