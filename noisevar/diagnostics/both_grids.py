@@ -61,7 +61,8 @@ def regimes_on_both_grids(
         return made[0]
 
     diag = _back_regimes(diag, once)
-    if not diag.level_varies and diag.level_profile.left_out_ratio() <= STILL_RATIO:
+    prof = diag.level_profile
+    if not diag.level_varies and not prof.unmeasured and prof.left_out_ratio() <= STILL_RATIO:
         return diag
     prof = with_back_grid(diag.level_profile, once(diag), diag.n)
     return replace(diag, level_profile=prof)

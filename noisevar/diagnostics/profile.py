@@ -233,8 +233,6 @@ class LevelProfile:
         reads the same two grids.
         """
         own = self._left_out_ratio(run)
-        if self.unmeasured and self.quiet.any():  # motion too fast to measure: no ratio
-            own = math.inf
         if self.back_grid is None or run != MOTION_RUN:
             return own
         return min(own, self.back_grid.left_out_ratio)

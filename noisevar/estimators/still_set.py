@@ -177,9 +177,25 @@ def has_still_apart(diag: NoiseDiagnostics, variance: float) -> bool:
     if diag.level_varies:
         return not one_level_reversed(diag, variance)
     prof = diag.level_profile
-    if prof.unmeasured and prof.still_stretches:  # R's residuals hold motion no block reads
+    if _unmeasured_apart(diag, variance):
         return True
     return _run_apart(prof.left_out_ratio(), variance, prof.quiet_variance)
+
+
+def _unmeasured_apart(diag: NoiseDiagnostics, variance: float) -> bool:
+    """Stretches too fast to measure (``LevelProfile.unmeasured``) beside still stretches,
+    R measurably above the quiet level, and no lone glitch to hold the excess: R's
+    residuals hold motion no block reads, whatever R's ratio (docs/algorithms.md §E1).
+    Glitches inside the unmeasured stretches are part of that motion.
+
+    Where lone glitches hold R (UCR InternalBleeding16: R 7.5x its core, two outlying
+    samples of a labelled anomaly, beside runs of level jumps), they, not the unmeasured
+    stretches, are R's excess, said as outlying samples.
+    """
+    prof = diag.level_profile
+    moving = prof.unmeasured
+    held = any(not any(a <= g.index < b for a, b in moving) for g in diag.glitches)
+    return bool(moving and prof.still_stretches and not held and variance > prof.quiet_bounds[1])
 
 
 def _run_apart(left_out_ratio: float, variance: float, quiet_variance: float) -> bool:

@@ -82,3 +82,22 @@ def test_under_twice_the_parked_noise_the_drive_is_still_apart() -> None:
     assert est.still is not None
     lo, hi = est.still.ci95
     assert lo <= SIGMA**2 <= hi < est.variance
+
+
+def test_lone_glitches_outside_the_drive_hold_r_not_the_drive() -> None:
+    """UCR InternalBleeding16 (real_audit14): runs of level jumps too fast to measure and
+    two outlying samples holding R at 7.5x its core. The glitches are R's excess, said as
+    outlying samples; the R to use stays R (it became the still level for a moment)."""
+    from dataclasses import replace
+
+    from noisevar.diagnostics import Glitch
+    from noisevar.estimators.still_set import has_still_apart
+
+    est = noisevar.estimate(_drive_then_park(3, 300, 5.0, True))
+    d = est.diagnostics
+    (a, b), = d.level_profile.unmeasured
+    assert has_still_apart(d, est.variance)
+    inside = replace(d, glitches=(Glitch(a + 5, 40.0),))  # part of the drive
+    assert has_still_apart(inside, est.variance)
+    outside = replace(d, glitches=(Glitch(b + 50, 40.0),))
+    assert not has_still_apart(outside, est.variance)
