@@ -32,7 +32,8 @@ Checks per log and regimes (pass = all of them):
   the ratio is shown; the white terms must be within 100x (a unit or rate bug is 1000x),
   except on a simulator whose sensor noise is off (``SIM_GYR_RND = 0``: said, not judged);
   the ArduPilot file names the EKF the flight flies (``AHRS_EKF_TYPE``: ``EK2_`` or ``EK3_``)
-  at its step ``max(1/SCHED_LOOP_RATE, EKF_TARGET_DT)`` (``NavEKF3_core::setup_core``).
+  at its step ``max(1/SCHED_LOOP_RATE, EKF_TARGET_DT)`` (``NavEKF3_core::setup_core``),
+  in a file named after that EKF (``ardupilot_ekf2.param`` holds ``EK2_*``).
   Bias terms (K) are shown only: seconds of data do not measure a bias process.
 
 Results: benchmarks/results/logcfg_audit.md.
@@ -236,9 +237,11 @@ def audit(name: str, regimes: str, tmp: Path) -> tuple[dict, list[dict]]:
     row["fit_rate"] = rate
     row["N"] = (model["gyroscope"]["N"], model["accelerometer"]["N"])
     files = {}
+    written = dict(zip(exports.CONSUMERS, map(Path, js["exports"]), strict=True))  # --export all
+    row["ap_file"] = written["ardupilot"].name
     for key in exports.CONSUMERS:
         c = exports.consumer(key)
-        text = (tmp / f"{name}_{regimes}" / c.filename).read_text()
+        text = written[key].read_text()
         vals = c.parse(text)
         files[key] = (vals, text)
         if not all(math.isfinite(v) for v in vals.values()):
@@ -247,6 +250,9 @@ def audit(name: str, regimes: str, tmp: Path) -> tuple[dict, list[dict]]:
         for got, want, s in ((ng, row["N"][0], "gyro"), (na, row["N"][1], "accel")):
             if abs(got - want) > 1e-6 * want:
                 row["fail"].append(f"{key}: {s} N {got:.6g} against the model's {want:.6g}")
+    holds = f"ardupilot_ekf{_ap_prefix(files['ardupilot'][1])[2]}.param"
+    if row["ap_file"] != holds:
+        row["fail"].append(f"ardupilot: file {row['ap_file']} holds the names of {holds}")
     row["ekf"] = {k: _stated_rate(files[k][1], n) for k, n in
                   (("px4", "EKF2_GYR_NOISE"), ("ardupilot", _ap_prefix(files["ardupilot"][1])
                                                + "GYRO_P_NSE"))}  # fmt: skip

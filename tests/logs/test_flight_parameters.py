@@ -58,6 +58,20 @@ def test_ardupilot_step_from_the_loop_rate_and_ekf(params, names, rate):
     assert ("read from the flight log" in f.text) == bool(params)
 
 
+@pytest.mark.parametrize(
+    ("ekf", "name"),
+    [(2.0, "ardupilot_ekf2.param"), (3.0, "ardupilot_ekf3.param"), (None, "ardupilot_ekf3.param")],
+)
+def test_ardupilot_file_is_named_after_the_ekf_it_holds(ekf, name, tmp_path):
+    """logcfg_audit: pymavlink's ArduPlane log (EKF2) got ``ardupilot_ekf3.param`` holding
+    ``EK2_*``; the name follows the EKF written, the same in a zip (the dashboard's)."""
+    params = {} if ekf is None else {"AHRS_EKF_TYPE": ekf}
+    (f,) = exports.export(MODEL, "ardupilot", params=params)
+    assert f.filename == name and f"EK{int(ekf or 3)}_GYRO_P_NSE" in f.text
+    (path,) = exports.write_exports([f], tmp_path)
+    assert path.name == name
+
+
 def test_ardupilot_out_of_range_is_warned():
     big = ImuModel(SensorTerms(2e-4, 0.1, 0.0, "rad/s"), MODEL.accel, 400.0)
     (f,) = exports.export(big, "ardupilot")
@@ -95,7 +109,8 @@ def test_cli_writes_the_flights_ekf_at_its_loop_rate(tmp_path, capsys):
     argv += ["--accel", "AccX", "AccY", "AccZ", "--export", "ardupilot", "--out", str(tmp_path)]
     assert main([*argv, "--no-report", "--format", "json"]) == 0
     model = json.loads(capsys.readouterr().out)["model"]
-    got = exports.consumer("ardupilot").parse((tmp_path / "ardupilot_ekf3.param").read_text())
+    assert not (tmp_path / "ardupilot_ekf3.param").exists()  # named after the EKF it holds
+    got = exports.consumer("ardupilot").parse((tmp_path / "ardupilot_ekf2.param").read_text())
     assert set(got) == {"EK2_GYRO_P_NSE", "EK2_ACC_P_NSE", "EK2_GBIAS_P_NSE", "EK2_ABIAS_P_NSE"}
     n = model["gyroscope"]["N"]
     assert got["EK2_GYRO_P_NSE"] == pytest.approx(n * math.sqrt(50.0), rel=1e-9)

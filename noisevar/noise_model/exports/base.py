@@ -64,6 +64,10 @@ class ExportFile:
 class Consumer:
     """A registered consumer: its key, title, default file name, writer and reader.
 
+    ``filename`` is the name of the file written without a flight log; a writer may name
+    its file after what it holds (ArduPilot's after the EKF it writes): take the name of
+    the :class:`ExportFile` written.
+
     ``write(model, **options)`` returns an :class:`ExportFile`; ``parse(text)`` reads the
     file back into ``{name: value}`` through the consumer's own format. ``log_params``: the
     flight-log parameters the writer takes as ``params=`` (the EKF's step: PX4's
