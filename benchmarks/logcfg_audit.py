@@ -34,7 +34,9 @@ Checks per log and regimes (pass = all of them):
   the ArduPilot file names the EKF the flight flies (``AHRS_EKF_TYPE``: ``EK2_`` or ``EK3_``)
   at its step ``max(1/SCHED_LOOP_RATE, EKF_TARGET_DT)`` (``NavEKF3_core::setup_core``),
   in a file named after that EKF (``ardupilot_ekf2.param`` holds ``EK2_*``).
-  Bias terms (K) are shown only: seconds of data do not measure a bias process.
+  Bias terms (K) are shown only: seconds of data do not measure a bias process; a file
+  merged into a flight config writes a K not identified at its horizon commented out
+  (``# WITHHELD``, ``exports.model.k_rule``), shown here with its value.
 
 Results: benchmarks/results/logcfg_audit.md.
 """
@@ -193,6 +195,13 @@ def _ap_step_row(name: str, params: dict, ours: str, stated: float) -> dict:
             "white": False, "sim_off": False, "ok": ok, "step": want}  # fmt: skip
 
 
+def _withheld(text: str, name: str) -> float | None:
+    """The value of ``name`` a PX4/ArduPilot file wrote commented out (``# WITHHELD``)."""
+    m = re.search(r"^# WITHHELD \(.*\): (?:1\t1\t)?" + re.escape(name) + r"[\t,]([^\t\s]+)",
+                  text, re.M)  # fmt: skip
+    return float(m.group(1)) if m else None
+
+
 def config_rows(name: str, params: dict, files: dict) -> list[dict]:
     """Our PX4/ArduPilot values against the flight's own (the log's parameters)."""
     rows = []
@@ -208,13 +217,16 @@ def config_rows(name: str, params: dict, files: dict) -> list[dict]:
     else:
         return []
     for key, ours, theirs in pairs:
-        vals = files[key][0]
+        vals, text = files[key]
         v, c = vals.get(ours), params.get(theirs)
-        ratio = None if v is None or not c else v / c
         white = "B_" not in ours and "BIAS" not in ours
+        withheld = not white and v is None and _withheld(text, ours)
+        v = _withheld(text, ours) if withheld else v
+        ratio = None if v is None or not c else v / c
         ok = ratio is not None and (not white or sim_off or 1 / ORDER <= ratio <= ORDER)
         rows.append({"log": name, "ours": ours, "value": v, "theirs": theirs, "config": c,
-                     "ratio": ratio, "white": white, "sim_off": sim_off, "ok": ok})  # fmt: skip
+                     "ratio": ratio, "white": white, "sim_off": sim_off, "ok": ok,
+                     "withheld": withheld})  # fmt: skip
     return rows
 
 
@@ -328,6 +340,8 @@ def report(rows: list[dict], cfg: list[dict], wall: float) -> str:
     ]
     for c in cfg:
         judged = "white: within 100x" if c["white"] else "bias: shown only"
+        judged = "bias: WITHHELD (line commented out, K not identified)" if c.get(
+            "withheld") else judged  # fmt: skip
         judged = "simulator noise off: shown only" if c["white"] and c["sim_off"] else judged
         judged = f"the flight's EKF at {c['step']:.4g} Hz" if "step" in c else judged
         ratio = "n/a" if c["ratio"] is None else f"{c['ratio']:.3g}"

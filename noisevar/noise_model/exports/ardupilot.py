@@ -123,7 +123,7 @@ def write(
         warning = range_warning(v.name, v.value, ranges.get(v.name[len(p) :], (None, None)))
         if warning:
             lines.append(f"# {warning}")
-        lines.append(f"{v.name},{v.value:.12g}")
+        lines.append(v.line(f"{v.name},{v.value:.12g}"))
     return ExportFile(
         "ardupilot", FILENAME.format(ekf=ekf), ascii_text("\n".join(lines) + "\n"), tuple(values)
     )
@@ -147,4 +147,5 @@ CONSUMER = Consumer(
     write,
     parse,
     LOG_PARAMS,
+    merged=True,
 )

@@ -26,6 +26,7 @@ from numpy.typing import NDArray
 from noisevar import units
 from noisevar.errors import NoisevarError
 from noisevar.estimators.regimes import DEFAULT_REGIMES
+from noisevar.noise_model.gmwm.model import HORIZON
 from noisevar.noise_model.gmwm.model import ImuModel as CompositeModel
 from noisevar.noise_model.inertial import InertialNoise
 from noisevar.noise_model.inertial_white import why_below_white
@@ -40,6 +41,12 @@ VARIANTS = ("best", "conservative")
 DEFAULT_VARIANT = "best"
 #: Where K comes from without composite fits.
 K_FROM_ALLAN = "the IEEE-952 fit to the Allan variance (no composite fit given)"
+#: What every file does with a K not identified (:func:`k_rule`; ``Consumer.merged``).
+WITHHELD_SAID = (
+    "a file merged into a flight config writes its line commented out (the config keeps "
+    "its own value); a complete file (Kalibr, OpenVINS, MATLAB, filterpy, "
+    "robot_localization) keeps it, with this line: do not fly it as measured"
+)
 
 
 @dataclass(frozen=True)
@@ -58,6 +65,9 @@ class SensorTerms:
         The sensor's rate unit (``rad/s`` or ``m/s^2``).
     factors : dict of str to float
         Conservative set: each term over the best fit; empty for the best fit.
+    k_withheld : str
+        Why K is not identified at the horizon its bias is modelled over (:func:`k_rule`),
+        empty when it is: a file merged into a flight config leaves it out.
     """
 
     N: float
@@ -65,6 +75,7 @@ class SensorTerms:
     B: float
     unit: str
     factors: dict[str, float] = field(default_factory=dict)
+    k_withheld: str = ""
 
 
 @dataclass(frozen=True)
@@ -121,6 +132,9 @@ class ImuModel:
             if s.factors:
                 f = ", ".join(f"{k} x{v:.3g}" for k, v in s.factors.items())
                 lines.append(f"{name}: factors over the best fit: {f}")
+        for name, s in (("gyroscope", self.gyro), ("accelerometer", self.accel)):
+            if s.k_withheld:
+                lines.append(f"{name}: K NOT IDENTIFIED: {s.k_withheld}; {WITHHELD_SAID}")
         said = [f"verdict, column {c}: {' '.join(v.split())}" for c, v in self.verdicts.items()]
         return lines + said + [f"note: {n}" for n in self.notes]
 
@@ -171,7 +185,8 @@ def _sensor(
         n = max(max(a.random_walk, a.white_level) for a in fits)
         k = k_best
         b = max(a.bias_instability for a in fits)
-        return SensorTerms(n * f, k * f, b * f, target), notes + _white_note(fits, name)
+        terms = SensorTerms(n * f, k * f, b * f, target, k_withheld=k_rule(fits, bias))
+        return terms, notes + _white_note(fits, name)
     bounds = [overbound(a, free=NK) for a in fits]
     n_best = max(max(a.random_walk, a.white_level) for a in fits)
     # never below the best set (whose N is at least the white level)
@@ -185,7 +200,45 @@ def _sensor(
         + "; ".join(covers)
         + f" (best-fit B up to {b:.4g} {fits[0].unit}, before conversion)"
     )
-    return SensorTerms(n * f, k * f, 0.0, target, factors), notes
+    return SensorTerms(n * f, k * f, 0.0, target, factors, k_rule(fits, bias)), notes
+
+
+def k_rule(fits: Sequence[InertialNoise], bias: Sequence[CompositeModel] | None = None) -> str:
+    """Why K is not identified at the horizon the bias is modelled over, or ``""``.
+
+    Parameters
+    ----------
+    fits : sequence of InertialNoise
+        The sensor's axes' IEEE-952 fits (their Allan variances' taus).
+    bias : sequence of noisevar.noise_model.gmwm.ImuModel, optional
+        Their composite fits: the horizon is theirs (``FilterBias.horizon``), else
+        :data:`~noisevar.noise_model.gmwm.model.HORIZON`.
+
+    Returns
+    -------
+    str
+        The reason, when the longest tau fitted on some axis is shorter than the horizon.
+
+    Notes
+    -----
+    docs/algorithms.md §E7 (K and the record's length). An Allan variance at tau needs
+    2 tau of record; K (slope +1/2) is seen only at the taus fitted, so a record whose
+    longest tau is below the horizon T extrapolates the bias to T from what dominated
+    its short taus (vibration, a warm-up): pymavlink's 0.9 s ArduPlane log gave
+    ``EK2_GBIAS_P_NSE`` 8.9e3x the flight's. One rule for every consumer.
+    """
+    horizon = max((b.filter_bias.horizon for b in bias), default=HORIZON) if bias else HORIZON
+    reach = min(float(np.max(a.allan.taus)) for a in fits)
+    if reach >= horizon:
+        return ""
+    k = max(a.rate_random_walk for a in fits)
+    hi = max(a.term("K").interval[1] for a in fits)
+    return (
+        f"the fitted record reaches tau {reach:.3g} s, short of the {horizon:g} s horizon "
+        f"the bias is modelled over (the Allan variance at tau needs 2 tau of record), so K "
+        f"(the Allan fit's {k:.3g}, interval up to {hi:.3g}, in the data's unit) is "
+        "extrapolated, not measured; record the sensor still for 2x the horizon"
+    )
 
 
 def _white_note(fits: list[InertialNoise], name: str) -> list[str]:

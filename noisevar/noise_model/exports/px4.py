@@ -86,7 +86,7 @@ def write(
         warning = range_warning(v.name, v.value, RANGES.get(v.name, (None, None)))
         if warning:
             lines.append(f"# {warning}")
-        lines.append(f"1\t1\t{v.name}\t{v.value:.12g}\t{_REAL32}")
+        lines.append(v.line(f"1\t1\t{v.name}\t{v.value:.12g}\t{_REAL32}"))
     return ExportFile("px4", "px4_ekf2.params", ascii_text("\n".join(lines) + "\n"), tuple(values))
 
 
@@ -103,4 +103,6 @@ def parse(text: str) -> dict[str, float]:
 #: The flight-log parameters the writer reads (:data:`Consumer.log_params`).
 LOG_PARAMS = ("EKF2_PREDICT_US",)
 
-CONSUMER = Consumer("px4", "PX4 EKF2 .params", "px4_ekf2.params", write, parse, LOG_PARAMS)
+CONSUMER = Consumer(
+    "px4", "PX4 EKF2 .params", "px4_ekf2.params", write, parse, LOG_PARAMS, merged=True
+)
