@@ -60,6 +60,7 @@ from noisevar.cli.allan import load_columns
 from noisevar.io.logs import list_topics
 from noisevar.io.logs.params import log_parameters
 from noisevar.noise_model import exports
+from noisevar.noise_model.inertial_axes import imu_still_stretch
 from noisevar.units import declared_unit, factor
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -147,13 +148,16 @@ def python_fits(path: Path, topic: str, cols: list[str], regimes: str, rate: flo
     """The same fits in Python: ``noisevar.inertial_noise`` on the columns, their estimates and
     the times the CLI reads (``noisevar.cli.allan.load_columns``)."""
     data, _, declared, t, _ = load_columns(str(path), cols, None, topic)
+    ests = {c: noisevar.estimate(data[c]) for c in cols}
+    stretch = None  # the IMU's stretch where all six axes are still, as the CLI's
+    if regimes == "still":
+        stretch = imu_still_stretch(np.stack([data[c] for c in cols]), [ests[c] for c in cols])
     out = []
     for group in (cols[:3], cols[3:]):
         unit = declared_unit(declared[group[0]]) or "u"  # the CLI's: none declared
         stacked = np.stack([data[c] for c in group])
-        ests = [noisevar.estimate(data[c]) for c in group]
-        out += noisevar.inertial_noise(stacked, rate, unit=unit, estimates=ests, t=t,
-                                       regimes=regimes)  # fmt: skip
+        out += noisevar.inertial_noise(stacked, rate, unit=unit, estimates=[ests[c] for c in group],
+                                       t=t, regimes=regimes, stretch=stretch)  # fmt: skip
     return out
 
 

@@ -25,7 +25,7 @@ from numpy.typing import NDArray
 
 from noisevar import units
 from noisevar.errors import NoisevarError
-from noisevar.estimators.regimes import DEFAULT_REGIMES
+from noisevar.estimators.regimes import DEFAULT_REGIMES, StillStretch
 from noisevar.noise_model.gmwm.model import HORIZON
 from noisevar.noise_model.gmwm.model import ImuModel as CompositeModel
 from noisevar.noise_model.inertial import InertialNoise
@@ -255,6 +255,7 @@ def composite_fits(
     rates: Sequence[float],
     unit: str = "u",
     regimes: str = DEFAULT_REGIMES,
+    stretch: StillStretch | None = None,
 ) -> list[CompositeModel]:
     """The composite fit (model chosen, :func:`noisevar.fit_imu_model`) of each column, for
     :func:`imu_model`'s ``gyro_bias``/``accel_bias``; columns of one rate and length are
@@ -271,6 +272,9 @@ def composite_fits(
     regimes : {"all", "still"}
         Which of each record's regimes are fitted, as for its IEEE-952 fit (``"still"``:
         each column's longest still stretch, :func:`noisevar.fit_imu_model`).
+    stretch : StillStretch, optional
+        With ``"still"``: the IMU's stretch (all its axes still) every column is fitted on,
+        as its IEEE-952 fits' (:func:`~noisevar.noise_model.inertial_axes.imu_still_stretch`).
 
     Returns
     -------
@@ -287,7 +291,7 @@ def composite_fits(
     out: list[CompositeModel | None] = [None] * len(columns)
     for (rate, _), idx in groups.items():
         stacked = np.column_stack([np.asarray(columns[i], dtype=float) for i in idx])
-        fits = fit_imu_model(stacked, rate, unit=unit, regimes=regimes)
+        fits = fit_imu_model(stacked, rate, unit=unit, regimes=regimes, stretch=stretch)
         for i, fit in zip(idx, fits, strict=True):
             out[i] = fit
     return out  # type: ignore[return-value]
@@ -340,6 +344,8 @@ def imu_model(
         if key not in ("position", "velocity") or not value > 0:
             raise NoisevarError(f"gnss takes positive 'position' and 'velocity' stds, not {key!r}")
     notes += gn + an
+    # which samples the still fits ran on: one line for an IMU's stretch (all axes still)
+    notes += dict.fromkeys(n for x in g + a for n in x.notes if n.startswith("regimes='still'"))
     k_from = composite_k_note(bias) if bias else K_FROM_ALLAN
     if len(bias) == 1:
         k_from += f"; the {'accelerometer' if 'gyroscope' in bias else 'gyroscope'}'s: " + (
