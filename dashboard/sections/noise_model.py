@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -251,10 +252,12 @@ def _topic_rates(sig: LoadedSignal) -> None:
 
 
 @st.cache_data(max_entries=32, show_spinner="Fitting the composite model (K)...")
-def composite_cached(digest: str, rate: float, unit: str, regimes: str, _z: np.ndarray):
-    """A column's composite fit on ``regimes``, whose bias gives the files' K
-    (``exports.imu_model``, ``kalibr_imu``)."""
-    (fit,) = exports.composite_fits([_z], [rate], unit=unit, regimes=regimes)
+def composite_cached(
+    digest: str, rate: float, unit: str, regimes: str, _z: np.ndarray, stretch: Any = None
+):
+    """A column's composite fit on ``regimes`` (and the IMU's still ``stretch``, when given),
+    whose bias gives the files' K (``exports.imu_model``, ``kalibr_imu``)."""
+    (fit,) = exports.composite_fits([_z], [rate], unit=unit, regimes=regimes, stretch=stretch)
     return fit
 
 
