@@ -392,11 +392,34 @@ def _cmd_models(args: argparse.Namespace, data: dict, rates: dict[str, float]) -
     return 0
 
 
-def _cmd_imu(args: argparse.Namespace) -> int:
+def _fit_columns(
+    args: argparse.Namespace, loaded: tuple, col_units: dict, ests: dict, stretch: Any
+) -> dict:
+    """Each column's IEEE-952 fit (a group of one unit and rate together, its axes in
+    threads); the IMU's axes on its still ``stretch`` when there is one."""
     from noisevar.estimators.results import VarianceEstimate
     from noisevar.noise_model import inertial_noise
     from noisevar.noise_model.allan_gaps import gap_grid
 
+    data, rates, times = loaded
+    imu_cols = {*(args.gyro or []), *(args.accel or [])} if stretch else set()
+    fits, placed = {}, {}
+    for names in _groups(data, {c: (col_units[c], rates[c]) for c in data}):
+        scale, unit = col_units[names[0]]
+        stacked = np.stack([data[c] * scale for c in names])  # axes in threads
+        given = [ests.get(c) for c in names]
+        given = given if all(isinstance(e, VarianceEstimate) for e in given) else None
+        t = _group_times(args, times, names)
+        fitted = inertial_noise(
+            stacked, rates[names[0]], unit=unit, estimates=given, t=t, **regimes_of(args),
+            stretch=stretch if set(names) <= imu_cols else None,
+        )  # fmt: skip
+        fits.update(zip(names, fitted, strict=True))
+        placed.update(dict.fromkeys(names, gap_grid(t, "rate", "oadev", **regimes_of(args))))
+    return {c: _with_sampling_note(fits[c], times[c], placed[c] is not None) for c in data}
+
+
+def _cmd_imu(args: argparse.Namespace) -> int:
     if args.export:
         from noisevar.noise_model.exports import consumers
 
@@ -412,21 +435,7 @@ def _cmd_imu(args: argparse.Namespace) -> int:
     scales = {c: col_units[c][0] for c in data}
     ests, answered = _column_estimates(args, data, scales, times)
     stretch = _imu_stretch(args, data, scales, ests)
-    imu_cols = {*(args.gyro or []), *(args.accel or [])} if stretch else set()
-    fits, placed = {}, {}
-    for names in _groups(data, {c: (col_units[c], rates[c]) for c in data}):
-        scale, unit = col_units[names[0]]
-        stacked = np.stack([data[c] * scale for c in names])  # axes in threads
-        given = [ests.get(c) for c in names]
-        given = given if all(isinstance(e, VarianceEstimate) for e in given) else None
-        t = _group_times(args, times, names)
-        fitted = inertial_noise(
-            stacked, rates[names[0]], unit=unit, estimates=given, t=t, **regimes_of(args),
-            stretch=stretch if set(names) <= imu_cols else None,
-        )  # fmt: skip
-        fits.update(zip(names, fitted, strict=True))
-        placed.update(dict.fromkeys(names, gap_grid(t, "rate", "oadev", **regimes_of(args))))
-    fits = {c: _with_sampling_note(fits[c], times[c], placed[c] is not None) for c in data}
+    fits = _fit_columns(args, (data, rates, times), col_units, ests, stretch)
     written = _kalibr(args, fits, data, scales, stretch) if args.kalibr else None
     exported = (
         _exports(args, fits, data, scales, answered, stretch) if args.export else ([], None, None)

@@ -85,6 +85,23 @@ def test_px4_step_from_ekf2_predict_us():
     assert "EKF2_PREDICT_US read from the flight log: 8000" in f.text
 
 
+def test_px4_v1_11_step_from_its_firmware_release():
+    """PX4 v1.11 has no EKF2_PREDICT_US: its ecl compiled the step in (FILTER_UPDATE_PERIOD_MS
+    10 ms on PX4-ECL's Release_v1.11, 8 ms on Release_v1.10). pyulog's v1.11.2 log gives its
+    release (``ver_sw_release``), and the file says where its step came from."""
+    params = log_parameters(DATA / "px4_sample_log_small.ulg")
+    assert "EKF2_PREDICT_US" not in params and params["ver_sw_release"] == 0x010B0200
+    (f,) = exports.export(MODEL, "px4", params=params)
+    assert "not a parameter of the flight's PX4 v1.11" in f.text and "Release_v1.11" in f.text
+    got = exports.consumer("px4").parse(f.text)
+    assert got["EKF2_GYR_NOISE"] == pytest.approx(2e-4 * math.sqrt(100.0), rel=1e-9)
+    (f,) = exports.export(MODEL, "px4", params={"ver_sw_release": float(0x010A01FF)})
+    got = exports.consumer("px4").parse(f.text)  # v1.10.1: 8 ms
+    assert got["EKF2_GYR_NOISE"] == pytest.approx(2e-4 * math.sqrt(125.0), rel=1e-9)
+    (f,) = exports.export(MODEL, "px4", params={"ver_sw_release": float(0x010E0000)})
+    assert "EKF2_PREDICT_US assumed: 10000" in f.text  # a release not in the table: said
+
+
 HEAD = [
     "FMT, 128, 89, FMT, BBnNZ, Type,Length,Name,Format,Columns",
     "FMT, 129, 31, PARM, QNf, TimeUS,Name,Value",
