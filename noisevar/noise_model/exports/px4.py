@@ -10,7 +10,8 @@ thing); the bias states get
 ``sq(dt * _params.gyro_bias_p_noise)`` per step. The step ``dt`` is EKF2's prediction
 period ``EKF2_PREDICT_US`` (default 10000 µs: 100 Hz), the IMU being down-sampled (its
 delta angles summed) to it; before that parameter, PX4-ECL's compiled-in
-``FILTER_UPDATE_PERIOD_MS`` (:data:`COMPILED_US`, by the ULog's firmware release). So ``EKF2_GYR_NOISE`` is the std of the rate averaged over one
+``FILTER_UPDATE_PERIOD_MS`` (:data:`COMPILED_US`, by the ULog's firmware release). So
+``EKF2_GYR_NOISE`` is the std of the rate averaged over one
 EKF step, ``N √f_ekf`` (rad/s), and ``EKF2_GYR_B_NOISE`` the bias change per step over the
 step time, ``K √f_ekf`` (rad/s²). ``EKF2_GPS_P_NOISE`` and ``EKF2_GPS_V_NOISE`` are GNSS
 measurement stds (m, m/s), from a GNSS record's R when one is given.
