@@ -8,13 +8,12 @@ report (verdict, units, conversions: docs/algorithms.md §E7.5).
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import Any
 
 import numpy as np
 import streamlit as st
 
 from dashboard import cache
-from dashboard.sections.noise_model import composite_cached, imu_column, imu_times
+from dashboard.sections.noise_model import composite_cached, imu_column, imu_stretch, imu_times
 from dashboard.state import LoadedSignal, initial, signal_units
 from dashboard.widgets import guarded
 from noisevar import units
@@ -24,7 +23,6 @@ from noisevar.estimators.answer import RecordAnswer, record_answer
 from noisevar.estimators.regimes import StillStretch
 from noisevar.noise_model import InertialNoise, exports, inertial_noise
 from noisevar.noise_model.exports.report import REPORT_FILENAME, Axis, imu_report
-from noisevar.noise_model.inertial_axes import imu_still_stretch
 
 _LABELS = {"best": "Best fit (default)", "conservative": "Conservative (overbound)"}
 
@@ -42,23 +40,6 @@ def _fit(
     fit = inertial_noise(_z, rate, unit=unit, regimes=regimes, t=_t, stretch=stretch)
     assert isinstance(fit, InertialNoise)
     return fit
-
-
-@st.cache_data(max_entries=16, show_spinner="Finding where every IMU axis is still...")
-def _imu_stretch(digests: tuple[str, ...], _rows: np.ndarray) -> StillStretch:
-    return imu_still_stretch(_rows)
-
-
-def _stretch(sig: LoadedSignal, cols: list[str], rate: float, regimes: str) -> Any:
-    """With the still regimes: the IMU's stretch where every chosen axis is still, which all
-    its fits take, as ``noisevar imu --regimes still --export`` (None for axes of
-    different lengths, a log's two topics: each axis its own)."""
-    if regimes != "still":
-        return None
-    got = [imu_column(sig, c, rate) for c in dict.fromkeys(cols)]
-    if len({z.size for *_, z in got}) != 1:
-        return None
-    return _imu_stretch(tuple(k for k, *_ in got), np.stack([z for *_, z in got]))
 
 
 def _default(declared: str, target: str) -> str:
@@ -130,7 +111,7 @@ def consumer_files(sig: LoadedSignal, rate: float, regimes: str) -> None:
         st.caption("Choose the gyroscope and accelerometer columns above.")
         return
     with guarded("Filter configs: "):
-        stretch = _stretch(sig, gyro + accel, rate, regimes)
+        stretch = imu_stretch(sig, gyro + accel, rate, regimes)
         fits = {
             (c, u): _fit(key, r, u, regimes, stretch, z, imu_times(sig, c, rate, z.size))
             for cols, u in ((gyro, g_unit), (accel, a_unit))
