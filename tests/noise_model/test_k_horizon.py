@@ -14,17 +14,30 @@ import numpy as np
 import pytest
 
 from noisevar.noise_model import exports, inertial_noise
+from noisevar.noise_model.kalibr import kalibr_imu
 
 RATE = 100.0
 
 
-def _model(seconds: float) -> exports.ImuModel:
+def _fits(seconds: float) -> tuple:
     rng = np.random.default_rng(7)
     n = int(seconds * RATE)
     walk = np.cumsum(rng.normal(size=(3, n)), axis=1) * 1e-5
     gyro = inertial_noise(rng.normal(size=(3, n)) * 2e-3 + walk, RATE, unit="rad/s")
     accel = inertial_noise(rng.normal(size=(3, n)) * 2e-2 + 10 * walk, RATE, unit="m/s^2")
-    return exports.imu_model(gyro, accel)
+    return gyro, accel
+
+
+def _model(seconds: float) -> exports.ImuModel:
+    return exports.imu_model(*_fits(seconds))
+
+
+def test_kalibr_file_of_the_cli_says_it_too() -> None:
+    """``noisevar imu --kalibr`` writes ``kalibr_imu``'s file: the same rule, said."""
+    imu = kalibr_imu(*_fits(4.0))
+    said = [n for n in imu.notes if "random_walk NOT IDENTIFIED" in n]
+    assert len(said) == 2 and "NOT IDENTIFIED" in imu.to_yaml()
+    assert not any("NOT IDENTIFIED" in n for n in kalibr_imu(*_fits(30.0)).notes)
 
 
 @pytest.fixture(scope="module")

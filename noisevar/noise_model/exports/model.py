@@ -26,11 +26,10 @@ from numpy.typing import NDArray
 from noisevar import units
 from noisevar.errors import NoisevarError
 from noisevar.estimators.regimes import DEFAULT_REGIMES, StillStretch
-from noisevar.noise_model.gmwm.model import HORIZON
 from noisevar.noise_model.gmwm.model import ImuModel as CompositeModel
 from noisevar.noise_model.inertial import InertialNoise
 from noisevar.noise_model.inertial_white import why_below_white
-from noisevar.noise_model.kalibr import composite_k, composite_k_note, imu_rate
+from noisevar.noise_model.kalibr import composite_k, composite_k_note, imu_rate, k_rule
 from noisevar.noise_model.overbound import NK, overbound
 
 #: The SI unit each sensor's terms are exported in.
@@ -41,7 +40,7 @@ VARIANTS = ("best", "conservative")
 DEFAULT_VARIANT = "best"
 #: Where K comes from without composite fits.
 K_FROM_ALLAN = "the IEEE-952 fit to the Allan variance (no composite fit given)"
-#: What every file does with a K not identified (:func:`k_rule`; ``Consumer.merged``).
+#: What every file does with a K not identified (``kalibr.k_rule``; ``Consumer.merged``).
 WITHHELD_SAID = (
     "a file merged into a flight config writes its line commented out (the config keeps "
     "its own value); a complete file (Kalibr, OpenVINS, MATLAB, filterpy, "
@@ -66,8 +65,9 @@ class SensorTerms:
     factors : dict of str to float
         Conservative set: each term over the best fit; empty for the best fit.
     k_withheld : str
-        Why K is not identified at the horizon its bias is modelled over (:func:`k_rule`),
-        empty when it is: a file merged into a flight config leaves it out.
+        Why K is not identified at the horizon its bias is modelled over
+        (:func:`~noisevar.noise_model.kalibr.k_rule`), empty when it is: a file merged into
+        a flight config leaves it out.
     """
 
     N: float
@@ -201,44 +201,6 @@ def _sensor(
         + f" (best-fit B up to {b:.4g} {fits[0].unit}, before conversion)"
     )
     return SensorTerms(n * f, k * f, 0.0, target, factors, k_rule(fits, bias)), notes
-
-
-def k_rule(fits: Sequence[InertialNoise], bias: Sequence[CompositeModel] | None = None) -> str:
-    """Why K is not identified at the horizon the bias is modelled over, or ``""``.
-
-    Parameters
-    ----------
-    fits : sequence of InertialNoise
-        The sensor's axes' IEEE-952 fits (their Allan variances' taus).
-    bias : sequence of noisevar.noise_model.gmwm.ImuModel, optional
-        Their composite fits: the horizon is theirs (``FilterBias.horizon``), else
-        :data:`~noisevar.noise_model.gmwm.model.HORIZON`.
-
-    Returns
-    -------
-    str
-        The reason, when the longest tau fitted on some axis is shorter than the horizon.
-
-    Notes
-    -----
-    docs/algorithms.md §E7 (K and the record's length). An Allan variance at tau needs
-    2 tau of record; K (slope +1/2) is seen only at the taus fitted, so a record whose
-    longest tau is below the horizon T extrapolates the bias to T from what dominated
-    its short taus (vibration, a warm-up): pymavlink's 0.9 s ArduPlane log gave
-    ``EK2_GBIAS_P_NSE`` 8.9e3x the flight's. One rule for every consumer.
-    """
-    horizon = max((b.filter_bias.horizon for b in bias), default=HORIZON) if bias else HORIZON
-    reach = min(float(np.max(a.allan.taus)) for a in fits)
-    if reach >= horizon:
-        return ""
-    k = max(a.rate_random_walk for a in fits)
-    hi = max(a.term("K").interval[1] for a in fits)
-    return (
-        f"the fitted record reaches tau {reach:.3g} s, short of the {horizon:g} s horizon "
-        f"the bias is modelled over (the Allan variance at tau needs 2 tau of record), so K "
-        f"(the Allan fit's {k:.3g}, interval up to {hi:.3g}, in the data's unit) is "
-        "extrapolated, not measured; record the sensor still for 2x the horizon"
-    )
 
 
 def _white_note(fits: list[InertialNoise], name: str) -> list[str]:
