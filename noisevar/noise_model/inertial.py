@@ -23,7 +23,7 @@ from noisevar import units
 from noisevar._arrays import check_exact_ints
 from noisevar.errors import NoisevarError
 from noisevar.estimators import check_rate, scale_back, scale_exponent
-from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes
+from noisevar.estimators.regimes import DEFAULT_REGIMES, StillStretch, check_regimes
 from noisevar.estimators.results import VarianceEstimate
 from noisevar.noise_model.allan import (
     KINDS,
@@ -38,6 +38,7 @@ from noisevar.noise_model.allan import (
 from noisevar.noise_model.gmwm.bound import internal_params
 from noisevar.noise_model.gmwm.processes import PROCESSES
 from noisevar.noise_model.gmwm.wavelet import wv_covariance
+from noisevar.noise_model.inertial_axes import per_axis
 from noisevar.noise_model.inertial_white import (
     n_against_white,
     tau0_holders,
@@ -417,17 +418,22 @@ def _one_axis(
     regimes: str = DEFAULT_REGIMES,
     est: VarianceEstimate | None = None,
     t: ArrayLike | None = None,
+    stretch: StillStretch | None = None,
 ) -> InertialNoise:
     e = scale_exponent(y)
     if e:  # scale-safe: every term is linear in the record's unit (estimators' _scale)
-        fit = _one_axis(np.ldexp(y, e), rate, unit, taus, ci, seed, regimes, est, t)
+        fit = _one_axis(np.ldexp(y, e), rate, unit, taus, ci, seed, regimes, est, t, stretch)
         return _rescaled(fit, e)
     # ``est`` (of the unscaled axis) gives the same regimes: the estimate scales by 2**e too
     notes = [] if regimes == "still" else regime_warning(y, est)
     if regimes == "still":
         # two taus of the overlapping ADEV: 2 span + 2 phase samples
         need = 2 * KINDS["oadev"].span + 2
-        y, note = still_record(y, "rate", need, "the noise terms", est)
+        y, note = (
+            (stretch.take(y), stretch.note)
+            if stretch
+            else still_record(y, "rate", need, "the noise terms", est)
+        )
         notes.append(note)
         t = None  # the stretch's own times are not kept
     res = allan(y, rate=rate, data="rate", kind="oadev", taus=taus, ci=ci, t=t)
@@ -504,6 +510,7 @@ def inertial_noise(
     regimes: str = DEFAULT_REGIMES,
     estimates: VarianceEstimate | Sequence[VarianceEstimate] | None = None,
     t: ArrayLike | None = None,
+    stretch: StillStretch | None = None,
 ) -> InertialNoise | tuple[InertialNoise, ...]:
     """Fit the five IEEE-952 noise terms to the Allan variance of rate data.
 
@@ -529,7 +536,7 @@ def inertial_noise(
         Threads for several axes (default: the number of CPUs).
     regimes : {"all", "still"}
         Fit each axis's whole record, or its longest still stretch only (each axis
-        its own; said in ``notes``).
+        its own, or ``stretch``; said in ``notes``).
     estimates : VarianceEstimate or sequence of them, optional
         :func:`noisevar.estimate` of each axis (method auto, one per axis for a 2-D
         ``z``), when they were made already: the regime warning and the still stretch
@@ -537,6 +544,9 @@ def inertial_noise(
     t : array_like, optional
         Sample times (s), one per sample: samples dropped are placed on their base
         period (:func:`noisevar.allan`'s ``t``).
+    stretch : StillStretch, optional
+        With ``regimes="still"``: the stretch every axis is fitted on, an IMU's where all
+        its axes are still (:func:`~noisevar.estimators.regimes.common_still_stretch`).
 
     Returns
     -------
@@ -564,31 +574,17 @@ def inertial_noise(
         raise NoisevarError(f"unit must be a unit's name such as 'rad/s', not {unit!r}")
     arr = np.asarray(z, dtype=float)
     if arr.ndim == 1:
-        (est,) = _per_axis(estimates, 1, one=True)
-        return _one_axis(arr, rate, unit, taus, ci, seed, regimes, est, t)
+        (est,) = per_axis(estimates, 1, one=True)
+        return _one_axis(arr, rate, unit, taus, ci, seed, regimes, est, t, stretch)
     if arr.ndim != 2:
         raise NoisevarError(f"z must be 1-D or 2-D (time x axes); it has shape {arr.shape}.")
     cols = np.moveaxis(arr, axis, -1)
-    ests = _per_axis(estimates, cols.shape[0])
+    ests = per_axis(estimates, cols.shape[0])
     n_workers = max(1, min(cols.shape[0], workers or os.cpu_count() or 1))
     with ThreadPoolExecutor(n_workers) as pool:
         jobs = [
-            pool.submit(_one_axis, c, rate, unit, taus, ci, seed, regimes, est, t)
+            pool.submit(_one_axis, c, rate, unit, taus, ci, seed, regimes, est, t, stretch)
             for c, est in zip(cols, ests, strict=True)
         ]
         return tuple(j.result() for j in jobs)
 
-
-def _per_axis(
-    estimates: VarianceEstimate | Sequence[VarianceEstimate] | None, n: int, one: bool = False
-) -> list[VarianceEstimate | None]:
-    """``inertial_noise``'s ``estimates``, one per axis (None: each axis estimated)."""
-    if estimates is None:
-        return [None] * n
-    if isinstance(estimates, VarianceEstimate):
-        estimates = [estimates]
-    out = list(estimates) if isinstance(estimates, Sequence) else []
-    if len(out) != n or not all(isinstance(e, VarianceEstimate) for e in out):
-        what = "one VarianceEstimate" if one else f"{n} VarianceEstimates, one per axis"
-        raise NoisevarError(f"estimates must be {what} (noisevar.estimate of each axis).")
-    return out

@@ -14,8 +14,11 @@ from collections.abc import Sequence
 from dataclasses import asdict, dataclass, field
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
+
 from noisevar.errors import NoisevarError
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes
+from noisevar.noise_model.gmwm.model import HORIZON
 from noisevar.noise_model.inertial import InertialNoise
 from noisevar.noise_model.inertial_white import why_below_white
 
@@ -124,6 +127,44 @@ def composite_k(
             "axis, of the same data in the same order"
         )
     return max(b.filter_bias.random_walk for b in bias)
+
+
+def k_rule(fits: Sequence[InertialNoise], bias: Sequence[CompositeModel] | None = None) -> str:
+    """Why K is not identified at the horizon the bias is modelled over, or ``""``.
+
+    Parameters
+    ----------
+    fits : sequence of InertialNoise
+        The sensor's axes' IEEE-952 fits (their Allan variances' taus).
+    bias : sequence of noisevar.noise_model.gmwm.ImuModel, optional
+        Their composite fits: the horizon is theirs (``FilterBias.horizon``), else
+        :data:`~noisevar.noise_model.gmwm.model.HORIZON`.
+
+    Returns
+    -------
+    str
+        The reason, when the longest tau fitted on some axis is shorter than the horizon.
+
+    Notes
+    -----
+    docs/algorithms.md §E7.7 (K and the record's length). An Allan variance at tau needs
+    2 tau of record; K (slope +1/2) is seen only at the taus fitted, so a record whose
+    longest tau is below the horizon T extrapolates the bias to T from what dominated
+    its short taus (vibration, a warm-up): pymavlink's 0.9 s ArduPlane log gave
+    ``EK2_GBIAS_P_NSE`` 8.9e3x the flight's. One rule for every consumer.
+    """
+    horizon = max((b.filter_bias.horizon for b in bias), default=HORIZON) if bias else HORIZON
+    reach = min(float(np.max(a.allan.taus)) for a in fits)
+    if reach >= horizon:
+        return ""
+    k = max(a.rate_random_walk for a in fits)
+    hi = max(a.term("K").interval[1] for a in fits)
+    return (
+        f"the fitted record reaches tau {reach:.3g} s, short of the {horizon:g} s horizon "
+        f"the bias is modelled over (the Allan variance at tau needs 2 tau of record), so K "
+        f"(the Allan fit's {k:.3g}, interval up to {hi:.3g}, in the data's unit) is "
+        "extrapolated, not measured; record the sensor still for 2x the horizon"
+    )
 
 
 def composite_k_note(bias: dict[str, Sequence[CompositeModel]]) -> str:
@@ -240,6 +281,13 @@ def kalibr_imu(
     }
     bias = {n: list(b) for n, b in (("gyroscope", gyro_bias), ("accelerometer", accel_bias)) if b}
     k_notes = [f"random walks from: {composite_k_note(bias)}"] if bias else []
+    k_notes += [
+        f"{name}_random_walk NOT IDENTIFIED: {why}; kept (Kalibr needs every key): do not use "
+        "it as measured"
+        for name, fits, b in (("gyroscope", gyro, gyro_bias), ("accelerometer", accel, accel_bias))
+        for why in [k_rule(_axes(fits), b)]
+        if why
+    ]
     return KalibrImu(
         accelerometer_noise_density=inflation * accel_n,
         accelerometer_random_walk=inflation * walks["accelerometer"],

@@ -58,6 +58,20 @@ def test_ardupilot_step_from_the_loop_rate_and_ekf(params, names, rate):
     assert ("read from the flight log" in f.text) == bool(params)
 
 
+@pytest.mark.parametrize(
+    ("ekf", "name"),
+    [(2.0, "ardupilot_ekf2.param"), (3.0, "ardupilot_ekf3.param"), (None, "ardupilot_ekf3.param")],
+)
+def test_ardupilot_file_is_named_after_the_ekf_it_holds(ekf, name, tmp_path):
+    """logcfg_audit: pymavlink's ArduPlane log (EKF2) got ``ardupilot_ekf3.param`` holding
+    ``EK2_*``; the name follows the EKF written, the same in a zip (the dashboard's)."""
+    params = {} if ekf is None else {"AHRS_EKF_TYPE": ekf}
+    (f,) = exports.export(MODEL, "ardupilot", params=params)
+    assert f.filename == name and f"EK{int(ekf or 3)}_GYRO_P_NSE" in f.text
+    (path,) = exports.write_exports([f], tmp_path)
+    assert path.name == name
+
+
 def test_ardupilot_out_of_range_is_warned():
     big = ImuModel(SensorTerms(2e-4, 0.1, 0.0, "rad/s"), MODEL.accel, 400.0)
     (f,) = exports.export(big, "ardupilot")
@@ -69,6 +83,23 @@ def test_px4_step_from_ekf2_predict_us():
     got = exports.consumer("px4").parse(f.text)
     assert got["EKF2_GYR_NOISE"] == pytest.approx(2e-4 * math.sqrt(125.0), rel=1e-9)
     assert "EKF2_PREDICT_US read from the flight log: 8000" in f.text
+
+
+def test_px4_v1_11_step_from_its_firmware_release():
+    """PX4 v1.11 has no EKF2_PREDICT_US: its ecl compiled the step in (FILTER_UPDATE_PERIOD_MS
+    10 ms on PX4-ECL's Release_v1.11, 8 ms on Release_v1.10). pyulog's v1.11.2 log gives its
+    release (``ver_sw_release``), and the file says where its step came from."""
+    params = log_parameters(DATA / "px4_sample_log_small.ulg")
+    assert "EKF2_PREDICT_US" not in params and params["ver_sw_release"] == 0x010B0200
+    (f,) = exports.export(MODEL, "px4", params=params)
+    assert "not a parameter of the flight's PX4 v1.11" in f.text and "Release_v1.11" in f.text
+    got = exports.consumer("px4").parse(f.text)
+    assert got["EKF2_GYR_NOISE"] == pytest.approx(2e-4 * math.sqrt(100.0), rel=1e-9)
+    (f,) = exports.export(MODEL, "px4", params={"ver_sw_release": float(0x010A01FF)})
+    got = exports.consumer("px4").parse(f.text)  # v1.10.1: 8 ms
+    assert got["EKF2_GYR_NOISE"] == pytest.approx(2e-4 * math.sqrt(125.0), rel=1e-9)
+    (f,) = exports.export(MODEL, "px4", params={"ver_sw_release": float(0x010E0000)})
+    assert "EKF2_PREDICT_US assumed: 10000" in f.text  # a release not in the table: said
 
 
 HEAD = [
@@ -95,7 +126,8 @@ def test_cli_writes_the_flights_ekf_at_its_loop_rate(tmp_path, capsys):
     argv += ["--accel", "AccX", "AccY", "AccZ", "--export", "ardupilot", "--out", str(tmp_path)]
     assert main([*argv, "--no-report", "--format", "json"]) == 0
     model = json.loads(capsys.readouterr().out)["model"]
-    got = exports.consumer("ardupilot").parse((tmp_path / "ardupilot_ekf3.param").read_text())
+    assert not (tmp_path / "ardupilot_ekf3.param").exists()  # named after the EKF it holds
+    got = exports.consumer("ardupilot").parse((tmp_path / "ardupilot_ekf2.param").read_text())
     assert set(got) == {"EK2_GYRO_P_NSE", "EK2_ACC_P_NSE", "EK2_GBIAS_P_NSE", "EK2_ABIAS_P_NSE"}
     n = model["gyroscope"]["N"]
     assert got["EK2_GYRO_P_NSE"] == pytest.approx(n * math.sqrt(50.0), rel=1e-9)

@@ -77,7 +77,7 @@ def test_cli_two_topics_to_a_px4_file_with_each_rate(fifo_log, tmp_path, capsys)
     text = (tmp_path / "px4_ekf2.params").read_text()
     values = {r.split("\t")[2]: float(r.split("\t")[3]) for r in text.splitlines() if r[:1] == "1"}
     ekf_rate = 100.0  # 1/EKF2_PREDICT_US, as the file says
-    assert "EKF2_PREDICT_US assumed: 10000" in text
+    assert "1/EKF2_PREDICT_US = 100 Hz" in text  # the template ULog says v1.11: 10 ms
     model = out["model"]
     assert values["EKF2_GYR_NOISE"] == pytest.approx(model["gyroscope"]["N"] * ekf_rate**0.5)
     assert values["EKF2_ACC_NOISE"] == pytest.approx(model["accelerometer"]["N"] * ekf_rate**0.5)

@@ -208,9 +208,13 @@ def read(path: Path, topic: str, fields: Sequence[str] | None) -> Iterator[Chunk
 
 
 def parameters(path: Path) -> dict[str, float]:
-    """The log's initial parameters (the configuration the flight started with), no
-    message read."""
-    return {str(k): float(v) for k, v in _parse(path, ()).initial_parameters.items()}
+    """The log's initial parameters (the configuration the flight started with), and its
+    information fields that are whole numbers (``ver_sw_release``, the firmware's release
+    ``0xMMmmppTT``: what a parameter the release lacks defaulted to); no message read."""
+    ulog = _parse(path, ())
+    out = {str(k): float(v) for k, v in ulog.initial_parameters.items()}
+    info = {str(k): float(v) for k, v in ulog.msg_info_dict.items() if type(v) is int}
+    return info | out
 
 
 READER = LogReader(

@@ -40,6 +40,9 @@ TARGET_DT = {3: 0.012, 2: 0.01}
 DEFAULT_EKF = 3
 #: The flight-log parameters the writer reads (:data:`Consumer.log_params`).
 LOG_PARAMS = ("SCHED_LOOP_RATE", "AHRS_EKF_TYPE")
+#: The file's name, after the EKF whose names it holds (``ardupilot_ekf2.param`` holds
+#: ``EK2_*``): the CLI, Python and the dashboard's download all take the written file's.
+FILENAME = "ardupilot_ekf{ekf}.param"
 #: The documented ranges (``@Range`` of ``AP_NavEKF2.cpp``/``AP_NavEKF3.cpp``), by name
 #: without the ``EKn_`` prefix; EKF2's accelerometer bias range is narrower.
 RANGES = {
@@ -120,9 +123,9 @@ def write(
         warning = range_warning(v.name, v.value, ranges.get(v.name[len(p) :], (None, None)))
         if warning:
             lines.append(f"# {warning}")
-        lines.append(f"{v.name},{v.value:.12g}")
+        lines.append(v.line(f"{v.name},{v.value:.12g}"))
     return ExportFile(
-        "ardupilot", "ardupilot_ekf3.param", ascii_text("\n".join(lines) + "\n"), tuple(values)
+        "ardupilot", FILENAME.format(ekf=ekf), ascii_text("\n".join(lines) + "\n"), tuple(values)
     )
 
 
@@ -138,5 +141,11 @@ def parse(text: str) -> dict[str, float]:
 
 
 CONSUMER = Consumer(
-    "ardupilot", "ArduPilot EKF3 .param", "ardupilot_ekf3.param", write, parse, LOG_PARAMS
+    "ardupilot",
+    "ArduPilot EKF3 (or EKF2) .param",
+    FILENAME.format(ekf=DEFAULT_EKF),
+    write,
+    parse,
+    LOG_PARAMS,
+    merged=True,
 )

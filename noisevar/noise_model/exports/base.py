@@ -22,7 +22,8 @@ def discrete(rate: float) -> str:
 class Value:
     """One exported value, its unit, its kind and how it was converted from the model.
 
-    ``expected`` recomputes it from the model (the documented conversion), for tests.
+    ``withheld``: why the value is not identified (a K, ``SensorTerms.k_withheld``),
+    empty when it is; a merged file (:attr:`Consumer.merged`) writes it commented out.
     """
 
     name: str
@@ -30,6 +31,7 @@ class Value:
     unit: str
     kind: str
     how: str
+    withheld: str = ""
 
     def comment(self) -> str:
         """``unit; kind; how`` for the file's comment."""
@@ -43,7 +45,13 @@ class Value:
             "unit": self.unit,
             "kind": self.kind,
             "how": self.how,
+            "withheld": self.withheld,
         }
+
+    def line(self, text: str) -> str:
+        """``text``, the value's line of a merged file, commented out when it is withheld
+        (the config keeps its own value; :attr:`Consumer.merged`)."""
+        return f"# WITHHELD ({self.withheld}): {text}" if self.withheld else text
 
 
 @dataclass(frozen=True)
@@ -64,10 +72,19 @@ class ExportFile:
 class Consumer:
     """A registered consumer: its key, title, default file name, writer and reader.
 
+    ``filename`` is the name of the file written without a flight log; a writer may name
+    its file after what it holds (ArduPilot's after the EKF it writes): take the name of
+    the :class:`ExportFile` written.
+
     ``write(model, **options)`` returns an :class:`ExportFile`; ``parse(text)`` reads the
     file back into ``{name: value}`` through the consumer's own format. ``log_params``: the
     flight-log parameters the writer takes as ``params=`` (the EKF's step: PX4's
     ``EKF2_PREDICT_US``, ArduPilot's ``SCHED_LOOP_RATE``), empty for a writer that takes none.
+    ``merged``: the file's lines are merged into the user's config (a parameter file, a
+    settings block), so a line left out keeps the config's own value: a value not
+    identified (:attr:`Value.withheld`) is written commented out with its reason. A
+    complete file (``merged`` False: its reader needs every key) keeps the value, and its
+    header says it is not identified (docs/algorithms.md §E7).
     """
 
     key: str
@@ -76,6 +93,7 @@ class Consumer:
     write: Callable[..., ExportFile]
     parse: Callable[[str], dict[str, float]]
     log_params: tuple[str, ...] = ()
+    merged: bool = False
 
 
 def density(model: ImuModel, sensor: str, term: str, name: str) -> Value:
@@ -88,6 +106,7 @@ def density(model: ImuModel, sensor: str, term: str, name: str) -> Value:
         units.term_unit(s.unit, term),
         kind,
         f"{term} of the {sensor} as fitted (no conversion)",
+        s.k_withheld if term == "K" else "",
     )
 
 
@@ -112,6 +131,7 @@ def walk_sigma(model: ImuModel, sensor: str, name: str, rate: float, what: str) 
         units.term_unit(s.unit, "R"),
         discrete(rate),
         f"K sqrt(f) = {s.K:.6g} x sqrt({rate:g}), {what}",
+        s.k_withheld,
     )
 
 

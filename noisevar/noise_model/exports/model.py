@@ -25,11 +25,11 @@ from numpy.typing import NDArray
 
 from noisevar import units
 from noisevar.errors import NoisevarError
-from noisevar.estimators.regimes import DEFAULT_REGIMES
+from noisevar.estimators.regimes import DEFAULT_REGIMES, StillStretch
 from noisevar.noise_model.gmwm.model import ImuModel as CompositeModel
 from noisevar.noise_model.inertial import InertialNoise
 from noisevar.noise_model.inertial_white import why_below_white
-from noisevar.noise_model.kalibr import composite_k, composite_k_note, imu_rate
+from noisevar.noise_model.kalibr import composite_k, composite_k_note, imu_rate, k_rule
 from noisevar.noise_model.overbound import NK, overbound
 
 #: The SI unit each sensor's terms are exported in.
@@ -40,6 +40,12 @@ VARIANTS = ("best", "conservative")
 DEFAULT_VARIANT = "best"
 #: Where K comes from without composite fits.
 K_FROM_ALLAN = "the IEEE-952 fit to the Allan variance (no composite fit given)"
+#: What every file does with a K not identified (``kalibr.k_rule``; ``Consumer.merged``).
+WITHHELD_SAID = (
+    "a file merged into a flight config writes its line commented out (the config keeps "
+    "its own value); a complete file (Kalibr, OpenVINS, MATLAB, filterpy, "
+    "robot_localization) keeps it, with this line: do not fly it as measured"
+)
 
 
 @dataclass(frozen=True)
@@ -58,6 +64,10 @@ class SensorTerms:
         The sensor's rate unit (``rad/s`` or ``m/s^2``).
     factors : dict of str to float
         Conservative set: each term over the best fit; empty for the best fit.
+    k_withheld : str
+        Why K is not identified at the horizon its bias is modelled over
+        (:func:`~noisevar.noise_model.kalibr.k_rule`), empty when it is: a file merged into
+        a flight config leaves it out.
     """
 
     N: float
@@ -65,6 +75,7 @@ class SensorTerms:
     B: float
     unit: str
     factors: dict[str, float] = field(default_factory=dict)
+    k_withheld: str = ""
 
 
 @dataclass(frozen=True)
@@ -121,6 +132,9 @@ class ImuModel:
             if s.factors:
                 f = ", ".join(f"{k} x{v:.3g}" for k, v in s.factors.items())
                 lines.append(f"{name}: factors over the best fit: {f}")
+        for name, s in (("gyroscope", self.gyro), ("accelerometer", self.accel)):
+            if s.k_withheld:
+                lines.append(f"{name}: K NOT IDENTIFIED: {s.k_withheld}; {WITHHELD_SAID}")
         said = [f"verdict, column {c}: {' '.join(v.split())}" for c, v in self.verdicts.items()]
         return lines + said + [f"note: {n}" for n in self.notes]
 
@@ -171,7 +185,8 @@ def _sensor(
         n = max(max(a.random_walk, a.white_level) for a in fits)
         k = k_best
         b = max(a.bias_instability for a in fits)
-        return SensorTerms(n * f, k * f, b * f, target), notes + _white_note(fits, name)
+        terms = SensorTerms(n * f, k * f, b * f, target, k_withheld=k_rule(fits, bias))
+        return terms, notes + _white_note(fits, name)
     bounds = [overbound(a, free=NK) for a in fits]
     n_best = max(max(a.random_walk, a.white_level) for a in fits)
     # never below the best set (whose N is at least the white level)
@@ -185,7 +200,7 @@ def _sensor(
         + "; ".join(covers)
         + f" (best-fit B up to {b:.4g} {fits[0].unit}, before conversion)"
     )
-    return SensorTerms(n * f, k * f, 0.0, target, factors), notes
+    return SensorTerms(n * f, k * f, 0.0, target, factors, k_rule(fits, bias)), notes
 
 
 def _white_note(fits: list[InertialNoise], name: str) -> list[str]:
@@ -202,6 +217,7 @@ def composite_fits(
     rates: Sequence[float],
     unit: str = "u",
     regimes: str = DEFAULT_REGIMES,
+    stretch: StillStretch | None = None,
 ) -> list[CompositeModel]:
     """The composite fit (model chosen, :func:`noisevar.fit_imu_model`) of each column, for
     :func:`imu_model`'s ``gyro_bias``/``accel_bias``; columns of one rate and length are
@@ -218,6 +234,9 @@ def composite_fits(
     regimes : {"all", "still"}
         Which of each record's regimes are fitted, as for its IEEE-952 fit (``"still"``:
         each column's longest still stretch, :func:`noisevar.fit_imu_model`).
+    stretch : StillStretch, optional
+        With ``"still"``: the IMU's stretch (all its axes still) every column is fitted on,
+        as its IEEE-952 fits' (:func:`~noisevar.noise_model.inertial_axes.imu_still_stretch`).
 
     Returns
     -------
@@ -234,7 +253,7 @@ def composite_fits(
     out: list[CompositeModel | None] = [None] * len(columns)
     for (rate, _), idx in groups.items():
         stacked = np.column_stack([np.asarray(columns[i], dtype=float) for i in idx])
-        fits = fit_imu_model(stacked, rate, unit=unit, regimes=regimes)
+        fits = fit_imu_model(stacked, rate, unit=unit, regimes=regimes, stretch=stretch)
         for i, fit in zip(idx, fits, strict=True):
             out[i] = fit
     return out  # type: ignore[return-value]
@@ -287,6 +306,8 @@ def imu_model(
         if key not in ("position", "velocity") or not value > 0:
             raise NoisevarError(f"gnss takes positive 'position' and 'velocity' stds, not {key!r}")
     notes += gn + an
+    # which samples the still fits ran on: one line for an IMU's stretch (all axes still)
+    notes += dict.fromkeys(n for x in g + a for n in x.notes if n.startswith("regimes='still'"))
     k_from = composite_k_note(bias) if bias else K_FROM_ALLAN
     if len(bias) == 1:
         k_from += f"; the {'accelerometer' if 'gyroscope' in bias else 'gyroscope'}'s: " + (

@@ -39,7 +39,7 @@ def write(model: ImuModel) -> ExportFile:
     )
     lines = ["%YAML:1.0", *(f"# {h}" for h in model.header("ORB-SLAM3"))]
     lines.append("# Merge these lines into your ORB-SLAM3 settings file.")
-    lines += [f"{v.name}: {number(v.value)}  # {v.comment()}" for v in values[:4]]
+    lines += [v.line(f"{v.name}: {number(v.value)}  # {v.comment()}") for v in values[:4]]
     lines.append(f"IMU.Frequency: {int(values[4].value)}  # {values[4].comment()}")
     return ExportFile("orbslam3", "orbslam3_imu.yaml", ascii_text("\n".join(lines) + "\n"), values)
 
@@ -52,4 +52,6 @@ def parse(text: str) -> dict[str, float]:
     return {k: float(v) for k, v in yaml.safe_load(body).items()}
 
 
-CONSUMER = Consumer("orbslam3", "ORB-SLAM3 settings entries", "orbslam3_imu.yaml", write, parse)
+CONSUMER = Consumer(
+    "orbslam3", "ORB-SLAM3 settings entries", "orbslam3_imu.yaml", write, parse, merged=True
+)

@@ -9,7 +9,9 @@ G var_u Gᵀ``; at 0754cab its caller passed ``d_ang_var = sq(dt * gyro_noise)``
 thing); the bias states get
 ``sq(dt * _params.gyro_bias_p_noise)`` per step. The step ``dt`` is EKF2's prediction
 period ``EKF2_PREDICT_US`` (default 10000 µs: 100 Hz), the IMU being down-sampled (its
-delta angles summed) to it. So ``EKF2_GYR_NOISE`` is the std of the rate averaged over one
+delta angles summed) to it; before that parameter, PX4-ECL's compiled-in
+``FILTER_UPDATE_PERIOD_MS`` (:data:`COMPILED_US`, by the ULog's firmware release). So
+``EKF2_GYR_NOISE`` is the std of the rate averaged over one
 EKF step, ``N √f_ekf`` (rad/s), and ``EKF2_GYR_B_NOISE`` the bias change per step over the
 step time, ``K √f_ekf`` (rad/s²). ``EKF2_GPS_P_NOISE`` and ``EKF2_GPS_V_NOISE`` are GNSS
 measurement stds (m, m/s), from a GNSS record's R when one is given.
@@ -43,6 +45,15 @@ RANGES = {
     "EKF2_GYR_B_NOISE": (0.0, 0.01),
     "EKF2_ACC_B_NOISE": (0.0, 0.01),
 }
+#: EKF2's compiled-in prediction period (µs) by PX4 release (major, minor), before it was
+#: the parameter ``EKF2_PREDICT_US``: PX4-ECL's ``FILTER_UPDATE_PERIOD_MS`` in
+#: ``EKF/estimator_interface.h`` on its release branches, 8 on ``Release_v1.10`` and 10 on
+#: ``Release_v1.11`` (changed by 8a9d961f, "EKF: Improve covariance prediction stability",
+#: 2020-04-23, #795; still 10 at the library's last commit, b3fed06f, 2021-07-26).
+COMPILED_US = {(1, 10): 8000, (1, 11): 10000}
+#: The ULog information field of the firmware's release (``0xMMmmppTT``), which the ULog
+#: reader keeps with the parameters (:func:`noisevar.io.logs.params.log_parameters`).
+VERSION_FIELD = "ver_sw_release"
 #: MAV_PARAM_TYPE_REAL32: the type column of a QGC parameter file.
 _REAL32 = 9
 
@@ -56,10 +67,18 @@ def write(
     (``params``) when it has one, else PX4's default :data:`PREDICT_US`.
     """
     logged = (params or {}).get("EKF2_PREDICT_US")
+    release = px4_release((params or {}).get(VERSION_FIELD))
     if predict_us is not None:
         how = "given"
     elif logged:
         how, predict_us = "read from the flight log", int(logged)
+    elif release in COMPILED_US:
+        predict_us = COMPILED_US[release]
+        how = (
+            f"not a parameter of the flight's PX4 v{release[0]}.{release[1]} (its ULog "
+            f"{VERSION_FIELD}): its EKF's compiled-in FILTER_UPDATE_PERIOD_MS (PX4-ECL "
+            f"Release_v{release[0]}.{release[1]}, EKF/estimator_interface.h)"
+        )
     else:
         how, predict_us = "assumed", PREDICT_US
     f = 1e6 / predict_us
@@ -86,8 +105,16 @@ def write(
         warning = range_warning(v.name, v.value, RANGES.get(v.name, (None, None)))
         if warning:
             lines.append(f"# {warning}")
-        lines.append(f"1\t1\t{v.name}\t{v.value:.12g}\t{_REAL32}")
+        lines.append(v.line(f"1\t1\t{v.name}\t{v.value:.12g}\t{_REAL32}"))
     return ExportFile("px4", "px4_ekf2.params", ascii_text("\n".join(lines) + "\n"), tuple(values))
+
+
+def px4_release(value: float | None) -> tuple[int, int] | None:
+    """``(major, minor)`` of a ULog's ``ver_sw_release`` (``0xMMmmppTT``), None without one."""
+    if value is None or not value > 0:
+        return None
+    v = int(value)
+    return (v >> 24) & 0xFF, (v >> 16) & 0xFF
 
 
 def parse(text: str) -> dict[str, float]:
@@ -101,6 +128,8 @@ def parse(text: str) -> dict[str, float]:
 
 
 #: The flight-log parameters the writer reads (:data:`Consumer.log_params`).
-LOG_PARAMS = ("EKF2_PREDICT_US",)
+LOG_PARAMS = ("EKF2_PREDICT_US", VERSION_FIELD)
 
-CONSUMER = Consumer("px4", "PX4 EKF2 .params", "px4_ekf2.params", write, parse, LOG_PARAMS)
+CONSUMER = Consumer(
+    "px4", "PX4 EKF2 .params", "px4_ekf2.params", write, parse, LOG_PARAMS, merged=True
+)

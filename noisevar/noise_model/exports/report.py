@@ -94,7 +94,11 @@ def _model_table(model: ImuModel) -> str:
 
 
 def _file_blocks(f: ExportFile, title: str) -> list[str]:
-    rows = [(v.name, number(v.value), v.unit, v.kind, v.how) for v in f.values]
+    rows = [
+        (v.name, number(v.value), v.unit, v.kind, v.how + (f"; NOT IDENTIFIED: {v.withheld}"
+                                                           if v.withheld else ""))
+        for v in f.values
+    ]  # fmt: skip
     header = ("parameter", "value", "unit", "kind", "conversion")
     return [report.heading(f"{f.filename}: {title}", 3), report.table(rows, header)]
 

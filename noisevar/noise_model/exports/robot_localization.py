@@ -90,6 +90,7 @@ def write(model: ImuModel) -> ExportFile:
                     f"({units.term_unit(s.unit, 'R')})²/Hz",
                     "variance per second",
                     f"default {DEFAULTS[i]:g} + K^2 = {s.K:.6g}^2",
+                    s.k_withheld,
                 )
             )
     lines = [f"# {h}" for h in model.header("robot_localization")]

@@ -47,7 +47,7 @@ def write(model: ImuModel) -> ExportFile:
         f" gyr K {model.gyro.K:.6g}",
         "# Merge these lines into your VINS config.",
     ]
-    lines += [f"{v.name}: {number(v.value)}  # {v.comment()}" for v in values]
+    lines += [v.line(f"{v.name}: {number(v.value)}  # {v.comment()}") for v in values]
     return ExportFile("vins", "vins_imu.yaml", ascii_text("\n".join(lines) + "\n"), values)
 
 
@@ -59,4 +59,6 @@ def parse(text: str) -> dict[str, float]:
     return {k: float(v) for k, v in yaml.safe_load(body).items()}
 
 
-CONSUMER = Consumer("vins", "VINS-Mono/Fusion config entries", "vins_imu.yaml", write, parse)
+CONSUMER = Consumer(
+    "vins", "VINS-Mono/Fusion config entries", "vins_imu.yaml", write, parse, merged=True
+)

@@ -19,7 +19,12 @@ from numpy.typing import ArrayLike, NDArray
 from noisevar._distributions import chi2_ppf
 from noisevar.errors import NoisevarError
 from noisevar.estimators import scale_exponent
-from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes, longest_still_stretch
+from noisevar.estimators.regimes import (
+    DEFAULT_REGIMES,
+    StillStretch,
+    check_regimes,
+    longest_still_stretch,
+)
 from noisevar.noise_model.allan import regime_warning
 from noisevar.noise_model.gmwm.bound import InformationBound, fisher_bound
 from noisevar.noise_model.gmwm.fitting import (
@@ -67,6 +72,7 @@ def fit_imu_model(
     horizon: float = HORIZON,
     workers: int | None = 1,
     regimes: str = DEFAULT_REGIMES,
+    stretch: StillStretch | None = None,
 ) -> ImuModel | tuple[ImuModel, ...]:
     """Fit a composite noise model to rate data by GMWM, choosing the model.
 
@@ -102,6 +108,9 @@ def fit_imu_model(
     regimes : {"all", "still"}
         Fit each axis's whole record, or its longest still stretch only (each axis its
         own, said in ``notes``; :mod:`noisevar.estimators.regimes`).
+    stretch : StillStretch, optional
+        With ``regimes="still"``: the stretch every axis is fitted on, an IMU's where all
+        its axes are still (:func:`~noisevar.noise_model.inertial_axes.imu_still_stretch`).
 
     Returns
     -------
@@ -122,7 +131,10 @@ def fit_imu_model(
     scaled_arr, exps = scaled(arr)  # each axis at its own magnitude (scaling)
     if regimes == "still":  # found on the scaled axis: its whole R may not be a float here
         need = STILL_NEED
-        cut = [longest_still_stretch(row, need, "the composite model") for row in scaled_arr]
+        cut = [
+            stretch or longest_still_stretch(row, need, "the composite model")
+            for row in scaled_arr
+        ]
         notes = [[s.note] for s in cut]
         rows = [scaled(s.take(row)[None, :]) for s, row in zip(cut, arr, strict=True)]
         wvs = [wavelet_variances(r, robust)[0] for r, _ in rows]
