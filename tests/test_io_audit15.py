@@ -55,3 +55,18 @@ def test_a_digit_date_that_is_no_day_is_said_in_one_line(tmp_path, capsys):
     assert main(["estimate", str(path), "--column", "TM"]) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "row 51" in err and "20250132" in err
+
+
+def test_an_arff_file_is_refused_naming_it(tmp_path, capsys):
+    """tslearn's UCR copies as ARFF (``@Relation``, an ``@attribute`` per value, one series
+    a row after ``@data``) were refused as a Monash ``.tsf`` file."""
+    rng = np.random.default_rng(5)
+    head = ["%a comment", "@Relation Test", *(f"@attribute att{i} numeric" for i in range(20)),
+            "@attribute target {1,-1}", "@data"]  # fmt: skip
+    rows = [",".join(f"{v:.4f}" for v in rng.normal(size=20)) + ",1" for _ in range(30)]
+    path = tmp_path / "Test_TEST.arff"
+    path.write_text("\n".join([*head, *rows]) + "\n")
+    assert main(["estimate", str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "ARFF file" in err and ".tsf" not in err
+    assert "column of a CSV file" in err
