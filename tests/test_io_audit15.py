@@ -70,3 +70,21 @@ def test_an_arff_file_is_refused_naming_it(tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "ARFF file" in err and ".tsf" not in err
     assert "column of a CSV file" in err
+
+
+def test_a_series_a_line_is_said(tmp_path):
+    """The UCR archive's text rows (a class, then one smooth series a line; tslearn's
+    Lightning2 and GunPoint) were read down a column, one instant of every case, unsaid."""
+    rng = np.random.default_rng(6)
+    n, width = 40, 120
+    phase = rng.uniform(0, 2 * np.pi, (n, 1))
+    series = np.sin(np.linspace(0, 3, width) + phase) + rng.normal(0, 0.01, (n, width))
+    rows = np.c_[rng.choice([-1.0, 1.0], n), series]
+    path = tmp_path / "Cases_TEST.txt"
+    np.savetxt(path, rows, fmt="%.7e")
+    assert any("one series a line" in note for note in load_table(path).notes)
+    # sensors side by side (few columns, many lines) step little along a line too: no note
+    common = np.cumsum(rng.normal(0, 1, (500, 1)), axis=0)
+    side = tmp_path / "sensors.txt"
+    np.savetxt(side, common + rng.normal(0, 0.05, (500, 6)), fmt="%.5f")
+    assert not any("one series a line" in note for note in load_table(side).notes)
