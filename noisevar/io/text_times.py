@@ -228,13 +228,14 @@ def digit_time_column(col: pd.Series, cname: str, name: str) -> NDArray | None:
         return None
     num = pd.to_numeric(col, errors="coerce").to_numpy(dtype=float, na_value=np.nan)
     whole = np.isfinite(num) & (num == np.round(num))  # 20250101.0: pandas' float column
-    cells = [str(int(n)) if w else str(v).strip() for v, n, w in zip(col, num, whole, strict=True)]
-    fmt = digit_date_format(cname, cells[0])
+    fmt = digit_date_format(cname, str(int(num[0])) if whole[0] else str(col.iloc[0]))
     if fmt is None:
         return None
+    cells = [str(int(n)) if w else str(v).strip() for v, n, w in zip(col, num, whole, strict=True)]
     t = digit_dates(cells, fmt)
     if t is None:
-        bad = next(i for i, c in enumerate(cells) if digit_dates([c], fmt) is None)
+        read = pd.to_datetime(pd.Series(cells), format=fmt, errors="coerce")
+        bad = int(np.flatnonzero(read.isna().to_numpy() | ~whole)[0])
         raise NoisevarError(
             f"{echo(name)}: column {echo(cname)!r} holds dates written as digits "
             f"({cells[0]}), but data row {bad + 1} holds {echo(cells[bad], 20)!r}: "
