@@ -319,3 +319,11 @@ AEON = "aeon==1.6.0"
 LMFIT = "lmfit==1.3.4"
 PYTHON_CAN = "python-can==4.6.1"
 PYEDFLIB = "pyedflib==0.1.42"
+
+
+# ---------------------------------------------------------------- real_audit15.py (issue 26)
+#: tslearn's sdist (BSD-2-Clause; read as files, never installed or imported) ships, as its
+#: documentation's data, Météo-France's open daily climate records of the Ille-et-Vilaine
+#: department (station by station, 1950-2024 and 2025-2026: rain, min/max/mean temperature,
+#: wind, each with its quality code; Licence Ouverte 2.0) and UCR archive text files.
+TSLEARN = "tslearn==0.10.0"

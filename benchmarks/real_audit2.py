@@ -111,7 +111,7 @@ def _ppg_iso() -> tuple[dict, float]:
 def _co2() -> tuple[dict, float]:
     raw = _refdata.wheel_file(_refdata.STATSMODELS, "statsmodels/datasets/co2/co2.csv")
     cols, rate = _loaded(raw, "co2.csv")
-    return {"co2": cols["co2"]}, rate  # its yyyymmdd ``date`` column is data, not a signal
+    return {"co2": cols["co2"]}, rate  # its yyyymmdd ``date`` column: its time (weekly dates)
 
 
 def _log(topic: str, fields: dict[str, str]) -> Callable[[], tuple[dict, float]]:

@@ -22,12 +22,14 @@ def test_a_datetime_column_of_date_times_is_the_time_column():
     assert t.sample_period == pytest.approx(0.01)
 
 
-def test_a_date_column_of_numbers_stays_data():
-    """statsmodels' co2 (``date,co2`` with ``19580329``): yyyymmdd numbers are not seconds."""
+def test_a_date_column_of_numbers_is_read_as_dates_not_seconds():
+    """statsmodels' co2 (``date,co2`` with ``19580329``): yyyymmdd numbers are not seconds
+    (real_audit15: they are dates, one week apart, as Météo-France's ``AAAAMMJJ``)."""
     text = "date,co2\n19580329,316.1\n19580405,317.3\n19580412,317.6\n19580419,317.5\n"
     t = load_table(text.encode(), "co2.csv")
-    assert t.time_column is None
-    assert t.data_columns == ["date", "co2"]
+    assert t.time_column == "date"
+    assert t.data_columns == ["co2"]
+    assert t.sample_period == pytest.approx(7 * 86400.0)
 
 
 def test_columns_all_on_a_one_column_file(tmp_path, capsys):

@@ -137,11 +137,13 @@ def refuse_xml(text: str, name: str) -> None:
 #: Monash forecasting archive's ``.tsf`` (its ``@attribute``, ``@frequency``, ``@horizon``)
 _TS_HEADER = re.compile(
     r"^@(problemname|timestamps|missing|univariate|dimensions?|equallength|serieslength|"
-    r"classlabel|targetlabel|data|attribute|frequency|horizon)\b",
+    r"classlabel|targetlabel|data|attribute|frequency|horizon|relation)\b",
     re.IGNORECASE | re.MULTILINE,
 )
 #: The tags only a ``.tsf`` file has
 _TSF_TAGS = {"attribute", "frequency", "horizon"}
+#: Weka's ARFF's tags: ``@relation``, an ``@attribute`` per column, ``@data``
+_ARFF_TAGS = {"relation", "attribute", "data"}
 
 
 def refuse_ts(text: str, name: str) -> None:
@@ -154,11 +156,19 @@ def refuse_ts(text: str, name: str) -> None:
     parted by ``:``, then its label): read as a table, it was refused blaming thousands
     separators (sktime's BasicMotions and ACSF1). aeon's ``.tsf`` test file (one series a
     line, its attributes then its values parted by ``:``) was called a ``.ts`` file, with
-    the ``.ts`` loader as the way out.
+    the ``.ts`` loader as the way out; an ARFF file (``@relation``: tslearn's UCR copies)
+    was called a ``.tsf`` file.
     """
     tags = {m.lower() for m in _TS_HEADER.findall(text)}
     if "data" not in tags or len(tags) < 2:
         return
+    if "relation" in tags and tags <= _ARFF_TAGS:  # a .tsf has @frequency, @horizon...
+        raise NoisevarError(
+            f"{echo(name)} is an ARFF file (Weka's format: @relation, an @attribute line per "
+            "column, rows after @data; the UCR archive's hold one series a row), which "
+            "noisevar does not read: write one series as a column of a CSV file (e.g. with "
+            "scipy.io.arff.loadarff) and give that file"
+        )
     if tags & _TSF_TAGS:
         raise NoisevarError(
             f"{echo(name)} is a .tsf file (the Monash forecasting archive's format: one series "

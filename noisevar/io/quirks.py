@@ -70,14 +70,40 @@ def rows_continue(columns: dict[str, NDArray]) -> str | None:
     down = float(np.mean(np.diff(a, axis=0) ** 2)) if a.shape[0] > 1 else 0.0
     along = float(np.mean(np.diff(a.ravel()) ** 2)) if a.size > 1 else 0.0
     wrap = float(np.mean((a[1:, 0] - a[:-1, -1]) ** 2)) if a.shape[0] > 1 else 0.0
-    if not down > 0 or max(along, wrap) >= ROWS_CONTINUE * down:
+    if not down > 0:
         return None
+    if max(along, wrap) >= ROWS_CONTINUE * down:
+        return _series_a_line(a, down)
     k = len(cols)
     return (
         f"the {k} columns continue each other along each line (read line after line the "
         f"values step {np.sqrt(down / along):.2g}x less than down a column): one series "
         f"written {k} values a line, as R prints a monthly series? Each column is then every "
         f"{k}th value: give the values one a line"
+    )
+
+
+def _series_a_line(a: NDArray, down: float) -> str | None:
+    """The note when a headerless table about as wide as long (``a``: its complete lines)
+    holds one series a line, else None: along each line its values step under
+    ``ROWS_CONTINUE`` times down a column (mean square, ``down``), and from a line's end
+    to the next line's start they jump (else :func:`rows_continue`'s one series).
+
+    Notes
+    -----
+    The UCR archive's text files (tslearn's copies: Lightning2, 61 lines of a class and 637
+    values) were read down a column, one instant of every case, with no word of it. Sensors
+    side by side also step little along a line, but a record has far more lines than them.
+    """
+    lines, width = a.shape
+    along = float(np.mean(np.diff(a, axis=1) ** 2))
+    if width < lines / 2 or along >= ROWS_CONTINUE * down:
+        return None
+    return (
+        f"the values step {np.sqrt(down / along):.2g}x less along each line than down a "
+        f"column, and the table is about as wide as long ({width} columns, {lines} lines): "
+        "one series a line, as the UCR archive writes its cases (a class, then the values)? "
+        "Each column is then one instant of every series: give one line's values as a column"
     )
 
 

@@ -24,7 +24,7 @@ TIME_NAMES = ("t", "time", "time_s", "times", "timestamp", "seconds", "sec", "se
 #: Time names that state their unit by themselves: an Arduino's ``millis()`` and ``micros()``.
 NAMED_TIME_UNITS = {"millis": "ms", "micros": "us"}
 #: Names of a column that is the time column when it holds date-times (``2016-11-24
-#: 13:58:58.081``); numbers there (``19580329``) are data, not seconds.
+#: 13:58:58.081``) or dates written as digits (``19580329``: read as dates, never seconds).
 DATE_NAMES = ("datetime", "date", "date_time")
 #: File extensions read as text tables.
 TABLE_EXTENSIONS = (".csv", ".tsv", ".txt", ".dat", ".tab")

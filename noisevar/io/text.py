@@ -25,6 +25,7 @@ from noisevar.io.refusal_hints import (
     short_header,
     width_hint,
 )
+from noisevar.io.stacked import refuse_stacked
 from noisevar.io.table import (
     _NA_TOKENS,
     LoadedTable,
@@ -34,7 +35,14 @@ from noisevar.io.table import (
     pick_time_column,
     time_in_seconds,
 )
-from noisevar.io.text_times import clock_beside, is_date_name, parse_time_strings
+from noisevar.io.text_times import (
+    clock_beside,
+    digit_date_format,
+    digit_time_column,
+    is_date_name,
+    is_digit_date_name,
+    parse_time_strings,
+)
 from noisevar.io.toa5 import stated_unit, toa5_layout
 
 if TYPE_CHECKING:
@@ -310,14 +318,15 @@ def _commented_header(text: str, data_line: int, width: int, fmt: _Format) -> li
     return _unique_names(fields)
 
 
-def _holds_dates(text: str, fmt: _Format, header_line: int, idx: int | None) -> bool:
-    """Whether column ``idx``'s first data cell is a date-time (text, not a number)."""
-    if idx is None:
-        return False
+def _holds_dates(text: str, fmt: _Format, header_line: int, names: list[str], idx: int) -> bool:
+    """Whether column ``idx``'s first data cell is a date-time (text, not a number), or a
+    date written as digits in a date column (``AAAAMMJJ``: ``20250101``)."""
     for line in text.splitlines()[header_line : header_line + 60]:
         if _meaningful(line):
             cells = _split(line, fmt.delim)
             cell = cells[idx].strip().strip('"') if idx < len(cells) else ""
+            if digit_date_format(names[idx], cell) is not None:
+                return True
             return not _is_number(cell, fmt) and parse_time_strings([cell]) is not None
     return False
 
@@ -333,8 +342,9 @@ def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
     fmt, names, header_line, unit_row = table_layout(text, name, isinstance(src, str))
     time_idx = pick_time_column(names)
     if time_idx is None:  # a date column (else the first: pandas' index) holding date-times
-        date_idx = next((i for i, c in enumerate(names) if is_date_name(c)), 0)
-        time_idx = date_idx if _holds_dates(text, fmt, header_line, date_idx) else None
+        date_idx = next((i for i, c in enumerate(names) if is_date_name(c)
+                         or is_digit_date_name(c)), 0)  # fmt: skip
+        time_idx = date_idx if _holds_dates(text, fmt, header_line, names, date_idx) else None
     columns, notes, first, dated = _parse_body(src, header_line, names, fmt, name, time_idx)
     if names == [f"col{i}" for i in range(len(names))] and (head := header_of_numbers(columns)):
         columns = {c: v[1:] for c, v in columns.items()}
@@ -467,6 +477,9 @@ def _parse_body(
         if i in done:
             continue
         col = df[i]
+        if i == time_idx and (digits := digit_time_column(col, cname, name)) is not None:
+            columns[cname], dated = digits, True  # seconds already, as date-times are
+            continue
         if pd.api.types.is_integer_dtype(col.dtype):
             # any time column (a log's second clock too) may be an epoch beyond 2**53
             exact = _integer_column(col, cname, name, i == time_idx or is_time_column(cname))
@@ -492,39 +505,8 @@ def _parse_body(
         dated = dated or (i == time_idx and _only_text(col))  # (numbers raised, or parsed)
     if time_idx is not None:
         for cname, col in keys.items():
-            _refuse_stacked(col, columns[names[time_idx]], cname, name)
+            refuse_stacked(col, columns[names[time_idx]], cname, name)
     return columns, notes, first, dated
-
-
-def _refuse_stacked(key: pd.Series, t: NDArray, cname: str, name: str) -> None:
-    """Refuse a file that stacks or interleaves several series (the long format: a text
-    column ``key`` naming each row's series, the time column ``t`` falling back or repeating
-    where ``key`` changes), in one line that says to give one series.
-
-    Notes
-    -----
-    Read as one record, the series were spliced: vega_datasets' ``stocks.csv`` (five stocks'
-    prices one after the other, R over their joins), traffic's ten aircraft at Zurich (in
-    blocks, each on its own day) and OpenOA's La Haute Borne SCADA file (four turbines' rows
-    interleaved, each time stamp four times: R 163 on the blade pitch against 11 on one
-    turbine's). A time stamp that repeats inside one series, away from a change of the
-    label (a status column), is no stacking.
-    """
-    k = key.to_numpy()
-    labels = list(dict.fromkeys(key.tolist()))
-    back = np.flatnonzero(~(np.diff(t) > 0))  # falls back or repeats (NaN: not a rise)
-    if len(labels) < 2 or not back.size:
-        return
-    at = np.intersect1d(back, np.flatnonzero(k[1:] != k[:-1])).size
-    if at < max(1.0, (len(labels) - 1) / 2) or at < back.size / 2:
-        return
-    shown = ", ".join(repr(echo(str(v), 20)) for v in labels[:3])
-    raise NoisevarError(
-        f"{echo(name)} stacks {len(labels)} series, one per value of column {echo(cname)!r} "
-        f"({shown}{', ...' if len(labels) > 3 else ''}), its time falling back or repeating "
-        f"where the value changes: give one series, e.g. the rows of one {echo(cname)!r} "
-        "saved as their own file"
-    )
 
 
 def _only_text(col: pd.Series) -> bool:

@@ -177,3 +177,83 @@ def clock_beside(
         "joined into one time"
     )
     return times, note
+
+
+#: A date column's name that spells its digits' format: ``YYYYMMDD`` (KNMI), ``AAAAMMJJ``
+#: (Météo-France), ``JJJJMMTT``, with the hour, minute and second after it (``AAAAMMJJHH``).
+_DIGITS_NAME = re.compile(r"(?:yyyy|aaaa|jjjj)mm(?:dd|jj|tt)(?:hh(?:mm(?:ss)?)?)?")
+#: A date and time written as digits, by their count (``20250101``, ``2025010113``).
+_DIGITS_FORMAT = {8: "%Y%m%d", 10: "%Y%m%d%H", 12: "%Y%m%d%H%M", 14: "%Y%m%d%H%M%S"}
+
+
+def digit_date_format(name: str, cell: str) -> str | None:
+    """The format of a date written as digits (``20250101``: ``%Y%m%d``) when column ``name``
+    is a date column (its name spells the format, ``AAAAMMJJ``, or is a date name, ``DATE``)
+    and ``cell`` is such a date; else None.
+
+    Notes
+    -----
+    Météo-France's, KNMI's and ECA&D's daily climate files write their dates this way: read
+    as a number, the date was a measured column and the record had no time.
+    """
+    spelt = _DIGITS_NAME.fullmatch(time_key(name))
+    if spelt is None and not is_date_name(name):
+        return None
+    cell = str(cell).strip().strip('"')
+    fmt = _DIGITS_FORMAT.get(len(cell)) if cell.isdigit() else None
+    if fmt is None or (spelt is not None and len(spelt.group(0)) != len(cell)):
+        return None
+    return fmt if digit_dates([cell], fmt) is not None else None
+
+
+def is_digit_date_name(name: str) -> bool:
+    """A column name that spells a date's digits (``AAAAMMJJ``, ``YYYYMMDDHH``)."""
+    return _DIGITS_NAME.fullmatch(time_key(name)) is not None
+
+
+def digit_time_column(col: pd.Series, cname: str, name: str) -> NDArray | None:
+    """The time column ``cname`` of file ``name`` in seconds from its first row, when it
+    holds dates written as digits (:func:`digit_date_format`, from its first cell); else None.
+
+    Raises
+    ------
+    NoisevarError
+        When a later cell is not such a date (empty, or no calendar day).
+    """
+    import pandas as pd
+
+    from noisevar.errors import NoisevarError
+
+    if col.empty or not (is_digit_date_name(cname) or is_date_name(cname)):
+        return None
+    num = pd.to_numeric(col, errors="coerce").to_numpy(dtype=float, na_value=np.nan)
+    whole = np.isfinite(num) & (num == np.round(num))  # 20250101.0: pandas' float column
+    fmt = digit_date_format(cname, str(int(num[0])) if whole[0] else str(col.iloc[0]))
+    if fmt is None:
+        return None
+    cells = [str(int(n)) if w else str(v).strip() for v, n, w in zip(col, num, whole, strict=True)]
+    t = digit_dates(cells, fmt)
+    if t is None:
+        read = pd.to_datetime(pd.Series(cells), format=fmt, errors="coerce")
+        bad = int(np.flatnonzero(read.isna().to_numpy() | ~whole)[0])
+        raise NoisevarError(
+            f"{echo(name)}: column {echo(cname)!r} holds dates written as digits "
+            f"({cells[0]}), but data row {bad + 1} holds {echo(cells[bad], 20)!r}: "
+            "correct or delete that row"
+        )
+    return t
+
+
+def digit_dates(values: list[str], fmt: str) -> NDArray | None:
+    """Dates written as digits in ``fmt`` (:func:`digit_date_format`) to seconds from the
+    first; None unless every value is one."""
+    import pandas as pd
+
+    cells = pd.Series(values, dtype=object).astype(str).str.strip()
+    if not values or not cells.str.fullmatch(r"\d+").all():
+        return None
+    t = pd.to_datetime(cells, format=fmt, errors="coerce")
+    if t.isna().any():
+        return None
+    ns = t.to_numpy(dtype="datetime64[ns]")
+    return (ns - ns[0]).astype("timedelta64[ns]").astype(float) / 1e9
