@@ -295,7 +295,8 @@ def synthetic() -> list[str]:
         "(a flat regime, and a lone block at its edge, are never still).",
         "- **a `datetime` column refused** (heartpy data3.csv: '2016-11-24 13:58:58.081000 is "
         "not a number'): a column named `datetime`/`date` holding date-times is the time "
-        "column; `19580329` there stays data (`tests/test_audit2_ingest.py`).",
+        "column; `19580329` there is a date written as digits, read as one since real_audit15 "
+        "(`tests/test_audit2_ingest.py`).",
         "- **`estimate FILE --columns all` on a one-column file: exit 3** (internal error "
         "'VarianceEstimate' object is not iterable; ECG, PPG x2, CO2: 7 of 18 channels in "
         "the first run) (`tests/test_audit2_ingest.py`).",
