@@ -18,8 +18,10 @@ _HEAD = """% program   : RTKPOST ver.2.4.2
 %
 % (lat/lon/height=WGS84/ellipsoidal,Q=1:fix,2:float,3:sbas,4:dgps,5:single,6:ppp,ns=# of satellites)
 """
-_COLS = ("%  GPST                  latitude(deg) longitude(deg)  height(m)   Q  ns   sdn(m)   "
-         "sde(m)   sdu(m)  sdne(m)  sdeu(m)  sdun(m) age(s)  ratio")
+_COLS = (
+    "%  GPST                  latitude(deg) longitude(deg)  height(m)   Q  ns   sdn(m)   "
+    "sde(m)   sdu(m)  sdne(m)  sdeu(m)  sdun(m) age(s)  ratio"
+)
 #: metres of a degree of latitude near 47.5° N (WGS-84), about
 _M_PER_DEG = 111_180.0
 
@@ -36,8 +38,10 @@ def _static(n: int, sd: float, seed: int, week: bool = False, eol: str = "\n") -
         t = f"2168 {284819 + i:.3f}" if week else f"2021/04/15 17:40:{i % 60:02d}.000"
         if not week and i >= 60:
             t = f"2021/04/15 17:{40 + i // 60:02d}:{i % 60:02d}.000"
-        rows.append(f"{t}   {lat[i]:.9f}   {lon[i]:.9f}   {h[i]:.4f}   5   8   2.0   1.5   "
-                    "4.0   0.3   -0.2   0.5   0.00    0.0")
+        rows.append(
+            f"{t}   {lat[i]:.9f}   {lon[i]:.9f}   {h[i]:.4f}   5   8   2.0   1.5   "
+            "4.0   0.3   -0.2   0.5   0.00    0.0"
+        )
     return eol.join([*_HEAD.splitlines(), _COLS, *rows]) + eol
 
 
@@ -60,7 +64,7 @@ def test_rtklib_column_line_only_and_cr_endings(tmp_path):
     """rover1.pos's shape: only the column line, rows ended by a lone carriage return."""
     text = _static(300, 0.5, seed=4, eol="\r")
     path = tmp_path / "rover1.pos"
-    path.write_text(text[text.index("%  GPST"):], newline="")
+    path.write_text(text[text.index("%  GPST") :], newline="")
     table = load_table(path)
     assert "%" not in table.columns
     assert list(table.columns)[:4] == ["time", "east_m", "north_m", "up_m"]
@@ -69,8 +73,10 @@ def test_rtklib_column_line_only_and_cr_endings(tmp_path):
 def test_rtklib_ecef_kept(tmp_path):
     path = tmp_path / "ecef.pos"
     cols = "%  GPST                      x-ecef(m)      y-ecef(m)      z-ecef(m)   Q  ns"
-    rows = [f"2021/07/28 07:07:{i:02d}.000   4203099.5{i}   179114.5   4778081.0   5   6"
-            for i in range(40)]
+    rows = [
+        f"2021/07/28 07:07:{i:02d}.000   4203099.5{i}   179114.5   4778081.0   5   6"
+        for i in range(40)
+    ]
     path.write_text("\n".join(["% pos mode  : single", cols, *rows]) + "\n")
     table = load_table(path)
     assert list(table.columns)[:4] == ["time", "x-ecef(m)", "y-ecef(m)", "z-ecef(m)"]
