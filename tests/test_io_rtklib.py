@@ -89,3 +89,13 @@ def test_rtklib_short_row_one_line(tmp_path):
     path.write_text(text.rsplit(" ", 6)[0] + "\n")
     with pytest.raises(NoisevarError, match="RTKLIB solution has"):
         load_table(path)
+
+
+def test_rtklib_column_line_run_on_the_line_above(tmp_path):
+    """tracklib's sol.pos: ``% ref pos : ...`` and the column line with no line end between
+    them were read as columns ``%``, ``pos``, ``:`` and numbers."""
+    text = _static(120, 0.5, seed=6, eol="\r")
+    path = tmp_path / "sol.pos"
+    path.write_text("% ref pos   : 47.5 -0.99 99.2" + text[text.index("%  GPST") :], newline="")
+    table = load_table(path)
+    assert list(table.columns)[:4] == ["time", "east_m", "north_m", "up_m"]

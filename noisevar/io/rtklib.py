@@ -16,8 +16,9 @@ from noisevar.io.header_units import header_unit
 from noisevar.io.limits import echo
 from noisevar.io.nmea import ENU_NAMES, geodetic_to_enu
 
-#: The column line of a solution file: ``%`` then its time system, then the first column.
-_COLUMNS = re.compile(r"^%\s+(GPST|UTC|JST)\s+[a-z]", re.IGNORECASE)
+#: The column line of a solution file: ``%`` then its time system, then the first column
+#: (searched in a header line: a line end lost runs it on the line above).
+_COLUMNS = re.compile(r"%\s+(GPST|UTC|JST)\s+[a-z]", re.IGNORECASE)
 #: Lines of the head searched for the column line (a header block is about 25 lines).
 _HEAD_LINES = 60
 #: The GPS time's origin and a week's seconds.
@@ -35,7 +36,14 @@ _GEO = (
 
 def is_rtklib(text: str) -> bool:
     """Whether ``text`` (a file's head) is an RTKLIB solution file."""
-    return any(_COLUMNS.match(ln) for ln in text.splitlines()[:_HEAD_LINES])
+    return _column_line(text.splitlines()) is not None
+
+
+def _column_line(lines: list[str]) -> tuple[int, str] | None:
+    """The last column line of the head (its index, and the line from its ``%``), or None."""
+    found = [(i, ln[m.start() :]) for i, ln in enumerate(lines[:_HEAD_LINES])
+             if ln.startswith("%") and (m := _COLUMNS.search(ln))]  # fmt: skip
+    return found[-1] if found else None
 
 
 def _time(a: str, b: str) -> str:
@@ -83,12 +91,13 @@ def rtklib_csv(text: str, name: str) -> tuple[str, str]:
     -----
     Read as a table, the ``%`` lines were refused as an unknown comment marker, or, with
     only the column line, ``%`` was taken for a date column and the position read in
-    degrees (tracklib's RTKLIB files). Geodetic positions become local east/north/up
+    degrees (tracklib's RTKLIB files); a column line run on the line above (tracklib's
+    ``sol.pos``) named columns ``%``, ``pos``, ``:`` and numbers. Geodetic positions become local east/north/up
     metres (:func:`noisevar.io.nmea.geodetic_to_enu`), so that R is in m².
     """
     lines = text.splitlines()
-    at = max(i for i, ln in enumerate(lines[:_HEAD_LINES]) if _COLUMNS.match(ln))
-    system, *names = lines[at][1:].split()
+    at, columns = _column_line(lines) or (0, "")
+    system, *names = columns[1:].split()
     dms = bool(names) and names[0].startswith("latitude(d'")
     rows = _rows(lines[at + 1 :], len(names), dms, name)
     if not rows:
