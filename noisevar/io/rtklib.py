@@ -92,8 +92,9 @@ def rtklib_csv(text: str, name: str) -> tuple[str, str]:
     Read as a table, the ``%`` lines were refused as an unknown comment marker, or, with
     only the column line, ``%`` was taken for a date column and the position read in
     degrees (tracklib's RTKLIB files); a column line run on the line above (tracklib's
-    ``sol.pos``) named columns ``%``, ``pos``, ``:`` and numbers. Geodetic positions become local east/north/up
-    metres (:func:`noisevar.io.nmea.geodetic_to_enu`), so that R is in m².
+    ``sol.pos``) named columns ``%``, ``pos``, ``:`` and numbers. Geodetic positions
+    become local east/north/up metres (:func:`noisevar.io.nmea.geodetic_to_enu`), so that
+    R is in m².
     """
     lines = text.splitlines()
     at, columns = _column_line(lines) or (0, "")
