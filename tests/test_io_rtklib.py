@@ -55,6 +55,8 @@ def test_rtklib_positions_in_metres(tmp_path, week):
     assert table.first_signal == "east_m"
     assert table.units["up_m"] == "m"
     assert "RTKLIB" in table.notes[0]
+    up = np.asarray(table.columns["up_m"]) * 1e4  # the height's 0.1 mm grid kept
+    np.testing.assert_allclose(up, np.round(up), atol=1e-6)
     for col in ("east_m", "north_m", "up_m"):
         est = nv.estimate(np.asarray(table.columns[col], float))
         assert est.ci95[0] < 0.25 < est.ci95[1], col  # sd 0.5 m: R 0.25 m²
