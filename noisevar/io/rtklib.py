@@ -21,6 +21,8 @@ from noisevar.io.nmea import _WGS84_A, _WGS84_F, ENU_NAMES
 _COLUMNS = re.compile(r"%\s+(GPST|UTC|JST)\s+[a-z]", re.IGNORECASE)
 #: Lines of the head searched for the column line (a header block is about 25 lines).
 _HEAD_LINES = 60
+#: Characters of the head searched for it (its header lines are under 200 characters).
+_HEAD_CHARS = 200 * _HEAD_LINES
 #: The GPS time's origin and a week's seconds.
 _GPS_EPOCH, _WEEK = datetime.datetime(1980, 1, 6), 604800.0
 NOTE = (
@@ -36,7 +38,7 @@ _GEO = (
 
 def is_rtklib(text: str) -> bool:
     """Whether ``text`` (a file's head) is an RTKLIB solution file."""
-    return _column_line(text.splitlines()) is not None
+    return _column_line(text[:_HEAD_CHARS].splitlines()) is not None
 
 
 def _column_line(lines: list[str]) -> tuple[int, str] | None:
