@@ -327,3 +327,8 @@ PYEDFLIB = "pyedflib==0.1.42"
 #: department (station by station, 1950-2024 and 2025-2026: rain, min/max/mean temperature,
 #: wind, each with its quality code; Licence Ouverte 2.0) and UCR archive text files.
 TSLEARN = "tslearn==0.10.0"
+
+# ---------------------------------------------------------------- real_audit16.py (issue 26)
+#: tracklib's sdist (CeCILL-C): IGN's LASTIG GNSS records as RTKLIB solution files (a still
+#: rover's RTK float, a single-point walk, an RTK baseline) and GPX tracks.
+TRACKLIB = "tracklib==0.8.4.2"

@@ -18,6 +18,7 @@ from noisevar.io.iaga import iaga_csv, is_iaga
 from noisevar.io.limits import MAX_BYTES, check_bytes, check_size
 from noisevar.io.nmea import _looks_like_nmea, _read_nmea
 from noisevar.io.npy import _read_npy
+from noisevar.io.rtklib import is_rtklib, rtklib_csv
 from noisevar.io.table import _NPY_MAGIC, NMEA_EXTENSIONS, LoadedTable, echo
 from noisevar.io.text import TextSource, _read_frame, _read_text_table, table_layout
 from noisevar.io.upload import log_file
@@ -339,6 +340,11 @@ def _parse_text(head: bytes, name: str, path: Path | None, whole: bool) -> Loade
         return _read_nmea(text, name)
     if is_iaga(text):
         return _read_iaga(text if whole else _decode(_read_all(path, name), name)[0], name)
+    if is_rtklib(text):
+        csv, note = rtklib_csv(text if whole else _decode(_read_all(path, name), name)[0], name)
+        table = _read_text_table(csv, name)
+        table.notes.insert(0, note)
+        return table
     return _read_text_table(text if whole else TextSource(path, text, encoding), name)
 
 

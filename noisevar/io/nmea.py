@@ -206,8 +206,10 @@ def _valid_fixes(scan: _Scan, name: str) -> list[tuple[int, float]]:
     return fixes
 
 
+#: The columns of a position turned into local metres (:func:`geodetic_to_enu`).
+ENU_NAMES = ("east_m", "north_m", "up_m")
 #: Units of the columns an NMEA log gives (pint syntax).
-NMEA_UNITS = {"east_m": "m", "north_m": "m", "up_m": "m", "speed_mps": "m/s", "course_deg": "deg"}
+NMEA_UNITS = {**dict.fromkeys(ENU_NAMES, "m"), "speed_mps": "m/s", "course_deg": "deg"}
 
 
 def _columns(recs: list[dict[str, Any]], t: NDArray) -> dict[str, NDArray]:
@@ -216,9 +218,9 @@ def _columns(recs: list[dict[str, Any]], t: NDArray) -> dict[str, NDArray]:
     alt = np.array([r.get("alt", np.nan) for r in recs])
     has_alt = np.all(np.isfinite(alt))
     enu = geodetic_to_enu(lat, lon, alt if has_alt else np.zeros_like(lat))
-    columns: dict[str, NDArray] = {"time": t, "east_m": enu[:, 0], "north_m": enu[:, 1]}
+    columns: dict[str, NDArray] = {"time": t, **dict(zip(ENU_NAMES[:2], enu.T[:2], strict=True))}
     if has_alt:
-        columns["up_m"] = enu[:, 2]
+        columns[ENU_NAMES[2]] = enu[:, 2]
     speed = np.array([r.get("speed", np.nan) for r in recs])
     course = np.array([r.get("course", np.nan) for r in recs])
     if np.any(np.isfinite(speed)):

@@ -3,6 +3,7 @@ row taken for the header, another tool's comment marker, rows of several kinds."
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
@@ -51,24 +52,31 @@ def preamble_hint(has_number: NDArray, j: int, line_of: Callable[[int], int]) ->
     )
 
 
+#: What to do with a file that has no header and a cell that is not a number.
+_NO_HEADER = (
+    "if its rows hold flag letters or fixed-width fields that touch or are left empty, "
+    "export the columns you want to a CSV file with a header"
+)
+
+
 def numbers_for_names(cname: str, header_line: int) -> str:
-    """The hint when the header's names are numbers: a data row was taken for the header.
+    """The hint when the file has no header: the header's names are numbers (a data row was
+    taken for the header), or the columns are unnamed (``col2``).
 
     Notes
     -----
     The IERS's finals2000A.all has no header, and its rows hold flag letters (``I``, ``P``)
     in fixed-width fields that touch or are left empty: its first row became the header and
-    the refusal blamed "column '2'".
+    the refusal blamed "column '2'". Its first row is read as a row now
+    (:func:`noisevar.io.headerless.first_line_is_row`): the columns are unnamed.
     """
+    if re.fullmatch(r"col\d+", cname):
+        return f"; the file has no header: {_NO_HEADER}"
     try:
         float(cname.strip().strip('"'))
     except ValueError:
         return ""
-    return (
-        f"; the header (line {header_line}) holds numbers, so the file has none: if its rows "
-        "hold flag letters or fixed-width fields that touch or are left empty, export the "
-        "columns you want to a CSV file with a header"
-    )
+    return f"; the header (line {header_line}) holds numbers, so the file has none: {_NO_HEADER}"
 
 
 #: At most this many kinds of rows named by a label column (a record type, not an id)

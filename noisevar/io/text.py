@@ -15,6 +15,7 @@ from numpy.typing import NDArray
 from noisevar._arrays import EXACT_INT
 from noisevar.errors import NoisevarError
 from noisevar.io.header_units import column_units, header_unit
+from noisevar.io.headerless import first_line_is_row
 from noisevar.io.opensignals import opensignals_names
 from noisevar.io.quirks import code_note, header_of_numbers, repeated_rows, rows_continue, wrap_note
 from noisevar.io.refusal_hints import (
@@ -243,7 +244,10 @@ def table_layout(
         if len(head) > 1 and all(len(_split(ln, None)) == 1 for _, ln in head[1:]):
             first = [head[0][1].strip()]
     _check_width(name, first, head, fmt, text)
-    if not all(_is_number(c, fmt) for c in first):
+    split = [first, *(_split(ln, fmt.delim) for _, ln in head[1:])]
+    if not all(_is_number(c, fmt) for c in first) and not first_line_is_row(
+        split, lambda c: _is_number(c, fmt)
+    ):
         if len(head) < 2:
             raise NoisevarError(f"{echo(name)} has a header but no data rows")
         units = _units_row(head, len(first), fmt)
