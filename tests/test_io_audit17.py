@@ -1,0 +1,56 @@
+"""Files of the seventeenth real-record audit (benchmarks/real_audit17.py) as users have
+them: pyphysio's ``.ph`` files are xarray netCDF4 (HDF5) files, a 3-D ``signal`` (time x 26
+fNIRS channels x 2 components) beside its coordinates ``channel``, ``component`` and ``time``
+(dimension scales). The HDF5 reader skipped the 3-D dataset and read the coordinate
+``channel`` (0 .. 25) as the signal, refused as "a counter or a clock"."""
+
+import numpy as np
+import pytest
+
+import noisevar as nv
+from noisevar.cli import main
+from noisevar.io import channel_record, load_table
+
+h5py = pytest.importorskip("h5py")
+
+
+def _netcdf_like(path, n: int = 2000, seed: int = 0) -> np.ndarray:
+    """A netCDF4-style file: ``signal`` (n, 3, 2) on the scales ``time``, ``channel`` and
+    ``component``; returns the signal (white noise of std 0.01 plus a slow wave)."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(n) / 10.0
+    sig = np.sin(0.05 * t)[:, None, None] + rng.normal(0.0, 0.01, (n, 3, 2))
+    with h5py.File(path, "w") as f:
+        for name, values in (("time", t), ("channel", np.arange(3)), ("component", [0, 1])):
+            f[name] = np.asarray(values)
+            f[name].make_scale(name)
+        f["signal"] = sig
+        for i, name in enumerate(("time", "channel", "component")):
+            f["signal"].dims[i].attach_scale(f[name])
+    return sig
+
+
+def test_a_netcdf_coordinate_is_not_the_signal(tmp_path, capsys):
+    path = tmp_path / "fnirs.h5"
+    sig = _netcdf_like(path)
+    table = load_table(path)
+    assert "channel" not in table.signals and "component" not in table.signals
+    assert table.signals == ["col0_0", "col0_1", "col1_0", "col1_1", "col2_0", "col2_1"]
+    z = np.asarray(channel_record(table, "col1_1")[0], float)
+    np.testing.assert_array_equal(z, sig[:, 1, 1])
+    assert nv.estimate(z).variance == pytest.approx(1e-4, rel=0.2)
+    assert main(["estimate", str(path), "--format", "json"]) == 0
+    assert '"column": "col0_0"' in capsys.readouterr().out
+
+    # a 1-D signal on its ``time`` coordinate (pyphysio's fnirs_tapping.ph) keeps its
+    # times, a 2-D dataset its ``col0 ..`` fields
+    path = tmp_path / "tap.h5"
+    with h5py.File(path, "w") as f:
+        f["time"] = 100.0 + np.arange(500) / 10.0
+        f["time"].make_scale("time")
+        f["signal"] = np.random.default_rng(1).normal(size=500)
+        f["signal"].dims[0].attach_scale(f["time"])
+        f["two"] = np.random.default_rng(2).normal(size=(70, 2))
+    table = load_table(path, topic="/")
+    assert table.signals == ["signal"] and table.sample_period == pytest.approx(0.1)
+    assert load_table(path, topic="/two").signals == ["col0", "col1"]
