@@ -38,6 +38,7 @@ def test_a_netcdf_coordinate_is_not_the_signal(tmp_path, capsys):
     assert table.signals == ["col0_0", "col0_1", "col1_0", "col1_1", "col2_0", "col2_1"]
     z = np.asarray(channel_record(table, "col1_1")[0], float)
     np.testing.assert_array_equal(z, sig[:, 1, 1])
+    assert table.time_column is not None and table.sample_period == pytest.approx(0.1)
     assert nv.estimate(z).variance == pytest.approx(1e-4, rel=0.2)
     assert main(["estimate", str(path), "--format", "json"]) == 0
     assert '"column": "col0_0"' in capsys.readouterr().out

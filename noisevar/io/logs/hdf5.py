@@ -94,6 +94,20 @@ def _coordinate(path: str, ds) -> bool:
     return _is_scale(ds) and not is_time_column(path.rpartition("/")[2])
 
 
+def _scale_time(ds) -> tuple[str, None] | None:
+    """The time source of a dataset of 2 or more dimensions: the dimension scale of its
+    first dimension named like a time (netCDF4's ``time`` coordinate), or None."""
+    for scale in ds.dims[0].values():
+        ok = scale.ndim == 1 and scale.shape[0] == ds.shape[0] and _numeric(scale.dtype)
+        if (
+            ok
+            and not (scale.is_virtual or scale.external)
+            and is_time_column(scale.name.rpartition("/")[2])
+        ):
+            return (scale.name, None)
+    return None
+
+
 def _slices(shape: tuple[int, ...]) -> list[tuple[int, ...]]:
     """The index of each field of a dataset of more than one dimension, samples first."""
     idx = list(np.ndindex(*shape[1:]))[:MAX_FIELDS]
@@ -114,7 +128,7 @@ def _topics_of(f) -> dict[str, tuple[str | None, dict[str, tuple], int, dict[str
         elif ds.ndim >= 2 and _numeric(ds.dtype):
             fields = {"col" + "_".join(map(str, np.atleast_1d(j))): (path, j)
                       for j in _slices(ds.shape)}  # fmt: skip
-            out[path] = (None, fields, int(ds.shape[0]), {})
+            out[path] = (_scale_time(ds), fields, int(ds.shape[0]), {})
         elif ds.ndim == 1 and _numeric(ds.dtype) and not _coordinate(path, ds):
             groups.setdefault(path.rpartition("/")[0] or "/", []).append((path, ds))
     for gpath, members in groups.items():
