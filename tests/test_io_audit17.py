@@ -55,3 +55,18 @@ def test_a_netcdf_coordinate_is_not_the_signal(tmp_path, capsys):
     table = load_table(path, topic="/")
     assert table.signals == ["signal"] and table.sample_period == pytest.approx(0.1)
     assert load_table(path, topic="/two").signals == ["col0", "col1"]
+
+
+#: the first bytes of bioread's ``physio-5.0.1.acq`` (a version number, no signature)
+_ACQ_HEAD = bytes.fromhex("00000000008400000" + "96e0004000000013fe0") + bytes(200)
+
+
+def test_an_acqknowledge_file_is_named_with_a_way_to_export_it(tmp_path, capsys):
+    """bioread's BIOPAC recordings were refused as "a binary file (it contains NUL bytes)"."""
+    (tmp_path / "physio.acq").write_bytes(_ACQ_HEAD)
+    assert main(["estimate", str(tmp_path / "physio.acq")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "BIOPAC AcqKnowledge" in err and "acq2txt" in err
+    (tmp_path / "physio.dat").write_bytes(_ACQ_HEAD)  # another suffix: as before
+    assert main(["estimate", str(tmp_path / "physio.dat")]) == 2
+    assert "binary file" in capsys.readouterr().err
