@@ -70,3 +70,13 @@ def test_an_acqknowledge_file_is_named_with_a_way_to_export_it(tmp_path, capsys)
     (tmp_path / "physio.dat").write_bytes(_ACQ_HEAD)  # another suffix: as before
     assert main(["estimate", str(tmp_path / "physio.dat")]) == 2
     assert "binary file" in capsys.readouterr().err
+
+
+def test_a_side_file_of_settings_is_called_one(tmp_path, capsys):
+    """pyphysio's ``info_medical`` beside its recording was refused blaming thousands
+    separators."""
+    path = tmp_path / "info_medical"
+    path.write_text("fsamp:      1024\nsignals:    ecg,eda,bvp,resp\nlength:     120 s\n")
+    assert main(["estimate", str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "side file of settings" in err and "thousands" not in err
