@@ -14,9 +14,11 @@ into ``benchmarks/.cache`` and never committed; none is installed or imported:
 
 - ``medical_a``, ``medical_b`` (``pyphysio/test_data/medical.txt.bz2``; ``info_medical``:
   ``fsamp 1024``, ``signals ecg,eda,bvp,resp``, ``length 120 s``): four tab-separated
-  columns on a 0.001 grid, no header, 245,760 rows (240 s at 1,024 Hz, not the 120 s the
-  side file says); the user decompresses it as the refusal says and cuts a minute: the
-  first (``_a``) and the second (``_b``), 61,440 rows each;
+  columns on a 0.001 grid, no header, 245,760 rows: 240 s at its ``fsamp`` 1,024 Hz, not
+  the 120 s it says (the ECG's 35 beats in 61,440 rows: 37 bpm at 1,024 Hz, 75 at the
+  2,048 Hz the rows and the 120 s imply: the side file's rate is likely wrong); the user
+  decompresses it as the refusal says and cuts two stretches: its first (``_a``) and its
+  second (``_b``) 61,440 rows;
 - ``fnirs`` (``pyphysio/test_data/fnirs.ph``): an xarray netCDF4 (HDF5) file, ``signal``
   (8,790 x 26 channels x 2 components) on the coordinates ``time``, ``channel`` and
   ``component``, its ``sampling_freq`` attribute 10.172 Hz: channels 0 and 12, both
@@ -33,8 +35,8 @@ Checks (``--records`` narrows them):
 2. **one answer everywhere** (``real_audit5.one_answer``, imported): Python, CLI JSON and
    CSV, ``noisevar.batch`` and the pages, on ``medical_a``'s ECG and EDA and on ``nn``;
 3. **references**: (a) grids: no R and no R to use under lsb²/12 / 4 (the text's 0.001, the
-   NN's 1 ms; ``real_audit8.grid_reference``); (b) the same sensors' two minutes: each
-   minute's R inside the other's ci95, or a verdict that says the level varies;
+   NN's 1 ms; ``real_audit8.grid_reference``); (b) the same sensors' two stretches: each
+   one's R inside the other's ci95, or a verdict that says the level varies;
    (c) the NN intervals' published RMSSD: R and the R to use at most RMSSD²/2 (the whole
    beat-to-beat variance: its white part cannot exceed it); (d) the fNIRS file's own
    ``sampling_freq`` against the rate the product reads from its ``time`` coordinate;
@@ -43,7 +45,7 @@ Checks (``--records`` narrows them):
    rule) on the BVP and the NN intervals;
 4. **the files as users have them**: each read (exit 0, nothing on stderr) or refused with
    one line (exit 2) that says what to do (``real_audit13._file_checks``): the recording as
-   shipped (bzip2) and decompressed, a minute of it, its side file, the fNIRS ``.ph`` (not
+   shipped (bzip2) and decompressed, a stretch of it, its side file, the fNIRS ``.ph`` (not
    opened on a coordinate), the tapping marker, bioread's ``.acq`` files (named as BIOPAC
    AcqKnowledge), the NN file.
 
@@ -82,17 +84,18 @@ from real_audit13 import _file_checks  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results" / "real_audit17.md"
 _TD = "pyphysio/test_data/"
-_MED = "ECG, EDA, BVP, respiration (columns col0-col3, no header, 0.001 grid), 1,024 Hz"
+_MED = "ECG, EDA, BVP, respiration (columns col0-col3, no header, 0.001 grid), 1,024 Hz said"
+_MEDF = _TD + "medical.txt.bz2"
 #: record -> (requirement, path inside the package, what it is)
 RECORDS = {
-    "medical_a": (_refdata.PYPHYSIO, _TD + "medical.txt.bz2", f"a lab recording, minute 1: {_MED}"),
-    "medical_b": (_refdata.PYPHYSIO, _TD + "medical.txt.bz2", f"the same, minute 2: {_MED}"),
+    "medical_a": (_refdata.PYPHYSIO, _MEDF, f"a lab recording, rows 1-61,440: {_MED}"),
+    "medical_b": (_refdata.PYPHYSIO, _MEDF, f"the same, rows 61,441-122,880: {_MED}"),
     "fnirs": (_refdata.PYPHYSIO, _TD + "fnirs.ph",
               "fNIRS, 26 channels x 2 components, xarray netCDF4 (.ph), 10.17 Hz: channels 0, 12"),
     "nn": (_refdata.HRV_ANALYSIS, "tests/test_nn_intervals.txt",
            "1,000 NN intervals (ms, integers), one a line; published SDNN, RMSSD"),
 }  # fmt: skip
-#: the recording's rows a minute (``info_medical``: 1,024 Hz)
+#: the rows of a stretch (a minute at ``info_medical``'s 1,024 Hz, 30 s at 2,048)
 MINUTE = 60 * 1024
 #: channels per record as the product names them; the medical columns' meaning
 CHANNELS = {"medical_a": ["col0", "col1", "col2", "col3"],
@@ -130,7 +133,7 @@ def medical() -> Path:
 
 
 def user_file(name: str) -> Path:
-    """The file the user gives: a minute of the recording (its lines as they are), or the
+    """The file the user gives: a stretch of the recording (its lines as they are), or the
     shipped file."""
     if not name.startswith("medical"):
         return shipped(name)
@@ -150,9 +153,9 @@ def channels_of(name: str) -> tuple[dict[str, np.ndarray], float]:
 
 
 # ---------------------------------------------------------------- check 3: references
-def minutes_reference(chans: dict[str, np.ndarray]) -> list[dict]:
-    """3b: the same sensors' second minute: each minute's R inside the other's ci95, or a
-    verdict that says the level varies."""
+def stretches_reference(chans: dict[str, np.ndarray]) -> list[dict]:
+    """3b: the same sensors' second stretch: R inside the first's ci95, or a verdict that
+    says the level varies."""
     other, _ = channels_of("medical_a")
     rows = []
     for ch, z in chans.items():
@@ -160,9 +163,9 @@ def minutes_reference(chans: dict[str, np.ndarray]) -> list[dict]:
         inside = first.ci95[0] <= est.variance <= first.ci95[1]
         varies = any(bool(e.diagnostics and e.diagnostics.level_varies) for e in (est, first))
         fail = [] if inside or varies else [
-            f"R x{est.variance / first.variance:.3g} minute 1's, outside its ci95, the level "
+            f"R x{est.variance / first.variance:.3g} stretch 1's, outside its ci95, the level "
             "said steady"]  # fmt: skip
-        rows.append(ref_row("medical_b", f"{ch} ({MEANING[ch]})", "minute 1's R",
+        rows.append(ref_row("medical_b", f"{ch} ({MEANING[ch]})", "stretch 1's R",
                             first.variance, est, fail))  # fmt: skip
     return rows
 
@@ -215,7 +218,7 @@ def references(name: str, chans: dict[str, np.ndarray]) -> list[dict]:
     """Check 3 on one record (module docstring)."""
     out = [grid_reference(name, c, z, GRID[name]) for c, z in chans.items() if name in GRID]
     if name == "medical_b":
-        out += minutes_reference(chans)
+        out += stretches_reference(chans)
     if name == "nn":
         out.append(rmssd_reference(chans["col0"]))
     if name == "fnirs":
@@ -259,7 +262,7 @@ def bad_input() -> list[dict]:
     cases = {
         "the recording as shipped (bzip2), refused": (shipped("medical_a"), []),
         "the recording decompressed (245,760 rows), no --column": (medical(), []),
-        "a minute of it, --columns all": (user_file("medical_a"), ["--columns", "all"]),
+        "a stretch of it, --columns all": (user_file("medical_a"), ["--columns", "all"]),
         "its side file (fsamp: 1024 ...), refused as settings": (wheel("info_medical"), []),
         "fNIRS as xarray netCDF4 (.ph), no --column": (shipped("fnirs"), []),
         "fNIRS (.ph), --column col12_1": (shipped("fnirs"), ["--column", "col12_1"]),
