@@ -332,3 +332,14 @@ TSLEARN = "tslearn==0.10.0"
 #: tracklib's sdist (CeCILL-C): IGN's LASTIG GNSS records as RTKLIB solution files (a still
 #: rover's RTK float, a single-point walk, an RTK baseline) and GPX tracks.
 TRACKLIB = "tracklib==0.8.4.2"
+
+# ---------------------------------------------------------------- real_audit17.py (issue 26)
+#: Packages whose shipped measured data ``benchmarks/real_audit17.py`` reads (read as files,
+#: never installed or imported): pyphysio's wheel (GPL: a lab recording of ECG, EDA, BVP and
+#: respiration at 1,024 Hz as bzip2 text, an fNIRS recording of 26 channels as netCDF4
+#: ``.ph``, a tapping marker), hrv-analysis' sdist (GPL-3.0: 1,000 NN intervals with their
+#: published SDNN and RMSSD) and bioread's sdist (MIT: BIOPAC AcqKnowledge ``.acq``
+#: recordings, refused as a format).
+PYPHYSIO = "pyphysio==4.10.0"
+HRV_ANALYSIS = "hrv-analysis==1.0.6"
+BIOREAD = "bioread==2025.5.2"

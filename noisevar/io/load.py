@@ -12,6 +12,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.errors import NoisevarError
+from noisevar.io.binary_suffix import refuse_by_suffix
 from noisevar.io.foreign import NUL_NOTE, nul_padding, refuse_binary, refuse_fit, refuse_text
 from noisevar.io.iaga import NOTE as IAGA_NOTE
 from noisevar.io.iaga import iaga_csv, is_iaga
@@ -315,6 +316,7 @@ def _parse(head: bytes, name: str, path: Path | None, size: int) -> LoadedTable:
     _refuse_compressed(head, name)
     refuse_fit(head, name)
     refuse_binary(head, name)
+    refuse_by_suffix(head, name)
     whole = path is None or size <= len(head)
     padding = nul_padding(head)
     if padding and not whole:  # the padding is left out of the text: read all of it

@@ -224,8 +224,30 @@ def width_hint(
     (``below(line_no)``: :func:`report_hint` on the file's head), else ``default``."""
     return (
         comment_hint(head[0][1]) or metadata_hint(head, line_no, width) or below(line_no)
-        or default
+        or settings_hint(head) or default
     )  # fmt: skip
+
+
+#: A ``name: value`` line of a settings file (``fsamp:      1024``, ``signals: ecg,eda``)
+_SETTING = re.compile(r"^\s*[A-Za-z_][\w .()/-]*:\s*\S")
+
+
+def settings_hint(head: list[tuple[int, str]]) -> str | None:
+    """The hint when every line of the file's head is a ``name: value`` pair: a recording's
+    side file of settings, with no table under it.
+
+    Notes
+    -----
+    pyphysio's ``info_medical`` (``fsamp: 1024``, ``signals: ecg,eda,bvp,resp``, ``length:
+    120 s``) beside its recording was refused blaming thousands separators.
+    """
+    if len(head) < 2 or not all(_SETTING.match(ln) for _, ln in head):
+        return None
+    return (
+        f" (every line is a name: value pair, as {echo(head[0][1].split(':')[0].strip(), 40)!r}: a "
+        "recording's side file of settings, with no table of samples: give the data file it "
+        "describes, with --rate when it gives the sample rate)"
+    )
 
 
 def short_header(fields: list[str], widths: list[int]) -> bool:

@@ -4,10 +4,13 @@ Topics are:
 
 - a table (a dataset of a compound type, as PyTables and pandas write): its numeric
   fields; a field named like a time (:data:`~noisevar.io.table.TIME_NAMES`) gives the times;
-- a 2-D numeric dataset ``(n, k)``: fields ``col0 .. col{k-1}``;
+- a 2-D numeric dataset ``(n, k)``: fields ``col0 .. col{k-1}``; a dataset of more
+  dimensions ``(n, a, b, ...)`` (netCDF4 and xarray's, samples first): a field per slice,
+  ``col{i}_{j}...``;
 - a group holding 1-D numeric datasets of one length: one field per dataset, and the one
   named like a time gives the times. A dataset's ``units`` (or ``unit``) attribute is its
-  unit.
+  unit. A dimension scale (a netCDF4 coordinate: ``channel``, ``component``) is a
+  coordinate, not a measurement: it gives the times when named like one, never a field.
 
 For safety, external links, virtual datasets and datasets stored in external files are
 skipped: an HDF5 file cannot make noisevar read another file.
@@ -73,6 +76,44 @@ def _unit(ds) -> str | None:
     return None
 
 
+def _is_scale(ds) -> bool:
+    """Whether a dataset is a dimension scale (a netCDF4/xarray coordinate).
+
+    Notes
+    -----
+    pyphysio's ``.ph`` (an xarray netCDF4 file) holds ``channel`` (26), ``component`` (2)
+    and ``time`` (8,790) beside a 3-D ``signal``: the channel numbers were read as the
+    signal and refused as "a counter or a clock".
+    """
+    cls = ds.attrs.get("CLASS")
+    return (cls.decode("ascii", "replace") if isinstance(cls, bytes) else cls) == "DIMENSION_SCALE"
+
+
+def _coordinate(path: str, ds) -> bool:
+    """A dimension scale not named like a time: a coordinate, never a field."""
+    return _is_scale(ds) and not is_time_column(path.rpartition("/")[2])
+
+
+def _scale_time(ds) -> tuple[str, None] | None:
+    """The time source of a dataset of 2 or more dimensions: the dimension scale of its
+    first dimension named like a time (netCDF4's ``time`` coordinate), or None."""
+    for scale in ds.dims[0].values():
+        ok = scale.ndim == 1 and scale.shape[0] == ds.shape[0] and _numeric(scale.dtype)
+        if (
+            ok
+            and not (scale.is_virtual or scale.external)
+            and is_time_column(scale.name.rpartition("/")[2])
+        ):
+            return (scale.name, None)
+    return None
+
+
+def _slices(shape: tuple[int, ...]) -> list[tuple[int, ...]]:
+    """The index of each field of a dataset of more than one dimension, samples first."""
+    idx = list(np.ndindex(*shape[1:]))[:MAX_FIELDS]
+    return [i[0] if len(i) == 1 else i for i in idx]
+
+
 def _topics_of(f) -> dict[str, tuple[str | None, dict[str, tuple], int, dict[str, str]]]:
     """Topic -> (time source, {field: (dataset path, column or field)}, rows, units)."""
     out = {}
@@ -84,10 +125,11 @@ def _topics_of(f) -> dict[str, tuple[str | None, dict[str, tuple], int, dict[str
             time = next((n for n in names if is_time_column(n)), None)
             fields = {n: (path, n) for n in names if n != time}
             out[path] = ((path, time) if time else None, fields, int(ds.shape[0]), {})
-        elif ds.ndim == 2 and _numeric(ds.dtype):
-            fields = {f"col{j}": (path, j) for j in range(min(ds.shape[1], MAX_FIELDS))}
-            out[path] = (None, fields, int(ds.shape[0]), {})
-        elif ds.ndim == 1 and _numeric(ds.dtype):
+        elif ds.ndim >= 2 and _numeric(ds.dtype):
+            fields = {"col" + "_".join(map(str, np.atleast_1d(j))): (path, j)
+                      for j in _slices(ds.shape)}  # fmt: skip
+            out[path] = (_scale_time(ds), fields, int(ds.shape[0]), {})
+        elif ds.ndim == 1 and _numeric(ds.dtype) and not _coordinate(path, ds):
             groups.setdefault(path.rpartition("/")[0] or "/", []).append((path, ds))
     for gpath, members in groups.items():
         length = Counter(int(ds.shape[0]) for _, ds in members).most_common(1)[0][0]
@@ -156,8 +198,8 @@ def _slice(f, path: str, part, lo: int, hi: int) -> np.ndarray:
     ds = f[path]
     if part is None:
         return np.asarray(ds[lo:hi], dtype=float)
-    if isinstance(part, int):
-        return np.asarray(ds[lo:hi, part], dtype=float)
+    if isinstance(part, (int, tuple)):
+        return np.asarray(ds[(slice(lo, hi), *np.atleast_1d(part))], dtype=float)
     return np.asarray(ds.fields(part)[lo:hi], dtype=float)
 
 
