@@ -80,3 +80,20 @@ def test_a_side_file_of_settings_is_called_one(tmp_path, capsys):
     assert main(["estimate", str(path)]) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "side file of settings" in err and "thousands" not in err
+
+
+def test_a_dataset_of_huge_slices_lists_only_the_first_fields(tmp_path):
+    """An untrusted file's shape is not enumerated whole: (4, 1e5, 1e4) has 1e9 slices, of
+    which the reader names the first MAX_FIELDS (it listed every index before cutting)."""
+    import time
+
+    from noisevar.io.logs.spec import MAX_FIELDS
+
+    path = tmp_path / "huge.h5"
+    with h5py.File(path, "w") as f:
+        f.create_dataset("signal", shape=(4, 10**5, 10**4), dtype="f4", chunks=(4, 10, 10))
+    t0 = time.perf_counter()
+    with pytest.raises(nv.NoisevarError):  # 4 samples: too short, refused in one line
+        nv.estimate(channel_record(load_table(path), "col0_0")[0])
+    assert time.perf_counter() - t0 < 30
+    assert len(load_table(path).signals) <= MAX_FIELDS

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 from collections import Counter
 from collections.abc import Iterator, Sequence
+from itertools import islice
 from pathlib import Path
 
 import numpy as np
@@ -110,7 +111,7 @@ def _scale_time(ds) -> tuple[str, None] | None:
 
 def _slices(shape: tuple[int, ...]) -> list[tuple[int, ...]]:
     """The index of each field of a dataset of more than one dimension, samples first."""
-    idx = list(np.ndindex(*shape[1:]))[:MAX_FIELDS]
+    idx = list(islice(np.ndindex(*shape[1:]), MAX_FIELDS))  # never all of a huge shape
     return [i[0] if len(i) == 1 else i for i in idx]
 
 
