@@ -159,8 +159,9 @@ def has_still_apart(diag: NoiseDiagnostics, variance: float) -> bool:
         :data:`~noisevar.diagnostics.regimes.STILL_RATIO` times the quiet level
         (``quiet_variance``) and the still stretches leave part of the record out (motion the
         block medians hardly see: heavy-tailed, or cut out around level jumps); or when
-        the profile has still stretches and stretches too fast to measure
-        (``LevelProfile.unmeasured``: R's residuals hold motion), whatever R's ratio.
+        the profile has still stretches beside stretches too fast to measure, R above the
+        quiet level's interval and no lone glitch outside them (:func:`_unmeasured_apart`),
+        whatever R's ratio.
 
     Notes
     -----
