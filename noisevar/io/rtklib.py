@@ -52,7 +52,9 @@ def _time(a: str, b: str) -> str:
     """The ISO date-time of a row's two time fields (``2021/03/22 15:20:44.000``, or a GPS
     week and its seconds ``2168 284819.000``)."""
     if "/" in a:
-        return f"{a.replace('/', '-')}T{b}"
+        iso = f"{a.replace('/', '-')}T{b}"
+        datetime.datetime.fromisoformat(iso)  # a date that is none raises here, with its row
+        return iso
     moment = _GPS_EPOCH + datetime.timedelta(seconds=float(a) * _WEEK + float(b))
     return moment.isoformat()
 
@@ -109,10 +111,37 @@ def _rows(lines: list[str], width: int, dms: bool, name: str) -> list[list[str]]
                 f"{echo(name)}: row {i + 1} of the RTKLIB solution has {len(cells)} fields, "
                 f"its column line names {width + 1}: give the file as RTKLIB wrote it"
             )
-        if dms:
-            cells = [*cells[:2], str(_angle(cells[2:5])), str(_angle(cells[5:8])), *cells[8:]]
-        rows.append([_time(*cells[:2]), *cells[2:]])
+        try:
+            if dms:
+                cells = [*cells[:2], str(_angle(cells[2:5])), str(_angle(cells[5:8])), *cells[8:]]
+            rows.append([_time(*cells[:2]), *cells[2:]])
+        except (ValueError, OverflowError) as exc:  # an untrusted row: one line, its number
+            raise NoisevarError(
+                f"{echo(name)}: row {i + 1} of the RTKLIB solution has a time or an angle that "
+                f"is not one ({echo(' '.join(cells[:8]), 60)!r}): give the file as RTKLIB "
+                "wrote it"
+            ) from exc
     return rows
+
+
+def _positions(rows: list[list[str]], name: str) -> np.ndarray:
+    """Each row's latitude, longitude and height as numbers, refused in one line where one is
+    not a finite latitude (within ±90°), longitude or height."""
+    try:
+        cells = np.asarray([r[1:4] for r in rows], float)
+    except ValueError as exc:
+        raise NoisevarError(
+            f"{echo(name)}: a latitude, longitude or height of the RTKLIB solution is not a "
+            "number: give the file as RTKLIB wrote it"
+        ) from exc
+    bad = ~np.isfinite(cells).all(axis=1) | (np.abs(cells[:, 0]) > 90.0)
+    if bad.any():
+        raise NoisevarError(
+            f"{echo(name)}: solution {int(np.argmax(bad)) + 1} of the RTKLIB file has no finite "
+            "latitude (within ±90°), longitude and height: remove it, or give the file as "
+            "RTKLIB wrote it"
+        )
+    return cells
 
 
 def rtklib_csv(text: str, name: str) -> tuple[str, str]:
@@ -137,7 +166,7 @@ def rtklib_csv(text: str, name: str) -> tuple[str, str]:
     units = [header_unit(n) or "" for n in names]
     geo = len(names) >= 3 and names[0].startswith("latitude") and names[1].startswith("longitude")
     if geo:
-        cells = np.asarray([r[1:4] for r in rows], float)
+        cells = _positions(rows, name)
         enu = local_metres(cells[:, 0], cells[:, 1], cells[:, 2])
         rows = [[r[0], *map(repr, map(float, e)), *r[4:]] for r, e in zip(rows, enu, strict=True)]
         names, units = [*ENU_NAMES, *names[3:]], ["m", "m", "m", *units[3:]]
