@@ -88,3 +88,12 @@ def test_a_series_a_line_is_said(tmp_path):
     side = tmp_path / "sensors.txt"
     np.savetxt(side, common + rng.normal(0, 0.05, (500, 6)), fmt="%.5f")
     assert not any("one series a line" in note for note in load_table(side).notes)
+
+
+def test_a_negative_digit_date_is_said_in_one_line() -> None:
+    """'-20250101' in a DATE column raised an IndexError traceback (fuzzed: 3 of 300 files)."""
+    from noisevar.errors import NoisevarError
+
+    text = "DATE,TM\n20250101,-0.9\n-20250101,0.8\n20250103,-1.2\n20250104,-1.6\n"
+    with pytest.raises(NoisevarError, match="data row 2 holds '-20250101'"):
+        load_table(text.encode(), "f.csv")

@@ -234,8 +234,11 @@ def digit_time_column(col: pd.Series, cname: str, name: str) -> NDArray | None:
     cells = [str(int(n)) if w else str(v).strip() for v, n, w in zip(col, num, whole, strict=True)]
     t = digit_dates(cells, fmt)
     if t is None:
-        read = pd.to_datetime(pd.Series(cells), format=fmt, errors="coerce")
-        bad = int(np.flatnonzero(read.isna().to_numpy() | ~whole)[0])
+        series = pd.Series(cells)
+        read = pd.to_datetime(series, format=fmt, errors="coerce")
+        digits = series.str.fullmatch(r"\d+").to_numpy(dtype=bool)  # '-20250101' is none
+        wrong = np.flatnonzero(read.isna().to_numpy() | ~whole | ~digits)
+        bad = int(wrong[0]) if wrong.size else 0
         raise NoisevarError(
             f"{echo(name)}: column {echo(cname)!r} holds dates written as digits "
             f"({cells[0]}), but data row {bad + 1} holds {echo(cells[bad], 20)!r}: "
