@@ -236,6 +236,8 @@ def _nulls_in_numbers(data, command: str) -> list[str]:
     bad = []
 
     def walk(node, key=None):
+        if isinstance(node, dict) and node.get("variance") is None and node.get("reason"):
+            return  # a level absent with its reason said (diagnostics.quiet_level), not NaN
         if isinstance(node, dict):
             for k, v in node.items():
                 if k != "units":  # the names of the units, not numbers
