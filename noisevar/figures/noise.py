@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 import plotly.graph_objects as go
+from numpy.typing import NDArray
 
 from noisevar.diagnostics.panel import NoisePanelData
 from noisevar.figures._common import COLORS, layout
@@ -188,6 +189,13 @@ def acf_plot(
     return fig
 
 
+def _drawn_levels(data: NoisePanelData) -> NDArray:
+    """Every level the profile draws: the blocks, their intervals' ends and the quiet level
+    (an axis over less than a decade labels its 1-2-5 values: ``figures.budget.log_axis``)."""
+    quiet = [] if data.quiet_variance is None else [data.quiet_variance]
+    return np.r_[data.variance, data.lo, data.hi, quiet]
+
+
 def level_profile_plot(
     data: NoisePanelData, title: str | None = "Noise level along the record", height: int = 400
 ) -> go.Figure:
@@ -255,7 +263,7 @@ def level_profile_plot(
     fig.update_layout(
         **layout(title, height),
         xaxis_title=data.x_title,
-        yaxis=log_axis("noise variance (signal units²)"),
+        yaxis=log_axis("noise variance (signal units²)", _drawn_levels(data)),
     )
     return fig
 

@@ -25,3 +25,17 @@ def test_a_long_range_labels_decades_only():
 def test_position_states_are_named_with_their_unit():
     assert state_label("pE") == "east position pE (m)"
     assert state_label("v") == "v"
+
+
+def test_a_level_profile_within_a_decade_labels_more_than_one_level():
+    """A parked GNSS record's profile spans 0.0017-0.01: one decade label (``10⁻²``) alone
+    left its levels unreadable (seen in a browser screenshot of the Noise panel)."""
+    import noisevar
+    from noisevar.diagnostics.panel import noise_panel_data
+    from noisevar.figures.noise import level_profile_plot
+
+    rng = np.random.default_rng(0)
+    z = 0.05 * rng.normal(size=600)
+    est = noisevar.estimate(z)
+    fig = level_profile_plot(noise_panel_data(z, est.diagnostics))
+    assert len(fig.layout.yaxis.tickvals) >= 2
