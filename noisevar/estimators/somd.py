@@ -113,7 +113,7 @@ def _setup(  # noqa: PLR0913 - the SOMD parameters
         raise NoisevarError(
             f"too few samples: the filters need {skip} samples to settle (h_smooth={min(hs):g}) "
             f"and then at least two windows of {m}; give more than {skip + 2 * m} samples "
-            "or a larger h_smooth"
+            "or a larger h_smooth, or the default method (no filters to settle)"
         )
     factors = tuple(2.0 if paper else somd_bias_factor(h) for h in hs)
     return _Setup(paper, hs, ht, m, gamma_amp, gamma_ang, angle, skip, factors)
