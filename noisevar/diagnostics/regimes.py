@@ -36,6 +36,8 @@ ABOVE = "above"
 #: record but R inside their interval (``estimators.still_set.same_level``): they read R's
 #: level, so the quiet level, and the R to use, is R itself.
 SAME = "same"
+#: The quiet level's source when it is the estimate's still R (``estimate.still``).
+STILL = "still"
 #: A regime of fewer blocks is all edge (no block away from its ends), which the block
 #: grid's phase moves: beside a flat regime, or held values alone, it sets no floor.
 FLOOR_BLOCKS = 3

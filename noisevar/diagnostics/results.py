@@ -10,7 +10,7 @@ from numpy.typing import NDArray
 
 from noisevar.diagnostics.glitches import Glitch
 from noisevar.diagnostics.profile import LevelProfile
-from noisevar.diagnostics.regimes import QuietLevel, StillLevel
+from noisevar.diagnostics.regimes import STILL, QuietLevel, StillLevel
 from noisevar.diagnostics.segments import Gap
 from noisevar.diagnostics.whiteness import (
     AR1_EVIDENCE,
@@ -159,6 +159,14 @@ class NoiseDiagnostics:
         return any(not r.still for r in self.level_profile.regimes)
 
     @property
+    def level_changes(self) -> bool:
+        """The level changes along the record, as the verdict says it: :attr:`level_varies`,
+        or the estimate holds a still R apart from one regime (its quiet level is its
+        ``.still``: ``estimators.still_set.has_still_apart``; a drive the jump detector
+        leaves out, then parked). The flags' ``level_varies`` and the answer's."""
+        return self.level_varies or (self.quiet is not None and self.quiet.source == STILL)
+
+    @property
     def motion_explains_colour(self) -> bool:
         """The record is not white, but its still stretches are: motion leaks through."""
         w = self.still_whiteness
@@ -299,7 +307,7 @@ class NoiseDiagnostics:
             "heavy_tailed": self.heavy_tailed if long else None,
             "quantised": self.lsb is not None,
             "gaps": bool(self.gaps),
-            "level_varies": self.level_varies if long else None,
+            "level_varies": self.level_changes if long else None,
             "identifiable": self.identifiable if self.increments.tested else None,
             "differenced": self.differenced if white else None,
         }

@@ -196,8 +196,7 @@ def record_answer(est: VarianceEstimate, regimes: str = DEFAULT_REGIMES) -> Reco
         where="its still regimes" if still_used(est, regimes) else "the whole record",
         verdict=est.verdict,
         severity=verdict_severity(diag, est.variance, int(est.n_total)),
-        # a still R apart from one regime (still_set.has_still_apart) is a varying level too
-        level_varies=bool(diag is not None and (diag.level_varies or still is not None)),
+        level_varies=bool(diag is not None and diag.level_changes),
         whole_variance=float(est.variance),
         still_variance=None if still is None else float(still.variance),
         still_levels=() if diag is None or still is None else tuple(diag.other_still),

@@ -20,7 +20,7 @@ from numpy.typing import NDArray
 from noisevar.diagnostics import NoiseDiagnostics
 from noisevar.diagnostics.profile import LevelProfile, on_both_grids, on_either_grid
 from noisevar.diagnostics.quantisation import half_a_step, joined_step, second_difference_step
-from noisevar.diagnostics.regimes import QuietLevel
+from noisevar.diagnostics.regimes import STILL, QuietLevel
 from noisevar.errors import NoisevarError
 from noisevar.estimators.results import VarianceEstimate
 from noisevar.estimators.still_extent import to_the_sample
@@ -396,7 +396,7 @@ def quiet_level(
     if still is not None:
         if not share and still.stretches:  # no quiet block: the still regimes measured
             share = sum(b - a for a, b in still.stretches) / max(diag.n, 1)
-        return QuietLevel(still.variance, *still.ci95, share, "still")
+        return QuietLevel(still.variance, *still.ci95, share, STILL)
     if diag.quiet is not None and diag.quiet.source == SAME:  # R's level: R is the R to use
         return replace(diag.quiet, variance=result.variance, lo=result.ci95[0], hi=result.ci95[1])
     if diag.quiet is not None:

@@ -276,7 +276,7 @@ def regime_warning(z: ArrayLike, est: VarianceEstimate | None = None) -> list[st
 
     Notes
     -----
-    The diagnostics are the estimate's own (``level_varies``; one home), as
+    The diagnostics are the estimate's own (``level_changes``; one home), as
     ``regimes='still'`` finds its stretch with (:func:`still_record`).
     """
     from noisevar.estimators import estimate
@@ -287,8 +287,7 @@ def regime_warning(z: ArrayLike, est: VarianceEstimate | None = None) -> list[st
     except NoisevarError:
         return []
     diag = est.diagnostics
-    # a still R apart from one regime (estimators.still_set.has_still_apart) too
-    if diag is None or not (diag.level_varies or est.still is not None):
+    if diag is None or not diag.level_changes:
         return []
     return [
         f"regimes='all': {REGIME_WARNING}; this fit is of the whole record, motion "

@@ -87,7 +87,7 @@ def _level(est: VarianceEstimate) -> list[tuple[str, str]]:
     or says why not (a record it takes as one still level gives none)."""
     d = est.diagnostics
     gap = why_no_still(est)
-    if d is None or not d.level_varies or (est.still is None and gap is None):
+    if d is None or not d.level_changes or (est.still is None and gap is None):
         return []
     what = "one noise level (it varies along the record: regimes of motion and stillness)"
     if est.still is not None:

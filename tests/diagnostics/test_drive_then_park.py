@@ -101,3 +101,22 @@ def test_lone_glitches_outside_the_drive_hold_r_not_the_drive() -> None:
     assert has_still_apart(inside, est.variance)
     outside = replace(d, glitches=(Glitch(b + 50, 40.0),))
     assert not has_still_apart(outside, est.variance)
+
+
+def test_every_surface_says_the_level_changes() -> None:
+    """The verdict says the level changes; the flags (badges, the row's
+    ``flag_level_varies``), the severity (the dashboard's warning), the answer and the
+    Kalman fit's record check say it too. They read one level, with a check mark, where
+    the still R was apart from one regime (``NoiseDiagnostics.level_changes``)."""
+    from noisevar.estimators.answer import record_answer
+    from noisevar.noise_model.kalman_record import record_check
+
+    est = noisevar.estimate(_drive_then_park(3, 300, 5.0, True))
+    assert est.diagnostics.level_varies is False  # one regime: the drive is left out
+    assert est.diagnostics.verdict.startswith("the noise level changes along the record")
+    assert est.diagnostics.flags["level_varies"] is True
+    assert est.to_row()["flag_level_varies"] is True
+    ans = record_answer(est)
+    assert ans.level_varies and ans.severity == "warning"
+    check = record_check(est.variance, est)
+    assert any(b.startswith("one noise level") for b in check.broken), check.broken
