@@ -4,6 +4,8 @@ Permian well) were refused as "a program's report above a table with no header";
 units are capitals (``MV`` millivolts, read by pint as megavolts: R x1e18 in mV); a SAC
 trace and a miniSEED file were "a binary file"."""
 
+import json
+
 import numpy as np
 import pytest
 
@@ -58,7 +60,7 @@ def test_a_las_well_log_is_read(tmp_path, wrap):
     path.write_text(text)
     table = load_table(path)
     assert list(table.columns) == ["DEPT", "GR", "SP", "RHOB"]
-    assert table.units["SP"] == "mV" and table.units["RHOB"] == "g/cm^3"
+    assert table.units["SP"] == "mV" and table.units["RHOB"] == "gram/cm^3"
     assert "DEPT" not in table.signals and table.signals == ["GR", "SP", "RHOB"]
     assert np.isnan(table.columns["GR"][:10]).all() and np.isfinite(table.columns["GR"][10:]).all()
     z = np.asarray(channel_record(table, "SP")[0], float)
@@ -74,11 +76,14 @@ def test_las_capital_units_convert_as_the_standard_means(tmp_path, capsys):
     r = nv.estimate(sp).variance
     assert main(["estimate", str(path), "--column", "SP", "--unit-out", "uV", "--format",
                  "json"]) == 0  # fmt: skip
-    out = capsys.readouterr().out
-    import json
-
-    row = json.loads(out)
+    row = json.loads(capsys.readouterr().out)
     assert row["unit"] == "uV" and row["variance"] == pytest.approx(1e6 * r, rel=1e-6)
+    # a density in g/cc (G/CC) is grams, not standard gravities: kg/m^3 is 1e6 R
+    rhob = np.asarray(channel_record(load_table(path), "RHOB")[0], float)
+    assert main(["estimate", str(path), "--column", "RHOB", "--unit-out", "kg/m^3", "--format",
+                 "json"]) == 0  # fmt: skip
+    row = json.loads(capsys.readouterr().out)
+    assert row["variance"] == pytest.approx(1e6 * nv.estimate(rhob).variance, rel=1e-6)
 
 
 @pytest.mark.parametrize(

@@ -17,6 +17,8 @@ _FIRST = re.compile(r"\A\ufeff?(?:[ \t]*(?:#[^\n]*)?\r?\n)*[ \t]*~V", re.IGNOREC
 #: A header line ``MNEM.UNIT  value : description``: the mnemonic, the unit (written right
 #: after the first period, up to a space) and the value.
 _LINE = re.compile(r"^\s*([^.]*?)\s*\.(\S*)\s*(.*?)\s*(?::.*)?$")
+#: A density (the gram's full name: noisevar reads ``g`` as standard gravity, an IMU's unit)
+_GCC = "gram/cm^3"
 #: The LAS standard writes units in capitals, which pint reads as other units (``MV`` the
 #: megavolt, ``MM`` the megamolar, ``F`` the farad, ``MS/M`` megasiemens per molar): the
 #: standard's and the logging companies' common units, as pint spells them. A unit not here
@@ -25,7 +27,7 @@ LAS_UNITS = {
     "M": "m", "CM": "cm", "MM": "mm", "FT": "ft", "F": "ft", "IN": "in", "INCHES": "in",
     "MV": "mV", "V": "V", "OHMM": "ohm*m", "OHM.M": "ohm*m", "OHM-M": "ohm*m",
     "MS/M": "mS/m", "MMHO/M": "mS/m", "US/F": "us/ft", "USEC/F": "us/ft", "US/FT": "us/ft",
-    "US/M": "us/m", "G/CM3": "g/cm^3", "G/C3": "g/cm^3", "GM/CC": "g/cm^3", "G/CC": "g/cm^3",
+    "US/M": "us/m", "G/CM3": _GCC, "G/C3": _GCC, "GM/CC": _GCC, "G/CC": _GCC,
     "K/M3": "kg/m^3", "KG/M3": "kg/m^3", "DEG": "degree", "DEGF": "degF", "DEGC": "degC",
     "PPM": "ppm", "PERCNT": "percent", "PCT": "percent", "PU": "percent", "%": "percent",
     "V/V": "dimensionless", "FPM": "ft/min", "FT/HR": "ft/h", "M/HR": "m/h", "HZ": "Hz",
