@@ -138,3 +138,14 @@ def test_seismic_binaries_are_named(tmp_path, name, head, said):
     with pytest.raises(NoisevarError, match=said) as err:
         load_table(path)
     assert "obspy" in str(err.value) and "\n" not in str(err.value)
+
+
+def test_a_units_rows_db_is_not_lower_cased_into_another_unit(tmp_path):
+    """Totem #9's attenuation curves are in dB/ft: lower-cased, pint read decibarns/foot."""
+    rng = np.random.default_rng(3)
+    path = tmp_path / "att.csv"
+    rows = "".join(f"{x:.5f},{y:.4f}\n" for x, y in rng.normal(size=(300, 2)))
+    path.write_text("ATAV,VOLT\ndB/ft,Volts\n" + rows)
+    table = load_table(path)
+    assert table.units["ATAV"] == "dB/ft" and table.units["VOLT"] == "volts"
+    assert any("'dB/ft'" in n and "not understood" in n for n in table.notes)
