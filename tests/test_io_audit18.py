@@ -57,7 +57,7 @@ def _las(n: int = 2000, wrap: bool = False, seed: int = 0) -> tuple[str, np.ndar
 def test_a_las_well_log_is_read(tmp_path, wrap):
     text, sp = _las(wrap=wrap)
     path = tmp_path / "well.las"
-    path.write_text(text)
+    path.write_bytes(text.replace("\n", "\r" if wrap else "\r\n").encode())  # Mac's, Windows'
     table = load_table(path)
     assert list(table.columns) == ["DEPT", "GR", "SP", "RHOB"]
     assert table.units["SP"] == "mV" and table.units["RHOB"] == "gram/cm^3"

