@@ -280,6 +280,16 @@ class NoiseDiagnostics:
         return inc is not None and not _measurable(inc)
 
     @property
+    def smoothed(self) -> WhitenessTest | None:
+        """The test that reads the noise smoother than AR(1) noise can be
+        (:attr:`~.whiteness.WhitenessTest.smoother_than_ar1`: a filter's smoothed output,
+        or slow motion), else None: the still stretches' where the level varies and they
+        were tested, else the whole record's (docs/algorithms.md §E2 *Smoothed outputs*)."""
+        w = self.still_whiteness
+        w = w if w is not None and w.tested else self.whiteness
+        return w if w.smoother_than_ar1 else None
+
+    @property
     def on_still(self) -> NoiseDiagnostics:
         """These diagnostics with the still stretches' increments for the record's: what
         the still R's interval rests on (:attr:`identifiable` there, not over the walk)."""
