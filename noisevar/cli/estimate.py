@@ -235,7 +235,13 @@ def _estimate_many(args: argparse.Namespace, columns: Any, method: str, params: 
     ``noisevar batch`` reads them: one answer); a channel that cannot be estimated is a row
     with its reason, the others go on (all failing: the first reason and the first of
     another kind, exit 2)."""
-    from noisevar.batch.channels import all_refused, channel_estimates, table_channels
+    from noisevar.batch.channels import (
+        all_refused,
+        channel_estimates,
+        skipped_columns,
+        skipped_note,
+        table_channels,
+    )
     from noisevar.estimators import method_spec
     from noisevar.io.load import column_name
 
@@ -243,6 +249,8 @@ def _estimate_many(args: argparse.Namespace, columns: Any, method: str, params: 
         raise NoisevarError(f"method {method} takes one --column and a --reference-column")
     table = load_file(args.file, args.topic)
     names = table_channels(table, columns)
+    if columns == "all" and (note := skipped_note(skipped_columns(table))) is not None:
+        print(f"noisevar: note: {note}", file=sys.stderr)
     for name in names:
         column_name(table, name)  # a name that is not in the file: the user's typo, exit 2
     results = channel_estimates(table, names, method, params)

@@ -319,16 +319,15 @@ def not_at_rest(diag: NoiseDiagnostics) -> str | None:
     test_level_before_colour.py); docs/algorithms.md §E2 *Smoothed outputs*, *Calm stretches*.
     """
     if (w := diag.smoothed) is not None:
-        where = "there" if w is diag.still_whiteness else "over the whole record"
         return (
-            f"; but {where} the noise is smoother than a sensor's own low-pass leaves it "
+            "; but there the noise is smoother than a sensor's own low-pass leaves it "
             f"(lag-1 autocorrelation {w.acf[0]:+.2f}, where noise through a first-order "
             f"low-pass gives at most {w.ar1_limit:+.2f}"
-            "): a filter's smoothed output (an RTK or INS solution, a running average) or "
-            "slow motion, so this level is neither the sensor's noise nor the output's "
-            f"variance per sample (the residual sees under {w.seen_share():.0%} of it): "
-            "no R to use from this record; take R from the raw measurements or the "
-            "solver's own variance"
+            "): a filter's smoothed output (an RTK or INS solution, a running average), "
+            "whose sensor noise the record does not hold, or slow motion, which bounds it "
+            "from above; this level is not the output's variance per sample either (the "
+            f"residual sees under {w.seen_share():.0%} of it): not an R to use; take R "
+            "from the raw measurements or the solver's own variance"
         )
     if diag.level_profile.quiet_share >= MOSTLY_MOTION:  # mostly still: the sensor's rest
         return None
