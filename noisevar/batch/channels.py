@@ -87,7 +87,7 @@ def table_channels(table: LoadedTable, columns: str | list[str] | None) -> list[
     Notes
     -----
     ``"all"`` leaves out flags, codes and clock times (:func:`skipped_columns`; the CLI
-    says which: :func:`skipped_note`).
+    gives each a row with its reason: :func:`skipped_note`).
     """
     if columns == "all":  # not a second clock (PASCO's "Time (s) Run #2"): no signal
         names: list[str | None] = [c for c in table.data_columns if not is_time_column(c)]
@@ -95,7 +95,8 @@ def table_channels(table: LoadedTable, columns: str | list[str] | None) -> list[
             raise NoisevarError(f"{table.name} has no data column (only a time column)")
         skip = skipped_columns(table)
         if all(c in skip for c in names):
-            raise NoisevarError(f"{table.name} has no measured column: {skipped_note(skip)}")
+            said = "; ".join(f"{c!r}: {why}" for c, why in skip.items())
+            raise NoisevarError(f"{table.name} has no measured column ({said}): name one")
         return [c for c in names if c not in skip]
     if columns is None:
         return [table.first_signal] if table.data_columns else [None]
@@ -126,15 +127,10 @@ def skipped_columns(table: LoadedTable) -> dict[str, str]:
     return out
 
 
-def skipped_note(skipped: Mapping[str, str]) -> str | None:
-    """One line naming the columns :func:`skipped_columns` left out, by reason (None: none)."""
-    if not skipped:
-        return None
-    by: dict[str, list[str]] = {}
-    for name, why in skipped.items():
-        by.setdefault(why, []).append(name)
-    said = "; ".join(f"{', '.join(names)}: {why}" for why, names in by.items())
-    return f"--columns all left out {len(skipped)} column(s) ({said}); name one to estimate it"
+def skipped_note(why: str) -> str:
+    """A column's row where ``"all"`` left it out (:func:`skipped_columns`'s reason ``why``):
+    said in its place, as a refused channel's reason is, with how to read it anyway."""
+    return f"left out by --columns all: {why}; name the column to estimate it"
 
 
 def channel_estimates(

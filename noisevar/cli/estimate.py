@@ -249,13 +249,13 @@ def _estimate_many(args: argparse.Namespace, columns: Any, method: str, params: 
         raise NoisevarError(f"method {method} takes one --column and a --reference-column")
     table = load_file(args.file, args.topic)
     names = table_channels(table, columns)
-    if columns == "all" and (note := skipped_note(skipped_columns(table))) is not None:
-        print(f"noisevar: note: {note}", file=sys.stderr)
     for name in names:
         column_name(table, name)  # a name that is not in the file: the user's typo, exit 2
     results = channel_estimates(table, names, method, params)
     if all(isinstance(r, str) for r in results):
         raise NoisevarError(all_refused(names, results))
+    skipped = skipped_columns(table) if columns == "all" else {}
+    names, results = [*names, *skipped], [*results, *map(skipped_note, skipped.values())]
     rows = [
         (c, r, _unit(args, table.units.get(c) if c is not None else None))
         for c, r in zip(names, results, strict=True)
