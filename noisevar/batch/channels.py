@@ -13,13 +13,21 @@ from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 from noisevar.errors import NoisevarError
+from noisevar.io.column_kinds import not_measured
 from noisevar.io.table import is_time_column
 
 if TYPE_CHECKING:
     from noisevar.estimators.results import VarianceEstimate
     from noisevar.io import LoadedTable
 
-__all__ = ["all_refused", "channel_estimates", "parse_columns", "table_channels"]
+__all__ = [
+    "all_refused",
+    "channel_estimates",
+    "parse_columns",
+    "skipped_columns",
+    "skipped_note",
+    "table_channels",
+]
 
 
 def parse_columns(columns: str | Sequence[str] | None) -> str | list[str] | None:
@@ -65,7 +73,8 @@ def table_channels(table: LoadedTable, columns: str | list[str] | None) -> list[
     Returns
     -------
     list of str or None
-        Every data column for ``"all"`` but one named like a time (a second clock); the
+        Every data column for ``"all"`` but one named like a time (a second clock) and
+        those :func:`skipped_columns` leaves out; the
         first that varies for None (``[None]`` when the table has none: the reader then
         picks or refuses); the names as given otherwise (a missing one is refused when it
         is read).
@@ -73,16 +82,55 @@ def table_channels(table: LoadedTable, columns: str | list[str] | None) -> list[
     Raises
     ------
     NoisevarError
-        ``"all"`` of a table with no data column.
+        ``"all"`` of a table with no data column, or none but flags, codes and clock times.
+
+    Notes
+    -----
+    ``"all"`` leaves out flags, codes and clock times (:func:`skipped_columns`; the CLI
+    gives each a row with its reason: :func:`skipped_note`).
     """
     if columns == "all":  # not a second clock (PASCO's "Time (s) Run #2"): no signal
         names: list[str | None] = [c for c in table.data_columns if not is_time_column(c)]
         if not names:
             raise NoisevarError(f"{table.name} has no data column (only a time column)")
-        return names
+        skip = skipped_columns(table)
+        if all(c in skip for c in names):
+            said = "; ".join(f"{c!r}: {why}" for c, why in skip.items())
+            raise NoisevarError(f"{table.name} has no measured column ({said}): name one")
+        return [c for c in names if c not in skip]
     if columns is None:
         return [table.first_signal] if table.data_columns else [None]
     return list(columns)
+
+
+def skipped_columns(table: LoadedTable) -> dict[str, str]:
+    """The data columns ``"all"`` leaves out, each with why: flags, codes and clock times
+    (:func:`noisevar.io.column_kinds.not_measured`), which the dashboard's channel picker
+    leaves out too (``LoadedTable.signals``).
+
+    Parameters
+    ----------
+    table : LoadedTable
+
+    Returns
+    -------
+    dict of str to str
+        Column name -> reason, in the table's order.
+    """
+    import numpy as np
+
+    out = {}
+    for c in table.data_columns:
+        z = table.columns[c]
+        if (why := not_measured(z[np.isfinite(z)])) is not None:
+            out[c] = why
+    return out
+
+
+def skipped_note(why: str) -> str:
+    """A column's row where ``"all"`` left it out (:func:`skipped_columns`'s reason ``why``):
+    said in its place, as a refused channel's reason is, with how to read it anyway."""
+    return f"left out by --columns all: {why}; name the column to estimate it"
 
 
 def channel_estimates(

@@ -235,7 +235,13 @@ def _estimate_many(args: argparse.Namespace, columns: Any, method: str, params: 
     ``noisevar batch`` reads them: one answer); a channel that cannot be estimated is a row
     with its reason, the others go on (all failing: the first reason and the first of
     another kind, exit 2)."""
-    from noisevar.batch.channels import all_refused, channel_estimates, table_channels
+    from noisevar.batch.channels import (
+        all_refused,
+        channel_estimates,
+        skipped_columns,
+        skipped_note,
+        table_channels,
+    )
     from noisevar.estimators import method_spec
     from noisevar.io.load import column_name
 
@@ -248,6 +254,8 @@ def _estimate_many(args: argparse.Namespace, columns: Any, method: str, params: 
     results = channel_estimates(table, names, method, params)
     if all(isinstance(r, str) for r in results):
         raise NoisevarError(all_refused(names, results))
+    skipped = skipped_columns(table) if columns == "all" else {}
+    names, results = [*names, *skipped], [*results, *map(skipped_note, skipped.values())]
     rows = [
         (c, r, _unit(args, table.units.get(c) if c is not None else None))
         for c, r in zip(names, results, strict=True)

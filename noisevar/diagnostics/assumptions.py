@@ -16,6 +16,12 @@ ASSUMPTIONS: dict[str, tuple[str, Callable[[NoiseDiagnostics], bool]]] = {
         "measurement noise that can be told apart from the signal",
         lambda d: d.identifiable,
     ),
+    # docs/algorithms.md §E2 *Smoothed outputs*: past a first-order low-pass, the residual
+    # sees an unknown share of the noise: no R of the sensor's is measured
+    "unsmoothed": (
+        "noise no smoother than a sensor's own low-pass leaves it (not a filter's output)",
+        lambda d: d.smoothed is None,
+    ),
 }
 
 

@@ -288,6 +288,17 @@ class NoiseDiagnostics:
         return inc is not None and not _measurable(inc)
 
     @property
+    def smoothed(self) -> WhitenessTest | None:
+        """The test that reads the noise smoother than AR(1) noise can be
+        (:attr:`~.whiteness.WhitenessTest.smoother_than_ar1`: a filter's smoothed output,
+        or slow motion), else None: the still stretches' where the level varies (None when
+        they are too short to test: the whole record's smoothness is then its motion's, a
+        walking IMU's lag-1 +0.79 beside 2 % still), else the whole record's
+        (docs/algorithms.md §E2 *Smoothed outputs*)."""
+        w = self.still_whiteness if self.level_varies else self.whiteness
+        return w if w is not None and w.smoother_than_ar1 else None
+
+    @property
     def on_still(self) -> NoiseDiagnostics:
         """These diagnostics with the still stretches' increments for the record's: what
         the still R's interval rests on (:attr:`identifiable` there, not over the walk)."""

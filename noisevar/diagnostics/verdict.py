@@ -12,6 +12,7 @@ from noisevar.diagnostics.regimes import STILL_RATIO, read_above
 from noisevar.diagnostics.verdict_parts import (
     CHANGES,
     GLITCHES_DOMINATE,
+    MOSTLY_MOTION,
     OSC_TO_DO,
     OUTLIERS_SOME,
     STILL_WALK,
@@ -23,6 +24,7 @@ from noisevar.diagnostics.verdict_parts import (
     level_changes,
     moved_clause,
     none_quieter,
+    not_at_rest,
     oscillation_words,
     still_oscillation,
     to_use_words,
@@ -37,8 +39,6 @@ if TYPE_CHECKING:
 
 #: A whiteness test failed at a p-value above this, with no colour named, is a weak finding.
 WEAK_P = 0.01
-#: The quiet stretches cover less than this share: the record is mostly motion.
-MOSTLY_MOTION = 0.5
 #: R over the core variance above which the outlying samples hold most of R (over half).
 OUTLIERS_HOLD = 2.0
 #: At most this share of outlying samples is "a few" (a start-up value, a logging error).
@@ -361,7 +361,7 @@ def _not_white(
         return _rounding_first(diag, r, quiet, said if still_apart else None)
     if not diag.identifiable:  # a track that stops: its still stretches, the R to use
         stood = None if not still_apart else (still_share(diag), _g(quiet), said)
-        return walk_verdict(r, stood, not diag.still_a_walk)
+        return walk_verdict(r, stood, not diag.still_a_walk and not_at_rest(diag) is None)
     # no quiet block, and no still R from the still regimes: no level to quote
     no_quiet = diag.level_varies and not prof.any_quiet and not still_apart
     if no_quiet and not under_half_a_step(diag, variance):  # (that is quantisation)
@@ -381,7 +381,7 @@ def _not_white(
     # no quiet block (a grid's noise under half a step): no still level to quote
     if diag.level_varies and prof.any_quiet and prof.quiet_share < MOSTLY_MOTION and not diag.white:
         return (
-            f"{CHANGES}: mostly motion or signal leaking through; the sensor noise measured "
+            f"{CHANGES}: mostly motion or signal leaking through; {_measured(diag)} "
             f"in its still stretches ({still_share(diag):.0%} of it) is "
             f"{_g(quiet)} (std {_g(float(np.sqrt(quiet)))}), "
             f"against {_g(variance)} over the whole record{said}{_vibrates(diag)}"
@@ -407,6 +407,13 @@ def _not_white(
     if not diag.white:
         return _coloured(diag, r, quiet, still_apart)
     return None
+
+
+def _measured(diag: NoiseDiagnostics) -> str:
+    """What a still level is: the sensor noise, or a level only (its stretches not the
+    sensor at rest: a walk, an oscillation, :func:`not_at_rest`)."""
+    rest = diag.still_a_walk or still_oscillation(diag) or not_at_rest(diag)
+    return "the level measured" if rest else "the sensor noise measured"
 
 
 def _vibrates(diag: NoiseDiagnostics) -> str:
@@ -553,6 +560,8 @@ def still_colour(diag: NoiseDiagnostics) -> str:
         return STILL_WALK
     if (o := still_oscillation(diag)) is not None:
         return f"; this level is {upper_bound_words(o)}"
+    if (rest := not_at_rest(diag)) is not None:  # a smoothed output, a calm stretch
+        return rest
     if w is None and diag.level_varies:  # still stretches too short for the test
         return (
             "; the still stretches are too short to test whether their noise is white, so "

@@ -34,6 +34,8 @@ CORE_BELOW = 4.0
 #: SURFRAD's wind less 0-3 samples had 51, 38, 47, 43 % quiet (13, 4, 11, 10 quiet blocks on
 #: its own grid, 10 on the reversed one), and its first clause flipped at half (issue 26).
 CHANGES = "the noise level changes along the record"
+#: The quiet stretches cover less than this share: the record is mostly motion.
+MOSTLY_MOTION = 0.5
 #: The finding of a record whose R is nearly all a few outlying samples.
 GLITCHES_HOLD = "a few outlying samples hold nearly all of R"
 
@@ -92,11 +94,12 @@ def other_still_clause(diag: NoiseDiagnostics) -> str:
         f"{f['stretch']} ({f['share']} of the record) at {f['level']} (ci95 {f['ci95']})"
         for f in (still_level_fields(x, diag.n) for x in diag.other_still)
     )
+    own = ", the sensor's own noise," if not_at_rest(diag) is None else ""
     return (
         f". Other still stretches rest at a higher level on the same residual: {said}: "
-        "another posture, or slow sway; the still level above is the floor, the sensor's "
-        "own noise, and a filter that runs through those stretches without modelling that "
-        "motion needs their level"
+        f"another posture, or slow sway; the still level above is the floor{own} and a "
+        "filter that runs through those stretches without modelling that motion needs "
+        "their level"
     )
 
 
@@ -290,9 +293,55 @@ def upper_bound_words(o: Oscillation, named: bool = False) -> str:
 
 
 def to_use_words(diag: NoiseDiagnostics, named: bool = False) -> str:
-    """How the verdict names a still level it quotes: "the R to use", or an upper bound."""
+    """How the verdict names a still level it quotes: "the R to use", an upper bound, or
+    what a smoothed output's or a moving signal's quietest stretches read
+    (:func:`not_at_rest`)."""
     o = still_oscillation(diag)
-    return "the R to use" if o is None else upper_bound_words(o, named)
+    if o is not None:
+        return upper_bound_words(o, named)
+    rest = not_at_rest(diag)
+    return "the R to use" if rest is None else f"not the R to use{rest}"
+
+
+def not_at_rest(diag: NoiseDiagnostics) -> str | None:
+    """Why the still stretches do not measure the sensor at rest, as a clause (None: they
+    may), beyond a walk (:data:`STILL_WALK`) and an oscillation (:func:`still_oscillation`).
+
+    Smoothed (:attr:`~.results.NoiseDiagnostics.smoothed`): the noise is smoother than a
+    sensor's own low-pass leaves it, so the level is neither the sensor's noise nor the
+    output's variance per sample. Moving: a record mostly in motion (quiet stretches under
+    :data:`MOSTLY_MOTION` of it) whose still stretches depart from white noise as the whole
+    record does (its autocorrelation explains :data:`SHARED_EXPLAINS` of theirs, the whole
+    record failing too): the same process, quieter, the quietest part of a signal that
+    never stops moving (calm wind), so their level only bounds the noise, as a walk of
+    smaller steps does. A record mostly still is the sensor at rest, its louder stretches
+    the same noise louder (AR(1) noise 2.5x over 35 %: tests/diagnostics/
+    test_level_before_colour.py); docs/algorithms.md §E2 *Smoothed outputs*, *Calm stretches*.
+    """
+    if (w := diag.smoothed) is not None:
+        return (
+            "; but there the noise is smoother than a sensor's own low-pass leaves it "
+            f"(lag-1 autocorrelation {w.acf[0]:+.2f}, where noise through a first-order "
+            f"low-pass gives at most {w.ar1_limit:+.2f}"
+            "): a filter's smoothed output (an RTK or INS solution, a running average), "
+            "whose sensor noise the record does not hold, or slow motion, which bounds it "
+            "from above; this level is not the output's variance per sample either (the "
+            f"residual sees under {w.seen_share():.0%} of it): not an R to use; take R "
+            "from the raw measurements or the solver's own variance"
+        )
+    if diag.level_profile.quiet_share >= MOSTLY_MOTION:  # mostly still: the sensor's rest
+        return None
+    w, whole = diag.still_whiteness, diag.whiteness
+    if w is None or not w.tested or w.white or whole.white:
+        return None
+    if 1.0 - w.left(whole.acf) < SHARED_EXPLAINS:
+        return None
+    return (
+        "; but there the noise is correlated as over the whole record (its autocorrelation "
+        f"explains {1.0 - w.left(whole.acf):.0%} of theirs): the quietest stretches of a "
+        "signal that never stops moving, not the sensor at rest, so this level only bounds "
+        "the noise from above (record the sensor at rest to measure it)"
+    )
 
 
 def walk_verdict(r: str, stood: tuple[float, str, str] | None, measured: bool) -> str:

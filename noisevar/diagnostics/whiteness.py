@@ -237,8 +237,46 @@ class WhitenessTest:
         _, _, pair, alpha = self._ma_design(r.size)
         j = np.arange(1, r.size + 1)
         model = (alpha[1 : self.acf.size + 1] + pair @ r) / (1.0 + 2.0 * float(r @ alpha[j]))
+        return self.left(model, lags)
+
+    def left(self, model: NDArray, lags: int | None = None) -> float:
+        """The share of the residual's departure from white noise that the autocorrelation
+        ``model`` (at the lags tested) leaves unexplained (1 when there is none):
+        :meth:`ma_left`'s measure, for any model (another test's measured ``acf``)."""
         white = float(self._misfit(self.expected, lags))
         return float(self._misfit(model, lags)) / white if white > 0 else 1.0
+
+    @property
+    def smoother_than_ar1(self) -> bool:
+        """The residual is smoother than AR(1) noise of any φ can make it: its lag-1
+        autocorrelation, less its band, above what AR(1) noise of the fit's largest φ
+        (:data:`AR1_GRID`) gives through the residual filter.
+
+        Notes
+        -----
+        docs/algorithms.md §E2 *Smoothed outputs*. A sensor's own low-pass (first order,
+        AR(1) noise) raises the residual's lag-1 autocorrelation towards a limit as φ nears
+        1 (+0.46 for ``auto``'s filter, +0.462 at φ = 0.95): the filter's zeros at DC leave
+        the band just above them. Noise past that limit has less power at high frequencies
+        than any first-order low-pass leaves (a filter's smoothed output, whose state
+        model rolls its noise off faster, or slow motion): the residual then sees a share
+        of its variance per sample that no white or AR(1) reading recovers.
+        """
+        if not self.tested or self.white:
+            return False
+        return bool(self.acf[0] - self.band[0] > self.ar1_limit)
+
+    @property
+    def ar1_limit(self) -> float:
+        """The residual's lag-1 autocorrelation for AR(1) noise of the fit's largest φ."""
+        return float(self._ar1_models(AR1_GRID[-1:])[0, 0])
+
+    def seen_share(self) -> float:
+        """The share of AR(1) noise's variance per sample the residual sees at the fit's
+        largest φ (:data:`AR1_GRID`): more than noise smoother than that leaves it
+        (:attr:`smoother_than_ar1`)."""
+        m = np.abs(np.arange(-self.acf.size, self.acf.size + 1))
+        return float(AR1_GRID[-1] ** m @ np.r_[1.0, self.expected][m])
 
     def _misfit(self, model: NDArray, lags: int | None = None) -> NDArray | float:
         """``Σ_k ((acf_k - model_k) / band_k)²`` over the lags tested, or lags

@@ -82,7 +82,7 @@ class MethodSpec:
     func: Callable[..., Any]
     params: tuple[str | ParamSpec, ...] = ()
     vectorised: bool = False
-    assumes: tuple[str, ...] = ("white", "identifiable")
+    assumes: tuple[str, ...] = ("white", "identifiable", "unsmoothed")
     moment: bool = True
     coloured_params: Mapping[str, Any] | None = None
     needs_reference: bool = False

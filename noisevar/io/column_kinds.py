@@ -26,7 +26,58 @@ def bookkeeping(z: NDArray) -> bool:
     -------
     bool
     """
-    return _frame_counter(z) or _wrapping_counter(z) or _calendar_part(z) or _axis(z)
+    return (
+        _frame_counter(z)
+        or _wrapping_counter(z)
+        or _calendar_part(z)
+        or _axis(z)
+        or not_measured(z) is not None
+    )
+
+
+#: Distinct whole values a flag or a code holds at most (Météo-France's quality codes: 0, 1
+#: and 9): noise under one step toggles between neighbours instead.
+CODE_VALUES = 3
+#: Distinct values a column of clock times written HHMM must hold: a measured whole
+#: number from 0 to 2359 keeps its last two digits under 60 with probability (60/100)^n,
+#: under 1e-3 from 14 values on.
+HHMM_VALUES = 14
+
+
+def not_measured(z: NDArray) -> str | None:
+    """Why the finite values ``z`` of a column are no measured signal, in a few words, or
+    None: a flag or a code (up to :data:`CODE_VALUES` whole values, not all neighbours, or
+    0 and 1: a digital line), or clock times written HHMM.
+
+    Parameters
+    ----------
+    z : ndarray
+        The column's finite values.
+
+    Returns
+    -------
+    str or None
+
+    Notes
+    -----
+    Météo-France's daily files (benchmarks/real_audit15.py) hold a quality code beside
+    each field (``QRR``: 0, 1 and 9) and the time of day of each extreme as HHMM (``HTN``:
+    2250 for 22:50); ``--columns all`` estimated both as signals. A sensor's noise under one
+    step toggles between neighbouring values, so two neighbours (512, 513) stay a signal;
+    whole numbers within one hundred (515-545) stay one too: times span two hours or more,
+    which a signal crosses through 60-99.
+    """
+    with np.errstate(over="ignore", invalid="ignore"):
+        if z.size < 2 or not np.all(z == np.round(z)):
+            return None
+        values = np.unique(z)
+    if values.size <= CODE_VALUES and (np.any(np.diff(values) > 1) or values[0] == 0):
+        return f"a flag or a code ({values.size} values), not a measured signal"
+    hours = np.unique(values // 100).size  # a signal across an hour passes 60-99 too
+    hhmm = values[0] >= 0 and values[-1] < 2400 and bool(np.all(values % 100 < 60))
+    if hhmm and hours > 1 and values.size >= HHMM_VALUES:
+        return "clock times written HHMM (minutes never past 59), not a measured signal"
+    return None
 
 
 def _wrapping_counter(z: NDArray) -> bool:

@@ -126,8 +126,7 @@ class LoadedTable:
             varies
             and not is_time_column(name)
             and not steps_evenly(finite)
-            and not bookkeeping(finite)
-            and not bool(np.all((finite == 0) | (finite == 1)))  # a digital line, a flag
+            and not bookkeeping(finite)  # a digital line, a flag, a code: column_kinds
             and not (clock not in (None, name) and time_steps(z, self.columns[clock]))
         )
 

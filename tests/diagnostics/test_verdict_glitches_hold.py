@@ -51,6 +51,8 @@ def test_the_still_colour_names_the_lag_that_departs() -> None:
         level_varies=True,
         white=False,
         still_a_walk=False,
+        smoothed=None,  # not a smoothed output; mostly still: not calm stretches either
+        level_profile=SimpleNamespace(quiet_share=1.0),
     )
     said = still_colour(diag)
     assert "lag-6 autocorrelation +0.20" in said, said

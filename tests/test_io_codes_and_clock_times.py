@@ -1,0 +1,46 @@
+"""Columns that are no measured signal: quality codes and clock times written HHMM
+(issue 26, real_audit15: Météo-France's daily files hold ``QRR`` (0, 1, 9) beside each field
+and ``HTN``, the time of the day's minimum as HHMM). ``--columns all`` estimated them as
+signals; it now leaves them out and says which, as the dashboard's channel picker
+(``LoadedTable.signals``) does."""
+
+import json
+
+import numpy as np
+import pandas as pd
+
+from noisevar.batch.channels import table_channels
+from noisevar.cli import main
+from noisevar.io import load_table
+
+
+def _station(tmp_path, n: int = 400, seed: int = 2):
+    rng = np.random.default_rng(seed)
+    hours, minutes = rng.integers(0, 24, n), rng.integers(0, 60, n)
+    df = pd.DataFrame({
+        "TN": np.round(8.0 + np.cumsum(rng.normal(0.0, 0.3, n)) + rng.normal(0.0, 1.0, n), 1),
+        "QTN": rng.choice([0, 1, 9], n, p=[0.1, 0.8, 0.1]),  # a quality code
+        "HTN": hours * 100 + minutes,  # 22:50 as 2250
+        "NEAR": 530 + rng.integers(-15, 16, n),  # whole numbers within one hundred: a signal
+    })  # fmt: skip
+    path = tmp_path / "station.csv"
+    df.to_csv(path, sep=";", index=False)
+    return path
+
+
+def test_codes_and_clock_times_are_no_signals(tmp_path):
+    table = load_table(_station(tmp_path))
+    assert table.signals == ["TN", "NEAR"]
+    assert table_channels(table, "all") == ["TN", "NEAR"]
+    assert table_channels(table, ["QTN"]) == ["QTN"]  # named, it is read
+
+
+def test_columns_all_says_what_it_left_out(tmp_path, capsys):
+    path = _station(tmp_path)
+    assert main(["estimate", str(path), "--columns", "all", "--format", "json"]) == 0
+    out, err = capsys.readouterr()
+    rows = json.loads(out)["channels"]
+    assert [c["column"] for c in rows if "error" not in c] == ["TN", "NEAR"], rows
+    left = {c["column"]: c["error"] for c in rows if "error" in c}
+    assert set(left) == {"QTN", "HTN"} and err == "", (left, err)
+    assert "code" in left["QTN"] and "HHMM" in left["HTN"], left
