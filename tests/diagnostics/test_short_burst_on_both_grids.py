@@ -88,3 +88,15 @@ def test_a_short_burst_does_not_move_with_dropped_samples() -> None:
             elif not lo <= use.variance <= hi:
                 moved[case, d] = use.variance / base.variance
     assert not moved, moved
+
+
+def test_the_burst_centre_is_placed_by_the_burst_not_the_grid() -> None:
+    from noisevar.diagnostics.split_grid import burst_centre
+
+    z = _burst_record(2, 2016)
+    n, block = z.size, 32
+    c = burst_centre(z, 1900, 2150, block)
+    assert 2010 <= c <= 2040  # the 14 samples from 2016, spread by the smoother's span
+    for d in (1, 2, 3):
+        assert burst_centre(z[d:], 1900 - d + 7, 2150 - d - 5, block) == c - d
+    assert abs(burst_centre(z[::-1], n - 2150, n - 1900, block) - (n - c)) <= 1
