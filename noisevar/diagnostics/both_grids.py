@@ -182,10 +182,17 @@ def _split_reads(
         return None
     motion = [r for r in regimes if not r.still]
     reads = [x for x in (split(diag, r.start, r.stop) for r in motion) if x is not None]
-    if not reads or len(reads) < len(motion):
+    # a read with no still regime has no level to set a burst against (a short record
+    # whose blocks around jumps are left out): the rule on both grids decides
+    if not reads or len(reads) < len(motion) or not all(_any_still(g) for _, g in reads):
         return None
     found = {any(not g.still and g.start <= c <= g.stop for g in got) for c, got in reads}
     return None if len(found) > 1 else (found.pop(), reads[-1][1])
+
+
+def _any_still(regimes: tuple[Regime, ...]) -> bool:
+    """Some regime of ``regimes`` is still."""
+    return any(r.still for r in regimes)
 
 
 def _all_short(prof: LevelProfile, none: bool = False) -> bool:
