@@ -290,15 +290,17 @@ def profile_of(
     exclude: NDArray | None = None,
     glitches: NDArray | None = None,
     lsb: float | None = None,
+    block: int | None = None,
 ) -> LevelProfile:
     """The level profile of :func:`diagnose` alone (the same numbers, none of the rest).
 
     For the reversed record's block grid (the still stretches on both grids,
     :func:`on_both_grids`): no whiteness test, increments, quantisation or power law.
     ``glitches``: lone glitches (``NoiseDiagnostics.glitches``' indices), bridged;
-    ``lsb``: the record's grid step (``NoiseDiagnostics.lsb``), for its regimes.
+    ``lsb``: the record's grid step (``NoiseDiagnostics.lsb``), for its regimes;
+    ``block``: the profile's block size (default: the record's own).
     """
-    plan = make_plan(z.size, segmentation.segments, np.zeros(0))
+    plan = make_plan(z.size, segmentation.segments, np.zeros(0), block)
     sums = DiagSums(plan)
     for i, (a, b) in enumerate(segmentation.segments):
         x = None if exclude is None else exclude[a:b]

@@ -95,8 +95,11 @@ class DiagPlan:
         return DIAG_SPAN // 2
 
 
-def make_plan(n: int, segments: tuple[tuple[int, int], ...], probe: NDArray) -> DiagPlan:
-    """The plan for a record of ``n`` samples in ``segments``; ``probe`` from :func:`probe_of`."""
+def make_plan(
+    n: int, segments: tuple[tuple[int, int], ...], probe: NDArray, block: int | None = None
+) -> DiagPlan:
+    """The plan for a record of ``n`` samples in ``segments``; ``probe`` from :func:`probe_of`;
+    ``block``: the profile's block size (default: from the residuals' count)."""
     h = DIAG_SPAN // 2
     slot0: list[int | None] = []
     m = 0
@@ -106,7 +109,8 @@ def make_plan(n: int, segments: tuple[tuple[int, int], ...], probe: NDArray) -> 
     used = sum(1 for s in slot0 if s is not None)
     diffs = sum(b - a - 1 for a, b in segments)
     return DiagPlan(
-        n, tuple(segments), tuple(slot0), Grid.over(m, PROFILE_MIN_BLOCK),
+        n, tuple(segments), tuple(slot0),
+        Grid.over(m, PROFILE_MIN_BLOCK) if block is None else Grid(m, block),
         Grid.over(m, SHAPE_BLOCK), windows(m + WHITE_LAGS * used),
         windows(diffs + WHITE_LAGS * len(segments)), _grid_candidate(probe),
     )  # fmt: skip

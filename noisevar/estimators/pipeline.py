@@ -332,7 +332,7 @@ def run_record(
         held_but_for(result)
         result.notes.append(f"no diagnostics: {exc}")
     else:
-        diag = regimes_on_both_grids(diag, getattr(record, "back_profile", None))
+        diag = regimes_on_both_grids(diag, record)
         # differenced noise is corrected through the residual filter's own correlation
         # (conclude): a span chosen per block has none, so the fixed coloured-noise span
         extra = {}
