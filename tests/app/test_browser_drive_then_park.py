@@ -21,7 +21,14 @@ import pytest
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from test_browser_pages import KNOWN, VIEWPORTS, _settle, problems, whole_page  # noqa: E402
+from test_browser_pages import (  # noqa: E402
+    KNOWN,
+    VIEWPORTS,
+    _settle,
+    problems,
+    upload_then_open,
+    whole_page,
+)
 
 from tests.diagnostics.park_records import drive_then_park  # noqa: E402
 
@@ -40,21 +47,7 @@ def record_csv(tmp_path_factory) -> Path:
 def test_noise_panel_shades_the_drive(server, browser, record_csv) -> None:
     ctx = browser.new_context(viewport=VIEWPORTS["desktop"])
     page = ctx.new_page()
-    page.goto(f"{server}/Signal")
-    _settle(page)
-    page.locator('[data-testid="stFileUploader"] input[type=file]').first.set_input_files(
-        str(record_csv)
-    )
-    page.wait_for_function(
-        "() => document.body.innerText.includes('drive_park.csv')", timeout=120_000
-    )
-    _settle(page)
-    nav = page.locator('[data-testid="stSidebarNav"]')
-    nav.get_by_text("Estimator", exact=True).click()  # the same session: the upload kept
-    page.wait_for_url("**/Estimator**", timeout=30_000)
-    _settle(page)
-    main = page.locator('[data-testid="stMain"]')
-    assert main.locator('[data-testid="stException"]').count() == 0
+    main = upload_then_open(page, server, record_csv, "Estimator", "Estimator")
     # the page opens on the paper's somd, which needs 332 samples here: choose auto
     main.locator('[data-testid="stSelectbox"]', has_text="Method").first.click()
     page.get_by_role("option", name="auto", exact=True).click()

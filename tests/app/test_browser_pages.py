@@ -70,6 +70,24 @@ def _settle(page, timeout: float = 120.0) -> None:
     raise AssertionError("the app kept running for too long")
 
 
+def upload_then_open(page, server: str, path, title: str, url: str):
+    """Upload ``path`` on the Signal page, then open page ``title`` (at ``**/url**``) from the
+    sidebar, in the same session (the upload kept); return the page's main container."""
+    page.goto(f"{server}/Signal")
+    _settle(page)
+    page.locator('[data-testid="stFileUploader"] input[type=file]').first.set_input_files(str(path))
+    page.wait_for_function(
+        f"() => document.body.innerText.includes({path.name!r})", timeout=120_000
+    )
+    _settle(page)
+    page.locator('[data-testid="stSidebarNav"]').get_by_text(title, exact=True).click()
+    page.wait_for_url(f"**/{url}**", timeout=30_000)
+    _settle(page)
+    main = page.locator('[data-testid="stMain"]')
+    assert main.locator('[data-testid="stException"]').count() == 0
+    return main
+
+
 def whole_page(page, name: str) -> dict:
     """Scroll Streamlit's inner container screen by screen; stitch the screens into one
     image (``SHOTS / name.png``) and return what :data:`CHECKS_JS` finds on the page."""

@@ -21,7 +21,14 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 from test_app_still_levels import RATE, postures  # noqa: E402
-from test_browser_pages import KNOWN, VIEWPORTS, _settle, problems, whole_page  # noqa: E402
+from test_browser_pages import (  # noqa: E402
+    KNOWN,
+    VIEWPORTS,
+    _settle,
+    problems,
+    upload_then_open,
+    whole_page,
+)
 
 from noisevar.estimators.answer import STILL_LEVELS_NOTE  # noqa: E402
 
@@ -37,21 +44,7 @@ def record_csv(tmp_path_factory) -> Path:
 def test_noise_model_page_with_two_still_levels(server, browser, record_csv) -> None:
     ctx = browser.new_context(viewport=VIEWPORTS["desktop"])
     page = ctx.new_page()
-    page.goto(f"{server}/Signal")
-    _settle(page)
-    page.locator('[data-testid="stFileUploader"] input[type=file]').first.set_input_files(
-        str(record_csv)
-    )
-    page.wait_for_function(
-        "() => document.body.innerText.includes('postures.csv')", timeout=120_000
-    )
-    _settle(page)
-    nav = page.locator('[data-testid="stSidebarNav"]')
-    nav.get_by_text("Noise model", exact=True).click()  # the same session: the upload kept
-    page.wait_for_url("**/Noise_model**", timeout=30_000)
-    _settle(page)
-    main = page.locator('[data-testid="stMain"]')
-    assert main.locator('[data-testid="stException"]').count() == 0
+    main = upload_then_open(page, server, record_csv, "Noise model", "Noise_model")
     main.get_by_text(STILL_LEVELS_NOTE[:60]).first.wait_for(timeout=60_000)
     note = main.locator('[data-testid="stCaptionContainer"]', has_text=STILL_LEVELS_NOTE[:60])
     table = note.first.locator("xpath=following::*[@data-testid='stDataFrame'][1]")
