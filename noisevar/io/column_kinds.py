@@ -71,7 +71,8 @@ def not_measured(z: NDArray) -> str | None:
         if z.size < 2 or not np.all(z == np.round(z)):
             return None
         values = np.unique(z)
-    if values.size <= CODE_VALUES and (np.any(np.diff(values) > 1) or values[0] == 0):
+        apart = bool(np.any(np.diff(values) > 1))  # ±1e308: inf apart, no warning
+    if values.size <= CODE_VALUES and (apart or values[0] == 0):
         return f"a flag or a code ({values.size} values), not a measured signal"
     hours = np.unique(values // 100).size  # a signal across an hour passes 60-99 too
     hhmm = values[0] >= 0 and values[-1] < 2400 and bool(np.all(values % 100 < 60))
