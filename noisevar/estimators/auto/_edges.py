@@ -17,9 +17,7 @@ from functools import lru_cache
 import numpy as np
 from numpy.typing import NDArray
 
-from noisevar._distributions import chi2_ppf
 from noisevar.numeric.fir import centred_fir, centred_rows, residual_sequence
-from noisevar.numeric.steps import STEP_SIDES_ALPHA
 
 #: Samples of the one-sided fit that locates and sizes a glitch at an edge (at least;
 #: the block's own span when longer): long enough that the fit is not the glitch's (span 5,
@@ -101,9 +99,9 @@ def deleted_residuals(z: NDArray, reach: int, order: int, span: int = 0) -> tupl
 
 
 def _one_edge(
-    z: NDArray, peaks: NDArray, span: int, detect: int, order: int, level: float | None = None
+    z: NDArray, peaks: NDArray, span: int, detect: int, order: int
 ) -> tuple[NDArray, float]:
-    """:func:`edge_glitches` at the record's start (``z`` read from it; ``level``: its noise)."""
+    """:func:`edge_glitches` at the record's start (``z`` read from it)."""
     w = edge_weights(span, order)
     reach = max(w.size, 2 * detect - 1)
     size, t = deleted_residuals(z, reach, EDGE_ORDER, span)
@@ -111,25 +109,20 @@ def _one_edge(
     # order 3: the same square on three): the deleted residual tells its own, searched
     # as far as a glitch reaches into them (one just past them is that one: merged)
     at = int(np.argmax(t[: 2 * detect - 1]))
-    if not explains(z, at, reach, span, level):
+    if not explains(z, at, reach, span):
         return peaks, 0.0  # a jump or fast motion at the edge: its samples count as they are
     moved = np.unique(np.where(peaks < detect - 1, at, peaks))
     near = moved[moved < w.size]
     return moved, float(np.sum((1.0 - w[near]) * size[near] ** 2))
 
 
-def explains(z: NDArray, at: int, reach: int, span: int, level: float | None = None) -> bool:
+def explains(z: NDArray, at: int, reach: int, span: int) -> bool:
     """Whether one glitch at sample ``at`` explains the start of ``z`` better than one jump.
 
     Over the deleted residuals' fit (:func:`deleted_residuals`' samples), a cubic plus the
     glitch (``at`` alone) leaves no more residual sum of squares than a cubic plus a
     step at any sample ``2 .. reach - 1`` (a step at 1 is a glitch at 0): both add one
-    parameter, so the one that fits better is what the edge holds. With the noise
-    ``level`` (σ² of the edge's block; None or not positive: not known), the glitch must
-    also leave only noise: a residual sum of squares within the ``1 - STEP_SIDES_ALPHA``
-    quantile of ``level χ²`` (the fit's degrees of freedom). A record that starts inside
-    fast motion is fitted by neither: its deleted residual is the cubic's misfit, not a
-    glitch, and adding it made R 8-15x σ², moving with the samples dropped (issue 26).
+    parameter, so the one that fits better is what the edge holds.
     """
     fit = min(max(EDGE_FIT_SPAN, span, reach + 1), z.size)
     k = np.arange(fit, dtype=float)
@@ -141,10 +134,6 @@ def explains(z: NDArray, at: int, reach: int, span: int, level: float | None = N
         return float(np.sum((y - a @ np.linalg.lstsq(a, y, rcond=None)[0]) ** 2))
 
     glitch = rss((k == at).astype(float))
-    if level is not None and level > 0.0 and np.isfinite(level):
-        dof = fit - EDGE_ORDER - 2  # the cubic and the glitch
-        if dof > 0 and glitch > float(chi2_ppf(1.0 - STEP_SIDES_ALPHA, dof)) * level:
-            return False
     return all(glitch <= rss((k >= s).astype(float)) for s in range(2, min(reach, fit - 1)))
 
 
@@ -155,7 +144,6 @@ def edge_glitches(
     detect: int,
     order: int,
     ends: tuple[bool, bool] = (True, True),
-    levels: tuple[float, float] | None = None,
 ) -> tuple[NDArray, float, float]:
     """Outlying samples at the record's edges: their true sample, and what they lack in R.
 
@@ -173,9 +161,6 @@ def edge_glitches(
         Polynomial degree.
     ends : (bool, bool)
         Whether the window starts (ends) where the record does.
-    levels : (float, float), optional
-        The noise level σ² of the first and the last block (:func:`explains`).
-
     Returns
     -------
     peaks : ndarray of int
@@ -204,8 +189,7 @@ def edge_glitches(
         edge = own[own < max(spans[side], detect) - 1]
         if not edge.size:
             continue
-        level = None if levels is None else levels[side]
-        moved, add[side] = _one_edge(x, edge, spans[side], detect, order, level)
+        moved, add[side] = _one_edge(x, edge, spans[side], detect, order)
         rest = own[own >= max(spans[side], detect) - 1]
         own = np.union1d(moved, rest)
         out = own if forward else np.sort(m - 1 - own)

@@ -243,13 +243,6 @@ def _tail_sums(b: _Blocks, rows: slice) -> tuple[float, float, float]:
     return k2, k4, float(count[ok].sum())
 
 
-def _edge_levels(b: _Blocks) -> tuple[float, float]:
-    """The noise level of the first and the last block: the shortest span's mean square off
-    the outliers and the jumps (a glitch at an edge is judged against it, _edges.explains)."""
-    level = b.block_sum[0, [0, -1]] / np.maximum(b.kept_count[[0, -1]], 1.0)
-    return float(level[0]), float(level[1])
-
-
 @lru_cache(maxsize=64)
 def _efficiencies(spans: tuple[int, ...], order: int) -> NDArray:
     return np.asarray([sequence_efficiency(residual_sequence(s, order)) for s in spans])
@@ -304,7 +297,7 @@ def auto_part(
     # a glitch at the record's edge: at its sample, and counted as inside (_edges)
     ends = (offset == 0 and rows.start == 0, after == 0 and rows.stop == b.nb)
     edge = (spans[choice[0]], spans[choice[-1]])
-    peaks, first, last = edge_glitches(z, b.outliers, edge, spans[0], order, ends, _edge_levels(b))
+    peaks, first, last = edge_glitches(z, b.outliers, edge, spans[0], order, ends)
     if first or last:
         total_sum = total_sum.copy()
         total_sum[0] += first
