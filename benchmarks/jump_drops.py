@@ -9,11 +9,13 @@ A measurement, not a check: it prints what decides R under each drop.
    window medians' third difference at sample 167 against its threshold, the larger of both
    grids'. The binding one is the grid from the record's end, whose last block holds samples
    48-303 *and the rest of the record, 0-47*: the level of that block (and the whole-window
-   raise, read off every level) moves with the record's first samples' edge residuals.
+   raise, read off every level) moved with the record's first samples' edge residuals (fixed:
+   the rest takes the last level but does not make it, _levels.kept_levels).
 2. real_audit18's Totem #9, ATC1: the record starts inside a fast oscillation; sample 0 is
    judged a glitch at the edge (``_edges.edge_glitches``) with 0 or 1 dropped, and its
    deleted residual (a cubic over 11 samples that cannot follow the oscillation) adds most
-   of R's sum of squares; with 2-3 dropped the edge run is 3 samples, no glitch, nothing added.
+   of R's sum of squares; with 2-3 dropped the edge run is 3 samples, no glitch, nothing added
+   (not fixed: a noise test on the glitch's fit refused PX4 airspeed's real start-up value).
 3. A seeded synthetic: white noise (sigma 0.01) under a fast damped oscillation at the start.
 """
 
