@@ -143,16 +143,21 @@ def kept_levels(
     """``scale`` times each block's mean square off the samples ``idx``, on both grids.
 
     ``floors`` (:func:`rounding_floors`): each block's least level, before ``scale``.
+    Each level is read off its block's own samples, as the medians are: the samples past
+    the last block take its level but do not make it, so that dropping leading samples
+    moves no level of the grid from the record's end (a lone step's threshold moved 3 %
+    with the record's first edge residuals and R x2.3, issue 26).
     """
     out = []
     back = None if idx is None else g.back_index(idx)
     least = (None, None) if floors is None else floors
     for x, i, nb, f in ((sq, idx, g.nb, least[0]), (g.back(sq), back, g.nbb, least[1])):
+        x = x[: nb * g.block]  # the blocks' own samples: the rest takes the last level
         kept_n = block_counts(g.block, nb, x.size)
         if i is None or not i.size:
             kept_sum = kept_block_sums(x, np.zeros(0, dtype=int), g.block, nb)
         else:
-            i = np.sort(i[i >= 0])
+            i = np.sort(i[(i >= 0) & (i < x.size)])
             kept_sum = kept_block_sums(x, i, g.block, nb)
             kept_n = kept_n - flagged_per_block(i, g.block, nb)
         level = kept_sum / np.maximum(kept_n, 1.0)
