@@ -44,3 +44,16 @@ def test_columns_all_says_what_it_left_out(tmp_path, capsys):
     left = {c["column"]: c["error"] for c in rows if "error" in c}
     assert set(left) == {"QTN", "HTN"} and err == "", (left, err)
     assert "code" in left["QTN"] and "HHMM" in left["HTN"], left
+
+
+def test_a_count_at_rest_on_neighbouring_values_stays_a_signal() -> None:
+    """0, 1, 2 (a rain gauge's tips, a photon count at rest) are neighbours, as a sensor's
+    noise under one step: a signal; 0 and 1 alone are a digital line, 0, 1, 9 a code."""
+    import numpy as np
+
+    from noisevar.io.column_kinds import not_measured
+
+    rng = np.random.default_rng(0)
+    assert not_measured(rng.integers(0, 3, 500).astype(float)) is None
+    assert not_measured(rng.integers(0, 2, 500).astype(float)) is not None
+    assert not_measured(rng.choice([0.0, 1.0, 9.0], 500)) is not None

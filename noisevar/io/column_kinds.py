@@ -72,7 +72,8 @@ def not_measured(z: NDArray) -> str | None:
             return None
         values = np.unique(z)
         apart = bool(np.any(np.diff(values) > 1))  # ±1e308: inf apart, no warning
-    if values.size <= CODE_VALUES and (apart or values[0] == 0):
+    # a digital line is 0 and 1; 0, 1, 2 are neighbours, a count's noise at rest (rain tips)
+    if values.size <= CODE_VALUES and (apart or (values.size == 2 and values[0] == 0)):
         return f"a flag or a code ({values.size} values), not a measured signal"
     hours = np.unique(values // 100).size  # a signal across an hour passes 60-99 too
     hhmm = values[0] >= 0 and values[-1] < 2400 and bool(np.all(values % 100 < 60))
