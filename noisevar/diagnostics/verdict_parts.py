@@ -334,11 +334,12 @@ def not_at_rest(diag: NoiseDiagnostics) -> str | None:
     w, whole = diag.still_whiteness, diag.whiteness
     if w is None or not w.tested or w.white or whole.white:
         return None
-    if 1.0 - w.left(whole.acf) < SHARED_EXPLAINS:
+    shared = 1.0 - w.left(whole.acf)  # the whole record's share of their departure
+    if shared < SHARED_EXPLAINS:
         return None
     return (
         "; but there the noise is correlated as over the whole record (its autocorrelation "
-        f"explains {1.0 - w.left(whole.acf):.0%} of theirs): the quietest stretches of a "
+        f"explains {shared:.0%} of theirs): the quietest stretches of a "
         "signal that never stops moving, not the sensor at rest, so this level only bounds "
         "the noise from above (record the sensor at rest to measure it)"
     )
