@@ -57,3 +57,27 @@ def test_a_count_at_rest_on_neighbouring_values_stays_a_signal() -> None:
     assert not_measured(rng.integers(0, 3, 500).astype(float)) is None
     assert not_measured(rng.integers(0, 2, 500).astype(float)) is not None
     assert not_measured(rng.choice([0.0, 1.0, 9.0], 500)) is not None
+
+
+def test_batch_gives_each_left_out_column_a_row(tmp_path, capsys):
+    """``noisevar batch --columns all`` left codes and clock times out with no row, where
+    ``noisevar estimate --columns all`` gave each a row saying why: one answer. The summary
+    and the Fleet report count them apart from channels that failed."""
+    from noisevar.batch._output import read_table
+    from noisevar.batch.fleet import fleet_report
+
+    paths = []
+    for seed in range(3):
+        (tmp_path / str(seed)).mkdir()
+        paths.append(_station(tmp_path / str(seed), seed=seed))
+    out = tmp_path / "fleet.csv"
+    args = ["batch", *map(str, paths), "--columns", "all", "--out", str(out)]
+    assert main(args) == 0
+    err = capsys.readouterr().err
+    assert "3 files, 12 rows, 0 with an error, 6 left out" in err, err
+    frame = read_table(out)
+    left = frame[frame["channel"].isin(["QTN", "HTN"])]
+    assert len(left) == 6 and left["error"].str.startswith("left out by --columns all").all()
+    assert left["std"].isna().all()
+    report = fleet_report(frame)
+    assert report.n_errors == 0 and any("6 columns left out" in n for n in report.notes)

@@ -7,7 +7,7 @@ import time
 from collections.abc import Sequence
 from typing import Any
 
-from noisevar.batch.channels import table_channels
+from noisevar.batch.channels import channels_and_left_out, skipped_note
 from noisevar.errors import NoisevarError
 
 
@@ -84,7 +84,7 @@ def file_rows(
         digest = file_digest(path)
         with collecting(said):
             table = load_table(path, os.path.basename(os.path.normpath(path)), topic=topic)
-        channels = table_channels(table, columns)
+        channels, left_out = channels_and_left_out(table, columns)
     except (NoisevarError, OSError) as exc:
         msg = str(exc) if isinstance(exc, NoisevarError) else f"cannot read {path}: {exc}"
         return [
@@ -103,6 +103,11 @@ def file_rows(
         r["sample_rate_hz"] = sample_rate(table, c)
         if said:  # the file's own notes first, in the row's one notes field
             r["notes"] = " | ".join([*said, *([r["notes"]] if r.get("notes") else [])])
+    # a column "all" left out: a row saying why, as `noisevar estimate --columns all` gives
+    rows += [
+        {"file": path, "channel": c, "method": method, "hash": digest, "error": skipped_note(why)}
+        for c, why in left_out.items()
+    ]
     return rows
 
 

@@ -21,8 +21,11 @@ if TYPE_CHECKING:
     from noisevar.io import LoadedTable
 
 __all__ = [
+    "LEFT_OUT",
     "all_refused",
     "channel_estimates",
+    "channels_and_left_out",
+    "left_out_rows",
     "parse_columns",
     "skipped_columns",
     "skipped_note",
@@ -61,7 +64,16 @@ def parse_columns(columns: str | Sequence[str] | None) -> str | list[str] | None
 
 
 def table_channels(table: LoadedTable, columns: str | list[str] | None) -> list[str | None]:
-    """The channel names of ``table`` that :func:`parse_columns`'s result selects.
+    """The channel names of ``table`` that :func:`parse_columns`'s result selects
+    (:func:`channels_and_left_out`'s first part)."""
+    return channels_and_left_out(table, columns)[0]
+
+
+def channels_and_left_out(
+    table: LoadedTable, columns: str | list[str] | None
+) -> tuple[list[str | None], dict[str, str]]:
+    """The channel names of ``table`` that :func:`parse_columns`'s result selects, and the
+    columns ``"all"`` left out with why.
 
     Parameters
     ----------
@@ -72,12 +84,14 @@ def table_channels(table: LoadedTable, columns: str | list[str] | None) -> list[
 
     Returns
     -------
-    list of str or None
+    names : list of str or None
         Every data column for ``"all"`` but one named like a time (a second clock) and
         those :func:`skipped_columns` leaves out; the
         first that varies for None (``[None]`` when the table has none: the reader then
         picks or refuses); the names as given otherwise (a missing one is refused when it
         is read).
+    left_out : dict of str to str
+        For ``"all"``, :func:`skipped_columns`; empty otherwise.
 
     Raises
     ------
@@ -86,8 +100,8 @@ def table_channels(table: LoadedTable, columns: str | list[str] | None) -> list[
 
     Notes
     -----
-    ``"all"`` leaves out flags, codes and clock times (:func:`skipped_columns`; the CLI
-    gives each a row with its reason: :func:`skipped_note`).
+    ``"all"`` leaves out flags, codes and clock times; ``noisevar estimate`` and
+    ``noisevar batch`` give each a row with its reason (:func:`skipped_note`).
     """
     if columns == "all":  # not a second clock (PASCO's "Time (s) Run #2"): no signal
         names: list[str | None] = [c for c in table.data_columns if not is_time_column(c)]
@@ -97,10 +111,10 @@ def table_channels(table: LoadedTable, columns: str | list[str] | None) -> list[
         if all(c in skip for c in names):
             said = "; ".join(f"{c!r}: {why}" for c, why in skip.items())
             raise NoisevarError(f"{table.name} has no measured column ({said}): name one")
-        return [c for c in names if c not in skip]
+        return [c for c in names if c not in skip], skip
     if columns is None:
-        return [table.first_signal] if table.data_columns else [None]
-    return list(columns)
+        return ([table.first_signal] if table.data_columns else [None]), {}
+    return list(columns), {}
 
 
 def skipped_columns(table: LoadedTable) -> dict[str, str]:
@@ -127,10 +141,21 @@ def skipped_columns(table: LoadedTable) -> dict[str, str]:
     return out
 
 
+#: How a left-out column's row begins (:func:`skipped_note`), that a count can tell it from
+#: a channel that failed.
+LEFT_OUT = "left out by --columns all"
+
+
+def left_out_rows(errors: Sequence[Any]) -> list[bool]:
+    """Which rows of a batch table's ``error`` column are columns ``"all"`` left out
+    (:func:`skipped_note`), not channels that failed."""
+    return [isinstance(e, str) and e.startswith(LEFT_OUT) for e in errors]
+
+
 def skipped_note(why: str) -> str:
     """A column's row where ``"all"`` left it out (:func:`skipped_columns`'s reason ``why``):
     said in its place, as a refused channel's reason is, with how to read it anyway."""
-    return f"left out by --columns all: {why}; name the column to estimate it"
+    return f"{LEFT_OUT}: {why}; name the column to estimate it"
 
 
 def channel_estimates(

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from noisevar.batch.channels import left_out_rows
 from noisevar.errors import NoisevarError
 from noisevar.estimators.regimes import (
     DEFAULT_REGIMES,
@@ -113,7 +114,8 @@ class FleetReport:
     sensors : tuple of SensorScore
         One per file x channel with an estimate, most unusual first.
     n_errors : int
-        Rows of the table without an estimate (their ``error`` says why).
+        Rows of the table without an estimate (their ``error`` says why), but the
+        columns ``--columns all`` left out (a note counts them).
     notes : tuple of str
         Plain-language remarks.
     regimes : {"all", "still"}
@@ -330,6 +332,12 @@ def fleet_report(
     ok = np.isfinite(std) & (std > 0)
     good = frame[ok].assign(std=std[ok])
     channels, sensors, notes = [], [], []
+    left = np.array(left_out_rows(frame["error"]) if "error" in frame else [False] * len(frame))
+    if left.any():
+        notes.append(
+            f"{int(left.sum())} columns left out by --columns all (flags, codes, clock "
+            "times: their rows say which)"
+        )
     if no_still.any():
         notes.append(
             f"{int(no_still.sum())} rows have no still R (their level varies and their still "
@@ -364,7 +372,7 @@ def fleet_report(
         float(threshold),
         tuple(channels),
         tuple(sensors),
-        int((~ok & ~no_still).sum()),
+        int((~ok & ~no_still & ~left).sum()),
         tuple(notes),
         regimes,
         tuple(identical_files(frame) + rate_notes(frame)),

@@ -38,9 +38,13 @@ def _client(address: str) -> Any:
 
 def _summary(frame: Any, out: str | None) -> str:
     files = frame["file"].nunique() if len(frame) else 0
-    bad = int(frame["error"].notna().sum()) if len(frame) else 0
+    from noisevar.batch.channels import left_out_rows
+
+    left = sum(left_out_rows(frame["error"])) if len(frame) else 0
+    bad = int(frame["error"].notna().sum()) - left if len(frame) else 0
     where = f"; written to {out}" if out else ""
-    return f"{files} files, {len(frame)} rows, {bad} with an error{where}"
+    said = f", {left} left out (flags, codes, clock times)" if left else ""
+    return f"{files} files, {len(frame)} rows, {bad} with an error{said}{where}"
 
 
 def _cmd_batch(args: argparse.Namespace) -> int:

@@ -238,9 +238,8 @@ def _estimate_many(args: argparse.Namespace, columns: Any, method: str, params: 
     from noisevar.batch.channels import (
         all_refused,
         channel_estimates,
-        skipped_columns,
+        channels_and_left_out,
         skipped_note,
-        table_channels,
     )
     from noisevar.estimators import method_spec
     from noisevar.io.load import column_name
@@ -248,13 +247,12 @@ def _estimate_many(args: argparse.Namespace, columns: Any, method: str, params: 
     if method_spec(method).needs_reference:
         raise NoisevarError(f"method {method} takes one --column and a --reference-column")
     table = load_file(args.file, args.topic)
-    names = table_channels(table, columns)
+    names, skipped = channels_and_left_out(table, columns)
     for name in names:
         column_name(table, name)  # a name that is not in the file: the user's typo, exit 2
     results = channel_estimates(table, names, method, params)
     if all(isinstance(r, str) for r in results):
         raise NoisevarError(all_refused(names, results))
-    skipped = skipped_columns(table) if columns == "all" else {}
     names, results = [*names, *skipped], [*results, *map(skipped_note, skipped.values())]
     rows = [
         (c, r, _unit(args, table.units.get(c) if c is not None else None))
