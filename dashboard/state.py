@@ -20,7 +20,7 @@ from dashboard.text import plain
 from noisevar.errors import NoisevarError
 from noisevar.io import LoadedTable, content_digest, pick_column, record_times
 from noisevar.io.logs.record import TopicsRecord
-from noisevar.units import declared_unit
+from noisevar.units import unit_label
 
 LOG = logging.getLogger("noisevar.dashboard")
 
@@ -275,8 +275,9 @@ def truth_of(sig: LoadedSignal) -> float | None:
 
 def declared_units(sig: LoadedSignal) -> str:
     """The unit the signal's file declares for its column (a log's field, a CSV header's
-    ``[unit]``), as the command line reads it; empty when it declares none."""
-    return declared_unit(sig.table.units.get(sig.column)) or ""
+    ``[unit]``), as the command line labels it (:func:`noisevar.units.unit_label`); empty
+    when it declares none."""
+    return unit_label(sig.table.units.get(sig.column)) or ""
 
 
 def signal_units() -> str:

@@ -213,6 +213,22 @@ def declared_unit(text: str | None) -> str | None:
         return None
 
 
+#: A unit pint does not read is shown as written up to this many characters (a longer
+#: one, or one with control characters, is no label: ``u``).
+LABEL_CHARS = 20
+
+
+def unit_label(text: str | None) -> str | None:
+    """The unit a file declares, as its results are labelled: as written, whether pint
+    reads it (:func:`declared_unit`) or not (LAS's ``GAPI``: shown, never converted);
+    None for none, or a text no label (over :data:`LABEL_CHARS` characters, or not
+    printable)."""
+    said = str(text or "").strip()
+    if not said or said == UNKNOWN or len(said) > LABEL_CHARS or not said.isprintable():
+        return declared_unit(text) if said.isprintable() else None  # a long unit pint reads
+    return text if declared_unit(text) is not None else said
+
+
 def factor(source: str | None, target: str | None) -> float:
     """The factor that converts values in ``source`` to ``target`` (1 when either is unset).
 

@@ -22,10 +22,10 @@ def estimate_row(
     """
     from noisevar.estimators import estimate
     from noisevar.io import channel_record
-    from noisevar.units import declared_unit
+    from noisevar.units import unit_label
 
     start = time.perf_counter()
-    unit = declared_unit(table.units.get(channel)) if channel is not None else None
+    unit = unit_label(table.units.get(channel)) if channel is not None else None
     row: dict[str, Any] = {"file": file, "channel": channel, "unit": unit, "method": method}
     try:
         # as `noisevar estimate` reads a channel: the table's times (gaps split), one answer

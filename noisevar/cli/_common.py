@@ -182,16 +182,26 @@ def add_unit_flags(p: argparse.ArgumentParser) -> None:
     )
 
 
-def units_of(given: str | None, out: str | None) -> tuple[float, str]:
-    """The factor to apply to the data and the unit the results are in (``"u"``: none).
+def units_of(given: str | None, out: str | None, declared: str | None = None) -> tuple[float, str]:
+    """The factor to apply to the data and the unit the results are in (``"u"``: none):
+    the user's unit ``given``, else the one the file ``declared`` for the column. A declared
+    unit pint does not read labels the results as written and is never converted.
 
     Bad or mismatched units: ``NoisevarError`` naming the unit (exit 2).
     """
-    from noisevar.units import UNKNOWN, factor, parse_unit
+    from noisevar.units import UNKNOWN, declared_unit, factor, parse_unit, unit_label
 
-    unit, target = parse_unit(given), parse_unit(out)
+    if not given and out is None:  # the file's unit as written: pint reads it or not
+        return 1.0, unit_label(declared) or UNKNOWN
+    unit, target = parse_unit(given or declared_unit(declared)), parse_unit(out)
     if target is not None and unit is None:
-        raise NoisevarError("--unit-out needs --unit: the unit the data are in")
+        said = unit_label(declared)
+        raise NoisevarError(
+            f"the file's unit {said!r} is not one pint reads: give --unit, the unit the data "
+            "are in, to convert them"
+            if said
+            else "--unit-out needs --unit: the unit the data are in"
+        )
     if target is None:
         return 1.0, unit.text if unit else UNKNOWN
     return factor(unit.text, target.text), target.text

@@ -20,7 +20,6 @@ from noisevar.cli._common import (
 )
 from noisevar.errors import NoisevarError
 from noisevar.io.limits import echo
-from noisevar.units import declared_unit
 
 
 def sampling_note(t: np.ndarray | None, rate: float) -> list[str]:
@@ -85,7 +84,7 @@ def _cmd_allan(args: argparse.Namespace) -> int:
     wanted = [args.column] if args.column else None
     data, rate, declared, times, loaded = load_columns(args.file, wanted, args.rate, args.topic)
     name, z = next(iter(data.items()))
-    scale, unit = units_of(args.unit or declared_unit(declared[name]), args.unit_out)
+    scale, unit = units_of(args.unit, args.unit_out, declared[name])
     kind_of_data = args.data or default_data(unit)
     # times whose steps are whole periods (samples dropped): rate data on that grid
     t = None if args.rate is not None else times  # --rate: the samples as uniform at it

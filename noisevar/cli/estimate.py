@@ -120,10 +120,7 @@ def _diagnostics_lines(result: Any) -> list[str]:
 def _units(args: argparse.Namespace, declared: str | None = None) -> tuple[float, str]:
     """The factor to apply to the data and the unit the results are in: ``--unit-out``,
     else ``--unit``, else the unit the file declares for the channel, else ``u``."""
-    from noisevar.units import declared_unit
-
-    given = getattr(args, "unit", None) or declared_unit(declared)
-    return units_of(given, getattr(args, "unit_out", None))
+    return units_of(getattr(args, "unit", None), getattr(args, "unit_out", None), declared)
 
 
 def _unit(args: argparse.Namespace, declared: str | None = None) -> str:

@@ -22,7 +22,7 @@ from noisevar.cli._common import (
 from noisevar.errors import NoisevarError
 from noisevar.format import eng, eng_range, pvalue
 from noisevar.io.limits import echo
-from noisevar.units import declared_unit
+from noisevar.units import UNKNOWN
 
 
 def _said(text: str, unit: str) -> str:
@@ -132,8 +132,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     config = load_config(args.config) if args.config else None
     kal = from_config(config) if config is not None else None  # refused before the data load
     z, dropped, column, period, declared, t = _load(args, config)
-    given = args.unit or declared_unit(declared)  # the user's, else the file's (as estimate)
-    scale, unit = units_of(given, args.unit_out)
+    scale, unit = units_of(args.unit, args.unit_out, declared)  # as estimate reads it
     z = z * scale
     answer = record_estimate(z, t)  # the record's answer on its times, as `estimate` gives it
     record = None if isinstance(answer, str) else answer
@@ -158,7 +157,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
             z, model=model, rate=rate, **method, **regimes_of(args), record=record
         )
     if args.save_config:
-        said = unit if given else (kal.get("unit", "") if kal is not None else "")
+        said = unit if unit != UNKNOWN else (kal.get("unit", "") if kal is not None else "")
         try:  # the record's answer, written for the reader (not applied when read)
             summary = None if record is None else record_answer(record, tuning.regimes)
             written = None if summary is None else summary.summary(said)

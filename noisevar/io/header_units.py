@@ -84,6 +84,7 @@ def column_units(
         more = f" and {len(unread) - 3} more" if len(unread) > 3 else ""
         notes.append(
             f"unit {said}{more} not understood (pint does not read it): the values are read "
-            "unitless; to convert them, give the unit as pint spells it (CLI: --unit, e.g. degC)"
+            "as written, labelled with it and never converted; to convert them, give the unit "
+            "as pint spells it (CLI: --unit, e.g. degC)"
         )
     return units
