@@ -14,7 +14,7 @@ from dashboard.state import LoadedSignal, current_signal
 from dashboard.text import plain
 from dashboard.url_params import RECIPE_PARAMS
 from dashboard.widgets import guarded, how_it_works, param_input
-from noisevar.io.logs import default_topic, log_suffixes, readers
+from noisevar.io.logs import default_topic, readers
 from noisevar.signals import PAPER_SIGNAL, signal_spec
 
 
@@ -185,14 +185,14 @@ def uploader(errors: DeltaGenerator) -> None:
         f"(numeric arrays only), or NMEA 0183 GGA/RMC (converted to local east/north metres, "
         f"speed and course); or a log or workbook, one topic (a sheet) for the signal (more "
         f"for the IMU model) with its own timestamps: {_log_kinds()}. A ROS bag cut short, or "
-        f"a recorder's `.bag.active`, is read up to its cut. Up to {limit_mb:.0f} MB."
+        f"a recorder's `.bag.active`, is read up to its cut. Any other file is read by what it "
+        f"holds, as `noisevar estimate` reads it (RTKLIB `.pos` solutions, LAS well logs, "
+        f"IAGA-2002 observatory files...), or refused saying what it is. Up to "
+        f"{limit_mb:.0f} MB."
     )
-    log_types = [s.lstrip(".") for s in log_suffixes()]
-    up = st.file_uploader(
-        "Upload a file",
-        type=list(dict.fromkeys(["csv", "tsv", "txt", "dat", "npy", "nmea", "log", *log_types])),
-        key="upload",
-    )
+    # any suffix: the loader reads a file by what it holds (an RTKLIB .pos, a LAS well
+    # log), as `noisevar estimate` does, and refuses the rest in one line
+    up = st.file_uploader("Upload a file", key="upload")
     drop = st.checkbox(
         "Drop rows with empty or NaN values",
         key="upload_drop",
