@@ -11,6 +11,7 @@ import plotly.graph_objects as go
 from noisevar.batch.fleet import FleetReport
 from noisevar.estimators.results import VarianceEstimates
 from noisevar.figures._common import COLORS, PALETTE, base_layout
+from noisevar.figures.budget import log_axis
 
 FLAG_COLOR = "#D55E00"
 
@@ -81,7 +82,11 @@ def fleet_distribution(report: FleetReport) -> go.Figure:
             "ticktext": names,
             "title": "channel",
         },
-        yaxis={"type": "log", "title": "noise standard deviation"},
+        yaxis=log_axis(
+            "noise standard deviation",
+            [s.std for s in report.sensors if s.channel in names]
+            + [v for c in report.channels for v in (c.low, c.high)],
+        ),
         height=420,
         margin={"t": 60, "b": 40},
         clickmode="event+select",
@@ -163,7 +168,7 @@ def channels_figure(estimates: VarianceEstimates, names: list[str]) -> go.Figure
     # the shared layout: its title stays clear of Plotly's toolbar on a phone
     base_layout(fig, f"Noise of each channel (method {estimates.method}; bars: 95 %)", 360)
     fig.update_layout(
-        yaxis={"type": "log", "title": "noise std (each channel's unit)"},
+        yaxis=log_axis("noise std (each channel's unit)", np.concatenate([std, ci.ravel()])),
         xaxis_title="channel",
         showlegend=False,
     )

@@ -39,3 +39,17 @@ def test_a_level_profile_within_a_decade_labels_more_than_one_level():
     est = noisevar.estimate(z)
     fig = level_profile_plot(noise_panel_data(z, est.diagnostics))
     assert len(fig.layout.yaxis.tickvals) >= 2
+
+
+def test_the_channels_figure_labels_its_log_axis_by_decades_or_1_2_5():
+    """An RTKLIB record's channels (std 0.5-10 m) were labelled 4, 5, ..., 9, 1, 2, ... by
+    Plotly's default minor labels (seen in a browser screenshot of the Signal page)."""
+    import noisevar
+    from noisevar.figures.fleet import channels_figure
+
+    rng = np.random.default_rng(1)
+    z = rng.normal(size=(4, 800)) * np.array([[5.3], [5.7], [9.5], [0.54]])
+    fig = channels_figure(noisevar.estimate(z, axis=1), ["e", "n", "u", "ns"])
+    axis = fig.layout.yaxis
+    assert axis.dtick == 1 or len(axis.tickvals) >= 2
+    assert axis.exponentformat == "power"
