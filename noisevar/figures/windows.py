@@ -192,12 +192,12 @@ def somd_figure(  # long: one figure, built trace by trace in drawing order
         lines.append((d.track_output, f"tracking output, h_T={d.h_track:.3g}", style))
     used = sum(len(tr.x) for tr in data + marks)
     per_line = max(min(max_points, (MAX_FIGURE_POINTS - used) // len(lines)), 100)
-    for y, name, style in lines:
+    for y, label, style in lines:  # (not ``name``: the axis title's below)
         dotted = style.get("dash") == "dot"
         data.append(
             line_trace(
                 y,
-                name,
+                label,
                 sample_period,
                 per_line,
                 line={"width": 1.6, **style},

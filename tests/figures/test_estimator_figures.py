@@ -68,6 +68,16 @@ def test_somd_figure(signal, z, est) -> None:
     assert longest_trace(somd_figure(z, est, signal.sample_period, max_points=300)) <= 300
 
 
+@pytest.mark.parametrize("method", ["somd", "auto"])
+def test_somd_figure_y_axis_is_the_record(signal, z, method) -> None:
+    """The y axis is titled with the record's name and unit: a loop over the lines shadowed
+    ``name``, so it read "tracking output, h_T=0.0005 (m)" (somd) or "raw samples (m) (m)"
+    (auto), seen in a browser screenshot of the Estimator page."""
+    est = noisevar.estimate(z, method=method)
+    fig = somd_figure(z, est, signal.sample_period, units="m", name="east_m")
+    assert axis_titles(fig)["yaxis"] == "east_m (m)"
+
+
 def test_window_tests_figure(signal, est) -> None:
     sel = est.details.selection
     fig = window_tests_figure(sel, 0.3, 0.3, signal.sample_period)
