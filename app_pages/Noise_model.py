@@ -47,7 +47,9 @@ with st.expander("Filter configs: Kalibr imu.yaml and every consumer", icon=":ma
 if settings.rate > 0:  # a bad rate is said once, above
     st.subheader("Coloured noise and the Kalman filter's Q and R")
     record = noise_model.record_summary(sig, regimes)  # the record's answer, in the config
-    render_fit(sig.z, settings.rate, regimes, column=sig.column, unit=signal_units(), record=record)
+    render_fit(
+        sig.z, settings.rate, regimes, sig.column, signal_units(), record, times=sig.times
+    )
 
 # temperature, datasheet and composite models (issue 30): dashboard/sections/noise_model_temperature
 with st.expander("Temperature: bias(T), warm-up, bias process noise", icon=":material/thermostat:"):

@@ -257,6 +257,12 @@ def convert_variance(variance: ArrayLike, source: str | None, target: str | None
     return np.asarray(variance, dtype=float) * factor(source, target) ** 2
 
 
+def in_data_unit(text: str, unit: str | None) -> str:
+    """A unit of a filter's q or r written for unitless data (``u²/s^3``) in the data's
+    unit (``nT²/s^3``); unchanged without one."""
+    return text.replace("u²", variance_label(unit)) if unit and unit != UNKNOWN else text
+
+
 def variance_label(unit: str | None) -> str:
     """The unit of a variance: ``(deg/s)²`` (``u²`` without a unit)."""
     u = unit_text(unit or UNKNOWN)

@@ -32,6 +32,7 @@ from noisevar.format import pvalue, squared
 from noisevar.noise_model import KalmanTuning, fit_coloured_noise, fit_models, run_tuned
 from noisevar.noise_model.export import APPLY_COMMAND, filterpy_snippet, gain_text
 from noisevar.noise_model.kalman_fit import METHODS, MODELS
+from noisevar.units import in_data_unit
 
 KEY = "nmf"
 #: Session-state key of the (lazy) filterpy snippet expander.
@@ -61,26 +62,30 @@ def _with_progress(label: str, n: int, work: Callable[[Callable[[float], None] |
 
 @cached
 def _fits_on_pool(
-    digest: str, rate: float, method: str, regimes: str, _z: np.ndarray
+    digest: str, rate: float, method: str, regimes: str, _z: np.ndarray, _t: np.ndarray | None
 ) -> dict[str, KalmanTuning]:
-    return workers.call(fit_models, _z, rate=rate, method=method, regimes=regimes)
+    return workers.call(fit_models, _z, rate=rate, method=method, regimes=regimes, t=_t)
 
 
-def _fit_models(z: np.ndarray, rate: float, method: str, regimes: str) -> dict[str, KalmanTuning]:
-    """Every kinematic model's fit for this record, rate, method and regimes.
+def _fit_models(
+    z: np.ndarray, rate: float, method: str, regimes: str, t: np.ndarray | None = None
+) -> dict[str, KalmanTuning]:
+    """Every kinematic model's fit for this record, rate, method and regimes; the record's
+    answer on its times ``t`` (split at their gaps), as the Estimator page makes it.
 
     A record of at most :data:`PROGRESS_ABOVE` samples is fitted on the worker pool, once
     for every session (the server's cache): on the script thread it held the GIL, a quarter
     of the server's GIL time with 8 sessions (py-spy, ``benchmarks/load.py``). A longer one
     is fitted here with a progress bar and kept in the session.
     """
+    times = None if t is None else t.tobytes()
     if z.size <= PROGRESS_ABOVE:
-        return _fits_on_pool(_digest(z), float(rate), method, regimes, z)
-    key = f"{KEY}_fits_{_digest(z, rate, method, regimes)}"
+        return _fits_on_pool(_digest(z, times), float(rate), method, regimes, z, t)
+    key = f"{KEY}_fits_{_digest(z, rate, method, regimes, times)}"
     if key not in st.session_state:
 
         def work(progress: Callable[[float], None] | None) -> dict[str, KalmanTuning]:
-            return fit_models(z, rate, method, regimes, progress=progress)
+            return fit_models(z, rate, method, regimes, progress=progress, t=t)
 
         st.session_state[key] = _with_progress("Fitting q and r...", z.size, work)
     return st.session_state[key]
@@ -189,6 +194,7 @@ def render_fit(
     column: str | None = None,
     unit: str = "",
     record: dict[str, str] | None = None,
+    times: np.ndarray | None = None,
 ) -> None:
     """Kinematic models compared, the chosen one's Q and R, and its filter run on the record.
 
@@ -205,12 +211,14 @@ def render_fit(
     record : dict, optional
         The record's answer (:meth:`~noisevar.estimators.answer.RecordAnswer.summary`),
         carried by the exported config.
+    times : ndarray, shape (n,), optional
+        The samples' times: the fit's record check reads the record's answer on them.
     """
     with guarded("Kalman fit: "):
         z = np.asarray(z, dtype=float)
         c1, c2 = st.columns(2)
         method = c1.selectbox("Method", METHODS, key=f"{KEY}_method")
-        tunings = _fit_models(z, rate, method, regimes)
+        tunings = _fit_models(z, rate, method, regimes, times)
         best = min(tunings.values(), key=lambda t: t.bic).model
         model = c2.selectbox(
             "Model for the filter",
@@ -220,11 +228,12 @@ def render_fit(
             help="rw: random walk, cv: constant velocity, ca: constant "
             "acceleration. The best by BIC is preselected.",
         )
-        show_table(tuning_rows(tunings), hide_index=True)
+        show_table(tuning_rows(tunings, unit), hide_index=True)
         t = tunings[model]
         _verdict(t)
         st.markdown(
-            f"Suggested **q = {fmt(t.q)}** {t.units['q']} and **r = {fmt(t.r)}** {t.units['r']} "
+            f"Suggested **q = {fmt(t.q)}** {in_data_unit(t.units['q'], unit)} and "
+            f"**r = {fmt(t.r)}** {in_data_unit(t.units['r'], unit)} "
             f"(h = qT^k/r = {fmt(t.h)}); steady-state gain: {gain_text(t)}."
         )
         _record(t, unit)

@@ -22,14 +22,7 @@ from noisevar.cli._common import (
 from noisevar.errors import NoisevarError
 from noisevar.format import eng, eng_range, pvalue
 from noisevar.io.limits import echo
-from noisevar.units import UNKNOWN
-
-
-def _said(text: str, unit: str) -> str:
-    """A unit of q or r (``u²/s^3``) in the data's unit (``nT²/s^3``), in the table and JSON."""
-    from noisevar.units import variance_label
-
-    return text.replace("u²", variance_label(unit))
+from noisevar.units import UNKNOWN, in_data_unit
 
 
 def _print_table(t: Any, args: argparse.Namespace, column: str, unit: str = "u") -> None:
@@ -39,8 +32,8 @@ def _print_table(t: Any, args: argparse.Namespace, column: str, unit: str = "u")
     print(f"file      {echo(args.file, 200)}  column {echo(column)}")
     print(f"model     {t.model}   method {t.method}   samples {t.n}   regimes {t.regimes}")
     # the page's formatter (noisevar.format.eng): the same digits on both
-    print(f"q         {eng(t.q)} {_said(t.units['q'], unit)}  {iv(t.q_interval)}")
-    print(f"r         {eng(t.r)} {_said(t.units['r'], unit)}  {iv(t.r_interval)}")
+    print(f"q         {eng(t.q)} {in_data_unit(t.units['q'], unit)}  {iv(t.q_interval)}")
+    print(f"r         {eng(t.r)} {in_data_unit(t.units['r'], unit)}  {iv(t.r_interval)}")
     print(f"h         {eng(t.h)} (q T^k / r)  {iv(t.h_interval)}")
     from noisevar.noise_model.export import gain_text
 
@@ -51,7 +44,7 @@ def _print_table(t: Any, args: argparse.Namespace, column: str, unit: str = "u")
     tails = "Gaussian" if t.innovations_gaussian else "NOT Gaussian"
     print(f"innov.    {white} (Ljung-Box {pvalue(t.ljung_box_p)})   loglik {t.loglik:.6g}")
     print(f"tails     {tails} (kurtosis {t.innovations_kurtosis:.3g}; Gaussian 3)")
-    _print_record(t.record, _said("u²", unit))
+    _print_record(t.record, in_data_unit("u²", unit))
     for note in t.notes:
         print(f"note      {note}")
 
@@ -169,7 +162,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     if args.format == "json":
         out = tuning.to_dict()
         out.update(file=args.file, column=column, dropped=dropped, unit=unit)
-        out["units"] = {k: _said(v, unit) for k, v in out["units"].items()}
+        out["units"] = {k: in_data_unit(v, unit) for k, v in out["units"].items()}
         print_json(out)
     else:
         _print_table(tuning, args, column, unit)

@@ -30,15 +30,19 @@ from noisevar.kalman.divergence import nis_band
 from noisevar.noise_model.coloured import ColouredNoiseFit
 from noisevar.noise_model.kalman_fit import KalmanTuning
 from noisevar.noise_model.kalman_run import TunedRun
+from noisevar.units import in_data_unit
 
 
-def tuning_rows(tunings: dict[str, KalmanTuning]) -> list[dict[str, object]]:
+def tuning_rows(tunings: dict[str, KalmanTuning], unit: str = "") -> list[dict[str, object]]:
     """One table row per fitted kinematic model: q, r, h with intervals, criteria, checks.
 
     Parameters
     ----------
     tunings : dict
         Model name -> :class:`~noisevar.noise_model.KalmanTuning`.
+    unit : str
+        The data's unit: q's unit is written in it (``m²/s^3``), as ``noisevar fit``
+        writes it.
 
     Returns
     -------
@@ -53,7 +57,7 @@ def tuning_rows(tunings: dict[str, KalmanTuning]) -> list[dict[str, object]]:
                 # one formatter, four significant digits each (not r 0.3 beside q 1.234567891e-5)
                 "q": eng(t.q),
                 "q 95 %": eng_range(*t.q_interval),
-                "q unit": t.units.get("q", ""),
+                "q unit": in_data_unit(t.units.get("q", ""), unit),
                 "r": eng(t.r),
                 "r 95 %": eng_range(*t.r_interval),
                 # r against the record's answer (auto's R): which model agrees with it

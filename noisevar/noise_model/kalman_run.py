@@ -65,6 +65,7 @@ def fit_models(
     method: str = AUTO_METHOD,
     regimes: str = DEFAULT_REGIMES,
     progress: Callable[[float], None] | None = None,
+    t: ArrayLike | None = None,
 ) -> dict[str, KalmanTuning]:
     """:func:`~noisevar.noise_model.kalman_fit.fit_kalman` of every kinematic model, the
     record's answer (``estimate``) made once for all of them.
@@ -76,6 +77,9 @@ def fit_models(
         As :func:`~noisevar.noise_model.kalman_fit.fit_kalman`'s.
     progress : callable, optional
         Called with the fraction done over all the models (0 to 1).
+    t : array_like, shape (n,), optional
+        The samples' times (s): the record's answer is made on them (split at their gaps),
+        as ``noisevar estimate``, ``noisevar fit`` and the Estimator page make it.
 
     Returns
     -------
@@ -83,7 +87,7 @@ def fit_models(
         Model name -> its fit, in :data:`~noisevar.noise_model.kalman_fit.MODELS`' order.
     """
     arr = np.asarray(z, dtype=float)
-    answer = record_estimate(arr)
+    answer = record_estimate(arr, None if t is None else np.asarray(t, dtype=float))
     record = None if isinstance(answer, str) else answer
     out = {}
     for i, model in enumerate(MODELS):

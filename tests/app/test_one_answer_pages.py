@@ -233,11 +233,17 @@ def test_fleet_page_on_one_file(record) -> None:
 
 
 def test_noise_model_page(record) -> None:
+    from noisevar.format import eng
+
     est = record["est"]
     at = _page(record, "app_pages/Noise_model.py")
     r = next(m for m in at.metric if m.label == "Noise variance R")
     assert r.value == fmt(est.variance)
     assert _says(at, est.diagnostics.verdict)
+    # the Kalman fit's check quotes the same R: it read the record without its times (its
+    # gaps not split), 26.46 beside the page's 27.95 m² on an RTKLIB record
+    (check,) = [b for b in _boxes(at) if "r and the record's R" in b]
+    assert f"the record's R = {eng(est.variance)} " in check, check
     if est.still is not None:
         at.checkbox(key="nm_regimes").check().run()
         _clean(at)

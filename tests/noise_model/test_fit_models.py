@@ -12,7 +12,9 @@ def test_fit_models_is_each_models_fit_with_one_estimate(monkeypatch):
     z = np.cumsum(rng.normal(0, 0.05, 800)) + rng.normal(0, 0.5, 800)
     calls = []
     real = kalman_run.record_estimate
-    monkeypatch.setattr(kalman_run, "record_estimate", lambda a: calls.append(1) or real(a))
+    monkeypatch.setattr(
+        kalman_run, "record_estimate", lambda a, t=None: calls.append(1) or real(a, t)
+    )
     seen = []
     fits = fit_models(z, rate=10.0, progress=seen.append)
     assert calls == [1]
