@@ -22,12 +22,13 @@ from test_browser_pages import VIEWPORTS, upload_then_open  # noqa: E402
 
 from tests.test_io_audit18 import _las  # noqa: E402
 
-_POS_HEAD = """% program   : RTKPOST ver.2.4.3
-% pos mode  : single
-%
-% (lat/lon/height=WGS84/ellipsoidal,Q=1:fix,2:float,3:sbas,4:dgps,5:single,6:ppp,ns=# of satellites)
-%  GPST                  latitude(deg) longitude(deg)  height(m)   Q  ns   sdn(m)   sde(m)   sdu(m)  sdne(m)  sdeu(m)  sdun(m) age(s)  ratio
-"""
+_POS_HEAD = (
+    "% program   : RTKPOST ver.2.4.3\n% pos mode  : single\n%\n"
+    "% (lat/lon/height=WGS84/ellipsoidal,Q=1:fix,2:float,3:sbas,4:dgps,5:single,6:ppp,"
+    "ns=# of satellites)\n"
+    "%  GPST                  latitude(deg) longitude(deg)  height(m)   Q  ns   sdn(m)   "
+    "sde(m)   sdu(m)  sdne(m)  sdeu(m)  sdun(m) age(s)  ratio\n"
+)
 
 
 def _pos(n: int = 400, seed: int = 1) -> str:
