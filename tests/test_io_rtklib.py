@@ -122,3 +122,30 @@ def test_a_damaged_solution_row_is_refused_in_one_line(row: str) -> None:
         good = "2021/03/22 15:20:44.000 48.1 -1.2 55.1 2 10 0.01\n"
     with pytest.raises(NoisevarError, match="RTKLIB"):
         load_table((head + good * 5 + row + "\n" + good * 5).encode(), "bad.pos")
+
+
+def test_the_solutions_own_standard_deviations_are_no_signals(tmp_path, capsys):
+    """RTKLIB writes each solution's own standard deviations (``sdn(m)``) and its quality
+    flag, satellite count, age and ratio beside the position: they were read as signals (the
+    Signal page's channels and the Two sensors page's sensors opened on ``sdn(m)``,
+    ``sde(m)``, ``sdne(m)``). They are side columns now, read only when named, and not
+    paired with R (a GNSS solution's covariance covers slow errors R does not see)."""
+    import json
+
+    from noisevar.batch.channels import table_channels
+    from noisevar.cli import main
+
+    path = tmp_path / "rover.pos"
+    path.write_text(_static(600, 0.5, seed=3))
+    table = load_table(path)
+    assert table.signals == ["east_m", "north_m", "up_m"]
+    assert set(table.side_columns) == {"Q", "ns", "sdn(m)", "sde(m)", "sdu(m)", "sdne(m)",
+                                       "sdeu(m)", "sdun(m)", "age(s)", "ratio"}  # fmt: skip
+    assert not table.declared_variance
+    assert main(["estimate", str(path), "--columns", "all", "--format", "json"]) == 0
+    rows = json.loads(capsys.readouterr().out)["channels"]
+    assert [c["column"] for c in rows if "error" not in c] == ["east_m", "north_m", "up_m"]
+    left = {c["column"]: c["error"] for c in rows if "error" in c}
+    assert "the solution's own standard deviation" in left["sdn(m)"]
+    assert "the number of satellites" in left["ns"]
+    assert table_channels(table, ["sdn(m)"]) == ["sdn(m)"]  # named, it is read

@@ -136,7 +136,9 @@ def skipped_columns(table: LoadedTable) -> dict[str, str]:
     out = {}
     for c in table.data_columns:
         z = table.columns[c]
-        if (why := not_measured(z[np.isfinite(z)])) is not None:
+        if c in table.side_columns:  # the file's format says what it is
+            out[c] = f"{table.side_columns[c]}, not a measured signal"
+        elif (why := not_measured(z[np.isfinite(z)])) is not None:
             out[c] = why
     return out
 

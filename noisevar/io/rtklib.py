@@ -15,6 +15,7 @@ from noisevar.errors import NoisevarError
 from noisevar.io.header_units import header_unit
 from noisevar.io.limits import echo
 from noisevar.io.nmea import _WGS84_A, _WGS84_F, ENU_NAMES
+from noisevar.io.table import LoadedTable
 
 #: The column line of a solution file: ``%`` then its time system, then the first column
 #: (searched in a header line: a line end lost runs it on the line above).
@@ -173,3 +174,35 @@ def rtklib_csv(text: str, name: str) -> tuple[str, str]:
     out = [",".join(["time", *names]), ",".join(["", *units])]
     out += [",".join(r) for r in rows]
     return "\n".join(out) + "\n", NOTE.format(system=system, geo=_GEO if geo else "")
+
+
+#: What an RTKLIB solution's columns other than its position (and velocity) are, by name
+#: without the unit: none is a measured signal.
+SIDE = {
+    "Q": "the solution's quality flag (1 fix, 2 float, 5 single...)",
+    "ns": "the number of satellites used",
+    "age": "the age of the differential corrections",
+    "ratio": "the ambiguity ratio test's value",
+}
+def declare(table: LoadedTable) -> LoadedTable:
+    """A table read from :func:`rtklib_csv` with the solution's columns other than its
+    position (and velocity) named as side columns: :data:`SIDE`, and ``sd*``, the
+    solution's own standard deviations and covariances.
+
+    Notes
+    -----
+    They were read as signals: the Signal page's channels and the Two sensors page's sensors
+    opened on ``sdn(m)``, ``sde(m)``, ``sdne(m)``, and ``--columns all`` estimated the noise
+    of a satellite count. The standard deviations are not paired with R as a ROS message's
+    covariance is: a GNSS solution's covers slow errors (multipath, the geometry) that the
+    sample-to-sample R does not see (docs/algorithms.md, *Declared noise*).
+    """
+    side = {}
+    for c in table.data_columns:
+        stem = c.split("(")[0]
+        if stem in SIDE:
+            side[c] = SIDE[stem]
+        elif stem.startswith("sd"):
+            side[c] = "the solution's own standard deviation or covariance"
+    table.side_columns = side
+    return table

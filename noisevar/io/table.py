@@ -68,6 +68,10 @@ class LoadedTable:
         Column name to the noise variance the log declares for it (a ROS message's
         covariance diagonal, its median over the messages; in the column's unit squared),
         for the columns whose messages declare a known one; empty otherwise.
+    side_columns : mapping of str to str
+        Columns the file's format says are no measured signal (a solution's quality flag,
+        its own standard deviations), each with what it is: left out of :attr:`signals`
+        and of ``--columns all``, read when named.
     """
 
     name: str
@@ -78,6 +82,7 @@ class LoadedTable:
     notes: list[str] = field(default_factory=list)
     units: Mapping[str, str] = field(default_factory=dict)
     declared_variance: Mapping[str, float] = field(default_factory=dict)
+    side_columns: Mapping[str, str] = field(default_factory=dict)
 
     @property
     def n_rows(self) -> int:
@@ -124,6 +129,7 @@ class LoadedTable:
         clock = self.clock_of(name)  # its steps (a dt column: time_steps) are no signal
         return (
             varies
+            and name not in self.side_columns
             and not is_time_column(name)
             and not steps_evenly(finite)
             and not bookkeeping(finite)  # a digital line, a flag, a code: column_kinds
