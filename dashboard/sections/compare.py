@@ -287,7 +287,7 @@ def monte_carlo_form(sig: LoadedSignal) -> MonteCarloSettings:
         "Noise std (empty: default)",
         min_value=1e-6,
         max_value=1e6,
-        format="%g",
+        format="%.6g",
         key="mc_std",
         bind="query-params",
         placeholder="default",

@@ -83,7 +83,7 @@ def settings_form(sig: LoadedSignal, regimes: str = DEFAULT_REGIMES) -> NoiseMod
     rate = c1.number_input(
         "Sample rate (Hz)",
         min_value=0.0,
-        format="%g",
+        format="%.6g",
         key="nm_rate",
         **initial("nm_rate", float(default_rate)),
     )
@@ -317,7 +317,11 @@ def kalibr_export(sig: LoadedSignal, s: NoiseModelSettings) -> None:
     gyro = c1.multiselect("Gyroscope columns (rad/s)", cols, key="nm_gyro")
     accel = c2.multiselect("Accelerometer columns (m/s²)", cols, key="nm_accel")
     inflation = c3.number_input(
-        "Inflation", min_value=0.0, format="%g", key="nm_inflation", **initial("nm_inflation", 1.0)
+        "Inflation",
+        min_value=0.0,
+        format="%.6g",
+        key="nm_inflation",
+        **initial("nm_inflation", 1.0),
     )
     if not (gyro and accel):
         st.caption("Choose the gyroscope and accelerometer columns of the loaded file.")

@@ -155,13 +155,13 @@ def datasheet_panel(fit: InertialNoise | None, s: NoiseModelSettings) -> None:
     n_value = c1.number_input(
         "ARW" if dim == "angular" else "VRW",
         min_value=0.0,
-        format="%g",
+        format="%.6g",
         key="nm_ds_n",
         **initial("nm_ds_n", 0.0),
     )
     n_unit = c2.selectbox("unit", dens, key=f"nm_ds_nu_{dim}")
     b_value = c3.number_input(
-        "Bias instability", min_value=0.0, format="%g", key="nm_ds_b", **initial("nm_ds_b", 0.0)
+        "Bias instability", min_value=0.0, format="%.6g", key="nm_ds_b", **initial("nm_ds_b", 0.0)
     )
     b_unit = c4.selectbox("unit ", bias, key=f"nm_ds_bu_{dim}")
     floor = st.checkbox("The datasheet quotes the Allan floor (0.664 B), not B", key="nm_ds_floor")

@@ -44,7 +44,7 @@ def column_and_period(sig: LoadedSignal, errors: DeltaGenerator) -> LoadedSignal
         value=sig.sample_period,
         min_value=1e-9,
         max_value=1e6,
-        format="%g",
+        format="%.6g",
         key=f"sig_period_{sig.table_digest}",
         placeholder="unknown: axes in samples",
         help=(

@@ -57,3 +57,16 @@ def test_the_still_running_icon_names_streamlits_own_element():
 
     js = Path(st.__file__).parent / "static" / "static" / "js"
     assert any(RUNNING_ICON in f.read_text(errors="ignore") for f in js.glob("index.*.js"))
+
+
+def test_number_inputs_round_what_they_show():
+    """Streamlit formats a number input with sprintf-js, whose ``%g`` without a precision
+    prints every digit: a PX4 log's rate read "204.58265139116202" on the Noise model page
+    (a browser screenshot). Every ``format=`` of a number input gives a precision."""
+    bare = []
+    for path in [*(ROOT / "dashboard").rglob("*.py"), *(ROOT / "app_pages").glob("*.py")]:
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.keyword) and node.arg == "format":
+                if isinstance(node.value, ast.Constant) and node.value.value in ("%g", "%f", "%e"):
+                    bare.append(f"{path.name}:{node.value.lineno}")
+    assert not bare, bare
