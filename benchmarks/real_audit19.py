@@ -217,7 +217,8 @@ def period_reference(name: str, ch: str) -> dict:
 def daily_reference() -> dict:
     """3c: USGS's published daily mean discharge against the instant values' daily means
     (local standard time, UTC-5), as the product reads the instant file."""
-    daily = pd.read_parquet(_refdata.sdist_path(_refdata.HYDROFUNCTIONS, _NB + "DeadRun_Daily.parquet"))
+    daily_file = _refdata.sdist_path(_refdata.HYDROFUNCTIONS, _NB + "DeadRun_Daily.parquet")
+    daily = pd.read_parquet(daily_file)
     pub = daily["USGS:01589330:00060:00003"]
     ch = CHANNELS["deadrun"][0]
     table = load_table(user_file("deadrun"))
@@ -225,7 +226,7 @@ def daily_reference() -> dict:
     first = pd.read_parquet(user_file("deadrun")).index[0]
     stamps = first + pd.to_timedelta(np.asarray(t) - t[0], unit="s") - pd.Timedelta(hours=5)
     mine = pd.Series(np.asarray(z, float), index=stamps.floor("D")).groupby(level=0).mean()
-    both = pd.concat([pub.tz_convert(None), mine.tz_convert(None)], axis=1).dropna()
+    both = pd.concat([pub.tz_convert(None), mine.tz_convert(None)], axis=1, sort=True).dropna()
     ratio = both.iloc[:, 1] / both.iloc[:, 0]
     worst = float(np.max(np.abs(ratio - 1)))
     fail = [] if worst <= 0.05 else [f"a day's mean {worst:.1%} off the published"]
