@@ -3,6 +3,7 @@ vallenae's Vallen acoustic-emission databases (``.tradb`` waveforms as blobs, ``
 ``.trfdb``) were refused as "an SQLite database (an ActiGraph .agd file is one)" to be
 exported with ``pandas.read_sql``, which gives no samples from a blob."""
 
+import json
 import sqlite3
 
 import numpy as np
@@ -79,3 +80,21 @@ def test_a_damaged_sqlite_schema_still_gives_one_refusal(tmp_path):
         with pytest.raises(NoisevarError) as exc:
             load_table(path)
         assert "\n" not in str(exc.value) and len(str(exc.value)) < 1000
+
+
+def test_a_count_above_a_one_column_file_is_its_header(tmp_path, capsys):
+    """vallenae's ``signal.txt``: its period, the count of its samples, then the samples."""
+    z = np.random.default_rng(11).uniform(-1.0, 1.0, 1024)
+    path = tmp_path / "signal.txt"
+    path.write_text("100.000000\n1024\n" + "\n".join(f"{v:.6f}" for v in z) + "\n")
+    table = load_table(path)
+    got = table.columns["col0"]
+    np.testing.assert_allclose(got, np.round(z, 6))
+    assert any("1024 counts the values below" in n for n in table.notes)
+    assert main(["estimate", str(path), "--format", "json"]) == 0
+    said = json.loads(capsys.readouterr().out)
+    assert said["n_total"] == 1024 and said["variance"] < 1.0
+    for lead in ([], [5.0], [1023.0, 7.0]):  # values that count nothing stay samples
+        plain = np.concatenate([lead, z])
+        path.write_text("\n".join(f"{v:.6f}" for v in plain) + "\n")
+        assert load_table(path).columns["col0"].size == plain.size
