@@ -196,8 +196,13 @@ def channels_of(name: str) -> dict[str, np.ndarray]:
 
 # ---------------------------------------------------------------- check 3: references
 def written_lsb(z: np.ndarray) -> float | None:
-    """The decimal grid the values are written on: 10^-k for the least k (0-4) that makes
-    every value whole, else None."""
+    """The grid the values are written on: the least step between distinct values when
+    every value is a whole number of it (0.005 ft), else 10^-k for the least k (0-4) that
+    makes every value whole, else None."""
+    u = np.unique(z[np.isfinite(z)])
+    step = float(np.min(np.diff(u))) if u.size > 1 else 0.0
+    if step > 0 and np.allclose(u / step, np.round(u / step), rtol=0, atol=1e-6):
+        return step
     for k in range(5):
         s = z * 10.0**k
         if np.allclose(s, np.round(s), rtol=0, atol=1e-6):
@@ -281,7 +286,9 @@ def references(name: str, chans: dict[str, np.ndarray]) -> list[dict]:
 # ---------------------------------------------------------------- check 4: the files
 #: formats a refusal must name: a word of the case -> the word the refusal must hold
 _FORMATS = {".tradb": "vallenae", ".pridb": "vallenae", ".trfdb": "vallenae"}
-_NOT_SIGNALS = {"time", "col0"}
+_NOT_SIGNALS = {"time"}
+#: vallenae's signal.txt: the samples below its period and count lines
+_SIGNAL_SAMPLES = 1024
 
 
 def _checks(what: str, rc: int, out: str, err: str) -> list[str]:
@@ -295,6 +302,9 @@ def _checks(what: str, rc: int, out: str, err: str) -> list[str]:
         row = row.get("channels", [row])[0]
         if str(row.get("column")) in _NOT_SIGNALS or "qualifiers" in str(row.get("column")):
             fail.append(f"opened on {row.get('column')!r}, not a measured column")
+        if "count, then samples" in what and row.get("n_total") != _SIGNAL_SAMPLES:
+            fail.append(f"{row.get('n_total')} samples read, not the {_SIGNAL_SAMPLES} below "
+                        "the count")  # fmt: skip
     return fail
 
 
