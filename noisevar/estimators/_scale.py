@@ -263,8 +263,11 @@ def refusing_held(run: Callable[..., Any], z: NDArray, scaled: int, method: str)
         except ZeroVariance as exc:
             raise (held_refusal(np.ldexp(z, -scaled), method) or exc) from None
         # a residual with no variation to diagnose: held values whose R is a few flips'
-        found = float(np.ldexp(out.variance, -2 * scaled))
-        if out.diagnostics is None and (held := held_refusal(np.ldexp(z, -scaled), method, found)):
+        if out.diagnostics is not None:
+            return out
+        with np.errstate(over="ignore", under="ignore"):  # a variance past float's range
+            found = float(np.ldexp(out.variance, -2 * scaled))
+        if (held := held_refusal(np.ldexp(z, -scaled), method, found)) is not None:
             raise held
         return out
 
