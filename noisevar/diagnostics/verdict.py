@@ -26,6 +26,7 @@ from noisevar.diagnostics.verdict_parts import (
     none_quieter,
     not_at_rest,
     oscillation_words,
+    rounding_clause,
     still_oscillation,
     to_use_words,
     upper_bound_words,
@@ -358,7 +359,7 @@ def _not_white(
     said = still_said(diag, gap)
     rounding = diag.identifiable and not diag.short_correlated and not diag.white
     if rounding and under_half_a_step(diag, variance):
-        return _rounding_first(diag, r, quiet, said if still_apart else None)
+        return _rounding_first(diag, r, quiet, variance, said if still_apart else None)
     if not diag.identifiable:  # a track that stops: its still stretches, the R to use
         stood = None if not still_apart else (still_share(diag), _g(quiet), said)
         return walk_verdict(r, stood, not diag.still_a_walk and not_at_rest(diag) is None)
@@ -425,7 +426,9 @@ def _vibrates(diag: NoiseDiagnostics) -> str:
     return f"; the whole record carries {oscillation_words(o)}: {OSC_TO_DO}"
 
 
-def _rounding_first(diag: NoiseDiagnostics, r: str, quiet: float, said: str | None) -> str:
+def _rounding_first(
+    diag: NoiseDiagnostics, r: str, quiet: float, variance: float, said: str | None
+) -> str:
     """The verdict of noise under half a grid step that is not one white level.
 
     The rounding error then follows the signal's offset within a step (docs/algorithms.md
@@ -443,8 +446,8 @@ def _rounding_first(diag: NoiseDiagnostics, r: str, quiet: float, said: str | No
     return (
         f"noise under half a step on a grid of step {_g(diag.lsb)}: the rounding error "
         "follows the signal's offset within a step, so the residual is not white"
-        f"{level}, and a colour or a motion cannot be told apart from quantisation; {r} "
-        f"includes the rounding error lsb²/12 = {_g(diag.lsb**2 / 12.0)}{stood}"
+        f"{level}, and a colour or a motion cannot be told apart from quantisation; "
+        f"{rounding_clause(r, diag.lsb, variance)}{stood}"
     )
 
 

@@ -17,7 +17,13 @@ from noisevar.diagnostics import Segmentation
 from noisevar.errors import NoisevarError
 from noisevar.estimators import _scale, auto, difference, mle, redundant, somd
 from noisevar.estimators._input import as_channels, as_signal, check_samples
-from noisevar.estimators._scale import RATE_RANGE, check_rate, scale_back, scale_exponent
+from noisevar.estimators._scale import (
+    RATE_RANGE,
+    check_rate,
+    refusing_held,
+    scale_back,
+    scale_exponent,
+)
 from noisevar.estimators.auto import auto_estimate, residual_sequence
 from noisevar.estimators.difference import HKT_SEQUENCES, sequence_efficiency
 from noisevar.estimators.params import PARAMS
@@ -180,7 +186,9 @@ def _records(
         results = _channels(spec, arr, drop, used)
         one = Segmentation(((0, arr.shape[-1]),), ())
         return [
-            run_record(spec, InMemory(spec, row, one, _run_one, JUMP_MASK, []), used, r, e)
+            refusing_held(run_record, row, e, spec.name)(
+                spec, InMemory(spec, row, one, _run_one, JUMP_MASK, []), used, r, e
+            )
             for r, row in zip(results, rows, strict=True)
         ]
     return [estimate_record(spec, row, times, drop, used, _run_one, JUMP_MASK, e) for row in rows]

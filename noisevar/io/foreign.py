@@ -56,6 +56,7 @@ def refuse_fit(head: bytes, name: str) -> None:
     )
 
 
+_SQLITE = b"SQLite format 3\x00"
 #: Binary files of measurements users have: leading bytes -> (what it is, how to convert)
 _BINARY_KINDS = {
     b"TDSm": ("a TDMS file (National Instruments LabVIEW or DAQ)",
@@ -70,11 +71,52 @@ _BINARY_KINDS = {
                      "with pyedflib or mne: mne.io.read_raw_bdf(path).to_data_frame()"),
     b"LOGG": ("a BLF file (Vector's binary CAN log)",
               "decode its signals with python-can and cantools and the bus's DBC file"),
-    b"SQLite format 3\x00": ("an SQLite database (an ActiGraph .agd file is one)",
+    _SQLITE: ("an SQLite database (an ActiGraph .agd file is one)",
                              "with sqlite3 or pandas.read_sql: the table of samples"),
     b"MATLAB 5.0 MAT-file": ("a MATLAB .mat file",
                              "with MATLAB's writetable, or scipy.io.loadmat in Python"),
 }  # fmt: skip
+#: SQLite databases whose samples are no table's rows, known by a table their schema
+#: creates -> (what it is, how to export it)
+_SQLITE_KINDS = {
+    "tr_data": ("a Vallen acoustic-emission transient database (.tradb, SQLite: each hit's "
+                "waveform a compressed or raw blob, no table of samples)",
+                "with vallenae: TraDatabase(path).read_wave(trai) gives a hit's volts and "
+                "times"),
+    "ae_data": ("a Vallen acoustic-emission primary database (.pridb, SQLite: hits, markers "
+                "and parametric inputs)", "with vallenae: PriDatabase(path).read_parametric() "
+                "or .read_hits()"),
+    "trf_data": ("a Vallen acoustic-emission feature database (.trfdb, SQLite: features of "
+                 "each hit)", "with vallenae: TrfDatabase(path).read()"),
+}  # fmt: skip
+#: a table an SQLite schema creates (its name)
+_CREATE_TABLE = re.compile(rb"CREATE TABLE\s+(?:IF NOT EXISTS\s+)?[\"'`\[]?(\w{1,64})", re.I)
+#: tables an SQLite refusal names at most
+_TABLES_SAID = 8
+
+
+def sqlite_kind(head: bytes) -> tuple[str, str]:
+    """What an SQLite database is and how to export it, from the tables its schema (in
+    ``head``) creates: a known kind (:data:`_SQLITE_KINDS`), else the generic SQLite
+    entry with the tables named (a few; ``echo``-safe: word characters only).
+
+    Notes
+    -----
+    vallenae's Vallen AE databases (``.tradb``, ``.pridb``, ``.trfdb``) were refused as "an
+    SQLite database (an ActiGraph .agd file is one)" to be exported with ``pandas.read_sql``:
+    a ``.tradb`` holds its waveforms as blobs, so no table read gives the samples.
+    """
+    names = list(dict.fromkeys(m[1].decode("ascii").lower() for m in _CREATE_TABLE.finditer(head)))
+    found = next((v for k, v in _SQLITE_KINDS.items() if k in names), None)
+    if found is not None:
+        return found
+    what, how = _BINARY_KINDS[_SQLITE]
+    if names:
+        said = ", ".join(names[:_TABLES_SAID]) + (", ..." if len(names) > _TABLES_SAID else "")
+        how = f"{how}; its tables: {said}"
+    return what, how
+
+
 #: EDF's header: version "0" and 7 spaces, its start date (dd.mm.yy) at byte 168
 _EDF = re.compile(rb"0 {7}.{160}\d\d\.\d\d\.\d\d", re.DOTALL)
 
@@ -91,6 +133,8 @@ def refuse_binary(head: bytes, name: str) -> None:
     is nor how to make it a table.
     """
     found = next((v for k, v in _BINARY_KINDS.items() if head.startswith(k)), None)
+    if found is _BINARY_KINDS[_SQLITE]:
+        found = sqlite_kind(head)
     if found is None and _EDF.match(head[:176]):
         found = ("an EDF file (European Data Format, biosignals)",
                  "with pyedflib or mne: mne.io.read_raw_edf(path).to_data_frame()")  # fmt: skip

@@ -45,6 +45,48 @@ def header_of_numbers(columns: dict[str, NDArray]) -> str | None:
     return NUMBERS_HEADER.format(far=far, of=len(cols))
 
 
+#: The lines a one-column file may start with before a count of the values below them
+COUNT_LINES = 3
+#: A count header counts at least this many values
+COUNT_MIN = 8
+
+
+def count_header(columns: dict[str, NDArray]) -> tuple[int, str] | None:
+    """How many leading values of a headerless one-column file are its header, and the note:
+    a whole number among the first :data:`COUNT_LINES` that counts the values below it (and
+    the values above it), else None.
+
+    Notes
+    -----
+    vallenae's ``signal.txt`` starts ``100.000000`` (its period), ``1024`` (its samples'
+    count), then the 1,024 samples: read as samples, the two lines held R = 947 of the
+    samples' 0.33 ("heavy-tailed"). A signal's value equal to the count of the values
+    after it is a coincidence no record repeats on its first lines.
+    """
+    if len(columns) != 1:
+        return None
+    z = next(iter(columns.values()))
+    for i, v in enumerate(z[:COUNT_LINES]):
+        below = z.size - i - 1
+        if below >= COUNT_MIN and v == below:
+            head = ", ".join(f"{x:g}" for x in z[: i + 1])
+            lines = "line" if i == 0 else f"{i + 1} lines"
+            return i + 1, (
+                f"the first {lines} ({echo(head)}) are a header, not samples ({below:g} counts "
+                "the values below): left out of the data"
+            )
+    return None
+
+
+def leading_header(columns: dict[str, NDArray]) -> tuple[int, str] | None:
+    """A headerless table's leading rows that are a header, and the note: a first row of
+    numbers far outside the rest (:func:`header_of_numbers`) or a one-column file's count
+    of its values (:func:`count_header`), else None."""
+    if (head := header_of_numbers(columns)) is not None:
+        return 1, head
+    return count_header(columns)
+
+
 #: A headerless table of at least this many columns whose values, read row after row, step
 #: (mean square) under ``ROWS_CONTINUE`` times down a column, also from one line's last value
 #: to the next line's first, is one series written several values a line

@@ -17,7 +17,7 @@ from noisevar.errors import NoisevarError
 from noisevar.io.header_units import column_units, header_unit
 from noisevar.io.headerless import first_line_is_row
 from noisevar.io.opensignals import opensignals_names
-from noisevar.io.quirks import code_note, header_of_numbers, repeated_rows, rows_continue, wrap_note
+from noisevar.io.quirks import code_note, leading_header, repeated_rows, rows_continue, wrap_note
 from noisevar.io.refusal_hints import (
     kinds_hint,
     numbers_for_names,
@@ -350,9 +350,9 @@ def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
                          or is_digit_date_name(c)), 0)  # fmt: skip
         time_idx = date_idx if _holds_dates(text, fmt, header_line, names, date_idx) else None
     columns, notes, first, dated = _parse_body(src, header_line, names, fmt, name, time_idx)
-    if names == [f"col{i}" for i in range(len(names))] and (head := header_of_numbers(columns)):
-        columns = {c: v[1:] for c, v in columns.items()}
-        notes.insert(0, head)
+    if names == [f"col{i}" for i in range(len(names))] and (head := leading_header(columns)):
+        columns = {c: v[head[0] :] for c, v in columns.items()}
+        notes.insert(0, head[1])
     if names == [f"col{i}" for i in range(len(names))] and (rows := rows_continue(columns)):
         notes.insert(0, rows)
     time_col = names[time_idx] if time_idx is not None else None
