@@ -308,7 +308,7 @@ def find_regimes(
     The still regimes are the floor (:func:`_floor`): from the lowest regime up, in order
     of level, each regime whose level is consistent with the floor's pooled level so far
     (a one-sided F test at :data:`STILL_ALPHA` per step, its dof divided by the blocks'
-    dispersion, :func:`_dispersion`) and at most :data:`STILL_RATIO` times the lowest
+    dispersion, :func:`dispersion`) and at most :data:`STILL_RATIO` times the lowest
     regime's upper 95 % bound joins it. One regime is one level: still, as far as the
     record can tell. A regime the test leaves out below that bound is near-still: another
     still level (another posture, slow sway), which the result reports on its own. A flat
@@ -359,7 +359,7 @@ def _supported_floor(
     live = _not_flat(pooled, spans)
     while True:
         cap = _cap([pooled[i] for i in live])
-        phi = _dispersion(level, dof, [spans[i] for i in live if pooled[i][0] <= cap])
+        phi = dispersion(level, dof, [spans[i] for i in live if pooled[i][0] <= cap])
         lows = _floor([(pooled[i][0], pooled[i][1] / phi) for i in live], cap, held)
         floor = {live[j] for j in lows}
         rest = [i for i in live if i not in floor]
@@ -409,7 +409,7 @@ def _cap(pooled: list[tuple[float, float]]) -> float:
     return STILL_RATIO * _interval(low, low_dof)[1]
 
 
-def _dispersion(level: NDArray, dof: NDArray, spans: list[tuple[int, int]]) -> float:
+def dispersion(level: NDArray, dof: NDArray, spans: list[tuple[int, int]]) -> float:
     """How much more the blocks' levels scatter inside their regimes than their dof say.
 
     Each block's log level about its regime's median, squared over its variance
