@@ -18,7 +18,7 @@ from noisevar.diagnostics.quiet_set import (
     quiet_set,
     still_if_quiet,
 )
-from noisevar.diagnostics.regimes import Regime, dispersion, find_regimes, hints_a_change
+from noisevar.diagnostics.regimes import Regime, dispersion_shown, find_regimes, hints_a_change
 
 #: At most this many blocks in a level profile (blocks grow with the record).
 PROFILE_BLOCKS = 200
@@ -430,7 +430,7 @@ def profile_from_blocks(
     # the still blocks' levels scatter by ``phi`` times more than their dof say (noise
     # low-passed by the sensor, a level that wanders): the rounds read dof / phi, as the
     # floor does (the seed keeps Gaussian noise's test: a tap in part of a block stays out)
-    phi = dispersion(robust, robust_dof, _block_spans(regimes, start, stop, count))
+    phi = dispersion_shown(robust, robust_dof, _block_spans(regimes, start, stop, count))
     # ... of the blocks it is measured on: one that lost residuals around a jump keeps
     # Gaussian noise's test (a tap in part of it)
     spread = np.where(count >= stop - start, phi, 1.0)
