@@ -1,14 +1,14 @@
 """The quiet set reads the still blocks' own scatter (issue 26, class 4).
 
 A met mast's 80 m wind speed (brightwind, real_audit12): its still regimes' block levels
-scatter 2.4-5.3x more than their dof say (95 % lower bound 1.45-2.71) (wind, low-passed by the cup's inertia, a level that
-wanders). The quiet set tested each still block's mean square with the dof of independent
-squares, so from a seed of the lowest blocks it kept 24 of 38 still blocks on one grid
-phase and 7 of 18 with one sample dropped (a lower fixed point of its rounds): the R to use
-moved x0.72. The regimes' floor already divides the dof by that scatter
-(``regimes.dispersion``); the quiet set's rounds now divide them by its lower bound
-(``regimes.dispersion_shown``) (its seed keeps
-Gaussian noise's test, so that a tap in part of a block stays out).
+scatter 2.4-5.3x more than their dof say (95 % lower bound 1.45-2.71: wind, low-passed by
+the cup's inertia, a level that wanders). The quiet set tested each still block's mean
+square with the dof of independent squares, so from a seed of the lowest blocks it kept 24
+of 38 still blocks on one grid phase and 7 of 18 with one sample dropped (a lower fixed
+point of its rounds): the R to use moved x0.72. The regimes' floor already divides the dof
+by that scatter (``regimes.dispersion``); the quiet set's rounds now divide them by its
+lower bound (``regimes.dispersion_shown``; the seed keeps Gaussian noise's test, so that a
+tap in part of a block stays out).
 """
 
 from __future__ import annotations
