@@ -46,3 +46,20 @@ def test_quiet_set_keeps_the_still_blocks_own_scatter():
     z = _wandering_still_record(0)
     for k in range(4):
         assert _quiet_over_still(z[k:]) >= 0.9, k
+
+
+def test_dispersion_shown_is_the_lower_bound_the_blocks_show():
+    from scipy import special
+
+    from noisevar.diagnostics.regimes import dispersion, dispersion_shown
+
+    rng = np.random.default_rng(3)
+    nu, phi = 10.0, 3.0
+    dof = np.full(300, nu)
+    level = np.exp(np.sqrt(phi * special.polygamma(1, nu / 2)) * rng.normal(size=300))
+    point = dispersion(level, dof, [(0, 300)])
+    shown = dispersion_shown(level, dof, [(0, 300)])
+    assert 1.0 < shown < point and point / 1.5 < phi < 1.5 * point
+    # 4 deviations bound nothing; a 5-block regime's own median deviation is 0
+    assert dispersion_shown(level[:4], dof[:4], [(0, 4)]) == 1.0
+    assert dispersion_shown(level[:5], dof[:5], [(0, 5)]) == 1.0
