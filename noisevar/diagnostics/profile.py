@@ -18,7 +18,7 @@ from noisevar.diagnostics.quiet_set import (
     quiet_set,
     still_if_quiet,
 )
-from noisevar.diagnostics.regimes import Regime, find_regimes, hints_a_change
+from noisevar.diagnostics.regimes import Regime, dispersion_shown, find_regimes, hints_a_change
 
 #: At most this many blocks in a level profile (blocks grow with the record).
 PROFILE_BLOCKS = 200
@@ -427,6 +427,13 @@ def profile_from_blocks(
         still |= r.still & (start >= r.start) & (stop <= r.stop)
     level = 1.0 - QUIET_ALPHA / robust.size
     keep = partial(quiet_set, still, var, dof)
+    # the still blocks' levels scatter by ``phi`` times more than their dof say (noise
+    # low-passed by the sensor, a level that wanders): the rounds read dof / phi, as the
+    # floor does (the seed keeps Gaussian noise's test: a tap in part of a block stays out)
+    phi = dispersion_shown(robust, robust_dof, _block_spans(regimes, start, stop, count))
+    # ... of the blocks it is measured on: one that lost residuals around a jump keeps
+    # Gaussian noise's test (a tap in part of it)
+    spread = np.where(count >= stop - start, phi, 1.0)
     # the seed: still blocks whose mean square is near the still blocks' median; where the
     # record has motion, only those Gaussian noise explains (handling beside the motion)
     seed = still & (var <= SEED_FACTOR * np.median(var[still]))
@@ -438,7 +445,7 @@ def profile_from_blocks(
             seed &= gaussian_seed(still, count, var, robust, robust_dof, eta, level)
         quiet = seed
         for _ in range(QUIET_ROUNDS):
-            nu = leave_one_out_dof(count, robust, tails, quiet, eta, dof)
+            nu = leave_one_out_dof(count, robust, tails, quiet, eta, dof) / spread
             again = keep(chi2_ppf(level, nu) / nu, quiet)
             if np.array_equal(again, quiet):
                 break
@@ -449,6 +456,19 @@ def profile_from_blocks(
     return LevelProfile(
         start, stop, var, lo, hi, dof, quiet, regimes, count, robust, quiet_dof, None, near
     )
+
+
+def _block_spans(
+    regimes: tuple[Regime, ...], start: NDArray, stop: NDArray, count: NDArray
+) -> list[tuple[int, int]]:
+    """The block index ranges ``[a, b)`` of the still ``regimes``' runs of blocks that lost no
+    residual around a level jump."""
+    whole = np.zeros(start.size, dtype=bool)
+    for r in regimes:
+        whole |= r.still & (start >= r.start) & (stop <= r.stop)
+    whole &= count >= stop - start
+    edges = np.flatnonzero(np.diff(np.r_[0, whole.view(np.int8), 0]))
+    return [(int(a), int(b)) for a, b in zip(edges[::2], edges[1::2], strict=True)]
 
 
 def on_both_grids(
