@@ -80,6 +80,48 @@ def still_gap(
     )
 
 
+def smoothed_gap(diag: NoiseDiagnostics | None) -> str | None:
+    """Why the still R is no R to use although it is measured: the noise where the record is
+    still is smoother than a sensor's own low-pass leaves it (None: it is not).
+
+    Returns
+    -------
+    str or None
+        The message :func:`still_refusal` gives, on every surface that hands out a still R.
+
+    Notes
+    -----
+    docs/algorithms.md §E2 *Smoothed outputs*: ``NoiseDiagnostics.smoothed`` (the still
+    stretches' test where the level varies, else the whole record's). The level is neither
+    the sensor's noise (not in the record) nor the output's variance per sample, so its
+    interval, the residual's sampling error, covers neither.
+    """
+    w = None if diag is None else diag.smoothed
+    if w is None:
+        return None
+    return (
+        "regimes='still': where the record is still its noise is smoother than a sensor's own "
+        f"low-pass leaves it (lag-1 autocorrelation {w.acf[0]:+.2f}, at most {w.ar1_limit:+.2f} "
+        "through a first-order low-pass): a filter's smoothed output, or slow motion; its "
+        "still level is not the sensor's noise and its interval does not cover it, so there "
+        "is no still R to use; take R from the raw measurements or the solver's own variance"
+    )
+
+
+def still_refusal(
+    diag: NoiseDiagnostics | None, variance: float, still: VarianceEstimate | None
+) -> str | None:
+    """Why ``regimes="still"`` gives no R: :func:`still_gap`, else :func:`smoothed_gap`.
+
+    Notes
+    -----
+    The rule every surface that hands out a still R follows (``regimes.why_no_still``,
+    the row's still cells); the verdict reads :func:`still_gap` alone and says a smoothed
+    level in its own words (``verdict_parts.not_at_rest``).
+    """
+    return still_gap(diag, variance, still) or smoothed_gap(diag)
+
+
 def still_note(
     diag: NoiseDiagnostics | None, variance: float, still: VarianceEstimate | None
 ) -> str | None:
@@ -94,14 +136,21 @@ def still_note(
     -------
     str or None
         The row's ``still_note``: no diagnostics, one still regime (the record's R is its
-        still R), no still stretch, or still stretches too short; None when ``still`` is
-        given.
+        still R), no still stretch, still stretches too short, or a smoothed output's
+        (:func:`smoothed_gap`: the still R measured, not one to use); None when ``still``
+        is given and is one to use.
 
     Notes
     -----
     The same cases as :func:`still_gap` (one rule), phrased for a table cell.
     """
     kind, total, share = _gap(diag, variance, still)
+    if kind in ("have", "one", "same") and (w := None if diag is None else diag.smoothed):
+        level = "" if still is None else f" (measured {still.variance:.3g}, not the sensor's)"
+        return (
+            f"no still R to use{level}: smoothed output (still lag-1 {w.acf[0]:+.2f} over "
+            f"{w.ar1_limit:+.2f}); take R from the raw measurements or the solver's variance"
+        )
     return {
         "have": None,
         "unknown": "no still R: the record's regimes could not be found",
