@@ -79,3 +79,17 @@ def test_untested_still_r_says_what_it_assumes() -> None:
     est = noisevar.estimate(z)
     assert est.still is not None and est.diagnostics.still_whiteness is None
     assert any("assumes it white" in n and "untested" in n for n in est.still.notes)
+
+
+def test_untested_still_level_gives_its_interval_in_the_verdict() -> None:
+    """A still level on too few samples to test: the verdict gives the interval those
+    samples give (a Permian gamma ray's R to use, 65 samples of 12,041: 95 % 0.0015 to
+    0.061, real_audit18); before, the level alone, "untested"."""
+    rng = np.random.default_rng(0)
+    z = 0.1 * rng.normal(size=4000)
+    z[300:] += 5.0 * rng.normal(size=3700)
+    est = noisevar.estimate(z)
+    v = est.diagnostics.verdict
+    assert "too short to test whether their noise is white" in v
+    assert "so this level (95 %" in v and "on them) is untested" in v, v
+    assert any(f"({est.still.n_used} samples," in n for n in est.still.notes)
