@@ -93,3 +93,13 @@ def test_untested_still_level_gives_its_interval_in_the_verdict() -> None:
     assert "too short to test whether their noise is white" in v
     assert "so this level (95 %" in v and "on them) is untested" in v, v
     assert any(f"({est.still.n_used} samples," in n for n in est.still.notes)
+
+
+def test_the_record_answer_does_not_hand_out_a_smoothed_still_r() -> None:
+    """The answer sentence every page and export quotes: before, "Its still regimes
+    alone: R = 596.7e-9" on a smoothed output."""
+    from noisevar.estimators.answer import record_answer
+
+    est = noisevar.estimate(_smoothed_output(0))
+    said = record_answer(est).sentence()
+    assert "still regimes alone" not in said and "not an R to use" in said, said
