@@ -82,7 +82,7 @@ def still_caveat(diag: NoiseDiagnostics, n_used: int | None = None) -> str | Non
     """
     if (bound := upper_bound_note(diag)) is not None:
         return bound
-    if (w := diag.smoothed) is not None:
+    if (w := diag.still_smoothed) is not None:
         return (
             "not an R to use: where the record is still its noise is smoother than a "
             f"sensor's own low-pass leaves it (lag-1 autocorrelation {w.acf[0]:+.2f}, at most "

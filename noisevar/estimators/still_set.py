@@ -91,12 +91,11 @@ def smoothed_gap(diag: NoiseDiagnostics | None) -> str | None:
 
     Notes
     -----
-    docs/algorithms.md §E2 *Smoothed outputs*: ``NoiseDiagnostics.smoothed`` (the still
-    stretches' test where the level varies, else the whole record's). The level is neither
-    the sensor's noise (not in the record) nor the output's variance per sample, so its
-    interval, the residual's sampling error, covers neither.
+    docs/algorithms.md §E2 *Smoothed outputs*: ``NoiseDiagnostics.still_smoothed``. The
+    level is neither the sensor's noise (not in the record) nor the output's variance per
+    sample, so its interval, the residual's sampling error, covers neither.
     """
-    w = None if diag is None else diag.smoothed
+    w = None if diag is None else diag.still_smoothed
     if w is None:
         return None
     return (
@@ -145,7 +144,8 @@ def still_note(
     The same cases as :func:`still_gap` (one rule), phrased for a table cell.
     """
     kind, total, share = _gap(diag, variance, still)
-    if kind in ("have", "one", "same") and (w := None if diag is None else diag.smoothed):
+    w = None if diag is None else diag.still_smoothed
+    if kind in ("have", "one", "same") and w is not None:
         level = "" if still is None else f" (measured {still.variance:.3g}, not the sensor's)"
         return (
             f"no still R to use{level}: smoothed output (still lag-1 {w.acf[0]:+.2f} over "
