@@ -110,7 +110,10 @@ def smoothed_gap(diag: NoiseDiagnostics | None) -> str | None:
 def still_refusal(
     diag: NoiseDiagnostics | None, variance: float, still: VarianceEstimate | None
 ) -> str | None:
-    """Why ``regimes="still"`` gives no R: :func:`still_gap`, else :func:`smoothed_gap`.
+    """Why ``regimes="still"`` gives no R: :func:`still_gap`, else, for a still R measured
+    apart (``still``), :func:`smoothed_gap`. Where R is the still R (one still regime, the
+    still stretches at R's level, a level within a grid step) R is quoted with its own
+    assumption ``unsmoothed``, as the verdict does.
 
     Notes
     -----
@@ -118,7 +121,7 @@ def still_refusal(
     the row's still cells); the verdict reads :func:`still_gap` alone and says a smoothed
     level in its own words (``verdict_parts.not_at_rest``).
     """
-    return still_gap(diag, variance, still) or smoothed_gap(diag)
+    return still_gap(diag, variance, still) or (None if still is None else smoothed_gap(diag))
 
 
 def still_note(
@@ -145,8 +148,8 @@ def still_note(
     """
     kind, total, share = _gap(diag, variance, still)
     w = None if diag is None else diag.still_smoothed
-    if kind in ("have", "one", "same") and w is not None:
-        level = "" if still is None else f" (measured {still.variance:.3g}, not the sensor's)"
+    if kind == "have" and w is not None:
+        level = f" (measured {still.variance:.3g}, not the sensor's)" if still else ""
         return (
             f"no still R to use{level}: smoothed output (still lag-1 {w.acf[0]:+.2f} over "
             f"{w.ar1_limit:+.2f}); take R from the raw measurements or the solver's variance"
