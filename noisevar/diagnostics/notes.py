@@ -63,3 +63,44 @@ def upper_bound_note(diag: NoiseDiagnostics) -> str | None:
         "(a slower phase of a gait, or a machine running): their level, the R to use of "
         "regimes='still', is an upper bound on the sensor's noise, not its level at rest"
     )
+
+
+def still_caveat(diag: NoiseDiagnostics, n_used: int | None = None) -> str | None:
+    """What the still R itself (``regimes='still'``, ``est.still``) says of its level and
+    interval: an upper bound (:func:`upper_bound_note`), a smoothed output's, or untested.
+
+    Notes
+    -----
+    docs/algorithms.md §E2 *Smoothed outputs*. A smoothed output's still level
+    (``NoiseDiagnostics.smoothed``) is neither the sensor's noise nor the output's variance
+    per sample: its interval is the residual's sampling error and covers neither. Still
+    stretches too short to test (no ``still_whiteness``) leave the still R resting on two
+    untested assumptions, white and unsmoothed noise, said with the whole record's lag-1
+    reading where that is already smoother than a low-pass leaves noise (RTKLIB's rover2),
+    and with the samples it rests on (``n_used``, the still R's; a Permian gamma ray's
+    R to use rests on 65 of 12,041, real_audit18).
+    """
+    if (bound := upper_bound_note(diag)) is not None:
+        return bound
+    if (w := diag.still_smoothed) is not None:
+        return (
+            "not an R to use: where the record is still its noise is smoother than a "
+            f"sensor's own low-pass leaves it (lag-1 autocorrelation {w.acf[0]:+.2f}, at most "
+            f"{w.ar1_limit:+.2f}): this level is not the sensor's noise, and its 95 % interval "
+            "(the residual's sampling error) does not cover it; take R from the raw "
+            "measurements or the solver's own variance"
+        )
+    if diag.still_whiteness is not None or not diag.level_varies:
+        return None
+    whole = diag.whiteness
+    said = (
+        f"; the whole record's noise is smoother than that (lag-1 {whole.acf[0]:+.2f}, at most "
+        f"{whole.ar1_limit:+.2f}): if it is a filter's output this level is not the sensor's"
+        if whole.smoother_than_ar1
+        else ""
+    )
+    rests = "" if n_used is None else f" ({n_used} samples, {n_used / diag.n:.2%} of the record)"
+    return (
+        f"the still stretches{rests} are too short to test their noise: this still R assumes "
+        f"it white and no smoother than a sensor's own low-pass leaves it, untested{said}"
+    )

@@ -299,6 +299,19 @@ class NoiseDiagnostics:
         return w if w is not None and w.smoother_than_ar1 else None
 
     @property
+    def still_smoothed(self) -> WhitenessTest | None:
+        """:attr:`smoothed` where the level varies (the still stretches' own test), else
+        None: what makes a still R no R to use (``estimators.still_set.still_refusal``).
+
+        Notes
+        -----
+        A record of one level is its own still R: its whole-record test reads its signal
+        and rounding too (an ECG on a 0.001 grid, NN intervals), which the verdict does not
+        call a smoothed output; its R keeps the assumption ``unsmoothed`` False instead.
+        """
+        return self.smoothed if self.level_varies else None
+
+    @property
     def on_still(self) -> NoiseDiagnostics:
         """These diagnostics with the still stretches' increments for the record's: what
         the still R's interval rests on (:attr:`identifiable` there, not over the walk)."""

@@ -566,9 +566,11 @@ def still_colour(diag: NoiseDiagnostics) -> str:
     if (rest := not_at_rest(diag)) is not None:  # a smoothed output, a calm stretch
         return rest
     if w is None and diag.level_varies:  # still stretches too short for the test
+        q = diag.quiet
+        ci = "" if q is None or q.lo is None else f" (95 % {eng(q.lo)} to {eng(q.hi)} on them)"
         return (
             "; the still stretches are too short to test whether their noise is white, so "
-            "this level is untested: if the sensor low-passes its noise it is only the white "
+            f"this level{ci} is untested: if the sensor low-passes its noise it is only the white "
             "part (record the sensor still for longer)"
         )
     if w is None or w.white or (diag.white and w.p_value >= WEAK_P):

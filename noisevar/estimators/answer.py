@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 
 from noisevar.diagnostics.panel import verdict_severity
 from noisevar.diagnostics.verdict_parts import still_level_fields
-from noisevar.estimators.regimes import DEFAULT_REGIMES, estimate_for, still_used
+from noisevar.estimators.regimes import DEFAULT_REGIMES, estimate_for, still_used, why_no_still
 from noisevar.estimators.results import VarianceEstimate
 from noisevar.format import eng, eng_range, squared
 
@@ -88,6 +88,10 @@ class RecordAnswer:
         still R; empty when there is none (or no still R).
     n : int
         Samples in the record (each still level's share of it).
+    still_refused : str or None
+        Why ``regimes="still"`` gives no R although the still regimes were measured
+        (:func:`~noisevar.estimators.regimes.why_no_still`: a smoothed output's); None
+        when it gives one.
     """
 
     variance: float
@@ -102,6 +106,7 @@ class RecordAnswer:
     still_variance: float | None
     still_levels: tuple[StillLevel, ...] = ()
     n: int = 0
+    still_refused: str | None = None
 
     def sentence(self, unit: str = "") -> str:
         """``R = 1.2e-3 m² (95 % 1.1e-3 .. 1.3e-3), method auto over the whole record.``"""
@@ -110,7 +115,12 @@ class RecordAnswer:
             f"R = {eng(self.variance, u)} (95 % {eng_range(*self.ci95, u)}), method "
             f"{self.method} over {self.where}."
         )
-        if self.still_variance is not None and self.where != "its still regimes":
+        if self.still_variance is not None and self.still_refused is not None:
+            out += (
+                f" Its still regimes read {eng(self.still_variance, u)}: not an R to use "
+                "(a smoothed output's; see the verdict)."
+            )
+        elif self.still_variance is not None and self.where != "its still regimes":
             out += f" Its still regimes alone: R = {eng(self.still_variance, u)}."
         return out
 
@@ -201,6 +211,7 @@ def record_answer(est: VarianceEstimate, regimes: str = DEFAULT_REGIMES) -> Reco
         still_variance=None if still is None else float(still.variance),
         still_levels=() if diag is None or still is None else tuple(diag.other_still),
         n=0 if diag is None else int(diag.n),
+        still_refused=None if still is None else why_no_still(est),
     )
 
 

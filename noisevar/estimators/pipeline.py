@@ -39,7 +39,7 @@ from noisevar.diagnostics import (
 )
 from noisevar.diagnostics.assumptions import check_assumptions
 from noisevar.diagnostics.both_grids import regimes_on_both_grids
-from noisevar.diagnostics.notes import upper_bound_note
+from noisevar.diagnostics.notes import still_caveat
 from noisevar.diagnostics.profile import LevelProfile
 from noisevar.diagnostics.regimes import QuietLevel, StillLevel
 from noisevar.errors import NoisevarError
@@ -515,11 +515,11 @@ def conclude(
     """
 
     def own(result: VarianceEstimate) -> VarianceEstimate:
-        if spec.finish is not None:
-            result = spec.finish(result, diag, record)
-        if not (diag.short_correlated and spec.residual is not None):
+        if not (diag.short_correlated and spec.residual is not None):  # finish: its spread kept
             result = honest_interval(result, diag, glitches) if spec.moment else result
+            result = result if spec.finish is None else spec.finish(result, diag, record)
             return without_vibration(result, record, diag, spec.residual)  # §E2 Vibration
+        result = result if spec.finish is None else spec.finish(result, diag, record)
         d = spec.residual(result.params)
         result = differenced(result, d, diag.noise_correlation)
         result = honest_interval(result, diag, glitches) if spec.moment else result
@@ -537,7 +537,7 @@ def conclude(
         diag, result.variance, result.core_variance, result.outlier_fraction, quiet, gap
     )
     result.still = still
-    if still is not None and (bound := upper_bound_note(diag)) is not None:
+    if still is not None and (bound := still_caveat(diag, still.n_used)) is not None:
         still.notes.append(bound)  # the still R users take says it too
     result.notes.extend(n for n in diag.notes if n not in result.notes)
     result.diagnostics = diag

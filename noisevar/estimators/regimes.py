@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 from noisevar.errors import NoisevarError
 from noisevar.estimators.results import VarianceEstimate
 from noisevar.estimators.still_quiet import regime_stretches
-from noisevar.estimators.still_set import STILL_MIN, USE_ALL, still_gap
+from noisevar.estimators.still_set import STILL_MIN, USE_ALL, still_gap, still_refusal
 
 __all__ = [
     "DEFAULT_REGIMES",
@@ -163,7 +163,7 @@ def _still_stretches(arr: NDArray, est: VarianceEstimate | None) -> list | None:
             f"regimes='still': the record's regimes could not be found ({exc}); {USE_ALL}"
         ) from exc
     diag = est.diagnostics
-    gap = still_gap(diag, est.variance, est.still)  # the one rule, as variance_for's
+    gap = why_no_still(est)  # the one rule, as variance_for's
     if gap is not None:
         raise NoisevarError(gap)
     if diag is None or est.still is None:  # one still regime (still_gap)
@@ -251,8 +251,9 @@ def common_still_stretch(
 
 
 def why_no_still(est: VarianceEstimate) -> str | None:
-    """:func:`still_gap` of an estimate: why ``regimes="still"`` has no R for it (or None)."""
-    return still_gap(est.diagnostics, est.variance, est.still)
+    """Why ``regimes="still"`` has no R for an estimate (or None): :func:`still_gap`, or
+    a smoothed output's still level (``still_set.still_refusal``)."""
+    return still_refusal(est.diagnostics, est.variance, est.still)
 
 
 def still_used(est: VarianceEstimate, regimes: str = DEFAULT_REGIMES) -> bool:
@@ -266,7 +267,7 @@ def estimate_for(est: VarianceEstimate, regimes: str = DEFAULT_REGIMES) -> Varia
     Raises
     ------
     NoisevarError
-        With ``"still"``, when the record has no still R to use (:func:`still_gap`).
+        With ``"still"``, when the record has no still R to use (:func:`why_no_still`).
     """
     still = est.still
     if check_regimes(regimes) == "all":

@@ -123,13 +123,16 @@ def row_label(key: str, unit: str = "") -> str:
 def _still_fields(est: VarianceEstimate) -> dict[str, float | str | None]:
     """``still_variance``, its interval and ``still_note`` (why they are empty:
     ``still_set.still_note``); R there when the level varies and R is the R to use (its still
-    stretches read R's level: ``still_gap`` None), as ``regimes="still"`` quotes it."""
-    from noisevar.estimators.still_set import still_gap, still_note
+    stretches read R's level: ``still_gap`` None), as ``regimes="still"`` quotes it; empty
+    where ``regimes="still"`` refuses (``still_set.still_refusal``)."""
+    from noisevar.estimators.still_set import still_gap, still_note, still_refusal
 
     still, diag = est.still, est.diagnostics
     note = still_note(diag, est.variance, still)
     if still is None and diag is not None and diag.level_varies:
         still = est if still_gap(diag, est.variance, None) is None else None
+    if still is not None and still_refusal(diag, est.variance, est.still) is not None:
+        still = None  # a smoothed output's: measured, no R to use (still_note says so)
     cells = (None, None, None) if still is None else (still.variance, *still.ci95)
     keys = ("still_variance", "still_ci95_low", "still_ci95_high")
     return {k: None if v is None else _finite(v) for k, v in zip(keys, cells, strict=True)} | {

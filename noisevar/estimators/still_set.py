@@ -80,6 +80,50 @@ def still_gap(
     )
 
 
+def smoothed_gap(diag: NoiseDiagnostics | None) -> str | None:
+    """Why the still R is no R to use although it is measured: the noise where the record is
+    still is smoother than a sensor's own low-pass leaves it (None: it is not).
+
+    Returns
+    -------
+    str or None
+        The message :func:`still_refusal` gives, on every surface that hands out a still R.
+
+    Notes
+    -----
+    docs/algorithms.md §E2 *Smoothed outputs*: ``NoiseDiagnostics.still_smoothed``. The
+    level is neither the sensor's noise (not in the record) nor the output's variance per
+    sample, so its interval, the residual's sampling error, covers neither.
+    """
+    w = None if diag is None else diag.still_smoothed
+    if w is None:
+        return None
+    return (
+        "regimes='still': where the record is still its noise is smoother than a sensor's own "
+        f"low-pass leaves it (lag-1 autocorrelation {w.acf[0]:+.2f}, at most {w.ar1_limit:+.2f} "
+        "through a first-order low-pass): a filter's smoothed output, or slow motion; its "
+        "still level is not the sensor's noise and its interval does not cover it, so there "
+        "is no still R to use; take R from the raw measurements or the solver's own variance"
+    )
+
+
+def still_refusal(
+    diag: NoiseDiagnostics | None, variance: float, still: VarianceEstimate | None
+) -> str | None:
+    """Why ``regimes="still"`` gives no R: :func:`still_gap`, else, for a still R measured
+    apart (``still``), :func:`smoothed_gap`. Where R is the still R (one still regime, the
+    still stretches at R's level, a level within a grid step) R is quoted with its own
+    assumption ``unsmoothed``, as the verdict does.
+
+    Notes
+    -----
+    The rule every surface that hands out a still R follows (``regimes.why_no_still``,
+    the row's still cells); the verdict reads :func:`still_gap` alone and says a smoothed
+    level in its own words (``verdict_parts.not_at_rest``).
+    """
+    return still_gap(diag, variance, still) or (None if still is None else smoothed_gap(diag))
+
+
 def still_note(
     diag: NoiseDiagnostics | None, variance: float, still: VarianceEstimate | None
 ) -> str | None:
@@ -94,14 +138,22 @@ def still_note(
     -------
     str or None
         The row's ``still_note``: no diagnostics, one still regime (the record's R is its
-        still R), no still stretch, or still stretches too short; None when ``still`` is
-        given.
+        still R), no still stretch, still stretches too short, or a smoothed output's
+        (:func:`smoothed_gap`: the still R measured, not one to use); None when ``still``
+        is given and is one to use.
 
     Notes
     -----
     The same cases as :func:`still_gap` (one rule), phrased for a table cell.
     """
     kind, total, share = _gap(diag, variance, still)
+    w = None if diag is None else diag.still_smoothed
+    if kind == "have" and w is not None:
+        level = f" (measured {still.variance:.3g}, not the sensor's)" if still else ""
+        return (
+            f"no still R to use{level}: smoothed output (still lag-1 {w.acf[0]:+.2f} over "
+            f"{w.ar1_limit:+.2f}); take R from the raw measurements or the solver's variance"
+        )
     return {
         "have": None,
         "unknown": "no still R: the record's regimes could not be found",

@@ -90,7 +90,7 @@ def _level(est: VarianceEstimate) -> list[tuple[str, str]]:
     if d is None or not d.level_changes or (est.still is None and gap is None):
         return []
     what = "one noise level (it varies along the record: regimes of motion and stillness)"
-    if est.still is not None:
+    if est.still is not None and gap is None:
         return [(what, USE_STILL)]
     return [(what, "there is no still R to use (the estimate's verdict says why): " + NO_STILL)]
 
@@ -213,7 +213,7 @@ def record_check(
         ans = estimate_for(est, regimes)
     except NoisevarError:
         return None
-    use = None if (est.still is None and why_no_still(est)) else estimate_for(est, "still").variance
+    use = None if why_no_still(est) else estimate_for(est, "still").variance
     pairs = (
         ([] if regimes == "still" else _level(est)) + _colour(ans) + _jumps_and_tails(ans, left_out)
     )

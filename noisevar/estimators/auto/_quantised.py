@@ -447,9 +447,13 @@ def quantisation_correction(
     return replace(corr, factor=truth / x) if corr.applied else corr
 
 
-def apply_correction(result: VarianceEstimate, corr: QuantCorrection) -> VarianceEstimate:
+def apply_correction(
+    result: VarianceEstimate, corr: QuantCorrection, other: QuantCorrection | None = None
+) -> VarianceEstimate:
     """``result`` with the variance, its interval and the core scaled, and a note.
 
+    ``other``: the correction read through the shortest span (:func:`correct`); the
+    interval then runs from the lower factor's bottom to the higher's top.
     The note speaks in grid steps (the record may have been scaled by a power of two).
     """
     if not corr.applied:
@@ -469,10 +473,17 @@ def apply_correction(result: VarianceEstimate, corr: QuantCorrection) -> Varianc
         f"variance was multiplied by {k:.4f} (docs/algorithms.md §E3)"
     )
     lo, hi = result.ci95
+    ks = (k,) if other is None or not other.applied else (k, other.factor)
+    if len(ks) > 1:
+        note += (
+            f"; through the shortest span the factor is {ks[1]:.4f} (rounding error and "
+            "white noise read the same through any span, signal leaking through does not), "
+            "and the interval carries both"
+        )
     return replace(
         result,
         variance=result.variance * k,
-        ci95=(lo * k, hi * k),
+        ci95=(lo * min(ks), hi * max(ks)),
         core_variance=core,
         notes=[*result.notes, note],
     )
@@ -484,6 +495,7 @@ def correct(
     record: Callable[[int, int], NDArray] | None,
     span: int,
     order: int,
+    shortest: int | None = None,
 ) -> VarianceEstimate:
     """``result`` corrected for the rounding error its residual misses (§E3).
 
@@ -497,7 +509,10 @@ def correct(
         None for a record in several (gaps): it is not corrected, and a note says so
         when it would be.
     span, order : int
-        The residual sequence the estimate's shortest block span used.
+        The residual sequence the correction reads (``auto``'s longest span).
+    shortest : int, optional
+        ``auto``'s shortest span: the correction is read through it too, and R's interval
+        carries both factors (docs/algorithms.md §E3 *The factor's own spread*).
 
     Returns
     -------
@@ -513,4 +528,7 @@ def correct(
         )
         return replace(result, notes=[*result.notes, note])
     corr = quantisation_correction(record, result.n_total, lsb, result.variance, span, order)
-    return result if corr is None else apply_correction(result, corr)
+    if corr is None or not corr.applied or shortest is None or shortest == span:
+        return result if corr is None else apply_correction(result, corr)
+    other = quantisation_correction(record, result.n_total, lsb, result.variance, shortest, order)
+    return apply_correction(result, corr, other)

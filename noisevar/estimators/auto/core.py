@@ -469,8 +469,8 @@ def finish_quantised(
     from noisevar.estimators.auto import _quantised
 
     p = result.params
-    span = auto_spans(p.get("span"), p["order"], p["trim"], result.n_total)[-1]
-    return _quantised.correct(result, diag.lsb, record, span, p["order"])
+    spans = auto_spans(p.get("span"), p["order"], p["trim"], result.n_total)
+    return _quantised.correct(result, diag.lsb, record, spans[-1], p["order"], spans[0])
 
 
 def jump_mask(z: NDArray, order: int = AUTO_ORDER, trim: float = AUTO_TRIM) -> NDArray | None:
