@@ -113,9 +113,10 @@ def _stored_step(z: NDArray) -> float | None:
 
 def _step_over_gap(z: NDArray) -> float | None:
     """The grid whose least second difference is at least ``1 / LSB_TOL`` times every
-    smaller one above float64's rounding (those are rounding, on the grid's 0), read with
-    that rounding as in :func:`_stored_step` and confirmed by :data:`F32_CONFIRM` second
-    differences above it; else None.
+    smaller one above float64's rounding (those are rounding, on the grid's 0, and at most
+    float32's rounding of the largest ``|z|``), read with that rounding as in
+    :func:`_stored_step` and confirmed by :data:`F32_CONFIRM` second differences above it;
+    else None.
 
     Notes
     -----
@@ -129,7 +130,10 @@ def _step_over_gap(z: NDArray) -> float | None:
     top = float(np.max(np.abs(z)))
     d2 = np.abs(np.diff(z, 2))
     seen = np.unique(d2[d2 > ROUNDING_EPS * top])
-    for j in np.flatnonzero(seen[:-1] <= LSB_TOL * seen[1:]):
+    gaps = seen[:-1] <= LSB_TOL * seen[1:]
+    # rounding a storage format makes: at most float32's of the largest value (noise
+    # 1e4 times under a few equal jumps is no rounding, and the jumps no grid)
+    for j in np.flatnonzero(gaps & (seen[:-1] <= F32_EPS * top)):
         eps = float(seen[j]) / top  # every second difference up to it is rounding
         wide = _d2_step(z, eps)
         found = _confirmed(z, eps, wide) if wide else None
