@@ -278,9 +278,9 @@ def _on_multiples(d2: NDArray, step: float, tol: float) -> bool:
 
 
 def _least_squares_step(d2: NDArray, step: float, tol: float) -> float:
-    """The step read from every second difference whose multiple of ``step`` its rounding
-    cannot mistake (``k`` steps, ``k`` at most a quarter of ``step / tol``):
-    ``Σ d2 / Σ k``.
+    """The step read from every second difference, ``Σ d2 / Σ k`` (``k`` steps each), when
+    the least one's rounding ``tol`` can mistake none of their multiples (``k`` at most a
+    quarter of ``step / tol``); else ``step`` as it was.
 
     Notes
     -----
@@ -289,8 +289,9 @@ def _least_squares_step(d2: NDArray, step: float, tol: float) -> float:
     off, and a second difference of 1e5 steps fell 3e-3 of a step off its multiple.
     """
     k = np.rint(d2 / step)
-    sure = (k > 0) & (k <= 0.25 * step / tol)
-    return float(d2[sure].sum() / k[sure].sum())
+    if float(k.max()) > 0.25 * step / tol:  # a multiple the rounding could mistake
+        return step
+    return float(d2.sum() / k.sum())
 
 
 def joined_step(steps: list[float | None]) -> float | None:
