@@ -280,7 +280,7 @@ def _on_multiples(d2: NDArray, step: float, tol: float) -> bool:
 def _least_squares_step(d2: NDArray, step: float, tol: float) -> float:
     """The step read from every second difference, ``Σ d2 / Σ k`` (``k`` steps each), when
     the least one's rounding ``tol`` can mistake none of their multiples (``k`` at most a
-    quarter of ``step / tol``); else ``step`` as it was.
+    half of ``step / tol``); else ``step`` as it was.
 
     Notes
     -----
@@ -289,7 +289,7 @@ def _least_squares_step(d2: NDArray, step: float, tol: float) -> float:
     off, and a second difference of 1e5 steps fell 3e-3 of a step off its multiple.
     """
     k = np.rint(d2 / step)
-    if float(k.max()) > 0.25 * step / tol:  # a multiple the rounding could mistake
+    if float(k.max()) > 0.5 * step / tol:  # a multiple the rounding could mistake
         return step
     return float(d2.sum() / k.sum())
 
