@@ -107,7 +107,39 @@ def _stored_step(z: NDArray) -> float | None:
     if not wide and seen:  # none found, or all under float32 rounding at a moved scale
         eps = F32_SEEN * seen / float(np.max(np.abs(z)))
         wide = _d2_step(z, eps)
-    return (_confirmed(z, eps, wide) if wide else None) or step
+    found = (_confirmed(z, eps, wide) if wide else None) or step
+    return _step_over_gap(z) if found is None else found
+
+
+def _step_over_gap(z: NDArray) -> float | None:
+    """The grid whose least second difference is at least ``1 / LSB_TOL`` times every
+    smaller one above float64's rounding (those are rounding, on the grid's 0, and at most
+    float32's rounding of the largest ``|z|``), read with that rounding as in
+    :func:`_stored_step` and confirmed by :data:`F32_CONFIRM` second differences above it;
+    else None.
+
+    Notes
+    -----
+    docs/algorithms.md §E3 (*A rounding seen under the step*). Rounding that scales with
+    each sample's own size (decimals or float32 digits of values near 0) is not a fixed
+    fraction of the largest ``|z|``: an offset far above the values leaves it as it was,
+    above float64's rounding of the moved values and under float32's, which covers the
+    step. A tolerance taken from the step (:data:`LSB_TOL`), not from the values' size, reads
+    the same grid at any offset or trend.
+    """
+    top = float(np.max(np.abs(z)))
+    d2 = np.abs(np.diff(z, 2))
+    seen = np.unique(d2[d2 > ROUNDING_EPS * top])
+    gaps = seen[:-1] <= LSB_TOL * seen[1:]
+    # rounding a storage format makes: at most float32's of the largest value (noise
+    # 1e4 times under a few equal jumps is no rounding, and the jumps no grid)
+    for j in np.flatnonzero(gaps & (seen[:-1] <= F32_EPS * top)):
+        eps = float(seen[j]) / top  # every second difference up to it is rounding
+        wide = _d2_step(z, eps)
+        found = _confirmed(z, eps, wide) if wide else None
+        if found:
+            return found
+    return None
 
 
 def written_resolution(z: NDArray) -> float | None:
@@ -229,12 +261,37 @@ def _d2_step(z: NDArray, eps: float) -> float | None:
     step = float(np.min(d2, where=d2 > 0, initial=top))
     if step <= ROUNDING_STEPS * tol or top / step > 1e9:
         return None
-    # in pieces, so that a record off any grid (most) is told at its first piece
+    if _on_multiples(d2, step, tol):
+        return step
+    step = _least_squares_step(d2, step, tol)
+    return step if _on_multiples(d2, step, tol) else None
+
+
+def _on_multiples(d2: NDArray, step: float, tol: float) -> bool:
+    """Every ``d2`` within :data:`LSB_TOL` of a step plus ``tol`` of a whole multiple of
+    ``step``: in pieces, so that a record off any grid (most) is told at its first piece."""
     for a in range(0, d2.size, LSB_PROBE):
         r = d2[a : a + LSB_PROBE] / step
         if not float(np.max(np.abs(r - np.rint(r)))) < LSB_TOL + tol / step:
-            return None
-    return step
+            return False
+    return True
+
+
+def _least_squares_step(d2: NDArray, step: float, tol: float) -> float:
+    """The step read from every second difference, ``Σ d2 / Σ k`` (``k`` steps each), when
+    the least one's rounding ``tol`` can mistake none of their multiples (``k`` at most a
+    half of ``step / tol``); else ``step`` as it was.
+
+    Notes
+    -----
+    The least second difference carries up to ``tol`` of float rounding, and ``k`` steps
+    read with it carry ``k`` times that: 0.1 mm heights moved by 1.4e4 m read a step 3e-8
+    off, and a second difference of 1e5 steps fell 3e-3 of a step off its multiple.
+    """
+    k = np.rint(d2 / step)
+    if float(k.max()) > 0.5 * step / tol:  # a multiple the rounding could mistake
+        return step
+    return float(d2.sum() / k.sum())
 
 
 def joined_step(steps: list[float | None]) -> float | None:
