@@ -221,12 +221,12 @@ LABEL_CHARS = 20
 def unit_label(text: str | None) -> str | None:
     """The unit a file declares, as its results are labelled: as written, whether pint
     reads it (:func:`declared_unit`) or not (LAS's ``GAPI``: shown, never converted);
-    None for none, or a text no label (over :data:`LABEL_CHARS` characters, or not
-    printable)."""
+    None for none, or a text no label (not printable, or one pint does not read over
+    :data:`LABEL_CHARS` characters)."""
     said = str(text or "").strip()
-    if not said or said == UNKNOWN or len(said) > LABEL_CHARS or not said.isprintable():
-        return declared_unit(text) if said.isprintable() else None  # a long unit pint reads
-    return text if declared_unit(text) is not None else said
+    if said in ("", UNKNOWN) or not said.isprintable():
+        return None
+    return said if len(said) <= LABEL_CHARS or declared_unit(said) is not None else None
 
 
 def factor(source: str | None, target: str | None) -> float:

@@ -78,7 +78,7 @@ def _fit_models(
     of the server's GIL time with 8 sessions (py-spy, ``benchmarks/load.py``). A longer one
     is fitted here with a progress bar and kept in the session.
     """
-    times = None if t is None else t.tobytes()
+    times = None if t is None else hashlib.sha1(t.tobytes()).hexdigest()
     if z.size <= PROGRESS_ABOVE:
         return _fits_on_pool(_digest(z, times), float(rate), method, regimes, z, t)
     key = f"{KEY}_fits_{_digest(z, rate, method, regimes, times)}"

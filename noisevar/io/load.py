@@ -20,7 +20,7 @@ from noisevar.io.las import is_las, las_csv
 from noisevar.io.limits import MAX_BYTES, check_bytes, check_size
 from noisevar.io.nmea import _looks_like_nmea, _read_nmea
 from noisevar.io.npy import _read_npy
-from noisevar.io.rtklib import declare, is_rtklib, rtklib_csv
+from noisevar.io.rtklib import is_rtklib, rtklib_csv, with_side_columns
 from noisevar.io.table import _NPY_MAGIC, NMEA_EXTENSIONS, LoadedTable, echo
 from noisevar.io.text import TextSource, _read_frame, _read_text_table, table_layout
 from noisevar.io.upload import log_file
@@ -343,7 +343,9 @@ def _parse_text(head: bytes, name: str, path: Path | None, whole: bool) -> Loade
         return _read_nmea(text, name)
     if is_iaga(text):
         return _read_iaga(text if whole else _decode(_read_all(path, name), name)[0], name)
-    for sniff, convert, finish in ((is_rtklib, rtklib_csv, declare), (is_las, las_csv, None)):
+    # formats read as the CSV table they convert to: (is it, convert, finish the table)
+    formats = ((is_rtklib, rtklib_csv, with_side_columns), (is_las, las_csv, None))
+    for sniff, convert, finish in formats:
         if sniff(text):  # a format read as the CSV table it converts to, with its note
             csv, note = convert(text if whole else _decode(_read_all(path, name), name)[0], name)
             table = _read_text_table(csv, name)

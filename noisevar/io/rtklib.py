@@ -184,7 +184,9 @@ SIDE = {
     "age": "the age of the differential corrections",
     "ratio": "the ambiguity ratio test's value",
 }
-def declare(table: LoadedTable) -> LoadedTable:
+
+
+def with_side_columns(table: LoadedTable) -> LoadedTable:
     """A table read from :func:`rtklib_csv` with the solution's columns other than its
     position (and velocity) named as side columns: :data:`SIDE`, and ``sd*``, the
     solution's own standard deviations and covariances.
