@@ -288,10 +288,13 @@ def _least_squares_step(d2: NDArray, step: float, tol: float) -> float:
     read with it carry ``k`` times that: 0.1 mm heights moved by 1.4e4 m read a step 3e-8
     off, and a second difference of 1e5 steps fell 3e-3 of a step off its multiple.
     """
-    k = np.rint(d2 / step)
-    if float(k.max()) > 0.5 * step / tol:  # a multiple the rounding could mistake
-        return step
-    return float(d2.sum() / k.sum())
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):  # subnormal steps
+        k = np.rint(d2 / step)
+        # a multiple the rounding could mistake (or no rounding measured: tol 0)
+        if not (tol > 0 and float(k.max()) * tol <= 0.5 * step):
+            return step
+        found = float(d2.sum() / k.sum())
+    return found if np.isfinite(found) and found > 0 else step
 
 
 def joined_step(steps: list[float | None]) -> float | None:

@@ -70,3 +70,12 @@ def test_r_its_grid_and_the_finding_do_not_move() -> None:
         assert lo <= b.variance <= hi, name
         assert b.diagnostics.lsb == pytest.approx(a.diagnostics.lsb, rel=1e-6), name
         assert b.verdict.split(":")[0] == a.verdict.split(":")[0], name
+
+
+def test_subnormal_records_read_no_step_without_error() -> None:
+    """A record scaled to 1e-310 (subnormal doubles) has no measured rounding (tol 0): the
+    least-squares step read divided by it (hypothesis found it in CI's float-range test)."""
+    rng = np.random.default_rng(0)
+    z = (np.cumsum(rng.normal(0, 0.05, 240)) + rng.normal(0, 1, 240)) * 1e-310
+    with np.errstate(divide="raise", over="raise", invalid="raise"):
+        second_difference_step(z)
