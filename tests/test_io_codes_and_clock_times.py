@@ -81,3 +81,13 @@ def test_batch_gives_each_left_out_column_a_row(tmp_path, capsys):
     assert left["std"].isna().all()
     report = fleet_report(frame)
     assert report.n_errors == 0 and any("6 columns left out" in n for n in report.notes)
+
+
+def test_an_empty_batch_table_has_no_left_out_rows() -> None:
+    """The left-out count reads the ``error`` column as booleans, also with no rows (an
+    empty list read as floats failed the report's masks)."""
+    from noisevar.batch.fleet import fleet_report
+
+    for columns in (["file", "channel", "std", "error"], ["file", "channel", "std"]):
+        empty = pd.DataFrame({c: [] for c in columns})
+        assert fleet_report(empty).n_errors == 0

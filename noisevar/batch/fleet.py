@@ -332,7 +332,8 @@ def fleet_report(
     ok = np.isfinite(std) & (std > 0)
     good = frame[ok].assign(std=std[ok])
     channels, sensors, notes = [], [], []
-    left = np.array(left_out_rows(frame["error"]) if "error" in frame else [False] * len(frame))
+    said = left_out_rows(frame["error"]) if "error" in frame else [False] * len(frame)
+    left = np.array(said, dtype=bool)
     if left.any():
         notes.append(
             f"{int(left.sum())} columns left out by --columns all (flags, codes, clock "
