@@ -443,11 +443,12 @@ def _table(
     for f in extra:
         cols.pop(f, None)
     units = {f: u for f, u in info.units.items() if f in cols}
+    side = {f: what for f, what in info.side.items() if f in cols}
     if t is None or "time" in cols:
-        return LoadedTable(name, cols, reader.name, None, None, notes, units, declared)
+        return LoadedTable(name, cols, reader.name, None, None, notes, units, declared, side)
     period = _period_from_time(t, notes)
     return LoadedTable(
-        name, {"time": t, **cols}, reader.name, "time", period, notes, units, declared
+        name, {"time": t, **cols}, reader.name, "time", period, notes, units, declared, side
     )
 
 

@@ -47,6 +47,10 @@ class TopicInfo:
     declared : mapping of str to str
         A field whose message declares its noise variance -> the field holding it (a ROS
         message's covariance element: :mod:`noisevar.io.logs.ros_declared`).
+    side : mapping of str to str
+        Fields the format's message definitions say are no measured signal (an integration
+        interval, a relative timestamp, a bit mask), each with what it is: the loaded
+        table's :attr:`~noisevar.io.table.LoadedTable.side_columns`.
     """
 
     name: str
@@ -56,6 +60,7 @@ class TopicInfo:
     fields: tuple[str, ...]
     units: Mapping[str, str] = field(default_factory=dict)
     declared: Mapping[str, str] = field(default_factory=dict)
+    side: Mapping[str, str] = field(default_factory=dict)
 
     def to_dict(self) -> dict:
         """The topic as plain JSON-ready values."""
@@ -67,6 +72,7 @@ class TopicInfo:
             "fields": list(self.fields),
             "units": dict(self.units),
             "declared_variance_fields": dict(self.declared),
+            "side_fields": dict(self.side),
         }
 
 

@@ -74,6 +74,20 @@ SUFFIX_UNITS: tuple[tuple[str, str], ...] = (
     ("_celcius", "degC"),
     ("_meter", "m"),
 )
+#: What PX4 fields named so are (their ``.msg`` definitions): no measured signal, so left
+#: out of a table's signals (``sensor_combined``'s ``gyro_integral_dt``, ``vehicle_imu``'s
+#: ``delta_angle_dt``: an integration interval in us; ``ekf2_timestamps``' offsets).
+SIDE_SUFFIXES: tuple[tuple[str, str], ...] = (
+    ("_integral_dt", "the sensor's integration interval (us)"),
+    ("_dt", "an integration interval (us)"),
+    ("_timestamp_rel", "a timestamp relative to the message's (us)"),
+    ("_timestamp_relative", "a timestamp relative to the message's (us)"),
+    (".timestamp", "a timestamp (us)"),
+    ("_clipping", "a clipping bit field"),
+    ("_flags", "a bit field of flags"),
+    ("_status", "a status code"),
+    ("device_id", "the sensor's device id"),
+)
 _INDEX = re.compile(r"\[\d+\]$")
 _TIME_FIELDS = ("timestamp", "timestamp_sample")
 
@@ -87,6 +101,16 @@ def _unit(topic: str, field: str, kind: str = "f") -> str | None:
     if hit is not None:
         return hit
     return next((u for s, u in SUFFIX_UNITS if base.endswith(s)), None)
+
+
+def _side(fields: Sequence[str]) -> dict[str, str]:
+    """The fields of :data:`SIDE_SUFFIXES`, each with what it is."""
+    out = {}
+    for f in fields:
+        base = _INDEX.sub("", f)
+        if (what := next((w for s, w in SIDE_SUFFIXES if base.endswith(s)), None)) is not None:
+            out[f] = what
+    return out
 
 
 def _name(data, several: bool) -> str:
@@ -143,7 +167,7 @@ def _info(data, name: str) -> TopicInfo:
     rate = (n - 1) / span if span > 0 else None
     kinds = {f: data.data[f].dtype.kind for f in fields}
     units = {f: u for f in fields if (u := _unit(data.name, f, kinds[f])) is not None}
-    return TopicInfo(name, data.name, n, rate, fields, units)
+    return TopicInfo(name, data.name, n, rate, fields, units, side=_side(fields))
 
 
 def topics(path: Path) -> list[TopicInfo]:
