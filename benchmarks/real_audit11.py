@@ -53,7 +53,7 @@ Checks (``--records`` narrows them):
    ``--column`` JSON and ``--columns all`` CSV, ``noisevar.batch`` and the pages that show R
    (Signal, Estimator, Noise model, Two sensors, Fleet);
 3. **references**: (a) hand-cut still stretches: the Edge's stops (speed 0 for a minute or
-   more) pooled var(d2)/6 of the altitude, the pyranometer's night (00:00-05:00) and the
+   more) pooled var(d2)/6 of the altitude plus lsb²/12 (on its grid), the pyranometer's night (00:00-05:00) and the
    accelerometer's still start, against the R to use of the whole record (within x1.5, or
    its ci95 covers it); (b) grids: no R and no R to use under lsb²/12 / 4
    (``real_audit8.grid_reference``: the GENEActiv's 0.0039 g written in its file, whole
@@ -108,7 +108,7 @@ from real_audit import (  # noqa: E402
     to_use,
 )
 from real_audit3 import _one_line, fit_said, process  # noqa: E402
-from real_audit5 import one_answer  # noqa: E402
+from real_audit5 import one_answer, resolution  # noqa: E402
 from real_audit8 import _TO_DO, finding_kept, grid_reference, held_reference  # noqa: E402
 from real_audit9 import _HOLDERS, differenced_reference, glitch_reference  # noqa: E402
 
@@ -284,13 +284,17 @@ def _stretches(mask: np.ndarray, least: int) -> list[slice]:
 
 def stops_reference(chans: dict[str, np.ndarray]) -> dict:
     """3a: the Edge's stops (speed 0 for 60 s or more): their pooled var(d2)/6 of the
-    barometric altitude against the R to use of the whole ride."""
+    barometric altitude plus the rounding error lsb²/12 (the altitude is written on a grid:
+    the product's convention for data on a grid, σ² + lsb²/12, as ``real_audit5``'s
+    nights), against the R to use of the whole ride."""
     z = chans["altitude"]
     cuts = _stretches(chans["speed"] == 0.0, 60)
     d2 = np.concatenate([np.diff(z[s], 2) for s in cuts])
-    ref = float(np.mean(d2**2) / 6.0)
+    lsb = resolution(z)
+    ref = float(np.mean(d2**2) / 6.0) + lsb * lsb / 12.0
     est = nv.estimate(z)
-    what = f"{len(cuts)} stops (speed 0 for 60 s+, {d2.size} samples): var(d2)/6"
+    what = (f"{len(cuts)} stops (speed 0 for 60 s+, {d2.size} samples): var(d2)/6 "
+            f"+ lsb²/12 (lsb {lsb:.3g})")  # fmt: skip
     return ref_row("edge_ride", "altitude", what, ref, est, _within(est, ref))
 
 

@@ -39,3 +39,18 @@ def test_imu_matches_pymavlinks_own_reading(kind):
     for a in AXES:
         np.testing.assert_allclose(table.columns[a], ref[a], rtol=1e-7)
     assert 40 < 1 / table.sample_period < 50  # this log's IMU rate, about 45 Hz
+
+
+def test_a_log_without_units_takes_ardupilots_definitions():
+    """pymavlink's test.BIN logs no FMTU: it opened on ``AETR`` (control outputs), not its IMU,
+    and its gyroscope had no unit to convert or to write an IMU config in."""
+    from noisevar.io.logs import default_topic, list_topics
+
+    topics = list_topics(BIN)
+    assert default_topic(topics).name == "IMU"
+    imu = load_table(BIN, topic="IMU")
+    assert imu.units["GyrX"] == "rad/s" and imu.units["AccZ"] == "m/s**2"
+    assert 9.5 < -np.median(imu.columns["AccZ"]) < 10.1  # gravity, in m/s²: the unit is right
+    baro = load_table(BIN, topic="BARO")
+    assert baro.units["Press"] == "Pa" and 9e4 < np.median(baro.columns["Press"]) < 1.1e5
+    assert "AETR" not in {t.name for t in topics if t.units}  # only the messages it defines

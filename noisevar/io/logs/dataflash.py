@@ -47,6 +47,23 @@ UNITS = {
     "degheading": "deg",
     "%": "percent",
 }
+_IMU = {**dict.fromkeys(("GyrX", "GyrY", "GyrZ"), "rad/s"),
+        **dict.fromkeys(("AccX", "AccY", "AccZ"), "m/s**2"), "T": "degC",
+        "GHz": "Hz", "AHz": "Hz"}  # fmt: skip
+_MAG = dict.fromkeys(("MagX", "MagY", "MagZ", "OfsX", "OfsY", "OfsZ"), "milligauss")
+_ANGLES = dict.fromkeys(("Roll", "Pitch", "Yaw", "DesRoll", "DesPitch", "DesYaw"), "deg")
+#: Units of ArduPilot's sensor messages as its ``LogStructure.h`` defines them, for a log
+#: written before ArduPilot logged them (no FMTU: pymavlink's own test.BIN opened on
+#: ``AETR``, not its IMU, and gave no unit to convert); a log's own units come first.
+STRUCTURE_UNITS: dict[str, dict[str, str]] = {
+    **dict.fromkeys(("IMU", "IMU2", "IMU3"), _IMU),
+    **dict.fromkeys(("MAG", "MAG2", "MAG3"), _MAG),
+    "BARO": {"Alt": "m", "Press": "Pa", "Temp": "degC", "CRt": "m/s", "GndTemp": "degC"},
+    "GPS": {"Lat": "deg", "Lng": "deg", "Alt": "m", "Spd": "m/s", "GCrs": "deg", "VZ": "m/s"},
+    "POS": {"Lat": "deg", "Lng": "deg", "Alt": "m", "RelHomeAlt": "m", "RelOriginAlt": "m"},
+    "ATT": _ANGLES,
+    "AHR2": {**_ANGLES, "Alt": "m", "Lat": "deg", "Lng": "deg"},
+}
 _PREFIX = {"": "", "d": "d", "c": "c", "m": "m", "µ": "u", "n": "n"}
 _TOPIC = re.compile(r"^(?P<type>[A-Za-z0-9_]+)(\[(?P<inst>\d+)\])?$")
 _NUMERIC_FORMATS = set("bBhHiIqQfdcCeELM")
@@ -115,12 +132,16 @@ def _fields(fmt) -> tuple[str, ...]:
 
 
 def _units(fmt, fields: Sequence[str]) -> dict[str, str]:
+    """The fields' units from the log's FMTU; with none logged, :data:`STRUCTURE_UNITS`."""
     out = {}
     for f in fields:
         u = _pint(fmt.get_unit(f) or "")
         if u is not None:
             out[f] = u
-    return out
+    if out or any(fmt.get_unit(f) for f in fields):
+        return out
+    known = STRUCTURE_UNITS.get(fmt.name, {})
+    return {f: known[f] for f in fields if f in known}
 
 
 #: numpy types of pymavlink's struct codes (``FORMAT_TO_STRUCT``), little-endian.
