@@ -69,7 +69,7 @@ import noisevar as nv
 from noisevar.estimators.answer import record_answer
 from noisevar.io import channel_record, load_table
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # not benchmarks/dashboard.py
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # not benchmarks/slider_redraw.py
 from dashboard.widgets import fmt  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))

@@ -15,7 +15,7 @@ used before (so nothing comes from a cache):
 
 Run from the repository root::
 
-    python benchmarks/dashboard.py [--n 100000] [--repeat 5]
+    python benchmarks/slider_redraw.py [--n 100000] [--repeat 5]
 
 Prints a Markdown report and writes it to ``benchmarks/results/dashboard.md``.
 """
@@ -161,7 +161,7 @@ def main() -> None:
             else "Not met on this machine for every move: see the max column."
         ),
         "",
-        f"Command: `python benchmarks/dashboard.py --n {args.n} --repeat {repeat}` "
+        f"Command: `python benchmarks/slider_redraw.py --n {args.n} --repeat {repeat}` "
         f"(Python {sys.version.split()[0]}, {time.strftime('%Y-%m-%d')}).",
     ]
     report = "\n".join(lines) + "\n"
