@@ -14,10 +14,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from noisevar.diagnostics.assumptions import SHORT_RECORD, unchecked
 from noisevar.diagnostics.plan import DIAG_ORDER, DIAG_SPAN
 from noisevar.diagnostics.profile import block_bounds, robust_levels
 from noisevar.diagnostics.results import NoiseDiagnostics
-from noisevar.diagnostics.verdict import SHORT_RECORD, unchecked, under_half_a_step
+from noisevar.diagnostics.verdict import under_half_a_step
 from noisevar.errors import NoisevarError
 from noisevar.numeric.fir import residual_sequence
 
@@ -244,7 +245,7 @@ def verdict_severity(
     a step (:func:`~noisevar.diagnostics.verdict.under_half_a_step`) is neither a warning
     nor, with it, heavy tails a caution: rounding makes both (a level that follows the
     offset within a step, an error that is mostly zero), and the verdict says so. A record
-    too short for some checks (:func:`~noisevar.diagnostics.verdict.unchecked`; ``diag``
+    too short for some checks (:func:`~noisevar.diagnostics.assumptions.unchecked`; ``diag``
     None: too short to diagnose, of ``n`` samples) is a caution, or a warning when the
     checks it allows fail; no diagnostics and no ``n``: ``"ok"`` (nothing to say).
     """
@@ -280,12 +281,16 @@ def assumption_rows(estimates: Iterable[Any]) -> list[dict[str, str]]:
         held = getattr(est, "assumptions", None) or {}
         ok = [k for k, v in held.items() if v]
         bad = [k for k, v in held.items() if not v]
-        if not held:
-            meaning = "it states no assumption about the noise"
-        elif bad:
+        diag = getattr(est, "diagnostics", None)
+        gaps = unchecked(diag.n if diag is not None else 0, diag)
+        if bad:
             meaning = (
                 f"its number is not a trustworthy R here: the record lacks {' and '.join(bad)}"
             )
+        elif gaps:  # what a short record cannot check is neither held nor failed
+            meaning = f"too few samples to check {' or '.join(gaps)}: untested here"
+        elif not held:
+            meaning = "it states no assumption about the noise"
         else:
             meaning = "everything it assumes holds on this record"
         rows.append(

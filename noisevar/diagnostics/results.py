@@ -321,8 +321,8 @@ class NoiseDiagnostics:
     @property
     def flags(self) -> dict[str, bool | None]:
         """The yes/no findings, for tables; None for what the record is too short to check
-        (:func:`~noisevar.diagnostics.verdict.unchecked`)."""
-        from noisevar.diagnostics.verdict import SHORT_RECORD
+        (:func:`~noisevar.diagnostics.assumptions.unchecked`)."""
+        from noisevar.diagnostics.assumptions import SHORT_RECORD
 
         white = self.whiteness.tested
         long = self.n >= SHORT_RECORD

@@ -6,6 +6,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from noisevar.diagnostics.assumptions import SHORT_RECORD, unchecked
 from noisevar.diagnostics.power_law import WHITE, describe
 from noisevar.diagnostics.quantisation import half_a_step
 from noisevar.diagnostics.regimes import STILL_RATIO, read_above
@@ -44,12 +45,6 @@ WEAK_P = 0.01
 OUTLIERS_HOLD = 2.0
 #: At most this share of outlying samples is "a few" (a start-up value, a logging error).
 OUTLIERS_FEW = 0.01
-#: Fewest samples for every check of the verdict: two blocks of the level profile to
-#: compare, and a kurtosis that means something (white Gaussian noise read heavy-tailed
-#: in 9 % of 64-sample records, 3.5 % of 100-sample ones). Fewer: :func:`short_verdict`.
-SHORT_RECORD = 100
-
-
 def _g(x: float) -> str:
     return eng(x)  # the one formatter of shown numbers: pages, CLI and this text agree
 
@@ -230,22 +225,6 @@ def still_share(diag: NoiseDiagnostics) -> float:
 
 def _r(variance: float, label: str = "R") -> str:
     return f"{label} = {_g(variance)} (std {_g(float(np.sqrt(max(variance, 0.0))))})"
-
-
-def unchecked(n: int, diag: NoiseDiagnostics | None) -> tuple[str, ...]:
-    """What a record of ``n`` samples is too short to check (empty: every check was made).
-
-    The one rule of short records: the whiteness test needs
-    :data:`~noisevar.diagnostics.whiteness.WHITE_MIN` residuals (``whiteness.tested``);
-    level changes, heavy tails and glitches :data:`SHORT_RECORD` samples. ``diag`` None:
-    the record was too short to diagnose at all.
-    """
-    out = []
-    if diag is None or not diag.whiteness.tested:
-        out.append("whether the noise is white")
-    if diag is None or n < SHORT_RECORD:
-        out += ["whether its level changes (motion, steps)", "its tails and glitches"]
-    return tuple(out)
 
 
 def short_verdict(n: int, variance: float, diag: NoiseDiagnostics | None = None) -> str:
