@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 import plotly.graph_objects as go
 
-from noisevar.figures._common import COLORS, PALETTE, layout
+from noisevar.figures._common import COLORS, PALETTE, layout, log_axis
 from noisevar.noise_model.allan import AllanResult
 from noisevar.noise_model.datasheet import DatasheetTerms
 from noisevar.noise_model.inertial import TERMS, InertialNoise
@@ -19,11 +19,6 @@ from noisevar.noise_model.temperature import TemperatureModel
 #: Log-log slopes of the guides, with their labels (quantisation ... rate ramp).
 SLOPES = ((-1.0, "τ⁻¹"), (-0.5, "τ⁻¹ᐟ²"), (0.0, "τ⁰"), (0.5, "τ¹ᐟ²"), (1.0, "τ¹"))
 _LABELS = {"oadev": "overlapping ADEV", "mdev": "MDEV", "hdev": "overlapping HDEV"}
-
-
-def _log_axis(title: str) -> dict[str, Any]:
-    """A log axis with a tick per decade, labelled as powers of ten."""
-    return {"title": title, "type": "log", "dtick": 1, "exponentformat": "power"}
 
 
 def _guides(res: AllanResult) -> list[go.Scatter]:
@@ -143,7 +138,12 @@ def allan_figure(
     y_title = f"σ(τ) ({unit})" if unit else "σ(τ)"
     return go.Figure(
         traces,
-        layout(title, height, xaxis=_log_axis("τ (s)"), yaxis=_log_axis(y_title)),
+        layout(
+            title,
+            height,
+            xaxis=log_axis("τ (s)", result.taus),
+            yaxis=log_axis(y_title, np.r_[result.deviation, *result.interval]),
+        ),
     )
 
 
@@ -345,8 +345,8 @@ def composite_figure(model: Any, unit: str = "", height: int = 520) -> go.Figure
         layout(
             "Composite model: wavelet variance",
             height,
-            xaxis=_log_axis("τ (s)"),
-            yaxis=_log_axis(y_title),
+            xaxis=log_axis("τ (s)", s),
+            yaxis=log_axis(y_title, np.r_[model.wv, lo, hi]),
         ),
     )
 

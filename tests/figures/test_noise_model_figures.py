@@ -19,8 +19,18 @@ def test_allan_figure_with_fit_and_simulation() -> None:
     assert "overlapping ADEV" in names and "sum" in names and "simulated from the fit" in names
     assert any(n and n.startswith("N = ") for n in names)
     assert axis_titles(fig) == {"xaxis": "τ (s)", "yaxis": "σ(τ) (rad/s)"}
-    assert fig.layout.xaxis.type == "log" and fig.layout.yaxis.dtick == 1
-    assert fig.layout.xaxis.exponentformat == "power"
+    assert fig.layout.xaxis.type == fig.layout.yaxis.type == "log"
+    assert fig.layout.xaxis.dtick == 1 and fig.layout.xaxis.exponentformat == "power"
+    assert len(fig.layout.yaxis.tickvals) >= 2  # σ spans under a decade: its 1-2-5 values
+
+
+def test_a_short_records_allan_axes_carry_more_than_one_label() -> None:
+    """45 samples of an ArduPilot log (pymavlink's test.BIN): τ from 0.02 to 0.3 s read
+    only "10⁻¹" (the decades alone), σ(τ) only "1" of a power of ten."""
+    res = allan(simulate_inertial(45, 50.0, random_walk=1e-2, seed=3), 50.0, data="rate")
+    fig = allan_figure(res)
+    for axis in (fig.layout.xaxis, fig.layout.yaxis):
+        assert axis.type == "log" and len(axis.tickvals) >= 2
 
 
 def test_allan_figure_of_data_only() -> None:
