@@ -9,6 +9,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.diagnostics.glitches import Glitch
+from noisevar.diagnostics.ma_fit import ma_fits
 from noisevar.diagnostics.profile import LevelProfile
 from noisevar.diagnostics.regimes import STILL, QuietLevel, StillLevel
 from noisevar.diagnostics.segments import Gap
@@ -215,8 +216,8 @@ class NoiseDiagnostics:
             if self._vibration_not_ma1(lag1):
                 return None  # nor MA(q): a near-Nyquist vibration's MA(4) fit alternates too
             return w.ar1_correlation(w.acf.size) if self._ar1_evident() else lag1
-        r = w.short_memory
-        return r if r is not None and float(r.min()) < DIFFERENCED_LAG1 else None
+        r = w.short_memory  # MA(q) noise that fits its own lags (not an oscillation's)
+        return r if r is not None and float(r.min()) < DIFFERENCED_LAG1 and ma_fits(w, r) else None
 
     def refit_correlation(self, w: WhitenessTest) -> NDArray:
         """:attr:`noise_correlation`'s model (AR(1), else MA(q) of its size) fitted on

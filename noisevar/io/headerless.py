@@ -6,6 +6,9 @@ from __future__ import annotations
 import re
 from collections.abc import Callable, Sequence
 
+import numpy as np
+from numpy.typing import NDArray
+
 #: digits, masked when two text cells are compared
 _DIGITS = re.compile(r"\d")
 #: lines under the first compared with it
@@ -48,3 +51,51 @@ def first_line_is_row(lines: Sequence[Sequence[str]], is_number: Callable[[str],
     if all(s is not None for s in first):
         return False
     return all(_shape(ln, is_number) == first for ln in lines[1 : _ROWS + 1])
+
+
+#: Share of a headerless table's first-column steps within ``UNIFORM_TOLERANCE`` of their
+#: median for the column to be read as times (the rest: gaps, which the times then show).
+ON_STEP = 0.9
+
+
+def _increasing_on_a_step(x: NDArray, tolerance: float) -> bool:
+    """Strictly increasing, with :data:`ON_STEP` of its steps on their median step."""
+    if x.size < 3 or not np.all(np.isfinite(x)):
+        return False
+    dt = np.diff(x)
+    step = float(np.median(dt))
+    on = np.abs(dt - step) <= tolerance * step
+    return bool(np.all(dt > 0) and np.mean(on) >= ON_STEP)
+
+
+def first_column_times(columns: dict[str, NDArray], tolerance: float) -> bool:
+    """Whether a headerless table's first column is its times (the x of an x,y file).
+
+    Parameters
+    ----------
+    columns : dict of str to ndarray
+        The table's columns, in file order (``col0``, ``col1``, ...).
+    tolerance : float
+        Relative spread of a step still on the median step (``UNIFORM_TOLERANCE``).
+
+    Returns
+    -------
+    bool
+        True when there are two columns or more, the first is strictly increasing on a
+        near-uniform step (:data:`ON_STEP` of its steps) and no other column is; and the
+        first is not a sample counter (whole numbers stepping by 1: read as times, they
+        would give the period of 1 a counter gives, and lose it as a channel).
+
+    Notes
+    -----
+    stingray's ``lc_sample.txt`` (an X-ray light curve, mission time in seconds and the
+    count rate, no header) was read with its times as a channel and a period of 1 s
+    against its 0.125 s. A ramp signal is not strictly increasing once noise is on it.
+    """
+    cols = list(columns.values())
+    if len(cols) < 2 or not _increasing_on_a_step(cols[0], tolerance):
+        return False
+    steps = np.diff(cols[0])
+    if np.all(steps == 1.0) and np.all(cols[0] == np.round(cols[0])):
+        return False  # a counter
+    return not any(_increasing_on_a_step(c, tolerance) for c in cols[1:])

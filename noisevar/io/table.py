@@ -258,13 +258,24 @@ def is_time_column(name: str) -> bool:
     base = time_key(name)
     # a time word with its unit: timestamp_us, t_ms, SensorLog's accelerometerTimestamp(s)
     worded = base.startswith(("timestamp_", "t_", "time")) or "timestamp" in base
-    return _is_time_name(name) or (worded and time_unit(name) is not None)
+    days = _DAY_NAME.fullmatch(base) is not None  # BJD, MJD, Kepler's BKJD, TESS's BTJD, days
+    return _is_time_name(name) or days or (worded and time_unit(name) is not None)
 
 
 #: Time units a time column's name may state, as a suffix (``time_ns``, ``timestamp_us``,
 #: ``t_ms``) or in brackets (``time [ms]``): seconds per unit.
 TIME_UNITS = {"ns": 1e-9, "nsec": 1e-9, "us": 1e-6, "usec": 1e-6, "µs": 1e-6, "ms": 1e-3,
               "msec": 1e-3, "s": 1.0, "sec": 1.0}  # fmt: skip
+#: Days, which a time column states in brackets (``time (d)``, ``t [days]``) or by its name
+#: (astronomers' Julian dates: ``BJD``, ``MJD``, ``HJD``, Kepler's ``BKJD``, TESS's
+#: ``BTJD``; ``days``), never as a bare suffix (``t_d`` may be a dew point): seconds per day.
+DAY = {"d": 86400.0}
+_DAY_WORDS = ("d", "day", "days")
+_DAY_NAME = re.compile(r"(?:[bhm]|bk|bt)?jd(?:_.*)?|days|time_days|time_d")
+#: Seconds per unit of every unit a time column is read in.
+SECONDS_PER = {**TIME_UNITS, **DAY}
+#: Names that say their values are seconds (``seconds_elapsed``): no note that none is stated.
+_SECONDS_NAMES = ("seconds", "sec", "secs", "s", "seconds_elapsed", "elapsed_seconds")
 
 
 #: A run's suffix on a column's name (PASCO Capstone's ``Position (m) Run #2``).
@@ -286,6 +297,8 @@ def time_unit(name: str) -> str | None:
     word = m[1] if m else key.rpartition("_")[2] if "_" in key else ""
     if word in TIME_UNITS:
         return word
+    if (m and m[1].strip().lower() in _DAY_WORDS) or _DAY_NAME.fullmatch(time_key(name)):
+        return "d"
     # a time word with its unit glued on or next: ArduPilot's TimeUS, autoflpy's Time_US_GPS_..
     if glued := _GLUED_UNIT.match(time_key(name)):
         return glued[1]
@@ -315,7 +328,7 @@ def time_scale(name: str, first: float | None = None, stated: str | None = None)
     """Seconds per unit of a time column called ``name`` whose first value is ``first``
     (:func:`_clock_unit`; 1 when it has none)."""
     unit = _clock_unit(name, first, stated)[0]
-    return 1.0 if unit is None else TIME_UNITS[unit]
+    return 1.0 if unit is None else SECONDS_PER[unit]
 
 
 #: Unix times from 2000-01-01 to 2100-01-01, in seconds: a time column whose name states no
@@ -355,21 +368,39 @@ def time_in_seconds(
     raw = first if first is not None else (float(t[0]) if t.size else None)
     unit, why = _clock_unit(time_column, raw, stated)
     if unit is None:
-        _say_if_counting(t, time_column, notes)
+        if not _say_if_counting(t, time_column, notes):
+            _say_no_unit(raw, time_column, notes)
         return
-    if TIME_UNITS[unit] == 1.0:
+    if SECONDS_PER[unit] == 1.0:
         return
-    columns[time_column] = t * TIME_UNITS[unit]
+    columns[time_column] = t * SECONDS_PER[unit]
     notes.append(f"time column {echo(time_column)!r} read in {unit} ({why}), as seconds")
 
 
-def _say_if_counting(t: NDArray, name: str, notes: list[str]) -> None:
+#: The note on a time column whose unit nothing states, read in seconds.
+NO_UNIT_NOTE = (
+    "times read from column {!r} as seconds: no unit stated (if they are in another unit, "
+    "name the column with it: time (ms), time (d), BJD; or give the sample rate)"
+)
+
+
+def _say_no_unit(first: float | None, name: str, notes: list[str]) -> None:
+    """The note that the time column ``name`` is read in seconds with no unit stated: not
+    for a name that says seconds (``seconds``, ``time_s``) nor for Unix times in seconds
+    (``first`` in :data:`EPOCH_SPAN`), which their values state."""
+    lo, hi = EPOCH_SPAN
+    if time_key(name) in _SECONDS_NAMES or (first is not None and lo <= first < hi):
+        return
+    notes.append(NO_UNIT_NOTE.format(echo(name)))
+
+
+def _say_if_counting(t: NDArray, name: str, notes: list[str]) -> bool:
     """A note when a time column read in seconds steps by a whole 100 or more: it may count
     microseconds or milliseconds from boot (PX4's ``ulog2csv`` writes ``timestamp`` in
     microseconds), which its values cannot tell from a slow logger's seconds; for a column
-    whose unit nothing states (:func:`_clock_unit`)."""
+    whose unit nothing states (:func:`_clock_unit`). Whether it said so."""
     if t.size < 2 or not np.all(np.isfinite(t[:1000])):
-        return
+        return False
     step = float(np.median(np.diff(t[:1000])))
     if step >= 100 and np.all(t[:1000] == np.round(t[:1000])):
         notes.append(
@@ -378,6 +409,8 @@ def _say_if_counting(t: NDArray, name: str, notes: list[str]) -> None:
             "microseconds since boot), state its unit in its name (timestamp_us) or give "
             "the sample rate"
         )
+        return True
+    return False
 
 
 def calendar_step(dt: NDArray) -> str | None:

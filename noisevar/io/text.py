@@ -15,7 +15,7 @@ from numpy.typing import NDArray
 from noisevar._arrays import EXACT_INT
 from noisevar.errors import NoisevarError
 from noisevar.io.header_units import column_units, header_unit
-from noisevar.io.headerless import first_line_is_row
+from noisevar.io.headerless import first_column_times, first_line_is_row
 from noisevar.io.opensignals import opensignals_names
 from noisevar.io.quirks import code_note, leading_header, repeated_rows, rows_continue, wrap_note
 from noisevar.io.refusal_hints import (
@@ -29,6 +29,7 @@ from noisevar.io.refusal_hints import (
 from noisevar.io.stacked import refuse_stacked
 from noisevar.io.table import (
     _NA_TOKENS,
+    UNIFORM_TOLERANCE,
     LoadedTable,
     _period_from_time,
     echo,
@@ -350,11 +351,14 @@ def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
                          or is_digit_date_name(c)), 0)  # fmt: skip
         time_idx = date_idx if _holds_dates(text, fmt, header_line, names, date_idx) else None
     columns, notes, first, dated = _parse_body(src, header_line, names, fmt, name, time_idx)
-    if names == [f"col{i}" for i in range(len(names))] and (head := leading_header(columns)):
+    headerless = names == [f"col{i}" for i in range(len(names))]
+    if headerless and (head := leading_header(columns)):
         columns = {c: v[head[0] :] for c, v in columns.items()}
         notes.insert(0, head[1])
-    if names == [f"col{i}" for i in range(len(names))] and (rows := rows_continue(columns)):
+    if headerless and (rows := rows_continue(columns)):
         notes.insert(0, rows)
+    elif headerless and time_idx is None and first_column_times(columns, UNIFORM_TOLERANCE):
+        time_idx = 0  # an x,y file: its x the times (read in seconds, said)
     time_col = names[time_idx] if time_idx is not None else None
     columns = repeated_rows(columns, time_col, notes)
     stated = {c: stated_unit(u) for c, u in zip(names, unit_row or [], strict=False) if u}
