@@ -53,9 +53,10 @@ Checks (``--records`` narrows them):
    ``--column`` JSON and ``--columns all`` CSV, ``noisevar.batch`` and the pages that show R
    (Signal, Estimator, Noise model, Two sensors, Fleet);
 3. **references**: (a) hand-cut still stretches: the Edge's stops (speed 0 for a minute or
-   more) pooled var(d2)/6 of the altitude plus lsb²/12 (on its grid), the pyranometer's night (00:00-05:00) and the
-   accelerometer's still start, against the R to use of the whole record (within x1.5, or
-   its ci95 covers it); (b) grids: no R and no R to use under lsb²/12 / 4
+   more) pooled var(d2)/6 of the altitude plus lsb²/12 (on its grid), the pyranometer's
+   night (00:00-05:00) and the accelerometer's still start, against the R to use of the
+   whole record (within x1.5, or its ci95 covers it); (b) grids: no R and no R to use
+   under lsb²/12 / 4
    (``real_audit8.grid_reference``: the GENEActiv's 0.0039 g written in its file, whole
    beats per minute, the Forerunner's 0.2 m); (c) differenced data: the velocities from
    positions and from the distance said differenced, or at least not white
