@@ -32,6 +32,7 @@ from noisevar.figures._common import (
     downsample_indices,
     layout,
     line_trace,
+    log_axis,
 )
 from noisevar.kalman import nis_band
 from noisevar.kalman.result import FilterResult, wrap_angle
@@ -314,6 +315,7 @@ def r_estimates_figure(
     )
     dt = float(first.time[1] - first.time[0]) if first.n_steps > 1 else 1.0
     for row, j in enumerate(channels, start=1):
+        drawn = [] if true_diag is None else [true_diag[:, j]]
         if true_diag is not None:
             tr, _ = line_trace(
                 true_diag[:, j],
@@ -328,6 +330,7 @@ def r_estimates_figure(
         for c, r in enumerate(res):
             rj = _pick(r.R, r, run)[:, j, j]
             rj = np.where(rj > 0, rj, np.nan)  # log axis
+            drawn.append(rj)
             tr, _ = line_trace(
                 rj,
                 r.strategy,
@@ -338,7 +341,7 @@ def r_estimates_figure(
                 showlegend=row == 1,
             )
             fig.add_trace(tr, row=row, col=1)
-        fig.update_yaxes(type="log", row=row, col=1)
+        fig.update_yaxes(log_axis("R", np.concatenate(drawn)), row=row, col=1)
     fig.update_layout(**_panel_layout(title, max(300, height_per_channel * len(channels) + 80)))
     fig.update_xaxes(title_text="time (s)", row=len(channels), col=1)
     return fig

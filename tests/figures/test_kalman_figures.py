@@ -45,6 +45,9 @@ def test_r_estimates_figure(scenario: Scenario, result: FilterResult) -> None:
     assert trace_names(fig) == ["true R", "fixed"] * 2
     assert axis_titles(fig)["xaxis2"] == "time (s)"
     assert longest_trace(r_estimates_figure(result, max_points=50)) <= 50
+    # a step in R under a decade: its 1-2-5 values labelled, not Plotly's bare 2 and 5
+    for axis in (fig.layout.yaxis, fig.layout.yaxis2):
+        assert axis.type == "log" and len(axis.tickvals or ()) >= 2 or axis.dtick == 1
 
 
 def test_innovations_figure(result: FilterResult) -> None:
