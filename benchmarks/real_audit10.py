@@ -92,10 +92,8 @@ from noisevar.noise_model.inertial import white_level
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _refdata  # noqa: E402
 from real_audit import (  # noqa: E402
-    audit_channels,
     audit_main,
     audit_report,
-    by_length,
     cli_said,
     held_refusal,
     ref_row,
@@ -103,7 +101,7 @@ from real_audit import (  # noqa: E402
 )
 from real_audit3 import _one_line, fit_said, process  # noqa: E402
 from real_audit5 import one_answer  # noqa: E402
-from real_audit8 import _TO_DO, finding_kept, grid_reference  # noqa: E402
+from real_audit8 import _TO_DO, audited_rows, grid_reference  # noqa: E402
 from real_audit9 import differenced_reference, glitch_reference  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results" / "real_audit10.md"
@@ -434,11 +432,7 @@ def record(name: str, pages: bool, tmp: Path) -> tuple[list[dict], list[dict], l
     chans, _times = channels_of(name)
     rate = rate_of(name)
     audited = {c: z for c, z in chans.items() if c in CHECK1.get(name, chans)}
-    rows = []
-    for same in by_length(audited):
-        new = audit_channels(name, same, rate, imu=name in IMUS)
-        finding_kept(new, same)
-        rows += new
+    rows = audited_rows(name, audited, rate, imu=name in IMUS)
     refs = references(name, chans, rate, tmp)
     answers = []
     if pages and name in PAGES:

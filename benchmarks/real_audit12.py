@@ -73,10 +73,8 @@ from noisevar.io import channel_record, load_table
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _refdata  # noqa: E402
 from real_audit import (  # noqa: E402
-    audit_channels,
     audit_main,
     audit_report,
-    by_length,
     cli_said,
     held_refusal,
     ref_row,
@@ -84,7 +82,7 @@ from real_audit import (  # noqa: E402
 )
 from real_audit3 import _one_line, fit_said, process  # noqa: E402
 from real_audit5 import one_answer  # noqa: E402
-from real_audit8 import _TO_DO, finding_kept, grid_reference, held_reference  # noqa: E402
+from real_audit8 import _TO_DO, audited_rows, grid_reference, held_reference  # noqa: E402
 from real_audit9 import _HOLDERS, glitch_reference  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results" / "real_audit12.md"
@@ -399,11 +397,7 @@ def report(rows, answers, refs, bad, wall) -> str:
 def record(name: str, pages: bool, _tmp: Path) -> tuple[list[dict], list[dict], list[dict]]:
     """Checks 1-3 on one record (``real_audit.audit_main``'s ``record``)."""
     chans = channels_of(name) if name in CHANNELS else {}
-    rows = []
-    for same in by_length(chans):
-        new = audit_channels(name, same, rate_of(name), imu=False)
-        finding_kept(new, same)
-        rows += new
+    rows = audited_rows(name, chans, rate_of(name))
     refs = references(name, chans)
     answers = one_answer(name, page_file(name), PAGES[name]) if pages and name in PAGES else []
     return rows, refs, answers

@@ -216,6 +216,18 @@ def finding_kept(rows: list[dict], chans: dict[str, np.ndarray]) -> None:
             row["fail"] += [f"finding moved under {m}"[:160] for m in moved]
 
 
+def audited_rows(name: str, chans: dict[str, np.ndarray], rate: float, imu: bool = False
+                 ) -> list[dict]:  # fmt: skip
+    """Check 1 on every channel of one record (``real_audit.audit_channels``, channels of
+    one length together: ``real_audit.by_length``), each finding kept (:func:`finding_kept`)."""
+    rows = []
+    for same in by_length(chans):
+        new = audit_channels(name, same, rate, imu=imu)
+        finding_kept(new, same)
+        rows += new
+    return rows
+
+
 # ---------------------------------------------------------------- check 3: references
 def _white(est) -> bool:
     return (est.verdict or "").startswith("white")
@@ -379,11 +391,7 @@ def record(name: str, pages: bool, _tmp: Path) -> tuple[list[dict], list[dict], 
     """Checks 1-3 on one record (``real_audit.audit_main``'s ``record``)."""
     chans = channels_of(name)
     imu, rate = (True, 10.0) if name == "basicmotions" else (False, 1.0)
-    rows = []
-    for same in by_length(chans):
-        new = audit_channels(name, same, rate, imu=imu)
-        finding_kept(new, same)
-        rows += new
+    rows = audited_rows(name, chans, rate, imu=imu)
     refs = references(name, chans)
     answers = []
     if pages and name in PAGES:

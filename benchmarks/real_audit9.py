@@ -85,10 +85,8 @@ from noisevar.io import channel_record, load_table
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _refdata  # noqa: E402
 from real_audit import (  # noqa: E402
-    audit_channels,
     audit_main,
     audit_report,
-    by_length,
     cli_said,
     held_refusal,
     ref_row,
@@ -96,7 +94,7 @@ from real_audit import (  # noqa: E402
 )
 from real_audit3 import _one_line, process  # noqa: E402
 from real_audit5 import one_answer  # noqa: E402
-from real_audit8 import _TO_DO, finding_kept, grid_reference, held_reference  # noqa: E402
+from real_audit8 import _TO_DO, audited_rows, grid_reference, held_reference  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results" / "real_audit9.md"
 _TS = "traffic/data/samples/"
@@ -397,11 +395,7 @@ def report(rows, answers, refs, bad, wall) -> str:
 def record(name: str, pages: bool, tmp: Path) -> tuple[list[dict], list[dict], list[dict]]:
     """Checks 1-3 on one record (``real_audit.audit_main``'s ``record``)."""
     chans, _times = channels_of(name)
-    rows = []
-    for same in by_length(chans):
-        new = audit_channels(name, same, 1.0, imu=False)
-        finding_kept(new, same)
-        rows += new
+    rows = audited_rows(name, chans, 1.0)
     refs = references(name, chans, tmp)
     answers = one_answer(name, user_csv(name), PAGES[name]) if pages and name in PAGES else []
     return rows, refs, answers
