@@ -45,3 +45,13 @@ def test_cdf_and_gwf_named_with_the_way_out(tmp_path, capsys, head, named, fname
     assert main(["estimate", str(f)]) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and named in err and ("cdflib" in err or "gwpy" in err)
+
+
+def test_a_table_of_row_numbers_alone_refused_with_the_way_out(tmp_path, capsys):
+    # iglu's meals table: pandas' row number is its one numeric column
+    rows = [f'"{i}";"p{i}";"CF {i}";2016-09-{i + 10:02d} 10:10:00' for i in range(1, 10)]
+    f = tmp_path / "meals.csv"
+    f.write_text('"";"id";"meal";"mealtime"\n' + "\n".join(rows) + "\n")
+    assert main(["estimate", str(f)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "a counter or a clock" in err and "give a measured channel" in err
