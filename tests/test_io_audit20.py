@@ -55,3 +55,17 @@ def test_a_table_of_row_numbers_alone_refused_with_the_way_out(tmp_path, capsys)
     assert main(["estimate", str(f)]) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "a counter or a clock" in err and "give a measured channel" in err
+
+
+def test_hdf5_step_attribute_said_not_taken(tmp_path):
+    # gwpy's HDF5: one 1-D dataset a channel, its step in ``dx``, no time dataset
+    h5py = pytest.importorskip("h5py")
+    f = tmp_path / "strain.hdf"
+    with h5py.File(f, "w") as h:
+        for name in ("H1:STRAIN", "L1:STRAIN"):
+            ds = h.create_dataset(name, data=np.random.default_rng(1).normal(size=4096))
+            ds.attrs["dx"], ds.attrs["x0"] = 1.0 / 4096, 968654552.0
+    table = load_table(f)
+    assert table.sample_period is None
+    said = " ".join(table.notes)
+    assert "dx = 0.000244141 without a unit" in said and "--rate 4096" in said
