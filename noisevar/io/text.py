@@ -512,8 +512,7 @@ def _parse_body(
             raise NoisevarError(f"{e}{kinds_hint(df, names, text, col)}") from None
         dated = dated or (i == time_idx and _only_text(col))  # (numbers raised, or parsed)
     if time_idx is not None:
-        for cname, col in keys.items():
-            refuse_stacked(col, columns[names[time_idx]], cname, name)
+        refuse_stacked(keys, columns[names[time_idx]], name)
     return columns, notes, first, dated
 
 

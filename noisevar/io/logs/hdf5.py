@@ -27,7 +27,7 @@ import numpy as np
 
 from noisevar.errors import NoisevarError
 from noisevar.io.limits import echo
-from noisevar.io.logs.spec import CHUNK, MAX_FIELDS, Chunk, LogReader, TopicInfo
+from noisevar.io.logs.spec import CHUNK, MAX_FIELDS, Chunk, LogReader, TopicInfo, report
 from noisevar.io.table import is_time_column, time_scale
 
 #: Most objects of a file looked at (a file of millions of objects is not a sensor log).
@@ -187,12 +187,41 @@ def read(path: Path, topic: str, fields: Sequence[str] | None) -> Iterator[Chunk
                 f"table {echo(topic)!r} has no numeric field {echo(bad[0])!r}; fields: "
                 + ", ".join(echo(n, 40) for n in list(have)[:40])
             )
+        if time is None:
+            _step_said(f, [have[n][0] for n in names])
         # its name's unit, or the unit its first value is a Unix time in
         scale = None if time is None else time_scale(_time_name(time), _slice(f, *time, 0, 1)[0])
         for lo in range(0, rows, CHUNK):
             hi = min(lo + CHUNK, rows)
             t = None if time is None else _slice(f, *time, lo, hi) * scale
             yield Chunk(t, {n: _slice(f, *have[n], lo, hi) for n in names})
+
+
+#: attributes of a dataset that declare its sample step (gwpy's ``dx``) or rate
+_STEP_ATTRS = ("dx", "dt", "sample_rate", "sampling_rate")
+
+
+def _step_said(f, paths: list[str]) -> None:
+    """Say (a load note) a step or rate the datasets declare in an attribute when there is
+    no time dataset: its unit is not written (gwpy's ``dx`` is in seconds for a time series,
+    in Hz for a spectrum), so it is not taken as the period.
+
+    Notes
+    -----
+    gwpy's HDF5 of LIGO's and Virgo's strain (1 s at 16,384 Hz, ``dx`` = 6.1e-5) was read as
+    samples taken as uniform, 1 a second, without a word of its ``dx``.
+    """
+    attrs = f[paths[0]].attrs if paths else {}
+    for key in _STEP_ATTRS:
+        value = np.asarray(attrs.get(key, np.nan)).ravel()
+        if value.size == 1 and value.dtype.kind in "iuf" and np.isfinite(value[0]) and value[0] > 0:
+            step = key in ("dx", "dt")
+            what = "time step in seconds" if step else "sample rate in Hz"
+            report(f"its datasets declare {key} = {value[0]:.6g} without a unit, not read as the "
+                   f"sample period: if it is the {what}, give --rate "
+                   f"{1.0 / value[0] if step else value[0]:.6g} where a rate counts (allan, imu, "
+                   "fit)")  # fmt: skip
+            return
 
 
 def _slice(f, path: str, part, lo: int, hi: int) -> np.ndarray:
