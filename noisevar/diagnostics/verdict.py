@@ -11,12 +11,15 @@ from noisevar.diagnostics.power_law import WHITE, describe
 from noisevar.diagnostics.quantisation import half_a_step
 from noisevar.diagnostics.regimes import STILL_RATIO, read_above
 from noisevar.diagnostics.verdict_parts import (
+    BOTH,
     CHANGES,
     GLITCHES_DOMINATE,
     MOSTLY_MOTION,
     OSC_TO_DO,
     OUTLIERS_SOME,
     STILL_WALK,
+    WEAK_P,
+    colour_in_still,
     departure_cause,
     differenced_verdict,
     found_oscillation,
@@ -32,6 +35,7 @@ from noisevar.diagnostics.verdict_parts import (
     to_use_words,
     upper_bound_words,
     walk_verdict,
+    weak_colour,
 )
 from noisevar.format import eng
 
@@ -39,8 +43,6 @@ if TYPE_CHECKING:
     from noisevar.diagnostics.results import NoiseDiagnostics
     from noisevar.diagnostics.whiteness import WhitenessTest
 
-#: A whiteness test failed at a p-value above this, with no colour named, is a weak finding.
-WEAK_P = 0.01
 #: R over the core variance above which the outlying samples hold most of R (over half).
 OUTLIERS_HOLD = 2.0
 #: At most this share of outlying samples is "a few" (a start-up value, a logging error).
@@ -332,7 +334,8 @@ def _not_white(
     residual follows the signal), no noise to tell apart, no quiet stretch, no stretch
     quieter than R (an indicative level above it; not when R's method read the quiet half
     or more no quieter), mostly motion, differenced data, motion leaking through white
-    still stretches, a still R to use (the level changes; its colour said), then colour.
+    still stretches, a still R to use (the level changes; its colour said, in the lead too
+    where the still stretches are as coloured: :func:`.colour_in_still`), then colour.
     """
     prof = diag.level_profile
     said = still_said(diag, gap)
@@ -375,15 +378,17 @@ def _not_white(
             f"{_g(quiet)}, and their noise is white: the rest is motion leaking through the "
             f"smoother, not coloured noise{indicative(gap)}"
         )
-    if still_apart and (
-        variance > STILL_RATIO * quiet or diag.level_varies and _measurably_below(diag, variance)
-    ):
+    below = diag.level_varies and _measurably_below(diag, variance)
+    both = still_apart and quiet < variance and colour_in_still(diag)  # both said, one order
+    if both or still_apart and (variance > STILL_RATIO * quiet or below):
         # the R to use is the still R, well below R: the level change comes first, then the
         # still stretches' own colour (a coloured verdict would quote R, an average, as its
-        # white part); a still R near R leaves the colour the finding (GPS 1PPS: 0.99x).
+        # white part); a still R near R leaves the colour the finding (GPS 1PPS: 0.99x) unless
+        # the still stretches are as coloured: then both lead, whatever the ratio (issue 26).
         # whether PELT split the record or not (Pololu acc less 3 samples), a still R apart says
         # the level changes; where it did, one measurably below R too (SURFRAD wind; GPS 1PPS)
-        return level_changes(still_share(diag), r, quiet, said, moved_clause(diag))
+        lead = BOTH if both else CHANGES  # the colour's clause may come and go, not the lead
+        return level_changes(still_share(diag), r, quiet, said, moved_clause(diag), lead)
     if not diag.white:
         return _coloured(diag, r, quiet, still_apart)
     return None
@@ -442,8 +447,7 @@ def _coloured(diag: NoiseDiagnostics, r: str, quiet: float, still_near: bool) ->
     """
     # slopes that read white at every factor name no colour: the farthest lag does
     coloured = any(alpha != WHITE for _, alpha in diag.power_law)
-    w = diag.whiteness
-    weak = not coloured and w.p_value >= WEAK_P
+    w, weak = diag.whiteness, weak_colour(diag)
     kind = (
         f"{describe(diag.power_law)} (power-law identification)" if coloured else _farthest_lag(w)
     )

@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from noisevar.diagnostics.power_law import WHITE
 from noisevar.diagnostics.regimes import STILL_RATIO
 from noisevar.format import eng
 
@@ -36,6 +37,12 @@ CORE_BELOW = 4.0
 CHANGES = "the noise level changes along the record"
 #: The quiet stretches cover less than this share: the record is mostly motion.
 MOSTLY_MOTION = 0.5
+#: A whiteness test failed at a p-value above this, with no colour named, is a weak finding.
+WEAK_P = 0.01
+#: The lead of a level that changes where the still stretches are coloured about as much as
+#: the whole record (:func:`colour_in_still`): both findings, the level's first (its
+#: finding is :data:`CHANGES`), so the lead does not hang on the still level's ratio to R.
+BOTH = f"{CHANGES}, and the noise is coloured even in its still stretches"
 #: The finding of a record whose R is nearly all a few outlying samples.
 GLITCHES_HOLD = "a few outlying samples hold nearly all of R"
 
@@ -331,11 +338,8 @@ def not_at_rest(diag: NoiseDiagnostics) -> str | None:
         )
     if diag.level_profile.quiet_share >= MOSTLY_MOTION:  # mostly still: the sensor's rest
         return None
-    w, whole = diag.still_whiteness, diag.whiteness
-    if w is None or not w.tested or w.white or whole.white:
-        return None
-    shared = 1.0 - w.left(whole.acf)  # the whole record's share of their departure
-    if shared < SHARED_EXPLAINS:
+    shared = shared_colour(diag)  # the whole record's share of their departure
+    if shared is None or shared < SHARED_EXPLAINS:
         return None
     return (
         "; but there the noise is correlated as over the whole record (its autocorrelation "
@@ -381,11 +385,14 @@ def none_quieter(r: str, quiet: float) -> str:
     )
 
 
-def level_changes(share: float, r: str, quiet: float, said: str, moved: str = "") -> str:
+def level_changes(
+    share: float, r: str, quiet: float, said: str, moved: str = "", lead: str = CHANGES
+) -> str:
     """The verdict of a record whose level varies: R an average (``moved``: where it moved
-    too fast to measure, :func:`moved_clause`), the quiet level to use."""
+    too fast to measure, :func:`moved_clause`), the quiet level to use; ``lead``: its first
+    clause (:data:`BOTH` where the still stretches are as coloured: :func:`colour_in_still`)."""
     return (
-        f"{CHANGES}: {r} is an average{moved}; its quiet stretches ({share:.0%}) give "
+        f"{lead}: {r} is an average{moved}; its quiet stretches ({share:.0%}) give "
         f"{eng(quiet)}{said}"
     )
 
@@ -419,3 +426,44 @@ def rounding_clause(r: str, lsb: float, variance: float) -> str:
         "crosses the steps too slowly to tell it from a bias that follows the signal): a "
         f"filter reading these values sees R + lsb²/12 = {eng(variance + q)}"
     )
+
+
+def colour_in_still(diag: NoiseDiagnostics) -> bool:
+    """Whether the still stretches are coloured about as much as the whole record: both
+    fail the whiteness test (the whole record's not weakly: :func:`weak_colour`; nor by an
+    oscillation, its own finding), and the whole record's autocorrelation explains at least
+    :data:`SHARED_EXPLAINS` of the still stretches' departure from white noise
+    (:func:`shared_colour`, the measure :func:`not_at_rest` reads "correlated as over the
+    whole record" on).
+
+    The regimes then do not explain the colour: a still R apart from R makes the level
+    change a finding and the colour another, said together (:data:`BOTH`), whatever the
+    still level's ratio to R, which dropping a sample moves across a cut (real_audit18's
+    Totem GR: 1.89-3.07x; watch_ride's v_north: its interval's top under R or not); docs/
+    algorithms.md §E2. Not a test of equal lag-1 autocorrelations: on Bartlett's spread
+    Totem's still stretches are measurably less coloured (lag-1 0.966 against 0.979, z 3-7
+    over 28,000 samples), which says the two differ, not that the regimes explain the colour.
+    """
+    w = diag.whiteness
+    if w.white or found_oscillation(w) is not None or weak_colour(diag):
+        return False
+    shared = shared_colour(diag)
+    return shared is not None and shared >= SHARED_EXPLAINS
+
+
+def shared_colour(diag: NoiseDiagnostics) -> float | None:
+    """The share of the still stretches' departure from white noise that the whole record's
+    autocorrelation explains (None: either tests white, or theirs is not tested)."""
+    s, whole = diag.still_whiteness, diag.whiteness
+    if s is None or not s.tested or s.white or whole.white:
+        return None
+    return 1.0 - s.left(whole.acf)
+
+
+def weak_colour(diag: NoiseDiagnostics) -> bool:
+    """Whether the whole record's departure from white noise is a weak finding: no colour
+    named by the power law (:attr:`~.results.NoiseDiagnostics.power_law`) and a whiteness
+    test failed at a p-value of :data:`WEAK_P` or more (white noise gives such a p-value 1
+    time in ``1/p``, 1 in 20 at most)."""
+    named = any(alpha != WHITE for _, alpha in diag.power_law)
+    return not named and diag.whiteness.p_value >= WEAK_P
