@@ -15,7 +15,9 @@ server that preloads noisevar and warms its kernels (:mod:`dashboard.worker_prel
 new worker costs a fork, not an import). They die
 with the server: the fork server exits when the server is gone, and each worker asks the
 kernel for SIGKILL when the fork server goes (Linux ``PR_SET_PDEATHSIG``) and also
-watches its parent's id, so a killed server leaves no worker behind.
+watches its parent's id, so a killed server leaves no worker behind. A worker that dies
+(the kernel's OOM killer) breaks its executor: a new one is started and its tasks run
+again once (:meth:`Pool._renew`), so one killed worker does not fail every later page.
 A Monte Carlo runs as chunks of consecutive runs (run ``i`` draws with seed
 ``seed + i`` in :func:`noisevar.estimators.compare.monte_carlo`, so a chunk is the same
 runs), at most :data:`CHUNKS_IN_FLIGHT` at once per session, merged in order: the result
@@ -72,6 +74,11 @@ INLINE_MAX_SAMPLES = 100_000
 #: in the server's own process) keep the cores first, the pool's long computations (the
 #: Compare table's maximum-likelihood peers) take what is left (issue 29).
 WORKER_NICE = 10
+#: What a task gets whose worker died twice (the pool is restarted each time).
+WORKER_DIED = (
+    "a worker process stopped while computing this (out of memory, or killed), twice: "
+    "the workers were restarted; try again, or with a shorter record"
+)
 #: Seconds between two looks of a waiting page at its task.
 POLL_SECONDS = 0.25
 #: Longest time a waiting page sends nothing: its text is sent when it changes, and
@@ -130,23 +137,38 @@ class Pool:
 
     def __init__(self, workers: int) -> None:
         self.workers = workers
-        method = "forkserver" if "forkserver" in mp.get_all_start_methods() else "spawn"
-        context = mp.get_context(method)
-        if method == "forkserver":
-            context.set_forkserver_preload(["dashboard.worker_preload"])
-        self._executor = cf.ProcessPoolExecutor(
-            workers, mp_context=context, initializer=_die_with_parent
-        )
-        # every worker at once: the server reaches its working memory with its first
-        # computation (a pool that grew a worker during a class looked like a leak)
-        for _ in range(workers):
-            self._executor.submit(time.sleep, START_PAUSE_S)
+        self._executor = self._new_executor()
         self._slots = threading.BoundedSemaphore(workers * QUEUE_PER_WORKER)
         self._lock = threading.Lock()
         self._tickets = itertools.count()
         self._waiting: list[tuple[int, int]] = []  # heap of (rank, ticket)
         self._jobs: dict[int, tuple[int, Callable[..., Any], tuple, dict, cf.Future]] = {}
         self._running: set[int] = set()
+
+    def _new_executor(self) -> cf.ProcessPoolExecutor:
+        method = "forkserver" if "forkserver" in mp.get_all_start_methods() else "spawn"
+        context = mp.get_context(method)
+        if method == "forkserver":
+            context.set_forkserver_preload(["dashboard.worker_preload"])
+        executor = cf.ProcessPoolExecutor(
+            self.workers, mp_context=context, initializer=_die_with_parent
+        )
+        # every worker at once: the server reaches its working memory with its first
+        # computation (a pool that grew a worker during a class looked like a leak)
+        for _ in range(self.workers):
+            executor.submit(time.sleep, START_PAUSE_S)
+        return executor
+
+    def _renew(self, broken: cf.ProcessPoolExecutor) -> None:
+        """Replace ``broken`` (a worker died: killed for memory, or by hand) with a new
+        executor, once however many of its tasks report it. A broken executor refuses
+        every later task: every page failed until the server was restarted."""
+        with self._lock:
+            if self._executor is not broken:
+                return
+            self._executor = self._new_executor()
+        LOG.warning("a worker process died: the pool was restarted")
+        broken.shutdown(wait=False, cancel_futures=True)
 
     def submit(self, fn: Callable[..., T], *args: Any, **kwargs: Any) -> tuple[int, cf.Future]:
         """Queue ``fn(*args, **kwargs)`` as a batch (after every waiting first-rank task);
@@ -193,29 +215,55 @@ class Pool:
 
     def _dispatch(self) -> None:
         while (job := self._next()) is not None:
-            ticket, fn, args, kwargs, future = job
-            try:
-                inner = self._executor.submit(fn, *args, **kwargs)
-            except BaseException as exc:  # noqa: BLE001 - handed to the waiting caller
-                future.set_exception(exc)
-                self._finished(ticket)
-                continue
-            inner.add_done_callback(functools.partial(self._relay, ticket, future))
+            self._start(*job, tries=0)
+
+    def _start(
+        self, ticket: int, fn: Callable, args: tuple, kwargs: dict, future: cf.Future, tries: int
+    ) -> None:
+        """Hand one task to the executor; a task whose executor broke is tried again once
+        on a new one (:meth:`_renew`), then fails with :data:`WORKER_DIED`."""
+        executor = self._executor
+        try:
+            inner = executor.submit(fn, *args, **kwargs)
+        except cf.process.BrokenProcessPool:
+            self._retry_or_fail(executor, (ticket, fn, args, kwargs, future), tries)
+            return
+        except BaseException as exc:  # noqa: BLE001 - handed to the waiting caller
+            future.set_exception(exc)
+            self._finished(ticket)
+            return
+        job = (ticket, fn, args, kwargs, future)
+        inner.add_done_callback(functools.partial(self._relay, job, executor, tries))
+
+    def _retry_or_fail(self, executor: cf.ProcessPoolExecutor, job: tuple, tries: int) -> None:
+        self._renew(executor)
+        if tries == 0:
+            self._start(*job, tries=1)
+            return
+        job[4].set_exception(NoisevarError(WORKER_DIED))
+        self._finished(job[0])
 
     def _finished(self, ticket: int) -> None:
         with self._lock:
             self._running.discard(ticket)
         self._slots.release()
 
-    def _relay(self, ticket: int, future: cf.Future, inner: cf.Future) -> None:
+    def _relay(
+        self, job: tuple, executor: cf.ProcessPoolExecutor, tries: int, inner: cf.Future
+    ) -> None:
         """The executor finished a task: pass its outcome on, start the next one."""
-        if inner.cancelled():
-            future.set_exception(cf.CancelledError())
-        elif inner.exception() is not None:
-            future.set_exception(inner.exception())
+        ticket, future = job[0], job[4]
+        exc = None if inner.cancelled() else inner.exception()
+        if isinstance(exc, cf.process.BrokenProcessPool):
+            self._retry_or_fail(executor, job, tries)  # started again, or failed and finished
         else:
-            future.set_result(inner.result())
-        self._finished(ticket)
+            if inner.cancelled():
+                future.set_exception(cf.CancelledError())
+            elif exc is not None:
+                future.set_exception(exc)
+            else:
+                future.set_result(inner.result())
+            self._finished(ticket)
         self._dispatch()
 
     def ahead(self, ticket: int) -> int:

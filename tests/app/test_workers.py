@@ -158,3 +158,25 @@ def test_an_estimate_runs_on_its_own_thread_while_every_worker_computes():
     assert not pool.busy()
     for _, future in busy:
         future.result(timeout=30)
+
+
+def test_a_killed_worker_restarts_the_pool():
+    """A worker killed while computing (the kernel's OOM killer, an admin) broke the executor
+    for good: every page of every session raised "A child process terminated abruptly, the
+    process pool is not usable anymore" until the server was restarted (real_audit11's pages
+    on a loaded machine). Its tasks run again on a new pool; a task that kills its worker
+    each time fails once, in one line."""
+    pool = workers.Pool(2)
+    try:
+        tasks = [pool.submit(time.sleep, 1.5) for _ in range(2)]
+        time.sleep(0.9)  # both computing (after the 0.5 s start pause)
+        for pid in list(pool._executor._processes):
+            os.kill(pid, signal.SIGKILL)
+        assert [f.result(timeout=60) for _, f in tasks] == [None, None]
+        _, dies = pool.submit(os._exit, 1)
+        with pytest.raises(noisevar.NoisevarError, match="worker process stopped"):
+            dies.result(timeout=60)
+        _, after = pool.submit(abs, -3)
+        assert after.result(timeout=60) == 3 and pool.queued() == 0
+    finally:
+        pool.shutdown()
