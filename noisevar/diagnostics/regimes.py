@@ -38,6 +38,9 @@ ABOVE = "above"
 SAME = "same"
 #: The quiet level's source when it is the estimate's still R (``estimate.still``).
 STILL = "still"
+#: The quiet level's source when the still stretches are held values, not noise
+#: (``estimators.still_quiet.held_digits``): no still R, for that reason.
+HELD = "held"
 #: A regime of fewer blocks is all edge (no block away from its ends), which the block
 #: grid's phase moves: beside a flat regime, or held values alone, it sets no floor.
 FLOOR_BLOCKS = 3
