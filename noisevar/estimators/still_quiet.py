@@ -138,7 +138,8 @@ def held_digits(
     still: VarianceEstimate | None,
     ranges: list[tuple[int, int]],
 ) -> QuietLevel | None:
-    """Why a still R off any grid is held values, not noise (None when it is noise).
+    """Why a still R is held values, not noise (None when it may be noise): on a grid,
+    :func:`held_on_grid`; off any grid, under the stored digits (below).
 
     Parameters
     ----------
@@ -146,7 +147,7 @@ def held_digits(
         The record (its samples ``z`` in memory, or its ``reader()``), in the units of
         ``still``.
     diag : NoiseDiagnostics
-        The record's diagnostics (its ``grid``: None, or the rounding floor applies).
+        The record's diagnostics (its ``lsb``: the grid, :func:`held_on_grid`'s rule).
     still : VarianceEstimate or None
         R's method on the still stretches ``ranges``.
     ranges : list of (int, int)
@@ -155,9 +156,9 @@ def held_digits(
     Returns
     -------
     QuietLevel or None
-        Absent (``source`` :data:`HELD`), with the reason, when the record sits on no grid
-        but the still stretches' second differences do (the stored digits' last step
-        ``δ``) and ``still`` is under half a step's error variance
+        On a grid, :func:`held_on_grid`'s. Else absent (``source`` :data:`HELD`), with the
+        reason, when the still stretches' second differences sit on a grid (the stored
+        digits' last step ``δ``) and ``still`` is under half a step's error variance
         (:func:`~noisevar.diagnostics.quantisation.half_a_step`): the stretches hold their
         values and move only by the last stored digit, so what R's residual reads there is
         that digit's rounding, not the sensor's noise.
