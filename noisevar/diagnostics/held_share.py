@@ -34,11 +34,14 @@ class HeldShare:
         Second differences within half a step of 0, and all of them.
     noise : float
         The share white noise of the level gives (:func:`flat_share`), at most.
+    step : float
+        The grid step it is given on (:func:`moved_step`).
     """
 
     held: int
     count: int
     noise: float
+    step: float
 
     @property
     def share(self) -> float:
@@ -96,11 +99,33 @@ def flat_share(variance: float, lsb: float) -> float:
 
 def held_share(pieces: list[NDArray], variance: float, lsb: float) -> HeldShare:
     """The held share of ``pieces`` (samples on a grid of step ``lsb``) against noise of
-    ``variance`` (:func:`flat_share`)."""
-    d2 = [np.diff(np.asarray(p, dtype=float), 2) for p in pieces if len(p) >= 3]
-    d2 = np.concatenate(d2) if d2 else np.empty(0)
-    held = int(np.count_nonzero(np.abs(d2) < 0.5 * lsb))
-    return HeldShare(held, int(d2.size), flat_share(variance, lsb))
+    ``variance`` on the grid they move on (:func:`flat_share`, :func:`moved_step`)."""
+    d1 = [np.diff(np.asarray(p, dtype=float)) for p in pieces if len(p) >= 3]
+    d2 = np.concatenate([np.diff(d) for d in d1]) if d1 else np.empty(0)
+    flat = np.abs(d2) < 0.5 * lsb
+    step = moved_step(d1, lsb)
+    return HeldShare(int(np.count_nonzero(flat)), int(d2.size), flat_share(variance, step), step)
+
+
+def moved_step(d1: list[NDArray], lsb: float) -> float:
+    """The coarsest grid step the pieces' first differences ``d1`` allow: their smallest
+    move off the held difference (at least ``lsb``).
+
+    Notes
+    -----
+    The held difference is the median first difference where the second difference is 0
+    (0, or a trend's step). A sensor whose grid is coarser than the written one (GENEActiv's
+    light, 19.2 lux steps written as whole lux: ``lsb`` 1) holds values as noise on its
+    own grid does; its smallest move, 19, is that grid. Coarser is the safe side: the
+    share :func:`flat_share` gives only grows with the step.
+    """
+    both = [(d[1:], np.abs(np.diff(d)) < 0.5 * lsb) for d in d1 if d.size >= 2]
+    held = np.concatenate([d[f] for d, f in both]) if both else np.empty(0)
+    if not held.size:
+        return lsb
+    moves = np.abs(np.concatenate(d1) - np.median(held))
+    moves = moves[moves >= 0.5 * lsb]
+    return float(max(lsb, moves.min())) if moves.size else lsb
 
 
 def _pmf(s: float) -> NDArray:

@@ -203,7 +203,8 @@ def held_on_grid(
     QuietLevel or None
         Absent (``source`` :data:`HELD`), with the reason, when most of the stretches'
         second differences are 0 and far more of them than white noise of the still R's
-        level gives on that grid, even at the low end of its 95 % interval
+        level gives on the grid they move on (their smallest move, at least ``lsb``), even
+        at the low end of its 95 % interval
         (:class:`~noisevar.diagnostics.held_share.HeldShare`'s ``beyond_noise``).
 
     Notes
@@ -222,9 +223,9 @@ def held_on_grid(
         return None
     reason = (
         f"the still stretches are held values, {held.share:.0%} of their second differences "
-        f"0 on the grid step {diag.lsb:.3g} where noise of their level ({still.variance:.3g}) "
-        f"holds at most {held.noise:.1%}: padding, a stale sensor or a logger's hold, not the "
-        "sensor at rest (docs/algorithms.md §E3 Held values)"
+        f"0 where noise of their level ({still.variance:.3g}) on a grid of their smallest "
+        f"move ({held.step:.3g}) holds at most {held.noise:.1%}: padding, a stale sensor or a "
+        "logger's hold, not the sensor at rest (docs/algorithms.md §E3 Held values)"
     )
     return QuietLevel(None, None, None, diag.level_profile.quiet_share, HELD, reason)
 

@@ -76,6 +76,16 @@ def test_noise_under_half_a_step_keeps_its_still_r(sigma, offset, seed):
     assert 1 / 12 - 1e-12 <= est.still.variance < half_a_step(1.0)  # under half a step
 
 
+def test_coarse_grid_written_finer_keeps_its_still_r():
+    """GENEActiv's light: 19.2-lux steps written as whole lux (the record's grid 1); its
+    still stretches hold values as noise on 19.2 does (real_audit11: R to use 29.98)."""
+    z = np.round(19.2 * coarse_still(1, 0.3, 0.0))
+    est = nv.estimate(z)
+    assert est.diagnostics.lsb == pytest.approx(1.0)
+    assert est.still is not None
+    assert est.diagnostics.quiet.source == "still"
+
+
 @pytest.mark.parametrize("sigma", [0.2, 0.4, 1.0, 3.0])
 def test_flat_share_is_rounded_noise_at_its_most_held_offset(sigma):
     rng = np.random.default_rng(7)
