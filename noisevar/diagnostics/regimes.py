@@ -146,6 +146,12 @@ class QuietLevel:
             return self
         return replace(self, variance=f(self.variance), lo=f(self.lo), hi=f(self.hi))
 
+    @property
+    def held(self) -> bool:
+        """The still stretches are held values, not noise (source :data:`HELD`): no still R,
+        for :attr:`reason`."""
+        return self.source == HELD
+
     def to_dict(self) -> dict[str, float | str | None]:
         return {"variance": self.variance, "ci95_low": self.lo, "ci95_high": self.hi,
                 "share": self.share, "source": self.source, "reason": self.reason}  # fmt: skip

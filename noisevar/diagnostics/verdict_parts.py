@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from noisevar.diagnostics.regimes import HELD, STILL_RATIO, QuietLevel
+from noisevar.diagnostics.regimes import STILL_RATIO
 from noisevar.format import eng
 
 #: R over the core variance above which the outlying samples hold nearly all of R (over
@@ -370,13 +370,14 @@ def walk_verdict(r: str, stood: tuple[float, str, str] | None, measured: bool) -
     )
 
 
-def none_quieter(r: str, quiet: float, level: QuietLevel | None = None) -> str:
+def none_quieter(r: str, quiet: float, diag: NoiseDiagnostics | None = None) -> str:
     """The verdict of a varying level whose quietest stretches, as the level profile reads
     them (indicative: no still R), are not below R: nothing quieter to quote as the sensor's.
-    ``level``: the quiet level (``diag.quiet``), whose reason is said when its still
-    stretches are held values (source :data:`~noisevar.diagnostics.regimes.HELD`)."""
+    With ``diag``, its quiet level's reason is said when its still stretches are held values
+    (:attr:`~noisevar.diagnostics.regimes.QuietLevel.held`)."""
     why = " (spikes or held values, not a sensor at rest)"
-    if level is not None and level.source == HELD:
+    level = None if diag is None else diag.quiet
+    if level is not None and level.held:
         why = f", and {level.reason}"
     return (
         f"{CHANGES}: {r} is an average, and no stretch of it "
