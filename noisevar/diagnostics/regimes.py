@@ -38,6 +38,9 @@ ABOVE = "above"
 SAME = "same"
 #: The quiet level's source when it is the estimate's still R (``estimate.still``).
 STILL = "still"
+#: The quiet level's source when the still stretches are held values, not noise
+#: (``estimators.still_quiet.held_digits``): no still R, for that reason.
+HELD = "held"
 #: A regime of fewer blocks is all edge (no block away from its ends), which the block
 #: grid's phase moves: beside a flat regime, or held values alone, it sets no floor.
 FLOOR_BLOCKS = 3
@@ -142,6 +145,12 @@ class QuietLevel:
         if self.variance is None or self.lo is None or self.hi is None:
             return self
         return replace(self, variance=f(self.variance), lo=f(self.lo), hi=f(self.hi))
+
+    @property
+    def held(self) -> bool:
+        """The still stretches are held values, not noise (source :data:`HELD`): no still R,
+        for :attr:`reason`."""
+        return self.source == HELD
 
     def to_dict(self) -> dict[str, float | str | None]:
         return {"variance": self.variance, "ci95_low": self.lo, "ci95_high": self.hi,

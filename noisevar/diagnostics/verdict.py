@@ -360,7 +360,7 @@ def _not_white(
         and not _measurably_below(diag, variance)
         and not under_half_a_step(diag, variance)
     ):
-        return none_quieter(r, quiet)
+        return none_quieter(r, quiet, diag)
     # no quiet block (a grid's noise under half a step): no still level to quote
     if diag.level_varies and prof.any_quiet and prof.quiet_share < MOSTLY_MOTION and not diag.white:
         return (

@@ -374,14 +374,19 @@ def walk_verdict(r: str, stood: tuple[float, str, str] | None, measured: bool) -
     )
 
 
-def none_quieter(r: str, quiet: float) -> str:
+def none_quieter(r: str, quiet: float, diag: NoiseDiagnostics | None = None) -> str:
     """The verdict of a varying level whose quietest stretches, as the level profile reads
-    them (indicative: no still R), are not below R: nothing quieter to quote as the sensor's."""
+    them (indicative: no still R), are not below R: nothing quieter to quote as the sensor's.
+    With ``diag``, its quiet level's reason is said when its still stretches are held values
+    (:attr:`~noisevar.diagnostics.regimes.QuietLevel.held`)."""
+    why = " (spikes or held values, not a sensor at rest)"
+    level = None if diag is None else diag.quiet
+    if level is not None and level.held:
+        why = f", and {level.reason}"
     return (
         f"{CHANGES}: {r} is an average, and no stretch of it "
         "is measurably quieter: the level profile's quietest stretches read "
-        f"{eng(quiet)}, not below R (spikes or held values, not a sensor at rest), so R over the "
-        "whole record is the only level measured"
+        f"{eng(quiet)}, not below R{why}, so R over the whole record is the only level measured"
     )
 
 

@@ -18,9 +18,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.diagnostics import NoiseDiagnostics
+from noisevar.diagnostics.held_share import held_share
 from noisevar.diagnostics.profile import LevelProfile, on_both_grids, on_either_grid
 from noisevar.diagnostics.quantisation import half_a_step, joined_step, second_difference_step
-from noisevar.diagnostics.regimes import STILL, QuietLevel
+from noisevar.diagnostics.regimes import HELD, STILL, QuietLevel
 from noisevar.errors import NoisevarError
 from noisevar.estimators.results import VarianceEstimate
 from noisevar.estimators.still_extent import to_the_sample
@@ -32,7 +33,6 @@ from noisevar.estimators.still_grids import (
     shrunk,
 )
 from noisevar.estimators.still_set import (
-    HELD,
     SAME,
     STILL_MIN,
     has_still_apart,
@@ -138,7 +138,8 @@ def held_digits(
     still: VarianceEstimate | None,
     ranges: list[tuple[int, int]],
 ) -> QuietLevel | None:
-    """Why a still R off any grid is held values, not noise (None when it is noise).
+    """Why a still R is held values, not noise (None when it may be noise): on a grid,
+    :func:`held_on_grid`; off any grid, under the stored digits (below).
 
     Parameters
     ----------
@@ -146,7 +147,7 @@ def held_digits(
         The record (its samples ``z`` in memory, or its ``reader()``), in the units of
         ``still``.
     diag : NoiseDiagnostics
-        The record's diagnostics (its ``grid``: None, or the rounding floor applies).
+        The record's diagnostics (its ``lsb``: the grid, :func:`held_on_grid`'s rule).
     still : VarianceEstimate or None
         R's method on the still stretches ``ranges``.
     ranges : list of (int, int)
@@ -155,9 +156,9 @@ def held_digits(
     Returns
     -------
     QuietLevel or None
-        Absent (``source`` :data:`HELD`), with the reason, when the record sits on no grid
-        but the still stretches' second differences do (the stored digits' last step
-        ``δ``) and ``still`` is under half a step's error variance
+        On a grid, :func:`held_on_grid`'s. Else absent (``source`` :data:`HELD`), with the
+        reason, when the still stretches' second differences sit on a grid (the stored
+        digits' last step ``δ``) and ``still`` is under half a step's error variance
         (:func:`~noisevar.diagnostics.quantisation.half_a_step`): the stretches hold their
         values and move only by the last stored digit, so what R's residual reads there is
         that digit's rounding, not the sensor's noise.
@@ -170,6 +171,8 @@ def held_digits(
     read 1.1e-13). A floor at δ²/12 would change nothing there (the level is about it),
     so there is no still R, said.
     """
+    if still is not None and diag.lsb is not None:
+        return held_on_grid(record, diag, still, ranges)
     if still is None or diag.lsb is not None or not _held_values(record, still, ranges):
         return None
     step = _digit_step(record, ranges)
@@ -178,6 +181,51 @@ def held_digits(
         f"({step:.3g}): they read {still.variance:.3g}, under the error of noise of half "
         "that step, so the sensor's noise is under what the record's digits hold "
         "(docs/algorithms.md §E3 Held values)"
+    )
+    return QuietLevel(None, None, None, diag.level_profile.quiet_share, HELD, reason)
+
+
+def held_on_grid(
+    record: Record | Any,
+    diag: NoiseDiagnostics,
+    still: VarianceEstimate,
+    ranges: list[tuple[int, int]],
+) -> QuietLevel | None:
+    """Why a still R on a grid is held values, not noise (None when it may be noise).
+
+    Parameters
+    ----------
+    record, diag, still, ranges
+        As :func:`held_digits`; ``diag.lsb`` is the grid step.
+
+    Returns
+    -------
+    QuietLevel or None
+        Absent (``source`` :data:`HELD`), with the reason, when most of the stretches'
+        second differences are 0 and far more of them than white noise of the still R's
+        level gives on the grid they move on (their smallest move, at least ``lsb``), even
+        at the low end of its 95 % interval
+        (:class:`~noisevar.diagnostics.held_share.HeldShare`'s ``beyond_noise``).
+
+    Notes
+    -----
+    docs/algorithms.md §E3 (*Held values*). A sensor at rest varies; a run of one value is
+    padding, a stale sensor or a logger's hold, and the still R then rests on the few
+    samples around it (the Permian gamma ray's log end: 60 of 65 samples one value, R to
+    use 0.0045 against a redundant sensor's 3.8). Noise under half a step holds many values
+    too, and as many as its level on the grid predicts: it keeps its still R.
+    """
+    read = _reader(record)
+    if read is None or not ranges:
+        return None
+    held = held_share([read(a, b) for a, b in ranges], still.ci95[0], diag.lsb)
+    if not held.beyond_noise:
+        return None
+    reason = (
+        f"the still stretches are held values, {held.share:.0%} of their second differences "
+        f"0 where noise of their level ({still.variance:.3g}) on a grid of their smallest "
+        f"move ({held.step:.3g}) holds at most {held.noise:.1%}: padding, a stale sensor or a "
+        "logger's hold, not the sensor at rest (docs/algorithms.md §E3 Held values)"
     )
     return QuietLevel(None, None, None, diag.level_profile.quiet_share, HELD, reason)
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
-from noisevar.diagnostics.regimes import ABOVE, SAME, STILL_RATIO, QuietLevel
+from noisevar.diagnostics.regimes import ABOVE, HELD, SAME, STILL_RATIO, QuietLevel
 from noisevar.diagnostics.verdict import under_half_a_step
 
 if TYPE_CHECKING:
@@ -20,10 +20,6 @@ if TYPE_CHECKING:
 #: samples around jumps cut out, to be estimated again by R's method (its spans need room;
 #: shorter pieces say little). Fewer in every piece: the record has no still R to use.
 STILL_MIN = 64
-
-#: The quiet level's source when the still stretches are held values under the stored
-#: digits (``still_quiet.held_digits``): no still R, for that reason.
-HELD = "held"
 
 #: What a still fit that cannot be made asks for instead, on every surface.
 USE_ALL = "use regimes='all' (CLI --regimes all; dashboard: untick the still regimes only)"
@@ -50,8 +46,9 @@ def still_gap(
         still regime (its level does not vary, or varies only within a grid step). Else
         the message that ``regimes.variance_for`` raises, the CLI prints and the verdict
         quotes: no regimes found, no quiet stretch, still stretches too short for R's
-        method (fewer than :data:`STILL_MIN` samples in every piece), or held values under
-        the stored digits (the quiet level's source :data:`HELD`).
+        method (fewer than :data:`STILL_MIN` samples in every piece), or held values (the
+        quiet level's source :data:`HELD`: under the stored digits, or on a grid far more
+        often than noise of their level holds one, ``still_quiet.held_on_grid``).
 
     Notes
     -----
@@ -161,7 +158,10 @@ def still_note(
         "same": "no separate still R: the still stretches read the whole record's level "
         "(its R is the still R)",
         "none": "no still stretch: the level varies throughout",
-        "held": "no still R: the still stretches hold values under the stored digits",
+        "held": "no still R: the still stretches hold values under the stored digits"
+        if diag is None or diag.lsb is None
+        else "no still R: the still stretches are held values on the grid (padding, a stale "
+        "sensor), not noise",
         "above": "no still R: the still stretches read above the whole record",
         "short": f"no still R: still stretches too short ({total} samples, {share:.0%} of "
         f"the record, each piece under {STILL_MIN})",
