@@ -1,0 +1,112 @@
+"""Whether the IEEE-952 terms describe the Allan deviation they were fitted to.
+
+docs/algorithms.md §E4 (the misfit check): eq. E4.1 is a static sensor's noise. A
+record with a signal in it (motion, a periodic disturbance) has an Allan deviation with
+a hump or a dip that no sum of the five terms makes; the fit then returns terms that
+describe nothing. This module says so, and the exports refuse such fits.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy import stats
+
+from noisevar.errors import NoisevarError
+
+#: The misfit is judged only at taus whose Allan variance rests on at least this many
+#: degrees of freedom (Greenhall's, under the fitted terms): the long taus' few clusters
+#: make their chi-square skewed, correlated and the flicker term's approximation visible.
+MISFIT_EDF = 30.0
+#: Family-wise false-alarm rate of the check over the taus judged (Bonferroni).
+MISFIT_ALPHA = 1e-3
+#: The start of the note, and of the exports' refusal.
+MISFIT = "the IEEE-952 terms do not describe the Allan deviation"
+
+
+def misfit_z(avar: NDArray, model: NDArray, edf: NDArray) -> NDArray:
+    """The misfit of each tau in standard errors: ``ln(avar / model) / sqrt(2 / edf)``.
+
+    Parameters
+    ----------
+    avar, model, edf : ndarray
+        The data's Allan variances, the fitted terms' (eq. E4.1) and their edf.
+
+    Returns
+    -------
+    ndarray
+        NaN where ``edf < MISFIT_EDF`` (not judged).
+
+    Notes
+    -----
+    ``avar`` is ``model chi²_edf / edf``; its log has std ``sqrt(2 / edf)`` to first order.
+    """
+    model = np.maximum(np.asarray(model, dtype=float), np.finfo(float).tiny)
+    ratio = np.maximum(np.asarray(avar, dtype=float), np.finfo(float).tiny) / model
+    edf = np.asarray(edf, dtype=float)
+    z = np.log(ratio) / np.sqrt(2.0 / np.maximum(edf, np.finfo(float).tiny))
+    return np.where(edf >= MISFIT_EDF, z, np.nan)
+
+
+def misfit_note(taus: NDArray, avar: NDArray, model: NDArray, edf: NDArray) -> list[str]:
+    """The note of a fit whose terms do not describe the Allan deviation, or none.
+
+    Parameters
+    ----------
+    taus, avar, model, edf : ndarray
+        Averaging times (s), the data's Allan variances, the fitted terms' and the edf.
+
+    Returns
+    -------
+    list of str
+        One note when some judged tau's misfit (:func:`misfit_z`) passes the Bonferroni
+        bound of :data:`MISFIT_ALPHA` over the judged taus; none otherwise.
+
+    Notes
+    -----
+    Measured false alarms and detections: docs/algorithms.md §E4.
+    """
+    z = misfit_z(avar, model, edf)
+    judged = np.flatnonzero(np.isfinite(z))
+    if judged.size == 0:
+        return []
+    bound = stats.norm.isf(MISFIT_ALPHA / (2.0 * judged.size))
+    worst = judged[np.argmax(np.abs(z[judged]))]
+    if abs(z[worst]) <= bound:
+        return []
+    ratio = float(np.sqrt(avar[worst] / model[worst]))  # scale-free: no unit quoted
+    return [
+        f"{MISFIT}: at tau {taus[worst]:.3g} s the data's deviation is {ratio:.3g}x the "
+        f"terms' ({abs(z[worst]):.1f} standard errors, bound {bound:.1f}): a hump or dip "
+        "no noise term makes, a signal, motion or a "
+        "periodic disturbance, not the sensor's noise; the terms and intervals describe "
+        "nothing. Record the sensor still, or fit the still regimes only (regimes='still')"
+    ]
+
+
+def refuse_misfit(sensors: Mapping[str, Sequence[Any]], what: str) -> None:
+    """Raise when an axis's terms do not describe its Allan deviation.
+
+    Parameters
+    ----------
+    sensors : mapping of str to sequence of InertialNoise
+        Each sensor's axes (e.g. ``{"gyroscope": [...]}``) a filter's file is written from.
+    what : str
+        The file, for the message (e.g. ``"a Kalibr imu.yaml"``).
+
+    Raises
+    ------
+    NoisevarError
+        Naming the first such axis and its note.
+    """
+    for sensor, fits in sensors.items():
+        for i, note in ((i, n) for i, f in enumerate(fits) for n in f.notes):
+            if note.startswith(MISFIT):
+                raise NoisevarError(
+                    f"No {what} is written: {sensor} axis {i}: {note.split(' (', 1)[0]} "
+                    "(not the sensor's noise); record the sensor still, or fit the still "
+                    "regimes only (regimes='still', --regimes still)."
+                )
