@@ -1,7 +1,7 @@
 """Does the IEEE-952 misfit check (docs/algorithms.md §E4) flag records that are not a still
 sensor's noise, and only those? (issue 26)
 
-    python benchmarks/inertial_misfit.py           # 262 model-true + 60 motion records, ~5 min
+    python benchmarks/inertial_misfit.py           # 262 model-true + 60 motion records, ~15 s
     python benchmarks/inertial_misfit.py --quick   # 40 + 15
 
 1. **False alarms.** Model-true records from ``simulate_inertial``: N always (1e-4 to 1e-2

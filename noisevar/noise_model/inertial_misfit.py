@@ -103,10 +103,15 @@ def refuse_misfit(sensors: Mapping[str, Sequence[Any]], what: str) -> None:
         Naming the first such axis and its note.
     """
     for sensor, fits in sensors.items():
-        for i, note in ((i, n) for i, f in enumerate(fits) for n in f.notes):
-            if note.startswith(MISFIT):
+        for i, fit in enumerate(fits):
+            for note in (n for n in fit.notes if n.startswith(MISFIT)):
+                advice = (
+                    "its still stretch too: record the sensor still"
+                    if fit.regimes == "still"
+                    else "record the sensor still, or fit the still regimes only "
+                    "(regimes='still', --regimes still)"
+                )
                 raise NoisevarError(
                     f"No {what} is written: {sensor} axis {i}: {note.split(' (', 1)[0]} "
-                    "(not the sensor's noise); record the sensor still, or fit the still "
-                    "regimes only (regimes='still', --regimes still)."
+                    f"(not the sensor's noise); {advice}."
                 )

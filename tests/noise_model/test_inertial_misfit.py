@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from noisevar.cli import main
 from noisevar.errors import NoisevarError
 from noisevar.noise_model import inertial_noise
 from noisevar.noise_model.exports import imu_model
@@ -58,3 +59,19 @@ def test_the_filter_files_refuse_a_fit_that_describes_nothing():
     with pytest.raises(NoisevarError, match="No filter config is written: gyroscope axis 0"):
         imu_model(moving, still)
     assert kalibr_imu(still, still).gyroscope_noise_density > 0  # a still record still writes
+
+
+def test_noisevar_imu_says_it_and_writes_no_kalibr_file(tmp_path, capsys):
+    rng = np.random.default_rng(3)
+    path = tmp_path / "moving.csv"
+    data = np.column_stack([_sine(), 0.01 * rng.normal(size=5000)])
+    np.savetxt(path, data, delimiter=",", header="gx,ax", comments="")
+    argv = ["imu", str(path), "--rate", str(RATE), "--gyro", "gx", "--accel", "ax"]
+    assert main(argv) == 0
+    assert capsys.readouterr().out.count(f"note: {MISFIT}") == 1  # the moving axis only
+    out_yaml = tmp_path / "imu.yaml"
+    for regimes, advice in (("all", "--regimes still"), ("still", "its still stretch too")):
+        assert main([*argv, "--kalibr", str(out_yaml), "--regimes", regimes]) == 2
+        err = capsys.readouterr().err.strip()
+        assert "\n" not in err and "No Kalibr imu.yaml is written" in err and advice in err
+    assert not out_yaml.exists()
