@@ -61,13 +61,25 @@ def true_records(count: int):
         if rng.random() < 0.3:
             kw["rate_ramp"] = big_n * 10 ** rng.uniform(-4, -2)
         yield "+".join(sorted(kw)), simulate_inertial(n, fs, seed=5000 + s, **kw), fs
-    yield "first attempt a", simulate_inertial(
-        50000, 50, random_walk=1e-3, rate_random_walk=1e-4, seed=0
-    ), 50.0
-    yield "first attempt b", simulate_inertial(
-        50000, 50, quantization=1e-4, random_walk=1e-3, bias_instability=1e-3,
-        rate_random_walk=1e-4, rate_ramp=1e-6, seed=1,
-    ), 50.0
+    yield (
+        "first attempt a",
+        simulate_inertial(50000, 50, random_walk=1e-3, rate_random_walk=1e-4, seed=0),
+        50.0,
+    )
+    yield (
+        "first attempt b",
+        simulate_inertial(
+            50000,
+            50,
+            quantization=1e-4,
+            random_walk=1e-3,
+            bias_instability=1e-3,
+            rate_random_walk=1e-4,
+            rate_ramp=1e-6,
+            seed=1,
+        ),
+        50.0,
+    )
 
 
 def motion_records(count: int):
@@ -93,8 +105,12 @@ def motion_records(count: int):
 
 def table(rows: list[tuple[str, bool, float]], title: str) -> list[str]:
     kinds = sorted({k for k, _, _ in rows}) if title == "Detection" else ["all"]
-    out = [f"### {title}", "", "| records | n | noted | share | largest misfit (SE) |",
-           "|---|---|---|---|---|"]
+    out = [
+        f"### {title}",
+        "",
+        "| records | n | noted | share | largest misfit (SE) |",
+        "|---|---|---|---|---|",
+    ]
     for kind in kinds:
         sel = [r for r in rows if kind in ("all", r[0])]
         hit = sum(r[1] for r in sel)
@@ -119,8 +135,9 @@ def main() -> None:
     name = "inertial_misfit_quick" if args.quick else "inertial_misfit"
     RESULTS.mkdir(exist_ok=True)
     (RESULTS / f"{name}.md").write_text(text)
-    (RESULTS / f"{name}.json").write_text(json.dumps(
-        {"false_alarms": truth, "detection": motion}, indent=1))
+    (RESULTS / f"{name}.json").write_text(
+        json.dumps({"false_alarms": truth, "detection": motion}, indent=1)
+    )
 
 
 if __name__ == "__main__":

@@ -39,8 +39,13 @@ def test_a_sine_record_gets_the_misfit_note():
     "terms",
     [
         {"random_walk": 1e-3, "rate_random_walk": 1e-4},  # the first attempt's false alarm
-        {"quantization": 1e-4, "random_walk": 1e-3, "bias_instability": 1e-3,
-         "rate_random_walk": 1e-4, "rate_ramp": 1e-6},
+        {
+            "quantization": 1e-4,
+            "random_walk": 1e-3,
+            "bias_instability": 1e-3,
+            "rate_random_walk": 1e-4,
+            "rate_ramp": 1e-6,
+        },
         {"random_walk": 1e-3, "bias_instability": 3e-3},
     ],
 )
@@ -52,8 +57,9 @@ def test_model_true_records_get_no_note(terms, seed):
 
 def test_the_filter_files_refuse_a_fit_that_describes_nothing():
     moving = inertial_noise(_sine(), RATE, unit="rad/s")
-    still = inertial_noise(simulate_inertial(5000, RATE, random_walk=1e-3, seed=2), RATE,
-                           unit="m/s^2")
+    still = inertial_noise(
+        simulate_inertial(5000, RATE, random_walk=1e-3, seed=2), RATE, unit="m/s^2"
+    )
     with pytest.raises(NoisevarError, match="No Kalibr imu.yaml is written: gyroscope axis 0"):
         kalibr_imu(moving, still)
     with pytest.raises(NoisevarError, match="No filter config is written: gyroscope axis 0"):
