@@ -25,6 +25,8 @@ MISFIT_EDF = 30.0
 MISFIT_ALPHA = 1e-3
 #: The start of the note, and of the exports' refusal.
 MISFIT = "the IEEE-952 terms do not describe the Allan deviation"
+#: The start of the note of a misfit without a hump (the exports do not refuse it).
+APPROXIMATE = "the IEEE-952 terms miss the Allan deviation"
 
 
 def misfit_z(avar: NDArray, model: NDArray, edf: NDArray) -> NDArray:
@@ -51,6 +53,40 @@ def misfit_z(avar: NDArray, model: NDArray, edf: NDArray) -> NDArray:
     return np.where(edf >= MISFIT_EDF, z, np.nan)
 
 
+def hump(taus: NDArray, avar: NDArray, edf: NDArray, bound: float) -> int | None:
+    """The judged tau where ``avar tau`` rose to and then fell from, or None.
+
+    Parameters
+    ----------
+    taus, avar, edf : ndarray
+        Averaging times, the data's Allan variances and their edf.
+    bound : float
+        Standard errors a rise and the fall after it must each pass.
+
+    Returns
+    -------
+    int or None
+        The index of the highest such peak.
+
+    Notes
+    -----
+    ``sigma^2(tau) tau`` is convex for every sum of E4.1's terms (``3Q^2/tau``, ``N^2``,
+    and rising ``B``, ``K``, ``R`` parts), so it cannot rise and then fall; nor can a
+    Gauss-Markov bias's (it rises to ``2 sigma^2 T^2``). A sine's does: its Allan
+    deviation peaks near ``0.37 P`` and falls as ``tau^-1`` after.
+    """
+    k = np.flatnonzero(np.asarray(edf) >= MISFIT_EDF)
+    g = np.log(np.maximum(avar[k] * taus[k], np.finfo(float).tiny))
+    se = np.sqrt(2.0 / edf[k])
+    peaks = [
+        p
+        for p in range(1, k.size - 1)
+        if np.any(g[p] - g[:p] > bound * np.hypot(se[p], se[:p]))
+        and np.any(g[p] - g[p + 1 :] > bound * np.hypot(se[p], se[p + 1 :]))
+    ]
+    return int(k[max(peaks, key=lambda p: g[p])]) if peaks else None
+
+
 def misfit_note(taus: NDArray, avar: NDArray, model: NDArray, edf: NDArray) -> list[str]:
     """The note of a fit whose terms do not describe the Allan deviation, or none.
 
@@ -63,7 +99,8 @@ def misfit_note(taus: NDArray, avar: NDArray, model: NDArray, edf: NDArray) -> l
     -------
     list of str
         One note when some judged tau's misfit (:func:`misfit_z`) passes the Bonferroni
-        bound of :data:`MISFIT_ALPHA` over the judged taus; none otherwise.
+        bound of :data:`MISFIT_ALPHA` over the judged taus: :data:`MISFIT` when the data
+        have a :func:`hump` (no still sensor's noise), :data:`APPROXIMATE` otherwise.
 
     Notes
     -----
@@ -77,11 +114,20 @@ def misfit_note(taus: NDArray, avar: NDArray, model: NDArray, edf: NDArray) -> l
     worst = judged[np.argmax(np.abs(z[judged]))]
     if abs(z[worst]) <= bound:
         return []
+    peak = hump(taus, avar, edf, bound)
     ratio = float(np.sqrt(avar[worst] / model[worst]))  # scale-free: no unit quoted
+    if peak is None:  # a still sensor's noise E4.1 lacks (a Gauss-Markov bias), or slow motion
+        return [
+            f"{APPROXIMATE}: at tau {taus[worst]:.3g} s the data's deviation is {ratio:.3g}x "
+            f"the terms' ({abs(z[worst]):.1f} standard errors, bound {bound:.1f}): a bias "
+            "that is no term of E4.1 (Gauss-Markov: noisevar.fit_imu_model describes it) or "
+            "slow motion; the terms are approximate there"
+        ]
     return [
         f"{MISFIT}: at tau {taus[worst]:.3g} s the data's deviation is {ratio:.3g}x the "
-        f"terms' ({abs(z[worst]):.1f} standard errors, bound {bound:.1f}): a hump or dip "
-        "no noise term makes, a signal, motion or a "
+        f"terms' ({abs(z[worst]):.1f} standard errors, bound {bound:.1f}), and "
+        f"sigma^2 tau rises to tau {taus[peak]:.3g} s and falls after, which no noise "
+        "term makes: a signal, motion or a "
         "periodic disturbance, not the sensor's noise; the terms and intervals describe "
         "nothing. Record the sensor still, or fit the still regimes only (regimes='still')"
     ]

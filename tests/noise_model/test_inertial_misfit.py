@@ -10,7 +10,7 @@ from noisevar.cli import main
 from noisevar.errors import NoisevarError
 from noisevar.noise_model import inertial_noise
 from noisevar.noise_model.exports import imu_model
-from noisevar.noise_model.inertial_misfit import MISFIT
+from noisevar.noise_model.inertial_misfit import APPROXIMATE, MISFIT
 from noisevar.noise_model.kalibr import kalibr_imu
 from noisevar.noise_model.simulate import simulate_inertial
 
@@ -81,3 +81,13 @@ def test_noisevar_imu_says_it_and_writes_no_kalibr_file(tmp_path, capsys):
         err = capsys.readouterr().err.strip()
         assert "\n" not in err and "No Kalibr imu.yaml is written" in err and advice in err
     assert not out_yaml.exists()
+
+
+def test_a_gauss_markov_bias_is_approximate_not_refused():
+    """A still sensor's bias E4.1 has no term for: its sigma^2 tau never falls, so the
+    fit is said to be approximate and the files are still written."""
+    y = simulate_inertial(400_000, 100.0, random_walk=1e-3, gauss_markov=((1e-3, 10.0),), seed=1)
+    fit = inertial_noise(y, 100.0, unit="rad/s")
+    assert not _noted(fit)
+    assert any(n.startswith(APPROXIMATE) for n in fit.notes)
+    assert kalibr_imu(fit, fit).gyroscope_noise_density > 0
