@@ -3,7 +3,7 @@
 docs/algorithms.md §E4 (the misfit check): eq. E4.1 is a static sensor's noise. A
 record with a signal in it (motion, a periodic disturbance) has an Allan deviation with
 a hump or a dip that no sum of the five terms makes; the fit then returns terms that
-describe nothing. This module says so, and the exports refuse such fits.
+describe nothing. This module says so, and the exports' files say it too.
 """
 
 from __future__ import annotations
@@ -14,8 +14,6 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 from scipy import stats
-
-from noisevar.errors import NoisevarError
 
 #: The misfit is judged only at taus whose Allan variance rests on at least this many
 #: degrees of freedom (Greenhall's, under the fitted terms): the long taus' few clusters
@@ -133,21 +131,26 @@ def misfit_note(taus: NDArray, avar: NDArray, model: NDArray, edf: NDArray) -> l
     ]
 
 
-def refuse_misfit(sensors: Mapping[str, Sequence[Any]], what: str) -> None:
-    """Raise when an axis's terms do not describe its Allan deviation.
+def misfit_warnings(sensors: Mapping[str, Sequence[Any]]) -> list[str]:
+    """The files' warning for each axis whose terms do not describe its Allan deviation.
 
     Parameters
     ----------
     sensors : mapping of str to sequence of InertialNoise
         Each sensor's axes (e.g. ``{"gyroscope": [...]}``) a filter's file is written from.
-    what : str
-        The file, for the message (e.g. ``"a Kalibr imu.yaml"``).
 
-    Raises
-    ------
-    NoisevarError
-        Naming the first such axis and its note.
+    Returns
+    -------
+    list of str
+        One line per such axis (:data:`MISFIT` notes); none when every axis is described.
+
+    Notes
+    -----
+    The files warn rather than refuse: a vehicle's log has its vibration (a hump at the
+    rotors' period: PX4's committed log, accelerometer Z) that its filter will see too,
+    and the density written is at least the white level (§E4).
     """
+    out = []
     for sensor, fits in sensors.items():
         for i, fit in enumerate(fits):
             for note in (n for n in fit.notes if n.startswith(MISFIT)):
@@ -157,7 +160,8 @@ def refuse_misfit(sensors: Mapping[str, Sequence[Any]], what: str) -> None:
                     else "record the sensor still, or fit the still regimes only "
                     "(regimes='still', --regimes still)"
                 )
-                raise NoisevarError(
-                    f"No {what} is written: {sensor} axis {i}: {note.split(' (', 1)[0]} "
-                    f"(not the sensor's noise); {advice}."
+                out.append(
+                    f"NOT A STILL SENSOR'S NOISE: {sensor} axis {i}: {note.split(' (', 1)[0]}; "
+                    f"its values here describe the record, not the sensor: {advice}"
                 )
+    return out

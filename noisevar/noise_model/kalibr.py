@@ -20,7 +20,7 @@ from noisevar.errors import NoisevarError
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes
 from noisevar.noise_model.gmwm.model import HORIZON
 from noisevar.noise_model.inertial import InertialNoise
-from noisevar.noise_model.inertial_misfit import refuse_misfit
+from noisevar.noise_model.inertial_misfit import misfit_warnings
 from noisevar.noise_model.inertial_white import why_below_white
 
 if TYPE_CHECKING:
@@ -272,7 +272,6 @@ def kalibr_imu(
     """
     if not (math.isfinite(inflation) and inflation > 0):
         raise NoisevarError(f"The inflation must be a positive number, not {inflation}.")
-    refuse_misfit({"gyroscope": _axes(gyro), "accelerometer": _axes(accel)}, "Kalibr imu.yaml")
     rate, rate_notes = imu_rate(_axes(gyro), _axes(accel))
     regimes, regime_notes = _regimes(gyro, accel)
     accel_n, accel_notes = _density(accel, "accelerometer_noise_density")
@@ -297,7 +296,14 @@ def kalibr_imu(
         gyroscope_random_walk=inflation * walks["gyroscope"],
         update_rate=rate,
         rostopic=rostopic,
-        notes=tuple(rate_notes + regime_notes + accel_notes + gyro_notes + k_notes),
+        notes=tuple(
+            misfit_warnings({"gyroscope": _axes(gyro), "accelerometer": _axes(accel)})
+            + rate_notes
+            + regime_notes
+            + accel_notes
+            + gyro_notes
+            + k_notes
+        ),
         regimes=regimes,
     )
 
