@@ -121,7 +121,7 @@ def table(rows: list[tuple[str, list[str], float]], title: str, kinds: list[str]
     out = [
         f"### {title}",
         "",
-        "| records | n | misfit (files refused) | share | approximate (note only) | "
+        "| records | n | misfit (files warn) | share | approximate (note only) | "
         "largest misfit (SE) |",
         "|---|---|---|---|---|---|",
     ]

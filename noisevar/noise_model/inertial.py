@@ -170,7 +170,7 @@ class InertialNoise:
         Which stretch a ``regimes="still"`` fit ran on; when the fit gave the Allan
         variance at tau0 to terms other than N (:attr:`tau0_holders`), and what that does
         to N and its interval; when the terms do not describe the deviation (a signal:
-        :mod:`~noisevar.noise_model.inertial_misfit`, the exports then refuse the fit).
+        :mod:`~noisevar.noise_model.inertial_misfit`; the exports' files then warn).
     regimes : {"all", "still"}
         The record's regimes the fit used (:mod:`noisevar.estimators.regimes`).
     """
