@@ -21,9 +21,9 @@ from scipy import stats
 MISFIT_EDF = 30.0
 #: Family-wise false-alarm rate of the check over the taus judged (Bonferroni).
 MISFIT_ALPHA = 1e-3
-#: The start of the note, and of the exports' refusal.
+#: The start of the note (the exports' files then warn: :func:`misfit_warnings`).
 MISFIT = "the IEEE-952 terms do not describe the Allan deviation"
-#: The start of the note of a misfit without a hump (the exports do not refuse it).
+#: The start of the note of a misfit without a hump (the files say nothing more).
 APPROXIMATE = "the IEEE-952 terms miss the Allan deviation"
 
 
