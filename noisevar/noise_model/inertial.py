@@ -39,6 +39,7 @@ from noisevar.noise_model.gmwm.bound import internal_params
 from noisevar.noise_model.gmwm.processes import PROCESSES
 from noisevar.noise_model.gmwm.wavelet import wv_covariance
 from noisevar.noise_model.inertial_axes import per_axis
+from noisevar.noise_model.inertial_misfit import misfit_note
 from noisevar.noise_model.inertial_white import (
     n_against_white,
     tau0_holders,
@@ -168,7 +169,8 @@ class InertialNoise:
     notes : tuple of str
         Which stretch a ``regimes="still"`` fit ran on; when the fit gave the Allan
         variance at tau0 to terms other than N (:attr:`tau0_holders`), and what that does
-        to N and its interval.
+        to N and its interval; when the terms do not describe the deviation (a signal:
+        :mod:`~noisevar.noise_model.inertial_misfit`; the exports' files then warn).
     regimes : {"all", "still"}
         The record's regimes the fit used (:mod:`noisevar.estimators.regimes`).
     """
@@ -448,6 +450,7 @@ def _one_axis(
     coef, w = fit_terms(res.taus, res.variance, res.edf, rate=rate, n_phase=y.size + 1, share=share)
     a = np.column_stack([s.coefficient(res.taus) for s in TERMS])
     edf = _model_edf(a, coef, m, y.size + 1) * share
+    notes += misfit_note(res.taus, res.variance, a @ coef, edf)
     ivals = _intervals(res.taus, coef, w, edf, ci, seed, rate, y.size)
     white = white_level(y, rate)
     notes += n_against_white(coef, ivals, white, unit, tau0_weights(rate), TERM_LABELS)

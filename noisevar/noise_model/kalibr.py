@@ -20,6 +20,7 @@ from noisevar.errors import NoisevarError
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes
 from noisevar.noise_model.gmwm.model import HORIZON
 from noisevar.noise_model.inertial import InertialNoise
+from noisevar.noise_model.inertial_misfit import misfit_warnings
 from noisevar.noise_model.inertial_white import why_below_white
 
 if TYPE_CHECKING:
@@ -295,7 +296,14 @@ def kalibr_imu(
         gyroscope_random_walk=inflation * walks["gyroscope"],
         update_rate=rate,
         rostopic=rostopic,
-        notes=tuple(rate_notes + regime_notes + accel_notes + gyro_notes + k_notes),
+        notes=tuple(
+            misfit_warnings({"gyroscope": _axes(gyro), "accelerometer": _axes(accel)})
+            + rate_notes
+            + regime_notes
+            + accel_notes
+            + gyro_notes
+            + k_notes
+        ),
         regimes=regimes,
     )
 
