@@ -66,7 +66,6 @@ from noisevar.io import channel_record, load_table
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _refdata  # noqa: E402
 from real_audit import (  # noqa: E402
-    audit_channels,
     audit_main,
     audit_report,
     by_length,
@@ -75,7 +74,7 @@ from real_audit import (  # noqa: E402
 )
 from real_audit3 import fit_said, process  # noqa: E402
 from real_audit5 import one_answer  # noqa: E402
-from real_audit8 import finding_kept, grid_reference  # noqa: E402
+from real_audit8 import audited_rows, grid_reference  # noqa: E402
 from real_audit9 import glitch_reference  # noqa: E402
 from real_audit13 import _file_checks  # noqa: E402
 
@@ -275,12 +274,8 @@ def record(name: str, pages: bool, _tmp: Path) -> tuple[list[dict], list[dict], 
     """Checks 1-3 on one record (``real_audit.audit_main``'s ``record``)."""
     chans = channels_of(name)
     rows = []
-    for same in by_length(chans):
-        ch = next(iter(same))
-        rate = 1.0 / record_of(name, ch)[2]
-        new = audit_channels(name, same, rate, imu=False)
-        finding_kept(new, same)
-        rows += new
+    for same in by_length(chans):  # each length its own rate (a patient's own readings)
+        rows += audited_rows(name, same, 1.0 / record_of(name, next(iter(same)))[2])
     refs = references(name, chans)
     answers = one_answer(name, user_file(name), PAGES[name]) if pages and name in PAGES else []
     return rows, refs, answers
