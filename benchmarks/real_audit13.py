@@ -73,6 +73,7 @@ from __future__ import annotations
 import json
 import re
 import sys
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -322,6 +323,23 @@ def _file_checks(what: str, rc: int, out: str, err: str) -> list[str]:
     row = js.get("channels", [js])[0]
     if "no --column" in what and row.get("column") in _NOT_SIGNALS:
         fail.append(f"opened on {row.get('column')!r}, not a measured column")
+    return fail
+
+
+def audit_file_checks(what: str, rc: int, out: str, err: str, formats: dict[str, str],
+                      not_signal: Callable[[str], bool]) -> list[str]:  # fmt: skip
+    """Check 4's failures (:func:`_file_checks`) with an audit's own: the formats a refusal
+    must name (a word of the case -> a word its refusal holds) and the columns a file read
+    without ``--column`` must not open on (``not_signal``)."""
+    fail = _file_checks(what, rc, out, err)
+    fail += [f"refused without naming {name!r}" for word, name in formats.items()
+             if word in what and rc == 2 and name not in err]  # fmt: skip
+    if rc == 0 and "no --column" in what:
+        row = json.loads(out)
+        col = str(row.get("channels", [row])[0].get("column"))
+        said = f"opened on {col!r}, not a measured column"
+        if not_signal(col) and said not in fail:  # (_file_checks' own non-signals said it)
+            fail.append(said)
     return fail
 
 

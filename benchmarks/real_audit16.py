@@ -81,7 +81,7 @@ from real_audit3 import fit_said, process  # noqa: E402
 from real_audit5 import one_answer  # noqa: E402
 from real_audit8 import audited_rows, grid_reference  # noqa: E402
 from real_audit9 import glitch_reference  # noqa: E402
-from real_audit13 import _file_checks  # noqa: E402
+from real_audit13 import audit_file_checks  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results" / "real_audit16.md"
 _D = "data/"
@@ -218,17 +218,12 @@ _FORMATS = {"GPX": "GPX", "KML": "KML", "binary": "binary"}
 
 
 def _checks(what: str, rc: int, out: str, err: str) -> list[str]:
-    """``real_audit13._file_checks``, with this audit's formats and non-signals."""
-    fail = _file_checks(what, rc, out, err)
-    for word, name in _FORMATS.items():
-        if word in what and rc == 2 and name not in err:
-            fail.append(f"refused without naming the format ({name!r})")
-    if rc == 0 and "no --column" in what:
-        row = json.loads(out)
-        col = str(row.get("channels", [row])[0].get("column"))
-        if col in _NOT_SIGNALS or col.startswith("sd"):
-            fail.append(f"opened on {col!r}, not a position")
-    return fail
+    """``real_audit13.audit_file_checks`` with this audit's formats and non-signals."""
+    return audit_file_checks(what, rc, out, err, _FORMATS, _not_signal)
+
+
+def _not_signal(col: str) -> bool:
+    return col in _NOT_SIGNALS or col.startswith("sd")
 
 
 def bad_input() -> list[dict]:

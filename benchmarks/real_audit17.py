@@ -78,7 +78,7 @@ from real_audit3 import fit_said, process  # noqa: E402
 from real_audit5 import one_answer  # noqa: E402
 from real_audit8 import audited_rows, grid_reference  # noqa: E402
 from real_audit9 import glitch_reference  # noqa: E402
-from real_audit13 import _file_checks  # noqa: E402
+from real_audit13 import audit_file_checks  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results" / "real_audit17.md"
 _TD = "pyphysio/test_data/"
@@ -236,18 +236,10 @@ _FORMATS = {"bzip2": "bzip2", "AcqKnowledge": "AcqKnowledge"}
 
 
 def _checks(what: str, rc: int, out: str, err: str) -> list[str]:
-    """``real_audit13._file_checks``, with this audit's formats and non-signals."""
-    fail = _file_checks(what, rc, out, err)
-    for word, name in _FORMATS.items():
-        if word in what and rc == 2 and name not in err:
-            fail.append(f"refused without naming the format ({name!r})")
+    """``real_audit13.audit_file_checks`` with this audit's formats and non-signals."""
+    fail = audit_file_checks(what, rc, out, err, _FORMATS, _NOT_SIGNALS.__contains__)
     if "as settings" in what and rc == 2 and "side file" not in err:
         fail.append("a side file of settings refused without saying it is one")
-    if rc == 0 and "no --column" in what:
-        row = json.loads(out)
-        col = str(row.get("channels", [row])[0].get("column"))
-        if col in _NOT_SIGNALS:
-            fail.append(f"opened on {col!r}, a coordinate, not a measured column")
     if rc == 2 and ".ph" in what and "refused" not in what and not held_refusal(err):
         fail.append("the netCDF4 file refused")
     return fail

