@@ -75,7 +75,6 @@ import _refdata  # noqa: E402
 from real_audit import (  # noqa: E402
     audit_main,
     audit_report,
-    cli_said,
     held_refusal,
     ref_row,
     to_use,
@@ -84,6 +83,7 @@ from real_audit3 import _one_line, fit_said, process  # noqa: E402
 from real_audit5 import one_answer  # noqa: E402
 from real_audit8 import _TO_DO, audited_rows, grid_reference, held_reference  # noqa: E402
 from real_audit9 import _HOLDERS, glitch_reference  # noqa: E402
+from real_audit13 import file_cases  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results" / "real_audit12.md"
 _BW = "brightwind/demo_datasets/"
@@ -375,13 +375,7 @@ def bad_input() -> list[dict]:
         "cleaning rules (sensor, start, stop, reason), refused":
             (raw("demo_cleaning_file.csv"), []),
     }  # fmt: skip
-    res = []
-    for what, (path, args) in cases.items():
-        rc, out, err = process("estimate", path, *args, "--format", "json")
-        said = (err if rc else cli_said(out)).replace("\n", " / ")  # a warning's lines too
-        res.append({"case": what, "exit": rc, "said": said,
-                    "fail": _file_checks(what, rc, out, err)})  # fmt: skip
-    return res
+    return file_cases(cases, _file_checks)
 
 
 # ---------------------------------------------------------------- the run

@@ -326,6 +326,19 @@ def _file_checks(what: str, rc: int, out: str, err: str) -> list[str]:
     return fail
 
 
+def file_cases(cases: dict[str, tuple[Path, list[str]]],
+               checks: Callable[[str, int, str, str], list[str]]) -> list[dict]:  # fmt: skip
+    """Check 4's rows: each case's file through ``noisevar estimate`` (its ``args``), what
+    it said, and ``checks``' failures."""
+    res = []
+    for what, (path, args) in cases.items():
+        rc, out, err = process("estimate", path, *args, "--format", "json")
+        said = (err if rc else cli_said(out)).replace("\n", " / ")  # a warning's lines too
+        res.append({"case": what, "exit": rc, "said": said,
+                    "fail": checks(what, rc, out, err)})  # fmt: skip
+    return res
+
+
 def audit_file_checks(what: str, rc: int, out: str, err: str, formats: dict[str, str],
                       not_signal: Callable[[str], bool]) -> list[str]:  # fmt: skip
     """Check 4's failures (:func:`_file_checks`) with an audit's own: the formats a refusal
@@ -377,13 +390,7 @@ def bad_input() -> list[dict]:
         "TDMS (a LabVIEW DAQ's), refused": (td("raw1.tdms"), []),
         "TDMS, big-endian, refused": (td("big_endian.tdms"), []),
     }  # fmt: skip
-    res = []
-    for what, (path, args) in cases.items():
-        rc, out, err = process("estimate", path, *args, "--format", "json")
-        said = (err if rc else cli_said(out)).replace("\n", " / ")  # a warning's lines too
-        res.append({"case": what, "exit": rc, "said": said,
-                    "fail": _file_checks(what, rc, out, err)})  # fmt: skip
-    return res
+    return file_cases(cases, _file_checks)
 
 
 # ---------------------------------------------------------------- the run

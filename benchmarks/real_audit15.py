@@ -76,7 +76,6 @@ import _refdata  # noqa: E402
 from real_audit import (  # noqa: E402
     audit_main,
     audit_report,
-    cli_said,
     ref_row,
     to_use,
 )
@@ -84,7 +83,7 @@ from real_audit3 import fit_said, process  # noqa: E402
 from real_audit5 import one_answer  # noqa: E402
 from real_audit8 import audited_rows, grid_reference, held_reference  # noqa: E402
 from real_audit9 import glitch_reference  # noqa: E402
-from real_audit13 import _file_checks  # noqa: E402
+from real_audit13 import _file_checks, file_cases  # noqa: E402
 from real_audit14 import grid_step  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results" / "real_audit15.md"
@@ -323,13 +322,7 @@ def bad_input() -> list[dict]:
         "tslearn's cached Trace set (.npz), refused":
             (_refdata.sdist_path(_refdata.TSLEARN, "tslearn/.cached_datasets/Trace.npz"), []),
     }  # fmt: skip
-    res = []
-    for what, (path, args) in cases.items():
-        rc, out, err = process("estimate", path, *args, "--format", "json")
-        said = (err if rc else cli_said(out)).replace("\n", " / ")  # a warning's lines too
-        res.append({"case": what, "exit": rc, "said": said,
-                    "fail": _checks(what, rc, out, err)})  # fmt: skip
-    return res
+    return file_cases(cases, _checks)
 
 
 # ---------------------------------------------------------------- the run

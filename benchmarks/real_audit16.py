@@ -74,14 +74,13 @@ import _refdata  # noqa: E402
 from real_audit import (  # noqa: E402
     audit_main,
     audit_report,
-    cli_said,
     ref_row,
 )
 from real_audit3 import fit_said, process  # noqa: E402
 from real_audit5 import one_answer  # noqa: E402
 from real_audit8 import audited_rows, grid_reference  # noqa: E402
 from real_audit9 import glitch_reference  # noqa: E402
-from real_audit13 import audit_file_checks  # noqa: E402
+from real_audit13 import audit_file_checks, file_cases  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results" / "real_audit16.md"
 _D = "data/"
@@ -246,13 +245,7 @@ def bad_input() -> list[dict]:
         "tracklib's damaged sol.pos (two header lines run together), no --column":
             (tl("sol.pos"), []),
     }  # fmt: skip
-    res = []
-    for what, (path, args) in cases.items():
-        rc, out, err = process("estimate", path, *args, "--format", "json")
-        said = (err if rc else cli_said(out)).replace("\n", " / ")
-        res.append({"case": what, "exit": rc, "said": said,
-                    "fail": _checks(what, rc, out, err)})  # fmt: skip
-    return res
+    return file_cases(cases, _checks)
 
 
 # ---------------------------------------------------------------- the run

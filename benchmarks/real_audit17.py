@@ -69,7 +69,6 @@ import _refdata  # noqa: E402
 from real_audit import (  # noqa: E402
     audit_main,
     audit_report,
-    cli_said,
     held_refusal,
     ref_row,
     to_use,
@@ -78,7 +77,7 @@ from real_audit3 import fit_said, process  # noqa: E402
 from real_audit5 import one_answer  # noqa: E402
 from real_audit8 import audited_rows, grid_reference  # noqa: E402
 from real_audit9 import glitch_reference  # noqa: E402
-from real_audit13 import audit_file_checks  # noqa: E402
+from real_audit13 import audit_file_checks, file_cases  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results" / "real_audit17.md"
 _TD = "pyphysio/test_data/"
@@ -263,13 +262,7 @@ def bad_input() -> list[dict]:
         "BIOPAC AcqKnowledge r35 (.acq), refused": (acq("misc/r35_test.acq"), []),
         "NN intervals, one a line, no --column": (shipped("nn"), []),
     }  # fmt: skip
-    res = []
-    for what, (path, args) in cases.items():
-        rc, out, err = process("estimate", path, *args, "--format", "json")
-        said = (err if rc else cli_said(out)).replace("\n", " / ")
-        res.append({"case": what, "exit": rc, "said": said,
-                    "fail": _checks(what, rc, out, err)})  # fmt: skip
-    return res
+    return file_cases(cases, _checks)
 
 
 # ---------------------------------------------------------------- the run

@@ -81,7 +81,6 @@ import _refdata  # noqa: E402
 from real_audit import (  # noqa: E402
     audit_main,
     audit_report,
-    cli_said,
     ref_row,
     to_use,
 )
@@ -89,7 +88,7 @@ from real_audit3 import fit_said, process  # noqa: E402
 from real_audit5 import one_answer  # noqa: E402
 from real_audit8 import audited_rows, grid_reference  # noqa: E402
 from real_audit9 import glitch_reference  # noqa: E402
-from real_audit13 import _file_checks  # noqa: E402
+from real_audit13 import _file_checks, file_cases  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results" / "real_audit19.md"
 _NB = "docs/notebooks/"
@@ -327,13 +326,7 @@ def bad_input() -> list[dict]:
         "a Vallen .trfdb (features), refused": (va(_VA + "steel_plate/sample.trfdb"), []),
         "a Vallen .vaex (XML settings), refused": (va(_VA + "bearing/bearing.vaex"), []),
     }  # fmt: skip
-    res = []
-    for what, (path, args) in cases.items():
-        rc, out, err = process("estimate", path, *args, "--format", "json")
-        said = (err if rc else cli_said(out)).replace("\n", " / ")
-        res.append({"case": what, "exit": rc, "said": said,
-                    "fail": _checks(what, rc, out, err)})  # fmt: skip
-    return res
+    return file_cases(cases, _checks)
 
 
 # ---------------------------------------------------------------- the run
