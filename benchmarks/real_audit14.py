@@ -80,7 +80,7 @@ from real_audit import (  # noqa: E402
     audit_report,
     ref_row,
 )
-from real_audit3 import fit_said, process  # noqa: E402
+from real_audit3 import fit_row, process  # noqa: E402
 from real_audit5 import one_answer  # noqa: E402
 from real_audit8 import audited_rows, grid_reference  # noqa: E402
 from real_audit9 import glitch_reference  # noqa: E402
@@ -236,9 +236,7 @@ def fit_reference(name: str, col: str) -> dict:
     path = user_file(name)
     z, t = channel_record(load_table(path), col, drop_nonfinite=True)
     est = nv.estimate(z, t=t)
-    rc, out, err = process("fit", path, "--column", col, "--format", "json")
-    r, fail = fit_said(est, rc, out, err)
-    return ref_row(name, f"{col} (noisevar fit)", "the Kalman fit's r", r, est, fail)
+    return fit_row(name, path, col, est)
 
 
 def references(name: str, chans: dict[str, np.ndarray]) -> list[dict]:

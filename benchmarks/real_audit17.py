@@ -73,7 +73,7 @@ from real_audit import (  # noqa: E402
     ref_row,
     to_use,
 )
-from real_audit3 import fit_said, process  # noqa: E402
+from real_audit3 import fit_row, process  # noqa: E402
 from real_audit5 import one_answer  # noqa: E402
 from real_audit8 import audited_rows, grid_reference  # noqa: E402
 from real_audit9 import glitch_reference  # noqa: E402
@@ -206,9 +206,7 @@ def fit_reference(name: str, col: str) -> dict:
     or a one-line refusal (``real_audit3.fit_said``)."""
     z = channels_of(name)[0][col]
     est = nv.estimate(z)
-    rc, out, err = process("fit", user_file(name), "--column", col, "--format", "json")
-    r, fail = fit_said(est, rc, out, err)
-    return ref_row(name, f"{col} (noisevar fit)", "the Kalman fit's r", r, est, fail)
+    return fit_row(name, user_file(name), col, est)
 
 
 def references(name: str, chans: dict[str, np.ndarray]) -> list[dict]:

@@ -83,7 +83,7 @@ from real_audit import (  # noqa: E402
     audit_report,
     ref_row,
 )
-from real_audit3 import fit_said, process  # noqa: E402
+from real_audit3 import fit_row, process  # noqa: E402
 from real_audit5 import one_answer  # noqa: E402
 from real_audit8 import audited_rows, grid_reference  # noqa: E402
 from real_audit9 import glitch_reference  # noqa: E402
@@ -307,9 +307,7 @@ def fit_reference(name: str, col: str) -> dict:
     assumption named, or a one-line refusal (``real_audit3.fit_said``)."""
     z, t = channel_record(load_table(page_file(name)), col)
     est = nv.estimate(z, t=t)
-    rc, out, err = process("fit", page_file(name), "--column", col, "--format", "json")
-    r, fail = fit_said(est, rc, out, err)
-    return ref_row(name, f"{col} (noisevar fit)", "the Kalman fit's r", r, est, fail)
+    return fit_row(name, page_file(name), col, est)
 
 
 def references(name: str, chans: dict[str, np.ndarray]) -> list[dict]:

@@ -84,7 +84,7 @@ from real_audit import (  # noqa: E402
     ref_row,
     to_use,
 )
-from real_audit3 import fit_said, process  # noqa: E402
+from real_audit3 import fit_row  # noqa: E402
 from real_audit5 import one_answer  # noqa: E402
 from real_audit8 import audited_rows, grid_reference  # noqa: E402
 from real_audit9 import glitch_reference  # noqa: E402
@@ -255,9 +255,7 @@ def fit_reference(name: str, ch: str) -> dict:
     col = "volts" if name in ("plate", "bearing") else ch
     z, t = channel_record(load_table(user_file(name)), col)
     est = nv.estimate(z, t=t)
-    rc, out, err = process("fit", user_file(name), "--column", col, "--format", "json")
-    r, fail = fit_said(est, rc, out, err)
-    return ref_row(name, f"{col[:24]} (noisevar fit)", "the Kalman fit's r", r, est, fail)
+    return fit_row(name, user_file(name), col, est, width=24)
 
 
 def references(name: str, chans: dict[str, np.ndarray]) -> list[dict]:

@@ -67,7 +67,7 @@ from noisevar.units import factor
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _refdata  # noqa: E402
-from real_audit import SAME, audit_channels, summary  # noqa: E402
+from real_audit import SAME, audit_channels, ref_row, summary  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = Path(__file__).resolve().parent / "results" / "real_audit3.md"
@@ -124,6 +124,14 @@ def process(*argv: str) -> tuple[int, str, str]:
 
 def _one_line(rc: int, err: str) -> bool:
     return rc == 2 and err.count("\n") == 0 and "Traceback" not in err
+
+
+def fit_row(name: str, path: Path, col: str, est, *args: str, width: int | None = None) -> dict:
+    """Check 3's Kalman-fit row: ``noisevar fit`` on ``col`` of ``path`` (more ``args``),
+    its r against ``est`` (:func:`fit_said`); the row names ``col`` cut to ``width``."""
+    rc, out, err = process("fit", path, "--column", col, *args, "--format", "json")
+    r, fail = fit_said(est, rc, out, err)
+    return ref_row(name, f"{col[:width]} (noisevar fit)", "the Kalman fit's r", r, est, fail)
 
 
 def fit_said(
