@@ -21,6 +21,7 @@ from noisevar.format import squared
 from noisevar.io import record_times
 from noisevar.noise_model import AllanResult, InertialNoise, allan, exports, inertial_noise
 from noisevar.noise_model.allan import DATA_KINDS, KINDS, default_data
+from noisevar.noise_model.inertial_misfit import MISFIT
 from noisevar.noise_model.kalibr import kalibr_imu
 from noisevar.noise_model.simulate import simulate_inertial
 from noisevar.units import sensor_columns
@@ -197,7 +198,8 @@ def results(sig: LoadedSignal, s: NoiseModelSettings) -> InertialNoise | None:
             f"equivalent at {s.rate:g} Hz (docs/algorithms.md §E4)."
         )
         for note in fit.notes:  # what the fit assumes and where the record breaks it
-            (st.warning if REGIME_WARNING in note else st.caption)(note)
+            warns = REGIME_WARNING in note or note.startswith(MISFIT)  # its terms mislead
+            (st.warning if warns else st.caption)(note)
     simulated = _simulation(sig, s, fit)
     fig = allan_figure(res, fit=fit, simulated=simulated, unit=s.unit)
     show_figure(fig, key="nm_fig")

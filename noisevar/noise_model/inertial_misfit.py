@@ -124,7 +124,7 @@ def misfit_note(taus: NDArray, avar: NDArray, model: NDArray, edf: NDArray) -> l
     return [
         f"{MISFIT}: at tau {taus[worst]:.3g} s the data's deviation is {ratio:.3g}x the "
         f"terms' ({abs(z[worst]):.1f} standard errors, bound {bound:.1f}), and "
-        f"sigma^2 tau rises to tau {taus[peak]:.3g} s and falls after, which no noise "
+        f"σ²(τ)·τ rises to tau {taus[peak]:.3g} s and falls after, which no noise "
         "term makes: a signal, motion or a "
         "periodic disturbance, not the sensor's noise; the terms and intervals describe "
         "nothing. Record the sensor still, or fit the still regimes only (regimes='still')"
