@@ -46,6 +46,7 @@ from noisevar.figures.budget import (
     downsample_indices,
     figure_size,
     log_axis,
+    traces_y,
 )
 from noisevar.format import wrap_words
 from noisevar.kalman.result import FilterResult
@@ -316,6 +317,7 @@ __all__ = [
     "has_time",
     "figure_size",
     "log_axis",
+    "traces_y",
     "MAX_FIGURE_MARKERS",
     "MAX_FIGURE_POINTS",
     "MAX_FIGURE_SHAPES",

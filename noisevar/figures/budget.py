@@ -151,6 +151,22 @@ def log_axis(title: str, values: Any = None, **extra: Any) -> dict[str, Any]:
     return out
 
 
+def traces_y(traces: Any) -> NDArray:
+    """The y values drawn by ``traces`` (a figure's ``data`` or a list), for :func:`log_axis`.
+
+    Parameters
+    ----------
+    traces : sequence of plotly traces
+
+    Returns
+    -------
+    ndarray
+        Every trace's y values, concatenated (empty when none).
+    """
+    ys = [np.asarray(t.y, dtype=float).ravel() for t in traces if getattr(t, "y", None) is not None]
+    return np.concatenate(ys) if ys else np.empty(0)
+
+
 def _short_log_ticks(values: Any) -> list[float]:
     """1-2-5 values inside the positive values' range when it spans few decades, else []."""
     if values is None:

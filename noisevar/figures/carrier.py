@@ -25,6 +25,8 @@ from noisevar.figures._common import (
     check_run,
     layout,
     line_trace,
+    log_axis,
+    traces_y,
 )
 from noisevar.systems.carrier import CarrierResult, CarrierSweep
 
@@ -186,8 +188,9 @@ def adaptation_figure(
         fig.add_trace(tr, row=1, col=1)
         fig.add_trace(tq, row=2, col=1)
     fig.update_layout(**layout(title, height))
-    fig.update_yaxes(type="log", title_text="R (I/Q noise)", row=1, col=1)
-    fig.update_yaxes(type="log", title_text="Q phase (rad²)", row=2, col=1)
+    drawn_r, drawn_q = fig.data[0::2], fig.data[1::2]
+    fig.update_yaxes(log_axis("R (I/Q noise)", traces_y(drawn_r)), row=1, col=1)
+    fig.update_yaxes(log_axis("Q phase (rad²)", traces_y(drawn_q)), row=2, col=1)
     fig.update_xaxes(title_text="time (s)", row=2, col=1)
     return fig
 
@@ -295,7 +298,8 @@ def sweep_figure(
             col=1,
         )
     fig.update_layout(**layout(title, height))
-    fig.update_yaxes(type="log", title_text="RMS phase error (rad)", row=1, col=1)
+    rms = traces_y(fig.data[0::2])
+    fig.update_yaxes(log_axis("RMS phase error (rad)", rms), row=1, col=1)
     fig.update_yaxes(title_text="runs that slipped", range=[-0.05, 1.05], row=2, col=1)
     fig.update_xaxes(title_text="C/N0 (dB-Hz)", row=2, col=1)
     return fig

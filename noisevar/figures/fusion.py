@@ -29,7 +29,7 @@ from noisevar.figures._common import (
     layout,
     line_trace,
 )
-from noisevar.figures.budget import log_axis
+from noisevar.figures.budget import log_axis, traces_y
 from noisevar.systems.fusion import FusionResult
 
 Results = FusionResult | Sequence[FusionResult]
@@ -214,7 +214,7 @@ def r_track_figure(
             title or f"R of {name}, component {channel}",
             height,
             xaxis={"title": "time (s)"},
-            yaxis={"title": "variance", "type": "log"},
+            yaxis=log_axis("variance", traces_y([t_true, t_est])),
             shapes=_fault_band(result),
         ),
     )
@@ -280,7 +280,7 @@ def isolation_figure(
             title,
             height,
             xaxis={"title": "time (s)"},
-            yaxis={"title": "NIS", "type": "log"},
+            yaxis=log_axis("NIS", traces_y(traces)),
             shapes=shapes,
         ),
     )

@@ -14,7 +14,15 @@ from __future__ import annotations
 import numpy as np
 import plotly.graph_objects as go
 
-from noisevar.figures._common import COLORS, MAX_POINTS, PALETTE, layout, line_trace
+from noisevar.figures._common import (
+    COLORS,
+    MAX_POINTS,
+    PALETTE,
+    layout,
+    line_trace,
+    log_axis,
+    traces_y,
+)
 from noisevar.systems.latency import LatencyResult, align_signals
 
 
@@ -140,7 +148,7 @@ def cost_figure(  # long: one figure, built trace by trace in drawing order
             title,
             height,
             xaxis={"title": "delay tried (ms)"},
-            yaxis={"title": "mean squared difference ((m/s)²)", "type": "log"},
+            yaxis=log_axis("mean squared difference ((m/s)²)", traces_y(traces)),
             shapes=[shape, shape_true],
             annotations=[
                 {

@@ -23,6 +23,8 @@ from noisevar.figures._common import (
     downsample_indices,
     layout,
     line_trace,
+    log_axis,
+    traces_y,
 )
 from noisevar.systems.robust import RobustResult
 
@@ -189,7 +191,7 @@ def error_figure(
             title,
             height,
             xaxis={"title": "time (s)"},
-            yaxis={"title": "error (m)", "type": "log" if log else "linear"},
+            yaxis=log_axis("error (m)", traces_y(traces)) if log else {"title": "error (m)"},
             shapes=_zone_shapes(result),
         ),
     )

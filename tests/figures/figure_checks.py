@@ -32,3 +32,21 @@ def trace_length(fig: go.Figure, name: str) -> int:
     """Points of the first trace called ``name``."""
     trace = next(t for t in fig.data if t.name == name)
     return len(trace.x)
+
+
+def log_axes_labelled(fig: go.Figure) -> list[str]:
+    """Log axes of the figure labelled as ``figures.budget.log_axis`` labels them.
+
+    Returns the names of the log axes that are not: each must label its decades as powers
+    (``dtick`` 1) or carry at least two 1-2-5 labels, never Plotly's default ``2, 5, 10``.
+    """
+    lay = fig.layout
+    keys = [k for k in lay.to_plotly_json() if k.startswith(("xaxis", "yaxis"))]
+    logs = [k for k in keys if getattr(lay, k).type == "log"]
+    assert logs, "the figure has no log axis"
+    return [
+        k
+        for k in logs
+        if getattr(lay, k).exponentformat != "power"
+        or not (getattr(lay, k).dtick == 1 or len(getattr(lay, k).tickvals or ()) >= 2)
+    ]

@@ -3,7 +3,13 @@
 from __future__ import annotations
 
 import pytest
-from figure_checks import axis_titles, longest_trace, trace_length, trace_names
+from figure_checks import (
+    axis_titles,
+    log_axes_labelled,
+    longest_trace,
+    trace_length,
+    trace_names,
+)
 
 from noisevar.errors import NoisevarError
 from noisevar.figures.carrier import (
@@ -67,6 +73,7 @@ def test_adaptation_figure(results: list[CarrierResult]) -> None:
     assert len(names) == 4 and names[0].endswith(" R") and names[1].endswith(" Q")
     titles = axis_titles(fig)
     assert titles["yaxis"] == "R (I/Q noise)" and titles["xaxis2"] == "time (s)"
+    assert log_axes_labelled(fig) == []
     assert longest_trace(adaptation_figure(results, max_points=50)) <= 50
 
 
@@ -82,6 +89,7 @@ def test_sweep_figure(sweep: CarrierSweep) -> None:
     assert len(fig.data) == 4
     titles = axis_titles(fig)
     assert titles["yaxis"] == "RMS phase error (rad)" and titles["xaxis2"] == "C/N0 (dB-Hz)"
+    assert log_axes_labelled(fig) == []
     assert longest_trace(fig) == 2
 
 

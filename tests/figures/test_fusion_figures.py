@@ -3,7 +3,13 @@
 from __future__ import annotations
 
 import pytest
-from figure_checks import axis_titles, longest_trace, trace_length, trace_names
+from figure_checks import (
+    axis_titles,
+    log_axes_labelled,
+    longest_trace,
+    trace_length,
+    trace_names,
+)
 
 from noisevar.errors import NoisevarError
 from noisevar.figures.fusion import error_figure, isolation_figure, r_track_figure, track_figure
@@ -46,6 +52,7 @@ def test_r_track_figure(results: list[FusionResult]) -> None:
     fig = r_track_figure(results[0])
     assert trace_names(fig) == ["true R", "vb R̂"]
     assert axis_titles(fig) == {"xaxis": "time (s)", "yaxis": "variance"}
+    assert log_axes_labelled(fig) == []
     assert longest_trace(r_track_figure(results[0], max_points=40)) <= 40
 
 
@@ -54,6 +61,7 @@ def test_isolation_figure(results: list[FusionResult]) -> None:
     names = trace_names(fig)
     assert names[0] == "position A" and "velocity" in names
     assert axis_titles(fig) == {"xaxis": "time (s)", "yaxis": "NIS"}
+    assert log_axes_labelled(fig) == []
     assert longest_trace(isolation_figure(results[1], max_points=40)) <= 40
 
 

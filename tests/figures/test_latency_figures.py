@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import pytest
-from figure_checks import axis_titles, longest_trace, trace_names
+from figure_checks import axis_titles, log_axes_labelled, longest_trace, trace_names
 
 from noisevar.figures.latency import cost_figure, delay_figure, records_figure
 from noisevar.systems.latency import LatencyResult, LatencyScenario, run_latency, simulate_latency
@@ -34,6 +34,7 @@ def test_cost_figure(result: LatencyResult) -> None:
     assert names[-1] == "whole record"
     assert names[:-1] == ["segments (scaled)"] * len(result.segments.delay_s)
     assert axis_titles(fig)["xaxis"] == "delay tried (ms)"
+    assert log_axes_labelled(fig) == []
     assert len(cost_figure(result, segments=False).data) == 1
 
 

@@ -4,7 +4,13 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from figure_checks import axis_titles, longest_trace, trace_length, trace_names
+from figure_checks import (
+    axis_titles,
+    log_axes_labelled,
+    longest_trace,
+    trace_length,
+    trace_names,
+)
 
 from noisevar.errors import NoisevarError
 from noisevar.figures.robust import (
@@ -48,6 +54,7 @@ def test_error_figure(result: RobustResult) -> None:
     fig = error_figure(result)
     assert len(fig.data) == 3 and trace_names(fig)[2].startswith("Huber EKF")
     assert axis_titles(fig) == {"xaxis": "time (s)", "yaxis": "error (m)"}
+    assert log_axes_labelled(fig) == []
     assert longest_trace(error_figure(result, max_points=30)) <= 30
 
 
