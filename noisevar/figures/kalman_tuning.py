@@ -21,7 +21,9 @@ from noisevar.figures._common import (
     PALETTE,
     layout,
     line_trace,
+    log_axis,
     note_downsampled,
+    traces_y,
     x_title,
 )
 from noisevar.figures._shapes import band, hline
@@ -169,11 +171,10 @@ def nis_figure(
     line, note = hline(1.0, text="E[NIS] = 1")
     fig = go.Figure([raw, avg])
     fig.update_layout(
-        **layout(title, height, xaxis_title=x_title(dt), yaxis_title="NIS"),
+        **layout(title, height, xaxis_title=x_title(dt), yaxis=log_axis("NIS", traces_y(fig.data))),
         shapes=[band(lo, hi, color=COLORS["band"]), line],
         annotations=[note] if note else [],
     )
-    fig.update_yaxes(type="log")
     return fig
 
 

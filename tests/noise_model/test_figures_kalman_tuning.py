@@ -23,6 +23,7 @@ def test_tuning_figures(make_track):
     band = fig.layout.shapes[0]
     assert (band.y0, band.y1) == nis_band(1, 50)
     assert np.isnan(fig.data[0].y[: t.start]).all() and len(fig.data) == 2
+    assert fig.layout.yaxis.exponentformat == "power"  # labelled as figures.budget.log_axis
     rec = tuned_run_figure(run, z, dt=t.dt)
     assert np.allclose(rec.data[1].y[t.start :], run.states[:, 0])
     acf = innovation_acf_figure(run, lags=30)
