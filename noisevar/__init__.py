@@ -25,7 +25,7 @@ from types import ModuleType
 from typing import TYPE_CHECKING, Any
 
 from noisevar._lazy import lazy_names
-from noisevar.errors import NoisevarError, NoWindowKept
+from noisevar.errors import EmptyCells, NoisevarError, NoWindowKept
 
 if TYPE_CHECKING:
     from noisevar.batch import batch
@@ -57,6 +57,7 @@ __all__ = [
     "GeneratedSignal",
     "KalmanTuning",
     "NoWindowKept",
+    "EmptyCells",
     "NoisevarError",
     "RedundantEstimate",
     "VarianceEstimate",

@@ -33,3 +33,12 @@ class NoWindowKept(NoisevarError):
         super().__init__(message)
         self.summary = summary
         self.diagnosis = diagnosis
+
+
+class EmptyCells(NoisevarError):
+    """Empty, NaN or Inf values refused where dropping them is right (a :class:`NoisevarError`).
+
+    The message says how many and where. Passing ``drop_nonfinite=True`` (CLI:
+    ``--drop-nonfinite``) reads the other samples; a caller with its own control for that
+    (the dashboard's checkbox) can name it by catching this type.
+    """

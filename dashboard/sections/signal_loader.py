@@ -214,6 +214,8 @@ def uploader(errors: DeltaGenerator) -> None:
                 )
             st.session_state["upload_done"] = attempt
             st.session_state.pop("upload_failed", None)
+        except noisevar.EmptyCells as exc:  # the checkbox above is this page's way to drop them
+            st.session_state["upload_failed"] = (attempt, f"{exc}. {DROP_HERE}")
         except noisevar.NoisevarError as exc:
             st.session_state["upload_failed"] = (attempt, str(exc))
     failed = st.session_state.get("upload_failed")
@@ -221,6 +223,10 @@ def uploader(errors: DeltaGenerator) -> None:
         sig = current_signal()
         kept = f" (The previous signal, {plain(sig.label)}, is kept.)" if sig is not None else ""
         errors.error(plain(failed[1]) + kept)
+
+
+#: Where this page drops empty cells, said beside a refusal of them.
+DROP_HERE = "Here: tick 'Drop rows with empty or NaN values' in the Upload tab"
 
 
 def _log_kinds() -> str:

@@ -6,7 +6,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from noisevar._arrays import check_exact_ints, steps_evenly
-from noisevar.errors import NoisevarError
+from noisevar.errors import EmptyCells, NoisevarError
 
 
 def _refuse_kind(kind: str, what: str) -> None:
@@ -66,7 +66,7 @@ def check_samples(arr: NDArray, drop_nonfinite: bool = False) -> tuple[NDArray, 
     if bad.any():
         first = int(np.argmax(bad))
         if not drop_nonfinite:
-            raise NoisevarError(
+            raise EmptyCells(
                 f"the signal has {int(bad.sum())} non-finite values (NaN or Inf), the first at "
                 f"sample {first}: clean them, or drop them with drop_nonfinite=True "
                 "(CLI: --drop-nonfinite)"

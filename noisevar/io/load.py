@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from noisevar.errors import NoisevarError
+from noisevar.errors import EmptyCells, NoisevarError
 from noisevar.io.binary_suffix import refuse_by_suffix
 from noisevar.io.foreign import NUL_NOTE, nul_padding, refuse_binary, refuse_fit, refuse_text
 from noisevar.io.iaga import NOTE as IAGA_NOTE
@@ -553,7 +553,8 @@ def pick_column(
     if bad.any():
         if not drop_nonfinite:
             first = int(np.argmax(bad))
-            raise NoisevarError(
+            kind = EmptyCells if fix == DROP_THEM else NoisevarError
+            raise kind(
                 f"column {echo(cname)!r} of {echo(table.name)} has {int(bad.sum())} empty or NaN "
                 "values "
                 f"(the first at data row {first + 1}): {fix}"

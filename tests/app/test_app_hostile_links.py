@@ -140,6 +140,7 @@ def test_drop_nonfinite_option_on_upload():
     rows[9] = "9,nan"
     _upload(at, "gaps.csv", "t,x\n" + "\n".join(rows))
     assert at.error and "empty or NaN" in at.error[0].value
+    assert "tick 'Drop rows with empty or NaN values'" in at.error[0].value  # this page's way
     assert "nv_signal" not in at.session_state
     at.checkbox(key="upload_drop").check().run()
     assert not at.exception and not at.error
