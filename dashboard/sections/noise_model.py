@@ -198,6 +198,8 @@ def results(sig: LoadedSignal, s: NoiseModelSettings) -> InertialNoise | None:
             f"equivalent at {s.rate:g} Hz (docs/algorithms.md §E4)."
         )
         for note in fit.notes:  # what the fit assumes and where the record breaks it
+            if note in res.notes:  # the deviation's own note, shown above
+                continue
             warns = REGIME_WARNING in note or note.startswith(MISFIT)  # its terms mislead
             (st.warning if warns else st.caption)(note)
     simulated = _simulation(sig, s, fit)

@@ -193,3 +193,23 @@ def test_a_moving_records_terms_say_they_are_not_the_sensors():
     at.checkbox(key="nm_regimes").check().run()
     _clean(at)
     assert not any("this fit is of the whole record" in w.value for w in at.warning)
+
+
+def test_a_note_of_the_deviation_is_shown_once():
+    """A logger's dropped samples were said twice, under the rate and under the terms (seen in
+    a browser screenshot of pvanalytics' RMIS weather file): the fit carries its deviation's
+    notes."""
+    at = AppTest.from_file(APP, default_timeout=120)
+    at.switch_page("app_pages/Signal.py").run()
+    rng = np.random.default_rng(3)
+    keep = np.ones(3000, bool)
+    keep[rng.choice(np.arange(10, 2990), 40, replace=False)] = False
+    t = 0.02 * np.arange(3000)[keep]
+    x = rng.normal(size=t.size)
+    body = "time,x\n" + "\n".join(f"{a:.2f},{b:.6f}" for a, b in zip(t, x, strict=True))
+    at.file_uploader(key="upload").set_value(("dropped.csv", body.encode(), "text/csv")).run()
+    _clean(at)
+    at.switch_page(PAGE).run()
+    _clean(at)
+    said = [c.value for c in at.caption if "samples dropped" in c.value]
+    assert len(said) == 1, said
