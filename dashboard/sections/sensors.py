@@ -164,6 +164,7 @@ def redundant_results(sig: LoadedSignal, cols: list[str], align: bool) -> None:
             "ci95_low": float(ci[j, 0]),
             "ci95_high": float(ci[j, 1]),
             "single_signal_auto": single[j].variance if single[j] else float("nan"),
+            "note": "; ".join(res.notes),  # two sensors: each variance is their sum
         }
         for j, c in enumerate(cols)
     ]
@@ -302,9 +303,11 @@ def _sensor_table(
 ) -> None:
     ci = res.ci95
     st.markdown("#### Each sensor")
+    # two sensors give only their sum: each row's value is that sum, an upper bound (res.notes)
+    head = "redundant SOMD variance" + (" (≤ the pair's sum)" if len(cols) == 2 else "")
     table = {
         "sensor": cols,
-        "redundant SOMD variance": [float(v) for v in res.variances],
+        head: [float(v) for v in res.variances],
         "95 % low": [float(v) for v in ci[:, 0]],
         "95 % high": [float(v) for v in ci[:, 1]],
         "single-signal estimate (auto)": [e.variance if e else float("nan") for e in single],

@@ -54,6 +54,9 @@ def test_two_sensors_sum_and_delay_toggle(how_it_works_opens):
     total = next(m for m in at.metric if m.label.startswith("sensor_a + sensor_b"))
     assert float(total.value) == pytest.approx(17.0, rel=0.1)
     assert any("sum of the single-signal values" in c.value for c in at.caption)
+    # the table's redundant column holds the pair's sum on each row: said in its header
+    head = [c for c in at.dataframe[0].value.columns if c.startswith("redundant")]
+    assert head == ["redundant SOMD variance (≤ the pair's sum)"]
     at.toggle(key="ts_align").set_value(True).run()
     _clean(at)
     assert at.info or at.success
@@ -68,6 +71,7 @@ def test_three_sensors_each_variance_and_column_choice():
     assert v["sensor_a"] == pytest.approx(1.0, rel=0.15)
     assert v["sensor_b"] == pytest.approx(4.0, rel=0.15)
     assert v["sensor_c"] == pytest.approx(9.0, rel=0.15)
+    assert "redundant SOMD variance" in at.dataframe[0].value.columns  # three separate them
     at.multiselect(key="ts_cols").set_value(["sensor_a", "sensor_c"]).run()
     _clean(at)
     assert set(_variances(at)) == {"sensor_a", "sensor_c"}
