@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import pytest
 
+from noisevar.noise_model.exports import imu_model
 from noisevar.noise_model.inertial import inertial_noise
 from noisevar.noise_model.kalibr import kalibr_imu
 from noisevar.noise_model.simulate import simulate_inertial
@@ -24,6 +25,8 @@ def test_a_45_sample_records_bias_instability_is_an_upper_bound_not_a_value():
     kalibr = kalibr_imu([fit], [fit])
     assert any("gyroscope axis 0: not resolved: B" in n for n in kalibr.notes)
     assert "upper bound" in kalibr.to_yaml()
+    model = imu_model([fit], [fit])  # every consumer's file is written from its notes
+    assert any("accelerometer axis 0: not resolved: B" in n for n in model.notes)
 
 
 def test_a_left_out_rate_random_walks_upper_bound_holds_the_truth():
