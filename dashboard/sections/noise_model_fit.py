@@ -97,8 +97,7 @@ def _verdict(t: KalmanTuning) -> None:
         f"NIS mean {fmt(t.nis_mean)} (95 % band {fmt(lo)} .. {fmt(hi)}); innovations "
         f"{'white' if t.innovations_white else 'NOT white'} "
         f"(Ljung-Box {pvalue(t.ljung_box_p)}), "
-        f"{'Gaussian' if t.innovations_gaussian else 'NOT Gaussian'} "
-        f"(kurtosis {fmt(t.innovations_kurtosis)})."
+        f"{t.tails_text(fmt(t.innovations_kurtosis))}."
     )
     if t.innovations_white and t.nis_consistent and t.innovations_gaussian:
         st.success(f"The {t.model!r} filter fits this record. {text}")

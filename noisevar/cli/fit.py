@@ -41,9 +41,8 @@ def _print_table(t: Any, args: argparse.Namespace, column: str, unit: str = "u")
     lo, hi = t.nis_band
     print(f"NIS mean  {t.nis_mean:.4g}   (95 % band {lo:.4g} .. {hi:.4g})")
     white = "white" if t.innovations_white else "NOT white"
-    tails = "Gaussian" if t.innovations_gaussian else "NOT Gaussian"
     print(f"innov.    {white} (Ljung-Box {pvalue(t.ljung_box_p)})   loglik {t.loglik:.6g}")
-    print(f"tails     {tails} (kurtosis {t.innovations_kurtosis:.3g}; Gaussian 3)")
+    print(f"tails     {t.tails_text(f'{t.innovations_kurtosis:.3g}')}")
     _print_record(t.record, in_data_unit("u²", unit))
     for note in t.notes:
         print(f"note      {note}")

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from statistics import NormalDist  # no scipy on the estimate's path
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -9,11 +11,71 @@ from numpy.typing import NDArray
 TAIL_INDEX_MIN = 4.0
 #: Noise kurtosis above which the noise counts as heavy-tailed (Gaussian: 3, Laplace: 6).
 HEAVY_KURTOSIS = 4.0
+#: Kurtosis below which iid samples count as light-tailed: a sample variance's variance,
+#: ``σ⁴ (κ - 1) / n``, as far below the Gaussian's (κ = 3) as :data:`HEAVY_KURTOSIS` puts
+#: it above (1.5x): ``1 + 2 / 1.5 = 2.33`` (uniform or quantised noise 1.8, a sine 1.5,
+#: a square wave 1).
+LIGHT_KURTOSIS = 1.0 + 4.0 / (HEAVY_KURTOSIS - 1.0)
+#: The noise kurtosis read off a residual (:func:`noise_kurtosis`) under
+#: ``3 - LIGHT_SE / sqrt(n)`` is measurably lighter-tailed than Gaussian (uniform: 1.8).
+#: Measured: Gaussian noise reads 2.32-3.4 at n = 300 and 2.92 at least at n = 10,000
+#: (40 seeds), uniform noise 2.03 at most at n = 300.
+LIGHT_SE = 16.0
+#: Two-sided level of the test that a sample's kurtosis is a Gaussian's at its size.
+KURTOSIS_ALPHA = 0.01
+#: Fewest samples :func:`tails_shape` tests light tails on (as ``scipy.stats.kurtosistest``,
+#: whose normal approximation needs 20).
+KURTOSIS_MIN_N = 20
 
 
 def heavy_tails(kurtosis: float) -> bool:
     """Whether noise of this kurtosis is beyond a Gaussian interval's assumption."""
     return bool(kurtosis > HEAVY_KURTOSIS)
+
+
+def tails_shape(n: int, kurtosis: float) -> str:
+    """The tails of ``n`` iid samples of this kurtosis: ``"heavy"``, ``"light"`` or
+    ``"gaussian"``.
+
+    Parameters
+    ----------
+    n : int
+        Samples (e.g. a Kalman filter's standardised innovations).
+    kurtosis : float
+        Their kurtosis ``b2 = m4 / m2²`` (3 for Gaussian samples).
+
+    Returns
+    -------
+    str
+
+    Notes
+    -----
+    Heavy: :func:`heavy_tails`. Light: below :data:`LIGHT_KURTOSIS` and below a Gaussian
+    sample's ``b2`` at ``n`` by more than the two-sided :data:`KURTOSIS_ALPHA` normal
+    bound, on its exact mean ``3 (n-1)/(n+1)`` and variance
+    ``24 n (n-2)(n-3) / ((n+1)² (n+3)(n+5))`` (the first step of Anscombe and Glynn's
+    test; ``b2``'s lower tail is shorter than the normal's, so the bound is on the safe
+    side; ``scipy.stats.kurtosistest``'s cube-root step gives a positive statistic to a
+    sine's 1.5 at 2,000 samples). A Gaussian's sample kurtosis falls below 2.33 in short
+    records (its sd is about ``sqrt(24 / n)``). Fewer than :data:`KURTOSIS_MIN_N`
+    samples: never light.
+    """
+    if heavy_tails(kurtosis):
+        return "heavy"
+    if kurtosis >= LIGHT_KURTOSIS or n < KURTOSIS_MIN_N:
+        return "gaussian"
+    mean = 3.0 * (n - 1) / (n + 1)
+    var = 24.0 * n * (n - 2) * (n - 3) / ((n + 1) ** 2 * (n + 3) * (n + 5))
+    bound = NormalDist().inv_cdf(1.0 - KURTOSIS_ALPHA / 2.0)
+    return "light" if (kurtosis - mean) / np.sqrt(var) < -bound else "gaussian"
+
+
+def light_noise(n: int, kurtosis: float) -> bool:
+    """Whether noise of this kurtosis, read off a residual of ``n`` samples
+    (:func:`noise_kurtosis`), is measurably lighter-tailed than Gaussian (the verdict's
+    rule: its spread is the deconvolved kurtosis's, wider than iid samples' of
+    :func:`tails_shape`)."""
+    return bool(kurtosis < 3.0 - LIGHT_SE / np.sqrt(max(n, 1)))
 
 
 def unreliable_tail(alpha: float | None) -> bool:

@@ -10,6 +10,7 @@ from noisevar.diagnostics.assumptions import SHORT_RECORD, unchecked
 from noisevar.diagnostics.power_law import WHITE, describe
 from noisevar.diagnostics.quantisation import half_a_step
 from noisevar.diagnostics.regimes import STILL_RATIO, read_above
+from noisevar.diagnostics.tails import light_noise
 from noisevar.diagnostics.verdict_parts import (
     BOTH,
     CHANGES,
@@ -202,16 +203,10 @@ def _sentence(
     return f"white {_gaussian_or_light(diag)}: {r} is a good Kalman R"
 
 
-#: Noise kurtosis under ``3 - LIGHT_SE / sqrt(n)`` is measurably lighter-tailed than
-#: Gaussian (uniform: 1.8). Measured: Gaussian noise reads 2.32-3.4 at n = 300 and 2.92 at
-#: least at n = 10,000 (40 seeds), uniform noise 2.03 at most at n = 300.
-LIGHT_SE = 16.0
-
-
 def _gaussian_or_light(diag: NoiseDiagnostics) -> str:
     """ "Gaussian noise", or what the noise is when its tails are measurably lighter (the
     quantum random numbers of benchmarks/real_audit6.py, uniform: "Gaussian" was untrue)."""
-    if diag.kurtosis < 3.0 - LIGHT_SE / np.sqrt(max(diag.n, 1)):
+    if light_noise(diag.n, diag.kurtosis):
         return (
             f"noise with tails lighter than Gaussian (kurtosis {diag.kurtosis:.1f}; uniform "
             "noise has 1.8)"

@@ -26,6 +26,7 @@ from noisevar.diagnostics.plan import DIAG_ORDER, DIAG_SPAN
 from noisevar.diagnostics.tails import heavy_tails as heavy_tails  # the tail rules, for
 from noisevar.diagnostics.tails import kurtosis_from_moments  # noise_model (no edge to
 from noisevar.diagnostics.tails import tail_index as tail_index  # diagnostics there)
+from noisevar.diagnostics.tails import tails_shape as tails_shape
 from noisevar.diagnostics.tails import unreliable_tail as unreliable_tail
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
 from noisevar.numeric.fir import residual_sequence

@@ -40,6 +40,7 @@ from noisevar.noise_model.gmwm.processes import PROCESSES
 from noisevar.noise_model.gmwm.wavelet import wv_covariance
 from noisevar.noise_model.inertial_axes import per_axis
 from noisevar.noise_model.inertial_misfit import misfit_note
+from noisevar.noise_model.inertial_resolve import dominant, left_out_note, resolve
 from noisevar.noise_model.inertial_white import (
     n_against_white,
     tau0_holders,
@@ -323,8 +324,7 @@ def _reweighted(a: NDArray, avar: NDArray, edf: NDArray) -> tuple[NDArray, NDArr
 
 def _model_edf(a: NDArray, coef: NDArray, m: NDArray, n_phase: int) -> NDArray:
     """Greenhall's edf per tau for the noise type of the term dominating the fit there."""
-    parts = a * coef[None, :]
-    alpha = np.array([ALPHA[TERMS[i].symbol] for i in np.argmax(parts, axis=1)], dtype=float)
+    alpha = np.array([ALPHA[TERMS[i].symbol] for i in dominant(a, coef)], dtype=float)
     return _edfs(alpha, KINDS["oadev"], m, n_phase, default=0)
 
 
@@ -453,14 +453,9 @@ def _one_axis(
     notes += misfit_note(res.taus, res.variance, a @ coef, edf)
     ivals = _intervals(res.taus, coef, w, edf, ci, seed, rate, y.size)
     white = white_level(y, rate)
+    notes += resolve(a, coef, res.variance, edf, ivals, ci, TERM_LABELS)
     notes += n_against_white(coef, ivals, white, unit, tau0_weights(rate), TERM_LABELS)
-    left = [
-        f"{t.symbol} (up to {hi:.3g})"
-        for t, c, (_, hi) in zip(TERMS, coef, ivals, strict=True)
-        if c == 0
-    ]
-    if left:
-        notes.append("left out, the data do not support them: " + ", ".join(left))
+    notes += left_out_note(coef, ivals, [t.symbol for t in TERMS])
     terms = []
     for spec, c, (lo, hi) in zip(TERMS, coef, ivals, strict=True):
         value = float(np.sqrt(c))

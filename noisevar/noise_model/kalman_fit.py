@@ -25,7 +25,6 @@ from numpy.typing import ArrayLike, NDArray
 from noisevar._arrays import check_exact_ints
 from noisevar.errors import NoisevarError
 from noisevar.estimators import check_rate, scale_exponent
-from noisevar.estimators.interval import heavy_tails
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes, longest_still_stretch
 from noisevar.estimators.results import VarianceEstimate
 from noisevar.format import pvalue
@@ -136,10 +135,15 @@ class KalmanTuning:
     regimes : {"all", "still"}
         The record's regimes the fit used (:mod:`noisevar.estimators.regimes`).
     innovations_kurtosis : float
-        Of the normalised innovations (3 for Gaussian noise); above
-        :data:`~noisevar.diagnostics.tails.HEAVY_KURTOSIS` the fit's Gaussian assumption is
-        broken (:attr:`innovations_gaussian` False): a note says so (the intervals are the
-        robust sandwich ones either way).
+        Of the normalised innovations (3 for Gaussian noise).
+    innovations_tails : {"gaussian", "heavy", "light"}
+        Their tails (:func:`~noisevar.diagnostics.tails.tails_shape`, two-sided): heavy
+        above :data:`~noisevar.diagnostics.tails.HEAVY_KURTOSIS` (the fit's Gaussian
+        assumption is broken), light below
+        :data:`~noisevar.diagnostics.tails.LIGHT_KURTOSIS` and outside a Gaussian's
+        sampling interval (quantised or periodic noise); :attr:`innovations_gaussian` is
+        False for both and a note says so (the intervals are the robust sandwich ones
+        either way).
     record : RecordCheck or None
         ``r`` beside the record's answer (:func:`noisevar.estimate`, method auto) for the same
         regime choice: whether they agree, the fit's assumptions the record breaks, the R to
@@ -176,13 +180,21 @@ class KalmanTuning:
     notes: tuple[str, ...] = ()
     regimes: str = DEFAULT_REGIMES
     innovations_kurtosis: float = 3.0
+    innovations_tails: str = "gaussian"
     record: RecordCheck | None = None
     left_out: int = 0
 
     @property
     def innovations_gaussian(self) -> bool:
-        """Whether the innovations' tails are Gaussian enough for the fit's intervals."""
-        return not heavy_tails(self.innovations_kurtosis)
+        """Whether the innovations' tails are Gaussian (:attr:`innovations_tails`)."""
+        return self.innovations_tails == "gaussian"
+
+    def tails_text(self, kurtosis: str) -> str:
+        """The innovations' tails in words, ``kurtosis`` their kurtosis written (the CLI's
+        and the Noise model page's): ``"NOT Gaussian (kurtosis 1.51; light tails)"``."""
+        if self.innovations_gaussian:
+            return f"Gaussian (kurtosis {kurtosis}; Gaussian 3)"
+        return f"NOT Gaussian (kurtosis {kurtosis}; {self.innovations_tails} tails; Gaussian 3)"
 
     @property
     def aic(self) -> float:
@@ -220,6 +232,7 @@ class KalmanTuning:
             ljung_box_p=num(self.ljung_box_p),
             innovations_white=self.innovations_white,
             innovations_kurtosis=num(self.innovations_kurtosis),
+            innovations_tails=self.innovations_tails,
             loglik=num(self.loglik),
             aic=num(self.aic),
             bic=num(self.bic),
@@ -375,7 +388,7 @@ def _tuning(  # long: assembles the filter, its intervals and its validation
     # l = -n/2 log 2 pi - 1/2 sum_{k >= d} (log S_k + e_k²/S_k)   (diffuse, Durbin-Koopman)
     loglik = -0.5 * float(pieces.size * np.log(2 * np.pi) + np.sum(np.log(fp.s) + nu**2))
     h_ratio = q * dt**k / r
-    tails, kurt = tails_note(nu)
+    tails, kurt, shape = tails_note(nu)
     rc, h_known = _log_cov(zc, model, dt, np.log(h_ratio), np.log(r))
     # ln q = ln h + ln r - k ln T; h not identified: h and q unbounded
     q_iv, h_iv = (
@@ -420,6 +433,7 @@ def _tuning(  # long: assembles the filter, its intervals and its validation
         ljung_box_p=p,
         innovations_white=white,
         innovations_kurtosis=kurt,
+        innovations_tails=shape,
         loglik=loglik,
         units=_units(model, rate),
         notes=tuple(notes),

@@ -18,7 +18,7 @@ import numpy as np
 import scipy.stats
 from numpy.typing import ArrayLike, NDArray
 
-from noisevar.estimators.interval import heavy_tails, tail_index, unreliable_tail
+from noisevar.estimators.interval import tail_index, tails_shape, unreliable_tail
 from noisevar.noise_model._steady import FilterPass
 
 
@@ -184,8 +184,9 @@ def sandwich(info: NDArray, scores: NDArray) -> RobustCovariance:
     return RobustCovariance(cov, np.concatenate(theta), np.concatenate(covs))
 
 
-def tails_note(nu: NDArray) -> tuple[str | None, float]:
-    """The note on heavy-tailed innovations (None: Gaussian enough) and their kurtosis.
+def tails_note(nu: NDArray) -> tuple[str | None, float, str]:
+    """The note on innovations whose tails are not Gaussian (None: Gaussian enough), their
+    kurtosis and their shape.
 
     Parameters
     ----------
@@ -196,14 +197,27 @@ def tails_note(nu: NDArray) -> tuple[str | None, float]:
     -------
     note : str or None
     kurtosis : float
+    shape : {"gaussian", "heavy", "light"}
+        :func:`~noisevar.estimators.interval.tails_shape`, the one rule.
 
     Notes
     -----
-    Heavy: :func:`~noisevar.estimators.interval.heavy_tails`, the estimate's rule.
+    Heavy tails: the fit's Gaussian intervals would be too narrow (the robust ones are
+    given). Light tails (a sine, a square wave, quantised or uniform noise): r's
+    Gaussian interval is on the safe side, but the noise is not Gaussian noise.
     """
     kurt = innovation_kurtosis(nu)
-    if not heavy_tails(kurt):
-        return None, kurt
+    shape = tails_shape(nu.size, kurt)
+    if shape == "light":
+        return (
+            f"the innovations are light-tailed (kurtosis {kurt:.3g} over {nu.size} samples; "
+            "Gaussian noise gives 3): the noise is not Gaussian but bounded, like quantisation "
+            "(uniform: 1.8) or a periodic disturbance (a sine: 1.5, a square wave: 1); r is "
+            "its variance and the intervals are not overconfident, but a periodic part is "
+            "signal a filter could model rather than noise"
+        ), kurt, shape
+    if shape != "heavy":
+        return None, kurt, shape
     alpha = tail_index(nu)
     unreliable = (
         f"; their tail index {alpha:.1f} is too low for a finite fourth moment (or a few "
@@ -217,4 +231,4 @@ def tails_note(nu: NDArray) -> tuple[str | None, float]:
         "bursts) as noise, which may hold most of it; the intervals are the robust (sandwich) "
         f"ones{unreliable}. Check the estimate's core variance, and gate the outliers or use "
         "a robust filter"
-    ), kurt
+    ), kurt, shape
