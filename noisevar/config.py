@@ -36,6 +36,7 @@ from noisevar.errors import NoisevarError
 from noisevar.estimators import METHODS, methods
 from noisevar.estimators.params import PARAMS
 from noisevar.io.table import echo
+from noisevar.io.time_option import TIME_UNIT
 from noisevar.params import ParamSpec
 
 
@@ -143,7 +144,9 @@ def validate_config(config: Mapping[str, Any]) -> dict[str, Any]:
     -------
     dict
         ``{"method": ..., <params in sorted order>}`` with JSON-ready values;
-        ``None`` values are dropped (they mean "the method's default").
+        ``None`` values are dropped (they mean "the method's default"); ``time_unit`` (the
+        unit the file's times were read in, :data:`~noisevar.io.time_option.TIME_UNIT`) is
+        kept for the commands that read the file.
 
     Raises
     ------
@@ -181,6 +184,10 @@ def validate_config(config: Mapping[str, Any]) -> dict[str, Any]:
         if key == RECORD_KEY:  # the record's answer, for the reader: checked, not applied
             record_value(value)
             continue
+        if key == TIME_UNIT.name:  # how the file's times were read (the Signal page's unit)
+            if value is not None:
+                out[key] = TIME_UNIT.validate(value)
+            continue
         if key == "kalman":  # a tuned filter's Q and R (noisevar.noise_model.export)
             from noisevar.noise_model.export import check_kalman_config
 
@@ -205,15 +212,17 @@ def _filter_config(config: Mapping[str, Any]) -> dict[str, Any]:
     """A tuned filter's config (no estimator ``method``): its ``kalman`` entry and column."""
     from noisevar.noise_model.export import check_kalman_config
 
-    extra = sorted(set(config) - {"kalman", RECORD_KEY, *CHANNEL_KEYS})
+    extra = sorted(set(config) - {"kalman", RECORD_KEY, TIME_UNIT.name, *CHANNEL_KEYS})
     if extra:
         raise NoisevarError(
             f"config key {echo(repr(extra[0]))} does not belong in a tuned filter's config "
-            "(kalman, column and record only)"
+            "(kalman, column, time_unit and record only)"
         )
     if RECORD_KEY in config:
         record_value(config[RECORD_KEY])
     out: dict[str, Any] = {k: _channel_value(k, config[k]) for k in CHANNEL_KEYS if k in config}
+    if config.get(TIME_UNIT.name):
+        out[TIME_UNIT.name] = TIME_UNIT.validate(config[TIME_UNIT.name])
     out["kalman"] = check_kalman_config(config["kalman"])
     return out
 
