@@ -243,7 +243,11 @@ def require_estimator_config(config: Mapping[str, Any], source: str = "the confi
 
 
 def filter_config_json(
-    tuning: Any, column: str | None = None, unit: str = "", record: Mapping[str, str] | None = None
+    tuning: Any,
+    column: str | None = None,
+    unit: str = "",
+    record: Mapping[str, str] | None = None,
+    time_unit: str | None = None,
 ) -> str:
     """A tuned filter's config file, as the Noise model page downloads it and ``--save-config``
     writes it (``noisevar fit FILE --config`` reads it).
@@ -259,6 +263,9 @@ def filter_config_json(
     record : mapping, optional
         The record's answer (:meth:`~noisevar.estimators.answer.RecordAnswer.summary`),
         written for the reader under ``record``.
+    time_unit : str, optional
+        The unit the file's times were read in (``--time-unit``), applied when the file is
+        read again (``noisevar fit FILE --config``).
 
     Returns
     -------
@@ -267,7 +274,8 @@ def filter_config_json(
     """
     from noisevar.noise_model.export import to_config
 
-    config = validate_config(to_config(tuning, column=column, unit=unit))
+    told = {TIME_UNIT.name: time_unit} if time_unit else {}
+    config = validate_config({**to_config(tuning, column=column, unit=unit), **told})
     if record:
         config[RECORD_KEY] = record_value(record)
     return json.dumps(config, indent=2, allow_nan=False) + "\n"
@@ -301,7 +309,10 @@ def params_to_config(method: str, params: Mapping[str, Any]) -> dict[str, Any]:
 
 
 def config_to_json(
-    config: Mapping[str, Any], column: str | None = None, record: Mapping[str, str] | None = None
+    config: Mapping[str, Any],
+    column: str | None = None,
+    record: Mapping[str, str] | None = None,
+    time_unit: str | None = None,
 ) -> str:
     """Serialise a config (validated first) as indented JSON text.
 
@@ -314,12 +325,16 @@ def config_to_json(
     record : mapping, optional
         The record's answer (:meth:`~noisevar.estimators.answer.RecordAnswer.summary`),
         written for the reader under ``record`` (not applied when read).
+    time_unit : str, optional
+        The unit the file's times were read in (the Signal page's control), applied when
+        the file is read again (``noisevar estimate FILE --config``).
 
     Returns
     -------
     str
     """
-    cfg = {k: json_value(v) for k, v in validate_config(config).items()}
+    told = {TIME_UNIT.name: time_unit} if time_unit else {}
+    cfg = {k: json_value(v) for k, v in validate_config({**config, **told}).items()}
     if column:
         cfg["column"] = column
     if record:

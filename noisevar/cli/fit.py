@@ -158,8 +158,9 @@ def _cmd_fit(args: argparse.Namespace) -> int:
             written = None if summary is None else summary.summary(said)
         except NoisevarError:  # a record the estimator refuses: the config without it
             written = None
+        told = time_unit_of(args, dict(config or {}))  # how the file's times were read
         Path(args.save_config).write_text(
-            filter_config_json(tuning, column, said, written), encoding="utf-8"
+            filter_config_json(tuning, column, said, written, told), encoding="utf-8"
         )
     if args.format == "json":
         out = tuning.to_dict()
