@@ -123,3 +123,25 @@ def test_cli_commands_and_their_config_read_the_unit(tmp_path, capsys):
     cfg.write_text(json.dumps({"method": "auto", "time_unit": "parsec"}))
     assert main(["estimate", str(p), "--config", str(cfg)]) == 2
     assert "not a unit of time" in capsys.readouterr().err
+
+
+def test_batch_rows_take_the_unit(tmp_path):
+    from noisevar.batch import batch
+
+    p = _light_curve(tmp_path, n=2000)
+    days = batch([str(p)], time_unit="d", progress=False)
+    plain = batch([str(p)], progress=False)
+    assert abs(days["sample_rate_hz"].iloc[0] * STEP_S - 1) < 1e-6
+    assert days["variance"].iloc[0] == plain["variance"].iloc[0]  # R is per sample
+
+
+def test_a_tuned_filter_config_carries_the_unit_and_fit_applies_it(tmp_path, capsys):
+    p = _light_curve(tmp_path, n=2000)
+    cfg = tmp_path / "tuned.json"
+    args = ["fit", str(p), "--model", "rw", "--format", "json"]
+    assert main([*args, "--time-unit", "d", "--save-config", str(cfg)]) == 0
+    fitted = json.loads(capsys.readouterr().out)
+    assert json.loads(cfg.read_text())["time_unit"] == "d"
+    assert main(["fit", str(p), "--config", str(cfg), "--format", "json"]) == 0  # its rate
+    applied = json.loads(capsys.readouterr().out)
+    assert applied["q"] == fitted["q"] and abs(applied["rate"] * STEP_S - 1) < 1e-6
