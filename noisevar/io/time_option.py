@@ -1,6 +1,6 @@
 """The unit of a record's times, as the user states it: one option on every surface.
 
-``load_table(..., time_unit="d")``, ``noisevar estimate|fit|allan|imu|batch|scan-h FILE
+``load_table(..., time_unit="d")``, ``noisevar estimate|fit|allan|imu|batch FILE
 --time-unit d``, a config's ``time_unit`` key and the Signal page's control
 (:data:`TIME_UNIT_CONTROL`) are this one spec, :data:`TIME_UNIT` (docs/algorithms.md §E8).
 """
