@@ -177,6 +177,24 @@ def _log_topic(up, errors: DeltaGenerator) -> tuple[str, list[str]] | None | boo
     return topic, [t for t in also if t in others]
 
 
+def _time_unit(where: DeltaGenerator) -> str | None:
+    """The unit of the file's times (:data:`noisevar.io.time_option.TIME_UNIT`): any unit of
+    time typed in, or one of the examples; None: as the file states (else seconds)."""
+    unit = where.selectbox(
+        TIME_UNIT_CONTROL,
+        [AS_THE_FILE, *TIME_UNIT_EXAMPLES],
+        key="upload_time_unit",
+        accept_new_options=True,
+        help=f"{TIME_UNIT.help[:1].upper()}{TIME_UNIT.help[1:]} (CLI: {TIME_UNIT.flag}; the "
+        "exported configs carry it).",
+    )
+    return None if unit in (None, AS_THE_FILE) or not str(unit).strip() else str(unit).strip()
+
+
+#: The time-unit control's default: the unit the file states, else seconds (said in a note).
+AS_THE_FILE = "as the file states"
+
+
 def uploader(errors: DeltaGenerator) -> None:
     """The file uploader; a failed file is reported once per file (the old signal stays)."""
     limit_mb = loading.max_upload_bytes() / 1024 / 1024
@@ -229,24 +247,6 @@ def uploader(errors: DeltaGenerator) -> None:
         sig = current_signal()
         kept = f" (The previous signal, {plain(sig.label)}, is kept.)" if sig is not None else ""
         errors.error(plain(failed[1]) + kept)
-
-
-def _time_unit(where: DeltaGenerator) -> str | None:
-    """The unit of the file's times (:data:`noisevar.io.time_option.TIME_UNIT`): any unit of
-    time typed in, or one of the examples; None: as the file states (else seconds)."""
-    unit = where.selectbox(
-        TIME_UNIT_CONTROL,
-        [AS_THE_FILE, *TIME_UNIT_EXAMPLES],
-        key="upload_time_unit",
-        accept_new_options=True,
-        help=f"{TIME_UNIT.help[:1].upper()}{TIME_UNIT.help[1:]} (CLI: {TIME_UNIT.flag}; the "
-        "exported configs carry it).",
-    )
-    return None if unit in (None, AS_THE_FILE) or not str(unit).strip() else str(unit).strip()
-
-
-#: The time-unit control's default: the unit the file states, else seconds (said in a note).
-AS_THE_FILE = "as the file states"
 
 
 def _log_kinds() -> str:
