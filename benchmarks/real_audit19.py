@@ -27,7 +27,9 @@ at test time), galvani 0.5.0 (its test files too), utide 0.4.0 (constants only),
 - ``rxte`` (``stingray/datasets/lc_sample.txt``): an X-ray light curve, two columns without a
   header: mission time (s, steps of 0.125 s, stingray's ``dt``) and the count rate;
 - ``kepler`` (``docs/notebooks/Multitaper/koi2133.csv``): KOI-2133's Kepler long-cadence
-  light curve, ``times`` (days) and ``flux`` (normalised), 44,544 rows with gaps;
+  light curve, ``times`` (days) and ``flux`` (normalised), 44,544 rows with gaps; read with
+  its unit stated as its user states it (``TIME_UNIT``: ``--time-unit d``), which nothing in
+  the file says (without it: a period of 0.0204 s, said in a note);
 - ``plate`` (``examples/steel_plate/sample_plain.tradb``): four AE sensors on a steel plate,
   a pencil-lead break each, 5 MHz, 500 pre-trigger samples; each transient exported as its
   user exports it with vallenae (``read_wave``: volts and seconds) to ``time,volts``; here
