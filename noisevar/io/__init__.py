@@ -28,8 +28,9 @@ CSV / TSV / whitespace-separated text
     its row and column; an empty cell or ``NaN`` becomes NaN (refused later by
     :func:`pick_column` for the column actually used, unless asked to drop).
     A column named like a time (``t``, ``time``, ``time_s``, ``timestamp``,
-    ``seconds``...) gives the sample period (median step); ISO date-times in
-    it are converted to seconds from the first. A column named ``datetime`` or ``date``
+    ``seconds``...) gives the sample period (median step), in the unit its name states,
+    else the one the user states (``load_table(..., time_unit="d")``, ``--time-unit``),
+    else seconds; ISO date-times in it are converted to seconds from the first. A column named ``datetime`` or ``date``
     is the time column when it holds date-times, or dates written as digits
     (``19580329``, read as dates, not seconds; a column named ``AAAAMMJJ`` or ``YYYYMMDD``
     too).
