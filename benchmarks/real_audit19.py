@@ -27,7 +27,9 @@ at test time), galvani 0.5.0 (its test files too), utide 0.4.0 (constants only),
 - ``rxte`` (``stingray/datasets/lc_sample.txt``): an X-ray light curve, two columns without a
   header: mission time (s, steps of 0.125 s, stingray's ``dt``) and the count rate;
 - ``kepler`` (``docs/notebooks/Multitaper/koi2133.csv``): KOI-2133's Kepler long-cadence
-  light curve, ``times`` (days) and ``flux`` (normalised), 44,544 rows with gaps;
+  light curve, ``times`` (days) and ``flux`` (normalised), 44,544 rows with gaps; read with
+  its unit stated as its user states it (``TIME_UNIT``: ``--time-unit d``), which nothing in
+  the file says (without it: a period of 0.0204 s, said in a note);
 - ``plate`` (``examples/steel_plate/sample_plain.tradb``): four AE sensors on a steel plate,
   a pencil-lead break each, 5 MHz, 500 pre-trigger samples; each transient exported as its
   user exports it with vallenae (``read_wave``: volts and seconds) to ``time,volts``; here
@@ -129,6 +131,9 @@ PERIOD = {"deadrun": 300.0, "groundwater": 900.0, "seneca": 300.0, "rxte": 0.125
           "kepler": 1765.5, "plate": 2e-7, "bearing": 2e-6}  # fmt: skip
 #: the bearing's frames exported
 FRAMES = 50
+#: the unit of a record's times, stated as its user states it (``--time-unit``): Kepler's
+#: ``times`` are days (stingray's notebook), which nothing in the file says
+TIME_UNIT = {"kepler": "d"}
 
 
 # ---------------------------------------------------------------- the files
@@ -179,7 +184,7 @@ def record_of(name: str, ch: str) -> tuple[np.ndarray, np.ndarray | None, float]
         table = load_table(user_file(name, ch))
         z, t = channel_record(table, "volts")
     else:
-        table = load_table(user_file(name))
+        table = load_table(user_file(name), time_unit=TIME_UNIT.get(name))
         z, t = channel_record(table, ch, drop_nonfinite=True)
     ok = np.isfinite(np.asarray(z, float))
     times = None if t is None else np.asarray(t, float)[ok]
@@ -303,6 +308,15 @@ def _checks(what: str, rc: int, out: str, err: str) -> list[str]:
     return fail
 
 
+def _kepler_named() -> Path:
+    """Kepler's file with its times' column named as astronomers name days (``BKJD``)."""
+    out = shipped("kepler").with_name("koi2133_bkjd.csv")
+    if not out.exists():
+        text = shipped("kepler").read_text()
+        out.write_text(text.replace("times,", "BKJD,", 1))
+    return out
+
+
 def bad_input() -> list[dict]:
     """Check 4: each file read (exit 0) or refused with one line (exit 2)."""
     hf = lambda f: _refdata.sdist_path(_refdata.HYDROFUNCTIONS, _NB + f)  # noqa: E731
@@ -315,6 +329,10 @@ def bad_input() -> list[dict]:
         "Virginia: 190 stations' daily discharge, no --column": (hf("virginia.parquet"), []),
         "the X-ray light curve (no header), no --column": (shipped("rxte"), []),
         "Kepler's KOI-2133 (times in days), no --column": (shipped("kepler"), []),
+        "Kepler's KOI-2133, --time-unit d, no --column":
+            (shipped("kepler"), ["--time-unit", "d"]),
+        "Kepler's KOI-2133, --time-unit s against a name in days, refused":
+            (_kepler_named(), ["--time-unit", "s"]),
         "vallenae's signal.txt (period, count, then samples), no --column":
             (va("tests/data/signal.txt"), []),
         "the plate's channel 1 exported (time, volts), no --column": (ae_file("plate", "ch1"), []),

@@ -26,6 +26,8 @@ cgmquantify's sdists did not download.
   Livingston and Virgo strain (``H1:LDAS-STRAIN``, ``L1:LDAS-STRAIN``, ``V1:h_16384Hz``),
   one second at 16,384 Hz of GPS 968654552 (September 2010), values near 1e-19, as gwpy
   writes HDF5 (one 1-D dataset a channel, its step in a ``dx`` attribute, no time dataset);
+  read with the unit of ``dx`` stated as its user states it (``TIME_UNIT``: ``--time-unit
+  s``, gwpy's unit of a time series' ``dx``), which nothing in the file says;
   the same second as a GWF frame file, refused by name.
 
 Checks (``--records`` narrows them):
@@ -103,6 +105,9 @@ PAGES = {"cgm1": ["gl"], "ligo": ["H1:LDAS-STRAIN"]}
 PERIOD = {"cgm1": 300.0, "cgm5": 300.0, "hall": 300.0}
 #: 3a: the CGM's grid (whole mg/dL)
 CGM_LSB = 1.0
+#: the unit of a record's times (the HDF5: its ``dx``), stated as its user states it
+#: (``--time-unit``); None: as the file states
+TIME_UNIT = {"ligo": "s"}
 
 
 # ---------------------------------------------------------------- the files
@@ -126,7 +131,7 @@ def user_file(name: str, ch: str | None = None) -> Path:
 
 def record_of(name: str, ch: str) -> tuple[np.ndarray, np.ndarray | None, float]:
     """A channel as the product reads the user's file: samples, times, period (s, or 1)."""
-    table = load_table(user_file(name, ch))
+    table = load_table(user_file(name, ch), time_unit=TIME_UNIT.get(name))
     z, t = channel_record(table, ch if name == "ligo" else "gl")
     return np.asarray(z, float), None if t is None else np.asarray(t, float), (
         table.sample_period or 1.0)  # fmt: skip
@@ -152,7 +157,7 @@ def period_reference(name: str, ch: str) -> dict:
     z, _, period = record_of(name, ch)
     want = hdf5_datasets()[ch][1] if name == "ligo" else PERIOD[name]
     fail = [] if abs(period / want - 1) < 1e-3 else [f"period read {period:.6g} s"]
-    notes = " ".join(load_table(user_file(name, ch)).notes)
+    notes = " ".join(load_table(user_file(name, ch), time_unit=TIME_UNIT.get(name)).notes)
     if fail and f"--rate {1.0 / want:.6g}" in notes:
         fail = [f"{fail[0]}; the load note gives --rate {1.0 / want:.6g}"]
     return ref_row(name, f"{ch} (period, s)", "the documented period", want, nv.estimate(z),
@@ -229,6 +234,8 @@ def bad_input() -> list[dict]:
         "iglu's R package (a .tar.gz), refused": (ig("../iglu_4.1.7.tar.gz"), []),
         "LIGO/Virgo strain (gwpy's HDF5), no --column": (shipped("ligo"), []),
         "LIGO/Virgo strain (gwpy's HDF5), --columns all": (shipped("ligo"), ["--columns", "all"]),
+        "LIGO/Virgo strain (gwpy's HDF5), --time-unit s, no --column":
+            (shipped("ligo"), ["--time-unit", "s"]),
         "the same second as a GWF frame file, refused": (gw("HLV-HW100916-968654552-1.gwf"), []),
         "LIGO's trigger table (xml.gz), refused": (gw("H1-LDAS_STRAIN-968654552-10.xml.gz"), []),
         "Parker Solar Probe's magnetometer day (CDF), refused":

@@ -87,10 +87,12 @@ def sample_descriptions(sample_dir: str) -> dict[str, str]:
 
 
 @cached
-def load_bytes_cached(digest: str, name: str, _raw: bytes, topic: str | None = None) -> LoadedTable:
-    """:func:`noisevar.io.load_table` of file bytes (a log's ``topic``), cached by their
-    content hash."""
-    return load_table(_raw, name, topic=topic)
+def load_bytes_cached(
+    digest: str, name: str, _raw: bytes, topic: str | None = None, time_unit: str | None = None
+) -> LoadedTable:
+    """:func:`noisevar.io.load_table` of file bytes (a log's ``topic``, times in
+    ``time_unit``), cached by their content hash."""
+    return load_table(_raw, name, topic=topic, time_unit=time_unit)
 
 
 @cached

@@ -58,6 +58,7 @@ def load_bytes(
     drop_nonfinite: bool = False,
     topic: str | None = None,
     also: Sequence[str] = (),
+    time_unit: str | None = None,
 ) -> LoadedSignal:
     """Load file bytes as the new signal (raises NoisevarError; the old signal stays then).
 
@@ -77,6 +78,8 @@ def load_bytes(
     also : sequence of str
         For a log: more topics read beside ``topic`` (:attr:`LoadedSignal.topics`: the
         Noise model page's gyroscope and accelerometer columns, each at its topic's rate).
+    time_unit : str, optional
+        The unit of the file's times where it states none (:func:`noisevar.io.load_table`).
 
     Returns
     -------
@@ -89,12 +92,13 @@ def load_bytes(
             "limit: give a shorter record (or raise server.maxUploadSize)"
         )
     digest = content_digest(raw)
-    table = cache.load_bytes_cached(digest, name, raw, topic)
+    table = cache.load_bytes_cached(digest, name, raw, topic, time_unit or None)
     if drop_nonfinite:
         table = drop_nonfinite_rows(table)
     recipe = f"sample:{name}" if source == "sample" else None
     sig = make_signal(table, None, table.sample_period, source, recipe)
     sig.log_params = cache.log_params_cached(digest, name, raw)  # the filter files' EKF step
+    sig.time_unit = time_unit or None  # the exported configs carry it
     chosen = list(dict.fromkeys([topic, *also])) if topic and also else []
     if len(chosen) > 1:
         tables = {t: cache.load_bytes_cached(digest, name, raw, t) for t in chosen}

@@ -84,6 +84,9 @@ class LoadedSignal:
         The table's own sample times (:func:`noisevar.io.record_times`) unless the user set
         another sample period: every estimate takes them (a record with gaps is split at
         them, as the command line does), and ``digest`` covers them.
+    time_unit : str or None
+        The unit the user stated for the file's times (the Signal page's control,
+        ``--time-unit``); the exported configs carry it.
     """
 
     table: LoadedTable
@@ -103,6 +106,7 @@ class LoadedSignal:
     topics_key: str = ""
     log_params: dict[str, float] = field(default_factory=dict)
     times: np.ndarray | None = None
+    time_unit: str | None = None
 
     @property
     def n(self) -> int:
@@ -263,7 +267,7 @@ def reselect(sig: LoadedSignal, column: str, sample_period: float | None) -> Loa
         true_variance=sig.true_variance,
     )
     new.topics, new.topics_key = sig.topics, sig.topics_key  # the log's other topics stay
-    new.log_params = sig.log_params
+    new.log_params, new.time_unit = sig.log_params, sig.time_unit
     set_signal(new)
     return new
 

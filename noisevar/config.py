@@ -36,6 +36,7 @@ from noisevar.errors import NoisevarError
 from noisevar.estimators import METHODS, methods
 from noisevar.estimators.params import PARAMS
 from noisevar.io.table import echo
+from noisevar.io.time_option import TIME_UNIT
 from noisevar.params import ParamSpec
 
 
@@ -143,7 +144,9 @@ def validate_config(config: Mapping[str, Any]) -> dict[str, Any]:
     -------
     dict
         ``{"method": ..., <params in sorted order>}`` with JSON-ready values;
-        ``None`` values are dropped (they mean "the method's default").
+        ``None`` values are dropped (they mean "the method's default"); ``time_unit`` (the
+        unit the file's times were read in, :data:`~noisevar.io.time_option.TIME_UNIT`) is
+        kept for the commands that read the file.
 
     Raises
     ------
@@ -181,6 +184,10 @@ def validate_config(config: Mapping[str, Any]) -> dict[str, Any]:
         if key == RECORD_KEY:  # the record's answer, for the reader: checked, not applied
             record_value(value)
             continue
+        if key == TIME_UNIT.name:  # how the file's times were read (the Signal page's unit)
+            if value is not None:
+                out[key] = TIME_UNIT.validate(value)
+            continue
         if key == "kalman":  # a tuned filter's Q and R (noisevar.noise_model.export)
             from noisevar.noise_model.export import check_kalman_config
 
@@ -205,15 +212,17 @@ def _filter_config(config: Mapping[str, Any]) -> dict[str, Any]:
     """A tuned filter's config (no estimator ``method``): its ``kalman`` entry and column."""
     from noisevar.noise_model.export import check_kalman_config
 
-    extra = sorted(set(config) - {"kalman", RECORD_KEY, *CHANNEL_KEYS})
+    extra = sorted(set(config) - {"kalman", RECORD_KEY, TIME_UNIT.name, *CHANNEL_KEYS})
     if extra:
         raise NoisevarError(
             f"config key {echo(repr(extra[0]))} does not belong in a tuned filter's config "
-            "(kalman, column and record only)"
+            "(kalman, column, time_unit and record only)"
         )
     if RECORD_KEY in config:
         record_value(config[RECORD_KEY])
     out: dict[str, Any] = {k: _channel_value(k, config[k]) for k in CHANNEL_KEYS if k in config}
+    if config.get(TIME_UNIT.name):
+        out[TIME_UNIT.name] = TIME_UNIT.validate(config[TIME_UNIT.name])
     out["kalman"] = check_kalman_config(config["kalman"])
     return out
 
@@ -234,7 +243,11 @@ def require_estimator_config(config: Mapping[str, Any], source: str = "the confi
 
 
 def filter_config_json(
-    tuning: Any, column: str | None = None, unit: str = "", record: Mapping[str, str] | None = None
+    tuning: Any,
+    column: str | None = None,
+    unit: str = "",
+    record: Mapping[str, str] | None = None,
+    time_unit: str | None = None,
 ) -> str:
     """A tuned filter's config file, as the Noise model page downloads it and ``--save-config``
     writes it (``noisevar fit FILE --config`` reads it).
@@ -250,6 +263,9 @@ def filter_config_json(
     record : mapping, optional
         The record's answer (:meth:`~noisevar.estimators.answer.RecordAnswer.summary`),
         written for the reader under ``record``.
+    time_unit : str, optional
+        The unit the file's times were read in (``--time-unit``), applied when the file is
+        read again (``noisevar fit FILE --config``).
 
     Returns
     -------
@@ -258,7 +274,8 @@ def filter_config_json(
     """
     from noisevar.noise_model.export import to_config
 
-    config = validate_config(to_config(tuning, column=column, unit=unit))
+    told = {TIME_UNIT.name: time_unit} if time_unit else {}
+    config = validate_config({**to_config(tuning, column=column, unit=unit), **told})
     if record:
         config[RECORD_KEY] = record_value(record)
     return json.dumps(config, indent=2, allow_nan=False) + "\n"
@@ -292,7 +309,10 @@ def params_to_config(method: str, params: Mapping[str, Any]) -> dict[str, Any]:
 
 
 def config_to_json(
-    config: Mapping[str, Any], column: str | None = None, record: Mapping[str, str] | None = None
+    config: Mapping[str, Any],
+    column: str | None = None,
+    record: Mapping[str, str] | None = None,
+    time_unit: str | None = None,
 ) -> str:
     """Serialise a config (validated first) as indented JSON text.
 
@@ -305,12 +325,16 @@ def config_to_json(
     record : mapping, optional
         The record's answer (:meth:`~noisevar.estimators.answer.RecordAnswer.summary`),
         written for the reader under ``record`` (not applied when read).
+    time_unit : str, optional
+        The unit the file's times were read in (the Signal page's control), applied when
+        the file is read again (``noisevar estimate FILE --config``).
 
     Returns
     -------
     str
     """
-    cfg = {k: json_value(v) for k, v in validate_config(config).items()}
+    told = {TIME_UNIT.name: time_unit} if time_unit else {}
+    cfg = {k: json_value(v) for k, v in validate_config({**config, **told}).items()}
     if column:
         cfg["column"] = column
     if record:

@@ -474,6 +474,7 @@ def report(
         params_to_config(est.params["method"], est.params),
         column=sig.column,
         record=record_answer(est).summary(unit),
+        time_unit=sig.time_unit,
     )
     notes = [cli_hint(sig), cfg, *est.notes]
     said = {"regime warning": "Regime warning: ", "other still levels": "Other still levels: "}
@@ -515,6 +516,7 @@ def _estimate_downloads(sig: LoadedSignal, est: VarianceEstimate, truth: float |
             params_to_config(est.params["method"], est.params),
             column=sig.column,
             record=record_answer(est).summary(signal_units()),
+            time_unit=sig.time_unit,
         )
     except noisevar.NoisevarError as exc:  # pragma: no cover - params come from widgets
         cfg_json = None

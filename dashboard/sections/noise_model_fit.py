@@ -17,6 +17,7 @@ import streamlit as st
 
 from dashboard import workers
 from dashboard.budget import cached
+from dashboard.state import current_signal
 from dashboard.widgets import fmt, guarded, lazy_expander, show_figure, show_table
 from noisevar.config import filter_config_json
 from noisevar.estimators.regimes import DEFAULT_REGIMES
@@ -122,13 +123,19 @@ def _record(t: KalmanTuning, unit: str) -> None:
     st.markdown(f"R to use: **{use}**; this fit's r: {fmt(t.r, unit=squared(unit))}.")
 
 
+def _time_unit() -> str | None:
+    """The unit the Signal page read the file's times in (the config carries it)."""
+    sig = current_signal()
+    return None if sig is None else sig.time_unit
+
+
 def _exports(t: KalmanTuning, column: str | None, unit: str, record: dict[str, str] | None) -> None:
     named = f" on column {column!r} (another column is refused)" if column else ""
     st.caption(f"Apply the config with `{APPLY_COMMAND}`: it replays this q and r{named}.")
     c1, c2 = st.columns(2)
     c1.download_button(
         "Config with Q and R (JSON)",
-        data=filter_config_json(t, column, unit, record),
+        data=filter_config_json(t, column, unit, record, _time_unit()),
         file_name=f"tuned_{t.model}.json",
         mime="application/json",
         key=f"{KEY}_cfg",

@@ -15,6 +15,7 @@ from dashboard.text import plain
 from dashboard.url_params import RECIPE_PARAMS
 from dashboard.widgets import guarded, how_it_works, param_input
 from noisevar.io.logs import default_topic, readers
+from noisevar.io.time_option import TIME_UNIT, TIME_UNIT_CONTROL, TIME_UNIT_EXAMPLES
 from noisevar.signals import PAPER_SIGNAL, signal_spec
 
 
@@ -176,6 +177,24 @@ def _log_topic(up, errors: DeltaGenerator) -> tuple[str, list[str]] | None | boo
     return topic, [t for t in also if t in others]
 
 
+def _time_unit(where: DeltaGenerator) -> str | None:
+    """The unit of the file's times (:data:`noisevar.io.time_option.TIME_UNIT`): any unit of
+    time typed in, or one of the examples; None: as the file states (else seconds)."""
+    unit = where.selectbox(
+        TIME_UNIT_CONTROL,
+        [AS_THE_FILE, *TIME_UNIT_EXAMPLES],
+        key="upload_time_unit",
+        accept_new_options=True,
+        help=f"{TIME_UNIT.help[:1].upper()}{TIME_UNIT.help[1:]} (CLI: {TIME_UNIT.flag}; the "
+        "exported configs carry it).",
+    )
+    return None if unit in (None, AS_THE_FILE) or not str(unit).strip() else str(unit).strip()
+
+
+#: The time-unit control's default: the unit the file states, else seconds (said in a note).
+AS_THE_FILE = "as the file states"
+
+
 def uploader(errors: DeltaGenerator) -> None:
     """The file uploader; a failed file is reported once per file (the old signal stays)."""
     limit_mb = loading.max_upload_bytes() / 1024 / 1024
@@ -193,24 +212,31 @@ def uploader(errors: DeltaGenerator) -> None:
     # any suffix: the loader reads a file by what it holds (an RTKLIB .pos, a LAS well
     # log), as `noisevar estimate` does, and refuses the rest in one line
     up = st.file_uploader("Upload a file", key="upload")
-    drop = st.checkbox(
+    c1, c2 = st.columns([3, 2], vertical_alignment="bottom")
+    drop = c1.checkbox(
         "Drop rows with empty or NaN values",
         key="upload_drop",
         help="Otherwise a column with empty or NaN cells is refused (CLI: --drop-nonfinite).",
     )
+    time_unit = _time_unit(c2)
     if up is None:
         return
     picked = _log_topic(up, errors)
     if picked is False:
         return
     topic, also = picked if picked else (None, [])
-    attempt = (up.file_id, bool(drop), topic, tuple(also))
+    attempt = (up.file_id, bool(drop), topic, tuple(also), time_unit)
     failed = st.session_state.get("upload_failed")
     if st.session_state.get("upload_done") != attempt and (not failed or failed[0] != attempt):
         try:
             with st.spinner(f"Reading {up.name}..."):
                 loading.load_bytes(
-                    up.getvalue(), up.name, drop_nonfinite=bool(drop), topic=topic, also=also
+                    up.getvalue(),
+                    up.name,
+                    drop_nonfinite=bool(drop),
+                    topic=topic,
+                    also=also,
+                    time_unit=time_unit,
                 )
             st.session_state["upload_done"] = attempt
             st.session_state.pop("upload_failed", None)

@@ -41,6 +41,7 @@ from noisevar.batch._task import file_rows, run_task
 from noisevar.batch.channels import parse_columns
 from noisevar.errors import NoisevarError
 from noisevar.estimators import DEFAULT_METHOD
+from noisevar.io.time_option import TIME_UNIT
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -292,6 +293,7 @@ def batch(
     resume: bool = True,
     progress: Progress = True,
     topic: str | None = None,
+    time_unit: str | None = None,
     **params: Any,
 ) -> pd.DataFrame:
     """Estimate the noise of every channel of every file: one row per file x channel.
@@ -320,6 +322,9 @@ def batch(
     topic : str, optional
         For logs (ROS bag files, ULog, DataFlash, Parquet, HDF5): the topic read from each,
         its fields being the channels; part of the resume key.
+    time_unit : str, optional
+        The unit of each file's time column (:func:`noisevar.io.load_table`); part of the
+        resume key when given.
     **params
         The method's parameters (as for :func:`noisevar.estimate`).
 
@@ -357,10 +362,12 @@ def batch(
     files = [f for f in expand_paths(paths) if f not in skip]
     if not files:
         raise NoisevarError("no data file found in the given paths")
-    request = request_key(cols, method, dict(params), topic)
+    time_unit = TIME_UNIT.validate(time_unit)  # a row is reused for the same unit only:
+    asked = {**params, TIME_UNIT.name: time_unit} if time_unit else dict(params)
+    request = request_key(cols, method, asked, topic)
     with output_lock(target) if target is not None else contextlib.nullcontext():
         todo, kept = _plan(files, _previous(target, resume, files), request)
-        task = (cols, method, dict(params), topic)  # run_task's arguments after the files
+        task = (cols, method, dict(params), topic, time_unit)  # run_task's, after the files
         return _run(todo, kept, task, request, target, n_jobs, client, resume, progress)
 
 

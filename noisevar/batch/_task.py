@@ -47,6 +47,7 @@ def file_rows(
     method: str,
     params: dict[str, Any],
     topic: str | None = None,
+    time_unit: str | None = None,
 ) -> list[dict[str, Any]]:
     """Every row of one file: one per channel, or one row with the file's error.
 
@@ -63,6 +64,8 @@ def file_rows(
     topic : str, optional
         For a log (ROS bag file, ULog, DataFlash, Parquet, HDF5): the topic to read, its
         fields being the channels.
+    time_unit : str, optional
+        The unit of the time column's values (:func:`noisevar.io.load_table`).
 
     Returns
     -------
@@ -83,7 +86,8 @@ def file_rows(
         # hashed streamed and read by path (a log streamed too): any size, bounded memory
         digest = file_digest(path)
         with collecting(said):
-            table = load_table(path, os.path.basename(os.path.normpath(path)), topic=topic)
+            name = os.path.basename(os.path.normpath(path))
+            table = load_table(path, name, topic=topic, time_unit=time_unit)
         channels, left_out = channels_and_left_out(table, columns)
     except (NoisevarError, OSError) as exc:
         msg = str(exc) if isinstance(exc, NoisevarError) else f"cannot read {path}: {exc}"
@@ -136,6 +140,7 @@ def run_task(
     method: str,
     params: dict[str, Any],
     topic: str | None = None,
+    time_unit: str | None = None,
 ) -> list[dict[str, Any]]:
     """The rows of a group of files (the unit of work sent to a process or a Dask worker).
 
@@ -144,7 +149,7 @@ def run_task(
     rows: list[dict[str, Any]] = []
     for p in paths:
         try:
-            rows.extend(file_rows(p, columns, method, params, topic))
+            rows.extend(file_rows(p, columns, method, params, topic, time_unit))
         except Exception as exc:  # noqa: BLE001 - a bad file is a row, never the end of the batch
             rows.append(
                 {

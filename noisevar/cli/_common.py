@@ -98,15 +98,37 @@ def add_topic_flag(p: argparse.ArgumentParser) -> None:
     )
 
 
-def load_file(path: str, topic: str | None = None) -> LoadedTable:
-    """A data file, or one topic of a log (``topic``), as a table."""
+def add_time_unit_flag(p: argparse.ArgumentParser) -> None:
+    """``--time-unit U``: the unit of the time column's values (its one spec:
+    :data:`noisevar.io.time_option.TIME_UNIT`)."""
+    from noisevar.io.time_option import TIME_UNIT
+
+    TIME_UNIT.add_to(p)
+
+
+def time_unit_of(args: argparse.Namespace, params: dict[str, Any]) -> str | None:
+    """``--time-unit``, else the config's ``time_unit`` (taken out of ``params``)."""
+    from noisevar.io.time_option import TIME_UNIT
+
+    said = params.pop(TIME_UNIT.name, None)
+    return TIME_UNIT.validate(args.time_unit if args.time_unit is not None else said)
+
+
+def load_file(path: str, topic: str | None = None, time_unit: str | None = None) -> LoadedTable:
+    """A data file, or one topic of a log (``topic``), as a table (times in ``time_unit``
+    where the file states none: :func:`noisevar.io.load_table`)."""
     from noisevar.io import load_table
 
-    return load_table(path, os.path.basename(os.path.normpath(path)), topic=topic)
+    name = os.path.basename(os.path.normpath(path))
+    return load_table(path, name, topic=topic, time_unit=time_unit)
 
 
 def load_signal(
-    path: str, column: str | None, drop_nonfinite: bool = False, topic: str | None = None
+    path: str,
+    column: str | None,
+    drop_nonfinite: bool = False,
+    topic: str | None = None,
+    time_unit: str | None = None,
 ) -> tuple[np.ndarray, int]:
     """One column of a data file (or of a log's ``topic``) as floats, and how many non-finite
     cells were dropped.
@@ -118,7 +140,7 @@ def load_signal(
 
     from noisevar.io import pick_column
 
-    table = load_file(path, topic)
+    table = load_file(path, topic, time_unit)
     z = np.asarray(pick_column(table, column, drop_nonfinite=drop_nonfinite), dtype=float)
     return z, table.n_rows - z.size
 

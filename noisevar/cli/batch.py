@@ -49,6 +49,7 @@ def _summary(frame: Any, out: str | None) -> str:
 
 def _cmd_batch(args: argparse.Namespace) -> int:
     from noisevar.batch import batch, check_jobs
+    from noisevar.cli._common import time_unit_of
     from noisevar.cli.estimate import estimate_params
 
     method, params = estimate_params(args)
@@ -57,6 +58,7 @@ def _cmd_batch(args: argparse.Namespace) -> int:
         print(f"noisevar: {cut}", file=sys.stderr)
     columns = args.columns if args.columns is not None else params.pop("columns", "all")
     params.pop("column", None)
+    time_unit = time_unit_of(args, params)
     client = _client(args.scheduler) if args.scheduler else None
     try:
         frame = batch(
@@ -69,6 +71,7 @@ def _cmd_batch(args: argparse.Namespace) -> int:
             resume=not args.no_resume,
             progress=not args.quiet,
             topic=args.topic,
+            time_unit=time_unit,
             **params,
         )
     finally:
@@ -82,13 +85,14 @@ def _cmd_batch(args: argparse.Namespace) -> int:
 
 def add_parser(sub: Any) -> None:
     """Register ``batch`` on the sub-command set ``sub``."""
-    from noisevar.cli._common import add_topic_flag
+    from noisevar.cli._common import add_time_unit_flag, add_topic_flag
     from noisevar.cli.estimate import add_estimate_flags
 
     p = sub.add_parser("batch", help="estimate every channel of many files (one row each)")
     p.add_argument("paths", nargs="+", help="files, folders or quoted globs ('logs/**/*.csv')")
     p.add_argument("--columns", help="'all' (default) or a,b,c")
     add_topic_flag(p)
+    add_time_unit_flag(p)
     p.add_argument("--out", help=".parquet or .csv output (default: CSV on stdout)")
     p.add_argument(
         "--jobs",

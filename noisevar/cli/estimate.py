@@ -9,10 +9,12 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from noisevar.cli._common import (
+    add_time_unit_flag,
     add_topic_flag,
     add_unit_flags,
     load_file,
     print_json,
+    time_unit_of,
     units_of,
 )
 from noisevar.errors import NoisevarError
@@ -227,7 +229,9 @@ def _channels(args: argparse.Namespace, params: dict[str, Any]) -> tuple[Any, li
     return None, parse_columns(args.columns if args.columns is not None else cfg_columns)
 
 
-def _estimate_many(args: argparse.Namespace, columns: Any, method: str, params: dict) -> int:
+def _estimate_many(
+    args: argparse.Namespace, columns: Any, method: str, params: dict, time_unit: str | None
+) -> int:
     """Several channels of one table, each with the table's times and its declared unit (as
     ``noisevar batch`` reads them: one answer); a channel that cannot be estimated is a row
     with its reason, the others go on (all failing: the first reason and the first of
@@ -243,7 +247,7 @@ def _estimate_many(args: argparse.Namespace, columns: Any, method: str, params: 
 
     if method_spec(method).needs_reference:
         raise NoisevarError(f"method {method} takes one --column and a --reference-column")
-    table = load_file(args.file, args.topic)
+    table = load_file(args.file, args.topic, time_unit)
     names, skipped = channels_and_left_out(table, columns)
     for name in names:
         column_name(table, name)  # a name that is not in the file: the user's typo, exit 2
@@ -319,6 +323,7 @@ def _estimate_streamed(args: argparse.Namespace, column: Any, method: str, param
 def _cmd_estimate(args: argparse.Namespace) -> int:
     method, params = estimate_params(args)
     column, columns = _channels(args, params)
+    time_unit = time_unit_of(args, params)  # the times are not read by a streamed estimate
     if args.unit_out and (columns is not None or _streamed(args)):
         if not args.unit or units_of(args.unit, args.unit_out)[0] != 1.0:
             raise NoisevarError(
@@ -336,10 +341,10 @@ def _cmd_estimate(args: argparse.Namespace) -> int:
         _print(args, column, result, _unit(args, declared))
         return 0
     if columns is not None:
-        return _estimate_many(args, columns, method, params)
+        return _estimate_many(args, columns, method, params, time_unit)
     from noisevar.io.load import column_name
 
-    table = load_file(args.file, args.topic)
+    table = load_file(args.file, args.topic, time_unit)
     # say which one was read: the first, or the one an index names (text columns left out
     # of the count, an index is not the file's column number)
     if column is None or str(column) not in table.columns:  # one column too (pvanalytics')
@@ -410,6 +415,7 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--column", help="column name or 0-based index (default: the only/first)")
     p.add_argument("--columns", help="several channels: 'all' or a,b,c (one row each)")
     add_topic_flag(p)
+    add_time_unit_flag(p)
     add_estimate_flags(p)
     from noisevar.estimators import METHODS
 

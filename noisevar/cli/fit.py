@@ -11,12 +11,14 @@ from typing import Any
 from noisevar.cli._common import (
     add_drop_flag,
     add_regimes_flag,
+    add_time_unit_flag,
     add_topic_flag,
     add_unit_flags,
     load_file,
     print_json,
     regimes_of,
     sample_rate,
+    time_unit_of,
     units_of,
 )
 from noisevar.errors import NoisevarError
@@ -80,7 +82,7 @@ def _load(
     from noisevar.io import pick_column
     from noisevar.io.load import column_name, column_values, record_times
 
-    table = load_file(args.file, args.topic)
+    table = load_file(args.file, args.topic, time_unit_of(args, dict(config or {})))
     named = None if config is None else config.get("column")
     column = args.column
     if named is not None:
@@ -155,8 +157,9 @@ def _cmd_fit(args: argparse.Namespace) -> int:
             written = None if summary is None else summary.summary(said)
         except NoisevarError:  # a record the estimator refuses: the config without it
             written = None
+        told = time_unit_of(args, dict(config or {}))  # how the file's times were read
         Path(args.save_config).write_text(
-            filter_config_json(tuning, column, said, written), encoding="utf-8"
+            filter_config_json(tuning, column, said, written, told), encoding="utf-8"
         )
     if args.format == "json":
         out = tuning.to_dict()
@@ -176,6 +179,7 @@ def add_parser(sub: Any) -> None:
     p.add_argument("file", help="CSV/TSV (with or without header), .npy, or NMEA file")
     p.add_argument("--column", help="column name or 0-based index (default: the only/first)")
     add_topic_flag(p)
+    add_time_unit_flag(p)
     add_drop_flag(p)
     p.add_argument("--model", choices=list(MODELS), help="rw, cv or ca (default cv)")
     p.add_argument(

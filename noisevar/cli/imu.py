@@ -19,6 +19,7 @@ import numpy as np
 
 from noisevar.cli._common import (
     add_regimes_flag,
+    add_time_unit_flag,
     add_unit_flags,
     print_json,
     regimes_of,
@@ -46,7 +47,7 @@ def _load(args: argparse.Namespace) -> tuple[dict, dict[str, float], dict, dict,
     topics = list(dict.fromkeys(args.topic or []))
     if len(topics) <= 1:
         data, rate, declared, t, notes = load_columns(
-            args.file, _columns(args), args.rate, topics[0] if topics else None
+            args.file, _columns(args), args.rate, topics[0] if topics else None, args.time_unit
         )
         return data, dict.fromkeys(data, rate), declared, dict.fromkeys(data, t), notes
     from noisevar.io import load_topics, record_times
@@ -58,6 +59,8 @@ def _load(args: argparse.Namespace) -> tuple[dict, dict[str, float], dict, dict,
         )
     if args.temperature:
         raise NoisevarError("--temperature reads one topic: give a single --topic")
+    if args.time_unit:
+        raise NoisevarError("--time-unit is for a table's times: a log's topics keep theirs")
     record = load_topics(args.file, topics, _name(args.file))
     cols = {c: record.column(c) for c in _columns(args) or record.columns}
     for col in cols.values():
@@ -269,7 +272,7 @@ def _gnss(args: argparse.Namespace) -> dict[str, float]:
     out = {}
     for key, column in (("position", args.gnss_pos), ("velocity", args.gnss_vel)):
         if column:
-            table = load_file(args.gnss_file or args.file, None)
+            table = load_file(args.gnss_file or args.file, None, args.time_unit)
             z, t = channel_record(table, column)
             k = _gnss_factor(key, column, table.units.get(column))
             out[key] = k * float(estimate(z, t=t).std)
@@ -480,6 +483,7 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--gyro", nargs="+", help="gyroscope columns, for --kalibr and --export")
     p.add_argument("--accel", nargs="+", help="accelerometer columns, for --kalibr and --export")
     add_unit_flags(p)
+    add_time_unit_flag(p)
     p.add_argument("--gyro-unit", help="unit of the gyroscope columns (default --unit; rad/s)")
     p.add_argument("--accel-unit", help="unit of the accelerometer columns (default --unit)")
     p.add_argument("--kalibr", metavar="OUT.yaml", help="write Kalibr's imu.yaml here")

@@ -28,11 +28,12 @@ CSV / TSV / whitespace-separated text
     its row and column; an empty cell or ``NaN`` becomes NaN (refused later by
     :func:`pick_column` for the column actually used, unless asked to drop).
     A column named like a time (``t``, ``time``, ``time_s``, ``timestamp``,
-    ``seconds``...) gives the sample period (median step); ISO date-times in
-    it are converted to seconds from the first. A column named ``datetime`` or ``date``
-    is the time column when it holds date-times, or dates written as digits
-    (``19580329``, read as dates, not seconds; a column named ``AAAAMMJJ`` or ``YYYYMMDD``
-    too).
+    ``seconds``...) gives the sample period (median step), in the unit its name states,
+    else the one the user states (``load_table(..., time_unit="d")``, ``--time-unit``),
+    else seconds; ISO date-times in it are converted to seconds from the first. A column
+    named ``datetime`` or ``date`` is the time column when it holds date-times, or dates
+    written as digits (``19580329``, read as dates, not seconds; a column named
+    ``AAAAMMJJ`` or ``YYYYMMDD`` too).
     An OpenSignals file (PLUX, BITalino) takes its column names from its JSON header.
 ``.npy``
     Read with ``np.load(allow_pickle=False)`` only (a pickled object array is

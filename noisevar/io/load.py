@@ -23,6 +23,7 @@ from noisevar.io.npy import _read_npy
 from noisevar.io.rtklib import is_rtklib, rtklib_csv, with_side_columns
 from noisevar.io.table import _NPY_MAGIC, NMEA_EXTENSIONS, LoadedTable, echo
 from noisevar.io.text import TextSource, _read_frame, _read_text_table, table_layout
+from noisevar.io.time_option import StatedTime, stated_time, without_clock
 from noisevar.io.upload import log_file
 
 if TYPE_CHECKING:
@@ -131,6 +132,7 @@ def load_table(
     max_bytes: int | None = MAX_BYTES,
     topic: str | None = None,
     fields: Sequence[str] | None = None,
+    time_unit: str | None = None,
 ) -> LoadedTable:
     """Read a CSV/TSV text table, a ``.npy`` array, an NMEA 0183 log, or one topic of a log.
 
@@ -151,6 +153,12 @@ def load_table(
         topic to read; may be omitted when the log has one. Refused for other files.
     fields : sequence of str, optional
         For a log: the topic's fields to read, by dotted path (default: all).
+    time_unit : str, optional
+        The unit of the time column's values (any unit of time pint reads: ``"d"``,
+        ``"ms"``; :data:`~noisevar.io.time_option.TIME_UNIT`), over a unit nothing in the
+        file states; refused where the column's name states another. For an HDF5 topic
+        without a time dataset, its ``dx``/``dt`` attribute is read in it as the period.
+        Default: the name's unit, else seconds (said in a note).
 
     Returns
     -------
@@ -176,25 +184,24 @@ def load_table(
     """
     from noisevar.io import logs
 
+    told = stated_time(time_unit)  # refused before the file is read
     if isinstance(source, (bytes, bytearray, memoryview)):
         raw = bytes(source)
         name = name or "upload"
         check_bytes(len(raw), name, max_bytes)
         if logs.reader_for(name, raw[:64]) is not None:
-            return _load_log_bytes(raw, name, topic, fields)
+            return _load_log_bytes(raw, name, topic, fields, told)
         _no_topic(name, topic)
-        return _parse(raw, name, None, len(raw))
+        return without_clock(_parse(raw, name, None, len(raw), told), told)
     path = Path(source)
     name = name or path.name
-    if logs.is_ros2_dir(path):
-        return logs.load_log(path, topic, fields, name)
-    size = check_size(path, name, None)
-    head = _read_head(path, name)
-    if logs.reader_for(name, head[:64]) is not None:
-        return logs.load_log(path, topic, fields, name)
+    size = None if logs.is_ros2_dir(path) else check_size(path, name, None)
+    head = b"" if size is None else _read_head(path, name)
+    if size is None or logs.reader_for(name, head[:64]) is not None:
+        return logs.with_time_unit(logs.load_log(path, topic, fields, name), path, topic, told)
     _no_topic(name, topic)
     check_bytes(size, name, max_bytes)
-    return _parse(head, name, path, size)
+    return without_clock(_parse(head, name, path, size, told), told)
 
 
 def load_log_tables(
@@ -256,13 +263,13 @@ def _no_topic(name: str, topic: str | None) -> None:
 
 
 def _load_log_bytes(
-    raw: bytes, name: str, topic: str | None, fields: Sequence[str] | None
+    raw: bytes, name: str, topic: str | None, fields: Sequence[str] | None, told: StatedTime | None
 ) -> LoadedTable:
     """One topic of a log uploaded as bytes: written to a private temporary file, read."""
     from noisevar.io import logs
 
     with log_file(raw, name) as path:
-        return logs.load_log(path, topic, fields, name)
+        return logs.with_time_unit(logs.load_log(path, topic, fields, name), path, topic, told)
 
 
 def log_topics(source: str | os.PathLike | bytes, name: str | None = None) -> list | None:
@@ -301,7 +308,9 @@ def log_topics(source: str | os.PathLike | bytes, name: str | None = None) -> li
     return logs.list_topics(path, name)
 
 
-def _parse(head: bytes, name: str, path: Path | None, size: int) -> LoadedTable:
+def _parse(
+    head: bytes, name: str, path: Path | None, size: int, told: StatedTime | None = None
+) -> LoadedTable:
     """Dispatch on the format; ``head`` is the whole file when ``path`` is None."""
     if size == 0 or not head.strip():
         raise NoisevarError(f"{echo(name)} is empty")
@@ -309,7 +318,7 @@ def _parse(head: bytes, name: str, path: Path | None, size: int) -> LoadedTable:
     if head.startswith(_NPY_MAGIC) or lower.endswith(".npy"):
         if not head.startswith(_NPY_MAGIC):
             raise NoisevarError(f"{echo(name)} is not a valid .npy file (no NumPy header)")
-        return _read_npy(path if path is not None else head, name)
+        return _read_npy(path if path is not None else head, name, told)
     if lower.endswith(".npz"):
         raise NoisevarError(
             f"{echo(name)}: .npz archives are not supported; save one array as .npy"
@@ -323,13 +332,15 @@ def _parse(head: bytes, name: str, path: Path | None, size: int) -> LoadedTable:
     if padding and not whole:  # the padding is left out of the text: read all of it
         head, whole = _read_all(path, name), True
         padding = head.count(b"\x00")
-    table = _parse_text(head, name, path, whole)
+    table = _parse_text(head, name, path, whole, told)
     if padding:
         table.notes.append(NUL_NOTE.format(n=padding))
     return table
 
 
-def _parse_text(head: bytes, name: str, path: Path | None, whole: bool) -> LoadedTable:
+def _parse_text(
+    head: bytes, name: str, path: Path | None, whole: bool, told: StatedTime | None = None
+) -> LoadedTable:
     """A text file: refused when it is of a format noisevar does not read, else NMEA,
     IAGA-2002 or a text table."""
     lower = name.lower()
@@ -342,21 +353,21 @@ def _parse_text(head: bytes, name: str, path: Path | None, whole: bool) -> Loade
             text = _decode(_read_all(path, name), name)[0]
         return _read_nmea(text, name)
     if is_iaga(text):
-        return _read_iaga(text if whole else _decode(_read_all(path, name), name)[0], name)
+        return _read_iaga(text if whole else _decode(_read_all(path, name), name)[0], name, told)
     # formats read as the CSV table they convert to: (is it, convert, finish the table)
     formats = ((is_rtklib, rtklib_csv, with_side_columns), (is_las, las_csv, None))
     for sniff, convert, finish in formats:
         if sniff(text):  # a format read as the CSV table it converts to, with its note
             csv, note = convert(text if whole else _decode(_read_all(path, name), name)[0], name)
-            table = _read_text_table(csv, name)
+            table = _read_text_table(csv, name, told)
             table.notes.insert(0, note)
             return table if finish is None else finish(table)
-    return _read_text_table(text if whole else TextSource(path, text, encoding), name)
+    return _read_text_table(text if whole else TextSource(path, text, encoding), name, told)
 
 
-def _read_iaga(text: str, name: str) -> LoadedTable:
+def _read_iaga(text: str, name: str, told: StatedTime | None = None) -> LoadedTable:
     """An IAGA-2002 file, read as the CSV table it holds (:func:`noisevar.io.iaga.iaga_csv`)."""
-    table = _read_text_table(iaga_csv(text, name), name)
+    table = _read_text_table(iaga_csv(text, name), name, told)
     table.notes.insert(0, IAGA_NOTE)
     return table
 

@@ -18,6 +18,7 @@ from noisevar.io.table import (
     time_in_seconds,
 )
 from noisevar.io.text import EXACT_INT, MAX_COLUMNS
+from noisevar.io.time_option import StatedTime
 
 
 def _load(source: Path | bytes, name: str) -> np.ndarray:
@@ -63,7 +64,7 @@ def _as_float(values: np.ndarray, field: str, name: str, column: str = "") -> ND
     return np.array(values, dtype=float)
 
 
-def _read_npy(source: Path | bytes, name: str) -> LoadedTable:
+def _read_npy(source: Path | bytes, name: str, told: StatedTime | None = None) -> LoadedTable:
     arr = _load(source, name)
     if not isinstance(arr, np.ndarray):  # pragma: no cover - .npz is read by np.load too
         raise NoisevarError(f"{echo(name)} is not a single .npy array")
@@ -110,6 +111,6 @@ def _read_npy(source: Path | bytes, name: str) -> LoadedTable:
     time_col = None if idx is None else list(columns)[idx]
     if time_col:
         first = float(arr[time_col][0]) if arr.dtype.names and arr.size else None
-        time_in_seconds(columns, time_col, notes, first)
+        time_in_seconds(columns, time_col, notes, first, told=told)
     period = _period_from_time(columns[time_col], notes) if time_col else None
     return LoadedTable(name, columns, "npy", time_col, period, notes)

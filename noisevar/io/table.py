@@ -16,6 +16,7 @@ from noisevar.errors import NoisevarError
 from noisevar.io.column_kinds import bookkeeping, time_steps
 from noisevar.io.limits import ECHO_LIMIT, echo  # noqa: F401 - their home is io.limits
 from noisevar.io.period import clock_period, rounded_period
+from noisevar.io.time_option import StatedTime, how_to_state, say_if_counting
 from noisevar.units import sensor_of
 
 #: Names (lower case, units in brackets stripped) recognised as a time column.
@@ -355,6 +356,8 @@ def time_in_seconds(
     notes: list[str],
     first: float | None = None,
     stated: str | None = None,
+    told: StatedTime | None = None,
+    dated: bool = False,
 ) -> None:
     """Scale ``columns[time_column]`` to seconds (in place, with a note).
 
@@ -362,13 +365,18 @@ def time_in_seconds(
     (Kalibr's and EuRoC's ``timestamp``) in the unit in which its first value is a Unix
     time of 2000-2100 (:func:`epoch_unit`: 1.4e18 is nanoseconds). ``first``: the column's
     first value when the column was taken relative to it; ``stated``: the unit a row under
-    the header gives it.
+    the header gives it; ``told``: the unit the user states (over the values' Unix time;
+    refused against another that the name, the units row or ``dated`` date-times state).
     """
     t = columns[time_column]
+    if told is not None:
+        named = ("s", 1.0, "date-times") if dated else _named_unit(time_column, stated)
+        columns[time_column] = told.times(t, time_column, named, notes)
+        return
     raw = first if first is not None else (float(t[0]) if t.size else None)
     unit, why = _clock_unit(time_column, raw, stated)
     if unit is None:
-        if not _say_if_counting(t, time_column, notes):
+        if not say_if_counting(t, time_column, notes):
             _say_no_unit(raw, time_column, notes)
         return
     if SECONDS_PER[unit] == 1.0:
@@ -377,10 +385,20 @@ def time_in_seconds(
     notes.append(f"time column {echo(time_column)!r} read in {unit} ({why}), as seconds")
 
 
+def _named_unit(name: str, stated: str | None) -> tuple[str, float, str] | None:
+    """The unit the time column ``name`` states (its name, else the units row's ``stated``),
+    its seconds and where it is stated; None when neither does."""
+    unit, why = (time_unit(name), "its name") if time_unit(name) else (stated, "the units row")
+    if unit not in SECONDS_PER and time_key(name) in _SECONDS_NAMES:
+        unit, why = "s", "its name"
+    return (unit, SECONDS_PER[unit], why) if unit in SECONDS_PER else None
+
+
 #: The note on a time column whose unit nothing states, read in seconds.
 NO_UNIT_NOTE = (
     "times read from column {!r} as seconds: no unit stated (if they are in another unit, "
-    "name the column with it: time (ms), time (d), BJD; or give the sample rate)"
+    f"state it: {how_to_state()}; or name the column with it: time (ms), time (d), BJD; "
+    "or give the sample rate)"
 )
 
 
@@ -392,25 +410,6 @@ def _say_no_unit(first: float | None, name: str, notes: list[str]) -> None:
     if time_key(name) in _SECONDS_NAMES or (first is not None and lo <= first < hi):
         return
     notes.append(NO_UNIT_NOTE.format(echo(name)))
-
-
-def _say_if_counting(t: NDArray, name: str, notes: list[str]) -> bool:
-    """A note when a time column read in seconds steps by a whole 100 or more: it may count
-    microseconds or milliseconds from boot (PX4's ``ulog2csv`` writes ``timestamp`` in
-    microseconds), which its values cannot tell from a slow logger's seconds; for a column
-    whose unit nothing states (:func:`_clock_unit`). Whether it said so."""
-    if t.size < 2 or not np.all(np.isfinite(t[:1000])):
-        return False
-    step = float(np.median(np.diff(t[:1000])))
-    if step >= 100 and np.all(t[:1000] == np.round(t[:1000])):
-        notes.append(
-            f"time column {echo(name)!r} steps by {step:g}, read as seconds ({1 / step:.3g} "
-            "Hz): if it counts microseconds or milliseconds (PX4's ulog2csv writes "
-            "microseconds since boot), state its unit in its name (timestamp_us) or give "
-            "the sample rate"
-        )
-        return True
-    return False
 
 
 def calendar_step(dt: NDArray) -> str | None:

@@ -50,6 +50,8 @@ from noisevar.io.toa5 import stated_unit, toa5_layout
 if TYPE_CHECKING:
     import pandas as pd
 
+    from noisevar.io.time_option import StatedTime
+
 #: Most columns a text table may have (a wider header is refused before parsing).
 MAX_COLUMNS = 1000
 _THOUSANDS = re.compile(r"^[+-]?\d{1,3}(,\d{3})+(\.\d*)?$")
@@ -342,7 +344,9 @@ def read_text_table(text: str, name: str) -> LoadedTable:
     return _read_text_table(text, name)
 
 
-def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
+def _read_text_table(
+    src: str | TextSource, name: str, told: StatedTime | None = None
+) -> LoadedTable:
     text = src if isinstance(src, str) else src.head
     fmt, names, header_line, unit_row = table_layout(text, name, isinstance(src, str))
     time_idx = pick_time_column(names)
@@ -366,8 +370,8 @@ def _read_text_table(src: str | TextSource, name: str) -> LoadedTable:
     if fmt.decimal == ",":
         notes.insert(0, "read with a decimal comma (1,5 = 1.5)")
     kind = "tsv" if fmt.delim == "\t" else ("csv" if fmt.delim else "text")
-    if time_col and not dated:  # date-times are read in seconds
-        time_in_seconds(columns, time_col, notes, first, stated.get(time_col))
+    if time_col and not (dated and told is None):  # date-times are read in seconds
+        time_in_seconds(columns, time_col, notes, first, stated.get(time_col), told, dated)
     period = _period_from_time(columns[time_col], notes, dated) if time_col else None
     empty = [c for c in names if np.all(np.isnan(columns[c]))]
     if len(empty) == len(names):

@@ -357,6 +357,37 @@ def load_log(
     return _table(reader, name, info, names + extra, chunks, problems, max_values, extra)
 
 
+def with_time_unit(table, path: str | Path, topic: str | None, told):
+    """A log's topic ``table`` with the time unit the user stated (``told``, a
+    :class:`~noisevar.io.time_option.StatedTime`, or None: unchanged).
+
+    An HDF5 topic without a time dataset takes the step its datasets declare (``dx``,
+    ``dt``: :func:`~noisevar.io.logs.hdf5.declared_step`) in that unit as its period, only
+    then; anywhere else a note says the unit is not used (the log's timestamps are read in
+    the unit its format or the time field's name states, :func:`~noisevar.io.table.time_scale`).
+    """
+    from noisevar.io.logs import hdf5
+    from noisevar.io.time_option import unused_note
+
+    if told is None:
+        return table
+    if table.kind == hdf5.READER.name and table.time_column is None:
+        info = find_topic(list_topics(path, table.name), topic, table.name)
+        said = hdf5.declared_step(Path(path), info.name)
+        if said is not None:
+            table.sample_period, note = told.step(*said)
+            table.notes = [n for n in table.notes if not n.startswith(hdf5.STEP_NOTE)]
+            table.notes.append(note)
+            return table
+    why = (
+        "the log's timestamps are read as its format or field names state"
+        if table.time_column
+        else "the topic has no time field and declares no step (dx, dt)"
+    )
+    table.notes.append(unused_note(told, why))
+    return table
+
+
 def load_logs(
     path: str | Path,
     topics: Sequence[str],

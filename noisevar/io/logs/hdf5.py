@@ -29,6 +29,7 @@ from noisevar.errors import NoisevarError
 from noisevar.io.limits import echo
 from noisevar.io.logs.spec import CHUNK, MAX_FIELDS, Chunk, LogReader, TopicInfo, report
 from noisevar.io.table import is_time_column, time_scale
+from noisevar.io.time_option import how_to_state
 
 #: Most objects of a file looked at (a file of millions of objects is not a sensor log).
 MAX_OBJECTS = 100_000
@@ -211,17 +212,43 @@ def _step_said(f, paths: list[str]) -> None:
     gwpy's HDF5 of LIGO's and Virgo's strain (1 s at 16,384 Hz, ``dx`` = 6.1e-5) was read as
     samples taken as uniform, 1 a second, without a word of its ``dx``.
     """
+    said = _declared(f, paths)
+    if said is not None:
+        key, value = said
+        step = key in _STEPS
+        what = "time step in seconds" if step else "sample rate in Hz"
+        report(f"{STEP_NOTE} {key} = {value:.6g} without a unit, not read as the sample period: "
+               f"if it is the {what}, give --rate {1.0 / value if step else value:.6g} where a "
+               f"rate counts (allan, imu, fit){_or_state(step)}")  # fmt: skip
+
+
+#: The attributes that declare a step (the rest: a rate), and how the notes start.
+_STEPS, STEP_NOTE = ("dx", "dt"), "its datasets declare"
+
+
+def _or_state(step: bool) -> str:
+    return f", or state its unit: {how_to_state('s')}" if step else ""
+
+
+def _declared(f, paths: list[str]) -> tuple[str, float] | None:
+    """The first of :data:`_STEP_ATTRS` the first dataset declares (a positive number)."""
     attrs = f[paths[0]].attrs if paths else {}
     for key in _STEP_ATTRS:
         value = np.asarray(attrs.get(key, np.nan)).ravel()
         if value.size == 1 and value.dtype.kind in "iuf" and np.isfinite(value[0]) and value[0] > 0:
-            step = key in ("dx", "dt")
-            what = "time step in seconds" if step else "sample rate in Hz"
-            report(f"its datasets declare {key} = {value[0]:.6g} without a unit, not read as the "
-                   f"sample period: if it is the {what}, give --rate "
-                   f"{1.0 / value[0] if step else value[0]:.6g} where a rate counts (allan, imu, "
-                   "fit)")  # fmt: skip
-            return
+            return key, float(value[0])
+    return None
+
+
+def declared_step(path: Path, topic: str) -> tuple[str, float] | None:
+    """The step (``dx``, ``dt``) the datasets of ``topic`` declare when it has no time
+    dataset, else None (a rate attribute is no step)."""
+    import h5py
+
+    with h5py.File(path, "r") as f:
+        time, have, _, _ = _topics_of(f).get(topic, (None, {}, 0, {}))
+        said = None if time is not None else _declared(f, [p for p, _ in have.values()])
+    return said if said is not None and said[0] in _STEPS else None
 
 
 def _slice(f, path: str, part, lo: int, hi: int) -> np.ndarray:
