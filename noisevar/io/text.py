@@ -14,10 +14,18 @@ from numpy.typing import NDArray
 
 from noisevar._arrays import EXACT_INT
 from noisevar.errors import NoisevarError
+from noisevar.io.delimiter import sniff_delimiter
 from noisevar.io.header_units import column_units, header_unit
 from noisevar.io.headerless import first_column_times, first_line_is_row
 from noisevar.io.opensignals import opensignals_names
-from noisevar.io.quirks import code_note, leading_header, repeated_rows, rows_continue, wrap_note
+from noisevar.io.quirks import (
+    code_note,
+    leading_header,
+    missing_mark,
+    repeated_rows,
+    rows_continue,
+    wrap_note,
+)
 from noisevar.io.refusal_hints import (
     kinds_hint,
     numbers_for_names,
@@ -26,7 +34,7 @@ from noisevar.io.refusal_hints import (
     short_header,
     width_hint,
 )
-from noisevar.io.stacked import refuse_stacked
+from noisevar.io.stacked import refuse_stacked, stack_clock
 from noisevar.io.table import (
     _NA_TOKENS,
     UNIFORM_TOLERANCE,
@@ -79,20 +87,6 @@ class _Format:
     thousands: str | None = None
 
 
-def _sniff_delimiter(lines: list[str]) -> str | None:
-    sample = lines[:50]
-    if any("\t" in ln for ln in sample):
-        return "\t"
-    for cand in (",", ";", "|"):
-        counts = {ln.count(cand) for ln in sample}
-        if len(counts) == 1 and counts != {0}:
-            return cand
-    for cand in (",", ";"):
-        if any(cand in ln for ln in sample):
-            return cand
-    return None  # whitespace
-
-
 def _split(line: str, delim: str | None) -> list[str]:
     if delim is None:
         return line.split()
@@ -110,7 +104,7 @@ def _sniff_format(lines: list[str]) -> _Format:
     one_name = len(lines) > 1 and "," not in lines[0] and not _is_number(lines[0])
     if one_name and all(_THOUSANDS.match(c) for c in whole):
         return _Format("\t" if any("\t" in ln for ln in lines) else None, ".", ",")
-    delim = _sniff_delimiter(lines)
+    delim = sniff_delimiter(lines)
     if delim == ",":
         return _Format(delim)
     cells = _cells(data, delim)
@@ -506,13 +500,15 @@ def _parse_body(
                          "not numbers: left out")  # fmt: skip
             keys[cname] = col
             continue
+        if i != time_idx and (marked := missing_mark(col, cname, notes)) is not None:
+            columns[cname] = marked
+            continue
         try:
             columns[cname] = _text_column(col, cname, src, header_line, name, i == time_idx)
         except NoisevarError as e:
             raise NoisevarError(f"{e}{kinds_hint(df, names, text, col)}") from None
         dated = dated or (i == time_idx and _only_text(col))  # (numbers raised, or parsed)
-    if time_idx is not None:
-        refuse_stacked(keys, columns[names[time_idx]], name)
+    refuse_stacked(keys, stack_clock(columns, names, time_idx), name)
     return columns, notes, first, dated
 
 
