@@ -82,3 +82,11 @@ def test_a_slocum_gliders_binary_files_are_named(tmp_path: Path) -> None:
         path.write_bytes(head + bytes(range(256)) * 8)
         with pytest.raises(NoisevarError, match=r"Slocum glider.*dbdreader"):
             load_table(path)
+
+
+def test_a_file_with_no_data_rows_says_what_to_give(tmp_path: Path) -> None:
+    """ISMN's ``mal_formed_file.txt`` ("No good data here"): refused without a way out."""
+    path = tmp_path / "mal_formed_file.txt"
+    path.write_text("No good data here\n")
+    with pytest.raises(NoisevarError, match="no data rows: give a table with one row of numbers"):
+        load_table(path)

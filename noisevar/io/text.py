@@ -58,6 +58,8 @@ from noisevar.io.toa5 import stated_unit, toa5_layout
 if TYPE_CHECKING:
     import pandas as pd
 
+#: A file of one line, or of lines of words: what it lacks and what to give
+_NO_ROWS = "has a header but no data rows: give a table with one row of numbers per sample"
 #: Most columns a text table may have (a wider header is refused before parsing).
 MAX_COLUMNS = 1000
 _THOUSANDS = re.compile(r"^[+-]?\d{1,3}(,\d{3})+(\.\d*)?$")
@@ -244,7 +246,7 @@ def table_layout(
         split, lambda c: _is_number(c, fmt)
     ):
         if len(head) < 2:
-            raise NoisevarError(f"{echo(name)} has a header but no data rows")
+            raise NoisevarError(f"{echo(name)} {_NO_ROWS}")
         units = _units_row(head, len(first), fmt)
         line = head[1][0] if units is not None else head[0][0]
         return fmt, _unique_names(first), line, units
@@ -424,7 +426,7 @@ def _read_frame(
                 "name every column in a header)"
             ) from None
         if "No columns to parse" in msg:
-            raise NoisevarError(f"{echo(name)} has a header but no data rows") from None
+            raise NoisevarError(f"{echo(name)} {_NO_ROWS}") from None
         first = msg.splitlines()[0] if msg else type(exc).__name__
         raise NoisevarError(f"{echo(name)}: cannot parse the table ({echo(first, 200)})") from None
 
@@ -460,7 +462,7 @@ def _parse_body(
 
     df = _read_frame(src, header_line, len(names), fmt, name)
     if len(df) == 0:
-        raise NoisevarError(f"{echo(name)} has a header but no data rows")
+        raise NoisevarError(f"{echo(name)} {_NO_ROWS}")
     columns: dict[str, NDArray] = {}
     notes: list[str] = []
     first = None
