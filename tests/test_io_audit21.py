@@ -90,3 +90,14 @@ def test_a_file_with_no_data_rows_says_what_to_give(tmp_path: Path) -> None:
     path.write_text("No good data here\n")
     with pytest.raises(NoisevarError, match="no data rows: give a table with one row of numbers"):
         load_table(path)
+
+
+def test_a_word_in_a_column_of_numbers_says_what_to_do(tmp_path: Path) -> None:
+    """ISMN's ``static_variables.csv`` (one row a soil or climate property, the Köppen class
+    ``Cfa`` among the values) was refused with no way out."""
+    path = tmp_path / "static_variables.csv"
+    rows = [f"clay fraction;% weight;{d:.2f};{23 + d:.2f}" for d in np.linspace(0, 1, 12)]
+    path.write_text("quantity_name;unit;depth;value\n" + "\n".join(rows)
+                    + "\nclimate classification;;;Cfa\n")  # fmt: skip
+    with pytest.raises(NoisevarError, match=r"'Cfa' is not a number .*give a table of samples"):
+        load_table(path)

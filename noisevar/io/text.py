@@ -27,6 +27,7 @@ from noisevar.io.quirks import (
     wrap_note,
 )
 from noisevar.io.refusal_hints import (
+    CLEAN_HINT,
     kinds_hint,
     numbers_for_names,
     preamble_hint,
@@ -576,11 +577,10 @@ def _text_column(
         def line_of(row: int) -> int:
             return _data_line_number(text, header_line, row)
 
+        hint = preamble_hint(coerced.notna().to_numpy(), j, line_of)
         raise NoisevarError(
             f"{echo(name)}: line {line_of(j)}, column "
             f"{echo(cname)!r}: {echo(str(col.iloc[j]))!r} is not a number (only numeric "
-            f"columns can be loaded)"
-            f"{preamble_hint(coerced.notna().to_numpy(), j, line_of)}"
-            f"{numbers_for_names(cname, header_line)}"
+            f"columns can be loaded){hint + numbers_for_names(cname, header_line) or CLEAN_HINT}"
         )
     return np.array(coerced.to_numpy(dtype=float, na_value=np.nan), dtype=float)
