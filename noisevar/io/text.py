@@ -14,11 +14,20 @@ from numpy.typing import NDArray
 
 from noisevar._arrays import EXACT_INT
 from noisevar.errors import NoisevarError
+from noisevar.io.delimiter import sniff_delimiter
 from noisevar.io.header_units import column_units, header_unit
 from noisevar.io.headerless import first_column_times, first_line_is_row
 from noisevar.io.opensignals import opensignals_names
-from noisevar.io.quirks import code_note, leading_header, repeated_rows, rows_continue, wrap_note
+from noisevar.io.quirks import (
+    code_note,
+    leading_header,
+    missing_mark,
+    repeated_rows,
+    rows_continue,
+    wrap_note,
+)
 from noisevar.io.refusal_hints import (
+    CLEAN_HINT,
     kinds_hint,
     numbers_for_names,
     preamble_hint,
@@ -26,7 +35,7 @@ from noisevar.io.refusal_hints import (
     short_header,
     width_hint,
 )
-from noisevar.io.stacked import refuse_stacked
+from noisevar.io.stacked import refuse_stacked, stack_clock
 from noisevar.io.table import (
     _NA_TOKENS,
     UNIFORM_TOLERANCE,
@@ -52,6 +61,8 @@ if TYPE_CHECKING:
 
     from noisevar.io.time_option import StatedTime
 
+#: A file of one line, or of lines of words: what it lacks and what to give
+_NO_ROWS = "has a header but no data rows: give a table with one row of numbers per sample"
 #: Most columns a text table may have (a wider header is refused before parsing).
 MAX_COLUMNS = 1000
 _THOUSANDS = re.compile(r"^[+-]?\d{1,3}(,\d{3})+(\.\d*)?$")
@@ -81,20 +92,6 @@ class _Format:
     thousands: str | None = None
 
 
-def _sniff_delimiter(lines: list[str]) -> str | None:
-    sample = lines[:50]
-    if any("\t" in ln for ln in sample):
-        return "\t"
-    for cand in (",", ";", "|"):
-        counts = {ln.count(cand) for ln in sample}
-        if len(counts) == 1 and counts != {0}:
-            return cand
-    for cand in (",", ";"):
-        if any(cand in ln for ln in sample):
-            return cand
-    return None  # whitespace
-
-
 def _split(line: str, delim: str | None) -> list[str]:
     if delim is None:
         return line.split()
@@ -112,7 +109,7 @@ def _sniff_format(lines: list[str]) -> _Format:
     one_name = len(lines) > 1 and "," not in lines[0] and not _is_number(lines[0])
     if one_name and all(_THOUSANDS.match(c) for c in whole):
         return _Format("\t" if any("\t" in ln for ln in lines) else None, ".", ",")
-    delim = _sniff_delimiter(lines)
+    delim = sniff_delimiter(lines)
     if delim == ",":
         return _Format(delim)
     cells = _cells(data, delim)
@@ -252,7 +249,7 @@ def table_layout(
         split, lambda c: _is_number(c, fmt)
     ):
         if len(head) < 2:
-            raise NoisevarError(f"{echo(name)} has a header but no data rows")
+            raise NoisevarError(f"{echo(name)} {_NO_ROWS}")
         units = _units_row(head, len(first), fmt)
         line = head[1][0] if units is not None else head[0][0]
         return fmt, _unique_names(first), line, units
@@ -434,7 +431,7 @@ def _read_frame(
                 "name every column in a header)"
             ) from None
         if "No columns to parse" in msg:
-            raise NoisevarError(f"{echo(name)} has a header but no data rows") from None
+            raise NoisevarError(f"{echo(name)} {_NO_ROWS}") from None
         first = msg.splitlines()[0] if msg else type(exc).__name__
         raise NoisevarError(f"{echo(name)}: cannot parse the table ({echo(first, 200)})") from None
 
@@ -470,7 +467,7 @@ def _parse_body(
 
     df = _read_frame(src, header_line, len(names), fmt, name)
     if len(df) == 0:
-        raise NoisevarError(f"{echo(name)} has a header but no data rows")
+        raise NoisevarError(f"{echo(name)} {_NO_ROWS}")
     columns: dict[str, NDArray] = {}
     notes: list[str] = []
     first = None
@@ -510,13 +507,15 @@ def _parse_body(
                          "not numbers: left out")  # fmt: skip
             keys[cname] = col
             continue
+        if i != time_idx and (marked := missing_mark(col, cname, notes)) is not None:
+            columns[cname] = marked
+            continue
         try:
             columns[cname] = _text_column(col, cname, src, header_line, name, i == time_idx)
         except NoisevarError as e:
             raise NoisevarError(f"{e}{kinds_hint(df, names, text, col)}") from None
         dated = dated or (i == time_idx and _only_text(col))  # (numbers raised, or parsed)
-    if time_idx is not None:
-        refuse_stacked(keys, columns[names[time_idx]], name)
+    refuse_stacked(keys, stack_clock(columns, names, time_idx), name)
     return columns, notes, first, dated
 
 
@@ -582,11 +581,10 @@ def _text_column(
         def line_of(row: int) -> int:
             return _data_line_number(text, header_line, row)
 
+        hint = preamble_hint(coerced.notna().to_numpy(), j, line_of)
         raise NoisevarError(
             f"{echo(name)}: line {line_of(j)}, column "
             f"{echo(cname)!r}: {echo(str(col.iloc[j]))!r} is not a number (only numeric "
-            f"columns can be loaded)"
-            f"{preamble_hint(coerced.notna().to_numpy(), j, line_of)}"
-            f"{numbers_for_names(cname, header_line)}"
+            f"columns can be loaded){hint + numbers_for_names(cname, header_line) or CLEAN_HINT}"
         )
     return np.array(coerced.to_numpy(dtype=float, na_value=np.nan), dtype=float)
