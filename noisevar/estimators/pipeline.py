@@ -58,7 +58,7 @@ from noisevar.estimators.interval import (
     ranges_mask,
     record_glitches,
 )
-from noisevar.estimators.pooling import pool_segments
+from noisevar.estimators.pooling import none_estimated, pool_segments
 from noisevar.estimators.results import VarianceEstimate
 from noisevar.estimators.spec import MethodSpec
 from noisevar.estimators.still_levels import other_still_levels, own_tails
@@ -159,7 +159,7 @@ def _by_segment(
         except NoisevarError as exc:
             error, longest = (exc, b - a) if b - a > longest else (error, longest)
     if not parts:  # the longest segment's reason: the one that says what is wrong
-        raise NoisevarError(f"no uniform segment of the record could be estimated: {error}")
+        raise none_estimated(error, z.size, len(seg.segments), longest)
     return pool_segments(parts, z.size, len(seg.segments) - len(parts), starts)
 
 

@@ -14,6 +14,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
+from noisevar.errors import NoisevarError
 from noisevar.estimators.results import VarianceEstimate, chi2_interval
 
 _OUTLIER_NOTE = re.compile(
@@ -139,3 +140,32 @@ def _pooled_jumps(
         if p.jumps is not None:
             out[s : s + p.jumps.size] = p.jumps
     return out if out.any() else None
+
+
+def none_estimated(error: Exception | None, n: int, segments: int, longest: int) -> NoisevarError:
+    """The error when no uniform segment of a record split at its gaps could be estimated:
+    ``error`` (the longest segment's) after how the record was split, so that its sample
+    count reads as the segment's, not the record's.
+
+    Parameters
+    ----------
+    error : Exception or None
+        Why the longest segment could not be estimated.
+    n, segments, longest : int
+        The record's finite samples, its uniform segments and the longest one's samples.
+
+    Returns
+    -------
+    NoisevarError
+
+    Notes
+    -----
+    radvel's EPIC 203771098 (32 radial velocities, unevenly timed) read "the signal has only
+    3 samples" of a record of 32 (benchmarks/real_audit21.py).
+    """
+    return NoisevarError(
+        f"no uniform segment of the record could be estimated: its {n} samples split at "
+        f"their gaps into {segments} uniform segments, the longest {longest} samples ({error}); "
+        "to take it as one uniform record, set its times aside (a file without its time "
+        "column; Python: estimate(z) without t; dashboard: another sample period)"
+    )
