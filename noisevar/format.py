@@ -192,3 +192,32 @@ def wrap_words(text: str, width: int = LINE_CHARS) -> str:
                 lines.append(word)
         out.append("<br>".join(lines))
     return "<br>".join(out)
+
+
+#: Spans written in a larger unit of time from twice that unit up (seconds under 2 min).
+DURATION_UNITS = (("d", 86400.0), ("h", 3600.0), ("min", 60.0))
+
+
+def duration(seconds: object, digits: int = 4) -> str:
+    """A span of time in the unit people read it in: ``"365 d"``, ``"5.25 h"``, ``"90 s"``.
+
+    Parameters
+    ----------
+    seconds : float
+        The span (None, NaN or infinity give ``"n/a"``).
+    digits : int
+        Significant digits.
+
+    Returns
+    -------
+    str
+        Days, hours or minutes from twice the unit up (:data:`DURATION_UNITS`), else
+        :func:`eng` in seconds (``"31.53 Ms"`` read a year of hourly soil moisture).
+    """
+    v = _finite(seconds)
+    if v is None:
+        return MISSING
+    for unit, size in DURATION_UNITS:
+        if abs(v) >= 2.0 * size:
+            return eng(v / size, unit, digits)
+    return eng(v, "s", digits)

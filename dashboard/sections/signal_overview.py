@@ -21,6 +21,7 @@ from dashboard.state import (
 from dashboard.widgets import figure_downloads, fmt, guarded, lazy_expander, show_figure, show_table
 from noisevar.estimators.answer import declared_note, record_answer
 from noisevar.figures.estimator import signal_figure
+from noisevar.format import duration as duration_text
 from noisevar.io import signal_summary
 
 #: Session-state key of the (lazy) "First rows of the table" expander.
@@ -82,7 +83,7 @@ def summary_metrics(sig: LoadedSignal, errors: DeltaGenerator) -> None:
     else:
         duration = summary["duration_s"] if sig.sample_period else None
         how = "Samples × T." if sig.sample_period else "Set the sample period T to see it."
-    m[1].metric("Duration", fmt(duration, unit="s") if duration is not None else "n/a", help=how)
+    m[1].metric("Duration", duration_text(duration), help=how)
     u = signal_units()
     m[2].metric("Mean", fmt(summary["mean"], unit=u))
     m[3].metric("Std (signal + noise)", fmt(summary["std"], unit=u))

@@ -147,6 +147,7 @@ def log_axis(title: str, values: Any = None, **extra: Any) -> dict[str, Any]:
     if ticks:
         out.pop("dtick")
         out.update(tickmode="array", tickvals=ticks, ticktext=[f"{t:g}" for t in ticks])
+        out.update(_holding(ticks, values))
     out.update(extra)
     return out
 
@@ -165,6 +166,17 @@ def traces_y(traces: Any) -> NDArray:
     """
     ys = [np.asarray(t.y, dtype=float).ravel() for t in traces if getattr(t, "y", None) is not None]
     return np.concatenate(ys) if ys else np.empty(0)
+
+
+def _holding(ticks: list[float], values: Any) -> dict[str, Any]:
+    """A range holding the labels around the data when some lie outside it (one value, or
+    values between two 1-2-5 labels: Plotly's own range showed none of them)."""
+    v = np.asarray(values, dtype=float).ravel()
+    v = v[np.isfinite(v) & (v > 0)]
+    if min(ticks) >= v.min() and max(ticks) <= v.max():
+        return {}
+    pad = 0.05  # decades beyond the outer labels
+    return {"range": [math.log10(min(ticks)) - pad, math.log10(max(ticks)) + pad]}
 
 
 def _short_log_ticks(values: Any) -> list[float]:
@@ -188,7 +200,7 @@ def _short_log_ticks(values: Any) -> list[float]:
         return inside
     below = [t for t in ticks if t < lo][-1:]
     above = [t for t in ticks if t > hi][:1]
-    return [float(f"{t:.12g}") for t in below + inside + above]
+    return sorted({float(f"{t:.12g}") for t in below + inside + above})
 
 
 def _n_points(trace: Any) -> int:

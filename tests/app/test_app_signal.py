@@ -241,7 +241,7 @@ def test_times_with_gaps_are_drawn_against_real_time():
     at.file_uploader(key="upload").set_value(("gaps.csv", body.encode(), "text/csv")).run()
     assert not at.exception, [e.value for e in at.exception]
     duration = next(m.value for m in at.metric if m.label == "Duration")
-    assert duration == "19,999 s"  # the time column, not samples x T (17,689 s)
+    assert duration == "5.555 h"  # the time column (19,999 s), not samples x T (17,689 s)
     lo, hi = _chart_x_range(at)
     assert lo == 0.0 and hi == 19_999.0
     assert any("gaps.csv" in c.value for c in at.sidebar.caption)

@@ -53,3 +53,16 @@ def test_the_channels_figure_labels_its_log_axis_by_decades_or_1_2_5():
     axis = fig.layout.yaxis
     assert axis.dtick == 1 or len(axis.tickvals) >= 2
     assert axis.exponentformat == "power"
+
+
+def test_labels_outside_a_narrow_range_are_brought_into_view():
+    """One channel's noise std with its interval (0.00158-0.00183, an ISMN soil-moisture
+    station) drew a log axis with no label: the 1-2-5 values around it lay outside
+    Plotly's own range (seen in a browser screenshot of the Signal page)."""
+    import math
+
+    axis = log_axis("noise std", [0.0017, 0.00158, 0.00183])
+    lo, hi = axis["range"]
+    shown = [t for t in axis["tickvals"] if lo <= math.log10(t) <= hi]
+    assert len(shown) >= 2 and len(set(axis["tickvals"])) == len(axis["tickvals"])
+    assert "range" not in log_axis("ratio", [0.03, 0.05, 0.2])  # labels inside the data
