@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 import plotly.graph_objects as go
 
-from noisevar.figures._common import COLORS, PALETTE, layout, log_axis
+from noisevar.figures._common import COLORS, PALETTE, layout, log_axis, traces_y
 from noisevar.noise_model.allan import AllanResult
 from noisevar.noise_model.datasheet import DatasheetTerms
 from noisevar.noise_model.inertial import TERMS, InertialNoise
@@ -142,7 +142,7 @@ def allan_figure(
             title,
             height,
             xaxis=log_axis("τ (s)", result.taus),
-            yaxis=log_axis(y_title, np.r_[result.deviation, *result.interval]),
+            yaxis=log_axis(y_title, traces_y(traces)),  # guides and terms drawn too
         ),
     )
 
