@@ -24,6 +24,7 @@ from noisevar.diagnostics.quantisation import half_a_step, joined_step, second_d
 from noisevar.diagnostics.regimes import HELD, STILL, QuietLevel
 from noisevar.errors import NoisevarError
 from noisevar.estimators.results import VarianceEstimate
+from noisevar.estimators.still_edge import phase_stable
 from noisevar.estimators.still_extent import to_the_sample
 from noisevar.estimators.still_grids import (
     at_the_ends,
@@ -79,13 +80,14 @@ def still_estimate(
     estimate_in = getattr(record, "estimate_in", None)
     if estimate_in is None:
         return [], None
-    ranges = diag.level_profile.still_stretches
+    ranges = pieces = diag.level_profile.still_stretches
     back = back_of(record, diag) if both else None
     grids = getattr(record, "still_ranges", None) if both else None
-    if ranges and back is not None:
-        ranges = on_both_grids(ranges, back(diag).still_stretches, diag.n)
+    if ranges and back is not None:  # the fallbacks below start from the pieces on both grids
+        pieces = on_both_grids(ranges, back(diag).still_stretches, diag.n)
+        ranges = phase_stable(pieces, diag.level_profile, back(diag), _reader(record), diag.n)
     elif ranges and grids is not None:
-        ranges = grids(diag)
+        ranges = pieces = grids(diag)
     kept = {k: v for k, v in params.items() if k != "method"}
     est = _measured(estimate_in, kept, ranges)
     if est is not None and back is not None and ranges:  # the extent known to a block
@@ -94,7 +96,6 @@ def still_estimate(
         for other in (either, shrunk(ranges, prof)):
             if other and other != ranges and may_leave(est, prof, ranges, other):
                 est = over_either_grid(est, _measured(estimate_in, kept, other))
-    pieces = ranges
     if est is None and both:  # the quiet blocks in pieces: the still regimes themselves
         ranges = still_regime_ranges(diag, None if back is None else back(diag))
         est = _measured(estimate_in, kept, ranges)
@@ -105,12 +106,12 @@ def still_estimate(
     if est is None and back is not None and pieces:  # whole on either grid, still on both
         grown = grown_to_either(pieces, diag.level_profile, back(diag), diag.n)
         est = _measured(estimate_in, kept, grown) if grown != pieces else None
-        est = None if est is None or _held_values(record, est, grown) else est
+        est = None if est is None or held_digits(record, diag, est, grown) is not None else est
         ranges = grown if est is not None else ranges
     if est is None and back is not None and pieces:  # a short rest: its ends to the sample
         rest = to_the_sample(pieces, diag.level_profile, back(diag), _reader(record), diag.n)
         est = _measured(estimate_in, kept, rest)
-        est = None if est is None or _held_values(record, est, rest) else est
+        est = None if est is None or held_digits(record, diag, est, rest) is not None else est
         ranges = rest if est is not None else ranges
     if est is None:
         return ranges, None
