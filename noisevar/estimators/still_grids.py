@@ -106,6 +106,30 @@ def grown_to_either(
     return [(a, b) for a, b in either if any(a <= c and d <= b for c, d in ranges)]
 
 
+def long_on_every_phase(
+    ranges: list[tuple[int, int]], prof: LevelProfile
+) -> list[tuple[int, int]]:
+    """The stretches still on both block grids that no phase of the record's grid cuts
+    under :data:`STILL_MIN`: those of at least :data:`STILL_MIN` samples and one profile
+    block.
+
+    Notes
+    -----
+    docs/algorithms.md §E1 (*A still stretch at the minimum length*). The record's grid
+    finds one whole block more or less of a rest as its phase moves with dropped leading
+    samples, so a stretch of 64-95 samples (blocks of 32) on one phase is under 64 on the
+    next, where the still R was read on other stretches (the still regimes, the grid
+    aligned with the record's end, the grids' union, the rest to the sample) or not at
+    all: real_audit20's cgm5 read a 64-sample stretch, 0.487, and none with 1-3 samples
+    dropped. Such a stretch is read as those others on every phase; a longer one keeps a
+    block to spare.
+    """
+    if not prof.start.size:
+        return ranges
+    spare = STILL_MIN + int(prof.stop[0] - prof.start[0])
+    return [(a, b) for a, b in ranges if b - a >= spare]
+
+
 def shrunk(ranges: list[tuple[int, int]], prof: LevelProfile) -> list[tuple[int, int]]:
     """``ranges`` each less one profile block at an end inside the profile (pieces of at
     least :data:`STILL_MIN` samples): where they are still, whichever grid ends them."""

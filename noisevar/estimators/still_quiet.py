@@ -24,11 +24,11 @@ from noisevar.diagnostics.quantisation import half_a_step, joined_step, second_d
 from noisevar.diagnostics.regimes import HELD, STILL, QuietLevel
 from noisevar.errors import NoisevarError
 from noisevar.estimators.results import VarianceEstimate
-from noisevar.estimators.still_edge import phase_stable
 from noisevar.estimators.still_extent import to_the_sample
 from noisevar.estimators.still_grids import (
     at_the_ends,
     grown_to_either,
+    long_on_every_phase,
     may_leave,
     over_either_grid,
     shrunk,
@@ -85,7 +85,7 @@ def still_estimate(
     grids = getattr(record, "still_ranges", None) if both else None
     if ranges and back is not None:  # the fallbacks below start from the pieces on both grids
         pieces = on_both_grids(ranges, back(diag).still_stretches, diag.n)
-        ranges = phase_stable(pieces, diag.level_profile, back(diag), _reader(record), diag.n)
+        ranges = long_on_every_phase(pieces, diag.level_profile)
     elif ranges and grids is not None:
         ranges = pieces = grids(diag)
     kept = {k: v for k, v in params.items() if k != "method"}
