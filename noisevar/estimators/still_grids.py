@@ -109,9 +109,9 @@ def grown_to_either(
 def long_on_every_phase(
     ranges: list[tuple[int, int]], prof: LevelProfile
 ) -> list[tuple[int, int]]:
-    """The stretches still on both block grids that no phase of the record's grid cuts
-    under :data:`STILL_MIN`: those of at least :data:`STILL_MIN` samples and one profile
-    block.
+    """The stretches still on both block grids when one of them is long enough for R's
+    method on every phase of the record's grid (at least :data:`STILL_MIN` samples and one
+    profile block), else none.
 
     Notes
     -----
@@ -121,13 +121,18 @@ def long_on_every_phase(
     next, where the still R was read on other stretches (the still regimes, the grid
     aligned with the record's end, the grids' union, the rest to the sample) or not at
     all: real_audit20's cgm5 read a 64-sample stretch, 0.487, and none with 1-3 samples
-    dropped. Such a stretch is read as those others on every phase; a longer one keeps a
-    block to spare.
+    dropped. Where every stretch is that short they are read as those others on every
+    phase; where one is longer the still R stands on every phase, and the shorter ones
+    join it where they are 64 samples (they move it within its interval, not whether there
+    is one). Where a block holds :data:`STILL_MIN` samples (records over 12,800 samples)
+    a stretch one grid finds still meets the minimum on its own, and the minimum is not
+    what moves with the phase: those stretches are read as they are (the long gaitmap
+    walk's 500-sample blocks: read through the fallbacks, its acc_z still R read 1.5x).
     """
-    if not prof.start.size:
+    block = int(prof.stop[0] - prof.start[0]) if prof.start.size else STILL_MIN
+    if block >= STILL_MIN:  # one block is long enough: the minimum is not counted in blocks
         return ranges
-    spare = STILL_MIN + int(prof.stop[0] - prof.start[0])
-    return [(a, b) for a, b in ranges if b - a >= spare]
+    return ranges if any(b - a >= STILL_MIN + block for a, b in ranges) else []
 
 
 def shrunk(ranges: list[tuple[int, int]], prof: LevelProfile) -> list[tuple[int, int]]:
