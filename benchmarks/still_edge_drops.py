@@ -65,26 +65,35 @@ def record_of(seed: int) -> tuple[np.ndarray, int, int]:
     return rest_in_motion(seed, n, at, length), at, length
 
 
-def read(z: np.ndarray) -> dict[str, tuple[bool, bool]]:
-    """Per transform: (comes and goes, moves outside the record's ci95); ``"record"``:
-    (has an R to use, False)."""
-    base = to_use(noisevar.estimate(z))
-    out = {"record": (base is not None, False)}
+def read(z: np.ndarray) -> dict[str, tuple[bool, bool, bool]]:
+    """Per transform: (comes and goes, moves outside the record's ci95, the regimes moved:
+    one of the two reads the record as one level or its R to use is R itself, so PELT's
+    split or the floor, not the still stretches, decided); ``"record"``: (has an R to use,
+    False, False)."""
+    est = noisevar.estimate(z)
+    base = to_use(est)
+    out = {"record": (base is not None, False, False)}
     for name, f in TRANSFORMS.items():
-        u = to_use(noisevar.estimate(f(z)))
+        again = noisevar.estimate(f(z))
+        u = to_use(again)
+        regimes = any(
+            not e.diagnostics.level_varies or (e.still is None and to_use(e) is not None)
+            for e in (est, again)
+        )
         if base is None or u is None:
-            out[name] = ((base is None) != (u is None), False)
+            out[name] = ((base is None) != (u is None), False, regimes)
         else:
-            out[name] = (False, not base.ci95[0] <= u.variance <= base.ci95[1])
+            out[name] = (False, not base.ci95[0] <= u.variance <= base.ci95[1], regimes)
     return out
 
 
 def run(records: int, seed: int) -> dict[str, dict[str, int]]:
     """Counts per family: records with an R to use, records where it comes and goes or
-    moves under any transform, and transforms where it does (of 4 per record)."""
+    moves under any transform, transforms where it does (of 4 per record), and of those
+    the transforms where the regimes moved (:func:`read`)."""
     res = {}
     for fam, write in FAMILIES.items():
-        c = {"found": 0, "comes_goes": 0, "moves": 0, "events_cg": 0, "events_mv": 0}
+        c = {"found": 0, "comes_goes": 0, "moves": 0, "events_cg": 0, "events_mv": 0, "regimes": 0}
         for i in range(records):
             z, _, _ = record_of(seed * 1000 + i)
             r = read(write(z))
@@ -95,6 +104,7 @@ def run(records: int, seed: int) -> dict[str, dict[str, int]]:
             c["moves"] += any(mv)
             c["events_cg"] += sum(cg)
             c["events_mv"] += sum(mv)
+            c["regimes"] += sum((r[k][0] or r[k][1]) and r[k][2] for k in TRANSFORMS)
         res[fam] = c
     return res
 
@@ -119,11 +129,13 @@ def main() -> None:
         "reversed and with 1-3 leading samples dropped (4 transforms a record).",
         "",
         "| family | records with an R to use | R to use comes and goes (records; transforms) "
-        "| moves outside the record's ci95 (records; transforms) |",
-        "|---|---|---|---|",
+        "| moves outside the record's ci95 (records; transforms) | of those transforms, the "
+        "regimes moved (one level on one side, or R itself the R to use) |",
+        "|---|---|---|---|---|",
         *(
             f"| {k} | {c['found']} of {n} | {c['comes_goes']} of {n}; {c['events_cg']} of "
-            f"{4 * n} | {c['moves']} of {n}; {c['events_mv']} of {4 * n} |"
+            f"{4 * n} | {c['moves']} of {n}; {c['events_mv']} of {4 * n} | "
+            f"{c['regimes']} of {c['events_cg'] + c['events_mv']} |"
             for k, c in res.items()
         ),
         "",

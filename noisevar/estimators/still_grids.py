@@ -106,9 +106,7 @@ def grown_to_either(
     return [(a, b) for a, b in either if any(a <= c and d <= b for c, d in ranges)]
 
 
-def long_on_every_phase(
-    ranges: list[tuple[int, int]], prof: LevelProfile
-) -> list[tuple[int, int]]:
+def long_on_every_phase(ranges: list[tuple[int, int]], prof: LevelProfile) -> list[tuple[int, int]]:
     """The stretches still on both block grids when one of them is long enough for R's
     method on every phase of the record's grid (at least :data:`STILL_MIN` samples and one
     profile block), else none.
