@@ -113,7 +113,8 @@ def _own_level_runs(
         if found == runs or not found:
             return found
         runs = found
-        own = float(np.mean(np.concatenate([e2[c - h : e - h] for c, e in runs])))
+        inner = [e2[c - h + w // 2 : e - h - w // 2] for c, e in runs]  # away from their ends
+        own = float(np.mean(np.concatenate(inner))) if sum(x.size for x in inner) else level
         level = min(max(own, low), high)
     return runs
 

@@ -106,12 +106,12 @@ def still_estimate(
     if est is None and back is not None and pieces:  # whole on either grid, still on both
         grown = grown_to_either(pieces, diag.level_profile, back(diag), diag.n)
         est = _measured(estimate_in, kept, grown) if grown != pieces else None
-        est = None if est is None or held_digits(record, diag, est, grown) is not None else est
+        est = None if est is None or _held_values(record, est, grown) else est
         ranges = grown if est is not None else ranges
     if est is None and back is not None and pieces:  # a short rest: its ends to the sample
         rest = to_the_sample(pieces, diag.level_profile, back(diag), _reader(record), diag.n)
         est = _measured(estimate_in, kept, rest)
-        est = None if est is None or held_digits(record, diag, est, rest) is not None else est
+        est = None if est is None or _held_values(record, est, rest) else est
         ranges = rest if est is not None else ranges
     if est is None:
         return ranges, None

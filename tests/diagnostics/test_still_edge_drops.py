@@ -15,7 +15,6 @@ samples on one phase and 37 with 2 dropped, the grids' one-block quiet level mov
 
 from __future__ import annotations
 
-import numpy as np
 import pytest
 
 import noisevar
