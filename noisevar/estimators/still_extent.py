@@ -89,17 +89,18 @@ def _own_level_runs(
     piece: tuple[int, int],
 ) -> list[tuple[int, int]]:
     """The runs of ``x`` under ``factor`` times a level that hold ``piece`` (``x``'s own
-    indices): the level first ``level`` (on ``dof``), then the runs' own mean square (as
-    the grids' quiet level is their quiet blocks' pooled mean square) within ``level``'s
-    95 % interval, in rounds until the runs no longer change.
+    indices): the level first ``level`` (on ``dof``), then the runs' own mean square half
+    a window in from their ends (as the grids' quiet level is their quiet blocks' pooled
+    mean square) within ``level``'s 95 % interval, in rounds until the runs no longer
+    change.
 
     The grids' quiet level, one block or two of a short rest, moves with the grid's phase
-    and the runs' ends with it (a 71-sample rest read 64 samples, then 37 with 2 dropped);
-    the runs' own level is the samples', which no phase moves, and where the grids' levels
-    on two phases agree within their intervals both settle on it (docs/algorithms.md §E1
-    *A still stretch at the minimum length*). Its interval keeps the runs from growing
-    into the motion beside them round by round (a GPS altitude's 96-sample run grew to
-    160 samples at 32x its level).
+    and the runs' ends with it (a 71-sample rest read 64 samples at 0.0118 and none of 64
+    at 0.0114, with 2 dropped); the runs' own level is the samples', which no phase moves,
+    and where the grids' levels on two phases agree within their intervals both settle on
+    it (docs/algorithms.md §E1 *A still stretch at the minimum length*). Read at their
+    ends too it rose round by round into slow motion beside them (MIDC UAT's accumulated
+    energy: a run of 140 samples grew to 152 and read 32x), hence half a window in.
     """
     h = d.size // 2
     if x.size < w + 2 * h:
@@ -114,7 +115,7 @@ def _own_level_runs(
             return found
         runs = found
         inner = [e2[c - h + w // 2 : e - h - w // 2] for c, e in runs]  # away from their ends
-        own = float(np.mean(np.concatenate(inner))) if sum(x.size for x in inner) else level
+        own = float(np.mean(np.concatenate(inner))) if sum(r.size for r in inner) else level
         level = min(max(own, low), high)
     return runs
 
