@@ -85,7 +85,7 @@ def still_estimate(
     grids = getattr(record, "still_ranges", None) if both else None
     if ranges and back is not None:  # the fallbacks below start from the pieces on both grids
         pieces = on_both_grids(ranges, back(diag).still_stretches, diag.n)
-        ranges = long_on_every_phase(pieces, diag.level_profile)
+        ranges = long_on_every_phase(pieces, diag.level_profile, back(diag), diag.n)
     elif ranges and grids is not None:
         ranges = pieces = grids(diag)
     kept = {k: v for k, v in params.items() if k != "method"}
