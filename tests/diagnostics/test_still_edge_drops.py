@@ -15,6 +15,7 @@ samples on one phase and 37 with 2 dropped, the grids' one-block quiet level mov
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 import noisevar
@@ -32,9 +33,13 @@ def _to_use(est):
 RESTS = [(138, 678, 257, 70), (23017, 467, 290, 71)]
 
 
-@pytest.mark.parametrize(("seed", "n", "at", "length"), RESTS)
-def test_a_rest_at_the_minimum_length_keeps_its_r_to_use(seed, n, at, length):
+@pytest.mark.parametrize(
+    ("seed", "n", "at", "length", "step"),  # as drawn, and the first on a grid of 1.5σ
+    [(*r, None) for r in RESTS] + [(*RESTS[0], 0.15)],
+)
+def test_a_rest_at_the_minimum_length_keeps_its_r_to_use(seed, n, at, length, step):
     z = rest_in_motion(seed, n, at, length)
+    z = z if step is None else np.round(z / step) * step
     base = _to_use(noisevar.estimate(z))
     assert base is not None and base is not noisevar.estimate(z)  # the rest's own R
     lo, hi = base.ci95
