@@ -5,10 +5,11 @@ The stretches still on both block grids are whole blocks of the record's grid, w
 moves with dropped leading samples: a 70-sample rest was 64 samples still on both grids on
 the record's phase, read there (0.0056), and under 64 with 1-3 samples dropped, where the
 rest read to the sample had no piece of 64 either: the R to use came and went (real_audit20's
-cgm5: 0.487 -> none). A rest whose stretches are all under the minimum plus a block is now
-read by the fallbacks on every phase, and the rest to the sample settles on its own level
-within the grids' quiet level's interval, which no phase moves (a 71-sample rest read 64
-samples on one phase and 37 with 2 dropped, the grids' one-block quiet level moving 15 %)
+cgm5: 0.487 -> none). Unless a stretch lies in a still stretch of each grid with a block to
+spare, the fallbacks now read the rest on every phase, and the rest to the sample settles on
+its own level within the grids' quiet level's interval, which no phase moves (a 71-sample
+rest read 64 samples on one phase and none of 64 with 2 dropped, the grids' quiet level
+0.0118, then 0.0114)
 (docs/algorithms.md §E1 *A still stretch at the minimum length*;
 ``python benchmarks/still_edge_drops.py``).
 """
