@@ -106,6 +106,54 @@ def grown_to_either(
     return [(a, b) for a, b in either if any(a <= c and d <= b for c, d in ranges)]
 
 
+def long_on_every_phase(
+    ranges: list[tuple[int, int]], prof: LevelProfile, back: LevelProfile, n: int
+) -> list[tuple[int, int]]:
+    """The stretches still on both block grids when one of them stays at least
+    :data:`STILL_MIN` samples on every phase of the grids, else none.
+
+    Parameters
+    ----------
+    ranges : list of (int, int)
+        The stretches still on both grids (:func:`~noisevar.diagnostics.profile.on_both_grids`).
+    prof, back : LevelProfile
+        The record's profile and the reversed record's (its own sample indices).
+    n : int
+        Samples in the record.
+
+    Returns
+    -------
+    list of (int, int)
+        ``ranges`` when one of them lies in a still stretch of each grid with a block to
+        spare (at least :data:`STILL_MIN` samples and one profile block), or when a block
+        alone holds :data:`STILL_MIN` samples; else none: the still R is then read by the
+        fallbacks (the still regimes, the end's own grid, the grids' union, the rest to the
+        sample) on every phase.
+
+    Notes
+    -----
+    docs/algorithms.md §E1 (*A still stretch at the minimum length*). A grid finds one
+    whole block more or less of a rest as its phase moves (the record's with dropped
+    leading samples, the two swapped by a reversal), so a still stretch of exactly two
+    blocks of 32 on one phase is one block, under 64, on the next, where the still R was
+    read by the fallbacks or not at all: real_audit20's cgm5 read a 64-sample stretch,
+    0.487, and none with 1-3 samples dropped. A stretch each grid finds with a block to
+    spare stays 64 samples on every phase (cgm5 Subject 4: 96 on both grids, read 89-92
+    samples on both at every phase, its still R 0.29-0.33).
+    """
+    block = int(prof.stop[0] - prof.start[0]) if prof.start.size else STILL_MIN
+    if block >= STILL_MIN:  # one block is long enough: the minimum is not counted in blocks
+        return ranges
+    spare = STILL_MIN + block
+    own = [(a, b) for a, b in prof.still_stretches if b - a >= spare]
+    rev = [(n - b, n - a) for a, b in back.still_stretches if b - a >= spare]
+    kept = any(
+        any(a <= c and d <= b for a, b in own) and any(a <= c and d <= b for a, b in rev)
+        for c, d in ranges
+    )
+    return ranges if kept else []
+
+
 def shrunk(ranges: list[tuple[int, int]], prof: LevelProfile) -> list[tuple[int, int]]:
     """``ranges`` each less one profile block at an end inside the profile (pieces of at
     least :data:`STILL_MIN` samples): where they are still, whichever grid ends them."""

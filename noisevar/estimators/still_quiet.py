@@ -28,6 +28,7 @@ from noisevar.estimators.still_extent import to_the_sample
 from noisevar.estimators.still_grids import (
     at_the_ends,
     grown_to_either,
+    long_on_every_phase,
     may_leave,
     over_either_grid,
     shrunk,
@@ -79,13 +80,14 @@ def still_estimate(
     estimate_in = getattr(record, "estimate_in", None)
     if estimate_in is None:
         return [], None
-    ranges = diag.level_profile.still_stretches
+    ranges = pieces = diag.level_profile.still_stretches
     back = back_of(record, diag) if both else None
     grids = getattr(record, "still_ranges", None) if both else None
-    if ranges and back is not None:
-        ranges = on_both_grids(ranges, back(diag).still_stretches, diag.n)
+    if ranges and back is not None:  # the fallbacks below start from the pieces on both grids
+        pieces = on_both_grids(ranges, back(diag).still_stretches, diag.n)
+        ranges = long_on_every_phase(pieces, diag.level_profile, back(diag), diag.n)
     elif ranges and grids is not None:
-        ranges = grids(diag)
+        ranges = pieces = grids(diag)
     kept = {k: v for k, v in params.items() if k != "method"}
     est = _measured(estimate_in, kept, ranges)
     if est is not None and back is not None and ranges:  # the extent known to a block
@@ -94,7 +96,6 @@ def still_estimate(
         for other in (either, shrunk(ranges, prof)):
             if other and other != ranges and may_leave(est, prof, ranges, other):
                 est = over_either_grid(est, _measured(estimate_in, kept, other))
-    pieces = ranges
     if est is None and both:  # the quiet blocks in pieces: the still regimes themselves
         ranges = still_regime_ranges(diag, None if back is None else back(diag))
         est = _measured(estimate_in, kept, ranges)
