@@ -16,7 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import stats
 
-from noisevar.noise_model.inertial_misfit import MISFIT_EDF
+from noisevar.noise_model.inertial_misfit import MISFIT_EDF, misfit_warnings
 
 #: The start of the note of the terms a record does not resolve.
 UNRESOLVED = "not resolved"
@@ -149,6 +149,13 @@ def resolution_warnings(sensors: Mapping[str, Sequence[Any]]) -> list[str]:
         for note in fit.notes
         if note.startswith(UNRESOLVED)
     ]
+
+
+def axis_warnings(sensors: Mapping[str, Sequence[Any]]) -> list[str]:
+    """What a filter's file says first of the axes it is written from: the axes whose terms
+    describe nothing (:func:`~noisevar.noise_model.inertial_misfit.misfit_warnings`), then
+    the terms a record does not resolve (:func:`resolution_warnings`)."""
+    return misfit_warnings(sensors) + resolution_warnings(sensors)
 
 
 def left_out_note(coef: NDArray, ivals: NDArray, symbols: Sequence[str]) -> list[str]:

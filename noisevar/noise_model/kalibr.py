@@ -20,8 +20,7 @@ from noisevar.errors import NoisevarError
 from noisevar.estimators.regimes import DEFAULT_REGIMES, check_regimes
 from noisevar.noise_model.gmwm.model import HORIZON
 from noisevar.noise_model.inertial import InertialNoise
-from noisevar.noise_model.inertial_misfit import misfit_warnings
-from noisevar.noise_model.inertial_resolve import resolution_warnings
+from noisevar.noise_model.inertial_resolve import axis_warnings
 from noisevar.noise_model.inertial_white import why_below_white
 
 if TYPE_CHECKING:
@@ -298,8 +297,7 @@ def kalibr_imu(
         update_rate=rate,
         rostopic=rostopic,
         notes=tuple(
-            misfit_warnings({"gyroscope": _axes(gyro), "accelerometer": _axes(accel)})
-            + resolution_warnings({"gyroscope": _axes(gyro), "accelerometer": _axes(accel)})
+            axis_warnings({"gyroscope": _axes(gyro), "accelerometer": _axes(accel)})
             + rate_notes
             + regime_notes
             + accel_notes

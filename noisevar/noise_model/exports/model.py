@@ -28,8 +28,7 @@ from noisevar.errors import NoisevarError
 from noisevar.estimators.regimes import DEFAULT_REGIMES, StillStretch
 from noisevar.noise_model.gmwm.model import ImuModel as CompositeModel
 from noisevar.noise_model.inertial import InertialNoise
-from noisevar.noise_model.inertial_misfit import misfit_warnings
-from noisevar.noise_model.inertial_resolve import resolution_warnings
+from noisevar.noise_model.inertial_resolve import axis_warnings
 from noisevar.noise_model.inertial_white import why_below_white
 from noisevar.noise_model.kalibr import composite_k, composite_k_note, imu_rate, k_rule
 from noisevar.noise_model.overbound import NK, overbound
@@ -299,7 +298,7 @@ def imu_model(
     g, a = _axes(gyro, "gyroscope"), _axes(accel, "accelerometer")
     rate, notes = imu_rate(g, a)
     sensors = {"gyroscope": g, "accelerometer": a}
-    notes = misfit_warnings(sensors) + resolution_warnings(sensors) + notes
+    notes = axis_warnings(sensors) + notes
     regimes = {x.regimes for x in g + a}
     if len(regimes) != 1:
         raise NoisevarError("the axes were fitted on different regimes: fit them all alike")
