@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 
 from noisevar.errors import NoisevarError
 from noisevar.io.limits import echo
+from noisevar.io.time_option import TIME_UNIT
 from noisevar.params import ParamSpec
 
 if TYPE_CHECKING:
@@ -109,3 +110,13 @@ def checked_series(series: str | None) -> str | None:
     if series is None or not str(series).strip():
         return None
     return SERIES.validate(str(series))
+
+
+#: How a file was read, kept in a config (for the commands that read it again: not
+#: estimator parameters) and in batch's resume key: the time unit stated and the series picked.
+READING = {TIME_UNIT.name: TIME_UNIT, SERIES.name: SERIES}
+
+
+def how_read(time_unit: str | None, series: str | None) -> dict[str, str]:
+    """The :data:`READING` keys given (not empty), as a config carries them."""
+    return {k: v for k, v in zip(READING, (time_unit, series), strict=True) if v}
