@@ -29,7 +29,7 @@ MAX_LABELS = 200
 #: Labels a refusal of an unknown label lists.
 LISTED = 10
 #: The Signal page's control that picks the series (under its uploader).
-SERIES_CONTROL = "the series picker"
+SERIES_CONTROL = "Series to read"
 
 
 def check_series(text: str) -> str:
