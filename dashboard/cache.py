@@ -88,11 +88,16 @@ def sample_descriptions(sample_dir: str) -> dict[str, str]:
 
 @cached
 def load_bytes_cached(
-    digest: str, name: str, _raw: bytes, topic: str | None = None, time_unit: str | None = None
+    digest: str,
+    name: str,
+    _raw: bytes,
+    topic: str | None = None,
+    time_unit: str | None = None,
+    series: str | None = None,
 ) -> LoadedTable:
     """:func:`noisevar.io.load_table` of file bytes (a log's ``topic``, times in
-    ``time_unit``), cached by their content hash."""
-    return load_table(_raw, name, topic=topic, time_unit=time_unit)
+    ``time_unit``, the rows of one ``series``), cached by their content hash."""
+    return load_table(_raw, name, topic=topic, time_unit=time_unit, series=series)
 
 
 @cached

@@ -59,6 +59,7 @@ def load_bytes(
     topic: str | None = None,
     also: Sequence[str] = (),
     time_unit: str | None = None,
+    series: str | None = None,
 ) -> LoadedSignal:
     """Load file bytes as the new signal (raises NoisevarError; the old signal stays then).
 
@@ -80,6 +81,8 @@ def load_bytes(
         Noise model page's gyroscope and accelerometer columns, each at its topic's rate).
     time_unit : str, optional
         The unit of the file's times where it states none (:func:`noisevar.io.load_table`).
+    series : str, optional
+        The series to read of a file that stacks several (:func:`noisevar.io.load_table`).
 
     Returns
     -------
@@ -92,13 +95,13 @@ def load_bytes(
             "limit: give a shorter record (or raise server.maxUploadSize)"
         )
     digest = content_digest(raw)
-    table = cache.load_bytes_cached(digest, name, raw, topic, time_unit or None)
+    table = cache.load_bytes_cached(digest, name, raw, topic, time_unit or None, series or None)
     if drop_nonfinite:
         table = drop_nonfinite_rows(table)
     recipe = f"sample:{name}" if source == "sample" else None
     sig = make_signal(table, None, table.sample_period, source, recipe)
     sig.log_params = cache.log_params_cached(digest, name, raw)  # the filter files' EKF step
-    sig.time_unit = time_unit or None  # the exported configs carry it
+    sig.time_unit, sig.series = time_unit or None, series or None  # the configs carry them
     chosen = list(dict.fromkeys([topic, *also])) if topic and also else []
     if len(chosen) > 1:
         tables = {t: cache.load_bytes_cached(digest, name, raw, t) for t in chosen}

@@ -87,6 +87,9 @@ class LoadedSignal:
     time_unit : str or None
         The unit the user stated for the file's times (the Signal page's control,
         ``--time-unit``); the exported configs carry it.
+    series : str or None
+        The series read of a file that stacks several (the Signal page's picker,
+        ``--series``); the exported configs carry it.
     """
 
     table: LoadedTable
@@ -107,6 +110,7 @@ class LoadedSignal:
     log_params: dict[str, float] = field(default_factory=dict)
     times: np.ndarray | None = None
     time_unit: str | None = None
+    series: str | None = None
 
     @property
     def n(self) -> int:
@@ -267,7 +271,7 @@ def reselect(sig: LoadedSignal, column: str, sample_period: float | None) -> Loa
         true_variance=sig.true_variance,
     )
     new.topics, new.topics_key = sig.topics, sig.topics_key  # the log's other topics stay
-    new.log_params, new.time_unit = sig.log_params, sig.time_unit
+    new.log_params, new.time_unit, new.series = sig.log_params, sig.time_unit, sig.series
     set_signal(new)
     return new
 

@@ -25,7 +25,7 @@ from types import ModuleType
 from typing import TYPE_CHECKING, Any
 
 from noisevar._lazy import lazy_names
-from noisevar.errors import EmptyCells, NoisevarError, NoWindowKept
+from noisevar.errors import EmptyCells, NoisevarError, NoWindowKept, StackedSeries
 
 if TYPE_CHECKING:
     from noisevar.batch import batch
@@ -58,6 +58,7 @@ __all__ = [
     "KalmanTuning",
     "NoWindowKept",
     "EmptyCells",
+    "StackedSeries",
     "NoisevarError",
     "RedundantEstimate",
     "VarianceEstimate",

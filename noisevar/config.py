@@ -35,8 +35,8 @@ import numpy as np
 from noisevar.errors import NoisevarError
 from noisevar.estimators import METHODS, methods
 from noisevar.estimators.params import PARAMS
+from noisevar.io.series_option import READING, how_read
 from noisevar.io.table import echo
-from noisevar.io.time_option import TIME_UNIT
 from noisevar.params import ParamSpec
 
 
@@ -144,9 +144,9 @@ def validate_config(config: Mapping[str, Any]) -> dict[str, Any]:
     -------
     dict
         ``{"method": ..., <params in sorted order>}`` with JSON-ready values;
-        ``None`` values are dropped (they mean "the method's default"); ``time_unit`` (the
-        unit the file's times were read in, :data:`~noisevar.io.time_option.TIME_UNIT`) is
-        kept for the commands that read the file.
+        ``None`` values are dropped (they mean "the method's default"); ``time_unit`` and
+        ``series`` (how the file was read, :data:`READING`) are kept for the commands that
+        read the file.
 
     Raises
     ------
@@ -184,9 +184,9 @@ def validate_config(config: Mapping[str, Any]) -> dict[str, Any]:
         if key == RECORD_KEY:  # the record's answer, for the reader: checked, not applied
             record_value(value)
             continue
-        if key == TIME_UNIT.name:  # how the file's times were read (the Signal page's unit)
+        if key in READING:  # how the file was read (the Signal page's unit, its series)
             if value is not None:
-                out[key] = TIME_UNIT.validate(value)
+                out[key] = READING[key].validate(value)
             continue
         if key == "kalman":  # a tuned filter's Q and R (noisevar.noise_model.export)
             from noisevar.noise_model.export import check_kalman_config
@@ -212,17 +212,16 @@ def _filter_config(config: Mapping[str, Any]) -> dict[str, Any]:
     """A tuned filter's config (no estimator ``method``): its ``kalman`` entry and column."""
     from noisevar.noise_model.export import check_kalman_config
 
-    extra = sorted(set(config) - {"kalman", RECORD_KEY, TIME_UNIT.name, *CHANNEL_KEYS})
+    extra = sorted(set(config) - {"kalman", RECORD_KEY, *READING, *CHANNEL_KEYS})
     if extra:
         raise NoisevarError(
             f"config key {echo(repr(extra[0]))} does not belong in a tuned filter's config "
-            "(kalman, column, time_unit and record only)"
+            f"(kalman, column, {', '.join(READING)} and record only)"
         )
     if RECORD_KEY in config:
         record_value(config[RECORD_KEY])
     out: dict[str, Any] = {k: _channel_value(k, config[k]) for k in CHANNEL_KEYS if k in config}
-    if config.get(TIME_UNIT.name):
-        out[TIME_UNIT.name] = TIME_UNIT.validate(config[TIME_UNIT.name])
+    out.update({k: spec.validate(config[k]) for k, spec in READING.items() if config.get(k)})
     out["kalman"] = check_kalman_config(config["kalman"])
     return out
 
@@ -248,6 +247,7 @@ def filter_config_json(
     unit: str = "",
     record: Mapping[str, str] | None = None,
     time_unit: str | None = None,
+    series: str | None = None,
 ) -> str:
     """A tuned filter's config file, as the Noise model page downloads it and ``--save-config``
     writes it (``noisevar fit FILE --config`` reads it).
@@ -266,6 +266,8 @@ def filter_config_json(
     time_unit : str, optional
         The unit the file's times were read in (``--time-unit``), applied when the file is
         read again (``noisevar fit FILE --config``).
+    series : str, optional
+        The series read of a file that stacks several (``--series``), read again so.
 
     Returns
     -------
@@ -274,7 +276,7 @@ def filter_config_json(
     """
     from noisevar.noise_model.export import to_config
 
-    told = {TIME_UNIT.name: time_unit} if time_unit else {}
+    told = how_read(time_unit, series)
     config = validate_config({**to_config(tuning, column=column, unit=unit), **told})
     if record:
         config[RECORD_KEY] = record_value(record)
@@ -313,6 +315,7 @@ def config_to_json(
     column: str | None = None,
     record: Mapping[str, str] | None = None,
     time_unit: str | None = None,
+    series: str | None = None,
 ) -> str:
     """Serialise a config (validated first) as indented JSON text.
 
@@ -328,12 +331,15 @@ def config_to_json(
     time_unit : str, optional
         The unit the file's times were read in (the Signal page's control), applied when
         the file is read again (``noisevar estimate FILE --config``).
+    series : str, optional
+        The series read of a file that stacks several (the Signal page's picker), read
+        again so.
 
     Returns
     -------
     str
     """
-    told = {TIME_UNIT.name: time_unit} if time_unit else {}
+    told = how_read(time_unit, series)
     cfg = {k: json_value(v) for k, v in validate_config({**config, **told}).items()}
     if column:
         cfg["column"] = column

@@ -42,3 +42,27 @@ class EmptyCells(NoisevarError):
     ``--drop-nonfinite``) reads the other samples; a caller with its own control for that
     (the dashboard's checkbox) can name it by catching this type.
     """
+
+
+class StackedSeries(NoisevarError):
+    """A file that stacks several series (the long format) read as one record: refused.
+
+    The message names the column whose values label the series and how to give one
+    (``--series LABEL``, the Signal page's series picker). A caller with its own control
+    for that (the dashboard's picker) offers :attr:`labels` without parsing the message.
+
+    Attributes
+    ----------
+    column : str
+        The column whose value names each row's series.
+    labels : tuple of str
+        Its values in file order, at most :data:`noisevar.io.series_option.MAX_LABELS`.
+    n_labels : int
+        How many values it holds in all.
+    """
+
+    def __init__(self, message: str, column: str, labels: tuple[str, ...], n_labels: int) -> None:
+        super().__init__(message)
+        self.column = column
+        self.labels = labels
+        self.n_labels = n_labels

@@ -475,6 +475,7 @@ def report(
         column=sig.column,
         record=record_answer(est).summary(unit),
         time_unit=sig.time_unit,
+        series=sig.series,
     )
     notes = [cli_hint(sig), cfg, *est.notes]
     said = {"regime warning": "Regime warning: ", "other still levels": "Other still levels: "}
@@ -517,6 +518,7 @@ def _estimate_downloads(sig: LoadedSignal, est: VarianceEstimate, truth: float |
             column=sig.column,
             record=record_answer(est).summary(signal_units()),
             time_unit=sig.time_unit,
+            series=sig.series,
         )
     except noisevar.NoisevarError as exc:  # pragma: no cover - params come from widgets
         cfg_json = None

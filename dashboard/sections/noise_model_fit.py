@@ -123,10 +123,11 @@ def _record(t: KalmanTuning, unit: str) -> None:
     st.markdown(f"R to use: **{use}**; this fit's r: {fmt(t.r, unit=squared(unit))}.")
 
 
-def _time_unit() -> str | None:
-    """The unit the Signal page read the file's times in (the config carries it)."""
+def _how_read() -> tuple[str | None, str | None]:
+    """The unit the Signal page read the file's times in and the series it read (the
+    config carries them)."""
     sig = current_signal()
-    return None if sig is None else sig.time_unit
+    return (None, None) if sig is None else (sig.time_unit, sig.series)
 
 
 def _exports(t: KalmanTuning, column: str | None, unit: str, record: dict[str, str] | None) -> None:
@@ -135,7 +136,7 @@ def _exports(t: KalmanTuning, column: str | None, unit: str, record: dict[str, s
     c1, c2 = st.columns(2)
     c1.download_button(
         "Config with Q and R (JSON)",
-        data=filter_config_json(t, column, unit, record, _time_unit()),
+        data=filter_config_json(t, column, unit, record, *_how_read()),
         file_name=f"tuned_{t.model}.json",
         mime="application/json",
         key=f"{KEY}_cfg",

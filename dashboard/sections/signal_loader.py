@@ -15,6 +15,7 @@ from dashboard.text import plain
 from dashboard.url_params import RECIPE_PARAMS
 from dashboard.widgets import guarded, how_it_works, param_input
 from noisevar.io.logs import default_topic, readers
+from noisevar.io.series_option import SERIES, SERIES_CONTROL
 from noisevar.io.time_option import TIME_UNIT, TIME_UNIT_CONTROL, TIME_UNIT_EXAMPLES
 from noisevar.signals import PAPER_SIGNAL, signal_spec
 
@@ -225,7 +226,8 @@ def uploader(errors: DeltaGenerator) -> None:
     if picked is False:
         return
     topic, also = picked if picked else (None, [])
-    attempt = (up.file_id, bool(drop), topic, tuple(also), time_unit)
+    series = _series(up.file_id, st.container())
+    attempt = (up.file_id, bool(drop), topic, tuple(also), time_unit, series)
     failed = st.session_state.get("upload_failed")
     if st.session_state.get("upload_done") != attempt and (not failed or failed[0] != attempt):
         try:
@@ -237,11 +239,17 @@ def uploader(errors: DeltaGenerator) -> None:
                     topic=topic,
                     also=also,
                     time_unit=time_unit,
+                    series=series,
                 )
             st.session_state["upload_done"] = attempt
             st.session_state.pop("upload_failed", None)
         except noisevar.EmptyCells as exc:  # the checkbox above is this page's way to drop them
             st.session_state["upload_failed"] = (attempt, f"{exc}. {DROP_HERE}")
+        except noisevar.StackedSeries as exc:  # the picker is this page's way to read one
+            st.session_state[STACKED] = (up.file_id, exc.column, exc.labels, exc.n_labels)
+            st.session_state.pop("upload_series", None)  # another file's label
+            st.session_state["upload_failed"] = (attempt, f"{exc}. {PICK_HERE}")
+            st.rerun()  # the picker shows its labels
         except noisevar.NoisevarError as exc:
             st.session_state["upload_failed"] = (attempt, str(exc))
     failed = st.session_state.get("upload_failed")
@@ -253,6 +261,32 @@ def uploader(errors: DeltaGenerator) -> None:
 
 #: Where this page drops empty cells, said beside a refusal of them.
 DROP_HERE = "Here: tick 'Drop rows with empty or NaN values' in the Upload tab"
+#: Where this page reads one series of a stacked file, said beside a refusal of it.
+PICK_HERE = f"Here: pick one in '{SERIES_CONTROL}' under the uploader"
+#: Session key of the last upload refused as stacked: (file id, column, labels, count).
+STACKED = "upload_stacked"
+
+
+def _series(file_id: str, where: DeltaGenerator) -> str | None:
+    """The series picked of an upload refused as stacking several (its labels, from the
+    :class:`~noisevar.errors.StackedSeries` it raised); None for another file, or until one
+    is picked (the previous signal stays)."""
+    stacked = st.session_state.get(STACKED)
+    if not stacked or stacked[0] != file_id:
+        return None
+    _, column, labels, n_labels = stacked
+    more = f" (the first {len(labels)} of {n_labels}: give another with the CLI)"
+    label = where.selectbox(
+        SERIES_CONTROL,
+        list(labels),
+        index=None,
+        key="upload_series",
+        placeholder=f"a value of column {column!r}",
+        help=f"{SERIES.help[:1].upper()}{SERIES.help[1:]}: the rows whose {column!r} has the "
+        f"value picked{more if n_labels > len(labels) else ''} (CLI: {SERIES.flag}; the "
+        "exported configs carry it).",
+    )
+    return None if label is None else str(label)
 
 
 def _log_kinds() -> str:

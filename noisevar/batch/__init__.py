@@ -41,6 +41,7 @@ from noisevar.batch._task import file_rows, run_task
 from noisevar.batch.channels import parse_columns
 from noisevar.errors import NoisevarError
 from noisevar.estimators import DEFAULT_METHOD
+from noisevar.io.series_option import checked_series, how_read
 from noisevar.io.time_option import TIME_UNIT
 
 if TYPE_CHECKING:
@@ -294,6 +295,7 @@ def batch(
     progress: Progress = True,
     topic: str | None = None,
     time_unit: str | None = None,
+    series: str | None = None,
     **params: Any,
 ) -> pd.DataFrame:
     """Estimate the noise of every channel of every file: one row per file x channel.
@@ -325,6 +327,10 @@ def batch(
     time_unit : str, optional
         The unit of each file's time column (:func:`noisevar.io.load_table`); part of the
         resume key when given.
+    series : str, optional
+        The series read of each file that stacks several (:func:`noisevar.io.load_table`):
+        a file without that label, or that holds one series, is a row with its reason;
+        part of the resume key when given.
     **params
         The method's parameters (as for :func:`noisevar.estimate`).
 
@@ -362,12 +368,12 @@ def batch(
     files = [f for f in expand_paths(paths) if f not in skip]
     if not files:
         raise NoisevarError("no data file found in the given paths")
-    time_unit = TIME_UNIT.validate(time_unit)  # a row is reused for the same unit only:
-    asked = {**params, TIME_UNIT.name: time_unit} if time_unit else dict(params)
+    time_unit, series = TIME_UNIT.validate(time_unit), checked_series(series)
+    asked = {**params, **how_read(time_unit, series)}  # a row is reused for the same reading
     request = request_key(cols, method, asked, topic)
     with output_lock(target) if target is not None else contextlib.nullcontext():
         todo, kept = _plan(files, _previous(target, resume, files), request)
-        task = (cols, method, dict(params), topic, time_unit)  # run_task's, after the files
+        task = (cols, method, dict(params), topic, time_unit, series)  # run_task's, after files
         return _run(todo, kept, task, request, target, n_jobs, client, resume, progress)
 
 

@@ -48,6 +48,7 @@ def file_rows(
     params: dict[str, Any],
     topic: str | None = None,
     time_unit: str | None = None,
+    series: str | None = None,
 ) -> list[dict[str, Any]]:
     """Every row of one file: one per channel, or one row with the file's error.
 
@@ -66,6 +67,8 @@ def file_rows(
         fields being the channels.
     time_unit : str, optional
         The unit of the time column's values (:func:`noisevar.io.load_table`).
+    series : str, optional
+        The series read of a file that stacks several (:func:`noisevar.io.load_table`).
 
     Returns
     -------
@@ -87,7 +90,7 @@ def file_rows(
         digest = file_digest(path)
         with collecting(said):
             name = os.path.basename(os.path.normpath(path))
-            table = load_table(path, name, topic=topic, time_unit=time_unit)
+            table = load_table(path, name, topic=topic, time_unit=time_unit, series=series)
         channels, left_out = channels_and_left_out(table, columns)
     except (NoisevarError, OSError) as exc:
         msg = str(exc) if isinstance(exc, NoisevarError) else f"cannot read {path}: {exc}"
@@ -141,6 +144,7 @@ def run_task(
     params: dict[str, Any],
     topic: str | None = None,
     time_unit: str | None = None,
+    series: str | None = None,
 ) -> list[dict[str, Any]]:
     """The rows of a group of files (the unit of work sent to a process or a Dask worker).
 
@@ -149,7 +153,7 @@ def run_task(
     rows: list[dict[str, Any]] = []
     for p in paths:
         try:
-            rows.extend(file_rows(p, columns, method, params, topic, time_unit))
+            rows.extend(file_rows(p, columns, method, params, topic, time_unit, series))
         except Exception as exc:  # noqa: BLE001 - a bad file is a row, never the end of the batch
             rows.append(
                 {

@@ -114,13 +114,32 @@ def time_unit_of(args: argparse.Namespace, params: dict[str, Any]) -> str | None
     return TIME_UNIT.validate(args.time_unit if args.time_unit is not None else said)
 
 
-def load_file(path: str, topic: str | None = None, time_unit: str | None = None) -> LoadedTable:
+def add_series_flag(p: argparse.ArgumentParser) -> None:
+    """``--series LABEL``: the series to read of a file that stacks several (its one spec:
+    :data:`noisevar.io.series_option.SERIES`)."""
+    from noisevar.io.series_option import SERIES
+
+    SERIES.add_to(p)
+
+
+def series_of(args: argparse.Namespace, params: dict[str, Any]) -> str | None:
+    """``--series``, else the config's ``series`` (taken out of ``params``)."""
+    from noisevar.io.series_option import SERIES, checked_series
+
+    said = params.pop(SERIES.name, None)
+    return checked_series(args.series if args.series is not None else said)
+
+
+def load_file(
+    path: str, topic: str | None = None, time_unit: str | None = None, series: str | None = None
+) -> LoadedTable:
     """A data file, or one topic of a log (``topic``), as a table (times in ``time_unit``
-    where the file states none: :func:`noisevar.io.load_table`)."""
+    where the file states none; the rows of one ``series`` of a file that stacks several:
+    :func:`noisevar.io.load_table`)."""
     from noisevar.io import load_table
 
     name = os.path.basename(os.path.normpath(path))
-    return load_table(path, name, topic=topic, time_unit=time_unit)
+    return load_table(path, name, topic=topic, time_unit=time_unit, series=series)
 
 
 def load_signal(

@@ -21,7 +21,7 @@ def split_temperature(
     else:
         from noisevar.cli.allan import load_columns
 
-        temp = load_columns(args.file, [name], rate, None, args.time_unit)[0][name]
+        temp = load_columns(args.file, [name], rate, None, args.time_unit, args.series)[0][name]
     if not data:
         raise NoisevarError(f"--temperature {name}: give rate columns besides the temperature.")
     return temp

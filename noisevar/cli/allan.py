@@ -10,6 +10,7 @@ import numpy as np
 
 from noisevar.cli._common import (
     add_regimes_flag,
+    add_series_flag,
     add_time_unit_flag,
     add_topic_flag,
     add_unit_flags,
@@ -55,15 +56,17 @@ def load_columns(
     rate: float | None,
     topic: str | None = None,
     time_unit: str | None = None,
+    series: str | None = None,
 ):
     """The chosen columns of a data file or of a log's ``topic`` (its signals by default:
     :attr:`noisevar.io.LoadedTable.signals`), the sample rate, each column's unit as the
     file declares it (or None), and the sample times every estimating path takes
     (:func:`noisevar.io.record_times`), and the loader's notes; ``time_unit``: the unit
-    of the time column's values (``--time-unit``)."""
+    of the time column's values (``--time-unit``); ``series``: the series read of a file
+    that stacks several (``--series``)."""
     from noisevar.io import pick_column, record_times
 
-    table = load_file(path, topic, time_unit)
+    table = load_file(path, topic, time_unit, series)
     # by default every signal: not a log's constant fields, counters or second clock
     names = columns or table.signals or list(table.data_columns)
     if not columns and names:  # a table of runs (PASCO's): the first run's
@@ -89,7 +92,7 @@ def _cmd_allan(args: argparse.Namespace) -> int:
 
     wanted = [args.column] if args.column else None
     data, rate, declared, times, loaded = load_columns(
-        args.file, wanted, args.rate, args.topic, args.time_unit
+        args.file, wanted, args.rate, args.topic, args.time_unit, args.series
     )
     name, z = next(iter(data.items()))
     scale, unit = units_of(args.unit, args.unit_out, declared[name])
@@ -151,6 +154,7 @@ def add_parser(sub: Any) -> None:
     add_unit_flags(p)
     add_topic_flag(p)
     add_time_unit_flag(p)
+    add_series_flag(p)
     add_regimes_flag(p)
     p.add_argument("--format", choices=["table", "json"], default="table")
     p.set_defaults(func=_cmd_allan)

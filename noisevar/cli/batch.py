@@ -49,7 +49,7 @@ def _summary(frame: Any, out: str | None) -> str:
 
 def _cmd_batch(args: argparse.Namespace) -> int:
     from noisevar.batch import batch, check_jobs
-    from noisevar.cli._common import time_unit_of
+    from noisevar.cli._common import series_of, time_unit_of
     from noisevar.cli.estimate import estimate_params
 
     method, params = estimate_params(args)
@@ -59,6 +59,7 @@ def _cmd_batch(args: argparse.Namespace) -> int:
     columns = args.columns if args.columns is not None else params.pop("columns", "all")
     params.pop("column", None)
     time_unit = time_unit_of(args, params)
+    series = series_of(args, params)
     client = _client(args.scheduler) if args.scheduler else None
     try:
         frame = batch(
@@ -72,6 +73,7 @@ def _cmd_batch(args: argparse.Namespace) -> int:
             progress=not args.quiet,
             topic=args.topic,
             time_unit=time_unit,
+            series=series,
             **params,
         )
     finally:
@@ -85,7 +87,7 @@ def _cmd_batch(args: argparse.Namespace) -> int:
 
 def add_parser(sub: Any) -> None:
     """Register ``batch`` on the sub-command set ``sub``."""
-    from noisevar.cli._common import add_time_unit_flag, add_topic_flag
+    from noisevar.cli._common import add_series_flag, add_time_unit_flag, add_topic_flag
     from noisevar.cli.estimate import add_estimate_flags
 
     p = sub.add_parser("batch", help="estimate every channel of many files (one row each)")
@@ -93,6 +95,7 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--columns", help="'all' (default) or a,b,c")
     add_topic_flag(p)
     add_time_unit_flag(p)
+    add_series_flag(p)
     p.add_argument("--out", help=".parquet or .csv output (default: CSV on stdout)")
     p.add_argument(
         "--jobs",

@@ -9,11 +9,13 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from noisevar.cli._common import (
+    add_series_flag,
     add_time_unit_flag,
     add_topic_flag,
     add_unit_flags,
     load_file,
     print_json,
+    series_of,
     time_unit_of,
     units_of,
 )
@@ -230,7 +232,12 @@ def _channels(args: argparse.Namespace, params: dict[str, Any]) -> tuple[Any, li
 
 
 def _estimate_many(
-    args: argparse.Namespace, columns: Any, method: str, params: dict, time_unit: str | None
+    args: argparse.Namespace,
+    columns: Any,
+    method: str,
+    params: dict,
+    time_unit: str | None,
+    series: str | None = None,
 ) -> int:
     """Several channels of one table, each with the table's times and its declared unit (as
     ``noisevar batch`` reads them: one answer); a channel that cannot be estimated is a row
@@ -247,7 +254,7 @@ def _estimate_many(
 
     if method_spec(method).needs_reference:
         raise NoisevarError(f"method {method} takes one --column and a --reference-column")
-    table = load_file(args.file, args.topic, time_unit)
+    table = load_file(args.file, args.topic, time_unit, series)
     names, skipped = channels_and_left_out(table, columns)
     for name in names:
         column_name(table, name)  # a name that is not in the file: the user's typo, exit 2
@@ -324,12 +331,17 @@ def _cmd_estimate(args: argparse.Namespace) -> int:
     method, params = estimate_params(args)
     column, columns = _channels(args, params)
     time_unit = time_unit_of(args, params)  # the times are not read by a streamed estimate
+    series = series_of(args, params)  # nor its rows picked: read in memory
+    if series is not None and _streamed(args):
+        raise NoisevarError(
+            "--series reads the rows of one series in memory: drop --stream and --dtype"
+        )
     if args.unit_out and (columns is not None or _streamed(args)):
         if not args.unit or units_of(args.unit, args.unit_out)[0] != 1.0:
             raise NoisevarError(
                 "--unit-out converts one column read in memory: drop --columns/--stream"
             )
-    in_memory = columns is not None or bool(args.unit_out)  # --unit-out converts in memory
+    in_memory = columns is not None or bool(args.unit_out) or series is not None
     if _streamed(args) or (not in_memory and _by_default(args, column, method, params)):
         from noisevar.stream import streamed_column
 
@@ -341,10 +353,10 @@ def _cmd_estimate(args: argparse.Namespace) -> int:
         _print(args, column, result, _unit(args, declared))
         return 0
     if columns is not None:
-        return _estimate_many(args, columns, method, params, time_unit)
+        return _estimate_many(args, columns, method, params, time_unit, series)
     from noisevar.io.load import column_name
 
-    table = load_file(args.file, args.topic, time_unit)
+    table = load_file(args.file, args.topic, time_unit, series)
     # say which one was read: the first, or the one an index names (text columns left out
     # of the count, an index is not the file's column number)
     if column is None or str(column) not in table.columns:  # one column too (pvanalytics')
@@ -416,6 +428,7 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--columns", help="several channels: 'all' or a,b,c (one row each)")
     add_topic_flag(p)
     add_time_unit_flag(p)
+    add_series_flag(p)
     add_estimate_flags(p)
     from noisevar.estimators import METHODS
 

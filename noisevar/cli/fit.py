@@ -11,6 +11,7 @@ from typing import Any
 from noisevar.cli._common import (
     add_drop_flag,
     add_regimes_flag,
+    add_series_flag,
     add_time_unit_flag,
     add_topic_flag,
     add_unit_flags,
@@ -18,6 +19,7 @@ from noisevar.cli._common import (
     print_json,
     regimes_of,
     sample_rate,
+    series_of,
     time_unit_of,
     units_of,
 )
@@ -82,7 +84,8 @@ def _load(
     from noisevar.io import pick_column
     from noisevar.io.load import column_name, column_values, record_times
 
-    table = load_file(args.file, args.topic, time_unit_of(args, dict(config or {})))
+    said = dict(config or {})  # how the config's file was read: its time unit, its series
+    table = load_file(args.file, args.topic, time_unit_of(args, said), series_of(args, said))
     named = None if config is None else config.get("column")
     column = args.column
     if named is not None:
@@ -158,8 +161,9 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         except NoisevarError:  # a record the estimator refuses: the config without it
             written = None
         told = time_unit_of(args, dict(config or {}))  # how the file's times were read
+        series = series_of(args, dict(config or {}))  # and which series
         Path(args.save_config).write_text(
-            filter_config_json(tuning, column, said, written, told), encoding="utf-8"
+            filter_config_json(tuning, column, said, written, told, series), encoding="utf-8"
         )
     if args.format == "json":
         out = tuning.to_dict()
@@ -180,6 +184,7 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--column", help="column name or 0-based index (default: the only/first)")
     add_topic_flag(p)
     add_time_unit_flag(p)
+    add_series_flag(p)
     add_drop_flag(p)
     p.add_argument("--model", choices=list(MODELS), help="rw, cv or ca (default cv)")
     p.add_argument(

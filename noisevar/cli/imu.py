@@ -19,6 +19,7 @@ import numpy as np
 
 from noisevar.cli._common import (
     add_regimes_flag,
+    add_series_flag,
     add_time_unit_flag,
     add_unit_flags,
     print_json,
@@ -46,8 +47,9 @@ def _load(args: argparse.Namespace) -> tuple[dict, dict[str, float], dict, dict,
     of a log (each column its topic's rate and times)."""
     topics = list(dict.fromkeys(args.topic or []))
     if len(topics) <= 1:
+        topic = topics[0] if topics else None
         data, rate, declared, t, notes = load_columns(
-            args.file, _columns(args), args.rate, topics[0] if topics else None, args.time_unit
+            args.file, _columns(args), args.rate, topic, args.time_unit, args.series
         )
         return data, dict.fromkeys(data, rate), declared, dict.fromkeys(data, t), notes
     from noisevar.io import load_topics, record_times
@@ -59,8 +61,10 @@ def _load(args: argparse.Namespace) -> tuple[dict, dict[str, float], dict, dict,
         )
     if args.temperature:
         raise NoisevarError("--temperature reads one topic: give a single --topic")
-    if args.time_unit:
-        raise NoisevarError("--time-unit is for a table's times: a log's topics keep theirs")
+    if args.time_unit or args.series:
+        raise NoisevarError(
+            "--time-unit and --series are for a table: a log's topics keep their times"
+        )
     record = load_topics(args.file, topics, _name(args.file))
     cols = {c: record.column(c) for c in _columns(args) or record.columns}
     for col in cols.values():
@@ -272,7 +276,8 @@ def _gnss(args: argparse.Namespace) -> dict[str, float]:
     out = {}
     for key, column in (("position", args.gnss_pos), ("velocity", args.gnss_vel)):
         if column:
-            table = load_file(args.gnss_file or args.file, None, args.time_unit)
+            series = None if args.gnss_file else args.series  # the series of FILE only
+            table = load_file(args.gnss_file or args.file, None, args.time_unit, series)
             z, t = channel_record(table, column)
             k = _gnss_factor(key, column, table.units.get(column))
             out[key] = k * float(estimate(z, t=t).std)
@@ -484,6 +489,7 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--accel", nargs="+", help="accelerometer columns, for --kalibr and --export")
     add_unit_flags(p)
     add_time_unit_flag(p)
+    add_series_flag(p)
     p.add_argument("--gyro-unit", help="unit of the gyroscope columns (default --unit; rad/s)")
     p.add_argument("--accel-unit", help="unit of the accelerometer columns (default --unit)")
     p.add_argument("--kalibr", metavar="OUT.yaml", help="write Kalibr's imu.yaml here")

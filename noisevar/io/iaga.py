@@ -5,9 +5,15 @@ minutes of arc), and the format's codes for missing data."""
 from __future__ import annotations
 
 import re
+from typing import TYPE_CHECKING
 
 from noisevar.errors import NoisevarError
 from noisevar.io.limits import echo
+from noisevar.io.text import _read_text_table
+
+if TYPE_CHECKING:
+    from noisevar.io.table import LoadedTable
+    from noisevar.io.time_option import StatedTime
 
 #: The first header line of an IAGA-2002 file (`` Format   IAGA-2002   |``).
 IAGA = re.compile(r"\A\ufeff?\s*Format\s+IAGA-2002\b", re.IGNORECASE)
@@ -63,3 +69,13 @@ def iaga_csv(text: str, name: str) -> str:
             continue
         out.append(",".join([f"{cells[0]}T{cells[1]}", *map(_value, cells[3:])]))
     return "\n".join(out) + "\n"
+
+
+def read_iaga(
+    text: str, name: str, told: StatedTime | None = None, series: str | None = None
+) -> LoadedTable:
+    """An IAGA-2002 file, read as the CSV table it holds (:func:`iaga_csv`); ``told``: the
+    time unit stated, ``series``: a label given (refused: the file holds one series)."""
+    table = _read_text_table(iaga_csv(text, name), name, told, series)
+    table.notes.insert(0, NOTE)
+    return table

@@ -14,13 +14,13 @@ from numpy.typing import NDArray
 from noisevar.errors import EmptyCells, NoisevarError
 from noisevar.io.binary_suffix import refuse_by_suffix
 from noisevar.io.foreign import NUL_NOTE, nul_padding, refuse_binary, refuse_fit, refuse_text
-from noisevar.io.iaga import NOTE as IAGA_NOTE
-from noisevar.io.iaga import iaga_csv, is_iaga
+from noisevar.io.iaga import is_iaga, read_iaga
 from noisevar.io.las import is_las, las_csv
 from noisevar.io.limits import MAX_BYTES, check_bytes, check_size
 from noisevar.io.nmea import _looks_like_nmea, _read_nmea
 from noisevar.io.npy import _read_npy
 from noisevar.io.rtklib import is_rtklib, rtklib_csv, with_side_columns
+from noisevar.io.series_option import checked_series, not_stacked
 from noisevar.io.table import _NPY_MAGIC, NMEA_EXTENSIONS, LoadedTable, echo
 from noisevar.io.text import TextSource, _read_frame, _read_text_table, table_layout
 from noisevar.io.time_option import StatedTime, stated_time, without_clock
@@ -133,6 +133,7 @@ def load_table(
     topic: str | None = None,
     fields: Sequence[str] | None = None,
     time_unit: str | None = None,
+    series: str | None = None,
 ) -> LoadedTable:
     """Read a CSV/TSV text table, a ``.npy`` array, an NMEA 0183 log, or one topic of a log.
 
@@ -159,6 +160,11 @@ def load_table(
         file states; refused where the column's name states another. For an HDF5 topic
         without a time dataset, its ``dx``/``dt`` attribute is read in it as the period.
         Default: the name's unit, else seconds (said in a note).
+    series : str, optional
+        For a text table that stacks several series (:func:`noisevar.io.stacked.stacks`,
+        refused without it as :class:`~noisevar.errors.StackedSeries`): the label of the
+        one to read (:data:`~noisevar.io.series_option.SERIES`), its rows in file order.
+        Refused for a file that holds one series and when no row has it.
 
     Returns
     -------
@@ -185,23 +191,26 @@ def load_table(
     from noisevar.io import logs
 
     told = stated_time(time_unit)  # refused before the file is read
+    series = checked_series(series)
     if isinstance(source, (bytes, bytearray, memoryview)):
         raw = bytes(source)
         name = name or "upload"
         check_bytes(len(raw), name, max_bytes)
         if logs.reader_for(name, raw[:64]) is not None:
+            not_stacked(name, series, LOG)
             return _load_log_bytes(raw, name, topic, fields, told)
         _no_topic(name, topic)
-        return without_clock(_parse(raw, name, None, len(raw), told), told)
+        return without_clock(_parse(raw, name, None, len(raw), told, series), told)
     path = Path(source)
     name = name or path.name
     size = None if logs.is_ros2_dir(path) else check_size(path, name, None)
     head = b"" if size is None else _read_head(path, name)
     if size is None or logs.reader_for(name, head[:64]) is not None:
+        not_stacked(name, series, LOG)
         return logs.with_time_unit(logs.load_log(path, topic, fields, name), path, topic, told)
     _no_topic(name, topic)
     check_bytes(size, name, max_bytes)
-    return without_clock(_parse(head, name, path, size, told), told)
+    return without_clock(_parse(head, name, path, size, told, series), told)
 
 
 def load_log_tables(
@@ -309,15 +318,22 @@ def log_topics(source: str | os.PathLike | bytes, name: str | None = None) -> li
 
 
 def _parse(
-    head: bytes, name: str, path: Path | None, size: int, told: StatedTime | None = None
+    head: bytes,
+    name: str,
+    path: Path | None,
+    size: int,
+    told: StatedTime | None = None,
+    series: str | None = None,
 ) -> LoadedTable:
-    """Dispatch on the format; ``head`` is the whole file when ``path`` is None."""
+    """Dispatch on the format; ``head`` is the whole file when ``path`` is None; ``series``:
+    the label of the series to read of a text table that stacks several."""
     if size == 0 or not head.strip():
         raise NoisevarError(f"{echo(name)} is empty")
     lower = name.lower()
     if head.startswith(_NPY_MAGIC) or lower.endswith(".npy"):
         if not head.startswith(_NPY_MAGIC):
             raise NoisevarError(f"{echo(name)} is not a valid .npy file (no NumPy header)")
+        not_stacked(name, series, " (an array)")
         return _read_npy(path if path is not None else head, name, told)
     if lower.endswith(".npz"):
         raise NoisevarError(
@@ -332,14 +348,19 @@ def _parse(
     if padding and not whole:  # the padding is left out of the text: read all of it
         head, whole = _read_all(path, name), True
         padding = head.count(b"\x00")
-    table = _parse_text(head, name, path, whole, told)
+    table = _parse_text(head, name, path, whole, told, series)
     if padding:
         table.notes.append(NUL_NOTE.format(n=padding))
     return table
 
 
 def _parse_text(
-    head: bytes, name: str, path: Path | None, whole: bool, told: StatedTime | None = None
+    head: bytes,
+    name: str,
+    path: Path | None,
+    whole: bool,
+    told: StatedTime | None = None,
+    series: str | None = None,
 ) -> LoadedTable:
     """A text file: refused when it is of a format noisevar does not read, else NMEA,
     IAGA-2002 or a text table."""
@@ -349,27 +370,27 @@ def _parse_text(
     _refuse_rinex(text, name)
     _refuse_json(text, name)
     if lower.endswith(NMEA_EXTENSIONS) or _looks_like_nmea(text):
+        not_stacked(name, series, " (an NMEA log)")
         if not whole:
             text = _decode(_read_all(path, name), name)[0]
         return _read_nmea(text, name)
     if is_iaga(text):
-        return _read_iaga(text if whole else _decode(_read_all(path, name), name)[0], name, told)
+        text = text if whole else _decode(_read_all(path, name), name)[0]
+        return read_iaga(text, name, told, series)
     # formats read as the CSV table they convert to: (is it, convert, finish the table)
     formats = ((is_rtklib, rtklib_csv, with_side_columns), (is_las, las_csv, None))
     for sniff, convert, finish in formats:
         if sniff(text):  # a format read as the CSV table it converts to, with its note
             csv, note = convert(text if whole else _decode(_read_all(path, name), name)[0], name)
-            table = _read_text_table(csv, name, told)
+            table = _read_text_table(csv, name, told, series)
             table.notes.insert(0, note)
             return table if finish is None else finish(table)
-    return _read_text_table(text if whole else TextSource(path, text, encoding), name, told)
+    source = text if whole else TextSource(path, text, encoding)
+    return _read_text_table(source, name, told, series)
 
 
-def _read_iaga(text: str, name: str, told: StatedTime | None = None) -> LoadedTable:
-    """An IAGA-2002 file, read as the CSV table it holds (:func:`noisevar.io.iaga.iaga_csv`)."""
-    table = _read_text_table(iaga_csv(text, name), name, told)
-    table.notes.insert(0, IAGA_NOTE)
-    return table
+#: Why a log holds one series (a label given for it is refused).
+LOG = " (a log's topic)"
 
 
 #: Magic bytes of compressed files and archives: (bytes, what it is, what to do).

@@ -1,4 +1,5 @@
-"""Files that stack or interleave several series (the long format), refused in one line."""
+"""Files that stack or interleave several series (the long format): refused in one line, or
+one series read by its label (:data:`noisevar.io.series_option.SERIES`)."""
 
 from __future__ import annotations
 
@@ -7,9 +8,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from noisevar.errors import NoisevarError
+from noisevar.errors import StackedSeries
 from noisevar.io.headerless import ON_STEP
-from noisevar.io.limits import echo
+from noisevar.io.series_option import kept_labels, not_stacked, series_rows, stacked_message
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -103,10 +104,51 @@ def refuse_stacked(keys: dict[str, pd.Series], t: NDArray | None, name: str) -> 
         return
     n_labels, cname = max(found, key=lambda f: f[0])
     labels = list(dict.fromkeys(keys[cname].tolist()))
-    shown = ", ".join(repr(echo(str(v), 20)) for v in labels[:3])
-    raise NoisevarError(
-        f"{echo(name)} stacks {n_labels} series, one per value of column {echo(cname)!r} "
-        f"({shown}{', ...' if n_labels > 3 else ''}), its time falling back or repeating "
-        f"where the value changes: give one series, e.g. the rows of one {echo(cname)!r} "
-        "saved as their own file"
-    )
+    raise StackedSeries(stacked_message(name, cname, labels), *kept_labels(cname, labels))
+
+
+def one_series(
+    keys: dict[str, pd.Series],
+    columns: dict[str, NDArray],
+    t: NDArray | None,
+    name: str,
+    series: str | None,
+    notes: list[str],
+) -> dict[str, NDArray]:
+    """The columns of a text table, or with ``series`` given, the rows of that series only.
+
+    Parameters
+    ----------
+    keys : dict of str to pandas.Series
+        The text columns left out.
+    columns : dict of str to ndarray
+        The numeric columns, each of the file's rows.
+    t : ndarray or None
+        The time column (None: none).
+    name : str
+        The file's name (for messages).
+    series : str or None
+        The label of the series to read (:data:`noisevar.io.series_option.SERIES`).
+    notes : list of str
+        The loader's notes (which rows were read is added).
+
+    Returns
+    -------
+    dict of str to ndarray
+
+    Notes
+    -----
+    A file that stacks series without ``series`` is refused (:func:`refuse_stacked`); of
+    one that does not, ``series`` is refused. The rows of the series are kept in file
+    order: the stacking column is the finest label :func:`refuse_stacked` names.
+    """
+    try:
+        if t is not None:
+            refuse_stacked(keys, t, name)
+    except StackedSeries as stacked:
+        if series is None:
+            raise
+        rows = series_rows(keys[stacked.column], series, stacked.column, name, notes)
+        return {c: v[rows] for c, v in columns.items()}
+    not_stacked(name, series)
+    return columns

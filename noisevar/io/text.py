@@ -35,7 +35,7 @@ from noisevar.io.refusal_hints import (
     short_header,
     width_hint,
 )
-from noisevar.io.stacked import refuse_stacked, stack_clock
+from noisevar.io.stacked import one_series, stack_clock
 from noisevar.io.table import (
     _NA_TOKENS,
     UNIFORM_TOLERANCE,
@@ -342,7 +342,7 @@ def read_text_table(text: str, name: str) -> LoadedTable:
 
 
 def _read_text_table(
-    src: str | TextSource, name: str, told: StatedTime | None = None
+    src: str | TextSource, name: str, told: StatedTime | None = None, series: str | None = None
 ) -> LoadedTable:
     text = src if isinstance(src, str) else src.head
     fmt, names, header_line, unit_row = table_layout(text, name, isinstance(src, str))
@@ -351,7 +351,7 @@ def _read_text_table(
         date_idx = next((i for i, c in enumerate(names) if is_date_name(c)
                          or is_digit_date_name(c)), 0)  # fmt: skip
         time_idx = date_idx if _holds_dates(text, fmt, header_line, names, date_idx) else None
-    columns, notes, first, dated = _parse_body(src, header_line, names, fmt, name, time_idx)
+    columns, notes, first, dated = _parse_body(src, header_line, names, fmt, name, time_idx, series)
     headerless = names == [f"col{i}" for i in range(len(names))]
     if headerless and (head := leading_header(columns)):
         columns = {c: v[head[0] :] for c, v in columns.items()}
@@ -459,10 +459,12 @@ def _parse_body(
     fmt: _Format,
     name: str,
     time_idx: int | None,
+    series: str | None = None,
 ) -> tuple[dict[str, NDArray], list[str], float | None, bool]:
-    """The columns as floats, the loader's notes, the time column's first value when it
-    was taken relative to it (integers beyond 2**53: nanoseconds since 1970), and whether
-    the time column was read from date-times or clock times (text: seconds already)."""
+    """The columns as floats (the rows of one ``series`` of a stacked file), the loader's
+    notes, the time column's first value when it was taken relative to it (integers beyond
+    2**53: nanoseconds since 1970), and whether the time column was read from date-times or
+    clock times (text: seconds already)."""
     import pandas as pd
 
     df = _read_frame(src, header_line, len(names), fmt, name)
@@ -515,7 +517,8 @@ def _parse_body(
         except NoisevarError as e:
             raise NoisevarError(f"{e}{kinds_hint(df, names, text, col)}") from None
         dated = dated or (i == time_idx and _only_text(col))  # (numbers raised, or parsed)
-    refuse_stacked(keys, stack_clock(columns, names, time_idx), name)
+    t = stack_clock(columns, names, time_idx)
+    columns = one_series(keys, columns, t, name, series, notes)
     return columns, notes, first, dated
 
 
