@@ -92,6 +92,10 @@ def _false_positives() -> dict[str, bytes]:
         "ADC count, coarse time": _csv("t,adc,x", _coarse_clock(adc, n)),
         "fix quality, coarse time": _csv("t,fix,x", _coarse_clock(fixq, n)),
         "sample counter 0-255, coarse time": _csv("t,counter,x", _coarse_clock(ramp % 256, n)),
+        "digital line, the clock reset once where it changes": _csv(
+            "t,line,x",
+            [f"{(i % 1000) * 0.1:.1f},{(i // 50) % 2},{rng.normal():.6f}" for i in range(n)],
+        ),
     }
 
 

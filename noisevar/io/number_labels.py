@@ -31,14 +31,15 @@ def on_one_clock(key: NDArray, t: NDArray) -> bool:
     """Whether the whole numbers ``key`` label series that follow one another (each value
     one contiguous block) or share one clock: in each run of rows whose time ``t`` does not
     rise, each value at most once in :data:`~noisevar.io.headerless.ON_STEP` of the runs,
-    and half the values or more on average.
+    and two values or more, half of them or more, on average.
 
     Notes
     -----
     OpenOA's La Haute Borne SCADA file writes each time stamp once per turbine. A status
     flag, a quantised sensor (an ADC count) or a fix quality repeats its value within a
     time stamp written coarser than the rows (10 rows a second, the time in seconds); a
-    sample counter (0-255 over and over) holds 10 of its 256 values in each.
+    sample counter (0-255 over and over) holds 10 of its 256 values in each. A digital
+    line whose clock is reset once (two sessions) holds one value in each run of one row.
     """
     n_values = np.unique(key).size
     if np.count_nonzero(key[1:] != key[:-1]) == n_values - 1:
@@ -50,7 +51,7 @@ def on_one_clock(key: NDArray, t: NDArray) -> bool:
     n_runs = int(run[-1]) + 1
     clean = 1.0 - np.unique(run[order][1:][twice]).size / n_runs
     held = (key.size - np.count_nonzero(twice)) / n_runs
-    return clean >= ON_STEP and held >= n_values / 2
+    return clean >= ON_STEP and held >= max(2.0, n_values / 2)
 
 
 def number_keys(columns: dict[str, NDArray], t: NDArray) -> dict[str, pd.Series]:
