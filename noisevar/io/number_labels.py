@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
+from noisevar._arrays import EXACT_INT
 from noisevar.io.headerless import ON_STEP
 
 if TYPE_CHECKING:
@@ -56,8 +57,8 @@ def on_one_clock(key: NDArray, t: NDArray) -> bool:
 
 def number_keys(columns: dict[str, NDArray], t: NDArray) -> dict[str, pd.Series]:
     """The numeric columns (other than the clock ``t``) that may label series: whole
-    numbers in every row, of :func:`few_values`, :func:`on_one_clock`; none when ``t``
-    rises at every step (a file whose time never falls back is one series)."""
+    numbers in every row (within 2**53), of :func:`few_values`, :func:`on_one_clock`; none
+    when ``t`` rises at every step (a file whose time never falls back is one series)."""
     import pandas as pd
 
     with np.errstate(invalid="ignore"):
@@ -65,7 +66,8 @@ def number_keys(columns: dict[str, NDArray], t: NDArray) -> dict[str, pd.Series]
             return {}
     keys = {}
     for c, v in columns.items():
-        if v is t or not np.all(np.isfinite(v)) or np.any(v != np.round(v)):
+        whole = np.all(np.isfinite(v)) and np.all(v == np.round(v))
+        if v is t or not whole or np.abs(v).max() > EXACT_INT:
             continue
         key = pd.Series(v.astype(np.int64))
         if key.nunique() >= 2 and few_values(key) and on_one_clock(key.to_numpy(), t):
