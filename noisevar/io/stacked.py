@@ -10,6 +10,8 @@ from numpy.typing import NDArray
 
 from noisevar.errors import StackedSeries
 from noisevar.io.headerless import ON_STEP
+from noisevar.io.limits import echo
+from noisevar.io.number_labels import number_keys, number_label
 from noisevar.io.series_option import kept_labels, not_stacked, series_rows, stacked_message
 
 if TYPE_CHECKING:
@@ -138,17 +140,38 @@ def one_series(
 
     Notes
     -----
-    A file that stacks series without ``series`` is refused (:func:`refuse_stacked`); of
-    one that does not, ``series`` is refused. The rows of the series are kept in file
+    A file that stacks series without ``series`` is refused (:func:`refuse_stacked`), on a
+    text column or on a numeric one that labels series by number
+    (:func:`noisevar.io.number_labels.number_keys`); of one that does not, ``series`` is
+    refused. The rows of the series are kept in file
     order: the stacking column is the finest label :func:`refuse_stacked` names.
     """
+    numbers = number_keys(columns, t) if t is not None else {}
     try:
         if t is not None:
-            refuse_stacked(keys, t, name)
+            refuse_stacked({**keys, **numbers}, t, name)
     except StackedSeries as stacked:
         if series is None:
             raise
-        rows = series_rows(keys[stacked.column], series, stacked.column, name, notes)
-        return {c: v[rows] for c, v in columns.items()}
+        return _picked(keys, numbers, columns, stacked.column, series, name, notes)
     not_stacked(name, series)
     return columns
+
+
+def _picked(
+    keys: dict[str, pd.Series],
+    numbers: dict[str, pd.Series],
+    columns: dict[str, NDArray],
+    column: str,
+    series: str,
+    name: str,
+    notes: list[str],
+) -> dict[str, NDArray]:
+    """The rows of ``series`` on the stacking ``column``: a text column's, or a numeric
+    one's (``numbers``: the label matched as a number, the column left out, constant)."""
+    if column not in numbers:
+        rows = series_rows(keys[column], series, column, name, notes)
+        return {c: v[rows] for c, v in columns.items()}
+    rows = series_rows(numbers[column], number_label(series), column, name, notes)
+    notes.append(f"column {echo(column)!r} (the series' number) left out")
+    return {c: v[rows] for c, v in columns.items() if c != column}

@@ -17,6 +17,7 @@ from noisevar.errors import NoisevarError
 from noisevar.io.delimiter import sniff_delimiter
 from noisevar.io.header_units import column_units, header_unit
 from noisevar.io.headerless import first_column_times, first_line_is_row
+from noisevar.io.number_labels import few_values, own_clock
 from noisevar.io.opensignals import opensignals_names
 from noisevar.io.quirks import (
     code_note,
@@ -519,6 +520,8 @@ def _parse_body(
         dated = dated or (i == time_idx and _only_text(col))  # (numbers raised, or parsed)
     t = stack_clock(columns, names, time_idx)
     columns = one_series(keys, columns, t, name, series, notes)
+    picked = names[time_idx] if series is not None and time_idx is not None else None
+    first = own_clock(columns, picked, dated, first)  # a picked series' clock: its own
     return columns, notes, first, dated
 
 
@@ -548,7 +551,7 @@ def _is_label(col: pd.Series) -> bool:
         return False
     cells = col.dropna()
     numbers = pd.to_numeric(cells, errors="coerce").notna()
-    few = cells.nunique() <= max(2, cells.size // 20)
+    few = few_values(cells)
     return bool(cells.size) and few and float(numbers.mean()) < 0.5
 
 
