@@ -554,10 +554,13 @@ def still_colour(diag: NoiseDiagnostics) -> str:
     if w is None or w.white or (diag.white and w.p_value >= WEAK_P):
         return ""
     k = _farthest(w)
+    named = any(a != WHITE for _, a in diag.power_law) and colour_in_still(diag)  # GPS 1PPS
+    law = f"; the whole record: {describe(diag.power_law)}, power-law identification"
+    kind = law if named else ""
     return (
         f"; but even there the noise is not white ({_lag_excess(w, k)}: "
-        f"{departure_cause(w, k)}), so this is its "
-        "white part and depends on the bandwidth: model the coloured part (see the noise model)"
+        f"{departure_cause(w, k)}), so this is its white part and depends on the bandwidth: "
+        f"model the coloured part (see the noise model{kind})"
     )
 
 

@@ -32,3 +32,11 @@ def test_one_lead_under_dropped_samples(drop):
     assert v.startswith(BOTH + ":"), v
     assert "not white" in v  # the still stretches' own colour, said as before
     assert nv.format.eng(e.still.variance) in v
+
+
+def test_both_names_the_records_colour():
+    """GPS 1PPS (benchmarks/real_noise.py) led with both findings and no longer said which
+    colour ("flicker at 4-16 samples"), its target: the still clause names the power law."""
+    v = nv.estimate(_record(4, 1.9)).diagnostics.verdict
+    assert v.startswith(BOTH + ":"), v
+    assert "the whole record: random walk at 1 sample" in v and "power-law identification" in v

@@ -53,6 +53,7 @@ def test_the_still_colour_names_the_lag_that_departs() -> None:
         still_a_walk=False,
         smoothed=None,  # not a smoothed output; mostly still: not calm stretches either
         level_profile=SimpleNamespace(quiet_share=1.0),
+        power_law=(),  # no colour named on the whole record
     )
     said = still_colour(diag)
     assert "lag-6 autocorrelation +0.20" in said, said
