@@ -106,7 +106,10 @@ def n_against_white(
     n_value = math.sqrt(coef[1])
     held = tau0_holders(coef, weights, labels)
     told = ivals[1, 0] > 0.0
-    need = math.sqrt(max(white**2 - weights[0] * ivals[0, 1] ** 2, 0.0)) if told else white
+    # every other term at its lower bound: the rest of W^2 may be N's (Q's lower bound 0
+    # when the fit put Q where the record holds white noise alone)
+    others = np.delete(weights * ivals[:, 0] ** 2, 1)
+    need = math.sqrt(max(white**2 - float(np.sum(others)), 0.0)) if told else white
     notes, raised = [], ivals[1, 1] < need
     if raised:
         old, ivals[1, 1] = ivals[1, 1], need
