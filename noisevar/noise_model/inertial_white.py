@@ -97,23 +97,28 @@ def n_against_white(
 
     Notes
     -----
-    docs/algorithms.md §E4. N's upper bound is raised until N and Q at their upper
-    bounds reach the white level, ``N_hi² + 3 Q_hi² fs >= W²`` (to ``W`` itself when N is
-    not told from 0): what the fit gives B, K or R at tau0 is extrapolated from longer
-    taus, and the bootstrap, drawing from that fit, never doubts it, while motion or a
-    short record can leave white noise there (gtsam's legged robot: B took 85 % of it).
+    docs/algorithms.md §E4. N's upper bound is raised until it reaches what the white
+    level leaves after every other term at its lower bound, ``N_hi² >= W² - sum_j
+    weights_j lo_j²`` (to ``W`` itself when N is not told from 0): a Q the fit cannot
+    tell from 0 may be white noise; what the fit gives B, K or R at tau0 is extrapolated
+    from longer taus, and the bootstrap, drawing from that fit, never doubts it, while
+    motion or a short record can leave white noise there (gtsam's legged robot: B took
+    85 % of it).
     """
     n_value = math.sqrt(coef[1])
     held = tau0_holders(coef, weights, labels)
     told = ivals[1, 0] > 0.0
-    need = math.sqrt(max(white**2 - weights[0] * ivals[0, 1] ** 2, 0.0)) if told else white
+    # every other term at its lower bound: the rest of W^2 may be N's (Q's lower bound 0
+    # when the fit put Q where the record holds white noise alone)
+    others = np.delete(weights * ivals[:, 0] ** 2, 1)
+    need = math.sqrt(max(white**2 - float(np.sum(others)), 0.0)) if told else white
     notes, raised = [], ivals[1, 1] < need
     if raised:
         old, ivals[1, 1] = ivals[1, 1], need
         if told:
             notes.append(
-                f"N's upper bound is raised from {old:.4g} to {need:.4g} {unit}/√Hz, where N "
-                f"and Q's upper bound reach the white level {white:.4g}: "
+                f"N's upper bound is raised from {old:.4g} to {need:.4g} {unit}/√Hz, what the "
+                f"white level {white:.4g} leaves after the other terms' lower bounds: "
                 + (
                     f"the fit gave {held} of the Allan variance at tau0, extrapolated from "
                     "longer taus, where motion or a short record can leave white noise"
