@@ -5,7 +5,7 @@ every surface.
 --series 'Subject 2'``, a config's ``series`` key and the Signal page's picker
 (:data:`SERIES_CONTROL`, offered when a load fails with
 :class:`~noisevar.errors.StackedSeries`) are this one spec, :data:`SERIES`
-(docs/algorithms.md §E9).
+(docs/algorithms.md §E8, *One series by its label*).
 """
 
 from __future__ import annotations
