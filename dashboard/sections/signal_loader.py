@@ -262,7 +262,7 @@ def uploader(errors: DeltaGenerator) -> None:
 #: Where this page drops empty cells, said beside a refusal of them.
 DROP_HERE = "Here: tick 'Drop rows with empty or NaN values' in the Upload tab"
 #: Where this page reads one series of a stacked file, said beside a refusal of it.
-PICK_HERE = f"Here: pick one in '{SERIES_CONTROL}' under the uploader"
+PICK_HERE = f"Here: pick one in '{SERIES_CONTROL}' in the Upload tab, under the uploader"
 #: Session key of the last upload refused as stacked: (file id, column, labels, count).
 STACKED = "upload_stacked"
 

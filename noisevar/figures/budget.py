@@ -168,11 +168,16 @@ def traces_y(traces: Any) -> NDArray:
     return np.concatenate(ys) if ys else np.empty(0)
 
 
+def _positive(values: Any) -> NDArray:
+    """The finite positive values (those a log axis draws), flattened."""
+    v = np.asarray(values, dtype=float).ravel()
+    return v[np.isfinite(v) & (v > 0)]
+
+
 def _holding(ticks: list[float], values: Any) -> dict[str, Any]:
     """A range holding the labels around the data when some lie outside it (one value, or
     values between two 1-2-5 labels: Plotly's own range showed none of them)."""
-    v = np.asarray(values, dtype=float).ravel()
-    v = v[np.isfinite(v) & (v > 0)]
+    v = _positive(values)
     if min(ticks) >= v.min() and max(ticks) <= v.max():
         return {}
     pad = 0.05  # decades beyond the outer labels
@@ -183,8 +188,7 @@ def _short_log_ticks(values: Any) -> list[float]:
     """1-2-5 values inside the positive values' range when it spans few decades, else []."""
     if values is None:
         return []
-    v = np.asarray(values, dtype=float).ravel()
-    v = v[np.isfinite(v) & (v > 0)]
+    v = _positive(values)
     if v.size == 0:
         return []
     lo, hi = float(v.min()), float(v.max())
